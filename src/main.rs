@@ -1,0 +1,54 @@
+//! The `grove` command-line tool: headless simulation, scenes and benchmarks.
+//!
+//! Each subcommand lives in its own module under `cli/`. Errors are printed as one line on
+//! stderr (`error: ...`) with a non-zero exit code; nothing the user types can cause a panic.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod cli;
+
+/// grove: a deterministic simulation of a tree-planting study.
+#[derive(Parser)]
+#[command(name = "grove", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene headless for a number of ticks and print its world hash.
+    Sim(cli::sim::SimArgs),
+    /// Work with scene files.
+    #[command(subcommand)]
+    Scene(cli::scene::SceneCommand),
+    /// Measure the simulation's speed and print JSON.
+    Bench(cli::bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    cli::install_panic_hook();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help and version to stdout with exit code 0, and usage errors to
+            // stderr with exit code 2.
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        }
+    };
+    let result = match cli.command {
+        Command::Sim(args) => cli::sim::run(args),
+        Command::Scene(cmd) => cli::scene::run(cmd),
+        Command::Bench(args) => cli::bench::run(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {}", cli::one_line(&e));
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! The model catalogue: each tree model's kind and bounds, as plain data.
+//!
+//! The catalogue is `assets/trees/catalogue.ron`. `grove assets` writes it from the same
+//! geometry it writes to the glTF files, and a test recomputes the bounds from the glTF files, so
+//! the two never disagree. This module only reads it; it knows nothing about glTF.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// The catalogue that ships with grove, embedded at compile time.
+pub const DEFAULT_CATALOGUE: &str = include_str!("../../assets/trees/catalogue.ron");
+
+/// Index of a model in the catalogue (0..8 for the shipped models).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct ModelId(pub u8);
+
+/// How a model draws its foliage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ModelKind {
+    /// Foliage as real geometry (leaf clusters): the expensive kind.
+    Mesh,
+    /// Foliage as alpha-clipped textured cards: the cheap kind.
+    Billboard,
+}
+
+/// One model's description and bounds, in model space (origin at the base of the trunk, +Y up).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModelInfo {
+    /// The model's index.
+    pub id: ModelId,
+    /// A short name, also the file stem under `assets/trees/`, e.g. "broadleaf-mesh".
+    pub name: String,
+    /// The species, e.g. "broadleaf", "conifer", "birch" or "shrub".
+    pub species: String,
+    /// Mesh or billboard foliage.
+    pub kind: ModelKind,
+    /// Minimum corner of the axis-aligned bounds, metres. `bounds_min.y` is the lowest point.
+    pub bounds_min: Vec3,
+    /// Maximum corner of the axis-aligned bounds, metres.
+    pub bounds_max: Vec3,
+    /// Horizontal radius of the crown around the trunk axis, metres.
+    pub crown_radius: f32,
+    /// Triangle count of the model, for cost reports.
+    pub triangles: u32,
+}
+
+impl ModelInfo {
+    /// Height from the lowest point to the top, metres.
+    pub fn height(&self) -> f32 {
+        self.bounds_max.y - self.bounds_min.y
+    }
+
+    /// The lowest point's height relative to the model origin, metres (usually ≤ 0).
+    pub fn lowest_point(&self) -> f32 {
+        self.bounds_min.y
+    }
+}
+
+/// All models, indexed by [`ModelId`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Catalogue {
+    /// The models in id order.
+    pub models: Vec<ModelInfo>,
+}
+
+/// A catalogue that could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum CatalogueError {
+    /// The RON text did not parse.
+    #[error("catalogue: {0}")]
+    Parse(String),
+    /// The contents are inconsistent.
+    #[error("catalogue: {0}")]
+    Invalid(String),
+}
+
+impl Catalogue {
+    /// Parses and checks a catalogue from RON text.
+    pub fn from_ron(text: &str) -> Result<Catalogue, CatalogueError> {
+        let cat: Catalogue = ron::from_str(text).map_err(|e| CatalogueError::Parse(e.to_string()))?;
+        for (i, m) in cat.models.iter().enumerate() {
+            if m.id.0 as usize != i {
+                return Err(CatalogueError::Invalid(format!("model {} has id {} at position {i}", m.name, m.id.0)));
+            }
+            if !(m.bounds_min.is_finite() && m.bounds_max.is_finite()) || m.bounds_min.cmpgt(m.bounds_max).any() {
+                return Err(CatalogueError::Invalid(format!("model {} has invalid bounds", m.name)));
+            }
+        }
+        Ok(cat)
+    }
+
+    /// The catalogue embedded in the binary.
+    pub fn builtin() -> Catalogue {
+        // The embedded file is checked by a unit test, so this cannot fail in a built binary.
+        Catalogue::from_ron(DEFAULT_CATALOGUE).expect("embedded catalogue is valid")
+    }
+
+    /// The model with this id, if it exists.
+    pub fn get(&self, id: ModelId) -> Option<&ModelInfo> {
+        self.models.get(id.0 as usize)
+    }
+
+    /// The model with this name, if it exists.
+    pub fn by_name(&self, name: &str) -> Option<&ModelInfo> {
+        self.models.iter().find(|m| m.name == name)
+    }
+
+    /// Number of models.
+    pub fn len(&self) -> usize {
+        self.models.len()
+    }
+
+    /// Whether the catalogue has no models.
+    pub fn is_empty(&self) -> bool {
+        self.models.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_catalogue_has_four_mesh_and_four_billboard_models() {
+        let cat = Catalogue::from_ron(DEFAULT_CATALOGUE).unwrap();
+        assert_eq!(cat.len(), 8);
+        assert_eq!(cat.models.iter().filter(|m| m.kind == ModelKind::Mesh).count(), 4);
+        assert_eq!(cat.models.iter().filter(|m| m.kind == ModelKind::Billboard).count(), 4);
+        for m in &cat.models {
+            assert!(m.height() > 0.3, "{} is too small", m.name);
+        }
+    }
+
+    #[test]
+    fn inconsistent_ids_are_rejected() {
+        let text = DEFAULT_CATALOGUE.replacen("id: 0", "id: 5", 1);
+        assert!(Catalogue::from_ron(&text).is_err());
+    }
+}

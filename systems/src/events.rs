@@ -1,0 +1,170 @@
+//! The interaction event log: what the systems did, tick by tick.
+//!
+//! Systems append to [`EventLog`]; the task system, study reports and the replay viewer read it.
+//! The log is part of the simulation state and is covered by the world hash.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::catalogue::ModelId;
+use crate::resources::Mode;
+
+/// What happened.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Happening {
+    /// A tree was planted (ray-casting mode) or spawned from the menu (manual mode).
+    Planted {
+        /// The tree, by entity id bits.
+        tree: u64,
+        /// Its model.
+        model: ModelId,
+        /// Where its origin was placed, metres.
+        position: Vec3,
+    },
+    /// A tree was removed.
+    Removed {
+        /// The tree, by entity id bits.
+        tree: u64,
+        /// Its model.
+        model: ModelId,
+    },
+    /// A tree was selected; its bounding box is shown.
+    Selected {
+        /// The tree, by entity id bits.
+        tree: u64,
+    },
+    /// The selection was cleared.
+    Deselected,
+    /// A tree was scaled with a corner handle.
+    Scaled {
+        /// The tree, by entity id bits.
+        tree: u64,
+        /// The new uniform scale.
+        scale: f32,
+    },
+    /// A tree was rotated with an edge handle or the touchpad.
+    Rotated {
+        /// The tree, by entity id bits.
+        tree: u64,
+        /// The new yaw, radians.
+        yaw: f32,
+    },
+    /// A tree finished a move (a drag released or a touchpad move ended).
+    Moved {
+        /// The tree, by entity id bits.
+        tree: u64,
+        /// Its new origin, metres.
+        position: Vec3,
+    },
+    /// While dragging, the anchor ball turned white: releasing now would snap.
+    SnapArmed {
+        /// The tree, by entity id bits.
+        tree: u64,
+    },
+    /// While dragging, the anchor ball turned green again.
+    SnapDisarmed {
+        /// The tree, by entity id bits.
+        tree: u64,
+    },
+    /// A released tree snapped onto the plane below.
+    Snapped {
+        /// The tree, by entity id bits.
+        tree: u64,
+        /// Its new origin, metres.
+        position: Vec3,
+    },
+    /// A drag was released while the anchor ball was green (or hidden): no snap.
+    ReleasedGreen {
+        /// The tree, by entity id bits.
+        tree: u64,
+    },
+    /// The interaction mode changed.
+    ModeChanged {
+        /// The new mode.
+        mode: Mode,
+    },
+    /// The model menu was opened.
+    MenuOpened,
+    /// A model was chosen.
+    ModelChosen {
+        /// The chosen model.
+        model: ModelId,
+    },
+    /// A task started.
+    TaskStarted {
+        /// The task id.
+        task: String,
+    },
+    /// A task target was satisfied for the first time.
+    TargetSatisfied {
+        /// Index of the target in the task file.
+        target: usize,
+        /// The tree that satisfied it, by entity id bits.
+        tree: u64,
+    },
+    /// Every target of the task is satisfied.
+    TaskCompleted,
+    /// The user ended the task.
+    TaskEnded,
+}
+
+impl Happening {
+    /// A short, stable name for the kind of event.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Happening::Planted { .. } => "planted",
+            Happening::Removed { .. } => "removed",
+            Happening::Selected { .. } => "selected",
+            Happening::Deselected => "deselected",
+            Happening::Scaled { .. } => "scaled",
+            Happening::Rotated { .. } => "rotated",
+            Happening::Moved { .. } => "moved",
+            Happening::SnapArmed { .. } => "snap_armed",
+            Happening::SnapDisarmed { .. } => "snap_disarmed",
+            Happening::Snapped { .. } => "snapped",
+            Happening::ReleasedGreen { .. } => "released_green",
+            Happening::ModeChanged { .. } => "mode_changed",
+            Happening::MenuOpened => "menu_opened",
+            Happening::ModelChosen { .. } => "model_chosen",
+            Happening::TaskStarted { .. } => "task_started",
+            Happening::TargetSatisfied { .. } => "target_satisfied",
+            Happening::TaskCompleted => "task_completed",
+            Happening::TaskEnded => "task_ended",
+        }
+    }
+}
+
+/// One log entry: a happening and the tick it happened in.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogEntry {
+    /// The tick during which it happened.
+    pub tick: u64,
+    /// What happened.
+    pub what: Happening,
+}
+
+/// The append-only interaction event log.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct EventLog {
+    /// Entries in the order they happened.
+    pub entries: Vec<LogEntry>,
+}
+
+impl EventLog {
+    /// Appends a happening at `tick`.
+    pub fn push(&mut self, tick: u64, what: Happening) {
+        self.entries.push(LogEntry { tick, what });
+    }
+
+    /// Entries logged at `tick` or later.
+    pub fn since(&self, tick: u64) -> impl Iterator<Item = &LogEntry> {
+        let start = self.entries.partition_point(|e| e.tick < tick);
+        self.entries[start..].iter()
+    }
+
+    /// Number of entries of one kind.
+    pub fn count(&self, kind: &str) -> usize {
+        self.entries.iter().filter(|e| e.what.kind() == kind).count()
+    }
+}

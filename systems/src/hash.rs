@@ -1,0 +1,148 @@
+//! The world hash: a checkpoint of the whole simulation state.
+//!
+//! Every simulation component listed in [`COMPONENTS`] and the hashed resources are serialized
+//! with postcard (floats as their exact bits, little-endian) and fed to XXH3 in a stable order:
+//! component types in list order, entities sorted by their id bits. Besides the total, the hash
+//! reports one value per component type and one per entity, so that a replay that diverges can
+//! say which component and which entity differ.
+
+use std::collections::BTreeMap;
+
+use hecs::{Entity, World};
+use serde::Serialize;
+use xxhash_rust::xxh3::Xxh3;
+
+use crate::components::*;
+use crate::resources::Resources;
+
+/// The names of the hashed component types, in hashing order. `resources` covers the hashed
+/// resources (tick, RNG position, mode, menu, interaction state, event log, task state, config).
+pub const COMPONENTS: &[&str] = &[
+    "Transform",
+    "Scale",
+    "Tree",
+    "Grounded",
+    "WindState",
+    "Plane",
+    "Sun",
+    "Wind",
+    "Controller",
+    "Head",
+    "HitMarker",
+    "AnchorBall",
+    "Selection",
+    "resources",
+];
+
+/// A checkpoint: the total hash, one hash per component type and one per entity.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WorldHash {
+    /// The hash of everything.
+    pub total: u64,
+    /// `(component name, hash)` in [`COMPONENTS`] order.
+    pub components: Vec<(&'static str, u64)>,
+    /// `(entity id bits, hash of all its components)`, sorted by entity.
+    pub entities: Vec<(u64, u64)>,
+}
+
+impl WorldHash {
+    /// The hash of one component type, if it is known.
+    pub fn component(&self, name: &str) -> Option<u64> {
+        self.components.iter().find(|(n, _)| *n == name).map(|(_, h)| *h)
+    }
+}
+
+/// Formats a hash as 16 lowercase hex digits.
+pub fn hex(h: u64) -> String {
+    format!("{h:016x}")
+}
+
+struct Acc {
+    buf: Vec<u8>,
+    entities: BTreeMap<u64, Xxh3>,
+    components: Vec<(&'static str, u64)>,
+}
+
+impl Acc {
+    fn value_hash<T: Serialize>(&mut self, value: &T) -> u64 {
+        self.buf.clear();
+        // Serializing plain data into a Vec cannot fail.
+        let buf = std::mem::take(&mut self.buf);
+        self.buf = postcard::to_extend(value, buf).unwrap_or_default();
+        xxhash_rust::xxh3::xxh3_64(&self.buf)
+    }
+
+    fn component<T: Serialize + hecs::Component>(&mut self, world: &World, name: &'static str) {
+        let mut rows: Vec<(u64, u64)> = Vec::new();
+        for (e, c) in world.query::<(Entity, &T)>().iter() {
+            rows.push((e.to_bits().get(), 0));
+            let h = self.value_hash(c);
+            rows.last_mut().unwrap().1 = h;
+        }
+        rows.sort_unstable_by_key(|r| r.0);
+        let mut h = Xxh3::new();
+        h.update(name.as_bytes());
+        for (e, v) in &rows {
+            h.update(&e.to_le_bytes());
+            h.update(&v.to_le_bytes());
+            let eh = self.entities.entry(*e).or_default();
+            eh.update(name.as_bytes());
+            eh.update(&v.to_le_bytes());
+        }
+        self.components.push((name, h.digest()));
+    }
+}
+
+#[derive(Serialize)]
+struct HashedResources<'a> {
+    tick: u64,
+    dt: f32,
+    seed: u64,
+    rng_word_pos: u128,
+    config: &'a crate::resources::Config,
+    mode: crate::resources::Mode,
+    menu: &'a crate::resources::MenuState,
+    interaction: &'a crate::resources::Interaction,
+    log: &'a crate::events::EventLog,
+    task: &'a Option<crate::task::TaskState>,
+}
+
+/// Hashes the world and the hashed resources.
+pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
+    let mut acc = Acc { buf: Vec::with_capacity(256), entities: BTreeMap::new(), components: Vec::new() };
+    acc.component::<Transform>(world, "Transform");
+    acc.component::<Scale>(world, "Scale");
+    acc.component::<Tree>(world, "Tree");
+    acc.component::<Grounded>(world, "Grounded");
+    acc.component::<WindState>(world, "WindState");
+    acc.component::<Plane>(world, "Plane");
+    acc.component::<Sun>(world, "Sun");
+    acc.component::<Wind>(world, "Wind");
+    acc.component::<Controller>(world, "Controller");
+    acc.component::<Head>(world, "Head");
+    acc.component::<HitMarker>(world, "HitMarker");
+    acc.component::<AnchorBall>(world, "AnchorBall");
+    acc.component::<Selection>(world, "Selection");
+    let r = HashedResources {
+        tick: res.tick,
+        dt: res.dt,
+        seed: res.seed,
+        rng_word_pos: res.rng.get_word_pos(),
+        config: &res.config,
+        mode: res.mode,
+        menu: &res.menu,
+        interaction: &res.interaction,
+        log: &res.log,
+        task: &res.task,
+    };
+    let rh = acc.value_hash(&r);
+    acc.components.push(("resources", rh));
+    debug_assert_eq!(acc.components.len(), COMPONENTS.len());
+    let mut total = Xxh3::new();
+    for (name, h) in &acc.components {
+        total.update(name.as_bytes());
+        total.update(&h.to_le_bytes());
+    }
+    let entities: Vec<(u64, u64)> = acc.entities.into_iter().map(|(e, h)| (e, h.digest())).collect();
+    WorldHash { total: total.digest(), components: acc.components, entities }
+}

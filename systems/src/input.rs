@@ -1,0 +1,128 @@
+//! Input events: the only way anything outside the simulation reaches the systems.
+//!
+//! Events are semantic (what the user did, not which device key was pressed), so recordings
+//! survive changes to device mappings. A live session, a test script and a replay all feed the
+//! same events into [`crate::resources::Resources::input`].
+
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+use crate::catalogue::ModelId;
+use crate::components::Pose;
+use crate::resources::Mode;
+
+/// A controller button (Magic Leap One names; WebXR calls Bumper "squeeze").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Button {
+    /// Plants, selects, drags.
+    Trigger,
+    /// Removes.
+    Bumper,
+    /// The touchpad press.
+    Touchpad,
+    /// Opens the model menu.
+    Menu,
+}
+
+/// One input event. It applies at the start of the tick it is stamped with.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum InputEvent {
+    /// The controller moved to a new pose.
+    ControllerPose {
+        /// The new controller pose.
+        pose: Pose,
+    },
+    /// The head (camera) moved to a new pose.
+    HeadPose {
+        /// The new head pose.
+        pose: Pose,
+    },
+    /// A button went down.
+    ButtonDown {
+        /// Which button.
+        button: Button,
+    },
+    /// A button went up.
+    ButtonUp {
+        /// Which button.
+        button: Button,
+    },
+    /// The thumb position on the touchpad changed; (0, 0) when released.
+    TouchpadAxes {
+        /// Each axis in [−1, 1]; +Y is front, +X is right.
+        axes: Vec2,
+    },
+    /// The user opened the model menu.
+    OpenMenu,
+    /// The user closed the model menu without choosing.
+    CloseMenu,
+    /// The user chose a model (from the menu in manual mode, or as the current model to plant).
+    ChooseModel {
+        /// The chosen model.
+        model: ModelId,
+    },
+    /// The user switched the interaction mode.
+    SwitchMode {
+        /// The new mode.
+        mode: Mode,
+    },
+    /// A study task starts now.
+    StartTask {
+        /// The task id, e.g. "ray-casting-7".
+        task: String,
+    },
+    /// The user declared the task finished.
+    EndTask,
+}
+
+impl InputEvent {
+    /// A short, stable name for the event's kind, as used in the replay format and reports.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            InputEvent::ControllerPose { .. } => "controller_pose",
+            InputEvent::HeadPose { .. } => "head_pose",
+            InputEvent::ButtonDown { .. } => "button_down",
+            InputEvent::ButtonUp { .. } => "button_up",
+            InputEvent::TouchpadAxes { .. } => "touchpad_axes",
+            InputEvent::OpenMenu => "open_menu",
+            InputEvent::CloseMenu => "close_menu",
+            InputEvent::ChooseModel { .. } => "choose_model",
+            InputEvent::SwitchMode { .. } => "switch_mode",
+            InputEvent::StartTask { .. } => "start_task",
+            InputEvent::EndTask => "end_task",
+        }
+    }
+
+    /// Checks the numbers an event carries: poses and axes must be finite, axes within [−1, 1],
+    /// and rotations close to unit length.
+    pub fn validate(&self) -> Result<(), String> {
+        match self {
+            InputEvent::ControllerPose { pose } | InputEvent::HeadPose { pose } => {
+                if !pose.is_finite() {
+                    return Err("pose has a NaN or infinite number".into());
+                }
+                let len = pose.rotation.length();
+                if (len - 1.0).abs() > 1e-3 {
+                    return Err(format!("pose rotation is not a unit quaternion (length {len})"));
+                }
+                if pose.position.abs().max_element() > 1.0e5 {
+                    return Err("pose position is more than 100 km from the origin".into());
+                }
+                Ok(())
+            }
+            InputEvent::TouchpadAxes { axes } => {
+                if !axes.is_finite() {
+                    Err("touchpad axes have a NaN or infinite number".into())
+                } else if axes.abs().max_element() > 1.0 {
+                    Err("touchpad axes outside [-1, 1]".into())
+                } else {
+                    Ok(())
+                }
+            }
+            InputEvent::StartTask { task } if task.is_empty() => Err("empty task id".into()),
+            _ => Ok(()),
+        }
+    }
+}

@@ -1,0 +1,30 @@
+//! grove-systems: the headless, deterministic simulation of the grove tree-planting study.
+//!
+//! Trees, ground planes, the sun, the wind, the controller, the head, the hit marker, the anchor
+//! ball and the selection are hecs entities ([`components`]). Everything else lives in
+//! [`resources::Resources`]. Input reaches the simulation only as [`input::InputEvent`]s; the
+//! [`schedule`] runs the [`systems`] in a fixed order once per fixed step; [`hash::world_hash`]
+//! checkpoints the state.
+//!
+//! Units and axes for the whole crate: metres, radians (unless a name ends in `_deg`), seconds;
+//! right-handed, +Y up, −Z north, +X east; azimuths clockwise from north.
+//!
+//! This crate knows nothing about GPUs, windows or UI toolkits, and reads no clock: the same
+//! input gives the same world hash in debug and release builds and on any machine.
+
+#![warn(missing_docs)]
+
+pub mod catalogue;
+pub mod components;
+pub mod events;
+pub mod hash;
+pub mod input;
+pub mod resources;
+pub mod scene;
+pub mod schedule;
+pub mod sim;
+pub mod spatial;
+pub mod systems;
+pub mod task;
+
+pub use sim::Sim;

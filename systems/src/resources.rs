@@ -1,0 +1,255 @@
+//! Resources: simulation state that belongs to no entity.
+//!
+//! [`Resources`] holds the tick counter, the fixed step, the one seeded RNG, the configuration,
+//! the input events of the current tick, the interaction event log and the interaction state.
+//! Everything here except the derived caches is covered by the world hash.
+
+use rand_chacha::ChaCha8Rng;
+use rand::SeedableRng;
+use serde::{Deserialize, Serialize};
+
+use crate::catalogue::{Catalogue, ModelId};
+use crate::events::EventLog;
+use crate::input::InputEvent;
+use crate::spatial::SpatialIndex;
+
+/// The interaction mode of the study app.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// Trigger on a plane plants the selected model; Bumper on a tree removes it.
+    #[default]
+    RayCasting,
+    /// New trees come only from the menu and must be moved into place.
+    Manual,
+}
+
+impl Mode {
+    /// The name used in files and reports: "ray-casting" or "manual".
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::RayCasting => "ray-casting",
+            Mode::Manual => "manual",
+        }
+    }
+}
+
+/// Tunable parameters of the interaction systems. Researchers may override any of them with
+/// `grove study --set NAME=VALUE`; [`Config::set`] lists the names.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    /// A dragged tree snaps when its lowest point is closer than this to the plane below, metres.
+    pub snap_threshold: f32,
+    /// Touchpad front/back speed along the controller ray, metres per second at full deflection.
+    pub touchpad_move_rate: f32,
+    /// Touchpad left/right turn rate, degrees per second at full deflection.
+    pub touchpad_turn_rate_deg: f32,
+    /// Touchpad deflections smaller than this are ignored.
+    pub touchpad_dead_zone: f32,
+    /// Smallest allowed uniform scale.
+    pub min_scale: f32,
+    /// Largest allowed uniform scale.
+    pub max_scale: f32,
+    /// Longest ray, metres.
+    pub max_ray_length: f32,
+    /// Radius of a bounding-box handle for ray picking, metres.
+    pub handle_radius: f32,
+    /// Distance in front of the head where a tree chosen from the menu appears, metres.
+    pub spawn_distance: f32,
+    /// How far below head height a tree chosen from the menu appears, metres.
+    pub spawn_drop: f32,
+    /// A Trigger press shorter than this many ticks is a click; longer is a hold.
+    pub click_ticks: u32,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            snap_threshold: 0.3,
+            touchpad_move_rate: 1.5,
+            touchpad_turn_rate_deg: 90.0,
+            touchpad_dead_zone: 0.15,
+            min_scale: 0.25,
+            max_scale: 4.0,
+            max_ray_length: 100.0,
+            handle_radius: 0.15,
+            spawn_distance: 1.5,
+            spawn_drop: 0.5,
+            click_ticks: 12,
+        }
+    }
+}
+
+impl Config {
+    /// The names [`Config::set`] accepts.
+    pub const NAMES: &'static [&'static str] = &[
+        "snap_threshold",
+        "touchpad_move_rate",
+        "touchpad_turn_rate_deg",
+        "touchpad_dead_zone",
+        "min_scale",
+        "max_scale",
+        "max_ray_length",
+        "handle_radius",
+        "spawn_distance",
+        "spawn_drop",
+        "click_ticks",
+    ];
+
+    /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
+        let parse = |v: &str| -> Result<f32, String> {
+            let x: f32 = v.trim().parse().map_err(|_| format!("{name}: '{v}' is not a number"))?;
+            if !x.is_finite() || x < 0.0 {
+                return Err(format!("{name}: '{v}' must be a finite, non-negative number"));
+            }
+            Ok(x)
+        };
+        match name {
+            "snap_threshold" => self.snap_threshold = parse(value)?,
+            "touchpad_move_rate" => self.touchpad_move_rate = parse(value)?,
+            "touchpad_turn_rate_deg" => self.touchpad_turn_rate_deg = parse(value)?,
+            "touchpad_dead_zone" => self.touchpad_dead_zone = parse(value)?,
+            "min_scale" => self.min_scale = parse(value)?,
+            "max_scale" => self.max_scale = parse(value)?,
+            "max_ray_length" => self.max_ray_length = parse(value)?,
+            "handle_radius" => self.handle_radius = parse(value)?,
+            "spawn_distance" => self.spawn_distance = parse(value)?,
+            "spawn_drop" => self.spawn_drop = parse(value)?,
+            "click_ticks" => self.click_ticks = parse(value)?.round() as u32,
+            _ => {
+                return Err(format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")));
+            }
+        }
+        if self.min_scale > self.max_scale {
+            return Err(format!("min_scale {} is above max_scale {}", self.min_scale, self.max_scale));
+        }
+        Ok(())
+    }
+}
+
+/// The state of the model menu.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MenuState {
+    /// Whether the menu is open.
+    pub open: bool,
+    /// The model that Trigger plants in ray-casting mode.
+    pub current_model: ModelId,
+}
+
+impl Default for ModelId {
+    fn default() -> Self {
+        ModelId(0)
+    }
+}
+
+/// A tree being dragged by the controller ray.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Drag {
+    /// The dragged tree, by entity id bits.
+    pub tree: u64,
+    /// Distance along the ray at which the tree is held, metres.
+    pub grab_distance: f32,
+    /// Offset from the grab point to the tree origin, metres.
+    pub offset: glam::Vec3,
+}
+
+/// A bounding-box handle being dragged.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HandleDrag {
+    /// The handle.
+    pub handle: crate::components::Handle,
+    /// Scale of the tree when the drag started.
+    pub start_scale: f32,
+    /// Yaw of the tree when the drag started, radians.
+    pub start_yaw: f32,
+    /// Horizontal distance from the tree axis to the ray's grab point when the drag started.
+    pub start_radius: f32,
+    /// Angle of the grab point around the tree axis when the drag started, radians.
+    pub start_angle: f32,
+    /// Distance along the ray at which the handle was grabbed, metres.
+    pub grab_distance: f32,
+}
+
+/// What the trigger is doing, tracked across ticks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Interaction {
+    /// Tick at which the trigger went down, while it is held.
+    pub trigger_down_tick: Option<u64>,
+    /// The tree being dragged, if any.
+    pub drag: Option<Drag>,
+    /// The handle being dragged, if any.
+    pub handle_drag: Option<HandleDrag>,
+    /// A model chosen from the menu in manual mode, waiting to be spawned in front of the head.
+    pub pending_spawn: Option<ModelId>,
+}
+
+/// Buttons that went down or up during the current tick (from this tick's input events).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ButtonEdges {
+    /// Buttons that went down this tick.
+    pub down: crate::components::Buttons,
+    /// Buttons that went up this tick.
+    pub up: crate::components::Buttons,
+}
+
+/// All resources of a simulation.
+pub struct Resources {
+    /// Ticks completed since the start.
+    pub tick: u64,
+    /// The fixed step, seconds.
+    pub dt: f32,
+    /// The seed the RNG started from.
+    pub seed: u64,
+    /// The one random number generator; every random draw in a tick comes from here.
+    pub rng: ChaCha8Rng,
+    /// Tunable parameters.
+    pub config: Config,
+    /// The model catalogue.
+    pub catalogue: Catalogue,
+    /// The interaction mode.
+    pub mode: Mode,
+    /// The menu state.
+    pub menu: MenuState,
+    /// Ongoing trigger, drag and handle interactions.
+    pub interaction: Interaction,
+    /// Input events that apply at the start of the next tick, in arrival order.
+    pub input: Vec<InputEvent>,
+    /// Button edges of the current tick, set by the input system.
+    pub edges: ButtonEdges,
+    /// Everything the interaction systems did, with ticks.
+    pub log: EventLog,
+    /// The task being run, if any.
+    pub task: Option<crate::task::TaskState>,
+    /// Derived acceleration structure for ray queries; rebuilt from the world when trees or
+    /// planes change. Not hashed: it is a cache of hashed state.
+    pub spatial: SpatialIndex,
+}
+
+impl Resources {
+    /// Fresh resources for a simulation with this step and seed.
+    pub fn new(dt: f32, seed: u64, catalogue: Catalogue) -> Resources {
+        Resources {
+            tick: 0,
+            dt,
+            seed,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            config: Config::default(),
+            catalogue,
+            mode: Mode::default(),
+            menu: MenuState::default(),
+            interaction: Interaction::default(),
+            input: Vec::new(),
+            edges: ButtonEdges::default(),
+            log: EventLog::default(),
+            task: None,
+            spatial: SpatialIndex::default(),
+        }
+    }
+
+    /// Simulated time at the start of the current tick, seconds.
+    pub fn time(&self) -> f64 {
+        self.tick as f64 * self.dt as f64
+    }
+}

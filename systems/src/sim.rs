@@ -1,0 +1,189 @@
+//! [`Sim`]: a world, its resources and the fixed-step driver.
+
+use glam::{Vec2, Vec3};
+use hecs::World;
+use rand::RngExt;
+
+use crate::catalogue::{Catalogue, ModelId};
+use crate::components::*;
+use crate::hash::{world_hash, WorldHash};
+use crate::input::InputEvent;
+use crate::resources::Resources;
+use crate::scene::{parse_utc_ms, plane_geometry, Scene};
+
+/// A running simulation: the hecs world and its resources.
+pub struct Sim {
+    /// The entities.
+    pub world: World,
+    /// Everything that belongs to no entity.
+    pub res: Resources,
+}
+
+impl Sim {
+    /// Builds the world a scene describes, with the embedded model catalogue.
+    pub fn from_scene(scene: &Scene, seed: u64) -> Result<Sim, String> {
+        Sim::from_scene_with(scene, seed, Catalogue::builtin())
+    }
+
+    /// Builds the world a scene describes, with a given catalogue.
+    pub fn from_scene_with(scene: &Scene, seed: u64, catalogue: Catalogue) -> Result<Sim, String> {
+        scene.validate()?;
+        let mut world = World::new();
+        let mut res = Resources::new(scene.dt, seed, catalogue);
+
+        for p in &scene.planes {
+            let (vertices, triangles) = plane_geometry(&p.shape);
+            world.spawn((Plane { name: p.name.clone(), vertices, triangles },));
+        }
+
+        let utc_ms = parse_utc_ms(&scene.sun.utc)?;
+        let mut sun = Sun {
+            latitude_deg: scene.sun.latitude_deg,
+            longitude_deg: scene.sun.longitude_deg,
+            utc_ms,
+            time_rate: scene.sun.time_rate,
+            elevation_deg: 0.0,
+            azimuth_deg: 0.0,
+            direction: Vec3::Y,
+        };
+        crate::systems::sun::update_sun(&mut sun)?;
+        world.spawn((sun,));
+
+        let w = &scene.wind;
+        let dir = Vec3::new(w.direction.x, 0.0, w.direction.z).normalize_or(Vec3::X);
+        world.spawn((Wind {
+            direction: dir,
+            strength: w.strength,
+            density: w.density,
+            gust: Gust { average: w.gust_average, strength: w.gust_strength, frequency: w.gust_frequency },
+            current: w.gust_average,
+        },));
+
+        let head = Pose::looking_at(scene.camera.position, scene.camera.look_at);
+        world.spawn((Head { pose: head, fov_y: scene.camera.fov_y_deg.to_radians() },));
+        let hand = Pose { position: head.position + head.rotation * Vec3::new(0.25, -0.35, -0.3), rotation: head.rotation };
+        world.spawn((Controller { pose: hand, ..Default::default() },));
+        world.spawn((HitMarker::default(),));
+        world.spawn((AnchorBall::default(),));
+        world.spawn((Selection::default(),));
+
+        res.spatial.refresh(&world, &res.catalogue);
+        let mut sim = Sim { world, res };
+        for (i, t) in scene.trees.iter().enumerate() {
+            let model = sim
+                .res
+                .catalogue
+                .by_name(&t.model)
+                .map(|m| m.id)
+                .ok_or_else(|| format!("tree {i}: unknown model '{}'", t.model))?;
+            sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
+        }
+        Ok(sim)
+    }
+
+    /// Spawns a tree directly (for scenes and scale tests), drawing its wind phase from the RNG.
+    /// With `on_ground`, its lowest point is put on the plane below `position`, if there is one.
+    pub fn spawn_tree(&mut self, model: ModelId, position: Vec3, yaw: f32, scale: f32, on_ground: bool) -> hecs::Entity {
+        let lowest = self.res.catalogue.get(model).map_or(0.0, |m| m.lowest_point());
+        let mut pos = position;
+        let mut grounded = false;
+        if on_ground {
+            if let Some(hit) = self.res.spatial.ground_below(Vec3::new(pos.x, pos.y.max(-1.0e3), pos.z), 1.0e3) {
+                pos.y = hit.point.y - lowest * scale;
+                grounded = true;
+            }
+        }
+        let phase = self.res.rng.random::<f32>() * std::f32::consts::TAU;
+        let wind = self.wind();
+        let gain = wind.map_or(1.0, |w| crate::systems::wind::position_gain(pos, w.density));
+        self.res.spatial.mark_trees_dirty();
+        self.world.spawn((
+            Tree { model },
+            Transform { translation: pos, yaw },
+            Scale(scale),
+            Grounded(grounded),
+            WindState { phase, gain, bend: Vec2::ZERO },
+        ))
+    }
+
+    /// Scatters `n` extra trees uniformly over the planes' bounding rectangle, cycling through
+    /// the catalogue's models, each grounded where there is a plane below it.
+    pub fn scatter_trees(&mut self, n: usize) {
+        let (mut min, mut max) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        for p in self.world.query::<&Plane>().iter() {
+            for v in &p.vertices {
+                min = min.min(*v);
+                max = max.max(*v);
+            }
+        }
+        let models = self.res.catalogue.len().max(1);
+        for i in 0..n {
+            let x = min.x + (max.x - min.x) * self.res.rng.random::<f32>();
+            let z = min.z + (max.z - min.z) * self.res.rng.random::<f32>();
+            let yaw = self.res.rng.random::<f32>() * std::f32::consts::TAU;
+            self.spawn_tree(ModelId((i % models) as u8), Vec3::new(x, max.y, z), yaw, 1.0, true);
+        }
+        self.res.spatial.refresh(&self.world, &self.res.catalogue);
+    }
+
+    /// Queues an input event for the next tick. Invalid numbers are rejected.
+    pub fn push_input(&mut self, event: InputEvent) -> Result<(), String> {
+        event.validate()?;
+        self.res.input.push(event);
+        Ok(())
+    }
+
+    /// Runs one fixed step of the schedule.
+    pub fn step(&mut self) {
+        crate::schedule::step(&mut self.world, &mut self.res);
+    }
+
+    /// Runs `n` steps.
+    pub fn run(&mut self, n: u64) {
+        for _ in 0..n {
+            self.step();
+        }
+    }
+
+    /// The checkpoint hash of the current state.
+    pub fn hash(&self) -> WorldHash {
+        world_hash(&self.world, &self.res)
+    }
+
+    /// A copy of the wind component, if the world has one.
+    pub fn wind(&self) -> Option<Wind> {
+        self.world.query::<&Wind>().iter().next().copied()
+    }
+
+    /// Counts of entities by role, for summaries.
+    pub fn counts(&self) -> EntityCounts {
+        EntityCounts {
+            trees: self.world.query::<&Tree>().iter().count(),
+            planes: self.world.query::<&Plane>().iter().count(),
+            suns: self.world.query::<&Sun>().iter().count(),
+            winds: self.world.query::<&Wind>().iter().count(),
+            controllers: self.world.query::<&Controller>().iter().count(),
+            heads: self.world.query::<&Head>().iter().count(),
+            total: self.world.len() as usize,
+        }
+    }
+}
+
+/// Numbers of entities by role.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct EntityCounts {
+    /// Trees.
+    pub trees: usize,
+    /// Ground planes.
+    pub planes: usize,
+    /// Suns.
+    pub suns: usize,
+    /// Winds.
+    pub winds: usize,
+    /// Controllers.
+    pub controllers: usize,
+    /// Heads (cameras).
+    pub heads: usize,
+    /// All entities, including markers and the selection.
+    pub total: usize,
+}

@@ -1,0 +1,200 @@
+//! The spatial index: parry3d acceleration structures for ray queries against planes and trees.
+//!
+//! It is a cache derived from the world (plane meshes and tree transforms), rebuilt when the
+//! systems mark it dirty. It is not part of the world hash. Queries use a BVH over the trees'
+//! bounds and each plane's own triangle BVH, never a linear scan of the trees.
+
+use glam::{Quat, Vec3};
+use hecs::{Entity, World};
+use parry3d::bounding_volume::Aabb;
+use parry3d::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d::query::{Ray, RayCast};
+use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
+
+use crate::catalogue::Catalogue;
+use crate::components::{Plane, Scale, Transform, Tree};
+
+/// A tree as the index sees it: its entity and its oriented box in world space.
+#[derive(Clone, Copy, Debug)]
+pub struct TreeBox {
+    /// The tree entity.
+    pub entity: Entity,
+    /// Centre of the box, world space.
+    pub center: Vec3,
+    /// Half extents along the box's own axes.
+    pub half_extents: Vec3,
+    /// Rotation about +Y, radians.
+    pub yaw: f32,
+}
+
+/// A ray hit on a plane or a tree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayHit {
+    /// The entity hit.
+    pub entity: Entity,
+    /// Distance along the ray, metres.
+    pub distance: f32,
+    /// The hit point.
+    pub point: Vec3,
+    /// The surface normal at the hit point (unit length, facing the ray origin for planes).
+    pub normal: Vec3,
+}
+
+/// Acceleration structures for ray queries, derived from the world.
+#[derive(Default)]
+pub struct SpatialIndex {
+    planes: Vec<(Entity, TriMesh)>,
+    trees: Vec<TreeBox>,
+    tree_bvh: Bvh,
+    planes_dirty: bool,
+    trees_dirty: bool,
+    built_once: bool,
+}
+
+/// The world-space oriented box of a tree from its transform, scale and catalogue bounds.
+pub fn tree_box(entity: Entity, transform: &Transform, scale: f32, min: Vec3, max: Vec3) -> TreeBox {
+    let local_center = (min + max) * 0.5 * scale;
+    let rot = Quat::from_rotation_y(transform.yaw);
+    TreeBox {
+        entity,
+        center: transform.translation + rot * local_center,
+        half_extents: (max - min) * 0.5 * scale,
+        yaw: transform.yaw,
+    }
+}
+
+impl SpatialIndex {
+    /// Marks the tree structure for a rebuild before the next query.
+    pub fn mark_trees_dirty(&mut self) {
+        self.trees_dirty = true;
+    }
+
+    /// Marks the plane structure for a rebuild before the next query.
+    pub fn mark_planes_dirty(&mut self) {
+        self.planes_dirty = true;
+    }
+
+    /// Rebuilds whatever is dirty (everything on first use) from the world.
+    pub fn refresh(&mut self, world: &World, catalogue: &Catalogue) {
+        if !self.built_once || self.planes_dirty {
+            self.planes.clear();
+            for (e, plane) in world.query::<(Entity, &Plane)>().iter() {
+                if let Some(mesh) = plane_trimesh(plane) {
+                    self.planes.push((e, mesh));
+                }
+            }
+            self.planes.sort_by_key(|(e, _)| e.to_bits());
+            self.planes_dirty = false;
+        }
+        if !self.built_once || self.trees_dirty {
+            self.trees.clear();
+            for (e, t, s, tree) in world.query::<(Entity, &Transform, &Scale, &Tree)>().iter() {
+                if let Some(m) = catalogue.get(tree.model) {
+                    self.trees.push(tree_box(e, t, s.0, m.bounds_min, m.bounds_max));
+                }
+            }
+            self.trees.sort_by_key(|b| b.entity.to_bits());
+            let leaves: Vec<Aabb> = self.trees.iter().map(box_aabb).collect();
+            self.tree_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
+            self.trees_dirty = false;
+        }
+        self.built_once = true;
+    }
+
+    /// Number of trees in the index.
+    pub fn tree_count(&self) -> usize {
+        self.trees.len()
+    }
+
+    /// The nearest plane hit along a ray, if any, within `max_dist`.
+    pub fn cast_planes(&self, origin: Vec3, dir: Vec3, max_dist: f32) -> Option<RayHit> {
+        let ray = Ray::new(origin, dir);
+        let mut best: Option<RayHit> = None;
+        for (e, mesh) in &self.planes {
+            let limit = best.map_or(max_dist, |b| b.distance);
+            if let Some(hit) = mesh.cast_local_ray_and_get_normal(&ray, limit, false) {
+                let mut n = hit.normal.normalize_or(Vec3::Y);
+                if n.dot(dir) > 0.0 {
+                    n = -n;
+                }
+                best = Some(RayHit {
+                    entity: *e,
+                    distance: hit.time_of_impact,
+                    point: origin + dir * hit.time_of_impact,
+                    normal: n,
+                });
+            }
+        }
+        best
+    }
+
+    /// The nearest tree hit along a ray, if any, within `max_dist`, skipping `exclude`.
+    pub fn cast_trees(&self, origin: Vec3, dir: Vec3, max_dist: f32, exclude: Option<Entity>) -> Option<RayHit> {
+        if self.trees.is_empty() {
+            return None;
+        }
+        let ray = Ray::new(origin, dir);
+        let (leaf, toi) = self.tree_bvh.cast_ray(&ray, max_dist, |i, best| {
+            let b = &self.trees[i as usize];
+            if Some(b.entity) == exclude {
+                return None;
+            }
+            box_ray(b, origin, dir, best)
+        })?;
+        let b = &self.trees[leaf as usize];
+        let point = origin + dir * toi;
+        let normal = box_normal(b, point);
+        Some(RayHit { entity: b.entity, distance: toi, point, normal })
+    }
+
+    /// The nearest hit on a plane or a tree.
+    pub fn cast(&self, origin: Vec3, dir: Vec3, max_dist: f32, exclude: Option<Entity>) -> Option<RayHit> {
+        let p = self.cast_planes(origin, dir, max_dist);
+        let t = self.cast_trees(origin, dir, p.map_or(max_dist, |h| h.distance), exclude);
+        t.or(p)
+    }
+
+    /// The plane directly below `point` (casting straight down from `lift` metres above it), as
+    /// the hit on that plane. `None` over a hole or off every plane's edge.
+    pub fn ground_below(&self, point: Vec3, lift: f32) -> Option<RayHit> {
+        let origin = point + Vec3::Y * lift;
+        self.cast_planes(origin, Vec3::NEG_Y, 1.0e4)
+    }
+}
+
+/// A parry3d triangle mesh for a plane; `None` if it has no valid triangle.
+pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
+    if plane.triangles.is_empty() {
+        return None;
+    }
+    TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
+}
+
+fn box_aabb(b: &TreeBox) -> Aabb {
+    let (s, c) = b.yaw.sin_cos();
+    let hx = b.half_extents.x * c.abs() + b.half_extents.z * s.abs();
+    let hz = b.half_extents.x * s.abs() + b.half_extents.z * c.abs();
+    let h = Vec3::new(hx, b.half_extents.y, hz);
+    Aabb::new(b.center - h, b.center + h)
+}
+
+fn box_ray(b: &TreeBox, origin: Vec3, dir: Vec3, max: f32) -> Option<f32> {
+    let inv = Quat::from_rotation_y(-b.yaw);
+    let local = Ray::new(inv * (origin - b.center), inv * dir);
+    Cuboid::new(b.half_extents).cast_local_ray(&local, max, true)
+}
+
+fn box_normal(b: &TreeBox, point: Vec3) -> Vec3 {
+    let rot = Quat::from_rotation_y(b.yaw);
+    let local = rot.inverse() * (point - b.center);
+    let rel = local / b.half_extents.max(Vec3::splat(1e-6));
+    let a = rel.abs();
+    let n = if a.x >= a.y && a.x >= a.z {
+        Vec3::X * rel.x.signum()
+    } else if a.y >= a.z {
+        Vec3::Y * rel.y.signum()
+    } else {
+        Vec3::Z * rel.z.signum()
+    };
+    rot * n
+}

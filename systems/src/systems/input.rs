@@ -1,0 +1,120 @@
+//! Input system: applies the tick's input events to the controller, the head and the UI state.
+//!
+//! Reads: `Resources::input` (drained), `Resources::mode`, `Resources::menu`.
+//! Writes: `Controller` (pose, buttons, touchpad), `Head` (pose), `Resources::edges`,
+//! `Resources::mode`, `Resources::menu`, `Resources::interaction.pending_spawn`,
+//! `Resources::task` (start and end), `Resources::log` (mode_changed, menu_opened,
+//! model_chosen, task_started, task_ended).
+
+use hecs::World;
+
+use crate::components::{Buttons, Controller, Head};
+use crate::events::Happening;
+use crate::input::{Button, InputEvent};
+use crate::resources::{ButtonEdges, Mode, Resources};
+
+fn set(b: &mut Buttons, button: Button, value: bool) {
+    match button {
+        Button::Trigger => b.trigger = value,
+        Button::Bumper => b.bumper = value,
+        Button::Touchpad => b.touchpad = value,
+        Button::Menu => b.menu = value,
+    }
+}
+
+/// Runs the input system.
+pub fn run(world: &mut World, res: &mut Resources) {
+    res.edges = ButtonEdges::default();
+    if res.input.is_empty() {
+        return;
+    }
+    let tick = res.tick;
+    let events = std::mem::take(&mut res.input);
+    for event in &events {
+        match event {
+            InputEvent::ControllerPose { pose } => {
+                for c in world.query_mut::<&mut Controller>() {
+                    c.pose = *pose;
+                }
+            }
+            InputEvent::HeadPose { pose } => {
+                for h in world.query_mut::<&mut Head>() {
+                    h.pose = *pose;
+                }
+            }
+            InputEvent::ButtonDown { button } | InputEvent::ButtonUp { button } => {
+                let down = matches!(event, InputEvent::ButtonDown { .. });
+                for c in world.query_mut::<&mut Controller>() {
+                    set(&mut c.buttons, *button, down);
+                }
+                if down {
+                    set(&mut res.edges.down, *button, true);
+                } else {
+                    set(&mut res.edges.up, *button, true);
+                }
+                if down && *button == Button::Menu {
+                    open_menu(res, tick);
+                }
+            }
+            InputEvent::TouchpadAxes { axes } => {
+                for c in world.query_mut::<&mut Controller>() {
+                    c.touchpad = *axes;
+                }
+            }
+            InputEvent::OpenMenu => open_menu(res, tick),
+            InputEvent::CloseMenu => res.menu.open = false,
+            InputEvent::ChooseModel { model } => {
+                if res.catalogue.get(*model).is_none() {
+                    continue;
+                }
+                res.menu.current_model = *model;
+                res.log.push(tick, Happening::ModelChosen { model: *model });
+                // In manual mode a tree appears only when chosen from an open menu, and the
+                // menu closes, so it must be reopened for every new tree.
+                if res.mode == Mode::Manual && res.menu.open {
+                    res.interaction.pending_spawn = Some(*model);
+                }
+                res.menu.open = false;
+            }
+            InputEvent::SwitchMode { mode } => {
+                if res.mode != *mode {
+                    res.mode = *mode;
+                    res.menu.open = false;
+                    res.interaction.pending_spawn = None;
+                    res.log.push(tick, Happening::ModeChanged { mode: *mode });
+                }
+            }
+            InputEvent::StartTask { task } => {
+                match crate::task::TaskDef::builtin(task) {
+                    Some(def) => {
+                        res.task = Some(crate::task::TaskState::new(def, tick));
+                        res.log.push(tick, Happening::TaskStarted { task: task.clone() });
+                    }
+                    None => {
+                        // An unknown task id is kept visible in the log but starts no clock.
+                        res.log.push(tick, Happening::TaskStarted { task: format!("unknown:{task}") });
+                    }
+                }
+            }
+            InputEvent::EndTask => {
+                if let Some(t) = res.task.as_mut() {
+                    if t.ended_tick.is_none() {
+                        t.ended_tick = Some(tick);
+                        res.log.push(tick, Happening::TaskEnded);
+                    }
+                }
+            }
+        }
+    }
+    // Hand the allocation back so that steady-state ticks do not allocate.
+    let mut events = events;
+    events.clear();
+    res.input = events;
+}
+
+fn open_menu(res: &mut Resources, tick: u64) {
+    if !res.menu.open {
+        res.menu.open = true;
+        res.log.push(tick, Happening::MenuOpened);
+    }
+}

@@ -1,0 +1,117 @@
+//! Task system: the study's task clock, target checks and measures.
+//!
+//! Reads: `Resources::task`, `Resources::log` (new entries), `Resources::menu`,
+//! `Resources::interaction`, `Resources::catalogue`, `Tree`, `Transform`, `Grounded`,
+//! `HitMarker`, `Controller`, `Selection`.
+//! Writes: `Resources::task` (satisfied targets, completion, errors, measures),
+//! `Resources::log` (target_satisfied, task_completed).
+//!
+//! The clock starts at the StartTask event and stops when every target is satisfied. A target
+//! is satisfied when a tree of the required model, grounded if the task requires it, stands
+//! within the tolerance (horizontal distance); each tree counts for one target only.
+
+use glam::{Vec2, Vec3};
+use hecs::{Entity, World};
+
+use crate::components::{Controller, Grounded, HitMarker, Selection, Transform, Tree};
+use crate::events::Happening;
+use crate::resources::Resources;
+use crate::task::{TargetHit, TaskState};
+
+fn near_any_target(task: &TaskState, p: Vec3) -> bool {
+    task.def.targets.iter().any(|t| Vec2::new(t.position.x - p.x, t.position.z - p.z).length() <= task.def.tolerance)
+}
+
+/// Runs the task system.
+pub fn run(world: &mut World, res: &mut Resources) {
+    let Some(task) = res.task.as_mut() else { return };
+    if task.is_complete() {
+        return;
+    }
+    let tick = res.tick;
+
+    // Errors and menu opens, from the log entries since the last tick.
+    if task.log_cursor == usize::MAX {
+        // The StartTask entry was logged this tick; count only what follows it.
+        task.log_cursor = res.log.entries.iter().rposition(|e| matches!(e.what, Happening::TaskStarted { .. })).map_or(0, |i| i + 1);
+    }
+    for entry in &res.log.entries[task.log_cursor..] {
+        match &entry.what {
+            Happening::Removed { .. } => task.errors.removals += 1,
+            Happening::ReleasedGreen { .. } => task.errors.released_green += 1,
+            Happening::MenuOpened => task.menu_opens += 1,
+            Happening::Planted { position, .. } | Happening::Snapped { position, .. } => {
+                // In manual mode a new tree appears in front of the user and is moved into
+                // place, so only a snap counts as a placement there.
+                let placement = matches!(entry.what, Happening::Snapped { .. }) || task.def.mode == crate::resources::Mode::RayCasting;
+                if placement && !near_any_target(task, *position) {
+                    task.errors.off_target += 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    task.log_cursor = res.log.entries.len();
+
+    // Where the time goes.
+    let touchpad_active = world
+        .query::<&Controller>()
+        .iter()
+        .any(|c| c.touchpad.abs().max_element() > res.config.touchpad_dead_zone)
+        && world.query::<&Selection>().iter().any(|s| s.tree.is_some());
+    if res.menu.open {
+        task.menu_ticks += 1;
+    } else if res.interaction.drag.is_some() || res.interaction.handle_drag.is_some() || touchpad_active {
+        task.manipulating_ticks += 1;
+    } else {
+        task.aiming_ticks += 1;
+    }
+    if let Some(h) = world.query::<&HitMarker>().iter().next() {
+        if h.visible {
+            if let Some(last) = task.last_hit {
+                task.ray_path_length += last.distance(h.position);
+            }
+            task.last_hit = Some(h.position);
+        } else {
+            task.last_hit = None;
+        }
+    }
+
+    // Targets.
+    let models = task.def.target_models(&res.catalogue);
+    let mut used: Vec<u64> = task.satisfied.iter().flatten().map(|h| h.tree).collect();
+    let dragged = res.interaction.drag.map(|d| d.tree);
+    let mut newly = Vec::new();
+    for (i, target) in task.def.targets.iter().enumerate() {
+        if task.satisfied[i].is_some() {
+            continue;
+        }
+        let want = models[i];
+        let mut best: Option<(f32, u64, Vec3)> = None;
+        for (e, tree, t, g) in world.query::<(Entity, &Tree, &Transform, &Grounded)>().iter() {
+            let id = e.to_bits().get();
+            if Some(tree.model) != want || used.contains(&id) || Some(id) == dragged {
+                continue;
+            }
+            if task.def.require_grounded && !g.0 {
+                continue;
+            }
+            let d = Vec2::new(t.translation.x - target.position.x, t.translation.z - target.position.z).length();
+            if d <= task.def.tolerance && best.is_none_or(|b| d < b.0 || (d == b.0 && id < b.1)) {
+                best = Some((d, id, t.translation));
+            }
+        }
+        if let (Some((_, id, position)), Some(model)) = (best, want) {
+            task.satisfied[i] = Some(TargetHit { tick, tree: id, model, position });
+            used.push(id);
+            newly.push((i, id));
+        }
+    }
+    for (target, tree) in newly {
+        res.log.push(tick, Happening::TargetSatisfied { target, tree });
+    }
+    if task.satisfied.iter().all(Option::is_some) {
+        task.completed_tick = Some(tick);
+        res.log.push(tick, Happening::TaskCompleted);
+    }
+}

@@ -1,0 +1,86 @@
+//! Wind system: advances the gust function and every tree's bend.
+//!
+//! Reads: `Resources::tick`, `Resources::dt`, `Wind`, `WindState` (phase, gain).
+//! Writes: `Wind::current`, `WindState::bend`.
+//!
+//! The per-tree work is a few multiplies and one polynomial sine, with no allocation, so that
+//! a million trees take a few milliseconds. The sine is a fixed polynomial rather than the
+//! platform's `sin`, so the result is the same bit pattern everywhere.
+
+use glam::{Vec2, Vec3};
+use hecs::World;
+use noise::{NoiseFn, Perlin};
+
+use crate::components::{Gust, Wind, WindState};
+use crate::resources::Resources;
+
+/// Sine of `x` (radians) by range reduction to [−π, π] and an odd polynomial of degree 9
+/// (absolute error below 1e-5). Deterministic: plain float arithmetic only.
+#[inline]
+pub fn det_sin(x: f32) -> f32 {
+    use std::f32::consts::{PI, TAU};
+    let k = (x * (1.0 / TAU) + 0.5).floor();
+    let mut r = x - k * TAU;
+    // Fold into [−π/2, π/2], where the polynomial is accurate: sin(π − r) = sin(r).
+    if r > PI * 0.5 {
+        r = PI - r;
+    } else if r < -PI * 0.5 {
+        r = -PI - r;
+    }
+    let r2 = r * r;
+    r * (1.0 + r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (1.0 / 362_880.0)))))
+}
+
+/// The smooth periodic gust shape in [−1, 1], period 1 in `u`.
+#[inline]
+pub fn gust_shape(u: f32) -> f32 {
+    use std::f32::consts::TAU;
+    0.7 * det_sin(TAU * u) + 0.3 * det_sin(2.0 * TAU * u + 1.1)
+}
+
+/// The gust factor at time `t` seconds: `average + strength × shape(frequency × t)`.
+pub fn gust_at(g: &Gust, t: f64) -> f32 {
+    let u = (g.frequency as f64 * t).fract() as f32;
+    g.average + g.strength * gust_shape(u)
+}
+
+/// The wind gain at a world position (0.5..1.5): a Perlin field of spatial frequency
+/// `density`, so that neighbouring trees sway differently.
+pub fn position_gain(position: Vec3, density: f32) -> f32 {
+    let p = Perlin::new(0x67726f76);
+    let n = p.get([position.x as f64 * density as f64, position.z as f64 * density as f64]) as f32;
+    (1.0 + n).clamp(0.5, 1.5)
+}
+
+/// A tree's crown bend, metres per metre of height, for wind direction `dir` (horizontal unit),
+/// base `strength`, the shared gust factor, the tree's gain and phase, at time `t` seconds.
+#[inline]
+pub fn tree_bend(dir: Vec2, strength: f32, gust: f32, gain: f32, phase: f32, t: f32) -> Vec2 {
+    // A steady lean from the gust plus a small oscillation at about 0.5 Hz with the tree's own phase.
+    let sway = det_sin(std::f32::consts::PI * t + phase);
+    let amount = 0.02 * strength * gain * (gust + 0.25 * sway);
+    dir * amount
+}
+
+/// The largest bend [`tree_bend`] can give for this wind, metres per metre of height.
+pub fn max_bend(wind: &Wind) -> f32 {
+    0.02 * wind.strength * 1.5 * (wind.gust.average.abs() + wind.gust.strength.abs() + 0.25)
+}
+
+/// Runs the wind system.
+pub fn run(world: &mut World, res: &mut Resources) {
+    let t = res.time();
+    let mut wind = None;
+    for w in world.query_mut::<&mut Wind>() {
+        w.current = gust_at(&w.gust, t);
+        wind = Some(*w);
+    }
+    let Some(w) = wind else { return };
+    let dir = Vec2::new(w.direction.x, w.direction.z);
+    // Reduce time to one period of the 0.5 Hz oscillation (2 s) in f64 first, so f32 keeps
+    // its precision however long the session runs.
+    let tf = (t % 2.0) as f32;
+    for ws in world.query_mut::<&mut WindState>() {
+        ws.bend = tree_bend(dir, w.strength, w.current, ws.gain, ws.phase, tf);
+    }
+}

@@ -1,0 +1,200 @@
+//! Study tasks: definitions (from `assets/tasks/`) and the state the task system keeps.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::catalogue::{Catalogue, ModelId};
+use crate::resources::Mode;
+
+/// The task files that ship with grove, embedded at compile time: `(id, RON text)`.
+pub const BUILTIN_TASKS: &[(&str, &str)] = &[
+    ("ray-casting-7", include_str!("../../assets/tasks/ray-casting-7.ron")),
+    ("manual-7", include_str!("../../assets/tasks/manual-7.ron")),
+];
+
+/// One target of a task: a place and the model that must stand there.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TargetDef {
+    /// Target position, metres; only X and Z count for the tolerance.
+    pub position: Vec3,
+    /// The required model's catalogue name.
+    pub model: String,
+}
+
+/// A task file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaskDef {
+    /// The task id, also the file stem, e.g. "ray-casting-7".
+    pub id: String,
+    /// The interaction mode the task is done in.
+    pub mode: Mode,
+    /// The scene file stem under `assets/scenes/`, e.g. "study".
+    pub scene: String,
+    /// How far (horizontally) a tree may stand from its target, metres.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f32,
+    /// Whether a tree must be grounded to count.
+    #[serde(default = "yes")]
+    pub require_grounded: bool,
+    /// The targets.
+    pub targets: Vec<TargetDef>,
+}
+
+fn default_tolerance() -> f32 {
+    0.5
+}
+fn yes() -> bool {
+    true
+}
+
+impl TaskDef {
+    /// Parses and checks a task file against a catalogue.
+    pub fn from_ron(text: &str, catalogue: &Catalogue) -> Result<TaskDef, String> {
+        let def: TaskDef = ron::from_str(text).map_err(|e| format!("line {}, column {}: {}", e.span.start.line, e.span.start.col, e.code))?;
+        if def.targets.is_empty() {
+            return Err("a task needs at least one target".into());
+        }
+        if !(def.tolerance.is_finite() && def.tolerance > 0.0) {
+            return Err("tolerance must be a positive number".into());
+        }
+        for (i, t) in def.targets.iter().enumerate() {
+            if !t.position.is_finite() {
+                return Err(format!("target {i} has a NaN or infinite position"));
+            }
+            if catalogue.by_name(&t.model).is_none() {
+                return Err(format!("target {i} names unknown model '{}'", t.model));
+            }
+        }
+        Ok(def)
+    }
+
+    /// A task that ships with grove, by id.
+    pub fn builtin(id: &str) -> Option<TaskDef> {
+        let (_, text) = BUILTIN_TASKS.iter().find(|(name, _)| *name == id)?;
+        TaskDef::from_ron(text, &Catalogue::builtin()).ok()
+    }
+
+    /// The required model of each target, resolved against a catalogue.
+    pub fn target_models(&self, catalogue: &Catalogue) -> Vec<Option<ModelId>> {
+        self.targets.iter().map(|t| catalogue.by_name(&t.model).map(|m| m.id)).collect()
+    }
+}
+
+/// The first time a target was satisfied.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TargetHit {
+    /// The tick at which it was first satisfied.
+    pub tick: u64,
+    /// The tree that satisfied it, by entity id bits.
+    pub tree: u64,
+    /// The tree's model.
+    pub model: ModelId,
+    /// Where the tree stood, metres.
+    pub position: Vec3,
+}
+
+/// Errors made during a task, counted from the interaction event log.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TaskErrors {
+    /// Trees removed.
+    pub removals: u32,
+    /// Trees planted or snapped where no target of any model is within tolerance.
+    pub off_target: u32,
+    /// Drags released while the anchor ball was green (no snap).
+    pub released_green: u32,
+}
+
+impl TaskErrors {
+    /// The total number of errors.
+    pub fn total(&self) -> u32 {
+        self.removals + self.off_target + self.released_green
+    }
+}
+
+/// What the task system measures while a task runs. Every field comes from the simulation and
+/// its event log.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TaskState {
+    /// The task being run.
+    pub def: TaskDef,
+    /// The tick of the StartTask event.
+    pub started_tick: u64,
+    /// Per target, the first time it was satisfied.
+    pub satisfied: Vec<Option<TargetHit>>,
+    /// The tick at which every target was satisfied.
+    pub completed_tick: Option<u64>,
+    /// The tick of the EndTask event, if any.
+    pub ended_tick: Option<u64>,
+    /// Error counts.
+    pub errors: TaskErrors,
+    /// How often the menu was opened.
+    pub menu_opens: u32,
+    /// Total distance travelled by the ray's hit point, metres.
+    pub ray_path_length: f32,
+    /// Ticks spent aiming (nothing held, menu closed).
+    pub aiming_ticks: u64,
+    /// Ticks with the menu open.
+    pub menu_ticks: u64,
+    /// Ticks spent manipulating a tree (dragging, handles, touchpad).
+    pub manipulating_ticks: u64,
+    /// The last hit point seen, for the ray path length.
+    pub last_hit: Option<Vec3>,
+    /// How many log entries the task system has read.
+    pub log_cursor: usize,
+}
+
+impl TaskState {
+    /// A fresh state for a task that starts at `tick`.
+    pub fn new(def: TaskDef, tick: u64) -> TaskState {
+        let n = def.targets.len();
+        TaskState {
+            def,
+            started_tick: tick,
+            satisfied: vec![None; n],
+            completed_tick: None,
+            ended_tick: None,
+            errors: TaskErrors::default(),
+            menu_opens: 0,
+            ray_path_length: 0.0,
+            aiming_ticks: 0,
+            menu_ticks: 0,
+            manipulating_ticks: 0,
+            last_hit: None,
+            log_cursor: usize::MAX,
+        }
+    }
+
+    /// Whether every target is satisfied.
+    pub fn is_complete(&self) -> bool {
+        self.completed_tick.is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_tasks_have_seven_targets_and_both_model_kinds() {
+        let cat = Catalogue::builtin();
+        for (id, text) in BUILTIN_TASKS {
+            let def = TaskDef::from_ron(text, &cat).unwrap_or_else(|e| panic!("{id}: {e}"));
+            assert_eq!(&def.id, id);
+            assert_eq!(def.targets.len(), 7);
+            let kinds: std::collections::BTreeSet<_> =
+                def.targets.iter().map(|t| format!("{:?}", cat.by_name(&t.model).unwrap().kind)).collect();
+            assert_eq!(kinds.len(), 2, "{id} must use both mesh and billboard models");
+        }
+    }
+
+    #[test]
+    fn both_tasks_use_the_same_targets() {
+        let a = TaskDef::builtin("ray-casting-7").unwrap();
+        let b = TaskDef::builtin("manual-7").unwrap();
+        assert_eq!(a.targets, b.targets);
+        assert_eq!(a.mode, Mode::RayCasting);
+        assert_eq!(b.mode, Mode::Manual);
+    }
+}
