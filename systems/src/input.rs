@@ -126,3 +126,12 @@ impl InputEvent {
         }
     }
 }
+
+/// An input event stamped with the tick at which it applies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StampedEvent {
+    /// The tick at whose start the event applies.
+    pub tick: u64,
+    /// The event.
+    pub event: InputEvent,
+}
