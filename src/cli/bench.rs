@@ -1,28 +1,61 @@
-//! `grove bench`: measure the simulation and print JSON.
+//! `grove bench`: measure grove and print one JSON object.
 //!
-//! Every figure is the median of several timed runs on one thread.
+//! `grove bench` runs every benchmark; `grove bench sim raycast` runs only those named. Each
+//! benchmark is a function that returns a JSON value; every figure is the median of several timed
+//! runs on one thread, in whatever build (debug or release) the binary is.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::anyhow;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use grove_systems::Sim;
 use serde::Serialize;
+use serde_json::{json, Value};
+
+/// The benchmarks `grove bench` knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Which {
+    /// The simulation tick with 1k to 1M trees, animation systems on.
+    Sim,
+}
 
 /// Arguments of `grove bench`.
 #[derive(Args)]
 pub struct BenchArgs {
-    /// The scene the trees are scattered over.
+    /// Which benchmarks to run (default: all).
+    #[arg(value_enum)]
+    pub which: Vec<Which>,
+    /// The scene used by the benchmarks.
     #[arg(long, default_value = "assets/scenes/study.ron")]
     pub scene: PathBuf,
-    /// Tree counts to measure the tick at (comma-separated).
+    /// Tree counts for the sim tick benchmark (comma-separated).
     #[arg(long, value_delimiter = ',', default_values_t = vec![1_000usize, 10_000, 100_000, 1_000_000])]
     pub trees: Vec<usize>,
     /// Ticks timed per tree count.
     #[arg(long, default_value_t = 120)]
     pub ticks: u64,
+}
+
+/// The median of a slice of timings (sorted in place); 0 for an empty slice.
+pub fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Times `f` `n` times and returns the per-call durations in milliseconds.
+pub fn time_ms(n: usize, mut f: impl FnMut()) -> Vec<f64> {
+    (0..n)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect()
 }
 
 #[derive(Serialize)]
@@ -33,44 +66,35 @@ struct TickFigure {
     ms_per_tick_max: f64,
 }
 
-#[derive(Serialize)]
-struct BenchReport {
-    build: &'static str,
-    threads: usize,
-    sim_tick: Vec<TickFigure>,
-}
-
-/// The median of a slice of timings (sorted in place).
-pub fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}
-
-/// Runs `grove bench`.
-pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
+fn bench_sim(args: &BenchArgs) -> anyhow::Result<Value> {
     let scene = super::load_scene(&args.scene)?;
-    let mut sim_tick = Vec::new();
+    let mut figures = Vec::new();
     for &n in &args.trees {
         eprintln!("bench: sim tick with {n} trees");
         let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
         sim.scatter_trees(n);
         sim.run(5);
-        let mut times: Vec<f64> = (0..args.ticks.max(1))
-            .map(|_| {
-                let t = Instant::now();
-                sim.step();
-                t.elapsed().as_secs_f64() * 1e3
-            })
-            .collect();
+        let mut times = time_ms(args.ticks.max(1) as usize, || sim.step());
         let min = times.iter().copied().fold(f64::MAX, f64::min);
         let max = times.iter().copied().fold(0.0, f64::max);
-        sim_tick.push(TickFigure { trees: n, ms_per_tick_median: median(&mut times), ms_per_tick_min: min, ms_per_tick_max: max });
+        figures.push(TickFigure { trees: n, ms_per_tick_median: median(&mut times), ms_per_tick_min: min, ms_per_tick_max: max });
     }
-    let report = BenchReport {
-        build: if cfg!(debug_assertions) { "debug" } else { "release" },
-        threads: 1,
-        sim_tick,
-    };
-    super::print_json(&report)?;
+    Ok(serde_json::to_value(figures)?)
+}
+
+/// Runs `grove bench`.
+pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
+    let all = [Which::Sim];
+    let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
+    let mut report = serde_json::Map::new();
+    report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
+    report.insert("threads".into(), json!(1));
+    for w in which {
+        let (name, value) = match w {
+            Which::Sim => ("sim_tick", bench_sim(&args)?),
+        };
+        report.insert(name.into(), value);
+    }
+    super::print_json(&Value::Object(report))?;
     Ok(ExitCode::SUCCESS)
 }
