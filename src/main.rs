@@ -26,6 +26,8 @@ enum Command {
     Scene(cli::scene::SceneCommand),
     /// Measure the simulation's speed and print JSON.
     Bench(cli::bench::BenchArgs),
+    /// Re-simulate a recording headless and verify its checkpoints (exit 0 verified, 1 diverged, 2 bad input).
+    Replay(cli::replay::ReplayArgs),
 }
 
 fn main() -> ExitCode {
@@ -43,6 +45,7 @@ fn main() -> ExitCode {
         Command::Sim(args) => cli::sim::run(args),
         Command::Scene(cmd) => cli::scene::run(cmd),
         Command::Bench(args) => cli::bench::run(args),
+        Command::Replay(args) => cli::replay::run(args),
     };
     match result {
         Ok(code) => code,

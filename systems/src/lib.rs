@@ -19,6 +19,7 @@ pub mod components;
 pub mod events;
 pub mod hash;
 pub mod input;
+pub mod replay;
 pub mod resources;
 pub mod scene;
 pub mod schedule;

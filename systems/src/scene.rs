@@ -11,6 +11,10 @@ use glam::{Vec2, Vec3};
 use noise::{NoiseFn, Perlin};
 use serde::{Deserialize, Serialize};
 
+/// Scenes that ship with grove, embedded at compile time: `(name, RON text)`. A replay header
+/// may name one of these instead of a path.
+pub const BUILTIN_SCENES: &[(&str, &str)] = &[("study", include_str!("../../assets/scenes/study.ron"))];
+
 /// A scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -189,6 +193,12 @@ impl Scene {
         }
         let text = std::fs::read_to_string(path).map_err(|e| SceneError { file: file.clone(), message: io_message(&e) })?;
         Scene::parse(&text, &file)
+    }
+
+    /// A scene that ships with grove, by name (e.g. "study").
+    pub fn builtin(name: &str) -> Option<Scene> {
+        let (_, text) = BUILTIN_SCENES.iter().find(|(n, _)| *n == name)?;
+        Scene::parse(text, name).ok()
     }
 
     /// Parses and checks scene text; `file` names it in errors.

@@ -198,3 +198,86 @@ mod tests {
         assert_eq!(b.mode, Mode::Manual);
     }
 }
+
+/// One placed tree in a task report.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TreeReport {
+    /// Index of the target it satisfied.
+    pub target: usize,
+    /// The model's catalogue name.
+    pub model: String,
+    /// Seconds from the task start until the target was first satisfied.
+    pub time_s: f64,
+    /// Where the tree stood, metres.
+    pub position: [f32; 3],
+}
+
+/// A task's outcome, as `grove replay --json` and `grove study` report it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TaskReport {
+    /// The task id.
+    pub id: String,
+    /// The mode name ("ray-casting" or "manual").
+    pub mode: String,
+    /// Whether every target was satisfied.
+    pub completed: bool,
+    /// Seconds from the start to completion (or to the end of the replay if not completed).
+    pub time_s: f64,
+    /// Total errors.
+    pub errors: u32,
+    /// Errors by kind.
+    pub error_kinds: TaskErrors,
+    /// Satisfied targets, in target order.
+    pub trees: Vec<TreeReport>,
+    /// Number of distinct models among the satisfied targets.
+    pub model_types: usize,
+    /// How often the menu was opened.
+    pub menu_opens: u32,
+    /// Distance travelled by the ray's hit point, metres.
+    pub ray_path_m: f32,
+    /// Seconds spent aiming.
+    pub aiming_s: f64,
+    /// Seconds with the menu open.
+    pub menu_s: f64,
+    /// Seconds spent manipulating trees.
+    pub manipulating_s: f64,
+}
+
+impl TaskReport {
+    /// Builds the report from a task state, the step and the tick the replay reached.
+    pub fn new(task: &TaskState, dt: f32, now_tick: u64, catalogue: &Catalogue) -> TaskReport {
+        let dt = dt as f64;
+        let end = task.completed_tick.unwrap_or(now_tick);
+        let trees: Vec<TreeReport> = task
+            .satisfied
+            .iter()
+            .enumerate()
+            .filter_map(|(i, h)| {
+                h.map(|h| TreeReport {
+                    target: i,
+                    model: catalogue.get(h.model).map_or_else(|| format!("model-{}", h.model.0), |m| m.name.clone()),
+                    time_s: (h.tick - task.started_tick) as f64 * dt,
+                    position: h.position.to_array(),
+                })
+            })
+            .collect();
+        let mut models: Vec<&str> = trees.iter().map(|t| t.model.as_str()).collect();
+        models.sort_unstable();
+        models.dedup();
+        TaskReport {
+            id: task.def.id.clone(),
+            mode: task.def.mode.name().to_string(),
+            completed: task.is_complete(),
+            time_s: end.saturating_sub(task.started_tick) as f64 * dt,
+            errors: task.errors.total(),
+            error_kinds: task.errors,
+            model_types: models.len(),
+            trees,
+            menu_opens: task.menu_opens,
+            ray_path_m: task.ray_path_length,
+            aiming_s: task.aiming_ticks as f64 * dt,
+            menu_s: task.menu_ticks as f64 * dt,
+            manipulating_s: task.manipulating_ticks as f64 * dt,
+        }
+    }
+}

@@ -1,0 +1,146 @@
+//! `grove replay`: re-simulate a recording headless and verify every checkpoint.
+//!
+//! Exit codes: 0 verified, 1 diverged, 2 unreadable or invalid input.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Args;
+use grove_systems::hash::hex;
+use grove_systems::replay::{replay_file, Divergence, ReplayOptions, ReplayOutcome};
+use grove_systems::task::TaskReport;
+use serde::Serialize;
+
+/// Arguments of `grove replay`.
+#[derive(Args)]
+pub struct ReplayArgs {
+    /// The recording (JSON Lines, see docs/replay-format.md).
+    pub file: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Stop at this tick.
+    #[arg(long)]
+    pub until: Option<u64>,
+}
+
+/// What `grove replay --json` prints.
+#[derive(Serialize)]
+pub struct ReplayReport {
+    /// The file replayed.
+    pub file: String,
+    /// Its format version.
+    pub format_version: u32,
+    /// Ticks simulated.
+    pub ticks: u64,
+    /// Simulated seconds.
+    pub sim_seconds: f64,
+    /// Wall-clock seconds the replay took.
+    pub wall_seconds: f64,
+    /// Simulated seconds per wall second.
+    pub speedup: f64,
+    /// Every checkpoint compared matched (and at least one was compared).
+    pub verified: bool,
+    /// The file has its footer.
+    pub complete: bool,
+    /// Checkpoints compared, the footer's final hash included.
+    pub checkpoints_checked: u64,
+    /// The first divergence, if any.
+    pub first_divergence: Option<Divergence>,
+    /// Input events by kind.
+    pub events: std::collections::BTreeMap<String, u64>,
+    /// The world hash at the end of the replay.
+    pub final_hash: String,
+    /// The participant id from the header.
+    pub participant: Option<String>,
+    /// Whether the header marks the session as synthetic.
+    pub synthetic: bool,
+    /// The task outcome, recomputed by the simulation, if the session ran a task.
+    pub task: Option<TaskReport>,
+}
+
+impl ReplayReport {
+    /// Builds the report from a replay's outcome.
+    pub fn new(file: String, outcome: &ReplayOutcome, wall_seconds: f64) -> ReplayReport {
+        let sim = &outcome.sim;
+        let ticks = sim.res.tick;
+        let sim_seconds = ticks as f64 * sim.res.dt as f64;
+        ReplayReport {
+            file,
+            format_version: outcome.header.format_version,
+            ticks,
+            sim_seconds,
+            wall_seconds,
+            speedup: if wall_seconds > 0.0 { sim_seconds / wall_seconds } else { f64::INFINITY },
+            verified: outcome.verifying && outcome.first_divergence.is_none() && outcome.checkpoints_checked > 0,
+            complete: outcome.complete,
+            checkpoints_checked: outcome.checkpoints_checked,
+            first_divergence: outcome.first_divergence.clone(),
+            events: outcome.events.clone(),
+            final_hash: hex(sim.hash().total),
+            participant: outcome.header.participant.clone(),
+            synthetic: outcome.header.synthetic,
+            task: sim.res.task.as_ref().map(|t| TaskReport::new(t, sim.res.dt, ticks, &sim.res.catalogue)),
+        }
+    }
+}
+
+/// Runs `grove replay`.
+pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
+    let start = Instant::now();
+    let options = ReplayOptions { until: args.until, ..Default::default() };
+    let outcome = match replay_file(&args.file, &options) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let wall = start.elapsed().as_secs_f64();
+    let report = ReplayReport::new(args.file.display().to_string(), &outcome, wall);
+    if args.json {
+        super::print_json(&report)?;
+    } else {
+        let state = if report.first_divergence.is_some() {
+            "DIVERGED"
+        } else if report.verified {
+            "verified"
+        } else {
+            "not verified (no checkpoint reached)"
+        };
+        println!(
+            "{}: {state}, {} ({} ticks, {:.1} s simulated in {:.3} s, {:.0}x), {} checkpoints, final hash {}",
+            report.file,
+            if report.complete { "complete" } else { "incomplete" },
+            report.ticks,
+            report.sim_seconds,
+            report.wall_seconds,
+            report.speedup,
+            report.checkpoints_checked,
+            report.final_hash
+        );
+        if let Some(d) = &report.first_divergence {
+            let what: Vec<String> = d.differing.iter().map(|x| format!("entity {} {}", x.entity, x.component)).collect();
+            println!("  first divergence at tick {}: expected {}, got {}; differs: {}", d.tick, d.expected_hash, d.actual_hash, what.join(", "));
+        }
+        if let Some(t) = &report.task {
+            println!(
+                "  task {} ({}): {}, {:.2} s, {} trees, {} errors",
+                t.id,
+                t.mode,
+                if t.completed { "completed" } else { "not completed" },
+                t.time_s,
+                t.trees.len(),
+                t.errors
+            );
+        }
+    }
+    Ok(if report.first_divergence.is_some() {
+        ExitCode::from(1)
+    } else if report.verified {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
