@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod cli;
+mod study;
 
 /// grove: a deterministic simulation of a tree-planting study.
 #[derive(Parser)]
@@ -28,6 +29,8 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// Re-simulate a recording headless and verify its checkpoints (exit 0 verified, 1 diverged, 2 bad input).
     Replay(cli::replay::ReplayArgs),
+    /// Re-simulate the study's recordings, verify them and write the reports (the main job).
+    Study(cli::study::StudyArgs),
 }
 
 fn main() -> ExitCode {
@@ -46,6 +49,7 @@ fn main() -> ExitCode {
         Command::Scene(cmd) => cli::scene::run(cmd),
         Command::Bench(args) => cli::bench::run(args),
         Command::Replay(args) => cli::replay::run(args),
+        Command::Study(args) => cli::study::run(args),
     };
     match result {
         Ok(code) => code,

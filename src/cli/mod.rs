@@ -4,6 +4,7 @@ pub mod bench;
 pub mod replay;
 pub mod scene;
 pub mod sim;
+pub mod study;
 
 use std::path::Path;
 
