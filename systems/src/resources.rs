@@ -153,6 +153,21 @@ pub struct Drag {
     pub grab_distance: f32,
     /// Offset from the grab point to the tree origin, metres.
     pub offset: glam::Vec3,
+    /// Whether the tree has moved since the grab. A Trigger click on a tree (down and up with
+    /// the ray still) selects it without moving, ungrounding, snapping or logging a move.
+    pub moved: bool,
+}
+
+/// A touchpad gesture on the selected tree: from the first tick an axis is beyond the dead zone
+/// until both are back inside it. Moved and Rotated are logged once, when it ends.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TouchpadGesture {
+    /// The tree, by entity id bits.
+    pub tree: u64,
+    /// Whether the gesture moved the tree (not counting grab-distance changes during a drag).
+    pub moved: bool,
+    /// Whether the gesture turned the tree.
+    pub rotated: bool,
 }
 
 /// A bounding-box handle being dragged.
@@ -183,6 +198,8 @@ pub struct Interaction {
     pub handle_drag: Option<HandleDrag>,
     /// A model chosen from the menu in manual mode, waiting to be spawned in front of the head.
     pub pending_spawn: Option<ModelId>,
+    /// The touchpad gesture in progress, if any.
+    pub touchpad: Option<TouchpadGesture>,
 }
 
 /// Buttons that went down or up during the current tick (from this tick's input events).

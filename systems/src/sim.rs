@@ -3,6 +3,7 @@
 use glam::{Vec2, Vec3};
 use hecs::World;
 use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
 
 use crate::catalogue::{Catalogue, ModelId};
 use crate::components::*;
@@ -10,6 +11,33 @@ use crate::hash::{world_hash, WorldHash};
 use crate::input::InputEvent;
 use crate::resources::Resources;
 use crate::scene::{parse_utc_ms, plane_geometry, Scene};
+
+/// The components every tree entity carries.
+pub type TreeComponents = (Tree, Transform, Scale, Grounded, WindState);
+
+/// The components of a new tree: its model, base position, yaw, scale and grounded flag, and a
+/// wind state whose phase is drawn from `rng` (one draw) and whose gain comes from `wind` at
+/// `position`. [`Sim::spawn_tree`] and the interaction systems (through a command buffer) both
+/// spawn trees with this.
+pub fn tree_components(
+    rng: &mut ChaCha8Rng,
+    wind: Option<&Wind>,
+    model: ModelId,
+    position: Vec3,
+    yaw: f32,
+    scale: f32,
+    grounded: bool,
+) -> TreeComponents {
+    let phase = rng.random::<f32>() * std::f32::consts::TAU;
+    let gain = wind.map_or(1.0, |w| crate::systems::wind::position_gain(position, w.density));
+    (
+        Tree { model },
+        Transform { translation: position, yaw },
+        Scale(scale),
+        Grounded(grounded),
+        WindState { phase, gain, bend: Vec2::ZERO },
+    )
+}
 
 /// A running simulation: the hecs world and its resources.
 pub struct Sim {
@@ -93,17 +121,10 @@ impl Sim {
                 grounded = true;
             }
         }
-        let phase = self.res.rng.random::<f32>() * std::f32::consts::TAU;
         let wind = self.wind();
-        let gain = wind.map_or(1.0, |w| crate::systems::wind::position_gain(pos, w.density));
+        let bundle = tree_components(&mut self.res.rng, wind.as_ref(), model, pos, yaw, scale, grounded);
         self.res.spatial.mark_trees_dirty();
-        self.world.spawn((
-            Tree { model },
-            Transform { translation: pos, yaw },
-            Scale(scale),
-            Grounded(grounded),
-            WindState { phase, gain, bend: Vec2::ZERO },
-        ))
+        self.world.spawn(bundle)
     }
 
     /// Scatters `n` extra trees uniformly over the planes' bounding rectangle, cycling through
@@ -153,6 +174,36 @@ impl Sim {
     /// A copy of the wind component, if the world has one.
     pub fn wind(&self) -> Option<Wind> {
         self.world.query::<&Wind>().iter().next().copied()
+    }
+
+    /// A copy of the hit marker (default if the world has none).
+    pub fn hit_marker(&self) -> HitMarker {
+        self.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default()
+    }
+
+    /// A copy of the anchor ball (default if the world has none).
+    pub fn anchor_ball(&self) -> AnchorBall {
+        self.world.query::<&AnchorBall>().iter().next().copied().unwrap_or_default()
+    }
+
+    /// A copy of the selection (default if the world has none).
+    pub fn selection(&self) -> Selection {
+        self.world.query::<&Selection>().iter().next().copied().unwrap_or_default()
+    }
+
+    /// The state of a tree by entity id bits: model, transform, scale and grounded flag; `None`
+    /// if there is no such tree.
+    pub fn tree(&self, id: u64) -> Option<(Tree, Transform, Scale, Grounded)> {
+        let e = hecs::Entity::from_bits(id)?;
+        let mut q = self.world.query_one::<(&Tree, &Transform, &Scale, &Grounded)>(e);
+        q.get().ok().map(|(a, b, c, d)| (*a, *b, *c, *d))
+    }
+
+    /// The id bits of every tree, in ascending order.
+    pub fn tree_ids(&self) -> Vec<u64> {
+        let mut ids: Vec<u64> = self.world.query::<(hecs::Entity, &Tree)>().iter().map(|(e, _)| e.to_bits().get()).collect();
+        ids.sort_unstable();
+        ids
     }
 
     /// Counts of entities by role, for summaries.

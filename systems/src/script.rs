@@ -1,0 +1,178 @@
+//! [`Script`]: drive a simulation like a participant would, and record what was done.
+//!
+//! A script owns a [`Sim`] and changes it only through [`Sim::push_input`] and [`Sim::step`],
+//! exactly like a live session or a replay. Every event it pushes is recorded as a
+//! [`StampedEvent`] with the tick it applies at, so a scripted scenario can be saved as a replay
+//! and played back to the same world hash.
+//!
+//! Each action queues its events and then runs the ticks it says (at least one), so after any
+//! call the simulation has seen its effect:
+//!
+//! | call | events and ticks |
+//! |---|---|
+//! | [`Script::point_at`] | controller pose aimed at a point; 1 tick |
+//! | [`Script::move_controller`] | controller pose; 1 tick |
+//! | [`Script::move_head`] | head pose; 1 tick |
+//! | [`Script::press`] | button down; 1 tick; button up; 1 tick |
+//! | [`Script::hold`] / [`Script::release`] | button down / up; 1 tick |
+//! | [`Script::touchpad`] | axes; `ticks` ticks; axes (0, 0); 1 tick |
+//! | [`Script::choose_model`] | (manual mode: open menu; 1 tick;) choose model; 1 tick |
+//! | [`Script::switch_mode`], [`Script::start_task`], [`Script::end_task`] | the event; 1 tick |
+//! | [`Script::wait`] | `ticks` ticks |
+//!
+//! The methods return `&mut Self`, so steps chain:
+//! `script.point_at(p).press(Button::Trigger).wait(10);`
+//!
+//! # Panics
+//! An event with invalid numbers (NaN, an unnormalised rotation, axes outside [−1, 1]) is a bug
+//! in the script, not user input, so the action methods panic with the reason. Use
+//! [`Script::try_push`] to handle it instead.
+
+use glam::{Vec2, Vec3};
+
+use crate::catalogue::ModelId;
+use crate::components::{Controller, Head, Pose};
+use crate::input::{Button, InputEvent, StampedEvent};
+use crate::resources::Mode;
+use crate::sim::Sim;
+
+/// A simulation driven by scripted input, with a recording of that input.
+pub struct Script {
+    sim: Sim,
+    recorded: Vec<StampedEvent>,
+}
+
+impl Script {
+    /// A script driving `sim` from its current tick.
+    pub fn new(sim: Sim) -> Script {
+        Script { sim, recorded: Vec::new() }
+    }
+
+    /// Queues one event for the next tick and records it, or says why it is invalid.
+    pub fn try_push(&mut self, event: InputEvent) -> Result<&mut Self, String> {
+        let tick = self.sim.res.tick;
+        self.sim.push_input(event.clone())?;
+        self.recorded.push(StampedEvent { tick, event });
+        Ok(self)
+    }
+
+    /// Queues one event for the next tick and records it, without stepping.
+    ///
+    /// # Panics
+    /// If the event carries invalid numbers.
+    pub fn push(&mut self, event: InputEvent) -> &mut Self {
+        let kind = event.kind();
+        if let Err(e) = self.try_push(event) {
+            panic!("Script: invalid {kind} event: {e}");
+        }
+        self
+    }
+
+    /// Runs `ticks` steps without input.
+    pub fn wait(&mut self, ticks: u64) -> &mut Self {
+        self.sim.run(ticks);
+        self
+    }
+
+    /// Aims the controller ray from where the controller is at `point` (one controller pose
+    /// event, no roll), then runs one tick.
+    pub fn point_at(&mut self, point: Vec3) -> &mut Self {
+        let from = self.controller().pose.position;
+        self.move_controller(Pose::looking_at(from, point))
+    }
+
+    /// Puts the controller at `pose` (its ray starts at the position, along the forward
+    /// direction), then runs one tick.
+    pub fn move_controller(&mut self, pose: Pose) -> &mut Self {
+        self.push(InputEvent::ControllerPose { pose }).wait(1)
+    }
+
+    /// Moves the head (camera) to `pose`, then runs one tick.
+    pub fn move_head(&mut self, pose: Pose) -> &mut Self {
+        self.push(InputEvent::HeadPose { pose }).wait(1)
+    }
+
+    /// Presses and releases a button: down, one tick, up, one tick. With the ray still, this is
+    /// a click.
+    pub fn press(&mut self, button: Button) -> &mut Self {
+        self.hold(button).release(button)
+    }
+
+    /// Puts a button down, then runs one tick.
+    pub fn hold(&mut self, button: Button) -> &mut Self {
+        self.push(InputEvent::ButtonDown { button }).wait(1)
+    }
+
+    /// Lets a button up, then runs one tick.
+    pub fn release(&mut self, button: Button) -> &mut Self {
+        self.push(InputEvent::ButtonUp { button }).wait(1)
+    }
+
+    /// Holds the thumb at `(x, y)` on the touchpad for `ticks` ticks, then lifts it (axes back
+    /// to (0, 0)) and runs one more tick, in which the gesture ends. The tree moves or turns in
+    /// exactly `ticks` ticks.
+    pub fn touchpad(&mut self, x: f32, y: f32, ticks: u64) -> &mut Self {
+        self.push(InputEvent::TouchpadAxes { axes: Vec2::new(x, y) }).wait(ticks);
+        self.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO }).wait(1)
+    }
+
+    /// Chooses a model. In manual mode the menu is opened first (one tick), as a participant
+    /// has to for every new tree; the tree then appears in front of the head in the tick of the
+    /// choice. In ray-casting mode it only sets the model that Trigger plants.
+    pub fn choose_model(&mut self, model: ModelId) -> &mut Self {
+        if self.sim.res.mode == Mode::Manual && !self.sim.res.menu.open {
+            self.push(InputEvent::OpenMenu).wait(1);
+        }
+        self.push(InputEvent::ChooseModel { model }).wait(1)
+    }
+
+    /// Switches the interaction mode, then runs one tick.
+    pub fn switch_mode(&mut self, mode: Mode) -> &mut Self {
+        self.push(InputEvent::SwitchMode { mode }).wait(1)
+    }
+
+    /// Starts a study task by id (e.g. "ray-casting-7"), then runs one tick.
+    pub fn start_task(&mut self, id: &str) -> &mut Self {
+        self.push(InputEvent::StartTask { task: id.to_string() }).wait(1)
+    }
+
+    /// Declares the running task finished, then runs one tick.
+    pub fn end_task(&mut self) -> &mut Self {
+        self.push(InputEvent::EndTask).wait(1)
+    }
+
+    /// Every event pushed so far, stamped with the tick it applied at, in order.
+    pub fn recorded(&self) -> &[StampedEvent] {
+        &self.recorded
+    }
+
+    /// The simulation.
+    pub fn sim(&self) -> &Sim {
+        &self.sim
+    }
+
+    /// The simulation, mutably (for set-up; changes made here are not recorded).
+    pub fn sim_mut(&mut self) -> &mut Sim {
+        &mut self.sim
+    }
+
+    /// The simulation, ending the script.
+    pub fn into_sim(self) -> Sim {
+        self.sim
+    }
+
+    /// The simulation and the recording, ending the script.
+    pub fn into_parts(self) -> (Sim, Vec<StampedEvent>) {
+        (self.sim, self.recorded)
+    }
+
+    /// A copy of the controller (default if the world has none).
+    pub fn controller(&self) -> Controller {
+        self.sim.world.query::<&Controller>().iter().next().copied().unwrap_or_default()
+    }
+
+    /// A copy of the head (default if the world has none).
+    pub fn head(&self) -> Head {
+        self.sim.world.query::<&Head>().iter().next().copied().unwrap_or_default()
+    }
+}

@@ -1,0 +1,62 @@
+//! Raycast system: casts the controller ray and keeps the hit marker at the nearest hit.
+//!
+//! Reads: `Controller` (ray), `Selection` (the selected tree), `Tree`, `Transform`, `Scale`
+//! (of the selected tree, for its handles), `Resources::interaction` (the dragged tree),
+//! `Resources::config` (`max_ray_length`, `handle_radius`), `Resources::catalogue`.
+//! Writes: `Resources::spatial` (rebuilt if marked dirty), `HitMarker`.
+//!
+//! The ray is tested against the planes' triangle meshes (so it passes through holes, which
+//! have no triangles), against the trees through the spatial index's BVH (skipping a tree that
+//! is being dragged), and, when a tree is selected and not being dragged, against its 12
+//! bounding-box handles (spheres of radius `handle_radius`). The nearest hit wins, except that
+//! a handle also wins over a hit up to one handle radius in front of it, so that a handle
+//! sitting on the box surface or on the ground can always be grabbed.
+
+use hecs::World;
+
+use crate::components::{Controller, HitMarker, HitTarget};
+use crate::interact;
+use crate::resources::Resources;
+
+/// Runs the raycast system.
+pub fn run(world: &mut World, res: &mut Resources) {
+    res.spatial.refresh(world, &res.catalogue);
+    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
+    let (origin, dir) = (c.ray_origin(), c.ray_dir());
+    let max = res.config.max_ray_length;
+    let dragged = res.interaction.drag.and_then(|d| interact::entity(d.tree));
+
+    let mut marker = HitMarker::default();
+    let plane = res.spatial.cast_planes(origin, dir, max);
+    let tree = res.spatial.cast_trees(origin, dir, plane.map_or(max, |h| h.distance), dragged);
+    let hit = match (tree, plane) {
+        (Some(t), _) => Some((t, HitTarget::Tree(t.entity.to_bits().get()))),
+        (None, Some(p)) => Some((p, HitTarget::Plane(p.entity.to_bits().get()))),
+        (None, None) => None,
+    };
+    if let Some((hit, target)) = hit {
+        marker = HitMarker { visible: true, position: hit.point, normal: hit.normal, distance: hit.distance, target };
+    }
+
+    let selected = interact::selected_tree(world).and_then(interact::entity);
+    if let (Some(sel), None) = (selected, dragged)
+        && let Some(b) = interact::tree_box_of(world, &res.catalogue, sel)
+    {
+        let radius = res.config.handle_radius;
+        let limit = if marker.visible { (marker.distance + radius).min(max) } else { max };
+        if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit) {
+            let point = origin + dir * d;
+            marker = HitMarker {
+                visible: true,
+                position: point,
+                normal: (point - center).normalize_or(-dir),
+                distance: d,
+                target: HitTarget::Handle(handle),
+            };
+        }
+    }
+
+    for m in world.query_mut::<&mut HitMarker>() {
+        *m = marker;
+    }
+}

@@ -1,0 +1,36 @@
+//! Selection box system: keeps the `Selection` box on the selected tree.
+//!
+//! Reads: `Selection` (which tree), `Tree`, `Transform`, `Scale`, `Resources::catalogue`.
+//! Writes: `Selection` (centre, half extents, yaw; cleared if the tree is gone),
+//! `Resources::interaction.handle_drag` (ends if the tree is gone), `Resources::log`
+//! (deselected, if the tree is gone).
+//!
+//! The box is the tree's catalogue bounds, scaled and turned with the tree: the same box the
+//! spatial index and the handles use. Only the one selected tree is looked at.
+
+use hecs::World;
+
+use crate::components::Selection;
+use crate::events::Happening;
+use crate::interact;
+use crate::resources::Resources;
+
+/// Runs the selection box system.
+pub fn run(world: &mut World, res: &mut Resources) {
+    let Some(id) = interact::selected_tree(world) else { return };
+    let b = interact::entity(id).and_then(|e| interact::tree_box_of(world, &res.catalogue, e));
+    for s in world.query_mut::<&mut Selection>() {
+        match b {
+            Some(b) => {
+                s.center = b.center;
+                s.half_extents = b.half_extents;
+                s.yaw = b.yaw;
+            }
+            None => *s = Selection::default(),
+        }
+    }
+    if b.is_none() {
+        res.interaction.handle_drag = None;
+        res.log.push(res.tick, Happening::Deselected);
+    }
+}
