@@ -31,6 +31,8 @@ enum Command {
     Replay(cli::replay::ReplayArgs),
     /// Re-simulate the study's recordings, verify them and write the reports (the main job).
     Study(cli::study::StudyArgs),
+    /// Generate synthetic participants' recordings of the study's tasks.
+    Synth(cli::synth::SynthArgs),
 }
 
 fn main() -> ExitCode {
@@ -50,6 +52,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => cli::bench::run(args),
         Command::Replay(args) => cli::replay::run(args),
         Command::Study(args) => cli::study::run(args),
+        Command::Synth(args) => cli::synth::run(args),
     };
     match result {
         Ok(code) => code,

@@ -5,6 +5,7 @@ pub mod replay;
 pub mod scene;
 pub mod sim;
 pub mod study;
+pub mod synth;
 
 use std::path::Path;
 

@@ -27,15 +27,18 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], title: &str, width
         .margin(16)
         .x_label_area_size(50)
         .y_label_area_size(70)
-        .build_cartesian_2d(0f64..n as f64, 0f64..max)
+        .build_cartesian_2d(-0.5f64..n as f64 - 0.5, 0f64..max)
         .map_err(|e| err(&e))?;
     chart
         .configure_mesh()
         .disable_x_mesh()
-        .x_labels(n)
+        .x_labels(n.min(40))
         .x_label_formatter(&|x| {
-            let i = x.floor() as usize;
-            rows.get(i).map(|r| r.participant.clone()).unwrap_or_default()
+            // Bars are centred on whole numbers; other tick positions get no label.
+            if (x - x.round()).abs() > 1e-6 || *x < 0.0 {
+                return String::new();
+            }
+            rows.get(x.round() as usize).map(|r| r.participant.clone()).unwrap_or_default()
         })
         .x_desc("Participant")
         .y_desc("Task time (s)")
@@ -45,14 +48,14 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], title: &str, width
         .map_err(|e| err(&e))?;
     let ray = RGBColor(46, 134, 193);
     let manual = RGBColor(230, 126, 34);
-    let bar = |i: usize, offset: f64, v: f64, c: RGBColor| Rectangle::new([(i as f64 + offset, 0.0), (i as f64 + offset + 0.36, v)], c.filled());
+    let bar = |i: usize, offset: f64, v: f64, c: RGBColor| Rectangle::new([(i as f64 + offset, 0.0), (i as f64 + offset + 0.38, v)], c.filled());
     chart
-        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.ray_casting_s.map(|v| bar(i, 0.12, v, ray))))
+        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.ray_casting_s.map(|v| bar(i, -0.4, v, ray))))
         .map_err(|e| err(&e))?
         .label("ray-casting")
         .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], ray.filled()));
     chart
-        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.manual_s.map(|v| bar(i, 0.52, v, manual))))
+        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.manual_s.map(|v| bar(i, 0.02, v, manual))))
         .map_err(|e| err(&e))?
         .label("manual")
         .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], manual.filled()));

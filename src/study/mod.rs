@@ -6,6 +6,7 @@
 pub mod chart;
 pub mod participant;
 pub mod report;
+pub mod synth;
 
 
 use std::path::{Path, PathBuf};

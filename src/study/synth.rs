@@ -1,0 +1,408 @@
+//! Synthetic participants: closed-loop generation of study recordings.
+//!
+//! A synthetic participant watches the simulation the way a person watches the display (where
+//! the ray hits, which tree is selected, whether the anchor ball is white) and answers only with
+//! input events: controller and head poses, button presses, touchpad axes and menu actions. The
+//! human-performance model is in [`super::participant`] and `docs/participants.md`. The events
+//! are then written as a recording by re-simulating them from scratch
+//! ([`grove_systems::replay::record_events`]), so every checkpoint and every timing in the file
+//! comes from the simulation, never from the generator.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail};
+use glam::{Vec2, Vec3};
+use grove_systems::catalogue::ModelId;
+use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Selection, Transform, Tree};
+use grove_systems::events::Happening;
+use grove_systems::input::{Button, InputEvent, StampedEvent};
+use grove_systems::replay::{record_events, Header};
+use grove_systems::resources::Mode;
+use grove_systems::scene::Scene;
+use grove_systems::script::Script;
+use grove_systems::task::TaskDef;
+use grove_systems::Sim;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use super::participant::{angle_between, angular_width, scatter_direction, sweep, Skill};
+
+/// A controller pose is sent every this many ticks while the hand moves (30 Hz at 60 Hz ticks),
+/// like a tracking system that reports at half the simulation rate.
+pub const POSE_EVERY: u64 = 2;
+/// The most corrective sub-movements before a participant accepts where the ray is.
+pub const MAX_CORRECTIONS: usize = 6;
+/// The fraction of the tolerance radius a participant aims to be within before committing.
+pub const AIM_MARGIN: f32 = 0.6;
+
+/// The recordings of one participant's two tasks.
+pub struct ParticipantSession {
+    /// The header of the recording.
+    pub header: Header,
+    /// The input events.
+    pub events: Vec<StampedEvent>,
+    /// The tick to record up to.
+    pub end_tick: u64,
+}
+
+struct Participant {
+    script: Script,
+    rng: ChaCha8Rng,
+    skill: Skill,
+    hand: Vec3,
+    dir: Vec3,
+    dt: f64,
+}
+
+impl Participant {
+    fn ticks(&self, seconds: f64) -> u64 {
+        (seconds / self.dt).round().max(1.0) as u64
+    }
+
+    fn sim(&self) -> &Sim {
+        self.script.sim()
+    }
+
+    fn pose(&self, dir: Vec3) -> Pose {
+        Pose::looking_at(self.hand, self.hand + dir)
+    }
+
+    fn think(&mut self) {
+        let jitter: f64 = self.rng.random_range(0.85..1.15);
+        let n = self.ticks(self.skill.mental * jitter);
+        self.script.wait(n);
+    }
+
+    fn press(&mut self, button: Button) {
+        let down = self.ticks(0.1);
+        let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
+        self.script.push(InputEvent::ButtonDown { button }).wait(down);
+        self.script.push(InputEvent::ButtonUp { button }).wait(rest);
+    }
+
+    /// Moves the ray from its direction to `to` along a minimum-jerk path in `ticks` ticks,
+    /// running `during(tick_index)` before each tick (for concurrent touchpad use).
+    fn sweep_ray(&mut self, to: Vec3, ticks: u64, mut during: impl FnMut(&mut Script, u64)) {
+        let from = self.dir;
+        for k in 1..=ticks {
+            during(&mut self.script, k);
+            if k % POSE_EVERY == 0 || k == ticks {
+                let d = sweep(from, to, k as f64 / ticks as f64);
+                let pose = self.pose(d);
+                self.script.push(InputEvent::ControllerPose { pose });
+            }
+            self.script.wait(1);
+        }
+        self.dir = to.normalize();
+    }
+
+    fn look_at(&mut self, point: Vec3) {
+        let head = self.script.head().pose.position;
+        self.script.push(InputEvent::HeadPose { pose: Pose::looking_at(head, point) });
+    }
+
+    /// Aims the ray at `point`, a target of angular width `width`, with Fitts timing and
+    /// endpoint scatter, then corrects until `ok` holds (or gives up). `sloppy` skips the
+    /// corrections and widens the scatter: an early click.
+    fn aim(&mut self, point: Vec3, width: f64, sloppy: bool, ok: &dyn Fn(&Sim) -> bool) {
+        self.look_at(point);
+        let mut sigma = self.skill.endpoint_sigma(width) * if sloppy { 4.0 } else { 1.0 };
+        for attempt in 0..=MAX_CORRECTIONS {
+            let target = (point - self.hand).normalize();
+            let amplitude = angle_between(self.dir, target);
+            if attempt > 0 && ok(self.sim()) {
+                return;
+            }
+            let time = self.skill.aim_time(amplitude, width);
+            let end = scatter_direction(&mut self.rng, target, sigma);
+            let n = self.ticks(time);
+            self.sweep_ray(end, n, |_, _| {});
+            if sloppy || ok(self.sim()) {
+                return;
+            }
+            // Corrective sub-movements are shorter and more precise.
+            sigma *= 0.6;
+        }
+    }
+
+    fn hit(&self) -> HitMarker {
+        self.sim().world.query::<&HitMarker>().iter().next().copied().unwrap_or_default()
+    }
+
+    fn ground_at(&self, x: f32, z: f32) -> f32 {
+        self.sim().res.spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).map_or(0.0, |h| h.point.y)
+    }
+
+    fn choose(&mut self, model: ModelId) {
+        self.press(Button::Menu);
+        let n = self.ticks(self.skill.menu_time());
+        self.script.wait(n);
+        self.script.push(InputEvent::ChooseModel { model }).wait(1);
+    }
+
+    fn last_planted(&self) -> Option<(u64, Vec3)> {
+        self.sim().res.log.entries.iter().rev().find_map(|e| match e.what {
+            Happening::Planted { tree, position, .. } => Some((tree, position)),
+            _ => None,
+        })
+    }
+
+    fn tree(&self, id: u64) -> Option<(Transform, ModelId, f32)> {
+        let e = hecs::Entity::from_bits(id)?;
+        let t = *self.sim().world.get::<&Transform>(e).ok()?;
+        let m = self.sim().world.get::<&Tree>(e).ok()?.model;
+        let s = self.sim().world.get::<&grove_systems::components::Scale>(e).ok()?.0;
+        Some((t, m, s))
+    }
+
+    fn tree_center(&self, id: u64) -> Option<Vec3> {
+        let (t, m, s) = self.tree(id)?;
+        let info = self.sim().res.catalogue.get(m)?;
+        Some(t.translation + Vec3::Y * (info.bounds_min.y + info.bounds_max.y) * 0.5 * s)
+    }
+
+    /// Points at a tree and presses Bumper to remove it.
+    fn remove(&mut self, id: u64) {
+        let Some(c) = self.tree_center(id) else { return };
+        let width = angular_width(1.0, (c - self.hand).length() as f64);
+        self.aim(c, width, false, &move |sim: &Sim| {
+            let h = sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+            h.visible && h.target == HitTarget::Tree(id)
+        });
+        self.press(Button::Bumper);
+    }
+
+    fn ray_casting_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32) {
+        let error = self.rng.random::<f64>() < self.skill.error_rate;
+        let wrong_model = error && self.rng.random::<bool>();
+        let mut sloppy = error && !wrong_model;
+        self.think();
+        let models = self.sim().res.catalogue.len() as u8;
+        let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
+        if self.sim().res.menu.current_model != chosen {
+            self.choose(chosen);
+        }
+        let goal = Vec2::new(pos.x, pos.z);
+        let margin = tolerance * AIM_MARGIN;
+        for _ in 0..8 {
+            let point = Vec3::new(pos.x, self.ground_at(pos.x, pos.z), pos.z);
+            let width = angular_width(2.0 * margin as f64, (point - self.hand).length() as f64);
+            let ok = move |sim: &Sim| {
+                let h = sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+                h.visible && matches!(h.target, HitTarget::Plane(_)) && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
+            };
+            // An early click skips the corrections once; the plant then usually lands off target.
+            self.aim(point, width, sloppy, &ok);
+            sloppy = false;
+            let before = self.last_planted().map(|p| p.0);
+            self.press(Button::Trigger);
+            let Some((id, at)) = self.last_planted().filter(|p| Some(p.0) != before) else {
+                // Nothing was planted (the ray was on a tree or on nothing): look again.
+                self.think();
+                continue;
+            };
+            let off = Vec2::new(at.x, at.z).distance(goal) > tolerance;
+            let wrong = self.tree(id).is_some_and(|t| t.1 != model);
+            if !off && !wrong {
+                return;
+            }
+            // The participant notices the mistake, removes the tree and tries again.
+            self.think();
+            self.remove(id);
+            if wrong {
+                self.choose(model);
+            }
+        }
+    }
+
+    fn selected(&self) -> Option<u64> {
+        self.sim().world.query::<&Selection>().iter().next().and_then(|s| s.tree)
+    }
+
+    fn anchor(&self) -> AnchorBall {
+        self.sim().world.query::<&AnchorBall>().iter().next().copied().unwrap_or_default()
+    }
+
+    fn manual_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32) -> anyhow::Result<()> {
+        let error = self.rng.random::<f64>() < self.skill.error_rate;
+        let wrong_model = error && self.rng.random::<bool>();
+        let early_release = error && !wrong_model;
+        self.think();
+        let models = self.sim().res.catalogue.len() as u8;
+        let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
+        self.choose(chosen);
+        let id = self.selected().ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
+        self.drag_into_place(id, pos, tolerance, early_release)?;
+        if wrong_model {
+            self.think();
+            self.remove(id);
+            self.think();
+            self.choose(model);
+            let id = self.selected().ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
+            self.drag_into_place(id, pos, tolerance, false)?;
+        }
+        Ok(())
+    }
+
+    /// Grabs a tree and drags it to the target with ray and touchpad until the anchor ball is
+    /// white over the target, then releases.
+    fn drag_into_place(&mut self, id: u64, pos: Vec3, tolerance: f32, early_release: bool) -> anyhow::Result<()> {
+        let goal = Vec2::new(pos.x, pos.z);
+        for grab in 0..4 {
+            let c = self.tree_center(id).ok_or_else(|| anyhow!("the tree to drag is gone"))?;
+            let width = angular_width(1.0, (c - self.hand).length() as f64);
+            self.aim(c, width, false, &move |sim: &Sim| {
+                let h = sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+                h.visible && h.target == HitTarget::Tree(id)
+            });
+            if self.hit().target != HitTarget::Tree(id) {
+                continue;
+            }
+            let press = self.ticks(0.1);
+            self.script.push(InputEvent::ButtonDown { button: Button::Trigger }).wait(press);
+            for attempt in 0..MAX_CORRECTIONS {
+                let Some(drag) = self.sim().res.interaction.drag else { break };
+                let (_, m, s) = self.tree(id).ok_or_else(|| anyhow!("the dragged tree is gone"))?;
+                let lowest = self.sim().res.catalogue.get(m).map_or(0.0, |i| i.lowest_point()) * s;
+                let base = Vec3::new(pos.x, self.ground_at(pos.x, pos.z) - lowest, pos.z);
+                let grab_point = base - drag.offset;
+                let want = grab_point - self.hand;
+                let dir_sigma = self.skill.endpoint_sigma(angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
+                let amplitude = angle_between(self.dir, want);
+                let rot_time = self.skill.aim_time(amplitude, angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
+                let rate = self.sim().res.config.touchpad_move_rate as f64;
+                let delta = want.length() as f64 - drag.grab_distance as f64;
+                // Rate control is imprecise: the thumb comes off a little early or late.
+                let timing: f64 = if attempt == 0 { self.rng.random_range(0.93..1.07) } else { 1.0 };
+                let touch_ticks = if delta.abs() > 0.05 { self.ticks(delta.abs() / rate * timing) } else { 0 };
+                let rot_ticks = self.ticks(rot_time);
+                let end = scatter_direction(&mut self.rng, want, dir_sigma * if attempt == 0 { 1.0 } else { 0.6 });
+                let sign = delta.signum() as f32;
+                let total = rot_ticks.max(touch_ticks);
+                // The ray sweeps over the rotation time; the thumb pushes for the touch time.
+                let from = self.dir;
+                for k in 1..=total {
+                    if k == 1 && touch_ticks > 0 {
+                        self.script.push(InputEvent::TouchpadAxes { axes: Vec2::new(0.0, sign) });
+                    }
+                    if k == touch_ticks + 1 && touch_ticks > 0 {
+                        self.script.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO });
+                    }
+                    if k <= rot_ticks && (k % POSE_EVERY == 0 || k == rot_ticks) {
+                        let d = sweep(from, end, k as f64 / rot_ticks as f64);
+                        let pose = self.pose(d);
+                        self.script.push(InputEvent::ControllerPose { pose });
+                    }
+                    self.script.wait(1);
+                }
+                if touch_ticks >= total && touch_ticks > 0 {
+                    self.script.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO }).wait(1);
+                }
+                self.dir = end.normalize();
+                let ball = self.anchor();
+                let here = self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(goal);
+                if early_release && grab == 0 && attempt == 0 {
+                    break;
+                }
+                if ball.visible && ball.armed && here.distance(goal) < tolerance * AIM_MARGIN {
+                    break;
+                }
+            }
+            let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
+            self.script.push(InputEvent::ButtonUp { button: Button::Trigger }).wait(rest);
+            let grounded = self.sim().world.get::<&grove_systems::components::Grounded>(hecs::Entity::from_bits(id).ok_or_else(|| anyhow!("bad id"))?).map(|g| g.0).unwrap_or(false);
+            let here = self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(Vec2::splat(f32::MAX));
+            if grounded && here.distance(goal) <= tolerance {
+                return Ok(());
+            }
+            self.think();
+        }
+        bail!("could not place the tree at ({:.2}, {:.2}) after several tries", pos.x, pos.z)
+    }
+}
+
+/// Generates one participant's session for a task.
+pub fn synthesize(task: &TaskDef, participant: usize, seed: u64) -> anyhow::Result<ParticipantSession> {
+    let scene = Scene::builtin(&task.scene).ok_or_else(|| anyhow!("task {} names unknown scene '{}'", task.id, task.scene))?;
+    // Each participant has one skill for both tasks; each task has its own simulation seed.
+    let mut skill_rng = ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    let skill = Skill::sample(&mut skill_rng);
+    let task_salt = task.id.bytes().fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
+    let sim_seed = seed.wrapping_mul(1000).wrapping_add(participant as u64);
+    let sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
+    let rng = ChaCha8Rng::seed_from_u64(seed ^ task_salt ^ (participant as u64) << 32);
+    let script = Script::new(sim);
+    let hand = script.controller().pose.position;
+    let dir = script.controller().pose.forward();
+    let dt = script.sim().res.dt as f64;
+    let mut p = Participant { script, rng, skill, hand, dir, dt };
+
+    let mut header = Header::new(&task.scene, sim_seed, scene.dt);
+    header.task = Some(task.id.clone());
+    header.participant = Some(format!("P{:02}", participant + 1));
+    header.synthetic = true;
+
+    p.script.wait(30);
+    p.script.push(InputEvent::SwitchMode { mode: task.mode }).wait(1);
+    p.script.push(InputEvent::StartTask { task: task.id.clone() }).wait(1);
+    let models = task.target_models(&p.sim().res.catalogue);
+    // Far targets first, so that trees already planted never stand in the way of the ray.
+    let mut order: Vec<usize> = (0..task.targets.len()).collect();
+    order.sort_by(|&a, &b| {
+        let da = (task.targets[a].position - p.hand).length();
+        let db = (task.targets[b].position - p.hand).length();
+        db.total_cmp(&da).then(a.cmp(&b))
+    });
+    for i in order {
+        let model = models[i].ok_or_else(|| anyhow!("target {i} has an unknown model"))?;
+        let pos = task.targets[i].position;
+        match task.mode {
+            Mode::RayCasting => p.ray_casting_target(pos, model, task.tolerance),
+            Mode::Manual => p.manual_target(pos, model, task.tolerance)?,
+        }
+    }
+    p.think();
+    p.script.push(InputEvent::EndTask).wait(30);
+    let end_tick = p.sim().res.tick;
+    let completed = p.sim().res.task.as_ref().is_some_and(|t| t.is_complete());
+    if !completed {
+        bail!("participant {} did not complete task {}", participant + 1, task.id);
+    }
+    let (_, events) = p.script.into_parts();
+    Ok(ParticipantSession { header, events, end_tick })
+}
+
+/// Writes `participants` × 2 recordings to `out` (one per participant per task). Existing files
+/// are never overwritten unless `force` is set.
+pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+    let tasks: Vec<TaskDef> = ["ray-casting-7", "manual-7"].iter().map(|id| TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))).collect::<Result<_, _>>()?;
+    if out.exists() && !out.is_dir() {
+        bail!("{}: exists and is not a folder", out.display());
+    }
+    let mut planned = Vec::new();
+    for p in 0..participants {
+        for t in &tasks {
+            planned.push((p, t, out.join(format!("P{:02}-{}.jsonl", p + 1, t.id))));
+        }
+    }
+    if !force {
+        if let Some((_, _, f)) = planned.iter().find(|(_, _, f)| f.exists()) {
+            bail!("{}: already exists; use --force to overwrite the recordings in {}", f.display(), out.display());
+        }
+    }
+    std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
+    let mut written = Vec::new();
+    for (p, task, path) in planned {
+        progress(&format!("P{:02} {}", p + 1, task.id));
+        let session = synthesize(task, p, seed)?;
+        let summary = serde_json::json!({ "generator": "grove synth", "seed": seed });
+        // Write to a temporary file and rename, so a failure never leaves half a recording.
+        let tmp = path.with_extension("jsonl.tmp");
+        let file = std::fs::File::create(&tmp).map_err(|e| anyhow!("{}: {e}", tmp.display()))?;
+        let w = record_events(std::io::BufWriter::new(file), &session.header, &session.events, session.end_tick, summary).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        drop(w);
+        std::fs::rename(&tmp, &path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        written.push(path);
+    }
+    Ok(written)
+}
