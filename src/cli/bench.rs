@@ -19,6 +19,10 @@ use serde_json::{json, Value};
 pub enum Which {
     /// The simulation tick with 1k to 1M trees, animation systems on.
     Sim,
+    /// Replay speed of a 5-minute session.
+    Replay,
+    /// The whole study: 24 recordings re-simulated, verified and reported.
+    Study,
 }
 
 /// Arguments of `grove bench`.
@@ -84,7 +88,7 @@ fn bench_sim(args: &BenchArgs) -> anyhow::Result<Value> {
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
-    let all = [Which::Sim];
+    let all = [Which::Sim, Which::Replay, Which::Study];
     let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
     let mut report = serde_json::Map::new();
     report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
@@ -92,6 +96,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
     for w in which {
         let (name, value) = match w {
             Which::Sim => ("sim_tick", bench_sim(&args)?),
+            Which::Replay => ("replay", super::bench_replay::bench_replay()?),
+            Which::Study => ("study", super::bench_replay::bench_study()?),
         };
         report.insert(name.into(), value);
     }
