@@ -26,6 +26,8 @@ enum Command {
     Scene(cli::scene::SceneCommand),
     /// Measure the simulation's speed and print JSON.
     Bench(cli::bench::BenchArgs),
+    /// Print the sun's position (NREL SPA) for a place and a UTC time.
+    Sun(cli::sun::SunArgs),
 }
 
 fn main() -> ExitCode {
@@ -43,6 +45,7 @@ fn main() -> ExitCode {
         Command::Sim(args) => cli::sim::run(args),
         Command::Scene(cmd) => cli::scene::run(cmd),
         Command::Bench(args) => cli::bench::run(args),
+        Command::Sun(args) => cli::sun::run(args),
     };
     match result {
         Ok(code) => code,

@@ -1,8 +1,10 @@
 //! Subcommands of the `grove` tool, one module each, and the helpers they share.
 
 pub mod bench;
+pub mod bench_wind;
 pub mod scene;
 pub mod sim;
+pub mod sun;
 
 use std::path::Path;
 
