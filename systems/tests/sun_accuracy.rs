@@ -56,7 +56,7 @@ fn crate_reproduces_the_nrel_spa_test_case_with_its_inputs() {
 fn grove_geometric_sun_differs_from_the_spa_test_case_only_by_refraction() {
     // grove: sea level, no refraction, estimated ΔT.
     let ours = pos(SPA_LAT, SPA_LON, ms(2003, 10, 17, 19, 30, 30));
-    // The refraction SPA adds (equation A.?? of Reda & Andreas, 820 mbar, 11 °C) at our elevation.
+    // The refraction SPA adds (Reda & Andreas 2003, eq. 42, at 820 mbar and 11 °C) at our elevation.
     let e0 = ours.elevation_deg;
     let refraction = (820.0 / 1010.0) * (283.0 / (273.0 + 11.0)) * 1.02 / (60.0 * (e0 + 10.3 / (e0 + 5.11)).to_radians().tan());
     // The rest of the difference comes from the observer's height (1830 m of parallax, about
@@ -221,7 +221,12 @@ fn solar_noon_elevation_is_ninety_minus_latitude_minus_declination() {
                 let expected = 90.0 - (lat - decl).abs();
                 // Topocentric parallax lowers the sun by up to 0.0024°.
                 assert!((p.elevation_deg - expected).abs() < 0.01, "{year}-{month}-{day} lat {lat}: noon elevation {} vs {expected}", p.elevation_deg);
-                // At noon the sun is due south where it culminates south of the zenith, due north otherwise.
+                // At noon the sun is due south where it culminates south of the zenith, due north
+                // otherwise. Within a degree of the zenith the azimuth is ill-defined (it swings
+                // through 180° in seconds), so only the elevation is checked there.
+                if (lat - decl).abs() < 1.0 {
+                    continue;
+                }
                 let towards_south = lat > decl;
                 let off = if towards_south { (p.azimuth_deg - 180.0).abs() } else { p.azimuth_deg.min(360.0 - p.azimuth_deg) };
                 assert!(off < 0.5, "{year}-{month}-{day} lat {lat}: noon azimuth {}", p.azimuth_deg);
