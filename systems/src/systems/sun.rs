@@ -82,7 +82,7 @@ pub fn julian_date(utc_ms: i64) -> f64 {
 /// the `solar-positioning` crate; valid for years −500..3000).
 pub fn delta_t(utc_ms: i64) -> Result<f64, String> {
     let year = 2000.0 + (julian_date(utc_ms) - 2_451_544.5) / 365.2425;
-    solar_positioning::delta_t::estimate(year).map_err(|e| format!("no ΔT for year {year:.0}: {e}"))
+    solar_positioning::delta_t::estimate(year).map_err(|e| format!("no ΔT for year {}: {e}", year.floor()))
 }
 
 /// The sun's position from a place and a UTC time in milliseconds, with SPA at sea level, no

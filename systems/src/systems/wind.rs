@@ -47,8 +47,10 @@ pub fn gust_at(g: &Gust, t: f64) -> f32 {
 /// The per-tree gain at a world position (0.5..1.5); see [`crate::wind_model::position_gain`].
 pub use crate::wind_model::position_gain;
 
-/// A tree's trunk lean (horizontal metres per metre of height, world X and Z), for wind direction `dir` (horizontal unit),
-/// base `strength`, the shared gust factor, the tree's gain and phase, at time `t` seconds.
+/// A tree's trunk lean (horizontal metres per metre of height, world X and Z) for wind
+/// direction `dir` (horizontal unit), base `strength`, the shared gust factor, the tree's gain
+/// and phase, at time `t` seconds:
+/// `dir × 0.02 × strength × gain × (gust + 0.25 × sin(π t + phase))`.
 #[inline]
 pub fn tree_bend(dir: Vec2, strength: f32, gust: f32, gain: f32, phase: f32, t: f32) -> Vec2 {
     // A steady lean from the gust plus a small oscillation at about 0.5 Hz with the tree's own phase.
@@ -57,9 +59,10 @@ pub fn tree_bend(dir: Vec2, strength: f32, gust: f32, gain: f32, phase: f32, t: 
     dir * amount
 }
 
-/// The largest bend [`tree_bend`] can give for this wind, metres per metre of height.
+/// The largest bend [`tree_bend`] can give for this wind at any time, any gain (≤ 1.5) and any
+/// phase, metres per metre of height.
 pub fn max_bend(wind: &Wind) -> f32 {
-    0.02 * wind.strength * 1.5 * (wind.gust.average.abs() + wind.gust.strength.abs() + 0.25)
+    0.02 * wind.strength.abs() * 1.5 * (wind.gust.average.abs() + wind.gust.strength.abs() + 0.25)
 }
 
 /// Runs the wind system.
