@@ -150,3 +150,21 @@ fn sun_clock_advances_at_its_time_rate() {
     let expected = grove_systems::systems::sun::sun_position(now.latitude_deg, now.longitude_deg, now.utc_ms).unwrap();
     assert_eq!(now.elevation_deg, expected.elevation_deg);
 }
+
+#[test]
+fn scenes_choose_the_wind_model_and_response() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/study.ron");
+    let text = std::fs::read_to_string(path).unwrap();
+    let with = |extra: &str| text.replacen("gust_frequency: 0.2,", &format!("gust_frequency: 0.2, {extra}"), 1);
+    let scene = Scene::parse(&with("model: noise, response: (trunk_stiffness: 7.5),"), "test").unwrap();
+    let sim = Sim::from_scene(&scene, 1).unwrap();
+    let w = sim.wind().unwrap();
+    assert_eq!(w.model, grove_systems::wind_model::WindModel::Noise);
+    assert_eq!(w.response.trunk_stiffness, 7.5);
+    assert_eq!(w.response.leaf_frequency, grove_systems::wind_model::WindResponse::default().leaf_frequency);
+    // The default is the hierarchical model.
+    assert_eq!(Sim::from_scene(&self::scene(), 1).unwrap().wind().unwrap().model, grove_systems::wind_model::WindModel::Hierarchical);
+    let err = Scene::parse(&with("response: (branch_stiffness: 0.0),"), "test").unwrap_err().to_string();
+    assert!(err.contains("stiffness"), "{err}");
+    assert!(Scene::parse(&with("response: (stifness: 1.0),"), "test").is_err());
+}
