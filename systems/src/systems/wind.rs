@@ -20,13 +20,11 @@ use crate::resources::Resources;
 pub fn det_sin(x: f32) -> f32 {
     use std::f32::consts::{PI, TAU};
     let k = (x * (1.0 / TAU) + 0.5).floor();
-    let mut r = x - k * TAU;
-    // Fold into [−π/2, π/2], where the polynomial is accurate: sin(π − r) = sin(r).
-    if r > PI * 0.5 {
-        r = PI - r;
-    } else if r < -PI * 0.5 {
-        r = -PI - r;
-    }
+    let r = x - k * TAU;
+    // Fold into [−π/2, π/2], where the polynomial is accurate: sin(π − r) = sin(r). Written
+    // without branches (abs and copysign are exact), since random tree phases would make a
+    // branch unpredictable.
+    let r = (PI * 0.5 - (r.abs() - PI * 0.5).abs()).copysign(r);
     let r2 = r * r;
     r * (1.0 + r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (1.0 / 362_880.0)))))
 }
