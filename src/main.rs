@@ -33,6 +33,8 @@ enum Command {
     Study(cli::study::StudyArgs),
     /// Generate synthetic participants' recordings of the study's tasks.
     Synth(cli::synth::SynthArgs),
+    /// Print the sun's position (NREL SPA) for a place and a UTC time.
+    Sun(cli::sun::SunArgs),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +55,7 @@ fn main() -> ExitCode {
         Command::Replay(args) => cli::replay::run(args),
         Command::Study(args) => cli::study::run(args),
         Command::Synth(args) => cli::synth::run(args),
+        Command::Sun(args) => cli::sun::run(args),
     };
     match result {
         Ok(code) => code,

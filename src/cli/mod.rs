@@ -2,10 +2,12 @@
 
 pub mod bench;
 pub mod bench_replay;
+pub mod bench_wind;
 pub mod replay;
 pub mod scene;
 pub mod sim;
 pub mod study;
+pub mod sun;
 pub mod synth;
 
 use std::path::Path;
