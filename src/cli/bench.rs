@@ -19,6 +19,8 @@ use serde_json::{json, Value};
 pub enum Which {
     /// The simulation tick with 1k to 1M trees, animation systems on.
     Sim,
+    /// One controller ray against the study planes and 10k trees.
+    Raycast,
 }
 
 /// Arguments of `grove bench`.
@@ -84,7 +86,7 @@ fn bench_sim(args: &BenchArgs) -> anyhow::Result<Value> {
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
-    let all = [Which::Sim];
+    let all = [Which::Sim, Which::Raycast];
     let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
     let mut report = serde_json::Map::new();
     report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
@@ -92,6 +94,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
     for w in which {
         let (name, value) = match w {
             Which::Sim => ("sim_tick", bench_sim(&args)?),
+            Which::Raycast => ("raycast", super::bench_raycast::bench_raycast(&args)?),
         };
         report.insert(name.into(), value);
     }
