@@ -160,12 +160,12 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     s.point_at(edge);
     let hit = s.sim().hit_marker();
     assert_eq!(hit.target, HitTarget::Handle(Handle::Edge(3)));
-    s.hold(Button::Trigger).point_at(edge + Vec3::new(1.5, 0.0, -0.8));
+    s.hold(Button::Trigger).point_at(edge + Vec3::new(-2.0, 0.0, 0.0));
     let c = s.controller();
     let grab = c.ray_origin() + c.ray_dir() * hit.distance;
     let expected = interact::edge_yaw(0.0, interact::angle_around(hit.position, axis), interact::angle_around(grab, axis));
     let yaw = s.sim().tree(id).unwrap().1.yaw;
-    assert!(expected > 0.3, "the swing should turn the tree counter-clockwise (by {expected})");
+    assert!(expected < -0.3, "a swing to the left turns the tree clockwise (by {expected})");
     assert!((yaw - expected).abs() < 1e-4, "yaw {yaw}, expected {expected}");
     s.release(Button::Trigger);
     assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Rotated { tree: id, yaw });
@@ -389,7 +389,7 @@ fn full_session(s: &mut Script) {
     shift_controller(s, Vec3::new(0.5, 0.5, 0.0));
     shift_controller(s, Vec3::new(0.0, -0.45, 0.0));
     s.release(Button::Trigger);
-    let other = plant(s, ModelId(5), 3.0, -3.0);
+    let other = plant(s, ModelId(5), -4.0, -3.0);
     s.point_at(s.sim().tree(other).unwrap().1.translation + Vec3::Y * 1.0).press(Button::Bumper);
     s.switch_mode(Mode::Manual).choose_model(ModelId(7)).wait(3);
     shift_controller(s, Vec3::new(0.0, 0.0, 0.0));
