@@ -7,7 +7,7 @@
 use glam::{Quat, Vec3};
 use hecs::{Entity, World};
 use parry3d::bounding_volume::Aabb;
-use parry3d::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
 
@@ -133,8 +133,19 @@ impl SpatialIndex {
         if self.trees.is_empty() {
             return None;
         }
-        let ray = Ray::new(origin, dir);
-        let (leaf, toi) = self.tree_bvh.cast_ray(&ray, max_dist, |i, best| {
+        // Best-first search with each node's ray entry distance clamped at 0. (Bvh::cast_ray
+        // scores a node that contains the ray origin by a negative entry distance, so once a
+        // hit at distance 0 is found it still visits every box around the origin; in a dense
+        // forest that is dozens of boxes per ray.)
+        let inv = dir.recip();
+        let node_cost = |node: &BvhNode, _best: f32| {
+            let a = node.aabb();
+            let (t1, t2) = ((a.mins - origin) * inv, (a.maxs - origin) * inv);
+            let tmin = t1.min(t2).max_element().max(0.0);
+            let tmax = t1.max(t2).min_element();
+            if tmax >= tmin { tmin } else { f32::MAX }
+        };
+        let (leaf, toi) = self.tree_bvh.find_best(max_dist, node_cost, |i, best| {
             let b = &self.trees[i as usize];
             if Some(b.entity) == exclude {
                 return None;
