@@ -36,6 +36,8 @@ struct RaycastFigure {
     ns_per_ray_min: f64,
     ns_per_ray_max: f64,
     goal_ns_per_ray: f64,
+    planes_only_ns_per_ray_median: f64,
+    trees_only_ns_per_ray_median: f64,
 }
 
 /// A splitmix64 step: a fixed, well-mixed sequence of 64-bit numbers.
@@ -96,6 +98,26 @@ pub fn bench_raycast(args: &BenchArgs) -> anyhow::Result<Value> {
             }
         }
     });
+    let per_ray = |mut t: Vec<f64>| {
+        for x in t.iter_mut() {
+            *x *= 1e6 / RAYS as f64;
+        }
+        median(&mut t)
+    };
+    let planes_only = per_ray(time_ms(BATCHES, || {
+        for (o, d) in &rays {
+            if let Some(h) = spatial.cast_planes(*o, *d, max_len) {
+                sink += h.distance;
+            }
+        }
+    }));
+    let trees_only = per_ray(time_ms(BATCHES, || {
+        for (o, d) in &rays {
+            if let Some(h) = spatial.cast_trees(*o, *d, max_len, None) {
+                sink += h.distance;
+            }
+        }
+    }));
     std::hint::black_box(sink);
     for t in times.iter_mut() {
         *t *= 1e6 / RAYS as f64;
@@ -114,5 +136,7 @@ pub fn bench_raycast(args: &BenchArgs) -> anyhow::Result<Value> {
         ns_per_ray_min: lo,
         ns_per_ray_max: hi,
         goal_ns_per_ray: 2000.0,
+        planes_only_ns_per_ray_median: planes_only,
+        trees_only_ns_per_ray_median: trees_only,
     })?)
 }

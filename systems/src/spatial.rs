@@ -160,9 +160,7 @@ impl SpatialIndex {
 
     /// The nearest hit on a plane or a tree.
     pub fn cast(&self, origin: Vec3, dir: Vec3, max_dist: f32, exclude: Option<Entity>) -> Option<RayHit> {
-        let p = self.cast_planes(origin, dir, max_dist);
-        let t = self.cast_trees(origin, dir, p.map_or(max_dist, |h| h.distance), exclude);
-        t.or(p)
+        nearest(self.cast_trees(origin, dir, max_dist, exclude), |limit| self.cast_planes(origin, dir, limit), max_dist)
     }
 
     /// The plane directly below `point` (casting straight down from `lift` metres above it), as
@@ -170,6 +168,17 @@ impl SpatialIndex {
     pub fn ground_below(&self, point: Vec3, lift: f32) -> Option<RayHit> {
         let origin = point + Vec3::Y * lift;
         self.cast_planes(origin, Vec3::NEG_Y, 1.0e4)
+    }
+}
+
+/// The nearer of a tree hit and the plane hit that `planes` finds within a limit: the planes are
+/// cast only up to the tree hit (trees are cheap to test and often near), and a tree wins a tie.
+pub fn nearest(tree: Option<RayHit>, planes: impl FnOnce(f32) -> Option<RayHit>, max_dist: f32) -> Option<RayHit> {
+    let p = planes(tree.map_or(max_dist, |t| t.distance));
+    match (tree, p) {
+        (Some(t), Some(p)) if p.distance < t.distance => Some(p),
+        (Some(t), _) => Some(t),
+        (None, p) => p,
     }
 }
 
