@@ -1,6 +1,7 @@
 //! Subcommands of the `grove` tool, one module each, and the helpers they share.
 
 pub mod bench;
+pub mod bench_raycast;
 pub mod bench_replay;
 pub mod bench_wind;
 pub mod replay;

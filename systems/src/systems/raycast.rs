@@ -27,13 +27,12 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let dragged = res.interaction.drag.and_then(|d| interact::entity(d.tree));
 
     let mut marker = HitMarker::default();
-    let plane = res.spatial.cast_planes(origin, dir, max);
-    let tree = res.spatial.cast_trees(origin, dir, plane.map_or(max, |h| h.distance), dragged);
-    let hit = match (tree, plane) {
-        (Some(t), _) => Some((t, HitTarget::Tree(t.entity.to_bits().get()))),
-        (None, Some(p)) => Some((p, HitTarget::Plane(p.entity.to_bits().get()))),
-        (None, None) => None,
-    };
+    let tree = res.spatial.cast_trees(origin, dir, max, dragged);
+    let nearest = crate::spatial::nearest(tree, |limit| res.spatial.cast_planes(origin, dir, limit), max);
+    let hit = nearest.map(|h| {
+        let id = h.entity.to_bits().get();
+        (h, if tree.is_some_and(|t| t.entity == h.entity) { HitTarget::Tree(id) } else { HitTarget::Plane(id) })
+    });
     if let Some((hit, target)) = hit {
         marker = HitMarker { visible: true, position: hit.point, normal: hit.normal, distance: hit.distance, target };
     }
