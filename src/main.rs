@@ -26,6 +26,10 @@ enum Command {
     Scene(cli::scene::SceneCommand),
     /// Measure the simulation's speed and print JSON.
     Bench(cli::bench::BenchArgs),
+    /// Regenerate the tree models, textures, catalogue and sky cubemap (deterministic).
+    Assets(cli::assets::AssetsArgs),
+    /// Render a scene, a frame sequence or a glTF model to PNG (offscreen).
+    Render(cli::render::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -43,6 +47,8 @@ fn main() -> ExitCode {
         Command::Sim(args) => cli::sim::run(args),
         Command::Scene(cmd) => cli::scene::run(cmd),
         Command::Bench(args) => cli::bench::run(args),
+        Command::Assets(args) => cli::assets::run(args),
+        Command::Render(args) => cli::render::run(args),
     };
     match result {
         Ok(code) => code,

@@ -19,6 +19,8 @@ use serde_json::{json, Value};
 pub enum Which {
     /// The simulation tick with 1k to 1M trees, animation systems on.
     Sim,
+    /// Offscreen frame times at 1280x720: the 100-tree reference scene and cost per model.
+    Render,
 }
 
 /// Arguments of `grove bench`.
@@ -84,7 +86,7 @@ fn bench_sim(args: &BenchArgs) -> anyhow::Result<Value> {
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
-    let all = [Which::Sim];
+    let all = [Which::Sim, Which::Render];
     let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
     let mut report = serde_json::Map::new();
     report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
@@ -92,6 +94,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
     for w in which {
         let (name, value) = match w {
             Which::Sim => ("sim_tick", bench_sim(&args)?),
+            Which::Render => ("render", super::bench_render::bench_render()?),
         };
         report.insert(name.into(), value);
     }

@@ -1,6 +1,9 @@
 //! Subcommands of the `grove` tool, one module each, and the helpers they share.
 
+pub mod assets;
 pub mod bench;
+pub mod bench_render;
+pub mod render;
 pub mod scene;
 pub mod sim;
 
