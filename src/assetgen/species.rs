@@ -2,7 +2,7 @@
 //! and then either real leaves (mesh models) or crossed cards (billboard models) around the
 //! clusters.
 
-use glam::{Vec3, Vec4Swizzles};
+use glam::{Vec3, Vec3Swizzles};
 
 use super::geometry::{card, leaf, tube, Limb, MeshData, Rng};
 
@@ -196,9 +196,9 @@ pub fn mesh_foliage(species: Species, skel: &Skeleton) -> MeshData {
     let mut rng = Rng::new(species.seed() ^ 0x1eaf);
     let mut mesh = MeshData::default();
     let (per_cluster, length, width) = match species {
-        Species::Broadleaf => (52, 0.26, 0.15),
+        Species::Broadleaf => (80, 0.26, 0.15),
         Species::Conifer => (9, 0.3, 0.07),
-        Species::Birch => (36, 0.16, 0.1),
+        Species::Birch => (48, 0.17, 0.11),
         Species::Shrub => (30, 0.16, 0.1),
     };
     for c in &skel.clusters {

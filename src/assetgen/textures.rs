@@ -135,7 +135,7 @@ pub fn card(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
     let mut img = RgbaImage::from_pixel(size, size, Rgba([(col.x * 255.0) as u8, (col.y * 255.0) as u8, (col.z * 255.0) as u8, 0]));
     let mut h = vec![0.0f32; (size * size) as usize];
     let s = size as f32;
-    let mut stamp = |img: &mut RgbaImage, h: &mut [f32], c: Vec2, dir: Vec2, len: f32, wid: f32, shade: f32, tilt: Vec2| {
+    let stamp = |img: &mut RgbaImage, h: &mut [f32], c: Vec2, dir: Vec2, len: f32, wid: f32, shade: f32, tilt: Vec2| {
         let side = Vec2::new(-dir.y, dir.x);
         let r = len.max(wid) * s;
         let (x0, x1) = (((c.x * s - r).floor().max(0.0)) as u32, ((c.x * s + r).ceil().min(s - 1.0)) as u32);

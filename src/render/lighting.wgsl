@@ -63,7 +63,7 @@ fn shade(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f
     let ambient = irr * frame.ambient.rgb * albedo;
     let r = reflect(-v, n);
     let fres = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
-    let refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.ambient.w * fres * spec_strength * (1.0 - roughness);
+    let refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.ambient.w * fres * spec_strength * (1.0 - roughness) * (1.0 - roughness);
     return direct + ambient + refl;
 }
 

@@ -238,12 +238,12 @@ pub struct Renderer {
     flat_normal: wgpu::TextureView,
 }
 
-fn vertex_layout() -> [wgpu::VertexBufferLayout<'static>; 2] {
+fn vertex_layout() -> [Option<wgpu::VertexBufferLayout<'static>>; 2] {
     const V: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x4];
     const I: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![5 => Float32x4, 6 => Float32x4];
     [
-        wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Vertex>() as u64, step_mode: wgpu::VertexStepMode::Vertex, attributes: &V },
-        wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Instance>() as u64, step_mode: wgpu::VertexStepMode::Instance, attributes: &I },
+        Some(wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Vertex>() as u64, step_mode: wgpu::VertexStepMode::Vertex, attributes: &V }),
+        Some(wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Instance>() as u64, step_mode: wgpu::VertexStepMode::Instance, attributes: &I }),
     ]
 }
 
@@ -443,7 +443,7 @@ impl Renderer {
                 module: &ground_shader,
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
-                buffers: &[wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV }],
+                buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
             },
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: Some(depth_state(true, wgpu::CompareFunction::Less, Default::default())),
@@ -472,11 +472,11 @@ impl Renderer {
                     module: &overlay_shader,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
-                    buffers: &[wgpu::VertexBufferLayout {
+                    buffers: &[Some(wgpu::VertexBufferLayout {
                         array_stride: std::mem::size_of::<overlay::OverlayVertex>() as u64,
                         step_mode: wgpu::VertexStepMode::Vertex,
                         attributes: &OV,
-                    }],
+                    })],
                 },
                 primitive: wgpu::PrimitiveState { topology, cull_mode: None, ..Default::default() },
                 depth_stencil: Some(depth_state(true, wgpu::CompareFunction::LessEqual, Default::default())),

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use glam::Vec3;
 use grove_systems::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind};
-use grove_systems::components::{Head, Pose, Sun};
+use grove_systems::components::{Controller, Head, Pose, Sun};
 use grove_systems::scene::{CameraDef, Hole, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
 use grove_systems::Sim;
 use image::RgbaImage;
@@ -182,11 +182,17 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool) -> Result
     for (_, head) in sim.world.query_mut::<(hecs::Entity, &mut Head)>() {
         *head = Head { pose: Pose::looking_at(eye, target), fov_y: fov };
     }
-    // A sun from behind the camera's shoulder, 40° up, so the model is lit from the front.
+    // A sun from over the camera's left shoulder, 40° up, so the model is lit from the front
+    // and its shadow falls to the right where the camera sees it.
     for (_, sun) in sim.world.query_mut::<(hecs::Entity, &mut Sun)>() {
         sun.elevation_deg = 40.0;
-        sun.azimuth_deg = 150.0;
-        sun.direction = grove_systems::systems::sun::direction_from_angles(150.0, 40.0);
+        sun.azimuth_deg = 110.0;
+        sun.direction = grove_systems::systems::sun::direction_from_angles(110.0, 40.0);
+    }
+    // No controller ray in a model view.
+    let controllers: Vec<hecs::Entity> = sim.world.query::<(hecs::Entity, &Controller)>().iter().map(|(e, _)| e).collect();
+    for e in controllers {
+        let _ = sim.world.despawn(e);
     }
     Ok(sim)
 }
