@@ -216,6 +216,8 @@ pub fn mesh_foliage(species: Species, skel: &Skeleton) -> MeshData {
                 let dir = (out * 0.6 + rng.unit() * 0.7 + Vec3::NEG_Y * 0.25).normalize();
                 (base, dir)
             };
+            // Keep every leaf above the ground (a leaf reaches at most its length below its base).
+            let base = Vec3::new(base.x, base.y.max(length * 1.2 + 0.02), base.z);
             let side = rng.unit();
             let outward = (base - skel.crown_centre).normalize_or(Vec3::Y) + Vec3::Y * 0.3;
             let scale = rng.range(0.8, 1.2);
@@ -247,7 +249,8 @@ pub fn card_foliage(species: Species, skel: &Skeleton) -> MeshData {
             } else {
                 (Vec3::new(a.cos(), rng.range(-0.3, 0.3), a.sin()), Vec3::Y + rng.unit().xzy() * 0.2)
             };
-            card(&mut mesh, c.centre, normal, up, size, skel.crown_centre, c.attach, c.phase);
+            let centre = Vec3::new(c.centre.x, c.centre.y.max(size * 0.75 + 0.02), c.centre.z);
+            card(&mut mesh, centre, normal, up, size, skel.crown_centre, c.attach, c.phase);
         }
     }
     mesh
