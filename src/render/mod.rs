@@ -75,7 +75,7 @@ pub fn sun_light(elevation_deg: f64) -> SunLight {
     let orange = Vec3::new(1.0, 0.5, 0.2);
     let direct = white.lerp(orange, warm) * (2.6 * on);
     let sky = 0.06 + 0.94 * smoothstep(-6.0, 12.0, e);
-    let ambient = Vec3::new(1.0, 1.0, 1.0).lerp(Vec3::new(1.0, 0.8, 0.7), warm * 0.6) * (0.9 * sky);
+    let ambient = Vec3::new(1.0, 1.0, 1.0).lerp(Vec3::new(1.0, 0.78, 0.6), warm) * (0.9 * sky);
     SunLight { direct, ambient, sky }
 }
 

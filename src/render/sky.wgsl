@@ -21,8 +21,12 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let far = frame.inv_view_proj * vec4<f32>(in.ndc, 1.0, 1.0);
     let dir = normalize(far.xyz / far.w - frame.camera_pos.xyz);
-    var c = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.ambient.w;
+    // The sky takes the ambient light's tint (warmer when the sun is low).
+    let tint = frame.ambient.rgb / max(frame.ambient.r, 0.001);
+    var c = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.ambient.w * tint;
     let s = max(dot(dir, frame.sun_dir.xyz), 0.0);
-    c = c + frame.sun_color.rgb * (pow(s, 600.0) * 4.0 + pow(s, 40.0) * 0.12);
+    // Sun disc, a halo, and a wide glow that is strongest when the sun is near the horizon.
+    let low = 1.0 - clamp(frame.sun_dir.y * 2.0, 0.0, 1.0);
+    c = c + frame.sun_color.rgb * (pow(s, 600.0) * 4.0 + pow(s, 40.0) * 0.12 + pow(s, 4.0) * 0.25 * low);
     return vec4<f32>(tone(c), 1.0);
 }
