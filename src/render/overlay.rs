@@ -125,7 +125,7 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
     for a in world.query::<&AnchorBall>().iter() {
         if a.visible {
             let color = if a.armed { ANCHOR_ARMED } else { ANCHOR_FAR };
-            g.sphere(a.position, 0.09, color);
+            g.sphere(a.position, 0.12, color);
             g.line(a.position, a.position + Vec3::Y * a.distance.max(0.0), color);
         }
     }

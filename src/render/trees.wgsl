@@ -80,12 +80,17 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         discard;
     }
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
-    var ng = normalize(cross(dpx, dpy));
+    var n = normalize(in.normal);
+    // The face normal from screen-space derivatives; tiny (sub-pixel) triangles can give a zero
+    // cross product, in which case the vertex normal stands in, so no NaN reaches the shading.
+    let cr = cross(dpx, dpy);
+    var ng = select(n, cr * inverseSqrt(max(dot(cr, cr), 1e-30)), dot(cr, cr) > 1e-30);
     if (dot(ng, v) < 0.0) {
         ng = -ng;
     }
-    var n = normalize(in.normal);
-    let t = normalize(in.tangent.xyz - n * dot(n, in.tangent.xyz));
+    let t0 = in.tangent.xyz - n * dot(n, in.tangent.xyz);
+    let alt = cross(n, select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(n.y) > 0.9));
+    let t = select(normalize(alt), t0 * inverseSqrt(max(dot(t0, t0), 1e-30)), dot(t0, t0) > 1e-12);
     let b = cross(n, t) * in.tangent.w;
     let ns = vec3<f32>(nt.xy * material.params.y, max(nt.z, 0.05));
     n = normalize(t * ns.x + b * ns.y + n * ns.z);
