@@ -124,7 +124,7 @@ pub fn bench_render() -> anyhow::Result<Value> {
             }
             place(&mut sim, Vec3::new(0.0, half * 0.9, half * 1.9), Vec3::new(0.0, 0.0, 0.0));
             eprintln!("bench: {name} × {n}");
-            let ms = time_frames(&gpu, &mut renderer, &sim, if n >= 10_000 { 3 } else { 5 })?;
+            let ms = time_frames(&gpu, &mut renderer, &sim, if n >= 10_000 { 2 } else { 4 })?;
             row.insert(format!("ms_per_frame_{n}"), json!(ms));
             row.insert(format!("triangles_per_frame_{n}"), json!(renderer.stats.triangles));
         }

@@ -25,7 +25,7 @@ struct Frame {
 @group(1) @binding(3) var irradiance_map: texture_cube<f32>;
 @group(1) @binding(4) var env_sampler: sampler;
 
-// Fraction of sunlight reaching `world_pos` (1 = lit), 5x5 PCF taps on the comparison sampler
+// Fraction of sunlight reaching `world_pos` (1 = lit), 3x3 PCF taps on the comparison sampler
 // (each tap is itself bilinear), so shadow edges, including the dapples of leaves, are soft.
 fn shadow_factor(world_pos: vec3<f32>, n: vec3<f32>) -> f32 {
     if (frame.shadow.w < 0.5) {
@@ -38,13 +38,13 @@ fn shadow_factor(world_pos: vec3<f32>, n: vec3<f32>) -> f32 {
         return 1.0;
     }
     var sum = 0.0;
-    for (var y = -2; y <= 2; y = y + 1) {
-        for (var x = -2; x <= 2; x = x + 1) {
+    for (var y = -1; y <= 1; y = y + 1) {
+        for (var x = -1; x <= 1; x = x + 1) {
             let o = vec2<f32>(f32(x), f32(y)) * frame.shadow.x;
             sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, ndc.z - frame.shadow.z);
         }
     }
-    return sum / 25.0;
+    return sum / 9.0;
 }
 
 // Diffuse sun (with some translucency for leaves), Blinn-Phong specular scaled by the specular

@@ -7,8 +7,9 @@
 //! Passes per frame:
 //! 1. **Shadow** (when the sun is up and shadows are on): depth of every tree from the sun, with
 //!    alpha-tested leaves, into a 2048² map fitted to the scene.
-//! 2. **Main**: the sky (environment cubemap), the ground planes (textured, lit, shadowed), the
-//!    trees (one instanced draw per model and material), and the interaction visuals.
+//! 2. **Main**: the trees (one instanced draw per model and material), the ground planes
+//!    (textured, lit, shadowed), the interaction visuals, and last the sky (environment cubemap)
+//!    where nothing else was drawn.
 //!
 //! The sun's direction comes from the `Sun` component; its colour and intensity from its
 //! elevation ([`sun_light`]): warmer and dimmer near the horizon, off below it.
@@ -457,7 +458,8 @@ impl Renderer {
             layout: Some(&sky_layout),
             vertex: wgpu::VertexState { module: &sky_shader, entry_point: Some("vs_main"), compilation_options: Default::default(), buffers: &[] },
             primitive: Default::default(),
-            depth_stencil: Some(depth_state(false, wgpu::CompareFunction::Always, Default::default())),
+            // Drawn last at the far plane: only where nothing else was drawn.
+            depth_stencil: Some(depth_state(false, wgpu::CompareFunction::LessEqual, Default::default())),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState { module: &sky_shader, entry_point: Some("fs_main"), compilation_options: Default::default(), targets: &color_target }),
             multiview_mask: None,
@@ -881,18 +883,8 @@ impl Renderer {
             });
             pass.set_bind_group(0, &self.frame_bg, &[]);
             pass.set_bind_group(1, &self.lighting_bg, &[]);
-            pass.set_pipeline(&self.sky_pipeline);
-            pass.draw(0..3, 0..1);
-            stats.draws += 1;
-            if let Some(g) = &self.ground {
-                pass.set_pipeline(&self.ground_pipeline);
-                pass.set_bind_group(2, &self.ground_bg, &[]);
-                pass.set_vertex_buffer(0, g.vertices.slice(..));
-                pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..g.index_count, 0, 0..1);
-                stats.draws += 1;
-                stats.triangles += g.index_count as usize / 3;
-            }
+            // Trees first, then the ground, then the sky where nothing was drawn: on a software
+            // rasteriser the early depth test then skips most hidden ground and sky fragments.
             pass.set_vertex_buffer(1, self.instances.slice(..));
             for (m, range) in self.models.iter().zip(&ranges) {
                 let Some(m) = m else { continue };
@@ -910,6 +902,15 @@ impl Renderer {
                     stats.triangles += p.index_count as usize / 3 * range.len();
                 }
             }
+            if let Some(g) = &self.ground {
+                pass.set_pipeline(&self.ground_pipeline);
+                pass.set_bind_group(2, &self.ground_bg, &[]);
+                pass.set_vertex_buffer(0, g.vertices.slice(..));
+                pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..g.index_count, 0, 0..1);
+                stats.draws += 1;
+                stats.triangles += g.index_count as usize / 3;
+            }
             if let Some(b) = &ov_tris {
                 pass.set_pipeline(&self.overlay_tris);
                 pass.set_vertex_buffer(0, b.slice(..));
@@ -922,6 +923,9 @@ impl Renderer {
                 pass.draw(0..ov.lines.len() as u32, 0..1);
                 stats.draws += 1;
             }
+            pass.set_pipeline(&self.sky_pipeline);
+            pass.draw(0..3, 0..1);
+            stats.draws += 1;
         }
         self.queue.submit([encoder.finish()]);
         self.stats = stats;
