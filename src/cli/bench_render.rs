@@ -1,7 +1,8 @@
 //! `grove bench render`: frame times of the renderer, offscreen at 1280×720.
 //!
 //! - **Reference scene** (after Fukuda et al. 2007): 100 trees at 10 m spacing on a 100 × 100 m
-//!   ground, the sun at 45° elevation, with the shadow map on and off.
+//!   ground, the sun at 45° elevation, with the shadow map on and off; with all eight models in
+//!   turn, with only billboard models and with only mesh models.
 //! - **Cost per model**: 1k and 10k instances of each model (shadows off), with triangles per
 //!   frame, billboard versus mesh.
 //!
@@ -86,21 +87,25 @@ pub fn bench_render() -> anyhow::Result<Value> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, WIDTH, HEIGHT).map_err(|e| anyhow!(e))?;
     let models = renderer.model_names();
 
-    // Reference scene: 10 × 10 trees, 10 m apart, cycling through the 8 models.
+    // Reference scene: 10 × 10 trees, 10 m apart: all 8 models in turn ("mixed"), only the
+    // billboard models, or only the mesh models.
     let scene = ground_scene(50.0, 2.0);
-    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    for i in 0..100u32 {
-        let (x, z) = ((i % 10) as f32 * 10.0 - 45.0, (i / 10) as f32 * 10.0 - 45.0);
-        sim.spawn_tree(ModelId((i % 8) as u8), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, true);
-    }
-    place(&mut sim, Vec3::new(0.0, 14.0, 62.0), Vec3::new(0.0, 0.0, 0.0));
     let mut reference = serde_json::Map::new();
-    for shadows in [true, false] {
-        renderer.options.shadows = shadows;
-        eprintln!("bench: reference scene, shadows {}", if shadows { "on" } else { "off" });
-        let ms = time_frames(&gpu, &mut renderer, &sim, 10)?;
-        let key = if shadows { "shadows_on" } else { "shadows_off" };
-        reference.insert(key.into(), json!({"ms_per_frame": ms, "fps": 1e3 / ms, "triangles": renderer.stats.triangles, "draws": renderer.stats.draws}));
+    for (variant, first, step) in [("mixed", 0u8, 1u8), ("billboard", 4, 1), ("mesh", 0, 1)] {
+        let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+        for i in 0..100u32 {
+            let (x, z) = ((i % 10) as f32 * 10.0 - 45.0, (i / 10) as f32 * 10.0 - 45.0);
+            let model = if variant == "mixed" { (i % 8) as u8 } else { first + ((i as u8 * step) % 4) };
+            sim.spawn_tree(ModelId(model), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, true);
+        }
+        place(&mut sim, Vec3::new(0.0, 14.0, 62.0), Vec3::new(0.0, 0.0, 0.0));
+        for shadows in [true, false] {
+            renderer.options.shadows = shadows;
+            eprintln!("bench: reference scene ({variant}), shadows {}", if shadows { "on" } else { "off" });
+            let ms = time_frames(&gpu, &mut renderer, &sim, 10)?;
+            let key = format!("{variant}_shadows_{}", if shadows { "on" } else { "off" });
+            reference.insert(key, json!({"ms_per_frame": ms, "fps": 1e3 / ms, "triangles": renderer.stats.triangles, "draws": renderer.stats.draws}));
+        }
     }
 
     // Cost per model: n instances on a square grid 3 m apart, seen from above at an angle.

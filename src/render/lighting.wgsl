@@ -61,9 +61,14 @@ fn shade(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f
     let direct = frame.sun_color.rgb * lit * (albedo * diffuse + vec3<f32>(spec));
     let irr = textureSampleLevel(irradiance_map, env_sampler, n, 0.0).rgb;
     let ambient = irr * frame.ambient.rgb * albedo;
-    let r = reflect(-v, n);
-    let fres = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
-    let refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.ambient.w * fres * spec_strength * (1.0 - roughness) * (1.0 - roughness);
+    // Reflections of the sky, skipped (one cube lookup less) where they would be invisible.
+    var refl = vec3<f32>(0.0);
+    let glossy = spec_strength * (1.0 - roughness) * (1.0 - roughness);
+    if (glossy > 0.02) {
+        let r = reflect(-v, n);
+        let fres = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
+        refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.ambient.w * fres * glossy;
+    }
     return direct + ambient + refl;
 }
 
