@@ -44,7 +44,7 @@ fn ground_scene(half: f32, cell: f32) -> Scene {
             },
         }],
         sun: SunDef { latitude_deg: 47.37, longitude_deg: 8.54, utc: "2026-06-21T10:00:00Z".into(), time_rate: 0.0 },
-        wind: WindDef { direction: Vec3::X, strength: 1.0, density: 0.15, gust_average: 0.6, gust_strength: 0.4, gust_frequency: 0.2 },
+        wind: WindDef { direction: Vec3::X, strength: 1.0, density: 0.15, gust_average: 0.6, gust_strength: 0.4, gust_frequency: 0.2, model: Default::default(), response: Default::default() },
         trees: vec![],
         camera: CameraDef { position: Vec3::new(0.0, 1.7, 6.0), look_at: Vec3::ZERO, fov_y_deg: 60.0 },
     }

@@ -161,7 +161,7 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool) -> Result
             },
         }],
         sun: SunDef { latitude_deg: 47.37, longitude_deg: 8.54, utc: "2026-06-21T08:00:00Z".into(), time_rate: 0.0 },
-        wind: WindDef { direction: Vec3::X, strength: 0.0, density: 0.1, gust_average: 0.0, gust_strength: 0.0, gust_frequency: 0.0 },
+        wind: WindDef { direction: Vec3::X, strength: 0.0, density: 0.1, gust_average: 0.0, gust_strength: 0.0, gust_frequency: 0.0, model: Default::default(), response: Default::default() },
         trees: vec![],
         camera: CameraDef { position: Vec3::new(0.0, 1.0, 5.0), look_at: Vec3::ZERO, fov_y_deg: 40.0 },
     };
