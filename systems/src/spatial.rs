@@ -12,7 +12,8 @@ use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
 
 use crate::catalogue::Catalogue;
-use crate::components::{Plane, Scale, Transform, Tree};
+use crate::components::{Plane, Scale, Transform, Tree, Wind};
+use crate::wind_model::{max_sway, SwayExtent};
 
 /// A tree as the index sees it: its entity and its oriented box in world space.
 #[derive(Clone, Copy, Debug)]
@@ -49,6 +50,27 @@ pub struct SpatialIndex {
     planes_dirty: bool,
     trees_dirty: bool,
     built_once: bool,
+    generation: u64,
+    /// The inputs of the last controller ray cast, so that an unchanged ray in an unchanged
+    /// world is not cast again (see the raycast system).
+    pub last_ray: Option<RayKey>,
+}
+
+/// Everything a controller ray cast depends on. Equal keys give equal hits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayKey {
+    /// Ray origin.
+    pub origin: Vec3,
+    /// Ray direction.
+    pub dir: Vec3,
+    /// The index's generation (bumped on every rebuild).
+    pub generation: u64,
+    /// The dragged tree, if any.
+    pub dragged: Option<u64>,
+    /// The selected tree's box (centre, half extents, yaw), if a tree is selected.
+    pub selected: Option<(u64, Vec3, Vec3, f32)>,
+    /// Ray length and handle radius from the config.
+    pub limits: (f32, f32),
 }
 
 /// The world-space oriented box of a tree from its transform, scale and catalogue bounds.
@@ -76,6 +98,7 @@ impl SpatialIndex {
 
     /// Rebuilds whatever is dirty (everything on first use) from the world.
     pub fn refresh(&mut self, world: &World, catalogue: &Catalogue) {
+        let rebuilt = self.planes_dirty || self.trees_dirty;
         if !self.built_once || self.planes_dirty {
             self.planes.clear();
             for (e, plane) in world.query::<(Entity, &Plane)>().iter() {
@@ -88,9 +111,17 @@ impl SpatialIndex {
         }
         if !self.built_once || self.trees_dirty {
             self.trees.clear();
+            // Ray boxes include the wind's largest possible sway, so that a swaying crown is
+            // always inside the box that picks it (a constant pad, so picking never flickers).
+            let wind = world.query::<&Wind>().iter().next().copied();
             for (e, t, s, tree) in world.query::<(Entity, &Transform, &Scale, &Tree)>().iter() {
                 if let Some(m) = catalogue.get(tree.model) {
-                    self.trees.push(tree_box(e, t, s.0, m.bounds_min, m.bounds_max));
+                    let mut b = tree_box(e, t, s.0, m.bounds_min, m.bounds_max);
+                    if let Some(w) = &wind {
+                        let sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
+                        b.half_extents += Vec3::new(sway, 0.0, sway);
+                    }
+                    self.trees.push(b);
                 }
             }
             self.trees.sort_by_key(|b| b.entity.to_bits());
@@ -98,7 +129,15 @@ impl SpatialIndex {
             self.tree_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
             self.trees_dirty = false;
         }
+        if !self.built_once || rebuilt {
+            self.generation += 1;
+        }
         self.built_once = true;
+    }
+
+    /// A number that changes whenever the index is rebuilt.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Number of trees in the index.

@@ -11,12 +11,17 @@
 //! bounding-box handles (spheres of radius `handle_radius`). The nearest hit wins, except that
 //! a handle also wins over a hit up to one handle radius in front of it, so that a handle
 //! sitting on the box surface or on the ground can always be grabbed.
+//!
+//! The hit depends only on the ray, the index, the dragged tree, the selected tree's box and two
+//! config values. When none of them changed since the last tick, the cast is skipped and the
+//! marker keeps its value: the same result, without the work, while the controller is still.
 
 use hecs::World;
 
 use crate::components::{Controller, HitMarker, HitTarget};
 use crate::interact;
 use crate::resources::Resources;
+use crate::spatial::RayKey;
 
 /// Runs the raycast system.
 pub fn run(world: &mut World, res: &mut Resources) {
@@ -25,6 +30,24 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let (origin, dir) = (c.ray_origin(), c.ray_dir());
     let max = res.config.max_ray_length;
     let dragged = res.interaction.drag.and_then(|d| interact::entity(d.tree));
+
+    let selected = interact::selected_tree(world).and_then(interact::entity);
+    let selected_box = match (selected, dragged) {
+        (Some(sel), None) => interact::tree_box_of(world, &res.catalogue, sel),
+        _ => None,
+    };
+    let key = RayKey {
+        origin,
+        dir,
+        generation: res.spatial.generation(),
+        dragged: dragged.map(|e| e.to_bits().get()),
+        selected: selected_box.map(|b| (b.entity.to_bits().get(), b.center, b.half_extents, b.yaw)),
+        limits: (max, res.config.handle_radius),
+    };
+    if res.spatial.last_ray == Some(key) {
+        return;
+    }
+    res.spatial.last_ray = Some(key);
 
     let mut marker = HitMarker::default();
     let tree = res.spatial.cast_trees(origin, dir, max, dragged);
@@ -37,10 +60,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         marker = HitMarker { visible: true, position: hit.point, normal: hit.normal, distance: hit.distance, target };
     }
 
-    let selected = interact::selected_tree(world).and_then(interact::entity);
-    if let (Some(sel), None) = (selected, dragged)
-        && let Some(b) = interact::tree_box_of(world, &res.catalogue, sel)
-    {
+    if let Some(b) = selected_box {
         let radius = res.config.handle_radius;
         let limit = if marker.visible { (marker.distance + radius).min(max) } else { max };
         if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit) {
