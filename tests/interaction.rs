@@ -173,7 +173,7 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     assert!((s.sim().selection().yaw - yaw).abs() < 1e-6, "the box turns with the tree");
 
     // A click on bare ground clears the selection (in ray-casting mode it plants there too).
-    let bare = ground(&s, 3.0, -1.0);
+    let bare = ground(&s, 5.0, -1.0);
     s.switch_mode(Mode::Manual).point_at(bare).press(Button::Trigger);
     assert_eq!(s.sim().selection().tree, None);
     assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Deselected);
@@ -389,7 +389,7 @@ fn full_session(s: &mut Script) {
     shift_controller(s, Vec3::new(0.5, 0.5, 0.0));
     shift_controller(s, Vec3::new(0.0, -0.45, 0.0));
     s.release(Button::Trigger);
-    let other = plant(s, ModelId(5), -4.0, -3.0);
+    let other = plant(s, ModelId(5), -6.0, -3.0);
     s.point_at(s.sim().tree(other).unwrap().1.translation + Vec3::Y * 1.0).press(Button::Bumper);
     s.switch_mode(Mode::Manual).choose_model(ModelId(7)).wait(3);
     shift_controller(s, Vec3::new(0.0, 0.0, 0.0));

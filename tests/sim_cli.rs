@@ -56,6 +56,7 @@ fn scene_check_summarises_the_study_scene() {
 }
 
 fn broken(name: &str, text: &str, needle: &str) {
+    assert!(text != study(), "{name}: the mutation must change the scene");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join(format!("{name}.ron"));
     std::fs::write(&path, text).unwrap();

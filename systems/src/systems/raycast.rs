@@ -10,7 +10,8 @@
 //! is being dragged), and, when a tree is selected and not being dragged, against its 12
 //! bounding-box handles (spheres of radius `handle_radius`). The nearest hit wins, except that
 //! a handle also wins over a hit up to one handle radius in front of it, so that a handle
-//! sitting on the box surface or on the ground can always be grabbed.
+//! sitting on the box surface or on the ground can always be grabbed, and over any hit on the
+//! selected tree itself, whose ray box is padded by the wind's sway and so encloses the handles.
 //!
 //! The hit depends only on the ray, the index, the dragged tree, the selected tree's box and two
 //! config values. When none of them changed since the last tick, the cast is skipped and the
@@ -62,7 +63,10 @@ pub fn run(world: &mut World, res: &mut Resources) {
 
     if let Some(b) = selected_box {
         let radius = res.config.handle_radius;
-        let limit = if marker.visible { (marker.distance + radius).min(max) } else { max };
+        // The handles sit on the selected tree's own box, which lies inside its (sway-padded)
+        // ray box: a hit on that tree never hides its handles.
+        let own_tree = marker.target == HitTarget::Tree(b.entity.to_bits().get());
+        let limit = if marker.visible && !own_tree { (marker.distance + radius).min(max) } else { max };
         if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit) {
             let point = origin + dir * d;
             marker = HitMarker {
