@@ -52,6 +52,28 @@ impl WorldHash {
     }
 }
 
+/// Whether the entity with these id bits has the hashed component called `name`.
+pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
+    let Some(e) = Entity::from_bits(entity_bits) else { return false };
+    let Ok(r) = world.entity(e) else { return false };
+    match name {
+        "Transform" => r.has::<Transform>(),
+        "Scale" => r.has::<Scale>(),
+        "Tree" => r.has::<Tree>(),
+        "Grounded" => r.has::<Grounded>(),
+        "WindState" => r.has::<WindState>(),
+        "Plane" => r.has::<Plane>(),
+        "Sun" => r.has::<Sun>(),
+        "Wind" => r.has::<Wind>(),
+        "Controller" => r.has::<Controller>(),
+        "Head" => r.has::<Head>(),
+        "HitMarker" => r.has::<HitMarker>(),
+        "AnchorBall" => r.has::<AnchorBall>(),
+        "Selection" => r.has::<Selection>(),
+        _ => false,
+    }
+}
+
 /// Formats a hash as 16 lowercase hex digits.
 pub fn hex(h: u64) -> String {
     format!("{h:016x}")

@@ -360,7 +360,10 @@ pub struct ReplayOptions {
     pub overrides: Vec<(String, String)>,
 }
 
-fn differing(expected: &CheckpointLine, actual: &WorldHash) -> Vec<Differing> {
+/// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
+/// entities whose hash differs crossed with the component types whose hash differs, keeping
+/// only pairs where the entity (still) has that component.
+fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World) -> Vec<Differing> {
     let comps: Vec<&str> = COMPONENTS
         .iter()
         .copied()
@@ -382,10 +385,14 @@ fn differing(expected: &CheckpointLine, actual: &WorldHash) -> Vec<Differing> {
             out.push(Differing { entity: "resources".into(), component: "resources".into() });
             continue;
         }
+        let before = out.len();
         for e in &ents {
-            out.push(Differing { entity: e.clone(), component: (*c).to_string() });
+            let bits = e.parse::<u64>().unwrap_or(0);
+            if crate::hash::has_component(world, bits, c) || !actual_entities.contains_key(e) {
+                out.push(Differing { entity: e.clone(), component: (*c).to_string() });
+            }
         }
-        if ents.is_empty() {
+        if out.len() == before {
             out.push(Differing { entity: "?".into(), component: (*c).to_string() });
         }
     }
@@ -519,7 +526,7 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
                     let h = sim.hash();
                     checkpoints_checked += 1;
                     if hex(h.total) != c.hash {
-                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&c, &h) });
+                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&c, &h, &sim.world) });
                     }
                 }
             }
