@@ -126,20 +126,9 @@ pub fn one_line_image_error(e: &image::ImageError) -> String {
     }
 }
 
-/// The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout).
-pub fn cube_dir(face: usize, x: u32, y: u32, size: u32) -> Vec3 {
-    let s = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
-    let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
-    let d = match face {
-        0 => Vec3::new(1.0, -t, -s),
-        1 => Vec3::new(-1.0, -t, s),
-        2 => Vec3::new(s, 1.0, t),
-        3 => Vec3::new(s, -1.0, -t),
-        4 => Vec3::new(s, -t, 1.0),
-        _ => Vec3::new(-s, -t, -1.0),
-    };
-    d.normalize()
-}
+/// The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout); the same mapping
+/// the generator used to write the faces.
+pub use crate::assetgen::textures::cube_dir;
 
 /// The cosine-weighted irradiance of a cubemap (linear RGB), for `out` texels per face edge,
 /// sampling the input at up to 16 texels per face edge.
