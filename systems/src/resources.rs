@@ -59,8 +59,6 @@ pub struct Config {
     pub spawn_distance: f32,
     /// How far below head height a tree chosen from the menu appears, metres.
     pub spawn_drop: f32,
-    /// A Trigger press shorter than this many ticks is a click; longer is a hold.
-    pub click_ticks: u32,
 }
 
 impl Default for Config {
@@ -76,7 +74,6 @@ impl Default for Config {
             handle_radius: 0.15,
             spawn_distance: 1.5,
             spawn_drop: 0.5,
-            click_ticks: 12,
         }
     }
 }
@@ -94,7 +91,6 @@ impl Config {
         "handle_radius",
         "spawn_distance",
         "spawn_drop",
-        "click_ticks",
     ];
 
     /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`.
@@ -117,7 +113,6 @@ impl Config {
             "handle_radius" => self.handle_radius = parse(value)?,
             "spawn_distance" => self.spawn_distance = parse(value)?,
             "spawn_drop" => self.spawn_drop = parse(value)?,
-            "click_ticks" => self.click_ticks = parse(value)?.round() as u32,
             _ => {
                 return Err(format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")));
             }
