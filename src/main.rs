@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod cli;
+mod desktop;
 mod study;
 
 /// grove: a deterministic simulation of a tree-planting study.
@@ -33,6 +34,10 @@ enum Command {
     Study(cli::study::StudyArgs),
     /// Generate synthetic participants' recordings of the study's tasks.
     Synth(cli::synth::SynthArgs),
+    /// Plant trees interactively in a window (mouse, keyboard or gamepad), optionally recorded.
+    Play(cli::play::PlayArgs),
+    /// View a recording in a window: play, pause, step, seek, with event markers.
+    View(cli::view::ViewArgs),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +58,8 @@ fn main() -> ExitCode {
         Command::Replay(args) => cli::replay::run(args),
         Command::Study(args) => cli::study::run(args),
         Command::Synth(args) => cli::synth::run(args),
+        Command::Play(args) => cli::play::run(args),
+        Command::View(args) => cli::view::run(args),
     };
     match result {
         Ok(code) => code,
