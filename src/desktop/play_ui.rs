@@ -170,7 +170,7 @@ impl PlayUi {
                     self.quit = true;
                 }
                 if let Some(path) = &self.stats.recording {
-                    ui.label(RichText::new(format!("● REC {path}")).color(Color32::from_rgb(220, 40, 40)));
+                    ui.label(RichText::new(format!("REC {path}")).color(Color32::from_rgb(220, 40, 40)));
                 }
             });
         });
@@ -236,7 +236,7 @@ pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive
         ui.separator();
         for (i, t) in task.def.targets.iter().enumerate() {
             let hit = task.satisfied.get(i).copied().flatten();
-            let mark = if hit.is_some() { "✔" } else { "☐" };
+            let mark = if hit.is_some() { "[x]" } else { "[ ]" };
             let time = hit.map(|h| format!(" {:.1} s", (h.tick - task.started_tick) as f64 * sim.res.dt as f64)).unwrap_or_default();
             ui.label(format!("{mark} {} at ({:.1}, {:.1}){time}", t.model, t.position.x, t.position.z));
         }
@@ -354,9 +354,9 @@ mod tests {
         }
         h.run();
         h.get_by_label("Task manual-7");
-        assert_eq!(h.query_all_by_label_contains("☐").count(), 7, "seven unchecked targets");
+        assert_eq!(h.query_all_by_label_contains("[ ]").count(), 7, "seven unchecked targets");
         let t = h.query_by_label_contains("time ").expect("a task timer");
-        let secs: f64 = t.label().unwrap().trim_start_matches("time ").trim_end_matches(" s").parse().unwrap();
+        let secs: f64 = t.value().unwrap().trim_start_matches("time ").trim_end_matches(" s").parse().unwrap();
         assert!(secs >= 1.0, "the timer runs: {secs}");
         h.get_by_label("Finish task").click();
         settle(&mut h);

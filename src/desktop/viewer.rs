@@ -174,10 +174,10 @@ impl Viewer {
         }
         egui::Panel::bottom("timeline").show(ui, |ui| {
             ui.horizontal(|ui| {
-                if ui.button("⏮ Start").clicked() {
+                if ui.button("Start").clicked() {
                     self.seek(0);
                 }
-                let label = if self.playing { "⏸ Pause" } else { "▶ Play" };
+                let label = if self.playing { "Pause" } else { "Play" };
                 if ui.button(label).clicked() {
                     if !self.playing && self.tick() >= self.end_tick {
                         self.seek(0);
@@ -188,9 +188,9 @@ impl Viewer {
                     self.playing = false;
                     self.step_once();
                 }
-                egui::ComboBox::from_label("Speed").selected_text(format!("{}×", self.speed)).show_ui(ui, |ui| {
+                egui::ComboBox::from_label("Speed").selected_text(format!("{}x", self.speed)).show_ui(ui, |ui| {
                     for s in SPEEDS {
-                        ui.selectable_value(&mut self.speed, *s, format!("{s}×"));
+                        ui.selectable_value(&mut self.speed, *s, format!("{s}x"));
                     }
                 });
                 let dt = self.sim.res.dt as f64;
@@ -219,7 +219,7 @@ impl Viewer {
             ui.horizontal(|ui| {
                 for k in MARKER_KINDS {
                     let n = self.markers.iter().filter(|m| m.kind == *k).count();
-                    ui.label(RichText::new(format!("■ {k} {n}")).color(marker_color(k)));
+                    ui.label(RichText::new(format!("| {k} {n}")).color(marker_color(k)));
                 }
             });
         });
@@ -254,10 +254,10 @@ mod tests {
         let scene = Scene::builtin("study").unwrap();
         let mut s = Script::new(Sim::from_scene(&scene, 9).unwrap());
         s.start_task("ray-casting-7").wait(5);
-        for p in [Vec3::new(1.0, 0.0, 1.0), Vec3::new(-2.0, 0.0, 0.0)] {
+        for p in [Vec3::new(3.0, 0.0, 3.0), Vec3::new(-3.0, 0.0, 3.0)] {
             s.point_at(p).press(Button::Trigger).wait(20);
         }
-        s.push(InputEvent::ControllerPose { pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(1.0, 0.0, 1.0)) }).wait(1);
+        s.push(InputEvent::ControllerPose { pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(3.0, 0.0, 3.0)) }).wait(1);
         s.press(Button::Bumper).wait(30);
         let events = s.recorded().to_vec();
         let mut header = Header::new("study", 9, scene.dt);
@@ -345,10 +345,10 @@ mod tests {
         h.get_by_label("Step").click();
         h.run();
         assert_eq!(h.state().tick(), 1);
-        h.get_by_label("▶ Play").click();
+        h.get_by_label("Play").click();
         h.run();
         assert!(h.state().playing);
-        h.get_by_label("⏸ Pause").click();
+        h.get_by_label("Pause").click();
         h.run();
         assert!(!h.state().playing);
         h.get_by_label_contains("planted 2");

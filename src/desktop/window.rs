@@ -137,13 +137,32 @@ impl<F: Frontend> App<F> {
         }
         let Some(gfx) = self.gfx.as_mut() else { return };
 
+        let raw = gfx.egui_state.take_egui_input(&gfx.window);
+        let frontend = &mut self.frontend;
+        let mut full = gfx.ctx.run_ui(raw, |ui| frontend.ui(ui));
+        gfx.egui_state.handle_platform_output(&gfx.window, std::mem::take(&mut full.platform_output));
+        let ppp = full.pixels_per_point;
+        let jobs = gfx.ctx.tessellate(std::mem::take(&mut full.shapes), ppp);
+        for (id, deltas) in full.textures_delta.set.drain() {
+            for delta in deltas.iter() {
+                gfx.egui_renderer.update_texture(&gfx.device, &gfx.queue, id, delta);
+            }
+        }
+        let to_free: Vec<egui::TextureId> = full.textures_delta.free.drain().collect();
+
         let frame = match gfx.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => Some(f),
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
                 gfx.surface.configure(&gfx.device, &gfx.config);
-                return;
+                None
             }
-            _ => return,
+            _ => None,
+        };
+        let Some(frame) = frame else {
+            for id in &to_free {
+                gfx.egui_renderer.free_texture(id);
+            }
+            return;
         };
         let view = frame.texture.create_view(&wgpu::TextureViewDescriptor { label: Some("grove window frame"), ..Default::default() });
         let mut encoder = gfx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grove window frame") });
@@ -154,19 +173,7 @@ impl<F: Frontend> App<F> {
             &view,
             size,
         );
-
-        let raw = gfx.egui_state.take_egui_input(&gfx.window);
-        let frontend = &mut self.frontend;
-        let full = gfx.ctx.run_ui(raw, |ui| frontend.ui(ui));
-        gfx.egui_state.handle_platform_output(&gfx.window, full.platform_output);
-        let ppp = full.pixels_per_point;
-        let jobs = gfx.ctx.tessellate(full.shapes, ppp);
         let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [size.0, size.1], pixels_per_point: ppp };
-        for (id, deltas) in &full.textures_delta.set {
-            for delta in deltas.iter() {
-                gfx.egui_renderer.update_texture(&gfx.device, &gfx.queue, *id, delta);
-            }
-        }
         let extra = gfx.egui_renderer.update_buffers(&gfx.device, &gfx.queue, &mut encoder, &jobs, &screen);
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -191,7 +198,7 @@ impl<F: Frontend> App<F> {
         gfx.queue.submit(extra.into_iter().chain(std::iter::once(encoder.finish())));
         gfx.window.pre_present_notify();
         gfx.queue.present(frame);
-        for id in &full.textures_delta.free {
+        for id in &to_free {
             gfx.egui_renderer.free_texture(id);
         }
         if self.frontend.wants_quit() {
