@@ -19,11 +19,14 @@ export DISPLAY=$D
 PLAY=$!
 WID=$(timeout 60 xdotool search --sync --onlyvisible --pid $PLAY | head -1)
 sleep 6
-for xy in "560 520" "700 500" "820 560" "480 600"; do
-  set -- $xy
+# Each step: a model button in the Trees window, then a target ring on the ground.
+for step in "207 193 640 389" "70 129 410 415" "270 129 870 415"; do
+  set -- $step
   xdotool mousemove --window "$WID" "$1" "$2"; sleep 0.4
-  xdotool mousemove --window "$WID" $(($1 + 3)) "$2"; sleep 0.6
   xdotool click 1; sleep 1
+  xdotool mousemove --window "$WID" "$3" "$4"; sleep 0.4
+  xdotool mousemove --window "$WID" $(($3 + 2)) "$4"; sleep 0.6
+  xdotool click 1; sleep 1.5
 done
 xdotool mousemove --window "$WID" 650 470; sleep 1.5
 import -window root docs/play.png
@@ -31,7 +34,7 @@ xdotool windowfocus --sync "$WID"; xdotool key Escape
 wait $PLAY
 
 # The viewer on that recording, paused in the middle.
-"$GROVE" view "$TMP/demo.jsonl" --at 400 2>"$TMP/view.log" &
+"$GROVE" view "$TMP/demo.jsonl" --at 100000 2>"$TMP/view.log" &
 VIEW=$!
 WID=$(timeout 60 xdotool search --sync --onlyvisible --pid $VIEW | head -1)
 sleep 6

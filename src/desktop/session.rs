@@ -108,6 +108,7 @@ impl LiveSession {
     }
 
     /// Number of ticks' worth of queued input.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub fn pending_ticks(&self) -> usize {
         self.batches.len()
     }
@@ -133,13 +134,9 @@ impl LiveSession {
     }
 
     /// Every event applied so far, with its tick.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub fn recorded(&self) -> &[StampedEvent] {
         &self.recorded
-    }
-
-    /// Whether the session is being recorded.
-    pub fn is_recording(&self) -> bool {
-        self.recorder.is_some()
     }
 
     /// Writes buffered recording lines to the file.

@@ -17,6 +17,8 @@ use winit::window::{Window, WindowId};
 use super::input_map::PadInput;
 
 /// The GPU objects a frontend may use to draw (the renderer, thumbnails).
+// Until the wgpu renderer is wired in, the frontends draw with egui only and read none of these.
+#[allow(dead_code)]
 pub struct GpuContext<'a> {
     /// The device.
     pub device: &'a wgpu::Device,
