@@ -38,6 +38,8 @@ enum Command {
     Play(cli::play::PlayArgs),
     /// View a recording in a window: play, pause, step, seek, with event markers.
     View(cli::view::ViewArgs),
+    /// Print the sun's position (NREL SPA) for a place and a UTC time.
+    Sun(cli::sun::SunArgs),
 }
 
 fn main() -> ExitCode {
@@ -60,6 +62,7 @@ fn main() -> ExitCode {
         Command::Synth(args) => cli::synth::run(args),
         Command::Play(args) => cli::play::run(args),
         Command::View(args) => cli::view::run(args),
+        Command::Sun(args) => cli::sun::run(args),
     };
     match result {
         Ok(code) => code,

@@ -23,6 +23,8 @@ pub enum Which {
     Replay,
     /// The whole study: 24 recordings re-simulated, verified and reported.
     Study,
+    /// The wind and sun systems' tick for 100k trees.
+    Wind,
 }
 
 /// Arguments of `grove bench`.
@@ -88,7 +90,7 @@ fn bench_sim(args: &BenchArgs) -> anyhow::Result<Value> {
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
-    let all = [Which::Sim, Which::Replay, Which::Study];
+    let all = [Which::Sim, Which::Wind, Which::Replay, Which::Study];
     let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
     let mut report = serde_json::Map::new();
     report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
@@ -98,6 +100,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::Sim => ("sim_tick", bench_sim(&args)?),
             Which::Replay => ("replay", super::bench_replay::bench_replay()?),
             Which::Study => ("study", super::bench_replay::bench_study()?),
+            Which::Wind => ("wind_sun_tick", super::bench_wind::bench_wind(&args)?),
         };
         report.insert(name.into(), value);
     }

@@ -2,11 +2,13 @@
 
 pub mod bench;
 pub mod bench_replay;
+pub mod bench_wind;
 pub mod play;
 pub mod replay;
 pub mod scene;
 pub mod sim;
 pub mod study;
+pub mod sun;
 pub mod synth;
 pub mod view;
 

@@ -91,16 +91,32 @@ pub struct Grounded(pub bool);
 
 /// The per-tree state of the wind animation, advanced every tick by the wind system.
 ///
-/// The renderer reads `bend` to bend the trunk and `time` to drive per-vertex flutter.
+/// The renderer reads `bend` (the trunk's lean), `gain` and `phase` and passes them to the
+/// per-vertex wind functions (`src/render/wind.wgsl`, CPU reference in [`crate::wind_model`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct WindState {
     /// A random phase in radians, drawn from the seeded RNG when the tree is spawned.
     pub phase: f32,
-    /// Gain of the wind at this tree's position (from a spatial function), so that trees do not
-    /// sway in lockstep. Recomputed when the tree moves.
+    /// Gain of the wind at this tree's position, 0.5..1.5 ([`crate::wind_model::position_gain`]),
+    /// so that trees do not sway in lockstep.
     pub gain: f32,
-    /// The current horizontal bend of the crown top, metres, in world X and Z.
+    /// The current lean of the trunk: horizontal displacement per metre of height, world X and Z.
     pub bend: Vec2,
+    /// The horizontal position (X, Z) and the wind density for which `gain` was computed; the
+    /// wind system recomputes `gain` when the tree moves or the density changes.
+    pub gain_at: Vec3,
+}
+
+impl WindState {
+    /// A tree's initial wind state at `position` for a wind of spatial `density`.
+    pub fn new(phase: f32, position: Vec3, density: f32) -> WindState {
+        WindState {
+            phase,
+            gain: crate::wind_model::position_gain(position, density),
+            bend: Vec2::ZERO,
+            gain_at: Vec3::new(position.x, position.z, density),
+        }
+    }
 }
 
 /// A reconstructed ground surface: a triangle mesh that may have holes and unevenness.
@@ -146,10 +162,15 @@ pub struct Wind {
     pub gust: Gust,
     /// The current gust factor, updated every tick (average ± strength).
     pub current: f32,
+    /// The per-vertex model for all trees (a renderer may override it per tree model).
+    pub model: crate::wind_model::WindModel,
+    /// The constants of the per-vertex models (stiffness, flutter, noise drift).
+    pub response: crate::wind_model::WindResponse,
 }
 
 /// A periodic gust function that approximates the inertia of a trunk:
-/// `average + strength × g(frequency × t)`, where `g` is a smooth periodic function in [−1, 1].
+/// `average + strength × g(frequency × t)`, where `g` is a smooth periodic function in [−1, 1]
+/// (two low harmonics, no sudden changes: a trunk cannot follow turbulence faster than that).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Gust {
     /// The mean factor.

@@ -29,5 +29,6 @@ pub mod sim;
 pub mod spatial;
 pub mod systems;
 pub mod task;
+pub mod wind_model;
 
 pub use sim::Sim;

@@ -129,6 +129,12 @@ pub struct WindDef {
     pub gust_strength: f32,
     /// Gust frequency, hertz.
     pub gust_frequency: f32,
+    /// The per-vertex wind model, `noise` or `hierarchical` (default).
+    #[serde(default)]
+    pub model: crate::wind_model::WindModel,
+    /// Per-vertex response constants; every field has a default.
+    #[serde(default)]
+    pub response: crate::wind_model::WindResponse,
 }
 
 /// A tree present at the start.
@@ -272,6 +278,7 @@ impl Scene {
         if w.strength < 0.0 || w.density < 0.0 || w.gust_frequency < 0.0 {
             return Err("wind strength, density and gust frequency must not be negative".into());
         }
+        w.response.validate()?;
         for (i, t) in self.trees.iter().enumerate() {
             finite(&format!("tree {i}"), t.position.is_finite() && t.yaw_deg.is_finite() && t.scale.is_finite())?;
             if t.scale <= 0.0 {

@@ -1,6 +1,6 @@
 //! [`Sim`]: a world, its resources and the fixed-step driver.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use hecs::World;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
@@ -29,13 +29,13 @@ pub fn tree_components(
     grounded: bool,
 ) -> TreeComponents {
     let phase = rng.random::<f32>() * std::f32::consts::TAU;
-    let gain = wind.map_or(1.0, |w| crate::systems::wind::position_gain(position, w.density));
+    let density = wind.map_or(0.0, |w| w.density);
     (
         Tree { model },
         Transform { translation: position, yaw },
         Scale(scale),
         Grounded(grounded),
-        WindState { phase, gain, bend: Vec2::ZERO },
+        WindState::new(phase, position, density),
     )
 }
 
@@ -85,6 +85,8 @@ impl Sim {
             density: w.density,
             gust: Gust { average: w.gust_average, strength: w.gust_strength, frequency: w.gust_frequency },
             current: w.gust_average,
+            model: w.model,
+            response: w.response,
         },));
 
         let head = Pose::looking_at(scene.camera.position, scene.camera.look_at);

@@ -1,7 +1,8 @@
 //! Wind system: advances the gust function and every tree's bend.
 //!
-//! Reads: `Resources::tick`, `Resources::dt`, `Wind`, `WindState` (phase, gain).
-//! Writes: `Wind::current`, `WindState::bend`.
+//! Reads: `Resources::tick`, `Resources::dt`, `Wind`, `Transform`, `WindState` (phase, gain).
+//! Writes: `Wind::current`, `WindState::bend`, and `WindState::gain` / `gain_at` for trees that
+//! moved (or all trees when the wind's density changed).
 //!
 //! The per-tree work is a few multiplies and one polynomial sine, with no allocation, so that
 //! a million trees take a few milliseconds. The sine is a fixed polynomial rather than the
@@ -9,9 +10,8 @@
 
 use glam::{Vec2, Vec3};
 use hecs::World;
-use noise::{NoiseFn, Perlin};
 
-use crate::components::{Gust, Wind, WindState};
+use crate::components::{Gust, Transform, Wind, WindState};
 use crate::resources::Resources;
 
 /// Sine of `x` (radians) by range reduction to [−π, π] and an odd polynomial of degree 9
@@ -20,13 +20,11 @@ use crate::resources::Resources;
 pub fn det_sin(x: f32) -> f32 {
     use std::f32::consts::{PI, TAU};
     let k = (x * (1.0 / TAU) + 0.5).floor();
-    let mut r = x - k * TAU;
-    // Fold into [−π/2, π/2], where the polynomial is accurate: sin(π − r) = sin(r).
-    if r > PI * 0.5 {
-        r = PI - r;
-    } else if r < -PI * 0.5 {
-        r = -PI - r;
-    }
+    let r = x - k * TAU;
+    // Fold into [−π/2, π/2], where the polynomial is accurate: sin(π − r) = sin(r). Written
+    // without branches (abs and copysign are exact), since random tree phases would make a
+    // branch unpredictable.
+    let r = (PI * 0.5 - (r.abs() - PI * 0.5).abs()).copysign(r);
     let r2 = r * r;
     r * (1.0 + r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (1.0 / 362_880.0)))))
 }
@@ -44,16 +42,13 @@ pub fn gust_at(g: &Gust, t: f64) -> f32 {
     g.average + g.strength * gust_shape(u)
 }
 
-/// The wind gain at a world position (0.5..1.5): a Perlin field of spatial frequency
-/// `density`, so that neighbouring trees sway differently.
-pub fn position_gain(position: Vec3, density: f32) -> f32 {
-    let p = Perlin::new(0x67726f76);
-    let n = p.get([position.x as f64 * density as f64, position.z as f64 * density as f64]) as f32;
-    (1.0 + n).clamp(0.5, 1.5)
-}
+/// The per-tree gain at a world position (0.5..1.5); see [`crate::wind_model::position_gain`].
+pub use crate::wind_model::position_gain;
 
-/// A tree's crown bend, metres per metre of height, for wind direction `dir` (horizontal unit),
-/// base `strength`, the shared gust factor, the tree's gain and phase, at time `t` seconds.
+/// A tree's trunk lean (horizontal metres per metre of height, world X and Z) for wind
+/// direction `dir` (horizontal unit), base `strength`, the shared gust factor, the tree's gain
+/// and phase, at time `t` seconds:
+/// `dir × 0.02 × strength × gain × (gust + 0.25 × sin(π t + phase))`.
 #[inline]
 pub fn tree_bend(dir: Vec2, strength: f32, gust: f32, gain: f32, phase: f32, t: f32) -> Vec2 {
     // A steady lean from the gust plus a small oscillation at about 0.5 Hz with the tree's own phase.
@@ -62,9 +57,10 @@ pub fn tree_bend(dir: Vec2, strength: f32, gust: f32, gain: f32, phase: f32, t: 
     dir * amount
 }
 
-/// The largest bend [`tree_bend`] can give for this wind, metres per metre of height.
+/// The largest bend [`tree_bend`] can give for this wind at any time, any gain (≤ 1.5) and any
+/// phase, metres per metre of height.
 pub fn max_bend(wind: &Wind) -> f32 {
-    0.02 * wind.strength * 1.5 * (wind.gust.average.abs() + wind.gust.strength.abs() + 0.25)
+    0.02 * wind.strength.abs() * 1.5 * (wind.gust.average.abs() + wind.gust.strength.abs() + 0.25)
 }
 
 /// Runs the wind system.
@@ -80,7 +76,16 @@ pub fn run(world: &mut World, res: &mut Resources) {
     // Reduce time to one period of the 0.5 Hz oscillation (2 s) in f64 first, so f32 keeps
     // its precision however long the session runs.
     let tf = (t % 2.0) as f32;
-    for ws in world.query_mut::<&mut WindState>() {
+    for (tr, ws) in world.query_mut::<(Option<&Transform>, &mut WindState)>() {
+        if let Some(tr) = tr {
+            // The gain is a function of position: recompute it only when the tree has moved
+            // or the wind's density has changed, so the per-tick cost stays a few multiplies.
+            let key = Vec3::new(tr.translation.x, tr.translation.z, w.density);
+            if key != ws.gain_at {
+                ws.gain = position_gain(tr.translation, w.density);
+                ws.gain_at = key;
+            }
+        }
         ws.bend = tree_bend(dir, w.strength, w.current, ws.gain, ws.phase, tf);
     }
 }

@@ -1,0 +1,60 @@
+//! `grove bench wind`: the wind and sun systems' tick for 100k trees.
+//!
+//! Builds the benchmark scene, scatters 100,000 trees, gives the sun a time rate of 60 (if the
+//! scene's is 0) so that SPA runs every tick, then times `systems::wind::run` and
+//! `systems::sun::run` together, and each alone, on one thread. The goal is 1.5 ms per tick in
+//! a release build.
+
+use anyhow::anyhow;
+use grove_systems::components::Sun;
+use grove_systems::systems::{sun, wind};
+use grove_systems::Sim;
+use serde_json::{json, Value};
+
+use super::bench::{median, time_ms, BenchArgs};
+
+/// Trees in the wind benchmark.
+pub const WIND_BENCH_TREES: usize = 100_000;
+
+/// Runs the wind and sun benchmark and returns its figures.
+pub fn bench_wind(args: &BenchArgs) -> anyhow::Result<Value> {
+    let scene = super::load_scene(&args.scene)?;
+    eprintln!("bench: wind and sun tick with {WIND_BENCH_TREES} trees");
+    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
+    sim.scatter_trees(WIND_BENCH_TREES);
+    for s in sim.world.query_mut::<&mut Sun>() {
+        if s.time_rate == 0.0 {
+            s.time_rate = 60.0;
+        }
+    }
+    let ticks = args.ticks.max(1) as usize;
+    let Sim { world, res } = &mut sim;
+    // Warm the caches, then time both systems together and each alone, advancing the tick
+    // counter as the schedule would.
+    for _ in 0..5 {
+        wind::run(world, res);
+        sun::run(world, res);
+        res.tick += 1;
+    }
+    let mut both = time_ms(ticks, || {
+        wind::run(world, res);
+        sun::run(world, res);
+        res.tick += 1;
+    });
+    let mut wind_only = time_ms(ticks, || {
+        wind::run(world, res);
+        res.tick += 1;
+    });
+    let mut sun_only = time_ms(ticks, || {
+        sun::run(world, res);
+        res.tick += 1;
+    });
+    Ok(json!({
+        "trees": WIND_BENCH_TREES,
+        "ticks": ticks,
+        "wind_sun_ms_per_tick_median": median(&mut both),
+        "wind_ms_per_tick_median": median(&mut wind_only),
+        "sun_ms_per_tick_median": median(&mut sun_only),
+        "goal_ms": 1.5,
+    }))
+}
