@@ -65,6 +65,7 @@ pub struct Viewer {
     /// Playback speed, 0.25 to 16.
     pub speed: f64,
     clock: FixedStep,
+    pending_seek: Option<u64>,
 }
 
 impl Viewer {
@@ -109,6 +110,7 @@ impl Viewer {
             playing: false,
             speed: 1.0,
             clock: FixedStep::new(dt, 2000),
+            pending_seek: None,
         })
     }
 
@@ -203,8 +205,17 @@ impl Viewer {
             let width = ui.available_width();
             ui.spacing_mut().slider_width = width - 80.0;
             let r = ui.add(egui::Slider::new(&mut t, 0..=self.end_tick.max(1)).text("tick"));
-            if r.changed() {
+            // Forward seeks step on; a backward seek re-simulates from the start, so while the
+            // handle is being dragged back it waits for the release.
+            if r.changed() && (t > self.tick() || !r.dragged()) {
                 self.seek(t);
+                self.pending_seek = None;
+            } else if r.changed() {
+                self.pending_seek = Some(t);
+            }
+            if let (Some(p), false) = (self.pending_seek, r.dragged()) {
+                self.seek(p);
+                self.pending_seek = None;
             }
             // The markers, under the slider's rail.
             let rail = r.rect;
