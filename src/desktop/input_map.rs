@@ -186,6 +186,8 @@ impl Controls {
     }
 
     /// The cursor moved to `pos` (pixels). A drag with the right button held turns the head.
+    /// The controller pose follows at the next [`Controls::frame`] (or button), so a burst of
+    /// mouse motion costs one pose event per frame, not one per motion event.
     pub fn cursor_moved(&mut self, pos: Vec2) -> Vec<InputEvent> {
         let mut out = Vec::new();
         if let (Some(from), Some(_)) = (self.right_drag_from, self.cursor) {
@@ -195,7 +197,6 @@ impl Controls {
             out.push(InputEvent::HeadPose { pose: self.head });
         }
         self.cursor = Some(pos);
-        self.pose_events(&mut out);
         out
     }
 
@@ -412,10 +413,17 @@ mod tests {
     #[test]
     fn left_button_is_trigger_after_a_pose_and_right_is_bumper() {
         let mut c = Controls::new(head(), 1.0, Vec2::new(800.0, 600.0));
-        c.cursor_moved(Vec2::new(400.0, 500.0));
+        assert!(c.cursor_moved(Vec2::new(400.0, 500.0)).is_empty(), "motion alone waits for the frame");
         let down = c.mouse_button(MouseButton::Left, true);
-        assert_eq!(down, vec![InputEvent::ButtonDown { button: Button::Trigger }], "pose unchanged: no repeat");
+        assert_eq!(down.len(), 2);
+        let InputEvent::ControllerPose { pose } = down[0] else { panic!("the pose comes first: {down:?}") };
+        assert_eq!(pose, cursor_ray(&head(), 1.0, Vec2::new(800.0, 600.0), Vec2::new(400.0, 500.0)));
+        assert_eq!(down[1], InputEvent::ButtonDown { button: Button::Trigger });
+        assert!(c.frame(0.016).is_empty(), "pose unchanged: no repeat");
         c.cursor_moved(Vec2::new(410.0, 500.0));
+        c.cursor_moved(Vec2::new(420.0, 500.0));
+        let moved = c.frame(0.016);
+        assert_eq!(moved.len(), 1, "one pose per frame: {moved:?}");
         let up = c.mouse_button(MouseButton::Left, false);
         assert_eq!(up, vec![InputEvent::ButtonUp { button: Button::Trigger }]);
         let b = c.mouse_button(MouseButton::Right, true);
