@@ -11,7 +11,7 @@ use winit::keyboard::PhysicalKey;
 use super::input_map::{Controls, PadInput};
 use super::play_ui::{PlayUi, Screen};
 use super::session::{FixedStep, LiveSession};
-use super::window::{Frontend, GpuContext};
+use super::window::{make_thumbnails, Frontend, GpuContext, ThumbnailFactory, World3d};
 use super::world_view::{head_of, paint_world, ViewOptions};
 
 /// How often the recording is flushed to disk, wall-clock seconds.
@@ -29,6 +29,10 @@ pub struct PlayApp {
     started: Instant,
     last_flush: Instant,
     world_buttons: [bool; 2],
+    /// The 3D view.
+    pub world3d: World3d,
+    /// How to render the tree-selection thumbnails, if anything can.
+    pub thumbnails: Option<ThumbnailFactory>,
 }
 
 impl PlayApp {
@@ -44,6 +48,8 @@ impl PlayApp {
             started: Instant::now(),
             last_flush: Instant::now(),
             world_buttons: [false; 2],
+            world3d: World3d::default(),
+            thumbnails: None,
         };
         if let Some(id) = task {
             app.ui.screen = Screen::Session;
@@ -86,8 +92,19 @@ impl PlayApp {
 }
 
 impl Frontend for PlayApp {
-    fn gpu_ready(&mut self, _gpu: GpuContext<'_>, adapter: &str) {
+    fn gpu_ready(&mut self, gpu: GpuContext<'_>, adapter: &str, size: (u32, u32)) {
         self.ui.stats.adapter = adapter.to_string();
+        self.world3d.gpu_ready(&gpu, size);
+        if let Some(f) = self.thumbnails {
+            self.ui.thumbnails = make_thumbnails(f, gpu);
+        }
+    }
+
+    fn draw_3d(&mut self, _gpu: GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+        match self.session.as_ref() {
+            Some(s) => self.world3d.draw(&s.sim, view, size),
+            None => false,
+        }
     }
 
     fn input(&mut self, event: &WindowEvent, over_ui: bool) {
@@ -171,7 +188,7 @@ impl Frontend for PlayApp {
     fn ui(&mut self, ui: &mut egui::Ui) {
         let Some(s) = self.session.as_ref() else { return };
         let painter = ui.ctx().layer_painter(egui::LayerId::background());
-        paint_world(&painter, ui.ctx().content_rect(), &s.sim, ViewOptions { scenery: true, trees: true });
+        paint_world(&painter, ui.ctx().content_rect(), &s.sim, ViewOptions::with_renderer(self.world3d.active()));
         let events = self.ui.ui(ui, &s.sim);
         self.queue_all(events);
     }

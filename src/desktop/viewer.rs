@@ -371,17 +371,27 @@ mod tests {
 pub struct ViewApp {
     /// The viewer.
     pub viewer: Viewer,
+    /// The 3D view.
+    pub world3d: super::window::World3d,
     quit: bool,
 }
 
 impl ViewApp {
     /// A window frontend for a viewer.
     pub fn new(viewer: Viewer) -> ViewApp {
-        ViewApp { viewer, quit: false }
+        ViewApp { viewer, world3d: Default::default(), quit: false }
     }
 }
 
 impl super::window::Frontend for ViewApp {
+    fn gpu_ready(&mut self, gpu: super::window::GpuContext<'_>, _adapter: &str, size: (u32, u32)) {
+        self.world3d.gpu_ready(&gpu, size);
+    }
+
+    fn draw_3d(&mut self, _gpu: super::window::GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+        self.world3d.draw(&self.viewer.sim, view, size)
+    }
+
     fn input(&mut self, event: &winit::event::WindowEvent, _over_ui: bool) {
         use winit::event::{ElementState, WindowEvent};
         use winit::keyboard::{KeyCode, PhysicalKey};
@@ -405,7 +415,7 @@ impl super::window::Frontend for ViewApp {
 
     fn ui(&mut self, ui: &mut egui::Ui) {
         let painter = ui.ctx().layer_painter(egui::LayerId::background());
-        super::world_view::paint_world(&painter, ui.ctx().content_rect(), &self.viewer.sim, super::world_view::ViewOptions { scenery: true, trees: true });
+        super::world_view::paint_world(&painter, ui.ctx().content_rect(), &self.viewer.sim, super::world_view::ViewOptions::with_renderer(self.world3d.active()));
         self.viewer.ui(ui);
     }
 

@@ -17,8 +17,6 @@ use winit::window::{Window, WindowId};
 use super::input_map::PadInput;
 
 /// The GPU objects a frontend may use to draw (the renderer, thumbnails).
-// Until the wgpu renderer is wired in, the frontends draw with egui only and read none of these.
-#[allow(dead_code)]
 pub struct GpuContext<'a> {
     /// The device.
     pub device: &'a wgpu::Device,
@@ -30,10 +28,78 @@ pub struct GpuContext<'a> {
     pub egui: &'a mut egui_wgpu::Renderer,
 }
 
+/// A 3D renderer of the world that draws into the window's frame, under the UI.
+pub trait WorldRenderer {
+    /// The frame size changed, pixels.
+    fn resize(&mut self, width: u32, height: u32);
+    /// Draws the world as seen from its head into `view` (submitting its own commands).
+    fn render(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView);
+}
+
+/// Makes a world renderer for the window's device, queue, surface format and size.
+pub type RendererFactory = fn(&wgpu::Device, &wgpu::Queue, wgpu::TextureFormat, u32, u32) -> Result<Box<dyn WorldRenderer>, String>;
+
+/// Renders one thumbnail per catalogue model (by model index) into sampleable textures.
+pub type ThumbnailFactory = fn(&wgpu::Device, &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, String>;
+
+/// Makes the thumbnails and registers them with egui; a failure is logged and leaves the
+/// tree buttons without pictures.
+pub fn make_thumbnails(factory: ThumbnailFactory, gpu: GpuContext<'_>) -> Vec<Option<egui::TextureId>> {
+    match factory(gpu.device, gpu.queue) {
+        Ok(views) => views.iter().map(|v| Some(gpu.egui.register_native_texture(gpu.device, v, wgpu::FilterMode::Linear))).collect(),
+        Err(e) => {
+            tracing::warn!("no tree thumbnails: {e}");
+            Vec::new()
+        }
+    }
+}
+
+/// The 3D view of a frontend: a world renderer once the GPU is ready, if a factory was given
+/// and it could be made; otherwise the frontend draws the world with egui's painter.
+#[derive(Default)]
+pub struct World3d {
+    /// How to make the renderer.
+    pub factory: Option<RendererFactory>,
+    renderer: Option<Box<dyn WorldRenderer>>,
+    size: (u32, u32),
+}
+
+impl World3d {
+    /// Makes the renderer for a window of `size` pixels. A failure is logged and leaves the
+    /// painter view in place.
+    pub fn gpu_ready(&mut self, gpu: &GpuContext<'_>, size: (u32, u32)) {
+        if let Some(make) = self.factory {
+            match make(gpu.device, gpu.queue, gpu.format, size.0.max(1), size.1.max(1)) {
+                Ok(r) => {
+                    self.renderer = Some(r);
+                    self.size = size;
+                }
+                Err(e) => tracing::warn!("3D renderer unavailable, drawing a simple view instead: {e}"),
+            }
+        }
+    }
+
+    /// Whether a renderer draws the world.
+    pub fn active(&self) -> bool {
+        self.renderer.is_some()
+    }
+
+    /// Draws `sim` into `view`; returns whether it drew.
+    pub fn draw(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+        let Some(r) = self.renderer.as_mut() else { return false };
+        if size != self.size {
+            r.resize(size.0.max(1), size.1.max(1));
+            self.size = size;
+        }
+        r.render(sim, view);
+        true
+    }
+}
+
 /// What a window's content does. Implemented by the play session and the replay viewer.
 pub trait Frontend {
-    /// Called once the GPU is ready, with the adapter's name.
-    fn gpu_ready(&mut self, _gpu: GpuContext<'_>, _adapter: &str) {}
+    /// Called once the GPU is ready, with the adapter's name and the frame size in pixels.
+    fn gpu_ready(&mut self, _gpu: GpuContext<'_>, _adapter: &str, _size: (u32, u32)) {}
     /// A window event. `over_ui` is whether egui took it (e.g. a click on a window).
     fn input(&mut self, event: &WindowEvent, over_ui: bool);
     /// A gamepad input.
@@ -216,9 +282,11 @@ impl<F: Frontend> ApplicationHandler for App<F> {
         }
         match init_gfx(event_loop, &self.title) {
             Ok((mut gfx, adapter)) => {
+                let size = (gfx.config.width, gfx.config.height);
                 self.frontend.gpu_ready(
                     GpuContext { device: &gfx.device, queue: &gfx.queue, format: gfx.config.format, egui: &mut gfx.egui_renderer },
                     &adapter,
+                    size,
                 );
                 let size = gfx.window.inner_size();
                 self.frontend.input(&WindowEvent::Resized(size), false);

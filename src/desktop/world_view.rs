@@ -25,8 +25,16 @@ pub fn head_of(sim: &Sim) -> Head {
 pub struct ViewOptions {
     /// Draw the sky and the ground (off when the wgpu renderer has drawn them).
     pub scenery: bool,
-    /// Draw the trees (off when the wgpu renderer has drawn them).
+    /// Draw the trees, the selection box, the hit marker and the anchor ball (off when the
+    /// wgpu renderer has drawn them).
     pub trees: bool,
+}
+
+impl ViewOptions {
+    /// Everything, or (when a renderer drew the world) only what the renderer does not draw.
+    pub fn with_renderer(renderer: bool) -> ViewOptions {
+        ViewOptions { scenery: !renderer, trees: !renderer }
+    }
 }
 
 /// Paints the world as seen from its head into `rect` (normally the whole window).
@@ -93,6 +101,9 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
         }
     }
 
+    if !options.trees {
+        return;
+    }
     let sel = sim.selection();
     if sel.tree.is_some() {
         let (s, c) = sel.yaw.sin_cos();
