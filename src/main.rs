@@ -40,6 +40,10 @@ enum Command {
     View(cli::view::ViewArgs),
     /// Print the sun's position (NREL SPA) for a place and a UTC time.
     Sun(cli::sun::SunArgs),
+    /// Regenerate the tree models, textures, catalogue and sky cubemap (deterministic).
+    Assets(cli::assets::AssetsArgs),
+    /// Render a scene, a frame sequence or a glTF model to PNG (offscreen).
+    Render(cli::render::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -63,6 +67,8 @@ fn main() -> ExitCode {
         Command::Play(args) => cli::play::run(args),
         Command::View(args) => cli::view::run(args),
         Command::Sun(args) => cli::sun::run(args),
+        Command::Assets(args) => cli::assets::run(args),
+        Command::Render(args) => cli::render::run(args),
     };
     match result {
         Ok(code) => code,

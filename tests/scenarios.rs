@@ -30,7 +30,7 @@ fn scenarios() -> Vec<(&'static str, Script)> {
 
     let mut s = study_script(1);
     s.choose_model(ModelId(2)).point_at(Vec3::new(1.0, 0.0, -3.0)).press(Button::Trigger);
-    s.choose_model(ModelId(5)).point_at(Vec3::new(-2.0, 0.0, -6.0)).press(Button::Trigger).wait(30);
+    s.choose_model(ModelId(5)).point_at(Vec3::new(-5.0, 0.0, -4.0)).press(Button::Trigger).wait(30);
     out.push(("plant-two", s));
 
     let mut s = study_script(2);
@@ -53,7 +53,7 @@ fn scenarios() -> Vec<(&'static str, Script)> {
     out.push(("manual-drag", s));
 
     let mut s = study_script(4);
-    s.start_task("ray-casting-7").point_at(Vec3::new(-3.0, 0.0, -2.0)).press(Button::Trigger).wait(30).end_task();
+    s.start_task("ray-casting-7").point_at(Vec3::new(-7.0, 0.0, -1.5)).press(Button::Trigger).wait(30).end_task();
     out.push(("task-start", s));
     out
 }

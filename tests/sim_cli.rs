@@ -56,6 +56,7 @@ fn scene_check_summarises_the_study_scene() {
 }
 
 fn broken(name: &str, text: &str, needle: &str) {
+    assert!(text != study(), "{name}: the mutation must change the scene");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join(format!("{name}.ron"));
     std::fs::write(&path, text).unwrap();
@@ -72,7 +73,7 @@ fn study() -> String {
 fn broken_scenes_give_one_line_errors() {
     broken("syntax", &study().replacen("planes: [", "planes: [[", 1), "line ");
     broken("unknown", &study().replacen("seed: 20190612,", "seed: 20190612, colour: 3,", 1), "colour");
-    broken("nan", &study().replacen("strength: 1.0,", "strength: NaN,", 1), "NaN or infinite");
+    broken("nan", &study().replacen("strength: 0.5,", "strength: NaN,", 1), "NaN or infinite");
     broken("inf", &study().replacen("elevation: 0.8,", "elevation: inf,", 1), "NaN or infinite");
     broken("scale", &study().replacen("scale: 1.2", "scale: -1.2", 1), "scale must be positive");
     broken("latitude", &study().replacen("latitude_deg: 47.3769", "latitude_deg: 97.3", 1), "latitude");

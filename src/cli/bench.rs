@@ -25,6 +25,10 @@ pub enum Which {
     Study,
     /// The wind and sun systems' tick for 100k trees.
     Wind,
+    /// One controller ray against the study planes and 10k trees.
+    Raycast,
+    /// Offscreen frame times at 1280x720: the 100-tree reference scene and cost per model.
+    Render,
 }
 
 /// Arguments of `grove bench`.
@@ -90,7 +94,7 @@ fn bench_sim(args: &BenchArgs) -> anyhow::Result<Value> {
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
-    let all = [Which::Sim, Which::Wind, Which::Replay, Which::Study];
+    let all = [Which::Sim, Which::Raycast, Which::Wind, Which::Replay, Which::Study, Which::Render];
     let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
     let mut report = serde_json::Map::new();
     report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
@@ -101,6 +105,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::Replay => ("replay", super::bench_replay::bench_replay()?),
             Which::Study => ("study", super::bench_replay::bench_study()?),
             Which::Wind => ("wind_sun_tick", super::bench_wind::bench_wind(&args)?),
+            Which::Raycast => ("raycast", super::bench_raycast::bench_raycast(&args)?),
+            Which::Render => ("render", super::bench_render::bench_render()?),
         };
         report.insert(name.into(), value);
     }

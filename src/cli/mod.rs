@@ -1,9 +1,13 @@
 //! Subcommands of the `grove` tool, one module each, and the helpers they share.
 
+pub mod assets;
 pub mod bench;
+pub mod bench_raycast;
+pub mod bench_render;
 pub mod bench_replay;
 pub mod bench_wind;
 pub mod play;
+pub mod render;
 pub mod replay;
 pub mod scene;
 pub mod sim;

@@ -366,6 +366,12 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64) -> anyhow::Resu
     let end_tick = p.sim().res.tick;
     let completed = p.sim().res.task.as_ref().is_some_and(|t| t.is_complete());
     if !completed {
+        if std::env::var_os("GROVE_SYNTH_DEBUG").is_some() {
+            for e in &p.sim().res.log.entries {
+                eprintln!("{} {:?}", e.tick, e.what);
+            }
+            eprintln!("{:?}", p.sim().res.task.as_ref().map(|t| &t.satisfied));
+        }
         bail!("participant {} did not complete task {}", participant + 1, task.id);
     }
     let (_, events) = p.script.into_parts();

@@ -7,12 +7,13 @@
 use glam::{Quat, Vec3};
 use hecs::{Entity, World};
 use parry3d::bounding_volume::Aabb;
-use parry3d::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
 
 use crate::catalogue::Catalogue;
-use crate::components::{Plane, Scale, Transform, Tree};
+use crate::components::{Plane, Scale, Transform, Tree, Wind};
+use crate::wind_model::{max_sway, SwayExtent};
 
 /// A tree as the index sees it: its entity and its oriented box in world space.
 #[derive(Clone, Copy, Debug)]
@@ -49,6 +50,27 @@ pub struct SpatialIndex {
     planes_dirty: bool,
     trees_dirty: bool,
     built_once: bool,
+    generation: u64,
+    /// The inputs of the last controller ray cast, so that an unchanged ray in an unchanged
+    /// world is not cast again (see the raycast system).
+    pub last_ray: Option<RayKey>,
+}
+
+/// Everything a controller ray cast depends on. Equal keys give equal hits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayKey {
+    /// Ray origin.
+    pub origin: Vec3,
+    /// Ray direction.
+    pub dir: Vec3,
+    /// The index's generation (bumped on every rebuild).
+    pub generation: u64,
+    /// The dragged tree, if any.
+    pub dragged: Option<u64>,
+    /// The selected tree's box (centre, half extents, yaw), if a tree is selected.
+    pub selected: Option<(u64, Vec3, Vec3, f32)>,
+    /// Ray length and handle radius from the config.
+    pub limits: (f32, f32),
 }
 
 /// The world-space oriented box of a tree from its transform, scale and catalogue bounds.
@@ -76,6 +98,7 @@ impl SpatialIndex {
 
     /// Rebuilds whatever is dirty (everything on first use) from the world.
     pub fn refresh(&mut self, world: &World, catalogue: &Catalogue) {
+        let rebuilt = self.planes_dirty || self.trees_dirty;
         if !self.built_once || self.planes_dirty {
             self.planes.clear();
             for (e, plane) in world.query::<(Entity, &Plane)>().iter() {
@@ -88,9 +111,17 @@ impl SpatialIndex {
         }
         if !self.built_once || self.trees_dirty {
             self.trees.clear();
+            // Ray boxes include the wind's largest possible sway, so that a swaying crown is
+            // always inside the box that picks it (a constant pad, so picking never flickers).
+            let wind = world.query::<&Wind>().iter().next().copied();
             for (e, t, s, tree) in world.query::<(Entity, &Transform, &Scale, &Tree)>().iter() {
                 if let Some(m) = catalogue.get(tree.model) {
-                    self.trees.push(tree_box(e, t, s.0, m.bounds_min, m.bounds_max));
+                    let mut b = tree_box(e, t, s.0, m.bounds_min, m.bounds_max);
+                    if let Some(w) = &wind {
+                        let sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
+                        b.half_extents += Vec3::new(sway, 0.0, sway);
+                    }
+                    self.trees.push(b);
                 }
             }
             self.trees.sort_by_key(|b| b.entity.to_bits());
@@ -98,7 +129,15 @@ impl SpatialIndex {
             self.tree_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
             self.trees_dirty = false;
         }
+        if !self.built_once || rebuilt {
+            self.generation += 1;
+        }
         self.built_once = true;
+    }
+
+    /// A number that changes whenever the index is rebuilt.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Number of trees in the index.
@@ -133,8 +172,35 @@ impl SpatialIndex {
         if self.trees.is_empty() {
             return None;
         }
-        let ray = Ray::new(origin, dir);
-        let (leaf, toi) = self.tree_bvh.cast_ray(&ray, max_dist, |i, best| {
+        // A ray that starts inside a tree's box hits it at distance 0. A point query finds such a
+        // tree in one descent, which in a dense forest is much cheaper than the search below.
+        let inside = self
+            .tree_bvh
+            .leaves(|node| {
+                let a = node.aabb();
+                origin.cmpge(a.mins).all() && origin.cmple(a.maxs).all()
+            })
+            .find(|&i| {
+                let b = &self.trees[i as usize];
+                Some(b.entity) != exclude && box_contains(b, origin)
+            });
+        if let Some(i) = inside {
+            let b = &self.trees[i as usize];
+            return Some(RayHit { entity: b.entity, distance: 0.0, point: origin, normal: box_normal(b, origin) });
+        }
+        // Best-first search with each node's ray entry distance clamped at 0. (Bvh::cast_ray
+        // scores a node that contains the ray origin by a negative entry distance, so once a
+        // hit at distance 0 is found it still visits every box around the origin; in a dense
+        // forest that is dozens of boxes per ray.)
+        let inv = dir.recip();
+        let node_cost = |node: &BvhNode, _best: f32| {
+            let a = node.aabb();
+            let (t1, t2) = ((a.mins - origin) * inv, (a.maxs - origin) * inv);
+            let tmin = t1.min(t2).max_element().max(0.0);
+            let tmax = t1.max(t2).min_element();
+            if tmax >= tmin { tmin } else { f32::MAX }
+        };
+        let (leaf, toi) = self.tree_bvh.find_best(max_dist, node_cost, |i, best| {
             let b = &self.trees[i as usize];
             if Some(b.entity) == exclude {
                 return None;
@@ -149,9 +215,7 @@ impl SpatialIndex {
 
     /// The nearest hit on a plane or a tree.
     pub fn cast(&self, origin: Vec3, dir: Vec3, max_dist: f32, exclude: Option<Entity>) -> Option<RayHit> {
-        let p = self.cast_planes(origin, dir, max_dist);
-        let t = self.cast_trees(origin, dir, p.map_or(max_dist, |h| h.distance), exclude);
-        t.or(p)
+        nearest(self.cast_trees(origin, dir, max_dist, exclude), |limit| self.cast_planes(origin, dir, limit), max_dist)
     }
 
     /// The plane directly below `point` (casting straight down from `lift` metres above it), as
@@ -159,6 +223,17 @@ impl SpatialIndex {
     pub fn ground_below(&self, point: Vec3, lift: f32) -> Option<RayHit> {
         let origin = point + Vec3::Y * lift;
         self.cast_planes(origin, Vec3::NEG_Y, 1.0e4)
+    }
+}
+
+/// The nearer of a tree hit and the plane hit that `planes` finds within a limit: the planes are
+/// cast only up to the tree hit (trees are cheap to test and often near), and a tree wins a tie.
+pub fn nearest(tree: Option<RayHit>, planes: impl FnOnce(f32) -> Option<RayHit>, max_dist: f32) -> Option<RayHit> {
+    let p = planes(tree.map_or(max_dist, |t| t.distance));
+    match (tree, p) {
+        (Some(t), Some(p)) if p.distance < t.distance => Some(p),
+        (Some(t), _) => Some(t),
+        (None, p) => p,
     }
 }
 
@@ -182,6 +257,11 @@ fn box_ray(b: &TreeBox, origin: Vec3, dir: Vec3, max: f32) -> Option<f32> {
     let inv = Quat::from_rotation_y(-b.yaw);
     let local = Ray::new(inv * (origin - b.center), inv * dir);
     Cuboid::new(b.half_extents).cast_local_ray(&local, max, true)
+}
+
+fn box_contains(b: &TreeBox, point: Vec3) -> bool {
+    let local = Quat::from_rotation_y(-b.yaw) * (point - b.center);
+    local.abs().cmple(b.half_extents).all()
 }
 
 fn box_normal(b: &TreeBox, point: Vec3) -> Vec3 {

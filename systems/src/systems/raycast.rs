@@ -10,13 +10,19 @@
 //! is being dragged), and, when a tree is selected and not being dragged, against its 12
 //! bounding-box handles (spheres of radius `handle_radius`). The nearest hit wins, except that
 //! a handle also wins over a hit up to one handle radius in front of it, so that a handle
-//! sitting on the box surface or on the ground can always be grabbed.
+//! sitting on the box surface or on the ground can always be grabbed, and over any hit on the
+//! selected tree itself, whose ray box is padded by the wind's sway and so encloses the handles.
+//!
+//! The hit depends only on the ray, the index, the dragged tree, the selected tree's box and two
+//! config values. When none of them changed since the last tick, the cast is skipped and the
+//! marker keeps its value: the same result, without the work, while the controller is still.
 
 use hecs::World;
 
 use crate::components::{Controller, HitMarker, HitTarget};
 use crate::interact;
 use crate::resources::Resources;
+use crate::spatial::RayKey;
 
 /// Runs the raycast system.
 pub fn run(world: &mut World, res: &mut Resources) {
@@ -26,24 +32,41 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let max = res.config.max_ray_length;
     let dragged = res.interaction.drag.and_then(|d| interact::entity(d.tree));
 
-    let mut marker = HitMarker::default();
-    let plane = res.spatial.cast_planes(origin, dir, max);
-    let tree = res.spatial.cast_trees(origin, dir, plane.map_or(max, |h| h.distance), dragged);
-    let hit = match (tree, plane) {
-        (Some(t), _) => Some((t, HitTarget::Tree(t.entity.to_bits().get()))),
-        (None, Some(p)) => Some((p, HitTarget::Plane(p.entity.to_bits().get()))),
-        (None, None) => None,
+    let selected = interact::selected_tree(world).and_then(interact::entity);
+    let selected_box = match (selected, dragged) {
+        (Some(sel), None) => interact::tree_box_of(world, &res.catalogue, sel),
+        _ => None,
     };
+    let key = RayKey {
+        origin,
+        dir,
+        generation: res.spatial.generation(),
+        dragged: dragged.map(|e| e.to_bits().get()),
+        selected: selected_box.map(|b| (b.entity.to_bits().get(), b.center, b.half_extents, b.yaw)),
+        limits: (max, res.config.handle_radius),
+    };
+    if res.spatial.last_ray == Some(key) {
+        return;
+    }
+    res.spatial.last_ray = Some(key);
+
+    let mut marker = HitMarker::default();
+    let tree = res.spatial.cast_trees(origin, dir, max, dragged);
+    let nearest = crate::spatial::nearest(tree, |limit| res.spatial.cast_planes(origin, dir, limit), max);
+    let hit = nearest.map(|h| {
+        let id = h.entity.to_bits().get();
+        (h, if tree.is_some_and(|t| t.entity == h.entity) { HitTarget::Tree(id) } else { HitTarget::Plane(id) })
+    });
     if let Some((hit, target)) = hit {
         marker = HitMarker { visible: true, position: hit.point, normal: hit.normal, distance: hit.distance, target };
     }
 
-    let selected = interact::selected_tree(world).and_then(interact::entity);
-    if let (Some(sel), None) = (selected, dragged)
-        && let Some(b) = interact::tree_box_of(world, &res.catalogue, sel)
-    {
+    if let Some(b) = selected_box {
         let radius = res.config.handle_radius;
-        let limit = if marker.visible { (marker.distance + radius).min(max) } else { max };
+        // The handles sit on the selected tree's own box, which lies inside its (sway-padded)
+        // ray box: a hit on that tree never hides its handles.
+        let own_tree = marker.target == HitTarget::Tree(b.entity.to_bits().get());
+        let limit = if marker.visible && !own_tree { (marker.distance + radius).min(max) } else { max };
         if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit) {
             let point = origin + dir * d;
             marker = HitMarker {

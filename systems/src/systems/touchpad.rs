@@ -14,8 +14,9 @@
 //! - y > 0 moves the tree away from the controller, y < 0 towards it. While the tree is being
 //!   dragged, the grab distance changes instead (never below 0.1 m) and the drag system moves it.
 //!   Otherwise a tree that is not grounded moves along the ray direction; a grounded tree moves
-//!   along the ray's horizontal direction and follows the plane under it (its lowest point stays
-//!   on the plane), becoming ungrounded if it leaves every plane (a hole or an edge).
+//!   along the ray's horizontal direction and follows the plane under it (its height changes by
+//!   the change of the plane's height under its axis, so it stands on the plane as it did),
+//!   becoming ungrounded if it leaves every plane (a hole or an edge).
 //! - x < 0 turns the tree counter-clockwise seen from above, x > 0 clockwise.
 //!
 //! A gesture runs from the first tick an axis is beyond the dead zone until both are back inside
@@ -72,10 +73,12 @@ pub fn run(world: &mut World, res: &mut Resources) {
             let dir = c.ray_dir();
             let flat = Vec3::new(dir.x, 0.0, dir.z).normalize_or_zero();
             if flat != Vec3::ZERO {
+                let before = interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift);
                 t.translation += flat * step;
-                match interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift) {
-                    Some(h) => t.translation.y = interact::snapped_origin_y(h.point.y, lowest, s.0),
-                    None => grounded.0 = false,
+                match (before, interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift)) {
+                    (Some(b), Some(a)) => t.translation.y += a.point.y - b.point.y,
+                    (None, Some(a)) => t.translation.y = interact::snapped_origin_y(a.point.y, lowest, s.0),
+                    (_, None) => grounded.0 = false,
                 }
                 g.moved = true;
             }

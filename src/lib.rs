@@ -1,0 +1,9 @@
+//! The grove application library: the asset generator and the wgpu renderer, shared by the
+//! `grove` command-line tool, the desktop window and the tests.
+//!
+//! The simulation itself lives in the headless `grove-systems` crate; this crate only reads it.
+
+#![warn(missing_docs)]
+
+pub mod assetgen;
+pub mod render;

@@ -1,0 +1,40 @@
+// Ground planes: the Plane meshes, textured in world space, lit and shadowed. Holes are simply
+// missing triangles. lighting.wgsl is prepended.
+
+@group(2) @binding(0) var<uniform> ground_params: vec4<f32>;
+@group(2) @binding(1) var ground_tex: texture_2d<f32>;
+@group(2) @binding(2) var ground_normal_tex: texture_2d<f32>;
+@group(2) @binding(3) var ground_specular_tex: texture_2d<f32>;
+@group(2) @binding(4) var ground_sampler: sampler;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+};
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+};
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = frame.view_proj * vec4<f32>(v.position, 1.0);
+    out.world_pos = v.position;
+    out.normal = v.normal;
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    // ground_params.x: metres per texture repeat.
+    let albedo = textureSample(ground_tex, ground_sampler, in.world_pos.xz / ground_params.x).rgb;
+    var n = normalize(in.normal);
+    if (!front) {
+        n = -n;
+    }
+    let c = shade(albedo, n, in.world_pos, 0.08, 0.95, 0.0);
+    return vec4<f32>(tone(c), 1.0);
+}

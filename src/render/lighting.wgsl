@@ -1,0 +1,78 @@
+// Shared by every lit pass: the frame uniforms, the lighting resources and the shading model.
+// Prepended to trees.wgsl, ground.wgsl and sky.wgsl by src/render/mod.rs.
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
+    light_view_proj: mat4x4<f32>,
+    // xyz: camera position; w: time in seconds.
+    camera_pos: vec4<f32>,
+    // xyz: unit vector towards the sun.
+    sun_dir: vec4<f32>,
+    // rgb: sun colour times intensity (zero below the horizon).
+    sun_color: vec4<f32>,
+    // rgb: ambient tint times strength; w: sky brightness.
+    ambient: vec4<f32>,
+    // x: shadow-map texel in uv; y: normal offset in metres; z: depth bias; w: 1 when shadows are on.
+    shadow: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+
+@group(1) @binding(0) var shadow_map: texture_depth_2d;
+@group(1) @binding(1) var shadow_sampler: sampler_comparison;
+@group(1) @binding(2) var env_map: texture_cube<f32>;
+@group(1) @binding(3) var irradiance_map: texture_cube<f32>;
+@group(1) @binding(4) var env_sampler: sampler;
+
+// Fraction of sunlight reaching `world_pos` (1 = lit), 3x3 PCF taps on the comparison sampler
+// (each tap is itself bilinear), so shadow edges, including the dapples of leaves, are soft.
+fn shadow_factor(world_pos: vec3<f32>, n: vec3<f32>) -> f32 {
+    if (frame.shadow.w < 0.5) {
+        return 1.0;
+    }
+    let p = frame.light_view_proj * vec4<f32>(world_pos + n * frame.shadow.y, 1.0);
+    let ndc = p.xyz / p.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0 || ndc.z > 1.0) {
+        return 1.0;
+    }
+    var sum = 0.0;
+    for (var y = -1; y <= 1; y = y + 1) {
+        for (var x = -1; x <= 1; x = x + 1) {
+            let o = vec2<f32>(f32(x), f32(y)) * frame.shadow.x;
+            sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, ndc.z - frame.shadow.z);
+        }
+    }
+    return sum / 9.0;
+}
+
+// Diffuse sun (with some translucency for leaves), Blinn-Phong specular scaled by the specular
+// map, ambient from the irradiance cubemap and a Fresnel-weighted reflection of the environment.
+fn shade(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f32, roughness: f32, translucency: f32) -> vec3<f32> {
+    let l = frame.sun_dir.xyz;
+    let v = normalize(frame.camera_pos.xyz - world_pos);
+    let ndl = dot(n, l);
+    let lit = shadow_factor(world_pos, n);
+    let diffuse = max(ndl, 0.0) + translucency * max(-ndl, 0.0);
+    let h = normalize(l + v);
+    let shininess = mix(128.0, 6.0, clamp(roughness, 0.0, 1.0));
+    let spec = spec_strength * 0.25 * pow(max(dot(n, h), 0.0), shininess) * select(0.0, 1.0, ndl > 0.0);
+    let direct = frame.sun_color.rgb * lit * (albedo * diffuse + vec3<f32>(spec));
+    let irr = textureSampleLevel(irradiance_map, env_sampler, n, 0.0).rgb;
+    let ambient = irr * frame.ambient.rgb * albedo;
+    // Reflections of the sky, skipped (one cube lookup less) where they would be invisible.
+    var refl = vec3<f32>(0.0);
+    let glossy = spec_strength * (1.0 - roughness) * (1.0 - roughness);
+    if (glossy > 0.02) {
+        let r = reflect(-v, n);
+        let fres = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
+        refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.ambient.w * fres * glossy;
+    }
+    return direct + ambient + refl;
+}
+
+// A gentle tone curve so that bright sun on light bark does not clip hard.
+fn tone(c: vec3<f32>) -> vec3<f32> {
+    return c / (1.0 + 0.15 * c);
+}

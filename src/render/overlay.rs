@@ -1,0 +1,167 @@
+//! Interaction visuals as plain geometry built from the world each frame: the controller and
+//! its ray, the hit marker, the anchor ball (green, or white when armed), the selection's
+//! bounding box with its corner and edge handles, and the running task's target markers.
+
+use glam::{Quat, Vec3};
+use grove_systems::components::{AnchorBall, Controller, HitMarker, Selection};
+use grove_systems::Sim;
+
+/// One overlay vertex. A zero normal means "unlit".
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct OverlayVertex {
+    /// World position.
+    pub position: [f32; 3],
+    /// Linear RGBA colour.
+    pub color: [f32; 4],
+    /// Normal, or zero for unlit lines.
+    pub normal: [f32; 3],
+}
+
+/// Overlay geometry: a triangle list and a line list.
+#[derive(Default)]
+pub struct OverlayGeometry {
+    /// Triangles (solid markers).
+    pub triangles: Vec<OverlayVertex>,
+    /// Lines (ray, box edges).
+    pub lines: Vec<OverlayVertex>,
+}
+
+/// Colour of the anchor ball when a release would snap (armed).
+pub const ANCHOR_ARMED: [f32; 4] = [1.0, 1.0, 1.0, 1.0];
+/// Colour of the anchor ball when the tree is too far above the plane.
+pub const ANCHOR_FAR: [f32; 4] = [0.1, 0.9, 0.15, 1.0];
+
+impl OverlayGeometry {
+    fn line(&mut self, a: Vec3, b: Vec3, color: [f32; 4]) {
+        for p in [a, b] {
+            self.lines.push(OverlayVertex { position: p.to_array(), color, normal: [0.0; 3] });
+        }
+    }
+
+    fn tri(&mut self, p: [Vec3; 3], n: [Vec3; 3], color: [f32; 4]) {
+        for k in 0..3 {
+            self.triangles.push(OverlayVertex { position: p[k].to_array(), color, normal: n[k].to_array() });
+        }
+    }
+
+    /// A UV sphere.
+    pub fn sphere(&mut self, c: Vec3, r: f32, color: [f32; 4]) {
+        let (rings, segs) = (8, 12);
+        let pt = |i: u32, j: u32| {
+            let th = std::f32::consts::PI * i as f32 / rings as f32;
+            let ph = std::f32::consts::TAU * j as f32 / segs as f32;
+            Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin())
+        };
+        for i in 0..rings {
+            for j in 0..segs {
+                let (a, b, cc, d) = (pt(i, j), pt(i + 1, j), pt(i + 1, j + 1), pt(i, j + 1));
+                self.tri([c + a * r, c + cc * r, c + b * r], [a, cc, b], color);
+                self.tri([c + a * r, c + d * r, c + cc * r], [a, d, cc], color);
+            }
+        }
+    }
+
+    /// An oriented box with half extents `h`.
+    pub fn cuboid(&mut self, c: Vec3, h: Vec3, rot: Quat, color: [f32; 4]) {
+        for axis in 0..3 {
+            for sign in [-1.0f32, 1.0] {
+                let mut n = Vec3::ZERO;
+                n[axis] = sign;
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                let corner = |su: f32, sv: f32| {
+                    let mut p = n * h;
+                    p[u] = su * h[u];
+                    p[v] = sv * h[v];
+                    c + rot * p
+                };
+                let (a, b, cc, d) = (corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0));
+                let wn = rot * n;
+                let (p0, p1) = if sign > 0.0 { ([a, b, cc], [a, cc, d]) } else { ([a, cc, b], [a, d, cc]) };
+                self.tri(p0, [wn; 3], color);
+                self.tri(p1, [wn; 3], color);
+            }
+        }
+    }
+
+    /// A flat ring on the ground, facing up.
+    pub fn ring(&mut self, c: Vec3, r_in: f32, r_out: f32, color: [f32; 4]) {
+        let segs = 32;
+        for j in 0..segs {
+            let a0 = std::f32::consts::TAU * j as f32 / segs as f32;
+            let a1 = std::f32::consts::TAU * (j + 1) as f32 / segs as f32;
+            let p = |a: f32, r: f32| c + Vec3::new(a.cos() * r, 0.0, a.sin() * r);
+            let (i0, o0, i1, o1) = (p(a0, r_in), p(a0, r_out), p(a1, r_in), p(a1, r_out));
+            self.tri([i0, i1, o0], [Vec3::Y; 3], color);
+            self.tri([o0, i1, o1], [Vec3::Y; 3], color);
+        }
+    }
+}
+
+/// Builds the overlay geometry for the current world. Reads only.
+pub fn build(sim: &Sim) -> OverlayGeometry {
+    let mut g = OverlayGeometry::default();
+    let world = &sim.world;
+    let hit = world.query::<&HitMarker>().iter().next().copied();
+    for c in world.query::<&Controller>().iter() {
+        let o = c.ray_origin();
+        let d = c.ray_dir();
+        // The controller body: a small dark box along the ray.
+        g.cuboid(o - d * 0.06, Vec3::new(0.02, 0.015, 0.06), c.pose.rotation, [0.15, 0.15, 0.17, 1.0]);
+        let len = match hit {
+            Some(h) if h.visible => h.distance,
+            _ => sim.res.config.max_ray_length.min(30.0),
+        };
+        let col = if c.buttons.trigger { [1.0, 0.85, 0.2, 1.0] } else { [0.3, 0.8, 1.0, 1.0] };
+        g.line(o, o + d * len, col);
+    }
+    if let Some(h) = hit {
+        if h.visible {
+            g.sphere(h.position, 0.04, [0.2, 0.75, 1.0, 1.0]);
+            let n = h.normal.normalize_or(Vec3::Y);
+            g.line(h.position, h.position + n * 0.25, [0.2, 0.75, 1.0, 1.0]);
+        }
+    }
+    for a in world.query::<&AnchorBall>().iter() {
+        if a.visible {
+            let color = if a.armed { ANCHOR_ARMED } else { ANCHOR_FAR };
+            g.sphere(a.position, 0.12, color);
+            g.line(a.position, a.position + Vec3::Y * a.distance.max(0.0), color);
+        }
+    }
+    for s in world.query::<&Selection>().iter() {
+        if s.tree.is_none() {
+            continue;
+        }
+        let rot = Quat::from_rotation_y(s.yaw);
+        let h = s.half_extents;
+        let corner = |i: u8| s.center + rot * Vec3::new(if i & 1 != 0 { h.x } else { -h.x }, if i & 2 != 0 { h.y } else { -h.y }, if i & 4 != 0 { h.z } else { -h.z });
+        let yellow = [1.0, 0.85, 0.1, 1.0];
+        for i in 0..8u8 {
+            for bit in [1u8, 2, 4] {
+                if i & bit == 0 {
+                    g.line(corner(i), corner(i | bit), yellow);
+                }
+            }
+        }
+        let hs = sim.res.config.handle_radius * 0.6;
+        for i in 0..8u8 {
+            g.cuboid(corner(i), Vec3::splat(hs), rot, [1.0, 0.55, 0.1, 1.0]);
+        }
+        for e in 0..4u8 {
+            let x = if e & 1 != 0 { h.x } else { -h.x };
+            let z = if e & 2 != 0 { h.z } else { -h.z };
+            g.sphere(s.center + rot * Vec3::new(x, 0.0, z), hs, [0.95, 0.35, 0.9, 1.0]);
+        }
+    }
+    if let Some(task) = &sim.res.task {
+        for (i, t) in task.def.targets.iter().enumerate() {
+            let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
+            let color = if done { [0.2, 0.95, 0.3, 1.0] } else { [1.0, 0.2, 0.6, 1.0] };
+            let base = t.position + Vec3::Y * 0.03;
+            g.ring(base, task.def.tolerance * 0.8, task.def.tolerance, color);
+            g.cuboid(base + Vec3::Y * 0.3, Vec3::new(0.02, 0.3, 0.02), Quat::IDENTITY, color);
+        }
+    }
+    g
+}

@@ -1,0 +1,226 @@
+//! Texture uploads: 2D textures with CPU-built mip chains, the environment cubemap and the
+//! irradiance cubemap computed from it, and neutral 1×1 fallbacks.
+
+use std::path::Path;
+
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+/// Builds a box-filtered mip chain of an RGBA8 image; with `srgb`, averaging happens in linear
+/// space. Returns the concatenated levels and the level count.
+pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> (Vec<u8>, u32) {
+    let to_lin = |c: u8| if srgb { srgb_to_linear(c as f32 / 255.0) } else { c as f32 / 255.0 };
+    let to_u8 = |v: f32| ((if srgb { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let mut out = rgba.to_vec();
+    let mut levels = 1;
+    let (mut w, mut h) = (width, height);
+    let mut cur: Vec<u8> = rgba.to_vec();
+    while w > 1 || h > 1 {
+        let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+        let mut next = vec![0u8; (nw * nh * 4) as usize];
+        for y in 0..nh {
+            for x in 0..nw {
+                for c in 0..4 {
+                    let mut sum = 0.0;
+                    let mut wsum = 0.0;
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let sx = (x * 2 + dx).min(w - 1);
+                        let sy = (y * 2 + dy).min(h - 1);
+                        let v = cur[((sy * w + sx) * 4 + c) as usize];
+                        if c == 3 {
+                            sum += v as f32 / 255.0;
+                        } else {
+                            // Weight colours by alpha so transparent texels do not darken edges.
+                            let a = cur[((sy * w + sx) * 4 + 3) as usize] as f32 / 255.0 + 1e-3;
+                            sum += to_lin(v) * a;
+                            wsum += a;
+                        }
+                    }
+                    next[((y * nw + x) * 4 + c) as usize] = if c == 3 {
+                        // Keep alpha-tested coverage from fading away in small mips.
+                        ((sum / 4.0 * 1.15).min(1.0) * 255.0 + 0.5) as u8
+                    } else {
+                        to_u8(sum / wsum)
+                    };
+                }
+            }
+        }
+        out.extend_from_slice(&next);
+        cur = next;
+        w = nw;
+        h = nh;
+        levels += 1;
+    }
+    (out, levels)
+}
+
+/// sRGB transfer function to linear.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+/// Linear to the sRGB transfer function.
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+}
+
+/// Uploads an RGBA8 image with mips as a 2D texture and returns its view.
+pub fn upload_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8], srgb: bool) -> wgpu::TextureView {
+    let (data, levels) = mip_chain(width, height, rgba, srgb);
+    let format = if srgb { wgpu::TextureFormat::Rgba8UnormSrgb } else { wgpu::TextureFormat::Rgba8Unorm };
+    let tex = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: levels,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &data,
+    );
+    tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), ..Default::default() })
+}
+
+/// A 1×1 texture of one colour.
+pub fn solid(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, rgba: [u8; 4], srgb: bool) -> wgpu::TextureView {
+    upload_2d(device, queue, label, 1, 1, &rgba, srgb)
+}
+
+/// The environment: a sky cubemap and its irradiance (diffuse) convolution, both as cube views.
+pub struct Environment {
+    /// The sky, with mips (for rough reflections).
+    pub env: wgpu::TextureView,
+    /// The cosine-weighted irradiance, 8×8 per face.
+    pub irradiance: wgpu::TextureView,
+}
+
+/// Names of the cube faces in wgpu's layer order.
+pub const FACES: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
+
+/// Loads the 6 faces `px.png` … `nz.png` from `dir`. The error names the file.
+pub fn load_faces(dir: &Path) -> Result<(u32, Vec<Vec<u8>>), String> {
+    let mut size = 0;
+    let mut faces = Vec::new();
+    for f in FACES {
+        let p = dir.join(format!("{f}.png"));
+        let img = image::open(&p).map_err(|e| format!("{}: {}", p.display(), one_line_image_error(&e)))?.to_rgba8();
+        if img.width() != img.height() || (size != 0 && img.width() != size) {
+            return Err(format!("{}: cube faces must be square and all the same size", p.display()));
+        }
+        size = img.width();
+        faces.push(img.into_raw());
+    }
+    Ok((size, faces))
+}
+
+/// A short description of an image error.
+pub fn one_line_image_error(e: &image::ImageError) -> String {
+    match e {
+        image::ImageError::IoError(io) => grove_systems::scene::io_message(io),
+        other => other.to_string().replace('\n', " "),
+    }
+}
+
+/// The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout).
+pub fn cube_dir(face: usize, x: u32, y: u32, size: u32) -> Vec3 {
+    let s = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
+    let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
+    let d = match face {
+        0 => Vec3::new(1.0, -t, -s),
+        1 => Vec3::new(-1.0, -t, s),
+        2 => Vec3::new(s, 1.0, t),
+        3 => Vec3::new(s, -1.0, -t),
+        4 => Vec3::new(s, -t, 1.0),
+        _ => Vec3::new(-s, -t, -1.0),
+    };
+    d.normalize()
+}
+
+/// The cosine-weighted irradiance of a cubemap (linear RGB), for `out` texels per face edge,
+/// sampling the input at up to 16 texels per face edge.
+pub fn irradiance(size: u32, faces: &[Vec<u8>], out: u32) -> Vec<Vec<[f32; 3]>> {
+    let step = (size / 16).max(1);
+    let mut samples = Vec::new();
+    for (f, face) in faces.iter().enumerate() {
+        let mut y = 0;
+        while y < size {
+            let mut x = 0;
+            while x < size {
+                let d = cube_dir(f, x, y, size);
+                let s = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
+                let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
+                let solid = 1.0 / (1.0 + s * s + t * t).powf(1.5);
+                let i = ((y * size + x) * 4) as usize;
+                let c = Vec3::new(srgb_to_linear(face[i] as f32 / 255.0), srgb_to_linear(face[i + 1] as f32 / 255.0), srgb_to_linear(face[i + 2] as f32 / 255.0));
+                samples.push((d, c * solid, solid));
+                x += step;
+            }
+            y += step;
+        }
+    }
+    (0..6)
+        .map(|f| {
+            (0..out * out)
+                .map(|k| {
+                    let n = cube_dir(f, k % out, k / out, out);
+                    let (mut sum, mut w) = (Vec3::ZERO, 0.0);
+                    for (d, c, solid) in &samples {
+                        let cos = n.dot(*d).max(0.0);
+                        sum += *c * cos;
+                        w += solid * cos;
+                    }
+                    (sum / w.max(1e-6)).to_array()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Uploads the environment cubemap and its irradiance.
+pub fn upload_environment(device: &wgpu::Device, queue: &wgpu::Queue, size: u32, faces: &[Vec<u8>]) -> Environment {
+    // Layer-major data: each face with its mips.
+    let mut data = Vec::new();
+    let mut levels = 1;
+    for f in faces {
+        let (d, l) = mip_chain(size, size, f, true);
+        data.extend_from_slice(&d);
+        levels = l;
+    }
+    let cube = |label: &str, size: u32, levels: u32, data: &[u8]| {
+        let tex = device.create_texture_with_data(
+            queue,
+            &wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 },
+                mip_level_count: levels,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba8UnormSrgb,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            data,
+        );
+        tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), dimension: Some(wgpu::TextureViewDimension::Cube), ..Default::default() })
+    };
+    let env = cube("environment cubemap", size, levels, &data);
+    const IRR: u32 = 8;
+    let irr = irradiance(size, faces, IRR);
+    let mut irr_data = Vec::new();
+    for face in &irr {
+        for c in face {
+            for v in c {
+                irr_data.push((linear_to_srgb(*v).clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+            }
+            irr_data.push(255);
+        }
+    }
+    let irradiance = cube("irradiance cubemap", IRR, 1, &irr_data);
+    Environment { env, irradiance }
+}

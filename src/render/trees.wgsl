@@ -1,0 +1,128 @@
+// Trees: instanced, textured (albedo, normal, specular), alpha-clipped leaves, two-sided leaves
+// with the normal's component along the face normal flipped on back faces, the trunk bent by the
+// per-instance wind bend. lighting.wgsl is prepended.
+
+struct Material {
+    base_color: vec4<f32>,
+    // x: alpha cutoff (negative when opaque); y: normal scale; z: specular factor; w: roughness.
+    params: vec4<f32>,
+    // x: 1 when double-sided; y: translucency.
+    flags: vec4<f32>,
+};
+
+@group(2) @binding(0) var<uniform> material: Material;
+@group(2) @binding(1) var albedo_tex: texture_2d<f32>;
+@group(2) @binding(2) var normal_tex: texture_2d<f32>;
+@group(2) @binding(3) var specular_tex: texture_2d<f32>;
+@group(2) @binding(4) var material_sampler: sampler;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+    @location(4) wind: vec4<f32>,
+    // xyz: tree origin; w: uniform scale.
+    @location(5) inst_a: vec4<f32>,
+    // x: yaw; yz: wind bend (metres per metre of height, world X and Z); w: model height.
+    @location(6) inst_b: vec4<f32>,
+};
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+};
+
+fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
+    let c = cos(yaw);
+    let s = sin(yaw);
+    return vec3<f32>(c * v.x + s * v.z, v.y, -s * v.x + c * v.z);
+}
+
+// The trunk bend: a horizontal displacement that grows with (height / model height)^2, so the
+// base stays put and the crown top moves by `bend * tree height`.
+fn trunk_bend(height: f32, model_height: f32, scale: f32, bend: vec2<f32>) -> vec3<f32> {
+    let k = clamp(height / max(model_height, 0.001), 0.0, 1.5);
+    let d = bend * (model_height * scale) * k * k;
+    return vec3<f32>(d.x, 0.0, d.y);
+}
+
+fn world_position(v: VertexIn) -> vec3<f32> {
+    let scale = v.inst_a.w;
+    let p = rotate_y(v.position * scale, v.inst_b.x);
+    return v.inst_a.xyz + p + trunk_bend(v.wind.x, v.inst_b.w, scale, v.inst_b.yz);
+}
+
+@vertex
+fn vs_main(v: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    let wp = world_position(v);
+    out.clip = frame.view_proj * vec4<f32>(wp, 1.0);
+    out.world_pos = wp;
+    out.normal = rotate_y(v.normal, v.inst_b.x);
+    out.tangent = vec4<f32>(rotate_y(v.tangent.xyz, v.inst_b.x), v.tangent.w);
+    out.uv = v.uv;
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    // Derivatives and texture samples first, in uniform control flow.
+    let dpx = dpdx(in.world_pos);
+    let dpy = dpdy(in.world_pos);
+    let base = textureSample(albedo_tex, material_sampler, in.uv) * material.base_color;
+    let nt = textureSample(normal_tex, material_sampler, in.uv).xyz * 2.0 - 1.0;
+    let spec_tex = textureSample(specular_tex, material_sampler, in.uv).a;
+    if (material.params.x >= 0.0 && base.a < material.params.x) {
+        discard;
+    }
+    let v = normalize(frame.camera_pos.xyz - in.world_pos);
+    var n = normalize(in.normal);
+    // The face normal from screen-space derivatives; tiny (sub-pixel) triangles can give a zero
+    // cross product, in which case the vertex normal stands in, so no NaN reaches the shading.
+    let cr = cross(dpx, dpy);
+    var ng = select(n, cr * inverseSqrt(max(dot(cr, cr), 1e-30)), dot(cr, cr) > 1e-30);
+    if (dot(ng, v) < 0.0) {
+        ng = -ng;
+    }
+    let t0 = in.tangent.xyz - n * dot(n, in.tangent.xyz);
+    let alt = cross(n, select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(n.y) > 0.9));
+    let t = select(normalize(alt), t0 * inverseSqrt(max(dot(t0, t0), 1e-30)), dot(t0, t0) > 1e-12);
+    let b = cross(n, t) * in.tangent.w;
+    let ns = vec3<f32>(nt.xy * material.params.y, max(nt.z, 0.05));
+    n = normalize(t * ns.x + b * ns.y + n * ns.z);
+    if (!front) {
+        // Back face of a two-sided leaf: flip the component along the face normal (ng faces
+        // the viewer), keeping the tangential part, so a leaf card shades like a leaf from
+        // both sides.
+        n = normalize(n - 2.0 * dot(n, ng) * ng);
+    }
+    let spec = spec_tex * material.params.z;
+    let c = shade(base.rgb, n, in.world_pos, spec, material.params.w, material.flags.y);
+    return vec4<f32>(tone(c), 1.0);
+}
+
+struct ShadowOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+};
+
+@vertex
+fn vs_shadow(v: VertexIn) -> ShadowOut {
+    var out: ShadowOut;
+    out.clip = frame.view_proj * vec4<f32>(world_position(v), 1.0);
+    out.uv = v.uv;
+    return out;
+}
+
+// Alpha-tested leaves cast dappled shadows: clipped texels write no depth.
+@fragment
+fn fs_shadow(in: ShadowOut) {
+    let a = textureSample(albedo_tex, material_sampler, in.uv).a * material.base_color.a;
+    if (material.params.x >= 0.0 && a < material.params.x) {
+        discard;
+    }
+}

@@ -1,0 +1,130 @@
+//! `grove render` and `grove assets` from the command line: outputs and one-line errors.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn grove() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_grove"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR"));
+    c
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Runs grove, expecting failure with exactly one line on stderr that contains `needle`.
+fn fails_with(args: &[&str], needle: &str) {
+    let out = grove().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty()).collect();
+    assert!(!out.status.success(), "{args:?} should fail");
+    assert_eq!(lines.len(), 1, "{args:?}: expected one error line, got {err}");
+    assert!(lines[0].starts_with("error: ") && lines[0].contains(needle), "{args:?}: {}", lines[0]);
+    assert!(!err.contains("panicked") && !err.contains("internal error"), "{err}");
+}
+
+fn copy_model(dir: &Path, name: &str) -> PathBuf {
+    let src = root().join("assets/trees");
+    std::fs::create_dir_all(dir.join("textures")).unwrap();
+    for f in std::fs::read_dir(src.join("textures")).unwrap() {
+        let f = f.unwrap().path();
+        std::fs::copy(&f, dir.join("textures").join(f.file_name().unwrap())).unwrap();
+    }
+    std::fs::copy(src.join(format!("{name}.bin")), dir.join(format!("{name}.bin"))).unwrap();
+    std::fs::copy(src.join(format!("{name}.gltf")), dir.join(format!("{name}.gltf"))).unwrap();
+    dir.join(format!("{name}.gltf"))
+}
+
+#[test]
+fn missing_scene_and_model_give_one_line_errors() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("x.png");
+    let out = out.to_str().unwrap();
+    fails_with(&["render", "--scene", "no/such/scene.ron", "--out", out], "no such file");
+    fails_with(&["render", "--model", "no/such/tree.gltf", "--out", out], "no such file");
+}
+
+#[test]
+fn broken_gltf_and_missing_texture_give_one_line_errors() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("x.png");
+    let out = out.to_str().unwrap();
+    let broken = tmp.path().join("broken.gltf");
+    std::fs::write(&broken, "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ").unwrap();
+    fails_with(&["render", "--model", broken.to_str().unwrap(), "--out", out], "not a valid glTF");
+
+    let dir = tmp.path().join("m");
+    let model = copy_model(&dir, "shrub-billboard");
+    std::fs::remove_file(dir.join("textures/shrub-card.png")).unwrap();
+    fails_with(&["render", "--model", model.to_str().unwrap(), "--out", out], "texture 'textures/shrub-card.png': no such file");
+
+    std::fs::write(dir.join("textures/shrub-card.png"), b"not a png").unwrap();
+    fails_with(&["render", "--model", model.to_str().unwrap(), "--out", out], "cannot decode");
+}
+
+#[test]
+fn render_writes_a_png_of_the_requested_size_and_refuses_to_overwrite() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("study.png");
+    let st = grove().args(["render", "--scene", "assets/scenes/study.ron", "--out", out.to_str().unwrap(), "--width", "96", "--height", "64"]).output().unwrap();
+    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+    let img = image::open(&out).unwrap();
+    assert_eq!((img.width(), img.height()), (96, 64));
+    fails_with(&["render", "--scene", "assets/scenes/study.ron", "--out", out.to_str().unwrap(), "--width", "96", "--height", "64"], "already exists");
+}
+
+#[test]
+fn frame_sequence_moves_the_sun() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("frames");
+    let st = grove()
+        .args(["render", "--scene", "assets/scenes/study.ron", "--frames", "3", "--fps", "1", "--time-rate", "7200", "--out", dir.to_str().unwrap(), "--width", "64", "--height", "48"])
+        .output()
+        .unwrap();
+    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+    let frames: Vec<_> = (0..3).map(|i| image::open(dir.join(format!("frame_{i:05}.png"))).unwrap().to_rgba8()).collect();
+    // Two hours of sun per frame: consecutive frames differ.
+    assert_ne!(frames[0].as_raw(), frames[1].as_raw());
+    assert_ne!(frames[1].as_raw(), frames[2].as_raw());
+}
+
+#[test]
+fn a_glb_model_without_tangents_or_textures_renders() {
+    // A minimal third-party-style model: one triangle, positions only, embedded in a GLB.
+    let positions: [f32; 9] = [-1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.0];
+    let bin: Vec<u8> = bytemuck::cast_slice(&positions).to_vec();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"translation":[0,0.5,0]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[-1,0,0],"max":[1,2,0]}}],
+        "bufferViews":[{{"buffer":0,"byteLength":{}}}],"buffers":[{{"byteLength":{}}}]}}"#,
+        bin.len(),
+        bin.len()
+    );
+    let mut json = json.into_bytes();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut glb = Vec::new();
+    glb.extend_from_slice(b"glTF");
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&(total as u32).to_le_bytes());
+    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&json);
+    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"BIN\0");
+    glb.extend_from_slice(&bin);
+    let tmp = tempfile::tempdir().unwrap();
+    let model = tmp.path().join("tri.glb");
+    std::fs::write(&model, glb).unwrap();
+    let out = tmp.path().join("tri.png");
+    let st = grove().args(["render", "--model", model.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "64", "--height", "48"]).output().unwrap();
+    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+    let img = image::open(&out).unwrap().to_rgba8();
+    // The white triangle is framed in the middle of the image.
+    let p = img.get_pixel(32, 24).0;
+    assert!(p[0] > 100 && p[1] > 100 && p[2] > 100, "centre pixel {p:?}");
+}
