@@ -18,9 +18,10 @@ export DISPLAY=$D
 "$GROVE" play --task ray-casting-7 --participant DEMO --record "$TMP/demo.jsonl" 2>"$TMP/play.log" &
 PLAY=$!
 WID=$(timeout 60 xdotool search --sync --onlyvisible --pid $PLAY | head -1)
-sleep 6
-# Each step: a model button in the Trees window, then a target ring on the ground.
-for step in "207 193 640 389" "70 129 410 415" "270 129 870 415"; do
+sleep 12
+# Each step: a model button in the Trees window, then a target ring on the ground
+# (the pixel positions are the study scene's task targets seen from its camera).
+for step in "115 384 764 346" "103 597 520 354" "107 455 640 386"; do
   set -- $step
   xdotool mousemove --window "$WID" "$1" "$2"; sleep 0.4
   xdotool click 1; sleep 1
@@ -28,7 +29,7 @@ for step in "207 193 640 389" "70 129 410 415" "270 129 870 415"; do
   xdotool mousemove --window "$WID" $(($3 + 2)) "$4"; sleep 0.6
   xdotool click 1; sleep 1.5
 done
-xdotool mousemove --window "$WID" 650 470; sleep 1.5
+xdotool mousemove --window "$WID" 880 560; sleep 2
 import -window root docs/play.png
 xdotool windowfocus --sync "$WID"; xdotool key Escape
 wait $PLAY
@@ -37,7 +38,7 @@ wait $PLAY
 "$GROVE" view "$TMP/demo.jsonl" --at 100000 2>"$TMP/view.log" &
 VIEW=$!
 WID=$(timeout 60 xdotool search --sync --onlyvisible --pid $VIEW | head -1)
-sleep 6
+sleep 10
 import -window root docs/view.png
 xdotool windowfocus --sync "$WID"; xdotool key Escape
 wait $VIEW

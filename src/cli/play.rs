@@ -34,6 +34,9 @@ pub struct PlayArgs {
     /// The RNG seed (default: the scene's seed).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Draw a simple painted view instead of the wgpu renderer (faster on software GPUs).
+    #[arg(long)]
+    pub simple_view: bool,
 }
 
 /// Runs `grove play`.
@@ -66,6 +69,10 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     let session = LiveSession::new(sim, recorder);
     let mut app = PlayApp::new(session, args.task.as_deref(), args.free).map_err(|e| anyhow!(e))?;
     app.ui.stats.recording = args.record.as_ref().map(|p| p.display().to_string());
+    if !args.simple_view {
+        app.world3d.factory = Some(crate::desktop::gpu::make_renderer);
+        app.thumbnails = Some(crate::desktop::gpu::render_thumbnails);
+    }
     crate::desktop::window::run("grove play", app).map_err(|e| anyhow!(e))?;
     Ok(ExitCode::SUCCESS)
 }

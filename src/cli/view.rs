@@ -22,6 +22,9 @@ pub struct ViewArgs {
     /// Start playing at once.
     #[arg(long)]
     pub play: bool,
+    /// Draw a simple painted view instead of the wgpu renderer (faster on software GPUs).
+    #[arg(long)]
+    pub simple_view: bool,
 }
 
 /// Runs `grove view`.
@@ -40,6 +43,10 @@ pub fn run(args: ViewArgs) -> anyhow::Result<ExitCode> {
         viewer.seek(t);
     }
     viewer.playing = args.play;
-    crate::desktop::window::run("grove view", ViewApp::new(viewer)).map_err(|e| anyhow!(e))?;
+    let mut app = ViewApp::new(viewer);
+    if !args.simple_view {
+        app.world3d.factory = Some(crate::desktop::gpu::make_renderer);
+    }
+    crate::desktop::window::run("grove view", app).map_err(|e| anyhow!(e))?;
     Ok(ExitCode::SUCCESS)
 }

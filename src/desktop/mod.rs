@@ -7,10 +7,12 @@
 //! - [`world_view`]: a painter-drawn 3D view of the world, from the same camera as the ray.
 //! - [`window`]: the winit + wgpu + egui window that runs a [`window::Frontend`].
 //! - [`play`]: the play frontend.
+//! - [`gpu`]: the wgpu renderer as the 3D view, and the tree thumbnails.
 //!
 //! Everything a user does reaches the world as input events, stamped with the tick they apply
 //! at, so a recording of a live session replays to the same world hashes.
 
+pub mod gpu;
 pub mod input_map;
 pub mod play;
 pub mod play_ui;

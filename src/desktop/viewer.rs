@@ -265,10 +265,10 @@ mod tests {
         let scene = Scene::builtin("study").unwrap();
         let mut s = Script::new(Sim::from_scene(&scene, 9).unwrap());
         s.start_task("ray-casting-7").wait(5);
-        for p in [Vec3::new(3.0, 0.0, 3.0), Vec3::new(-3.0, 0.0, 3.0)] {
+        for p in [Vec3::new(4.0, 0.0, -2.0), Vec3::new(-4.0, 0.0, -2.0)] {
             s.point_at(p).press(Button::Trigger).wait(20);
         }
-        s.push(InputEvent::ControllerPose { pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(3.0, 0.0, 3.0)) }).wait(1);
+        s.push(InputEvent::ControllerPose { pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(4.0, 0.5, -2.0)) }).wait(1);
         s.press(Button::Bumper).wait(30);
         let events = s.recorded().to_vec();
         let mut header = Header::new("study", 9, scene.dt);
