@@ -128,3 +128,23 @@ fn a_glb_model_without_tangents_or_textures_renders() {
     let p = img.get_pixel(32, 24).0;
     assert!(p[0] > 100 && p[1] > 100 && p[2] > 100, "centre pixel {p:?}");
 }
+
+#[test]
+fn a_replay_renders_at_a_tick_and_differs_from_its_start() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rec = "replays/scenarios/plant-two.jsonl";
+    let render = |tick: &str, name: &str| {
+        let out = tmp.path().join(name);
+        let st = grove().args(["render", "--replay", rec, "--tick", tick, "--out", out.to_str().unwrap(), "--width", "96", "--height", "64"]).output().unwrap();
+        assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let start = render("0", "start.png");
+    let later = render("150", "later.png");
+    assert_eq!((later.width(), later.height()), (96, 64));
+    // Two trees were planted in between, so the pictures differ.
+    let changed = start.pixels().zip(later.pixels()).filter(|(a, b)| a != b).count();
+    assert!(changed > 50, "only {changed} pixels changed");
+    fails_with(&["render", "--replay", rec, "--tick", "99999", "--out", tmp.path().join("x.png").to_str().unwrap()], "ends at tick");
+    fails_with(&["render", "--replay", "replays/nope.jsonl", "--tick", "1", "--out", tmp.path().join("y.png").to_str().unwrap()], "no such file");
+}

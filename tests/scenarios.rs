@@ -69,17 +69,28 @@ fn record(name: &str, script: Script) -> Vec<u8> {
     record_events(Vec::new(), &header, &events, end, serde_json::json!({ "scenario": name })).unwrap()
 }
 
+/// With `UPDATE_REPLAYS` set, rewrites the scenario files (each through a temporary file and a
+/// rename, so a test reading them at the same time never sees half a file).
+fn update_scenarios() {
+    if std::env::var_os("UPDATE_REPLAYS").is_none() {
+        return;
+    }
+    let dir = root().join("replays/scenarios");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, script) in scenarios() {
+        let tmp = dir.join(format!("{name}.jsonl.{}.tmp", std::process::id()));
+        std::fs::write(&tmp, record(name, script)).unwrap();
+        std::fs::rename(&tmp, dir.join(format!("{name}.jsonl"))).unwrap();
+    }
+}
+
 #[test]
 fn scenario_recordings_match_their_scripts() {
+    update_scenarios();
     let dir = root().join("replays/scenarios");
-    let update = std::env::var_os("UPDATE_REPLAYS").is_some();
     for (name, script) in scenarios() {
         let bytes = record(name, script);
         let path = dir.join(format!("{name}.jsonl"));
-        if update {
-            std::fs::create_dir_all(&dir).unwrap();
-            std::fs::write(&path, &bytes).unwrap();
-        }
         let committed = std::fs::read(&path).unwrap_or_else(|_| panic!("{} is missing; run UPDATE_REPLAYS=1 cargo test --test scenarios", path.display()));
         assert!(committed == bytes, "{name}: the committed recording differs from its script; if the simulation changed on purpose, run UPDATE_REPLAYS=1 cargo test --test scenarios");
     }
@@ -98,6 +109,7 @@ fn recordings(dir: &Path, out: &mut Vec<PathBuf>) {
 
 #[test]
 fn every_recording_under_replays_verifies() {
+    update_scenarios();
     let mut files = Vec::new();
     recordings(&root().join("replays"), &mut files);
     files.sort();

@@ -21,8 +21,14 @@ use grove_systems::Sim;
 #[derive(Args)]
 pub struct RenderArgs {
     /// The scene file (RON) to render.
-    #[arg(long, conflicts_with = "model", required_unless_present = "model")]
+    #[arg(long, conflicts_with_all = ["model", "replay"], required_unless_present_any = ["model", "replay"])]
     pub scene: Option<PathBuf>,
+    /// A recording: render the world at --tick as the headless replay computes it.
+    #[arg(long, conflicts_with = "model", requires = "tick")]
+    pub replay: Option<PathBuf>,
+    /// The tick of --replay to render.
+    #[arg(long, requires = "replay")]
+    pub tick: Option<u64>,
     /// A glTF 2.0 model (.gltf or .glb) to render alone, framed from its bounds.
     #[arg(long)]
     pub model: Option<PathBuf>,
@@ -91,7 +97,21 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         println!("{}: rendered {} ({}x{}) on {}", args.out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
-    let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE or --model FILE"))?;
+    if let (Some(replay), Some(tick)) = (&args.replay, args.tick) {
+        check_out_file(&args.out, args.force)?;
+        let options = grove_systems::replay::ReplayOptions { until: Some(tick), ..Default::default() };
+        let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
+        if outcome.sim.res.tick < tick {
+            bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res.tick);
+        }
+        let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+        let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
+        renderer.options.shadows = !args.no_shadows;
+        render_sim(&gpu, &mut renderer, &outcome.sim, &args.out)?;
+        println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
+        return Ok(ExitCode::SUCCESS);
+    }
+    let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
     let scene = super::load_scene(scene_path)?;
     let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     if let Some(rate) = args.time_rate {

@@ -52,6 +52,28 @@ impl WorldHash {
     }
 }
 
+/// Whether the entity with these id bits has the hashed component called `name`.
+pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
+    let Some(e) = Entity::from_bits(entity_bits) else { return false };
+    let Ok(r) = world.entity(e) else { return false };
+    match name {
+        "Transform" => r.has::<Transform>(),
+        "Scale" => r.has::<Scale>(),
+        "Tree" => r.has::<Tree>(),
+        "Grounded" => r.has::<Grounded>(),
+        "WindState" => r.has::<WindState>(),
+        "Plane" => r.has::<Plane>(),
+        "Sun" => r.has::<Sun>(),
+        "Wind" => r.has::<Wind>(),
+        "Controller" => r.has::<Controller>(),
+        "Head" => r.has::<Head>(),
+        "HitMarker" => r.has::<HitMarker>(),
+        "AnchorBall" => r.has::<AnchorBall>(),
+        "Selection" => r.has::<Selection>(),
+        _ => false,
+    }
+}
+
 /// Formats a hash as 16 lowercase hex digits.
 pub fn hex(h: u64) -> String {
     format!("{h:016x}")
@@ -73,11 +95,14 @@ impl Acc {
     }
 
     fn component<T: Serialize + hecs::Component>(&mut self, world: &World, name: &'static str) {
+        self.component_by::<T>(world, name, |acc, c| acc.value_hash(c));
+    }
+
+    fn component_by<T: hecs::Component>(&mut self, world: &World, name: &'static str, mut hash: impl FnMut(&mut Acc, &T) -> u64) {
         let mut rows: Vec<(u64, u64)> = Vec::new();
         for (e, c) in world.query::<(Entity, &T)>().iter() {
-            rows.push((e.to_bits().get(), 0));
-            let h = self.value_hash(c);
-            rows.last_mut().unwrap().1 = h;
+            let h = hash(self, c);
+            rows.push((e.to_bits().get(), h));
         }
         rows.sort_unstable_by_key(|r| r.0);
         let mut h = Xxh3::new();
@@ -107,6 +132,29 @@ struct HashedResources<'a> {
     task: &'a Option<crate::task::TaskState>,
 }
 
+/// The hash of a plane: its name, then its vertices' and triangles' bytes, little-endian.
+pub fn plane_hash(p: &Plane) -> u64 {
+    let mut h = Xxh3::new();
+    h.update(p.name.as_bytes());
+    h.update(&(p.vertices.len() as u64).to_le_bytes());
+    if cfg!(target_endian = "little") {
+        h.update(bytemuck::cast_slice(&p.vertices));
+        h.update(bytemuck::cast_slice(&p.triangles));
+    } else {
+        for v in &p.vertices {
+            for x in v.to_array() {
+                h.update(&x.to_le_bytes());
+            }
+        }
+        for t in &p.triangles {
+            for i in t {
+                h.update(&i.to_le_bytes());
+            }
+        }
+    }
+    h.digest()
+}
+
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     let mut acc = Acc { buf: Vec::with_capacity(256), entities: BTreeMap::new(), components: Vec::new() };
@@ -115,7 +163,9 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     acc.component::<Tree>(world, "Tree");
     acc.component::<Grounded>(world, "Grounded");
     acc.component::<WindState>(world, "WindState");
-    acc.component::<Plane>(world, "Plane");
+    // Plane meshes are large, so they are hashed from their raw little-endian bytes rather
+    // than through serde (the same bits, much faster).
+    acc.component_by::<Plane>(world, "Plane", |_, p| plane_hash(p));
     acc.component::<Sun>(world, "Sun");
     acc.component::<Wind>(world, "Wind");
     acc.component::<Controller>(world, "Controller");
