@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod cli;
+mod desktop;
 mod study;
 
 /// grove: a deterministic simulation of a tree-planting study.
@@ -33,6 +34,10 @@ enum Command {
     Study(cli::study::StudyArgs),
     /// Generate synthetic participants' recordings of the study's tasks.
     Synth(cli::synth::SynthArgs),
+    /// Plant trees interactively in a window (mouse, keyboard or gamepad), optionally recorded.
+    Play(cli::play::PlayArgs),
+    /// View a recording in a window: play, pause, step, seek, with event markers.
+    View(cli::view::ViewArgs),
     /// Print the sun's position (NREL SPA) for a place and a UTC time.
     Sun(cli::sun::SunArgs),
     /// Regenerate the tree models, textures, catalogue and sky cubemap (deterministic).
@@ -59,6 +64,8 @@ fn main() -> ExitCode {
         Command::Replay(args) => cli::replay::run(args),
         Command::Study(args) => cli::study::run(args),
         Command::Synth(args) => cli::synth::run(args),
+        Command::Play(args) => cli::play::run(args),
+        Command::View(args) => cli::view::run(args),
         Command::Sun(args) => cli::sun::run(args),
         Command::Assets(args) => cli::assets::run(args),
         Command::Render(args) => cli::render::run(args),

@@ -6,6 +6,7 @@ pub mod bench_raycast;
 pub mod bench_render;
 pub mod bench_replay;
 pub mod bench_wind;
+pub mod play;
 pub mod render;
 pub mod replay;
 pub mod scene;
@@ -13,6 +14,7 @@ pub mod sim;
 pub mod study;
 pub mod sun;
 pub mod synth;
+pub mod view;
 
 use std::path::Path;
 

@@ -1,0 +1,78 @@
+//! `grove play`: an interactive session in a window, optionally recorded.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::anyhow;
+use clap::Args;
+use grove_systems::replay::Header;
+use grove_systems::scene::Scene;
+use grove_systems::task::TaskDef;
+use grove_systems::Sim;
+
+use crate::desktop::play::PlayApp;
+use crate::desktop::session::{create_recording, LiveSession};
+
+/// Arguments of `grove play`.
+#[derive(Args)]
+pub struct PlayArgs {
+    /// A scene file (RON); default: the built-in study scene.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Start this study task at once (ray-casting-7 or manual-7) instead of the start menu.
+    #[arg(long)]
+    pub task: Option<String>,
+    /// Skip the start menu and start free planting.
+    #[arg(long, conflicts_with = "task")]
+    pub free: bool,
+    /// The participant id written to the recording, e.g. P01.
+    #[arg(long)]
+    pub participant: Option<String>,
+    /// Record the session to this new file (never overwritten).
+    #[arg(long)]
+    pub record: Option<PathBuf>,
+    /// The RNG seed (default: the scene's seed).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Draw a simple painted view instead of the wgpu renderer (faster on software GPUs).
+    #[arg(long)]
+    pub simple_view: bool,
+}
+
+/// Runs `grove play`.
+pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
+    let (scene, scene_name) = match &args.scene {
+        Some(p) => {
+            let scene = super::load_scene(p)?;
+            let abs = std::fs::canonicalize(p).unwrap_or_else(|_| p.clone());
+            (scene, abs.display().to_string())
+        }
+        None => (Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?, "study".to_string()),
+    };
+    if let Some(t) = &args.task {
+        if TaskDef::builtin(t).is_none() {
+            return Err(anyhow!("--task {t}: unknown task; known: ray-casting-7, manual-7"));
+        }
+    }
+    let seed = args.seed.unwrap_or(scene.seed);
+    let sim = Sim::from_scene(&scene, seed).map_err(|e| anyhow!("{scene_name}: {e}"))?;
+    let recorder = match &args.record {
+        Some(path) => {
+            let mut header = Header::new(&scene_name, seed, scene.dt);
+            header.task = args.task.clone();
+            header.participant = args.participant.clone();
+            header.synthetic = false;
+            Some(create_recording(path, &header).map_err(|e| anyhow!(e))?)
+        }
+        None => None,
+    };
+    let session = LiveSession::new(sim, recorder);
+    let mut app = PlayApp::new(session, args.task.as_deref(), args.free).map_err(|e| anyhow!(e))?;
+    app.ui.stats.recording = args.record.as_ref().map(|p| p.display().to_string());
+    if !args.simple_view {
+        app.world3d.factory = Some(crate::desktop::gpu::make_renderer);
+        app.thumbnails = Some(crate::desktop::gpu::render_thumbnails);
+    }
+    crate::desktop::window::run("grove play", app).map_err(|e| anyhow!(e))?;
+    Ok(ExitCode::SUCCESS)
+}
