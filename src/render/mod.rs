@@ -23,7 +23,8 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 use grove_systems::catalogue::{Catalogue, ModelId};
-use grove_systems::components::{Head, Plane, Scale, Sun, Transform, Tree, WindState};
+use grove_systems::components::{Head, Plane, Scale, Sun, Transform, Tree, Wind, WindState};
+use grove_systems::wind_model::{WindModel, WindParams, WindResponse};
 use grove_systems::Sim;
 use wgpu::util::DeviceExt;
 
@@ -35,6 +36,8 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 const LIGHTING_WGSL: &str = include_str!("lighting.wgsl");
+/// The per-vertex wind functions (`WindParams`, `wind_displace`), prepended to the tree shader.
+const WIND_WGSL: &str = include_str!("wind.wgsl");
 
 /// The assets folder: `$GROVE_ASSETS`, else `./assets` when it exists, else the source tree's.
 pub fn default_assets_dir() -> PathBuf {
@@ -136,8 +139,11 @@ struct MaterialUniform {
 pub struct Instance {
     /// Origin xyz and uniform scale.
     pub a: [f32; 4],
-    /// Yaw, wind bend x and z (metres per metre of height), model height.
+    /// Yaw, wind bend x and z (metres per metre of height, `WindState::bend`), wind gain
+    /// (`WindState::gain`).
     pub b: [f32; 4],
+    /// The tree's wind phase in radians (`WindState::phase`); y, z and w are zero.
+    pub c: [f32; 4],
 }
 
 struct GpuPrimitive {
@@ -214,6 +220,7 @@ pub struct Renderer {
     shadow_size: u32,
     frame_buf: wgpu::Buffer,
     shadow_frame_buf: wgpu::Buffer,
+    wind_buf: wgpu::Buffer,
     frame_bg: wgpu::BindGroup,
     shadow_frame_bg: wgpu::BindGroup,
     lighting_bg: wgpu::BindGroup,
@@ -241,7 +248,7 @@ pub struct Renderer {
 
 fn vertex_layout() -> [Option<wgpu::VertexBufferLayout<'static>>; 2] {
     const V: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x4];
-    const I: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![5 => Float32x4, 6 => Float32x4];
+    const I: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![5 => Float32x4, 6 => Float32x4, 7 => Float32x4];
     [
         Some(wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Vertex>() as u64, step_mode: wgpu::VertexStepMode::Vertex, attributes: &V }),
         Some(wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Instance>() as u64, step_mode: wgpu::VertexStepMode::Instance, attributes: &I }),
@@ -309,7 +316,9 @@ impl Renderer {
         let ground_path = assets.join("env").join("ground.png");
         let ground_img = image::open(&ground_path).map_err(|e| format!("{}: {}", ground_path.display(), textures::one_line_image_error(&e)))?.to_rgba8();
 
-        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("frame layout"), entries: &[uniform_entry(0)] });
+        // Group 0: binding 0 the frame uniforms (lighting.wgsl), binding 1 the wind parameters
+        // (wind.wgsl's `WindParams`, read by the tree shader only).
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("frame layout"), entries: &[uniform_entry(0), uniform_entry(1)] });
         let lighting_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("lighting layout"),
             entries: &[
@@ -336,8 +345,18 @@ impl Renderer {
         let mk_frame_buf = |label| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: frame_size, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
         let frame_buf = mk_frame_buf("frame uniforms");
         let shadow_frame_buf = mk_frame_buf("shadow frame uniforms");
+        let wind_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("wind parameters"),
+            size: WindParams::SIZE as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let mk_frame_bg = |label, buf: &wgpu::Buffer| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(label), layout: &frame_layout, entries: &[wgpu::BindGroupEntry { binding: 0, resource: buf.as_entire_binding() }] })
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &frame_layout,
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: buf.as_entire_binding() }, wgpu::BindGroupEntry { binding: 1, resource: wind_buf.as_entire_binding() }],
+            })
         };
         let frame_bg = mk_frame_bg("frame bind group", &frame_buf);
         let shadow_frame_bg = mk_frame_bg("shadow frame bind group", &shadow_frame_buf);
@@ -369,7 +388,7 @@ impl Renderer {
         let shadow_size = 2048;
         let shadow_view = Renderer::shadow_texture(device, shadow_size);
 
-        let tree_shader = shader(device, "trees.wgsl", include_str!("trees.wgsl"));
+        let tree_shader = shader(device, "trees.wgsl", &format!("{WIND_WGSL}\n{}", include_str!("trees.wgsl")));
         let ground_shader = shader(device, "ground.wgsl", include_str!("ground.wgsl"));
         let sky_shader = shader(device, "sky.wgsl", include_str!("sky.wgsl"));
         let overlay_shader = shader(device, "overlay.wgsl", include_str!("overlay.wgsl"));
@@ -527,6 +546,7 @@ impl Renderer {
             shadow_size,
             frame_buf,
             shadow_frame_buf,
+            wind_buf,
             frame_bg,
             shadow_frame_bg,
             lighting_bg,
@@ -744,9 +764,13 @@ impl Renderer {
         for (_, tree, t, s, w) in sim.world.query::<(hecs::Entity, &Tree, &Transform, Option<&Scale>, Option<&WindState>)>().iter() {
             let Some(Some(model)) = self.models.get(tree.model.0 as usize) else { continue };
             let scale = s.map_or(1.0, |s| s.0);
-            let bend = w.map_or(glam::Vec2::ZERO, |w| w.bend);
-            let height = model.bounds.1.y - model.bounds.0.y;
-            per_model[tree.model.0 as usize].push(Instance { a: [t.translation.x, t.translation.y, t.translation.z, scale], b: [t.yaw, bend.x, bend.y, height] });
+            // A tree without a wind state stands still: no bend and zero gain.
+            let (bend, gain, phase) = w.map_or((glam::Vec2::ZERO, 0.0, 0.0), |w| (w.bend, w.gain, w.phase));
+            per_model[tree.model.0 as usize].push(Instance {
+                a: [t.translation.x, t.translation.y, t.translation.z, scale],
+                b: [t.yaw, bend.x, bend.y, gain],
+                c: [phase, 0.0, 0.0, 0.0],
+            });
             let r = model.bounds.0.abs().max(model.bounds.1.abs());
             let ext = Vec3::new(r.x.max(r.z), 0.0, r.x.max(r.z)) * scale;
             let lo = t.translation + Vec3::new(-ext.x, model.bounds.0.y * scale, -ext.z);
@@ -819,6 +843,7 @@ impl Renderer {
         self.queue.write_buffer(&self.frame_buf, 0, bytemuck::bytes_of(&frame));
         let shadow_frame = FrameUniform { view_proj: light_vp.to_cols_array_2d(), ..frame };
         self.queue.write_buffer(&self.shadow_frame_buf, 0, bytemuck::bytes_of(&shadow_frame));
+        self.queue.write_buffer(&self.wind_buf, 0, &wind_uniform(sim).to_le_bytes());
 
         let ov = overlay::build(sim);
         let ov_tris = (!ov.triangles.is_empty()).then(|| {
@@ -934,6 +959,33 @@ impl Renderer {
     /// The names of the loaded models, by id (empty where none).
     pub fn model_names(&self) -> Vec<String> {
         self.models.iter().map(|m| m.as_ref().map(|m| m.name.clone()).unwrap_or_default()).collect()
+    }
+}
+
+/// The wind parameters of both tree passes: the world's `Wind` at the simulated time. A world
+/// without a `Wind` entity gets a calm one (strength and gust 0, default response), so only the
+/// trees' own `WindState::bend` moves them.
+fn wind_uniform(sim: &Sim) -> WindParams {
+    let time = sim.res.time();
+    if let Some(w) = sim.world.query::<&Wind>().iter().next() {
+        return WindParams::from_wind(w, time);
+    }
+    let r = WindResponse::default();
+    WindParams {
+        direction: [1.0, 0.0],
+        strength: 0.0,
+        gust: 0.0,
+        density: 0.0,
+        noise_speed: r.noise_speed,
+        noise_amplitude: r.noise_amplitude,
+        time: time as f32,
+        trunk_stiffness: r.trunk_stiffness,
+        branch_stiffness: r.branch_stiffness,
+        branch_frequency: r.branch_frequency,
+        leaf_flutter: r.leaf_flutter,
+        leaf_frequency: r.leaf_frequency,
+        model: WindModel::Hierarchical.code(),
+        pad: [0; 2],
     }
 }
 

@@ -1,6 +1,8 @@
 // Trees: instanced, textured (albedo, normal, specular), alpha-clipped leaves, two-sided leaves
-// with the normal's component along the face normal flipped on back faces, the trunk bent by the
-// per-instance wind bend. lighting.wgsl is prepended.
+// with the normal's component along the face normal flipped on back faces. Every vertex, in the
+// main pass and the shadow pass alike, is displaced by wind.wgsl's `wind_displace` (the global
+// model `wind.model`) from its `_WIND` channels and the instance's WindState. lighting.wgsl and
+// wind.wgsl are prepended.
 
 struct Material {
     base_color: vec4<f32>,
@@ -9,6 +11,9 @@ struct Material {
     // x: 1 when double-sided; y: translucency.
     flags: vec4<f32>,
 };
+
+// The wind for all trees, written every frame from the world's Wind component and the sim time.
+@group(0) @binding(1) var<uniform> wind: WindParams;
 
 @group(2) @binding(0) var<uniform> material: Material;
 @group(2) @binding(1) var albedo_tex: texture_2d<f32>;
@@ -24,8 +29,11 @@ struct VertexIn {
     @location(4) wind: vec4<f32>,
     // xyz: tree origin; w: uniform scale.
     @location(5) inst_a: vec4<f32>,
-    // x: yaw; yz: wind bend (metres per metre of height, world X and Z); w: model height.
+    // x: yaw; yz: wind bend (WindState.bend, metres per metre of height, world X and Z);
+    // w: wind gain (WindState.gain).
     @location(6) inst_b: vec4<f32>,
+    // x: wind phase (WindState.phase, radians); yzw: zero.
+    @location(7) inst_c: vec4<f32>,
 };
 
 struct VertexOut {
@@ -42,18 +50,14 @@ fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
     return vec3<f32>(c * v.x + s * v.z, v.y, -s * v.x + c * v.z);
 }
 
-// The trunk bend: a horizontal displacement that grows with (height / model height)^2, so the
-// base stays put and the crown top moves by `bend * tree height`.
-fn trunk_bend(height: f32, model_height: f32, scale: f32, bend: vec2<f32>) -> vec3<f32> {
-    let k = clamp(height / max(model_height, 0.001), 0.0, 1.5);
-    let d = bend * (model_height * scale) * k * k;
-    return vec3<f32>(d.x, 0.0, d.y);
-}
-
+// The swayed world position: the rest position (scaled, turned by the yaw, moved to the tree's
+// origin) displaced by the wind. The _WIND distances are model-space metres, so x, y and z are
+// scaled with the tree; w (the branch phase) is not.
 fn world_position(v: VertexIn) -> vec3<f32> {
     let scale = v.inst_a.w;
-    let p = rotate_y(v.position * scale, v.inst_b.x);
-    return v.inst_a.xyz + p + trunk_bend(v.wind.x, v.inst_b.w, scale, v.inst_b.yz);
+    let v0 = v.inst_a.xyz + rotate_y(v.position * scale, v.inst_b.x);
+    let ch = vec4<f32>(v.wind.xyz * scale, v.wind.w);
+    return wind_displace(wind.model, v0, ch, v.inst_b.yz, v.inst_b.w, v.inst_c.x, wind);
 }
 
 @vertex
