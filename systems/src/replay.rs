@@ -149,6 +149,25 @@ struct TaggedEvent {
     event: InputEvent,
 }
 
+/// A controller-pose event line read directly (see [`decode_line`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TaggedPose {
+    #[serde(rename = "type")]
+    kind: String,
+    tick: u64,
+    ms: u64,
+    frame: u64,
+    event: PoseBody,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PoseBody {
+    kind: String,
+    pose: crate::components::Pose,
+}
+
 /// The checksum of a line's text (without its `sum` field): 8 hex digits.
 pub fn line_sum(text: &str) -> String {
     format!("{:08x}", xxhash_rust::xxh3::xxh3_64(text.as_bytes()) as u32)
@@ -172,9 +191,11 @@ pub fn encode_line(line: &Line) -> String {
 /// Checks a line's checksum and parses it.
 pub fn decode_line(text: &str) -> Result<Line, String> {
     let text = text.trim_end_matches(['\r', '\n']);
-    let idx = text.rfind(SUM_KEY).ok_or("no checksum (\"sum\" field); the line is truncated or not a grove recording")?;
+    // The sum is always the last field: `,"sum":"` + 8 hex digits + `"}` = 18 bytes.
+    let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
+    let idx = idx.ok_or("no checksum (\"sum\" field) at the end; the line is truncated or not a grove recording")?;
     let tail = &text[idx + SUM_KEY.len()..];
-    if tail.len() != 10 || !tail.ends_with("\"}") {
+    if !tail.ends_with("\"}") {
         return Err("malformed checksum field; the line is truncated or corrupt".into());
     }
     let sum = &tail[..8];
@@ -185,6 +206,16 @@ pub fn decode_line(text: &str) -> Result<Line, String> {
     // Event lines are by far the most common: read them straight into their struct, without
     // the buffering that the tagged `Line` enum needs.
     if body.starts_with("{\"type\":\"event\",") {
+        // Controller poses are most of a recording: read them without the buffering that the
+        // tagged `InputEvent` enum needs.
+        if let Ok(e) = serde_json::from_str::<TaggedPose>(&body)
+            && e.kind == "event"
+            && e.event.kind == "controller_pose"
+        {
+            let event = InputEvent::ControllerPose { pose: e.event.pose };
+            event.validate()?;
+            return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
+        }
         let e: TaggedEvent = serde_json::from_str(&body).map_err(|e| {
             let msg = e.to_string();
             msg.split(" at line ").next().unwrap_or(&msg).to_string()
