@@ -1,4 +1,5 @@
-//! The `grove` command-line tool: headless simulation, scenes and benchmarks.
+//! The `grove` command-line tool: headless simulation and replays, the study and its reports,
+//! rendering, assets, the desktop app and benchmarks.
 //!
 //! Each subcommand lives in its own module under `cli/`. Errors are printed as one line on
 //! stderr (`error: ...`) with a non-zero exit code; nothing the user types can cause a panic.
@@ -26,7 +27,7 @@ enum Command {
     /// Work with scene files.
     #[command(subcommand)]
     Scene(cli::scene::SceneCommand),
-    /// Measure the simulation's speed and print JSON.
+    /// Measure grove's speed (sim tick, ray casts, wind, replay, study, rendering) and print JSON.
     Bench(cli::bench::BenchArgs),
     /// Re-simulate a recording headless and verify its checkpoints (exit 0 verified, 1 diverged, 2 bad input).
     Replay(cli::replay::ReplayArgs),
