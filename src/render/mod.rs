@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 use grove_systems::catalogue::{Catalogue, ModelId};
-use grove_systems::components::{Head, Plane, Scale, Sun, Transform, Tree, Wind, WindState};
+use grove_systems::components::{Gust, Head, Plane, Scale, Sun, Transform, Tree, Wind, WindState};
 use grove_systems::wind_model::{WindModel, WindParams, WindResponse};
 use grove_systems::Sim;
 use wgpu::util::DeviceExt;
@@ -871,20 +871,7 @@ impl Renderer {
             if shadows {
                 pass.set_pipeline(&self.tree_shadow);
                 pass.set_bind_group(0, &self.shadow_frame_bg, &[]);
-                pass.set_vertex_buffer(1, self.instances.slice(..));
-                for (m, range) in self.models.iter().zip(&ranges) {
-                    let Some(m) = m else { continue };
-                    if range.is_empty() {
-                        continue;
-                    }
-                    for p in &m.primitives {
-                        let Some(mat) = m.materials.get(p.material) else { continue };
-                        pass.set_bind_group(2, &mat.bind_group, &[]);
-                        pass.set_vertex_buffer(0, p.vertices.slice(..));
-                        pass.set_index_buffer(p.indices.slice(..), wgpu::IndexFormat::Uint32);
-                        pass.draw_indexed(0..p.index_count, 0, range.clone());
-                    }
-                }
+                self.draw_trees(&mut pass, &ranges, |_, _, _, _| {});
             }
         }
         let mut stats = FrameStats { instances: instances.len(), ..Default::default() };
@@ -910,23 +897,11 @@ impl Renderer {
             pass.set_bind_group(1, &self.lighting_bg, &[]);
             // Trees first, then the ground, then the sky where nothing was drawn: on a software
             // rasteriser the early depth test then skips most hidden ground and sky fragments.
-            pass.set_vertex_buffer(1, self.instances.slice(..));
-            for (m, range) in self.models.iter().zip(&ranges) {
-                let Some(m) = m else { continue };
-                if range.is_empty() {
-                    continue;
-                }
-                for p in &m.primitives {
-                    let Some(mat) = m.materials.get(p.material) else { continue };
-                    pass.set_pipeline(if mat.double_sided { &self.tree_two_sided } else { &self.tree_one_sided });
-                    pass.set_bind_group(2, &mat.bind_group, &[]);
-                    pass.set_vertex_buffer(0, p.vertices.slice(..));
-                    pass.set_index_buffer(p.indices.slice(..), wgpu::IndexFormat::Uint32);
-                    pass.draw_indexed(0..p.index_count, 0, range.clone());
-                    stats.draws += 1;
-                    stats.triangles += p.index_count as usize / 3 * range.len();
-                }
-            }
+            self.draw_trees(&mut pass, &ranges, |pass, mat, p, range| {
+                pass.set_pipeline(if mat.double_sided { &self.tree_two_sided } else { &self.tree_one_sided });
+                stats.draws += 1;
+                stats.triangles += p.index_count as usize / 3 * range.len();
+            });
             if let Some(g) = &self.ground {
                 pass.set_pipeline(&self.ground_pipeline);
                 pass.set_bind_group(2, &self.ground_bg, &[]);
@@ -962,6 +937,34 @@ impl Renderer {
     }
 }
 
+impl Renderer {
+    /// Draws every tree primitive, instanced over its model's range of the instance buffer,
+    /// with its material bound. `before_draw` runs just before each draw, to pick the pipeline
+    /// or count what is drawn; the shadow pass sets its one pipeline beforehand.
+    fn draw_trees<'p>(
+        &'p self,
+        pass: &mut wgpu::RenderPass<'p>,
+        ranges: &[std::ops::Range<u32>],
+        mut before_draw: impl FnMut(&mut wgpu::RenderPass<'p>, &'p GpuMaterial, &'p GpuPrimitive, &std::ops::Range<u32>),
+    ) {
+        pass.set_vertex_buffer(1, self.instances.slice(..));
+        for (m, range) in self.models.iter().zip(ranges) {
+            let Some(m) = m else { continue };
+            if range.is_empty() {
+                continue;
+            }
+            for p in &m.primitives {
+                let Some(mat) = m.materials.get(p.material) else { continue };
+                before_draw(pass, mat, p, range);
+                pass.set_bind_group(2, &mat.bind_group, &[]);
+                pass.set_vertex_buffer(0, p.vertices.slice(..));
+                pass.set_index_buffer(p.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..p.index_count, 0, range.clone());
+            }
+        }
+    }
+}
+
 /// The wind parameters of both tree passes: the world's `Wind` at the simulated time. A world
 /// without a `Wind` entity gets a calm one (strength and gust 0, default response), so only the
 /// trees' own `WindState::bend` moves them.
@@ -970,23 +973,16 @@ fn wind_uniform(sim: &Sim) -> WindParams {
     if let Some(w) = sim.world.query::<&Wind>().iter().next() {
         return WindParams::from_wind(w, time);
     }
-    let r = WindResponse::default();
-    WindParams {
-        direction: [1.0, 0.0],
+    let calm = Wind {
+        direction: Vec3::X,
         strength: 0.0,
-        gust: 0.0,
         density: 0.0,
-        noise_speed: r.noise_speed,
-        noise_amplitude: r.noise_amplitude,
-        time: time as f32,
-        trunk_stiffness: r.trunk_stiffness,
-        branch_stiffness: r.branch_stiffness,
-        branch_frequency: r.branch_frequency,
-        leaf_flutter: r.leaf_flutter,
-        leaf_frequency: r.leaf_frequency,
-        model: WindModel::Hierarchical.code(),
-        pad: [0; 2],
-    }
+        gust: Gust { average: 0.0, strength: 0.0, frequency: 0.0 },
+        current: 0.0,
+        model: WindModel::Hierarchical,
+        response: WindResponse::default(),
+    };
+    WindParams::from_wind(&calm, time)
 }
 
 /// Bounds helper for framing: the eye position that shows the box `min..max` whole with a
