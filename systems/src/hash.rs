@@ -15,24 +15,25 @@ use xxhash_rust::xxh3::Xxh3;
 use crate::components::*;
 use crate::resources::Resources;
 
+/// The hashed component types, in hashing order: the one list from which the names
+/// ([`COMPONENTS`]), the hashing ([`world_hash`]) and the presence check ([`has_component`]) are
+/// made, so that a component can never be named but not hashed, or the reverse. It calls `$m`
+/// with any leading arguments, a `;`, and the type names.
+macro_rules! hashed_components {
+    ($m:ident $(, $arg:expr)*) => {
+        $m!($($arg),* ; Transform, Scale, Tree, Grounded, WindState, Plane, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection)
+    };
+}
+
+macro_rules! component_names {
+    (; $($t:ident),*) => {
+        &[$(stringify!($t),)* "resources"]
+    };
+}
+
 /// The names of the hashed component types, in hashing order. `resources` covers the hashed
 /// resources (tick, RNG position, mode, menu, interaction state, event log, task state, config).
-pub const COMPONENTS: &[&str] = &[
-    "Transform",
-    "Scale",
-    "Tree",
-    "Grounded",
-    "WindState",
-    "Plane",
-    "Sun",
-    "Wind",
-    "Controller",
-    "Head",
-    "HitMarker",
-    "AnchorBall",
-    "Selection",
-    "resources",
-];
+pub const COMPONENTS: &[&str] = hashed_components!(component_names);
 
 /// A checkpoint: the total hash, one hash per component type and one per entity.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -56,22 +57,15 @@ impl WorldHash {
 pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
     let Some(e) = Entity::from_bits(entity_bits) else { return false };
     let Ok(r) = world.entity(e) else { return false };
-    match name {
-        "Transform" => r.has::<Transform>(),
-        "Scale" => r.has::<Scale>(),
-        "Tree" => r.has::<Tree>(),
-        "Grounded" => r.has::<Grounded>(),
-        "WindState" => r.has::<WindState>(),
-        "Plane" => r.has::<Plane>(),
-        "Sun" => r.has::<Sun>(),
-        "Wind" => r.has::<Wind>(),
-        "Controller" => r.has::<Controller>(),
-        "Head" => r.has::<Head>(),
-        "HitMarker" => r.has::<HitMarker>(),
-        "AnchorBall" => r.has::<AnchorBall>(),
-        "Selection" => r.has::<Selection>(),
-        _ => false,
+    macro_rules! has {
+        ($r:expr, $name:expr ; $($t:ident),*) => {
+            match $name {
+                $(stringify!($t) => $r.has::<$t>(),)*
+                _ => false,
+            }
+        };
     }
+    hashed_components!(has, r, name)
 }
 
 /// Formats a hash as 16 lowercase hex digits.
@@ -94,14 +88,10 @@ impl Acc {
         xxhash_rust::xxh3::xxh3_64(&self.buf)
     }
 
-    fn component<T: Serialize + hecs::Component>(&mut self, world: &World, name: &'static str) {
-        self.component_by::<T>(world, name, |acc, c| acc.value_hash(c));
-    }
-
-    fn component_by<T: hecs::Component>(&mut self, world: &World, name: &'static str, mut hash: impl FnMut(&mut Acc, &T) -> u64) {
+    fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str) {
         let mut rows: Vec<(u64, u64)> = Vec::new();
         for (e, c) in world.query::<(Entity, &T)>().iter() {
-            let h = hash(self, c);
+            let h = c.hash_value(self);
             rows.push((e.to_bits().get(), h));
         }
         rows.sort_unstable_by_key(|r| r.0);
@@ -115,6 +105,31 @@ impl Acc {
             eh.update(&v.to_le_bytes());
         }
         self.components.push((name, h.digest()));
+    }
+}
+
+/// How one component value is hashed.
+trait HashValue {
+    fn hash_value(&self, acc: &mut Acc) -> u64;
+}
+
+/// Most components are hashed from their postcard bytes.
+macro_rules! serde_hashed {
+    ($($t:ty),*) => {
+        $(impl HashValue for $t {
+            fn hash_value(&self, acc: &mut Acc) -> u64 {
+                acc.value_hash(self)
+            }
+        })*
+    };
+}
+serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection);
+
+/// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
+/// through serde (the same bits, much faster).
+impl HashValue for Plane {
+    fn hash_value(&self, _: &mut Acc) -> u64 {
+        plane_hash(self)
     }
 }
 
@@ -158,21 +173,12 @@ pub fn plane_hash(p: &Plane) -> u64 {
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     let mut acc = Acc { buf: Vec::with_capacity(256), entities: BTreeMap::new(), components: Vec::new() };
-    acc.component::<Transform>(world, "Transform");
-    acc.component::<Scale>(world, "Scale");
-    acc.component::<Tree>(world, "Tree");
-    acc.component::<Grounded>(world, "Grounded");
-    acc.component::<WindState>(world, "WindState");
-    // Plane meshes are large, so they are hashed from their raw little-endian bytes rather
-    // than through serde (the same bits, much faster).
-    acc.component_by::<Plane>(world, "Plane", |_, p| plane_hash(p));
-    acc.component::<Sun>(world, "Sun");
-    acc.component::<Wind>(world, "Wind");
-    acc.component::<Controller>(world, "Controller");
-    acc.component::<Head>(world, "Head");
-    acc.component::<HitMarker>(world, "HitMarker");
-    acc.component::<AnchorBall>(world, "AnchorBall");
-    acc.component::<Selection>(world, "Selection");
+    macro_rules! hash_each {
+        ($acc:expr, $world:expr ; $($t:ident),*) => {
+            $($acc.component::<$t>($world, stringify!($t));)*
+        };
+    }
+    hashed_components!(hash_each, acc, world);
     let r = HashedResources {
         tick: res.tick,
         dt: res.dt,
