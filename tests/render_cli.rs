@@ -17,11 +17,25 @@ fn root() -> PathBuf {
 fn fails_with(args: &[&str], needle: &str) {
     let out = grove().args(args).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    let lines: Vec<&str> = err.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty()).collect();
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty())
+        .collect();
     assert!(!out.status.success(), "{args:?} should fail");
-    assert_eq!(lines.len(), 1, "{args:?}: expected one error line, got {err}");
-    assert!(lines[0].starts_with("error: ") && lines[0].contains(needle), "{args:?}: {}", lines[0]);
-    assert!(!err.contains("panicked") && !err.contains("internal error"), "{err}");
+    assert_eq!(
+        lines.len(),
+        1,
+        "{args:?}: expected one error line, got {err}"
+    );
+    assert!(
+        lines[0].starts_with("error: ") && lines[0].contains(needle),
+        "{args:?}: {}",
+        lines[0]
+    );
+    assert!(
+        !err.contains("panicked") && !err.contains("internal error"),
+        "{err}"
+    );
 }
 
 fn copy_model(dir: &Path, name: &str) -> PathBuf {
@@ -31,8 +45,16 @@ fn copy_model(dir: &Path, name: &str) -> PathBuf {
         let f = f.unwrap().path();
         std::fs::copy(&f, dir.join("textures").join(f.file_name().unwrap())).unwrap();
     }
-    std::fs::copy(src.join(format!("{name}.bin")), dir.join(format!("{name}.bin"))).unwrap();
-    std::fs::copy(src.join(format!("{name}.gltf")), dir.join(format!("{name}.gltf"))).unwrap();
+    std::fs::copy(
+        src.join(format!("{name}.bin")),
+        dir.join(format!("{name}.bin")),
+    )
+    .unwrap();
+    std::fs::copy(
+        src.join(format!("{name}.gltf")),
+        dir.join(format!("{name}.gltf")),
+    )
+    .unwrap();
     dir.join(format!("{name}.gltf"))
 }
 
@@ -41,8 +63,14 @@ fn missing_scene_and_model_give_one_line_errors() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("x.png");
     let out = out.to_str().unwrap();
-    fails_with(&["render", "--scene", "no/such/scene.ron", "--out", out], "no such file");
-    fails_with(&["render", "--model", "no/such/tree.gltf", "--out", out], "no such file");
+    fails_with(
+        &["render", "--scene", "no/such/scene.ron", "--out", out],
+        "no such file",
+    );
+    fails_with(
+        &["render", "--model", "no/such/tree.gltf", "--out", out],
+        "no such file",
+    );
 }
 
 #[test]
@@ -51,27 +79,70 @@ fn broken_gltf_and_missing_texture_give_one_line_errors() {
     let out = tmp.path().join("x.png");
     let out = out.to_str().unwrap();
     let broken = tmp.path().join("broken.gltf");
-    std::fs::write(&broken, "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ").unwrap();
-    fails_with(&["render", "--model", broken.to_str().unwrap(), "--out", out], "not a valid glTF");
+    std::fs::write(
+        &broken,
+        "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ",
+    )
+    .unwrap();
+    fails_with(
+        &["render", "--model", broken.to_str().unwrap(), "--out", out],
+        "not a valid glTF",
+    );
 
     let dir = tmp.path().join("m");
     let model = copy_model(&dir, "shrub-billboard");
     std::fs::remove_file(dir.join("textures/shrub-card.png")).unwrap();
-    fails_with(&["render", "--model", model.to_str().unwrap(), "--out", out], "texture 'textures/shrub-card.png': no such file");
+    fails_with(
+        &["render", "--model", model.to_str().unwrap(), "--out", out],
+        "texture 'textures/shrub-card.png': no such file",
+    );
 
     std::fs::write(dir.join("textures/shrub-card.png"), b"not a png").unwrap();
-    fails_with(&["render", "--model", model.to_str().unwrap(), "--out", out], "cannot decode");
+    fails_with(
+        &["render", "--model", model.to_str().unwrap(), "--out", out],
+        "cannot decode",
+    );
 }
 
 #[test]
 fn render_writes_a_png_of_the_requested_size_and_refuses_to_overwrite() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("study.png");
-    let st = grove().args(["render", "--scene", "assets/scenes/study.ron", "--out", out.to_str().unwrap(), "--width", "96", "--height", "64"]).output().unwrap();
-    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+    let st = grove()
+        .args([
+            "render",
+            "--scene",
+            "assets/scenes/study.ron",
+            "--out",
+            out.to_str().unwrap(),
+            "--width",
+            "96",
+            "--height",
+            "64",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
     let img = image::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (96, 64));
-    fails_with(&["render", "--scene", "assets/scenes/study.ron", "--out", out.to_str().unwrap(), "--width", "96", "--height", "64"], "already exists");
+    fails_with(
+        &[
+            "render",
+            "--scene",
+            "assets/scenes/study.ron",
+            "--out",
+            out.to_str().unwrap(),
+            "--width",
+            "96",
+            "--height",
+            "64",
+        ],
+        "already exists",
+    );
 }
 
 #[test]
@@ -79,11 +150,37 @@ fn frame_sequence_moves_the_sun() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("frames");
     let st = grove()
-        .args(["render", "--scene", "assets/scenes/study.ron", "--frames", "3", "--fps", "1", "--time-rate", "7200", "--out", dir.to_str().unwrap(), "--width", "64", "--height", "48"])
+        .args([
+            "render",
+            "--scene",
+            "assets/scenes/study.ron",
+            "--frames",
+            "3",
+            "--fps",
+            "1",
+            "--time-rate",
+            "7200",
+            "--out",
+            dir.to_str().unwrap(),
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ])
         .output()
         .unwrap();
-    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
-    let frames: Vec<_> = (0..3).map(|i| image::open(dir.join(format!("frame_{i:05}.png"))).unwrap().to_rgba8()).collect();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let frames: Vec<_> = (0..3)
+        .map(|i| {
+            image::open(dir.join(format!("frame_{i:05}.png")))
+                .unwrap()
+                .to_rgba8()
+        })
+        .collect();
     // Two hours of sun per frame: consecutive frames differ.
     assert_ne!(frames[0].as_raw(), frames[1].as_raw());
     assert_ne!(frames[1].as_raw(), frames[2].as_raw());
@@ -121,8 +218,25 @@ fn a_glb_model_without_tangents_or_textures_renders() {
     let model = tmp.path().join("tri.glb");
     std::fs::write(&model, glb).unwrap();
     let out = tmp.path().join("tri.png");
-    let st = grove().args(["render", "--model", model.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "64", "--height", "48"]).output().unwrap();
-    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+    let st = grove()
+        .args([
+            "render",
+            "--model",
+            model.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--width",
+            "64",
+            "--height",
+            "48",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
     let img = image::open(&out).unwrap().to_rgba8();
     // The white triangle is framed in the middle of the image.
     let p = img.get_pixel(32, 24).0;
@@ -135,16 +249,88 @@ fn a_replay_renders_at_a_tick_and_differs_from_its_start() {
     let rec = "replays/scenarios/plant-two.jsonl";
     let render = |tick: &str, name: &str| {
         let out = tmp.path().join(name);
-        let st = grove().args(["render", "--replay", rec, "--tick", tick, "--out", out.to_str().unwrap(), "--width", "96", "--height", "64"]).output().unwrap();
-        assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+        let st = grove()
+            .args([
+                "render",
+                "--replay",
+                rec,
+                "--tick",
+                tick,
+                "--out",
+                out.to_str().unwrap(),
+                "--width",
+                "96",
+                "--height",
+                "64",
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            st.status.success(),
+            "{}",
+            String::from_utf8_lossy(&st.stderr)
+        );
         image::open(&out).unwrap().to_rgba8()
     };
     let start = render("0", "start.png");
     let later = render("150", "later.png");
     assert_eq!((later.width(), later.height()), (96, 64));
     // Two trees were planted in between, so the pictures differ.
-    let changed = start.pixels().zip(later.pixels()).filter(|(a, b)| a != b).count();
+    let changed = start
+        .pixels()
+        .zip(later.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
     assert!(changed > 50, "only {changed} pixels changed");
-    fails_with(&["render", "--replay", rec, "--tick", "99999", "--out", tmp.path().join("x.png").to_str().unwrap()], "ends at tick");
-    fails_with(&["render", "--replay", "replays/nope.jsonl", "--tick", "1", "--out", tmp.path().join("y.png").to_str().unwrap()], "no such file");
+    fails_with(
+        &[
+            "render",
+            "--replay",
+            rec,
+            "--tick",
+            "99999",
+            "--out",
+            tmp.path().join("x.png").to_str().unwrap(),
+        ],
+        "ends at tick",
+    );
+    fails_with(
+        &[
+            "render",
+            "--replay",
+            "replays/nope.jsonl",
+            "--tick",
+            "1",
+            "--out",
+            tmp.path().join("y.png").to_str().unwrap(),
+        ],
+        "no such file",
+    );
+}
+
+/// `grove bench render-gpu` times real GPUs only: on a software adapter (lavapipe in CI) it
+/// refuses with one line; on a GPU it reports the passes' timestamp-query times.
+#[test]
+fn gpu_benchmark_refuses_a_software_adapter() {
+    let gpu = grove::render::offscreen::Gpu::new().unwrap();
+    if gpu.is_cpu() {
+        fails_with(
+            &["bench", "render-gpu"],
+            "needs a real GPU, but wgpu picked the software adapter",
+        );
+    } else {
+        let out = grove().args(["bench", "render-gpu"]).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert!(
+            v["render_gpu"]["forest_10k_trees"]["mixed_shadows_on"]["gpu_main_pass_ms"]
+                .as_f64()
+                .unwrap()
+                > 0.0
+        );
+    }
 }

@@ -16,12 +16,12 @@ use std::sync::{Mutex, OnceLock};
 use glam::Vec3;
 use grove::render::gltf_load::{ImageData, MaterialData, ModelData, PrimitiveData, Vertex};
 use grove::render::offscreen::{self, Gpu};
-use grove::render::{camera_matrix, Renderer};
+use grove::render::{Renderer, camera_matrix};
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::*;
 use grove_systems::scene::Scene;
 use grove_systems::task::{TaskDef, TaskState};
-use grove_systems::Sim;
 use image::RgbaImage;
 
 const W: u32 = 160;
@@ -36,7 +36,9 @@ static LOCK: Mutex<()> = Mutex::new(());
 fn gpu() -> &'static Gpu {
     match GPU.get_or_init(Gpu::new) {
         Ok(g) => g,
-        Err(e) => panic!("golden tests need a GPU adapter (CI installs lavapipe: mesa-vulkan-drivers): {e}"),
+        Err(e) => panic!(
+            "golden tests need a GPU adapter (CI installs lavapipe: mesa-vulkan-drivers): {e}"
+        ),
     }
 }
 
@@ -61,9 +63,16 @@ fn compare(name: &str, img: &RgbaImage, tol: Tolerance) {
     }
     let want = match image::open(&path) {
         Ok(i) => i.to_rgba8(),
-        Err(e) => panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display()),
+        Err(e) => panic!(
+            "{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1",
+            path.display()
+        ),
     };
-    assert_eq!(want.dimensions(), img.dimensions(), "{name}: size differs from the snapshot");
+    assert_eq!(
+        want.dimensions(),
+        img.dimensions(),
+        "{name}: size differs from the snapshot"
+    );
     let (mut sum, mut over) = (0u64, 0u64);
     for (a, b) in want.pixels().zip(img.pixels()) {
         let mut worst = 0u8;
@@ -121,7 +130,10 @@ fn render(sim: &Sim, shadows: bool) -> RgbaImage {
 
 fn set_head(sim: &mut Sim, eye: Vec3, target: Vec3, fov_deg: f32) {
     for head in sim.world.query_mut::<&mut Head>() {
-        *head = Head { pose: Pose::looking_at(eye, target), fov_y: fov_deg.to_radians() };
+        *head = Head {
+            pose: Pose::looking_at(eye, target),
+            fov_y: fov_deg.to_radians(),
+        };
     }
 }
 
@@ -136,7 +148,10 @@ fn set_sun(sim: &mut Sim, utc: &str) {
 fn project(sim: &Sim, p: Vec3) -> (u32, u32) {
     let head = *sim.world.query::<&Head>().iter().next().unwrap();
     let q = camera_matrix(&head, W as f32 / H as f32).project_point3(p);
-    (((q.x * 0.5 + 0.5) * W as f32) as u32, ((0.5 - q.y * 0.5) * H as f32) as u32)
+    (
+        ((q.x * 0.5 + 0.5) * W as f32) as u32,
+        ((0.5 - q.y * 0.5) * H as f32) as u32,
+    )
 }
 
 macro_rules! model_test {
@@ -149,8 +164,19 @@ macro_rules! model_test {
             // The tree fills part of the frame: the centre column differs from the sky corner.
             let sky = luminance(&img, (0, 0, 8, 8));
             let centre = luminance(&img, (W / 2 - 4, H / 2 - 4, W / 2 + 4, H / 2 + 4));
-            assert!((sky - centre).abs() > 10.0, "{}: nothing drawn in the centre (sky {sky:.0}, centre {centre:.0})", $name);
-            compare(concat!("model-", $name), &img, Tolerance { mean_abs: 3.0, percent_over: 2.0 });
+            assert!(
+                (sky - centre).abs() > 10.0,
+                "{}: nothing drawn in the centre (sky {sky:.0}, centre {centre:.0})",
+                $name
+            );
+            compare(
+                concat!("model-", $name),
+                &img,
+                Tolerance {
+                    mean_abs: 3.0,
+                    percent_over: 2.0,
+                },
+            );
         }
     };
 }
@@ -177,12 +203,39 @@ fn striped_card() -> ModelData {
     }
     let n = [0.0, 0.0, 1.0];
     let t = [1.0, 0.0, 0.0, 1.0];
-    let v = |x: f32, y: f32, u: f32, vv: f32| Vertex { position: [x, y, 0.0], normal: n, uv: [u, vv], tangent: t, wind: [y, 0.0, 0.0, 0.0] };
+    let v = |x: f32, y: f32, u: f32, vv: f32| Vertex {
+        position: [x, y, 0.0],
+        normal: n,
+        uv: [u, vv],
+        tangent: t,
+        wind: [y, 0.0, 0.0, 0.0],
+    };
     ModelData {
         path: "card.gltf".into(),
-        primitives: vec![PrimitiveData { vertices: vec![v(-0.5, 0.0, 0.0, 1.0), v(0.5, 0.0, 1.0, 1.0), v(0.5, 1.0, 1.0, 0.0), v(-0.5, 1.0, 0.0, 0.0)], indices: vec![0, 1, 2, 0, 2, 3], material: 0 }],
-        materials: vec![MaterialData { name: "card".into(), albedo: Some(0), alpha_cutoff: Some(0.5), double_sided: true, roughness: 0.8, specular_factor: 0.2, ..Default::default() }],
-        images: vec![ImageData { width: size, height: size, rgba }],
+        primitives: vec![PrimitiveData {
+            vertices: vec![
+                v(-0.5, 0.0, 0.0, 1.0),
+                v(0.5, 0.0, 1.0, 1.0),
+                v(0.5, 1.0, 1.0, 0.0),
+                v(-0.5, 1.0, 0.0, 0.0),
+            ],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            material: 0,
+        }],
+        materials: vec![MaterialData {
+            name: "card".into(),
+            albedo: Some(0),
+            alpha_cutoff: Some(0.5),
+            double_sided: true,
+            roughness: 0.8,
+            specular_factor: 0.2,
+            ..Default::default()
+        }],
+        images: vec![ImageData {
+            width: size,
+            height: size,
+            rgba,
+        }],
         bounds: (Vec3::new(-0.5, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0)),
     }
 }
@@ -191,22 +244,51 @@ fn striped_card() -> ModelData {
 fn alpha_clipping_and_two_sided_flip() {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
-    let mut sim = offscreen::model_stage((Vec3::new(-1.5, 0.0, -0.1), Vec3::new(1.5, 1.0, 0.1)), W as f32 / H as f32, false).unwrap();
+    let mut sim = offscreen::model_stage(
+        (Vec3::new(-1.5, 0.0, -0.1), Vec3::new(1.5, 1.0, 0.1)),
+        W as f32 / H as f32,
+        false,
+    )
+    .unwrap();
     // Two cards side by side: the left one shows its front to the camera, the right one its back.
-    let trees: Vec<hecs::Entity> = sim.world.query::<(hecs::Entity, &Tree)>().iter().map(|(e, _)| e).collect();
+    let trees: Vec<hecs::Entity> = sim
+        .world
+        .query::<(hecs::Entity, &Tree)>()
+        .iter()
+        .map(|(e, _)| e)
+        .collect();
     for e in trees {
         sim.world.despawn(e).unwrap();
     }
     sim.spawn_tree(ModelId(0), Vec3::new(-0.7, 0.0, 0.0), 0.0, 1.0, false);
-    sim.spawn_tree(ModelId(0), Vec3::new(0.7, 0.0, 0.0), std::f32::consts::PI, 1.0, false);
-    set_head(&mut sim, Vec3::new(0.0, 0.5, 2.6), Vec3::new(0.0, 0.5, 0.0), 40.0);
+    sim.spawn_tree(
+        ModelId(0),
+        Vec3::new(0.7, 0.0, 0.0),
+        std::f32::consts::PI,
+        1.0,
+        false,
+    );
+    set_head(
+        &mut sim,
+        Vec3::new(0.0, 0.5, 2.6),
+        Vec3::new(0.0, 0.5, 0.0),
+        40.0,
+    );
     // The sun behind the camera, so both visible sides face it once the back face is flipped.
     for sun in sim.world.query_mut::<&mut Sun>() {
         sun.elevation_deg = 30.0;
         sun.azimuth_deg = 180.0;
         sun.direction = grove_systems::systems::sun::direction_from_angles(180.0, 30.0);
     }
-    let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, W, H, &root().join("assets")).unwrap();
+    let mut r = Renderer::empty(
+        &g.device,
+        &g.queue,
+        offscreen::FORMAT,
+        W,
+        H,
+        &root().join("assets"),
+    )
+    .unwrap();
     r.set_model(ModelId(0), &striped_card());
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
 
@@ -214,15 +296,33 @@ fn alpha_clipping_and_two_sided_flip() {
     // has many strong colour changes; clipped texels show what lies behind (not card green).
     let (lx, ly) = project(&sim, Vec3::new(-0.7, 0.5, 0.0));
     let (rx, _) = project(&sim, Vec3::new(0.7, 0.5, 0.0));
-    let row: Vec<[u8; 4]> = (lx.saturating_sub(20)..(lx + 20).min(W)).map(|x| img.get_pixel(x, ly).0).collect();
+    let row: Vec<[u8; 4]> = (lx.saturating_sub(20)..(lx + 20).min(W))
+        .map(|x| img.get_pixel(x, ly).0)
+        .collect();
     let greenish = |p: &[u8; 4]| p[1] as i32 - p[0].max(p[2]) as i32 > 40;
-    let changes = row.windows(2).filter(|w| greenish(&w[0]) != greenish(&w[1])).count();
-    assert!(changes >= 4, "expected alternating clipped stripes, got {changes} changes in {row:?}");
+    let changes = row
+        .windows(2)
+        .filter(|w| greenish(&w[0]) != greenish(&w[1]))
+        .count();
+    assert!(
+        changes >= 4,
+        "expected alternating clipped stripes, got {changes} changes in {row:?}"
+    );
     // The back side is lit like the front (its normal flipped towards the viewer and sun).
     let front = luminance(&img, (lx - 10, ly - 8, lx + 10, ly + 8));
     let back = luminance(&img, (rx - 10, ly - 8, rx + 10, ly + 8));
-    assert!(back > 0.75 * front, "back face too dark: front {front:.1}, back {back:.1}");
-    compare("alpha-clip-two-sided", &img, Tolerance { mean_abs: 3.0, percent_over: 2.0 });
+    assert!(
+        back > 0.75 * front,
+        "back face too dark: front {front:.1}, back {back:.1}"
+    );
+    compare(
+        "alpha-clip-two-sided",
+        &img,
+        Tolerance {
+            mean_abs: 3.0,
+            percent_over: 2.0,
+        },
+    );
 }
 
 #[test]
@@ -233,14 +333,32 @@ fn shadowed_scene() {
     let cb = sim.res.catalogue.by_name("conifer-billboard").unwrap().id;
     sim.spawn_tree(bl, Vec3::new(-1.0, 0.0, -3.0), 0.3, 1.0, true);
     sim.spawn_tree(cb, Vec3::new(3.0, 0.0, -5.0), 0.0, 1.0, true);
-    set_head(&mut sim, Vec3::new(2.0, 4.0, 8.0), Vec3::new(0.0, 0.5, -3.0), 60.0);
+    set_head(
+        &mut sim,
+        Vec3::new(2.0, 4.0, 8.0),
+        Vec3::new(0.0, 0.5, -3.0),
+        60.0,
+    );
     set_sun(&mut sim, "2026-06-21T08:30:00Z");
     let lit = render(&sim, false);
     let shadowed = render(&sim, true);
     // Shadows only darken: the whole image, and clearly somewhere.
-    let (a, b) = (luminance(&lit, (0, 0, W, H)), luminance(&shadowed, (0, 0, W, H)));
-    assert!(b < a - 1.0, "shadows did not darken the image ({a:.1} → {b:.1})");
-    compare("shadowed-scene", &shadowed, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
+    let (a, b) = (
+        luminance(&lit, (0, 0, W, H)),
+        luminance(&shadowed, (0, 0, W, H)),
+    );
+    assert!(
+        b < a - 1.0,
+        "shadows did not darken the image ({a:.1} → {b:.1})"
+    );
+    compare(
+        "shadowed-scene",
+        &shadowed,
+        Tolerance {
+            mean_abs: 3.0,
+            percent_over: 2.5,
+        },
+    );
 }
 
 #[test]
@@ -250,35 +368,72 @@ fn interaction_visuals() {
     let tree = sim.spawn_tree(id, Vec3::new(0.5, 0.0, -2.0), 0.0, 1.0, true);
     let info = sim.res.catalogue.get(id).unwrap().clone();
     let pos = sim.world.get::<&Transform>(tree).unwrap().translation;
-    set_head(&mut sim, Vec3::new(0.0, 1.7, 2.0), Vec3::new(0.0, 0.3, -2.0), 60.0);
+    set_head(
+        &mut sim,
+        Vec3::new(0.0, 1.7, 2.0),
+        Vec3::new(0.0, 0.3, -2.0),
+        60.0,
+    );
     let anchor = Vec3::new(-1.2, 0.0, -1.5);
     let hit = Vec3::new(0.9, 0.4, -2.0);
     for c in sim.world.query_mut::<&mut Controller>() {
         c.pose = Pose::looking_at(Vec3::new(0.3, 1.2, 1.5), hit);
     }
     for h in sim.world.query_mut::<&mut HitMarker>() {
-        *h = HitMarker { visible: true, position: hit, normal: Vec3::Y, distance: Vec3::new(0.3, 1.2, 1.5).distance(hit), target: HitTarget::Tree(tree.to_bits().get()) };
+        *h = HitMarker {
+            visible: true,
+            position: hit,
+            normal: Vec3::Y,
+            distance: Vec3::new(0.3, 1.2, 1.5).distance(hit),
+            target: HitTarget::Tree(tree.to_bits().get()),
+        };
     }
     for a in sim.world.query_mut::<&mut AnchorBall>() {
-        *a = AnchorBall { visible: true, position: anchor, distance: 0.5, armed: false };
+        *a = AnchorBall {
+            visible: true,
+            position: anchor,
+            distance: 0.5,
+            armed: false,
+        };
     }
     for s in sim.world.query_mut::<&mut Selection>() {
         let c = (info.bounds_min + info.bounds_max) * 0.5 + pos;
-        *s = Selection { tree: Some(tree.to_bits().get()), center: c, half_extents: (info.bounds_max - info.bounds_min) * 0.5, yaw: 0.0 };
+        *s = Selection {
+            tree: Some(tree.to_bits().get()),
+            center: c,
+            half_extents: (info.bounds_max - info.bounds_min) * 0.5,
+            yaw: 0.0,
+        };
     }
-    sim.res.task = Some(TaskState::new(TaskDef::builtin("ray-casting-7").unwrap(), 0));
+    sim.res.task = Some(TaskState::new(
+        TaskDef::builtin("ray-casting-7").unwrap(),
+        0,
+    ));
     let green = render(&sim, true);
     // The anchor ball is green while not armed, white when armed.
     let (ax, ay) = project(&sim, anchor);
     let p = green.get_pixel(ax, ay).0;
-    assert!(p[1] > 120 && p[1] as i32 - p[0] as i32 > 60 && p[1] as i32 - p[2] as i32 > 60, "anchor ball not green: {p:?}");
+    assert!(
+        p[1] > 120 && p[1] as i32 - p[0] as i32 > 60 && p[1] as i32 - p[2] as i32 > 60,
+        "anchor ball not green: {p:?}"
+    );
     for a in sim.world.query_mut::<&mut AnchorBall>() {
         a.armed = true;
     }
     let white = render(&sim, true);
     let q = white.get_pixel(ax, ay).0;
-    assert!(q[0] > 140 && q[1] > 140 && q[2] > 140, "armed anchor ball not white: {q:?}");
-    compare("interaction-visuals", &green, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
+    assert!(
+        q[0] > 140 && q[1] > 140 && q[2] > 140,
+        "armed anchor ball not white: {q:?}"
+    );
+    compare(
+        "interaction-visuals",
+        &green,
+        Tolerance {
+            mean_abs: 3.0,
+            percent_over: 2.5,
+        },
+    );
 }
 
 fn study_at(utc: &str) -> RgbaImage {
@@ -303,19 +458,116 @@ fn study_scene_morning_and_evening() {
         }
         r / b.max(1.0)
     };
-    let (lm, le) = (luminance(&morning, (0, H / 2, W, H)), luminance(&evening, (0, H / 2, W, H)));
-    assert!(le < lm, "the evening ground should be darker ({lm:.1} vs {le:.1})");
-    assert!(warmth(&evening) > warmth(&morning), "the evening light should be warmer");
-    compare("study-morning", &morning, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
-    compare("study-evening", &evening, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
+    let (lm, le) = (
+        luminance(&morning, (0, H / 2, W, H)),
+        luminance(&evening, (0, H / 2, W, H)),
+    );
+    assert!(
+        le < lm,
+        "the evening ground should be darker ({lm:.1} vs {le:.1})"
+    );
+    assert!(
+        warmth(&evening) > warmth(&morning),
+        "the evening light should be warmer"
+    );
+    compare(
+        "study-morning",
+        &morning,
+        Tolerance {
+            mean_abs: 3.0,
+            percent_over: 2.5,
+        },
+    );
+    compare(
+        "study-evening",
+        &evening,
+        Tolerance {
+            mean_abs: 3.0,
+            percent_over: 2.5,
+        },
+    );
 }
 
 #[test]
 fn night_turns_the_sun_off() {
     let mut sim = study();
     set_sun(&mut sim, "2026-06-21T23:30:00Z");
-    let elevation = sim.world.query::<&Sun>().iter().next().unwrap().elevation_deg;
+    let elevation = sim
+        .world
+        .query::<&Sun>()
+        .iter()
+        .next()
+        .unwrap()
+        .elevation_deg;
     assert!(elevation < 0.0);
     let img = render(&sim, true);
     assert!(luminance(&img, (0, 0, W, H)) < 40.0, "night should be dark");
+}
+
+/// Foliage level of detail: a row of broadleaf mesh trees from 40 to 160 m away, drawn with
+/// every leaf and with the default leaf pixel budget. The simplified frame draws far fewer
+/// triangles, yet the crowns cover about as many pixels, and the image stays close.
+#[test]
+fn leaf_simplification_keeps_the_crowns() {
+    let mut sim = study();
+    let planes: Vec<hecs::Entity> = sim
+        .world
+        .query::<(hecs::Entity, &Plane)>()
+        .iter()
+        .map(|(e, _)| e)
+        .collect();
+    for e in planes {
+        sim.world.despawn(e).unwrap();
+    }
+    let bl = sim.res.catalogue.by_name("broadleaf-mesh").unwrap().id;
+    for k in 0..7 {
+        sim.spawn_tree(
+            bl,
+            Vec3::new(-18.0 + k as f32 * 6.0, 0.0, -40.0 - k as f32 * 20.0),
+            0.4 * k as f32,
+            1.0,
+            true,
+        );
+    }
+    set_head(
+        &mut sim,
+        Vec3::new(0.0, 3.0, 0.0),
+        Vec3::new(0.0, 3.0, -60.0),
+        40.0,
+    );
+    let draw = |leaf_pixels: f32| {
+        let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        let g = gpu();
+        let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+        r.options.shadows = false;
+        r.options.leaf_pixels = leaf_pixels;
+        let img = offscreen::render_image(g, &mut r, &sim).unwrap();
+        (img, r.stats.triangles)
+    };
+    let (full, full_tris) = draw(0.0);
+    let (lod, lod_tris) = draw(grove::render::RenderOptions::default().leaf_pixels);
+    assert!(
+        lod_tris * 3 < full_tris,
+        "simplification should drop most triangles: {lod_tris} of {full_tris}"
+    );
+    // Crown pixels: those much greener than the sky behind them.
+    let crown = |img: &RgbaImage| {
+        img.pixels()
+            .filter(|p| p.0[1] as i32 > p.0[2] as i32 + 25)
+            .count() as f64
+    };
+    let (a, b) = (crown(&full), crown(&lod));
+    assert!(a > 200.0, "the crowns should be visible ({a} pixels)");
+    assert!(
+        (b - a).abs() / a < 0.2,
+        "crown coverage changed from {a} to {b} pixels"
+    );
+    compare(
+        "leaf-simplification",
+        &lod,
+        Tolerance {
+            mean_abs: 3.0,
+            percent_over: 2.5,
+        },
+    );
 }

@@ -1,6 +1,7 @@
 //! `grove bench`: measure grove and print one JSON object.
 //!
-//! `grove bench` runs every benchmark; `grove bench sim raycast` runs only those named. Each
+//! `grove bench` runs every benchmark but `render-reference` (a part of `render`) and
+//! `render-gpu` (which needs a real GPU); `grove bench sim raycast` runs only those named. Each
 //! benchmark is a function that returns a JSON value; every figure is the median of several timed
 //! runs on one thread, in whatever build (debug or release) the binary is.
 
@@ -12,7 +13,7 @@ use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 use grove_systems::Sim;
 use serde::Serialize;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 /// The benchmarks `grove bench` knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -29,6 +30,11 @@ pub enum Which {
     Raycast,
     /// Offscreen frame times at 1280x720: the 100-tree reference scene and cost per model.
     Render,
+    /// Only the 100-tree reference scene of the render benchmark, shadows on and off.
+    RenderReference,
+    /// The reference scene and a 10k-tree forest on a real GPU, timed with timestamp queries
+    /// (fails on a software adapter such as lavapipe).
+    RenderGpu,
 }
 
 /// Arguments of `grove bench`.
@@ -46,6 +52,13 @@ pub struct BenchArgs {
     /// Ticks timed per tree count.
     #[arg(long, default_value_t = 120)]
     pub ticks: u64,
+    /// Shadow-map edge in texels for the render benchmarks.
+    #[arg(long, default_value_t = grove::render::RenderOptions::default().shadow_size)]
+    pub shadow_size: u32,
+    /// Leaf pixel budget of the foliage level of detail for the render benchmarks (0: every
+    /// leaf at every distance).
+    #[arg(long, default_value_t = grove::render::RenderOptions::default().leaf_pixels)]
+    pub leaf_pixels: f32,
 }
 
 /// The median of a slice of timings (sorted in place); 0 for an empty slice.
@@ -87,18 +100,45 @@ fn bench_sim(args: &BenchArgs) -> anyhow::Result<Value> {
         let mut times = time_ms(args.ticks.max(1) as usize, || sim.step());
         let min = times.iter().copied().fold(f64::MAX, f64::min);
         let max = times.iter().copied().fold(0.0, f64::max);
-        figures.push(TickFigure { trees: n, ms_per_tick_median: median(&mut times), ms_per_tick_min: min, ms_per_tick_max: max });
+        figures.push(TickFigure {
+            trees: n,
+            ms_per_tick_median: median(&mut times),
+            ms_per_tick_min: min,
+            ms_per_tick_max: max,
+        });
     }
     Ok(serde_json::to_value(figures)?)
 }
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
-    let all = [Which::Sim, Which::Raycast, Which::Wind, Which::Replay, Which::Study, Which::Render];
-    let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
+    let all = [
+        Which::Sim,
+        Which::Raycast,
+        Which::Wind,
+        Which::Replay,
+        Which::Study,
+        Which::Render,
+    ];
+    let which: Vec<Which> = if args.which.is_empty() {
+        all.to_vec()
+    } else {
+        args.which.clone()
+    };
     let mut report = serde_json::Map::new();
-    report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
+    report.insert(
+        "build".into(),
+        json!(if cfg!(debug_assertions) {
+            "debug"
+        } else {
+            "release"
+        }),
+    );
     report.insert("threads".into(), json!(1));
+    let render = super::bench_render::RenderBenchOptions {
+        shadow_size: args.shadow_size,
+        leaf_pixels: args.leaf_pixels,
+    };
     for w in which {
         let (name, value) = match w {
             Which::Sim => ("sim_tick", bench_sim(&args)?),
@@ -106,7 +146,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::Study => ("study", super::bench_replay::bench_study()?),
             Which::Wind => ("wind_sun_tick", super::bench_wind::bench_wind(&args)?),
             Which::Raycast => ("raycast", super::bench_raycast::bench_raycast(&args)?),
-            Which::Render => ("render", super::bench_render::bench_render()?),
+            Which::Render => ("render", super::bench_render::bench_render(render)?),
+            Which::RenderReference => (
+                "render_reference",
+                super::bench_render::bench_reference(render)?,
+            ),
+            Which::RenderGpu => ("render_gpu", super::bench_render::bench_gpu(render)?),
         };
         report.insert(name.into(), value);
     }

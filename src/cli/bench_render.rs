@@ -15,13 +15,13 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use glam::{Vec2, Vec3};
-use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
+use grove::render::offscreen::{self, Gpu};
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose, Sun};
 use grove_systems::scene::{CameraDef, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
-use grove_systems::Sim;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 const WIDTH: u32 = 1280;
 const HEIGHT: u32 = 720;
@@ -43,16 +43,37 @@ fn ground_scene(half: f32, cell: f32) -> Scene {
                 holes: vec![],
             },
         }],
-        sun: SunDef { latitude_deg: 47.37, longitude_deg: 8.54, utc: "2026-06-21T10:00:00Z".into(), time_rate: 0.0 },
-        wind: WindDef { direction: Vec3::X, strength: 1.0, density: 0.15, gust_average: 0.6, gust_strength: 0.4, gust_frequency: 0.2, model: Default::default(), response: Default::default() },
+        sun: SunDef {
+            latitude_deg: 47.37,
+            longitude_deg: 8.54,
+            utc: "2026-06-21T10:00:00Z".into(),
+            time_rate: 0.0,
+        },
+        wind: WindDef {
+            direction: Vec3::X,
+            strength: 1.0,
+            density: 0.15,
+            gust_average: 0.6,
+            gust_strength: 0.4,
+            gust_frequency: 0.2,
+            model: Default::default(),
+            response: Default::default(),
+        },
         trees: vec![],
-        camera: CameraDef { position: Vec3::new(0.0, 1.7, 6.0), look_at: Vec3::ZERO, fov_y_deg: 60.0 },
+        camera: CameraDef {
+            position: Vec3::new(0.0, 1.7, 6.0),
+            look_at: Vec3::ZERO,
+            fov_y_deg: 60.0,
+        },
     }
 }
 
 fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
     for h in sim.world.query_mut::<&mut Head>() {
-        *h = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
+        *h = Head {
+            pose: Pose::looking_at(eye, target),
+            fov_y: 60f32.to_radians(),
+        };
     }
     // The sun at 45° elevation, from the south-east.
     for s in sim.world.query_mut::<&mut Sun>() {
@@ -62,51 +83,206 @@ fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
     }
 }
 
-/// Median frame time in milliseconds over `frames` frames after one warm-up frame.
-fn time_frames(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result<f64> {
+/// A frame figure: the median wall time of a frame and, where the renderer times its passes,
+/// the median GPU time of the shadow and main passes.
+struct FrameTime {
+    ms: f64,
+    passes: Option<(f64, f64)>,
+}
+
+impl FrameTime {
+    /// The figure as JSON, with the draw statistics of the last frame.
+    fn json(&self, renderer: &Renderer) -> Value {
+        let mut v = json!({"ms_per_frame": self.ms, "fps": 1e3 / self.ms, "triangles": renderer.stats.triangles, "draws": renderer.stats.draws});
+        if let Some((shadow, main)) = self.passes {
+            v["gpu_shadow_pass_ms"] = json!(shadow);
+            v["gpu_main_pass_ms"] = json!(main);
+        }
+        v
+    }
+}
+
+/// Times `frames` frames after one warm-up frame and returns the medians.
+fn time_frames(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    sim: &Sim,
+    frames: usize,
+) -> anyhow::Result<FrameTime> {
     let target = offscreen::Target::new(&gpu.device, WIDTH, HEIGHT);
-    let mut once = || -> anyhow::Result<f64> {
+    let mut times = Vec::new();
+    let (mut shadow, mut main) = (Vec::new(), Vec::new());
+    for i in 0..=frames.max(1) {
         let t = Instant::now();
         renderer.render(sim, target.view());
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
-        Ok(t.elapsed().as_secs_f64() * 1e3)
-    };
-    once()?;
-    let mut times = Vec::new();
-    for _ in 0..frames.max(1) {
-        times.push(once()?);
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| anyhow!("GPU poll failed ({e})"))?;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let passes = renderer.pass_times().map_err(|e| anyhow!(e))?;
+        if i == 0 {
+            continue;
+        }
+        times.push(ms);
+        if let Some(p) = passes {
+            shadow.push(p.shadow_ms);
+            main.push(p.main_ms);
+        }
     }
-    Ok(super::bench::median(&mut times))
+    let passes = (!shadow.is_empty()).then(|| {
+        (
+            super::bench::median(&mut shadow),
+            super::bench::median(&mut main),
+        )
+    });
+    Ok(FrameTime {
+        ms: super::bench::median(&mut times),
+        passes,
+    })
+}
+
+/// The renderer settings a render benchmark runs with.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderBenchOptions {
+    /// Shadow-map edge, texels (`RenderOptions::shadow_size`).
+    pub shadow_size: u32,
+    /// Leaf pixel budget of the foliage level of detail (`RenderOptions::leaf_pixels`).
+    pub leaf_pixels: f32,
+}
+
+/// Builds the GPU and the renderer at the benchmark's size, and names the adapter on stderr.
+/// With `need_gpu`, a software adapter is an error: its timings would say nothing of a GPU.
+fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Renderer, String)> {
+    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+    let adapter = gpu.adapter_name();
+    if need_gpu && gpu.is_cpu() {
+        return Err(anyhow!(
+            "the GPU benchmark needs a real GPU, but wgpu picked the software adapter {adapter}"
+        ));
+    }
+    eprintln!("bench: render on {adapter}");
+    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, WIDTH, HEIGHT)
+        .map_err(|e| anyhow!(e))?;
+    renderer.options.shadow_size = options.shadow_size;
+    renderer.options.leaf_pixels = options.leaf_pixels;
+    // Pass times where the device has timestamp queries; frame times do not depend on them.
+    if let Err(e) = renderer.enable_pass_timing() {
+        if need_gpu {
+            return Err(anyhow!("the GPU benchmark needs timestamp queries: {e}"));
+        }
+    }
+    Ok((gpu, renderer, adapter))
+}
+
+/// A square forest of `side`² trees 10 m apart on a ground 10 m wider than it, seen from the
+/// south at 14 m above the ground, the sun at 45°. `models` picks a tree's model from its index
+/// (`None`: no trees, the ground and sky alone).
+fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::Result<Sim> {
+    let half = side as f32 * 5.0;
+    let scene = ground_scene(half, (half / 25.0).max(2.0));
+    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    if let Some(model) = models {
+        for i in 0..side * side {
+            let (x, z) = (
+                (i % side) as f32 * 10.0 - half + 5.0,
+                (i / side) as f32 * 10.0 - half + 5.0,
+            );
+            sim.spawn_tree(
+                ModelId(model(i)),
+                Vec3::new(x, 0.0, z),
+                i as f32 * 0.7,
+                1.0,
+                true,
+            );
+        }
+    }
+    place(
+        &mut sim,
+        Vec3::new(0.0, 14.0, half + 12.0),
+        Vec3::new(0.0, 0.0, 0.0),
+    );
+    Ok(sim)
+}
+
+/// The forest's variants: all 8 models in turn ("mixed"), only the billboard models, only the
+/// mesh models, and no trees.
+const VARIANTS: [(&str, Option<fn(u32) -> u8>); 4] = [
+    ("mixed", Some(|i| (i % 8) as u8)),
+    ("billboard", Some(|i| 4 + (i % 4) as u8)),
+    ("mesh", Some(|i| (i % 4) as u8)),
+    ("no_trees", None),
+];
+
+/// The figures of a `side`² forest in every variant, shadows on and off, `frames` frames each.
+fn forest_figures(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    side: u32,
+    frames: usize,
+) -> anyhow::Result<Value> {
+    let mut figures = serde_json::Map::new();
+    for (variant, models) in VARIANTS {
+        let sim = forest(side, models.as_ref().map(|f| f as &dyn Fn(u32) -> u8))?;
+        for shadows in [true, false] {
+            renderer.options.shadows = shadows;
+            let on = if shadows { "on" } else { "off" };
+            eprintln!("bench: {} trees ({variant}), shadows {on}", side * side);
+            let ft = time_frames(gpu, renderer, &sim, frames)?;
+            figures.insert(format!("{variant}_shadows_{on}"), ft.json(renderer));
+        }
+    }
+    renderer.options.shadows = true;
+    Ok(Value::Object(figures))
+}
+
+/// The reference scene (after Fukuda et al. 2007): 100 trees, 10 m apart on a 100 × 100 m
+/// ground; and the ground and sky alone, the floor under every other figure.
+fn reference_scene(gpu: &Gpu, renderer: &mut Renderer) -> anyhow::Result<Value> {
+    forest_figures(gpu, renderer, 10, 10)
+}
+
+fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map<String, Value> {
+    let mut m = serde_json::Map::new();
+    m.insert("adapter".into(), json!(adapter));
+    m.insert("resolution".into(), json!([WIDTH, HEIGHT]));
+    m.insert("shadow_size".into(), json!(renderer.options.shadow_size));
+    m.insert("leaf_pixels".into(), json!(renderer.options.leaf_pixels));
+    m.insert("timing".into(), json!(timing));
+    m
+}
+
+const WALL_TIMING: &str = "median of 10 frames: wall time of render + device.poll(wait); gpu_*_pass_ms from timestamp queries where the device has them";
+
+/// Runs only the reference scene and returns its figures.
+pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
+    let (gpu, mut renderer, adapter) = setup(options, false)?;
+    let reference = reference_scene(&gpu, &mut renderer)?;
+    let mut out = header(adapter, &renderer, WALL_TIMING);
+    out.insert("reference_100_trees".into(), reference);
+    Ok(Value::Object(out))
+}
+
+/// The reference scene grown to 10k trees (100 × 100, 10 m apart) on a real GPU, timed with
+/// timestamp queries. Fails on a software adapter or a device without timestamp queries.
+pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
+    let (gpu, mut renderer, adapter) = setup(options, true)?;
+    let reference = reference_scene(&gpu, &mut renderer)?;
+    let forest = forest_figures(&gpu, &mut renderer, 100, 30)?;
+    let mut out = header(
+        adapter,
+        &renderer,
+        "median of frames: GPU time of the shadow and main passes from timestamp queries; wall time of render + device.poll(wait)",
+    );
+    out.insert("reference_100_trees".into(), reference);
+    out.insert("forest_10k_trees".into(), forest);
+    Ok(Value::Object(out))
 }
 
 /// Runs the render benchmarks and returns their figures.
-pub fn bench_render() -> anyhow::Result<Value> {
-    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-    let adapter = gpu.adapter_name();
-    eprintln!("bench: render on {adapter}");
-    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, WIDTH, HEIGHT).map_err(|e| anyhow!(e))?;
+pub fn bench_render(options: RenderBenchOptions) -> anyhow::Result<Value> {
+    let (gpu, mut renderer, adapter) = setup(options, false)?;
     let models = renderer.model_names();
-
-    // Reference scene: 10 × 10 trees, 10 m apart: all 8 models in turn ("mixed"), only the
-    // billboard models, or only the mesh models.
-    let scene = ground_scene(50.0, 2.0);
-    let mut reference = serde_json::Map::new();
-    for (variant, first, step) in [("mixed", 0u8, 1u8), ("billboard", 4, 1), ("mesh", 0, 1)] {
-        let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-        for i in 0..100u32 {
-            let (x, z) = ((i % 10) as f32 * 10.0 - 45.0, (i / 10) as f32 * 10.0 - 45.0);
-            let model = if variant == "mixed" { (i % 8) as u8 } else { first + ((i as u8 * step) % 4) };
-            sim.spawn_tree(ModelId(model), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, true);
-        }
-        place(&mut sim, Vec3::new(0.0, 14.0, 62.0), Vec3::new(0.0, 0.0, 0.0));
-        for shadows in [true, false] {
-            renderer.options.shadows = shadows;
-            eprintln!("bench: reference scene ({variant}), shadows {}", if shadows { "on" } else { "off" });
-            let ms = time_frames(&gpu, &mut renderer, &sim, 10)?;
-            let key = format!("{variant}_shadows_{}", if shadows { "on" } else { "off" });
-            reference.insert(key, json!({"ms_per_frame": ms, "fps": 1e3 / ms, "triangles": renderer.stats.triangles, "draws": renderer.stats.draws}));
-        }
-    }
+    let reference = reference_scene(&gpu, &mut renderer)?;
 
     // Cost per model: n instances on a square grid 3 m apart, seen from above at an angle.
     renderer.options.shadows = false;
@@ -117,29 +293,45 @@ pub fn bench_render() -> anyhow::Result<Value> {
         }
         let mut row = serde_json::Map::new();
         row.insert("model".into(), json!(name));
-        row.insert("triangles_per_tree".into(), json!(renderer.model(ModelId(id as u8)).map_or(0, |m| m.triangles)));
+        row.insert(
+            "triangles_per_tree".into(),
+            json!(renderer.model(ModelId(id as u8)).map_or(0, |m| m.triangles)),
+        );
         for n in [1_000usize, 10_000] {
             let side = (n as f32).sqrt().ceil() as usize;
             let half = side as f32 * 1.5;
             let scene = ground_scene(half + 2.0, (half / 25.0).max(1.0));
             let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
             for i in 0..n {
-                let (x, z) = ((i % side) as f32 * 3.0 - half, (i / side) as f32 * 3.0 - half);
-                sim.spawn_tree(ModelId(id as u8), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, false);
+                let (x, z) = (
+                    (i % side) as f32 * 3.0 - half,
+                    (i / side) as f32 * 3.0 - half,
+                );
+                sim.spawn_tree(
+                    ModelId(id as u8),
+                    Vec3::new(x, 0.0, z),
+                    i as f32 * 0.7,
+                    1.0,
+                    false,
+                );
             }
-            place(&mut sim, Vec3::new(0.0, half * 0.9, half * 1.9), Vec3::new(0.0, 0.0, 0.0));
+            place(
+                &mut sim,
+                Vec3::new(0.0, half * 0.9, half * 1.9),
+                Vec3::new(0.0, 0.0, 0.0),
+            );
             eprintln!("bench: {name} × {n}");
-            let ms = time_frames(&gpu, &mut renderer, &sim, if n >= 10_000 { 2 } else { 4 })?;
-            row.insert(format!("ms_per_frame_{n}"), json!(ms));
-            row.insert(format!("triangles_per_frame_{n}"), json!(renderer.stats.triangles));
+            let ft = time_frames(&gpu, &mut renderer, &sim, if n >= 10_000 { 2 } else { 4 })?;
+            row.insert(format!("ms_per_frame_{n}"), json!(ft.ms));
+            row.insert(
+                format!("triangles_per_frame_{n}"),
+                json!(renderer.stats.triangles),
+            );
         }
         per_model.push(Value::Object(row));
     }
-    Ok(json!({
-        "adapter": adapter,
-        "resolution": [WIDTH, HEIGHT],
-        "timing": "wall time of render + device.poll(wait), median; no GPU timestamp queries (software adapter)",
-        "reference_100_trees": reference,
-        "per_model_shadows_off": per_model,
-    }))
+    let mut out = header(adapter, &renderer, WALL_TIMING);
+    out.insert("reference_100_trees".into(), reference);
+    out.insert("per_model_shadows_off".into(), Value::Array(per_model));
+    Ok(Value::Object(out))
 }

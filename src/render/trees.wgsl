@@ -32,12 +32,27 @@ struct VertexIn {
     // x: yaw; yz: wind bend (WindState.bend, metres per metre of height, world X and Z);
     // w: wind gain (WindState.gain).
     @location(6) inst_b: vec4<f32>,
-    // x: wind phase (WindState.phase, radians); yzw: zero.
+    // x: wind phase (WindState.phase, radians); y: the share of leaves kept (lod.rs); zw: zero.
     @location(7) inst_c: vec4<f32>,
+    // xyz: the centre of the vertex's leaf (model space); w: the leaf's rank in 0..1, or -1 where
+    // the primitive is not simplified.
+    @location(8) leaf: vec4<f32>,
 };
 
+// The linear size of a leaf of rank `rank` on a tree that keeps the share `keep` of its leaves:
+// the twin of lod::leaf_scale (see src/render/lod.rs for the derivation).
+fn leaf_scale(rank: f32, keep: f32) -> f32 {
+    if (rank < 0.0 || keep >= 1.0) {
+        return 1.0;
+    }
+    let weight = clamp((2.0 * keep - rank) / keep, 0.0, 1.0);
+    let over = max(2.0 * keep - 1.0, 0.0);
+    let kept = keep + (keep * keep - over * over) / (2.0 * keep);
+    return sqrt(weight / kept);
+}
+
 struct VertexOut {
-    @builtin(position) clip: vec4<f32>,
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
@@ -55,7 +70,8 @@ fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
 // scaled with the tree; w (the branch phase) is not.
 fn world_position(v: VertexIn) -> vec3<f32> {
     let scale = v.inst_a.w;
-    let v0 = v.inst_a.xyz + rotate_y(v.position * scale, v.inst_b.x);
+    let p = v.leaf.xyz + (v.position - v.leaf.xyz) * leaf_scale(v.leaf.w, v.inst_c.y);
+    let v0 = v.inst_a.xyz + rotate_y(p * scale, v.inst_b.x);
     let ch = vec4<f32>(v.wind.xyz * scale, v.wind.w);
     return wind_displace(wind.model, v0, ch, v.inst_b.yz, v.inst_b.w, v.inst_c.x, wind);
 }
@@ -72,6 +88,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return out;
 }
 
+// Shades a tree fragment. It never discards: alpha-clipped materials reach it only where their
+// depth pre-pass (fs_alpha_test) kept the fragment, through an equal depth test.
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     // Derivatives and texture samples first, in uniform control flow.
@@ -80,9 +98,6 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let base = textureSample(albedo_tex, material_sampler, in.uv) * material.base_color;
     let nt = textureSample(normal_tex, material_sampler, in.uv).xyz * 2.0 - 1.0;
     let spec_tex = textureSample(specular_tex, material_sampler, in.uv).a;
-    if (material.params.x >= 0.0 && base.a < material.params.x) {
-        discard;
-    }
     let v = normalize(frame.camera_pos.xyz - in.world_pos);
     var n = normalize(in.normal);
     // The face normal from screen-space derivatives; tiny (sub-pixel) triangles can give a zero
@@ -109,22 +124,25 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     return vec4<f32>(tone(c), 1.0);
 }
 
-struct ShadowOut {
-    @builtin(position) clip: vec4<f32>,
+struct DepthOut {
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
 };
 
+// Depth only, for the shadow map (with the light's frame) and the alpha-clipped materials'
+// depth pre-pass (with the camera's). The clip position is computed exactly as in vs_main.
 @vertex
-fn vs_shadow(v: VertexIn) -> ShadowOut {
-    var out: ShadowOut;
+fn vs_depth(v: VertexIn) -> DepthOut {
+    var out: DepthOut;
     out.clip = frame.view_proj * vec4<f32>(world_position(v), 1.0);
     out.uv = v.uv;
     return out;
 }
 
-// Alpha-tested leaves cast dappled shadows: clipped texels write no depth.
+// Alpha-tested leaves write no depth where they are clipped: in the shadow map this gives
+// dappled shadows, in the pre-pass the holes through which farther leaves are seen.
 @fragment
-fn fs_shadow(in: ShadowOut) {
+fn fs_alpha_test(in: DepthOut) {
     let a = textureSample(albedo_tex, material_sampler, in.uv).a * material.base_color.a;
     if (material.params.x >= 0.0 && a < material.params.x) {
         discard;
