@@ -295,18 +295,19 @@ mod tests {
 
     #[test]
     fn size_changes_smoothly_with_the_keep_fraction() {
-        // No leaf jumps in size as a tree recedes: small steps in keep give small steps in size.
+        // No leaf jumps in area as a tree recedes: each 0.1 % step in the keep fraction (about
+        // 0.05 % in distance) changes a leaf's area by a small share of a full leaf.
         for rank in [0.01, 0.1, 0.3, 0.6, 0.95] {
-            let mut last = leaf_scale(rank, 1.0);
+            let area = |keep: f32| leaf_scale(rank, keep).powi(2);
             let mut keep = 1.0f32;
             while keep > MIN_KEEP {
-                keep -= 0.0005;
-                let s = leaf_scale(rank, keep);
+                let next = keep * 0.999;
+                let (a, b) = (area(keep), area(next));
                 assert!(
-                    (s - last).abs() < 0.2,
-                    "rank {rank} at keep {keep}: {last} -> {s}"
+                    (a - b).abs() < 0.05 * b.max(1.0),
+                    "rank {rank} at keep {keep}: area {a} -> {b}"
                 );
-                last = s;
+                keep = next;
             }
         }
     }

@@ -6,10 +6,14 @@
 //!
 //! Passes per frame:
 //! 1. **Shadow** (when the sun is up and shadows are on): depth of every tree from the sun, with
-//!    alpha-tested leaves, into a 2048² map fitted to the scene.
-//! 2. **Main**: the trees (one instanced draw per model and material), the ground planes
-//!    (textured, lit, shadowed), the interaction visuals, and last the sky (environment cubemap)
-//!    where nothing else was drawn.
+//!    alpha-tested leaves, into a 1024² map (by default) fitted to the scene.
+//! 2. **Main**: the trees (one instanced draw per model, material and keep bucket; alpha-clipped
+//!    materials behind a depth pre-pass, see [`TreePipelines`]), the ground planes (textured,
+//!    lit, shadowed), the interaction visuals, and last the sky (environment cubemap) where
+//!    nothing else was drawn.
+//!
+//! Far trees draw a share of their leaves, grown to keep the crown's area ([`lod`]). Where the
+//! device has timestamp queries, [`Renderer::enable_pass_timing`] times both passes.
 //!
 //! The sun's direction comes from the `Sun` component; its colour and intensity from its
 //! elevation ([`sun_light`]): warmer and dimmer near the horizon, off below it.
