@@ -12,10 +12,8 @@ fn assets() -> PathBuf {
 
 /// Bounds, crown radius and triangle count recomputed from a glTF file.
 fn measure(path: &Path) -> (Vec3, Vec3, f32, u32) {
-    let (doc, buffers, _) =
-        gltf::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let (mut lo, mut hi, mut crown, mut tris) =
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN), 0.0f32, 0u32);
+    let (doc, buffers, _) = gltf::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let (mut lo, mut hi, mut crown, mut tris) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN), 0.0f32, 0u32);
     for node in doc.nodes() {
         let m = glam::Mat4::from_cols_array_2d(&node.transform().matrix());
         let Some(mesh) = node.mesh() else { continue };
@@ -38,37 +36,13 @@ fn catalogue_bounds_match_the_gltf_files() {
     let text = std::fs::read_to_string(assets().join("trees/catalogue.ron")).unwrap();
     let cat = Catalogue::from_ron(&text).unwrap();
     assert_eq!(cat.len(), 8);
-    let names = [
-        "broadleaf-mesh",
-        "conifer-mesh",
-        "birch-mesh",
-        "shrub-mesh",
-        "broadleaf-billboard",
-        "conifer-billboard",
-        "birch-billboard",
-        "shrub-billboard",
-    ];
+    let names = ["broadleaf-mesh", "conifer-mesh", "birch-mesh", "shrub-mesh", "broadleaf-billboard", "conifer-billboard", "birch-billboard", "shrub-billboard"];
     for (m, want) in cat.models.iter().zip(names) {
         assert_eq!(m.name, want);
         let (lo, hi, crown, tris) = measure(&assets().join(format!("trees/{}.gltf", m.name)));
-        assert!(
-            (lo - m.bounds_min).abs().max_element() < 1e-5,
-            "{}: bounds_min {lo} vs catalogue {}",
-            m.name,
-            m.bounds_min
-        );
-        assert!(
-            (hi - m.bounds_max).abs().max_element() < 1e-5,
-            "{}: bounds_max {hi} vs catalogue {}",
-            m.name,
-            m.bounds_max
-        );
-        assert!(
-            (crown - m.crown_radius).abs() < 1e-5,
-            "{}: crown {crown} vs {}",
-            m.name,
-            m.crown_radius
-        );
+        assert!((lo - m.bounds_min).abs().max_element() < 1e-5, "{}: bounds_min {lo} vs catalogue {}", m.name, m.bounds_min);
+        assert!((hi - m.bounds_max).abs().max_element() < 1e-5, "{}: bounds_max {hi} vs catalogue {}", m.name, m.bounds_max);
+        assert!((crown - m.crown_radius).abs() < 1e-5, "{}: crown {crown} vs {}", m.name, m.crown_radius);
         assert_eq!(tris, m.triangles, "{}", m.name);
     }
     // The embedded catalogue is the same file.
@@ -80,25 +54,10 @@ fn models_have_sizes_and_costs_in_range() {
     let cat = Catalogue::builtin();
     for m in &cat.models {
         match m.kind {
-            ModelKind::Mesh => assert!(
-                (1000..=6000).contains(&m.triangles),
-                "{}: {} triangles",
-                m.name,
-                m.triangles
-            ),
-            ModelKind::Billboard => assert!(
-                (100..=1000).contains(&m.triangles),
-                "{}: {} triangles",
-                m.name,
-                m.triangles
-            ),
+            ModelKind::Mesh => assert!((1000..=6000).contains(&m.triangles), "{}: {} triangles", m.name, m.triangles),
+            ModelKind::Billboard => assert!((100..=1000).contains(&m.triangles), "{}: {} triangles", m.name, m.triangles),
         }
-        assert!(
-            m.bounds_min.y < 0.0 && m.bounds_min.y > -0.1,
-            "{}: roots {}",
-            m.name,
-            m.bounds_min.y
-        );
+        assert!(m.bounds_min.y < 0.0 && m.bounds_min.y > -0.1, "{}: roots {}", m.name, m.bounds_min.y);
     }
     // The species differ visibly: the shrub is low, the conifer the tallest, the birch narrowest
     // of the trees.
@@ -128,25 +87,13 @@ fn models_carry_maps_alpha_mask_and_wind_channels() {
             }
         }
         assert_eq!(leaves, 1, "{}", m.name);
-        for prim in doc
-            .meshes()
-            .flat_map(|m| m.primitives().collect::<Vec<_>>())
-        {
-            let wind = prim
-                .get(&gltf::Semantic::Extras("WIND".into()))
-                .expect("_WIND attribute");
+        for prim in doc.meshes().flat_map(|m| m.primitives().collect::<Vec<_>>()) {
+            let wind = prim.get(&gltf::Semantic::Extras("WIND".into())).expect("_WIND attribute");
             assert_eq!(wind.dimensions(), gltf::accessor::Dimensions::Vec4);
             let r = prim.reader(|b| Some(&buffers[b.index()]));
             assert!(r.read_tangents().is_some());
-            let values: Vec<[f32; 4]> =
-                gltf::accessor::Iter::new(wind, |b| Some(buffers[b.index()].0.as_slice()))
-                    .unwrap()
-                    .collect();
-            assert!(
-                values
-                    .iter()
-                    .all(|w| w[0] >= 0.0 && (0.0..=1.0).contains(&w[3]))
-            );
+            let values: Vec<[f32; 4]> = gltf::accessor::Iter::new(wind, |b| Some(buffers[b.index()].0.as_slice())).unwrap().collect();
+            assert!(values.iter().all(|w| w[0] >= 0.0 && (0.0..=1.0).contains(&w[3])));
             // Height above the root follows the vertex height.
             for (w, p) in values.iter().zip(r.read_positions().unwrap()) {
                 assert!((w[0] - p[1].max(0.0)).abs() < 1e-5);
@@ -177,12 +124,7 @@ fn generator_reproduces_the_committed_files_byte_for_byte() {
     assert_eq!(files.len(), summary.files);
     for f in files {
         let rel = f.strip_prefix(tmp.path()).unwrap();
-        let committed = std::fs::read(assets().join(rel))
-            .unwrap_or_else(|_| panic!("{} is not committed", rel.display()));
-        assert!(
-            std::fs::read(&f).unwrap() == committed,
-            "{} differs from the committed file; run `grove assets`",
-            rel.display()
-        );
+        let committed = std::fs::read(assets().join(rel)).unwrap_or_else(|_| panic!("{} is not committed", rel.display()));
+        assert!(std::fs::read(&f).unwrap() == committed, "{} differs from the committed file; run `grove assets`", rel.display());
     }
 }

@@ -6,16 +6,8 @@ use std::process::Command;
 const GROVE: &str = env!("CARGO_BIN_EXE_grove");
 
 fn run(args: &[&str]) -> (Option<i32>, String) {
-    let out = Command::new(GROVE)
-        .args(args)
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let out = Command::new(GROVE).args(args).env_remove("DISPLAY").env_remove("WAYLAND_DISPLAY").output().unwrap();
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
 }
 
 #[test]
@@ -26,10 +18,7 @@ fn play_refuses_to_overwrite_a_recording() {
     let (code, err) = run(&["play", "--record", path.to_str().unwrap()]);
     assert_eq!(code, Some(2));
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(
-        err.starts_with("error: ") && err.contains("already exists"),
-        "{err}"
-    );
+    assert!(err.starts_with("error: ") && err.contains("already exists"), "{err}");
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "precious");
 }
 
@@ -37,10 +26,7 @@ fn play_refuses_to_overwrite_a_recording() {
 fn play_rejects_an_unknown_task() {
     let (code, err) = run(&["play", "--task", "juggling-3"]);
     assert_eq!(code, Some(2));
-    assert!(
-        err.starts_with("error: ") && err.contains("unknown task"),
-        "{err}"
-    );
+    assert!(err.starts_with("error: ") && err.contains("unknown task"), "{err}");
 }
 
 #[test]
@@ -50,10 +36,7 @@ fn view_of_an_unreadable_file_is_one_line_and_exit_2() {
     let (code, err) = run(&["view", missing.to_str().unwrap()]);
     assert_eq!(code, Some(2));
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(
-        err.starts_with("error: ") && err.contains("missing.jsonl"),
-        "{err}"
-    );
+    assert!(err.starts_with("error: ") && err.contains("missing.jsonl"), "{err}");
 
     let garbage = dir.path().join("garbage.jsonl");
     std::fs::write(&garbage, "{\"hello\": 1}\n").unwrap();

@@ -24,24 +24,13 @@ impl Drop for Kill {
 }
 
 fn have(tool: &str) -> bool {
-    Command::new("sh")
-        .arg("-c")
-        .arg(format!("command -v {tool}"))
-        .stdout(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
+    Command::new("sh").arg("-c").arg(format!("command -v {tool}")).stdout(Stdio::null()).status().is_ok_and(|s| s.success())
 }
 
 /// Starts Xvfb on a free display number and waits for its socket.
 fn start_xvfb() -> (Child, String) {
-    assert!(
-        have("Xvfb"),
-        "Xvfb is not installed; install it (Debian: apt-get install xvfb) to run the window test"
-    );
-    assert!(
-        have("xdotool"),
-        "xdotool is not installed; install it (Debian: apt-get install xdotool) to run the window test"
-    );
+    assert!(have("Xvfb"), "Xvfb is not installed; install it (Debian: apt-get install xvfb) to run the window test");
+    assert!(have("xdotool"), "xdotool is not installed; install it (Debian: apt-get install xdotool) to run the window test");
     let base = 99 + (std::process::id() % 300);
     for n in base..base + 200 {
         let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
@@ -78,11 +67,7 @@ fn xdotool(display: &str, args: &[&str]) -> String {
         .env("DISPLAY", display)
         .output()
         .expect("cannot run xdotool");
-    assert!(
-        out.status.success(),
-        "xdotool {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "xdotool {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
     String::from_utf8_lossy(&out.stdout).trim().to_string()
 }
 
@@ -129,10 +114,7 @@ fn a_click_in_a_real_window_plants_a_tree_that_replays_exactly() {
     let pid = play.id().to_string();
     kill.0.push(play);
 
-    let wid = xdotool(
-        &display,
-        &["search", "--sync", "--onlyvisible", "--pid", &pid],
-    );
+    let wid = xdotool(&display, &["search", "--sync", "--onlyvisible", "--pid", &pid]);
     let wid = wid.lines().next().expect("no window").to_string();
     // The first frames on a software GPU take a while; give the app time to draw and to
     // start reading input.
@@ -149,54 +131,26 @@ fn a_click_in_a_real_window_plants_a_tree_that_replays_exactly() {
     let play = kill.0.last_mut().unwrap();
     let status = wait_exit(play, Duration::from_secs(60));
     let stderr = std::fs::read_to_string(dir.path().join("play.log")).unwrap_or_default();
-    let status =
-        status.unwrap_or_else(|| panic!("grove play did not quit on Escape; its stderr: {stderr}"));
-    assert!(
-        status.success(),
-        "grove play failed: {status}; its stderr: {stderr}"
-    );
+    let status = status.unwrap_or_else(|| panic!("grove play did not quit on Escape; its stderr: {stderr}"));
+    assert!(status.success(), "grove play failed: {status}; its stderr: {stderr}");
 
-    let out = Command::new(GROVE)
-        .args(["replay", "--json"])
-        .arg(&record)
-        .output()
-        .unwrap();
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
-        panic!(
-            "replay JSON: {e}; stderr {}",
-            String::from_utf8_lossy(&out.stderr)
-        )
-    });
+    let out = Command::new(GROVE).args(["replay", "--json"]).arg(&record).output().unwrap();
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("replay JSON: {e}; stderr {}", String::from_utf8_lossy(&out.stderr)));
     assert_eq!(out.status.code(), Some(0), "replay: {report}");
     assert_eq!(report["verified"], true, "{report}");
-    assert_eq!(
-        report["complete"], true,
-        "the recording has its footer: {report}"
-    );
+    assert_eq!(report["complete"], true, "the recording has its footer: {report}");
     assert_eq!(report["participant"], "XVFB");
     assert_eq!(report["synthetic"], false);
-    assert!(
-        report["events"]["button_down"].as_u64().unwrap_or(0) >= 1,
-        "the click was recorded: {report}"
-    );
-    assert!(
-        report["events"]["controller_pose"].as_u64().unwrap_or(0) >= 1,
-        "the cursor ray was recorded: {report}"
-    );
+    assert!(report["events"]["button_down"].as_u64().unwrap_or(0) >= 1, "the click was recorded: {report}");
+    assert!(report["events"]["controller_pose"].as_u64().unwrap_or(0) >= 1, "the cursor ray was recorded: {report}");
 
     // The verified final hash covers every tree, so the footer's tree count is the
     // re-simulated one: the study scene's two trees plus the planted one.
     let text = std::fs::read_to_string(&record).unwrap();
     let footer: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
     assert_eq!(footer["type"], "footer");
-    assert_eq!(
-        footer["summary"]["trees"], 3,
-        "one tree was planted: {footer}"
-    );
+    assert_eq!(footer["summary"]["trees"], 3, "one tree was planted: {footer}");
     // The one click is the only Trigger press in the file.
-    let planted = text
-        .lines()
-        .filter(|l| l.contains("\"button_down\"") && l.contains("\"trigger\""))
-        .count();
+    let planted = text.lines().filter(|l| l.contains("\"button_down\"") && l.contains("\"trigger\"")).count();
     assert_eq!(planted, 1, "exactly one Trigger press");
 }

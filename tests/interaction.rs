@@ -5,7 +5,6 @@
 use std::path::Path;
 
 use glam::Vec3;
-use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Handle, HitTarget, Pose};
 use grove_systems::events::Happening;
@@ -14,6 +13,7 @@ use grove_systems::interact;
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
+use grove_systems::Sim;
 
 /// The shrub: a small model whose whole box is within reach of the controller.
 const SHRUB: ModelId = ModelId(3);
@@ -30,13 +30,7 @@ fn study() -> Script {
 
 /// The height of the topmost plane at (x, z), by a vertical ray from high above.
 fn ground_y(s: &Script, x: f32, z: f32) -> f32 {
-    s.sim()
-        .res
-        .spatial
-        .ground_below(Vec3::new(x, 50.0, z), 0.0)
-        .expect("a plane at this point")
-        .point
-        .y
+    s.sim().res.spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).expect("a plane at this point").point.y
 }
 
 fn ground(s: &Script, x: f32, z: f32) -> Vec3 {
@@ -45,34 +39,17 @@ fn ground(s: &Script, x: f32, z: f32) -> Vec3 {
 
 /// The trees that were not there before, by id.
 fn new_trees(s: &Script, before: &[u64]) -> Vec<u64> {
-    s.sim()
-        .tree_ids()
-        .into_iter()
-        .filter(|id| !before.contains(id))
-        .collect()
+    s.sim().tree_ids().into_iter().filter(|id| !before.contains(id)).collect()
 }
 
 fn kinds_since(s: &Script, from: usize) -> Vec<&'static str> {
-    s.sim().res.log.entries[from..]
-        .iter()
-        .map(|e| e.what.kind())
-        .collect()
+    s.sim().res.log.entries[from..].iter().map(|e| e.what.kind()).collect()
 }
 
 fn lowest_point(s: &Script, id: u64) -> Vec3 {
     let (tree, t, scale, _) = s.sim().tree(id).expect("tree exists");
-    let lowest = s
-        .sim()
-        .res
-        .catalogue
-        .get(tree.model)
-        .unwrap()
-        .lowest_point();
-    Vec3::new(
-        t.translation.x,
-        interact::lowest_point_y(t.translation.y, lowest, scale.0),
-        t.translation.z,
-    )
+    let lowest = s.sim().res.catalogue.get(tree.model).unwrap().lowest_point();
+    Vec3::new(t.translation.x, interact::lowest_point_y(t.translation.y, lowest, scale.0), t.translation.z)
 }
 
 /// Plants `model` at ground point (x, z) in ray-casting mode and returns its id.
@@ -106,11 +83,7 @@ fn trigger_on_a_plane_plants_the_current_model_at_the_hit_point() {
     assert_eq!(new.len(), 1);
     let (tree, t, scale, grounded) = s.sim().tree(new[0]).unwrap();
     assert_eq!(tree.model, SHRUB);
-    assert!(
-        t.translation.distance(p) < 0.01,
-        "planted at {} instead of {p}",
-        t.translation
-    );
+    assert!(t.translation.distance(p) < 0.01, "planted at {} instead of {p}", t.translation);
     assert_eq!((t.yaw, scale.0, grounded.0), (0.0, 1.0, true));
     assert_eq!(kinds_since(&s, log_start), ["model_chosen", "planted"]);
 }
@@ -137,10 +110,7 @@ fn a_ray_through_a_plane_hole_plants_nothing() {
     let before = s.sim().tree_ids();
     // The centre of the hole at (5.5, -4.0), radius 1.1: the ray passes through.
     s.point_at(Vec3::new(5.5, 0.0, -4.0));
-    assert!(
-        !s.sim().hit_marker().visible,
-        "nothing is hit through the hole"
-    );
+    assert!(!s.sim().hit_marker().visible, "nothing is hit through the hole");
     s.press(Button::Trigger);
     assert_eq!(s.sim().tree_ids(), before);
     assert_eq!(s.sim().res.log.count("planted"), 0);
@@ -157,20 +127,13 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     let low0 = lowest_point(&s, id);
 
     // A click on the tree selects it and shows its box.
-    s.point_at(ground(&s, 0.0, 0.0) + Vec3::Y * 0.8)
-        .press(Button::Trigger);
+    s.point_at(ground(&s, 0.0, 0.0) + Vec3::Y * 0.8).press(Button::Trigger);
     let sel = s.sim().selection();
     assert_eq!(sel.tree, Some(id));
     let model = s.sim().res.catalogue.get(SHRUB).unwrap().clone();
     assert!((sel.half_extents - (model.bounds_max - model.bounds_min) * 0.5).length() < 1e-5);
-    assert_eq!(
-        s.sim().res.log.entries.last().unwrap().what,
-        Happening::Selected { tree: id }
-    );
-    assert!(
-        s.sim().tree(id).unwrap().3.0,
-        "a click does not unground the tree"
-    );
+    assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Selected { tree: id });
+    assert!(s.sim().tree(id).unwrap().3 .0, "a click does not unground the tree");
 
     // Grab the top front-right corner and pull it outwards.
     let corner = interact::handle_points(sel.center, sel.half_extents, sel.yaw)[7].1;
@@ -182,87 +145,45 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     s.point_at(corner + Vec3::new(1.0, 0.0, 0.0));
     let c = s.controller();
     let grab = c.ray_origin() + c.ray_dir() * hit.distance;
-    let expected =
-        interact::horizontal_radius(grab, axis) / interact::horizontal_radius(hit.position, axis);
-    let scale = s.sim().tree(id).unwrap().2.0;
-    assert!(
-        expected > 1.2,
-        "the drag should scale up noticeably (ratio {expected})"
-    );
-    assert!(
-        (scale - expected).abs() < 1e-4,
-        "scale {scale}, expected {expected}"
-    );
+    let expected = interact::horizontal_radius(grab, axis) / interact::horizontal_radius(hit.position, axis);
+    let scale = s.sim().tree(id).unwrap().2 .0;
+    assert!(expected > 1.2, "the drag should scale up noticeably (ratio {expected})");
+    assert!((scale - expected).abs() < 1e-4, "scale {scale}, expected {expected}");
     s.release(Button::Trigger);
-    assert_eq!(
-        s.sim().res.log.entries.last().unwrap().what,
-        Happening::Scaled { tree: id, scale }
-    );
-    assert!(
-        lowest_point(&s, id).distance(low0) < 1e-4,
-        "scaling keeps the lowest point in place"
-    );
+    assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Scaled { tree: id, scale });
+    assert!(lowest_point(&s, id).distance(low0) < 1e-4, "scaling keeps the lowest point in place");
     let sel = s.sim().selection();
-    assert!(
-        (sel.half_extents - (model.bounds_max - model.bounds_min) * 0.5 * scale).length() < 1e-4
-    );
+    assert!((sel.half_extents - (model.bounds_max - model.bounds_min) * 0.5 * scale).length() < 1e-4);
 
     // Grab the front-right vertical edge and swing it sideways.
     let edge = interact::handle_points(sel.center, sel.half_extents, sel.yaw)[11].1;
     s.point_at(edge);
     let hit = s.sim().hit_marker();
     assert_eq!(hit.target, HitTarget::Handle(Handle::Edge(3)));
-    s.hold(Button::Trigger)
-        .point_at(edge + Vec3::new(-2.0, 0.0, 0.0));
+    s.hold(Button::Trigger).point_at(edge + Vec3::new(-2.0, 0.0, 0.0));
     let c = s.controller();
     let grab = c.ray_origin() + c.ray_dir() * hit.distance;
-    let expected = interact::edge_yaw(
-        0.0,
-        interact::angle_around(hit.position, axis),
-        interact::angle_around(grab, axis),
-    );
+    let expected = interact::edge_yaw(0.0, interact::angle_around(hit.position, axis), interact::angle_around(grab, axis));
     let yaw = s.sim().tree(id).unwrap().1.yaw;
-    assert!(
-        expected < -0.3,
-        "a swing to the left turns the tree clockwise (by {expected})"
-    );
-    assert!(
-        (yaw - expected).abs() < 1e-4,
-        "yaw {yaw}, expected {expected}"
-    );
+    assert!(expected < -0.3, "a swing to the left turns the tree clockwise (by {expected})");
+    assert!((yaw - expected).abs() < 1e-4, "yaw {yaw}, expected {expected}");
     s.release(Button::Trigger);
-    assert_eq!(
-        s.sim().res.log.entries.last().unwrap().what,
-        Happening::Rotated { tree: id, yaw }
-    );
-    assert_eq!(
-        s.sim().tree(id).unwrap().2.0,
-        scale,
-        "rotating does not scale"
-    );
-    assert!(
-        (s.sim().selection().yaw - yaw).abs() < 1e-6,
-        "the box turns with the tree"
-    );
+    assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Rotated { tree: id, yaw });
+    assert_eq!(s.sim().tree(id).unwrap().2 .0, scale, "rotating does not scale");
+    assert!((s.sim().selection().yaw - yaw).abs() < 1e-6, "the box turns with the tree");
 
     // A click on bare ground clears the selection (in ray-casting mode it plants there too).
     let bare = ground(&s, 5.0, -1.0);
-    s.switch_mode(Mode::Manual)
-        .point_at(bare)
-        .press(Button::Trigger);
+    s.switch_mode(Mode::Manual).point_at(bare).press(Button::Trigger);
     assert_eq!(s.sim().selection().tree, None);
-    assert_eq!(
-        s.sim().res.log.entries.last().unwrap().what,
-        Happening::Deselected
-    );
+    assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Deselected);
 }
 
 #[test]
 fn touchpad_moves_along_the_ray_and_turns() {
     let mut s = study();
     let id = plant(&mut s, SHRUB, 0.0, 0.0);
-    s.point_at(ground(&s, 0.0, 0.0) + Vec3::Y * 0.8)
-        .press(Button::Trigger);
+    s.point_at(ground(&s, 0.0, 0.0) + Vec3::Y * 0.8).press(Button::Trigger);
     assert_eq!(s.sim().selection().tree, Some(id));
     let cfg = s.sim().res.config.clone();
     let dt = s.sim().res.dt;
@@ -276,21 +197,10 @@ fn touchpad_moves_along_the_ray_and_turns() {
     let end = s.sim().tree(id).unwrap().1.translation;
     let moved = Vec3::new(end.x - start.x, 0.0, end.z - start.z);
     let want = cfg.touchpad_move_rate * dt * 60.0;
-    assert!(
-        (moved - flat * want).length() < 1e-3,
-        "moved {moved}, expected {}",
-        flat * want
-    );
-    assert!(
-        (end.y - ground_y(&s, end.x, end.z)).abs() < 1e-3,
-        "stands on the ground as before"
-    );
-    assert!(s.sim().tree(id).unwrap().3.0);
-    assert_eq!(
-        kinds_since(&s, log_start),
-        ["moved"],
-        "one Moved when the gesture ends"
-    );
+    assert!((moved - flat * want).length() < 1e-3, "moved {moved}, expected {}", flat * want);
+    assert!((end.y - ground_y(&s, end.x, end.z)).abs() < 1e-3, "stands on the ground as before");
+    assert!(s.sim().tree(id).unwrap().3 .0);
+    assert_eq!(kinds_since(&s, log_start), ["moved"], "one Moved when the gesture ends");
 
     // Left turns counter-clockwise, right clockwise, at the configured rate.
     s.touchpad(-1.0, 0.0, 30);
@@ -299,20 +209,12 @@ fn touchpad_moves_along_the_ray_and_turns() {
     assert!((yaw - want).abs() < 1e-4, "yaw {yaw}, expected {want}");
     s.touchpad(0.5, 0.0, 30);
     let yaw2 = s.sim().tree(id).unwrap().1.yaw;
-    assert!(
-        (yaw2 - want * 0.5).abs() < 1e-4,
-        "yaw {yaw2}, expected {}",
-        want * 0.5
-    );
+    assert!((yaw2 - want * 0.5).abs() < 1e-4, "yaw {yaw2}, expected {}", want * 0.5);
     assert_eq!(kinds_since(&s, log_start), ["moved", "rotated", "rotated"]);
 
     // Inside the dead zone nothing happens.
     let before = s.sim().tree(id).unwrap().1;
-    s.touchpad(
-        cfg.touchpad_dead_zone * 0.9,
-        -cfg.touchpad_dead_zone * 0.9,
-        30,
-    );
+    s.touchpad(cfg.touchpad_dead_zone * 0.9, -cfg.touchpad_dead_zone * 0.9, 30);
     assert_eq!(s.sim().tree(id).unwrap().1, before);
 
     // A floating tree (from the menu in manual mode) moves along the full ray direction.
@@ -325,55 +227,32 @@ fn touchpad_moves_along_the_ray_and_turns() {
     s.touchpad(0.0, -1.0, 30);
     let p1 = s.sim().tree(new[0]).unwrap().1.translation;
     let want = -dir * cfg.touchpad_move_rate * dt * 30.0;
-    assert!(
-        (p1 - p0 - want).length() < 1e-4,
-        "moved {}, expected {want}",
-        p1 - p0
-    );
+    assert!((p1 - p0 - want).length() < 1e-4, "moved {}, expected {want}", p1 - p0);
 }
 
 #[test]
 fn drag_and_release_while_white_snaps_the_lowest_point_onto_the_plane() {
     let mut s = study();
     let id = plant(&mut s, SHRUB, 1.0, -1.0);
-    s.point_at(ground(&s, 1.0, -1.0) + Vec3::Y * 0.8)
-        .hold(Button::Trigger);
+    s.point_at(ground(&s, 1.0, -1.0) + Vec3::Y * 0.8).hold(Button::Trigger);
     // Drag it sideways and up by 0.2 m: the tree follows the ray and floats.
     shift_controller(&mut s, Vec3::new(-1.5, 0.2, 0.0));
     let (_, t, _, grounded) = s.sim().tree(id).unwrap();
-    assert!(
-        (t.translation.x - -0.5).abs() < 1e-4,
-        "follows the ray: x = {}",
-        t.translation.x
-    );
+    assert!((t.translation.x - -0.5).abs() < 1e-4, "follows the ray: x = {}", t.translation.x);
     assert!(!grounded.0, "not grounded while dragged");
     let ball = s.sim().anchor_ball();
     let low = lowest_point(&s, id);
-    assert!(
-        ball.visible && ball.armed,
-        "white ball at distance {}",
-        ball.distance
-    );
-    assert!(
-        (ball.position - ground(&s, low.x, low.z)).length() < 1e-4,
-        "the ball sits on the plane under the tree"
-    );
+    assert!(ball.visible && ball.armed, "white ball at distance {}", ball.distance);
+    assert!((ball.position - ground(&s, low.x, low.z)).length() < 1e-4, "the ball sits on the plane under the tree");
     assert!((ball.distance - (low.y - ball.position.y)).abs() < 1e-5);
     assert!(ball.distance > 0.1, "the tree is clearly above the plane");
 
     let log_start = s.sim().res.log.entries.len();
     s.release(Button::Trigger);
     let low = lowest_point(&s, id);
-    assert!(
-        (low.y - ground_y(&s, low.x, low.z)).abs() < 1e-3,
-        "lowest point {} on the plane",
-        low.y
-    );
-    assert!(s.sim().tree(id).unwrap().3.0, "grounded after the snap");
-    assert!(
-        !s.sim().anchor_ball().visible,
-        "the ball hides after the release"
-    );
+    assert!((low.y - ground_y(&s, low.x, low.z)).abs() < 1e-3, "lowest point {} on the plane", low.y);
+    assert!(s.sim().tree(id).unwrap().3 .0, "grounded after the snap");
+    assert!(!s.sim().anchor_ball().visible, "the ball hides after the release");
     assert_eq!(kinds_since(&s, log_start), ["snapped", "moved"]);
     assert!(s.sim().res.interaction.drag.is_none());
 }
@@ -382,24 +261,15 @@ fn drag_and_release_while_white_snaps_the_lowest_point_onto_the_plane() {
 fn drag_and_release_while_green_leaves_the_tree_where_it_is() {
     let mut s = study();
     let id = plant(&mut s, SHRUB, 1.0, -1.0);
-    s.point_at(ground(&s, 1.0, -1.0) + Vec3::Y * 0.8)
-        .hold(Button::Trigger);
+    s.point_at(ground(&s, 1.0, -1.0) + Vec3::Y * 0.8).hold(Button::Trigger);
     shift_controller(&mut s, Vec3::new(0.0, 0.6, 0.0));
     let ball = s.sim().anchor_ball();
-    assert!(
-        ball.visible && !ball.armed,
-        "green ball at distance {}",
-        ball.distance
-    );
+    assert!(ball.visible && !ball.armed, "green ball at distance {}", ball.distance);
     let held = s.sim().tree(id).unwrap().1;
     let log_start = s.sim().res.log.entries.len();
     s.release(Button::Trigger);
-    assert_eq!(
-        s.sim().tree(id).unwrap().1,
-        held,
-        "not moved by the release"
-    );
-    assert!(!s.sim().tree(id).unwrap().3.0, "not grounded");
+    assert_eq!(s.sim().tree(id).unwrap().1, held, "not moved by the release");
+    assert!(!s.sim().tree(id).unwrap().3 .0, "not grounded");
     assert_eq!(kinds_since(&s, log_start), ["released_green", "moved"]);
 }
 
@@ -408,23 +278,16 @@ fn over_a_hole_the_ball_hides_and_nothing_snaps() {
     let mut s = study();
     // 2 m south of the hole at (-2.0, 4.5), radius 0.8; then drag the tree over its centre.
     let id = plant(&mut s, SHRUB, -2.0, 2.5);
-    s.point_at(ground(&s, -2.0, 2.5) + Vec3::Y * 0.8)
-        .hold(Button::Trigger);
+    s.point_at(ground(&s, -2.0, 2.5) + Vec3::Y * 0.8).hold(Button::Trigger);
     assert!(s.sim().anchor_ball().visible);
     shift_controller(&mut s, Vec3::new(0.0, 0.0, 2.0));
     let t = s.sim().tree(id).unwrap().1.translation;
-    assert!(
-        (t.x - -2.0).abs() < 1e-4 && (t.z - 4.5).abs() < 1e-4,
-        "over the hole: {t}"
-    );
-    assert!(
-        !s.sim().anchor_ball().visible,
-        "no plane below: the ball hides"
-    );
+    assert!((t.x - -2.0).abs() < 1e-4 && (t.z - 4.5).abs() < 1e-4, "over the hole: {t}");
+    assert!(!s.sim().anchor_ball().visible, "no plane below: the ball hides");
     let log_start = s.sim().res.log.entries.len();
     s.release(Button::Trigger);
     assert_eq!(s.sim().tree(id).unwrap().1.translation, t);
-    assert!(!s.sim().tree(id).unwrap().3.0);
+    assert!(!s.sim().tree(id).unwrap().3 .0);
     assert_eq!(kinds_since(&s, log_start), ["released_green", "moved"]);
 }
 
@@ -432,8 +295,7 @@ fn over_a_hole_the_ball_hides_and_nothing_snaps() {
 fn the_anchor_ball_turns_white_exactly_below_the_threshold() {
     let mut s = study();
     let id = plant(&mut s, SHRUB, 2.0, 0.0);
-    s.point_at(ground(&s, 2.0, 0.0) + Vec3::Y * 0.8)
-        .hold(Button::Trigger);
+    s.point_at(ground(&s, 2.0, 0.0) + Vec3::Y * 0.8).hold(Button::Trigger);
     let d0 = s.sim().anchor_ball().distance;
     let threshold = s.sim().res.config.snap_threshold;
     let eps = 1.0e-3;
@@ -442,20 +304,12 @@ fn the_anchor_ball_turns_white_exactly_below_the_threshold() {
     // Raising the controller raises the tree by the same amount, straight up.
     shift_controller(&mut s, Vec3::Y * (threshold + eps - d0));
     let ball = s.sim().anchor_ball();
-    assert!(
-        (ball.distance - (threshold + eps)).abs() < 1e-4,
-        "distance {}",
-        ball.distance
-    );
+    assert!((ball.distance - (threshold + eps)).abs() < 1e-4, "distance {}", ball.distance);
     assert!(ball.visible && !ball.armed, "green at threshold + ε");
 
     shift_controller(&mut s, Vec3::Y * (-2.0 * eps));
     let ball = s.sim().anchor_ball();
-    assert!(
-        (ball.distance - (threshold - eps)).abs() < 1e-4,
-        "distance {}",
-        ball.distance
-    );
+    assert!((ball.distance - (threshold - eps)).abs() < 1e-4, "distance {}", ball.distance);
     assert!(ball.visible && ball.armed, "white at threshold − ε");
     assert_eq!(kinds_since(&s, log_start), ["snap_disarmed", "snap_armed"]);
 
@@ -466,10 +320,7 @@ fn the_anchor_ball_turns_white_exactly_below_the_threshold() {
     s.sim_mut().res.config.snap_threshold = threshold;
     s.wait(1);
     s.release(Button::Trigger);
-    assert!(
-        s.sim().tree(id).unwrap().3.0,
-        "released while white: snapped"
-    );
+    assert!(s.sim().tree(id).unwrap().3 .0, "released while white: snapped");
 }
 
 #[test]
@@ -482,11 +333,7 @@ fn manual_mode_ignores_trigger_and_bumper_on_empty_ground() {
     assert!(matches!(s.sim().hit_marker().target, HitTarget::Plane(_)));
     s.press(Button::Trigger).press(Button::Bumper);
     assert_eq!(s.sim().tree_ids(), before);
-    assert!(
-        kinds_since(&s, log_start).is_empty(),
-        "nothing logged: {:?}",
-        kinds_since(&s, log_start)
-    );
+    assert!(kinds_since(&s, log_start).is_empty(), "nothing logged: {:?}", kinds_since(&s, log_start));
     // The same press in ray-casting mode plants.
     s.switch_mode(Mode::RayCasting).press(Button::Trigger);
     assert_eq!(new_trees(&s, &before).len(), 1);
@@ -502,40 +349,20 @@ fn manual_mode_needs_the_menu_for_every_tree() {
 
     s.choose_model(SHRUB);
     let new = new_trees(&s, &before);
-    assert_eq!(
-        new.len(),
-        1,
-        "choosing from the opened menu spawns one tree"
-    );
+    assert_eq!(new.len(), 1, "choosing from the opened menu spawns one tree");
     let (tree, t, _, grounded) = s.sim().tree(new[0]).unwrap();
     assert_eq!(tree.model, SHRUB);
     assert!(!grounded.0, "a spawned tree floats until it is snapped");
     let offset = t.translation - head.position;
-    assert!(
-        (Vec3::new(offset.x, 0.0, offset.z).length() - 1.5).abs() < 1e-4,
-        "1.5 m in front: {offset}"
-    );
-    assert!(
-        Vec3::new(offset.x, 0.0, offset.z)
-            .normalize()
-            .dot(interact::horizontal_forward(&head))
-            > 0.9999
-    );
-    assert!(
-        (t.translation.y - (head.position.y - 0.5)).abs() < 1e-5,
-        "0.5 m below the head"
-    );
-    assert_eq!(
-        s.sim().selection().tree,
-        Some(new[0]),
-        "the new tree is selected"
-    );
+    assert!((Vec3::new(offset.x, 0.0, offset.z).length() - 1.5).abs() < 1e-4, "1.5 m in front: {offset}");
+    assert!(Vec3::new(offset.x, 0.0, offset.z).normalize().dot(interact::horizontal_forward(&head)) > 0.9999);
+    assert!((t.translation.y - (head.position.y - 0.5)).abs() < 1e-5, "0.5 m below the head");
+    assert_eq!(s.sim().selection().tree, Some(new[0]), "the new tree is selected");
     assert!(!s.sim().res.menu.open, "choosing closes the menu");
 
     // Choosing again without reopening the menu spawns nothing.
     let log_start = s.sim().res.log.entries.len();
-    s.push(grove_systems::input::InputEvent::ChooseModel { model: ModelId(1) })
-        .wait(2);
+    s.push(grove_systems::input::InputEvent::ChooseModel { model: ModelId(1) }).wait(2);
     assert_eq!(new_trees(&s, &before).len(), 1);
     assert_eq!(kinds_since(&s, log_start), ["model_chosen"]);
 
@@ -549,20 +376,13 @@ fn manual_mode_needs_the_menu_for_every_tree() {
 fn full_session(s: &mut Script) {
     s.start_task("ray-casting-7");
     let id = plant(s, SHRUB, 0.0, -1.0);
-    s.point_at(ground(s, 0.0, -1.0) + Vec3::Y * 0.8)
-        .press(Button::Trigger);
+    s.point_at(ground(s, 0.0, -1.0) + Vec3::Y * 0.8).press(Button::Trigger);
     let sel = s.sim().selection();
     let corner = interact::handle_points(sel.center, sel.half_extents, sel.yaw)[7].1;
-    s.point_at(corner)
-        .hold(Button::Trigger)
-        .point_at(corner + Vec3::X)
-        .release(Button::Trigger);
+    s.point_at(corner).hold(Button::Trigger).point_at(corner + Vec3::X).release(Button::Trigger);
     let sel = s.sim().selection();
     let edge = interact::handle_points(sel.center, sel.half_extents, sel.yaw)[11].1;
-    s.point_at(edge)
-        .hold(Button::Trigger)
-        .point_at(edge - Vec3::X)
-        .release(Button::Trigger);
+    s.point_at(edge).hold(Button::Trigger).point_at(edge - Vec3::X).release(Button::Trigger);
     s.touchpad(0.0, 0.6, 20).touchpad(0.7, 0.0, 20);
     let at = s.sim().tree(id).unwrap().1.translation;
     s.point_at(at + Vec3::Y * 0.8).hold(Button::Trigger);
@@ -570,8 +390,7 @@ fn full_session(s: &mut Script) {
     shift_controller(s, Vec3::new(0.0, -0.45, 0.0));
     s.release(Button::Trigger);
     let other = plant(s, ModelId(5), -6.0, -3.0);
-    s.point_at(s.sim().tree(other).unwrap().1.translation + Vec3::Y * 1.0)
-        .press(Button::Bumper);
+    s.point_at(s.sim().tree(other).unwrap().1.translation + Vec3::Y * 1.0).press(Button::Bumper);
     s.switch_mode(Mode::Manual).choose_model(ModelId(7)).wait(3);
     shift_controller(s, Vec3::new(0.0, 0.0, 0.0));
     s.end_task();
@@ -605,37 +424,19 @@ fn the_event_log_records_each_action_with_its_tick() {
         "selected",
         "task_ended",
     ];
-    let filtered: Vec<&str> = kinds
-        .iter()
-        .copied()
-        .filter(|k| !k.starts_with("target_"))
-        .collect();
+    let filtered: Vec<&str> = kinds.iter().copied().filter(|k| !k.starts_with("target_")).collect();
     assert_eq!(filtered, expected);
     // Each button action is logged in the tick its event applied at.
     let log = &s.sim().res.log.entries;
     let downs: Vec<u64> = s
         .recorded()
         .iter()
-        .filter(|e| {
-            matches!(
-                e.event,
-                grove_systems::input::InputEvent::ButtonDown {
-                    button: Button::Bumper
-                }
-            )
-        })
+        .filter(|e| matches!(e.event, grove_systems::input::InputEvent::ButtonDown { button: Button::Bumper }))
         .map(|e| e.tick)
         .collect();
-    let removed: Vec<u64> = log
-        .iter()
-        .filter(|e| e.what.kind() == "removed")
-        .map(|e| e.tick)
-        .collect();
+    let removed: Vec<u64> = log.iter().filter(|e| e.what.kind() == "removed").map(|e| e.tick).collect();
     assert_eq!(removed, downs);
-    assert!(
-        log.windows(2).all(|w| w[0].tick <= w[1].tick),
-        "ticks never go back"
-    );
+    assert!(log.windows(2).all(|w| w[0].tick <= w[1].tick), "ticks never go back");
     let task = s.sim().res.task.as_ref().unwrap();
     assert_eq!(task.errors.removals, 1);
 }

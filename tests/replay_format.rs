@@ -10,7 +10,7 @@ use glam::{Quat, Vec3};
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::Pose;
 use grove_systems::input::{Button, InputEvent, StampedEvent};
-use grove_systems::replay::{Header, Line, decode_line, encode_line, record_events};
+use grove_systems::replay::{decode_line, encode_line, record_events, Header, Line};
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 
@@ -22,67 +22,24 @@ fn session() -> (Header, Vec<StampedEvent>) {
     header.synthetic = true;
     let mut events = Vec::new();
     let mut at = |tick: u64, event: InputEvent| events.push(StampedEvent { tick, event });
-    at(
-        0,
-        InputEvent::StartTask {
-            task: "ray-casting-7".into(),
-        },
-    );
+    at(0, InputEvent::StartTask { task: "ray-casting-7".into() });
     for i in 0..200u64 {
         let a = i as f32 * 0.01;
-        let pose = Pose {
-            position: Vec3::new(0.25, 1.35, 5.7),
-            rotation: Quat::from_rotation_y(a - 1.0) * Quat::from_rotation_x(-0.4),
-        };
+        let pose = Pose { position: Vec3::new(0.25, 1.35, 5.7), rotation: Quat::from_rotation_y(a - 1.0) * Quat::from_rotation_x(-0.4) };
         at(i + 1, InputEvent::ControllerPose { pose });
         if i % 50 == 0 {
-            at(
-                i + 1,
-                InputEvent::HeadPose {
-                    pose: Pose::looking_at(Vec3::new(a, 1.7, 6.0), Vec3::new(0.0, 0.5, -4.0)),
-                },
-            );
+            at(i + 1, InputEvent::HeadPose { pose: Pose::looking_at(Vec3::new(a, 1.7, 6.0), Vec3::new(0.0, 0.5, -4.0)) });
         }
     }
-    at(
-        20,
-        InputEvent::ButtonDown {
-            button: Button::Trigger,
-        },
-    );
-    at(
-        26,
-        InputEvent::ButtonUp {
-            button: Button::Trigger,
-        },
-    );
-    at(
-        40,
-        InputEvent::TouchpadAxes {
-            axes: glam::Vec2::new(0.0, 0.8),
-        },
-    );
-    at(
-        70,
-        InputEvent::TouchpadAxes {
-            axes: glam::Vec2::ZERO,
-        },
-    );
+    at(20, InputEvent::ButtonDown { button: Button::Trigger });
+    at(26, InputEvent::ButtonUp { button: Button::Trigger });
+    at(40, InputEvent::TouchpadAxes { axes: glam::Vec2::new(0.0, 0.8) });
+    at(70, InputEvent::TouchpadAxes { axes: glam::Vec2::ZERO });
     at(90, InputEvent::OpenMenu);
     at(120, InputEvent::ChooseModel { model: ModelId(5) });
     at(150, InputEvent::SwitchMode { mode: Mode::Manual });
-    at(
-        160,
-        InputEvent::ButtonDown {
-            button: Button::Menu,
-        },
-    );
-    at(
-        162,
-        InputEvent::ButtonUp {
-            button: Button::Menu,
-        },
-    );
+    at(160, InputEvent::ButtonDown { button: Button::Menu });
+    at(162, InputEvent::ButtonUp { button: Button::Menu });
     at(170, InputEvent::CloseMenu);
     at(230, InputEvent::EndTask);
     events.sort_by_key(|e| e.tick);
@@ -97,11 +54,7 @@ fn record(path: &Path) -> Vec<u8> {
 }
 
 fn lines_of(bytes: &[u8]) -> Vec<String> {
-    String::from_utf8(bytes.to_vec())
-        .unwrap()
-        .lines()
-        .map(str::to_string)
-        .collect()
+    String::from_utf8(bytes.to_vec()).unwrap().lines().map(str::to_string).collect()
 }
 
 fn write_lines(path: &Path, lines: &[String]) {
@@ -112,8 +65,7 @@ fn write_lines(path: &Path, lines: &[String]) {
 }
 
 fn json(out: &std::process::Output) -> serde_json::Value {
-    serde_json::from_slice(&out.stdout)
-        .unwrap_or_else(|e| panic!("bad JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)))
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("bad JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)))
 }
 
 #[test]
@@ -122,12 +74,7 @@ fn a_recording_verifies_and_reports_every_field() {
     let path = dir.path().join("s.jsonl");
     record(&path);
     let out = grove_with(&["replay", "--json"], &path);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     let v = json(&out);
     assert_eq!(v["verified"], true);
     assert_eq!(v["complete"], true);
@@ -167,12 +114,7 @@ fn a_recording_cut_mid_write_replays_as_incomplete() {
     std::fs::write(&path, &bytes[..cut]).unwrap();
     let out = grove_with(&["replay", "--json"], &path);
     let v = json(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(v["complete"], false);
     assert_eq!(v["verified"], true);
     assert!(v["ticks"].as_u64().unwrap() > 100 && v["ticks"].as_u64().unwrap() < 300);
@@ -184,13 +126,8 @@ fn a_changed_pose_that_still_parses_diverges_at_the_next_checkpoint() {
     let path = dir.path().join("s.jsonl");
     let mut lines = lines_of(&record(&path));
     // Change the last controller pose (tick 200) and give the line a valid checksum.
-    let i = lines
-        .iter()
-        .position(|l| l.contains("\"tick\":200,") && l.contains("controller_pose"))
-        .unwrap();
-    let Line::Event(mut ev) = decode_line(&lines[i]).unwrap() else {
-        panic!("not an event")
-    };
+    let i = lines.iter().position(|l| l.contains("\"tick\":200,") && l.contains("controller_pose")).unwrap();
+    let Line::Event(mut ev) = decode_line(&lines[i]).unwrap() else { panic!("not an event") };
     if let InputEvent::ControllerPose { pose } = &mut ev.event {
         pose.position.x += 0.001;
     }
@@ -204,24 +141,11 @@ fn a_changed_pose_that_still_parses_diverges_at_the_next_checkpoint() {
     assert_eq!(d["tick"], 240, "the next checkpoint after tick 200");
     assert_ne!(d["expected_hash"], d["actual_hash"]);
     let differing = d["differing"].as_array().unwrap();
-    let controller: Vec<_> = differing
-        .iter()
-        .filter(|x| x["component"] == "Controller")
-        .collect();
-    assert_eq!(
-        controller.len(),
-        1,
-        "exactly the controller entity's Controller differs: {differing:?}"
-    );
+    let controller: Vec<_> = differing.iter().filter(|x| x["component"] == "Controller").collect();
+    assert_eq!(controller.len(), 1, "exactly the controller entity's Controller differs: {differing:?}");
     // Every pair names a component its entity has: no tree is blamed for the controller.
-    assert!(
-        differing.iter().all(|x| x["component"] != "Tree"),
-        "{differing:?}"
-    );
-    assert!(
-        differing.iter().all(|x| x["entity"] != "?"),
-        "{differing:?}"
-    );
+    assert!(differing.iter().all(|x| x["component"] != "Tree"), "{differing:?}");
+    assert!(differing.iter().all(|x| x["entity"] != "?"), "{differing:?}");
 }
 
 /// Writes a mutated copy of the recording and checks the one-line error and exit code 2.
@@ -234,22 +158,15 @@ fn bad(name: &str, mutate: impl FnOnce(&mut Vec<String>), needle: &str) {
     let out = grove_with(&["replay"], &path);
     assert_one_line_error(&out, 2, needle);
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        stderr.contains(&format!("{name}.jsonl")),
-        "the error names the file: {stderr}"
-    );
+    assert!(stderr.contains(&format!("{name}.jsonl")), "the error names the file: {stderr}");
 }
 
 #[test]
 fn a_truncated_line_is_an_error_naming_the_line() {
-    bad(
-        "truncated",
-        |l| {
-            let n = l[10].len() / 2;
-            l[10].truncate(n);
-        },
-        ":11:",
-    );
+    bad("truncated", |l| {
+        let n = l[10].len() / 2;
+        l[10].truncate(n);
+    }, ":11:");
 }
 
 #[test]
@@ -257,10 +174,7 @@ fn a_flipped_byte_is_caught_even_inside_a_number() {
     bad(
         "flipped",
         |l| {
-            let i = l
-                .iter()
-                .position(|x| x.contains("\"tick\":50,") && x.contains("controller_pose"))
-                .unwrap();
+            let i = l.iter().position(|x| x.contains("\"tick\":50,") && x.contains("controller_pose")).unwrap();
             let pos = l[i].find("\"position\":[").unwrap() + 13;
             let mut bytes = l[i].clone().into_bytes();
             bytes[pos] = if bytes[pos] == b'3' { b'4' } else { b'3' };
@@ -280,56 +194,20 @@ fn replace_event(lines: &mut [String], find: &str, f: impl FnOnce(&str) -> Strin
 
 #[test]
 fn an_unknown_event_kind_is_an_error() {
-    bad(
-        "unknown",
-        |l| replace_event(l, "open_menu", |b| b.replace("open_menu", "open_portal")),
-        "unknown variant",
-    );
+    bad("unknown", |l| replace_event(l, "open_menu", |b| b.replace("open_menu", "open_portal")), "unknown variant");
 }
 
 #[test]
 fn a_future_format_version_is_an_error() {
-    bad(
-        "future",
-        |l| {
-            replace_event(l, "\"header\"", |b| {
-                b.replace("\"format_version\":1", "\"format_version\":99")
-            })
-        },
-        "format version 99",
-    );
+    bad("future", |l| replace_event(l, "\"header\"", |b| b.replace("\"format_version\":1", "\"format_version\":99")), "format version 99");
 }
 
 #[test]
 fn nan_and_infinite_poses_are_errors() {
-    bad(
-        "nan",
-        |l| {
-            replace_event(l, "\"tick\":60,\"ms\"", |b| {
-                b.replacen("\"position\":[0.25", "\"position\":[NaN", 1)
-            })
-        },
-        "expected value",
-    );
-    bad(
-        "huge",
-        |l| {
-            replace_event(l, "\"tick\":60,\"ms\"", |b| {
-                b.replacen("\"position\":[0.25", "\"position\":[1e999", 1)
-            })
-        },
-        "out of range",
-    );
+    bad("nan", |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[NaN", 1)), "expected value");
+    bad("huge", |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[1e999", 1)), "out of range");
     // Finite as a JSON number, but infinite as an f32.
-    bad(
-        "inf",
-        |l| {
-            replace_event(l, "\"tick\":60,\"ms\"", |b| {
-                b.replacen("\"position\":[0.25", "\"position\":[1e39", 1)
-            })
-        },
-        "NaN or infinite",
-    );
+    bad("inf", |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[1e39", 1)), "NaN or infinite");
 }
 
 #[test]
@@ -339,13 +217,9 @@ fn ticks_out_of_order_are_an_error() {
 
 #[test]
 fn a_missing_header_is_an_error() {
-    bad(
-        "noheader",
-        |l| {
-            l.remove(0);
-        },
-        "missing header",
-    );
+    bad("noheader", |l| {
+        l.remove(0);
+    }, "missing header");
 }
 
 #[test]
@@ -355,11 +229,7 @@ fn an_empty_file_and_a_directory_are_errors() {
     std::fs::write(&empty, b"").unwrap();
     assert_one_line_error(&grove_with(&["replay"], &empty), 2, "empty file");
     assert_one_line_error(&grove_with(&["replay"], dir.path()), 2, "is a directory");
-    assert_one_line_error(
-        &grove_with(&["replay"], &dir.path().join("missing.jsonl")),
-        2,
-        "no such file",
-    );
+    assert_one_line_error(&grove_with(&["replay"], &dir.path().join("missing.jsonl")), 2, "no such file");
 }
 
 #[test]
@@ -392,18 +262,9 @@ fn the_version_1_fixture_is_readable() {
     let (header, events) = grove_systems::replay::read_events(&path).unwrap();
     assert_eq!(header.format_version, 1);
     assert_eq!(header.participant.as_deref(), Some("T01"));
-    assert_eq!(
-        events,
-        session().1,
-        "the fixture holds the session's events"
-    );
+    assert_eq!(events, session().1, "the fixture holds the session's events");
     // It must also replay without an input error (exit 0 or 1, never 2): a later simulation
     // change may make its checkpoints diverge, but the file stays readable.
     let out = grove_with(&["replay", "--json"], &path);
-    assert_ne!(
-        out.status.code(),
-        Some(2),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ne!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
 }

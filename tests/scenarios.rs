@@ -11,13 +11,13 @@ use std::path::{Path, PathBuf};
 
 use common::root;
 use glam::Vec3;
-use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::Button;
-use grove_systems::replay::{Header, ReplayOptions, record_events, replay_file};
+use grove_systems::replay::{record_events, replay_file, Header, ReplayOptions};
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
+use grove_systems::Sim;
 
 fn study_script(seed: u64) -> Script {
     let scene = Scene::builtin("study").unwrap();
@@ -29,35 +29,18 @@ fn scenarios() -> Vec<(&'static str, Script)> {
     let mut out = Vec::new();
 
     let mut s = study_script(1);
-    s.choose_model(ModelId(2))
-        .point_at(Vec3::new(1.0, 0.0, -3.0))
-        .press(Button::Trigger);
-    s.choose_model(ModelId(5))
-        .point_at(Vec3::new(-5.0, 0.0, -4.0))
-        .press(Button::Trigger)
-        .wait(30);
+    s.choose_model(ModelId(2)).point_at(Vec3::new(1.0, 0.0, -3.0)).press(Button::Trigger);
+    s.choose_model(ModelId(5)).point_at(Vec3::new(-5.0, 0.0, -4.0)).press(Button::Trigger).wait(30);
     out.push(("plant-two", s));
 
     let mut s = study_script(2);
-    s.point_at(Vec3::new(2.0, 0.0, -2.0))
-        .press(Button::Trigger)
-        .wait(10);
-    s.point_at(Vec3::new(2.0, 2.0, -2.0))
-        .press(Button::Bumper)
-        .wait(10);
+    s.point_at(Vec3::new(2.0, 0.0, -2.0)).press(Button::Trigger).wait(10);
+    s.point_at(Vec3::new(2.0, 2.0, -2.0)).press(Button::Bumper).wait(10);
     out.push(("plant-remove", s));
 
     let mut s = study_script(3);
-    s.switch_mode(Mode::Manual)
-        .choose_model(ModelId(4))
-        .wait(10);
-    let spawned = s
-        .sim()
-        .world
-        .query::<&grove_systems::components::Transform>()
-        .iter()
-        .map(|t| t.translation)
-        .last();
+    s.switch_mode(Mode::Manual).choose_model(ModelId(4)).wait(10);
+    let spawned = s.sim().world.query::<&grove_systems::components::Transform>().iter().map(|t| t.translation).last();
     if let Some(p) = spawned {
         s.point_at(p + Vec3::Y * 2.0).hold(Button::Trigger);
         s.touchpad(0.0, 1.0, 90);
@@ -70,11 +53,7 @@ fn scenarios() -> Vec<(&'static str, Script)> {
     out.push(("manual-drag", s));
 
     let mut s = study_script(4);
-    s.start_task("ray-casting-7")
-        .point_at(Vec3::new(-7.0, 0.0, -1.5))
-        .press(Button::Trigger)
-        .wait(30)
-        .end_task();
+    s.start_task("ray-casting-7").point_at(Vec3::new(-7.0, 0.0, -1.5)).press(Button::Trigger).wait(30).end_task();
     out.push(("task-start", s));
     out
 }
@@ -87,14 +66,7 @@ fn record(name: &str, script: Script) -> Vec<u8> {
     let mut header = Header::new("study", sim.res.seed, scene.dt);
     header.participant = Some(format!("scenario:{name}"));
     header.synthetic = true;
-    record_events(
-        Vec::new(),
-        &header,
-        &events,
-        end,
-        serde_json::json!({ "scenario": name }),
-    )
-    .unwrap()
+    record_events(Vec::new(), &header, &events, end, serde_json::json!({ "scenario": name })).unwrap()
 }
 
 /// With `UPDATE_REPLAYS` set, rewrites the scenario files (each through a temporary file and a
@@ -119,16 +91,8 @@ fn scenario_recordings_match_their_scripts() {
     for (name, script) in scenarios() {
         let bytes = record(name, script);
         let path = dir.join(format!("{name}.jsonl"));
-        let committed = std::fs::read(&path).unwrap_or_else(|_| {
-            panic!(
-                "{} is missing; run UPDATE_REPLAYS=1 cargo test --test scenarios",
-                path.display()
-            )
-        });
-        assert!(
-            committed == bytes,
-            "{name}: the committed recording differs from its script; if the simulation changed on purpose, run UPDATE_REPLAYS=1 cargo test --test scenarios"
-        );
+        let committed = std::fs::read(&path).unwrap_or_else(|_| panic!("{} is missing; run UPDATE_REPLAYS=1 cargo test --test scenarios", path.display()));
+        assert!(committed == bytes, "{name}: the committed recording differs from its script; if the simulation changed on purpose, run UPDATE_REPLAYS=1 cargo test --test scenarios");
     }
 }
 
@@ -149,26 +113,12 @@ fn every_recording_under_replays_verifies() {
     let mut files = Vec::new();
     recordings(&root().join("replays"), &mut files);
     files.sort();
-    assert!(
-        files.len() >= 4,
-        "expected the committed recordings, found {}",
-        files.len()
-    );
+    assert!(files.len() >= 4, "expected the committed recordings, found {}", files.len());
     for f in &files {
         let o = replay_file(f, &ReplayOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-        assert!(
-            o.first_divergence.is_none(),
-            "{} diverged: {:?}",
-            f.display(),
-            o.first_divergence
-        );
+        assert!(o.first_divergence.is_none(), "{} diverged: {:?}", f.display(), o.first_divergence);
         assert!(o.complete, "{} is incomplete", f.display());
-        assert!(
-            o.checkpoints_checked >= 2,
-            "{} checked only {} checkpoints",
-            f.display(),
-            o.checkpoints_checked
-        );
+        assert!(o.checkpoints_checked >= 2, "{} checked only {} checkpoints", f.display(), o.checkpoints_checked);
     }
 }
 
@@ -187,13 +137,7 @@ fn scenarios_do_what_they_say() {
                 assert_eq!(log.count("planted"), 1, "{name}: one tree from the menu");
                 assert!(log.count("moved") >= 1, "{name}: the tree was dragged");
             }
-            "task-start" => assert!(
-                sim.res
-                    .task
-                    .as_ref()
-                    .is_some_and(|t| t.satisfied[0].is_some()),
-                "{name}: the first target is satisfied"
-            ),
+            "task-start" => assert!(sim.res.task.as_ref().is_some_and(|t| t.satisfied[0].is_some()), "{name}: the first target is satisfied"),
             _ => unreachable!(),
         }
     }

@@ -6,11 +6,7 @@ use common::{assert_one_line_error, grove, grove_with, root};
 
 fn sim_json(args: &[&str]) -> serde_json::Value {
     let out = grove(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
@@ -21,14 +17,7 @@ const PIN: &str = "tests/pinned/study-600.hash";
 
 #[test]
 fn the_study_hash_is_stable_and_pinned() {
-    let args = [
-        "sim",
-        "--scene",
-        "assets/scenes/study.ron",
-        "--ticks",
-        "600",
-        "--json",
-    ];
+    let args = ["sim", "--scene", "assets/scenes/study.ron", "--ticks", "600", "--json"];
     let a = sim_json(&args);
     let b = sim_json(&args);
     assert_eq!(a["hash"], b["hash"], "two runs give the same hash");
@@ -39,27 +28,13 @@ fn the_study_hash_is_stable_and_pinned() {
     if std::env::var_os("UPDATE_PINS").is_some() {
         std::fs::write(&pin, format!("{hash}\n")).unwrap();
     }
-    let pinned =
-        std::fs::read_to_string(&pin).expect("pinned hash file; create it with UPDATE_PINS=1");
-    assert_eq!(
-        hash,
-        pinned.trim(),
-        "the study hash changed; if intended, run UPDATE_PINS=1 cargo test --test sim_cli"
-    );
+    let pinned = std::fs::read_to_string(&pin).expect("pinned hash file; create it with UPDATE_PINS=1");
+    assert_eq!(hash, pinned.trim(), "the study hash changed; if intended, run UPDATE_PINS=1 cargo test --test sim_cli");
 }
 
 #[test]
 fn scattered_trees_run_and_are_counted() {
-    let v = sim_json(&[
-        "sim",
-        "--scene",
-        "assets/scenes/study.ron",
-        "--ticks",
-        "5",
-        "--trees",
-        "2000",
-        "--json",
-    ]);
+    let v = sim_json(&["sim", "--scene", "assets/scenes/study.ron", "--ticks", "5", "--trees", "2000", "--json"]);
     assert_eq!(v["entities"]["trees"], 2002);
     assert_eq!(v["ticks"], 5);
     assert!(v["wall_seconds"].as_f64().unwrap() >= 0.0);
@@ -67,24 +42,8 @@ fn scattered_trees_run_and_are_counted() {
 
 #[test]
 fn a_different_seed_changes_the_hash() {
-    let a = sim_json(&[
-        "sim",
-        "--scene",
-        "assets/scenes/study.ron",
-        "--ticks",
-        "10",
-        "--json",
-    ]);
-    let b = sim_json(&[
-        "sim",
-        "--scene",
-        "assets/scenes/study.ron",
-        "--ticks",
-        "10",
-        "--seed",
-        "1",
-        "--json",
-    ]);
+    let a = sim_json(&["sim", "--scene", "assets/scenes/study.ron", "--ticks", "10", "--json"]);
+    let b = sim_json(&["sim", "--scene", "assets/scenes/study.ron", "--ticks", "10", "--seed", "1", "--json"]);
     assert_ne!(a["hash"], b["hash"]);
 }
 
@@ -93,26 +52,17 @@ fn scene_check_summarises_the_study_scene() {
     let out = grove(&["scene", "check", "assets/scenes/study.ron"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        text.contains("plane 'ground'") && text.contains("plane 'terrace'"),
-        "{text}"
-    );
+    assert!(text.contains("plane 'ground'") && text.contains("plane 'terrace'"), "{text}");
 }
 
 fn broken(name: &str, text: &str, needle: &str) {
-    assert!(
-        text != study(),
-        "{name}: the mutation must change the scene"
-    );
+    assert!(text != study(), "{name}: the mutation must change the scene");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join(format!("{name}.ron"));
     std::fs::write(&path, text).unwrap();
     let out = grove_with(&["scene", "check"], &path);
     assert_one_line_error(&out, 2, needle);
-    assert!(
-        String::from_utf8_lossy(&out.stderr).contains(&format!("{name}.ron")),
-        "names the file"
-    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains(&format!("{name}.ron")), "names the file");
 }
 
 fn study() -> String {
@@ -121,41 +71,13 @@ fn study() -> String {
 
 #[test]
 fn broken_scenes_give_one_line_errors() {
-    broken(
-        "syntax",
-        &study().replacen("planes: [", "planes: [[", 1),
-        "line ",
-    );
-    broken(
-        "unknown",
-        &study().replacen("seed: 20190612,", "seed: 20190612, colour: 3,", 1),
-        "colour",
-    );
-    broken(
-        "nan",
-        &study().replacen("strength: 0.5,", "strength: NaN,", 1),
-        "NaN or infinite",
-    );
-    broken(
-        "inf",
-        &study().replacen("elevation: 0.8,", "elevation: inf,", 1),
-        "NaN or infinite",
-    );
-    broken(
-        "scale",
-        &study().replacen("scale: 1.2", "scale: -1.2", 1),
-        "scale must be positive",
-    );
-    broken(
-        "latitude",
-        &study().replacen("latitude_deg: 47.3769", "latitude_deg: 97.3", 1),
-        "latitude",
-    );
-    broken(
-        "date",
-        &study().replacen("2026-06-21T09:30:00Z", "2026-13-45T09:30:00Z", 1),
-        "RFC 3339",
-    );
+    broken("syntax", &study().replacen("planes: [", "planes: [[", 1), "line ");
+    broken("unknown", &study().replacen("seed: 20190612,", "seed: 20190612, colour: 3,", 1), "colour");
+    broken("nan", &study().replacen("strength: 0.5,", "strength: NaN,", 1), "NaN or infinite");
+    broken("inf", &study().replacen("elevation: 0.8,", "elevation: inf,", 1), "NaN or infinite");
+    broken("scale", &study().replacen("scale: 1.2", "scale: -1.2", 1), "scale must be positive");
+    broken("latitude", &study().replacen("latitude_deg: 47.3769", "latitude_deg: 97.3", 1), "latitude");
+    broken("date", &study().replacen("2026-06-21T09:30:00Z", "2026-13-45T09:30:00Z", 1), "RFC 3339");
 }
 
 #[test]
@@ -191,10 +113,7 @@ fn help_lists_only_working_subcommands() {
         .filter_map(|l| l.split_whitespace().next())
         .filter(|c| *c != "help")
         .collect();
-    assert!(
-        listed.contains(&"sim") && listed.contains(&"replay"),
-        "{listed:?}"
-    );
+    assert!(listed.contains(&"sim") && listed.contains(&"replay"), "{listed:?}");
     for cmd in listed {
         let out = grove(&[cmd, "--help"]);
         assert!(out.status.success(), "`grove {cmd} --help` works");

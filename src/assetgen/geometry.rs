@@ -32,11 +32,7 @@ impl Rng {
     /// A random unit vector.
     pub fn unit(&mut self) -> Vec3 {
         loop {
-            let v = Vec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
+            let v = Vec3::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0));
             let l = v.length_squared();
             if l > 0.01 && l <= 1.0 {
                 return v / l.sqrt();
@@ -80,10 +76,7 @@ impl MeshData {
 
     /// Axis-aligned bounds (min, max) of the positions.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        self.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(a, b), p| (a.min(*p), b.max(*p)),
-        )
+        self.positions.iter().fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(a, b), p| (a.min(*p), b.max(*p)))
     }
 }
 
@@ -92,11 +85,7 @@ impl MeshData {
 fn tangent_frame(n: Vec3, t: Vec3, bitangent_dir: Vec3) -> Vec4 {
     let n = n.normalize();
     let t = (t - n * n.dot(t)).normalize_or(n.any_orthonormal_vector());
-    let w = if n.cross(t).dot(bitangent_dir) >= 0.0 {
-        1.0
-    } else {
-        -1.0
-    };
+    let w = if n.cross(t).dot(bitangent_dir) >= 0.0 { 1.0 } else { -1.0 };
     t.extend(w)
 }
 
@@ -137,11 +126,7 @@ pub fn tube(mesh: &mut MeshData, limb: &Limb, sides: u32, rings: u32, droop: f32
             let p = c + n * r;
             let t = -b1 * sa + b2 * ca;
             let uv = Vec2::new(i as f32 / sides as f32, s * len * v_scale);
-            let dist_trunk = if limb.trunk {
-                0.0
-            } else {
-                Vec2::new(p.x, p.z).length()
-            };
+            let dist_trunk = if limb.trunk { 0.0 } else { Vec2::new(p.x, p.z).length() };
             let w = Vec4::new(p.y.max(0.0), dist_trunk, 0.0, limb.phase);
             mesh.push(p, n, tangent_frame(n, t, axis), uv, w);
         }
@@ -158,44 +143,18 @@ pub fn tube(mesh: &mut MeshData, limb: &Limb, sides: u32, rings: u32, droop: f32
     }
     // Close the tip with a small cone so the tube is not open at the end.
     let tip = limb.end + axis * limb.r1.max(0.005);
-    let tw = Vec4::new(
-        tip.y.max(0.0),
-        if limb.trunk {
-            0.0
-        } else {
-            Vec2::new(tip.x, tip.z).length()
-        },
-        0.0,
-        limb.phase,
-    );
-    let ti = mesh.push(
-        tip,
-        axis,
-        tangent_frame(axis, b1, b2),
-        Vec2::new(0.5, len * v_scale + 0.05),
-        tw,
-    );
+    let tw = Vec4::new(tip.y.max(0.0), if limb.trunk { 0.0 } else { Vec2::new(tip.x, tip.z).length() }, 0.0, limb.phase);
+    let ti = mesh.push(tip, axis, tangent_frame(axis, b1, b2), Vec2::new(0.5, len * v_scale + 0.05), tw);
     let last = base + rings * row;
     for i in 0..sides {
-        mesh.indices
-            .extend_from_slice(&[last + i, last + i + 1, ti]);
+        mesh.indices.extend_from_slice(&[last + i, last + i + 1, ti]);
     }
 }
 
 /// Appends one folded leaf: a diamond of four vertices (base, right, tip, left) with a slight
 /// V fold along the midrib. `attach` is the point on the branch the leaf hangs from.
 #[allow(clippy::too_many_arguments)]
-pub fn leaf(
-    mesh: &mut MeshData,
-    attach: Vec3,
-    base: Vec3,
-    dir: Vec3,
-    side: Vec3,
-    length: f32,
-    width: f32,
-    outward: Vec3,
-    phase: f32,
-) {
+pub fn leaf(mesh: &mut MeshData, attach: Vec3, base: Vec3, dir: Vec3, side: Vec3, length: f32, width: f32, outward: Vec3, phase: f32) {
     let dir = dir.normalize();
     let mut side = (side - dir * dir.dot(side)).normalize_or(dir.any_orthonormal_vector());
     let mut face_n = side.cross(dir).normalize();
@@ -210,14 +169,7 @@ pub fn leaf(
     let right = mid + side * (0.5 * width) + fold;
     let left = mid - side * (0.5 * width) + fold;
     let n = (face_n + outward.normalize_or(face_n) * 0.8).normalize();
-    let wind = |p: Vec3| {
-        Vec4::new(
-            p.y.max(0.0),
-            Vec2::new(p.x, p.z).length(),
-            p.distance(attach),
-            phase,
-        )
-    };
+    let wind = |p: Vec3| Vec4::new(p.y.max(0.0), Vec2::new(p.x, p.z).length(), p.distance(attach), phase);
     // u runs from left (0) to right (1), v from tip (0) to base (1).
     let t = tangent_frame(n, side, -dir);
     let i0 = mesh.push(base, n, t, Vec2::new(0.5, 1.0), wind(base));
@@ -231,16 +183,7 @@ pub fn leaf(
 /// Appends one foliage card: a square of `size` metres centred at `centre`, facing `normal`,
 /// textured with the whole leaf-cluster texture. The vertex normals lean outward from the crown
 /// centre so that the cards shade like a rounded crown.
-pub fn card(
-    mesh: &mut MeshData,
-    centre: Vec3,
-    normal: Vec3,
-    up: Vec3,
-    size: f32,
-    crown_centre: Vec3,
-    attach: Vec3,
-    phase: f32,
-) {
+pub fn card(mesh: &mut MeshData, centre: Vec3, normal: Vec3, up: Vec3, size: f32, crown_centre: Vec3, attach: Vec3, phase: f32) {
     let n = normal.normalize();
     let up = (up - n * n.dot(up)).normalize_or(n.any_orthonormal_vector());
     let right = up.cross(n);
@@ -253,14 +196,8 @@ pub fn card(
         let vn = (n * 0.5 + out).normalize();
         let t = tangent_frame(vn, right, -up);
         let uv = Vec2::new((sx + 1.0) * 0.5, 1.0 - (sy + 1.0) * 0.5);
-        let w = Vec4::new(
-            p.y.max(0.0),
-            Vec2::new(p.x, p.z).length(),
-            p.distance(attach),
-            phase,
-        );
+        let w = Vec4::new(p.y.max(0.0), Vec2::new(p.x, p.z).length(), p.distance(attach), phase);
         ids[k] = mesh.push(p, vn, t, uv, w);
     }
-    mesh.indices
-        .extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]]);
+    mesh.indices.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]]);
 }

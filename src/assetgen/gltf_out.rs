@@ -2,7 +2,7 @@
 //! textures referenced by relative URI.
 
 use glam::{Vec2, Vec3, Vec4};
-use serde_json::{Value, json};
+use serde_json::{json, Value};
 
 use super::geometry::MeshData;
 
@@ -37,22 +37,13 @@ impl Buf {
         }
         let offset = self.bytes.len();
         self.bytes.extend_from_slice(data);
-        self.views.push(
-            json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}),
-        );
+        self.views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}));
         self.views.len() - 1
     }
 
-    fn floats(
-        &mut self,
-        data: &[f32],
-        count: usize,
-        ty: &str,
-        minmax: Option<(Vec<f32>, Vec<f32>)>,
-    ) -> usize {
+    fn floats(&mut self, data: &[f32], count: usize, ty: &str, minmax: Option<(Vec<f32>, Vec<f32>)>) -> usize {
         let view = self.view(bytemuck::cast_slice(data), 34962);
-        let mut acc =
-            json!({"bufferView": view, "componentType": 5126, "count": count, "type": ty});
+        let mut acc = json!({"bufferView": view, "componentType": 5126, "count": count, "type": ty});
         if let Some((min, max)) = minmax {
             acc["min"] = json!(min);
             acc["max"] = json!(max);
@@ -80,16 +71,8 @@ fn flat4(v: &[Vec4]) -> Vec<f32> {
 
 /// Builds the glTF JSON and the binary buffer for a model made of `(mesh, material)` parts.
 /// `bin_uri` is the buffer's file name.
-pub fn build(
-    name: &str,
-    parts: &[(&MeshData, &MaterialTextures)],
-    bin_uri: &str,
-) -> (String, Vec<u8>) {
-    let mut buf = Buf {
-        bytes: Vec::new(),
-        views: Vec::new(),
-        accessors: Vec::new(),
-    };
+pub fn build(name: &str, parts: &[(&MeshData, &MaterialTextures)], bin_uri: &str) -> (String, Vec<u8>) {
+    let mut buf = Buf { bytes: Vec::new(), views: Vec::new(), accessors: Vec::new() };
     let mut images: Vec<String> = Vec::new();
     let mut image_index = |uri: &str| -> usize {
         if let Some(i) = images.iter().position(|u| u == uri) {
@@ -103,12 +86,7 @@ pub fn build(
     let mut primitives = Vec::new();
     for (i, (mesh, mat)) in parts.iter().enumerate() {
         let (min, max) = mesh.bounds();
-        let pos = buf.floats(
-            &flat3(&mesh.positions),
-            mesh.positions.len(),
-            "VEC3",
-            Some((min.to_array().to_vec(), max.to_array().to_vec())),
-        );
+        let pos = buf.floats(&flat3(&mesh.positions), mesh.positions.len(), "VEC3", Some((min.to_array().to_vec(), max.to_array().to_vec())));
         let nrm = buf.floats(&flat3(&mesh.normals), mesh.normals.len(), "VEC3", None);
         let tan = buf.floats(&flat4(&mesh.tangents), mesh.tangents.len(), "VEC4", None);
         let uv = buf.floats(&flat2(&mesh.uvs), mesh.uvs.len(), "VEC2", None);
@@ -120,11 +98,7 @@ pub fn build(
             "material": i,
             "mode": 4
         }));
-        let (a, n, s) = (
-            image_index(&mat.albedo),
-            image_index(&mat.normal),
-            image_index(&mat.specular),
-        );
+        let (a, n, s) = (image_index(&mat.albedo), image_index(&mat.normal), image_index(&mat.specular));
         let mut m = json!({
             "name": mat.name,
             "pbrMetallicRoughness": {
@@ -143,13 +117,8 @@ pub fn build(
         materials.push(m);
     }
     // One texture per image, all with the same sampler.
-    let textures: Vec<Value> = (0..images.len())
-        .map(|i| json!({"sampler": 0, "source": i}))
-        .collect();
-    let images: Vec<Value> = images
-        .iter()
-        .map(|u| json!({"uri": u, "mimeType": "image/png"}))
-        .collect();
+    let textures: Vec<Value> = (0..images.len()).map(|i| json!({"sampler": 0, "source": i})).collect();
+    let images: Vec<Value> = images.iter().map(|u| json!({"uri": u, "mimeType": "image/png"})).collect();
     let doc = json!({
         "asset": {"version": "2.0", "generator": "grove assets (procedural, seeded)"},
         "extensionsUsed": ["KHR_materials_specular"],

@@ -60,11 +60,7 @@ fn write(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
 
 /// The horizontal radius of a set of meshes around the trunk axis.
 pub fn crown_radius<'a>(meshes: impl IntoIterator<Item = &'a [Vec3]>) -> f32 {
-    meshes
-        .into_iter()
-        .flatten()
-        .map(|p| Vec2::new(p.x, p.z).length())
-        .fold(0.0, f32::max)
+    meshes.into_iter().flatten().map(|p| Vec2::new(p.x, p.z).length()).fold(0.0, f32::max)
 }
 
 /// Formats a catalogue as RON in the layout of `assets/trees/catalogue.ron`.
@@ -97,8 +93,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
     let tex = trees.join("textures");
     let env = out.join("env");
     for d in [&trees, &tex, &env] {
-        std::fs::create_dir_all(d)
-            .with_context(|| format!("{}: cannot create folder", d.display()))?;
+        std::fs::create_dir_all(d).with_context(|| format!("{}: cannot create folder", d.display()))?;
     }
     let mut files = 0;
 
@@ -107,50 +102,25 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
         let n = sp.name();
         let (bark, bh) = textures::bark(sp, 128);
         write_png(&tex.join(format!("{n}-bark.png")), Img::Rgb(bark))?;
-        write_png(
-            &tex.join(format!("{n}-bark-normal.png")),
-            Img::Rgb(textures::normal_from_height(&bh, 128, 4.0)),
-        )?;
-        write_png(
-            &tex.join(format!("{n}-bark-specular.png")),
-            Img::Rgba(textures::specular(&bh, 128, 0.25, 0.3)),
-        )?;
+        write_png(&tex.join(format!("{n}-bark-normal.png")), Img::Rgb(textures::normal_from_height(&bh, 128, 4.0)))?;
+        write_png(&tex.join(format!("{n}-bark-specular.png")), Img::Rgba(textures::specular(&bh, 128, 0.25, 0.3)))?;
         let (leaf, lh) = textures::leaf(sp, 64);
         write_png(&tex.join(format!("{n}-leaf.png")), Img::Rgba(leaf))?;
-        write_png(
-            &tex.join(format!("{n}-leaf-normal.png")),
-            Img::Rgb(textures::normal_from_height(&lh, 64, 3.0)),
-        )?;
-        write_png(
-            &tex.join(format!("{n}-leaf-specular.png")),
-            Img::Rgba(textures::specular(&lh, 64, 0.5, 0.4)),
-        )?;
+        write_png(&tex.join(format!("{n}-leaf-normal.png")), Img::Rgb(textures::normal_from_height(&lh, 64, 3.0)))?;
+        write_png(&tex.join(format!("{n}-leaf-specular.png")), Img::Rgba(textures::specular(&lh, 64, 0.5, 0.4)))?;
         let (card, ch) = textures::card(sp, 256);
         write_png(&tex.join(format!("{n}-card.png")), Img::Rgba(card))?;
-        write_png(
-            &tex.join(format!("{n}-card-normal.png")),
-            Img::Rgb(textures::normal_from_height(&ch, 256, 6.0)),
-        )?;
-        write_png(
-            &tex.join(format!("{n}-card-specular.png")),
-            Img::Rgba(textures::specular(&ch, 256, 0.4, 0.3)),
-        )?;
+        write_png(&tex.join(format!("{n}-card-normal.png")), Img::Rgb(textures::normal_from_height(&ch, 256, 6.0)))?;
+        write_png(&tex.join(format!("{n}-card-specular.png")), Img::Rgba(textures::specular(&ch, 256, 0.4, 0.3)))?;
         files += 9;
     }
 
     // Models: the four mesh trees, then the four billboard trees (catalogue order).
     let mut models = Vec::new();
-    for (kind_index, kind) in [ModelKind::Mesh, ModelKind::Billboard]
-        .into_iter()
-        .enumerate()
-    {
+    for (kind_index, kind) in [ModelKind::Mesh, ModelKind::Billboard].into_iter().enumerate() {
         for (si, sp) in Species::ALL.into_iter().enumerate() {
             let id = (kind_index * 4 + si) as u8;
-            let suffix = if kind == ModelKind::Mesh {
-                "mesh"
-            } else {
-                "billboard"
-            };
+            let suffix = if kind == ModelKind::Mesh { "mesh" } else { "billboard" };
             let name = format!("{}-{suffix}", sp.name());
             let skel = species::skeleton(sp, kind == ModelKind::Billboard);
             let wood = species::wood(&skel);
@@ -168,11 +138,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 specular_factor: 0.5,
                 roughness: 0.9,
             };
-            let leaf_tex = if kind == ModelKind::Mesh {
-                "leaf"
-            } else {
-                "card"
-            };
+            let leaf_tex = if kind == ModelKind::Mesh { "leaf" } else { "card" };
             let leaf_mat = MaterialTextures {
                 name: format!("{n}-{leaf_tex}"),
                 albedo: format!("textures/{n}-{leaf_tex}.png"),
@@ -183,8 +149,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 roughness: 0.6,
             };
             let bin = format!("{name}.bin");
-            let (json, bytes) =
-                gltf_out::build(&name, &[(&wood, &bark_mat), (&foliage, &leaf_mat)], &bin);
+            let (json, bytes) = gltf_out::build(&name, &[(&wood, &bark_mat), (&foliage, &leaf_mat)], &bin);
             write(&trees.join(format!("{name}.gltf")), json.as_bytes())?;
             write(&trees.join(&bin), &bytes)?;
             files += 2;
@@ -197,27 +162,18 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 kind,
                 bounds_min: a.min(c),
                 bounds_max: b.max(d),
-                crown_radius: crown_radius([
-                    wood.positions.as_slice(),
-                    foliage.positions.as_slice(),
-                ]),
+                crown_radius: crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
                 triangles: (wood.triangles() + foliage.triangles()) as u32,
             });
         }
     }
     let catalogue = Catalogue { models };
-    write(
-        &trees.join("catalogue.ron"),
-        catalogue_ron(&catalogue).as_bytes(),
-    )?;
+    write(&trees.join("catalogue.ron"), catalogue_ron(&catalogue).as_bytes())?;
     files += 1;
 
     // The environment: the sky cubemap and the ground texture.
     for (face, name) in CUBE_FACES.iter().enumerate() {
-        write_png(
-            &env.join(format!("{name}.png")),
-            Img::Rgb(textures::sky_face(face, CUBE_SIZE)),
-        )?;
+        write_png(&env.join(format!("{name}.png")), Img::Rgb(textures::sky_face(face, CUBE_SIZE)))?;
     }
     write_png(&env.join("ground.png"), Img::Rgb(textures::ground(256)))?;
     files += 7;

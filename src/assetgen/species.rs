@@ -4,7 +4,7 @@
 
 use glam::{Vec3, Vec3Swizzles};
 
-use super::geometry::{Limb, MeshData, Rng, card, leaf, tube};
+use super::geometry::{card, leaf, tube, Limb, MeshData, Rng};
 
 /// The species the generator knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,12 +21,7 @@ pub enum Species {
 
 impl Species {
     /// All species in catalogue order.
-    pub const ALL: [Species; 4] = [
-        Species::Broadleaf,
-        Species::Conifer,
-        Species::Birch,
-        Species::Shrub,
-    ];
+    pub const ALL: [Species; 4] = [Species::Broadleaf, Species::Conifer, Species::Birch, Species::Shrub];
 
     /// The name used in file names and the catalogue.
     pub fn name(self) -> &'static str {
@@ -83,60 +78,22 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
     let mut limbs = Vec::new();
     let mut clusters = Vec::new();
     let (ts, bs, tw) = if cheap { (6, 4, 3) } else { (8, 5, 4) };
-    let mut add =
-        |limb: Limb, sides: u32, rings: u32, droop: f32| limbs.push((limb, sides, rings, droop));
+    let mut add = |limb: Limb, sides: u32, rings: u32, droop: f32| limbs.push((limb, sides, rings, droop));
     let crown_centre;
     match species {
         Species::Broadleaf => {
             crown_centre = Vec3::new(0.0, 4.9, 0.0);
-            add(
-                Limb {
-                    start: Vec3::new(0.0, -0.05, 0.0),
-                    end: Vec3::new(0.0, 3.2, 0.0),
-                    r0: 0.24,
-                    r1: 0.16,
-                    phase: 0.0,
-                    trunk: true,
-                },
-                ts,
-                if cheap { 1 } else { 3 },
-                0.0,
-            );
-            add(
-                Limb {
-                    start: Vec3::new(0.0, 3.2, 0.0),
-                    end: Vec3::new(0.05, 5.6, -0.05),
-                    r0: 0.16,
-                    r1: 0.06,
-                    phase: 0.0,
-                    trunk: true,
-                },
-                ts,
-                if cheap { 1 } else { 2 },
-                0.0,
-            );
+            add(Limb { start: Vec3::new(0.0, -0.05, 0.0), end: Vec3::new(0.0, 3.2, 0.0), r0: 0.24, r1: 0.16, phase: 0.0, trunk: true }, ts, if cheap { 1 } else { 3 }, 0.0);
+            add(Limb { start: Vec3::new(0.0, 3.2, 0.0), end: Vec3::new(0.05, 5.6, -0.05), r0: 0.16, r1: 0.06, phase: 0.0, trunk: true }, ts, if cheap { 1 } else { 2 }, 0.0);
             for i in 0..6 {
                 let a = golden(i) + rng.range(-0.2, 0.2);
                 let y = 2.7 + 0.3 * i as f32;
-                let dir =
-                    Vec3::new(a.cos() * 0.85, rng.range(0.55, 0.8), a.sin() * 0.85).normalize();
+                let dir = Vec3::new(a.cos() * 0.85, rng.range(0.55, 0.8), a.sin() * 0.85).normalize();
                 let len = rng.range(2.0, 2.5);
                 let start = Vec3::new(0.0, y, 0.0);
                 let end = start + dir * len;
                 let phase = rng.f();
-                add(
-                    Limb {
-                        start,
-                        end,
-                        r0: 0.09,
-                        r1: 0.035,
-                        phase,
-                        trunk: false,
-                    },
-                    bs,
-                    2,
-                    0.0,
-                );
+                add(Limb { start, end, r0: 0.09, r1: 0.035, phase, trunk: false }, bs, 2, 0.0);
                 for k in 0..2 {
                     let s = 0.55 + 0.25 * k as f32;
                     let from = start + dir * len * s;
@@ -145,58 +102,16 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                     let slen = rng.range(0.8, 1.1);
                     let to = from + sdir * slen;
                     let sphase = rng.f();
-                    add(
-                        Limb {
-                            start: from,
-                            end: to,
-                            r0: 0.035,
-                            r1: 0.015,
-                            phase: sphase,
-                            trunk: false,
-                        },
-                        tw,
-                        1,
-                        0.0,
-                    );
-                    clusters.push(Cluster {
-                        centre: to,
-                        attach: from,
-                        phase: sphase,
-                        radius: 0.8,
-                        along: sdir,
-                    });
+                    add(Limb { start: from, end: to, r0: 0.035, r1: 0.015, phase: sphase, trunk: false }, tw, 1, 0.0);
+                    clusters.push(Cluster { centre: to, attach: from, phase: sphase, radius: 0.8, along: sdir });
                 }
-                clusters.push(Cluster {
-                    centre: end,
-                    attach: start + dir * len * 0.7,
-                    phase,
-                    radius: 0.85,
-                    along: dir,
-                });
+                clusters.push(Cluster { centre: end, attach: start + dir * len * 0.7, phase, radius: 0.85, along: dir });
             }
-            clusters.push(Cluster {
-                centre: Vec3::new(0.0, 6.3, 0.0),
-                attach: Vec3::new(0.0, 5.6, 0.0),
-                phase: 0.5,
-                radius: 0.9,
-                along: Vec3::Y,
-            });
+            clusters.push(Cluster { centre: Vec3::new(0.0, 6.3, 0.0), attach: Vec3::new(0.0, 5.6, 0.0), phase: 0.5, radius: 0.9, along: Vec3::Y });
         }
         Species::Conifer => {
             crown_centre = Vec3::new(0.0, 4.5, 0.0);
-            add(
-                Limb {
-                    start: Vec3::new(0.0, -0.05, 0.0),
-                    end: Vec3::new(0.0, 8.7, 0.0),
-                    r0: 0.2,
-                    r1: 0.025,
-                    phase: 0.0,
-                    trunk: true,
-                },
-                ts,
-                if cheap { 2 } else { 6 },
-                0.0,
-            );
+            add(Limb { start: Vec3::new(0.0, -0.05, 0.0), end: Vec3::new(0.0, 8.7, 0.0), r0: 0.2, r1: 0.025, phase: 0.0, trunk: true }, ts, if cheap { 2 } else { 6 }, 0.0);
             let mut i = 0;
             let mut y = 1.3;
             while y < 8.4 {
@@ -208,64 +123,23 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                     let start = Vec3::new(0.0, y, 0.0);
                     let end = start + dir * len;
                     let phase = rng.f();
-                    add(
-                        Limb {
-                            start,
-                            end,
-                            r0: 0.035,
-                            r1: 0.01,
-                            phase,
-                            trunk: false,
-                        },
-                        tw,
-                        1,
-                        0.08 * len,
-                    );
+                    add(Limb { start, end, r0: 0.035, r1: 0.01, phase, trunk: false }, tw, 1, 0.08 * len);
                     for s in [0.45f32, 0.8] {
                         let c = start + dir * len * s;
-                        clusters.push(Cluster {
-                            centre: c,
-                            attach: start + dir * len * (s - 0.2),
-                            phase,
-                            radius: 0.35 * len.max(0.5),
-                            along: dir,
-                        });
+                        clusters.push(Cluster { centre: c, attach: start + dir * len * (s - 0.2), phase, radius: 0.35 * len.max(0.5), along: dir });
                     }
                 }
                 i += 1;
                 y += 0.55;
             }
-            clusters.push(Cluster {
-                centre: Vec3::new(0.0, 8.65, 0.0),
-                attach: Vec3::new(0.0, 8.3, 0.0),
-                phase: 0.3,
-                radius: 0.3,
-                along: Vec3::Y,
-            });
+            clusters.push(Cluster { centre: Vec3::new(0.0, 8.65, 0.0), attach: Vec3::new(0.0, 8.3, 0.0), phase: 0.3, radius: 0.3, along: Vec3::Y });
         }
         Species::Birch => {
             crown_centre = Vec3::new(0.0, 5.6, 0.0);
-            let pts = [
-                Vec3::new(0.0, -0.05, 0.0),
-                Vec3::new(0.08, 3.0, 0.0),
-                Vec3::new(0.02, 5.6, 0.08),
-                Vec3::new(-0.03, 7.7, 0.0),
-            ];
+            let pts = [Vec3::new(0.0, -0.05, 0.0), Vec3::new(0.08, 3.0, 0.0), Vec3::new(0.02, 5.6, 0.08), Vec3::new(-0.03, 7.7, 0.0)];
             let radii = [0.14, 0.1, 0.06, 0.02];
             for s in 0..3 {
-                add(
-                    Limb {
-                        start: pts[s],
-                        end: pts[s + 1],
-                        r0: radii[s],
-                        r1: radii[s + 1],
-                        phase: 0.0,
-                        trunk: true,
-                    },
-                    ts,
-                    if cheap { 1 } else { 2 },
-                    0.0,
-                );
+                add(Limb { start: pts[s], end: pts[s + 1], r0: radii[s], r1: radii[s + 1], phase: 0.0, trunk: true }, ts, if cheap { 1 } else { 2 }, 0.0);
             }
             for i in 0..14 {
                 let a = golden(i);
@@ -277,56 +151,14 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                 let start = Vec3::new(0.05, y, 0.03);
                 let end = start + dir * len;
                 let phase = rng.f();
-                add(
-                    Limb {
-                        start,
-                        end,
-                        r0: 0.03,
-                        r1: 0.01,
-                        phase,
-                        trunk: false,
-                    },
-                    tw,
-                    1,
-                    0.0,
-                );
+                add(Limb { start, end, r0: 0.03, r1: 0.01, phase, trunk: false }, tw, 1, 0.0);
                 // Drooping twigs hanging from the branch end.
                 let droop_end = end + Vec3::new(dir.x * 0.3, -0.7 * len, dir.z * 0.3);
-                add(
-                    Limb {
-                        start: end,
-                        end: droop_end,
-                        r0: 0.01,
-                        r1: 0.005,
-                        phase,
-                        trunk: false,
-                    },
-                    3,
-                    1,
-                    0.0,
-                );
-                clusters.push(Cluster {
-                    centre: end.lerp(droop_end, 0.5),
-                    attach: end,
-                    phase,
-                    radius: 0.45,
-                    along: (droop_end - end).normalize(),
-                });
-                clusters.push(Cluster {
-                    centre: start.lerp(end, 0.55),
-                    attach: start,
-                    phase,
-                    radius: 0.35,
-                    along: dir,
-                });
+                add(Limb { start: end, end: droop_end, r0: 0.01, r1: 0.005, phase, trunk: false }, 3, 1, 0.0);
+                clusters.push(Cluster { centre: end.lerp(droop_end, 0.5), attach: end, phase, radius: 0.45, along: (droop_end - end).normalize() });
+                clusters.push(Cluster { centre: start.lerp(end, 0.55), attach: start, phase, radius: 0.35, along: dir });
             }
-            clusters.push(Cluster {
-                centre: Vec3::new(0.0, 7.6, 0.0),
-                attach: Vec3::new(0.0, 7.2, 0.0),
-                phase: 0.7,
-                radius: 0.35,
-                along: Vec3::Y,
-            });
+            clusters.push(Cluster { centre: Vec3::new(0.0, 7.6, 0.0), attach: Vec3::new(0.0, 7.2, 0.0), phase: 0.7, radius: 0.35, along: Vec3::Y });
         }
         Species::Shrub => {
             crown_centre = Vec3::new(0.0, 0.8, 0.0);
@@ -337,63 +169,17 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                 let len = rng.range(0.9, 1.2);
                 let end = base + dir * len;
                 let phase = rng.f();
-                add(
-                    Limb {
-                        start: base,
-                        end,
-                        r0: 0.035,
-                        r1: 0.012,
-                        phase,
-                        trunk: false,
-                    },
-                    tw,
-                    1,
-                    0.0,
-                );
+                add(Limb { start: base, end, r0: 0.035, r1: 0.012, phase, trunk: false }, tw, 1, 0.0);
                 let mid = base + dir * len * 0.5;
                 let sdir = (dir + Vec3::new(-dir.z, 0.0, dir.x) * 0.8).normalize();
-                add(
-                    Limb {
-                        start: mid,
-                        end: mid + sdir * 0.5,
-                        r0: 0.015,
-                        r1: 0.008,
-                        phase,
-                        trunk: false,
-                    },
-                    3,
-                    1,
-                    0.0,
-                );
-                clusters.push(Cluster {
-                    centre: end,
-                    attach: mid,
-                    phase,
-                    radius: 0.45,
-                    along: dir,
-                });
-                clusters.push(Cluster {
-                    centre: mid + sdir * 0.5,
-                    attach: mid,
-                    phase,
-                    radius: 0.35,
-                    along: sdir,
-                });
-                clusters.push(Cluster {
-                    centre: base + dir * len * 0.35 + Vec3::new(a.cos(), 0.0, a.sin()) * 0.3,
-                    attach: base,
-                    phase,
-                    radius: 0.3,
-                    along: dir,
-                });
+                add(Limb { start: mid, end: mid + sdir * 0.5, r0: 0.015, r1: 0.008, phase, trunk: false }, 3, 1, 0.0);
+                clusters.push(Cluster { centre: end, attach: mid, phase, radius: 0.45, along: dir });
+                clusters.push(Cluster { centre: mid + sdir * 0.5, attach: mid, phase, radius: 0.35, along: sdir });
+                clusters.push(Cluster { centre: base + dir * len * 0.35 + Vec3::new(a.cos(), 0.0, a.sin()) * 0.3, attach: base, phase, radius: 0.3, along: dir });
             }
         }
     }
-    Skeleton {
-        limbs,
-        clusters,
-        crown_centre,
-    }
+    Skeleton { limbs, clusters, crown_centre }
 }
 
 /// The wood of a skeleton as one mesh.
@@ -435,17 +221,7 @@ pub fn mesh_foliage(species: Species, skel: &Skeleton) -> MeshData {
             let side = rng.unit();
             let outward = (base - skel.crown_centre).normalize_or(Vec3::Y) + Vec3::Y * 0.3;
             let scale = rng.range(0.8, 1.2);
-            leaf(
-                &mut mesh,
-                c.attach,
-                base,
-                dir,
-                side,
-                length * scale,
-                width * scale,
-                outward,
-                c.phase,
-            );
+            leaf(&mut mesh, c.attach, base, dir, side, length * scale, width * scale, outward, c.phase);
         }
     }
     mesh
@@ -471,22 +247,10 @@ pub fn card_foliage(species: Species, skel: &Skeleton) -> MeshData {
                 let tilt = if k == 0 { 0.35 } else { -0.35 };
                 ((Vec3::Y + side * tilt).normalize(), c.along)
             } else {
-                (
-                    Vec3::new(a.cos(), rng.range(-0.3, 0.3), a.sin()),
-                    Vec3::Y + rng.unit().xzy() * 0.2,
-                )
+                (Vec3::new(a.cos(), rng.range(-0.3, 0.3), a.sin()), Vec3::Y + rng.unit().xzy() * 0.2)
             };
             let centre = Vec3::new(c.centre.x, c.centre.y.max(size * 0.75 + 0.02), c.centre.z);
-            card(
-                &mut mesh,
-                centre,
-                normal,
-                up,
-                size,
-                skel.crown_centre,
-                c.attach,
-                c.phase,
-            );
+            card(&mut mesh, centre, normal, up, size, skel.crown_centre, c.attach, c.phase);
         }
     }
     mesh

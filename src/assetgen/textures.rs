@@ -28,13 +28,7 @@ fn tile_fbm(p: &Perlin, u: f64, v: f64, fu: f64, fv: f64, octaves: u32) -> f64 {
     let (ru, rv) = (fu / TAU, fv / TAU);
     let (mut sum, mut amp, mut freq, mut norm) = (0.0, 1.0, 1.0, 0.0);
     for _ in 0..octaves {
-        sum += amp
-            * p.get([
-                a.cos() * ru * freq,
-                a.sin() * ru * freq,
-                b.cos() * rv * freq,
-                b.sin() * rv * freq,
-            ]);
+        sum += amp * p.get([a.cos() * ru * freq, a.sin() * ru * freq, b.cos() * rv * freq, b.sin() * rv * freq]);
         norm += amp;
         amp *= 0.5;
         freq *= 2.0;
@@ -52,9 +46,7 @@ fn rgb(c: Vec3) -> Rgb<u8> {
 
 /// A tangent-space normal map from a height field (tileable, central differences).
 pub fn normal_from_height(h: &[f32], size: u32, strength: f32) -> RgbImage {
-    let at = |x: i64, y: i64| {
-        h[(y.rem_euclid(size as i64) * size as i64 + x.rem_euclid(size as i64)) as usize]
-    };
+    let at = |x: i64, y: i64| h[(y.rem_euclid(size as i64) * size as i64 + x.rem_euclid(size as i64)) as usize];
     RgbImage::from_fn(size, size, |x, y| {
         let (x, y) = (x as i64, y as i64);
         let dx = (at(x + 1, y) - at(x - 1, y)) * strength;
@@ -78,10 +70,7 @@ pub fn bark(species: Species, size: u32) -> (RgbImage, Vec<f32>) {
                 let len = tile_fbm(&p, u * 1.0 + 0.3, v, 2.0, 24.0, 2) as f32;
                 let dark = ((len - 0.35) * 6.0).clamp(0.0, 1.0);
                 let base = Vec3::new(0.86, 0.84, 0.78) * (0.92 + 0.08 * n);
-                (
-                    base.lerp(Vec3::new(0.12, 0.11, 0.1), dark),
-                    0.5 + 0.2 * n - 0.4 * dark,
-                )
+                (base.lerp(Vec3::new(0.12, 0.11, 0.1), dark), 0.5 + 0.2 * n - 0.4 * dark)
             }
             _ => {
                 // Vertical ridges: noise stretched along v.
@@ -119,10 +108,7 @@ pub fn leaf(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
     let col = leaf_colour(species);
     let mut h = vec![0.0f32; (size * size) as usize];
     let img = RgbaImage::from_fn(size, size, |x, y| {
-        let (u, v) = (
-            (x as f32 + 0.5) / size as f32,
-            (y as f32 + 0.5) / size as f32,
-        );
+        let (u, v) = ((x as f32 + 0.5) / size as f32, (y as f32 + 0.5) / size as f32);
         let across = (u - 0.5).abs() * 2.0;
         let (inside, vein) = if species == Species::Conifer {
             (across < 0.8, 0.0)
@@ -134,8 +120,7 @@ pub fn leaf(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
         };
         let mid = (1.0 - across / 0.06).max(0.0);
         let n = fbm(&p, u as f64 * 8.0, v as f64 * 8.0, 3) as f32;
-        let c = col * (0.9 + 0.15 * n + 0.12 * (1.0 - across))
-            + Vec3::splat(0.12 * mid.max(vein * 0.4));
+        let c = col * (0.9 + 0.15 * n + 0.12 * (1.0 - across)) + Vec3::splat(0.12 * mid.max(vein * 0.4));
         h[(y * size + x) as usize] = 0.6 * mid + 0.25 * vein + 0.1 * (1.0 - across);
         Rgba([to8(c.x), to8(c.y), to8(c.z), if inside { 255 } else { 0 }])
     });
@@ -147,36 +132,14 @@ pub fn leaf(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
 pub fn card(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
     let mut rng = Rng::new(31 + species as u64);
     let col = leaf_colour(species);
-    let mut img = RgbaImage::from_pixel(
-        size,
-        size,
-        Rgba([
-            (col.x * 255.0) as u8,
-            (col.y * 255.0) as u8,
-            (col.z * 255.0) as u8,
-            0,
-        ]),
-    );
+    let mut img = RgbaImage::from_pixel(size, size, Rgba([(col.x * 255.0) as u8, (col.y * 255.0) as u8, (col.z * 255.0) as u8, 0]));
     let mut h = vec![0.0f32; (size * size) as usize];
     let s = size as f32;
-    let stamp = |img: &mut RgbaImage,
-                 h: &mut [f32],
-                 c: Vec2,
-                 dir: Vec2,
-                 len: f32,
-                 wid: f32,
-                 shade: f32,
-                 tilt: Vec2| {
+    let stamp = |img: &mut RgbaImage, h: &mut [f32], c: Vec2, dir: Vec2, len: f32, wid: f32, shade: f32, tilt: Vec2| {
         let side = Vec2::new(-dir.y, dir.x);
         let r = len.max(wid) * s;
-        let (x0, x1) = (
-            ((c.x * s - r).floor().max(0.0)) as u32,
-            ((c.x * s + r).ceil().min(s - 1.0)) as u32,
-        );
-        let (y0, y1) = (
-            ((c.y * s - r).floor().max(0.0)) as u32,
-            ((c.y * s + r).ceil().min(s - 1.0)) as u32,
-        );
+        let (x0, x1) = (((c.x * s - r).floor().max(0.0)) as u32, ((c.x * s + r).ceil().min(s - 1.0)) as u32);
+        let (y0, y1) = (((c.y * s - r).floor().max(0.0)) as u32, ((c.y * s + r).ceil().min(s - 1.0)) as u32);
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let q = Vec2::new((x as f32 + 0.5) / s, (y as f32 + 0.5) / s) - c;
@@ -207,16 +170,7 @@ pub fn card(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
                     let shade = rng.range(0.7, 1.15);
                     let tilt = Vec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * 0.5;
                     if c.distance(centre) < 0.46 {
-                        stamp(
-                            &mut img,
-                            &mut h,
-                            c,
-                            along,
-                            0.09 + 0.02 * (k % 3) as f32,
-                            0.02,
-                            shade,
-                            tilt,
-                        );
+                        stamp(&mut img, &mut h, c, along, 0.09 + 0.02 * (k % 3) as f32, 0.02, shade, tilt);
                     }
                 }
             }
@@ -232,20 +186,10 @@ pub fn card(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
                 let r = 0.42 * rng.f().sqrt();
                 let a = rng.range(0.0, std::f32::consts::TAU);
                 let c = centre + Vec2::new(a.cos(), a.sin()) * r;
-                let dir =
-                    Vec2::new(rng.range(-1.0, 1.0), rng.range(-0.2, 1.0)).normalize_or(Vec2::Y);
+                let dir = Vec2::new(rng.range(-1.0, 1.0), rng.range(-0.2, 1.0)).normalize_or(Vec2::Y);
                 let shade = rng.range(0.7, 1.2) * (1.05 - 0.4 * r);
                 let tilt = Vec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * 0.5;
-                stamp(
-                    &mut img,
-                    &mut h,
-                    c,
-                    dir,
-                    len * rng.range(0.8, 1.2),
-                    len * 0.6,
-                    shade,
-                    tilt,
-                );
+                stamp(&mut img, &mut h, c, dir, len * rng.range(0.8, 1.2), len * 0.6, shade, tilt);
             }
         }
     }

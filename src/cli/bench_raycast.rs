@@ -9,12 +9,12 @@
 
 use anyhow::anyhow;
 use glam::Vec3;
-use grove_systems::Sim;
 use grove_systems::components::Plane;
+use grove_systems::Sim;
 use serde::Serialize;
 use serde_json::Value;
 
-use super::bench::{BenchArgs, median, time_ms};
+use super::bench::{median, time_ms, BenchArgs};
 
 /// Trees in the raycast benchmark.
 pub const RAYCAST_TREES: usize = 10_000;
@@ -71,13 +71,7 @@ pub fn bench_raycast(args: &BenchArgs) -> anyhow::Result<Value> {
         }
     }
     let mut state = 0x6772_6f76_6521_u64;
-    let mut point = |y: f32| {
-        Vec3::new(
-            min.x + (max.x - min.x) * unit(&mut state),
-            y,
-            min.z + (max.z - min.z) * unit(&mut state),
-        )
-    };
+    let mut point = |y: f32| Vec3::new(min.x + (max.x - min.x) * unit(&mut state), y, min.z + (max.z - min.z) * unit(&mut state));
     let rays: Vec<(Vec3, Vec3)> = (0..RAYS)
         .map(|_| {
             let from = point(1.7);
@@ -91,11 +85,7 @@ pub fn bench_raycast(args: &BenchArgs) -> anyhow::Result<Value> {
     for (o, d) in &rays {
         if let Some(h) = spatial.cast(*o, *d, max_len, None) {
             hits += 1;
-            if sim
-                .world
-                .get::<&grove_systems::components::Tree>(h.entity)
-                .is_ok()
-            {
+            if sim.world.get::<&grove_systems::components::Tree>(h.entity).is_ok() {
                 tree_hits += 1;
             }
         }

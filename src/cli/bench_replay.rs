@@ -4,21 +4,20 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use glam::Vec3;
-use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::Button;
-use grove_systems::replay::{Header, ReplayOptions, record_events, replay_reader};
+use grove_systems::replay::{record_events, replay_reader, Header, ReplayOptions};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
-use serde_json::{Value, json};
+use grove_systems::Sim;
+use serde_json::{json, Value};
 
 use super::bench::median;
 
 /// Builds a 5-minute recording in memory: the controller sweeps over the ground at 30 Hz and
 /// plants, selects and removes trees every few seconds.
 pub fn five_minute_session() -> anyhow::Result<Vec<u8>> {
-    let scene =
-        Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?;
+    let scene = Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?;
     let mut script = Script::new(Sim::from_scene(&scene, 7).map_err(|e| anyhow!("{e}"))?);
     let ticks = (300.0 / scene.dt as f64).round() as u64;
     let mut k = 0u64;
@@ -28,14 +27,10 @@ pub fn five_minute_session() -> anyhow::Result<Vec<u8>> {
         script.point_at(target).wait(1);
         match k % 240 {
             0 => {
-                script
-                    .choose_model(ModelId((k / 240 % 8) as u8))
-                    .press(Button::Trigger);
+                script.choose_model(ModelId((k / 240 % 8) as u8)).press(Button::Trigger);
             }
             120 => {
-                script
-                    .point_at(target + Vec3::Y * 2.0)
-                    .press(Button::Bumper);
+                script.point_at(target + Vec3::Y * 2.0).press(Button::Bumper);
             }
             _ => {}
         }
@@ -43,14 +38,7 @@ pub fn five_minute_session() -> anyhow::Result<Vec<u8>> {
     }
     let (sim, events) = script.into_parts();
     let header = Header::new("study", 7, scene.dt);
-    record_events(
-        Vec::new(),
-        &header,
-        &events,
-        ticks.max(sim.res.tick),
-        json!({}),
-    )
-    .map_err(|e| anyhow!("{e}"))
+    record_events(Vec::new(), &header, &events, ticks.max(sim.res.tick), json!({})).map_err(|e| anyhow!("{e}"))
 }
 
 /// Replay speed of a 5-minute session, in simulated seconds per wall second (median of runs).
@@ -63,13 +51,7 @@ pub fn bench_replay() -> anyhow::Result<Value> {
     let mut verified = true;
     for _ in 0..7 {
         let t = Instant::now();
-        let o = replay_reader(
-            &bytes[..],
-            "<5-minute session>",
-            None,
-            &ReplayOptions::default(),
-        )
-        .map_err(|e| anyhow!("{e}"))?;
+        let o = replay_reader(&bytes[..], "<5-minute session>", None, &ReplayOptions::default()).map_err(|e| anyhow!("{e}"))?;
         let wall = t.elapsed().as_secs_f64();
         verified &= o.first_divergence.is_none() && o.complete;
         sim_seconds = o.sim.res.tick as f64 * o.sim.res.dt as f64;
@@ -100,22 +82,10 @@ pub fn bench_study() -> anyhow::Result<Value> {
         let summary = crate::study::report::summarize(&trials, &[], wall_sim);
         crate::study::report::write_trial_results(&out.join("trial_results.csv"), &trials)?;
         crate::study::report::write_trees(&out.join("trees.csv"), &trials)?;
-        std::fs::write(
-            out.join("summary.json"),
-            serde_json::to_string_pretty(&summary)?,
-        )?;
-        crate::study::chart::ablation_chart(
-            &out.join("ablation.png"),
-            &summary.per_participant,
-            "bench",
-            1100,
-            600,
-        )?;
+        std::fs::write(out.join("summary.json"), serde_json::to_string_pretty(&summary)?)?;
+        crate::study::chart::ablation_chart(&out.join("ablation.png"), &summary.per_participant, "bench", 1100, 600)?;
         walls.push(t.elapsed().as_secs_f64());
-        verified = trials
-            .iter()
-            .filter(|t| t.status == crate::study::TrialStatus::Verified)
-            .count();
+        verified = trials.iter().filter(|t| t.status == crate::study::TrialStatus::Verified).count();
     }
     let _ = std::fs::remove_dir_all(&out);
     Ok(json!({

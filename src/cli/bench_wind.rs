@@ -6,12 +6,12 @@
 //! a release build.
 
 use anyhow::anyhow;
-use grove_systems::Sim;
 use grove_systems::components::Sun;
 use grove_systems::systems::{sun, wind};
-use serde_json::{Value, json};
+use grove_systems::Sim;
+use serde_json::{json, Value};
 
-use super::bench::{BenchArgs, median, time_ms};
+use super::bench::{median, time_ms, BenchArgs};
 
 /// Trees in the wind benchmark.
 pub const WIND_BENCH_TREES: usize = 100_000;

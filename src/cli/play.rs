@@ -5,13 +5,13 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use clap::Args;
-use grove_systems::Sim;
 use grove_systems::replay::Header;
 use grove_systems::scene::Scene;
 use grove_systems::task::TaskDef;
+use grove_systems::Sim;
 
 use crate::desktop::play::PlayApp;
-use crate::desktop::session::{LiveSession, create_recording};
+use crate::desktop::session::{create_recording, LiveSession};
 
 /// Arguments of `grove play`.
 #[derive(Args)]
@@ -47,17 +47,11 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
             let abs = std::fs::canonicalize(p).unwrap_or_else(|_| p.clone());
             (scene, abs.display().to_string())
         }
-        None => (
-            Scene::builtin("study")
-                .ok_or_else(|| anyhow!("the built-in study scene is missing"))?,
-            "study".to_string(),
-        ),
+        None => (Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?, "study".to_string()),
     };
     if let Some(t) = &args.task {
         if TaskDef::builtin(t).is_none() {
-            return Err(anyhow!(
-                "--task {t}: unknown task; known: ray-casting-7, manual-7"
-            ));
+            return Err(anyhow!("--task {t}: unknown task; known: ray-casting-7, manual-7"));
         }
     }
     let seed = args.seed.unwrap_or(scene.seed);

@@ -12,10 +12,10 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use clap::Args;
-use grove::render::Renderer;
 use grove::render::offscreen::{self, Gpu};
-use grove_systems::Sim;
+use grove::render::Renderer;
 use grove_systems::components::Sun;
+use grove_systems::Sim;
 
 /// Arguments of `grove render`.
 #[derive(Args)]
@@ -73,16 +73,10 @@ fn check_size(w: u32, h: u32) -> anyhow::Result<()> {
 
 fn check_out_file(out: &Path, force: bool) -> anyhow::Result<()> {
     if out.is_dir() {
-        bail!(
-            "{}: is a directory; --out needs a PNG file name",
-            out.display()
-        );
+        bail!("{}: is a directory; --out needs a PNG file name", out.display());
     }
     if out.exists() && !force {
-        bail!(
-            "{}: already exists (use --force to overwrite)",
-            out.display()
-        );
+        bail!("{}: already exists (use --force to overwrite)", out.display());
     }
     if let Some(parent) = out.parent() {
         if !parent.as_os_str().is_empty() && !parent.is_dir() {
@@ -98,64 +92,28 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     if let Some(model) = &args.model {
         check_out_file(&args.out, args.force)?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let img =
-            offscreen::render_model_file(&gpu, model, args.width, args.height, !args.no_shadows)
-                .map_err(|e| anyhow!(e))?;
+        let img = offscreen::render_model_file(&gpu, model, args.width, args.height, !args.no_shadows).map_err(|e| anyhow!(e))?;
         offscreen::save_png(&img, &args.out).map_err(|e| anyhow!(e))?;
-        println!(
-            "{}: rendered {} ({}x{}) on {}",
-            args.out.display(),
-            model.display(),
-            args.width,
-            args.height,
-            gpu.adapter_name()
-        );
+        println!("{}: rendered {} ({}x{}) on {}", args.out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
     if let (Some(replay), Some(tick)) = (&args.replay, args.tick) {
         check_out_file(&args.out, args.force)?;
-        let options = grove_systems::replay::ReplayOptions {
-            until: Some(tick),
-            ..Default::default()
-        };
-        let outcome =
-            grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
+        let options = grove_systems::replay::ReplayOptions { until: Some(tick), ..Default::default() };
+        let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
         if outcome.sim.res.tick < tick {
-            bail!(
-                "{}: the recording ends at tick {}, before --tick {tick}",
-                replay.display(),
-                outcome.sim.res.tick
-            );
+            bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res.tick);
         }
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let mut renderer = Renderer::new(
-            &gpu.device,
-            &gpu.queue,
-            offscreen::FORMAT,
-            args.width,
-            args.height,
-        )
-        .map_err(|e| anyhow!(e))?;
+        let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
         renderer.options.shadows = !args.no_shadows;
         render_sim(&gpu, &mut renderer, &outcome.sim, &args.out)?;
-        println!(
-            "{}: rendered {} at tick {} ({}x{}) on {}",
-            args.out.display(),
-            replay.display(),
-            tick,
-            args.width,
-            args.height,
-            gpu.adapter_name()
-        );
+        println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
-    let scene_path = args
-        .scene
-        .as_ref()
-        .ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
+    let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
     let scene = super::load_scene(scene_path)?;
-    let mut sim = Sim::from_scene(&scene, scene.seed)
-        .map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
+    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     if let Some(rate) = args.time_rate {
         if !rate.is_finite() {
             bail!("--time-rate must be a finite number");
@@ -168,25 +126,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         None => {
             check_out_file(&args.out, args.force)?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = Renderer::new(
-                &gpu.device,
-                &gpu.queue,
-                offscreen::FORMAT,
-                args.width,
-                args.height,
-            )
-            .map_err(|e| anyhow!(e))?;
+            let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
             renderer.options.shadows = !args.no_shadows;
             render_sim(&gpu, &mut renderer, &sim, &args.out)?;
-            println!(
-                "{}: rendered {} at tick {} ({}x{}) on {}",
-                args.out.display(),
-                scene_path.display(),
-                sim.res.tick,
-                args.width,
-                args.height,
-                gpu.adapter_name()
-            );
+            println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
         }
         Some(n) => {
             if n == 0 || n > 100_000 {
@@ -196,41 +139,22 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
                 bail!("--fps must be in (0, 1000]");
             }
             if args.out.is_file() {
-                bail!(
-                    "{}: is a file; with --frames, --out names a folder",
-                    args.out.display()
-                );
+                bail!("{}: is a file; with --frames, --out names a folder", args.out.display());
             }
-            std::fs::create_dir_all(&args.out)
-                .map_err(|e| anyhow!("{}: cannot create folder ({e})", args.out.display()))?;
+            std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: cannot create folder ({e})", args.out.display()))?;
             let first = args.out.join("frame_00000.png");
             if first.exists() && !args.force {
-                bail!(
-                    "{}: already exists (use --force to overwrite)",
-                    first.display()
-                );
+                bail!("{}: already exists (use --force to overwrite)", first.display());
             }
             let ticks_per_frame = ((1.0 / args.fps) / scene.dt as f64).round().max(1.0) as u64;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = Renderer::new(
-                &gpu.device,
-                &gpu.queue,
-                offscreen::FORMAT,
-                args.width,
-                args.height,
-            )
-            .map_err(|e| anyhow!(e))?;
+            let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
             renderer.options.shadows = !args.no_shadows;
             for f in 0..n {
                 if f > 0 {
                     sim.run(ticks_per_frame);
                 }
-                render_sim(
-                    &gpu,
-                    &mut renderer,
-                    &sim,
-                    &args.out.join(format!("frame_{f:05}.png")),
-                )?;
+                render_sim(&gpu, &mut renderer, &sim, &args.out.join(format!("frame_{f:05}.png")))?;
             }
             println!(
                 "{}: wrote {n} frames, {ticks_per_frame} ticks apart ({:.4} s simulated per frame), on {}",

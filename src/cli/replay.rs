@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use clap::Args;
 use grove_systems::hash::hex;
-use grove_systems::replay::{Divergence, ReplayOptions, ReplayOutcome, replay_file};
+use grove_systems::replay::{replay_file, Divergence, ReplayOptions, ReplayOutcome};
 use grove_systems::task::TaskReport;
 use serde::Serialize;
 
@@ -72,14 +72,8 @@ impl ReplayReport {
             ticks,
             sim_seconds,
             wall_seconds,
-            speedup: if wall_seconds > 0.0 {
-                sim_seconds / wall_seconds
-            } else {
-                f64::INFINITY
-            },
-            verified: outcome.verifying
-                && outcome.first_divergence.is_none()
-                && outcome.checkpoints_checked > 0,
+            speedup: if wall_seconds > 0.0 { sim_seconds / wall_seconds } else { f64::INFINITY },
+            verified: outcome.verifying && outcome.first_divergence.is_none() && outcome.checkpoints_checked > 0,
             complete: outcome.complete,
             checkpoints_checked: outcome.checkpoints_checked,
             first_divergence: outcome.first_divergence.clone(),
@@ -87,11 +81,7 @@ impl ReplayReport {
             final_hash: hex(sim.hash().total),
             participant: outcome.header.participant.clone(),
             synthetic: outcome.header.synthetic,
-            task: sim
-                .res
-                .task
-                .as_ref()
-                .map(|t| TaskReport::new(t, sim.res.dt, ticks, &sim.res.catalogue)),
+            task: sim.res.task.as_ref().map(|t| TaskReport::new(t, sim.res.dt, ticks, &sim.res.catalogue)),
         }
     }
 }
@@ -99,10 +89,7 @@ impl ReplayReport {
 /// Runs `grove replay`.
 pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
-    let options = ReplayOptions {
-        until: args.until,
-        ..Default::default()
-    };
+    let options = ReplayOptions { until: args.until, ..Default::default() };
     let outcome = match replay_file(&args.file, &options) {
         Ok(o) => o,
         Err(e) => {
@@ -125,11 +112,7 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
         println!(
             "{}: {state}, {} ({} ticks, {:.1} s simulated in {:.3} s, {:.0}x), {} checkpoints, final hash {}",
             report.file,
-            if report.complete {
-                "complete"
-            } else {
-                "incomplete"
-            },
+            if report.complete { "complete" } else { "incomplete" },
             report.ticks,
             report.sim_seconds,
             report.wall_seconds,
@@ -138,29 +121,15 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
             report.final_hash
         );
         if let Some(d) = &report.first_divergence {
-            let what: Vec<String> = d
-                .differing
-                .iter()
-                .map(|x| format!("entity {} {}", x.entity, x.component))
-                .collect();
-            println!(
-                "  first divergence at tick {}: expected {}, got {}; differs: {}",
-                d.tick,
-                d.expected_hash,
-                d.actual_hash,
-                what.join(", ")
-            );
+            let what: Vec<String> = d.differing.iter().map(|x| format!("entity {} {}", x.entity, x.component)).collect();
+            println!("  first divergence at tick {}: expected {}, got {}; differs: {}", d.tick, d.expected_hash, d.actual_hash, what.join(", "));
         }
         if let Some(t) = &report.task {
             println!(
                 "  task {} ({}): {}, {:.2} s, {} trees, {} errors",
                 t.id,
                 t.mode,
-                if t.completed {
-                    "completed"
-                } else {
-                    "not completed"
-                },
+                if t.completed { "completed" } else { "not completed" },
                 t.time_s,
                 t.trees.len(),
                 t.errors

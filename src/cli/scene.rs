@@ -5,8 +5,8 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use clap::Subcommand;
-use grove_systems::Sim;
 use grove_systems::components::Plane;
+use grove_systems::Sim;
 
 /// Subcommands of `grove scene`.
 #[derive(Subcommand)]
@@ -23,22 +23,11 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
     match cmd {
         SceneCommand::Check { file } => {
             let scene = super::load_scene(&file)?;
-            let sim = Sim::from_scene(&scene, scene.seed)
-                .map_err(|e| anyhow!("{}: {e}", file.display()))?;
+            let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{}: {e}", file.display()))?;
             println!("{}: ok, scene '{}'", file.display(), scene.name);
-            println!(
-                "  dt: {:.6} s ({:.1} Hz), seed {}",
-                scene.dt,
-                1.0 / scene.dt,
-                scene.seed
-            );
+            println!("  dt: {:.6} s ({:.1} Hz), seed {}", scene.dt, 1.0 / scene.dt, scene.seed);
             for p in sim.world.query::<&Plane>().iter() {
-                let (min, max) = p
-                    .vertices
-                    .iter()
-                    .fold((glam::Vec3::MAX, glam::Vec3::MIN), |(a, b), v| {
-                        (a.min(*v), b.max(*v))
-                    });
+                let (min, max) = p.vertices.iter().fold((glam::Vec3::MAX, glam::Vec3::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
                 println!(
                     "  plane '{}': {} vertices, {} triangles, x {:.1}..{:.1} m, y {:.2}..{:.2} m, z {:.1}..{:.1} m",
                     p.name,
@@ -53,23 +42,12 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
                 );
             }
             let s = &scene.sun;
-            println!(
-                "  sun: {:.4}° N, {:.4}° E at {} (time rate {})",
-                s.latitude_deg, s.longitude_deg, s.utc, s.time_rate
-            );
+            println!("  sun: {:.4}° N, {:.4}° E at {} (time rate {})", s.latitude_deg, s.longitude_deg, s.utc, s.time_rate);
             let w = &scene.wind;
-            println!(
-                "  wind: strength {}, density {}/m, gusts {} ± {} at {} Hz",
-                w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency
-            );
+            println!("  wind: strength {}, density {}/m, gusts {} ± {} at {} Hz", w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency);
             println!("  trees: {}", scene.trees.len());
             let c = &scene.camera;
-            println!(
-                "  camera: at {:?} looking at {:?}, fov {}°",
-                c.position.to_array(),
-                c.look_at.to_array(),
-                c.fov_y_deg
-            );
+            println!("  camera: at {:?} looking at {:?}, fov {}°", c.position.to_array(), c.look_at.to_array(), c.fov_y_deg);
             Ok(ExitCode::SUCCESS)
         }
     }

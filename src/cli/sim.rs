@@ -6,9 +6,9 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use clap::Args;
-use grove_systems::Sim;
 use grove_systems::hash::hex;
 use grove_systems::sim::EntityCounts;
+use grove_systems::Sim;
 use serde::Serialize;
 
 /// Arguments of `grove sim`.
@@ -47,8 +47,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
         return Err(anyhow!("--trees {} is more than 5,000,000", args.trees));
     }
     let seed = args.seed.unwrap_or(scene.seed);
-    let mut sim =
-        Sim::from_scene(&scene, seed).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
+    let mut sim = Sim::from_scene(&scene, seed).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
     sim.scatter_trees(args.trees);
     let start = Instant::now();
     sim.run(args.ticks);
@@ -65,12 +64,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     } else {
         println!(
             "{}: {} ticks, {} trees, {} planes, hash {} ({:.3} s)",
-            report.scene,
-            report.ticks,
-            report.entities.trees,
-            report.entities.planes,
-            report.hash,
-            report.wall_seconds
+            report.scene, report.ticks, report.entities.trees, report.entities.planes, report.hash, report.wall_seconds
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -9,7 +9,7 @@ use clap::Args;
 use grove_systems::resources::Config;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::study::{TrialStatus, chart, recordings_in, report, run_all};
+use crate::study::{chart, recordings_in, report, run_all, TrialStatus};
 
 /// Arguments of `grove study`.
 #[derive(Args)]
@@ -33,12 +33,8 @@ pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> 
     let mut config = Config::default();
     let mut out = Vec::new();
     for s in set {
-        let (k, v) = s
-            .split_once('=')
-            .ok_or_else(|| anyhow!("--set {s}: expected NAME=VALUE"))?;
-        config
-            .set(k.trim(), v.trim())
-            .map_err(|e| anyhow!("--set {e}"))?;
+        let (k, v) = s.split_once('=').ok_or_else(|| anyhow!("--set {s}: expected NAME=VALUE"))?;
+        config.set(k.trim(), v.trim()).map_err(|e| anyhow!("--set {e}"))?;
         out.push((k.trim().to_string(), v.trim().to_string()));
     }
     Ok(out)
@@ -54,10 +50,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
 
     let bar = ProgressBar::new(files.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} recordings {elapsed}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    bar.set_style(ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} recordings {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
     bar.set_prefix("study");
     let (trials, wall) = run_all(&files, &overrides, &|| bar.inc(1));
     bar.finish_and_clear();
@@ -65,62 +58,26 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let summary = report::summarize(&trials, &overrides, wall);
     report::write_trial_results(&args.out.join("trial_results.csv"), &trials)?;
     report::write_trees(&args.out.join("trees.csv"), &trials)?;
-    std::fs::write(
-        args.out.join("summary.json"),
-        serde_json::to_string_pretty(&serde_json::json!({"summary": &summary, "trials": &trials}))?,
-    )
-    .map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
+    std::fs::write(args.out.join("summary.json"), serde_json::to_string_pretty(&serde_json::json!({"summary": &summary, "trials": &trials}))?)
+        .map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
     let title = if overrides.is_empty() {
         "Task time per participant: ray-casting vs manual".to_string()
     } else {
-        format!(
-            "What-if ({}): task time per participant",
-            overrides
-                .iter()
-                .map(|(k, v)| format!("{k}={v}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        )
+        format!("What-if ({}): task time per participant", overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(", "))
     };
-    chart::ablation_chart(
-        &args.out.join("ablation.png"),
-        &summary.per_participant,
-        &title,
-        1100,
-        600,
-    )?;
+    chart::ablation_chart(&args.out.join("ablation.png"), &summary.per_participant, &title, 1100, 600)?;
 
     if args.json {
         super::print_json(&serde_json::json!({"summary": &summary, "trials": &trials}))?;
     } else {
         print!("{}", report::table(&trials));
         for (mode, s) in &summary.modes {
-            println!(
-                "{mode:<12} mean {:.2} s (sd {:.2}) over {} completed of {} trials, {:.2} errors per trial",
-                s.mean_time_s, s.sd_time_s, s.completed, s.trials, s.mean_errors
-            );
+            println!("{mode:<12} mean {:.2} s (sd {:.2}) over {} completed of {} trials, {:.2} errors per trial", s.mean_time_s, s.sd_time_s, s.completed, s.trials, s.mean_errors);
         }
-        println!(
-            "ray-casting faster for every participant: {}",
-            if summary.ray_casting_faster_for_all {
-                "yes"
-            } else {
-                "no"
-            }
-        );
+        println!("ray-casting faster for every participant: {}", if summary.ray_casting_faster_for_all { "yes" } else { "no" });
         println!("reports in {}", args.out.display());
     }
-    eprintln!(
-        "study: {} recordings re-simulated in {:.3} s",
-        trials.len(),
-        wall
-    );
-    let ok = trials
-        .iter()
-        .all(|t| matches!(t.status, TrialStatus::Verified | TrialStatus::WhatIf));
-    Ok(if ok {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(1)
-    })
+    eprintln!("study: {} recordings re-simulated in {:.3} s", trials.len(), wall);
+    let ok = trials.iter().all(|t| matches!(t.status, TrialStatus::Verified | TrialStatus::WhatIf));
+    Ok(if ok { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }

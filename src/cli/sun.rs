@@ -43,10 +43,7 @@ struct SunReport {
 
 /// Parses a number argument, with a one-line error that names the option.
 fn number(name: &str, text: &str) -> anyhow::Result<f64> {
-    let x: f64 = text
-        .trim()
-        .parse()
-        .map_err(|_| anyhow!("{name} '{text}' is not a number"))?;
+    let x: f64 = text.trim().parse().map_err(|_| anyhow!("{name} '{text}' is not a number"))?;
     if !x.is_finite() {
         return Err(anyhow!("{name} '{text}' must be a finite number"));
     }
@@ -74,18 +71,10 @@ pub fn run(args: SunArgs) -> anyhow::Result<ExitCode> {
     } else {
         let [x, y, z] = report.direction;
         println!("sun at {lat}° N, {lon}° E, {}:", report.utc);
-        println!(
-            "  elevation_deg {:.5} (true geometric, no refraction)",
-            report.elevation_deg
-        );
-        println!(
-            "  azimuth_deg   {:.5} (clockwise from north)",
-            report.azimuth_deg
-        );
+        println!("  elevation_deg {:.5} (true geometric, no refraction)", report.elevation_deg);
+        println!("  azimuth_deg   {:.5} (clockwise from north)", report.azimuth_deg);
         println!("  zenith_deg    {:.5}", report.zenith_deg);
-        println!(
-            "  direction     ({x:.6}, {y:.6}, {z:.6}) (towards the sun; +X east, +Y up, -Z north)"
-        );
+        println!("  direction     ({x:.6}, {y:.6}, {z:.6}) (towards the sun; +X east, +Y up, -Z north)");
     }
     Ok(ExitCode::SUCCESS)
 }

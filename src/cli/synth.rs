@@ -28,22 +28,9 @@ pub struct SynthArgs {
 /// Runs `grove synth`.
 pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
     if args.participants == 0 || args.participants > 999 {
-        bail!(
-            "--participants {} must be between 1 and 999",
-            args.participants
-        );
+        bail!("--participants {} must be between 1 and 999", args.participants);
     }
-    let written = write_study(
-        &args.out,
-        args.participants,
-        args.seed,
-        args.force,
-        &|what| eprintln!("synth: {what}"),
-    )?;
-    println!(
-        "wrote {} recordings to {}",
-        written.len(),
-        args.out.display()
-    );
+    let written = write_study(&args.out, args.participants, args.seed, args.force, &|what| eprintln!("synth: {what}"))?;
+    println!("wrote {} recordings to {}", written.len(), args.out.display());
     Ok(ExitCode::SUCCESS)
 }

@@ -2,11 +2,11 @@
 //! thumbnails it draws offscreen for the tree-selection window.
 
 use glam::Vec3;
-use grove::render::Renderer;
 use grove::render::offscreen::model_stage;
-use grove_systems::Sim;
+use grove::render::Renderer;
 use grove_systems::catalogue::Catalogue;
 use grove_systems::components::Tree;
+use grove_systems::Sim;
 
 use super::window::WorldRenderer;
 
@@ -26,47 +26,27 @@ impl WorldRenderer for Renderer {
 }
 
 /// Makes the window's world renderer (a [`super::window::RendererFactory`]).
-pub fn make_renderer(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    format: wgpu::TextureFormat,
-    width: u32,
-    height: u32,
-) -> Result<Box<dyn WorldRenderer>, String> {
-    Ok(Box::new(Renderer::new(
-        device, queue, format, width, height,
-    )?))
+pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, String> {
+    Ok(Box::new(Renderer::new(device, queue, format, width, height)?))
 }
 
 /// Renders one thumbnail per built-in model, in model order, each on a small ground plane
 /// framed from its bounds (a [`super::window::ThumbnailFactory`]).
-pub fn render_thumbnails(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-) -> Result<Vec<wgpu::TextureView>, String> {
+pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, String> {
     let catalogue = Catalogue::builtin();
     let mut renderer = Renderer::new(device, queue, THUMB_FORMAT, THUMB_SIZE, THUMB_SIZE)?;
     let mut views = Vec::new();
     for m in &catalogue.models {
         let mut sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false)?;
         // The stage holds a placeholder tree of model 0; show this model instead.
-        let placeholders: Vec<hecs::Entity> = sim
-            .world
-            .query::<(hecs::Entity, &Tree)>()
-            .iter()
-            .map(|(e, _)| e)
-            .collect();
+        let placeholders: Vec<hecs::Entity> = sim.world.query::<(hecs::Entity, &Tree)>().iter().map(|(e, _)| e).collect();
         for e in placeholders {
             let _ = sim.world.despawn(e);
         }
         sim.spawn_tree(m.id, Vec3::ZERO, 0.0, 1.0, false);
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("tree thumbnail"),
-            size: wgpu::Extent3d {
-                width: THUMB_SIZE,
-                height: THUMB_SIZE,
-                depth_or_array_layers: 1,
-            },
+            size: wgpu::Extent3d { width: THUMB_SIZE, height: THUMB_SIZE, depth_or_array_layers: 1 },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -74,10 +54,7 @@ pub fn render_thumbnails(
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("tree thumbnail view"),
-            ..Default::default()
-        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor { label: Some("tree thumbnail view"), ..Default::default() });
         renderer.render(&sim, &view);
         views.push(view);
     }

@@ -15,7 +15,7 @@
 //!   Menu, D-pad = touchpad, left stick walks, right stick turns.
 
 use glam::{Vec2, Vec3};
-use grove_systems::components::{Pose, rotation_towards};
+use grove_systems::components::{rotation_towards, Pose};
 use grove_systems::input::{Button, InputEvent};
 use winit::event::MouseButton;
 use winit::keyboard::KeyCode;
@@ -23,26 +23,17 @@ use winit::keyboard::KeyCode;
 /// The key bindings as (keys, action) rows, for the help overlay.
 pub const BINDINGS: &[(&str, &str)] = &[
     ("Mouse", "aim the ray from the camera through the cursor"),
-    (
-        "Left button",
-        "Trigger: plant / select / drag (click or hold)",
-    ),
+    ("Left button", "Trigger: plant / select / drag (click or hold)"),
     ("Right button", "Bumper: remove the tree under the ray"),
     ("Right drag", "turn the head"),
     ("W A S D", "walk the head"),
-    (
-        "Wheel, Up/Down",
-        "touchpad front/back (move the selected tree along the ray)",
-    ),
+    ("Wheel, Up/Down", "touchpad front/back (move the selected tree along the ray)"),
     ("Q / E", "touchpad left/right (turn the selected tree)"),
     ("Tab or M", "Menu: open / close the model menu"),
     ("F1 or H", "show / hide this help"),
     ("F3", "show / hide the debug panel"),
     ("Escape", "quit (the recording is finished cleanly)"),
-    (
-        "Gamepad",
-        "South/RT = Trigger, East/LT = Bumper, Start = Menu, D-pad = touchpad, sticks = walk/turn",
-    ),
+    ("Gamepad", "South/RT = Trigger, East/LT = Bumper, Start = Menu, D-pad = touchpad, sticks = walk/turn"),
 ];
 
 /// Walking speed of the head, metres per second.
@@ -69,10 +60,7 @@ pub fn cursor_ray(head: &Pose, fov_y: f32, size: Vec2, cursor: Vec2) -> Pose {
     let aspect = size.x / size.y;
     let local = Vec3::new(ndc.x * t * aspect, ndc.y * t, -1.0);
     let dir = (head.rotation * local).normalize_or(head.forward());
-    Pose {
-        position: head.position,
-        rotation: rotation_towards(dir),
-    }
+    Pose { position: head.position, rotation: rotation_towards(dir) }
 }
 
 /// Where a world point appears in the view (pixels from the top left), or `None` if it is
@@ -85,10 +73,7 @@ pub fn project(head: &Pose, fov_y: f32, size: Vec2, point: Vec3, near: f32) -> O
     let t = (fov_y * 0.5).tan();
     let aspect = size.x / size.y.max(1.0);
     let ndc = Vec2::new(local.x / (-local.z * t * aspect), local.y / (-local.z * t));
-    Some(Vec2::new(
-        (ndc.x + 1.0) * 0.5 * size.x,
-        (1.0 - ndc.y) * 0.5 * size.y,
-    ))
+    Some(Vec2::new((ndc.x + 1.0) * 0.5 * size.x, (1.0 - ndc.y) * 0.5 * size.y))
 }
 
 /// The yaw (about +Y, 0 = looking north, positive = turning left) and pitch of a pose's forward
@@ -101,15 +86,8 @@ pub fn yaw_pitch(pose: &Pose) -> (f32, f32) {
 /// The pose at `position` looking along `yaw` and `pitch` (see [`yaw_pitch`]), without roll.
 pub fn from_yaw_pitch(position: Vec3, yaw: f32, pitch: f32) -> Pose {
     let pitch = pitch.clamp(-MAX_PITCH, MAX_PITCH);
-    let dir = Vec3::new(
-        -yaw.sin() * pitch.cos(),
-        pitch.sin(),
-        -yaw.cos() * pitch.cos(),
-    );
-    Pose {
-        position,
-        rotation: rotation_towards(dir),
-    }
+    let dir = Vec3::new(-yaw.sin() * pitch.cos(), pitch.sin(), -yaw.cos() * pitch.cos());
+    Pose { position, rotation: rotation_towards(dir) }
 }
 
 /// Walks a head horizontally: `dir.y` forward, `dir.x` right (each in [−1, 1]), for `dt`
@@ -119,10 +97,7 @@ pub fn walk(head: &Pose, dir: Vec2, dt: f32) -> Pose {
     let forward = Vec3::new(-yaw.sin(), 0.0, -yaw.cos());
     let right = Vec3::new(yaw.cos(), 0.0, -yaw.sin());
     let step = (forward * dir.y + right * dir.x).clamp_length_max(1.0) * WALK_SPEED * dt;
-    Pose {
-        position: head.position + step,
-        rotation: head.rotation,
-    }
+    Pose { position: head.position + step, rotation: head.rotation }
 }
 
 /// Turns a head by `dyaw` (positive = left) and `dpitch` (positive = up), radians, keeping the
@@ -198,12 +173,7 @@ impl Controls {
 
     /// The controller pose for the current head and cursor (the view centre without a cursor).
     pub fn controller_pose(&self) -> Pose {
-        cursor_ray(
-            &self.head,
-            self.fov_y,
-            self.size,
-            self.cursor.unwrap_or(self.size * 0.5),
-        )
+        cursor_ray(&self.head, self.fov_y, self.size, self.cursor.unwrap_or(self.size * 0.5))
     }
 
     /// The events that bring the world's controller to the current cursor ray, if it moved.
@@ -243,11 +213,7 @@ impl Controls {
             _ => return out,
         };
         self.pose_events(&mut out);
-        out.push(if pressed {
-            InputEvent::ButtonDown { button: b }
-        } else {
-            InputEvent::ButtonUp { button: b }
-        });
+        out.push(if pressed { InputEvent::ButtonDown { button: b } } else { InputEvent::ButtonUp { button: b } });
         out
     }
 
@@ -261,12 +227,7 @@ impl Controls {
 
     /// A key went down or up. `menu_open` is whether the world's model menu is open (Tab and M
     /// close it then). Returns the events and the app-level actions.
-    pub fn key(
-        &mut self,
-        code: KeyCode,
-        pressed: bool,
-        menu_open: bool,
-    ) -> (Vec<InputEvent>, AppKeys) {
+    pub fn key(&mut self, code: KeyCode, pressed: bool, menu_open: bool) -> (Vec<InputEvent>, AppKeys) {
         let mut out = Vec::new();
         let mut app = AppKeys::default();
         match code {
@@ -321,19 +282,11 @@ impl Controls {
                 };
                 if let Some(button) = button {
                     self.pose_events(&mut out);
-                    out.push(if pressed {
-                        InputEvent::ButtonDown { button }
-                    } else {
-                        InputEvent::ButtonUp { button }
-                    });
+                    out.push(if pressed { InputEvent::ButtonDown { button } } else { InputEvent::ButtonUp { button } });
                 }
             }
             PadInput::Axis(axis, v) => {
-                let v = if v.abs() < STICK_DEAD_ZONE {
-                    0.0
-                } else {
-                    v.clamp(-1.0, 1.0)
-                };
+                let v = if v.abs() < STICK_DEAD_ZONE { 0.0 } else { v.clamp(-1.0, 1.0) };
                 match axis {
                     Axis::LeftStickX => self.left_stick.x = v,
                     Axis::LeftStickY => self.left_stick.y = v,
@@ -351,10 +304,7 @@ impl Controls {
     /// The touchpad deflection the held keys, the wheel and the D-pad ask for now.
     pub fn touchpad_axes(&self) -> Vec2 {
         let k = |a: bool, b: bool| (a as i32 - b as i32) as f32;
-        let mut axes = Vec2::new(
-            k(self.pad_keys[3], self.pad_keys[2]),
-            k(self.pad_keys[0], self.pad_keys[1]),
-        ) + self.dpad;
+        let mut axes = Vec2::new(k(self.pad_keys[3], self.pad_keys[2]), k(self.pad_keys[0], self.pad_keys[1])) + self.dpad;
         if self.wheel_left > 0.0 {
             axes.y += self.wheel_dir;
         }
@@ -367,10 +317,7 @@ impl Controls {
     pub fn frame(&mut self, dt: f32) -> Vec<InputEvent> {
         let mut out = Vec::new();
         let k = |a: bool, b: bool| (a as i32 - b as i32) as f32;
-        let mut dir = Vec2::new(
-            k(self.walk_keys[3], self.walk_keys[2]),
-            k(self.walk_keys[0], self.walk_keys[1]),
-        );
+        let mut dir = Vec2::new(k(self.walk_keys[3], self.walk_keys[2]), k(self.walk_keys[0], self.walk_keys[1]));
         dir += self.left_stick;
         let dt = dt.clamp(0.0, 0.25);
         let mut head = self.head;
@@ -378,11 +325,7 @@ impl Controls {
             head = walk(&head, dir, dt);
         }
         if self.right_stick != Vec2::ZERO {
-            head = turn(
-                &head,
-                -self.right_stick.x * STICK_TURN_RATE * dt,
-                self.right_stick.y * STICK_TURN_RATE * dt,
-            );
+            head = turn(&head, -self.right_stick.x * STICK_TURN_RATE * dt, self.right_stick.y * STICK_TURN_RATE * dt);
         }
         if head != self.head {
             self.head = head;
@@ -403,13 +346,9 @@ impl Controls {
 /// the button up.
 fn menu_button(pressed: bool, menu_open: bool) -> Vec<InputEvent> {
     match (pressed, menu_open) {
-        (true, false) => vec![InputEvent::ButtonDown {
-            button: Button::Menu,
-        }],
+        (true, false) => vec![InputEvent::ButtonDown { button: Button::Menu }],
         (true, true) => vec![InputEvent::CloseMenu],
-        (false, _) => vec![InputEvent::ButtonUp {
-            button: Button::Menu,
-        }],
+        (false, _) => vec![InputEvent::ButtonUp { button: Button::Menu }],
     }
 }
 
@@ -433,11 +372,7 @@ mod tests {
     fn project_inverts_cursor_ray() {
         let h = head();
         let size = Vec2::new(1280.0, 720.0);
-        for cursor in [
-            Vec2::new(10.0, 20.0),
-            Vec2::new(1000.0, 700.0),
-            Vec2::new(640.0, 100.0),
-        ] {
+        for cursor in [Vec2::new(10.0, 20.0), Vec2::new(1000.0, 700.0), Vec2::new(640.0, 100.0)] {
             let p = cursor_ray(&h, 60f32.to_radians(), size, cursor);
             let point = p.position + p.forward() * 7.0;
             let back = project(&h, 60f32.to_radians(), size, point, 0.01).unwrap();
@@ -452,27 +387,16 @@ mod tests {
         let low = cursor_ray(&h, 1.0, Vec2::new(800.0, 600.0), Vec2::new(400.0, 590.0));
         assert!(low.forward().y < h.forward().y - 0.1);
         let right = cursor_ray(&h, 1.0, Vec2::new(800.0, 600.0), Vec2::new(790.0, 300.0));
-        assert!(
-            right.forward().x > 0.2,
-            "looking north, the right edge is east"
-        );
+        assert!(right.forward().x > 0.2, "looking north, the right edge is east");
     }
 
     #[test]
     fn walking_forward_follows_the_view_and_keeps_height() {
         let h = Pose::looking_at(Vec3::new(0.0, 1.7, 0.0), Vec3::new(1.0, 1.0, 0.0));
         let w = walk(&h, Vec2::new(0.0, 1.0), 0.5);
-        assert!(
-            (w.position - Vec3::new(WALK_SPEED * 0.5, 1.7, 0.0)).length() < 1e-4,
-            "{}",
-            w.position
-        );
+        assert!((w.position - Vec3::new(WALK_SPEED * 0.5, 1.7, 0.0)).length() < 1e-4, "{}", w.position);
         let r = walk(&h, Vec2::new(1.0, 0.0), 1.0);
-        assert!(
-            (r.position.z - WALK_SPEED).abs() < 1e-4,
-            "right of east is south (+Z): {}",
-            r.position
-        );
+        assert!((r.position.z - WALK_SPEED).abs() < 1e-4, "right of east is south (+Z): {}", r.position);
     }
 
     #[test]
@@ -489,49 +413,21 @@ mod tests {
     #[test]
     fn left_button_is_trigger_after_a_pose_and_right_is_bumper() {
         let mut c = Controls::new(head(), 1.0, Vec2::new(800.0, 600.0));
-        assert!(
-            c.cursor_moved(Vec2::new(400.0, 500.0)).is_empty(),
-            "motion alone waits for the frame"
-        );
+        assert!(c.cursor_moved(Vec2::new(400.0, 500.0)).is_empty(), "motion alone waits for the frame");
         let down = c.mouse_button(MouseButton::Left, true);
         assert_eq!(down.len(), 2);
-        let InputEvent::ControllerPose { pose } = down[0] else {
-            panic!("the pose comes first: {down:?}")
-        };
-        assert_eq!(
-            pose,
-            cursor_ray(
-                &head(),
-                1.0,
-                Vec2::new(800.0, 600.0),
-                Vec2::new(400.0, 500.0)
-            )
-        );
-        assert_eq!(
-            down[1],
-            InputEvent::ButtonDown {
-                button: Button::Trigger
-            }
-        );
+        let InputEvent::ControllerPose { pose } = down[0] else { panic!("the pose comes first: {down:?}") };
+        assert_eq!(pose, cursor_ray(&head(), 1.0, Vec2::new(800.0, 600.0), Vec2::new(400.0, 500.0)));
+        assert_eq!(down[1], InputEvent::ButtonDown { button: Button::Trigger });
         assert!(c.frame(0.016).is_empty(), "pose unchanged: no repeat");
         c.cursor_moved(Vec2::new(410.0, 500.0));
         c.cursor_moved(Vec2::new(420.0, 500.0));
         let moved = c.frame(0.016);
         assert_eq!(moved.len(), 1, "one pose per frame: {moved:?}");
         let up = c.mouse_button(MouseButton::Left, false);
-        assert_eq!(
-            up,
-            vec![InputEvent::ButtonUp {
-                button: Button::Trigger
-            }]
-        );
+        assert_eq!(up, vec![InputEvent::ButtonUp { button: Button::Trigger }]);
         let b = c.mouse_button(MouseButton::Right, true);
-        assert_eq!(
-            b.last(),
-            Some(&InputEvent::ButtonDown {
-                button: Button::Bumper
-            })
-        );
+        assert_eq!(b.last(), Some(&InputEvent::ButtonDown { button: Button::Bumper }));
     }
 
     #[test]
@@ -551,34 +447,17 @@ mod tests {
         c.frame(0.016);
         c.key(KeyCode::ArrowUp, true, false);
         c.key(KeyCode::KeyE, true, false);
-        assert!(c.frame(0.016).contains(&InputEvent::TouchpadAxes {
-            axes: Vec2::new(1.0, 1.0)
-        }));
+        assert!(c.frame(0.016).contains(&InputEvent::TouchpadAxes { axes: Vec2::new(1.0, 1.0) }));
         c.key(KeyCode::ArrowUp, false, false);
         c.key(KeyCode::KeyE, false, false);
-        assert!(
-            c.frame(0.016)
-                .contains(&InputEvent::TouchpadAxes { axes: Vec2::ZERO })
-        );
-        assert_eq!(
-            c.key(KeyCode::Tab, true, false).0,
-            vec![InputEvent::ButtonDown {
-                button: Button::Menu
-            }]
-        );
-        assert_eq!(
-            c.key(KeyCode::KeyM, true, true).0,
-            vec![InputEvent::CloseMenu]
-        );
+        assert!(c.frame(0.016).contains(&InputEvent::TouchpadAxes { axes: Vec2::ZERO }));
+        assert_eq!(c.key(KeyCode::Tab, true, false).0, vec![InputEvent::ButtonDown { button: Button::Menu }]);
+        assert_eq!(c.key(KeyCode::KeyM, true, true).0, vec![InputEvent::CloseMenu]);
         assert!(c.key(KeyCode::Escape, true, false).1.quit);
         c.key(KeyCode::KeyW, true, false);
         let ev = c.frame(0.5);
         assert!(matches!(ev[0], InputEvent::HeadPose { .. }));
-        assert!(
-            c.head.position.z < 6.0 - 0.45,
-            "W walks north (a frame counts at most 0.25 s): {}",
-            c.head.position
-        );
+        assert!(c.head.position.z < 6.0 - 0.45, "W walks north (a frame counts at most 0.25 s): {}", c.head.position);
     }
 
     #[test]
@@ -586,44 +465,22 @@ mod tests {
         let mut c = Controls::new(head(), 1.0, Vec2::new(800.0, 600.0));
         c.frame(0.016);
         c.wheel(-1.0);
-        assert!(c.frame(0.05).contains(&InputEvent::TouchpadAxes {
-            axes: Vec2::new(0.0, -1.0)
-        }));
+        assert!(c.frame(0.05).contains(&InputEvent::TouchpadAxes { axes: Vec2::new(0.0, -1.0) }));
         c.frame(0.05);
         c.frame(0.05);
-        assert!(
-            c.frame(0.05)
-                .contains(&InputEvent::TouchpadAxes { axes: Vec2::ZERO })
-        );
+        assert!(c.frame(0.05).contains(&InputEvent::TouchpadAxes { axes: Vec2::ZERO }));
     }
 
     #[test]
     fn the_gamepad_drives_the_same_controller() {
         let mut c = Controls::new(head(), 1.0, Vec2::new(800.0, 600.0));
         let t = c.pad(PadInput::Button(gilrs::Button::South, true), false);
-        assert_eq!(
-            t.last(),
-            Some(&InputEvent::ButtonDown {
-                button: Button::Trigger
-            })
-        );
+        assert_eq!(t.last(), Some(&InputEvent::ButtonDown { button: Button::Trigger }));
         let b = c.pad(PadInput::Button(gilrs::Button::East, true), false);
-        assert_eq!(
-            b.last(),
-            Some(&InputEvent::ButtonDown {
-                button: Button::Bumper
-            })
-        );
-        assert_eq!(
-            c.pad(PadInput::Button(gilrs::Button::Start, true), false),
-            vec![InputEvent::ButtonDown {
-                button: Button::Menu
-            }]
-        );
+        assert_eq!(b.last(), Some(&InputEvent::ButtonDown { button: Button::Bumper }));
+        assert_eq!(c.pad(PadInput::Button(gilrs::Button::Start, true), false), vec![InputEvent::ButtonDown { button: Button::Menu }]);
         c.pad(PadInput::Button(gilrs::Button::DPadLeft, true), false);
-        assert!(c.frame(0.016).contains(&InputEvent::TouchpadAxes {
-            axes: Vec2::new(-1.0, 0.0)
-        }));
+        assert!(c.frame(0.016).contains(&InputEvent::TouchpadAxes { axes: Vec2::new(-1.0, 0.0) }));
         c.pad(PadInput::Axis(gilrs::Axis::LeftStickY, 1.0), false);
         let before = c.head.position;
         c.frame(0.5);
@@ -631,9 +488,6 @@ mod tests {
         c.pad(PadInput::Axis(gilrs::Axis::LeftStickY, 0.1), false);
         let still = c.head.position;
         c.frame(0.5);
-        assert_eq!(
-            c.head.position, still,
-            "inside the dead zone the head stays"
-        );
+        assert_eq!(c.head.position, still, "inside the dead zone the head stays");
     }
 }

@@ -11,8 +11,8 @@ use winit::keyboard::PhysicalKey;
 use super::input_map::{Controls, PadInput};
 use super::play_ui::{PlayUi, Screen};
 use super::session::{FixedStep, LiveSession};
-use super::window::{Frontend, GpuContext, ThumbnailFactory, World3d, make_thumbnails};
-use super::world_view::{ViewOptions, head_of, paint_world};
+use super::window::{make_thumbnails, Frontend, GpuContext, ThumbnailFactory, World3d};
+use super::world_view::{head_of, paint_world, ViewOptions};
 
 /// How often the recording is flushed to disk, wall-clock seconds.
 pub const FLUSH_EVERY_S: f64 = 1.0;
@@ -38,11 +38,7 @@ pub struct PlayApp {
 impl PlayApp {
     /// A play app over a session. With `task`, the task starts at once; with `skip_menu`,
     /// free planting starts at once.
-    pub fn new(
-        session: LiveSession,
-        task: Option<&str>,
-        skip_menu: bool,
-    ) -> Result<PlayApp, String> {
+    pub fn new(session: LiveSession, task: Option<&str>, skip_menu: bool) -> Result<PlayApp, String> {
         let head = head_of(&session.sim);
         let mut app = PlayApp {
             ui: PlayUi::new(head.pose),
@@ -104,13 +100,7 @@ impl Frontend for PlayApp {
         }
     }
 
-    fn draw_3d(
-        &mut self,
-        _gpu: GpuContext<'_>,
-        _encoder: &mut wgpu::CommandEncoder,
-        view: &wgpu::TextureView,
-        size: (u32, u32),
-    ) -> bool {
+    fn draw_3d(&mut self, _gpu: GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
         match self.session.as_ref() {
             Some(s) => self.world3d.draw(&s.sim, view, size),
             None => false,
@@ -123,9 +113,7 @@ impl Frontend for PlayApp {
                 self.controls.size = Vec2::new(size.width.max(1) as f32, size.height.max(1) as f32);
             }
             WindowEvent::CursorMoved { position, .. } => {
-                let ev = self
-                    .controls
-                    .cursor_moved(Vec2::new(position.x as f32, position.y as f32));
+                let ev = self.controls.cursor_moved(Vec2::new(position.x as f32, position.y as f32));
                 if self.live() {
                     self.queue_all(ev);
                 }
@@ -152,21 +140,13 @@ impl Frontend for PlayApp {
                 };
                 self.controls.wheel(lines);
             }
-            WindowEvent::KeyboardInput {
-                event,
-                is_synthetic,
-                ..
-            } => {
+            WindowEvent::KeyboardInput { event, is_synthetic, .. } => {
                 if *is_synthetic || event.repeat {
                     return;
                 }
-                let PhysicalKey::Code(code) = event.physical_key else {
-                    return;
-                };
+                let PhysicalKey::Code(code) = event.physical_key else { return };
                 let menu_open = self.menu_open();
-                let (ev, app) =
-                    self.controls
-                        .key(code, event.state == ElementState::Pressed, menu_open);
+                let (ev, app) = self.controls.key(code, event.state == ElementState::Pressed, menu_open);
                 if self.live() {
                     self.queue_all(ev);
                 }
@@ -191,15 +171,9 @@ impl Frontend for PlayApp {
         if self.live() {
             self.queue_all(ev);
         }
-        let steps = if self.live() {
-            self.clock.advance(elapsed, 1.0)
-        } else {
-            0
-        };
+        let steps = if self.live() { self.clock.advance(elapsed, 1.0) } else { 0 };
         let ms = self.started.elapsed().as_millis() as u64;
-        let Some(s) = self.session.as_mut() else {
-            return Ok(());
-        };
+        let Some(s) = self.session.as_mut() else { return Ok(()) };
         s.frame += 1;
         for _ in 0..steps {
             s.step(ms)?;
@@ -212,16 +186,9 @@ impl Frontend for PlayApp {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui) {
-        let Some(s) = self.session.as_ref() else {
-            return;
-        };
+        let Some(s) = self.session.as_ref() else { return };
         let painter = ui.ctx().layer_painter(egui::LayerId::background());
-        paint_world(
-            &painter,
-            ui.ctx().content_rect(),
-            &s.sim,
-            ViewOptions::with_renderer(self.world3d.active()),
-        );
+        paint_world(&painter, ui.ctx().content_rect(), &s.sim, ViewOptions::with_renderer(self.world3d.active()));
         let events = self.ui.ui(ui, &s.sim);
         self.queue_all(events);
     }

@@ -4,12 +4,12 @@
 
 use egui::{Color32, RichText, Ui};
 use glam::Vec3;
-use grove_systems::Sim;
 use grove_systems::catalogue::{ModelId, ModelKind};
 use grove_systems::components::{Pose, Transform, Tree};
 use grove_systems::input::{Button, InputEvent};
 use grove_systems::resources::Mode;
-use grove_systems::task::{BUILTIN_TASKS, TaskDef};
+use grove_systems::task::{TaskDef, BUILTIN_TASKS};
+use grove_systems::Sim;
 
 use super::input_map::BINDINGS;
 
@@ -58,27 +58,13 @@ pub struct PlayUi {
 impl PlayUi {
     /// A UI that starts on the start menu; `home` is the scene's camera pose.
     pub fn new(home: Pose) -> PlayUi {
-        PlayUi {
-            screen: Screen::Start,
-            show_help: false,
-            show_debug: true,
-            show_trees: true,
-            stats: DebugStats::default(),
-            thumbnails: Vec::new(),
-            home,
-            quit: false,
-        }
+        PlayUi { screen: Screen::Start, show_help: false, show_debug: true, show_trees: true, stats: DebugStats::default(), thumbnails: Vec::new(), home, quit: false }
     }
 
     /// The events that start a study task: its mode, then the task itself.
     pub fn start_task_events(id: &str) -> Vec<InputEvent> {
         let mode = TaskDef::builtin(id).map_or(Mode::RayCasting, |d| d.mode);
-        vec![
-            InputEvent::SwitchMode { mode },
-            InputEvent::StartTask {
-                task: id.to_string(),
-            },
-        ]
+        vec![InputEvent::SwitchMode { mode }, InputEvent::StartTask { task: id.to_string() }]
     }
 
     /// The events that remove every tree: for each, the controller is put above its crown
@@ -88,16 +74,7 @@ impl PlayUi {
             .world
             .query::<(hecs::Entity, &Tree, &Transform)>()
             .iter()
-            .map(|(e, t, tf)| {
-                (
-                    e.to_bits().get(),
-                    tf.translation,
-                    sim.res
-                        .catalogue
-                        .get(t.model)
-                        .map_or(1.0, |m| m.bounds_max.y),
-                )
-            })
+            .map(|(e, t, tf)| (e.to_bits().get(), tf.translation, sim.res.catalogue.get(t.model).map_or(1.0, |m| m.bounds_max.y)))
             .collect();
         trees.sort_by_key(|t| t.0);
         let mut out = Vec::new();
@@ -105,12 +82,8 @@ impl PlayUi {
             let from = base + Vec3::Y * (top * 4.0 + 2.0);
             let pose = Pose::looking_at(from, base + Vec3::new(0.0, -1.0, 0.0));
             out.push(InputEvent::ControllerPose { pose });
-            out.push(InputEvent::ButtonDown {
-                button: Button::Bumper,
-            });
-            out.push(InputEvent::ButtonUp {
-                button: Button::Bumper,
-            });
+            out.push(InputEvent::ButtonDown { button: Button::Bumper });
+            out.push(InputEvent::ButtonUp { button: Button::Bumper });
         }
         out
     }
@@ -134,46 +107,39 @@ impl PlayUi {
             self.debug_window(ui, sim);
         }
         if self.show_help {
-            egui::Window::new("Help: key bindings")
-                .collapsible(false)
-                .open(&mut self.show_help)
-                .show(ui.ctx(), |ui| {
-                    egui::Grid::new("bindings").striped(true).show(ui, |ui| {
-                        for (keys, action) in BINDINGS {
-                            ui.label(RichText::new(*keys).strong());
-                            ui.label(*action);
-                            ui.end_row();
-                        }
-                    });
+            egui::Window::new("Help: key bindings").collapsible(false).open(&mut self.show_help).show(ui.ctx(), |ui| {
+                egui::Grid::new("bindings").striped(true).show(ui, |ui| {
+                    for (keys, action) in BINDINGS {
+                        ui.label(RichText::new(*keys).strong());
+                        ui.label(*action);
+                        ui.end_row();
+                    }
                 });
+            });
         }
         out
     }
 
     fn start_menu(&mut self, ui: &mut Ui, out: &mut Vec<InputEvent>) {
-        egui::Window::new("grove")
-            .collapsible(false)
-            .resizable(false)
-            .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
-            .show(ui.ctx(), |ui| {
-                ui.heading("Plant trees on the study site");
-                ui.add_space(6.0);
-                if ui.button("Free planting").clicked() {
+        egui::Window::new("grove").collapsible(false).resizable(false).anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0]).show(ui.ctx(), |ui| {
+            ui.heading("Plant trees on the study site");
+            ui.add_space(6.0);
+            if ui.button("Free planting").clicked() {
+                self.screen = Screen::Session;
+            }
+            ui.separator();
+            ui.label("Run a study task:");
+            for (id, _) in BUILTIN_TASKS {
+                if ui.button(format!("Task {id}")).clicked() {
+                    out.extend(PlayUi::start_task_events(id));
                     self.screen = Screen::Session;
                 }
-                ui.separator();
-                ui.label("Run a study task:");
-                for (id, _) in BUILTIN_TASKS {
-                    if ui.button(format!("Task {id}")).clicked() {
-                        out.extend(PlayUi::start_task_events(id));
-                        self.screen = Screen::Session;
-                    }
-                }
-                ui.separator();
-                if ui.button("Help").clicked() {
-                    self.show_help = true;
-                }
-            });
+            }
+            ui.separator();
+            if ui.button("Help").clicked() {
+                self.show_help = true;
+            }
+        });
     }
 
     fn top_bar(&mut self, ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>) {
@@ -185,9 +151,7 @@ impl PlayUi {
                         Mode::RayCasting => "Ray-casting",
                         Mode::Manual => "Manual modification",
                     };
-                    if ui.selectable_label(sim.res.mode == mode, label).clicked()
-                        && sim.res.mode != mode
-                    {
+                    if ui.selectable_label(sim.res.mode == mode, label).clicked() && sim.res.mode != mode {
                         out.push(InputEvent::SwitchMode { mode });
                     }
                 }
@@ -206,151 +170,89 @@ impl PlayUi {
                     self.quit = true;
                 }
                 if let Some(path) = &self.stats.recording {
-                    ui.label(
-                        RichText::new(format!("REC {path}")).color(Color32::from_rgb(220, 40, 40)),
-                    );
+                    ui.label(RichText::new(format!("REC {path}")).color(Color32::from_rgb(220, 40, 40)));
                 }
             });
         });
     }
 
     fn tree_window(&mut self, ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>) {
-        let title = if sim.res.menu.open {
-            "Trees (menu open)"
-        } else {
-            "Trees"
-        };
-        egui::Window::new(title)
-            .id(egui::Id::unique("trees window"))
-            .default_pos([10.0, 60.0])
-            .resizable(false)
-            .show(ui.ctx(), |ui| {
-                for (kind, heading) in [
-                    (ModelKind::Mesh, "Mesh"),
-                    (ModelKind::Billboard, "Billboard"),
-                ] {
-                    ui.label(RichText::new(heading).strong());
-                    ui.horizontal_wrapped(|ui| {
-                        for i in 0..sim.res.catalogue.len() {
-                            let id = ModelId(i as u8);
-                            let Some(m) = sim.res.catalogue.get(id) else {
-                                continue;
-                            };
-                            if m.kind != kind {
-                                continue;
-                            }
-                            let current = sim.res.menu.current_model == id;
-                            let thumb = self.thumbnails.get(i).copied().flatten();
-                            let button = match thumb {
-                                Some(tex) => egui::Button::image_and_text(
-                                    egui::Image::new((tex, egui::vec2(64.0, 64.0))),
-                                    m.name.as_str(),
-                                ),
-                                None => egui::Button::new(m.name.as_str()),
-                            };
-                            if ui.add(button.selected(current)).clicked() {
-                                if sim.res.mode == Mode::Manual && !sim.res.menu.open {
-                                    out.push(InputEvent::OpenMenu);
-                                }
-                                out.push(InputEvent::ChooseModel { model: id });
-                            }
+        let title = if sim.res.menu.open { "Trees (menu open)" } else { "Trees" };
+        egui::Window::new(title).id(egui::Id::unique("trees window")).default_pos([10.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
+            for (kind, heading) in [(ModelKind::Mesh, "Mesh"), (ModelKind::Billboard, "Billboard")] {
+                ui.label(RichText::new(heading).strong());
+                ui.horizontal_wrapped(|ui| {
+                    for i in 0..sim.res.catalogue.len() {
+                        let id = ModelId(i as u8);
+                        let Some(m) = sim.res.catalogue.get(id) else { continue };
+                        if m.kind != kind {
+                            continue;
                         }
-                    });
-                }
-                if sim.res.menu.open && ui.button("Close menu").clicked() {
-                    out.push(InputEvent::CloseMenu);
-                }
-            });
+                        let current = sim.res.menu.current_model == id;
+                        let thumb = self.thumbnails.get(i).copied().flatten();
+                        let button = match thumb {
+                            Some(tex) => egui::Button::image_and_text(egui::Image::new((tex, egui::vec2(64.0, 64.0))), m.name.as_str()),
+                            None => egui::Button::new(m.name.as_str()),
+                        };
+                        if ui.add(button.selected(current)).clicked() {
+                            if sim.res.mode == Mode::Manual && !sim.res.menu.open {
+                                out.push(InputEvent::OpenMenu);
+                            }
+                            out.push(InputEvent::ChooseModel { model: id });
+                        }
+                    }
+                });
+            }
+            if sim.res.menu.open && ui.button("Close menu").clicked() {
+                out.push(InputEvent::CloseMenu);
+            }
+        });
     }
 
     fn debug_window(&mut self, ui: &mut Ui, sim: &Sim) {
-        egui::Window::new("Debug")
-            .default_pos([1000.0, 60.0])
-            .resizable(false)
-            .show(ui.ctx(), |ui| {
-                let c = sim.counts();
-                ui.label(format!(
-                    "fps {:.0}, frame {:.1} ms",
-                    self.stats.fps, self.stats.frame_ms
-                ));
-                ui.label(format!("tick {} ({:.2} s)", sim.res.tick, sim.res.time()));
-                ui.label(format!(
-                    "entities {}: {} trees, {} planes",
-                    c.total, c.trees, c.planes
-                ));
-                ui.label(format!(
-                    "mode {}, model {}",
-                    sim.res.mode.name(),
-                    sim.res
-                        .catalogue
-                        .get(sim.res.menu.current_model)
-                        .map_or("?", |m| m.name.as_str())
-                ));
-                ui.label(format!(
-                    "GPU {}",
-                    if self.stats.adapter.is_empty() {
-                        "none"
-                    } else {
-                        &self.stats.adapter
-                    }
-                ));
-            });
+        egui::Window::new("Debug").default_pos([1000.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
+            let c = sim.counts();
+            ui.label(format!("fps {:.0}, frame {:.1} ms", self.stats.fps, self.stats.frame_ms));
+            ui.label(format!("tick {} ({:.2} s)", sim.res.tick, sim.res.time()));
+            ui.label(format!("entities {}: {} trees, {} planes", c.total, c.trees, c.planes));
+            ui.label(format!("mode {}, model {}", sim.res.mode.name(), sim.res.catalogue.get(sim.res.menu.current_model).map_or("?", |m| m.name.as_str())));
+            ui.label(format!("GPU {}", if self.stats.adapter.is_empty() { "none" } else { &self.stats.adapter }));
+        });
     }
 }
 
 /// The task panel: targets with check marks and per-tree times, the running timer, and (when
 /// `interactive`) the finish button.
 pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive: bool) {
-    let Some(task) = sim.res.task.as_ref() else {
-        return;
-    };
-    egui::Panel::right("task panel")
-        .resizable(false)
-        .show(ui, |ui| {
-            ui.heading(format!("Task {}", task.def.id));
-            let end = task
-                .completed_tick
-                .or(task.ended_tick)
-                .unwrap_or(sim.res.tick);
-            let secs = end.saturating_sub(task.started_tick) as f64 * sim.res.dt as f64;
-            ui.label(
-                RichText::new(format!("time {secs:.1} s"))
-                    .monospace()
-                    .size(18.0),
-            );
-            if task.is_complete() {
-                ui.label(RichText::new("all targets done").color(Color32::from_rgb(40, 200, 90)));
-            }
-            ui.separator();
-            for (i, t) in task.def.targets.iter().enumerate() {
-                let hit = task.satisfied.get(i).copied().flatten();
-                let mark = if hit.is_some() { "[x]" } else { "[ ]" };
-                let time = hit
-                    .map(|h| {
-                        format!(
-                            " {:.1} s",
-                            (h.tick - task.started_tick) as f64 * sim.res.dt as f64
-                        )
-                    })
-                    .unwrap_or_default();
-                ui.label(format!(
-                    "{mark} {} at ({:.1}, {:.1}){time}",
-                    t.model, t.position.x, t.position.z
-                ));
-            }
-            ui.separator();
-            ui.label(format!("errors {}", task.errors.total()));
-            if interactive && task.ended_tick.is_none() && ui.button("Finish task").clicked() {
-                out.push(InputEvent::EndTask);
-            }
-        });
+    let Some(task) = sim.res.task.as_ref() else { return };
+    egui::Panel::right("task panel").resizable(false).show(ui, |ui| {
+        ui.heading(format!("Task {}", task.def.id));
+        let end = task.completed_tick.or(task.ended_tick).unwrap_or(sim.res.tick);
+        let secs = end.saturating_sub(task.started_tick) as f64 * sim.res.dt as f64;
+        ui.label(RichText::new(format!("time {secs:.1} s")).monospace().size(18.0));
+        if task.is_complete() {
+            ui.label(RichText::new("all targets done").color(Color32::from_rgb(40, 200, 90)));
+        }
+        ui.separator();
+        for (i, t) in task.def.targets.iter().enumerate() {
+            let hit = task.satisfied.get(i).copied().flatten();
+            let mark = if hit.is_some() { "[x]" } else { "[ ]" };
+            let time = hit.map(|h| format!(" {:.1} s", (h.tick - task.started_tick) as f64 * sim.res.dt as f64)).unwrap_or_default();
+            ui.label(format!("{mark} {} at ({:.1}, {:.1}){time}", t.model, t.position.x, t.position.z));
+        }
+        ui.separator();
+        ui.label(format!("errors {}", task.errors.total()));
+        if interactive && task.ended_tick.is_none() && ui.button("Finish task").clicked() {
+            out.push(InputEvent::EndTask);
+        }
+    });
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use egui_kittest::Harness;
     use egui_kittest::kittest::Queryable;
+    use egui_kittest::Harness;
     use grove_systems::scene::Scene;
 
     use crate::desktop::session::LiveSession;
@@ -364,20 +266,15 @@ mod tests {
     fn harness() -> Harness<'static, App> {
         let sim = Sim::from_scene(&Scene::builtin("study").unwrap(), 3).unwrap();
         let home = crate::desktop::world_view::head_of(&sim).pose;
-        let app = App {
-            ui: PlayUi::new(home),
-            session: LiveSession::new(sim, None),
-        };
-        Harness::builder()
-            .with_size(egui::vec2(1280.0, 720.0))
-            .build_ui_state(
-                |ui, app: &mut App| {
-                    for e in app.ui.ui(ui, &app.session.sim) {
-                        app.session.queue(e).unwrap();
-                    }
-                },
-                app,
-            )
+        let app = App { ui: PlayUi::new(home), session: LiveSession::new(sim, None) };
+        Harness::builder().with_size(egui::vec2(1280.0, 720.0)).build_ui_state(
+            |ui, app: &mut App| {
+                for e in app.ui.ui(ui, &app.session.sim) {
+                    app.session.queue(e).unwrap();
+                }
+            },
+            app,
+        )
     }
 
     /// Steps the session until its queued input has been applied.
@@ -406,23 +303,11 @@ mod tests {
         let s = &mut h.state_mut().session;
         let pose = Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(1.0, 0.0, 1.0));
         s.queue(InputEvent::ControllerPose { pose }).unwrap();
-        s.queue(InputEvent::ButtonDown {
-            button: Button::Trigger,
-        })
-        .unwrap();
-        s.queue(InputEvent::ButtonUp {
-            button: Button::Trigger,
-        })
-        .unwrap();
+        s.queue(InputEvent::ButtonDown { button: Button::Trigger }).unwrap();
+        s.queue(InputEvent::ButtonUp { button: Button::Trigger }).unwrap();
         settle(&mut h);
         let sim = &h.state().session.sim;
-        let planted: Vec<ModelId> = sim
-            .world
-            .query::<&Tree>()
-            .iter()
-            .map(|t| t.model)
-            .filter(|m| *m == birch)
-            .collect();
+        let planted: Vec<ModelId> = sim.world.query::<&Tree>().iter().map(|t| t.model).filter(|m| *m == birch).collect();
         assert_eq!(planted.len(), 1, "one birch billboard was planted");
 
         // Clear removes every tree through Bumper clicks.
@@ -449,11 +334,7 @@ mod tests {
         h.get_by_label("conifer-mesh").click();
         settle(&mut h);
         let sim = &h.state().session.sim;
-        assert_eq!(
-            sim.counts().trees,
-            before + 1,
-            "manual mode: choosing from the menu spawns a tree"
-        );
+        assert_eq!(sim.counts().trees, before + 1, "manual mode: choosing from the menu spawns a tree");
         assert_eq!(sim.res.log.count("menu_opened"), 1);
     }
 
@@ -473,33 +354,13 @@ mod tests {
         }
         h.run();
         h.get_by_label("Task manual-7");
-        assert_eq!(
-            h.query_all_by_label_contains("[ ]").count(),
-            7,
-            "seven unchecked targets"
-        );
+        assert_eq!(h.query_all_by_label_contains("[ ]").count(), 7, "seven unchecked targets");
         let t = h.query_by_label_contains("time ").expect("a task timer");
-        let secs: f64 = t
-            .value()
-            .unwrap()
-            .trim_start_matches("time ")
-            .trim_end_matches(" s")
-            .parse()
-            .unwrap();
+        let secs: f64 = t.value().unwrap().trim_start_matches("time ").trim_end_matches(" s").parse().unwrap();
         assert!(secs >= 1.0, "the timer runs: {secs}");
         h.get_by_label("Finish task").click();
         settle(&mut h);
-        assert!(
-            h.state()
-                .session
-                .sim
-                .res
-                .task
-                .as_ref()
-                .unwrap()
-                .ended_tick
-                .is_some()
-        );
+        assert!(h.state().session.sim.res.task.as_ref().unwrap().ended_tick.is_some());
     }
 
     #[test]

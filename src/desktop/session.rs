@@ -16,9 +16,9 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
-use grove_systems::Sim;
 use grove_systems::input::{InputEvent, StampedEvent};
 use grove_systems::replay::{Header, Recorder};
+use grove_systems::Sim;
 
 /// A fixed-step accumulator: wall-clock time in, whole steps out.
 #[derive(Clone, Debug)]
@@ -34,11 +34,7 @@ pub struct FixedStep {
 impl FixedStep {
     /// A clock with step `dt` seconds that runs at most `max_steps` steps per frame.
     pub fn new(dt: f64, max_steps: u32) -> FixedStep {
-        FixedStep {
-            dt,
-            accumulator: 0.0,
-            max_steps,
-        }
+        FixedStep { dt, accumulator: 0.0, max_steps }
     }
 
     /// Adds `elapsed` wall-clock seconds (times `speed`) and returns how many steps to run now.
@@ -62,12 +58,8 @@ impl FixedStep {
 fn conflicts(batch: &[InputEvent], event: &InputEvent) -> bool {
     use InputEvent::*;
     match event {
-        ButtonDown { button } | ButtonUp { button } => batch
-            .iter()
-            .any(|e| matches!(e, ButtonDown { button: b } | ButtonUp { button: b } if b == button)),
-        ControllerPose { .. } => batch
-            .iter()
-            .any(|e| matches!(e, ButtonDown { .. } | ButtonUp { .. })),
+        ButtonDown { button } | ButtonUp { button } => batch.iter().any(|e| matches!(e, ButtonDown { button: b } | ButtonUp { button: b } if b == button)),
+        ControllerPose { .. } => batch.iter().any(|e| matches!(e, ButtonDown { .. } | ButtonUp { .. })),
         _ => false,
     }
 }
@@ -101,13 +93,7 @@ pub struct LiveSession {
 impl LiveSession {
     /// A session over `sim`, recording to `recorder` if given.
     pub fn new(sim: Sim, recorder: Option<FileRecorder>) -> LiveSession {
-        LiveSession {
-            sim,
-            batches: VecDeque::new(),
-            recorder,
-            recorded: Vec::new(),
-            frame: 0,
-        }
+        LiveSession { sim, batches: VecDeque::new(), recorder, recorded: Vec::new(), frame: 0 }
     }
 
     /// Queues an event for the next tick (or a later one, see the module docs). Events with
@@ -134,8 +120,7 @@ impl LiveSession {
         if let Some(batch) = self.batches.pop_front() {
             for event in batch {
                 if let Some(r) = self.recorder.as_mut() {
-                    r.event(tick, ms, self.frame, &event)
-                        .map_err(|e| format!("recording: {e}"))?;
+                    r.event(tick, ms, self.frame, &event).map_err(|e| format!("recording: {e}"))?;
                 }
                 self.sim.push_input(event.clone())?;
                 self.recorded.push(StampedEvent { tick, event });
@@ -143,8 +128,7 @@ impl LiveSession {
         }
         self.sim.step();
         if let Some(r) = self.recorder.as_mut() {
-            r.after_step(&self.sim)
-                .map_err(|e| format!("recording: {e}"))?;
+            r.after_step(&self.sim).map_err(|e| format!("recording: {e}"))?;
         }
         Ok(())
     }
@@ -176,8 +160,7 @@ impl LiveSession {
                 "task": sim.res.task.as_ref().map(|t| t.def.id.clone()),
                 "task_completed": sim.res.task.as_ref().map(|t| t.is_complete()),
             });
-            r.finish(sim, summary)
-                .map_err(|e| format!("recording: {e}"))?;
+            r.finish(sim, summary).map_err(|e| format!("recording: {e}"))?;
         }
         Ok(self.sim)
     }
@@ -189,7 +172,7 @@ mod tests {
     use glam::Vec3;
     use grove_systems::components::Pose;
     use grove_systems::input::Button;
-    use grove_systems::replay::{ReplayOptions, replay_file};
+    use grove_systems::replay::{replay_file, ReplayOptions};
     use grove_systems::scene::Scene;
 
     #[test]
@@ -210,14 +193,8 @@ mod tests {
         let mut s = LiveSession::new(sim, None);
         let pose = Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(0.0, 0.0, 2.0));
         s.queue(InputEvent::ControllerPose { pose }).unwrap();
-        s.queue(InputEvent::ButtonDown {
-            button: Button::Trigger,
-        })
-        .unwrap();
-        s.queue(InputEvent::ButtonUp {
-            button: Button::Trigger,
-        })
-        .unwrap();
+        s.queue(InputEvent::ButtonDown { button: Button::Trigger }).unwrap();
+        s.queue(InputEvent::ButtonUp { button: Button::Trigger }).unwrap();
         assert_eq!(s.pending_ticks(), 2);
         let before = s.sim.counts().trees;
         s.step(0).unwrap();
@@ -246,14 +223,8 @@ mod tests {
             s.step(0).unwrap();
         }
         s.queue(InputEvent::ControllerPose { pose }).unwrap();
-        s.queue(InputEvent::ButtonDown {
-            button: Button::Trigger,
-        })
-        .unwrap();
-        s.queue(InputEvent::ButtonUp {
-            button: Button::Trigger,
-        })
-        .unwrap();
+        s.queue(InputEvent::ButtonDown { button: Button::Trigger }).unwrap();
+        s.queue(InputEvent::ButtonUp { button: Button::Trigger }).unwrap();
         for _ in 0..70 {
             s.step(0).unwrap();
         }

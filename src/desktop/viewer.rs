@@ -11,9 +11,9 @@
 use std::path::{Path, PathBuf};
 
 use egui::{Color32, RichText, Ui};
-use grove_systems::Sim;
 use grove_systems::input::StampedEvent;
-use grove_systems::replay::{Header, ReplayOptions, read_events, replay_file, sim_for_header};
+use grove_systems::replay::{read_events, replay_file, sim_for_header, Header, ReplayOptions};
+use grove_systems::Sim;
 
 use super::play_ui::task_panel;
 use super::session::FixedStep;
@@ -31,14 +31,7 @@ pub struct Marker {
 }
 
 /// The log kinds shown as timeline markers.
-pub const MARKER_KINDS: &[&str] = &[
-    "planted",
-    "removed",
-    "snapped",
-    "task_started",
-    "task_ended",
-    "task_completed",
-];
+pub const MARKER_KINDS: &[&str] = &["planted", "removed", "snapped", "task_started", "task_ended", "task_completed"];
 
 /// The colour of a marker kind.
 pub fn marker_color(kind: &str) -> Color32 {
@@ -88,15 +81,7 @@ impl Viewer {
             .log
             .entries
             .iter()
-            .filter_map(|e| {
-                MARKER_KINDS
-                    .iter()
-                    .find(|k| **k == e.what.kind())
-                    .map(|k| Marker {
-                        tick: e.tick,
-                        kind: k,
-                    })
-            })
+            .filter_map(|e| MARKER_KINDS.iter().find(|k| **k == e.what.kind()).map(|k| Marker { tick: e.tick, kind: k }))
             .collect();
         let mut banner = Vec::new();
         if let Some(d) = &outcome.first_divergence {
@@ -111,8 +96,7 @@ impl Viewer {
         if outcome.first_divergence.is_none() && outcome.checkpoints_checked == 0 {
             banner.push("NOT VERIFIED: no checkpoint was reached".to_string());
         }
-        let sim = sim_for_header(&header, path.parent(), &[])
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let sim = sim_for_header(&header, path.parent(), &[]).map_err(|e| format!("{}: {e}", path.display()))?;
         let dt = header.dt as f64;
         Ok(Viewer {
             path: path.to_path_buf(),
@@ -122,11 +106,7 @@ impl Viewer {
             sim,
             end_tick,
             markers,
-            banner: if banner.is_empty() {
-                None
-            } else {
-                Some(banner.join("; "))
-            },
+            banner: if banner.is_empty() { None } else { Some(banner.join("; ")) },
             playing: false,
             speed: 1.0,
             clock: FixedStep::new(dt, 2000),
@@ -191,11 +171,7 @@ impl Viewer {
     pub fn ui(&mut self, ui: &mut Ui) {
         if let Some(b) = &self.banner {
             egui::Panel::top("banner").show(ui, |ui| {
-                ui.label(
-                    RichText::new(b)
-                        .color(Color32::from_rgb(255, 90, 70))
-                        .strong(),
-                );
+                ui.label(RichText::new(b).color(Color32::from_rgb(255, 90, 70)).strong());
             });
         }
         egui::Panel::bottom("timeline").show(ui, |ui| {
@@ -214,23 +190,15 @@ impl Viewer {
                     self.playing = false;
                     self.step_once();
                 }
-                egui::ComboBox::from_label("Speed")
-                    .selected_text(format!("{}x", self.speed))
-                    .show_ui(ui, |ui| {
-                        for s in SPEEDS {
-                            ui.selectable_value(&mut self.speed, *s, format!("{s}x"));
-                        }
-                    });
+                egui::ComboBox::from_label("Speed").selected_text(format!("{}x", self.speed)).show_ui(ui, |ui| {
+                    for s in SPEEDS {
+                        ui.selectable_value(&mut self.speed, *s, format!("{s}x"));
+                    }
+                });
                 let dt = self.sim.res.dt as f64;
                 ui.label(
-                    RichText::new(format!(
-                        "tick {} / {}  ({:.2} s / {:.2} s)",
-                        self.tick(),
-                        self.end_tick,
-                        self.tick() as f64 * dt,
-                        self.end_tick as f64 * dt
-                    ))
-                    .monospace(),
+                    RichText::new(format!("tick {} / {}  ({:.2} s / {:.2} s)", self.tick(), self.end_tick, self.tick() as f64 * dt, self.end_tick as f64 * dt))
+                        .monospace(),
                 );
             });
             let mut t = self.tick();
@@ -257,10 +225,7 @@ impl Viewer {
             let painter = ui.painter();
             for m in &self.markers {
                 let x = x0 + (x1 - x0) * (m.tick as f32 / self.end_tick.max(1) as f32);
-                painter.line_segment(
-                    [egui::pos2(x, strip.min.y), egui::pos2(x, strip.max.y)],
-                    egui::Stroke::new(2.0, marker_color(m.kind)),
-                );
+                painter.line_segment([egui::pos2(x, strip.min.y), egui::pos2(x, strip.max.y)], egui::Stroke::new(2.0, marker_color(m.kind)));
             }
             ui.horizontal(|ui| {
                 for k in MARKER_KINDS {
@@ -269,32 +234,18 @@ impl Viewer {
                 }
             });
         });
-        egui::Window::new("Recording")
-            .default_pos([10.0, 60.0])
-            .resizable(false)
-            .show(ui.ctx(), |ui| {
-                ui.label(format!("{}", self.path.display()));
-                ui.label(format!(
-                    "scene {}, seed {}",
-                    self.header.scene, self.header.seed
-                ));
-                ui.label(format!(
-                    "participant {}, task {}{}",
-                    self.header.participant.as_deref().unwrap_or("-"),
-                    self.header.task.as_deref().unwrap_or("-"),
-                    if self.header.synthetic {
-                        ", synthetic"
-                    } else {
-                        ""
-                    }
-                ));
-                let c = self.sim.counts();
-                ui.label(format!(
-                    "{} trees, mode {}",
-                    c.trees,
-                    self.sim.res.mode.name()
-                ));
-            });
+        egui::Window::new("Recording").default_pos([10.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
+            ui.label(format!("{}", self.path.display()));
+            ui.label(format!("scene {}, seed {}", self.header.scene, self.header.seed));
+            ui.label(format!(
+                "participant {}, task {}{}",
+                self.header.participant.as_deref().unwrap_or("-"),
+                self.header.task.as_deref().unwrap_or("-"),
+                if self.header.synthetic { ", synthetic" } else { "" }
+            ));
+            let c = self.sim.counts();
+            ui.label(format!("{} trees, mode {}", c.trees, self.sim.res.mode.name()));
+        });
         let mut ignored = Vec::new();
         task_panel(ui, &self.sim, &mut ignored, false);
     }
@@ -317,10 +268,7 @@ mod tests {
         for p in [Vec3::new(4.0, 0.0, -2.0), Vec3::new(-4.0, 0.0, -2.0)] {
             s.point_at(p).press(Button::Trigger).wait(20);
         }
-        s.push(InputEvent::ControllerPose {
-            pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(4.0, 0.5, -2.0)),
-        })
-        .wait(1);
+        s.push(InputEvent::ControllerPose { pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(4.0, 0.5, -2.0)) }).wait(1);
         s.press(Button::Bumper).wait(30);
         let events = s.recorded().to_vec();
         let mut header = Header::new("study", 9, scene.dt);
@@ -340,36 +288,16 @@ mod tests {
         assert_eq!(v.end_tick, 200);
         assert_eq!(v.markers.iter().filter(|m| m.kind == "planted").count(), 2);
         assert_eq!(v.markers.iter().filter(|m| m.kind == "removed").count(), 1);
-        assert_eq!(
-            v.markers
-                .iter()
-                .filter(|m| m.kind == "task_started")
-                .count(),
-            1
-        );
+        assert_eq!(v.markers.iter().filter(|m| m.kind == "task_started").count(), 1);
         // Forward, backward, forward again, and single steps.
         for t in [150, 10, 33, 34, 200, 0, 71] {
             v.seek(t);
-            let headless = replay_file(
-                &path,
-                &ReplayOptions {
-                    until: Some(t),
-                    ..Default::default()
-                },
-            )
-            .unwrap();
+            let headless = replay_file(&path, &ReplayOptions { until: Some(t), ..Default::default() }).unwrap();
             assert_eq!(v.tick(), t);
             assert_eq!(v.sim.hash().total, headless.sim.hash().total, "tick {t}");
         }
         v.step_once();
-        let headless = replay_file(
-            &path,
-            &ReplayOptions {
-                until: Some(72),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let headless = replay_file(&path, &ReplayOptions { until: Some(72), ..Default::default() }).unwrap();
         assert_eq!(v.sim.hash().total, headless.sim.hash().total);
     }
 
@@ -399,38 +327,23 @@ mod tests {
         let cut = dir.path().join("cut.jsonl");
         std::fs::write(&cut, lines[..lines.len() - 1].join("\n") + "\n").unwrap();
         let v = Viewer::open(&cut).unwrap();
-        assert!(
-            v.banner.as_deref().unwrap().contains("INCOMPLETE"),
-            "{:?}",
-            v.banner
-        );
+        assert!(v.banner.as_deref().unwrap().contains("INCOMPLETE"), "{:?}", v.banner);
 
         // A different seed in the header makes the checkpoints diverge.
         let header = grove_systems::replay::decode_line(lines[0]).unwrap();
-        let grove_systems::replay::Line::Header(mut h) = header else {
-            panic!("no header")
-        };
+        let grove_systems::replay::Line::Header(mut h) = header else { panic!("no header") };
         h.seed = 10;
-        let mut out = vec![grove_systems::replay::encode_line(
-            &grove_systems::replay::Line::Header(h),
-        )];
+        let mut out = vec![grove_systems::replay::encode_line(&grove_systems::replay::Line::Header(h))];
         out.extend(lines[1..].iter().map(|l| l.to_string()));
         let bad = dir.path().join("bad.jsonl");
         std::fs::write(&bad, out.join("\n") + "\n").unwrap();
         let v = Viewer::open(&bad).unwrap();
-        assert!(
-            v.banner.as_deref().unwrap().contains("DIVERGED"),
-            "{:?}",
-            v.banner
-        );
+        assert!(v.banner.as_deref().unwrap().contains("DIVERGED"), "{:?}", v.banner);
 
         let garbage = dir.path().join("garbage.jsonl");
         std::fs::write(&garbage, "not a recording\n").unwrap();
         let err = Viewer::open(&garbage).err().unwrap();
-        assert!(
-            !err.contains('\n') && err.contains("garbage.jsonl"),
-            "{err}"
-        );
+        assert!(!err.contains('\n') && err.contains("garbage.jsonl"), "{err}");
     }
 
     #[test]
@@ -439,9 +352,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = recording(dir.path());
         let v = Viewer::open(&path).unwrap();
-        let mut h = egui_kittest::Harness::builder()
-            .with_size(egui::vec2(1280.0, 720.0))
-            .build_ui_state(|ui, v: &mut Viewer| v.ui(ui), v);
+        let mut h = egui_kittest::Harness::builder().with_size(egui::vec2(1280.0, 720.0)).build_ui_state(|ui, v: &mut Viewer| v.ui(ui), v);
         h.get_by_label("Step").click();
         h.run();
         assert_eq!(h.state().tick(), 1);
@@ -468,11 +379,7 @@ pub struct ViewApp {
 impl ViewApp {
     /// A window frontend for a viewer.
     pub fn new(viewer: Viewer) -> ViewApp {
-        ViewApp {
-            viewer,
-            world3d: Default::default(),
-            quit: false,
-        }
+        ViewApp { viewer, world3d: Default::default(), quit: false }
     }
 }
 
@@ -481,25 +388,14 @@ impl super::window::Frontend for ViewApp {
         self.world3d.gpu_ready(&gpu, size);
     }
 
-    fn draw_3d(
-        &mut self,
-        _gpu: super::window::GpuContext<'_>,
-        _encoder: &mut wgpu::CommandEncoder,
-        view: &wgpu::TextureView,
-        size: (u32, u32),
-    ) -> bool {
+    fn draw_3d(&mut self, _gpu: super::window::GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
         self.world3d.draw(&self.viewer.sim, view, size)
     }
 
     fn input(&mut self, event: &winit::event::WindowEvent, _over_ui: bool) {
         use winit::event::{ElementState, WindowEvent};
         use winit::keyboard::{KeyCode, PhysicalKey};
-        if let WindowEvent::KeyboardInput {
-            event,
-            is_synthetic: false,
-            ..
-        } = event
-        {
+        if let WindowEvent::KeyboardInput { event, is_synthetic: false, .. } = event {
             if event.state != ElementState::Pressed || event.repeat {
                 return;
             }
@@ -519,12 +415,7 @@ impl super::window::Frontend for ViewApp {
 
     fn ui(&mut self, ui: &mut egui::Ui) {
         let painter = ui.ctx().layer_painter(egui::LayerId::background());
-        super::world_view::paint_world(
-            &painter,
-            ui.ctx().content_rect(),
-            &self.viewer.sim,
-            super::world_view::ViewOptions::with_renderer(self.world3d.active()),
-        );
+        super::world_view::paint_world(&painter, ui.ctx().content_rect(), &self.viewer.sim, super::world_view::ViewOptions::with_renderer(self.world3d.active()));
         self.viewer.ui(ui);
     }
 

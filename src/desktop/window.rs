@@ -37,34 +37,16 @@ pub trait WorldRenderer {
 }
 
 /// Makes a world renderer for the window's device, queue, surface format and size.
-pub type RendererFactory = fn(
-    &wgpu::Device,
-    &wgpu::Queue,
-    wgpu::TextureFormat,
-    u32,
-    u32,
-) -> Result<Box<dyn WorldRenderer>, String>;
+pub type RendererFactory = fn(&wgpu::Device, &wgpu::Queue, wgpu::TextureFormat, u32, u32) -> Result<Box<dyn WorldRenderer>, String>;
 
 /// Renders one thumbnail per catalogue model (by model index) into sampleable textures.
-pub type ThumbnailFactory =
-    fn(&wgpu::Device, &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, String>;
+pub type ThumbnailFactory = fn(&wgpu::Device, &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, String>;
 
 /// Makes the thumbnails and registers them with egui; a failure is logged and leaves the
 /// tree buttons without pictures.
-pub fn make_thumbnails(
-    factory: ThumbnailFactory,
-    gpu: GpuContext<'_>,
-) -> Vec<Option<egui::TextureId>> {
+pub fn make_thumbnails(factory: ThumbnailFactory, gpu: GpuContext<'_>) -> Vec<Option<egui::TextureId>> {
     match factory(gpu.device, gpu.queue) {
-        Ok(views) => views
-            .iter()
-            .map(|v| {
-                Some(
-                    gpu.egui
-                        .register_native_texture(gpu.device, v, wgpu::FilterMode::Linear),
-                )
-            })
-            .collect(),
+        Ok(views) => views.iter().map(|v| Some(gpu.egui.register_native_texture(gpu.device, v, wgpu::FilterMode::Linear))).collect(),
         Err(e) => {
             tracing::warn!("no tree thumbnails: {e}");
             Vec::new()
@@ -87,20 +69,12 @@ impl World3d {
     /// painter view in place.
     pub fn gpu_ready(&mut self, gpu: &GpuContext<'_>, size: (u32, u32)) {
         if let Some(make) = self.factory {
-            match make(
-                gpu.device,
-                gpu.queue,
-                gpu.format,
-                size.0.max(1),
-                size.1.max(1),
-            ) {
+            match make(gpu.device, gpu.queue, gpu.format, size.0.max(1), size.1.max(1)) {
                 Ok(r) => {
                     self.renderer = Some(r);
                     self.size = size;
                 }
-                Err(e) => {
-                    tracing::warn!("3D renderer unavailable, drawing a simple view instead: {e}")
-                }
+                Err(e) => tracing::warn!("3D renderer unavailable, drawing a simple view instead: {e}"),
             }
         }
     }
@@ -111,15 +85,8 @@ impl World3d {
     }
 
     /// Draws `sim` into `view`; returns whether it drew.
-    pub fn draw(
-        &mut self,
-        sim: &grove_systems::Sim,
-        view: &wgpu::TextureView,
-        size: (u32, u32),
-    ) -> bool {
-        let Some(r) = self.renderer.as_mut() else {
-            return false;
-        };
+    pub fn draw(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+        let Some(r) = self.renderer.as_mut() else { return false };
         if size != self.size {
             r.resize(size.0.max(1), size.1.max(1));
             self.size = size;
@@ -141,13 +108,7 @@ pub trait Frontend {
     fn update(&mut self, elapsed: f64) -> Result<(), String>;
     /// Draws the 3D view into `view` with the renderer, if the frontend has one; returns
     /// whether it drew (then the UI keeps the scenery out of its own view).
-    fn draw_3d(
-        &mut self,
-        _gpu: GpuContext<'_>,
-        _encoder: &mut wgpu::CommandEncoder,
-        _view: &wgpu::TextureView,
-        _size: (u32, u32),
-    ) -> bool {
+    fn draw_3d(&mut self, _gpu: GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, _view: &wgpu::TextureView, _size: (u32, u32)) -> bool {
         false
     }
     /// Draws the UI for one frame.
@@ -182,20 +143,10 @@ struct App<F: Frontend> {
 }
 
 fn init_gfx(event_loop: &ActiveEventLoop, title: &str) -> Result<(Gfx, String), String> {
-    let attrs = Window::default_attributes()
-        .with_title(title)
-        .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 720.0));
-    let window = Arc::new(
-        event_loop
-            .create_window(attrs)
-            .map_err(|e| format!("cannot open a window: {e}"))?,
-    );
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
-        Box::new(window.clone()),
-    ));
-    let surface = instance
-        .create_surface(window.clone())
-        .map_err(|e| format!("cannot create a drawing surface: {e}"))?;
+    let attrs = Window::default_attributes().with_title(title).with_inner_size(winit::dpi::LogicalSize::new(1280.0, 720.0));
+    let window = Arc::new(event_loop.create_window(attrs).map_err(|e| format!("cannot open a window: {e}"))?);
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(window.clone())));
+    let surface = instance.create_surface(window.clone()).map_err(|e| format!("cannot create a drawing surface: {e}"))?;
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
         power_preference: wgpu::PowerPreference::HighPerformance,
         compatible_surface: Some(&surface),
@@ -213,13 +164,7 @@ fn init_gfx(event_loop: &ActiveEventLoop, title: &str) -> Result<(Gfx, String), 
     .map_err(|e| format!("cannot open the GPU device: {e}"))?;
     let size = window.inner_size();
     let caps = surface.get_capabilities(&adapter);
-    let format = caps
-        .formats
-        .iter()
-        .copied()
-        .find(|f| f.is_srgb())
-        .or_else(|| caps.formats.first().copied())
-        .ok_or("the surface offers no format")?;
+    let format = caps.formats.iter().copied().find(|f| f.is_srgb()).or_else(|| caps.formats.first().copied()).ok_or("the surface offers no format")?;
     let config = wgpu::SurfaceConfiguration {
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
         format,
@@ -227,39 +172,15 @@ fn init_gfx(event_loop: &ActiveEventLoop, title: &str) -> Result<(Gfx, String), 
         height: size.height.max(1),
         present_mode: wgpu::PresentMode::Fifo,
         desired_maximum_frame_latency: 2,
-        alpha_mode: caps
-            .alpha_modes
-            .first()
-            .copied()
-            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+        alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
         view_formats: vec![],
         color_space: wgpu::SurfaceColorSpace::Auto,
     };
     surface.configure(&device, &config);
-    let egui_renderer =
-        egui_wgpu::Renderer::new(&device, format, egui_wgpu::RendererOptions::default());
+    let egui_renderer = egui_wgpu::Renderer::new(&device, format, egui_wgpu::RendererOptions::default());
     let ctx = egui::Context::default();
-    let egui_state = egui_winit::State::new(
-        ctx.clone(),
-        egui::ViewportId::ROOT,
-        &window,
-        Some(window.scale_factor() as f32),
-        None,
-        Some(device.limits().max_texture_dimension_2d as usize),
-    );
-    Ok((
-        Gfx {
-            window,
-            surface,
-            device,
-            queue,
-            config,
-            egui_renderer,
-            egui_state,
-            ctx,
-        },
-        adapter_name,
-    ))
+    let egui_state = egui_winit::State::new(ctx.clone(), egui::ViewportId::ROOT, &window, Some(window.scale_factor() as f32), None, Some(device.limits().max_texture_dimension_2d as usize));
+    Ok((Gfx { window, surface, device, queue, config, egui_renderer, egui_state, ctx }, adapter_name))
 }
 
 impl<F: Frontend> App<F> {
@@ -276,14 +197,9 @@ impl<F: Frontend> App<F> {
         self.last_frame = now;
         if elapsed > 0.0 {
             let inst = (1.0 / elapsed) as f32;
-            self.fps = if self.fps == 0.0 {
-                inst
-            } else {
-                self.fps * 0.9 + inst * 0.1
-            };
+            self.fps = if self.fps == 0.0 { inst } else { self.fps * 0.9 + inst * 0.1 };
         }
-        self.frontend
-            .frame_stats(self.fps, (elapsed * 1000.0) as f32);
+        self.frontend.frame_stats(self.fps, (elapsed * 1000.0) as f32);
         if let Err(e) = self.frontend.update(elapsed) {
             return self.fail(event_loop, e);
         }
@@ -292,21 +208,18 @@ impl<F: Frontend> App<F> {
         let raw = gfx.egui_state.take_egui_input(&gfx.window);
         let frontend = &mut self.frontend;
         let mut full = gfx.ctx.run_ui(raw, |ui| frontend.ui(ui));
-        gfx.egui_state
-            .handle_platform_output(&gfx.window, std::mem::take(&mut full.platform_output));
+        gfx.egui_state.handle_platform_output(&gfx.window, std::mem::take(&mut full.platform_output));
         let ppp = full.pixels_per_point;
         let jobs = gfx.ctx.tessellate(std::mem::take(&mut full.shapes), ppp);
         for (id, deltas) in full.textures_delta.set.drain() {
             for delta in deltas.iter() {
-                gfx.egui_renderer
-                    .update_texture(&gfx.device, &gfx.queue, id, delta);
+                gfx.egui_renderer.update_texture(&gfx.device, &gfx.queue, id, delta);
             }
         }
         let to_free: Vec<egui::TextureId> = full.textures_delta.free.drain().collect();
 
         let frame = match gfx.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => Some(f),
+            wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => Some(f),
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
                 gfx.surface.configure(&gfx.device, &gfx.config);
                 None
@@ -319,34 +232,17 @@ impl<F: Frontend> App<F> {
             }
             return;
         };
-        let view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("grove window frame"),
-            ..Default::default()
-        });
-        let mut encoder = gfx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("grove window frame"),
-            });
+        let view = frame.texture.create_view(&wgpu::TextureViewDescriptor { label: Some("grove window frame"), ..Default::default() });
+        let mut encoder = gfx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grove window frame") });
         let size = (gfx.config.width, gfx.config.height);
         let drew_3d = self.frontend.draw_3d(
-            GpuContext {
-                device: &gfx.device,
-                queue: &gfx.queue,
-                format: gfx.config.format,
-                egui: &mut gfx.egui_renderer,
-            },
+            GpuContext { device: &gfx.device, queue: &gfx.queue, format: gfx.config.format, egui: &mut gfx.egui_renderer },
             &mut encoder,
             &view,
             size,
         );
-        let screen = egui_wgpu::ScreenDescriptor {
-            size_in_pixels: [size.0, size.1],
-            pixels_per_point: ppp,
-        };
-        let extra =
-            gfx.egui_renderer
-                .update_buffers(&gfx.device, &gfx.queue, &mut encoder, &jobs, &screen);
+        let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [size.0, size.1], pixels_per_point: ppp };
+        let extra = gfx.egui_renderer.update_buffers(&gfx.device, &gfx.queue, &mut encoder, &jobs, &screen);
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("grove egui pass"),
@@ -355,16 +251,7 @@ impl<F: Frontend> App<F> {
                     resolve_target: None,
                     depth_slice: None,
                     ops: wgpu::Operations {
-                        load: if drew_3d {
-                            wgpu::LoadOp::Load
-                        } else {
-                            wgpu::LoadOp::Clear(wgpu::Color {
-                                r: 0.3,
-                                g: 0.5,
-                                b: 0.75,
-                                a: 1.0,
-                            })
-                        },
+                        load: if drew_3d { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(wgpu::Color { r: 0.3, g: 0.5, b: 0.75, a: 1.0 }) },
                         store: wgpu::StoreOp::Store,
                     },
                 })],
@@ -376,8 +263,7 @@ impl<F: Frontend> App<F> {
             let mut pass = pass.forget_lifetime();
             gfx.egui_renderer.render(&mut pass, &jobs, &screen);
         }
-        gfx.queue
-            .submit(extra.into_iter().chain(std::iter::once(encoder.finish())));
+        gfx.queue.submit(extra.into_iter().chain(std::iter::once(encoder.finish())));
         gfx.window.pre_present_notify();
         gfx.queue.present(frame);
         for id in &to_free {
@@ -398,12 +284,7 @@ impl<F: Frontend> ApplicationHandler for App<F> {
             Ok((mut gfx, adapter)) => {
                 let size = (gfx.config.width, gfx.config.height);
                 self.frontend.gpu_ready(
-                    GpuContext {
-                        device: &gfx.device,
-                        queue: &gfx.queue,
-                        format: gfx.config.format,
-                        egui: &mut gfx.egui_renderer,
-                    },
+                    GpuContext { device: &gfx.device, queue: &gfx.queue, format: gfx.config.format, egui: &mut gfx.egui_renderer },
                     &adapter,
                     size,
                 );
@@ -462,8 +343,7 @@ impl<F: Frontend> ApplicationHandler for App<F> {
 /// quits; then calls [`Frontend::finish`]. Errors (no display, no GPU, a failed recording) are
 /// one line.
 pub fn run<F: Frontend>(title: &str, frontend: F) -> Result<(), String> {
-    let event_loop =
-        EventLoop::new().map_err(|e| format!("cannot open the display ({e}); is DISPLAY set?"))?;
+    let event_loop = EventLoop::new().map_err(|e| format!("cannot open the display ({e}); is DISPLAY set?"))?;
     let gilrs = match gilrs::Gilrs::new() {
         Ok(g) => Some(g),
         Err(e) => {
@@ -471,15 +351,7 @@ pub fn run<F: Frontend>(title: &str, frontend: F) -> Result<(), String> {
             None
         }
     };
-    let mut app = App {
-        title: title.to_string(),
-        frontend,
-        gfx: None,
-        error: None,
-        last_frame: Instant::now(),
-        fps: 0.0,
-        gilrs,
-    };
+    let mut app = App { title: title.to_string(), frontend, gfx: None, error: None, last_frame: Instant::now(), fps: 0.0, gilrs };
     let run = event_loop.run_app(&mut app);
     // Release the surface before the window goes.
     app.gfx = None;

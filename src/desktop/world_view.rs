@@ -7,9 +7,9 @@
 
 use egui::{Color32, Painter, Pos2, Rect, Shape, Stroke};
 use glam::{Vec2, Vec3};
-use grove_systems::Sim;
 use grove_systems::catalogue::ModelKind;
-use grove_systems::components::{Head, Plane, Scale, Sun, Transform, Tree};
+use grove_systems::components::{Head, Plane, Sun, Transform, Tree, Scale};
+use grove_systems::Sim;
 
 use super::input_map::project;
 
@@ -17,15 +17,7 @@ const NEAR: f32 = 0.05;
 
 /// The head (camera) of a world, or a default one.
 pub fn head_of(sim: &Sim) -> Head {
-    sim.world
-        .query::<&Head>()
-        .iter()
-        .next()
-        .copied()
-        .unwrap_or(Head {
-            pose: Default::default(),
-            fov_y: 1.0,
-        })
+    sim.world.query::<&Head>().iter().next().copied().unwrap_or(Head { pose: Default::default(), fov_y: 1.0 })
 }
 
 /// What to draw.
@@ -41,10 +33,7 @@ pub struct ViewOptions {
 impl ViewOptions {
     /// Everything, or (when a renderer drew the world) only what the renderer does not draw.
     pub fn with_renderer(renderer: bool) -> ViewOptions {
-        ViewOptions {
-            scenery: !renderer,
-            trees: !renderer,
-        }
+        ViewOptions { scenery: !renderer, trees: !renderer }
     }
 }
 
@@ -52,16 +41,8 @@ impl ViewOptions {
 pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOptions) {
     let head = head_of(sim);
     let size = Vec2::new(rect.width(), rect.height());
-    let to_screen = |p: Vec3| {
-        project(&head.pose, head.fov_y, size, p, NEAR)
-            .map(|s| Pos2::new(rect.min.x + s.x, rect.min.y + s.y))
-    };
-    let sun_dir = sim
-        .world
-        .query::<&Sun>()
-        .iter()
-        .next()
-        .map_or(Vec3::Y, |s| s.direction);
+    let to_screen = |p: Vec3| project(&head.pose, head.fov_y, size, p, NEAR).map(|s| Pos2::new(rect.min.x + s.x, rect.min.y + s.y));
+    let sun_dir = sim.world.query::<&Sun>().iter().next().map_or(Vec3::Y, |s| s.direction);
 
     if options.scenery {
         painter.rect_filled(rect, 0.0, Color32::from_rgb(150, 190, 230));
@@ -70,27 +51,16 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
         let mut q = sim.world.query::<&Plane>();
         planes.extend(q.iter());
         for plane in planes {
-            let base = if plane.name == "ground" {
-                [92.0, 128.0, 64.0]
-            } else {
-                [150.0, 130.0, 100.0]
-            };
+            let base = if plane.name == "ground" { [92.0, 128.0, 64.0] } else { [150.0, 130.0, 100.0] };
             for tri in &plane.triangles {
                 let [a, b, c] = tri.map(|i| plane.vertices[i as usize]);
-                let (Some(pa), Some(pb), Some(pc)) = (to_screen(a), to_screen(b), to_screen(c))
-                else {
-                    continue;
-                };
+                let (Some(pa), Some(pb), Some(pc)) = (to_screen(a), to_screen(b), to_screen(c)) else { continue };
                 if !(rect.contains(pa) || rect.contains(pb) || rect.contains(pc)) {
                     continue;
                 }
                 let n = (b - a).cross(c - a).normalize_or(Vec3::Y);
                 let light = 0.55 + 0.45 * n.dot(sun_dir).max(0.0);
-                let col = Color32::from_rgb(
-                    (base[0] * light) as u8,
-                    (base[1] * light) as u8,
-                    (base[2] * light) as u8,
-                );
+                let col = Color32::from_rgb((base[0] * light) as u8, (base[1] * light) as u8, (base[2] * light) as u8);
                 let i = mesh.vertices.len() as u32;
                 for p in [pa, pb, pc] {
                     mesh.colored_vertex(p, col);
@@ -104,65 +74,30 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
     if let Some(task) = sim.res.task.as_ref() {
         for (i, t) in task.def.targets.iter().enumerate() {
             let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
-            ring(
-                painter,
-                &to_screen,
-                t.position,
-                task.def.tolerance,
-                if done {
-                    Color32::from_rgb(40, 200, 90)
-                } else {
-                    Color32::from_rgb(250, 210, 40)
-                },
-            );
+            ring(painter, &to_screen, t.position, task.def.tolerance, if done { Color32::from_rgb(40, 200, 90) } else { Color32::from_rgb(250, 210, 40) });
         }
     }
 
     if options.trees {
         let mut trees: Vec<(f32, Vec3, f32, ModelKind, f32)> = Vec::new();
         for (tree, tf, scale) in sim.world.query::<(&Tree, &Transform, &Scale)>().iter() {
-            let Some(m) = sim.res.catalogue.get(tree.model) else {
-                continue;
-            };
+            let Some(m) = sim.res.catalogue.get(tree.model) else { continue };
             let dist = (tf.translation - head.pose.position).length();
-            trees.push((
-                dist,
-                tf.translation,
-                m.height() * scale.0,
-                m.kind,
-                m.crown_radius * scale.0,
-            ));
+            trees.push((dist, tf.translation, m.height() * scale.0, m.kind, m.crown_radius * scale.0));
         }
         // Far trees first, so near ones cover them.
         trees.sort_by(|a, b| b.0.total_cmp(&a.0));
         for (_, base, height, kind, radius) in trees {
             let top = base + Vec3::Y * height;
             let crown = base + Vec3::Y * (height * 0.65);
-            let (Some(pb), Some(pt), Some(pc)) =
-                (to_screen(base), to_screen(top), to_screen(crown))
-            else {
-                continue;
-            };
-            let r_px = to_screen(crown + head.pose.rotation * Vec3::X * radius)
-                .map_or(4.0, |p| (p - pc).length())
-                .max(2.0);
-            painter.line_segment(
-                [pb, pt],
-                Stroke::new(
-                    (r_px * 0.12).clamp(1.0, 8.0),
-                    Color32::from_rgb(100, 70, 40),
-                ),
-            );
+            let (Some(pb), Some(pt), Some(pc)) = (to_screen(base), to_screen(top), to_screen(crown)) else { continue };
+            let r_px = to_screen(crown + head.pose.rotation * Vec3::X * radius).map_or(4.0, |p| (p - pc).length()).max(2.0);
+            painter.line_segment([pb, pt], Stroke::new((r_px * 0.12).clamp(1.0, 8.0), Color32::from_rgb(100, 70, 40)));
             let green = match kind {
                 ModelKind::Mesh => Color32::from_rgb(40, 110, 45),
                 ModelKind::Billboard => Color32::from_rgb(80, 150, 60),
             };
-            painter.circle(
-                pc,
-                r_px,
-                green,
-                Stroke::new(1.0, Color32::from_rgb(20, 60, 25)),
-            );
+            painter.circle(pc, r_px, green, Stroke::new(1.0, Color32::from_rgb(20, 60, 25)));
         }
     }
 
@@ -176,29 +111,8 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
             let l = sel.half_extents * Vec3::new(x, y, z);
             sel.center + Vec3::new(c * l.x + s * l.z, l.y, -s * l.x + c * l.z)
         };
-        let pts: Vec<Option<Pos2>> = (0..8)
-            .map(|i| {
-                to_screen(corner(
-                    if i & 1 == 1 { 1.0 } else { -1.0 },
-                    if i & 2 == 2 { 1.0 } else { -1.0 },
-                    if i & 4 == 4 { 1.0 } else { -1.0 },
-                ))
-            })
-            .collect();
-        for (a, b) in [
-            (0, 1),
-            (2, 3),
-            (4, 5),
-            (6, 7),
-            (0, 2),
-            (1, 3),
-            (4, 6),
-            (5, 7),
-            (0, 4),
-            (1, 5),
-            (2, 6),
-            (3, 7),
-        ] {
+        let pts: Vec<Option<Pos2>> = (0..8).map(|i| to_screen(corner(if i & 1 == 1 { 1.0 } else { -1.0 }, if i & 2 == 2 { 1.0 } else { -1.0 }, if i & 4 == 4 { 1.0 } else { -1.0 }))).collect();
+        for (a, b) in [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)] {
             if let (Some(pa), Some(pb)) = (pts[a], pts[b]) {
                 painter.line_segment([pa, pb], Stroke::new(1.5, Color32::from_rgb(90, 200, 255)));
             }
@@ -208,11 +122,7 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
     let ball = sim.anchor_ball();
     if ball.visible {
         if let Some(p) = to_screen(ball.position) {
-            let col = if ball.armed {
-                Color32::WHITE
-            } else {
-                Color32::from_rgb(40, 220, 60)
-            };
+            let col = if ball.armed { Color32::WHITE } else { Color32::from_rgb(40, 220, 60) };
             painter.circle(p, 7.0, col, Stroke::new(1.0, Color32::BLACK));
         }
     }
@@ -224,13 +134,7 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
     }
 }
 
-fn ring(
-    painter: &Painter,
-    to_screen: &impl Fn(Vec3) -> Option<Pos2>,
-    centre: Vec3,
-    radius: f32,
-    color: Color32,
-) {
+fn ring(painter: &Painter, to_screen: &impl Fn(Vec3) -> Option<Pos2>, centre: Vec3, radius: f32, color: Color32) {
     let pts: Vec<Pos2> = (0..=24)
         .filter_map(|i| {
             let a = i as f32 / 24.0 * std::f32::consts::TAU;

@@ -125,20 +125,10 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     if !path.exists() {
         return Err(err("no such file".into()));
     }
-    let gltf = gltf::Gltf::open(path).map_err(|e| {
-        err(format!(
-            "not a valid glTF 2.0 file ({})",
-            one_line(&e.to_string())
-        ))
-    })?;
+    let gltf = gltf::Gltf::open(path).map_err(|e| err(format!("not a valid glTF 2.0 file ({})", one_line(&e.to_string()))))?;
     let base = path.parent().unwrap_or(Path::new("."));
     let doc = gltf.document;
-    let buffers = gltf::import_buffers(&doc, Some(base), gltf.blob).map_err(|e| {
-        err(format!(
-            "cannot read a buffer ({})",
-            one_line(&e.to_string())
-        ))
-    })?;
+    let buffers = gltf::import_buffers(&doc, Some(base), gltf.blob).map_err(|e| err(format!("cannot read a buffer ({})", one_line(&e.to_string()))))?;
     // Check image files first, so that a missing texture is named.
     for img in doc.images() {
         if let gltf::image::Source::Uri { uri, .. } = img.source() {
@@ -154,9 +144,7 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     let mut images = Vec::new();
     for (i, img) in doc.images().enumerate() {
         let name = match img.source() {
-            gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => {
-                format!("texture '{uri}'")
-            }
+            gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => format!("texture '{uri}'"),
             _ => format!("image {i}"),
         };
         let data = load_image(&img, base, &buffers).map_err(|m| err(format!("{name}: {m}")))?;
@@ -211,33 +199,18 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     for p in &mut primitives {
         for v in &mut p.vertices {
             if v.wind[3] < 0.0 {
-                v.wind = [
-                    v.position[1] - bounds.0.y,
-                    Vec2::new(v.position[0], v.position[2]).length(),
-                    0.0,
-                    0.0,
-                ];
+                v.wind = [v.position[1] - bounds.0.y, Vec2::new(v.position[0], v.position[2]).length(), 0.0, 0.0];
             }
         }
     }
-    Ok(ModelData {
-        path: path.to_path_buf(),
-        primitives,
-        materials,
-        images,
-        bounds,
-    })
+    Ok(ModelData { path: path.to_path_buf(), primitives, materials, images, bounds })
 }
 
 fn one_line(s: &str) -> String {
     s.replace('\n', " ")
 }
 
-fn load_image(
-    img: &gltf::Image,
-    base: &Path,
-    buffers: &[gltf::buffer::Data],
-) -> Result<ImageData, String> {
+fn load_image(img: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> Result<ImageData, String> {
     let bytes: Vec<u8> = match img.source() {
         gltf::image::Source::Uri { uri, .. } => {
             if let Some(rest) = uri.strip_prefix("data:") {
@@ -249,25 +222,18 @@ fn load_image(
             }
         }
         gltf::image::Source::View { view, .. } => {
-            let buf = buffers
-                .get(view.buffer().index())
-                .ok_or("buffer view out of range")?;
+            let buf = buffers.get(view.buffer().index()).ok_or("buffer view out of range")?;
             let (s, e) = (view.offset(), view.offset() + view.length());
             buf.0.get(s..e).ok_or("buffer view out of range")?.to_vec()
         }
     };
-    let decoded = image::load_from_memory(&bytes)
-        .map_err(|e| format!("cannot decode ({})", one_line(&e.to_string())))?;
+    let decoded = image::load_from_memory(&bytes).map_err(|e| format!("cannot decode ({})", one_line(&e.to_string())))?;
     let rgba = decoded.to_rgba8();
     let (width, height) = rgba.dimensions();
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
         return Err(format!("unsupported size {width}x{height}"));
     }
-    Ok(ImageData {
-        width,
-        height,
-        rgba: rgba.into_raw(),
-    })
+    Ok(ImageData { width, height, rgba: rgba.into_raw() })
 }
 
 /// A small standard base64 decoder for `data:` URIs.
@@ -306,15 +272,10 @@ fn material(m: &gltf::Material) -> MaterialData {
     MaterialData {
         name: m.name().unwrap_or("unnamed").to_string(),
         base_color: Vec4::from(pbr.base_color_factor()),
-        albedo: pbr
-            .base_color_texture()
-            .map(|t| t.texture().source().index()),
+        albedo: pbr.base_color_texture().map(|t| t.texture().source().index()),
         normal: m.normal_texture().map(|t| t.texture().source().index()),
         normal_scale: m.normal_texture().map_or(1.0, |t| t.scale()),
-        specular: spec
-            .as_ref()
-            .and_then(|s| s.specular_texture())
-            .map(|t| t.texture().source().index()),
+        specular: spec.as_ref().and_then(|s| s.specular_texture()).map(|t| t.texture().source().index()),
         specular_factor: spec.as_ref().map_or(0.5, |s| s.specular_factor()),
         roughness: pbr.roughness_factor(),
         alpha_cutoff: match m.alpha_mode() {
@@ -325,17 +286,10 @@ fn material(m: &gltf::Material) -> MaterialData {
     }
 }
 
-fn primitive(
-    prim: &gltf::Primitive,
-    buffers: &[gltf::buffer::Data],
-    m: Mat4,
-    material: usize,
-) -> Result<Option<PrimitiveData>, String> {
+fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4, material: usize) -> Result<Option<PrimitiveData>, String> {
     let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| d.0.as_slice());
     let reader = prim.reader(get);
-    let Some(pos) = reader.read_positions() else {
-        return Ok(None);
-    };
+    let Some(pos) = reader.read_positions() else { return Ok(None) };
     let positions: Vec<Vec3> = pos.map(Vec3::from).collect();
     let n = positions.len();
     let indices: Vec<u32> = match reader.read_indices() {
@@ -359,21 +313,12 @@ fn primitive(
         None => compute_tangents(&positions, &normals, &uvs, &indices),
     };
     let wind: Vec<Vec4> = match prim.get(&Semantic::Extras("WIND".into())) {
-        Some(acc)
-            if acc.dimensions() == gltf::accessor::Dimensions::Vec4
-                && acc.data_type() == gltf::accessor::DataType::F32 =>
-        {
-            gltf::accessor::Iter::<[f32; 4]>::new(acc, get)
-                .map(|it| it.map(Vec4::from).collect())
-                .unwrap_or_default()
+        Some(acc) if acc.dimensions() == gltf::accessor::Dimensions::Vec4 && acc.data_type() == gltf::accessor::DataType::F32 => {
+            gltf::accessor::Iter::<[f32; 4]>::new(acc, get).map(|it| it.map(Vec4::from).collect()).unwrap_or_default()
         }
         _ => Vec::new(),
     };
-    if uvs.len() != n
-        || normals.len() != n
-        || tangents.len() != n
-        || (!wind.is_empty() && wind.len() != n)
-    {
+    if uvs.len() != n || normals.len() != n || tangents.len() != n || (!wind.is_empty() && wind.len() != n) {
         return Err("a primitive's attributes have different lengths".into());
     }
     // Bake the node transform into the vertices.
@@ -401,11 +346,7 @@ fn primitive(
             t.swap(1, 2);
         }
     }
-    Ok(Some(PrimitiveData {
-        vertices,
-        indices,
-        material,
-    }))
+    Ok(Some(PrimitiveData { vertices, indices, material }))
 }
 
 /// Area-weighted vertex normals of a triangle list.
@@ -446,11 +387,7 @@ pub fn compute_tangents(p: &[Vec3], n: &[Vec3], uv: &[Vec2], idx: &[u32]) -> Vec
         .map(|i| {
             let nn = n[i];
             let tt = (t[i] - nn * nn.dot(t[i])).normalize_or(nn.any_orthonormal_vector());
-            let w = if nn.cross(tt).dot(b[i]) < 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
+            let w = if nn.cross(tt).dot(b[i]) < 0.0 { -1.0 } else { 1.0 };
             tt.extend(w)
         })
         .collect()
@@ -469,11 +406,7 @@ mod tests {
     fn tangents_follow_u() {
         let p = [Vec3::ZERO, Vec3::X, Vec3::Y];
         let n = [Vec3::Z; 3];
-        let uv = [
-            Vec2::new(0.0, 1.0),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(0.0, 0.0),
-        ];
+        let uv = [Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 0.0)];
         let t = compute_tangents(&p, &n, &uv, &[0, 1, 2]);
         assert!((t[0].truncate() - Vec3::X).length() < 1e-5);
         // v grows downwards in glTF, so the bitangent (+v) points along −Y: handedness −1.

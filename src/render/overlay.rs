@@ -3,8 +3,8 @@
 //! bounding box with its corner and edge handles, and the running task's target markers.
 
 use glam::{Quat, Vec3};
-use grove_systems::Sim;
 use grove_systems::components::{AnchorBall, Controller, HitMarker, Selection};
+use grove_systems::Sim;
 
 /// One overlay vertex. A zero normal means "unlit".
 #[repr(C)]
@@ -35,21 +35,13 @@ pub const ANCHOR_FAR: [f32; 4] = [0.1, 0.9, 0.15, 1.0];
 impl OverlayGeometry {
     fn line(&mut self, a: Vec3, b: Vec3, color: [f32; 4]) {
         for p in [a, b] {
-            self.lines.push(OverlayVertex {
-                position: p.to_array(),
-                color,
-                normal: [0.0; 3],
-            });
+            self.lines.push(OverlayVertex { position: p.to_array(), color, normal: [0.0; 3] });
         }
     }
 
     fn tri(&mut self, p: [Vec3; 3], n: [Vec3; 3], color: [f32; 4]) {
         for k in 0..3 {
-            self.triangles.push(OverlayVertex {
-                position: p[k].to_array(),
-                color,
-                normal: n[k].to_array(),
-            });
+            self.triangles.push(OverlayVertex { position: p[k].to_array(), color, normal: n[k].to_array() });
         }
     }
 
@@ -83,18 +75,9 @@ impl OverlayGeometry {
                     p[v] = sv * h[v];
                     c + rot * p
                 };
-                let (a, b, cc, d) = (
-                    corner(-1.0, -1.0),
-                    corner(1.0, -1.0),
-                    corner(1.0, 1.0),
-                    corner(-1.0, 1.0),
-                );
+                let (a, b, cc, d) = (corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0));
                 let wn = rot * n;
-                let (p0, p1) = if sign > 0.0 {
-                    ([a, b, cc], [a, cc, d])
-                } else {
-                    ([a, cc, b], [a, d, cc])
-                };
+                let (p0, p1) = if sign > 0.0 { ([a, b, cc], [a, cc, d]) } else { ([a, cc, b], [a, d, cc]) };
                 self.tri(p0, [wn; 3], color);
                 self.tri(p1, [wn; 3], color);
             }
@@ -124,21 +107,12 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
         let o = c.ray_origin();
         let d = c.ray_dir();
         // The controller body: a small dark box along the ray.
-        g.cuboid(
-            o - d * 0.06,
-            Vec3::new(0.02, 0.015, 0.06),
-            c.pose.rotation,
-            [0.15, 0.15, 0.17, 1.0],
-        );
+        g.cuboid(o - d * 0.06, Vec3::new(0.02, 0.015, 0.06), c.pose.rotation, [0.15, 0.15, 0.17, 1.0]);
         let len = match hit {
             Some(h) if h.visible => h.distance,
             _ => sim.res.config.max_ray_length.min(30.0),
         };
-        let col = if c.buttons.trigger {
-            [1.0, 0.85, 0.2, 1.0]
-        } else {
-            [0.3, 0.8, 1.0, 1.0]
-        };
+        let col = if c.buttons.trigger { [1.0, 0.85, 0.2, 1.0] } else { [0.3, 0.8, 1.0, 1.0] };
         g.line(o, o + d * len, col);
     }
     if let Some(h) = hit {
@@ -152,11 +126,7 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
         if a.visible {
             let color = if a.armed { ANCHOR_ARMED } else { ANCHOR_FAR };
             g.sphere(a.position, 0.12, color);
-            g.line(
-                a.position,
-                a.position + Vec3::Y * a.distance.max(0.0),
-                color,
-            );
+            g.line(a.position, a.position + Vec3::Y * a.distance.max(0.0), color);
         }
     }
     for s in world.query::<&Selection>().iter() {
@@ -165,15 +135,7 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
         }
         let rot = Quat::from_rotation_y(s.yaw);
         let h = s.half_extents;
-        let corner = |i: u8| {
-            s.center
-                + rot
-                    * Vec3::new(
-                        if i & 1 != 0 { h.x } else { -h.x },
-                        if i & 2 != 0 { h.y } else { -h.y },
-                        if i & 4 != 0 { h.z } else { -h.z },
-                    )
-        };
+        let corner = |i: u8| s.center + rot * Vec3::new(if i & 1 != 0 { h.x } else { -h.x }, if i & 2 != 0 { h.y } else { -h.y }, if i & 4 != 0 { h.z } else { -h.z });
         let yellow = [1.0, 0.85, 0.1, 1.0];
         for i in 0..8u8 {
             for bit in [1u8, 2, 4] {
@@ -189,29 +151,16 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
         for e in 0..4u8 {
             let x = if e & 1 != 0 { h.x } else { -h.x };
             let z = if e & 2 != 0 { h.z } else { -h.z };
-            g.sphere(
-                s.center + rot * Vec3::new(x, 0.0, z),
-                hs,
-                [0.95, 0.35, 0.9, 1.0],
-            );
+            g.sphere(s.center + rot * Vec3::new(x, 0.0, z), hs, [0.95, 0.35, 0.9, 1.0]);
         }
     }
     if let Some(task) = &sim.res.task {
         for (i, t) in task.def.targets.iter().enumerate() {
             let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
-            let color = if done {
-                [0.2, 0.95, 0.3, 1.0]
-            } else {
-                [1.0, 0.2, 0.6, 1.0]
-            };
+            let color = if done { [0.2, 0.95, 0.3, 1.0] } else { [1.0, 0.2, 0.6, 1.0] };
             let base = t.position + Vec3::Y * 0.03;
             g.ring(base, task.def.tolerance * 0.8, task.def.tolerance, color);
-            g.cuboid(
-                base + Vec3::Y * 0.3,
-                Vec3::new(0.02, 0.3, 0.02),
-                Quat::IDENTITY,
-                color,
-            );
+            g.cuboid(base + Vec3::Y * 0.3, Vec3::new(0.02, 0.3, 0.02), Quat::IDENTITY, color);
         }
     }
     g

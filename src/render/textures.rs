@@ -9,15 +9,8 @@ use wgpu::util::DeviceExt;
 /// Builds a box-filtered mip chain of an RGBA8 image; with `srgb`, averaging happens in linear
 /// space. Returns the concatenated levels and the level count.
 pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> (Vec<u8>, u32) {
-    let to_lin = |c: u8| {
-        if srgb {
-            srgb_to_linear(c as f32 / 255.0)
-        } else {
-            c as f32 / 255.0
-        }
-    };
-    let to_u8 =
-        |v: f32| ((if srgb { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let to_lin = |c: u8| if srgb { srgb_to_linear(c as f32 / 255.0) } else { c as f32 / 255.0 };
+    let to_u8 = |v: f32| ((if srgb { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
     let mut out = rgba.to_vec();
     let mut levels = 1;
     let (mut w, mut h) = (width, height);
@@ -63,47 +56,23 @@ pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> (Vec<u8>, 
 
 /// sRGB transfer function to linear.
 pub fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
 }
 
 /// Linear to the sRGB transfer function.
 pub fn linear_to_srgb(c: f32) -> f32 {
-    if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
+    if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 
 /// Uploads an RGBA8 image with mips as a 2D texture and returns its view.
-pub fn upload_2d(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    label: &str,
-    width: u32,
-    height: u32,
-    rgba: &[u8],
-    srgb: bool,
-) -> wgpu::TextureView {
+pub fn upload_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8], srgb: bool) -> wgpu::TextureView {
     let (data, levels) = mip_chain(width, height, rgba, srgb);
-    let format = if srgb {
-        wgpu::TextureFormat::Rgba8UnormSrgb
-    } else {
-        wgpu::TextureFormat::Rgba8Unorm
-    };
+    let format = if srgb { wgpu::TextureFormat::Rgba8UnormSrgb } else { wgpu::TextureFormat::Rgba8Unorm };
     let tex = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
             mip_level_count: levels,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -114,20 +83,11 @@ pub fn upload_2d(
         wgpu::util::TextureDataOrder::LayerMajor,
         &data,
     );
-    tex.create_view(&wgpu::TextureViewDescriptor {
-        label: Some(label),
-        ..Default::default()
-    })
+    tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), ..Default::default() })
 }
 
 /// A 1×1 texture of one colour.
-pub fn solid(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    label: &str,
-    rgba: [u8; 4],
-    srgb: bool,
-) -> wgpu::TextureView {
+pub fn solid(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, rgba: [u8; 4], srgb: bool) -> wgpu::TextureView {
     upload_2d(device, queue, label, 1, 1, &rgba, srgb)
 }
 
@@ -148,14 +108,9 @@ pub fn load_faces(dir: &Path) -> Result<(u32, Vec<Vec<u8>>), String> {
     let mut faces = Vec::new();
     for f in FACES {
         let p = dir.join(format!("{f}.png"));
-        let img = image::open(&p)
-            .map_err(|e| format!("{}: {}", p.display(), one_line_image_error(&e)))?
-            .to_rgba8();
+        let img = image::open(&p).map_err(|e| format!("{}: {}", p.display(), one_line_image_error(&e)))?.to_rgba8();
         if img.width() != img.height() || (size != 0 && img.width() != size) {
-            return Err(format!(
-                "{}: cube faces must be square and all the same size",
-                p.display()
-            ));
+            return Err(format!("{}: cube faces must be square and all the same size", p.display()));
         }
         size = img.width();
         faces.push(img.into_raw());
@@ -190,11 +145,7 @@ pub fn irradiance(size: u32, faces: &[Vec<u8>], out: u32) -> Vec<Vec<[f32; 3]>> 
                 let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
                 let solid = 1.0 / (1.0 + s * s + t * t).powf(1.5);
                 let i = ((y * size + x) * 4) as usize;
-                let c = Vec3::new(
-                    srgb_to_linear(face[i] as f32 / 255.0),
-                    srgb_to_linear(face[i + 1] as f32 / 255.0),
-                    srgb_to_linear(face[i + 2] as f32 / 255.0),
-                );
+                let c = Vec3::new(srgb_to_linear(face[i] as f32 / 255.0), srgb_to_linear(face[i + 1] as f32 / 255.0), srgb_to_linear(face[i + 2] as f32 / 255.0));
                 samples.push((d, c * solid, solid));
                 x += step;
             }
@@ -220,12 +171,7 @@ pub fn irradiance(size: u32, faces: &[Vec<u8>], out: u32) -> Vec<Vec<[f32; 3]>> 
 }
 
 /// Uploads the environment cubemap and its irradiance.
-pub fn upload_environment(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    size: u32,
-    faces: &[Vec<u8>],
-) -> Environment {
+pub fn upload_environment(device: &wgpu::Device, queue: &wgpu::Queue, size: u32, faces: &[Vec<u8>]) -> Environment {
     // Layer-major data: each face with its mips.
     let mut data = Vec::new();
     let mut levels = 1;
@@ -239,11 +185,7 @@ pub fn upload_environment(
             queue,
             &wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size,
-                    height: size,
-                    depth_or_array_layers: 6,
-                },
+                size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 6 },
                 mip_level_count: levels,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
@@ -254,11 +196,7 @@ pub fn upload_environment(
             wgpu::util::TextureDataOrder::LayerMajor,
             data,
         );
-        tex.create_view(&wgpu::TextureViewDescriptor {
-            label: Some(label),
-            dimension: Some(wgpu::TextureViewDimension::Cube),
-            ..Default::default()
-        })
+        tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), dimension: Some(wgpu::TextureViewDimension::Cube), ..Default::default() })
     };
     let env = cube("environment cubemap", size, levels, &data);
     const IRR: u32 = 8;

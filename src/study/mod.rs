@@ -8,10 +8,11 @@ pub mod participant;
 pub mod report;
 pub mod synth;
 
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use grove_systems::replay::{ReplayOptions, replay_file};
+use grove_systems::replay::{replay_file, ReplayOptions};
 use grove_systems::task::TaskReport;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -85,29 +86,11 @@ pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
 
 /// Re-simulates and evaluates one recording. Never fails: a bad file becomes a failed trial.
 pub fn evaluate(path: &Path, overrides: &[(String, String)]) -> Trial {
-    let file = path
-        .file_name()
-        .map(|f| f.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let stem = path
-        .file_stem()
-        .map(|f| f.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let options = ReplayOptions {
-        until: None,
-        overrides: overrides.to_vec(),
-    };
+    let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+    let stem = path.file_stem().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+    let options = ReplayOptions { until: None, overrides: overrides.to_vec() };
     match replay_file(path, &options) {
-        Err(e) => Trial {
-            file,
-            participant: stem,
-            synthetic: false,
-            status: TrialStatus::Failed,
-            error: Some(e.to_string()),
-            complete: false,
-            ticks: 0,
-            task: None,
-        },
+        Err(e) => Trial { file, participant: stem, synthetic: false, status: TrialStatus::Failed, error: Some(e.to_string()), complete: false, ticks: 0, task: None },
         Ok(o) => {
             let sim = &o.sim;
             let status = if !o.verifying {
@@ -122,17 +105,10 @@ pub fn evaluate(path: &Path, overrides: &[(String, String)]) -> Trial {
                 participant: o.header.participant.clone().unwrap_or(stem),
                 synthetic: o.header.synthetic,
                 status,
-                error: o
-                    .first_divergence
-                    .as_ref()
-                    .map(|d| format!("diverged at tick {}", d.tick)),
+                error: o.first_divergence.as_ref().map(|d| format!("diverged at tick {}", d.tick)),
                 complete: o.complete,
                 ticks: sim.res.tick,
-                task: sim
-                    .res
-                    .task
-                    .as_ref()
-                    .map(|t| TaskReport::new(t, sim.res.dt, sim.res.tick, &sim.res.catalogue)),
+                task: sim.res.task.as_ref().map(|t| TaskReport::new(t, sim.res.dt, sim.res.tick, &sim.res.catalogue)),
             }
         }
     }
@@ -141,11 +117,7 @@ pub fn evaluate(path: &Path, overrides: &[(String, String)]) -> Trial {
 /// Re-simulates every recording in parallel (one recording per thread; each simulation is
 /// single-threaded, so results do not depend on the thread count). `progress` is called once
 /// per finished recording.
-pub fn run_all(
-    files: &[PathBuf],
-    overrides: &[(String, String)],
-    progress: &(dyn Fn() + Sync),
-) -> (Vec<Trial>, f64) {
+pub fn run_all(files: &[PathBuf], overrides: &[(String, String)], progress: &(dyn Fn() + Sync)) -> (Vec<Trial>, f64) {
     let start = Instant::now();
     let mut trials: Vec<Trial> = files
         .par_iter()
@@ -155,8 +127,6 @@ pub fn run_all(
             t
         })
         .collect();
-    trials.sort_by(|a, b| {
-        (a.participant.as_str(), a.file.as_str()).cmp(&(b.participant.as_str(), b.file.as_str()))
-    });
+    trials.sort_by(|a, b| (a.participant.as_str(), a.file.as_str()).cmp(&(b.participant.as_str(), b.file.as_str())));
     (trials, start.elapsed().as_secs_f64())
 }

@@ -55,15 +55,8 @@ impl Skill {
         let speed = ln.sample(rng);
         Skill {
             fitts_a: FITTS_A * speed,
-            fitts_b: FITTS_B
-                * speed
-                * LogNormal::new(0.0, 0.1)
-                    .expect("valid log-normal")
-                    .sample(rng),
-            mental: KLM_MENTAL
-                * LogNormal::new(0.0, 0.15)
-                    .expect("valid log-normal")
-                    .sample(rng),
+            fitts_b: FITTS_B * speed * LogNormal::new(0.0, 0.1).expect("valid log-normal").sample(rng),
+            mental: KLM_MENTAL * LogNormal::new(0.0, 0.15).expect("valid log-normal").sample(rng),
             press: rng.random_range(KLM_PRESS.0..=KLM_PRESS.1),
             scatter: rng.random_range(0.8..1.2),
             error_rate: rng.random_range(0.04..0.12),
@@ -101,9 +94,7 @@ pub fn min_jerk(s: f64) -> f64 {
 
 /// The angle between two directions, radians.
 pub fn angle_between(a: Vec3, b: Vec3) -> f64 {
-    (a.normalize().dot(b.normalize()) as f64)
-        .clamp(-1.0, 1.0)
-        .acos()
+    (a.normalize().dot(b.normalize()) as f64).clamp(-1.0, 1.0).acos()
 }
 
 /// The angular width of a target of linear `size` metres at `distance` metres, radians.
@@ -155,18 +146,12 @@ mod tests {
     #[test]
     fn endpoint_scatter_matches_the_effective_width() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-        let skill = Skill {
-            scatter: 1.0,
-            ..Skill::sample(&mut rng)
-        };
+        let skill = Skill { scatter: 1.0, ..Skill::sample(&mut rng) };
         let width = 0.1;
         let sigma = skill.endpoint_sigma(width);
         let n = 4000;
         let inside = (0..n)
-            .filter(|_| {
-                angle_between(scatter_direction(&mut rng, Vec3::NEG_Z, sigma), Vec3::NEG_Z)
-                    < width / 2.0
-            })
+            .filter(|_| angle_between(scatter_direction(&mut rng, Vec3::NEG_Z, sigma), Vec3::NEG_Z) < width / 2.0)
             .count();
         // Two independent axes: P(r < W/2) = 1 − exp(−(W/2)²/(2σ²)) ≈ 0.88 for σ = W/4.133.
         let p = inside as f64 / n as f64;

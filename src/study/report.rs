@@ -63,11 +63,7 @@ fn mean_sd(xs: &[f64]) -> (f64, f64) {
         return (0.0, 0.0);
     }
     let m = xs.iter().sum::<f64>() / xs.len() as f64;
-    let var = if xs.len() > 1 {
-        xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (xs.len() - 1) as f64
-    } else {
-        0.0
-    };
+    let var = if xs.len() > 1 { xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (xs.len() - 1) as f64 } else { 0.0 };
     (m, var.sqrt())
 }
 
@@ -79,40 +75,24 @@ pub fn summarize(trials: &[Trial], overrides: &[(String, String)], wall_seconds:
     }
     let mut modes: BTreeMap<String, ModeStats> = BTreeMap::new();
     for mode in ["ray-casting", "manual"] {
-        let tasks: Vec<_> = trials
-            .iter()
-            .filter_map(|t| t.task.as_ref())
-            .filter(|t| t.mode == mode)
-            .collect();
-        let times: Vec<f64> = tasks
-            .iter()
-            .filter(|t| t.completed)
-            .map(|t| t.time_s)
-            .collect();
+        let tasks: Vec<_> = trials.iter().filter_map(|t| t.task.as_ref()).filter(|t| t.mode == mode).collect();
+        let times: Vec<f64> = tasks.iter().filter(|t| t.completed).map(|t| t.time_s).collect();
         let (mean, sd) = mean_sd(&times);
         let errors: Vec<f64> = tasks.iter().map(|t| t.errors as f64).collect();
         modes.insert(
             mode.to_string(),
-            ModeStats {
-                trials: tasks.len(),
-                completed: times.len(),
-                mean_time_s: mean,
-                sd_time_s: sd,
-                mean_errors: mean_sd(&errors).0,
-            },
+            ModeStats { trials: tasks.len(), completed: times.len(), mean_time_s: mean, sd_time_s: sd, mean_errors: mean_sd(&errors).0 },
         );
     }
     let mut by_participant: BTreeMap<String, ParticipantTimes> = BTreeMap::new();
     for t in trials {
         let Some(task) = &t.task else { continue };
-        let entry = by_participant
-            .entry(t.participant.clone())
-            .or_insert_with(|| ParticipantTimes {
-                participant: t.participant.clone(),
-                ray_casting_s: None,
-                manual_s: None,
-                ray_casting_faster: None,
-            });
+        let entry = by_participant.entry(t.participant.clone()).or_insert_with(|| ParticipantTimes {
+            participant: t.participant.clone(),
+            ray_casting_s: None,
+            manual_s: None,
+            ray_casting_faster: None,
+        });
         let time = task.completed.then_some(task.time_s);
         match task.mode.as_str() {
             "ray-casting" => entry.ray_casting_s = time,
@@ -126,17 +106,11 @@ pub fn summarize(trials: &[Trial], overrides: &[(String, String)], wall_seconds:
             p.ray_casting_faster = Some(r < m);
         }
     }
-    let compared: Vec<bool> = per_participant
-        .iter()
-        .filter_map(|p| p.ray_casting_faster)
-        .collect();
+    let compared: Vec<bool> = per_participant.iter().filter_map(|p| p.ray_casting_faster).collect();
     Summary {
         trials: trials.len(),
         status,
-        completed: trials
-            .iter()
-            .filter(|t| t.task.as_ref().is_some_and(|k| k.completed))
-            .count(),
+        completed: trials.iter().filter(|t| t.task.as_ref().is_some_and(|k| k.completed)).count(),
         participants: per_participant.len(),
         overrides: overrides.iter().cloned().collect(),
         modes,
@@ -148,20 +122,13 @@ pub fn summarize(trials: &[Trial], overrides: &[(String, String)], wall_seconds:
 
 /// The terminal table: participant, task, mode, time_s, trees, errors, verified.
 pub fn table(trials: &[Trial]) -> String {
-    let mut out = format!(
-        "{:<12} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n",
-        "participant", "task", "mode", "time_s", "trees", "errors", "verified"
-    );
+    let mut out = format!("{:<12} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n", "participant", "task", "mode", "time_s", "trees", "errors", "verified");
     for t in trials {
         let (task, mode, time, trees, errors) = match &t.task {
             Some(k) => (
                 k.id.clone(),
                 k.mode.clone(),
-                if k.completed {
-                    format!("{:.2}", k.time_s)
-                } else {
-                    "-".into()
-                },
+                if k.completed { format!("{:.2}", k.time_s) } else { "-".into() },
                 k.trees.len().to_string(),
                 k.errors.to_string(),
             ),
@@ -171,10 +138,7 @@ pub fn table(trials: &[Trial]) -> String {
             (TrialStatus::Failed, Some(e)) => format!("failed: {e}"),
             (s, _) => s.word().to_string(),
         };
-        out.push_str(&format!(
-            "{:<12} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n",
-            t.participant, task, mode, time, trees, errors, status
-        ));
+        out.push_str(&format!("{:<12} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n", t.participant, task, mode, time, trees, errors, status));
     }
     out
 }
@@ -183,35 +147,11 @@ pub fn table(trials: &[Trial]) -> String {
 /// Experiment Framework's trial results (`experiment, ppid, session_num, trial_num, block_num,
 /// trial_num_in_block, start_time, end_time`, then this study's measures).
 pub fn write_trial_results(path: &Path, trials: &[Trial]) -> anyhow::Result<()> {
-    let mut w =
-        csv::Writer::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let mut w = csv::Writer::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     w.write_record([
-        "experiment",
-        "ppid",
-        "session_num",
-        "trial_num",
-        "block_num",
-        "trial_num_in_block",
-        "start_time",
-        "end_time",
-        "task",
-        "mode",
-        "completed",
-        "time_s",
-        "trees",
-        "model_types",
-        "errors",
-        "removals",
-        "off_target",
-        "released_green",
-        "menu_opens",
-        "ray_path_m",
-        "aiming_s",
-        "menu_s",
-        "manipulating_s",
-        "status",
-        "synthetic",
-        "file",
+        "experiment", "ppid", "session_num", "trial_num", "block_num", "trial_num_in_block", "start_time", "end_time", "task", "mode", "completed", "time_s",
+        "trees", "model_types", "errors", "removals", "off_target", "released_green", "menu_opens", "ray_path_m", "aiming_s", "menu_s", "manipulating_s",
+        "status", "synthetic", "file",
     ])?;
     let mut trial_num: BTreeMap<&str, u32> = BTreeMap::new();
     for t in trials {
@@ -259,11 +199,8 @@ pub fn write_trial_results(path: &Path, trials: &[Trial]) -> anyhow::Result<()> 
 
 /// Writes `trees.csv`: one row per placed tree.
 pub fn write_trees(path: &Path, trials: &[Trial]) -> anyhow::Result<()> {
-    let mut w =
-        csv::Writer::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    w.write_record([
-        "ppid", "task", "mode", "target", "model", "time_s", "x", "y", "z", "status",
-    ])?;
+    let mut w = csv::Writer::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    w.write_record(["ppid", "task", "mode", "target", "model", "time_s", "x", "y", "z", "status"])?;
     for t in trials {
         let Some(k) = &t.task else { continue };
         for tree in &k.trees {

@@ -12,22 +12,20 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail};
 use glam::{Vec2, Vec3};
-use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{
-    AnchorBall, HitMarker, HitTarget, Pose, Selection, Transform, Tree,
-};
+use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Selection, Transform, Tree};
 use grove_systems::events::Happening;
 use grove_systems::input::{Button, InputEvent, StampedEvent};
-use grove_systems::replay::{Header, record_events};
+use grove_systems::replay::{record_events, Header};
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::task::TaskDef;
+use grove_systems::Sim;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::participant::{Skill, angle_between, angular_width, scatter_direction, sweep};
+use super::participant::{angle_between, angular_width, scatter_direction, sweep, Skill};
 
 /// A controller pose is sent every this many ticks while the hand moves (30 Hz at 60 Hz ticks),
 /// like a tracking system that reports at half the simulation rate.
@@ -78,9 +76,7 @@ impl Participant {
     fn press(&mut self, button: Button) {
         let down = self.ticks(0.1);
         let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
-        self.script
-            .push(InputEvent::ButtonDown { button })
-            .wait(down);
+        self.script.push(InputEvent::ButtonDown { button }).wait(down);
         self.script.push(InputEvent::ButtonUp { button }).wait(rest);
     }
 
@@ -102,9 +98,7 @@ impl Participant {
 
     fn look_at(&mut self, point: Vec3) {
         let head = self.script.head().pose.position;
-        self.script.push(InputEvent::HeadPose {
-            pose: Pose::looking_at(head, point),
-        });
+        self.script.push(InputEvent::HeadPose { pose: Pose::looking_at(head, point) });
     }
 
     /// Aims the ray at `point`, a target of angular width `width`, with Fitts timing and
@@ -132,21 +126,11 @@ impl Participant {
     }
 
     fn hit(&self) -> HitMarker {
-        self.sim()
-            .world
-            .query::<&HitMarker>()
-            .iter()
-            .next()
-            .copied()
-            .unwrap_or_default()
+        self.sim().world.query::<&HitMarker>().iter().next().copied().unwrap_or_default()
     }
 
     fn ground_at(&self, x: f32, z: f32) -> f32 {
-        self.sim()
-            .res
-            .spatial
-            .ground_below(Vec3::new(x, 50.0, z), 0.0)
-            .map_or(0.0, |h| h.point.y)
+        self.sim().res.spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).map_or(0.0, |h| h.point.y)
     }
 
     fn choose(&mut self, model: ModelId) {
@@ -157,28 +141,17 @@ impl Participant {
     }
 
     fn last_planted(&self) -> Option<(u64, Vec3)> {
-        self.sim()
-            .res
-            .log
-            .entries
-            .iter()
-            .rev()
-            .find_map(|e| match e.what {
-                Happening::Planted { tree, position, .. } => Some((tree, position)),
-                _ => None,
-            })
+        self.sim().res.log.entries.iter().rev().find_map(|e| match e.what {
+            Happening::Planted { tree, position, .. } => Some((tree, position)),
+            _ => None,
+        })
     }
 
     fn tree(&self, id: u64) -> Option<(Transform, ModelId, f32)> {
         let e = hecs::Entity::from_bits(id)?;
         let t = *self.sim().world.get::<&Transform>(e).ok()?;
         let m = self.sim().world.get::<&Tree>(e).ok()?.model;
-        let s = self
-            .sim()
-            .world
-            .get::<&grove_systems::components::Scale>(e)
-            .ok()?
-            .0;
+        let s = self.sim().world.get::<&grove_systems::components::Scale>(e).ok()?.0;
         Some((t, m, s))
     }
 
@@ -190,18 +163,10 @@ impl Participant {
 
     /// Points at a tree and presses Bumper to remove it.
     fn remove(&mut self, id: u64) {
-        let Some(c) = self.tree_center(id) else {
-            return;
-        };
+        let Some(c) = self.tree_center(id) else { return };
         let width = angular_width(1.0, (c - self.hand).length() as f64);
         self.aim(c, width, false, &move |sim: &Sim| {
-            let h = sim
-                .world
-                .query::<&HitMarker>()
-                .iter()
-                .next()
-                .copied()
-                .unwrap_or_default();
+            let h = sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default();
             h.visible && h.target == HitTarget::Tree(id)
         });
         self.press(Button::Bumper);
@@ -213,11 +178,7 @@ impl Participant {
         let mut sloppy = error && !wrong_model;
         self.think();
         let models = self.sim().res.catalogue.len() as u8;
-        let chosen = if wrong_model {
-            ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models)
-        } else {
-            model
-        };
+        let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
         if self.sim().res.menu.current_model != chosen {
             self.choose(chosen);
         }
@@ -227,16 +188,8 @@ impl Participant {
             let point = Vec3::new(pos.x, self.ground_at(pos.x, pos.z), pos.z);
             let width = angular_width(2.0 * margin as f64, (point - self.hand).length() as f64);
             let ok = move |sim: &Sim| {
-                let h = sim
-                    .world
-                    .query::<&HitMarker>()
-                    .iter()
-                    .next()
-                    .copied()
-                    .unwrap_or_default();
-                h.visible
-                    && matches!(h.target, HitTarget::Plane(_))
-                    && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
+                let h = sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+                h.visible && matches!(h.target, HitTarget::Plane(_)) && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
             };
             // An early click skips the corrections once; the plant then usually lands off target.
             self.aim(point, width, sloppy, &ok);
@@ -263,22 +216,11 @@ impl Participant {
     }
 
     fn selected(&self) -> Option<u64> {
-        self.sim()
-            .world
-            .query::<&Selection>()
-            .iter()
-            .next()
-            .and_then(|s| s.tree)
+        self.sim().world.query::<&Selection>().iter().next().and_then(|s| s.tree)
     }
 
     fn anchor(&self) -> AnchorBall {
-        self.sim()
-            .world
-            .query::<&AnchorBall>()
-            .iter()
-            .next()
-            .copied()
-            .unwrap_or_default()
+        self.sim().world.query::<&AnchorBall>().iter().next().copied().unwrap_or_default()
     }
 
     fn manual_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32) -> anyhow::Result<()> {
@@ -287,24 +229,16 @@ impl Participant {
         let early_release = error && !wrong_model;
         self.think();
         let models = self.sim().res.catalogue.len() as u8;
-        let chosen = if wrong_model {
-            ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models)
-        } else {
-            model
-        };
+        let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
         self.choose(chosen);
-        let id = self
-            .selected()
-            .ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
+        let id = self.selected().ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
         self.drag_into_place(id, pos, tolerance, early_release)?;
         if wrong_model {
             self.think();
             self.remove(id);
             self.think();
             self.choose(model);
-            let id = self
-                .selected()
-                .ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
+            let id = self.selected().ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
             self.drag_into_place(id, pos, tolerance, false)?;
         }
         Ok(())
@@ -312,96 +246,47 @@ impl Participant {
 
     /// Grabs a tree and drags it to the target with ray and touchpad until the anchor ball is
     /// white over the target, then releases.
-    fn drag_into_place(
-        &mut self,
-        id: u64,
-        pos: Vec3,
-        tolerance: f32,
-        early_release: bool,
-    ) -> anyhow::Result<()> {
+    fn drag_into_place(&mut self, id: u64, pos: Vec3, tolerance: f32, early_release: bool) -> anyhow::Result<()> {
         let goal = Vec2::new(pos.x, pos.z);
         for grab in 0..4 {
-            let c = self
-                .tree_center(id)
-                .ok_or_else(|| anyhow!("the tree to drag is gone"))?;
+            let c = self.tree_center(id).ok_or_else(|| anyhow!("the tree to drag is gone"))?;
             let width = angular_width(1.0, (c - self.hand).length() as f64);
             self.aim(c, width, false, &move |sim: &Sim| {
-                let h = sim
-                    .world
-                    .query::<&HitMarker>()
-                    .iter()
-                    .next()
-                    .copied()
-                    .unwrap_or_default();
+                let h = sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default();
                 h.visible && h.target == HitTarget::Tree(id)
             });
             if self.hit().target != HitTarget::Tree(id) {
                 continue;
             }
             let press = self.ticks(0.1);
-            self.script
-                .push(InputEvent::ButtonDown {
-                    button: Button::Trigger,
-                })
-                .wait(press);
+            self.script.push(InputEvent::ButtonDown { button: Button::Trigger }).wait(press);
             for attempt in 0..MAX_CORRECTIONS {
-                let Some(drag) = self.sim().res.interaction.drag else {
-                    break;
-                };
-                let (_, m, s) = self
-                    .tree(id)
-                    .ok_or_else(|| anyhow!("the dragged tree is gone"))?;
-                let lowest = self
-                    .sim()
-                    .res
-                    .catalogue
-                    .get(m)
-                    .map_or(0.0, |i| i.lowest_point())
-                    * s;
+                let Some(drag) = self.sim().res.interaction.drag else { break };
+                let (_, m, s) = self.tree(id).ok_or_else(|| anyhow!("the dragged tree is gone"))?;
+                let lowest = self.sim().res.catalogue.get(m).map_or(0.0, |i| i.lowest_point()) * s;
                 let base = Vec3::new(pos.x, self.ground_at(pos.x, pos.z) - lowest, pos.z);
                 let grab_point = base - drag.offset;
                 let want = grab_point - self.hand;
-                let dir_sigma = self.skill.endpoint_sigma(angular_width(
-                    2.0 * (tolerance * AIM_MARGIN) as f64,
-                    want.length() as f64,
-                ));
+                let dir_sigma = self.skill.endpoint_sigma(angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
                 let amplitude = angle_between(self.dir, want);
-                let rot_time = self.skill.aim_time(
-                    amplitude,
-                    angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64),
-                );
+                let rot_time = self.skill.aim_time(amplitude, angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
                 let rate = self.sim().res.config.touchpad_move_rate as f64;
                 let delta = want.length() as f64 - drag.grab_distance as f64;
                 // Rate control is imprecise: the thumb comes off a little early or late.
-                let timing: f64 = if attempt == 0 {
-                    self.rng.random_range(0.93..1.07)
-                } else {
-                    1.0
-                };
-                let touch_ticks = if delta.abs() > 0.05 {
-                    self.ticks(delta.abs() / rate * timing)
-                } else {
-                    0
-                };
+                let timing: f64 = if attempt == 0 { self.rng.random_range(0.93..1.07) } else { 1.0 };
+                let touch_ticks = if delta.abs() > 0.05 { self.ticks(delta.abs() / rate * timing) } else { 0 };
                 let rot_ticks = self.ticks(rot_time);
-                let end = scatter_direction(
-                    &mut self.rng,
-                    want,
-                    dir_sigma * if attempt == 0 { 1.0 } else { 0.6 },
-                );
+                let end = scatter_direction(&mut self.rng, want, dir_sigma * if attempt == 0 { 1.0 } else { 0.6 });
                 let sign = delta.signum() as f32;
                 let total = rot_ticks.max(touch_ticks);
                 // The ray sweeps over the rotation time; the thumb pushes for the touch time.
                 let from = self.dir;
                 for k in 1..=total {
                     if k == 1 && touch_ticks > 0 {
-                        self.script.push(InputEvent::TouchpadAxes {
-                            axes: Vec2::new(0.0, sign),
-                        });
+                        self.script.push(InputEvent::TouchpadAxes { axes: Vec2::new(0.0, sign) });
                     }
                     if k == touch_ticks + 1 && touch_ticks > 0 {
-                        self.script
-                            .push(InputEvent::TouchpadAxes { axes: Vec2::ZERO });
+                        self.script.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO });
                     }
                     if k <= rot_ticks && (k % POSE_EVERY == 0 || k == rot_ticks) {
                         let d = sweep(from, end, k as f64 / rot_ticks as f64);
@@ -411,16 +296,11 @@ impl Participant {
                     self.script.wait(1);
                 }
                 if touch_ticks >= total && touch_ticks > 0 {
-                    self.script
-                        .push(InputEvent::TouchpadAxes { axes: Vec2::ZERO })
-                        .wait(1);
+                    self.script.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO }).wait(1);
                 }
                 self.dir = end.normalize();
                 let ball = self.anchor();
-                let here = self
-                    .tree(id)
-                    .map(|t| Vec2::new(t.0.translation.x, t.0.translation.z))
-                    .unwrap_or(goal);
+                let here = self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(goal);
                 if early_release && grab == 0 && attempt == 0 {
                     break;
                 }
@@ -429,52 +309,25 @@ impl Participant {
                 }
             }
             let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
-            self.script
-                .push(InputEvent::ButtonUp {
-                    button: Button::Trigger,
-                })
-                .wait(rest);
-            let grounded = self
-                .sim()
-                .world
-                .get::<&grove_systems::components::Grounded>(
-                    hecs::Entity::from_bits(id).ok_or_else(|| anyhow!("bad id"))?,
-                )
-                .map(|g| g.0)
-                .unwrap_or(false);
-            let here = self
-                .tree(id)
-                .map(|t| Vec2::new(t.0.translation.x, t.0.translation.z))
-                .unwrap_or(Vec2::splat(f32::MAX));
+            self.script.push(InputEvent::ButtonUp { button: Button::Trigger }).wait(rest);
+            let grounded = self.sim().world.get::<&grove_systems::components::Grounded>(hecs::Entity::from_bits(id).ok_or_else(|| anyhow!("bad id"))?).map(|g| g.0).unwrap_or(false);
+            let here = self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(Vec2::splat(f32::MAX));
             if grounded && here.distance(goal) <= tolerance {
                 return Ok(());
             }
             self.think();
         }
-        bail!(
-            "could not place the tree at ({:.2}, {:.2}) after several tries",
-            pos.x,
-            pos.z
-        )
+        bail!("could not place the tree at ({:.2}, {:.2}) after several tries", pos.x, pos.z)
     }
 }
 
 /// Generates one participant's session for a task.
-pub fn synthesize(
-    task: &TaskDef,
-    participant: usize,
-    seed: u64,
-) -> anyhow::Result<ParticipantSession> {
-    let scene = Scene::builtin(&task.scene)
-        .ok_or_else(|| anyhow!("task {} names unknown scene '{}'", task.id, task.scene))?;
+pub fn synthesize(task: &TaskDef, participant: usize, seed: u64) -> anyhow::Result<ParticipantSession> {
+    let scene = Scene::builtin(&task.scene).ok_or_else(|| anyhow!("task {} names unknown scene '{}'", task.id, task.scene))?;
     // Each participant has one skill for both tasks; each task has its own simulation seed.
-    let mut skill_rng =
-        ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    let mut skill_rng = ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
     let skill = Skill::sample(&mut skill_rng);
-    let task_salt = task
-        .id
-        .bytes()
-        .fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
+    let task_salt = task.id.bytes().fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
     let sim_seed = seed.wrapping_mul(1000).wrapping_add(participant as u64);
     let sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
     let rng = ChaCha8Rng::seed_from_u64(seed ^ task_salt ^ (participant as u64) << 32);
@@ -482,14 +335,7 @@ pub fn synthesize(
     let hand = script.controller().pose.position;
     let dir = script.controller().pose.forward();
     let dt = script.sim().res.dt as f64;
-    let mut p = Participant {
-        script,
-        rng,
-        skill,
-        hand,
-        dir,
-        dt,
-    };
+    let mut p = Participant { script, rng, skill, hand, dir, dt };
 
     let mut header = Header::new(&task.scene, sim_seed, scene.dt);
     header.task = Some(task.id.clone());
@@ -497,14 +343,8 @@ pub fn synthesize(
     header.synthetic = true;
 
     p.script.wait(30);
-    p.script
-        .push(InputEvent::SwitchMode { mode: task.mode })
-        .wait(1);
-    p.script
-        .push(InputEvent::StartTask {
-            task: task.id.clone(),
-        })
-        .wait(1);
+    p.script.push(InputEvent::SwitchMode { mode: task.mode }).wait(1);
+    p.script.push(InputEvent::StartTask { task: task.id.clone() }).wait(1);
     let models = task.target_models(&p.sim().res.catalogue);
     // Far targets first, so that trees already planted never stand in the way of the ray.
     let mut order: Vec<usize> = (0..task.targets.len()).collect();
@@ -532,33 +372,16 @@ pub fn synthesize(
             }
             eprintln!("{:?}", p.sim().res.task.as_ref().map(|t| &t.satisfied));
         }
-        bail!(
-            "participant {} did not complete task {}",
-            participant + 1,
-            task.id
-        );
+        bail!("participant {} did not complete task {}", participant + 1, task.id);
     }
     let (_, events) = p.script.into_parts();
-    Ok(ParticipantSession {
-        header,
-        events,
-        end_tick,
-    })
+    Ok(ParticipantSession { header, events, end_tick })
 }
 
 /// Writes `participants` × 2 recordings to `out` (one per participant per task). Existing files
 /// are never overwritten unless `force` is set.
-pub fn write_study(
-    out: &Path,
-    participants: usize,
-    seed: u64,
-    force: bool,
-    progress: &dyn Fn(&str),
-) -> anyhow::Result<Vec<PathBuf>> {
-    let tasks: Vec<TaskDef> = ["ray-casting-7", "manual-7"]
-        .iter()
-        .map(|id| TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing")))
-        .collect::<Result<_, _>>()?;
+pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+    let tasks: Vec<TaskDef> = ["ray-casting-7", "manual-7"].iter().map(|id| TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))).collect::<Result<_, _>>()?;
     if out.exists() && !out.is_dir() {
         bail!("{}: exists and is not a folder", out.display());
     }
@@ -570,11 +393,7 @@ pub fn write_study(
     }
     if !force {
         if let Some((_, _, f)) = planned.iter().find(|(_, _, f)| f.exists()) {
-            bail!(
-                "{}: already exists; use --force to overwrite the recordings in {}",
-                f.display(),
-                out.display()
-            );
+            bail!("{}: already exists; use --force to overwrite the recordings in {}", f.display(), out.display());
         }
     }
     std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
@@ -586,14 +405,7 @@ pub fn write_study(
         // Write to a temporary file and rename, so a failure never leaves half a recording.
         let tmp = path.with_extension("jsonl.tmp");
         let file = std::fs::File::create(&tmp).map_err(|e| anyhow!("{}: {e}", tmp.display()))?;
-        let w = record_events(
-            std::io::BufWriter::new(file),
-            &session.header,
-            &session.events,
-            session.end_tick,
-            summary,
-        )
-        .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        let w = record_events(std::io::BufWriter::new(file), &session.header, &session.events, session.end_tick, summary).map_err(|e| anyhow!("{}: {e}", path.display()))?;
         drop(w);
         std::fs::rename(&tmp, &path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
         written.push(path);

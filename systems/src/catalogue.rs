@@ -78,22 +78,13 @@ pub enum CatalogueError {
 impl Catalogue {
     /// Parses and checks a catalogue from RON text.
     pub fn from_ron(text: &str) -> Result<Catalogue, CatalogueError> {
-        let cat: Catalogue =
-            ron::from_str(text).map_err(|e| CatalogueError::Parse(e.to_string()))?;
+        let cat: Catalogue = ron::from_str(text).map_err(|e| CatalogueError::Parse(e.to_string()))?;
         for (i, m) in cat.models.iter().enumerate() {
             if m.id.0 as usize != i {
-                return Err(CatalogueError::Invalid(format!(
-                    "model {} has id {} at position {i}",
-                    m.name, m.id.0
-                )));
+                return Err(CatalogueError::Invalid(format!("model {} has id {} at position {i}", m.name, m.id.0)));
             }
-            if !(m.bounds_min.is_finite() && m.bounds_max.is_finite())
-                || m.bounds_min.cmpgt(m.bounds_max).any()
-            {
-                return Err(CatalogueError::Invalid(format!(
-                    "model {} has invalid bounds",
-                    m.name
-                )));
+            if !(m.bounds_min.is_finite() && m.bounds_max.is_finite()) || m.bounds_min.cmpgt(m.bounds_max).any() {
+                return Err(CatalogueError::Invalid(format!("model {} has invalid bounds", m.name)));
             }
         }
         Ok(cat)
@@ -134,20 +125,8 @@ mod tests {
     fn builtin_catalogue_has_four_mesh_and_four_billboard_models() {
         let cat = Catalogue::from_ron(DEFAULT_CATALOGUE).unwrap();
         assert_eq!(cat.len(), 8);
-        assert_eq!(
-            cat.models
-                .iter()
-                .filter(|m| m.kind == ModelKind::Mesh)
-                .count(),
-            4
-        );
-        assert_eq!(
-            cat.models
-                .iter()
-                .filter(|m| m.kind == ModelKind::Billboard)
-                .count(),
-            4
-        );
+        assert_eq!(cat.models.iter().filter(|m| m.kind == ModelKind::Mesh).count(), 4);
+        assert_eq!(cat.models.iter().filter(|m| m.kind == ModelKind::Billboard).count(), 4);
         for m in &cat.models {
             assert!(m.height() > 0.3, "{} is too small", m.name);
         }

@@ -23,10 +23,7 @@ pub struct Pose {
 
 impl Default for Pose {
     fn default() -> Self {
-        Pose {
-            position: Vec3::ZERO,
-            rotation: Quat::IDENTITY,
-        }
+        Pose { position: Vec3::ZERO, rotation: Quat::IDENTITY }
     }
 }
 
@@ -39,10 +36,7 @@ impl Pose {
     /// A pose at `position` looking towards `target`, with +Y up.
     pub fn looking_at(position: Vec3, target: Vec3) -> Pose {
         let dir = (target - position).normalize_or(Vec3::NEG_Z);
-        Pose {
-            position,
-            rotation: rotation_towards(dir),
-        }
+        Pose { position, rotation: rotation_towards(dir) }
     }
 
     /// Whether every number in the pose is finite.

@@ -165,9 +165,6 @@ impl EventLog {
 
     /// Number of entries of one kind.
     pub fn count(&self, kind: &str) -> usize {
-        self.entries
-            .iter()
-            .filter(|e| e.what.kind() == kind)
-            .count()
+        self.entries.iter().filter(|e| e.what.kind() == kind).count()
     }
 }

@@ -49,18 +49,13 @@ pub struct WorldHash {
 impl WorldHash {
     /// The hash of one component type, if it is known.
     pub fn component(&self, name: &str) -> Option<u64> {
-        self.components
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, h)| *h)
+        self.components.iter().find(|(n, _)| *n == name).map(|(_, h)| *h)
     }
 }
 
 /// Whether the entity with these id bits has the hashed component called `name`.
 pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
-    let Some(e) = Entity::from_bits(entity_bits) else {
-        return false;
-    };
+    let Some(e) = Entity::from_bits(entity_bits) else { return false };
     let Ok(r) = world.entity(e) else { return false };
     macro_rules! has {
         ($r:expr, $name:expr ; $($t:ident),*) => {
@@ -128,10 +123,7 @@ macro_rules! serde_hashed {
         })*
     };
 }
-serde_hashed!(
-    Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker,
-    AnchorBall, Selection
-);
+serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection);
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
 /// through serde (the same bits, much faster).
@@ -180,11 +172,7 @@ pub fn plane_hash(p: &Plane) -> u64 {
 
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
-    let mut acc = Acc {
-        buf: Vec::with_capacity(256),
-        entities: BTreeMap::new(),
-        components: Vec::new(),
-    };
+    let mut acc = Acc { buf: Vec::with_capacity(256), entities: BTreeMap::new(), components: Vec::new() };
     macro_rules! hash_each {
         ($acc:expr, $world:expr ; $($t:ident),*) => {
             $($acc.component::<$t>($world, stringify!($t));)*
@@ -211,14 +199,6 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
         total.update(name.as_bytes());
         total.update(&h.to_le_bytes());
     }
-    let entities: Vec<(u64, u64)> = acc
-        .entities
-        .into_iter()
-        .map(|(e, h)| (e, h.digest()))
-        .collect();
-    WorldHash {
-        total: total.digest(),
-        components: acc.components,
-        entities,
-    }
+    let entities: Vec<(u64, u64)> = acc.entities.into_iter().map(|(e, h)| (e, h.digest())).collect();
+    WorldHash { total: total.digest(), components: acc.components, entities }
 }

@@ -105,9 +105,7 @@ impl InputEvent {
                 }
                 let len = pose.rotation.length();
                 if (len - 1.0).abs() > 1e-3 {
-                    return Err(format!(
-                        "pose rotation is not a unit quaternion (length {len})"
-                    ));
+                    return Err(format!("pose rotation is not a unit quaternion (length {len})"));
                 }
                 if pose.position.abs().max_element() > 1.0e5 {
                     return Err("pose position is more than 100 km from the origin".into());

@@ -13,7 +13,7 @@ use parry3d::shape::Ball;
 
 use crate::catalogue::Catalogue;
 use crate::components::{Handle, Pose, Scale, Selection, Transform, Tree};
-use crate::spatial::{RayHit, SpatialIndex, TreeBox, tree_box};
+use crate::spatial::{tree_box, RayHit, SpatialIndex, TreeBox};
 
 /// The entity with these id bits, if the bits are a valid id (it may still be despawned).
 pub fn entity(bits: u64) -> Option<Entity> {
@@ -32,11 +32,7 @@ pub fn tree_box_of(world: &World, catalogue: &Catalogue, e: Entity) -> Option<Tr
 
 /// The id bits of the selected tree, if any (from the first `Selection` entity).
 pub fn selected_tree(world: &World) -> Option<u64> {
-    world
-        .query::<&Selection>()
-        .iter()
-        .next()
-        .and_then(|s| s.tree)
+    world.query::<&Selection>().iter().next().and_then(|s| s.tree)
 }
 
 /// Sets the selected tree (or clears it with `None`) on every `Selection` entity. The box itself
@@ -51,13 +47,7 @@ pub fn set_selected(world: &mut World, tree: Option<u64>) {
 /// going down from `lift` metres above the tree's lowest point (`lowest × scale` above the
 /// origin), on the tree's axis. Lifting the ray start lets a tree that sank a little into a
 /// plane still find it. `None` over a hole or off every plane's edge.
-pub fn ground_under(
-    spatial: &SpatialIndex,
-    origin: Vec3,
-    lowest: f32,
-    scale: f32,
-    lift: f32,
-) -> Option<RayHit> {
+pub fn ground_under(spatial: &SpatialIndex, origin: Vec3, lowest: f32, scale: f32, lift: f32) -> Option<RayHit> {
     let low = Vec3::new(origin.x, lowest_point_y(origin.y, lowest, scale), origin.z);
     spatial.ground_below(low, lift)
 }
@@ -90,13 +80,7 @@ pub fn ray_sphere(origin: Vec3, dir: Vec3, center: Vec3, radius: f32, max: f32) 
 
 /// The nearest handle sphere (radius `radius`) of a box that the ray hits within `max`, with its
 /// distance. Ties go to the handle listed first by [`handle_points`].
-pub fn nearest_handle(
-    origin: Vec3,
-    dir: Vec3,
-    b: &TreeBox,
-    radius: f32,
-    max: f32,
-) -> Option<(Handle, Vec3, f32)> {
+pub fn nearest_handle(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32) -> Option<(Handle, Vec3, f32)> {
     let mut best: Option<(Handle, Vec3, f32)> = None;
     for (h, p) in handle_points(b.center, b.half_extents, b.yaw) {
         let limit = best.map_or(max, |b| b.2);
@@ -220,21 +204,14 @@ mod tests {
 
     #[test]
     fn nearest_handle_is_the_front_one() {
-        let b = TreeBox {
-            entity: Entity::DANGLING,
-            center: Vec3::ZERO,
-            half_extents: Vec3::ONE,
-            yaw: 0.0,
-        };
+        let b = TreeBox { entity: Entity::DANGLING, center: Vec3::ZERO, half_extents: Vec3::ONE, yaw: 0.0 };
         // Straight down the +X+Z vertical edge midpoint (1, 0, 1) from above: the top corner
         // (1, 1, 1) is hit first.
-        let (h, _, d) =
-            nearest_handle(Vec3::new(1.0, 5.0, 1.0), Vec3::NEG_Y, &b, 0.1, 100.0).unwrap();
+        let (h, _, d) = nearest_handle(Vec3::new(1.0, 5.0, 1.0), Vec3::NEG_Y, &b, 0.1, 100.0).unwrap();
         assert_eq!(h, Handle::Corner(7));
         assert!((d - 3.9).abs() < 1e-5);
         // From the side at mid-height, the edge handle.
-        let (h, _, _) =
-            nearest_handle(Vec3::new(5.0, 0.0, 1.0), Vec3::NEG_X, &b, 0.1, 100.0).unwrap();
+        let (h, _, _) = nearest_handle(Vec3::new(5.0, 0.0, 1.0), Vec3::NEG_X, &b, 0.1, 100.0).unwrap();
         assert_eq!(h, Handle::Edge(3));
         assert!(nearest_handle(Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Y, &b, 0.1, 100.0).is_none());
     }
@@ -263,9 +240,7 @@ mod tests {
         let (y, lowest) = (0.3, -0.05);
         let y2 = rescaled_origin_y(y, lowest, 1.0, 2.5);
         assert!((lowest_point_y(y, lowest, 1.0) - lowest_point_y(y2, lowest, 2.5)).abs() < 1e-6);
-        assert!(
-            (lowest_point_y(snapped_origin_y(0.8, lowest, 1.7), lowest, 1.7) - 0.8).abs() < 1e-6
-        );
+        assert!((lowest_point_y(snapped_origin_y(0.8, lowest, 1.7), lowest, 1.7) - 0.8).abs() < 1e-6);
     }
 
     #[test]
@@ -280,10 +255,7 @@ mod tests {
     fn touchpad_dead_zone_and_turn_direction() {
         assert_eq!(touchpad_axis(0.15, 0.15), 0.0);
         assert_eq!(touchpad_axis(-0.5, 0.15), -0.5);
-        assert!(
-            touchpad_turn(-1.0, 90.0, 1.0) > 0.0,
-            "left turns counter-clockwise"
-        );
+        assert!(touchpad_turn(-1.0, 90.0, 1.0) > 0.0, "left turns counter-clockwise");
         assert!((touchpad_turn(1.0, 90.0, 1.0) + FRAC_PI_2).abs() < 1e-6);
     }
 

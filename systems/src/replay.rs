@@ -18,7 +18,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::hash::{COMPONENTS, WorldHash, hex};
+use crate::hash::{hex, WorldHash, COMPONENTS};
 use crate::input::{InputEvent, StampedEvent};
 use crate::resources::Config;
 use crate::scene::Scene;
@@ -192,13 +192,8 @@ pub fn encode_line(line: &Line) -> String {
 pub fn decode_line(text: &str) -> Result<Line, String> {
     let text = text.trim_end_matches(['\r', '\n']);
     // The sum is always the last field: `,"sum":"` + 8 hex digits + `"}` = 18 bytes.
-    let idx = text
-        .len()
-        .checked_sub(SUM_KEY.len() + 10)
-        .filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
-    let idx = idx.ok_or(
-        "no checksum (\"sum\" field) at the end; the line is truncated or not a grove recording",
-    )?;
+    let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
+    let idx = idx.ok_or("no checksum (\"sum\" field) at the end; the line is truncated or not a grove recording")?;
     let tail = &text[idx + SUM_KEY.len()..];
     if !tail.ends_with("\"}") {
         return Err("malformed checksum field; the line is truncated or corrupt".into());
@@ -219,12 +214,7 @@ pub fn decode_line(text: &str) -> Result<Line, String> {
         {
             let event = InputEvent::ControllerPose { pose: e.event.pose };
             event.validate()?;
-            return Ok(Line::Event(EventLine {
-                tick: e.tick,
-                ms: e.ms,
-                frame: e.frame,
-                event,
-            }));
+            return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
         }
         let e: TaggedEvent = serde_json::from_str(&body).map_err(|e| {
             let msg = e.to_string();
@@ -234,12 +224,7 @@ pub fn decode_line(text: &str) -> Result<Line, String> {
             return Err(format!("unexpected line type '{}'", e.kind));
         }
         e.event.validate()?;
-        return Ok(Line::Event(EventLine {
-            tick: e.tick,
-            ms: e.ms,
-            frame: e.frame,
-            event: e.event,
-        }));
+        return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event: e.event }));
     }
     let line: Line = serde_json::from_str(&body).map_err(|e| {
         let msg = e.to_string();
@@ -257,16 +242,8 @@ pub fn checkpoint_line(tick: u64, h: &WorldHash) -> CheckpointLine {
     CheckpointLine {
         tick,
         hash: hex(h.total),
-        components: h
-            .components
-            .iter()
-            .map(|(n, v)| (n.to_string(), hex(*v)))
-            .collect(),
-        entities: h
-            .entities
-            .iter()
-            .map(|(e, v)| (e.to_string(), hex(*v)))
-            .collect(),
+        components: h.components.iter().map(|(n, v)| (n.to_string(), hex(*v))).collect(),
+        entities: h.entities.iter().map(|(e, v)| (e.to_string(), hex(*v))).collect(),
     }
 }
 
@@ -285,30 +262,14 @@ impl<W: Write> Recorder<W> {
     pub fn new(mut out: W, header: &Header) -> std::io::Result<Recorder<W>> {
         writeln!(out, "{}", encode_line(&Line::Header(header.clone())))?;
         out.flush()?;
-        Ok(Recorder {
-            out,
-            events: 0,
-            checkpoints: 0,
-            last_tick: 0,
-        })
+        Ok(Recorder { out, events: 0, checkpoints: 0, last_tick: 0 })
     }
 
     /// Records an event that applies at `tick`.
-    pub fn event(
-        &mut self,
-        tick: u64,
-        ms: u64,
-        frame: u64,
-        event: &InputEvent,
-    ) -> std::io::Result<()> {
+    pub fn event(&mut self, tick: u64, ms: u64, frame: u64, event: &InputEvent) -> std::io::Result<()> {
         self.events += 1;
         self.last_tick = self.last_tick.max(tick);
-        let line = Line::Event(EventLine {
-            tick,
-            ms,
-            frame,
-            event: event.clone(),
-        });
+        let line = Line::Event(EventLine { tick, ms, frame, event: event.clone() });
         writeln!(self.out, "{}", encode_line(&line))
     }
 
@@ -338,11 +299,7 @@ impl<W: Write> Recorder<W> {
             map.insert("events".into(), self.events.into());
             map.insert("checkpoints".into(), self.checkpoints.into());
         }
-        let line = Line::Footer(FooterLine {
-            final_tick: sim.res.tick,
-            final_hash: hex(sim.hash().total),
-            summary,
-        });
+        let line = Line::Footer(FooterLine { final_tick: sim.res.tick, final_hash: hex(sim.hash().total), summary });
         writeln!(self.out, "{}", encode_line(&line))?;
         self.out.flush()?;
         Ok(self.out)
@@ -351,36 +308,21 @@ impl<W: Write> Recorder<W> {
 
 /// Builds the simulation a header describes: its scene (built-in name or path, relative paths
 /// resolved against `base_dir` and then the working directory), seed, and config overrides.
-pub fn sim_for_header(
-    header: &Header,
-    base_dir: Option<&Path>,
-    overrides: &[(String, String)],
-) -> Result<Sim, String> {
+pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Sim, String> {
     let scene = match Scene::builtin(&header.scene) {
         Some(s) => s,
         None => {
             let p = Path::new(&header.scene);
-            let candidate = base_dir
-                .map(|b| b.join(p))
-                .filter(|c| c.exists())
-                .unwrap_or_else(|| p.to_path_buf());
+            let candidate = base_dir.map(|b| b.join(p)).filter(|c| c.exists()).unwrap_or_else(|| p.to_path_buf());
             Scene::load(&candidate).map_err(|e| format!("scene: {e}"))?
         }
     };
     if (scene.dt - header.dt).abs() > 1e-9 {
-        return Err(format!(
-            "header dt {} differs from the scene's dt {}",
-            header.dt, scene.dt
-        ));
+        return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
     }
     let mut sim = Sim::from_scene(&scene, header.seed)?;
     let mut config = Config::default();
-    for (k, v) in header
-        .config
-        .iter()
-        .map(|(k, v)| (k.as_str(), v.as_str()))
-        .chain(overrides.iter().map(|(k, v)| (k.as_str(), v.as_str())))
-    {
+    for (k, v) in header.config.iter().map(|(k, v)| (k.as_str(), v.as_str())).chain(overrides.iter().map(|(k, v)| (k.as_str(), v.as_str()))) {
         config.set(k, v)?;
     }
     sim.res.config = config;
@@ -390,13 +332,7 @@ pub fn sim_for_header(
 /// Re-simulates a list of stamped events from a fresh simulation and writes the full recording
 /// (header, events, checkpoints, footer). Tests and synthetic participants use this, so every
 /// checkpoint in their files comes from the simulation itself.
-pub fn record_events<W: Write>(
-    out: W,
-    header: &Header,
-    events: &[StampedEvent],
-    end_tick: u64,
-    summary: serde_json::Value,
-) -> Result<W, String> {
+pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value) -> Result<W, String> {
     let mut sim = sim_for_header(header, None, &[])?;
     let mut rec = Recorder::new(out, header).map_err(|e| e.to_string())?;
     let mut i = 0;
@@ -405,16 +341,12 @@ pub fn record_events<W: Write>(
         while i < events.len() && events[i].tick == sim.res.tick {
             let e = &events[i];
             let ms = (e.tick as f64 * header.dt as f64 * 1000.0).round() as u64;
-            rec.event(e.tick, ms, e.tick, &e.event)
-                .map_err(|e| e.to_string())?;
+            rec.event(e.tick, ms, e.tick, &e.event).map_err(|e| e.to_string())?;
             sim.push_input(e.event.clone())?;
             i += 1;
         }
         if i < events.len() && events[i].tick < sim.res.tick {
-            return Err(format!(
-                "event {i} is stamped tick {} but the recording is at tick {}",
-                events[i].tick, sim.res.tick
-            ));
+            return Err(format!("event {i} is stamped tick {} but the recording is at tick {}", events[i].tick, sim.res.tick));
         }
         sim.step();
         rec.after_step(&sim).map_err(|e| e.to_string())?;
@@ -491,54 +423,33 @@ fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World)
     let comps: Vec<&str> = COMPONENTS
         .iter()
         .copied()
-        .filter(|c| {
-            expected.components.get(*c).map(String::as_str)
-                != actual.component(c).map(hex).as_deref()
-        })
+        .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
         .collect();
-    let actual_entities: BTreeMap<String, String> = actual
-        .entities
-        .iter()
-        .map(|(e, h)| (e.to_string(), hex(*h)))
-        .collect();
+    let actual_entities: BTreeMap<String, String> = actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
     let mut ents: Vec<String> = expected
         .entities
         .iter()
         .filter(|(e, h)| actual_entities.get(*e) != Some(*h))
         .map(|(e, _)| e.clone())
-        .chain(
-            actual_entities
-                .keys()
-                .filter(|e| !expected.entities.contains_key(*e))
-                .cloned(),
-        )
+        .chain(actual_entities.keys().filter(|e| !expected.entities.contains_key(*e)).cloned())
         .collect();
     ents.sort_by_key(|e| e.parse::<u64>().unwrap_or(u64::MAX));
     ents.dedup();
     let mut out = Vec::new();
     for c in &comps {
         if *c == "resources" {
-            out.push(Differing {
-                entity: "resources".into(),
-                component: "resources".into(),
-            });
+            out.push(Differing { entity: "resources".into(), component: "resources".into() });
             continue;
         }
         let before = out.len();
         for e in &ents {
             let bits = e.parse::<u64>().unwrap_or(0);
             if crate::hash::has_component(world, bits, c) || !actual_entities.contains_key(e) {
-                out.push(Differing {
-                    entity: e.clone(),
-                    component: (*c).to_string(),
-                });
+                out.push(Differing { entity: e.clone(), component: (*c).to_string() });
             }
         }
         if out.len() == before {
-            out.push(Differing {
-                entity: "?".into(),
-                component: (*c).to_string(),
-            });
+            out.push(Differing { entity: "?".into(), component: (*c).to_string() });
         }
     }
     out
@@ -565,11 +476,7 @@ impl<R: Read> LineReader<R> {
         loop {
             let chunk = self.inner.fill_buf().map_err(|e| e.to_string())?;
             if chunk.is_empty() {
-                return Ok(if self.buf.is_empty() {
-                    NextLine::End
-                } else {
-                    NextLine::Cut
-                });
+                return Ok(if self.buf.is_empty() { NextLine::End } else { NextLine::Cut });
             }
             if let Some(pos) = chunk.iter().position(|&b| b == b'\n') {
                 self.buf.extend_from_slice(&chunk[..pos]);
@@ -580,55 +487,24 @@ impl<R: Read> LineReader<R> {
             self.buf.extend_from_slice(chunk);
             self.inner.consume(n);
             if self.buf.len() > MAX_LINE {
-                return Err(format!(
-                    "line longer than {} bytes; not a grove recording",
-                    MAX_LINE
-                ));
+                return Err(format!("line longer than {} bytes; not a grove recording", MAX_LINE));
             }
         }
         if self.buf.len() > MAX_LINE {
-            return Err(format!(
-                "line longer than {} bytes; not a grove recording",
-                MAX_LINE
-            ));
+            return Err(format!("line longer than {} bytes; not a grove recording", MAX_LINE));
         }
-        String::from_utf8(std::mem::take(&mut self.buf))
-            .map(NextLine::Line)
-            .map_err(|_| "not valid UTF-8 text".into())
+        String::from_utf8(std::mem::take(&mut self.buf)).map(NextLine::Line).map_err(|_| "not valid UTF-8 text".into())
     }
 }
 
 /// Replays a recording from a reader. `file` names it in errors; `base_dir` resolves a relative
 /// scene path. Checkpoints are verified unless `options.overrides` is non-empty (a what-if run).
-pub fn replay_reader<R: Read>(
-    reader: R,
-    file: &str,
-    base_dir: Option<&Path>,
-    options: &ReplayOptions,
-) -> Result<ReplayOutcome, ReplayError> {
-    let err = |line: Option<u64>, message: String| ReplayError {
-        file: file.to_string(),
-        line,
-        message,
-    };
-    let mut lines = LineReader {
-        inner: BufReader::with_capacity(64 * 1024, reader),
-        buf: Vec::new(),
-        number: 0,
-    };
+pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
+    let err = |line: Option<u64>, message: String| ReplayError { file: file.to_string(), line, message };
+    let mut lines = LineReader { inner: BufReader::with_capacity(64 * 1024, reader), buf: Vec::new(), number: 0 };
     let first = match lines.next().map_err(|m| err(Some(1), m))? {
-        NextLine::End => {
-            return Err(err(
-                None,
-                "empty file; expected a grove recording header".into(),
-            ));
-        }
-        NextLine::Cut => {
-            return Err(err(
-                Some(1),
-                "the header line is cut off (no newline)".into(),
-            ));
-        }
+        NextLine::End => return Err(err(None, "empty file; expected a grove recording header".into())),
+        NextLine::Cut => return Err(err(Some(1), "the header line is cut off (no newline)".into())),
         NextLine::Line(l) => l,
     };
     // Look at the version before anything else, so a future format gets a clear message.
@@ -638,10 +514,7 @@ pub fn replay_reader<R: Read>(
                 if !READABLE_VERSIONS.contains(&(ver as u32)) {
                     return Err(err(
                         Some(1),
-                        format!(
-                            "format version {ver} is not supported; this grove reads versions {:?} (upgrade grove to read newer files)",
-                            READABLE_VERSIONS
-                        ),
+                        format!("format version {ver} is not supported; this grove reads versions {:?} (upgrade grove to read newer files)", READABLE_VERSIONS),
                     ));
                 }
             }
@@ -649,22 +522,13 @@ pub fn replay_reader<R: Read>(
     }
     let header = match decode_line(&first).map_err(|m| err(Some(1), m))? {
         Line::Header(h) => h,
-        _ => {
-            return Err(err(
-                Some(1),
-                "missing header: the first line must be the recording header".into(),
-            ));
-        }
+        _ => return Err(err(Some(1), "missing header: the first line must be the recording header".into())),
     };
     if header.format != FORMAT_NAME {
-        return Err(err(
-            Some(1),
-            format!("format '{}' is not '{FORMAT_NAME}'", header.format),
-        ));
+        return Err(err(Some(1), format!("format '{}' is not '{FORMAT_NAME}'", header.format)));
     }
     let verifying = options.overrides.is_empty();
-    let mut sim =
-        sim_for_header(&header, base_dir, &options.overrides).map_err(|m| err(Some(1), m))?;
+    let mut sim = sim_for_header(&header, base_dir, &options.overrides).map_err(|m| err(Some(1), m))?;
     let mut outcome_events: BTreeMap<String, u64> = BTreeMap::new();
     let mut checkpoints_checked = 0;
     let mut first_divergence = None;
@@ -699,10 +563,7 @@ pub fn replay_reader<R: Read>(
             Line::Footer(f) => f.final_tick,
         };
         if tick < last_tick {
-            return Err(err(
-                Some(n),
-                format!("tick {tick} comes after tick {last_tick}: ticks out of order"),
-            ));
+            return Err(err(Some(n), format!("tick {tick} comes after tick {last_tick}: ticks out of order")));
         }
         last_tick = tick;
         if tick > until {
@@ -713,9 +574,7 @@ pub fn replay_reader<R: Read>(
         match line {
             Line::Header(_) => {}
             Line::Event(e) => {
-                *outcome_events
-                    .entry(e.event.kind().to_string())
-                    .or_default() += 1;
+                *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
                 sim.push_input(e.event).map_err(|m| err(Some(n), m))?;
             }
             Line::Checkpoint(c) => {
@@ -723,12 +582,7 @@ pub fn replay_reader<R: Read>(
                     let h = sim.hash();
                     checkpoints_checked += 1;
                     if hex(h.total) != c.hash {
-                        first_divergence = Some(Divergence {
-                            tick,
-                            expected_hash: c.hash.clone(),
-                            actual_hash: hex(h.total),
-                            differing: differing(&c, &h, &sim.world),
-                        });
+                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&c, &h, &sim.world) });
                     }
                 }
             }
@@ -737,12 +591,7 @@ pub fn replay_reader<R: Read>(
                     let h = sim.hash();
                     checkpoints_checked += 1;
                     if hex(h.total) != f.final_hash {
-                        first_divergence = Some(Divergence {
-                            tick,
-                            expected_hash: f.final_hash.clone(),
-                            actual_hash: hex(h.total),
-                            differing: Vec::new(),
-                        });
+                        first_divergence = Some(Divergence { tick, expected_hash: f.final_hash.clone(), actual_hash: hex(h.total), differing: Vec::new() });
                     }
                 }
                 complete = true;
@@ -752,49 +601,25 @@ pub fn replay_reader<R: Read>(
     if stopped_early {
         advance(&mut sim, until);
     }
-    Ok(ReplayOutcome {
-        header,
-        sim,
-        complete: complete && !stopped_early,
-        checkpoints_checked,
-        first_divergence,
-        events: outcome_events,
-        verifying,
-    })
+    Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events: outcome_events, verifying })
 }
 
 /// Replays a recording file. Directories, missing files and unreadable files give an error.
 pub fn replay_file(path: &Path, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
     let file = path.display().to_string();
     if path.is_dir() {
-        return Err(ReplayError {
-            file,
-            line: None,
-            message: "is a directory, not a recording".into(),
-        });
+        return Err(ReplayError { file, line: None, message: "is a directory, not a recording".into() });
     }
-    let f = std::fs::File::open(path).map_err(|e| ReplayError {
-        file: file.clone(),
-        line: None,
-        message: crate::scene::io_message(&e),
-    })?;
+    let f = std::fs::File::open(path).map_err(|e| ReplayError { file: file.clone(), line: None, message: crate::scene::io_message(&e) })?;
     replay_reader(f, &file, path.parent(), options)
 }
 
 /// Reads just the stamped events of a recording (no simulation), e.g. to re-record or edit it.
 pub fn read_events(path: &Path) -> Result<(Header, Vec<StampedEvent>), ReplayError> {
     let file = path.display().to_string();
-    let err = |line: Option<u64>, message: String| ReplayError {
-        file: file.clone(),
-        line,
-        message,
-    };
+    let err = |line: Option<u64>, message: String| ReplayError { file: file.clone(), line, message };
     let f = std::fs::File::open(path).map_err(|e| err(None, crate::scene::io_message(&e)))?;
-    let mut lines = LineReader {
-        inner: BufReader::new(f),
-        buf: Vec::new(),
-        number: 0,
-    };
+    let mut lines = LineReader { inner: BufReader::new(f), buf: Vec::new(), number: 0 };
     let mut header = None;
     let mut events = Vec::new();
     loop {
@@ -803,16 +628,10 @@ pub fn read_events(path: &Path) -> Result<(Header, Vec<StampedEvent>), ReplayErr
             NextLine::End | NextLine::Cut => break,
             NextLine::Line(text) => match decode_line(&text).map_err(|m| err(Some(n), m))? {
                 Line::Header(h) => header = Some(h),
-                Line::Event(e) => events.push(StampedEvent {
-                    tick: e.tick,
-                    event: e.event,
-                }),
+                Line::Event(e) => events.push(StampedEvent { tick: e.tick, event: e.event }),
                 _ => {}
             },
         }
     }
-    Ok((
-        header.ok_or_else(|| err(Some(1), "missing header".into()))?,
-        events,
-    ))
+    Ok((header.ok_or_else(|| err(Some(1), "missing header".into()))?, events))
 }

@@ -4,8 +4,8 @@
 //! the input events of the current tick, the interaction event log and the interaction state.
 //! Everything here except the derived caches is covered by the world hash.
 
-use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use rand::SeedableRng;
 use serde::{Deserialize, Serialize};
 
 use crate::catalogue::{Catalogue, ModelId};
@@ -96,14 +96,9 @@ impl Config {
     /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`.
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
         let parse = |v: &str| -> Result<f32, String> {
-            let x: f32 = v
-                .trim()
-                .parse()
-                .map_err(|_| format!("{name}: '{v}' is not a number"))?;
+            let x: f32 = v.trim().parse().map_err(|_| format!("{name}: '{v}' is not a number"))?;
             if !x.is_finite() || x < 0.0 {
-                return Err(format!(
-                    "{name}: '{v}' must be a finite, non-negative number"
-                ));
+                return Err(format!("{name}: '{v}' must be a finite, non-negative number"));
             }
             Ok(x)
         };
@@ -119,17 +114,11 @@ impl Config {
             "spawn_distance" => self.spawn_distance = parse(value)?,
             "spawn_drop" => self.spawn_drop = parse(value)?,
             _ => {
-                return Err(format!(
-                    "unknown parameter '{name}'; known: {}",
-                    Config::NAMES.join(", ")
-                ));
+                return Err(format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")));
             }
         }
         if self.min_scale > self.max_scale {
-            return Err(format!(
-                "min_scale {} is above max_scale {}",
-                self.min_scale, self.max_scale
-            ));
+            return Err(format!("min_scale {} is above max_scale {}", self.min_scale, self.max_scale));
         }
         Ok(())
     }

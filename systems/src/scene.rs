@@ -13,8 +13,7 @@ use serde::{Deserialize, Serialize};
 
 /// Scenes that ship with grove, embedded at compile time: `(name, RON text)`. A replay header
 /// may name one of these instead of a path.
-pub const BUILTIN_SCENES: &[(&str, &str)] =
-    &[("study", include_str!("../../assets/scenes/study.ron"))];
+pub const BUILTIN_SCENES: &[(&str, &str)] = &[("study", include_str!("../../assets/scenes/study.ron"))];
 
 /// A scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -196,15 +195,9 @@ impl Scene {
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let file = path.display().to_string();
         if path.is_dir() {
-            return Err(SceneError {
-                file,
-                message: "is a directory, not a scene file".into(),
-            });
+            return Err(SceneError { file, message: "is a directory, not a scene file".into() });
         }
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            file: file.clone(),
-            message: io_message(&e),
-        })?;
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError { file: file.clone(), message: io_message(&e) })?;
         Scene::parse(&text, &file)
     }
 
@@ -218,27 +211,15 @@ impl Scene {
     pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
         let scene: Scene = ron::from_str(text).map_err(|e| SceneError {
             file: file.to_string(),
-            message: format!(
-                "line {}, column {}: {}",
-                e.span.start.line, e.span.start.col, e.code
-            ),
+            message: format!("line {}, column {}: {}", e.span.start.line, e.span.start.col, e.code),
         })?;
-        scene.validate().map_err(|message| SceneError {
-            file: file.to_string(),
-            message,
-        })?;
+        scene.validate().map_err(|message| SceneError { file: file.to_string(), message })?;
         Ok(scene)
     }
 
     /// Checks the numbers and shapes; returns a one-line message for the first problem.
     pub fn validate(&self) -> Result<(), String> {
-        let finite = |what: &str, ok: bool| {
-            if ok {
-                Ok(())
-            } else {
-                Err(format!("{what} has a NaN or infinite number"))
-            }
-        };
+        let finite = |what: &str, ok: bool| if ok { Ok(()) } else { Err(format!("{what} has a NaN or infinite number")) };
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
             return Err(format!("dt {} must be in (0, 1] seconds", self.dt));
         }
@@ -248,15 +229,9 @@ impl Scene {
         for p in &self.planes {
             let what = format!("plane '{}'", p.name);
             match &p.shape {
-                PlaneShape::Mesh {
-                    vertices,
-                    triangles,
-                } => {
+                PlaneShape::Mesh { vertices, triangles } => {
                     if vertices.len() < 3 {
-                        return Err(format!(
-                            "{what} has {} vertices; a plane needs at least 3",
-                            vertices.len()
-                        ));
+                        return Err(format!("{what} has {} vertices; a plane needs at least 3", vertices.len()));
                     }
                     finite(&what, vertices.iter().all(|v| v.is_finite()))?;
                     if triangles.is_empty() {
@@ -264,38 +239,18 @@ impl Scene {
                     }
                     for t in triangles {
                         if t.iter().any(|&i| i as usize >= vertices.len()) {
-                            return Err(format!(
-                                "{what} has a triangle {t:?} with an index past its {} vertices",
-                                vertices.len()
-                            ));
+                            return Err(format!("{what} has a triangle {t:?} with an index past its {} vertices", vertices.len()));
                         }
                     }
                 }
-                PlaneShape::Grid {
-                    min,
-                    size,
-                    cell,
-                    elevation,
-                    unevenness,
-                    holes,
-                    ..
-                } => {
-                    finite(
-                        &what,
-                        min.is_finite()
-                            && size.is_finite()
-                            && cell.is_finite()
-                            && elevation.is_finite()
-                            && unevenness.is_finite(),
-                    )?;
+                PlaneShape::Grid { min, size, cell, elevation, unevenness, holes, .. } => {
+                    finite(&what, min.is_finite() && size.is_finite() && cell.is_finite() && elevation.is_finite() && unevenness.is_finite())?;
                     if size.x <= 0.0 || size.y <= 0.0 || *cell <= 0.0 {
                         return Err(format!("{what}: size and cell must be positive"));
                     }
                     let cells = (size.x / cell).ceil() * (size.y / cell).ceil();
                     if cells > 4.0e6 {
-                        return Err(format!(
-                            "{what}: {cells} grid cells is too many (at most 4 million)"
-                        ));
+                        return Err(format!("{what}: {cells} grid cells is too many (at most 4 million)"));
                     }
                     for h in holes {
                         finite(&what, h.center.is_finite() && h.radius.is_finite())?;
@@ -307,59 +262,33 @@ impl Scene {
             }
         }
         let s = &self.sun;
-        finite(
-            "sun",
-            s.latitude_deg.is_finite() && s.longitude_deg.is_finite() && s.time_rate.is_finite(),
-        )?;
+        finite("sun", s.latitude_deg.is_finite() && s.longitude_deg.is_finite() && s.time_rate.is_finite())?;
         if !(-90.0..=90.0).contains(&s.latitude_deg) {
-            return Err(format!(
-                "sun latitude {} is outside -90..=90 degrees",
-                s.latitude_deg
-            ));
+            return Err(format!("sun latitude {} is outside -90..=90 degrees", s.latitude_deg));
         }
         if !(-180.0..=180.0).contains(&s.longitude_deg) {
-            return Err(format!(
-                "sun longitude {} is outside -180..=180 degrees",
-                s.longitude_deg
-            ));
+            return Err(format!("sun longitude {} is outside -180..=180 degrees", s.longitude_deg));
         }
         parse_utc_ms(&s.utc).map_err(|e| format!("sun utc: {e}"))?;
         let w = &self.wind;
         finite(
             "wind",
-            w.direction.is_finite()
-                && w.strength.is_finite()
-                && w.density.is_finite()
-                && w.gust_average.is_finite()
-                && w.gust_strength.is_finite()
-                && w.gust_frequency.is_finite(),
+            w.direction.is_finite() && w.strength.is_finite() && w.density.is_finite() && w.gust_average.is_finite() && w.gust_strength.is_finite() && w.gust_frequency.is_finite(),
         )?;
         if w.strength < 0.0 || w.density < 0.0 || w.gust_frequency < 0.0 {
             return Err("wind strength, density and gust frequency must not be negative".into());
         }
         w.response.validate()?;
         for (i, t) in self.trees.iter().enumerate() {
-            finite(
-                &format!("tree {i}"),
-                t.position.is_finite() && t.yaw_deg.is_finite() && t.scale.is_finite(),
-            )?;
+            finite(&format!("tree {i}"), t.position.is_finite() && t.yaw_deg.is_finite() && t.scale.is_finite())?;
             if t.scale <= 0.0 {
-                return Err(format!(
-                    "tree {i} has scale {}; scale must be positive",
-                    t.scale
-                ));
+                return Err(format!("tree {i} has scale {}; scale must be positive", t.scale));
             }
         }
         let c = &self.camera;
-        finite(
-            "camera",
-            c.position.is_finite() && c.look_at.is_finite() && c.fov_y_deg.is_finite(),
-        )?;
+        finite("camera", c.position.is_finite() && c.look_at.is_finite() && c.fov_y_deg.is_finite())?;
         if !(1.0..=179.0).contains(&c.fov_y_deg) {
-            return Err(format!(
-                "camera fov_y_deg {} is outside 1..=179",
-                c.fov_y_deg
-            ));
+            return Err(format!("camera fov_y_deg {} is outside 1..=179", c.fov_y_deg));
         }
         Ok(())
     }
@@ -377,8 +306,7 @@ pub fn io_message(e: &std::io::Error) -> String {
 
 /// Parses an RFC 3339 UTC time into milliseconds since the Unix epoch.
 pub fn parse_utc_ms(text: &str) -> Result<i64, String> {
-    let t = chrono::DateTime::parse_from_rfc3339(text.trim())
-        .map_err(|e| format!("'{text}' is not an RFC 3339 time ({e})"))?;
+    let t = chrono::DateTime::parse_from_rfc3339(text.trim()).map_err(|e| format!("'{text}' is not an RFC 3339 time ({e})"))?;
     Ok(t.timestamp_millis())
 }
 
@@ -392,19 +320,8 @@ pub fn format_utc_ms(ms: i64) -> String {
 /// Builds the vertices and triangles of a plane shape.
 pub fn plane_geometry(shape: &PlaneShape) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     match shape {
-        PlaneShape::Mesh {
-            vertices,
-            triangles,
-        } => (vertices.clone(), triangles.clone()),
-        PlaneShape::Grid {
-            min,
-            size,
-            cell,
-            elevation,
-            unevenness,
-            noise_seed,
-            holes,
-        } => {
+        PlaneShape::Mesh { vertices, triangles } => (vertices.clone(), triangles.clone()),
+        PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes } => {
             let nx = (size.x / cell).ceil().max(1.0) as u32;
             let nz = (size.y / cell).ceil().max(1.0) as u32;
             let perlin = Perlin::new(*noise_seed);
@@ -419,20 +336,13 @@ pub fn plane_geometry(shape: &PlaneShape) -> (Vec<Vec3>, Vec<[u32; 3]>) {
             }
             let mut triangles = Vec::with_capacity((nx * nz * 2) as usize);
             let idx = |i: u32, j: u32| j * (nx + 1) + i;
-            let in_hole = |p: Vec3| {
-                holes
-                    .iter()
-                    .any(|h| Vec2::new(p.x, p.z).distance(h.center) < h.radius)
-            };
+            let in_hole = |p: Vec3| holes.iter().any(|h| Vec2::new(p.x, p.z).distance(h.center) < h.radius);
             for j in 0..nz {
                 for i in 0..nx {
                     let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
                     // Counter-clockwise seen from above (+Y), so the normal points up.
                     for tri in [[a, d, b], [b, d, c]] {
-                        let centre = (vertices[tri[0] as usize]
-                            + vertices[tri[1] as usize]
-                            + vertices[tri[2] as usize])
-                            / 3.0;
+                        let centre = (vertices[tri[0] as usize] + vertices[tri[1] as usize] + vertices[tri[2] as usize]) / 3.0;
                         if !in_hole(centre) {
                             triangles.push(tri);
                         }

@@ -45,10 +45,7 @@ pub struct Script {
 impl Script {
     /// A script driving `sim` from its current tick.
     pub fn new(sim: Sim) -> Script {
-        Script {
-            sim,
-            recorded: Vec::new(),
-        }
+        Script { sim, recorded: Vec::new() }
     }
 
     /// Queues one event for the next tick and records it, or says why it is invalid.
@@ -115,12 +112,8 @@ impl Script {
     /// to (0, 0)) and runs one more tick, in which the gesture ends. The tree moves or turns in
     /// exactly `ticks` ticks.
     pub fn touchpad(&mut self, x: f32, y: f32, ticks: u64) -> &mut Self {
-        self.push(InputEvent::TouchpadAxes {
-            axes: Vec2::new(x, y),
-        })
-        .wait(ticks);
-        self.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO })
-            .wait(1)
+        self.push(InputEvent::TouchpadAxes { axes: Vec2::new(x, y) }).wait(ticks);
+        self.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO }).wait(1)
     }
 
     /// Chooses a model. In manual mode the menu is opened first (one tick), as a participant
@@ -140,10 +133,7 @@ impl Script {
 
     /// Starts a study task by id (e.g. "ray-casting-7"), then runs one tick.
     pub fn start_task(&mut self, id: &str) -> &mut Self {
-        self.push(InputEvent::StartTask {
-            task: id.to_string(),
-        })
-        .wait(1)
+        self.push(InputEvent::StartTask { task: id.to_string() }).wait(1)
     }
 
     /// Declares the running task finished, then runs one tick.
@@ -178,23 +168,11 @@ impl Script {
 
     /// A copy of the controller (default if the world has none).
     pub fn controller(&self) -> Controller {
-        self.sim
-            .world
-            .query::<&Controller>()
-            .iter()
-            .next()
-            .copied()
-            .unwrap_or_default()
+        self.sim.world.query::<&Controller>().iter().next().copied().unwrap_or_default()
     }
 
     /// A copy of the head (default if the world has none).
     pub fn head(&self) -> Head {
-        self.sim
-            .world
-            .query::<&Head>()
-            .iter()
-            .next()
-            .copied()
-            .unwrap_or_default()
+        self.sim.world.query::<&Head>().iter().next().copied().unwrap_or_default()
     }
 }

@@ -7,10 +7,10 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::catalogue::{Catalogue, ModelId};
 use crate::components::*;
-use crate::hash::{WorldHash, world_hash};
+use crate::hash::{world_hash, WorldHash};
 use crate::input::InputEvent;
 use crate::resources::Resources;
-use crate::scene::{Scene, parse_utc_ms, plane_geometry};
+use crate::scene::{parse_utc_ms, plane_geometry, Scene};
 
 /// The components every tree entity carries.
 pub type TreeComponents = (Tree, Transform, Scale, Grounded, WindState);
@@ -32,10 +32,7 @@ pub fn tree_components(
     let density = wind.map_or(0.0, |w| w.density);
     (
         Tree { model },
-        Transform {
-            translation: position,
-            yaw,
-        },
+        Transform { translation: position, yaw },
         Scale(scale),
         Grounded(grounded),
         WindState::new(phase, position, density),
@@ -64,11 +61,7 @@ impl Sim {
 
         for p in &scene.planes {
             let (vertices, triangles) = plane_geometry(&p.shape);
-            world.spawn((Plane {
-                name: p.name.clone(),
-                vertices,
-                triangles,
-            },));
+            world.spawn((Plane { name: p.name.clone(), vertices, triangles },));
         }
 
         let utc_ms = parse_utc_ms(&scene.sun.utc)?;
@@ -90,29 +83,16 @@ impl Sim {
             direction: dir,
             strength: w.strength,
             density: w.density,
-            gust: Gust {
-                average: w.gust_average,
-                strength: w.gust_strength,
-                frequency: w.gust_frequency,
-            },
+            gust: Gust { average: w.gust_average, strength: w.gust_strength, frequency: w.gust_frequency },
             current: w.gust_average,
             model: w.model,
             response: w.response,
         },));
 
         let head = Pose::looking_at(scene.camera.position, scene.camera.look_at);
-        world.spawn((Head {
-            pose: head,
-            fov_y: scene.camera.fov_y_deg.to_radians(),
-        },));
-        let hand = Pose {
-            position: head.position + head.rotation * Vec3::new(0.25, -0.35, -0.3),
-            rotation: head.rotation,
-        };
-        world.spawn((Controller {
-            pose: hand,
-            ..Default::default()
-        },));
+        world.spawn((Head { pose: head, fov_y: scene.camera.fov_y_deg.to_radians() },));
+        let hand = Pose { position: head.position + head.rotation * Vec3::new(0.25, -0.35, -0.3), rotation: head.rotation };
+        world.spawn((Controller { pose: hand, ..Default::default() },));
         world.spawn((HitMarker::default(),));
         world.spawn((AnchorBall::default(),));
         world.spawn((Selection::default(),));
@@ -126,54 +106,25 @@ impl Sim {
                 .by_name(&t.model)
                 .map(|m| m.id)
                 .ok_or_else(|| format!("tree {i}: unknown model '{}'", t.model))?;
-            sim.spawn_tree(
-                model,
-                t.position,
-                t.yaw_deg.to_radians(),
-                t.scale,
-                t.on_ground,
-            );
+            sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
         }
         Ok(sim)
     }
 
     /// Spawns a tree directly (for scenes and scale tests), drawing its wind phase from the RNG.
     /// With `on_ground`, its lowest point is put on the plane below `position`, if there is one.
-    pub fn spawn_tree(
-        &mut self,
-        model: ModelId,
-        position: Vec3,
-        yaw: f32,
-        scale: f32,
-        on_ground: bool,
-    ) -> hecs::Entity {
-        let lowest = self
-            .res
-            .catalogue
-            .get(model)
-            .map_or(0.0, |m| m.lowest_point());
+    pub fn spawn_tree(&mut self, model: ModelId, position: Vec3, yaw: f32, scale: f32, on_ground: bool) -> hecs::Entity {
+        let lowest = self.res.catalogue.get(model).map_or(0.0, |m| m.lowest_point());
         let mut pos = position;
         let mut grounded = false;
         if on_ground {
-            if let Some(hit) = self
-                .res
-                .spatial
-                .ground_below(Vec3::new(pos.x, pos.y.max(-1.0e3), pos.z), 1.0e3)
-            {
+            if let Some(hit) = self.res.spatial.ground_below(Vec3::new(pos.x, pos.y.max(-1.0e3), pos.z), 1.0e3) {
                 pos.y = hit.point.y - lowest * scale;
                 grounded = true;
             }
         }
         let wind = self.wind();
-        let bundle = tree_components(
-            &mut self.res.rng,
-            wind.as_ref(),
-            model,
-            pos,
-            yaw,
-            scale,
-            grounded,
-        );
+        let bundle = tree_components(&mut self.res.rng, wind.as_ref(), model, pos, yaw, scale, grounded);
         self.res.spatial.mark_trees_dirty();
         self.world.spawn(bundle)
     }
@@ -193,13 +144,7 @@ impl Sim {
             let x = min.x + (max.x - min.x) * self.res.rng.random::<f32>();
             let z = min.z + (max.z - min.z) * self.res.rng.random::<f32>();
             let yaw = self.res.rng.random::<f32>() * std::f32::consts::TAU;
-            self.spawn_tree(
-                ModelId((i % models) as u8),
-                Vec3::new(x, max.y, z),
-                yaw,
-                1.0,
-                true,
-            );
+            self.spawn_tree(ModelId((i % models) as u8), Vec3::new(x, max.y, z), yaw, 1.0, true);
         }
         self.res.spatial.refresh(&self.world, &self.res.catalogue);
     }
@@ -235,52 +180,30 @@ impl Sim {
 
     /// A copy of the hit marker (default if the world has none).
     pub fn hit_marker(&self) -> HitMarker {
-        self.world
-            .query::<&HitMarker>()
-            .iter()
-            .next()
-            .copied()
-            .unwrap_or_default()
+        self.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default()
     }
 
     /// A copy of the anchor ball (default if the world has none).
     pub fn anchor_ball(&self) -> AnchorBall {
-        self.world
-            .query::<&AnchorBall>()
-            .iter()
-            .next()
-            .copied()
-            .unwrap_or_default()
+        self.world.query::<&AnchorBall>().iter().next().copied().unwrap_or_default()
     }
 
     /// A copy of the selection (default if the world has none).
     pub fn selection(&self) -> Selection {
-        self.world
-            .query::<&Selection>()
-            .iter()
-            .next()
-            .copied()
-            .unwrap_or_default()
+        self.world.query::<&Selection>().iter().next().copied().unwrap_or_default()
     }
 
     /// The state of a tree by entity id bits: model, transform, scale and grounded flag; `None`
     /// if there is no such tree.
     pub fn tree(&self, id: u64) -> Option<(Tree, Transform, Scale, Grounded)> {
         let e = hecs::Entity::from_bits(id)?;
-        let mut q = self
-            .world
-            .query_one::<(&Tree, &Transform, &Scale, &Grounded)>(e);
+        let mut q = self.world.query_one::<(&Tree, &Transform, &Scale, &Grounded)>(e);
         q.get().ok().map(|(a, b, c, d)| (*a, *b, *c, *d))
     }
 
     /// The id bits of every tree, in ascending order.
     pub fn tree_ids(&self) -> Vec<u64> {
-        let mut ids: Vec<u64> = self
-            .world
-            .query::<(hecs::Entity, &Tree)>()
-            .iter()
-            .map(|(e, _)| e.to_bits().get())
-            .collect();
+        let mut ids: Vec<u64> = self.world.query::<(hecs::Entity, &Tree)>().iter().map(|(e, _)| e.to_bits().get()).collect();
         ids.sort_unstable();
         ids
     }

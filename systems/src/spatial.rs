@@ -13,7 +13,7 @@ use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
 
 use crate::catalogue::Catalogue;
 use crate::components::{Plane, Scale, Transform, Tree, Wind};
-use crate::wind_model::{SwayExtent, max_sway};
+use crate::wind_model::{max_sway, SwayExtent};
 
 /// A tree as the index sees it: its entity and its oriented box in world space.
 #[derive(Clone, Copy, Debug)]
@@ -74,13 +74,7 @@ pub struct RayKey {
 }
 
 /// The world-space oriented box of a tree from its transform, scale and catalogue bounds.
-pub fn tree_box(
-    entity: Entity,
-    transform: &Transform,
-    scale: f32,
-    min: Vec3,
-    max: Vec3,
-) -> TreeBox {
+pub fn tree_box(entity: Entity, transform: &Transform, scale: f32, min: Vec3, max: Vec3) -> TreeBox {
     let local_center = (min + max) * 0.5 * scale;
     let rot = Quat::from_rotation_y(transform.yaw);
     TreeBox {
@@ -124,11 +118,7 @@ impl SpatialIndex {
                 if let Some(m) = catalogue.get(tree.model) {
                     let mut b = tree_box(e, t, s.0, m.bounds_min, m.bounds_max);
                     if let Some(w) = &wind {
-                        let sway = max_sway(
-                            w,
-                            w.model,
-                            SwayExtent::from_bounds(m.height(), m.crown_radius, s.0),
-                        );
+                        let sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
                         b.half_extents += Vec3::new(sway, 0.0, sway);
                     }
                     self.trees.push(b);
@@ -178,13 +168,7 @@ impl SpatialIndex {
     }
 
     /// The nearest tree hit along a ray, if any, within `max_dist`, skipping `exclude`.
-    pub fn cast_trees(
-        &self,
-        origin: Vec3,
-        dir: Vec3,
-        max_dist: f32,
-        exclude: Option<Entity>,
-    ) -> Option<RayHit> {
+    pub fn cast_trees(&self, origin: Vec3, dir: Vec3, max_dist: f32, exclude: Option<Entity>) -> Option<RayHit> {
         if self.trees.is_empty() {
             return None;
         }
@@ -202,12 +186,7 @@ impl SpatialIndex {
             });
         if let Some(i) = inside {
             let b = &self.trees[i as usize];
-            return Some(RayHit {
-                entity: b.entity,
-                distance: 0.0,
-                point: origin,
-                normal: box_normal(b, origin),
-            });
+            return Some(RayHit { entity: b.entity, distance: 0.0, point: origin, normal: box_normal(b, origin) });
         }
         // Best-first search with each node's ray entry distance clamped at 0. (Bvh::cast_ray
         // scores a node that contains the ray origin by a negative entry distance, so once a
@@ -231,27 +210,12 @@ impl SpatialIndex {
         let b = &self.trees[leaf as usize];
         let point = origin + dir * toi;
         let normal = box_normal(b, point);
-        Some(RayHit {
-            entity: b.entity,
-            distance: toi,
-            point,
-            normal,
-        })
+        Some(RayHit { entity: b.entity, distance: toi, point, normal })
     }
 
     /// The nearest hit on a plane or a tree.
-    pub fn cast(
-        &self,
-        origin: Vec3,
-        dir: Vec3,
-        max_dist: f32,
-        exclude: Option<Entity>,
-    ) -> Option<RayHit> {
-        nearest(
-            self.cast_trees(origin, dir, max_dist, exclude),
-            |limit| self.cast_planes(origin, dir, limit),
-            max_dist,
-        )
+    pub fn cast(&self, origin: Vec3, dir: Vec3, max_dist: f32, exclude: Option<Entity>) -> Option<RayHit> {
+        nearest(self.cast_trees(origin, dir, max_dist, exclude), |limit| self.cast_planes(origin, dir, limit), max_dist)
     }
 
     /// The plane directly below `point` (casting straight down from `lift` metres above it), as
@@ -264,11 +228,7 @@ impl SpatialIndex {
 
 /// The nearer of a tree hit and the plane hit that `planes` finds within a limit: the planes are
 /// cast only up to the tree hit (trees are cheap to test and often near), and a tree wins a tie.
-pub fn nearest(
-    tree: Option<RayHit>,
-    planes: impl FnOnce(f32) -> Option<RayHit>,
-    max_dist: f32,
-) -> Option<RayHit> {
+pub fn nearest(tree: Option<RayHit>, planes: impl FnOnce(f32) -> Option<RayHit>, max_dist: f32) -> Option<RayHit> {
     let p = planes(tree.map_or(max_dist, |t| t.distance));
     match (tree, p) {
         (Some(t), Some(p)) if p.distance < t.distance => Some(p),
@@ -282,12 +242,7 @@ pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
     if plane.triangles.is_empty() {
         return None;
     }
-    TriMesh::with_flags(
-        plane.vertices.clone(),
-        plane.triangles.clone(),
-        TriMeshFlags::empty(),
-    )
-    .ok()
+    TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
 }
 
 fn box_aabb(b: &TreeBox) -> Aabb {

@@ -8,10 +8,7 @@ use crate::resources::Mode;
 
 /// The task files that ship with grove, embedded at compile time: `(id, RON text)`.
 pub const BUILTIN_TASKS: &[(&str, &str)] = &[
-    (
-        "ray-casting-7",
-        include_str!("../../assets/tasks/ray-casting-7.ron"),
-    ),
+    ("ray-casting-7", include_str!("../../assets/tasks/ray-casting-7.ron")),
     ("manual-7", include_str!("../../assets/tasks/manual-7.ron")),
 ];
 
@@ -55,12 +52,7 @@ fn yes() -> bool {
 impl TaskDef {
     /// Parses and checks a task file against a catalogue.
     pub fn from_ron(text: &str, catalogue: &Catalogue) -> Result<TaskDef, String> {
-        let def: TaskDef = ron::from_str(text).map_err(|e| {
-            format!(
-                "line {}, column {}: {}",
-                e.span.start.line, e.span.start.col, e.code
-            )
-        })?;
+        let def: TaskDef = ron::from_str(text).map_err(|e| format!("line {}, column {}: {}", e.span.start.line, e.span.start.col, e.code))?;
         if def.targets.is_empty() {
             return Err("a task needs at least one target".into());
         }
@@ -86,10 +78,7 @@ impl TaskDef {
 
     /// The required model of each target, resolved against a catalogue.
     pub fn target_models(&self, catalogue: &Catalogue) -> Vec<Option<ModelId>> {
-        self.targets
-            .iter()
-            .map(|t| catalogue.by_name(&t.model).map(|m| m.id))
-            .collect()
+        self.targets.iter().map(|t| catalogue.by_name(&t.model).map(|m| m.id)).collect()
     }
 }
 
@@ -194,16 +183,9 @@ mod tests {
             let def = TaskDef::from_ron(text, &cat).unwrap_or_else(|e| panic!("{id}: {e}"));
             assert_eq!(&def.id, id);
             assert_eq!(def.targets.len(), 7);
-            let kinds: std::collections::BTreeSet<_> = def
-                .targets
-                .iter()
-                .map(|t| format!("{:?}", cat.by_name(&t.model).unwrap().kind))
-                .collect();
-            assert_eq!(
-                kinds.len(),
-                2,
-                "{id} must use both mesh and billboard models"
-            );
+            let kinds: std::collections::BTreeSet<_> =
+                def.targets.iter().map(|t| format!("{:?}", cat.by_name(&t.model).unwrap().kind)).collect();
+            assert_eq!(kinds.len(), 2, "{id} must use both mesh and billboard models");
         }
     }
 
@@ -273,9 +255,7 @@ impl TaskReport {
             .filter_map(|(i, h)| {
                 h.map(|h| TreeReport {
                     target: i,
-                    model: catalogue
-                        .get(h.model)
-                        .map_or_else(|| format!("model-{}", h.model.0), |m| m.name.clone()),
+                    model: catalogue.get(h.model).map_or_else(|| format!("model-{}", h.model.0), |m| m.name.clone()),
                     time_s: (h.tick - task.started_tick) as f64 * dt,
                     position: h.position.to_array(),
                 })

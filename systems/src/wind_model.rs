@@ -62,11 +62,7 @@ impl WindModel {
 
     /// The model for a shader code; any code other than 0 is hierarchical, as in WGSL.
     pub fn from_code(code: u32) -> WindModel {
-        if code == 0 {
-            WindModel::Noise
-        } else {
-            WindModel::Hierarchical
-        }
+        if code == 0 { WindModel::Noise } else { WindModel::Hierarchical }
     }
 }
 
@@ -242,9 +238,7 @@ pub fn hash_u32(mut x: u32) -> u32 {
 /// WGSL: `wind_lattice_hash`.
 #[inline]
 pub fn lattice_hash(x: i32, y: i32, z: i32) -> u32 {
-    hash_u32((x as u32).wrapping_add(hash_u32(
-        (y as u32).wrapping_add(hash_u32((z as u32).wrapping_add(NOISE_SEED))),
-    )))
+    hash_u32((x as u32).wrapping_add(hash_u32((y as u32).wrapping_add(hash_u32((z as u32).wrapping_add(NOISE_SEED))))))
 }
 
 /// Perlin's improved-noise gradient: the dot product of one of 12 edge directions (chosen by
@@ -286,31 +280,11 @@ pub fn perlin3(p: Vec3) -> f32 {
     let n000 = grad(lattice_hash(ix, iy, iz), x, y, z);
     let n100 = grad(lattice_hash(ix.wrapping_add(1), iy, iz), x - 1.0, y, z);
     let n010 = grad(lattice_hash(ix, iy.wrapping_add(1), iz), x, y - 1.0, z);
-    let n110 = grad(
-        lattice_hash(ix.wrapping_add(1), iy.wrapping_add(1), iz),
-        x - 1.0,
-        y - 1.0,
-        z,
-    );
+    let n110 = grad(lattice_hash(ix.wrapping_add(1), iy.wrapping_add(1), iz), x - 1.0, y - 1.0, z);
     let n001 = grad(lattice_hash(ix, iy, iz.wrapping_add(1)), x, y, z - 1.0);
-    let n101 = grad(
-        lattice_hash(ix.wrapping_add(1), iy, iz.wrapping_add(1)),
-        x - 1.0,
-        y,
-        z - 1.0,
-    );
-    let n011 = grad(
-        lattice_hash(ix, iy.wrapping_add(1), iz.wrapping_add(1)),
-        x,
-        y - 1.0,
-        z - 1.0,
-    );
-    let n111 = grad(
-        lattice_hash(ix.wrapping_add(1), iy.wrapping_add(1), iz.wrapping_add(1)),
-        x - 1.0,
-        y - 1.0,
-        z - 1.0,
-    );
+    let n101 = grad(lattice_hash(ix.wrapping_add(1), iy, iz.wrapping_add(1)), x - 1.0, y, z - 1.0);
+    let n011 = grad(lattice_hash(ix, iy.wrapping_add(1), iz.wrapping_add(1)), x, y - 1.0, z - 1.0);
+    let n111 = grad(lattice_hash(ix.wrapping_add(1), iy.wrapping_add(1), iz.wrapping_add(1)), x - 1.0, y - 1.0, z - 1.0);
     let x00 = lerp(n000, n100, u);
     let x10 = lerp(n010, n110, u);
     let x01 = lerp(n001, n101, u);
@@ -349,15 +323,7 @@ pub fn wave(cycles: f32) -> f32 {
 /// wind direction (world X, Z), `density` per metre, `speed` the field's drift in m/s, `t`
 /// seconds. The displacement is horizontal, along the wind, at most `0.5 × |s| × |w|` long.
 /// WGSL: `wind_displace_noise`.
-pub fn displace_noise(
-    v0: Vec3,
-    w: f32,
-    s: f32,
-    dir: Vec2,
-    density: f32,
-    speed: f32,
-    t: f32,
-) -> Vec3 {
+pub fn displace_noise(v0: Vec3, w: f32, s: f32, dir: Vec2, density: f32, speed: f32, t: f32) -> Vec3 {
     let n = noise_at(v0, dir, density, speed, t);
     let k = s * w * (n - 0.5);
     Vec3::new(v0.x + dir.x * k, v0.y, v0.z + dir.y * k)
@@ -382,14 +348,7 @@ pub fn displace_noise(
 ///   sin 2π(1.71 f t + φ + 0.5))` with `f = leaf_frequency`.
 ///
 /// WGSL: `wind_displace_hierarchical`.
-pub fn displace_hierarchical(
-    v0: Vec3,
-    ch: Vec4,
-    bend: Vec2,
-    gain: f32,
-    tree_phase: f32,
-    p: &WindParams,
-) -> Vec3 {
+pub fn displace_hierarchical(v0: Vec3, ch: Vec4, bend: Vec2, gain: f32, tree_phase: f32, p: &WindParams) -> Vec3 {
     let (h, r, b) = (ch.x, ch.y, ch.z);
     let phi = ch.w + tree_phase * INV_TAU;
     let s = p.strength * p.gust * gain;
@@ -415,26 +374,10 @@ pub fn displace_hierarchical(
 /// or another code for a per-model override). The noise model's weight is `ch.x + ch.y` (height
 /// to root plus distance to trunk) and its strength `strength × gust × gain × noise_amplitude`.
 /// WGSL: `wind_displace`.
-pub fn displace(
-    model: u32,
-    v0: Vec3,
-    ch: Vec4,
-    bend: Vec2,
-    gain: f32,
-    tree_phase: f32,
-    p: &WindParams,
-) -> Vec3 {
+pub fn displace(model: u32, v0: Vec3, ch: Vec4, bend: Vec2, gain: f32, tree_phase: f32, p: &WindParams) -> Vec3 {
     if model == 0 {
         let s = p.strength * p.gust * gain * p.noise_amplitude;
-        displace_noise(
-            v0,
-            ch.x + ch.y,
-            s,
-            Vec2::new(p.direction[0], p.direction[1]),
-            p.density,
-            p.noise_speed,
-            p.time,
-        )
+        displace_noise(v0, ch.x + ch.y, s, Vec2::new(p.direction[0], p.direction[1]), p.density, p.noise_speed, p.time)
     } else {
         displace_hierarchical(v0, ch, bend, gain, tree_phase, p)
     }
@@ -464,11 +407,7 @@ impl SwayExtent {
     /// A conservative extent from a model's height and crown radius and the instance's scale:
     /// height to root ≤ height, distances to trunk and branch ≤ crown radius.
     pub fn from_bounds(height: f32, crown_radius: f32, scale: f32) -> SwayExtent {
-        SwayExtent {
-            height: height * scale,
-            trunk_distance: crown_radius * scale,
-            branch_distance: crown_radius * scale,
-        }
+        SwayExtent { height: height * scale, trunk_distance: crown_radius * scale, branch_distance: crown_radius * scale }
     }
 }
 
@@ -492,14 +431,10 @@ pub fn max_sway(wind: &Wind, model: WindModel, extent: SwayExtent) -> f32 {
     let s = wind.strength.abs() * max_gust(wind) * 1.5;
     let e = extent;
     let bound = match model {
-        WindModel::Noise => {
-            0.5 * s * r.noise_amplitude.abs() * (e.height.abs() + e.trunk_distance.abs())
-        }
+        WindModel::Noise => 0.5 * s * r.noise_amplitude.abs() * (e.height.abs() + e.trunk_distance.abs()),
         WindModel::Hierarchical => {
-            let trunk =
-                crate::systems::wind::max_bend(wind) * e.height * e.height / r.trunk_stiffness;
-            let branch =
-                1.16f32.sqrt() * s * e.trunk_distance * e.trunk_distance / r.branch_stiffness;
+            let trunk = crate::systems::wind::max_bend(wind) * e.height * e.height / r.trunk_stiffness;
+            let branch = 1.16f32.sqrt() * s * e.trunk_distance * e.trunk_distance / r.branch_stiffness;
             let leaf = 3f32.sqrt() * s * r.leaf_flutter.abs() * e.branch_distance.abs();
             trunk + branch + leaf
         }
@@ -518,11 +453,7 @@ mod tests {
             direction: Vec3::new(0.8, 0.0, 0.6),
             strength: 1.3,
             density: 0.2,
-            gust: Gust {
-                average: 0.6,
-                strength: 0.4,
-                frequency: 0.2,
-            },
+            gust: Gust { average: 0.6, strength: 0.4, frequency: 0.2 },
             current: 0.6,
             model: WindModel::Hierarchical,
             response: WindResponse::default(),
@@ -537,20 +468,12 @@ mod tests {
     #[test]
     fn noise_is_zero_on_the_lattice_and_stays_in_range() {
         for i in 0..50 {
-            let p = Vec3::new(
-                i as f32 - 25.0,
-                (i * 7 % 11) as f32,
-                (i * 3 % 5) as f32 - 2.0,
-            );
+            let p = Vec3::new(i as f32 - 25.0, (i * 7 % 11) as f32, (i * 3 % 5) as f32 - 2.0);
             assert_eq!(perlin3(p), 0.0, "lattice point {p}");
         }
         let (mut lo, mut hi) = (f32::MAX, f32::MIN);
         for i in 0..20_000 {
-            let p = Vec3::new(
-                seq(i, 1) * 40.0 - 20.0,
-                seq(i, 2) * 40.0 - 20.0,
-                seq(i, 3) * 40.0 - 20.0,
-            );
+            let p = Vec3::new(seq(i, 1) * 40.0 - 20.0, seq(i, 2) * 40.0 - 20.0, seq(i, 3) * 40.0 - 20.0);
             let n = perlin3(p);
             lo = lo.min(n);
             hi = hi.max(n);
@@ -576,11 +499,7 @@ mod tests {
         for i in 0..1000 {
             let c = seq(i, 7) * 200.0 - 100.0;
             let exact = (std::f64::consts::TAU * c as f64).sin() as f32;
-            assert!(
-                (wave(c) - exact).abs() < 1e-4,
-                "wave({c}) = {} vs {exact}",
-                wave(c)
-            );
+            assert!((wave(c) - exact).abs() < 1e-4, "wave({c}) = {} vs {exact}", wave(c));
         }
     }
 
@@ -600,10 +519,7 @@ mod tests {
             assert!(dv.length() <= 0.5 * 0.5 * 4.0 + 1e-6);
             moved += (dv.length() > 1e-3) as u32;
         }
-        assert!(
-            moved > 100,
-            "the noise field should move the vertex most of the time ({moved}/200)"
-        );
+        assert!(moved > 100, "the noise field should move the vertex most of the time ({moved}/200)");
     }
 
     #[test]
@@ -613,10 +529,7 @@ mod tests {
         let v0 = Vec3::new(0.0, 1.0, 0.0);
         let bend = Vec2::new(0.02, 0.01);
         // Root: nothing moves.
-        assert_eq!(
-            displace_hierarchical(v0, Vec4::new(0.0, 0.0, 0.0, 0.3), bend, 1.0, 0.0, &p),
-            v0
-        );
+        assert_eq!(displace_hierarchical(v0, Vec4::new(0.0, 0.0, 0.0, 0.3), bend, 1.0, 0.0, &p), v0);
         // Trunk only: along the bend, quadratic in height.
         let d1 = displace_hierarchical(v0, Vec4::new(2.0, 0.0, 0.0, 0.3), bend, 1.0, 0.0, &p) - v0;
         let d2 = displace_hierarchical(v0, Vec4::new(4.0, 0.0, 0.0, 0.3), bend, 1.0, 0.0, &p) - v0;
@@ -625,8 +538,7 @@ mod tests {
         // A stiffer trunk bends less.
         let mut stiff = p;
         stiff.trunk_stiffness *= 2.0;
-        let d3 =
-            displace_hierarchical(v0, Vec4::new(4.0, 0.0, 0.0, 0.3), bend, 1.0, 0.0, &stiff) - v0;
+        let d3 = displace_hierarchical(v0, Vec4::new(4.0, 0.0, 0.0, 0.3), bend, 1.0, 0.0, &stiff) - v0;
         assert!((d3.length() * 2.0 - d2.length()).abs() < 1e-5);
         // Branch phase changes the branch and leaf motion.
         let a = displace_hierarchical(v0, Vec4::new(0.0, 1.5, 0.5, 0.1), bend, 1.0, 0.0, &p);
@@ -637,11 +549,7 @@ mod tests {
     #[test]
     fn displacement_never_exceeds_max_sway() {
         let mut w = wind();
-        let extent = SwayExtent {
-            height: 8.0,
-            trunk_distance: 2.5,
-            branch_distance: 0.8,
-        };
+        let extent = SwayExtent { height: 8.0, trunk_distance: 2.5, branch_distance: 0.8 };
         for model in [WindModel::Noise, WindModel::Hierarchical] {
             w.model = model;
             let bound = max_sway(&w, model, extent);
@@ -651,33 +559,18 @@ mod tests {
                 let t = seq(i, 8) as f64 * 600.0;
                 w.current = crate::systems::wind::gust_at(&w.gust, t);
                 let p = WindParams::from_wind(&w, t);
-                let ch = Vec4::new(
-                    seq(i, 9) * extent.height,
-                    seq(i, 10) * extent.trunk_distance,
-                    seq(i, 11) * extent.branch_distance,
-                    seq(i, 12),
-                );
+                let ch = Vec4::new(seq(i, 9) * extent.height, seq(i, 10) * extent.trunk_distance, seq(i, 11) * extent.branch_distance, seq(i, 12));
                 let gain = 0.5 + seq(i, 13);
                 let phase = seq(i, 14) * TAU;
                 let dir = Vec2::new(p.direction[0], p.direction[1]);
-                let bend = crate::systems::wind::tree_bend(
-                    dir,
-                    w.strength,
-                    w.current,
-                    gain,
-                    phase,
-                    (t % 2.0) as f32,
-                );
+                let bend = crate::systems::wind::tree_bend(dir, w.strength, w.current, gain, phase, (t % 2.0) as f32);
                 let v0 = Vec3::new(seq(i, 15) * 60.0 - 30.0, ch.x, seq(i, 16) * 60.0 - 30.0);
                 let d = (displace(model.code(), v0, ch, bend, gain, phase, &p) - v0).length();
                 largest = largest.max(d);
                 assert!(d <= bound, "{model:?}: {d} > {bound}");
             }
             // The bound should not be wildly loose either.
-            assert!(
-                largest > 0.3 * bound,
-                "{model:?}: largest {largest}, bound {bound}"
-            );
+            assert!(largest > 0.3 * bound, "{model:?}: largest {largest}, bound {bound}");
         }
     }
 

@@ -2,10 +2,10 @@
 //! periodicity, gain updates when a tree moves, the bend bound and the sun's clock.
 
 use glam::Vec3;
-use grove_systems::Sim;
 use grove_systems::components::{Sun, Transform, Wind, WindState};
 use grove_systems::scene::Scene;
 use grove_systems::systems::wind::{det_sin, gust_at, max_bend, position_gain};
+use grove_systems::Sim;
 
 fn scene() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/study.ron");
@@ -20,12 +20,7 @@ fn sim_with_trees(n: usize) -> Sim {
 }
 
 fn states(sim: &Sim) -> Vec<WindState> {
-    let mut v: Vec<(u64, WindState)> = sim
-        .world
-        .query::<(hecs::Entity, &WindState)>()
-        .iter()
-        .map(|(e, w)| (e.to_bits().get(), *w))
-        .collect();
+    let mut v: Vec<(u64, WindState)> = sim.world.query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e.to_bits().get(), *w)).collect();
     v.sort_by_key(|(e, _)| *e);
     v.into_iter().map(|(_, w)| w).collect()
 }
@@ -41,10 +36,7 @@ fn wind_is_deterministic_and_part_of_the_world_hash() {
     let before = a.hash().component("WindState").unwrap();
     a.run(7);
     assert_ne!(a.hash().component("WindState").unwrap(), before);
-    assert_ne!(
-        a.hash().component("Wind").unwrap(),
-        b.hash().component("Wind").unwrap()
-    );
+    assert_ne!(a.hash().component("Wind").unwrap(), b.hash().component("Wind").unwrap());
 }
 
 #[test]
@@ -58,15 +50,10 @@ fn trees_at_different_positions_get_different_gains_and_bends() {
     gains.dedup();
     assert!(gains.len() > 350, "only {} distinct gains", gains.len());
     assert!(gains.first().unwrap() >= &0.5 && gains.last().unwrap() <= &1.5);
-    assert!(
-        gains.last().unwrap() - gains.first().unwrap() > 0.3,
-        "gains span too little: {gains:?}"
-    );
+    assert!(gains.last().unwrap() - gains.first().unwrap() > 0.3, "gains span too little: {gains:?}");
     // Bends are not one bend scaled by the gain: the trees' phases differ too.
     let ratios: Vec<f32> = s.iter().map(|w| w.bend.length() / w.gain).collect();
-    let (lo, hi) = ratios
-        .iter()
-        .fold((f32::MAX, f32::MIN), |(l, h), r| (l.min(*r), h.max(*r)));
+    let (lo, hi) = ratios.iter().fold((f32::MAX, f32::MIN), |(l, h), r| (l.min(*r), h.max(*r)));
     assert!(hi - lo > 0.1 * hi, "bends move in lockstep: {lo}..{hi}");
     // And every bend points along the wind.
     let w = sim.wind().unwrap();
@@ -84,10 +71,7 @@ fn gust_is_periodic_and_stays_within_its_range() {
     for i in 0..2000 {
         let t = i as f64 * 0.037;
         let a = gust_at(&g, t);
-        assert!(
-            (a - gust_at(&g, t + period)).abs() < 1e-4,
-            "not periodic at t = {t}"
-        );
+        assert!((a - gust_at(&g, t + period)).abs() < 1e-4, "not periodic at t = {t}");
         assert!((a - gust_at(&g, t + 7.0 * period)).abs() < 1e-4);
         assert!(a >= g.average - g.strength - 1e-6 && a <= g.average + g.strength + 1e-6);
         lo = lo.min(a);
@@ -109,13 +93,7 @@ fn gust_is_periodic_and_stays_within_its_range() {
 fn moving_a_tree_recomputes_its_gain() {
     let mut sim = sim_with_trees(5);
     sim.step();
-    let (entity, _) = sim
-        .world
-        .query::<(hecs::Entity, &WindState)>()
-        .iter()
-        .map(|(e, w)| (e, *w))
-        .next()
-        .unwrap();
+    let (entity, _) = sim.world.query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e, *w)).next().unwrap();
     let new_pos = Vec3::new(7.3, 0.0, -2.9);
     sim.world.get::<&mut Transform>(entity).unwrap().translation = new_pos;
     sim.step();
@@ -143,10 +121,7 @@ fn bends_never_exceed_max_bend() {
             assert!(ws.bend.length() <= bound, "{} > {bound}", ws.bend.length());
         }
     }
-    assert!(
-        largest > 0.5 * bound,
-        "largest bend {largest} vs bound {bound}"
-    );
+    assert!(largest > 0.5 * bound, "largest bend {largest} vs bound {bound}");
 }
 
 #[test]
@@ -172,9 +147,7 @@ fn sun_clock_advances_at_its_time_rate() {
     let now = *sim.world.query::<&Sun>().iter().next().unwrap();
     assert_eq!(now.utc_ms - start.utc_ms, 600_000);
     assert!(now.azimuth_deg != start.azimuth_deg && now.elevation_deg != start.elevation_deg);
-    let expected =
-        grove_systems::systems::sun::sun_position(now.latitude_deg, now.longitude_deg, now.utc_ms)
-            .unwrap();
+    let expected = grove_systems::systems::sun::sun_position(now.latitude_deg, now.longitude_deg, now.utc_ms).unwrap();
     assert_eq!(now.elevation_deg, expected.elevation_deg);
 }
 
@@ -182,38 +155,16 @@ fn sun_clock_advances_at_its_time_rate() {
 fn scenes_choose_the_wind_model_and_response() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/study.ron");
     let text = std::fs::read_to_string(path).unwrap();
-    let with = |extra: &str| {
-        text.replacen(
-            "gust_frequency: 0.2,",
-            &format!("gust_frequency: 0.2, {extra}"),
-            1,
-        )
-    };
-    let scene = Scene::parse(
-        &with("model: noise, response: (trunk_stiffness: 7.5),"),
-        "test",
-    )
-    .unwrap();
+    let with = |extra: &str| text.replacen("gust_frequency: 0.2,", &format!("gust_frequency: 0.2, {extra}"), 1);
+    let scene = Scene::parse(&with("model: noise, response: (trunk_stiffness: 7.5),"), "test").unwrap();
     let sim = Sim::from_scene(&scene, 1).unwrap();
     let w = sim.wind().unwrap();
     assert_eq!(w.model, grove_systems::wind_model::WindModel::Noise);
     assert_eq!(w.response.trunk_stiffness, 7.5);
-    assert_eq!(
-        w.response.leaf_frequency,
-        grove_systems::wind_model::WindResponse::default().leaf_frequency
-    );
+    assert_eq!(w.response.leaf_frequency, grove_systems::wind_model::WindResponse::default().leaf_frequency);
     // The default is the hierarchical model.
-    assert_eq!(
-        Sim::from_scene(&self::scene(), 1)
-            .unwrap()
-            .wind()
-            .unwrap()
-            .model,
-        grove_systems::wind_model::WindModel::Hierarchical
-    );
-    let err = Scene::parse(&with("response: (branch_stiffness: 0.0),"), "test")
-        .unwrap_err()
-        .to_string();
+    assert_eq!(Sim::from_scene(&self::scene(), 1).unwrap().wind().unwrap().model, grove_systems::wind_model::WindModel::Hierarchical);
+    let err = Scene::parse(&with("response: (branch_stiffness: 0.0),"), "test").unwrap_err().to_string();
     assert!(err.contains("stiffness"), "{err}");
     assert!(Scene::parse(&with("response: (stifness: 1.0),"), "test").is_err());
 }

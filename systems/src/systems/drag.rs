@@ -51,9 +51,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         hide_ball(world);
         return;
     };
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else {
-        return;
-    };
+    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
     let found = interact::entity(drag.tree).and_then(|e| {
         let model = world.get::<&Tree>(e).ok()?.model;
         Some((e, res.catalogue.get(model)?.lowest_point()))
@@ -67,9 +65,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let threshold = res.config.snap_threshold;
     let released = res.edges.up.trigger || !c.buttons.trigger;
 
-    let Ok((t, g, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &Scale)>(e) else {
-        return;
-    };
+    let Ok((t, g, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &Scale)>(e) else { return };
     let target = c.ray_origin() + c.ray_dir() * drag.grab_distance + drag.offset;
     if drag.moved || target.distance(t.translation) > MOVE_EPSILON {
         t.translation = target;
@@ -80,12 +76,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let ball = match ground {
         Some(h) => {
             let distance = interact::lowest_point_y(t.translation.y, lowest, s.0) - h.point.y;
-            AnchorBall {
-                visible: true,
-                position: h.point,
-                distance,
-                armed: interact::is_armed(distance, threshold),
-            }
+            AnchorBall { visible: true, position: h.point, distance, armed: interact::is_armed(distance, threshold) }
         }
         None => AnchorBall::default(),
     };
@@ -95,18 +86,11 @@ pub fn run(world: &mut World, res: &mut Resources) {
             (true, Some(h)) => {
                 t.translation.y = interact::snapped_origin_y(h.point.y, lowest, s.0);
                 g.0 = true;
-                res.log.push(
-                    tick,
-                    Happening::Snapped {
-                        tree: drag.tree,
-                        position: t.translation,
-                    },
-                );
+                res.log.push(tick, Happening::Snapped { tree: drag.tree, position: t.translation });
             }
             _ => {
                 g.0 = false;
-                res.log
-                    .push(tick, Happening::ReleasedGreen { tree: drag.tree });
+                res.log.push(tick, Happening::ReleasedGreen { tree: drag.tree });
             }
         }
     }
@@ -115,29 +99,15 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let mut was_armed = false;
     for b in world.query_mut::<&mut AnchorBall>() {
         was_armed = b.armed;
-        *b = if released {
-            AnchorBall::default()
-        } else {
-            ball
-        };
+        *b = if released { AnchorBall::default() } else { ball };
     }
     if drag.moved && !released && ball.armed != was_armed {
-        let what = if ball.armed {
-            Happening::SnapArmed { tree: drag.tree }
-        } else {
-            Happening::SnapDisarmed { tree: drag.tree }
-        };
+        let what = if ball.armed { Happening::SnapArmed { tree: drag.tree } } else { Happening::SnapDisarmed { tree: drag.tree } };
         res.log.push(tick, what);
     }
     if released {
         if drag.moved {
-            res.log.push(
-                tick,
-                Happening::Moved {
-                    tree: drag.tree,
-                    position,
-                },
-            );
+            res.log.push(tick, Happening::Moved { tree: drag.tree, position });
             res.spatial.mark_trees_dirty();
         }
         res.interaction.drag = None;

@@ -25,12 +25,8 @@ use crate::resources::Resources;
 
 /// Runs the handles system.
 pub fn run(world: &mut World, res: &mut Resources) {
-    let Some(hd) = res.interaction.handle_drag else {
-        return;
-    };
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else {
-        return;
-    };
+    let Some(hd) = res.interaction.handle_drag else { return };
+    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
     let tree = interact::selected_tree(world);
     let found = tree.and_then(interact::entity).and_then(|e| {
         let model = world.get::<&Tree>(e).ok()?.model;
@@ -43,28 +39,16 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let id = e.to_bits().get();
     let grab = c.ray_origin() + c.ray_dir() * hd.grab_distance;
     let cfg = &res.config;
-    let Ok((t, s)) = world.query_one_mut::<(&mut Transform, &mut Scale)>(e) else {
-        return;
-    };
+    let Ok((t, s)) = world.query_one_mut::<(&mut Transform, &mut Scale)>(e) else { return };
     match hd.handle {
         Handle::Corner(_) => {
             let radius = interact::horizontal_radius(grab, t.translation);
-            let new = interact::corner_scale(
-                hd.start_scale,
-                hd.start_radius,
-                radius,
-                cfg.min_scale,
-                cfg.max_scale,
-            );
+            let new = interact::corner_scale(hd.start_scale, hd.start_radius, radius, cfg.min_scale, cfg.max_scale);
             t.translation.y = interact::rescaled_origin_y(t.translation.y, lowest, s.0, new);
             s.0 = new;
         }
         Handle::Edge(_) => {
-            t.yaw = interact::edge_yaw(
-                hd.start_yaw,
-                hd.start_angle,
-                interact::angle_around(grab, t.translation),
-            );
+            t.yaw = interact::edge_yaw(hd.start_yaw, hd.start_angle, interact::angle_around(grab, t.translation));
         }
     }
     let (scale, yaw) = (s.0, t.yaw);
@@ -72,12 +56,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
     if res.edges.up.trigger || !c.buttons.trigger {
         let tick = res.tick;
         match hd.handle {
-            Handle::Corner(_) if scale != hd.start_scale => {
-                res.log.push(tick, Happening::Scaled { tree: id, scale })
-            }
-            Handle::Edge(_) if yaw != hd.start_yaw => {
-                res.log.push(tick, Happening::Rotated { tree: id, yaw })
-            }
+            Handle::Corner(_) if scale != hd.start_scale => res.log.push(tick, Happening::Scaled { tree: id, scale }),
+            Handle::Edge(_) if yaw != hd.start_yaw => res.log.push(tick, Happening::Rotated { tree: id, yaw }),
             _ => {}
         }
         res.interaction.handle_drag = None;

@@ -88,17 +88,11 @@ pub fn run(world: &mut World, res: &mut Resources) {
                 match crate::task::TaskDef::builtin(task) {
                     Some(def) => {
                         res.task = Some(crate::task::TaskState::new(def, tick));
-                        res.log
-                            .push(tick, Happening::TaskStarted { task: task.clone() });
+                        res.log.push(tick, Happening::TaskStarted { task: task.clone() });
                     }
                     None => {
                         // An unknown task id is kept visible in the log but starts no clock.
-                        res.log.push(
-                            tick,
-                            Happening::TaskStarted {
-                                task: format!("unknown:{task}"),
-                            },
-                        );
+                        res.log.push(tick, Happening::TaskStarted { task: format!("unknown:{task}") });
                     }
                 }
             }

@@ -27,9 +27,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     if !res.edges.down.trigger && !res.edges.down.bumper {
         return;
     }
-    let Some(hit) = world.query::<&HitMarker>().iter().next().copied() else {
-        return;
-    };
+    let Some(hit) = world.query::<&HitMarker>().iter().next().copied() else { return };
     if !hit.visible {
         return;
     }
@@ -37,41 +35,19 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let mut cmd = CommandBuffer::new();
     let mut changed = false;
 
-    if res.edges.down.trigger
-        && res.mode == Mode::RayCasting
-        && matches!(hit.target, HitTarget::Plane(_))
-    {
+    if res.edges.down.trigger && res.mode == Mode::RayCasting && matches!(hit.target, HitTarget::Plane(_)) {
         let model = res.menu.current_model;
         if res.catalogue.get(model).is_some() {
             let wind = world.query::<&Wind>().iter().next().copied();
             let e = world.reserve_entity();
-            cmd.insert(
-                e,
-                tree_components(
-                    &mut res.rng,
-                    wind.as_ref(),
-                    model,
-                    hit.position,
-                    0.0,
-                    1.0,
-                    true,
-                ),
-            );
-            res.log.push(
-                tick,
-                Happening::Planted {
-                    tree: e.to_bits().get(),
-                    model,
-                    position: hit.position,
-                },
-            );
+            cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, hit.position, 0.0, 1.0, true));
+            res.log.push(tick, Happening::Planted { tree: e.to_bits().get(), model, position: hit.position });
             changed = true;
         }
     }
 
     if let (true, HitTarget::Tree(id)) = (res.edges.down.bumper, hit.target) {
-        let model =
-            interact::entity(id).and_then(|e| world.get::<&Tree>(e).ok().map(|t| (e, t.model)));
+        let model = interact::entity(id).and_then(|e| world.get::<&Tree>(e).ok().map(|t| (e, t.model)));
         if let Some((e, model)) = model {
             cmd.despawn(e);
             changed = true;

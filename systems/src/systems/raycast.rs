@@ -27,9 +27,7 @@ use crate::spatial::RayKey;
 /// Runs the raycast system.
 pub fn run(world: &mut World, res: &mut Resources) {
     res.spatial.refresh(world, &res.catalogue);
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else {
-        return;
-    };
+    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
     let (origin, dir) = (c.ray_origin(), c.ray_dir());
     let max = res.config.max_ray_length;
     let dragged = res.interaction.drag.and_then(|d| interact::entity(d.tree));
@@ -54,30 +52,13 @@ pub fn run(world: &mut World, res: &mut Resources) {
 
     let mut marker = HitMarker::default();
     let tree = res.spatial.cast_trees(origin, dir, max, dragged);
-    let nearest = crate::spatial::nearest(
-        tree,
-        |limit| res.spatial.cast_planes(origin, dir, limit),
-        max,
-    );
+    let nearest = crate::spatial::nearest(tree, |limit| res.spatial.cast_planes(origin, dir, limit), max);
     let hit = nearest.map(|h| {
         let id = h.entity.to_bits().get();
-        (
-            h,
-            if tree.is_some_and(|t| t.entity == h.entity) {
-                HitTarget::Tree(id)
-            } else {
-                HitTarget::Plane(id)
-            },
-        )
+        (h, if tree.is_some_and(|t| t.entity == h.entity) { HitTarget::Tree(id) } else { HitTarget::Plane(id) })
     });
     if let Some((hit, target)) = hit {
-        marker = HitMarker {
-            visible: true,
-            position: hit.point,
-            normal: hit.normal,
-            distance: hit.distance,
-            target,
-        };
+        marker = HitMarker { visible: true, position: hit.point, normal: hit.normal, distance: hit.distance, target };
     }
 
     if let Some(b) = selected_box {
@@ -85,13 +66,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
         // The handles sit on the selected tree's own box, which lies inside its (sway-padded)
         // ray box: a hit on that tree never hides its handles.
         let own_tree = marker.target == HitTarget::Tree(b.entity.to_bits().get());
-        let limit = if marker.visible && !own_tree {
-            (marker.distance + radius).min(max)
-        } else {
-            max
-        };
-        if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit)
-        {
+        let limit = if marker.visible && !own_tree { (marker.distance + radius).min(max) } else { max };
+        if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit) {
             let point = origin + dir * d;
             marker = HitMarker {
                 visible: true,

@@ -26,15 +26,10 @@ use crate::resources::{Drag, HandleDrag, Mode, Resources};
 
 /// Runs the select system.
 pub fn run(world: &mut World, res: &mut Resources) {
-    if !res.edges.down.trigger
-        || res.interaction.drag.is_some()
-        || res.interaction.handle_drag.is_some()
-    {
+    if !res.edges.down.trigger || res.interaction.drag.is_some() || res.interaction.handle_drag.is_some() {
         return;
     }
-    let Some(hit) = world.query::<&HitMarker>().iter().next().copied() else {
-        return;
-    };
+    let Some(hit) = world.query::<&HitMarker>().iter().next().copied() else { return };
     let tick = res.tick;
     let selected = interact::selected_tree(world);
     let empty = match hit.target {
@@ -42,32 +37,19 @@ pub fn run(world: &mut World, res: &mut Resources) {
         HitTarget::None => true,
         HitTarget::Plane(_) => res.mode == Mode::Manual,
         HitTarget::Tree(id) => {
-            let Some(e) = interact::entity(id).filter(|&e| world.satisfies::<&Tree>(e)) else {
-                return;
-            };
-            let Ok(t) = world.get::<&Transform>(e).map(|t| *t) else {
-                return;
-            };
+            let Some(e) = interact::entity(id).filter(|&e| world.satisfies::<&Tree>(e)) else { return };
+            let Ok(t) = world.get::<&Transform>(e).map(|t| *t) else { return };
             if selected != Some(id) {
                 interact::set_selected(world, Some(id));
                 res.log.push(tick, Happening::Selected { tree: id });
             }
-            res.interaction.drag = Some(Drag {
-                tree: id,
-                grab_distance: hit.distance,
-                offset: t.translation - hit.position,
-                moved: false,
-            });
+            res.interaction.drag =
+                Some(Drag { tree: id, grab_distance: hit.distance, offset: t.translation - hit.position, moved: false });
             false
         }
         HitTarget::Handle(handle) => {
-            let Some(e) = selected.and_then(interact::entity) else {
-                return;
-            };
-            let (Ok(t), Ok(s)) = (
-                world.get::<&Transform>(e).map(|t| *t),
-                world.get::<&Scale>(e).map(|s| *s),
-            ) else {
+            let Some(e) = selected.and_then(interact::entity) else { return };
+            let (Ok(t), Ok(s)) = (world.get::<&Transform>(e).map(|t| *t), world.get::<&Scale>(e).map(|s| *s)) else {
                 return;
             };
             res.interaction.handle_drag = Some(HandleDrag {

@@ -17,9 +17,7 @@ use crate::resources::Resources;
 
 /// Runs the selection box system.
 pub fn run(world: &mut World, res: &mut Resources) {
-    let Some(id) = interact::selected_tree(world) else {
-        return;
-    };
+    let Some(id) = interact::selected_tree(world) else { return };
     let b = interact::entity(id).and_then(|e| interact::tree_box_of(world, &res.catalogue, e));
     for s in world.query_mut::<&mut Selection>() {
         match b {

@@ -26,46 +26,23 @@ pub fn run(world: &mut World, res: &mut Resources) {
     if res.interaction.drag.is_some() || res.interaction.handle_drag.is_some() {
         return;
     }
-    let Some(model) = res.interaction.pending_spawn.take() else {
-        return;
-    };
+    let Some(model) = res.interaction.pending_spawn.take() else { return };
     if res.mode != Mode::Manual || res.catalogue.get(model).is_none() {
         return;
     }
-    let Some(head) = world.query::<&Head>().iter().next().copied() else {
-        return;
-    };
+    let Some(head) = world.query::<&Head>().iter().next().copied() else { return };
     let tick = res.tick;
-    let position =
-        interact::spawn_point(&head.pose, res.config.spawn_distance, res.config.spawn_drop);
+    let position = interact::spawn_point(&head.pose, res.config.spawn_distance, res.config.spawn_drop);
     let wind = world.query::<&Wind>().iter().next().copied();
 
     let mut cmd = CommandBuffer::new();
     let e = world.reserve_entity();
-    cmd.insert(
-        e,
-        tree_components(
-            &mut res.rng,
-            wind.as_ref(),
-            model,
-            position,
-            0.0,
-            1.0,
-            false,
-        ),
-    );
+    cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, position, 0.0, 1.0, false));
     cmd.run_on(world);
     res.spatial.mark_trees_dirty();
 
     let id = e.to_bits().get();
-    res.log.push(
-        tick,
-        Happening::Planted {
-            tree: id,
-            model,
-            position,
-        },
-    );
+    res.log.push(tick, Happening::Planted { tree: id, model, position });
     interact::set_selected(world, Some(id));
     res.log.push(tick, Happening::Selected { tree: id });
 }

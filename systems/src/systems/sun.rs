@@ -14,7 +14,7 @@
 use glam::Vec3;
 use hecs::World;
 use serde::Serialize;
-use solar_positioning::{Location, SolarPositions, time::JulianDate};
+use solar_positioning::{time::JulianDate, Location, SolarPositions};
 
 use crate::components::Sun;
 use crate::resources::Resources;
@@ -42,14 +42,10 @@ pub struct SolarAngles {
 /// Checks a place: latitude in −90..=90 and longitude in −180..=180 degrees, both finite.
 pub fn check_place(latitude_deg: f64, longitude_deg: f64) -> Result<(), String> {
     if !latitude_deg.is_finite() || !(-90.0..=90.0).contains(&latitude_deg) {
-        return Err(format!(
-            "latitude {latitude_deg} is outside -90..=90 degrees"
-        ));
+        return Err(format!("latitude {latitude_deg} is outside -90..=90 degrees"));
     }
     if !longitude_deg.is_finite() || !(-180.0..=180.0).contains(&longitude_deg) {
-        return Err(format!(
-            "longitude {longitude_deg} is outside -180..=180 degrees"
-        ));
+        return Err(format!("longitude {longitude_deg} is outside -180..=180 degrees"));
     }
     Ok(())
 }
@@ -86,27 +82,17 @@ pub fn julian_date(utc_ms: i64) -> f64 {
 /// the `solar-positioning` crate; valid for years −500..3000).
 pub fn delta_t(utc_ms: i64) -> Result<f64, String> {
     let year = 2000.0 + (julian_date(utc_ms) - 2_451_544.5) / 365.2425;
-    solar_positioning::delta_t::estimate(year)
-        .map_err(|e| format!("no ΔT for year {}: {e}", year.floor()))
+    solar_positioning::delta_t::estimate(year).map_err(|e| format!("no ΔT for year {}: {e}", year.floor()))
 }
 
 /// The sun's position from a place and a UTC time in milliseconds, with SPA at sea level, no
 /// refraction, and the estimated ΔT.
-pub fn sun_position(
-    latitude_deg: f64,
-    longitude_deg: f64,
-    utc_ms: i64,
-) -> Result<SolarAngles, String> {
+pub fn sun_position(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Result<SolarAngles, String> {
     check_place(latitude_deg, longitude_deg)?;
     let dt = delta_t(utc_ms)?;
     let jd = JulianDate::new(julian_date(utc_ms), dt).map_err(|e| e.to_string())?;
-    let location = Location {
-        latitude: latitude_deg,
-        longitude: longitude_deg,
-    };
-    let pos = SolarPositions::new()
-        .at_from_julian(jd, location, 0.0, None)
-        .map_err(|e| format!("solar position: {e}"))?;
+    let location = Location { latitude: latitude_deg, longitude: longitude_deg };
+    let pos = SolarPositions::new().at_from_julian(jd, location, 0.0, None).map_err(|e| format!("solar position: {e}"))?;
     let (azimuth_deg, elevation_deg) = (pos.azimuth(), pos.elevation_angle());
     Ok(SolarAngles {
         elevation_deg,
@@ -118,11 +104,7 @@ pub fn sun_position(
 }
 
 /// Solar azimuth and true elevation, degrees, for a place and a UTC time in milliseconds.
-pub fn solar_angles(
-    latitude_deg: f64,
-    longitude_deg: f64,
-    utc_ms: i64,
-) -> Result<(f64, f64), String> {
+pub fn solar_angles(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Result<(f64, f64), String> {
     let p = sun_position(latitude_deg, longitude_deg, utc_ms)?;
     Ok((p.azimuth_deg, p.elevation_deg))
 }
@@ -142,11 +124,7 @@ pub fn update_sun(sun: &mut Sun) -> Result<(), String> {
 pub fn clock_step_ms(t: f64, dt: f64, rate: f64) -> i64 {
     let at = |s: f64| (s * rate * 1000.0).round();
     let step = at(t + dt) - at(t);
-    if step.is_finite() {
-        step.clamp(i64::MIN as f64, i64::MAX as f64) as i64
-    } else {
-        0
-    }
+    if step.is_finite() { step.clamp(i64::MIN as f64, i64::MAX as f64) as i64 } else { 0 }
 }
 
 /// Runs the sun system.
@@ -171,14 +149,9 @@ mod tests {
     fn clock_steps_add_up_without_drift() {
         let dt = 1.0f64 / 60.0;
         for rate in [1.0, 60.0, 3600.0, -7.3] {
-            let total: i64 = (0..6000)
-                .map(|n| clock_step_ms(n as f64 * dt, dt, rate))
-                .sum();
+            let total: i64 = (0..6000).map(|n| clock_step_ms(n as f64 * dt, dt, rate)).sum();
             let expected = (6000.0 * dt * rate * 1000.0).round() as i64;
-            assert!(
-                (total - expected).abs() <= 1,
-                "rate {rate}: {total} vs {expected}"
-            );
+            assert!((total - expected).abs() <= 1, "rate {rate}: {total} vs {expected}");
         }
     }
 
@@ -196,10 +169,7 @@ mod tests {
         for az in [0.0, 45.0, 90.0, 135.0, 180.0, 270.0, 359.0] {
             for el in [-30.0, 0.0, 10.0, 60.0, 89.0] {
                 let (a, e) = angles_from_direction(direction_from_angles(az, el));
-                assert!(
-                    ((a - az + 180.0).rem_euclid(360.0) - 180.0).abs() < 1e-3,
-                    "{az} {el} -> {a}"
-                );
+                assert!(((a - az + 180.0).rem_euclid(360.0) - 180.0).abs() < 1e-3, "{az} {el} -> {a}");
                 assert!((e - el).abs() < 1e-3);
             }
         }

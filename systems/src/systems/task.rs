@@ -19,17 +19,12 @@ use crate::resources::Resources;
 use crate::task::{TargetHit, TaskState};
 
 fn near_any_target(task: &TaskState, p: Vec3) -> bool {
-    task.def
-        .targets
-        .iter()
-        .any(|t| Vec2::new(t.position.x - p.x, t.position.z - p.z).length() <= task.def.tolerance)
+    task.def.targets.iter().any(|t| Vec2::new(t.position.x - p.x, t.position.z - p.z).length() <= task.def.tolerance)
 }
 
 /// Runs the task system.
 pub fn run(world: &mut World, res: &mut Resources) {
-    let Some(task) = res.task.as_mut() else {
-        return;
-    };
+    let Some(task) = res.task.as_mut() else { return };
     if task.is_complete() {
         return;
     }
@@ -38,12 +33,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     // Errors and menu opens, from the log entries since the last tick.
     if task.log_cursor == usize::MAX {
         // The StartTask entry was logged this tick; count only what follows it.
-        task.log_cursor = res
-            .log
-            .entries
-            .iter()
-            .rposition(|e| matches!(e.what, Happening::TaskStarted { .. }))
-            .map_or(0, |i| i + 1);
+        task.log_cursor = res.log.entries.iter().rposition(|e| matches!(e.what, Happening::TaskStarted { .. })).map_or(0, |i| i + 1);
     }
     for entry in &res.log.entries[task.log_cursor..] {
         match &entry.what {
@@ -53,8 +43,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
             Happening::Planted { position, .. } | Happening::Snapped { position, .. } => {
                 // In manual mode a new tree appears in front of the user and is moved into
                 // place, so only a snap counts as a placement there.
-                let placement = matches!(entry.what, Happening::Snapped { .. })
-                    || task.def.mode == crate::resources::Mode::RayCasting;
+                let placement = matches!(entry.what, Happening::Snapped { .. }) || task.def.mode == crate::resources::Mode::RayCasting;
                 if placement && !near_any_target(task, *position) {
                     task.errors.off_target += 1;
                 }
@@ -72,10 +61,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         && world.query::<&Selection>().iter().any(|s| s.tree.is_some());
     if res.menu.open {
         task.menu_ticks += 1;
-    } else if res.interaction.drag.is_some()
-        || res.interaction.handle_drag.is_some()
-        || touchpad_active
-    {
+    } else if res.interaction.drag.is_some() || res.interaction.handle_drag.is_some() || touchpad_active {
         task.manipulating_ticks += 1;
     } else {
         task.aiming_ticks += 1;
@@ -102,10 +88,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         }
         let want = models[i];
         let mut best: Option<(f32, u64, Vec3)> = None;
-        for (e, tree, t, g) in world
-            .query::<(Entity, &Tree, &Transform, &Grounded)>()
-            .iter()
-        {
+        for (e, tree, t, g) in world.query::<(Entity, &Tree, &Transform, &Grounded)>().iter() {
             let id = e.to_bits().get();
             if Some(tree.model) != want || used.contains(&id) || Some(id) == dragged {
                 continue;
@@ -113,29 +96,19 @@ pub fn run(world: &mut World, res: &mut Resources) {
             if task.def.require_grounded && !g.0 {
                 continue;
             }
-            let d = Vec2::new(
-                t.translation.x - target.position.x,
-                t.translation.z - target.position.z,
-            )
-            .length();
+            let d = Vec2::new(t.translation.x - target.position.x, t.translation.z - target.position.z).length();
             if d <= task.def.tolerance && best.is_none_or(|b| d < b.0 || (d == b.0 && id < b.1)) {
                 best = Some((d, id, t.translation));
             }
         }
         if let (Some((_, id, position)), Some(model)) = (best, want) {
-            task.satisfied[i] = Some(TargetHit {
-                tick,
-                tree: id,
-                model,
-                position,
-            });
+            task.satisfied[i] = Some(TargetHit { tick, tree: id, model, position });
             used.push(id);
             newly.push((i, id));
         }
     }
     for (target, tree) in newly {
-        res.log
-            .push(tick, Happening::TargetSatisfied { target, tree });
+        res.log.push(tick, Happening::TargetSatisfied { target, tree });
     }
     if task.satisfied.iter().all(Option::is_some) {
         task.completed_tick = Some(tick);

@@ -37,14 +37,9 @@ pub const MIN_GRAB_DISTANCE: f32 = 0.1;
 
 /// Runs the touchpad system.
 pub fn run(world: &mut World, res: &mut Resources) {
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else {
-        return;
-    };
+    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
     let dz = res.config.touchpad_dead_zone;
-    let (x, y) = (
-        interact::touchpad_axis(c.touchpad.x, dz),
-        interact::touchpad_axis(c.touchpad.y, dz),
-    );
+    let (x, y) = (interact::touchpad_axis(c.touchpad.x, dz), interact::touchpad_axis(c.touchpad.y, dz));
     let selected = interact::selected_tree(world);
     let active = (x != 0.0 || y != 0.0) && res.interaction.handle_drag.is_none();
 
@@ -56,32 +51,19 @@ pub fn run(world: &mut World, res: &mut Resources) {
     if !active {
         return;
     }
-    let Some(e) = selected.and_then(interact::entity) else {
-        return;
-    };
-    let Some(lowest) = world
-        .get::<&Tree>(e)
-        .ok()
-        .and_then(|t| res.catalogue.get(t.model))
-        .map(|m| m.lowest_point())
-    else {
+    let Some(e) = selected.and_then(interact::entity) else { return };
+    let Some(lowest) = world.get::<&Tree>(e).ok().and_then(|t| res.catalogue.get(t.model)).map(|m| m.lowest_point()) else {
         return;
     };
     let id = e.to_bits().get();
-    let mut g = res.interaction.touchpad.unwrap_or(TouchpadGesture {
-        tree: id,
-        moved: false,
-        rotated: false,
-    });
+    let mut g = res.interaction.touchpad.unwrap_or(TouchpadGesture { tree: id, moved: false, rotated: false });
     let dt = res.dt;
     let step = y * res.config.touchpad_move_rate * dt;
     let turn = interact::touchpad_turn(x, res.config.touchpad_turn_rate_deg, dt);
     let dragged = res.interaction.drag.as_mut().filter(|d| d.tree == id);
     let lift = res.config.snap_threshold;
 
-    let Ok((t, grounded, s)) =
-        world.query_one_mut::<(&mut Transform, &mut Grounded, &crate::components::Scale)>(e)
-    else {
+    let Ok((t, grounded, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &crate::components::Scale)>(e) else {
         return;
     };
     if step != 0.0 {
@@ -93,14 +75,9 @@ pub fn run(world: &mut World, res: &mut Resources) {
             if flat != Vec3::ZERO {
                 let before = interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift);
                 t.translation += flat * step;
-                match (
-                    before,
-                    interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift),
-                ) {
+                match (before, interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift)) {
                     (Some(b), Some(a)) => t.translation.y += a.point.y - b.point.y,
-                    (None, Some(a)) => {
-                        t.translation.y = interact::snapped_origin_y(a.point.y, lowest, s.0)
-                    }
+                    (None, Some(a)) => t.translation.y = interact::snapped_origin_y(a.point.y, lowest, s.0),
                     (_, None) => grounded.0 = false,
                 }
                 g.moved = true;
@@ -120,29 +97,13 @@ pub fn run(world: &mut World, res: &mut Resources) {
 /// Ends a gesture: logs what it did and marks the spatial index dirty.
 fn finish(world: &World, res: &mut Resources, g: TouchpadGesture) {
     res.interaction.touchpad = None;
-    let Some(t) =
-        interact::entity(g.tree).and_then(|e| world.get::<&Transform>(e).ok().map(|t| *t))
-    else {
-        return;
-    };
+    let Some(t) = interact::entity(g.tree).and_then(|e| world.get::<&Transform>(e).ok().map(|t| *t)) else { return };
     let tick = res.tick;
     if g.moved {
-        res.log.push(
-            tick,
-            Happening::Moved {
-                tree: g.tree,
-                position: t.translation,
-            },
-        );
+        res.log.push(tick, Happening::Moved { tree: g.tree, position: t.translation });
     }
     if g.rotated {
-        res.log.push(
-            tick,
-            Happening::Rotated {
-                tree: g.tree,
-                yaw: t.yaw,
-            },
-        );
+        res.log.push(tick, Happening::Rotated { tree: g.tree, yaw: t.yaw });
     }
     if g.moved || g.rotated {
         res.spatial.mark_trees_dirty();

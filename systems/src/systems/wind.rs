@@ -26,8 +26,7 @@ pub fn det_sin(x: f32) -> f32 {
     // branch unpredictable.
     let r = (PI * 0.5 - (r.abs() - PI * 0.5).abs()).copysign(r);
     let r2 = r * r;
-    r * (1.0
-        + r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (1.0 / 362_880.0)))))
+    r * (1.0 + r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (1.0 / 362_880.0)))))
 }
 
 /// The smooth periodic gust shape in [−1, 1], period 1 in `u`.
