@@ -962,6 +962,15 @@ impl Renderer {
         Ok(())
     }
 
+    /// The timestamp writes of pass `index` (0: shadow, 1: main) when pass timing is on.
+    fn pass_timestamps(&self, index: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        self.timer.as_ref().map(|t| wgpu::RenderPassTimestampWrites {
+            query_set: &t.set,
+            beginning_of_pass_write_index: Some(2 * index),
+            end_of_pass_write_index: Some(2 * index + 1),
+        })
+    }
+
     /// The GPU time of the last frame's passes. Waits for the GPU; `None` when pass timing is
     /// off. Call it after [`Renderer::render`] and before the next frame.
     pub fn pass_times(&self) -> Result<Option<PassTimes>, String> {
@@ -1418,14 +1427,11 @@ impl Renderer {
                     .then(p.2.a[0].total_cmp(&q.2.a[0]))
                     .then(p.2.a[2].total_cmp(&q.2.a[2]))
             });
-            let mut model_ranges: [std::ops::Range<u32>; lod::BUCKETS] =
-                std::array::from_fn(|_| 0..0);
-            for (b, r) in model_ranges.iter_mut().enumerate() {
-                let start = all.len() as u32;
-                all.extend(list.iter().filter(|e| e.0 == b).map(|e| e.2));
-                *r = start..all.len() as u32;
-            }
-            ranges.push(model_ranges);
+            // The list is sorted by bucket, so each bucket is one run of it.
+            let base = all.len() as u32;
+            let end = |b: usize| base + list.partition_point(|e| e.0 < b) as u32;
+            ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
+            all.extend(list.iter().map(|e| e.2));
         }
         (all, ranges, bounds)
     }
@@ -1555,14 +1561,7 @@ impl Renderer {
                     }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: self
-                    .timer
-                    .as_ref()
-                    .map(|t| wgpu::RenderPassTimestampWrites {
-                        query_set: &t.set,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    }),
+                timestamp_writes: self.pass_timestamps(0),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
@@ -1598,14 +1597,7 @@ impl Renderer {
                     }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: self
-                    .timer
-                    .as_ref()
-                    .map(|t| wgpu::RenderPassTimestampWrites {
-                        query_set: &t.set,
-                        beginning_of_pass_write_index: Some(2),
-                        end_of_pass_write_index: Some(3),
-                    }),
+                timestamp_writes: self.pass_timestamps(1),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
