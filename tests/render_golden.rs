@@ -571,3 +571,46 @@ fn leaf_simplification_keeps_the_crowns() {
         },
     );
 }
+
+/// The renderer builds its tree pipelines for one wind model at a time. A tree in a strong wind
+/// must sway away from its calm pose under each model, and the two models must move it
+/// differently, so a frame drawn with the wrong model's pipelines would fail here.
+#[test]
+fn each_wind_model_sways_the_trees() {
+    use grove_systems::wind_model::WindModel;
+    let mut sim = study();
+    let bl = sim.res.catalogue.by_name("broadleaf-mesh").unwrap().id;
+    sim.spawn_tree(bl, Vec3::new(0.0, 0.0, -6.0), 0.3, 1.0, true);
+    set_head(
+        &mut sim,
+        Vec3::new(0.0, 2.5, 2.0),
+        Vec3::new(0.0, 2.5, -6.0),
+        60.0,
+    );
+    let mut frame = |model: WindModel, strength: f32| {
+        for w in sim.world.query_mut::<&mut Wind>() {
+            w.model = model;
+            w.strength = strength;
+            w.current = 1.0;
+        }
+        render(&sim, false)
+    };
+    let calm = frame(WindModel::Hierarchical, 0.0);
+    let noise = frame(WindModel::Noise, 8.0);
+    let hierarchical = frame(WindModel::Hierarchical, 8.0);
+    let changed = |a: &RgbaImage, b: &RgbaImage| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > PIXEL_THRESHOLD))
+            .count()
+    };
+    for (name, img) in [("noise", &noise), ("hierarchical", &hierarchical)] {
+        let n = changed(&calm, img);
+        assert!(n > 50, "the {name} wind model moved only {n} pixels");
+    }
+    let n = changed(&noise, &hierarchical);
+    assert!(
+        n > 50,
+        "the two wind models drew nearly the same frame ({n} pixels apart)"
+    );
+}

@@ -16,6 +16,10 @@ struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    // The irradiance for the normal and for its opposite (seen from below, through a hole):
+    // the ground's normals vary slowly, so per vertex is enough.
+    @location(2) irr_front: vec3<f32>,
+    @location(3) irr_back: vec3<f32>,
 };
 
 @vertex
@@ -24,6 +28,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.clip = frame.view_proj * vec4<f32>(v.position, 1.0);
     out.world_pos = v.position;
     out.normal = v.normal;
+    out.irr_front = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
+    out.irr_back = textureSampleLevel(irradiance_map, env_sampler, -v.normal, 0.0).rgb;
     return out;
 }
 
@@ -31,10 +37,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     // ground_params.x: metres per texture repeat.
     let albedo = textureSample(ground_tex, ground_sampler, in.world_pos.xz / ground_params.x).rgb;
-    var n = normalize(in.normal);
-    if (!front) {
-        n = -n;
-    }
-    let c = shade(albedo, n, in.world_pos, 0.08, 0.95, 0.0);
+    let n = normalize(in.normal) * select(-1.0, 1.0, front);
+    let irr = select(in.irr_back, in.irr_front, front);
+    let c = shade_lit(albedo, n, in.world_pos, 0.08, 0.95, 0.0, irr);
     return vec4<f32>(tone(c), 1.0);
 }

@@ -19,16 +19,23 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
+// Whether lit shaders look up the shadow map, set per pipeline by src/render/mod.rs
+// (`Specialised`). A constant, not a uniform: lavapipe pays for both sides of a branch, so
+// only a pipeline built without the lookups is spared their cost.
+override SHADOWS: bool = true;
+
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
 @group(1) @binding(1) var shadow_sampler: sampler_comparison;
 @group(1) @binding(2) var env_map: texture_cube<f32>;
 @group(1) @binding(3) var irradiance_map: texture_cube<f32>;
 @group(1) @binding(4) var env_sampler: sampler;
 
-// Fraction of sunlight reaching `world_pos` (1 = lit), 3x3 PCF taps on the comparison sampler
-// (each tap is itself bilinear), so shadow edges, including the dapples of leaves, are soft.
+// Fraction of sunlight reaching `world_pos` (1 = lit): four bilinear taps on the comparison
+// sampler, half a texel from the centre on each diagonal. Each tap filters 2x2 texels, so
+// together they weigh 3x3 texels with a tent (1 2 1 by 1 2 1), and shadow edges, including the
+// dapples of leaves, are soft.
 fn shadow_factor(world_pos: vec3<f32>, n: vec3<f32>) -> f32 {
-    if (frame.shadow.w < 0.5) {
+    if (!SHADOWS || frame.shadow.w < 0.5) {
         return 1.0;
     }
     let p = frame.light_view_proj * vec4<f32>(world_pos + n * frame.shadow.y, 1.0);
@@ -37,19 +44,25 @@ fn shadow_factor(world_pos: vec3<f32>, n: vec3<f32>) -> f32 {
     if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0 || ndc.z > 1.0) {
         return 1.0;
     }
-    var sum = 0.0;
-    for (var y = -1; y <= 1; y = y + 1) {
-        for (var x = -1; x <= 1; x = x + 1) {
-            let o = vec2<f32>(f32(x), f32(y)) * frame.shadow.x;
-            sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + o, ndc.z - frame.shadow.z);
-        }
-    }
-    return sum / 9.0;
+    let h = 0.5 * frame.shadow.x;
+    let z = ndc.z - frame.shadow.z;
+    var sum = textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-h, -h), z);
+    sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(h, -h), z);
+    sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-h, h), z);
+    sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(h, h), z);
+    return sum * 0.25;
 }
 
 // Diffuse sun (with some translucency for leaves), Blinn-Phong specular scaled by the specular
 // map, ambient from the irradiance cubemap and a Fresnel-weighted reflection of the environment.
 fn shade(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f32, roughness: f32, translucency: f32) -> vec3<f32> {
+    let irr = textureSampleLevel(irradiance_map, env_sampler, n, 0.0).rgb;
+    return shade_lit(albedo, n, world_pos, spec_strength, roughness, translucency, irr);
+}
+
+// `shade` with the irradiance for the normal `n` given: for surfaces whose normal varies so
+// slowly that the irradiance can be looked up per vertex (the ground).
+fn shade_lit(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f32, roughness: f32, translucency: f32, irr: vec3<f32>) -> vec3<f32> {
     let l = frame.sun_dir.xyz;
     let v = normalize(frame.camera_pos.xyz - world_pos);
     let ndl = dot(n, l);
@@ -59,7 +72,6 @@ fn shade(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f
     let shininess = mix(128.0, 6.0, clamp(roughness, 0.0, 1.0));
     let spec = spec_strength * 0.25 * pow(max(dot(n, h), 0.0), shininess) * select(0.0, 1.0, ndl > 0.0);
     let direct = frame.sun_color.rgb * lit * (albedo * diffuse + vec3<f32>(spec));
-    let irr = textureSampleLevel(irradiance_map, env_sampler, n, 0.0).rgb;
     let ambient = irr * frame.ambient.rgb * albedo;
     // Reflections of the sky, skipped (one cube lookup less) where they would be invisible.
     var refl = vec3<f32>(0.0);

@@ -38,7 +38,7 @@ use gltf_load::{ModelData, Vertex};
 /// Depth format of the main pass.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Depth format of the shadow map.
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
 
 const LIGHTING_WGSL: &str = include_str!("lighting.wgsl");
 /// The per-vertex wind functions (`WindParams`, `wind_displace`), prepended to the tree shader.
@@ -188,7 +188,9 @@ struct GpuMaterial {
     masked: bool,
 }
 
-/// The tree pipelines. Arrays are indexed by `double_sided as usize` (back faces culled at 0).
+/// The tree pipelines of one wind model (see [`Specialised`]). The inner arrays are indexed by
+/// `double_sided as usize` (back faces culled at 0); the outer arrays of the lit pipelines by
+/// `shadows as usize`.
 ///
 /// Opaque materials are shaded in one step with the usual depth test. Alpha-clipped materials
 /// take two: a depth pre-pass that only samples the albedo's alpha and discards clipped texels,
@@ -197,12 +199,37 @@ struct GpuMaterial {
 /// crown would be fully shaded; with it, each pixel is shaded once. Both passes mark the clip
 /// position `@invariant`, so their depths agree exactly.
 struct TreePipelines {
-    opaque: [wgpu::RenderPipeline; 2],
+    opaque: [[wgpu::RenderPipeline; 2]; 2],
     masked_depth: [wgpu::RenderPipeline; 2],
-    masked_shade: [wgpu::RenderPipeline; 2],
+    masked_shade: [[wgpu::RenderPipeline; 2]; 2],
     /// The shadow map: depth only for opaque materials, alpha-tested for masked ones.
     shadow_opaque: wgpu::RenderPipeline,
     shadow_masked: wgpu::RenderPipeline,
+}
+
+/// The values of the shaders' pipeline-overridable constants that a pipeline is built for.
+///
+/// Lavapipe runs both sides of a branch, even one on a uniform value, so a shader that checks
+/// a uniform to skip work pays for that work anyway. The two choices that hold for a whole frame
+/// are therefore compiled in instead: `SHADOWS` (lighting.wgsl: whether lit shaders look up the
+/// shadow map) and `WIND_MODEL` (trees.wgsl: the global wind model, as `WindParams::model`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Specialised {
+    shadows: bool,
+    wind_model: u32,
+}
+
+impl Specialised {
+    /// The overridable constants of lit shaders (lighting.wgsl is prepended to each).
+    fn lit(shadows: bool) -> [(&'static str, f64); 1] {
+        [("SHADOWS", if shadows { 1.0 } else { 0.0 })]
+    }
+
+    /// The overridable constants of the tree shaders.
+    fn trees(self) -> [(&'static str, f64); 2] {
+        let [lit] = Specialised::lit(self.shadows);
+        [lit, ("WIND_MODEL", self.wind_model as f64)]
+    }
 }
 
 /// Which tree materials a loop over the trees draws.
@@ -294,8 +321,10 @@ pub struct Renderer {
     env_sampler: wgpu::Sampler,
     shadow_sampler: wgpu::Sampler,
     material_sampler: wgpu::Sampler,
-    trees: TreePipelines,
-    ground_pipeline: wgpu::RenderPipeline,
+    /// Indexed by the wind model: 0 noise, 1 hierarchical.
+    trees: [TreePipelines; 2],
+    /// Indexed by `shadows as usize`.
+    ground_pipeline: [wgpu::RenderPipeline; 2],
     sky_pipeline: wgpu::RenderPipeline,
     overlay_tris: wgpu::RenderPipeline,
     overlay_lines: wgpu::RenderPipeline,
@@ -484,12 +513,19 @@ impl Renderer {
                     wgpu::TextureViewDimension::Cube,
                     wgpu::TextureSampleType::Float { filterable: true },
                 ),
-                texture_entry(
-                    3,
-                    wgpu::TextureViewDimension::Cube,
-                    wgpu::TextureSampleType::Float { filterable: true },
-                ),
-                sampler_entry(4, wgpu::SamplerBindingType::Filtering),
+                // The ground looks up the irradiance per vertex.
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ..texture_entry(
+                        3,
+                        wgpu::TextureViewDimension::Cube,
+                        wgpu::TextureSampleType::Float { filterable: true },
+                    )
+                },
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ..sampler_entry(4, wgpu::SamplerBindingType::Filtering)
+                },
             ],
         });
         let float_tex = wgpu::TextureSampleType::Float { filterable: true };
@@ -622,51 +658,67 @@ impl Renderer {
             blend: None,
             write_mask: wgpu::ColorWrites::empty(),
         })];
-        let tree_pipeline =
-            |label: &str,
-             layout: &wgpu::PipelineLayout,
-             two_sided: bool,
-             (vs, fs): (&str, Option<&str>),
-             depth: wgpu::DepthStencilState,
-             targets: &[Option<wgpu::ColorTargetState>]| {
-                let sides = if two_sided { "two-sided" } else { "one-sided" };
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(&format!("tree {label} pipeline ({sides})")),
-                    layout: Some(layout),
-                    vertex: wgpu::VertexState {
-                        module: &tree_shader,
-                        entry_point: Some(vs),
-                        compilation_options: Default::default(),
-                        buffers: &tree_buffers,
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        cull_mode: if two_sided {
-                            None
-                        } else {
-                            Some(wgpu::Face::Back)
-                        },
-                        ..Default::default()
-                    },
-                    depth_stencil: Some(depth),
-                    multisample: Default::default(),
-                    fragment: fs.map(|fs| wgpu::FragmentState {
-                        module: &tree_shader,
-                        entry_point: Some(fs),
-                        compilation_options: Default::default(),
-                        targets,
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
+        let tree_pipeline = |label: &str,
+                             layout: &wgpu::PipelineLayout,
+                             two_sided: bool,
+                             (vs, fs): (&str, Option<&str>),
+                             depth: wgpu::DepthStencilState,
+                             targets: &[Option<wgpu::ColorTargetState>],
+                             spec: Specialised| {
+            let sides = if two_sided { "two-sided" } else { "one-sided" };
+            let constants = spec.trees();
+            let compilation_options = wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
             };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&format!(
+                    "tree {label} pipeline ({sides}, wind model {}, shadows {})",
+                    spec.wind_model, spec.shadows
+                )),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: &tree_shader,
+                    entry_point: Some(vs),
+                    compilation_options: compilation_options.clone(),
+                    buffers: &tree_buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: if two_sided {
+                        None
+                    } else {
+                        Some(wgpu::Face::Back)
+                    },
+                    ..Default::default()
+                },
+                depth_stencil: Some(depth),
+                multisample: Default::default(),
+                fragment: fs.map(|fs| wgpu::FragmentState {
+                    module: &tree_shader,
+                    entry_point: Some(fs),
+                    compilation_options,
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
         let both = |label: &str,
                     stages: (&str, Option<&str>),
                     depth: wgpu::DepthStencilState,
-                    targets: &[Option<wgpu::ColorTargetState>]| {
-            [
-                tree_pipeline(label, &lit_layout, false, stages, depth.clone(), targets),
-                tree_pipeline(label, &lit_layout, true, stages, depth, targets),
-            ]
+                    targets: &[Option<wgpu::ColorTargetState>],
+                    spec: Specialised| {
+            [false, true].map(|two_sided| {
+                tree_pipeline(
+                    label,
+                    &lit_layout,
+                    two_sided,
+                    stages,
+                    depth.clone(),
+                    targets,
+                    spec,
+                )
+            })
         };
         let less = depth_state(true, wgpu::CompareFunction::Less, Default::default());
         // The shadow map: no culling, as leaves and thin branches cast from both sides.
@@ -679,75 +731,99 @@ impl Renderer {
             },
             ..less.clone()
         };
-        let trees = TreePipelines {
-            opaque: both(
-                "opaque",
-                ("vs_main", Some("fs_main")),
-                less.clone(),
-                &color_target,
-            ),
-            masked_depth: both(
-                "depth pre-pass",
-                ("vs_depth", Some("fs_alpha_test")),
-                less.clone(),
-                &no_color,
-            ),
-            masked_shade: both(
-                "alpha-clipped",
-                ("vs_main", Some("fs_main")),
-                depth_state(false, wgpu::CompareFunction::Equal, Default::default()),
-                &color_target,
-            ),
-            shadow_opaque: tree_pipeline(
-                "shadow (opaque)",
-                &shadow_layout,
-                true,
-                ("vs_depth", None),
-                shadow_depth.clone(),
-                &[],
-            ),
-            shadow_masked: tree_pipeline(
-                "shadow (alpha-clipped)",
-                &shadow_layout,
-                true,
-                ("vs_depth", Some("fs_alpha_test")),
-                shadow_depth,
-                &[],
-            ),
-        };
+        let equal = depth_state(false, wgpu::CompareFunction::Equal, Default::default());
+        // Depth-only pipelines do not shade, so their shadow constant is moot.
+        let trees = [0u32, 1].map(|wind_model| {
+            let spec = |shadows| Specialised {
+                shadows,
+                wind_model,
+            };
+            TreePipelines {
+                opaque: [false, true].map(|shadows| {
+                    let stages = ("vs_main", Some("fs_main"));
+                    both("opaque", stages, less.clone(), &color_target, spec(shadows))
+                }),
+                masked_depth: both(
+                    "depth pre-pass",
+                    ("vs_depth", Some("fs_alpha_test")),
+                    less.clone(),
+                    &no_color,
+                    spec(false),
+                ),
+                masked_shade: [false, true].map(|shadows| {
+                    let stages = ("vs_main", Some("fs_main"));
+                    both(
+                        "alpha-clipped",
+                        stages,
+                        equal.clone(),
+                        &color_target,
+                        spec(shadows),
+                    )
+                }),
+                shadow_opaque: tree_pipeline(
+                    "shadow (opaque)",
+                    &shadow_layout,
+                    true,
+                    ("vs_depth", None),
+                    shadow_depth.clone(),
+                    &[],
+                    spec(false),
+                ),
+                shadow_masked: tree_pipeline(
+                    "shadow (alpha-clipped)",
+                    &shadow_layout,
+                    true,
+                    ("vs_depth", Some("fs_alpha_test")),
+                    shadow_depth.clone(),
+                    &[],
+                    spec(false),
+                ),
+            }
+        });
         const GV: [wgpu::VertexAttribute; 2] =
             wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
-        let ground_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("ground pipeline"),
-            layout: Some(&lit_layout),
-            vertex: wgpu::VertexState {
-                module: &ground_shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 24,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &GV,
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
+        let ground_pipeline = [false, true].map(|shadows| {
+            let constants = Specialised::lit(shadows);
+            let compilation_options = wgpu::PipelineCompilationOptions {
+                constants: &constants,
                 ..Default::default()
-            },
-            depth_stencil: Some(depth_state(
-                true,
-                wgpu::CompareFunction::Less,
-                Default::default(),
-            )),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &ground_shader,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &color_target,
-            }),
-            multiview_mask: None,
-            cache: None,
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(if shadows {
+                    "ground pipeline (shadows)"
+                } else {
+                    "ground pipeline (no shadows)"
+                }),
+                layout: Some(&lit_layout),
+                vertex: wgpu::VertexState {
+                    module: &ground_shader,
+                    entry_point: Some("vs_main"),
+                    compilation_options: compilation_options.clone(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: 24,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &GV,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(depth_state(
+                    true,
+                    wgpu::CompareFunction::Less,
+                    Default::default(),
+                )),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &ground_shader,
+                    entry_point: Some("fs_main"),
+                    compilation_options,
+                    targets: &color_target,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
         });
         let sky_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("sky pipeline"),
@@ -964,11 +1040,13 @@ impl Renderer {
 
     /// The timestamp writes of pass `index` (0: shadow, 1: main) when pass timing is on.
     fn pass_timestamps(&self, index: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        self.timer.as_ref().map(|t| wgpu::RenderPassTimestampWrites {
-            query_set: &t.set,
-            beginning_of_pass_write_index: Some(2 * index),
-            end_of_pass_write_index: Some(2 * index + 1),
-        })
+        self.timer
+            .as_ref()
+            .map(|t| wgpu::RenderPassTimestampWrites {
+                query_set: &t.set,
+                beginning_of_pass_write_index: Some(2 * index),
+                end_of_pass_write_index: Some(2 * index + 1),
+            })
     }
 
     /// The GPU time of the last frame's passes. Waits for the GPU; `None` when pass timing is
@@ -1522,8 +1600,11 @@ impl Renderer {
         };
         self.queue
             .write_buffer(&self.shadow_frame_buf, 0, bytemuck::bytes_of(&shadow_frame));
+        let wind = wind_uniform(sim);
         self.queue
-            .write_buffer(&self.wind_buf, 0, &wind_uniform(sim).to_le_bytes());
+            .write_buffer(&self.wind_buf, 0, &wind.to_le_bytes());
+        // The pipelines built for this frame's wind model (see `Specialised`).
+        let t = &self.trees[(wind.model != 0) as usize];
 
         let ov = overlay::build(sim);
         let ov_tris = (!ov.triangles.is_empty()).then(|| {
@@ -1567,9 +1648,9 @@ impl Renderer {
             });
             if shadows {
                 pass.set_bind_group(0, &self.shadow_frame_bg, &[]);
-                pass.set_pipeline(&self.trees.shadow_opaque);
+                pass.set_pipeline(&t.shadow_opaque);
                 self.draw_trees(&mut pass, &ranges, Materials::Opaque, |_, _, _, _| {});
-                pass.set_pipeline(&self.trees.shadow_masked);
+                pass.set_pipeline(&t.shadow_masked);
                 self.draw_trees(&mut pass, &ranges, Materials::Masked, |_, _, _, _| {});
             }
         }
@@ -1606,13 +1687,12 @@ impl Renderer {
             // Trees first (opaque parts, then the depth of the alpha-clipped parts, then their
             // shading), then the ground, then the sky where nothing was drawn: on a software
             // rasteriser the early depth test then skips most hidden ground and sky fragments.
-            let t = &self.trees;
             self.draw_trees(
                 &mut pass,
                 &ranges,
                 Materials::Opaque,
                 |pass, mat, count, range| {
-                    pass.set_pipeline(&t.opaque[mat.double_sided as usize]);
+                    pass.set_pipeline(&t.opaque[shadows as usize][mat.double_sided as usize]);
                     stats.draws += 1;
                     stats.triangles += count as usize / 3 * range.len();
                 },
@@ -1625,13 +1705,13 @@ impl Renderer {
                 &ranges,
                 Materials::Masked,
                 |pass, mat, count, range| {
-                    pass.set_pipeline(&t.masked_shade[mat.double_sided as usize]);
+                    pass.set_pipeline(&t.masked_shade[shadows as usize][mat.double_sided as usize]);
                     stats.draws += 1;
                     stats.triangles += count as usize / 3 * range.len();
                 },
             );
             if let Some(g) = &self.ground {
-                pass.set_pipeline(&self.ground_pipeline);
+                pass.set_pipeline(&self.ground_pipeline[shadows as usize]);
                 pass.set_bind_group(2, &self.ground_bg, &[]);
                 pass.set_vertex_buffer(0, g.vertices.slice(..));
                 pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);

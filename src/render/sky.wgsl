@@ -3,7 +3,10 @@
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) ndc: vec2<f32>,
+    // The view ray through the pixel, world space, not normalised. For a perspective camera it
+    // is an affine function of the pixel's position, so interpolating it from the corners is
+    // exact and spares each pixel the inverse projection.
+    @location(0) ray: vec3<f32>,
 };
 
 @vertex
@@ -13,20 +16,21 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
     let y = f32(i32(i >> 1u) * 4 - 1);
     var out: VertexOut;
     out.clip = vec4<f32>(x, y, 1.0, 1.0);
-    out.ndc = vec2<f32>(x, y);
+    let far = frame.inv_view_proj * vec4<f32>(x, y, 1.0, 1.0);
+    out.ray = far.xyz / far.w - frame.camera_pos.xyz;
     return out;
 }
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    let far = frame.inv_view_proj * vec4<f32>(in.ndc, 1.0, 1.0);
-    let dir = normalize(far.xyz / far.w - frame.camera_pos.xyz);
+    let dir = normalize(in.ray);
     // The sky takes the ambient light's tint (warmer when the sun is low).
     let tint = frame.ambient.rgb / max(frame.ambient.r, 0.001);
     var c = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.ambient.w * tint;
-    let s = max(dot(dir, frame.sun_dir.xyz), 0.0);
-    // Sun disc, a halo, and a wide glow that is strongest when the sun is near the horizon.
+    // Sun disc, a halo, and a wide glow that is strongest when the sun is near the horizon:
+    // s^600, s^40 and s^4 from one logarithm.
+    let ls = log2(max(dot(dir, frame.sun_dir.xyz), 1e-6));
     let low = 1.0 - clamp(frame.sun_dir.y * 2.0, 0.0, 1.0);
-    c = c + frame.sun_color.rgb * (pow(s, 600.0) * 4.0 + pow(s, 40.0) * 0.12 + pow(s, 4.0) * 0.25 * low);
+    c = c + frame.sun_color.rgb * (exp2(600.0 * ls) * 4.0 + exp2(40.0 * ls) * 0.12 + exp2(4.0 * ls) * 0.25 * low);
     return vec4<f32>(tone(c), 1.0);
 }

@@ -1,7 +1,7 @@
 // Trees: instanced, textured (albedo, normal, specular), alpha-clipped leaves, two-sided leaves
 // with the normal's component along the face normal flipped on back faces. Every vertex, in the
 // main pass and the shadow pass alike, is displaced by wind.wgsl's `wind_displace` (the global
-// model `wind.model`) from its `_WIND` channels and the instance's WindState. lighting.wgsl and
+// model `WIND_MODEL`) from its `_WIND` channels and the instance's WindState. lighting.wgsl and
 // wind.wgsl are prepended.
 
 struct Material {
@@ -14,6 +14,10 @@ struct Material {
 
 // The wind for all trees, written every frame from the world's Wind component and the sim time.
 @group(0) @binding(1) var<uniform> wind: WindParams;
+
+// The global wind model (0 noise, 1 hierarchical), equal to `wind.model`: set per pipeline by
+// src/render/mod.rs (`Specialised`), so that only the chosen model's code runs per vertex.
+override WIND_MODEL: u32 = 1u;
 
 @group(2) @binding(0) var<uniform> material: Material;
 @group(2) @binding(1) var albedo_tex: texture_2d<f32>;
@@ -73,7 +77,7 @@ fn world_position(v: VertexIn) -> vec3<f32> {
     let p = v.leaf.xyz + (v.position - v.leaf.xyz) * leaf_scale(v.leaf.w, v.inst_c.y);
     let v0 = v.inst_a.xyz + rotate_y(p * scale, v.inst_b.x);
     let ch = vec4<f32>(v.wind.xyz * scale, v.wind.w);
-    return wind_displace(wind.model, v0, ch, v.inst_b.yz, v.inst_b.w, v.inst_c.x, wind);
+    return wind_displace(WIND_MODEL, v0, ch, v.inst_b.yz, v.inst_b.w, v.inst_c.x, wind);
 }
 
 @vertex
