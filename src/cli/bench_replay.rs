@@ -80,10 +80,10 @@ pub fn bench_study() -> anyhow::Result<Value> {
         let t = Instant::now();
         let (trials, wall_sim) = crate::study::run_all(&files, &[], &|| {});
         let summary = crate::study::report::summarize(&trials, &[], wall_sim);
-        crate::study::report::write_trial_results(&out.join("trial_results.csv"), &trials)?;
-        crate::study::report::write_trees(&out.join("trees.csv"), &trials)?;
+        crate::study::csv_out::write_trial_results(&out.join("trial_results.csv"), &trials, None)?;
+        crate::study::csv_out::write_trees(&out.join("trees.csv"), &trials)?;
         std::fs::write(out.join("summary.json"), serde_json::to_string_pretty(&summary)?)?;
-        crate::study::chart::ablation_chart(&out.join("ablation.png"), &summary.per_participant, "bench", 1100, 600)?;
+        crate::study::chart::ablation_chart(&out.join("ablation.png"), &summary.per_participant, None, "bench", &[], 1100, 600)?;
         walls.push(t.elapsed().as_secs_f64());
         verified = trials.iter().filter(|t| t.status == crate::study::TrialStatus::Verified).count();
     }

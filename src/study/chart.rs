@@ -1,34 +1,70 @@
-//! The study chart: per-participant grouped bars of task time, ray-casting vs manual
-//! (the chart of the paper's Fig. 7), drawn with plotters into a PNG.
+//! The study charts, drawn with plotters into PNG files:
+//! - `ablation.png`: per-participant grouped bars of task time, ray-casting vs manual (the
+//!   chart of the paper's Fig. 7). A missing bar (a trial that did not complete) is marked with
+//!   a red cross; in a what-if, black outlines show the baseline times.
+//! - `sweep.png`: mean task time per mode against the value of a swept parameter.
+//!
+//! Notes (the what-if kind and parameter values, the synthetic-data note) are printed under the
+//! chart.
 
 use std::path::Path;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::report::ParticipantTimes;
+use super::whatif::Sweep;
 
 const FONT: &str = "grove-sans";
+/// The ray-casting bar colour.
+pub const RAY: RGBColor = RGBColor(46, 134, 193);
+/// The manual bar colour.
+pub const MANUAL: RGBColor = RGBColor(230, 126, 34);
+/// The colour of the mark of a missing bar.
+pub const MISSING: RGBColor = RGBColor(200, 30, 30);
 
 fn register_font() {
     // Registering twice is harmless; the bytes are egui's bundled Ubuntu Light font.
     let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
 }
 
+fn err(path: &Path, e: &dyn std::fmt::Display) -> anyhow::Error {
+    anyhow::anyhow!("{}: {e}", path.display())
+}
+
+/// Splits off a strip at the bottom for the notes and writes them there.
+fn with_notes<'a>(path: &Path, root: &DrawingArea<BitMapBackend<'a>, Shift>, notes: &[String]) -> anyhow::Result<DrawingArea<BitMapBackend<'a>, Shift>> {
+    let (_, h) = root.dim_in_pixel();
+    let strip = 8 + 22 * notes.len() as i32;
+    let (main, foot) = root.split_vertically((h as i32 - strip).max(1));
+    for (i, n) in notes.iter().enumerate() {
+        foot.draw(&Text::new(n.clone(), (16, 4 + 22 * i as i32), (FONT, 17).into_font().color(&BLACK))).map_err(|e| err(path, &e))?;
+    }
+    Ok(main)
+}
+
 /// Draws the grouped bar chart of task times to a PNG file of `width` × `height` pixels.
-pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], title: &str, width: u32, height: u32) -> anyhow::Result<()> {
+/// `baseline`, when given, draws each participant's baseline times as outlines.
+pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> anyhow::Result<()> {
     register_font();
-    let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", path.display());
     let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
-    let max = rows.iter().flat_map(|r| [r.ray_casting_s, r.manual_s]).flatten().fold(1.0f64, f64::max) * 1.15;
+    root.fill(&WHITE).map_err(|e| err(path, &e))?;
+    let main = with_notes(path, &root, notes)?;
+    let base_of = |p: &str| baseline.and_then(|b| b.iter().find(|r| r.participant == p));
+    let max = rows
+        .iter()
+        .flat_map(|r| [r.ray_casting_s, r.manual_s, base_of(&r.participant).and_then(|b| b.ray_casting_s), base_of(&r.participant).and_then(|b| b.manual_s)])
+        .flatten()
+        .fold(1.0f64, f64::max)
+        * 1.2;
     let n = rows.len().max(1);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 26))
+    let mut chart = ChartBuilder::on(&main)
+        .caption(title, (FONT, 24))
         .margin(16)
         .x_label_area_size(50)
         .y_label_area_size(70)
         .build_cartesian_2d(-0.5f64..n as f64 - 0.5, 0f64..max)
-        .map_err(|e| err(&e))?;
+        .map_err(|e| err(path, &e))?;
     chart
         .configure_mesh()
         .disable_x_mesh()
@@ -45,20 +81,43 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], title: &str, width
         .label_style((FONT, 16))
         .axis_desc_style((FONT, 20))
         .draw()
-        .map_err(|e| err(&e))?;
-    let ray = RGBColor(46, 134, 193);
-    let manual = RGBColor(230, 126, 34);
+        .map_err(|e| err(path, &e))?;
     let bar = |i: usize, offset: f64, v: f64, c: RGBColor| Rectangle::new([(i as f64 + offset, 0.0), (i as f64 + offset + 0.38, v)], c.filled());
     chart
-        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.ray_casting_s.map(|v| bar(i, -0.4, v, ray))))
-        .map_err(|e| err(&e))?
+        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.ray_casting_s.map(|v| bar(i, -0.4, v, RAY))))
+        .map_err(|e| err(path, &e))?
         .label("ray-casting")
-        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], ray.filled()));
+        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], RAY.filled()));
     chart
-        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.manual_s.map(|v| bar(i, 0.02, v, manual))))
-        .map_err(|e| err(&e))?
+        .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.manual_s.map(|v| bar(i, 0.02, v, MANUAL))))
+        .map_err(|e| err(path, &e))?
         .label("manual")
-        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], manual.filled()));
+        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], MANUAL.filled()));
+    // A missing bar: a red cross where the bar would stand, so that no bar silently disappears.
+    let h = max * 0.06;
+    let crosses: Vec<(usize, f64)> =
+        rows.iter().enumerate().flat_map(|(i, r)| [(r.ray_casting_s.is_none()).then_some((i, -0.4)), (r.manual_s.is_none()).then_some((i, 0.02))]).flatten().collect();
+    if !crosses.is_empty() {
+        chart
+            .draw_series(crosses.iter().flat_map(|&(i, o)| {
+                let (x0, x1) = (i as f64 + o + 0.04, i as f64 + o + 0.34);
+                [PathElement::new(vec![(x0, 0.0), (x1, h)], MISSING.stroke_width(4)), PathElement::new(vec![(x0, h), (x1, 0.0)], MISSING.stroke_width(4))]
+            }))
+            .map_err(|e| err(path, &e))?
+            .label("missing: trial not completed")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y - 6), (x + 14, y + 6)], MISSING.stroke_width(3)));
+    }
+    if let Some(b) = baseline {
+        let outline = |i: usize, o: f64, v: f64| Rectangle::new([(i as f64 + o, 0.0), (i as f64 + o + 0.38, v)], BLACK.stroke_width(2));
+        chart
+            .draw_series(rows.iter().enumerate().flat_map(|(i, r)| {
+                let b = b.iter().find(|x| x.participant == r.participant);
+                [b.and_then(|b| b.ray_casting_s).map(|v| outline(i, -0.4, v)), b.and_then(|b| b.manual_s).map(|v| outline(i, 0.02, v))]
+            }).flatten())
+            .map_err(|e| err(path, &e))?
+            .label("baseline (default settings)")
+            .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], BLACK.stroke_width(2)));
+    }
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperLeft)
@@ -66,7 +125,63 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], title: &str, width
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
-        .map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))?;
+        .map_err(|e| err(path, &e))?;
+    root.present().map_err(|e| err(path, &e))?;
+    Ok(())
+}
+
+/// Draws mean task time per mode against the swept value, with the default value marked.
+pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, height: u32) -> anyhow::Result<()> {
+    register_font();
+    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, &e))?;
+    let main = with_notes(path, &root, notes)?;
+    let points = |mode: &str| -> Vec<(f64, f64)> {
+        sweep.rows.iter().filter_map(|r| Some((r.value.parse::<f64>().ok()?, r.modes.get(mode)?.what_if_mean_s?))).collect()
+    };
+    let xs: Vec<f64> = sweep.rows.iter().filter_map(|r| r.value.parse::<f64>().ok()).collect();
+    let (lo, hi) = xs.iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
+    let pad = ((hi - lo) * 0.08).max(1e-3);
+    let ymax = ["ray-casting", "manual"].iter().flat_map(|m| points(m)).map(|p| p.1).fold(1.0f64, f64::max) * 1.2;
+    let mut chart = ChartBuilder::on(&main)
+        .caption(format!("Mean task time against {} ({})", sweep.parameter, sweep.kind), (FONT, 24))
+        .margin(16)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d((lo - pad)..(hi + pad), 0f64..ymax)
+        .map_err(|e| err(path, &e))?;
+    chart
+        .configure_mesh()
+        .x_desc(sweep.parameter.as_str())
+        .y_desc("Mean task time of completed trials (s)")
+        .label_style((FONT, 16))
+        .axis_desc_style((FONT, 20))
+        .draw()
+        .map_err(|e| err(path, &e))?;
+    if let Ok(d) = sweep.default_value.parse::<f64>() {
+        chart.draw_series([PathElement::new(vec![(d, 0.0), (d, ymax)], RGBColor(120, 120, 120).stroke_width(2))]).map_err(|e| err(path, &e))?;
+        chart
+            .draw_series([Text::new(format!("default {}", sweep.default_value), (d, ymax * 0.97), (FONT, 16).into_font().color(&BLACK))])
+            .map_err(|e| err(path, &e))?;
+    }
+    for (mode, colour) in [("ray-casting", RAY), ("manual", MANUAL)] {
+        let pts = points(mode);
+        chart
+            .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(3)))
+            .map_err(|e| err(path, &e))?
+            .label(mode)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], colour.filled()));
+        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 6, colour.filled()))).map_err(|e| err(path, &e))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .label_font((FONT, 18))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| err(path, &e))?;
+    root.present().map_err(|e| err(path, &e))?;
     Ok(())
 }

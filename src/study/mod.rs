@@ -4,10 +4,12 @@
 //! re-simulating its input events. This module knows nothing about rendering or windows.
 
 pub mod chart;
+pub mod csv_out;
 pub mod participant;
 pub mod report;
+pub mod stats;
 pub mod synth;
-
+pub mod whatif;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -23,6 +25,8 @@ use serde::Serialize;
 pub enum TrialStatus {
     /// Every checkpoint matched.
     Verified,
+    /// Valid, but the file has no checkpoint to compare (for example an event-only file).
+    Unverified,
     /// Re-run with changed parameters (`--set`), so checkpoints were not compared.
     WhatIf,
     /// A checkpoint differed.
@@ -36,6 +40,7 @@ impl TrialStatus {
     pub fn word(self) -> &'static str {
         match self {
             TrialStatus::Verified => "verified",
+            TrialStatus::Unverified => "unverified",
             TrialStatus::WhatIf => "what-if",
             TrialStatus::Diverged => "diverged",
             TrialStatus::Failed => "failed",
@@ -52,6 +57,25 @@ pub struct Trial {
     pub participant: String,
     /// Whether the header marks the session as synthetic.
     pub synthetic: bool,
+    /// The header's session start (UTC, RFC 3339), if it has one.
+    pub session_start: Option<String>,
+    /// The header's block, if it has one.
+    pub header_block: Option<u32>,
+    /// The header's configuration overrides.
+    pub config: std::collections::BTreeMap<String, String>,
+    /// Position of this recording in the participant's session (1-based), see [`assign_order`].
+    pub trial_num: u32,
+    /// The block: the header's, or else the position of the task's first trial.
+    pub block_num: u32,
+    /// Position within the block (1-based).
+    pub trial_num_in_block: u32,
+    /// Seconds from the participant's first session start (or, without one, from the start of
+    /// this recording) to the task start.
+    pub start_time_s: Option<f64>,
+    /// `start_time_s` plus the task time.
+    pub end_time_s: Option<f64>,
+    /// Seconds from the start of the recording to the task start (its tick / ticks per second).
+    pub task_start_s: Option<f64>,
     /// The outcome of verification.
     pub status: TrialStatus,
     /// The error, for failed trials.
@@ -90,13 +114,33 @@ pub fn evaluate(path: &Path, overrides: &[(String, String)]) -> Trial {
     let stem = path.file_stem().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
     let options = ReplayOptions { until: None, overrides: overrides.to_vec() };
     match replay_file(path, &options) {
-        Err(e) => Trial { file, participant: stem, synthetic: false, status: TrialStatus::Failed, error: Some(e.to_string()), complete: false, ticks: 0, task: None },
+        Err(e) => Trial {
+            file,
+            participant: stem,
+            synthetic: false,
+            session_start: None,
+            header_block: None,
+            config: Default::default(),
+            trial_num: 0,
+            block_num: 0,
+            trial_num_in_block: 0,
+            start_time_s: None,
+            end_time_s: None,
+            task_start_s: None,
+            status: TrialStatus::Failed,
+            error: Some(e.to_string()),
+            complete: false,
+            ticks: 0,
+            task: None,
+        },
         Ok(o) => {
             let sim = &o.sim;
             let status = if !o.verifying {
                 TrialStatus::WhatIf
-            } else if o.first_divergence.is_some() || o.checkpoints_checked == 0 {
+            } else if o.first_divergence.is_some() {
                 TrialStatus::Diverged
+            } else if o.checkpoints_checked == 0 {
+                TrialStatus::Unverified
             } else {
                 TrialStatus::Verified
             };
@@ -104,6 +148,15 @@ pub fn evaluate(path: &Path, overrides: &[(String, String)]) -> Trial {
                 file,
                 participant: o.header.participant.clone().unwrap_or(stem),
                 synthetic: o.header.synthetic,
+                session_start: o.header.session_start.clone(),
+                header_block: o.header.block,
+                config: o.header.config.clone(),
+                trial_num: 0,
+                block_num: 0,
+                trial_num_in_block: 0,
+                start_time_s: None,
+                end_time_s: None,
+                task_start_s: sim.res.task.as_ref().map(|t| grove_systems::task::ticks_to_seconds(t.started_tick, sim.res.dt)),
                 status,
                 error: o.first_divergence.as_ref().map(|d| format!("diverged at tick {}", d.tick)),
                 complete: o.complete,
@@ -127,6 +180,67 @@ pub fn run_all(files: &[PathBuf], overrides: &[(String, String)], progress: &(dy
             t
         })
         .collect();
-    trials.sort_by(|a, b| (a.participant.as_str(), a.file.as_str()).cmp(&(b.participant.as_str(), b.file.as_str())));
+    assign_order(&mut trials);
     (trials, start.elapsed().as_secs_f64())
+}
+
+/// Seconds since the Unix epoch of an RFC 3339 time.
+fn epoch_seconds(time: &str) -> Option<f64> {
+    chrono::DateTime::parse_from_rfc3339(time).ok().map(|t| t.timestamp_millis() as f64 / 1000.0)
+}
+
+/// Orders each participant's trials as they were recorded and numbers them.
+///
+/// The order is by the header's `session_start`, then its `block`, then the file name; trials
+/// are sorted by participant and that order. `block_num` is the header's block, or else the
+/// position of the first trial of the same task; `trial_num_in_block` counts within a block.
+/// `start_time_s` is measured from the participant's earliest `session_start` when every one of
+/// their recordings has one, and otherwise from the start of each recording.
+pub fn assign_order(trials: &mut [Trial]) {
+    let key = |t: &Trial| (t.participant.clone(), t.session_start.as_deref().and_then(epoch_seconds).map(|s| (s * 1000.0) as i64), t.header_block, t.file.clone());
+    // Recordings without a session start sort after those with one (None < Some, so flip it).
+    trials.sort_by(|a, b| {
+        let (ka, kb) = (key(a), key(b));
+        (ka.0, ka.1.is_none(), ka.1, ka.2, ka.3).cmp(&(kb.0, kb.1.is_none(), kb.1, kb.2, kb.3))
+    });
+    let mut i = 0;
+    while i < trials.len() {
+        let mut j = i;
+        while j < trials.len() && trials[j].participant == trials[i].participant {
+            j += 1;
+        }
+        let group = &mut trials[i..j];
+        let origin = if group.iter().all(|t| t.session_start.is_some()) {
+            group.iter().filter_map(|t| t.session_start.as_deref().and_then(epoch_seconds)).reduce(f64::min)
+        } else {
+            None
+        };
+        let mut first_of_task: Vec<(String, u32)> = Vec::new();
+        let mut in_block: std::collections::BTreeMap<u32, u32> = Default::default();
+        for (n, t) in group.iter_mut().enumerate() {
+            t.trial_num = n as u32 + 1;
+            let task = t.task.as_ref().map_or_else(|| t.file.clone(), |k| k.id.clone());
+            t.block_num = t.header_block.unwrap_or_else(|| match first_of_task.iter().find(|(id, _)| *id == task) {
+                Some((_, b)) => *b,
+                None => {
+                    let b = first_of_task.len() as u32 + 1;
+                    first_of_task.push((task.clone(), b));
+                    b
+                }
+            });
+            let c = in_block.entry(t.block_num).or_insert(0);
+            *c += 1;
+            t.trial_num_in_block = *c;
+            if let Some(k) = &t.task {
+                let offset = match (origin, t.session_start.as_deref().and_then(epoch_seconds)) {
+                    (Some(o), Some(s)) => s - o,
+                    _ => 0.0,
+                };
+                let start = offset + t.task_start_s.unwrap_or(0.0);
+                t.start_time_s = Some(start);
+                t.end_time_s = Some(start + k.time_s);
+            }
+        }
+        i = j;
+    }
 }

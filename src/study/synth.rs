@@ -321,15 +321,21 @@ impl Participant {
     }
 }
 
-/// Generates one participant's session for a task.
-pub fn synthesize(task: &TaskDef, participant: usize, seed: u64) -> anyhow::Result<ParticipantSession> {
+/// Generates one participant's session for a task, under the configuration `overrides`
+/// (`name=value`, empty for the defaults). With overrides, a participant who cannot finish
+/// still gives a session (an incomplete trial, as a person would leave it) and a warning through
+/// `warn`; without, that is an error.
+pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[(String, String)], warn: &dyn Fn(&str)) -> anyhow::Result<ParticipantSession> {
     let scene = Scene::builtin(&task.scene).ok_or_else(|| anyhow!("task {} names unknown scene '{}'", task.id, task.scene))?;
     // Each participant has one skill for both tasks; each task has its own simulation seed.
     let mut skill_rng = ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
     let skill = Skill::sample(&mut skill_rng);
     let task_salt = task.id.bytes().fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
     let sim_seed = seed.wrapping_mul(1000).wrapping_add(participant as u64);
-    let sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
+    let mut sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
+    for (k, v) in overrides {
+        sim.res.config.set(k, v).map_err(|e| anyhow!("--set {e}"))?;
+    }
     let rng = ChaCha8Rng::seed_from_u64(seed ^ task_salt ^ (participant as u64) << 32);
     let script = Script::new(sim);
     let hand = script.controller().pose.position;
@@ -341,6 +347,7 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64) -> anyhow::Resu
     header.task = Some(task.id.clone());
     header.participant = Some(format!("P{:02}", participant + 1));
     header.synthetic = true;
+    header.config = overrides.iter().cloned().collect();
 
     p.script.wait(30);
     p.script.push(InputEvent::SwitchMode { mode: task.mode }).wait(1);
@@ -356,16 +363,29 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64) -> anyhow::Resu
     for i in order {
         let model = models[i].ok_or_else(|| anyhow!("target {i} has an unknown model"))?;
         let pos = task.targets[i].position;
-        match task.mode {
-            Mode::RayCasting => p.ray_casting_target(pos, model, task.tolerance),
-            Mode::Manual => p.manual_target(pos, model, task.tolerance)?,
+        let placed = match task.mode {
+            Mode::RayCasting => {
+                p.ray_casting_target(pos, model, task.tolerance);
+                Ok(())
+            }
+            Mode::Manual => p.manual_target(pos, model, task.tolerance),
+        };
+        if let Err(e) = placed {
+            if overrides.is_empty() {
+                return Err(e);
+            }
+            // Under a what-if setting the participant may be unable to go on: they stop here.
+            warn(&format!("P{:02} {}: {e}; the participant stops and the trial stays incomplete", participant + 1, task.id));
+            break;
         }
     }
     p.think();
     p.script.push(InputEvent::EndTask).wait(30);
     let end_tick = p.sim().res.tick;
     let completed = p.sim().res.task.as_ref().is_some_and(|t| t.is_complete());
-    if !completed {
+    if !completed && !overrides.is_empty() {
+        warn(&format!("P{:02} {}: did not complete the task under the what-if setting", participant + 1, task.id));
+    } else if !completed {
         if std::env::var_os("GROVE_SYNTH_DEBUG").is_some() {
             for e in &p.sim().res.log.entries {
                 eprintln!("{} {:?}", e.tick, e.what);
@@ -378,29 +398,58 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64) -> anyhow::Resu
     Ok(ParticipantSession { header, events, end_tick })
 }
 
-/// Writes `participants` × 2 recordings to `out` (one per participant per task). Existing files
-/// are never overwritten unless `force` is set.
-pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+/// The wall-clock time the first synthetic session starts: 2019-06-03T09:00:00Z, seconds since
+/// the Unix epoch. Participant `p` (0-based) starts `p` hours later.
+pub const FIRST_SESSION_START: i64 = 1_559_552_400;
+/// Seconds of rest between a participant's two blocks.
+pub const REST_BETWEEN_BLOCKS_S: i64 = 120;
+
+/// The order in which participant `p` (0-based) does the two tasks: counterbalanced, even
+/// participants (P01, P03, …) start with ray-casting, odd ones with manual.
+pub fn task_order(p: usize) -> [usize; 2] {
+    if p % 2 == 0 { [0, 1] } else { [1, 0] }
+}
+
+/// An RFC 3339 UTC time from seconds since the Unix epoch.
+fn rfc3339(secs: i64) -> String {
+    chrono::DateTime::from_timestamp(secs, 0).map(|t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true)).unwrap_or_default()
+}
+
+/// Writes `participants` × 2 recordings to `out` (one per participant per task), under the
+/// configuration `overrides` (empty for the defaults). Each participant does the two tasks as two
+/// blocks in the order of [`task_order`]; headers carry the block and the session start time.
+/// Existing files are never overwritten unless `force` is set.
+pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[(String, String)], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
     let tasks: Vec<TaskDef> = ["ray-casting-7", "manual-7"].iter().map(|id| TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))).collect::<Result<_, _>>()?;
     if out.exists() && !out.is_dir() {
         bail!("{}: exists and is not a folder", out.display());
     }
     let mut planned = Vec::new();
     for p in 0..participants {
-        for t in &tasks {
-            planned.push((p, t, out.join(format!("P{:02}-{}.jsonl", p + 1, t.id))));
+        for (block, i) in task_order(p).into_iter().enumerate() {
+            let t = &tasks[i];
+            planned.push((p, block as u32 + 1, t, out.join(format!("P{:02}-{}.jsonl", p + 1, t.id))));
         }
     }
     if !force {
-        if let Some((_, _, f)) = planned.iter().find(|(_, _, f)| f.exists()) {
+        if let Some((_, _, _, f)) = planned.iter().find(|(_, _, _, f)| f.exists()) {
             bail!("{}: already exists; use --force to overwrite the recordings in {}", f.display(), out.display());
         }
     }
     std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
     let mut written = Vec::new();
-    for (p, task, path) in planned {
+    let mut next_start = FIRST_SESSION_START;
+    for (p, block, task, path) in planned {
         progress(&format!("P{:02} {}", p + 1, task.id));
-        let session = synthesize(task, p, seed)?;
+        let mut session = synthesize(task, p, seed, overrides, progress)?;
+        if block == 1 {
+            next_start = FIRST_SESSION_START + 3600 * p as i64;
+        }
+        session.header.block = Some(block);
+        session.header.session_start = Some(rfc3339(next_start));
+        // The next block starts after this recording and a rest, on a whole second.
+        let seconds = grove_systems::task::ticks_to_seconds(session.end_tick, session.header.dt).ceil() as i64;
+        next_start += seconds + REST_BETWEEN_BLOCKS_S;
         let summary = serde_json::json!({ "generator": "grove synth", "seed": seed });
         // Write to a temporary file and rename, so a failure never leaves half a recording.
         let tmp = path.with_extension("jsonl.tmp");

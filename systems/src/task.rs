@@ -190,12 +190,35 @@ mod tests {
     }
 
     #[test]
+    fn tick_counts_become_exact_seconds() {
+        let dt = 1.0f32 / 60.0;
+        // 5455 ticks at 60 Hz are 90 + 55/60 s; summing f32 steps would give 90.9166714...
+        assert_eq!(ticks_to_seconds(5455, dt), 5455.0 / 60.0);
+        assert_eq!(ticks_to_seconds(60, dt), 1.0);
+        assert_eq!(ticks_to_seconds(0, dt), 0.0);
+        // A step that is not 1 over a whole number keeps the plain product.
+        assert_eq!(ticks_to_seconds(4, 0.3), 4.0 * 0.3f32 as f64);
+    }
+
+    #[test]
     fn both_tasks_use_the_same_targets() {
         let a = TaskDef::builtin("ray-casting-7").unwrap();
         let b = TaskDef::builtin("manual-7").unwrap();
         assert_eq!(a.targets, b.targets);
         assert_eq!(a.mode, Mode::RayCasting);
         assert_eq!(b.mode, Mode::Manual);
+    }
+}
+
+/// Converts a tick count to seconds exactly: `ticks / rate`, where `rate` is the whole number of
+/// ticks per second that the step `dt` (seconds) stands for (60 for a step of 1/60 s stored as
+/// an `f32`). Steps that are not 1 over a whole number fall back to `ticks × dt`.
+pub fn ticks_to_seconds(ticks: u64, dt: f32) -> f64 {
+    let rate = 1.0 / dt as f64;
+    if rate.is_finite() && rate >= 1.0 && (rate - rate.round()).abs() < 1e-3 {
+        ticks as f64 / rate.round()
+    } else {
+        ticks as f64 * dt as f64
     }
 }
 
@@ -208,6 +231,8 @@ pub struct TreeReport {
     pub model: String,
     /// Seconds from the task start until the target was first satisfied.
     pub time_s: f64,
+    /// The tick at which the target was first satisfied.
+    pub tick: u64,
     /// Where the tree stood, metres.
     pub position: [f32; 3],
 }
@@ -221,6 +246,10 @@ pub struct TaskReport {
     pub mode: String,
     /// Whether every target was satisfied.
     pub completed: bool,
+    /// The tick of the StartTask event.
+    pub start_tick: u64,
+    /// The tick the task time ends at: completion, or the end of the replay if not completed.
+    pub end_tick: u64,
     /// Seconds from the start to completion (or to the end of the replay if not completed).
     pub time_s: f64,
     /// Total errors.
@@ -246,7 +275,7 @@ pub struct TaskReport {
 impl TaskReport {
     /// Builds the report from a task state, the step and the tick the replay reached.
     pub fn new(task: &TaskState, dt: f32, now_tick: u64, catalogue: &Catalogue) -> TaskReport {
-        let dt = dt as f64;
+        let secs = |ticks: u64| ticks_to_seconds(ticks, dt);
         let end = task.completed_tick.unwrap_or(now_tick);
         let trees: Vec<TreeReport> = task
             .satisfied
@@ -256,7 +285,8 @@ impl TaskReport {
                 h.map(|h| TreeReport {
                     target: i,
                     model: catalogue.get(h.model).map_or_else(|| format!("model-{}", h.model.0), |m| m.name.clone()),
-                    time_s: (h.tick - task.started_tick) as f64 * dt,
+                    time_s: secs(h.tick - task.started_tick),
+                    tick: h.tick,
                     position: h.position.to_array(),
                 })
             })
@@ -268,16 +298,18 @@ impl TaskReport {
             id: task.def.id.clone(),
             mode: task.def.mode.name().to_string(),
             completed: task.is_complete(),
-            time_s: end.saturating_sub(task.started_tick) as f64 * dt,
+            start_tick: task.started_tick,
+            end_tick: end,
+            time_s: secs(end.saturating_sub(task.started_tick)),
             errors: task.errors.total(),
             error_kinds: task.errors,
             model_types: models.len(),
             trees,
             menu_opens: task.menu_opens,
             ray_path_m: task.ray_path_length,
-            aiming_s: task.aiming_ticks as f64 * dt,
-            menu_s: task.menu_ticks as f64 * dt,
-            manipulating_s: task.manipulating_ticks as f64 * dt,
+            aiming_s: secs(task.aiming_ticks),
+            menu_s: secs(task.menu_ticks),
+            manipulating_s: secs(task.manipulating_ticks),
         }
     }
 }
