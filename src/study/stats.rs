@@ -132,8 +132,9 @@ pub fn wilcoxon(differences: &[f64]) -> Wilcoxon {
         tie_term += size * size * size - size;
         i = j + 1;
     }
-    let w_plus: f64 = nz.iter().zip(&ranks).filter(|(d, _)| **d > 0.0).map(|(_, r)| r).sum();
-    let w_minus: f64 = nz.iter().zip(&ranks).filter(|(d, _)| **d < 0.0).map(|(_, r)| r).sum();
+    // Adding 0.0 turns the -0.0 that an empty float sum gives into 0.0.
+    let w_plus: f64 = nz.iter().zip(&ranks).filter(|(d, _)| **d > 0.0).map(|(_, r)| r).sum::<f64>() + 0.0;
+    let w_minus: f64 = nz.iter().zip(&ranks).filter(|(d, _)| **d < 0.0).map(|(_, r)| r).sum::<f64>() + 0.0;
     if n == 0 {
         return Wilcoxon { w_plus, w_minus, n, p: None, method: "exact" };
     }
