@@ -171,7 +171,8 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     write_json(&args.out.join("summary.json"), &json)?;
     let title = match &what_if {
         None => "Task time per participant: ray-casting vs manual".to_string(),
-        Some(w) => format!("What-if ({}): {}", w.kind, w.parameters_text()),
+        // The chart font has no arrow.
+        Some(w) => format!("What-if ({}): {}", w.kind, w.parameters_text().replace('→', "->")),
     };
     let baseline_rows = what_if.as_ref().map(|w| w.baseline.per_participant.as_slice());
     chart::ablation_chart(&args.out.join("ablation.png"), &summary.per_participant, baseline_rows, &title, &notes(what_if.as_ref(), &summary), 1100, 640)?;
@@ -239,7 +240,7 @@ fn run_sweep(args: &StudyArgs, files: &[PathBuf], fixed: &[(String, String)], na
     csv_out::write_sweep(&args.out.join("sweep.csv"), &sweep)?;
     let json = serde_json::json!({"note": &summary.note, "summary": &summary, "what_if": null, "sweep": &sweep, "trials": &baseline});
     write_json(&args.out.join("summary.json"), &json)?;
-    let mut n = vec![format!("Sweep, {}: {}; default {} = {}.", sweep.kind, sweep.kind_meaning, name, sweep.default_value)];
+    let mut n = vec![format!("Sweep, {}: {}.", sweep.kind, sweep.kind_meaning), format!("Default {} = {}; means are over the completed trials.", name, sweep.default_value)];
     if !sweep.fixed.is_empty() {
         n.push(format!("Held for every value: {}.", sweep.fixed.iter().map(|p| format!("{} = {} (default {})", p.name, p.new_value, p.default_value)).collect::<Vec<_>>().join(", ")));
     }

@@ -173,6 +173,21 @@ pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, hei
             .label(mode)
             .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], colour.filled()));
         chart.draw_series(pts.iter().map(|p| Circle::new(*p, 6, colour.filled()))).map_err(|e| err(path, &e))?;
+        // Where trials did not complete, say how many did: the mean is over fewer trials, or
+        // there is no point at all.
+        let labels: Vec<(f64, f64, String)> = sweep
+            .rows
+            .iter()
+            .filter_map(|r| {
+                let x = r.value.parse::<f64>().ok()?;
+                let c = r.modes.get(mode)?;
+                let (done, all) = (r.completed.get(mode).copied().unwrap_or(0), c.pairs + c.unpaired);
+                (done < all).then(|| (x, c.what_if_mean_s.map_or(ymax * 0.04, |y| y + ymax * 0.03), format!("{done}/{all} completed")))
+            })
+            .collect();
+        chart
+            .draw_series(labels.into_iter().map(|(x, y, t)| Text::new(t, (x, y), (FONT, 15).into_font().color(&colour))))
+            .map_err(|e| err(path, &e))?;
     }
     chart
         .configure_series_labels()

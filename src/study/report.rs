@@ -290,6 +290,9 @@ pub fn summary_lines(s: &Summary) -> String {
 
 /// One paragraph of paired statistics for the terminal.
 pub fn paired_line(p: &PairedStats) -> String {
+    if p.t.is_none() {
+        return format!("paired ({}, n = {}): every difference is {:.2} {}; no spread, so no test\n", p.difference, p.n, p.mean_difference, p.unit);
+    }
     format!(
         "paired ({}, n = {}): mean {:.2} {u} (95 % CI {} to {} {u}), sd {:.2} {u}; t({}) = {}, p = {}; Wilcoxon W+ = {}, W- = {}, p = {} ({}); Cohen's d_z = {}\n",
         p.difference,
