@@ -20,6 +20,7 @@ pub mod events;
 pub mod hash;
 pub mod input;
 pub mod interact;
+pub mod names;
 pub mod replay;
 pub mod resources;
 pub mod scene;

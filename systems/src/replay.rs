@@ -326,7 +326,7 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(St
             Scene::load(&candidate).map_err(|e| format!("scene: {e}"))?
         }
     };
-    check_header_fields(header)?;
+    crate::names::check_header(header)?;
     if (scene.dt - header.dt).abs() > 1e-9 {
         return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
     }
@@ -337,38 +337,6 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(St
     }
     sim.res.config = config;
     Ok(sim)
-}
-
-/// Checks the header fields that name things: the task must be a known task, the optional
-/// session start a valid RFC 3339 time, the optional block at least 1.
-fn check_header_fields(header: &Header) -> Result<(), String> {
-    if let Some(task) = &header.task
-        && crate::task::TaskDef::builtin(task).is_none()
-    {
-        let known: Vec<&str> = crate::task::BUILTIN_TASKS.iter().map(|(id, _)| *id).collect();
-        return Err(format!("header names unknown task '{task}'; known tasks: {}", known.join(", ")));
-    }
-    if let Some(start) = &header.session_start
-        && chrono::DateTime::parse_from_rfc3339(start).is_err()
-    {
-        return Err(format!("header session_start '{start}' is not an RFC 3339 time such as 2019-06-03T09:00:00Z"));
-    }
-    if header.block == Some(0) {
-        return Err("header block must be 1 or more".into());
-    }
-    Ok(())
-}
-
-/// Checks that an event names only things that exist: a chosen model must be in the catalogue
-/// and a started task must be a known task.
-fn check_event_names(event: &InputEvent, sim: &Sim) -> Result<(), String> {
-    match event {
-        InputEvent::ChooseModel { model } if sim.res.catalogue.get(*model).is_none() => {
-            Err(format!("choose_model names unknown model {}; the catalogue has models 0 to {}", model.0, sim.res.catalogue.len().saturating_sub(1)))
-        }
-        InputEvent::StartTask { task } if crate::task::TaskDef::builtin(task).is_none() => Err(format!("start_task names unknown task '{task}'")),
-        _ => Ok(()),
-    }
 }
 
 /// Re-simulates a list of stamped events from a fresh simulation and writes the full recording
@@ -617,7 +585,7 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
             Line::Header(_) => {}
             Line::Event(e) => {
                 *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
-                check_event_names(&e.event, &sim).map_err(|m| err(Some(n), m))?;
+                crate::names::check_event(&e.event, &sim).map_err(|m| err(Some(n), m))?;
                 sim.push_input(e.event).map_err(|m| err(Some(n), m))?;
             }
             Line::Checkpoint(c) => {

@@ -1,0 +1,64 @@
+//! Checks that the names a recording uses exist: the header's task, session start and block,
+//! and the models and tasks its events name. The replay reader calls these, so a recording that
+//! names something unknown is invalid input (exit 2) rather than a session that silently does
+//! nothing.
+
+use crate::input::InputEvent;
+use crate::replay::Header;
+use crate::sim::Sim;
+
+/// Checks the header fields that name things: the task must be a known task, the optional
+/// session start a valid RFC 3339 time, the optional block at least 1.
+pub fn check_header(header: &Header) -> Result<(), String> {
+    if let Some(task) = &header.task
+        && crate::task::TaskDef::builtin(task).is_none()
+    {
+        let known: Vec<&str> = crate::task::BUILTIN_TASKS.iter().map(|(id, _)| *id).collect();
+        return Err(format!("header names unknown task '{task}'; known tasks: {}", known.join(", ")));
+    }
+    if let Some(start) = &header.session_start
+        && chrono::DateTime::parse_from_rfc3339(start).is_err()
+    {
+        return Err(format!("header session_start '{start}' is not an RFC 3339 time such as 2019-06-03T09:00:00Z"));
+    }
+    if header.block == Some(0) {
+        return Err("header block must be 1 or more".into());
+    }
+    Ok(())
+}
+
+/// Checks that an event names only things that exist: a chosen model must be in the catalogue
+/// and a started task must be a known task.
+pub fn check_event(event: &InputEvent, sim: &Sim) -> Result<(), String> {
+    match event {
+        InputEvent::ChooseModel { model } if sim.res.catalogue.get(*model).is_none() => {
+            Err(format!("choose_model names unknown model {}; the catalogue has models 0 to {}", model.0, sim.res.catalogue.len().saturating_sub(1)))
+        }
+        InputEvent::StartTask { task } if crate::task::TaskDef::builtin(task).is_none() => Err(format!("start_task names unknown task '{task}'")),
+        _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn header_names_must_exist_and_optional_fields_must_be_well_formed() {
+        let mut h = Header::new("study", 1, 1.0 / 60.0);
+        assert!(check_header(&h).is_ok(), "no task, no session fields");
+        h.task = Some("manual-7".into());
+        h.session_start = Some("2019-06-03T09:00:00Z".into());
+        h.block = Some(2);
+        assert!(check_header(&h).is_ok());
+        let bad = |f: &dyn Fn(&mut Header), needle: &str| {
+            let mut x = h.clone();
+            f(&mut x);
+            let e = check_header(&x).unwrap_err();
+            assert!(e.contains(needle), "{e}");
+        };
+        bad(&|x| x.task = Some("manual-8".into()), "unknown task 'manual-8'");
+        bad(&|x| x.session_start = Some("3 June 2019".into()), "RFC 3339");
+        bad(&|x| x.block = Some(0), "block");
+    }
+}
