@@ -62,6 +62,12 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
             header.task = args.task.clone();
             header.participant = args.participant.clone();
             header.synthetic = false;
+            // The wall-clock start of the recording, so that reports order a participant's sessions.
+            header.session_start = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .ok()
+                .and_then(|d| chrono::DateTime::from_timestamp(d.as_secs() as i64, 0))
+                .map(|t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true));
             Some(create_recording(path, &header).map_err(|e| anyhow!(e))?)
         }
         None => None,
