@@ -200,6 +200,15 @@ fn a_sweep_writes_one_row_per_value_and_its_chart() {
     let png = image::open(dir.path().join("o/sweep.png")).unwrap().to_rgb8();
     let count = |c: [u8; 3]| png.pixels().filter(|p| p.0 == c).count();
     assert!(count([46, 134, 193]) > 200 && count([230, 126, 34]) > 200, "both lines are drawn");
+    // The terminal table of a single what-if names the kind, the default and the new value, and
+    // gives the baseline, the what-if and the difference per trial.
+    let o = grove(&["study", "--replays", rec.to_str().unwrap(), "--out", dir.path().join("t").to_str().unwrap(), "--set", "snap_threshold=0.2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.starts_with("what-if (replayed hands): snap_threshold 0.3 (default) → 0.2\n"), "{text}");
+    for needle in ["baseline_s", "what_if_s", "diff_s", "what-if kind: replayed hands", "paired (manual − ray-casting, n = 2)", "note: synthetic data"] {
+        assert!(text.contains(needle), "{needle} missing in:\n{text}");
+    }
     // Two swept parameters at once are refused.
     let o = grove(&["study", "--replays", rec.to_str().unwrap(), "--out", dir.path().join("p").to_str().unwrap(), "--set", "snap_threshold=0.1,0.2", "--set", "spawn_distance=1,2"]);
     assert_one_line_error(&o, 2, "only one parameter can be swept");
