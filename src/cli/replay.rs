@@ -29,7 +29,7 @@ pub struct ReplayArgs {
     #[arg(long, requires = "out")]
     pub seal: bool,
     /// Where --seal writes the sealed recording (never overwritten).
-    #[arg(long, value_name = "OUT")]
+    #[arg(long, value_name = "OUT", requires = "seal")]
     pub out: Option<PathBuf>,
 }
 
