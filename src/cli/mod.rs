@@ -9,6 +9,7 @@ pub mod bench_wind;
 pub mod play;
 pub mod render;
 pub mod replay;
+pub mod replay_upgrade;
 pub mod scene;
 pub mod sim;
 pub mod study;

@@ -23,6 +23,15 @@ pub struct ReplayArgs {
     /// Stop at this tick.
     #[arg(long)]
     pub until: Option<u64>,
+    /// Rewrite FILE (format version 1) as version 2 into --out instead of replaying it.
+    #[arg(long, requires = "out", conflicts_with_all = ["json", "until"])]
+    pub upgrade: bool,
+    /// The file --upgrade writes.
+    #[arg(long, requires = "upgrade")]
+    pub out: Option<PathBuf>,
+    /// Let --upgrade overwrite an existing --out file.
+    #[arg(long, requires = "upgrade")]
+    pub force: bool,
 }
 
 /// What `grove replay --json` prints.
@@ -88,6 +97,9 @@ impl ReplayReport {
 
 /// Runs `grove replay`.
 pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
+    if args.upgrade {
+        return super::replay_upgrade::run(&args.file, args.out.as_deref(), args.force);
+    }
     let start = Instant::now();
     let options = ReplayOptions { until: args.until, ..Default::default() };
     let outcome = match replay_file(&args.file, &options) {

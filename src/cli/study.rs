@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use clap::Args;
+use grove::atomic_write::{write_atomic, write_via_temp};
 use grove_systems::resources::Config;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -26,7 +27,14 @@ pub struct StudyArgs {
     /// Re-run the same input with a changed parameter, e.g. --set snap_threshold=0.1 (what-if).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
+    /// Replace the reports of an earlier run in --out (without it, a folder holding any of them
+    /// is refused).
+    #[arg(long)]
+    pub force: bool,
 }
+
+/// The files `grove study` writes into `--out`.
+pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png"];
 
 /// Parses and checks `--set NAME=VALUE` arguments against the configuration's names.
 pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> {
@@ -47,6 +55,11 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     if args.out.exists() && !args.out.is_dir() {
         bail!("{}: exists and is not a folder", args.out.display());
     }
+    if !args.force
+        && let Some(old) = REPORT_FILES.iter().map(|f| args.out.join(f)).find(|p| p.exists())
+    {
+        bail!("{}: holds the reports of an earlier run ({}); use --force to replace them, or another --out", args.out.display(), old.display());
+    }
     std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
 
     let bar = ProgressBar::new(files.len() as u64);
@@ -56,16 +69,16 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     bar.finish_and_clear();
 
     let summary = report::summarize(&trials, &overrides, wall);
-    report::write_trial_results(&args.out.join("trial_results.csv"), &trials)?;
-    report::write_trees(&args.out.join("trees.csv"), &trials)?;
-    std::fs::write(args.out.join("summary.json"), serde_json::to_string_pretty(&serde_json::json!({"summary": &summary, "trials": &trials}))?)
-        .map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
+    // Each report goes through a temporary file and a rename, so none is ever left half written.
+    write_via_temp(&args.out.join("trial_results.csv"), |tmp| report::write_trial_results(tmp, &trials))?;
+    write_via_temp(&args.out.join("trees.csv"), |tmp| report::write_trees(tmp, &trials))?;
+    write_atomic(&args.out.join("summary.json"), serde_json::to_string_pretty(&serde_json::json!({"summary": &summary, "trials": &trials}))?.as_bytes())?;
     let title = if overrides.is_empty() {
         "Task time per participant: ray-casting vs manual".to_string()
     } else {
         format!("What-if ({}): task time per participant", overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(", "))
     };
-    chart::ablation_chart(&args.out.join("ablation.png"), &summary.per_participant, &title, 1100, 600)?;
+    write_via_temp(&args.out.join("ablation.png"), |tmp| chart::ablation_chart(tmp, &summary.per_participant, &title, 1100, 600))?;
 
     if args.json {
         super::print_json(&serde_json::json!({"summary": &summary, "trials": &trials}))?;
