@@ -79,7 +79,7 @@ fn a_recording_verifies_and_reports_every_field() {
     assert_eq!(v["verified"], true);
     assert_eq!(v["complete"], true);
     assert_eq!(v["ticks"], 300);
-    assert_eq!(v["format_version"], 1);
+    assert_eq!(v["format_version"], grove_systems::replay::FORMAT_VERSION);
     assert_eq!(v["checkpoints_checked"], 6); // 5 checkpoints (60..300) and the footer.
     assert!(v["first_divergence"].is_null());
     assert_eq!(v["events"]["controller_pose"], 200);
@@ -127,11 +127,14 @@ fn a_changed_pose_that_still_parses_diverges_at_the_next_checkpoint() {
     let mut lines = lines_of(&record(&path));
     // Change the last controller pose (tick 200) and give the line a valid checksum.
     let i = lines.iter().position(|l| l.contains("\"tick\":200,") && l.contains("controller_pose")).unwrap();
-    let Line::Event(mut ev) = decode_line(&lines[i]).unwrap() else { panic!("not an event") };
+    let (body, _) = grove_systems::replay::split_sum(&lines[i]).unwrap();
+    let Line::Event(mut ev) = decode_line(&grove_systems::replay::sign_body(&body, 0).0).unwrap() else { panic!("not an event") };
     if let InputEvent::ControllerPose { pose } = &mut ev.event {
         pose.position.x += 0.001;
     }
     lines[i] = encode_line(&Line::Event(ev));
+    // Sign the chain again (version 2), so that only the pose is wrong.
+    lines = grove_systems::replay::rechain(&lines).unwrap();
     write_lines(&path, &lines);
     let out = grove_with(&["replay", "--json"], &path);
     assert_eq!(out.status.code(), Some(1));
@@ -202,7 +205,7 @@ fn an_unknown_event_kind_is_an_error() {
 
 #[test]
 fn a_future_format_version_is_an_error() {
-    bad("future", |l| replace_event(l, "\"header\"", |b| b.replace("\"format_version\":1", "\"format_version\":99")), "format version 99");
+    bad("future", |l| replace_event(l, "\"header\"", |b| b.replace("\"format_version\":2", "\"format_version\":99")), "format version 99");
 }
 
 #[test]
@@ -217,7 +220,7 @@ fn nan_and_infinite_poses_are_errors() {
 fn ticks_out_of_order_are_an_error() {
     // With the chain signed again, so that the order itself is what is caught.
     bad("order", |l| {
-        l.swap(30, 80);
+        l.swap(30, 32);
         let chained = grove_systems::replay::rechain(l).unwrap();
         *l = chained;
     }, "out of order");

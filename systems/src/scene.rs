@@ -321,7 +321,7 @@ impl Scene {
             near(&format!("tree {i}"), &[t.position.x, t.position.y, t.position.z, t.yaw_deg])?;
             finite(&format!("tree {i}"), t.scale.is_finite())?;
             if !(t.scale > 0.0 && t.scale <= 1000.0) {
-                return Err(format!("tree {i} has scale {}; scale must be in (0, 1000]", t.scale));
+                return Err(format!("tree {i} has scale {}; scale must be positive and at most 1000", t.scale));
             }
         }
         let c = &self.camera;

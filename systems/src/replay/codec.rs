@@ -131,7 +131,7 @@ fn event_from_value(v: serde_json::Value) -> Result<InputEvent, String> {
         && matches!(kind.as_str(), "open_menu" | "close_menu" | "end_task")
         && let Some(extra) = map.keys().find(|k| *k != "kind")
     {
-        return Err(format!("unknown field `{}` in a `{kind}` event, which has no fields", extra.escape_debug()));
+        return Err(format!("unknown field `{}` in an event of kind `{kind}`, which has no fields", extra.escape_debug()));
     }
     let event: InputEvent = serde_json::from_value(v).map_err(serde_message)?;
     event.validate()?;

@@ -69,9 +69,17 @@ fn load(path: &Path, shown: &str) -> Result<Scene, String> {
         return Err(format!("scene {shown} is larger than the limit of {MAX_SCENE_BYTES} bytes per scene file ({})", crate::limits::RAISE));
     }
     let text = read_scene_text(path).map_err(|e| format!("scene {shown}: {}", e.message))?;
-    Scene::parse(&text, shown).map_err(|e| {
-        // Only the position of a parse error: its message may quote the file's content.
-        let at = e.message.split(':').next().filter(|p| p.starts_with("line ")).map(|p| format!(" ({p})")).unwrap_or_default();
-        format!("scene {shown} is not a valid grove scene{at}; run `grove scene check` on it for details")
-    })
+    let generic = |at: String| format!("scene {shown} is not a valid grove scene{at}; run `grove scene check` on it for details");
+    // Only the position of a parse error: its message may quote the file's content.
+    let scene: Scene = ron::from_str(&text).map_err(|e| generic(format!(" (line {}, column {})", e.span.start.line, e.span.start.col)))?;
+    // A crossed limit is named, with the planes called by number rather than by their names.
+    let mut anonymous = scene.clone();
+    for (i, p) in anonymous.planes.iter_mut().enumerate() {
+        p.name = format!("#{}", i + 1);
+    }
+    match anonymous.validate() {
+        Ok(()) => Ok(scene),
+        Err(m) if m.contains("limit") => Err(format!("scene {shown}: {m}")),
+        Err(_) => Err(generic(String::new())),
+    }
 }
