@@ -58,6 +58,8 @@ impl Rng {
 enum Outcome {
     Refused,
     Diverged,
+    /// Read without an error, but no checkpoint was reached to verify (`grove replay` exit 1).
+    Unverified,
     Incomplete,
     Verified,
     Panicked,
@@ -91,7 +93,8 @@ fn guarded(name: &str, current: &Mutex<String>, started: &AtomicU64, epoch: Inst
 fn replay_outcome(text: &str, base: &Path) -> Outcome {
     match replay_reader(text.as_bytes(), "mutant.jsonl", Some(base), &ReplayOptions::default()) {
         Err(_) => Outcome::Refused,
-        Ok(o) if o.first_divergence.is_some() || o.checkpoints_checked == 0 => Outcome::Diverged,
+        Ok(o) if o.first_divergence.is_some() => Outcome::Diverged,
+        Ok(o) if o.checkpoints_checked == 0 => Outcome::Unverified,
         Ok(o) if !o.complete => Outcome::Incomplete,
         Ok(_) => Outcome::Verified,
     }
@@ -304,6 +307,36 @@ fn main() {
                 let (o, t) = guarded(&name, &current, &started, epoch, || replay_outcome(&join(&v), &base));
                 record(&mut tally, "swap", name, o, t, true);
                 replays += 1;
+            }
+        }
+    }
+    // For comparison only (not counted as failures): the same damage to the version-1 fixture,
+    // whose checksums cover each line alone.
+    if let Ok(text) = std::fs::read_to_string(root.join("tests/fixtures/replay-v1.jsonl")) {
+        let lines: Vec<String> = text.lines().map(str::to_string).collect();
+        for i in 1..lines.len() {
+            let mut mutants = Vec::new();
+            let mut v = lines.clone();
+            v.remove(i);
+            mutants.push(("deletion", v));
+            let mut v = lines.clone();
+            v.insert(i, lines[i].clone());
+            mutants.push(("duplication", v));
+            if i + 1 < lines.len() && lines[i] != lines[i + 1] {
+                let mut v = lines.clone();
+                v.swap(i, i + 1);
+                mutants.push(("swap", v));
+            }
+            for (family, v) in mutants {
+                let name = format!("replay-v1.jsonl {family} at line {}", i + 1);
+                let (o, _) = guarded(&name, &current, &started, epoch, || replay_outcome(&join(&v), &base));
+                tally.add(&format!("v1 comparison {family} total"));
+                if !matches!(o, Outcome::Refused | Outcome::Incomplete) {
+                    tally.add(&format!("v1 comparison {family} not refused"));
+                }
+                if o == Outcome::Panicked {
+                    tally.failures.push(format!("{name}: panicked"));
+                }
             }
         }
     }
