@@ -6,4 +6,5 @@
 #![warn(missing_docs)]
 
 pub mod assetgen;
+pub mod atomic_write;
 pub mod render;

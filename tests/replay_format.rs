@@ -79,7 +79,7 @@ fn a_recording_verifies_and_reports_every_field() {
     assert_eq!(v["verified"], true);
     assert_eq!(v["complete"], true);
     assert_eq!(v["ticks"], 300);
-    assert_eq!(v["format_version"], 1);
+    assert_eq!(v["format_version"], grove_systems::replay::FORMAT_VERSION);
     assert_eq!(v["checkpoints_checked"], 6); // 5 checkpoints (60..300) and the footer.
     assert!(v["first_divergence"].is_null());
     assert_eq!(v["events"]["controller_pose"], 200);
@@ -127,11 +127,14 @@ fn a_changed_pose_that_still_parses_diverges_at_the_next_checkpoint() {
     let mut lines = lines_of(&record(&path));
     // Change the last controller pose (tick 200) and give the line a valid checksum.
     let i = lines.iter().position(|l| l.contains("\"tick\":200,") && l.contains("controller_pose")).unwrap();
-    let Line::Event(mut ev) = decode_line(&lines[i]).unwrap() else { panic!("not an event") };
+    let (body, _) = grove_systems::replay::split_sum(&lines[i]).unwrap();
+    let Line::Event(mut ev) = decode_line(&grove_systems::replay::sign_body(&body, 0).0).unwrap() else { panic!("not an event") };
     if let InputEvent::ControllerPose { pose } = &mut ev.event {
         pose.position.x += 0.001;
     }
     lines[i] = encode_line(&Line::Event(ev));
+    // Sign the chain again (version 2), so that only the pose is wrong.
+    lines = grove_systems::replay::rechain(&lines).unwrap();
     write_lines(&path, &lines);
     let out = grove_with(&["replay", "--json"], &path);
     assert_eq!(out.status.code(), Some(1));
@@ -188,8 +191,11 @@ fn replace_event(lines: &mut [String], find: &str, f: impl FnOnce(&str) -> Strin
     let i = lines.iter().position(|x| x.contains(find)).unwrap();
     let body = lines[i][..lines[i].rfind(",\"sum\":\"").unwrap()].to_string() + "}";
     let new_body = f(&body);
-    let sum = grove_systems::replay::line_sum(&new_body);
-    lines[i] = format!("{},\"sum\":\"{sum}\"}}", &new_body[..new_body.len() - 1]);
+    lines[i] = grove_systems::replay::sign_body(&new_body, 0).0;
+    // Version 2 chains each checksum on the previous one: sign the whole chain again, as a
+    // forger would, so that only the changed content is wrong.
+    let chained = grove_systems::replay::rechain(lines).unwrap();
+    lines.clone_from_slice(&chained);
 }
 
 #[test]
@@ -199,7 +205,7 @@ fn an_unknown_event_kind_is_an_error() {
 
 #[test]
 fn a_future_format_version_is_an_error() {
-    bad("future", |l| replace_event(l, "\"header\"", |b| b.replace("\"format_version\":1", "\"format_version\":99")), "format version 99");
+    bad("future", |l| replace_event(l, "\"header\"", |b| b.replace("\"format_version\":2", "\"format_version\":99")), "format version 99");
 }
 
 #[test]
@@ -212,7 +218,14 @@ fn nan_and_infinite_poses_are_errors() {
 
 #[test]
 fn ticks_out_of_order_are_an_error() {
-    bad("order", |l| l.swap(30, 80), "out of order");
+    // With the chain signed again, so that the order itself is what is caught.
+    bad("order", |l| {
+        l.swap(30, 32);
+        let chained = grove_systems::replay::rechain(l).unwrap();
+        *l = chained;
+    }, "out of order");
+    // Without, the chain breaks at the first moved line.
+    bad("moved", |l| l.swap(30, 80), ":31: checksum mismatch");
 }
 
 #[test]
@@ -267,4 +280,73 @@ fn the_version_1_fixture_is_readable() {
     // change may make its checkpoints diverge, but the file stays readable.
     let out = grove_with(&["replay", "--json"], &path);
     assert_ne!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn the_version_2_fixture_is_readable() {
+    let path = root().join("tests/fixtures/replay-v2.jsonl");
+    if std::env::var_os("UPDATE_FIXTURES").is_some() && !path.exists() {
+        record(&path);
+    }
+    let (header, events) = grove_systems::replay::read_events(&path).unwrap();
+    assert_eq!(header.format_version, 2);
+    assert_eq!(header.participant.as_deref(), Some("T01"));
+    assert_eq!(events, session().1, "the fixture holds the session's events");
+    let out = grove_with(&["replay", "--json"], &path);
+    assert_ne!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    // Its checksums are chained: every line after the second differs from its version-1 form.
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let v1_sum = |l: &str| {
+        let (body, _) = grove_systems::replay::split_sum(l).unwrap();
+        grove_systems::replay::line_sum(&body)
+    };
+    assert!(lines[2..].iter().all(|l| !l.ends_with(&format!("\"sum\":\"{}\"}}", v1_sum(l)))));
+}
+
+#[test]
+fn unknown_fields_are_refused_on_events_without_fields() {
+    for kind in ["open_menu", "close_menu", "end_task"] {
+        bad(kind, |l| replace_event(l, &format!("\"kind\":\"{kind}\""), |b| b.replace(&format!("{{\"kind\":\"{kind}\"}}"), &format!("{{\"kind\":\"{kind}\",\"bogus\":1}}"))), "unknown field `bogus`");
+    }
+}
+
+#[test]
+fn the_recorder_flushes_every_press_at_once() {
+    /// A writer that counts what reached it through `flush`.
+    #[derive(Default)]
+    struct Spy {
+        buffered: Vec<u8>,
+        flushed: Vec<u8>,
+    }
+    impl Write for Spy {
+        fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+            self.buffered.extend_from_slice(b);
+            Ok(b.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            self.flushed.append(&mut self.buffered);
+            Ok(())
+        }
+    }
+    let (header, _) = session();
+    let mut rec = grove_systems::replay::Recorder::new(Spy::default(), &header).unwrap();
+    let pose = Pose { position: Vec3::new(0.0, 1.0, 0.0), rotation: Quat::IDENTITY };
+    rec.event(3, 50, 3, &InputEvent::ControllerPose { pose }).unwrap();
+    rec.event(3, 50, 3, &InputEvent::ButtonDown { button: Button::Trigger }).unwrap();
+    let f = rec.finish(&grove_systems::Sim::from_scene(&Scene::builtin("study").unwrap(), 42).unwrap(), serde_json::json!({})).unwrap();
+    let text = String::from_utf8(f.flushed).unwrap();
+    assert_eq!(text.lines().count(), 4, "header, pose, press and footer");
+    // Now without the footer: the press must already be out, even though the pose before it
+    // waited in the buffer.
+    let mut rec = grove_systems::replay::Recorder::new(Spy::default(), &header).unwrap();
+    rec.event(3, 50, 3, &InputEvent::ControllerPose { pose }).unwrap();
+    assert_eq!(String::from_utf8_lossy(&spy_flushed(&rec)).lines().count(), 1, "a pose waits");
+    rec.event(3, 50, 3, &InputEvent::ButtonDown { button: Button::Trigger }).unwrap();
+    let flushed = String::from_utf8(spy_flushed(&rec)).unwrap();
+    assert!(flushed.lines().last().unwrap().contains("button_down"), "{flushed}");
+
+    fn spy_flushed(rec: &grove_systems::replay::Recorder<Spy>) -> Vec<u8> {
+        rec.get_ref().flushed.clone()
+    }
 }

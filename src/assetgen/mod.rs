@@ -47,15 +47,17 @@ enum Img {
 }
 
 fn write_png(path: &Path, img: Img) -> anyhow::Result<()> {
-    let result = match img {
-        Img::Rgb(i) => i.save(path),
-        Img::Rgba(i) => i.save(path),
-    };
-    result.with_context(|| format!("{}: cannot write", path.display()))
+    crate::atomic_write::write_via_temp(path, |tmp| {
+        let result = match img {
+            Img::Rgb(i) => i.save(tmp),
+            Img::Rgba(i) => i.save(tmp),
+        };
+        result.with_context(|| format!("{}: cannot write", path.display()))
+    })
 }
 
 fn write(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    std::fs::write(path, bytes).with_context(|| format!("{}: cannot write", path.display()))
+    crate::atomic_write::write_atomic(path, bytes)
 }
 
 /// The horizontal radius of a set of meshes around the trunk axis.

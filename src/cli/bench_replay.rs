@@ -6,6 +6,7 @@ use anyhow::anyhow;
 use glam::Vec3;
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::Button;
+use grove::atomic_write::{write_atomic, write_via_temp};
 use grove_systems::replay::{record_events, replay_reader, Header, ReplayOptions};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
@@ -80,10 +81,11 @@ pub fn bench_study() -> anyhow::Result<Value> {
         let t = Instant::now();
         let (trials, wall_sim) = crate::study::run_all(&files, &[], &|| {});
         let summary = crate::study::report::summarize(&trials, &[], wall_sim);
-        crate::study::csv_out::write_trial_results(&out.join("trial_results.csv"), &trials, None)?;
-        crate::study::csv_out::write_trees(&out.join("trees.csv"), &trials)?;
-        std::fs::write(out.join("summary.json"), serde_json::to_string_pretty(&summary)?)?;
-        crate::study::chart::ablation_chart(&out.join("ablation.png"), &summary.per_participant, None, "bench", &[], 1100, 600)?;
+        // Written as `grove study` writes them: through a temporary file and a rename.
+        write_via_temp(&out.join("trial_results.csv"), |tmp| crate::study::csv_out::write_trial_results(tmp, &trials, None))?;
+        write_via_temp(&out.join("trees.csv"), |tmp| crate::study::csv_out::write_trees(tmp, &trials))?;
+        write_atomic(&out.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
+        write_via_temp(&out.join("ablation.png"), |tmp| crate::study::chart::ablation_chart(tmp, &summary.per_participant, None, "bench", &[], 1100, 600))?;
         walls.push(t.elapsed().as_secs_f64());
         verified = trials.iter().filter(|t| t.status == crate::study::TrialStatus::Verified).count();
     }

@@ -10,6 +10,7 @@ pub mod play;
 pub mod render;
 pub mod replay;
 pub mod replay_seal;
+pub mod replay_upgrade;
 pub mod scene;
 pub mod sim;
 pub mod study;

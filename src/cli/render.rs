@@ -12,6 +12,7 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use clap::Args;
+use grove::atomic_write::write_via_temp;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
 use grove_systems::components::Sun;
@@ -58,10 +59,11 @@ pub struct RenderArgs {
     pub force: bool,
 }
 
-/// Renders one world with an existing renderer and saves it.
+/// Renders one world with an existing renderer and saves it (through a temporary file and a
+/// rename, so a failed render or save leaves no file).
 pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> anyhow::Result<()> {
     let img = offscreen::render_image(gpu, renderer, sim).map_err(|e| anyhow!(e))?;
-    offscreen::save_png(&img, out).map_err(|e| anyhow!(e))
+    write_via_temp(out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))
 }
 
 fn check_size(w: u32, h: u32) -> anyhow::Result<()> {
@@ -74,6 +76,9 @@ fn check_size(w: u32, h: u32) -> anyhow::Result<()> {
 fn check_out_file(out: &Path, force: bool) -> anyhow::Result<()> {
     if out.is_dir() {
         bail!("{}: is a directory; --out needs a PNG file name", out.display());
+    }
+    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+        bail!("{}: --out must name a .png file (grove renders PNG only)", out.display());
     }
     if out.exists() && !force {
         bail!("{}: already exists (use --force to overwrite)", out.display());
@@ -93,7 +98,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         check_out_file(&args.out, args.force)?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
         let img = offscreen::render_model_file(&gpu, model, args.width, args.height, !args.no_shadows).map_err(|e| anyhow!(e))?;
-        offscreen::save_png(&img, &args.out).map_err(|e| anyhow!(e))?;
+        write_via_temp(&args.out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))?;
         println!("{}: rendered {} ({}x{}) on {}", args.out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }

@@ -26,11 +26,17 @@ pub struct ReplayArgs {
     #[arg(long)]
     pub until: Option<u64>,
     /// Seal FILE: re-simulate its events and write them with checkpoints and a footer to --out.
-    #[arg(long, requires = "out")]
+    #[arg(long, requires = "out", conflicts_with_all = ["upgrade"])]
     pub seal: bool,
-    /// Where --seal writes the sealed recording (never overwritten).
-    #[arg(long, value_name = "OUT", requires = "seal")]
+    /// Rewrite FILE (format version 1) as version 2 into --out instead of replaying it.
+    #[arg(long, requires = "out", conflicts_with_all = ["json", "until"])]
+    pub upgrade: bool,
+    /// The file --seal or --upgrade writes (never overwritten, except by --upgrade --force).
+    #[arg(long, value_name = "OUT")]
     pub out: Option<PathBuf>,
+    /// Let --upgrade overwrite an existing --out file.
+    #[arg(long, requires = "upgrade")]
+    pub force: bool,
 }
 
 /// What `grove replay --json` prints.
@@ -108,6 +114,12 @@ impl ReplayReport {
 pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
     if args.seal {
         return super::replay_seal::run(&args.file, args.out.as_deref());
+    }
+    if args.upgrade {
+        return super::replay_upgrade::run(&args.file, args.out.as_deref(), args.force);
+    }
+    if args.out.is_some() {
+        anyhow::bail!("--out is only for --seal or --upgrade");
     }
     let start = Instant::now();
     let options = ReplayOptions { until: args.until, ..Default::default() };

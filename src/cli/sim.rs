@@ -43,6 +43,9 @@ struct SimReport {
 /// Runs `grove sim`.
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     let scene = super::load_scene(&args.scene)?;
+    if args.ticks > grove_systems::limits::MAX_TICKS {
+        return Err(anyhow!("--ticks {} is past the limit of {} ticks ({})", args.ticks, grove_systems::limits::MAX_TICKS, grove_systems::limits::RAISE));
+    }
     if args.trees > 5_000_000 {
         return Err(anyhow!("--trees {} is more than 5,000,000", args.trees));
     }

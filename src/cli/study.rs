@@ -14,6 +14,7 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use clap::Args;
+use grove::atomic_write::{write_atomic, write_via_temp};
 use grove_systems::resources::Config;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -43,7 +44,14 @@ pub struct StudyArgs {
     /// `grove synth --set …`) with the baseline recordings in this folder.
     #[arg(long, value_name = "DIR", conflicts_with = "set")]
     pub baseline: Option<PathBuf>,
+    /// Replace the reports of an earlier run in --out (without it, a folder holding any of them
+    /// is refused).
+    #[arg(long)]
+    pub force: bool,
 }
+
+/// The files `grove study` writes into `--out`.
+pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png"];
 
 /// Parses and checks `--set NAME=VALUE` arguments against the configuration's names.
 pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> {
@@ -103,7 +111,7 @@ fn progress(total: u64) -> ProgressBar {
 }
 
 fn write_json(path: &Path, value: &serde_json::Value) -> anyhow::Result<()> {
-    std::fs::write(path, serde_json::to_string_pretty(value)?).map_err(|e| anyhow!("{}: {e}", path.display()))
+    write_atomic(path, serde_json::to_string_pretty(value)?.as_bytes()).map_err(|e| anyhow!("{}: {e}", path.display()))
 }
 
 fn all_ok(trials: &[Trial]) -> bool {
@@ -133,6 +141,11 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let base_files = args.baseline.as_deref().map(recordings_in).transpose()?;
     if args.out.exists() && !args.out.is_dir() {
         bail!("{}: exists and is not a folder", args.out.display());
+    }
+    if !args.force
+        && let Some(old) = REPORT_FILES.iter().map(|f| args.out.join(f)).find(|p| p.exists())
+    {
+        bail!("{}: holds the reports of an earlier run ({}); use --force to replace them, or another --out", args.out.display(), old.display());
     }
     std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
     if let Some((name, values)) = &set.sweep {
@@ -164,9 +177,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     };
     bar.finish_and_clear();
 
+    // Each report goes through a temporary file and a rename, so none is ever left half written.
     let summary = report::summarize(&trials, &set.fixed, wall);
-    csv_out::write_trial_results(&args.out.join("trial_results.csv"), &trials, what_if.as_ref())?;
-    csv_out::write_trees(&args.out.join("trees.csv"), &trials)?;
+    write_via_temp(&args.out.join("trial_results.csv"), |tmp| csv_out::write_trial_results(tmp, &trials, what_if.as_ref()))?;
+    write_via_temp(&args.out.join("trees.csv"), |tmp| csv_out::write_trees(tmp, &trials))?;
     let json = serde_json::json!({"note": &summary.note, "summary": &summary, "what_if": &what_if, "sweep": null, "trials": &trials});
     write_json(&args.out.join("summary.json"), &json)?;
     let title = match &what_if {
@@ -175,7 +189,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
         Some(w) => format!("What-if ({}): {}", w.kind, w.parameters_text().replace('→', "->")),
     };
     let baseline_rows = what_if.as_ref().map(|w| w.baseline.per_participant.as_slice());
-    chart::ablation_chart(&args.out.join("ablation.png"), &summary.per_participant, baseline_rows, &title, &notes(what_if.as_ref(), &summary), 1100, 640)?;
+    write_via_temp(&args.out.join("ablation.png"), |tmp| chart::ablation_chart(tmp, &summary.per_participant, baseline_rows, &title, &notes(what_if.as_ref(), &summary), 1100, 640))?;
 
     if args.json {
         super::print_json(&json)?;
@@ -237,7 +251,7 @@ fn run_sweep(args: &StudyArgs, files: &[PathBuf], fixed: &[(String, String)], na
     };
     csv_out::write_trial_results(&args.out.join("trial_results.csv"), &baseline, None)?;
     csv_out::write_trees(&args.out.join("trees.csv"), &baseline)?;
-    csv_out::write_sweep(&args.out.join("sweep.csv"), &sweep)?;
+    write_via_temp(&args.out.join("sweep.csv"), |tmp| csv_out::write_sweep(tmp, &sweep))?;
     let json = serde_json::json!({"note": &summary.note, "summary": &summary, "what_if": null, "sweep": &sweep, "trials": &baseline});
     write_json(&args.out.join("summary.json"), &json)?;
     let mut n = vec![format!("Sweep, {}: {}.", sweep.kind, sweep.kind_meaning), format!("Default {} = {}; means are over the completed trials.", name, sweep.default_value)];
@@ -247,7 +261,7 @@ fn run_sweep(args: &StudyArgs, files: &[PathBuf], fixed: &[(String, String)], na
     if summary.synthetic {
         n.push("Synthetic data: simulated participants (grove synth), not people.".into());
     }
-    chart::sweep_chart(&args.out.join("sweep.png"), &sweep, &n, 1000, 620)?;
+    write_via_temp(&args.out.join("sweep.png"), |tmp| chart::sweep_chart(tmp, &sweep, &n, 1000, 620))?;
     chart::ablation_chart(&args.out.join("ablation.png"), &summary.per_participant, None, "Baseline task time per participant: ray-casting vs manual", &notes(None, &summary), 1100, 640)?;
 
     if args.json {

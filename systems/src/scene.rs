@@ -5,11 +5,14 @@
 //! triangles), and reports the first problem as one line naming the file and, where RON says,
 //! the line and column.
 
+use std::io::Read;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use noise::{NoiseFn, Perlin};
 use serde::{Deserialize, Serialize};
+
+use crate::limits::{self, MAX_COORD, RAISE};
 
 /// Scenes that ship with grove, embedded at compile time: `(name, RON text)`. A replay header
 /// may name one of these instead of a path.
@@ -191,14 +194,12 @@ pub struct SceneError {
 }
 
 impl Scene {
-    /// Reads and checks a scene file.
+    /// Reads and checks a scene file. Only a regular file of at most
+    /// [`limits::MAX_SCENE_BYTES`] is read; a folder, a device, a pipe or a larger file is
+    /// refused before anything is read from it.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let file = path.display().to_string();
-        if path.is_dir() {
-            return Err(SceneError { file, message: "is a directory, not a scene file".into() });
-        }
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError { file: file.clone(), message: io_message(&e) })?;
-        Scene::parse(&text, &file)
+        let text = read_scene_text(path)?;
+        Scene::parse(&text, &path.display().to_string())
     }
 
     /// A scene that ships with grove, by name (e.g. "study").
@@ -217,23 +218,40 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Checks the numbers and shapes; returns a one-line message for the first problem.
+    /// Checks the numbers and shapes against the limits of [`crate::limits`]; returns a
+    /// one-line message for the first problem. Every coordinate, size, radius and elevation must
+    /// be finite and within ±[`MAX_COORD`] metres, so no library ever sees a value it cannot
+    /// handle, and the cells, holes, planes and trees are bounded, so building the scene takes
+    /// bounded time and memory.
     pub fn validate(&self) -> Result<(), String> {
         let finite = |what: &str, ok: bool| if ok { Ok(()) } else { Err(format!("{what} has a NaN or infinite number")) };
+        let near = |what: &str, v: &[f32]| {
+            finite(what, v.iter().all(|x| x.is_finite()))?;
+            if v.iter().any(|x| x.abs() > MAX_COORD) {
+                return Err(format!("{what} has a number beyond the limit of ±{MAX_COORD:e} m"));
+            }
+            Ok(())
+        };
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
             return Err(format!("dt {} must be in (0, 1] seconds", self.dt));
         }
         if self.planes.is_empty() {
             return Err("a scene needs at least one plane".into());
         }
+        if self.planes.len() > limits::MAX_PLANES {
+            return Err(format!("{} planes is more than the limit of {} planes per scene ({RAISE})", self.planes.len(), limits::MAX_PLANES));
+        }
+        let mut cells = 0u64;
         for p in &self.planes {
-            let what = format!("plane '{}'", p.name);
-            match &p.shape {
+            let what = format!("plane '{}'", p.name.escape_debug());
+            let plane_cells = match &p.shape {
                 PlaneShape::Mesh { vertices, triangles } => {
                     if vertices.len() < 3 {
                         return Err(format!("{what} has {} vertices; a plane needs at least 3", vertices.len()));
                     }
-                    finite(&what, vertices.iter().all(|v| v.is_finite()))?;
+                    for v in vertices {
+                        near(&what, &v.to_array())?;
+                    }
                     if triangles.is_empty() {
                         return Err(format!("{what} has no triangles"));
                     }
@@ -242,23 +260,40 @@ impl Scene {
                             return Err(format!("{what} has a triangle {t:?} with an index past its {} vertices", vertices.len()));
                         }
                     }
+                    (triangles.len() as u64).div_ceil(2)
                 }
                 PlaneShape::Grid { min, size, cell, elevation, unevenness, holes, .. } => {
-                    finite(&what, min.is_finite() && size.is_finite() && cell.is_finite() && elevation.is_finite() && unevenness.is_finite())?;
+                    near(&what, &[min.x, min.y, size.x, size.y, *cell, *elevation, *unevenness])?;
                     if size.x <= 0.0 || size.y <= 0.0 || *cell <= 0.0 {
                         return Err(format!("{what}: size and cell must be positive"));
                     }
-                    let cells = (size.x / cell).ceil() * (size.y / cell).ceil();
-                    if cells > 4.0e6 {
-                        return Err(format!("{what}: {cells} grid cells is too many (at most 4 million)"));
+                    let max = *min + *size;
+                    near(&what, &[max.x, max.y])?;
+                    let reach = min.abs().max(max.abs()).max_element();
+                    let least = limits::MIN_CELL.max(reach * limits::MIN_CELL_RELATIVE);
+                    if *cell < least {
+                        return Err(format!("{what}: cell {cell} m is finer than {least} m (at least 1 mm, and 1/100000 of the plane's distance from the origin)"));
+                    }
+                    if holes.len() > limits::MAX_HOLES_PER_PLANE {
+                        return Err(format!("{what}: {} holes is more than the limit of {} holes per plane ({RAISE})", holes.len(), limits::MAX_HOLES_PER_PLANE));
                     }
                     for h in holes {
-                        finite(&what, h.center.is_finite() && h.radius.is_finite())?;
+                        near(&what, &[h.center.x, h.center.y, h.radius])?;
                         if h.radius < 0.0 {
                             return Err(format!("{what}: a hole has a negative radius"));
                         }
                     }
+                    // The same single-precision counts as `plane_geometry` builds.
+                    let (nx, nz) = ((size.x / cell).ceil().max(1.0) as u64, (size.y / cell).ceil().max(1.0) as u64);
+                    nx.saturating_mul(nz)
                 }
+            };
+            cells = cells.saturating_add(plane_cells);
+            if cells > limits::MAX_SCENE_CELLS {
+                return Err(format!(
+                    "{what}: the scene's planes have more than the limit of {} grid cells per scene, all planes together; an explicit mesh counts a cell per two triangles ({RAISE})",
+                    limits::MAX_SCENE_CELLS
+                ));
             }
         }
         let s = &self.sun;
@@ -269,29 +304,60 @@ impl Scene {
         if !(-180.0..=180.0).contains(&s.longitude_deg) {
             return Err(format!("sun longitude {} is outside -180..=180 degrees", s.longitude_deg));
         }
+        if s.time_rate.abs() > 1.0e6 {
+            return Err(format!("sun time_rate {} is beyond ±1e6 sun seconds per simulated second", s.time_rate));
+        }
         parse_utc_ms(&s.utc).map_err(|e| format!("sun utc: {e}"))?;
         let w = &self.wind;
-        finite(
-            "wind",
-            w.direction.is_finite() && w.strength.is_finite() && w.density.is_finite() && w.gust_average.is_finite() && w.gust_strength.is_finite() && w.gust_frequency.is_finite(),
-        )?;
+        near("wind", &[w.direction.x, w.direction.y, w.direction.z, w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency])?;
         if w.strength < 0.0 || w.density < 0.0 || w.gust_frequency < 0.0 {
             return Err("wind strength, density and gust frequency must not be negative".into());
         }
         w.response.validate()?;
+        if self.trees.len() > limits::MAX_SCENE_TREES {
+            return Err(format!("{} trees is more than the limit of {} trees per scene ({RAISE})", self.trees.len(), limits::MAX_SCENE_TREES));
+        }
         for (i, t) in self.trees.iter().enumerate() {
-            finite(&format!("tree {i}"), t.position.is_finite() && t.yaw_deg.is_finite() && t.scale.is_finite())?;
-            if t.scale <= 0.0 {
-                return Err(format!("tree {i} has scale {}; scale must be positive", t.scale));
+            near(&format!("tree {i}"), &[t.position.x, t.position.y, t.position.z, t.yaw_deg])?;
+            finite(&format!("tree {i}"), t.scale.is_finite())?;
+            if !(t.scale > 0.0 && t.scale <= 1000.0) {
+                return Err(format!("tree {i} has scale {}; scale must be positive and at most 1000", t.scale));
             }
         }
         let c = &self.camera;
-        finite("camera", c.position.is_finite() && c.look_at.is_finite() && c.fov_y_deg.is_finite())?;
+        near("camera", &[c.position.x, c.position.y, c.position.z, c.look_at.x, c.look_at.y, c.look_at.z])?;
+        finite("camera", c.fov_y_deg.is_finite())?;
         if !(1.0..=179.0).contains(&c.fov_y_deg) {
             return Err(format!("camera fov_y_deg {} is outside 1..=179", c.fov_y_deg));
         }
         Ok(())
     }
+}
+
+/// Reads a scene file's text: only a regular file (symbolic links are followed) of at most
+/// [`limits::MAX_SCENE_BYTES`], checked before anything is read, and read with that bound in
+/// case the file grows meanwhile.
+pub fn read_scene_text(path: &Path) -> Result<String, SceneError> {
+    let file = path.display().to_string();
+    let fail = |message: String| SceneError { file: file.clone(), message };
+    let meta = std::fs::metadata(path).map_err(|e| fail(io_message(&e)))?;
+    if meta.is_dir() {
+        return Err(fail("is a directory, not a scene file".into()));
+    }
+    if !meta.is_file() {
+        return Err(fail("is not a regular file (a device, pipe or socket); a scene must be a regular file".into()));
+    }
+    let too_big = || fail(format!("is larger than the limit of {} bytes per scene file ({RAISE})", limits::MAX_SCENE_BYTES));
+    if meta.len() > limits::MAX_SCENE_BYTES {
+        return Err(too_big());
+    }
+    let f = std::fs::File::open(path).map_err(|e| fail(io_message(&e)))?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    f.take(limits::MAX_SCENE_BYTES + 1).read_to_end(&mut bytes).map_err(|e| fail(io_message(&e)))?;
+    if bytes.len() as u64 > limits::MAX_SCENE_BYTES {
+        return Err(too_big());
+    }
+    String::from_utf8(bytes).map_err(|_| fail("not valid UTF-8 text".into()))
 }
 
 /// A one-line description of an I/O error.
@@ -334,16 +400,24 @@ pub fn plane_geometry(shape: &PlaneShape) -> (Vec<Vec3>, Vec<[u32; 3]>) {
                     vertices.push(Vec3::new(x, elevation + unevenness * n, z));
                 }
             }
-            let mut triangles = Vec::with_capacity((nx * nz * 2) as usize);
             let idx = |i: u32, j: u32| j * (nx + 1) + i;
-            let in_hole = |p: Vec3| holes.iter().any(|h| Vec2::new(p.x, p.z).distance(h.center) < h.radius);
+            // A triangle is left out when its centre lies in a hole; `holes::hole_mask` finds
+            // them in time proportional to the cells plus the holes' extent along one axis.
+            let centre = |i: u32, j: u32, upper: bool| {
+                let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
+                let tri = if upper { [b, d, c] } else { [a, d, b] };
+                let p = (vertices[tri[0] as usize] + vertices[tri[1] as usize] + vertices[tri[2] as usize]) / 3.0;
+                Vec2::new(p.x, p.z)
+            };
+            let grid = crate::holes::GridFrame { min: *min, size: *size, nx, nz };
+            let in_hole = crate::holes::hole_mask(&grid, holes, &centre);
+            let mut triangles = Vec::with_capacity((nx * nz * 2) as usize);
             for j in 0..nz {
                 for i in 0..nx {
                     let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
                     // Counter-clockwise seen from above (+Y), so the normal points up.
-                    for tri in [[a, d, b], [b, d, c]] {
-                        let centre = (vertices[tri[0] as usize] + vertices[tri[1] as usize] + vertices[tri[2] as usize]) / 3.0;
-                        if !in_hole(centre) {
+                    for (k, tri) in [[a, d, b], [b, d, c]].into_iter().enumerate() {
+                        if !in_hole[((j * nx + i) * 2) as usize + k] {
                             triangles.push(tri);
                         }
                     }

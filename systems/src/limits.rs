@@ -1,0 +1,47 @@
+//! The limits on what grove reads, stated once.
+//!
+//! Every file grove reads can ask for work and memory: a recording names ticks to simulate, a
+//! scene names grid cells, holes and triangles to build. These constants bound that work, so
+//! that any input, however hostile, is either refused at once with one line naming the limit or
+//! runs in bounded time and memory. `docs/scenes.md` and `docs/replay-format.md` list them.
+//!
+//! A limit is raised by changing its constant here and rebuilding grove; the error messages say
+//! so ([`RAISE`]).
+
+/// How an error message tells the user to raise a limit.
+pub const RAISE: &str = "raise it in systems/src/limits.rs and rebuild grove";
+
+/// The longest tick a recording may name: 10^8 ticks, about 19 days at 60 Hz.
+pub const MAX_TICKS: u64 = 100_000_000;
+
+/// The longest line of a recording, bytes (1 MiB).
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// The largest scene file, bytes (8 MiB), whether given on the command line or named by a
+/// recording.
+pub const MAX_SCENE_BYTES: u64 = 8 << 20;
+
+/// The most grid cells of all the grid planes of one scene together (a cell is two triangles).
+/// An explicit mesh counts one cell per two triangles. At about 400 bytes per cell once built
+/// (vertices, triangles and the ray-cast tree), this keeps a scene under about 100 MB.
+pub const MAX_SCENE_CELLS: u64 = 250_000;
+
+/// The most holes in one grid plane.
+pub const MAX_HOLES_PER_PLANE: usize = 10_000;
+
+/// The most planes in one scene.
+pub const MAX_PLANES: usize = 64;
+
+/// The most trees a scene may place at the start.
+pub const MAX_SCENE_TREES: usize = 100_000;
+
+/// The largest absolute coordinate, size, radius or elevation in a scene, metres (10^6 m).
+pub const MAX_COORD: f32 = 1.0e6;
+
+/// The smallest grid cell, metres (1 mm).
+pub const MIN_CELL: f32 = 1.0e-3;
+
+/// The smallest grid cell relative to the plane's distance from the origin: a cell must be at
+/// least this fraction of the largest absolute coordinate of the plane, so that single-precision
+/// vertices stay at least a few hundred units of least precision apart.
+pub const MIN_CELL_RELATIVE: f32 = 1.0e-5;

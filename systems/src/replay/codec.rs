@@ -1,0 +1,196 @@
+//! One line of a recording: its checksum (alone in version 1, chained in version 2), writing it
+//! and checking and parsing it.
+//!
+//! A line's checksum is the low 32 bits of XXH3-64 over the line's text without its `sum`
+//! field. In version 1 the hash has seed 0. In version 2 the seed is the previous line's
+//! checksum (as a number), so each checksum also covers the one before it: a deleted,
+//! duplicated or moved line breaks the chain at the next line. The chain starts after the
+//! header: the header's checksum and the second line's seed are 0 in both versions, so a reader
+//! can check the header before it knows the version.
+
+use serde::Deserialize;
+
+use super::{EventLine, Line};
+use crate::input::InputEvent;
+
+/// The checksum of a line's text (without its `sum` field) with seed 0, as version 1 and every
+/// header use: 8 hex digits.
+pub fn line_sum(text: &str) -> String {
+    format!("{:08x}", chained_sum(text, 0))
+}
+
+/// The checksum of a line's text (without its `sum` field) chained on the previous line's
+/// checksum `prev` (0 for the header and the line after it, and for every line of version 1).
+pub fn chained_sum(text: &str, prev: u32) -> u32 {
+    xxhash_rust::xxh3::xxh3_64_with_seed(text.as_bytes(), prev as u64) as u32
+}
+
+const SUM_KEY: &str = ",\"sum\":\"";
+
+/// Serializes a line with its seed-0 checksum (a header, or any line of version 1), without the
+/// trailing newline.
+pub fn encode_line(line: &Line) -> String {
+    encode_line_chained(line, 0).0
+}
+
+/// Serializes a line with its checksum chained on `prev`, without the trailing newline; returns
+/// the text and the line's checksum (the next line's `prev`).
+pub fn encode_line_chained(line: &Line, prev: u32) -> (String, u32) {
+    // Serializing these plain types to JSON cannot fail.
+    let body = serde_json::to_string(line).unwrap_or_default();
+    sign_body(&body, prev)
+}
+
+/// Adds the `sum` field to a line's JSON object text (`{...}` without a `sum`), chained on
+/// `prev`; returns the line and its checksum.
+pub fn sign_body(body: &str, prev: u32) -> (String, u32) {
+    let sum = chained_sum(body, prev);
+    let mut out = String::with_capacity(body.len() + 20);
+    out.push_str(&body[..body.len().saturating_sub(1)]);
+    out.push_str(SUM_KEY);
+    out.push_str(&format!("{sum:08x}"));
+    out.push_str("\"}");
+    (out, sum)
+}
+
+/// Splits a line into its body (the object without the `sum` field, closed by `}`) and its
+/// checksum, without checking the checksum.
+pub fn split_sum(text: &str) -> Result<(String, u32), String> {
+    let text = text.trim_end_matches(['\r', '\n']);
+    // The sum is always the last field: `,"sum":"` + 8 hex digits + `"}` = 18 bytes.
+    let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
+    let idx = idx.ok_or("no checksum (\"sum\" field) at the end; the line is truncated or not a grove recording")?;
+    let tail = &text[idx + SUM_KEY.len()..];
+    if !tail.ends_with("\"}") {
+        return Err("malformed checksum field; the line is truncated or corrupt".into());
+    }
+    let sum = tail.get(..8).and_then(|s| if s.bytes().all(|b| b.is_ascii_hexdigit()) { u32::from_str_radix(s, 16).ok() } else { None });
+    let sum = sum.ok_or("malformed checksum field; the line is truncated or corrupt")?;
+    Ok((format!("{}}}", &text[..idx]), sum))
+}
+
+/// Re-signs a whole recording's lines as version 2, each checksum chained on the one before
+/// (the header's own checksum is unchanged in form). The bodies are kept as they are; this is
+/// how `grove replay --upgrade` and the mutation tests forge a consistent chain.
+pub fn rechain(lines: &[String]) -> Result<Vec<String>, String> {
+    let mut prev = 0;
+    let mut out = Vec::with_capacity(lines.len());
+    for (i, l) in lines.iter().enumerate() {
+        let (body, _) = split_sum(l)?;
+        let (text, sum) = sign_body(&body, prev);
+        // The chain starts after the header.
+        prev = if i == 0 { 0 } else { sum };
+        out.push(text);
+    }
+    Ok(out)
+}
+
+/// An event line read directly (see [`decode_line`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TaggedEvent {
+    #[serde(rename = "type")]
+    kind: String,
+    tick: u64,
+    ms: u64,
+    frame: u64,
+    event: serde_json::Value,
+}
+
+/// A controller-pose event line read directly (see [`decode_line`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TaggedPose {
+    #[serde(rename = "type")]
+    kind: String,
+    tick: u64,
+    ms: u64,
+    frame: u64,
+    event: PoseBody,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PoseBody {
+    kind: String,
+    pose: crate::components::Pose,
+}
+
+/// The first line of a serde error, without its position (the caller names the line).
+fn serde_message(e: serde_json::Error) -> String {
+    let msg = e.to_string();
+    msg.split(" at line ").next().unwrap_or(&msg).to_string()
+}
+
+/// Reads an input event from its JSON object. Events without fields (`open_menu`,
+/// `close_menu`, `end_task`) are refused with any field but `kind`, as every other event is
+/// with a field it does not have.
+fn event_from_value(v: serde_json::Value) -> Result<InputEvent, String> {
+    if let serde_json::Value::Object(map) = &v
+        && let Some(serde_json::Value::String(kind)) = map.get("kind")
+        && matches!(kind.as_str(), "open_menu" | "close_menu" | "end_task")
+        && let Some(extra) = map.keys().find(|k| *k != "kind")
+    {
+        return Err(format!("unknown field `{}` in an event of kind `{kind}`, which has no fields", extra.escape_debug()));
+    }
+    let event: InputEvent = serde_json::from_value(v).map_err(serde_message)?;
+    event.validate()?;
+    Ok(event)
+}
+
+/// Checks a line's seed-0 checksum (a header, or a line of version 1) and parses it.
+pub fn decode_line(text: &str) -> Result<Line, String> {
+    decode_line_chained(text, 0)
+}
+
+/// Checks a line's checksum, chained on `prev` (see [`chained_sum`]), and parses it.
+pub fn decode_line_chained(text: &str, prev: u32) -> Result<Line, String> {
+    decode_line_parts(text, prev).map(|(line, _, _)| line)
+}
+
+/// Like [`decode_line_chained`], and also returns the line's body (its text without the `sum`
+/// field) and its checksum.
+pub fn decode_line_parts(text: &str, prev: u32) -> Result<(Line, String, u32), String> {
+    let (body, sum) = split_sum(text)?;
+    if chained_sum(&body, prev) != sum {
+        return Err(if prev == 0 {
+            "checksum mismatch: the line was changed or corrupted".into()
+        } else {
+            "checksum mismatch: the line was changed or corrupted, or a line before it was deleted, duplicated or moved".into()
+        });
+    }
+    let line = parse_body(&body)?;
+    Ok((line, body, sum))
+}
+
+/// Parses a line's body once its checksum is known to be right.
+fn parse_body(body: &str) -> Result<Line, String> {
+    // Event lines are by far the most common: read them straight into their struct, without
+    // the buffering that the tagged `Line` enum needs.
+    if body.starts_with("{\"type\":\"event\",") {
+        // Controller poses are most of a recording: read them without the buffering that the
+        // tagged `InputEvent` enum needs.
+        if let Ok(e) = serde_json::from_str::<TaggedPose>(body)
+            && e.kind == "event"
+            && e.event.kind == "controller_pose"
+        {
+            let event = InputEvent::ControllerPose { pose: e.event.pose };
+            event.validate()?;
+            return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
+        }
+        let e: TaggedEvent = serde_json::from_str(body).map_err(serde_message)?;
+        if e.kind != "event" {
+            return Err(format!("unexpected line type '{}'", e.kind.escape_debug()));
+        }
+        let event = event_from_value(e.event)?;
+        return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
+    }
+    let line: Line = serde_json::from_str(body).map_err(serde_message)?;
+    if let Line::Event(ev) = &line {
+        // Read the event again from its JSON object, for the checks `event_from_value` makes.
+        let v: serde_json::Value = serde_json::from_str(body).map_err(serde_message)?;
+        event_from_value(v.get("event").cloned().unwrap_or_default())?;
+        ev.event.validate()?;
+    }
+    Ok(line)
+}

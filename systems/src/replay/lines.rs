@@ -1,0 +1,170 @@
+//! The checked stream of a recording's lines: bounded line length, the header first, checksums
+//! (chained from version 2 on), and the structural rules every line must keep, whatever the
+//! simulation does with it.
+//!
+//! Rules checked here, before any simulation: the header comes first and only once; nothing
+//! follows the footer; ticks never decrease; no tick is past [`MAX_TICKS`]; and no line is more
+//! than [`CHECKPOINT_EVERY`] ticks past the last checkpoint (or the start), since the recorder
+//! writes one every [`CHECKPOINT_EVERY`] ticks. The last rule bounds the simulation a file can
+//! ask for by its number of lines: at most [`CHECKPOINT_EVERY`] steps per line.
+
+use std::io::{BufRead, BufReader, Read};
+
+use super::codec::{decode_line_chained, decode_line_parts};
+use super::{Header, Line, CHECKPOINT_EVERY, FORMAT_NAME, MAX_LINE, READABLE_VERSIONS};
+use crate::limits::{MAX_TICKS, RAISE};
+
+/// A problem at a line (1-based; `None` for the file as a whole), as the caller reports it.
+pub(crate) type LineError = (Option<u64>, String);
+
+/// Reads lines with a length limit, never holding more than one line in memory.
+struct LineReader<R: Read> {
+    inner: BufReader<R>,
+    buf: Vec<u8>,
+    number: u64,
+}
+
+enum NextLine {
+    Line(String),
+    /// The file ended with bytes that have no newline: a line cut by a killed writer.
+    Cut,
+    End,
+}
+
+impl<R: Read> LineReader<R> {
+    fn next(&mut self) -> Result<NextLine, String> {
+        self.buf.clear();
+        self.number += 1;
+        let too_long = || format!("line longer than the limit of {MAX_LINE} bytes; not a grove recording");
+        loop {
+            let chunk = self.inner.fill_buf().map_err(|e| e.to_string())?;
+            if chunk.is_empty() {
+                return Ok(if self.buf.is_empty() { NextLine::End } else { NextLine::Cut });
+            }
+            if let Some(pos) = chunk.iter().position(|&b| b == b'\n') {
+                self.buf.extend_from_slice(&chunk[..pos]);
+                self.inner.consume(pos + 1);
+                break;
+            }
+            let n = chunk.len();
+            self.buf.extend_from_slice(chunk);
+            self.inner.consume(n);
+            if self.buf.len() > MAX_LINE {
+                return Err(too_long());
+            }
+        }
+        if self.buf.len() > MAX_LINE {
+            return Err(too_long());
+        }
+        String::from_utf8(std::mem::take(&mut self.buf)).map(NextLine::Line).map_err(|_| "not valid UTF-8 text".into())
+    }
+}
+
+/// One checked line after the header.
+pub(crate) struct Checked {
+    /// Its 1-based line number.
+    pub number: u64,
+    /// The parsed line.
+    pub line: Line,
+    /// Its tick (an event's or checkpoint's `tick`, the footer's `final_tick`).
+    pub tick: u64,
+    /// Its text without the `sum` field.
+    pub body: String,
+}
+
+/// A recording's lines, checked one at a time.
+pub(crate) struct Lines<R: Read> {
+    reader: LineReader<R>,
+    /// The header (read by [`Lines::open`]).
+    pub header: Header,
+    /// Whether checksums are chained (version 2 and later).
+    chained: bool,
+    prev: u32,
+    last_tick: u64,
+    last_checkpoint: u64,
+    footer_seen: bool,
+    /// Whether the file ended in a line without a newline (a cut line, ignored).
+    pub cut: bool,
+}
+
+impl<R: Read> Lines<R> {
+    /// Reads and checks the header.
+    pub fn open(reader: R) -> Result<Lines<R>, LineError> {
+        let mut reader = LineReader { inner: BufReader::with_capacity(64 * 1024, reader), buf: Vec::new(), number: 0 };
+        let first = match reader.next().map_err(|m| (Some(1), m))? {
+            NextLine::End => return Err((None, "empty file; expected a grove recording header".into())),
+            NextLine::Cut => return Err((Some(1), "the header line is cut off (no newline)".into())),
+            NextLine::Line(l) => l,
+        };
+        // Look at the type and version before the checksum, so a file without a header or of a
+        // future format gets a clear message.
+        if let Ok(v) = serde_json::from_str::<serde_json::Value>(first.trim()) {
+            if v.get("type").and_then(|t| t.as_str()) != Some("header") {
+                return Err((Some(1), "missing header: the first line must be the recording header".into()));
+            }
+            if let Some(ver) = v.get("format_version").and_then(|x| x.as_u64())
+                && !READABLE_VERSIONS.iter().any(|&r| r as u64 == ver)
+            {
+                return Err((Some(1), format!("format version {ver} is not supported; this grove reads versions {READABLE_VERSIONS:?} (upgrade grove to read newer files)")));
+            }
+        }
+        let header = match decode_line_chained(&first, 0).map_err(|m| (Some(1), m))? {
+            Line::Header(h) => h,
+            _ => return Err((Some(1), "missing header: the first line must be the recording header".into())),
+        };
+        if header.format != FORMAT_NAME {
+            return Err((Some(1), format!("format {:?} is not '{FORMAT_NAME}'", header.format)));
+        }
+        let chained = header.format_version >= 2;
+        Ok(Lines { reader, header, chained, prev: 0, last_tick: 0, last_checkpoint: 0, footer_seen: false, cut: false })
+    }
+
+    /// The next checked line, or `None` at the end of the file (or at a cut last line).
+    pub fn next(&mut self) -> Result<Option<Checked>, LineError> {
+        let n = self.reader.number + 1;
+        let text = match self.reader.next().map_err(|m| (Some(n), m))? {
+            NextLine::End => return Ok(None),
+            NextLine::Cut => {
+                self.cut = true;
+                return Ok(None);
+            }
+            NextLine::Line(l) => l,
+        };
+        let fail = |m: String| (Some(n), m);
+        if text.trim().is_empty() {
+            return Err(fail("empty line".into()));
+        }
+        if self.footer_seen {
+            return Err(fail("a line after the footer".into()));
+        }
+        let prev = if self.chained { self.prev } else { 0 };
+        let (line, body, sum) = decode_line_parts(&text, prev).map_err(fail)?;
+        self.prev = sum;
+        let tick = match &line {
+            Line::Header(_) => return Err(fail("a second header".into())),
+            Line::Event(e) => e.tick,
+            Line::Checkpoint(c) => c.tick,
+            Line::Footer(f) => f.final_tick,
+        };
+        if tick > MAX_TICKS {
+            return Err(fail(format!("tick {tick} is past the limit of {MAX_TICKS} ticks per recording (about 19 days at 60 Hz; {RAISE})")));
+        }
+        if tick < self.last_tick {
+            return Err(fail(format!("tick {tick} comes after tick {}: ticks out of order", self.last_tick)));
+        }
+        if tick > self.last_checkpoint + CHECKPOINT_EVERY {
+            return Err(fail(format!(
+                "tick {tick} is more than {CHECKPOINT_EVERY} ticks past the last checkpoint (tick {}); a checkpoint is missing",
+                self.last_checkpoint
+            )));
+        }
+        if let Line::Checkpoint(_) = &line {
+            self.last_checkpoint = tick;
+        }
+        if let Line::Footer(_) = &line {
+            self.footer_seen = true;
+        }
+        self.last_tick = tick;
+        Ok(Some(Checked { number: n, line, tick, body }))
+    }
+}

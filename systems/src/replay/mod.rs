@@ -1,0 +1,292 @@
+//! Recordings and replays: the versioned JSON Lines format, a writer and a verifying reader.
+//!
+//! `docs/replay-format.md` documents the format. In short, a recording is one JSON object per
+//! line: a header, then input events ordered by tick, checkpoints every [`CHECKPOINT_EVERY`]
+//! ticks, and a footer. Every line ends with a `"sum"` field, a checksum of the rest of the line
+//! that in version 2 also covers the previous line's checksum ([`codec`]), so that a flipped
+//! byte, or a deleted, duplicated or moved line, is caught rather than silently replayed.
+//!
+//! Tick semantics: an event stamped `tick: t` applies at the start of tick `t`, that is, it is
+//! pushed when `sim.res.tick == t`, before the step. A checkpoint stamped `tick: T` is the world
+//! hash when `sim.res.tick == T` (after `T` steps, before the events of tick `T`).
+//!
+//! The reader ([`reader`]) streams the file line by line with a bounded line length, and bounds
+//! the ticks a file can ask for ([`crate::limits`]), so a hostile file is refused in bounded time
+//! and memory. The scene a header names is resolved by [`scene_ref`].
+
+pub mod codec;
+mod lines;
+pub mod reader;
+pub mod scene_ref;
+pub mod upgrade;
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+pub use codec::{chained_sum, decode_line, decode_line_chained, encode_line, encode_line_chained, line_sum, rechain, sign_body, split_sum};
+pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
+pub use upgrade::{upgrade, UpgradeSummary};
+
+use crate::hash::{hex, WorldHash};
+use crate::input::{InputEvent, StampedEvent};
+use crate::resources::Config;
+use crate::sim::Sim;
+
+/// The format version this build writes.
+pub const FORMAT_VERSION: u32 = 2;
+/// The versions this build reads.
+pub const READABLE_VERSIONS: &[u32] = &[1, 2];
+/// The value of the header's `format` field.
+pub const FORMAT_NAME: &str = "grove-replay";
+/// Ticks between checkpoints. A reader refuses a line whose tick is more than this past the
+/// last checkpoint (or the start): the recorder never skips one.
+pub const CHECKPOINT_EVERY: u64 = 60;
+/// The longest line the reader accepts, bytes.
+pub const MAX_LINE: usize = crate::limits::MAX_LINE_BYTES;
+
+/// The first line of a recording.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Header {
+    /// Always [`FORMAT_NAME`].
+    pub format: String,
+    /// The format version, see [`FORMAT_VERSION`].
+    pub format_version: u32,
+    /// The grove version that wrote the file.
+    pub grove_version: String,
+    /// A built-in scene name (e.g. "study") or a path to a scene file.
+    pub scene: String,
+    /// The study task id, if the session ran one.
+    #[serde(default)]
+    pub task: Option<String>,
+    /// The participant id, e.g. "P01".
+    #[serde(default)]
+    pub participant: Option<String>,
+    /// The RNG seed.
+    pub seed: u64,
+    /// The fixed step, seconds; must equal the scene's.
+    pub dt: f32,
+    /// Whether the session was generated rather than recorded from a person.
+    pub synthetic: bool,
+    /// Configuration overrides in effect during the session (names as in [`Config::set`]).
+    #[serde(default)]
+    pub config: BTreeMap<String, String>,
+    /// Optional: the wall-clock time (UTC, RFC 3339, e.g. "2019-06-03T09:00:00Z") at which this
+    /// recording started. Reports order a participant's recordings by it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub session_start: Option<String>,
+    /// Optional: the 1-based block this recording belongs to in the participant's session.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub block: Option<u32>,
+}
+
+impl Header {
+    /// A header for a new recording with this build's format and version.
+    pub fn new(scene: &str, seed: u64, dt: f32) -> Header {
+        Header {
+            format: FORMAT_NAME.into(),
+            format_version: FORMAT_VERSION,
+            grove_version: env!("CARGO_PKG_VERSION").into(),
+            scene: scene.into(),
+            task: None,
+            participant: None,
+            seed,
+            dt,
+            synthetic: false,
+            config: BTreeMap::new(),
+            session_start: None,
+            block: None,
+        }
+    }
+}
+
+/// An input event line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventLine {
+    /// The tick at whose start the event applies.
+    pub tick: u64,
+    /// Wall-clock milliseconds since the recording started.
+    pub ms: u64,
+    /// The display frame number at which the event was captured.
+    pub frame: u64,
+    /// The event.
+    pub event: InputEvent,
+}
+
+/// A checkpoint line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckpointLine {
+    /// The tick (number of completed steps) the hash was taken at.
+    pub tick: u64,
+    /// The total world hash, 16 hex digits.
+    pub hash: String,
+    /// Hash per component type, 16 hex digits each.
+    pub components: BTreeMap<String, String>,
+    /// Hash per entity (entity id bits in decimal → 16 hex digits).
+    pub entities: BTreeMap<String, String>,
+}
+
+/// The last line of a complete recording.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FooterLine {
+    /// The tick the recording ended at.
+    pub final_tick: u64,
+    /// The world hash at `final_tick`.
+    pub final_hash: String,
+    /// Free-form summary: counts and, for tasks, the recorder's own view of the outcome.
+    /// Readers never trust it; replays recompute everything.
+    pub summary: serde_json::Value,
+}
+
+/// One line of a recording.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum Line {
+    /// The header.
+    Header(Header),
+    /// An input event.
+    Event(EventLine),
+    /// A checkpoint.
+    Checkpoint(CheckpointLine),
+    /// The footer.
+    Footer(FooterLine),
+}
+
+/// Builds a checkpoint line from a world hash.
+pub fn checkpoint_line(tick: u64, h: &WorldHash) -> CheckpointLine {
+    CheckpointLine {
+        tick,
+        hash: hex(h.total),
+        components: h.components.iter().map(|(n, v)| (n.to_string(), hex(*v))).collect(),
+        entities: h.entities.iter().map(|(e, v)| (e.to_string(), hex(*v))).collect(),
+    }
+}
+
+/// Writes a recording while a session runs, in the current format version ([`FORMAT_VERSION`],
+/// checksums chained line to line). Every event other than a pose (buttons, menu, model, mode
+/// and task events) is flushed as soon as it is written, and every checkpoint (once a simulated
+/// second); poses wait for the next flush or [`Recorder::flush`]. A killed writer therefore
+/// loses no press, only at most the poses since the last flush.
+pub struct Recorder<W: Write> {
+    out: W,
+    events: u64,
+    checkpoints: u64,
+    last_tick: u64,
+    /// The previous line's checksum, which the next line's chains on.
+    prev: u32,
+}
+
+impl<W: Write> Recorder<W> {
+    /// Starts a recording by writing its header (with this build's format version, whatever
+    /// `header.format_version` says).
+    pub fn new(mut out: W, header: &Header) -> std::io::Result<Recorder<W>> {
+        let mut header = header.clone();
+        header.format_version = FORMAT_VERSION;
+        writeln!(out, "{}", encode_line(&Line::Header(header)))?;
+        out.flush()?;
+        // The chain starts after the header (see `codec`).
+        Ok(Recorder { out, events: 0, checkpoints: 0, last_tick: 0, prev: 0 })
+    }
+
+    fn write(&mut self, line: &Line) -> std::io::Result<()> {
+        let (text, sum) = encode_line_chained(line, self.prev);
+        self.prev = sum;
+        writeln!(self.out, "{text}")
+    }
+
+    /// Records an event that applies at `tick`; flushes at once unless it is a pose.
+    pub fn event(&mut self, tick: u64, ms: u64, frame: u64, event: &InputEvent) -> std::io::Result<()> {
+        self.events += 1;
+        self.last_tick = self.last_tick.max(tick);
+        self.write(&Line::Event(EventLine { tick, ms, frame, event: event.clone() }))?;
+        if !matches!(event, InputEvent::ControllerPose { .. } | InputEvent::HeadPose { .. } | InputEvent::TouchpadAxes { .. }) {
+            self.out.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Call after every step: writes a checkpoint (and flushes) when the tick is a multiple of
+    /// [`CHECKPOINT_EVERY`].
+    pub fn after_step(&mut self, sim: &Sim) -> std::io::Result<()> {
+        let tick = sim.res.tick;
+        self.last_tick = tick;
+        if tick % CHECKPOINT_EVERY == 0 {
+            self.checkpoints += 1;
+            self.write(&Line::Checkpoint(checkpoint_line(tick, &sim.hash())))?;
+            self.out.flush()?;
+        }
+        Ok(())
+    }
+
+    /// The writer, e.g. to see what has reached it.
+    pub fn get_ref(&self) -> &W {
+        &self.out
+    }
+
+    /// Flushes buffered lines to the file.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+
+    /// Writes the footer and returns the writer.
+    pub fn finish(mut self, sim: &Sim, summary: serde_json::Value) -> std::io::Result<W> {
+        let mut summary = summary;
+        if let serde_json::Value::Object(map) = &mut summary {
+            map.insert("events".into(), self.events.into());
+            map.insert("checkpoints".into(), self.checkpoints.into());
+        }
+        self.write(&Line::Footer(FooterLine { final_tick: sim.res.tick, final_hash: hex(sim.hash().total), summary }))?;
+        self.out.flush()?;
+        Ok(self.out)
+    }
+}
+
+/// Builds the simulation a header describes: its scene (a built-in name, or a `.ron` file inside
+/// `base_dir` or the working directory, see [`scene_ref::resolve_scene`]), seed, and config
+/// overrides.
+pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Sim, String> {
+    let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
+    crate::names::check_header(header)?;
+    if (scene.dt - header.dt).abs() > 1e-9 {
+        return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
+    }
+    let mut sim = Sim::from_scene(&scene, header.seed)?;
+    let mut config = Config::default();
+    for (k, v) in header.config.iter().map(|(k, v)| (k.as_str(), v.as_str())).chain(overrides.iter().map(|(k, v)| (k.as_str(), v.as_str()))) {
+        config.set(k, v)?;
+    }
+    sim.res.config = config;
+    Ok(sim)
+}
+
+/// Re-simulates a list of stamped events from a fresh simulation and writes the full recording
+/// (header, events, checkpoints, footer). Tests and synthetic participants use this, so every
+/// checkpoint in their files comes from the simulation itself.
+pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value) -> Result<W, String> {
+    let mut sim = sim_for_header(header, None, &[])?;
+    let mut rec = Recorder::new(out, header).map_err(|e| e.to_string())?;
+    let mut i = 0;
+    let end = end_tick.max(events.last().map_or(0, |e| e.tick + 1));
+    while sim.res.tick < end {
+        while i < events.len() && events[i].tick == sim.res.tick {
+            let e = &events[i];
+            let ms = (e.tick as f64 * header.dt as f64 * 1000.0).round() as u64;
+            rec.event(e.tick, ms, e.tick, &e.event).map_err(|e| e.to_string())?;
+            sim.push_input(e.event.clone())?;
+            i += 1;
+        }
+        if i < events.len() && events[i].tick < sim.res.tick {
+            return Err(format!("event {i} is stamped tick {} but the recording is at tick {}", events[i].tick, sim.res.tick));
+        }
+        sim.step();
+        rec.after_step(&sim).map_err(|e| e.to_string())?;
+    }
+    rec.finish(&sim, summary).map_err(|e| e.to_string())
+}
+

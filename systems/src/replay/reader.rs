@@ -1,0 +1,211 @@
+//! The verifying reader: re-simulates a recording from its header and compares every
+//! checkpoint. The lines themselves are checked by [`super::lines`] before any simulation.
+
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::lines::{LineError, Lines};
+use super::{sim_for_header, CheckpointLine, Header, Line};
+use crate::hash::{hex, WorldHash, COMPONENTS};
+use crate::input::StampedEvent;
+use crate::sim::Sim;
+
+/// A replay input problem: which line, and what. Its `Display` is one line: control characters
+/// the recording may have put into the message are shown as spaces.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}{}: {}", line.map(|l| format!(":{l}")).unwrap_or_default(), message.replace(|c: char| c.is_control(), " "))]
+pub struct ReplayError {
+    /// The file.
+    pub file: String,
+    /// The 1-based line number, where one applies.
+    pub line: Option<u64>,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// One (entity, component) pair that differs at a divergent checkpoint.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Differing {
+    /// The entity, as id bits in decimal, or "resources".
+    pub entity: String,
+    /// The component type.
+    pub component: String,
+}
+
+/// The first checkpoint at which the replay and the recording disagree.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Divergence {
+    /// The checkpoint's tick.
+    pub tick: u64,
+    /// The recorded hash.
+    pub expected_hash: String,
+    /// The re-simulated hash.
+    pub actual_hash: String,
+    /// Which entities and components differ.
+    pub differing: Vec<Differing>,
+}
+
+/// The outcome of a replay.
+pub struct ReplayOutcome {
+    /// The header.
+    pub header: Header,
+    /// The simulation at the end of the replay.
+    pub sim: Sim,
+    /// Whether the file had a footer (and `--until` did not stop early).
+    pub complete: bool,
+    /// Checkpoints compared (including the footer's final hash).
+    pub checkpoints_checked: u64,
+    /// The first divergence, if any. The replay goes on to the end of the file, but compares no
+    /// further checkpoints.
+    pub first_divergence: Option<Divergence>,
+    /// Event counts by kind.
+    pub events: BTreeMap<String, u64>,
+    /// Whether checkpoints were compared at all (false for what-if runs).
+    pub verifying: bool,
+}
+
+/// Options of a replay.
+#[derive(Clone, Debug, Default)]
+pub struct ReplayOptions {
+    /// Stop at this tick.
+    pub until: Option<u64>,
+    /// Config overrides (what-if): checkpoints are then not compared.
+    pub overrides: Vec<(String, String)>,
+}
+
+/// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
+/// entities whose hash differs crossed with the component types whose hash differs, keeping
+/// only pairs where the entity (still) has that component.
+fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World) -> Vec<Differing> {
+    let comps: Vec<&str> = COMPONENTS
+        .iter()
+        .copied()
+        .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
+        .collect();
+    let actual_entities: BTreeMap<String, String> = actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
+    let mut ents: Vec<String> = expected
+        .entities
+        .iter()
+        .filter(|(e, h)| actual_entities.get(*e) != Some(*h))
+        .map(|(e, _)| e.clone())
+        .chain(actual_entities.keys().filter(|e| !expected.entities.contains_key(*e)).cloned())
+        .collect();
+    ents.sort_by_key(|e| e.parse::<u64>().unwrap_or(u64::MAX));
+    ents.dedup();
+    let mut out = Vec::new();
+    for c in &comps {
+        if *c == "resources" {
+            out.push(Differing { entity: "resources".into(), component: "resources".into() });
+            continue;
+        }
+        let before = out.len();
+        for e in &ents {
+            let bits = e.parse::<u64>().unwrap_or(0);
+            if crate::hash::has_component(world, bits, c) || !actual_entities.contains_key(e) {
+                out.push(Differing { entity: e.clone(), component: (*c).to_string() });
+            }
+        }
+        if out.len() == before {
+            out.push(Differing { entity: "?".into(), component: (*c).to_string() });
+        }
+    }
+    out
+}
+
+/// Replays a recording from a reader. `file` names it in errors; `base_dir` is the recording's
+/// folder, where a scene file it names may lie. Checkpoints are verified unless
+/// `options.overrides` is non-empty (a what-if run).
+pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
+    let err = |(line, message): LineError| ReplayError { file: file.to_string(), line, message };
+    let mut lines = Lines::open(reader).map_err(err)?;
+    let header = lines.header.clone();
+    let verifying = options.overrides.is_empty();
+    let mut sim = sim_for_header(&header, base_dir, &options.overrides).map_err(|m| err((Some(1), m)))?;
+    let mut outcome_events: BTreeMap<String, u64> = BTreeMap::new();
+    let mut checkpoints_checked = 0;
+    let mut first_divergence = None;
+    let mut complete = false;
+    let mut stopped_early = false;
+    let until = options.until.unwrap_or(u64::MAX);
+
+    // Steps are bounded: `Lines` refuses a tick more than a checkpoint interval past the last
+    // checkpoint, and any tick past the limit.
+    let advance = |sim: &mut Sim, to: u64| {
+        while sim.res.tick < to.min(until) {
+            sim.step();
+        }
+    };
+
+    while let Some(checked) = lines.next().map_err(err)? {
+        let (n, tick) = (checked.number, checked.tick);
+        if tick > until {
+            stopped_early = true;
+            break;
+        }
+        advance(&mut sim, tick);
+        match checked.line {
+            Line::Header(_) => {}
+            Line::Event(e) => {
+                *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
+                crate::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m)))?;
+                sim.push_input(e.event).map_err(|m| err((Some(n), m)))?;
+            }
+            Line::Checkpoint(c) => {
+                if verifying && first_divergence.is_none() {
+                    let h = sim.hash();
+                    checkpoints_checked += 1;
+                    if hex(h.total) != c.hash {
+                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&c, &h, &sim.world) });
+                    }
+                }
+            }
+            Line::Footer(f) => {
+                if verifying && first_divergence.is_none() {
+                    let h = sim.hash();
+                    checkpoints_checked += 1;
+                    if hex(h.total) != f.final_hash {
+                        first_divergence = Some(Divergence { tick, expected_hash: f.final_hash.clone(), actual_hash: hex(h.total), differing: Vec::new() });
+                    }
+                }
+                complete = true;
+            }
+        }
+    }
+    if stopped_early {
+        // `until` is below a tick that `Lines` accepted, so this is bounded too.
+        advance(&mut sim, until);
+    }
+    Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events: outcome_events, verifying })
+}
+
+/// Replays a recording file. Directories, missing files and unreadable files give an error.
+pub fn replay_file(path: &Path, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
+    let file = path.display().to_string();
+    if path.is_dir() {
+        return Err(ReplayError { file, line: None, message: "is a directory, not a recording".into() });
+    }
+    let f = std::fs::File::open(path).map_err(|e| ReplayError { file: file.clone(), line: None, message: crate::scene::io_message(&e) })?;
+    replay_reader(f, &file, path.parent(), options)
+}
+
+/// Reads just the stamped events of a recording (no simulation), e.g. to re-record or edit it.
+/// Every line is checked as [`replay_file`] checks it.
+pub fn read_events(path: &Path) -> Result<(Header, Vec<StampedEvent>), ReplayError> {
+    let file = path.display().to_string();
+    let err = |(line, message): LineError| ReplayError { file: file.clone(), line, message };
+    if path.is_dir() {
+        return Err(err((None, "is a directory, not a recording".into())));
+    }
+    let f = std::fs::File::open(path).map_err(|e| err((None, crate::scene::io_message(&e))))?;
+    let mut lines = Lines::open(f).map_err(err)?;
+    let mut events = Vec::new();
+    while let Some(checked) = lines.next().map_err(err)? {
+        if let Line::Event(e) = checked.line {
+            events.push(StampedEvent { tick: e.tick, event: e.event });
+        }
+    }
+    Ok((lines.header.clone(), events))
+}
