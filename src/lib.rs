@@ -7,3 +7,4 @@
 
 pub mod assetgen;
 pub mod render;
+pub mod lsystem;
