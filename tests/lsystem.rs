@@ -163,17 +163,18 @@ fn a_small_system_draws_the_segments_worked_out_by_hand() {
     // with left = -X and up = +Z.
     // F        : (0,0,0) -> (0,1,0)
     // [+F]     : turn left (towards -X): (0,1,0) -> (-1,1,0), depth 1, branch 1
-    // [-F(2)]  : turn right (towards +X), length 2: (0,1,0) -> (2,1,0), depth 1, branch 2
+    // [-FF]    : turn right (towards +X): (0,1,0) -> (1,1,0) -> (2,1,0), depth 1, branch 2
     // !        : width 0.2 -> 0.1
     // &F       : pitch down (heading towards -Z): (0,1,0) -> (0,1,-1), width 0.1
     // |F       : turn around (heading +Z): (0,1,-1) -> (0,1,0)
-    let g = Grammar::compile(&Source { axiom: "F[+F][-F(2)]!&F|F".into(), angle_deg: 90.0, width: 0.2, width_factor: 0.5, ..Source::default() }).unwrap();
+    let g = Grammar::compile(&Source { axiom: "F[+F][-FF]!&F|F".into(), angle_deg: 90.0, width: 0.2, width_factor: 0.5, ..Source::default() }).unwrap();
     let s = derive(&g, 0, 0, &Limits::default()).unwrap();
     let segs = turtle::interpret(&s, &g).unwrap();
     let want = [
         (Vec3::ZERO, Vec3::Y, 0.2, 0, 0),
         (Vec3::Y, Vec3::new(-1.0, 1.0, 0.0), 0.2, 1, 1),
-        (Vec3::Y, Vec3::new(2.0, 1.0, 0.0), 0.2, 1, 2),
+        (Vec3::Y, Vec3::new(1.0, 1.0, 0.0), 0.2, 1, 2),
+        (Vec3::new(1.0, 1.0, 0.0), Vec3::new(2.0, 1.0, 0.0), 0.2, 1, 2),
         (Vec3::Y, Vec3::new(0.0, 1.0, -1.0), 0.1, 0, 0),
         (Vec3::new(0.0, 1.0, -1.0), Vec3::Y, 0.1, 0, 0),
     ];
@@ -183,6 +184,13 @@ fn a_small_system_draws_the_segments_worked_out_by_hand() {
         assert!((sg.width - w.2).abs() < 1e-7, "segment {i} width {}", sg.width);
         assert_eq!((sg.depth, sg.branch), (w.3, w.4), "segment {i}");
     }
+    // Parametric forms: F(2), then +(90) turns towards -X, F(0.5), !(0.3) sets the width, F(1).
+    let g = Grammar::compile(&Source { axiom: "F(2)+(90)F(0.5)!(0.3)F(1)".into(), angle_deg: 10.0, ..Source::default() }).unwrap();
+    let segs = turtle::interpret(&derive(&g, 0, 0, &Limits::default()).unwrap(), &g).unwrap();
+    assert_eq!(segs.len(), 3);
+    assert!(close(segs[0].end, Vec3::new(0.0, 2.0, 0.0)), "{:?}", segs[0]);
+    assert!(close(segs[1].end, Vec3::new(-0.5, 2.0, 0.0)), "{:?}", segs[1]);
+    assert!(close(segs[2].end, Vec3::new(-1.5, 2.0, 0.0)) && segs[2].width == 0.3, "{:?}", segs[2]);
     // Roll: `/` turns left and up about the heading, so after `&` the heading is unchanged by it.
     let g = Grammar::compile(&Source { axiom: "+/F".into(), angle_deg: 90.0, ..Source::default() }).unwrap();
     let segs = turtle::interpret(&derive(&g, 0, 0, &Limits::default()).unwrap(), &g).unwrap();

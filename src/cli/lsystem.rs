@@ -106,9 +106,9 @@ pub struct ModelArgs {
     /// The model's file name (default: the grammar's name).
     #[arg(long)]
     pub name: Option<String>,
-    /// The model's height, metres.
-    #[arg(long, default_value_t = 6.0)]
-    pub height: f32,
+    /// The model's height, metres (default: the grammar's `height`, 6 m unless it says otherwise).
+    #[arg(long)]
+    pub height: Option<f32>,
 }
 
 /// Arguments of `grove lsystem bench`.
@@ -205,7 +205,7 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     }
     let s = cpu_derive(&g, n, a.src.seed, &limits, None)?;
     let segs = turtle::interpret_parallel(&s, &g, limits.max_bytes)?;
-    let model = mesh::build(&g, &segs, &mesh::ModelOptions { height: a.height, ..Default::default() })?;
+    let model = mesh::build(&g, &segs, &mesh::ModelOptions { height: a.height.unwrap_or(g.height), ..Default::default() })?;
     let w = mesh::write(&a.out, &name, &g, &model)?;
     let (lo, hi) = model.bounds;
     println!(

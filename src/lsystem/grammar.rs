@@ -76,6 +76,8 @@ pub struct Grammar {
     pub species: String,
     /// The derivation count used when none is given.
     pub n: u32,
+    /// The height of a model, metres, when none is given.
+    pub height: f32,
 }
 
 /// The unchecked parts of a grammar, as written in a file or on the command line.
@@ -99,6 +101,8 @@ pub struct Source {
     pub species: String,
     /// Default derivation count.
     pub n: u32,
+    /// Default model height, metres.
+    pub height: f32,
 }
 
 impl Default for Source {
@@ -113,6 +117,7 @@ impl Default for Source {
             width_factor: 0.7,
             species: "broadleaf".into(),
             n: 4,
+            height: 6.0,
         }
     }
 }
@@ -226,6 +231,9 @@ impl Grammar {
         }
         if !(src.width_factor.is_finite() && src.width_factor > 0.0) {
             bail!("width-factor must be positive");
+        }
+        if !(src.height.is_finite() && src.height > 0.0) {
+            bail!("height must be a positive number of metres");
         }
         if !SPECIES.contains(&src.species.as_str()) {
             bail!("species '{}' is not one of {}", src.species, SPECIES.join(", "));
@@ -366,6 +374,7 @@ impl Grammar {
             width_factor: src.width_factor,
             species: src.species.clone(),
             n: src.n,
+            height: src.height,
         })
     }
 
@@ -400,8 +409,9 @@ impl Grammar {
                 "width" => src.width = num(value)?,
                 "width-factor" => src.width_factor = num(value)?,
                 "species" => src.species = value.to_string(),
+                "height" => src.height = num(value)?,
                 "n" => src.n = value.parse().with_context(|| format!("{}: '{value}' is not a derivation count", at()))?,
-                other => bail!("{}: unknown key '{other}' (name, axiom, rule, angle, step, width, width-factor, species, n)", at()),
+                other => bail!("{}: unknown key '{other}' (name, axiom, rule, angle, step, width, width-factor, species, height, n)", at()),
             }
         }
         if !have_axiom {

@@ -22,33 +22,36 @@ pub const PRESETS: &[(&str, &str)] = &[
          axiom: FFA\n\
          rule: A -(0.7)-> [&F!A]/////[&F!A]///////[&F!A]\n\
          rule: A -(0.3)-> [&F!A]////////[&&F!A]\n\
-         rule: F -> S/////F\nrule: S -> F\nn: 7\n",
+         rule: F -> S/////F\nrule: S -> F\nheight: 8\nn: 7\n",
     ),
     (
         "conifer",
-        "name: conifer\n# A cone of whorls: five branches per whorl, the oldest (lowest) longest.\n\
+        "name: conifer\n# A cone of whorls: five branches per whorl, the oldest (lowest) longest; branches grow\n\
+         # every other step, the leader two segments a step.\n\
          species: conifer\nangle: 18\nstep: 0.3\nwidth: 0.3\nwidth-factor: 0.85\n\
          axiom: FFA\n\
-         rule: A -> F!W/A\n\
+         rule: A -> FF!W/A\n\
          rule: W -> [&&&&&B]////[&&&&&B]////[&&&&&B]////[&&&&&B]////[&&&&&B]\n\
-         rule: B -> F[-C][+C]B\nrule: C -> F\nn: 14\n",
+         rule: B -> F[-C][+C]E\nrule: E -> B\nrule: C -> F\nheight: 10\nn: 14\n",
     ),
     (
         "birch",
         "name: birch\n# A slender leader with thin branches that arc downwards.\n\
          species: birch\nangle: 20\nstep: 0.4\nwidth: 0.16\nwidth-factor: 0.6\n\
-         axiom: FFFA\n\
-         rule: A -(0.5)-> F[&&&!B]/////A\n\
-         rule: A -(0.5)-> F[&&!B]///////[&&&!B]///A\n\
-         rule: B -> F[+&C][-&C]&B\nrule: C -> F&C\nn: 10\n",
+         axiom: FFFFA\n\
+         rule: A -(0.5)-> FF[&&&!B]/////A\n\
+         rule: A -(0.5)-> FF[&&!B]///////[&&&!B]///A\n\
+         rule: B -> F[+&C][-&C]E\nrule: E -> B\nrule: C -> F&D\nrule: D -> F\nheight: 9\nn: 10\n",
     ),
     (
         "shrub",
-        "name: shrub\n# Many stems from the ground, forking often.\n\
-         species: shrub\nangle: 24\nstep: 0.22\nwidth: 0.06\nwidth-factor: 0.8\n\
+        "name: shrub\n# Many stems from the ground; side branches and twigs turn at most twice, so nothing grows\n\
+         # below the horizontal.\n\
+         species: shrub\nangle: 20\nstep: 0.22\nwidth: 0.06\nwidth-factor: 0.8\n\
          axiom: [&A]////[&&A]////[&A]////[&&A]////[&A]\n\
-         rule: A -(0.5)-> F[+A]//[-A]\n\
-         rule: A -(0.5)-> F[&A]///A\nn: 7\n",
+         rule: A -(0.6)-> F[+B]//[-B]A\n\
+         rule: A -(0.4)-> F//[&B]A\n\
+         rule: B -> F[+C]F[-C]B\nrule: C -> F\nheight: 1.6\nn: 6\n",
     ),
 ];
 
