@@ -31,6 +31,20 @@ fn gpu_equals_cpu_on_every_preset() {
 }
 
 #[test]
+fn two_dimensional_dispatches_give_the_same_string() {
+    // At most 7 workgroups per dimension: bush 2's step 6 (88,940 symbols in, 22,235 words, 87
+    // workgroups) runs as a 7 × 13 grid with idle workgroups at the end, and so does its scan.
+    let mut gpu = GpuDeriver::new().unwrap_or_else(|e| panic!("{e}"));
+    gpu.set_max_workgroups(7);
+    let limits = Limits::default();
+    for name in ["bush2", "broadleaf", "abop-f"] {
+        let g = presets::preset(name).unwrap();
+        let n = if name == "bush2" { 6 } else { g.n };
+        assert_eq!(gpu.derive(&g, n, 4, &limits).unwrap().hash(), derive(&g, n, 4, &limits).unwrap().hash(), "{name}");
+    }
+}
+
+#[test]
 fn gpu_refuses_parametric_grammars_and_honours_limits() {
     let gpu = GpuDeriver::new().unwrap_or_else(|e| panic!("{e}"));
     let g = grove::lsystem::Grammar::compile(&grove::lsystem::grammar::Source {

@@ -55,8 +55,19 @@ pub struct GrammarArgs {
     pub max_bytes: u64,
 }
 
+/// The most derivation steps a command accepts.
+const MAX_N: u32 = 1000;
+
 impl GrammarArgs {
     fn grammar(&self) -> anyhow::Result<Grammar> {
+        let g = self.grammar_unchecked()?;
+        if self.n.unwrap_or(g.n) > MAX_N {
+            bail!("--n {} is more than {MAX_N} derivation steps", self.n.unwrap_or(g.n));
+        }
+        Ok(g)
+    }
+
+    fn grammar_unchecked(&self) -> anyhow::Result<Grammar> {
         if let Some(p) = &self.preset {
             return presets::preset(p);
         }

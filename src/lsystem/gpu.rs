@@ -27,6 +27,7 @@ pub struct GpuDeriver {
     add_offsets: wgpu::ComputePipeline,
     scatter: wgpu::ComputePipeline,
     max_binding: u64,
+    max_groups: u32,
 }
 
 /// The packed tables of a grammar (see `derive.wgsl`) and the pool's word offset.
@@ -73,10 +74,11 @@ fn pack(bytes: &[u8]) -> Vec<u32> {
     w
 }
 
-/// A two-dimensional workgroup count covering `groups` workgroups, and the threads per row.
-fn grid(groups: u32) -> (u32, u32, u32) {
+/// A two-dimensional workgroup count covering `groups` workgroups with at most `max` per
+/// dimension, and the threads per row.
+fn grid(groups: u32, max: u32) -> (u32, u32, u32) {
     let groups = groups.max(1);
-    let x = groups.min(MAX_GROUPS);
+    let x = groups.min(max);
     (x, groups.div_ceil(x), x * WG)
 }
 
@@ -118,10 +120,17 @@ impl GpuDeriver {
             add_offsets: pipe("add_offsets"),
             scatter: pipe("scatter"),
             max_binding: (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size),
+            max_groups: MAX_GROUPS.min(limits.max_compute_workgroups_per_dimension),
             adapter: format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
             device,
             queue,
         })
+    }
+
+    /// Lowers the most workgroups per dispatch dimension (at least 1), so that tests can exercise
+    /// the two-dimensional layout on small strings.
+    pub fn set_max_workgroups(&mut self, max: u32) {
+        self.max_groups = max.clamp(1, MAX_GROUPS);
     }
 
     /// A one-line description of the adapter.
@@ -159,7 +168,7 @@ impl GpuDeriver {
     fn scan(&self, enc: &mut wgpu::CommandEncoder, data: &wgpu::Buffer, n: u32) -> wgpu::Buffer {
         let blocks = n.div_ceil(WG).max(1);
         let sums = self.buffer("lsystem block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
-        let (x, y, _) = grid(blocks);
+        let (x, y, _) = grid(blocks, self.max_groups);
         let prm = self.params(n, 0, 0, 0);
         self.dispatch(enc, &self.scan_block, &[(0, &prm), (3, data), (4, &sums)], (x, y));
         if blocks == 1 {
@@ -215,7 +224,7 @@ impl GpuDeriver {
             if words as u64 * 4 > self.max_binding {
                 bail!("derivation step {k}: {len} symbols exceed the GPU's largest storage buffer ({} bytes)", self.max_binding);
             }
-            let (x, y, row) = grid(words.div_ceil(WG));
+            let (x, y, row) = grid(words.div_ceil(WG), self.max_groups);
             let prm = self.params(len as u32, key, row, pool_base);
             let mut enc = self.device.create_command_encoder(&Default::default());
             self.dispatch(&mut enc, &self.lengths, &[(0, &prm), (1, &src), (2, &table), (3, &lens)], (x, y));
@@ -235,5 +244,18 @@ impl GpuDeriver {
         }
         let syms = self.read(&src, len)?;
         Ok(LString { syms, params: Vec::new() })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grids_stay_within_the_dispatch_limit() {
+        assert_eq!(grid(0, MAX_GROUPS), (1, 1, 256));
+        assert_eq!(grid(65_535, MAX_GROUPS), (65_535, 1, 65_535 * 256));
+        assert_eq!(grid(65_536, MAX_GROUPS), (65_535, 2, 65_535 * 256));
+        assert_eq!(grid(10, 3), (3, 4, 768));
     }
 }

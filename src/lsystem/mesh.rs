@@ -75,6 +75,9 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> anyhow::Resu
     if !(opts.height.is_finite() && opts.height > 0.0) {
         bail!("the height must be a positive number of metres");
     }
+    if segs.iter().any(|s| !(s.start.is_finite() && s.end.is_finite() && s.width.is_finite())) {
+        bail!("'{}' draws a segment at a position or width that is not a finite number; check its parameters", g.name);
+    }
     let top = segs.iter().fold(0.0f32, |m, s| m.max(s.start.y).max(s.end.y));
     let extent = segs.iter().fold(0.0f32, |m, s| m.max(s.end.length()));
     let scale = opts.height / if top > 0.0 { top } else { extent.max(1e-6) };
