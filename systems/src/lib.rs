@@ -21,6 +21,7 @@ pub mod hash;
 pub mod input;
 pub mod interact;
 pub mod replay;
+pub mod scatter;
 pub mod resources;
 pub mod scene;
 pub mod schedule;

@@ -36,6 +36,9 @@ pub struct Scene {
     /// Trees present at the start.
     #[serde(default)]
     pub trees: Vec<TreeDef>,
+    /// Trees scattered over regions at the start (see `scatter.rs`), after `trees`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub scatter: Vec<crate::scatter::ScatterDef>,
     /// The initial head (camera) pose.
     pub camera: CameraDef,
 }
@@ -284,6 +287,9 @@ impl Scene {
             if t.scale <= 0.0 {
                 return Err(format!("tree {i} has scale {}; scale must be positive", t.scale));
             }
+        }
+        for (i, sc) in self.scatter.iter().enumerate() {
+            sc.validate().map_err(|e| format!("scatter {i}: {e}"))?;
         }
         let c = &self.camera;
         finite("camera", c.position.is_finite() && c.look_at.is_finite() && c.fov_y_deg.is_finite())?;
