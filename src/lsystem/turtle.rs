@@ -85,7 +85,7 @@ fn rot(a: &mut Vec3, b: &mut Vec3, s: f32, c: f32) {
 
 /// Applies symbol `sym` with parameters `args` (other than brackets) to `t`; returns the end
 /// point when it draws.
-#[inline]
+#[inline(always)]
 pub fn apply(t: &mut State, sym: u8, args: &[f32], cfg: &Config) -> Option<Vec3> {
     let (s, c) = match args.first() {
         Some(a) if matches!(sym, b'+' | b'-' | b'&' | b'^' | b'\\' | b'/') => a.to_radians().sin_cos(),
@@ -151,7 +151,10 @@ pub fn interpret(s: &LString, g: &Grammar) -> anyhow::Result<Vec<Segment>> {
     let cfg = Config::of(g);
     let mut t = cfg.start();
     let mut stack: Vec<(State, u32)> = Vec::new();
-    let mut segs = Vec::new();
+    let draws = s.syms.iter().filter(|&&c| c == b'F').count();
+    let mut segs = Vec::with_capacity(draws);
+    // Without parameters every symbol's argument list is empty: skip the slicing.
+    let parametric = g.is_parametric();
     let (mut p, mut opens, mut branch) = (0usize, 0u32, 0u32);
     for &sym in &s.syms {
         match sym {
@@ -166,9 +169,10 @@ pub fn interpret(s: &LString, g: &Grammar) -> anyhow::Result<Vec<Segment>> {
                 branch = b;
             }
             _ => {
-                let a = g.arity[(sym & 127) as usize] as usize;
+                let a = if parametric { g.arity[(sym & 127) as usize] as usize } else { 0 };
                 let start = t.pos;
-                if let Some(end) = apply(&mut t, sym, &s.params[p..p + a], &cfg) {
+                let args = if parametric { &s.params[p..p + a] } else { &[] };
+                if let Some(end) = apply(&mut t, sym, args, &cfg) {
                     segs.push(Segment { start, end, width: t.width, depth: stack.len() as u32, branch });
                 }
                 p += a;
@@ -204,6 +208,7 @@ struct Ctx<'a> {
     cfg: Config,
     matches: Vec<Match>,
     out: *mut Segment,
+    parametric: bool,
 }
 
 // The raw output pointer is written at disjoint indices (each `F` has its own), so sharing the
@@ -253,9 +258,10 @@ fn walk<'s>(scope: &rayon::Scope<'s>, ctx: &'s Ctx<'s>, first: Task) {
                 opens = m.opens as usize;
                 continue;
             }
-            let a = ctx.g.arity[(sym & 127) as usize] as usize;
+            let a = if ctx.parametric { ctx.g.arity[(sym & 127) as usize] as usize } else { 0 };
             let from = state.pos;
-            if let Some(to) = apply(&mut state, sym, &ctx.s.params[p..p + a], &ctx.cfg) {
+            let args = if ctx.parametric { &ctx.s.params[p..p + a] } else { &[] };
+            if let Some(to) = apply(&mut state, sym, args, &ctx.cfg) {
                 // SAFETY: `draws` is this `F`'s ordinal among all drawn symbols, below the
                 // capacity reserved for them, and no other walk visits this `F`.
                 unsafe { ctx.out.add(draws).write(Segment { start: from, end: to, width: state.width, depth, branch }) };
@@ -343,7 +349,7 @@ pub fn interpret_parallel(s: &LString, g: &Grammar, max_bytes: u64) -> anyhow::R
 
     // Pass 3: walk the branches.
     let mut out: Vec<Segment> = Vec::with_capacity(total_draws as usize);
-    let ctx = Ctx { s, g, cfg, matches, out: out.as_mut_ptr() };
+    let ctx = Ctx { s, g, cfg, matches, out: out.as_mut_ptr(), parametric: g.is_parametric() };
     let root = Task { start: 0, end: s.syms.len(), state: cfg.start(), counts: Counts::default(), depth: 0, branch: 0 };
     rayon::scope(|sc| walk(sc, &ctx, root));
     // SAFETY: every drawn symbol wrote its segment at its own ordinal, and there are
