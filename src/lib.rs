@@ -8,3 +8,4 @@
 pub mod assetgen;
 pub mod atomic_write;
 pub mod render;
+pub mod lsystem;

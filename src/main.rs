@@ -45,6 +45,9 @@ enum Command {
     Assets(cli::assets::AssetsArgs),
     /// Render a scene, a frame sequence or a glTF model to PNG (offscreen).
     Render(cli::render::RenderArgs),
+    /// L-system trees: derive (CPU or GPU), write glTF models, benchmark.
+    #[command(subcommand)]
+    Lsystem(cli::lsystem::LsystemCommand),
 }
 
 fn main() -> ExitCode {
@@ -70,6 +73,7 @@ fn main() -> ExitCode {
         Command::Sun(args) => cli::sun::run(args),
         Command::Assets(args) => cli::assets::run(args),
         Command::Render(args) => cli::render::run(args),
+        Command::Lsystem(cmd) => cli::lsystem::run(cmd),
     };
     match result {
         Ok(code) => code,

@@ -60,6 +60,7 @@ fn ground_scene(half: f32, cell: f32) -> Scene {
             response: Default::default(),
         },
         trees: vec![],
+        scatter: vec![],
         camera: CameraDef {
             position: Vec3::new(0.0, 1.7, 6.0),
             look_at: Vec3::ZERO,

@@ -24,6 +24,7 @@ pub mod interact;
 pub mod limits;
 pub mod names;
 pub mod replay;
+pub mod scatter;
 pub mod resources;
 pub mod scene;
 pub mod schedule;

@@ -39,6 +39,9 @@ pub struct Scene {
     /// Trees present at the start.
     #[serde(default)]
     pub trees: Vec<TreeDef>,
+    /// Trees scattered over regions at the start (see `scatter.rs`), after `trees`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub scatter: Vec<crate::scatter::ScatterDef>,
     /// The initial head (camera) pose.
     pub camera: CameraDef,
 }
@@ -323,6 +326,9 @@ impl Scene {
             if !(t.scale > 0.0 && t.scale <= 1000.0) {
                 return Err(format!("tree {i} has scale {}; scale must be positive and at most 1000", t.scale));
             }
+        }
+        for (i, sc) in self.scatter.iter().enumerate() {
+            sc.validate().map_err(|e| format!("scatter {i}: {e}"))?;
         }
         let c = &self.camera;
         near("camera", &[c.position.x, c.position.y, c.position.z, c.look_at.x, c.look_at.y, c.look_at.z])?;

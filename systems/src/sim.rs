@@ -108,6 +108,16 @@ impl Sim {
                 .ok_or_else(|| format!("tree {i}: unknown model '{}'", t.model))?;
             sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
         }
+        for (k, sc) in scene.scatter.iter().enumerate() {
+            for t in sc.trees().map_err(|e| format!("scatter {k}: {e}"))? {
+                // A scattered position with no ground below (a hole) gets no tree.
+                if sim.res.spatial.ground_below(t.position, 1.0e3).is_none() {
+                    continue;
+                }
+                let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| format!("scatter {k}: unknown model '{}'", t.model))?;
+                sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
+            }
+        }
         Ok(sim)
     }
 
