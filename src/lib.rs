@@ -5,5 +5,6 @@
 
 #![warn(missing_docs)]
 
+pub mod aerial;
 pub mod assetgen;
 pub mod render;

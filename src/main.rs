@@ -45,6 +45,9 @@ enum Command {
     Assets(cli::assets::AssetsArgs),
     /// Render a scene, a frame sequence or a glTF model to PNG (offscreen).
     Render(cli::render::RenderArgs),
+    /// Treetops from summer and winter aerial photographs: segment, scene, synth, eval.
+    #[command(subcommand)]
+    Aerial(cli::aerial::AerialCommand),
 }
 
 fn main() -> ExitCode {
@@ -70,6 +73,7 @@ fn main() -> ExitCode {
         Command::Sun(args) => cli::sun::run(args),
         Command::Assets(args) => cli::assets::run(args),
         Command::Render(args) => cli::render::run(args),
+        Command::Aerial(cmd) => cli::aerial::run(cmd),
     };
     match result {
         Ok(code) => code,
