@@ -25,12 +25,12 @@ fn synth(dir: &Path, size: u32) {
 fn synth_segment_scene_and_eval() {
     let tmp = tempfile::tempdir().unwrap();
     let pair = tmp.path().join("pair");
-    synth(&pair, 160);
+    synth(&pair, 256);
     for f in ["summer.png", "winter.png", "truth.csv", "distractors.csv"] {
         assert!(pair.join(f).is_file(), "{f}");
     }
     let summer = image::open(pair.join("summer.png")).unwrap();
-    assert_eq!((summer.width(), summer.height()), (160, 160));
+    assert_eq!((summer.width(), summer.height()), (256, 256));
     let truth = std::fs::read_to_string(pair.join("truth.csv")).unwrap();
     assert!(truth.starts_with("id,species,kind,x_px,y_px,radius_px,x_m,y_m,radius_m,height_m"), "{truth}");
     assert!(truth.contains("deciduous") && truth.contains("evergreen"));
@@ -38,7 +38,7 @@ fn synth_segment_scene_and_eval() {
     let seg = tmp.path().join("seg");
     let text = ok(&["aerial", "segment", "--summer", &s(&pair.join("summer.png")), "--winter", &s(&pair.join("winter.png")), "--gsd", "0.2", "--out", &s(&seg), "--json"]);
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    assert_eq!(v["width"], 160);
+    assert_eq!(v["width"], 256);
     assert!(v["crowns"].as_u64().unwrap() > 0, "{v}");
     assert!(v["seconds"]["segment"].as_f64().unwrap() >= 0.0);
     let mask = image::open(seg.join("mask.png")).unwrap().to_luma8();
@@ -52,7 +52,7 @@ fn synth_segment_scene_and_eval() {
     let scene = tmp.path().join("aerial.ron");
     ok(&["aerial", "scene", "--crowns", &s(&seg.join("crowns.csv")), "--out", &s(&scene)]);
     let check = ok(&["scene", "check", &s(&scene)]);
-    assert!(check.contains("plane 'ground'") && check.contains("x -16.0..16.0 m"), "{check}");
+    assert!(check.contains("plane 'ground'") && check.contains("x -25.6..25.6 m"), "{check}");
     let sim = ok(&["sim", "--scene", &s(&scene), "--ticks", "3", "--json"]);
     let v: serde_json::Value = serde_json::from_str(&sim).unwrap();
     assert!(v["entities"]["trees"].as_u64().unwrap() > 0, "{v}");

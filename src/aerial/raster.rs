@@ -55,11 +55,18 @@ impl RgbImage {
         if path.is_dir() {
             return Err(format!("{name}: is a folder, not an image"));
         }
-        let reader = ImageReader::open(path).map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
-        let mut reader = reader.with_guessed_format().map_err(|e| format!("{name}: {e}"))?;
-        if reader.format().is_none() {
-            return Err(format!("{name}: not a PNG or TIFF image"));
-        }
+        // The format comes from the content alone: a PNG or TIFF signature, whatever the file is called.
+        let mut head = [0u8; 8];
+        let n = std::fs::File::open(path)
+            .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+            .map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
+        let format = match &head[..n] {
+            [0x89, b'P', b'N', b'G', ..] => image::ImageFormat::Png,
+            [b'I', b'I', 42, 0, ..] | [b'M', b'M', 0, 42, ..] => image::ImageFormat::Tiff,
+            _ => return Err(format!("{name}: not a PNG or TIFF image")),
+        };
+        let mut reader = ImageReader::open(path).map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
+        reader.set_format(format);
         let mut limits = Limits::default();
         limits.max_alloc = Some(MAX_BYTES + (64 << 20));
         reader.limits(limits);
