@@ -173,7 +173,7 @@ pub fn run(cmd: AerialCommand) -> anyhow::Result<ExitCode> {
         _ => None,
     };
     let pool = match threads {
-        Some(0) => bail!("--threads must be at least 1"),
+        Some(n) if n == 0 || n > 256 => bail!("--threads {n} must be between 1 and 256"),
         Some(n) => rayon::ThreadPoolBuilder::new().num_threads(n).build()?,
         None => rayon::ThreadPoolBuilder::new().build()?,
     };
