@@ -5,6 +5,7 @@
 
 #![warn(missing_docs)]
 
+pub mod aerial;
 pub mod assetgen;
 pub mod atomic_write;
 pub mod render;

@@ -48,6 +48,9 @@ enum Command {
     /// L-system trees: derive (CPU or GPU), write glTF models, benchmark.
     #[command(subcommand)]
     Lsystem(cli::lsystem::LsystemCommand),
+    /// Treetops from summer and winter aerial photographs: segment, scene, synth, eval.
+    #[command(subcommand)]
+    Aerial(cli::aerial::AerialCommand),
 }
 
 fn main() -> ExitCode {
@@ -74,6 +77,7 @@ fn main() -> ExitCode {
         Command::Assets(args) => cli::assets::run(args),
         Command::Render(args) => cli::render::run(args),
         Command::Lsystem(cmd) => cli::lsystem::run(cmd),
+        Command::Aerial(cmd) => cli::aerial::run(cmd),
     };
     match result {
         Ok(code) => code,

@@ -1,5 +1,6 @@
 //! Subcommands of the `grove` tool, one module each, and the helpers they share.
 
+pub mod aerial;
 pub mod assets;
 pub mod bench;
 pub mod bench_raycast;
