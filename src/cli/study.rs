@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use clap::Args;
-use grove_systems::resources::Config;
+use grove_systems::resources::Override;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::study::{chart, recordings_in, report, run_all, TrialStatus};
@@ -28,16 +28,9 @@ pub struct StudyArgs {
     pub set: Vec<String>,
 }
 
-/// Parses and checks `--set NAME=VALUE` arguments against the configuration's names.
-pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> {
-    let mut config = Config::default();
-    let mut out = Vec::new();
-    for s in set {
-        let (k, v) = s.split_once('=').ok_or_else(|| anyhow!("--set {s}: expected NAME=VALUE"))?;
-        config.set(k.trim(), v.trim()).map_err(|e| anyhow!("--set {e}"))?;
-        out.push((k.trim().to_string(), v.trim().to_string()));
-    }
-    Ok(out)
+/// Parses and checks `--set NAME=VALUE` arguments, once, into typed overrides.
+pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<Override>> {
+    Override::parse_all(set).map_err(|e| anyhow!("--set {e}"))
 }
 
 /// Runs `grove study`.
@@ -63,7 +56,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let title = if overrides.is_empty() {
         "Task time per participant: ray-casting vs manual".to_string()
     } else {
-        format!("What-if ({}): task time per participant", overrides.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(", "))
+        format!("What-if ({}): task time per participant", overrides.iter().map(|o| format!("{}={}", o.name, o.text)).collect::<Vec<_>>().join(", "))
     };
     chart::ablation_chart(&args.out.join("ablation.png"), &summary.per_participant, &title, 1100, 600)?;
 

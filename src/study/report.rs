@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use grove_systems::resources::Override;
 use serde::Serialize;
 
 use super::{Trial, TrialStatus};
@@ -68,7 +69,7 @@ fn mean_sd(xs: &[f64]) -> (f64, f64) {
 }
 
 /// Builds the summary of a set of trials.
-pub fn summarize(trials: &[Trial], overrides: &[(String, String)], wall_seconds: f64) -> Summary {
+pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) -> Summary {
     let mut status = BTreeMap::new();
     for t in trials {
         *status.entry(t.status.word().to_string()).or_insert(0) += 1;
@@ -112,7 +113,7 @@ pub fn summarize(trials: &[Trial], overrides: &[(String, String)], wall_seconds:
         status,
         completed: trials.iter().filter(|t| t.task.as_ref().is_some_and(|k| k.completed)).count(),
         participants: per_participant.len(),
-        overrides: overrides.iter().cloned().collect(),
+        overrides: overrides.iter().map(|o| (o.name.to_string(), o.text.clone())).collect(),
         modes,
         ray_casting_faster_for_all: !compared.is_empty() && compared.iter().all(|x| *x),
         per_participant,

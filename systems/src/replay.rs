@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::hash::{hex, WorldHash, COMPONENTS};
 use crate::input::{InputEvent, StampedEvent};
-use crate::resources::Config;
+use crate::resources::{Config, Override};
 use crate::scene::Scene;
 use crate::sim::Sim;
 
@@ -308,7 +308,7 @@ impl<W: Write> Recorder<W> {
 
 /// Builds the simulation a header describes: its scene (built-in name or path, relative paths
 /// resolved against `base_dir` and then the working directory), seed, and config overrides.
-pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Sim, String> {
+pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Override]) -> Result<Sim, String> {
     let scene = match Scene::builtin(&header.scene) {
         Some(s) => s,
         None => {
@@ -322,9 +322,10 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(St
     }
     let mut sim = Sim::from_scene(&scene, header.seed)?;
     let mut config = Config::default();
-    for (k, v) in header.config.iter().map(|(k, v)| (k.as_str(), v.as_str())).chain(overrides.iter().map(|(k, v)| (k.as_str(), v.as_str()))) {
+    for (k, v) in &header.config {
         config.set(k, v)?;
     }
+    config.apply(overrides)?;
     sim.res.config = config;
     Ok(sim)
 }
@@ -338,17 +339,17 @@ pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent],
     let mut i = 0;
     let end = end_tick.max(events.last().map_or(0, |e| e.tick + 1));
     while sim.res.tick < end {
+        let start = i;
         while i < events.len() && events[i].tick == sim.res.tick {
             let e = &events[i];
             let ms = (e.tick as f64 * header.dt as f64 * 1000.0).round() as u64;
             rec.event(e.tick, ms, e.tick, &e.event).map_err(|e| e.to_string())?;
-            sim.push_input(e.event.clone())?;
             i += 1;
         }
         if i < events.len() && events[i].tick < sim.res.tick {
             return Err(format!("event {i} is stamped tick {} but the recording is at tick {}", events[i].tick, sim.res.tick));
         }
-        sim.step();
+        sim.step_with(events[start..i].iter().map(|e| e.event.clone()))?;
         rec.after_step(&sim).map_err(|e| e.to_string())?;
     }
     rec.finish(&sim, summary).map_err(|e| e.to_string())
@@ -413,7 +414,7 @@ pub struct ReplayOptions {
     /// Stop at this tick.
     pub until: Option<u64>,
     /// Config overrides (what-if): checkpoints are then not compared.
-    pub overrides: Vec<(String, String)>,
+    pub overrides: Vec<Override>,
 }
 
 /// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
@@ -537,9 +538,12 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let mut stopped_early = false;
     let until = options.until.unwrap_or(u64::MAX);
 
-    let advance = |sim: &mut Sim, to: u64| {
+    // The events read for the coming tick, applied with the step that reaches the next line's
+    // tick (each was validated when read).
+    let mut pending: Vec<InputEvent> = Vec::new();
+    let advance = |sim: &mut Sim, pending: &mut Vec<InputEvent>, to: u64| {
         while sim.res.tick < to.min(until) {
-            sim.step();
+            let _ = sim.step_with(pending.drain(..));
         }
     };
 
@@ -570,12 +574,13 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
             stopped_early = true;
             break;
         }
-        advance(&mut sim, tick);
+        advance(&mut sim, &mut pending, tick);
         match line {
             Line::Header(_) => {}
             Line::Event(e) => {
                 *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
-                sim.push_input(e.event).map_err(|m| err(Some(n), m))?;
+                e.event.validate().map_err(|m| err(Some(n), m))?;
+                pending.push(e.event);
             }
             Line::Checkpoint(c) => {
                 if verifying && first_divergence.is_none() {
@@ -599,7 +604,11 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
         }
     }
     if stopped_early {
-        advance(&mut sim, until);
+        advance(&mut sim, &mut pending, until);
+    }
+    // Events of a tick the recording ends at wait in the input queue, as a live session leaves them.
+    for event in pending {
+        let _ = sim.push_input(event);
     }
     Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events: outcome_events, verifying })
 }
