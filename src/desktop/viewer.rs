@@ -129,9 +129,10 @@ impl Viewer {
         while self.events.get(self.next_event).is_some_and(|e| e.tick <= self.sim.res.tick) {
             self.next_event += 1;
         }
-        // The headless pass accepted every event, so this cannot fail; an invalid event
-        // would have been reported by `open`.
-        let _ = self.sim.step_with(self.events[start..self.next_event].iter().map(|e| e.event.clone()));
+        // The headless pass accepted every event (an invalid one would have been reported by
+        // `open`); any other is skipped, so the step always happens.
+        let events = self.events[start..self.next_event].iter().filter(|e| e.event.validate().is_ok());
+        let _ = self.sim.step_with(events.map(|e| e.event.clone()));
     }
 
     /// Shows the world at `tick` (clamped to the recording), re-simulating from the start when

@@ -317,3 +317,49 @@ pub(crate) fn sampler_entry(binding: u32, ty: wgpu::SamplerBindingType) -> wgpu:
         count: None,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(view: ViewKind) -> PipelineKey {
+        PipelineKey { shadows: true, wind: WindModel::Noise, format: wgpu::TextureFormat::Rgba8UnormSrgb, view }
+    }
+
+    #[test]
+    fn an_unprepared_or_refused_key_is_an_error() {
+        let mut cache: PipelineCache<u32> = PipelineCache::new("test feature");
+        let err = cache.get(key(ViewKind::Main)).unwrap_err();
+        assert!(err.contains("test feature") && err.contains("Main"), "{err}");
+        let err = cache.prepare(key(ViewKind::Sun), |_| Err("main view only".into())).unwrap_err();
+        assert!(err.contains("test feature") && err.contains("Sun") && err.contains("main view only"), "{err}");
+        assert!(cache.get(key(ViewKind::Sun)).is_err());
+    }
+
+    #[test]
+    fn pipelines_are_built_once_per_key() {
+        let mut cache: PipelineCache<u32> = PipelineCache::new("test feature");
+        let mut builds = 0;
+        for _ in 0..3 {
+            cache
+                .prepare(key(ViewKind::Main), |_| {
+                    builds += 1;
+                    Ok(7)
+                })
+                .unwrap();
+        }
+        assert_eq!(builds, 1);
+        assert_eq!(*cache.get(key(ViewKind::Main)).unwrap(), 7);
+        // Another wind model is another key.
+        let other = PipelineKey { wind: WindModel::Hierarchical, ..key(ViewKind::Main) };
+        assert!(cache.get(other).is_err());
+    }
+
+    #[test]
+    fn the_wind_constant_is_the_models_code() {
+        let k = PipelineKey { shadows: false, ..key(ViewKind::Main) };
+        assert_eq!(k.tree_constants(), [("SHADOWS", 0.0), ("WIND_MODEL", 0.0)]);
+        let k = PipelineKey { wind: WindModel::Hierarchical, ..key(ViewKind::Main) };
+        assert_eq!(k.tree_constants(), [("SHADOWS", 1.0), ("WIND_MODEL", 1.0)]);
+    }
+}

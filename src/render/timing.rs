@@ -115,3 +115,15 @@ impl Timer {
         Ok(PassTimes { scopes })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_are_found_by_scope_name() {
+        let t = PassTimes { scopes: vec![("shadow", 1.5), ("grass", 0.25), ("main", 9.0)] };
+        assert_eq!((t.ms("shadow"), t.ms("grass"), t.ms("main")), (1.5, 0.25, 9.0));
+        assert_eq!(t.ms("water"), 0.0);
+    }
+}
