@@ -12,6 +12,7 @@ use grove_systems::input::Button;
 use grove_systems::interact;
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
+use grove_systems::sim::TreeState;
 use grove_systems::script::Script;
 use grove_systems::Sim;
 
@@ -47,7 +48,7 @@ fn kinds_since(s: &Script, from: usize) -> Vec<&'static str> {
 }
 
 fn lowest_point(s: &Script, id: u64) -> Vec3 {
-    let (tree, t, scale, _) = s.sim().tree(id).expect("tree exists");
+    let TreeState { tree, transform: t, scale, .. } = s.sim().tree(id).expect("tree exists");
     let lowest = s.sim().res.catalogue.get(tree.model).unwrap().lowest_point();
     Vec3::new(t.translation.x, interact::lowest_point_y(t.translation.y, lowest, scale.0), t.translation.z)
 }
@@ -81,7 +82,7 @@ fn trigger_on_a_plane_plants_the_current_model_at_the_hit_point() {
 
     let new = new_trees(&s, &before);
     assert_eq!(new.len(), 1);
-    let (tree, t, scale, grounded) = s.sim().tree(new[0]).unwrap();
+    let TreeState { tree, transform: t, scale, grounded } = s.sim().tree(new[0]).unwrap();
     assert_eq!(tree.model, SHRUB);
     assert!(t.translation.distance(p) < 0.01, "planted at {} instead of {p}", t.translation);
     assert_eq!((t.yaw, scale.0, grounded.0), (0.0, 1.0, true));
@@ -133,20 +134,20 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     let model = s.sim().res.catalogue.get(SHRUB).unwrap().clone();
     assert!((sel.half_extents - (model.bounds_max - model.bounds_min) * 0.5).length() < 1e-5);
     assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Selected { tree: id });
-    assert!(s.sim().tree(id).unwrap().3 .0, "a click does not unground the tree");
+    assert!(s.sim().tree(id).unwrap().grounded.0, "a click does not unground the tree");
 
     // Grab the top front-right corner and pull it outwards.
     let corner = interact::handle_points(sel.center, sel.half_extents, sel.yaw)[7].1;
     s.point_at(corner);
     let hit = s.sim().hit_marker();
     assert_eq!(hit.target, HitTarget::Handle(Handle::Corner(7)));
-    let axis = s.sim().tree(id).unwrap().1.translation;
+    let axis = s.sim().tree(id).unwrap().transform.translation;
     s.hold(Button::Trigger);
     s.point_at(corner + Vec3::new(1.0, 0.0, 0.0));
     let c = s.controller();
     let grab = c.ray_origin() + c.ray_dir() * hit.distance;
     let expected = interact::horizontal_radius(grab, axis) / interact::horizontal_radius(hit.position, axis);
-    let scale = s.sim().tree(id).unwrap().2 .0;
+    let scale = s.sim().tree(id).unwrap().scale.0;
     assert!(expected > 1.2, "the drag should scale up noticeably (ratio {expected})");
     assert!((scale - expected).abs() < 1e-4, "scale {scale}, expected {expected}");
     s.release(Button::Trigger);
@@ -164,12 +165,12 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     let c = s.controller();
     let grab = c.ray_origin() + c.ray_dir() * hit.distance;
     let expected = interact::edge_yaw(0.0, interact::angle_around(hit.position, axis), interact::angle_around(grab, axis));
-    let yaw = s.sim().tree(id).unwrap().1.yaw;
+    let yaw = s.sim().tree(id).unwrap().transform.yaw;
     assert!(expected < -0.3, "a swing to the left turns the tree clockwise (by {expected})");
     assert!((yaw - expected).abs() < 1e-4, "yaw {yaw}, expected {expected}");
     s.release(Button::Trigger);
     assert_eq!(s.sim().res.log.entries.last().unwrap().what, Happening::Rotated { tree: id, yaw });
-    assert_eq!(s.sim().tree(id).unwrap().2 .0, scale, "rotating does not scale");
+    assert_eq!(s.sim().tree(id).unwrap().scale.0, scale, "rotating does not scale");
     assert!((s.sim().selection().yaw - yaw).abs() < 1e-6, "the box turns with the tree");
 
     // A click on bare ground clears the selection (in ray-casting mode it plants there too).
@@ -190,42 +191,42 @@ fn touchpad_moves_along_the_ray_and_turns() {
     let log_start = s.sim().res.log.entries.len();
 
     // A grounded tree moves out along the ray's horizontal direction and stays on the ground.
-    let start = s.sim().tree(id).unwrap().1.translation;
+    let start = s.sim().tree(id).unwrap().transform.translation;
     let dir = s.controller().ray_dir();
     let flat = Vec3::new(dir.x, 0.0, dir.z).normalize();
     s.touchpad(0.0, 1.0, 60);
-    let end = s.sim().tree(id).unwrap().1.translation;
+    let end = s.sim().tree(id).unwrap().transform.translation;
     let moved = Vec3::new(end.x - start.x, 0.0, end.z - start.z);
     let want = cfg.touchpad_move_rate * dt * 60.0;
     assert!((moved - flat * want).length() < 1e-3, "moved {moved}, expected {}", flat * want);
     assert!((end.y - ground_y(&s, end.x, end.z)).abs() < 1e-3, "stands on the ground as before");
-    assert!(s.sim().tree(id).unwrap().3 .0);
+    assert!(s.sim().tree(id).unwrap().grounded.0);
     assert_eq!(kinds_since(&s, log_start), ["moved"], "one Moved when the gesture ends");
 
     // Left turns counter-clockwise, right clockwise, at the configured rate.
     s.touchpad(-1.0, 0.0, 30);
-    let yaw = s.sim().tree(id).unwrap().1.yaw;
+    let yaw = s.sim().tree(id).unwrap().transform.yaw;
     let want = (cfg.touchpad_turn_rate_deg * dt * 30.0).to_radians();
     assert!((yaw - want).abs() < 1e-4, "yaw {yaw}, expected {want}");
     s.touchpad(0.5, 0.0, 30);
-    let yaw2 = s.sim().tree(id).unwrap().1.yaw;
+    let yaw2 = s.sim().tree(id).unwrap().transform.yaw;
     assert!((yaw2 - want * 0.5).abs() < 1e-4, "yaw {yaw2}, expected {}", want * 0.5);
     assert_eq!(kinds_since(&s, log_start), ["moved", "rotated", "rotated"]);
 
     // Inside the dead zone nothing happens.
-    let before = s.sim().tree(id).unwrap().1;
+    let before = s.sim().tree(id).unwrap().transform;
     s.touchpad(cfg.touchpad_dead_zone * 0.9, -cfg.touchpad_dead_zone * 0.9, 30);
-    assert_eq!(s.sim().tree(id).unwrap().1, before);
+    assert_eq!(s.sim().tree(id).unwrap().transform, before);
 
     // A floating tree (from the menu in manual mode) moves along the full ray direction.
     let before_ids = s.sim().tree_ids();
     s.switch_mode(Mode::Manual).choose_model(SHRUB);
     let new = new_trees(&s, &before_ids);
-    let p0 = s.sim().tree(new[0]).unwrap().1.translation;
+    let p0 = s.sim().tree(new[0]).unwrap().transform.translation;
     s.point_at(p0 + Vec3::Y * 0.8);
     let dir = s.controller().ray_dir();
     s.touchpad(0.0, -1.0, 30);
-    let p1 = s.sim().tree(new[0]).unwrap().1.translation;
+    let p1 = s.sim().tree(new[0]).unwrap().transform.translation;
     let want = -dir * cfg.touchpad_move_rate * dt * 30.0;
     assert!((p1 - p0 - want).length() < 1e-4, "moved {}, expected {want}", p1 - p0);
 }
@@ -237,7 +238,7 @@ fn drag_and_release_while_white_snaps_the_lowest_point_onto_the_plane() {
     s.point_at(ground(&s, 1.0, -1.0) + Vec3::Y * 0.8).hold(Button::Trigger);
     // Drag it sideways and up by 0.2 m: the tree follows the ray and floats.
     shift_controller(&mut s, Vec3::new(-1.5, 0.2, 0.0));
-    let (_, t, _, grounded) = s.sim().tree(id).unwrap();
+    let TreeState { transform: t, grounded, .. } = s.sim().tree(id).unwrap();
     assert!((t.translation.x - -0.5).abs() < 1e-4, "follows the ray: x = {}", t.translation.x);
     assert!(!grounded.0, "not grounded while dragged");
     let ball = s.sim().anchor_ball();
@@ -251,7 +252,7 @@ fn drag_and_release_while_white_snaps_the_lowest_point_onto_the_plane() {
     s.release(Button::Trigger);
     let low = lowest_point(&s, id);
     assert!((low.y - ground_y(&s, low.x, low.z)).abs() < 1e-3, "lowest point {} on the plane", low.y);
-    assert!(s.sim().tree(id).unwrap().3 .0, "grounded after the snap");
+    assert!(s.sim().tree(id).unwrap().grounded.0, "grounded after the snap");
     assert!(!s.sim().anchor_ball().visible, "the ball hides after the release");
     assert_eq!(kinds_since(&s, log_start), ["snapped", "moved"]);
     assert!(s.sim().res.interaction.drag.is_none());
@@ -265,11 +266,11 @@ fn drag_and_release_while_green_leaves_the_tree_where_it_is() {
     shift_controller(&mut s, Vec3::new(0.0, 0.6, 0.0));
     let ball = s.sim().anchor_ball();
     assert!(ball.visible && !ball.armed, "green ball at distance {}", ball.distance);
-    let held = s.sim().tree(id).unwrap().1;
+    let held = s.sim().tree(id).unwrap().transform;
     let log_start = s.sim().res.log.entries.len();
     s.release(Button::Trigger);
-    assert_eq!(s.sim().tree(id).unwrap().1, held, "not moved by the release");
-    assert!(!s.sim().tree(id).unwrap().3 .0, "not grounded");
+    assert_eq!(s.sim().tree(id).unwrap().transform, held, "not moved by the release");
+    assert!(!s.sim().tree(id).unwrap().grounded.0, "not grounded");
     assert_eq!(kinds_since(&s, log_start), ["released_green", "moved"]);
 }
 
@@ -281,13 +282,13 @@ fn over_a_hole_the_ball_hides_and_nothing_snaps() {
     s.point_at(ground(&s, -2.0, 2.5) + Vec3::Y * 0.8).hold(Button::Trigger);
     assert!(s.sim().anchor_ball().visible);
     shift_controller(&mut s, Vec3::new(0.0, 0.0, 2.0));
-    let t = s.sim().tree(id).unwrap().1.translation;
+    let t = s.sim().tree(id).unwrap().transform.translation;
     assert!((t.x - -2.0).abs() < 1e-4 && (t.z - 4.5).abs() < 1e-4, "over the hole: {t}");
     assert!(!s.sim().anchor_ball().visible, "no plane below: the ball hides");
     let log_start = s.sim().res.log.entries.len();
     s.release(Button::Trigger);
-    assert_eq!(s.sim().tree(id).unwrap().1.translation, t);
-    assert!(!s.sim().tree(id).unwrap().3 .0);
+    assert_eq!(s.sim().tree(id).unwrap().transform.translation, t);
+    assert!(!s.sim().tree(id).unwrap().grounded.0);
     assert_eq!(kinds_since(&s, log_start), ["released_green", "moved"]);
 }
 
@@ -320,7 +321,7 @@ fn the_anchor_ball_turns_white_exactly_below_the_threshold() {
     s.sim_mut().res.config.snap_threshold = threshold;
     s.wait(1);
     s.release(Button::Trigger);
-    assert!(s.sim().tree(id).unwrap().3 .0, "released while white: snapped");
+    assert!(s.sim().tree(id).unwrap().grounded.0, "released while white: snapped");
 }
 
 #[test]
@@ -350,7 +351,7 @@ fn manual_mode_needs_the_menu_for_every_tree() {
     s.choose_model(SHRUB);
     let new = new_trees(&s, &before);
     assert_eq!(new.len(), 1, "choosing from the opened menu spawns one tree");
-    let (tree, t, _, grounded) = s.sim().tree(new[0]).unwrap();
+    let TreeState { tree, transform: t, grounded, .. } = s.sim().tree(new[0]).unwrap();
     assert_eq!(tree.model, SHRUB);
     assert!(!grounded.0, "a spawned tree floats until it is snapped");
     let offset = t.translation - head.position;
@@ -384,13 +385,13 @@ fn full_session(s: &mut Script) {
     let edge = interact::handle_points(sel.center, sel.half_extents, sel.yaw)[11].1;
     s.point_at(edge).hold(Button::Trigger).point_at(edge - Vec3::X).release(Button::Trigger);
     s.touchpad(0.0, 0.6, 20).touchpad(0.7, 0.0, 20);
-    let at = s.sim().tree(id).unwrap().1.translation;
+    let at = s.sim().tree(id).unwrap().transform.translation;
     s.point_at(at + Vec3::Y * 0.8).hold(Button::Trigger);
     shift_controller(s, Vec3::new(0.5, 0.5, 0.0));
     shift_controller(s, Vec3::new(0.0, -0.45, 0.0));
     s.release(Button::Trigger);
     let other = plant(s, ModelId(5), -6.0, -3.0);
-    s.point_at(s.sim().tree(other).unwrap().1.translation + Vec3::Y * 1.0).press(Button::Bumper);
+    s.point_at(s.sim().tree(other).unwrap().transform.translation + Vec3::Y * 1.0).press(Button::Bumper);
     s.switch_mode(Mode::Manual).choose_model(ModelId(7)).wait(3);
     shift_controller(s, Vec3::new(0.0, 0.0, 0.0));
     s.end_task();

@@ -16,7 +16,7 @@ use std::sync::{Mutex, OnceLock};
 use glam::Vec3;
 use grove::render::gltf_load::{ImageData, MaterialData, ModelData, PrimitiveData, Vertex};
 use grove::render::offscreen::{self, Gpu};
-use grove::render::{Renderer, camera_matrix};
+use grove::render::{Camera, RenderOptions, Renderer, camera_matrix};
 use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::*;
@@ -147,7 +147,8 @@ fn set_sun(sim: &mut Sim, utc: &str) {
 /// The pixel a world point projects to.
 fn project(sim: &Sim, p: Vec3) -> (u32, u32) {
     let head = *sim.world.query::<&Head>().iter().next().unwrap();
-    let q = camera_matrix(&head, W as f32 / H as f32).project_point3(p);
+    let camera = Camera { position: head.pose.position, rotation: head.pose.rotation, fov_y: head.fov_y };
+    let q = camera_matrix(&camera, W as f32 / H as f32).project_point3(p);
     (
         ((q.x * 0.5 + 0.5) * W as f32) as u32,
         ((0.5 - q.y * 0.5) * H as f32) as u32,
@@ -160,7 +161,7 @@ macro_rules! model_test {
         fn $fn() {
             let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
             let path = root().join(concat!("assets/trees/", $name, ".gltf"));
-            let img = offscreen::render_model_file(gpu(), &path, W, H, true).unwrap();
+            let img = offscreen::render_model_file(gpu(), &path, W, H, RenderOptions::default()).unwrap();
             // The tree fills part of the frame: the centre column differs from the sky corner.
             let sky = luminance(&img, (0, 0, 8, 8));
             let centre = luminance(&img, (W / 2 - 4, H / 2 - 4, W / 2 + 4, H / 2 + 4));
@@ -244,10 +245,11 @@ fn striped_card() -> ModelData {
 fn alpha_clipping_and_two_sided_flip() {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
-    let mut sim = offscreen::model_stage(
+    let mut sim = grove_systems::stage::model_stage(
         (Vec3::new(-1.5, 0.0, -0.1), Vec3::new(1.5, 1.0, 0.1)),
         W as f32 / H as f32,
         false,
+        ModelId(0),
     )
     .unwrap();
     // Two cards side by side: the left one shows its front to the camera, the right one its back.

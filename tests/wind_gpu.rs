@@ -1,4 +1,4 @@
-//! The WGSL wind functions (src/render/wind.wgsl) agree with their CPU reference
+//! The WGSL wind functions (src/render/trees/wind.wgsl) agree with their CPU reference
 //! (grove_systems::wind_model): both models run in a compute pass over a few thousand vertices
 //! with mixed channels, times and parameters, and every displaced position must match the CPU to
 //! within 1e-4 m.
@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3, Vec4};
 use grove_systems::wind_model::{self, hash_u32, WindParams};
 use wgpu::util::DeviceExt;
 
-const WIND_WGSL: &str = include_str!("../src/render/wind.wgsl");
+const WIND_WGSL: &str = include_str!("../src/render/trees/wind.wgsl");
 
 /// The test's entry point, appended to the wind functions.
 const TEST_WGSL: &str = r#"

@@ -115,7 +115,7 @@ fn time_frames(
     let (mut shadow, mut main) = (Vec::new(), Vec::new());
     for i in 0..=frames.max(1) {
         let t = Instant::now();
-        renderer.render(sim, target.view());
+        renderer.render(sim, target.view()).map_err(|e| anyhow!(e))?;
         gpu.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| anyhow!("GPU poll failed ({e})"))?;
@@ -126,8 +126,8 @@ fn time_frames(
         }
         times.push(ms);
         if let Some(p) = passes {
-            shadow.push(p.shadow_ms);
-            main.push(p.main_ms);
+            shadow.push(p.ms("shadow"));
+            main.push(p.ms("main"));
         }
     }
     let passes = (!shadow.is_empty()).then(|| {
@@ -246,7 +246,7 @@ fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map
     let mut m = serde_json::Map::new();
     m.insert("adapter".into(), json!(adapter));
     m.insert("resolution".into(), json!([WIDTH, HEIGHT]));
-    m.insert("shadow_size".into(), json!(renderer.options.shadow_size));
+    m.insert("shadow_size".into(), json!(renderer.shadow_size()));
     m.insert("leaf_pixels".into(), json!(renderer.options.leaf_pixels));
     m.insert("timing".into(), json!(timing));
     m

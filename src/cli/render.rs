@@ -14,7 +14,7 @@ use anyhow::{anyhow, bail};
 use clap::Args;
 use grove::atomic_write::write_via_temp;
 use grove::render::offscreen::{self, Gpu};
-use grove::render::Renderer;
+use grove::render::{RenderOptions, Renderer};
 use grove_systems::components::Sun;
 use grove_systems::Sim;
 
@@ -66,6 +66,18 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
     write_via_temp(out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))
 }
 
+/// The renderer's options from the arguments: `--no-shadows` is applied here and nowhere else.
+fn options(args: &RenderArgs) -> RenderOptions {
+    RenderOptions { shadows: !args.no_shadows, ..Default::default() }
+}
+
+/// A renderer for the arguments' size and options.
+fn renderer(gpu: &Gpu, args: &RenderArgs) -> anyhow::Result<Renderer> {
+    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
+    renderer.options = options(args);
+    Ok(renderer)
+}
+
 fn check_size(w: u32, h: u32) -> anyhow::Result<()> {
     if !(1..=8192).contains(&w) || !(1..=8192).contains(&h) {
         bail!("--width and --height must be between 1 and 8192 (got {w}x{h})");
@@ -97,7 +109,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     if let Some(model) = &args.model {
         check_out_file(&args.out, args.force)?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let img = offscreen::render_model_file(&gpu, model, args.width, args.height, !args.no_shadows).map_err(|e| anyhow!(e))?;
+        let img = offscreen::render_model_file(&gpu, model, args.width, args.height, options(&args)).map_err(|e| anyhow!(e))?;
         write_via_temp(&args.out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))?;
         println!("{}: rendered {} ({}x{}) on {}", args.out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
@@ -110,8 +122,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res.tick);
         }
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
-        renderer.options.shadows = !args.no_shadows;
+        let mut renderer = renderer(&gpu, &args)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, &args.out)?;
         println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
@@ -131,8 +142,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         None => {
             check_out_file(&args.out, args.force)?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
-            renderer.options.shadows = !args.no_shadows;
+            let mut renderer = renderer(&gpu, &args)?;
             render_sim(&gpu, &mut renderer, &sim, &args.out)?;
             println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
         }
@@ -153,8 +163,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             }
             let ticks_per_frame = ((1.0 / args.fps) / scene.dt as f64).round().max(1.0) as u64;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
-            renderer.options.shadows = !args.no_shadows;
+            let mut renderer = renderer(&gpu, &args)?;
             for f in 0..n {
                 if f > 0 {
                     sim.run(ticks_per_frame);

@@ -15,7 +15,7 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 use clap::Args;
 use grove::atomic_write::{write_atomic, write_via_temp};
-use grove_systems::resources::Config;
+use grove_systems::resources::{Config, Override};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::study::report::{self, Summary};
@@ -53,53 +53,41 @@ pub struct StudyArgs {
 /// The files `grove study` writes into `--out`.
 pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png"];
 
-/// Parses and checks `--set NAME=VALUE` arguments against the configuration's names.
-pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<(String, String)>> {
-    let mut config = Config::default();
-    let mut out = Vec::new();
-    for s in set {
-        let (k, v) = s.split_once('=').ok_or_else(|| anyhow!("--set {s}: expected NAME=VALUE"))?;
-        config.set(k.trim(), v.trim()).map_err(|e| anyhow!("--set {e}"))?;
-        out.push((k.trim().to_string(), v.trim().to_string()));
-    }
-    Ok(out)
+/// Parses and checks `--set NAME=VALUE` arguments, once, into typed overrides.
+pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<Override>> {
+    Override::parse_all(set).map_err(|e| anyhow!("--set {e}"))
 }
 
 /// The parsed `--set` arguments: single values, and at most one swept parameter.
 pub struct SetArgs {
     /// Parameters with one value.
-    pub fixed: Vec<(String, String)>,
-    /// The swept parameter and its values.
-    pub sweep: Option<(String, Vec<String>)>,
+    pub fixed: Vec<Override>,
+    /// The swept parameter and its values, each already checked.
+    pub sweep: Option<(String, Vec<Override>)>,
 }
 
-/// Splits `--set` arguments into fixed values and one sweep, checking every value.
+/// Splits `--set` arguments into fixed values and one sweep, checking every value once.
 pub fn parse_set(set: &[String]) -> anyhow::Result<SetArgs> {
     let mut fixed = Vec::new();
-    let mut sweep: Option<(String, Vec<String>)> = None;
+    let mut sweep: Option<(String, Vec<Override>)> = None;
     for s in set {
         let (k, v) = s.split_once('=').ok_or_else(|| anyhow!("--set {s}: expected NAME=VALUE"))?;
-        let values: Vec<String> = v.split(',').map(|x| x.trim().to_string()).collect();
-        if values.iter().any(String::is_empty) {
+        let values: Vec<&str> = v.split(',').map(str::trim).collect();
+        if values.iter().any(|x| x.is_empty()) {
             bail!("--set {s}: an empty value in the list");
         }
-        for value in &values {
-            Config::default().set(k.trim(), value).map_err(|e| anyhow!("--set {e}"))?;
-        }
-        if values.len() > 1 {
+        let parsed = values.iter().map(|value| Override::parse(&format!("{}={value}", k.trim()))).collect::<Result<Vec<_>, _>>().map_err(|e| anyhow!("--set {e}"))?;
+        if parsed.len() > 1 {
             if sweep.is_some() {
                 bail!("--set {s}: only one parameter can be swept at a time");
             }
-            sweep = Some((k.trim().to_string(), values));
+            sweep = Some((k.trim().to_string(), parsed));
         } else {
-            fixed.push((k.trim().to_string(), values[0].clone()));
+            fixed.extend(parsed);
         }
     }
     // The values must also hold together (e.g. min_scale ≤ max_scale).
-    let mut config = Config::default();
-    for (k, v) in &fixed {
-        config.set(k, v).map_err(|e| anyhow!("--set {e}"))?;
-    }
+    Config::default().apply(&fixed).map_err(|e| anyhow!("--set {e}"))?;
     Ok(SetArgs { fixed, sweep })
 }
 
@@ -168,6 +156,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
             bail!("{}: the recordings carry no changed setting (`config` in their headers); write them with `grove synth --set NAME=VALUE`", args.replays.display());
         }
         let params: Vec<(String, String)> = params.into_iter().collect();
+        let params = Override::parse_all(&params.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>()).map_err(|e| anyhow!("{}: {e}", args.replays.display()))?;
         Some(WhatIf::compare(whatif::RESIMULATED_PARTICIPANTS, whatif::param_changes(&params), &baseline, &trials, bwall))
     } else if !set.fixed.is_empty() {
         let (baseline, bwall) = run_all(&files, &[], &tick);
@@ -225,7 +214,7 @@ fn opt(x: Option<f64>) -> String {
 }
 
 /// A sweep: the baseline and one replayed-hands run per value.
-fn run_sweep(args: &StudyArgs, files: &[PathBuf], fixed: &[(String, String)], name: &str, values: &[String]) -> anyhow::Result<ExitCode> {
+fn run_sweep(args: &StudyArgs, files: &[PathBuf], fixed: &[Override], name: &str, values: &[Override]) -> anyhow::Result<ExitCode> {
     let bar = progress((files.len() * (values.len() + 1)) as u64);
     let tick = || bar.inc(1);
     let (baseline, bwall) = run_all(files, &[], &tick);
@@ -233,10 +222,10 @@ fn run_sweep(args: &StudyArgs, files: &[PathBuf], fixed: &[(String, String)], na
     let mut ok = all_ok(&baseline);
     for v in values {
         let mut overrides = fixed.to_vec();
-        overrides.push((name.to_string(), v.clone()));
+        overrides.push(v.clone());
         let (trials, _) = run_all(files, &overrides, &tick);
         ok &= all_ok(&trials);
-        rows.push(Sweep::row(name, v, &baseline, &trials));
+        rows.push(Sweep::row(name, &v.text, &baseline, &trials));
     }
     bar.finish_and_clear();
     let summary = report::summarize(&baseline, &[], bwall);

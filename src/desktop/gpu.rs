@@ -1,11 +1,9 @@
 //! The wgpu renderer ([`grove::render::Renderer`]) as the desktop's 3D view, and the tree
 //! thumbnails it draws offscreen for the tree-selection window.
 
-use glam::Vec3;
-use grove::render::offscreen::model_stage;
 use grove::render::Renderer;
 use grove_systems::catalogue::Catalogue;
-use grove_systems::components::Tree;
+use grove_systems::stage::model_stage;
 use grove_systems::Sim;
 
 use super::window::WorldRenderer;
@@ -20,8 +18,8 @@ impl WorldRenderer for Renderer {
         Renderer::resize(self, width, height);
     }
 
-    fn render(&mut self, sim: &Sim, view: &wgpu::TextureView) {
-        Renderer::render(self, sim, view);
+    fn render(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
+        Renderer::render_into(self, sim, view, encoder)
     }
 }
 
@@ -37,13 +35,7 @@ pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<V
     let mut renderer = Renderer::new(device, queue, THUMB_FORMAT, THUMB_SIZE, THUMB_SIZE)?;
     let mut views = Vec::new();
     for m in &catalogue.models {
-        let mut sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false)?;
-        // The stage holds a placeholder tree of model 0; show this model instead.
-        let placeholders: Vec<hecs::Entity> = sim.world.query::<(hecs::Entity, &Tree)>().iter().map(|(e, _)| e).collect();
-        for e in placeholders {
-            let _ = sim.world.despawn(e);
-        }
-        sim.spawn_tree(m.id, Vec3::ZERO, 0.0, 1.0, false);
+        let sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false, m.id)?;
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("tree thumbnail"),
             size: wgpu::Extent3d { width: THUMB_SIZE, height: THUMB_SIZE, depth_or_array_layers: 1 },
@@ -55,7 +47,7 @@ pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<V
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor { label: Some("tree thumbnail view"), ..Default::default() });
-        renderer.render(&sim, &view);
+        renderer.render(&sim, &view)?;
         views.push(view);
     }
     Ok(views)

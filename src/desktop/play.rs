@@ -100,9 +100,9 @@ impl Frontend for PlayApp {
         }
     }
 
-    fn draw_3d(&mut self, _gpu: GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+    fn draw_3d(&mut self, _gpu: GpuContext<'_>, encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
         match self.session.as_ref() {
-            Some(s) => self.world3d.draw(&s.sim, view, size),
+            Some(s) => self.world3d.draw(&s.sim, view, size, encoder),
             None => false,
         }
     }

@@ -117,16 +117,14 @@ impl LiveSession {
     /// checkpoint when one is due. `ms` is the wall-clock milliseconds since the session began.
     pub fn step(&mut self, ms: u64) -> Result<(), String> {
         let tick = self.sim.res.tick;
-        if let Some(batch) = self.batches.pop_front() {
-            for event in batch {
-                if let Some(r) = self.recorder.as_mut() {
-                    r.event(tick, ms, self.frame, &event).map_err(|e| format!("recording: {e}"))?;
-                }
-                self.sim.push_input(event.clone())?;
-                self.recorded.push(StampedEvent { tick, event });
+        let batch = self.batches.pop_front().unwrap_or_default();
+        for event in &batch {
+            if let Some(r) = self.recorder.as_mut() {
+                r.event(tick, ms, self.frame, event).map_err(|e| format!("recording: {e}"))?;
             }
+            self.recorded.push(StampedEvent { tick, event: event.clone() });
         }
-        self.sim.step();
+        self.sim.step_with(batch)?;
         if let Some(r) = self.recorder.as_mut() {
             r.after_step(&self.sim).map_err(|e| format!("recording: {e}"))?;
         }

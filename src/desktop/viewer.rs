@@ -125,16 +125,14 @@ impl Viewer {
         if self.sim.res.tick >= self.end_tick {
             return;
         }
-        while let Some(e) = self.events.get(self.next_event) {
-            if e.tick > self.sim.res.tick {
-                break;
-            }
-            // The headless pass accepted every event, so this cannot fail; an invalid event
-            // would have been reported by `open`.
-            let _ = self.sim.push_input(e.event.clone());
+        let start = self.next_event;
+        while self.events.get(self.next_event).is_some_and(|e| e.tick <= self.sim.res.tick) {
             self.next_event += 1;
         }
-        self.sim.step();
+        // The headless pass accepted every event (an invalid one would have been reported by
+        // `open`); any other is skipped, so the step always happens.
+        let events = self.events[start..self.next_event].iter().filter(|e| e.event.validate().is_ok());
+        let _ = self.sim.step_with(events.map(|e| e.event.clone()));
     }
 
     /// Shows the world at `tick` (clamped to the recording), re-simulating from the start when
@@ -388,8 +386,8 @@ impl super::window::Frontend for ViewApp {
         self.world3d.gpu_ready(&gpu, size);
     }
 
-    fn draw_3d(&mut self, _gpu: super::window::GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
-        self.world3d.draw(&self.viewer.sim, view, size)
+    fn draw_3d(&mut self, _gpu: super::window::GpuContext<'_>, encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+        self.world3d.draw(&self.viewer.sim, view, size, encoder)
     }
 
     fn input(&mut self, event: &winit::event::WindowEvent, _over_ui: bool) {

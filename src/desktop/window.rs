@@ -32,8 +32,9 @@ pub struct GpuContext<'a> {
 pub trait WorldRenderer {
     /// The frame size changed, pixels.
     fn resize(&mut self, width: u32, height: u32);
-    /// Draws the world as seen from its head into `view` (submitting its own commands).
-    fn render(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView);
+    /// Records the world as seen from its head into `encoder`, drawing into `view`; the window
+    /// submits the encoder, with the UI, as the frame's one command buffer.
+    fn render(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String>;
 }
 
 /// Makes a world renderer for the window's device, queue, surface format and size.
@@ -85,14 +86,19 @@ impl World3d {
     }
 
     /// Draws `sim` into `view`; returns whether it drew.
-    pub fn draw(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+    pub fn draw(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, size: (u32, u32), encoder: &mut wgpu::CommandEncoder) -> bool {
         let Some(r) = self.renderer.as_mut() else { return false };
         if size != self.size {
             r.resize(size.0.max(1), size.1.max(1));
             self.size = size;
         }
-        r.render(sim, view);
-        true
+        match r.render(sim, view, encoder) {
+            Ok(()) => true,
+            Err(e) => {
+                eprintln!("grove: cannot draw the 3D view: {e}");
+                false
+            }
+        }
     }
 }
 

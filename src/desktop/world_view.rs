@@ -17,7 +17,7 @@ const NEAR: f32 = 0.05;
 
 /// The head (camera) of a world, or a default one.
 pub fn head_of(sim: &Sim) -> Head {
-    sim.world.query::<&Head>().iter().next().copied().unwrap_or(Head { pose: Default::default(), fov_y: 1.0 })
+    sim.head()
 }
 
 /// What to draw.

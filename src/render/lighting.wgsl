@@ -1,27 +1,35 @@
 // Shared by every lit pass: the frame uniforms, the lighting resources and the shading model.
-// Prepended to trees.wgsl, ground.wgsl and sky.wgsl by src/render/mod.rs.
+// Prepended to every feature's shader by src/render/gpu.rs (`Shared::shader`).
 
 struct Frame {
     view_proj: mat4x4<f32>,
     inv_view_proj: mat4x4<f32>,
     light_view_proj: mat4x4<f32>,
-    // xyz: camera position; w: time in seconds.
-    camera_pos: vec4<f32>,
-    // xyz: unit vector towards the sun.
-    sun_dir: vec4<f32>,
-    // rgb: sun colour times intensity (zero below the horizon).
-    sun_color: vec4<f32>,
-    // rgb: ambient tint times strength; w: sky brightness.
-    ambient: vec4<f32>,
-    // x: shadow-map texel in uv; y: normal offset in metres; z: depth bias; w: 1 when shadows are on.
-    shadow: vec4<f32>,
+    // The camera's position, metres, and the simulated time, seconds (modulo an hour).
+    camera_pos: vec3<f32>,
+    time: f32,
+    // Unit vector towards the sun.
+    sun_dir: vec3<f32>,
+    pad0: f32,
+    // Sun colour times intensity, linear RGB (zero below the horizon).
+    sun_color: vec3<f32>,
+    pad1: f32,
+    // Ambient tint times strength, linear RGB, and the sky's brightness (0..1).
+    ambient: vec3<f32>,
+    sky: f32,
+    // The shadow map's texel in uv, the normal offset of lookups in metres and their depth bias.
+    shadow_texel: f32,
+    shadow_normal_offset: f32,
+    shadow_depth_bias: f32,
+    pad2: f32,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 
-// Whether lit shaders look up the shadow map, set per pipeline by src/render/mod.rs
-// (`Specialised`). A constant, not a uniform: lavapipe pays for both sides of a branch, so
-// only a pipeline built without the lookups is spared their cost.
+// Whether lit shaders look up the shadow map, set per pipeline from its `PipelineKey`
+// (src/render/gpu.rs); the frame decides it in one place (src/render/frame.rs). A constant, not
+// a uniform: lavapipe pays for both sides of a branch, so only a pipeline built without the
+// lookups is spared their cost.
 override SHADOWS: bool = true;
 
 @group(1) @binding(0) var shadow_map: texture_depth_2d;
@@ -35,17 +43,17 @@ override SHADOWS: bool = true;
 // together they weigh 3x3 texels with a tent (1 2 1 by 1 2 1), and shadow edges, including the
 // dapples of leaves, are soft.
 fn shadow_factor(world_pos: vec3<f32>, n: vec3<f32>) -> f32 {
-    if (!SHADOWS || frame.shadow.w < 0.5) {
+    if (!SHADOWS) {
         return 1.0;
     }
-    let p = frame.light_view_proj * vec4<f32>(world_pos + n * frame.shadow.y, 1.0);
+    let p = frame.light_view_proj * vec4<f32>(world_pos + n * frame.shadow_normal_offset, 1.0);
     let ndc = p.xyz / p.w;
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
     if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0 || ndc.z > 1.0) {
         return 1.0;
     }
-    let h = 0.5 * frame.shadow.x;
-    let z = ndc.z - frame.shadow.z;
+    let h = 0.5 * frame.shadow_texel;
+    let z = ndc.z - frame.shadow_depth_bias;
     var sum = textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-h, -h), z);
     sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(h, -h), z);
     sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-h, h), z);
@@ -63,23 +71,23 @@ fn shade(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f
 // `shade` with the irradiance for the normal `n` given: for surfaces whose normal varies so
 // slowly that the irradiance can be looked up per vertex (the ground).
 fn shade_lit(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strength: f32, roughness: f32, translucency: f32, irr: vec3<f32>) -> vec3<f32> {
-    let l = frame.sun_dir.xyz;
-    let v = normalize(frame.camera_pos.xyz - world_pos);
+    let l = frame.sun_dir;
+    let v = normalize(frame.camera_pos - world_pos);
     let ndl = dot(n, l);
     let lit = shadow_factor(world_pos, n);
     let diffuse = max(ndl, 0.0) + translucency * max(-ndl, 0.0);
     let h = normalize(l + v);
     let shininess = mix(128.0, 6.0, clamp(roughness, 0.0, 1.0));
     let spec = spec_strength * 0.25 * pow(max(dot(n, h), 0.0), shininess) * select(0.0, 1.0, ndl > 0.0);
-    let direct = frame.sun_color.rgb * lit * (albedo * diffuse + vec3<f32>(spec));
-    let ambient = irr * frame.ambient.rgb * albedo;
+    let direct = frame.sun_color * lit * (albedo * diffuse + vec3<f32>(spec));
+    let ambient = irr * frame.ambient * albedo;
     // Reflections of the sky, skipped (one cube lookup less) where they would be invisible.
     var refl = vec3<f32>(0.0);
     let glossy = spec_strength * (1.0 - roughness) * (1.0 - roughness);
     if (glossy > 0.02) {
         let r = reflect(-v, n);
         let fres = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
-        refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.ambient.w * fres * glossy;
+        refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.sky * fres * glossy;
     }
     return direct + ambient + refl;
 }

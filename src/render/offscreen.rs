@@ -3,14 +3,12 @@
 
 use std::path::Path;
 
-use glam::Vec3;
+use grove_systems::catalogue::ModelId;
+use grove_systems::stage::model_stage;
 use grove_systems::Sim;
-use grove_systems::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind};
-use grove_systems::components::{Controller, Head, Pose, Sun};
-use grove_systems::scene::{CameraDef, Hole, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
 use image::RgbaImage;
 
-use super::{Renderer, gltf_load};
+use super::{gltf_load, RenderOptions, Renderer};
 
 /// The offscreen target format.
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -172,7 +170,7 @@ impl Target {
 pub fn render_image(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> Result<RgbaImage, String> {
     let (w, h) = renderer.size();
     let target = Target::new(&gpu.device, w, h);
-    renderer.render(sim, target.view());
+    renderer.render(sim, target.view())?;
     target.read(&gpu.device, &gpu.queue)
 }
 
@@ -182,128 +180,18 @@ pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), String> {
         format!(
             "{}: cannot write PNG ({})",
             path.display(),
-            super::textures::one_line_image_error(&e)
+            super::assets::textures::one_line_image_error(&e)
         )
     })
 }
 
-/// A small world for showing one model: a ground plane under its bounds, a fixed morning sun,
-/// no wind, and the camera framing the bounds. `bounds` are the model's, in model space.
-pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool) -> Result<Sim, String> {
-    let (min, max) = bounds;
-    let size = (max - min).max_element().max(0.1);
-    let half = size * 1.5;
-    let scene = Scene {
-        name: "model stage".into(),
-        dt: 1.0 / 60.0,
-        seed: 1,
-        planes: vec![PlaneDef {
-            name: "ground".into(),
-            shape: PlaneShape::Grid {
-                min: glam::Vec2::new(-half, -half),
-                size: glam::Vec2::splat(2.0 * half),
-                cell: (size / 8.0).max(0.05),
-                elevation: min.y,
-                unevenness: 0.0,
-                noise_seed: 0,
-                holes: if with_hole {
-                    vec![Hole {
-                        center: glam::Vec2::new(half * 0.55, half * 0.3),
-                        radius: size * 0.2,
-                    }]
-                } else {
-                    vec![]
-                },
-            },
-        }],
-        sun: SunDef {
-            latitude_deg: 47.37,
-            longitude_deg: 8.54,
-            utc: "2026-06-21T08:00:00Z".into(),
-            time_rate: 0.0,
-        },
-        wind: WindDef {
-            direction: Vec3::X,
-            strength: 0.0,
-            density: 0.1,
-            gust_average: 0.0,
-            gust_strength: 0.0,
-            gust_frequency: 0.0,
-            model: Default::default(),
-            response: Default::default(),
-        },
-        trees: vec![],
-        scatter: vec![],
-        camera: CameraDef {
-            position: Vec3::new(0.0, 1.0, 5.0),
-            look_at: Vec3::ZERO,
-            fov_y_deg: 40.0,
-        },
-    };
-    let info = ModelInfo {
-        id: ModelId(0),
-        name: "model".into(),
-        species: "any".into(),
-        kind: ModelKind::Mesh,
-        bounds_min: min,
-        bounds_max: max,
-        crown_radius: Vec3::new(
-            min.x.abs().max(max.x.abs()),
-            0.0,
-            min.z.abs().max(max.z.abs()),
-        )
-        .length(),
-        triangles: 0,
-    };
-    let mut sim = Sim::from_scene_with(&scene, 1, Catalogue { models: vec![info] })?;
-    sim.spawn_tree(ModelId(0), Vec3::ZERO, 0.0, 1.0, false);
-    let fov = 40f32.to_radians();
-    let (eye, target) = super::frame_bounds(min, max, fov, aspect);
-    for (_, head) in sim.world.query_mut::<(hecs::Entity, &mut Head)>() {
-        *head = Head {
-            pose: Pose::looking_at(eye, target),
-            fov_y: fov,
-        };
-    }
-    // A sun from over the camera's left shoulder, 40° up, so the model is lit from the front
-    // and its shadow falls to the right where the camera sees it.
-    for (_, sun) in sim.world.query_mut::<(hecs::Entity, &mut Sun)>() {
-        sun.elevation_deg = 40.0;
-        sun.azimuth_deg = 110.0;
-        sun.direction = grove_systems::systems::sun::direction_from_angles(110.0, 40.0);
-    }
-    // No controller ray in a model view.
-    let controllers: Vec<hecs::Entity> = sim
-        .world
-        .query::<(hecs::Entity, &Controller)>()
-        .iter()
-        .map(|(e, _)| e)
-        .collect();
-    for e in controllers {
-        let _ = sim.world.despawn(e);
-    }
-    Ok(sim)
-}
-
-/// Renders any glTF 2.0 file at `width`×`height`, framed from its bounds, on a ground plane.
-pub fn render_model_file(
-    gpu: &Gpu,
-    path: &Path,
-    width: u32,
-    height: u32,
-    shadows: bool,
-) -> Result<RgbaImage, String> {
+/// Renders any glTF 2.0 file at `width`×`height` with `options`, framed from its bounds, on a
+/// ground plane (the simulation crate's staging scene, [`model_stage`]).
+pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, String> {
     let data = gltf_load::load_model(path)?;
-    let mut renderer = Renderer::empty(
-        &gpu.device,
-        &gpu.queue,
-        FORMAT,
-        width,
-        height,
-        &super::default_assets_dir(),
-    )?;
-    renderer.options.shadows = shadows;
+    let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, FORMAT, width, height, &super::default_assets_dir())?;
+    renderer.options = options;
     renderer.set_model(ModelId(0), &data);
-    let sim = model_stage(data.bounds, width as f32 / height as f32, false)?;
+    let sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0))?;
     render_image(gpu, &mut renderer, &sim)
 }

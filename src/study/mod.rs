@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use grove_systems::replay::{replay_file, ReplayOptions};
+use grove_systems::resources::Override;
 use grove_systems::task::TaskReport;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -109,7 +110,7 @@ pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 /// Re-simulates and evaluates one recording. Never fails: a bad file becomes a failed trial.
-pub fn evaluate(path: &Path, overrides: &[(String, String)]) -> Trial {
+pub fn evaluate(path: &Path, overrides: &[Override]) -> Trial {
     let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = path.file_stem().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
     let options = ReplayOptions { until: None, overrides: overrides.to_vec() };
@@ -170,7 +171,7 @@ pub fn evaluate(path: &Path, overrides: &[(String, String)]) -> Trial {
 /// Re-simulates every recording in parallel (one recording per thread; each simulation is
 /// single-threaded, so results do not depend on the thread count). `progress` is called once
 /// per finished recording.
-pub fn run_all(files: &[PathBuf], overrides: &[(String, String)], progress: &(dyn Fn() + Sync)) -> (Vec<Trial>, f64) {
+pub fn run_all(files: &[PathBuf], overrides: &[Override], progress: &(dyn Fn() + Sync)) -> (Vec<Trial>, f64) {
     let start = Instant::now();
     let mut trials: Vec<Trial> = files
         .par_iter()

@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 
+use grove_systems::resources::Override;
 use serde::Serialize;
 
 use super::stats::{paired, PairedStats};
@@ -126,7 +127,7 @@ pub fn incomplete_reason(t: &Trial) -> Option<String> {
 }
 
 /// Builds the summary of a set of trials.
-pub fn summarize(trials: &[Trial], overrides: &[(String, String)], wall_seconds: f64) -> Summary {
+pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) -> Summary {
     let mut status = BTreeMap::new();
     for t in trials {
         *status.entry(t.status.word().to_string()).or_insert(0) += 1;
@@ -190,7 +191,7 @@ pub fn summarize(trials: &[Trial], overrides: &[(String, String)], wall_seconds:
         incomplete_count: incomplete.len(),
         incomplete,
         participants: per_participant.len(),
-        overrides: overrides.iter().cloned().collect(),
+        overrides: overrides.iter().map(|o| (o.name.to_string(), o.text.clone())).collect(),
         modes,
         comparisons: differences.len(),
         ray_casting_faster_for_all: if missing_comparisons.is_empty() && !differences.is_empty() {

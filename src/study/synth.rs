@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail};
 use glam::{Vec2, Vec3};
+use grove_systems::resources::Override;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Selection, Transform, Tree};
 use grove_systems::events::Happening;
@@ -325,7 +326,7 @@ impl Participant {
 /// (`name=value`, empty for the defaults). With overrides, a participant who cannot finish
 /// still gives a session (an incomplete trial, as a person would leave it) and a warning through
 /// `warn`; without, that is an error.
-pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[(String, String)], warn: &dyn Fn(&str)) -> anyhow::Result<ParticipantSession> {
+pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[Override], warn: &dyn Fn(&str)) -> anyhow::Result<ParticipantSession> {
     let scene = Scene::builtin(&task.scene).ok_or_else(|| anyhow!("task {} names unknown scene '{}'", task.id, task.scene))?;
     // Each participant has one skill for both tasks; each task has its own simulation seed.
     let mut skill_rng = ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
@@ -333,9 +334,7 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[(S
     let task_salt = task.id.bytes().fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
     let sim_seed = seed.wrapping_mul(1000).wrapping_add(participant as u64);
     let mut sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
-    for (k, v) in overrides {
-        sim.res.config.set(k, v).map_err(|e| anyhow!("--set {e}"))?;
-    }
+    sim.res.config.apply(overrides).map_err(|e| anyhow!("--set {e}"))?;
     let rng = ChaCha8Rng::seed_from_u64(seed ^ task_salt ^ (participant as u64) << 32);
     let script = Script::new(sim);
     let hand = script.controller().pose.position;
@@ -347,7 +346,7 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[(S
     header.task = Some(task.id.clone());
     header.participant = Some(format!("P{:02}", participant + 1));
     header.synthetic = true;
-    header.config = overrides.iter().cloned().collect();
+    header.config = overrides.iter().map(|o| (o.name.to_string(), o.text.clone())).collect();
 
     p.script.wait(30);
     p.script.push(InputEvent::SwitchMode { mode: task.mode }).wait(1);
@@ -419,7 +418,7 @@ fn rfc3339(secs: i64) -> String {
 /// configuration `overrides` (empty for the defaults). Each participant does the two tasks as two
 /// blocks in the order of [`task_order`]; headers carry the block and the session start time.
 /// Existing files are never overwritten unless `force` is set.
-pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[(String, String)], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
     let tasks: Vec<TaskDef> = ["ray-casting-7", "manual-7"].iter().map(|id| TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))).collect::<Result<_, _>>()?;
     if out.exists() && !out.is_dir() {
         bail!("{}: exists and is not a folder", out.display());

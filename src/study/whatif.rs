@@ -12,6 +12,7 @@
 
 use std::collections::BTreeMap;
 
+use grove_systems::resources::Override;
 use serde::Serialize;
 
 use super::report::{summarize, usable_time, Summary};
@@ -54,8 +55,8 @@ pub fn default_value(name: &str) -> String {
 }
 
 /// Builds the parameter list of a what-if from `name=value` overrides.
-pub fn param_changes(overrides: &[(String, String)]) -> Vec<ParamChange> {
-    overrides.iter().map(|(k, v)| ParamChange { name: k.clone(), default_value: default_value(k), new_value: v.clone() }).collect()
+pub fn param_changes(overrides: &[Override]) -> Vec<ParamChange> {
+    overrides.iter().map(|o| ParamChange { name: o.name.to_string(), default_value: default_value(o.name), new_value: o.text.clone() }).collect()
 }
 
 /// One trial of the what-if next to its baseline.

@@ -8,9 +8,15 @@
 //! listed in [`crate::hash::COMPONENTS`], so that the world hash covers it.
 
 use glam::{Quat, Vec2, Vec3};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::catalogue::ModelId;
+
+/// The wind component and its gust function live with the pure wind maths
+/// ([`crate::wind_model`]), which the rest of the crate builds on.
+pub use crate::wind_model::{Gust, Wind};
 
 /// A rigid pose: a position and an orientation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -92,7 +98,7 @@ pub struct Grounded(pub bool);
 /// The per-tree state of the wind animation, advanced every tick by the wind system.
 ///
 /// The renderer reads `bend` (the trunk's lean), `gain` and `phase` and passes them to the
-/// per-vertex wind functions (`src/render/wind.wgsl`, CPU reference in [`crate::wind_model`]).
+/// per-vertex wind functions (`src/render/trees/wind.wgsl`, CPU reference in [`crate::wind_model`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct WindState {
     /// A random phase in radians, drawn from the seeded RNG when the tree is spawned.
@@ -147,38 +153,6 @@ pub struct Sun {
     pub azimuth_deg: f64,
     /// Unit vector in world space pointing from the ground towards the sun.
     pub direction: Vec3,
-}
-
-/// The wind: a direction, a strength, a spatial density and a periodic gust function.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Wind {
-    /// Horizontal unit direction the wind blows towards.
-    pub direction: Vec3,
-    /// Base strength; a bend of roughly `strength × 0.1` metres per metre of tree height.
-    pub strength: f32,
-    /// Spatial frequency of the noise, per metre.
-    pub density: f32,
-    /// Gust function parameters.
-    pub gust: Gust,
-    /// The current gust factor, updated every tick (average ± strength).
-    pub current: f32,
-    /// The per-vertex model for all trees (a renderer may override it per tree model).
-    pub model: crate::wind_model::WindModel,
-    /// The constants of the per-vertex models (stiffness, flutter, noise drift).
-    pub response: crate::wind_model::WindResponse,
-}
-
-/// A periodic gust function that approximates the inertia of a trunk:
-/// `average + strength × g(frequency × t)`, where `g` is a smooth periodic function in [−1, 1]
-/// (two low harmonics, no sudden changes: a trunk cannot follow turbulence faster than that).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Gust {
-    /// The mean factor.
-    pub average: f32,
-    /// The amplitude of the gusts around the mean.
-    pub strength: f32,
-    /// Gusts per second, hertz.
-    pub frequency: f32,
 }
 
 /// The controller buttons, named after the Magic Leap One controller.
@@ -288,4 +262,31 @@ pub struct Selection {
     pub half_extents: Vec3,
     /// Rotation of the box about +Y, radians.
     pub yaw: f32,
+}
+
+/// The components every tree entity carries.
+pub type TreeComponents = (Tree, Transform, Scale, Grounded, WindState);
+
+/// The components of a new tree: its model, base position, yaw, scale and grounded flag, and a
+/// wind state whose phase is drawn from `rng` (one draw) and whose gain comes from `wind` at
+/// `position`. [`Sim::spawn_tree`] and the interaction systems (through a command buffer) both
+/// spawn trees with this.
+pub fn tree_components(
+    rng: &mut ChaCha8Rng,
+    wind: Option<&Wind>,
+    model: ModelId,
+    position: Vec3,
+    yaw: f32,
+    scale: f32,
+    grounded: bool,
+) -> TreeComponents {
+    let phase = rng.random::<f32>() * std::f32::consts::TAU;
+    let density = wind.map_or(0.0, |w| w.density);
+    (
+        Tree { model },
+        Transform { translation: position, yaw },
+        Scale(scale),
+        Grounded(grounded),
+        WindState::new(phase, position, density),
+    )
 }

@@ -140,7 +140,7 @@ struct HashedResources<'a> {
     seed: u64,
     rng_word_pos: u128,
     config: &'a crate::resources::Config,
-    mode: crate::resources::Mode,
+    mode: crate::mode::Mode,
     menu: &'a crate::resources::MenuState,
     interaction: &'a crate::resources::Interaction,
     log: &'a crate::events::EventLog,

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::catalogue::ModelId;
 use crate::components::Pose;
-use crate::resources::Mode;
+use crate::mode::Mode;
 
 /// A controller button (Magic Leap One names; WebXR calls Bumper "squeeze").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

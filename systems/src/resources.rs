@@ -13,108 +13,121 @@ use crate::events::EventLog;
 use crate::input::InputEvent;
 use crate::spatial::SpatialIndex;
 
-/// The interaction mode of the study app.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Mode {
-    /// Trigger on a plane plants the selected model; Bumper on a tree removes it.
-    #[default]
-    RayCasting,
-    /// New trees come only from the menu and must be moved into place.
-    Manual,
+pub use crate::mode::Mode;
+
+/// Defines [`Config`] from one list of `name: default` fields (each a finite, non-negative
+/// `f32` with its doc comment): the struct, its defaults, [`Config::NAMES`] and the lookup by
+/// name that [`Config::set`] uses all come from that list, so a field is written once.
+macro_rules! config_fields {
+    ($($(#[doc = $doc:literal])* $name:ident: $default:expr,)*) => {
+        /// Tunable parameters of the interaction systems. Researchers may override any of them
+        /// with `grove study --set NAME=VALUE`; [`Config::NAMES`] lists the names.
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(default, deny_unknown_fields)]
+        pub struct Config {
+            $($(#[doc = $doc])* pub $name: f32,)*
+        }
+
+        impl Default for Config {
+            fn default() -> Self {
+                Config { $($name: $default,)* }
+            }
+        }
+
+        impl Config {
+            /// The names [`Config::set`] accepts, in field order.
+            pub const NAMES: &'static [&'static str] = &[$(stringify!($name),)*];
+
+            /// The field called `name`.
+            fn field_mut(&mut self, name: &str) -> Option<&mut f32> {
+                match name {
+                    $(stringify!($name) => Some(&mut self.$name),)*
+                    _ => None,
+                }
+            }
+        }
+    };
 }
 
-impl Mode {
-    /// The name used in files and reports: "ray-casting" or "manual".
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::RayCasting => "ray-casting",
-            Mode::Manual => "manual",
+config_fields! {
+    /// A dragged tree snaps when its lowest point is closer than this to the plane below, metres.
+    snap_threshold: 0.3,
+    /// Touchpad front/back speed along the controller ray, metres per second at full deflection.
+    touchpad_move_rate: 1.5,
+    /// Touchpad left/right turn rate, degrees per second at full deflection.
+    touchpad_turn_rate_deg: 90.0,
+    /// Touchpad deflections smaller than this are ignored.
+    touchpad_dead_zone: 0.15,
+    /// Smallest allowed uniform scale.
+    min_scale: 0.25,
+    /// Largest allowed uniform scale.
+    max_scale: 4.0,
+    /// Longest ray, metres.
+    max_ray_length: 100.0,
+    /// Radius of a bounding-box handle for ray picking, metres.
+    handle_radius: 0.15,
+    /// Distance in front of the head where a tree chosen from the menu appears, metres.
+    spawn_distance: 1.5,
+    /// How far below head height a tree chosen from the menu appears, metres.
+    spawn_drop: 0.5,
+}
+
+impl Config {
+    /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
+        let field = self
+            .field_mut(name)
+            .ok_or_else(|| format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")))?;
+        let x: f32 = value.trim().parse().map_err(|_| format!("{name}: '{value}' is not a number"))?;
+        if !x.is_finite() || x < 0.0 {
+            return Err(format!("{name}: '{value}' must be a finite, non-negative number"));
         }
+        *field = x;
+        if self.min_scale > self.max_scale {
+            return Err(format!("min_scale {} is above max_scale {}", self.min_scale, self.max_scale));
+        }
+        Ok(())
     }
 }
 
-/// Tunable parameters of the interaction systems. Researchers may override any of them with
-/// `grove study --set NAME=VALUE`; [`Config::set`] lists the names.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct Config {
-    /// A dragged tree snaps when its lowest point is closer than this to the plane below, metres.
-    pub snap_threshold: f32,
-    /// Touchpad front/back speed along the controller ray, metres per second at full deflection.
-    pub touchpad_move_rate: f32,
-    /// Touchpad left/right turn rate, degrees per second at full deflection.
-    pub touchpad_turn_rate_deg: f32,
-    /// Touchpad deflections smaller than this are ignored.
-    pub touchpad_dead_zone: f32,
-    /// Smallest allowed uniform scale.
-    pub min_scale: f32,
-    /// Largest allowed uniform scale.
-    pub max_scale: f32,
-    /// Longest ray, metres.
-    pub max_ray_length: f32,
-    /// Radius of a bounding-box handle for ray picking, metres.
-    pub handle_radius: f32,
-    /// Distance in front of the head where a tree chosen from the menu appears, metres.
-    pub spawn_distance: f32,
-    /// How far below head height a tree chosen from the menu appears, metres.
-    pub spawn_drop: f32,
+/// One `--set NAME=VALUE`, parsed once: a known parameter and its checked value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Override {
+    /// The parameter, one of [`Config::NAMES`].
+    pub name: &'static str,
+    /// Its value.
+    pub value: f32,
+    /// The value as it was written (for reports).
+    pub text: String,
 }
 
-impl Default for Config {
-    fn default() -> Self {
-        Config {
-            snap_threshold: 0.3,
-            touchpad_move_rate: 1.5,
-            touchpad_turn_rate_deg: 90.0,
-            touchpad_dead_zone: 0.15,
-            min_scale: 0.25,
-            max_scale: 4.0,
-            max_ray_length: 100.0,
-            handle_radius: 0.15,
-            spawn_distance: 1.5,
-            spawn_drop: 0.5,
-        }
+impl Override {
+    /// Parses `NAME=VALUE` and checks it against the parameters' names and ranges.
+    pub fn parse(arg: &str) -> Result<Override, String> {
+        let (name, text) = arg.split_once('=').ok_or_else(|| format!("{arg}: expected NAME=VALUE"))?;
+        let (name, text) = (name.trim(), text.trim());
+        let mut config = Config::default();
+        config.set(name, text)?;
+        let name = Config::NAMES.iter().copied().find(|n| *n == name).unwrap_or_default();
+        let value = config.field_mut(name).map_or(0.0, |v| *v);
+        Ok(Override { name, value, text: text.to_string() })
+    }
+
+    /// Parses every `NAME=VALUE`, checking that together they keep `min_scale` at or below
+    /// `max_scale`.
+    pub fn parse_all<S: AsRef<str>>(args: &[S]) -> Result<Vec<Override>, String> {
+        let all = args.iter().map(|a| Override::parse(a.as_ref())).collect::<Result<Vec<_>, _>>()?;
+        Config::default().apply(&all)?;
+        Ok(all)
     }
 }
 
 impl Config {
-    /// The names [`Config::set`] accepts.
-    pub const NAMES: &'static [&'static str] = &[
-        "snap_threshold",
-        "touchpad_move_rate",
-        "touchpad_turn_rate_deg",
-        "touchpad_dead_zone",
-        "min_scale",
-        "max_scale",
-        "max_ray_length",
-        "handle_radius",
-        "spawn_distance",
-        "spawn_drop",
-    ];
-
-    /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`.
-    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
-        let parse = |v: &str| -> Result<f32, String> {
-            let x: f32 = v.trim().parse().map_err(|_| format!("{name}: '{v}' is not a number"))?;
-            if !x.is_finite() || x < 0.0 {
-                return Err(format!("{name}: '{v}' must be a finite, non-negative number"));
-            }
-            Ok(x)
-        };
-        match name {
-            "snap_threshold" => self.snap_threshold = parse(value)?,
-            "touchpad_move_rate" => self.touchpad_move_rate = parse(value)?,
-            "touchpad_turn_rate_deg" => self.touchpad_turn_rate_deg = parse(value)?,
-            "touchpad_dead_zone" => self.touchpad_dead_zone = parse(value)?,
-            "min_scale" => self.min_scale = parse(value)?,
-            "max_scale" => self.max_scale = parse(value)?,
-            "max_ray_length" => self.max_ray_length = parse(value)?,
-            "handle_radius" => self.handle_radius = parse(value)?,
-            "spawn_distance" => self.spawn_distance = parse(value)?,
-            "spawn_drop" => self.spawn_drop = parse(value)?,
-            _ => {
-                return Err(format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")));
+    /// Applies parsed overrides in order.
+    pub fn apply(&mut self, overrides: &[Override]) -> Result<(), String> {
+        for o in overrides {
+            if let Some(field) = self.field_mut(o.name) {
+                *field = o.value;
             }
         }
         if self.min_scale > self.max_scale {

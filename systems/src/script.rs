@@ -33,25 +33,28 @@ use glam::{Vec2, Vec3};
 use crate::catalogue::ModelId;
 use crate::components::{Controller, Head, Pose};
 use crate::input::{Button, InputEvent, StampedEvent};
-use crate::resources::Mode;
+use crate::mode::Mode;
 use crate::sim::Sim;
 
 /// A simulation driven by scripted input, with a recording of that input.
 pub struct Script {
     sim: Sim,
     recorded: Vec<StampedEvent>,
+    /// Events queued for the next tick, applied by [`Sim::step_with`].
+    pending: Vec<InputEvent>,
 }
 
 impl Script {
     /// A script driving `sim` from its current tick.
     pub fn new(sim: Sim) -> Script {
-        Script { sim, recorded: Vec::new() }
+        Script { sim, recorded: Vec::new(), pending: Vec::new() }
     }
 
     /// Queues one event for the next tick and records it, or says why it is invalid.
     pub fn try_push(&mut self, event: InputEvent) -> Result<&mut Self, String> {
         let tick = self.sim.res.tick;
-        self.sim.push_input(event.clone())?;
+        event.validate()?;
+        self.pending.push(event.clone());
         self.recorded.push(StampedEvent { tick, event });
         Ok(self)
     }
@@ -68,9 +71,24 @@ impl Script {
         self
     }
 
-    /// Runs `ticks` steps without input.
+    /// Hands the pending events to the simulation's input queue without stepping, for callers
+    /// that take the simulation over before the next tick.
+    fn flush(&mut self) {
+        for event in std::mem::take(&mut self.pending) {
+            // Validated when pushed, so this cannot fail.
+            let _ = self.sim.push_input(event);
+        }
+    }
+
+    /// Runs `ticks` steps, the first with the events pushed since the last step.
     pub fn wait(&mut self, ticks: u64) -> &mut Self {
-        self.sim.run(ticks);
+        for _ in 0..ticks {
+            let events = std::mem::take(&mut self.pending);
+            // Every pending event was validated when it was pushed.
+            if let Err(e) = self.sim.step_with(events) {
+                panic!("Script: invalid event: {e}");
+            }
+        }
         self
     }
 
@@ -153,16 +171,19 @@ impl Script {
 
     /// The simulation, mutably (for set-up; changes made here are not recorded).
     pub fn sim_mut(&mut self) -> &mut Sim {
+        self.flush();
         &mut self.sim
     }
 
     /// The simulation, ending the script.
-    pub fn into_sim(self) -> Sim {
+    pub fn into_sim(mut self) -> Sim {
+        self.flush();
         self.sim
     }
 
     /// The simulation and the recording, ending the script.
-    pub fn into_parts(self) -> (Sim, Vec<StampedEvent>) {
+    pub fn into_parts(mut self) -> (Sim, Vec<StampedEvent>) {
+        self.flush();
         (self.sim, self.recorded)
     }
 
@@ -173,6 +194,6 @@ impl Script {
 
     /// A copy of the head (default if the world has none).
     pub fn head(&self) -> Head {
-        self.sim.world.query::<&Head>().iter().next().copied().unwrap_or_default()
+        self.sim.head()
     }
 }

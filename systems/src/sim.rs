@@ -3,7 +3,6 @@
 use glam::Vec3;
 use hecs::World;
 use rand::RngExt;
-use rand_chacha::ChaCha8Rng;
 
 use crate::catalogue::{Catalogue, ModelId};
 use crate::components::*;
@@ -12,32 +11,7 @@ use crate::input::InputEvent;
 use crate::resources::Resources;
 use crate::scene::{parse_utc_ms, plane_geometry, Scene};
 
-/// The components every tree entity carries.
-pub type TreeComponents = (Tree, Transform, Scale, Grounded, WindState);
-
-/// The components of a new tree: its model, base position, yaw, scale and grounded flag, and a
-/// wind state whose phase is drawn from `rng` (one draw) and whose gain comes from `wind` at
-/// `position`. [`Sim::spawn_tree`] and the interaction systems (through a command buffer) both
-/// spawn trees with this.
-pub fn tree_components(
-    rng: &mut ChaCha8Rng,
-    wind: Option<&Wind>,
-    model: ModelId,
-    position: Vec3,
-    yaw: f32,
-    scale: f32,
-    grounded: bool,
-) -> TreeComponents {
-    let phase = rng.random::<f32>() * std::f32::consts::TAU;
-    let density = wind.map_or(0.0, |w| w.density);
-    (
-        Tree { model },
-        Transform { translation: position, yaw },
-        Scale(scale),
-        Grounded(grounded),
-        WindState::new(phase, position, density),
-    )
-}
+pub use crate::components::{tree_components, TreeComponents};
 
 /// A running simulation: the hecs world and its resources.
 pub struct Sim {
@@ -166,6 +140,17 @@ impl Sim {
         Ok(())
     }
 
+    /// Applies this tick's input events and runs one fixed step: the one way every driver (the
+    /// live session, the replay viewer, scripts, the recorder) advances the world. Stops at the
+    /// first invalid event, before stepping.
+    pub fn step_with<I: IntoIterator<Item = InputEvent>>(&mut self, events: I) -> Result<(), String> {
+        for event in events {
+            self.push_input(event)?;
+        }
+        self.step();
+        Ok(())
+    }
+
     /// Runs one fixed step of the schedule.
     pub fn step(&mut self) {
         crate::schedule::step(&mut self.world, &mut self.res);
@@ -203,12 +188,28 @@ impl Sim {
         self.world.query::<&Selection>().iter().next().copied().unwrap_or_default()
     }
 
-    /// The state of a tree by entity id bits: model, transform, scale and grounded flag; `None`
-    /// if there is no such tree.
-    pub fn tree(&self, id: u64) -> Option<(Tree, Transform, Scale, Grounded)> {
+    /// The state of a tree by entity id bits; `None` if there is no such tree.
+    pub fn tree(&self, id: u64) -> Option<TreeState> {
         let e = hecs::Entity::from_bits(id)?;
         let mut q = self.world.query_one::<(&Tree, &Transform, &Scale, &Grounded)>(e);
-        q.get().ok().map(|(a, b, c, d)| (*a, *b, *c, *d))
+        q.get().ok().map(|(tree, transform, scale, grounded)| TreeState { tree: *tree, transform: *transform, scale: *scale, grounded: *grounded })
+    }
+
+    /// The head (the camera): the world's `Head`, or [`Sim::fallback_head`] when it has
+    /// none. Every reader of the camera goes through here, so there is one fallback.
+    pub fn head(&self) -> Head {
+        self.world.query::<&Head>().iter().next().copied().unwrap_or_else(Sim::fallback_head)
+    }
+
+    /// The camera of a world without a `Head`: 1.7 m up, 6 m south of the origin, looking at it,
+    /// with a 60° vertical field of view.
+    pub fn fallback_head() -> Head {
+        Head { pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::ZERO), fov_y: 60f32.to_radians() }
+    }
+
+    /// A copy of the sun component, if the world has one.
+    pub fn sun(&self) -> Option<Sun> {
+        self.world.query::<&Sun>().iter().next().copied()
     }
 
     /// The id bits of every tree, in ascending order.
@@ -230,6 +231,19 @@ impl Sim {
             total: self.world.len() as usize,
         }
     }
+}
+
+/// The state of one tree as [`Sim::tree`] reads it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TreeState {
+    /// Its model.
+    pub tree: Tree,
+    /// Its base position (metres) and yaw (radians).
+    pub transform: Transform,
+    /// Its uniform scale.
+    pub scale: Scale,
+    /// Whether it stands on a plane.
+    pub grounded: Grounded,
 }
 
 /// Numbers of entities by role.

@@ -4,7 +4,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::catalogue::{Catalogue, ModelId};
-use crate::resources::Mode;
+use crate::mode::Mode;
 
 /// The task files that ship with grove, embedded at compile time: `(id, RON text)`.
 pub const BUILTIN_TASKS: &[(&str, &str)] = &[

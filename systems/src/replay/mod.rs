@@ -32,7 +32,7 @@ pub use upgrade::{upgrade, UpgradeSummary};
 
 use crate::hash::{hex, WorldHash};
 use crate::input::{InputEvent, StampedEvent};
-use crate::resources::Config;
+use crate::resources::{Config, Override};
 use crate::sim::Sim;
 
 /// The format version this build writes.
@@ -250,7 +250,7 @@ impl<W: Write> Recorder<W> {
 /// Builds the simulation a header describes: its scene (a built-in name, or a `.ron` file inside
 /// `base_dir` or the working directory, see [`scene_ref::resolve_scene`]), seed, and config
 /// overrides.
-pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(String, String)]) -> Result<Sim, String> {
+pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Override]) -> Result<Sim, String> {
     let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
     crate::names::check_header(header)?;
     if (scene.dt - header.dt).abs() > 1e-9 {
@@ -258,9 +258,10 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[(St
     }
     let mut sim = Sim::from_scene(&scene, header.seed)?;
     let mut config = Config::default();
-    for (k, v) in header.config.iter().map(|(k, v)| (k.as_str(), v.as_str())).chain(overrides.iter().map(|(k, v)| (k.as_str(), v.as_str()))) {
+    for (k, v) in &header.config {
         config.set(k, v)?;
     }
+    config.apply(overrides)?;
     sim.res.config = config;
     Ok(sim)
 }
@@ -274,17 +275,17 @@ pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent],
     let mut i = 0;
     let end = end_tick.max(events.last().map_or(0, |e| e.tick + 1));
     while sim.res.tick < end {
+        let start = i;
         while i < events.len() && events[i].tick == sim.res.tick {
             let e = &events[i];
             let ms = (e.tick as f64 * header.dt as f64 * 1000.0).round() as u64;
             rec.event(e.tick, ms, e.tick, &e.event).map_err(|e| e.to_string())?;
-            sim.push_input(e.event.clone())?;
             i += 1;
         }
         if i < events.len() && events[i].tick < sim.res.tick {
             return Err(format!("event {i} is stamped tick {} but the recording is at tick {}", events[i].tick, sim.res.tick));
         }
-        sim.step();
+        sim.step_with(events[start..i].iter().map(|e| e.event.clone()))?;
         rec.after_step(&sim).map_err(|e| e.to_string())?;
     }
     rec.finish(&sim, summary).map_err(|e| e.to_string())

@@ -10,7 +10,8 @@ use serde::Serialize;
 use super::lines::{LineError, Lines};
 use super::{sim_for_header, CheckpointLine, Header, Line};
 use crate::hash::{hex, WorldHash, COMPONENTS};
-use crate::input::StampedEvent;
+use crate::input::{InputEvent, StampedEvent};
+use crate::resources::Override;
 use crate::sim::Sim;
 
 /// A replay input problem: which line, and what. Its `Display` is one line: control characters
@@ -73,7 +74,7 @@ pub struct ReplayOptions {
     /// Stop at this tick.
     pub until: Option<u64>,
     /// Config overrides (what-if): checkpoints are then not compared.
-    pub overrides: Vec<(String, String)>,
+    pub overrides: Vec<Override>,
 }
 
 /// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
@@ -133,9 +134,12 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
 
     // Steps are bounded: `Lines` refuses a tick more than a checkpoint interval past the last
     // checkpoint, and any tick past the limit.
-    let advance = |sim: &mut Sim, to: u64| {
+    // The events read for the coming tick are applied with the step that reaches the next line's
+    // tick (each was validated when read).
+    let mut pending: Vec<InputEvent> = Vec::new();
+    let advance = |sim: &mut Sim, pending: &mut Vec<InputEvent>, to: u64| {
         while sim.res.tick < to.min(until) {
-            sim.step();
+            let _ = sim.step_with(pending.drain(..));
         }
     };
 
@@ -145,13 +149,14 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
             stopped_early = true;
             break;
         }
-        advance(&mut sim, tick);
+        advance(&mut sim, &mut pending, tick);
         match checked.line {
             Line::Header(_) => {}
             Line::Event(e) => {
                 *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
                 crate::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m)))?;
-                sim.push_input(e.event).map_err(|m| err((Some(n), m)))?;
+                e.event.validate().map_err(|m| err((Some(n), m)))?;
+                pending.push(e.event);
             }
             Line::Checkpoint(c) => {
                 if verifying && first_divergence.is_none() {
@@ -176,7 +181,11 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     }
     if stopped_early {
         // `until` is below a tick that `Lines` accepted, so this is bounded too.
-        advance(&mut sim, until);
+        advance(&mut sim, &mut pending, until);
+    }
+    // Events of a tick the recording ends at wait in the input queue, as a live session leaves them.
+    for event in pending {
+        let _ = sim.push_input(event);
     }
     Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events: outcome_events, verifying })
 }

@@ -11,7 +11,8 @@ use hecs::World;
 use crate::components::{Buttons, Controller, Head};
 use crate::events::Happening;
 use crate::input::{Button, InputEvent};
-use crate::resources::{ButtonEdges, Mode, Resources};
+use crate::mode::Mode;
+use crate::resources::{ButtonEdges, Resources};
 
 fn set(b: &mut Buttons, button: Button, value: bool) {
     match button {

@@ -19,8 +19,9 @@ use hecs::{CommandBuffer, World};
 use crate::components::{HitMarker, HitTarget, Tree, Wind};
 use crate::events::Happening;
 use crate::interact;
-use crate::resources::{Mode, Resources};
-use crate::sim::tree_components;
+use crate::mode::Mode;
+use crate::resources::Resources;
+use crate::components::tree_components;
 
 /// Runs the plant and remove system.
 pub fn run(world: &mut World, res: &mut Resources) {

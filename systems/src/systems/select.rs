@@ -22,7 +22,8 @@ use hecs::World;
 use crate::components::{HitMarker, HitTarget, Scale, Transform, Tree};
 use crate::events::Happening;
 use crate::interact;
-use crate::resources::{Drag, HandleDrag, Mode, Resources};
+use crate::mode::Mode;
+use crate::resources::{Drag, HandleDrag, Resources};
 
 /// Runs the select system.
 pub fn run(world: &mut World, res: &mut Resources) {

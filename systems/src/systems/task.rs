@@ -43,7 +43,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
             Happening::Planted { position, .. } | Happening::Snapped { position, .. } => {
                 // In manual mode a new tree appears in front of the user and is moved into
                 // place, so only a snap counts as a placement there.
-                let placement = matches!(entry.what, Happening::Snapped { .. }) || task.def.mode == crate::resources::Mode::RayCasting;
+                let placement = matches!(entry.what, Happening::Snapped { .. }) || task.def.mode == crate::mode::Mode::RayCasting;
                 if placement && !near_any_target(task, *position) {
                     task.errors.off_target += 1;
                 }

@@ -17,7 +17,7 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
     var out: VertexOut;
     out.clip = vec4<f32>(x, y, 1.0, 1.0);
     let far = frame.inv_view_proj * vec4<f32>(x, y, 1.0, 1.0);
-    out.ray = far.xyz / far.w - frame.camera_pos.xyz;
+    out.ray = far.xyz / far.w - frame.camera_pos;
     return out;
 }
 
@@ -25,12 +25,12 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let dir = normalize(in.ray);
     // The sky takes the ambient light's tint (warmer when the sun is low).
-    let tint = frame.ambient.rgb / max(frame.ambient.r, 0.001);
-    var c = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.ambient.w * tint;
+    let tint = frame.ambient / max(frame.ambient.r, 0.001);
+    var c = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
     // Sun disc, a halo, and a wide glow that is strongest when the sun is near the horizon:
     // s^600, s^40 and s^4 from one logarithm.
-    let ls = log2(max(dot(dir, frame.sun_dir.xyz), 1e-6));
+    let ls = log2(max(dot(dir, frame.sun_dir), 1e-6));
     let low = 1.0 - clamp(frame.sun_dir.y * 2.0, 0.0, 1.0);
-    c = c + frame.sun_color.rgb * (exp2(600.0 * ls) * 4.0 + exp2(40.0 * ls) * 0.12 + exp2(4.0 * ls) * 0.25 * low);
+    c = c + frame.sun_color * (exp2(600.0 * ls) * 4.0 + exp2(40.0 * ls) * 0.12 + exp2(4.0 * ls) * 0.25 * low);
     return vec4<f32>(tone(c), 1.0);
 }

@@ -6,17 +6,24 @@
 
 struct Material {
     base_color: vec4<f32>,
-    // x: alpha cutoff (negative when opaque); y: normal scale; z: specular factor; w: roughness.
-    params: vec4<f32>,
-    // x: 1 when double-sided; y: translucency.
-    flags: vec4<f32>,
+    // The alpha below which texels are clipped (negative when opaque).
+    alpha_cutoff: f32,
+    normal_scale: f32,
+    specular_factor: f32,
+    roughness: f32,
+    // 1 when both faces are drawn.
+    double_sided: f32,
+    // How much light passes through (leaves), 0..1.
+    translucency: f32,
+    pad0: f32,
+    pad1: f32,
 };
 
 // The wind for all trees, written every frame from the world's Wind component and the sim time.
 @group(0) @binding(1) var<uniform> wind: WindParams;
 
-// The global wind model (0 noise, 1 hierarchical), equal to `wind.model`: set per pipeline by
-// src/render/mod.rs (`Specialised`), so that only the chosen model's code runs per vertex.
+// The global wind model (0 noise, 1 hierarchical), equal to `wind.model`: set per pipeline from
+// its `PipelineKey` (src/render/gpu.rs), so that only the chosen model's code runs per vertex.
 override WIND_MODEL: u32 = 1u;
 
 @group(2) @binding(0) var<uniform> material: Material;
@@ -31,20 +38,24 @@ struct VertexIn {
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
     @location(4) wind: vec4<f32>,
-    // xyz: tree origin; w: uniform scale.
-    @location(5) inst_a: vec4<f32>,
-    // x: yaw; yz: wind bend (WindState.bend, metres per metre of height, world X and Z);
-    // w: wind gain (WindState.gain).
-    @location(6) inst_b: vec4<f32>,
-    // x: wind phase (WindState.phase, radians); y: the share of leaves kept (lod.rs); zw: zero.
-    @location(7) inst_c: vec4<f32>,
+    // The instance (src/render/trees/instances.rs): the tree's origin (metres) and uniform scale,
+    @location(5) origin: vec3<f32>,
+    @location(6) scale: f32,
+    // its yaw (radians), the trunk's lean (WindState.bend, metres per metre of height, world X
+    // and Z) and the wind's gain at the tree (WindState.gain),
+    @location(7) yaw: f32,
+    @location(8) bend: vec2<f32>,
+    @location(9) gain: f32,
+    // its wind phase (WindState.phase, radians) and the share of its leaves kept (lod.rs).
+    @location(10) phase: f32,
+    @location(11) keep: f32,
     // xyz: the centre of the vertex's leaf (model space); w: the leaf's rank in 0..1, or -1 where
     // the primitive is not simplified.
-    @location(8) leaf: vec4<f32>,
+    @location(12) leaf: vec4<f32>,
 };
 
 // The linear size of a leaf of rank `rank` on a tree that keeps the share `keep` of its leaves:
-// the twin of lod::leaf_scale (see src/render/lod.rs for the derivation).
+// the twin of lod::leaf_scale (see src/render/trees/lod.rs for the derivation).
 fn leaf_scale(rank: f32, keep: f32) -> f32 {
     if (rank < 0.0 || keep >= 1.0) {
         return 1.0;
@@ -73,11 +84,11 @@ fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
 // origin) displaced by the wind. The _WIND distances are model-space metres, so x, y and z are
 // scaled with the tree; w (the branch phase) is not.
 fn world_position(v: VertexIn) -> vec3<f32> {
-    let scale = v.inst_a.w;
-    let p = v.leaf.xyz + (v.position - v.leaf.xyz) * leaf_scale(v.leaf.w, v.inst_c.y);
-    let v0 = v.inst_a.xyz + rotate_y(p * scale, v.inst_b.x);
+    let scale = v.scale;
+    let p = v.leaf.xyz + (v.position - v.leaf.xyz) * leaf_scale(v.leaf.w, v.keep);
+    let v0 = v.origin + rotate_y(p * scale, v.yaw);
     let ch = vec4<f32>(v.wind.xyz * scale, v.wind.w);
-    return wind_displace(WIND_MODEL, v0, ch, v.inst_b.yz, v.inst_b.w, v.inst_c.x, wind);
+    return wind_displace(WIND_MODEL, v0, ch, v.bend, v.gain, v.phase, wind);
 }
 
 @vertex
@@ -86,8 +97,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
     let wp = world_position(v);
     out.clip = frame.view_proj * vec4<f32>(wp, 1.0);
     out.world_pos = wp;
-    out.normal = rotate_y(v.normal, v.inst_b.x);
-    out.tangent = vec4<f32>(rotate_y(v.tangent.xyz, v.inst_b.x), v.tangent.w);
+    out.normal = rotate_y(v.normal, v.yaw);
+    out.tangent = vec4<f32>(rotate_y(v.tangent.xyz, v.yaw), v.tangent.w);
     out.uv = v.uv;
     return out;
 }
@@ -102,7 +113,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let base = textureSample(albedo_tex, material_sampler, in.uv) * material.base_color;
     let nt = textureSample(normal_tex, material_sampler, in.uv).xyz * 2.0 - 1.0;
     let spec_tex = textureSample(specular_tex, material_sampler, in.uv).a;
-    let v = normalize(frame.camera_pos.xyz - in.world_pos);
+    let v = normalize(frame.camera_pos - in.world_pos);
     var n = normalize(in.normal);
     // The face normal from screen-space derivatives; tiny (sub-pixel) triangles can give a zero
     // cross product, in which case the vertex normal stands in, so no NaN reaches the shading.
@@ -115,7 +126,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let alt = cross(n, select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(n.y) > 0.9));
     let t = select(normalize(alt), t0 * inverseSqrt(max(dot(t0, t0), 1e-30)), dot(t0, t0) > 1e-12);
     let b = cross(n, t) * in.tangent.w;
-    let ns = vec3<f32>(nt.xy * material.params.y, max(nt.z, 0.05));
+    let ns = vec3<f32>(nt.xy * material.normal_scale, max(nt.z, 0.05));
     n = normalize(t * ns.x + b * ns.y + n * ns.z);
     if (!front) {
         // Back face of a two-sided leaf: flip the component along the face normal (ng faces
@@ -123,8 +134,8 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
         // both sides.
         n = normalize(n - 2.0 * dot(n, ng) * ng);
     }
-    let spec = spec_tex * material.params.z;
-    let c = shade(base.rgb, n, in.world_pos, spec, material.params.w, material.flags.y);
+    let spec = spec_tex * material.specular_factor;
+    let c = shade(base.rgb, n, in.world_pos, spec, material.roughness, material.translucency);
     return vec4<f32>(tone(c), 1.0);
 }
 
@@ -148,7 +159,7 @@ fn vs_depth(v: VertexIn) -> DepthOut {
 @fragment
 fn fs_alpha_test(in: DepthOut) {
     let a = textureSample(albedo_tex, material_sampler, in.uv).a * material.base_color.a;
-    if (material.params.x >= 0.0 && a < material.params.x) {
+    if (material.alpha_cutoff >= 0.0 && a < material.alpha_cutoff) {
         discard;
     }
 }

@@ -1,7 +1,15 @@
 // Ground planes: the Plane meshes, textured in world space, lit and shadowed. Holes are simply
-// missing triangles. lighting.wgsl is prepended.
+// missing triangles. lighting.wgsl is prepended (src/render/ground/mod.rs).
 
-@group(2) @binding(0) var<uniform> ground_params: vec4<f32>;
+struct GroundParams {
+    // Metres per repeat of the ground texture.
+    metres_per_repeat: f32,
+    pad0: f32,
+    pad1: f32,
+    pad2: f32,
+};
+
+@group(2) @binding(0) var<uniform> ground_params: GroundParams;
 @group(2) @binding(1) var ground_tex: texture_2d<f32>;
 @group(2) @binding(2) var ground_normal_tex: texture_2d<f32>;
 @group(2) @binding(3) var ground_specular_tex: texture_2d<f32>;
@@ -35,8 +43,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    // ground_params.x: metres per texture repeat.
-    let albedo = textureSample(ground_tex, ground_sampler, in.world_pos.xz / ground_params.x).rgb;
+    let albedo = textureSample(ground_tex, ground_sampler, in.world_pos.xz / ground_params.metres_per_repeat).rgb;
     let n = normalize(in.normal) * select(-1.0, 1.0, front);
     let irr = select(in.irr_back, in.irr_front, front);
     let c = shade_lit(albedo, n, in.world_pos, 0.08, 0.95, 0.0, irr);

@@ -6,6 +6,10 @@ use std::path::Path;
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
+// The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout): the mapping the
+// generator used to write the faces.
+use crate::assetgen::textures::cube_dir;
+
 /// Builds a box-filtered mip chain of an RGBA8 image; with `srgb`, averaging happens in linear
 /// space. Returns the concatenated levels and the level count.
 pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> (Vec<u8>, u32) {
@@ -125,10 +129,6 @@ pub fn one_line_image_error(e: &image::ImageError) -> String {
         other => other.to_string().replace('\n', " "),
     }
 }
-
-/// The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout); the same mapping
-/// the generator used to write the faces.
-pub use crate::assetgen::textures::cube_dir;
 
 /// The cosine-weighted irradiance of a cubemap (linear RGB), for `out` texels per face edge,
 /// sampling the input at up to 16 texels per face edge.

@@ -1,10 +1,89 @@
-//! Interaction visuals as plain geometry built from the world each frame: the controller and
+//! Interaction visuals as plain geometry built each frame from [`OverlayScene`] (which
+//! `render::extract` copies from the world): the controller and
 //! its ray, the hit marker, the anchor ball (green, or white when armed), the selection's
 //! bounding box with its corner and edge handles, and the running task's target markers.
 
 use glam::{Quat, Vec3};
-use grove_systems::components::{AnchorBall, Controller, HitMarker, Selection};
-use grove_systems::Sim;
+
+/// The controller as the overlay draws it.
+#[derive(Clone, Copy, Debug)]
+pub struct OverlayController {
+    /// The ray's origin, metres.
+    pub origin: Vec3,
+    /// The ray's unit direction.
+    pub dir: Vec3,
+    /// The controller's orientation.
+    pub rotation: Quat,
+    /// Whether the trigger is held (the ray turns yellow).
+    pub trigger: bool,
+}
+
+/// The point the controller ray hits.
+#[derive(Clone, Copy, Debug)]
+pub struct OverlayHit {
+    /// Whether the ray hits anything.
+    pub visible: bool,
+    /// Distance along the ray, metres.
+    pub distance: f32,
+    /// The hit point, metres.
+    pub position: Vec3,
+    /// The surface normal there.
+    pub normal: Vec3,
+}
+
+/// The anchor ball below a dragged tree.
+#[derive(Clone, Copy, Debug)]
+pub struct OverlayAnchor {
+    /// Whether it is shown.
+    pub visible: bool,
+    /// Whether a release would snap (white) or not (green).
+    pub armed: bool,
+    /// Its centre, metres.
+    pub position: Vec3,
+    /// The drop from the ball to the plane below, metres.
+    pub distance: f32,
+}
+
+/// The selected tree's bounding box.
+#[derive(Clone, Copy, Debug)]
+pub struct OverlaySelection {
+    /// The box's centre, metres.
+    pub center: Vec3,
+    /// The box's orientation (a yaw).
+    pub rotation: Quat,
+    /// Half extents, metres.
+    pub half_extents: Vec3,
+}
+
+/// One target marker of the running task.
+#[derive(Clone, Copy, Debug)]
+pub struct OverlayTarget {
+    /// Where a tree should go, metres.
+    pub position: Vec3,
+    /// Whether a tree satisfies it.
+    pub done: bool,
+}
+
+/// What the overlay draws, copied from the world by `render::extract`.
+#[derive(Clone, Debug, Default)]
+pub struct OverlayScene {
+    /// The controllers.
+    pub controllers: Vec<OverlayController>,
+    /// The hit marker.
+    pub hit: Option<OverlayHit>,
+    /// The anchor balls.
+    pub anchors: Vec<OverlayAnchor>,
+    /// The selections that hold a tree.
+    pub selections: Vec<OverlaySelection>,
+    /// The task's targets.
+    pub targets: Vec<OverlayTarget>,
+    /// The radius within which a target counts as reached, metres.
+    pub target_tolerance: f32,
+    /// The longest ray, metres (`Config::max_ray_length`).
+    pub max_ray_length: f32,
+    /// The radius of a box handle for picking, metres (`Config::handle_radius`).
+    pub handle_radius: f32,
+}
 
 /// One overlay vertex. A zero normal means "unlit".
 #[repr(C)]
@@ -98,21 +177,19 @@ impl OverlayGeometry {
     }
 }
 
-/// Builds the overlay geometry for the current world. Reads only.
-pub fn build(sim: &Sim) -> OverlayGeometry {
+/// Builds the overlay geometry of a frame.
+pub fn build(scene: &OverlayScene) -> OverlayGeometry {
     let mut g = OverlayGeometry::default();
-    let world = &sim.world;
-    let hit = world.query::<&HitMarker>().iter().next().copied();
-    for c in world.query::<&Controller>().iter() {
-        let o = c.ray_origin();
-        let d = c.ray_dir();
+    let hit = scene.hit;
+    for c in &scene.controllers {
+        let (o, d) = (c.origin, c.dir);
         // The controller body: a small dark box along the ray.
-        g.cuboid(o - d * 0.06, Vec3::new(0.02, 0.015, 0.06), c.pose.rotation, [0.15, 0.15, 0.17, 1.0]);
+        g.cuboid(o - d * 0.06, Vec3::new(0.02, 0.015, 0.06), c.rotation, [0.15, 0.15, 0.17, 1.0]);
         let len = match hit {
             Some(h) if h.visible => h.distance,
-            _ => sim.res.config.max_ray_length.min(30.0),
+            _ => scene.max_ray_length.min(30.0),
         };
-        let col = if c.buttons.trigger { [1.0, 0.85, 0.2, 1.0] } else { [0.3, 0.8, 1.0, 1.0] };
+        let col = if c.trigger { [1.0, 0.85, 0.2, 1.0] } else { [0.3, 0.8, 1.0, 1.0] };
         g.line(o, o + d * len, col);
     }
     if let Some(h) = hit {
@@ -122,18 +199,15 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
             g.line(h.position, h.position + n * 0.25, [0.2, 0.75, 1.0, 1.0]);
         }
     }
-    for a in world.query::<&AnchorBall>().iter() {
+    for a in &scene.anchors {
         if a.visible {
             let color = if a.armed { ANCHOR_ARMED } else { ANCHOR_FAR };
             g.sphere(a.position, 0.12, color);
             g.line(a.position, a.position + Vec3::Y * a.distance.max(0.0), color);
         }
     }
-    for s in world.query::<&Selection>().iter() {
-        if s.tree.is_none() {
-            continue;
-        }
-        let rot = Quat::from_rotation_y(s.yaw);
+    for s in &scene.selections {
+        let rot = s.rotation;
         let h = s.half_extents;
         let corner = |i: u8| s.center + rot * Vec3::new(if i & 1 != 0 { h.x } else { -h.x }, if i & 2 != 0 { h.y } else { -h.y }, if i & 4 != 0 { h.z } else { -h.z });
         let yellow = [1.0, 0.85, 0.1, 1.0];
@@ -144,7 +218,7 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
                 }
             }
         }
-        let hs = sim.res.config.handle_radius * 0.6;
+        let hs = scene.handle_radius * 0.6;
         for i in 0..8u8 {
             g.cuboid(corner(i), Vec3::splat(hs), rot, [1.0, 0.55, 0.1, 1.0]);
         }
@@ -154,14 +228,11 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
             g.sphere(s.center + rot * Vec3::new(x, 0.0, z), hs, [0.95, 0.35, 0.9, 1.0]);
         }
     }
-    if let Some(task) = &sim.res.task {
-        for (i, t) in task.def.targets.iter().enumerate() {
-            let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
-            let color = if done { [0.2, 0.95, 0.3, 1.0] } else { [1.0, 0.2, 0.6, 1.0] };
-            let base = t.position + Vec3::Y * 0.03;
-            g.ring(base, task.def.tolerance * 0.8, task.def.tolerance, color);
-            g.cuboid(base + Vec3::Y * 0.3, Vec3::new(0.02, 0.3, 0.02), Quat::IDENTITY, color);
-        }
+    for t in &scene.targets {
+        let color = if t.done { [0.2, 0.95, 0.3, 1.0] } else { [1.0, 0.2, 0.6, 1.0] };
+        let base = t.position + Vec3::Y * 0.03;
+        g.ring(base, scene.target_tolerance * 0.8, scene.target_tolerance, color);
+        g.cuboid(base + Vec3::Y * 0.3, Vec3::new(0.02, 0.3, 0.02), Quat::IDENTITY, color);
     }
     g
 }

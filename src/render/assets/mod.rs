@@ -1,0 +1,6 @@
+//! Assets the renderer loads: glTF 2.0 models with the shared mesh types ([`gltf_load`]:
+//! `ModelData`, `Vertex`) and textures ([`textures`]: 2D uploads with mip chains, the
+//! environment cubemap and its irradiance).
+
+pub mod gltf_load;
+pub mod textures;

@@ -1,0 +1,202 @@
+//! Extract: the first stage of a frame and the one file in `src/render` that reads simulation
+//! components. [`FrameData::extract`] copies what the frame draws out of a [`Sim`] into plain
+//! data (the camera, the sun, the wind, the trees, the planes, the interaction visuals); every
+//! later stage works on that copy and never sees the world.
+
+use glam::{Quat, Vec2, Vec3};
+use grove_systems::components::{AnchorBall, Controller, HitMarker, Plane, Scale, Selection, Transform, Tree, WindState};
+use grove_systems::wind_model::{Gust, Wind, WindModel, WindParams, WindResponse};
+use grove_systems::Sim;
+
+use super::overlay::geometry::{OverlayAnchor, OverlayController, OverlayHit, OverlayScene, OverlaySelection, OverlayTarget};
+use super::view::Camera;
+
+/// Identifies the planes' geometry: per plane, sorted by entity, its entity bits and its vertex
+/// and triangle counts. The ground mesh is rebuilt only when this changes.
+pub(crate) type GroundKey = Vec<(u64, usize, usize)>;
+
+/// One plane's mesh: world positions (metres) and counter-clockwise triangles.
+pub(crate) struct PlaneMesh {
+    /// Vertex positions, world metres.
+    pub vertices: Vec<Vec3>,
+    /// Triangles as indices into `vertices`.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// One tree as the frame draws it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TreeDraw {
+    /// The catalogue model's index.
+    pub model: usize,
+    /// Base position, world metres.
+    pub origin: Vec3,
+    /// Rotation about +Y, radians.
+    pub yaw: f32,
+    /// Uniform scale.
+    pub scale: f32,
+    /// The trunk's lean, metres per metre of height (world X and Z); zero without a wind state.
+    pub bend: Vec2,
+    /// The wind's gain at the tree; zero without a wind state (the tree stands still).
+    pub gain: f32,
+    /// The tree's wind phase, radians.
+    pub phase: f32,
+}
+
+/// Everything a frame draws, copied from the world.
+pub(crate) struct FrameData {
+    /// The head's camera.
+    pub camera: Camera,
+    /// Unit vector towards the sun.
+    pub sun_dir: Vec3,
+    /// The sun's true elevation, degrees.
+    pub sun_elevation_deg: f64,
+    /// Simulated time, seconds.
+    pub time: f64,
+    /// The per-vertex wind parameters of this frame.
+    pub wind: WindParams,
+    /// The global wind model (a pipeline choice).
+    pub wind_model: WindModel,
+    /// Every tree.
+    pub trees: Vec<TreeDraw>,
+    /// The planes' key.
+    pub ground_key: GroundKey,
+    /// The planes' meshes, sorted by entity; only when `ground_key` differs from the one the
+    /// caller already has.
+    pub planes: Option<Vec<PlaneMesh>>,
+    /// The bounds of every plane vertex, metres.
+    pub plane_bounds: Option<(Vec3, Vec3)>,
+    /// The interaction visuals.
+    pub overlay: OverlayScene,
+}
+
+impl FrameData {
+    /// Copies what a frame draws from `sim`. `have_ground` is the key of the ground mesh the
+    /// renderer already has; the planes are copied only when the world's differ.
+    pub fn extract(sim: &Sim, have_ground: &GroundKey) -> FrameData {
+        let head = sim.head();
+        let camera = Camera { position: head.pose.position, rotation: head.pose.rotation, fov_y: head.fov_y };
+        // Without a sun, light comes from high in the south-east.
+        let (sun_dir, sun_elevation_deg) = sim
+            .sun()
+            .map_or((Vec3::new(0.3, 0.8, 0.2).normalize(), 45.0), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
+        let time = sim.res.time();
+        let wind = sim.wind().unwrap_or_else(calm);
+
+        let mut trees = Vec::new();
+        for (_, tree, t, s, w) in sim.world.query::<(hecs::Entity, &Tree, &Transform, Option<&Scale>, Option<&WindState>)>().iter() {
+            // A tree without a wind state stands still: no bend and zero gain.
+            let (bend, gain, phase) = w.map_or((Vec2::ZERO, 0.0, 0.0), |w| (w.bend, w.gain, w.phase));
+            trees.push(TreeDraw {
+                model: usize::from(tree.model.0),
+                origin: t.translation,
+                yaw: t.yaw,
+                scale: s.map_or(1.0, |s| s.0),
+                bend,
+                gain,
+                phase,
+            });
+        }
+
+        let mut ground_key: GroundKey = sim
+            .world
+            .query::<(hecs::Entity, &Plane)>()
+            .iter()
+            .map(|(e, p)| (e.to_bits().get(), p.vertices.len(), p.triangles.len()))
+            .collect();
+        ground_key.sort_unstable();
+        let planes = (&ground_key != have_ground).then(|| {
+            let mut planes: Vec<(u64, PlaneMesh)> = sim
+                .world
+                .query::<(hecs::Entity, &Plane)>()
+                .iter()
+                .map(|(e, p)| (e.to_bits().get(), PlaneMesh { vertices: p.vertices.clone(), triangles: p.triangles.clone() }))
+                .collect();
+            planes.sort_by_key(|(e, _)| *e);
+            planes.into_iter().map(|(_, p)| p).collect()
+        });
+        let mut plane_bounds: Option<(Vec3, Vec3)> = None;
+        for p in sim.world.query::<&Plane>().iter() {
+            for v in &p.vertices {
+                plane_bounds = Some(plane_bounds.map_or((*v, *v), |(a, b)| (a.min(*v), b.max(*v))));
+            }
+        }
+
+        FrameData {
+            camera,
+            sun_dir,
+            sun_elevation_deg,
+            time,
+            wind: WindParams::from_wind(&wind, time),
+            wind_model: wind.model,
+            trees,
+            ground_key,
+            planes,
+            plane_bounds,
+            overlay: overlay_scene(sim),
+        }
+    }
+}
+
+/// The wind of a world without a `Wind` entity: strength and gust 0, the default response, so
+/// only the trees' own `WindState::bend` moves them.
+fn calm() -> Wind {
+    Wind {
+        direction: Vec3::X,
+        strength: 0.0,
+        density: 0.0,
+        gust: Gust { average: 0.0, strength: 0.0, frequency: 0.0 },
+        current: 0.0,
+        model: WindModel::Hierarchical,
+        response: WindResponse::default(),
+    }
+}
+
+/// The interaction visuals' inputs: the controller, the hit marker, the anchor ball, the
+/// selection and the running task's targets.
+fn overlay_scene(sim: &Sim) -> OverlayScene {
+    let world = &sim.world;
+    let hit = world.query::<&HitMarker>().iter().next().map(|h| OverlayHit {
+        visible: h.visible,
+        distance: h.distance,
+        position: h.position,
+        normal: h.normal,
+    });
+    let controllers = world
+        .query::<&Controller>()
+        .iter()
+        .map(|c| OverlayController { origin: c.ray_origin(), dir: c.ray_dir(), rotation: c.pose.rotation, trigger: c.buttons.trigger })
+        .collect();
+    let anchors = world
+        .query::<&AnchorBall>()
+        .iter()
+        .map(|a| OverlayAnchor { visible: a.visible, armed: a.armed, position: a.position, distance: a.distance })
+        .collect();
+    let selections = world
+        .query::<&Selection>()
+        .iter()
+        .filter(|s| s.tree.is_some())
+        .map(|s| OverlaySelection { center: s.center, rotation: Quat::from_rotation_y(s.yaw), half_extents: s.half_extents })
+        .collect();
+    let (targets, tolerance) = match &sim.res.task {
+        Some(task) => (
+            task.def
+                .targets
+                .iter()
+                .enumerate()
+                .map(|(i, t)| OverlayTarget { position: t.position, done: task.satisfied.get(i).is_some_and(|s| s.is_some()) })
+                .collect(),
+            task.def.tolerance,
+        ),
+        None => (Vec::new(), 0.0),
+    };
+    OverlayScene {
+        controllers,
+        hit,
+        anchors,
+        selections,
+        targets,
+        target_tolerance: tolerance,
+        max_ray_length: sim.res.config.max_ray_length,
+        handle_radius: sim.res.config.handle_radius,
+    }
+}

@@ -1,0 +1,137 @@
+//! Ground: the planes' meshes, textured in world space, lit and shadowed (a shadow receiver
+//! only; it casts none). The mesh is rebuilt only when the planes change ([`GroundKey`]).
+
+use std::path::Path;
+
+use wgpu::util::DeviceExt;
+
+use super::assets::{gltf_load, textures};
+use super::extract::{GroundKey, PlaneMesh};
+use super::frame::{Feature, FrameContext, Phase};
+use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use super::FrameStats;
+
+/// The ground's uniforms (matches `GroundParams` in ground.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct GroundParams {
+    /// Metres per repeat of the ground texture.
+    metres_per_repeat: f32,
+    /// Padding to 16 bytes.
+    pad: [f32; 3],
+}
+
+/// The planes' mesh on the GPU.
+struct Mesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+}
+
+/// The ground feature.
+pub(crate) struct Ground {
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<wgpu::RenderPipeline>,
+    bind_group: wgpu::BindGroup,
+    /// The key of the planes `mesh` was built from.
+    pub key: GroundKey,
+    mesh: Option<Mesh>,
+}
+
+impl Ground {
+    /// The feature with the ground texture `assets/env/ground.png`.
+    pub fn new(shared: &Shared, assets: &Path) -> Result<Ground, String> {
+        let path = assets.join("env").join("ground.png");
+        let img = image::open(&path)
+            .map_err(|e| format!("{}: {}", path.display(), textures::one_line_image_error(&e)))?
+            .to_rgba8();
+        let texture = textures::upload_2d(&shared.device, &shared.queue, "ground albedo", img.width(), img.height(), img.as_raw(), true);
+        let params = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("ground parameters"),
+            contents: bytemuck::bytes_of(&GroundParams { metres_per_repeat: 2.5, pad: [0.0; 3] }),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        Ok(Ground {
+            module: shared.shader("ground.wgsl", include_str!("ground.wgsl")),
+            layout: shared.layout("ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
+            pipelines: PipelineCache::new("ground"),
+            bind_group: shared.material_bind_group("ground bind group", &params, [&texture, &shared.flat_normal, &shared.white]),
+            key: Vec::new(),
+            mesh: None,
+        })
+    }
+
+    /// Rebuilds the mesh from the planes (positions and smooth normals, 6 floats a vertex).
+    fn rebuild(&mut self, shared: &Shared, key: &GroundKey, planes: &[PlaneMesh]) {
+        let mut verts: Vec<[f32; 6]> = Vec::new();
+        let mut idx: Vec<u32> = Vec::new();
+        for p in planes {
+            let base = verts.len() as u32;
+            let tris: Vec<u32> = p.triangles.iter().flatten().copied().filter(|&i| (i as usize) < p.vertices.len()).collect();
+            let normals = gltf_load::compute_normals(&p.vertices, &tris);
+            for (v, n) in p.vertices.iter().zip(&normals) {
+                verts.push([v.x, v.y, v.z, n.x, n.y, n.z]);
+            }
+            idx.extend(tris.iter().map(|i| i + base));
+        }
+        self.key = key.clone();
+        if idx.is_empty() {
+            self.mesh = None;
+            return;
+        }
+        let buffer = |label, contents: &[u8], usage| shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        self.mesh = Some(Mesh {
+            vertices: buffer("ground vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
+            indices: buffer("ground indices", bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX),
+            index_count: idx.len() as u32,
+        });
+    }
+
+}
+
+/// The ground's pipeline of `key`: main view only.
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+        if key.view != ViewKind::Main {
+            return Err("the ground is drawn from the main view only".into());
+        }
+        const GV: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        let label = if key.shadows { "ground pipeline (shadows)" } else { "ground pipeline (no shadows)" };
+        Ok(shared.pipeline(&PipelineSpec {
+            label,
+            layout,
+            module,
+            vertex: "vs_main",
+            fragment: Some("fs_main"),
+            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull: None,
+            depth: depth_test(true, wgpu::CompareFunction::Less),
+            targets: &color_target(key.format, wgpu::ColorWrites::ALL),
+            constants: &key.lit_constants(),
+        }))
+}
+
+impl Feature for Ground {
+    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+        if let Some(planes) = &cx.data.planes {
+            self.rebuild(cx.shared, &cx.data.ground_key, planes);
+        }
+        let (module, layout) = (&self.module, &self.layout);
+        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
+    }
+
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+        let (Phase::Opaque, Some(g)) = (phase, &self.mesh) else {
+            return Ok(());
+        };
+        pass.set_pipeline(self.pipelines.get(key)?);
+        pass.set_bind_group(2, &self.bind_group, &[]);
+        pass.set_vertex_buffer(0, g.vertices.slice(..));
+        pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..g.index_count, 0, 0..1);
+        stats.draws += 1;
+        stats.triangles += g.index_count as usize / 3;
+        Ok(())
+    }
+}

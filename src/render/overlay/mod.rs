@@ -1,0 +1,111 @@
+//! Overlay: the interaction visuals (controller and ray, hit marker, anchor ball, selection box
+//! and handles, task targets) as triangles and lines rebuilt every frame ([`geometry`]), drawn
+//! last, in [`Phase::Overlay`].
+
+pub mod geometry;
+
+use wgpu::util::DeviceExt;
+
+use self::geometry::OverlayVertex;
+use super::frame::{Feature, FrameContext, Phase};
+use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use super::FrameStats;
+
+/// The overlay's pipelines: triangles and lines.
+pub(crate) struct OverlayPipelines {
+    triangles: wgpu::RenderPipeline,
+    lines: wgpu::RenderPipeline,
+}
+
+/// The overlay feature.
+pub(crate) struct Overlay {
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<OverlayPipelines>,
+    /// This frame's triangles and their vertex count.
+    triangles: Option<(wgpu::Buffer, u32)>,
+    /// This frame's lines and their vertex count.
+    lines: Option<(wgpu::Buffer, u32)>,
+}
+
+impl Overlay {
+    /// The feature.
+    pub fn new(shared: &Shared) -> Overlay {
+        Overlay {
+            module: shared.shader("overlay.wgsl", include_str!("overlay.wgsl")),
+            layout: shared.layout("overlay layout", &[Some(&shared.view_layout)]),
+            pipelines: PipelineCache::new("overlay"),
+            triangles: None,
+            lines: None,
+        }
+    }
+}
+
+/// The overlay's pipelines of `key`: main view only.
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<OverlayPipelines, String> {
+    if key.view != ViewKind::Main {
+        return Err("the overlay is drawn from the main view only".into());
+    }
+    const OV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4, 2 => Float32x3];
+    let buffers = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<OverlayVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &OV,
+    })];
+    let targets = color_target(key.format, wgpu::ColorWrites::ALL);
+    let pipeline = |label, topology| {
+        shared.pipeline(&PipelineSpec {
+            label,
+            layout,
+            module,
+            vertex: "vs_main",
+            fragment: Some("fs_main"),
+            buffers: &buffers,
+            topology,
+            cull: None,
+            depth: depth_test(true, wgpu::CompareFunction::LessEqual),
+            targets: &targets,
+            constants: &[],
+        })
+    };
+    Ok(OverlayPipelines {
+        triangles: pipeline("overlay triangle pipeline", wgpu::PrimitiveTopology::TriangleList),
+        lines: pipeline("overlay line pipeline", wgpu::PrimitiveTopology::LineList),
+    })
+}
+
+impl Feature for Overlay {
+    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+        let g = geometry::build(&cx.data.overlay);
+        let upload = |label, vertices: &[OverlayVertex]| {
+            (!vertices.is_empty()).then(|| {
+                let buffer = cx.shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytemuck::cast_slice(vertices),
+                    usage: wgpu::BufferUsages::VERTEX,
+                });
+                (buffer, vertices.len() as u32)
+            })
+        };
+        self.triangles = upload("overlay triangles", &g.triangles);
+        self.lines = upload("overlay lines", &g.lines);
+        let (module, layout) = (&self.module, &self.layout);
+        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
+    }
+
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+        if phase != Phase::Overlay {
+            return Ok(());
+        }
+        let p = self.pipelines.get(key)?;
+        for (pipeline, geometry) in [(&p.triangles, &self.triangles), (&p.lines, &self.lines)] {
+            if let Some((buffer, count)) = geometry {
+                pass.set_pipeline(pipeline);
+                pass.set_vertex_buffer(0, buffer.slice(..));
+                pass.draw(0..*count, 0..1);
+                stats.draws += 1;
+            }
+        }
+        Ok(())
+    }
+}

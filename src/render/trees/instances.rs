@@ -1,0 +1,97 @@
+//! The tree instances of a frame: one per tree, grouped by model and keep bucket, nearest first.
+
+use glam::Vec3;
+
+use super::lod;
+use super::model::GpuModel;
+use crate::render::extract::TreeDraw;
+use crate::render::view::Camera;
+
+/// One tree instance (vertex buffer slot 1; matches `VertexIn` in trees.wgsl, locations 5–11).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Instance {
+    /// The tree's base, world metres.
+    pub origin: [f32; 3],
+    /// Uniform scale.
+    pub scale: f32,
+    /// Rotation about +Y, radians.
+    pub yaw: f32,
+    /// The trunk's lean, metres per metre of height, world X and Z (`WindState::bend`).
+    pub bend: [f32; 2],
+    /// The wind's gain at the tree (`WindState::gain`).
+    pub gain: f32,
+    /// The tree's wind phase, radians (`WindState::phase`).
+    pub phase: f32,
+    /// The share of the leaves drawn, 0..1 ([`lod::keep_fraction`]).
+    pub keep: f32,
+    /// Padding to 48 bytes.
+    pub pad: [f32; 2],
+}
+
+/// The instance range of each keep bucket of one model.
+pub(crate) type BucketRanges = [std::ops::Range<u32>; lod::BUCKETS];
+
+/// The instances of every tree whose model is loaded, grouped by model and, within a model, by
+/// keep bucket ([`lod::bucket`]), nearest first; the instance range of each (model, bucket);
+/// and the trees' bounds (metres). `height` is the target's height in pixels and
+/// `leaf_pixels` the smallest area a drawn leaf should cover.
+pub(crate) fn gather(
+    trees: &[TreeDraw],
+    models: &[Option<GpuModel>],
+    camera: &Camera,
+    height: u32,
+    leaf_pixels: f32,
+) -> (Vec<Instance>, Vec<BucketRanges>, Option<(Vec3, Vec3)>) {
+    let eye = camera.position;
+    let pixels_per_radian = height as f32 * 0.5 / (camera.fov_y * 0.5).tan().max(1e-3);
+    // Per model: (bucket, squared distance, instance).
+    let mut per_model: Vec<Vec<(usize, f32, Instance)>> = (0..models.len()).map(|_| Vec::new()).collect();
+    let mut bounds: Option<(Vec3, Vec3)> = None;
+    for t in trees {
+        let Some(Some(model)) = models.get(t.model) else {
+            continue;
+        };
+        let scale = t.scale;
+        let d2 = (t.origin - eye).length_squared();
+        let keep = lod::keep_fraction(model.leaf_area * scale * scale, d2.sqrt(), pixels_per_radian, leaf_pixels);
+        per_model[t.model].push((
+            lod::bucket(keep),
+            d2,
+            Instance {
+                origin: t.origin.to_array(),
+                scale,
+                yaw: t.yaw,
+                bend: t.bend.to_array(),
+                gain: t.gain,
+                phase: t.phase,
+                keep,
+                pad: [0.0; 2],
+            },
+        ));
+        let r = model.bounds.0.abs().max(model.bounds.1.abs());
+        let ext = Vec3::new(r.x.max(r.z), 0.0, r.x.max(r.z)) * scale;
+        let lo = t.origin + Vec3::new(-ext.x, model.bounds.0.y * scale, -ext.z);
+        let hi = t.origin + Vec3::new(ext.x, model.bounds.1.y * scale, ext.z);
+        bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+    }
+    // Nearest first within each bucket, so that the early depth test of a software rasteriser
+    // skips more hidden fragments of farther trees. Ties are broken by position, so the order
+    // never depends on the world's storage order.
+    let mut all = Vec::new();
+    let mut ranges = Vec::new();
+    for mut list in per_model {
+        list.sort_by(|p, q| {
+            p.0.cmp(&q.0)
+                .then(p.1.total_cmp(&q.1))
+                .then(p.2.origin[0].total_cmp(&q.2.origin[0]))
+                .then(p.2.origin[2].total_cmp(&q.2.origin[2]))
+        });
+        // The list is sorted by bucket, so each bucket is one run of it.
+        let base = all.len() as u32;
+        let end = |b: usize| base + list.partition_point(|e| e.0 < b) as u32;
+        ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
+        all.extend(list.iter().map(|e| e.2));
+    }
+    (all, ranges, bounds)
+}

@@ -1,0 +1,175 @@
+//! Trees: instanced, textured (albedo, normal, specular), alpha-clipped leaves, swayed per
+//! vertex by the wind (`wind.wgsl`, the twin of `grove_systems::wind_model`), casting shadows.
+//! Far trees draw a share of their leaves, grown to keep the crown's area ([`lod`]).
+//!
+//! Phases: [`Phase::Opaque`] draws the opaque materials, [`Phase::AlphaClipped`] the depth
+//! pre-pass and then the shading of the alpha-clipped ones (see [`pipelines`]); the shadow map
+//! gets both from [`Feature::draw_depth`].
+
+pub mod instances;
+pub mod lod;
+pub mod model;
+pub(crate) mod pipelines;
+
+use glam::Vec3;
+
+use self::instances::{gather, BucketRanges, Instance};
+use self::model::{GpuMaterial, GpuModel};
+use self::pipelines::TreePipelines;
+use super::frame::{Feature, FrameContext, Phase};
+use super::gpu::{PipelineCache, PipelineKey, Shared, ViewKind};
+use super::FrameStats;
+
+/// The tree shader: wind.wgsl's functions, then the tree's own (lighting.wgsl goes first).
+const TREES_WGSL: &str = concat!(include_str!("wind.wgsl"), "\n", include_str!("trees.wgsl"));
+
+/// The trees feature: the models, this frame's instances and the pipelines by key.
+pub(crate) struct Trees {
+    module: wgpu::ShaderModule,
+    lit_layout: wgpu::PipelineLayout,
+    shadow_layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<TreePipelines>,
+    /// The models, by catalogue index.
+    pub models: Vec<Option<GpuModel>>,
+    instances: wgpu::Buffer,
+    capacity: usize,
+    /// This frame's instance count.
+    pub instance_count: usize,
+    /// This frame's instance range of each (model, keep bucket).
+    ranges: Vec<BucketRanges>,
+    /// The bounds of this frame's trees, metres.
+    pub bounds: Option<(Vec3, Vec3)>,
+}
+
+/// Which tree materials a loop over the trees draws.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Materials {
+    Opaque,
+    Masked,
+}
+
+impl Trees {
+    /// The feature with no models yet.
+    pub fn new(shared: &Shared) -> Trees {
+        let capacity = 1024;
+        Trees {
+            module: shared.shader("trees.wgsl", TREES_WGSL),
+            lit_layout: shared.layout("tree lit layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
+            shadow_layout: shared.layout("tree shadow layout", &[Some(&shared.view_layout), None, Some(&shared.material_layout)]),
+            pipelines: PipelineCache::new("trees"),
+            models: Vec::new(),
+            instances: instance_buffer(&shared.device, capacity),
+            capacity,
+            instance_count: 0,
+            ranges: Vec::new(),
+            bounds: None,
+        }
+    }
+
+    /// Whether any tree of the frame has a loaded model (so something casts a shadow).
+    pub fn draws_any(&self, cx: &FrameContext<'_>) -> bool {
+        cx.data.trees.iter().any(|t| matches!(self.models.get(t.model), Some(Some(_))))
+    }
+
+    /// Draws every tree primitive whose material is of the kind `which`, instanced over its
+    /// model's range of the instance buffer, with its material bound. `before_draw` runs just
+    /// before each draw, to pick the pipeline or count what is drawn; the shadow pass sets its
+    /// pipeline beforehand.
+    fn draw_trees<'p>(
+        &'p self,
+        pass: &mut wgpu::RenderPass<'p>,
+        which: Materials,
+        mut before_draw: impl FnMut(&mut wgpu::RenderPass<'p>, &'p GpuMaterial, u32, &std::ops::Range<u32>),
+    ) {
+        pass.set_vertex_buffer(1, self.instances.slice(..));
+        for (m, buckets) in self.models.iter().zip(&self.ranges) {
+            let Some(m) = m else { continue };
+            for p in &m.primitives {
+                let Some(mat) = m.materials.get(p.material) else {
+                    continue;
+                };
+                if mat.masked != (which == Materials::Masked) {
+                    continue;
+                }
+                pass.set_bind_group(2, &mat.bind_group, &[]);
+                pass.set_vertex_buffer(0, p.vertices.slice(..));
+                pass.set_vertex_buffer(2, p.leaves.slice(..));
+                pass.set_index_buffer(p.indices.slice(..), wgpu::IndexFormat::Uint32);
+                for (range, &count) in buckets.iter().zip(&p.index_counts) {
+                    if range.is_empty() {
+                        continue;
+                    }
+                    before_draw(pass, mat, count, range);
+                    pass.draw_indexed(0..count, 0, range.clone());
+                }
+            }
+        }
+    }
+}
+
+impl Feature for Trees {
+    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+        let (instances, ranges, bounds) = gather(&cx.data.trees, &self.models, &cx.data.camera, cx.size.1, cx.options.leaf_pixels);
+        if instances.len() > self.capacity {
+            self.capacity = instances.len().next_power_of_two();
+            self.instances = instance_buffer(&cx.shared.device, self.capacity);
+        }
+        if !instances.is_empty() {
+            cx.shared.queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&instances));
+        }
+        self.instance_count = instances.len();
+        self.ranges = ranges;
+        self.bounds = bounds;
+        let (module, lit, shadow) = (&self.module, &self.lit_layout, &self.shadow_layout);
+        self.pipelines.prepare(cx.key, |k| pipelines::build(cx.shared, module, lit, shadow, k))?;
+        if cx.key.shadows {
+            self.pipelines.prepare(cx.key.with_view(ViewKind::Sun), |k| pipelines::build(cx.shared, module, lit, shadow, k))?;
+        }
+        Ok(())
+    }
+
+    fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), String> {
+        let TreePipelines::Shadow(p) = self.pipelines.get(key)? else {
+            return Err(format!("trees: {key:?} is not a shadow key"));
+        };
+        pass.set_pipeline(&p.opaque);
+        self.draw_trees(pass, Materials::Opaque, |_, _, _, _| {});
+        pass.set_pipeline(&p.masked);
+        self.draw_trees(pass, Materials::Masked, |_, _, _, _| {});
+        Ok(())
+    }
+
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+        let TreePipelines::Main(p) = self.pipelines.get(key)? else {
+            return Err(format!("trees: {key:?} is not a main-view key"));
+        };
+        let mut count = |count: u32, range: &std::ops::Range<u32>| {
+            stats.draws += 1;
+            stats.triangles += count as usize / 3 * range.len();
+        };
+        match phase {
+            Phase::Opaque => self.draw_trees(pass, Materials::Opaque, |pass, mat, n, range| {
+                pass.set_pipeline(&p.opaque[mat.double_sided as usize]);
+                count(n, range);
+            }),
+            Phase::AlphaClipped => {
+                self.draw_trees(pass, Materials::Masked, |pass, mat, _, _| pass.set_pipeline(&p.masked_depth[mat.double_sided as usize]));
+                self.draw_trees(pass, Materials::Masked, |pass, mat, n, range| {
+                    pass.set_pipeline(&p.masked_shade[mat.double_sided as usize]);
+                    count(n, range);
+                });
+            }
+            Phase::Sky | Phase::Blended | Phase::Overlay => {}
+        }
+        Ok(())
+    }
+}
+
+fn instance_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("tree instances"),
+        size: (capacity * std::mem::size_of::<Instance>()) as u64,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}

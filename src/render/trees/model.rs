@@ -1,0 +1,153 @@
+//! A tree model on the GPU: its primitives (with the leaves ordered for the level of detail)
+//! and its materials, uploaded from a loaded glTF ([`ModelData`]).
+
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use super::lod;
+use crate::render::assets::gltf_load::ModelData;
+use crate::render::assets::textures;
+use crate::render::gpu::Shared;
+
+/// The per-material uniforms (matches `Material` in trees.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct MaterialUniform {
+    /// Linear RGBA factor of the albedo.
+    base_color: [f32; 4],
+    /// The alpha below which texels are clipped; negative for opaque materials.
+    alpha_cutoff: f32,
+    /// The normal map's strength.
+    normal_scale: f32,
+    /// The specular map's factor.
+    specular_factor: f32,
+    /// Roughness, 0..1.
+    roughness: f32,
+    /// 1 when both faces are drawn.
+    double_sided: f32,
+    /// How much light passes through (leaves), 0..1.
+    translucency: f32,
+    /// Padding to 48 bytes.
+    pad: [f32; 2],
+}
+
+pub(crate) struct GpuPrimitive {
+    pub vertices: wgpu::Buffer,
+    /// Per vertex, its leaf's centre and rank (vertex buffer slot 2; see [`lod`]).
+    pub leaves: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    /// Indices drawn for trees in each keep bucket; all of them where the primitive is not
+    /// simplified.
+    pub index_counts: [u32; lod::BUCKETS],
+    pub material: usize,
+}
+
+pub(crate) struct GpuMaterial {
+    pub bind_group: wgpu::BindGroup,
+    pub double_sided: bool,
+    /// Alpha-clipped (`alphaMode: MASK`).
+    pub masked: bool,
+}
+
+/// A model on the GPU.
+pub struct GpuModel {
+    pub(crate) name: String,
+    pub(crate) primitives: Vec<GpuPrimitive>,
+    pub(crate) materials: Vec<GpuMaterial>,
+    /// Model-space bounds.
+    pub bounds: (Vec3, Vec3),
+    /// Triangle count.
+    pub triangles: usize,
+    /// Mean leaf area of the simplified primitives, square metres; 0 when none is simplified.
+    pub leaf_area: f32,
+}
+
+impl GpuModel {
+    /// Uploads a loaded model: each image as sRGB and linear textures, one bind group per
+    /// material, and per primitive its vertices, leaf order and indices.
+    pub(crate) fn upload(shared: &Shared, data: &ModelData) -> GpuModel {
+        let name = data.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let device = &shared.device;
+        let images: Vec<(wgpu::TextureView, wgpu::TextureView)> = data
+            .images
+            .iter()
+            .enumerate()
+            .map(|(i, img)| {
+                // Each image is uploaded as sRGB (for albedo) and linear (for normal and specular
+                // maps); only the views that materials use are sampled.
+                let upload = |kind: &str, srgb: bool| {
+                    textures::upload_2d(device, &shared.queue, &format!("{name} image {i} ({kind})"), img.width, img.height, &img.rgba, srgb)
+                };
+                (upload("sRGB", true), upload("linear", false))
+            })
+            .collect();
+        let materials = data
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let uniform = MaterialUniform {
+                    base_color: m.base_color.to_array(),
+                    alpha_cutoff: m.alpha_cutoff.unwrap_or(-1.0),
+                    normal_scale: m.normal_scale,
+                    specular_factor: m.specular_factor,
+                    roughness: m.roughness,
+                    double_sided: if m.double_sided { 1.0 } else { 0.0 },
+                    translucency: if m.alpha_cutoff.is_some() { 0.35 } else { 0.0 },
+                    pad: [0.0; 2],
+                };
+                let buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&format!("{name} material {i} ({})", m.name)),
+                    contents: bytemuck::cast_slice(&[uniform]),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                let albedo = m.albedo.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.0);
+                let normal = m.normal.and_then(|k| images.get(k)).map_or(&shared.flat_normal, |v| &v.1);
+                let spec = m.specular.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
+                GpuMaterial {
+                    bind_group: shared.material_bind_group(&format!("{name} material {i} bind group"), &buf, [albedo, normal, spec]),
+                    double_sided: m.double_sided,
+                    masked: m.alpha_cutoff.is_some(),
+                }
+            })
+            .collect();
+        // Alpha-clipped primitives of many pieces are simplified with distance (see `lod`),
+        // with a shuffle seeded by the model's name, so every run draws the same leaves.
+        let seed = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+        let (mut leaf_area, mut simplified) = (0.0f32, 0usize);
+        let primitives = data
+            .primitives
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let masked = data.materials.get(p.material).is_some_and(|m| m.alpha_cutoff.is_some());
+                let order = masked.then(|| lod::order_leaves(&p.vertices, &p.indices, seed ^ i as u64)).flatten();
+                let full = p.indices.len() as u32;
+                let (indices, leaves, index_counts) = match &order {
+                    Some(o) => {
+                        leaf_area += o.mean_leaf_area;
+                        simplified += 1;
+                        (&o.indices, o.leaf.clone(), std::array::from_fn(|b| o.index_count(b)))
+                    }
+                    None => (&p.indices, lod::unsimplified(p.vertices.len()), [full; lod::BUCKETS]),
+                };
+                let buffer = |what: &str, contents: &[u8], usage| {
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some(&format!("{name} primitive {i} {what}")),
+                        contents,
+                        usage,
+                    })
+                };
+                GpuPrimitive {
+                    vertices: buffer("vertices", bytemuck::cast_slice(&p.vertices), wgpu::BufferUsages::VERTEX),
+                    leaves: buffer("leaves", bytemuck::cast_slice(&leaves), wgpu::BufferUsages::VERTEX),
+                    indices: buffer("indices", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
+                    index_counts,
+                    material: p.material,
+                }
+            })
+            .collect();
+        let leaf_area = if simplified > 0 { leaf_area / simplified as f32 } else { 0.0 };
+        GpuModel { name, primitives, materials, bounds: data.bounds, triangles: data.triangles(), leaf_area }
+    }
+}

@@ -1,0 +1,145 @@
+//! The staging scene: a small world built to show one model alone (`grove render --model`, the
+//! desktop's model thumbnails, the renderer's golden images), so that no renderer has to build
+//! or edit a [`Sim`] itself.
+//!
+//! Units: metres, radians; right-handed, +Y up.
+
+use glam::Vec3;
+
+use crate::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind};
+use crate::components::{Controller, Head, Pose, Sun};
+use crate::scene::{CameraDef, Hole, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
+use crate::sim::Sim;
+
+/// The eye position and target that show the box `min..max` whole with a vertical field of
+/// view `fov_y` (radians) and an aspect ratio (width over height), looking from the south-east
+/// and a bit above.
+pub fn frame_bounds(min: Vec3, max: Vec3, fov_y: f32, aspect: f32) -> (Vec3, Vec3) {
+    let centre = (min + max) * 0.5;
+    let radius = ((max - min).length() * 0.5).max(0.01);
+    let half = (fov_y * 0.5).min(((fov_y * 0.5).tan() * aspect).atan());
+    let dist = radius / half.sin() * 1.05;
+    let dir = Vec3::new(0.55, 0.3, 0.78).normalize();
+    (centre + dir * dist, centre)
+}
+
+/// A small world for showing one model: a ground plane under its bounds, a fixed morning sun,
+/// no wind, one tree of `model` at the origin, and the camera framing the bounds (from
+/// [`frame_bounds`], a 40° field of view for an image of `aspect` width over height); with
+/// `with_hole`, a hole in the plane to the camera's right. `bounds` are the model's, in model
+/// space, metres. The catalogue holds one entry, `model`, with those bounds.
+pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: ModelId) -> Result<Sim, String> {
+    let (min, max) = bounds;
+    let size = (max - min).max_element().max(0.1);
+    let half = size * 1.5;
+    let scene = Scene {
+        name: "model stage".into(),
+        dt: 1.0 / 60.0,
+        seed: 1,
+        planes: vec![PlaneDef {
+            name: "ground".into(),
+            shape: PlaneShape::Grid {
+                min: glam::Vec2::new(-half, -half),
+                size: glam::Vec2::splat(2.0 * half),
+                cell: (size / 8.0).max(0.05),
+                elevation: min.y,
+                unevenness: 0.0,
+                noise_seed: 0,
+                holes: if with_hole {
+                    vec![Hole {
+                        center: glam::Vec2::new(half * 0.55, half * 0.3),
+                        radius: size * 0.2,
+                    }]
+                } else {
+                    vec![]
+                },
+            },
+        }],
+        sun: SunDef {
+            latitude_deg: 47.37,
+            longitude_deg: 8.54,
+            utc: "2026-06-21T08:00:00Z".into(),
+            time_rate: 0.0,
+        },
+        wind: WindDef {
+            direction: Vec3::X,
+            strength: 0.0,
+            density: 0.1,
+            gust_average: 0.0,
+            gust_strength: 0.0,
+            gust_frequency: 0.0,
+            model: Default::default(),
+            response: Default::default(),
+        },
+        trees: vec![],
+        scatter: vec![],
+        camera: CameraDef {
+            position: Vec3::new(0.0, 1.0, 5.0),
+            look_at: Vec3::ZERO,
+            fov_y_deg: 40.0,
+        },
+    };
+    let info = ModelInfo {
+        id: model,
+        name: "model".into(),
+        species: "any".into(),
+        kind: ModelKind::Mesh,
+        bounds_min: min,
+        bounds_max: max,
+        crown_radius: Vec3::new(
+            min.x.abs().max(max.x.abs()),
+            0.0,
+            min.z.abs().max(max.z.abs()),
+        )
+        .length(),
+        triangles: 0,
+    };
+    let mut sim = Sim::from_scene_with(&scene, 1, Catalogue { models: vec![info] })?;
+    sim.spawn_tree(model, Vec3::ZERO, 0.0, 1.0, false);
+    let fov = 40f32.to_radians();
+    let (eye, target) = frame_bounds(min, max, fov, aspect);
+    for (_, head) in sim.world.query_mut::<(hecs::Entity, &mut Head)>() {
+        *head = Head {
+            pose: Pose::looking_at(eye, target),
+            fov_y: fov,
+        };
+    }
+    // A sun from over the camera's left shoulder, 40° up, so the model is lit from the front
+    // and its shadow falls to the right where the camera sees it.
+    for (_, sun) in sim.world.query_mut::<(hecs::Entity, &mut Sun)>() {
+        sun.elevation_deg = 40.0;
+        sun.azimuth_deg = 110.0;
+        sun.direction = crate::systems::sun::direction_from_angles(110.0, 40.0);
+    }
+    // No controller ray in a model view.
+    let controllers: Vec<hecs::Entity> = sim
+        .world
+        .query::<(hecs::Entity, &Controller)>()
+        .iter()
+        .map(|(e, _)| e)
+        .collect();
+    for e in controllers {
+        let _ = sim.world.despawn(e);
+    }
+    Ok(sim)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stage_holds_one_tree_of_the_model_and_no_controller() {
+        let sim = model_stage((Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 3.0, 1.0)), 1.5, true, ModelId(3)).unwrap();
+        let ids = sim.tree_ids();
+        assert_eq!(ids.len(), 1);
+        assert_eq!(sim.tree(ids[0]).unwrap().tree.model, ModelId(3));
+        assert_eq!(sim.world.query::<&Controller>().iter().count(), 0);
+        let sun = sim.sun().unwrap();
+        assert_eq!((sun.elevation_deg, sun.azimuth_deg), (40.0, 110.0));
+        // The camera looks at the middle of the bounds.
+        let head = sim.head();
+        let to_centre = (Vec3::new(0.0, 1.5, 0.0) - head.pose.position).normalize();
+        assert!(head.pose.forward().dot(to_centre) > 0.9999);
+    }
+}
