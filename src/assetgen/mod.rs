@@ -13,6 +13,7 @@
 
 pub mod geometry;
 pub mod gltf_out;
+pub mod pick;
 pub mod species;
 pub mod textures;
 
@@ -72,7 +73,7 @@ pub fn catalogue_ron(cat: &Catalogue) -> String {
     );
     for m in &cat.models {
         s.push_str(&format!(
-            "        (id: {}, name: {:?}, species: {:?}, kind: {:?}, bounds_min: {}, bounds_max: {}, crown_radius: {:?}, triangles: {}),\n",
+            "        (id: {}, name: {:?}, species: {:?}, kind: {:?}, bounds_min: {}, bounds_max: {}, crown_radius: {:?}, triangles: {}{}),\n",
             m.id.0,
             m.name,
             m.species,
@@ -80,7 +81,16 @@ pub fn catalogue_ron(cat: &Catalogue) -> String {
             v(m.bounds_min),
             v(m.bounds_max),
             m.crown_radius,
-            m.triangles
+            m.triangles,
+            m.pick.map_or(String::new(), |p| format!(
+                ",\n            pick: Some((trunk_radius: {:?}, trunk_top: {:?}, crown_min: {}, crown_max: {}, crown_center: {}, crown_radii: {}))",
+                p.trunk_radius,
+                p.trunk_top,
+                v(p.crown_min),
+                v(p.crown_max),
+                v(p.crown_center),
+                v(p.crown_radii)
+            ))
         ));
     }
     s.push_str("    ],\n)\n");
@@ -164,6 +174,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 bounds_max: b.max(d),
                 crown_radius: crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
                 triangles: (wood.triangles() + foliage.triangles()) as u32,
+                pick: Some(pick::pick_shape(&wood.positions, &foliage.positions)),
             });
         }
     }

@@ -3,7 +3,7 @@
 //! bounding box with its corner and edge handles, and the running task's target markers.
 
 use glam::{Quat, Vec3};
-use grove_systems::components::{AnchorBall, Controller, HitMarker, Selection};
+use grove_systems::components::{AnchorBall, Controller, Head, HitMarker, Selection};
 use grove_systems::Sim;
 
 /// One overlay vertex. A zero normal means "unlit".
@@ -98,11 +98,24 @@ impl OverlayGeometry {
     }
 }
 
+/// The smallest angle, radians, that a target ring's outer radius and the hit marker's radius
+/// subtend from the eye (about 8 pixels at 720 pixels over a 60° field of view).
+pub const MIN_MARKER_ANGLE: f32 = 0.012;
+/// Colour of a target ring while the controller's hit point is inside its tolerance.
+pub const RING_LIT: [f32; 4] = [1.0, 0.95, 0.35, 1.0];
+
+/// Aiming help: a marker's world size `size` (metres), grown so that at `distance` metres from
+/// the eye it subtends at least [`MIN_MARKER_ANGLE`]. It only changes what is drawn.
+pub fn min_on_screen(size: f32, distance: f32) -> f32 {
+    size.max(distance.max(0.0) * MIN_MARKER_ANGLE.tan())
+}
+
 /// Builds the overlay geometry for the current world. Reads only.
 pub fn build(sim: &Sim) -> OverlayGeometry {
     let mut g = OverlayGeometry::default();
     let world = &sim.world;
     let hit = world.query::<&HitMarker>().iter().next().copied();
+    let eye = world.query::<&Head>().iter().next().map_or(Vec3::ZERO, |h| h.pose.position);
     for c in world.query::<&Controller>().iter() {
         let o = c.ray_origin();
         let d = c.ray_dir();
@@ -117,7 +130,7 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
     }
     if let Some(h) = hit {
         if h.visible {
-            g.sphere(h.position, 0.04, [0.2, 0.75, 1.0, 1.0]);
+            g.sphere(h.position, min_on_screen(0.04, eye.distance(h.position)), [0.2, 0.75, 1.0, 1.0]);
             let n = h.normal.normalize_or(Vec3::Y);
             g.line(h.position, h.position + n * 0.25, [0.2, 0.75, 1.0, 1.0]);
         }
@@ -157,9 +170,18 @@ pub fn build(sim: &Sim) -> OverlayGeometry {
     if let Some(task) = &sim.res.task {
         for (i, t) in task.def.targets.iter().enumerate() {
             let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
-            let color = if done { [0.2, 0.95, 0.3, 1.0] } else { [1.0, 0.2, 0.6, 1.0] };
+            // The ring lights up while the hit point is inside the target's tolerance.
+            let aimed = hit.is_some_and(|h| h.visible && glam::Vec2::new(h.position.x - t.position.x, h.position.z - t.position.z).length() <= task.def.tolerance);
+            let color = if aimed && !done {
+                RING_LIT
+            } else if done {
+                [0.2, 0.95, 0.3, 1.0]
+            } else {
+                [1.0, 0.2, 0.6, 1.0]
+            };
             let base = t.position + Vec3::Y * 0.03;
-            g.ring(base, task.def.tolerance * 0.8, task.def.tolerance, color);
+            let outer = min_on_screen(task.def.tolerance, eye.distance(base));
+            g.ring(base, outer * 0.8, outer, color);
             g.cuboid(base + Vec3::Y * 0.3, Vec3::new(0.02, 0.3, 0.02), Quat::IDENTITY, color);
         }
     }

@@ -43,6 +43,44 @@ pub struct ModelInfo {
     pub crown_radius: f32,
     /// Triangle count of the model, for cost reports.
     pub triangles: u32,
+    /// The shape ray picking tests, tighter than the bounds; `None` picks by the bounds.
+    #[serde(default)]
+    pub pick: Option<PickShape>,
+}
+
+/// The shape a tree is picked by, in model space (metres, +Y up, origin at the base of the
+/// trunk): a vertical trunk cylinder around the Y axis from the lowest point up to `trunk_top`,
+/// and the crown, an ellipsoid cut by the crown's box. `grove assets` computes it from the mesh
+/// so that every vertex of the model lies inside it; ground between the trunk and the crown's
+/// rim is outside, so it can be clicked.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PickShape {
+    /// Radius of the trunk cylinder, metres.
+    pub trunk_radius: f32,
+    /// Height of the trunk cylinder's top, metres (0 or below: no trunk part).
+    pub trunk_top: f32,
+    /// Lower corner of the crown's box, metres.
+    pub crown_min: Vec3,
+    /// Upper corner of the crown's box, metres.
+    pub crown_max: Vec3,
+    /// Centre of the crown ellipsoid, metres.
+    pub crown_center: Vec3,
+    /// Semi-axes of the crown ellipsoid along X, Y and Z, metres.
+    pub crown_radii: Vec3,
+}
+
+impl PickShape {
+    /// Whether a model-space point is inside the shape grown by `pad` metres horizontally
+    /// (the crown) and `trunk_pad` metres (the trunk), with the trunk starting at `bottom`.
+    pub fn contains(&self, p: Vec3, bottom: f32, pad: f32, trunk_pad: f32) -> bool {
+        let r = self.trunk_radius + trunk_pad;
+        let in_trunk = p.y >= bottom && p.y <= self.trunk_top && p.x * p.x + p.z * p.z <= r * r;
+        let grow = Vec3::new(pad, 0.0, pad);
+        let in_box = p.cmpge(self.crown_min - grow).all() && p.cmple(self.crown_max + grow).all();
+        let q = (p - self.crown_center) / (self.crown_radii + grow).max(Vec3::splat(1e-6));
+        in_trunk || (in_box && q.length_squared() <= 1.0)
+    }
 }
 
 impl ModelInfo {
@@ -85,6 +123,12 @@ impl Catalogue {
             }
             if !(m.bounds_min.is_finite() && m.bounds_max.is_finite()) || m.bounds_min.cmpgt(m.bounds_max).any() {
                 return Err(CatalogueError::Invalid(format!("model {} has invalid bounds", m.name)));
+            }
+            if let Some(p) = &m.pick {
+                let finite = p.trunk_radius.is_finite() && p.trunk_top.is_finite() && p.crown_min.is_finite() && p.crown_max.is_finite() && p.crown_center.is_finite() && p.crown_radii.is_finite();
+                if !finite || p.trunk_radius < 0.0 || p.crown_min.cmpgt(p.crown_max).any() || p.crown_radii.cmple(Vec3::ZERO).any() {
+                    return Err(CatalogueError::Invalid(format!("model {} has an invalid pick shape", m.name)));
+                }
             }
         }
         Ok(cat)

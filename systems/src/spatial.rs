@@ -3,6 +3,11 @@
 //! It is a cache derived from the world (plane meshes and tree transforms), rebuilt when the
 //! systems mark it dirty. It is not part of the world hash. Queries use a BVH over the trees'
 //! bounds and each plane's own triangle BVH, never a linear scan of the trees.
+//!
+//! A tree whose catalogue model has a pick shape ([`PickShape`]: a trunk cylinder and a crown
+//! ellipsoid cut by the crown's box) is hit only where the ray meets that shape, grown by the
+//! wind's largest sway; its box only bounds it in the BVH. So the ground between a trunk and the
+//! rim of its crown can be pointed at. A model without a pick shape is hit by its box.
 
 use glam::{Quat, Vec3};
 use hecs::{Entity, World};
@@ -11,7 +16,7 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
 
-use crate::catalogue::Catalogue;
+use crate::catalogue::{Catalogue, PickShape};
 use crate::components::{Plane, Scale, Transform, Tree, Wind};
 use crate::wind_model::{max_sway, SwayExtent};
 
@@ -46,6 +51,8 @@ pub struct RayHit {
 pub struct SpatialIndex {
     planes: Vec<(Entity, TriMesh)>,
     trees: Vec<TreeBox>,
+    /// Per tree (same order as `trees`), its pick shape, if its model has one.
+    picks: Vec<Option<TreePick>>,
     tree_bvh: Bvh,
     planes_dirty: bool,
     trees_dirty: bool,
@@ -111,20 +118,30 @@ impl SpatialIndex {
         }
         if !self.built_once || self.trees_dirty {
             self.trees.clear();
-            // Ray boxes include the wind's largest possible sway, so that a swaying crown is
-            // always inside the box that picks it (a constant pad, so picking never flickers).
+            // Ray boxes and pick shapes include the wind's largest possible sway, so that a
+            // swaying crown is always inside the shape that picks it (a constant pad, so picking
+            // never flickers).
             let wind = world.query::<&Wind>().iter().next().copied();
+            let mut found: Vec<(TreeBox, Option<TreePick>)> = Vec::new();
             for (e, t, s, tree) in world.query::<(Entity, &Transform, &Scale, &Tree)>().iter() {
                 if let Some(m) = catalogue.get(tree.model) {
                     let mut b = tree_box(e, t, s.0, m.bounds_min, m.bounds_max);
+                    let (mut sway, mut trunk_sway) = (0.0, 0.0);
                     if let Some(w) = &wind {
-                        let sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
+                        sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
                         b.half_extents += Vec3::new(sway, 0.0, sway);
+                        if let Some(p) = &m.pick {
+                            let trunk_height = (p.trunk_top - m.bounds_min.y).max(0.0);
+                            trunk_sway = max_sway(w, w.model, SwayExtent::from_bounds(trunk_height, p.trunk_radius, s.0));
+                        }
                     }
-                    self.trees.push(b);
+                    let pick = m.pick.map(|shape| TreePick::new(shape, t, s.0, m.bounds_min.y, sway, trunk_sway));
+                    found.push((b, pick));
                 }
             }
-            self.trees.sort_by_key(|b| b.entity.to_bits());
+            found.sort_by_key(|(b, _)| b.entity.to_bits());
+            self.picks = found.iter().map(|(_, p)| *p).collect();
+            self.trees = found.into_iter().map(|(b, _)| b).collect();
             let leaves: Vec<Aabb> = self.trees.iter().map(box_aabb).collect();
             self.tree_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
             self.trees_dirty = false;
@@ -182,11 +199,19 @@ impl SpatialIndex {
             })
             .find(|&i| {
                 let b = &self.trees[i as usize];
-                Some(b.entity) != exclude && box_contains(b, origin)
+                Some(b.entity) != exclude
+                    && match &self.picks[i as usize] {
+                        Some(p) => p.contains(origin),
+                        None => box_contains(b, origin),
+                    }
             });
         if let Some(i) = inside {
             let b = &self.trees[i as usize];
-            return Some(RayHit { entity: b.entity, distance: 0.0, point: origin, normal: box_normal(b, origin) });
+            let normal = match &self.picks[i as usize] {
+                Some(p) => p.normal(origin),
+                None => box_normal(b, origin),
+            };
+            return Some(RayHit { entity: b.entity, distance: 0.0, point: origin, normal });
         }
         // Best-first search with each node's ray entry distance clamped at 0. (Bvh::cast_ray
         // scores a node that contains the ray origin by a negative entry distance, so once a
@@ -205,11 +230,17 @@ impl SpatialIndex {
             if Some(b.entity) == exclude {
                 return None;
             }
-            box_ray(b, origin, dir, best)
+            match &self.picks[i as usize] {
+                Some(p) => p.ray(origin, dir, best),
+                None => box_ray(b, origin, dir, best),
+            }
         })?;
         let b = &self.trees[leaf as usize];
         let point = origin + dir * toi;
-        let normal = box_normal(b, point);
+        let normal = match &self.picks[leaf as usize] {
+            Some(p) => p.normal(point),
+            None => box_normal(b, point),
+        };
         Some(RayHit { entity: b.entity, distance: toi, point, normal })
     }
 
@@ -243,6 +274,137 @@ pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
         return None;
     }
     TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
+}
+
+/// A tree's pick shape placed in the world: the model-space shape, grown by the wind's sway, and
+/// the tree's position, yaw and scale.
+#[derive(Clone, Copy, Debug)]
+pub struct TreePick {
+    shape: PickShape,
+    base: Vec3,
+    yaw: f32,
+    scale: f32,
+    bottom: f32,
+    pad: f32,
+    trunk_pad: f32,
+}
+
+impl TreePick {
+    /// Places `shape` at a tree's transform and scale; `bottom` is the model's lowest point,
+    /// `sway` and `trunk_sway` the wind's largest sway of the crown and of the trunk (world
+    /// metres).
+    pub fn new(shape: PickShape, t: &Transform, scale: f32, bottom: f32, sway: f32, trunk_sway: f32) -> TreePick {
+        let scale = if scale.is_finite() && scale > 1e-6 { scale } else { 1e-6 };
+        TreePick { shape, base: t.translation, yaw: t.yaw, scale, bottom, pad: sway / scale, trunk_pad: trunk_sway / scale }
+    }
+
+    /// A world point in model space.
+    fn local(&self, p: Vec3) -> Vec3 {
+        Quat::from_rotation_y(-self.yaw) * (p - self.base) / self.scale
+    }
+
+    /// Whether a world point is inside.
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.shape.contains(self.local(p), self.bottom, self.pad, self.trunk_pad)
+    }
+
+    /// The first distance along the ray (world units, `dir` as given) at which it enters the
+    /// shape, within `max`.
+    pub fn ray(&self, origin: Vec3, dir: Vec3, max: f32) -> Option<f32> {
+        // In model space with the direction scaled too, distances along the ray are unchanged.
+        let rot = Quat::from_rotation_y(-self.yaw);
+        let o = rot * (origin - self.base) / self.scale;
+        let d = rot * dir / self.scale;
+        let s = &self.shape;
+        let grow = Vec3::new(self.pad, 0.0, self.pad);
+        let mut best: Option<f32> = None;
+        // The crown: inside the ellipsoid and inside the box.
+        if let (Some(e), Some(b)) = (ellipsoid_span(o - s.crown_center, d, s.crown_radii + grow), slab_span(o, d, s.crown_min - grow, s.crown_max + grow)) {
+            let (t0, t1) = (e.0.max(b.0).max(0.0), e.1.min(b.1));
+            if t0 <= t1 && t0 <= max {
+                best = Some(t0);
+            }
+        }
+        // The trunk: inside the infinite cylinder and between its bottom and top.
+        let r = s.trunk_radius + self.trunk_pad;
+        if s.trunk_top > self.bottom && r > 0.0 {
+            let lo = Vec3::new(f32::NEG_INFINITY, self.bottom, f32::NEG_INFINITY);
+            let hi = Vec3::new(f32::INFINITY, s.trunk_top, f32::INFINITY);
+            if let (Some(c), Some(b)) = (cylinder_span(o, d, r), slab_span(o, d, lo, hi)) {
+                let (t0, t1) = (c.0.max(b.0).max(0.0), c.1.min(b.1));
+                if t0 <= t1 && t0 <= best.unwrap_or(max) {
+                    best = Some(t0);
+                }
+            }
+        }
+        best
+    }
+
+    /// The outward normal (world space) of the part of the shape nearest a point on or in it.
+    pub fn normal(&self, p: Vec3) -> Vec3 {
+        let l = self.local(p);
+        let s = &self.shape;
+        let n = if l.y <= s.trunk_top && l.y < s.crown_min.y {
+            Vec3::new(l.x, 0.0, l.z).normalize_or(Vec3::X)
+        } else {
+            let r = s.crown_radii + Vec3::new(self.pad, 0.0, self.pad);
+            ((l - s.crown_center) / (r * r).max(Vec3::splat(1e-9))).normalize_or(Vec3::Y)
+        };
+        Quat::from_rotation_y(self.yaw) * n
+    }
+}
+
+/// The ray parameters `(enter, exit)` inside the ellipsoid centred at the origin with semi-axes
+/// `radii`, for a ray from `o` along `d`.
+fn ellipsoid_span(o: Vec3, d: Vec3, radii: Vec3) -> Option<(f32, f32)> {
+    let (o, d) = (o / radii, d / radii);
+    let a = d.dot(d);
+    if a <= 0.0 {
+        return None;
+    }
+    let b = o.dot(d);
+    let c = o.dot(o) - 1.0;
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = disc.sqrt();
+    Some(((-b - q) / a, (-b + q) / a))
+}
+
+/// The ray parameters inside the vertical infinite cylinder of radius `r` around the Y axis.
+fn cylinder_span(o: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
+    let a = d.x * d.x + d.z * d.z;
+    let c = o.x * o.x + o.z * o.z - r * r;
+    if a <= 1e-12 {
+        // Parallel to the axis: inside all along, or never.
+        return (c <= 0.0).then_some((f32::NEG_INFINITY, f32::INFINITY));
+    }
+    let b = o.x * d.x + o.z * d.z;
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = disc.sqrt();
+    Some(((-b - q) / a, (-b + q) / a))
+}
+
+/// The ray parameters inside the axis-aligned box `[lo, hi]`.
+fn slab_span(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
+    let (mut t0, mut t1) = (f32::NEG_INFINITY, f32::INFINITY);
+    for k in 0..3 {
+        if d[k].abs() < 1e-12 {
+            if o[k] < lo[k] || o[k] > hi[k] {
+                return None;
+            }
+        } else {
+            let inv = 1.0 / d[k];
+            let (a, b) = ((lo[k] - o[k]) * inv, (hi[k] - o[k]) * inv);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+    }
+    (t0 <= t1).then_some((t0, t1))
 }
 
 fn box_aabb(b: &TreeBox) -> Aabb {

@@ -170,6 +170,22 @@ impl TaskState {
     pub fn is_complete(&self) -> bool {
         self.completed_tick.is_some()
     }
+
+    /// The tick at which the task's clock stopped, if it has: when the last target was
+    /// satisfied (the task definition's end), or else at the participant's EndTask. A task
+    /// that has neither keeps running; its time is then measured up to "now", whatever the
+    /// caller's now is (the live window's tick, or the last tick of a recording).
+    pub fn end_tick(&self) -> Option<u64> {
+        match (self.completed_tick, self.ended_tick) {
+            (Some(c), Some(e)) => Some(c.min(e)),
+            (c, e) => c.or(e),
+        }
+    }
+
+    /// Whether the task's clock has stopped (see [`TaskState::end_tick`]).
+    pub fn is_over(&self) -> bool {
+        self.end_tick().is_some()
+    }
 }
 
 #[cfg(test)]
@@ -221,7 +237,7 @@ pub struct TaskReport {
     pub mode: String,
     /// Whether every target was satisfied.
     pub completed: bool,
-    /// Seconds from the start to completion (or to the end of the replay if not completed).
+    /// Seconds from the start to the end of the task (see [`TaskState::end_tick`]).
     pub time_s: f64,
     /// Total errors.
     pub errors: u32,
@@ -247,7 +263,7 @@ impl TaskReport {
     /// Builds the report from a task state, the step and the tick the replay reached.
     pub fn new(task: &TaskState, dt: f32, now_tick: u64, catalogue: &Catalogue) -> TaskReport {
         let dt = dt as f64;
-        let end = task.completed_tick.unwrap_or(now_tick);
+        let end = task.end_tick().unwrap_or(now_tick);
         let trees: Vec<TreeReport> = task
             .satisfied
             .iter()
