@@ -337,9 +337,13 @@ impl<F: Frontend> App<F> {
         }
     }
 
-    /// Whether the pointer at `pos` (points) is over the UI rather than the scene.
+    /// Whether the pointer at `pos` (points) is over the UI rather than the scene. Before the
+    /// first frame has been drawn nothing is known, and nothing counts as the scene.
     fn over_ui(&self, pos: Option<egui::Pos2>) -> bool {
-        let (Some(gfx), Some(pos)) = (self.gfx.as_ref(), pos) else { return false };
+        let (Some(gfx), Some(pos)) = (self.gfx.as_ref(), pos) else { return true };
+        if self.scene_rect.is_none() {
+            return true;
+        }
         let over_area = gfx.ctx.layer_id_at(pos).is_some_and(|l| l.order != egui::Order::Background);
         over_area || self.scene_rect.is_some_and(|r| !r.contains(pos))
     }
