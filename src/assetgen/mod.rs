@@ -83,13 +83,10 @@ pub fn catalogue_ron(cat: &Catalogue) -> String {
             m.crown_radius,
             m.triangles,
             m.pick.map_or(String::new(), |p| format!(
-                ",\n            pick: Some((trunk_radius: {:?}, trunk_top: {:?}, crown_min: {}, crown_max: {}, crown_center: {}, crown_radii: {}))",
-                p.trunk_radius,
-                p.trunk_top,
-                v(p.crown_min),
-                v(p.crown_max),
-                v(p.crown_center),
-                v(p.crown_radii)
+                ",\n            pick: Some((bottom: {:?}, top: {:?}, radii: ({})))",
+                p.bottom,
+                p.top,
+                p.radii.iter().map(|r| format!("{r:?}")).collect::<Vec<_>>().join(", ")
             ))
         ));
     }
@@ -174,7 +171,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 bounds_max: b.max(d),
                 crown_radius: crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
                 triangles: (wood.triangles() + foliage.triangles()) as u32,
-                pick: Some(pick::pick_shape(&wood.positions, &foliage.positions)),
+                pick: Some(pick::pick_shape(&[(&wood.positions, &wood.indices), (&foliage.positions, &foliage.indices)])),
             });
         }
     }

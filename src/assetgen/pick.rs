@@ -1,34 +1,49 @@
-//! The pick shape of a tree model ([`PickShape`]): a trunk cylinder and a crown ellipsoid cut by
-//! the crown's box, computed from the model's vertices so that every vertex lies inside.
+//! The pick shape of a tree model ([`PickShape`]): a stack of vertical cylinders, each as wide as
+//! the model's vertices in its height band, so that every vertex lies inside.
 
 use glam::{Vec2, Vec3};
-use grove_systems::catalogue::PickShape;
+use grove_systems::catalogue::{PickShape, PICK_BANDS};
 
-/// Computes the pick shape of a model from its wood and foliage vertices (model space).
-///
-/// The crown starts at the lowest foliage vertex. Wood below it is the trunk: the cylinder's
-/// radius is the largest horizontal distance of those vertices from the Y axis. Everything at
-/// or above it is the crown: its box is their bounds, and the ellipsoid inscribed in that box
-/// is grown until it holds every one of them (so for a cone-shaped crown the box clips the
-/// grown ellipsoid's top and bottom).
-pub fn pick_shape(wood: &[Vec3], foliage: &[Vec3]) -> PickShape {
-    let all = || wood.iter().chain(foliage.iter());
-    let crown_bottom = if foliage.is_empty() { all().map(|p| p.y).fold(f32::INFINITY, f32::min) } else { foliage.iter().map(|p| p.y).fold(f32::INFINITY, f32::min) };
-    let trunk_radius = wood.iter().filter(|p| p.y < crown_bottom).map(|p| Vec2::new(p.x, p.z).length()).fold(0.0, f32::max);
-    let crown: Vec<Vec3> = all().copied().filter(|p| p.y >= crown_bottom).collect();
-    let (lo, hi) = crown.iter().fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(a, b), p| (a.min(*p), b.max(*p)));
-    let center = (lo + hi) * 0.5;
-    let half = ((hi - lo) * 0.5).max(Vec3::splat(1e-3));
-    let grow = crown.iter().map(|p| ((*p - center) / half).length()).fold(0.0, f32::max).max(1.0);
-    PickShape {
-        trunk_radius: trunk_radius * 1.0001,
-        trunk_top: crown_bottom,
-        crown_min: lo,
-        crown_max: hi,
-        crown_center: center,
-        // A relative margin covers the rounding of the containment test.
-        crown_radii: half * grow * 1.0001,
+/// Computes the pick shape of a model from its triangles (model space; `meshes` are pairs of
+/// positions and triangle indices). The bands span the vertices' heights. A band's radius is the
+/// largest horizontal distance from the Y axis of the surface inside it: the distance is convex,
+/// so over a triangle cut to a band it is largest at a corner of the cut, which is a vertex in
+/// the band or a point where an edge crosses the band's bottom or top. A small relative margin
+/// covers rounding.
+pub fn pick_shape(meshes: &[(&[Vec3], &[u32])]) -> PickShape {
+    let all = || meshes.iter().flat_map(|(p, _)| p.iter());
+    let bottom = all().map(|p| p.y).fold(f32::INFINITY, f32::min);
+    let top = all().map(|p| p.y).fold(f32::NEG_INFINITY, f32::max);
+    let (bottom, top) = if bottom < top { (bottom, top) } else { (0.0, 1.0) };
+    let mut shape = PickShape { bottom, top, radii: [0.0; PICK_BANDS] };
+    let h = shape.band_height();
+    let mut grow = |band: usize, p: Vec3| shape.radii[band] = shape.radii[band].max(Vec2::new(p.x, p.z).length());
+    for (positions, indices) in meshes {
+        for p in positions.iter() {
+            let i = (((p.y - bottom) / h) as usize).min(PICK_BANDS - 1);
+            grow(i, *p);
+        }
+        for tri in indices.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (positions[tri[k] as usize], positions[tri[(k + 1) % 3] as usize]);
+                let (lo, hi) = if a.y <= b.y { (a, b) } else { (b, a) };
+                // Every band boundary strictly between the edge's ends: the crossing point
+                // belongs to the bands on both sides.
+                for j in 1..PICK_BANDS {
+                    let y = bottom + h * j as f32;
+                    if lo.y < y && y < hi.y {
+                        let p = lo.lerp(hi, (y - lo.y) / (hi.y - lo.y));
+                        grow(j - 1, p);
+                        grow(j, p);
+                    }
+                }
+            }
+        }
     }
+    for r in &mut shape.radii {
+        *r *= 1.0001;
+    }
+    shape
 }
 
 #[cfg(test)]
@@ -36,33 +51,45 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_trunk_and_a_ball_crown_give_a_thin_cylinder_and_a_tight_ellipsoid() {
-        // A trunk of radius 0.2 up to 2 m, and a crown: points on a sphere of radius 1.5
-        // around (0, 3.5, 0).
-        let mut wood = Vec::new();
+    fn a_trunk_under_a_cone_gives_thin_low_bands_and_narrowing_high_ones() {
+        // A trunk of radius 0.2 from 0 to 3 m, and a cone from 3 m (radius 2) to 12 m (a point).
+        let mut v = Vec::new();
         for i in 0..16 {
             let a = i as f32 * std::f32::consts::TAU / 16.0;
-            for y in [0.0, 1.0, 1.99] {
-                wood.push(Vec3::new(0.2 * a.cos(), y, 0.2 * a.sin()));
+            for k in 0..=6 {
+                v.push(Vec3::new(0.2 * a.cos(), k as f32 * 0.5, 0.2 * a.sin()));
+            }
+            for k in 0..=18 {
+                let y = 3.0 + k as f32 * 0.5;
+                let r = 2.0 * (12.0 - y) / 9.0;
+                v.push(Vec3::new(r * a.cos(), y, r * a.sin()));
             }
         }
-        let mut foliage = Vec::new();
-        for i in 0..12 {
-            for j in 0..=6 {
-                let (a, b) = (i as f32 * std::f32::consts::TAU / 12.0, j as f32 * std::f32::consts::PI / 6.0);
-                foliage.push(Vec3::new(0.0, 3.5, 0.0) + 1.5 * Vec3::new(b.sin() * a.cos(), b.cos(), b.sin() * a.sin()));
+        // As triangles: each vertical pair of neighbours with the next ring's pair.
+        let mut idx = Vec::new();
+        let per_ring = 7 + 19;
+        for i in 0..16u32 {
+            let j = (i + 1) % 16;
+            for k in 0..per_ring as u32 - 1 {
+                let (a, b, c, d) = (i * per_ring as u32 + k, i * per_ring as u32 + k + 1, j * per_ring as u32 + k, j * per_ring as u32 + k + 1);
+                idx.extend([a, b, c, b, d, c]);
             }
         }
-        let s = pick_shape(&wood, &foliage);
-        assert!((s.trunk_radius - 0.2).abs() < 1e-3, "{s:?}");
-        assert!((s.trunk_top - 2.0).abs() < 1e-3, "{s:?}");
-        assert!((s.crown_center - Vec3::new(0.0, 3.5, 0.0)).length() < 1e-3, "{s:?}");
-        assert!((s.crown_radii - Vec3::splat(1.5)).abs().max_element() < 0.01, "a sphere's points need no growth: {s:?}");
-        for p in wood.iter().chain(foliage.iter()) {
-            assert!(s.contains(*p, 0.0, 0.0, 0.0), "{p} is outside");
+        let s = pick_shape(&[(&v, &idx)]);
+        assert_eq!((s.bottom, s.top), (0.0, 12.0));
+        // Bands of 1 m: the first three are the trunk.
+        for i in 0..3 {
+            assert!((s.radii[i] - 0.2).abs() < 1e-3, "band {i}: {:?}", s.radii);
         }
-        // The ground under the crown's rim, beside the trunk, is outside.
-        assert!(!s.contains(Vec3::new(1.2, 0.5, 0.0), 0.0, 0.0, 0.0));
-        assert!(!s.contains(Vec3::new(1.2, 2.3, 1.2), 0.0, 0.0, 0.0), "a corner of the crown's box is outside");
+        // Band 3 (3 to 4 m) holds the cone's base; then each band is as wide as its bottom.
+        for i in 3..12 {
+            let want = 2.0 * (12.0 - i as f32) / 9.0;
+            assert!((s.radii[i] - want).abs() < 1e-3, "band {i}: {} vs {want}", s.radii[i]);
+        }
+        let none = [0.0; PICK_BANDS];
+        assert!(v.iter().all(|p| s.contains(*p, &none)));
+        assert!(!s.contains(Vec3::new(1.0, 0.5, 0.0), &none), "beside the trunk");
+        assert!(!s.contains(Vec3::new(1.5, 10.0, 0.0), &none), "beside the cone's top");
+        assert!(s.contains(Vec3::new(1.05, 0.5, 0.0), &[1.0; PICK_BANDS]), "the pad grows the bands");
     }
 }

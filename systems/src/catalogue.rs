@@ -48,38 +48,49 @@ pub struct ModelInfo {
     pub pick: Option<PickShape>,
 }
 
+/// Number of height bands of a [`PickShape`].
+pub const PICK_BANDS: usize = 12;
+
 /// The shape a tree is picked by, in model space (metres, +Y up, origin at the base of the
-/// trunk): a vertical trunk cylinder around the Y axis from the lowest point up to `trunk_top`,
-/// and the crown, an ellipsoid cut by the crown's box. `grove assets` computes it from the mesh
-/// so that every vertex of the model lies inside it; ground between the trunk and the crown's
-/// rim is outside, so it can be clicked.
+/// trunk): a stack of [`PICK_BANDS`] vertical cylinders around the Y axis, of equal height from
+/// `bottom` to `top`, each as wide as the model is at that height. `grove assets` computes it from
+/// the mesh so that every vertex lies inside: the trunk's bands are as thin as the trunk, a
+/// conifer's narrow towards the top, a broadleaf's follow its round crown. Ground beside the
+/// trunk, under the rim of a crown, is outside, so it can be clicked.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PickShape {
-    /// Radius of the trunk cylinder, metres.
-    pub trunk_radius: f32,
-    /// Height of the trunk cylinder's top, metres (0 or below: no trunk part).
-    pub trunk_top: f32,
-    /// Lower corner of the crown's box, metres.
-    pub crown_min: Vec3,
-    /// Upper corner of the crown's box, metres.
-    pub crown_max: Vec3,
-    /// Centre of the crown ellipsoid, metres.
-    pub crown_center: Vec3,
-    /// Semi-axes of the crown ellipsoid along X, Y and Z, metres.
-    pub crown_radii: Vec3,
+    /// Height of the lowest band's bottom (the model's lowest point), metres.
+    pub bottom: f32,
+    /// Height of the highest band's top (the model's highest point), metres.
+    pub top: f32,
+    /// Per band, from the bottom up, the largest horizontal distance of any vertex in it from
+    /// the Y axis, metres (0 for an empty band).
+    pub radii: [f32; PICK_BANDS],
 }
 
 impl PickShape {
-    /// Whether a model-space point is inside the shape grown by `pad` metres horizontally
-    /// (the crown) and `trunk_pad` metres (the trunk), with the trunk starting at `bottom`.
-    pub fn contains(&self, p: Vec3, bottom: f32, pad: f32, trunk_pad: f32) -> bool {
-        let r = self.trunk_radius + trunk_pad;
-        let in_trunk = p.y >= bottom && p.y <= self.trunk_top && p.x * p.x + p.z * p.z <= r * r;
-        let grow = Vec3::new(pad, 0.0, pad);
-        let in_box = p.cmpge(self.crown_min - grow).all() && p.cmple(self.crown_max + grow).all();
-        let q = (p - self.crown_center) / (self.crown_radii + grow).max(Vec3::splat(1e-6));
-        in_trunk || (in_box && q.length_squared() <= 1.0)
+    /// The height of one band, metres.
+    pub fn band_height(&self) -> f32 {
+        (self.top - self.bottom) / PICK_BANDS as f32
+    }
+
+    /// The band a height falls in, if any (the top belongs to the highest band).
+    pub fn band(&self, y: f32) -> Option<usize> {
+        let h = self.band_height();
+        if !(h > 0.0) || y < self.bottom || y > self.top {
+            return None;
+        }
+        Some((((y - self.bottom) / h) as usize).min(PICK_BANDS - 1))
+    }
+
+    /// Whether a model-space point is inside the shape with every band's radius grown by its
+    /// entry in `pads`, metres.
+    pub fn contains(&self, p: Vec3, pads: &[f32; PICK_BANDS]) -> bool {
+        self.band(p.y).is_some_and(|i| {
+            let r = self.radii[i] + pads[i];
+            self.radii[i] > 0.0 && p.x * p.x + p.z * p.z <= r * r
+        })
     }
 }
 
@@ -125,8 +136,8 @@ impl Catalogue {
                 return Err(CatalogueError::Invalid(format!("model {} has invalid bounds", m.name)));
             }
             if let Some(p) = &m.pick {
-                let finite = p.trunk_radius.is_finite() && p.trunk_top.is_finite() && p.crown_min.is_finite() && p.crown_max.is_finite() && p.crown_center.is_finite() && p.crown_radii.is_finite();
-                if !finite || p.trunk_radius < 0.0 || p.crown_min.cmpgt(p.crown_max).any() || p.crown_radii.cmple(Vec3::ZERO).any() {
+                let valid = p.bottom.is_finite() && p.top.is_finite() && p.bottom < p.top && p.radii.iter().all(|r| r.is_finite() && *r >= 0.0);
+                if !valid {
                     return Err(CatalogueError::Invalid(format!("model {} has an invalid pick shape", m.name)));
                 }
             }

@@ -4,10 +4,11 @@
 //! systems mark it dirty. It is not part of the world hash. Queries use a BVH over the trees'
 //! bounds and each plane's own triangle BVH, never a linear scan of the trees.
 //!
-//! A tree whose catalogue model has a pick shape ([`PickShape`]: a trunk cylinder and a crown
-//! ellipsoid cut by the crown's box) is hit only where the ray meets that shape, grown by the
-//! wind's largest sway; its box only bounds it in the BVH. So the ground between a trunk and the
-//! rim of its crown can be pointed at. A model without a pick shape is hit by its box.
+//! A tree whose catalogue model has a pick shape ([`PickShape`]: a stack of vertical cylinders as
+//! wide as the model at each height) is hit only where the ray meets that shape, each band grown
+//! by the wind's largest sway at its height; its box only bounds it in the BVH. So the ground
+//! between a trunk and the rim of its crown can be pointed at. A model without a pick shape is
+//! hit by its box.
 
 use glam::{Quat, Vec3};
 use hecs::{Entity, World};
@@ -16,7 +17,7 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
 
-use crate::catalogue::{Catalogue, PickShape};
+use crate::catalogue::{Catalogue, PickShape, PICK_BANDS};
 use crate::components::{Plane, Scale, Transform, Tree, Wind};
 use crate::wind_model::{max_sway, SwayExtent};
 
@@ -126,16 +127,21 @@ impl SpatialIndex {
             for (e, t, s, tree) in world.query::<(Entity, &Transform, &Scale, &Tree)>().iter() {
                 if let Some(m) = catalogue.get(tree.model) {
                     let mut b = tree_box(e, t, s.0, m.bounds_min, m.bounds_max);
-                    let (mut sway, mut trunk_sway) = (0.0, 0.0);
+                    let mut pads = [0.0; PICK_BANDS];
                     if let Some(w) = &wind {
-                        sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
+                        let sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
                         b.half_extents += Vec3::new(sway, 0.0, sway);
                         if let Some(p) = &m.pick {
-                            let trunk_height = (p.trunk_top - m.bounds_min.y).max(0.0);
-                            trunk_sway = max_sway(w, w.model, SwayExtent::from_bounds(trunk_height, p.trunk_radius, s.0));
+                            // A band sways at most as far as a tree as tall as the band's top
+                            // and as wide as the band.
+                            let h = p.band_height();
+                            for (i, pad) in pads.iter_mut().enumerate() {
+                                let height = (p.bottom + h * (i + 1) as f32 - m.bounds_min.y).max(0.0);
+                                *pad = max_sway(w, w.model, SwayExtent::from_bounds(height, p.radii[i], s.0));
+                            }
                         }
                     }
-                    let pick = m.pick.map(|shape| TreePick::new(shape, t, s.0, m.bounds_min.y, sway, trunk_sway));
+                    let pick = m.pick.map(|shape| TreePick::new(shape, t, s.0, pads));
                     found.push((b, pick));
                 }
             }
@@ -276,7 +282,7 @@ pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
     TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
 }
 
-/// A tree's pick shape placed in the world: the model-space shape, grown by the wind's sway, and
+/// A tree's pick shape placed in the world: the model-space bands grown by the wind's sway, and
 /// the tree's position, yaw and scale.
 #[derive(Clone, Copy, Debug)]
 pub struct TreePick {
@@ -284,18 +290,16 @@ pub struct TreePick {
     base: Vec3,
     yaw: f32,
     scale: f32,
-    bottom: f32,
-    pad: f32,
-    trunk_pad: f32,
+    /// Per band, the sway pad in model units.
+    pads: [f32; PICK_BANDS],
 }
 
 impl TreePick {
-    /// Places `shape` at a tree's transform and scale; `bottom` is the model's lowest point,
-    /// `sway` and `trunk_sway` the wind's largest sway of the crown and of the trunk (world
-    /// metres).
-    pub fn new(shape: PickShape, t: &Transform, scale: f32, bottom: f32, sway: f32, trunk_sway: f32) -> TreePick {
+    /// Places `shape` at a tree's transform and scale; `pads` are the wind's largest sway of
+    /// each band, world metres.
+    pub fn new(shape: PickShape, t: &Transform, scale: f32, pads: [f32; PICK_BANDS]) -> TreePick {
         let scale = if scale.is_finite() && scale > 1e-6 { scale } else { 1e-6 };
-        TreePick { shape, base: t.translation, yaw: t.yaw, scale, bottom, pad: sway / scale, trunk_pad: trunk_sway / scale }
+        TreePick { shape, base: t.translation, yaw: t.yaw, scale, pads: pads.map(|p| p / scale) }
     }
 
     /// A world point in model space.
@@ -305,7 +309,7 @@ impl TreePick {
 
     /// Whether a world point is inside.
     pub fn contains(&self, p: Vec3) -> bool {
-        self.shape.contains(self.local(p), self.bottom, self.pad, self.trunk_pad)
+        self.shape.contains(self.local(p), &self.pads)
     }
 
     /// The first distance along the ray (world units, `dir` as given) at which it enters the
@@ -316,60 +320,51 @@ impl TreePick {
         let o = rot * (origin - self.base) / self.scale;
         let d = rot * dir / self.scale;
         let s = &self.shape;
-        let grow = Vec3::new(self.pad, 0.0, self.pad);
-        let mut best: Option<f32> = None;
-        // The crown: inside the ellipsoid and inside the box.
-        if let (Some(e), Some(b)) = (ellipsoid_span(o - s.crown_center, d, s.crown_radii + grow), slab_span(o, d, s.crown_min - grow, s.crown_max + grow)) {
-            let (t0, t1) = (e.0.max(b.0).max(0.0), e.1.min(b.1));
-            if t0 <= t1 && t0 <= max {
-                best = Some(t0);
-            }
+        let h = s.band_height();
+        let (lo, hi) = y_span(o.y, d.y, s.bottom, s.top)?;
+        let (lo, hi) = (lo.max(0.0), hi.min(max));
+        if lo > hi {
+            return None;
         }
-        // The trunk: inside the infinite cylinder and between its bottom and top.
-        let r = s.trunk_radius + self.trunk_pad;
-        if s.trunk_top > self.bottom && r > 0.0 {
-            let lo = Vec3::new(f32::NEG_INFINITY, self.bottom, f32::NEG_INFINITY);
-            let hi = Vec3::new(f32::INFINITY, s.trunk_top, f32::INFINITY);
-            if let (Some(c), Some(b)) = (cylinder_span(o, d, r), slab_span(o, d, lo, hi)) {
-                let (t0, t1) = (c.0.max(b.0).max(0.0), c.1.min(b.1));
-                if t0 <= t1 && t0 <= best.unwrap_or(max) {
-                    best = Some(t0);
-                }
+        let mut best: Option<f32> = None;
+        for i in 0..PICK_BANDS {
+            if s.radii[i] <= 0.0 {
+                continue;
+            }
+            let y0 = s.bottom + h * i as f32;
+            let Some((b0, b1)) = y_span(o.y, d.y, y0, y0 + h) else { continue };
+            let Some((c0, c1)) = cylinder_span(o, d, s.radii[i] + self.pads[i]) else { continue };
+            let t0 = b0.max(c0).max(lo);
+            let t1 = b1.min(c1).min(hi);
+            if t0 <= t1 && best.is_none_or(|b| t0 < b) {
+                best = Some(t0);
             }
         }
         best
     }
 
-    /// The outward normal (world space) of the part of the shape nearest a point on or in it.
+    /// The outward normal (world space) at a point on the shape: along the radius, or up or
+    /// down at the top or bottom of a band.
     pub fn normal(&self, p: Vec3) -> Vec3 {
         let l = self.local(p);
-        let s = &self.shape;
-        let n = if l.y <= s.trunk_top && l.y < s.crown_min.y {
-            Vec3::new(l.x, 0.0, l.z).normalize_or(Vec3::X)
-        } else {
-            let r = s.crown_radii + Vec3::new(self.pad, 0.0, self.pad);
-            ((l - s.crown_center) / (r * r).max(Vec3::splat(1e-9))).normalize_or(Vec3::Y)
+        let radial = Vec3::new(l.x, 0.0, l.z);
+        let n = match self.shape.band(l.y) {
+            Some(i) if radial.length() < (self.shape.radii[i] + self.pads[i]) * 0.999 => {
+                if l.y > (self.shape.bottom + self.shape.top) * 0.5 { Vec3::Y } else { Vec3::NEG_Y }
+            }
+            _ => radial.normalize_or(Vec3::X),
         };
         Quat::from_rotation_y(self.yaw) * n
     }
 }
 
-/// The ray parameters `(enter, exit)` inside the ellipsoid centred at the origin with semi-axes
-/// `radii`, for a ray from `o` along `d`.
-fn ellipsoid_span(o: Vec3, d: Vec3, radii: Vec3) -> Option<(f32, f32)> {
-    let (o, d) = (o / radii, d / radii);
-    let a = d.dot(d);
-    if a <= 0.0 {
-        return None;
+/// The ray parameters for which `oy + t dy` lies in `[lo, hi]`.
+fn y_span(oy: f32, dy: f32, lo: f32, hi: f32) -> Option<(f32, f32)> {
+    if dy.abs() < 1e-12 {
+        return (oy >= lo && oy <= hi).then_some((f32::NEG_INFINITY, f32::INFINITY));
     }
-    let b = o.dot(d);
-    let c = o.dot(o) - 1.0;
-    let disc = b * b - a * c;
-    if disc < 0.0 {
-        return None;
-    }
-    let q = disc.sqrt();
-    Some(((-b - q) / a, (-b + q) / a))
+    let (a, b) = ((lo - oy) / dy, (hi - oy) / dy);
+    Some((a.min(b), a.max(b)))
 }
 
 /// The ray parameters inside the vertical infinite cylinder of radius `r` around the Y axis.
@@ -387,24 +382,6 @@ fn cylinder_span(o: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
     }
     let q = disc.sqrt();
     Some(((-b - q) / a, (-b + q) / a))
-}
-
-/// The ray parameters inside the axis-aligned box `[lo, hi]`.
-fn slab_span(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
-    let (mut t0, mut t1) = (f32::NEG_INFINITY, f32::INFINITY);
-    for k in 0..3 {
-        if d[k].abs() < 1e-12 {
-            if o[k] < lo[k] || o[k] > hi[k] {
-                return None;
-            }
-        } else {
-            let inv = 1.0 / d[k];
-            let (a, b) = ((lo[k] - o[k]) * inv, (hi[k] - o[k]) * inv);
-            t0 = t0.max(a.min(b));
-            t1 = t1.min(a.max(b));
-        }
-    }
-    (t0 <= t1).then_some((t0, t1))
 }
 
 fn box_aabb(b: &TreeBox) -> Aabb {

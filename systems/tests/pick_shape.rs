@@ -34,7 +34,9 @@ fn the_ground_beside_the_trunk_under_the_crown_can_be_pointed_at() {
     let cat = Catalogue::builtin();
     let m = cat.by_name("broadleaf-mesh").unwrap().clone();
     let pick = m.pick.expect("the model has a pick shape");
-    assert!(pick.trunk_top > 1.0, "a broadleaf's crown starts above head height at the trunk: {pick:?}");
+    // Up to 2 m a broadleaf is only its trunk.
+    let below_2m = ((2.0 - pick.bottom) / pick.band_height()) as usize;
+    assert!(below_2m >= 2 && pick.radii[..below_2m].iter().all(|r| *r < 0.5), "{pick:?}");
     let (sim, tree, base) = one_tree(cat.clone());
     // A ground point halfway out under the crown, and an eye 1 m above the ground 6 m away in
     // the same direction: the ray stays below about 0.6 m near the tree, under the crown and
@@ -55,26 +57,28 @@ fn the_ground_beside_the_trunk_under_the_crown_can_be_pointed_at() {
     assert_eq!(first_hit(&sim_box, eye, ground), Some(tree_box), "the box covers that ground");
 
     // The trunk and the crown are still hit.
-    let trunk = base + Vec3::Y * (pick.trunk_top * 0.5);
+    let trunk = base + Vec3::Y * 1.0;
     assert_eq!(first_hit(&sim, trunk + Vec3::new(5.0, 0.0, 0.3), trunk), Some(tree), "the trunk");
-    let crown = base + pick.crown_center;
+    let crown = base + Vec3::Y * (0.5 * (pick.bottom + pick.top));
     assert_eq!(first_hit(&sim, crown + Vec3::new(0.0, 0.0, 12.0), crown), Some(tree), "the crown");
     // Past the crown's side, the ray goes by.
-    let beside = crown + Vec3::new(pick.crown_radii.x + 1.5, 0.0, 0.0);
+    let widest = pick.radii.iter().fold(0.0f32, |a, r| a.max(*r));
+    let beside = crown + Vec3::new(widest + 1.5, 0.0, 0.0);
     assert_ne!(first_hit(&sim, beside + Vec3::new(0.0, 0.0, 12.0), beside), Some(tree));
 }
 
 #[test]
 fn a_ray_starting_inside_the_crown_hits_at_distance_zero_but_not_inside_the_box_corner() {
     let cat = Catalogue::builtin();
-    let pick = cat.by_name("broadleaf-mesh").unwrap().pick.unwrap();
+    let m = cat.by_name("broadleaf-mesh").unwrap().clone();
+    let pick = m.pick.unwrap();
     let (sim, tree, base) = one_tree(cat);
-    let inside = base + pick.crown_center;
+    let inside = base + Vec3::Y * (0.5 * (pick.bottom + pick.top));
     let h = sim.res.spatial.cast_trees(inside, Vec3::X, 50.0, None).unwrap();
     assert_eq!((h.entity, h.distance), (tree, 0.0));
     // Low beside the trunk, inside the tree's box but outside its shape: looking up at the
     // crown's underside, the tree is hit above, not at the start.
-    let low = base + Vec3::new(0.5 * pick.crown_max.x, 0.3, 0.0);
+    let low = base + Vec3::new(0.5 * m.bounds_max.x, 0.3, 0.0);
     let h = sim.res.spatial.cast_trees(low, Vec3::Y, 50.0, None).expect("the crown above");
     assert_eq!(h.entity, tree);
     assert!(h.distance > 0.3, "{}", h.distance);
