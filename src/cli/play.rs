@@ -42,8 +42,8 @@ pub struct PlayArgs {
     /// then scaled up to the window), `full`, or a fixed scale between 0.3 and 1 (e.g. 0.5).
     #[arg(long, default_value = "auto", value_parser = parse_quality)]
     pub quality: Quality,
-    /// Run for this many seconds, then quit and print the frame rate as JSON (frames after
-    /// the first 3 s; for measuring the window, e.g. under Xvfb).
+    /// Run for this many seconds from the first frame, then quit and print the frame rate as
+    /// JSON (frames after the first 3 s; for measuring the window, e.g. under Xvfb).
     #[arg(long, value_name = "SECONDS", value_parser = parse_measure)]
     pub measure: Option<f64>,
 }
@@ -90,7 +90,7 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     session.record_path = args.record.clone();
     let mut app = PlayApp::new(session, args.task.as_deref(), args.free).map_err(|e| anyhow!(e))?;
     app.ui.stats.recording = args.record.as_ref().map(|p| p.display().to_string());
-    app.measure = args.measure.map(|seconds| crate::desktop::play::Measure { seconds, frames: 0, time: 0.0, scale_sum: 0.0 });
+    app.measure = args.measure.map(|seconds| crate::desktop::play::Measure { seconds, frames: 0, time: 0.0, scale_sum: 0.0, first_frame: None });
     if !args.simple_view {
         app.world3d.factory = Some(crate::desktop::gpu::make_renderer);
         app.world3d.budget = Budget::new(args.quality);

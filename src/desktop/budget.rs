@@ -5,7 +5,10 @@
 //! The controller looks at the mean frame time over half a second and changes the scale at most
 //! that often. The rendering cost of a software rasteriser grows with the pixel count, so the
 //! new scale (a fraction of the window's width and height) is the old one times the square root
-//! of target over measured time, kept in steps of 5 % between [`MIN_SCALE`] and 1.
+//! of target over measured time, kept in steps of 5 % between [`MIN_SCALE`] and 1. When frames
+//! are still too slow at the smallest scale, the automatic budget also turns the sun's shadow
+//! map off (its cost does not shrink with the resolution); it comes back first when frames are
+//! fast again.
 
 use std::str::FromStr;
 
@@ -46,6 +49,7 @@ pub struct Budget {
     /// Automatic or fixed.
     pub quality: Quality,
     scale: f32,
+    shadows: bool,
     spent: f64,
     frames: u32,
 }
@@ -57,7 +61,12 @@ impl Budget {
             Quality::Auto => 1.0,
             Quality::Fixed(s) => s,
         };
-        Budget { quality, scale, spent: 0.0, frames: 0 }
+        Budget { quality, scale, shadows: true, spent: 0.0, frames: 0 }
+    }
+
+    /// Whether the 3D view draws the sun's shadows.
+    pub fn shadows(&self) -> bool {
+        self.shadows
     }
 
     /// The current scale of the internal resolution.
@@ -65,7 +74,7 @@ impl Budget {
         self.scale
     }
 
-    /// Records one frame that took `seconds`; returns whether the scale changed.
+    /// Records one frame that took `seconds`; returns whether the scale or the shadows changed.
     pub fn frame(&mut self, seconds: f64) -> bool {
         if self.quality != Quality::Auto || !(seconds.is_finite() && seconds > 0.0) {
             return false;
@@ -82,6 +91,14 @@ impl Budget {
         let ratio = TARGET_FRAME_S / mean;
         if (0.85..=1.4).contains(&ratio) {
             return false;
+        }
+        if ratio < 0.85 && self.scale <= MIN_SCALE + 1e-6 && self.shadows {
+            self.shadows = false;
+            return true;
+        }
+        if ratio > 1.4 && !self.shadows {
+            self.shadows = true;
+            return true;
         }
         let wanted = self.scale * (ratio.sqrt() as f32).clamp(0.6, 1.15);
         let stepped = ((wanted / 0.05).round() * 0.05).clamp(MIN_SCALE, 1.0);
@@ -115,6 +132,16 @@ mod tests {
             steps += 1;
         }
         assert_eq!(b.scale(), MIN_SCALE, "it never goes below the floor");
+        for _ in 0..8 {
+            b.frame(0.125);
+        }
+        assert!(!b.shadows(), "at the floor, still slow: the shadows go");
+        assert_eq!(b.scale(), MIN_SCALE);
+        for _ in 0..200 {
+            b.frame(0.005);
+        }
+        assert!(b.shadows(), "fast again: the shadows come back first");
+        assert!(b.scale() < 0.5);
         // Now very fast frames: it climbs back to full size.
         for _ in 0..2000 {
             b.frame(0.005);

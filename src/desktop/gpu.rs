@@ -23,6 +23,10 @@ impl WorldRenderer for Renderer {
     fn render(&mut self, sim: &Sim, view: &wgpu::TextureView) {
         Renderer::render(self, sim, view);
     }
+
+    fn set_shadows(&mut self, on: bool) {
+        self.options.shadows = on;
+    }
 }
 
 /// Makes the window's world renderer (a [`super::window::RendererFactory`]).

@@ -29,9 +29,12 @@ pub struct Measure {
     pub time: f64,
     /// Scale of the 3D view's internal resolution, summed over the counted frames.
     pub scale_sum: f64,
+    /// When the first frame was drawn; the measurement's time counts from there.
+    pub first_frame: Option<Instant>,
 }
 
-/// The first seconds of a measurement (shader compilation, the first frames) are not counted.
+/// The first seconds after the first frame (shader compilation, the budget settling) are not
+/// counted.
 pub const MEASURE_WARMUP_S: f64 = 3.0;
 
 /// A live play session in a window.
@@ -129,6 +132,7 @@ impl Frontend for PlayApp {
             None => false,
         };
         self.ui.stats.view_size = drew.then(|| (self.world3d.internal_size(), size));
+        self.ui.stats.shadows_off = !self.world3d.budget.shadows();
         drew
     }
 
@@ -209,8 +213,8 @@ impl Frontend for PlayApp {
     }
 
     fn update(&mut self, elapsed: f64) -> Result<(), String> {
-        let run_for = self.started.elapsed().as_secs_f64();
         if let Some(m) = self.measure.as_mut() {
+            let run_for = m.first_frame.get_or_insert_with(Instant::now).elapsed().as_secs_f64();
             if run_for > MEASURE_WARMUP_S {
                 m.frames += 1;
                 m.time += elapsed;

@@ -24,6 +24,8 @@ pub struct DebugStats {
     pub ticks_per_s: f32,
     /// The 3D view's internal size and the window's size, pixels, when the renderer drew.
     pub view_size: Option<((u32, u32), (u32, u32))>,
+    /// Whether the frame-time budget turned the shadows off.
+    pub shadows_off: bool,
     /// The GPU adapter, e.g. "llvmpipe (LLVM 15.0.6) (Vulkan, Cpu)".
     pub adapter: String,
     /// Where the recording goes, if anywhere.
@@ -297,7 +299,8 @@ impl PlayUi {
             ui.label(format!("{:.1} fps, frame {:.1} ms (mean over 1 s)", self.stats.fps, self.stats.frame_ms));
             ui.label(format!("sim {:.0} ticks/s (target {:.0})", self.stats.ticks_per_s, 1.0 / sim.res.dt.max(1e-6)));
             if let Some(((w, h), (fw, fh))) = self.stats.view_size {
-                ui.label(format!("3D view {w}×{h} of {fw}×{fh} ({:.0} %)", 100.0 * w as f32 / fw.max(1) as f32));
+                let shadows = if self.stats.shadows_off { ", shadows off" } else { "" };
+                ui.label(format!("3D view {w}×{h} of {fw}×{fh} ({:.0} %{shadows})", 100.0 * w as f32 / fw.max(1) as f32));
             }
             ui.label(format!("tick {} ({:.2} s)", sim.res.tick, sim.res.time()));
             ui.label(format!("entities {}: {} trees, {} planes", c.total, c.trees, c.planes));

@@ -47,6 +47,8 @@ pub trait WorldRenderer {
     fn resize(&mut self, width: u32, height: u32);
     /// Draws the world as seen from its head into `view` (submitting its own commands).
     fn render(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView);
+    /// Turns the sun's shadows on or off (the frame-time budget's last resort).
+    fn set_shadows(&mut self, _on: bool) {}
 }
 
 /// Makes a world renderer for the window's device, queue, surface format and size.
@@ -124,6 +126,7 @@ impl World3d {
             self.budget.frame(now.duration_since(last).as_secs_f64());
         }
         self.last_draw = Some(now);
+        r.set_shadows(self.budget.shadows());
         let internal = self.budget.internal_size((size.0.max(1), size.1.max(1)));
         if internal != self.size {
             r.resize(internal.0, internal.1);
