@@ -326,8 +326,12 @@ impl TreePick {
         if lo > hi {
             return None;
         }
+        // Only the bands the ray passes through while inside the shape's height.
+        let (ya, yb) = (o.y + d.y * lo, o.y + d.y * hi);
+        let band_of = |y: f32| (((y - s.bottom) / h).max(0.0) as usize).min(PICK_BANDS - 1);
+        let (first, last) = (band_of(ya.min(yb)), band_of(ya.max(yb)));
         let mut best: Option<f32> = None;
-        for i in 0..PICK_BANDS {
+        for i in first..=last {
             if s.radii[i] <= 0.0 {
                 continue;
             }
