@@ -128,3 +128,51 @@ fn generator_reproduces_the_committed_files_byte_for_byte() {
         assert!(std::fs::read(&f).unwrap() == committed, "{} differs from the committed file; run `grove assets`", rel.display());
     }
 }
+
+/// Every vertex of a glTF file, in model space.
+fn vertices(path: &Path) -> Vec<Vec3> {
+    let (doc, buffers, _) = gltf::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut out = Vec::new();
+    for node in doc.nodes() {
+        let m = glam::Mat4::from_cols_array_2d(&node.transform().matrix());
+        let Some(mesh) = node.mesh() else { continue };
+        for prim in mesh.primitives() {
+            let r = prim.reader(|b| Some(&buffers[b.index()]));
+            out.extend(r.read_positions().expect("positions").map(|p| m.transform_point3(Vec3::from(p))));
+        }
+    }
+    out
+}
+
+#[test]
+fn pick_shapes_hold_every_vertex_and_are_tighter_than_the_bounds() {
+    for m in &Catalogue::builtin().models {
+        let pick = m.pick.unwrap_or_else(|| panic!("{} has no pick shape", m.name));
+        let verts = vertices(&assets().join(format!("trees/{}.gltf", m.name)));
+        let outside = verts.iter().filter(|p| !pick.contains(**p, &[1e-4; grove_systems::catalogue::PICK_BANDS])).count();
+        assert_eq!(outside, 0, "{}: {outside} of {} vertices outside {pick:?}", m.name, verts.len());
+        // Sample the bounds on a grid: a good share of the box must be outside the shape,
+        // in particular next to the trunk below the crown.
+        let (lo, hi) = (m.bounds_min, m.bounds_max);
+        let mut inside = 0;
+        let n = 20;
+        for i in 0..n {
+            for j in 0..n {
+                for k in 0..n {
+                    let f = Vec3::new(i as f32 + 0.5, j as f32 + 0.5, k as f32 + 0.5) / n as f32;
+                    if pick.contains(lo + (hi - lo) * f, &[0.0; grove_systems::catalogue::PICK_BANDS]) {
+                        inside += 1;
+                    }
+                }
+            }
+        }
+        let share = inside as f32 / (n * n * n) as f32;
+        assert!(share < 0.75, "{}: the pick shape fills {:.0} % of the box", m.name, share * 100.0);
+        // A point beside the trunk in the lowest band is outside, for the trees whose crown
+        // starts high (a conifer's lowest branches and a shrub's leaves reach the ground).
+        if m.species == "broadleaf" || m.species == "birch" {
+            let beside_trunk = Vec3::new(hi.x * 0.7, lo.y + pick.band_height() * 0.5, 0.0);
+            assert!(!pick.contains(beside_trunk, &[0.0; grove_systems::catalogue::PICK_BANDS]), "{}: {beside_trunk} beside the trunk is picked", m.name);
+        }
+    }
+}

@@ -13,6 +13,7 @@
 
 pub mod geometry;
 pub mod gltf_out;
+pub mod pick;
 pub mod species;
 pub mod textures;
 
@@ -74,7 +75,7 @@ pub fn catalogue_ron(cat: &Catalogue) -> String {
     );
     for m in &cat.models {
         s.push_str(&format!(
-            "        (id: {}, name: {:?}, species: {:?}, kind: {:?}, bounds_min: {}, bounds_max: {}, crown_radius: {:?}, triangles: {}),\n",
+            "        (id: {}, name: {:?}, species: {:?}, kind: {:?}, bounds_min: {}, bounds_max: {}, crown_radius: {:?}, triangles: {}{}),\n",
             m.id.0,
             m.name,
             m.species,
@@ -82,7 +83,13 @@ pub fn catalogue_ron(cat: &Catalogue) -> String {
             v(m.bounds_min),
             v(m.bounds_max),
             m.crown_radius,
-            m.triangles
+            m.triangles,
+            m.pick.map_or(String::new(), |p| format!(
+                ",\n            pick: Some((bottom: {:?}, top: {:?}, radii: ({})))",
+                p.bottom,
+                p.top,
+                p.radii.iter().map(|r| format!("{r:?}")).collect::<Vec<_>>().join(", ")
+            ))
         ));
     }
     s.push_str("    ],\n)\n");
@@ -166,6 +173,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 bounds_max: b.max(d),
                 crown_radius: crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
                 triangles: (wood.triangles() + foliage.triangles()) as u32,
+                pick: Some(pick::pick_shape(&[(&wood.positions, &wood.indices), (&foliage.positions, &foliage.indices)])),
             });
         }
     }

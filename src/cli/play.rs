@@ -10,6 +10,7 @@ use grove_systems::scene::Scene;
 use grove_systems::task::TaskDef;
 use grove_systems::Sim;
 
+use crate::desktop::budget::{Budget, Quality};
 use crate::desktop::play::PlayApp;
 use crate::desktop::session::{create_recording, LiveSession};
 
@@ -37,6 +38,25 @@ pub struct PlayArgs {
     /// Draw a simple painted view instead of the wgpu renderer (faster on software GPUs).
     #[arg(long)]
     pub simple_view: bool,
+    /// The 3D view's internal resolution: `auto` (lowered while frames take longer than 40 ms,
+    /// then scaled up to the window), `full`, or a fixed scale between 0.3 and 1 (e.g. 0.5).
+    #[arg(long, default_value = "auto", value_parser = parse_quality)]
+    pub quality: Quality,
+    /// Run for this many seconds from the first frame, then quit and print the frame rate as
+    /// JSON (frames after the first 3 s; for measuring the window, e.g. under Xvfb).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_measure)]
+    pub measure: Option<f64>,
+}
+
+fn parse_measure(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 3.0 && v <= 3600.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a number of seconds above 3 (the warm-up) and at most 3600")),
+    }
+}
+
+fn parse_quality(s: &str) -> Result<Quality, String> {
+    s.parse()
 }
 
 /// Runs `grove play`.
@@ -72,11 +92,14 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let session = LiveSession::new(sim, recorder);
+    let mut session = LiveSession::new(sim, recorder);
+    session.record_path = args.record.clone();
     let mut app = PlayApp::new(session, args.task.as_deref(), args.free).map_err(|e| anyhow!(e))?;
     app.ui.stats.recording = args.record.as_ref().map(|p| p.display().to_string());
+    app.measure = args.measure.map(|seconds| crate::desktop::play::Measure { seconds, frames: 0, time: 0.0, scale_sum: 0.0, first_frame: None });
     if !args.simple_view {
         app.world3d.factory = Some(crate::desktop::gpu::make_renderer);
+        app.world3d.budget = Budget::new(args.quality);
         app.thumbnails = Some(crate::desktop::gpu::render_thumbnails);
     }
     crate::desktop::window::run("grove play", app).map_err(|e| anyhow!(e))?;

@@ -21,6 +21,10 @@ impl WorldRenderer for Renderer {
     fn render(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
         Renderer::render_into(self, sim, view, encoder)
     }
+
+    fn set_shadows(&mut self, on: bool) {
+        self.options.shadows = on;
+    }
 }
 
 /// Makes the window's world renderer (a [`super::window::RendererFactory`]).

@@ -12,11 +12,14 @@
 //! Everything a user does reaches the world as input events, stamped with the tick they apply
 //! at, so a recording of a live session replays to the same world hashes.
 
+pub mod budget;
 pub mod gpu;
 pub mod input_map;
 pub mod play;
 pub mod play_ui;
+pub mod scaled;
 pub mod session;
+pub mod stats;
 pub mod viewer;
 pub mod window;
 pub mod world_view;

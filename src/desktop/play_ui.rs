@@ -8,7 +8,7 @@ use grove_systems::catalogue::{ModelId, ModelKind};
 use grove_systems::components::{Pose, Transform, Tree};
 use grove_systems::input::{Button, InputEvent};
 use grove_systems::resources::Mode;
-use grove_systems::task::{TaskDef, BUILTIN_TASKS};
+use grove_systems::task::{TaskDef, TaskReport, BUILTIN_TASKS};
 use grove_systems::Sim;
 
 use super::input_map::BINDINGS;
@@ -16,10 +16,16 @@ use super::input_map::BINDINGS;
 /// Numbers for the debug panel, measured by the app.
 #[derive(Clone, Debug, Default)]
 pub struct DebugStats {
-    /// Frames per second, smoothed.
+    /// Frames per second over a rolling window of one second.
     pub fps: f32,
-    /// The last frame's time, milliseconds.
+    /// The mean frame time over the same window, milliseconds.
     pub frame_ms: f32,
+    /// Simulation ticks run per wall-clock second, over a rolling window of one second.
+    pub ticks_per_s: f32,
+    /// The 3D view's internal size and the window's size, pixels, when the renderer drew.
+    pub view_size: Option<((u32, u32), (u32, u32))>,
+    /// Whether the frame-time budget turned the shadows off.
+    pub shadows_off: bool,
     /// The GPU adapter, e.g. "llvmpipe (LLVM 15.0.6) (Vulkan, Cpu)".
     pub adapter: String,
     /// Where the recording goes, if anywhere.
@@ -51,14 +57,62 @@ pub struct PlayUi {
     pub thumbnails: Vec<Option<egui::TextureId>>,
     /// The head pose "Reset view" returns to.
     pub home: Pose,
-    /// Set when the user asked to quit.
+    /// Set when the user asked to quit (and confirmed, where that is needed).
     pub quit: bool,
+    /// Whether the quit confirmation is shown.
+    pub confirm_quit: bool,
+}
+
+/// The task's outcome as `grove replay` and `grove study` report it, computed the same way
+/// ([`TaskReport::new`]) from the live world: "now" is the current tick, which only counts for a
+/// task whose clock has not stopped yet.
+pub fn task_result(sim: &Sim) -> Option<TaskReport> {
+    sim.res.task.as_ref().map(|t| TaskReport::new(t, sim.res.dt, sim.res.tick, &sim.res.catalogue))
+}
+
+/// A task result as one line, in the words of `grove replay`'s summary.
+pub fn result_line(r: &TaskReport) -> String {
+    format!(
+        "task {} ({}): {}, {:.2} s, {} trees, {} errors",
+        r.id,
+        r.mode,
+        if r.completed { "completed" } else { "not completed" },
+        r.time_s,
+        r.trees.len(),
+        r.errors
+    )
 }
 
 impl PlayUi {
     /// A UI that starts on the start menu; `home` is the scene's camera pose.
     pub fn new(home: Pose) -> PlayUi {
-        PlayUi { screen: Screen::Start, show_help: false, show_debug: true, show_trees: true, stats: DebugStats::default(), thumbnails: Vec::new(), home, quit: false }
+        PlayUi {
+            screen: Screen::Start,
+            show_help: false,
+            show_debug: true,
+            show_trees: true,
+            stats: DebugStats::default(),
+            thumbnails: Vec::new(),
+            home,
+            quit: false,
+            confirm_quit: false,
+        }
+    }
+
+    /// Whether quitting now needs a confirmation: during a running task or a recording.
+    pub fn needs_confirmation(&self, sim: Option<&Sim>) -> bool {
+        let task_running = sim.is_some_and(|s| s.res.task.as_ref().is_some_and(|t| !t.is_over()));
+        self.screen == Screen::Session && (task_running || self.stats.recording.is_some())
+    }
+
+    /// The user asked to quit (Escape, the Quit button or the window's close button): quit at
+    /// once, or ask first (see [`PlayUi::needs_confirmation`]).
+    pub fn request_quit(&mut self, sim: Option<&Sim>) {
+        if self.needs_confirmation(sim) {
+            self.confirm_quit = true;
+        } else {
+            self.quit = true;
+        }
     }
 
     /// The events that start a study task: its mode, then the task itself.
@@ -101,7 +155,13 @@ impl PlayUi {
                 if sim.res.task.is_some() {
                     task_panel(ui, sim, &mut out, true);
                 }
+                if let Some(r) = task_result(sim).filter(|_| sim.res.task.as_ref().is_some_and(|t| t.is_over())) {
+                    result_window(ui, &r, sim);
+                }
             }
+        }
+        if self.confirm_quit {
+            self.quit_dialog(ui, sim);
         }
         if self.show_debug {
             self.debug_window(ui, sim);
@@ -167,7 +227,7 @@ impl PlayUi {
                 ui.toggle_value(&mut self.show_debug, "Debug");
                 ui.toggle_value(&mut self.show_help, "Help");
                 if ui.button("Quit").clicked() {
-                    self.quit = true;
+                    self.request_quit(Some(sim));
                 }
                 if let Some(path) = &self.stats.recording {
                     ui.label(RichText::new(format!("REC {path}")).color(Color32::from_rgb(220, 40, 40)));
@@ -209,10 +269,39 @@ impl PlayUi {
         });
     }
 
+    fn quit_dialog(&mut self, ui: &mut Ui, sim: &Sim) {
+        let modal = egui::Modal::new(egui::Id::unique("quit confirmation")).show(ui.ctx(), |ui| {
+            ui.heading("Quit the session?");
+            if sim.res.task.as_ref().is_some_and(|t| !t.is_over()) {
+                ui.label("The task is still running; quitting now leaves it unfinished.");
+            }
+            if let Some(path) = &self.stats.recording {
+                ui.label(format!("The recording is completed and saved to {path}."));
+            }
+            ui.horizontal(|ui| {
+                if ui.button("Quit").clicked() {
+                    self.quit = true;
+                }
+                if ui.button("Keep going").clicked() {
+                    self.confirm_quit = false;
+                }
+            });
+            ui.label(RichText::new("Enter quits, Escape keeps going.").weak());
+        });
+        if modal.should_close() && !self.quit {
+            self.confirm_quit = false;
+        }
+    }
+
     fn debug_window(&mut self, ui: &mut Ui, sim: &Sim) {
         egui::Window::new("Debug").default_pos([1000.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
             let c = sim.counts();
-            ui.label(format!("fps {:.0}, frame {:.1} ms", self.stats.fps, self.stats.frame_ms));
+            ui.label(format!("{:.1} fps, frame {:.1} ms (mean over 1 s)", self.stats.fps, self.stats.frame_ms));
+            ui.label(format!("sim {:.0} ticks/s (target {:.0})", self.stats.ticks_per_s, 1.0 / sim.res.dt.max(1e-6)));
+            if let Some(((w, h), (fw, fh))) = self.stats.view_size {
+                let shadows = if self.stats.shadows_off { ", shadows off" } else { "" };
+                ui.label(format!("3D view {w}×{h} of {fw}×{fh} ({:.0} %{shadows})", 100.0 * w as f32 / fw.max(1) as f32));
+            }
             ui.label(format!("tick {} ({:.2} s)", sim.res.tick, sim.res.time()));
             ui.label(format!("entities {}: {} trees, {} planes", c.total, c.trees, c.planes));
             ui.label(format!("mode {}, model {}", sim.res.mode.name(), sim.res.catalogue.get(sim.res.menu.current_model).map_or("?", |m| m.name.as_str())));
@@ -221,13 +310,33 @@ impl PlayUi {
     }
 }
 
+/// The result of a task whose clock has stopped: time, trees and errors, as `grove replay` and
+/// `grove study` report them.
+fn result_window(ui: &mut Ui, r: &TaskReport, sim: &Sim) {
+    egui::Window::new("Task result").collapsible(false).resizable(false).anchor(egui::Align2::CENTER_TOP, [0.0, 60.0]).show(ui.ctx(), |ui| {
+        let targets = sim.res.task.as_ref().map_or(0, |t| t.def.targets.len());
+        ui.heading(if r.completed { "All targets done" } else { "Task ended" });
+        egui::Grid::new("task result").show(ui, |ui| {
+            ui.label("time");
+            ui.label(RichText::new(format!("{:.2} s", r.time_s)).monospace());
+            ui.end_row();
+            ui.label("trees");
+            ui.label(RichText::new(format!("{} of {targets}", r.trees.len())).monospace());
+            ui.end_row();
+            ui.label("errors");
+            ui.label(RichText::new(format!("{}", r.errors)).monospace());
+            ui.end_row();
+        });
+    });
+}
+
 /// The task panel: targets with check marks and per-tree times, the running timer, and (when
 /// `interactive`) the finish button.
 pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive: bool) {
     let Some(task) = sim.res.task.as_ref() else { return };
     egui::Panel::right("task panel").resizable(false).show(ui, |ui| {
         ui.heading(format!("Task {}", task.def.id));
-        let end = task.completed_tick.or(task.ended_tick).unwrap_or(sim.res.tick);
+        let end = task.end_tick().unwrap_or(sim.res.tick);
         let secs = end.saturating_sub(task.started_tick) as f64 * sim.res.dt as f64;
         ui.label(RichText::new(format!("time {secs:.1} s")).monospace().size(18.0));
         if task.is_complete() {

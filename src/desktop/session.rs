@@ -83,6 +83,8 @@ pub fn create_recording(path: &Path, header: &Header) -> Result<FileRecorder, St
 pub struct LiveSession {
     /// The simulation.
     pub sim: Sim,
+    /// Where the recording goes, if anywhere.
+    pub record_path: Option<std::path::PathBuf>,
     batches: VecDeque<Vec<InputEvent>>,
     recorder: Option<FileRecorder>,
     recorded: Vec<StampedEvent>,
@@ -93,7 +95,12 @@ pub struct LiveSession {
 impl LiveSession {
     /// A session over `sim`, recording to `recorder` if given.
     pub fn new(sim: Sim, recorder: Option<FileRecorder>) -> LiveSession {
-        LiveSession { sim, batches: VecDeque::new(), recorder, recorded: Vec::new(), frame: 0 }
+        LiveSession { sim, record_path: None, batches: VecDeque::new(), recorder, recorded: Vec::new(), frame: 0 }
+    }
+
+    /// The recording's file, if the session records and its caller said where.
+    pub fn recording_path(&self) -> Option<&Path> {
+        self.recorder.as_ref().and(self.record_path.as_deref())
     }
 
     /// Queues an event for the next tick (or a later one, see the module docs). Events with

@@ -386,8 +386,8 @@ impl super::window::Frontend for ViewApp {
         self.world3d.gpu_ready(&gpu, size);
     }
 
-    fn draw_3d(&mut self, _gpu: super::window::GpuContext<'_>, encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
-        self.world3d.draw(&self.viewer.sim, view, size, encoder)
+    fn draw_3d(&mut self, gpu: super::window::GpuContext<'_>, encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+        self.world3d.draw(&gpu, encoder, &self.viewer.sim, view, size)
     }
 
     fn input(&mut self, event: &winit::event::WindowEvent, _over_ui: bool) {

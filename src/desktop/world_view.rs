@@ -72,9 +72,21 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
     }
 
     if let Some(task) = sim.res.task.as_ref() {
+        let hit = sim.hit_marker();
         for (i, t) in task.def.targets.iter().enumerate() {
             let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
-            ring(painter, &to_screen, t.position, task.def.tolerance, if done { Color32::from_rgb(40, 200, 90) } else { Color32::from_rgb(250, 210, 40) });
+            // Aiming help: the ring keeps a minimum size on screen, and lights up (white and
+            // thicker) while the ray's hit point is inside the target's tolerance.
+            let aimed = hit.visible && Vec2::new(hit.position.x - t.position.x, hit.position.z - t.position.z).length() <= task.def.tolerance;
+            let radius = grove::render::overlay::geometry::min_on_screen(task.def.tolerance, head.pose.position.distance(t.position));
+            let (color, width) = if done {
+                (Color32::from_rgb(40, 200, 90), 2.0)
+            } else if aimed {
+                (Color32::WHITE, 4.0)
+            } else {
+                (Color32::from_rgb(250, 210, 40), 2.0)
+            };
+            ring(painter, &to_screen, t.position, radius, Stroke::new(width, color));
         }
     }
 
@@ -134,7 +146,7 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
     }
 }
 
-fn ring(painter: &Painter, to_screen: &impl Fn(Vec3) -> Option<Pos2>, centre: Vec3, radius: f32, color: Color32) {
+fn ring(painter: &Painter, to_screen: &impl Fn(Vec3) -> Option<Pos2>, centre: Vec3, radius: f32, stroke: Stroke) {
     let pts: Vec<Pos2> = (0..=24)
         .filter_map(|i| {
             let a = i as f32 / 24.0 * std::f32::consts::TAU;
@@ -142,6 +154,6 @@ fn ring(painter: &Painter, to_screen: &impl Fn(Vec3) -> Option<Pos2>, centre: Ve
         })
         .collect();
     if pts.len() > 2 {
-        painter.add(Shape::line(pts, Stroke::new(2.0, color)));
+        painter.add(Shape::line(pts, stroke));
     }
 }

@@ -198,5 +198,6 @@ fn overlay_scene(sim: &Sim) -> OverlayScene {
         target_tolerance: tolerance,
         max_ray_length: sim.res.config.max_ray_length,
         handle_radius: sim.res.config.handle_radius,
+        eye: sim.head().pose.position,
     }
 }

@@ -43,6 +43,55 @@ pub struct ModelInfo {
     pub crown_radius: f32,
     /// Triangle count of the model, for cost reports.
     pub triangles: u32,
+    /// The shape ray picking tests, tighter than the bounds; `None` picks by the bounds.
+    #[serde(default)]
+    pub pick: Option<PickShape>,
+}
+
+/// Number of height bands of a [`PickShape`].
+pub const PICK_BANDS: usize = 12;
+
+/// The shape a tree is picked by, in model space (metres, +Y up, origin at the base of the
+/// trunk): a stack of [`PICK_BANDS`] vertical cylinders around the Y axis, of equal height from
+/// `bottom` to `top`, each as wide as the model is at that height. `grove assets` computes it from
+/// the mesh so that every vertex lies inside: the trunk's bands are as thin as the trunk, a
+/// conifer's narrow towards the top, a broadleaf's follow its round crown. Ground beside the
+/// trunk, under the rim of a crown, is outside, so it can be clicked.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PickShape {
+    /// Height of the lowest band's bottom (the model's lowest point), metres.
+    pub bottom: f32,
+    /// Height of the highest band's top (the model's highest point), metres.
+    pub top: f32,
+    /// Per band, from the bottom up, the largest horizontal distance of any vertex in it from
+    /// the Y axis, metres (0 for an empty band).
+    pub radii: [f32; PICK_BANDS],
+}
+
+impl PickShape {
+    /// The height of one band, metres.
+    pub fn band_height(&self) -> f32 {
+        (self.top - self.bottom) / PICK_BANDS as f32
+    }
+
+    /// The band a height falls in, if any (the top belongs to the highest band).
+    pub fn band(&self, y: f32) -> Option<usize> {
+        let h = self.band_height();
+        if !(h > 0.0) || y < self.bottom || y > self.top {
+            return None;
+        }
+        Some((((y - self.bottom) / h) as usize).min(PICK_BANDS - 1))
+    }
+
+    /// Whether a model-space point is inside the shape with every band's radius grown by its
+    /// entry in `pads`, metres.
+    pub fn contains(&self, p: Vec3, pads: &[f32; PICK_BANDS]) -> bool {
+        self.band(p.y).is_some_and(|i| {
+            let r = self.radii[i] + pads[i];
+            self.radii[i] > 0.0 && p.x * p.x + p.z * p.z <= r * r
+        })
+    }
 }
 
 impl ModelInfo {
@@ -85,6 +134,12 @@ impl Catalogue {
             }
             if !(m.bounds_min.is_finite() && m.bounds_max.is_finite()) || m.bounds_min.cmpgt(m.bounds_max).any() {
                 return Err(CatalogueError::Invalid(format!("model {} has invalid bounds", m.name)));
+            }
+            if let Some(p) = &m.pick {
+                let valid = p.bottom.is_finite() && p.top.is_finite() && p.bottom < p.top && p.radii.iter().all(|r| r.is_finite() && *r >= 0.0);
+                if !valid {
+                    return Err(CatalogueError::Invalid(format!("model {} has an invalid pick shape", m.name)));
+                }
             }
         }
         Ok(cat)

@@ -3,6 +3,12 @@
 //! It is a cache derived from the world (plane meshes and tree transforms), rebuilt when the
 //! systems mark it dirty. It is not part of the world hash. Queries use a BVH over the trees'
 //! bounds and each plane's own triangle BVH, never a linear scan of the trees.
+//!
+//! A tree whose catalogue model has a pick shape ([`PickShape`]: a stack of vertical cylinders as
+//! wide as the model at each height) is hit only where the ray meets that shape, each band grown
+//! by the wind's largest sway at its height; its box only bounds it in the BVH. So the ground
+//! between a trunk and the rim of its crown can be pointed at. A model without a pick shape is
+//! hit by its box.
 
 use glam::{Quat, Vec3};
 use hecs::{Entity, World};
@@ -11,7 +17,7 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
 
-use crate::catalogue::Catalogue;
+use crate::catalogue::{Catalogue, PickShape, PICK_BANDS};
 use crate::components::{Plane, Scale, Transform, Tree, Wind};
 use crate::wind_model::{max_sway, SwayExtent};
 
@@ -46,6 +52,8 @@ pub struct RayHit {
 pub struct SpatialIndex {
     planes: Vec<(Entity, TriMesh)>,
     trees: Vec<TreeBox>,
+    /// Per tree (same order as `trees`), its pick shape, if its model has one.
+    picks: Vec<Option<TreePick>>,
     tree_bvh: Bvh,
     planes_dirty: bool,
     trees_dirty: bool,
@@ -111,20 +119,35 @@ impl SpatialIndex {
         }
         if !self.built_once || self.trees_dirty {
             self.trees.clear();
-            // Ray boxes include the wind's largest possible sway, so that a swaying crown is
-            // always inside the box that picks it (a constant pad, so picking never flickers).
+            // Ray boxes and pick shapes include the wind's largest possible sway, so that a
+            // swaying crown is always inside the shape that picks it (a constant pad, so picking
+            // never flickers).
             let wind = world.query::<&Wind>().iter().next().copied();
+            let mut found: Vec<(TreeBox, Option<TreePick>)> = Vec::new();
             for (e, t, s, tree) in world.query::<(Entity, &Transform, &Scale, &Tree)>().iter() {
                 if let Some(m) = catalogue.get(tree.model) {
                     let mut b = tree_box(e, t, s.0, m.bounds_min, m.bounds_max);
+                    let mut pads = [0.0; PICK_BANDS];
                     if let Some(w) = &wind {
                         let sway = max_sway(w, w.model, SwayExtent::from_bounds(m.height(), m.crown_radius, s.0));
                         b.half_extents += Vec3::new(sway, 0.0, sway);
+                        if let Some(p) = &m.pick {
+                            // A band sways at most as far as a tree as tall as the band's top
+                            // and as wide as the band.
+                            let h = p.band_height();
+                            for (i, pad) in pads.iter_mut().enumerate() {
+                                let height = (p.bottom + h * (i + 1) as f32 - m.bounds_min.y).max(0.0);
+                                *pad = max_sway(w, w.model, SwayExtent::from_bounds(height, p.radii[i], s.0));
+                            }
+                        }
                     }
-                    self.trees.push(b);
+                    let pick = m.pick.map(|shape| TreePick::new(shape, t, s.0, pads));
+                    found.push((b, pick));
                 }
             }
-            self.trees.sort_by_key(|b| b.entity.to_bits());
+            found.sort_by_key(|(b, _)| b.entity.to_bits());
+            self.picks = found.iter().map(|(_, p)| *p).collect();
+            self.trees = found.into_iter().map(|(b, _)| b).collect();
             let leaves: Vec<Aabb> = self.trees.iter().map(box_aabb).collect();
             self.tree_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
             self.trees_dirty = false;
@@ -182,11 +205,19 @@ impl SpatialIndex {
             })
             .find(|&i| {
                 let b = &self.trees[i as usize];
-                Some(b.entity) != exclude && box_contains(b, origin)
+                Some(b.entity) != exclude
+                    && match &self.picks[i as usize] {
+                        Some(p) => p.contains(origin),
+                        None => box_contains(b, origin),
+                    }
             });
         if let Some(i) = inside {
             let b = &self.trees[i as usize];
-            return Some(RayHit { entity: b.entity, distance: 0.0, point: origin, normal: box_normal(b, origin) });
+            let normal = match &self.picks[i as usize] {
+                Some(p) => p.normal(origin),
+                None => box_normal(b, origin),
+            };
+            return Some(RayHit { entity: b.entity, distance: 0.0, point: origin, normal });
         }
         // Best-first search with each node's ray entry distance clamped at 0. (Bvh::cast_ray
         // scores a node that contains the ray origin by a negative entry distance, so once a
@@ -205,11 +236,17 @@ impl SpatialIndex {
             if Some(b.entity) == exclude {
                 return None;
             }
-            box_ray(b, origin, dir, best)
+            match &self.picks[i as usize] {
+                Some(p) => p.ray(origin, dir, best),
+                None => box_ray(b, origin, dir, best),
+            }
         })?;
         let b = &self.trees[leaf as usize];
         let point = origin + dir * toi;
-        let normal = box_normal(b, point);
+        let normal = match &self.picks[leaf as usize] {
+            Some(p) => p.normal(point),
+            None => box_normal(b, point),
+        };
         Some(RayHit { entity: b.entity, distance: toi, point, normal })
     }
 
@@ -243,6 +280,112 @@ pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
         return None;
     }
     TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
+}
+
+/// A tree's pick shape placed in the world: the model-space bands grown by the wind's sway, and
+/// the tree's position, yaw and scale.
+#[derive(Clone, Copy, Debug)]
+pub struct TreePick {
+    shape: PickShape,
+    base: Vec3,
+    yaw: f32,
+    scale: f32,
+    /// Per band, the sway pad in model units.
+    pads: [f32; PICK_BANDS],
+}
+
+impl TreePick {
+    /// Places `shape` at a tree's transform and scale; `pads` are the wind's largest sway of
+    /// each band, world metres.
+    pub fn new(shape: PickShape, t: &Transform, scale: f32, pads: [f32; PICK_BANDS]) -> TreePick {
+        let scale = if scale.is_finite() && scale > 1e-6 { scale } else { 1e-6 };
+        TreePick { shape, base: t.translation, yaw: t.yaw, scale, pads: pads.map(|p| p / scale) }
+    }
+
+    /// A world point in model space.
+    fn local(&self, p: Vec3) -> Vec3 {
+        Quat::from_rotation_y(-self.yaw) * (p - self.base) / self.scale
+    }
+
+    /// Whether a world point is inside.
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.shape.contains(self.local(p), &self.pads)
+    }
+
+    /// The first distance along the ray (world units, `dir` as given) at which it enters the
+    /// shape, within `max`.
+    pub fn ray(&self, origin: Vec3, dir: Vec3, max: f32) -> Option<f32> {
+        // In model space with the direction scaled too, distances along the ray are unchanged.
+        let rot = Quat::from_rotation_y(-self.yaw);
+        let o = rot * (origin - self.base) / self.scale;
+        let d = rot * dir / self.scale;
+        let s = &self.shape;
+        let h = s.band_height();
+        let (lo, hi) = y_span(o.y, d.y, s.bottom, s.top)?;
+        let (lo, hi) = (lo.max(0.0), hi.min(max));
+        if lo > hi {
+            return None;
+        }
+        // Only the bands the ray passes through while inside the shape's height.
+        let (ya, yb) = (o.y + d.y * lo, o.y + d.y * hi);
+        let band_of = |y: f32| (((y - s.bottom) / h).max(0.0) as usize).min(PICK_BANDS - 1);
+        let (first, last) = (band_of(ya.min(yb)), band_of(ya.max(yb)));
+        let mut best: Option<f32> = None;
+        for i in first..=last {
+            if s.radii[i] <= 0.0 {
+                continue;
+            }
+            let y0 = s.bottom + h * i as f32;
+            let Some((b0, b1)) = y_span(o.y, d.y, y0, y0 + h) else { continue };
+            let Some((c0, c1)) = cylinder_span(o, d, s.radii[i] + self.pads[i]) else { continue };
+            let t0 = b0.max(c0).max(lo);
+            let t1 = b1.min(c1).min(hi);
+            if t0 <= t1 && best.is_none_or(|b| t0 < b) {
+                best = Some(t0);
+            }
+        }
+        best
+    }
+
+    /// The outward normal (world space) at a point on the shape: along the radius, or up or
+    /// down at the top or bottom of a band.
+    pub fn normal(&self, p: Vec3) -> Vec3 {
+        let l = self.local(p);
+        let radial = Vec3::new(l.x, 0.0, l.z);
+        let n = match self.shape.band(l.y) {
+            Some(i) if radial.length() < (self.shape.radii[i] + self.pads[i]) * 0.999 => {
+                if l.y > (self.shape.bottom + self.shape.top) * 0.5 { Vec3::Y } else { Vec3::NEG_Y }
+            }
+            _ => radial.normalize_or(Vec3::X),
+        };
+        Quat::from_rotation_y(self.yaw) * n
+    }
+}
+
+/// The ray parameters for which `oy + t dy` lies in `[lo, hi]`.
+fn y_span(oy: f32, dy: f32, lo: f32, hi: f32) -> Option<(f32, f32)> {
+    if dy.abs() < 1e-12 {
+        return (oy >= lo && oy <= hi).then_some((f32::NEG_INFINITY, f32::INFINITY));
+    }
+    let (a, b) = ((lo - oy) / dy, (hi - oy) / dy);
+    Some((a.min(b), a.max(b)))
+}
+
+/// The ray parameters inside the vertical infinite cylinder of radius `r` around the Y axis.
+fn cylinder_span(o: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
+    let a = d.x * d.x + d.z * d.z;
+    let c = o.x * o.x + o.z * o.z - r * r;
+    if a <= 1e-12 {
+        // Parallel to the axis: inside all along, or never.
+        return (c <= 0.0).then_some((f32::NEG_INFINITY, f32::INFINITY));
+    }
+    let b = o.x * d.x + o.z * d.z;
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let q = disc.sqrt();
+    Some(((-b - q) / a, (-b + q) / a))
 }
 
 fn box_aabb(b: &TreeBox) -> Aabb {

@@ -93,6 +93,7 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
         )
         .length(),
         triangles: 0,
+        pick: None,
     };
     let mut sim = Sim::from_scene_with(&scene, 1, Catalogue { models: vec![info] })?;
     sim.spawn_tree(model, Vec3::ZERO, 0.0, 1.0, false);

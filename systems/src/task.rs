@@ -170,6 +170,22 @@ impl TaskState {
     pub fn is_complete(&self) -> bool {
         self.completed_tick.is_some()
     }
+
+    /// The tick at which the task's clock stopped, if it has: when the last target was
+    /// satisfied (the task definition's end), or else at the participant's EndTask. A task
+    /// that has neither keeps running; its time is then measured up to "now", whatever the
+    /// caller's now is (the live window's tick, or the last tick of a recording).
+    pub fn end_tick(&self) -> Option<u64> {
+        match (self.completed_tick, self.ended_tick) {
+            (Some(c), Some(e)) => Some(c.min(e)),
+            (c, e) => c.or(e),
+        }
+    }
+
+    /// Whether the task's clock has stopped (see [`TaskState::end_tick`]).
+    pub fn is_over(&self) -> bool {
+        self.end_tick().is_some()
+    }
 }
 
 #[cfg(test)]
@@ -248,9 +264,10 @@ pub struct TaskReport {
     pub completed: bool,
     /// The tick of the StartTask event.
     pub start_tick: u64,
-    /// The tick the task time ends at: completion, or the end of the replay if not completed.
+    /// The tick the task time ends at (see [`TaskState::end_tick`]): the last target or the
+    /// participant's EndTask, whichever comes first; else the end of the replay.
     pub end_tick: u64,
-    /// Seconds from the start to completion (or to the end of the replay if not completed).
+    /// Seconds from the start to the end of the task (see [`TaskState::end_tick`]).
     pub time_s: f64,
     /// Total errors.
     pub errors: u32,
@@ -276,7 +293,7 @@ impl TaskReport {
     /// Builds the report from a task state, the step and the tick the replay reached.
     pub fn new(task: &TaskState, dt: f32, now_tick: u64, catalogue: &Catalogue) -> TaskReport {
         let secs = |ticks: u64| ticks_to_seconds(ticks, dt);
-        let end = task.completed_tick.unwrap_or(now_tick);
+        let end = task.end_tick().unwrap_or(now_tick);
         let trees: Vec<TreeReport> = task
             .satisfied
             .iter()

@@ -83,6 +83,8 @@ pub struct OverlayScene {
     pub max_ray_length: f32,
     /// The radius of a box handle for picking, metres (`Config::handle_radius`).
     pub handle_radius: f32,
+    /// The eye (the head's position), metres: markers keep a minimum size as seen from it.
+    pub eye: Vec3,
 }
 
 /// One overlay vertex. A zero normal means "unlit".
@@ -177,10 +179,23 @@ impl OverlayGeometry {
     }
 }
 
+/// The smallest angle, radians, that a target ring's outer radius and the hit marker's radius
+/// subtend from the eye (about 8 pixels at 720 pixels over a 60° field of view).
+pub const MIN_MARKER_ANGLE: f32 = 0.012;
+/// Colour of a target ring while the controller's hit point is inside its tolerance.
+pub const RING_LIT: [f32; 4] = [1.0, 0.95, 0.35, 1.0];
+
+/// Aiming help: a marker's world size `size` (metres), grown so that at `distance` metres from
+/// the eye it subtends at least [`MIN_MARKER_ANGLE`]. It only changes what is drawn.
+pub fn min_on_screen(size: f32, distance: f32) -> f32 {
+    size.max(distance.max(0.0) * MIN_MARKER_ANGLE.tan())
+}
+
 /// Builds the overlay geometry of a frame.
 pub fn build(scene: &OverlayScene) -> OverlayGeometry {
     let mut g = OverlayGeometry::default();
     let hit = scene.hit;
+    let eye = scene.eye;
     for c in &scene.controllers {
         let (o, d) = (c.origin, c.dir);
         // The controller body: a small dark box along the ray.
@@ -194,7 +209,7 @@ pub fn build(scene: &OverlayScene) -> OverlayGeometry {
     }
     if let Some(h) = hit {
         if h.visible {
-            g.sphere(h.position, 0.04, [0.2, 0.75, 1.0, 1.0]);
+            g.sphere(h.position, min_on_screen(0.04, eye.distance(h.position)), [0.2, 0.75, 1.0, 1.0]);
             let n = h.normal.normalize_or(Vec3::Y);
             g.line(h.position, h.position + n * 0.25, [0.2, 0.75, 1.0, 1.0]);
         }
@@ -229,9 +244,18 @@ pub fn build(scene: &OverlayScene) -> OverlayGeometry {
         }
     }
     for t in &scene.targets {
-        let color = if t.done { [0.2, 0.95, 0.3, 1.0] } else { [1.0, 0.2, 0.6, 1.0] };
+        // The ring lights up while the hit point is inside the target's tolerance.
+        let aimed = hit.is_some_and(|h| h.visible && glam::Vec2::new(h.position.x - t.position.x, h.position.z - t.position.z).length() <= scene.target_tolerance);
+        let color = if aimed && !t.done {
+            RING_LIT
+        } else if t.done {
+            [0.2, 0.95, 0.3, 1.0]
+        } else {
+            [1.0, 0.2, 0.6, 1.0]
+        };
         let base = t.position + Vec3::Y * 0.03;
-        g.ring(base, scene.target_tolerance * 0.8, scene.target_tolerance, color);
+        let outer = min_on_screen(scene.target_tolerance, eye.distance(base));
+        g.ring(base, outer * 0.8, outer, color);
         g.cuboid(base + Vec3::Y * 0.3, Vec3::new(0.02, 0.3, 0.02), Quat::IDENTITY, color);
     }
     g

@@ -6,7 +6,8 @@
 //! Writes: `Resources::task` (satisfied targets, completion, errors, measures),
 //! `Resources::log` (target_satisfied, task_completed).
 //!
-//! The clock starts at the StartTask event and stops when every target is satisfied. A target
+//! The clock starts at the StartTask event and stops when every target is satisfied, or at the
+//! EndTask event if that comes first (the participant pressed "Finish task"). A target
 //! is satisfied when a tree of the required model, grounded if the task requires it, stands
 //! within the tolerance (horizontal distance); each tree counts for one target only.
 
@@ -25,7 +26,9 @@ fn near_any_target(task: &TaskState, p: Vec3) -> bool {
 /// Runs the task system.
 pub fn run(world: &mut World, res: &mut Resources) {
     let Some(task) = res.task.as_mut() else { return };
-    if task.is_complete() {
+    // Once the clock has stopped (every target satisfied, or the participant ended the task),
+    // nothing more is measured: what happens afterwards is not part of the task.
+    if task.is_over() {
         return;
     }
     let tick = res.tick;
