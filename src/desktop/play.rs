@@ -323,7 +323,7 @@ mod tests {
         use super::super::window::Frontend;
         use winit::event::{DeviceId, ElementState, MouseButton, WindowEvent};
         // SAFETY: a dummy device id is only compared, never used to reach a device.
-        let device_id = unsafe { DeviceId::dummy() };
+        let device_id = DeviceId::dummy();
         let state = if pressed { ElementState::Pressed } else { ElementState::Released };
         app.input(&WindowEvent::MouseInput { device_id, state, button: MouseButton::Left }, over_ui);
     }

@@ -94,15 +94,7 @@ pub enum PlaneShape {
     },
 }
 
-/// A circular hole in a grid plane.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Hole {
-    /// Centre (X, Z), metres.
-    pub center: Vec2,
-    /// Radius, metres.
-    pub radius: f32,
-}
+pub use crate::holes::Hole;
 
 /// Where and when the scene is.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
