@@ -280,11 +280,8 @@ fn synth_is_deterministic_and_matches_the_committed_study() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     for f in ["P01-ray-casting-7.jsonl", "P01-manual-7.jsonl"] {
         let fresh = std::fs::read(dir.path().join(f)).unwrap();
-        // The committed study stays in format version 1 while the recorder writes version 2:
-        // the committed file, upgraded, must be exactly what synth writes now.
-        let committed_v1 = std::fs::read(root().join("replays/study").join(f)).unwrap();
-        let mut committed = Vec::new();
-        grove_systems::replay::upgrade(&committed_v1[..], f, &mut committed).unwrap();
+        // The committed study is in format version 2, as the recorder writes it.
+        let committed = std::fs::read(root().join("replays/study").join(f)).unwrap();
         assert!(fresh == committed, "{f}: regenerate the study with `cargo run --release -- synth --force`");
         let text = String::from_utf8(fresh).unwrap();
         assert!(text.lines().next().unwrap().contains("\"synthetic\":true"));

@@ -413,7 +413,7 @@ mod tests {
             s.step(0).unwrap();
         }
         let sim = s.finish().unwrap();
-        assert!((shown.time_s - (end - started) as f64 * scene.dt as f64).abs() < 1e-9, "the time is the time at end_task");
+        assert!((shown.time_s - grove_systems::task::ticks_to_seconds(end - started, scene.dt)).abs() < 1e-9, "the time is the time at end_task");
         assert_eq!(shown.trees.len(), 2, "{shown:?}");
         assert_eq!(shown.errors, 1, "{shown:?}");
         assert_eq!(task_result(&sim).unwrap(), shown, "the result does not change after the end");

@@ -23,7 +23,6 @@ pub mod input;
 pub mod interact;
 pub mod limits;
 pub mod mode;
-pub mod names;
 pub mod replay;
 pub mod scatter;
 pub mod resources;
@@ -35,6 +34,7 @@ pub mod spatial;
 pub mod stage;
 pub mod systems;
 pub mod task;
+pub mod tree_def;
 pub mod wind_model;
 
 pub use sim::Sim;

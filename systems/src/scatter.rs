@@ -11,7 +11,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use crate::scene::TreeDef;
+use crate::tree_def::TreeDef;
 
 /// The most trees one scatter may place.
 pub const MAX_TREES: usize = 20_000;

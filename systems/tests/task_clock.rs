@@ -32,7 +32,9 @@ fn an_ended_task_is_timed_at_its_end_task_not_at_the_end_of_the_input() {
     // every target: planting there would be an off-target error during the task.
     s.point_at(Vec3::new(14.0, 0.0, 5.0)).press(Button::Trigger).wait(500);
     let later = report(&s);
-    let expected = (end_tick - started) as f64 * dt;
+    // The study runs at 60 ticks a second: times are whole ticks over 60, exactly.
+    assert!((dt - 1.0 / 60.0).abs() < 1e-6);
+    let expected = (end_tick - started) as f64 / 60.0;
     assert!((at_end.time_s - expected).abs() < 1e-9, "{} vs {expected}", at_end.time_s);
     assert_eq!(later.time_s, at_end.time_s, "the clock stopped at EndTask");
     assert!(!later.completed);
@@ -46,6 +48,6 @@ fn a_running_task_is_timed_up_to_now() {
     s.start_task("ray-casting-7").wait(100);
     let task = s.sim().res.task.as_ref().unwrap();
     assert!(task.end_tick().is_none());
-    let expected = (s.sim().res.tick - task.started_tick) as f64 * s.sim().res.dt as f64;
+    let expected = (s.sim().res.tick - task.started_tick) as f64 / 60.0;
     assert!((report(&s).time_s - expected).abs() < 1e-9);
 }

@@ -16,6 +16,7 @@
 
 pub mod codec;
 mod lines;
+pub mod names;
 pub mod reader;
 pub mod scene_ref;
 pub mod upgrade;
@@ -252,7 +253,7 @@ impl<W: Write> Recorder<W> {
 /// overrides.
 pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Override]) -> Result<Sim, String> {
     let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
-    crate::names::check_header(header)?;
+    names::check_header(header)?;
     if (scene.dt - header.dt).abs() > 1e-9 {
         return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
     }

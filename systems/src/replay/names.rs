@@ -4,7 +4,7 @@
 //! nothing.
 
 use crate::input::InputEvent;
-use crate::replay::Header;
+use super::Header;
 use crate::sim::Sim;
 
 /// Checks the header fields that name things: the task must be a known task, the optional
