@@ -24,6 +24,22 @@ pub struct MaterialTextures {
     pub roughness: f32,
 }
 
+impl MaterialTextures {
+    /// The bark material of species `n`: its bark texture with normal and specular maps under
+    /// `textures/`, opaque, matte.
+    pub fn bark(n: &str) -> MaterialTextures {
+        MaterialTextures {
+            name: format!("{n}-bark"),
+            albedo: format!("textures/{n}-bark.png"),
+            normal: format!("textures/{n}-bark-normal.png"),
+            specular: format!("textures/{n}-bark-specular.png"),
+            leaves: false,
+            specular_factor: 0.5,
+            roughness: 0.9,
+        }
+    }
+}
+
 struct Buf {
     bytes: Vec<u8>,
     views: Vec<Value>,

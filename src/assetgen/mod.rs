@@ -138,15 +138,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 ModelKind::Billboard => species::card_foliage(sp, &skel),
             };
             let n = sp.name();
-            let bark_mat = MaterialTextures {
-                name: format!("{n}-bark"),
-                albedo: format!("textures/{n}-bark.png"),
-                normal: format!("textures/{n}-bark-normal.png"),
-                specular: format!("textures/{n}-bark-specular.png"),
-                leaves: false,
-                specular_factor: 0.5,
-                roughness: 0.9,
-            };
+            let bark_mat = MaterialTextures::bark(n);
             let leaf_tex = if kind == ModelKind::Mesh { "leaf" } else { "card" };
             let leaf_mat = MaterialTextures {
                 name: format!("{n}-{leaf_tex}"),

@@ -72,15 +72,7 @@ pub fn task_result(sim: &Sim) -> Option<TaskReport> {
 
 /// A task result as one line, in the words of `grove replay`'s summary.
 pub fn result_line(r: &TaskReport) -> String {
-    format!(
-        "task {} ({}): {}, {:.2} s, {} trees, {} errors",
-        r.id,
-        r.mode,
-        if r.completed { "completed" } else { "not completed" },
-        r.time_s,
-        r.trees.len(),
-        r.errors
-    )
+    r.result_line()
 }
 
 impl PlayUi {

@@ -168,15 +168,7 @@ pub fn write(dir: &Path, name: &str, g: &Grammar, model: &Model) -> anyhow::Resu
     save(textures::normal_from_height(&ch, 256, 6.0).save(&p), &p)?;
     let p = tex.join(format!("{n}-card-specular.png"));
     save(textures::specular(&ch, 256, 0.4, 0.3).save(&p), &p)?;
-    let bark_mat = MaterialTextures {
-        name: format!("{n}-bark"),
-        albedo: format!("textures/{n}-bark.png"),
-        normal: format!("textures/{n}-bark-normal.png"),
-        specular: format!("textures/{n}-bark-specular.png"),
-        leaves: false,
-        specular_factor: 0.5,
-        roughness: 0.9,
-    };
+    let bark_mat = MaterialTextures::bark(&n);
     let leaf_mat = MaterialTextures {
         name: format!("{n}-card"),
         albedo: format!("textures/{n}-card.png"),

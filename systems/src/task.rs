@@ -290,6 +290,19 @@ pub struct TaskReport {
 }
 
 impl TaskReport {
+    /// The result as one line, as `grove replay` and the desktop window print it.
+    pub fn result_line(&self) -> String {
+        format!(
+            "task {} ({}): {}, {:.2} s, {} trees, {} errors",
+            self.id,
+            self.mode,
+            if self.completed { "completed" } else { "not completed" },
+            self.time_s,
+            self.trees.len(),
+            self.errors
+        )
+    }
+
     /// Builds the report from a task state, the step and the tick the replay reached.
     pub fn new(task: &TaskState, dt: f32, now_tick: u64, catalogue: &Catalogue) -> TaskReport {
         let secs = |ticks: u64| ticks_to_seconds(ticks, dt);
