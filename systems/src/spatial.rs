@@ -55,6 +55,12 @@ pub struct SpatialIndex {
     /// Per tree (same order as `trees`), its pick shape, if its model has one.
     picks: Vec<Option<TreePick>>,
     tree_bvh: Bvh,
+    /// A BVH for ray casts with tighter leaves: a tree with a pick shape has one leaf per run of
+    /// bands of similar width (so a ray under a crown only enters the trunk's thin leaf), a tree
+    /// without one has its box.
+    ray_bvh: Bvh,
+    /// Per leaf of `ray_bvh`, the index of its tree in `trees`.
+    ray_leaf_tree: Vec<u32>,
     planes_dirty: bool,
     trees_dirty: bool,
     built_once: bool,
@@ -150,6 +156,21 @@ impl SpatialIndex {
             self.trees = found.into_iter().map(|(b, _)| b).collect();
             let leaves: Vec<Aabb> = self.trees.iter().map(box_aabb).collect();
             self.tree_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves);
+            let mut ray_leaves = Vec::with_capacity(leaves.len());
+            self.ray_leaf_tree.clear();
+            for (i, (pick, aabb)) in self.picks.iter().zip(&leaves).enumerate() {
+                match pick {
+                    Some(p) => p.band_aabbs(|a| {
+                        ray_leaves.push(a);
+                        self.ray_leaf_tree.push(i as u32);
+                    }),
+                    None => {
+                        ray_leaves.push(*aabb);
+                        self.ray_leaf_tree.push(i as u32);
+                    }
+                }
+            }
+            self.ray_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &ray_leaves);
             self.trees_dirty = false;
         }
         if !self.built_once || rebuilt {
@@ -166,6 +187,43 @@ impl SpatialIndex {
     /// Number of trees in the index.
     pub fn tree_count(&self) -> usize {
         self.trees.len()
+    }
+
+    /// The nearest tree hit along a ray found by testing every tree in turn (no BVH): the
+    /// reference that [`SpatialIndex::cast_trees`] must agree with. Among trees hit at the same
+    /// distance it returns the first in index order.
+    pub fn cast_trees_plain(&self, origin: Vec3, dir: Vec3, max_dist: f32, exclude: Option<Entity>) -> Option<RayHit> {
+        let mut best: Option<(usize, f32)> = None;
+        for (i, b) in self.trees.iter().enumerate() {
+            if Some(b.entity) == exclude {
+                continue;
+            }
+            let inside = match &self.picks[i] {
+                Some(p) => p.contains(origin),
+                None => box_contains(b, origin),
+            };
+            let t = if inside {
+                Some(0.0)
+            } else {
+                match &self.picks[i] {
+                    Some(p) => p.ray(origin, dir, max_dist),
+                    None => box_ray(b, origin, dir, max_dist),
+                }
+            };
+            if let Some(t) = t.filter(|t| inside || *t < max_dist) {
+                if best.is_none_or(|(_, d)| t < d) {
+                    best = Some((i, t));
+                }
+            }
+        }
+        let (i, toi) = best?;
+        let b = &self.trees[i];
+        let point = origin + dir * toi;
+        let normal = match &self.picks[i] {
+            Some(p) => p.normal(point),
+            None => box_normal(b, point),
+        };
+        Some(RayHit { entity: b.entity, distance: toi, point, normal })
     }
 
     /// The nearest plane hit along a ray, if any, within `max_dist`.
@@ -231,7 +289,7 @@ impl SpatialIndex {
             let tmax = t1.max(t2).min_element();
             if tmax >= tmin { tmin } else { f32::MAX }
         };
-        let (leaf, toi) = self.tree_bvh.find_best(max_dist, node_cost, |i, best| {
+        let tree_ray = |i: u32, best: f32| {
             let b = &self.trees[i as usize];
             if Some(b.entity) == exclude {
                 return None;
@@ -240,7 +298,29 @@ impl SpatialIndex {
                 Some(p) => p.ray(origin, dir, best),
                 None => box_ray(b, origin, dir, best),
             }
+        };
+        // The search over the tighter leaves. It also notes whether a second tree is hit at
+        // exactly the nearest distance: which of tied trees is named depends on the order the
+        // search meets them, so then the search is run again over one box per tree, as before
+        // the tighter leaves, to name the same tree as ever.
+        let best_tree = std::cell::Cell::new(u32::MAX);
+        let tie_at = std::cell::Cell::new(f32::NAN);
+        let (leaf, toi) = self.ray_bvh.find_best(max_dist, node_cost, |leaf, best| {
+            let i = self.ray_leaf_tree[leaf as usize];
+            let t = tree_ray(i, best)?;
+            if t < best {
+                best_tree.set(i);
+            } else if t == best && i != best_tree.get() {
+                tie_at.set(t);
+            }
+            Some(t)
         })?;
+        let (leaf, toi) = if tie_at.get() == toi {
+            let (i, t) = self.tree_bvh.find_best(max_dist, node_cost, tree_ray)?;
+            (i, t)
+        } else {
+            (self.ray_leaf_tree[leaf as usize], toi)
+        };
         let b = &self.trees[leaf as usize];
         let point = origin + dir * toi;
         let normal = match &self.picks[leaf as usize] {
@@ -289,6 +369,9 @@ pub struct TreePick {
     shape: PickShape,
     base: Vec3,
     yaw: f32,
+    /// The rotation from world to model axes (about +Y by minus the yaw), kept so that each
+    /// ray test does not rebuild it.
+    inv_rot: Quat,
     scale: f32,
     /// Per band, the sway pad in model units.
     pads: [f32; PICK_BANDS],
@@ -299,12 +382,52 @@ impl TreePick {
     /// each band, world metres.
     pub fn new(shape: PickShape, t: &Transform, scale: f32, pads: [f32; PICK_BANDS]) -> TreePick {
         let scale = if scale.is_finite() && scale > 1e-6 { scale } else { 1e-6 };
-        TreePick { shape, base: t.translation, yaw: t.yaw, scale, pads: pads.map(|p| p / scale) }
+        TreePick { shape, base: t.translation, yaw: t.yaw, inv_rot: Quat::from_rotation_y(-t.yaw), scale, pads: pads.map(|p| p / scale) }
     }
 
     /// A world point in model space.
     fn local(&self, p: Vec3) -> Vec3 {
-        Quat::from_rotation_y(-self.yaw) * (p - self.base) / self.scale
+        self.inv_rot * (p - self.base) / self.scale
+    }
+
+    /// Calls `leaf` with world-space boxes that together bound the shape: one per run of
+    /// non-empty bands of similar width (each band's radius, pad included, within a factor of
+    /// two of the run's narrowest), grown by a small margin so that rounding never lets the
+    /// shape poke out of them.
+    pub fn band_aabbs(&self, mut leaf: impl FnMut(Aabb)) {
+        let s = &self.shape;
+        let h = s.band_height();
+        let mut emit = |first: usize, last: usize, r: f32| {
+            let y0 = s.bottom + h * first as f32;
+            let y1 = s.bottom + h * (last + 1) as f32;
+            let (r, y0, y1) = (r * self.scale, y0 * self.scale, y1 * self.scale);
+            let margin = 1e-3 + 1e-4 * (r + y0.abs().max(y1.abs()) + self.base.abs().max_element());
+            let mins = self.base + Vec3::new(-r, y0, -r) - Vec3::splat(margin);
+            let maxs = self.base + Vec3::new(r, y1, r) + Vec3::splat(margin);
+            leaf(Aabb::new(mins, maxs));
+        };
+        // The current run: first band, last band, narrowest and widest radius.
+        let mut run: Option<(usize, usize, f32, f32)> = None;
+        for i in 0..PICK_BANDS {
+            let r = s.radii[i] + self.pads[i];
+            if s.radii[i] <= 0.0 {
+                if let Some((a, b, _, w)) = run.take() {
+                    emit(a, b, w);
+                }
+                continue;
+            }
+            run = match run {
+                Some((a, _, n, w)) if r <= 2.0 * n && r >= 0.5 * w => Some((a, i, n.min(r), w.max(r))),
+                Some((a, b, _, w)) => {
+                    emit(a, b, w);
+                    Some((i, i, r, r))
+                }
+                None => Some((i, i, r, r)),
+            };
+        }
+        if let Some((a, b, _, w)) = run {
+            emit(a, b, w);
+        }
     }
 
     /// Whether a world point is inside.
@@ -316,7 +439,7 @@ impl TreePick {
     /// shape, within `max`.
     pub fn ray(&self, origin: Vec3, dir: Vec3, max: f32) -> Option<f32> {
         // In model space with the direction scaled too, distances along the ray are unchanged.
-        let rot = Quat::from_rotation_y(-self.yaw);
+        let rot = self.inv_rot;
         let o = rot * (origin - self.base) / self.scale;
         let d = rot * dir / self.scale;
         let s = &self.shape;
