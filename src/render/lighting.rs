@@ -42,6 +42,17 @@ pub fn sun_light(elevation_deg: f64) -> SunLight {
     SunLight { direct, ambient, sky }
 }
 
+/// The eight corners of the axis-aligned box `min..max`.
+pub fn box_corners(min: Vec3, max: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 != 0 { max.x } else { min.x },
+            if i & 2 != 0 { max.y } else { min.y },
+            if i & 4 != 0 { max.z } else { min.z },
+        )
+    })
+}
+
 /// An orthographic light matrix looking along `-sun_dir` that contains the box `min..max`.
 /// Returns the matrix and the width of the box in light space (metres).
 pub fn light_matrix(sun_dir: Vec3, min: Vec3, max: Vec3) -> (Mat4, f32) {
@@ -51,12 +62,7 @@ pub fn light_matrix(sun_dir: Vec3, min: Vec3, max: Vec3) -> (Mat4, f32) {
     let up = if d.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
     let view = glam::camera::rh::view::look_to_mat4(centre + d * radius * 2.0, -d, up);
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for i in 0..8 {
-        let c = Vec3::new(
-            if i & 1 != 0 { max.x } else { min.x },
-            if i & 2 != 0 { max.y } else { min.y },
-            if i & 4 != 0 { max.z } else { min.z },
-        );
+    for c in box_corners(min, max) {
         let p = view.transform_point3(c);
         lo = lo.min(p);
         hi = hi.max(p);
@@ -181,12 +187,7 @@ mod tests {
     fn light_matrix_contains_the_box() {
         let (min, max) = (Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 10.0, 50.0));
         let (m, _) = light_matrix(Vec3::new(0.5, 0.7, -0.3).normalize(), min, max);
-        for i in 0..8 {
-            let c = Vec3::new(
-                if i & 1 != 0 { max.x } else { min.x },
-                if i & 2 != 0 { max.y } else { min.y },
-                if i & 4 != 0 { max.z } else { min.z },
-            );
+        for c in box_corners(min, max) {
             let p = m.project_point3(c);
             assert!(p.x.abs() <= 1.0001 && p.y.abs() <= 1.0001 && (0.0..=1.0).contains(&p.z), "{p:?}");
         }

@@ -134,12 +134,7 @@ mod tests {
         let rotation = Quat::from_mat3(&glam::Mat3::from_cols(right, back.cross(right), back));
         let camera = Camera { position: eye, rotation, fov_y: 0.8 };
         let m = camera_matrix(&camera, 4.0 / 3.0);
-        for i in 0..8 {
-            let c = Vec3::new(
-                if i & 1 != 0 { max.x } else { min.x },
-                if i & 2 != 0 { max.y } else { min.y },
-                if i & 4 != 0 { max.z } else { min.z },
-            );
+        for c in crate::render::lighting::box_corners(min, max) {
             let p = m.project_point3(c);
             assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0, "{p:?}");
         }
