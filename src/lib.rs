@@ -8,5 +8,6 @@
 pub mod aerial;
 pub mod assetgen;
 pub mod atomic_write;
+pub mod bank;
 pub mod render;
 pub mod lsystem;

@@ -48,6 +48,9 @@ enum Command {
     /// L-system trees: derive (CPU or GPU), write glTF models, benchmark.
     #[command(subcommand)]
     Lsystem(cli::lsystem::LsystemCommand),
+    /// The model bank: add glTF models, list and check banks (docs/model-bank.md).
+    #[command(subcommand)]
+    Models(cli::models::ModelsCommand),
     /// Treetops from summer and winter aerial photographs: segment, scene, synth, eval.
     #[command(subcommand)]
     Aerial(cli::aerial::AerialCommand),
@@ -78,6 +81,7 @@ fn main() -> ExitCode {
         Command::Render(args) => cli::render::run(args),
         Command::Lsystem(cmd) => cli::lsystem::run(cmd),
         Command::Aerial(cmd) => cli::aerial::run(cmd),
+        Command::Models(cmd) => cli::models::run(cmd),
     };
     match result {
         Ok(code) => code,

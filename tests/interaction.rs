@@ -363,7 +363,7 @@ fn manual_mode_needs_the_menu_for_every_tree() {
 
     // Choosing again without reopening the menu spawns nothing.
     let log_start = s.sim().res.log.entries.len();
-    s.push(grove_systems::input::InputEvent::ChooseModel { model: ModelId(1) }).wait(2);
+    s.push(grove_systems::input::InputEvent::ChooseModel { model: ModelId(1).into() }).wait(2);
     assert_eq!(new_trees(&s, &before).len(), 1);
     assert_eq!(kinds_since(&s, log_start), ["model_chosen"]);
 

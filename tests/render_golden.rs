@@ -238,6 +238,7 @@ fn striped_card() -> ModelData {
             rgba,
         }],
         bounds: (Vec3::new(-0.5, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0)),
+        own_wind: true,
     }
 }
 

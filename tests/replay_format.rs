@@ -36,7 +36,7 @@ fn session() -> (Header, Vec<StampedEvent>) {
     at(40, InputEvent::TouchpadAxes { axes: glam::Vec2::new(0.0, 0.8) });
     at(70, InputEvent::TouchpadAxes { axes: glam::Vec2::ZERO });
     at(90, InputEvent::OpenMenu);
-    at(120, InputEvent::ChooseModel { model: ModelId(5) });
+    at(120, InputEvent::ChooseModel { model: ModelId(5).into() });
     at(150, InputEvent::SwitchMode { mode: Mode::Manual });
     at(160, InputEvent::ButtonDown { button: Button::Menu });
     at(162, InputEvent::ButtonUp { button: Button::Menu });

@@ -8,6 +8,7 @@ pub mod bench_render;
 pub mod bench_replay;
 pub mod bench_wind;
 pub mod lsystem;
+pub mod models;
 pub mod play;
 pub mod render;
 pub mod replay;

@@ -395,7 +395,7 @@ mod tests {
         // Two right trees at their targets, and one of the first target's model far from any
         // target (an off-target error).
         for t in &def.targets[..2] {
-            let model = cat.by_name(&t.model).unwrap().id;
+            let model = cat.by_name(&t.model).unwrap().name.as_str().into();
             s.queue(InputEvent::ChooseModel { model }).unwrap();
             plant_at(&mut s, t.position);
         }

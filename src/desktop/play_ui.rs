@@ -250,7 +250,7 @@ impl PlayUi {
                             if sim.res.mode == Mode::Manual && !sim.res.menu.open {
                                 out.push(InputEvent::OpenMenu);
                             }
-                            out.push(InputEvent::ChooseModel { model: id });
+                            out.push(InputEvent::ChooseModel { model: m.name.as_str().into() });
                         }
                     }
                 });

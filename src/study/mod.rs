@@ -113,7 +113,7 @@ pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
 pub fn evaluate(path: &Path, overrides: &[Override]) -> Trial {
     let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = path.file_stem().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-    let options = ReplayOptions { until: None, overrides: overrides.to_vec() };
+    let options = ReplayOptions { until: None, overrides: overrides.to_vec(), ..Default::default() };
     match replay_file(path, &options) {
         Err(e) => Trial {
             file,

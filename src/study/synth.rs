@@ -138,7 +138,9 @@ impl Participant {
         self.press(Button::Menu);
         let n = self.ticks(self.skill.menu_time());
         self.script.wait(n);
-        self.script.push(InputEvent::ChooseModel { model }).wait(1);
+        // The study's synthetic participants name shipped models by index, as the committed
+        // recordings have it; everything else names models by name.
+        self.script.push(InputEvent::ChooseModel { model: model.into() }).wait(1);
     }
 
     fn last_planted(&self) -> Option<(u64, Vec3)> {

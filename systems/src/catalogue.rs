@@ -10,10 +10,48 @@ use serde::{Deserialize, Serialize};
 /// The catalogue that ships with grove, embedded at compile time.
 pub const DEFAULT_CATALOGUE: &str = include_str!("../../assets/trees/catalogue.ron");
 
+/// Number of models that ship with grove: ids 0 to 7 in every catalogue, before any model of a
+/// bank (`assets/trees/catalogue.ron`).
+pub const SHIPPED_MODELS: usize = 8;
+
 /// Index of a model in the catalogue (0..8 for the shipped models).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct ModelId(pub u8);
+
+/// A model as an input event or a file names it: by its stable name (what grove writes), or by
+/// the index of a shipped model (0–7, what recordings made before the model bank wrote, and what
+/// the study's synthetic recordings still carry). In JSON a name is a string and an index a
+/// number, so both forms read back unchanged.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ModelRef {
+    /// A catalogue index: one of the shipped models, which keep ids 0–7 in every catalogue.
+    Id(ModelId),
+    /// A model's name, e.g. "birch-mesh" or the name a model was added to a bank under.
+    Name(String),
+}
+
+impl From<ModelId> for ModelRef {
+    fn from(id: ModelId) -> ModelRef {
+        ModelRef::Id(id)
+    }
+}
+
+impl From<&str> for ModelRef {
+    fn from(name: &str) -> ModelRef {
+        ModelRef::Name(name.to_string())
+    }
+}
+
+impl std::fmt::Display for ModelRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ModelRef::Id(id) => write!(f, "{}", id.0),
+            ModelRef::Name(n) => write!(f, "'{n}'"),
+        }
+    }
+}
 
 /// How a model draws its foliage.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -161,6 +199,32 @@ impl Catalogue {
         self.models.iter().find(|m| m.name == name)
     }
 
+    /// The id of the model a reference names, or one line that lists the known names. An index
+    /// is accepted only for the shipped models (below [`SHIPPED_MODELS`]): added models are
+    /// named, since their index depends on which banks are loaded.
+    pub fn resolve(&self, model: &ModelRef) -> Result<ModelId, String> {
+        match model {
+            ModelRef::Id(id) if (id.0 as usize) < SHIPPED_MODELS && self.get(*id).is_some() => Ok(*id),
+            ModelRef::Id(id) => Err(format!(
+                "unknown model {}: a model index must be one of the shipped models 0 to {}; name other models (known models: {})",
+                id.0,
+                SHIPPED_MODELS.min(self.len()).saturating_sub(1),
+                self.known_names()
+            )),
+            ModelRef::Name(n) => self.by_name(n).map(|m| m.id).ok_or_else(|| self.unknown_name(n)),
+        }
+    }
+
+    /// The message for a model name that is not in the catalogue: it lists the known names.
+    pub fn unknown_name(&self, name: &str) -> String {
+        format!("unknown model '{name}'; known models: {}", self.known_names())
+    }
+
+    /// The names of all models, comma-separated, in catalogue order.
+    pub fn known_names(&self) -> String {
+        self.models.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ")
+    }
+
     /// Number of models.
     pub fn len(&self) -> usize {
         self.models.len()
@@ -185,6 +249,20 @@ mod tests {
         for m in &cat.models {
             assert!(m.height() > 0.3, "{} is too small", m.name);
         }
+    }
+
+    #[test]
+    fn references_resolve_by_name_or_shipped_index_and_unknown_names_list_the_known_ones() {
+        let cat = Catalogue::builtin();
+        assert_eq!(cat.resolve(&ModelRef::Name("birch-mesh".into())), Ok(ModelId(2)));
+        assert_eq!(cat.resolve(&ModelRef::Id(ModelId(7))), Ok(ModelId(7)));
+        let e = cat.resolve(&ModelRef::Name("flower".into())).unwrap_err();
+        assert!(e.contains("unknown model 'flower'") && e.contains("broadleaf-mesh") && e.contains("shrub-billboard"), "{e}");
+        assert!(cat.resolve(&ModelRef::Id(ModelId(8))).is_err());
+        // JSON: a number is an index, a string a name.
+        assert_eq!(serde_json::from_str::<ModelRef>("3").unwrap(), ModelRef::Id(ModelId(3)));
+        assert_eq!(serde_json::from_str::<ModelRef>("\"oak\"").unwrap(), ModelRef::Name("oak".into()));
+        assert_eq!(serde_json::to_string(&ModelRef::Name("oak".into())).unwrap(), "\"oak\"");
     }
 
     #[test]

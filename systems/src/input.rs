@@ -7,7 +7,7 @@
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
-use crate::catalogue::ModelId;
+use crate::catalogue::ModelRef;
 use crate::components::Pose;
 use crate::mode::Mode;
 
@@ -60,8 +60,8 @@ pub enum InputEvent {
     CloseMenu,
     /// The user chose a model (from the menu in manual mode, or as the current model to plant).
     ChooseModel {
-        /// The chosen model.
-        model: ModelId,
+        /// The chosen model, by name (or, in older recordings, by the index of a shipped model).
+        model: ModelRef,
     },
     /// The user switched the interaction mode.
     SwitchMode {

@@ -30,7 +30,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::catalogue::ModelId;
+use crate::catalogue::ModelRef;
 use crate::components::{Controller, Head, Pose};
 use crate::input::{Button, InputEvent, StampedEvent};
 use crate::mode::Mode;
@@ -137,7 +137,11 @@ impl Script {
     /// Chooses a model. In manual mode the menu is opened first (one tick), as a participant
     /// has to for every new tree; the tree then appears in front of the head in the tick of the
     /// choice. In ray-casting mode it only sets the model that Trigger plants.
-    pub fn choose_model(&mut self, model: ModelId) -> &mut Self {
+    /// Pass a name (`"birch-mesh"`, or a model added to a bank) for a stable reference; a
+    /// shipped model's [`crate::catalogue::ModelId`] is written as its index, as the study's
+    /// recordings have it.
+    pub fn choose_model(&mut self, model: impl Into<ModelRef>) -> &mut Self {
+        let model = model.into();
         if self.sim.res.mode == Mode::Manual && !self.sim.res.menu.open {
             self.push(InputEvent::OpenMenu).wait(1);
         }

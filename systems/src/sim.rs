@@ -79,7 +79,7 @@ impl Sim {
                 .catalogue
                 .by_name(&t.model)
                 .map(|m| m.id)
-                .ok_or_else(|| format!("tree {i}: unknown model '{}'", t.model))?;
+                .ok_or_else(|| format!("tree {i}: {}", sim.res.catalogue.unknown_name(&t.model)))?;
             sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
         }
         for (k, sc) in scene.scatter.iter().enumerate() {
@@ -88,7 +88,7 @@ impl Sim {
                 if sim.res.spatial.ground_below(t.position, 1.0e3).is_none() {
                     continue;
                 }
-                let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| format!("scatter {k}: unknown model '{}'", t.model))?;
+                let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| format!("scatter {k}: {}", sim.res.catalogue.unknown_name(&t.model)))?;
                 sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
             }
         }

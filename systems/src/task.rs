@@ -64,7 +64,7 @@ impl TaskDef {
                 return Err(format!("target {i} has a NaN or infinite position"));
             }
             if catalogue.by_name(&t.model).is_none() {
-                return Err(format!("target {i} names unknown model '{}'", t.model));
+                return Err(format!("target {i}: {}", catalogue.unknown_name(&t.model)));
             }
         }
         Ok(def)

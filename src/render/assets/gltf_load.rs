@@ -106,6 +106,8 @@ pub struct ModelData {
     pub images: Vec<ImageData>,
     /// Axis-aligned bounds (min, max) of all drawn vertices.
     pub bounds: (Vec3, Vec3),
+    /// Whether every vertex carried its own `_WIND` channels (otherwise grove computed them).
+    pub own_wind: bool,
 }
 
 impl ModelData {
@@ -195,15 +197,12 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     if !(bounds.0.is_finite() && bounds.1.is_finite()) {
         return Err(err("has non-finite vertex positions".into()));
     }
-    // Models without wind channels get the height above their lowest point in x.
-    for p in &mut primitives {
-        for v in &mut p.vertices {
-            if v.wind[3] < 0.0 {
-                v.wind = [v.position[1] - bounds.0.y, Vec2::new(v.position[0], v.position[2]).length(), 0.0, 0.0];
-            }
-        }
+    let own_wind = primitives.iter().all(|p| p.vertices.iter().all(|v| v.wind[3] >= 0.0));
+    if !own_wind {
+        let clipped: Vec<bool> = primitives.iter().map(|p| materials.get(p.material).is_some_and(|m| m.alpha_cutoff.is_some())).collect();
+        super::wind_channels::compute_with(&mut primitives, bounds.0.y, &clipped);
     }
-    Ok(ModelData { path: path.to_path_buf(), primitives, materials, images, bounds })
+    Ok(ModelData { path: path.to_path_buf(), primitives, materials, images, bounds, own_wind })
 }
 
 fn one_line(s: &str) -> String {

@@ -3,4 +3,5 @@
 //! environment cubemap and its irradiance).
 
 pub mod gltf_load;
+pub mod wind_channels;
 pub mod textures;

@@ -31,6 +31,7 @@ pub use codec::{chained_sum, decode_line, decode_line_chained, encode_line, enco
 pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
 pub use upgrade::{upgrade, UpgradeSummary};
 
+use crate::bank::{Banks, HeaderModel};
 use crate::hash::{hex, WorldHash};
 use crate::input::{InputEvent, StampedEvent};
 use crate::resources::{Config, Override};
@@ -82,6 +83,12 @@ pub struct Header {
     /// Optional: the 1-based block this recording belongs to in the participant's session.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub block: Option<u32>,
+    /// Optional: the models of model banks the session's catalogue held beyond the shipped ones,
+    /// in id order (ids 8, 9, …), with their content hashes. A replay finds them by name in the
+    /// banks it is given and refuses when one is missing or its files changed. Absent when the
+    /// session used only the shipped models.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub models: Vec<HeaderModel>,
 }
 
 impl Header {
@@ -100,6 +107,7 @@ impl Header {
             config: BTreeMap::new(),
             session_start: None,
             block: None,
+            models: Vec::new(),
         }
     }
 }
@@ -252,12 +260,19 @@ impl<W: Write> Recorder<W> {
 /// `base_dir` or the working directory, see [`scene_ref::resolve_scene`]), seed, and config
 /// overrides.
 pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Override]) -> Result<Sim, String> {
-    let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
+    sim_for_header_in(header, base_dir, overrides, &Banks::default())
+}
+
+/// Like [`sim_for_header`], with the model banks in which the header's models
+/// ([`Header::models`]) are looked up; a missing or changed model is an error naming it.
+pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[Override], banks: &Banks) -> Result<Sim, String> {
     names::check_header(header)?;
+    let catalogue = banks.catalogue_for(&header.models)?;
+    let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
     if (scene.dt - header.dt).abs() > 1e-9 {
         return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
     }
-    let mut sim = Sim::from_scene(&scene, header.seed)?;
+    let mut sim = Sim::from_scene_with(&scene, header.seed, catalogue)?;
     let mut config = Config::default();
     for (k, v) in &header.config {
         config.set(k, v)?;
@@ -271,7 +286,12 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Ove
 /// (header, events, checkpoints, footer). Tests and synthetic participants use this, so every
 /// checkpoint in their files comes from the simulation itself.
 pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value) -> Result<W, String> {
-    let mut sim = sim_for_header(header, None, &[])?;
+    record_events_in(out, header, events, end_tick, summary, &Banks::default())
+}
+
+/// Like [`record_events`], for a header that lists models of these banks.
+pub fn record_events_in<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value, banks: &Banks) -> Result<W, String> {
+    let mut sim = sim_for_header_in(header, None, &[], banks)?;
     let mut rec = Recorder::new(out, header).map_err(|e| e.to_string())?;
     let mut i = 0;
     let end = end_tick.max(events.last().map_or(0, |e| e.tick + 1));

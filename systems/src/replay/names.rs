@@ -24,6 +24,11 @@ pub fn check_header(header: &Header) -> Result<(), String> {
     if header.block == Some(0) {
         return Err("header block must be 1 or more".into());
     }
+    for m in &header.models {
+        if !crate::bank::valid_name(&m.name) || m.hash.len() != 16 || !m.hash.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return Err(format!("header models: '{}' needs a plain name and a 16-hex-digit hash", m.name.escape_debug()));
+        }
+    }
     Ok(())
 }
 
@@ -31,9 +36,7 @@ pub fn check_header(header: &Header) -> Result<(), String> {
 /// and a started task must be a known task.
 pub fn check_event(event: &InputEvent, sim: &Sim) -> Result<(), String> {
     match event {
-        InputEvent::ChooseModel { model } if sim.res.catalogue.get(*model).is_none() => {
-            Err(format!("choose_model names unknown model {}; the catalogue has models 0 to {}", model.0, sim.res.catalogue.len().saturating_sub(1)))
-        }
+        InputEvent::ChooseModel { model } => sim.res.catalogue.resolve(model).map(|_| ()).map_err(|e| format!("choose_model names an {e}")),
         InputEvent::StartTask { task } if crate::task::TaskDef::builtin(task).is_none() => Err(format!("start_task names unknown task '{task}'")),
         _ => Ok(()),
     }

@@ -8,7 +8,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::lines::{LineError, Lines};
-use super::{sim_for_header, CheckpointLine, Header, Line};
+use super::{sim_for_header_in, CheckpointLine, Header, Line};
 use crate::hash::{hex, WorldHash, COMPONENTS};
 use crate::input::{InputEvent, StampedEvent};
 use crate::resources::Override;
@@ -75,6 +75,8 @@ pub struct ReplayOptions {
     pub until: Option<u64>,
     /// Config overrides (what-if): checkpoints are then not compared.
     pub overrides: Vec<Override>,
+    /// The model-bank folders in which the header's models are looked up.
+    pub banks: Vec<std::path::PathBuf>,
 }
 
 /// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
@@ -124,7 +126,8 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let mut lines = Lines::open(reader).map_err(err)?;
     let header = lines.header.clone();
     let verifying = options.overrides.is_empty();
-    let mut sim = sim_for_header(&header, base_dir, &options.overrides).map_err(|m| err((Some(1), m)))?;
+    let banks = crate::bank::Banks::open(&options.banks).map_err(|m| err((None, m)))?;
+    let mut sim = sim_for_header_in(&header, base_dir, &options.overrides, &banks).map_err(|m| err((Some(1), m)))?;
     let mut outcome_events: BTreeMap<String, u64> = BTreeMap::new();
     let mut checkpoints_checked = 0;
     let mut first_divergence = None;

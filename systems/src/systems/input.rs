@@ -65,15 +65,15 @@ pub fn run(world: &mut World, res: &mut Resources) {
             InputEvent::OpenMenu => open_menu(res, tick),
             InputEvent::CloseMenu => res.menu.open = false,
             InputEvent::ChooseModel { model } => {
-                if res.catalogue.get(*model).is_none() {
+                let Ok(model) = res.catalogue.resolve(model) else {
                     continue;
-                }
-                res.menu.current_model = *model;
-                res.log.push(tick, Happening::ModelChosen { model: *model });
+                };
+                res.menu.current_model = model;
+                res.log.push(tick, Happening::ModelChosen { model });
                 // In manual mode a tree appears only when chosen from an open menu, and the
                 // menu closes, so it must be reopened for every new tree.
                 if res.mode == Mode::Manual && res.menu.open {
-                    res.interaction.pending_spawn = Some(*model);
+                    res.interaction.pending_spawn = Some(model);
                 }
                 res.menu.open = false;
             }

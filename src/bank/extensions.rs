@@ -1,0 +1,74 @@
+//! The glTF extensions grove cannot read, found before the `gltf` crate sees the file, so that
+//! the error names the extension and a conversion that works instead of "not a valid glTF".
+
+use std::path::Path;
+
+/// Compressed-geometry extensions grove does not decode, each with the command that writes an
+/// uncompressed copy grove reads (glTF-Transform's CLI; its author documents `cp` as the way to
+/// decompress, donmccurdy/glTF-Transform#150).
+pub const REFUSED: &[(&str, &str)] = &[
+    ("KHR_draco_mesh_compression", "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes Draco when it reads a file and writes plain buffers)"),
+    ("EXT_meshopt_compression", "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes meshopt when it reads a file and writes plain buffers)"),
+];
+
+/// The JSON chunk of a `.glb` file, or the whole text of a `.gltf` file.
+pub fn json_of(bytes: &[u8]) -> Option<&[u8]> {
+    if bytes.len() >= 20 && &bytes[0..4] == b"glTF" {
+        let len = u32::from_le_bytes(bytes[12..16].try_into().ok()?) as usize;
+        if &bytes[16..20] != b"JSON" {
+            return None;
+        }
+        bytes.get(20..20usize.checked_add(len)?)
+    } else {
+        Some(bytes)
+    }
+}
+
+/// The names in the file's `extensionsRequired` and `extensionsUsed`, as far as its JSON can be
+/// read (an unreadable file gives none; the glTF loader then names the fault).
+pub fn extensions_of(bytes: &[u8]) -> (Vec<String>, Vec<String>) {
+    let Some(json) = json_of(bytes) else { return (Vec::new(), Vec::new()) };
+    let Ok(v) = serde_json::from_slice::<serde_json::Value>(json) else { return (Vec::new(), Vec::new()) };
+    let list = |key: &str| -> Vec<String> { v.get(key).and_then(|x| x.as_array()).map(|a| a.iter().filter_map(|s| s.as_str().map(String::from)).collect()).unwrap_or_default() };
+    (list("extensionsRequired"), list("extensionsUsed"))
+}
+
+/// Refuses a file that uses an extension grove cannot decode: one line naming the extension and
+/// the conversion. Files that do not parse pass, for the loader to report.
+pub fn check_file(path: &Path) -> Result<(), String> {
+    let Ok(bytes) = std::fs::read(path) else { return Ok(()) };
+    let (required, used) = extensions_of(&bytes);
+    for (ext, fix) in REFUSED {
+        if required.iter().chain(&used).any(|e| e == ext) {
+            return Err(format!("{}: uses {ext}, which grove does not decode; convert it first with {}", path.display(), fix.replace("IN", &path.display().to_string())));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_glb_json_chunk_is_found_and_compressed_files_are_refused_with_the_extension_named() {
+        let json = br#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]}"#;
+        let mut glb = b"glTF".to_vec();
+        glb.extend(2u32.to_le_bytes());
+        glb.extend(((20 + json.len()) as u32).to_le_bytes());
+        glb.extend((json.len() as u32).to_le_bytes());
+        glb.extend(b"JSON");
+        glb.extend(json);
+        let (req, _) = extensions_of(&glb);
+        assert_eq!(req, vec!["KHR_draco_mesh_compression".to_string()]);
+        let dir = std::env::temp_dir().join(format!("grove-ext-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("draco.glb");
+        std::fs::write(&f, &glb).unwrap();
+        let e = check_file(&f).unwrap_err();
+        assert!(e.contains("KHR_draco_mesh_compression") && e.contains("gltf-transform") && !e.contains('\n'), "{e}");
+        std::fs::write(&f, br#"{"asset":{"version":"2.0"}}"#).unwrap();
+        assert!(check_file(&f).is_ok());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,60 @@
+//! Model banks on disk: adding a glTF model to a bank, listing and checking banks, and loading
+//! a session's bank models for the renderer (docs/model-bank.md).
+//!
+//! The catalogue format and the content hash are plain data in `grove_systems::bank`; this module
+//! adds what needs the glTF loader: measuring a model's mesh ([`measure`]), the extensions grove
+//! refuses ([`extensions`]), thumbnails ([`thumbnail`]) and `grove models add` ([`import`]).
+
+pub mod extensions;
+pub mod import;
+pub mod measure;
+pub mod thumbnail;
+
+use std::path::{Path, PathBuf};
+
+use grove_systems::bank::{bank_dirs, Banks, BANK_ENV};
+use grove_systems::catalogue::ModelId;
+
+pub use measure::{measure, Measured};
+
+/// The bank folders of a session: the `--bank` folders in order, then those of `GROVE_BANK`.
+pub fn session_dirs(args: &[PathBuf]) -> Vec<PathBuf> {
+    let env = std::env::var(BANK_ENV).ok();
+    bank_dirs(args, env.as_deref())
+}
+
+/// Opens the banks of a session (see [`session_dirs`]).
+pub fn open_session(args: &[PathBuf]) -> Result<Banks, String> {
+    Banks::open(&session_dirs(args))
+}
+
+/// The glTF file of every bank model of a session catalogue, with its model id (ids from 8 on,
+/// in the order of [`Banks::session_catalogue`]), for the renderer to load.
+pub fn model_files(banks: &Banks) -> Result<Vec<(ModelId, PathBuf)>, String> {
+    let base = grove_systems::catalogue::SHIPPED_MODELS;
+    Ok(banks.models()?.into_iter().enumerate().map(|(i, (b, m))| (ModelId((base + i) as u8), b.file_of(m))).collect())
+}
+
+/// The glTF files of the models a catalogue holds beyond the shipped ones, looked up by name in
+/// the banks (for a replay, whose catalogue comes from its header).
+pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue) -> Vec<(ModelId, PathBuf)> {
+    catalogue
+        .models
+        .iter()
+        .skip(grove_systems::catalogue::SHIPPED_MODELS)
+        .filter_map(|m| banks.find(&m.name).map(|(b, bm)| (m.id, b.file_of(bm))))
+        .collect()
+}
+
+/// The folder of the shipped models (`assets/trees` of the source tree).
+pub fn shipped_dir() -> PathBuf {
+    crate::render::default_assets_dir().join("trees")
+}
+
+/// Whether `path` lies inside `dir` once both are made absolute (no symbolic links followed).
+pub fn lies_inside(path: &Path, dir: &Path) -> bool {
+    match (std::path::absolute(path), std::path::absolute(dir)) {
+        (Ok(p), Ok(d)) => p.starts_with(d),
+        _ => false,
+    }
+}
