@@ -46,6 +46,17 @@ pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue)
         .collect()
 }
 
+/// Loads bank models into a renderer (see [`model_files`], [`files_for`]); the error names the
+/// file.
+pub fn load_into(renderer: &mut crate::render::Renderer, files: &[(ModelId, PathBuf)]) -> Result<(), String> {
+    for (id, path) in files {
+        extensions::check_file(path)?;
+        let data = crate::render::assets::gltf_load::load_model(path)?;
+        renderer.set_model(*id, &data);
+    }
+    Ok(())
+}
+
 /// The folder of the shipped models (`assets/trees` of the source tree).
 pub fn shipped_dir() -> PathBuf {
     crate::render::default_assets_dir().join("trees")

@@ -46,6 +46,10 @@ pub struct PlayArgs {
     /// JSON (frames after the first 3 s; for measuring the window, e.g. under Xvfb).
     #[arg(long, value_name = "SECONDS", value_parser = parse_measure)]
     pub measure: Option<f64>,
+    /// A model-bank folder (repeatable): its models join the menu after the shipped ones, and
+    /// the scene may name them. GROVE_BANK's folders come after these.
+    #[arg(long = "bank", value_name = "DIR")]
+    pub banks: Vec<PathBuf>,
 }
 
 fn parse_measure(s: &str) -> Result<f64, String> {
@@ -75,13 +79,17 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let seed = args.seed.unwrap_or(scene.seed);
-    let sim = Sim::from_scene(&scene, seed).map_err(|e| anyhow!("{scene_name}: {e}"))?;
+    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    let (catalogue, listed) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
+    crate::desktop::gpu::set_session_models(catalogue.clone(), grove::bank::model_files(&banks).map_err(|e| anyhow!(e))?);
+    let sim = Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{scene_name}: {e}"))?;
     let recorder = match &args.record {
         Some(path) => {
             let mut header = Header::new(&scene_name, seed, scene.dt);
             header.task = args.task.clone();
             header.participant = args.participant.clone();
             header.synthetic = false;
+            header.models = listed.clone();
             // The wall-clock start of the recording, so that reports order a participant's sessions.
             header.session_start = std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)

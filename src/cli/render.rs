@@ -57,6 +57,10 @@ pub struct RenderArgs {
     /// Overwrite an existing output file.
     #[arg(long)]
     pub force: bool,
+    /// A model-bank folder (repeatable) whose models the scene or recording names; GROVE_BANK's
+    /// folders come after these.
+    #[arg(long = "bank", value_name = "DIR")]
+    pub banks: Vec<PathBuf>,
 }
 
 /// Renders one world with an existing renderer and saves it (through a temporary file and a
@@ -71,10 +75,12 @@ fn options(args: &RenderArgs) -> RenderOptions {
     RenderOptions { shadows: !args.no_shadows, ..Default::default() }
 }
 
-/// A renderer for the arguments' size and options.
-fn renderer(gpu: &Gpu, args: &RenderArgs) -> anyhow::Result<Renderer> {
+/// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds.
+fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim) -> anyhow::Result<Renderer> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
     renderer.options = options(args);
+    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res.catalogue)).map_err(|e| anyhow!(e))?;
     Ok(renderer)
 }
 
@@ -116,20 +122,22 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     if let (Some(replay), Some(tick)) = (&args.replay, args.tick) {
         check_out_file(&args.out, args.force)?;
-        let options = grove_systems::replay::ReplayOptions { until: Some(tick), ..Default::default() };
+        let options = grove_systems::replay::ReplayOptions { until: Some(tick), banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
         let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
         if outcome.sim.res.tick < tick {
             bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res.tick);
         }
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let mut renderer = renderer(&gpu, &args)?;
+        let mut renderer = renderer(&gpu, &args, &outcome.sim)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, &args.out)?;
         println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
     let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
     let scene = super::load_scene(scene_path)?;
-    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
+    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
+    let mut sim = Sim::from_scene_with(&scene, scene.seed, catalogue).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     if let Some(rate) = args.time_rate {
         if !rate.is_finite() {
             bail!("--time-rate must be a finite number");
@@ -142,7 +150,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         None => {
             check_out_file(&args.out, args.force)?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = renderer(&gpu, &args)?;
+            let mut renderer = renderer(&gpu, &args, &sim)?;
             render_sim(&gpu, &mut renderer, &sim, &args.out)?;
             println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
         }
@@ -163,7 +171,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             }
             let ticks_per_frame = ((1.0 / args.fps) / scene.dt as f64).round().max(1.0) as u64;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = renderer(&gpu, &args)?;
+            let mut renderer = renderer(&gpu, &args, &sim)?;
             for f in 0..n {
                 if f > 0 {
                     sim.run(ticks_per_frame);

@@ -34,6 +34,10 @@ pub struct ReplayArgs {
     /// The file --seal or --upgrade writes (never overwritten, except by --upgrade --force).
     #[arg(long, value_name = "OUT")]
     pub out: Option<PathBuf>,
+    /// A model-bank folder (repeatable) in which the models the header lists are found;
+    /// GROVE_BANK's folders are searched after these.
+    #[arg(long = "bank", value_name = "DIR")]
+    pub banks: Vec<PathBuf>,
     /// Let --upgrade overwrite an existing --out file.
     #[arg(long, requires = "upgrade")]
     pub force: bool,
@@ -122,7 +126,7 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
         anyhow::bail!("--out is only for --seal or --upgrade");
     }
     let start = Instant::now();
-    let options = ReplayOptions { until: args.until, ..Default::default() };
+    let options = ReplayOptions { until: args.until, banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
     let outcome = match replay_file(&args.file, &options) {
         Ok(o) => o,
         Err(e) => {

@@ -29,6 +29,10 @@ pub struct SimArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    /// A model-bank folder (repeatable) whose models the scene may name; GROVE_BANK's folders
+    /// come after these.
+    #[arg(long = "bank", value_name = "DIR")]
+    pub banks: Vec<PathBuf>,
 }
 
 #[derive(Serialize)]
@@ -50,7 +54,9 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
         return Err(anyhow!("--trees {} is more than 5,000,000", args.trees));
     }
     let seed = args.seed.unwrap_or(scene.seed);
-    let mut sim = Sim::from_scene(&scene, seed).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
+    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
+    let mut sim = Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
     sim.scatter_trees(args.trees);
     let start = Instant::now();
     sim.run(args.ticks);

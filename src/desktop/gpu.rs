@@ -1,8 +1,11 @@
 //! The wgpu renderer ([`grove::render::Renderer`]) as the desktop's 3D view, and the tree
 //! thumbnails it draws offscreen for the tree-selection window.
 
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
 use grove::render::Renderer;
-use grove_systems::catalogue::Catalogue;
+use grove_systems::catalogue::{Catalogue, ModelId};
 use grove_systems::stage::model_stage;
 use grove_systems::Sim;
 
@@ -27,16 +30,36 @@ impl WorldRenderer for Renderer {
     }
 }
 
-/// Makes the window's world renderer (a [`super::window::RendererFactory`]).
-pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, String> {
-    Ok(Box::new(Renderer::new(device, queue, format, width, height)?))
+/// The session's catalogue and the glTF files of its bank models, set once by `grove play`
+/// before the window opens (the factories below are plain functions, so they read it here).
+static SESSION_MODELS: OnceLock<(Catalogue, Vec<(ModelId, PathBuf)>)> = OnceLock::new();
+
+/// Sets the session's catalogue and bank model files for the renderer and the thumbnails; only
+/// the first call has an effect.
+pub fn set_session_models(catalogue: Catalogue, files: Vec<(ModelId, PathBuf)>) {
+    let _ = SESSION_MODELS.set((catalogue, files));
 }
 
-/// Renders one thumbnail per built-in model, in model order, each on a small ground plane
-/// framed from its bounds (a [`super::window::ThumbnailFactory`]).
+/// A renderer with the shipped models and the session's bank models.
+fn session_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, String> {
+    let mut r = Renderer::new(device, queue, format, width, height)?;
+    if let Some((_, files)) = SESSION_MODELS.get() {
+        grove::bank::load_into(&mut r, files)?;
+    }
+    Ok(r)
+}
+
+/// Makes the window's world renderer (a [`super::window::RendererFactory`]).
+pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, String> {
+    Ok(Box::new(session_renderer(device, queue, format, width, height)?))
+}
+
+/// Renders one thumbnail per model of the session's catalogue (the shipped models, then the
+/// banks'), in model order, each on a small ground plane framed from its bounds (a
+/// [`super::window::ThumbnailFactory`]).
 pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, String> {
-    let catalogue = Catalogue::builtin();
-    let mut renderer = Renderer::new(device, queue, THUMB_FORMAT, THUMB_SIZE, THUMB_SIZE)?;
+    let catalogue = SESSION_MODELS.get().map_or_else(Catalogue::builtin, |(c, _)| c.clone());
+    let mut renderer = session_renderer(device, queue, THUMB_FORMAT, THUMB_SIZE, THUMB_SIZE)?;
     let mut views = Vec::new();
     for m in &catalogue.models {
         let sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false, m.id)?;

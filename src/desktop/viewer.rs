@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use egui::{Color32, RichText, Ui};
 use grove_systems::input::StampedEvent;
-use grove_systems::replay::{read_events, replay_file, sim_for_header, Header, ReplayOptions};
+use grove_systems::replay::{read_events, replay_file, sim_for_header_in, Header, ReplayOptions};
 use grove_systems::Sim;
 
 use super::play_ui::task_panel;
@@ -72,7 +72,7 @@ impl Viewer {
     /// Opens a recording: verifies it headless, then starts the view at tick 0. Unreadable or
     /// malformed files give a one-line error.
     pub fn open(path: &Path) -> Result<Viewer, String> {
-        let outcome = replay_file(path, &ReplayOptions::default()).map_err(|e| e.to_string())?;
+        let outcome = replay_file(path, &ReplayOptions { banks: grove::bank::session_dirs(&[]), ..Default::default() }).map_err(|e| e.to_string())?;
         let (header, events) = read_events(path).map_err(|e| e.to_string())?;
         let end_tick = outcome.sim.res.tick;
         let markers = outcome
@@ -96,7 +96,7 @@ impl Viewer {
         if outcome.first_divergence.is_none() && outcome.checkpoints_checked == 0 {
             banner.push("NOT VERIFIED: no checkpoint was reached".to_string());
         }
-        let sim = sim_for_header(&header, path.parent(), &[]).map_err(|e| format!("{}: {e}", path.display()))?;
+        let sim = sim_for_header_in(&header, path.parent(), &[], &grove::bank::open_session(&[])?).map_err(|e| format!("{}: {e}", path.display()))?;
         let dt = header.dt as f64;
         Ok(Viewer {
             path: path.to_path_buf(),
@@ -140,7 +140,7 @@ impl Viewer {
     pub fn seek(&mut self, tick: u64) {
         let tick = tick.min(self.end_tick);
         if tick < self.sim.res.tick {
-            if let Ok(sim) = sim_for_header(&self.header, self.path.parent(), &[]) {
+            if let Ok(sim) = grove::bank::open_session(&[]).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks)) {
                 self.sim = sim;
                 self.next_event = 0;
             }

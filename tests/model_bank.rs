@@ -1,0 +1,202 @@
+//! The model bank with a model the project did not make (`tests/fixtures/thirdparty/`, the
+//! ez-tree flower, MIT): `grove models add` into a temporary bank, its bounds and lowest point
+//! against the mesh as this test reads it with the `gltf` crate, planted and snapped in a script,
+//! recorded, replayed to the same hash, and refused by name once its file changes.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{assert_one_line_error, grove};
+use glam::{Mat4, Vec2, Vec3};
+use grove_systems::bank::{Bank, Banks};
+use grove_systems::catalogue::PICK_BANDS;
+use grove_systems::input::Button;
+use grove_systems::interact;
+use grove_systems::replay::{record_events_in, replay_file, Header, ReplayOptions};
+use grove_systems::scene::Scene;
+use grove_systems::script::Script;
+use grove_systems::Sim;
+
+const FLOWER: &str = "tests/fixtures/thirdparty/flower_white.glb";
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("grove-bank-test-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Every triangle vertex of the default scene in model space, read independently of grove's
+/// loader: the node matrices multiplied down the hierarchy, triangle primitives only.
+fn mesh_vertices(path: &Path) -> Vec<Vec3> {
+    let (doc, buffers, _) = gltf::import(path).expect("the fixture is valid glTF");
+    let mut out = Vec::new();
+    fn walk(node: gltf::Node, parent: Mat4, buffers: &[gltf::buffer::Data], out: &mut Vec<Vec3>) {
+        let m = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(mesh) = node.mesh() {
+            for p in mesh.primitives().filter(|p| p.mode() == gltf::mesh::Mode::Triangles) {
+                let r = p.reader(|b| Some(&buffers[b.index()]));
+                out.extend(r.read_positions().unwrap().map(|q| m.transform_point3(Vec3::from(q))));
+            }
+        }
+        for c in node.children() {
+            walk(c, m, buffers, out);
+        }
+    }
+    let scene = doc.default_scene().or_else(|| doc.scenes().next()).unwrap();
+    for n in scene.nodes() {
+        walk(n, Mat4::IDENTITY, &buffers, &mut out);
+    }
+    out
+}
+
+/// Adds the flower to a new bank under the name "flower" and returns the bank folder.
+fn bank_with_flower(tag: &str) -> PathBuf {
+    let bank = temp_dir(tag).join("bank");
+    let out = grove(&["models", "add", FLOWER, "--bank", bank.to_str().unwrap(), "--name", "flower", "--species", "flower"]);
+    assert!(out.status.success(), "models add: {}", String::from_utf8_lossy(&out.stderr));
+    bank
+}
+
+#[test]
+fn an_added_model_is_measured_from_its_own_mesh() {
+    let bank = bank_with_flower("measure");
+    let b = Bank::open(&bank).unwrap();
+    let m = b.get("flower").expect("catalogued");
+    assert_eq!(m.species, "flower");
+    // Its files were copied in with it.
+    assert!(b.file_of(m).is_file());
+    assert!(bank.join(m.thumbnail.as_ref().unwrap()).is_file());
+
+    let v = mesh_vertices(&common::root().join(FLOWER));
+    assert!(v.len() > 100);
+    let lo = v.iter().fold(Vec3::splat(f32::MAX), |a, p| a.min(*p));
+    let hi = v.iter().fold(Vec3::splat(f32::MIN), |a, p| a.max(*p));
+    assert!((m.bounds_min - lo).abs().max_element() < 1e-5, "{:?} vs {lo:?}", m.bounds_min);
+    assert!((m.bounds_max - hi).abs().max_element() < 1e-5, "{:?} vs {hi:?}", m.bounds_max);
+    // Not the birch's 8 m: the flower is under 2 m tall, its lowest point its own.
+    assert!(m.bounds_max.y - m.bounds_min.y < 2.0);
+    let info = m.info(grove_systems::catalogue::ModelId(8));
+    assert_eq!(info.lowest_point(), lo.y);
+    // The pick shape holds every vertex, spans the mesh's heights, and its widest band is as
+    // wide as the mesh (to its rounding margin).
+    let widest = v.iter().map(|p| Vec2::new(p.x, p.z).length()).fold(0.0, f32::max);
+    let pick = m.pick;
+    assert_eq!((pick.bottom, pick.top), (lo.y, hi.y));
+    let none = [0.0; PICK_BANDS];
+    assert!(v.iter().all(|p| pick.contains(*p, &none)));
+    let max_r = pick.radii.iter().copied().fold(0.0, f32::max);
+    assert!((max_r - widest).abs() <= widest * 2e-4, "{max_r} vs {widest}");
+    assert!((m.crown_radius - widest).abs() < 1e-5);
+
+    // Adding it again is a no-op; another file under the same name is refused.
+    let again = grove(&["models", "add", FLOWER, "--bank", bank.to_str().unwrap(), "--name", "flower"]);
+    assert!(again.status.success());
+    let other = grove(&["models", "add", "assets/trees/shrub-mesh.gltf", "--bank", bank.to_str().unwrap(), "--name", "flower"]);
+    assert_one_line_error(&other, 2, "different model named 'flower'");
+    let check = grove(&["models", "check", "--bank", bank.to_str().unwrap()]);
+    assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stdout));
+    let list = grove(&["models", "list", "--json", "--bank", bank.to_str().unwrap()]);
+    let listed: serde_json::Value = serde_json::from_slice(&list.stdout).unwrap();
+    assert_eq!(listed[8]["name"], "flower");
+    assert_eq!(listed[8]["id"], 8);
+}
+
+#[test]
+fn a_planted_third_party_model_snaps_records_and_replays_and_a_changed_file_is_named() {
+    let bank = bank_with_flower("replay");
+    let banks = Banks::open(&[bank.clone()]).unwrap();
+    let (catalogue, listed) = banks.session_catalogue().unwrap();
+    let flower = catalogue.by_name("flower").unwrap().clone();
+    let scene = Scene::builtin("study").unwrap();
+    let mut s = Script::new(Sim::from_scene_with(&scene, 7, catalogue).unwrap());
+
+    // Plant the flower by name with the ray.
+    let ground = |s: &Script, x: f32, z: f32| Vec3::new(x, s.sim().res.spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).unwrap().point.y, z);
+    let p = ground(&s, 1.0, -2.0);
+    s.choose_model("flower").point_at(p).press(Button::Trigger).wait(2);
+    let id = *s.sim().tree_ids().last().unwrap();
+    let t = s.sim().tree(id).unwrap();
+    assert_eq!(t.tree.model, flower.id);
+    // Planted with its origin at the hit point (as every model is).
+    assert!((t.transform.translation - p).length() < 1e-4);
+
+    // Drag it up and aside by the middle of its height, and release: it snaps down.
+    let mid = t.transform.translation + Vec3::Y * (0.5 * flower.height());
+    s.point_at(mid).hold(Button::Trigger);
+    let mut pose = s.controller().pose;
+    pose.position += Vec3::new(-0.8, 0.15, 0.0);
+    s.move_controller(pose);
+    let lifted = s.sim().tree(id).unwrap();
+    assert!(!lifted.grounded.0, "the flower was picked by its pick shape and lifted");
+    s.release(Button::Trigger).wait(5);
+    let snapped = s.sim().tree(id).unwrap();
+    let low = interact::lowest_point_y(snapped.transform.translation.y, flower.lowest_point(), snapped.scale.0);
+    let g = ground(&s, snapped.transform.translation.x, snapped.transform.translation.z);
+    assert!(snapped.grounded.0, "snapped");
+    assert!((low - g.y).abs() < 1e-3, "lowest point {low} on the plane at {}", g.y);
+    let final_hash = s.sim().hash().total;
+
+    // Record with the bank model listed in the header, and replay to the same hash.
+    let (sim, events) = s.into_parts();
+    let mut header = Header::new("study", 7, scene.dt);
+    header.models = listed;
+    let bytes = record_events_in(Vec::new(), &header, &events, sim.res.tick, serde_json::json!({}), &banks).unwrap();
+    let text = String::from_utf8(bytes.clone()).unwrap();
+    assert!(text.lines().next().unwrap().contains("\"models\":[{\"name\":\"flower\""), "the header lists the model");
+    assert!(text.contains("\"model\":\"flower\""), "choose_model names the model");
+    let file = bank.parent().unwrap().join("flower.jsonl");
+    std::fs::write(&file, &bytes).unwrap();
+    let options = ReplayOptions { banks: vec![bank.clone()], ..Default::default() };
+    let o = replay_file(&file, &options).unwrap();
+    assert!(o.first_divergence.is_none() && o.complete && o.checkpoints_checked > 0);
+    assert_eq!(o.sim.hash().total, final_hash);
+    let ok = grove(&["replay", file.to_str().unwrap(), "--bank", bank.to_str().unwrap()]);
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+
+    // Without the bank, and after the model's file changes, the replay names the model, exit 2.
+    assert_one_line_error(&grove(&["replay", file.to_str().unwrap()]), 2, "model 'flower'");
+    let glb = Bank::open(&bank).unwrap().get("flower").map(|m| bank.join(&m.file)).unwrap();
+    let mut data = std::fs::read(&glb).unwrap();
+    let last = data.len() - 1;
+    data[last] ^= 0x20;
+    std::fs::write(&glb, data).unwrap();
+    let changed = grove(&["replay", file.to_str().unwrap(), "--bank", bank.to_str().unwrap()]);
+    assert_one_line_error(&changed, 2, "model 'flower' has changed since the recording");
+    let check = grove(&["models", "check", "--bank", bank.to_str().unwrap()]);
+    assert_eq!(check.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&check.stdout).contains("CHANGED   flower"));
+    let _ = std::fs::remove_dir_all(bank.parent().unwrap());
+}
+
+#[test]
+fn unknown_names_list_the_known_ones() {
+    let dir = temp_dir("names");
+    let scene = dir.join("s.ron");
+    let text = std::fs::read_to_string(common::root().join("assets/scenes/study.ron")).unwrap();
+    // A tree of a model no bank has.
+    let with_tree = text.replacen("trees: [", "trees: [(model: \"flower\", position: (1.0, 0.0, -2.0)),", 1);
+    assert_ne!(with_tree, text, "the study scene has a trees list");
+    std::fs::write(&scene, with_tree).unwrap();
+    let out = grove(&["sim", "--scene", scene.to_str().unwrap(), "--ticks", "1"]);
+    assert_one_line_error(&out, 2, "unknown model 'flower'; known models: broadleaf-mesh, conifer-mesh");
+    // With the bank that has it, the same scene runs.
+    let bank = bank_with_flower("names-bank");
+    let ok = grove(&["sim", "--scene", scene.to_str().unwrap(), "--ticks", "1", "--bank", bank.to_str().unwrap()]);
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(bank.parent().unwrap());
+}
+
+#[test]
+fn compressed_geometry_is_refused_with_the_extension_and_a_conversion() {
+    let dir = temp_dir("draco");
+    let f = dir.join("draco.gltf");
+    std::fs::write(&f, r#"{"asset":{"version":"2.0"},"extensionsUsed":["EXT_meshopt_compression"],"extensionsRequired":["EXT_meshopt_compression"]}"#).unwrap();
+    let out = grove(&["models", "add", f.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap()]);
+    assert_one_line_error(&out, 2, "uses EXT_meshopt_compression");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("gltf-transform"));
+    assert!(!dir.join("bank").join("draco").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
