@@ -4,7 +4,7 @@
 
 use egui::{Color32, RichText, Ui};
 use glam::Vec3;
-use grove_systems::catalogue::{ModelId, ModelKind};
+use grove_systems::catalogue::ModelKind;
 use grove_systems::components::{Pose, Transform, Tree};
 use grove_systems::input::{Button, InputEvent};
 use grove_systems::resources::Mode;
@@ -231,30 +231,38 @@ impl PlayUi {
     fn tree_window(&mut self, ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>) {
         let title = if sim.res.menu.open { "Trees (menu open)" } else { "Trees" };
         egui::Window::new(title).id(egui::Id::unique("trees window")).default_pos([10.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
-            for (kind, heading) in [(ModelKind::Mesh, "Mesh"), (ModelKind::Billboard, "Billboard")] {
-                ui.label(RichText::new(heading).strong());
-                ui.horizontal_wrapped(|ui| {
-                    for i in 0..sim.res.catalogue.len() {
-                        let id = ModelId(i as u8);
-                        let Some(m) = sim.res.catalogue.get(id) else { continue };
-                        if m.kind != kind {
-                            continue;
-                        }
-                        let current = sim.res.menu.current_model == id;
-                        let thumb = self.thumbnails.get(i).copied().flatten();
-                        let button = match thumb {
-                            Some(tex) => egui::Button::image_and_text(egui::Image::new((tex, egui::vec2(64.0, 64.0))), m.name.as_str()),
-                            None => egui::Button::new(m.name.as_str()),
-                        };
-                        if ui.add(button.selected(current)).clicked() {
-                            if sim.res.mode == Mode::Manual && !sim.res.menu.open {
-                                out.push(InputEvent::OpenMenu);
-                            }
-                            out.push(InputEvent::ChooseModel { model: m.name.as_str().into() });
-                        }
+            // The shipped models and every bank's, by kind and then species (in catalogue
+            // order within each), scrolling when the bank is long.
+            egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
+                for (kind, heading) in [(ModelKind::Mesh, "Mesh"), (ModelKind::Billboard, "Billboard")] {
+                    let mut species: Vec<&str> = sim.res.catalogue.models.iter().filter(|m| m.kind == kind).map(|m| m.species.as_str()).collect();
+                    species.sort_unstable();
+                    species.dedup();
+                    if species.is_empty() {
+                        continue;
                     }
-                });
-            }
+                    ui.label(RichText::new(heading).strong());
+                    for sp in species {
+                        ui.label(RichText::new(sp).small());
+                        ui.horizontal_wrapped(|ui| {
+                            for m in sim.res.catalogue.models.iter().filter(|m| m.kind == kind && m.species == sp) {
+                                let current = sim.res.menu.current_model == m.id;
+                                let thumb = self.thumbnails.get(usize::from(m.id.0)).copied().flatten();
+                                let button = match thumb {
+                                    Some(tex) => egui::Button::image_and_text(egui::Image::new((tex, egui::vec2(64.0, 64.0))), m.name.as_str()),
+                                    None => egui::Button::new(m.name.as_str()),
+                                };
+                                if ui.add(button.selected(current)).clicked() {
+                                    if sim.res.mode == Mode::Manual && !sim.res.menu.open {
+                                        out.push(InputEvent::OpenMenu);
+                                    }
+                                    out.push(InputEvent::ChooseModel { model: m.name.as_str().into() });
+                                }
+                            }
+                        });
+                    }
+                }
+            });
             if sim.res.menu.open && ui.button("Close menu").clicked() {
                 out.push(InputEvent::CloseMenu);
             }
@@ -408,7 +416,7 @@ mod tests {
         s.queue(InputEvent::ButtonUp { button: Button::Trigger }).unwrap();
         settle(&mut h);
         let sim = &h.state().session.sim;
-        let planted: Vec<ModelId> = sim.world.query::<&Tree>().iter().map(|t| t.model).filter(|m| *m == birch).collect();
+        let planted: Vec<grove_systems::catalogue::ModelId> = sim.world.query::<&Tree>().iter().map(|t| t.model).filter(|m| *m == birch).collect();
         assert_eq!(planted.len(), 1, "one birch billboard was planted");
 
         // Clear removes every tree through Bumper clicks.
