@@ -200,3 +200,42 @@ fn compressed_geometry_is_refused_with_the_extension_and_a_conversion() {
     assert!(!dir.join("bank").join("draco").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_quantized_model_is_read_with_its_node_scale_and_added() {
+    // A quad of i16 normalised positions (KHR_mesh_quantization, required), scaled by its node:
+    // 32767 is 1.0, so the corners lie at ±2 m across and 0 to 4 m high.
+    let dir = temp_dir("quant");
+    let q: [[i16; 3]; 4] = [[-32767, 0, 0], [32767, 0, 0], [32767, 32767, 0], [-32767, 32767, 0]];
+    // Each 6-byte position padded to a stride of 8 bytes (32 bytes), then six u16 indices.
+    let mut bin = Vec::new();
+    for v in &q {
+        bin.extend(v.iter().flat_map(|c| c.to_le_bytes()));
+        bin.extend([0u8, 0]);
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bin.extend(i.to_le_bytes());
+    }
+    std::fs::write(dir.join("quad.bin"), &bin).unwrap();
+    let gltf = format!(
+        r#"{{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_mesh_quantization"],"extensionsRequired":["KHR_mesh_quantization"],
+        "buffers":[{{"uri":"quad.bin","byteLength":{len}}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":32,"byteStride":8}},{{"buffer":0,"byteOffset":32,"byteLength":12}}],
+        "accessors":[{{"bufferView":0,"componentType":5122,"normalized":true,"count":4,"type":"VEC3","min":[-32767,0,0],"max":[32767,32767,0]}},
+                     {{"bufferView":1,"componentType":5123,"count":6,"type":"SCALAR"}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+        "nodes":[{{"mesh":0,"scale":[2,4,2]}}],"scenes":[{{"nodes":[0]}}],"scene":0}}"#,
+        len = bin.len()
+    );
+    let file = dir.join("quad.gltf");
+    std::fs::write(&file, gltf).unwrap();
+    let data = grove::render::assets::gltf_load::load_model(&file).unwrap_or_else(|e| panic!("{e}"));
+    let (lo, hi) = data.bounds;
+    assert!((lo - Vec3::new(-2.0, 0.0, 0.0)).length() < 1e-4 && (hi - Vec3::new(2.0, 4.0, 0.0)).length() < 1e-4, "{lo} {hi}");
+    let out = grove(&["models", "add", file.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let b = Bank::open(&dir.join("bank")).unwrap();
+    assert_eq!(b.get("quad").unwrap().bounds_max.y, hi.y);
+    assert_eq!(b.get("quad").unwrap().files, vec!["quad/quad.gltf".to_string(), "quad/quad.bin".to_string()]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

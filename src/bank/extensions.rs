@@ -11,27 +11,7 @@ pub const REFUSED: &[(&str, &str)] = &[
     ("EXT_meshopt_compression", "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes meshopt when it reads a file and writes plain buffers)"),
 ];
 
-/// The JSON chunk of a `.glb` file, or the whole text of a `.gltf` file.
-pub fn json_of(bytes: &[u8]) -> Option<&[u8]> {
-    if bytes.len() >= 20 && &bytes[0..4] == b"glTF" {
-        let len = u32::from_le_bytes(bytes[12..16].try_into().ok()?) as usize;
-        if &bytes[16..20] != b"JSON" {
-            return None;
-        }
-        bytes.get(20..20usize.checked_add(len)?)
-    } else {
-        Some(bytes)
-    }
-}
-
-/// The names in the file's `extensionsRequired` and `extensionsUsed`, as far as its JSON can be
-/// read (an unreadable file gives none; the glTF loader then names the fault).
-pub fn extensions_of(bytes: &[u8]) -> (Vec<String>, Vec<String>) {
-    let Some(json) = json_of(bytes) else { return (Vec::new(), Vec::new()) };
-    let Ok(v) = serde_json::from_slice::<serde_json::Value>(json) else { return (Vec::new(), Vec::new()) };
-    let list = |key: &str| -> Vec<String> { v.get(key).and_then(|x| x.as_array()).map(|a| a.iter().filter_map(|s| s.as_str().map(String::from)).collect()).unwrap_or_default() };
-    (list("extensionsRequired"), list("extensionsUsed"))
-}
+pub use crate::render::assets::gltf_open::{extensions_of, json_of};
 
 /// Refuses a file that uses an extension grove cannot decode: one line naming the extension and
 /// the conversion. Files that do not parse pass, for the loader to report.

@@ -41,7 +41,8 @@ pub enum Added {
 /// relative to its folder, in document order without repeats; one outside the folder is an
 /// error.
 pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
-    let gltf = gltf::Gltf::open(file).map_err(|e| anyhow!("{}: not a valid glTF 2.0 file ({})", file.display(), e.to_string().replace('\n', " ")))?;
+    let bytes = std::fs::read(file).with_context(|| format!("{}: cannot read", file.display()))?;
+    let gltf = crate::render::assets::gltf_open::parse(&bytes).map_err(|e| anyhow!("{}: not a valid glTF 2.0 file ({})", file.display(), e.to_string().replace('\n', " ")))?;
     let mut uris: Vec<String> = Vec::new();
     for b in gltf.document.buffers() {
         if let gltf::buffer::Source::Uri(u) = b.source() {

@@ -13,6 +13,8 @@ use std::path::{Path, PathBuf};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::Semantic;
 
+use super::accessor::read_floats;
+
 /// A decoded RGBA8 image.
 #[derive(Clone, Debug)]
 pub struct ImageData {
@@ -127,7 +129,8 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     if !path.exists() {
         return Err(err("no such file".into()));
     }
-    let gltf = gltf::Gltf::open(path).map_err(|e| err(format!("not a valid glTF 2.0 file ({})", one_line(&e.to_string()))))?;
+    let bytes = std::fs::read(path).map_err(|e| err(grove_systems::scene::io_message(&e)))?;
+    let gltf = super::gltf_open::parse(&bytes).map_err(|e| err(format!("not a valid glTF 2.0 file ({})", one_line(&e.to_string()))))?;
     let base = path.parent().unwrap_or(Path::new("."));
     let doc = gltf.document;
     let buffers = gltf::import_buffers(&doc, Some(base), gltf.blob).map_err(|e| err(format!("cannot read a buffer ({})", one_line(&e.to_string()))))?;
@@ -288,8 +291,10 @@ fn material(m: &gltf::Material) -> MaterialData {
 fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4, material: usize) -> Result<Option<PrimitiveData>, String> {
     let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| d.0.as_slice());
     let reader = prim.reader(get);
-    let Some(pos) = reader.read_positions() else { return Ok(None) };
-    let positions: Vec<Vec3> = pos.map(Vec3::from).collect();
+    // Float attributes through `accessor::read_floats`, which also reads the integer types of
+    // KHR_mesh_quantization (the node transform then carries the dequantisation).
+    let Some(pos) = prim.get(&Semantic::Positions) else { return Ok(None) };
+    let positions: Vec<Vec3> = read_floats::<3>(&pos, buffers)?.into_iter().map(Vec3::from).collect();
     let n = positions.len();
     let indices: Vec<u32> = match reader.read_indices() {
         Some(i) => i.into_u32().collect(),
@@ -299,16 +304,16 @@ fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4, ma
         return Err("a primitive has an index past its vertices".into());
     }
     let indices: Vec<u32> = indices.chunks_exact(3).flatten().copied().collect();
-    let uvs: Vec<Vec2> = match reader.read_tex_coords(0) {
-        Some(t) => t.into_f32().map(Vec2::from).collect(),
+    let uvs: Vec<Vec2> = match prim.get(&Semantic::TexCoords(0)) {
+        Some(t) => read_floats::<2>(&t, buffers)?.into_iter().map(Vec2::from).collect(),
         None => vec![Vec2::ZERO; n],
     };
-    let mut normals: Vec<Vec3> = match reader.read_normals() {
-        Some(nr) => nr.map(Vec3::from).collect(),
+    let mut normals: Vec<Vec3> = match prim.get(&Semantic::Normals) {
+        Some(nr) => read_floats::<3>(&nr, buffers)?.into_iter().map(Vec3::from).collect(),
         None => compute_normals(&positions, &indices),
     };
-    let mut tangents: Vec<Vec4> = match reader.read_tangents() {
-        Some(t) => t.map(Vec4::from).collect(),
+    let mut tangents: Vec<Vec4> = match prim.get(&Semantic::Tangents) {
+        Some(t) => read_floats::<4>(&t, buffers)?.into_iter().map(Vec4::from).collect(),
         None => compute_tangents(&positions, &normals, &uvs, &indices),
     };
     let wind: Vec<Vec4> = match prim.get(&Semantic::Extras("WIND".into())) {

@@ -2,6 +2,8 @@
 //! `ModelData`, `Vertex`) and textures ([`textures`]: 2D uploads with mip chains, the
 //! environment cubemap and its irradiance).
 
+pub mod accessor;
 pub mod gltf_load;
+pub mod gltf_open;
 pub mod wind_channels;
 pub mod textures;
