@@ -239,3 +239,36 @@ fn a_quantized_model_is_read_with_its_node_scale_and_added() {
     assert_eq!(b.get("quad").unwrap().files, vec!["quad/quad.gltf".to_string(), "quad/quad.bin".to_string()]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_webp_only_texture_is_decoded() {
+    // A 2×2 lossless WebP written by the `image` crate, the only image of a texture that names it
+    // through KHR_texture_webp (required), on a triangle with float positions.
+    let dir = temp_dir("webp");
+    let img = image::RgbaImage::from_fn(2, 2, |x, y| image::Rgba([200, (x * 100) as u8, (y * 50) as u8, 255]));
+    img.save_with_format(dir.join("leaf.webp"), image::ImageFormat::WebP).unwrap();
+    let pos: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let bin: Vec<u8> = pos.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    std::fs::write(dir.join("tri.bin"), &bin).unwrap();
+    let gltf = r#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_texture_webp"],"extensionsRequired":["KHR_texture_webp"],
+        "buffers":[{"uri":"tri.bin","byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}],
+        "images":[{"uri":"leaf.webp","mimeType":"image/webp"}],
+        "textures":[{"extensions":{"KHR_texture_webp":{"source":0}}}],
+        "materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":0},"material":0}]}],
+        "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0}"#;
+    let file = dir.join("tri.gltf");
+    std::fs::write(&file, gltf).unwrap();
+    let data = grove::render::assets::gltf_load::load_model(&file).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(data.images.len(), 1);
+    let im = &data.images[0];
+    assert_eq!((im.width, im.height), (2, 2));
+    // Texel (1, 1): red 200, green 100, blue 50, as written.
+    assert_eq!(&im.rgba[12..16], &[200, 100, 50, 255]);
+    assert_eq!(data.materials[0].albedo, Some(0));
+    let out = grove(&["models", "add", file.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(dir.join("bank/tri/leaf.webp").is_file(), "the texture is copied with the model");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,10 +1,12 @@
-//! Opening a glTF file for the loader, including the required extensions grove reads itself
-//! (`KHR_mesh_quantization`, whose integer attributes [`super::accessor`] decodes) which the
-//! `gltf` crate's validation would refuse as unsupported: they are taken out of
-//! `extensionsRequired` before the crate validates the rest of the file as usual.
+//! Opening a glTF file for the loader, including the required extensions grove reads itself,
+//! which the `gltf` crate's validation would refuse as unsupported: `KHR_mesh_quantization`
+//! (whose integer attributes [`super::accessor`] decodes) and `KHR_texture_webp` (a texture's
+//! WebP image, decoded by the `image` crate). They are taken out of `extensionsRequired`, and a
+//! texture whose only image is its `KHR_texture_webp` source gets that image as its `source`,
+//! before the crate validates the rest of the file as usual.
 
 /// Required extensions grove reads although the `gltf` crate does not list them.
-pub const READ_HERE: &[&str] = &["KHR_mesh_quantization"];
+pub const READ_HERE: &[&str] = &["KHR_mesh_quantization", "KHR_texture_webp"];
 
 /// The JSON chunk of a `.glb` file, or the whole text of a `.gltf` file.
 pub fn json_of(bytes: &[u8]) -> Option<&[u8]> {
@@ -33,10 +35,22 @@ pub fn extensions_of(bytes: &[u8]) -> (Vec<String>, Vec<String>) {
 fn without_handled(bytes: &[u8]) -> Option<Vec<u8>> {
     let json = json_of(bytes)?;
     let mut v: serde_json::Value = serde_json::from_slice(json).ok()?;
-    let req = v.get_mut("extensionsRequired")?.as_array_mut()?;
-    let before = req.len();
-    req.retain(|e| !e.as_str().is_some_and(|s| READ_HERE.contains(&s)));
-    if req.len() == before {
+    let mut changed = false;
+    if let Some(req) = v.get_mut("extensionsRequired").and_then(|r| r.as_array_mut()) {
+        let before = req.len();
+        req.retain(|e| !e.as_str().is_some_and(|s| READ_HERE.contains(&s)));
+        changed |= req.len() != before;
+    }
+    if let Some(textures) = v.get_mut("textures").and_then(|t| t.as_array_mut()) {
+        for t in textures.iter_mut().filter_map(|t| t.as_object_mut()) {
+            let webp = t.get("extensions").and_then(|e| e.get("KHR_texture_webp")).and_then(|w| w.get("source")).cloned();
+            if let (None, Some(src)) = (t.get("source"), webp) {
+                t.insert("source".into(), src);
+                changed = true;
+            }
+        }
+    }
+    if !changed {
         return None;
     }
     let mut text = serde_json::to_vec(&v).ok()?;
@@ -83,6 +97,10 @@ mod tests {
         glb.extend(b"JSON");
         glb.extend(json);
         assert!(parse(&glb).is_ok());
+        // A WebP-only texture gets its WebP image as its source.
+        let webp = br#"{"asset":{"version":"2.0"},"extensionsRequired":["KHR_texture_webp"],"images":[{"uri":"a.webp"}],"textures":[{"extensions":{"KHR_texture_webp":{"source":0}}}]}"#;
+        let g = parse(webp).unwrap();
+        assert_eq!(g.document.textures().next().unwrap().source().index(), 0);
         let other = br#"{"asset":{"version":"2.0"},"extensionsRequired":["KHR_mesh_quantization","EXT_unknown"]}"#;
         assert!(parse(other).is_err(), "an unknown required extension is still refused");
     }
