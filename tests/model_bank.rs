@@ -272,3 +272,44 @@ fn a_webp_only_texture_is_decoded() {
     assert!(dir.join("bank/tri/leaf.webp").is_file(), "the texture is copied with the model");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn an_lsystem_tree_added_to_a_bank_is_planted_and_snaps() {
+    let dir = temp_dir("lsys");
+    let bank = dir.join("bank");
+    let out = grove(&[
+        "lsystem", "model", "--preset", "birch", "--n", "7", "--seed", "3", "--height", "5", "--out",
+        dir.join("out").to_str().unwrap(), "--name", "lsys-birch", "--add", "--bank", bank.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let b = Bank::open(&bank).unwrap();
+    let m = b.get("lsys-birch").expect("added");
+    assert_eq!(m.species, "lsystem-birch");
+    assert_eq!(m.wind, grove_systems::bank::WindSource::Own, "the generator writes its own _WIND channels");
+    // Its bounds are those of its mesh.
+    let v = mesh_vertices(&b.file_of(m));
+    let lo = v.iter().fold(Vec3::splat(f32::MAX), |a, p| a.min(*p));
+    assert!((m.bounds_min - lo).abs().max_element() < 1e-5);
+
+    let banks = Banks::open(&[bank.clone()]).unwrap();
+    let (catalogue, _) = banks.session_catalogue().unwrap();
+    let tree = catalogue.by_name("lsys-birch").unwrap().clone();
+    let scene = Scene::builtin("study").unwrap();
+    let mut s = Script::new(Sim::from_scene_with(&scene, 3, catalogue).unwrap());
+    let p = Vec3::new(2.0, s.sim().res.spatial.ground_below(Vec3::new(2.0, 50.0, -3.0), 0.0).unwrap().point.y, -3.0);
+    s.choose_model("lsys-birch").point_at(p).press(Button::Trigger).wait(2);
+    let id = *s.sim().tree_ids().last().unwrap();
+    assert_eq!(s.sim().tree(id).unwrap().tree.model, tree.id);
+    // Aim at the trunk a quarter of the way up, lift it, release: it snaps.
+    s.point_at(p + Vec3::Y * (0.25 * tree.height())).hold(Button::Trigger);
+    let mut pose = s.controller().pose;
+    pose.position += Vec3::new(0.5, 0.1, 0.0);
+    s.move_controller(pose);
+    assert!(!s.sim().tree(id).unwrap().grounded.0, "lifted by the drag");
+    s.release(Button::Trigger).wait(2);
+    let t = s.sim().tree(id).unwrap();
+    let low = interact::lowest_point_y(t.transform.translation.y, tree.lowest_point(), t.scale.0);
+    let g = s.sim().res.spatial.ground_below(t.transform.translation + Vec3::Y * 20.0, 0.0).unwrap().point.y;
+    assert!(t.grounded.0 && (low - g).abs() < 1e-3, "snapped: lowest point {low}, ground {g}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

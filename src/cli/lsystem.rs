@@ -120,6 +120,13 @@ pub struct ModelArgs {
     /// The model's height, metres (default: the grammar's `height`, 6 m unless it says otherwise).
     #[arg(long)]
     pub height: Option<f32>,
+    /// Also add the written model to a model bank (`grove models add`; docs/model-bank.md), as
+    /// species "lsystem-GRAMMAR": the folder --bank, or the first GROVE_BANK folder.
+    #[arg(long)]
+    pub add: bool,
+    /// The bank folder for --add.
+    #[arg(long, requires = "add")]
+    pub bank: Option<PathBuf>,
 }
 
 /// Arguments of `grove lsystem bench`.
@@ -214,6 +221,14 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     if name.is_empty() || !name.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'-' || c == b'_') {
         bail!("model name '{name}' must be letters, digits, '-' and '_'");
     }
+    let bank = if a.add {
+        Some(match &a.bank {
+            Some(b) => b.clone(),
+            None => grove::bank::session_dirs(&[]).into_iter().next().ok_or_else(|| anyhow::anyhow!("--add needs --bank DIR (or GROVE_BANK)"))?,
+        })
+    } else {
+        None
+    };
     let s = cpu_derive(&g, n, a.src.seed, &limits, None)?;
     let segs = turtle::interpret_parallel(&s, &g, limits.max_bytes)?;
     let model = mesh::build(&g, &segs, &mesh::ModelOptions { height: a.height.unwrap_or(g.height), ..Default::default() })?;
@@ -232,6 +247,13 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
         hi.y,
         hi.z
     );
+    if let Some(bank) = bank {
+        let req = grove::bank::import::AddRequest { file: w.gltf.clone(), bank: bank.clone(), name: Some(name.clone()), species: Some(format!("lsystem-{}", g.name)), kind: None };
+        match grove::bank::import::add(&req)? {
+            grove::bank::import::Added::New(m) => println!("added '{}' to {} (lowest point {:.3} m, {} triangles)", m.name, bank.display(), m.bounds_min.y, m.triangles),
+            grove::bank::import::Added::Unchanged(m) => println!("'{}' is already in {} with the same files", m.name, bank.display()),
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }
 
