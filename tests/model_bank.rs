@@ -313,3 +313,17 @@ fn an_lsystem_tree_added_to_a_bank_is_planted_and_snaps() {
     assert!(t.grounded.0 && (low - g).abs() < 1e-3, "snapped: lowest point {low}, ground {g}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_model_without_wind_channels_sways_in_rendered_frames() {
+    // The flower has no _WIND attribute; grove computes channels, so on the static stage (no sun
+    // motion, nothing else moving) two frames a second apart differ only by the wind.
+    let dir = temp_dir("frames");
+    let out = grove(&["render", "--model", FLOWER, "--frames", "2", "--fps", "1", "--width", "96", "--height", "72", "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let a = image::open(dir.join("frame_00000.png")).unwrap().to_rgba8();
+    let b = image::open(dir.join("frame_00001.png")).unwrap().to_rgba8();
+    let moved = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
+    assert!(moved > 20, "only {moved} pixels changed");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -45,8 +45,9 @@ pub struct RenderArgs {
     /// Turn the sun's shadow map off.
     #[arg(long)]
     pub no_shadows: bool,
-    /// Write a sequence of this many frames into the folder --out.
-    #[arg(long, requires = "scene")]
+    /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
+    /// to see the model sway in the study's wind).
+    #[arg(long, conflicts_with = "replay")]
     pub frames: Option<u32>,
     /// Frames per second of the sequence (simulated time between frames is 1/fps).
     #[arg(long, default_value_t = 30.0)]
@@ -109,9 +110,64 @@ fn check_out_file(out: &Path, force: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Checks the --frames arguments and prepares the folder: the ticks between frames.
+fn frames_setup(args: &RenderArgs, n: u32, dt: f32) -> anyhow::Result<u64> {
+    if n == 0 || n > 100_000 {
+        bail!("--frames must be between 1 and 100000");
+    }
+    if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 1000.0) {
+        bail!("--fps must be in (0, 1000]");
+    }
+    if args.out.is_file() {
+        bail!("{}: is a file; with --frames, --out names a folder", args.out.display());
+    }
+    std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: cannot create folder ({e})", args.out.display()))?;
+    let first = args.out.join("frame_00000.png");
+    if first.exists() && !args.force {
+        bail!("{}: already exists (use --force to overwrite)", first.display());
+    }
+    Ok(((1.0 / args.fps) / dt as f64).round().max(1.0) as u64)
+}
+
+/// `--model FILE --frames N`: the model alone on its stage in the study scene's wind, so that its
+/// wind channels (its own, or those grove computes, docs/model-bank.md) show as motion.
+fn model_frames(args: &RenderArgs, model: &Path, n: u32) -> anyhow::Result<ExitCode> {
+    grove::bank::extensions::check_file(model).map_err(|e| anyhow!(e))?;
+    let data = grove::render::assets::gltf_load::load_model(model).map_err(|e| anyhow!(e))?;
+    let id = grove_systems::catalogue::ModelId(0);
+    let mut sim = grove_systems::stage::model_stage(data.bounds, args.width as f32 / args.height as f32, false, id).map_err(|e| anyhow!(e))?;
+    let study = grove_systems::scene::Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?;
+    for w in sim.world.query_mut::<&mut grove_systems::components::Wind>() {
+        let d = &study.wind;
+        w.strength = d.strength;
+        w.density = d.density;
+        w.gust = grove_systems::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
+        w.current = d.gust_average;
+    }
+    let ticks_per_frame = frames_setup(args, n, sim.res.dt)?;
+    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+    let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir()).map_err(|e| anyhow!(e))?;
+    renderer.options = options(args);
+    renderer.set_model(id, &data);
+    let bar = indicatif::ProgressBar::new(n as u64);
+    for f in 0..n {
+        if f > 0 {
+            sim.run(ticks_per_frame);
+        }
+        render_sim(&gpu, &mut renderer, &sim, &args.out.join(format!("frame_{f:05}.png")))?;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    println!("{}: wrote {n} frames of {} in the study's wind, {ticks_per_frame} ticks apart, on {}", args.out.display(), model.display(), gpu.adapter_name());
+    Ok(ExitCode::SUCCESS)
+}
+
 /// Runs `grove render`.
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     check_size(args.width, args.height)?;
+    if let (Some(model), Some(n)) = (&args.model, args.frames) {
+        return model_frames(&args, model, n);
+    }
     if let Some(model) = &args.model {
         check_out_file(&args.out, args.force)?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
