@@ -28,6 +28,17 @@ pub fn open_session(args: &[PathBuf]) -> Result<Banks, String> {
     Banks::open(&session_dirs(args))
 }
 
+/// Opens the banks of a session on a scene: the scene's own banks first, then [`session_dirs`].
+pub fn open_for_scene(scene: &grove_systems::scene::Scene, args: &[PathBuf]) -> Result<Banks, String> {
+    let mut dirs = scene.bank_dirs();
+    for d in session_dirs(args) {
+        if !dirs.contains(&d) {
+            dirs.push(d);
+        }
+    }
+    Banks::open(&dirs)
+}
+
 /// The glTF file of every bank model of a session catalogue, with its model id (ids from 8 on,
 /// in the order of [`Banks::session_catalogue`]), for the renderer to load.
 pub fn model_files(banks: &Banks) -> Result<Vec<(ModelId, PathBuf)>, String> {

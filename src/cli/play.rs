@@ -79,7 +79,7 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let seed = args.seed.unwrap_or(scene.seed);
-    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{scene_name}: {e}"))?;
     let (catalogue, listed) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
     crate::desktop::gpu::set_session_models(catalogue.clone(), grove::bank::model_files(&banks).map_err(|e| anyhow!(e))?);
     let sim = Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{scene_name}: {e}"))?;

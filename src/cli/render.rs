@@ -76,11 +76,12 @@ fn options(args: &RenderArgs) -> RenderOptions {
     RenderOptions { shadows: !args.no_shadows, ..Default::default() }
 }
 
-/// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds.
-fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim) -> anyhow::Result<Renderer> {
+/// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds
+/// (found in the scene's banks, then the session's).
+fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene) -> anyhow::Result<Renderer> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
     renderer.options = options(args);
-    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
     grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res.catalogue)).map_err(|e| anyhow!(e))?;
     Ok(renderer)
 }
@@ -184,14 +185,15 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res.tick);
         }
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let mut renderer = renderer(&gpu, &args, &outcome.sim)?;
+        let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
+        let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, &args.out)?;
         println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
     let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
     let scene = super::load_scene(scene_path)?;
-    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
     let mut sim = Sim::from_scene_with(&scene, scene.seed, catalogue).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     if let Some(rate) = args.time_rate {
@@ -206,7 +208,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         None => {
             check_out_file(&args.out, args.force)?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = renderer(&gpu, &args, &sim)?;
+            let mut renderer = renderer(&gpu, &args, &sim, &scene)?;
             render_sim(&gpu, &mut renderer, &sim, &args.out)?;
             println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
         }
@@ -227,7 +229,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             }
             let ticks_per_frame = ((1.0 / args.fps) / scene.dt as f64).round().max(1.0) as u64;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = renderer(&gpu, &args, &sim)?;
+            let mut renderer = renderer(&gpu, &args, &sim, &scene)?;
             for f in 0..n {
                 if f > 0 {
                     sim.run(ticks_per_frame);

@@ -54,7 +54,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
         return Err(anyhow!("--trees {} is more than 5,000,000", args.trees));
     }
     let seed = args.seed.unwrap_or(scene.seed);
-    let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
+    let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
     let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
     let mut sim = Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
     sim.scatter_trees(args.trees);

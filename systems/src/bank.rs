@@ -27,6 +27,8 @@ pub const CATALOGUE_FILE: &str = "catalogue.ron";
 pub const BANK_ENV: &str = "GROVE_BANK";
 /// The most models a session's catalogue holds (model ids are one byte).
 pub const MAX_MODELS: usize = 255;
+/// The largest model file (glTF, buffer or texture) grove hashes, bytes.
+pub const MAX_FILE_BYTES: u64 = 512 << 20;
 /// The largest catalogue file grove reads, bytes.
 pub const MAX_CATALOGUE_BYTES: u64 = 4 << 20;
 
@@ -143,6 +145,10 @@ pub fn content_hash(dir: &Path, files: &[String]) -> Result<String, String> {
 pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, String> {
     let mut h = Xxh3::new();
     for (name, path) in files {
+        let len = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?.len();
+        if len > MAX_FILE_BYTES {
+            return Err(format!("{}: larger than {MAX_FILE_BYTES} bytes, the limit for a model's file", path.display()));
+        }
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
         h.update(name.as_bytes());
         h.update(&(bytes.len() as u64).to_le_bytes());

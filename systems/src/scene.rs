@@ -44,6 +44,13 @@ pub struct Scene {
     pub scatter: Vec<crate::scatter::ScatterDef>,
     /// The initial head (camera) pose.
     pub camera: CameraDef,
+    /// Model-bank folders whose models the scene's trees and scatters may name, relative to the
+    /// scene file's folder (docs/model-bank.md); searched before any `--bank` folder.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub banks: Vec<String>,
+    /// The folder of the file the scene was read from ([`Scene::load`]); not part of the file.
+    #[serde(skip)]
+    pub dir: Option<std::path::PathBuf>,
 }
 
 fn default_dt() -> f32 {
@@ -170,7 +177,14 @@ impl Scene {
     /// refused before anything is read from it.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let text = read_scene_text(path)?;
-        Scene::parse(&text, &path.display().to_string())
+        let mut scene = Scene::parse(&text, &path.display().to_string())?;
+        scene.dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
+        Ok(scene)
+    }
+
+    /// The scene's bank folders ([`Scene::banks`]) resolved against the scene file's folder.
+    pub fn bank_dirs(&self) -> Vec<std::path::PathBuf> {
+        self.banks.iter().map(|b| self.dir.as_deref().unwrap_or(Path::new("")).join(b)).collect()
     }
 
     /// A scene that ships with grove, by name (e.g. "study").
@@ -208,6 +222,9 @@ impl Scene {
         }
         if self.planes.is_empty() {
             return Err("a scene needs at least one plane".into());
+        }
+        if self.banks.len() > 8 || self.banks.iter().any(|b| b.is_empty() || b.len() > 512 || Path::new(b).is_absolute()) {
+            return Err("banks: at most 8 folders, each a relative path to a model bank".into());
         }
         if self.planes.len() > limits::MAX_PLANES {
             return Err(format!("{} planes is more than the limit of {} planes per scene ({RAISE})", self.planes.len(), limits::MAX_PLANES));

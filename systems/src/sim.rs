@@ -22,9 +22,14 @@ pub struct Sim {
 }
 
 impl Sim {
-    /// Builds the world a scene describes, with the embedded model catalogue.
+    /// Builds the world a scene describes, with the embedded model catalogue and the models of
+    /// the scene's own banks ([`Scene::banks`]), if it names any.
     pub fn from_scene(scene: &Scene, seed: u64) -> Result<Sim, String> {
-        Sim::from_scene_with(scene, seed, Catalogue::builtin())
+        if scene.banks.is_empty() {
+            return Sim::from_scene_with(scene, seed, Catalogue::builtin());
+        }
+        let (catalogue, _) = crate::bank::Banks::open(&scene.bank_dirs())?.session_catalogue()?;
+        Sim::from_scene_with(scene, seed, catalogue)
     }
 
     /// Builds the world a scene describes, with a given catalogue.

@@ -267,8 +267,11 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Ove
 /// ([`Header::models`]) are looked up; a missing or changed model is an error naming it.
 pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[Override], banks: &Banks) -> Result<Sim, String> {
     names::check_header(header)?;
-    let catalogue = banks.catalogue_for(&header.models)?;
     let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
+    // The scene's own banks are searched first, as in the session that recorded it.
+    let mut all = Banks::open(&scene.bank_dirs())?;
+    all.banks.extend(banks.banks.iter().cloned());
+    let catalogue = all.catalogue_for(&header.models)?;
     if (scene.dt - header.dt).abs() > 1e-9 {
         return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
     }
