@@ -327,3 +327,30 @@ fn a_model_without_wind_channels_sways_in_rendered_frames() {
     assert!(moved > 20, "only {moved} pixels changed");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
+    // The garden names L-system trees of assets/banks/lsystem through its `banks` field; a
+    // recording on it lists them, and a replay finds them through the scene without --bank.
+    let scene = Scene::load(&common::root().join("assets/scenes/garden.ron")).unwrap();
+    let banks = Banks::open(&scene.bank_dirs()).unwrap();
+    let (catalogue, listed) = banks.session_catalogue().unwrap();
+    assert_eq!(listed.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(), ["lsys-broadleaf", "lsys-conifer", "lsys-birch"]);
+    let mut s = Script::new(Sim::from_scene_with(&scene, scene.seed, catalogue).unwrap());
+    let lsys = s.sim().world.query::<&grove_systems::components::Tree>().iter().filter(|t| t.model.0 >= 8).count();
+    assert_eq!(lsys, 6, "the garden's six L-system trees");
+    let p = Vec3::new(0.0, s.sim().res.spatial.ground_below(Vec3::new(0.0, 50.0, 10.0), 0.0).unwrap().point.y, 10.0);
+    s.choose_model("lsys-birch").point_at(p).press(Button::Trigger).wait(70);
+    let hash = s.sim().hash().total;
+    let (sim, events) = s.into_parts();
+    let mut header = Header::new("assets/scenes/garden.ron", scene.seed, scene.dt);
+    header.models = listed;
+    let bytes = record_events_in(Vec::new(), &header, &events, sim.res.tick, serde_json::json!({}), &Banks::default()).unwrap();
+    let dir = temp_dir("garden");
+    let file = dir.join("garden.jsonl");
+    std::fs::write(&file, bytes).unwrap();
+    let o = replay_file(&file, &ReplayOptions::default()).unwrap();
+    assert!(o.first_divergence.is_none() && o.complete && o.checkpoints_checked > 0);
+    assert_eq!(o.sim.hash().total, hash);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -149,10 +149,25 @@ pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Re
         if len > MAX_FILE_BYTES {
             return Err(format!("{}: larger than {MAX_FILE_BYTES} bytes, the limit for a model's file", path.display()));
         }
-        let bytes = std::fs::read(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
+        // Streamed in blocks, so that hashing takes little memory however large the file.
+        use std::io::Read;
+        let io = |e: std::io::Error| format!("{}: {}", path.display(), crate::scene::io_message(&e));
+        let mut f = std::fs::File::open(&path).map_err(io)?;
         h.update(name.as_bytes());
-        h.update(&(bytes.len() as u64).to_le_bytes());
-        h.update(&bytes);
+        h.update(&len.to_le_bytes());
+        let mut buf = vec![0u8; 1 << 16];
+        let mut seen = 0u64;
+        loop {
+            let n = f.read(&mut buf).map_err(io)?;
+            if n == 0 {
+                break;
+            }
+            seen += n as u64;
+            h.update(&buf[..n]);
+        }
+        if seen != len {
+            return Err(format!("{}: changed while it was being read", path.display()));
+        }
     }
     Ok(crate::hash::hex(h.digest()))
 }

@@ -71,7 +71,9 @@ fn load(path: &Path, shown: &str) -> Result<Scene, String> {
     let text = read_scene_text(path).map_err(|e| format!("scene {shown}: {}", e.message))?;
     let generic = |at: String| format!("scene {shown} is not a valid grove scene{at}; run `grove scene check` on it for details");
     // Only the position of a parse error: its message may quote the file's content.
-    let scene: Scene = ron::from_str(&text).map_err(|e| generic(format!(" (line {}, column {})", e.span.start.line, e.span.start.col)))?;
+    let mut scene: Scene = ron::from_str(&text).map_err(|e| generic(format!(" (line {}, column {})", e.span.start.line, e.span.start.col)))?;
+    // Its banks are relative to its own folder.
+    scene.dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
     // A crossed limit is named, with the planes called by number rather than by their names.
     let mut anonymous = scene.clone();
     for (i, p) in anonymous.planes.iter_mut().enumerate() {
