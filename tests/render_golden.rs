@@ -237,8 +237,7 @@ fn striped_card() -> ModelData {
             height: size,
             rgba,
         }],
-        bounds: (Vec3::new(-0.5, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0)),
-        own_wind: true,
+        bounds: (Vec3::new(-0.5, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0)), own_wind: true,
     }
 }
 
