@@ -16,6 +16,9 @@ pub use crate::render::assets::gltf_open::{extensions_of, json_of};
 /// Refuses a file that uses an extension grove cannot decode: one line naming the extension and
 /// the conversion. Files that do not parse pass, for the loader to report.
 pub fn check_file(path: &Path) -> Result<(), String> {
+    if !path.is_file() {
+        return Ok(());
+    }
     let Ok(bytes) = std::fs::read(path) else { return Ok(()) };
     let (required, used) = extensions_of(&bytes);
     for (ext, fix) in REFUSED {

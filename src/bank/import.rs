@@ -80,7 +80,7 @@ pub fn load_checked(file: &Path) -> anyhow::Result<ModelData> {
 pub fn add(req: &AddRequest) -> anyhow::Result<Added> {
     let file = &req.file;
     if !file.is_file() {
-        bail!("{}: no such file", file.display());
+        bail!("{}: {}", file.display(), if file.exists() { "not a regular file" } else { "no such file" });
     }
     let data = load_checked(file)?;
     let stem = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();

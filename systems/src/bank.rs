@@ -145,7 +145,11 @@ pub fn content_hash(dir: &Path, files: &[String]) -> Result<String, String> {
 pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, String> {
     let mut h = Xxh3::new();
     for (name, path) in files {
-        let len = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?.len();
+        let meta = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
+        if !meta.is_file() {
+            return Err(format!("{}: not a regular file", path.display()));
+        }
+        let len = meta.len();
         if len > MAX_FILE_BYTES {
             return Err(format!("{}: larger than {MAX_FILE_BYTES} bytes, the limit for a model's file", path.display()));
         }
@@ -183,7 +187,11 @@ impl Bank {
         if !path.exists() {
             return Ok(Bank { dir: dir.to_path_buf(), catalogue: BankCatalogue::default() });
         }
-        let len = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?.len();
+        let meta = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
+        if !meta.is_file() {
+            return Err(format!("{}: not a regular file", path.display()));
+        }
+        let len = meta.len();
         if len > MAX_CATALOGUE_BYTES {
             return Err(format!("{}: larger than {MAX_CATALOGUE_BYTES} bytes", path.display()));
         }

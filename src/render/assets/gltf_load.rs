@@ -129,6 +129,9 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     if !path.exists() {
         return Err(err("no such file".into()));
     }
+    if !path.is_file() {
+        return Err(err("not a regular file".into()));
+    }
     let bytes = std::fs::read(path).map_err(|e| err(grove_systems::scene::io_message(&e)))?;
     let gltf = super::gltf_open::parse(&bytes).map_err(|e| err(format!("not a valid glTF 2.0 file ({})", one_line(&e.to_string()))))?;
     let base = path.parent().unwrap_or(Path::new("."));
