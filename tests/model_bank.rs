@@ -354,3 +354,25 @@ fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
     assert_eq!(o.sim.hash().total, hash);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn bad_model_lists_in_headers_are_refused_in_one_line() {
+    use grove_systems::bank::HeaderModel;
+    use grove_systems::replay::{encode_line, Line};
+    let dir = temp_dir("headers");
+    let cases: Vec<(Vec<HeaderModel>, &str)> = vec![
+        (vec![HeaderModel { name: "../etc".into(), hash: "0123456789abcdef".into() }], "plain name"),
+        (vec![HeaderModel { name: "oak".into(), hash: "xyz".into() }], "16-hex-digit hash"),
+        (vec![HeaderModel { name: "birch-mesh".into(), hash: "0123456789abcdef".into() }], "shipped name"),
+        ((0..300).map(|i| HeaderModel { name: format!("m{i}"), hash: "0123456789abcdef".into() }).collect(), "more than"),
+        (vec![HeaderModel { name: "oak".into(), hash: "0123456789abcdef".into() }], "in no bank"),
+    ];
+    for (k, (models, needle)) in cases.into_iter().enumerate() {
+        let mut h = Header::new("study", 1, 1.0 / 60.0);
+        h.models = models;
+        let f = dir.join(format!("h{k}.jsonl"));
+        std::fs::write(&f, format!("{}\n", encode_line(&Line::Header(h)))).unwrap();
+        assert_one_line_error(&grove(&["replay", f.to_str().unwrap()]), 2, needle);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
