@@ -9,7 +9,7 @@ use anyhow::{bail, Context};
 use clap::{Args, Subcommand};
 use grove::lsystem::grammar::{Source, COMMANDS};
 use grove::lsystem::gpu::GpuDeriver;
-use grove::lsystem::{derive, mesh, presets, turtle, Grammar, LString, Limits};
+use grove::lsystem::{derive, memo, mesh, presets, turtle, Grammar, LString, Limits};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Subcommands of `grove lsystem`.
@@ -296,6 +296,7 @@ fn run_bench(a: BenchArgs) -> anyhow::Result<ExitCode> {
             None => None,
         };
         bar.inc(1);
+        let symbols = s.len();
         let (ts, segs) = best(a.repeats, || turtle::interpret(&s, &g))?;
         let nseg = segs.len();
         drop(segs);
@@ -305,11 +306,23 @@ fn run_bench(a: BenchArgs) -> anyhow::Result<ExitCode> {
         bar.inc(1);
         let (t2, segs) = best(a.repeats, || pools[1].install(|| turtle::interpret_parallel(&s, &g, limits.max_bytes)))?;
         drop(segs);
+        drop(s);
+        // The memoised turtle works from the grammar alone (deterministic grammars only).
+        let (m1, m2) = if memo::applies(&g) {
+            let (m1, segs) = best(a.repeats, || pools[0].install(|| memo::interpret_memo(&g, n, limits.max_bytes)))?;
+            drop(segs);
+            let (m2, segs) = best(a.repeats, || pools[1].install(|| memo::interpret_memo(&g, n, limits.max_bytes)))?;
+            drop(segs);
+            (Some(m1), Some(m2))
+        } else {
+            (None, None)
+        };
         bar.inc(1);
         rows.push(serde_json::json!({
-            "n": n, "symbols": s.len(), "segments": nseg,
+            "n": n, "symbols": symbols, "segments": nseg,
             "derive_ms_1_thread": d1, "derive_ms_2_threads": d2, "derive_ms_gpu": gpu_ms,
             "interpret_ms_sequential": ts, "interpret_ms_1_thread": t1, "interpret_ms_2_threads": t2,
+            "interpret_ms_memo_1_thread": m1, "interpret_ms_memo_2_threads": m2,
         }));
     }
     bar.finish_and_clear();
@@ -319,15 +332,16 @@ fn run_bench(a: BenchArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     println!("{} (fastest of {}; GPU: {})", a.preset, a.repeats, adapter.as_deref().unwrap_or("not run"));
-    println!("| n | symbols | segments | derive 1 thread | derive 2 threads | derive GPU | interpret sequential | interpret 1 thread | interpret 2 threads |");
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("| n | symbols | segments | derive 1 thread | derive 2 threads | derive GPU | interpret sequential | interpret 1 thread | interpret 2 threads | memoised 1 thread | memoised 2 threads |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let ms = |v: &serde_json::Value| v.as_f64().map(|x| format!("{x:.1} ms")).unwrap_or_else(|| "—".into());
     for r in &rows {
         println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r["n"], r["symbols"], r["segments"],
             ms(&r["derive_ms_1_thread"]), ms(&r["derive_ms_2_threads"]), ms(&r["derive_ms_gpu"]),
-            ms(&r["interpret_ms_sequential"]), ms(&r["interpret_ms_1_thread"]), ms(&r["interpret_ms_2_threads"])
+            ms(&r["interpret_ms_sequential"]), ms(&r["interpret_ms_1_thread"]), ms(&r["interpret_ms_2_threads"]),
+            ms(&r["interpret_ms_memo_1_thread"]), ms(&r["interpret_ms_memo_2_threads"])
         );
     }
     Ok(ExitCode::SUCCESS)
