@@ -18,6 +18,9 @@ use crate::catalogue::ModelId;
 /// ([`crate::wind_model`]), which the rest of the crate builds on.
 pub use crate::wind_model::{Gust, Wind};
 
+/// The water component lives with the water geometry ([`crate::water`]).
+pub use crate::water::Water;
+
 /// A rigid pose: a position and an orientation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pose {
@@ -212,6 +215,8 @@ pub enum HitTarget {
     Tree(u64),
     /// A bounding-box handle of the selected tree.
     Handle(crate::components::Handle),
+    /// A water surface, by entity id bits: not ground, nothing is planted there.
+    Water(u64),
 }
 
 /// A bounding-box handle: corners scale uniformly, vertical edges rotate about +Y.
