@@ -4,7 +4,8 @@
 //! later stage works on that copy and never sees the world.
 
 use glam::{Quat, Vec2, Vec3};
-use grove_systems::components::{AnchorBall, Controller, HitMarker, HitTarget, Plane, Scale, Selection, Transform, Tree, Water, WindState};
+use grove_systems::components::{AnchorBall, Controller, HitMarker, HitTarget, Plane, Scale, Selection, Transform, Tree, WindState};
+use grove_systems::water::Water;
 use grove_systems::wind_model::{Gust, Wind, WindModel, WindParams, WindResponse};
 use grove_systems::Sim;
 

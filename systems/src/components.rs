@@ -18,9 +18,6 @@ use crate::catalogue::ModelId;
 /// ([`crate::wind_model`]), which the rest of the crate builds on.
 pub use crate::wind_model::{Gust, Wind};
 
-/// The water component lives with the water geometry ([`crate::water`]).
-pub use crate::water::Water;
-
 /// A rigid pose: a position and an orientation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pose {

@@ -14,6 +14,7 @@ use xxhash_rust::xxh3::Xxh3;
 
 use crate::components::*;
 use crate::resources::Resources;
+use crate::water::Water;
 
 /// The hashed component types, in hashing order: the one list from which the names
 /// ([`COMPONENTS`]), the hashing ([`world_hash`]) and the presence check ([`has_component`]) are

@@ -10,6 +10,7 @@ use crate::hash::{world_hash, WorldHash};
 use crate::input::InputEvent;
 use crate::resources::Resources;
 use crate::scene::{parse_utc_ms, plane_geometry, Scene};
+use crate::water::Water;
 
 pub use crate::components::{tree_components, TreeComponents};
 

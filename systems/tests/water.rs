@@ -8,13 +8,13 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{HitTarget, Pose, Water};
+use grove_systems::components::{HitTarget, Pose};
 use grove_systems::events::Happening;
 use grove_systems::input::Button;
 use grove_systems::interact;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
-use grove_systems::water::WaterDef;
+use grove_systems::water::{Water, WaterDef};
 use grove_systems::Sim;
 
 const SHRUB: ModelId = ModelId(3);
