@@ -211,9 +211,10 @@ impl Renderer {
             // software rasteriser the early depth test then skips most hidden ground fragments.
             self.trees.draw(Phase::Opaque, &mut pass, key, s)?;
             self.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
-            self.ground.draw(Phase::Opaque, &mut pass, key, s)?;
-            // Water after the ground, which hides the parts of its outline above the shore.
+            // Water before the ground, for the same reason: the bed under it is then skipped.
+            // The ground still hides the parts of the outline that lie above the shore.
             self.water.draw(Phase::Opaque, &mut pass, key, s)?;
+            self.ground.draw(Phase::Opaque, &mut pass, key, s)?;
             // The sky where nothing was drawn.
             self.sky.draw(Phase::Sky, &mut pass, key, s)?;
             // Blended: no feature yet (the aerial canopy goes here, far to near).

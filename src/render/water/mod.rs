@@ -2,8 +2,8 @@
 //! twice more at half resolution: from the camera mirrored in the water plane and clipped at it
 //! (the reflection: trees, ground and sky, so the sky's cubemap shows where nothing else is), and
 //! from the camera with only what lies below the plane (the refraction, with its depth). The
-//! surface ([`WaterFeature::draw`], `water.wgsl`, in the main pass's opaque phase after the
-//! ground) mixes the two with Schlick's Fresnel term, shifted by two scrolling normal maps, tinted
+//! surface ([`WaterFeature::draw`], `water.wgsl`, in the main pass's opaque phase before the
+//! ground, so that the bed under it is skipped by the depth test) mixes the two with Schlick's Fresnel term, shifted by two scrolling normal maps, tinted
 //! and darkened with the depth of water along the view, with a sun glint and a soft shore.
 //!
 //! The two extra passes draw the other features with the main view's pipelines (they differ only

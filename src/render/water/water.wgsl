@@ -1,4 +1,4 @@
-// Water: the surface of each pond, drawn in the main pass after the ground. lighting.wgsl is
+// Water: the surface of each pond, drawn in the main pass before the ground. lighting.wgsl is
 // prepended (group 0 the view, group 1 the lighting). What the surface shows comes from two
 // textures the frame drew before the main pass (src/render/water/mod.rs): the reflection (the
 // scene from the camera mirrored in the surface, clipped at it) and the refraction (what lies
@@ -92,15 +92,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let ruv = clamp(clip_uv(water.reflection_view_proj * vec4<f32>(in.world_pos, 1.0)) + shift, vec2<f32>(0.001), vec2<f32>(0.999));
     let reflected = textureSampleLevel(reflection_tex, clamp_sampler, ruv, 0.0).rgb;
 
-    // Refraction: what lies below, shifted by the ripples unless that lands on nothing (the
-    // shifted texel is then not under the water), tinted and darkened with the path length.
-    var tuv = screen + shift;
-    var t_path = water_path(tuv, in.world_pos);
-    if (t_path >= 1000.0 && path < 1000.0) {
-        tuv = screen;
-        t_path = path;
-    }
-    let below = textureSampleLevel(refraction_tex, clamp_sampler, tuv, 0.0).rgb;
+    // Refraction: what lies below, shifted by the ripples, tinted and darkened with the length
+    // of the path through the water (the unshifted one: a second depth lookup would cost a
+    // software rasteriser much and change little).
+    let t_path = path;
+    let below = textureSampleLevel(refraction_tex, clamp_sampler, screen + shift, 0.0).rgb;
     let deep = in.colour_depth.rgb * (frame.ambient * frame.sky + frame.sun_color * 0.25);
     // Light fades to a tenth over the body's depth.
     let k = 2.3 / max(in.colour_depth.w, 0.1);
