@@ -44,3 +44,23 @@ fn bad_water_fields_give_one_line_errors() {
     broken("two", &format!("{}polygon: [(0.0, 0.0), (1.0, 0.0)],{}", &p[..start], &p[end..]), "at least 3");
     broken("bowtie", &format!("{}polygon: [(0.0, 0.0), (2.0, 2.0), (2.0, 0.0), (0.0, 2.0)],{}", &p[..start], &p[end..]), "cross");
 }
+
+#[test]
+fn render_draws_the_pond_unless_told_no_water() {
+    let dir = tempfile::tempdir().unwrap();
+    let (with, without) = (dir.path().join("with.png"), dir.path().join("without.png"));
+    for (path, extra) in [(&with, None), (&without, Some("--no-water"))] {
+        let p = path.display().to_string();
+        let mut args = vec!["render", "--scene", "assets/scenes/pond.ron", "--out", p.as_str(), "--width", "96", "--height", "64"];
+        args.extend(extra);
+        let out = grove(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    let (a, b) = (image::open(&with).unwrap().to_rgba8(), image::open(&without).unwrap().to_rgba8());
+    // The pond lies in the middle of the scene's view, a little below the centre.
+    let changed = (28..40u32).flat_map(|y| (30..66u32).map(move |x| (x, y))).filter(|&(x, y)| {
+        let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
+        (0..3).any(|c| p[c].abs_diff(q[c]) > 30)
+    });
+    assert!(changed.count() > 100, "--no-water left the pond's pixels as they were");
+}
