@@ -1,5 +1,6 @@
 //! Views: a camera's uniforms and bind group (group 0). The frame has two, the head's camera
-//! (the main pass) and the sun (the shadow map); a reflection view for water would be a third.
+//! (the main pass) and the sun (the shadow map); the water feature makes two more with
+//! [`Views::extra`] (its reflection and refraction cameras).
 //!
 //! Units: metres, radians; right-handed, +Y up; wgpu clip depth 0..1.
 
