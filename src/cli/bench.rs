@@ -32,9 +32,12 @@ pub enum Which {
     Render,
     /// Only the 100-tree reference scene of the render benchmark, shadows on and off.
     RenderReference,
-    /// The reference scene and a 10k-tree forest on a real GPU, timed with timestamp queries
-    /// (fails on a software adapter such as lavapipe).
+    /// The reference scene, a 10k-tree forest and the water test on a real GPU, timed with
+    /// timestamp queries (fails on a software adapter such as lavapipe).
     RenderGpu,
+    /// Fukuda et al.'s water test: 500 m of water 50 m deep under the sky, with and without
+    /// water, at 1280x720.
+    Water,
 }
 
 /// Arguments of `grove bench`.
@@ -119,6 +122,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
         Which::Replay,
         Which::Study,
         Which::Render,
+        Which::Water,
     ];
     let which: Vec<Which> = if args.which.is_empty() {
         all.to_vec()
@@ -152,6 +156,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
                 super::bench_render::bench_reference(render)?,
             ),
             Which::RenderGpu => ("render_gpu", super::bench_render::bench_gpu(render)?),
+            Which::Water => ("water", super::bench_water::bench_water(render)?),
         };
         report.insert(name.into(), value);
     }

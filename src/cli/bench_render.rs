@@ -23,10 +23,13 @@ use grove_systems::components::{Head, Pose, Sun};
 use grove_systems::scene::{CameraDef, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
 use serde_json::{Value, json};
 
-const WIDTH: u32 = 1280;
-const HEIGHT: u32 = 720;
+/// The benchmark's image width, pixels.
+pub(super) const WIDTH: u32 = 1280;
+/// The benchmark's image height, pixels.
+pub(super) const HEIGHT: u32 = 720;
 
-fn ground_scene(half: f32, cell: f32) -> Scene {
+/// A flat benchmark scene: a ground grid of half-size `half` and cell `cell` metres.
+pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
     Scene {
         name: "render benchmark".into(),
         dt: 1.0 / 60.0,
@@ -63,6 +66,7 @@ fn ground_scene(half: f32, cell: f32) -> Scene {
         scatter: vec![],
         banks: vec![],
         dir: None,
+        water: vec![],
         camera: CameraDef {
             position: Vec3::new(0.0, 1.7, 6.0),
             look_at: Vec3::ZERO,
@@ -71,7 +75,8 @@ fn ground_scene(half: f32, cell: f32) -> Scene {
     }
 }
 
-fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
+/// Puts the camera at `eye` looking at `target` and the sun at 45° from the south-east.
+pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
     for h in sim.world.query_mut::<&mut Head>() {
         *h = Head {
             pose: Pose::looking_at(eye, target),
@@ -155,7 +160,7 @@ pub struct RenderBenchOptions {
 
 /// Builds the GPU and the renderer at the benchmark's size, and names the adapter on stderr.
 /// With `need_gpu`, a software adapter is an error: its timings would say nothing of a GPU.
-fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Renderer, String)> {
+pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Renderer, String)> {
     let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
     let adapter = gpu.adapter_name();
     if need_gpu && gpu.is_cpu() {
@@ -278,6 +283,7 @@ pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
     );
     out.insert("reference_100_trees".into(), reference);
     out.insert("forest_10k_trees".into(), forest);
+    out.insert("water_test".into(), super::bench_water::water_figures(&gpu, &mut renderer, 30)?);
     Ok(Value::Object(out))
 }
 

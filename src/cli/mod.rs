@@ -6,6 +6,7 @@ pub mod bench;
 pub mod bench_raycast;
 pub mod bench_render;
 pub mod bench_replay;
+pub mod bench_water;
 pub mod bench_wind;
 pub mod lsystem;
 pub mod models;

@@ -46,6 +46,10 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
             let w = &scene.wind;
             println!("  wind: strength {}, density {}/m, gusts {} ± {} at {} Hz", w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency);
             println!("  trees: {}", scene.trees.len());
+            for w in &scene.water {
+                let area = grove_systems::water::signed_area(&w.polygon).abs();
+                println!("  water '{}': {} vertices, {area:.1} m², surface at {:.2} m, {:.2} m deep", w.name, w.polygon.len(), w.height, w.depth);
+            }
             let c = &scene.camera;
             println!("  camera: at {:?} looking at {:?}, fov {}°", c.position.to_array(), c.look_at.to_array(), c.fov_y_deg);
             Ok(ExitCode::SUCCESS)

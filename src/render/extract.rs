@@ -4,7 +4,8 @@
 //! later stage works on that copy and never sees the world.
 
 use glam::{Quat, Vec2, Vec3};
-use grove_systems::components::{AnchorBall, Controller, HitMarker, Plane, Scale, Selection, Transform, Tree, WindState};
+use grove_systems::components::{AnchorBall, Controller, HitMarker, HitTarget, Plane, Scale, Selection, Transform, Tree, WindState};
+use grove_systems::water::Water;
 use grove_systems::wind_model::{Gust, Wind, WindModel, WindParams, WindResponse};
 use grove_systems::Sim;
 
@@ -42,6 +43,23 @@ pub(crate) struct TreeDraw {
     pub phase: f32,
 }
 
+/// One water body as the frame draws it (a copy of its `Water` component).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct WaterDraw {
+    /// The outline, (X, Z) metres.
+    pub polygon: Vec<Vec2>,
+    /// The surface height, metres.
+    pub height: f32,
+    /// The deepest point below the surface, metres.
+    pub depth: f32,
+    /// The deep colour, linear RGB.
+    pub colour: [f32; 3],
+    /// Ripple strength, 0 = still.
+    pub ripples: f32,
+    /// Ripple drift, metres per second.
+    pub ripple_speed: f32,
+}
+
 /// Everything a frame draws, copied from the world.
 pub(crate) struct FrameData {
     /// The head's camera.
@@ -67,6 +85,8 @@ pub(crate) struct FrameData {
     pub plane_bounds: Option<(Vec3, Vec3)>,
     /// The interaction visuals.
     pub overlay: OverlayScene,
+    /// The water bodies, sorted by entity.
+    pub water: Vec<WaterDraw>,
 }
 
 impl FrameData {
@@ -133,8 +153,24 @@ impl FrameData {
             planes,
             plane_bounds,
             overlay: overlay_scene(sim),
+            water: water_bodies(sim),
         }
     }
+}
+
+/// The world's water bodies, sorted by entity.
+fn water_bodies(sim: &Sim) -> Vec<WaterDraw> {
+    let mut w: Vec<(u64, WaterDraw)> = sim
+        .world
+        .query::<(hecs::Entity, &Water)>()
+        .iter()
+        .map(|(e, w)| {
+            let draw = WaterDraw { polygon: w.polygon.clone(), height: w.height, depth: w.depth, colour: w.colour, ripples: w.ripples, ripple_speed: w.ripple_speed };
+            (e.to_bits().get(), draw)
+        })
+        .collect();
+    w.sort_by_key(|(e, _)| *e);
+    w.into_iter().map(|(_, d)| d).collect()
 }
 
 /// The wind of a world without a `Wind` entity: strength and gust 0, the default response, so
@@ -160,6 +196,7 @@ fn overlay_scene(sim: &Sim) -> OverlayScene {
         distance: h.distance,
         position: h.position,
         normal: h.normal,
+        on_water: matches!(h.target, HitTarget::Water(_)),
     });
     let controllers = world
         .query::<&Controller>()

@@ -6,6 +6,8 @@
 //!    views' uniforms (the shadow map is fitted to what the features drew).
 //! 3. **Compute**: none yet (grass will simulate its blades here).
 //! 4. **Shadow**: depth from the sun of every shadow caster ([`Feature::draw_depth`]).
+//!    **Water views** (only with water): the reflection (trees, ground, sky from the mirrored
+//!    camera) and the refraction (trees and ground below the surface), at half resolution.
 //! 5. **Main**: the phases in order ([`Phase`]): opaque, alpha-clipped, sky, blended, overlay.
 //! 6. **Resolve** the pass timestamps.
 //!
@@ -93,6 +95,7 @@ impl Renderer {
         self.ground.prepare(&cx)?;
         self.sky.prepare(&cx)?;
         self.overlay.prepare(&cx)?;
+        self.water.prepare(&cx)?;
 
         // The views: the camera's, and the sun's fitted to the trees and planes within 80 m of
         // the camera.
@@ -119,6 +122,9 @@ impl Renderer {
             pad2: 0.0,
         };
         self.views.write(&self.shared.queue, &main, light_vp.to_cols_array_2d(), &data.wind);
+        if let Some(w) = data.water.first() {
+            self.water.write(&self.shared.queue, &main, &data.camera, (self.width, self.height), options.water_output, w.height);
+        }
         let mut stats = FrameStats { instances: self.trees.instance_count, ..Default::default() };
 
         // 3. Compute: no feature has a compute stage yet.
@@ -144,6 +150,38 @@ impl Renderer {
                 let sun = key.with_view(ViewKind::Sun);
                 pass.set_bind_group(0, &self.views.sun.bind_group, &[]);
                 self.trees.draw_depth(&mut pass, sun)?;
+            }
+        }
+
+        // 4b. Water views: what the water reflects and what lies below it, drawn with the main
+        // view's pipelines from the water's own views. Their draws are not the main pass's.
+        let mut water_stats = FrameStats::default();
+        for w in self.water.passes() {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(w.label),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: w.color,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: w.depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: self.timer.as_mut().and_then(|t| t.scope(w.label)),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, w.view, &[]);
+            pass.set_bind_group(1, &self.lighting.bind_group, &[]);
+            let s = &mut water_stats;
+            self.trees.draw(Phase::Opaque, &mut pass, key, s)?;
+            self.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
+            self.ground.draw(Phase::Opaque, &mut pass, key, s)?;
+            if w.sky {
+                self.sky.draw(Phase::Sky, &mut pass, key, s)?;
             }
         }
 
@@ -173,6 +211,9 @@ impl Renderer {
             // software rasteriser the early depth test then skips most hidden ground fragments.
             self.trees.draw(Phase::Opaque, &mut pass, key, s)?;
             self.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
+            // Water before the ground, for the same reason: the bed under it is then skipped.
+            // The ground still hides the parts of the outline that lie above the shore.
+            self.water.draw(Phase::Opaque, &mut pass, key, s)?;
             self.ground.draw(Phase::Opaque, &mut pass, key, s)?;
             // The sky where nothing was drawn.
             self.sky.draw(Phase::Sky, &mut pass, key, s)?;

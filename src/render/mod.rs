@@ -7,7 +7,8 @@
 //!
 //! A frame runs in stages ([`frame`]): extract (the one reader of the world, [`extract`]),
 //! prepare, compute, shadow, main (opaque, alpha-clipped, sky, blended, overlay). Each drawn
-//! feature is a folder with its module and shader: [`trees`], [`ground`], [`sky`], [`overlay`].
+//! feature is a folder with its module and shader: [`trees`], [`ground`], [`sky`], [`overlay`],
+//! [`water`].
 //! Shared pieces: [`gpu`] (device, layouts, pipeline keys), [`view`] (a camera's uniforms),
 //! [`lighting`] (sun light, shadow map), [`timing`] (pass timestamps), [`assets`] (glTF,
 //! textures).
@@ -24,6 +25,7 @@ pub mod sky;
 pub mod timing;
 pub mod trees;
 pub mod view;
+pub mod water;
 
 use std::path::{Path, PathBuf};
 
@@ -38,6 +40,7 @@ pub use trees::instances::Instance;
 pub use trees::lod;
 pub use trees::model::GpuModel;
 pub use view::{camera_matrix, Camera};
+pub use water::WaterOutput;
 
 use gltf_load::ModelData;
 
@@ -66,11 +69,15 @@ pub struct RenderOptions {
     /// The smallest area, in pixels, a drawn leaf should cover: farther trees draw a share of
     /// their leaves, grown to keep the crown's area ([`lod`]). 0 draws every leaf.
     pub leaf_pixels: f32,
+    /// Draw the scene's water (its reflection and refraction passes and the surface).
+    pub water: bool,
+    /// What the water surface shows (normally the water itself).
+    pub water_output: WaterOutput,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0 }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full }
     }
 }
 
@@ -103,6 +110,7 @@ pub struct Renderer {
     ground: ground::Ground,
     sky: sky::Sky,
     overlay: overlay::Overlay,
+    water: water::WaterFeature,
 }
 
 impl Renderer {
@@ -139,6 +147,8 @@ impl Renderer {
         let shared = gpu::Shared::new(device, queue);
         let options = RenderOptions::default();
         let ground = ground::Ground::new(&shared, assets)?;
+        let views = view::Views::new(&shared);
+        let water = water::WaterFeature::new(&shared, &views);
         Ok(Renderer {
             format: target_format,
             width: width.max(1),
@@ -146,13 +156,14 @@ impl Renderer {
             options,
             stats: FrameStats::default(),
             depth: depth_texture(device, width, height),
-            views: view::Views::new(&shared),
+            views,
             lighting: lighting::Lighting::new(&shared, face_size, &faces, options.shadow_size),
             timer: None,
             trees: trees::Trees::new(&shared),
             ground,
             sky: sky::Sky::new(&shared),
             overlay: overlay::Overlay::new(&shared),
+            water,
             shared,
         })
     }

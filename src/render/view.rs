@@ -1,5 +1,6 @@
 //! Views: a camera's uniforms and bind group (group 0). The frame has two, the head's camera
-//! (the main pass) and the sun (the shadow map); a reflection view for water would be a third.
+//! (the main pass) and the sun (the shadow map); the water feature makes two more with
+//! [`Views::extra`] (its reflection and refraction cameras).
 //!
 //! Units: metres, radians; right-handed, +Y up; wgpu clip depth 0..1.
 
@@ -70,6 +71,13 @@ pub(crate) struct View {
     pub bind_group: wgpu::BindGroup,
 }
 
+impl View {
+    /// Writes this view's uniforms.
+    pub fn write(&self, queue: &wgpu::Queue, uniform: &ViewUniform) {
+        queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(uniform));
+    }
+}
+
 /// The frame's views and the wind parameters they share.
 pub(crate) struct Views {
     /// The head's camera.
@@ -107,6 +115,26 @@ impl Views {
             View { buffer, bind_group }
         };
         Views { main: view("main view"), sun: view("sun view"), wind }
+    }
+
+    /// One more view sharing the wind parameters (the water's reflection and refraction views);
+    /// its owner writes it with [`View::write`].
+    pub fn extra(&self, shared: &Shared, label: &str) -> View {
+        let buffer = shared.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: std::mem::size_of::<ViewUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout: &shared.view_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: self.wind.as_entire_binding() },
+            ],
+        });
+        View { buffer, bind_group }
     }
 
     /// Writes this frame's uniforms: `main` for the camera; the sun's view is the same with the

@@ -212,6 +212,8 @@ pub enum HitTarget {
     Tree(u64),
     /// A bounding-box handle of the selected tree.
     Handle(crate::components::Handle),
+    /// A water surface, by entity id bits: not ground, nothing is planted there.
+    Water(u64),
 }
 
 /// A bounding-box handle: corners scale uniformly, vertical edges rotate about +Y.

@@ -107,6 +107,13 @@ pub enum Happening {
     TaskCompleted,
     /// The user ended the task.
     TaskEnded,
+    /// Trigger on water in ray-casting mode: water is not ground, so nothing was planted.
+    PlantingRefused {
+        /// The water body, by entity id bits.
+        water: u64,
+        /// The point on the surface the ray hit, metres.
+        position: Vec3,
+    },
 }
 
 impl Happening {
@@ -131,6 +138,7 @@ impl Happening {
             Happening::TargetSatisfied { .. } => "target_satisfied",
             Happening::TaskCompleted => "task_completed",
             Happening::TaskEnded => "task_ended",
+            Happening::PlantingRefused { .. } => "planting_refused",
         }
     }
 }

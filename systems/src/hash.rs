@@ -14,6 +14,7 @@ use xxhash_rust::xxh3::Xxh3;
 
 use crate::components::*;
 use crate::resources::Resources;
+use crate::water::Water;
 
 /// The hashed component types, in hashing order: the one list from which the names
 /// ([`COMPONENTS`]), the hashing ([`world_hash`]) and the presence check ([`has_component`]) are
@@ -21,7 +22,7 @@ use crate::resources::Resources;
 /// with any leading arguments, a `;`, and the type names.
 macro_rules! hashed_components {
     ($m:ident $(, $arg:expr)*) => {
-        $m!($($arg),* ; Transform, Scale, Tree, Grounded, WindState, Plane, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection)
+        $m!($($arg),* ; Transform, Scale, Tree, Grounded, WindState, Plane, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water)
     };
 }
 
@@ -34,6 +35,12 @@ macro_rules! component_names {
 /// The names of the hashed component types, in hashing order. `resources` covers the hashed
 /// resources (tick, RNG position, mode, menu, interaction state, event log, task state, config).
 pub const COMPONENTS: &[&str] = hashed_components!(component_names);
+
+/// Component types that take part in the hash only in a world that has at least one of them,
+/// so that adding such a type leaves the hash of every world without it unchanged (a scene
+/// without water hashes as it did before water existed). Such a type is then absent from
+/// [`WorldHash::components`].
+pub const OPTIONAL: &[&str] = &["Water"];
 
 /// A checkpoint: the total hash, one hash per component type and one per entity.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -95,6 +102,9 @@ impl Acc {
             rows.push((e.to_bits().get(), h));
         }
         rows.sort_unstable_by_key(|r| r.0);
+        if rows.is_empty() && OPTIONAL.contains(&name) {
+            return;
+        }
         let mut h = Xxh3::new();
         h.update(name.as_bytes());
         for (e, v) in &rows {
@@ -123,7 +133,7 @@ macro_rules! serde_hashed {
         })*
     };
 }
-serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection);
+serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water);
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
 /// through serde (the same bits, much faster).
@@ -193,7 +203,7 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     };
     let rh = acc.value_hash(&r);
     acc.components.push(("resources", rh));
-    debug_assert_eq!(acc.components.len(), COMPONENTS.len());
+    debug_assert!(acc.components.len() <= COMPONENTS.len());
     let mut total = Xxh3::new();
     for (name, h) in &acc.components {
         total.update(name.as_bytes());

@@ -36,6 +36,7 @@ pub mod stage;
 pub mod systems;
 pub mod task;
 pub mod tree_def;
+pub mod water;
 pub mod wind_model;
 
 pub use sim::Sim;

@@ -35,6 +35,12 @@ pub const MAX_PLANES: usize = 64;
 /// The most trees a scene may place at the start.
 pub const MAX_SCENE_TREES: usize = 100_000;
 
+/// The most water bodies in one scene.
+pub const MAX_WATER_BODIES: usize = 64;
+
+/// The most vertices of one water body's outline (its simplicity check is quadratic in them).
+pub const MAX_WATER_VERTICES: usize = 1024;
+
 /// The largest absolute coordinate, size, radius or elevation in a scene, metres (10^6 m).
 pub const MAX_COORD: f32 = 1.0e6;
 

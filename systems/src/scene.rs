@@ -51,6 +51,9 @@ pub struct Scene {
     /// The folder of the file the scene was read from ([`Scene::load`]); not part of the file.
     #[serde(skip)]
     pub dir: Option<std::path::PathBuf>,
+    /// Water bodies (ponds): outlines at a surface height (see `water.rs`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub water: Vec<crate::water::WaterDef>,
 }
 
 fn default_dt() -> f32 {
@@ -315,6 +318,7 @@ impl Scene {
         for (i, sc) in self.scatter.iter().enumerate() {
             sc.validate().map_err(|e| format!("scatter {i}: {e}"))?;
         }
+        crate::water::validate_all(&self.water)?;
         let c = &self.camera;
         near("camera", &[c.position.x, c.position.y, c.position.z, c.look_at.x, c.look_at.y, c.look_at.z])?;
         finite("camera", c.fov_y_deg.is_finite())?;

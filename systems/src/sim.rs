@@ -10,6 +10,7 @@ use crate::hash::{world_hash, WorldHash};
 use crate::input::InputEvent;
 use crate::resources::Resources;
 use crate::scene::{parse_utc_ms, plane_geometry, Scene};
+use crate::water::Water;
 
 pub use crate::components::{tree_components, TreeComponents};
 
@@ -41,6 +42,10 @@ impl Sim {
         for p in &scene.planes {
             let (vertices, triangles) = plane_geometry(&p.shape);
             world.spawn((Plane { name: p.name.clone(), vertices, triangles },));
+        }
+
+        for w in &scene.water {
+            world.spawn((Water::from(w),));
         }
 
         let utc_ms = parse_utc_ms(&scene.sun.utc)?;
@@ -87,10 +92,12 @@ impl Sim {
                 .ok_or_else(|| format!("tree {i}: {}", sim.res.catalogue.unknown_name(&t.model)))?;
             sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
         }
+        let water = crate::water::bodies(&sim.world);
         for (k, sc) in scene.scatter.iter().enumerate() {
             for t in sc.trees().map_err(|e| format!("scatter {k}: {e}"))? {
-                // A scattered position with no ground below (a hole) gets no tree.
-                if sim.res.spatial.ground_below(t.position, 1.0e3).is_none() {
+                // A scattered position with no ground below (a hole), or only a pond's bed,
+                // gets no tree.
+                if crate::water::dry_ground(&water, sim.res.spatial.ground_below(t.position, 1.0e3)).is_none() {
                     continue;
                 }
                 let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| format!("scatter {k}: {}", sim.res.catalogue.unknown_name(&t.model)))?;

@@ -29,6 +29,9 @@ pub struct OverlayHit {
     pub position: Vec3,
     /// The surface normal there.
     pub normal: Vec3,
+    /// Whether the hit is on water, where nothing can be planted (the marker turns red and
+    /// gets a ring).
+    pub on_water: bool,
 }
 
 /// The anchor ball below a dragged tree.
@@ -182,6 +185,11 @@ impl OverlayGeometry {
 /// The smallest angle, radians, that a target ring's outer radius and the hit marker's radius
 /// subtend from the eye (about 8 pixels at 720 pixels over a 60° field of view).
 pub const MIN_MARKER_ANGLE: f32 = 0.012;
+/// Colour of the hit marker on ground, trees and handles (linear RGBA).
+pub const MARKER: [f32; 4] = [0.2, 0.75, 1.0, 1.0];
+/// Colour of the hit marker on water, where planting is refused (linear RGBA).
+pub const MARKER_WATER: [f32; 4] = [1.0, 0.3, 0.15, 1.0];
+
 /// Colour of a target ring while the controller's hit point is inside its tolerance.
 pub const RING_LIT: [f32; 4] = [1.0, 0.95, 0.35, 1.0];
 
@@ -209,9 +217,15 @@ pub fn build(scene: &OverlayScene) -> OverlayGeometry {
     }
     if let Some(h) = hit {
         if h.visible {
-            g.sphere(h.position, min_on_screen(0.04, eye.distance(h.position)), [0.2, 0.75, 1.0, 1.0]);
+            let color = if h.on_water { MARKER_WATER } else { MARKER };
+            let r = min_on_screen(0.04, eye.distance(h.position));
+            g.sphere(h.position, r, color);
             let n = h.normal.normalize_or(Vec3::Y);
-            g.line(h.position, h.position + n * 0.25, [0.2, 0.75, 1.0, 1.0]);
+            g.line(h.position, h.position + n * 0.25, color);
+            if h.on_water {
+                // A flat ring on the surface: not a place to plant.
+                g.ring(h.position + Vec3::Y * 0.01, r * 2.0, r * 3.0, color);
+            }
         }
     }
     for a in &scene.anchors {
@@ -259,4 +273,34 @@ pub fn build(scene: &OverlayScene) -> OverlayGeometry {
         g.cuboid(base + Vec3::Y * 0.3, Vec3::new(0.02, 0.3, 0.02), Quat::IDENTITY, color);
     }
     g
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(on_water: bool) -> OverlayScene {
+        OverlayScene {
+            controllers: Vec::new(),
+            hit: Some(OverlayHit { visible: true, distance: 5.0, position: Vec3::new(0.0, -0.15, -4.0), normal: Vec3::Y, on_water }),
+            anchors: Vec::new(),
+            selections: Vec::new(),
+            targets: Vec::new(),
+            target_tolerance: 0.0,
+            max_ray_length: 30.0,
+            handle_radius: 0.1,
+            eye: Vec3::new(0.0, 1.7, 4.0),
+        }
+    }
+
+    #[test]
+    fn the_hit_marker_on_water_differs_from_the_one_on_ground() {
+        let count = |g: &OverlayGeometry, c: [f32; 4]| g.triangles.iter().filter(|v| v.color == c).count();
+        let ground = build(&scene(false));
+        let water = build(&scene(true));
+        assert!(count(&ground, MARKER) > 0 && count(&ground, MARKER_WATER) == 0);
+        assert_eq!(count(&water, MARKER), 0, "no blue marker on water");
+        // The sphere plus a ring: more triangles than the sphere alone, all in the water colour.
+        assert!(count(&water, MARKER_WATER) > count(&ground, MARKER));
+    }
 }

@@ -1,7 +1,7 @@
 //! Drag system: a grabbed tree follows the controller ray; the anchor ball shows the plane
 //! below it; releasing the Trigger snaps the tree onto that plane when the ball is white.
 //!
-//! Reads: `Resources::interaction.drag`, `Resources::edges` (Trigger going up),
+//! Reads: `Resources::interaction.drag`, `Resources::edges` (Trigger going up), `Water`,
 //! `Resources::config` (`snap_threshold`), `Resources::catalogue`, `Resources::spatial`
 //! (planes), `Controller` (ray, buttons), `Tree`, `Scale`.
 //! Writes: `Transform`, `Grounded`, `AnchorBall`, `Resources::interaction` (the drag: moved
@@ -19,7 +19,8 @@
 //! from the catalogue). The anchor ball sits at that plane point; its `distance` is the lowest
 //! point's height minus the plane's height; it is white (`armed`) exactly when
 //! `|distance| < snap_threshold` (see `interact::is_armed`) and green otherwise. Without a plane
-//! under the tree (a hole, or off every edge) the ball is hidden and not armed. Once the drag
+//! under the tree (a hole, or off every edge), or when the plane found lies under water (a
+//! pond's bed, `water::dry_ground`), the ball is hidden and not armed. Once the drag
 //! has moved the tree, SnapArmed and SnapDisarmed are logged whenever `armed` changes.
 //!
 //! On release after a move: if armed, the origin is set so that the lowest point lies exactly
@@ -65,6 +66,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let threshold = res.config.snap_threshold;
     let released = res.edges.up.trigger || !c.buttons.trigger;
 
+    let water = crate::water::bodies(world);
     let Ok((t, g, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &Scale)>(e) else { return };
     let target = c.ray_origin() + c.ray_dir() * drag.grab_distance + drag.offset;
     if drag.moved || target.distance(t.translation) > MOVE_EPSILON {
@@ -72,7 +74,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         g.0 = false;
         drag.moved = true;
     }
-    let ground = interact::ground_under(&res.spatial, t.translation, lowest, s.0, threshold);
+    let ground = crate::water::dry_ground(&water, interact::ground_under(&res.spatial, t.translation, lowest, s.0, threshold));
     let ball = match ground {
         Some(h) => {
             let distance = interact::lowest_point_y(t.translation.y, lowest, s.0) - h.point.y;

@@ -1,12 +1,13 @@
 //! Plant and remove system: Trigger on a plane plants (ray-casting mode); Bumper on a tree
-//! removes it.
+//! removes it. Trigger on water plants nothing and logs a refused planting.
 //!
 //! Reads: `Resources::edges` (Trigger and Bumper going down), `Resources::mode`,
 //! `Resources::menu.current_model`, `HitMarker`, `Tree`, `Wind`, `Selection`.
 //! Writes: new and despawned tree entities (through a command buffer), `Resources::rng` (the
 //! new tree's wind phase), `Selection` (cleared if its tree is removed),
 //! `Resources::interaction` (drag, handle drag or touchpad gesture on a removed tree ends),
-//! `Resources::spatial` (marked dirty), `Resources::log` (planted, removed, deselected).
+//! `Resources::spatial` (marked dirty), `Resources::log` (planted, planting_refused, removed,
+//! deselected).
 //!
 //! Planting happens only in ray-casting mode: the current model is placed upright (yaw 0,
 //! scale 1) with its base, the model origin, exactly at the hit point, and is grounded. In
@@ -45,6 +46,10 @@ pub fn run(world: &mut World, res: &mut Resources) {
             res.log.push(tick, Happening::Planted { tree: e.to_bits().get(), model, position: hit.position });
             changed = true;
         }
+    }
+
+    if let (true, Mode::RayCasting, HitTarget::Water(water)) = (res.edges.down.trigger, res.mode, hit.target) {
+        res.log.push(tick, Happening::PlantingRefused { water, position: hit.position });
     }
 
     if let (true, HitTarget::Tree(id)) = (res.edges.down.bumper, hit.target) {

@@ -1,12 +1,13 @@
 //! Raycast system: casts the controller ray and keeps the hit marker at the nearest hit.
 //!
-//! Reads: `Controller` (ray), `Selection` (the selected tree), `Tree`, `Transform`, `Scale`
+//! Reads: `Controller` (ray), `Selection` (the selected tree), `Water`, `Tree`, `Transform`, `Scale`
 //! (of the selected tree, for its handles), `Resources::interaction` (the dragged tree),
 //! `Resources::config` (`max_ray_length`, `handle_radius`), `Resources::catalogue`.
 //! Writes: `Resources::spatial` (rebuilt if marked dirty), `HitMarker`.
 //!
 //! The ray is tested against the planes' triangle meshes (so it passes through holes, which
-//! have no triangles), against the trees through the spatial index's BVH (skipping a tree that
+//! have no triangles), against the water surfaces (a water hit is `HitTarget::Water`, nearer
+//! than the pond's bed below it), against the trees through the spatial index's BVH (skipping a tree that
 //! is being dragged), and, when a tree is selected and not being dragged, against its 12
 //! bounding-box handles (spheres of radius `handle_radius`). The nearest hit wins, except that
 //! a handle also wins over a hit up to one handle radius in front of it, so that a handle
@@ -53,10 +54,16 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let mut marker = HitMarker::default();
     let tree = res.spatial.cast_trees(origin, dir, max, dragged);
     let nearest = crate::spatial::nearest(tree, |limit| res.spatial.cast_planes(origin, dir, limit), max);
-    let hit = nearest.map(|h| {
+    let mut hit = nearest.map(|h| {
         let id = h.entity.to_bits().get();
         (h, if tree.is_some_and(|t| t.entity == h.entity) { HitTarget::Tree(id) } else { HitTarget::Plane(id) })
     });
+    // Water is tested after the trees and planes, only up to their hit: a tree or a shore
+    // nearer than the surface wins, and in a world without water nothing changes.
+    let water = crate::water::bodies(world);
+    if let Some(w) = crate::water::cast(&water, origin, dir, hit.map_or(max, |(h, _)| h.distance)) {
+        hit = Some((w, HitTarget::Water(w.entity.to_bits().get())));
+    }
     if let Some((hit, target)) = hit {
         marker = HitMarker { visible: true, position: hit.point, normal: hit.normal, distance: hit.distance, target };
     }

@@ -36,7 +36,9 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let empty = match hit.target {
         _ if !hit.visible => true,
         HitTarget::None => true,
-        HitTarget::Plane(_) => res.mode == Mode::Manual,
+        // Water counts as ground here: in ray-casting mode the refusal (plant_remove system)
+        // leaves the selection as it is.
+        HitTarget::Plane(_) | HitTarget::Water(_) => res.mode == Mode::Manual,
         HitTarget::Tree(id) => {
             let Some(e) = interact::entity(id).filter(|&e| world.satisfies::<&Tree>(e)) else { return };
             let Ok(t) = world.get::<&Transform>(e).map(|t| *t) else { return };

@@ -1,7 +1,7 @@
 //! Touchpad system: front/back moves the selected tree out/in along the controller ray,
 //! left/right turns it counter-clockwise/clockwise.
 //!
-//! Reads: `Controller` (ray, touchpad axes), `Selection`, `Tree`, `Grounded`,
+//! Reads: `Controller` (ray, touchpad axes), `Selection`, `Tree`, `Grounded`, `Water`,
 //! `Resources::config` (`touchpad_dead_zone`, `touchpad_move_rate`, `touchpad_turn_rate_deg`,
 //! `snap_threshold`), `Resources::catalogue`, `Resources::spatial` (planes, for grounded moves),
 //! `Resources::interaction` (drag, handle drag, touchpad gesture).
@@ -16,7 +16,7 @@
 //!   Otherwise a tree that is not grounded moves along the ray direction; a grounded tree moves
 //!   along the ray's horizontal direction and follows the plane under it (its height changes by
 //!   the change of the plane's height under its axis, so it stands on the plane as it did),
-//!   becoming ungrounded if it leaves every plane (a hole or an edge).
+//!   becoming ungrounded if it leaves every plane (a hole or an edge) or walks onto water.
 //! - x < 0 turns the tree counter-clockwise seen from above, x > 0 clockwise.
 //!
 //! A gesture runs from the first tick an axis is beyond the dead zone until both are back inside
@@ -62,6 +62,10 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let turn = interact::touchpad_turn(x, res.config.touchpad_turn_rate_deg, dt);
     let dragged = res.interaction.drag.as_mut().filter(|d| d.tree == id);
     let lift = res.config.snap_threshold;
+    let water = crate::water::bodies(world);
+    let dry = |spatial: &crate::spatial::SpatialIndex, at: Vec3, scale: f32| {
+        crate::water::dry_ground(&water, interact::ground_under(spatial, at, lowest, scale, lift))
+    };
 
     let Ok((t, grounded, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &crate::components::Scale)>(e) else {
         return;
@@ -73,9 +77,9 @@ pub fn run(world: &mut World, res: &mut Resources) {
             let dir = c.ray_dir();
             let flat = Vec3::new(dir.x, 0.0, dir.z).normalize_or_zero();
             if flat != Vec3::ZERO {
-                let before = interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift);
+                let before = dry(&res.spatial, t.translation, s.0);
                 t.translation += flat * step;
-                match (before, interact::ground_under(&res.spatial, t.translation, lowest, s.0, lift)) {
+                match (before, dry(&res.spatial, t.translation, s.0)) {
                     (Some(b), Some(a)) => t.translation.y += a.point.y - b.point.y,
                     (None, Some(a)) => t.translation.y = interact::snapped_origin_y(a.point.y, lowest, s.0),
                     (_, None) => grounded.0 = false,
