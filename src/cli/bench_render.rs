@@ -61,6 +61,7 @@ fn ground_scene(half: f32, cell: f32) -> Scene {
         },
         trees: vec![],
         scatter: vec![],
+        grass: vec![],
         camera: CameraDef {
             position: Vec3::new(0.0, 1.7, 6.0),
             look_at: Vec3::ZERO,

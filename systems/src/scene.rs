@@ -44,6 +44,9 @@ pub struct Scene {
     pub scatter: Vec<crate::scatter::ScatterDef>,
     /// The initial head (camera) pose.
     pub camera: CameraDef,
+    /// Grass patches (see `grass.rs`); each becomes an entity with a `Grass` component.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub grass: Vec<crate::grass::GrassDef>,
 }
 
 fn default_dt() -> f32 {
@@ -304,6 +307,7 @@ impl Scene {
         if !(1.0..=179.0).contains(&c.fov_y_deg) {
             return Err(format!("camera fov_y_deg {} is outside 1..=179", c.fov_y_deg));
         }
+        crate::grass::validate_all(&self.grass, &self.planes)?;
         Ok(())
     }
 }

@@ -92,6 +92,11 @@ impl Sim {
                 sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
             }
         }
+        // Grass patches last, so that a scene without grass has the same entities as before.
+        // Their placement seed is the scene's, never the simulation's RNG.
+        for (i, g) in scene.grass.iter().enumerate() {
+            sim.world.spawn((Grass::new(g, i, scene.seed, &scene.planes),));
+        }
         Ok(sim)
     }
 
