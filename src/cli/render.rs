@@ -1,6 +1,6 @@
 //! `grove render`: draw a scene, a frame sequence or any glTF 2.0 model to PNG, offscreen.
 //!
-//! - `grove render --scene FILE --out PNG [--width W --height H] [--no-shadows]`
+//! - `grove render --scene FILE --out PNG [--width W --height H] [--no-shadows] [--no-grass]`
 //! - `grove render --scene FILE --frames N --fps F --out DIR [--time-rate R]`
 //! - `grove render --model FILE --out PNG`
 //!
@@ -45,6 +45,9 @@ pub struct RenderArgs {
     /// Turn the sun's shadow map off.
     #[arg(long)]
     pub no_shadows: bool,
+    /// Leave out the scene's grass patches (shells and blades).
+    #[arg(long)]
+    pub no_grass: bool,
     /// Write a sequence of this many frames into the folder --out.
     #[arg(long, requires = "scene")]
     pub frames: Option<u32>,
@@ -66,9 +69,10 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
     write_via_temp(out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))
 }
 
-/// The renderer's options from the arguments: `--no-shadows` is applied here and nowhere else.
+/// The renderer's options from the arguments: `--no-shadows` and `--no-grass` are applied here
+/// and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
-    RenderOptions { shadows: !args.no_shadows, ..Default::default() }
+    RenderOptions { shadows: !args.no_shadows, grass: !args.no_grass, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options.

@@ -16,6 +16,7 @@ pub mod assets;
 pub mod extract;
 pub mod frame;
 pub mod gpu;
+pub mod grass;
 pub mod ground;
 pub mod lighting;
 pub mod offscreen;
@@ -66,11 +67,13 @@ pub struct RenderOptions {
     /// The smallest area, in pixels, a drawn leaf should cover: farther trees draw a share of
     /// their leaves, grown to keep the crown's area ([`lod`]). 0 draws every leaf.
     pub leaf_pixels: f32,
+    /// Draw the scene's grass patches (`--no-grass` turns them off).
+    pub grass: bool,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0 }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, grass: true }
     }
 }
 
@@ -101,6 +104,7 @@ pub struct Renderer {
     timer: Option<timing::Timer>,
     trees: trees::Trees,
     ground: ground::Ground,
+    grass: grass::Grass,
     sky: sky::Sky,
     overlay: overlay::Overlay,
 }
@@ -151,6 +155,7 @@ impl Renderer {
             timer: None,
             trees: trees::Trees::new(&shared),
             ground,
+            grass: grass::Grass::new(&shared),
             sky: sky::Sky::new(&shared),
             overlay: overlay::Overlay::new(&shared),
             shared,
@@ -169,6 +174,12 @@ impl Renderer {
     /// `None` when pass timing is off. Call it after the frame was submitted and before the next.
     pub fn pass_times(&self) -> Result<Option<PassTimes>, String> {
         self.timer.as_ref().map(|t| t.read(&self.shared.device)).transpose()
+    }
+
+    /// The numbers of grass blades the last frame drew with 15 and with 7 vertices, read back
+    /// from the GPU's indirect draws (waits for the GPU); `(0, 0)` without blades.
+    pub fn visible_blades(&self) -> Result<(u32, u32), String> {
+        self.grass.visible_blades(&self.shared)
     }
 
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.

@@ -65,10 +65,10 @@ pub struct GrassDef {
 }
 
 fn default_base() -> Vec3 {
-    Vec3::new(0.05, 0.16, 0.03)
+    Vec3::new(0.02, 0.07, 0.01)
 }
 fn default_tip() -> Vec3 {
-    Vec3::new(0.32, 0.48, 0.12)
+    Vec3::new(0.12, 0.24, 0.04)
 }
 fn default_shells() -> u32 {
     20

@@ -133,7 +133,7 @@ fn bad_grass_fields_are_refused_with_one_line() {
             "polygon: [(100.0, 100.0), (110.0, 100.0), (110.0, 110.0)],",
             "lies off every plane",
         ),
-        ("tip_color: (0.30, 0.46, 0.10),", "tip_color: (3.0, 0.46, 0.10),", "every channel in 0..=1"),
+        ("tip_color: (0.10, 0.22, 0.03),", "tip_color: (3.0, 0.22, 0.03),", "every channel in 0..=1"),
         ("density: 300.0,", "density: 1.0e9,", "more than the limit"),
         ("kind: Shells,", "kind: Moss,", "Moss"),
     ];
