@@ -277,6 +277,7 @@ pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
     );
     out.insert("reference_100_trees".into(), reference);
     out.insert("forest_10k_trees".into(), forest);
+    out.insert("grass".into(), super::bench_grass::bench_grass_gpu(&gpu)?);
     Ok(Value::Object(out))
 }
 

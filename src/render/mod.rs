@@ -69,11 +69,13 @@ pub struct RenderOptions {
     pub leaf_pixels: f32,
     /// Draw the scene's grass patches (`--no-grass` turns them off).
     pub grass: bool,
+    /// Bend grass blades away from the eye and the controller's hit point when they are near.
+    pub grass_bend: bool,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, grass: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, grass: true, grass_bend: true }
     }
 }
 

@@ -352,11 +352,13 @@ impl Feature for Grass {
             let eye = cx.data.camera.position;
             let cull = CullParams { planes: data::frustum_planes(view_proj), camera: [eye.x, eye.y, eye.z, FAR_DISTANCE], lod_distance: LOD_DISTANCE, count: b.count, pad: [0; 2] };
             queue.write_buffer(&b.cull_params, 0, bytemuck::bytes_of(&cull));
-            let hit = cx.data.overlay.hit.filter(|h| h.visible).map_or([0.0; 4], |h| [h.position.x, h.position.y, h.position.z, HIT_RADIUS]);
+            let bend_near = cx.options.grass_bend;
+            let hit = cx.data.overlay.hit.filter(|h| h.visible && bend_near).map_or([0.0; 4], |h| [h.position.x, h.position.y, h.position.z, HIT_RADIUS]);
+            let eye_radius = if bend_near { EYE_RADIUS } else { 0.0 };
             let params = BladeParams {
                 wind: [w.direction[0], w.direction[1], bend, time],
                 wind_noise: [speed, WIND_SCALE, 0.0, 0.0],
-                eye: [eye.x, eye.y, eye.z, EYE_RADIUS],
+                eye: [eye.x, eye.y, eye.z, eye_radius],
                 hit,
                 colours: b.colours,
             };
