@@ -1,6 +1,7 @@
 //! `grove render`: draw a scene, a frame sequence or any glTF 2.0 model to PNG, offscreen.
 //!
-//! - `grove render --scene FILE --out PNG [--width W --height H] [--no-shadows] [--no-grass]`
+//! - `grove render --scene FILE --out PNG [--width W --height H] [--no-shadows] [--no-grass]
+//!   [--overlay none|interaction]` (the overlay defaults to `interaction` for `--replay` only)
 //! - `grove render --scene FILE --frames N --fps F --out DIR [--time-rate R]`
 //! - `grove render --model FILE --out PNG`
 //!
@@ -48,6 +49,10 @@ pub struct RenderArgs {
     /// Leave out the scene's grass patches (shells and blades).
     #[arg(long)]
     pub no_grass: bool,
+    /// The interaction visuals (the controller's ray, hit marker, selection, targets): `none` or
+    /// `interaction`. Default: `interaction` for --replay, `none` for --scene and --model.
+    #[arg(long, value_enum)]
+    pub overlay: Option<Overlay>,
     /// Write a sequence of this many frames into the folder --out.
     #[arg(long, requires = "scene")]
     pub frames: Option<u32>,
@@ -62,6 +67,15 @@ pub struct RenderArgs {
     pub force: bool,
 }
 
+/// Which interaction visuals `grove render` draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Overlay {
+    /// None: the scene as a landscape.
+    None,
+    /// The controller's ray, the hit marker, the anchor ball, the selection and the targets.
+    Interaction,
+}
+
 /// Renders one world with an existing renderer and saves it (through a temporary file and a
 /// rename, so a failed render or save leaves no file).
 pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> anyhow::Result<()> {
@@ -72,7 +86,8 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
 /// The renderer's options from the arguments: `--no-shadows` and `--no-grass` are applied here
 /// and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
-    RenderOptions { shadows: !args.no_shadows, grass: !args.no_grass, ..Default::default() }
+    let overlay = args.overlay.unwrap_or(if args.replay.is_some() { Overlay::Interaction } else { Overlay::None });
+    RenderOptions { shadows: !args.no_shadows, grass: !args.no_grass, overlay: overlay == Overlay::Interaction, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options.

@@ -182,7 +182,9 @@ impl Renderer {
             // The sky where nothing was drawn.
             self.sky.draw(Phase::Sky, &mut pass, key, s)?;
             // Blended: no feature yet (the aerial canopy goes here, far to near).
-            self.overlay.draw(Phase::Overlay, &mut pass, key, s)?;
+            if options.overlay {
+                self.overlay.draw(Phase::Overlay, &mut pass, key, s)?;
+            }
         }
 
         // 6. Resolve the timestamps.

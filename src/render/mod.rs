@@ -71,11 +71,14 @@ pub struct RenderOptions {
     pub grass: bool,
     /// Bend grass blades away from the eye and the controller's hit point when they are near.
     pub grass_bend: bool,
+    /// Draw the interaction visuals (the controller's ray, the hit marker, the anchor ball, the
+    /// selection and the task's targets).
+    pub overlay: bool,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, grass: true, grass_bend: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, grass: true, grass_bend: true, overlay: true }
     }
 }
 
