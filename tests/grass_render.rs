@@ -230,3 +230,28 @@ fn bad_grass_fields_exit_2_with_one_line() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+
+#[test]
+fn no_grass_and_the_overlay_from_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("grove-grass-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", "--scene", "assets/scenes/park.ron", "--width", "160", "--height", "120", "--out"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let o = common::grove(&args);
+        assert!(o.status.success(), "{extra:?}: {}", String::from_utf8_lossy(&o.stderr));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let plain = run("plain.png", &[]);
+    let bare = run("bare.png", &["--no-grass"]);
+    let ray = run("ray.png", &["--overlay", "interaction"]);
+    let none = run("none.png", &["--overlay", "none"]);
+    // The park's lawns fill the lower half: without grass it looks different.
+    assert!(diff(&plain, &bare, (0, H / 2, W, H)) > 3.0, "--no-grass changed nothing");
+    // A scene render draws no overlay unless asked: the default is `none`.
+    assert_eq!(diff(&plain, &none, (0, 0, W, H)), 0.0);
+    assert!(diff(&plain, &ray, (0, 0, W, H)) > 0.0, "--overlay interaction drew nothing");
+    let _ = std::fs::remove_dir_all(&dir);
+}
