@@ -154,11 +154,12 @@ fn blade_sim(n: u32) -> anyhow::Result<Sim> {
 fn blades(gpu: &Gpu, sizes: &[(u32, u32)], frames: usize) -> anyhow::Result<Value> {
     let mut out = serde_json::Map::new();
     for &(w, h) in sizes {
-        let mut r = renderer(gpu, w, h)?;
         let mut row = serde_json::Map::new();
         for (name, n) in BLADE_COUNTS {
             eprintln!("bench: grass, {name} blades at {w}x{h}");
             let sim = blade_sim(n)?;
+            // A renderer per case: each builds its ground and blades from its own world.
+            let mut r = renderer(gpu, w, h)?;
             row.insert(name.into(), time(gpu, &mut r, &sim, if n > 100_000 { frames.min(3) } else { frames })?);
         }
         out.insert(format!("{w}x{h}"), Value::Object(row));

@@ -18,9 +18,10 @@ use super::view::Camera;
 /// and triangle counts. The ground mesh is rebuilt only when this changes.
 pub(crate) type GroundKey = Vec<(u64, usize, usize)>;
 
-/// Identifies the grass: the planes' key and every patch (entity bits and component), sorted
-/// by entity. The grass buffers are rebuilt only when this changes.
-pub(crate) type GrassKey = (GroundKey, Vec<(u64, Grass)>);
+/// Identifies the grass: every plane's hash (`grove_systems::hash::plane_hash`: its name,
+/// vertices and triangles) and every patch (entity bits and component), sorted by entity. The
+/// grass buffers are rebuilt only when this changes.
+pub(crate) type GrassKey = (Vec<(u64, u64)>, Vec<(u64, Grass)>);
 
 /// One plane's mesh: world positions (metres) and counter-clockwise triangles.
 pub(crate) struct PlaneMesh {
@@ -156,7 +157,14 @@ impl FrameData {
     pub fn extract_grass(&mut self, sim: &Sim, have: &GrassKey) {
         let mut patches: Vec<(u64, Grass)> = sim.world.query::<(hecs::Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
         patches.sort_by_key(|(e, _)| *e);
-        self.grass_key = (self.ground_key.clone(), patches);
+        // Without patches the planes do not matter (and are not hashed every frame).
+        let mut planes: Vec<(u64, u64)> = if patches.is_empty() {
+            Vec::new()
+        } else {
+            sim.world.query::<(hecs::Entity, &Plane)>().iter().map(|(e, p)| (e.to_bits().get(), grove_systems::hash::plane_hash(p))).collect()
+        };
+        planes.sort_unstable();
+        self.grass_key = (planes, patches);
         if &self.grass_key == have {
             return;
         }

@@ -44,14 +44,9 @@ struct VertexOut {
     @location(0) world_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) albedo: vec3<f32>,
+    // The irradiance for the normal, looked up per vertex.
+    @location(3) irr: vec3<f32>,
 };
-
-// Rotates `v` about the unit axis `axis` by `angle` (Rodrigues).
-fn rotate(v: vec3<f32>, axis: vec3<f32>, angle: f32) -> vec3<f32> {
-    let c = cos(angle);
-    let s = sin(angle);
-    return v * c + cross(axis, v) * s + axis * dot(axis, v) * (1.0 - c);
-}
 
 // The horizontal push away from `centre` within `radius` (zero outside), as an angle times a
 // direction.
@@ -86,17 +81,29 @@ fn blade_vertex(b: Blade, v: u32, segments: u32) -> VertexOut {
     let tilt_angle = min(length(tilt), 1.45);
     let tilt_axis = normalize(cross(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(tilt.x, 0.0, tilt.y) + vec3<f32>(1e-6, 0.0, 0.0)));
 
-    // Walk up the segments below this vertex: each segment is rotated by the gravity bend and
-    // by its share of the tilt, both growing towards the tip.
+    // Walk up the segments below this vertex. Segment k's direction is the vertical turned
+    // towards `lean` by the gravity bend and then about the tilt axis by its share of the tilt,
+    // both at (k + 1/2) / segments of the full angle. The cosines and sines of those angles are
+    // advanced by the angle-addition formulas, so a vertex costs eight trigonometric calls
+    // rather than four per segment.
     let seg = min(v / 2u, segments);
-    let segment_length = b.height / f32(segments);
+    let n_seg = f32(segments);
+    let segment_length = b.height / n_seg;
+    let step_bend = b.bend / n_seg;
+    let step_tilt = tilt_angle / n_seg;
+    let bend_step = vec2<f32>(cos(step_bend), sin(step_bend));
+    let tilt_step = vec2<f32>(cos(step_tilt), sin(step_tilt));
+    var bend_cs = vec2<f32>(cos(0.5 * step_bend), sin(0.5 * step_bend));
+    var tilt_cs = vec2<f32>(cos(0.5 * step_tilt), sin(0.5 * step_tilt));
+    let up = vec3<f32>(0.0, 1.0, 0.0);
     var p = b.position;
-    var dir = vec3<f32>(0.0, 1.0, 0.0);
+    var dir = up;
     for (var k = 0u; k < seg; k = k + 1u) {
-        let t = (f32(k) + 0.5) / f32(segments);
-        dir = rotate(vec3<f32>(0.0, 1.0, 0.0), across, -b.bend * t);
-        dir = rotate(dir, tilt_axis, tilt_angle * t);
+        let g = up * bend_cs.x - lean * bend_cs.y;
+        dir = g * tilt_cs.x + cross(tilt_axis, g) * tilt_cs.y + tilt_axis * dot(tilt_axis, g) * (1.0 - tilt_cs.x);
         p = p + dir * segment_length;
+        bend_cs = vec2<f32>(bend_cs.x * bend_step.x - bend_cs.y * bend_step.y, bend_cs.y * bend_step.x + bend_cs.x * bend_step.y);
+        tilt_cs = vec2<f32>(tilt_cs.x * tilt_step.x - tilt_cs.y * tilt_step.y, tilt_cs.y * tilt_step.x + tilt_cs.x * tilt_step.y);
     }
     let t = f32(seg) / f32(segments);
     // The width narrows to a point at the tip (the last vertex is the tip alone).
@@ -107,14 +114,18 @@ fn blade_vertex(b: Blade, v: u32, segments: u32) -> VertexOut {
         p = p + across * side * half_width;
     }
     // The face's normal, rounded a little across the blade so it does not look flat.
-    let up_dir = select(dir, rotate(vec3<f32>(0.0, 1.0, 0.0), tilt_axis, tilt_angle * t), seg == 0u);
-    let face = normalize(cross(across, up_dir));
-    let normal = normalize(face + across * side * 0.35);
+    let face = normalize(cross(across, dir));
+    var normal = normalize(face + across * side * 0.35);
+    // Both faces are lit: the normal is turned towards the eye.
+    if (dot(normal, frame.camera_pos - p) < 0.0) {
+        normal = -normal;
+    }
 
     var out: VertexOut;
     out.clip = frame.view_proj * vec4<f32>(p, 1.0);
     out.world_pos = p;
     out.normal = normal;
+    out.irr = textureSampleLevel(irradiance_map, env_sampler, normal, 0.0).rgb;
     let root = params.colours[2u * patch_index].rgb;
     let tip = params.colours[2u * patch_index + 1u].rgb;
     // Darker near the root (the lawn shades itself), and each blade a little different.
@@ -133,9 +144,7 @@ fn vs_far(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> Ver
 }
 
 @fragment
-fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    // Both faces are lit: the normal is turned towards the viewer.
-    let n = normalize(in.normal) * select(-1.0, 1.0, front);
-    let c = shade(in.albedo, n, in.world_pos, 0.15, 0.55, 0.6);
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    let c = shade_lit(in.albedo, normalize(in.normal), in.world_pos, 0.15, 0.55, 0.6, in.irr);
     return vec4<f32>(tone(c), 1.0);
 }
