@@ -23,7 +23,21 @@ use serde::{Deserialize, Serialize};
 use crate::holes::Hole;
 use crate::limits::{self, MAX_COORD, RAISE};
 use crate::scatter::inside;
-use crate::scene::{PlaneDef, PlaneShape};
+
+/// What grass needs to know of a plane of the scene: its name, its (x, z) bounding rectangle
+/// (metres) and its holes. `scene.rs` makes one per plane (`PlaneDef::outline`), so that this
+/// module need not know the scene's types.
+#[derive(Clone, Copy, Debug)]
+pub struct PlaneOutline<'a> {
+    /// The plane's name.
+    pub name: &'a str,
+    /// The smallest (x, z) of the plane, metres.
+    pub lo: Vec2,
+    /// The largest (x, z) of the plane, metres.
+    pub hi: Vec2,
+    /// The plane's holes (none for an explicit mesh, whose holes are missing triangles).
+    pub holes: &'a [Hole],
+}
 
 /// The two kinds of grass a patch can have.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -114,7 +128,7 @@ pub struct Blade {
 impl GrassDef {
     /// Checks the patch against the scene's planes; returns a one-line message for the first
     /// problem (the caller names the patch).
-    pub fn validate(&self, planes: &[PlaneDef]) -> Result<(), String> {
+    pub fn validate(&self, planes: &[PlaneOutline<'_>]) -> Result<(), String> {
         let nums = [self.density, self.height.0, self.height.1];
         let colours = [self.base_color.to_array(), self.tip_color.to_array()].concat();
         if !nums.iter().chain(&colours).all(|v| v.is_finite()) || !self.polygon.iter().all(|p| p.is_finite()) {
@@ -142,7 +156,7 @@ impl GrassDef {
             return Err(format!("polygon has a number beyond the limit of ±{MAX_COORD:e} m"));
         }
         for name in &self.planes {
-            if !planes.iter().any(|p| &p.name == name) {
+            if !planes.iter().any(|p| p.name == name) {
                 return Err(format!("names plane '{}', which the scene does not have", name.escape_debug()));
             }
         }
@@ -161,21 +175,20 @@ impl GrassDef {
     }
 
     /// The planes the patch covers.
-    fn covered<'a>(&'a self, planes: &'a [PlaneDef]) -> impl Iterator<Item = &'a PlaneDef> + 'a {
-        planes.iter().filter(|p| self.planes.is_empty() || self.planes.contains(&p.name))
+    fn covered<'a>(&'a self, planes: &'a [PlaneOutline<'a>]) -> impl Iterator<Item = &'a PlaneOutline<'a>> + 'a {
+        planes.iter().filter(|p| self.planes.is_empty() || self.planes.iter().any(|n| n == p.name))
     }
 
     /// An upper bound of the patch's area, square metres: per covered plane, the overlap of its
     /// (x, z) rectangle with the polygon's bounding rectangle. Zero when the patch lies off
     /// every plane.
-    pub fn area_on(&self, planes: &[PlaneDef]) -> f32 {
+    pub fn area_on(&self, planes: &[PlaneOutline<'_>]) -> f32 {
         let poly = (!self.polygon.is_empty()).then(|| bounds(self.polygon.iter().copied()));
         self.covered(planes)
             .map(|p| {
-                let (lo, hi) = plane_rect(&p.shape);
                 let (lo, hi) = match poly {
-                    Some((a, b)) => (lo.max(a), hi.min(b)),
-                    None => (lo, hi),
+                    Some((a, b)) => (p.lo.max(a), p.hi.min(b)),
+                    None => (p.lo, p.hi),
                 };
                 let d = (hi - lo).max(Vec2::ZERO);
                 d.x * d.y
@@ -184,31 +197,19 @@ impl GrassDef {
     }
 
     /// The holes of the planes the patch covers.
-    pub fn holes_on(&self, planes: &[PlaneDef]) -> Vec<Hole> {
-        self.covered(planes)
-            .flat_map(|p| match &p.shape {
-                PlaneShape::Grid { holes, .. } => holes.clone(),
-                PlaneShape::Mesh { .. } => Vec::new(),
-            })
-            .collect()
+    pub fn holes_on(&self, planes: &[PlaneOutline<'_>]) -> Vec<Hole> {
+        self.covered(planes).flat_map(|p| p.holes.iter().copied()).collect()
     }
 }
 
-/// The (x, z) bounding rectangle of a plane shape, metres.
-fn plane_rect(shape: &PlaneShape) -> (Vec2, Vec2) {
-    match shape {
-        PlaneShape::Grid { min, size, .. } => (*min, *min + *size),
-        PlaneShape::Mesh { vertices, .. } => bounds(vertices.iter().map(|v| Vec2::new(v.x, v.z))),
-    }
-}
-
-fn bounds(points: impl Iterator<Item = Vec2>) -> (Vec2, Vec2) {
+/// The bounding rectangle of (x, z) points: (smallest, largest).
+pub fn bounds(points: impl Iterator<Item = Vec2>) -> (Vec2, Vec2) {
     points.fold((Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)), |(a, b), p| (a.min(p), b.max(p)))
 }
 
 /// Checks a scene's grass section: the number of patches, each patch, and the blades of all
 /// patches together.
-pub fn validate_all(grass: &[GrassDef], planes: &[PlaneDef]) -> Result<(), String> {
+pub fn validate_all(grass: &[GrassDef], planes: &[PlaneOutline<'_>]) -> Result<(), String> {
     if grass.len() > limits::MAX_GRASS_PATCHES {
         return Err(format!("{} grass patches is more than the limit of {} per scene ({RAISE})", grass.len(), limits::MAX_GRASS_PATCHES));
     }
@@ -227,7 +228,7 @@ pub fn validate_all(grass: &[GrassDef], planes: &[PlaneDef]) -> Result<(), Strin
 
 impl Grass {
     /// The component of patch `index` of a scene with seed `scene_seed`.
-    pub fn new(def: &GrassDef, index: usize, scene_seed: u64, planes: &[PlaneDef]) -> Grass {
+    pub fn new(def: &GrassDef, index: usize, scene_seed: u64, planes: &[PlaneOutline<'_>]) -> Grass {
         // SplitMix64's finaliser over the scene seed and the index: a different, well-mixed
         // stream per patch.
         let mut z = scene_seed ^ (index as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
