@@ -176,11 +176,16 @@ impl Grass {
         let mut colours = [[0.0f32; 4]; 2 * MAX_PATCHES];
         for (i, p) in patches.iter().enumerate() {
             if p.shells {
-                let mut verts: Vec<[f32; 6]> = Vec::with_capacity(p.triangles.len() * 3);
+                // Per vertex: position, the face's normal, and the triangle's centre and radius,
+                // the same for its three corners, so the shader thins a whole triangle's layers
+                // with distance at once.
+                let mut verts: Vec<[f32; 10]> = Vec::with_capacity(p.triangles.len() * 3);
                 for t in &p.triangles {
                     let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or(glam::Vec3::Y);
                     let n = if n.y < 0.0 { -n } else { n };
-                    verts.extend(t.iter().map(|v| [v.x, v.y, v.z, n.x, n.y, n.z]));
+                    let c = (t[0] + t[1] + t[2]) / 3.0;
+                    let r = t.iter().map(|v| v.distance(c)).fold(0.0, f32::max);
+                    verts.extend(t.iter().map(|v| [v.x, v.y, v.z, n.x, n.y, n.z, c.x, c.y, c.z, r]));
                 }
                 if verts.is_empty() {
                     continue;
@@ -284,7 +289,7 @@ fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
     if key.view != ViewKind::Main {
         return Err("grass is drawn from the main view only".into());
     }
-    const SV: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+    const SV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
     let targets = [Some(wgpu::ColorTargetState { format: key.format, blend: Some(wgpu::BlendState::ALPHA_BLENDING), write_mask: wgpu::ColorWrites::ALL })];
     Ok(shared.pipeline(&PipelineSpec {
         label: "grass shell pipeline",
@@ -292,7 +297,7 @@ fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
         module,
         vertex: "vs_main",
         fragment: Some("fs_main"),
-        buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &SV })],
+        buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 40, step_mode: wgpu::VertexStepMode::Vertex, attributes: &SV })],
         topology: wgpu::PrimitiveTopology::TriangleList,
         cull: None,
         depth: depth_test(true, wgpu::CompareFunction::Less),

@@ -27,7 +27,16 @@ struct ShellParams {
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    // The triangle's centre (xyz) and radius (w), metres: the same for its three corners.
+    @location(2) triangle: vec4<f32>,
 };
+
+// Shell layers fade out of sight with distance as the strands shrink below a pixel: all layers
+// up to 25 m from the camera, then fewer, down to a quarter of them from 150 m on. A whole
+// triangle keeps or drops a layer (by its nearest possible point), so no triangle is torn.
+fn layers_at(d: f32, layers: f32) -> f32 {
+    return layers * mix(1.0, 0.25, smoothstep(25.0, 150.0, d));
+}
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -51,6 +60,12 @@ fn vs_main(v: VertexIn, @builtin(instance_index) layer: u32) -> VertexOut {
     let p = v.position + v.normal * (params.tip.w * h) + vec3<f32>(wdir.x, 0.0, wdir.y) * sway;
     var out: VertexOut;
     out.clip = frame.view_proj * vec4<f32>(p, 1.0);
+    let nearest = max(distance(v.triangle.xyz, frame.camera_pos) - v.triangle.w, 0.0);
+    if (layer > 0u && f32(layer) >= layers_at(nearest, layers)) {
+        // A layer this triangle does not need at its distance: all three corners collapse
+        // onto one point outside the view, so the triangle is dropped.
+        out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0);
+    }
     out.world_pos = p;
     out.normal = v.normal;
     out.strand_uv = v.position.xz * params.strands.x / 128.0;
