@@ -46,6 +46,9 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
             let w = &scene.wind;
             println!("  wind: strength {}, density {}/m, gusts {} ± {} at {} Hz", w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency);
             println!("  trees: {}", scene.trees.len());
+            for g in &scene.grass {
+                println!("  grass '{}': {:?}, {} per m², {:.2}..{:.2} m tall, over about {:.0} m²", g.name, g.kind, g.density, g.height.0, g.height.1, g.area_on(&scene.plane_outlines()));
+            }
             let c = &scene.camera;
             println!("  camera: at {:?} looking at {:?}, fov {}°", c.position.to_array(), c.look_at.to_array(), c.fov_y_deg);
             Ok(ExitCode::SUCCESS)
