@@ -85,7 +85,9 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     if (in.layer > 0u && strand < h) {
         discard;
     }
-    let albedo = mix(params.root.rgb, params.tip.rgb, h) * mix(0.45, 1.0, h) * (0.8 + 0.4 * s);
+    // A dense lawn shades itself: darker towards the floor, and less bright than a bare
+    // surface even at the top (the strands shade each other).
+    let albedo = mix(params.root.rgb, params.tip.rgb, h) * mix(0.3, 0.7, h) * (0.8 + 0.4 * s);
     let n = normalize(in.normal);
     let c = shade_lit(albedo, n, in.world_pos, 0.05, 0.8, 0.4, in.irr);
     // More transparent towards the tip of each strand.
