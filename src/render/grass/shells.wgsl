@@ -92,5 +92,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let c = shade_lit(albedo, n, in.world_pos, 0.05, 0.8, 0.4, in.irr);
     // More transparent towards the tip of each strand.
     let alpha = select(1.0, clamp(1.0 - 0.7 * h / max(strand, 1e-3), 0.25, 1.0), in.layer > 0u);
-    return vec4<f32>(tone(c), alpha);
+    return vec4<f32>(tone(aerial(c, in.world_pos)), alpha);
 }

@@ -63,18 +63,6 @@ fn ground_albedo(p: vec2<f32>) -> vec3<f32> {
     return mix(a, b, 0.4) * broad;
 }
 
-// Aerial perspective: beyond 40 m, the colour faded towards the sky's colour at the horizon in
-// the view direction with distance, entirely so at the far plane (600 m), where the terrain ends.
-fn aerial(c: vec3<f32>, world_pos: vec3<f32>) -> vec3<f32> {
-    let to = world_pos - frame.camera_pos;
-    let d = length(to);
-    let dir = normalize(vec3<f32>(to.x, max(to.y, 0.0) + 0.02 * d, to.z));
-    let tint = frame.ambient / max(frame.ambient.r, 0.001);
-    let haze = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
-    let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
-    return mix(c, haze, f);
-}
-
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     var albedo: vec3<f32>;
