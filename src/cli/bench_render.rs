@@ -67,6 +67,7 @@ pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
         banks: vec![],
         dir: None,
         water: vec![],
+        grass: vec![],
         camera: CameraDef {
             position: Vec3::new(0.0, 1.7, 6.0),
             look_at: Vec3::ZERO,
@@ -284,6 +285,7 @@ pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
     out.insert("reference_100_trees".into(), reference);
     out.insert("forest_10k_trees".into(), forest);
     out.insert("water_test".into(), super::bench_water::water_figures(&gpu, &mut renderer, 30)?);
+    out.insert("grass".into(), super::bench_grass::bench_grass_gpu(&gpu)?);
     Ok(Value::Object(out))
 }
 

@@ -1,6 +1,7 @@
 //! `grove render`: draw a scene, a frame sequence or any glTF 2.0 model to PNG, offscreen.
 //!
-//! - `grove render --scene FILE --out PNG [--width W --height H] [--no-shadows] [--no-water]`
+//! - `grove render --scene FILE --out PNG [--width W --height H] [--no-shadows] [--no-water] [--no-grass]
+//!   [--overlay none|interaction]` (the overlay defaults to `interaction` for `--replay` only)
 //! - `grove render --scene FILE --frames N --fps F --out DIR [--time-rate R]`
 //! - `grove render --model FILE --out PNG`
 //!
@@ -48,6 +49,13 @@ pub struct RenderArgs {
     /// Leave the scene's water out (no reflection and refraction passes, no surface).
     #[arg(long)]
     pub no_water: bool,
+    /// Leave out the scene's grass patches (shells and blades).
+    #[arg(long)]
+    pub no_grass: bool,
+    /// The interaction visuals (the controller's ray, hit marker, selection, targets): `none` or
+    /// `interaction`. Default: `interaction` for --replay, `none` for --scene and --model.
+    #[arg(long, value_enum)]
+    pub overlay: Option<Overlay>,
     /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
     /// to see the model sway in the study's wind).
     #[arg(long, conflicts_with = "replay")]
@@ -67,6 +75,15 @@ pub struct RenderArgs {
     pub banks: Vec<PathBuf>,
 }
 
+/// Which interaction visuals `grove render` draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Overlay {
+    /// None: the scene as a landscape.
+    None,
+    /// The controller's ray, the hit marker, the anchor ball, the selection and the targets.
+    Interaction,
+}
+
 /// Renders one world with an existing renderer and saves it (through a temporary file and a
 /// rename, so a failed render or save leaves no file).
 pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> anyhow::Result<()> {
@@ -74,10 +91,11 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
     write_via_temp(out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))
 }
 
-/// The renderer's options from the arguments: `--no-shadows` and `--no-water` are applied here
-/// and nowhere else.
+/// The renderer's options from the arguments: `--no-shadows`, `--no-water`, `--no-grass` and
+/// `--overlay` are applied here and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
-    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, ..Default::default() }
+    let overlay = args.overlay.unwrap_or(if args.replay.is_some() { Overlay::Interaction } else { Overlay::None });
+    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, overlay: overlay == Overlay::Interaction, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds

@@ -50,6 +50,9 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
                 let area = grove_systems::water::signed_area(&w.polygon).abs();
                 println!("  water '{}': {} vertices, {area:.1} m², surface at {:.2} m, {:.2} m deep", w.name, w.polygon.len(), w.height, w.depth);
             }
+            for g in &scene.grass {
+                println!("  grass '{}': {:?}, {} per m², {:.2}..{:.2} m tall, over about {:.0} m²", g.name, g.kind, g.density, g.height.0, g.height.1, g.area_on(&scene.plane_outlines()));
+            }
             let c = &scene.camera;
             println!("  camera: at {:?} looking at {:?}, fov {}°", c.position.to_array(), c.look_at.to_array(), c.fov_y_deg);
             Ok(ExitCode::SUCCESS)

@@ -4,17 +4,25 @@
 //! later stage works on that copy and never sees the world.
 
 use glam::{Quat, Vec2, Vec3};
-use grove_systems::components::{AnchorBall, Controller, HitMarker, HitTarget, Plane, Scale, Selection, Transform, Tree, WindState};
+use grove_systems::components::{AnchorBall, Controller, Grass, HitMarker, HitTarget, Plane, Scale, Selection, Transform, Tree, WindState};
 use grove_systems::water::Water;
 use grove_systems::wind_model::{Gust, Wind, WindModel, WindParams, WindResponse};
 use grove_systems::Sim;
 
+use grove_systems::grass::{patch_triangles, place_blades, GrassKind};
+
+use super::grass::data::GrassPatch;
 use super::overlay::geometry::{OverlayAnchor, OverlayController, OverlayHit, OverlayScene, OverlaySelection, OverlayTarget};
 use super::view::Camera;
 
 /// Identifies the planes' geometry: per plane, sorted by entity, its entity bits and its vertex
 /// and triangle counts. The ground mesh is rebuilt only when this changes.
 pub(crate) type GroundKey = Vec<(u64, usize, usize)>;
+
+/// Identifies the grass: every plane's hash (`grove_systems::hash::plane_hash`: its name,
+/// vertices and triangles) and every patch (entity bits and component), sorted by entity. The
+/// grass buffers are rebuilt only when this changes.
+pub(crate) type GrassKey = (Vec<(u64, u64)>, Vec<(u64, Grass)>);
 
 /// One plane's mesh: world positions (metres) and counter-clockwise triangles.
 pub(crate) struct PlaneMesh {
@@ -87,6 +95,11 @@ pub(crate) struct FrameData {
     pub overlay: OverlayScene,
     /// The water bodies, sorted by entity.
     pub water: Vec<WaterDraw>,
+    /// The grass patches' key (see [`FrameData::extract_grass`]).
+    pub grass_key: GrassKey,
+    /// The grass patches with their triangles and blades; only when `grass_key` differs from
+    /// the one the caller already has.
+    pub grass: Option<Vec<GrassPatch>>,
 }
 
 impl FrameData {
@@ -154,7 +167,47 @@ impl FrameData {
             plane_bounds,
             overlay: overlay_scene(sim),
             water: water_bodies(sim),
+            grass_key: GrassKey::default(),
+            grass: None,
         }
+    }
+
+    /// Copies the grass patches from `sim` when the world's key differs from `have` (the key
+    /// of the grass buffers the renderer already has): each patch's ground triangles and its
+    /// blades, placed by the simulation's pure placement function.
+    pub fn extract_grass(&mut self, sim: &Sim, have: &GrassKey) {
+        let mut patches: Vec<(u64, Grass)> = sim.world.query::<(hecs::Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
+        patches.sort_by_key(|(e, _)| *e);
+        // Without patches the planes do not matter (and are not hashed every frame).
+        let mut planes: Vec<(u64, u64)> = if patches.is_empty() {
+            Vec::new()
+        } else {
+            sim.world.query::<(hecs::Entity, &Plane)>().iter().map(|(e, p)| (e.to_bits().get(), grove_systems::hash::plane_hash(p))).collect()
+        };
+        planes.sort_unstable();
+        self.grass_key = (planes, patches);
+        if &self.grass_key == have {
+            return;
+        }
+        let mut query = sim.world.query::<(hecs::Entity, &Plane)>();
+        let mut planes: Vec<(u64, &str, &[Vec3], &[[u32; 3]])> =
+            query.iter().map(|(e, p)| (e.to_bits().get(), p.name.as_str(), p.vertices.as_slice(), p.triangles.as_slice())).collect();
+        planes.sort_by_key(|p| p.0);
+        let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|p| (p.1, p.2, p.3)).collect();
+        let out = self.grass_key.1.iter().map(|(_, g)| {
+            let shells = g.def.kind == GrassKind::Shells;
+            GrassPatch {
+                shells,
+                triangles: if shells { patch_triangles(g, &views) } else { Vec::new() },
+                blades: place_blades(g, &views),
+                root: g.def.base_color,
+                tip: g.def.tip_color,
+                height: g.def.height,
+                density: g.def.density,
+                layers: g.def.shells,
+            }
+        });
+        self.grass = Some(out.collect());
     }
 }
 

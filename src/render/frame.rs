@@ -4,7 +4,7 @@
 //! 2. **Prepare**: the frame-wide choices (shadows on or off, the wind model: one
 //!    [`PipelineKey`]), then each feature's buffers and pipelines ([`Feature::prepare`]), then the
 //!    views' uniforms (the shadow map is fitted to what the features drew).
-//! 3. **Compute**: none yet (grass will simulate its blades here).
+//! 3. **Compute**: the grass blades are culled into draw lists and indirect draw counts.
 //! 4. **Shadow**: depth from the sun of every shadow caster ([`Feature::draw_depth`]).
 //!    **Water views** (only with water): the reflection (trees, ground, sky from the mirrored
 //!    camera) and the refraction (trees and ground below the surface), at half resolution.
@@ -75,7 +75,10 @@ impl Renderer {
     /// Records one frame of `sim` into `encoder`, drawing into `view`.
     pub(crate) fn encode_frame(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
         // 1. Extract.
-        let data = FrameData::extract(sim, &self.ground.key);
+        let mut data = FrameData::extract(sim, &self.ground.key);
+        if self.options.grass {
+            data.extract_grass(sim, &self.grass.key);
+        }
 
         // 2. Prepare. Shadows are decided here and only here: asked for, the sun up, and
         // something to cast them.
@@ -93,6 +96,7 @@ impl Renderer {
         let key = cx.key;
         self.trees.prepare(&cx)?;
         self.ground.prepare(&cx)?;
+        self.grass.prepare(&cx)?;
         self.sky.prepare(&cx)?;
         self.overlay.prepare(&cx)?;
         self.water.prepare(&cx)?;
@@ -127,11 +131,11 @@ impl Renderer {
         }
         let mut stats = FrameStats { instances: self.trees.instance_count, ..Default::default() };
 
-        // 3. Compute: no feature has a compute stage yet.
-
         if let Some(t) = &mut self.timer {
             t.begin_frame();
         }
+        // 3. Compute: the grass blades are culled into this frame's draw lists.
+        self.grass.compute(encoder, self.timer.as_mut());
         // 4. Shadow. The pass always runs, so the map is cleared even when nothing casts.
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -215,10 +219,13 @@ impl Renderer {
             // The ground still hides the parts of the outline that lie above the shore.
             self.water.draw(Phase::Opaque, &mut pass, key, s)?;
             self.ground.draw(Phase::Opaque, &mut pass, key, s)?;
+            self.grass.draw(Phase::Opaque, &mut pass, key, s)?;
             // The sky where nothing was drawn.
             self.sky.draw(Phase::Sky, &mut pass, key, s)?;
             // Blended: no feature yet (the aerial canopy goes here, far to near).
-            self.overlay.draw(Phase::Overlay, &mut pass, key, s)?;
+            if options.overlay {
+                self.overlay.draw(Phase::Overlay, &mut pass, key, s)?;
+            }
         }
 
         // 6. Resolve the timestamps.

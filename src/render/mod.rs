@@ -17,6 +17,7 @@ pub mod assets;
 pub mod extract;
 pub mod frame;
 pub mod gpu;
+pub mod grass;
 pub mod ground;
 pub mod lighting;
 pub mod offscreen;
@@ -73,11 +74,18 @@ pub struct RenderOptions {
     pub water: bool,
     /// What the water surface shows (normally the water itself).
     pub water_output: WaterOutput,
+    /// Draw the scene's grass patches (`--no-grass` turns them off).
+    pub grass: bool,
+    /// Bend grass blades away from the eye and the controller's hit point when they are near.
+    pub grass_bend: bool,
+    /// Draw the interaction visuals (the controller's ray, the hit marker, the anchor ball, the
+    /// selection and the task's targets).
+    pub overlay: bool,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true }
     }
 }
 
@@ -108,6 +116,7 @@ pub struct Renderer {
     timer: Option<timing::Timer>,
     trees: trees::Trees,
     ground: ground::Ground,
+    grass: grass::Grass,
     sky: sky::Sky,
     overlay: overlay::Overlay,
     water: water::WaterFeature,
@@ -161,6 +170,7 @@ impl Renderer {
             timer: None,
             trees: trees::Trees::new(&shared),
             ground,
+            grass: grass::Grass::new(&shared),
             sky: sky::Sky::new(&shared),
             overlay: overlay::Overlay::new(&shared),
             water,
@@ -180,6 +190,12 @@ impl Renderer {
     /// `None` when pass timing is off. Call it after the frame was submitted and before the next.
     pub fn pass_times(&self) -> Result<Option<PassTimes>, String> {
         self.timer.as_ref().map(|t| t.read(&self.shared.device)).transpose()
+    }
+
+    /// The numbers of grass blades the last frame drew with 15 and with 7 vertices, read back
+    /// from the GPU's indirect draws (waits for the GPU); `(0, 0)` without blades.
+    pub fn visible_blades(&self) -> Result<(u32, u32), String> {
+        self.grass.visible_blades(&self.shared)
     }
 
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.

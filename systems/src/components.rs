@@ -18,6 +18,9 @@ use crate::catalogue::ModelId;
 /// ([`crate::wind_model`]), which the rest of the crate builds on.
 pub use crate::wind_model::{Gust, Wind};
 
+/// A grass patch's component lives with the grass section of scenes ([`crate::grass`]).
+pub use crate::grass::Grass;
+
 /// A rigid pose: a position and an orientation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pose {

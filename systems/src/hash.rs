@@ -72,8 +72,13 @@ pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
             }
         };
     }
-    hashed_components!(has, r, name)
+    hashed_components!(has, r, name) || (name == "Grass" && r.has::<Grass>())
 }
+
+/// Components that enter the hash only in worlds where some entity has them, after the
+/// resources: a world without any of them (every scene from before they existed) hashes exactly
+/// as it did before. Each is hashed from its postcard bytes like the others.
+pub const OPTIONAL_COMPONENTS: &[&str] = &["Grass"];
 
 /// Formats a hash as 16 lowercase hex digits.
 pub fn hex(h: u64) -> String {
@@ -93,6 +98,14 @@ impl Acc {
         let buf = std::mem::take(&mut self.buf);
         self.buf = postcard::to_extend(value, buf).unwrap_or_default();
         xxhash_rust::xxh3::xxh3_64(&self.buf)
+    }
+
+    /// Hashes an optional component ([`OPTIONAL_COMPONENTS`]): nothing at all when no entity
+    /// has it.
+    fn optional_component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str) {
+        if world.query::<&T>().iter().next().is_some() {
+            self.component::<T>(world, name);
+        }
     }
 
     fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str) {
@@ -133,7 +146,7 @@ macro_rules! serde_hashed {
         })*
     };
 }
-serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water);
+serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water, Grass);
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
 /// through serde (the same bits, much faster).
@@ -204,6 +217,7 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     let rh = acc.value_hash(&r);
     acc.components.push(("resources", rh));
     debug_assert!(acc.components.len() <= COMPONENTS.len());
+    acc.optional_component::<Grass>(world, "Grass");
     let mut total = Xxh3::new();
     for (name, h) in &acc.components {
         total.update(name.as_bytes());

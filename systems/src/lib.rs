@@ -18,6 +18,7 @@ pub mod bank;
 pub mod catalogue;
 pub mod components;
 pub mod events;
+pub mod grass;
 pub mod hash;
 pub mod holes;
 pub mod input;

@@ -51,3 +51,13 @@ pub const MIN_CELL: f32 = 1.0e-3;
 /// least this fraction of the largest absolute coordinate of the plane, so that single-precision
 /// vertices stay at least a few hundred units of least precision apart.
 pub const MIN_CELL_RELATIVE: f32 = 1.0e-5;
+
+/// The most grass patches in one scene.
+pub const MAX_GRASS_PATCHES: usize = 64;
+
+/// The most blades all the blade patches of one scene may place together (2^22, about 4.2
+/// million; 32 bytes each on the GPU).
+pub const MAX_GRASS_BLADES: u64 = 1 << 22;
+
+/// The most points of a grass patch's polygon.
+pub const MAX_GRASS_POLYGON: usize = 4096;

@@ -54,6 +54,9 @@ pub struct Scene {
     /// Water bodies (ponds): outlines at a surface height (see `water.rs`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub water: Vec<crate::water::WaterDef>,
+    /// Grass patches (see `grass.rs`); each becomes an entity with a `Grass` component.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub grass: Vec<crate::grass::GrassDef>,
 }
 
 fn default_dt() -> f32 {
@@ -325,7 +328,29 @@ impl Scene {
         if !(1.0..=179.0).contains(&c.fov_y_deg) {
             return Err(format!("camera fov_y_deg {} is outside 1..=179", c.fov_y_deg));
         }
+        crate::grass::validate_all(&self.grass, &self.plane_outlines())?;
         Ok(())
+    }
+}
+
+impl Scene {
+    /// Every plane's outline (name, bounding rectangle, holes), as grass patches see them.
+    pub fn plane_outlines(&self) -> Vec<crate::grass::PlaneOutline<'_>> {
+        self.planes.iter().map(PlaneDef::outline).collect()
+    }
+}
+
+impl PlaneDef {
+    /// The plane's name, (x, z) bounding rectangle and holes.
+    pub fn outline(&self) -> crate::grass::PlaneOutline<'_> {
+        let (lo, hi, holes): (Vec2, Vec2, &[Hole]) = match &self.shape {
+            PlaneShape::Grid { min, size, holes, .. } => (*min, *min + *size, holes),
+            PlaneShape::Mesh { vertices, .. } => {
+                let (lo, hi) = crate::grass::bounds(vertices.iter().map(|v| Vec2::new(v.x, v.z)));
+                (lo, hi, &[])
+            }
+        };
+        crate::grass::PlaneOutline { name: &self.name, lo, hi, holes }
     }
 }
 

@@ -104,6 +104,12 @@ impl Sim {
                 sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
             }
         }
+        // Grass patches last, so that a scene without grass has the same entities as before.
+        // Their placement seed is the scene's, never the simulation's RNG.
+        let outlines = scene.plane_outlines();
+        for (i, g) in scene.grass.iter().enumerate() {
+            sim.world.spawn((Grass::new(g, i, scene.seed, &outlines),));
+        }
         Ok(sim)
     }
 

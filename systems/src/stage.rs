@@ -76,6 +76,7 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
         banks: vec![],
         dir: None,
         water: vec![],
+        grass: vec![],
         camera: CameraDef {
             position: Vec3::new(0.0, 1.0, 5.0),
             look_at: Vec3::ZERO,

@@ -1,5 +1,8 @@
-// Ground planes: the Plane meshes, textured in world space, lit and shadowed. Holes are simply
-// missing triangles. lighting.wgsl is prepended (src/render/ground/mod.rs).
+// Ground planes as a landscape: the Plane meshes, their sides, the soil floor under them (seen
+// through the holes, which are missing triangles) and the terrain around them, textured in world
+// space at three scales so the texture does not visibly repeat, lit and shadowed, and faded into
+// the sky's colour at the horizon with distance (aerial perspective). lighting.wgsl is prepended
+// (src/render/ground/mod.rs; the kinds are those of src/render/ground/landscape.rs).
 
 struct GroundParams {
     // Metres per repeat of the ground texture.
@@ -18,6 +21,8 @@ struct GroundParams {
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    // 0 a plane, 1 a plane's side, 2 terrain, 3 the soil floor.
+    @location(2) kind: f32,
 };
 
 struct VertexOut {
@@ -28,6 +33,7 @@ struct VertexOut {
     // the ground's normals vary slowly, so per vertex is enough.
     @location(2) irr_front: vec3<f32>,
     @location(3) irr_back: vec3<f32>,
+    @location(4) @interpolate(flat) kind: u32,
 };
 
 @vertex
@@ -38,14 +44,47 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.normal = v.normal;
     out.irr_front = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
     out.irr_back = textureSampleLevel(irradiance_map, env_sampler, -v.normal, 0.0).rgb;
+    out.kind = u32(v.kind + 0.5);
     return out;
+}
+
+// The ground texture at three scales: the base repeat, a second sample rotated and at about
+// 3.9 times the size, and a broad brightness variation at about 17 times, so no repeat shows.
+fn ground_albedo(p: vec2<f32>) -> vec3<f32> {
+    let m = ground_params.metres_per_repeat;
+    let a = textureSample(ground_tex, ground_sampler, p / m).rgb;
+    let q = vec2<f32>(0.8 * p.x - 0.6 * p.y, 0.6 * p.x + 0.8 * p.y);
+    let b = textureSample(ground_tex, ground_sampler, q / (3.9 * m) + vec2<f32>(0.37, 0.11)).rgb;
+    let c = textureSample(ground_tex, ground_sampler, p / (17.3 * m) + vec2<f32>(0.71, 0.53)).rgb;
+    // The broad sample's brightness against the base sample's: about 0.5 on average.
+    let w = vec3<f32>(0.3, 0.6, 0.1);
+    let share = dot(c, w) / max(dot(c, w) + dot(a, w), 0.01);
+    let broad = 0.6 + 0.8 * share;
+    return mix(a, b, 0.4) * broad;
 }
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let albedo = textureSample(ground_tex, ground_sampler, in.world_pos.xz / ground_params.metres_per_repeat).rgb;
+    var albedo: vec3<f32>;
+    // Soil (the sides and the floor under the holes): brown, with the texture's brightness.
+    let soil = vec3<f32>(0.2, 0.13, 0.08);
+    if (in.kind == 1u) {
+        // A side: the texture along the wall, as cut soil.
+        let along = in.world_pos.x * in.normal.z - in.world_pos.z * in.normal.x;
+        let t = ground_albedo(vec2<f32>(along, in.world_pos.y * 2.0));
+        albedo = soil * (0.5 + 2.0 * dot(t, vec3<f32>(0.3, 0.6, 0.1)));
+    } else if (in.kind == 3u) {
+        // The floor under the holes: darker soil.
+        let t = ground_albedo(in.world_pos.xz);
+        albedo = soil * (0.25 + 1.0 * dot(t, vec3<f32>(0.3, 0.6, 0.1)));
+    } else if (in.kind == 2u) {
+        // The terrain: the same ground, a little greener, as a meadow.
+        albedo = ground_albedo(in.world_pos.xz) * vec3<f32>(0.85, 1.0, 0.75);
+    } else {
+        albedo = ground_albedo(in.world_pos.xz);
+    }
     let n = normalize(in.normal) * select(-1.0, 1.0, front);
     let irr = select(in.irr_back, in.irr_front, front);
     let c = shade_lit(albedo, n, in.world_pos, 0.08, 0.95, 0.0, irr);
-    return vec4<f32>(tone(c), 1.0);
+    return vec4<f32>(tone(aerial(c, in.world_pos)), 1.0);
 }

@@ -1,5 +1,9 @@
-//! Ground: the planes' meshes, textured in world space, lit and shadowed (a shadow receiver
-//! only; it casts none). The mesh is rebuilt only when the planes change ([`GroundKey`]).
+//! Ground: the planes' meshes, textured in world space at several scales, lit and shadowed (a
+//! shadow receiver only; it casts none), as a landscape ([`landscape`]): the planes' sides, a
+//! soil floor seen through the holes, and terrain out to the far plane fading into the sky. The
+//! mesh is rebuilt only when the planes change ([`GroundKey`]).
+
+pub mod landscape;
 
 use std::path::Path;
 
@@ -62,19 +66,30 @@ impl Ground {
         })
     }
 
-    /// Rebuilds the mesh from the planes (positions and smooth normals, 6 floats a vertex).
+    /// Rebuilds the mesh from the planes (positions, smooth normals and the kind, 7 floats a
+    /// vertex), their sides, the floor under them and the terrain around them.
     fn rebuild(&mut self, shared: &Shared, key: &GroundKey, planes: &[PlaneMesh]) {
-        let mut verts: Vec<[f32; 6]> = Vec::new();
-        let mut idx: Vec<u32> = Vec::new();
+        let mut land = landscape::LandMesh::default();
+        let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
         for p in planes {
-            let base = verts.len() as u32;
+            let base = land.vertices.len() as u32;
             let tris: Vec<u32> = p.triangles.iter().flatten().copied().filter(|&i| (i as usize) < p.vertices.len()).collect();
             let normals = gltf_load::compute_normals(&p.vertices, &tris);
             for (v, n) in p.vertices.iter().zip(&normals) {
-                verts.push([v.x, v.y, v.z, n.x, n.y, n.z]);
+                land.vertices.push([v.x, v.y, v.z, n.x, n.y, n.z, landscape::KIND_PLANE]);
+                lo = lo.min(*v);
+                hi = hi.max(*v);
             }
-            idx.extend(tris.iter().map(|i| i + base));
+            land.indices.extend(tris.iter().map(|i| i + base));
         }
+        if !land.indices.is_empty() {
+            let floor_y = lo.y - landscape::FLOOR_DEPTH;
+            for p in planes {
+                landscape::sides(&mut land, &p.vertices, &p.triangles, floor_y);
+            }
+            landscape::surroundings(&mut land, glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z), lo.y, floor_y);
+        }
+        let (verts, idx) = (land.vertices, land.indices);
         self.key = key.clone();
         if idx.is_empty() {
             self.mesh = None;
@@ -95,7 +110,7 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
         if key.view != ViewKind::Main {
             return Err("the ground is drawn from the main view only".into());
         }
-        const GV: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        const GV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32];
         let label = if key.shadows { "ground pipeline (shadows)" } else { "ground pipeline (no shadows)" };
         Ok(shared.pipeline(&PipelineSpec {
             label,
@@ -103,7 +118,7 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
             module,
             vertex: "vs_main",
             fragment: Some("fs_main"),
-            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 24, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
+            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 28, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
             topology: wgpu::PrimitiveTopology::TriangleList,
             cull: None,
             depth: depth_test(true, wgpu::CompareFunction::Less),

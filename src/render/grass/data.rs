@@ -1,0 +1,207 @@
+//! The grass feature's plain data: the patches as extract copies them, the GPU layouts of a
+//! blade and of the uniforms (matching cull.wgsl, blades.wgsl and shells.wgsl), and the two
+//! noise textures (strand heights for shells, wind for both kinds).
+//!
+//! Units: metres, radians; colours linear RGB.
+
+use glam::{Mat4, Vec3, Vec4};
+use grove_systems::grass::Blade;
+use noise::{NoiseFn, Perlin};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use wgpu::util::DeviceExt;
+
+/// The most patches the blade pass colours (the size of `colours` in blades.wgsl, halved).
+pub const MAX_PATCHES: usize = 64;
+
+/// The edge of the strand texture, texels; one texel is one strand.
+pub const STRAND_TEXELS: u32 = 128;
+
+/// The edge of the wind noise texture, texels; it tiles.
+pub const WIND_TEXELS: u32 = 64;
+
+/// One patch as the frame draws it.
+#[derive(Clone, Debug)]
+pub(crate) struct GrassPatch {
+    /// Shells (true) or blades.
+    pub shells: bool,
+    /// The patch's ground triangles, world metres (shells).
+    pub triangles: Vec<[Vec3; 3]>,
+    /// The blades (blades).
+    pub blades: Vec<Blade>,
+    /// The root colour, linear RGB.
+    pub root: Vec3,
+    /// The tip colour, linear RGB.
+    pub tip: Vec3,
+    /// The shortest and tallest grass, metres.
+    pub height: (f32, f32),
+    /// Strands (shells) or blades per square metre.
+    pub density: f32,
+    /// Shell layers.
+    pub layers: u32,
+}
+
+/// A blade on the GPU (matches `Blade` in cull.wgsl and blades.wgsl): 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuBlade {
+    /// The root, metres.
+    pub position: [f32; 3],
+    /// Length, metres.
+    pub height: f32,
+    /// Facing, radians about +Y.
+    pub yaw: f32,
+    /// Gravity bend at the tip, radians.
+    pub bend: f32,
+    /// Root width, metres.
+    pub width: f32,
+    /// Bits 0..7 the patch index, bits 8..31 the variation as a 24-bit fraction.
+    pub packed: u32,
+}
+
+impl GpuBlade {
+    /// A blade of patch `patch` (below [`MAX_PATCHES`]).
+    pub fn new(b: &Blade, patch: usize) -> GpuBlade {
+        let frac = ((b.variation.clamp(0.0, 1.0) * 16_777_215.0) as u32) << 8;
+        GpuBlade { position: b.position.to_array(), height: b.height, yaw: b.yaw, bend: b.bend, width: b.width, packed: frac | (patch as u32 & 255) }
+    }
+}
+
+/// The cull pass's uniforms (matches `Cull` in cull.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct CullParams {
+    /// The frustum planes, normal inwards, normalised.
+    pub planes: [[f32; 4]; 6],
+    /// The camera, metres, and the far distance.
+    pub camera: [f32; 4],
+    /// The distance within which blades get 15 vertices, metres.
+    pub lod_distance: f32,
+    /// The number of blades.
+    pub count: u32,
+    /// Padding.
+    pub pad: [u32; 2],
+}
+
+/// The blade draw's uniforms (matches `BladeParams` in blades.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct BladeParams {
+    /// Wind direction (x, z), bend at the tip (radians), time (seconds).
+    pub wind: [f32; 4],
+    /// Noise scroll speed (m/s), noise scale (per metre), unused, unused.
+    pub wind_noise: [f32; 4],
+    /// The eye and its push radius, metres.
+    pub eye: [f32; 4],
+    /// The hit point and its push radius (0: none), metres.
+    pub hit: [f32; 4],
+    /// Root and tip colour per patch.
+    pub colours: [[f32; 4]; 2 * MAX_PATCHES],
+}
+
+/// One shell patch's uniforms (matches `ShellParams` in shells.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct ShellParams {
+    /// Root colour and layer count.
+    pub root: [f32; 4],
+    /// Tip colour and height, metres.
+    pub tip: [f32; 4],
+    /// Wind direction (x, z), sway at the tip (metres), time (seconds).
+    pub wind: [f32; 4],
+    /// Strands per metre, wind noise scale (per metre), wind noise speed (m/s), shortest strand
+    /// as a share of the height.
+    pub strands: [f32; 4],
+}
+
+/// The six frustum planes of a view-projection matrix with wgpu's 0..1 depth (Gribb and
+/// Hartmann), normals pointing inwards, normalised.
+pub fn frustum_planes(m: Mat4) -> [[f32; 4]; 6] {
+    let (r0, r1, r2, r3) = (m.row(0), m.row(1), m.row(2), m.row(3));
+    let planes: [Vec4; 6] = [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2];
+    planes.map(|p| (p / p.truncate().length().max(1e-12)).to_array())
+}
+
+/// The strand heights: a random value per texel (ChaCha8, fixed seed), R8.
+pub fn strand_texture(device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::TextureView {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x6772_6173_73);
+    let data: Vec<u8> = (0..STRAND_TEXELS * STRAND_TEXELS).map(|_| rng.random::<u8>()).collect();
+    r8_texture(device, queue, "grass strand heights", STRAND_TEXELS, &data)
+}
+
+/// The wind noise: Perlin noise on a torus, so that it tiles, scaled to 0..1, R8.
+pub fn wind_texture(device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::TextureView {
+    let perlin = Perlin::new(19);
+    let n = WIND_TEXELS as f64;
+    let mut data = Vec::with_capacity((WIND_TEXELS * WIND_TEXELS) as usize);
+    for y in 0..WIND_TEXELS {
+        for x in 0..WIND_TEXELS {
+            let (a, b) = (x as f64 / n * std::f64::consts::TAU, y as f64 / n * std::f64::consts::TAU);
+            let r = 0.9;
+            let v = perlin.get([a.cos() * r, a.sin() * r, b.cos() * r, b.sin() * r]);
+            data.push(((v * 0.5 + 0.5).clamp(0.0, 1.0) * 255.0).round() as u8);
+        }
+    }
+    r8_texture(device, queue, "grass wind noise", WIND_TEXELS, &data)
+}
+
+fn r8_texture(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, size: u32, data: &[u8]) -> wgpu::TextureView {
+    let tex = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        data,
+    );
+    tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), ..Default::default() })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_layouts_match_the_wgsl() {
+        // cull.wgsl: six vec4 planes, a vec4, then f32, u32 and two u32 of padding.
+        assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16);
+        assert_eq!(std::mem::size_of::<GpuBlade>(), 32);
+        assert_eq!(std::mem::size_of::<BladeParams>(), 4 * 16 + 2 * MAX_PATCHES * 16);
+        assert_eq!(std::mem::size_of::<ShellParams>(), 64);
+    }
+
+    #[test]
+    fn frustum_planes_keep_what_the_camera_sees() {
+        // A camera at the origin looking down −Z (its view matrix is the identity) with a 90°
+        // field of view.
+        let proj = glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_2, 1.0, 0.1, 100.0);
+        let planes = frustum_planes(proj);
+        let inside = |p: Vec3| planes.iter().all(|q| Vec3::new(q[0], q[1], q[2]).dot(p) + q[3] >= 0.0);
+        assert!(inside(Vec3::new(0.0, 0.0, -10.0)));
+        assert!(inside(Vec3::new(9.0, -9.0, -10.0)));
+        assert!(!inside(Vec3::new(11.0, 0.0, -10.0)), "right of a 90° view at 10 m");
+        assert!(!inside(Vec3::new(0.0, 0.0, 10.0)), "behind the camera");
+        assert!(!inside(Vec3::new(0.0, 0.0, -150.0)), "beyond the far plane");
+        // Distances are in metres: the left plane x = z runs at 45°, so the point 1 m to its left
+        // at a depth of 10 m lies 1/√2 m outside it, along its normal.
+        let left = planes[0];
+        let d = Vec3::new(left[0], left[1], left[2]).dot(Vec3::new(-11.0, 0.0, -10.0)) + left[3];
+        assert!((d + std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3, "{d}");
+    }
+
+    #[test]
+    fn a_blade_keeps_its_patch_and_variation() {
+        let b = Blade { position: Vec3::new(1.0, 2.0, 3.0), height: 0.2, yaw: 1.0, bend: 0.3, width: 0.01, variation: 0.5 };
+        let g = GpuBlade::new(&b, 5);
+        assert_eq!(g.packed & 255, 5);
+        let v = (g.packed >> 8) as f32 / 16_777_216.0;
+        assert!((v - 0.5).abs() < 1e-6, "{v}");
+    }
+}

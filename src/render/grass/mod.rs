@@ -1,0 +1,406 @@
+//! Grass: shell lawns and compute-generated blades (issue #18), a shadow receiver (it casts
+//! none). Drawn right after the ground in the opaque phase.
+//!
+//! - **Shells** (`shells.wgsl`): per patch, its ground triangles drawn in one instanced draw,
+//!   one instance per layer; a strand texture decides which texels of a layer are grass.
+//! - **Blades**: every blade of every blade patch is uploaded once, when the patches change
+//!   ([`GrassKey`]). Each frame the **compute** stage (`cull.wgsl`) culls them against the view
+//!   frustum and a far distance and writes the visible ones into a near list and a far list,
+//!   counting the instances of two indirect draws; the main pass draws both indirectly
+//!   (`blades.wgsl`: 15 vertices a blade near the camera, 7 further away). No per-blade data
+//!   crosses from the CPU per frame: only the uniforms and the two counters' reset.
+//!
+//! Wind is the world's `Wind` (its direction, strength and current gust, as the trees get it),
+//! read from a world-space noise texture. Units: metres, radians, seconds.
+
+pub(crate) mod data;
+
+use wgpu::util::DeviceExt;
+
+use super::extract::GrassKey;
+use super::frame::{Feature, FrameContext, Phase};
+use super::gpu::{depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use super::view::camera_matrix;
+use super::FrameStats;
+use data::{BladeParams, CullParams, GpuBlade, GrassPatch, ShellParams, MAX_PATCHES};
+
+/// Blades nearer than this get 15 vertices, metres.
+pub const LOD_DISTANCE: f32 = 8.0;
+/// No blade is drawn beyond this distance, metres.
+pub const FAR_DISTANCE: f32 = 60.0;
+/// The radius within which blades bend away from the eye, metres.
+pub const EYE_RADIUS: f32 = 0.9;
+/// The radius within which blades bend away from the controller's hit point, metres.
+pub const HIT_RADIUS: f32 = 0.5;
+/// The wind noise: metres per tile of the texture and its scroll speed per unit of strength.
+const WIND_SCALE: f32 = 1.0 / 12.0;
+const WIND_SPEED: f32 = 3.0;
+/// The bend of a blade tip, radians per unit of wind strength times gust.
+const WIND_BEND: f32 = 0.9;
+
+/// One shell patch on the GPU.
+struct ShellPatch {
+    vertices: wgpu::Buffer,
+    vertex_count: u32,
+    layers: u32,
+    params: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    template: ShellParams,
+}
+
+/// Every blade of the scene on the GPU, with the cull pass's outputs.
+struct BladeSet {
+    count: u32,
+    cull_params: wgpu::Buffer,
+    draw_params: wgpu::Buffer,
+    args: wgpu::Buffer,
+    cull_group: wgpu::BindGroup,
+    draw_group: wgpu::BindGroup,
+    colours: [[f32; 4]; 2 * MAX_PATCHES],
+}
+
+/// The grass feature.
+pub(crate) struct Grass {
+    shell_module: wgpu::ShaderModule,
+    blade_module: wgpu::ShaderModule,
+    shell_group_layout: wgpu::BindGroupLayout,
+    blade_group_layout: wgpu::BindGroupLayout,
+    cull_group_layout: wgpu::BindGroupLayout,
+    shell_layout: wgpu::PipelineLayout,
+    blade_layout: wgpu::PipelineLayout,
+    cull_pipeline: wgpu::ComputePipeline,
+    shell_pipelines: PipelineCache<wgpu::RenderPipeline>,
+    blade_pipelines: PipelineCache<[wgpu::RenderPipeline; 2]>,
+    strand_tex: wgpu::TextureView,
+    wind_tex: wgpu::TextureView,
+    nearest: wgpu::Sampler,
+    linear: wgpu::Sampler,
+    /// The key of the patches the buffers were built from.
+    pub key: GrassKey,
+    shells: Vec<ShellPatch>,
+    blades: Option<BladeSet>,
+    /// Whether this frame draws grass (`RenderOptions::grass`).
+    enabled: bool,
+}
+
+fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }
+}
+
+fn buffer_ty(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None }
+}
+
+fn storage(read_only: bool) -> wgpu::BindingType {
+    buffer_ty(wgpu::BufferBindingType::Storage { read_only })
+}
+
+fn float_texture() -> wgpu::BindingType {
+    wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false }
+}
+
+/// Bind group entries 0, 1, … for whole buffers.
+fn buffer_entries<'a>(buffers: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    buffers.iter().enumerate().map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() }).collect()
+}
+
+impl Grass {
+    /// The feature: shaders, layouts, the cull pipeline, the noise textures; no patches yet.
+    pub fn new(shared: &Shared) -> Grass {
+        let device = &shared.device;
+        let (v, f, vf, c) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::VERTEX_FRAGMENT, wgpu::ShaderStages::COMPUTE);
+        let uniform = buffer_ty(wgpu::BufferBindingType::Uniform);
+        let filtering = wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering);
+        let shell_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass shell layout"),
+            entries: &[entry(0, vf, uniform), entry(1, f, float_texture()), entry(2, v, float_texture()), entry(3, f, filtering), entry(4, v, filtering)],
+        });
+        let blade_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass blade layout"),
+            entries: &[entry(0, vf, uniform), entry(1, v, storage(true)), entry(2, v, storage(true)), entry(3, v, storage(true)), entry(4, v, float_texture()), entry(5, v, filtering)],
+        });
+        let cull_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass cull layout"),
+            entries: &[entry(0, c, uniform), entry(1, c, storage(true)), entry(2, c, storage(false)), entry(3, c, storage(false)), entry(4, c, storage(false))],
+        });
+        let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("cull.wgsl"), source: wgpu::ShaderSource::Wgsl(include_str!("cull.wgsl").into()) });
+        let cull_layout = shared.layout("grass cull pipeline layout", &[Some(&cull_group_layout)]);
+        let cull_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("grass cull pipeline"),
+            layout: Some(&cull_layout),
+            module: &cull_module,
+            entry_point: Some("cs_cull"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let sampler = |label, filter, address| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: address,
+                address_mode_v: address,
+                mag_filter: filter,
+                min_filter: filter,
+                ..Default::default()
+            })
+        };
+        Grass {
+            shell_module: shared.shader("shells.wgsl", include_str!("shells.wgsl")),
+            blade_module: shared.shader("blades.wgsl", include_str!("blades.wgsl")),
+            shell_layout: shared.layout("grass shell pipeline layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shell_group_layout)]),
+            blade_layout: shared.layout("grass blade pipeline layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&blade_group_layout)]),
+            shell_group_layout,
+            blade_group_layout,
+            cull_group_layout,
+            cull_pipeline,
+            shell_pipelines: PipelineCache::new("grass shells"),
+            blade_pipelines: PipelineCache::new("grass blades"),
+            strand_tex: data::strand_texture(device, &shared.queue),
+            wind_tex: data::wind_texture(device, &shared.queue),
+            nearest: sampler("grass strand sampler", wgpu::FilterMode::Nearest, wgpu::AddressMode::Repeat),
+            linear: sampler("grass wind sampler", wgpu::FilterMode::Linear, wgpu::AddressMode::Repeat),
+            key: GrassKey::default(),
+            shells: Vec::new(),
+            blades: None,
+            enabled: true,
+        }
+    }
+
+    /// Rebuilds the GPU buffers of every patch.
+    fn rebuild(&mut self, shared: &Shared, key: &GrassKey, patches: &[GrassPatch]) {
+        let device = &shared.device;
+        self.key = key.clone();
+        self.shells.clear();
+        self.blades = None;
+        let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let mut blades: Vec<GpuBlade> = Vec::new();
+        let mut colours = [[0.0f32; 4]; 2 * MAX_PATCHES];
+        for (i, p) in patches.iter().enumerate() {
+            if p.shells {
+                // Per vertex: position, the face's normal, and the triangle's centre and radius,
+                // the same for its three corners, so the shader thins a whole triangle's layers
+                // with distance at once.
+                let mut verts: Vec<[f32; 10]> = Vec::with_capacity(p.triangles.len() * 3);
+                for t in &p.triangles {
+                    let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or(glam::Vec3::Y);
+                    let n = if n.y < 0.0 { -n } else { n };
+                    let c = (t[0] + t[1] + t[2]) / 3.0;
+                    let r = t.iter().map(|v| v.distance(c)).fold(0.0, f32::max);
+                    verts.extend(t.iter().map(|v| [v.x, v.y, v.z, n.x, n.y, n.z, c.x, c.y, c.z, r]));
+                }
+                if verts.is_empty() {
+                    continue;
+                }
+                let template = ShellParams {
+                    root: [p.root.x, p.root.y, p.root.z, p.layers as f32],
+                    tip: [p.tip.x, p.tip.y, p.tip.z, p.height.1],
+                    wind: [1.0, 0.0, 0.0, 0.0],
+                    strands: [p.density.sqrt(), WIND_SCALE, 0.0, p.height.0 / p.height.1],
+                };
+                let params = init("grass shell parameters", bytemuck::bytes_of(&template), wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("grass shell bind group"),
+                    layout: &self.shell_group_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&self.strand_tex) },
+                        wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&self.wind_tex) },
+                        wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&self.nearest) },
+                        wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.linear) },
+                    ],
+                });
+                self.shells.push(ShellPatch {
+                    vertices: init("grass shell vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
+                    vertex_count: verts.len() as u32,
+                    layers: p.layers,
+                    params,
+                    bind_group,
+                    template,
+                });
+            } else if i < MAX_PATCHES {
+                colours[2 * i] = [p.root.x, p.root.y, p.root.z, 1.0];
+                colours[2 * i + 1] = [p.tip.x, p.tip.y, p.tip.z, 1.0];
+                blades.extend(p.blades.iter().map(|b| GpuBlade::new(b, i)));
+            }
+        }
+        if blades.is_empty() {
+            return;
+        }
+        let count = blades.len() as u32;
+        let list_bytes = 4 * u64::from(count);
+        let list = |label| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: list_bytes, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
+        let (near, far) = (list("grass near blades"), list("grass far blades"));
+        let blade_buf = init("grass blades", bytemuck::cast_slice(&blades), wgpu::BufferUsages::STORAGE);
+        let uniform = |label, size: usize| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let cull_params = uniform("grass cull parameters", std::mem::size_of::<CullParams>());
+        let draw_params = uniform("grass blade parameters", std::mem::size_of::<BladeParams>());
+        let args = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass indirect draws"),
+            size: 32,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let cull_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("grass cull bind group"),
+            layout: &self.cull_group_layout,
+            entries: &buffer_entries(&[&cull_params, &blade_buf, &near, &far, &args]),
+        });
+        let mut entries = buffer_entries(&[&draw_params, &blade_buf, &near, &far]);
+        entries.push(wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&self.wind_tex) });
+        entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&self.linear) });
+        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass blade bind group"), layout: &self.blade_group_layout, entries: &entries });
+        self.blades = Some(BladeSet { count, cull_params, draw_params, args, cull_group, draw_group, colours });
+    }
+
+    /// The compute stage: culls the blades into this frame's lists and draw counts. Records
+    /// nothing when there are no blades or grass is off.
+    pub fn compute(&self, encoder: &mut wgpu::CommandEncoder, timer: Option<&mut super::timing::Timer>) {
+        let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return };
+        let writes = timer.and_then(|t| t.scope("grass compute"));
+        let timestamp_writes = writes.map(|w| wgpu::ComputePassTimestampWrites {
+            query_set: w.query_set,
+            beginning_of_pass_write_index: w.beginning_of_pass_write_index,
+            end_of_pass_write_index: w.end_of_pass_write_index,
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("grass cull pass"), timestamp_writes });
+        pass.set_pipeline(&self.cull_pipeline);
+        pass.set_bind_group(0, &b.cull_group, &[]);
+        let groups = b.count.div_ceil(256);
+        pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+    }
+
+    /// The numbers of blades the last frame drew with 15 and with 7 vertices, read back from the
+    /// indirect draws (waits for the GPU); `(0, 0)` without blades.
+    pub fn visible_blades(&self, shared: &Shared) -> Result<(u32, u32), String> {
+        let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok((0, 0)) };
+        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: 32, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let mut encoder = shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grass counts") });
+        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, 32);
+        shared.queue.submit([encoder.finish()]);
+        let slice = read.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |_| {});
+        shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("grass counts: {e}"))?;
+        let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("grass counts: {e}"))?).to_vec();
+        Ok((words[1], words[5]))
+    }
+}
+
+/// The shells' pipeline of `key`: blended layers, depth written, main view only.
+fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+    if key.view != ViewKind::Main {
+        return Err("grass is drawn from the main view only".into());
+    }
+    const SV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
+    let targets = [Some(wgpu::ColorTargetState { format: key.format, blend: Some(wgpu::BlendState::ALPHA_BLENDING), write_mask: wgpu::ColorWrites::ALL })];
+    Ok(shared.pipeline(&PipelineSpec {
+        label: "grass shell pipeline",
+        layout,
+        module,
+        vertex: "vs_main",
+        fragment: Some("fs_main"),
+        buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 40, step_mode: wgpu::VertexStepMode::Vertex, attributes: &SV })],
+        topology: wgpu::PrimitiveTopology::TriangleList,
+        cull: None,
+        depth: depth_test(true, wgpu::CompareFunction::Less),
+        targets: &targets,
+        constants: &key.lit_constants(),
+    }))
+}
+
+/// The blades' pipelines of `key` (near, far): main view only.
+fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 2], String> {
+    if key.view != ViewKind::Main {
+        return Err("grass is drawn from the main view only".into());
+    }
+    let targets = super::gpu::color_target(key.format, wgpu::ColorWrites::ALL);
+    let constants = key.lit_constants();
+    let one = |label, vertex| {
+        shared.pipeline(&PipelineSpec {
+            label,
+            layout,
+            module,
+            vertex,
+            fragment: Some("fs_main"),
+            buffers: &[],
+            topology: wgpu::PrimitiveTopology::TriangleStrip,
+            cull: None,
+            depth: depth_test(true, wgpu::CompareFunction::Less),
+            targets: &targets,
+            constants: &constants,
+        })
+    };
+    Ok([one("grass blade pipeline (near)", "vs_near"), one("grass blade pipeline (far)", "vs_far")])
+}
+
+impl Feature for Grass {
+    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+        self.enabled = cx.options.grass;
+        if !self.enabled {
+            return Ok(());
+        }
+        if let Some(patches) = &cx.data.grass {
+            self.rebuild(cx.shared, &cx.data.grass_key, patches);
+        }
+        let queue = &cx.shared.queue;
+        let w = &cx.data.wind;
+        let time = (cx.data.time % 3600.0) as f32;
+        let bend = WIND_BEND * w.strength * w.gust;
+        let speed = WIND_SPEED * w.strength.max(0.05);
+        for s in &self.shells {
+            let mut p = s.template;
+            // The tip of a shell lawn sways by about a third of its height at full wind.
+            p.wind = [w.direction[0], w.direction[1], 0.35 * p.tip[3] * w.strength * w.gust, time];
+            p.strands[2] = speed;
+            queue.write_buffer(&s.params, 0, bytemuck::bytes_of(&p));
+        }
+        if let Some(b) = &self.blades {
+            let view_proj = camera_matrix(&cx.data.camera, cx.size.0 as f32 / cx.size.1.max(1) as f32);
+            let eye = cx.data.camera.position;
+            let cull = CullParams { planes: data::frustum_planes(view_proj), camera: [eye.x, eye.y, eye.z, FAR_DISTANCE], lod_distance: LOD_DISTANCE, count: b.count, pad: [0; 2] };
+            queue.write_buffer(&b.cull_params, 0, bytemuck::bytes_of(&cull));
+            let bend_near = cx.options.grass_bend;
+            let hit = cx.data.overlay.hit.filter(|h| h.visible && bend_near).map_or([0.0; 4], |h| [h.position.x, h.position.y, h.position.z, HIT_RADIUS]);
+            let eye_radius = if bend_near { EYE_RADIUS } else { 0.0 };
+            let params = BladeParams {
+                wind: [w.direction[0], w.direction[1], bend, time],
+                wind_noise: [speed, WIND_SCALE, 0.0, 0.0],
+                eye: [eye.x, eye.y, eye.z, eye_radius],
+                hit,
+                colours: b.colours,
+            };
+            queue.write_buffer(&b.draw_params, 0, bytemuck::bytes_of(&params));
+            // The two indirect draws: 15 and 7 vertices, no instances until the cull pass.
+            let args: [u32; 8] = [15, 0, 0, 0, 7, 0, 0, 0];
+            queue.write_buffer(&b.args, 0, bytemuck::cast_slice(&args));
+        }
+        let (sm, sl, bm, bl) = (&self.shell_module, &self.shell_layout, &self.blade_module, &self.blade_layout);
+        self.shell_pipelines.prepare(cx.key, |k| build_shells(cx.shared, sm, sl, k))?;
+        self.blade_pipelines.prepare(cx.key, |k| build_blades(cx.shared, bm, bl, k))
+    }
+
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+        if phase != Phase::Opaque || !self.enabled {
+            return Ok(());
+        }
+        if let Some(b) = &self.blades {
+            let [near, far] = self.blade_pipelines.get(key)?;
+            pass.set_bind_group(2, &b.draw_group, &[]);
+            pass.set_pipeline(near);
+            pass.draw_indirect(&b.args, 0);
+            pass.set_pipeline(far);
+            pass.draw_indirect(&b.args, 16);
+            stats.draws += 2;
+        }
+        if !self.shells.is_empty() {
+            pass.set_pipeline(self.shell_pipelines.get(key)?);
+            for s in &self.shells {
+                pass.set_bind_group(2, &s.bind_group, &[]);
+                pass.set_vertex_buffer(0, s.vertices.slice(..));
+                // One instance per layer, bottom to top.
+                pass.draw(0..s.vertex_count, 0..s.layers);
+                stats.draws += 1;
+                stats.triangles += (s.vertex_count / 3 * s.layers) as usize;
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,257 @@
+//! Grass on the GPU (whatever adapter wgpu finds; lavapipe in CI): golden images of a shell
+//! lawn, a blade patch, a patch with a hole and blades bent near the camera, each with a
+//! property that must hold whatever the snapshot says; the wind moves blades and a calm does
+//! not; the compute pass culls; `--no-grass`; bad grass fields exit 2 with one line.
+//!
+//! Images are small (160×120), without MSAA, compared with `tests/snapshots/<name>.png` as in
+//! `tests/render_golden.rs`, each with its tolerance. Regenerate with
+//! `UPDATE_SNAPSHOTS=1 cargo test --test grass_render`.
+
+mod common;
+
+use std::path::PathBuf;
+use std::sync::{Mutex, OnceLock};
+
+use glam::Vec3;
+use grove::render::offscreen::{self, Gpu};
+use grove::render::Renderer;
+use grove_systems::components::{HitMarker, HitTarget};
+use grove_systems::scene::Scene;
+use grove_systems::Sim;
+use image::RgbaImage;
+
+const W: u32 = 160;
+const H: u32 = 120;
+const PIXEL_THRESHOLD: u8 = 40;
+
+static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
+static LOCK: Mutex<()> = Mutex::new(());
+
+fn gpu() -> &'static Gpu {
+    match GPU.get_or_init(Gpu::new) {
+        Ok(g) => g,
+        Err(e) => panic!("grass tests need a GPU adapter (CI installs lavapipe: mesa-vulkan-drivers): {e}"),
+    }
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A 6 × 6 m flat plane (with an optional hole at the centre), one grass patch over all of it,
+/// the camera at `eye` looking at `look`, the wind of `strength`.
+fn scene(kind: &str, density: f32, hole: f32, strength: f32, eye: Vec3, look: Vec3) -> Scene {
+    let holes = if hole > 0.0 { format!("(center: (0.0, 0.0), radius: {hole:?})") } else { String::new() };
+    let text = format!(
+        r#"Scene(
+    name: "grass test", seed: 3,
+    planes: [(name: "ground", shape: Grid(min: (-3.0, -3.0), size: (6.0, 6.0), cell: 0.25, elevation: 0.0, holes: [{holes}]))],
+    sun: (latitude_deg: 47.4, longitude_deg: 8.5, utc: "2026-06-21T09:30:00Z"),
+    wind: (direction: (1.0, 0.0, 0.3), strength: {strength:?}, density: 0.15, gust_average: 1.0, gust_strength: 0.3, gust_frequency: 0.3),
+    grass: [(name: "patch", kind: {kind}, density: {density:?}, height: (0.15, 0.3), shells: 16)],
+    camera: (position: ({:?}, {:?}, {:?}), look_at: ({:?}, {:?}, {:?}), fov_y_deg: 60.0),
+)"#,
+        eye.x, eye.y, eye.z, look.x, look.y, look.z
+    );
+    Scene::parse(&text, "grass test").unwrap()
+}
+
+fn sim(s: &Scene) -> Sim {
+    Sim::from_scene(s, s.seed).unwrap()
+}
+
+fn render_with(sim: &Sim, grass: bool, bend: bool) -> (RgbaImage, (u32, u32)) {
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let g = gpu();
+    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+    r.options.grass = grass;
+    r.options.grass_bend = bend;
+    let img = offscreen::render_image(g, &mut r, sim).unwrap();
+    let counts = r.visible_blades().unwrap();
+    (img, counts)
+}
+
+fn render(sim: &Sim) -> RgbaImage {
+    render_with(sim, true, true).0
+}
+
+/// The mean absolute difference per channel (0..255) over a rectangle.
+fn diff(a: &RgbaImage, b: &RgbaImage, rect: (u32, u32, u32, u32)) -> f64 {
+    let (x0, y0, x1, y1) = rect;
+    let mut sum = 0u64;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
+            sum += (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>();
+        }
+    }
+    sum as f64 / (3.0 * f64::from((x1 - x0) * (y1 - y0)))
+}
+
+/// The share of pixels in a rectangle that are grass green: green well above red and blue.
+fn green_share(img: &RgbaImage, rect: (u32, u32, u32, u32)) -> f64 {
+    let (x0, y0, x1, y1) = rect;
+    let mut n = 0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let p = img.get_pixel(x, y).0;
+            n += usize::from(p[1] as f64 > 1.15 * p[0] as f64 && p[1] as f64 > 1.15 * p[2] as f64);
+        }
+    }
+    n as f64 / f64::from((x1 - x0) * (y1 - y0))
+}
+
+fn compare(name: &str, img: &RgbaImage, mean_abs: f64, percent_over: f64) {
+    let path = root().join("tests/snapshots").join(format!("{name}.png"));
+    if std::env::var("UPDATE_SNAPSHOTS").is_ok_and(|v| v == "1") {
+        img.save(&path).unwrap();
+        return;
+    }
+    let want = image::open(&path).unwrap_or_else(|e| panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+    assert_eq!(want.dimensions(), img.dimensions(), "{name}: size differs from the snapshot");
+    let mean = diff(&want, img, (0, 0, W, H));
+    let over = want.pixels().zip(img.pixels()).filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > PIXEL_THRESHOLD)).count();
+    let percent = over as f64 * 100.0 / f64::from(W * H);
+    if mean > mean_abs || percent > percent_over {
+        let dir = root().join("target/snapshot-failures");
+        let _ = std::fs::create_dir_all(&dir);
+        let _ = img.save(dir.join(format!("{name}.png")));
+        panic!("{name}: differs from {} (mean abs diff {mean:.2} > {mean_abs} or {percent:.2}% pixels over {PIXEL_THRESHOLD} > {percent_over}%); actual image in target/snapshot-failures/", path.display());
+    }
+}
+
+const EYE: Vec3 = Vec3::new(0.0, 1.2, 3.5);
+const LOOK: Vec3 = Vec3::new(0.0, 0.0, 0.0);
+
+#[test]
+fn shell_lawn() {
+    let s = sim(&scene("Shells", 3000.0, 0.0, 0.0, EYE, LOOK));
+    let (img, counts) = render_with(&s, true, true);
+    assert_eq!(counts, (0, 0), "a shell lawn has no blades");
+    let (bare, _) = render_with(&s, false, true);
+    // The lawn covers the plane: the lower half of the image changes with it and is green.
+    let lower = (0, H / 2, W, H);
+    assert!(diff(&img, &bare, lower) > 8.0, "the shells changed nothing");
+    assert!(green_share(&img, lower) > 0.9, "the lawn is not green: {}", green_share(&img, lower));
+    compare("grass-shell-lawn", &img, 3.0, 3.0);
+}
+
+#[test]
+fn blade_patch() {
+    let s = sim(&scene("Blades", 600.0, 0.0, 0.0, EYE, LOOK));
+    let (img, (near, far)) = render_with(&s, true, true);
+    // 36 m² at 600 per m²: about 21,600 blades, of which the frame sees most, all within the
+    // fine level of detail's 8 m.
+    assert!(near > 8_000 && near < 21_600 && far == 0, "{near} near and {far} far blades");
+    let (bare, _) = render_with(&s, false, true);
+    assert!(diff(&img, &bare, (0, H / 2, W, H)) > 8.0, "the blades changed nothing");
+    compare("grass-blade-patch", &img, 4.0, 5.0);
+}
+
+#[test]
+fn patch_with_a_hole() {
+    let s = sim(&scene("Blades", 600.0, 1.0, 0.0, Vec3::new(0.0, 3.0, 2.5), LOOK));
+    let img = render(&s);
+    // The hole at the centre of the view shows no grass; the lawn around it does.
+    let (cx, cy) = (W / 2, H / 2);
+    let hole = green_share(&img, (cx - 6, cy - 4, cx + 6, cy + 4));
+    let lawn = green_share(&img, (cx - 40, cy + 30, cx + 40, cy + 40));
+    assert!(hole < 0.2 && lawn > 0.8, "green in the hole {hole:.2}, on the lawn {lawn:.2}");
+    compare("grass-patch-with-hole", &img, 4.0, 5.0);
+}
+
+#[test]
+fn blades_bend_near_the_camera_and_the_hit_point() {
+    // A low camera over the patch: the blades below and in front of it bend away.
+    let mut s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 0.45, 1.8), Vec3::new(0.0, 0.0, 0.6)));
+    let hit = Vec3::new(1.2, 0.0, -0.5);
+    for h in s.world.query_mut::<&mut HitMarker>() {
+        *h = HitMarker { visible: true, position: hit, normal: Vec3::Y, distance: 2.0, target: HitTarget::Plane(0) };
+    }
+    let (bent, _) = render_with(&s, true, true);
+    let (upright, _) = render_with(&s, true, false);
+    // Near the eye (the bottom of the image) the bend changes the picture; far beyond both
+    // the eye's and the hit point's radius (the top rows of the lawn) it does not.
+    let near = diff(&bent, &upright, (0, H - 30, W, H));
+    assert!(near > 10.0, "bending changed the near blades by only {near:.1}");
+    compare("grass-bent-near-camera", &bent, 4.0, 5.0);
+}
+
+#[test]
+fn wind_moves_blades_and_a_calm_does_not() {
+    for kind in ["Blades", "Shells"] {
+        let windy = scene(kind, 600.0, 0.0, 1.0, EYE, LOOK);
+        let mut s = sim(&windy);
+        let a = render(&s);
+        s.run(45);
+        let b = render(&s);
+        let moved = diff(&a, &b, (0, H / 2, W, H));
+        assert!(moved > 1.0, "{kind}: the wind moved nothing ({moved:.2})");
+
+        // In a calm only time passes; one tick first, so that the controller's ray has found
+        // its hit point (the blades bend away from it) before the first frame.
+        let calm = scene(kind, 600.0, 0.0, 0.0, EYE, LOOK);
+        let mut s = sim(&calm);
+        s.run(1);
+        let a = render(&s);
+        s.run(45);
+        let b = render(&s);
+        assert_eq!(diff(&a, &b, (0, 0, W, H)), 0.0, "{kind}: grass moved in a calm");
+    }
+}
+
+#[test]
+fn blades_behind_the_camera_are_culled() {
+    // Looking away from the patch, up into the sky: the cull pass keeps no blade.
+    let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 3.0, 12.0)));
+    let (_, counts) = render_with(&s, true, true);
+    assert_eq!(counts, (0, 0));
+    // From 20 m away every visible blade gets the coarse level of detail.
+    let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 6.0, 20.0), LOOK));
+    let (_, (near, far)) = render_with(&s, true, true);
+    assert!(near == 0 && far > 10_000, "{near} near and {far} far blades");
+}
+
+#[test]
+fn bad_grass_fields_exit_2_with_one_line() {
+    let dir = std::env::temp_dir().join(format!("grove-grass-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let park = std::fs::read_to_string(root().join("assets/scenes/park.ron")).unwrap();
+    let cases = [("density: 4000.0,", "density: -1.0,", "density -1 must be positive"), ("shells: 20,", "shells: 0,", "shells 0"), ("planes: [\"ground\"],", "planes: [\"pond\"],", "names plane 'pond'")];
+    for (i, (from, to, needle)) in cases.into_iter().enumerate() {
+        let path = dir.join(format!("bad-{i}.ron"));
+        std::fs::write(&path, park.replacen(from, to, 1)).unwrap();
+        common::assert_one_line_error(&common::grove_with(&["scene", "check"], &path), 2, needle);
+        let out = dir.join(format!("bad-{i}.png"));
+        let o = common::grove(&["render", "--scene", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        common::assert_one_line_error(&o, 2, needle);
+        assert!(!out.exists(), "a failed render left {}", out.display());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+
+#[test]
+fn no_grass_and_the_overlay_from_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("grove-grass-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", "--scene", "assets/scenes/park.ron", "--width", "160", "--height", "120", "--out"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let o = common::grove(&args);
+        assert!(o.status.success(), "{extra:?}: {}", String::from_utf8_lossy(&o.stderr));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let plain = run("plain.png", &[]);
+    let bare = run("bare.png", &["--no-grass"]);
+    let ray = run("ray.png", &["--overlay", "interaction"]);
+    let none = run("none.png", &["--overlay", "none"]);
+    // The park's lawns fill the lower half: without grass it looks different.
+    assert!(diff(&plain, &bare, (0, H / 2, W, H)) > 3.0, "--no-grass changed nothing");
+    // A scene render draws no overlay unless asked: the default is `none`.
+    assert_eq!(diff(&plain, &none, (0, 0, W, H)), 0.0);
+    assert!(diff(&plain, &ray, (0, 0, W, H)) > 0.0, "--overlay interaction drew nothing");
+    let _ = std::fs::remove_dir_all(&dir);
+}
