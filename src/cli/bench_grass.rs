@@ -51,6 +51,9 @@ fn field(side: f32, cell: f32, grass: GrassDef) -> Scene {
         },
         trees: vec![],
         scatter: vec![],
+        banks: vec![],
+        dir: None,
+        water: vec![],
         camera: CameraDef { position: Vec3::new(0.0, 1.7, side / 2.0), look_at: Vec3::ZERO, fov_y_deg: 60.0 },
         grass: vec![grass],
     }
