@@ -59,6 +59,18 @@ pub struct BenchArgs {
     /// leaf at every distance).
     #[arg(long, default_value_t = grove::render::RenderOptions::default().leaf_pixels)]
     pub leaf_pixels: f32,
+    /// On-screen size in pixels below which trees are drawn as impostors in the render
+    /// benchmarks (0: every tree a mesh).
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub impostor_pixels: f32,
+}
+
+/// Parses a finite number of at least 0 (a clap value parser).
+pub fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("expected a number of at least 0, got {s:?}")),
+    }
 }
 
 /// The median of a slice of timings (sorted in place); 0 for an empty slice.
@@ -138,6 +150,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
     let render = super::bench_render::RenderBenchOptions {
         shadow_size: args.shadow_size,
         leaf_pixels: args.leaf_pixels,
+        impostor_pixels: args.impostor_pixels,
     };
     for w in which {
         let (name, value) = match w {

@@ -151,6 +151,8 @@ pub struct RenderBenchOptions {
     pub shadow_size: u32,
     /// Leaf pixel budget of the foliage level of detail (`RenderOptions::leaf_pixels`).
     pub leaf_pixels: f32,
+    /// On-screen size below which trees are impostors (`RenderOptions::impostor_pixels`).
+    pub impostor_pixels: f32,
 }
 
 /// Builds the GPU and the renderer at the benchmark's size, and names the adapter on stderr.
@@ -168,6 +170,7 @@ fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Re
         .map_err(|e| anyhow!(e))?;
     renderer.options.shadow_size = options.shadow_size;
     renderer.options.leaf_pixels = options.leaf_pixels;
+    renderer.options.impostor_pixels = options.impostor_pixels;
     // Pass times where the device has timestamp queries; frame times do not depend on them.
     if let Err(e) = renderer.enable_pass_timing() {
         if need_gpu {
@@ -250,6 +253,7 @@ fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map
     m.insert("resolution".into(), json!([WIDTH, HEIGHT]));
     m.insert("shadow_size".into(), json!(renderer.shadow_size()));
     m.insert("leaf_pixels".into(), json!(renderer.options.leaf_pixels));
+    m.insert("impostor_pixels".into(), json!(renderer.options.impostor_pixels));
     m.insert("timing".into(), json!(timing));
     m
 }

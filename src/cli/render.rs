@@ -45,6 +45,9 @@ pub struct RenderArgs {
     /// Turn the sun's shadow map off.
     #[arg(long)]
     pub no_shadows: bool,
+    /// Draw trees whose bounding sphere covers fewer pixels than this as impostors (0: never).
+    #[arg(long, default_value_t = 0.0, value_parser = super::bench::non_negative)]
+    pub impostor_pixels: f32,
     /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
     /// to see the model sway in the study's wind).
     #[arg(long, conflicts_with = "replay")]
@@ -73,7 +76,7 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
 
 /// The renderer's options from the arguments: `--no-shadows` is applied here and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
-    RenderOptions { shadows: !args.no_shadows, ..Default::default() }
+    RenderOptions { shadows: !args.no_shadows, impostor_pixels: args.impostor_pixels, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds

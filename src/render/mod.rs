@@ -66,11 +66,15 @@ pub struct RenderOptions {
     /// The smallest area, in pixels, a drawn leaf should cover: farther trees draw a share of
     /// their leaves, grown to keep the crown's area ([`lod`]). 0 draws every leaf.
     pub leaf_pixels: f32,
+    /// The on-screen size, in pixels, of a tree's bounding sphere below which it is drawn as an
+    /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 (the
+    /// default, which the golden images use) draws every tree as a mesh.
+    pub impostor_pixels: f32,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0 }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, impostor_pixels: 0.0 }
     }
 }
 
@@ -173,7 +177,8 @@ impl Renderer {
 
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.
     pub fn set_model(&mut self, id: ModelId, data: &ModelData) {
-        let model = GpuModel::upload(&self.shared, data);
+        let mut model = GpuModel::upload(&self.shared, data);
+        self.trees.bake_impostor(&self.shared, &mut model);
         let idx = usize::from(id.0);
         if self.trees.models.len() <= idx {
             self.trees.models.resize_with(idx + 1, || None);
