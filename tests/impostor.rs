@@ -167,3 +167,28 @@ fn crossing_the_band_changes_little_per_frame() {
     assert!(worst <= 1.0 / 3.0, "one frame changed {:.1} % of the tree", worst * 100.0);
     assert!(worst < whole, "the steps ({worst:.3}) should be smaller than the whole change ({whole:.3})");
 }
+
+/// The forest scene validates, loads quickly and holds about 10,000 trees of all eight models
+/// over 1 km².
+#[test]
+fn the_forest_scene_holds_ten_thousand_trees() {
+    use grove_systems::components::{Transform, Tree};
+    use grove_systems::scene::Scene;
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/forest.ron");
+    let t = std::time::Instant::now();
+    let scene = Scene::load(&path).unwrap();
+    let sim = Sim::from_scene(&scene, scene.seed).unwrap();
+    let seconds = t.elapsed().as_secs_f64();
+    let mut models = std::collections::BTreeSet::new();
+    let (mut n, mut lo, mut hi) = (0usize, Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for (tree, t) in sim.world.query::<(&Tree, &Transform)>().iter() {
+        n += 1;
+        models.insert(tree.model.0);
+        lo = lo.min(t.translation);
+        hi = hi.max(t.translation);
+    }
+    assert!((9_500..=10_500).contains(&n), "{n} trees");
+    assert_eq!(models.len(), 8, "every shipped model: {models:?}");
+    assert!(hi.x - lo.x > 980.0 && hi.z - lo.z > 980.0 && hi.x - lo.x <= 1000.0, "{lo:?}..{hi:?}");
+    assert!(seconds < 20.0, "loading took {seconds:.1} s (debug build)");
+}
