@@ -35,6 +35,8 @@ pub enum Which {
     /// The reference scene and a 10k-tree forest on a real GPU, timed with timestamp queries
     /// (fails on a software adapter such as lavapipe).
     RenderGpu,
+    /// The 10,000-tree forest of assets/scenes/forest.ron at 1280x720, shadows on and off.
+    RenderForest,
 }
 
 /// Arguments of `grove bench`.
@@ -165,6 +167,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
                 super::bench_render::bench_reference(render)?,
             ),
             Which::RenderGpu => ("render_gpu", super::bench_render::bench_gpu(render)?),
+            Which::RenderForest => ("render_forest", super::bench_impostor::bench_forest(render)?),
         };
         report.insert(name.into(), value);
     }

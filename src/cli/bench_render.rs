@@ -71,7 +71,7 @@ fn ground_scene(half: f32, cell: f32) -> Scene {
     }
 }
 
-fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
+pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
     for h in sim.world.query_mut::<&mut Head>() {
         *h = Head {
             pose: Pose::looking_at(eye, target),
@@ -88,14 +88,14 @@ fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
 
 /// A frame figure: the median wall time of a frame and, where the renderer times its passes,
 /// the median GPU time of the shadow and main passes.
-struct FrameTime {
+pub(super) struct FrameTime {
     ms: f64,
     passes: Option<(f64, f64)>,
 }
 
 impl FrameTime {
     /// The figure as JSON, with the draw statistics of the last frame.
-    fn json(&self, renderer: &Renderer) -> Value {
+    pub(super) fn json(&self, renderer: &Renderer) -> Value {
         let mut v = json!({"ms_per_frame": self.ms, "fps": 1e3 / self.ms, "triangles": renderer.stats.triangles, "draws": renderer.stats.draws});
         if let Some((shadow, main)) = self.passes {
             v["gpu_shadow_pass_ms"] = json!(shadow);
@@ -106,7 +106,7 @@ impl FrameTime {
 }
 
 /// Times `frames` frames after one warm-up frame and returns the medians.
-fn time_frames(
+pub(super) fn time_frames(
     gpu: &Gpu,
     renderer: &mut Renderer,
     sim: &Sim,
@@ -157,7 +157,7 @@ pub struct RenderBenchOptions {
 
 /// Builds the GPU and the renderer at the benchmark's size, and names the adapter on stderr.
 /// With `need_gpu`, a software adapter is an error: its timings would say nothing of a GPU.
-fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Renderer, String)> {
+pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Renderer, String)> {
     let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
     let adapter = gpu.adapter_name();
     if need_gpu && gpu.is_cpu() {
@@ -183,7 +183,7 @@ fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Re
 /// A square forest of `side`² trees 10 m apart on a ground 10 m wider than it, seen from the
 /// south at 14 m above the ground, the sun at 45°. `models` picks a tree's model from its index
 /// (`None`: no trees, the ground and sky alone).
-fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::Result<Sim> {
+pub(super) fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::Result<Sim> {
     let half = side as f32 * 5.0;
     let scene = ground_scene(half, (half / 25.0).max(2.0));
     let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
@@ -247,7 +247,7 @@ fn reference_scene(gpu: &Gpu, renderer: &mut Renderer) -> anyhow::Result<Value> 
     forest_figures(gpu, renderer, 10, 10)
 }
 
-fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map<String, Value> {
+pub(super) fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map<String, Value> {
     let mut m = serde_json::Map::new();
     m.insert("adapter".into(), json!(adapter));
     m.insert("resolution".into(), json!([WIDTH, HEIGHT]));
@@ -258,7 +258,7 @@ fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map
     m
 }
 
-const WALL_TIMING: &str = "median of 10 frames: wall time of render + device.poll(wait); gpu_*_pass_ms from timestamp queries where the device has them";
+pub(super) const WALL_TIMING: &str = "median of 10 frames: wall time of render + device.poll(wait); gpu_*_pass_ms from timestamp queries where the device has them";
 
 /// Runs only the reference scene and returns its figures.
 pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
@@ -266,6 +266,10 @@ pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
     let reference = reference_scene(&gpu, &mut renderer)?;
     let mut out = header(adapter, &renderer, WALL_TIMING);
     out.insert("reference_100_trees".into(), reference);
+    if options.impostor_pixels > 0.0 || options.leaf_pixels > 0.0 {
+        let sim = forest(10, Some(&|i| (i % 8) as u8))?;
+        out.insert("reference_image_vs_full_detail".into(), super::bench_impostor::image_error(&gpu, &mut renderer, &sim)?);
+    }
     Ok(Value::Object(out))
 }
 

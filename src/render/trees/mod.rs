@@ -185,7 +185,7 @@ impl Feature for Trees {
         self.draw_trees(pass, Materials::Opaque, |_, _, _, _| {});
         pass.set_pipeline(&p.masked);
         self.draw_trees(pass, Materials::Masked, |_, _, _, _| {});
-        pass.set_pipeline(&self.impostors.pipelines.get(key)?.0);
+        pass.set_pipeline(&self.impostors.pipelines.get(key)?.depth);
         self.draw_impostors(pass, |_| {});
         Ok(())
     }
@@ -209,8 +209,14 @@ impl Feature for Trees {
                     pass.set_pipeline(&p.masked_shade[mat.double_sided as usize]);
                     count(n, range);
                 });
-                pass.set_pipeline(&self.impostors.pipelines.get(key)?.0);
-                self.draw_impostors(pass, |range| count(6, range));
+                // Impostors: their depth pre-pass, then their shading at equal depth.
+                let imp = self.impostors.pipelines.get(key)?;
+                pass.set_pipeline(&imp.depth);
+                self.draw_impostors(pass, |_| {});
+                if let Some(shade) = &imp.shade {
+                    pass.set_pipeline(shade);
+                    self.draw_impostors(pass, |range| count(6, range));
+                }
             }
             Phase::Sky | Phase::Blended | Phase::Overlay => {}
         }

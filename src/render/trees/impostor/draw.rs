@@ -19,8 +19,14 @@ struct ImpostorParams {
 /// The impostor shader: wind.wgsl's struct, octa.wgsl, then the impostor's own.
 const IMPOSTOR_WGSL: &str = concat!(include_str!("../wind.wgsl"), "\n", include_str!("octa.wgsl"), "\n", include_str!("impostor.wgsl"));
 
-/// The impostor pipeline of one key: lit for the main view, depth-only for the sun's.
-pub(crate) struct ImpostorPipeline(pub wgpu::RenderPipeline);
+/// The impostor pipelines of one key: for the main view a depth pre-pass (alpha-tested) and
+/// the shading at equal depth; for the sun's, the pre-pass alone into the shadow map.
+pub(crate) struct ImpostorPipeline {
+    /// Depth only, alpha-tested and dithered.
+    pub depth: wgpu::RenderPipeline,
+    /// The shading at equal depth (main view only).
+    pub shade: Option<wgpu::RenderPipeline>,
+}
 
 /// Everything the impostors share: the bake, the shader, the layouts and the pipelines.
 pub(crate) struct ImpostorGpu {
@@ -119,14 +125,17 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayou
             constants: &constants,
         })
     };
-    ImpostorPipeline(if sun {
+    if sun {
         let depth = wgpu::DepthStencilState {
             format: SHADOW_FORMAT,
             bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
             ..depth_test(true, wgpu::CompareFunction::Less)
         };
-        spec(shadow, "fs_impostor_depth", depth, &[])
+        ImpostorPipeline { depth: spec(shadow, "fs_impostor_depth", depth, &[]), shade: None }
     } else {
-        spec(lit, "fs_impostor", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::ALL))
-    })
+        ImpostorPipeline {
+            depth: spec(lit, "fs_impostor_depth", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),
+            shade: Some(spec(lit, "fs_impostor", depth_test(false, wgpu::CompareFunction::Equal), &color_target(key.format, wgpu::ColorWrites::ALL))),
+        }
+    }
 }

@@ -33,7 +33,7 @@ struct ImpostorIn {
 };
 
 struct ImpostorOut {
-    @builtin(position) clip: vec4<f32>,
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world_pos: vec3<f32>,
     @location(1) uv: vec2<f32>,
     @location(2) @interpolate(flat) fade: f32,
@@ -82,13 +82,13 @@ fn impostor_kept(coverage: f32, pixel: vec2<f32>, fade: f32) -> bool {
     return coverage >= 0.5 && impostor_dither(pixel) < fade;
 }
 
+// Shades an impostor fragment. It never discards: the depth pre-pass (fs_impostor_depth, with
+// the camera's view) kept the fragment, and this pass runs at equal depth, so each pixel is
+// shaded once however many impostors overlap it.
 @fragment
 fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
     let a = textureSample(imp_albedo, imp_sampler, in.uv);
     let nd = textureSample(imp_normal, imp_sampler, in.uv);
-    if (!impostor_kept(a.a, in.clip.xy, in.fade)) {
-        discard;
-    }
     // Empty texels hold zero colour, so a filtered texel at the silhouette is divided back.
     let albedo = a.rgb / max(a.a, 1e-3);
     let nm = imp_rotate_y(nd.xyz * 2.0 - 1.0, in.yaw);
@@ -97,7 +97,7 @@ fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
     return vec4<f32>(tone(c), 1.0);
 }
 
-// The shadow map: coverage and dither only.
+// Depth only, for the shadow map and the main view's pre-pass: coverage and dither.
 @fragment
 fn fs_impostor_depth(in: ImpostorOut) {
     let a = textureSample(imp_albedo, imp_sampler, in.uv).a;
