@@ -178,7 +178,7 @@ impl Renderer {
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.
     pub fn set_model(&mut self, id: ModelId, data: &ModelData) {
         let mut model = GpuModel::upload(&self.shared, data);
-        self.trees.bake_impostor(&self.shared, &mut model);
+        self.trees.bake_impostor(&self.shared, &mut model, data);
         let idx = usize::from(id.0);
         if self.trees.models.len() <= idx {
             self.trees.models.resize_with(idx + 1, || None);

@@ -79,8 +79,9 @@ impl Trees {
     }
 
     /// Bakes and binds the impostor atlases of `model` (see [`impostor`]).
-    pub fn bake_impostor(&self, shared: &Shared, model: &mut GpuModel) {
-        model.impostor = self.impostors.baker.bake(shared, model).map(|mut atlas| {
+    pub fn bake_impostor(&self, shared: &Shared, model: &mut GpuModel, data: &crate::render::gltf_load::ModelData) {
+        let positions: Vec<Vec3> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
+        model.impostor = self.impostors.baker.bake(shared, model, &positions).map(|mut atlas| {
             self.impostors.bind(shared, &mut atlas);
             atlas
         });

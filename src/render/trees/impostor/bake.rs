@@ -13,6 +13,10 @@ pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSr
 /// The normal atlas's format (model-space normal encoded as `n / 2 + 1/2`, depth in alpha).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
+/// Mip levels of the atlases: each is baked by drawing the model again at its size (views of
+/// 160, 80, 40, 20 and 10 texels), so far impostors sample a small, cache-friendly level.
+pub const MIP_LEVELS: u32 = 5;
+
 const BAKE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The bake's uniforms (matches `BakeParams` in bake.wgsl).
@@ -35,6 +39,8 @@ pub struct Atlas {
     pub centre: Vec3,
     /// Its radius, metres.
     pub radius: f32,
+    /// The model's extent in each view ([`super::view_rects`]), row-major.
+    pub rects: Vec<glam::Vec4>,
     /// The impostor shader's group 2 (set by [`super::draw::ImpostorGpu::bind`]).
     pub(crate) bind_group: Option<wgpu::BindGroup>,
 }
@@ -83,7 +89,7 @@ impl Baker {
 
     /// Draws `model` into new atlases: every primitive whole, once per view. `None` for a model
     /// with empty bounds.
-    pub fn bake(&self, shared: &Shared, model: &GpuModel) -> Option<Atlas> {
+    pub fn bake(&self, shared: &Shared, model: &GpuModel, positions: &[Vec3]) -> Option<Atlas> {
         let (lo, hi) = model.bounds;
         let centre = (lo + hi) * 0.5;
         let radius = (hi - lo).length() * 0.5;
@@ -92,11 +98,11 @@ impl Baker {
         }
         let device = &shared.device;
         let size = wgpu::Extent3d { width: GRID * CELL, height: GRID * CELL, depth_or_array_layers: 1 };
-        let texture = |label: &str, format, usage| {
+        let texture = |label: &str, format, usage, mips| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size,
-                mip_level_count: 1,
+                mip_level_count: mips,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format,
@@ -105,9 +111,9 @@ impl Baker {
             })
         };
         let colour_usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
-        let albedo = texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT, colour_usage);
-        let normal = texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT, colour_usage);
-        let depth = texture("impostor bake depth", BAKE_DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        let albedo = texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT, colour_usage, MIP_LEVELS);
+        let normal = texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT, colour_usage, MIP_LEVELS);
+        let depth = texture("impostor bake depth", BAKE_DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT, MIP_LEVELS);
         let params = BakeParams { centre: centre.to_array(), radius };
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("impostor bake params"),
@@ -119,9 +125,11 @@ impl Baker {
             layout: &self.params_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
         });
-        let views = [&albedo, &normal, &depth].map(|t| t.create_view(&Default::default()));
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor bake encoder") });
-        {
+        for level in 0..MIP_LEVELS {
+            let views = [&albedo, &normal, &depth].map(|t| {
+                t.create_view(&wgpu::TextureViewDescriptor { base_mip_level: level, mip_level_count: Some(1), ..Default::default() })
+            });
             let attach = |view, clear| {
                 Some(wgpu::RenderPassColorAttachment {
                     view,
@@ -159,6 +167,7 @@ impl Baker {
             }
         }
         shared.queue.submit([encoder.finish()]);
-        Some(Atlas { albedo, normal, centre, radius, bind_group: None })
+        let rects = super::view_rects(positions, centre, radius);
+        Some(Atlas { albedo, normal, centre, radius, rects, bind_group: None })
     }
 }

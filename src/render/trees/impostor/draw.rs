@@ -14,7 +14,12 @@ struct ImpostorParams {
     centre: [f32; 3],
     /// Its radius, metres.
     radius: f32,
+    /// The model's extent in each view, in radii (min x, min y, max x, max y), row-major.
+    rects: [[f32; 4]; 64],
 }
+
+// The uniform holds one rectangle per view.
+const _: () = assert!(super::GRID * super::GRID == 64);
 
 /// The impostor shader: wind.wgsl's struct, octa.wgsl, then the impostor's own.
 const IMPOSTOR_WGSL: &str = concat!(include_str!("../wind.wgsl"), "\n", include_str!("octa.wgsl"), "\n", include_str!("impostor.wgsl"));
@@ -54,6 +59,7 @@ impl ImpostorGpu {
             label: Some("impostor sampler"),
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
         ImpostorGpu {
@@ -69,7 +75,11 @@ impl ImpostorGpu {
 
     /// Gives a baked atlas its bind group (uniforms, both atlases, the sampler).
     pub fn bind(&self, shared: &Shared, atlas: &mut Atlas) {
-        let params = ImpostorParams { centre: atlas.centre.to_array(), radius: atlas.radius };
+        let mut rects = [[-1.0, -1.0, 1.0, 1.0]; 64];
+        for (r, v) in rects.iter_mut().zip(&atlas.rects) {
+            *r = v.to_array();
+        }
+        let params = ImpostorParams { centre: atlas.centre.to_array(), radius: atlas.radius, rects };
         let buffer = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("impostor params"),
             contents: bytemuck::bytes_of(&params),

@@ -8,6 +8,8 @@
 struct ImpostorParams {
     centre: vec3<f32>,
     radius: f32,
+    // The model's extent in each view, in radii: (min x, min y, max x, max y), row-major.
+    rects: array<vec4<f32>, 64>,
 };
 
 @group(0) @binding(1) var<uniform> wind: WindParams;
@@ -52,7 +54,7 @@ fn vs_impostor(@builtin(vertex_index) vi: u32, v: ImpostorIn) -> ImpostorOut {
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
     );
-    let q = corners[vi];
+    let corner = corners[vi];
     let centre = v.origin + imp_rotate_y(imp.centre * v.scale, v.yaw);
     let toward = select(frame.camera_pos - centre, frame.sun_dir, SUN_VIEW);
     // The direction to the viewer in model space (the yaw undone).
@@ -61,6 +63,9 @@ fn vs_impostor(@builtin(vertex_index) vi: u32, v: ImpostorIn) -> ImpostorOut {
     let d = impostor_cell_dir(cell);
     let right = impostor_basis_right(d);
     let up = cross(d, right);
+    // The quad is cut to the model's extent in this view.
+    let rect = imp.rects[u32(cell.y) * u32(IMPOSTOR_GRID) + u32(cell.x)];
+    let q = mix(rect.xy, rect.zw, corner * 0.5 + 0.5);
     let local = imp.centre + (right * q.x + up * q.y) * imp.radius;
     var wp = v.origin + imp_rotate_y(local * v.scale, v.yaw);
     // The whole quad leans with the trunk: bend * h² / trunk_stiffness at height h.

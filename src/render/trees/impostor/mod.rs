@@ -18,7 +18,7 @@
 pub mod bake;
 pub(crate) mod draw;
 
-use glam::{UVec2, Vec2, Vec3};
+use glam::{UVec2, Vec2, Vec3, Vec4};
 
 /// The views along each side of the atlas (`IMPOSTOR_GRID` in `octa.wgsl`).
 pub const GRID: u32 = 8;
@@ -64,6 +64,32 @@ pub fn view_basis(d: Vec3) -> (Vec3, Vec3) {
     let up_ref = if d.y.abs() > 0.999 { Vec3::NEG_Z } else { Vec3::Y };
     let right = up_ref.cross(d).normalize();
     (right, d.cross(right))
+}
+
+/// The extent of the model in each atlas view, as `(min x, min y, max x, max y)` in units of
+/// the bounding sphere's radius (within `-1..=1`), grown by a texel: the impostor quad is cut
+/// to it, so no fragment is spent on the empty corners of the view. Cells in row-major order.
+pub fn view_rects(positions: &[Vec3], centre: Vec3, radius: f32) -> Vec<Vec4> {
+    let texel = 2.0 / CELL as f32;
+    (0..GRID * GRID)
+        .map(|k| {
+            let d = cell_dir(UVec2::new(k % GRID, k / GRID));
+            let (right, up) = view_basis(d);
+            let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
+            for p in positions {
+                let rel = *p - centre;
+                let q = Vec2::new(rel.dot(right), rel.dot(up)) / radius;
+                lo = lo.min(q);
+                hi = hi.max(q);
+            }
+            if lo.x > hi.x {
+                return Vec4::new(-1.0, -1.0, 1.0, 1.0);
+            }
+            let lo = (lo - texel).max(Vec2::splat(-1.0));
+            let hi = (hi + texel).min(Vec2::splat(1.0));
+            Vec4::new(lo.x, lo.y, hi.x, hi.y)
+        })
+        .collect()
 }
 
 /// A tree's share drawn as an impostor, 0 (all mesh) to 1 (all impostor): `diameter` is its
@@ -124,6 +150,21 @@ mod tests {
         let z = cell(Vec3::Y);
         assert!(z.x == GRID / 2 || z.x == GRID / 2 - 1);
         assert!(cell_dir(cell(Vec3::X)).x > 0.8);
+    }
+
+    #[test]
+    fn view_rects_hold_the_model_and_little_else() {
+        // A thin vertical pole 10 m tall: from the side its view is a narrow, tall strip; from
+        // near the zenith a small square about the centre.
+        let pts: Vec<Vec3> = (0..=10).flat_map(|h| [Vec3::new(-0.1, h as f32, 0.0), Vec3::new(0.1, h as f32, 0.0)]).collect();
+        let centre = Vec3::new(0.0, 5.0, 0.0);
+        let radius = (0.1f32 * 0.1 + 25.0).sqrt();
+        let rects = view_rects(&pts, centre, radius);
+        let side = rects[(4 * GRID + 7) as usize];
+        assert!(side.z - side.x < 0.2 && side.w - side.y > 1.5, "{side:?}");
+        for r in &rects {
+            assert!(r.x >= -1.0 && r.y >= -1.0 && r.z <= 1.0 && r.w <= 1.0 && r.x < r.z && r.y < r.w);
+        }
     }
 
     #[test]
