@@ -192,3 +192,67 @@ fn the_forest_scene_holds_ten_thousand_trees() {
     assert!(hi.x - lo.x > 980.0 && hi.z - lo.z > 980.0 && hi.x - lo.x <= 1000.0, "{lo:?}..{hi:?}");
     assert!(seconds < 20.0, "loading took {seconds:.1} s (debug build)");
 }
+
+/// Golden images, 160×120, with impostors below 20 pixels (120 pixels at 720 lines): compared
+/// with `tests/snapshots/<name>.png` (regenerate with `UPDATE_SNAPSHOTS=1 cargo test --test
+/// impostor goldens`) within a mean absolute difference of 3 per channel and 3 % of pixels
+/// over 40; and, whatever the snapshot says, within 6 per channel of the same view at full
+/// detail (every leaf, no impostors).
+#[test]
+fn goldens_of_the_reference_scene_and_the_forest() {
+    use grove_systems::components::Sun;
+    use grove_systems::scene::Scene;
+    let (w, h) = (160u32, 120u32);
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let load = || {
+        let scene = Scene::load(&root.join("assets/scenes/forest.ron")).unwrap();
+        (Sim::from_scene(&scene, scene.seed).unwrap(), scene)
+    };
+    let (forest, _) = load();
+    // The reference scene (after Fukuda et al. 2007, as `grove bench render-reference` builds
+    // it): 100 trees of the eight models 10 m apart, seen from the south at 14 m, sun at 45°.
+    let (_, mut scene) = load();
+    scene.scatter.clear();
+    let mut reference = Sim::from_scene(&scene, scene.seed).unwrap();
+    for i in 0..100u32 {
+        let (x, z) = ((i % 10) as f32 * 10.0 - 45.0, (i / 10) as f32 * 10.0 - 45.0);
+        reference.spawn_tree(ModelId((i % 8) as u8), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, true);
+    }
+    for head in reference.world.query_mut::<&mut Head>() {
+        *head = Head { pose: Pose::looking_at(Vec3::new(0.0, 14.0, 62.0), Vec3::ZERO), fov_y: 60f32.to_radians() };
+    }
+    for s in reference.world.query_mut::<&mut Sun>() {
+        s.elevation_deg = 45.0;
+        s.azimuth_deg = 135.0;
+        s.direction = grove_systems::systems::sun::direction_from_angles(135.0, 45.0);
+    }
+    for (name, sim) in [("impostor-reference", &reference), ("impostor-forest", &forest)] {
+        let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        let g = gpu();
+        let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, w, h).unwrap();
+        r.options.impostor_pixels = 20.0;
+        let img = offscreen::render_image(g, &mut r, sim).unwrap();
+        r.options.impostor_pixels = 0.0;
+        r.options.leaf_pixels = 0.0;
+        let full = offscreen::render_image(g, &mut r, sim).unwrap();
+        let all = vec![true; (w * h) as usize];
+        let err = channel_mae(&img, &full, &all);
+        eprintln!("{name}: {err:.2} per channel from full detail");
+        assert!(err <= 6.0, "{name}: {err:.2} per channel from the full-detail render");
+        let path = root.join("tests/snapshots").join(format!("{name}.png"));
+        if std::env::var("UPDATE_SNAPSHOTS").is_ok_and(|v| v == "1") {
+            img.save(&path).unwrap();
+            continue;
+        }
+        let want = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+        assert_eq!(want.dimensions(), img.dimensions());
+        let mae = channel_mae(&want, &img, &all);
+        let over = want.pixels().zip(img.pixels()).filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 40)).count() as f64 / all.len() as f64 * 100.0;
+        if mae > 3.0 || over > 3.0 {
+            let dir = root.join("target/snapshot-failures");
+            let _ = std::fs::create_dir_all(&dir);
+            let _ = img.save(dir.join(format!("{name}.png")));
+        }
+        assert!(mae <= 3.0 && over <= 3.0, "{name}: {mae:.2} per channel, {over:.2} % of pixels over 40 from the snapshot");
+    }
+}
