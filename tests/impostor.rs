@@ -256,3 +256,25 @@ fn goldens_of_the_reference_scene_and_the_forest() {
         assert!(mae <= 3.0 && over <= 3.0, "{name}: {mae:.2} per channel, {over:.2} % of pixels over 40 from the snapshot");
     }
 }
+
+/// A negative or non-finite impostor threshold is bad input: one line, exit 2, no file.
+#[test]
+fn a_bad_impostor_threshold_is_refused() {
+    let dir = std::env::temp_dir().join(format!("grove-impostor-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out_png = dir.join("x.png");
+    for bad in ["-1", "nan", "inf", "many"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_grove"))
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .args(["render", "--scene", "assets/scenes/forest.ron", "--out"])
+            .arg(&out_png)
+            .arg(format!("--impostor-pixels={bad}"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad}: {err}");
+        assert!(err.contains("at least 0"), "{bad}: {err}");
+        assert!(!out_png.exists(), "{bad}: no file is written");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
