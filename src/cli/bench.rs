@@ -42,6 +42,8 @@ pub enum Which {
     /// Fukuda et al.'s water test: 500 m of water 50 m deep under the sky, with and without
     /// water, at 1280x720.
     Water,
+    /// The 10,000-tree forest of assets/scenes/forest.ron at 1280x720, shadows on and off.
+    RenderForest,
 }
 
 /// Arguments of `grove bench`.
@@ -66,6 +68,18 @@ pub struct BenchArgs {
     /// leaf at every distance).
     #[arg(long, default_value_t = grove::render::RenderOptions::default().leaf_pixels)]
     pub leaf_pixels: f32,
+    /// On-screen size in pixels below which trees are drawn as impostors in the render
+    /// benchmarks (0: every tree a mesh).
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub impostor_pixels: f32,
+}
+
+/// Parses a finite number of at least 0 (a clap value parser).
+pub fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("expected a number of at least 0, got {s:?}")),
+    }
 }
 
 /// The median of a slice of timings (sorted in place); 0 for an empty slice.
@@ -146,6 +160,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
     let render = super::bench_render::RenderBenchOptions {
         shadow_size: args.shadow_size,
         leaf_pixels: args.leaf_pixels,
+        impostor_pixels: args.impostor_pixels,
     };
     for w in which {
         let (name, value) = match w {
@@ -162,6 +177,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::RenderGpu => ("render_gpu", super::bench_render::bench_gpu(render)?),
             Which::Water => ("water", super::bench_water::bench_water(render)?),
             Which::Grass => ("grass", super::bench_grass::bench_grass()?),
+            Which::RenderForest => ("render_forest", super::bench_impostor::bench_forest(render)?),
         };
         report.insert(name.into(), value);
     }

@@ -94,14 +94,14 @@ pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
 
 /// A frame figure: the median wall time of a frame and, where the renderer times its passes,
 /// the median GPU time of the shadow and main passes.
-struct FrameTime {
+pub(super) struct FrameTime {
     ms: f64,
     passes: Option<(f64, f64)>,
 }
 
 impl FrameTime {
     /// The figure as JSON, with the draw statistics of the last frame.
-    fn json(&self, renderer: &Renderer) -> Value {
+    pub(super) fn json(&self, renderer: &Renderer) -> Value {
         let mut v = json!({"ms_per_frame": self.ms, "fps": 1e3 / self.ms, "triangles": renderer.stats.triangles, "draws": renderer.stats.draws});
         if let Some((shadow, main)) = self.passes {
             v["gpu_shadow_pass_ms"] = json!(shadow);
@@ -112,7 +112,7 @@ impl FrameTime {
 }
 
 /// Times `frames` frames after one warm-up frame and returns the medians.
-fn time_frames(
+pub(super) fn time_frames(
     gpu: &Gpu,
     renderer: &mut Renderer,
     sim: &Sim,
@@ -157,6 +157,8 @@ pub struct RenderBenchOptions {
     pub shadow_size: u32,
     /// Leaf pixel budget of the foliage level of detail (`RenderOptions::leaf_pixels`).
     pub leaf_pixels: f32,
+    /// On-screen size below which trees are impostors (`RenderOptions::impostor_pixels`).
+    pub impostor_pixels: f32,
 }
 
 /// Builds the GPU and the renderer at the benchmark's size, and names the adapter on stderr.
@@ -174,6 +176,7 @@ pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Resu
         .map_err(|e| anyhow!(e))?;
     renderer.options.shadow_size = options.shadow_size;
     renderer.options.leaf_pixels = options.leaf_pixels;
+    renderer.options.impostor_pixels = options.impostor_pixels;
     // Pass times where the device has timestamp queries; frame times do not depend on them.
     if let Err(e) = renderer.enable_pass_timing() {
         if need_gpu {
@@ -186,7 +189,7 @@ pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Resu
 /// A square forest of `side`² trees 10 m apart on a ground 10 m wider than it, seen from the
 /// south at 14 m above the ground, the sun at 45°. `models` picks a tree's model from its index
 /// (`None`: no trees, the ground and sky alone).
-fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::Result<Sim> {
+pub(super) fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::Result<Sim> {
     let half = side as f32 * 5.0;
     let scene = ground_scene(half, (half / 25.0).max(2.0));
     let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
@@ -250,17 +253,18 @@ fn reference_scene(gpu: &Gpu, renderer: &mut Renderer) -> anyhow::Result<Value> 
     forest_figures(gpu, renderer, 10, 10)
 }
 
-fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map<String, Value> {
+pub(super) fn header(adapter: String, renderer: &Renderer, timing: &str) -> serde_json::Map<String, Value> {
     let mut m = serde_json::Map::new();
     m.insert("adapter".into(), json!(adapter));
     m.insert("resolution".into(), json!([WIDTH, HEIGHT]));
     m.insert("shadow_size".into(), json!(renderer.shadow_size()));
     m.insert("leaf_pixels".into(), json!(renderer.options.leaf_pixels));
+    m.insert("impostor_pixels".into(), json!(renderer.options.impostor_pixels));
     m.insert("timing".into(), json!(timing));
     m
 }
 
-const WALL_TIMING: &str = "median of 10 frames: wall time of render + device.poll(wait); gpu_*_pass_ms from timestamp queries where the device has them";
+pub(super) const WALL_TIMING: &str = "median of 10 frames: wall time of render + device.poll(wait); gpu_*_pass_ms from timestamp queries where the device has them";
 
 /// Runs only the reference scene and returns its figures.
 pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
@@ -268,6 +272,10 @@ pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
     let reference = reference_scene(&gpu, &mut renderer)?;
     let mut out = header(adapter, &renderer, WALL_TIMING);
     out.insert("reference_100_trees".into(), reference);
+    if options.impostor_pixels > 0.0 || options.leaf_pixels > 0.0 {
+        let sim = forest(10, Some(&|i| (i % 8) as u8))?;
+        out.insert("reference_image_vs_full_detail".into(), super::bench_impostor::image_error(&gpu, &mut renderer, &sim)?);
+    }
     Ok(Value::Object(out))
 }
 

@@ -4,6 +4,7 @@ pub mod aerial;
 pub mod assets;
 pub mod bench;
 pub mod bench_grass;
+pub mod bench_impostor;
 pub mod bench_raycast;
 pub mod bench_render;
 pub mod bench_replay;

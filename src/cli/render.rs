@@ -56,6 +56,9 @@ pub struct RenderArgs {
     /// `interaction`. Default: `interaction` for --replay, `none` for --scene and --model.
     #[arg(long, value_enum)]
     pub overlay: Option<Overlay>,
+    /// Draw trees whose bounding sphere covers fewer pixels than this as impostors (0: never).
+    #[arg(long, default_value_t = 0.0, value_parser = super::bench::non_negative)]
+    pub impostor_pixels: f32,
     /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
     /// to see the model sway in the study's wind).
     #[arg(long, conflicts_with = "replay")]
@@ -95,7 +98,7 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
 /// `--overlay` are applied here and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
     let overlay = args.overlay.unwrap_or(if args.replay.is_some() { Overlay::Interaction } else { Overlay::None });
-    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, overlay: overlay == Overlay::Interaction, ..Default::default() }
+    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds

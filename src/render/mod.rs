@@ -81,11 +81,15 @@ pub struct RenderOptions {
     /// Draw the interaction visuals (the controller's ray, the hit marker, the anchor ball, the
     /// selection and the task's targets).
     pub overlay: bool,
+    /// The on-screen size, in pixels, of a tree's bounding sphere below which it is drawn as an
+    /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 (the
+    /// default, which the golden images use) draws every tree as a mesh.
+    pub impostor_pixels: f32,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: 0.0 }
     }
 }
 
@@ -200,7 +204,8 @@ impl Renderer {
 
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.
     pub fn set_model(&mut self, id: ModelId, data: &ModelData) {
-        let model = GpuModel::upload(&self.shared, data);
+        let mut model = GpuModel::upload(&self.shared, data);
+        self.trees.bake_impostor(&self.shared, &mut model, data);
         let idx = usize::from(id.0);
         if self.trees.models.len() <= idx {
             self.trees.models.resize_with(idx + 1, || None);

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use super::lod;
+use super::{impostor, lod};
 use super::model::GpuModel;
 use crate::render::extract::TreeDraw;
 use crate::render::view::Camera;
@@ -25,28 +25,49 @@ pub struct Instance {
     pub phase: f32,
     /// The share of the leaves drawn, 0..1 ([`lod::keep_fraction`]).
     pub keep: f32,
+    /// The share of the tree drawn as an impostor, 0..1 ([`impostor::fade`]; location 13).
+    pub fade: f32,
     /// Padding to 48 bytes.
-    pub pad: [f32; 2],
+    pub pad: f32,
 }
 
 /// The instance range of each keep bucket of one model.
 pub(crate) type BucketRanges = [std::ops::Range<u32>; lod::BUCKETS];
 
+/// A frame's tree instances, as [`gather`] sorts them.
+pub(crate) struct Gathered {
+    /// The mesh instances (trees not wholly impostors).
+    pub instances: Vec<Instance>,
+    /// The mesh instance range of each (model, keep bucket).
+    pub ranges: Vec<BucketRanges>,
+    /// The impostor instances (trees with a fade above 0), grouped by model, nearest first.
+    pub impostors: Vec<Instance>,
+    /// The impostor instance range of each model.
+    pub impostor_ranges: Vec<std::ops::Range<u32>>,
+    /// The bounds of every tree, metres.
+    pub bounds: Option<(Vec3, Vec3)>,
+}
+
 /// The instances of every tree whose model is loaded, grouped by model and, within a model, by
 /// keep bucket ([`lod::bucket`]), nearest first; the instance range of each (model, bucket);
 /// and the trees' bounds (metres). `height` is the target's height in pixels and
-/// `leaf_pixels` the smallest area a drawn leaf should cover.
+/// `leaf_pixels` the smallest area a drawn leaf should cover. Trees of a model with an impostor
+/// atlas whose bounding sphere covers fewer than `impostor_pixels` pixels (times
+/// [`impostor::BAND`] for the cross-fade) also go to the impostor list; those wholly impostors
+/// leave the mesh list.
 pub(crate) fn gather(
     trees: &[TreeDraw],
     models: &[Option<GpuModel>],
     camera: &Camera,
     height: u32,
     leaf_pixels: f32,
-) -> (Vec<Instance>, Vec<BucketRanges>, Option<(Vec3, Vec3)>) {
+    impostor_pixels: f32,
+) -> Gathered {
     let eye = camera.position;
     let pixels_per_radian = height as f32 * 0.5 / (camera.fov_y * 0.5).tan().max(1e-3);
     // Per model: (bucket, squared distance, instance).
     let mut per_model: Vec<Vec<(usize, f32, Instance)>> = (0..models.len()).map(|_| Vec::new()).collect();
+    let mut impostors: Vec<Vec<(f32, Instance)>> = (0..models.len()).map(|_| Vec::new()).collect();
     let mut bounds: Option<(Vec3, Vec3)> = None;
     for t in trees {
         let Some(Some(model)) = models.get(t.model) else {
@@ -55,20 +76,24 @@ pub(crate) fn gather(
         let scale = t.scale;
         let d2 = (t.origin - eye).length_squared();
         let keep = lod::keep_fraction(model.leaf_area * scale * scale, d2.sqrt(), pixels_per_radian, leaf_pixels);
-        per_model[t.model].push((
-            lod::bucket(keep),
-            d2,
-            Instance {
-                origin: t.origin.to_array(),
-                scale,
-                yaw: t.yaw,
-                bend: t.bend.to_array(),
-                gain: t.gain,
-                phase: t.phase,
-                keep,
-                pad: [0.0; 2],
-            },
-        ));
+        let fade = model.impostor.as_ref().map_or(0.0, |a| impostor::fade(2.0 * a.radius * scale, d2.sqrt(), pixels_per_radian, impostor_pixels));
+        let instance = Instance {
+            origin: t.origin.to_array(),
+            scale,
+            yaw: t.yaw,
+            bend: t.bend.to_array(),
+            gain: t.gain,
+            phase: t.phase,
+            keep,
+            fade,
+            pad: 0.0,
+        };
+        if fade < 1.0 {
+            per_model[t.model].push((lod::bucket(keep), d2, instance));
+        }
+        if fade > 0.0 {
+            impostors[t.model].push((d2, instance));
+        }
         let r = model.bounds.0.abs().max(model.bounds.1.abs());
         let ext = Vec3::new(r.x.max(r.z), 0.0, r.x.max(r.z)) * scale;
         let lo = t.origin + Vec3::new(-ext.x, model.bounds.0.y * scale, -ext.z);
@@ -93,5 +118,13 @@ pub(crate) fn gather(
         ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
         all.extend(list.iter().map(|e| e.2));
     }
-    (all, ranges, bounds)
+    let mut flat = Vec::new();
+    let mut impostor_ranges = Vec::new();
+    for mut list in impostors {
+        list.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.origin[0].total_cmp(&q.1.origin[0])).then(p.1.origin[2].total_cmp(&q.1.origin[2])));
+        let base = flat.len() as u32;
+        flat.extend(list.iter().map(|e| e.1));
+        impostor_ranges.push(base..flat.len() as u32);
+    }
+    Gathered { instances: all, ranges, impostors: flat, impostor_ranges, bounds }
 }

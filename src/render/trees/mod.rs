@@ -6,6 +6,7 @@
 //! pre-pass and then the shading of the alpha-clipped ones (see [`pipelines`]); the shadow map
 //! gets both from [`Feature::draw_depth`].
 
+pub mod impostor;
 pub mod instances;
 pub mod lod;
 pub mod model;
@@ -13,6 +14,7 @@ pub(crate) mod pipelines;
 
 use glam::Vec3;
 
+use self::impostor::draw::ImpostorGpu;
 use self::instances::{gather, BucketRanges, Instance};
 use self::model::{GpuMaterial, GpuModel};
 use self::pipelines::TreePipelines;
@@ -21,7 +23,7 @@ use super::gpu::{PipelineCache, PipelineKey, Shared, ViewKind};
 use super::FrameStats;
 
 /// The tree shader: wind.wgsl's functions, then the tree's own (lighting.wgsl goes first).
-const TREES_WGSL: &str = concat!(include_str!("wind.wgsl"), "\n", include_str!("trees.wgsl"));
+const TREES_WGSL: &str = concat!(include_str!("wind.wgsl"), "\n", include_str!("impostor/octa.wgsl"), "\n", include_str!("trees.wgsl"));
 
 /// The trees feature: the models, this frame's instances and the pipelines by key.
 pub(crate) struct Trees {
@@ -39,6 +41,12 @@ pub(crate) struct Trees {
     ranges: Vec<BucketRanges>,
     /// The bounds of this frame's trees, metres.
     pub bounds: Option<(Vec3, Vec3)>,
+    /// The impostors' bake, shader and pipelines.
+    pub(crate) impostors: ImpostorGpu,
+    impostor_instances: wgpu::Buffer,
+    impostor_capacity: usize,
+    /// This frame's impostor instance range of each model.
+    impostor_ranges: Vec<std::ops::Range<u32>>,
 }
 
 /// Which tree materials a loop over the trees draws.
@@ -63,6 +71,35 @@ impl Trees {
             instance_count: 0,
             ranges: Vec::new(),
             bounds: None,
+            impostors: ImpostorGpu::new(shared),
+            impostor_instances: instance_buffer(&shared.device, capacity),
+            impostor_capacity: capacity,
+            impostor_ranges: Vec::new(),
+        }
+    }
+
+    /// Bakes and binds the impostor atlases of `model` (see [`impostor`]).
+    pub fn bake_impostor(&self, shared: &Shared, model: &mut GpuModel, data: &crate::render::gltf_load::ModelData) {
+        let positions: Vec<Vec3> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
+        model.impostor = self.impostors.baker.bake(shared, model, &positions).map(|mut atlas| {
+            self.impostors.bind(shared, &mut atlas);
+            atlas
+        });
+    }
+
+    /// Draws each model's impostors over its range of the impostor instances (pipeline set).
+    fn draw_impostors<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, mut count: impl FnMut(&std::ops::Range<u32>)) {
+        pass.set_vertex_buffer(0, self.impostor_instances.slice(..));
+        for (m, range) in self.models.iter().zip(&self.impostor_ranges) {
+            let Some(Some(group)) = m.as_ref().map(|m| m.impostor.as_ref().and_then(|a| a.bind_group.as_ref())) else {
+                continue;
+            };
+            if range.is_empty() {
+                continue;
+            }
+            pass.set_bind_group(2, group, &[]);
+            count(range);
+            pass.draw(0..6, range.clone());
         }
     }
 
@@ -109,7 +146,8 @@ impl Trees {
 
 impl Feature for Trees {
     fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        let (instances, ranges, bounds) = gather(&cx.data.trees, &self.models, &cx.data.camera, cx.size.1, cx.options.leaf_pixels);
+        let g = gather(&cx.data.trees, &self.models, &cx.data.camera, cx.size.1, cx.options.leaf_pixels, cx.options.impostor_pixels);
+        let instances = g.instances;
         if instances.len() > self.capacity {
             self.capacity = instances.len().next_power_of_two();
             self.instances = instance_buffer(&cx.shared.device, self.capacity);
@@ -117,9 +155,21 @@ impl Feature for Trees {
         if !instances.is_empty() {
             cx.shared.queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&instances));
         }
-        self.instance_count = instances.len();
-        self.ranges = ranges;
-        self.bounds = bounds;
+        if g.impostors.len() > self.impostor_capacity {
+            self.impostor_capacity = g.impostors.len().next_power_of_two();
+            self.impostor_instances = instance_buffer(&cx.shared.device, self.impostor_capacity);
+        }
+        if !g.impostors.is_empty() {
+            cx.shared.queue.write_buffer(&self.impostor_instances, 0, bytemuck::cast_slice(&g.impostors));
+        }
+        self.instance_count = instances.len() + g.impostors.len();
+        self.ranges = g.ranges;
+        self.impostor_ranges = g.impostor_ranges;
+        self.bounds = g.bounds;
+        self.impostors.prepare(cx.shared, cx.key)?;
+        if cx.key.shadows {
+            self.impostors.prepare(cx.shared, cx.key.with_view(ViewKind::Sun))?;
+        }
         let (module, lit, shadow) = (&self.module, &self.lit_layout, &self.shadow_layout);
         self.pipelines.prepare(cx.key, |k| pipelines::build(cx.shared, module, lit, shadow, k))?;
         if cx.key.shadows {
@@ -136,6 +186,8 @@ impl Feature for Trees {
         self.draw_trees(pass, Materials::Opaque, |_, _, _, _| {});
         pass.set_pipeline(&p.masked);
         self.draw_trees(pass, Materials::Masked, |_, _, _, _| {});
+        pass.set_pipeline(&self.impostors.pipelines.get(key)?.depth);
+        self.draw_impostors(pass, |_| {});
         Ok(())
     }
 
@@ -158,6 +210,14 @@ impl Feature for Trees {
                     pass.set_pipeline(&p.masked_shade[mat.double_sided as usize]);
                     count(n, range);
                 });
+                // Impostors: their depth pre-pass, then their shading at equal depth.
+                let imp = self.impostors.pipelines.get(key)?;
+                pass.set_pipeline(&imp.depth);
+                self.draw_impostors(pass, |_| {});
+                if let Some(shade) = &imp.shade {
+                    pass.set_pipeline(shade);
+                    self.draw_impostors(pass, |range| count(6, range));
+                }
             }
             Phase::Sky | Phase::Blended | Phase::Overlay => {}
         }

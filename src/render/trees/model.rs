@@ -60,6 +60,8 @@ pub struct GpuModel {
     pub triangles: usize,
     /// Mean leaf area of the simplified primitives, square metres; 0 when none is simplified.
     pub leaf_area: f32,
+    /// The impostor atlases, baked by the renderer after the upload ([`super::impostor`]).
+    pub impostor: Option<super::impostor::bake::Atlas>,
 }
 
 impl GpuModel {
@@ -148,6 +150,6 @@ impl GpuModel {
             })
             .collect();
         let leaf_area = if simplified > 0 { leaf_area / simplified as f32 } else { 0.0 };
-        GpuModel { name, primitives, materials, bounds: data.bounds, triangles: data.triangles(), leaf_area }
+        GpuModel { name, primitives, materials, bounds: data.bounds, triangles: data.triangles(), leaf_area, impostor: None }
     }
 }

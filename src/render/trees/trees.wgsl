@@ -52,6 +52,10 @@ struct VertexIn {
     // xyz: the centre of the vertex's leaf (model space); w: the leaf's rank in 0..1, or -1 where
     // the primitive is not simplified.
     @location(12) leaf: vec4<f32>,
+    // The share of the tree drawn as an impostor (impostor/mod.rs `fade`): alpha-clipped
+    // fragments give up the dithered share `fade` of their pixels to the impostor, and opaque
+    // parts (the trunk) give way at half the band.
+    @location(13) fade: f32,
 };
 
 // The linear size of a leaf of rank `rank` on a tree that keeps the share `keep` of its leaves:
@@ -84,6 +88,10 @@ fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
 // origin) displaced by the wind. The _WIND distances are model-space metres, so x, y and z are
 // scaled with the tree; w (the branch phase) is not.
 fn world_position(v: VertexIn) -> vec3<f32> {
+    if (material.alpha_cutoff < 0.0 && v.fade >= 0.5) {
+        // Every vertex at one point: the triangles have no area and draw nothing.
+        return v.origin;
+    }
     let scale = v.scale;
     let p = v.leaf.xyz + (v.position - v.leaf.xyz) * leaf_scale(v.leaf.w, v.keep);
     let v0 = v.origin + rotate_y(p * scale, v.yaw);
@@ -142,6 +150,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
 struct DepthOut {
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
+    @location(1) @interpolate(flat) fade: f32,
 };
 
 // Depth only, for the shadow map (with the light's frame) and the alpha-clipped materials'
@@ -151,6 +160,7 @@ fn vs_depth(v: VertexIn) -> DepthOut {
     var out: DepthOut;
     out.clip = frame.view_proj * vec4<f32>(world_position(v), 1.0);
     out.uv = v.uv;
+    out.fade = v.fade;
     return out;
 }
 
@@ -160,6 +170,10 @@ fn vs_depth(v: VertexIn) -> DepthOut {
 fn fs_alpha_test(in: DepthOut) {
     let a = textureSample(albedo_tex, material_sampler, in.uv).a * material.base_color.a;
     if (material.alpha_cutoff >= 0.0 && a < material.alpha_cutoff) {
+        discard;
+    }
+    // The impostor's share of the cross-fade (the impostor keeps the complementary pixels).
+    if (impostor_dither(in.clip.xy) < in.fade) {
         discard;
     }
 }

@@ -1,0 +1,64 @@
+//! The impostor benchmarks: the 10,000-tree forest scene's frame time, and how far the level of
+//! detail (simplified foliage and impostors) moves the reference scene's image from the
+//! full-detail render.
+
+use anyhow::anyhow;
+use grove::render::offscreen::{self, Gpu};
+use grove::render::Renderer;
+use grove_systems::scene::Scene;
+use grove_systems::Sim;
+use serde_json::{json, Value};
+
+use super::bench_render::{header, setup, time_frames, RenderBenchOptions, WALL_TIMING};
+
+/// The image difference between `sim` drawn with the renderer's options and drawn at full
+/// detail (every leaf, no impostors), shadows as set: the mean absolute difference per channel
+/// (0..255) and the share of pixels whose largest channel difference exceeds 40.
+pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> anyhow::Result<Value> {
+    let lod = offscreen::render_image(gpu, renderer, sim).map_err(|e| anyhow!(e))?;
+    let saved = renderer.options;
+    renderer.options.leaf_pixels = 0.0;
+    renderer.options.impostor_pixels = 0.0;
+    let full = offscreen::render_image(gpu, renderer, sim).map_err(|e| anyhow!(e));
+    renderer.options = saved;
+    let full = full?;
+    let mut sums = [0u64; 3];
+    let mut over = 0u64;
+    for (a, b) in lod.pixels().zip(full.pixels()) {
+        let d: [u8; 3] = std::array::from_fn(|c| a.0[c].abs_diff(b.0[c]));
+        for c in 0..3 {
+            sums[c] += u64::from(d[c]);
+        }
+        over += u64::from(d.iter().any(|&x| x > 40));
+    }
+    let n = f64::from(lod.width() * lod.height());
+    let mae = sums.map(|s| s as f64 / n);
+    Ok(json!({
+        "mean_abs_error_rgb": mae,
+        "mean_abs_error": mae.iter().sum::<f64>() / 3.0,
+        "percent_pixels_over_40": over as f64 / n * 100.0,
+        "shadows": saved.shadows,
+    }))
+}
+
+/// `grove bench render-forest`: the forest scene (assets/scenes/forest.ron) from its camera,
+/// shadows on and off, and its image difference from the full-detail render.
+pub fn bench_forest(options: RenderBenchOptions) -> anyhow::Result<Value> {
+    let (gpu, mut renderer, adapter) = setup(options, false)?;
+    let path = grove::render::default_assets_dir().join("scenes/forest.ron");
+    let scene = Scene::load(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    let mut figures = serde_json::Map::new();
+    for shadows in [true, false] {
+        renderer.options.shadows = shadows;
+        let on = if shadows { "on" } else { "off" };
+        eprintln!("bench: forest, shadows {on}");
+        let ft = time_frames(&gpu, &mut renderer, &sim, 5)?;
+        figures.insert(format!("shadows_{on}"), ft.json(&renderer));
+    }
+    renderer.options.shadows = true;
+    figures.insert("image_vs_full_detail".into(), image_error(&gpu, &mut renderer, &sim)?);
+    let mut out = header(adapter, &renderer, WALL_TIMING);
+    out.insert("forest_10k_trees".into(), Value::Object(figures));
+    Ok(Value::Object(out))
+}

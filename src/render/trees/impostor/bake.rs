@@ -1,0 +1,173 @@
+//! Baking a model's impostor atlases on the GPU, once per model at load time.
+
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use super::{CELL, GRID, OCTA_WGSL};
+use crate::render::gpu::{depth_test, uniform_entry, PipelineSpec, Shared};
+use crate::render::trees::model::GpuModel;
+
+/// The albedo atlas's format (coverage in alpha).
+pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// The normal atlas's format (model-space normal encoded as `n / 2 + 1/2`, depth in alpha).
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// Mip levels of the atlases: each is baked by drawing the model again at its size (views of
+/// 160, 80, 40, 20 and 10 texels), so far impostors sample a small, cache-friendly level.
+pub const MIP_LEVELS: u32 = 5;
+
+const BAKE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The bake's uniforms (matches `BakeParams` in bake.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct BakeParams {
+    /// The bounding sphere's centre, model-space metres.
+    pub centre: [f32; 3],
+    /// Its radius, metres.
+    pub radius: f32,
+}
+
+/// A model's impostor atlases and its bounding sphere.
+pub struct Atlas {
+    /// Albedo and coverage, [`ALBEDO_FORMAT`], `GRID * CELL` texels square.
+    pub albedo: wgpu::Texture,
+    /// Normal and depth, [`NORMAL_FORMAT`].
+    pub normal: wgpu::Texture,
+    /// The bounding sphere's centre, model-space metres.
+    pub centre: Vec3,
+    /// Its radius, metres.
+    pub radius: f32,
+    /// The model's extent in each view ([`super::view_rects`]), row-major.
+    pub rects: Vec<glam::Vec4>,
+    /// The impostor shader's group 2 (set by [`super::draw::ImpostorGpu::bind`]).
+    pub(crate) bind_group: Option<wgpu::BindGroup>,
+}
+
+/// The bake's shader and pipeline, built once per renderer.
+pub(crate) struct Baker {
+    params_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl Baker {
+    /// Builds the bake pipeline.
+    pub fn new(shared: &Shared) -> Baker {
+        let device = &shared.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("impostor bake shader"),
+            source: wgpu::ShaderSource::Wgsl(format!("{OCTA_WGSL}\n{}", include_str!("bake.wgsl")).into()),
+        });
+        let params_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("impostor bake params layout"),
+            entries: &[uniform_entry(0)],
+        });
+        let layout = shared.layout("impostor bake layout", &[Some(&params_layout), None, Some(&shared.material_layout)]);
+        const V: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x4];
+        let buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<crate::render::assets::gltf_load::Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &V,
+        })];
+        let target = |format| Some(wgpu::ColorTargetState { format, blend: None, write_mask: wgpu::ColorWrites::ALL });
+        let pipeline = shared.pipeline(&PipelineSpec {
+            label: "impostor bake pipeline",
+            layout: &layout,
+            module: &module,
+            vertex: "vs_bake",
+            fragment: Some("fs_bake"),
+            buffers: &buffers,
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull: None,
+            depth: wgpu::DepthStencilState { format: BAKE_DEPTH_FORMAT, ..depth_test(true, wgpu::CompareFunction::Less) },
+            targets: &[target(ALBEDO_FORMAT), target(NORMAL_FORMAT)],
+            constants: &[],
+        });
+        Baker { params_layout, pipeline }
+    }
+
+    /// Draws `model` into new atlases: every primitive whole, once per view. `None` for a model
+    /// with empty bounds.
+    pub fn bake(&self, shared: &Shared, model: &GpuModel, positions: &[Vec3]) -> Option<Atlas> {
+        let (lo, hi) = model.bounds;
+        let centre = (lo + hi) * 0.5;
+        let radius = (hi - lo).length() * 0.5;
+        if !(radius > 1e-4) || !radius.is_finite() || model.primitives.is_empty() {
+            return None;
+        }
+        let device = &shared.device;
+        let size = wgpu::Extent3d { width: GRID * CELL, height: GRID * CELL, depth_or_array_layers: 1 };
+        let texture = |label: &str, format, usage, mips| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: mips,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let colour_usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let albedo = texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT, colour_usage, MIP_LEVELS);
+        let normal = texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT, colour_usage, MIP_LEVELS);
+        let depth = texture("impostor bake depth", BAKE_DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT, MIP_LEVELS);
+        let params = BakeParams { centre: centre.to_array(), radius };
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("impostor bake params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let params_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("impostor bake params"),
+            layout: &self.params_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor bake encoder") });
+        for level in 0..MIP_LEVELS {
+            let views = [&albedo, &normal, &depth].map(|t| {
+                t.create_view(&wgpu::TextureViewDescriptor { base_mip_level: level, mip_level_count: Some(1), ..Default::default() })
+            });
+            let attach = |view, clear| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Store },
+                })
+            };
+            // Empty texels: no coverage, and a zero normal (0.5 encoded), so that filtering at
+            // a silhouette blends towards nothing rather than towards a wrong direction.
+            let empty_normal = wgpu::Color { r: 0.5, g: 0.5, b: 0.5, a: 1.0 };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("impostor bake pass"),
+                color_attachments: &[attach(&views[0], wgpu::Color::TRANSPARENT), attach(&views[1], empty_normal)],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &views[2],
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &params_group, &[]);
+            for p in &model.primitives {
+                let Some(mat) = model.materials.get(p.material) else {
+                    continue;
+                };
+                pass.set_bind_group(2, &mat.bind_group, &[]);
+                pass.set_vertex_buffer(0, p.vertices.slice(..));
+                pass.set_index_buffer(p.indices.slice(..), wgpu::IndexFormat::Uint32);
+                // Bucket 0 draws every index; one instance per view.
+                pass.draw_indexed(0..p.index_counts[0], 0, 0..GRID * GRID);
+            }
+        }
+        shared.queue.submit([encoder.finish()]);
+        let rects = super::view_rects(positions, centre, radius);
+        Some(Atlas { albedo, normal, centre, radius, rects, bind_group: None })
+    }
+}

@@ -1,0 +1,112 @@
+// Impostors: one quad per far tree, facing the atlas view nearest to the camera (the sun in
+// the shadow map), alpha-tested against the baked coverage, lit with the baked normals, and
+// leaned by the tree's WindState as its trunk is in wind.wgsl. lighting.wgsl, wind.wgsl and
+// octa.wgsl are prepended. Units: metres, radians; +Y up.
+
+// The model's bounding sphere (model-space metres), as baked (src/render/trees/impostor/draw.rs
+// `ImpostorParams`).
+struct ImpostorParams {
+    centre: vec3<f32>,
+    radius: f32,
+    // The model's extent in each view, in radii: (min x, min y, max x, max y), row-major.
+    rects: array<vec4<f32>, 64>,
+};
+
+@group(0) @binding(1) var<uniform> wind: WindParams;
+@group(2) @binding(0) var<uniform> imp: ImpostorParams;
+@group(2) @binding(1) var imp_albedo: texture_2d<f32>;
+@group(2) @binding(2) var imp_normal: texture_2d<f32>;
+@group(2) @binding(3) var imp_sampler: sampler;
+
+// Whether this pipeline draws into the shadow map: the quads then face the sun.
+override SUN_VIEW: bool = false;
+
+// The tree instance (src/render/trees/instances.rs), as in trees.wgsl.
+struct ImpostorIn {
+    @location(5) origin: vec3<f32>,
+    @location(6) scale: f32,
+    @location(7) yaw: f32,
+    @location(8) bend: vec2<f32>,
+    @location(9) gain: f32,
+    @location(10) phase: f32,
+    @location(11) keep: f32,
+    // The share of the tree drawn as an impostor, 0..1 (impostor::fade).
+    @location(13) fade: f32,
+};
+
+struct ImpostorOut {
+    @builtin(position) @invariant clip: vec4<f32>,
+    @location(0) world_pos: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) @interpolate(flat) fade: f32,
+    @location(3) @interpolate(flat) yaw: f32,
+};
+
+fn imp_rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
+    let c = cos(yaw);
+    let s = sin(yaw);
+    return vec3<f32>(c * v.x + s * v.z, v.y, -s * v.x + c * v.z);
+}
+
+@vertex
+fn vs_impostor(@builtin(vertex_index) vi: u32, v: ImpostorIn) -> ImpostorOut {
+    var corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    let corner = corners[vi];
+    let centre = v.origin + imp_rotate_y(imp.centre * v.scale, v.yaw);
+    let toward = select(frame.camera_pos - centre, frame.sun_dir, SUN_VIEW);
+    // The direction to the viewer in model space (the yaw undone).
+    let m = imp_rotate_y(toward, -v.yaw);
+    let cell = impostor_cell(m);
+    let d = impostor_cell_dir(cell);
+    let right = impostor_basis_right(d);
+    let up = cross(d, right);
+    // The quad is cut to the model's extent in this view.
+    let rect = imp.rects[u32(cell.y) * u32(IMPOSTOR_GRID) + u32(cell.x)];
+    let q = mix(rect.xy, rect.zw, corner * 0.5 + 0.5);
+    let local = imp.centre + (right * q.x + up * q.y) * imp.radius;
+    var wp = v.origin + imp_rotate_y(local * v.scale, v.yaw);
+    // The whole quad leans with the trunk: bend * h² / trunk_stiffness at height h.
+    let h = max(local.y, 0.0) * v.scale;
+    let lean = h * h / max(wind.trunk_stiffness, 1e-3);
+    wp = wp + vec3<f32>(v.bend.x * lean, 0.0, v.bend.y * lean);
+    var out: ImpostorOut;
+    out.clip = frame.view_proj * vec4<f32>(wp, 1.0);
+    out.world_pos = wp;
+    out.uv = (cell + vec2<f32>((q.x + 1.0) * 0.5, (1.0 - q.y) * 0.5)) / IMPOSTOR_GRID;
+    out.fade = v.fade;
+    out.yaw = v.yaw;
+    return out;
+}
+
+// Whether a fragment of the impostor is kept: covered in the atlas and on the impostor's side
+// of the cross-fade dither.
+fn impostor_kept(coverage: f32, pixel: vec2<f32>, fade: f32) -> bool {
+    return coverage >= 0.5 && impostor_dither(pixel) < fade;
+}
+
+// Shades an impostor fragment. It never discards: the depth pre-pass (fs_impostor_depth, with
+// the camera's view) kept the fragment, and this pass runs at equal depth, so each pixel is
+// shaded once however many impostors overlap it.
+@fragment
+fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
+    let a = textureSample(imp_albedo, imp_sampler, in.uv);
+    let nd = textureSample(imp_normal, imp_sampler, in.uv);
+    // Empty texels hold zero colour, so a filtered texel at the silhouette is divided back.
+    let albedo = a.rgb / max(a.a, 1e-3);
+    let nm = imp_rotate_y(nd.xyz * 2.0 - 1.0, in.yaw);
+    let n = select(vec3<f32>(0.0, 1.0, 0.0), nm * inverseSqrt(max(dot(nm, nm), 1e-12)), dot(nm, nm) > 1e-6);
+    let c = shade(albedo, n, in.world_pos, 0.0, 0.8, 0.3);
+    return vec4<f32>(tone(c), 1.0);
+}
+
+// Depth only, for the shadow map and the main view's pre-pass: coverage and dither.
+@fragment
+fn fs_impostor_depth(in: ImpostorOut) {
+    let a = textureSample(imp_albedo, imp_sampler, in.uv).a;
+    if (!impostor_kept(a, in.clip.xy, in.fade)) {
+        discard;
+    }
+}
