@@ -4,14 +4,22 @@ explicit mesh) in the hole, a pond whose surface lies 0.15 m below the ground, a
 one of them (a birch) on the far shore for the reflection tests. Units: metres; +Y up, -Z north.
 
 Run from the repository root: python3 scripts/pond-scene.py > assets/scenes/pond.ron
+
+With --park it prints instead the smaller pond of assets/scenes/park.ron (centre (6, -6), rim
+2.6 m), as the plane and water entries that the park's file holds.
 """
 import math
+import sys
 
-CX, CZ = 0.0, -6.0          # the pond's centre (X, Z)
-RIM = 5.6                   # where the bed comes up to the ground (y = 0)
-DEEP = 1.5                  # the bed's depth below the ground at the centre
+PARK = "--park" in sys.argv
+
+CX, CZ = (6.0, -6.0) if PARK else (0.0, -6.0)   # the pond's centre (X, Z)
+SCALE = 2.6 / 5.6 if PARK else 1.0              # the park's pond is smaller
+RIM = 5.6 * SCALE           # where the bed comes up to the ground (y = 0)
+DEEP = 1.5 * SCALE if PARK else 1.5             # the bed's depth below the ground at the centre
 WATER_Y = -0.15             # the water surface
-RINGS = [0.0, 1.2, 2.4, 3.4, 4.2, 4.8, 5.2, 5.6, 6.1, 6.6]
+RINGS = [r * SCALE for r in [0.0, 1.2, 2.4, 3.4, 4.2, 4.8, 5.2, 5.6, 6.1, 6.6]]
+HOLE = 6.0 * SCALE          # the radius of the ground's hole the bed fills
 SEG = 40
 
 def bed_y(r):
@@ -48,6 +56,28 @@ f = lambda x: f"{x:.4f}".rstrip("0").rstrip(".") if "." in f"{x:.4f}" else f"{x}
 v3 = ", ".join(f"({f(x)}, {f(y)}, {f(z)})" for x, y, z in verts)
 t3 = ", ".join(f"({a}, {b}, {c})" for a, b, c in tris)
 p2 = ", ".join(f"({f(x)}, {f(z)})" for x, z in poly)
+if PARK:
+    print(f"""        // The pond (scripts/pond-scene.py --park): its bed, in the ground's hole at ({f(CX)}, {f(CZ)}), radius {f(HOLE)}.
+        (
+            name: "pond bed",
+            shape: Mesh(
+                vertices: [{v3}],
+                triangles: [{t3}],
+            ),
+        ),
+    ],
+    water: [
+        (
+            name: "pond",
+            polygon: [{p2}],
+            height: {f(WATER_Y)},
+            depth: {f(DEEP + WATER_Y)},
+            colour: (0.02, 0.07, 0.06),
+            ripples: 1.0,
+            ripple_speed: 0.05,
+        ),
+    ],""")
+    sys.exit(0)
 print(f"""// A small pond scene: flat ground with a round hole, a bowl-shaped bed in it (an explicit
 // mesh), a pond whose surface lies 0.15 m below the ground, and a few trees; the birch on the
 // far (north) shore is the object the reflection tests look for in the water.
