@@ -253,14 +253,21 @@ impl SpatialIndex {
         if self.trees.is_empty() {
             return None;
         }
-        // A ray that starts inside a tree's box hits it at distance 0. A point query finds such a
-        // tree in one descent, which in a dense forest is much cheaper than the search below.
+        // A ray that starts inside a tree (its pick shape, or its box if it has none) hits it at
+        // distance 0. A point query finds such a tree in one descent, which in a dense forest is
+        // much cheaper than the search below. It descends the tighter leaves: a point at head
+        // height lies inside the boxes of every crown around it, but only inside the leaves of
+        // the bands at its height, so the query meets far fewer boxes there (in the benchmark's
+        // forest of 10k trees on 30 × 30 m, about 90 nodes and 3 leaves against 290 and 75).
+        // Every point inside a pick shape is inside one of its leaves (they are grown by a
+        // margin). Inside several trees, the first tree the query meets is named.
         let inside = self
-            .tree_bvh
+            .ray_bvh
             .leaves(|node| {
                 let a = node.aabb();
                 origin.cmpge(a.mins).all() && origin.cmple(a.maxs).all()
             })
+            .map(|leaf| self.ray_leaf_tree[leaf as usize])
             .find(|&i| {
                 let b = &self.trees[i as usize];
                 Some(b.entity) != exclude
