@@ -352,7 +352,12 @@ impl SpatialIndex {
 
 /// The nearer of a tree hit and the plane hit that `planes` finds within a limit: the planes are
 /// cast only up to the tree hit (trees are cheap to test and often near), and a tree wins a tie.
+/// A tree hit at distance 0 (the ray starts inside it) cannot be beaten, so then the planes are
+/// not cast at all (a plane cast with a limit of 0 still costs about as much as a full one).
 pub fn nearest(tree: Option<RayHit>, planes: impl FnOnce(f32) -> Option<RayHit>, max_dist: f32) -> Option<RayHit> {
+    if let Some(t) = tree.filter(|t| t.distance <= 0.0) {
+        return Some(t);
+    }
     let p = planes(tree.map_or(max_dist, |t| t.distance));
     match (tree, p) {
         (Some(t), Some(p)) if p.distance < t.distance => Some(p),
