@@ -104,7 +104,7 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     session.record_path = args.record.clone();
     let mut app = PlayApp::new(session, args.task.as_deref(), args.free).map_err(|e| anyhow!(e))?;
     app.ui.stats.recording = args.record.as_ref().map(|p| p.display().to_string());
-    app.measure = args.measure.map(|seconds| crate::desktop::play::Measure { seconds, frames: 0, time: 0.0, scale_sum: 0.0, first_frame: None });
+    app.measure = args.measure.map(|seconds| crate::desktop::play::Measure { seconds, frames: 0, time: 0.0, scale_sum: 0.0, first_frame: None, cpu_start: None });
     if !args.simple_view {
         app.world3d.factory = Some(crate::desktop::gpu::make_renderer);
         app.world3d.budget = Budget::new(args.quality);

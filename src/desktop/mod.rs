@@ -8,11 +8,13 @@
 //! - [`window`]: the winit + wgpu + egui window that runs a [`window::Frontend`].
 //! - [`play`]: the play frontend.
 //! - [`gpu`]: the wgpu renderer as the 3D view, and the tree thumbnails.
+//! - [`egui_pass`]: the window's egui pass with a shader cheap on software rasterisers.
 //!
 //! Everything a user does reaches the world as input events, stamped with the tick they apply
 //! at, so a recording of a live session replays to the same world hashes.
 
 pub mod budget;
+pub mod egui_pass;
 pub mod gpu;
 pub mod input_map;
 pub mod play;

@@ -1,4 +1,7 @@
 //! The window: a winit 0.30 application with a wgpu surface (Fifo present mode) and egui on top.
+//! egui is drawn by [`EguiPass`] (egui-wgpu's textures, a lean shader) into a non-sRGB view of
+//! the frame where the driver allows one, so that egui blends in gamma space as it prefers and no
+//! colour conversion runs per pixel; the 3D view draws into the sRGB view of the same frame.
 //!
 //! [`run`] opens one window and drives a [`Frontend`] (the play session or the replay viewer):
 //! device events go to [`Frontend::input`], each frame the frontend advances by the measured
@@ -25,6 +28,7 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::window::{Window, WindowId};
 
 use super::budget::{Budget, Quality};
+use super::egui_pass::EguiPass;
 use super::input_map::PadInput;
 use super::scaled::Upscaler;
 use super::stats::{FrameStats, Rolling};
@@ -193,6 +197,10 @@ struct Gfx {
     queue: wgpu::Queue,
     config: wgpu::SurfaceConfiguration,
     egui_renderer: egui_wgpu::Renderer,
+    /// Draws egui's meshes with egui_renderer's textures.
+    egui_pass: EguiPass,
+    /// The format of the frame view egui draws into (the surface's own, or its non-sRGB twin).
+    egui_format: wgpu::TextureFormat,
     egui_state: egui_winit::State,
     ctx: egui::Context,
 }
@@ -236,6 +244,14 @@ fn init_gfx(event_loop: &ActiveEventLoop, title: &str) -> Result<(Gfx, String), 
     let size = window.inner_size();
     let caps = surface.get_capabilities(&adapter);
     let format = caps.formats.iter().copied().find(|f| f.is_srgb()).or_else(|| caps.formats.first().copied()).ok_or("the surface offers no format")?;
+    // egui wants a gamma-space (non-sRGB) target; the 3D view an sRGB one. Where the surface
+    // allows views of the other kind, egui gets the non-sRGB view of the same frame.
+    let view_formats = if adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS) && format.remove_srgb_suffix() != format {
+        vec![format.remove_srgb_suffix()]
+    } else {
+        vec![]
+    };
+    let egui_format = view_formats.first().copied().unwrap_or(format);
     let config = wgpu::SurfaceConfiguration {
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
         format,
@@ -244,14 +260,22 @@ fn init_gfx(event_loop: &ActiveEventLoop, title: &str) -> Result<(Gfx, String), 
         present_mode: wgpu::PresentMode::Fifo,
         desired_maximum_frame_latency: 2,
         alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
-        view_formats: vec![],
+        view_formats,
         color_space: wgpu::SurfaceColorSpace::Auto,
     };
     surface.configure(&device, &config);
-    let egui_renderer = egui_wgpu::Renderer::new(&device, format, egui_wgpu::RendererOptions::default());
+    let egui_renderer = egui_wgpu::Renderer::new(&device, egui_format, egui_wgpu::RendererOptions::default());
+    let egui_pass = EguiPass::new(&device, egui_format);
     let ctx = egui::Context::default();
     let egui_state = egui_winit::State::new(ctx.clone(), egui::ViewportId::ROOT, &window, Some(window.scale_factor() as f32), None, Some(device.limits().max_texture_dimension_2d as usize));
-    Ok((Gfx { window, surface, device, queue, config, egui_renderer, egui_state, ctx }, adapter_name))
+    Ok((Gfx { window, surface, device, queue, config, egui_renderer, egui_pass, egui_format, egui_state, ctx }, adapter_name))
+}
+
+/// The background where no 3D view was drawn: a linear sky blue, sRGB-encoded for a non-sRGB
+/// target.
+fn clear_colour(target: wgpu::TextureFormat) -> wgpu::Color {
+    let encode = |c: f64| if target.is_srgb() { c } else if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+    wgpu::Color { r: encode(0.3), g: encode(0.5), b: encode(0.75), a: 1.0 }
 }
 
 impl<F: Frontend> App<F> {
@@ -318,17 +342,23 @@ impl<F: Frontend> App<F> {
             &view,
             size,
         );
-        let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [size.0, size.1], pixels_per_point: ppp };
-        let extra = gfx.egui_renderer.update_buffers(&gfx.device, &gfx.queue, &mut encoder, &jobs, &screen);
+        let size_px = [size.0, size.1];
+        let points = [size.0 as f32 / ppp.max(1e-3), size.1 as f32 / ppp.max(1e-3)];
+        gfx.egui_pass.prepare(&gfx.device, &gfx.queue, &jobs, points);
+        let egui_view = if gfx.egui_format == gfx.config.format {
+            None
+        } else {
+            Some(frame.texture.create_view(&wgpu::TextureViewDescriptor { label: Some("grove window frame (egui)"), format: Some(gfx.egui_format), ..Default::default() }))
+        };
         {
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("grove egui pass"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &view,
+                    view: egui_view.as_ref().unwrap_or(&view),
                     resolve_target: None,
                     depth_slice: None,
                     ops: wgpu::Operations {
-                        load: if drew_3d { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(wgpu::Color { r: 0.3, g: 0.5, b: 0.75, a: 1.0 }) },
+                        load: if drew_3d { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(clear_colour(gfx.egui_format)) },
                         store: wgpu::StoreOp::Store,
                     },
                 })],
@@ -337,10 +367,9 @@ impl<F: Frontend> App<F> {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            let mut pass = pass.forget_lifetime();
-            gfx.egui_renderer.render(&mut pass, &jobs, &screen);
+            gfx.egui_pass.render(&mut pass, &jobs, &gfx.egui_renderer, ppp, size_px);
         }
-        gfx.queue.submit(extra.into_iter().chain(std::iter::once(encoder.finish())));
+        gfx.queue.submit(std::iter::once(encoder.finish()));
         gfx.window.pre_present_notify();
         gfx.queue.present(frame);
         for id in &to_free {

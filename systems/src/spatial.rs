@@ -253,14 +253,21 @@ impl SpatialIndex {
         if self.trees.is_empty() {
             return None;
         }
-        // A ray that starts inside a tree's box hits it at distance 0. A point query finds such a
-        // tree in one descent, which in a dense forest is much cheaper than the search below.
+        // A ray that starts inside a tree (its pick shape, or its box if it has none) hits it at
+        // distance 0. A point query finds such a tree in one descent, which in a dense forest is
+        // much cheaper than the search below. It descends the tighter leaves: a point at head
+        // height lies inside the boxes of every crown around it, but only inside the leaves of
+        // the bands at its height, so the query meets far fewer boxes there (in the benchmark's
+        // forest of 10k trees on 30 × 30 m, about 90 nodes and 3 leaves against 290 and 75).
+        // Every point inside a pick shape is inside one of its leaves (they are grown by a
+        // margin). Inside several trees, the first tree the query meets is named.
         let inside = self
-            .tree_bvh
+            .ray_bvh
             .leaves(|node| {
                 let a = node.aabb();
                 origin.cmpge(a.mins).all() && origin.cmple(a.maxs).all()
             })
+            .map(|leaf| self.ray_leaf_tree[leaf as usize])
             .find(|&i| {
                 let b = &self.trees[i as usize];
                 Some(b.entity) != exclude
@@ -345,7 +352,12 @@ impl SpatialIndex {
 
 /// The nearer of a tree hit and the plane hit that `planes` finds within a limit: the planes are
 /// cast only up to the tree hit (trees are cheap to test and often near), and a tree wins a tie.
+/// A tree hit at distance 0 (the ray starts inside it) cannot be beaten, so then the planes are
+/// not cast at all (a plane cast with a limit of 0 still costs about as much as a full one).
 pub fn nearest(tree: Option<RayHit>, planes: impl FnOnce(f32) -> Option<RayHit>, max_dist: f32) -> Option<RayHit> {
+    if let Some(t) = tree.filter(|t| t.distance <= 0.0) {
+        return Some(t);
+    }
     let p = planes(tree.map_or(max_dist, |t| t.distance));
     match (tree, p) {
         (Some(t), Some(p)) if p.distance < t.distance => Some(p),
