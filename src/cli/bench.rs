@@ -44,6 +44,9 @@ pub enum Which {
     Water,
     /// The 10,000-tree forest of assets/scenes/forest.ron at 1280x720, shadows on and off.
     RenderForest,
+    /// Fukuda et al.'s park table on assets/scenes/park.ron at 1280x720: nothing, grass, grass
+    /// and water, grass, water and shadows.
+    Park,
 }
 
 /// Arguments of `grove bench`.
@@ -178,6 +181,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::Water => ("water", super::bench_water::bench_water(render)?),
             Which::Grass => ("grass", super::bench_grass::bench_grass()?),
             Which::RenderForest => ("render_forest", super::bench_impostor::bench_forest(render)?),
+            Which::Park => ("park", super::bench_park::bench_park(render)?),
         };
         report.insert(name.into(), value);
     }

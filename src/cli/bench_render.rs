@@ -294,6 +294,7 @@ pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
     out.insert("forest_10k_trees".into(), forest);
     out.insert("water_test".into(), super::bench_water::water_figures(&gpu, &mut renderer, 30)?);
     out.insert("grass".into(), super::bench_grass::bench_grass_gpu(&gpu)?);
+    out.insert("park".into(), super::bench_park::park_figures(&gpu, &mut renderer, 30)?);
     Ok(Value::Object(out))
 }
 

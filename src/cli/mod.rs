@@ -5,6 +5,7 @@ pub mod assets;
 pub mod bench;
 pub mod bench_grass;
 pub mod bench_impostor;
+pub mod bench_park;
 pub mod bench_raycast;
 pub mod bench_render;
 pub mod bench_replay;

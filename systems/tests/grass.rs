@@ -90,9 +90,13 @@ fn no_blade_stands_over_a_hole() {
         .replace("polygon: [(1.0, 0.0), (11.0, 0.0), (11.0, 8.0), (1.0, 8.0)],", "")
         .replace("density: 300.0,", "density: 40.0,")
         .replace("(center: (6.0, 4.0), radius: 0.8),", "(center: (6.0, 4.0), radius: 0.8), (center: (-12.0, -10.0), radius: 2.3),");
-    let scene = Scene::parse(&text, "holes.ron").unwrap();
+    let mut scene = Scene::parse(&text, "holes.ron").unwrap();
+    // The pond's bed (a separate plane whose rim overlaps the ground by a few millimetres) and
+    // its water are not part of this test; the ground's hole under the pond stays.
+    scene.planes.retain(|p| p.name != "pond bed");
+    scene.water.clear();
     let sim = Sim::from_scene(&scene, scene.seed).unwrap();
-    let holes = [(Vec2::new(-6.0, -3.0), 1.0), (Vec2::new(6.0, 4.0), 0.8), (Vec2::new(-12.0, -10.0), 2.3)];
+    let holes = [(Vec2::new(-6.0, -3.0), 1.0), (Vec2::new(6.0, 4.0), 0.8), (Vec2::new(-12.0, -10.0), 2.3), (Vec2::new(6.0, -6.0), 2.7857)];
     let blades: Vec<Blade> = blades_of(&sim).into_iter().flatten().collect();
     assert!(blades.len() > 15_000, "{} blades", blades.len());
     let mut near_hole = 0;
