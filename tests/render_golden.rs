@@ -14,7 +14,6 @@ use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
-use grove::render::gltf_load::{ImageData, MaterialData, ModelData, PrimitiveData, Vertex};
 use grove::render::offscreen::{self, Gpu};
 use grove::render::{Camera, RenderOptions, Renderer, camera_matrix};
 use grove_systems::Sim;
@@ -23,6 +22,10 @@ use grove_systems::components::*;
 use grove_systems::scene::Scene;
 use grove_systems::task::{TaskDef, TaskState};
 use image::RgbaImage;
+
+#[path = "fixtures/striped_card.rs"]
+mod striped_card;
+use striped_card::striped_card;
 
 const W: u32 = 160;
 const H: u32 = 120;
@@ -190,56 +193,6 @@ model_test!(model_broadleaf_billboard, "broadleaf-billboard");
 model_test!(model_conifer_billboard, "conifer-billboard");
 model_test!(model_birch_billboard, "birch-billboard");
 model_test!(model_shrub_billboard, "shrub-billboard");
-
-/// A 1×1 m two-sided quad in the XY plane facing +Z, textured with green stripes whose gaps are
-/// transparent (alpha-masked).
-fn striped_card() -> ModelData {
-    let size = 32u32;
-    let mut rgba = Vec::new();
-    for _y in 0..size {
-        for x in 0..size {
-            let on = (x / 4) % 2 == 0;
-            rgba.extend_from_slice(&[60, 170, 60, if on { 255 } else { 0 }]);
-        }
-    }
-    let n = [0.0, 0.0, 1.0];
-    let t = [1.0, 0.0, 0.0, 1.0];
-    let v = |x: f32, y: f32, u: f32, vv: f32| Vertex {
-        position: [x, y, 0.0],
-        normal: n,
-        uv: [u, vv],
-        tangent: t,
-        wind: [y, 0.0, 0.0, 0.0],
-    };
-    ModelData {
-        path: "card.gltf".into(),
-        primitives: vec![PrimitiveData {
-            vertices: vec![
-                v(-0.5, 0.0, 0.0, 1.0),
-                v(0.5, 0.0, 1.0, 1.0),
-                v(0.5, 1.0, 1.0, 0.0),
-                v(-0.5, 1.0, 0.0, 0.0),
-            ],
-            indices: vec![0, 1, 2, 0, 2, 3],
-            material: 0,
-        }],
-        materials: vec![MaterialData {
-            name: "card".into(),
-            albedo: Some(0),
-            alpha_cutoff: Some(0.5),
-            double_sided: true,
-            roughness: 0.8,
-            specular_factor: 0.2,
-            ..Default::default()
-        }],
-        images: vec![ImageData {
-            width: size,
-            height: size,
-            rgba,
-        }],
-        bounds: (Vec3::new(-0.5, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0)), own_wind: true,
-    }
-}
 
 #[test]
 fn alpha_clipping_and_two_sided_flip() {

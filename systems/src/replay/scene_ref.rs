@@ -74,14 +74,17 @@ fn load(path: &Path, shown: &str) -> Result<Scene, String> {
     let mut scene: Scene = ron::from_str(&text).map_err(|e| generic(format!(" (line {}, column {})", e.span.start.line, e.span.start.col)))?;
     // Its banks are relative to its own folder.
     scene.dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
-    // A crossed limit is named, with the planes called by number rather than by their names.
+    if scene.validate().is_ok() {
+        return Ok(scene);
+    }
+    // A crossed limit is named, with the planes called by number rather than by their names (a
+    // copy renamed so, since grass patches name their planes, is checked only to word the error).
     let mut anonymous = scene.clone();
     for (i, p) in anonymous.planes.iter_mut().enumerate() {
         p.name = format!("#{}", i + 1);
     }
     match anonymous.validate() {
-        Ok(()) => Ok(scene),
         Err(m) if m.contains("limit") => Err(format!("scene {shown}: {m}")),
-        Err(_) => Err(generic(String::new())),
+        _ => Err(generic(String::new())),
     }
 }
