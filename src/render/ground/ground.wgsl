@@ -65,24 +65,19 @@ fn ground_albedo(p: vec2<f32>) -> vec3<f32> {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    var albedo: vec3<f32>;
-    // Soil (the sides and the floor under the holes): brown, with the texture's brightness.
+    // One texture lookup set for every kind (no divergent branches around the samples): sides
+    // take the texture along the wall, everything else in the horizontal plane.
+    let along = in.world_pos.x * in.normal.z - in.world_pos.z * in.normal.x;
+    let uv = select(in.world_pos.xz, vec2<f32>(along, in.world_pos.y * 2.0), in.kind == 1u);
+    let t = ground_albedo(uv);
+    let lum = dot(t, vec3<f32>(0.3, 0.6, 0.1));
+    // Soil (the sides and the floor under the holes): brown, with the texture's brightness; the
+    // sides as cut soil, the floor darker; the terrain the same ground, a little greener.
     let soil = vec3<f32>(0.2, 0.13, 0.08);
-    if (in.kind == 1u) {
-        // A side: the texture along the wall, as cut soil.
-        let along = in.world_pos.x * in.normal.z - in.world_pos.z * in.normal.x;
-        let t = ground_albedo(vec2<f32>(along, in.world_pos.y * 2.0));
-        albedo = soil * (0.5 + 2.0 * dot(t, vec3<f32>(0.3, 0.6, 0.1)));
-    } else if (in.kind == 3u) {
-        // The floor under the holes: darker soil.
-        let t = ground_albedo(in.world_pos.xz);
-        albedo = soil * (0.25 + 1.0 * dot(t, vec3<f32>(0.3, 0.6, 0.1)));
-    } else if (in.kind == 2u) {
-        // The terrain: the same ground, a little greener, as a meadow.
-        albedo = ground_albedo(in.world_pos.xz) * vec3<f32>(0.85, 1.0, 0.75);
-    } else {
-        albedo = ground_albedo(in.world_pos.xz);
-    }
+    var albedo = t;
+    albedo = select(albedo, soil * (0.5 + 2.0 * lum), in.kind == 1u);
+    albedo = select(albedo, soil * (0.25 + 1.0 * lum), in.kind == 3u);
+    albedo = select(albedo, t * vec3<f32>(0.85, 1.0, 0.75), in.kind == 2u);
     let n = normalize(in.normal) * select(-1.0, 1.0, front);
     let irr = select(in.irr_back, in.irr_front, front);
     let c = shade_lit(albedo, n, in.world_pos, 0.08, 0.95, 0.0, irr);
