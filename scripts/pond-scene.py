@@ -56,9 +56,8 @@ f = lambda x: f"{x:.4f}".rstrip("0").rstrip(".") if "." in f"{x:.4f}" else f"{x}
 v3 = ", ".join(f"({f(x)}, {f(y)}, {f(z)})" for x, y, z in verts)
 t3 = ", ".join(f"({a}, {b}, {c})" for a, b, c in tris)
 p2 = ", ".join(f"({f(x)}, {f(z)})" for x, z in poly)
-if PARK:
-    print(f"""        // The pond (scripts/pond-scene.py --park): its bed, in the ground's hole at ({f(CX)}, {f(CZ)}), radius {f(HOLE)}.
-        (
+# The bed plane and the water, shared by both outputs (the end of `planes` and all of `water`).
+POND = f"""        (
             name: "pond bed",
             shape: Mesh(
                 vertices: [{v3}],
@@ -76,7 +75,10 @@ if PARK:
             ripples: 1.0,
             ripple_speed: 0.05,
         ),
-    ],""")
+    ],"""
+if PARK:
+    print(f"""        // The pond (scripts/pond-scene.py --park): its bed, in the ground's hole at ({f(CX)}, {f(CZ)}), radius {f(HOLE)}.
+{POND}""")
     sys.exit(0)
 print(f"""// A small pond scene: flat ground with a round hole, a bowl-shaped bed in it (an explicit
 // mesh), a pond whose surface lies 0.15 m below the ground, and a few trees; the birch on the
@@ -98,25 +100,7 @@ Scene(
                 holes: [(center: ({f(CX)}, {f(CZ)}), radius: 6.0)],
             ),
         ),
-        (
-            name: "pond bed",
-            shape: Mesh(
-                vertices: [{v3}],
-                triangles: [{t3}],
-            ),
-        ),
-    ],
-    water: [
-        (
-            name: "pond",
-            polygon: [{p2}],
-            height: {f(WATER_Y)},
-            depth: {f(DEEP + WATER_Y)},
-            colour: (0.02, 0.07, 0.06),
-            ripples: 1.0,
-            ripple_speed: 0.05,
-        ),
-    ],
+{POND}
     sun: (
         latitude_deg: 47.3769,
         longitude_deg: 8.5417,
