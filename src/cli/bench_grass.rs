@@ -18,45 +18,31 @@
 use std::time::Instant;
 
 use anyhow::anyhow;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
 use grove_systems::components::{Head, Pose};
 use grove_systems::grass::{GrassDef, GrassKind};
-use grove_systems::scene::{CameraDef, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
+use grove_systems::scene::{CameraDef, PlaneShape, Scene, WindDef};
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
 /// A flat square plane of `side` metres centred on the origin, cells of `cell` metres, with one
 /// grass patch over all of it.
 fn field(side: f32, cell: f32, grass: GrassDef) -> Scene {
-    Scene {
-        name: "grass benchmark".into(),
-        dt: 1.0 / 60.0,
-        seed: 11,
-        planes: vec![PlaneDef {
-            name: "field".into(),
-            shape: PlaneShape::Grid { min: Vec2::splat(-side / 2.0), size: Vec2::splat(side), cell, elevation: 0.0, unevenness: 0.0, noise_seed: 0, holes: vec![] },
-        }],
-        sun: SunDef { latitude_deg: 47.37, longitude_deg: 8.54, utc: "2026-06-21T10:00:00Z".into(), time_rate: 0.0 },
-        wind: WindDef {
-            direction: Vec3::X,
-            strength: 0.6,
-            density: 0.15,
-            gust_average: 0.8,
-            gust_strength: 0.3,
-            gust_frequency: 0.2,
-            model: Default::default(),
-            response: Default::default(),
-        },
-        trees: vec![],
-        scatter: vec![],
-        banks: vec![],
-        dir: None,
-        water: vec![],
-        camera: CameraDef { position: Vec3::new(0.0, 1.7, side / 2.0), look_at: Vec3::ZERO, fov_y_deg: 60.0 },
-        grass: vec![grass],
+    // The render benchmarks' flat ground, made perfectly flat, in a calmer wind.
+    let mut scene = super::bench_render::ground_scene(side / 2.0, cell);
+    scene.name = "grass benchmark".into();
+    scene.seed = 11;
+    scene.planes[0].name = "field".into();
+    if let PlaneShape::Grid { unevenness, noise_seed, .. } = &mut scene.planes[0].shape {
+        *unevenness = 0.0;
+        *noise_seed = 0;
     }
+    scene.wind = WindDef { strength: 0.6, gust_average: 0.8, gust_strength: 0.3, ..scene.wind };
+    scene.camera = CameraDef { position: Vec3::new(0.0, 1.7, side / 2.0), look_at: Vec3::ZERO, fov_y_deg: 60.0 };
+    scene.grass = vec![grass];
+    scene
 }
 
 fn patch(kind: GrassKind, density: f32) -> GrassDef {

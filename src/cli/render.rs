@@ -238,21 +238,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
         }
         Some(n) => {
-            if n == 0 || n > 100_000 {
-                bail!("--frames must be between 1 and 100000");
-            }
-            if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 1000.0) {
-                bail!("--fps must be in (0, 1000]");
-            }
-            if args.out.is_file() {
-                bail!("{}: is a file; with --frames, --out names a folder", args.out.display());
-            }
-            std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: cannot create folder ({e})", args.out.display()))?;
-            let first = args.out.join("frame_00000.png");
-            if first.exists() && !args.force {
-                bail!("{}: already exists (use --force to overwrite)", first.display());
-            }
-            let ticks_per_frame = ((1.0 / args.fps) / scene.dt as f64).round().max(1.0) as u64;
+            let ticks_per_frame = frames_setup(&args, n, scene.dt)?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene)?;
             for f in 0..n {
