@@ -14,6 +14,7 @@
 //! textures).
 
 pub mod assets;
+pub mod clipmap;
 pub mod extract;
 pub mod frame;
 pub mod gpu;
