@@ -102,3 +102,9 @@ pub trait ClipmapSource: Send {
     /// not loaded yet are requested and written by a later call, with alpha 0 until then.
     fn update(&mut self, camera: &ClipCamera) -> ClipmapFrame;
 }
+
+pub mod gpu;
+pub mod image_source;
+
+pub use gpu::GpuClipmap;
+pub use image_source::ImageSource;
