@@ -23,6 +23,7 @@
 pub mod crowns;
 pub mod equalize;
 pub mod eval;
+pub mod layers;
 pub mod mask;
 pub mod raster;
 pub mod scene;

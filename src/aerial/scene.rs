@@ -106,6 +106,7 @@ pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene
         dir: None,
         water: vec![],
         grass: vec![],
+        aerial: None,
         // From the south, above the southern edge, looking at the centre.
         camera: CameraDef { position: Vec3::new(0.0, 0.35 * wf.max(df), 0.6 * df), look_at: Vec3::ZERO, fov_y_deg: 60.0 },
     };

@@ -68,6 +68,7 @@ pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
         dir: None,
         water: vec![],
         grass: vec![],
+        aerial: None,
         camera: CameraDef {
             position: Vec3::new(0.0, 1.7, 6.0),
             look_at: Vec3::ZERO,

@@ -5,6 +5,7 @@
 
 use glam::{Quat, Vec2, Vec3};
 use grove_systems::components::{AnchorBall, Controller, Grass, HitMarker, HitTarget, Plane, Scale, Selection, Transform, Tree, WindState};
+use grove_systems::aerial::AerialCrown;
 use grove_systems::water::Water;
 use grove_systems::wind_model::{Gust, Wind, WindModel, WindParams, WindResponse};
 use grove_systems::Sim;
@@ -68,6 +69,21 @@ pub(crate) struct WaterDraw {
     pub ripple_speed: f32,
 }
 
+/// A photographed crown's tree as the canopy draws it (from its `AerialCrown` component).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct CrownDraw {
+    /// The tree's foot: its current position, world metres.
+    pub foot: Vec3,
+    /// World (X, Z) of the crown's centre in the photograph, metres.
+    pub photo_centre: Vec2,
+    /// The crown's radius, metres.
+    pub radius_m: f32,
+    /// The crown's base over the foot, metres.
+    pub base_m: f32,
+    /// The crown's top over the foot, metres.
+    pub top_m: f32,
+}
+
 /// Everything a frame draws, copied from the world.
 pub(crate) struct FrameData {
     /// The head's camera.
@@ -82,8 +98,12 @@ pub(crate) struct FrameData {
     pub wind: WindParams,
     /// The global wind model (a pipeline choice).
     pub wind_model: WindModel,
-    /// Every tree.
+    /// Every tree but the photographed crowns' (those are in `crown_trees`).
     pub trees: Vec<TreeDraw>,
+    /// The photographed crowns, sorted by entity.
+    pub crowns: Vec<CrownDraw>,
+    /// The trees of `crowns`, in the same order: drawn as models only without a canopy.
+    pub crown_trees: Vec<TreeDraw>,
     /// The planes' key.
     pub ground_key: GroundKey,
     /// The planes' meshes, sorted by entity; only when `ground_key` differs from the one the
@@ -116,10 +136,11 @@ impl FrameData {
         let wind = sim.wind().unwrap_or_else(calm);
 
         let mut trees = Vec::new();
-        for (_, tree, t, s, w) in sim.world.query::<(hecs::Entity, &Tree, &Transform, Option<&Scale>, Option<&WindState>)>().iter() {
+        let mut crowns = Vec::new();
+        for (e, tree, t, s, w, crown) in sim.world.query::<(hecs::Entity, &Tree, &Transform, Option<&Scale>, Option<&WindState>, Option<&AerialCrown>)>().iter() {
             // A tree without a wind state stands still: no bend and zero gain.
             let (bend, gain, phase) = w.map_or((Vec2::ZERO, 0.0, 0.0), |w| (w.bend, w.gain, w.phase));
-            trees.push(TreeDraw {
+            let draw = TreeDraw {
                 model: usize::from(tree.model.0),
                 origin: t.translation,
                 yaw: t.yaw,
@@ -127,8 +148,19 @@ impl FrameData {
                 bend,
                 gain,
                 phase,
-            });
+            };
+            match crown {
+                Some(c) => {
+                    let foot = t.translation;
+                    let cd = CrownDraw { foot, photo_centre: c.photo_centre, radius_m: c.radius_m, base_m: c.base_m, top_m: c.top_m };
+                    crowns.push((e.to_bits().get(), cd, draw));
+                }
+                None => trees.push(draw),
+            }
         }
+        crowns.sort_by_key(|c| c.0);
+        let crown_trees = crowns.iter().map(|c| c.2.clone()).collect();
+        let crowns = crowns.into_iter().map(|c| c.1).collect();
 
         let mut ground_key: GroundKey = sim
             .world
@@ -162,6 +194,8 @@ impl FrameData {
             wind: WindParams::from_wind(&wind, time),
             wind_model: wind.model,
             trees,
+            crowns,
+            crown_trees,
             ground_key,
             planes,
             plane_bounds,

@@ -79,6 +79,12 @@ impl Renderer {
         if self.options.grass {
             data.extract_grass(sim, &self.grass.key);
         }
+        // Without a canopy the photographed crowns are trees like the others.
+        if self.canopy.is_none() || !self.options.canopy {
+            let crown_trees = std::mem::take(&mut data.crown_trees);
+            data.trees.extend(crown_trees);
+            data.crowns.clear();
+        }
 
         // 2. Prepare. Shadows are decided here and only here: asked for, the sun up, and
         // something to cast them.
@@ -92,7 +98,7 @@ impl Renderer {
             size: (self.width, self.height),
             options: &options,
         };
-        cx.key.shadows = options.shadows && light.direct.max_element() > 0.0 && self.trees.draws_any(&cx);
+        cx.key.shadows = options.shadows && light.direct.max_element() > 0.0 && (self.trees.draws_any(&cx) || self.canopy.as_ref().is_some_and(|c| c.draws_any(&cx)));
         let key = cx.key;
         self.trees.prepare(&cx)?;
         self.ground.prepare(&cx)?;
@@ -100,11 +106,17 @@ impl Renderer {
         self.sky.prepare(&cx)?;
         self.overlay.prepare(&cx)?;
         self.water.prepare(&cx)?;
+        if let Some(a) = &mut self.aerial_ground {
+            a.prepare(&cx)?;
+        }
+        if let Some(c) = &mut self.canopy {
+            c.prepare(&cx)?;
+        }
 
         // The views: the camera's, and the sun's fitted to the trees and planes within 80 m of
         // the camera.
         let view_proj = camera_matrix(&data.camera, self.width as f32 / self.height as f32);
-        let drawn = union(self.trees.bounds, data.plane_bounds);
+        let drawn = union(union(self.trees.bounds, data.plane_bounds), self.canopy.as_ref().and_then(|c| c.bounds));
         let (smin, smax) = shadow_bounds(drawn, data.camera.position);
         let (light_vp, extent) = light_matrix(data.sun_dir, smin, smax);
         let shadow_size = self.lighting.shadow_size as f32;
@@ -154,6 +166,9 @@ impl Renderer {
                 let sun = key.with_view(ViewKind::Sun);
                 pass.set_bind_group(0, &self.views.sun.bind_group, &[]);
                 self.trees.draw_depth(&mut pass, sun)?;
+                if let Some(c) = &self.canopy {
+                    c.draw_depth(&mut pass, sun)?;
+                }
             }
         }
 
@@ -215,6 +230,13 @@ impl Renderer {
             // software rasteriser the early depth test then skips most hidden ground fragments.
             self.trees.draw(Phase::Opaque, &mut pass, key, s)?;
             self.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
+            if let Some(c) = &self.canopy {
+                c.draw(Phase::AlphaClipped, &mut pass, key, s)?;
+            }
+            // The photograph before the ground, which it hides where it lies.
+            if let Some(a) = &self.aerial_ground {
+                a.draw(Phase::Opaque, &mut pass, key, s)?;
+            }
             // Water before the ground, for the same reason: the bed under it is then skipped.
             // The ground still hides the parts of the outline that lie above the shore.
             self.water.draw(Phase::Opaque, &mut pass, key, s)?;

@@ -13,7 +13,9 @@
 //! [`lighting`] (sun light, shadow map), [`timing`] (pass timestamps), [`assets`] (glTF,
 //! textures).
 
+pub mod aerial_ground;
 pub mod assets;
+pub mod canopy;
 pub mod clipmap;
 pub mod extract;
 pub mod frame;
@@ -86,11 +88,14 @@ pub struct RenderOptions {
     /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 (the
     /// default, which the golden images use) draws every tree as a mesh.
     pub impostor_pixels: f32,
+    /// Draw the photographed crowns as canopy layers (with aerial photographs set by
+    /// [`Renderer::set_aerial`]); off, or without layer masks, they are drawn as tree models.
+    pub canopy: bool,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: 0.0 }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: 0.0, canopy: true }
     }
 }
 
@@ -125,6 +130,8 @@ pub struct Renderer {
     sky: sky::Sky,
     overlay: overlay::Overlay,
     water: water::WaterFeature,
+    aerial_ground: Option<aerial_ground::AerialGround>,
+    canopy: Option<canopy::Canopy>,
 }
 
 impl Renderer {
@@ -179,6 +186,8 @@ impl Renderer {
             sky: sky::Sky::new(&shared),
             overlay: overlay::Overlay::new(&shared),
             water,
+            aerial_ground: None,
+            canopy: None,
             shared,
         })
     }
@@ -201,6 +210,32 @@ impl Renderer {
     /// from the GPU's indirect draws (waits for the GPU); `(0, 0)` without blades.
     pub fn visible_blades(&self) -> Result<(u32, u32), String> {
         self.grass.visible_blades(&self.shared)
+    }
+
+    /// Drapes aerial photographs over the ground from the next frame: the winter photograph as
+    /// the ground where it lies, and, with layer masks, the photographed crowns as canopy layers
+    /// (see [`aerial_ground`], [`canopy`]). Fails with one line for a clipmap the device cannot
+    /// hold.
+    pub fn set_aerial(&mut self, sources: aerial_ground::AerialSources) -> Result<(), String> {
+        let debug = sources.debug_lod;
+        let winter = aerial_ground::FedClipmap::new(&self.shared, sources.winter, "winter clipmap", debug)?;
+        self.aerial_ground = Some(aerial_ground::AerialGround::new(&self.shared, winter, sources.size_m, sources.elevation_m));
+        self.canopy = match sources.layers {
+            Some(layers) => {
+                let summer = aerial_ground::FedClipmap::new(&self.shared, sources.summer, "summer clipmap", debug)?;
+                let masks = aerial_ground::FedClipmap::new(&self.shared, layers, "layer mask clipmap", false)?;
+                Some(canopy::Canopy::new(&self.shared, summer, masks, sources.layer_count.clamp(1, 8)))
+            }
+            None => None,
+        };
+        Ok(())
+    }
+
+    /// The bytes of clipmap texels the last frame uploaded (winter, summer and layer masks).
+    pub fn aerial_upload_bytes(&self) -> u64 {
+        let ground = self.aerial_ground.as_ref().map_or(0, |a| a.winter.gpu.bytes_last);
+        let canopy = self.canopy.as_ref().map_or(0, |c| c.summer.gpu.bytes_last + c.masks.gpu.bytes_last);
+        ground + canopy
     }
 
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.

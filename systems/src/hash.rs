@@ -14,6 +14,7 @@ use xxhash_rust::xxh3::Xxh3;
 
 use crate::components::*;
 use crate::resources::Resources;
+use crate::aerial::AerialCrown;
 use crate::water::Water;
 
 /// The hashed component types, in hashing order: the one list from which the names
@@ -72,13 +73,13 @@ pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
             }
         };
     }
-    hashed_components!(has, r, name) || (name == "Grass" && r.has::<Grass>())
+    hashed_components!(has, r, name) || (name == "Grass" && r.has::<Grass>()) || (name == "AerialCrown" && r.has::<AerialCrown>())
 }
 
 /// Components that enter the hash only in worlds where some entity has them, after the
 /// resources: a world without any of them (every scene from before they existed) hashes exactly
 /// as it did before. Each is hashed from its postcard bytes like the others.
-pub const OPTIONAL_COMPONENTS: &[&str] = &["Grass"];
+pub const OPTIONAL_COMPONENTS: &[&str] = &["Grass", "AerialCrown"];
 
 /// Formats a hash as 16 lowercase hex digits.
 pub fn hex(h: u64) -> String {
@@ -146,7 +147,7 @@ macro_rules! serde_hashed {
         })*
     };
 }
-serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water, Grass);
+serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water, Grass, AerialCrown);
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
 /// through serde (the same bits, much faster).
@@ -218,6 +219,7 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     acc.components.push(("resources", rh));
     debug_assert!(acc.components.len() <= COMPONENTS.len());
     acc.optional_component::<Grass>(world, "Grass");
+    acc.optional_component::<AerialCrown>(world, "AerialCrown");
     let mut total = Xxh3::new();
     for (name, h) in &acc.components {
         total.update(name.as_bytes());

@@ -14,6 +14,7 @@
 
 #![warn(missing_docs)]
 
+pub mod aerial;
 pub mod bank;
 pub mod catalogue;
 pub mod components;

@@ -57,6 +57,10 @@ pub struct Scene {
     /// Grass patches (see `grass.rs`); each becomes an entity with a `Grass` component.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub grass: Vec<crate::grass::GrassDef>,
+    /// Aerial photographs draped on the ground, with a tree at each photographed crown (see
+    /// `aerial.rs`); absent in scenes without photographs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aerial: Option<crate::aerial::AerialDef>,
 }
 
 fn default_dt() -> f32 {
@@ -185,6 +189,13 @@ impl Scene {
         let text = read_scene_text(path)?;
         let mut scene = Scene::parse(&text, &path.display().to_string())?;
         scene.dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
+        // The crowns file an aerial section names, read with its limits.
+        let dir = scene.dir.clone().unwrap_or_default();
+        if let Some(a) = &mut scene.aerial {
+            if let Some(c) = &a.crowns {
+                a.crown_list = crate::aerial::read_crowns(&dir.join(c)).map_err(|message| SceneError { file: path.display().to_string(), message: format!("aerial crowns: {message}") })?;
+            }
+        }
         Ok(scene)
     }
 
@@ -329,6 +340,9 @@ impl Scene {
             return Err(format!("camera fov_y_deg {} is outside 1..=179", c.fov_y_deg));
         }
         crate::grass::validate_all(&self.grass, &self.plane_outlines())?;
+        if let Some(a) = &self.aerial {
+            a.validate()?;
+        }
         Ok(())
     }
 }

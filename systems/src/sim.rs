@@ -110,6 +110,20 @@ impl Sim {
         for (i, g) in scene.grass.iter().enumerate() {
             sim.world.spawn((Grass::new(g, i, scene.seed, &outlines),));
         }
+        // The photographed crowns after everything else, so a scene without them builds the
+        // same entities as before: a tree of the aerial model at each crown, scaled to its
+        // radius, tied to its crown by an `AerialCrown` component.
+        if let Some(a) = &scene.aerial {
+            let model = sim.res.catalogue.by_name(&a.model).ok_or_else(|| format!("aerial: {}", sim.res.catalogue.unknown_name(&a.model)))?;
+            let (id, crown_radius) = (model.id, model.crown_radius.max(0.01));
+            for c in a.crown_list.iter().filter(|c| c.radius_m >= a.min_radius_m) {
+                let crown = a.crown(c);
+                let pos = Vec3::new(crown.photo_centre.x, a.elevation, crown.photo_centre.y);
+                let yaw = (c.id as f32 * 137.507_76).rem_euclid(360.0).to_radians();
+                let e = sim.spawn_tree(id, pos, yaw, (c.radius_m / crown_radius).clamp(0.3, 3.0), true);
+                sim.world.insert_one(e, crown).map_err(|e| format!("aerial: {e}"))?;
+            }
+        }
         Ok(sim)
     }
 

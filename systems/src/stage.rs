@@ -77,6 +77,7 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
         dir: None,
         water: vec![],
         grass: vec![],
+        aerial: None,
         camera: CameraDef {
             position: Vec3::new(0.0, 1.0, 5.0),
             look_at: Vec3::ZERO,

@@ -34,10 +34,25 @@ pub struct ImageSource {
     shown: Vec<Option<IVec2>>,
 }
 
+/// How a mip is made from the one below.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Downsample {
+    /// The mean of 2 × 2 texels: photographs.
+    Average,
+    /// The top-left texel of each 2 × 2: data whose bytes must not be blended (the canopy's
+    /// layer masks, one bit per layer).
+    Nearest,
+}
+
 impl ImageSource {
     /// A source over `rgba` (`width` × `height` texels, RGBA8, rows top to bottom). Fails with
     /// one line for a size past [`MAX_SIDE`] or data of the wrong length.
     pub fn new(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement) -> Result<ImageSource, String> {
+        ImageSource::with_downsample(width, height, rgba, config, placement, Downsample::Average)
+    }
+
+    /// [`ImageSource::new`] with the mips made by `down`.
+    pub fn with_downsample(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement, down: Downsample) -> Result<ImageSource, String> {
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
             return Err(format!("a photograph held in memory must be 1 to {MAX_SIDE} texels a side, not {width}x{height}; tile it with `grove aerial tile`"));
         }
@@ -46,7 +61,8 @@ impl ImageSource {
         }
         let mut mips = vec![Mip { width, height, rgba }];
         while mips.len() < config.levels as usize {
-            let next = half(mips.last().expect("one mip"));
+            let last = mips.last().expect("one mip");
+            let next = if down == Downsample::Average { half(last) } else { nearest_half(last) };
             mips.push(next);
         }
         Ok(ImageSource { config, placement, mips, shown: vec![None; config.levels as usize] })
@@ -99,6 +115,19 @@ impl ImageSource {
         }
         Upload { level, x: 0, y: 0, w: n, h: n, rgba }
     }
+}
+
+/// The next mip: the top-left texel of each 2 × 2.
+fn nearest_half(m: &Mip) -> Mip {
+    let (w, h) = (m.width.div_ceil(2).max(1), m.height.div_ceil(2).max(1));
+    let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let s = (((2 * y) * m.width + 2 * x) * 4) as usize;
+            rgba.extend_from_slice(&m.rgba[s..s + 4]);
+        }
+    }
+    Mip { width: w, height: h, rgba }
 }
 
 /// The next mip: 2 × 2 box filtering (the last row or column repeated for odd sides).
@@ -197,6 +226,7 @@ mod tests {
     fn mips_average_texels() {
         let m = Mip { width: 2, height: 2, rgba: vec![0, 0, 0, 255, 4, 0, 0, 255, 0, 8, 0, 255, 0, 0, 12, 255] };
         assert_eq!(half(&m).rgba, vec![1, 2, 3, 255]);
+        assert_eq!(nearest_half(&m).rgba, vec![0, 0, 0, 255]);
     }
 
     #[test]

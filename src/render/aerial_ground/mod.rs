@@ -1,0 +1,166 @@
+//! The aerial ground (issue #22): the winter photograph, read from its clipmap, draped flat over
+//! the photographed rectangle at the ground's height, lit by the sun and receiving shadows. It
+//! is drawn before the ordinary ground, a little above it, so the ground is hidden where the
+//! photograph lies; where no level of the clipmap has a texel yet the fragment is discarded and
+//! the ground shows. A shadow receiver only.
+//!
+//! [`AerialSources`] is what an app hands the renderer (`Renderer::set_aerial`): the clipmap
+//! sources of the pair and of the canopy's layer masks.
+
+use glam::{DVec3, Vec2};
+use wgpu::util::DeviceExt;
+
+use super::clipmap::{gpu::WGSL as CLIPMAP_WGSL, ClipCamera, ClipmapSource, GpuClipmap};
+use super::extract::FrameData;
+use super::frame::{Feature, FrameContext, Phase};
+use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use super::FrameStats;
+
+/// How far above the ground the photograph lies, metres: with the depth bias of its pipeline,
+/// enough for it to hide the ground at the same height.
+pub const LIFT_M: f32 = 0.02;
+
+/// The photographs of a scene as clipmap sources, for `Renderer::set_aerial`.
+pub struct AerialSources {
+    /// The winter photograph: the ground.
+    pub winter: Box<dyn ClipmapSource>,
+    /// The summer photograph: the canopy's colours.
+    pub summer: Box<dyn ClipmapSource>,
+    /// The layer masks (bit i of the red byte: layer i is treetop); without them no canopy.
+    pub layers: Option<Box<dyn ClipmapSource>>,
+    /// The photographed rectangle's size, metres (east, south), from the sources' origin.
+    pub size_m: Vec2,
+    /// The ground's height, metres.
+    pub elevation_m: f32,
+    /// The canopy's layers, 1..=8.
+    pub layer_count: u32,
+    /// Colour the clipmap levels (`--debug-lod`).
+    pub debug_lod: bool,
+}
+
+/// The aerial ground's uniforms (matches `AerialGroundParams` in aerial_ground.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    lo: [f32; 2],
+    hi: [f32; 2],
+    height: f32,
+    pad: [f32; 3],
+}
+
+/// The clipmap camera of a frame's view: its eye, view direction and frustum.
+pub(crate) fn clip_camera(data: &FrameData, size: (u32, u32)) -> ClipCamera {
+    let c = &data.camera;
+    ClipCamera {
+        eye: c.position.as_dvec3(),
+        forward: (c.rotation * glam::Vec3::NEG_Z).as_dvec3().normalize_or(DVec3::NEG_Y),
+        fov_y: f64::from(c.fov_y),
+        aspect: f64::from(size.0.max(1)) / f64::from(size.1.max(1)),
+    }
+}
+
+/// A clipmap fed by its source: the pair the ground and the canopy read.
+pub(crate) struct FedClipmap {
+    /// The CPU half.
+    pub source: Box<dyn ClipmapSource>,
+    /// The GPU half.
+    pub gpu: GpuClipmap,
+}
+
+impl FedClipmap {
+    /// The GPU half for `source`, labelled.
+    pub fn new(shared: &Shared, source: Box<dyn ClipmapSource>, label: &str, debug_lod: bool) -> Result<FedClipmap, String> {
+        let mut gpu = GpuClipmap::new(&shared.device, source.config(), source.placement(), label)?;
+        gpu.set_debug_lod(debug_lod);
+        Ok(FedClipmap { source, gpu })
+    }
+
+    /// Moves the levels for `camera` and writes what changed; the bytes written.
+    pub fn update(&mut self, queue: &wgpu::Queue, camera: &ClipCamera) -> Result<u64, String> {
+        let frame = self.source.update(camera);
+        self.gpu.apply(queue, &frame)
+    }
+}
+
+/// The aerial ground feature.
+pub(crate) struct AerialGround {
+    /// The winter clipmap.
+    pub winter: FedClipmap,
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<wgpu::RenderPipeline>,
+    bind_group: wgpu::BindGroup,
+}
+
+impl AerialGround {
+    /// The feature for a winter clipmap over `size_m` metres at `elevation_m`.
+    pub fn new(shared: &Shared, winter: FedClipmap, size_m: Vec2, elevation_m: f32) -> AerialGround {
+        let o = winter.source.placement().origin_m.as_vec2();
+        let (lo, hi) = (o, o + size_m);
+        let params = Params { lo: lo.to_array(), hi: hi.to_array(), height: elevation_m + LIFT_M, pad: [0.0; 3] };
+        let buffer = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("aerial ground parameters"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let [a, b, c] = GpuClipmap::layout_entries(0);
+        let group = shared.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("aerial ground layout"),
+            entries: &[a, b, c, super::gpu::uniform_entry(3)],
+        });
+        let [e0, e1, e2] = winter.gpu.bind_entries(0);
+        let bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("aerial ground bind group"),
+            layout: &group,
+            entries: &[e0, e1, e2, wgpu::BindGroupEntry { binding: 3, resource: buffer.as_entire_binding() }],
+        });
+        AerialGround {
+            module: shared.shader("aerial_ground.wgsl", &format!("{CLIPMAP_WGSL}\n{}", include_str!("aerial_ground.wgsl"))),
+            layout: shared.layout("aerial ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group)]),
+            pipelines: PipelineCache::new("aerial ground"),
+            bind_group,
+            winter,
+        }
+    }
+}
+
+/// The aerial ground's pipeline of `key`: main view only, pulled towards the eye by a depth bias.
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+    if key.view != ViewKind::Main {
+        return Err("the aerial ground is drawn from the main view only".into());
+    }
+    let depth = wgpu::DepthStencilState { bias: wgpu::DepthBiasState { constant: -4, slope_scale: -1.0, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) };
+    Ok(shared.pipeline(&PipelineSpec {
+        label: "aerial ground pipeline",
+        layout,
+        module,
+        vertex: "vs_main",
+        fragment: Some("fs_main"),
+        buffers: &[],
+        topology: wgpu::PrimitiveTopology::TriangleList,
+        cull: None,
+        depth,
+        targets: &color_target(key.format, wgpu::ColorWrites::ALL),
+        constants: &key.lit_constants(),
+    }))
+}
+
+impl Feature for AerialGround {
+    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+        self.winter.update(&cx.shared.queue, &clip_camera(cx.data, cx.size))?;
+        let (module, layout) = (&self.module, &self.layout);
+        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
+    }
+
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+        if phase != Phase::Opaque {
+            return Ok(());
+        }
+        pass.set_pipeline(self.pipelines.get(key)?);
+        pass.set_bind_group(2, &self.bind_group, &[]);
+        pass.draw(0..6, 0..1);
+        stats.draws += 1;
+        stats.triangles += 2;
+        Ok(())
+    }
+}

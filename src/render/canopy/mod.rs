@@ -1,0 +1,215 @@
+//! The canopy (issue #22, after Ropinski et al. 2007): each photographed crown tree drawn as
+//! stacked horizontal layers between its crown base and top, textured from the summer
+//! photograph's clipmap where that layer's bit of the layer masks (`grove aerial layers`) says
+//! treetop. Alpha-tested, lit by the sun, casting shadows (a depth pass with the same test).
+//!
+//! The layers stand at each crown tree's current position (it can be moved), and read the
+//! photograph around the crown's photographed centre ([`grove_systems::aerial::AerialCrown`]).
+//! One instance per (crown, layer), built each frame from the extracted crowns.
+
+use wgpu::util::DeviceExt;
+
+use super::aerial_ground::{clip_camera, FedClipmap};
+use super::clipmap::{gpu::WGSL as CLIPMAP_WGSL, GpuClipmap};
+use super::extract::CrownDraw;
+use super::frame::{Feature, FrameContext, Phase};
+use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
+use super::FrameStats;
+
+/// The canopy's uniforms (matches `CanopyParams` in canopy.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    layer_count: f32,
+    gsd_m: f32,
+    pad: [f32; 2],
+}
+
+/// One layer instance: the tree's foot and crown radius; the photographed centre, the layer's
+/// height over the foot and its index (matches `LayerIn` in canopy.wgsl).
+pub(crate) type LayerInstance = [f32; 8];
+
+/// The layer instances of `crowns` with `layers` layers each: layer i at a height from the
+/// crown base (i = 0) to its top (i = layers − 1), evenly spaced.
+pub(crate) fn layer_instances(crowns: &[CrownDraw], layers: u32) -> Vec<LayerInstance> {
+    let mut out = Vec::with_capacity(crowns.len() * layers as usize);
+    for c in crowns {
+        for i in 0..layers {
+            let f = if layers > 1 { i as f32 / (layers - 1) as f32 } else { 1.0 };
+            let h = c.base_m + (c.top_m - c.base_m) * f;
+            out.push([c.foot.x, c.foot.y, c.foot.z, c.radius_m, c.photo_centre.x, c.photo_centre.y, h, i as f32]);
+        }
+    }
+    out
+}
+
+/// The canopy's pipelines of one key.
+enum Pipelines {
+    Main(wgpu::RenderPipeline),
+    Shadow(wgpu::RenderPipeline),
+}
+
+/// The canopy feature.
+pub(crate) struct Canopy {
+    /// The summer photograph's clipmap.
+    pub summer: FedClipmap,
+    /// The layer masks' clipmap.
+    pub masks: FedClipmap,
+    layer_count: u32,
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    shadow_layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<Pipelines>,
+    bind_group: wgpu::BindGroup,
+    instances: Option<(wgpu::Buffer, u32)>,
+    /// The bounds of the layers drawn this frame, for the shadow map's fit.
+    pub bounds: Option<(glam::Vec3, glam::Vec3)>,
+}
+
+impl Canopy {
+    /// The feature over the summer and layer-mask clipmaps with `layer_count` layers.
+    pub fn new(shared: &Shared, summer: FedClipmap, masks: FedClipmap, layer_count: u32) -> Canopy {
+        let gsd = summer.source.placement().gsd_m as f32;
+        let params = Params { layer_count: layer_count as f32, gsd_m: gsd, pad: [0.0; 2] };
+        let buffer = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("canopy parameters"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let [a, b, c] = GpuClipmap::layout_entries(0);
+        let [d, e, f] = GpuClipmap::layout_entries(3);
+        let group = shared.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("canopy layout"),
+            entries: &[a, b, c, d, e, f, super::gpu::uniform_entry(6)],
+        });
+        let [s0, s1, s2] = summer.gpu.bind_entries(0);
+        let [m0, m1, m2] = masks.gpu.bind_entries(3);
+        let bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("canopy bind group"),
+            layout: &group,
+            entries: &[s0, s1, s2, m0, m1, m2, wgpu::BindGroupEntry { binding: 6, resource: buffer.as_entire_binding() }],
+        });
+        Canopy {
+            module: shared.shader("canopy.wgsl", &format!("{CLIPMAP_WGSL}\n{}", include_str!("canopy.wgsl"))),
+            layout: shared.layout("canopy layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group)]),
+            shadow_layout: shared.layout("canopy shadow layout", &[Some(&shared.view_layout), None, Some(&group)]),
+            pipelines: PipelineCache::new("canopy"),
+            bind_group,
+            summer,
+            masks,
+            layer_count,
+            instances: None,
+            bounds: None,
+        }
+    }
+
+    /// Whether this frame has layers to draw (and so shadows to cast).
+    pub fn draws_any(&self, cx: &FrameContext<'_>) -> bool {
+        !cx.data.crowns.is_empty()
+    }
+}
+
+/// The canopy's pipelines of `key`: shaded layers for the main view, depth for the sun's.
+fn build(shared: &Shared, c: &Canopy, key: PipelineKey) -> Result<Pipelines, String> {
+    const ATTRS: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4];
+    let buffers = [Some(wgpu::VertexBufferLayout { array_stride: 32, step_mode: wgpu::VertexStepMode::Instance, attributes: &ATTRS })];
+    let targets = color_target(key.format, wgpu::ColorWrites::ALL);
+    let constants = key.lit_constants();
+    let (label, layout, fragment, depth, targets): (_, _, _, _, &[Option<wgpu::ColorTargetState>]) = match key.view {
+        ViewKind::Main => ("canopy pipeline", &c.layout, "fs_main", depth_test(true, wgpu::CompareFunction::Less), &targets),
+        ViewKind::Sun => (
+            "canopy shadow pipeline",
+            &c.shadow_layout,
+            "fs_depth",
+            wgpu::DepthStencilState { format: SHADOW_FORMAT, bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) },
+            &[],
+        ),
+    };
+    let p = shared.pipeline(&PipelineSpec {
+        label,
+        layout,
+        module: &c.module,
+        vertex: "vs_main",
+        fragment: Some(fragment),
+        buffers: &buffers,
+        topology: wgpu::PrimitiveTopology::TriangleList,
+        cull: None,
+        depth,
+        targets,
+        constants: &constants,
+    });
+    Ok(if key.view == ViewKind::Main { Pipelines::Main(p) } else { Pipelines::Shadow(p) })
+}
+
+impl Feature for Canopy {
+    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+        let camera = clip_camera(cx.data, cx.size);
+        self.summer.update(&cx.shared.queue, &camera)?;
+        self.masks.update(&cx.shared.queue, &camera)?;
+        let layers = layer_instances(&cx.data.crowns, self.layer_count);
+        self.bounds = cx.data.crowns.iter().fold(None, |b, c| {
+            let r = glam::Vec3::new(c.radius_m * 1.25, 0.0, c.radius_m * 1.25);
+            let lo = c.foot - r + glam::Vec3::Y * c.base_m;
+            let hi = c.foot + r + glam::Vec3::Y * c.top_m;
+            Some(b.map_or((lo, hi), |(a, z): (glam::Vec3, glam::Vec3)| (a.min(lo), z.max(hi))))
+        });
+        self.instances = (!layers.is_empty()).then(|| {
+            let buffer = cx.shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("canopy layers"),
+                contents: bytemuck::cast_slice(&layers),
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+            (buffer, layers.len() as u32)
+        });
+        let keys = if cx.key.shadows { vec![cx.key, cx.key.with_view(ViewKind::Sun)] } else { vec![cx.key] };
+        for k in keys {
+            if self.pipelines.get(k).is_err() {
+                let built = build(cx.shared, self, k);
+                self.pipelines.prepare(k, |_| built)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), String> {
+        let Some((buffer, n)) = &self.instances else { return Ok(()) };
+        let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err("canopy: the sun's key has no shadow pipeline".into()) };
+        pass.set_pipeline(p);
+        pass.set_bind_group(2, &self.bind_group, &[]);
+        pass.set_vertex_buffer(0, buffer.slice(..));
+        pass.draw(0..6, 0..*n);
+        Ok(())
+    }
+
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+        let (Phase::AlphaClipped, Some((buffer, n))) = (phase, &self.instances) else { return Ok(()) };
+        let Pipelines::Main(p) = self.pipelines.get(key)? else { return Err("canopy: the main key has no main pipeline".into()) };
+        pass.set_pipeline(p);
+        pass.set_bind_group(2, &self.bind_group, &[]);
+        pass.set_vertex_buffer(0, buffer.slice(..));
+        pass.draw(0..6, 0..*n);
+        stats.draws += 1;
+        stats.triangles += 2 * *n as usize;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3};
+
+    use super::*;
+
+    #[test]
+    fn layers_stand_evenly_from_base_to_top() {
+        let c = CrownDraw { foot: Vec3::new(1.0, 2.0, 3.0), photo_centre: Vec2::new(5.0, 6.0), radius_m: 2.0, base_m: 3.0, top_m: 8.0 };
+        let l = layer_instances(&[c], 6);
+        assert_eq!(l.len(), 6);
+        // Heights 3, 4, 5, 6, 7, 8 m over the foot.
+        for (i, layer) in l.iter().enumerate() {
+            assert_eq!(layer[..6], [1.0, 2.0, 3.0, 2.0, 5.0, 6.0]);
+            assert!((layer[6] - (3.0 + i as f32)).abs() < 1e-6, "{layer:?}");
+            assert_eq!(layer[7], i as f32);
+        }
+    }
+}
