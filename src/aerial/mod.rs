@@ -24,6 +24,7 @@ pub mod crowns;
 pub mod equalize;
 pub mod eval;
 pub mod layers;
+pub mod open;
 pub mod mask;
 pub mod raster;
 pub mod scene;

@@ -35,6 +35,8 @@ pub enum AerialCommand {
     Synth(SynthArgs),
     /// Score masks of a synthetic pair against its truth for several k, with and without equalisation.
     Eval(EvalArgs),
+    /// The canopy's layer masks: one treetop mask per layer, k growing with height, one bit each.
+    Layers(super::aerial_layers::LayersArgs),
 }
 
 /// The treetop rule's options, shared by `segment` and `eval`.
@@ -118,6 +120,8 @@ pub struct SceneArgs {
     /// UTC time of the sun, RFC 3339.
     #[arg(long, default_value = "2026-06-21T10:00:00Z")]
     pub utc: String,
+    #[command(flatten)]
+    pub drape: super::aerial_layers::AerialSceneArgs,
     /// Overwrite the scene if it exists.
     #[arg(long)]
     pub force: bool,
@@ -182,6 +186,7 @@ pub fn run(cmd: AerialCommand) -> anyhow::Result<ExitCode> {
         AerialCommand::Scene(a) => scene(a),
         AerialCommand::Synth(a) => synth(a),
         AerialCommand::Eval(a) => eval(a),
+        AerialCommand::Layers(a) => super::aerial_layers::run(a),
     })
 }
 
@@ -311,7 +316,13 @@ fn scene(a: SceneArgs) -> anyhow::Result<ExitCode> {
         },
         sun: (a.lat, a.lon, a.utc.clone()),
     };
-    let (scene, skipped) = scene_from_crowns(&found, &opts).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
+    let (mut scene, skipped) = scene_from_crowns(&found, &opts).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
+    let trees = scene.trees.len();
+    if a.drape.aerial {
+        let dir = a.out.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        out_dir(dir)?;
+        super::aerial_layers::drape(&mut scene, &a.drape, &a.crowns, opts.size_m, summary.gsd_m, a.min_radius, dir).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
+    }
     let text = scene_text(&scene, &a.crowns.display().to_string()).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
     if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         out_dir(dir)?;
@@ -320,7 +331,7 @@ fn scene(a: SceneArgs) -> anyhow::Result<ExitCode> {
     println!(
         "{}: {} trees on {:.1} x {:.1} m ({} crowns under {} m left out)",
         a.out.display(),
-        scene.trees.len(),
+        trees,
         opts.size_m.0,
         opts.size_m.1,
         skipped,

@@ -72,6 +72,12 @@ pub struct RenderArgs {
     /// Overwrite an existing output file.
     #[arg(long)]
     pub force: bool,
+    /// Colour the levels of the aerial photographs' clipmaps (a scene with an `aerial` section).
+    #[arg(long)]
+    pub debug_lod: bool,
+    /// Draw the photographed crowns as tree models instead of canopy layers.
+    #[arg(long)]
+    pub no_canopy: bool,
     /// A model-bank folder (repeatable) whose models the scene or recording names; GROVE_BANK's
     /// folders come after these.
     #[arg(long = "bank", value_name = "DIR")]
@@ -98,7 +104,7 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
 /// `--overlay` are applied here and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
     let overlay = args.overlay.unwrap_or(if args.replay.is_some() { Overlay::Interaction } else { Overlay::None });
-    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, ..Default::default() }
+    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, canopy: !args.no_canopy, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds
@@ -108,6 +114,9 @@ fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scen
     renderer.options = options(args);
     let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
     grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res.catalogue)).map_err(|e| anyhow!(e))?;
+    if let Some(aerial) = grove::aerial::open::open_sources(scene, args.debug_lod).map_err(|e| anyhow!(e))? {
+        renderer.set_aerial(aerial).map_err(|e| anyhow!(e))?;
+    }
     Ok(renderer)
 }
 

@@ -49,9 +49,23 @@ fn session_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::Te
     Ok(r)
 }
 
-/// Makes the window's world renderer (a [`super::window::RendererFactory`]).
+/// The session's scene when it has aerial photographs, set once by `grove play`.
+static SESSION_AERIAL: OnceLock<grove_systems::scene::Scene> = OnceLock::new();
+
+/// Sets the session's scene with aerial photographs for the world renderer; only the first call
+/// has an effect. `grove play` checks beforehand that they open.
+pub fn set_session_aerial(scene: grove_systems::scene::Scene) {
+    let _ = SESSION_AERIAL.set(scene);
+}
+
+/// Makes the window's world renderer (a [`super::window::RendererFactory`]), with the session's
+/// aerial photographs.
 pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, String> {
-    Ok(Box::new(session_renderer(device, queue, format, width, height)?))
+    let mut r = session_renderer(device, queue, format, width, height)?;
+    if let Some(sources) = SESSION_AERIAL.get().map(|s| grove::aerial::open::open_sources(s, false)).transpose()?.flatten() {
+        r.set_aerial(sources)?;
+    }
+    Ok(Box::new(r))
 }
 
 /// Renders one thumbnail per model of the session's catalogue (the shipped models, then the

@@ -218,12 +218,12 @@ impl Renderer {
     /// hold.
     pub fn set_aerial(&mut self, sources: aerial_ground::AerialSources) -> Result<(), String> {
         let debug = sources.debug_lod;
-        let winter = aerial_ground::FedClipmap::new(&self.shared, sources.winter, "winter clipmap", debug)?;
+        let winter = aerial_ground::FedClipmap::new(&self.shared, sources.winter, "winter clipmap", debug, wgpu::FilterMode::Linear)?;
         self.aerial_ground = Some(aerial_ground::AerialGround::new(&self.shared, winter, sources.size_m, sources.elevation_m));
         self.canopy = match sources.layers {
             Some(layers) => {
-                let summer = aerial_ground::FedClipmap::new(&self.shared, sources.summer, "summer clipmap", debug)?;
-                let masks = aerial_ground::FedClipmap::new(&self.shared, layers, "layer mask clipmap", false)?;
+                let summer = aerial_ground::FedClipmap::new(&self.shared, sources.summer, "summer clipmap", debug, wgpu::FilterMode::Linear)?;
+                let masks = aerial_ground::FedClipmap::new(&self.shared, layers, "layer mask clipmap", false, wgpu::FilterMode::Nearest)?;
                 Some(canopy::Canopy::new(&self.shared, summer, masks, sources.layer_count.clamp(1, 8)))
             }
             None => None,

@@ -61,7 +61,7 @@ pub struct AerialDef {
 }
 
 fn default_model() -> String {
-    "broadleaf".into()
+    "broadleaf-mesh".into()
 }
 fn default_min_radius() -> f32 {
     0.5
@@ -142,14 +142,14 @@ impl AerialDef {
     }
 
     /// The component of a crown's tree: its photographed centre in world metres, its top at
-    /// `height_per_radius` radii and its base 1.8 radii lower (at least a tenth of the top).
+    /// `height_per_radius` radii and its base 1.2 radii lower (at least a tenth of the top).
     pub fn crown(&self, c: &CrownDef) -> AerialCrown {
         let top = self.height_per_radius * c.radius_m;
         AerialCrown {
             id: c.id,
             photo_centre: self.origin + Vec2::new(c.x_m, c.y_m),
             radius_m: c.radius_m,
-            base_m: (top - 1.8 * c.radius_m).max(0.1 * top),
+            base_m: (top - 1.2 * c.radius_m).max(0.1 * top),
             top_m: top,
         }
     }
@@ -243,9 +243,9 @@ mod tests {
     #[test]
     fn a_crown_stands_on_its_photographed_centre() {
         let c = def().crown(&CrownDef { id: 3, x_m: 10.0, y_m: 4.0, radius_m: 2.0 });
-        // Centre: origin (-64, -32) + (10, 4). Top 3 × 2 = 6 m, base 6 − 3.6 = 2.4 m.
+        // Centre: origin (-64, -32) + (10, 4). Top 3 × 2 = 6 m, base 6 − 2.4 = 3.6 m.
         assert_eq!(c.photo_centre, Vec2::new(-54.0, -28.0));
-        assert!((c.top_m - 6.0).abs() < 1e-6 && (c.base_m - 2.4).abs() < 1e-5, "{c:?}");
+        assert!((c.top_m - 6.0).abs() < 1e-6 && (c.base_m - 3.6).abs() < 1e-5, "{c:?}");
     }
 
     #[test]

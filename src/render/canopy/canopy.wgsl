@@ -16,10 +16,12 @@ struct CanopyParams {
 @group(2) @binding(0) var<uniform> summer: Clipmap;
 @group(2) @binding(1) var summer_tex: texture_2d_array<f32>;
 @group(2) @binding(2) var summer_sampler: sampler;
-@group(2) @binding(3) var<uniform> masks: Clipmap;
-@group(2) @binding(4) var masks_tex: texture_2d_array<f32>;
-@group(2) @binding(5) var masks_sampler: sampler;
-@group(2) @binding(6) var<uniform> params: CanopyParams;
+@group(2) @binding(3) var<uniform> params: CanopyParams;
+// The layer masks in a group of their own: lavapipe (Mesa 22/23) crashed sampling a second
+// texture array of the same group.
+@group(3) @binding(0) var<uniform> masks: Clipmap;
+@group(3) @binding(1) var masks_tex: texture_2d_array<f32>;
+@group(3) @binding(2) var masks_sampler: sampler;
 
 struct LayerIn {
     // The tree's foot (world, metres) and the crown's radius.
@@ -60,7 +62,7 @@ fn vs_main(@builtin(vertex_index) i: u32, l: LayerIn) -> VertexOut {
 // Whether this layer is treetop at the fragment: its bit in the layer mask, within the crown's
 // square (the photograph of a neighbouring crown is not drawn on a moved tree).
 fn layer_mask(in: VertexOut, min_level: u32) -> bool {
-    let m = clipmap_load(masks_tex, masks, in.photo, min_level);
+    let m = clipmap_load(masks_tex, masks_sampler, masks, in.photo, min_level);
     let bits = u32(m.r * 255.0 + 0.5);
     let inside = max(abs(in.local.x), abs(in.local.y)) < 1.2;
     return m.a > 0.5 && ((bits >> in.layer) & 1u) == 1u && inside;

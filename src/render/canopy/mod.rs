@@ -61,6 +61,7 @@ pub(crate) struct Canopy {
     shadow_layout: wgpu::PipelineLayout,
     pipelines: PipelineCache<Pipelines>,
     bind_group: wgpu::BindGroup,
+    mask_bind_group: wgpu::BindGroup,
     instances: Option<(wgpu::Buffer, u32)>,
     /// The bounds of the layers drawn this frame, for the shadow map's fit.
     pub bounds: Option<(glam::Vec3, glam::Vec3)>,
@@ -77,24 +78,25 @@ impl Canopy {
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let [a, b, c] = GpuClipmap::layout_entries(0);
-        let [d, e, f] = GpuClipmap::layout_entries(3);
         let group = shared.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("canopy layout"),
-            entries: &[a, b, c, d, e, f, super::gpu::uniform_entry(6)],
+            entries: &[a, b, c, super::gpu::uniform_entry(3)],
         });
+        let mask_group = shared.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("canopy mask layout"), entries: &GpuClipmap::layout_entries(0) });
         let [s0, s1, s2] = summer.gpu.bind_entries(0);
-        let [m0, m1, m2] = masks.gpu.bind_entries(3);
         let bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("canopy bind group"),
             layout: &group,
-            entries: &[s0, s1, s2, m0, m1, m2, wgpu::BindGroupEntry { binding: 6, resource: buffer.as_entire_binding() }],
+            entries: &[s0, s1, s2, wgpu::BindGroupEntry { binding: 3, resource: buffer.as_entire_binding() }],
         });
+        let mask_bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("canopy mask bind group"), layout: &mask_group, entries: &masks.gpu.bind_entries(0) });
         Canopy {
             module: shared.shader("canopy.wgsl", &format!("{CLIPMAP_WGSL}\n{}", include_str!("canopy.wgsl"))),
-            layout: shared.layout("canopy layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group)]),
-            shadow_layout: shared.layout("canopy shadow layout", &[Some(&shared.view_layout), None, Some(&group)]),
+            layout: shared.layout("canopy layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group), Some(&mask_group)]),
+            shadow_layout: shared.layout("canopy shadow layout", &[Some(&shared.view_layout), None, Some(&group), Some(&mask_group)]),
             pipelines: PipelineCache::new("canopy"),
             bind_group,
+            mask_bind_group,
             summer,
             masks,
             layer_count,
@@ -176,6 +178,7 @@ impl Feature for Canopy {
         let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err("canopy: the sun's key has no shadow pipeline".into()) };
         pass.set_pipeline(p);
         pass.set_bind_group(2, &self.bind_group, &[]);
+        pass.set_bind_group(3, &self.mask_bind_group, &[]);
         pass.set_vertex_buffer(0, buffer.slice(..));
         pass.draw(0..6, 0..*n);
         Ok(())
@@ -186,6 +189,7 @@ impl Feature for Canopy {
         let Pipelines::Main(p) = self.pipelines.get(key)? else { return Err("canopy: the main key has no main pipeline".into()) };
         pass.set_pipeline(p);
         pass.set_bind_group(2, &self.bind_group, &[]);
+        pass.set_bind_group(3, &self.mask_bind_group, &[]);
         pass.set_vertex_buffer(0, buffer.slice(..));
         pass.draw(0..6, 0..*n);
         stats.draws += 1;

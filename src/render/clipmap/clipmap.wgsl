@@ -69,20 +69,18 @@ fn clipmap_sample(t: texture_2d_array<f32>, s: sampler, c: Clipmap, p: vec2<f32>
     return out;
 }
 
-// The texel (nearest, no filtering) at ground point `p` from the finest level not finer than
-// `min_level` that holds it loaded: for data that must not be blended, such as the canopy's
-// layer masks. Transparent where no level has it.
-fn clipmap_load(t: texture_2d_array<f32>, c: Clipmap, p: vec2<f32>, min_level: u32) -> vec4<f32> {
+// The texel at ground point `p` through `s`, a nearest (unfiltered) repeating sampler, from the
+// finest level not finer than `min_level` that holds it loaded: for data that must not be
+// blended, such as the canopy's layer masks. Transparent where no level has it.
+fn clipmap_load(t: texture_2d_array<f32>, s: sampler, c: Clipmap, p: vec2<f32>, min_level: u32) -> vec4<f32> {
     var out = vec4<f32>(0.0);
-    let n = i32(c.size);
     for (var i = c.levels; i > min_level; i = i - 1u) {
         let li = i - 1u;
         let w = clipmap_window_pos(c, li, p);
         if (all(w >= vec2<f32>(0.0)) && all(w < vec2<f32>(c.size))) {
             let l = c.level[li];
-            let texel = vec2<i32>(floor((p - c.photo_origin) / l.texel_m));
-            let at = ((texel % n) + n) % n;
-            let v = textureLoad(t, at, i32(li), 0);
+            let uv = ((p - c.photo_origin) / l.texel_m) / c.size;
+            let v = textureSampleLevel(t, s, uv, i32(li), 0.0);
             if (v.a > 0.5) {
                 out = v;
             }

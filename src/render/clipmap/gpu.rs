@@ -2,7 +2,8 @@
 //! texels (one layer per level, addressed toroidally), the uniform of the levels' placements,
 //! and [`GpuClipmap::apply`], which writes a [`ClipmapFrame`]'s uploads and placements. The WGSL
 //! side is `clipmap.wgsl` ([`WGSL`]): `clipmap_sample` (bilinear, the finest loaded level that
-//! holds the point), `clipmap_load` (nearest, for masks) and `clipmap_min_level`.
+//! holds the point), `clipmap_load` (through a nearest sampler, for masks; see
+//! [`GpuClipmap::with_filter`]) and `clipmap_min_level`.
 //!
 //! Bindings: a feature puts a clipmap's three bindings (uniform, texture array, repeating
 //! sampler) into its own group with [`GpuClipmap::layout_entries`] and
@@ -75,6 +76,12 @@ impl GpuClipmap {
     /// An empty (transparent) clipmap of `config` for a photograph at `placement`; `label` names
     /// its texture ("summer clipmap", say) in GPU captures and errors.
     pub fn new(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str) -> Result<GpuClipmap, String> {
+        GpuClipmap::with_filter(device, config, placement, label, wgpu::FilterMode::Linear)
+    }
+
+    /// [`GpuClipmap::new`] with a sampler of `filter`: `Nearest` for data that must not be
+    /// blended between texels (the layer masks, read with `clipmap_load`).
+    pub fn with_filter(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str, filter: wgpu::FilterMode) -> Result<GpuClipmap, String> {
         check_config(config, &device.limits())?;
         if !(placement.gsd_m.is_finite() && placement.gsd_m > 0.0) || !placement.origin_m.is_finite() {
             return Err(format!("{label}: the ground sample distance must be positive and the origin finite"));
@@ -99,8 +106,8 @@ impl GpuClipmap {
             label: Some(label),
             address_mode_u: wgpu::AddressMode::Repeat,
             address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
+            mag_filter: filter,
+            min_filter: filter,
             ..Default::default()
         });
         let mut uniform = ClipmapUniform {
