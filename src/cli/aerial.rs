@@ -4,6 +4,7 @@
 //! - `grove aerial scene --crowns DIR/crowns.csv --out SCENE.ron`
 //! - `grove aerial synth --size N --seed S --out DIR`
 //! - `grove aerial eval --pair DIR [--k 1,3,5,7,9]`: quality and speed against a synthetic pair's truth
+//! - `grove aerial tile IMAGE --out DIR [--tile 256] [--force]`: a tiled mip pyramid (`aerial_tile.rs`)
 //!
 //! Outputs are written through temporary files and never replace existing files without
 //! `--force`; bad input is one line on stderr and exit code 2.
@@ -35,6 +36,8 @@ pub enum AerialCommand {
     Synth(SynthArgs),
     /// Score masks of a synthetic pair against its truth for several k, with and without equalisation.
     Eval(EvalArgs),
+    /// Cut a photograph of any size into a tiled mip pyramid on disk, streaming (docs/aerial-tiles.md).
+    Tile(super::aerial_tile::TileArgs),
 }
 
 /// The treetop rule's options, shared by `segment` and `eval`.
@@ -182,6 +185,7 @@ pub fn run(cmd: AerialCommand) -> anyhow::Result<ExitCode> {
         AerialCommand::Scene(a) => scene(a),
         AerialCommand::Synth(a) => synth(a),
         AerialCommand::Eval(a) => eval(a),
+        AerialCommand::Tile(a) => super::aerial_tile::tile(a),
     })
 }
 
