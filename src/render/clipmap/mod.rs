@@ -19,6 +19,9 @@
 //! Axes: world X is east and world Z is south (image x and image y), metres, Y up. The
 //! pyramid's texel `(0, 0)` of mip 0 has its top-left corner at [`AerialPlacement::origin_m`].
 
+pub mod place;
+pub mod toroid;
+
 use glam::{DVec2, DVec3, IVec2};
 
 /// How many levels a clipmap has and how many texels a level's side holds.
