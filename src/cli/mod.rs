@@ -1,6 +1,7 @@
 //! Subcommands of the `grove` tool, one module each, and the helpers they share.
 
 pub mod aerial;
+pub mod aerial_flight;
 pub mod aerial_tile;
 pub mod assets;
 pub mod bench;
