@@ -41,4 +41,16 @@ fn tile_a_synthetic_photograph_and_refuse_bad_input() {
     assert!(!other.exists());
     let names: Vec<String> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(names.iter().all(|n| !n.starts_with('.')), "no temporary folder is left: {names:?}");
+
+    // The flight benchmark over the pyramid, and its bad input.
+    let out = grove(&["aerial", "flight", "--pyramid", &s(&pyr), "--levels", "3", "--size", "64", "--frames", "40", "--fps", "200", "--gsd", "0.2", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["frames"], 40);
+    // The first frame writes three whole windows of 64².
+    assert_eq!(v["texels_per_frame"]["first"], 3 * 64 * 64);
+    assert_eq!(v["tiles"]["failed"], 0);
+    assert_one_line_error(&grove(&["aerial", "flight", "--pyramid", &s(&pair)]), 2, "pyramid.ron");
+    assert_one_line_error(&grove(&["aerial", "flight", "--pyramid", &s(&pyr), "--size", "100"]), 2, "power of two");
+    assert_one_line_error(&grove(&["aerial", "flight", "--pyramid", &s(&pyr), "--frames", "0"]), 2, "--frames");
 }
