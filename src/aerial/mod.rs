@@ -14,7 +14,8 @@
 //! - [`crowns`]: 8-connected components of the mask (centroid, area, equivalent radius);
 //! - [`synth`]: a synthetic park photographed straight down in summer and in winter, with truth;
 //! - [`eval`]: precision, recall and F1 of a mask and of crown centres against that truth;
-//! - [`scene`]: a grove scene with a tree at each crown.
+//! - [`scene`]: a grove scene with a tree at each crown;
+//! - [`tiles`]: tiled mip pyramids of photographs of any size, streamed to disk (issue #22).
 //!
 //! Image coordinates: x to the right (east), y down (south), in pixels; pixel (i, j) covers
 //! the square [i, i + 1) × [j, j + 1), so its centre is at (i + 0.5, j + 0.5). Metres are pixels
@@ -29,6 +30,7 @@ pub mod mask;
 pub mod raster;
 pub mod scene;
 pub mod synth;
+pub mod tiles;
 
 pub use crowns::{Crown, label_crowns};
 pub use equalize::{Luts, equalize_luts};

@@ -4,6 +4,8 @@
 //! - `grove aerial scene --crowns DIR/crowns.csv --out SCENE.ron`
 //! - `grove aerial synth --size N --seed S --out DIR`
 //! - `grove aerial eval --pair DIR [--k 1,3,5,7,9]`: quality and speed against a synthetic pair's truth
+//! - `grove aerial tile IMAGE --out DIR [--tile 256] [--force]`: a tiled mip pyramid (`aerial_tile.rs`)
+//! - `grove aerial flight --pyramid DIR`: the clipmap's CPU half on a scripted flight (`aerial_flight.rs`)
 //!
 //! Outputs are written through temporary files and never replace existing files without
 //! `--force`; bad input is one line on stderr and exit code 2.
@@ -37,6 +39,10 @@ pub enum AerialCommand {
     Eval(EvalArgs),
     /// The canopy's layer masks: one treetop mask per layer, k growing with height, one bit each.
     Layers(super::aerial_layers::LayersArgs),
+    /// Cut a photograph of any size into a tiled mip pyramid on disk, streaming (docs/aerial-tiles.md).
+    Tile(super::aerial_tile::TileArgs),
+    /// Fly a camera over a pyramid and measure the clipmap's CPU half: update time, texels per frame, memory.
+    Flight(super::aerial_flight::FlightArgs),
 }
 
 /// The treetop rule's options, shared by `segment` and `eval`.
@@ -187,6 +193,8 @@ pub fn run(cmd: AerialCommand) -> anyhow::Result<ExitCode> {
         AerialCommand::Synth(a) => synth(a),
         AerialCommand::Eval(a) => eval(a),
         AerialCommand::Layers(a) => super::aerial_layers::run(a),
+        AerialCommand::Tile(a) => super::aerial_tile::tile(a),
+        AerialCommand::Flight(a) => super::aerial_flight::flight(a),
     })
 }
 

@@ -2,6 +2,8 @@
 
 pub mod aerial;
 pub mod aerial_layers;
+pub mod aerial_flight;
+pub mod aerial_tile;
 pub mod assets;
 pub mod bench;
 pub mod bench_grass;
