@@ -116,6 +116,8 @@ fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scen
     grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res.catalogue)).map_err(|e| anyhow!(e))?;
     if let Some(aerial) = grove::aerial::open::open_sources(scene, args.debug_lod).map_err(|e| anyhow!(e))? {
         renderer.set_aerial(aerial).map_err(|e| anyhow!(e))?;
+        // A still image shows the photographs as loaded: wait (briefly) for their tiles.
+        renderer.settle_aerial(sim, std::time::Duration::from_secs(20)).map_err(|e| anyhow!(e))?;
     }
     Ok(renderer)
 }

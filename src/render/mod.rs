@@ -231,6 +231,31 @@ impl Renderer {
         Ok(())
     }
 
+    /// Streams the aerial clipmaps for `sim`'s camera until ten updates in a row, 15 ms apart,
+    /// write nothing (the tiles the view needs have arrived), for at most `timeout`: for still
+    /// images, whose one frame would otherwise show only the levels loaded by then.
+    pub fn settle_aerial(&mut self, sim: &Sim, timeout: std::time::Duration) -> Result<(), String> {
+        if self.aerial_ground.is_none() {
+            return Ok(());
+        }
+        let data = extract::FrameData::extract(sim, &self.ground.key);
+        let camera = aerial_ground::clip_camera(&data, (self.width, self.height));
+        let start = std::time::Instant::now();
+        let mut quiet = 0;
+        while quiet < 10 && start.elapsed() < timeout {
+            let mut bytes = 0;
+            if let Some(a) = &mut self.aerial_ground {
+                bytes += a.winter.update(&self.shared.queue, &camera)?;
+            }
+            if let Some(c) = &mut self.canopy {
+                bytes += c.summer.update(&self.shared.queue, &camera)? + c.masks.update(&self.shared.queue, &camera)?;
+            }
+            quiet = if bytes == 0 { quiet + 1 } else { 0 };
+            std::thread::sleep(std::time::Duration::from_millis(15));
+        }
+        Ok(())
+    }
+
     /// The bytes of clipmap texels the last frame uploaded (winter, summer and layer masks).
     pub fn aerial_upload_bytes(&self) -> u64 {
         let ground = self.aerial_ground.as_ref().map_or(0, |a| a.winter.gpu.bytes_last);
