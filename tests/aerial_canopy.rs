@@ -1,0 +1,215 @@
+//! The aerial ground and the canopy (issue #22) on a small synthetic pair made in the test
+//! (`Park` at 256 texels of 0.25 m: 64 m square): the crowns become tree entities, the winter
+//! photograph is the ground, the crowns stand as canopy layers that cast shadows, and
+//! `--debug-lod` colours the clipmap levels. Golden images are 160×120, compared with
+//! `tests/snapshots/aerial-*.png` within a stated tolerance; regenerate them with
+//! `UPDATE_SNAPSHOTS=1 cargo test --test aerial_canopy`. Each golden test also checks a property
+//! that holds whatever the snapshot says.
+
+use std::path::PathBuf;
+use std::sync::{Mutex, OnceLock};
+
+use glam::{Vec2, Vec3};
+use grove::aerial::crowns::{self, Crown};
+use grove::aerial::layers::{layer_ks, layer_masks};
+use grove::aerial::raster::write_png;
+use grove::aerial::scene::{scene_from_crowns, scene_text, SceneOptions};
+use grove::aerial::synth::{Park, Season};
+use grove::aerial::{label_crowns, MaskParams, Segmenter};
+use grove::render::offscreen::{self, Gpu};
+use grove::render::Renderer;
+use grove_systems::aerial::{AerialCrown, AerialDef};
+use grove_systems::catalogue::ModelKind;
+use grove_systems::components::{Head, Pose, Transform, Tree};
+use grove_systems::scene::Scene;
+use grove_systems::Sim;
+use image::RgbaImage;
+
+const W: u32 = 160;
+const H: u32 = 120;
+const GSD: f64 = 0.25;
+const SIZE: u32 = 256;
+
+static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
+static LOCK: Mutex<()> = Mutex::new(());
+
+fn gpu() -> &'static Gpu {
+    GPU.get_or_init(Gpu::new).as_ref().unwrap_or_else(|e| panic!("the aerial render tests need a GPU adapter (lavapipe in CI): {e}"))
+}
+
+/// The site: the pair, its layer masks and crowns in a temporary folder, and its scene.
+struct Site {
+    _dir: tempfile::TempDir,
+    scene: Scene,
+    crowns: Vec<Crown>,
+}
+
+fn site() -> Site {
+    let dir = tempfile::tempdir().unwrap();
+    let park = Park::layout(SIZE, GSD, 5);
+    let (summer, winter) = (park.render(Season::Summer), park.render(Season::Winter));
+    let seg = Segmenter::new(&summer, &winter, true).unwrap();
+    let mask = seg.mask(&MaskParams::default());
+    let found = label_crowns(&mask, SIZE, SIZE, GSD);
+    let layers = layer_masks(&seg, &layer_ks(6, 3, 21).unwrap(), 0.5, 0.5);
+    let p = |f: &str| dir.path().join(f);
+    write_png(&p("summer.png"), SIZE, SIZE, 3, &summer.data).unwrap();
+    write_png(&p("winter.png"), SIZE, SIZE, 3, &winter.data).unwrap();
+    let rgb: Vec<u8> = layers.iter().flat_map(|&b| [b, b, b]).collect();
+    write_png(&p("layers.png"), SIZE, SIZE, 3, &rgb).unwrap();
+    crowns::write_csv(&p("crowns.csv"), &found).unwrap();
+    let size_m = f64::from(SIZE) * GSD;
+    let opts = SceneOptions { name: "aerial test".into(), size_m: (size_m, size_m), min_radius_m: 0.5, kind: ModelKind::Mesh, sun: (47.3769, 8.5417, "2026-06-21T10:00:00Z".into()) };
+    let (mut scene, _) = scene_from_crowns(&found, &opts).unwrap();
+    scene.trees.clear();
+    scene.aerial = Some(AerialDef {
+        summer: "summer.png".into(),
+        winter: "winter.png".into(),
+        layers: Some("layers.png".into()),
+        gsd_m: GSD as f32,
+        origin: Vec2::splat(-size_m as f32 / 2.0),
+        elevation: 0.0,
+        crowns: Some("crowns.csv".into()),
+        model: "broadleaf-mesh".into(),
+        min_radius_m: 0.5,
+        height_per_radius: 3.0,
+        layer_count: 6,
+        crown_list: vec![],
+    });
+    std::fs::write(p("site.ron"), scene_text(&scene, "the test").unwrap()).unwrap();
+    let scene = Scene::load(&p("site.ron")).unwrap();
+    Site { _dir: dir, scene, crowns: found }
+}
+
+fn sim(site: &Site) -> Sim {
+    Sim::from_scene(&site.scene, 0).unwrap()
+}
+
+#[test]
+fn crowns_become_tree_entities_on_their_photographed_centres() {
+    let s = site();
+    let sim = sim(&s);
+    let big: Vec<&Crown> = s.crowns.iter().filter(|c| c.radius_m >= 0.5).collect();
+    assert!(big.len() >= 3, "the synthetic park has crowns: {}", big.len());
+    let mut found: Vec<(u32, Vec3)> = sim.world.query::<(&Tree, &Transform, &AerialCrown)>().iter().map(|(_, t, c)| (c.id, t.translation)).collect();
+    found.sort_by_key(|f| f.0);
+    assert_eq!(found.len(), big.len());
+    for (c, (id, pos)) in big.iter().zip(&found) {
+        // The photograph's centre is the world origin: x = x_m − 32 m, z = y_m − 32 m.
+        assert_eq!(c.id, *id);
+        assert!((pos.x - (c.x_m as f32 - 32.0)).abs() < 1e-3 && (pos.z - (c.y_m as f32 - 32.0)).abs() < 1e-3, "{c:?} at {pos}");
+    }
+    // The crowns are hashed; a scene without them is not.
+    let h = grove_systems::hash::world_hash(&sim.world, &sim.res);
+    assert!(h.component("AerialCrown").is_some());
+    let mut plain = s.scene.clone();
+    plain.aerial = None;
+    let plain = Sim::from_scene(&plain, 0).unwrap();
+    assert!(grove_systems::hash::world_hash(&plain.world, &plain.res).component("AerialCrown").is_none());
+}
+
+#[test]
+fn a_missing_photograph_or_bad_field_is_one_line() {
+    let s = site();
+    let mut scene = s.scene.clone();
+    scene.aerial.as_mut().unwrap().winter = "nowhere.png".into();
+    let e = grove::aerial::open::open_sources(&scene, false).err().expect("a missing photograph is an error");
+    assert!(e.contains("nowhere.png") && !e.contains('\n'), "{e}");
+    let text = std::fs::read_to_string(s.scene.dir.as_ref().unwrap().join("site.ron")).unwrap().replace("gsd_m: 0.25", "gsd_m: -1.0");
+    let e = Scene::parse(&text, "bad.ron").unwrap_err().to_string();
+    assert!(e.contains("gsd_m") && !e.contains('\n'), "{e}");
+}
+
+/// Renders the site from `eye` towards `target`.
+fn render(site: &Site, eye: Vec3, target: Vec3, shadows: bool, debug_lod: bool) -> RgbaImage {
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let g = gpu();
+    let mut sim = sim(site);
+    for head in sim.world.query_mut::<&mut Head>() {
+        *head = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
+    }
+    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+    r.options.shadows = shadows;
+    r.options.overlay = false;
+    r.set_aerial(grove::aerial::open::open_sources(&site.scene, debug_lod).unwrap().unwrap()).unwrap();
+    offscreen::render_image(g, &mut r, &sim).unwrap()
+}
+
+fn compare(name: &str, img: &RgbaImage, mean_abs: f64, percent_over: f64) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots").join(format!("{name}.png"));
+    if std::env::var("UPDATE_SNAPSHOTS").is_ok_and(|v| v == "1") {
+        img.save(&path).unwrap();
+        return;
+    }
+    let want = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+    assert_eq!(want.dimensions(), img.dimensions());
+    let (mut sum, mut over) = (0u64, 0u64);
+    for (a, b) in want.pixels().zip(img.pixels()) {
+        let worst = (0..3).map(|c| a.0[c].abs_diff(b.0[c])).max().unwrap();
+        sum += (0..3).map(|c| u64::from(a.0[c].abs_diff(b.0[c]))).sum::<u64>();
+        over += u64::from(worst > 40);
+    }
+    let n = f64::from(W * H);
+    let (mean, percent) = (sum as f64 / (3.0 * n), over as f64 * 100.0 / n);
+    if mean > mean_abs || percent > percent_over {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/snapshot-failures");
+        let _ = std::fs::create_dir_all(&dir);
+        let _ = img.save(dir.join(format!("{name}.png")));
+        panic!("{name}: mean abs diff {mean:.2} (limit {mean_abs}) or {percent:.2} % pixels over 40 (limit {percent_over} %)");
+    }
+}
+
+fn mean_luminance(img: &RgbaImage) -> f64 {
+    img.pixels().map(|p| 0.2126 * f64::from(p.0[0]) + 0.7152 * f64::from(p.0[1]) + 0.0722 * f64::from(p.0[2])).sum::<f64>() / f64::from(W * H)
+}
+
+/// The pixel a world point projects to with the test's camera (60° vertical field of view).
+fn project(eye: Vec3, target: Vec3, p: Vec3) -> (u32, u32) {
+    let m = grove::render::camera_matrix(&grove::render::Camera { position: eye, rotation: Pose::looking_at(eye, target).rotation, fov_y: 60f32.to_radians() }, W as f32 / H as f32);
+    let ndc = m.project_point3(p);
+    (((ndc.x * 0.5 + 0.5) * W as f32) as u32, ((0.5 - ndc.y * 0.5) * H as f32) as u32)
+}
+
+#[test]
+fn from_above_the_crowns_show_the_summer_canopy() {
+    let s = site();
+    let (eye, target) = (Vec3::new(0.0, 60.0, 0.01), Vec3::ZERO);
+    let img = render(&s, eye, target, true, false);
+    compare("aerial-canopy-above", &img, 6.0, 4.0);
+    // The largest crown's top is summer green: the winter photograph below it is not (the
+    // segmentation found it because its window is not green in winter).
+    let c = s.crowns.iter().max_by(|a, b| a.radius_m.total_cmp(&b.radius_m)).unwrap();
+    let top = 3.0 * c.radius_m as f32;
+    let (x, y) = project(eye, target, Vec3::new(c.x_m as f32 - 32.0, top, c.y_m as f32 - 32.0));
+    let p = img.get_pixel(x.min(W - 1), y.min(H - 1)).0;
+    assert!(p[1] > p[0] && p[1] > p[2], "the crown's top at ({x}, {y}) is {p:?}");
+}
+
+#[test]
+fn oblique_the_canopy_casts_shadows_on_the_photographed_ground() {
+    let s = site();
+    let (eye, target) = (Vec3::new(0.0, 25.0, 45.0), Vec3::ZERO);
+    let lit = render(&s, eye, target, true, false);
+    compare("aerial-canopy-oblique", &lit, 6.0, 4.0);
+    // The only shadow casters are the canopy layers: with shadows the image is darker.
+    let unshadowed = render(&s, eye, target, false, false);
+    let (a, b) = (mean_luminance(&lit), mean_luminance(&unshadowed));
+    assert!(a < b - 1.0, "with shadows {a:.1}, without {b:.1}");
+}
+
+#[test]
+fn debug_lod_colours_the_levels() {
+    let s = site();
+    let (eye, target) = (Vec3::new(0.0, 12.0, 30.0), Vec3::new(0.0, 0.0, -20.0));
+    let img = render(&s, eye, target, false, true);
+    compare("aerial-debug-lod", &img, 6.0, 4.0);
+    // Level 0 is red and level 1 yellow (clipmap.wgsl): the ground just ahead of the camera is
+    // red, the ground far ahead is not.
+    let red = |p: [u8; 4]| u16::from(p[0]) > 2 * u16::from(p[2]) && u16::from(p[0]) > u16::from(p[1]) + 20;
+    let near = img.get_pixel(W / 2, H - 3).0;
+    assert!(red(near), "near ground {near:?}");
+    let (x, y) = project(eye, target, Vec3::new(0.0, 0.0, -30.0));
+    let far = img.get_pixel(x, y).0;
+    assert!(!red(far), "far ground {far:?} at ({x}, {y})");
+}
+
