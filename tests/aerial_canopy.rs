@@ -213,3 +213,68 @@ fn debug_lod_colours_the_levels() {
     assert!(!red(far), "far ground {far:?} at ({x}, {y})");
 }
 
+
+/// A source that serves `inner` with every texel of level 0 not loaded (alpha 0), as a level
+/// whose tiles have not arrived yet.
+struct Level0Missing(grove::render::clipmap::ImageSource);
+
+impl grove::render::clipmap::ClipmapSource for Level0Missing {
+    fn config(&self) -> grove::render::clipmap::ClipmapConfig {
+        self.0.config()
+    }
+    fn placement(&self) -> grove::render::clipmap::AerialPlacement {
+        self.0.placement()
+    }
+    fn update(&mut self, camera: &grove::render::clipmap::ClipCamera) -> grove::render::clipmap::ClipmapFrame {
+        let mut f = self.0.update(camera);
+        for u in f.uploads.iter_mut().filter(|u| u.level == 0) {
+            u.rgba.chunks_exact_mut(4).for_each(|t| t[3] = 0);
+        }
+        f
+    }
+}
+
+#[test]
+fn a_level_not_loaded_falls_back_to_the_coarser_one() {
+    use grove::render::clipmap::{AerialPlacement, ClipmapConfig, ImageSource};
+    let s = site();
+    let (eye, target) = (Vec3::new(0.0, 12.0, 30.0), Vec3::new(0.0, 0.0, -20.0));
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let g = gpu();
+    let mut sim = sim(&s);
+    for head in sim.world.query_mut::<&mut Head>() {
+        *head = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
+    }
+    let mut sources = grove::aerial::open::open_sources(&s.scene, true).unwrap().unwrap();
+    let winter = grove::aerial::RgbImage::load(&s.scene.dir.as_ref().unwrap().join("winter.png"), "winter").unwrap();
+    let placement = AerialPlacement { origin_m: glam::DVec2::splat(-32.0), gsd_m: GSD };
+    let inner = ImageSource::from_rgb(&winter, ClipmapConfig { levels: 8, size: 256 }, placement).unwrap();
+    sources.winter = Box::new(Level0Missing(inner));
+    sources.layers = None;
+    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+    r.options.overlay = false;
+    r.set_aerial(sources).unwrap();
+    let img = offscreen::render_image(g, &mut r, &sim).unwrap();
+    // Just ahead of the camera level 0 would be red; it is not loaded, so level 1 (yellow: red
+    // and green both high) shows there.
+    let p = img.get_pixel(W / 2, H - 3).0;
+    assert!(p[0] > 60 && p[1] > 60 && u16::from(p[1]) * 10 > u16::from(p[0]) * 6 && p[2] < p[1] / 2, "near ground {p:?} is not level 1's yellow");
+}
+
+#[test]
+fn apply_counts_the_bytes_it_uploads_and_refuses_uploads_that_do_not_fit() {
+    use grove::render::clipmap::{AerialPlacement, ClipmapConfig, ClipmapFrame, GpuClipmap, LevelPlacement, Upload};
+    let g = gpu();
+    let config = ClipmapConfig { levels: 2, size: 16 };
+    let mut c = GpuClipmap::new(&g.device, config, AerialPlacement { origin_m: glam::DVec2::ZERO, gsd_m: 1.0 }, "test clipmap").unwrap();
+    let placements = vec![LevelPlacement { mip: 0, origin: glam::IVec2::ZERO }, LevelPlacement { mip: 1, origin: glam::IVec2::ZERO }];
+    // A 16 × 3 strip and a 2 × 16 one: (48 + 32) texels of 4 bytes.
+    let uploads = vec![Upload { level: 0, x: 0, y: 13, w: 16, h: 3, rgba: vec![255; 16 * 3 * 4] }, Upload { level: 1, x: 14, y: 0, w: 2, h: 16, rgba: vec![255; 2 * 16 * 4] }];
+    assert_eq!(c.apply(&g.queue, &ClipmapFrame { placements: placements.clone(), uploads }).unwrap(), 320);
+    assert_eq!((c.bytes_last, c.bytes_total), (320, 320));
+    let past_the_edge = vec![Upload { level: 0, x: 15, y: 0, w: 2, h: 1, rgba: vec![0; 8] }];
+    assert!(c.apply(&g.queue, &ClipmapFrame { placements: placements.clone(), uploads: past_the_edge }).is_err());
+    let no_such_level = vec![Upload { level: 2, x: 0, y: 0, w: 1, h: 1, rgba: vec![0; 4] }];
+    assert!(c.apply(&g.queue, &ClipmapFrame { placements, uploads: no_such_level }).is_err());
+    assert_eq!(c.bytes_total, 320);
+}
