@@ -39,6 +39,8 @@ pub enum AerialCommand {
     Eval(EvalArgs),
     /// The canopy's layer masks: one treetop mask per layer, k growing with height, one bit each.
     Layers(super::aerial_layers::LayersArgs),
+    /// A camera flight over a scene's aerial photographs, with and without the canopy: frame time, upload, memory.
+    Bench(super::aerial_bench::AerialBenchArgs),
     /// Cut a photograph of any size into a tiled mip pyramid on disk, streaming (docs/aerial-tiles.md).
     Tile(super::aerial_tile::TileArgs),
     /// Fly a camera over a pyramid and measure the clipmap's CPU half: update time, texels per frame, memory.
@@ -193,6 +195,7 @@ pub fn run(cmd: AerialCommand) -> anyhow::Result<ExitCode> {
         AerialCommand::Synth(a) => synth(a),
         AerialCommand::Eval(a) => eval(a),
         AerialCommand::Layers(a) => super::aerial_layers::run(a),
+        AerialCommand::Bench(a) => super::aerial_bench::run(a),
         AerialCommand::Tile(a) => super::aerial_tile::tile(a),
         AerialCommand::Flight(a) => super::aerial_flight::flight(a),
     })

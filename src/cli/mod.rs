@@ -2,6 +2,7 @@
 
 pub mod aerial;
 pub mod aerial_layers;
+pub mod aerial_bench;
 pub mod aerial_flight;
 pub mod aerial_tile;
 pub mod assets;

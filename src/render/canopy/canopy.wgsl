@@ -68,14 +68,25 @@ fn layer_mask(in: VertexOut, min_level: u32) -> bool {
     return m.a > 0.5 && ((bits >> in.layer) & 1u) == 1u && inside;
 }
 
+// The main view's depth pre-pass: depth where the layer is treetop and the photograph loaded,
+// so the shading below runs once per pixel however many layers overlap there.
+@fragment
+fn fs_prepass(in: VertexOut) {
+    let min_level = clipmap_min_level(masks, in.photo);
+    if (!layer_mask(in, min_level)) {
+        discard;
+    }
+    let t = clipmap_sample(summer_tex, summer_sampler, summer, in.photo, min_level);
+    if (t.a < 0.5) {
+        discard;
+    }
+}
+
+// Shading at equal depth after the pre-pass: only the nearest treetop layer of each pixel.
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let min_level = clipmap_min_level(masks, in.photo);
-    let keep = layer_mask(in, min_level);
     let t = clipmap_sample(summer_tex, summer_sampler, summer, in.photo, min_level);
-    if (!keep || t.a < 0.5) {
-        discard;
-    }
     // Lower layers a little darker (less sky reaches inside the crown), and a normal leaning
     // outwards from the centre so the crown reads as rounded.
     let depth = (f32(in.layer) + 1.0) / max(params.layer_count, 1.0);

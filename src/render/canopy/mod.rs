@@ -45,7 +45,9 @@ pub(crate) fn layer_instances(crowns: &[CrownDraw], layers: u32) -> Vec<LayerIns
 
 /// The canopy's pipelines of one key.
 enum Pipelines {
-    Main(wgpu::RenderPipeline),
+    /// The depth pre-pass and the shading at equal depth.
+    Main(wgpu::RenderPipeline, wgpu::RenderPipeline),
+    /// The sun's depth.
     Shadow(wgpu::RenderPipeline),
 }
 
@@ -111,36 +113,37 @@ impl Canopy {
     }
 }
 
-/// The canopy's pipelines of `key`: shaded layers for the main view, depth for the sun's.
+/// The canopy's pipelines of `key`: for the main view a depth pre-pass and the shading at equal
+/// depth, for the sun's view depth.
 fn build(shared: &Shared, c: &Canopy, key: PipelineKey) -> Result<Pipelines, String> {
     const ATTRS: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4];
     let buffers = [Some(wgpu::VertexBufferLayout { array_stride: 32, step_mode: wgpu::VertexStepMode::Instance, attributes: &ATTRS })];
-    let targets = color_target(key.format, wgpu::ColorWrites::ALL);
     let constants = key.lit_constants();
-    let (label, layout, fragment, depth, targets): (_, _, _, _, &[Option<wgpu::ColorTargetState>]) = match key.view {
-        ViewKind::Main => ("canopy pipeline", &c.layout, "fs_main", depth_test(true, wgpu::CompareFunction::Less), &targets),
-        ViewKind::Sun => (
-            "canopy shadow pipeline",
-            &c.shadow_layout,
-            "fs_depth",
-            wgpu::DepthStencilState { format: SHADOW_FORMAT, bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) },
-            &[],
-        ),
+    let pipeline = |label, layout, fragment, depth, targets: &[Option<wgpu::ColorTargetState>]| {
+        shared.pipeline(&PipelineSpec {
+            label,
+            layout,
+            module: &c.module,
+            vertex: "vs_main",
+            fragment: Some(fragment),
+            buffers: &buffers,
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull: None,
+            depth,
+            targets,
+            constants: &constants,
+        })
     };
-    let p = shared.pipeline(&PipelineSpec {
-        label,
-        layout,
-        module: &c.module,
-        vertex: "vs_main",
-        fragment: Some(fragment),
-        buffers: &buffers,
-        topology: wgpu::PrimitiveTopology::TriangleList,
-        cull: None,
-        depth,
-        targets,
-        constants: &constants,
-    });
-    Ok(if key.view == ViewKind::Main { Pipelines::Main(p) } else { Pipelines::Shadow(p) })
+    Ok(match key.view {
+        ViewKind::Main => Pipelines::Main(
+            pipeline("canopy depth pre-pass", &c.layout, "fs_prepass", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),
+            pipeline("canopy pipeline", &c.layout, "fs_main", depth_test(false, wgpu::CompareFunction::Equal), &color_target(key.format, wgpu::ColorWrites::ALL)),
+        ),
+        ViewKind::Sun => {
+            let depth = wgpu::DepthStencilState { format: SHADOW_FORMAT, bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) };
+            Pipelines::Shadow(pipeline("canopy shadow pipeline", &c.shadow_layout, "fs_depth", depth, &[]))
+        }
+    })
 }
 
 impl Feature for Canopy {
@@ -186,14 +189,16 @@ impl Feature for Canopy {
 
     fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
         let (Phase::AlphaClipped, Some((buffer, n))) = (phase, &self.instances) else { return Ok(()) };
-        let Pipelines::Main(p) = self.pipelines.get(key)? else { return Err("canopy: the main key has no main pipeline".into()) };
-        pass.set_pipeline(p);
+        let Pipelines::Main(prepass, shade) = self.pipelines.get(key)? else { return Err("canopy: the main key has no main pipeline".into()) };
         pass.set_bind_group(2, &self.bind_group, &[]);
         pass.set_bind_group(3, &self.mask_bind_group, &[]);
         pass.set_vertex_buffer(0, buffer.slice(..));
-        pass.draw(0..6, 0..*n);
-        stats.draws += 1;
-        stats.triangles += 2 * *n as usize;
+        for p in [prepass, shade] {
+            pass.set_pipeline(p);
+            pass.draw(0..6, 0..*n);
+        }
+        stats.draws += 2;
+        stats.triangles += 4 * *n as usize;
         Ok(())
     }
 }

@@ -49,8 +49,8 @@ fn clipmap_window_pos(c: Clipmap, i: u32, p: vec2<f32>) -> vec2<f32> {
 fn clipmap_sample(t: texture_2d_array<f32>, s: sampler, c: Clipmap, p: vec2<f32>, min_level: u32) -> vec4<f32> {
     var out = vec4<f32>(0.0);
     var chosen = 99u;
-    for (var i = c.levels; i > min_level; i = i - 1u) {
-        let li = i - 1u;
+    // Finest first, stopping at the first loaded texel: usually one sample.
+    for (var li = min_level; li < c.levels; li = li + 1u) {
         let w = clipmap_window_pos(c, li, p);
         if (all(w >= vec2<f32>(1.0)) && all(w <= vec2<f32>(c.size - 1.0))) {
             let l = c.level[li];
@@ -59,6 +59,7 @@ fn clipmap_sample(t: texture_2d_array<f32>, s: sampler, c: Clipmap, p: vec2<f32>
             if (v.a > 0.995) {
                 out = v;
                 chosen = li;
+                break;
             }
         }
     }
@@ -74,8 +75,7 @@ fn clipmap_sample(t: texture_2d_array<f32>, s: sampler, c: Clipmap, p: vec2<f32>
 // blended, such as the canopy's layer masks. Transparent where no level has it.
 fn clipmap_load(t: texture_2d_array<f32>, s: sampler, c: Clipmap, p: vec2<f32>, min_level: u32) -> vec4<f32> {
     var out = vec4<f32>(0.0);
-    for (var i = c.levels; i > min_level; i = i - 1u) {
-        let li = i - 1u;
+    for (var li = min_level; li < c.levels; li = li + 1u) {
         let w = clipmap_window_pos(c, li, p);
         if (all(w >= vec2<f32>(0.0)) && all(w < vec2<f32>(c.size))) {
             let l = c.level[li];
@@ -83,6 +83,7 @@ fn clipmap_load(t: texture_2d_array<f32>, s: sampler, c: Clipmap, p: vec2<f32>, 
             let v = textureSampleLevel(t, s, uv, i32(li), 0.0);
             if (v.a > 0.5) {
                 out = v;
+                break;
             }
         }
     }
