@@ -55,7 +55,7 @@ pub struct AerialDef {
     /// The canopy's layers, 1..=8, between the crown base and the top.
     #[serde(default = "default_layer_count")]
     pub layer_count: u32,
-    /// The crowns read from `crowns` by [`crate::scene::Scene::load`]; not part of the file.
+    /// The crowns read from `crowns` by `Scene::load`; not part of the file.
     #[serde(skip)]
     pub crown_list: Vec<CrownDef>,
 }
@@ -161,18 +161,27 @@ impl AerialDef {
 /// coordinate limit. Errors are one line naming the file and the row.
 pub fn read_crowns(path: &Path) -> Result<Vec<CrownDef>, String> {
     let name = path.display();
-    let meta = std::fs::metadata(path).map_err(|e| format!("{name}: {}", crate::scene::io_message(&e)))?;
+    let meta = std::fs::metadata(path).map_err(|e| format!("{name}: {}", io_line(&e)))?;
     if !meta.is_file() {
         return Err(format!("{name}: not a regular file"));
     }
-    let file = std::fs::File::open(path).map_err(|e| format!("{name}: {}", crate::scene::io_message(&e)))?;
+    let file = std::fs::File::open(path).map_err(|e| format!("{name}: {}", io_line(&e)))?;
     let mut bytes = Vec::new();
-    file.take(MAX_CROWNS_BYTES + 1).read_to_end(&mut bytes).map_err(|e| format!("{name}: {}", crate::scene::io_message(&e)))?;
+    file.take(MAX_CROWNS_BYTES + 1).read_to_end(&mut bytes).map_err(|e| format!("{name}: {}", io_line(&e)))?;
     if bytes.len() as u64 > MAX_CROWNS_BYTES {
         return Err(format!("{name}: larger than the limit of {MAX_CROWNS_BYTES} bytes"));
     }
     let text = String::from_utf8(bytes).map_err(|_| format!("{name}: not valid UTF-8 text"))?;
     parse_crowns(&text).map_err(|e| format!("{name}: {e}"))
+}
+
+/// An I/O error as a short phrase on one line.
+fn io_line(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        _ => e.to_string().replace('\n', " "),
+    }
 }
 
 /// Parses the text of a crowns file (see [`read_crowns`]).
