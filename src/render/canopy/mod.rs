@@ -43,6 +43,21 @@ pub(crate) fn layer_instances(crowns: &[CrownDraw], layers: u32) -> Vec<LayerIns
     out
 }
 
+/// Whether a crown's layers, or the shadows they cast nearby, may be seen through `view_proj`:
+/// its bounding sphere, grown by twice its height for the shadows, against the frustum's planes.
+pub(crate) fn in_view(view_proj: &glam::Mat4, c: &CrownDraw) -> bool {
+    let centre = c.foot + glam::Vec3::Y * (0.5 * (c.base_m + c.top_m));
+    let r = 1.8 * c.radius_m + 0.5 * (c.top_m - c.base_m) + 2.0 * c.top_m;
+    let m = view_proj.transpose();
+    let (x, y, z, w) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
+    // Left, right, bottom, top, near (depth 0..1) and far planes of a wgpu projection.
+    [w + x, w - x, w + y, w - y, z, w - z].iter().all(|p| {
+        let n = p.truncate();
+        let len = n.length().max(1e-12);
+        (n.dot(centre) + p.w) / len >= -r
+    })
+}
+
 /// The canopy's pipelines of one key.
 enum Pipelines {
     /// The depth pre-pass and the shading at equal depth.
@@ -151,8 +166,10 @@ impl Feature for Canopy {
         let camera = clip_camera(cx.data, cx.size);
         self.summer.update(&cx.shared.queue, &camera)?;
         self.masks.update(&cx.shared.queue, &camera)?;
-        let layers = layer_instances(&cx.data.crowns, self.layer_count);
-        self.bounds = cx.data.crowns.iter().fold(None, |b, c| {
+        let view_proj = super::view::camera_matrix(&cx.data.camera, cx.size.0.max(1) as f32 / cx.size.1.max(1) as f32);
+        let visible: Vec<CrownDraw> = cx.data.crowns.iter().filter(|c| in_view(&view_proj, c)).copied().collect();
+        let layers = layer_instances(&visible, self.layer_count);
+        self.bounds = visible.iter().fold(None, |b, c| {
             let r = glam::Vec3::new(c.radius_m * 1.25, 0.0, c.radius_m * 1.25);
             let lo = c.foot - r + glam::Vec3::Y * c.base_m;
             let hi = c.foot + r + glam::Vec3::Y * c.top_m;
@@ -208,6 +225,23 @@ mod tests {
     use glam::{Vec2, Vec3};
 
     use super::*;
+
+    #[test]
+    fn crowns_behind_the_camera_or_far_to_the_side_are_culled() {
+        use crate::render::view::{camera_matrix, Camera};
+        // The camera at the origin looks north (−Z) with a 60° field of view.
+        let m = camera_matrix(&Camera { position: Vec3::ZERO, rotation: glam::Quat::IDENTITY, fov_y: 60f32.to_radians() }, 1.0);
+        let crown = |x: f32, z: f32| CrownDraw { foot: Vec3::new(x, 0.0, z), photo_centre: Vec2::ZERO, radius_m: 1.0, base_m: 2.0, top_m: 4.0 };
+        // Ahead, 50 m away: seen. Its sphere: centre 3 m up, radius 1.8 + 1 + 8 = 10.8 m.
+        assert!(in_view(&m, &crown(0.0, -50.0)));
+        // 50 m behind: the near plane (z = 0 in view space) is 50 m from it, more than 10.8.
+        assert!(!in_view(&m, &crown(0.0, 50.0)));
+        // 50 m ahead and 60 m to the east: the right plane, 30° from the view axis, is
+        // 60 cos 30° − 50 sin 30° ≈ 27 m from it.
+        assert!(!in_view(&m, &crown(60.0, -50.0)));
+        // Beyond the far plane (600 m).
+        assert!(!in_view(&m, &crown(0.0, -700.0)));
+    }
 
     #[test]
     fn layers_stand_evenly_from_base_to_top() {
