@@ -278,3 +278,39 @@ fn apply_counts_the_bytes_it_uploads_and_refuses_uploads_that_do_not_fit() {
     assert!(c.apply(&g.queue, &ClipmapFrame { placements, uploads: no_such_level }).is_err());
     assert_eq!(c.bytes_total, 320);
 }
+
+/// Runs the grove binary; its exit code and stderr.
+fn grove(args: &[&str]) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_grove")).args(args).env("XDG_RUNTIME_DIR", std::env::temp_dir()).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn the_cli_refuses_bad_aerial_input_with_one_line_and_exit_2() {
+    let s = site();
+    let dir = s.scene.dir.clone().unwrap();
+    let text = std::fs::read_to_string(dir.join("site.ron")).unwrap();
+    let out = dir.join("out.png");
+    let cases = [
+        ("missing winter photograph", text.replace("winter: \"winter.png\"", "winter: \"gone.png\""), "gone.png"),
+        ("truncated crowns file", text.replace("crowns: Some(\"crowns.csv\")", "crowns: Some(\"short.csv\")"), "short.csv"),
+        ("bad layer count", text.replace("layer_count: 6", "layer_count: 12"), "layer_count"),
+        ("absolute path", text.replace("summer: \"summer.png\"", "summer: \"/etc/hostname\""), "summer"),
+    ];
+    std::fs::write(dir.join("short.csv"), "id,x_m,y_m,radius_m\n1,2.0,3").unwrap();
+    for (what, scene, needle) in cases {
+        let path = dir.join("bad.ron");
+        std::fs::write(&path, scene).unwrap();
+        let (code, err) = grove(&["render", "--scene", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "32", "--height", "24"]);
+        let lines: Vec<&str> = err.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR")).collect();
+        assert_eq!(code, 2, "{what}: {err}");
+        assert!(lines.len() == 1 && lines[0].contains(needle), "{what}: {err}");
+        assert!(!out.exists(), "{what}: no image is written");
+    }
+    // grove aerial layers: a count past 8 layers and a missing photograph.
+    let summer = dir.join("summer.png");
+    let (code, err) = grove(&["aerial", "layers", summer.to_str().unwrap(), summer.to_str().unwrap(), "--out", dir.join("l.png").to_str().unwrap(), "--layers", "9"]);
+    assert!(code == 2 && err.trim().lines().count() == 1 && err.contains("--layers 9"), "{err}");
+    let (code, err) = grove(&["aerial", "layers", "nowhere.png", summer.to_str().unwrap(), "--out", dir.join("l.png").to_str().unwrap()]);
+    assert!(code == 2 && err.trim().lines().count() == 1 && err.contains("nowhere.png"), "{err}");
+}
