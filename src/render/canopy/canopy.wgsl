@@ -2,7 +2,8 @@
 // its base and top height, each a square around the tree's current position, textured from the
 // summer photograph around the crown's photographed centre where the layer's own mask bit says
 // treetop (the masks' k grows with height, so upper layers are smaller and the crown rounds off),
-// with a slight texture shift per layer. Alpha-tested, lit by the sun, casting shadows.
+// with a slight texture shift per layer. Alpha-tested, lit by the sun, casting shadows (from the
+// lowest layer, whose outline holds the others).
 // lighting.wgsl and clipmap.wgsl are prepended (src/render/canopy/mod.rs).
 
 struct CanopyParams {
@@ -97,7 +98,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     return vec4<f32>(tone(aerial(c, in.world_pos)), 1.0);
 }
 
-// The shadow pass: depth where the layer is treetop.
+// The shadow pass (the lowest layer only, src/render/canopy/mod.rs): depth where it is treetop.
 @fragment
 fn fs_depth(in: VertexOut) {
     if (!layer_mask(in, 0u)) {
