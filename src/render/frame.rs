@@ -244,7 +244,7 @@ impl Renderer {
             self.grass.draw(Phase::Opaque, &mut pass, key, s)?;
             // The sky where nothing was drawn.
             self.sky.draw(Phase::Sky, &mut pass, key, s)?;
-            // Blended: no feature yet (the aerial canopy goes here, far to near).
+            // Blended: no feature yet (the aerial canopy is alpha-clipped, drawn after the trees).
             if options.overlay {
                 self.overlay.draw(Phase::Overlay, &mut pass, key, s)?;
             }
