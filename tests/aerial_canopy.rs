@@ -314,3 +314,32 @@ fn the_cli_refuses_bad_aerial_input_with_one_line_and_exit_2() {
     let (code, err) = grove(&["aerial", "layers", "nowhere.png", summer.to_str().unwrap(), "--out", dir.join("l.png").to_str().unwrap()]);
     assert!(code == 2 && err.trim().lines().count() == 1 && err.contains("nowhere.png"), "{err}");
 }
+
+#[test]
+fn a_moved_crown_tree_takes_its_canopy_along() {
+    let s = site();
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let g = gpu();
+    let mut sim = sim(&s);
+    let (eye, target) = (Vec3::new(0.0, 60.0, 0.01), Vec3::ZERO);
+    for head in sim.world.query_mut::<&mut Head>() {
+        *head = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
+    }
+    // The largest crown's tree, moved 12 m towards the centre along X; another crown removed.
+    let (big, crown) = sim.world.query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
+    let dx = if crown.photo_centre.x > 0.0 { -12.0 } else { 12.0 };
+    sim.world.get::<&mut Transform>(big).unwrap().translation.x += dx;
+    let other = sim.world.query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, _)| e).find(|e| *e != big).unwrap();
+    let before = sim.world.query::<&AerialCrown>().iter().count();
+    sim.world.despawn(other).unwrap();
+    assert_eq!(sim.world.query::<&AerialCrown>().iter().count(), before - 1);
+    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+    r.options.overlay = false;
+    r.set_aerial(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
+    let img = offscreen::render_image(g, &mut r, &sim).unwrap();
+    // The crown's top is green at its new place.
+    let foot = sim.world.get::<&Transform>(big).unwrap().translation;
+    let (x, y) = project(eye, target, foot + Vec3::Y * crown.top_m);
+    let p = img.get_pixel(x.min(W - 1), y.min(H - 1)).0;
+    assert!(p[1] > p[0] && p[1] > p[2], "the moved crown's top at ({x}, {y}) is {p:?}");
+}
