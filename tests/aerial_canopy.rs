@@ -343,3 +343,28 @@ fn a_moved_crown_tree_takes_its_canopy_along() {
     let p = img.get_pixel(x.min(W - 1), y.min(H - 1)).0;
     assert!(p[1] > p[0] && p[1] > p[2], "the moved crown's top at ({x}, {y}) is {p:?}");
 }
+
+#[test]
+fn the_commands_make_and_render_an_aerial_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |f: &str| dir.path().join(f).to_str().unwrap().to_string();
+    let ok = |args: &[&str]| {
+        let (code, err) = grove(args);
+        assert_eq!(code, 0, "grove {args:?}: {err}");
+    };
+    ok(&["aerial", "synth", "--size", "128", "--gsd", "0.25", "--seed", "4", "--out", &p("")]);
+    ok(&["aerial", "segment", "--summer", &p("summer.png"), "--winter", &p("winter.png"), "--gsd", "0.25", "--out", &p("seg")]);
+    ok(&["aerial", "layers", &p("summer.png"), &p("winter.png"), "--out", &p("layers.png"), "--layers", "4", "--k-top", "9"]);
+    ok(&["aerial", "scene", "--crowns", &p("seg/crowns.csv"), "--out", &p("site.ron"), "--aerial", "--summer", &p("summer.png"), "--winter", &p("winter.png"), "--layers", &p("layers.png")]);
+    let scene = Scene::load(&dir.path().join("site.ron")).unwrap();
+    let a = scene.aerial.as_ref().unwrap();
+    // The paths are relative to the scene's folder; the photograph's centre is the origin.
+    assert_eq!((a.summer.as_str(), a.layers.as_deref(), a.crowns.as_deref()), ("summer.png", Some("layers.png"), Some("seg/crowns.csv")));
+    assert_eq!(a.origin, Vec2::splat(-16.0));
+    assert!(scene.trees.is_empty() && !a.crown_list.is_empty());
+    // The layer masks hold 4 bits at most.
+    let masks = image::open(dir.path().join("layers.png")).unwrap().to_rgb8();
+    assert!(masks.pixels().all(|t| t.0[0] < 16) && masks.pixels().any(|t| t.0[0] != 0));
+    ok(&["render", "--scene", &p("site.ron"), "--out", &p("a.png"), "--width", "64", "--height", "48", "--debug-lod"]);
+    assert!(dir.path().join("a.png").is_file());
+}
