@@ -214,6 +214,17 @@ impl Renderer {
         self.trees.models[idx] = Some(model);
     }
 
+    /// Sets the folder of the impostor atlas cache for models loaded from now on (`None`: bake
+    /// every model). The default comes from the environment (`trees::impostor::cache`).
+    pub fn set_impostor_cache(&mut self, dir: Option<PathBuf>) {
+        self.trees.impostor_cache = dir;
+    }
+
+    /// How many impostor atlases this renderer baked (the others were read from the cache).
+    pub fn impostor_bakes(&self) -> usize {
+        self.trees.impostor_bakes
+    }
+
     /// The model drawn for `id`, if one is loaded.
     pub fn model(&self, id: ModelId) -> Option<&GpuModel> {
         self.trees.models.get(usize::from(id.0)).and_then(|m| m.as_ref())

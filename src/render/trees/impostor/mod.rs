@@ -13,9 +13,13 @@
 //!   (or to the sun in the shadow map), alpha-tested, lit with the baked normals, and leaned by
 //!   the tree's wind state (`WindState::bend`) as its trunk would be.
 //!
+//! - **Cache** ([`cache`]): the atlases are kept on disk, keyed by the model's content and the
+//!   bake, so each model is baked once.
+//!
 //! Directions are model space (+Y up, metres); the quad turns with the tree's yaw.
 
 pub mod bake;
+pub mod cache;
 pub(crate) mod draw;
 
 use glam::{UVec2, Vec2, Vec3, Vec4};
