@@ -73,7 +73,7 @@ pub struct BenchArgs {
     pub leaf_pixels: f32,
     /// On-screen size in pixels below which trees are drawn as impostors in the render
     /// benchmarks (0: every tree a mesh).
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = non_negative)]
     pub impostor_pixels: f32,
 }
 

@@ -58,6 +58,10 @@ pub fn default_assets_dir() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"))
 }
 
+/// The default on-screen size, pixels, below which trees are impostors
+/// ([`RenderOptions::impostor_pixels`]).
+pub const DEFAULT_IMPOSTOR_PIXELS: f32 = 150.0;
+
 /// Rendering options.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderOptions {
@@ -83,14 +87,16 @@ pub struct RenderOptions {
     /// selection and the task's targets).
     pub overlay: bool,
     /// The on-screen size, in pixels, of a tree's bounding sphere below which it is drawn as an
-    /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 (the
-    /// default, which the golden images use) draws every tree as a mesh.
+    /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 draws
+    /// every tree as a mesh. The default, [`DEFAULT_IMPOSTOR_PIXELS`], keeps the reference
+    /// scene's image within a mean absolute error of 4 of 255 per channel of the full-detail
+    /// render (README, `grove bench render-reference`).
     pub impostor_pixels: f32,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: 0.0 }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS }
     }
 }
 
