@@ -145,7 +145,9 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayou
     } else {
         ImpostorPipeline {
             depth: spec(lit, "fs_impostor_depth", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),
-            shade: Some(spec(lit, "fs_impostor", depth_test(false, wgpu::CompareFunction::Equal), &color_target(key.format, wgpu::ColorWrites::ALL))),
+            // At the pre-pass's depth (the shader moves its own a hair nearer, see
+            // IMPOSTOR_SHADE_EPSILON in impostor.wgsl).
+            shade: Some(spec(lit, "fs_impostor", depth_test(false, wgpu::CompareFunction::LessEqual), &color_target(key.format, wgpu::ColorWrites::ALL))),
         }
     }
 }

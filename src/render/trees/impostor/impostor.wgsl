@@ -40,6 +40,9 @@ struct ImpostorOut {
     @location(1) uv: vec2<f32>,
     @location(2) @interpolate(flat) fade: f32,
     @location(3) @interpolate(flat) yaw: f32,
+    // The view's direction towards the viewer, world space (xyz), and the bounding sphere's
+    // radius in metres (w): the atlas depth moves a fragment along it.
+    @location(4) @interpolate(flat) toward: vec4<f32>,
 };
 
 fn imp_rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
@@ -78,7 +81,21 @@ fn vs_impostor(@builtin(vertex_index) vi: u32, v: ImpostorIn) -> ImpostorOut {
     out.uv = (cell + vec2<f32>((q.x + 1.0) * 0.5, (1.0 - q.y) * 0.5)) / IMPOSTOR_GRID;
     out.fade = v.fade;
     out.yaw = v.yaw;
+    out.toward = vec4<f32>(imp_rotate_y(d, v.yaw), imp.radius * v.scale);
     return out;
+}
+
+// The point of the tree's surface a fragment shows, world space: the quad lies in the plane
+// through the sphere's centre, and the atlas depth (0 at the side facing the viewer, 1 at the
+// far side of the sphere) moves the point towards or away from the viewer.
+fn impostor_surface(in: ImpostorOut, depth: f32) -> vec3<f32> {
+    return in.world_pos + in.toward.xyz * (in.toward.w * (1.0 - 2.0 * depth));
+}
+
+// The depth-buffer value of a world-space point in this pass's view.
+fn impostor_clip_depth(p: vec3<f32>) -> f32 {
+    let c = frame.view_proj * vec4<f32>(p, 1.0);
+    return c.z / c.w;
 }
 
 // Whether a fragment of the impostor is kept: covered in the atlas and on the impostor's side
@@ -87,26 +104,45 @@ fn impostor_kept(coverage: f32, pixel: vec2<f32>, fade: f32) -> bool {
     return coverage >= 0.5 && impostor_dither(pixel) < fade;
 }
 
-// Shades an impostor fragment. It never discards: the depth pre-pass (fs_impostor_depth, with
-// the camera's view) kept the fragment, and this pass runs at equal depth, so each pixel is
-// shaded once however many impostors overlap it.
+struct ImpostorShaded {
+    @location(0) colour: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+// How far the shading pass's depth lies in front of the pre-pass's, so that its test
+// (less-or-equal) keeps the fragment the pre-pass kept even where the two pipelines round the
+// same depth differently: a few units in the last place near 1.
+const IMPOSTOR_SHADE_EPSILON: f32 = 3e-7;
+
+// Shades an impostor fragment at the depth of the surface it shows. The depth pre-pass
+// (fs_impostor_depth, with the camera's view) wrote the nearest kept fragment's depth, and this
+// pass passes only at that depth, so each pixel is shaded once however many impostors overlap
+// it. Fragments the pre-pass discarded are discarded again first.
 @fragment
-fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
+fn fs_impostor(in: ImpostorOut) -> ImpostorShaded {
     let a = textureSample(imp_albedo, imp_sampler, in.uv);
+    if (!impostor_kept(a.a, in.clip.xy, in.fade)) {
+        discard;
+    }
     let nd = textureSample(imp_normal, imp_sampler, in.uv);
+    let surface = impostor_surface(in, nd.a);
     // Empty texels hold zero colour, so a filtered texel at the silhouette is divided back.
     let albedo = a.rgb / max(a.a, 1e-3);
     let nm = imp_rotate_y(nd.xyz * 2.0 - 1.0, in.yaw);
     let n = select(vec3<f32>(0.0, 1.0, 0.0), nm * inverseSqrt(max(dot(nm, nm), 1e-12)), dot(nm, nm) > 1e-6);
-    let c = shade(albedo, n, in.world_pos, 0.0, 0.8, 0.3);
-    return vec4<f32>(tone(c), 1.0);
+    let c = shade(albedo, n, surface, 0.0, 0.8, 0.3);
+    return ImpostorShaded(vec4<f32>(tone(c), 1.0), impostor_clip_depth(surface) - IMPOSTOR_SHADE_EPSILON);
 }
 
-// Depth only, for the shadow map and the main view's pre-pass: coverage and dither.
+// Depth only, for the shadow map and the main view's pre-pass: coverage and dither, at the
+// depth of the surface from the atlas, so far trees meet the ground where their trunks stand
+// and shadows fall from the crown's shape rather than from a flat card.
 @fragment
-fn fs_impostor_depth(in: ImpostorOut) {
+fn fs_impostor_depth(in: ImpostorOut) -> @builtin(frag_depth) f32 {
     let a = textureSample(imp_albedo, imp_sampler, in.uv).a;
     if (!impostor_kept(a, in.clip.xy, in.fade)) {
         discard;
     }
+    let depth = textureSample(imp_normal, imp_sampler, in.uv).a;
+    return impostor_clip_depth(impostor_surface(in, depth));
 }
