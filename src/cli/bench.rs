@@ -36,8 +36,9 @@ pub enum Which {
     /// Grass: Fukuda et al.'s 1 km² shell field with and without grass, and 10k to 1M blades at
     /// 640x360 and 1280x720.
     Grass,
-    /// The reference scene, a 10k-tree forest, the water test and grass on a real GPU, timed with
-    /// timestamp queries (fails on a software adapter such as lavapipe).
+    /// The reference scene, a 10k-tree forest, the water test and grass on a real GPU, and the
+    /// forest scene and a million trees at 1920x1080, timed with timestamp queries (fails on a
+    /// software adapter such as lavapipe).
     RenderGpu,
     /// Fukuda et al.'s water test: 500 m of water 50 m deep under the sky, with and without
     /// water, at 1280x720.
