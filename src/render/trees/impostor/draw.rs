@@ -141,13 +141,11 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayou
             bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
             ..depth_test(true, wgpu::CompareFunction::Less)
         };
-        ImpostorPipeline { depth: spec(shadow, "fs_impostor_depth", depth, &[]), shade: None }
+        ImpostorPipeline { depth: spec(shadow, "fs_impostor_shadow", depth, &[]), shade: None }
     } else {
         ImpostorPipeline {
             depth: spec(lit, "fs_impostor_depth", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),
-            // At the pre-pass's depth (the shader moves its own a hair nearer, see
-            // IMPOSTOR_SHADE_EPSILON in impostor.wgsl).
-            shade: Some(spec(lit, "fs_impostor", depth_test(false, wgpu::CompareFunction::LessEqual), &color_target(key.format, wgpu::ColorWrites::ALL))),
+            shade: Some(spec(lit, "fs_impostor", depth_test(false, wgpu::CompareFunction::Equal), &color_target(key.format, wgpu::ColorWrites::ALL))),
         }
     }
 }

@@ -167,26 +167,13 @@ fn impostor_kept(coverage: f32, pixel: vec2<f32>, fade: f32) -> bool {
     return coverage >= 0.5 && impostor_dither(pixel) < fade;
 }
 
-struct ImpostorShaded {
-    @location(0) colour: vec4<f32>,
-    @builtin(frag_depth) depth: f32,
-};
-
-// How far the shading pass's depth lies in front of the pre-pass's, so that its test
-// (less-or-equal) keeps the fragment the pre-pass kept even where the two pipelines round the
-// same depth differently: a few units in the last place near 1.
-const IMPOSTOR_SHADE_EPSILON: f32 = 3e-7;
-
-// Shades an impostor fragment at the depth of the surface it shows. The depth pre-pass
-// (fs_impostor_depth, with the camera's view) wrote the nearest kept fragment's depth, and this
-// pass passes only at that depth, so each pixel is shaded once however many impostors overlap
-// it. Fragments the pre-pass discarded are discarded again first.
+// Shades an impostor fragment. It never discards: the depth pre-pass (fs_impostor_depth, with
+// the camera's view) kept the fragment, and this pass runs at equal depth (the quad's), so
+// each pixel is shaded once however many impostors overlap it, and the early depth test skips
+// the rest before any shading. The atlas depth places the point that is lit.
 @fragment
-fn fs_impostor(in: ImpostorOut) -> ImpostorShaded {
+fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
     let a = imp_albedo_at(in);
-    if (!impostor_kept(a.a, in.clip.xy, in.fade)) {
-        discard;
-    }
     let nd = imp_normal_at(in);
     let surface = impostor_surface(in, nd.a);
     // Empty texels hold zero colour, so a filtered texel at the silhouette is divided back.
@@ -194,14 +181,25 @@ fn fs_impostor(in: ImpostorOut) -> ImpostorShaded {
     let nm = imp_rotate_y(nd.xyz * 2.0 - 1.0, in.yaw);
     let n = select(vec3<f32>(0.0, 1.0, 0.0), nm * inverseSqrt(max(dot(nm, nm), 1e-12)), dot(nm, nm) > 1e-6);
     let c = shade(albedo, n, surface, 0.0, 0.8, 0.3);
-    return ImpostorShaded(vec4<f32>(tone(c), 1.0), impostor_clip_depth(surface) - IMPOSTOR_SHADE_EPSILON);
+    return vec4<f32>(tone(c), 1.0);
 }
 
-// Depth only, for the shadow map and the main view's pre-pass: coverage and dither, at the
-// depth of the surface from the atlas, so far trees meet the ground where their trunks stand
-// and shadows fall from the crown's shape rather than from a flat card.
+// Depth only, for the main view's pre-pass: coverage and dither, at the quad's depth. (With the
+// atlas depth as frag_depth here, the shading pass would have to write it too, and a software
+// rasteriser then shades every fragment of every quad before its depth test: several times the
+// cost in the forest.)
 @fragment
-fn fs_impostor_depth(in: ImpostorOut) -> @builtin(frag_depth) f32 {
+fn fs_impostor_depth(in: ImpostorOut) {
+    let a = imp_albedo_at(in).a;
+    if (!impostor_kept(a, in.clip.xy, in.fade)) {
+        discard;
+    }
+}
+
+// Depth only, for the shadow map: coverage and dither, at the depth of the surface from the
+// atlas, so far trees cast their crowns' shape rather than a flat card's.
+@fragment
+fn fs_impostor_shadow(in: ImpostorOut) -> @builtin(frag_depth) f32 {
     let a = imp_albedo_at(in).a;
     if (!impostor_kept(a, in.clip.xy, in.fade)) {
         discard;
