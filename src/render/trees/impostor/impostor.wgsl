@@ -197,13 +197,20 @@ fn fs_impostor_depth(in: ImpostorOut) {
 }
 
 // Depth only, for the shadow map: coverage and dither, at the depth of the surface from the
-// atlas, so far trees cast their crowns' shape rather than a flat card's.
+// atlas, so far trees cast their crowns' shape rather than a flat card's. Only the view of the
+// largest weight is read: writing the depth costs the early depth test, so every fragment of the
+// quad runs this, and the sun rarely moves far enough for a change of view to show.
 @fragment
 fn fs_impostor_shadow(in: ImpostorOut) -> @builtin(frag_depth) f32 {
-    let a = imp_albedo_at(in).a;
+    let pick_y = in.weights.y > in.weights.x && in.weights.y >= in.weights.z;
+    let pick_z = !pick_y && in.weights.z > in.weights.x;
+    let s = select(select(in.s01.xy, in.s01.zw, pick_y), in.s2, pick_z);
+    let cell = select(select(in.cells01.xy, in.cells01.zw, pick_y), in.cell2, pick_z);
+    let uv = imp_uv(s, cell);
+    let a = textureSample(imp_albedo, imp_sampler, uv).a;
     if (!impostor_kept(a, in.clip.xy, in.fade)) {
         discard;
     }
-    let depth = imp_normal_at(in).a;
+    let depth = textureSample(imp_normal, imp_sampler, uv).a;
     return impostor_clip_depth(impostor_surface(in, depth));
 }
