@@ -278,3 +278,35 @@ fn a_bad_impostor_threshold_is_refused() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A tree turning slowly, drawn as an impostor, must not jump when its nearest atlas view
+/// changes: the three nearest views are blended, so with the tree turned 1° a frame through
+/// more than two views' spacing (about 13° around the horizon), no frame changes more than
+/// three times the typical (median) frame, and none more than a quarter of the tree's pixels.
+#[test]
+fn a_slowly_turning_impostor_changes_smoothly() {
+    use grove_systems::components::Transform;
+    let data = gltf_load::load_model(&model_path("broadleaf-mesh")).unwrap();
+    let dir = Vec3::new(0.0, 0.2, 1.0).normalize();
+    let (mut sim, _) = stage(&data, dir, 200.0);
+    let background = draw(&data, &sim, false, 0.0);
+    let frames: Vec<RgbaImage> = (0..=30)
+        .map(|k| {
+            for t in sim.world.query_mut::<&mut Transform>() {
+                t.yaw = (k as f32).to_radians();
+            }
+            draw(&data, &sim, true, 1.0e6)
+        })
+        .collect();
+    let tree: Vec<bool> = frames.iter().fold(vec![false; (SIZE * SIZE) as usize], |acc, f| acc.iter().zip(mask(f, &background)).map(|(a, b)| *a || b).collect());
+    let tree_pixels = tree.iter().filter(|&&x| x).count() as f64;
+    assert!(tree_pixels > 2000.0, "the tree should fill the frame ({tree_pixels} px)");
+    let changed = |a: &RgbaImage, b: &RgbaImage| a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 40)).count() as f64 / tree_pixels;
+    let mut steps: Vec<f64> = frames.windows(2).map(|w| changed(&w[0], &w[1])).collect();
+    let worst = steps.iter().copied().fold(0.0, f64::max);
+    steps.sort_by(|a, b| a.total_cmp(b));
+    let median = steps[steps.len() / 2];
+    eprintln!("turning impostor: median step {:.1} %, worst {:.1} % of the tree's pixels", median * 100.0, worst * 100.0);
+    assert!(worst <= 3.0 * median.max(0.01), "a jump: worst step {worst:.3} against a median of {median:.3}");
+    assert!(worst <= 0.25, "one frame changed {:.1} % of the tree", worst * 100.0);
+}

@@ -128,7 +128,14 @@ fn render(sim: &Sim, shadows: bool) -> RgbaImage {
     let g = gpu();
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.shadows = shadows;
+    r.options.impostor_pixels = impostor_pixels();
     offscreen::render_image(g, &mut r, sim).unwrap()
+}
+
+/// The default impostor threshold scaled from 720 lines to the goldens' height, so that these
+/// small images show the trees as a 1280 × 720 frame would.
+fn impostor_pixels() -> f32 {
+    grove::render::DEFAULT_IMPOSTOR_PIXELS * H as f32 / 720.0
 }
 
 fn set_head(sim: &mut Sim, eye: Vec3, target: Vec3, fov_deg: f32) {
@@ -244,6 +251,8 @@ fn alpha_clipping_and_two_sided_flip() {
         &root().join("assets"),
     )
     .unwrap();
+    // The card itself, however small it is on screen (impostors have their own goldens).
+    r.options.impostor_pixels = 0.0;
     r.set_model(ModelId(0), &striped_card());
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
 
@@ -494,6 +503,7 @@ fn leaf_simplification_keeps_the_crowns() {
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
         let g = gpu();
         let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+        r.options.impostor_pixels = impostor_pixels();
         r.options.shadows = false;
         r.options.leaf_pixels = leaf_pixels;
         let img = offscreen::render_image(g, &mut r, &sim).unwrap();

@@ -63,6 +63,9 @@ fn render(sim: &Sim, w: u32, h: u32, output: WaterOutput, water: bool) -> RgbaIm
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, w, h).unwrap();
     r.options.water_output = output;
     r.options.water = water;
+    // The default impostor threshold scaled from 720 lines to this image's height, as a
+    // 1280 × 720 frame would show the trees.
+    r.options.impostor_pixels = grove::render::DEFAULT_IMPOSTOR_PIXELS * h as f32 / 720.0;
     offscreen::render_image(g, &mut r, sim).unwrap()
 }
 

@@ -36,8 +36,9 @@ pub enum Which {
     /// Grass: Fukuda et al.'s 1 km² shell field with and without grass, and 10k to 1M blades at
     /// 640x360 and 1280x720.
     Grass,
-    /// The reference scene, a 10k-tree forest, the water test and grass on a real GPU, timed with
-    /// timestamp queries (fails on a software adapter such as lavapipe).
+    /// The reference scene, a 10k-tree forest, the water test and grass on a real GPU, and the
+    /// forest scene and a million trees at 1920x1080, timed with timestamp queries (fails on a
+    /// software adapter such as lavapipe).
     RenderGpu,
     /// Fukuda et al.'s water test: 500 m of water 50 m deep under the sky, with and without
     /// water, at 1280x720.
@@ -73,7 +74,7 @@ pub struct BenchArgs {
     pub leaf_pixels: f32,
     /// On-screen size in pixels below which trees are drawn as impostors in the render
     /// benchmarks (0: every tree a mesh).
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = non_negative)]
     pub impostor_pixels: f32,
 }
 

@@ -9,7 +9,7 @@ use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench_render::{header, setup, time_frames, RenderBenchOptions, WALL_TIMING};
+use super::bench_render::{forest, header, setup, time_frames, time_frames_at, RenderBenchOptions, HEIGHT, WALL_TIMING, WIDTH};
 
 /// The image difference between `sim` drawn with the renderer's options and drawn at full
 /// detail (every leaf, no impostors), shadows as set: the mean absolute difference per channel
@@ -39,6 +39,33 @@ pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> anyhow::Res
         "percent_pixels_over_40": over as f64 / n * 100.0,
         "shadows": saved.shadows,
     }))
+}
+
+/// The forest scene at 1920 × 1080 and a million trees (1000 × 1000, 10 m apart, all eight
+/// models in turn) at 1920 × 1080, shadows on and off, for `grove bench render-gpu` (which has
+/// refused a software adapter and turned the timestamp queries on). Adds them to `out`.
+pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_json::Map<String, Value>) -> anyhow::Result<()> {
+    const FULL_HD: (u32, u32) = (1920, 1080);
+    renderer.resize(FULL_HD.0, FULL_HD.1);
+    let path = grove::render::default_assets_dir().join("scenes/forest.ron");
+    let scene = Scene::load(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let forest_sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    eprintln!("bench: a million trees (building the world)");
+    let million = forest(1000, Some(&|i| (i % 8) as u8))?;
+    for (name, sim) in [("forest_10k_trees_1920x1080", &forest_sim), ("million_trees_1920x1080", &million)] {
+        let mut figures = serde_json::Map::new();
+        for shadows in [true, false] {
+            renderer.options.shadows = shadows;
+            let on = if shadows { "on" } else { "off" };
+            eprintln!("bench: {name}, shadows {on}");
+            let ft = time_frames_at(gpu, renderer, sim, 30, FULL_HD)?;
+            figures.insert(format!("shadows_{on}"), ft.json(renderer));
+        }
+        out.insert(name.into(), Value::Object(figures));
+    }
+    renderer.options.shadows = true;
+    renderer.resize(WIDTH, HEIGHT);
+    Ok(())
 }
 
 /// `grove bench render-forest`: the forest scene (assets/scenes/forest.ron) from its camera,

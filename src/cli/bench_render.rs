@@ -119,7 +119,18 @@ pub(super) fn time_frames(
     sim: &Sim,
     frames: usize,
 ) -> anyhow::Result<FrameTime> {
-    let target = offscreen::Target::new(&gpu.device, WIDTH, HEIGHT);
+    time_frames_at(gpu, renderer, sim, frames, (WIDTH, HEIGHT))
+}
+
+/// [`time_frames`] into a target of `size` (the renderer must have that size).
+pub(super) fn time_frames_at(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    sim: &Sim,
+    frames: usize,
+    size: (u32, u32),
+) -> anyhow::Result<FrameTime> {
+    let target = offscreen::Target::new(&gpu.device, size.0, size.1);
     let mut times = Vec::new();
     let (mut shadow, mut main) = (Vec::new(), Vec::new());
     for i in 0..=frames.max(1) {
@@ -296,6 +307,7 @@ pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
     out.insert("water_test".into(), super::bench_water::water_figures(&gpu, &mut renderer, 30)?);
     out.insert("grass".into(), super::bench_grass::bench_grass_gpu(&gpu)?);
     out.insert("park".into(), super::bench_park::park_figures(&gpu, &mut renderer, 30)?);
+    super::bench_impostor::forest_gpu_figures(&gpu, &mut renderer, &mut out)?;
     Ok(Value::Object(out))
 }
 

@@ -56,8 +56,9 @@ pub struct RenderArgs {
     /// `interaction`. Default: `interaction` for --replay, `none` for --scene and --model.
     #[arg(long, value_enum)]
     pub overlay: Option<Overlay>,
-    /// Draw trees whose bounding sphere covers fewer pixels than this as impostors (0: never).
-    #[arg(long, default_value_t = 0.0, value_parser = super::bench::non_negative)]
+    /// Draw trees whose bounding sphere covers fewer pixels than this as impostors (0: never;
+    /// --model always draws the mesh).
+    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = super::bench::non_negative)]
     pub impostor_pixels: f32,
     /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
     /// to see the model sway in the study's wind).
@@ -184,7 +185,8 @@ fn model_frames(args: &RenderArgs, model: &Path, n: u32) -> anyhow::Result<ExitC
     let ticks_per_frame = frames_setup(args, n, sim.res.dt)?;
     let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir()).map_err(|e| anyhow!(e))?;
-    renderer.options = options(args);
+    // The model alone on its stage is shown as itself: never as an impostor.
+    renderer.options = RenderOptions { impostor_pixels: 0.0, ..options(args) };
     renderer.set_model(id, &data);
     let bar = indicatif::ProgressBar::new(n as u64);
     for f in 0..n {

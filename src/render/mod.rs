@@ -60,6 +60,10 @@ pub fn default_assets_dir() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"))
 }
 
+/// The default on-screen size, pixels, below which trees are impostors
+/// ([`RenderOptions::impostor_pixels`]).
+pub const DEFAULT_IMPOSTOR_PIXELS: f32 = 150.0;
+
 /// Rendering options.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderOptions {
@@ -85,8 +89,10 @@ pub struct RenderOptions {
     /// selection and the task's targets).
     pub overlay: bool,
     /// The on-screen size, in pixels, of a tree's bounding sphere below which it is drawn as an
-    /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 (the
-    /// default, which the golden images use) draws every tree as a mesh.
+    /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 draws
+    /// every tree as a mesh. The default, [`DEFAULT_IMPOSTOR_PIXELS`], keeps the reference
+    /// scene's image within a mean absolute error of 4 of 255 per channel of the full-detail
+    /// render (README, `grove bench render-reference`).
     pub impostor_pixels: f32,
     /// Draw the photographed crowns as canopy layers (with aerial photographs set by
     /// [`Renderer::set_aerial`]); off, or without layer masks, they are drawn as tree models.
@@ -95,7 +101,7 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: 0.0, canopy: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true }
     }
 }
 
@@ -272,6 +278,17 @@ impl Renderer {
             self.trees.models.resize_with(idx + 1, || None);
         }
         self.trees.models[idx] = Some(model);
+    }
+
+    /// Sets the folder of the impostor atlas cache for models loaded from now on (`None`: bake
+    /// every model). The default comes from the environment (`trees::impostor::cache`).
+    pub fn set_impostor_cache(&mut self, dir: Option<PathBuf>) {
+        self.trees.impostor_cache = dir;
+    }
+
+    /// How many impostor atlases this renderer baked (the others were read from the cache).
+    pub fn impostor_bakes(&self) -> usize {
+        self.trees.impostor_bakes
     }
 
     /// The model drawn for `id`, if one is loaded.

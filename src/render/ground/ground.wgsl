@@ -3,6 +3,11 @@
 // space at three scales so the texture does not visibly repeat, lit and shadowed, and faded into
 // the sky's colour at the horizon with distance (aerial perspective). lighting.wgsl is prepended
 // (src/render/ground/mod.rs; the kinds are those of src/render/ground/landscape.rs).
+//
+// The aerial perspective is computed per vertex (the terrain is cut into cells small enough for
+// it to vary linearly), and the far terrain has its own fragment entry, `fs_far`: one texture
+// scale and no shadow lookups. On a software rasteriser these per-pixel savings are most of the
+// landscape's cost.
 
 struct GroundParams {
     // Metres per repeat of the ground texture.
@@ -34,7 +39,20 @@ struct VertexOut {
     @location(2) irr_front: vec3<f32>,
     @location(3) irr_back: vec3<f32>,
     @location(4) @interpolate(flat) kind: u32,
+    // The aerial perspective's haze colour (rgb) and how much of it covers the ground (a).
+    @location(5) haze: vec4<f32>,
 };
+
+// The haze colour and its share at `world_pos`: lighting.wgsl's `aerial`, for one vertex.
+fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
+    let to = world_pos - frame.camera_pos;
+    let d = length(to);
+    let dir = normalize(vec3<f32>(to.x, max(to.y, 0.0) + 0.02 * d, to.z));
+    let tint = frame.ambient / max(frame.ambient.r, 0.001);
+    let haze = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
+    let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
+    return vec4<f32>(haze, f);
+}
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
@@ -45,6 +63,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.irr_front = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
     out.irr_back = textureSampleLevel(irradiance_map, env_sampler, -v.normal, 0.0).rgb;
     out.kind = u32(v.kind + 0.5);
+    out.haze = haze_at(v.position);
     return out;
 }
 
@@ -81,5 +100,18 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let n = normalize(in.normal) * select(-1.0, 1.0, front);
     let irr = select(in.irr_back, in.irr_front, front);
     let c = shade_lit(albedo, n, in.world_pos, 0.08, 0.95, 0.0, irr);
-    return vec4<f32>(tone(aerial(c, in.world_pos)), 1.0);
+    return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
+}
+
+// The far terrain (beyond the ring next to the planes): the ground texture at one scale, the
+// sun and the sky's light without shadows or highlights, and the haze. Its normal is +Y.
+@fragment
+fn fs_far(in: VertexOut) -> @location(0) vec4<f32> {
+    let m = ground_params.metres_per_repeat;
+    let p = in.world_pos.xz;
+    let q = vec2<f32>(0.8 * p.x - 0.6 * p.y, 0.6 * p.x + 0.8 * p.y);
+    let t = textureSample(ground_tex, ground_sampler, q / (3.9 * m) + vec2<f32>(0.37, 0.11)).rgb;
+    let albedo = t * vec3<f32>(0.85, 1.0, 0.75);
+    let c = albedo * (frame.sun_color * max(frame.sun_dir.y, 0.0) + in.irr_front * frame.ambient);
+    return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
 }

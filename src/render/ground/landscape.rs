@@ -78,19 +78,53 @@ pub fn sides(mesh: &mut LandMesh, vertices: &[Vec3], triangles: &[[u32; 3]], flo
     }
 }
 
+/// The largest side of a terrain cell, metres: the shader computes the aerial perspective per
+/// vertex, so the cells must be small enough for it to vary linearly across them.
+pub const TERRAIN_CELL: f32 = 40.0;
+/// The width of the ring of terrain next to the planes drawn with the planes' full shading
+/// (shadows, every texture scale), metres; beyond it the terrain is drawn with the cheap
+/// far-ground shading.
+pub const NEAR_BAND: f32 = 30.0;
+
+/// Grid lines from `a` to `b` (`a < b`) no more than [`TERRAIN_CELL`] apart, both ends
+/// included, evenly spaced.
+fn lines(a: f32, b: f32) -> Vec<f32> {
+    let n = ((b - a) / TERRAIN_CELL).ceil().max(1.0) as usize;
+    (0..=n).map(|i| if i == n { b } else { a + (b - a) * i as f32 / n as f32 }).collect()
+}
+
+/// The grid lines of one axis: from `lo - reach` to the near band, through the band and the
+/// rectangle `lo..hi`, and out to `hi + reach`.
+fn axis_lines(lo: f32, hi: f32) -> Vec<f32> {
+    let band = NEAR_BAND.min(TERRAIN_REACH);
+    let mut v = lines(lo - TERRAIN_REACH, lo - band);
+    for part in [lines(lo - band, lo), lines(lo, hi.max(lo + 1e-3)), lines(hi.max(lo + 1e-3), hi + band), lines(hi + band, hi + TERRAIN_REACH)] {
+        v.extend_from_slice(&part[1..]);
+    }
+    v
+}
+
 /// The soil floor under the rectangle `lo..hi` (x, z) at `floor_y`, and the terrain around it
-/// at `ground_y`, reaching [`TERRAIN_REACH`] beyond it in every direction.
-pub fn surroundings(mesh: &mut LandMesh, lo: Vec2, hi: Vec2, ground_y: f32, floor_y: f32) {
+/// at `ground_y`, reaching [`TERRAIN_REACH`] beyond it in every direction, as cells no larger
+/// than [`TERRAIN_CELL`]. The terrain within [`NEAR_BAND`] of the rectangle goes into `mesh`;
+/// the rest into `far`, which the ground draws with its cheap far-ground shading.
+pub fn surroundings(mesh: &mut LandMesh, far: &mut LandMesh, lo: Vec2, hi: Vec2, ground_y: f32, floor_y: f32) {
     let at = |x: f32, z: f32, y: f32| Vec3::new(x, y, z);
     mesh.quad([at(lo.x, lo.y, floor_y), at(hi.x, lo.y, floor_y), at(hi.x, hi.y, floor_y), at(lo.x, hi.y, floor_y)], Vec3::Y, KIND_FLOOR);
-    let r = TERRAIN_REACH;
-    let (x0, x1, z0, z1) = (lo.x - r, hi.x + r, lo.y - r, hi.y + r);
+    let (xs, zs) = (axis_lines(lo.x, hi.x), axis_lines(lo.y, hi.y));
     let g = ground_y;
-    // Four quads around the rectangle: north and south strips full width, east and west between.
-    mesh.quad([at(x0, z0, g), at(x1, z0, g), at(x1, lo.y, g), at(x0, lo.y, g)], Vec3::Y, KIND_TERRAIN);
-    mesh.quad([at(x0, hi.y, g), at(x1, hi.y, g), at(x1, z1, g), at(x0, z1, g)], Vec3::Y, KIND_TERRAIN);
-    mesh.quad([at(x0, lo.y, g), at(lo.x, lo.y, g), at(lo.x, hi.y, g), at(x0, hi.y, g)], Vec3::Y, KIND_TERRAIN);
-    mesh.quad([at(hi.x, lo.y, g), at(x1, lo.y, g), at(x1, hi.y, g), at(hi.x, hi.y, g)], Vec3::Y, KIND_TERRAIN);
+    let band = NEAR_BAND.min(TERRAIN_REACH);
+    for w in zs.windows(2) {
+        for u in xs.windows(2) {
+            let centre = Vec2::new((u[0] + u[1]) * 0.5, (w[0] + w[1]) * 0.5);
+            let inside = |m: f32| centre.x > lo.x - m && centre.x < hi.x + m && centre.y > lo.y - m && centre.y < hi.y + m;
+            if inside(0.0) {
+                continue;
+            }
+            let target = if inside(band) { &mut *mesh } else { &mut *far };
+            target.quad([at(u[0], w[0], g), at(u[1], w[0], g), at(u[1], w[1], g), at(u[0], w[1], g)], Vec3::Y, KIND_TERRAIN);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -125,20 +159,31 @@ mod tests {
 
     #[test]
     fn the_terrain_surrounds_the_rectangle_without_covering_it() {
-        let mut m = LandMesh::default();
-        surroundings(&mut m, Vec2::new(-5.0, -5.0), Vec2::new(5.0, 5.0), 0.0, -0.6);
+        let (mut near, mut far) = (LandMesh::default(), LandMesh::default());
+        surroundings(&mut near, &mut far, Vec2::new(-5.0, -5.0), Vec2::new(5.0, 5.0), 0.0, -0.6);
         // Terrain area: the big square less the rectangle.
         let mut area = 0.0;
+        for (m, is_far) in [(&near, false), (&far, true)] {
         for (q, tri) in m.indices.chunks(3).enumerate() {
             let p: Vec<Vec3> = tri.iter().map(|&i| Vec3::new(m.vertices[i as usize][0], m.vertices[i as usize][1], m.vertices[i as usize][2])).collect();
             if m.vertices[tri[0] as usize][6] == KIND_TERRAIN {
-                area += 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
+                area += 0.5 * f64::from((p[1] - p[0]).cross(p[2] - p[0]).length());
                 // No terrain triangle's centre lies inside the rectangle.
                 let c = (p[0] + p[1] + p[2]) / 3.0;
                 assert!(c.x.abs() >= 5.0 || c.z.abs() >= 5.0, "triangle {q} at {c}");
+                // The far part lies beyond the near band, the near part within it.
+                let out = c.x.abs().max(c.z.abs()) - 5.0;
+                assert_eq!(is_far, out > NEAR_BAND, "triangle {q} at {c}");
+                // No side of a cell is longer than a cell (the diagonal excepted).
+                for k in 0..3 {
+                    let e = p[(k + 1) % 3] - p[k];
+                    assert!(e.x.abs() <= TERRAIN_CELL + 1e-3 && e.z.abs() <= TERRAIN_CELL + 1e-3, "{e}");
+                }
             }
         }
-        let side = 10.0 + 2.0 * TERRAIN_REACH;
-        assert!((area - (side * side - 100.0)).abs() < 1.0, "{area}");
+        }
+        let side = 10.0 + 2.0 * f64::from(TERRAIN_REACH);
+        // Within the rounding of f32 corners over some two thousand cells.
+        assert!((area - (side * side - 100.0)).abs() < 1e-4 * side * side, "{area}");
     }
 }

@@ -25,10 +25,12 @@ struct GroundParams {
     pad: [f32; 3],
 }
 
-/// The planes' mesh on the GPU.
+/// The planes' mesh on the GPU: the near ground (planes, sides, floor and the terrain next to
+/// them) in `0..near_count` of the indices, the far terrain in `near_count..index_count`.
 struct Mesh {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
+    near_count: u32,
     index_count: u32,
 }
 
@@ -37,6 +39,8 @@ pub(crate) struct Ground {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     pipelines: PipelineCache<wgpu::RenderPipeline>,
+    /// The far terrain's pipelines: one texture scale, no shadow lookups (`fs_far`).
+    far_pipelines: PipelineCache<wgpu::RenderPipeline>,
     bind_group: wgpu::BindGroup,
     /// The key of the planes `mesh` was built from.
     pub key: GroundKey,
@@ -60,6 +64,7 @@ impl Ground {
             module: shared.shader("ground.wgsl", include_str!("ground.wgsl")),
             layout: shared.layout("ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("ground"),
+            far_pipelines: PipelineCache::new("far ground"),
             bind_group: shared.material_bind_group("ground bind group", &params, [&texture, &shared.flat_normal, &shared.white]),
             key: Vec::new(),
             mesh: None,
@@ -70,6 +75,7 @@ impl Ground {
     /// vertex), their sides, the floor under them and the terrain around them.
     fn rebuild(&mut self, shared: &Shared, key: &GroundKey, planes: &[PlaneMesh]) {
         let mut land = landscape::LandMesh::default();
+        let mut far = landscape::LandMesh::default();
         let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
         for p in planes {
             let base = land.vertices.len() as u32;
@@ -87,8 +93,13 @@ impl Ground {
             for p in planes {
                 landscape::sides(&mut land, &p.vertices, &p.triangles, floor_y);
             }
-            landscape::surroundings(&mut land, glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z), lo.y, floor_y);
+            landscape::surroundings(&mut land, &mut far, glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z), lo.y, floor_y);
         }
+        // The far terrain after the near ground, in one buffer.
+        let near_count = land.indices.len() as u32;
+        let base = land.vertices.len() as u32;
+        land.vertices.extend_from_slice(&far.vertices);
+        land.indices.extend(far.indices.iter().map(|i| i + base));
         let (verts, idx) = (land.vertices, land.indices);
         self.key = key.clone();
         if idx.is_empty() {
@@ -99,31 +110,39 @@ impl Ground {
         self.mesh = Some(Mesh {
             vertices: buffer("ground vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
             indices: buffer("ground indices", bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX),
+            near_count,
             index_count: idx.len() as u32,
         });
     }
 
 }
 
-/// The ground's pipeline of `key`: main view only.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+/// The ground's pipeline of `key`: main view only. With `far`, the far terrain's: the fragment
+/// entry `fs_far`, built without shadow lookups whatever the key says (the shadow map does not
+/// reach that far).
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey, far: bool) -> Result<wgpu::RenderPipeline, String> {
         if key.view != ViewKind::Main {
             return Err("the ground is drawn from the main view only".into());
         }
         const GV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32];
-        let label = if key.shadows { "ground pipeline (shadows)" } else { "ground pipeline (no shadows)" };
+        let label = match (far, key.shadows) {
+            (true, _) => "far ground pipeline",
+            (false, true) => "ground pipeline (shadows)",
+            (false, false) => "ground pipeline (no shadows)",
+        };
+        let constants = if far { [("SHADOWS", 0.0)] } else { key.lit_constants() };
         Ok(shared.pipeline(&PipelineSpec {
             label,
             layout,
             module,
             vertex: "vs_main",
-            fragment: Some("fs_main"),
+            fragment: Some(if far { "fs_far" } else { "fs_main" }),
             buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 28, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
             topology: wgpu::PrimitiveTopology::TriangleList,
             cull: None,
             depth: depth_test(true, wgpu::CompareFunction::Less),
             targets: &color_target(key.format, wgpu::ColorWrites::ALL),
-            constants: &key.lit_constants(),
+            constants: &constants,
         }))
 }
 
@@ -133,19 +152,27 @@ impl Feature for Ground {
             self.rebuild(cx.shared, &cx.data.ground_key, planes);
         }
         let (module, layout) = (&self.module, &self.layout);
-        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
+        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k, false))?;
+        self.far_pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k, true))
     }
 
     fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
         let (Phase::Opaque, Some(g)) = (phase, &self.mesh) else {
             return Ok(());
         };
+        // The near ground first: it is in front of the far terrain, whose hidden fragments the
+        // early depth test then skips.
         pass.set_pipeline(self.pipelines.get(key)?);
         pass.set_bind_group(2, &self.bind_group, &[]);
         pass.set_vertex_buffer(0, g.vertices.slice(..));
         pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..g.index_count, 0, 0..1);
+        pass.draw_indexed(0..g.near_count, 0, 0..1);
         stats.draws += 1;
+        if g.index_count > g.near_count {
+            pass.set_pipeline(self.far_pipelines.get(key)?);
+            pass.draw_indexed(g.near_count..g.index_count, 0, 0..1);
+            stats.draws += 1;
+        }
         stats.triangles += g.index_count as usize / 3;
         Ok(())
     }

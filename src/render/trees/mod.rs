@@ -44,6 +44,10 @@ pub(crate) struct Trees {
     /// The impostors' bake, shader and pipelines.
     pub(crate) impostors: ImpostorGpu,
     impostor_instances: wgpu::Buffer,
+    /// The folder of the impostor atlas cache (`None`: every model is baked).
+    pub(crate) impostor_cache: Option<std::path::PathBuf>,
+    /// How many atlases were baked rather than read from the cache.
+    pub(crate) impostor_bakes: usize,
     impostor_capacity: usize,
     /// This frame's impostor instance range of each model.
     impostor_ranges: Vec<std::ops::Range<u32>>,
@@ -73,15 +77,38 @@ impl Trees {
             bounds: None,
             impostors: ImpostorGpu::new(shared),
             impostor_instances: instance_buffer(&shared.device, capacity),
+            impostor_cache: impostor::cache::default_dir(),
+            impostor_bakes: 0,
             impostor_capacity: capacity,
             impostor_ranges: Vec::new(),
         }
     }
 
-    /// Bakes and binds the impostor atlases of `model` (see [`impostor`]).
-    pub fn bake_impostor(&self, shared: &Shared, model: &mut GpuModel, data: &crate::render::gltf_load::ModelData) {
+    /// Bakes and binds the impostor atlases of `model` (see [`impostor`]), or reads them from
+    /// the cache folder `impostor_cache` where a file for this model and bake is there. A file
+    /// that cannot be read is reported in one line on stderr and replaced by a new bake; a cache
+    /// that cannot be written is reported and otherwise ignored.
+    pub fn bake_impostor(&mut self, shared: &Shared, model: &mut GpuModel, data: &crate::render::gltf_load::ModelData) {
         let positions: Vec<Vec3> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
-        model.impostor = self.impostors.baker.bake(shared, model, &positions).map(|mut atlas| {
+        let key = impostor::cache::model_key(data, impostor::bake::BAKE_WGSL);
+        let path = self.impostor_cache.as_deref().map(|d| impostor::cache::file_path(d, &model.name, key));
+        let mut atlas = None;
+        if let Some(p) = path.as_deref().filter(|p| p.exists()) {
+            match std::fs::read(p).map_err(|e| e.to_string()).and_then(|b| impostor::cache::decode(&b, key)) {
+                Ok(levels) => atlas = self.impostors.baker.from_levels(shared, model, &positions, &levels),
+                Err(e) => eprintln!("warning: impostor cache {}: {e}; baking it again", p.display()),
+            }
+        }
+        if atlas.is_none() {
+            atlas = self.impostors.baker.bake(shared, model, &positions);
+            self.impostor_bakes += usize::from(atlas.is_some());
+            if let (Some(a), Some(p)) = (&atlas, &path) {
+                if let Err(e) = impostor::cache::store(&shared.device, &shared.queue, [&a.albedo, &a.normal], p, key) {
+                    eprintln!("warning: impostor cache: {e}");
+                }
+            }
+        }
+        model.impostor = atlas.map(|mut atlas| {
             self.impostors.bind(shared, &mut atlas);
             atlas
         });

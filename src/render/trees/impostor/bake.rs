@@ -3,7 +3,7 @@
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
-use super::{CELL, GRID, OCTA_WGSL};
+use super::{CELL, GRID};
 use crate::render::gpu::{depth_test, uniform_entry, PipelineSpec, Shared};
 use crate::render::trees::model::GpuModel;
 
@@ -45,6 +45,9 @@ pub struct Atlas {
     pub(crate) bind_group: Option<wgpu::BindGroup>,
 }
 
+/// The bake shader's source (octa.wgsl and bake.wgsl), part of the cache key.
+pub const BAKE_WGSL: &str = concat!(include_str!("octa.wgsl"), "\n", include_str!("bake.wgsl"));
+
 /// The bake's shader and pipeline, built once per renderer.
 pub(crate) struct Baker {
     params_layout: wgpu::BindGroupLayout,
@@ -57,7 +60,7 @@ impl Baker {
         let device = &shared.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("impostor bake shader"),
-            source: wgpu::ShaderSource::Wgsl(format!("{OCTA_WGSL}\n{}", include_str!("bake.wgsl")).into()),
+            source: wgpu::ShaderSource::Wgsl(BAKE_WGSL.into()),
         });
         let params_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("impostor bake params layout"),
@@ -87,22 +90,23 @@ impl Baker {
         Baker { params_layout, pipeline }
     }
 
-    /// Draws `model` into new atlases: every primitive whole, once per view. `None` for a model
-    /// with empty bounds.
-    pub fn bake(&self, shared: &Shared, model: &GpuModel, positions: &[Vec3]) -> Option<Atlas> {
+    /// The bounding sphere (centre, radius; model-space metres) of `model`, or `None` for a
+    /// model with empty bounds or nothing to draw, which has no atlas.
+    fn sphere(model: &GpuModel) -> Option<(Vec3, f32)> {
         let (lo, hi) = model.bounds;
-        let centre = (lo + hi) * 0.5;
         let radius = (hi - lo).length() * 0.5;
-        if !(radius > 1e-4) || !radius.is_finite() || model.primitives.is_empty() {
-            return None;
-        }
-        let device = &shared.device;
+        (radius > 1e-4 && radius.is_finite() && !model.primitives.is_empty()).then_some(((lo + hi) * 0.5, radius))
+    }
+
+    /// New, empty albedo and normal atlases for `model`, every mip level.
+    fn textures(shared: &Shared, model: &GpuModel) -> (wgpu::Texture, wgpu::Texture) {
         let size = wgpu::Extent3d { width: GRID * CELL, height: GRID * CELL, depth_or_array_layers: 1 };
-        let texture = |label: &str, format, usage, mips| {
-            device.create_texture(&wgpu::TextureDescriptor {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
+        let texture = |label: &str, format| {
+            shared.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size,
-                mip_level_count: mips,
+                mip_level_count: MIP_LEVELS,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format,
@@ -110,10 +114,35 @@ impl Baker {
                 view_formats: &[],
             })
         };
-        let colour_usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
-        let albedo = texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT, colour_usage, MIP_LEVELS);
-        let normal = texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT, colour_usage, MIP_LEVELS);
-        let depth = texture("impostor bake depth", BAKE_DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT, MIP_LEVELS);
+        (texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT), texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT))
+    }
+
+    /// The atlases of `model` from texels read from the cache ([`super::cache::decode`]):
+    /// albedo levels, then normal levels.
+    pub fn from_levels(&self, shared: &Shared, model: &GpuModel, positions: &[Vec3], levels: &[Vec<u8>]) -> Option<Atlas> {
+        let (centre, radius) = Self::sphere(model)?;
+        let (albedo, normal) = Self::textures(shared, model);
+        super::cache::upload(&shared.queue, [&albedo, &normal], levels);
+        let rects = super::view_rects(positions, centre, radius);
+        Some(Atlas { albedo, normal, centre, radius, rects, bind_group: None })
+    }
+
+    /// Draws `model` into new atlases: every primitive whole, once per view. `None` for a model
+    /// with empty bounds.
+    pub fn bake(&self, shared: &Shared, model: &GpuModel, positions: &[Vec3]) -> Option<Atlas> {
+        let (centre, radius) = Self::sphere(model)?;
+        let device = &shared.device;
+        let (albedo, normal) = Self::textures(shared, model);
+        let depth = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("impostor bake depth"),
+            size: wgpu::Extent3d { width: GRID * CELL, height: GRID * CELL, depth_or_array_layers: 1 },
+            mip_level_count: MIP_LEVELS,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: BAKE_DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
         let params = BakeParams { centre: centre.to_array(), radius };
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("impostor bake params"),

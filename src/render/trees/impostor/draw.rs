@@ -141,7 +141,7 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayou
             bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
             ..depth_test(true, wgpu::CompareFunction::Less)
         };
-        ImpostorPipeline { depth: spec(shadow, "fs_impostor_depth", depth, &[]), shade: None }
+        ImpostorPipeline { depth: spec(shadow, "fs_impostor_shadow", depth, &[]), shade: None }
     } else {
         ImpostorPipeline {
             depth: spec(lit, "fs_impostor_depth", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),

@@ -9,13 +9,19 @@
 //!   it is both, with a screen-door cross-fade: the mesh keeps the pixels whose dither
 //!   (`impostor_dither` in `octa.wgsl`) is at least the tree's fade, the impostor the others. So
 //!   a tree crossing the band trades pixels one by one instead of popping.
-//! - **Draw** ([`draw`]): each impostor is a quad facing the atlas view nearest to the camera
-//!   (or to the sun in the shadow map), alpha-tested, lit with the baked normals, and leaned by
-//!   the tree's wind state (`WindState::bend`) as its trunk would be.
+//! - **Draw** ([`draw`]): each impostor is a quad facing the camera (or the sun in the shadow
+//!   map) showing the three atlas views around that direction blended by barycentric weights
+//!   (so views change without a jump), alpha-tested, lit with the baked normals, at the baked
+//!   depth (`frag_depth`, in the shadow map too), and leaned by the tree's wind state
+//!   (`WindState::bend`) as its trunk would be.
+//!
+//! - **Cache** ([`cache`]): the atlases are kept on disk, keyed by the model's content and the
+//!   bake, so each model is baked once.
 //!
 //! Directions are model space (+Y up, metres); the quad turns with the tree's yaw.
 
 pub mod bake;
+pub mod cache;
 pub(crate) mod draw;
 
 use glam::{UVec2, Vec2, Vec3, Vec4};
