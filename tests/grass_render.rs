@@ -13,6 +13,7 @@ use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
+use grove::render::grass::BladeCounts;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
 use grove_systems::components::{HitMarker, HitTarget};
@@ -60,7 +61,7 @@ fn sim(s: &Scene) -> Sim {
     Sim::from_scene(s, s.seed).unwrap()
 }
 
-fn render_with(sim: &Sim, grass: bool, bend: bool) -> (RgbaImage, (u32, u32)) {
+fn render_with(sim: &Sim, grass: bool, bend: bool) -> (RgbaImage, BladeCounts) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
@@ -127,7 +128,7 @@ const LOOK: Vec3 = Vec3::new(0.0, 0.0, 0.0);
 fn shell_lawn() {
     let s = sim(&scene("Shells", 3000.0, 0.0, 0.0, EYE, LOOK));
     let (img, counts) = render_with(&s, true, true);
-    assert_eq!(counts, (0, 0), "a shell lawn has no blades");
+    assert_eq!(counts, BladeCounts::default(), "a shell lawn has no blades");
     let (bare, _) = render_with(&s, false, true);
     // The lawn covers the plane: the lower half of the image changes with it and is green.
     let lower = (0, H / 2, W, H);
@@ -139,10 +140,14 @@ fn shell_lawn() {
 #[test]
 fn blade_patch() {
     let s = sim(&scene("Blades", 600.0, 0.0, 0.0, EYE, LOOK));
-    let (img, (near, far)) = render_with(&s, true, true);
-    // 36 m² at 600 per m²: about 21,600 blades, of which the frame sees most, all within the
-    // fine level of detail's 8 m.
-    assert!(near > 8_000 && near < 21_600 && far == 0, "{near} near and {far} far blades");
+    let (img, counts) = render_with(&s, true, true);
+    // 36 m² at 600 per m²: about 21,600 blades, of which the frame sees most. At 120 pixels and
+    // 60°, one metre at d covers 120 / (2 tan 30°) / d ≈ 104 / d pixels: 7 segments within
+    // 104 / 78 ≈ 1.3 m, 3 within 104 / 30 ≈ 3.5 m, lines beyond. The eye is 1.2 m above the
+    // patch's near edge, 6.6 m from its far edge: all three levels are drawn.
+    let BladeCounts { near, mid, far } = counts;
+    assert!(counts.total() > 8_000 && counts.total() < 21_600, "{counts:?}");
+    assert!(near > 0 && mid > near && far > mid, "{counts:?}");
     let (bare, _) = render_with(&s, false, true);
     assert!(diff(&img, &bare, (0, H / 2, W, H)) > 8.0, "the blades changed nothing");
     compare("grass-blade-patch", &img, 4.0, 5.0);
@@ -205,11 +210,11 @@ fn blades_behind_the_camera_are_culled() {
     // Looking away from the patch, up into the sky: the cull pass keeps no blade.
     let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 3.0, 12.0)));
     let (_, counts) = render_with(&s, true, true);
-    assert_eq!(counts, (0, 0));
-    // From 20 m away every visible blade gets the coarse level of detail.
+    assert_eq!(counts, BladeCounts::default());
+    // From 17 m away and more every visible blade is a line (beyond 3.5 m at 120 pixels).
     let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 6.0, 20.0), LOOK));
-    let (_, (near, far)) = render_with(&s, true, true);
-    assert!(near == 0 && far > 10_000, "{near} near and {far} far blades");
+    let (_, counts) = render_with(&s, true, true);
+    assert!(counts.near == 0 && counts.mid == 0 && counts.far > 10_000, "{counts:?}");
 }
 
 #[test]

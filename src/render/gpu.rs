@@ -56,7 +56,11 @@ impl Shared {
             entries: &[
                 texture_entry(0, wgpu::TextureViewDimension::D2, wgpu::TextureSampleType::Depth),
                 sampler_entry(1, wgpu::SamplerBindingType::Comparison),
-                texture_entry(2, cube, float_tex),
+                // Grass shells look up the aerial perspective's haze per vertex.
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ..texture_entry(2, cube, float_tex)
+                },
                 // The ground looks up the irradiance per vertex.
                 wgpu::BindGroupLayoutEntry {
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,

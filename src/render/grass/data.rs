@@ -75,18 +75,14 @@ pub(crate) struct CullParams {
     pub planes: [[f32; 4]; 6],
     /// The camera, metres, and the far distance.
     pub camera: [f32; 4],
-    /// The distance within which blades get 15 vertices, metres.
-    pub lod_distance: f32,
+    /// The distance within which blades get 7 segments, metres.
+    pub lod_near: f32,
+    /// The distance within which blades get 3 segments (beyond it, one triangle), metres.
+    pub lod_mid: f32,
     /// The number of blades.
     pub count: u32,
     /// Padding.
-    pub pad: [u32; 2],
-}
-
-/// The blade draw's uniforms (matches `BladeParams` in blades.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub(crate) struct BladeParams {
+    pub pad: u32,
     /// Wind direction (x, z), bend at the tip (radians), time (seconds).
     pub wind: [f32; 4],
     /// Noise scroll speed (m/s), noise scale (per metre), unused, unused.
@@ -95,8 +91,38 @@ pub(crate) struct BladeParams {
     pub eye: [f32; 4],
     /// The hit point and its push radius (0: none), metres.
     pub hit: [f32; 4],
+}
+
+/// The blade draw's uniforms (matches `BladeParams` in blades.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct BladeParams {
     /// Root and tip colour per patch.
     pub colours: [[f32; 4]; 2 * MAX_PATCHES],
+}
+
+/// The size of a visible blade's shape, written by the cull pass for the vertex shader
+/// (`Shape` in cull.wgsl and blades.wgsl), bytes.
+pub const SHAPE_BYTES: u64 = 32;
+
+/// The vertices of a blade at each level of detail (near, middle, far): triangle lists of 13
+/// and 5 triangles, and a line (`NEAR_VERTICES` … in cull.wgsl).
+pub const LOD_VERTICES: [u32; 3] = [39, 15, 2];
+
+/// The distances within which blades get 7 and 3 segments (beyond: a line), metres, for an
+/// image `height_px` pixels high with a vertical field of view `fov_y` (radians): where one
+/// metre covers 78 and 30 pixels, so that a 0.3 m blade is drawn with 7 segments while it is
+/// at least 23 pixels tall and as a line once it is under 9 pixels, when a blade 3 cm wide
+/// covers less than a pixel (8 m and 21 m at 720 pixels and 60°).
+pub fn lod_distances(height_px: u32, fov_y: f32) -> (f32, f32) {
+    let k = pixels_per_metre(height_px, fov_y);
+    (k / 78.0, k / 30.0)
+}
+
+/// The pixels one metre (across the view) covers at a distance of one metre, in an image
+/// `height_px` pixels high with a vertical field of view `fov_y` (radians).
+pub fn pixels_per_metre(height_px: u32, fov_y: f32) -> f32 {
+    height_px as f32 / (2.0 * (0.5 * fov_y.clamp(0.01, 3.1)).tan())
 }
 
 /// One shell patch's uniforms (matches `ShellParams` in shells.wgsl).
@@ -112,6 +138,8 @@ pub(crate) struct ShellParams {
     /// Strands per metre, wind noise scale (per metre), wind noise speed (m/s), shortest strand
     /// as a share of the height.
     pub strands: [f32; 4],
+    /// The pixels one metre covers at a distance of one metre, then unused.
+    pub view: [f32; 4],
 }
 
 /// The six frustum planes of a view-projection matrix with wgpu's 0..1 depth (Gribb and
@@ -170,11 +198,11 @@ mod tests {
 
     #[test]
     fn uniform_layouts_match_the_wgsl() {
-        // cull.wgsl: six vec4 planes, a vec4, then f32, u32 and two u32 of padding.
-        assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16);
+        // cull.wgsl: six vec4 planes, a vec4, two f32, two u32, then four vec4.
+        assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16 + 4 * 16);
         assert_eq!(std::mem::size_of::<GpuBlade>(), 32);
-        assert_eq!(std::mem::size_of::<BladeParams>(), 4 * 16 + 2 * MAX_PATCHES * 16);
-        assert_eq!(std::mem::size_of::<ShellParams>(), 64);
+        assert_eq!(std::mem::size_of::<BladeParams>(), 2 * MAX_PATCHES * 16);
+        assert_eq!(std::mem::size_of::<ShellParams>(), 80);
     }
 
     #[test]
@@ -194,6 +222,19 @@ mod tests {
         let left = planes[0];
         let d = Vec3::new(left[0], left[1], left[2]).dot(Vec3::new(-11.0, 0.0, -10.0)) + left[3];
         assert!((d + std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3, "{d}");
+    }
+
+    #[test]
+    fn levels_of_detail_follow_the_pixels_a_metre_covers() {
+        // 720 pixels over a 60° field of view: one metre at distance d covers
+        // 720 / (2 tan 30°) / d ≈ 623.5 / d pixels.
+        let (near, mid) = lod_distances(720, 60f32.to_radians());
+        assert!((near - 623.54 / 78.0).abs() < 0.01 && (mid - 623.54 / 30.0).abs() < 0.01, "{near} {mid}");
+        // Half the pixels: half the distances.
+        let (near2, mid2) = lod_distances(360, 60f32.to_radians());
+        assert!((near2 - near / 2.0).abs() < 1e-4 && (mid2 - mid / 2.0).abs() < 1e-4);
+        // A triangle list of s segments: s − 1 quads and the tip, three vertices a triangle.
+        assert_eq!(LOD_VERTICES, [3 * (2 * 6 + 1), 3 * (2 * 2 + 1), 2]);
     }
 
     #[test]
