@@ -138,8 +138,6 @@ pub(crate) struct ShellParams {
     /// Strands per metre, wind noise scale (per metre), wind noise speed (m/s), shortest strand
     /// as a share of the height.
     pub strands: [f32; 4],
-    /// The pixels one metre covers at a distance of one metre, then unused.
-    pub view: [f32; 4],
 }
 
 /// The six frustum planes of a view-projection matrix with wgpu's 0..1 depth (Gribb and
@@ -202,7 +200,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16 + 4 * 16);
         assert_eq!(std::mem::size_of::<GpuBlade>(), 32);
         assert_eq!(std::mem::size_of::<BladeParams>(), 2 * MAX_PATCHES * 16);
-        assert_eq!(std::mem::size_of::<ShellParams>(), 80);
+        assert_eq!(std::mem::size_of::<ShellParams>(), 64);
     }
 
     #[test]

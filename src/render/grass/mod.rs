@@ -204,7 +204,6 @@ impl Grass {
                     tip: [p.tip.x, p.tip.y, p.tip.z, p.height.1],
                     wind: [1.0, 0.0, 0.0, 0.0],
                     strands: [p.density.sqrt(), WIND_SCALE, 0.0, p.height.0 / p.height.1],
-                    view: [0.0; 4],
                 };
                 let params = init("grass shell parameters", bytemuck::bytes_of(&template), wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -382,7 +381,6 @@ impl Feature for Grass {
             // The tip of a shell lawn sways by about a third of its height at full wind.
             p.wind = [w.direction[0], w.direction[1], 0.35 * p.tip[3] * w.strength * w.gust, time];
             p.strands[2] = speed;
-            p.view[0] = data::pixels_per_metre(cx.size.1, cx.data.camera.fov_y);
             queue.write_buffer(&s.params, 0, bytemuck::bytes_of(&p));
         }
         if let Some(b) = &self.blades {

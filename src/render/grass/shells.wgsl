@@ -4,13 +4,12 @@
 // reaches it, more transparent towards the tip. Layers are drawn bottom to top, blended.
 // lighting.wgsl is prepended (src/render/gpu.rs).
 //
-// A layer is only worth its fill where the lawn's thickness covers a pixel per layer: the
-// layers kept fall with distance, every second, fourth … layer once the grass is less than
-// `layers` pixels tall, down to the floor alone, decided for a whole triangle by its nearest
-// point in the vertex shader. (Deciding it per fragment as well cost more than it saved on
-// lavapipe: a discarded fragment is still rasterised.) The light is evaluated per vertex (a
-// patch's normal is its triangle's); the fragment adds the strand's colour and, with shadows
-// on, the trees' shadow.
+// The light is evaluated per vertex (a patch's normal is its triangle's; the aerial
+// perspective changes slowly), and few values cross to the fragment, which adds the strand's
+// colour and, with shadows on, the trees' shadow. (Thinning the layers by the pixels each
+// covers, per triangle or per fragment, was tried: it darkened distant lawns, whose colour
+// builds up over all their layers, and a discarded fragment still costs lavapipe its
+// rasterisation.)
 //
 // Units: metres; +Y up.
 
@@ -24,9 +23,6 @@ struct ShellParams {
     // Strands per metre along each axis, the wind noise's scale (per metre) and scroll speed
     // (m/s), and the shortest strand as a share of the height.
     strands: vec4<f32>,
-    // The pixels one metre covers at a distance of one metre (the image's height over twice
-    // the tangent of half the field of view), then unused.
-    view: vec4<f32>,
 };
 
 @group(2) @binding(0) var<uniform> params: ShellParams;
@@ -42,14 +38,11 @@ struct VertexIn {
     @location(2) triangle: vec4<f32>,
 };
 
-// Every how many layers one is drawn at distance `d` (metres): 1 while the grass is at least
-// `layers` pixels tall, then 2, 4, … (a power of two, so that a nearer point keeps every layer
-// a farther one keeps), and from `layers` on the floor alone.
-fn layer_step(d: f32) -> u32 {
-    let layers = params.root.w;
-    let pixels = params.tip.w * params.view.x / max(d, 1e-3);
-    let want = clamp(layers / max(pixels, 1e-3), 1.0, 65536.0);
-    return 1u << u32(floor(log2(want)));
+// Shell layers fade out of sight with distance as the strands shrink below a pixel: all layers
+// up to 25 m from the camera, then fewer, down to a quarter of them from 150 m on. A whole
+// triangle keeps or drops a layer (by its nearest possible point), so no triangle is torn.
+fn layers_at(d: f32, layers: f32) -> f32 {
+    return layers * mix(1.0, 0.25, smoothstep(25.0, 150.0, d));
 }
 
 struct VertexOut {
@@ -82,7 +75,7 @@ fn vs_main(v: VertexIn, @builtin(instance_index) layer: u32) -> VertexOut {
     var out: VertexOut;
     out.clip = frame.view_proj * vec4<f32>(p, 1.0);
     let nearest = max(distance(v.triangle.xyz, frame.camera_pos) - v.triangle.w, 0.0);
-    if (layer % layer_step(nearest) != 0u) {
+    if (layer > 0u && f32(layer) >= layers_at(nearest, layers)) {
         // A layer this triangle does not need at its distance: all three corners collapse
         // onto one point outside the view, so the triangle is dropped.
         out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0);
