@@ -1,8 +1,10 @@
 //! Grass: shell lawns and compute-generated blades (issue #18), a shadow receiver (it casts
 //! none). Drawn right after the ground in the opaque phase.
 //!
-//! - **Shells** (`shells.wgsl`): per patch, its ground triangles drawn in one instanced draw,
-//!   one instance per layer; a strand texture decides which texels of a layer are grass.
+//! - **Shells** (`shells.wgsl`): per patch, its ground triangles drawn instanced, one instance
+//!   per layer; a strand texture decides which texels of a layer are grass. A large patch is
+//!   split into tiles (`tiles.rs`, at most 256): a tile outside the view is skipped and a far
+//!   one drawn with only the layers the shader keeps at its distance.
 //! - **Blades**: every blade of every blade patch is uploaded once, when the patches change
 //!   ([`GrassKey`]). Each frame the **compute** stage (`cull.wgsl`) culls them against the view
 //!   frustum and a far distance, evaluates each visible blade's wind, pushes and bend once into
@@ -17,6 +19,7 @@
 //! read from a world-space noise texture. Units: metres, radians, seconds.
 
 pub(crate) mod data;
+pub(crate) mod tiles;
 
 use wgpu::util::DeviceExt;
 
@@ -42,7 +45,10 @@ const WIND_BEND: f32 = 0.9;
 /// One shell patch on the GPU.
 struct ShellPatch {
     vertices: wgpu::Buffer,
-    vertex_count: u32,
+    /// The patch's tiles (runs of its vertex buffer) and the layers each draws this frame
+    /// (0: outside the view).
+    tiles: Vec<tiles::Tile>,
+    tile_layers: Vec<u32>,
     layers: u32,
     params: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -188,8 +194,9 @@ impl Grass {
                 // Per vertex: position, the face's normal, and the triangle's centre and radius,
                 // the same for its three corners, so the shader thins a whole triangle's layers
                 // with distance at once.
+                let (order, tiles) = tiles::tile_triangles(&p.triangles);
                 let mut verts: Vec<[f32; 10]> = Vec::with_capacity(p.triangles.len() * 3);
-                for t in &p.triangles {
+                for t in order.iter().map(|&k| &p.triangles[k]) {
                     let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or(glam::Vec3::Y);
                     let n = if n.y < 0.0 { -n } else { n };
                     let c = (t[0] + t[1] + t[2]) / 3.0;
@@ -219,7 +226,8 @@ impl Grass {
                 });
                 self.shells.push(ShellPatch {
                     vertices: init("grass shell vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
-                    vertex_count: verts.len() as u32,
+                    tile_layers: vec![0; tiles.len()],
+                    tiles,
                     layers: p.layers,
                     params,
                     bind_group,
@@ -376,7 +384,18 @@ impl Feature for Grass {
         let time = (cx.data.time % 3600.0) as f32;
         let bend = WIND_BEND * w.strength * w.gust;
         let speed = WIND_SPEED * w.strength.max(0.05);
-        for s in &self.shells {
+        let view_proj = camera_matrix(&cx.data.camera, cx.size.0 as f32 / cx.size.1.max(1) as f32);
+        let planes = data::frustum_planes(view_proj);
+        let eye = cx.data.camera.position;
+        for s in &mut self.shells {
+            // Each tile's layers: none outside the view (its sphere, raised by the grass and its
+            // sway), else the ones the shader keeps at the tile's nearest point.
+            let reach = s.template.tip[3] * 1.5;
+            for (tile, n) in s.tiles.iter().zip(s.tile_layers.iter_mut()) {
+                let (c, r) = (tile.centre + glam::Vec3::Y * (0.5 * reach), tile.radius + reach);
+                let visible = planes.iter().all(|q| glam::Vec3::new(q[0], q[1], q[2]).dot(c) + q[3] >= -r);
+                *n = if visible { tiles::tile_layers(eye.distance(tile.centre) - tile.radius, s.layers) } else { 0 };
+            }
             let mut p = s.template;
             // The tip of a shell lawn sways by about a third of its height at full wind.
             p.wind = [w.direction[0], w.direction[1], 0.35 * p.tip[3] * w.strength * w.gust, time];
@@ -384,8 +403,6 @@ impl Feature for Grass {
             queue.write_buffer(&s.params, 0, bytemuck::bytes_of(&p));
         }
         if let Some(b) = &self.blades {
-            let view_proj = camera_matrix(&cx.data.camera, cx.size.0 as f32 / cx.size.1.max(1) as f32);
-            let eye = cx.data.camera.position;
             let bend_near = cx.options.grass_bend;
             let hit = cx.data.overlay.hit.filter(|h| h.visible && bend_near).map_or([0.0; 4], |h| [h.position.x, h.position.y, h.position.z, HIT_RADIUS]);
             let eye_radius = if bend_near { EYE_RADIUS } else { 0.0 };
@@ -433,10 +450,12 @@ impl Feature for Grass {
             for s in &self.shells {
                 pass.set_bind_group(2, &s.bind_group, &[]);
                 pass.set_vertex_buffer(0, s.vertices.slice(..));
-                // One instance per layer, bottom to top.
-                pass.draw(0..s.vertex_count, 0..s.layers);
-                stats.draws += 1;
-                stats.triangles += (s.vertex_count / 3 * s.layers) as usize;
+                // One instance per layer, bottom to top, per tile in view.
+                for (tile, &n) in s.tiles.iter().zip(&s.tile_layers).filter(|(_, n)| **n > 0) {
+                    pass.draw(tile.first_vertex..tile.first_vertex + tile.vertex_count, 0..n);
+                    stats.draws += 1;
+                    stats.triangles += (tile.vertex_count / 3 * n) as usize;
+                }
             }
         }
         Ok(())
