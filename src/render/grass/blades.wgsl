@@ -1,5 +1,5 @@
 // Grass blades, drawn from the lists the cull pass wrote (cull.wgsl) in three non-instanced
-// indirect draws, nearest level first so that near blades hide far ones before they are
+// indirect draws (the near and middle ones indexed), nearest level first so that near blades hide far ones before they are
 // shaded: 7 segments near the camera (13 triangles), 3 further away (5 triangles), and far away,
 // where a blade is narrower than a pixel, a line from its root to its tip (a software
 // rasteriser pays per primitive and per vertex; a line is one primitive of two vertices and,
@@ -43,24 +43,14 @@ struct VertexOut {
     @location(3) direct: vec3<f32>,
 };
 
-// Vertex `corner` of a blade with `segments` segments as a triangle list: segments − 1 quads
-// (two triangles each) between rows 0 … segments − 1 of the blade, then the tip triangle.
+// Vertex `corner` of a blade with `segments` segments: the left (even) and right (odd)
+// corners of rows 0 … segments − 1, then the tip (2 × segments). The index buffers
+// (src/render/grass/data.rs, `blade_indices`) join them into segments − 1 quads and the tip
+// triangle; each vertex is shaded once.
 fn strip_vertex(s: Shape, corner: u32, segments: u32) -> VertexOut {
-    let quad = corner / 6u;
-    let r = corner - 6u * quad;
-    var row = quad;
-    var right = r == 1u || r == 4u || r == 5u;
-    var is_tip = false;
-    if (quad + 1u >= segments) {
-        // The tip triangle: the last row's two corners and the tip.
-        row = segments - 1u;
-        right = r == 1u;
-        is_tip = r == 2u;
-    } else if (r == 2u || r == 3u || r == 5u) {
-        row = quad + 1u;
-    }
-    let t = select(f32(row) / f32(segments), 1.0, is_tip);
-    return blade_vertex(s, t, select(-1.0, 1.0, right));
+    let is_tip = corner >= 2u * segments;
+    let t = select(f32(corner / 2u) / f32(segments), 1.0, is_tip);
+    return blade_vertex(s, t, select(-1.0, 1.0, (corner & 1u) == 1u));
 }
 
 // The point of blade `s` at `t` along it (0 at the root, 1 at the tip), on its left edge
@@ -119,12 +109,12 @@ fn blade_vertex(s: Shape, t: f32, side: f32) -> VertexOut {
 
 @vertex
 fn vs_near(@builtin(vertex_index) v: u32) -> VertexOut {
-    return strip_vertex(shapes[lists[v / 39u]], v % 39u, 7u);
+    return strip_vertex(shapes[lists[v / 15u]], v % 15u, 7u);
 }
 
 @vertex
 fn vs_mid(@builtin(vertex_index) v: u32) -> VertexOut {
-    return strip_vertex(shapes[lists[v / 15u]], v % 15u, 3u);
+    return strip_vertex(shapes[lists[v / 7u]], v % 7u, 3u);
 }
 
 @vertex

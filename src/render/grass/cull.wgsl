@@ -68,19 +68,24 @@ struct Cull {
 @group(0) @binding(2) var<storage, read_write> shapes: array<Shape>;
 // The three lists of blade indices, `count` entries each: near, middle, far.
 @group(0) @binding(3) var<storage, read_write> lists: array<u32>;
-// Three indirect draws of four words each: vertex count, instance count (1), first vertex,
-// first instance. The frame resets the vertex counts before this pass; each visible blade adds
-// its level's vertices. The first vertex of the middle and far draws points at their lists
-// (`count` times their vertices a blade), so that vertex / vertices a blade is the index into
-// `lists`.
-@group(0) @binding(4) var<storage, read_write> args: array<atomic<u32>, 12>;
+// Three indirect draws: two indexed ones (index count, instance count 1, first index, base
+// vertex, first instance) for the near and middle blades, then a plain one (vertex count,
+// instance count 1, first vertex, first instance) for the far lines. The frame resets the
+// counts before this pass; each visible blade adds its level's indices or vertices. The base
+// vertex of the middle draw and the first vertex of the far one point at their lists (`count`
+// times their vertices a blade), so that vertex / vertices a blade is the index into `lists`.
+@group(0) @binding(4) var<storage, read_write> args: array<atomic<u32>, 14>;
 @group(0) @binding(5) var wind_tex: texture_2d<f32>;
 @group(0) @binding(6) var wind_sampler: sampler;
 
-// The vertices of a blade at each level of detail (a triangle list; blades.wgsl).
-const NEAR_VERTICES: u32 = 39u;
-const MID_VERTICES: u32 = 15u;
+// The indices of a blade at each level of detail (indexed triangle lists, and a line's two
+// vertices; blades.wgsl), and the most blades the near and middle index buffers hold
+// (`NEAR_CAP`, `MID_CAP` in src/render/grass/data.rs): blades beyond them drop a level.
+const NEAR_INDICES: u32 = 39u;
+const MID_INDICES: u32 = 15u;
 const FAR_VERTICES: u32 = 2u;
+const NEAR_CAP: u32 = 65536u;
+const MID_CAP: u32 = 262144u;
 // The segments the blade's curve is integrated over before it is fitted (even).
 const STEPS: u32 = 8u;
 
@@ -176,14 +181,26 @@ fn cs_cull(@builtin(global_invocation_id) id: vec3<u32>) {
     s.across = pack2x16float(across.xz);
     shapes[i] = s;
 
-    if (d < cull.lod_near) {
-        let slot = atomicAdd(&args[0], NEAR_VERTICES) / NEAR_VERTICES;
-        lists[slot] = i;
-    } else if (d < cull.lod_mid) {
-        let slot = atomicAdd(&args[4], MID_VERTICES) / MID_VERTICES;
-        lists[cull.count + slot] = i;
-    } else {
-        let slot = atomicAdd(&args[8], FAR_VERTICES) / FAR_VERTICES;
-        lists[2u * cull.count + slot] = i;
+    // A full list passes the blade on to the next level: the first NEAR_CAP blades to come
+    // get slots, every later one takes its count back.
+    var level = select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near);
+    if (level == 0u) {
+        let slot = atomicAdd(&args[0], NEAR_INDICES) / NEAR_INDICES;
+        if (slot < NEAR_CAP) {
+            lists[slot] = i;
+            return;
+        }
+        atomicSub(&args[0], NEAR_INDICES);
+        level = 1u;
     }
+    if (level == 1u) {
+        let slot = atomicAdd(&args[5], MID_INDICES) / MID_INDICES;
+        if (slot < MID_CAP) {
+            lists[cull.count + slot] = i;
+            return;
+        }
+        atomicSub(&args[5], MID_INDICES);
+    }
+    let slot = atomicAdd(&args[10], FAR_VERTICES) / FAR_VERTICES;
+    lists[2u * cull.count + slot] = i;
 }

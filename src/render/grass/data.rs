@@ -105,9 +105,31 @@ pub(crate) struct BladeParams {
 /// (`Shape` in cull.wgsl and blades.wgsl), bytes.
 pub const SHAPE_BYTES: u64 = 32;
 
-/// The vertices of a blade at each level of detail (near, middle, far): triangle lists of 13
-/// and 5 triangles, and a line (`NEAR_VERTICES` … in cull.wgsl).
+/// The indices of a blade at each level of detail (near, middle, far): indexed triangle lists
+/// of 13 and 5 triangles, and a line's two vertices (`NEAR_INDICES` … in cull.wgsl).
 pub const LOD_VERTICES: [u32; 3] = [39, 15, 2];
+
+/// The segments of a near and of a middle blade; a blade of `s` segments has `2 s + 1`
+/// vertices (blades.wgsl, `strip_vertex`).
+pub const LOD_SEGMENTS: [u32; 2] = [7, 3];
+
+/// The most near and middle blades a frame draws (`NEAR_CAP`, `MID_CAP` in cull.wgsl); further
+/// ones drop a level.
+pub const LOD_CAPS: [u32; 2] = [65_536, 262_144];
+
+/// The index buffer of `blades` blades of `segments` segments: blade `k`'s vertices are
+/// `k (2 s + 1) + c`, `c` the left (even) and right (odd) corners of its rows, then its tip;
+/// quads between the rows (two triangles each) and the tip triangle.
+pub fn blade_indices(segments: u32, blades: u32) -> Vec<u32> {
+    let per = 2 * segments + 1;
+    let mut one = Vec::with_capacity(3 * (2 * segments as usize - 1));
+    for j in 0..segments - 1 {
+        let (l, r) = (2 * j, 2 * j + 1);
+        one.extend([l, r, l + 2, l + 2, r, r + 2]);
+    }
+    one.extend([2 * segments - 2, 2 * segments - 1, 2 * segments]);
+    (0..blades).flat_map(|k| one.iter().map(move |c| k * per + c)).collect()
+}
 
 /// The distances within which blades get 7 and 3 segments (beyond: a line), metres, for an
 /// image `height_px` pixels high with a vertical field of view `fov_y` (radians): where one
@@ -233,6 +255,24 @@ mod tests {
         assert!((near2 - near / 2.0).abs() < 1e-4 && (mid2 - mid / 2.0).abs() < 1e-4);
         // A triangle list of s segments: s − 1 quads and the tip, three vertices a triangle.
         assert_eq!(LOD_VERTICES, [3 * (2 * 6 + 1), 3 * (2 * 2 + 1), 2]);
+    }
+
+    #[test]
+    fn blade_indices_make_quads_and_a_tip() {
+        // Three segments: rows 0, 1, 2 (vertices 0/1, 2/3, 4/5) and the tip 6.
+        let one = blade_indices(3, 1);
+        assert_eq!(one, vec![0, 1, 2, 2, 1, 3, 2, 3, 4, 4, 3, 5, 4, 5, 6]);
+        // The second blade's vertices follow the first's seven.
+        let two = blade_indices(3, 2);
+        assert_eq!(two.len(), 2 * 15);
+        assert_eq!(&two[15..], &one.iter().map(|i| i + 7).collect::<Vec<_>>()[..]);
+        // Seven segments: 13 triangles over 15 vertices, each used.
+        let near = blade_indices(7, 1);
+        assert_eq!(near.len() as u32, LOD_VERTICES[0]);
+        let mut used = near.clone();
+        used.sort_unstable();
+        used.dedup();
+        assert_eq!(used, (0..15).collect::<Vec<u32>>());
     }
 
     #[test]

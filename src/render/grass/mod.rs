@@ -58,6 +58,8 @@ struct ShellPatch {
 /// Every blade of the scene on the GPU, with the cull pass's outputs.
 struct BladeSet {
     count: u32,
+    /// The index buffers of the near and middle draws.
+    indices: [wgpu::Buffer; 2],
     cull_params: wgpu::Buffer,
     draw_params: wgpu::Buffer,
     args: wgpu::Buffer,
@@ -251,7 +253,7 @@ impl Grass {
         let draw_params = uniform("grass blade parameters", std::mem::size_of::<BladeParams>());
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("grass indirect draws"),
-            size: 48,
+            size: 56,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
@@ -267,7 +269,12 @@ impl Grass {
         });
         let entries = buffer_entries(&[&draw_params, &shapes, &lists]);
         let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass blade bind group"), layout: &self.blade_group_layout, entries: &entries });
-        self.blades = Some(BladeSet { count, cull_params, draw_params, args, cull_group, draw_group, colours });
+        let index_buffer = |k: usize| {
+            let idx = data::blade_indices(data::LOD_SEGMENTS[k], count.min(data::LOD_CAPS[k]));
+            init("grass blade indices", bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX)
+        };
+        let indices = [index_buffer(0), index_buffer(1)];
+        self.blades = Some(BladeSet { count, indices, cull_params, draw_params, args, cull_group, draw_group, colours });
     }
 
     /// The compute stage: culls the blades into this frame's lists and draw counts. Records
@@ -291,16 +298,16 @@ impl Grass {
     /// indirect draws (waits for the GPU); all zero without blades.
     pub fn visible_blades(&self, shared: &Shared) -> Result<BladeCounts, String> {
         let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok(BladeCounts::default()) };
-        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: 48, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: 56, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
         let mut encoder = shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grass counts") });
-        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, 48);
+        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, 56);
         shared.queue.submit([encoder.finish()]);
         let slice = read.slice(..);
         slice.map_async(wgpu::MapMode::Read, |_| {});
         shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("grass counts: {e}"))?;
         let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("grass counts: {e}"))?).to_vec();
         let [n, m, f] = data::LOD_VERTICES;
-        Ok(BladeCounts { near: words[0] / n, mid: words[4] / m, far: words[8] / f })
+        Ok(BladeCounts { near: words[0] / n, mid: words[5] / m, far: words[10] / f })
     }
 }
 
@@ -421,10 +428,12 @@ impl Feature for Grass {
             };
             queue.write_buffer(&b.cull_params, 0, bytemuck::bytes_of(&cull));
             queue.write_buffer(&b.draw_params, 0, bytemuck::bytes_of(&BladeParams { colours: b.colours }));
-            // The three indirect draws: no vertices until the cull pass, one instance each, the
-            // middle and far draws' first vertices at their lists.
-            let [_, m, f] = data::LOD_VERTICES;
-            let args: [u32; 12] = [0, 1, 0, 0, 0, 1, m * b.count, 0, 0, 1, 2 * f * b.count, 0];
+            // The three indirect draws (two indexed, then the lines): nothing until the cull
+            // pass, one instance each, the middle draw's base vertex and the far draw's first
+            // vertex at their lists.
+            let mid_vertices = 2 * data::LOD_SEGMENTS[1] + 1;
+            let far_vertices = data::LOD_VERTICES[2];
+            let args: [u32; 14] = [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0, 1, 2 * far_vertices * b.count, 0];
             queue.write_buffer(&b.args, 0, bytemuck::cast_slice(&args));
         }
         let (sm, sl, bm, bl) = (&self.shell_module, &self.shell_layout, &self.blade_module, &self.blade_layout);
@@ -439,10 +448,14 @@ impl Feature for Grass {
         if let Some(b) = &self.blades {
             pass.set_bind_group(2, &b.draw_group, &[]);
             // Nearest first, so that near blades hide the ones behind them before they are shaded.
-            for (k, pipeline) in self.blade_pipelines.get(key)?.iter().enumerate() {
+            let [near, mid, far] = self.blade_pipelines.get(key)?;
+            for (k, pipeline) in [near, mid].into_iter().enumerate() {
                 pass.set_pipeline(pipeline);
-                pass.draw_indirect(&b.args, 16 * k as u64);
+                pass.set_index_buffer(b.indices[k].slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed_indirect(&b.args, 20 * k as u64);
             }
+            pass.set_pipeline(far);
+            pass.draw_indirect(&b.args, 40);
             stats.draws += 3;
         }
         if !self.shells.is_empty() {
