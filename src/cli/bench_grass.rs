@@ -7,13 +7,15 @@
 //! - **Blades**: patches of 10k, 37.6k (Project ARC's limit), 100k and 1M blades considered by
 //!   the cull pass, at 640 × 360 and 1280 × 720, seen from 1.7 m above the patch's edge; and
 //!   the goal case, a 16 × 16 m patch of 65,536 blades all in view from above, at 640 × 360
-//!   (goal on lavapipe: at most 33 ms a frame). Each figure gives the blades the cull pass kept
-//!   (at each level of detail: near, middle, far) and, where the device has timestamp queries, the compute
-//!   pass's and the main pass's GPU time.
+//!   (goal on lavapipe: at most 33 ms a frame), also timed without grass. Each figure gives the
+//!   blades the cull pass kept (at each level of detail: near, middle, far) and, where the
+//!   device has timestamp queries, the compute pass's and the main pass's GPU time.
 //!
 //! A frame is timed from the start of `Renderer::render` to the GPU finishing
 //! (`device.poll(wait)`), without reading the image back: the median of several frames after a
-//! warm-up frame. On a software adapter (lavapipe) this is CPU time.
+//! warm-up frame. On a software adapter (lavapipe) this is CPU time; `cpu_ms_per_frame` is the
+//! CPU time of the whole process (all of lavapipe's threads) per frame, which other programs
+//! on the machine disturb far less than the wall time.
 
 use std::time::Instant;
 
