@@ -15,11 +15,13 @@ pub const MIN_TILE: f32 = 8.0;
 /// A run of a patch's triangles, consecutive in its vertex buffer.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tile {
-    /// The first vertex and the number of vertices (three a triangle).
+    /// The tile's first vertex in the patch's vertex buffer.
     pub first_vertex: u32,
+    /// Its number of vertices (three a triangle).
     pub vertex_count: u32,
-    /// A sphere around the tile's triangles, metres.
+    /// The centre of a sphere around the tile's triangles, metres.
     pub centre: Vec3,
+    /// That sphere's radius, metres.
     pub radius: f32,
 }
 
