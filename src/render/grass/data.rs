@@ -258,6 +258,26 @@ mod tests {
     }
 
     #[test]
+    fn the_cull_pass_shares_the_levels_constants() {
+        let cull = include_str!("cull.wgsl");
+        for line in [
+            format!("const NEAR_INDICES: u32 = {}u;", LOD_VERTICES[0]),
+            format!("const MID_INDICES: u32 = {}u;", LOD_VERTICES[1]),
+            format!("const FAR_VERTICES: u32 = {}u;", LOD_VERTICES[2]),
+            format!("const NEAR_CAP: u32 = {}u;", LOD_CAPS[0]),
+            format!("const MID_CAP: u32 = {}u;", LOD_CAPS[1]),
+        ] {
+            assert!(cull.contains(&line), "cull.wgsl lacks `{line}`");
+        }
+        let blades = include_str!("blades.wgsl");
+        for (segments, vertices) in [(7, 15), (3, 7)] {
+            assert!(LOD_SEGMENTS.contains(&segments));
+            let call = format!("% {vertices}u, {segments}u)");
+            assert!(blades.contains(&call), "blades.wgsl lacks `{call}`");
+        }
+    }
+
+    #[test]
     fn blade_indices_make_quads_and_a_tip() {
         // Three segments: rows 0, 1, 2 (vertices 0/1, 2/3, 4/5) and the tip 6.
         let one = blade_indices(3, 1);
