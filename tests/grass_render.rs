@@ -1,7 +1,8 @@
 //! Grass on the GPU (whatever adapter wgpu finds; lavapipe in CI): golden images of a shell
 //! lawn, a blade patch, a patch with a hole and blades bent near the camera, each with a
 //! property that must hold whatever the snapshot says; the wind moves blades and a calm does
-//! not; the compute pass culls; `--no-grass`; bad grass fields exit 2 with one line.
+//! not; the compute pass culls; both kinds receive the trees' shadows; `--no-grass`; bad grass
+//! fields exit 2 with one line.
 //!
 //! Images are small (160×120), without MSAA, compared with `tests/snapshots/<name>.png` as in
 //! `tests/render_golden.rs`, each with its tolerance. Regenerate with
@@ -13,6 +14,7 @@ use std::path::PathBuf;
 use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
+use grove::render::grass::BladeCounts;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
 use grove_systems::components::{HitMarker, HitTarget};
@@ -60,7 +62,7 @@ fn sim(s: &Scene) -> Sim {
     Sim::from_scene(s, s.seed).unwrap()
 }
 
-fn render_with(sim: &Sim, grass: bool, bend: bool) -> (RgbaImage, (u32, u32)) {
+fn render_with(sim: &Sim, grass: bool, bend: bool) -> (RgbaImage, BladeCounts) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
@@ -127,7 +129,7 @@ const LOOK: Vec3 = Vec3::new(0.0, 0.0, 0.0);
 fn shell_lawn() {
     let s = sim(&scene("Shells", 3000.0, 0.0, 0.0, EYE, LOOK));
     let (img, counts) = render_with(&s, true, true);
-    assert_eq!(counts, (0, 0), "a shell lawn has no blades");
+    assert_eq!(counts, BladeCounts::default(), "a shell lawn has no blades");
     let (bare, _) = render_with(&s, false, true);
     // The lawn covers the plane: the lower half of the image changes with it and is green.
     let lower = (0, H / 2, W, H);
@@ -139,10 +141,14 @@ fn shell_lawn() {
 #[test]
 fn blade_patch() {
     let s = sim(&scene("Blades", 600.0, 0.0, 0.0, EYE, LOOK));
-    let (img, (near, far)) = render_with(&s, true, true);
-    // 36 m² at 600 per m²: about 21,600 blades, of which the frame sees most, all within the
-    // fine level of detail's 8 m.
-    assert!(near > 8_000 && near < 21_600 && far == 0, "{near} near and {far} far blades");
+    let (img, counts) = render_with(&s, true, true);
+    // 36 m² at 600 per m²: about 21,600 blades, of which the frame sees most. At 120 pixels and
+    // 60°, one metre at d covers 120 / (2 tan 30°) / d ≈ 104 / d pixels: 7 segments within
+    // 104 / 78 ≈ 1.3 m, 3 within 104 / 30 ≈ 3.5 m, lines beyond. The eye is 1.2 m above the
+    // patch's near edge, 6.6 m from its far edge: all three levels are drawn.
+    let BladeCounts { near, mid, far } = counts;
+    assert!(counts.total() > 8_000 && counts.total() < 21_600, "{counts:?}");
+    assert!(near > 0 && mid > near && far > mid, "{counts:?}");
     let (bare, _) = render_with(&s, false, true);
     assert!(diff(&img, &bare, (0, H / 2, W, H)) > 8.0, "the blades changed nothing");
     compare("grass-blade-patch", &img, 4.0, 5.0);
@@ -205,11 +211,70 @@ fn blades_behind_the_camera_are_culled() {
     // Looking away from the patch, up into the sky: the cull pass keeps no blade.
     let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 3.0, 12.0)));
     let (_, counts) = render_with(&s, true, true);
-    assert_eq!(counts, (0, 0));
-    // From 20 m away every visible blade gets the coarse level of detail.
+    assert_eq!(counts, BladeCounts::default());
+    // From 17 m away and more every visible blade is a line (beyond 3.5 m at 120 pixels).
     let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 6.0, 20.0), LOOK));
-    let (_, (near, far)) = render_with(&s, true, true);
-    assert!(near == 0 && far > 10_000, "{near} near and {far} far blades");
+    let (_, counts) = render_with(&s, true, true);
+    assert!(counts.near == 0 && counts.mid == 0 && counts.far > 10_000, "{counts:?}");
+}
+
+/// Luminance (Rec. 709 weights on the 0..255 channels) of one pixel.
+fn luma(img: &RgbaImage, x: u32, y: u32) -> f64 {
+    let p = img.get_pixel(x, y).0;
+    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+}
+
+#[test]
+fn grass_receives_the_trees_shadows() {
+    // Four trees around an 8 × 8 m patch under a low morning sun, seen from 5 m straight above
+    // its centre: the view holds only the patch, the trees stand outside it and their long
+    // shadows fall into it.
+    for kind in ["Shells", "Blades"] {
+        let text = format!(
+            r#"Scene(
+    name: "grass shadow test", seed: 3,
+    planes: [(name: "ground", shape: Grid(min: (-12.0, -12.0), size: (24.0, 24.0), cell: 0.5, elevation: 0.0, holes: []))],
+    sun: (latitude_deg: 47.4, longitude_deg: 8.5, utc: "2026-06-21T06:00:00Z"),
+    wind: (direction: (1.0, 0.0, 0.3), strength: 0.0, density: 0.15, gust_average: 1.0, gust_strength: 0.3, gust_frequency: 0.3),
+    grass: [(name: "patch", kind: {kind}, density: 3000.0, height: (0.15, 0.3), shells: 16, polygon: [(-4.0, -4.0), (4.0, -4.0), (4.0, 4.0), (-4.0, 4.0)])],
+    trees: [
+        (model: "broadleaf-mesh", position: (-7.0, 0.0, 0.0), yaw_deg: 0.0),
+        (model: "broadleaf-mesh", position: (7.0, 0.0, 0.0), yaw_deg: 0.0),
+        (model: "broadleaf-mesh", position: (0.0, 0.0, 7.0), yaw_deg: 0.0),
+        (model: "broadleaf-mesh", position: (0.0, 0.0, -7.0), yaw_deg: 0.0),
+    ],
+    camera: (position: (0.0, 5.0, 0.01), look_at: (0.0, 0.0, 0.0), fov_y_deg: 60.0),
+)"#
+        );
+        let s = sim(&Scene::parse(&text, "grass shadow test").unwrap());
+        let shot = |grass: bool, shadows: bool| {
+            let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+            let g = gpu();
+            let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+            r.options.grass = grass;
+            r.options.shadows = shadows;
+            offscreen::render_image(g, &mut r, &s).unwrap()
+        };
+        let (grass_lit, grass_shadowed) = (shot(true, false), shot(true, true));
+        let (bare_lit, bare_shadowed) = (shot(false, false), shot(false, true));
+        // The pixels where the grass covers the ground (it changes the unshadowed picture) and
+        // where the ground lies in a tree's shadow (the bare ground darkens with shadows on).
+        let (mut n, mut darker) = (0usize, 0.0);
+        for y in 0..H {
+            for x in 0..W {
+                let grass_here = (luma(&grass_lit, x, y) - luma(&bare_lit, x, y)).abs() > 10.0;
+                let in_shadow = luma(&bare_lit, x, y) - luma(&bare_shadowed, x, y) > 10.0;
+                if grass_here && in_shadow {
+                    n += 1;
+                    darker += luma(&grass_lit, x, y) - luma(&grass_shadowed, x, y);
+                }
+            }
+        }
+        // A shadow covers a good part of the view, and the grass in it is darker too.
+        assert!(n > 500, "{kind}: only {n} grass pixels in a tree's shadow");
+        let mean = darker / n as f64;
+        assert!(mean > 8.0, "{kind}: the grass in the trees' shadows is only {mean:.1} darker");
+    }
 }
 
 #[test]

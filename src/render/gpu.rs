@@ -56,7 +56,7 @@ impl Shared {
             entries: &[
                 texture_entry(0, wgpu::TextureViewDimension::D2, wgpu::TextureSampleType::Depth),
                 sampler_entry(1, wgpu::SamplerBindingType::Comparison),
-                // The ground looks up its aerial perspective's haze per vertex.
+                // The ground and the grass shells look up the aerial perspective's haze per vertex.
                 wgpu::BindGroupLayoutEntry {
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
                     ..texture_entry(2, cube, float_tex)

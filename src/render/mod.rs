@@ -212,9 +212,9 @@ impl Renderer {
         self.timer.as_ref().map(|t| t.read(&self.shared.device)).transpose()
     }
 
-    /// The numbers of grass blades the last frame drew with 15 and with 7 vertices, read back
-    /// from the GPU's indirect draws (waits for the GPU); `(0, 0)` without blades.
-    pub fn visible_blades(&self) -> Result<(u32, u32), String> {
+    /// The numbers of grass blades the last frame drew at each level of detail, read back from
+    /// the GPU's indirect draws (waits for the GPU); all zero without blades.
+    pub fn visible_blades(&self) -> Result<grass::BladeCounts, String> {
         self.grass.visible_blades(&self.shared)
     }
 

@@ -75,18 +75,14 @@ pub(crate) struct CullParams {
     pub planes: [[f32; 4]; 6],
     /// The camera, metres, and the far distance.
     pub camera: [f32; 4],
-    /// The distance within which blades get 15 vertices, metres.
-    pub lod_distance: f32,
+    /// The distance within which blades get 7 segments, metres.
+    pub lod_near: f32,
+    /// The distance within which blades get 3 segments (beyond it, one triangle), metres.
+    pub lod_mid: f32,
     /// The number of blades.
     pub count: u32,
     /// Padding.
-    pub pad: [u32; 2],
-}
-
-/// The blade draw's uniforms (matches `BladeParams` in blades.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub(crate) struct BladeParams {
+    pub pad: u32,
     /// Wind direction (x, z), bend at the tip (radians), time (seconds).
     pub wind: [f32; 4],
     /// Noise scroll speed (m/s), noise scale (per metre), unused, unused.
@@ -95,8 +91,60 @@ pub(crate) struct BladeParams {
     pub eye: [f32; 4],
     /// The hit point and its push radius (0: none), metres.
     pub hit: [f32; 4],
+}
+
+/// The blade draw's uniforms (matches `BladeParams` in blades.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct BladeParams {
     /// Root and tip colour per patch.
     pub colours: [[f32; 4]; 2 * MAX_PATCHES],
+}
+
+/// The size of a visible blade's shape, written by the cull pass for the vertex shader
+/// (`Shape` in cull.wgsl and blades.wgsl), bytes.
+pub const SHAPE_BYTES: u64 = 32;
+
+/// The indices of a blade at each level of detail (near, middle, far): indexed triangle lists
+/// of 13 and 5 triangles, and a line's two vertices (`NEAR_INDICES` … in cull.wgsl).
+pub const LOD_VERTICES: [u32; 3] = [39, 15, 2];
+
+/// The segments of a near and of a middle blade; a blade of `s` segments has `2 s + 1`
+/// vertices (blades.wgsl, `strip_vertex`).
+pub const LOD_SEGMENTS: [u32; 2] = [7, 3];
+
+/// The most near and middle blades a frame draws (`NEAR_CAP`, `MID_CAP` in cull.wgsl); further
+/// ones drop a level.
+pub const LOD_CAPS: [u32; 2] = [65_536, 262_144];
+
+/// The index buffer of `blades` blades of `segments` segments: blade `k`'s vertices are
+/// `k (2 s + 1) + c`, `c` the left (even) and right (odd) corners of its rows, then its tip;
+/// quads between the rows (two triangles each) and the tip triangle.
+pub fn blade_indices(segments: u32, blades: u32) -> Vec<u32> {
+    let per = 2 * segments + 1;
+    let mut one = Vec::with_capacity(3 * (2 * segments as usize - 1));
+    for j in 0..segments - 1 {
+        let (l, r) = (2 * j, 2 * j + 1);
+        one.extend([l, r, l + 2, l + 2, r, r + 2]);
+    }
+    one.extend([2 * segments - 2, 2 * segments - 1, 2 * segments]);
+    (0..blades).flat_map(|k| one.iter().map(move |c| k * per + c)).collect()
+}
+
+/// The distances within which blades get 7 and 3 segments (beyond: a line), metres, for an
+/// image `height_px` pixels high with a vertical field of view `fov_y` (radians): where one
+/// metre covers 78 and 30 pixels, so that a 0.3 m blade is drawn with 7 segments while it is
+/// at least 23 pixels tall and as a line once it is under 9 pixels, when a blade 3 cm wide
+/// covers less than a pixel (8 m and 21 m at 720 pixels and 60°).
+pub fn lod_distances(height_px: u32, fov_y: f32) -> (f32, f32) {
+    let k = pixels_per_metre(height_px, fov_y);
+    (k / 78.0, k / 30.0)
+}
+
+/// The pixels one metre (across the view) covers at a distance of one metre, in an image
+/// `height_px` pixels high with a vertical field of view `fov_y` (radians).
+pub fn pixels_per_metre(height_px: u32, fov_y: f32) -> f32 {
+    height_px as f32 / (2.0 * (0.5 * fov_y.clamp(0.01, 3.1)).tan())
 }
 
 /// One shell patch's uniforms (matches `ShellParams` in shells.wgsl).
@@ -170,10 +218,10 @@ mod tests {
 
     #[test]
     fn uniform_layouts_match_the_wgsl() {
-        // cull.wgsl: six vec4 planes, a vec4, then f32, u32 and two u32 of padding.
-        assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16);
+        // cull.wgsl: six vec4 planes, a vec4, two f32, two u32, then four vec4.
+        assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16 + 4 * 16);
         assert_eq!(std::mem::size_of::<GpuBlade>(), 32);
-        assert_eq!(std::mem::size_of::<BladeParams>(), 4 * 16 + 2 * MAX_PATCHES * 16);
+        assert_eq!(std::mem::size_of::<BladeParams>(), 2 * MAX_PATCHES * 16);
         assert_eq!(std::mem::size_of::<ShellParams>(), 64);
     }
 
@@ -194,6 +242,57 @@ mod tests {
         let left = planes[0];
         let d = Vec3::new(left[0], left[1], left[2]).dot(Vec3::new(-11.0, 0.0, -10.0)) + left[3];
         assert!((d + std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3, "{d}");
+    }
+
+    #[test]
+    fn levels_of_detail_follow_the_pixels_a_metre_covers() {
+        // 720 pixels over a 60° field of view: one metre at distance d covers
+        // 720 / (2 tan 30°) / d ≈ 623.5 / d pixels.
+        let (near, mid) = lod_distances(720, 60f32.to_radians());
+        assert!((near - 623.54 / 78.0).abs() < 0.01 && (mid - 623.54 / 30.0).abs() < 0.01, "{near} {mid}");
+        // Half the pixels: half the distances.
+        let (near2, mid2) = lod_distances(360, 60f32.to_radians());
+        assert!((near2 - near / 2.0).abs() < 1e-4 && (mid2 - mid / 2.0).abs() < 1e-4);
+        // A triangle list of s segments: s − 1 quads and the tip, three vertices a triangle.
+        assert_eq!(LOD_VERTICES, [3 * (2 * 6 + 1), 3 * (2 * 2 + 1), 2]);
+    }
+
+    #[test]
+    fn the_cull_pass_shares_the_levels_constants() {
+        let cull = include_str!("cull.wgsl");
+        for line in [
+            format!("const NEAR_INDICES: u32 = {}u;", LOD_VERTICES[0]),
+            format!("const MID_INDICES: u32 = {}u;", LOD_VERTICES[1]),
+            format!("const FAR_VERTICES: u32 = {}u;", LOD_VERTICES[2]),
+            format!("const NEAR_CAP: u32 = {}u;", LOD_CAPS[0]),
+            format!("const MID_CAP: u32 = {}u;", LOD_CAPS[1]),
+        ] {
+            assert!(cull.contains(&line), "cull.wgsl lacks `{line}`");
+        }
+        let blades = include_str!("blades.wgsl");
+        for (segments, vertices) in [(7, 15), (3, 7)] {
+            assert!(LOD_SEGMENTS.contains(&segments));
+            let call = format!("% {vertices}u, {segments}u)");
+            assert!(blades.contains(&call), "blades.wgsl lacks `{call}`");
+        }
+    }
+
+    #[test]
+    fn blade_indices_make_quads_and_a_tip() {
+        // Three segments: rows 0, 1, 2 (vertices 0/1, 2/3, 4/5) and the tip 6.
+        let one = blade_indices(3, 1);
+        assert_eq!(one, vec![0, 1, 2, 2, 1, 3, 2, 3, 4, 4, 3, 5, 4, 5, 6]);
+        // The second blade's vertices follow the first's seven.
+        let two = blade_indices(3, 2);
+        assert_eq!(two.len(), 2 * 15);
+        assert_eq!(&two[15..], &one.iter().map(|i| i + 7).collect::<Vec<_>>()[..]);
+        // Seven segments: 13 triangles over 15 vertices, each used.
+        let near = blade_indices(7, 1);
+        assert_eq!(near.len() as u32, LOD_VERTICES[0]);
+        let mut used = near.clone();
+        used.sort_unstable();
+        used.dedup();
+        assert_eq!(used, (0..15).collect::<Vec<u32>>());
     }
 
     #[test]

@@ -1,19 +1,25 @@
 //! Grass: shell lawns and compute-generated blades (issue #18), a shadow receiver (it casts
 //! none). Drawn right after the ground in the opaque phase.
 //!
-//! - **Shells** (`shells.wgsl`): per patch, its ground triangles drawn in one instanced draw,
-//!   one instance per layer; a strand texture decides which texels of a layer are grass.
+//! - **Shells** (`shells.wgsl`): per patch, its ground triangles drawn instanced, one instance
+//!   per layer; a strand texture decides which texels of a layer are grass. A large patch is
+//!   split into tiles (`tiles.rs`, at most 256): a tile outside the view is skipped and a far
+//!   one drawn with only the layers the shader keeps at its distance.
 //! - **Blades**: every blade of every blade patch is uploaded once, when the patches change
 //!   ([`GrassKey`]). Each frame the **compute** stage (`cull.wgsl`) culls them against the view
-//!   frustum and a far distance and writes the visible ones into a near list and a far list,
-//!   counting the instances of two indirect draws; the main pass draws both indirectly
-//!   (`blades.wgsl`: 15 vertices a blade near the camera, 7 further away). No per-blade data
-//!   crosses from the CPU per frame: only the uniforms and the two counters' reset.
+//!   frustum and a far distance, evaluates each visible blade's wind, pushes and bend once into
+//!   its shape (a Bézier curve), and lists it by level of detail, counting the vertices of
+//!   three indirect draws; the main pass draws them indirectly, nearest level first
+//!   (`blades.wgsl`: 7 segments a blade near the camera, 3 further away, a line far away,
+//!   with the levels' distances following the pixels a metre covers). The draws are not
+//!   instanced (a software rasteriser pays per instance). No per-blade data crosses from the
+//!   CPU per frame: only the uniforms and the three counters' reset.
 //!
 //! Wind is the world's `Wind` (its direction, strength and current gust, as the trees get it),
 //! read from a world-space noise texture. Units: metres, radians, seconds.
 
 pub(crate) mod data;
+pub(crate) mod tiles;
 
 use wgpu::util::DeviceExt;
 
@@ -24,8 +30,6 @@ use super::view::camera_matrix;
 use super::FrameStats;
 use data::{BladeParams, CullParams, GpuBlade, GrassPatch, ShellParams, MAX_PATCHES};
 
-/// Blades nearer than this get 15 vertices, metres.
-pub const LOD_DISTANCE: f32 = 8.0;
 /// No blade is drawn beyond this distance, metres.
 pub const FAR_DISTANCE: f32 = 60.0;
 /// The radius within which blades bend away from the eye, metres.
@@ -41,7 +45,10 @@ const WIND_BEND: f32 = 0.9;
 /// One shell patch on the GPU.
 struct ShellPatch {
     vertices: wgpu::Buffer,
-    vertex_count: u32,
+    /// The patch's tiles (runs of its vertex buffer) and the layers each draws this frame
+    /// (0: outside the view).
+    tiles: Vec<tiles::Tile>,
+    tile_layers: Vec<u32>,
     layers: u32,
     params: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -51,6 +58,8 @@ struct ShellPatch {
 /// Every blade of the scene on the GPU, with the cull pass's outputs.
 struct BladeSet {
     count: u32,
+    /// The index buffers of the near and middle draws.
+    indices: [wgpu::Buffer; 2],
     cull_params: wgpu::Buffer,
     draw_params: wgpu::Buffer,
     args: wgpu::Buffer,
@@ -70,7 +79,7 @@ pub(crate) struct Grass {
     blade_layout: wgpu::PipelineLayout,
     cull_pipeline: wgpu::ComputePipeline,
     shell_pipelines: PipelineCache<wgpu::RenderPipeline>,
-    blade_pipelines: PipelineCache<[wgpu::RenderPipeline; 2]>,
+    blade_pipelines: PipelineCache<[wgpu::RenderPipeline; 3]>,
     strand_tex: wgpu::TextureView,
     wind_tex: wgpu::TextureView,
     nearest: wgpu::Sampler,
@@ -117,11 +126,19 @@ impl Grass {
         });
         let blade_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass blade layout"),
-            entries: &[entry(0, vf, uniform), entry(1, v, storage(true)), entry(2, v, storage(true)), entry(3, v, storage(true)), entry(4, v, float_texture()), entry(5, v, filtering)],
+            entries: &[entry(0, v, uniform), entry(1, v, storage(true)), entry(2, v, storage(true))],
         });
         let cull_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass cull layout"),
-            entries: &[entry(0, c, uniform), entry(1, c, storage(true)), entry(2, c, storage(false)), entry(3, c, storage(false)), entry(4, c, storage(false))],
+            entries: &[
+                entry(0, c, uniform),
+                entry(1, c, storage(true)),
+                entry(2, c, storage(false)),
+                entry(3, c, storage(false)),
+                entry(4, c, storage(false)),
+                entry(5, c, float_texture()),
+                entry(6, c, filtering),
+            ],
         });
         let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("cull.wgsl"), source: wgpu::ShaderSource::Wgsl(include_str!("cull.wgsl").into()) });
         let cull_layout = shared.layout("grass cull pipeline layout", &[Some(&cull_group_layout)]);
@@ -179,8 +196,9 @@ impl Grass {
                 // Per vertex: position, the face's normal, and the triangle's centre and radius,
                 // the same for its three corners, so the shader thins a whole triangle's layers
                 // with distance at once.
+                let (order, tiles) = tiles::tile_triangles(&p.triangles);
                 let mut verts: Vec<[f32; 10]> = Vec::with_capacity(p.triangles.len() * 3);
-                for t in &p.triangles {
+                for t in order.iter().map(|&k| &p.triangles[k]) {
                     let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or(glam::Vec3::Y);
                     let n = if n.y < 0.0 { -n } else { n };
                     let c = (t[0] + t[1] + t[2]) / 3.0;
@@ -210,7 +228,8 @@ impl Grass {
                 });
                 self.shells.push(ShellPatch {
                     vertices: init("grass shell vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
-                    vertex_count: verts.len() as u32,
+                    tile_layers: vec![0; tiles.len()],
+                    tiles,
                     layers: p.layers,
                     params,
                     bind_group,
@@ -226,29 +245,36 @@ impl Grass {
             return;
         }
         let count = blades.len() as u32;
-        let list_bytes = 4 * u64::from(count);
-        let list = |label| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: list_bytes, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
-        let (near, far) = (list("grass near blades"), list("grass far blades"));
+        let lists = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade lists"), size: 3 * 4 * u64::from(count), usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
+        let shapes = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade shapes"), size: data::SHAPE_BYTES * u64::from(count), usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
         let blade_buf = init("grass blades", bytemuck::cast_slice(&blades), wgpu::BufferUsages::STORAGE);
         let uniform = |label, size: usize| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
         let cull_params = uniform("grass cull parameters", std::mem::size_of::<CullParams>());
         let draw_params = uniform("grass blade parameters", std::mem::size_of::<BladeParams>());
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("grass indirect draws"),
-            size: 32,
+            size: 56,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         let cull_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("grass cull bind group"),
             layout: &self.cull_group_layout,
-            entries: &buffer_entries(&[&cull_params, &blade_buf, &near, &far, &args]),
+            entries: &{
+                let mut entries = buffer_entries(&[&cull_params, &blade_buf, &shapes, &lists, &args]);
+                entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&self.wind_tex) });
+                entries.push(wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.linear) });
+                entries
+            },
         });
-        let mut entries = buffer_entries(&[&draw_params, &blade_buf, &near, &far]);
-        entries.push(wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&self.wind_tex) });
-        entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::Sampler(&self.linear) });
+        let entries = buffer_entries(&[&draw_params, &shapes, &lists]);
         let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass blade bind group"), layout: &self.blade_group_layout, entries: &entries });
-        self.blades = Some(BladeSet { count, cull_params, draw_params, args, cull_group, draw_group, colours });
+        let index_buffer = |k: usize| {
+            let idx = data::blade_indices(data::LOD_SEGMENTS[k], count.min(data::LOD_CAPS[k]));
+            init("grass blade indices", bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX)
+        };
+        let indices = [index_buffer(0), index_buffer(1)];
+        self.blades = Some(BladeSet { count, indices, cull_params, draw_params, args, cull_group, draw_group, colours });
     }
 
     /// The compute stage: culls the blades into this frame's lists and draw counts. Records
@@ -268,19 +294,38 @@ impl Grass {
         pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
     }
 
-    /// The numbers of blades the last frame drew with 15 and with 7 vertices, read back from the
-    /// indirect draws (waits for the GPU); `(0, 0)` without blades.
-    pub fn visible_blades(&self, shared: &Shared) -> Result<(u32, u32), String> {
-        let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok((0, 0)) };
-        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: 32, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+    /// The numbers of blades the last frame drew at each level of detail, read back from the
+    /// indirect draws (waits for the GPU); all zero without blades.
+    pub fn visible_blades(&self, shared: &Shared) -> Result<BladeCounts, String> {
+        let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok(BladeCounts::default()) };
+        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: 56, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
         let mut encoder = shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grass counts") });
-        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, 32);
+        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, 56);
         shared.queue.submit([encoder.finish()]);
         let slice = read.slice(..);
         slice.map_async(wgpu::MapMode::Read, |_| {});
         shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("grass counts: {e}"))?;
         let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("grass counts: {e}"))?).to_vec();
-        Ok((words[1], words[5]))
+        let [n, m, f] = data::LOD_VERTICES;
+        Ok(BladeCounts { near: words[0] / n, mid: words[5] / m, far: words[10] / f })
+    }
+}
+
+/// The blades a frame drew at each level of detail.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BladeCounts {
+    /// With 7 segments (13 triangles).
+    pub near: u32,
+    /// With 3 segments (5 triangles).
+    pub mid: u32,
+    /// As a line.
+    pub far: u32,
+}
+
+impl BladeCounts {
+    /// All the blades drawn.
+    pub fn total(&self) -> u32 {
+        self.near + self.mid + self.far
     }
 }
 
@@ -306,14 +351,14 @@ fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
     }))
 }
 
-/// The blades' pipelines of `key` (near, far): main view only.
-fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 2], String> {
+/// The blades' pipelines of `key` (near, middle, far): main view only.
+fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 3], String> {
     if key.view != ViewKind::Main {
         return Err("grass is drawn from the main view only".into());
     }
     let targets = super::gpu::color_target(key.format, wgpu::ColorWrites::ALL);
     let constants = key.lit_constants();
-    let one = |label, vertex| {
+    let one = |label, vertex, topology| {
         shared.pipeline(&PipelineSpec {
             label,
             layout,
@@ -321,14 +366,15 @@ fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
             vertex,
             fragment: Some("fs_main"),
             buffers: &[],
-            topology: wgpu::PrimitiveTopology::TriangleStrip,
+            topology,
             cull: None,
             depth: depth_test(true, wgpu::CompareFunction::Less),
             targets: &targets,
             constants: &constants,
         })
     };
-    Ok([one("grass blade pipeline (near)", "vs_near"), one("grass blade pipeline (far)", "vs_far")])
+    let (list, far) = (wgpu::PrimitiveTopology::TriangleList, wgpu::PrimitiveTopology::LineList);
+    Ok([one("grass blade pipeline (near)", "vs_near", list), one("grass blade pipeline (middle)", "vs_mid", list), one("grass blade pipeline (far)", "vs_far", far)])
 }
 
 impl Feature for Grass {
@@ -345,7 +391,18 @@ impl Feature for Grass {
         let time = (cx.data.time % 3600.0) as f32;
         let bend = WIND_BEND * w.strength * w.gust;
         let speed = WIND_SPEED * w.strength.max(0.05);
-        for s in &self.shells {
+        let view_proj = camera_matrix(&cx.data.camera, cx.size.0 as f32 / cx.size.1.max(1) as f32);
+        let planes = data::frustum_planes(view_proj);
+        let eye = cx.data.camera.position;
+        for s in &mut self.shells {
+            // Each tile's layers: none outside the view (its sphere, raised by the grass and its
+            // sway), else the ones the shader keeps at the tile's nearest point.
+            let reach = s.template.tip[3] * 1.5;
+            for (tile, n) in s.tiles.iter().zip(s.tile_layers.iter_mut()) {
+                let (c, r) = (tile.centre + glam::Vec3::Y * (0.5 * reach), tile.radius + reach);
+                let visible = planes.iter().all(|q| glam::Vec3::new(q[0], q[1], q[2]).dot(c) + q[3] >= -r);
+                *n = if visible { tiles::tile_layers(eye.distance(tile.centre) - tile.radius, s.layers) } else { 0 };
+            }
             let mut p = s.template;
             // The tip of a shell lawn sways by about a third of its height at full wind.
             p.wind = [w.direction[0], w.direction[1], 0.35 * p.tip[3] * w.strength * w.gust, time];
@@ -353,23 +410,30 @@ impl Feature for Grass {
             queue.write_buffer(&s.params, 0, bytemuck::bytes_of(&p));
         }
         if let Some(b) = &self.blades {
-            let view_proj = camera_matrix(&cx.data.camera, cx.size.0 as f32 / cx.size.1.max(1) as f32);
-            let eye = cx.data.camera.position;
-            let cull = CullParams { planes: data::frustum_planes(view_proj), camera: [eye.x, eye.y, eye.z, FAR_DISTANCE], lod_distance: LOD_DISTANCE, count: b.count, pad: [0; 2] };
-            queue.write_buffer(&b.cull_params, 0, bytemuck::bytes_of(&cull));
             let bend_near = cx.options.grass_bend;
             let hit = cx.data.overlay.hit.filter(|h| h.visible && bend_near).map_or([0.0; 4], |h| [h.position.x, h.position.y, h.position.z, HIT_RADIUS]);
             let eye_radius = if bend_near { EYE_RADIUS } else { 0.0 };
-            let params = BladeParams {
+            let (lod_near, lod_mid) = data::lod_distances(cx.size.1, cx.data.camera.fov_y);
+            let cull = CullParams {
+                planes: data::frustum_planes(view_proj),
+                camera: [eye.x, eye.y, eye.z, FAR_DISTANCE],
+                lod_near,
+                lod_mid,
+                count: b.count,
+                pad: 0,
                 wind: [w.direction[0], w.direction[1], bend, time],
                 wind_noise: [speed, WIND_SCALE, 0.0, 0.0],
                 eye: [eye.x, eye.y, eye.z, eye_radius],
                 hit,
-                colours: b.colours,
             };
-            queue.write_buffer(&b.draw_params, 0, bytemuck::bytes_of(&params));
-            // The two indirect draws: 15 and 7 vertices, no instances until the cull pass.
-            let args: [u32; 8] = [15, 0, 0, 0, 7, 0, 0, 0];
+            queue.write_buffer(&b.cull_params, 0, bytemuck::bytes_of(&cull));
+            queue.write_buffer(&b.draw_params, 0, bytemuck::bytes_of(&BladeParams { colours: b.colours }));
+            // The three indirect draws (two indexed, then the lines): nothing until the cull
+            // pass, one instance each, the middle draw's base vertex and the far draw's first
+            // vertex at their lists.
+            let mid_vertices = 2 * data::LOD_SEGMENTS[1] + 1;
+            let far_vertices = data::LOD_VERTICES[2];
+            let args: [u32; 14] = [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0, 1, 2 * far_vertices * b.count, 0];
             queue.write_buffer(&b.args, 0, bytemuck::cast_slice(&args));
         }
         let (sm, sl, bm, bl) = (&self.shell_module, &self.shell_layout, &self.blade_module, &self.blade_layout);
@@ -382,23 +446,29 @@ impl Feature for Grass {
             return Ok(());
         }
         if let Some(b) = &self.blades {
-            let [near, far] = self.blade_pipelines.get(key)?;
             pass.set_bind_group(2, &b.draw_group, &[]);
-            pass.set_pipeline(near);
-            pass.draw_indirect(&b.args, 0);
+            // Nearest first, so that near blades hide the ones behind them before they are shaded.
+            let [near, mid, far] = self.blade_pipelines.get(key)?;
+            for (k, pipeline) in [near, mid].into_iter().enumerate() {
+                pass.set_pipeline(pipeline);
+                pass.set_index_buffer(b.indices[k].slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed_indirect(&b.args, 20 * k as u64);
+            }
             pass.set_pipeline(far);
-            pass.draw_indirect(&b.args, 16);
-            stats.draws += 2;
+            pass.draw_indirect(&b.args, 40);
+            stats.draws += 3;
         }
         if !self.shells.is_empty() {
             pass.set_pipeline(self.shell_pipelines.get(key)?);
             for s in &self.shells {
                 pass.set_bind_group(2, &s.bind_group, &[]);
                 pass.set_vertex_buffer(0, s.vertices.slice(..));
-                // One instance per layer, bottom to top.
-                pass.draw(0..s.vertex_count, 0..s.layers);
-                stats.draws += 1;
-                stats.triangles += (s.vertex_count / 3 * s.layers) as usize;
+                // One instance per layer, bottom to top, per tile in view.
+                for (tile, &n) in s.tiles.iter().zip(&s.tile_layers).filter(|(_, n)| **n > 0) {
+                    pass.draw(tile.first_vertex..tile.first_vertex + tile.vertex_count, 0..n);
+                    stats.draws += 1;
+                    stats.triangles += (tile.vertex_count / 3 * n) as usize;
+                }
             }
         }
         Ok(())

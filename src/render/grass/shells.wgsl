@@ -4,6 +4,13 @@
 // reaches it, more transparent towards the tip. Layers are drawn bottom to top, blended.
 // lighting.wgsl is prepended (src/render/gpu.rs).
 //
+// The light is evaluated per vertex (a patch's normal is its triangle's; the aerial
+// perspective changes slowly), and few values cross to the fragment, which adds the strand's
+// colour and, with shadows on, the trees' shadow. (Thinning the layers by the pixels each
+// covers, per triangle or per fragment, was tried: it darkened distant lawns, whose colour
+// builds up over all their layers, and a discarded fragment still costs lavapipe its
+// rasterisation.)
+//
 // Units: metres; +Y up.
 
 struct ShellParams {
@@ -40,12 +47,19 @@ fn layers_at(d: f32, layers: f32) -> f32 {
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) world_pos: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    // The strand texture's coordinates: the position before the layer's sway.
-    @location(2) strand_uv: vec2<f32>,
-    @location(3) irr: vec3<f32>,
-    @location(4) @interpolate(flat) layer: u32,
+    // The point where the shadow map is looked up (pushed along the normal, lighting.wgsl's
+    // `shadow_factor`), metres.
+    @location(0) shadow_pos: vec3<f32>,
+    // The strand texture's coordinates (the position before the layer's sway).
+    @location(1) strand_uv: vec2<f32>,
+    // The sky's light and the sun's (without its shadow) for an albedo of one, each already
+    // faded by the aerial perspective, and what the fragment adds to them: the haze and the
+    // sun's highlight. Linear RGB. Few values cross to the fragment, as each costs an
+    // interpolation per pixel and per layer.
+    @location(2) ambient: vec3<f32>,
+    @location(3) direct: vec3<f32>,
+    @location(4) add: vec3<f32>,
+    @location(5) @interpolate(flat) layer: u32,
 };
 
 @vertex
@@ -66,10 +80,25 @@ fn vs_main(v: VertexIn, @builtin(instance_index) layer: u32) -> VertexOut {
         // onto one point outside the view, so the triangle is dropped.
         out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0);
     }
-    out.world_pos = p;
-    out.normal = v.normal;
+    let to_eye = frame.camera_pos - p;
+    let dist = length(to_eye);
+    out.shadow_pos = p + v.normal * frame.shadow_normal_offset;
     out.strand_uv = v.position.xz * params.strands.x / 128.0;
-    out.irr = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
+    // `shade_lit` (lighting.wgsl) with specular 0.05, roughness 0.8 and translucency 0.4, for
+    // an albedo of one, without the shadow; no reflection (too rough to show one).
+    let l = frame.sun_dir;
+    let ndl = dot(v.normal, l);
+    let hv = normalize(l + to_eye / max(dist, 1e-4));
+    let irr = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
+    let spec = frame.sun_color * (0.05 * 0.25 * pow(max(dot(v.normal, hv), 0.0), 30.4) * select(0.0, 1.0, ndl > 0.0));
+    // lighting.wgsl's `aerial`, per vertex: the share `f` of the haze.
+    let dir = normalize(vec3<f32>(-to_eye.x, max(-to_eye.y, 0.0) + 0.02 * dist, -to_eye.z));
+    let tint = frame.ambient / max(frame.ambient.r, 0.001);
+    let haze = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
+    let f = max(1.0 - exp(-max(dist - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, dist));
+    out.ambient = irr * frame.ambient * (1.0 - f);
+    out.direct = frame.sun_color * (max(ndl, 0.0) + 0.4 * max(-ndl, 0.0)) * (1.0 - f);
+    out.add = haze * f + spec * (1.0 - f);
     out.layer = layer;
     return out;
 }
@@ -88,9 +117,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // A dense lawn shades itself: darker towards the floor, and less bright than a bare
     // surface even at the top (the strands shade each other).
     let albedo = mix(params.root.rgb, params.tip.rgb, h) * mix(0.3, 0.7, h) * (0.8 + 0.4 * s);
-    let n = normalize(in.normal);
-    let c = shade_lit(albedo, n, in.world_pos, 0.05, 0.8, 0.4, in.irr);
+    // The shadow map, looked up where the vertex shader already pushed the point along the
+    // normal.
+    let lit = shadow_factor(in.shadow_pos, vec3<f32>(0.0));
+    let c = albedo * (in.ambient + in.direct * lit) + in.add;
     // More transparent towards the tip of each strand.
     let alpha = select(1.0, clamp(1.0 - 0.7 * h / max(strand, 1e-3), 0.25, 1.0), in.layer > 0u);
-    return vec4<f32>(tone(aerial(c, in.world_pos)), alpha);
+    return vec4<f32>(tone(c), alpha);
 }
