@@ -100,11 +100,18 @@ fn tone(c: vec3<f32>) -> vec3<f32> {
 // Aerial perspective: beyond 40 m, the colour faded towards the sky's colour at the horizon in
 // the view direction with distance, entirely so at the far plane (600 m), where the terrain ends.
 fn aerial(c: vec3<f32>, world_pos: vec3<f32>) -> vec3<f32> {
+    let h = haze_at(world_pos);
+    return mix(c, h.rgb, h.a);
+}
+
+// The haze colour (rgb) and its share (a) at `world_pos`, as `aerial` mixes them: shaders that
+// fade per vertex interpolate this and mix in the fragment.
+fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
     let to = world_pos - frame.camera_pos;
     let d = length(to);
     let dir = normalize(vec3<f32>(to.x, max(to.y, 0.0) + 0.02 * d, to.z));
     let tint = frame.ambient / max(frame.ambient.r, 0.001);
     let haze = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
     let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
-    return mix(c, haze, f);
+    return vec4<f32>(haze, f);
 }

@@ -91,11 +91,10 @@ fn vs_main(v: VertexIn, @builtin(instance_index) layer: u32) -> VertexOut {
     let hv = normalize(l + to_eye / max(dist, 1e-4));
     let irr = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
     let spec = frame.sun_color * (0.05 * 0.25 * pow(max(dot(v.normal, hv), 0.0), 30.4) * select(0.0, 1.0, ndl > 0.0));
-    // lighting.wgsl's `aerial`, per vertex: the share `f` of the haze.
-    let dir = normalize(vec3<f32>(-to_eye.x, max(-to_eye.y, 0.0) + 0.02 * dist, -to_eye.z));
-    let tint = frame.ambient / max(frame.ambient.r, 0.001);
-    let haze = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
-    let f = max(1.0 - exp(-max(dist - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, dist));
+    // lighting.wgsl's `aerial`, per vertex: the haze and its share `f`.
+    let hz = haze_at(p);
+    let haze = hz.rgb;
+    let f = hz.a;
     out.ambient = irr * frame.ambient * (1.0 - f);
     out.direct = frame.sun_color * (max(ndl, 0.0) + 0.4 * max(-ndl, 0.0)) * (1.0 - f);
     out.add = haze * f + spec * (1.0 - f);

@@ -43,17 +43,6 @@ struct VertexOut {
     @location(5) haze: vec4<f32>,
 };
 
-// The haze colour and its share at `world_pos`: lighting.wgsl's `aerial`, for one vertex.
-fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
-    let to = world_pos - frame.camera_pos;
-    let d = length(to);
-    let dir = normalize(vec3<f32>(to.x, max(to.y, 0.0) + 0.02 * d, to.z));
-    let tint = frame.ambient / max(frame.ambient.r, 0.001);
-    let haze = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
-    let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
-    return vec4<f32>(haze, f);
-}
-
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
     var out: VertexOut;
