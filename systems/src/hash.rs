@@ -39,9 +39,11 @@ pub const COMPONENTS: &[&str] = hashed_components!(component_names);
 
 /// Component types that take part in the hash only in a world that has at least one of them,
 /// so that adding such a type leaves the hash of every world without it unchanged (a scene
-/// without water hashes as it did before water existed). Such a type is then absent from
-/// [`WorldHash::components`].
-pub const OPTIONAL: &[&str] = &["Water"];
+/// without water or grass hashes as it did before they existed). Such a type is then absent
+/// from [`WorldHash::components`]. `Water` is hashed in its place among [`COMPONENTS`], before
+/// the resources; the others, added later, after the resources ([`LATE_COMPONENTS`]). The
+/// rule is the same for all: no entity with it, nothing hashed.
+pub const OPTIONAL: &[&str] = &["Water", "Grass", "AerialCrown"];
 
 /// A checkpoint: the total hash, one hash per component type and one per entity.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -76,10 +78,9 @@ pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
     hashed_components!(has, r, name) || (name == "Grass" && r.has::<Grass>()) || (name == "AerialCrown" && r.has::<AerialCrown>())
 }
 
-/// Components that enter the hash only in worlds where some entity has them, after the
-/// resources: a world without any of them (every scene from before they existed) hashes exactly
-/// as it did before. Each is hashed from its postcard bytes like the others.
-pub const OPTIONAL_COMPONENTS: &[&str] = &["Grass", "AerialCrown"];
+/// The [`OPTIONAL`] components hashed after the resources, in this order. Each is hashed from
+/// its postcard bytes like the others.
+pub const LATE_COMPONENTS: &[&str] = &["Grass", "AerialCrown"];
 
 /// Formats a hash as 16 lowercase hex digits.
 pub fn hex(h: u64) -> String {
@@ -101,14 +102,7 @@ impl Acc {
         xxhash_rust::xxh3::xxh3_64(&self.buf)
     }
 
-    /// Hashes an optional component ([`OPTIONAL_COMPONENTS`]): nothing at all when no entity
-    /// has it.
-    fn optional_component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str) {
-        if world.query::<&T>().iter().next().is_some() {
-            self.component::<T>(world, name);
-        }
-    }
-
+    /// Hashes every entity's `T`; nothing at all for an [`OPTIONAL`] type that no entity has.
     fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str) {
         let mut rows: Vec<(u64, u64)> = Vec::new();
         for (e, c) in world.query::<(Entity, &T)>().iter() {
@@ -218,8 +212,9 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     let rh = acc.value_hash(&r);
     acc.components.push(("resources", rh));
     debug_assert!(acc.components.len() <= COMPONENTS.len());
-    acc.optional_component::<Grass>(world, "Grass");
-    acc.optional_component::<AerialCrown>(world, "AerialCrown");
+    // The LATE_COMPONENTS, after the resources.
+    acc.component::<Grass>(world, "Grass");
+    acc.component::<AerialCrown>(world, "AerialCrown");
     let mut total = Xxh3::new();
     for (name, h) in &acc.components {
         total.update(name.as_bytes());

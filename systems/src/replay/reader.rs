@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::lines::{LineError, Lines};
 use super::{sim_for_header_in, CheckpointLine, Header, Line};
-use crate::hash::{hex, WorldHash, COMPONENTS, OPTIONAL_COMPONENTS};
+use crate::hash::{hex, WorldHash, COMPONENTS, LATE_COMPONENTS};
 use crate::input::{InputEvent, StampedEvent};
 use crate::resources::Override;
 use crate::sim::Sim;
@@ -85,7 +85,7 @@ pub struct ReplayOptions {
 fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World) -> Vec<Differing> {
     let comps: Vec<&str> = COMPONENTS
         .iter()
-        .chain(OPTIONAL_COMPONENTS)
+        .chain(LATE_COMPONENTS)
         .copied()
         .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
         .collect();
