@@ -7,7 +7,6 @@
 //! that holds whatever the snapshot says.
 
 use std::path::PathBuf;
-use std::sync::{Mutex, OnceLock};
 
 use glam::{Vec2, Vec3};
 use grove::aerial::crowns::{self, Crown};
@@ -30,11 +29,12 @@ const H: u32 = 120;
 const GSD: f64 = 0.25;
 const SIZE: u32 = 256;
 
-static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
-static LOCK: Mutex<()> = Mutex::new(());
+#[path = "fixtures/shared_gpu.rs"]
+mod shared_gpu;
+use shared_gpu::LOCK;
 
 fn gpu() -> &'static Gpu {
-    GPU.get_or_init(Gpu::new).as_ref().unwrap_or_else(|e| panic!("the aerial render tests need a GPU adapter (lavapipe in CI): {e}"))
+    shared_gpu::shared_gpu("the aerial render tests")
 }
 
 /// The site: the pair, its layer masks and crowns in a temporary folder, and its scene.

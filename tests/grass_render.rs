@@ -11,7 +11,6 @@
 mod common;
 
 use std::path::PathBuf;
-use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
 use grove::render::grass::BladeCounts;
@@ -26,14 +25,12 @@ const W: u32 = 160;
 const H: u32 = 120;
 const PIXEL_THRESHOLD: u8 = 40;
 
-static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
-static LOCK: Mutex<()> = Mutex::new(());
+#[path = "fixtures/shared_gpu.rs"]
+mod shared_gpu;
+use shared_gpu::LOCK;
 
 fn gpu() -> &'static Gpu {
-    match GPU.get_or_init(Gpu::new) {
-        Ok(g) => g,
-        Err(e) => panic!("grass tests need a GPU adapter (CI installs lavapipe: mesa-vulkan-drivers): {e}"),
-    }
+    shared_gpu::shared_gpu("grass tests")
 }
 
 fn root() -> PathBuf {

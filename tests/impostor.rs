@@ -8,7 +8,6 @@
 //!   frame changes more than a third of the tree's pixels, while the mesh and the impostor alone
 //!   differ in more pixels than any one step changes.
 
-use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
@@ -22,14 +21,12 @@ use image::RgbaImage;
 
 const SIZE: u32 = 192;
 
-static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
-static LOCK: Mutex<()> = Mutex::new(());
+#[path = "fixtures/shared_gpu.rs"]
+mod shared_gpu;
+use shared_gpu::LOCK;
 
 fn gpu() -> &'static Gpu {
-    match GPU.get_or_init(Gpu::new) {
-        Ok(g) => g,
-        Err(e) => panic!("impostor tests need a GPU adapter (CI installs lavapipe): {e}"),
-    }
+    shared_gpu::shared_gpu("impostor tests")
 }
 
 fn model_path(name: &str) -> std::path::PathBuf {

@@ -11,7 +11,6 @@
 //! darken the ground).
 
 use std::path::PathBuf;
-use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
@@ -33,16 +32,12 @@ const H: u32 = 120;
 /// The largest channel difference above which a pixel counts as different.
 const PIXEL_THRESHOLD: u8 = 40;
 
-static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
-static LOCK: Mutex<()> = Mutex::new(());
+#[path = "fixtures/shared_gpu.rs"]
+mod shared_gpu;
+use shared_gpu::LOCK;
 
 fn gpu() -> &'static Gpu {
-    match GPU.get_or_init(Gpu::new) {
-        Ok(g) => g,
-        Err(e) => panic!(
-            "golden tests need a GPU adapter (CI installs lavapipe: mesa-vulkan-drivers): {e}"
-        ),
-    }
+    shared_gpu::shared_gpu("golden tests")
 }
 
 fn root() -> PathBuf {

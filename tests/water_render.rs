@@ -11,7 +11,6 @@
 //!   a failing comparison writes the actual image to `target/snapshot-failures/`.
 
 use std::path::PathBuf;
-use std::sync::{Mutex, OnceLock};
 
 use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
@@ -23,8 +22,9 @@ use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use image::RgbaImage;
 
-static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
-static LOCK: Mutex<()> = Mutex::new(());
+#[path = "fixtures/shared_gpu.rs"]
+mod shared_gpu;
+use shared_gpu::LOCK;
 
 const PIXEL_THRESHOLD: u8 = 40;
 /// The pond's surface height and centre, as `scripts/pond-scene.py` writes them.
@@ -34,10 +34,7 @@ const CENTRE: Vec3 = Vec3::new(0.0, SURFACE_Y, -6.0);
 const BIRCH: Vec3 = Vec3::new(1.5, 0.0, -13.6);
 
 fn gpu() -> &'static Gpu {
-    match GPU.get_or_init(Gpu::new) {
-        Ok(g) => g,
-        Err(e) => panic!("water render tests need a GPU adapter (CI installs lavapipe: mesa-vulkan-drivers): {e}"),
-    }
+    shared_gpu::shared_gpu("water render tests")
 }
 
 fn root() -> PathBuf {
