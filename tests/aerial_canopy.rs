@@ -368,3 +368,45 @@ fn the_commands_make_and_render_an_aerial_scene() {
     ok(&["render", "--scene", &p("site.ron"), "--out", &p("a.png"), "--width", "64", "--height", "48", "--debug-lod"]);
     assert!(dir.path().join("a.png").is_file());
 }
+
+#[test]
+fn trunks_stand_under_the_crowns() {
+    let s = site();
+    let sim0 = sim(&s);
+    // The largest crown's tree, seen from 1.5 m above the ground, three crown radii away on the
+    // side away from the park's centre (so no other crown stands between), looking at its
+    // trunk's middle.
+    let (big, crown) = sim0.world.query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
+    let foot = sim0.world.get::<&Transform>(big).unwrap().translation;
+    let away = Vec3::new(foot.x, 0.0, foot.z).normalize_or(Vec3::Z);
+    let mid = foot + Vec3::Y * (0.5 * crown.base_m);
+    let eye = foot + away * (3.0 * crown.radius_m) + Vec3::Y * 1.5;
+    let shot = |remove: bool| {
+        let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        let g = gpu();
+        let mut sim = sim(&s);
+        if remove {
+            sim.world.despawn(big).unwrap();
+        }
+        for head in sim.world.query_mut::<&mut Head>() {
+            *head = Head { pose: Pose::looking_at(eye, mid), fov_y: 60f32.to_radians() };
+        }
+        let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+        r.options.overlay = false;
+        r.set_aerial(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
+        offscreen::render_image(g, &mut r, &sim).unwrap()
+    };
+    let with = shot(false);
+    compare("aerial-trunks", &with, 6.0, 4.0);
+    // The trunk's middle is at the image's centre: dark bark (in the crown's shadow, so lit by
+    // the bluish sky alone: darker than mid grey whatever its hue), and it is gone with the tree
+    // (the sky or the far ground behind it is brighter).
+    let (x, y) = project(eye, mid, mid);
+    assert!((x as i32 - W as i32 / 2).abs() <= 1 && (y as i32 - H as i32 / 2).abs() <= 1, "({x}, {y})");
+    let p = with.get_pixel(x, y).0;
+    assert!(u16::from(p[0]) + u16::from(p[1]) + u16::from(p[2]) < 3 * 110, "the trunk at ({x}, {y}) is {p:?}");
+    let without = shot(true);
+    let q = without.get_pixel(x, y).0;
+    let diff: u16 = (0..3).map(|c| u16::from(p[c].abs_diff(q[c]))).sum();
+    assert!(diff > 30, "with the tree {p:?}, without {q:?}");
+}

@@ -5,7 +5,10 @@
 //!
 //! The layers stand at each crown tree's current position (it can be moved), and read the
 //! photograph around the crown's photographed centre ([`grove_systems::aerial::AerialCrown`]).
-//! One instance per (crown, layer), built each frame from the extracted crowns.
+//! One instance per (crown, layer), built each frame from the extracted crowns. Under each crown
+//! stands a trunk ([`trunks`]), drawn and casting shadows with the layers.
+
+pub(crate) mod trunks;
 
 use wgpu::util::DeviceExt;
 
@@ -86,6 +89,8 @@ pub(crate) struct Canopy {
     crowns_drawn: u32,
     /// The bounds of the layers drawn this frame, for the shadow map's fit.
     pub bounds: Option<(glam::Vec3, glam::Vec3)>,
+    /// The trunks under the crowns drawn this frame.
+    trunks: trunks::Trunks,
 }
 
 impl Canopy {
@@ -124,6 +129,7 @@ impl Canopy {
             instances: None,
             crowns_drawn: 0,
             bounds: None,
+            trunks: trunks::Trunks::new(shared),
         }
     }
 
@@ -190,6 +196,7 @@ impl Feature for Canopy {
             (buffer, layers.len() as u32)
         });
         let keys = if cx.key.shadows { vec![cx.key, cx.key.with_view(ViewKind::Sun)] } else { vec![cx.key] };
+        self.trunks.prepare(cx.shared, &visible, &keys)?;
         for k in keys {
             if self.pipelines.get(k).is_err() {
                 let built = build(cx.shared, self, k);
@@ -200,6 +207,7 @@ impl Feature for Canopy {
     }
 
     fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), String> {
+        self.trunks.draw_depth(pass, key)?;
         let Some((buffer, n)) = &self.instances else { return Ok(()) };
         let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err("canopy: the sun's key has no shadow pipeline".into()) };
         pass.set_pipeline(p);
@@ -212,6 +220,9 @@ impl Feature for Canopy {
 
     fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
         let (Phase::AlphaClipped, Some((buffer, n))) = (phase, &self.instances) else { return Ok(()) };
+        let trunks = self.trunks.draw(pass, key)?;
+        stats.draws += usize::from(trunks > 0);
+        stats.triangles += trunks::TRIANGLES as usize * trunks as usize;
         let Pipelines::Main(prepass, shade) = self.pipelines.get(key)? else { return Err("canopy: the main key has no main pipeline".into()) };
         pass.set_bind_group(2, &self.bind_group, &[]);
         pass.set_bind_group(3, &self.mask_bind_group, &[]);
