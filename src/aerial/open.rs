@@ -14,6 +14,7 @@ use grove_systems::scene::Scene;
 
 use super::raster::RgbImage;
 use crate::render::aerial_ground::AerialSources;
+use crate::render::canopy::extents::LayerBits;
 use crate::render::clipmap::image_source::{Downsample, ImageSource};
 use crate::render::clipmap::{AerialPlacement, Clipmap, ClipmapConfig, ClipmapSource};
 
@@ -53,6 +54,7 @@ pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSourc
     if (sw, sh) != (w, h) {
         return Err(format!("aerial: the summer photograph is {sw}x{sh} but the winter one is {w}x{h}"));
     }
+    let mut layer_bits = None;
     let layers = match &a.layers {
         Some(rel) => {
             let path = resolve(scene, rel);
@@ -63,6 +65,14 @@ pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSourc
             if (m.width, m.height) != (w, h) {
                 return Err(format!("{}: the layer mask is {}x{} but the photographs are {w}x{h}", path.display(), m.width, m.height));
             }
+            // The bits once more, a byte a texel, for the canopy's quad sizes.
+            layer_bits = Some(LayerBits {
+                width: w,
+                height: h,
+                bits: m.data.chunks_exact(3).map(|t| t[0]).collect(),
+                origin_m: placement.origin_m.as_vec2(),
+                gsd_m: a.gsd_m,
+            });
             // The mask's bits in red, opaque; never blended between texels.
             let rgba = m.data.chunks_exact(3).flat_map(|t| [t[0], 0, 0, 255]).collect();
             Some(Box::new(ImageSource::with_downsample(w, h, rgba, memory_config(w, h), placement, Downsample::Nearest)?) as _)
@@ -73,6 +83,7 @@ pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSourc
         winter,
         summer,
         layers,
+        layer_bits,
         size_m: Vec2::new(w as f32, h as f32) * a.gsd_m,
         elevation_m: a.elevation,
         layer_count: a.layer_count,

@@ -230,7 +230,7 @@ impl Renderer {
             Some(layers) => {
                 let summer = aerial_ground::FedClipmap::new(&self.shared, sources.summer, "summer clipmap", debug, wgpu::FilterMode::Linear)?;
                 let masks = aerial_ground::FedClipmap::new(&self.shared, layers, "layer mask clipmap", false, wgpu::FilterMode::Nearest)?;
-                Some(canopy::Canopy::new(&self.shared, summer, masks, sources.layer_count.clamp(1, 8)))
+                Some(canopy::Canopy::new(&self.shared, summer, masks, sources.layer_count.clamp(1, 8), sources.layer_bits))
             }
             None => None,
         };
@@ -267,6 +267,15 @@ impl Renderer {
         let ground = self.aerial_ground.as_ref().map_or(0, |a| a.winter.gpu.bytes_last);
         let canopy = self.canopy.as_ref().map_or(0, |c| c.summer.gpu.bytes_last + c.masks.gpu.bytes_last);
         ground + canopy
+    }
+
+    /// The aerial clipmaps' streaming in the last frame: the tiles their windows need that have
+    /// not arrived (a coarser level shows there), and the longest of their updates,
+    /// milliseconds (the frame's own work; tiles are read by the loader threads).
+    pub fn aerial_streaming(&self) -> (usize, f64) {
+        let mut fed: Vec<&aerial_ground::FedClipmap> = self.aerial_ground.iter().map(|a| &a.winter).collect();
+        fed.extend(self.canopy.iter().flat_map(|c| [&c.summer, &c.masks]));
+        (fed.iter().map(|f| f.source.missing_tiles()).sum(), fed.iter().map(|f| f.update_ms).fold(0.0, f64::max))
     }
 
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.

@@ -28,6 +28,9 @@ pub struct AerialSources {
     pub summer: Box<dyn ClipmapSource>,
     /// The layer masks (bit i of the red byte: layer i is treetop); without them no canopy.
     pub layers: Option<Box<dyn ClipmapSource>>,
+    /// The layer masks' bits in memory, for the canopy's per-layer quad sizes (optional: without
+    /// them every layer's quad is as wide as the crown's).
+    pub layer_bits: Option<crate::render::canopy::extents::LayerBits>,
     /// The photographed rectangle's size, metres (east, south), from the sources' origin.
     pub size_m: Vec2,
     /// The ground's height, metres.
@@ -65,6 +68,9 @@ pub(crate) struct FedClipmap {
     pub source: Box<dyn ClipmapSource>,
     /// The GPU half.
     pub gpu: GpuClipmap,
+    /// How long the last [`FedClipmap::update`] took, milliseconds (placing the levels, copying
+    /// the texels of tiles that have arrived, writing them; never reading a tile).
+    pub update_ms: f64,
 }
 
 impl FedClipmap {
@@ -72,13 +78,16 @@ impl FedClipmap {
     pub fn new(shared: &Shared, source: Box<dyn ClipmapSource>, label: &str, debug_lod: bool, filter: wgpu::FilterMode) -> Result<FedClipmap, String> {
         let mut gpu = GpuClipmap::with_filter(&shared.device, source.config(), source.placement(), label, filter)?;
         gpu.set_debug_lod(debug_lod);
-        Ok(FedClipmap { source, gpu })
+        Ok(FedClipmap { source, gpu, update_ms: 0.0 })
     }
 
     /// Moves the levels for `camera` and writes what changed; the bytes written.
     pub fn update(&mut self, queue: &wgpu::Queue, camera: &ClipCamera) -> Result<u64, String> {
+        let start = std::time::Instant::now();
         let frame = self.source.update(camera);
-        self.gpu.apply(queue, &frame)
+        let bytes = self.gpu.apply(queue, &frame);
+        self.update_ms = start.elapsed().as_secs_f64() * 1e3;
+        bytes
     }
 }
 

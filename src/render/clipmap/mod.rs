@@ -111,6 +111,12 @@ pub trait ClipmapSource: Send {
     /// Moves the levels for `camera` and returns what changed. Never blocks on disk: tiles
     /// not loaded yet are requested and written by a later call, with alpha 0 until then.
     fn update(&mut self, camera: &ClipCamera) -> ClipmapFrame;
+
+    /// Tiles the current windows need that have not arrived (their texels show a coarser
+    /// level); 0 for a source that holds its photograph in memory.
+    fn missing_tiles(&self) -> usize {
+        0
+    }
 }
 
 pub mod gpu;

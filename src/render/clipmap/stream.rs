@@ -275,6 +275,10 @@ impl ClipmapSource for Clipmap {
         self.aerial
     }
 
+    fn missing_tiles(&self) -> usize {
+        self.stats.missing
+    }
+
     fn update(&mut self, camera: &ClipCamera) -> ClipmapFrame {
         self.frame += 1;
         let arrived = self.take_arrivals();
