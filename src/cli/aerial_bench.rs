@@ -110,9 +110,9 @@ struct Run {
     frames_missing: u32,
     /// The longest clipmap update of a timed frame, milliseconds.
     update_max_ms: f64,
-    /// The most GPU memory the device's allocator held during the run, MiB (None where the
-    /// backend does not report it).
-    gpu_mib: Option<f64>,
+    /// The most GPU memory in textures and buffers, and the most the device's allocator
+    /// reserved for them, during the run, MiB (None where the backend does not report it).
+    gpu_mib: Option<(f64, f64)>,
 }
 
 fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, canopy: bool) -> anyhow::Result<Run> {
@@ -126,7 +126,7 @@ fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, cano
     r.set_aerial(sources).map_err(|e| anyhow!(e))?;
     let target = offscreen::Target::new(&gpu.device, a.width, a.height);
     let (mut times, mut uploads) = (Vec::new(), Vec::new());
-    let (mut cpu_start, mut frames_missing, mut update_max_ms, mut gpu_bytes) = (0.0, 0u32, 0.0f64, None::<u64>);
+    let (mut cpu_start, mut frames_missing, mut update_max_ms, mut gpu_bytes) = (0.0, 0u32, 0.0f64, None::<(u64, u64)>);
     // Two frames to build the pipelines, not timed.
     for i in 0..a.frames + 2 {
         let x = (x0 + (i as f32) * a.speed / 30.0).min(x1);
@@ -149,7 +149,8 @@ fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, cano
             update_max_ms = update_max_ms.max(update_ms);
         }
         if let Some(report) = gpu.device.generate_allocator_report() {
-            gpu_bytes = Some(gpu_bytes.unwrap_or(0).max(report.total_reserved_bytes));
+            let (a, r) = gpu_bytes.unwrap_or((0, 0));
+            gpu_bytes = Some((a.max(report.total_allocated_bytes), r.max(report.total_reserved_bytes)));
         }
     }
     let cpu = (cpu_ms() - cpu_start) / f64::from(a.frames.max(1));
@@ -163,7 +164,7 @@ fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, cano
         cpu_ms: cpu,
         frames_missing,
         update_max_ms,
-        gpu_mib: gpu_bytes.map(|b| b as f64 / 1_048_576.0),
+        gpu_mib: gpu_bytes.map(|(a, r)| (a as f64 / 1_048_576.0, r as f64 / 1_048_576.0)),
     })
 }
 
@@ -212,7 +213,7 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
         let j = |r: &Run| {
             json!({ "median_ms": r.median_ms, "p95_ms": r.p95_ms, "fps": 1e3 / r.median_ms, "cpu_ms_per_frame": r.cpu_ms, "upload_kib_mean": r.upload_mean_kib, "upload_kib_max": r.upload_max_kib,
                 "upload_texels_mean": texels(r.upload_mean_kib), "upload_texels_max": texels(r.upload_max_kib), "frames_with_missing_tiles": r.frames_missing,
-                "frames_waiting_on_disk": 0, "clipmap_update_max_ms": r.update_max_ms, "gpu_allocated_mib_peak": r.gpu_mib })
+                "frames_waiting_on_disk": 0, "clipmap_update_max_ms": r.update_max_ms, "gpu_allocated_mib_peak": r.gpu_mib.map(|g| g.0), "gpu_reserved_mib_peak": r.gpu_mib.map(|g| g.1) })
         };
         let mut out = serde_json::Map::new();
         for (k, r) in &runs {
@@ -234,7 +235,7 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
                 r.upload_max_kib,
                 r.frames_missing,
                 r.update_max_ms,
-                r.gpu_mib.map_or("not reported".to_string(), |m| format!("{m:.0} MiB at most"))
+                r.gpu_mib.map_or("not reported".to_string(), |(a, r)| format!("{a:.0} MiB at most ({r:.0} MiB reserved)"))
             );
         }
         println!("  peak resident memory {peak:.0} MiB");
