@@ -53,7 +53,7 @@ pub(crate) fn layer_drawn(i: u32, layers: u32, radius_px: f32) -> bool {
     if radius_px >= HALF_LAYERS_BELOW_PX || i == 0 || i == top {
         return true;
     }
-    radius_px >= TWO_LAYERS_BELOW_PX && i % 2 == 0
+    radius_px >= TWO_LAYERS_BELOW_PX && i.is_multiple_of(2)
 }
 
 /// The layer instances of `crowns` with `layers` layers each, seen from `eye` with pixels of
