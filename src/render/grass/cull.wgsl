@@ -118,8 +118,10 @@ const NEAR_INDICES: u32 = 39u;
 const MID_INDICES: u32 = 15u;
 const NEAR_CAP: u32 = 65536u;
 const MID_CAP: u32 = 262144u;
-// The segments the blade's curve is integrated over before it is fitted (even).
+// The segments a near or middle blade's curve is integrated over before it is fitted, and a
+// far blade's, whose curve is under ten pixels long (even).
 const STEPS: u32 = 8u;
+const FAR_STEPS: u32 = 2u;
 // The most pixels a far blade's curve is walked in (a far blade is under ten pixels long).
 const MAX_FAR_PIXELS: u32 = 64u;
 // The word of `args` where the far blades' image begins (`RASTER_OFFSET` in
@@ -163,10 +165,16 @@ fn far_sky(p: vec3<f32>) -> vec3<f32> {
     return textureSampleLevel(irradiance_map, wind_sampler, n, 0.0).rgb * params.ambient.rgb;
 }
 
-// A far blade's colour at `t` along it under the sky's light `sky` and the sun, by the shading
-// model of blades.wgsl (specular 0.15, roughness 0.55, translucency 0.6) on its own face: the
-// normal of its root-to-tip chord across its width (`across`), turned to the eye at `p`.
-fn far_colour(albedo: vec3<f32>, p: vec3<f32>, chord: vec3<f32>, across: vec3<f32>, sky: vec3<f32>) -> vec3<f32> {
+// The light on a far blade: its colour is `albedo * gain + highlight` (linear RGB).
+struct FarLight {
+    gain: vec3<f32>,
+    highlight: vec3<f32>,
+};
+
+// The light on a far blade under the sky's light `sky` and the sun, by the shading model of
+// blades.wgsl (specular 0.15, roughness 0.55, translucency 0.6) on its own face: the normal of
+// its root-to-tip chord across its width (`across`), turned to the eye at `p`, its middle.
+fn far_light(p: vec3<f32>, chord: vec3<f32>, across: vec3<f32>, sky: vec3<f32>) -> FarLight {
     let v = normalize(cull.camera.xyz - p);
     var n = normalize(cross(across, chord) + vec3<f32>(0.0, 1e-6, 0.0));
     n = select(n, -n, dot(n, v) < 0.0);
@@ -175,7 +183,10 @@ fn far_colour(albedo: vec3<f32>, p: vec3<f32>, chord: vec3<f32>, across: vec3<f3
     let diffuse = max(ndl, 0.0) + 0.6 * max(-ndl, 0.0);
     let h = normalize(l + v);
     let spec = 0.15 * 0.25 * pow(max(dot(n, h), 0.0), 60.9) * select(0.0, 1.0, ndl > 0.0);
-    return sky * albedo + params.sun_color.rgb * (albedo * diffuse + vec3<f32>(spec));
+    var out: FarLight;
+    out.gain = sky + params.sun_color.rgb * diffuse;
+    out.highlight = params.sun_color.rgb * spec;
+    return out;
 }
 
 // A lit colour (linear RGB) as an image word stores it: each channel's cube root of its share
@@ -199,8 +210,9 @@ fn pack_far(w: f32, e: vec3<f32>) -> u32 {
 // image keeps the nearer of its blade and what its pixel holds. The colour is lit and encoded
 // at the root and the tip and interpolated between them.
 fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>, patch_index: u32, variation: f32, sky: vec3<f32>) {
-    let e0 = encode_far(far_colour(far_albedo(patch_index, variation, 0.0), p0, p2 - p0, across, sky));
-    let e1 = encode_far(far_colour(far_albedo(patch_index, variation, 1.0), p2, p2 - p0, across, sky));
+    let light = far_light(0.5 * (p0 + p2), p2 - p0, across, sky);
+    let e0 = encode_far(far_albedo(patch_index, variation, 0.0) * light.gain + light.highlight);
+    let e1 = encode_far(far_albedo(patch_index, variation, 1.0) * light.gain + light.highlight);
     let c0 = cull.view_proj * vec4<f32>(p0, 1.0);
     let c1 = cull.view_proj * vec4<f32>(p1, 1.0);
     let c2 = cull.view_proj * vec4<f32>(p2, 1.0);
@@ -294,11 +306,13 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
         let tilt_angle = min(length(tilt), 1.45);
         let tilt_axis = normalize(cross(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(tilt.x, 0.0, tilt.y) + vec3<f32>(1e-6, 0.0, 0.0)));
 
-        // Walk up the blade in STEPS segments. Segment k's direction is the vertical turned towards
-        // `lean` by the gravity bend and then about the tilt axis by its share of the tilt, both at
-        // (k + 1/2) / STEPS of the full angle; the cosines and sines of those angles are advanced by
-        // the angle-addition formulas.
-        let n_seg = f32(STEPS);
+        // Walk up the blade in STEPS segments (FAR_STEPS for a far blade). Segment k's direction
+        // is the vertical turned towards `lean` by the gravity bend and then about the tilt axis
+        // by its share of the tilt, both at (k + 1/2) / steps of the full angle; the cosines and
+        // sines of those angles are advanced by the angle-addition formulas.
+        var level = select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near);
+        let steps = select(STEPS, FAR_STEPS, level == 2u);
+        let n_seg = f32(steps);
         let segment_length = b.height / n_seg;
         let step_bend = b.bend / n_seg;
         let step_tilt = tilt_angle / n_seg;
@@ -309,11 +323,11 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
         let up = vec3<f32>(0.0, 1.0, 0.0);
         var p = vec3<f32>(0.0);
         var middle = vec3<f32>(0.0);
-        for (var k = 0u; k < STEPS; k = k + 1u) {
+        for (var k = 0u; k < steps; k = k + 1u) {
             let g = up * bend_cs.x - lean * bend_cs.y;
             let dir = g * tilt_cs.x + cross(tilt_axis, g) * tilt_cs.y + tilt_axis * dot(tilt_axis, g) * (1.0 - tilt_cs.x);
             p = p + dir * segment_length;
-            if (k + 1u == STEPS / 2u) {
+            if (k + 1u == steps / 2u) {
                 middle = p;
             }
             bend_cs = vec2<f32>(bend_cs.x * bend_step.x - bend_cs.y * bend_step.y, bend_cs.y * bend_step.x + bend_cs.x * bend_step.y);
@@ -324,7 +338,6 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
         let tip = p;
         let ctrl = 2.0 * middle - 0.5 * tip;
 
-        var level = select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near);
         for (var listed = level < 2u; listed; listed = false) {
             var s: Shape;
             s.root = b.position;

@@ -432,6 +432,13 @@ impl Feature for Grass {
         if !self.enabled {
             return Ok(());
         }
+        // The far blades' image must fit one storage binding (128 MiB by default: about
+        // 5,800 × 5,800 pixels).
+        let image_bytes = 4 * (data::RASTER_OFFSET + u64::from(cx.size.0) * u64::from(cx.size.1));
+        let limit = cx.shared.device.limits().max_storage_buffer_binding_size as u64;
+        if image_bytes > limit && (self.blades.is_some() || cx.data.grass.as_ref().is_some_and(|p| p.iter().any(|p| !p.shells))) {
+            return Err(format!("grass blades cannot be drawn at {}x{} pixels: their image needs {image_bytes} bytes, over the device's limit of {limit}", cx.size.0, cx.size.1));
+        }
         if let Some(patches) = &cx.data.grass {
             self.rebuild(cx.shared, &cx.data.grass_key, patches, cx.size);
         }
