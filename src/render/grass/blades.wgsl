@@ -2,9 +2,9 @@
 // near blades hide far ones before they are shaded: two non-instanced indexed indirect draws,
 // 7 segments near the camera (13 triangles) and 3 further away (5 triangles), then the far
 // blades, narrower than a pixel, which the cull pass rasterised into an image of their depth
-// and colour: one full-screen triangle (`vs_far`, `fs_far`) lights each pixel a far blade
-// covers and writes its depth, so the far blades hide and are hidden like the rest of the
-// scene. lighting.wgsl is prepended (src/render/gpu.rs).
+// and lit colour: one full-screen triangle (`vs_far`, `fs_far`) puts each pixel a far blade
+// covers on the target and writes its depth, so the far blades hide and are hidden like the
+// rest of the scene. lighting.wgsl is prepended (src/render/gpu.rs).
 //
 // The cull pass has already evaluated the wind, the pushes and the gravity bend: a blade is a
 // quadratic Bézier curve from its root to its tip, widened across and narrowing to the tip. The
@@ -39,11 +39,11 @@ struct BladeParams {
 
 @group(2) @binding(0) var<uniform> params: BladeParams;
 @group(2) @binding(1) var<storage, read> shapes: array<Shape>;
-// The near, middle and far lists one after the other (cull.wgsl); each draw's first vertex
-// makes `vertex_index / vertices a blade` the index into this buffer.
+// The near and middle lists one after the other (cull.wgsl); each draw's base vertex makes
+// `vertex_index / vertices a blade` the index into this buffer.
 @group(2) @binding(2) var<storage, read> lists: array<u32>;
 // The cull pass's draw counts, then from word 16 (`RASTER_OFFSET` in cull.wgsl) the far
-// blades' image (`pack_far`): per pixel 0, or a depth code (nearer is larger) in the top 14
+// blades' image (`pack_far`): per pixel 0, or a depth code (nearer is larger) in the top 11
 // bits above the lit colour's cube roots in 7 bits each (of 0 … 1 / 0.85, which `tone` maps
 // to white).
 @group(2) @binding(3) var<storage, read> raster: array<u32>;
@@ -157,8 +157,8 @@ fn fs_far(@builtin(position) pos: vec4<f32>) -> FarOut {
     let e = vec3<f32>(f32((word >> 14u) & 127u), f32((word >> 7u) & 127u), f32(word & 127u)) / 127.0;
     var c = e * e * e / 0.85;
     if (SHADOWS) {
-        // The world position, the face the cull pass lit (`far_light` in cull.wgsl), and the
-        // sun's share of that light.
+        // The world position, a face turned to the eye and tilted up (as `far_sky` in cull.wgsl
+        // takes it), and the sun's share of the light on it.
         let ndc = vec2<f32>(pos.x / size.x * 2.0 - 1.0, 1.0 - pos.y / size.y * 2.0);
         let h = frame.inv_view_proj * vec4<f32>(ndc, z, 1.0);
         let p = h.xyz / h.w;
