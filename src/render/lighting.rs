@@ -97,6 +97,11 @@ pub(crate) struct Lighting {
 }
 
 impl Lighting {
+    /// The sky's irradiance cube (group 1, binding 3).
+    pub fn irradiance(&self) -> &wgpu::TextureView {
+        &self.env.irradiance
+    }
+
     /// The lighting of an environment (six cube faces of `face_size`²) with a shadow map of
     /// `shadow_size`² texels (clamped to [`SHADOW_SIZES`]).
     pub fn new(shared: &Shared, face_size: u32, faces: &[Vec<u8>], shadow_size: u32) -> Lighting {

@@ -176,6 +176,8 @@ impl Renderer {
         let ground = ground::Ground::new(&shared, assets)?;
         let views = view::Views::new(&shared);
         let water = water::WaterFeature::new(&shared, &views);
+        let lighting = lighting::Lighting::new(&shared, face_size, &faces, options.shadow_size);
+        let grass = grass::Grass::new(&shared, lighting.irradiance());
         Ok(Renderer {
             format: target_format,
             width: width.max(1),
@@ -184,11 +186,11 @@ impl Renderer {
             stats: FrameStats::default(),
             depth: depth_texture(device, width, height),
             views,
-            lighting: lighting::Lighting::new(&shared, face_size, &faces, options.shadow_size),
+            lighting,
             timer: None,
             trees: trees::Trees::new(&shared),
             ground,
-            grass: grass::Grass::new(&shared),
+            grass,
             sky: sky::Sky::new(&shared),
             overlay: overlay::Overlay::new(&shared),
             water,

@@ -1,10 +1,10 @@
-// Grass blades, drawn from the lists the cull pass wrote (cull.wgsl) in three non-instanced
-// indirect draws (the near and middle ones indexed), nearest level first so that near blades hide far ones before they are
-// shaded: 7 segments near the camera (13 triangles), 3 further away (5 triangles), and far away,
-// where a blade is narrower than a pixel, a line from its root to its tip (a software
-// rasteriser pays per primitive and per vertex; a line is one primitive of two vertices and,
-// unlike a sub-pixel triangle, always covers its pixels). lighting.wgsl is prepended
-// (src/render/gpu.rs).
+// Grass blades, drawn from what the cull pass wrote (cull.wgsl), nearest level first so that
+// near blades hide far ones before they are shaded: two non-instanced indexed indirect draws,
+// 7 segments near the camera (13 triangles) and 3 further away (5 triangles), then the far
+// blades, narrower than a pixel, which the cull pass rasterised into an image of their depth
+// and lit colour: one full-screen triangle (`vs_far`, `fs_far`) puts each pixel a far blade
+// covers on the target and writes its depth, so the far blades hide and are hidden like the
+// rest of the scene. lighting.wgsl is prepended (src/render/gpu.rs).
 //
 // The cull pass has already evaluated the wind, the pushes and the gravity bend: a blade is a
 // quadratic Bézier curve from its root to its tip, widened across and narrowing to the tip. The
@@ -26,13 +26,27 @@ struct Shape {
 struct BladeParams {
     // Per patch: the root colour, then the tip colour (linear RGB).
     colours: array<vec4<f32>, 128>,
+    // The image's width and height, pixels; the view depth that the far image's depth codes span,
+    // metres; unused.
+    viewport: vec4<f32>,
+    // The normalised device depth of a point at view depth w is depth.x + depth.y / w.
+    depth: vec4<f32>,
+    // The sun and the ambient light as the cull pass sees them (cull.wgsl).
+    sun_dir: vec4<f32>,
+    sun_color: vec4<f32>,
+    ambient: vec4<f32>,
 };
 
 @group(2) @binding(0) var<uniform> params: BladeParams;
 @group(2) @binding(1) var<storage, read> shapes: array<Shape>;
-// The near, middle and far lists one after the other (cull.wgsl); each draw's first vertex
-// makes `vertex_index / vertices a blade` the index into this buffer.
+// The near and middle lists one after the other (cull.wgsl); each draw's base vertex makes
+// `vertex_index / vertices a blade` the index into this buffer.
 @group(2) @binding(2) var<storage, read> lists: array<u32>;
+// The cull pass's draw counts, then from word 16 (`RASTER_OFFSET` in cull.wgsl) the far
+// blades' image (`pack_far`): per pixel 0, or a depth code (nearer is larger) in the top 11
+// bits above the lit colour's cube roots in 7 bits each (of 0 … 1 / 0.85, which `tone` maps
+// to white).
+@group(2) @binding(3) var<storage, read> raster: array<u32>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -54,7 +68,7 @@ fn strip_vertex(s: Shape, corner: u32, segments: u32) -> VertexOut {
 }
 
 // The point of blade `s` at `t` along it (0 at the root, 1 at the tip), on its left edge
-// (side −1), its right edge (+1) or its middle (0).
+// (side −1) or its right edge (+1).
 fn blade_vertex(s: Shape, t: f32, side: f32) -> VertexOut {
     let c01 = unpack2x16float(s.curve0);
     let c23 = unpack2x16float(s.curve1);
@@ -84,9 +98,7 @@ fn blade_vertex(s: Shape, t: f32, side: f32) -> VertexOut {
     let root_colour = params.colours[2u * patch_index].rgb;
     let tip_colour = params.colours[2u * patch_index + 1u].rgb;
     // Darker near the root (the lawn shades itself), and each blade a little different.
-    // A line (side 0) covers whole pixels where the blade would cover a part of each: it is
-    // darker, so that a far lawn keeps the tone of its near part.
-    let albedo = mix(root_colour, tip_colour, t) * mix(0.55, 1.0, t) * (0.8 + 0.4 * variation) * select(1.0, 0.7, side == 0.0);
+    let albedo = mix(root_colour, tip_colour, t) * mix(0.55, 1.0, t) * (0.8 + 0.4 * variation);
 
     // The shading model of `shade_lit` (lighting.wgsl) for grass (specular 0.15, roughness
     // 0.55, translucency 0.6) without the shadow, which the fragment adds.
@@ -117,10 +129,50 @@ fn vs_mid(@builtin(vertex_index) v: u32) -> VertexOut {
     return strip_vertex(shapes[lists[v / 7u]], v % 7u, 3u);
 }
 
+// The far blades' full-screen triangle.
 @vertex
-fn vs_far(@builtin(vertex_index) v: u32) -> VertexOut {
-    // A line: the root, then the tip.
-    return blade_vertex(shapes[lists[v / 2u]], f32(v & 1u), 0.0);
+fn vs_far(@builtin(vertex_index) v: u32) -> @builtin(position) vec4<f32> {
+    let xy = vec2<f32>(f32((v << 1u) & 2u), f32(v & 2u)) * 2.0 - 1.0;
+    return vec4<f32>(xy, 0.0, 1.0);
+}
+
+struct FarOut {
+    @location(0) colour: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+// A pixel of the far blades' image: its colour, lit by the cull pass, toned; with shadows, the
+// sun's share of it dimmed by the trees' shadow there. Pixels no far blade covers are
+// discarded. The depth written is the depth code's (its nearer edge, so that a blade's root
+// is not hidden by the ground it stands on).
+@fragment
+fn fs_far(@builtin(position) pos: vec4<f32>) -> FarOut {
+    let size = params.viewport.xy;
+    let word = raster[16u + u32(pos.y) * u32(size.x) + u32(pos.x)];
+    if (word == 0u) {
+        discard;
+    }
+    let w = max(f32(2047u - (word >> 21u)) / 2047.0 * params.viewport.z, 0.1);
+    let z = params.depth.x + params.depth.y / w;
+    let e = vec3<f32>(f32((word >> 14u) & 127u), f32((word >> 7u) & 127u), f32(word & 127u)) / 127.0;
+    var c = e * e * e / 0.85;
+    if (SHADOWS) {
+        // The world position, a face turned to the eye and tilted up (as `far_sky` in cull.wgsl
+        // takes it), and the sun's share of the light on it.
+        let ndc = vec2<f32>(pos.x / size.x * 2.0 - 1.0, 1.0 - pos.y / size.y * 2.0);
+        let h = frame.inv_view_proj * vec4<f32>(ndc, z, 1.0);
+        let p = h.xyz / h.w;
+        let v = normalize(frame.camera_pos - p);
+        let n = normalize(vec3<f32>(v.x, 0.0, v.z) + vec3<f32>(1e-4, 0.4, 0.0));
+        let ndl = dot(n, frame.sun_dir);
+        let sun = dot(frame.sun_color, vec3<f32>(0.2126, 0.7152, 0.0722)) * (max(ndl, 0.0) + 0.6 * max(-ndl, 0.0));
+        let sky = dot(textureSampleLevel(irradiance_map, env_sampler, n, 0.0).rgb * frame.ambient, vec3<f32>(0.2126, 0.7152, 0.0722));
+        c = c * (1.0 - sun / max(sun + sky, 1e-4) * (1.0 - shadow_factor(p, n)));
+    }
+    var out: FarOut;
+    out.colour = vec4<f32>(tone(c), 1.0);
+    out.depth = z;
+    return out;
 }
 
 @fragment

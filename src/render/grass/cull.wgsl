@@ -3,14 +3,22 @@
 // blade this pass does all the per-blade work of the frame once: the wind (a rotation towards
 // the wind's direction whose angle comes from a world-space noise texture scrolled along the
 // wind, so neighbouring blades move together), the pushes away from the eye and the controller's
-// hit point, and the gravity bend, and writes the blade's final shape (a quadratic Bézier curve
-// through its root, middle and tip) into `shapes`. It then appends the blade's index to one of
-// three lists by the level of detail its distance calls for: near (7 segments), middle (3) and
-// far (a line), counting the vertices of three non-instanced indirect draws. The
-// vertex shader (blades.wgsl) is left with a few multiply-adds per vertex. No lighting is
-// prepended: this module has its own group 0 (src/render/grass/mod.rs).
+// hit point, and the gravity bend, giving the blade's final shape (a quadratic Bézier curve
+// through its root, middle and tip). By the level of detail its distance calls for, a near
+// (7 segments) or middle (3) blade writes its shape into `shapes` and appends its index to the
+// near or middle list, counting the indices of two indexed indirect draws (blades.wgsl). A far
+// blade, narrower than a pixel, is rasterised here: its curve is walked one pixel at a time
+// and each pixel it covers keeps, in an image after the draw counts in `args`, the nearest blade's depth and colour (an atomic
+// maximum, so the result does not depend on the order the invocations run in); the main pass
+// puts that image over the ground with one full-screen triangle that tests and writes depth
+// (blades.wgsl, `fs_far`). A software rasteriser such as lavapipe pays a fixed price per
+// primitive it sets up, which thousands of sub-pixel blades made the frame's largest cost.
+// No lighting is prepended: this module has its own group 0 (src/render/grass/mod.rs).
 //
-// Units: metres, radians, seconds; +Y up.
+// Reads: the blades, the wind noise, the patch colours, the view. Writes: `shapes`, `lists`,
+// `args` (the draw counts, the far blades' count and their image).
+//
+// Units: metres, radians, seconds; +Y up; pixels from the image's top left corner.
 
 struct Blade {
     // The root, metres.
@@ -61,6 +69,24 @@ struct Cull {
     eye: vec4<f32>,
     // The controller's hit point, metres, and its radius (0: no hit point).
     hit: vec4<f32>,
+    // World to clip space of the main view (wgpu's depth 0..1).
+    view_proj: mat4x4<f32>,
+};
+
+// The blade draw's uniforms (`BladeParams` in blades.wgsl and src/render/grass/data.rs).
+struct BladeParams {
+    // Per patch: the root colour, then the tip colour (linear RGB).
+    colours: array<vec4<f32>, 128>,
+    // The image's width and height, pixels; the view depth that the far image's depth codes span,
+    // metres; unused.
+    viewport: vec4<f32>,
+    // The normalised device depth of a point at view depth w is depth.x + depth.y / w.
+    depth: vec4<f32>,
+    // The unit vector towards the sun; the sun's colour times its intensity and the ambient
+    // tint times its strength, linear RGB (as `Frame` in lighting.wgsl gives them).
+    sun_dir: vec4<f32>,
+    sun_color: vec4<f32>,
+    ambient: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> cull: Cull;
@@ -68,26 +94,45 @@ struct Cull {
 @group(0) @binding(2) var<storage, read_write> shapes: array<Shape>;
 // The three lists of blade indices, `count` entries each: near, middle, far.
 @group(0) @binding(3) var<storage, read_write> lists: array<u32>;
-// Three indirect draws: two indexed ones (index count, instance count 1, first index, base
-// vertex, first instance) for the near and middle blades, then a plain one (vertex count,
-// instance count 1, first vertex, first instance) for the far lines. The frame resets the
-// counts before this pass; each visible blade adds its level's indices or vertices. The base
-// vertex of the middle draw and the first vertex of the far one point at their lists (`count`
-// times their vertices a blade), so that vertex / vertices a blade is the index into `lists`.
-@group(0) @binding(4) var<storage, read_write> args: array<atomic<u32>, 14>;
+// Two indexed indirect draws (index count, instance count 1, first index, base vertex, first
+// instance) for the near and middle blades, then the number of far blades rasterised here. The
+// frame resets the counts before this pass; each visible blade adds its level's indices (or
+// one). The base vertex of the middle draw points at its list (`count` times its vertices a
+// blade), so that vertex / vertices a blade is the index into `lists`.
+//
+// From word RASTER_OFFSET on, the same buffer holds the far blades' image, one word a pixel,
+// row by row from the top: 0 where no far blade covers the pixel, else `pack_far` of the
+// nearest one's depth and colour. The frame clears it before this pass. (One buffer for both:
+// a compute stage may bind only four storage buffers on downlevel devices.)
+@group(0) @binding(4) var<storage, read_write> args: array<atomic<u32>>;
 @group(0) @binding(5) var wind_tex: texture_2d<f32>;
 @group(0) @binding(6) var wind_sampler: sampler;
+@group(0) @binding(7) var<uniform> params: BladeParams;
+// The sky's irradiance (lighting.wgsl's `irradiance_map`), sampled with `wind_sampler`.
+@group(0) @binding(8) var irradiance_map: texture_cube<f32>;
 
-// The indices of a blade at each level of detail (indexed triangle lists, and a line's two
-// vertices; blades.wgsl), and the most blades the near and middle index buffers hold
-// (`NEAR_CAP`, `MID_CAP` in src/render/grass/data.rs): blades beyond them drop a level.
+// The indices of a blade at the near and middle levels of detail (indexed triangle lists;
+// blades.wgsl), and the most blades the near and middle index buffers hold (`NEAR_CAP`,
+// `MID_CAP` in src/render/grass/data.rs): blades beyond them drop a level.
 const NEAR_INDICES: u32 = 39u;
 const MID_INDICES: u32 = 15u;
-const FAR_VERTICES: u32 = 2u;
 const NEAR_CAP: u32 = 65536u;
 const MID_CAP: u32 = 262144u;
-// The segments the blade's curve is integrated over before it is fitted (even).
+// The segments a near or middle blade's curve is integrated over before it is fitted, and a
+// far blade's, whose curve is under ten pixels long (even).
 const STEPS: u32 = 8u;
+const FAR_STEPS: u32 = 2u;
+// The most pixels a far blade's curve is walked in (a far blade is under ten pixels long).
+const MAX_FAR_PIXELS: u32 = 64u;
+// The word of `args` where the far blades' image begins (`RASTER_OFFSET` in
+// src/render/grass/data.rs).
+const RASTER_OFFSET: u32 = 16u;
+// The depth codes of an image word (its top 11 bits; the colour takes the 21 below them, 7 a
+// channel).
+const DEPTH_LEVELS: u32 = 2047u;
+// The linear colour that `tone` (lighting.wgsl) maps to white: an image word's colours span
+// 0 … TONE_WHITE.
+const TONE_WHITE: f32 = 1.0 / 0.85;
 
 // The horizontal push away from `centre` within `radius` (zero outside), as an angle times a
 // direction.
@@ -101,106 +146,232 @@ fn push(root: vec3<f32>, centre: vec3<f32>, radius: f32, strength: f32) -> vec2<
     return d / dist * strength * f * f;
 }
 
-@compute @workgroup_size(256)
-fn cs_cull(@builtin(global_invocation_id) id: vec3<u32>) {
-    // A 2D dispatch when there are more than 65,535 workgroups of blades.
-    let i = id.x + id.y * 65535u * 256u;
-    if (i >= cull.count) {
+// A far blade's albedo at `t` along it (0 at the root, 1 at the tip) as blades.wgsl's
+// `blade_vertex` gives a blade's: the patch's root and tip colours, darker near the root, and
+// the blade's variation; 0.7 of it, since a far blade covers whole pixels where its width
+// would cover a part of each, so that a far lawn keeps the tone of its near part.
+fn far_albedo(patch_index: u32, variation: f32, t: f32) -> vec3<f32> {
+    let c = mix(params.colours[2u * patch_index].rgb, params.colours[2u * patch_index + 1u].rgb, t);
+    return c * mix(0.55, 1.0, t) * (0.8 + 0.4 * variation) * 0.7;
+}
+
+// The sky's light on far blades near `p` (metres): the irradiance of the sky, times the ambient
+// strength, on a face turned to the eye and tilted up as a bent blade's face is on average
+// (`fs_far` in blades.wgsl takes the same face for the trees' shadows). It changes slowly
+// across a lawn, so an invocation looks it up once for all its blades.
+fn far_sky(p: vec3<f32>) -> vec3<f32> {
+    let v = normalize(cull.camera.xyz - p);
+    let n = normalize(vec3<f32>(v.x, 0.0, v.z) + vec3<f32>(1e-4, 0.4, 0.0));
+    return textureSampleLevel(irradiance_map, wind_sampler, n, 0.0).rgb * params.ambient.rgb;
+}
+
+// The light on a far blade: its colour is `albedo * gain + highlight` (linear RGB).
+struct FarLight {
+    gain: vec3<f32>,
+    highlight: vec3<f32>,
+};
+
+// The light on a far blade under the sky's light `sky` and the sun, by the shading model of
+// blades.wgsl (specular 0.15, roughness 0.55, translucency 0.6) on its own face: the normal of
+// its root-to-tip chord across its width (`across`), turned to the eye at `p`, its middle.
+fn far_light(p: vec3<f32>, chord: vec3<f32>, across: vec3<f32>, sky: vec3<f32>) -> FarLight {
+    let v = normalize(cull.camera.xyz - p);
+    var n = normalize(cross(across, chord) + vec3<f32>(0.0, 1e-6, 0.0));
+    n = select(n, -n, dot(n, v) < 0.0);
+    let l = params.sun_dir.xyz;
+    let ndl = dot(n, l);
+    let diffuse = max(ndl, 0.0) + 0.6 * max(-ndl, 0.0);
+    let h = normalize(l + v);
+    let spec = 0.15 * 0.25 * pow(max(dot(n, h), 0.0), 60.9) * select(0.0, 1.0, ndl > 0.0);
+    var out: FarLight;
+    out.gain = sky + params.sun_color.rgb * diffuse;
+    out.highlight = params.sun_color.rgb * spec;
+    return out;
+}
+
+// A lit colour (linear RGB) as an image word stores it: each channel's cube root of its share
+// of TONE_WHITE, 0 … 127 (the eye sees dark greens in finer steps than bright ones).
+fn encode_far(colour: vec3<f32>) -> vec3<f32> {
+    return pow(clamp(colour / TONE_WHITE, vec3<f32>(0.0), vec3<f32>(1.0)), vec3<f32>(1.0 / 3.0)) * 127.0;
+}
+
+// A word of the far blades' image: the depth code of view depth `w` (metres; nearer is larger,
+// never 0) above the encoded colour `e` (`encode_far`), seven bits a channel.
+fn pack_far(w: f32, e: vec3<f32>) -> u32 {
+    let d = min(u32(max(w, 0.0) / params.viewport.z * f32(DEPTH_LEVELS)), DEPTH_LEVELS - 1u);
+    let c = vec3<u32>(round(e));
+    return ((DEPTH_LEVELS - d) << 21u) | (c.r << 14u) | (c.g << 7u) | c.b;
+}
+
+// Rasterises a far blade, the quadratic Bézier curve through `p0`, `p1`, `p2` (world metres;
+// the root, the control point and the tip) with its width along `across`, under the sky's
+// light `sky`: the curve is projected (a projective map keeps a Bézier curve one, with the
+// projected control points) and sampled at least once a pixel, and every sample inside the
+// image keeps the nearer of its blade and what its pixel holds. The colour is lit and encoded
+// at the root and the tip and interpolated between them.
+fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>, patch_index: u32, variation: f32, sky: vec3<f32>) {
+    let light = far_light(0.5 * (p0 + p2), p2 - p0, across, sky);
+    let e0 = encode_far(far_albedo(patch_index, variation, 0.0) * light.gain + light.highlight);
+    let e1 = encode_far(far_albedo(patch_index, variation, 1.0) * light.gain + light.highlight);
+    let c0 = cull.view_proj * vec4<f32>(p0, 1.0);
+    let c1 = cull.view_proj * vec4<f32>(p1, 1.0);
+    let c2 = cull.view_proj * vec4<f32>(p2, 1.0);
+    // A far blade lies well in front of the near plane; one that does not is left out.
+    if (min(c0.w, min(c1.w, c2.w)) < 0.1) {
         return;
+    }
+    let size = params.viewport.xy;
+    let half = vec2<f32>(0.5 * size.x, -0.5 * size.y);
+    let s0 = c0.xy / c0.w * half;
+    let s1 = c1.xy / c1.w * half;
+    let s2 = c2.xy / c2.w * half;
+    // The control polygon is at least as long as the curve: one sample per pixel of it.
+    let n = min(u32(ceil(distance(s0, s1) + distance(s1, s2))) + 1u, MAX_FAR_PIXELS);
+    let width = u32(size.x);
+    for (var k = 0u; k <= n; k = k + 1u) {
+        let t = f32(k) / f32(n);
+        let u = 1.0 - t;
+        let c = c0 * (u * u) + c1 * (2.0 * t * u) + c2 * (t * t);
+        let px = (c.xy / c.w * vec2<f32>(0.5, -0.5) + 0.5) * size;
+        if (px.x < 0.0 || px.y < 0.0 || px.x >= size.x || px.y >= size.y) {
+            continue;
+        }
+        let index = RASTER_OFFSET + u32(px.y) * width + u32(px.x);
+        atomicMax(&args[index], pack_far(c.w, mix(e0, e1, t)));
+    }
+}
+
+// An invocation culls BLADES_PER_INVOCATION consecutive blades, which lie close together, and
+// lights the far ones among them with the sky's light at the first (`far_sky`); fewer, longer
+// invocations also spare lavapipe its fixed cost per invocation. The workgroup's size and the
+// blades an invocation takes (`CULL_WORKGROUP`, `BLADES_PER_INVOCATION` in
+// src/render/grass/data.rs).
+const CULL_WORKGROUP: u32 = 64u;
+const BLADES_PER_INVOCATION: u32 = 16u;
+
+@compute @workgroup_size(64)
+fn cs_cull(@builtin(global_invocation_id) id: vec3<u32>) {
+    // A 2D dispatch when there are more than 65,535 workgroups.
+    let first = (id.x + id.y * 65535u * CULL_WORKGROUP) * BLADES_PER_INVOCATION;
+    let sky = far_sky(blades[min(first, cull.count - 1u)].position);
+    var far = 0u;
+    for (var k = 0u; k < BLADES_PER_INVOCATION; k = k + 1u) {
+        if (cull_blade(first + k, sky)) {
+            far = far + 1u;
+        }
+    }
+    // One atomic per invocation for the far blades' count.
+    if (far > 0u) {
+        atomicAdd(&args[10], far);
+    }
+}
+
+// Culls blade `i`, evaluates its shape and lists or rasterises it (under the sky's light `sky`
+// when it is far); true when it was drawn as a far blade.
+//
+// lavapipe runs a vector of invocations through both sides of every branch, masked, but leaves
+// a loop as soon as none of them is in it: the work of a visible blade, and that of each level,
+// is a loop run at most once, so that work none of the vector needs is skipped.
+fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
+    if (i >= cull.count) {
+        return false;
     }
     let b = blades[i];
     // A sphere around the blade, wide enough for its bend, the wind and a push.
     let centre = b.position + vec3<f32>(0.0, 0.5 * b.height, 0.0);
     let radius = b.height;
+    let d = distance(centre, cull.camera.xyz);
+    var inside = d <= cull.camera.w;
     for (var k = 0u; k < 6u; k = k + 1u) {
         let p = cull.planes[k];
-        if (dot(p.xyz, centre) + p.w < -radius) {
-            return;
+        inside = inside && dot(p.xyz, centre) + p.w >= -radius;
+    }
+    var far = false;
+    for (var visible = inside; visible; visible = false) {
+        let variation = f32(b.packed >> 8u) / 16777216.0;
+        // The blade's width direction and the direction it leans, both horizontal.
+        let across = vec3<f32>(cos(b.yaw), 0.0, -sin(b.yaw));
+        let lean = vec3<f32>(sin(b.yaw), 0.0, cos(b.yaw));
+        // The wind at the root: an angle towards the wind's direction from the scrolled noise.
+        let wdir = cull.wind.xy;
+        let uv = b.position.xz * cull.wind_noise.y - wdir * cull.wind.w * cull.wind_noise.x * cull.wind_noise.y;
+        let n = textureSampleLevel(wind_tex, wind_sampler, uv, 0.0).r;
+        let sway = cull.wind.z * (0.35 + 0.65 * n) * (0.85 + 0.3 * variation);
+        // The total tilt at the tip: the wind plus the pushes away from the eye and the hit point.
+        var tilt = wdir * sway;
+        // The eye pushes only when it is within 2 m above the blade.
+        let eye_near = clamp(2.0 - (cull.eye.y - b.position.y), 0.0, 1.0);
+        tilt = tilt + push(b.position, cull.eye.xyz, cull.eye.w, 1.2 * eye_near);
+        tilt = tilt + push(b.position, cull.hit.xyz, cull.hit.w, 1.3);
+        let tilt_angle = min(length(tilt), 1.45);
+        let tilt_axis = normalize(cross(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(tilt.x, 0.0, tilt.y) + vec3<f32>(1e-6, 0.0, 0.0)));
+
+        // Walk up the blade in STEPS segments (FAR_STEPS for a far blade). Segment k's direction
+        // is the vertical turned towards `lean` by the gravity bend and then about the tilt axis
+        // by its share of the tilt, both at (k + 1/2) / steps of the full angle; the cosines and
+        // sines of those angles are advanced by the angle-addition formulas.
+        var level = select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near);
+        let steps = select(STEPS, FAR_STEPS, level == 2u);
+        let n_seg = f32(steps);
+        let segment_length = b.height / n_seg;
+        let step_bend = b.bend / n_seg;
+        let step_tilt = tilt_angle / n_seg;
+        let bend_step = vec2<f32>(cos(step_bend), sin(step_bend));
+        let tilt_step = vec2<f32>(cos(step_tilt), sin(step_tilt));
+        var bend_cs = vec2<f32>(cos(0.5 * step_bend), sin(0.5 * step_bend));
+        var tilt_cs = vec2<f32>(cos(0.5 * step_tilt), sin(0.5 * step_tilt));
+        let up = vec3<f32>(0.0, 1.0, 0.0);
+        var p = vec3<f32>(0.0);
+        var middle = vec3<f32>(0.0);
+        for (var k = 0u; k < steps; k = k + 1u) {
+            let g = up * bend_cs.x - lean * bend_cs.y;
+            let dir = g * tilt_cs.x + cross(tilt_axis, g) * tilt_cs.y + tilt_axis * dot(tilt_axis, g) * (1.0 - tilt_cs.x);
+            p = p + dir * segment_length;
+            if (k + 1u == steps / 2u) {
+                middle = p;
+            }
+            bend_cs = vec2<f32>(bend_cs.x * bend_step.x - bend_cs.y * bend_step.y, bend_cs.y * bend_step.x + bend_cs.x * bend_step.y);
+            tilt_cs = vec2<f32>(tilt_cs.x * tilt_step.x - tilt_cs.y * tilt_step.y, tilt_cs.y * tilt_step.x + tilt_cs.x * tilt_step.y);
+        }
+        // The quadratic Bézier curve from the root through the middle point (at t = 1/2) to the
+        // tip: its control point.
+        let tip = p;
+        let ctrl = 2.0 * middle - 0.5 * tip;
+
+        for (var listed = level < 2u; listed; listed = false) {
+            var s: Shape;
+            s.root = b.position;
+            let half_width = pack2x16float(vec2<f32>(0.5 * b.width, 0.0)) & 0xffffu;
+            s.width_patch = half_width | ((b.packed & 255u) << 16u) | (u32(variation * 255.0) << 24u);
+            s.curve0 = pack2x16float(ctrl.xy);
+            s.curve1 = pack2x16float(vec2<f32>(ctrl.z, tip.x));
+            s.curve2 = pack2x16float(tip.yz);
+            s.across = pack2x16float(across.xz);
+            shapes[i] = s;
+
+            // A full list passes the blade on to the next level: the first NEAR_CAP blades to
+            // come get slots, every later one takes its count back.
+            if (level == 0u) {
+                let slot = atomicAdd(&args[0], NEAR_INDICES) / NEAR_INDICES;
+                if (slot < NEAR_CAP) {
+                    lists[slot] = i;
+                    break;
+                }
+                atomicSub(&args[0], NEAR_INDICES);
+            }
+            let slot = atomicAdd(&args[5], MID_INDICES) / MID_INDICES;
+            if (slot < MID_CAP) {
+                lists[cull.count + slot] = i;
+                break;
+            }
+            // Both lists are full: the blade is drawn as a far one.
+            atomicSub(&args[5], MID_INDICES);
+            level = 2u;
+        }
+        for (var drawn = level == 2u; drawn; drawn = false) {
+            rasterise_far(b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
+            far = true;
         }
     }
-    let d = distance(centre, cull.camera.xyz);
-    if (d > cull.camera.w) {
-        return;
-    }
-
-    let variation = f32(b.packed >> 8u) / 16777216.0;
-    // The blade's width direction and the direction it leans, both horizontal.
-    let across = vec3<f32>(cos(b.yaw), 0.0, -sin(b.yaw));
-    let lean = vec3<f32>(sin(b.yaw), 0.0, cos(b.yaw));
-    // The wind at the root: an angle towards the wind's direction from the scrolled noise.
-    let wdir = cull.wind.xy;
-    let uv = b.position.xz * cull.wind_noise.y - wdir * cull.wind.w * cull.wind_noise.x * cull.wind_noise.y;
-    let n = textureSampleLevel(wind_tex, wind_sampler, uv, 0.0).r;
-    let sway = cull.wind.z * (0.35 + 0.65 * n) * (0.85 + 0.3 * variation);
-    // The total tilt at the tip: the wind plus the pushes away from the eye and the hit point.
-    var tilt = wdir * sway;
-    // The eye pushes only when it is within 2 m above the blade.
-    let eye_near = clamp(2.0 - (cull.eye.y - b.position.y), 0.0, 1.0);
-    tilt = tilt + push(b.position, cull.eye.xyz, cull.eye.w, 1.2 * eye_near);
-    tilt = tilt + push(b.position, cull.hit.xyz, cull.hit.w, 1.3);
-    let tilt_angle = min(length(tilt), 1.45);
-    let tilt_axis = normalize(cross(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(tilt.x, 0.0, tilt.y) + vec3<f32>(1e-6, 0.0, 0.0)));
-
-    // Walk up the blade in STEPS segments. Segment k's direction is the vertical turned towards
-    // `lean` by the gravity bend and then about the tilt axis by its share of the tilt, both at
-    // (k + 1/2) / STEPS of the full angle; the cosines and sines of those angles are advanced by
-    // the angle-addition formulas.
-    let n_seg = f32(STEPS);
-    let segment_length = b.height / n_seg;
-    let step_bend = b.bend / n_seg;
-    let step_tilt = tilt_angle / n_seg;
-    let bend_step = vec2<f32>(cos(step_bend), sin(step_bend));
-    let tilt_step = vec2<f32>(cos(step_tilt), sin(step_tilt));
-    var bend_cs = vec2<f32>(cos(0.5 * step_bend), sin(0.5 * step_bend));
-    var tilt_cs = vec2<f32>(cos(0.5 * step_tilt), sin(0.5 * step_tilt));
-    let up = vec3<f32>(0.0, 1.0, 0.0);
-    var p = vec3<f32>(0.0);
-    var middle = vec3<f32>(0.0);
-    for (var k = 0u; k < STEPS; k = k + 1u) {
-        let g = up * bend_cs.x - lean * bend_cs.y;
-        let dir = g * tilt_cs.x + cross(tilt_axis, g) * tilt_cs.y + tilt_axis * dot(tilt_axis, g) * (1.0 - tilt_cs.x);
-        p = p + dir * segment_length;
-        if (k + 1u == STEPS / 2u) {
-            middle = p;
-        }
-        bend_cs = vec2<f32>(bend_cs.x * bend_step.x - bend_cs.y * bend_step.y, bend_cs.y * bend_step.x + bend_cs.x * bend_step.y);
-        tilt_cs = vec2<f32>(tilt_cs.x * tilt_step.x - tilt_cs.y * tilt_step.y, tilt_cs.y * tilt_step.x + tilt_cs.x * tilt_step.y);
-    }
-    // The quadratic Bézier curve from the root through the middle point (at t = 1/2) to the
-    // tip: its control point.
-    let tip = p;
-    let ctrl = 2.0 * middle - 0.5 * tip;
-
-    var s: Shape;
-    s.root = b.position;
-    let half_width = pack2x16float(vec2<f32>(0.5 * b.width, 0.0)) & 0xffffu;
-    s.width_patch = half_width | ((b.packed & 255u) << 16u) | (u32(variation * 255.0) << 24u);
-    s.curve0 = pack2x16float(ctrl.xy);
-    s.curve1 = pack2x16float(vec2<f32>(ctrl.z, tip.x));
-    s.curve2 = pack2x16float(tip.yz);
-    s.across = pack2x16float(across.xz);
-    shapes[i] = s;
-
-    // A full list passes the blade on to the next level: the first NEAR_CAP blades to come
-    // get slots, every later one takes its count back.
-    var level = select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near);
-    if (level == 0u) {
-        let slot = atomicAdd(&args[0], NEAR_INDICES) / NEAR_INDICES;
-        if (slot < NEAR_CAP) {
-            lists[slot] = i;
-            return;
-        }
-        atomicSub(&args[0], NEAR_INDICES);
-        level = 1u;
-    }
-    if (level == 1u) {
-        let slot = atomicAdd(&args[5], MID_INDICES) / MID_INDICES;
-        if (slot < MID_CAP) {
-            lists[cull.count + slot] = i;
-            return;
-        }
-        atomicSub(&args[5], MID_INDICES);
-    }
-    let slot = atomicAdd(&args[10], FAR_VERTICES) / FAR_VERTICES;
-    lists[2u * cull.count + slot] = i;
+    return far;
 }

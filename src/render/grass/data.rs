@@ -91,6 +91,8 @@ pub(crate) struct CullParams {
     pub eye: [f32; 4],
     /// The hit point and its push radius (0: none), metres.
     pub hit: [f32; 4],
+    /// World to clip space of the main view, column by column (the far blades' rasteriser).
+    pub view_proj: [[f32; 4]; 4],
 }
 
 /// The blade draw's uniforms (matches `BladeParams` in blades.wgsl).
@@ -99,15 +101,56 @@ pub(crate) struct CullParams {
 pub(crate) struct BladeParams {
     /// Root and tip colour per patch.
     pub colours: [[f32; 4]; 2 * MAX_PATCHES],
+    /// The image's width and height (pixels), the view depth the far blades' depth codes span
+    /// ([`FAR_DEPTH_RANGE`], metres), unused.
+    pub viewport: [f32; 4],
+    /// The depth buffer's value at view depth w is `depth[0] + depth[1] / w` (see
+    /// [`depth_of_view_depth`]); unused, unused.
+    pub depth: [f32; 4],
+    /// The unit vector towards the sun, unused.
+    pub sun_dir: [f32; 4],
+    /// The sun's colour times its intensity, linear RGB, unused.
+    pub sun_color: [f32; 4],
+    /// The ambient tint times its strength, linear RGB, unused.
+    pub ambient: [f32; 4],
+}
+
+/// The view depth the far blades' depth codes span, metres: beyond the farthest blade drawn
+/// (`FAR_DISTANCE` in src/render/grass/mod.rs, plus a blade's height).
+pub const FAR_DEPTH_RANGE: f32 = 64.0;
+
+/// The words of the indirect buffer the cull pass writes: two indexed draws of five words
+/// (near, middle), then the number of far blades it rasterised.
+pub const ARGS_WORDS: usize = 11;
+
+/// The cull pass's workgroup size and the blades each of its invocations culls
+/// (`CULL_WORKGROUP`, `BLADES_PER_INVOCATION` in cull.wgsl).
+pub const CULL_WORKGROUP: u32 = 64;
+/// See [`CULL_WORKGROUP`].
+pub const BLADES_PER_INVOCATION: u32 = 16;
+
+/// The word of the same buffer where the far blades' image begins, one word a pixel
+/// (`RASTER_OFFSET` in cull.wgsl).
+pub const RASTER_OFFSET: u64 = 16;
+
+/// The constants `(a, b)` for which a point at view depth `w` (metres in front of the camera)
+/// has the depth `a + b / w` in wgpu's 0..1 depth range, from a view-projection matrix
+/// `view_proj` and the camera's world transform `camera` (rotation and position): the
+/// projection's depth row.
+pub fn depth_of_view_depth(view_proj: Mat4, camera: Mat4) -> (f32, f32) {
+    let proj = view_proj * camera;
+    // clip.z = p22 z + p32 and clip.w = −z for a point at view-space z = −w.
+    (-proj.z_axis.z, proj.w_axis.z)
 }
 
 /// The size of a visible blade's shape, written by the cull pass for the vertex shader
 /// (`Shape` in cull.wgsl and blades.wgsl), bytes.
 pub const SHAPE_BYTES: u64 = 32;
 
-/// The indices of a blade at each level of detail (near, middle, far): indexed triangle lists
-/// of 13 and 5 triangles, and a line's two vertices (`NEAR_INDICES` … in cull.wgsl).
-pub const LOD_VERTICES: [u32; 3] = [39, 15, 2];
+/// The indices of a blade at the near and middle levels of detail: indexed triangle lists of
+/// 13 and 5 triangles (`NEAR_INDICES`, `MID_INDICES` in cull.wgsl). Far blades are rasterised
+/// by the cull pass.
+pub const LOD_INDICES: [u32; 2] = [39, 15];
 
 /// The segments of a near and of a middle blade; a blade of `s` segments has `2 s + 1`
 /// vertices (blades.wgsl, `strip_vertex`).
@@ -218,10 +261,11 @@ mod tests {
 
     #[test]
     fn uniform_layouts_match_the_wgsl() {
-        // cull.wgsl: six vec4 planes, a vec4, two f32, two u32, then four vec4.
-        assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16 + 4 * 16);
+        // cull.wgsl: six vec4 planes, a vec4, two f32, two u32, four vec4, then a 4 × 4 matrix.
+        assert_eq!(std::mem::size_of::<CullParams>(), 6 * 16 + 16 + 16 + 4 * 16 + 64);
         assert_eq!(std::mem::size_of::<GpuBlade>(), 32);
-        assert_eq!(std::mem::size_of::<BladeParams>(), 2 * MAX_PATCHES * 16);
+        // The colours, then five vec4.
+        assert_eq!(std::mem::size_of::<BladeParams>(), 2 * MAX_PATCHES * 16 + 5 * 16);
         assert_eq!(std::mem::size_of::<ShellParams>(), 64);
     }
 
@@ -254,22 +298,26 @@ mod tests {
         let (near2, mid2) = lod_distances(360, 60f32.to_radians());
         assert!((near2 - near / 2.0).abs() < 1e-4 && (mid2 - mid / 2.0).abs() < 1e-4);
         // A triangle list of s segments: s − 1 quads and the tip, three vertices a triangle.
-        assert_eq!(LOD_VERTICES, [3 * (2 * 6 + 1), 3 * (2 * 2 + 1), 2]);
+        assert_eq!(LOD_INDICES, [3 * (2 * 6 + 1), 3 * (2 * 2 + 1)]);
     }
 
     #[test]
     fn the_cull_pass_shares_the_levels_constants() {
         let cull = include_str!("cull.wgsl");
         for line in [
-            format!("const NEAR_INDICES: u32 = {}u;", LOD_VERTICES[0]),
-            format!("const MID_INDICES: u32 = {}u;", LOD_VERTICES[1]),
-            format!("const FAR_VERTICES: u32 = {}u;", LOD_VERTICES[2]),
+            format!("const NEAR_INDICES: u32 = {}u;", LOD_INDICES[0]),
+            format!("const MID_INDICES: u32 = {}u;", LOD_INDICES[1]),
+            format!("const RASTER_OFFSET: u32 = {RASTER_OFFSET}u;"),
+            format!("const CULL_WORKGROUP: u32 = {CULL_WORKGROUP}u;"),
+            format!("const BLADES_PER_INVOCATION: u32 = {BLADES_PER_INVOCATION}u;"),
+            format!("@workgroup_size({CULL_WORKGROUP})"),
             format!("const NEAR_CAP: u32 = {}u;", LOD_CAPS[0]),
             format!("const MID_CAP: u32 = {}u;", LOD_CAPS[1]),
         ] {
             assert!(cull.contains(&line), "cull.wgsl lacks `{line}`");
         }
         let blades = include_str!("blades.wgsl");
+        assert!(blades.contains(&format!("raster[{RASTER_OFFSET}u + ")), "blades.wgsl reads the far image elsewhere");
         for (segments, vertices) in [(7, 15), (3, 7)] {
             assert!(LOD_SEGMENTS.contains(&segments));
             let call = format!("% {vertices}u, {segments}u)");
@@ -288,11 +336,32 @@ mod tests {
         assert_eq!(&two[15..], &one.iter().map(|i| i + 7).collect::<Vec<_>>()[..]);
         // Seven segments: 13 triangles over 15 vertices, each used.
         let near = blade_indices(7, 1);
-        assert_eq!(near.len() as u32, LOD_VERTICES[0]);
+        assert_eq!(near.len() as u32, LOD_INDICES[0]);
         let mut used = near.clone();
         used.sort_unstable();
         used.dedup();
         assert_eq!(used, (0..15).collect::<Vec<u32>>());
+    }
+
+    #[test]
+    fn the_far_blades_depth_follows_the_projection() {
+        // A camera turned and moved away from the origin; a point at view depth w (metres in
+        // front of it, off its axis) projected by the full matrix has the depth a + b / w.
+        let rotation = glam::Quat::from_euler(glam::EulerRot::YXZ, 0.7, -0.4, 0.1);
+        let position = Vec3::new(3.0, 1.7, -2.0);
+        let camera = Mat4::from_rotation_translation(rotation, position);
+        let proj = glam::camera::rh::proj::directx::perspective(1.0, 16.0 / 9.0, 0.05, 600.0);
+        let view_proj = proj * camera.inverse();
+        let (a, b) = depth_of_view_depth(view_proj, camera);
+        for w in [0.5f32, 3.0, 20.0, 63.0] {
+            let p = position + rotation * Vec3::new(0.3 * w, -0.2 * w, -w);
+            let clip = view_proj * p.extend(1.0);
+            assert!((clip.w - w).abs() < 1e-3 * w, "view depth {w}: clip w {}", clip.w);
+            let z = clip.z / clip.w;
+            assert!((a + b / w - z).abs() < 1e-5, "view depth {w}: {z} against {}", a + b / w);
+        }
+        // wgpu's depth: 0 at the near plane (0.05 m), 1 at the far one (600 m).
+        assert!((a + b / 0.05).abs() < 1e-4 && (a + b / 600.0 - 1.0).abs() < 1e-4);
     }
 
     #[test]

@@ -8,12 +8,17 @@
 //! - **Blades**: every blade of every blade patch is uploaded once, when the patches change
 //!   ([`GrassKey`]). Each frame the **compute** stage (`cull.wgsl`) culls them against the view
 //!   frustum and a far distance, evaluates each visible blade's wind, pushes and bend once into
-//!   its shape (a Bézier curve), and lists it by level of detail, counting the vertices of
-//!   three indirect draws; the main pass draws them indirectly, nearest level first
-//!   (`blades.wgsl`: 7 segments a blade near the camera, 3 further away, a line far away,
-//!   with the levels' distances following the pixels a metre covers). The draws are not
-//!   instanced (a software rasteriser pays per instance). No per-blade data crosses from the
-//!   CPU per frame: only the uniforms and the three counters' reset.
+//!   its shape (a Bézier curve), and by level of detail either lists it, counting the indices
+//!   of two indirect draws (7 segments a blade near the camera, 3 further away), or, far away
+//!   where a blade is narrower than a pixel, rasterises its curve itself into an image of the
+//!   nearest far blade's depth and colour per pixel (`raster`); the levels' distances follow
+//!   the pixels a metre covers. The main pass draws the near and middle blades indirectly,
+//!   then lays the far blades' image over the scene with one full-screen triangle that lights
+//!   each covered pixel and tests and writes its depth (`blades.wgsl`). The draws are not
+//!   instanced (a software rasteriser pays per instance), and a far blade costs no primitive
+//!   at all (a software rasteriser pays a fixed price per primitive). No per-blade data
+//!   crosses from the CPU per frame: only the uniforms, the counters' reset and the image's
+//!   clearing.
 //!
 //! Wind is the world's `Wind` (its direction, strength and current gust, as the trees get it),
 //! read from a world-space noise texture. Units: metres, radians, seconds.
@@ -60,9 +65,16 @@ struct BladeSet {
     count: u32,
     /// The index buffers of the near and middle draws.
     indices: [wgpu::Buffer; 2],
+    blades: wgpu::Buffer,
+    shapes: wgpu::Buffer,
+    lists: wgpu::Buffer,
     cull_params: wgpu::Buffer,
     draw_params: wgpu::Buffer,
+    /// The indirect draws and the far blades' count, then the far blades' image (one word a
+    /// pixel), made again with the bind groups that refer to it when the frame's size
+    /// (`raster_size`, pixels) changes.
     args: wgpu::Buffer,
+    raster_size: (u32, u32),
     cull_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
     colours: [[f32; 4]; 2 * MAX_PATCHES],
@@ -84,6 +96,8 @@ pub(crate) struct Grass {
     wind_tex: wgpu::TextureView,
     nearest: wgpu::Sampler,
     linear: wgpu::Sampler,
+    /// The sky's irradiance cube (the far blades' light).
+    irradiance: wgpu::TextureView,
     /// The key of the patches the buffers were built from.
     pub key: GrassKey,
     shells: Vec<ShellPatch>,
@@ -115,7 +129,9 @@ fn buffer_entries<'a>(buffers: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<
 
 impl Grass {
     /// The feature: shaders, layouts, the cull pipeline, the noise textures; no patches yet.
-    pub fn new(shared: &Shared) -> Grass {
+    /// `irradiance` is the sky's irradiance cube (the lighting's), with which the cull pass
+    /// lights the far blades.
+    pub fn new(shared: &Shared, irradiance: &wgpu::TextureView) -> Grass {
         let device = &shared.device;
         let (v, f, vf, c) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::VERTEX_FRAGMENT, wgpu::ShaderStages::COMPUTE);
         let uniform = buffer_ty(wgpu::BufferBindingType::Uniform);
@@ -126,7 +142,7 @@ impl Grass {
         });
         let blade_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass blade layout"),
-            entries: &[entry(0, v, uniform), entry(1, v, storage(true)), entry(2, v, storage(true))],
+            entries: &[entry(0, vf, uniform), entry(1, v, storage(true)), entry(2, v, storage(true)), entry(3, f, storage(true))],
         });
         let cull_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass cull layout"),
@@ -138,6 +154,8 @@ impl Grass {
                 entry(4, c, storage(false)),
                 entry(5, c, float_texture()),
                 entry(6, c, filtering),
+                entry(7, c, uniform),
+                entry(8, c, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::Cube, multisampled: false }),
             ],
         });
         let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("cull.wgsl"), source: wgpu::ShaderSource::Wgsl(include_str!("cull.wgsl").into()) });
@@ -175,6 +193,7 @@ impl Grass {
             wind_tex: data::wind_texture(device, &shared.queue),
             nearest: sampler("grass strand sampler", wgpu::FilterMode::Nearest, wgpu::AddressMode::Repeat),
             linear: sampler("grass wind sampler", wgpu::FilterMode::Linear, wgpu::AddressMode::Repeat),
+            irradiance: irradiance.clone(),
             key: GrassKey::default(),
             shells: Vec::new(),
             blades: None,
@@ -182,8 +201,9 @@ impl Grass {
         }
     }
 
-    /// Rebuilds the GPU buffers of every patch.
-    fn rebuild(&mut self, shared: &Shared, key: &GrassKey, patches: &[GrassPatch]) {
+    /// Rebuilds the GPU buffers of every patch, the far blades' image for a frame of `size`
+    /// pixels.
+    fn rebuild(&mut self, shared: &Shared, key: &GrassKey, patches: &[GrassPatch], size: (u32, u32)) {
         let device = &shared.device;
         self.key = key.clone();
         self.shells.clear();
@@ -245,36 +265,62 @@ impl Grass {
             return;
         }
         let count = blades.len() as u32;
-        let lists = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade lists"), size: 3 * 4 * u64::from(count), usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
-        let shapes = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade shapes"), size: data::SHAPE_BYTES * u64::from(count), usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
+        let storage_buffer = |label, size: u64| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
+        // The near and middle lists; far blades are not listed.
+        let lists = storage_buffer("grass blade lists", 2 * 4 * u64::from(count));
+        let shapes = storage_buffer("grass blade shapes", data::SHAPE_BYTES * u64::from(count));
         let blade_buf = init("grass blades", bytemuck::cast_slice(&blades), wgpu::BufferUsages::STORAGE);
         let uniform = |label, size: usize| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
         let cull_params = uniform("grass cull parameters", std::mem::size_of::<CullParams>());
         let draw_params = uniform("grass blade parameters", std::mem::size_of::<BladeParams>());
-        let args = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("grass indirect draws"),
-            size: 56,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let cull_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("grass cull bind group"),
-            layout: &self.cull_group_layout,
-            entries: &{
-                let mut entries = buffer_entries(&[&cull_params, &blade_buf, &shapes, &lists, &args]);
-                entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&self.wind_tex) });
-                entries.push(wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.linear) });
-                entries
-            },
-        });
-        let entries = buffer_entries(&[&draw_params, &shapes, &lists]);
-        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass blade bind group"), layout: &self.blade_group_layout, entries: &entries });
         let index_buffer = |k: usize| {
             let idx = data::blade_indices(data::LOD_SEGMENTS[k], count.min(data::LOD_CAPS[k]));
             init("grass blade indices", bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX)
         };
         let indices = [index_buffer(0), index_buffer(1)];
-        self.blades = Some(BladeSet { count, indices, cull_params, draw_params, args, cull_group, draw_group, colours });
+        let args = args_buffer(device, size);
+        let (cull_group, draw_group) = self.blade_groups(device, [&cull_params, &blade_buf, &shapes, &lists, &args, &draw_params]);
+        self.blades = Some(BladeSet {
+            count,
+            indices,
+            blades: blade_buf,
+            shapes,
+            lists,
+            cull_params,
+            draw_params,
+            args,
+            raster_size: size,
+            cull_group,
+            draw_group,
+            colours,
+        });
+    }
+
+    /// The cull pass's and the blade draws' bind groups over `buffers`: the cull parameters,
+    /// the blades, the shapes, the lists, the indirect draws (with the far blades' image) and
+    /// the draw parameters.
+    fn blade_groups(&self, device: &wgpu::Device, buffers: [&wgpu::Buffer; 6]) -> (wgpu::BindGroup, wgpu::BindGroup) {
+        let [cull_params, blades, shapes, lists, args, draw_params] = buffers;
+        let mut entries = buffer_entries(&[cull_params, blades, shapes, lists, args]);
+        entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&self.wind_tex) });
+        entries.push(wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.linear) });
+        entries.push(wgpu::BindGroupEntry { binding: 7, resource: draw_params.as_entire_binding() });
+        entries.push(wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&self.irradiance) });
+        let cull_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass cull bind group"), layout: &self.cull_group_layout, entries: &entries });
+        let entries = buffer_entries(&[draw_params, shapes, lists, args]);
+        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass blade bind group"), layout: &self.blade_group_layout, entries: &entries });
+        (cull_group, draw_group)
+    }
+
+    /// Makes the indirect draws' buffer with the far blades' image again, with the bind groups
+    /// that refer to it, when the frame's size (pixels) is no longer the image's.
+    fn resize_raster(&mut self, device: &wgpu::Device, size: (u32, u32)) {
+        let Some(b) = self.blades.as_ref().filter(|b| b.raster_size != size) else { return };
+        let args = args_buffer(device, size);
+        let (cull_group, draw_group) = self.blade_groups(device, [&b.cull_params, &b.blades, &b.shapes, &b.lists, &args, &b.draw_params]);
+        if let Some(b) = self.blades.as_mut() {
+            (b.args, b.raster_size, b.cull_group, b.draw_group) = (args, size, cull_group, draw_group);
+        }
     }
 
     /// The compute stage: culls the blades into this frame's lists and draw counts. Records
@@ -287,10 +333,12 @@ impl Grass {
             beginning_of_pass_write_index: w.beginning_of_pass_write_index,
             end_of_pass_write_index: w.end_of_pass_write_index,
         });
+        // No far blade covers a pixel until the pass has rasterised them.
+        encoder.clear_buffer(&b.args, 4 * data::RASTER_OFFSET, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("grass cull pass"), timestamp_writes });
         pass.set_pipeline(&self.cull_pipeline);
         pass.set_bind_group(0, &b.cull_group, &[]);
-        let groups = b.count.div_ceil(256);
+        let groups = b.count.div_ceil(data::CULL_WORKGROUP * data::BLADES_PER_INVOCATION);
         pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
     }
 
@@ -298,16 +346,17 @@ impl Grass {
     /// indirect draws (waits for the GPU); all zero without blades.
     pub fn visible_blades(&self, shared: &Shared) -> Result<BladeCounts, String> {
         let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok(BladeCounts::default()) };
-        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: 56, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let bytes = 4 * data::ARGS_WORDS as u64;
+        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: bytes, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
         let mut encoder = shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grass counts") });
-        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, 56);
+        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, bytes);
         shared.queue.submit([encoder.finish()]);
         let slice = read.slice(..);
         slice.map_async(wgpu::MapMode::Read, |_| {});
         shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("grass counts: {e}"))?;
         let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("grass counts: {e}"))?).to_vec();
-        let [n, m, f] = data::LOD_VERTICES;
-        Ok(BladeCounts { near: words[0] / n, mid: words[5] / m, far: words[10] / f })
+        let [n, m] = data::LOD_INDICES;
+        Ok(BladeCounts { near: words[0] / n, mid: words[5] / m, far: words[10] })
     }
 }
 
@@ -318,7 +367,7 @@ pub struct BladeCounts {
     pub near: u32,
     /// With 3 segments (5 triangles).
     pub mid: u32,
-    /// As a line.
+    /// Rasterised by the cull pass (narrower than a pixel).
     pub far: u32,
 }
 
@@ -351,30 +400,30 @@ fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
     }))
 }
 
-/// The blades' pipelines of `key` (near, middle, far): main view only.
+/// The blades' pipelines of `key` (near, middle, and the far blades' full-screen triangle,
+/// which writes the depth of each pixel it keeps): main view only.
 fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 3], String> {
     if key.view != ViewKind::Main {
         return Err("grass is drawn from the main view only".into());
     }
     let targets = super::gpu::color_target(key.format, wgpu::ColorWrites::ALL);
     let constants = key.lit_constants();
-    let one = |label, vertex, topology| {
+    let one = |label, vertex, fragment| {
         shared.pipeline(&PipelineSpec {
             label,
             layout,
             module,
             vertex,
-            fragment: Some("fs_main"),
+            fragment: Some(fragment),
             buffers: &[],
-            topology,
+            topology: wgpu::PrimitiveTopology::TriangleList,
             cull: None,
             depth: depth_test(true, wgpu::CompareFunction::Less),
             targets: &targets,
             constants: &constants,
         })
     };
-    let (list, far) = (wgpu::PrimitiveTopology::TriangleList, wgpu::PrimitiveTopology::LineList);
-    Ok([one("grass blade pipeline (near)", "vs_near", list), one("grass blade pipeline (middle)", "vs_mid", list), one("grass blade pipeline (far)", "vs_far", far)])
+    Ok([one("grass blade pipeline (near)", "vs_near", "fs_main"), one("grass blade pipeline (middle)", "vs_mid", "fs_main"), one("grass blade pipeline (far)", "vs_far", "fs_far")])
 }
 
 impl Feature for Grass {
@@ -383,9 +432,17 @@ impl Feature for Grass {
         if !self.enabled {
             return Ok(());
         }
-        if let Some(patches) = &cx.data.grass {
-            self.rebuild(cx.shared, &cx.data.grass_key, patches);
+        // The far blades' image must fit one storage binding (128 MiB by default: about
+        // 5,800 × 5,800 pixels).
+        let image_bytes = 4 * (data::RASTER_OFFSET + u64::from(cx.size.0) * u64::from(cx.size.1));
+        let limit = cx.shared.device.limits().max_storage_buffer_binding_size as u64;
+        if image_bytes > limit && (self.blades.is_some() || cx.data.grass.as_ref().is_some_and(|p| p.iter().any(|p| !p.shells))) {
+            return Err(format!("grass blades cannot be drawn at {}x{} pixels: their image needs {image_bytes} bytes, over the device's limit of {limit}", cx.size.0, cx.size.1));
         }
+        if let Some(patches) = &cx.data.grass {
+            self.rebuild(cx.shared, &cx.data.grass_key, patches, cx.size);
+        }
+        self.resize_raster(&cx.shared.device, cx.size);
         let queue = &cx.shared.queue;
         let w = &cx.data.wind;
         let time = (cx.data.time % 3600.0) as f32;
@@ -425,15 +482,26 @@ impl Feature for Grass {
                 wind_noise: [speed, WIND_SCALE, 0.0, 0.0],
                 eye: [eye.x, eye.y, eye.z, eye_radius],
                 hit,
+                view_proj: view_proj.to_cols_array_2d(),
             };
             queue.write_buffer(&b.cull_params, 0, bytemuck::bytes_of(&cull));
-            queue.write_buffer(&b.draw_params, 0, bytemuck::bytes_of(&BladeParams { colours: b.colours }));
-            // The three indirect draws (two indexed, then the lines): nothing until the cull
-            // pass, one instance each, the middle draw's base vertex and the far draw's first
-            // vertex at their lists.
+            let camera = glam::Mat4::from_rotation_translation(cx.data.camera.rotation, cx.data.camera.position);
+            let (depth_a, depth_b) = data::depth_of_view_depth(view_proj, camera);
+            // The sun as the frame's uniforms give it (src/render/frame.rs).
+            let light = super::lighting::sun_light(cx.data.sun_elevation_deg);
+            let params = BladeParams {
+                colours: b.colours,
+                viewport: [cx.size.0 as f32, cx.size.1 as f32, data::FAR_DEPTH_RANGE, 0.0],
+                depth: [depth_a, depth_b, 0.0, 0.0],
+                sun_dir: cx.data.sun_dir.extend(0.0).to_array(),
+                sun_color: light.direct.extend(0.0).to_array(),
+                ambient: light.ambient.extend(0.0).to_array(),
+            };
+            queue.write_buffer(&b.draw_params, 0, bytemuck::bytes_of(&params));
+            // The two indexed indirect draws: nothing until the cull pass, one instance each,
+            // the middle draw's base vertex at its list; no far blade yet.
             let mid_vertices = 2 * data::LOD_SEGMENTS[1] + 1;
-            let far_vertices = data::LOD_VERTICES[2];
-            let args: [u32; 14] = [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0, 1, 2 * far_vertices * b.count, 0];
+            let args: [u32; data::ARGS_WORDS] = [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0];
             queue.write_buffer(&b.args, 0, bytemuck::cast_slice(&args));
         }
         let (sm, sl, bm, bl) = (&self.shell_module, &self.shell_layout, &self.blade_module, &self.blade_layout);
@@ -454,8 +522,9 @@ impl Feature for Grass {
                 pass.set_index_buffer(b.indices[k].slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed_indirect(&b.args, 20 * k as u64);
             }
+            // The far blades' image over the scene: one full-screen triangle.
             pass.set_pipeline(far);
-            pass.draw_indirect(&b.args, 40);
+            pass.draw(0..3, 0..1);
             stats.draws += 3;
         }
         if !self.shells.is_empty() {
@@ -473,4 +542,17 @@ impl Feature for Grass {
         }
         Ok(())
     }
+}
+
+/// The indirect draws' buffer for a frame of `size` pixels: the two indexed draws and the far
+/// blades' count, then from word [`data::RASTER_OFFSET`] the far blades' image, one word a
+/// pixel (`args` in cull.wgsl).
+fn args_buffer(device: &wgpu::Device, size: (u32, u32)) -> wgpu::Buffer {
+    let pixels = u64::from(size.0.max(1)) * u64::from(size.1.max(1));
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("grass indirect draws and far blades"),
+        size: 4 * (data::RASTER_OFFSET + pixels),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
 }
