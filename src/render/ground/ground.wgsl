@@ -1,13 +1,17 @@
 // Ground planes as a landscape: the Plane meshes, their sides, the soil floor under them (seen
-// through the holes, which are missing triangles) and the terrain around them, textured in world
-// space at three scales so the texture does not visibly repeat, lit and shadowed, and faded into
-// the sky's colour at the horizon with distance (aerial perspective). lighting.wgsl is prepended
-// (src/render/ground/mod.rs; the kinds are those of src/render/ground/landscape.rs).
+// through the holes, which are missing triangles) and the terrain around them, lit and shadowed,
+// and faded into the sky's colour at the horizon with distance (aerial perspective).
+// lighting.wgsl is prepended (src/render/ground/mod.rs; the kinds are those of
+// src/render/ground/landscape.rs).
 //
-// The aerial perspective is computed per vertex (the terrain is cut into cells small enough for
-// it to vary linearly), and the far terrain has its own fragment entry, `fs_far`: one texture
-// scale and no shadow lookups. On a software rasteriser these per-pixel savings are most of the
-// landscape's cost.
+// Written for a software rasteriser, where a pixel's cost is its instructions and, above all,
+// its filtered texture samples: a pixel takes one sample of the ground texture (its 2.5 m
+// repeat), and the variation at larger scales that hides the repeat (about 12 m, 70 m and a hue
+// over 150 m) comes per vertex as the tint, computed on the CPU (landscape.rs, `Tint`). The
+// aerial perspective and the irradiance are also per vertex (the terrain is cut into cells small
+// enough for them to vary linearly); the ground's light is diffuse and ambient only (its
+// highlight was below one level in 255). The far terrain has its own fragment entry, `fs_far`:
+// no shadow lookups.
 
 struct GroundParams {
     // Metres per repeat of the ground texture.
@@ -28,6 +32,8 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     // 0 a plane, 1 a plane's side, 2 terrain, 3 the soil floor.
     @location(2) kind: f32,
+    // The albedo's factor at scales above the texture's repeat (linear RGB).
+    @location(3) tint: vec3<f32>,
 };
 
 struct VertexOut {
@@ -41,6 +47,8 @@ struct VertexOut {
     @location(4) @interpolate(flat) kind: u32,
     // The aerial perspective's haze colour (rgb) and how much of it covers the ground (a).
     @location(5) haze: vec4<f32>,
+    // The tint, with the terrain's greener shade already in it.
+    @location(6) tint: vec3<f32>,
 };
 
 @vertex
@@ -49,58 +57,41 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.clip = frame.view_proj * vec4<f32>(v.position, 1.0);
     out.world_pos = v.position;
     out.normal = v.normal;
-    out.irr_front = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
-    out.irr_back = textureSampleLevel(irradiance_map, env_sampler, -v.normal, 0.0).rgb;
+    out.irr_front = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb * frame.ambient;
+    out.irr_back = textureSampleLevel(irradiance_map, env_sampler, -v.normal, 0.0).rgb * frame.ambient;
     out.kind = u32(v.kind + 0.5);
     out.haze = haze_at(v.position);
+    // The terrain: the same ground, a little greener.
+    out.tint = v.tint * select(vec3<f32>(1.0), vec3<f32>(0.85, 1.0, 0.75), out.kind == 2u);
     return out;
-}
-
-// The ground texture at three scales: the base repeat, a second sample rotated and at about
-// 3.9 times the size, and a broad brightness variation at about 17 times, so no repeat shows.
-fn ground_albedo(p: vec2<f32>) -> vec3<f32> {
-    let m = ground_params.metres_per_repeat;
-    let a = textureSample(ground_tex, ground_sampler, p / m).rgb;
-    let q = vec2<f32>(0.8 * p.x - 0.6 * p.y, 0.6 * p.x + 0.8 * p.y);
-    let b = textureSample(ground_tex, ground_sampler, q / (3.9 * m) + vec2<f32>(0.37, 0.11)).rgb;
-    let c = textureSample(ground_tex, ground_sampler, p / (17.3 * m) + vec2<f32>(0.71, 0.53)).rgb;
-    // The broad sample's brightness against the base sample's: about 0.5 on average.
-    let w = vec3<f32>(0.3, 0.6, 0.1);
-    let share = dot(c, w) / max(dot(c, w) + dot(a, w), 0.01);
-    let broad = 0.6 + 0.8 * share;
-    return mix(a, b, 0.4) * broad;
 }
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    // One texture lookup set for every kind (no divergent branches around the samples): sides
-    // take the texture along the wall, everything else in the horizontal plane.
+    // One texture sample for every kind (no divergent branches around it): sides take the
+    // texture along the wall, everything else in the horizontal plane.
     let along = in.world_pos.x * in.normal.z - in.world_pos.z * in.normal.x;
     let uv = select(in.world_pos.xz, vec2<f32>(along, in.world_pos.y * 2.0), in.kind == 1u);
-    let t = ground_albedo(uv);
-    let lum = dot(t, vec3<f32>(0.3, 0.6, 0.1));
+    let t = textureSample(ground_tex, ground_sampler, uv / ground_params.metres_per_repeat).rgb;
     // Soil (the sides and the floor under the holes): brown, with the texture's brightness; the
-    // sides as cut soil, the floor darker; the terrain the same ground, a little greener.
+    // sides as cut soil, the floor darker.
+    let lum = dot(t, vec3<f32>(0.3, 0.6, 0.1));
     let soil = vec3<f32>(0.2, 0.13, 0.08);
-    var albedo = t;
+    var albedo = t * in.tint;
     albedo = select(albedo, soil * (0.5 + 2.0 * lum), in.kind == 1u);
     albedo = select(albedo, soil * (0.25 + 1.0 * lum), in.kind == 3u);
-    albedo = select(albedo, t * vec3<f32>(0.85, 1.0, 0.75), in.kind == 2u);
     let n = normalize(in.normal) * select(-1.0, 1.0, front);
     let irr = select(in.irr_back, in.irr_front, front);
-    let c = shade_lit(albedo, n, in.world_pos, 0.08, 0.95, 0.0, irr);
+    let lit = shadow_factor(in.world_pos, n);
+    let c = albedo * (frame.sun_color * (max(dot(n, frame.sun_dir), 0.0) * lit) + irr);
     return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
 }
 
-// The far terrain (beyond the ring next to the planes): the ground texture at one scale, the
-// sun and the sky's light without shadows or highlights, and the haze. Its normal is +Y.
+// The far terrain (beyond the ring next to the planes): the same texture and tint, the sun and
+// the sky's light without shadows. Its normal is +Y.
 @fragment
 fn fs_far(in: VertexOut) -> @location(0) vec4<f32> {
-    let m = ground_params.metres_per_repeat;
-    let p = in.world_pos.xz;
-    let q = vec2<f32>(0.8 * p.x - 0.6 * p.y, 0.6 * p.x + 0.8 * p.y);
-    let t = textureSample(ground_tex, ground_sampler, q / (3.9 * m) + vec2<f32>(0.37, 0.11)).rgb;
-    let albedo = t * vec3<f32>(0.85, 1.0, 0.75);
-    let c = albedo * (frame.sun_color * max(frame.sun_dir.y, 0.0) + in.irr_front * frame.ambient);
+    let t = textureSample(ground_tex, ground_sampler, in.world_pos.xz / ground_params.metres_per_repeat).rgb;
+    let c = t * in.tint * (frame.sun_color * max(frame.sun_dir.y, 0.0) + in.irr_front);
     return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
 }

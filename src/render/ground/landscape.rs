@@ -4,11 +4,13 @@
 //! from the planes' edge out to the far plane, which the shader fades into the sky.
 //!
 //! A vertex is 7 floats: position (metres), normal, and its kind ([`KIND_PLANE`] …), which the
-//! ground shader shades differently. Units: metres; +Y up.
+//! ground shader shades differently; the ground adds each vertex's [`Tint`] when it uploads the
+//! mesh. Units: metres; +Y up.
 
 use std::collections::HashMap;
 
 use glam::{Vec2, Vec3};
+use noise::{NoiseFn, Perlin};
 
 /// A vertex of a plane.
 pub const KIND_PLANE: f32 = 0.0;
@@ -78,6 +80,54 @@ pub fn sides(mesh: &mut LandMesh, vertices: &[Vec3], triangles: &[[u32; 3]], flo
     }
 }
 
+/// The ground's variation at scales larger than its texture's repeat (2.5 m), computed per
+/// vertex so that the fragment shader takes one texture sample: a brightness that varies over
+/// about 12 m (the detail, only where the mesh is dense enough to carry it) and over about 70 m,
+/// and a hue between greener and browner over about 150 m.
+pub struct Tint {
+    detail: Perlin,
+    broad: Perlin,
+    hue: Perlin,
+}
+
+/// The wavelengths of the tint's three variations, metres: detail, broad brightness, hue.
+pub const TINT_SCALES: [f32; 3] = [12.0, 70.0, 150.0];
+
+impl Default for Tint {
+    fn default() -> Self {
+        Tint { detail: Perlin::new(11), broad: Perlin::new(12), hue: Perlin::new(13) }
+    }
+}
+
+impl Tint {
+    /// The albedo factor (linear RGB, about 0.6 to 1.4) at `p` (x, z in metres), with the
+    /// detail scale weighted by `detail` (0 to 1).
+    pub fn at(&self, p: Vec2, detail: f32) -> [f32; 3] {
+        let n = |f: &Perlin, scale: f32, offset: f64| f.get([f64::from(p.x / scale) + offset, f64::from(p.y / scale) - offset]) as f32;
+        let b = 1.0 + 0.35 * detail * n(&self.detail, TINT_SCALES[0], 0.31) + 0.3 * n(&self.broad, TINT_SCALES[1], 0.57);
+        let h = n(&self.hue, TINT_SCALES[2], 0.13);
+        [b * (1.0 + 0.25 * h), b, b * (1.0 - 0.3 * h)]
+    }
+}
+
+/// How much of the tint's detail scale a vertex at `p` carries: all of it on and near the
+/// rectangle `lo..hi` (x, z), where the mesh is dense, fading to none at the outer edge of the
+/// near band, beyond which the terrain's cells are too large for it.
+pub fn detail_weight(p: Vec2, lo: Vec2, hi: Vec2) -> f32 {
+    let outside = (lo - p).max(p - hi).max(Vec2::ZERO).length();
+    1.0 - smoothstep(NEAR_BAND / 3.0, NEAR_BAND, outside)
+}
+
+/// Hermite interpolation from 0 at `a` to 1 at `b` (as WGSL's `smoothstep`).
+fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
+    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// The largest side of a terrain cell in the near band and alongside the planes, metres: small
+/// enough for the tint's detail scale to vary smoothly across it.
+pub const NEAR_CELL: f32 = 4.0;
+
 /// The largest side of a terrain cell, metres: the shader computes the aerial perspective per
 /// vertex, so the cells must be small enough for it to vary linearly across them.
 pub const TERRAIN_CELL: f32 = 40.0;
@@ -86,19 +136,20 @@ pub const TERRAIN_CELL: f32 = 40.0;
 /// far-ground shading.
 pub const NEAR_BAND: f32 = 30.0;
 
-/// Grid lines from `a` to `b` (`a < b`) no more than [`TERRAIN_CELL`] apart, both ends
-/// included, evenly spaced.
-fn lines(a: f32, b: f32) -> Vec<f32> {
-    let n = ((b - a) / TERRAIN_CELL).ceil().max(1.0) as usize;
+/// Grid lines from `a` to `b` (`a < b`) no more than `cell` apart, both ends included, evenly
+/// spaced.
+fn lines(a: f32, b: f32, cell: f32) -> Vec<f32> {
+    let n = ((b - a) / cell).ceil().max(1.0) as usize;
     (0..=n).map(|i| if i == n { b } else { a + (b - a) * i as f32 / n as f32 }).collect()
 }
 
 /// The grid lines of one axis: from `lo - reach` to the near band, through the band and the
-/// rectangle `lo..hi`, and out to `hi + reach`.
+/// rectangle `lo..hi`, and out to `hi + reach`, no more than [`TERRAIN_CELL`] apart.
 fn axis_lines(lo: f32, hi: f32) -> Vec<f32> {
     let band = NEAR_BAND.min(TERRAIN_REACH);
-    let mut v = lines(lo - TERRAIN_REACH, lo - band);
-    for part in [lines(lo - band, lo), lines(lo, hi.max(lo + 1e-3)), lines(hi.max(lo + 1e-3), hi + band), lines(hi + band, hi + TERRAIN_REACH)] {
+    let hi = hi.max(lo + 1e-3);
+    let mut v = lines(lo - TERRAIN_REACH, lo - band, TERRAIN_CELL);
+    for part in [lines(lo - band, lo, TERRAIN_CELL), lines(lo, hi, TERRAIN_CELL), lines(hi, hi + band, TERRAIN_CELL), lines(hi + band, hi + TERRAIN_REACH, TERRAIN_CELL)] {
         v.extend_from_slice(&part[1..]);
     }
     v
@@ -106,8 +157,9 @@ fn axis_lines(lo: f32, hi: f32) -> Vec<f32> {
 
 /// The soil floor under the rectangle `lo..hi` (x, z) at `floor_y`, and the terrain around it
 /// at `ground_y`, reaching [`TERRAIN_REACH`] beyond it in every direction, as cells no larger
-/// than [`TERRAIN_CELL`]. The terrain within [`NEAR_BAND`] of the rectangle goes into `mesh`;
-/// the rest into `far`, which the ground draws with its cheap far-ground shading.
+/// than [`TERRAIN_CELL`]. The terrain within [`NEAR_BAND`] of the rectangle goes into `mesh`, cut
+/// into cells no larger than [`NEAR_CELL`]; the rest into `far`, which the ground draws with its
+/// cheap far-ground shading.
 pub fn surroundings(mesh: &mut LandMesh, far: &mut LandMesh, lo: Vec2, hi: Vec2, ground_y: f32, floor_y: f32) {
     let at = |x: f32, z: f32, y: f32| Vec3::new(x, y, z);
     mesh.quad([at(lo.x, lo.y, floor_y), at(hi.x, lo.y, floor_y), at(hi.x, hi.y, floor_y), at(lo.x, hi.y, floor_y)], Vec3::Y, KIND_FLOOR);
@@ -121,8 +173,18 @@ pub fn surroundings(mesh: &mut LandMesh, far: &mut LandMesh, lo: Vec2, hi: Vec2,
             if inside(0.0) {
                 continue;
             }
-            let target = if inside(band) { &mut *mesh } else { &mut *far };
-            target.quad([at(u[0], w[0], g), at(u[1], w[0], g), at(u[1], w[1], g), at(u[0], w[1], g)], Vec3::Y, KIND_TERRAIN);
+            if !inside(band) {
+                far.quad([at(u[0], w[0], g), at(u[1], w[0], g), at(u[1], w[1], g), at(u[0], w[1], g)], Vec3::Y, KIND_TERRAIN);
+                continue;
+            }
+            // A cell of the near band, cut into cells of at most NEAR_CELL. Their corners on the
+            // cell's edge lie on the straight edges of the neighbouring cells, all at one height.
+            let (xs, zs) = (lines(u[0], u[1], NEAR_CELL), lines(w[0], w[1], NEAR_CELL));
+            for b in zs.windows(2) {
+                for a in xs.windows(2) {
+                    mesh.quad([at(a[0], b[0], g), at(a[1], b[0], g), at(a[1], b[1], g), at(a[0], b[1], g)], Vec3::Y, KIND_TERRAIN);
+                }
+            }
         }
     }
 }
