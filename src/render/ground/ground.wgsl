@@ -9,9 +9,9 @@
 // repeat), and the variation at larger scales that hides the repeat (about 12 m, 70 m and a hue
 // over 150 m) comes per vertex as the tint, computed on the CPU (landscape.rs, `Tint`). The
 // aerial perspective and the irradiance are also per vertex (the terrain is cut into cells small
-// enough for them to vary linearly); the ground's light is diffuse and ambient only (its
-// highlight was below one level in 255). The far terrain has its own fragment entry, `fs_far`:
-// no shadow lookups.
+// enough for them to vary linearly); the ground's light is diffuse and ambient only (its weak,
+// broad highlight, specular strength 0.08, is left out). The far terrain has its own fragment
+// entry, `fs_far`: no shadow lookups.
 
 struct GroundParams {
     // Metres per repeat of the ground texture.

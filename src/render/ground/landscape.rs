@@ -118,6 +118,28 @@ pub fn detail_weight(p: Vec2, lo: Vec2, hi: Vec2) -> f32 {
     1.0 - smoothstep(NEAR_BAND / 3.0, NEAR_BAND, outside)
 }
 
+/// How much of the tint's detail scale (about 12 m) the planes can carry when their coarsest
+/// mesh has triangle edges of `mean_edge` metres on average: all of it up to 3 m, none from 8 m
+/// (the forest's 10 m cells would show it as facets). One factor for the whole ground, so the
+/// planes and the terrain next to them do not differ at their edge.
+pub fn detail_fits(mean_edge: f32) -> f32 {
+    1.0 - smoothstep(3.0, 8.0, mean_edge)
+}
+
+/// The mean length of the edges of `triangles` over `vertices`, metres (0 without triangles;
+/// indices out of range are skipped).
+pub fn mean_edge(vertices: &[Vec3], triangles: &[[u32; 3]]) -> f32 {
+    let (mut sum, mut n) = (0.0f64, 0u32);
+    for t in triangles {
+        let Some(p) = t.iter().map(|&i| vertices.get(i as usize).copied()).collect::<Option<Vec<Vec3>>>() else { continue };
+        for k in 0..3 {
+            sum += f64::from(p[k].distance(p[(k + 1) % 3]));
+            n += 1;
+        }
+    }
+    if n == 0 { 0.0 } else { (sum / f64::from(n)) as f32 }
+}
+
 /// Hermite interpolation from 0 at `a` to 1 at `b` (as WGSL's `smoothstep`).
 fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
     let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
@@ -236,10 +258,12 @@ mod tests {
                 // The far part lies beyond the near band, the near part within it.
                 let out = c.x.abs().max(c.z.abs()) - 5.0;
                 assert_eq!(is_far, out > NEAR_BAND, "triangle {q} at {c}");
-                // No side of a cell is longer than a cell (the diagonal excepted).
+                // No side of a cell is longer than a cell (the diagonal excepted): 40 m far
+                // away, 4 m in the near band.
+                let cell = if is_far { TERRAIN_CELL } else { NEAR_CELL };
                 for k in 0..3 {
                     let e = p[(k + 1) % 3] - p[k];
-                    assert!(e.x.abs() <= TERRAIN_CELL + 1e-3 && e.z.abs() <= TERRAIN_CELL + 1e-3, "{e}");
+                    assert!(e.x.abs() <= cell + 1e-3 && e.z.abs() <= cell + 1e-3, "{e}");
                 }
             }
         }
@@ -247,5 +271,81 @@ mod tests {
         let side = 10.0 + 2.0 * f64::from(TERRAIN_REACH);
         // Within the rounding of f32 corners over some two thousand cells.
         assert!((area - (side * side - 100.0)).abs() < 1e-4 * side * side, "{area}");
+    }
+
+    #[test]
+    fn the_detail_weight_is_whole_on_the_planes_and_gone_at_the_band_edge() {
+        let (lo, hi) = (Vec2::new(-5.0, -5.0), Vec2::new(5.0, 5.0));
+        assert_eq!(detail_weight(Vec2::ZERO, lo, hi), 1.0);
+        assert_eq!(detail_weight(Vec2::new(5.0, -5.0), lo, hi), 1.0);
+        // Within a third of the band: still whole.
+        assert_eq!(detail_weight(Vec2::new(5.0 + NEAR_BAND / 3.0, 0.0), lo, hi), 1.0);
+        // At the band's edge (also diagonally off a corner) and beyond: none.
+        assert_eq!(detail_weight(Vec2::new(0.0, -5.0 - NEAR_BAND), lo, hi), 0.0);
+        let corner = Vec2::new(5.0, 5.0) + Vec2::splat(NEAR_BAND / 2f32.sqrt());
+        assert!(detail_weight(corner, lo, hi) < 1e-6);
+        assert_eq!(detail_weight(Vec2::new(300.0, 0.0), lo, hi), 0.0);
+        // Falling steadily in between.
+        let mut last = 1.0;
+        for i in 0..=30 {
+            let w = detail_weight(Vec2::new(5.0 + i as f32, 0.0), lo, hi);
+            assert!(w <= last + 1e-6, "{w} after {last} at {i} m");
+            last = w;
+        }
+    }
+
+    #[test]
+    fn the_tint_varies_around_one_and_its_detail_only_where_weighted() {
+        let tint = Tint::default();
+        let (mut sum, mut n, mut detail_change, mut lo, mut hi) = (0.0f64, 0, 0.0f64, f32::MAX, f32::MIN);
+        // A 400 m square in 2 m steps (Perlin noise has no fixed period to alias with).
+        for i in 0..200 {
+            for j in 0..200 {
+                let p = Vec2::new(i as f32 * 2.0 - 200.0 + 0.37, j as f32 * 2.0 - 200.0 + 0.61);
+                let [r, g, b] = tint.at(p, 1.0);
+                for c in [r, g, b] {
+                    lo = lo.min(c);
+                    hi = hi.max(c);
+                }
+                sum += f64::from(g);
+                n += 1;
+                detail_change += f64::from((g - tint.at(p, 0.0)[1]).abs());
+            }
+        }
+        let mean = sum / f64::from(n);
+        // Brightness about 1 on average, and really varying, but within what the amplitudes
+        // allow for noise within ±1: brightness 1 ± (0.35 + 0.3), the hue's factor 1 ± 0.3.
+        assert!((mean - 1.0).abs() < 0.1, "{mean}");
+        assert!(lo > 0.35 * 0.7 && hi < 1.65 * 1.3, "{lo}..{hi}");
+        assert!(hi - lo > 0.3, "{lo}..{hi}");
+        // The detail scale changes the tint by a few per cent on average, and nothing at weight 0.
+        let detail_change = detail_change / f64::from(n);
+        assert!(detail_change > 0.02 && detail_change < 0.35, "{detail_change}");
+        // The same tint from a second instance: fixed seeds, so every run builds the same mesh.
+        let p = Vec2::new(12.3, -4.5);
+        assert_eq!(tint.at(p, 1.0), Tint::default().at(p, 1.0));
+        // Smooth: points 1 m apart differ less than points 6 m apart, so 4 m cells carry it.
+        let near: f64 = (0..100).map(|k| {
+            let q = Vec2::new(k as f32 * 7.1, k as f32 * 3.3);
+            f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(1.0, 0.0), 1.0)[1]).abs())
+        }).sum();
+        let far: f64 = (0..100).map(|k| {
+            let q = Vec2::new(k as f32 * 7.1, k as f32 * 3.3);
+            f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(6.0, 0.0), 1.0)[1]).abs())
+        }).sum();
+        assert!(near < far, "1 m apart {near}, 6 m apart {far}");
+    }
+
+    #[test]
+    fn the_detail_fits_fine_meshes_only() {
+        // A 2 m grid square: edges 2, 2 and the 2.83 m diagonal.
+        let v = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 2.0)];
+        let t = [[0, 3, 1], [1, 3, 2], [0, 1, 99]];
+        let e = mean_edge(&v, &t);
+        assert!((e - (4.0 + 8f32.sqrt()) / 3.0).abs() < 1e-5, "{e}");
+        assert_eq!(mean_edge(&v, &[]), 0.0);
+        assert_eq!(detail_fits(e), 1.0);
+        assert_eq!(detail_fits(10.0 * (4.0 + 8f32.sqrt()) / 6.0), 0.0);
+        assert!(detail_fits(5.5) > 0.0 && detail_fits(5.5) < 1.0);
     }
 }

@@ -68,7 +68,7 @@ impl Ground {
             layout: shared.layout("ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("ground"),
             far_pipelines: PipelineCache::new("far ground"),
-            bind_group: shared.material_bind_group("ground bind group", &params, [&texture, &shared.flat_normal, &shared.white]),
+            bind_group: bind_group(shared, &params, &texture),
             key: Vec::new(),
             mesh: None,
         })
@@ -80,7 +80,11 @@ impl Ground {
         let mut land = landscape::LandMesh::default();
         let mut far = landscape::LandMesh::default();
         let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+        // The longest mean edge of any plane's triangles, metres: how fine the coarsest plane's
+        // mesh is, which decides whether the tint's detail scale fits on it.
+        let mut coarsest = 0.0f32;
         for p in planes {
+            coarsest = coarsest.max(landscape::mean_edge(&p.vertices, &p.triangles));
             let base = land.vertices.len() as u32;
             let tris: Vec<u32> = p.triangles.iter().flatten().copied().filter(|&i| (i as usize) < p.vertices.len()).collect();
             let normals = gltf_load::compute_normals(&p.vertices, &tris);
@@ -106,12 +110,13 @@ impl Ground {
         // Each vertex's tint: the ground's variation at scales above the texture's.
         let tint = landscape::Tint::default();
         let (rect_lo, rect_hi) = (glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z));
+        let fits = landscape::detail_fits(coarsest);
         let verts: Vec<[f32; 10]> = land
             .vertices
             .iter()
             .map(|v| {
                 let p = glam::Vec2::new(v[0], v[2]);
-                let [r, g, b] = tint.at(p, landscape::detail_weight(p, rect_lo, rect_hi));
+                let [r, g, b] = tint.at(p, fits * landscape::detail_weight(p, rect_lo, rect_hi));
                 [v[0], v[1], v[2], v[3], v[4], v[5], v[6], r, g, b]
             })
             .collect();
@@ -130,6 +135,33 @@ impl Ground {
         });
     }
 
+}
+
+/// The ground's bind group: the material layout with the ground's own sampler, which filters
+/// within one mip level (bilinear) and picks the nearest level rather than blending two. On a
+/// software rasteriser that halves the texels a ground pixel reads; the ground texture is noise
+/// at every level, so the change of level does not show.
+fn bind_group(shared: &Shared, params: &wgpu::Buffer, texture: &wgpu::TextureView) -> wgpu::BindGroup {
+    let sampler = shared.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("ground sampler"),
+        address_mode_u: wgpu::AddressMode::Repeat,
+        address_mode_v: wgpu::AddressMode::Repeat,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Nearest,
+        ..Default::default()
+    });
+    shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("ground bind group"),
+        layout: &shared.material_layout,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(texture) },
+            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&shared.flat_normal) },
+            wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&shared.white) },
+            wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&sampler) },
+        ],
+    })
 }
 
 /// The ground's pipeline of `key`: main view only. With `far`, the far terrain's: the fragment
