@@ -82,9 +82,12 @@ pub fn sides(mesh: &mut LandMesh, vertices: &[Vec3], triangles: &[[u32; 3]], flo
 
 /// The ground's variation at scales larger than its texture's repeat (2.5 m), computed per
 /// vertex so that the fragment shader takes one texture sample: a brightness that varies over
-/// about 12 m (the detail, only where the mesh is dense enough to carry it) and over about 70 m,
-/// and a hue between greener and browner over about 150 m.
+/// about 12 m (the detail, only where the terrain is cut finely enough to carry it; on planes
+/// of coarse triangles over three of their edges, [`Tint::for_mesh`]) and over about 70 m, and a
+/// hue between greener and browner over about 150 m.
 pub struct Tint {
+    /// The detail's wavelength, metres.
+    detail_scale: f32,
     detail: Perlin,
     broad: Perlin,
     hue: Perlin,
@@ -95,16 +98,23 @@ pub const TINT_SCALES: [f32; 3] = [12.0, 70.0, 150.0];
 
 impl Default for Tint {
     fn default() -> Self {
-        Tint { detail: Perlin::new(11), broad: Perlin::new(12), hue: Perlin::new(13) }
+        Tint { detail_scale: TINT_SCALES[0], detail: Perlin::new(11), broad: Perlin::new(12), hue: Perlin::new(13) }
     }
 }
 
 impl Tint {
+    /// The tint for planes whose coarsest mesh has triangle edges of `mean_edge` metres on
+    /// average: the detail's wavelength at least three edges, so linear interpolation between
+    /// vertices carries it (the forest's 10 m cells: 30 m).
+    pub fn for_mesh(mean_edge: f32) -> Tint {
+        Tint { detail_scale: TINT_SCALES[0].max(3.0 * mean_edge), ..Tint::default() }
+    }
+
     /// The albedo factor (linear RGB, about 0.6 to 1.4) at `p` (x, z in metres), with the
     /// detail scale weighted by `detail` (0 to 1).
     pub fn at(&self, p: Vec2, detail: f32) -> [f32; 3] {
         let n = |f: &Perlin, scale: f32, offset: f64| f.get([f64::from(p.x / scale) + offset, f64::from(p.y / scale) - offset]) as f32;
-        let b = 1.0 + 0.35 * detail * n(&self.detail, TINT_SCALES[0], 0.31) + 0.3 * n(&self.broad, TINT_SCALES[1], 0.57);
+        let b = 1.0 + 0.35 * detail * n(&self.detail, self.detail_scale, 0.31) + 0.3 * n(&self.broad, TINT_SCALES[1], 0.57);
         let h = n(&self.hue, TINT_SCALES[2], 0.13);
         [b * (1.0 + 0.25 * h), b, b * (1.0 - 0.3 * h)]
     }
@@ -116,14 +126,6 @@ impl Tint {
 pub fn detail_weight(p: Vec2, lo: Vec2, hi: Vec2) -> f32 {
     let outside = (lo - p).max(p - hi).max(Vec2::ZERO).length();
     1.0 - smoothstep(NEAR_BAND / 3.0, NEAR_BAND, outside)
-}
-
-/// How much of the tint's detail scale (about 12 m) the planes can carry when their coarsest
-/// mesh has triangle edges of `mean_edge` metres on average: all of it up to 3 m, none from 8 m
-/// (the forest's 10 m cells would show it as facets). One factor for the whole ground, so the
-/// planes and the terrain next to them do not differ at their edge.
-pub fn detail_fits(mean_edge: f32) -> f32 {
-    1.0 - smoothstep(3.0, 8.0, mean_edge)
 }
 
 /// The mean length of the edges of `triangles` over `vertices`, metres (0 without triangles;
@@ -337,15 +339,24 @@ mod tests {
     }
 
     #[test]
-    fn the_detail_fits_fine_meshes_only() {
-        // A 2 m grid square: edges 2, 2 and the 2.83 m diagonal.
+    fn the_detail_widens_on_coarse_meshes() {
+        // A 2 m grid square: edges 2, 2 and the 2.83 m diagonal; the third triangle's index is
+        // out of range and skipped.
         let v = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 2.0)];
         let t = [[0, 3, 1], [1, 3, 2], [0, 1, 99]];
         let e = mean_edge(&v, &t);
         assert!((e - (4.0 + 8f32.sqrt()) / 3.0).abs() < 1e-5, "{e}");
         assert_eq!(mean_edge(&v, &[]), 0.0);
-        assert_eq!(detail_fits(e), 1.0);
-        assert_eq!(detail_fits(10.0 * (4.0 + 8f32.sqrt()) / 6.0), 0.0);
-        assert!(detail_fits(5.5) > 0.0 && detail_fits(5.5) < 1.0);
+        // Fine meshes keep the 12 m detail; 10 m cells take 30 m.
+        assert_eq!(Tint::for_mesh(e).detail_scale, 12.0);
+        assert_eq!(Tint::for_mesh(10.0).detail_scale, 30.0);
+        // So between vertices 10 m apart the coarse tint changes less than the fine one.
+        let step = |tint: &Tint| -> f64 {
+            (0..200).map(|k| {
+                let q = Vec2::new(k as f32 * 10.0, 3.7);
+                f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(10.0, 0.0), 1.0)[1]).abs())
+            }).sum()
+        };
+        assert!(step(&Tint::for_mesh(10.0)) < step(&Tint::default()));
     }
 }

@@ -81,7 +81,7 @@ impl Ground {
         let mut far = landscape::LandMesh::default();
         let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
         // The longest mean edge of any plane's triangles, metres: how fine the coarsest plane's
-        // mesh is, which decides whether the tint's detail scale fits on it.
+        // mesh is, which decides the wavelength of the tint's detail.
         let mut coarsest = 0.0f32;
         for p in planes {
             coarsest = coarsest.max(landscape::mean_edge(&p.vertices, &p.triangles));
@@ -108,15 +108,14 @@ impl Ground {
         land.vertices.extend_from_slice(&far.vertices);
         land.indices.extend(far.indices.iter().map(|i| i + base));
         // Each vertex's tint: the ground's variation at scales above the texture's.
-        let tint = landscape::Tint::default();
+        let tint = landscape::Tint::for_mesh(coarsest);
         let (rect_lo, rect_hi) = (glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z));
-        let fits = landscape::detail_fits(coarsest);
         let verts: Vec<[f32; 10]> = land
             .vertices
             .iter()
             .map(|v| {
                 let p = glam::Vec2::new(v[0], v[2]);
-                let [r, g, b] = tint.at(p, fits * landscape::detail_weight(p, rect_lo, rect_hi));
+                let [r, g, b] = tint.at(p, landscape::detail_weight(p, rect_lo, rect_hi));
                 [v[0], v[1], v[2], v[3], v[4], v[5], v[6], r, g, b]
             })
             .collect();
