@@ -98,12 +98,18 @@ pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
 pub(super) struct FrameTime {
     ms: f64,
     passes: Option<(f64, f64)>,
+    /// The process's CPU time per frame over the timed frames (every thread: on a software
+    /// adapter, the rasteriser's too), milliseconds, where the system tells it (Linux).
+    cpu_ms: Option<f64>,
 }
 
 impl FrameTime {
     /// The figure as JSON, with the draw statistics of the last frame.
     pub(super) fn json(&self, renderer: &Renderer) -> Value {
         let mut v = json!({"ms_per_frame": self.ms, "fps": 1e3 / self.ms, "triangles": renderer.stats.triangles, "draws": renderer.stats.draws});
+        if let Some(cpu) = self.cpu_ms {
+            v["cpu_ms_per_frame"] = json!(cpu);
+        }
         if let Some((shadow, main)) = self.passes {
             v["gpu_shadow_pass_ms"] = json!(shadow);
             v["gpu_main_pass_ms"] = json!(main);
@@ -133,7 +139,11 @@ pub(super) fn time_frames_at(
     let target = offscreen::Target::new(&gpu.device, size.0, size.1);
     let mut times = Vec::new();
     let (mut shadow, mut main) = (Vec::new(), Vec::new());
+    let mut cpu_start = None;
     for i in 0..=frames.max(1) {
+        if i == 1 {
+            cpu_start = process_cpu_ns();
+        }
         let t = Instant::now();
         renderer.render(sim, target.view()).map_err(|e| anyhow!(e))?;
         gpu.device
@@ -156,10 +166,24 @@ pub(super) fn time_frames_at(
             super::bench::median(&mut main),
         )
     });
+    let cpu_ms = cpu_start.zip(process_cpu_ns()).map(|(a, b)| b.saturating_sub(a) as f64 / 1e6 / times.len().max(1) as f64);
     Ok(FrameTime {
+        cpu_ms,
         ms: super::bench::median(&mut times),
         passes,
     })
+}
+
+/// The CPU time of every thread of this process so far, nanoseconds: the sum of the run times
+/// in `/proc/self/task/*/schedstat` (Linux). `None` where that cannot be read. Unlike wall time
+/// it barely moves when other processes load the machine, so it compares builds on a busy one.
+fn process_cpu_ns() -> Option<u64> {
+    let mut sum = 0u64;
+    for task in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
+        let stat = std::fs::read_to_string(task.path().join("schedstat")).ok()?;
+        sum += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(sum)
 }
 
 /// The renderer settings a render benchmark runs with.

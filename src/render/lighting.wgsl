@@ -46,14 +46,29 @@ fn shadow_factor(world_pos: vec3<f32>, n: vec3<f32>) -> f32 {
     if (!SHADOWS) {
         return 1.0;
     }
+    return shadow_at(shadow_coord(world_pos, n));
+}
+
+// Where `world_pos`, moved along the normal `n` by the normal offset, lies in the shadow map:
+// uv and depth. The sun's projection is orthographic, so this is an affine function of the
+// position and shaders may compute it per vertex and interpolate it.
+fn shadow_coord(world_pos: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     let p = frame.light_view_proj * vec4<f32>(world_pos + n * frame.shadow_normal_offset, 1.0);
     let ndc = p.xyz / p.w;
-    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0 || ndc.z > 1.0) {
+    return vec3<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5, ndc.z);
+}
+
+// `shadow_factor` at a shadow-map coordinate from `shadow_coord`.
+fn shadow_at(coord: vec3<f32>) -> f32 {
+    if (!SHADOWS) {
+        return 1.0;
+    }
+    let uv = coord.xy;
+    if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0 || coord.z > 1.0) {
         return 1.0;
     }
     let h = 0.5 * frame.shadow_texel;
-    let z = ndc.z - frame.shadow_depth_bias;
+    let z = coord.z - frame.shadow_depth_bias;
     var sum = textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-h, -h), z);
     sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(h, -h), z);
     sum = sum + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-h, h), z);

@@ -1,13 +1,17 @@
 // Ground planes as a landscape: the Plane meshes, their sides, the soil floor under them (seen
-// through the holes, which are missing triangles) and the terrain around them, textured in world
-// space at three scales so the texture does not visibly repeat, lit and shadowed, and faded into
-// the sky's colour at the horizon with distance (aerial perspective). lighting.wgsl is prepended
-// (src/render/ground/mod.rs; the kinds are those of src/render/ground/landscape.rs).
+// through the holes, which are missing triangles) and the terrain around them, lit and shadowed,
+// and faded into the sky's colour at the horizon with distance (aerial perspective).
+// lighting.wgsl is prepended (src/render/ground/mod.rs; the kinds are those of
+// src/render/ground/landscape.rs).
 //
-// The aerial perspective is computed per vertex (the terrain is cut into cells small enough for
-// it to vary linearly), and the far terrain has its own fragment entry, `fs_far`: one texture
-// scale and no shadow lookups. On a software rasteriser these per-pixel savings are most of the
-// landscape's cost.
+// Written for a software rasteriser, where a pixel's cost is its instructions and, above all,
+// its filtered texture samples: a pixel takes one sample of the ground texture (its 2.5 m
+// repeat), and the variation at larger scales that hides the repeat (about 12 m, 70 m and a hue
+// over 150 m) comes per vertex as the tint, computed on the CPU (landscape.rs, `Tint`). The
+// aerial perspective and the irradiance are also per vertex (the terrain is cut into cells small
+// enough for them to vary linearly); the ground's light is diffuse and ambient only (its weak,
+// broad highlight, specular strength 0.08, is left out). The far terrain has its own fragment
+// entry, `fs_far`: no shadow lookups.
 
 struct GroundParams {
     // Metres per repeat of the ground texture.
@@ -28,79 +32,73 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     // 0 a plane, 1 a plane's side, 2 terrain, 3 the soil floor.
     @location(2) kind: f32,
+    // The albedo's factor at scales above the texture's repeat (linear RGB).
+    @location(3) tint: vec3<f32>,
 };
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) world_pos: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    // The irradiance for the normal and for its opposite (seen from below, through a hole):
-    // the ground's normals vary slowly, so per vertex is enough.
-    @location(2) irr_front: vec3<f32>,
-    @location(3) irr_back: vec3<f32>,
-    @location(4) @interpolate(flat) kind: u32,
+    // The texture coordinate, metres: along the ground, or along and up a side.
+    @location(0) uv: vec2<f32>,
+    // The position in the shadow map (`shadow_coord`), affine in the position.
+    @location(1) shadow: vec3<f32>,
+    // The albedo's factor times the sunlight on the front (before shadowing), and times the
+    // sky's light on the front and on the back (seen from below: no sun there). The ground's
+    // normals vary slowly, so per vertex is enough.
+    @location(2) sun_front: vec3<f32>,
+    @location(3) sky_front: vec3<f32>,
+    @location(4) sky_back: vec3<f32>,
     // The aerial perspective's haze colour (rgb) and how much of it covers the ground (a).
     @location(5) haze: vec4<f32>,
+    // 1 for soil (sides and floor), 0 for the ground.
+    @location(6) @interpolate(flat) soil: f32,
 };
+
+// Soil's colour (linear RGB), times 0.25 plus the texture's brightness: cut soil takes twice
+// this, the floor under the holes once.
+const SOIL: vec3<f32> = vec3<f32>(0.2, 0.13, 0.08);
+
+// The albedo's factor of a vertex of `kind` (landscape.rs) with the tint `tint`: the ground as
+// textured and tinted, the terrain a little greener; soil (see `SOIL`) brighter on the sides.
+fn albedo_factor(kind: u32, tint: vec3<f32>) -> vec3<f32> {
+    switch kind {
+        case 1u: { return vec3<f32>(2.0); }
+        case 2u: { return tint * vec3<f32>(0.85, 1.0, 0.75); }
+        case 3u: { return vec3<f32>(1.0); }
+        default: { return tint; }
+    }
+}
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
     var out: VertexOut;
     out.clip = frame.view_proj * vec4<f32>(v.position, 1.0);
-    out.world_pos = v.position;
-    out.normal = v.normal;
-    out.irr_front = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
-    out.irr_back = textureSampleLevel(irradiance_map, env_sampler, -v.normal, 0.0).rgb;
-    out.kind = u32(v.kind + 0.5);
+    let kind = u32(v.kind + 0.5);
+    // Sides take the texture along the wall, everything else in the horizontal plane.
+    let along = v.position.x * v.normal.z - v.position.z * v.normal.x;
+    out.uv = select(v.position.xz, vec2<f32>(along, v.position.y * 2.0), kind == 1u) / ground_params.metres_per_repeat;
+    out.shadow = shadow_coord(v.position, v.normal);
+    let f = albedo_factor(kind, v.tint);
+    out.sun_front = f * frame.sun_color * max(dot(v.normal, frame.sun_dir), 0.0);
+    out.sky_front = f * textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb * frame.ambient;
+    out.sky_back = f * textureSampleLevel(irradiance_map, env_sampler, -v.normal, 0.0).rgb * frame.ambient;
     out.haze = haze_at(v.position);
+    out.soil = select(0.0, 1.0, kind == 1u || kind == 3u);
     return out;
-}
-
-// The ground texture at three scales: the base repeat, a second sample rotated and at about
-// 3.9 times the size, and a broad brightness variation at about 17 times, so no repeat shows.
-fn ground_albedo(p: vec2<f32>) -> vec3<f32> {
-    let m = ground_params.metres_per_repeat;
-    let a = textureSample(ground_tex, ground_sampler, p / m).rgb;
-    let q = vec2<f32>(0.8 * p.x - 0.6 * p.y, 0.6 * p.x + 0.8 * p.y);
-    let b = textureSample(ground_tex, ground_sampler, q / (3.9 * m) + vec2<f32>(0.37, 0.11)).rgb;
-    let c = textureSample(ground_tex, ground_sampler, p / (17.3 * m) + vec2<f32>(0.71, 0.53)).rgb;
-    // The broad sample's brightness against the base sample's: about 0.5 on average.
-    let w = vec3<f32>(0.3, 0.6, 0.1);
-    let share = dot(c, w) / max(dot(c, w) + dot(a, w), 0.01);
-    let broad = 0.6 + 0.8 * share;
-    return mix(a, b, 0.4) * broad;
 }
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    // One texture lookup set for every kind (no divergent branches around the samples): sides
-    // take the texture along the wall, everything else in the horizontal plane.
-    let along = in.world_pos.x * in.normal.z - in.world_pos.z * in.normal.x;
-    let uv = select(in.world_pos.xz, vec2<f32>(along, in.world_pos.y * 2.0), in.kind == 1u);
-    let t = ground_albedo(uv);
-    let lum = dot(t, vec3<f32>(0.3, 0.6, 0.1));
-    // Soil (the sides and the floor under the holes): brown, with the texture's brightness; the
-    // sides as cut soil, the floor darker; the terrain the same ground, a little greener.
-    let soil = vec3<f32>(0.2, 0.13, 0.08);
-    var albedo = t;
-    albedo = select(albedo, soil * (0.5 + 2.0 * lum), in.kind == 1u);
-    albedo = select(albedo, soil * (0.25 + 1.0 * lum), in.kind == 3u);
-    albedo = select(albedo, t * vec3<f32>(0.85, 1.0, 0.75), in.kind == 2u);
-    let n = normalize(in.normal) * select(-1.0, 1.0, front);
-    let irr = select(in.irr_back, in.irr_front, front);
-    let c = shade_lit(albedo, n, in.world_pos, 0.08, 0.95, 0.0, irr);
-    return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
+    let tex = textureSample(ground_tex, ground_sampler, in.uv).rgb;
+    let t = select(tex, SOIL * (0.25 + dot(tex, vec3<f32>(0.3, 0.6, 0.1))), in.soil > 0.5);
+    let light = select(in.sky_back, in.sun_front * shadow_at(in.shadow) + in.sky_front, front);
+    return vec4<f32>(tone(mix(t * light, in.haze.rgb, in.haze.a)), 1.0);
 }
 
-// The far terrain (beyond the ring next to the planes): the ground texture at one scale, the
-// sun and the sky's light without shadows or highlights, and the haze. Its normal is +Y.
+// The far terrain (beyond the ring next to the planes): the same, without shadows (the shadow
+// map does not reach that far); seen from above only.
 @fragment
 fn fs_far(in: VertexOut) -> @location(0) vec4<f32> {
-    let m = ground_params.metres_per_repeat;
-    let p = in.world_pos.xz;
-    let q = vec2<f32>(0.8 * p.x - 0.6 * p.y, 0.6 * p.x + 0.8 * p.y);
-    let t = textureSample(ground_tex, ground_sampler, q / (3.9 * m) + vec2<f32>(0.37, 0.11)).rgb;
-    let albedo = t * vec3<f32>(0.85, 1.0, 0.75);
-    let c = albedo * (frame.sun_color * max(frame.sun_dir.y, 0.0) + in.irr_front * frame.ambient);
-    return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
+    let t = textureSample(ground_tex, ground_sampler, in.uv).rgb;
+    return vec4<f32>(tone(mix(t * (in.sun_front + in.sky_front), in.haze.rgb, in.haze.a)), 1.0);
 }

@@ -4,6 +4,7 @@
 //! mesh is rebuilt only when the planes change ([`GroundKey`]).
 
 pub mod landscape;
+pub mod texture;
 
 use std::path::Path;
 
@@ -48,16 +49,18 @@ pub(crate) struct Ground {
 }
 
 impl Ground {
-    /// The feature with the ground texture `assets/env/ground.png`.
+    /// The feature with the ground texture `assets/env/ground.png` (2.5 m a repeat), widened
+    /// ([`texture::widen`]).
     pub fn new(shared: &Shared, assets: &Path) -> Result<Ground, String> {
         let path = assets.join("env").join("ground.png");
         let img = image::open(&path)
             .map_err(|e| format!("{}: {}", path.display(), textures::one_line_image_error(&e)))?
             .to_rgba8();
+        let img = texture::widen(&img);
         let texture = textures::upload_2d(&shared.device, &shared.queue, "ground albedo", img.width(), img.height(), img.as_raw(), true);
         let params = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("ground parameters"),
-            contents: bytemuck::bytes_of(&GroundParams { metres_per_repeat: 2.5, pad: [0.0; 3] }),
+            contents: bytemuck::bytes_of(&GroundParams { metres_per_repeat: 2.5 * texture::WIDEN as f32, pad: [0.0; 3] }),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         Ok(Ground {
@@ -65,19 +68,23 @@ impl Ground {
             layout: shared.layout("ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("ground"),
             far_pipelines: PipelineCache::new("far ground"),
-            bind_group: shared.material_bind_group("ground bind group", &params, [&texture, &shared.flat_normal, &shared.white]),
+            bind_group: bind_group(shared, &params, &texture),
             key: Vec::new(),
             mesh: None,
         })
     }
 
-    /// Rebuilds the mesh from the planes (positions, smooth normals and the kind, 7 floats a
-    /// vertex), their sides, the floor under them and the terrain around them.
+    /// Rebuilds the mesh from the planes (positions, smooth normals, the kind and the tint, 10
+    /// floats a vertex), their sides, the floor under them and the terrain around them.
     fn rebuild(&mut self, shared: &Shared, key: &GroundKey, planes: &[PlaneMesh]) {
         let mut land = landscape::LandMesh::default();
         let mut far = landscape::LandMesh::default();
         let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+        // The longest mean edge of any plane's triangles, metres: how fine the coarsest plane's
+        // mesh is, which decides the wavelength of the tint's detail.
+        let mut coarsest = 0.0f32;
         for p in planes {
+            coarsest = coarsest.max(landscape::mean_edge(&p.vertices, &p.triangles));
             let base = land.vertices.len() as u32;
             let tris: Vec<u32> = p.triangles.iter().flatten().copied().filter(|&i| (i as usize) < p.vertices.len()).collect();
             let normals = gltf_load::compute_normals(&p.vertices, &tris);
@@ -100,7 +107,19 @@ impl Ground {
         let base = land.vertices.len() as u32;
         land.vertices.extend_from_slice(&far.vertices);
         land.indices.extend(far.indices.iter().map(|i| i + base));
-        let (verts, idx) = (land.vertices, land.indices);
+        // Each vertex's tint: the ground's variation at scales above the texture's.
+        let tint = landscape::Tint::for_mesh(coarsest);
+        let (rect_lo, rect_hi) = (glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z));
+        let verts: Vec<[f32; 10]> = land
+            .vertices
+            .iter()
+            .map(|v| {
+                let p = glam::Vec2::new(v[0], v[2]);
+                let [r, g, b] = tint.at(p, landscape::detail_weight(p, rect_lo, rect_hi));
+                [v[0], v[1], v[2], v[3], v[4], v[5], v[6], r, g, b]
+            })
+            .collect();
+        let idx = land.indices;
         self.key = key.clone();
         if idx.is_empty() {
             self.mesh = None;
@@ -117,6 +136,33 @@ impl Ground {
 
 }
 
+/// The ground's bind group: the material layout with the ground's own sampler, which filters
+/// within one mip level (bilinear) and picks the nearest level rather than blending two. On a
+/// software rasteriser that halves the texels a ground pixel reads; the ground texture is noise
+/// at every level, so the change of level does not show.
+fn bind_group(shared: &Shared, params: &wgpu::Buffer, texture: &wgpu::TextureView) -> wgpu::BindGroup {
+    let sampler = shared.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("ground sampler"),
+        address_mode_u: wgpu::AddressMode::Repeat,
+        address_mode_v: wgpu::AddressMode::Repeat,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Nearest,
+        ..Default::default()
+    });
+    shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("ground bind group"),
+        layout: &shared.material_layout,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(texture) },
+            wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&shared.flat_normal) },
+            wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&shared.white) },
+            wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&sampler) },
+        ],
+    })
+}
+
 /// The ground's pipeline of `key`: main view only. With `far`, the far terrain's: the fragment
 /// entry `fs_far`, built without shadow lookups whatever the key says (the shadow map does not
 /// reach that far).
@@ -124,7 +170,7 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
         if key.view != ViewKind::Main {
             return Err("the ground is drawn from the main view only".into());
         }
-        const GV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32];
+        const GV: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32, 3 => Float32x3];
         let label = match (far, key.shadows) {
             (true, _) => "far ground pipeline",
             (false, true) => "ground pipeline (shadows)",
@@ -137,7 +183,7 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
             module,
             vertex: "vs_main",
             fragment: Some(if far { "fs_far" } else { "fs_main" }),
-            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 28, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
+            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 40, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
             topology: wgpu::PrimitiveTopology::TriangleList,
             cull: None,
             depth: depth_test(true, wgpu::CompareFunction::Less),
