@@ -4,7 +4,8 @@
 // blades, narrower than a pixel, which the cull pass rasterised into an image of their depth
 // and lit colour: one full-screen triangle (`vs_far`, `fs_far`) puts each pixel a far blade
 // covers on the target and writes its depth, so the far blades hide and are hidden like the
-// rest of the scene. lighting.wgsl is prepended (src/render/gpu.rs).
+// rest of the scene. lighting.wgsl (src/render/gpu.rs) and shapes.wgsl (the blade's `Shape` and
+// the draw's `BladeParams`, shared with cull.wgsl) are prepended.
 //
 // The cull pass has already evaluated the wind, the pushes and the gravity bend: a blade is a
 // quadratic Bézier curve from its root to its tip, widened across and narrowing to the tip. The
@@ -13,29 +14,7 @@
 //
 // Units: metres, radians; +Y up.
 
-// A visible blade's shape (matches `Shape` in cull.wgsl).
-struct Shape {
-    root: vec3<f32>,
-    width_patch: u32,
-    curve0: u32,
-    curve1: u32,
-    curve2: u32,
-    across: u32,
-};
 
-struct BladeParams {
-    // Per patch: the root colour, then the tip colour (linear RGB).
-    colours: array<vec4<f32>, 128>,
-    // The image's width and height, pixels; the view depth that the far image's depth codes span,
-    // metres; unused.
-    viewport: vec4<f32>,
-    // The normalised device depth of a point at view depth w is depth.x + depth.y / w.
-    depth: vec4<f32>,
-    // The sun and the ambient light as the cull pass sees them (cull.wgsl).
-    sun_dir: vec4<f32>,
-    sun_color: vec4<f32>,
-    ambient: vec4<f32>,
-};
 
 @group(2) @binding(0) var<uniform> params: BladeParams;
 @group(2) @binding(1) var<storage, read> shapes: array<Shape>;
