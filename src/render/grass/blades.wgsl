@@ -2,7 +2,7 @@
 // near blades hide far ones before they are shaded: two non-instanced indexed indirect draws,
 // 7 segments near the camera (13 triangles) and 3 further away (5 triangles), then the far
 // blades, narrower than a pixel, which the cull pass rasterised into an image of their depth
-// and lit colour: one full-screen triangle (`vs_far`, `fs_far`) puts each pixel a far blade
+// and lit colour: a rectangle around them (`vs_far`, `fs_far`) puts each pixel a far blade
 // covers on the target and writes its depth, so the far blades hide and are hidden like the
 // rest of the scene. lighting.wgsl (src/render/gpu.rs) and shapes.wgsl (the blade's `Shape` and
 // the draw's `BladeParams`, shared with cull.wgsl) are prepended.
@@ -23,7 +23,7 @@
 @group(2) @binding(2) var<storage, read> lists: array<u32>;
 // The cull pass's draw counts, then from word 16 (`RASTER_OFFSET` in cull.wgsl) the far
 // blades' image (`pack_far`): per pixel 0, or a depth code (nearer is larger) in the top 11
-// bits above the lit colour's cube roots in 7 bits each (of 0 … 1 / 0.85, which `tone` maps
+// bits above the lit colour's square roots in 7 bits each (of 0 … 1 / 0.85, which `tone` maps
 // to white).
 @group(2) @binding(3) var<storage, read> raster: array<u32>;
 
@@ -108,11 +108,18 @@ fn vs_mid(@builtin(vertex_index) v: u32) -> VertexOut {
     return strip_vertex(shapes[lists[v / 7u]], v % 7u, 3u);
 }
 
-// The far blades' full-screen triangle.
+// The far blades' rectangle: two triangles over the box of pixels the cull pass found them to
+// cover (words 11 to 14 of `raster`), empty when there are none.
 @vertex
 fn vs_far(@builtin(vertex_index) v: u32) -> @builtin(position) vec4<f32> {
-    let xy = vec2<f32>(f32((v << 1u) & 2u), f32(v & 2u)) * 2.0 - 1.0;
-    return vec4<f32>(xy, 0.0, 1.0);
+    let size = params.viewport.xy;
+    let lo = min(vec2<f32>(f32(raster[11u]), f32(raster[12u])), size);
+    let hi = max(min(vec2<f32>(f32(raster[13u]), f32(raster[14u])) + 1.0, size), lo);
+    // Corners (0, 0), (1, 0), (0, 1), then (0, 1), (1, 0), (1, 1).
+    let k = select(v, 6u - v, v > 2u);
+    let corner = vec2<f32>(f32(k & 1u), f32(k >> 1u));
+    let px = mix(lo, hi, corner);
+    return vec4<f32>(px.x / size.x * 2.0 - 1.0, 1.0 - px.y / size.y * 2.0, 0.0, 1.0);
 }
 
 struct FarOut {
@@ -134,7 +141,7 @@ fn fs_far(@builtin(position) pos: vec4<f32>) -> FarOut {
     let w = max(f32(2047u - (word >> 21u)) / 2047.0 * params.viewport.z, 0.1);
     let z = params.depth.x + params.depth.y / w;
     let e = vec3<f32>(f32((word >> 14u) & 127u), f32((word >> 7u) & 127u), f32(word & 127u)) / 127.0;
-    var c = e * e * e / 0.85;
+    var c = e * e / 0.85;
     if (SHADOWS) {
         // The world position, a face turned to the eye and tilted up (as `far_sky` in cull.wgsl
         // takes it), and the sun's share of the light on it.

@@ -10,13 +10,15 @@
 // blade, narrower than a pixel, is rasterised here: its curve is walked one pixel at a time
 // and each pixel it covers keeps, in an image after the draw counts in `args`, the nearest blade's depth and colour (an atomic
 // maximum, so the result does not depend on the order the invocations run in); the main pass
-// puts that image over the ground with one full-screen triangle that tests and writes depth
-// (blades.wgsl, `fs_far`). A software rasteriser such as lavapipe pays a fixed price per
+// puts that image over the ground with a rectangle around the far blades' pixels that tests
+// and writes depth (blades.wgsl, `fs_far`). A workgroup culls a block of blades that the CPU
+// found in view; blocks whose every blade is far go to a pipeline without the near and middle
+// code (`FAR_ONLY`, src/render/grass/blocks.rs). A software rasteriser such as lavapipe pays a fixed price per
 // primitive it sets up, which thousands of sub-pixel blades made the frame's largest cost.
 // No lighting is prepended: this module has its own group 0 (src/render/grass/mod.rs).
 //
 // Reads: the blades, the wind noise, the patch colours, the view. Writes: `shapes`, `lists`,
-// `args` (the draw counts, the far blades' count and their image).
+// `args` (the draw counts, the far blades' count, box and image).
 //
 // Units: metres, radians, seconds; +Y up; pixels from the image's top left corner.
 
@@ -43,9 +45,9 @@ struct Cull {
     // a line.
     lod_near: f32,
     lod_mid: f32,
-    // The number of blades.
+    // The number of blades; where the far pipeline's blocks begin in the list of blocks.
     count: u32,
-    pad0: u32,
+    far_base: u32,
     // The wind: direction (x, z), the bend it gives (radians at the tip), the time, seconds.
     wind: vec4<f32>,
     // The scroll speed of the wind noise (m/s), its scale (per metre), unused, unused.
@@ -62,10 +64,13 @@ struct Cull {
 @group(0) @binding(0) var<uniform> cull: Cull;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 @group(0) @binding(2) var<storage, read_write> shapes: array<Shape>;
-// The three lists of blade indices, `count` entries each: near, middle, far.
+// The near and middle lists of blade indices, `count` entries each, then this frame's blocks
+// (src/render/grass/blocks.rs): those of the general pipeline, then from `far_base` on those of
+// the far pipeline, one block of BLADES_PER_INVOCATION × CULL_WORKGROUP blades a workgroup.
 @group(0) @binding(3) var<storage, read_write> lists: array<u32>;
 // Two indexed indirect draws (index count, instance count 1, first index, base vertex, first
-// instance) for the near and middle blades, then the number of far blades rasterised here. The
+// instance) for the near and middle blades, then the number of far blades rasterised here and
+// the box of pixels they cover (smallest x, y, then largest x, y, whole pixels). The
 // frame resets the counts before this pass; each visible blade adds its level's indices (or
 // one). The base vertex of the middle draw points at its list (`count` times its vertices a
 // blade), so that vertex / vertices a blade is the index into `lists`.
@@ -94,6 +99,8 @@ const STEPS: u32 = 8u;
 const FAR_STEPS: u32 = 2u;
 // The most pixels a far blade's curve is walked in (a far blade is under ten pixels long).
 const MAX_FAR_PIXELS: u32 = 64u;
+// The box of pixels of no far blade (x, y of its smallest, then of its largest corner).
+const NO_BOX: vec4<f32> = vec4<f32>(1e9, 1e9, -1e9, -1e9);
 // The word of `args` where the far blades' image begins (`RASTER_OFFSET` in
 // src/render/grass/data.rs).
 const RASTER_OFFSET: u32 = 16u;
@@ -152,17 +159,28 @@ fn far_light(p: vec3<f32>, chord: vec3<f32>, across: vec3<f32>, sky: vec3<f32>) 
     let ndl = dot(n, l);
     let diffuse = max(ndl, 0.0) + 0.6 * max(-ndl, 0.0);
     let h = normalize(l + v);
-    let spec = 0.15 * 0.25 * pow(max(dot(n, h), 0.0), 60.9) * select(0.0, 1.0, ndl > 0.0);
+    // The highlight's power 60.9 taken as 64, six squarings (a power is an exponential and a
+    // logarithm in lavapipe).
+    var s = max(dot(n, h), 0.0);
+    s = s * s;
+    s = s * s;
+    s = s * s;
+    s = s * s;
+    s = s * s;
+    s = s * s;
+    let spec = 0.15 * 0.25 * s * select(0.0, 1.0, ndl > 0.0);
     var out: FarLight;
     out.gain = sky + params.sun_color.rgb * diffuse;
     out.highlight = params.sun_color.rgb * spec;
     return out;
 }
 
-// A lit colour (linear RGB) as an image word stores it: each channel's cube root of its share
-// of TONE_WHITE, 0 … 127 (the eye sees dark greens in finer steps than bright ones).
+// A lit colour (linear RGB) as an image word stores it: each channel's square root of its share
+// of TONE_WHITE, 0 … 127 (the eye sees dark greens in finer steps than bright ones; a square
+// root is one instruction, where a cube root is a power, which costs lavapipe an exponential
+// and a logarithm a channel).
 fn encode_far(colour: vec3<f32>) -> vec3<f32> {
-    return pow(clamp(colour / TONE_WHITE, vec3<f32>(0.0), vec3<f32>(1.0)), vec3<f32>(1.0 / 3.0)) * 127.0;
+    return sqrt(clamp(colour / TONE_WHITE, vec3<f32>(0.0), vec3<f32>(1.0))) * 127.0;
 }
 
 // A word of the far blades' image: the depth code of view depth `w` (metres; nearer is larger,
@@ -178,8 +196,9 @@ fn pack_far(w: f32, e: vec3<f32>) -> u32 {
 // light `sky`: the curve is projected (a projective map keeps a Bézier curve one, with the
 // projected control points) and sampled at least once a pixel, and every sample inside the
 // image keeps the nearer of its blade and what its pixel holds. The colour is lit and encoded
-// at the root and the tip and interpolated between them.
-fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>, patch_index: u32, variation: f32, sky: vec3<f32>) {
+// at the root and the tip and interpolated between them. Returns the box of pixels the blade
+// may cover (its control polygon's), or `NO_BOX` for a blade too near to draw.
+fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>, patch_index: u32, variation: f32, sky: vec3<f32>) -> vec4<f32> {
     let light = far_light(0.5 * (p0 + p2), p2 - p0, across, sky);
     let e0 = encode_far(far_albedo(patch_index, variation, 0.0) * light.gain + light.highlight);
     let e1 = encode_far(far_albedo(patch_index, variation, 1.0) * light.gain + light.highlight);
@@ -188,7 +207,7 @@ fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>,
     let c2 = cull.view_proj * vec4<f32>(p2, 1.0);
     // A far blade lies well in front of the near plane; one that does not is left out.
     if (min(c0.w, min(c1.w, c2.w)) < 0.1) {
-        return;
+        return NO_BOX;
     }
     let size = params.viewport.xy;
     let half = vec2<f32>(0.5 * size.x, -0.5 * size.y);
@@ -209,6 +228,7 @@ fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>,
         let index = RASTER_OFFSET + u32(px.y) * width + u32(px.x);
         atomicMax(&args[index], pack_far(c.w, mix(e0, e1, t)));
     }
+    return vec4<f32>(min(s0, min(s1, s2)) + 0.5 * size, max(s0, max(s1, s2)) + 0.5 * size);
 }
 
 // An invocation culls BLADES_PER_INVOCATION consecutive blades, which lie close together, and
@@ -219,32 +239,51 @@ fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>,
 const CULL_WORKGROUP: u32 = 64u;
 const BLADES_PER_INVOCATION: u32 = 16u;
 
+// True in the pipeline for blocks whose every blade is far (src/render/grass/blocks.rs): the
+// near and middle blades' code is left out, which lavapipe would otherwise run, masked, for
+// every blade.
+override FAR_ONLY: bool = false;
+
 @compute @workgroup_size(64)
-fn cs_cull(@builtin(global_invocation_id) id: vec3<u32>) {
+fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) local: u32) {
     // A 2D dispatch when there are more than 65,535 workgroups.
-    let first = (id.x + id.y * 65535u * CULL_WORKGROUP) * BLADES_PER_INVOCATION;
+    let slot = group.x + group.y * 65535u + select(0u, cull.far_base, FAR_ONLY);
+    let block = lists[2u * cull.count + slot];
+    let first = (block * CULL_WORKGROUP + local) * BLADES_PER_INVOCATION;
     let sky = far_sky(blades[min(first, cull.count - 1u)].position);
     var far = 0u;
+    var far_box = NO_BOX;
     for (var k = 0u; k < BLADES_PER_INVOCATION; k = k + 1u) {
-        if (cull_blade(first + k, sky)) {
-            far = far + 1u;
-        }
+        let b = cull_blade(first + k, sky);
+        far = far + select(0u, 1u, b.x <= b.z);
+        far_box = vec4<f32>(min(far_box.xy, b.xy), max(far_box.zw, b.zw));
     }
-    // One atomic per invocation for the far blades' count.
+    // One atomic per invocation for the far blades' count, and four for their box of pixels
+    // (clamped to the image, whole pixels), which the main pass covers (`vs_far`).
     if (far > 0u) {
         atomicAdd(&args[10], far);
+        let size = params.viewport.xy;
+        let lo = vec2<u32>(clamp(floor(far_box.xy), vec2<f32>(0.0), size));
+        let hi = vec2<u32>(clamp(ceil(far_box.zw), vec2<f32>(0.0), size));
+        atomicMin(&args[11], lo.x);
+        atomicMin(&args[12], lo.y);
+        atomicMax(&args[13], hi.x);
+        atomicMax(&args[14], hi.y);
     }
 }
 
 // Culls blade `i`, evaluates its shape and lists or rasterises it (under the sky's light `sky`
-// when it is far); true when it was drawn as a far blade.
+// when it is far); the box of pixels it may cover when it was drawn as a far blade (a projected
+// Bézier curve lies in the box of its projected control points), else `NO_BOX`.
 //
-// lavapipe runs a vector of invocations through both sides of every branch, masked, but leaves
-// a loop as soon as none of them is in it: the work of a visible blade, and that of each level,
-// is a loop run at most once, so that work none of the vector needs is skipped.
-fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
+// lavapipe runs a vector of invocations through both sides of every branch and through the first
+// pass of every loop, masked: it leaves a loop only after a pass that none of them stays in. So
+// every blade here pays for the code of every level, visible or not; the far pipeline
+// (`FAR_ONLY`) leaves the near and middle levels' code out, and the CPU leaves out the blocks
+// outside the view (src/render/grass/blocks.rs).
+fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
     if (i >= cull.count) {
-        return false;
+        return NO_BOX;
     }
     let b = blades[i];
     // A sphere around the blade, wide enough for its bend, the wind and a push.
@@ -256,7 +295,7 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
         let p = cull.planes[k];
         inside = inside && dot(p.xyz, centre) + p.w >= -radius;
     }
-    var far = false;
+    var far = NO_BOX;
     for (var visible = inside; visible; visible = false) {
         let variation = f32(b.packed >> 8u) / 16777216.0;
         // The blade's width direction and the direction it leans, both horizontal.
@@ -280,7 +319,7 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
         // is the vertical turned towards `lean` by the gravity bend and then about the tilt axis
         // by its share of the tilt, both at (k + 1/2) / steps of the full angle; the cosines and
         // sines of those angles are advanced by the angle-addition formulas.
-        var level = select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near);
+        var level = select(select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near), 2u, FAR_ONLY);
         let steps = select(STEPS, FAR_STEPS, level == 2u);
         let n_seg = f32(steps);
         let segment_length = b.height / n_seg;
@@ -339,8 +378,7 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> bool {
             level = 2u;
         }
         for (var drawn = level == 2u; drawn; drawn = false) {
-            rasterise_far(b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
-            far = true;
+            far = rasterise_far(b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
         }
     }
     return far;

@@ -81,8 +81,8 @@ pub(crate) struct CullParams {
     pub lod_mid: f32,
     /// The number of blades.
     pub count: u32,
-    /// Padding.
-    pub pad: u32,
+    /// Where the far cull pipeline's blocks begin in this frame's list of blocks (blocks.rs).
+    pub far_base: u32,
     /// Wind direction (x, z), bend at the tip (radians), time (seconds).
     pub wind: [f32; 4],
     /// Noise scroll speed (m/s), noise scale (per metre), unused, unused.
@@ -120,8 +120,9 @@ pub(crate) struct BladeParams {
 pub const FAR_DEPTH_RANGE: f32 = 64.0;
 
 /// The words of the indirect buffer the cull pass writes: two indexed draws of five words
-/// (near, middle), then the number of far blades it rasterised.
-pub const ARGS_WORDS: usize = 11;
+/// (near, middle), then the number of far blades it rasterised and the box of pixels they
+/// cover (smallest x, y, then largest x, y).
+pub const ARGS_WORDS: usize = 15;
 
 /// The cull pass's workgroup size and the blades each of its invocations culls
 /// (`CULL_WORKGROUP`, `BLADES_PER_INVOCATION` in cull.wgsl).

@@ -13,16 +13,19 @@
 //!   where a blade is narrower than a pixel, rasterises its curve itself into an image of the
 //!   nearest far blade's depth and colour per pixel (`raster`); the levels' distances follow
 //!   the pixels a metre covers. The main pass draws the near and middle blades indirectly,
-//!   then lays the far blades' image over the scene with one full-screen triangle that lights
+//!   then lays the far blades' image over the scene with a rectangle around them that lights
 //!   each covered pixel and tests and writes its depth (`blades.wgsl`). The draws are not
 //!   instanced (a software rasteriser pays per instance), and a far blade costs no primitive
 //!   at all (a software rasteriser pays a fixed price per primitive). No per-blade data
-//!   crosses from the CPU per frame: only the uniforms, the counters' reset and the image's
-//!   clearing.
+//!   crosses from the CPU per frame: only the uniforms, the counters' reset, the image's
+//!   clearing and the list of blocks in view (`blocks.rs`: the blades are uploaded in runs of
+//!   1,024 that cover compact pieces of lawn; blocks out of view are skipped and blocks of far
+//!   blades culled by a pipeline without the near and middle code).
 //!
 //! Wind is the world's `Wind` (its direction, strength and current gust, as the trees get it),
 //! read from a world-space noise texture. Units: metres, radians, seconds.
 
+pub(crate) mod blocks;
 pub(crate) mod data;
 pub(crate) mod tiles;
 
@@ -78,6 +81,10 @@ struct BladeSet {
     cull_group: wgpu::BindGroup,
     draw_group: wgpu::BindGroup,
     colours: [[f32; 4]; 2 * MAX_PATCHES],
+    /// The bounds of each block of blades, and this frame's workgroups of the general and the
+    /// far cull pipelines (their blocks' list follows the near and middle lists in `lists`).
+    blocks: Vec<blocks::Block>,
+    dispatch: [u32; 2],
 }
 
 /// The grass feature.
@@ -89,7 +96,8 @@ pub(crate) struct Grass {
     cull_group_layout: wgpu::BindGroupLayout,
     shell_layout: wgpu::PipelineLayout,
     blade_layout: wgpu::PipelineLayout,
-    cull_pipeline: wgpu::ComputePipeline,
+    /// The cull pass's general pipeline and its pipeline for blocks of far blades.
+    cull_pipelines: [wgpu::ComputePipeline; 2],
     shell_pipelines: PipelineCache<wgpu::RenderPipeline>,
     blade_pipelines: PipelineCache<[wgpu::RenderPipeline; 3]>,
     strand_tex: wgpu::TextureView,
@@ -142,7 +150,7 @@ impl Grass {
         });
         let blade_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass blade layout"),
-            entries: &[entry(0, vf, uniform), entry(1, v, storage(true)), entry(2, v, storage(true)), entry(3, f, storage(true))],
+            entries: &[entry(0, vf, uniform), entry(1, v, storage(true)), entry(2, v, storage(true)), entry(3, vf, storage(true))],
         });
         let cull_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass cull layout"),
@@ -160,13 +168,16 @@ impl Grass {
         });
         let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("cull.wgsl"), source: wgpu::ShaderSource::Wgsl(concat!(include_str!("shapes.wgsl"), include_str!("cull.wgsl")).into()) });
         let cull_layout = shared.layout("grass cull pipeline layout", &[Some(&cull_group_layout)]);
-        let cull_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("grass cull pipeline"),
-            layout: Some(&cull_layout),
-            module: &cull_module,
-            entry_point: Some("cs_cull"),
-            compilation_options: Default::default(),
-            cache: None,
+        // The general pipeline and the one specialised to blocks of far blades (blocks.rs).
+        let cull_pipelines = [("grass cull pipeline", 0.0), ("grass cull pipeline (far blocks)", 1.0)].map(|(label, far_only)| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: Some(&cull_layout),
+                module: &cull_module,
+                entry_point: Some("cs_cull"),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &[("FAR_ONLY", far_only)], ..Default::default() },
+                cache: None,
+            })
         });
         let sampler = |label, filter, address| {
             device.create_sampler(&wgpu::SamplerDescriptor {
@@ -186,7 +197,7 @@ impl Grass {
             shell_group_layout,
             blade_group_layout,
             cull_group_layout,
-            cull_pipeline,
+            cull_pipelines,
             shell_pipelines: PipelineCache::new("grass shells"),
             blade_pipelines: PipelineCache::new("grass blades"),
             strand_tex: data::strand_texture(device, &shared.queue),
@@ -264,10 +275,13 @@ impl Grass {
         if blades.is_empty() {
             return;
         }
+        blocks::spatial_order(&mut blades);
+        let bounds = blocks::block_bounds(&blades);
         let count = blades.len() as u32;
         let storage_buffer = |label, size: u64| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
-        // The near and middle lists; far blades are not listed.
-        let lists = storage_buffer("grass blade lists", 2 * 4 * u64::from(count));
+        // The near and middle lists (far blades are not listed), then this frame's blocks.
+        let lists_bytes = 4 * (2 * u64::from(count) + bounds.len() as u64);
+        let lists = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade lists"), size: lists_bytes, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
         let shapes = storage_buffer("grass blade shapes", data::SHAPE_BYTES * u64::from(count));
         let blade_buf = init("grass blades", bytemuck::cast_slice(&blades), wgpu::BufferUsages::STORAGE);
         let uniform = |label, size: usize| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
@@ -293,6 +307,8 @@ impl Grass {
             cull_group,
             draw_group,
             colours,
+            blocks: bounds,
+            dispatch: [0, 0],
         });
     }
 
@@ -336,10 +352,12 @@ impl Grass {
         // No far blade covers a pixel until the pass has rasterised them.
         encoder.clear_buffer(&b.args, 4 * data::RASTER_OFFSET, None);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("grass cull pass"), timestamp_writes });
-        pass.set_pipeline(&self.cull_pipeline);
         pass.set_bind_group(0, &b.cull_group, &[]);
-        let groups = b.count.div_ceil(data::CULL_WORKGROUP * data::BLADES_PER_INVOCATION);
-        pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+        // A workgroup per block in view: the general pipeline's blocks, then the far ones.
+        for (pipeline, &groups) in self.cull_pipelines.iter().zip(&b.dispatch).filter(|(_, g)| **g > 0) {
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
+        }
     }
 
     /// The numbers of blades the last frame drew at each level of detail, read back from the
@@ -400,7 +418,7 @@ fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
     }))
 }
 
-/// The blades' pipelines of `key` (near, middle, and the far blades' full-screen triangle,
+/// The blades' pipelines of `key` (near, middle, and the far blades' rectangle,
 /// which writes the depth of each pixel it keeps): main view only.
 fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 3], String> {
     if key.view != ViewKind::Main {
@@ -466,18 +484,23 @@ impl Feature for Grass {
             p.strands[2] = speed;
             queue.write_buffer(&s.params, 0, bytemuck::bytes_of(&p));
         }
-        if let Some(b) = &self.blades {
+        if let Some(b) = &mut self.blades {
             let bend_near = cx.options.grass_bend;
             let hit = cx.data.overlay.hit.filter(|h| h.visible && bend_near).map_or([0.0; 4], |h| [h.position.x, h.position.y, h.position.z, HIT_RADIUS]);
             let eye_radius = if bend_near { EYE_RADIUS } else { 0.0 };
             let (lod_near, lod_mid) = data::lod_distances(cx.size.1, cx.data.camera.fov_y);
+            let (list, far_base) = blocks::block_lists(&b.blocks, &planes, eye, FAR_DISTANCE, lod_mid);
+            b.dispatch = [far_base, list.len() as u32 - far_base];
+            if !list.is_empty() {
+                queue.write_buffer(&b.lists, 8 * u64::from(b.count), bytemuck::cast_slice(&list));
+            }
             let cull = CullParams {
-                planes: data::frustum_planes(view_proj),
+                planes,
                 camera: [eye.x, eye.y, eye.z, FAR_DISTANCE],
                 lod_near,
                 lod_mid,
                 count: b.count,
-                pad: 0,
+                far_base,
                 wind: [w.direction[0], w.direction[1], bend, time],
                 wind_noise: [speed, WIND_SCALE, 0.0, 0.0],
                 eye: [eye.x, eye.y, eye.z, eye_radius],
@@ -501,7 +524,7 @@ impl Feature for Grass {
             // The two indexed indirect draws: nothing until the cull pass, one instance each,
             // the middle draw's base vertex at its list; no far blade yet.
             let mid_vertices = 2 * data::LOD_SEGMENTS[1] + 1;
-            let args: [u32; data::ARGS_WORDS] = [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0];
+            let args: [u32; data::ARGS_WORDS] = [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0, u32::MAX, u32::MAX, 0, 0];
             queue.write_buffer(&b.args, 0, bytemuck::cast_slice(&args));
         }
         let (sm, sl, bm, bl) = (&self.shell_module, &self.shell_layout, &self.blade_module, &self.blade_layout);
@@ -522,9 +545,9 @@ impl Feature for Grass {
                 pass.set_index_buffer(b.indices[k].slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed_indirect(&b.args, 20 * k as u64);
             }
-            // The far blades' image over the scene: one full-screen triangle.
+            // The far blades' image over the scene: a rectangle around them.
             pass.set_pipeline(far);
-            pass.draw(0..3, 0..1);
+            pass.draw(0..6, 0..1);
             stats.draws += 3;
         }
         if !self.shells.is_empty() {
