@@ -101,6 +101,8 @@ const FAR_STEPS: u32 = 2u;
 const MAX_FAR_PIXELS: u32 = 64u;
 // The box of pixels of no far blade (x, y of its smallest, then of its largest corner).
 const NO_BOX: vec4<f32> = vec4<f32>(1e9, 1e9, -1e9, -1e9);
+// A word of `args` that no one reads, for the far blades' samples outside the image.
+const SCRATCH_WORD: u32 = 15u;
 // The word of `args` where the far blades' image begins (`RASTER_OFFSET` in
 // src/render/grass/data.rs).
 const RASTER_OFFSET: u32 = 16u;
@@ -197,8 +199,13 @@ fn pack_far(w: f32, e: vec3<f32>) -> u32 {
 // projected control points) and sampled about once a pixel, and every sample inside the
 // image keeps the nearer of its blade and what its pixel holds. The colour is lit and encoded
 // at the root and the tip and interpolated between them. Returns the box of pixels the blade
-// may cover (its control polygon's), or `NO_BOX` for a blade too near to draw.
-fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>, patch_index: u32, variation: f32, sky: vec3<f32>) -> vec4<f32> {
+// may cover (its control polygon's), or `NO_BOX` for a blade too near to draw or not to be
+// drawn (`draw` false).
+//
+// lavapipe pays dearly for control flow (every assignment under a condition becomes a masked
+// store), so the blade's work is straight-line code; only the walk is a loop, of no pass for a
+// blade not drawn.
+fn rasterise_far(draw: bool, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>, patch_index: u32, variation: f32, sky: vec3<f32>) -> vec4<f32> {
     let light = far_light(0.5 * (p0 + p2), p2 - p0, across, sky);
     let e0 = encode_far(far_albedo(patch_index, variation, 0.0) * light.gain + light.highlight);
     let e1 = encode_far(far_albedo(patch_index, variation, 1.0) * light.gain + light.highlight);
@@ -206,9 +213,7 @@ fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>,
     let c1 = cull.view_proj * vec4<f32>(p1, 1.0);
     let c2 = cull.view_proj * vec4<f32>(p2, 1.0);
     // A far blade lies well in front of the near plane; one that does not is left out.
-    if (min(c0.w, min(c1.w, c2.w)) < 0.1) {
-        return NO_BOX;
-    }
+    let ok = draw && min(c0.w, min(c1.w, c2.w)) >= 0.1;
     let size = params.viewport.xy;
     let half = vec2<f32>(0.5 * size.x, -0.5 * size.y);
     let s0 = c0.xy / c0.w * half;
@@ -217,19 +222,20 @@ fn rasterise_far(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across: vec3<f32>,
     // The curve's length lies between its chord's and its control polygon's; their mean is
     // within a few per cent of it for a blade's gentle bend: samples about a pixel apart.
     let n = clamp(u32(ceil(0.5 * (distance(s0, s1) + distance(s1, s2) + distance(s0, s2)))), 1u, MAX_FAR_PIXELS);
+    let samples = select(0u, n + 1u, ok);
     let width = u32(size.x);
-    for (var k = 0u; k <= n; k = k + 1u) {
+    for (var k = 0u; k < samples; k = k + 1u) {
         let t = f32(k) / f32(n);
         let u = 1.0 - t;
         let c = c0 * (u * u) + c1 * (2.0 * t * u) + c2 * (t * t);
         let px = (c.xy / c.w * vec2<f32>(0.5, -0.5) + 0.5) * size;
-        if (px.x < 0.0 || px.y < 0.0 || px.x >= size.x || px.y >= size.y) {
-            continue;
-        }
-        let index = RASTER_OFFSET + u32(px.y) * width + u32(px.x);
+        // A sample outside the image goes to a word nobody reads.
+        let in_image = all(px >= vec2<f32>(0.0)) && all(px < size);
+        let q = vec2<u32>(clamp(px, vec2<f32>(0.0), size - 1.0));
+        let index = select(SCRATCH_WORD, RASTER_OFFSET + q.y * width + q.x, in_image);
         atomicMax(&args[index], pack_far(c.w, mix(e0, e1, t)));
     }
-    return vec4<f32>(min(s0, min(s1, s2)) + 0.5 * size, max(s0, max(s1, s2)) + 0.5 * size);
+    return select(NO_BOX, vec4<f32>(min(s0, min(s1, s2)) + 0.5 * size, max(s0, max(s1, s2)) + 0.5 * size), ok);
 }
 
 // An invocation culls BLADES_PER_INVOCATION consecutive blades, which lie close together, and
@@ -278,26 +284,25 @@ fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_in
 // Bézier curve lies in the box of its projected control points), else `NO_BOX`.
 //
 // lavapipe runs a vector of invocations through both sides of every branch and through the first
-// pass of every loop, masked: it leaves a loop only after a pass that none of them stays in. So
-// every blade here pays for the code of every level, visible or not; the far pipeline
-// (`FAR_ONLY`) leaves the near and middle levels' code out, and the CPU leaves out the blocks
-// outside the view (src/render/grass/blocks.rs).
+// pass of every loop, masked: it leaves a loop only after a pass that none of them stays in, and
+// every assignment under a condition costs it a masked store. So every blade here pays for the
+// code of every level, visible or not, and that code is straight-line where it can be; the far
+// pipeline (`FAR_ONLY`) leaves the near and middle levels' code out, and the CPU leaves out the
+// blocks outside the view (src/render/grass/blocks.rs).
 fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
-    if (i >= cull.count) {
-        return NO_BOX;
-    }
-    let b = blades[i];
+    let b = blades[min(i, cull.count - 1u)];
     // A sphere around the blade, wide enough for its bend, the wind and a push.
     let centre = b.position + vec3<f32>(0.0, 0.5 * b.height, 0.0);
     let radius = b.height;
     let d = distance(centre, cull.camera.xyz);
-    var inside = d <= cull.camera.w;
+    var inside = i < cull.count && d <= cull.camera.w;
     for (var k = 0u; k < 6u; k = k + 1u) {
         let p = cull.planes[k];
         inside = inside && dot(p.xyz, centre) + p.w >= -radius;
     }
-    var far = NO_BOX;
-    for (var visible = inside; visible; visible = false) {
+    // Straight-line code from here to the lists (see `rasterise_far`): a blade out of view is
+    // worked out too, and neither listed nor drawn.
+    {
         let variation = f32(b.packed >> 8u) / 16777216.0;
         // The blade's width direction and the direction it leans, both horizontal.
         let across = vec3<f32>(cos(b.yaw), 0.0, -sin(b.yaw));
@@ -348,7 +353,7 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
         let tip = p;
         let ctrl = 2.0 * middle - 0.5 * tip;
 
-        for (var listed = level < 2u; listed; listed = false) {
+        for (var listed = !FAR_ONLY && inside && level < 2u; listed; listed = false) {
             var s: Shape;
             s.root = b.position;
             let half_width = pack2x16float(vec2<f32>(0.5 * b.width, 0.0)) & 0xffffu;
@@ -378,9 +383,6 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
             atomicSub(&args[5], MID_INDICES);
             level = 2u;
         }
-        for (var drawn = level == 2u; drawn; drawn = false) {
-            far = rasterise_far(b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
-        }
+        return rasterise_far(inside && level == 2u, b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
     }
-    return far;
 }
