@@ -217,6 +217,49 @@ mod tests {
         assert_eq!(classify(&block, &planes, Vec3::ZERO, 60.0, 1.0), Class::Far);
     }
 
+    /// The cull shader's own test of a blade (cull.wgsl `cull_blade`), in the same f32 steps:
+    /// drawn, and its distance.
+    fn shader_test(b: &GpuBlade, planes: &[[f32; 4]; 6], camera: Vec3, far_distance: f32) -> (bool, f32) {
+        let centre = Vec3::new(b.position[0], b.position[1] + 0.5 * b.height, b.position[2]);
+        let d = centre.distance(camera);
+        let inside = d <= far_distance && planes.iter().all(|p| Vec3::new(p[0], p[1], p[2]).dot(centre) + p[3] >= -b.height);
+        (inside, d)
+    }
+
+    #[test]
+    fn classes_are_conservative_against_the_shaders_test() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(18);
+        let (far_distance, lod_mid) = (60.0, 10.5);
+        let mut seen = [0usize; 3];
+        for _ in 0..400 {
+            // A camera somewhere above a 160 m square, looking somewhere down the slope.
+            let mut r = |lo: f32, hi: f32| lo + (hi - lo) * rng.random::<f32>();
+            let eye = Vec3::new(r(-80.0, 80.0), r(0.5, 30.0), r(-80.0, 80.0));
+            let target = Vec3::new(r(-80.0, 80.0), 0.0, r(-80.0, 80.0));
+            let view_proj = glam::camera::rh::proj::directx::perspective(r(0.5, 1.5), r(1.0, 2.0), 0.05, 600.0) * glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y);
+            let planes = super::super::data::frustum_planes(view_proj);
+            // A block of 200 blades in a random square of up to 4 m, up to 40 m ahead of the eye.
+            let ahead = (target - eye).with_y(0.0).normalize_or(Vec3::X);
+            let c = eye + ahead * r(0.0, 40.0) + ahead.cross(Vec3::Y) * r(-8.0, 8.0);
+            let (cx, cz, side) = (c.x, c.z, r(0.2, 4.0));
+            let blades: Vec<GpuBlade> = (0..200).map(|_| GpuBlade { position: [cx + r(0.0, side), r(-0.2, 0.2), cz + r(0.0, side)], height: r(0.05, 0.6), yaw: 0.0, bend: 0.0, width: 0.01, packed: 0 }).collect();
+            let block = block_bounds(&blades)[0];
+            let class = classify(&block, &planes, eye, far_distance, lod_mid);
+            for b in &blades {
+                let (drawn, d) = shader_test(b, &planes, eye, far_distance);
+                match class {
+                    Class::Hidden => assert!(!drawn, "a hidden block holds a drawn blade at {:?}", b.position),
+                    Class::Far => assert!(!drawn || d >= lod_mid, "a far block holds a blade {d} m away"),
+                    Class::Mixed => {}
+                }
+            }
+            seen[class as usize] += 1;
+        }
+        // Each class came up, so the checks above were exercised.
+        assert!(seen.iter().all(|&n| n > 10), "classes seen: {seen:?}");
+    }
+
     #[test]
     fn lists_put_mixed_blocks_first() {
         let at = |x: f32| Block { min: Vec3::new(x, 0.0, 0.0), max: Vec3::new(x + 1.0, 0.5, 1.0), radius: 0.5 };
