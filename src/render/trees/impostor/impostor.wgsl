@@ -148,27 +148,6 @@ fn imp_normal_at(in: ImpostorOut) -> vec4<f32> {
         + textureSample(imp_normal, imp_sampler, imp_uv(in.s2, in.cell2)) * in.weights.z;
 }
 
-// The coverage blended over the three views, from unfiltered texel reads of the mip level
-// nearest to the fragment's footprint (as the sampler picks it): the depth pre-pass runs for
-// every fragment of every quad, and an unfiltered read costs a fraction of a filtered one.
-fn imp_coverage_at(in: ImpostorOut) -> f32 {
-    let size = vec2<f32>(textureDimensions(imp_albedo, 0));
-    let t = imp_uv(in.s01.xy, in.cells01.xy) * size;
-    let dx = dpdx(t);
-    let dy = dpdy(t);
-    // The level of detail, rounded: log2 of the longer footprint axis, in level-0 texels.
-    let lod = floor(0.5 * log2(max(max(dot(dx, dx), dot(dy, dy)), 1e-8)) + 0.5);
-    let level = i32(clamp(lod, 0.0, f32(textureNumLevels(imp_albedo) - 1u)));
-    let texels = vec2<f32>(textureDimensions(imp_albedo, level));
-    let hi = vec2<i32>(texels) - 1;
-    let t0 = min(vec2<i32>(imp_uv(in.s01.xy, in.cells01.xy) * texels), hi);
-    let t1 = min(vec2<i32>(imp_uv(in.s01.zw, in.cells01.zw) * texels), hi);
-    let t2 = min(vec2<i32>(imp_uv(in.s2, in.cell2) * texels), hi);
-    return textureLoad(imp_albedo, t0, level).a * in.weights.x
-        + textureLoad(imp_albedo, t1, level).a * in.weights.y
-        + textureLoad(imp_albedo, t2, level).a * in.weights.z;
-}
-
 // An sRGB-encoded colour (0..1) to linear.
 fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
     return select(c / 12.92, pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c > vec3<f32>(0.04045));
@@ -212,7 +191,7 @@ fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
 // cost in the forest.)
 @fragment
 fn fs_impostor_depth(in: ImpostorOut) {
-    let a = imp_coverage_at(in);
+    let a = imp_albedo_at(in).a;
     if (!impostor_kept(a, in.clip.xy, in.fade)) {
         discard;
     }
