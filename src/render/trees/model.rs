@@ -43,7 +43,10 @@ pub(crate) struct GpuPrimitive {
 }
 
 pub(crate) struct GpuMaterial {
+    /// The material's uniforms and textures, for shading.
     pub bind_group: wgpu::BindGroup,
+    /// The same with the albedo's linear upload (the same alpha), for the depth-only passes.
+    pub depth_bind_group: wgpu::BindGroup,
     pub double_sided: bool,
     /// Alpha-clipped (`alphaMode: MASK`).
     pub masked: bool,
@@ -106,8 +109,13 @@ impl GpuModel {
                 let albedo = m.albedo.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.0);
                 let normal = m.normal.and_then(|k| images.get(k)).map_or(&shared.flat_normal, |v| &v.1);
                 let spec = m.specular.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
+                // The depth-only passes read only the albedo's alpha, which the linear upload
+                // holds unchanged (`textures::mip_chain` treats alpha alike in both): lavapipe
+                // filters linear texels faster than sRGB ones, so those passes bind it instead.
+                let albedo_alpha = m.albedo.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
                 GpuMaterial {
                     bind_group: shared.material_bind_group(&format!("{name} material {i} bind group"), &buf, [albedo, normal, spec]),
+                    depth_bind_group: shared.material_bind_group(&format!("{name} material {i} depth bind group"), &buf, [albedo_alpha, normal, spec]),
                     double_sided: m.double_sided,
                     masked: m.alpha_cutoff.is_some(),
                 }

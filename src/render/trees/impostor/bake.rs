@@ -10,6 +10,10 @@ use crate::render::trees::model::GpuModel;
 /// The albedo atlas's format (coverage in alpha).
 pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
+/// The format the impostor shader reads the albedo atlas as: its sRGB bytes unconverted,
+/// decoded in the shader after filtering.
+pub const ALBEDO_VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
 /// The normal atlas's format (model-space normal encoded as `n / 2 + 1/2`, depth in alpha).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
@@ -111,7 +115,7 @@ impl Baker {
                 dimension: wgpu::TextureDimension::D2,
                 format,
                 usage,
-                view_formats: &[],
+                view_formats: if format == ALBEDO_FORMAT { &[ALBEDO_VIEW_FORMAT] } else { &[] },
             })
         };
         (texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT), texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT))

@@ -59,7 +59,9 @@ impl ImpostorGpu {
             label: Some("impostor sampler"),
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            // Bilinear within the nearest mip level: on a software rasteriser a trilinear
+            // sample reads twice the texels and costs the frame about a fifth more.
+            mipmap_filter: wgpu::MipmapFilterMode::Nearest,
             ..Default::default()
         });
         ImpostorGpu {
@@ -85,7 +87,9 @@ impl ImpostorGpu {
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let albedo = atlas.albedo.create_view(&Default::default());
+        // The albedo is read through a linear view of its sRGB texels and decoded in the
+        // shader (impostor.wgsl `srgb_to_linear`): lavapipe filters those faster.
+        let albedo = atlas.albedo.create_view(&wgpu::TextureViewDescriptor { format: Some(super::bake::ALBEDO_VIEW_FORMAT), ..Default::default() });
         let normal = atlas.normal.create_view(&Default::default());
         atlas.bind_group = Some(shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("impostor atlas bind group"),

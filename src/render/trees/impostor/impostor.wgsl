@@ -148,17 +148,16 @@ fn imp_normal_at(in: ImpostorOut) -> vec4<f32> {
         + textureSample(imp_normal, imp_sampler, imp_uv(in.s2, in.cell2)) * in.weights.z;
 }
 
+// An sRGB-encoded colour (0..1) to linear.
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    return select(c / 12.92, pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c > vec3<f32>(0.04045));
+}
+
 // The point of the tree's surface a fragment shows, world space: the quad lies in the plane
 // through the sphere's centre, and the atlas depth (0 at the side facing the viewer, 1 at the
 // far side of the sphere) moves the point towards or away from the viewer.
 fn impostor_surface(in: ImpostorOut, depth: f32) -> vec3<f32> {
     return in.world_pos + in.toward.xyz * (in.toward.w * (1.0 - 2.0 * depth));
-}
-
-// The depth-buffer value of a world-space point in this pass's view.
-fn impostor_clip_depth(p: vec3<f32>) -> f32 {
-    let c = frame.view_proj * vec4<f32>(p, 1.0);
-    return c.z / c.w;
 }
 
 // Whether a fragment of the impostor is kept: covered in the atlas and on the impostor's side
@@ -176,8 +175,10 @@ fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
     let a = imp_albedo_at(in);
     let nd = imp_normal_at(in);
     let surface = impostor_surface(in, nd.a);
-    // Empty texels hold zero colour, so a filtered texel at the silhouette is divided back.
-    let albedo = a.rgb / max(a.a, 1e-3);
+    // Empty texels hold zero colour, so a filtered texel at the silhouette is divided back. The
+    // atlas is read through a linear view of its sRGB texels (a software rasteriser filters
+    // those much faster than sRGB ones), so the colour is decoded here, after the filtering.
+    let albedo = srgb_to_linear(a.rgb / max(a.a, 1e-3));
     let nm = imp_rotate_y(nd.xyz * 2.0 - 1.0, in.yaw);
     let n = select(vec3<f32>(0.0, 1.0, 0.0), nm * inverseSqrt(max(dot(nm, nm), 1e-12)), dot(nm, nm) > 1e-6);
     let c = shade(albedo, n, surface, 0.0, 0.8, 0.3);
@@ -196,21 +197,19 @@ fn fs_impostor_depth(in: ImpostorOut) {
     }
 }
 
-// Depth only, for the shadow map: coverage and dither, at the depth of the surface from the
-// atlas, so far trees cast their crowns' shape rather than a flat card's. Only the view of the
-// largest weight is read: writing the depth costs the early depth test, so every fragment of the
-// quad runs this, and the sun rarely moves far enough for a change of view to show.
+// Depth only, for the shadow map: coverage and dither, at the quad's depth (the plane through
+// the bounding sphere's centre facing the sun). Only the view of the largest weight is read.
+// The atlas depth is not written: a pass that writes depth loses the early depth test on a
+// software rasteriser, and the crown's sunlit half lies in front of that plane, its shaded half
+// behind it, so the impostors' own lighting and the ground's shadows barely change.
 @fragment
-fn fs_impostor_shadow(in: ImpostorOut) -> @builtin(frag_depth) f32 {
+fn fs_impostor_shadow(in: ImpostorOut) {
     let pick_y = in.weights.y > in.weights.x && in.weights.y >= in.weights.z;
     let pick_z = !pick_y && in.weights.z > in.weights.x;
     let s = select(select(in.s01.xy, in.s01.zw, pick_y), in.s2, pick_z);
     let cell = select(select(in.cells01.xy, in.cells01.zw, pick_y), in.cell2, pick_z);
-    let uv = imp_uv(s, cell);
-    let a = textureSample(imp_albedo, imp_sampler, uv).a;
+    let a = textureSample(imp_albedo, imp_sampler, imp_uv(s, cell)).a;
     if (!impostor_kept(a, in.clip.xy, in.fade)) {
         discard;
     }
-    let depth = textureSample(imp_normal, imp_sampler, uv).a;
-    return impostor_clip_depth(impostor_surface(in, depth));
 }

@@ -11,8 +11,8 @@
 //!   a tree crossing the band trades pixels one by one instead of popping.
 //! - **Draw** ([`draw`]): each impostor is a quad facing the camera (or the sun in the shadow
 //!   map) showing the three atlas views around that direction blended by barycentric weights
-//!   (so views change without a jump), alpha-tested, lit with the baked normals, at the baked
-//!   depth (`frag_depth`, in the shadow map too), and leaned by the tree's wind state
+//!   (so views change without a jump), alpha-tested, lit with the baked normals at the baked
+//!   depth (the shadow map gets the quad's own depth), and leaned by the tree's wind state
 //!   (`WindState::bend`) as its trunk would be.
 //!
 //! - **Cache** ([`cache`]): the atlases are kept on disk, keyed by the model's content and the
@@ -34,7 +34,7 @@ pub const CELL: u32 = 160;
 
 /// The width of the cross-fade band: a tree is fully a mesh above `BAND` times the impostor
 /// threshold (pixels on screen) and fully an impostor below the threshold.
-pub const BAND: f32 = 1.5;
+pub const BAND: f32 = 1.25;
 
 /// The WGSL shared by the bake, the impostor shader and the tree shader.
 pub const OCTA_WGSL: &str = include_str!("octa.wgsl");
@@ -177,11 +177,11 @@ mod tests {
     fn fade_crosses_the_band_linearly() {
         // A 10 m tree seen with 1000 px per radian covers 100 px at 100 m.
         let f = |d: f32| fade(10.0, d, 1000.0, 60.0);
-        assert_eq!(f(100.0), 0.0, "100 px is above the band (60..90 px)");
+        assert_eq!(f(100.0), 0.0, "100 px is above the band (60..75 px)");
         assert_eq!(f(10_000.0 / 60.0), 1.0);
         assert_eq!(f(1000.0), 1.0);
-        // 75 px: halfway through the band.
-        assert!((f(10_000.0 / 75.0) - 0.5).abs() < 1e-5);
+        // 67.5 px: halfway through the band.
+        assert!((f(10_000.0 / 67.5) - 0.5).abs() < 1e-5);
         assert_eq!(fade(10.0, 1000.0, 1000.0, 0.0), 0.0, "0 turns impostors off");
         // Monotone in the distance.
         let mut last = 0.0;
