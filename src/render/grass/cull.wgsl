@@ -13,8 +13,9 @@
 // puts that image over the ground with a rectangle around the far blades' pixels that tests
 // and writes depth (blades.wgsl, `fs_far`). A workgroup culls a block of blades that the CPU
 // found in view; blocks whose every blade is far go to a pipeline without the near and middle
-// code (`FAR_ONLY`, src/render/grass/blocks.rs). A software rasteriser such as lavapipe pays a fixed price per
-// primitive it sets up, which thousands of sub-pixel blades made the frame's largest cost.
+// code (`FAR_ONLY`, src/render/grass/blocks.rs). A software rasteriser such as lavapipe pays a
+// fixed price per primitive it sets up, which thousands of sub-pixel blades made the frame's
+// largest cost.
 // No lighting is prepended: this module has its own group 0 (src/render/grass/mod.rs).
 //
 // Reads: the blades, the wind noise, the patch colours, the view. Writes: `shapes`, `lists`,
@@ -302,87 +303,85 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
     }
     // Straight-line code from here to the lists (see `rasterise_far`): a blade out of view is
     // worked out too, and neither listed nor drawn.
-    {
-        let variation = f32(b.packed >> 8u) / 16777216.0;
-        // The blade's width direction and the direction it leans, both horizontal.
-        let across = vec3<f32>(cos(b.yaw), 0.0, -sin(b.yaw));
-        let lean = vec3<f32>(sin(b.yaw), 0.0, cos(b.yaw));
-        // The wind at the root: an angle towards the wind's direction from the scrolled noise.
-        let wdir = cull.wind.xy;
-        let uv = b.position.xz * cull.wind_noise.y - wdir * cull.wind.w * cull.wind_noise.x * cull.wind_noise.y;
-        let n = textureSampleLevel(wind_tex, wind_sampler, uv, 0.0).r;
-        let sway = cull.wind.z * (0.35 + 0.65 * n) * (0.85 + 0.3 * variation);
-        // The total tilt at the tip: the wind plus the pushes away from the eye and the hit point.
-        var tilt = wdir * sway;
-        // The eye pushes only when it is within 2 m above the blade.
-        let eye_near = clamp(2.0 - (cull.eye.y - b.position.y), 0.0, 1.0);
-        tilt = tilt + push(b.position, cull.eye.xyz, cull.eye.w, 1.2 * eye_near);
-        tilt = tilt + push(b.position, cull.hit.xyz, cull.hit.w, 1.3);
-        let tilt_angle = min(length(tilt), 1.45);
-        let tilt_axis = normalize(cross(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(tilt.x, 0.0, tilt.y) + vec3<f32>(1e-6, 0.0, 0.0)));
+    let variation = f32(b.packed >> 8u) / 16777216.0;
+    // The blade's width direction and the direction it leans, both horizontal.
+    let across = vec3<f32>(cos(b.yaw), 0.0, -sin(b.yaw));
+    let lean = vec3<f32>(sin(b.yaw), 0.0, cos(b.yaw));
+    // The wind at the root: an angle towards the wind's direction from the scrolled noise.
+    let wdir = cull.wind.xy;
+    let uv = b.position.xz * cull.wind_noise.y - wdir * cull.wind.w * cull.wind_noise.x * cull.wind_noise.y;
+    let n = textureSampleLevel(wind_tex, wind_sampler, uv, 0.0).r;
+    let sway = cull.wind.z * (0.35 + 0.65 * n) * (0.85 + 0.3 * variation);
+    // The total tilt at the tip: the wind plus the pushes away from the eye and the hit point.
+    var tilt = wdir * sway;
+    // The eye pushes only when it is within 2 m above the blade.
+    let eye_near = clamp(2.0 - (cull.eye.y - b.position.y), 0.0, 1.0);
+    tilt = tilt + push(b.position, cull.eye.xyz, cull.eye.w, 1.2 * eye_near);
+    tilt = tilt + push(b.position, cull.hit.xyz, cull.hit.w, 1.3);
+    let tilt_angle = min(length(tilt), 1.45);
+    let tilt_axis = normalize(cross(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(tilt.x, 0.0, tilt.y) + vec3<f32>(1e-6, 0.0, 0.0)));
 
-        // Walk up the blade in STEPS segments (FAR_STEPS for a far blade). Segment k's direction
-        // is the vertical turned towards `lean` by the gravity bend and then about the tilt axis
-        // by its share of the tilt, both at (k + 1/2) / steps of the full angle; the cosines and
-        // sines of those angles are advanced by the angle-addition formulas.
-        var level = select(select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near), 2u, FAR_ONLY);
-        let steps = select(STEPS, FAR_STEPS, level == 2u);
-        let n_seg = f32(steps);
-        let segment_length = b.height / n_seg;
-        let step_bend = b.bend / n_seg;
-        let step_tilt = tilt_angle / n_seg;
-        let bend_step = vec2<f32>(cos(step_bend), sin(step_bend));
-        let tilt_step = vec2<f32>(cos(step_tilt), sin(step_tilt));
-        var bend_cs = vec2<f32>(cos(0.5 * step_bend), sin(0.5 * step_bend));
-        var tilt_cs = vec2<f32>(cos(0.5 * step_tilt), sin(0.5 * step_tilt));
-        let up = vec3<f32>(0.0, 1.0, 0.0);
-        var p = vec3<f32>(0.0);
-        var middle = vec3<f32>(0.0);
-        for (var k = 0u; k < steps; k = k + 1u) {
-            let g = up * bend_cs.x - lean * bend_cs.y;
-            let dir = g * tilt_cs.x + cross(tilt_axis, g) * tilt_cs.y + tilt_axis * dot(tilt_axis, g) * (1.0 - tilt_cs.x);
-            p = p + dir * segment_length;
-            if (k + 1u == steps / 2u) {
-                middle = p;
-            }
-            bend_cs = vec2<f32>(bend_cs.x * bend_step.x - bend_cs.y * bend_step.y, bend_cs.y * bend_step.x + bend_cs.x * bend_step.y);
-            tilt_cs = vec2<f32>(tilt_cs.x * tilt_step.x - tilt_cs.y * tilt_step.y, tilt_cs.y * tilt_step.x + tilt_cs.x * tilt_step.y);
+    // Walk up the blade in STEPS segments (FAR_STEPS for a far blade). Segment k's direction
+    // is the vertical turned towards `lean` by the gravity bend and then about the tilt axis
+    // by its share of the tilt, both at (k + 1/2) / steps of the full angle; the cosines and
+    // sines of those angles are advanced by the angle-addition formulas.
+    var level = select(select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near), 2u, FAR_ONLY);
+    let steps = select(STEPS, FAR_STEPS, level == 2u);
+    let n_seg = f32(steps);
+    let segment_length = b.height / n_seg;
+    let step_bend = b.bend / n_seg;
+    let step_tilt = tilt_angle / n_seg;
+    let bend_step = vec2<f32>(cos(step_bend), sin(step_bend));
+    let tilt_step = vec2<f32>(cos(step_tilt), sin(step_tilt));
+    var bend_cs = vec2<f32>(cos(0.5 * step_bend), sin(0.5 * step_bend));
+    var tilt_cs = vec2<f32>(cos(0.5 * step_tilt), sin(0.5 * step_tilt));
+    let up = vec3<f32>(0.0, 1.0, 0.0);
+    var p = vec3<f32>(0.0);
+    var middle = vec3<f32>(0.0);
+    for (var k = 0u; k < steps; k = k + 1u) {
+        let g = up * bend_cs.x - lean * bend_cs.y;
+        let dir = g * tilt_cs.x + cross(tilt_axis, g) * tilt_cs.y + tilt_axis * dot(tilt_axis, g) * (1.0 - tilt_cs.x);
+        p = p + dir * segment_length;
+        if (k + 1u == steps / 2u) {
+            middle = p;
         }
-        // The quadratic Bézier curve from the root through the middle point (at t = 1/2) to the
-        // tip: its control point.
-        let tip = p;
-        let ctrl = 2.0 * middle - 0.5 * tip;
+        bend_cs = vec2<f32>(bend_cs.x * bend_step.x - bend_cs.y * bend_step.y, bend_cs.y * bend_step.x + bend_cs.x * bend_step.y);
+        tilt_cs = vec2<f32>(tilt_cs.x * tilt_step.x - tilt_cs.y * tilt_step.y, tilt_cs.y * tilt_step.x + tilt_cs.x * tilt_step.y);
+    }
+    // The quadratic Bézier curve from the root through the middle point (at t = 1/2) to the
+    // tip: its control point.
+    let tip = p;
+    let ctrl = 2.0 * middle - 0.5 * tip;
 
-        for (var listed = !FAR_ONLY && inside && level < 2u; listed; listed = false) {
-            var s: Shape;
-            s.root = b.position;
-            let half_width = pack2x16float(vec2<f32>(0.5 * b.width, 0.0)) & 0xffffu;
-            s.width_patch = half_width | ((b.packed & 255u) << 16u) | (u32(variation * 255.0) << 24u);
-            s.curve0 = pack2x16float(ctrl.xy);
-            s.curve1 = pack2x16float(vec2<f32>(ctrl.z, tip.x));
-            s.curve2 = pack2x16float(tip.yz);
-            s.across = pack2x16float(across.xz);
-            shapes[i] = s;
+    for (var listed = !FAR_ONLY && inside && level < 2u; listed; listed = false) {
+        var s: Shape;
+        s.root = b.position;
+        let half_width = pack2x16float(vec2<f32>(0.5 * b.width, 0.0)) & 0xffffu;
+        s.width_patch = half_width | ((b.packed & 255u) << 16u) | (u32(variation * 255.0) << 24u);
+        s.curve0 = pack2x16float(ctrl.xy);
+        s.curve1 = pack2x16float(vec2<f32>(ctrl.z, tip.x));
+        s.curve2 = pack2x16float(tip.yz);
+        s.across = pack2x16float(across.xz);
+        shapes[i] = s;
 
-            // A full list passes the blade on to the next level: the first NEAR_CAP blades to
-            // come get slots, every later one takes its count back.
-            if (level == 0u) {
-                let slot = atomicAdd(&args[0], NEAR_INDICES) / NEAR_INDICES;
-                if (slot < NEAR_CAP) {
-                    lists[slot] = i;
-                    break;
-                }
-                atomicSub(&args[0], NEAR_INDICES);
-            }
-            let slot = atomicAdd(&args[5], MID_INDICES) / MID_INDICES;
-            if (slot < MID_CAP) {
-                lists[cull.count + slot] = i;
+        // A full list passes the blade on to the next level: the first NEAR_CAP blades to
+        // come get slots, every later one takes its count back.
+        if (level == 0u) {
+            let slot = atomicAdd(&args[0], NEAR_INDICES) / NEAR_INDICES;
+            if (slot < NEAR_CAP) {
+                lists[slot] = i;
                 break;
             }
-            // Both lists are full: the blade is drawn as a far one.
-            atomicSub(&args[5], MID_INDICES);
-            level = 2u;
+            atomicSub(&args[0], NEAR_INDICES);
         }
-        return rasterise_far(inside && level == 2u, b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
+        let slot = atomicAdd(&args[5], MID_INDICES) / MID_INDICES;
+        if (slot < MID_CAP) {
+            lists[cull.count + slot] = i;
+            break;
+        }
+        // Both lists are full: the blade is drawn as a far one.
+        atomicSub(&args[5], MID_INDICES);
+        level = 2u;
     }
+    return rasterise_far(inside && level == 2u, b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
 }
