@@ -19,7 +19,7 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm
 
 /// The shared shading code (frame uniforms, shadow lookup, lighting model), prepended to every
 /// feature's shader.
-const LIGHTING_WGSL: &str = include_str!("lighting.wgsl");
+const LIGHTING_WGSL: &str = concat!(include_str!("lighting.wgsl"), "\n", include_str!("srgb.wgsl"));
 
 /// The device, the queue and the resources every feature binds.
 pub(crate) struct Shared {

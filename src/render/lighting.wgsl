@@ -102,7 +102,7 @@ fn shade_lit(albedo: vec3<f32>, n: vec3<f32>, world_pos: vec3<f32>, spec_strengt
     if (glossy > 0.02) {
         let r = reflect(-v, n);
         let fres = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
-        refl = textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb * frame.sky * fres * glossy;
+        refl = srgb_decode(textureSampleLevel(env_map, env_sampler, r, roughness * 6.0).rgb) * frame.sky * fres * glossy;
     }
     return direct + ambient + refl;
 }
@@ -126,7 +126,8 @@ fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
     let d = length(to);
     let dir = normalize(vec3<f32>(to.x, max(to.y, 0.0) + 0.02 * d, to.z));
     let tint = frame.ambient / max(frame.ambient.r, 0.001);
-    let haze = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
+    let haze = srgb_decode(textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb) * frame.sky * tint;
     let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
     return vec4<f32>(haze, f);
 }
+

@@ -70,8 +70,20 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 
 /// Uploads an RGBA8 image with mips as a 2D texture and returns its view.
 pub fn upload_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8], srgb: bool) -> wgpu::TextureView {
-    let (data, levels) = mip_chain(width, height, rgba, srgb);
     let format = if srgb { wgpu::TextureFormat::Rgba8UnormSrgb } else { wgpu::TextureFormat::Rgba8Unorm };
+    upload_2d_as(device, queue, label, width, height, rgba, srgb, format)
+}
+
+/// [`upload_2d`] of an sRGB-encoded image into [`ENCODED_FORMAT`]: its mips averaged in linear
+/// light, its bytes kept encoded, for shaders that decode after filtering.
+pub fn upload_2d_encoded(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8]) -> wgpu::TextureView {
+    upload_2d_as(device, queue, label, width, height, rgba, true, ENCODED_FORMAT)
+}
+
+/// Uploads `rgba` with mips (averaged in linear light where `srgb`) as a 2D texture of `format`.
+#[allow(clippy::too_many_arguments)]
+fn upload_2d_as(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8], srgb: bool, format: wgpu::TextureFormat) -> wgpu::TextureView {
+    let (data, levels) = mip_chain(width, height, rgba, srgb);
     let tex = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
@@ -97,11 +109,20 @@ pub fn solid(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, rgba: [u8;
 
 /// The environment: a sky cubemap and its irradiance (diffuse) convolution, both as cube views.
 pub struct Environment {
-    /// The sky, with mips (for rough reflections).
+    /// The sky, with mips (for rough reflections): sRGB-encoded bytes in a linear format
+    /// ([`ENCODED_FORMAT`]), so shaders decode what they sample (`srgb_decode` in
+    /// lighting.wgsl).
     pub env: wgpu::TextureView,
-    /// The cosine-weighted irradiance, 8×8 per face.
+    /// The cosine-weighted irradiance, 8×8 per face, linear RGB in half floats.
     pub irradiance: wgpu::TextureView,
 }
+
+/// The format of textures that hold sRGB-encoded bytes which the shaders decode themselves,
+/// after filtering: a software rasteriser filters these several times faster than
+/// `Rgba8UnormSrgb` texels, which it decodes one by one before filtering. Filtering the encoded
+/// values rather than linear ones darkens mixed texels slightly; for smooth images (the sky, the
+/// ground's noise) it does not show.
+pub const ENCODED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// Names of the cube faces in wgpu's layer order.
 pub const FACES: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
@@ -180,7 +201,7 @@ pub fn upload_environment(device: &wgpu::Device, queue: &wgpu::Queue, size: u32,
         data.extend_from_slice(&d);
         levels = l;
     }
-    let cube = |label: &str, size: u32, levels: u32, data: &[u8]| {
+    let cube = |label: &str, size: u32, levels: u32, format: wgpu::TextureFormat, data: &[u8]| {
         let tex = device.create_texture_with_data(
             queue,
             &wgpu::TextureDescriptor {
@@ -189,7 +210,7 @@ pub fn upload_environment(device: &wgpu::Device, queue: &wgpu::Queue, size: u32,
                 mip_level_count: levels,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba8UnormSrgb,
+                format,
                 usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             },
@@ -198,18 +219,55 @@ pub fn upload_environment(device: &wgpu::Device, queue: &wgpu::Queue, size: u32,
         );
         tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), dimension: Some(wgpu::TextureViewDimension::Cube), ..Default::default() })
     };
-    let env = cube("environment cubemap", size, levels, &data);
+    let env = cube("environment cubemap", size, levels, ENCODED_FORMAT, &data);
     const IRR: u32 = 8;
     let irr = irradiance(size, faces, IRR);
+    // Linear half floats: no decoding per texel, and finer than 8 bits in the dark.
     let mut irr_data = Vec::new();
     for face in &irr {
         for c in face {
-            for v in c {
-                irr_data.push((linear_to_srgb(*v).clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+            for v in [c[0], c[1], c[2], 1.0] {
+                irr_data.extend_from_slice(&half::f16::from_f32(v).to_le_bytes());
             }
-            irr_data.push(255);
         }
     }
-    let irradiance = cube("irradiance cubemap", IRR, 1, &irr_data);
+    let irradiance = cube("irradiance cubemap", IRR, 1, wgpu::TextureFormat::Rgba16Float, &irr_data);
     Environment { env, irradiance }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The coefficients of the cubic in srgb.wgsl's `srgb_decode`, read from the shader's text
+    /// so that the test checks what the GPU runs.
+    fn shader_cubic() -> [f32; 3] {
+        let src = include_str!("../srgb.wgsl");
+        let body = src.split("fn srgb_decode").nth(1).expect("srgb_decode in srgb.wgsl");
+        let line = body.lines().find(|l| l.contains("return")).expect("a return line");
+        let nums: Vec<f32> = line
+            .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .filter(|t| t.contains('.'))
+            .map(|t| t.parse().expect("a number"))
+            .collect();
+        assert_eq!(nums.len(), 3, "three coefficients in {line:?}");
+        [nums[0], nums[1], nums[2]]
+    }
+
+    /// Every byte value decoded by the shader's cubic and encoded again by the exact sRGB curve
+    /// comes back within 1.4 of 255, as srgb.wgsl states; the cubic maps 0 to 0 and 1 to 1.
+    #[test]
+    fn the_shader_decode_round_trips_every_byte_within_its_stated_error() {
+        let [a, b, c] = shader_cubic();
+        let decode = |x: f32| x * (x * (x * a + b) + c);
+        assert!((decode(1.0) - 1.0).abs() < 1e-6, "decode(1) = {}", decode(1.0));
+        assert_eq!(decode(0.0), 0.0);
+        for byte in 0..=255u8 {
+            let x = f32::from(byte) / 255.0;
+            let back = linear_to_srgb(decode(x).max(0.0)) * 255.0;
+            assert!((back - f32::from(byte)).abs() <= 1.4, "byte {byte} comes back as {back}");
+            // And it stays close to the exact decode in linear light.
+            assert!((decode(x) - srgb_to_linear(x)).abs() < 0.01, "byte {byte}");
+        }
+    }
 }

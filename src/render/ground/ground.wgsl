@@ -89,7 +89,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
 
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let tex = textureSample(ground_tex, ground_sampler, in.uv).rgb;
+    let tex = srgb_decode(textureSample(ground_tex, ground_sampler, in.uv).rgb);
     let t = select(tex, SOIL * (0.25 + dot(tex, vec3<f32>(0.3, 0.6, 0.1))), in.soil > 0.5);
     let light = select(in.sky_back, in.sun_front * shadow_at(in.shadow) + in.sky_front, front);
     return vec4<f32>(tone(mix(t * light, in.haze.rgb, in.haze.a)), 1.0);
@@ -99,6 +99,6 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
 // map does not reach that far); seen from above only.
 @fragment
 fn fs_far(in: VertexOut) -> @location(0) vec4<f32> {
-    let t = textureSample(ground_tex, ground_sampler, in.uv).rgb;
+    let t = srgb_decode(textureSample(ground_tex, ground_sampler, in.uv).rgb);
     return vec4<f32>(tone(mix(t * (in.sun_front + in.sky_front), in.haze.rgb, in.haze.a)), 1.0);
 }

@@ -57,7 +57,8 @@ impl Ground {
             .map_err(|e| format!("{}: {}", path.display(), textures::one_line_image_error(&e)))?
             .to_rgba8();
         let img = texture::widen(&img);
-        let texture = textures::upload_2d(&shared.device, &shared.queue, "ground albedo", img.width(), img.height(), img.as_raw(), true);
+        // Encoded bytes in a linear format, decoded in the shader after filtering (`ENCODED_FORMAT`).
+        let texture = textures::upload_2d_encoded(&shared.device, &shared.queue, "ground albedo", img.width(), img.height(), img.as_raw());
         let params = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("ground parameters"),
             contents: bytemuck::bytes_of(&GroundParams { metres_per_repeat: 2.5 * texture::WIDEN as f32, pad: [0.0; 3] }),

@@ -26,7 +26,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let dir = normalize(in.ray);
     // The sky takes the ambient light's tint (warmer when the sun is low).
     let tint = frame.ambient / max(frame.ambient.r, 0.001);
-    var c = textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb * frame.sky * tint;
+    var c = srgb_decode(textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb) * frame.sky * tint;
     // Sun disc, a halo, and a wide glow that is strongest when the sun is near the horizon:
     // s^600, s^40 and s^4 from one logarithm.
     let ls = log2(max(dot(dir, frame.sun_dir), 1e-6));

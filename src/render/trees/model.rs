@@ -68,7 +68,7 @@ pub struct GpuModel {
 }
 
 impl GpuModel {
-    /// Uploads a loaded model: each image as sRGB and linear textures, one bind group per
+    /// Uploads a loaded model: each image as sRGB-encoded and linear textures, one bind group per
     /// material, and per primitive its vertices, leaf order and indices.
     pub(crate) fn upload(shared: &Shared, data: &ModelData) -> GpuModel {
         let name = data.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
@@ -78,12 +78,15 @@ impl GpuModel {
             .iter()
             .enumerate()
             .map(|(i, img)| {
-                // Each image is uploaded as sRGB (for albedo) and linear (for normal and specular
-                // maps); only the views that materials use are sampled.
-                let upload = |kind: &str, srgb: bool| {
-                    textures::upload_2d(device, &shared.queue, &format!("{name} image {i} ({kind})"), img.width, img.height, &img.rgba, srgb)
-                };
-                (upload("sRGB", true), upload("linear", false))
+                // Each image is uploaded twice: sRGB-encoded bytes with mips averaged in linear
+                // light, which the shaders decode after filtering (for albedo; see
+                // `textures::ENCODED_FORMAT`), and linear (for normal and specular maps); only
+                // the views that materials use are sampled.
+                let label = |kind: &str| format!("{name} image {i} ({kind})");
+                (
+                    textures::upload_2d_encoded(device, &shared.queue, &label("sRGB-encoded"), img.width, img.height, &img.rgba),
+                    textures::upload_2d(device, &shared.queue, &label("linear"), img.width, img.height, &img.rgba, false),
+                )
             })
             .collect();
         let materials = data
@@ -110,8 +113,8 @@ impl GpuModel {
                 let normal = m.normal.and_then(|k| images.get(k)).map_or(&shared.flat_normal, |v| &v.1);
                 let spec = m.specular.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
                 // The depth-only passes read only the albedo's alpha, which the linear upload
-                // holds unchanged (`textures::mip_chain` treats alpha alike in both): lavapipe
-                // filters linear texels faster than sRGB ones, so those passes bind it instead.
+                // holds unchanged (`textures::mip_chain` treats alpha alike in both); its mips of
+                // colour are averaged as stored, which those passes do not read.
                 let albedo_alpha = m.albedo.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
                 GpuMaterial {
                     bind_group: shared.material_bind_group(&format!("{name} material {i} bind group"), &buf, [albedo, normal, spec]),

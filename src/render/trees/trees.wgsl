@@ -118,7 +118,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     // Derivatives and texture samples first, in uniform control flow.
     let dpx = dpdx(in.world_pos);
     let dpy = dpdy(in.world_pos);
-    let base = textureSample(albedo_tex, material_sampler, in.uv) * material.base_color;
+    // The albedo's texels are sRGB-encoded bytes in a linear format, decoded after filtering.
+    let texel = textureSample(albedo_tex, material_sampler, in.uv);
+    let base = vec4<f32>(srgb_decode(texel.rgb), texel.a) * material.base_color;
     let nt = textureSample(normal_tex, material_sampler, in.uv).xyz * 2.0 - 1.0;
     let spec_tex = textureSample(specular_tex, material_sampler, in.uv).a;
     let v = normalize(frame.camera_pos - in.world_pos);

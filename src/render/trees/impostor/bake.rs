@@ -50,7 +50,7 @@ pub struct Atlas {
 }
 
 /// The bake shader's source (octa.wgsl and bake.wgsl), part of the cache key.
-pub const BAKE_WGSL: &str = concat!(include_str!("octa.wgsl"), "\n", include_str!("bake.wgsl"));
+pub const BAKE_WGSL: &str = concat!(include_str!("../../srgb.wgsl"), "\n", include_str!("octa.wgsl"), "\n", include_str!("bake.wgsl"));
 
 /// The bake's shader and pipeline, built once per renderer.
 pub(crate) struct Baker {

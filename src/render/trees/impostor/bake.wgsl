@@ -1,7 +1,7 @@
 // The impostor bake: draws a model once per atlas cell (one instance per cell), each with an
 // orthographic view from the cell's direction fitted to the model's bounding sphere, into the
 // albedo (sRGB, alpha = coverage) and normal (model space, encoded 0..1; alpha = depth across
-// the sphere, 0 nearest) atlases. octa.wgsl is prepended. No wind, no lighting.
+// the sphere, 0 nearest) atlases. srgb.wgsl and octa.wgsl are prepended. No wind, no lighting.
 
 // The model's bounding sphere, model-space metres (mirrors `BakeParams` in bake.rs).
 struct BakeParams {
@@ -73,7 +73,9 @@ struct BakeOut {
 
 @fragment
 fn fs_bake(in: BakeVarying, @builtin(front_facing) front: bool) -> BakeOut {
-    let base = textureSample(albedo_tex, material_sampler, in.uv) * material.base_color;
+    // The albedo's texels are sRGB-encoded bytes in a linear format, decoded after filtering.
+    let texel = textureSample(albedo_tex, material_sampler, in.uv);
+    let base = vec4<f32>(srgb_decode(texel.rgb), texel.a) * material.base_color;
     if (material.alpha_cutoff >= 0.0 && base.a < material.alpha_cutoff) {
         discard;
     }

@@ -148,11 +148,6 @@ fn imp_normal_at(in: ImpostorOut) -> vec4<f32> {
         + textureSample(imp_normal, imp_sampler, imp_uv(in.s2, in.cell2)) * in.weights.z;
 }
 
-// An sRGB-encoded colour (0..1) to linear.
-fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
-    return select(c / 12.92, pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c > vec3<f32>(0.04045));
-}
-
 // The point of the tree's surface a fragment shows, world space: the quad lies in the plane
 // through the sphere's centre, and the atlas depth (0 at the side facing the viewer, 1 at the
 // far side of the sphere) moves the point towards or away from the viewer.
@@ -178,7 +173,7 @@ fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
     // Empty texels hold zero colour, so a filtered texel at the silhouette is divided back. The
     // atlas is read through a linear view of its sRGB texels (a software rasteriser filters
     // those much faster than sRGB ones), so the colour is decoded here, after the filtering.
-    let albedo = srgb_to_linear(a.rgb / max(a.a, 1e-3));
+    let albedo = srgb_decode(a.rgb / max(a.a, 1e-3));
     let nm = imp_rotate_y(nd.xyz * 2.0 - 1.0, in.yaw);
     let n = select(vec3<f32>(0.0, 1.0, 0.0), nm * inverseSqrt(max(dot(nm, nm), 1e-12)), dot(nm, nm) > 1e-6);
     let c = shade(albedo, n, surface, 0.0, 0.8, 0.3);
