@@ -130,4 +130,3 @@ fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
     let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
     return vec4<f32>(haze, f);
 }
-

@@ -49,7 +49,7 @@ pub struct Atlas {
     pub(crate) bind_group: Option<wgpu::BindGroup>,
 }
 
-/// The bake shader's source (octa.wgsl and bake.wgsl), part of the cache key.
+/// The bake shader's source (srgb.wgsl, octa.wgsl and bake.wgsl), part of the cache key.
 pub const BAKE_WGSL: &str = concat!(include_str!("../../srgb.wgsl"), "\n", include_str!("octa.wgsl"), "\n", include_str!("bake.wgsl"));
 
 /// The bake's shader and pipeline, built once per renderer.
