@@ -60,15 +60,6 @@ enum Materials {
     Masked,
 }
 
-/// Which of a material's bind groups a loop over the trees binds.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Binding {
-    /// For shading: the albedo as sRGB.
-    Shade,
-    /// For depth only: the albedo's linear upload, whose alpha is the same.
-    Depth,
-}
-
 impl Trees {
     /// The feature with no models yet.
     pub fn new(shared: &Shared) -> Trees {
@@ -152,7 +143,6 @@ impl Trees {
         &'p self,
         pass: &mut wgpu::RenderPass<'p>,
         which: Materials,
-        binding: Binding,
         mut before_draw: impl FnMut(&mut wgpu::RenderPass<'p>, &'p GpuMaterial, u32, &std::ops::Range<u32>),
     ) {
         pass.set_vertex_buffer(1, self.instances.slice(..));
@@ -165,7 +155,7 @@ impl Trees {
                 if mat.masked != (which == Materials::Masked) {
                     continue;
                 }
-                pass.set_bind_group(2, if binding == Binding::Depth { &mat.depth_bind_group } else { &mat.bind_group }, &[]);
+                pass.set_bind_group(2, &mat.bind_group, &[]);
                 pass.set_vertex_buffer(0, p.vertices.slice(..));
                 pass.set_vertex_buffer(2, p.leaves.slice(..));
                 pass.set_index_buffer(p.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -220,9 +210,9 @@ impl Feature for Trees {
             return Err(format!("trees: {key:?} is not a shadow key"));
         };
         pass.set_pipeline(&p.opaque);
-        self.draw_trees(pass, Materials::Opaque, Binding::Depth, |_, _, _, _| {});
+        self.draw_trees(pass, Materials::Opaque, |_, _, _, _| {});
         pass.set_pipeline(&p.masked);
-        self.draw_trees(pass, Materials::Masked, Binding::Depth, |_, _, _, _| {});
+        self.draw_trees(pass, Materials::Masked, |_, _, _, _| {});
         pass.set_pipeline(&self.impostors.pipelines.get(key)?.depth);
         self.draw_impostors(pass, |_| {});
         Ok(())
@@ -237,13 +227,13 @@ impl Feature for Trees {
             stats.triangles += count as usize / 3 * range.len();
         };
         match phase {
-            Phase::Opaque => self.draw_trees(pass, Materials::Opaque, Binding::Shade, |pass, mat, n, range| {
+            Phase::Opaque => self.draw_trees(pass, Materials::Opaque, |pass, mat, n, range| {
                 pass.set_pipeline(&p.opaque[mat.double_sided as usize]);
                 count(n, range);
             }),
             Phase::AlphaClipped => {
-                self.draw_trees(pass, Materials::Masked, Binding::Depth, |pass, mat, _, _| pass.set_pipeline(&p.masked_depth[mat.double_sided as usize]));
-                self.draw_trees(pass, Materials::Masked, Binding::Shade, |pass, mat, n, range| {
+                self.draw_trees(pass, Materials::Masked, |pass, mat, _, _| pass.set_pipeline(&p.masked_depth[mat.double_sided as usize]));
+                self.draw_trees(pass, Materials::Masked, |pass, mat, n, range| {
                     pass.set_pipeline(&p.masked_shade[mat.double_sided as usize]);
                     count(n, range);
                 });

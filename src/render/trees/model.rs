@@ -43,10 +43,9 @@ pub(crate) struct GpuPrimitive {
 }
 
 pub(crate) struct GpuMaterial {
-    /// The material's uniforms and textures, for shading.
+    /// The material's uniforms and textures, for shading and for the depth-only passes (which
+    /// read only the albedo's alpha).
     pub bind_group: wgpu::BindGroup,
-    /// The same with the albedo's linear upload (the same alpha), for the depth-only passes.
-    pub depth_bind_group: wgpu::BindGroup,
     pub double_sided: bool,
     /// Alpha-clipped (`alphaMode: MASK`).
     pub masked: bool,
@@ -80,8 +79,9 @@ impl GpuModel {
             .map(|(i, img)| {
                 // Each image is uploaded twice: sRGB-encoded bytes with mips averaged in linear
                 // light, which the shaders decode after filtering (for albedo; see
-                // `textures::ENCODED_FORMAT`), and linear (for normal and specular maps); only
-                // the views that materials use are sampled.
+                // `textures::ENCODED_FORMAT`; the depth-only passes read its alpha, which
+                // `textures::mip_chain` averages as stored), and linear (for normal and specular
+                // maps); only the views that materials use are sampled.
                 let label = |kind: &str| format!("{name} image {i} ({kind})");
                 (
                     textures::upload_2d_encoded(device, &shared.queue, &label("sRGB-encoded"), img.width, img.height, &img.rgba),
@@ -112,13 +112,8 @@ impl GpuModel {
                 let albedo = m.albedo.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.0);
                 let normal = m.normal.and_then(|k| images.get(k)).map_or(&shared.flat_normal, |v| &v.1);
                 let spec = m.specular.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
-                // The depth-only passes read only the albedo's alpha, which the linear upload
-                // holds unchanged (`textures::mip_chain` treats alpha alike in both); its mips of
-                // colour are averaged as stored, which those passes do not read.
-                let albedo_alpha = m.albedo.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
                 GpuMaterial {
                     bind_group: shared.material_bind_group(&format!("{name} material {i} bind group"), &buf, [albedo, normal, spec]),
-                    depth_bind_group: shared.material_bind_group(&format!("{name} material {i} depth bind group"), &buf, [albedo_alpha, normal, spec]),
                     double_sided: m.double_sided,
                     masked: m.alpha_cutoff.is_some(),
                 }
