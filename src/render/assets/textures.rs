@@ -84,6 +84,60 @@ pub fn upload_2d_encoded(device: &wgpu::Device, queue: &wgpu::Queue, label: &str
 #[allow(clippy::too_many_arguments)]
 fn upload_2d_as(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8], srgb: bool, format: wgpu::TextureFormat) -> wgpu::TextureView {
     let (data, levels) = mip_chain(width, height, rgba, srgb);
+    upload_chain(device, queue, label, (width, height), (&data, levels), format)
+}
+
+/// An RGBA8 image: its size in texels and its texels, row by row.
+pub type Rgba<'a> = (u32, u32, &'a [u8]);
+
+/// A material's normal map and specular map packed into one image's mip chain: RGB of each
+/// level are the normal map's as [`mip_chain`] builds them (linear), A the specular map's alpha
+/// as it builds those, so one sample gives what two did, texel for texel. A missing normal map
+/// stands as the flat normal (128, 128, 255), a missing specular map as full strength (255); a
+/// specular map of another size is resampled (nearest texel) to the normal map's. Returns the
+/// size, the concatenated levels and the level count.
+pub fn normal_specular_chain(normal: Option<Rgba<'_>>, specular: Option<Rgba<'_>>) -> ((u32, u32), Vec<u8>, u32) {
+    let flat = [128u8, 128, 255, 255];
+    let white = [255u8; 4];
+    let (w, h) = normal.or(specular).map_or((1, 1), |(w, h, _)| (w, h));
+    let fill = |c: [u8; 4]| c.repeat((w * h) as usize);
+    let normal_rgba = normal.map_or_else(|| fill(flat), |(_, _, t)| t.to_vec());
+    let spec_rgba = match specular {
+        None => fill(white),
+        Some((sw, sh, t)) if (sw, sh) == (w, h) => t.to_vec(),
+        Some((sw, sh, t)) => resample_nearest((sw, sh, t), w, h),
+    };
+    let (mut data, levels) = mip_chain(w, h, &normal_rgba, false);
+    let (spec, _) = mip_chain(w, h, &spec_rgba, false);
+    for (texel, s) in data.chunks_exact_mut(4).zip(spec.chunks_exact(4)) {
+        texel[3] = s[3];
+    }
+    ((w, h), data, levels)
+}
+
+/// `image` resampled to `width` × `height` by the nearest texel.
+fn resample_nearest((sw, sh, t): Rgba<'_>, width: u32, height: u32) -> Vec<u8> {
+    let mut out = Vec::with_capacity((width * height * 4) as usize);
+    for y in 0..height {
+        let sy = (u64::from(y) * u64::from(sh) / u64::from(height)) as u32;
+        for x in 0..width {
+            let sx = (u64::from(x) * u64::from(sw) / u64::from(width)) as u32;
+            let i = ((sy * sw + sx) * 4) as usize;
+            out.extend_from_slice(&t[i..i + 4]);
+        }
+    }
+    out
+}
+
+/// [`normal_specular_chain`] uploaded as a linear 2D texture (`Rgba8Unorm`).
+pub fn upload_normal_specular(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, normal: Option<Rgba<'_>>, specular: Option<Rgba<'_>>) -> wgpu::TextureView {
+    let (size, data, levels) = normal_specular_chain(normal, specular);
+    upload_chain(device, queue, label, size, (&data, levels), wgpu::TextureFormat::Rgba8Unorm)
+}
+
+/// Uploads a mip chain (`levels` levels concatenated, from `size` down) as a 2D texture of
+/// `format`.
+fn upload_chain(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, (width, height): (u32, u32), (data, levels): (&[u8], u32), format: wgpu::TextureFormat) -> wgpu::TextureView {
     let tex = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
@@ -97,7 +151,7 @@ fn upload_2d_as(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: 
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
-        &data,
+        data,
     );
     tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), ..Default::default() })
 }
@@ -252,6 +306,42 @@ mod tests {
             .collect();
         assert_eq!(nums.len(), 3, "three coefficients in {line:?}");
         [nums[0], nums[1], nums[2]]
+    }
+
+    /// The packed normal and specular chain holds, level by level, the normal map's RGB and the
+    /// specular map's alpha exactly as their own chains would, even where the normal map's alpha
+    /// varies (its colours are averaged weighted by it) and the specular map's alpha is boosted
+    /// in small mips; missing maps stand as the flat normal and full strength.
+    #[test]
+    fn the_normal_specular_chain_packs_both_chains_texel_for_texel() {
+        let (w, h) = (8u32, 4u32);
+        let texels = |seed: u32| -> Vec<u8> { (0..w * h * 4).map(|i| ((i * 37 + seed * 101) % 251) as u8).collect() };
+        let (normal, spec) = (texels(1), texels(2));
+        let ((pw, ph), packed, levels) = normal_specular_chain(Some((w, h, &normal)), Some((w, h, &spec)));
+        let (n_chain, n_levels) = mip_chain(w, h, &normal, false);
+        let (s_chain, _) = mip_chain(w, h, &spec, false);
+        assert_eq!(((pw, ph), levels), ((w, h), n_levels));
+        assert_eq!(packed.len(), n_chain.len());
+        for (i, ((p, n), s)) in packed.chunks_exact(4).zip(n_chain.chunks_exact(4)).zip(s_chain.chunks_exact(4)).enumerate() {
+            assert_eq!(p, [n[0], n[1], n[2], s[3]], "texel {i} of the chain");
+        }
+        let (_, no_spec, _) = normal_specular_chain(Some((w, h, &normal)), None);
+        assert!(no_spec.chunks_exact(4).all(|t| t[3] == 255), "a missing specular map is full strength");
+        let (size, no_normal, _) = normal_specular_chain(None, Some((w, h, &spec)));
+        assert_eq!(size, (w, h));
+        assert!(no_normal.chunks_exact(4).all(|t| t[..3] == [128, 128, 255]), "a missing normal map is flat");
+        assert_eq!(normal_specular_chain(None, None).1, vec![128, 128, 255, 255]);
+    }
+
+    /// A specular map of another size is resampled to the normal map's by the nearest texel:
+    /// a 2 × 1 map over a 4 × 2 normal map covers the left and right halves.
+    #[test]
+    fn a_specular_map_of_another_size_is_resampled_to_the_normal_maps() {
+        let normal = [200u8; 4 * 2 * 4];
+        let spec = [0, 0, 0, 10, 0, 0, 0, 250];
+        let (_, packed, _) = normal_specular_chain(Some((4, 2, &normal)), Some((2, 1, &spec)));
+        let alphas: Vec<u8> = packed[..4 * 2 * 4].chunks_exact(4).map(|t| t[3]).collect();
+        assert_eq!(alphas, [10, 10, 250, 250, 10, 10, 250, 250]);
     }
 
     /// Every byte value decoded by the shader's cubic and encoded again by the exact sRGB curve

@@ -67,28 +67,27 @@ pub struct GpuModel {
 }
 
 impl GpuModel {
-    /// Uploads a loaded model: each image as sRGB-encoded and linear textures, one bind group per
-    /// material, and per primitive its vertices, leaf order and indices.
+    /// Uploads a loaded model: each albedo image as sRGB-encoded texels, each material's normal
+    /// and specular maps packed into one linear texture, one bind group per material, and per
+    /// primitive its vertices, leaf order and indices.
     pub(crate) fn upload(shared: &Shared, data: &ModelData) -> GpuModel {
         let name = data.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         let device = &shared.device;
-        let images: Vec<(wgpu::TextureView, wgpu::TextureView)> = data
+        // The albedo images: sRGB-encoded bytes with mips averaged in linear light, which the
+        // shaders decode after filtering (see `textures::ENCODED_FORMAT`; the depth-only passes
+        // read their alpha, which `textures::mip_chain` averages as stored). Only images that a
+        // material uses as albedo are uploaded this way.
+        let albedo_images: Vec<Option<wgpu::TextureView>> = data
             .images
             .iter()
             .enumerate()
             .map(|(i, img)| {
-                // Each image is uploaded twice: sRGB-encoded bytes with mips averaged in linear
-                // light, which the shaders decode after filtering (for albedo; see
-                // `textures::ENCODED_FORMAT`; the depth-only passes read its alpha, which
-                // `textures::mip_chain` averages as stored), and linear (for normal and specular
-                // maps); only the views that materials use are sampled.
-                let label = |kind: &str| format!("{name} image {i} ({kind})");
-                (
-                    textures::upload_2d_encoded(device, &shared.queue, &label("sRGB-encoded"), img.width, img.height, &img.rgba),
-                    textures::upload_2d(device, &shared.queue, &label("linear"), img.width, img.height, &img.rgba, false),
-                )
+                data.materials.iter().any(|m| m.albedo == Some(i)).then(|| {
+                    textures::upload_2d_encoded(device, &shared.queue, &format!("{name} image {i} (sRGB-encoded albedo)"), img.width, img.height, &img.rgba)
+                })
             })
             .collect();
+        let image = |k: Option<usize>| k.and_then(|k| data.images.get(k)).map(|img| (img.width, img.height, img.rgba.as_slice()));
         let materials = data
             .materials
             .iter()
@@ -109,11 +108,14 @@ impl GpuModel {
                     contents: bytemuck::cast_slice(&[uniform]),
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
-                let albedo = m.albedo.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.0);
-                let normal = m.normal.and_then(|k| images.get(k)).map_or(&shared.flat_normal, |v| &v.1);
-                let spec = m.specular.and_then(|k| images.get(k)).map_or(&shared.white, |v| &v.1);
+                let albedo = m.albedo.and_then(|k| albedo_images.get(k)?.as_ref()).unwrap_or(&shared.white);
+                // The normal map in RGB and the specular map in A: trees.wgsl reads both with one
+                // sample. The specular slot of the shared layout holds the same view, so a shader
+                // that reads the specular map there (its alpha) reads the same values.
+                let normal_spec =
+                    textures::upload_normal_specular(device, &shared.queue, &format!("{name} material {i} normal and specular ({})", m.name), image(m.normal), image(m.specular));
                 GpuMaterial {
-                    bind_group: shared.material_bind_group(&format!("{name} material {i} bind group"), &buf, [albedo, normal, spec]),
+                    bind_group: shared.material_bind_group(&format!("{name} material {i} bind group"), &buf, [albedo, &normal_spec, &normal_spec]),
                     double_sided: m.double_sided,
                     masked: m.alpha_cutoff.is_some(),
                 }

@@ -28,8 +28,9 @@ override WIND_MODEL: u32 = 1u;
 
 @group(2) @binding(0) var<uniform> material: Material;
 @group(2) @binding(1) var albedo_tex: texture_2d<f32>;
-@group(2) @binding(2) var normal_tex: texture_2d<f32>;
-@group(2) @binding(3) var specular_tex: texture_2d<f32>;
+// The normal map (RGB) with the specular map's strength in A (src/render/trees/model.rs packs
+// them, so one sample reads both).
+@group(2) @binding(2) var normal_spec_tex: texture_2d<f32>;
 @group(2) @binding(4) var material_sampler: sampler;
 
 struct VertexIn {
@@ -121,8 +122,9 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     // The albedo's texels are sRGB-encoded bytes in a linear format, decoded after filtering.
     let texel = textureSample(albedo_tex, material_sampler, in.uv);
     let base = vec4<f32>(srgb_decode(texel.rgb), texel.a) * material.base_color;
-    let nt = textureSample(normal_tex, material_sampler, in.uv).xyz * 2.0 - 1.0;
-    let spec_tex = textureSample(specular_tex, material_sampler, in.uv).a;
+    let normal_spec = textureSample(normal_spec_tex, material_sampler, in.uv);
+    let nt = normal_spec.xyz * 2.0 - 1.0;
+    let spec_tex = normal_spec.a;
     let v = normalize(frame.camera_pos - in.world_pos);
     var n = normalize(in.normal);
     // The face normal from screen-space derivatives; tiny (sub-pixel) triangles can give a zero
