@@ -93,7 +93,7 @@ impl Shared {
             ..Default::default()
         });
         let white = textures::solid(device, queue, "white 1x1", [255, 255, 255, 255], true);
-        let flat_normal = textures::solid(device, queue, "flat normal 1x1", [128, 128, 255, 255], false);
+        let flat_normal = textures::solid(device, queue, "flat normal 1x1", textures::FLAT_NORMAL, false);
         Shared {
             device: device.clone(),
             queue: queue.clone(),

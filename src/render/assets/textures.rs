@@ -87,6 +87,9 @@ fn upload_2d_as(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: 
     upload_chain(device, queue, label, (width, height), (&data, levels), format)
 }
 
+/// The texel of a flat tangent-space normal map: the normal (0, 0, 1), full alpha.
+pub const FLAT_NORMAL: [u8; 4] = [128, 128, 255, 255];
+
 /// An RGBA8 image: its size in texels and its texels, row by row.
 pub type Rgba<'a> = (u32, u32, &'a [u8]);
 
@@ -97,7 +100,7 @@ pub type Rgba<'a> = (u32, u32, &'a [u8]);
 /// specular map of another size is resampled (nearest texel) to the normal map's. Returns the
 /// size, the concatenated levels and the level count.
 pub fn normal_specular_chain(normal: Option<Rgba<'_>>, specular: Option<Rgba<'_>>) -> ((u32, u32), Vec<u8>, u32) {
-    let flat = [128u8, 128, 255, 255];
+    let flat = FLAT_NORMAL;
     let white = [255u8; 4];
     let (w, h) = normal.or(specular).map_or((1, 1), |(w, h, _)| (w, h));
     let fill = |c: [u8; 4]| c.repeat((w * h) as usize);
