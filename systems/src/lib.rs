@@ -19,6 +19,7 @@ pub mod bank;
 pub mod catalogue;
 pub mod components;
 pub mod events;
+pub mod files;
 pub mod grass;
 pub mod hash;
 pub mod holes;

@@ -61,3 +61,24 @@ pub const MAX_GRASS_BLADES: u64 = 1 << 22;
 
 /// The most points of a grass patch's polygon.
 pub const MAX_GRASS_POLYGON: usize = 4096;
+
+/// The largest recording file, bytes (4 GiB; it is read line by line, each line within
+/// [`MAX_LINE_BYTES`]).
+pub const MAX_RECORDING_BYTES: u64 = 4 << 30;
+
+/// The largest L-system grammar file, bytes (1 MiB).
+pub const MAX_GRAMMAR_BYTES: u64 = 1 << 20;
+
+/// The largest table of numbers (a `crowns.csv`), bytes (64 MiB).
+pub const MAX_TABLE_BYTES: u64 = 64 << 20;
+
+/// The largest small settings or index file (a bank's catalogue, a task, a pyramid's index),
+/// bytes (4 MiB).
+pub const MAX_INDEX_BYTES: u64 = 4 << 20;
+
+/// The largest image file, bytes (1 GiB); decoders also bound an image by the dimensions its
+/// header states.
+pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
+
+/// The largest cache file grove reads back (an impostor atlas), bytes (256 MiB).
+pub const MAX_CACHE_BYTES: u64 = 256 << 20;
