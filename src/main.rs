@@ -61,10 +61,14 @@ fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
-            // clap prints help and version to stdout with exit code 0, and usage errors to
-            // stderr with exit code 2.
-            let _ = e.print();
-            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+            // clap prints help and version to stdout with exit code 0; a usage error is one
+            // line on stderr with exit code 2 (`--help` has the rest).
+            if !e.use_stderr() {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("{}", cli::usage_error_line(&e));
+            return ExitCode::from(2);
         }
     };
     let result = match cli.command {

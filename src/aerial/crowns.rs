@@ -12,6 +12,8 @@
 
 use std::path::Path;
 
+use grove_systems::files::{self, Kind};
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -153,6 +155,10 @@ pub fn label_crowns(mask: &[u8], width: u32, height: u32, gsd: f64) -> Vec<Crown
 
 /// Writes `crowns.csv` (header and one row per crown) atomically.
 pub fn write_csv(path: &Path, crowns: &[Crown]) -> Result<(), String> {
+    // No non-finite number is ever written: a table grove writes is one grove can read back.
+    if let Some(c) = crowns.iter().find(|c| ![c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m].iter().all(|v| v.is_finite())) {
+        return Err(format!("{}: crown {} has a position or size that is not a finite number; check --gsd", path.display(), c.id));
+    }
     super::raster::write_atomic(path, |w| {
         let mut csv = csv::Writer::from_writer(w);
         for c in crowns {
@@ -165,8 +171,8 @@ pub fn write_csv(path: &Path, crowns: &[Crown]) -> Result<(), String> {
 /// Reads `crowns.csv`, checking every number; errors name the file and the row.
 pub fn read_csv(path: &Path) -> Result<Vec<Crown>, String> {
     let name = path.display();
-    let file = std::fs::File::open(path).map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
-    let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(file));
+    let (file, _) = files::open(path, Kind::Table).map_err(|e| e.to_string())?;
+    let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(std::io::Read::take(file, Kind::Table.limit())));
     let mut out = Vec::new();
     for (i, row) in rdr.deserialize::<Crown>().enumerate() {
         let c = row.map_err(|e| format!("{name}: row {}: {}", i + 2, e.to_string().replace('\n', " ")))?;
@@ -206,8 +212,7 @@ pub struct Summary {
 /// Reads the `summary.json` beside a `crowns.csv`.
 pub fn read_summary(crowns_csv: &Path) -> Result<Summary, String> {
     let path = crowns_csv.parent().unwrap_or(Path::new(".")).join("summary.json");
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| format!("{}: {} (grove aerial segment writes it beside crowns.csv)", path.display(), grove_systems::scene::io_message(&e)))?;
+    let text = files::read_text(&path, Kind::Index).map_err(|e| format!("{e} (grove aerial segment writes it beside crowns.csv)"))?;
     let s: Summary = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     if s.width == 0 || s.height == 0 || !(s.gsd_m.is_finite() && s.gsd_m > 0.0) {
         return Err(format!("{}: the image size and gsd_m must be positive", path.display()));

@@ -76,8 +76,9 @@ pub struct Truth {
 
 fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, String> {
     let name = path.display();
-    let file = std::fs::File::open(path).map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
-    let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(file));
+    let kind = grove_systems::files::Kind::Table;
+    let (file, _) = grove_systems::files::open(path, kind).map_err(|e| e.to_string())?;
+    let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(std::io::Read::take(file, kind.limit())));
     rdr.deserialize::<T>()
         .enumerate()
         .map(|(i, r)| r.map_err(|e| format!("{name}: row {}: {}", i + 2, e.to_string().replace('\n', " "))))

@@ -52,21 +52,18 @@ impl RgbImage {
     /// an image over [`MAX_BYTES`] is an error of one line.
     pub fn load(path: &Path, what: &str) -> Result<RgbImage, String> {
         let name = format!("{what} {}", path.display());
-        if path.is_dir() {
-            return Err(format!("{name}: is a folder, not an image"));
-        }
+        let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::Image).map_err(|e| format!("{what} {e}"))?;
         // The format comes from the content alone: a PNG or TIFF signature, whatever the file is called.
         let mut head = [0u8; 8];
-        let n = std::fs::File::open(path)
-            .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
-            .map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
+        let io = |e: std::io::Error| format!("{name}: {}", grove_systems::scene::io_message(&e));
+        let n = std::io::Read::read(&mut file, &mut head).map_err(io)?;
+        std::io::Seek::rewind(&mut file).map_err(io)?;
         let format = match &head[..n] {
             [0x89, b'P', b'N', b'G', ..] => image::ImageFormat::Png,
             [b'I', b'I', 42, 0, ..] | [b'M', b'M', 0, 42, ..] => image::ImageFormat::Tiff,
             _ => return Err(format!("{name}: not a PNG or TIFF image")),
         };
-        let mut reader = ImageReader::open(path).map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
-        reader.set_format(format);
+        let mut reader = ImageReader::with_format(std::io::BufReader::new(file), format);
         let mut limits = Limits::default();
         limits.max_alloc = Some(MAX_BYTES + (64 << 20));
         reader.limits(limits);

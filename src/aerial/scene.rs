@@ -114,14 +114,41 @@ pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene
     Ok((scene, skipped))
 }
 
-/// The scene as RON text with a header comment; parsed back and checked before it is returned.
+/// The scene as RON text with a header comment; within the scene size limit, parsed back and
+/// checked before it is returned.
 pub fn scene_text(scene: &Scene, source: &str) -> Result<String, String> {
+    let limit = grove_systems::limits::MAX_SCENE_BYTES;
+    let too_big = |bytes: String| {
+        format!(
+            "the scene of {} trees would be {bytes} bytes, over the limit of {limit} bytes every command applies to a scene; leave out small crowns with --min-radius",
+            scene.trees.len()
+        )
+    };
+    // A large scene is measured on a sample of its trees first, so that one far over the limit
+    // is refused without writing out and reading back all of it.
+    const SAMPLE: usize = 256;
+    if scene.trees.len() > 4 * SAMPLE {
+        let pretty = |trees: usize| {
+            let part = Scene { trees: scene.trees[..trees].to_vec(), ..scene.clone() };
+            ron::ser::to_string_pretty(&part, ron::ser::PrettyConfig::default()).map(|t| t.len()).map_err(|e| e.to_string())
+        };
+        let (none, some) = (pretty(0)?, pretty(SAMPLE)?);
+        let estimate = none + (some - none) * scene.trees.len() / SAMPLE;
+        if estimate as u64 > limit + limit / 4 {
+            return Err(too_big(format!("about {estimate}")));
+        }
+    }
     let body = ron::ser::to_string_pretty(scene, ron::ser::PrettyConfig::default()).map_err(|e| e.to_string())?;
     let text = format!(
         "// Written by `grove aerial scene` from {source}: a ground plane of the photographed size and a tree at\n\
          // each treetop crown. Units: metres, degrees where a name ends in _deg. Axes: +Y up, -Z north, +X east.\n\
          // The fields are documented in docs/scenes.md.\n{body}\n"
     );
+    // What is written must load in every command that takes a scene: the same size limit, then
+    // the same checks.
+    if text.len() as u64 > limit {
+        return Err(too_big(text.len().to_string()));
+    }
     Scene::parse(&text, "generated scene").map_err(|e| e.to_string())?;
     Ok(text)
 }

@@ -207,9 +207,13 @@ fn rule(k: u32, r: &RuleArgs) -> anyhow::Result<MaskParams> {
     Ok(p)
 }
 
-fn positive(name: &str, v: f64) -> anyhow::Result<()> {
-    if !(v.is_finite() && v > 0.0) {
-        bail!("--{name} {v} must be a positive number");
+/// The range of a ground sample distance, metres per pixel: every position and area computed
+/// from it then stays a finite number.
+const GSD_RANGE: (f64, f64) = (1.0e-4, 1.0e3);
+
+fn gsd_in_range(v: f64) -> anyhow::Result<()> {
+    if !(GSD_RANGE.0..=GSD_RANGE.1).contains(&v) {
+        bail!("--gsd {v} must be between {} and {} metres per pixel", GSD_RANGE.0, GSD_RANGE.1);
     }
     Ok(())
 }
@@ -239,7 +243,7 @@ fn load_pair(summer: &Path, winter: &Path) -> anyhow::Result<(RgbImage, RgbImage
 
 fn segment(a: SegmentArgs) -> anyhow::Result<ExitCode> {
     let p = rule(a.k, &a.rule)?;
-    positive("gsd", a.gsd)?;
+    gsd_in_range(a.gsd)?;
     let outputs = ["mask.png", "crowns.csv", "summary.json"].map(|f| a.out.join(f));
     check_writable(&outputs, a.force).map_err(|e| anyhow!(e))?;
     let t0 = Instant::now();
@@ -355,7 +359,7 @@ fn synth(a: SynthArgs) -> anyhow::Result<ExitCode> {
     if !(SIZE_RANGE.0..=SIZE_RANGE.1).contains(&a.size) {
         bail!("--size {} must be between {} and {} texels", a.size, SIZE_RANGE.0, SIZE_RANGE.1);
     }
-    positive("gsd", a.gsd)?;
+    gsd_in_range(a.gsd)?;
     let outputs = ["summer.png", "winter.png", "truth.csv", "distractors.csv"].map(|f| a.out.join(f));
     check_writable(&outputs, a.force).map_err(|e| anyhow!(e))?;
     out_dir(&a.out)?;

@@ -84,7 +84,7 @@ impl std::fmt::Display for RunKind {
 /// elsewhere): lavapipe draws on worker threads, so on a shared machine this is steadier than
 /// the wall time.
 fn cpu_ms() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let stat = grove_systems::files::read_text(std::path::Path::new("/proc/self/stat"), grove_systems::files::Kind::Status).unwrap_or_default();
     // The fields after the command's closing parenthesis; utime and stime are the 12th and 13th.
     let rest = stat.rsplit_once(')').map_or("", |r| r.1);
     let f: Vec<f64> = rest.split_whitespace().skip(11).take(2).filter_map(|v| v.parse().ok()).collect();
@@ -94,7 +94,7 @@ fn cpu_ms() -> f64 {
 
 /// The process's peak resident memory, MiB (Linux; 0 elsewhere).
 fn peak_rss_mib() -> f64 {
-    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let status = grove_systems::files::read_text(std::path::Path::new("/proc/self/status"), grove_systems::files::Kind::Status).unwrap_or_default();
     status.lines().find_map(|l| l.strip_prefix("VmHWM:")).and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok()).map_or(0.0, |kb| kb / 1024.0)
 }
 

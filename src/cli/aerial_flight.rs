@@ -73,7 +73,7 @@ fn camera(a: &FlightArgs, side_m: DVec2, i: u32) -> ClipCamera {
 
 /// The process's peak resident memory, MiB (Linux; 0 elsewhere).
 fn peak_rss_mib() -> f64 {
-    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let status = grove_systems::files::read_text(std::path::Path::new("/proc/self/status"), grove_systems::files::Kind::Status).unwrap_or_default();
     status
         .lines()
         .find_map(|l| l.strip_prefix("VmHWM:"))

@@ -127,7 +127,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
 /// `/proc/self/stat`, in clock ticks of 10 ms); `None` elsewhere. On a software adapter it is
 /// the work a frame costs, whatever else the machine runs at the same time.
 fn process_cpu_ms() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let stat = grove_systems::files::read_text(std::path::Path::new("/proc/self/stat"), grove_systems::files::Kind::Status).ok()?;
     // The fields after the command name (in parentheses): utime and stime are the 14th and
     // 15th fields of the line, the 12th and 13th after the name.
     let rest = &stat[stat.rfind(')')? + 2..];

@@ -180,7 +180,7 @@ pub(super) fn time_frames_at(
 fn process_cpu_ns() -> Option<u64> {
     let mut sum = 0u64;
     for task in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
-        let stat = std::fs::read_to_string(task.path().join("schedstat")).ok()?;
+        let stat = grove_systems::files::read_text(&task.path().join("schedstat"), grove_systems::files::Kind::Status).ok()?;
         sum += stat.split_whitespace().next()?.parse::<u64>().ok()?;
     }
     Some(sum)

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::{bail, Context};
+use anyhow::bail;
 use clap::{Args, Subcommand};
 use grove::lsystem::grammar::{Source, COMMANDS};
 use grove::lsystem::gpu::GpuDeriver;
@@ -72,7 +72,7 @@ impl GrammarArgs {
             return presets::preset(p);
         }
         if let Some(path) = &self.grammar {
-            let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?;
+            let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Grammar)?;
             return Grammar::parse_file(&text, &path.display().to_string());
         }
         if let Some(axiom) = &self.axiom {
@@ -218,8 +218,9 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     let n = a.src.n.unwrap_or(g.n);
     let limits = a.src.limits();
     let name = a.name.clone().unwrap_or_else(|| g.name.clone());
-    if name.is_empty() || !name.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'-' || c == b'_') {
-        bail!("model name '{name}' must be letters, digits, '-' and '_'");
+    if !grove_systems::bank::valid_name(&name) || name.contains('.') {
+        let shown: String = name.chars().take(40).collect();
+        bail!("model name '{shown}{}' must be 1 to 64 letters, digits, '-' and '_'", if name.chars().count() > 40 { "…" } else { "" });
     }
     let bank = if a.add {
         Some(match &a.bank {

@@ -38,6 +38,26 @@ pub fn one_line(e: &anyhow::Error) -> String {
     format!("{e:#}").replace('\n', " ")
 }
 
+/// A usage error of the argument parser as one line: clap's own first line (the error kind and
+/// its message) and a pointer to `--help`, without the usage block and tips it prints below it.
+pub fn usage_error_line(e: &clap::Error) -> String {
+    // A negative number given to an option reads to the parser as an unknown flag; name the
+    // option it was meant for.
+    if e.kind() == clap::error::ErrorKind::UnknownArgument
+        && let Some(clap::error::ContextValue::String(arg)) = e.get(clap::error::ContextKind::InvalidArg)
+        && arg.parse::<f64>().is_ok()
+    {
+        let args: Vec<String> = std::env::args().collect();
+        if let Some(i) = args.iter().position(|a| a == arg).filter(|&i| i > 0 && args[i - 1].starts_with("--")) {
+            return format!("error: invalid value '{arg}' for '{}': a negative number is not allowed there (see --help)", args[i - 1]);
+        }
+    }
+    let text = e.render().to_string();
+    let first = text.lines().map(str::trim).find(|l| !l.is_empty()).unwrap_or("error: bad arguments");
+    let first = if first.starts_with("error:") { first.to_string() } else { format!("error: {first}") };
+    format!("{first} (see --help)")
+}
+
 /// Replaces the default panic message (and backtrace) with one line. A panic is a bug in
 /// grove; this keeps even that case to a single, clear line on stderr.
 pub fn install_panic_hook() {

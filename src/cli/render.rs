@@ -110,12 +110,14 @@ fn options(args: &RenderArgs) -> RenderOptions {
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds
 /// (found in the scene's banks, then the session's).
-fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene) -> anyhow::Result<Renderer> {
+/// The scene's photographs are opened before the GPU (`Gpu::new` after this), so that a bad
+/// file is refused at once.
+fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene, aerial: Option<grove::render::aerial_ground::AerialSources>) -> anyhow::Result<Renderer> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
     renderer.options = options(args);
     let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
     grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res.catalogue)).map_err(|e| anyhow!(e))?;
-    if let Some(aerial) = grove::aerial::open::open_sources(scene, args.debug_lod).map_err(|e| anyhow!(e))? {
+    if let Some(aerial) = aerial {
         renderer.set_aerial(aerial).map_err(|e| anyhow!(e))?;
         // A still image shows the photographs as loaded: wait (briefly) for their tiles.
         renderer.settle_aerial(sim, std::time::Duration::from_secs(20)).map_err(|e| anyhow!(e))?;
@@ -222,9 +224,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         if outcome.sim.res.tick < tick {
             bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res.tick);
         }
-        let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
         let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
-        let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene)?;
+        let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+        let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+        let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene, aerial)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, &args.out)?;
         println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
@@ -245,15 +248,17 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     match args.frames {
         None => {
             check_out_file(&args.out, args.force)?;
+            let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = renderer(&gpu, &args, &sim, &scene)?;
+            let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             render_sim(&gpu, &mut renderer, &sim, &args.out)?;
             println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
         }
         Some(n) => {
             let ticks_per_frame = frames_setup(&args, n, scene.dt)?;
+            let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-            let mut renderer = renderer(&gpu, &args, &sim, &scene)?;
+            let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             for f in 0..n {
                 if f > 0 {
                     sim.run(ticks_per_frame);

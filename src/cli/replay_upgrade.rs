@@ -36,7 +36,7 @@ pub fn run(input: &Path, out: Option<&Path>, force: bool) -> anyhow::Result<Exit
         bail!("{}: folder does not exist", parent.display());
     }
     let file = input.display().to_string();
-    let f = std::fs::File::open(input).map_err(|e| anyhow!("{file}: {}", grove_systems::scene::io_message(&e)))?;
+    let (f, _) = grove_systems::files::open(input, grove_systems::files::Kind::Recording)?;
     let summary: UpgradeSummary = write_via_temp(out, |tmp| {
         let w = std::fs::File::create(tmp).map_err(|e| anyhow!("{}: cannot write ({e})", out.display()))?;
         let mut w = std::io::BufWriter::new(w);

@@ -78,6 +78,9 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> anyhow::Resu
     if segs.iter().any(|s| !(s.start.is_finite() && s.end.is_finite() && s.width.is_finite())) {
         bail!("'{}' draws a segment at a position or width that is not a finite number; check its parameters", g.name);
     }
+    if segs.iter().all(|s| s.start == s.end) {
+        bail!("'{}' draws nothing: every segment has zero length (check the parameters of F)", g.name);
+    }
     let top = segs.iter().fold(0.0f32, |m, s| m.max(s.start.y).max(s.end.y));
     let extent = segs.iter().fold(0.0f32, |m, s| m.max(s.end.length()));
     let scale = opts.height / if top > 0.0 { top } else { extent.max(1e-6) };
@@ -115,6 +118,9 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> anyhow::Resu
             tips.push((i, a, b, phase));
         }
     }
+    if wood.positions.is_empty() {
+        bail!("'{}' draws nothing: its segments are too short to draw (check the parameters of F)", g.name);
+    }
     let crown = tips.iter().fold(Vec3::ZERO, |c, t| c + t.2) / tips.len().max(1) as f32;
     let mut leaves = MeshData::default();
     for &(i, a, b, phase) in &tips {
@@ -150,7 +156,18 @@ pub fn write(dir: &Path, name: &str, g: &Grammar, model: &Model) -> anyhow::Resu
     if gltf.exists() {
         bail!("{}: already exists; choose another --out folder or remove it", gltf.display());
     }
-    let tex = dir.join("textures");
+    // Everything is written into a staging folder beside `dir` first and checked there; only a
+    // complete, valid model is moved into `dir` (the glTF file last), so a failure leaves no file.
+    let parent = dir.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::fs::create_dir_all(parent).with_context(|| format!("{}: cannot create folder", parent.display()))?;
+    let stage = crate::atomic_write::temp_path(&parent.join(format!("{name}-model")));
+    let result = write_staged(&stage, dir, name, g, model);
+    let _ = std::fs::remove_dir_all(&stage);
+    result
+}
+
+fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model) -> anyhow::Result<Written> {
+    let tex = stage.join("textures");
     std::fs::create_dir_all(&tex).with_context(|| format!("{}: cannot create folder", tex.display()))?;
     let sp = species(&g.species);
     let n = sp.name();
@@ -184,13 +201,44 @@ pub fn write(dir: &Path, name: &str, g: &Grammar, model: &Model) -> anyhow::Resu
     }
     let bin = format!("{name}.bin");
     let (json, bytes) = gltf_out::build(name, &parts, &bin);
-    let binp = dir.join(&bin);
-    std::fs::write(&binp, &bytes).with_context(|| format!("{}: cannot write", binp.display()))?;
-    // The glTF file last, through a temporary name, so a failure leaves no half-written model.
-    let tmp = dir.join(format!(".{name}.gltf.tmp"));
-    std::fs::write(&tmp, json.as_bytes()).with_context(|| format!("{}: cannot write", tmp.display()))?;
-    std::fs::rename(&tmp, &gltf).with_context(|| format!("{}: cannot write", gltf.display()))?;
-    Ok(Written { gltf, triangles: model.wood.triangles() + model.leaves.triangles() })
+    let staged_bin = stage.join(&bin);
+    std::fs::write(&staged_bin, &bytes).with_context(|| format!("{}: cannot write", staged_bin.display()))?;
+    let staged_gltf = stage.join(format!("{name}.gltf"));
+    std::fs::write(&staged_gltf, json.as_bytes()).with_context(|| format!("{}: cannot write", staged_gltf.display()))?;
+    // The same check a model gets when it is added to a bank.
+    crate::bank::import::load_checked(&staged_gltf).with_context(|| format!("the model written for '{}' is not valid", g.name))?;
+    place(stage, dir, name, &bin)?;
+    Ok(Written { gltf: dir.join(format!("{name}.gltf")), triangles: model.wood.triangles() + model.leaves.triangles() })
+}
+
+/// Moves a staged model into `dir`: textures that are already there with the same bytes are
+/// kept, different ones are refused before anything moves; the glTF file moves last.
+fn place(stage: &Path, dir: &Path, name: &str, bin: &str) -> anyhow::Result<()> {
+    let mut moves: Vec<(std::path::PathBuf, std::path::PathBuf)> = Vec::new();
+    let staged_tex = stage.join("textures");
+    for entry in std::fs::read_dir(&staged_tex).with_context(|| format!("{}: cannot list", staged_tex.display()))? {
+        let from = entry?.path();
+        let to = dir.join("textures").join(from.file_name().unwrap_or_default());
+        if to.exists() {
+            let same = grove_systems::files::read(&to, grove_systems::files::Kind::Image).ok() == grove_systems::files::read(&from, grove_systems::files::Kind::Image).ok();
+            if !same {
+                bail!("{}: already exists with other content; choose another --out folder", to.display());
+            }
+            continue;
+        }
+        moves.push((from, to));
+    }
+    let to_bin = dir.join(bin);
+    if to_bin.exists() {
+        bail!("{}: already exists; choose another --out folder or remove it", to_bin.display());
+    }
+    moves.push((stage.join(bin), to_bin));
+    moves.push((stage.join(format!("{name}.gltf")), dir.join(format!("{name}.gltf"))));
+    std::fs::create_dir_all(dir.join("textures")).with_context(|| format!("{}: cannot create folder", dir.join("textures").display()))?;
+    for (from, to) in &moves {
+        std::fs::rename(from, to).with_context(|| format!("{}: cannot write", to.display()))?;
+    }
+    Ok(())
 }
 
 /// The `_WIND` channel layout check used by tests: every vertex's x is its height above the root.

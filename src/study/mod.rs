@@ -106,6 +106,11 @@ pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     if files.is_empty() {
         anyhow::bail!("{}: no recordings (*.jsonl) in this folder", dir.display());
     }
+    // A pipe, device or folder among them is bad input, refused before anything runs (reading
+    // a pipe would block); a damaged recording, by contrast, becomes a failed trial.
+    for f in &files {
+        grove_systems::files::check(f, grove_systems::files::Kind::Recording)?;
+    }
     Ok(files)
 }
 

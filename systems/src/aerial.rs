@@ -11,7 +11,6 @@
 //!
 //! Axes: image x is world +X (east) and image y world +Z (south); metres.
 
-use std::io::Read;
 use std::path::Path;
 
 use glam::Vec2;
@@ -77,7 +76,7 @@ fn default_layer_count() -> u32 {
 pub const MAX_LAYERS: u32 = 8;
 
 /// The largest crowns file read, bytes.
-pub const MAX_CROWNS_BYTES: u64 = 64 << 20;
+pub const MAX_CROWNS_BYTES: u64 = limits::MAX_TABLE_BYTES;
 
 /// One crown of `crowns.csv`, as the scene uses it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -161,28 +160,10 @@ impl AerialDef {
 /// coordinate limit. Errors are one line naming the file and the row.
 pub fn read_crowns(path: &Path) -> Result<Vec<CrownDef>, String> {
     let name = path.display();
-    let meta = std::fs::metadata(path).map_err(|e| format!("{name}: {}", io_line(&e)))?;
-    if !meta.is_file() {
-        return Err(format!("{name}: not a regular file"));
-    }
-    let file = std::fs::File::open(path).map_err(|e| format!("{name}: {}", io_line(&e)))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_CROWNS_BYTES + 1).read_to_end(&mut bytes).map_err(|e| format!("{name}: {}", io_line(&e)))?;
-    if bytes.len() as u64 > MAX_CROWNS_BYTES {
-        return Err(format!("{name}: larger than the limit of {MAX_CROWNS_BYTES} bytes"));
-    }
-    let text = String::from_utf8(bytes).map_err(|_| format!("{name}: not valid UTF-8 text"))?;
+    let text = crate::files::read_text(path, crate::files::Kind::Table).map_err(|e| e.to_string())?;
     parse_crowns(&text).map_err(|e| format!("{name}: {e}"))
 }
 
-/// An I/O error as a short phrase on one line.
-fn io_line(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        _ => e.to_string().replace('\n', " "),
-    }
-}
 
 /// Parses the text of a crowns file (see [`read_crowns`]).
 pub fn parse_crowns(text: &str) -> Result<Vec<CrownDef>, String> {

@@ -30,7 +30,7 @@ pub const MAX_MODELS: usize = 255;
 /// The largest model file (glTF, buffer or texture) grove hashes, bytes.
 pub const MAX_FILE_BYTES: u64 = 512 << 20;
 /// The largest catalogue file grove reads, bytes.
-pub const MAX_CATALOGUE_BYTES: u64 = 4 << 20;
+pub const MAX_CATALOGUE_BYTES: u64 = crate::limits::MAX_INDEX_BYTES;
 
 /// Where a model's wind channels (`_WIND`) come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -145,18 +145,10 @@ pub fn content_hash(dir: &Path, files: &[String]) -> Result<String, String> {
 pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, String> {
     let mut h = Xxh3::new();
     for (name, path) in files {
-        let meta = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
-        if !meta.is_file() {
-            return Err(format!("{}: not a regular file", path.display()));
-        }
-        let len = meta.len();
-        if len > MAX_FILE_BYTES {
-            return Err(format!("{}: larger than {MAX_FILE_BYTES} bytes, the limit for a model's file", path.display()));
-        }
+        let (mut f, len) = crate::files::open(&path, crate::files::Kind::ModelFile).map_err(|e| e.to_string())?;
         // Streamed in blocks, so that hashing takes little memory however large the file.
         use std::io::Read;
         let io = |e: std::io::Error| format!("{}: {}", path.display(), crate::scene::io_message(&e));
-        let mut f = std::fs::File::open(&path).map_err(io)?;
         h.update(name.as_bytes());
         h.update(&len.to_le_bytes());
         let mut buf = vec![0u8; 1 << 16];
@@ -187,15 +179,7 @@ impl Bank {
         if !path.exists() {
             return Ok(Bank { dir: dir.to_path_buf(), catalogue: BankCatalogue::default() });
         }
-        let meta = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
-        if !meta.is_file() {
-            return Err(format!("{}: not a regular file", path.display()));
-        }
-        let len = meta.len();
-        if len > MAX_CATALOGUE_BYTES {
-            return Err(format!("{}: larger than {MAX_CATALOGUE_BYTES} bytes", path.display()));
-        }
-        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
+        let text = crate::files::read_text(&path, crate::files::Kind::Index).map_err(|e| e.to_string())?;
         let catalogue = BankCatalogue::from_ron(&text).map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(Bank { dir: dir.to_path_buf(), catalogue })
     }

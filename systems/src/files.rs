@@ -37,8 +37,12 @@ pub enum Kind {
     Gltf,
     /// A buffer or an image a glTF file names, or a file of a model bank.
     ModelFile,
-    /// An image (PNG, TIFF); its decoder also bounds it by the dimensions in its header.
+    /// An image (PNG, TIFF) decoded whole; its decoder also bounds it by the dimensions in its
+    /// header.
     Image,
+    /// An image streamed row by row (`grove aerial tile`): of any length, bounded by the
+    /// dimensions its header states, which the reader checks before decoding.
+    ImageRows,
     /// A cache file grove wrote itself (impostor atlases).
     Cache,
     /// A small status file of the operating system (`/proc/self/status`).
@@ -57,6 +61,7 @@ impl Kind {
             Kind::Index => l::MAX_INDEX_BYTES,
             Kind::Gltf | Kind::ModelFile => crate::bank::MAX_FILE_BYTES,
             Kind::Image => l::MAX_IMAGE_FILE_BYTES,
+            Kind::ImageRows => u64::MAX,
             Kind::Cache => l::MAX_CACHE_BYTES,
             Kind::Status => 1 << 20,
         }
@@ -72,7 +77,7 @@ impl Kind {
             Kind::Index => "an index file",
             Kind::Gltf => "a glTF file",
             Kind::ModelFile => "a model's file",
-            Kind::Image => "an image",
+            Kind::Image | Kind::ImageRows => "an image",
             Kind::Cache => "a cache file",
             Kind::Status => "a status file",
         }

@@ -35,6 +35,9 @@ pub const MAX_PLANES: usize = 64;
 /// The most trees a scene may place at the start.
 pub const MAX_SCENE_TREES: usize = 100_000;
 
+/// The most scatters in one scene; the trees they can place count towards [`MAX_SCENE_TREES`].
+pub const MAX_SCATTERS: usize = 64;
+
 /// The most water bodies in one scene.
 pub const MAX_WATER_BODIES: usize = 64;
 

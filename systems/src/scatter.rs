@@ -16,6 +16,34 @@ use crate::tree_def::TreeDef;
 /// The most trees one scatter may place.
 pub const MAX_TREES: usize = 20_000;
 
+/// The most points of a scatter's boundary.
+pub const MAX_BOUNDARY: usize = 4096;
+
+/// The most cells of a scatter's sampling grid (4 bytes each).
+pub const MAX_GRID_CELLS: usize = 4 << 20;
+
+/// The range of a scatter's spacing, metres.
+pub const SPACING: (f32, f32) = (0.01, 1.0e4);
+
+/// The range of a scatter's noise feature size, metres.
+pub const FEATURE: (f32, f32) = (0.1, 1.0e5);
+
+/// The range of a scatter's noise contrast.
+pub const CONTRAST: (f32, f32) = (-100.0, 100.0);
+
+/// The range of a scattered tree's scale (the same as a tree's).
+pub const SCALE: (f32, f32) = (0.0, 1000.0);
+
+/// The area of a simple polygon (shoelace formula, in double precision), m².
+pub fn polygon_area(poly: &[Vec2]) -> f64 {
+    let mut twice = 0.0f64;
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        twice += a.x as f64 * b.y as f64 - b.x as f64 * a.y as f64;
+    }
+    (twice / 2.0).abs()
+}
+
 /// A scatter: trees spread over a region.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -71,7 +99,10 @@ pub fn inside(poly: &[Vec2], p: Vec2) -> bool {
 }
 
 impl ScatterDef {
-    /// Checks the numbers; returns a one-line message for the first problem.
+    /// Checks the numbers against their stated ranges and bounds the work before anything is
+    /// allocated: the polygon's own area (not its bounding box) over the spacing bounds the
+    /// trees, and the bounding box over the spacing bounds the sampling grid. Returns a one-line
+    /// message for the first problem.
     pub fn validate(&self) -> Result<(), String> {
         if self.models.is_empty() {
             return Err("a scatter needs at least one model".into());
@@ -79,21 +110,58 @@ impl ScatterDef {
         if self.boundary.len() < 3 {
             return Err(format!("a scatter's boundary has {} points; it needs at least 3", self.boundary.len()));
         }
+        if self.boundary.len() > MAX_BOUNDARY {
+            return Err(format!("a scatter's boundary has {} points; at most {MAX_BOUNDARY}", self.boundary.len()));
+        }
         let nums = [self.spacing, self.coverage, self.contrast, self.feature, self.scale.0, self.scale.1];
         if !self.boundary.iter().all(|p| p.is_finite()) || !nums.iter().all(|v| v.is_finite()) {
             return Err("a scatter has a NaN or infinite number".into());
         }
-        if self.spacing <= 0.0 || self.feature <= 0.0 || self.scale.0 <= 0.0 || self.scale.1 < self.scale.0 {
-            return Err("a scatter's spacing, feature and scales must be positive (scale as (min, max))".into());
+        let c = crate::limits::MAX_COORD;
+        if self.boundary.iter().any(|p| p.x.abs() > c || p.y.abs() > c) {
+            return Err(format!("a scatter's boundary has a point beyond {c} m"));
         }
-        let (lo, hi) = self.bounds();
-        let area = (hi - lo).x * (hi - lo).y;
-        // A Poisson-disk set at spacing r holds at most about 1.15 / r² points per unit area.
-        let most = area / (self.spacing * self.spacing) * 1.2;
-        if most > (4 * MAX_TREES) as f32 {
+        let range = |name: &str, v: f32, (lo, hi): (f32, f32)| {
+            if (lo..=hi).contains(&v) { Ok(()) } else { Err(format!("a scatter's {name} is {v}; it must be within {lo}..={hi}")) }
+        };
+        range("spacing", self.spacing, SPACING)?;
+        range("feature", self.feature, FEATURE)?;
+        range("coverage", self.coverage, (0.0, 1.0))?;
+        range("contrast", self.contrast, CONTRAST)?;
+        range("scale's minimum", self.scale.0, SCALE)?;
+        range("scale's maximum", self.scale.1, SCALE)?;
+        if self.scale.0 <= 0.0 || self.scale.1 < self.scale.0 {
+            return Err("a scatter's scale must be (min, max) with 0 < min <= max".into());
+        }
+        let area = polygon_area(&self.boundary);
+        if area <= 0.0 {
+            return Err("a scatter's boundary encloses no area (its points are collinear or repeated)".into());
+        }
+        let most = self.most_trees();
+        if most > (4 * MAX_TREES) as f64 {
             return Err(format!("a scatter of spacing {} m over {area:.0} m² could place more than {MAX_TREES} trees", self.spacing));
         }
+        let cells = self.grid_cells();
+        if cells > MAX_GRID_CELLS as f64 {
+            return Err(format!(
+                "a scatter's boundary spans {cells:.0} cells of its spacing ({} m), more than {MAX_GRID_CELLS}: a thin or stretched boundary for so small a spacing",
+                self.spacing
+            ));
+        }
         Ok(())
+    }
+
+    /// An upper bound on the positions this scatter can sample: a Poisson-disk set at spacing r
+    /// holds at most about 1.15 / r² points per unit area.
+    pub fn most_trees(&self) -> f64 {
+        polygon_area(&self.boundary) / (self.spacing as f64 * self.spacing as f64) * 1.2
+    }
+
+    /// The cells of the sampling grid (cell = spacing / √2 over the bounding box).
+    fn grid_cells(&self) -> f64 {
+        let (lo, hi) = self.bounds();
+        let cell = self.spacing as f64 / std::f64::consts::SQRT_2;
+        ((hi.x - lo.x) as f64 / cell + 2.0) * ((hi.y - lo.y) as f64 / cell + 2.0)
     }
 
     fn bounds(&self) -> (Vec2, Vec2) {
@@ -232,5 +300,25 @@ mod tests {
         assert!(t.iter().all(|x| x.position.z <= x.position.x + 1e-4));
         assert!(ScatterDef { spacing: 0.001, ..def(1.0, 0.0) }.trees().is_err());
         assert!(ScatterDef { boundary: vec![Vec2::ZERO, Vec2::X], ..def(1.0, 0.0) }.trees().is_err());
+    }
+
+    #[test]
+    fn hostile_scatters_are_refused_before_any_allocation() {
+        // Collinear points: no area, whatever the spacing.
+        let line = vec![Vec2::ZERO, Vec2::new(1000.0, 0.0), Vec2::new(2000.0, 0.0)];
+        let e = ScatterDef { boundary: line, spacing: 1e-9, ..def(1.0, 0.0) }.validate().unwrap_err();
+        assert!(e.contains("spacing"), "{e}");
+        let line = vec![Vec2::ZERO, Vec2::new(1000.0, 0.0), Vec2::new(2000.0, 0.0)];
+        let e = ScatterDef { boundary: line, ..def(1.0, 0.0) }.validate().unwrap_err();
+        assert!(e.contains("no area"), "{e}");
+        // A sliver: a tiny area but a huge bounding box at a small spacing.
+        let sliver = vec![Vec2::ZERO, Vec2::new(1.0e4, 1.0e4), Vec2::new(1.0e4, 1.0e4 + 0.01)];
+        let e = ScatterDef { boundary: sliver, spacing: 0.05, ..def(1.0, 0.0) }.validate().unwrap_err();
+        assert!(e.contains("cells"), "{e}");
+        for bad in [ScatterDef { feature: 1e-30, ..def(1.0, 0.0) }, ScatterDef { scale: (1e30, 1e30), ..def(1.0, 0.0) }, ScatterDef { coverage: 2.0, ..def(1.0, 0.0) }] {
+            let e = bad.validate().unwrap_err();
+            assert!(e.contains("within"), "{e}");
+        }
+        assert_eq!(polygon_area(&square(40.0)), 1600.0);
     }
 }

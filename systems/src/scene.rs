@@ -5,7 +5,6 @@
 //! triangles), and reports the first problem as one line naming the file and, where RON says,
 //! the line and column.
 
-use std::io::Read;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
@@ -329,8 +328,19 @@ impl Scene {
                 return Err(format!("tree {i} has scale {}; scale must be positive and at most 1000", t.scale));
             }
         }
+        if self.scatter.len() > limits::MAX_SCATTERS {
+            return Err(format!("{} scatters is more than the limit of {} per scene ({RAISE})", self.scatter.len(), limits::MAX_SCATTERS));
+        }
+        let mut most = self.trees.len() as f64;
         for (i, sc) in self.scatter.iter().enumerate() {
             sc.validate().map_err(|e| format!("scatter {i}: {e}"))?;
+            most += sc.most_trees().min(crate::scatter::MAX_TREES as f64);
+        }
+        if most > limits::MAX_SCENE_TREES as f64 {
+            return Err(format!(
+                "the trees and scatters could place {most:.0} trees, more than the limit of {} trees per scene ({RAISE})",
+                limits::MAX_SCENE_TREES
+            ));
         }
         crate::water::validate_all(&self.water)?;
         let c = &self.camera;
@@ -368,30 +378,11 @@ impl PlaneDef {
     }
 }
 
-/// Reads a scene file's text: only a regular file (symbolic links are followed) of at most
-/// [`limits::MAX_SCENE_BYTES`], checked before anything is read, and read with that bound in
-/// case the file grows meanwhile.
+/// Reads a scene file's text through [`crate::files`]: only a regular file (symbolic links are
+/// followed) of at most [`limits::MAX_SCENE_BYTES`], checked before anything is read, never
+/// blocking on a pipe, and read with that bound in case the file grows meanwhile.
 pub fn read_scene_text(path: &Path) -> Result<String, SceneError> {
-    let file = path.display().to_string();
-    let fail = |message: String| SceneError { file: file.clone(), message };
-    let meta = std::fs::metadata(path).map_err(|e| fail(io_message(&e)))?;
-    if meta.is_dir() {
-        return Err(fail("is a directory, not a scene file".into()));
-    }
-    if !meta.is_file() {
-        return Err(fail("is not a regular file (a device, pipe or socket); a scene must be a regular file".into()));
-    }
-    let too_big = || fail(format!("is larger than the limit of {} bytes per scene file ({RAISE})", limits::MAX_SCENE_BYTES));
-    if meta.len() > limits::MAX_SCENE_BYTES {
-        return Err(too_big());
-    }
-    let f = std::fs::File::open(path).map_err(|e| fail(io_message(&e)))?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    f.take(limits::MAX_SCENE_BYTES + 1).read_to_end(&mut bytes).map_err(|e| fail(io_message(&e)))?;
-    if bytes.len() as u64 > limits::MAX_SCENE_BYTES {
-        return Err(too_big());
-    }
-    String::from_utf8(bytes).map_err(|_| fail("not valid UTF-8 text".into()))
+    crate::files::read_text(path, crate::files::Kind::Scene).map_err(|e| SceneError { file: path.display().to_string(), message: e.reason() })
 }
 
 /// A one-line description of an I/O error.

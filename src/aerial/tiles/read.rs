@@ -1,7 +1,6 @@
 //! The pyramid reader: a tile of any mip as RGBA8, and one clear line when a tile is missing,
 //! truncated or does not belong to the pyramid.
 
-use std::fs::File;
 use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 
@@ -34,7 +33,7 @@ impl Pyramid {
         if !dir.is_dir() {
             return Err(format!("{}: not a folder (a pyramid is a folder written by `grove aerial tile`)", dir.display()));
         }
-        let file = File::open(&path).map_err(|e| format!("{}: {} (not a pyramid folder?)", path.display(), grove_systems::scene::io_message(&e)))?;
+        let (file, _) = grove_systems::files::open(&path, grove_systems::files::Kind::Index).map_err(|e| format!("{e} (not a pyramid folder?)"))?;
         let mut text = String::new();
         file.take(MAX_META_BYTES + 1).read_to_string(&mut text).map_err(|e| format!("{}: {e}", path.display()))?;
         if text.len() as u64 > MAX_META_BYTES {
@@ -81,7 +80,7 @@ impl Pyramid {
         }
         let path = tile_path(&self.dir, mip, tx, ty);
         let what = format!("{}: tile ({tx}, {ty}) of mip {mip}", self.dir.display());
-        let file = File::open(&path).map_err(|e| format!("{what} ({}): {}", path.display(), grove_systems::scene::io_message(&e)))?;
+        let (file, _) = grove_systems::files::open(&path, grove_systems::files::Kind::Image).map_err(|e| format!("{what}: {e}"))?;
         let (w, h) = m.tile_extent(mip, tx, ty);
         let c = m.channels as usize;
         let mut dec = png::Decoder::new_with_limits(BufReader::new(file), png::Limits { bytes: 4 * (m.tile as usize).pow(2) + (1 << 20) });

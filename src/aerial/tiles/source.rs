@@ -24,12 +24,13 @@ pub trait RowSource {
 /// Every error is one line naming the file.
 pub fn open(path: &Path) -> Result<Box<dyn RowSource>, String> {
     let name = path.display().to_string();
-    if path.is_dir() {
-        return Err(format!("{name}: is a folder, not an image"));
-    }
+    // Only a regular file, opened without blocking; the size is bounded by the dimensions
+    // checked below, not by the file's length (a pyramid's source may be tens of gigabytes).
+    let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::ImageRows).map_err(|e| e.to_string())?;
     let mut head = [0u8; 8];
-    let n = File::open(path).and_then(|mut f| f.read(&mut head)).map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
-    let file = File::open(path).map_err(|e| format!("{name}: {}", grove_systems::scene::io_message(&e)))?;
+    let io = |e: std::io::Error| format!("{name}: {}", grove_systems::scene::io_message(&e));
+    let n = file.read(&mut head).map_err(io)?;
+    std::io::Seek::rewind(&mut file).map_err(io)?;
     let reader = BufReader::with_capacity(1 << 20, file);
     let source: Box<dyn RowSource> = match &head[..n] {
         [0x89, b'P', b'N', b'G', ..] => Box::new(PngRows::new(reader).map_err(|e| format!("{name}: {e}"))?),

@@ -184,13 +184,21 @@ pub const ENCODED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Names of the cube faces in wgpu's layer order.
 pub const FACES: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
 
+/// Reads and decodes an image file (the format from its content) through
+/// `grove_systems::files`: a regular file within the image size limit. The error is one line
+/// naming the file.
+pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
+    let bytes = grove_systems::files::read(path, grove_systems::files::Kind::Image).map_err(|e| e.to_string())?;
+    image::load_from_memory(&bytes).map_err(|e| format!("{}: {}", path.display(), one_line_image_error(&e)))
+}
+
 /// Loads the 6 faces `px.png` … `nz.png` from `dir`. The error names the file.
 pub fn load_faces(dir: &Path) -> Result<(u32, Vec<Vec<u8>>), String> {
     let mut size = 0;
     let mut faces = Vec::new();
     for f in FACES {
         let p = dir.join(format!("{f}.png"));
-        let img = image::open(&p).map_err(|e| format!("{}: {}", p.display(), one_line_image_error(&e)))?.to_rgba8();
+        let img = read_image(&p)?.to_rgba8();
         if img.width() != img.height() || (size != 0 && img.width() != size) {
             return Err(format!("{}: cube faces must be square and all the same size", p.display()));
         }

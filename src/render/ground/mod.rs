@@ -53,9 +53,7 @@ impl Ground {
     /// ([`texture::widen`]).
     pub fn new(shared: &Shared, assets: &Path) -> Result<Ground, String> {
         let path = assets.join("env").join("ground.png");
-        let img = image::open(&path)
-            .map_err(|e| format!("{}: {}", path.display(), textures::one_line_image_error(&e)))?
-            .to_rgba8();
+        let img = textures::read_image(&path)?.to_rgba8();
         let img = texture::widen(&img);
         // Encoded bytes in a linear format, decoded in the shader after filtering (`ENCODED_FORMAT`).
         let texture = textures::upload_2d_encoded(&shared.device, &shared.queue, "ground albedo", img.width(), img.height(), img.as_raw());

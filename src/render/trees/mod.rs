@@ -94,7 +94,7 @@ impl Trees {
         let path = self.impostor_cache.as_deref().map(|d| impostor::cache::file_path(d, &model.name, key));
         let mut atlas = None;
         if let Some(p) = path.as_deref().filter(|p| p.exists()) {
-            match std::fs::read(p).map_err(|e| e.to_string()).and_then(|b| impostor::cache::decode(&b, key)) {
+            match grove_systems::files::read(p, grove_systems::files::Kind::Cache).map_err(|e| e.reason()).and_then(|b| impostor::cache::decode(&b, key)) {
                 Ok(levels) => atlas = self.impostors.baker.from_levels(shared, model, &positions, &levels),
                 Err(e) => eprintln!("warning: impostor cache {}: {e}; baking it again", p.display()),
             }

@@ -197,10 +197,7 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
 /// Replays a recording file. Directories, missing files and unreadable files give an error.
 pub fn replay_file(path: &Path, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
     let file = path.display().to_string();
-    if path.is_dir() {
-        return Err(ReplayError { file, line: None, message: "is a directory, not a recording".into() });
-    }
-    let f = std::fs::File::open(path).map_err(|e| ReplayError { file: file.clone(), line: None, message: crate::scene::io_message(&e) })?;
+    let (f, _) = crate::files::open(path, crate::files::Kind::Recording).map_err(|e| ReplayError { file: file.clone(), line: None, message: e.reason() })?;
     replay_reader(f, &file, path.parent(), options)
 }
 
@@ -209,10 +206,7 @@ pub fn replay_file(path: &Path, options: &ReplayOptions) -> Result<ReplayOutcome
 pub fn read_events(path: &Path) -> Result<(Header, Vec<StampedEvent>), ReplayError> {
     let file = path.display().to_string();
     let err = |(line, message): LineError| ReplayError { file: file.clone(), line, message };
-    if path.is_dir() {
-        return Err(err((None, "is a directory, not a recording".into())));
-    }
-    let f = std::fs::File::open(path).map_err(|e| err((None, crate::scene::io_message(&e))))?;
+    let (f, _) = crate::files::open(path, crate::files::Kind::Recording).map_err(|e| err((None, e.reason())))?;
     let mut lines = Lines::open(f).map_err(err)?;
     let mut events = Vec::new();
     while let Some(checked) = lines.next().map_err(err)? {
