@@ -114,7 +114,7 @@ fn p3(p: Vec3) -> String {
 impl Expect {
     /// The expectation as a scenario file writes it, e.g. `TreeCount(2)`.
     pub fn text(&self) -> String {
-        ron::to_string(self).unwrap_or_else(|_| format!("{self:?}"))
+        crate::targets::ron_line(self)
     }
 
     /// Checks the names and numbers an expectation carries against a catalogue: known models and

@@ -63,17 +63,23 @@ fn two_metres_up() -> Vec3 {
     Vec3::new(0.0, 2.0, 0.0)
 }
 
+/// A value as a scenario file writes it, on one line: `Logged(kind: "planted", count: 2)`.
+pub fn ron_line<T: Serialize + std::fmt::Debug>(value: &T) -> String {
+    let config = ron::ser::PrettyConfig::new().new_line("").indentor("").compact_structs(true).compact_arrays(true).compact_maps(true);
+    ron::ser::to_string_pretty(value, config).unwrap_or_else(|_| format!("{value:?}"))
+}
+
 impl TreeRef {
     /// The reference as a scenario file writes it, e.g. `Named("oak")`.
     pub fn text(&self) -> String {
-        ron::to_string(self).unwrap_or_else(|_| format!("{self:?}"))
+        ron_line(self)
     }
 }
 
 impl Aim {
     /// The aim as a scenario file writes it, e.g. `Point(1.0, 0.0, -3.0)`.
     pub fn text(&self) -> String {
-        ron::to_string(self).unwrap_or_else(|_| format!("{self:?}"))
+        ron_line(self)
     }
 }
 

@@ -149,7 +149,7 @@ pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Pa
         config.insert(k.clone(), v.trim().parse::<f32>().map_err(|_| format!("config {k}: '{v}' is not a number"))?);
     }
     let mut scenario = Scenario {
-        name: header.participant.as_ref().map(|p| format!("from {p}")),
+        name: None,
         scene,
         seed: Some(header.seed),
         config,
@@ -175,6 +175,13 @@ pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Pa
 
 /// A scenario as RON text.
 pub fn write(s: &Scenario) -> Result<String, String> {
-    let pretty = ron::ser::PrettyConfig::new().struct_names(true).depth_limit(3).indentor("    ".to_string());
-    ron::ser::to_string_pretty(s, pretty).map_err(|e| e.to_string())
+    // Each step and expectation on a line of its own; `Some(…)` left out, as files may.
+    let pretty = ron::ser::PrettyConfig::new().depth_limit(2).indentor("    ").extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+    let text = ron::ser::to_string_pretty(s, pretty).map_err(|e| e.to_string())?;
+    // The struct's name makes the file say what it is; RON allows it before the parenthesis.
+    let at = if text.starts_with('(') { Some(0) } else { text.find("\n(").map(|k| k + 1) };
+    Ok(match at {
+        Some(k) => format!("{}Scenario{}", &text[..k], &text[k..]),
+        None => text,
+    })
 }

@@ -149,7 +149,7 @@ pub enum Step {
 impl Step {
     /// The step as a scenario file writes it, e.g. `Press(Trigger)`.
     pub fn text(&self) -> String {
-        ron::to_string(self).unwrap_or_else(|_| format!("{self:?}"))
+        crate::targets::ron_line(self)
     }
 
     /// The most ticks the step can take.
@@ -200,7 +200,7 @@ pub struct Scenario {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ScenarioError {
     /// The file could not be read.
-    #[error("{0}")]
+    #[error(transparent)]
     File(#[from] files::FileError),
     /// Not valid RON for a scenario.
     #[error("{file}: line {line}, column {column}: {message}")]
@@ -263,7 +263,7 @@ impl Loaded {
     /// Reads and checks a scenario file.
     pub fn load(path: &Path) -> Result<Loaded, ScenarioError> {
         let shown = path.display().to_string();
-        let text = files::read_text(path, Kind::Index)?;
+        let text = files::read_text(path, Kind::Scenario)?;
         Loaded::from_text(path, text).map_err(|e| match e {
             ScenarioError::Invalid { message, .. } => ScenarioError::Invalid { file: shown.clone(), message },
             other => other,
