@@ -64,6 +64,27 @@ fn every_shipped_scenario_passes_in_grove_test() {
         assert!(passed.iter().any(|l| l.split_whitespace().nth(1) == Some(name)), "{name} passed: {stdout}");
     }
     assert_eq!(std::fs::read_dir(keep.path()).unwrap().count(), 0, "nothing is kept when everything passes");
+    // One at a time, the same results in the same order.
+    let serial = grove_args(&["test", "tests/scenarios", "--jobs", "1", "--keep"], &[keep.path()]);
+    let verdicts = |s: &str| s.lines().map(|l| l.split_whitespace().take(2).collect::<Vec<_>>().join(" ")).collect::<Vec<_>>();
+    assert_eq!(verdicts(&text(&serial).0), verdicts(&stdout));
+}
+
+#[test]
+fn a_target_that_cannot_be_found_fails_the_step_saying_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let keep = dir.path().join("kept").display().to_string();
+    let cases = [
+        ("unnamed", "at: Tree(tree: Named(\"young birch\"))", "at: Tree(tree: Named(\"old oak\"))", "step 5 Mark(name: \"grab\", at: Tree(tree: Named(\"old oak\"), offset: (0.0, 2.0, 0.0))): cannot find the target: no tree is named \"old oak\""),
+        ("unplanted", "Name(name: \"young birch\", tree: Last)", "Name(name: \"young birch\", tree: Planted(2))", "step 4 Name(name: \"young birch\", tree: Planted(2)): cannot find the target: tree Planted(2) does not exist: 1 trees have been planted so far"),
+        ("no-task", "PointAt(Mark(name: \"grab\"))", "PointAt(Target(1))", "step 6 PointAt(Target(1)): cannot find the target: no task is running"),
+    ];
+    for (name, from, to, needle) in cases {
+        let path = mutant(dir.path(), name, &shipped_text("drag-snap"), from, to);
+        let out = grove_args(&["test", "--keep", &keep], &[&path]);
+        assert_eq!(out.status.code(), Some(1), "{name}: {:?}", text(&out));
+        assert!(text(&out).0.contains(needle), "{name}: {}", text(&out).0);
+    }
 }
 
 /// The files are read into the same `Script` calls the Rust scenarios make: each reaches the

@@ -34,7 +34,7 @@ pub struct TestArgs {
     pub force: bool,
     /// Pin every Hash("…") expectation to the world hash this run reaches, rewriting the
     /// scenario files in place (the rest of each file is kept as written).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "set")]
     pub update: bool,
     /// Override a parameter in every scenario, after the file's own config (repeatable), e.g.
     /// --set snap_threshold=0.01.
@@ -85,6 +85,10 @@ pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
     if let Some(out) = &args.junit {
         if out.exists() && !args.force {
             bail!("{}: already exists (use --force to replace it)", out.display());
+        }
+        let folder = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        if !folder.is_dir() {
+            bail!("{}: the folder {} does not exist", out.display(), folder.display());
         }
     }
     let files = scenario_files(&args.paths)?;
@@ -169,7 +173,7 @@ fn update(l: &Loaded, o: &Outcome) -> anyhow::Result<()> {
     let text = pin_hashes(&l.text, &o.hashes, step_hashes).map_err(|e| anyhow!("{}: {e}", l.path.display()))?;
     if text != l.text {
         write_atomic(&l.path, text.as_bytes())?;
-        println!("      {}: pinned {} hashes", l.path.display(), o.hashes.len());
+        println!("      {}: pinned {} world hash{}", l.path.display(), o.hashes.len(), if o.hashes.len() == 1 { "" } else { "es" });
     }
     Ok(())
 }
