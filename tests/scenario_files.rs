@@ -350,3 +350,40 @@ fn the_example_in_the_documentation_runs_as_documented() {
     assert!(text(&out).0.contains(&line), "{}", text(&out).0);
     assert!(doc.contains("end expectation TreeCount(4): the number of trees: expected 4, actual 3; recording: target/grove-test/plant.jsonl"), "the document shows that line");
 }
+
+/// Files that are not scenarios, or ask for too much, are refused with one line before anything
+/// runs, in bounded time.
+#[test]
+fn hostile_scenario_files_are_refused_quickly() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe.ron");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let huge = dir.path().join("huge.ron");
+    std::fs::write(&huge, " ".repeat(5 << 20)).unwrap();
+    let many = dir.path().join("many.ron");
+    std::fs::write(&many, format!("Scenario(scene: \"study\", steps: [{}])", "Wait(1),".repeat(100_001))).unwrap();
+    let deep = dir.path().join("deep.ron");
+    std::fs::write(&deep, format!("Scenario(scene: \"study\", steps: [{}])", "Expect(".repeat(50_000))).unwrap();
+    let sweep = dir.path().join("sweep.ron");
+    std::fs::write(&sweep, "Scenario(scene: \"study\", steps: [Sweep(from: Point(0.0, 0.0, 0.0), by: (0.0, 0.0, 0.0), count: 18446744073709551615)])").unwrap();
+    let nan = dir.path().join("nan.ron");
+    std::fs::write(&nan, "Scenario(scene: \"study\", steps: [PointAt(Point(NaN, 0.0, 0.0))])").unwrap();
+    let outside = dir.path().join("outside.ron");
+    std::fs::write(&outside, "Scenario(scene: \"../../../../../../etc/passwd\", steps: [])").unwrap();
+    let cases: [(&Path, &str); 8] = [
+        (&fifo, "not a regular file"),
+        (Path::new("/dev/zero"), "not a regular file"),
+        (&huge, "larger than the limit"),
+        (&many, "more than the limit of 100000"),
+        (&deep, "line 1"),
+        (&sweep, "more than the limit of 360000"),
+        (&nan, "not a finite point"),
+        (&outside, "does not end in .ron"),
+    ];
+    for (path, needle) in cases {
+        let start = std::time::Instant::now();
+        let out = grove_args(&["test"], &[path]);
+        assert_one_line_error(&out, 2, needle);
+        assert!(start.elapsed().as_secs_f64() < 2.0, "{}: refused in {:?}", path.display(), start.elapsed());
+    }
+}

@@ -4,6 +4,10 @@
 //! After an intended simulation change, regenerate the scenario files with
 //! `UPDATE_REPLAYS=1 cargo test --test scenarios` and the study with
 //! `cargo run --release -- synth --force`.
+//!
+//! Each scenario also exists as a scenario file under `tests/scenarios/` (docs/scenarios.md)
+//! whose pinned hash is its recording's final hash (`tests/scenario_files.rs` checks it); after
+//! regenerating the recordings, pin the files again with `grove test --update`.
 
 mod common;
 

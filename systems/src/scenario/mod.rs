@@ -275,16 +275,17 @@ impl Loaded {
         let shown = path.display().to_string();
         let invalid = |message: String| ScenarioError::Invalid { file: shown.clone(), message };
         let scenario = parse(&text, &shown)?;
-        let (scene, scene_ref) = match Scene::builtin(&scenario.scene) {
-            Some(s) => (s, scenario.scene.clone()),
-            None => {
-                let at = path.parent().unwrap_or(Path::new("")).join(&scenario.scene);
-                let scene = Scene::load(&at).map_err(|e| invalid(format!("scene: {}: {}", e.file, e.message)))?;
-                let cwd = std::env::current_dir().ok().and_then(|d| d.canonicalize().ok());
-                let abs = at.canonicalize().unwrap_or_else(|_| at.clone());
-                let rel = cwd.and_then(|d| abs.strip_prefix(d).ok().map(Path::to_path_buf)).unwrap_or(abs);
-                (scene, rel.display().to_string())
-            }
+        // A scene file is found as a recording's header finds one: inside the scenario's
+        // folder or the working directory, ending in .ron, never quoted in an error.
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let scene = crate::replay::scene_ref::resolve_scene(&scenario.scene, Some(dir)).map_err(|e| invalid(e.replace("the recording's folder", "the scenario's folder").replace("a recording may", "a scenario may")))?;
+        let scene_ref = if Scene::builtin(&scenario.scene).is_some() {
+            scenario.scene.clone()
+        } else {
+            // As the kept recording's header names it: relative to the working directory.
+            let cwd = std::env::current_dir().ok().and_then(|d| d.canonicalize().ok());
+            let abs = [dir.join(&scenario.scene), PathBuf::from(&scenario.scene)].iter().find_map(|p| p.canonicalize().ok()).unwrap_or_default();
+            cwd.and_then(|d| abs.strip_prefix(d).ok().map(Path::to_path_buf)).unwrap_or(abs).display().to_string()
         };
         let mut config = Config::default();
         let mut config_text = BTreeMap::new();
