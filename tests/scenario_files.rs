@@ -232,7 +232,6 @@ print(json.dumps({"suites": len(suites), "tests": sum(s.tests for s in suites),
         let (name, printed): (&str, f64) = (words[1], words[2].parse().unwrap());
         let case = &got["cases"][name];
         assert!((case["time"].as_f64().unwrap() - printed).abs() < 1e-9, "{name}: {case} vs {line}");
-        assert!(printed > 0.0, "{name} took some time");
         assert_eq!(case["failed"], words[0] == "FAIL", "{name}");
         sum += printed;
     }

@@ -185,3 +185,54 @@ pub fn write(s: &Scenario) -> Result<String, String> {
         None => text,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::Pose;
+    use crate::input::Button;
+    use glam::Vec3;
+
+    fn at(tick: u64, event: InputEvent) -> StampedEvent {
+        StampedEvent { tick, event }
+    }
+
+    #[test]
+    fn poses_collapse_while_nothing_is_held_and_gaps_become_waits() {
+        let pose = |x: f32| Pose::looking_at(Vec3::new(x, 1.0, 0.0), Vec3::new(x, 0.0, -3.0));
+        let events = vec![
+            at(3, InputEvent::ControllerPose { pose: pose(0.0) }),
+            at(4, InputEvent::ControllerPose { pose: pose(1.0) }),
+            at(10, InputEvent::ButtonDown { button: Button::Trigger }),
+            at(12, InputEvent::ControllerPose { pose: pose(2.0) }),
+            at(13, InputEvent::ControllerPose { pose: pose(3.0) }),
+            at(14, InputEvent::ButtonUp { button: Button::Trigger }),
+            at(20, InputEvent::TouchpadAxes { axes: Vec2::new(0.0, 1.0) }),
+            at(50, InputEvent::TouchpadAxes { axes: Vec2::ZERO }),
+        ];
+        let steps = steps_from_events(&events, &Catalogue::builtin(), 60);
+        let p = |x: f32| Step::Controller { position: pose(x).position, rotation: pose(x).rotation };
+        assert_eq!(
+            steps,
+            vec![
+                Step::Wait(4),
+                p(1.0),
+                Step::Wait(5),
+                Step::Hold(Btn::Trigger),
+                Step::Wait(1),
+                p(2.0),
+                p(3.0),
+                Step::Release(Btn::Trigger),
+                Step::Wait(5),
+                Step::Touchpad { x: 0.0, y: 1.0, ticks: 30 },
+                Step::Wait(9),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_shipped_model_chosen_by_index_is_written_by_name() {
+        let events = vec![at(0, InputEvent::ChooseModel { model: crate::catalogue::ModelId(2).into() })];
+        assert_eq!(steps_from_events(&events, &Catalogue::builtin(), 1), vec![Step::ChooseModel("birch-mesh".into())]);
+    }
+}
