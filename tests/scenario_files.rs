@@ -319,6 +319,9 @@ fn the_rust_script_targets_trees_by_name_and_checks_expectations() {
     assert!(err.to_string().contains("has been removed"), "{err}");
     assert!(s.tree_id(&TreeRef::Planted(3)).unwrap_err().to_string().contains("2 trees have been planted"));
     assert_eq!(s.tree_id(&TreeRef::Last).unwrap(), s.planted()[1]);
+    // The scene's own conifer stands at (-11, 0, -13).
+    let conifer = s.tree_id(&TreeRef::Nearest(-10.0, 0.0, -12.0)).unwrap();
+    assert_eq!(s.sim().res.catalogue.get(s.sim().tree(conifer).unwrap().tree.model).unwrap().name, "conifer-mesh");
     assert!(s.check(&Expect::TreeNear { model: "birch-mesh".into(), point: Vec3::new(-3.0, 0.0, -3.0), within: 0.5 }).is_ok());
     let m = s.check(&Expect::TreeNear { model: "broadleaf-mesh".into(), point: Vec3::new(2.0, 0.0, -2.0), within: 0.5 }).unwrap_err();
     assert_eq!(m.actual, "no broadleaf-mesh tree");
