@@ -139,7 +139,8 @@ pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
         let details = failure.as_ref().map(|f| format!("{}: {f}", l.path.display()));
         cases.push(junit::Case { name: l.name.clone(), file: l.path.display().to_string(), seconds: r.seconds, failure: failure.map(|f| (f, details.unwrap_or_default())) });
     }
-    println!("{} scenarios: {} passed, {failed} failed ({wall:.2} s)", loaded.len(), loaded.len() - failed);
+    let n = loaded.len();
+    println!("{n} scenario{}: {} passed, {failed} failed ({wall:.2} s)", if n == 1 { "" } else { "s" }, n - failed);
     if let Some(out) = &args.junit {
         write_atomic(out, junit::document("grove test", &cases).as_bytes())?;
     }

@@ -262,12 +262,8 @@ pub struct Loaded {
 impl Loaded {
     /// Reads and checks a scenario file.
     pub fn load(path: &Path) -> Result<Loaded, ScenarioError> {
-        let shown = path.display().to_string();
         let text = files::read_text(path, Kind::Scenario)?;
-        Loaded::from_text(path, text).map_err(|e| match e {
-            ScenarioError::Invalid { message, .. } => ScenarioError::Invalid { file: shown.clone(), message },
-            other => other,
-        })
+        Loaded::from_text(path, text)
     }
 
     /// Checks scenario text as if read from `path` (scene paths are relative to its folder).
