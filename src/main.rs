@@ -31,6 +31,11 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// Re-simulate a recording headless and verify its checkpoints (exit 0 verified, 1 diverged, 2 bad input).
     Replay(cli::replay::ReplayArgs),
+    /// Run scenario files headless in parallel, one line each (exit 0 all passed, 1 a failure, 2 bad file).
+    Test(cli::test::TestArgs),
+    /// Scenario files: draft one from a recording.
+    #[command(subcommand)]
+    Scenario(cli::scenario::ScenarioCommand),
     /// Re-simulate the study's recordings, verify them and write the reports (the main job).
     Study(cli::study::StudyArgs),
     /// Generate synthetic participants' recordings of the study's tasks.
@@ -76,6 +81,8 @@ fn main() -> ExitCode {
         Command::Scene(cmd) => cli::scene::run(cmd),
         Command::Bench(args) => cli::bench::run(args),
         Command::Replay(args) => cli::replay::run(args),
+        Command::Test(args) => cli::test::run(args),
+        Command::Scenario(cmd) => cli::scenario::run(cmd),
         Command::Study(args) => cli::study::run(args),
         Command::Synth(args) => cli::synth::run(args),
         Command::Play(args) => cli::play::run(args),

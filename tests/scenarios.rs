@@ -4,6 +4,10 @@
 //! After an intended simulation change, regenerate the scenario files with
 //! `UPDATE_REPLAYS=1 cargo test --test scenarios` and the study with
 //! `cargo run --release -- synth --force`.
+//!
+//! Each scenario also exists as a scenario file under `tests/scenarios/` (docs/scenarios.md)
+//! whose pinned hash is its recording's final hash (`tests/scenario_files.rs` checks it); after
+//! regenerating the recordings, pin the files again with `grove test --update`.
 
 mod common;
 
@@ -17,6 +21,7 @@ use grove_systems::replay::{record_events, replay_file, Header, ReplayOptions};
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
+use grove_systems::targets::{Aim, TreeRef};
 use grove_systems::Sim;
 
 fn study_script(seed: u64) -> Script {
@@ -40,7 +45,8 @@ fn scenarios() -> Vec<(&'static str, Script)> {
 
     let mut s = study_script(3);
     s.switch_mode(Mode::Manual).choose_model(ModelId(4)).wait(10);
-    let spawned = s.sim().world.query::<&grove_systems::components::Transform>().iter().map(|t| t.translation).last();
+    // The tree just spawned, by name rather than by searching the world.
+    let spawned = s.aim_point(&Aim::Tree { tree: TreeRef::Last, offset: Vec3::ZERO }).ok();
     if let Some(p) = spawned {
         s.point_at(p + Vec3::Y * 2.0).hold(Button::Trigger);
         s.touchpad(0.0, 1.0, 90);

@@ -117,6 +117,29 @@ pub enum Happening {
 }
 
 impl Happening {
+    /// Every kind name [`Happening::kind`] returns, in declaration order.
+    pub const KINDS: &'static [&'static str] = &[
+        "planted",
+        "removed",
+        "selected",
+        "deselected",
+        "scaled",
+        "rotated",
+        "moved",
+        "snap_armed",
+        "snap_disarmed",
+        "snapped",
+        "released_green",
+        "mode_changed",
+        "menu_opened",
+        "model_chosen",
+        "task_started",
+        "target_satisfied",
+        "task_completed",
+        "task_ended",
+        "planting_refused",
+    ];
+
     /// A short, stable name for the kind of event.
     pub fn kind(&self) -> &'static str {
         match self {

@@ -33,6 +33,8 @@ pub enum Kind {
     Table,
     /// A small settings or index file (a catalogue, a task, a pyramid's index).
     Index,
+    /// A scenario file (`docs/scenarios.md`).
+    Scenario,
     /// A glTF file (`.gltf` or `.glb`).
     Gltf,
     /// A buffer or an image a glTF file names, or a file of a model bank.
@@ -59,6 +61,7 @@ impl Kind {
             Kind::Grammar => l::MAX_GRAMMAR_BYTES,
             Kind::Table => l::MAX_TABLE_BYTES,
             Kind::Index => l::MAX_INDEX_BYTES,
+            Kind::Scenario => l::MAX_SCENARIO_BYTES,
             Kind::Gltf | Kind::ModelFile => crate::bank::MAX_FILE_BYTES,
             Kind::Image => l::MAX_IMAGE_FILE_BYTES,
             Kind::ImageRows => u64::MAX,
@@ -75,6 +78,7 @@ impl Kind {
             Kind::Grammar => "a grammar",
             Kind::Table => "a table",
             Kind::Index => "an index file",
+            Kind::Scenario => "a scenario file",
             Kind::Gltf => "a glTF file",
             Kind::ModelFile => "a model's file",
             Kind::Image | Kind::ImageRows => "an image",

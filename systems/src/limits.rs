@@ -85,3 +85,13 @@ pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
 
 /// The largest cache file grove reads back (an impostor atlas), bytes (256 MiB).
 pub const MAX_CACHE_BYTES: u64 = 256 << 20;
+
+/// The most ticks a scenario file (`docs/scenarios.md`) may ask for, its waits, touchpad holds
+/// and wait-until timeouts added up: 360,000 ticks, 100 minutes at 60 Hz.
+pub const MAX_SCENARIO_TICKS: u64 = 360_000;
+
+/// The largest scenario file, bytes (4 MiB).
+pub const MAX_SCENARIO_BYTES: u64 = 4 << 20;
+
+/// The most steps and expectations a scenario file may list, together.
+pub const MAX_SCENARIO_STEPS: usize = 100_000;

@@ -19,6 +19,14 @@
 //! | [`Script::choose_model`] | (manual mode: open menu; 1 tick;) choose model; 1 tick |
 //! | [`Script::switch_mode`], [`Script::start_task`], [`Script::end_task`] | the event; 1 tick |
 //! | [`Script::wait`] | `ticks` ticks |
+//! | [`Script::wait_until`] | one tick at a time until an expectation holds, at most `timeout` |
+//! | [`Script::aim`] | controller pose aimed at a named point (a tree, a task target, a mark); 1 tick |
+//! | [`Script::name_tree`], [`Script::mark`], [`Script::check`], [`Script::expect`] | no ticks |
+//!
+//! Targets are named, never entity ids ([`crate::targets`]): `TreeRef::Last` is the tree planted
+//! most recently, `TreeRef::Named("oak")` one named with [`Script::name_tree`]. Expectations
+//! ([`crate::expect::Expect`]) are the ones scenario files use, so a Rust script and a scenario
+//! file (`docs/scenarios.md`, read into these calls by [`crate::scenario`]) check the same way.
 //!
 //! The methods return `&mut Self`, so steps chain:
 //! `script.point_at(p).press(Button::Trigger).wait(10);`
@@ -32,9 +40,11 @@ use glam::{Vec2, Vec3};
 
 use crate::catalogue::ModelRef;
 use crate::components::{Controller, Head, Pose};
+use crate::expect::{Expect, Mismatch};
 use crate::input::{Button, InputEvent, StampedEvent};
 use crate::mode::Mode;
 use crate::sim::Sim;
+use crate::targets::{Aim, Names, TargetError, TreeRef};
 
 /// A simulation driven by scripted input, with a recording of that input.
 pub struct Script {
@@ -42,12 +52,15 @@ pub struct Script {
     recorded: Vec<StampedEvent>,
     /// Events queued for the next tick, applied by [`Sim::step_with`].
     pending: Vec<InputEvent>,
+    /// The trees and points the script has named, and where its planting began.
+    names: Names,
 }
 
 impl Script {
     /// A script driving `sim` from its current tick.
     pub fn new(sim: Sim) -> Script {
-        Script { sim, recorded: Vec::new(), pending: Vec::new() }
+        let names = Names::new(&sim);
+        Script { sim, recorded: Vec::new(), pending: Vec::new(), names }
     }
 
     /// Queues one event for the next tick and records it, or says why it is invalid.
@@ -161,6 +174,83 @@ impl Script {
     /// Declares the running task finished, then runs one tick.
     pub fn end_task(&mut self) -> &mut Self {
         self.push(InputEvent::EndTask).wait(1)
+    }
+
+    /// The tree a reference names, by entity id bits (it must still stand).
+    pub fn tree_id(&self, tree: &TreeRef) -> Result<u64, TargetError> {
+        self.names.tree(&self.sim, tree)
+    }
+
+    /// The world point an aim names, now.
+    pub fn aim_point(&self, aim: &Aim) -> Result<Vec3, TargetError> {
+        self.names.point(&self.sim, aim)
+    }
+
+    /// Aims the controller ray at a named point ([`Script::point_at`] on it), then runs one
+    /// tick; nothing happens if the point cannot be found.
+    pub fn aim(&mut self, aim: &Aim) -> Result<&mut Self, TargetError> {
+        let p = self.aim_point(aim)?;
+        Ok(self.point_at(p))
+    }
+
+    /// Aims 2 m up the trunk of a tree, then runs one tick.
+    pub fn point_at_tree(&mut self, tree: TreeRef) -> Result<&mut Self, TargetError> {
+        self.aim(&Aim::Tree { tree, offset: Vec3::new(0.0, 2.0, 0.0) })
+    }
+
+    /// Gives a tree a name that later targets can use (`TreeRef::Named`); runs no tick.
+    pub fn name_tree(&mut self, name: &str, tree: &TreeRef) -> Result<&mut Self, TargetError> {
+        let id = self.tree_id(tree)?;
+        self.names.name_tree(name, id);
+        Ok(self)
+    }
+
+    /// Remembers where an aim points now under a name (`Aim::Mark`); runs no tick.
+    pub fn mark(&mut self, name: &str, at: &Aim) -> Result<&mut Self, TargetError> {
+        let p = self.aim_point(at)?;
+        self.names.mark(name, p);
+        Ok(self)
+    }
+
+    /// The trees planted since the script started, by entity id bits, in order.
+    pub fn planted(&self) -> Vec<u64> {
+        self.names.planted(&self.sim)
+    }
+
+    /// Checks an expectation now, without stepping.
+    pub fn check(&self, expect: &Expect) -> Result<(), Mismatch> {
+        expect.check(&self.sim, &self.names)
+    }
+
+    /// Checks an expectation now.
+    ///
+    /// # Panics
+    /// With the mismatch (expected and actual) when it does not hold: for Rust tests, where a
+    /// failed expectation is the test's failure.
+    pub fn expect(&mut self, expect: &Expect) -> &mut Self {
+        if let Err(m) = self.check(expect) {
+            panic!("Script: at tick {}, {} does not hold: {m}", self.sim.res.tick, expect.text());
+        }
+        self
+    }
+
+    /// Runs one tick at a time until `expect` holds, at most `timeout` ticks, and returns the
+    /// ticks run (0 if it already held). On timeout the mismatch names the condition and what
+    /// was found at the last tick.
+    pub fn wait_until(&mut self, expect: &Expect, timeout: u64) -> Result<u64, Mismatch> {
+        let mut waited = 0;
+        loop {
+            match self.check(expect) {
+                Ok(()) => return Ok(waited),
+                Err(m) if waited >= timeout => {
+                    return Err(Mismatch { what: format!("timed out after {timeout} ticks waiting until {}: {}", expect.text(), m.what), ..m });
+                }
+                Err(_) => {
+                    self.wait(1);
+                    waited += 1;
+                }
+            }
+        }
     }
 
     /// Every event pushed so far, stamped with the tick it applied at, in order.

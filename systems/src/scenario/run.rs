@@ -1,0 +1,190 @@
+//! Running a scenario: each step becomes the [`Script`] call of the same name, each expectation
+//! [`Script::check`]; the first that fails ends the run with a [`Failure`] naming the step, the
+//! expectation, and the expected and actual values.
+
+use crate::components::Pose;
+use crate::expect::Expect;
+use crate::input::{InputEvent, StampedEvent};
+use crate::replay::{record_events, Header};
+use crate::resources::{Config, Override};
+use crate::script::Script;
+use crate::sim::Sim;
+
+use super::{technique, Loaded, Step};
+
+/// How to run a scenario.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Parameter overrides applied after the file's `config` (`grove test --set`).
+    pub overrides: Vec<Override>,
+    /// Keep going past a world-hash mismatch and collect the actual hashes, to pin them
+    /// (`grove test --update`).
+    pub update: bool,
+}
+
+/// Why a scenario failed: where, and what.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failure {
+    /// The step (counting from 1), or `None` for an end expectation.
+    pub step: Option<usize>,
+    /// The step or end expectation as the file writes it.
+    pub at: String,
+    /// What went wrong: a mismatch (expected and actual) or a target that cannot be found.
+    pub message: String,
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.step {
+            Some(n) => write!(f, "step {n} {}: {}", self.at, self.message),
+            None => write!(f, "end expectation {}: {}", self.at, self.message),
+        }
+    }
+}
+
+/// What a run did.
+pub struct Outcome {
+    /// The first failure, if any.
+    pub failure: Option<Failure>,
+    /// Ticks simulated.
+    pub ticks: u64,
+    /// The world hash each `Hash` expectation met, in order (steps, then the end), as far as
+    /// the run got; all of them when `failure` is `None`.
+    pub hashes: Vec<String>,
+    /// The header a recording of the run gets.
+    pub header: Header,
+    /// The input events of the run.
+    pub events: Vec<StampedEvent>,
+    /// The simulation at the end.
+    pub sim: Sim,
+}
+
+impl Outcome {
+    /// The run as a recording (header, events, checkpoints, footer), re-simulated from its
+    /// events, so that `grove replay` and `grove view` show what happened.
+    pub fn recording(&self) -> Result<Vec<u8>, String> {
+        record_events(Vec::new(), &self.header, &self.events, self.ticks, serde_json::json!({ "scenario": self.header.participant }))
+    }
+}
+
+/// The simulation a loaded scenario starts from, and the header that names it.
+pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), String> {
+    let mut sim = Sim::from_scene(&loaded.scene, loaded.seed)?;
+    let mut header = Header::new(&loaded.scene_ref, loaded.seed, loaded.scene.dt);
+    header.participant = Some(format!("scenario:{}", loaded.name));
+    header.synthetic = true;
+    header.config = loaded.config.clone();
+    for o in &options.overrides {
+        header.config.insert(o.name.to_string(), o.text.clone());
+    }
+    if !loaded.scene.banks.is_empty() {
+        header.models = crate::bank::Banks::open(&loaded.scene.bank_dirs())?.session_catalogue()?.1;
+    }
+    let mut config = Config::default();
+    for (k, v) in &header.config {
+        config.set(k, v)?;
+    }
+    sim.res.config = config;
+    Ok((sim, header))
+}
+
+/// Runs a loaded scenario headless.
+pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, String> {
+    let (sim, header) = start(loaded, options)?;
+    let mut script = Script::new(sim);
+    let mut hashes = Vec::new();
+    let mut failure = None;
+    for (i, step) in loaded.scenario.steps.iter().enumerate() {
+        if let Err(message) = apply(&mut script, step, options.update, &mut hashes) {
+            failure = Some(Failure { step: Some(i + 1), at: step.text(), message });
+            break;
+        }
+    }
+    if failure.is_none() {
+        for e in &loaded.scenario.expect {
+            if let Err(message) = expect(&script, e, options.update, &mut hashes) {
+                failure = Some(Failure { step: None, at: e.text(), message });
+                break;
+            }
+        }
+    }
+    let (sim, events) = script.into_parts();
+    Ok(Outcome { failure, ticks: sim.res.tick, hashes, header, events, sim })
+}
+
+/// Checks one expectation; with `update`, a world hash is collected rather than compared.
+fn expect(script: &Script, e: &Expect, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
+    if let Expect::Hash(_) = e {
+        hashes.push(crate::hash::hex(script.sim().hash().total));
+        if update {
+            return Ok(());
+        }
+    }
+    script.check(e).map_err(|m| m.to_string())
+}
+
+/// Plays one step through the script.
+fn apply(s: &mut Script, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
+    let cannot = |e: crate::targets::TargetError| format!("cannot find the target: {e}");
+    match step {
+        Step::ChooseModel(m) => {
+            s.choose_model(m.as_str());
+        }
+        Step::PointAt(aim) => {
+            s.aim(aim).map_err(cannot)?;
+        }
+        Step::Sweep { from, by, count } => {
+            let p = s.aim_point(from).map_err(cannot)?;
+            for k in 0..*count {
+                s.point_at(p + *by * k as f32);
+            }
+        }
+        Step::Controller { position, rotation } => {
+            s.try_push(InputEvent::ControllerPose { pose: Pose { position: *position, rotation: *rotation } })?.wait(1);
+        }
+        Step::Head { position, rotation } => {
+            s.try_push(InputEvent::HeadPose { pose: Pose { position: *position, rotation: *rotation } })?.wait(1);
+        }
+        Step::Press(b) => {
+            s.press((*b).into());
+        }
+        Step::Hold(b) => {
+            s.hold((*b).into());
+        }
+        Step::Release(b) => {
+            s.release((*b).into());
+        }
+        Step::Touchpad { x, y, ticks } => {
+            s.touchpad(*x, *y, *ticks);
+        }
+        Step::OpenMenu => {
+            s.push(InputEvent::OpenMenu).wait(1);
+        }
+        Step::CloseMenu => {
+            s.push(InputEvent::CloseMenu).wait(1);
+        }
+        Step::Wait(n) => {
+            s.wait(*n);
+        }
+        Step::WaitUntil { until, timeout } => {
+            s.wait_until(until, *timeout).map_err(|m| m.to_string())?;
+        }
+        Step::StartTask(id) => {
+            s.start_task(id);
+        }
+        Step::EndTask => {
+            s.end_task();
+        }
+        Step::SwitchTechnique(name) => {
+            s.switch_mode(technique(name)?);
+        }
+        Step::Name { name, tree } => {
+            s.name_tree(name, tree).map_err(cannot)?;
+        }
+        Step::Mark { name, at } => {
+            s.mark(name, at).map_err(cannot)?;
+        }
+        Step::Expect(e) => expect(s, e, update, hashes)?,
+    }
+    Ok(())
+}
