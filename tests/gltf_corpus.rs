@@ -16,7 +16,7 @@ mod shared_gpu;
 
 use std::path::{Path, PathBuf};
 
-use build::{f32s, float_accessor, index_accessor, u16s, Buffer};
+use build::{f32s, float_accessor, index_accessor, position_accessor, u16s, Buffer};
 use common::{assert_one_line_error, grove, root};
 use glam::{Mat4, Vec2, Vec3};
 use grove::render::assets::gltf_load::{load_model, ModelData};
@@ -93,7 +93,7 @@ fn load_checked_bounds(path: &Path) -> ModelData {
 /// `grove models add` of a file into a fresh bank: exit 0, and the catalogued bounds are the
 /// loaded ones. Returns stdout.
 fn added(path: &Path, tag: &str, want: (Vec3, Vec3)) -> String {
-    let dir = temp_dir(tag);
+    let dir = temp_dir(&format!("bank-{tag}"));
     let out = grove(&["models", "add", path.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap(), "--name", tag]);
     assert!(out.status.success(), "models add {}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
     let bank = grove_systems::bank::Bank::open(&dir.join("bank")).unwrap();
@@ -233,9 +233,9 @@ fn write_model(dir: &Path, name: &str, buf: &Buffer, accessors: &[String], prims
 fn strips_and_fans_are_drawn_as_triangles_and_points_and_lines_refused() {
     let dir = temp_dir("modes");
     let mut b = Buffer::default();
-    let strip = b.view(&f32s(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0]));
-    let fan = b.view(&f32s(&[2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 3.0, 1.0, 0.0, 2.0, 1.0, 0.0]));
-    let acc = [float_accessor(strip, 4, "VEC3"), float_accessor(fan, 4, "VEC3")];
+    let (sp, fp) = ([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0], [2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 3.0, 1.0, 0.0, 2.0, 1.0, 0.0]);
+    let (strip, fan) = (b.view(&f32s(&sp)), b.view(&f32s(&fp)));
+    let acc = [position_accessor(strip, &sp), position_accessor(fan, &fp)];
     let f = write_model(&dir, "modes", &b, &acc, r#"{"attributes":{"POSITION":0},"mode":5},{"attributes":{"POSITION":1},"mode":6}"#, "");
     let data = load_checked_bounds(&f);
     assert_eq!(data.triangles(), 4, "two triangles from the strip, two from the fan");
@@ -262,11 +262,12 @@ fn textured_quad(dir: &Path, name: &str, texture_info: &str, extra: &str) -> Pat
     let img = image::RgbaImage::from_fn(8, 8, |x, y| image::Rgba([[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [255, 255, 255, 255]][((y / 4) * 2 + x / 4) as usize]));
     img.save(dir.join("quad.png")).unwrap();
     let mut b = Buffer::default();
-    let pos = b.view(&f32s(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0]));
+    let p = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0];
+    let pos = b.view(&f32s(&p));
     let uv0 = b.view(&f32s(&[0.0; 8]));
     let uv1 = b.view(&f32s(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]));
     let idx = b.view(&u16s(&[0, 1, 2, 0, 2, 3]));
-    let acc = [float_accessor(pos, 4, "VEC3"), float_accessor(uv0, 4, "VEC2"), float_accessor(uv1, 4, "VEC2"), index_accessor(idx, 6)];
+    let acc = [position_accessor(pos, &p), float_accessor(uv0, 4, "VEC2"), float_accessor(uv1, 4, "VEC2"), index_accessor(idx, 6)];
     let extra = format!(
         r#","images":[{{"uri":"quad.png"}}],"samplers":[{{"magFilter":9728,"minFilter":9728}}],"textures":[{{"source":0,"sampler":0}}],"materials":[{{"name":"quad","pbrMetallicRoughness":{{"baseColorTexture":{texture_info}}}}}]{extra}"#
     );
@@ -344,13 +345,14 @@ fn unknown_extensions_are_refused_when_required_and_named_in_a_warning_when_used
 fn a_skinned_mesh_is_drawn_in_its_bind_pose() {
     let dir = temp_dir("skin");
     let mut b = Buffer::default();
-    let pos = b.view(&f32s(&[-0.5, 0.0, 0.0, 0.5, 0.0, 0.0, 0.5, 2.0, 0.0, -0.5, 2.0, 0.0]));
+    let p = [-0.5, 0.0, 0.0, 0.5, 0.0, 0.0, 0.5, 2.0, 0.0, -0.5, 2.0, 0.0];
+    let pos = b.view(&f32s(&p));
     let joints = b.view(&u16s(&[0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0]));
     let weights = b.view(&f32s(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]));
     let ibm = b.view(&f32s(&[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 1.0]));
     let idx = b.view(&u16s(&[0, 1, 2, 0, 2, 3]));
     let acc = [
-        float_accessor(pos, 4, "VEC3"),
+        position_accessor(pos, &p),
         format!(r#"{{"bufferView":{joints},"componentType":5123,"count":4,"type":"VEC4"}}"#),
         float_accessor(weights, 4, "VEC4"),
         float_accessor(ibm, 2, "MAT4"),

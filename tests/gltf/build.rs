@@ -73,3 +73,16 @@ pub fn float_accessor(view: usize, n: usize, ty: &str) -> String {
 pub fn index_accessor(view: usize, n: usize) -> String {
     format!(r#"{{"bufferView":{view},"componentType":5123,"count":{n},"type":"SCALAR"}}"#)
 }
+
+/// A POSITION accessor over view `view` of `p` (x, y, z triples), with the min and max glTF
+/// requires.
+pub fn position_accessor(view: usize, p: &[f32]) -> String {
+    let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+    for q in p.chunks_exact(3) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    format!(r#"{{"bufferView":{view},"componentType":5126,"count":{},"type":"VEC3","min":{lo:?},"max":{hi:?}}}"#, p.len() / 3)
+}
