@@ -145,18 +145,13 @@ pub fn content_hash(dir: &Path, files: &[String]) -> Result<String, String> {
 pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, String> {
     let mut h = Xxh3::new();
     for (name, path) in files {
-        let meta = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
-        if !meta.is_file() {
-            return Err(format!("{}: not a regular file", path.display()));
-        }
-        let len = meta.len();
-        if len > MAX_FILE_BYTES {
-            return Err(format!("{}: larger than {MAX_FILE_BYTES} bytes, the limit for a model's file", path.display()));
-        }
-        // Streamed in blocks, so that hashing takes little memory however large the file.
+        // A regular file of at most the model-file limit, opened without blocking on a pipe.
+        let (f, len) = crate::files::open(&path, crate::files::Kind::ModelFile).map_err(|e| e.to_string())?;
+        // Streamed in blocks, so that hashing takes little memory however large the file; never
+        // more than one byte past its length, in case it grows meanwhile.
         use std::io::Read;
         let io = |e: std::io::Error| format!("{}: {}", path.display(), crate::scene::io_message(&e));
-        let mut f = std::fs::File::open(&path).map_err(io)?;
+        let mut f = f.take(len + 1);
         h.update(name.as_bytes());
         h.update(&len.to_le_bytes());
         let mut buf = vec![0u8; 1 << 16];
@@ -187,15 +182,7 @@ impl Bank {
         if !path.exists() {
             return Ok(Bank { dir: dir.to_path_buf(), catalogue: BankCatalogue::default() });
         }
-        let meta = std::fs::metadata(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
-        if !meta.is_file() {
-            return Err(format!("{}: not a regular file", path.display()));
-        }
-        let len = meta.len();
-        if len > MAX_CATALOGUE_BYTES {
-            return Err(format!("{}: larger than {MAX_CATALOGUE_BYTES} bytes", path.display()));
-        }
-        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {}", path.display(), crate::scene::io_message(&e)))?;
+        let text = crate::files::read_text(&path, crate::files::Kind::Index).map_err(|e| e.to_string())?;
         let catalogue = BankCatalogue::from_ron(&text).map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(Bank { dir: dir.to_path_buf(), catalogue })
     }
