@@ -372,5 +372,6 @@ fn a_skinned_mesh_is_drawn_in_its_bind_pose() {
     assert!(data.notes.iter().any(|n| n.contains("bind pose")), "{:?}", data.notes);
     let out = added(&f, "skin", data.bounds);
     assert!(out.contains("skinned mesh drawn in its bind pose"), "{out}");
+    compare("gltf-skin-bind-pose", &render(&f));
     let _ = std::fs::remove_dir_all(&dir);
 }
