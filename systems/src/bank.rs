@@ -28,7 +28,7 @@ pub const BANK_ENV: &str = "GROVE_BANK";
 /// The most models a session's catalogue holds (model ids are one byte).
 pub const MAX_MODELS: usize = 255;
 /// The largest model file (glTF, buffer or texture) grove hashes, bytes.
-pub const MAX_FILE_BYTES: u64 = 512 << 20;
+pub const MAX_FILE_BYTES: u64 = crate::limits::MAX_MODEL_FILE_BYTES;
 /// The largest catalogue file grove reads, bytes.
 pub const MAX_CATALOGUE_BYTES: u64 = 4 << 20;
 

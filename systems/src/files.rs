@@ -55,7 +55,7 @@ impl Kind {
             Kind::Grammar => l::MAX_GRAMMAR_BYTES,
             Kind::Table => l::MAX_TABLE_BYTES,
             Kind::Index => l::MAX_INDEX_BYTES,
-            Kind::Gltf | Kind::ModelFile => crate::bank::MAX_FILE_BYTES,
+            Kind::Gltf | Kind::ModelFile => l::MAX_MODEL_FILE_BYTES,
             Kind::Image => l::MAX_IMAGE_FILE_BYTES,
             Kind::Cache => l::MAX_CACHE_BYTES,
             Kind::Status => 1 << 20,
