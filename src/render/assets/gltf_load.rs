@@ -153,10 +153,17 @@ fn one_line(s: &str) -> String {
     s.replace('\n', " ")
 }
 
-/// What grove does not draw of a material, as warnings: emission, occlusion and the
-/// metallic-roughness texture (grove shades with the roughness factor alone).
+/// What grove does not draw of a material, as warnings: emission, occlusion, the
+/// metallic-roughness texture (grove shades with the roughness factor alone), the specular
+/// colour, and alpha blending (drawn opaque).
 fn unread_material_parts(m: &gltf::Material) -> Vec<String> {
     let mut parts = Vec::new();
+    if m.alpha_mode() == gltf::material::AlphaMode::Blend {
+        parts.push("its alpha blending (it is drawn opaque)");
+    }
+    if m.specular().is_some_and(|s| s.specular_color_texture().is_some() || s.specular_color_factor() != [1.0; 3]) {
+        parts.push("its specular colour");
+    }
     if m.emissive_texture().is_some() || m.emissive_factor().iter().any(|&c| c > 0.0) {
         parts.push("its emission");
     }
