@@ -8,8 +8,9 @@ use std::path::{Path, PathBuf};
 
 use grove_systems::files::{self, Kind};
 
-/// The path a URI names relative to the glTF file's folder (percent-decoded), or `None` for a
-/// `data:` URI. A URL (`http:`, `file:`, …) is refused: grove reads only files beside the model.
+/// The path a URI names relative to the glTF file's folder (percent-decoded, `./` parts
+/// dropped), or `None` for a `data:` URI. A URL (`http:`, `file:`, …) is refused: grove reads
+/// only files beside the model.
 pub fn relative_path(uri: &str) -> Result<Option<String>, String> {
     if uri.starts_with("data:") {
         return Ok(None);
@@ -18,7 +19,12 @@ pub fn relative_path(uri: &str) -> Result<Option<String>, String> {
     if scheme {
         return Err("is a URL; grove reads only files beside the model or below it".into());
     }
-    Ok(Some(percent_decode(uri)?))
+    let decoded = percent_decode(uri)?;
+    if decoded.starts_with('/') {
+        return Ok(Some(decoded));
+    }
+    let parts: Vec<&str> = decoded.split('/').filter(|p| !p.is_empty() && *p != ".").collect();
+    Ok(Some(parts.join("/")))
 }
 
 /// Decodes `%XX` escapes (UTF-8).
@@ -141,6 +147,8 @@ mod tests {
         std::os::unix::fs::symlink(&d, d.join("m/up")).unwrap();
         let base = d.join("m");
         assert_eq!(read_uri(&base, "a%20b.bin").unwrap().unwrap(), b"abcd");
+        assert_eq!(read_uri(&base, "./a%20b.bin").unwrap().unwrap(), b"abcd");
+        assert_eq!(relative_path("./tex/./a.png").unwrap().as_deref(), Some("tex/a.png"));
         assert_eq!(read_uri(&base, "data:x;base64,aGk=").unwrap(), None);
         for bad in ["/dev/zero", "/etc/passwd", "../secret.bin", "extra.bin", "up/secret.bin", "http://example.com/a.bin", "file:///etc/passwd"] {
             let e = read_uri(&base, bad).unwrap_err();
