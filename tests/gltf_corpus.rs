@@ -174,6 +174,10 @@ fn box_vertex_colors_is_drawn_in_its_colours() {
     let colours: std::collections::HashSet<[u8; 4]> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| v.color)).collect();
     assert!(colours.len() >= 6, "the vertex colours are read: {colours:?}");
     added(&path, "box", (Vec3::ZERO, Vec3::ONE));
+    // The bank's thumbnail (drawn on the CPU) shows the colours too.
+    let thumb = grove::bank::thumbnail::draw(&data);
+    let strong = thumb.chunks_exact(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 60).count();
+    assert!(strong > 100, "the thumbnail is coloured: {strong} strongly coloured pixels");
     let img = render(&path);
     // The same cube with its colours renamed to an attribute grove ignores: a white cube.
     let dir = temp_dir("box-white");
