@@ -216,8 +216,13 @@ fn cameras_and_an_animated_triangle_are_drawn_at_rest() {
 }
 
 #[test]
-fn a_sparse_accessor_is_refused_by_name() {
-    refused(&khronos("SimpleSparseAccessor"), "is sparse");
+fn a_sparse_accessor_is_drawn_with_its_substitutions() {
+    let path = khronos("SimpleSparseAccessor");
+    let data = load_checked_bounds(&path);
+    // The accessor's own min and max hold only with the three substituted positions (up to 4 m).
+    assert_bounds("SimpleSparseAccessor", data.bounds, (Vec3::ZERO, Vec3::new(6.0, 4.0, 0.0)));
+    added(&path, "sparse", data.bounds);
+    compare("gltf-simple-sparse-accessor", &render(&path));
 }
 
 /// A file of one mesh with `prims` (JSON of primitives) over `buf`, with extra top-level JSON.
