@@ -167,6 +167,10 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
         }
         None => compute_normals(&positions, &indices),
     };
+    // Checked before the tangents are computed from them.
+    if uvs.len() != n || normals.len() != n {
+        return Err("has attributes of different lengths".into());
+    }
     let mut tangents: Vec<Vec4> = match prim.get(&Semantic::Tangents) {
         Some(t) => {
             let mut v = read_floats::<4>(&t, buffers)?;
