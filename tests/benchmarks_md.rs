@@ -116,6 +116,23 @@ fn missing_date_and_hand_written_pages_are_refused() {
 }
 
 #[test]
+fn the_json_grove_bench_prints_becomes_a_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let bench = common::grove(&["bench", "sim", "--trees", "1000,2000", "--ticks", "3"]);
+    assert!(bench.status.success(), "{}", String::from_utf8_lossy(&bench.stderr));
+    std::fs::write(dir.path().join("sim.json"), &bench.stdout).unwrap();
+    let out = script(&["--machine", "this machine", "--command", "grove bench sim", "--date", "today", "--out", "page.md", "sim.json"], dir.path());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let page = std::fs::read_to_string(dir.path().join("page.md")).unwrap();
+    let sim = section(&page, "sim_tick");
+    assert!(sim.contains(&"- build: debug") || sim.contains(&"- build: release"), "{sim:#?}");
+    let table: Vec<&str> = sim.iter().copied().filter(|l| l.starts_with('|')).collect();
+    assert_eq!(table.len(), 4, "a header, a rule and one row per tree count: {table:#?}");
+    assert!(table[0].starts_with("| trees | ") && table[0].contains(" ms_per_tick_median "), "{}", table[0]);
+    assert!(table[2].starts_with("| 1000 | ") && table[3].starts_with("| 2000 | "), "{table:#?}");
+}
+
+#[test]
 fn the_committed_page_is_what_the_script_writes_from_its_inputs() {
     let dir = tempfile::tempdir().unwrap();
     let page = root().join("docs/benchmarks.md");
