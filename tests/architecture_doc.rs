@@ -11,7 +11,7 @@ use std::path::Path;
 use common::root;
 
 /// External crates a name may start with; their items are not looked up.
-const EXTERNAL: &[&str] = &["hecs", "glam", "wgpu", "parry3d", "serde", "rayon", "statrs", "plotters", "egui", "winit", "std", "clap", "postcard", "thiserror", "gltf", "naga", "naga_oil"];
+const EXTERNAL: &[&str] = &["grove", "hecs", "glam", "wgpu", "parry3d", "serde", "rayon", "statrs", "plotters", "egui", "winit", "std", "clap", "postcard", "thiserror", "gltf", "naga", "naga_oil"];
 
 /// Directories never walked: build output, version control, installed packages.
 const SKIP_DIRS: &[&str] = &["target", ".git", "node_modules"];
@@ -125,8 +125,8 @@ fn path_exists(repo: &Repo, span: &str) -> bool {
     repo.paths.iter().any(|p| matches_tail(span, p) || (!span.ends_with('/') && matches_tail(&as_folder, p)))
 }
 
-/// The name a span names, if it is an item name: `Name`, `path::Name`, `name()`, `name(args)`
-/// or `name!`; a single lower-case word without `_` is taken as prose and skipped.
+/// The name a span names, if it is an item name: `Name`, `path::Name`, `name()`, `name(args)`,
+/// `name!` or a single lower-case word (a module, a function or a field: `input`, `prepare`).
 fn item_name(span: &str) -> Option<String> {
     let core = match span.find('(') {
         Some(i) if span.ends_with(')') => &span[..i],
@@ -142,9 +142,7 @@ fn item_name(span: &str) -> Option<String> {
     if core.starts_with('_') && !core.chars().any(|c| c.is_ascii_uppercase()) {
         return None; // a name's suffix such as `_deg`, not a name
     }
-    let called = span.ends_with(')') || span.ends_with('!');
-    let named = core.contains("::") || core.contains('_') || core.chars().any(|c| c.is_ascii_uppercase());
-    (called || named).then(|| core.to_string())
+    Some(core.to_string())
 }
 
 fn defined(repo: &Repo, name: &str) -> bool {
@@ -184,6 +182,12 @@ fn item_exists(repo: &Repo, name: &str) -> bool {
         // environment variable, a glTF attribute): it must occur in the source as a word.
         if last.chars().all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_') {
             return repo.source.iter().any(|(_, t)| has_word(t, last) || t.contains(&format!("\"{last}")));
+        }
+        if last.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit()) {
+            // A lower-case word: a module (a file or a folder), an item, a field or a crate.
+            let module = repo.paths.iter().any(|p| p.ends_with(&format!("/{last}.rs")) || p.ends_with(&format!("/{last}/")));
+            let field = repo.source.iter().any(|(_, t)| t.contains(&format!("pub {last}:")) || t.contains(&format!("pub(crate) {last}:")));
+            return module || field || EXTERNAL.contains(&last) || defined(repo, last);
         }
         return defined(repo, last);
     }
@@ -237,8 +241,8 @@ fn every_path_and_name_in_architecture_md_exists() {
 fn made_up_paths_and_names_are_reported() {
     let repo = repo();
     let doc = "The `Sim` in `systems/src/sim.rs` with `Sim::step_with`, `frame::Feature`, `cli/`, `trees/lod.rs`, \
-               `systems/*.rs`, `grove_systems::files` and `config_fields!` exist; `systems/src/warp_drive.rs`, `warp/`, `FluxCapacitor`, \
-               `Sim::teleport`, `ViewKind::Reflection`, `grove_systems::warp`, `frame::Hyperdrive`, `engage_warp()` and `src/render/nope/*.wgsl` \
+               `systems/*.rs`, `grove_systems::files`, `touchpad`, `prepare`, `world` and `config_fields!` exist; `systems/src/warp_drive.rs`, `warp/`, `FluxCapacitor`, \
+               `Sim::teleport`, `ViewKind::Reflection`, `grove_systems::warp`, `frame::Hyperdrive`, `engage_warp()`, `warpfield` and `src/render/nope/*.wgsl` \
                do not.\n\n```\n`NotCheckedInsideAFence`\n```\n";
     assert_eq!(
         missing(&repo, doc),
@@ -249,6 +253,7 @@ fn made_up_paths_and_names_are_reported() {
             "name `engage_warp()`",
             "name `frame::Hyperdrive`",
             "name `grove_systems::warp`",
+            "name `warpfield`",
             "path `src/render/nope/*.wgsl`",
             "path `systems/src/warp_drive.rs`",
             "path `warp/`",
