@@ -58,7 +58,7 @@ pub struct RenderArgs {
     pub overlay: Option<Overlay>,
     /// Draw trees whose bounding sphere covers fewer pixels than this as impostors (0: never;
     /// --model always draws the mesh).
-    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = super::bench::non_negative)]
+    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = super::bench_args::non_negative)]
     pub impostor_pixels: f32,
     /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
     /// to see the model sway in the study's wind).
