@@ -109,7 +109,7 @@ fn bad_inputs_are_one_line_and_exit_2() {
     assert_eq!(grove(&["aerial", "segment", "--summer", &s(&truncated), "--winter", &s(&wa), "--out", &out]).status.code(), Some(2));
     assert_one_line_error(&seg(&sa, &wa, &["--k", "4"]), 2, "--k 4 must be odd");
     assert_one_line_error(&seg(&sa, &wa, &["--s", "1.5"]), 2, "--s 1.5 must be a fraction");
-    assert_one_line_error(&seg(&sa, &wa, &["--gsd", "0"]), 2, "--gsd 0 must be a positive number");
+    assert_one_line_error(&seg(&sa, &wa, &["--gsd", "0"]), 2, "--gsd 0 must be between 0.0001 and 1000 metres per pixel");
     assert!(!tmp.path().join("out").exists(), "no output from failed runs");
 
     // An existing output is never overwritten without --force.
