@@ -41,6 +41,7 @@ pub mod stage;
 pub mod systems;
 pub mod targets;
 pub mod task;
+pub mod technique;
 pub mod tree_def;
 pub mod water;
 pub mod wind_model;
