@@ -203,8 +203,15 @@ impl PlayUi {
                         Mode::RayCasting => "Ray-casting",
                         Mode::Manual => "Manual modification",
                     };
-                    if ui.selectable_label(sim.res.mode == mode, label).clicked() && sim.res.mode != mode {
+                    let index = grove_systems::technique::Techniques::of_mode(mode);
+                    if ui.selectable_label(sim.res.technique == index, label).clicked() && sim.res.technique != index {
                         out.push(InputEvent::SwitchMode { mode });
+                    }
+                }
+                // The registered plug-in techniques (`src/techniques.rs`), by name.
+                for (index, t) in sim.res.techniques.iter().enumerate().filter(|(_, t)| !t.is_builtin()) {
+                    if ui.selectable_label(sim.res.technique == index, t.name).on_hover_text(t.about).clicked() && sim.res.technique != index {
+                        out.push(InputEvent::SwitchTechnique { technique: t.name.to_string() });
                     }
                 }
                 ui.separator();

@@ -5,6 +5,8 @@
 
 pub mod chart;
 pub mod csv_out;
+pub mod friedman;
+pub mod latin;
 pub mod participant;
 pub mod report;
 pub mod stats;
