@@ -156,12 +156,20 @@ fn num(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "–".to_string(), |v| format!("{v:.digits$}"))
 }
 
+/// A p-value: four decimals, or three significant digits below 0.001.
+fn pval(p: Option<f64>) -> String {
+    match p {
+        Some(v) if v < 1e-3 => format!("{v:.3e}"),
+        other => num(other, 4),
+    }
+}
+
 /// The analysis as a Markdown section.
 pub fn markdown(c: &Conditions, what: &str) -> String {
     let f = &c.friedman;
     let mut s = format!(
-        "### {what}: {} conditions\n\nFriedman test over {} participants: χ²({}) = {:.3}, p = {:.4}; Kendall's W = {:.3}.\n\n| condition | mean rank |\n|---|---|\n",
-        f.k, f.n, f.df, f.chi_squared, f.p, f.kendall_w
+        "### {what}: {} conditions\n\nFriedman test over {} participants: χ²({}) = {:.3}, p = {}; Kendall's W = {:.3}.\n\n| condition | mean rank |\n|---|---|\n",
+        f.k, f.n, f.df, f.chi_squared, pval(Some(f.p)), f.kendall_w
     );
     for (name, r) in c.names.iter().zip(&f.mean_ranks) {
         s += &format!("| {name} | {r:.2} |\n");
@@ -178,8 +186,8 @@ pub fn markdown(c: &Conditions, what: &str) -> String {
             num(st.ci95_high, 2),
             num(st.cohens_dz, 2),
             st.wilcoxon_w_plus,
-            num(st.wilcoxon_p, 4),
-            num(p.p_holm, 4)
+            pval(st.wilcoxon_p),
+            pval(p.p_holm)
         );
     }
     s
