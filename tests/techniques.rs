@@ -106,3 +106,38 @@ fn unknown_techniques_on_the_command_line_are_one_line_errors() {
     assert_one_line_error(&grove(&["play", "--technique", "grid-snap"]), 2, "technique 'grid-snap' is not registered");
     assert!(!dir.path().join("x").exists(), "nothing written");
 }
+
+#[test]
+fn a_scenario_file_switches_to_a_plug_in_technique_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    // The head 1.7 m above (1, 0, -4), looking straight down (−90° about +X): the gaze rests on
+    // the ground for 60 ticks (1 s), longer than the 0.8 s dwell, and plants once.
+    let file = dir.path().join("gaze.ron");
+    std::fs::write(
+        &file,
+        r#"Scenario(
+    scene: "study",
+    seed: 3,
+    steps: [
+        SwitchTechnique("gaze-dwell"),
+        Head(position: (1.0, 1.7, -4.0), rotation: (-0.70710677, 0.0, 0.0, 0.70710677)),
+        Wait(60),
+    ],
+    expect: [
+        Logged(kind: "technique_changed", count: 1),
+        Logged(kind: "planted", count: 1),
+        TreeNear(model: "broadleaf-mesh", point: (1.0, 0.0, -4.0), within: 0.2),
+    ],
+)
+"#,
+    )
+    .unwrap();
+    let o = grove_with(&["test"], &file);
+    assert!(o.status.success(), "{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+
+    let bad = dir.path().join("bad.ron");
+    std::fs::write(&bad, std::fs::read_to_string(&file).unwrap().replace("\"gaze-dwell\"", "\"grid-snap\"")).unwrap();
+    let o = grove_with(&["test"], &bad);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("known: ray-casting, manual, gaze-dwell"), "{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -260,6 +260,12 @@ impl Techniques {
     }
 }
 
+impl std::fmt::Debug for Techniques {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.0.iter().map(|t| (t.name, t.version))).finish()
+    }
+}
+
 static INSTALLED: OnceLock<Techniques> = OnceLock::new();
 
 /// Registers the app's techniques for every simulation built afterwards. Once per process; a

@@ -126,7 +126,8 @@ pub enum Step {
     StartTask(String),
     /// Declare the running task finished.
     EndTask,
-    /// Switch the interaction technique by name: "ray-casting" or "manual".
+    /// Switch the interaction technique by name: "ray-casting", "manual" or a registered
+    /// plug-in technique.
     SwitchTechnique(String),
     /// Give a tree a name for later steps (`Named("…")`).
     Name {
