@@ -6,7 +6,6 @@
 use serde::Serialize;
 
 use super::friedman::{analyse, markdown, Conditions};
-use super::report::usable_time;
 use super::Trial;
 
 /// Task times at one block position, over every condition.
@@ -40,8 +39,9 @@ fn condition(t: &Trial) -> Option<&str> {
     t.task.as_ref().map(|k| k.mode.as_str())
 }
 
-/// The section for `trials`, or `None` with fewer than three conditions.
-pub fn k_conditions(trials: &[Trial]) -> Option<KConditions> {
+/// The section for `trials`, or `None` with fewer than three conditions. `usable_time` is a
+/// trial's task time when it counts (the report's rule).
+pub fn k_conditions(trials: &[Trial], usable_time: fn(&Trial) -> Option<f64>) -> Option<KConditions> {
     let mut conditions: Vec<String> = Vec::new();
     for t in trials {
         if let Some(c) = condition(t) {

@@ -214,7 +214,7 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
         paired: paired(&differences, "manual − ray-casting", "s"),
         per_participant,
         wall_seconds,
-        conditions: super::conditions::k_conditions(trials),
+        conditions: super::conditions::k_conditions(trials, usable_time),
     }
 }
 

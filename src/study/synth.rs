@@ -22,7 +22,7 @@ use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::task::TaskDef;
-use grove_systems::technique::Technique;
+use grove_systems::technique::{Operator, Technique};
 use grove_systems::Sim;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -370,11 +370,15 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
         let db = (task.targets[b].position - p.hand).length();
         db.total_cmp(&da).then(a.cmp(&b))
     });
+    // A plug-in whose participant aims with the head and dwells: its dwell, seconds.
+    let gaze_dwell = technique.filter(|t| t.participant.contains(&Operator::AimHead)).map(|t| {
+        t.participant.iter().find_map(|o| if let Operator::Dwell(s) = o { Some(*s as f64) } else { None }).unwrap_or(0.0)
+    });
     for i in order {
         let model = models[i].ok_or_else(|| anyhow!("target {i} has an unknown model"))?;
         let pos = task.targets[i].position;
         let placed = match task.mode {
-            _ if technique.is_some_and(super::synth_plugin::gazes) => p.gaze_target(pos, model, task.tolerance, technique.map_or(0.0, super::synth_plugin::dwell_s)),
+            _ if gaze_dwell.is_some() => p.gaze_target(pos, model, task.tolerance, gaze_dwell.unwrap_or(0.0)),
             Mode::RayCasting => {
                 p.ray_casting_target(pos, model, task.tolerance);
                 Ok(())

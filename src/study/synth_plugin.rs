@@ -1,8 +1,8 @@
 //! Synthetic participants of plug-in techniques, driven by the technique's participant model
 //! ([`grove_systems::technique::Operator`]).
 //!
-//! A technique whose model aims with the head ([`Operator::AimHead`]) and plants by dwelling
-//! ([`Operator::Dwell`]) is played here: the gaze sweeps to the target along a minimum-jerk
+//! A technique whose model aims with the head (`Operator::AimHead`) and plants by dwelling
+//! (`Operator::Dwell`) is played here: the gaze sweeps to the target along a minimum-jerk
 //! path in a Fitts time, its endpoint scattered by the effective-width convention, corrected
 //! until the hit point lies within the aiming margin, and then held still for the dwell. The
 //! constants are those of ray pointing (`docs/participants.md`); head pointing has its own
@@ -12,21 +12,10 @@ use glam::{Vec2, Vec3};
 use grove_systems::components::{HitMarker, HitTarget, Pose};
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::{Button, InputEvent};
-use grove_systems::technique::{Operator, Technique};
 use grove_systems::Sim;
 
 use super::participant::{angle_between, angular_width, scatter_direction, sweep};
 use super::synth::{Participant, AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY};
-
-/// Whether a technique's participant aims with the head.
-pub fn gazes(t: &Technique) -> bool {
-    t.participant.contains(&Operator::AimHead)
-}
-
-/// The dwell of a technique's participant model, seconds (0 without one).
-pub fn dwell_s(t: &Technique) -> f64 {
-    t.participant.iter().find_map(|o| if let Operator::Dwell(s) = o { Some(*s as f64) } else { None }).unwrap_or(0.0)
-}
 
 fn hit_of(sim: &Sim) -> HitMarker {
     sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default()

@@ -29,6 +29,7 @@ use hecs::World;
 use crate::resources::Resources;
 use crate::systems;
 pub use crate::technique::{Stage, System};
+use crate::technique::Techniques;
 
 /// The built-in systems with their stage and name, in the order they run.
 pub const BUILTIN: &[(Stage, &str, System)] = &[
@@ -48,7 +49,7 @@ pub const BUILTIN: &[(Stage, &str, System)] = &[
 
 /// Runs one fixed step: stage by stage, the built-in systems of the stage and then the active
 /// technique's systems of that stage, then `tick += 1`.
-pub fn step(world: &mut World, res: &mut Resources) {
+pub fn step(world: &mut World, res: &mut Resources, techniques: &Techniques) {
     // The active technique is read once per stage: the input stage may switch it, and the new
     // technique's systems run from the next stage on.
     let mut next = 0;
@@ -60,7 +61,7 @@ pub fn step(world: &mut World, res: &mut Resources) {
             run(world, res);
             next += 1;
         }
-        let technique = res.techniques.at(res.technique);
+        let technique = techniques.at(res.technique);
         if technique.systems.is_empty() {
             continue;
         }

@@ -14,7 +14,7 @@ use grove_systems::Sim;
 fn script() -> Script {
     let scene = Scene::builtin("study").unwrap();
     let mut sim = Sim::from_scene(&scene, 7).unwrap();
-    sim.res.techniques = Techniques::with(vec![technique()]).unwrap();
+    sim.set_techniques(Techniques::with(vec![technique()]).unwrap());
     Script::new(sim)
 }
 

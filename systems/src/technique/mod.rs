@@ -11,14 +11,18 @@
 //! because the built-in systems of [`crate::schedule`] already read [`crate::mode::Mode`].
 //!
 //! The app registers its techniques once at start-up ([`install`]); every simulation built
-//! afterwards knows them ([`installed`]). A simulation switches technique with the input event
+//! afterwards knows them ([`installed`]): the [`crate::Sim`] holds the registry (whose systems
+//! the schedule runs), its resources what the world knows of it ([`known`]). A simulation switches technique with the input event
 //! [`crate::input::InputEvent::SwitchTechnique`]; a recording that names a technique that is not
 //! registered is invalid input.
 
+pub mod known;
+
 use std::sync::{Arc, OnceLock};
 
-use hecs::{Entity, World};
-use serde::Serialize;
+use hecs::World;
+
+pub use known::{HashedComponent, Known, KnownTechniques};
 
 use crate::input::Button;
 use crate::mode::Mode;
@@ -61,29 +65,6 @@ impl Stage {
             Stage::Task => "task",
         }
     }
-}
-
-/// A technique's component type as the world hash sees it: a name and a function listing
-/// `(entity id bits, postcard bytes)` for every entity that has it. Like the built-in optional
-/// components, it takes part in the hash only in a world where some entity has it.
-#[derive(Clone, Copy)]
-pub struct HashedComponent {
-    /// The component's name in [`crate::hash::WorldHash::components`].
-    pub name: &'static str,
-    /// Every entity with the component and its serialized bytes.
-    pub rows: fn(&World) -> Vec<(u64, Vec<u8>)>,
-}
-
-impl HashedComponent {
-    /// The hashed form of a serializable component type `T`.
-    pub fn of<T: Serialize + hecs::Component>(name: &'static str) -> HashedComponent {
-        HashedComponent { name, rows: rows_of::<T> }
-    }
-}
-
-fn rows_of<T: Serialize + hecs::Component>(world: &World) -> Vec<(u64, Vec<u8>)> {
-    // Serializing plain data into a Vec cannot fail.
-    world.query::<(Entity, &T)>().iter().map(|(e, c)| (e.to_bits().get(), postcard::to_allocvec(c).unwrap_or_default())).collect()
 }
 
 /// A controller event a technique uses, and the desktop key or button that produces it.
@@ -148,7 +129,7 @@ impl Technique {
         Technique {
             name: Mode::RayCasting.name(),
             version: 1,
-            about: "point the controller ray at the ground and pull Trigger to plant",
+            about: known::RAY_CASTING_ABOUT,
             base: Mode::RayCasting,
             systems: Vec::new(),
             components: Vec::new(),
@@ -167,7 +148,7 @@ impl Technique {
         Technique {
             name: Mode::Manual.name(),
             version: 1,
-            about: "choose a model from the menu, then drag it into place",
+            about: known::MANUAL_ABOUT,
             base: Mode::Manual,
             systems: Vec::new(),
             components: Vec::new(),
@@ -191,6 +172,11 @@ impl Technique {
     /// Whether this is one of the two built-in techniques.
     pub fn is_builtin(&self) -> bool {
         self.name == Mode::RayCasting.name() || self.name == Mode::Manual.name()
+    }
+
+    /// What the world knows of it (all but its systems, controls and participant model).
+    pub fn known(&self) -> Known {
+        Known { name: self.name, version: self.version, about: self.about, base: self.base, components: self.components.clone() }
     }
 }
 
@@ -257,6 +243,11 @@ impl Techniques {
     /// The error for a name that is not registered.
     pub fn unknown(&self, name: &str) -> String {
         format!("technique '{}' is not registered; registered: {}", name.escape_debug(), self.names())
+    }
+
+    /// What the world knows of them, in the same order ([`crate::resources::Resources::techniques`]).
+    pub fn known(&self) -> KnownTechniques {
+        KnownTechniques::from_list(self.0.iter().map(Technique::known).collect())
     }
 }
 
