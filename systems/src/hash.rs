@@ -112,9 +112,9 @@ impl Acc {
         self.rows(name, rows, OPTIONAL.contains(&name));
     }
 
-    /// A technique's component ([`crate::technique::known::HashedComponent`]): each entity's postcard
+    /// A technique's component ([`crate::known_techniques::HashedComponent`]): each entity's postcard
     /// bytes hashed as the built-in components' are; nothing when no entity has it.
-    fn technique_component(&mut self, world: &World, c: &crate::technique::known::HashedComponent) {
+    fn technique_component(&mut self, world: &World, c: &crate::known_techniques::HashedComponent) {
         let rows = (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
         self.rows(c.name, rows, true);
     }

@@ -26,6 +26,7 @@ pub mod hash;
 pub mod holes;
 pub mod input;
 pub mod interact;
+pub mod known_techniques;
 pub mod limits;
 pub mod mode;
 pub mod replay;

@@ -236,7 +236,7 @@ pub struct Resources {
     /// The interaction mode: the built-in behaviour of the active technique.
     pub mode: Mode,
     /// The registered techniques as the world knows them (set with [`crate::Sim::set_techniques`]).
-    pub techniques: crate::technique::known::KnownTechniques,
+    pub techniques: crate::known_techniques::KnownTechniques,
     /// The active technique, an index into `techniques`; always one whose `base` is `mode`.
     pub technique: usize,
     /// The menu state.
@@ -267,8 +267,8 @@ impl Resources {
             config: Config::default(),
             catalogue,
             mode: Mode::default(),
-            techniques: crate::technique::known::KnownTechniques::builtin(),
-            technique: crate::technique::known::KnownTechniques::of_mode(Mode::default()),
+            techniques: crate::known_techniques::KnownTechniques::builtin(),
+            technique: crate::known_techniques::KnownTechniques::of_mode(Mode::default()),
             menu: MenuState::default(),
             interaction: Interaction::default(),
             input: Vec::new(),

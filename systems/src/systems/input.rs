@@ -12,7 +12,7 @@ use crate::components::{Buttons, Controller, Head};
 use crate::events::Happening;
 use crate::input::{Button, InputEvent};
 use crate::mode::Mode;
-use crate::technique::known::KnownTechniques as Techniques;
+use crate::known_techniques::KnownTechniques as Techniques;
 use crate::resources::{ButtonEdges, Resources};
 
 fn set(b: &mut Buttons, button: Button, value: bool) {

@@ -2,7 +2,8 @@
 //! hashed components, without their systems. [`crate::resources::Resources`] holds this (the
 //! input system switches technique by name, the world hash covers the components and the
 //! active technique), so that resources never depend on the systems' type, which names them.
-//! A leaf: it imports only [`crate::mode`].
+//! A leaf: it imports only [`crate::mode`]. [`crate::technique`] builds it from the full
+//! registrations.
 
 use std::sync::Arc;
 

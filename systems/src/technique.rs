@@ -12,17 +12,15 @@
 //!
 //! The app registers its techniques once at start-up ([`install`]); every simulation built
 //! afterwards knows them ([`installed`]): the [`crate::Sim`] holds the registry (whose systems
-//! the schedule runs), its resources what the world knows of it ([`known`]). A simulation switches technique with the input event
+//! the schedule runs), its resources what the world knows of it ([`crate::known_techniques`]). A simulation switches technique with the input event
 //! [`crate::input::InputEvent::SwitchTechnique`]; a recording that names a technique that is not
 //! registered is invalid input.
-
-pub mod known;
 
 use std::sync::{Arc, OnceLock};
 
 use hecs::World;
 
-pub use known::{HashedComponent, Known, KnownTechniques};
+pub use crate::known_techniques::{HashedComponent, Known, KnownTechniques};
 
 use crate::input::Button;
 use crate::mode::Mode;
@@ -129,7 +127,7 @@ impl Technique {
         Technique {
             name: Mode::RayCasting.name(),
             version: 1,
-            about: known::RAY_CASTING_ABOUT,
+            about: crate::known_techniques::RAY_CASTING_ABOUT,
             base: Mode::RayCasting,
             systems: Vec::new(),
             components: Vec::new(),
@@ -148,7 +146,7 @@ impl Technique {
         Technique {
             name: Mode::Manual.name(),
             version: 1,
-            about: known::MANUAL_ABOUT,
+            about: crate::known_techniques::MANUAL_ABOUT,
             base: Mode::Manual,
             systems: Vec::new(),
             components: Vec::new(),
