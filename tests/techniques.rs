@@ -141,3 +141,20 @@ fn a_scenario_file_switches_to_a_plug_in_technique_by_name() {
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stderr).contains("known: ray-casting, manual, gaze-dwell"), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// The plug-in's committed synthetic recordings (`techniques/gaze-dwell/replays/`) replay to
+/// their checkpoints, and `grove synth` writes them again byte for byte. After an intended
+/// change, regenerate them with `grove synth --participants 2 --techniques gaze-dwell --out
+/// techniques/gaze-dwell/replays --force`.
+#[test]
+fn the_committed_gaze_dwell_recordings_replay_and_regenerate_unchanged() {
+    let committed = common::root().join("techniques/gaze-dwell/replays");
+    let dir = tempfile::tempdir().unwrap();
+    synth(dir.path(), "2", "gaze-dwell");
+    for name in ["P01-gaze-dwell.jsonl", "P02-gaze-dwell.jsonl"] {
+        let o = grove_with(&["replay"], &committed.join(name));
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(o.status.success() && text.contains("verified, complete") && text.contains("completed"), "{name}: {text}{}", String::from_utf8_lossy(&o.stderr));
+        assert!(std::fs::read(committed.join(name)).unwrap() == std::fs::read(dir.path().join(name)).unwrap(), "{name} differs from a fresh grove synth");
+    }
+}
