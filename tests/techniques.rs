@@ -154,7 +154,7 @@ fn the_committed_gaze_dwell_recordings_replay_and_regenerate_unchanged() {
     for name in ["P01-gaze-dwell.jsonl", "P02-gaze-dwell.jsonl"] {
         let o = grove_with(&["replay"], &committed.join(name));
         let text = String::from_utf8_lossy(&o.stdout);
-        assert!(o.status.success() && text.contains("verified, complete") && text.contains("completed"), "{name}: {text}{}", String::from_utf8_lossy(&o.stderr));
+        assert!(o.status.success() && text.contains("verified, complete") && text.contains("(gaze-dwell): completed"), "{name}: {text}{}", String::from_utf8_lossy(&o.stderr));
         assert!(std::fs::read(committed.join(name)).unwrap() == std::fs::read(dir.path().join(name)).unwrap(), "{name} differs from a fresh grove synth");
     }
 }

@@ -179,7 +179,7 @@ pub fn evaluate(path: &Path, overrides: &[Override]) -> Trial {
 
 /// A task report whose mode is the technique that ran it: a plug-in's name in place of its base
 /// mode, so that reports tell the conditions apart.
-fn technique_report(mut report: TaskReport, sim: &grove_systems::Sim) -> TaskReport {
+pub fn technique_report(mut report: TaskReport, sim: &grove_systems::Sim) -> TaskReport {
     let t = sim.res.techniques.at(sim.res.technique);
     if !t.is_builtin() {
         report.mode = t.name.to_string();
