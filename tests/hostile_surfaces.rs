@@ -160,3 +160,45 @@ fn argument_errors_are_one_line() {
         refused_writing_nothing(&args, needle, dir.path());
     }
 }
+
+/// A textured triangle as the mutation run builds it, with `edit` applied to its JSON.
+fn triangle_model(dir: &Path, edit: impl Fn(String) -> String) -> PathBuf {
+    let model = dir.join("model");
+    std::fs::create_dir_all(model.join("tex")).unwrap();
+    let mut bin: Vec<u8> = Vec::new();
+    for c in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 0.0] {
+        bin.extend(c.to_le_bytes());
+    }
+    std::fs::write(model.join("tri.bin"), &bin).unwrap();
+    image::RgbaImage::from_pixel(4, 4, image::Rgba([40, 160, 60, 255])).save(model.join("tex/leaf.png")).unwrap();
+    let json = r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+ "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+ "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], "textures": [{"source": 0}],
+ "images": [{"uri": "tex/leaf.png"}], "buffers": [{"uri": "tri.bin", "byteLength": 60}],
+ "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 2, 0]},
+  {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]}"#;
+    let file = model.join("tri.gltf");
+    std::fs::write(&file, edit(json.to_string())).unwrap();
+    file
+}
+
+#[test]
+fn gltf_mutants_the_mutation_run_found_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let bank = dir.path().join("bank");
+    // The unchanged triangle is accepted, so the refusals below come from the edits.
+    let ok = grove(&["models", "add", s(&triangle_model(dir.path(), |j| j)), "--bank", s(&bank), "--name", "tri"]);
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let cases: [(fn(String) -> String, &str); 2] = [
+        // A POSITION accessor past the accessors (the gltf crate's validation indexed it unchecked).
+        (|j| j.replace(r#""POSITION": 0"#, r#""POSITION": 2000"#), "POSITION"),
+        // Fewer texture coordinates than positions (the tangents were computed before the check).
+        (|j| j.replace(r#""count": 3, "type": "VEC2""#, r#""count": 0, "type": "VEC2""#), "attributes of different lengths"),
+    ];
+    for (i, (edit, needle)) in cases.into_iter().enumerate() {
+        let d = dir.path().join(format!("case{i}"));
+        let file = triangle_model(&d, edit);
+        refused_writing_nothing(&["models", "add", s(&file), "--bank", s(&bank), "--name", &format!("m{i}")], needle, dir.path());
+    }
+}

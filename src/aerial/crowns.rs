@@ -153,12 +153,18 @@ pub fn label_crowns(mask: &[u8], width: u32, height: u32, gsd: f64) -> Vec<Crown
         .collect()
 }
 
+/// Checks that every crown's numbers are finite: a table grove writes is one grove can read
+/// back, so no non-finite number is ever written.
+pub fn check_finite(crowns: &[Crown]) -> Result<(), String> {
+    match crowns.iter().find(|c| ![c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m].iter().all(|v| v.is_finite())) {
+        Some(c) => Err(format!("crown {} has a position or size that is not a finite number; check --gsd", c.id)),
+        None => Ok(()),
+    }
+}
+
 /// Writes `crowns.csv` (header and one row per crown) atomically.
 pub fn write_csv(path: &Path, crowns: &[Crown]) -> Result<(), String> {
-    // No non-finite number is ever written: a table grove writes is one grove can read back.
-    if let Some(c) = crowns.iter().find(|c| ![c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m].iter().all(|v| v.is_finite())) {
-        return Err(format!("{}: crown {} has a position or size that is not a finite number; check --gsd", path.display(), c.id));
-    }
+    check_finite(crowns).map_err(|e| format!("{}: {e}", path.display()))?;
     super::raster::write_atomic(path, |w| {
         let mut csv = csv::Writer::from_writer(w);
         for c in crowns {

@@ -1,32 +1,23 @@
 //! The glTF extensions grove cannot read, found before the `gltf` crate sees the file, so that
-//! the error names the extension and a conversion that works instead of "not a valid glTF".
+//! the error names the extension (and, for compressed geometry, a conversion that works)
+//! instead of "not a valid glTF". The lists live with the loader (`render::assets::gltf_check`),
+//! which applies the same check to every model it loads.
 
 use std::path::Path;
 
-/// Compressed-geometry extensions grove does not decode, each with the command that writes an
-/// uncompressed copy grove reads (glTF-Transform's CLI; its author documents `cp` as the way to
-/// decompress, donmccurdy/glTF-Transform#150).
-pub const REFUSED: &[(&str, &str)] = &[
-    ("KHR_draco_mesh_compression", "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes Draco when it reads a file and writes plain buffers)"),
-    ("EXT_meshopt_compression", "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes meshopt when it reads a file and writes plain buffers)"),
-];
+use grove_systems::files::{self, Kind};
 
+pub use crate::render::assets::gltf_check::COMPRESSED as REFUSED;
 pub use crate::render::assets::gltf_open::{extensions_of, json_of};
 
-/// Refuses a file that uses an extension grove cannot decode: one line naming the extension and
-/// the conversion. Files that do not parse pass, for the loader to report.
+/// Refuses a file that uses an extension grove cannot decode or requires one it does not read:
+/// one line naming the extension (and the conversion). Files that cannot be read or do not
+/// parse pass, for the loader to report.
 pub fn check_file(path: &Path) -> Result<(), String> {
-    if !path.is_file() {
-        return Ok(());
-    }
-    let Ok(bytes) = std::fs::read(path) else { return Ok(()) };
+    let Ok(bytes) = files::read(path, Kind::Gltf) else { return Ok(()) };
     let (required, used) = extensions_of(&bytes);
-    for (ext, fix) in REFUSED {
-        if required.iter().chain(&used).any(|e| e == ext) {
-            return Err(format!("{}: uses {ext}, which grove does not decode; convert it first with {}", path.display(), fix.replace("IN", &path.display().to_string())));
-        }
-    }
-    Ok(())
+    let shown = path.display().to_string();
+    crate::render::assets::gltf_check::extensions(&shown, &required, &used).map(|_| ()).map_err(|e| format!("{shown}: {e}"))
 }
 
 #[cfg(test)]

@@ -8,10 +8,13 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context};
-use grove_systems::bank::{hash_files, is_inside, valid_name, Bank, BankModel, WindSource, CATALOGUE_FILE, MAX_MODELS};
+use grove_systems::bank::{hash_files, valid_name, Bank, BankModel, WindSource, CATALOGUE_FILE, MAX_MODELS};
 use grove_systems::catalogue::{Catalogue, ModelKind};
 
-use crate::render::assets::gltf_load::{load_model, ModelData};
+use grove_systems::files::{self, Kind};
+
+use crate::render::assets::gltf_files;
+use crate::render::assets::gltf_load::ModelData;
 
 /// What to add, and under which name.
 #[derive(Clone, Debug)]
@@ -38,10 +41,11 @@ pub enum Added {
 }
 
 /// The files a glTF file names beside itself (buffers and images that are not `data:` URIs),
-/// relative to its folder, in document order without repeats; one outside the folder is an
-/// error.
+/// relative to its folder, in document order without repeats. One that lies outside the folder
+/// (`..`, an absolute path, a URL, or a symbolic link to a file or through a folder outside it)
+/// is refused with one line naming the URI, before anything it names is read.
 pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
-    let bytes = std::fs::read(file).with_context(|| format!("{}: cannot read", file.display()))?;
+    let bytes = files::read(file, Kind::Gltf).map_err(|e| anyhow!(e))?;
     let gltf = crate::render::assets::gltf_open::parse(&bytes).map_err(|e| anyhow!("{}: not a valid glTF 2.0 file ({})", file.display(), e.to_string().replace('\n', " ")))?;
     let mut uris: Vec<String> = Vec::new();
     for b in gltf.document.buffers() {
@@ -54,15 +58,12 @@ pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
             uris.push(uri.to_string());
         }
     }
+    let base = source_dir(file);
     let mut out: Vec<String> = Vec::new();
     for u in uris {
-        if u.starts_with("data:") {
-            continue;
-        }
-        let rel = u.replace("%20", " ");
-        if !is_inside(&rel) {
-            bail!("{}: names the file '{u}' outside its folder; grove copies only files beside the model or below it", file.display());
-        }
+        let named = |m: String| anyhow!("{}: names the file '{u}', which {m}", file.display());
+        let Some(rel) = gltf_files::relative_path(&u).map_err(named)? else { continue };
+        gltf_files::resolve(&base, &u).map_err(named)?;
         if !out.contains(&rel) {
             out.push(rel);
         }
@@ -70,19 +71,36 @@ pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
     Ok(out)
 }
 
-/// Loads and measures a file the way `add` does, refusing unsupported compression first.
+/// The folder of a model file (`.` for a bare file name).
+fn source_dir(file: &Path) -> PathBuf {
+    file.parent().filter(|p| !p.as_os_str().is_empty()).map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."))
+}
+
+/// Loads a file the way `add` does, with every check of [`super::validate_gltf`].
 pub fn load_checked(file: &Path) -> anyhow::Result<ModelData> {
-    super::extensions::check_file(file).map_err(|e| anyhow!(e))?;
-    load_model(file).map_err(|e| anyhow!(e))
+    super::validate_gltf(file).map_err(|e| anyhow!(e))
 }
 
 /// Adds a model to a bank (see the module docs).
 pub fn add(req: &AddRequest) -> anyhow::Result<Added> {
+    add_noted(req).map(|(added, _)| added)
+}
+
+/// [`add`], also returning the loaded model's `notes` (what a still shows in one state: the
+/// rest pose of its animations, the bind pose of a skin) and `warnings` (what grove does not
+/// draw), for the command's output.
+pub fn add_noted(req: &AddRequest) -> anyhow::Result<(Added, ModelData)> {
     let file = &req.file;
     if !file.is_file() {
         bail!("{}: {}", file.display(), if file.exists() { "not a regular file" } else { "no such file" });
     }
     let data = load_checked(file)?;
+    let added = add_loaded(req, &data)?;
+    Ok((added, data))
+}
+
+fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
+    let file = &req.file;
     let stem = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let name = req.name.clone().unwrap_or(stem);
     if !valid_name(&name) {
@@ -95,7 +113,7 @@ pub fn add(req: &AddRequest) -> anyhow::Result<Added> {
     if species.is_empty() || species.len() > 64 || species.chars().any(char::is_control) {
         bail!("--species must be 1 to 64 printable characters");
     }
-    let src_dir = file.parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
+    let src_dir = source_dir(file);
     let main = file.file_name().map(|s| s.to_string_lossy().into_owned()).ok_or_else(|| anyhow!("{}: not a file name", file.display()))?;
     let mut rels = vec![main.clone()];
     for r in resources_of(file)? {
@@ -103,10 +121,14 @@ pub fn add(req: &AddRequest) -> anyhow::Result<Added> {
             rels.push(r);
         }
     }
+    // Only regular files whose real path lies inside the model's folder are copied (checked
+    // again here, after the model was loaded, and read through `files` below).
     for r in &rels[1..] {
-        if !src_dir.join(r).is_file() {
+        let p = src_dir.join(r);
+        if !p.exists() {
             bail!("{}: the file '{r}' it names is missing", file.display());
         }
+        files::within(&p, &src_dir).map_err(|e| anyhow!("{}: names the file '{r}', which {}", file.display(), e.reason()))?;
     }
     let files: Vec<String> = rels.iter().map(|r| format!("{name}/{r}")).collect();
     let hash = hash_files(files.iter().zip(&rels).map(|(f, r)| (f.as_str(), src_dir.join(r)))).map_err(|e| anyhow!(e))?;
@@ -127,7 +149,7 @@ pub fn add(req: &AddRequest) -> anyhow::Result<Added> {
         bail!("{}: exists but is not in the bank's catalogue; remove it or choose another --name", dest.display());
     }
 
-    let m = super::measure(&data);
+    let m = super::measure(data);
     let model = BankModel {
         name: name.clone(),
         species,
@@ -151,9 +173,11 @@ pub fn add(req: &AddRequest) -> anyhow::Result<Added> {
             if let Some(parent) = to.parent() {
                 std::fs::create_dir_all(parent).with_context(|| format!("{}: cannot create", parent.display()))?;
             }
-            std::fs::copy(src_dir.join(r), &to).with_context(|| format!("{}: cannot copy", src_dir.join(r).display()))?;
+            let from = files::within(&src_dir.join(r), &src_dir).map_err(|e| anyhow!(e))?;
+            let bytes = files::read(&from, Kind::ModelFile).map_err(|e| anyhow!(e))?;
+            std::fs::write(&to, bytes).with_context(|| format!("{}: cannot copy", src_dir.join(r).display()))?;
         }
-        let png = super::thumbnail::png(&data).map_err(|e| anyhow!(e))?;
+        let png = super::thumbnail::png(data).map_err(|e| anyhow!(e))?;
         std::fs::write(tmp.join("thumbnail.png"), png).with_context(|| format!("{}: cannot write the thumbnail", tmp.display()))?;
         std::fs::rename(&tmp, &dest).with_context(|| format!("{}: cannot move the model into place", dest.display()))?;
         Ok(())

@@ -9,6 +9,7 @@ pub mod extensions;
 pub mod import;
 pub mod measure;
 pub mod thumbnail;
+pub mod validate;
 
 use std::path::{Path, PathBuf};
 
@@ -16,6 +17,7 @@ use grove_systems::bank::{bank_dirs, Banks, BANK_ENV};
 use grove_systems::catalogue::ModelId;
 
 pub use measure::{measure, Measured};
+pub use validate::{validate_gltf, BankError};
 
 /// The bank folders of a session: the `--bank` folders in order, then those of `GROVE_BANK`.
 pub fn session_dirs(args: &[PathBuf]) -> Vec<PathBuf> {
@@ -61,8 +63,7 @@ pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue)
 /// file.
 pub fn load_into(renderer: &mut crate::render::Renderer, files: &[(ModelId, PathBuf)]) -> Result<(), String> {
     for (id, path) in files {
-        extensions::check_file(path)?;
-        let data = crate::render::assets::gltf_load::load_model(path)?;
+        let data = validate_gltf(path).map_err(|e| e.to_string())?;
         renderer.set_model(*id, &data);
     }
     Ok(())

@@ -1,6 +1,7 @@
 //! A model's thumbnail for the bank, drawn on the CPU so that `grove models add` needs no GPU:
 //! an orthographic view from the south (+Z towards −Z), framed from the bounds, with each
-//! triangle's albedo texture sampled (alpha-clipped where the material is) and lit by one
+//! triangle's albedo texture sampled (alpha-clipped where the material is) times its vertex
+//! colours, and lit by one
 //! directional light. Deterministic: the same model gives the same PNG bytes.
 
 use glam::{Vec2, Vec3, Vec4};
@@ -55,7 +56,9 @@ pub fn draw(data: &ModelData) -> Vec<u8> {
                         continue;
                     }
                     let uv = Vec2::from(v[0].uv) * w0 + Vec2::from(v[1].uv) * w1 + Vec2::from(v[2].uv) * w2;
-                    let c = mat.base_color * tex.map_or(Vec4::ONE, |img| sample(img, uv));
+                    let col = v.map(|x| Vec4::from(x.color.map(|c| f32::from(c) / 255.0)));
+                    let vertex_colour = col[0] * w0 + col[1] * w1 + col[2] * w2;
+                    let c = mat.base_color * vertex_colour * tex.map_or(Vec4::ONE, |img| sample(img, uv));
                     if mat.alpha_cutoff.is_some_and(|cut| c.w < cut) {
                         continue;
                     }

@@ -261,6 +261,8 @@ fn segment(a: SegmentArgs) -> anyhow::Result<ExitCode> {
     let t_crowns = t3.elapsed().as_secs_f64();
     let treetop_texels = mask.iter().filter(|&&m| m != 0).count() as u64;
     let t4 = Instant::now();
+    // Everything that can be refused is checked before the first file is written.
+    crowns::check_finite(&found).map_err(|e| anyhow!("{}: {e}", outputs[1].display()))?;
     out_dir(&a.out)?;
     write_png(&outputs[0], seg.width, seg.height, 1, &mask).map_err(|e| anyhow!(e))?;
     crowns::write_csv(&outputs[1], &found).map_err(|e| anyhow!(e))?;

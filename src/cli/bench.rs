@@ -6,108 +6,14 @@
 //! JSON value; every figure is the median of several timed runs on one thread, in whatever
 //! build (debug or release) the binary is.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
 
 use anyhow::anyhow;
-use clap::{Args, ValueEnum};
 use grove_systems::Sim;
 use serde::Serialize;
 use serde_json::{Value, json};
 
-/// The benchmarks `grove bench` knows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Which {
-    /// The simulation tick with 1k to 1M trees, animation systems on.
-    Sim,
-    /// Replay speed of a 5-minute session.
-    Replay,
-    /// The whole study: 24 recordings re-simulated, verified and reported.
-    Study,
-    /// The wind and sun systems' tick for 100k trees.
-    Wind,
-    /// One controller ray against the study planes and 10k trees.
-    Raycast,
-    /// Offscreen frame times at 1280x720: the 100-tree reference scene and cost per model.
-    Render,
-    /// Only the 100-tree reference scene of the render benchmark, shadows on and off.
-    RenderReference,
-    /// Grass: Fukuda et al.'s 1 km² shell field with and without grass, and 10k to 1M blades at
-    /// 640x360 and 1280x720.
-    Grass,
-    /// Only the grass goals: 65,536 blades all in view at 640x360 (at most 33 ms) and Fukuda et
-    /// al.'s 1 km² shell field at 1280x720, each with and without grass.
-    GrassGoals,
-    /// The reference scene, a 10k-tree forest, the water test and grass on a real GPU, and the
-    /// forest scene and a million trees at 1920x1080, timed with timestamp queries (fails on a
-    /// software adapter such as lavapipe).
-    RenderGpu,
-    /// Fukuda et al.'s water test: 500 m of water 50 m deep under the sky, with and without
-    /// water, at 1280x720.
-    Water,
-    /// The 10,000-tree forest of assets/scenes/forest.ron at 1280x720, shadows on and off.
-    RenderForest,
-    /// Fukuda et al.'s park table on assets/scenes/park.ron at 1280x720: nothing, grass, grass
-    /// and water, grass, water and shadows.
-    Park,
-}
-
-/// Arguments of `grove bench`.
-#[derive(Args)]
-pub struct BenchArgs {
-    /// Which benchmarks to run (default: all).
-    #[arg(value_enum)]
-    pub which: Vec<Which>,
-    /// The scene used by the benchmarks.
-    #[arg(long, default_value = "assets/scenes/study.ron")]
-    pub scene: PathBuf,
-    /// Tree counts for the sim tick benchmark (comma-separated).
-    #[arg(long, value_delimiter = ',', default_values_t = vec![1_000usize, 10_000, 100_000, 1_000_000])]
-    pub trees: Vec<usize>,
-    /// Ticks timed per tree count.
-    #[arg(long, default_value_t = 120)]
-    pub ticks: u64,
-    /// Shadow-map edge in texels for the render benchmarks.
-    #[arg(long, default_value_t = grove::render::RenderOptions::default().shadow_size)]
-    pub shadow_size: u32,
-    /// Leaf pixel budget of the foliage level of detail for the render benchmarks (0: every
-    /// leaf at every distance).
-    #[arg(long, default_value_t = grove::render::RenderOptions::default().leaf_pixels)]
-    pub leaf_pixels: f32,
-    /// On-screen size in pixels below which trees are drawn as impostors in the render
-    /// benchmarks (0: every tree a mesh).
-    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = non_negative)]
-    pub impostor_pixels: f32,
-}
-
-/// Parses a finite number of at least 0 (a clap value parser).
-pub fn non_negative(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("expected a number of at least 0, got {s:?}")),
-    }
-}
-
-/// The median of a slice of timings (sorted in place); 0 for an empty slice.
-pub fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}
-
-/// Times `f` `n` times and returns the per-call durations in milliseconds.
-pub fn time_ms(n: usize, mut f: impl FnMut()) -> Vec<f64> {
-    (0..n)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect()
-}
+pub use super::bench_args::{median, time_ms, BenchArgs, Which};
 
 #[derive(Serialize)]
 struct TickFigure {

@@ -104,7 +104,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
     }
     let cpu = cpu_start.zip(process_cpu_ms()).map(|(a, b)| (b - a) / frames.max(1) as f64);
     let blades = r.visible_blades().map_err(|e| anyhow!(e))?;
-    let ms = super::bench::median(&mut wall);
+    let ms = super::bench_args::median(&mut wall);
     let mut v = json!({
         "ms_per_frame": ms,
         "fps": 1e3 / ms,
@@ -117,8 +117,8 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
         v["cpu_ms_per_frame"] = json!(cpu);
     }
     if !compute.is_empty() {
-        v["gpu_compute_pass_ms"] = json!(super::bench::median(&mut compute));
-        v["gpu_main_pass_ms"] = json!(super::bench::median(&mut main));
+        v["gpu_compute_pass_ms"] = json!(super::bench_args::median(&mut compute));
+        v["gpu_main_pass_ms"] = json!(super::bench_args::median(&mut main));
     }
     Ok(v)
 }

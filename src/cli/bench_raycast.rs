@@ -14,7 +14,7 @@ use grove_systems::Sim;
 use serde::Serialize;
 use serde_json::Value;
 
-use super::bench::{median, time_ms, BenchArgs};
+use super::bench_args::{median, time_ms, BenchArgs};
 
 /// Trees in the raycast benchmark.
 pub const RAYCAST_TREES: usize = 10_000;

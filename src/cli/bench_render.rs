@@ -162,14 +162,14 @@ pub(super) fn time_frames_at(
     }
     let passes = (!shadow.is_empty()).then(|| {
         (
-            super::bench::median(&mut shadow),
-            super::bench::median(&mut main),
+            super::bench_args::median(&mut shadow),
+            super::bench_args::median(&mut main),
         )
     });
     let cpu_ms = cpu_start.zip(process_cpu_ns()).map(|(a, b)| b.saturating_sub(a) as f64 / 1e6 / times.len().max(1) as f64);
     Ok(FrameTime {
         cpu_ms,
-        ms: super::bench::median(&mut times),
+        ms: super::bench_args::median(&mut times),
         passes,
     })
 }

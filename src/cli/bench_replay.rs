@@ -13,7 +13,7 @@ use grove_systems::script::Script;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench::median;
+use super::bench_args::median;
 
 /// Builds a 5-minute recording in memory: the controller sweeps over the ground at 30 Hz and
 /// plants, selects and removes trees every few seconds.

@@ -71,11 +71,11 @@ fn time_water(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, water: bool, frames
         }
     }
     renderer.options.water = true;
-    let ms = super::bench::median(&mut wall);
+    let ms = super::bench_args::median(&mut wall);
     let mut v = json!({"ms_per_frame": ms, "fps": 1e3 / ms, "draws": renderer.stats.draws, "triangles": renderer.stats.triangles});
     if timed {
         for (k, name) in names.iter().enumerate() {
-            v[format!("gpu_{name}_pass_ms")] = json!(super::bench::median(&mut passes[k]));
+            v[format!("gpu_{name}_pass_ms")] = json!(super::bench_args::median(&mut passes[k]));
         }
     }
     Ok(v)

@@ -11,7 +11,7 @@ use grove_systems::systems::{sun, wind};
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench::{median, time_ms, BenchArgs};
+use super::bench_args::{median, time_ms, BenchArgs};
 
 /// Trees in the wind benchmark.
 pub const WIND_BENCH_TREES: usize = 100_000;

@@ -7,6 +7,7 @@ pub mod aerial_flight;
 pub mod aerial_tile;
 pub mod assets;
 pub mod bench;
+pub mod bench_args;
 pub mod bench_grass;
 pub mod bench_impostor;
 pub mod bench_park;

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use clap::{Args, Subcommand, ValueEnum};
-use grove::bank::import::{add, load_checked, AddRequest, Added};
+use grove::bank::import::{add_noted, load_checked, AddRequest, Added};
 use grove::bank::measure;
 use grove_systems::bank::{Bank, BankModel};
 use grove_systems::catalogue::{Catalogue, ModelKind, PickShape, PICK_BANDS};
@@ -121,9 +121,14 @@ fn run_add(a: AddArgs) -> anyhow::Result<ExitCode> {
         KindArg::Billboard => ModelKind::Billboard,
     });
     let req = AddRequest { file: a.file, bank: bank.clone(), name: a.name, species: a.species, kind };
-    match add(&req)? {
+    let (added, data) = add_noted(&req)?;
+    for w in &data.warnings {
+        eprintln!("warning: {w}");
+    }
+    let notes: String = data.notes.iter().map(|n| format!("; {n}")).collect();
+    match added {
         Added::New(m) => println!(
-            "added '{}' ({}, {}) to {}: {:.2} m tall, lowest point {:.3} m, {} triangles, wind {}",
+            "added '{}' ({}, {}) to {}: {:.2} m tall, lowest point {:.3} m, {} triangles, wind {}{notes}",
             m.name,
             m.species,
             kind_name(m.kind),

@@ -58,7 +58,7 @@ pub struct RenderArgs {
     pub overlay: Option<Overlay>,
     /// Draw trees whose bounding sphere covers fewer pixels than this as impostors (0: never;
     /// --model always draws the mesh).
-    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = super::bench::non_negative)]
+    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = super::bench_args::non_negative)]
     pub impostor_pixels: f32,
     /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
     /// to see the model sway in the study's wind).
@@ -169,11 +169,20 @@ fn frames_setup(args: &RenderArgs, n: u32, dt: f32) -> anyhow::Result<u64> {
     Ok(((1.0 / args.fps) / dt as f64).round().max(1.0) as u64)
 }
 
+/// A `--model` file read and checked as a bank model is ([`grove::bank::validate_gltf`]),
+/// before the GPU starts; what it uses that grove does not draw is printed as warnings.
+fn load_model_checked(model: &Path) -> anyhow::Result<grove::render::assets::gltf_load::ModelData> {
+    let data = grove::bank::validate_gltf(model).map_err(|e| anyhow!(e))?;
+    for w in &data.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(data)
+}
+
 /// `--model FILE --frames N`: the model alone on its stage in the study scene's wind, so that its
 /// wind channels (its own, or those grove computes, docs/model-bank.md) show as motion.
 fn model_frames(args: &RenderArgs, model: &Path, n: u32) -> anyhow::Result<ExitCode> {
-    grove::bank::extensions::check_file(model).map_err(|e| anyhow!(e))?;
-    let data = grove::render::assets::gltf_load::load_model(model).map_err(|e| anyhow!(e))?;
+    let data = load_model_checked(model)?;
     let id = grove_systems::catalogue::ModelId(0);
     let mut sim = grove_systems::stage::model_stage(data.bounds, args.width as f32 / args.height as f32, false, id).map_err(|e| anyhow!(e))?;
     let study = grove_systems::scene::Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?;
@@ -211,8 +220,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(model) = &args.model {
         check_out_file(&args.out, args.force)?;
+        let data = load_model_checked(model)?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let img = offscreen::render_model_file(&gpu, model, args.width, args.height, options(&args)).map_err(|e| anyhow!(e))?;
+        let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args)).map_err(|e| anyhow!(e))?;
         write_via_temp(&args.out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))?;
         println!("{}: rendered {} ({}x{}) on {}", args.out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);

@@ -206,7 +206,7 @@ fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model
     let staged_gltf = stage.join(format!("{name}.gltf"));
     std::fs::write(&staged_gltf, json.as_bytes()).with_context(|| format!("{}: cannot write", staged_gltf.display()))?;
     // The same check a model gets when it is added to a bank.
-    crate::bank::import::load_checked(&staged_gltf).with_context(|| format!("the model written for '{}' is not valid", g.name))?;
+    crate::bank::validate_gltf(&staged_gltf).with_context(|| format!("the model written for '{}' is not valid", g.name))?;
     place(stage, dir, name, &bin)?;
     Ok(Written { gltf: dir.join(format!("{name}.gltf")), triangles: model.wood.triangles() + model.leaves.triangles() })
 }

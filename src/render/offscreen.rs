@@ -189,11 +189,15 @@ pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), String> {
 /// ground plane (the simulation crate's staging scene, [`model_stage`]), always as the mesh
 /// (`options.impostor_pixels` is ignored).
 pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, String> {
-    let data = gltf_load::load_model(path)?;
+    render_model_data(gpu, &gltf_load::load_model(path)?, width, height, options)
+}
+
+/// [`render_model_file`] of a model already loaded.
+pub fn render_model_data(gpu: &Gpu, data: &gltf_load::ModelData, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, String> {
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, FORMAT, width, height, &super::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, ..options };
-    renderer.set_model(ModelId(0), &data);
+    renderer.set_model(ModelId(0), data);
     let sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0))?;
     render_image(gpu, &mut renderer, &sim)
 }

@@ -28,7 +28,7 @@ pub const BANK_ENV: &str = "GROVE_BANK";
 /// The most models a session's catalogue holds (model ids are one byte).
 pub const MAX_MODELS: usize = 255;
 /// The largest model file (glTF, buffer or texture) grove hashes, bytes.
-pub const MAX_FILE_BYTES: u64 = 512 << 20;
+pub const MAX_FILE_BYTES: u64 = crate::limits::MAX_MODEL_FILE_BYTES;
 /// The largest catalogue file grove reads, bytes.
 pub const MAX_CATALOGUE_BYTES: u64 = crate::limits::MAX_INDEX_BYTES;
 
@@ -145,10 +145,13 @@ pub fn content_hash(dir: &Path, files: &[String]) -> Result<String, String> {
 pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, String> {
     let mut h = Xxh3::new();
     for (name, path) in files {
-        let (mut f, len) = crate::files::open(&path, crate::files::Kind::ModelFile).map_err(|e| e.to_string())?;
-        // Streamed in blocks, so that hashing takes little memory however large the file.
+        // A regular file of at most the model-file limit, opened without blocking on a pipe.
+        let (f, len) = crate::files::open(&path, crate::files::Kind::ModelFile).map_err(|e| e.to_string())?;
+        // Streamed in blocks, so that hashing takes little memory however large the file; never
+        // more than one byte past its length, in case it grows meanwhile.
         use std::io::Read;
         let io = |e: std::io::Error| format!("{}: {}", path.display(), crate::scene::io_message(&e));
+        let mut f = f.take(len + 1);
         h.update(name.as_bytes());
         h.update(&len.to_le_bytes());
         let mut buf = vec![0u8; 1 << 16];

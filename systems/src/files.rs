@@ -62,7 +62,7 @@ impl Kind {
             Kind::Table => l::MAX_TABLE_BYTES,
             Kind::Index => l::MAX_INDEX_BYTES,
             Kind::Scenario => l::MAX_SCENARIO_BYTES,
-            Kind::Gltf | Kind::ModelFile => crate::bank::MAX_FILE_BYTES,
+            Kind::Gltf | Kind::ModelFile => l::MAX_MODEL_FILE_BYTES,
             Kind::Image => l::MAX_IMAGE_FILE_BYTES,
             Kind::ImageRows => u64::MAX,
             Kind::Cache => l::MAX_CACHE_BYTES,

@@ -21,6 +21,10 @@ pub const MAX_LINE_BYTES: usize = 1 << 20;
 /// recording.
 pub const MAX_SCENE_BYTES: u64 = 8 << 20;
 
+/// The largest file of a model (a glTF file, a buffer or image it names, a file of a model
+/// bank), bytes (512 MiB).
+pub const MAX_MODEL_FILE_BYTES: u64 = 512 << 20;
+
 /// The most grid cells of all the grid planes of one scene together (a cell is two triangles).
 /// An explicit mesh counts one cell per two triangles. At about 400 bytes per cell once built
 /// (vertices, triangles and the ray-cast tree), this keeps a scene under about 100 MB.

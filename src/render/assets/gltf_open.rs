@@ -75,10 +75,29 @@ fn without_handled(bytes: &[u8]) -> Option<Vec<u8>> {
 
 /// Parses and validates a glTF or GLB file's bytes (see the module docs).
 pub fn parse(bytes: &[u8]) -> gltf::Result<gltf::Gltf> {
-    match without_handled(bytes) {
-        Some(b) => gltf::Gltf::from_slice(&b),
-        None => gltf::Gltf::from_slice(bytes),
+    let handled = without_handled(bytes);
+    let bytes = handled.as_deref().unwrap_or(bytes);
+    positions_in_range(&gltf::Gltf::from_slice_without_validation(bytes)?)?;
+    gltf::Gltf::from_slice(bytes)
+}
+
+/// The one index the `gltf` crate's own validation follows without checking it first (a
+/// primitive's `POSITION` accessor, for its `min` and `max`): out of range, it is refused here
+/// as the crate refuses every other index, instead of reaching an index out of bounds there.
+fn positions_in_range(g: &gltf::Gltf) -> gltf::Result<()> {
+    use gltf::json::validation::{Checked, Error};
+    let root = g.document.as_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            if let Some(i) = prim.attributes.get(&Checked::Valid(gltf::json::mesh::Semantic::Positions))
+                && i.value() >= root.accessors.len()
+            {
+                let path = gltf::json::Path::new().field("meshes").index(m).field("primitives").index(p).field("attributes").key("POSITION");
+                return Err(gltf::Error::Validation(vec![(path, Error::IndexOutOfBounds)]));
+            }
+        }
     }
+    Ok(())
 }
 
 #[cfg(test)]

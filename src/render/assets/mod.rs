@@ -3,7 +3,11 @@
 //! environment cubemap and its irradiance).
 
 pub mod accessor;
+pub mod gltf_check;
+pub mod gltf_files;
 pub mod gltf_load;
 pub mod gltf_open;
+pub mod gltf_prim;
+pub mod model;
 pub mod wind_channels;
 pub mod textures;

@@ -57,6 +57,9 @@ struct VertexIn {
     // fragments give up the dithered share `fade` of their pixels to the impostor, and opaque
     // parts (the trunk) give way at half the band.
     @location(13) fade: f32,
+    // The vertex colour (COLOR_0, linear; white where the model has none), multiplying the base
+    // colour.
+    @location(14) color: vec4<f32>,
 };
 
 // The linear size of a leaf of rank `rank` on a tree that keeps the share `keep` of its leaves:
@@ -77,6 +80,7 @@ struct VertexOut {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+    @location(4) color: vec4<f32>,
 };
 
 fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
@@ -109,6 +113,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.normal = rotate_y(v.normal, v.yaw);
     out.tangent = vec4<f32>(rotate_y(v.tangent.xyz, v.yaw), v.tangent.w);
     out.uv = v.uv;
+    out.color = v.color;
     return out;
 }
 
@@ -121,7 +126,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let dpy = dpdy(in.world_pos);
     // The albedo's texels are sRGB-encoded bytes in a linear format, decoded after filtering.
     let texel = textureSample(albedo_tex, material_sampler, in.uv);
-    let base = vec4<f32>(srgb_decode(texel.rgb), texel.a) * material.base_color;
+    let base = vec4<f32>(srgb_decode(texel.rgb), texel.a) * material.base_color * in.color;
     let normal_spec = textureSample(normal_spec_tex, material_sampler, in.uv);
     let nt = normal_spec.xyz * 2.0 - 1.0;
     let spec_tex = normal_spec.a;
@@ -155,6 +160,7 @@ struct DepthOut {
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) fade: f32,
+    @location(2) alpha: f32,
 };
 
 // Depth only, for the shadow map (with the light's frame) and the alpha-clipped materials'
@@ -165,6 +171,7 @@ fn vs_depth(v: VertexIn) -> DepthOut {
     out.clip = frame.view_proj * vec4<f32>(world_position(v), 1.0);
     out.uv = v.uv;
     out.fade = v.fade;
+    out.alpha = v.color.a;
     return out;
 }
 
@@ -172,7 +179,7 @@ fn vs_depth(v: VertexIn) -> DepthOut {
 // dappled shadows, in the pre-pass the holes through which farther leaves are seen.
 @fragment
 fn fs_alpha_test(in: DepthOut) {
-    let a = textureSample(albedo_tex, material_sampler, in.uv).a * material.base_color.a;
+    let a = textureSample(albedo_tex, material_sampler, in.uv).a * material.base_color.a * in.alpha;
     if (material.alpha_cutoff >= 0.0 && a < material.alpha_cutoff) {
         discard;
     }

@@ -33,6 +33,8 @@ struct BakeIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    // The vertex colour (COLOR_0, linear; white where the model has none).
+    @location(14) color: vec4<f32>,
 };
 
 struct BakeVarying {
@@ -40,6 +42,7 @@ struct BakeVarying {
     @location(0) normal: vec3<f32>,
     @location(1) uv: vec2<f32>,
     @location(2) depth: f32,
+    @location(3) color: vec4<f32>,
 };
 
 @vertex
@@ -63,6 +66,7 @@ fn vs_bake(v: BakeIn, @builtin(instance_index) cell_index: u32) -> BakeVarying {
     out.normal = v.normal;
     out.uv = v.uv;
     out.depth = depth;
+    out.color = v.color;
     return out;
 }
 
@@ -75,7 +79,7 @@ struct BakeOut {
 fn fs_bake(in: BakeVarying, @builtin(front_facing) front: bool) -> BakeOut {
     // The albedo's texels are sRGB-encoded bytes in a linear format, decoded after filtering.
     let texel = textureSample(albedo_tex, material_sampler, in.uv);
-    let base = vec4<f32>(srgb_decode(texel.rgb), texel.a) * material.base_color;
+    let base = vec4<f32>(srgb_decode(texel.rgb), texel.a) * material.base_color * in.color;
     if (material.alpha_cutoff >= 0.0 && base.a < material.alpha_cutoff) {
         discard;
     }
