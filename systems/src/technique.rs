@@ -134,7 +134,7 @@ impl Technique {
             controls: vec![
                 Control { button: Button::Trigger, desktop: "left mouse button", action: "plant on the ground, select a tree" },
                 Control { button: Button::Bumper, desktop: "right mouse button", action: "remove the tree under the ray" },
-                Control { button: Button::Menu, desktop: "M", action: "open the model menu" },
+                Control { button: Button::Menu, desktop: "Tab or M", action: "open the model menu" },
             ],
             participant: vec![Operator::Mental, Operator::Menu, Operator::AimRay, Operator::Press(Button::Trigger)],
         }
@@ -153,8 +153,8 @@ impl Technique {
             controls: vec![
                 Control { button: Button::Trigger, desktop: "left mouse button", action: "grab and drag a tree or a handle" },
                 Control { button: Button::Bumper, desktop: "right mouse button", action: "remove the tree under the ray" },
-                Control { button: Button::Touchpad, desktop: "W/A/S/D", action: "move and turn the selected tree" },
-                Control { button: Button::Menu, desktop: "M", action: "open the model menu" },
+                Control { button: Button::Touchpad, desktop: "mouse wheel or Up/Down (front/back), Q/E (left/right)", action: "move the selected tree along the ray and turn it" },
+                Control { button: Button::Menu, desktop: "Tab or M", action: "open the model menu" },
             ],
             participant: vec![
                 Operator::Mental,

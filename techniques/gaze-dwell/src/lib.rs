@@ -51,7 +51,7 @@ pub fn technique() -> Technique {
         controls: vec![
             Control { button: Button::Trigger, desktop: "left mouse button", action: "plant where the gaze rests, at once" },
             Control { button: Button::Bumper, desktop: "right mouse button", action: "remove the tree under the gaze" },
-            Control { button: Button::Menu, desktop: "M", action: "open the model menu" },
+            Control { button: Button::Menu, desktop: "Tab or M", action: "open the model menu" },
         ],
         participant: vec![Operator::Mental, Operator::Menu, Operator::AimHead, Operator::Dwell(DWELL_S)],
     }
