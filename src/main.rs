@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand};
 mod cli;
 mod desktop;
 mod study;
+mod techniques;
 
 /// grove: a deterministic simulation of a tree-planting study.
 #[derive(Parser)]
@@ -63,6 +64,10 @@ enum Command {
 
 fn main() -> ExitCode {
     cli::install_panic_hook();
+    if let Err(e) = techniques::install_all() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -28,7 +28,7 @@ pub fn bench_wind(args: &BenchArgs) -> anyhow::Result<Value> {
         }
     }
     let ticks = args.ticks.max(1) as usize;
-    let Sim { world, res } = &mut sim;
+    let Sim { world, res, .. } = &mut sim;
     // Warm the caches, then time both systems together and each alone, advancing the tick
     // counter as the schedule would.
     for _ in 0..5 {

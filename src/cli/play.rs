@@ -29,6 +29,11 @@ pub struct PlayArgs {
     /// The participant id written to the recording, e.g. P01.
     #[arg(long)]
     pub participant: Option<String>,
+    /// Start with this interaction technique: ray-casting, manual or a registered plug-in
+    /// (e.g. gaze-dwell; `docs/techniques.md`). A recording names a plug-in and its version.
+    /// A study task brings its own technique, so this conflicts with --task.
+    #[arg(long, value_name = "NAME", conflicts_with = "task")]
+    pub technique: Option<String>,
     /// Record the session to this new file (never overwritten).
     #[arg(long)]
     pub record: Option<PathBuf>,
@@ -78,6 +83,11 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
             return Err(anyhow!("--task {t}: unknown task; known: ray-casting-7, manual-7"));
         }
     }
+    let techniques = grove_systems::technique::installed();
+    let technique = match &args.technique {
+        Some(name) => Some(techniques.get(name).ok_or_else(|| anyhow!("--technique: {}", techniques.unknown(name)))?),
+        None => None,
+    };
     let seed = args.seed.unwrap_or(scene.seed);
     let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{scene_name}: {e}"))?;
     let (catalogue, listed) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
@@ -94,6 +104,9 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
             header.participant = args.participant.clone();
             header.synthetic = false;
             header.models = listed.clone();
+            header.technique = technique
+                .filter(|t| !t.is_builtin())
+                .map(|t| grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
             // The wall-clock start of the recording, so that reports order a participant's sessions.
             header.session_start = std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
@@ -106,6 +119,9 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     };
     let mut session = LiveSession::new(sim, recorder);
     session.record_path = args.record.clone();
+    if let Some(t) = technique {
+        session.queue(grove_systems::input::InputEvent::SwitchTechnique { technique: t.name.to_string() }).map_err(|e| anyhow!(e))?;
+    }
     let mut app = PlayApp::new(session, args.task.as_deref(), args.free).map_err(|e| anyhow!(e))?;
     app.ui.stats.recording = args.record.as_ref().map(|p| p.display().to_string());
     app.measure = args.measure.map(|seconds| crate::desktop::play::Measure { seconds, frames: 0, time: 0.0, scale_sum: 0.0, first_frame: None, cpu_start: None });

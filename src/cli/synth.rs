@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::bail;
 use clap::Args;
 
-use crate::study::synth::write_study;
+use crate::study::synth::{conditions, write_conditions, write_study};
 
 /// Arguments of `grove synth`.
 #[derive(Args)]
@@ -28,6 +28,11 @@ pub struct SynthArgs {
     /// `grove study --replays OUT --baseline replays/study`.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
+    /// The conditions, comma-separated registered techniques (e.g.
+    /// ray-casting,manual,gaze-dwell; docs/techniques.md), in a balanced Latin square order per
+    /// participant. Default: ray-casting,manual. Needs --out.
+    #[arg(long, value_delimiter = ',', value_name = "NAMES")]
+    pub techniques: Vec<String>,
 }
 
 /// Runs `grove synth`.
@@ -36,12 +41,21 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
         bail!("--participants {} must be between 1 and 999", args.participants);
     }
     let overrides = super::study::parse_overrides(&args.set)?;
+    if !args.techniques.is_empty() && args.out.is_none() {
+        bail!("--techniques writes a study of its own: give it a folder with --out DIR");
+    }
     let out = match (&args.out, overrides.is_empty()) {
         (Some(o), _) => o.clone(),
         (None, true) => PathBuf::from("replays/study"),
         (None, false) => bail!("--set writes what-if recordings: give them their own folder with --out DIR"),
     };
-    let written = write_study(&out, args.participants, args.seed, args.force, &overrides, &|what| eprintln!("synth: {what}"))?;
+    let progress = |what: &str| eprintln!("synth: {what}");
+    let written = if args.techniques.is_empty() {
+        write_study(&out, args.participants, args.seed, args.force, &overrides, &progress)?
+    } else {
+        let names: Vec<&str> = args.techniques.iter().map(|s| s.as_str()).collect();
+        write_conditions(&out, &conditions(&names)?, args.participants, args.seed, args.force, &overrides, &progress)?
+    };
     println!("wrote {} recordings to {}", written.len(), out.display());
     if !overrides.is_empty() {
         println!("re-simulated participants under {}; compare with: grove study --replays {} --baseline replays/study", args.set.join(", "), out.display());

@@ -203,8 +203,15 @@ impl PlayUi {
                         Mode::RayCasting => "Ray-casting",
                         Mode::Manual => "Manual modification",
                     };
-                    if ui.selectable_label(sim.res.mode == mode, label).clicked() && sim.res.mode != mode {
+                    let index = grove_systems::technique::Techniques::of_mode(mode);
+                    if ui.selectable_label(sim.res.technique == index, label).on_hover_text(technique_help(mode.name())).clicked() && sim.res.technique != index {
                         out.push(InputEvent::SwitchMode { mode });
+                    }
+                }
+                // The registered plug-in techniques (`src/techniques.rs`), by name.
+                for (index, t) in sim.res.techniques.iter().enumerate().filter(|(_, t)| !t.is_builtin()) {
+                    if ui.selectable_label(sim.res.technique == index, t.name).on_hover_text(technique_help(t.name)).clicked() && sim.res.technique != index {
+                        out.push(InputEvent::SwitchTechnique { technique: t.name.to_string() });
                     }
                 }
                 ui.separator();
@@ -355,6 +362,19 @@ pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive
             out.push(InputEvent::EndTask);
         }
     });
+}
+
+
+/// A technique's tooltip: its description, then each controller button it uses with the desktop
+/// key or mouse button that produces it (`Technique::controls`).
+fn technique_help(name: &str) -> String {
+    let all = grove_systems::technique::installed();
+    let Some(t) = all.get(name) else { return String::new() };
+    let mut s = t.about.to_string();
+    for c in &t.controls {
+        s += &format!("\n{:?}: {} ({})", c.button, c.action, c.desktop);
+    }
+    s
 }
 
 #[cfg(test)]

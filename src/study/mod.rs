@@ -4,11 +4,15 @@
 //! re-simulating its input events. This module knows nothing about rendering or windows.
 
 pub mod chart;
+pub mod conditions;
 pub mod csv_out;
+pub mod friedman;
+pub mod latin;
 pub mod participant;
 pub mod report;
 pub mod stats;
 pub mod synth;
+pub mod synth_plugin;
 pub mod whatif;
 
 use std::path::{Path, PathBuf};
@@ -167,10 +171,20 @@ pub fn evaluate(path: &Path, overrides: &[Override]) -> Trial {
                 error: o.first_divergence.as_ref().map(|d| format!("diverged at tick {}", d.tick)),
                 complete: o.complete,
                 ticks: sim.res.tick,
-                task: sim.res.task.as_ref().map(|t| TaskReport::new(t, sim.res.dt, sim.res.tick, &sim.res.catalogue)),
+                task: sim.res.task.as_ref().map(|t| technique_report(TaskReport::new(t, sim.res.dt, sim.res.tick, &sim.res.catalogue), &sim)),
             }
         }
     }
+}
+
+/// A task report whose mode is the technique that ran it: a plug-in's name in place of its base
+/// mode, so that reports tell the conditions apart.
+pub fn technique_report(mut report: TaskReport, sim: &grove_systems::Sim) -> TaskReport {
+    let t = sim.res.techniques.at(sim.res.technique);
+    if !t.is_builtin() {
+        report.mode = t.name.to_string();
+    }
+    report
 }
 
 /// Re-simulates every recording in parallel (one recording per thread; each simulation is

@@ -95,6 +95,9 @@ pub struct Summary {
     pub paired: Option<PairedStats>,
     /// Wall-clock seconds for re-simulating and evaluating every recording.
     pub wall_seconds: f64,
+    /// With three or more conditions: the Friedman test, post-hoc comparisons and order effects.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub conditions: Option<super::conditions::KConditions>,
 }
 
 fn mean_sd(xs: &[f64]) -> (Option<f64>, Option<f64>) {
@@ -133,7 +136,15 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
         *status.entry(t.status.word().to_string()).or_insert(0) += 1;
     }
     let mut modes: BTreeMap<String, ModeStats> = BTreeMap::new();
-    for mode in ["ray-casting", "manual"] {
+    // The two built-in techniques always, then any plug-in technique the trials ran.
+    let mut names: Vec<String> = vec!["ray-casting".into(), "manual".into()];
+    for k in trials.iter().filter_map(|t| t.task.as_ref()) {
+        if !names.contains(&k.mode) {
+            names.push(k.mode.clone());
+        }
+    }
+    for mode in &names {
+        let mode = mode.as_str();
         let of_mode: Vec<&Trial> = trials.iter().filter(|t| t.task.as_ref().is_some_and(|k| k.mode == mode)).collect();
         let times: Vec<f64> = of_mode.iter().filter_map(|t| usable_time(t)).collect();
         let (mean, sd) = mean_sd(&times);
@@ -203,6 +214,7 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
         paired: paired(&differences, "manual − ray-casting", "s"),
         per_participant,
         wall_seconds,
+        conditions: super::conditions::k_conditions(trials, usable_time),
     }
 }
 
@@ -282,6 +294,9 @@ pub fn summary_lines(s: &Summary) -> String {
     match &s.paired {
         Some(p) => out.push_str(&paired_line(p)),
         None => out.push_str("paired statistics: fewer than two participants with both tasks\n"),
+    }
+    if let Some(k) = &s.conditions {
+        out.push_str(&super::conditions::lines(k));
     }
     if let Some(note) = &s.note {
         out.push_str(&format!("note: {note}\n"));

@@ -22,6 +22,7 @@ use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::task::TaskDef;
+use grove_systems::technique::{Operator, Technique};
 use grove_systems::Sim;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -46,21 +47,21 @@ pub struct ParticipantSession {
     pub end_tick: u64,
 }
 
-struct Participant {
-    script: Script,
-    rng: ChaCha8Rng,
-    skill: Skill,
-    hand: Vec3,
-    dir: Vec3,
-    dt: f64,
+pub(crate) struct Participant {
+    pub(crate) script: Script,
+    pub(crate) rng: ChaCha8Rng,
+    pub(crate) skill: Skill,
+    pub(crate) hand: Vec3,
+    pub(crate) dir: Vec3,
+    pub(crate) dt: f64,
 }
 
 impl Participant {
-    fn ticks(&self, seconds: f64) -> u64 {
+    pub(crate) fn ticks(&self, seconds: f64) -> u64 {
         (seconds / self.dt).round().max(1.0) as u64
     }
 
-    fn sim(&self) -> &Sim {
+    pub(crate) fn sim(&self) -> &Sim {
         self.script.sim()
     }
 
@@ -68,13 +69,13 @@ impl Participant {
         Pose::looking_at(self.hand, self.hand + dir)
     }
 
-    fn think(&mut self) {
+    pub(crate) fn think(&mut self) {
         let jitter: f64 = self.rng.random_range(0.85..1.15);
         let n = self.ticks(self.skill.mental * jitter);
         self.script.wait(n);
     }
 
-    fn press(&mut self, button: Button) {
+    pub(crate) fn press(&mut self, button: Button) {
         let down = self.ticks(0.1);
         let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
         self.script.push(InputEvent::ButtonDown { button }).wait(down);
@@ -130,11 +131,11 @@ impl Participant {
         self.sim().world.query::<&HitMarker>().iter().next().copied().unwrap_or_default()
     }
 
-    fn ground_at(&self, x: f32, z: f32) -> f32 {
+    pub(crate) fn ground_at(&self, x: f32, z: f32) -> f32 {
         self.sim().res.spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).map_or(0.0, |h| h.point.y)
     }
 
-    fn choose(&mut self, model: ModelId) {
+    pub(crate) fn choose(&mut self, model: ModelId) {
         self.press(Button::Menu);
         let n = self.ticks(self.skill.menu_time());
         self.script.wait(n);
@@ -143,14 +144,14 @@ impl Participant {
         self.script.push(InputEvent::ChooseModel { model: model.into() }).wait(1);
     }
 
-    fn last_planted(&self) -> Option<(u64, Vec3)> {
+    pub(crate) fn last_planted(&self) -> Option<(u64, Vec3)> {
         self.sim().res.log.entries.iter().rev().find_map(|e| match e.what {
             Happening::Planted { tree, position, .. } => Some((tree, position)),
             _ => None,
         })
     }
 
-    fn tree(&self, id: u64) -> Option<(Transform, ModelId, f32)> {
+    pub(crate) fn tree(&self, id: u64) -> Option<(Transform, ModelId, f32)> {
         let e = hecs::Entity::from_bits(id)?;
         let t = *self.sim().world.get::<&Transform>(e).ok()?;
         let m = self.sim().world.get::<&Tree>(e).ok()?.model;
@@ -158,7 +159,7 @@ impl Participant {
         Some((t, m, s))
     }
 
-    fn tree_center(&self, id: u64) -> Option<Vec3> {
+    pub(crate) fn tree_center(&self, id: u64) -> Option<Vec3> {
         let (t, m, s) = self.tree(id)?;
         let info = self.sim().res.catalogue.get(m)?;
         Some(t.translation + Vec3::Y * (info.bounds_min.y + info.bounds_max.y) * 0.5 * s)
@@ -328,7 +329,11 @@ impl Participant {
 /// (`name=value`, empty for the defaults). With overrides, a participant who cannot finish
 /// still gives a session (an incomplete trial, as a person would leave it) and a warning through
 /// `warn`; without, that is an error.
-pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[Override], warn: &dyn Fn(&str)) -> anyhow::Result<ParticipantSession> {
+///
+/// With a plug-in `technique` (`None`: the task's built-in one) the recording's header names the
+/// plug-in and its version, and its participant model decides how each target is placed
+/// ([`super::synth_plugin`]).
+pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participant: usize, seed: u64, overrides: &[Override], warn: &dyn Fn(&str)) -> anyhow::Result<ParticipantSession> {
     let scene = Scene::builtin(&task.scene).ok_or_else(|| anyhow!("task {} names unknown scene '{}'", task.id, task.scene))?;
     // Each participant has one skill for both tasks; each task has its own simulation seed.
     let mut skill_rng = ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
@@ -352,6 +357,10 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[Ov
 
     p.script.wait(30);
     p.script.push(InputEvent::SwitchMode { mode: task.mode }).wait(1);
+    if let Some(t) = technique {
+        p.script.push(InputEvent::SwitchTechnique { technique: t.name.to_string() }).wait(1);
+        header.technique = Some(grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
+    }
     p.script.push(InputEvent::StartTask { task: task.id.clone() }).wait(1);
     let models = task.target_models(&p.sim().res.catalogue);
     // Far targets first, so that trees already planted never stand in the way of the ray.
@@ -361,10 +370,15 @@ pub fn synthesize(task: &TaskDef, participant: usize, seed: u64, overrides: &[Ov
         let db = (task.targets[b].position - p.hand).length();
         db.total_cmp(&da).then(a.cmp(&b))
     });
+    // A plug-in whose participant aims with the head and dwells: its dwell, seconds.
+    let gaze_dwell = technique.filter(|t| t.participant.contains(&Operator::AimHead)).map(|t| {
+        t.participant.iter().find_map(|o| if let Operator::Dwell(s) = o { Some(*s as f64) } else { None }).unwrap_or(0.0)
+    });
     for i in order {
         let model = models[i].ok_or_else(|| anyhow!("target {i} has an unknown model"))?;
         let pos = task.targets[i].position;
         let placed = match task.mode {
+            _ if gaze_dwell.is_some() => p.gaze_target(pos, model, task.tolerance, gaze_dwell.unwrap_or(0.0)),
             Mode::RayCasting => {
                 p.ray_casting_target(pos, model, task.tolerance);
                 Ok(())
@@ -405,31 +419,63 @@ pub const FIRST_SESSION_START: i64 = 1_559_552_400;
 /// Seconds of rest between a participant's two blocks.
 pub const REST_BETWEEN_BLOCKS_S: i64 = 120;
 
-/// The order in which participant `p` (0-based) does the two tasks: counterbalanced, even
-/// participants (P01, P03, …) start with ray-casting, odd ones with manual.
-pub fn task_order(p: usize) -> [usize; 2] {
-    if p % 2 == 0 { [0, 1] } else { [1, 0] }
-}
-
 /// An RFC 3339 UTC time from seconds since the Unix epoch.
 fn rfc3339(secs: i64) -> String {
     chrono::DateTime::from_timestamp(secs, 0).map(|t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true)).unwrap_or_default()
 }
 
+/// One condition of a study: a task done with a technique.
+pub struct Condition {
+    /// The task (its targets and its built-in mode).
+    pub task: TaskDef,
+    /// A plug-in technique, or `None` for the task's built-in one.
+    pub technique: Option<Technique>,
+    /// The condition's name in file names: the task id for a built-in technique, the
+    /// technique's name for a plug-in.
+    pub name: String,
+}
+
+/// The conditions of the given techniques: ray-casting and manual do their own tasks; a
+/// plug-in does the task of its base mode with its own technique.
+pub fn conditions(names: &[&str]) -> anyhow::Result<Vec<Condition>> {
+    let registered = grove_systems::technique::installed();
+    let mut out: Vec<Condition> = Vec::new();
+    for name in names {
+        let t = registered.get(name).ok_or_else(|| anyhow!("--techniques: {}", registered.unknown(name)))?;
+        if out.iter().any(|c| c.technique.as_ref().map_or(c.task.mode.name(), |t| t.name) == t.name) {
+            bail!("--techniques names '{name}' twice");
+        }
+        let id = match t.base {
+            Mode::RayCasting => "ray-casting-7",
+            Mode::Manual => "manual-7",
+        };
+        let task = TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))?;
+        let (technique, name) = if t.is_builtin() { (None, id.to_string()) } else { (Some(t.clone()), t.name.to_string()) };
+        out.push(Condition { task, technique, name });
+    }
+    Ok(out)
+}
+
 /// Writes `participants` × 2 recordings to `out` (one per participant per task), under the
-/// configuration `overrides` (empty for the defaults). Each participant does the two tasks as two
-/// blocks in the order of [`task_order`]; headers carry the block and the session start time.
-/// Existing files are never overwritten unless `force` is set.
+/// configuration `overrides` (empty for the defaults): [`write_conditions`] with ray-casting and
+/// manual. Existing files are never overwritten unless `force` is set.
 pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
-    let tasks: Vec<TaskDef> = ["ray-casting-7", "manual-7"].iter().map(|id| TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))).collect::<Result<_, _>>()?;
+    write_conditions(out, &conditions(&["ray-casting", "manual"])?, participants, seed, force, overrides, progress)
+}
+
+/// Writes one recording per participant per condition to `out`. Each participant does the
+/// conditions as blocks in the order of a balanced Latin square ([`super::latin::order`]; for
+/// two conditions, even participants start with the first); headers carry the block and the
+/// session start time. Existing files are never overwritten unless `force` is set.
+pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, seed: u64, force: bool, overrides: &[Override], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
     if out.exists() && !out.is_dir() {
         bail!("{}: exists and is not a folder", out.display());
     }
     let mut planned = Vec::new();
     for p in 0..participants {
-        for (block, i) in task_order(p).into_iter().enumerate() {
+        for (block, i) in super::latin::order(p, tasks.len()).into_iter().enumerate() {
             let t = &tasks[i];
-            planned.push((p, block as u32 + 1, t, out.join(format!("P{:02}-{}.jsonl", p + 1, t.id))));
+            planned.push((p, block as u32 + 1, t, out.join(format!("P{:02}-{}.jsonl", p + 1, t.name))));
         }
     }
     if !force {
@@ -441,8 +487,8 @@ pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, over
     let mut written = Vec::new();
     let mut next_start = FIRST_SESSION_START;
     for (p, block, task, path) in planned {
-        progress(&format!("P{:02} {}", p + 1, task.id));
-        let mut session = synthesize(task, p, seed, overrides, progress)?;
+        progress(&format!("P{:02} {}", p + 1, task.name));
+        let mut session = synthesize_with(&task.task, task.technique.as_ref(), p, seed, overrides, progress)?;
         if block == 1 {
             next_start = FIRST_SESSION_START + 3600 * p as i64;
         }

@@ -114,6 +114,12 @@ pub enum Happening {
         /// The point on the surface the ray hit, metres.
         position: Vec3,
     },
+    /// The active technique changed to or from a plug-in technique (a change between the two
+    /// built-in ones is a `ModeChanged` only, as it always was).
+    TechniqueChanged {
+        /// The new technique's name.
+        technique: String,
+    },
 }
 
 impl Happening {
@@ -138,6 +144,7 @@ impl Happening {
         "task_completed",
         "task_ended",
         "planting_refused",
+        "technique_changed",
     ];
 
     /// A short, stable name for the kind of event.
@@ -162,6 +169,7 @@ impl Happening {
             Happening::TaskCompleted => "task_completed",
             Happening::TaskEnded => "task_ended",
             Happening::PlantingRefused { .. } => "planting_refused",
+            Happening::TechniqueChanged { .. } => "technique_changed",
         }
     }
 }

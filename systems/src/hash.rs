@@ -109,8 +109,21 @@ impl Acc {
             let h = c.hash_value(self);
             rows.push((e.to_bits().get(), h));
         }
+        self.rows(name, rows, OPTIONAL.contains(&name));
+    }
+
+    /// A technique's component ([`crate::known_techniques::HashedComponent`]): each entity's postcard
+    /// bytes hashed as the built-in components' are; nothing when no entity has it.
+    fn technique_component(&mut self, world: &World, c: &crate::known_techniques::HashedComponent) {
+        let rows = (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
+        self.rows(c.name, rows, true);
+    }
+
+    /// Adds one component type's rows `(entity bits, value hash)` to the component and entity
+    /// hashes; an optional type without rows adds nothing.
+    fn rows(&mut self, name: &'static str, mut rows: Vec<(u64, u64)>, optional: bool) {
         rows.sort_unstable_by_key(|r| r.0);
-        if rows.is_empty() && OPTIONAL.contains(&name) {
+        if rows.is_empty() && optional {
             return;
         }
         let mut h = Xxh3::new();
@@ -215,6 +228,18 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     // The LATE_COMPONENTS, after the resources.
     acc.component::<Grass>(world, "Grass");
     acc.component::<AerialCrown>(world, "AerialCrown");
+    // The techniques' components, through the same table; then, while a plug-in technique is
+    // active, its name and version. Neither exists in a world of the built-in techniques.
+    for t in res.techniques.iter() {
+        for c in &t.components {
+            acc.technique_component(world, c);
+        }
+    }
+    let active = res.techniques.at(res.technique);
+    if !active.is_builtin() {
+        let h = acc.value_hash(&(active.name, active.version));
+        acc.components.push(("technique", h));
+    }
     let mut total = Xxh3::new();
     for (name, h) in &acc.components {
         total.update(name.as_bytes());

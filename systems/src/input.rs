@@ -68,6 +68,11 @@ pub enum InputEvent {
         /// The new mode.
         mode: Mode,
     },
+    /// The user switched to a registered technique by name (a plug-in, or a built-in one).
+    SwitchTechnique {
+        /// The technique's name, e.g. "gaze-dwell".
+        technique: String,
+    },
     /// A study task starts now.
     StartTask {
         /// The task id, e.g. "ray-casting-7".
@@ -90,6 +95,7 @@ impl InputEvent {
             InputEvent::CloseMenu => "close_menu",
             InputEvent::ChooseModel { .. } => "choose_model",
             InputEvent::SwitchMode { .. } => "switch_mode",
+            InputEvent::SwitchTechnique { .. } => "switch_technique",
             InputEvent::StartTask { .. } => "start_task",
             InputEvent::EndTask => "end_task",
         }
@@ -122,6 +128,7 @@ impl InputEvent {
                 }
             }
             InputEvent::StartTask { task } if task.is_empty() => Err("empty task id".into()),
+            InputEvent::SwitchTechnique { technique } if technique.is_empty() || technique.len() > 64 => Err("technique name must have 1 to 64 characters".into()),
             _ => Ok(()),
         }
     }

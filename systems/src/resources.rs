@@ -233,8 +233,12 @@ pub struct Resources {
     pub config: Config,
     /// The model catalogue.
     pub catalogue: Catalogue,
-    /// The interaction mode.
+    /// The interaction mode: the built-in behaviour of the active technique.
     pub mode: Mode,
+    /// The registered techniques as the world knows them (set with [`crate::Sim::set_techniques`]).
+    pub techniques: crate::known_techniques::KnownTechniques,
+    /// The active technique, an index into `techniques`; always one whose `base` is `mode`.
+    pub technique: usize,
     /// The menu state.
     pub menu: MenuState,
     /// Ongoing trigger, drag and handle interactions.
@@ -263,6 +267,8 @@ impl Resources {
             config: Config::default(),
             catalogue,
             mode: Mode::default(),
+            techniques: crate::known_techniques::KnownTechniques::builtin(),
+            technique: crate::known_techniques::KnownTechniques::of_mode(Mode::default()),
             menu: MenuState::default(),
             interaction: Interaction::default(),
             input: Vec::new(),

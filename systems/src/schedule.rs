@@ -16,6 +16,11 @@
 //! 11. `selection_box`: keep the selection box on the selected tree.
 //! 12. `task`: check targets and measure the running task.
 //!
+//! The systems are grouped into named stages ([`Stage`]): `input` (1), `environment` (2–3), `ray`
+//! (4), `interaction` (5–9), `constraints` (10–11) and `task` (12). The active technique's own
+//! systems ([`crate::technique::Technique::systems`]) run after the built-in systems of their
+//! stage; the two built-in techniques have none, so their order is exactly the list above.
+//!
 //! Then the tick counter advances. Systems run one after another on one thread; nothing in a
 //! tick depends on thread timing or the wall clock.
 
@@ -23,20 +28,79 @@ use hecs::World;
 
 use crate::resources::Resources;
 use crate::systems;
+pub use crate::technique::{Stage, System};
+use crate::technique::Techniques;
 
-/// Runs one fixed step: every system in order, then `tick += 1`.
-pub fn step(world: &mut World, res: &mut Resources) {
-    systems::input::run(world, res);
-    systems::sun::run(world, res);
-    systems::wind::run(world, res);
-    systems::raycast::run(world, res);
-    systems::spawn::run(world, res);
-    systems::plant_remove::run(world, res);
-    systems::select::run(world, res);
-    systems::handles::run(world, res);
-    systems::touchpad::run(world, res);
-    systems::drag::run(world, res);
-    systems::selection_box::run(world, res);
-    systems::task::run(world, res);
+/// The built-in systems with their stage and name, in the order they run.
+pub const BUILTIN: &[(Stage, &str, System)] = &[
+    (Stage::Input, "input", systems::input::run),
+    (Stage::Environment, "sun", systems::sun::run),
+    (Stage::Environment, "wind", systems::wind::run),
+    (Stage::Ray, "raycast", systems::raycast::run),
+    (Stage::Interaction, "spawn", systems::spawn::run),
+    (Stage::Interaction, "plant_remove", systems::plant_remove::run),
+    (Stage::Interaction, "select", systems::select::run),
+    (Stage::Interaction, "handles", systems::handles::run),
+    (Stage::Interaction, "touchpad", systems::touchpad::run),
+    (Stage::Constraints, "drag", systems::drag::run),
+    (Stage::Constraints, "selection_box", systems::selection_box::run),
+    (Stage::Task, "task", systems::task::run),
+];
+
+/// Runs one fixed step: stage by stage, the built-in systems of the stage and then the active
+/// technique's systems of that stage, then `tick += 1`.
+pub fn step(world: &mut World, res: &mut Resources, techniques: &Techniques) {
+    // The active technique is read once per stage: the input stage may switch it, and the new
+    // technique's systems run from the next stage on.
+    let mut next = 0;
+    for stage in Stage::ALL {
+        while let Some((s, _, run)) = BUILTIN.get(next) {
+            if *s != stage {
+                break;
+            }
+            run(world, res);
+            next += 1;
+        }
+        let technique = techniques.at(res.technique);
+        if technique.systems.is_empty() {
+            continue;
+        }
+        let own: Vec<System> = technique.systems.iter().filter(|(s, _, _)| *s == stage).map(|(_, _, run)| *run).collect();
+        for run in own {
+            run(world, res);
+        }
+    }
     res.tick += 1;
+}
+
+/// The systems a step runs with a technique active, as `(stage, name)` in order.
+pub fn order(technique: &crate::technique::Technique) -> Vec<(Stage, &'static str)> {
+    let mut out = Vec::new();
+    for stage in Stage::ALL {
+        out.extend(BUILTIN.iter().filter(|(s, _, _)| *s == stage).map(|(s, n, _)| (*s, *n)));
+        out.extend(technique.systems.iter().filter(|(s, _, _)| *s == stage).map(|(s, n, _)| (*s, *n)));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_built_in_order_is_the_documented_list() {
+        let names: Vec<&str> = order(&crate::technique::Technique::ray_casting()).into_iter().map(|(_, n)| n).collect();
+        assert_eq!(names, ["input", "sun", "wind", "raycast", "spawn", "plant_remove", "select", "handles", "touchpad", "drag", "selection_box", "task"]);
+        // The stages are contiguous and in order.
+        assert!(BUILTIN.windows(2).all(|w| w[0].0 <= w[1].0));
+    }
+
+    #[test]
+    fn a_plug_in_system_runs_after_the_built_in_systems_of_its_stage() {
+        fn mine(_: &mut World, _: &mut Resources) {}
+        let mut t = crate::technique::Technique::ray_casting();
+        t.systems.push((Stage::Ray, "mine", mine));
+        let names: Vec<&str> = order(&t).into_iter().map(|(_, n)| n).collect();
+        assert_eq!(&names[3..6], ["raycast", "mine", "spawn"]);
+    }
 }

@@ -17,7 +17,7 @@
 //! | [`Script::hold`] / [`Script::release`] | button down / up; 1 tick |
 //! | [`Script::touchpad`] | axes; `ticks` ticks; axes (0, 0); 1 tick |
 //! | [`Script::choose_model`] | (manual mode: open menu; 1 tick;) choose model; 1 tick |
-//! | [`Script::switch_mode`], [`Script::start_task`], [`Script::end_task`] | the event; 1 tick |
+//! | [`Script::switch_mode`], [`Script::switch_technique`], [`Script::start_task`], [`Script::end_task`] | the event; 1 tick |
 //! | [`Script::wait`] | `ticks` ticks |
 //! | [`Script::wait_until`] | one tick at a time until an expectation holds, at most `timeout` |
 //! | [`Script::aim`] | controller pose aimed at a named point (a tree, a task target, a mark); 1 tick |
@@ -164,6 +164,11 @@ impl Script {
     /// Switches the interaction mode, then runs one tick.
     pub fn switch_mode(&mut self, mode: Mode) -> &mut Self {
         self.push(InputEvent::SwitchMode { mode }).wait(1)
+    }
+
+    /// Switches to a registered technique by name, then runs one tick.
+    pub fn switch_technique(&mut self, name: &str) -> &mut Self {
+        self.push(InputEvent::SwitchTechnique { technique: name.to_string() }).wait(1)
     }
 
     /// Starts a study task by id (e.g. "ray-casting-7"), then runs one tick.

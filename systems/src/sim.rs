@@ -20,6 +20,8 @@ pub struct Sim {
     pub world: World,
     /// Everything that belongs to no entity.
     pub res: Resources,
+    /// The registered techniques, whose systems the schedule runs ([`crate::technique`]).
+    pub techniques: crate::technique::Techniques,
 }
 
 impl Sim {
@@ -82,7 +84,8 @@ impl Sim {
         world.spawn((Selection::default(),));
 
         res.spatial.refresh(&world, &res.catalogue);
-        let mut sim = Sim { world, res };
+        let mut sim = Sim { world, res, techniques: crate::technique::Techniques::builtin() };
+        sim.set_techniques(crate::technique::installed());
         for (i, t) in scene.trees.iter().enumerate() {
             let model = sim
                 .res
@@ -185,7 +188,16 @@ impl Sim {
 
     /// Runs one fixed step of the schedule.
     pub fn step(&mut self) {
-        crate::schedule::step(&mut self.world, &mut self.res);
+        crate::schedule::step(&mut self.world, &mut self.res, &self.techniques);
+    }
+
+    /// Registers these techniques on this simulation (a plug-in's tests do this; the app
+    /// installs its list once, [`crate::technique::install`]). The built-in technique of the
+    /// current mode becomes the active one.
+    pub fn set_techniques(&mut self, techniques: crate::technique::Techniques) {
+        self.res.techniques = techniques.known();
+        self.res.technique = crate::technique::Techniques::of_mode(self.res.mode);
+        self.techniques = techniques;
     }
 
     /// Runs `n` steps.

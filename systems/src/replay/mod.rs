@@ -89,6 +89,21 @@ pub struct Header {
     /// session used only the shipped models.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub models: Vec<HeaderModel>,
+    /// Optional: the plug-in technique the session used, with its version. A replay refuses a
+    /// recording whose technique is not registered, or registered with another version. Absent
+    /// when the session used only the built-in techniques, which its `switch_mode` events name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub technique: Option<HeaderTechnique>,
+}
+
+/// A recording's technique: its name and version ([`crate::technique::Technique`]).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HeaderTechnique {
+    /// The technique's name, e.g. "gaze-dwell".
+    pub name: String,
+    /// The technique's version when the recording was made.
+    pub version: u32,
 }
 
 impl Header {
@@ -108,6 +123,7 @@ impl Header {
             session_start: None,
             block: None,
             models: Vec::new(),
+            technique: None,
         }
     }
 }

@@ -24,6 +24,16 @@ pub fn check_header(header: &Header) -> Result<(), String> {
     if header.block == Some(0) {
         return Err("header block must be 1 or more".into());
     }
+    if let Some(t) = &header.technique {
+        let registered = crate::technique::installed();
+        match registered.get(&t.name) {
+            None => return Err(format!("recording uses {}", registered.unknown(&t.name))),
+            Some(k) if k.version != t.version => {
+                return Err(format!("recording uses technique '{}' version {}, but version {} is registered", t.name, t.version, k.version));
+            }
+            Some(_) => {}
+        }
+    }
     for m in &header.models {
         if !crate::bank::valid_name(&m.name) || m.hash.len() != 16 || !m.hash.bytes().all(|b| b.is_ascii_hexdigit()) {
             return Err(format!("header models: '{}' needs a plain name and a 16-hex-digit hash", m.name.escape_debug()));
@@ -38,6 +48,7 @@ pub fn check_event(event: &InputEvent, sim: &Sim) -> Result<(), String> {
     match event {
         InputEvent::ChooseModel { model } => sim.res.catalogue.resolve(model).map(|_| ()).map_err(|e| format!("choose_model names an {e}")),
         InputEvent::StartTask { task } if crate::task::TaskDef::builtin(task).is_none() => Err(format!("start_task names unknown task '{task}'")),
+        InputEvent::SwitchTechnique { technique } if sim.res.techniques.get(technique).is_none() => Err(format!("recording uses {}", sim.res.techniques.unknown(technique))),
         _ => Ok(()),
     }
 }

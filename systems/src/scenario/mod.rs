@@ -126,7 +126,8 @@ pub enum Step {
     StartTask(String),
     /// Declare the running task finished.
     EndTask,
-    /// Switch the interaction technique by name: "ray-casting" or "manual".
+    /// Switch the interaction technique by name: "ray-casting", "manual" or a registered
+    /// plug-in technique.
     SwitchTechnique(String),
     /// Give a tree a name for later steps (`Named("…")`).
     Name {
@@ -166,12 +167,17 @@ impl Step {
     }
 }
 
-/// A technique (interaction mode) by the name files use.
-pub fn technique(name: &str) -> Result<Mode, String> {
-    [Mode::RayCasting, Mode::Manual]
-        .into_iter()
-        .find(|m| m.name() == name)
-        .ok_or_else(|| format!("unknown technique \"{name}\"; known: ray-casting, manual"))
+/// A technique by the name files use: `Some(mode)` for a built-in one ("ray-casting",
+/// "manual"), `None` for a registered plug-in technique ([`crate::technique::installed`]).
+pub fn technique(name: &str) -> Result<Option<Mode>, String> {
+    if let Some(mode) = [Mode::RayCasting, Mode::Manual].into_iter().find(|m| m.name() == name) {
+        return Ok(Some(mode));
+    }
+    let registered = crate::technique::installed();
+    match registered.get(name) {
+        Some(_) => Ok(None),
+        None => Err(format!("unknown technique \"{name}\"; known: {}", registered.names())),
+    }
 }
 
 /// A scenario file.

@@ -176,7 +176,12 @@ fn apply(s: &mut Script, step: &Step, update: bool, hashes: &mut Vec<String>) ->
             s.end_task();
         }
         Step::SwitchTechnique(name) => {
-            s.switch_mode(technique(name)?);
+            // A built-in technique as the mode switch it always was (the same events as the
+            // committed recordings); a plug-in by name.
+            match technique(name)? {
+                Some(mode) => s.switch_mode(mode),
+                None => s.switch_technique(name),
+            };
         }
         Step::Name { name, tree } => {
             s.name_tree(name, tree).map_err(cannot)?;

@@ -12,6 +12,7 @@ use crate::components::{Buttons, Controller, Head};
 use crate::events::Happening;
 use crate::input::{Button, InputEvent};
 use crate::mode::Mode;
+use crate::known_techniques::KnownTechniques as Techniques;
 use crate::resources::{ButtonEdges, Resources};
 
 fn set(b: &mut Buttons, button: Button, value: bool) {
@@ -77,12 +78,11 @@ pub fn run(world: &mut World, res: &mut Resources) {
                 }
                 res.menu.open = false;
             }
-            InputEvent::SwitchMode { mode } => {
-                if res.mode != *mode {
-                    res.mode = *mode;
-                    res.menu.open = false;
-                    res.interaction.pending_spawn = None;
-                    res.log.push(tick, Happening::ModeChanged { mode: *mode });
+            InputEvent::SwitchMode { mode } => switch(res, tick, Techniques::of_mode(*mode)),
+            InputEvent::SwitchTechnique { technique } => {
+                // A name that is not registered changes nothing (a replay refuses it up front).
+                if let Some(index) = res.techniques.index(technique) {
+                    switch(res, tick, index);
                 }
             }
             InputEvent::StartTask { task } => {
@@ -111,6 +111,26 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let mut events = events;
     events.clear();
     res.input = events;
+}
+
+/// Makes technique `index` the active one. Its base mode changes as a mode switch always did
+/// (menu closed, no pending spawn, `ModeChanged` logged); a change to or from a plug-in
+/// technique is logged as `TechniqueChanged`.
+fn switch(res: &mut Resources, tick: u64, index: usize) {
+    let mode = res.techniques.at(index).base;
+    if res.mode != mode {
+        res.mode = mode;
+        res.menu.open = false;
+        res.interaction.pending_spawn = None;
+        res.log.push(tick, Happening::ModeChanged { mode });
+    }
+    if res.technique != index {
+        let plug_in = !res.techniques.at(index).is_builtin() || !res.techniques.at(res.technique).is_builtin();
+        res.technique = index;
+        if plug_in {
+            res.log.push(tick, Happening::TechniqueChanged { technique: res.techniques.at(index).name.to_string() });
+        }
+    }
 }
 
 fn open_menu(res: &mut Resources, tick: u64) {
