@@ -25,6 +25,8 @@ pub mod replay_upgrade;
 pub mod scene;
 pub mod sim;
 pub mod study;
+pub mod study_merge;
+pub mod study_report;
 pub mod sun;
 pub mod synth;
 pub mod view;

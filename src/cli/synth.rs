@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::bail;
+use anyhow::{anyhow, bail};
 use clap::Args;
 
+use crate::study::shard::Shard;
 use crate::study::synth::write_study;
 
 /// Arguments of `grove synth`.
@@ -28,6 +29,11 @@ pub struct SynthArgs {
     /// `grove study --replays OUT --baseline replays/study`.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
+    /// Write only shard K of N (1 ≤ K ≤ N): the participants whose id (P07) hashes (XXH3) to K,
+    /// both of their recordings, exactly as a run without shards writes them; the recordings
+    /// `grove study --shard K/N` re-simulates (docs/scale.md).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
 }
 
 /// Runs `grove synth`.
@@ -36,13 +42,17 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
         bail!("--participants {} must be between 1 and 999", args.participants);
     }
     let overrides = super::study::parse_overrides(&args.set)?;
+    let shard: Option<Shard> = args.shard.as_deref().map(str::parse).transpose().map_err(|e| anyhow!("--shard {e}"))?;
     let out = match (&args.out, overrides.is_empty()) {
         (Some(o), _) => o.clone(),
         (None, true) => PathBuf::from("replays/study"),
         (None, false) => bail!("--set writes what-if recordings: give them their own folder with --out DIR"),
     };
-    let written = write_study(&out, args.participants, args.seed, args.force, &overrides, &|what| eprintln!("synth: {what}"))?;
-    println!("wrote {} recordings to {}", written.len(), out.display());
+    let written = write_study(&out, args.participants, args.seed, args.force, &overrides, shard, &|what| eprintln!("synth: {what}"))?;
+    match shard {
+        Some(s) => println!("wrote {} recordings (shard {s}) to {}", written.len(), out.display()),
+        None => println!("wrote {} recordings to {}", written.len(), out.display()),
+    }
     if !overrides.is_empty() {
         println!("re-simulated participants under {}; compare with: grove study --replays {} --baseline replays/study", args.set.join(", "), out.display());
     }

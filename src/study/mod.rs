@@ -7,6 +7,7 @@ pub mod chart;
 pub mod csv_out;
 pub mod participant;
 pub mod report;
+pub mod shard;
 pub mod stats;
 pub mod synth;
 pub mod whatif;
@@ -18,10 +19,10 @@ use grove_systems::replay::{replay_file, ReplayOptions};
 use grove_systems::resources::Override;
 use grove_systems::task::TaskReport;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// How a trial's recording fared.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TrialStatus {
     /// Every checkpoint matched.
@@ -50,7 +51,7 @@ impl TrialStatus {
 }
 
 /// One recording, re-simulated and evaluated.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Trial {
     /// The recording's file name.
     pub file: String,

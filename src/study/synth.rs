@@ -26,6 +26,7 @@ use grove_systems::Sim;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::shard::Shard;
 use super::participant::{angle_between, angular_width, scatter_direction, sweep, Skill};
 
 /// A controller pose is sent every this many ticks while the hand moves (30 Hz at 60 Hz ticks),
@@ -419,14 +420,16 @@ fn rfc3339(secs: i64) -> String {
 /// Writes `participants` × 2 recordings to `out` (one per participant per task), under the
 /// configuration `overrides` (empty for the defaults). Each participant does the two tasks as two
 /// blocks in the order of [`task_order`]; headers carry the block and the session start time.
-/// Existing files are never overwritten unless `force` is set.
-pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+/// Existing files are never overwritten unless `force` is set. With a `shard`, only the
+/// participants of that shard (by their id, `P07`, see [`super::shard`]) are written; each
+/// participant's recordings are the same as without shards.
+pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
     let tasks: Vec<TaskDef> = ["ray-casting-7", "manual-7"].iter().map(|id| TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))).collect::<Result<_, _>>()?;
     if out.exists() && !out.is_dir() {
         bail!("{}: exists and is not a folder", out.display());
     }
     let mut planned = Vec::new();
-    for p in 0..participants {
+    for p in (0..participants).filter(|p| shard.is_none_or(|s| s.holds(&format!("P{:02}", p + 1)))) {
         for (block, i) in task_order(p).into_iter().enumerate() {
             let t = &tasks[i];
             planned.push((p, block as u32 + 1, t, out.join(format!("P{:02}-{}.jsonl", p + 1, t.id))));
