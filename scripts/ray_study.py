@@ -62,6 +62,13 @@ def parse_args(argv):
         fail(f"--shards {a.shards}: at least 1")
     if a.threads_per_task < 1:
         fail(f"--threads-per-task {a.threads_per_task}: at least 1")
+    for name, folder in (("--replays", a.replays), ("--baseline", a.baseline)):
+        if folder is not None and not os.path.isdir(folder):
+            fail(f"{name} {folder}: no such folder")
+    # Refuse what the merge would refuse before the shards run, not after.
+    reports = ("trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png")
+    if not a.force and any(os.path.exists(os.path.join(a.out, r)) for r in reports):
+        fail(f"{a.out}: holds the reports of an earlier run; use --force to replace them, or another --out")
     return a
 
 

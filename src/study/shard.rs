@@ -135,6 +135,10 @@ impl Partial {
         if !left.is_empty() {
             bail!("{name}: a damaged partial result ({} bytes after its end)", left.len());
         }
+        let Shard { k, n } = part.shard;
+        if k == 0 || k > n || n > MAX_SHARDS {
+            bail!("{name}: a damaged partial result (shard {k}/{n})");
+        }
         Ok(part)
     }
 
@@ -245,6 +249,10 @@ mod tests {
         let mut longer = bytes.clone();
         longer.push(0);
         assert!(Partial::decode(&longer, "p").unwrap_err().to_string().contains("after its end"));
+        for (k, n) in [(0, 3), (4, 3), (1, MAX_SHARDS + 1)] {
+            let bad = Partial { shard: Shard { k, n }, ..part(1, 3) }.encode().unwrap();
+            assert!(Partial::decode(&bad, "p").unwrap_err().to_string().contains("damaged"), "{k}/{n}");
+        }
         let mut other = bytes;
         other[MAGIC.len()] = 9;
         assert!(Partial::decode(&other, "p").unwrap_err().to_string().contains("format 9"));
