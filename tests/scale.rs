@@ -194,6 +194,32 @@ fn shards_of_re_simulated_participants_merge_and_synth_shards_are_the_same_recor
     let merged = dir.path().join("merged");
     ok(&merge(&shards(&args, 2, &pdir), &merged));
     assert_same_reports(&whole, &merged);
+
+    // The same through the Slurm script's array tasks, each synthesising its own participants
+    // (baseline and re-simulated) in a temporary folder.
+    let parts = dir.path().join("slurm-parts");
+    std::fs::create_dir(&parts).unwrap();
+    let out = dir.path().join("slurm-merged");
+    let slurm = |cmd: &str, k: u32| {
+        Command::new("bash")
+            .args([root().join("scripts/slurm_study.sh").to_str().unwrap(), cmd])
+            .env("GROVE", env!("CARGO_BIN_EXE_grove"))
+            .env("SYNTH_PARTICIPANTS", "3")
+            .env("SYNTH_SET", "touchpad_move_rate=3")
+            .env("TMPDIR", dir.path())
+            .env("PARTS", &parts)
+            .env("OUT", &out)
+            .env("SHARDS", "2")
+            .env("SLURM_ARRAY_TASK_ID", k.to_string())
+            .current_dir(root())
+            .output()
+            .unwrap()
+    };
+    for k in 1..=2 {
+        ok(&slurm("shard", k));
+    }
+    ok(&slurm("merge", 0));
+    assert_same_reports(&whole, &out);
 }
 
 #[test]

@@ -87,6 +87,27 @@ fn a_local_ray_cluster_runs_a_1000_recording_synthetic_study_through_the_driver(
     assert_eq!(v["summary"]["status"]["verified"], 1000, "{}", v["summary"]["status"]);
     same_reports(&whole, &merged);
 
+    // Shards that synthesise their own participants (the baseline and the re-simulated ones
+    // under a setting) and study them, with nothing but the binary: the reports of the same
+    // synthesis and study without shards.
+    let (base, what) = (dir.path().join("base"), dir.path().join("what"));
+    ok(&grove(&["synth", "--participants", "3", "--out", base.to_str().unwrap()]));
+    ok(&grove(&["synth", "--participants", "3", "--set", "touchpad_move_rate=3", "--out", what.to_str().unwrap()]));
+    let whole = dir.path().join("synth-whole");
+    ok(&grove(&["study", "--replays", what.to_str().unwrap(), "--baseline", base.to_str().unwrap(), "--out", whole.to_str().unwrap()]));
+    let merged = dir.path().join("synth-ray");
+    let o = Command::new(&python)
+        .arg(root().join("scripts/ray_study.py"))
+        .args(["--grove", env!("CARGO_BIN_EXE_grove"), "--synth-participants", "3", "--synth-set", "touchpad_move_rate=3", "--shards", "2", "--num-cpus", "2"])
+        .args(["--out", merged.to_str().unwrap()])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    ok(&o);
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(merged.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(v["what_if"]["kind"], "re-simulated participants");
+    same_reports(&whole, &merged);
+
     // A driver that cannot merge (a shard's grove refuses its input) says why in one line.
     let empty = dir.path().join("empty");
     std::fs::create_dir(&empty).unwrap();
