@@ -85,6 +85,12 @@ fn merge(parts: &[PathBuf], out: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_grove")).args(&all).current_dir(root()).output().unwrap()
 }
 
+/// Whether shard k of n holds participant p (1-based), by the rule of docs/scale.md:
+/// XXH3 of the id `P0p`, modulo n, plus 1.
+fn grove_shard_holds(k: u64, n: u64, p: u32) -> bool {
+    xxhash_rust::xxh3::xxh3_64(format!("P{p:02}").as_bytes()) % n + 1 == k
+}
+
 fn trials_of(summary: &Path) -> usize {
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(summary).unwrap()).unwrap();
     v["trials"].as_array().unwrap().len()
@@ -179,6 +185,14 @@ fn shards_of_re_simulated_participants_merge_and_synth_shards_are_the_same_recor
     ok(&o);
     let n = std::fs::read_dir(&one).unwrap().count();
     assert!(String::from_utf8_lossy(&o.stdout).contains(&format!("{n} of {n} recordings")), "{}", String::from_utf8_lossy(&o.stdout));
+    // A shard without any participant writes no recording, and its study is an empty part.
+    let k = (1..=4).find(|&k| !(1..=3).any(|p| grove_shard_holds(k, 4, p))).expect("a shard of 4 without P01–P03");
+    let none = dir.path().join("none");
+    ok(&grove(&["synth", "--participants", "3", "--shard", &format!("{k}/4"), "--out", s(&none)]));
+    assert_eq!(std::fs::read_dir(&none).unwrap().count(), 0);
+    let o = grove(&["study", "--replays", s(&none), "--shard", &format!("{k}/4"), "--out", s(&dir.path().join("empty-part"))]);
+    ok(&o);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("0 of 0 recordings"), "{}", String::from_utf8_lossy(&o.stdout));
 
     // Re-simulated participants under a changed setting, compared with the baseline in shards.
     let what = dir.path().join("what");

@@ -21,7 +21,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 pub use super::study_report::{parse_overrides, parse_set, prepare_out, SetArgs};
 use super::study_report::{write_reports, ReportTo};
 use crate::study::shard::{Partial, RunPart, Shard, StudyKey};
-use crate::study::{recordings_in, run_all};
+use crate::study::{list_recordings, recordings_in, run_all};
 
 /// Arguments of `grove study`.
 #[derive(Args)]
@@ -116,8 +116,11 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
         return super::study_merge::run(m);
     }
     let set = parse_set(&args.set)?;
-    let files = recordings_in(&args.replays)?;
-    let base_files = args.baseline.as_deref().map(recordings_in).transpose()?;
+    // A shard's folder may hold none of the study's recordings (grove synth --shard wrote no
+    // participant there); a study without shards needs some.
+    let list = if args.shard.is_some() { list_recordings } else { recordings_in };
+    let files = list(&args.replays)?;
+    let base_files = args.baseline.as_deref().map(list).transpose()?;
     if let Some(shard) = &args.shard {
         let shard: Shard = shard.parse().map_err(|e| anyhow!("--shard {e}"))?;
         return run_shard(&args, shard, &set, &files, base_files.as_deref());

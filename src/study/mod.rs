@@ -90,8 +90,18 @@ pub struct Trial {
     pub task: Option<TaskReport>,
 }
 
-/// Every recording file (`*.jsonl`) in a folder, sorted by name.
+/// Every recording file (`*.jsonl`) in a folder, sorted by name; a folder without any is refused.
 pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let files = list_recordings(dir)?;
+    if files.is_empty() {
+        anyhow::bail!("{}: no recordings (*.jsonl) in this folder", dir.display());
+    }
+    Ok(files)
+}
+
+/// Every recording file (`*.jsonl`) in a folder, sorted by name, perhaps none (a shard's folder
+/// may hold no participant).
+pub fn list_recordings(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     if !dir.exists() {
         anyhow::bail!("{}: no such folder", dir.display());
     }
@@ -104,9 +114,6 @@ pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
         .collect();
     files.sort();
-    if files.is_empty() {
-        anyhow::bail!("{}: no recordings (*.jsonl) in this folder", dir.display());
-    }
     Ok(files)
 }
 
