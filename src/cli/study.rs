@@ -54,8 +54,8 @@ pub struct StudyArgs {
     /// is refused); with --shard, replace the partial result.
     #[arg(long)]
     pub force: bool,
-    /// Re-simulate only shard K of N (1 ≤ K ≤ N): the recordings whose file name hashes
-    /// (XXH3) to K, in --replays and --baseline alike. Writes a partial result to --out PART;
+    /// Re-simulate only shard K of N (1 ≤ K ≤ N): the recordings whose file name, up to its
+    /// first '-' (the participant, P07), hashes (XXH3) to K, in --replays and --baseline alike. Writes a partial result to --out PART;
     /// `grove study merge` puts the N of them together into the reports (docs/scale.md).
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
