@@ -272,6 +272,12 @@ fn a_missing_repeated_or_foreign_shard_is_one_line_and_nothing_is_written() {
     assert_one_line_error(&grove(&["study", "--replays", s(&rec), "--shard", "1/3", "--out", s(&parts[0])]), 2, "already exists");
     assert_eq!(std::fs::read(&parts[0]).unwrap(), before, "the partial result is left as it was");
     assert_one_line_error(&grove(&["study", "--replays", s(&rec), "--shard", "1/3", "--out", s(dir.path())]), 2, "is a folder");
+    // Shards that hold no recording at all make no study.
+    let empty = dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let lone = dir.path().join("lone");
+    ok(&grove(&["study", "--replays", s(&empty), "--shard", "1/1", "--out", s(&lone)]));
+    assert_one_line_error(&merge(&[lone], &out), 2, "no recordings in any of the shards");
     // The merge refuses a folder holding reports, as grove study does.
     ok(&merge(&parts, &out));
     assert_one_line_error(&merge(&parts, &out), 2, "--force");

@@ -108,17 +108,15 @@ fn a_local_ray_cluster_runs_a_1000_recording_synthetic_study_through_the_driver(
     assert_eq!(v["what_if"]["kind"], "re-simulated participants");
     same_reports(&whole, &merged);
 
-    // A driver that cannot merge (a shard's grove refuses its input) says why in one line.
-    let empty = dir.path().join("empty");
-    std::fs::create_dir(&empty).unwrap();
+    // A driver whose shards fail (grove refuses their input) says why in one line.
     let o = Command::new(&python)
         .arg(root().join("scripts/ray_study.py"))
-        .args(["--grove", env!("CARGO_BIN_EXE_grove"), "--replays", empty.to_str().unwrap(), "--shards", "2", "--num-cpus", "2"])
+        .args(["--grove", env!("CARGO_BIN_EXE_grove"), "--replays", rec.to_str().unwrap(), "--set", "snap_treshold=0.1", "--shards", "2", "--num-cpus", "2"])
         .args(["--out", dir.path().join("x").to_str().unwrap()])
         .current_dir(root())
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(stderr.lines().any(|l| l.starts_with("ray_study: ") && l.contains("no recordings")), "{stderr}");
+    assert!(stderr.lines().any(|l| l.starts_with("ray_study: ") && l.contains("unknown parameter 'snap_treshold'")), "{stderr}");
 }

@@ -34,6 +34,9 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
     let names: Vec<String> = args.parts.iter().map(|p| p.display().to_string()).collect();
     let parts = args.parts.iter().map(|p| Partial::read(p)).collect::<anyhow::Result<Vec<_>>>()?;
     let (study, replays, mut runs) = combine(parts, &names)?;
+    if runs.first().is_none_or(|r| r.trials.is_empty()) {
+        anyhow::bail!("{}: no recordings in any of the shards (as grove study refuses a folder without any)", replays);
+    }
     let set = parse_set(&study.set)?;
     prepare_out(&args.out, args.force)?;
     for r in &mut runs {
