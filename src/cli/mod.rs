@@ -28,6 +28,8 @@ pub mod scenario;
 pub mod scene;
 pub mod sim;
 pub mod study;
+pub mod study_merge;
+pub mod study_report;
 pub mod sun;
 pub mod synth;
 pub mod test;

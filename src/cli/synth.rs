@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::bail;
+use anyhow::{anyhow, bail};
 use clap::Args;
 
+use crate::study::shard::Shard;
 use crate::study::synth::{conditions, write_conditions, write_study};
 
 /// Arguments of `grove synth`.
@@ -33,6 +34,11 @@ pub struct SynthArgs {
     /// participant. Default: ray-casting,manual. Needs --out.
     #[arg(long, value_delimiter = ',', value_name = "NAMES")]
     pub techniques: Vec<String>,
+    /// Write only shard K of N (1 ≤ K ≤ N): the participants whose id (P07) hashes (XXH3) to K,
+    /// both of their recordings, exactly as a run without shards writes them; the recordings
+    /// `grove study --shard K/N` re-simulates (docs/scale.md).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
 }
 
 /// Runs `grove synth`.
@@ -44,6 +50,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
     if !args.techniques.is_empty() && args.out.is_none() {
         bail!("--techniques writes a study of its own: give it a folder with --out DIR");
     }
+    let shard: Option<Shard> = args.shard.as_deref().map(str::parse).transpose().map_err(|e| anyhow!("--shard {e}"))?;
     let out = match (&args.out, overrides.is_empty()) {
         (Some(o), _) => o.clone(),
         (None, true) => PathBuf::from("replays/study"),
@@ -51,12 +58,15 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
     };
     let progress = |what: &str| eprintln!("synth: {what}");
     let written = if args.techniques.is_empty() {
-        write_study(&out, args.participants, args.seed, args.force, &overrides, &progress)?
+        write_study(&out, args.participants, args.seed, args.force, &overrides, shard, &progress)?
     } else {
         let names: Vec<&str> = args.techniques.iter().map(|s| s.as_str()).collect();
-        write_conditions(&out, &conditions(&names)?, args.participants, args.seed, args.force, &overrides, &progress)?
+        write_conditions(&out, &conditions(&names)?, args.participants, args.seed, args.force, &overrides, shard, &progress)?
     };
-    println!("wrote {} recordings to {}", written.len(), out.display());
+    match shard {
+        Some(s) => println!("wrote {} recordings (shard {s}) to {}", written.len(), out.display()),
+        None => println!("wrote {} recordings to {}", written.len(), out.display()),
+    }
     if !overrides.is_empty() {
         println!("re-simulated participants under {}; compare with: grove study --replays {} --baseline replays/study", args.set.join(", "), out.display());
     }

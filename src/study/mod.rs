@@ -10,6 +10,7 @@ pub mod friedman;
 pub mod latin;
 pub mod participant;
 pub mod report;
+pub mod shard;
 pub mod stats;
 pub mod synth;
 pub mod synth_plugin;
@@ -22,10 +23,10 @@ use grove_systems::replay::{replay_file, ReplayOptions};
 use grove_systems::resources::Override;
 use grove_systems::task::TaskReport;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// How a trial's recording fared.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TrialStatus {
     /// Every checkpoint matched.
@@ -54,7 +55,7 @@ impl TrialStatus {
 }
 
 /// One recording, re-simulated and evaluated.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Trial {
     /// The recording's file name.
     pub file: String,
@@ -93,8 +94,18 @@ pub struct Trial {
     pub task: Option<TaskReport>,
 }
 
-/// Every recording file (`*.jsonl`) in a folder, sorted by name.
+/// Every recording file (`*.jsonl`) in a folder, sorted by name; a folder without any is refused.
 pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let files = list_recordings(dir)?;
+    if files.is_empty() {
+        anyhow::bail!("{}: no recordings (*.jsonl) in this folder", dir.display());
+    }
+    Ok(files)
+}
+
+/// Every recording file (`*.jsonl`) in a folder, sorted by name, perhaps none (a shard's folder
+/// may hold no participant).
+pub fn list_recordings(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     if !dir.exists() {
         anyhow::bail!("{}: no such folder", dir.display());
     }
@@ -107,9 +118,6 @@ pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
         .collect();
     files.sort();
-    if files.is_empty() {
-        anyhow::bail!("{}: no recordings (*.jsonl) in this folder", dir.display());
-    }
     // A pipe, device or folder among them is bad input, refused before anything runs (reading
     // a pipe would block); a damaged recording, by contrast, becomes a failed trial.
     for f in &files {

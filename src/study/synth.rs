@@ -27,6 +27,7 @@ use grove_systems::Sim;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::shard::Shard;
 use super::participant::{angle_between, angular_width, scatter_direction, sweep, Skill};
 
 /// A controller pose is sent every this many ticks while the hand moves (30 Hz at 60 Hz ticks),
@@ -458,21 +459,25 @@ pub fn conditions(names: &[&str]) -> anyhow::Result<Vec<Condition>> {
 
 /// Writes `participants` × 2 recordings to `out` (one per participant per task), under the
 /// configuration `overrides` (empty for the defaults): [`write_conditions`] with ray-casting and
-/// manual. Existing files are never overwritten unless `force` is set.
-pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
-    write_conditions(out, &conditions(&["ray-casting", "manual"])?, participants, seed, force, overrides, progress)
+/// manual. Existing files are never overwritten unless `force` is set. With a `shard`, only the
+/// participants of that shard (by their id, `P07`, see [`super::shard`]) are written; each
+/// participant's recordings are the same as without shards.
+pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+    write_conditions(out, &conditions(&["ray-casting", "manual"])?, participants, seed, force, overrides, shard, progress)
 }
 
 /// Writes one recording per participant per condition to `out`. Each participant does the
 /// conditions as blocks in the order of a balanced Latin square ([`super::latin::order`]; for
 /// two conditions, even participants start with the first); headers carry the block and the
-/// session start time. Existing files are never overwritten unless `force` is set.
-pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, seed: u64, force: bool, overrides: &[Override], progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+/// session start time. Existing files are never overwritten unless `force` is set. With a
+/// `shard`, only that shard's participants are written.
+#[allow(clippy::too_many_arguments)]
+pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
     if out.exists() && !out.is_dir() {
         bail!("{}: exists and is not a folder", out.display());
     }
     let mut planned = Vec::new();
-    for p in 0..participants {
+    for p in (0..participants).filter(|p| shard.is_none_or(|s| s.holds(&format!("P{:02}", p + 1)))) {
         for (block, i) in super::latin::order(p, tasks.len()).into_iter().enumerate() {
             let t = &tasks[i];
             planned.push((p, block as u32 + 1, t, out.join(format!("P{:02}-{}.jsonl", p + 1, t.name))));

@@ -239,7 +239,7 @@ pub fn ticks_to_seconds(ticks: u64, dt: f32) -> f64 {
 }
 
 /// One placed tree in a task report.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TreeReport {
     /// Index of the target it satisfied.
     pub target: usize,
@@ -254,7 +254,7 @@ pub struct TreeReport {
 }
 
 /// A task's outcome, as `grove replay --json` and `grove study` report it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TaskReport {
     /// The task id.
     pub id: String,
