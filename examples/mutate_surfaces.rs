@@ -24,17 +24,15 @@ use grove::bank::import::{add, AddRequest};
 use grove::lsystem::{derive, grammar::Grammar, mesh, presets::PRESETS, turtle};
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
-/// SplitMix64: a small deterministic generator, so the run needs no RNG crate.
-struct Rng(u64);
+/// The run's one seeded generator.
+struct Rng(ChaCha8Rng);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.random::<u64>()
     }
     fn below(&mut self, n: usize) -> usize {
         (self.next() % n.max(1) as u64) as usize
@@ -419,7 +417,7 @@ fn main() {
     });
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let work = tempfile::tempdir().unwrap();
-    let mut rng = Rng(seed);
+    let mut rng = Rng(ChaCha8Rng::seed_from_u64(seed));
     let mut tally = Tally::default();
     let start = Instant::now();
     let want = |s: &str| only.as_deref().is_none_or(|o| o == s);

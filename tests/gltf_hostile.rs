@@ -10,67 +10,16 @@ mod common;
 mod build;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
 
 use build::{f32s, u16s, Buffer};
-use common::{assert_one_line_error, root};
-
-const TIME_BOUND: Duration = Duration::from_secs(2);
-const MEMORY_BOUND_KB: i64 = 200 * 1024;
+use common::assert_one_line_error;
+use common::bounded::{grove_bounded, MEMORY_BOUND_KB, TIME_BOUND};
 
 fn temp_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("grove-gltf-hostile-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-/// Runs `grove` with a watchdog (10 s) and returns its output, wall time and peak resident
-/// memory in KiB (from `wait4`).
-fn grove_bounded(args: &[&str]) -> (Output, Duration, i64) {
-    let start = Instant::now();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_grove"))
-        .args(args)
-        .current_dir(root())
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the grove binary runs");
-    let pid = child.id() as libc::pid_t;
-    let (mut out, mut err) = (child.stdout.take().unwrap(), child.stderr.take().unwrap());
-    let out_reader = std::thread::spawn(move || {
-        let mut v = Vec::new();
-        std::io::Read::read_to_end(&mut out, &mut v).ok();
-        v
-    });
-    let err_reader = std::thread::spawn(move || {
-        let mut v = Vec::new();
-        std::io::Read::read_to_end(&mut err, &mut v).ok();
-        v
-    });
-    let mut status = 0;
-    // SAFETY: an all-zero `rusage` is a valid value of this plain C struct.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    loop {
-        // SAFETY: `pid` is our own child, not yet reaped; `status` and `usage` are valid for writes.
-        let r = unsafe { libc::wait4(pid, &mut status, libc::WNOHANG, &mut usage) };
-        if r == pid {
-            break;
-        }
-        assert!(r == 0, "wait4 failed");
-        if start.elapsed() > Duration::from_secs(10) {
-            let _ = child.kill();
-            panic!("grove {args:?} ran for more than 10 s: a hang");
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let took = start.elapsed();
-    let code = if libc::WIFEXITED(status) { libc::WEXITSTATUS(status) } else { 128 + libc::WTERMSIG(status) };
-    use std::os::unix::process::ExitStatusExt;
-    let output = Output { status: std::process::ExitStatus::from_raw(code << 8), stdout: out_reader.join().unwrap(), stderr: err_reader.join().unwrap() };
-    (output, took, usage.ru_maxrss)
 }
 
 /// `models add` and `render --model` of `file` both refuse it with exit 2 and one line holding

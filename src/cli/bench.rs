@@ -85,9 +85,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::Render => ("render", super::bench_render::bench_render(render)?),
             Which::RenderReference => (
                 "render_reference",
-                super::bench_render::bench_reference(render)?,
+                super::bench_suites::bench_reference(render)?,
             ),
-            Which::RenderGpu => ("render_gpu", super::bench_render::bench_gpu(render)?),
+            Which::RenderGpu => ("render_gpu", super::bench_suites::bench_gpu(render)?),
             Which::Water => ("water", super::bench_water::bench_water(render)?),
             Which::Grass => ("grass", super::bench_grass::bench_grass()?),
             Which::GrassGoals => ("grass_goals", super::bench_grass::bench_grass_goals()?),

@@ -262,7 +262,7 @@ const VARIANTS: [(&str, Option<fn(u32) -> u8>); 4] = [
 ];
 
 /// The figures of a `side`² forest in every variant, shadows on and off, `frames` frames each.
-fn forest_figures(
+pub(super) fn forest_figures(
     gpu: &Gpu,
     renderer: &mut Renderer,
     side: u32,
@@ -285,7 +285,7 @@ fn forest_figures(
 
 /// The reference scene (after Fukuda et al. 2007): 100 trees, 10 m apart on a 100 × 100 m
 /// ground; and the ground and sky alone, the floor under every other figure.
-fn reference_scene(gpu: &Gpu, renderer: &mut Renderer) -> anyhow::Result<Value> {
+pub(super) fn reference_scene(gpu: &Gpu, renderer: &mut Renderer) -> anyhow::Result<Value> {
     forest_figures(gpu, renderer, 10, 10)
 }
 
@@ -301,39 +301,6 @@ pub(super) fn header(adapter: String, renderer: &Renderer, timing: &str) -> serd
 }
 
 pub(super) const WALL_TIMING: &str = "median of 10 frames: wall time of render + device.poll(wait); gpu_*_pass_ms from timestamp queries where the device has them";
-
-/// Runs only the reference scene and returns its figures.
-pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
-    let (gpu, mut renderer, adapter) = setup(options, false)?;
-    let reference = reference_scene(&gpu, &mut renderer)?;
-    let mut out = header(adapter, &renderer, WALL_TIMING);
-    out.insert("reference_100_trees".into(), reference);
-    if options.impostor_pixels > 0.0 || options.leaf_pixels > 0.0 {
-        let sim = forest(10, Some(&|i| (i % 8) as u8))?;
-        out.insert("reference_image_vs_full_detail".into(), super::bench_impostor::image_error(&gpu, &mut renderer, &sim)?);
-    }
-    Ok(Value::Object(out))
-}
-
-/// The reference scene grown to 10k trees (100 × 100, 10 m apart) on a real GPU, timed with
-/// timestamp queries. Fails on a software adapter or a device without timestamp queries.
-pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
-    let (gpu, mut renderer, adapter) = setup(options, true)?;
-    let reference = reference_scene(&gpu, &mut renderer)?;
-    let forest = forest_figures(&gpu, &mut renderer, 100, 30)?;
-    let mut out = header(
-        adapter,
-        &renderer,
-        "median of frames: GPU time of the shadow and main passes from timestamp queries; wall time of render + device.poll(wait)",
-    );
-    out.insert("reference_100_trees".into(), reference);
-    out.insert("forest_10k_trees".into(), forest);
-    out.insert("water_test".into(), super::bench_water::water_figures(&gpu, &mut renderer, 30)?);
-    out.insert("grass".into(), super::bench_grass::bench_grass_gpu(&gpu)?);
-    out.insert("park".into(), super::bench_park::park_figures(&gpu, &mut renderer, 30)?);
-    super::bench_impostor::forest_gpu_figures(&gpu, &mut renderer, &mut out)?;
-    Ok(Value::Object(out))
-}
 
 /// Runs the render benchmarks and returns their figures.
 pub fn bench_render(options: RenderBenchOptions) -> anyhow::Result<Value> {

@@ -13,6 +13,7 @@ pub mod bench_impostor;
 pub mod bench_park;
 pub mod bench_raycast;
 pub mod bench_render;
+pub mod bench_suites;
 pub mod bench_replay;
 pub mod bench_water;
 pub mod bench_wind;

@@ -11,7 +11,7 @@ use grove_systems::resources::{Config, Override};
 use crate::study::report::{self, Summary};
 use crate::study::shard::RunPart;
 use crate::study::whatif::{self, Sweep, WhatIf};
-use crate::study::{chart, csv_out, Trial, TrialStatus};
+use crate::study::{chart, csv_out, table, Trial, TrialStatus};
 
 /// Where and how the reports are written.
 pub struct ReportTo {
@@ -151,7 +151,7 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow
     if to.json {
         super::print_json(&json)?;
     } else {
-        print!("{}", report::table(&trials, what_if.as_ref()));
+        print!("{}", table::table(&trials, what_if.as_ref()));
         if let Some(w) = &what_if {
             println!("what-if kind: {} ({})", w.kind, w.kind_meaning);
             for (mode, m) in &w.modes {
@@ -164,12 +164,12 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow
                     m.unpaired
                 );
                 if let Some(p) = &m.paired {
-                    print!("  {}", report::paired_line(p));
+                    print!("  {}", table::paired_line(p));
                 }
             }
             println!("under the what-if:");
         }
-        print!("{}", report::summary_lines(&summary));
+        print!("{}", table::summary_lines(&summary));
         println!("reports in {}", out.display());
     }
     eprintln!("study: {} recordings re-simulated in {:.3} s", trials.len(), wall);
@@ -239,7 +239,7 @@ fn write_sweep(to: &ReportTo, fixed: &[Override], name: &str, values: &[Override
             );
         }
         println!("baseline (every parameter at its default):");
-        print!("{}", report::summary_lines(&summary));
+        print!("{}", table::summary_lines(&summary));
         println!("reports in {} (sweep.csv, sweep.png)", out.display());
     }
     Ok(if ok { ExitCode::SUCCESS } else { ExitCode::from(1) })

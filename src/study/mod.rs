@@ -14,6 +14,7 @@ pub mod shard;
 pub mod stats;
 pub mod synth;
 pub mod synth_plugin;
+pub mod table;
 pub mod whatif;
 
 use std::path::{Path, PathBuf};

@@ -63,7 +63,7 @@ pub struct GpuModel {
     /// Mean leaf area of the simplified primitives, square metres; 0 when none is simplified.
     pub leaf_area: f32,
     /// The impostor atlases, baked by the renderer after the upload ([`super::impostor`]).
-    pub impostor: Option<super::impostor::bake::Atlas>,
+    pub impostor: Option<super::impostor::Atlas>,
 }
 
 impl GpuModel {

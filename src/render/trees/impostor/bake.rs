@@ -3,7 +3,7 @@
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
-use super::{CELL, GRID};
+use super::{Atlas, CELL, GRID, MIP_LEVELS};
 use crate::render::gpu::{depth_test, uniform_entry, PipelineSpec, Shared};
 use crate::render::trees::model::GpuModel;
 
@@ -17,9 +17,6 @@ pub const ALBEDO_VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Un
 /// The normal atlas's format (model-space normal encoded as `n / 2 + 1/2`, depth in alpha).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
-/// Mip levels of the atlases: each is baked by drawing the model again at its size (views of
-/// 160, 80, 40, 20 and 10 texels), so far impostors sample a small, cache-friendly level.
-pub const MIP_LEVELS: u32 = 5;
 
 const BAKE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -31,22 +28,6 @@ pub(crate) struct BakeParams {
     pub centre: [f32; 3],
     /// Its radius, metres.
     pub radius: f32,
-}
-
-/// A model's impostor atlases and its bounding sphere.
-pub struct Atlas {
-    /// Albedo and coverage, [`ALBEDO_FORMAT`], `GRID * CELL` texels square.
-    pub albedo: wgpu::Texture,
-    /// Normal and depth, [`NORMAL_FORMAT`].
-    pub normal: wgpu::Texture,
-    /// The bounding sphere's centre, model-space metres.
-    pub centre: Vec3,
-    /// Its radius, metres.
-    pub radius: f32,
-    /// The model's extent in each view ([`super::view_rects`]), row-major.
-    pub rects: Vec<glam::Vec4>,
-    /// The impostor shader's group 2 (set by [`super::draw::ImpostorGpu::bind`]).
-    pub(crate) bind_group: Option<wgpu::BindGroup>,
 }
 
 /// The bake shader's source (srgb.wgsl, octa.wgsl and bake.wgsl), part of the cache key.

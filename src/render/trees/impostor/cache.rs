@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 
 use xxhash_rust::xxh3::Xxh3;
 
-use super::bake::MIP_LEVELS;
+use super::MIP_LEVELS;
 use super::{CELL, GRID};
 use crate::render::assets::gltf_load::ModelData;
 

@@ -2,7 +2,8 @@
 
 use wgpu::util::DeviceExt;
 
-use super::bake::{Atlas, Baker};
+use super::bake::Baker;
+use super::Atlas;
 use crate::render::gpu::{color_target, depth_test, sampler_entry, texture_entry, uniform_entry, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
 use crate::render::trees::instances::Instance;
 

@@ -32,6 +32,26 @@ pub const GRID: u32 = 8;
 /// The edge of one view in the atlas, texels.
 pub const CELL: u32 = 160;
 
+/// A model's impostor atlases and its bounding sphere.
+pub struct Atlas {
+    /// Albedo and coverage, [`bake::ALBEDO_FORMAT`], `GRID * CELL` texels square.
+    pub albedo: wgpu::Texture,
+    /// Normal and depth, [`bake::NORMAL_FORMAT`].
+    pub normal: wgpu::Texture,
+    /// The bounding sphere's centre, model-space metres.
+    pub centre: Vec3,
+    /// Its radius, metres.
+    pub radius: f32,
+    /// The model's extent in each view ([`view_rects`]), row-major.
+    pub rects: Vec<glam::Vec4>,
+    /// The impostor shader's group 2 (set by [`draw::ImpostorGpu::bind`]).
+    pub(crate) bind_group: Option<wgpu::BindGroup>,
+}
+
+/// Mip levels of the atlases: each is baked by drawing the model again at its size (views of
+/// 160, 80, 40, 20 and 10 texels), so far impostors sample a small, cache-friendly level.
+pub const MIP_LEVELS: u32 = 5;
+
 /// The width of the cross-fade band: a tree is fully a mesh above `BAND` times the impostor
 /// threshold (pixels on screen) and fully an impostor below the threshold.
 pub const BAND: f32 = 1.25;

@@ -1,0 +1,40 @@
+//! The render benchmarks that combine several others: only the reference scene (with the
+//! impostors' image error), and the whole set on a real GPU. A module of its own, above the
+//! benchmarks it calls, so that none of them imports another's caller.
+
+use serde_json::Value;
+
+use super::bench_render::{forest, forest_figures, header, reference_scene, setup, RenderBenchOptions, WALL_TIMING};
+
+/// Runs only the reference scene and returns its figures.
+pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
+    let (gpu, mut renderer, adapter) = setup(options, false)?;
+    let reference = reference_scene(&gpu, &mut renderer)?;
+    let mut out = header(adapter, &renderer, WALL_TIMING);
+    out.insert("reference_100_trees".into(), reference);
+    if options.impostor_pixels > 0.0 || options.leaf_pixels > 0.0 {
+        let sim = forest(10, Some(&|i| (i % 8) as u8))?;
+        out.insert("reference_image_vs_full_detail".into(), super::bench_impostor::image_error(&gpu, &mut renderer, &sim)?);
+    }
+    Ok(Value::Object(out))
+}
+
+/// The reference scene grown to 10k trees (100 × 100, 10 m apart) on a real GPU, timed with
+/// timestamp queries. Fails on a software adapter or a device without timestamp queries.
+pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
+    let (gpu, mut renderer, adapter) = setup(options, true)?;
+    let reference = reference_scene(&gpu, &mut renderer)?;
+    let forest = forest_figures(&gpu, &mut renderer, 100, 30)?;
+    let mut out = header(
+        adapter,
+        &renderer,
+        "median of frames: GPU time of the shadow and main passes from timestamp queries; wall time of render + device.poll(wait)",
+    );
+    out.insert("reference_100_trees".into(), reference);
+    out.insert("forest_10k_trees".into(), forest);
+    out.insert("water_test".into(), super::bench_water::water_figures(&gpu, &mut renderer, 30)?);
+    out.insert("grass".into(), super::bench_grass::bench_grass_gpu(&gpu)?);
+    out.insert("park".into(), super::bench_park::park_figures(&gpu, &mut renderer, 30)?);
+    super::bench_impostor::forest_gpu_figures(&gpu, &mut renderer, &mut out)?;
+    Ok(Value::Object(out))
+}
