@@ -61,14 +61,36 @@ impl Known {
     }
 }
 
-/// The registered techniques as the world knows them: the two built-in ones first
-/// (ray-casting at 0, manual at 1), then the plug-ins. Cheap to clone.
+/// A list of registered techniques: the two built-in ones first (ray-casting at 0, manual at
+/// 1), then the plug-ins in registration order. Cheap to clone. The world holds one of
+/// [`Known`] ([`KnownTechniques`]); the simulation one of full registrations
+/// ([`crate::technique::Techniques`]).
 #[derive(Clone)]
-pub struct KnownTechniques(Arc<Vec<Known>>);
+pub struct Registry<T>(pub(crate) Arc<Vec<T>>);
 
-impl std::fmt::Debug for KnownTechniques {
+/// What a [`Registry`] needs of its entries.
+pub trait Registered {
+    /// The technique's name.
+    fn name(&self) -> &'static str;
+    /// Its version.
+    fn version(&self) -> u32;
+}
+
+impl Registered for Known {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn version(&self) -> u32 {
+        self.version
+    }
+}
+
+/// The registered techniques as the world knows them.
+pub type KnownTechniques = Registry<Known>;
+
+impl<T: Registered> std::fmt::Debug for Registry<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_list().entries(self.0.iter().map(|t| (t.name, t.version))).finish()
+        f.debug_list().entries(self.0.iter().map(|t| (t.name(), t.version()))).finish()
     }
 }
 
@@ -77,30 +99,32 @@ pub const RAY_CASTING_ABOUT: &str = "point the controller ray at the ground and 
 /// See [`RAY_CASTING_ABOUT`].
 pub const MANUAL_ABOUT: &str = "choose a model from the menu, then drag it into place";
 
-impl KnownTechniques {
+impl Registry<Known> {
     /// Only the two built-in techniques.
     pub fn builtin() -> KnownTechniques {
-        KnownTechniques(Arc::new(vec![Known::builtin(Mode::RayCasting, RAY_CASTING_ABOUT), Known::builtin(Mode::Manual, MANUAL_ABOUT)]))
+        Registry(Arc::new(vec![Known::builtin(Mode::RayCasting, RAY_CASTING_ABOUT), Known::builtin(Mode::Manual, MANUAL_ABOUT)]))
     }
+}
 
+impl<T: Registered> Registry<T> {
     /// From a list whose first two are the built-in techniques.
-    pub fn from_list(list: Vec<Known>) -> KnownTechniques {
-        KnownTechniques(Arc::new(list))
+    pub fn from_list(list: Vec<T>) -> Registry<T> {
+        Registry(Arc::new(list))
     }
 
     /// The technique at an index (0 = ray-casting, 1 = manual).
-    pub fn at(&self, index: usize) -> &Known {
+    pub fn at(&self, index: usize) -> &T {
         self.0.get(index).unwrap_or(&self.0[0])
     }
 
     /// The index of a technique by name.
     pub fn index(&self, name: &str) -> Option<usize> {
-        self.0.iter().position(|t| t.name == name)
+        self.0.iter().position(|t| t.name() == name)
     }
 
     /// A technique by name.
-    pub fn get(&self, name: &str) -> Option<&Known> {
-        self.0.iter().find(|t| t.name == name)
+    pub fn get(&self, name: &str) -> Option<&T> {
+        self.0.iter().find(|t| t.name() == name)
     }
 
     /// The index of the built-in technique of a mode.
@@ -112,13 +136,13 @@ impl KnownTechniques {
     }
 
     /// Every registered technique, built-in ones first.
-    pub fn iter(&self) -> impl Iterator<Item = &Known> {
+    pub fn iter(&self) -> impl Iterator<Item = &T> {
         self.0.iter()
     }
 
     /// The registered names, comma-separated, for error messages.
     pub fn names(&self) -> String {
-        self.0.iter().map(|t| t.name).collect::<Vec<_>>().join(", ")
+        self.0.iter().map(|t| t.name()).collect::<Vec<_>>().join(", ")
     }
 
     /// The error for a name that is not registered.

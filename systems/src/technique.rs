@@ -20,7 +20,7 @@ use std::sync::{Arc, OnceLock};
 
 use hecs::World;
 
-pub use crate::known_techniques::{HashedComponent, Known, KnownTechniques};
+pub use crate::known_techniques::{HashedComponent, Known, KnownTechniques, Registered, Registry};
 
 use crate::input::Button;
 use crate::mode::Mode;
@@ -178,15 +178,22 @@ impl Technique {
     }
 }
 
-/// The registered techniques: the two built-in ones first (ray-casting at 0, manual at 1), then
-/// the plug-ins in registration order. Cheap to clone.
-#[derive(Clone)]
-pub struct Techniques(Arc<Vec<Technique>>);
+/// The registered techniques with their systems, controls and participant models.
+pub type Techniques = Registry<Technique>;
 
-impl Techniques {
+impl Registered for Technique {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn version(&self) -> u32 {
+        self.version
+    }
+}
+
+impl Registry<Technique> {
     /// Only the two built-in techniques.
     pub fn builtin() -> Techniques {
-        Techniques(Arc::new(vec![Technique::ray_casting(), Technique::manual()]))
+        Registry(Arc::new(vec![Technique::ray_casting(), Technique::manual()]))
     }
 
     /// The built-in techniques and these plug-ins. A name registered twice, an empty name or
@@ -202,56 +209,12 @@ impl Techniques {
             }
             all.push(t);
         }
-        Ok(Techniques(Arc::new(all)))
-    }
-
-    /// The technique at an index (0 = ray-casting, 1 = manual).
-    pub fn at(&self, index: usize) -> &Technique {
-        self.0.get(index).unwrap_or(&self.0[0])
-    }
-
-    /// The index of a technique by name.
-    pub fn index(&self, name: &str) -> Option<usize> {
-        self.0.iter().position(|t| t.name == name)
-    }
-
-    /// A technique by name.
-    pub fn get(&self, name: &str) -> Option<&Technique> {
-        self.0.iter().find(|t| t.name == name)
-    }
-
-    /// The index of the built-in technique of a mode.
-    pub fn of_mode(mode: Mode) -> usize {
-        match mode {
-            Mode::RayCasting => 0,
-            Mode::Manual => 1,
-        }
-    }
-
-    /// Every registered technique, built-in ones first.
-    pub fn iter(&self) -> impl Iterator<Item = &Technique> {
-        self.0.iter()
-    }
-
-    /// The registered names, comma-separated, for error messages.
-    pub fn names(&self) -> String {
-        self.0.iter().map(|t| t.name).collect::<Vec<_>>().join(", ")
-    }
-
-    /// The error for a name that is not registered.
-    pub fn unknown(&self, name: &str) -> String {
-        format!("technique '{}' is not registered; registered: {}", name.escape_debug(), self.names())
+        Ok(Registry(Arc::new(all)))
     }
 
     /// What the world knows of them, in the same order ([`crate::resources::Resources::techniques`]).
     pub fn known(&self) -> KnownTechniques {
         KnownTechniques::from_list(self.0.iter().map(Technique::known).collect())
-    }
-}
-
-impl std::fmt::Debug for Techniques {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_list().entries(self.0.iter().map(|t| (t.name, t.version))).finish()
     }
 }
 
