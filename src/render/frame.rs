@@ -76,6 +76,9 @@ impl Renderer {
     pub(crate) fn encode_frame(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
         // 1. Extract.
         let mut data = FrameData::extract(sim, &self.ground.key);
+        if let Some(top) = self.options.top_view {
+            data.camera = top.camera();
+        }
         if self.options.grass {
             data.extract_grass(sim, &self.grass.key);
         }
@@ -115,7 +118,10 @@ impl Renderer {
 
         // The views: the camera's, and the sun's fitted to the trees and planes within 80 m of
         // the camera.
-        let view_proj = camera_matrix(&data.camera, self.width as f32 / self.height as f32);
+        let view_proj = match options.top_view {
+            Some(top) => top.matrix(),
+            None => camera_matrix(&data.camera, self.width as f32 / self.height as f32),
+        };
         let drawn = union(union(self.trees.bounds, data.plane_bounds), self.canopy.as_ref().and_then(|c| c.bounds));
         let (smin, smax) = shadow_bounds(drawn, data.camera.position);
         let (light_vp, extent) = light_matrix(data.sun_dir, smin, smax);

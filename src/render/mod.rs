@@ -43,7 +43,7 @@ pub use timing::PassTimes;
 pub use trees::instances::Instance;
 pub use trees::lod;
 pub use trees::model::GpuModel;
-pub use view::{camera_matrix, Camera};
+pub use view::{camera_matrix, Camera, TopView};
 pub use water::WaterOutput;
 
 use gltf_load::ModelData;
@@ -97,11 +97,14 @@ pub struct RenderOptions {
     /// Draw the photographed crowns as canopy layers (with aerial photographs set by
     /// [`Renderer::set_aerial`]); off, or without layer masks, they are drawn as tree models.
     pub canopy: bool,
+    /// Draw from straight above with an orthographic projection ([`view::TopView`]) instead of
+    /// the world's head camera.
+    pub top_view: Option<view::TopView>,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true, top_view: None }
     }
 }
 

@@ -28,6 +28,42 @@ pub fn camera_matrix(camera: &Camera, aspect: f32) -> Mat4 {
     proj * view
 }
 
+/// A camera straight above a rectangle of ground, looking down with an orthographic projection:
+/// north (−Z) up and east (+X) right in the image, so world X and Z map linearly to pixels.
+/// Set as [`crate::render::RenderOptions::top_view`] (the study report's map of the task area).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TopView {
+    /// The western and northern edge of the rectangle, world X and Z, metres.
+    pub min: glam::Vec2,
+    /// The eastern and southern edge, world X and Z, metres.
+    pub max: glam::Vec2,
+    /// The height the camera looks down from, metres (everything between it and 200 m below is
+    /// drawn).
+    pub eye_height: f32,
+}
+
+impl TopView {
+    /// The perspective camera at the same eye whose field of view covers the rectangle at the
+    /// ground: what level of detail, culling and shadow fitting use.
+    pub fn camera(&self) -> Camera {
+        let c = (self.min + self.max) * 0.5;
+        let half = (self.max.y - self.min.y).abs() * 0.5;
+        Camera {
+            position: Vec3::new(c.x, self.eye_height, c.y),
+            rotation: Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2),
+            fov_y: 2.0 * (half / self.eye_height.max(1.0)).atan(),
+        }
+    }
+
+    /// The orthographic view-projection matrix (wgpu depth 0..1).
+    pub fn matrix(&self) -> Mat4 {
+        let cam = self.camera();
+        let view = Mat4::from_rotation_translation(cam.rotation, cam.position).inverse();
+        let (hw, hh) = ((self.max.x - self.min.x).abs() * 0.5, (self.max.y - self.min.y).abs() * 0.5);
+        glam::camera::rh::proj::directx::orthographic(-hw, hw, -hh, hh, 0.1, 200.0) * view
+    }
+}
+
 /// The uniforms of one view (matches `Frame` in lighting.wgsl; 16-byte rows, the padding named).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
@@ -165,6 +201,21 @@ mod tests {
         for c in crate::render::lighting::box_corners(min, max) {
             let p = m.project_point3(c);
             assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0, "{p:?}");
+        }
+    }
+
+    #[test]
+    fn the_top_view_maps_the_rectangle_onto_the_image_north_up() {
+        let top = TopView { min: glam::Vec2::new(-10.0, -20.0), max: glam::Vec2::new(30.0, 0.0), eye_height: 50.0 };
+        let m = top.matrix();
+        // The north-west corner at the top left, the south-east corner at the bottom right,
+        // whatever the height of the ground.
+        for y in [0.0, 3.0] {
+            let nw = m.project_point3(Vec3::new(-10.0, y, -20.0));
+            let se = m.project_point3(Vec3::new(30.0, y, 0.0));
+            assert!((nw.x + 1.0).abs() < 1e-5 && (nw.y - 1.0).abs() < 1e-5, "{nw:?}");
+            assert!((se.x - 1.0).abs() < 1e-5 && (se.y + 1.0).abs() < 1e-5, "{se:?}");
+            assert!((0.0..1.0).contains(&nw.z));
         }
     }
 
