@@ -10,6 +10,7 @@ use clap::{Parser, Subcommand};
 
 mod cli;
 mod desktop;
+mod html;
 mod study;
 mod techniques;
 

@@ -23,6 +23,7 @@ pub mod models;
 pub mod play;
 pub mod render;
 pub mod replay;
+pub mod replay_html;
 pub mod replay_seal;
 pub mod replay_upgrade;
 pub mod scenario;

@@ -38,9 +38,15 @@ pub struct ReplayArgs {
     /// GROVE_BANK's folders are searched after these.
     #[arg(long = "bank", value_name = "DIR")]
     pub banks: Vec<PathBuf>,
-    /// Let --upgrade overwrite an existing --out file.
-    #[arg(long, requires = "upgrade")]
+    /// Let --upgrade overwrite an existing --out file, or --html an existing page.
+    #[arg(long)]
     pub force: bool,
+    /// Also write the recording's page to this file: its numbers, its events on a time axis,
+    /// the time each tree took, a head-camera filmstrip and, when it diverges, the first
+    /// diverging tick with the entities and components that differ and frames just before and
+    /// at it (one self-contained HTML file).
+    #[arg(long, value_name = "OUT.html", conflicts_with_all = ["seal", "upgrade", "until"])]
+    pub html: Option<PathBuf>,
 }
 
 /// What `grove replay --json` prints.
@@ -125,6 +131,12 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
     if args.out.is_some() {
         anyhow::bail!("--out is only for --seal or --upgrade");
     }
+    if args.force && args.html.is_none() {
+        anyhow::bail!("--force is only for --upgrade or --html");
+    }
+    if let Some(page) = &args.html {
+        super::replay_html::check_out(page, args.force)?;
+    }
     let start = Instant::now();
     let options = ReplayOptions { until: args.until, banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
     let outcome = match replay_file(&args.file, &options) {
@@ -136,6 +148,9 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
     };
     let wall = start.elapsed().as_secs_f64();
     let report = ReplayReport::new(args.file.display().to_string(), &outcome, wall);
+    if let Some(page) = &args.html {
+        super::replay_html::write(&args.file, &outcome, page)?;
+    }
     if args.json {
         super::print_json(&report)?;
     } else {

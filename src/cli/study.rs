@@ -59,6 +59,16 @@ pub struct StudyArgs {
     /// `grove study merge` puts the N of them together into the reports (docs/scale.md).
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
+    /// Also write report.html: one self-contained page (no network) with the overview, the task
+    /// area from above (ray heatmaps, tree paths, planting errors) and each trial's timeline,
+    /// tree durations and head-camera filmstrip (docs/reports.md, "The HTML report").
+    #[arg(long, conflicts_with = "shard")]
+    pub html: bool,
+    /// With --html: the participants whose trials get a section of their own, e.g. P03,P07, or
+    /// `all`. Default: every trial up to 50 recordings; beyond, the three slowest completed
+    /// trials per condition and every incomplete, failed or diverged one.
+    #[arg(long, value_name = "P03,P07|all", requires = "html")]
+    pub html_trials: Option<String>,
 }
 
 /// Subcommands of `grove study`.
@@ -116,6 +126,11 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
         return super::study_merge::run(m);
     }
     let set = parse_set(&args.set)?;
+    let html = match (args.html, &args.html_trials) {
+        (false, _) => None,
+        (true, None) => Some(crate::html::Selection::Auto),
+        (true, Some(s)) => Some(s.parse::<crate::html::Selection>()?),
+    };
     // A shard's folder may hold none of the study's recordings (grove synth --shard wrote no
     // participant there); a study without shards needs some.
     let list = if args.shard.is_some() { list_recordings } else { recordings_in };
@@ -128,7 +143,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("target/study"));
     prepare_out(&out, args.force)?;
     let runs = compute(&set, &files, base_files.as_deref());
-    let to = ReportTo { out, json: args.json, replays: args.replays.display().to_string(), baseline: args.baseline.is_some() };
+    let to = ReportTo { out, json: args.json, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html };
     write_reports(&to, &set, runs)
 }
 

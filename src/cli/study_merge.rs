@@ -42,6 +42,6 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
     for r in &mut runs {
         assign_order(&mut r.trials);
     }
-    let to = ReportTo { out: args.out, json: args.json, replays, baseline: study.baseline };
+    let to = ReportTo { out: args.out, json: args.json, replays, baseline: study.baseline, html: None };
     write_reports(&to, &set, runs)
 }

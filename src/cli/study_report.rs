@@ -8,6 +8,7 @@ use anyhow::{anyhow, bail};
 use grove::atomic_write::{write_atomic, write_via_temp};
 use grove_systems::resources::{Config, Override};
 
+use crate::html;
 use crate::study::report::{self, Summary};
 use crate::study::shard::RunPart;
 use crate::study::whatif::{self, Sweep, WhatIf};
@@ -23,10 +24,12 @@ pub struct ReportTo {
     pub replays: String,
     /// Whether the what-if compares with `--baseline` recordings (re-simulated participants).
     pub baseline: bool,
+    /// `--html`: also write report.html, with these trials' sections.
+    pub html: Option<crate::html::Selection>,
 }
 
 /// The files `grove study` writes into `--out`.
-pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png"];
+pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png", "report.html"];
 
 /// Parses and checks `--set NAME=VALUE` arguments, once, into typed overrides.
 pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<Override>> {
@@ -103,6 +106,15 @@ fn notes(what_if: Option<&WhatIf>, summary: &Summary) -> Vec<String> {
     n
 }
 
+/// Writes report.html and says so on stderr, with the time it took.
+fn write_html(out: &Path, page: &html::StudyPage<'_>, trials: &[Trial], selection: &html::Selection) -> anyhow::Result<()> {
+    let start = std::time::Instant::now();
+    let file = html::write_study(out, page, trials, selection)?;
+    let bytes = std::fs::metadata(&file).map(|m| m.len()).unwrap_or(0);
+    eprintln!("study: {} ({:.1} MB) written in {:.1} s", file.display(), bytes as f64 / 1e6, start.elapsed().as_secs_f64());
+    Ok(())
+}
+
 fn opt(x: Option<f64>) -> String {
     x.map_or_else(|| "-".into(), |v| format!("{v:.2}"))
 }
@@ -147,6 +159,14 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow
     };
     let baseline_rows = what_if.as_ref().map(|w| w.baseline.per_participant.as_slice());
     write_via_temp(&out.join("ablation.png"), |tmp| chart::ablation_chart(tmp, &summary.per_participant, baseline_rows, &title, &notes(what_if.as_ref(), &summary), 1100, 640))?;
+    if let Some(selection) = &to.html {
+        let charts = vec![(title.clone(), chart::ablation_svg(&summary.per_participant, baseline_rows, &title, &notes(what_if.as_ref(), &summary), 1100, 640)?)];
+        // The what-if trials of replayed hands ran under --set; re-simulated participants carry
+        // their setting in their headers.
+        let overrides: &[Override] = if to.baseline { &[] } else { &set.fixed };
+        let page = html::StudyPage { summary: &summary, what_if: what_if.as_ref(), sweep: None, charts, replays: to.replays.clone(), overrides };
+        write_html(out, &page, &trials, selection)?;
+    }
 
     if to.json {
         super::print_json(&json)?;
@@ -218,6 +238,15 @@ fn write_sweep(to: &ReportTo, fixed: &[Override], name: &str, values: &[Override
     write_via_temp(&out.join("ablation.png"), |tmp| {
         chart::ablation_chart(tmp, &summary.per_participant, None, "Baseline task time per participant: ray-casting vs manual", &notes(None, &summary), 1100, 640)
     })?;
+    if let Some(selection) = &to.html {
+        let title = "Baseline task time per participant: ray-casting vs manual".to_string();
+        let charts = vec![
+            (title.clone(), chart::ablation_svg(&summary.per_participant, None, &title, &notes(None, &summary), 1100, 640)?),
+            (format!("Mean task time against {name}"), chart::sweep_svg(&sweep, &n, 1000, 620)?),
+        ];
+        let page = html::StudyPage { summary: &summary, what_if: None, sweep: Some(&sweep), charts, replays: to.replays.clone(), overrides: &[] };
+        write_html(out, &page, &baseline, selection)?;
+    }
 
     if to.json {
         super::print_json(&json)?;

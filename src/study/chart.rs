@@ -1,4 +1,5 @@
-//! The study charts, drawn with plotters into PNG files:
+//! The study charts, drawn with plotters into PNG files (and, for the HTML report, into SVG
+//! text with the same drawing code):
 //! - `ablation.png`: per-participant grouped bars of task time, ray-casting vs manual (the
 //!   chart of the paper's Fig. 7). A missing bar (a trial that did not complete) is marked with
 //!   a red cross; in a what-if, black outlines show the baseline times.
@@ -28,17 +29,37 @@ fn register_font() {
     let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
 }
 
-fn err(path: &Path, e: &dyn std::fmt::Display) -> anyhow::Error {
-    anyhow::anyhow!("{}: {e}", path.display())
+/// A drawing error as one line.
+fn err(e: impl std::fmt::Display) -> String {
+    e.to_string()
+}
+
+/// Runs `draw` on a PNG file of `width` × `height` pixels; errors name the file.
+fn to_png(path: &Path, width: u32, height: u32, draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>) -> anyhow::Result<()> {
+    register_font();
+    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
+    draw(&root).and_then(|()| root.present().map_err(err)).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+}
+
+/// Runs `draw` on an SVG document of `width` × `height` pixels and returns its text; the text
+/// names a font every browser has.
+fn to_svg(width: u32, height: u32, draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>) -> anyhow::Result<String> {
+    register_font();
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, (width, height)).into_drawing_area();
+        draw(&root).and_then(|()| root.present().map_err(err)).map_err(|e| anyhow::anyhow!("SVG chart: {e}"))?;
+    }
+    Ok(text.replace(&format!("font-family=\"{FONT}\""), "font-family=\"sans-serif\""))
 }
 
 /// Splits off a strip at the bottom for the notes and writes them there.
-fn with_notes<'a>(path: &Path, root: &DrawingArea<BitMapBackend<'a>, Shift>, notes: &[String]) -> anyhow::Result<DrawingArea<BitMapBackend<'a>, Shift>> {
+fn with_notes<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, notes: &[String]) -> Result<DrawingArea<DB, Shift>, String> {
     let (_, h) = root.dim_in_pixel();
     let strip = 8 + 22 * notes.len() as i32;
     let (main, foot) = root.split_vertically((h as i32 - strip).max(1));
     for (i, n) in notes.iter().enumerate() {
-        foot.draw(&Text::new(n.clone(), (16, 4 + 22 * i as i32), (FONT, 17).into_font().color(&BLACK))).map_err(|e| err(path, &e))?;
+        foot.draw(&Text::new(n.clone(), (16, 4 + 22 * i as i32), (FONT, 17).into_font().color(&BLACK))).map_err(err)?;
     }
     Ok(main)
 }
@@ -46,10 +67,17 @@ fn with_notes<'a>(path: &Path, root: &DrawingArea<BitMapBackend<'a>, Shift>, not
 /// Draws the grouped bar chart of task times to a PNG file of `width` × `height` pixels.
 /// `baseline`, when given, draws each participant's baseline times as outlines.
 pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> anyhow::Result<()> {
-    register_font();
-    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(path, &e))?;
-    let main = with_notes(path, &root, notes)?;
+    to_png(path, width, height, |root| draw_ablation(root, rows, baseline, title, notes))
+}
+
+/// [`ablation_chart`] as the text of an SVG document.
+pub fn ablation_svg(rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> anyhow::Result<String> {
+    to_svg(width, height, |root| draw_ablation(root, rows, baseline, title, notes))
+}
+
+fn draw_ablation<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String]) -> Result<(), String> {
+    root.fill(&WHITE).map_err(err)?;
+    let main = with_notes(root, notes)?;
     let base_of = |p: &str| baseline.and_then(|b| b.iter().find(|r| r.participant == p));
     let max = rows
         .iter()
@@ -64,7 +92,7 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&
         .x_label_area_size(50)
         .y_label_area_size(70)
         .build_cartesian_2d(-0.5f64..n as f64 - 0.5, 0f64..max)
-        .map_err(|e| err(path, &e))?;
+        .map_err(err)?;
     chart
         .configure_mesh()
         .disable_x_mesh()
@@ -81,16 +109,16 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&
         .label_style((FONT, 16))
         .axis_desc_style((FONT, 20))
         .draw()
-        .map_err(|e| err(path, &e))?;
+        .map_err(err)?;
     let bar = |i: usize, offset: f64, v: f64, c: RGBColor| Rectangle::new([(i as f64 + offset, 0.0), (i as f64 + offset + 0.38, v)], c.filled());
     chart
         .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.ray_casting_s.map(|v| bar(i, -0.4, v, RAY))))
-        .map_err(|e| err(path, &e))?
+        .map_err(err)?
         .label("ray-casting")
         .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], RAY.filled()));
     chart
         .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.manual_s.map(|v| bar(i, 0.02, v, MANUAL))))
-        .map_err(|e| err(path, &e))?
+        .map_err(err)?
         .label("manual")
         .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], MANUAL.filled()));
     // A missing bar: a red cross where the bar would stand, so that no bar silently disappears.
@@ -103,7 +131,7 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&
                 let (x0, x1) = (i as f64 + o + 0.04, i as f64 + o + 0.34);
                 [PathElement::new(vec![(x0, 0.0), (x1, h)], MISSING.stroke_width(4)), PathElement::new(vec![(x0, h), (x1, 0.0)], MISSING.stroke_width(4))]
             }))
-            .map_err(|e| err(path, &e))?
+            .map_err(err)?
             .label("missing: trial not completed")
             .legend(move |(x, y)| PathElement::new(vec![(x, y - 6), (x + 14, y + 6)], MISSING.stroke_width(3)));
     }
@@ -114,7 +142,7 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&
                 let b = b.iter().find(|x| x.participant == r.participant);
                 [b.and_then(|b| b.ray_casting_s).map(|v| outline(i, -0.4, v)), b.and_then(|b| b.manual_s).map(|v| outline(i, 0.02, v))]
             }).flatten())
-            .map_err(|e| err(path, &e))?
+            .map_err(err)?
             .label("baseline (default settings)")
             .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], BLACK.stroke_width(2)));
     }
@@ -125,17 +153,23 @@ pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
-        .map_err(|e| err(path, &e))?;
-    root.present().map_err(|e| err(path, &e))?;
+        .map_err(err)?;
     Ok(())
 }
 
 /// Draws mean task time per mode against the swept value, with the default value marked.
 pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, height: u32) -> anyhow::Result<()> {
-    register_font();
-    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(path, &e))?;
-    let main = with_notes(path, &root, notes)?;
+    to_png(path, width, height, |root| draw_sweep(root, sweep, notes))
+}
+
+/// [`sweep_chart`] as the text of an SVG document.
+pub fn sweep_svg(sweep: &Sweep, notes: &[String], width: u32, height: u32) -> anyhow::Result<String> {
+    to_svg(width, height, |root| draw_sweep(root, sweep, notes))
+}
+
+fn draw_sweep<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, sweep: &Sweep, notes: &[String]) -> Result<(), String> {
+    root.fill(&WHITE).map_err(err)?;
+    let main = with_notes(root, notes)?;
     let points = |mode: &str| -> Vec<(f64, f64)> {
         sweep.rows.iter().filter_map(|r| Some((r.value.parse::<f64>().ok()?, r.modes.get(mode)?.what_if_mean_s?))).collect()
     };
@@ -150,7 +184,7 @@ pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, hei
         .x_label_area_size(50)
         .y_label_area_size(70)
         .build_cartesian_2d((lo - pad)..(hi + pad), 0f64..ymax)
-        .map_err(|e| err(path, &e))?;
+        .map_err(err)?;
     chart
         .configure_mesh()
         .x_desc(sweep.parameter.as_str())
@@ -158,21 +192,21 @@ pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, hei
         .label_style((FONT, 16))
         .axis_desc_style((FONT, 20))
         .draw()
-        .map_err(|e| err(path, &e))?;
+        .map_err(err)?;
     if let Ok(d) = sweep.default_value.parse::<f64>() {
-        chart.draw_series([PathElement::new(vec![(d, 0.0), (d, ymax)], RGBColor(120, 120, 120).stroke_width(2))]).map_err(|e| err(path, &e))?;
+        chart.draw_series([PathElement::new(vec![(d, 0.0), (d, ymax)], RGBColor(120, 120, 120).stroke_width(2))]).map_err(err)?;
         chart
             .draw_series([Text::new(format!("default {}", sweep.default_value), (d, ymax * 0.97), (FONT, 16).into_font().color(&BLACK))])
-            .map_err(|e| err(path, &e))?;
+            .map_err(err)?;
     }
     for (mode, colour) in [("ray-casting", RAY), ("manual", MANUAL)] {
         let pts = points(mode);
         chart
             .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(3)))
-            .map_err(|e| err(path, &e))?
+            .map_err(err)?
             .label(mode)
             .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], colour.filled()));
-        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 6, colour.filled()))).map_err(|e| err(path, &e))?;
+        chart.draw_series(pts.iter().map(|p| Circle::new(*p, 6, colour.filled()))).map_err(err)?;
         // Where trials did not complete, say how many did: the mean is over fewer trials, or
         // there is no point at all.
         let labels: Vec<(f64, f64, String)> = sweep
@@ -187,7 +221,7 @@ pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, hei
             .collect();
         chart
             .draw_series(labels.into_iter().map(|(x, y, t)| Text::new(t, (x, y), (FONT, 15).into_font().color(&colour))))
-            .map_err(|e| err(path, &e))?;
+            .map_err(err)?;
     }
     chart
         .configure_series_labels()
@@ -196,7 +230,6 @@ pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, hei
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
-        .map_err(|e| err(path, &e))?;
-    root.present().map_err(|e| err(path, &e))?;
+        .map_err(err)?;
     Ok(())
 }

@@ -152,37 +152,41 @@ pub fn evaluate(path: &Path, overrides: &[Override]) -> Trial {
             ticks: 0,
             task: None,
         },
-        Ok(o) => {
-            let sim = &o.sim;
-            let status = if !o.verifying {
-                TrialStatus::WhatIf
-            } else if o.first_divergence.is_some() {
-                TrialStatus::Diverged
-            } else if o.checkpoints_checked == 0 {
-                TrialStatus::Unverified
-            } else {
-                TrialStatus::Verified
-            };
-            Trial {
-                file,
-                participant: o.header.participant.clone().unwrap_or(stem),
-                synthetic: o.header.synthetic,
-                session_start: o.header.session_start.clone(),
-                header_block: o.header.block,
-                config: o.header.config.clone(),
-                trial_num: 0,
-                block_num: 0,
-                trial_num_in_block: 0,
-                start_time_s: None,
-                end_time_s: None,
-                task_start_s: sim.res.task.as_ref().map(|t| grove_systems::task::ticks_to_seconds(t.started_tick, sim.res.dt)),
-                status,
-                error: o.first_divergence.as_ref().map(|d| format!("diverged at tick {}", d.tick)),
-                complete: o.complete,
-                ticks: sim.res.tick,
-                task: sim.res.task.as_ref().map(|t| technique_report(TaskReport::new(t, sim.res.dt, sim.res.tick, &sim.res.catalogue), &sim)),
-            }
-        }
+        Ok(o) => trial_from_outcome(file, stem, &o),
+    }
+}
+
+/// The trial a replay's outcome makes: `file` the recording's file name, `stem` the participant
+/// when the header names none. Its place in the session is set by [`assign_order`].
+pub fn trial_from_outcome(file: String, stem: String, o: &grove_systems::replay::ReplayOutcome) -> Trial {
+    let sim = &o.sim;
+    let status = if !o.verifying {
+        TrialStatus::WhatIf
+    } else if o.first_divergence.is_some() {
+        TrialStatus::Diverged
+    } else if o.checkpoints_checked == 0 {
+        TrialStatus::Unverified
+    } else {
+        TrialStatus::Verified
+    };
+    Trial {
+        file,
+        participant: o.header.participant.clone().unwrap_or(stem),
+        synthetic: o.header.synthetic,
+        session_start: o.header.session_start.clone(),
+        header_block: o.header.block,
+        config: o.header.config.clone(),
+        trial_num: 0,
+        block_num: 0,
+        trial_num_in_block: 0,
+        start_time_s: None,
+        end_time_s: None,
+        task_start_s: sim.res.task.as_ref().map(|t| grove_systems::task::ticks_to_seconds(t.started_tick, sim.res.dt)),
+        status,
+        error: o.first_divergence.as_ref().map(|d| format!("diverged at tick {}", d.tick)),
+        complete: o.complete,
+        ticks: sim.res.tick,
+        task: sim.res.task.as_ref().map(|t| technique_report(TaskReport::new(t, sim.res.dt, sim.res.tick, &sim.res.catalogue), sim)),
     }
 }
 

@@ -1,0 +1,66 @@
+//! The report's pictures, rendered headless by the renderer (lavapipe where there is no GPU) and
+//! embedded as JPEG data URIs: the filmstrip's head-camera frames and the task area from above.
+
+use base64::Engine as _;
+use grove::render::offscreen::{self, Gpu};
+use grove::render::{RenderOptions, Renderer, TopView};
+use grove_systems::Sim;
+use image::RgbaImage;
+
+/// The size of a filmstrip frame, pixels.
+pub const FRAME_SIZE: (u32, u32) = (320, 180);
+/// The width of the task area's picture, pixels (its height follows the area's shape).
+pub const TOP_WIDTH: u32 = 960;
+
+/// A GPU device and the renderers of the report's two kinds of picture, made on first use.
+pub struct Shots {
+    gpu: Gpu,
+    film: Option<Renderer>,
+    top: Option<(Renderer, (u32, u32))>,
+    /// Frames rendered so far.
+    pub frames: usize,
+}
+
+/// An image as a `data:image/jpeg;base64,…` URI.
+pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, String> {
+    let rgb = image::DynamicImage::ImageRgba8(img.clone()).to_rgb8();
+    let mut bytes = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, quality).encode_image(&rgb).map_err(|e| format!("JPEG encoding: {e}"))?;
+    Ok(format!("data:image/jpeg;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bytes)))
+}
+
+impl Shots {
+    /// Opens the GPU device (one line when there is none).
+    pub fn new() -> Result<Shots, String> {
+        Ok(Shots { gpu: Gpu::new()?, film: None, top: None, frames: 0 })
+    }
+
+    /// The head camera's view of `sim`, with the interaction visuals (ray, hit marker, targets).
+    pub fn frame(&mut self, sim: &Sim) -> Result<String, String> {
+        if self.film.is_none() {
+            let mut r = Renderer::new(&self.gpu.device, &self.gpu.queue, offscreen::FORMAT, FRAME_SIZE.0, FRAME_SIZE.1)?;
+            r.options = RenderOptions { shadow_size: 512, overlay: true, ..Default::default() };
+            self.film = Some(r);
+        }
+        let r = self.film.as_mut().ok_or("no renderer")?;
+        let img = offscreen::render_image(&self.gpu, r, sim)?;
+        self.frames += 1;
+        jpeg_uri(&img, 70)
+    }
+
+    /// `sim`'s ground from straight above over `view`'s rectangle, without the interaction
+    /// visuals (the report draws its own over it), `TOP_WIDTH` pixels wide.
+    pub fn top(&mut self, sim: &Sim, view: TopView) -> Result<String, String> {
+        let (w, h) = (view.max.x - view.min.x, view.max.y - view.min.y);
+        let size = (TOP_WIDTH, ((TOP_WIDTH as f32 * h / w.max(1e-3)).round() as u32).clamp(64, 2 * TOP_WIDTH));
+        if self.top.as_ref().is_none_or(|(_, s)| *s != size) {
+            let r = Renderer::new(&self.gpu.device, &self.gpu.queue, offscreen::FORMAT, size.0, size.1)?;
+            self.top = Some((r, size));
+        }
+        let (r, _) = self.top.as_mut().ok_or("no renderer")?;
+        // Every leaf and no impostor: seen from far above, level of detail would thin the crowns.
+        r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, top_view: Some(view), ..Default::default() };
+        let img = offscreen::render_image(&self.gpu, r, sim)?;
+        jpeg_uri(&img, 80)
+    }
+}
