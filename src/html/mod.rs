@@ -239,3 +239,36 @@ pub fn write_study(out: &Path, page: &StudyPage<'_>, trials: &[Trial], selection
     write_page(&file, &html)?;
     Ok(file)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn trial(participant: &str, mode: &str, time_s: f64, completed: bool) -> Trial {
+        let task = serde_json::json!({"id": format!("{mode}-7"), "mode": mode, "completed": completed, "start_tick": 0, "end_tick": 60, "time_s": time_s,
+            "errors": 0, "error_kinds": {"removals": 0, "off_target": 0, "released_green": 0}, "trees": [], "model_types": 0, "menu_opens": 0,
+            "ray_path_m": 0.0, "aiming_s": 0.0, "menu_s": 0.0, "manipulating_s": 0.0});
+        serde_json::from_value(serde_json::json!({"file": format!("{participant}-{mode}-7.jsonl"), "participant": participant, "synthetic": true, "session_start": null,
+            "header_block": null, "config": {}, "trial_num": 1, "block_num": 1, "trial_num_in_block": 1, "start_time_s": null, "end_time_s": null, "task_start_s": null,
+            "status": "verified", "error": null, "complete": true, "ticks": 60, "task": task}))
+        .unwrap()
+    }
+
+    #[test]
+    fn a_big_study_gets_sections_for_its_three_slowest_per_condition_and_its_incomplete_trials() {
+        let mut trials: Vec<Trial> = (0..60).flat_map(|i| [trial(&format!("P{i:02}"), "ray-casting", 10.0 + i as f64, true), trial(&format!("P{i:02}"), "manual", 100.0 - i as f64, true)]).collect();
+        trials[7] = trial("P03", "manual", 500.0, false);
+        let pick = selected(&trials, &Selection::Auto).unwrap();
+        let chosen: Vec<&str> = trials.iter().zip(&pick).filter(|(_, p)| **p).map(|(t, _)| t.file.as_str()).collect();
+        // Ray-casting: P59, P58, P57 were slowest; manual: P00, P01, P02; P03's manual did not complete.
+        let want = ["P00-manual-7.jsonl", "P01-manual-7.jsonl", "P02-manual-7.jsonl", "P03-manual-7.jsonl", "P57-ray-casting-7.jsonl", "P58-ray-casting-7.jsonl", "P59-ray-casting-7.jsonl"];
+        assert_eq!(chosen, want);
+        // A small study: every trial; a named participant: theirs; an unknown one: an error.
+        assert!(selected(&trials[..50], &Selection::Auto).unwrap().iter().all(|p| *p));
+        let p = selected(&trials, &"P05".parse().unwrap()).unwrap();
+        assert_eq!(p.iter().filter(|x| **x).count(), 2);
+        assert!(matches!(selected(&trials, &"P05,X".parse().unwrap()), Err(HtmlError::UnknownParticipant(x)) if x == "X"));
+        assert_eq!("all".parse::<Selection>().unwrap(), Selection::All);
+        assert!(matches!(" , ".parse::<Selection>(), Err(HtmlError::EmptySelection)));
+    }
+}
