@@ -228,7 +228,7 @@ pub fn total_heat(heat: &BTreeMap<String, BTreeMap<(i32, i32), u32>>) -> (BTreeM
 
 /// A cell's opacity: the square root of its share of the busiest cell (report.js draws the same).
 fn heat_opacity(n: u32, max: u32) -> f64 {
-    if max == 0 { 0.0 } else { 0.15 + 0.75 * (n as f64 / max as f64).sqrt() }
+    if max == 0 { 0.0 } else { 0.05 + 0.9 * (n as f64 / max as f64).sqrt() }
 }
 
 fn f(v: f32) -> String {

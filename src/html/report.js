@@ -83,7 +83,7 @@
       r.setAttribute("height", data.cell);
       r.setAttribute("data-n", n);
       r.setAttribute("fill", "#ff3b00");
-      r.setAttribute("fill-opacity", (0.15 + 0.75 * Math.sqrt(n / max)).toFixed(3));
+      r.setAttribute("fill-opacity", (0.05 + 0.9 * Math.sqrt(n / max)).toFixed(3));
       g.appendChild(r);
     });
   }
