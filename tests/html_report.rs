@@ -171,6 +171,46 @@ fn the_study_report_shows_every_trial_and_the_numbers_of_summary_json() {
     assert!(distinct.len() > 50, "the screenshot looks empty ({} colours)", distinct.len());
 }
 
+#[test]
+fn a_what_if_report_shows_the_baseline_the_changed_setting_and_the_differences() {
+    let dir = tempfile::tempdir().unwrap();
+    let replays = dir.path().join("replays");
+    std::fs::create_dir(&replays).unwrap();
+    // P03's manual trial no longer completes with snap_threshold 0.2 (docs/reports.md).
+    for f in ["P03-manual-7.jsonl", "P03-ray-casting-7.jsonl", "P04-manual-7.jsonl", "P04-ray-casting-7.jsonl"] {
+        std::fs::copy(root().join("replays/study").join(f), replays.join(f)).unwrap();
+    }
+    let out_dir = dir.path().join("out");
+    let out = grove(&["study", "--replays", replays.to_str().unwrap(), "--out", out_dir.to_str().unwrap(), "--html", "--set", "snap_threshold=0.2"]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
+    let (dom, log) = chromium(&["--dump-dom"], &out_dir.join("report.html"));
+    assert_no_page_errors(&dom, &log);
+    let w = &summary["what_if"];
+    let section = slice(&dom, "<section id=\"what-if\"", "</section>");
+    assert!(section.contains(w["kind"].as_str().unwrap()));
+    let p = &w["parameters"][0];
+    assert!(section.contains(&format!("<td>{}</td><td>{}</td><td><strong>{}</strong></td>", p["name"].as_str().unwrap(), p["default_value"].as_str().unwrap(), p["new_value"].as_str().unwrap())), "{section}");
+    for m in ["ray-casting", "manual"] {
+        for f in ["baseline_mean_s", "what_if_mean_s", "difference_s"] {
+            assert_number(section, &format!("what_if.{m}.{f}"), &w["modes"][m][f]);
+        }
+    }
+    // The claim under the baseline and under the what-if, as summary.json has them.
+    let claim = |v: &serde_json::Value| match v.as_bool() {
+        Some(true) => "yes",
+        Some(false) => "no",
+        None => "cannot say",
+    };
+    let said = format!("baseline: <strong>{}</strong>; under the what-if: <strong>{}</strong>", claim(&w["baseline"]["ray_casting_faster_for_all"]), claim(&summary["summary"]["ray_casting_faster_for_all"]));
+    assert!(section.contains(&said), "{said} not in {section}");
+    assert_eq!(claim(&summary["summary"]["ray_casting_faster_for_all"]), "cannot say");
+    // The trial that no longer completes is named with its reason.
+    for i in summary["summary"]["incomplete"].as_array().unwrap() {
+        assert!(dom.contains(&format!("<li data-file=\"{}\"", i["file"].as_str().unwrap())), "{i}");
+    }
+}
+
 fn study_script(seed: u64) -> Script {
     Script::new(Sim::from_scene(&Scene::builtin("study").unwrap(), seed).unwrap())
 }
