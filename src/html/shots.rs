@@ -29,6 +29,15 @@ pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, String> {
     Ok(format!("data:image/jpeg;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bytes)))
 }
 
+/// A renderer of `size` with the shipped models and the bank models `sim`'s catalogue holds
+/// (found in the session's banks, as the replay found them).
+fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, String> {
+    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1)?;
+    let banks = grove::bank::open_session(&[])?;
+    grove::bank::load_into(&mut r, &grove::bank::files_for(&banks, &sim.res.catalogue))?;
+    Ok(r)
+}
+
 impl Shots {
     /// Opens the GPU device (one line when there is none).
     pub fn new() -> Result<Shots, String> {
@@ -38,7 +47,7 @@ impl Shots {
     /// The head camera's view of `sim`, with the interaction visuals (ray, hit marker, targets).
     pub fn frame(&mut self, sim: &Sim) -> Result<String, String> {
         if self.film.is_none() {
-            let mut r = Renderer::new(&self.gpu.device, &self.gpu.queue, offscreen::FORMAT, FRAME_SIZE.0, FRAME_SIZE.1)?;
+            let mut r = renderer(&self.gpu, sim, FRAME_SIZE)?;
             r.options = RenderOptions { shadow_size: 512, overlay: true, ..Default::default() };
             self.film = Some(r);
         }
@@ -54,7 +63,7 @@ impl Shots {
         let (w, h) = (view.max.x - view.min.x, view.max.y - view.min.y);
         let size = (TOP_WIDTH, ((TOP_WIDTH as f32 * h / w.max(1e-3)).round() as u32).clamp(64, 2 * TOP_WIDTH));
         if self.top.as_ref().is_none_or(|(_, s)| *s != size) {
-            let r = Renderer::new(&self.gpu.device, &self.gpu.queue, offscreen::FORMAT, size.0, size.1)?;
+            let r = renderer(&self.gpu, sim, size)?;
             self.top = Some((r, size));
         }
         let (r, _) = self.top.as_mut().ok_or("no renderer")?;
