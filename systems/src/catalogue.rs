@@ -185,8 +185,10 @@ impl Catalogue {
 
     /// The catalogue embedded in the binary.
     pub fn builtin() -> Catalogue {
+        // Parsed once per process: every replayed recording starts from it.
+        static BUILTIN: std::sync::OnceLock<Catalogue> = std::sync::OnceLock::new();
         // The embedded file is checked by a unit test, so this cannot fail in a built binary.
-        Catalogue::from_ron(DEFAULT_CATALOGUE).expect("embedded catalogue is valid")
+        BUILTIN.get_or_init(|| Catalogue::from_ron(DEFAULT_CATALOGUE).expect("embedded catalogue is valid")).clone()
     }
 
     /// The model with this id, if it exists.

@@ -13,6 +13,7 @@ use parry3d::shape::Ball;
 
 use crate::catalogue::Catalogue;
 use crate::components::{Handle, Pose, Scale, Selection, Transform, Tree};
+use crate::single::{self, Singles};
 use crate::spatial::{tree_box, RayHit, SpatialIndex, TreeBox};
 
 /// The entity with these id bits, if the bits are a valid id (it may still be despawned).
@@ -31,16 +32,14 @@ pub fn tree_box_of(world: &World, catalogue: &Catalogue, e: Entity) -> Option<Tr
 }
 
 /// The id bits of the selected tree, if any (from the first `Selection` entity).
-pub fn selected_tree(world: &World) -> Option<u64> {
-    world.query::<&Selection>().iter().next().and_then(|s| s.tree)
+pub fn selected_tree(world: &World, singles: &Singles) -> Option<u64> {
+    single::get::<Selection>(world, singles).and_then(|s| s.tree)
 }
 
 /// Sets the selected tree (or clears it with `None`) on every `Selection` entity. The box itself
 /// is filled in by the selection_box system at the end of the tick.
-pub fn set_selected(world: &mut World, tree: Option<u64>) {
-    for s in world.query_mut::<&mut Selection>() {
-        s.tree = tree;
-    }
+pub fn set_selected(world: &mut World, singles: &Singles, tree: Option<u64>) {
+    single::for_each_mut::<Selection>(world, singles, |s| s.tree = tree);
 }
 
 /// The plane under a tree whose origin is at `origin`: the first plane a vertical ray meets

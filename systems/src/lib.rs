@@ -37,6 +37,7 @@ pub mod scene;
 pub mod schedule;
 pub mod script;
 pub mod sim;
+pub mod single;
 pub mod spatial;
 pub mod stage;
 pub mod systems;

@@ -254,6 +254,13 @@ pub struct Resources {
     /// Derived acceleration structure for ray queries; rebuilt from the world when trees or
     /// planes change. Not hashed: it is a cache of hashed state.
     pub spatial: SpatialIndex,
+    /// The entities of the world's one controller, head, hit marker, anchor ball, selection, sun
+    /// and wind ([`crate::single`]). Not hashed: it is a cache of the world's own entities.
+    pub singles: crate::single::Singles,
+    /// What the task system's last search for trees on targets saw ([`crate::systems::task`]):
+    /// the spatial index's tree changes, the dragged tree and the task's start tick. Not hashed:
+    /// it only lets the search be skipped when it would find what it found before.
+    pub task_search: Option<(u64, Option<u64>, u64)>,
 }
 
 impl Resources {
@@ -276,6 +283,8 @@ impl Resources {
             log: EventLog::default(),
             task: None,
             spatial: SpatialIndex::default(),
+            singles: crate::single::Singles::default(),
+            task_search: None,
         }
     }
 

@@ -205,8 +205,11 @@ impl Scene {
 
     /// A scene that ships with grove, by name (e.g. "study").
     pub fn builtin(name: &str) -> Option<Scene> {
-        let (_, text) = BUILTIN_SCENES.iter().find(|(n, _)| *n == name)?;
-        Scene::parse(text, name).ok()
+        // Each built-in scene is parsed once per process: every replayed recording names one.
+        static PARSED: std::sync::OnceLock<Vec<Option<Scene>>> = std::sync::OnceLock::new();
+        let i = BUILTIN_SCENES.iter().position(|(n, _)| *n == name)?;
+        let parsed = PARSED.get_or_init(|| BUILTIN_SCENES.iter().map(|(n, text)| Scene::parse(text, n).ok()).collect());
+        parsed[i].clone()
     }
 
     /// Parses and checks scene text; `file` names it in errors.

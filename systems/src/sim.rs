@@ -83,6 +83,7 @@ impl Sim {
         world.spawn((AnchorBall::default(),));
         world.spawn((Selection::default(),));
 
+        res.singles = crate::single::Singles::find(&world);
         res.spatial.refresh(&world, &res.catalogue);
         let mut sim = Sim { world, res, techniques: crate::technique::Techniques::builtin() };
         sim.set_techniques(crate::technique::installed());

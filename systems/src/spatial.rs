@@ -50,7 +50,7 @@ pub struct RayHit {
 /// Acceleration structures for ray queries, derived from the world.
 #[derive(Default)]
 pub struct SpatialIndex {
-    planes: Vec<(Entity, TriMesh)>,
+    planes: Vec<(Entity, std::sync::Arc<TriMesh>)>,
     trees: Vec<TreeBox>,
     /// Per tree (same order as `trees`), its pick shape, if its model has one.
     picks: Vec<Option<TreePick>>,
@@ -65,6 +65,7 @@ pub struct SpatialIndex {
     trees_dirty: bool,
     built_once: bool,
     generation: u64,
+    tree_changes: u64,
     /// The inputs of the last controller ray cast, so that an unchanged ray in an unchanged
     /// world is not cast again (see the raycast system).
     pub last_ray: Option<RayKey>,
@@ -101,8 +102,19 @@ pub fn tree_box(entity: Entity, transform: &Transform, scale: f32, min: Vec3, ma
 
 impl SpatialIndex {
     /// Marks the tree structure for a rebuild before the next query.
+    ///
+    /// Every system that adds, removes or moves a tree calls this (a tree being dragged or moved
+    /// with the touchpad once, when the move ends), so [`SpatialIndex::tree_changes`] tells
+    /// readers whether the trees can have changed.
     pub fn mark_trees_dirty(&mut self) {
         self.trees_dirty = true;
+        self.tree_changes += 1;
+    }
+
+    /// How often the trees were marked changed: equal counts mean that no tree was added,
+    /// removed or moved in between, except a tree still being dragged or moved with the touchpad.
+    pub fn tree_changes(&self) -> u64 {
+        self.tree_changes
     }
 
     /// Marks the plane structure for a rebuild before the next query.
@@ -116,7 +128,7 @@ impl SpatialIndex {
         if !self.built_once || self.planes_dirty {
             self.planes.clear();
             for (e, plane) in world.query::<(Entity, &Plane)>().iter() {
-                if let Some(mesh) = plane_trimesh(plane) {
+                if let Some(mesh) = shared_plane_trimesh(plane) {
                     self.planes.push((e, mesh));
                 }
             }
@@ -372,6 +384,34 @@ pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
         return None;
     }
     TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
+}
+
+/// [`plane_trimesh`], built once per process for each distinct plane (found by a hash of its
+/// geometry, then compared whole): every recording of a study starts from the same planes, and building their
+/// meshes' trees was a twentieth of a replay's time. The mesh is a pure function of the plane, so
+/// sharing it changes nothing a simulation computes.
+fn shared_plane_trimesh(plane: &Plane) -> Option<std::sync::Arc<TriMesh>> {
+    use std::collections::HashMap;
+    use std::sync::{Arc, Mutex, OnceLock};
+    type Cache = Mutex<HashMap<u64, Vec<(Plane, Arc<TriMesh>)>>>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    /// At most this many planes are kept; past it the cache starts again.
+    const MAX_PLANES: usize = 64;
+    let key = xxhash_rust::xxh3::xxh3_64(bytemuck::cast_slice(&plane.vertices)) ^ xxhash_rust::xxh3::xxh3_64(bytemuck::cast_slice(&plane.triangles)).rotate_left(1);
+    let cache = CACHE.get_or_init(Cache::default);
+    if let Ok(map) = cache.lock()
+        && let Some(found) = map.get(&key).and_then(|v| v.iter().find(|(p, _)| p == plane))
+    {
+        return Some(found.1.clone());
+    }
+    let mesh = Arc::new(plane_trimesh(plane)?);
+    if let Ok(mut map) = cache.lock() {
+        if map.values().map(Vec::len).sum::<usize>() >= MAX_PLANES {
+            map.clear();
+        }
+        map.entry(key).or_default().push((plane.clone(), mesh.clone()));
+    }
+    Some(mesh)
 }
 
 /// A tree's pick shape placed in the world: the model-space bands grown by the wind's sway, and

@@ -72,8 +72,14 @@ impl TaskDef {
 
     /// A task that ships with grove, by id.
     pub fn builtin(id: &str) -> Option<TaskDef> {
-        let (_, text) = BUILTIN_TASKS.iter().find(|(name, _)| *name == id)?;
-        TaskDef::from_ron(text, &Catalogue::builtin()).ok()
+        // Each built-in task is parsed once per process.
+        static PARSED: std::sync::OnceLock<Vec<Option<TaskDef>>> = std::sync::OnceLock::new();
+        let i = BUILTIN_TASKS.iter().position(|(name, _)| *name == id)?;
+        let parsed = PARSED.get_or_init(|| {
+            let catalogue = Catalogue::builtin();
+            BUILTIN_TASKS.iter().map(|(_, text)| TaskDef::from_ron(text, &catalogue).ok()).collect()
+        });
+        parsed[i].clone()
     }
 
     /// The required model of each target, resolved against a catalogue.

@@ -100,19 +100,32 @@ struct TaggedEvent {
 /// A controller-pose event line read directly (see [`decode_line`]).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct TaggedPose {
-    #[serde(rename = "type")]
-    kind: String,
+struct TaggedPose<'a> {
+    #[serde(rename = "type", borrow)]
+    kind: &'a str,
     tick: u64,
     ms: u64,
     frame: u64,
-    event: PoseBody,
+    #[serde(borrow)]
+    event: PoseBody<'a>,
+}
+
+/// A checkpoint line read directly, without the buffering of the tagged [`Line`] enum.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TaggedCheckpoint<'a> {
+    #[serde(rename = "type", borrow)]
+    kind: &'a str,
+    tick: u64,
+    hash: String,
+    components: std::collections::BTreeMap<String, String>,
+    entities: std::collections::BTreeMap<String, String>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct PoseBody {
-    kind: String,
+struct PoseBody<'a> {
+    kind: &'a str,
     pose: crate::components::Pose,
 }
 
@@ -184,6 +197,13 @@ fn parse_body(body: &str) -> Result<Line, String> {
         }
         let event = event_from_value(e.event)?;
         return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
+    }
+    // Checkpoints come next, once a second of a recording.
+    if body.starts_with("{\"type\":\"checkpoint\",")
+        && let Ok(c) = serde_json::from_str::<TaggedCheckpoint>(body)
+        && c.kind == "checkpoint"
+    {
+        return Ok(Line::Checkpoint(super::CheckpointLine { tick: c.tick, hash: c.hash, components: c.components, entities: c.entities }));
     }
     let line: Line = serde_json::from_str(body).map_err(serde_message)?;
     if let Line::Event(ev) = &line {

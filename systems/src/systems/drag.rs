@@ -34,32 +34,33 @@ use crate::components::{AnchorBall, Controller, Grounded, Scale, Transform, Tree
 use crate::events::Happening;
 use crate::interact;
 use crate::resources::Resources;
+use crate::single;
 
 /// How far the drag target must be from the tree's origin before the tree moves, metres.
 pub const MOVE_EPSILON: f32 = 1.0e-4;
 
-fn hide_ball(world: &mut World) {
-    for b in world.query_mut::<&mut AnchorBall>() {
+fn hide_ball(world: &mut World, singles: &single::Singles) {
+    single::for_each_mut::<AnchorBall>(world, singles, |b| {
         if b.visible || b.armed {
             *b = AnchorBall::default();
         }
-    }
+    });
 }
 
 /// Runs the drag system.
 pub fn run(world: &mut World, res: &mut Resources) {
     let Some(mut drag) = res.interaction.drag else {
-        hide_ball(world);
+        hide_ball(world, &res.singles);
         return;
     };
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
+    let Some(c) = single::get::<Controller>(world, &res.singles) else { return };
     let found = interact::entity(drag.tree).and_then(|e| {
         let model = world.get::<&Tree>(e).ok()?.model;
         Some((e, res.catalogue.get(model)?.lowest_point()))
     });
     let Some((e, lowest)) = found else {
         res.interaction.drag = None;
-        hide_ball(world);
+        hide_ball(world, &res.singles);
         return;
     };
     let tick = res.tick;
@@ -99,10 +100,10 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let position = t.translation;
 
     let mut was_armed = false;
-    for b in world.query_mut::<&mut AnchorBall>() {
+    single::for_each_mut::<AnchorBall>(world, &res.singles, |b| {
         was_armed = b.armed;
         *b = if released { AnchorBall::default() } else { ball };
-    }
+    });
     if drag.moved && !released && ball.armed != was_armed {
         let what = if ball.armed { Happening::SnapArmed { tree: drag.tree } } else { Happening::SnapDisarmed { tree: drag.tree } };
         res.log.push(tick, what);

@@ -22,12 +22,13 @@ use crate::components::{Controller, Handle, Scale, Transform, Tree};
 use crate::events::Happening;
 use crate::interact;
 use crate::resources::Resources;
+use crate::single;
 
 /// Runs the handles system.
 pub fn run(world: &mut World, res: &mut Resources) {
     let Some(hd) = res.interaction.handle_drag else { return };
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
-    let tree = interact::selected_tree(world);
+    let Some(c) = single::get::<Controller>(world, &res.singles) else { return };
+    let tree = interact::selected_tree(world, &res.singles);
     let found = tree.and_then(interact::entity).and_then(|e| {
         let model = world.get::<&Tree>(e).ok()?.model;
         Some((e, res.catalogue.get(model)?.lowest_point()))

@@ -11,9 +11,10 @@ use hecs::World;
 use crate::components::{Buttons, Controller, Head};
 use crate::events::Happening;
 use crate::input::{Button, InputEvent};
-use crate::mode::Mode;
 use crate::known_techniques::KnownTechniques as Techniques;
+use crate::mode::Mode;
 use crate::resources::{ButtonEdges, Resources};
+use crate::single;
 
 fn set(b: &mut Buttons, button: Button, value: bool) {
     match button {
@@ -35,20 +36,14 @@ pub fn run(world: &mut World, res: &mut Resources) {
     for event in &events {
         match event {
             InputEvent::ControllerPose { pose } => {
-                for c in world.query_mut::<&mut Controller>() {
-                    c.pose = *pose;
-                }
+                single::for_each_mut::<Controller>(world, &res.singles, |c| c.pose = *pose);
             }
             InputEvent::HeadPose { pose } => {
-                for h in world.query_mut::<&mut Head>() {
-                    h.pose = *pose;
-                }
+                single::for_each_mut::<Head>(world, &res.singles, |h| h.pose = *pose);
             }
             InputEvent::ButtonDown { button } | InputEvent::ButtonUp { button } => {
                 let down = matches!(event, InputEvent::ButtonDown { .. });
-                for c in world.query_mut::<&mut Controller>() {
-                    set(&mut c.buttons, *button, down);
-                }
+                single::for_each_mut::<Controller>(world, &res.singles, |c| set(&mut c.buttons, *button, down));
                 if down {
                     set(&mut res.edges.down, *button, true);
                 } else {
@@ -59,9 +54,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
                 }
             }
             InputEvent::TouchpadAxes { axes } => {
-                for c in world.query_mut::<&mut Controller>() {
-                    c.touchpad = *axes;
-                }
+                single::for_each_mut::<Controller>(world, &res.singles, |c| c.touchpad = *axes);
             }
             InputEvent::OpenMenu => open_menu(res, tick),
             InputEvent::CloseMenu => res.menu.open = false,

@@ -17,19 +17,20 @@
 
 use hecs::{CommandBuffer, World};
 
+use crate::components::tree_components;
 use crate::components::{HitMarker, HitTarget, Tree, Wind};
 use crate::events::Happening;
 use crate::interact;
 use crate::mode::Mode;
 use crate::resources::Resources;
-use crate::components::tree_components;
+use crate::single;
 
 /// Runs the plant and remove system.
 pub fn run(world: &mut World, res: &mut Resources) {
     if !res.edges.down.trigger && !res.edges.down.bumper {
         return;
     }
-    let Some(hit) = world.query::<&HitMarker>().iter().next().copied() else { return };
+    let Some(hit) = single::get::<HitMarker>(world, &res.singles) else { return };
     if !hit.visible {
         return;
     }
@@ -40,7 +41,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     if res.edges.down.trigger && res.mode == Mode::RayCasting && matches!(hit.target, HitTarget::Plane(_)) {
         let model = res.menu.current_model;
         if res.catalogue.get(model).is_some() {
-            let wind = world.query::<&Wind>().iter().next().copied();
+            let wind = single::get::<Wind>(world, &res.singles);
             let e = world.reserve_entity();
             cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, hit.position, 0.0, 1.0, true));
             res.log.push(tick, Happening::Planted { tree: e.to_bits().get(), model, position: hit.position });
@@ -65,9 +66,9 @@ pub fn run(world: &mut World, res: &mut Resources) {
             if i.touchpad.is_some_and(|g| g.tree == id) {
                 i.touchpad = None;
             }
-            if interact::selected_tree(world) == Some(id) {
+            if interact::selected_tree(world, &res.singles) == Some(id) {
                 i.handle_drag = None;
-                interact::set_selected(world, None);
+                interact::set_selected(world, &res.singles, None);
                 res.log.push(tick, Happening::Deselected);
             }
         }

@@ -23,17 +23,18 @@ use hecs::World;
 use crate::components::{Controller, HitMarker, HitTarget};
 use crate::interact;
 use crate::resources::Resources;
+use crate::single;
 use crate::spatial::RayKey;
 
 /// Runs the raycast system.
 pub fn run(world: &mut World, res: &mut Resources) {
     res.spatial.refresh(world, &res.catalogue);
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
+    let Some(c) = single::get::<Controller>(world, &res.singles) else { return };
     let (origin, dir) = (c.ray_origin(), c.ray_dir());
     let max = res.config.max_ray_length;
     let dragged = res.interaction.drag.and_then(|d| interact::entity(d.tree));
 
-    let selected = interact::selected_tree(world).and_then(interact::entity);
+    let selected = interact::selected_tree(world, &res.singles).and_then(interact::entity);
     let selected_box = match (selected, dragged) {
         (Some(sel), None) => interact::tree_box_of(world, &res.catalogue, sel),
         _ => None,
@@ -86,7 +87,5 @@ pub fn run(world: &mut World, res: &mut Resources) {
         }
     }
 
-    for m in world.query_mut::<&mut HitMarker>() {
-        *m = marker;
-    }
+    single::for_each_mut::<HitMarker>(world, &res.singles, |m| *m = marker);
 }

@@ -24,15 +24,16 @@ use crate::events::Happening;
 use crate::interact;
 use crate::mode::Mode;
 use crate::resources::{Drag, HandleDrag, Resources};
+use crate::single;
 
 /// Runs the select system.
 pub fn run(world: &mut World, res: &mut Resources) {
     if !res.edges.down.trigger || res.interaction.drag.is_some() || res.interaction.handle_drag.is_some() {
         return;
     }
-    let Some(hit) = world.query::<&HitMarker>().iter().next().copied() else { return };
+    let Some(hit) = single::get::<HitMarker>(world, &res.singles) else { return };
     let tick = res.tick;
-    let selected = interact::selected_tree(world);
+    let selected = interact::selected_tree(world, &res.singles);
     let empty = match hit.target {
         _ if !hit.visible => true,
         HitTarget::None => true,
@@ -43,7 +44,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
             let Some(e) = interact::entity(id).filter(|&e| world.satisfies::<&Tree>(e)) else { return };
             let Ok(t) = world.get::<&Transform>(e).map(|t| *t) else { return };
             if selected != Some(id) {
-                interact::set_selected(world, Some(id));
+                interact::set_selected(world, &res.singles, Some(id));
                 res.log.push(tick, Happening::Selected { tree: id });
             }
             res.interaction.drag =
@@ -67,7 +68,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         }
     };
     if empty && selected.is_some() {
-        interact::set_selected(world, None);
+        interact::set_selected(world, &res.singles, None);
         res.log.push(tick, Happening::Deselected);
     }
 }

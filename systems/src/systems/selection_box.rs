@@ -14,21 +14,20 @@ use crate::components::Selection;
 use crate::events::Happening;
 use crate::interact;
 use crate::resources::Resources;
+use crate::single;
 
 /// Runs the selection box system.
 pub fn run(world: &mut World, res: &mut Resources) {
-    let Some(id) = interact::selected_tree(world) else { return };
+    let Some(id) = interact::selected_tree(world, &res.singles) else { return };
     let b = interact::entity(id).and_then(|e| interact::tree_box_of(world, &res.catalogue, e));
-    for s in world.query_mut::<&mut Selection>() {
-        match b {
-            Some(b) => {
-                s.center = b.center;
-                s.half_extents = b.half_extents;
-                s.yaw = b.yaw;
-            }
-            None => *s = Selection::default(),
+    single::for_each_mut::<Selection>(world, &res.singles, |s| match b {
+        Some(b) => {
+            s.center = b.center;
+            s.half_extents = b.half_extents;
+            s.yaw = b.yaw;
         }
-    }
+        None => *s = Selection::default(),
+    });
     if b.is_none() {
         res.interaction.handle_drag = None;
         res.log.push(res.tick, Happening::Deselected);

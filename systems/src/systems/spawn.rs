@@ -14,12 +14,13 @@
 
 use hecs::{CommandBuffer, World};
 
+use crate::components::tree_components;
 use crate::components::{Head, Wind};
 use crate::events::Happening;
 use crate::interact;
 use crate::mode::Mode;
 use crate::resources::Resources;
-use crate::components::tree_components;
+use crate::single;
 
 /// Runs the spawn system.
 pub fn run(world: &mut World, res: &mut Resources) {
@@ -31,10 +32,10 @@ pub fn run(world: &mut World, res: &mut Resources) {
     if res.mode != Mode::Manual || res.catalogue.get(model).is_none() {
         return;
     }
-    let Some(head) = world.query::<&Head>().iter().next().copied() else { return };
+    let Some(head) = single::get::<Head>(world, &res.singles) else { return };
     let tick = res.tick;
     let position = interact::spawn_point(&head.pose, res.config.spawn_distance, res.config.spawn_drop);
-    let wind = world.query::<&Wind>().iter().next().copied();
+    let wind = single::get::<Wind>(world, &res.singles);
 
     let mut cmd = CommandBuffer::new();
     let e = world.reserve_entity();
@@ -44,6 +45,6 @@ pub fn run(world: &mut World, res: &mut Resources) {
 
     let id = e.to_bits().get();
     res.log.push(tick, Happening::Planted { tree: id, model, position });
-    interact::set_selected(world, Some(id));
+    interact::set_selected(world, &res.singles, Some(id));
     res.log.push(tick, Happening::Selected { tree: id });
 }

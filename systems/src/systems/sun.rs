@@ -18,6 +18,7 @@ use solar_positioning::{time::JulianDate, Location, SolarPositions};
 
 use crate::components::Sun;
 use crate::resources::Resources;
+use crate::single;
 
 /// The Julian date of the Unix epoch, 1970-01-01T00:00:00Z.
 pub const UNIX_EPOCH_JD: f64 = 2_440_587.5;
@@ -130,15 +131,15 @@ pub fn clock_step_ms(t: f64, dt: f64, rate: f64) -> i64 {
 /// Runs the sun system.
 pub fn run(world: &mut World, res: &mut Resources) {
     let t = res.time();
-    for sun in world.query_mut::<&mut Sun>() {
+    single::for_each_mut::<Sun>(world, &res.singles, |sun| {
         if sun.time_rate == 0.0 {
-            continue;
+            return;
         }
         let step_ms = clock_step_ms(t, res.dt as f64, sun.time_rate);
         sun.utc_ms = sun.utc_ms.saturating_add(step_ms);
         // A time outside the algorithm's range keeps the last valid direction.
         let _ = update_sun(sun);
-    }
+    });
 }
 
 #[cfg(test)]

@@ -1,10 +1,11 @@
 //! Task system: the study's task clock, target checks and measures.
 //!
 //! Reads: `Resources::task`, `Resources::log` (new entries), `Resources::menu`,
-//! `Resources::interaction`, `Resources::catalogue`, `Tree`, `Transform`, `Grounded`,
-//! `HitMarker`, `Controller`, `Selection`.
+//! `Resources::interaction`, `Resources::catalogue`, `Resources::spatial` (its tree changes),
+//! `Resources::task_search`, `Tree`, `Transform`, `Grounded`, `HitMarker`, `Controller`,
+//! `Selection`.
 //! Writes: `Resources::task` (satisfied targets, completion, errors, measures),
-//! `Resources::log` (target_satisfied, task_completed).
+//! `Resources::log` (target_satisfied, task_completed), `Resources::task_search`.
 //!
 //! The clock starts at the StartTask event and stops when every target is satisfied, or at the
 //! EndTask event if that comes first (the participant pressed "Finish task"). A target
@@ -17,10 +18,48 @@ use hecs::{Entity, World};
 use crate::components::{Controller, Grounded, HitMarker, Selection, Transform, Tree};
 use crate::events::Happening;
 use crate::resources::Resources;
+use crate::single;
 use crate::task::{TargetHit, TaskState};
 
 fn near_any_target(task: &TaskState, p: Vec3) -> bool {
     task.def.targets.iter().any(|t| Vec2::new(t.position.x - p.x, t.position.z - p.z).length() <= task.def.tolerance)
+}
+
+/// Marks the targets that a tree now satisfies, in target order, each tree counting for one
+/// target; returns `(target, tree id)` of each newly satisfied one.
+fn satisfy_targets(world: &World, task: &mut TaskState, catalogue: &crate::catalogue::Catalogue, dragged: Option<u64>, tick: u64) -> Vec<(usize, u64)> {
+    let require_grounded = task.def.require_grounded;
+    let trees: Vec<(u64, crate::catalogue::ModelId, Vec3)> = world
+        .query::<(Entity, &Tree, &Transform, &Grounded)>()
+        .iter()
+        .map(|(e, tree, t, g)| (e.to_bits().get(), tree.model, t.translation, g.0))
+        .filter(|&(id, _, _, grounded)| Some(id) != dragged && (grounded || !require_grounded))
+        .map(|(id, model, p, _)| (id, model, p))
+        .collect();
+    let mut used: Vec<u64> = task.satisfied.iter().flatten().map(|h| h.tree).collect();
+    let mut newly = Vec::new();
+    for (i, target) in task.def.targets.iter().enumerate() {
+        if task.satisfied[i].is_some() {
+            continue;
+        }
+        let Some(want) = catalogue.by_name(&target.model).map(|m| m.id) else { continue };
+        let mut best: Option<(f32, u64, Vec3)> = None;
+        for &(id, model, p) in &trees {
+            if model != want || used.contains(&id) {
+                continue;
+            }
+            let d = Vec2::new(p.x - target.position.x, p.z - target.position.z).length();
+            if d <= task.def.tolerance && best.is_none_or(|b| d < b.0 || (d == b.0 && id < b.1)) {
+                best = Some((d, id, p));
+            }
+        }
+        if let Some((_, id, position)) = best {
+            task.satisfied[i] = Some(TargetHit { tick, tree: id, model: want, position });
+            used.push(id);
+            newly.push((i, id));
+        }
+    }
+    newly
 }
 
 /// Runs the task system.
@@ -57,11 +96,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
     task.log_cursor = res.log.entries.len();
 
     // Where the time goes.
-    let touchpad_active = world
-        .query::<&Controller>()
-        .iter()
-        .any(|c| c.touchpad.abs().max_element() > res.config.touchpad_dead_zone)
-        && world.query::<&Selection>().iter().any(|s| s.tree.is_some());
+    let touchpad_active = single::get::<Controller>(world, &res.singles).is_some_and(|c| c.touchpad.abs().max_element() > res.config.touchpad_dead_zone)
+        && single::get::<Selection>(world, &res.singles).is_some_and(|s| s.tree.is_some());
     if res.menu.open {
         task.menu_ticks += 1;
     } else if res.interaction.drag.is_some() || res.interaction.handle_drag.is_some() || touchpad_active {
@@ -69,7 +105,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     } else {
         task.aiming_ticks += 1;
     }
-    if let Some(h) = world.query::<&HitMarker>().iter().next() {
+    if let Some(h) = single::get::<HitMarker>(world, &res.singles) {
         if h.visible {
             if let Some(last) = task.last_hit {
                 task.ray_path_length += last.distance(h.position);
@@ -80,36 +116,18 @@ pub fn run(world: &mut World, res: &mut Resources) {
         }
     }
 
-    // Targets.
-    let models = task.def.target_models(&res.catalogue);
-    let mut used: Vec<u64> = task.satisfied.iter().flatten().map(|h| h.tree).collect();
+    // Targets. A search finds nothing new while no tree was added, removed or moved, the same
+    // tree is dragged and no touchpad gesture moves one (the only moves that mark the trees
+    // changed when they end rather than as they happen): a target it left unsatisfied has at
+    // most the candidates it had then. So the search runs only when one of those changed.
     let dragged = res.interaction.drag.map(|d| d.tree);
-    let mut newly = Vec::new();
-    for (i, target) in task.def.targets.iter().enumerate() {
-        if task.satisfied[i].is_some() {
-            continue;
-        }
-        let want = models[i];
-        let mut best: Option<(f32, u64, Vec3)> = None;
-        for (e, tree, t, g) in world.query::<(Entity, &Tree, &Transform, &Grounded)>().iter() {
-            let id = e.to_bits().get();
-            if Some(tree.model) != want || used.contains(&id) || Some(id) == dragged {
-                continue;
-            }
-            if task.def.require_grounded && !g.0 {
-                continue;
-            }
-            let d = Vec2::new(t.translation.x - target.position.x, t.translation.z - target.position.z).length();
-            if d <= task.def.tolerance && best.is_none_or(|b| d < b.0 || (d == b.0 && id < b.1)) {
-                best = Some((d, id, t.translation));
-            }
-        }
-        if let (Some((_, id, position)), Some(model)) = (best, want) {
-            task.satisfied[i] = Some(TargetHit { tick, tree: id, model, position });
-            used.push(id);
-            newly.push((i, id));
-        }
-    }
+    let search = (res.spatial.tree_changes(), dragged, task.started_tick);
+    let newly = if res.task_search == Some(search) && res.interaction.touchpad.is_none() {
+        Vec::new()
+    } else {
+        res.task_search = Some(search);
+        satisfy_targets(world, task, &res.catalogue, dragged, tick)
+    };
     for (target, tree) in newly {
         res.log.push(tick, Happening::TargetSatisfied { target, tree });
     }

@@ -31,16 +31,17 @@ use crate::components::{Controller, Grounded, Transform, Tree};
 use crate::events::Happening;
 use crate::interact;
 use crate::resources::{Resources, TouchpadGesture};
+use crate::single;
 
 /// The smallest grab distance the touchpad can pull a dragged tree to, metres.
 pub const MIN_GRAB_DISTANCE: f32 = 0.1;
 
 /// Runs the touchpad system.
 pub fn run(world: &mut World, res: &mut Resources) {
-    let Some(c) = world.query::<&Controller>().iter().next().copied() else { return };
+    let Some(c) = single::get::<Controller>(world, &res.singles) else { return };
     let dz = res.config.touchpad_dead_zone;
     let (x, y) = (interact::touchpad_axis(c.touchpad.x, dz), interact::touchpad_axis(c.touchpad.y, dz));
-    let selected = interact::selected_tree(world);
+    let selected = interact::selected_tree(world, &res.singles);
     let active = (x != 0.0 || y != 0.0) && res.interaction.handle_drag.is_none();
 
     if let Some(g) = res.interaction.touchpad

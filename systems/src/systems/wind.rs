@@ -13,6 +13,7 @@ use hecs::World;
 
 use crate::components::{Transform, Wind, WindState};
 use crate::resources::Resources;
+use crate::single;
 
 pub use crate::wind_model::{det_sin, gust_at, gust_shape, max_bend, position_gain, tree_bend};
 
@@ -20,10 +21,10 @@ pub use crate::wind_model::{det_sin, gust_at, gust_shape, max_bend, position_gai
 pub fn run(world: &mut World, res: &mut Resources) {
     let t = res.time();
     let mut wind = None;
-    for w in world.query_mut::<&mut Wind>() {
+    single::for_each_mut::<Wind>(world, &res.singles, |w| {
         w.current = gust_at(&w.gust, t);
         wind = Some(*w);
-    }
+    });
     let Some(w) = wind else { return };
     let dir = Vec2::new(w.direction.x, w.direction.z);
     // Reduce time to one period of the 0.5 Hz oscillation (2 s) in f64 first, so f32 keeps

@@ -1,0 +1,111 @@
+//! The world's one-of-a-kind entities (the controller, the head, the hit marker, the anchor ball,
+//! the selection, the sun and the wind), found by entity rather than by a query.
+//!
+//! A scene spawns exactly one of each ([`crate::Sim::from_scene`]) and no system spawns another,
+//! so the systems read and write "the" controller. Looking it up through a hecs query each time
+//! walked every archetype of the world, about twenty times a tick; [`Singles`] keeps each one's
+//! entity, found once when the world is built. A slot is filled only when the world has exactly
+//! one entity of that kind; an empty slot, or an entity that no longer has the component, falls
+//! back to the query, so a world built another way (tests, a world without a controller) reads as
+//! before.
+//!
+//! Not hashed: it is a cache of the world's own entities.
+
+use hecs::{Component, Entity, World};
+
+use crate::components::{AnchorBall, Controller, Head, HitMarker, Selection, Sun, Wind};
+
+/// A component of which a world has one entity.
+pub trait Single: Component + Copy {
+    /// Its slot in [`Singles`].
+    const SLOT: usize;
+}
+
+macro_rules! singles {
+    ($($t:ident = $i:expr),* $(,)?) => {
+        $(impl Single for $t {
+            const SLOT: usize = $i;
+        })*
+        /// How many kinds of single entity there are.
+        const KINDS: usize = [$($i),*].len();
+        impl Singles {
+            /// Finds each kind's entity in `world`: filled when the world has exactly one.
+            pub fn find(world: &World) -> Singles {
+                let mut s = Singles::default();
+                $(s.slots[$i] = only::<$t>(world);)*
+                s
+            }
+        }
+    };
+}
+singles!(Controller = 0, Head = 1, HitMarker = 2, AnchorBall = 3, Selection = 4, Sun = 5, Wind = 6);
+
+/// The entity of each single kind, where the world has exactly one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Singles {
+    slots: [Option<Entity>; KINDS],
+}
+
+fn only<T: Component>(world: &World) -> Option<Entity> {
+    let mut q = world.query::<(Entity, &T)>();
+    let mut it = q.iter().map(|(e, _)| e);
+    let first = it.next()?;
+    it.next().is_none().then_some(first)
+}
+
+impl Singles {
+    /// The kind's entity, when the world had exactly one.
+    pub fn entity<T: Single>(&self) -> Option<Entity> {
+        self.slots[T::SLOT]
+    }
+}
+
+/// A copy of the world's `T`: its one entity's, else the first a query finds, else `None`.
+pub fn get<T: Single>(world: &World, singles: &Singles) -> Option<T> {
+    if let Some(e) = singles.entity::<T>()
+        && let Ok(c) = world.get::<&T>(e)
+    {
+        return Some(*c);
+    }
+    world.query::<&T>().iter().next().copied()
+}
+
+/// Calls `f` on every `T` of the world: on its one entity's directly when there is one.
+pub fn for_each_mut<T: Single>(world: &mut World, singles: &Singles, mut f: impl FnMut(&mut T)) {
+    if let Some(e) = singles.entity::<T>()
+        && let Ok(mut c) = world.get::<&mut T>(e)
+    {
+        f(&mut c);
+        return;
+    }
+    for c in world.query_mut::<&mut T>() {
+        f(c);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kind_with_one_entity_is_found_by_entity_and_others_by_query() {
+        let mut world = World::new();
+        let c = world.spawn((Controller::default(),));
+        world.spawn((HitMarker::default(),));
+        world.spawn((HitMarker { visible: true, ..Default::default() },));
+        let singles = Singles::find(&world);
+        assert_eq!(singles.entity::<Controller>(), Some(c));
+        // Two hit markers: no slot, and every one of them is written.
+        assert_eq!(singles.entity::<HitMarker>(), None);
+        assert_eq!(singles.entity::<Head>(), None);
+        assert!(get::<Head>(&world, &singles).is_none());
+        for_each_mut::<HitMarker>(&mut world, &singles, |m| m.visible = false);
+        assert_eq!(world.query::<&HitMarker>().iter().filter(|m| m.visible).count(), 0);
+        // A despawned single falls back to the query: none left.
+        world.despawn(c).unwrap();
+        assert!(get::<Controller>(&world, &singles).is_none());
+        let c2 = world.spawn((Controller { touchpad: glam::Vec2::ONE, ..Default::default() },));
+        assert_eq!(get::<Controller>(&world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ONE));
+        assert_ne!(Some(c2), singles.entity::<Controller>());
+    }
+}
