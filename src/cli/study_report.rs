@@ -54,7 +54,7 @@ pub fn parse_set(set: &[String]) -> anyhow::Result<SetArgs> {
         if values.iter().any(|x| x.is_empty()) {
             bail!("--set {s}: an empty value in the list");
         }
-        let parsed = values.iter().map(|value| Override::parse(&format!("{}={value}", k.trim()))).collect::<Result<Vec<_>, _>>().map_err(|e| anyhow!("--set {e}"))?;
+        let parsed = values.iter().map(|value| Override::new(k, value)).collect::<Result<Vec<_>, _>>().map_err(|e| anyhow!("--set {e}"))?;
         if parsed.len() > 1 {
             if sweep.is_some() {
                 bail!("--set {s}: only one parameter can be swept at a time");
@@ -137,8 +137,8 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow
             if params.is_empty() {
                 bail!("{}: the recordings carry no changed setting (`config` in their headers); write them with `grove synth --set NAME=VALUE`", to.replays);
             }
-            let params: Vec<(String, String)> = params.into_iter().collect();
-            let params = Override::parse_all(&params.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>()).map_err(|e| anyhow!("{}: {e}", to.replays))?;
+            let params = params.iter().map(|(k, v)| Override::new(k, v)).collect::<Result<Vec<_>, _>>().map_err(|e| anyhow!("{}: {e}", to.replays))?;
+            Config::default().apply(&params).map_err(|e| anyhow!("{}: {e}", to.replays))?;
             Some(WhatIf::compare(whatif::RESIMULATED_PARTICIPANTS, whatif::param_changes(&params), &base.trials, &trials, base.wall_seconds))
         }
         Some(base) => Some(WhatIf::compare(whatif::REPLAYED_HANDS, whatif::param_changes(&set.fixed), &base.trials, &trials, base.wall_seconds)),

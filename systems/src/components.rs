@@ -5,7 +5,7 @@
 //! −Z north and +X east. Azimuths are measured clockwise from north.
 //!
 //! Every component that takes part in the simulation implements [`crate::hash::StableHash`] and is
-//! listed in [`crate::hash::COMPONENTS`], so that the world hash covers it.
+//! listed in [`crate::hash::HASHED`], so that the world hash covers it.
 
 use glam::{Quat, Vec2, Vec3};
 use rand::RngExt;

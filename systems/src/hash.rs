@@ -1,6 +1,6 @@
 //! The world hash: a checkpoint of the whole simulation state.
 //!
-//! Every simulation component listed in [`COMPONENTS`] and the hashed resources are serialized
+//! Every simulation component listed in [`HASHED`] and the hashed resources are serialized
 //! with postcard (floats as their exact bits, little-endian) and fed to XXH3 in a stable order:
 //! component types in list order, entities sorted by their id bits. Besides the total, the hash
 //! reports one value per component type and one per entity, so that a replay that diverges can
@@ -17,40 +17,71 @@ use crate::resources::Resources;
 use crate::aerial::AerialCrown;
 use crate::water::Water;
 
-/// The hashed component types, in hashing order: the one list from which the names
-/// ([`COMPONENTS`]), the hashing ([`world_hash`]) and the presence check ([`has_component`]) are
-/// made, so that a component can never be named but not hashed, or the reverse. It calls `$m`
-/// with any leading arguments, a `;`, and the type names.
-macro_rules! hashed_components {
+/// The world hash's table, declared once: every hashed component type in hashing order, each
+/// `required` (always hashed, even when no entity has it) or `optional` (hashed only in a world
+/// that has one, so that adding the type left the hash of every world without it unchanged),
+/// and the place of the hashed resources among them (`resources`: the types after it were added
+/// after the resources entry). From this one table come the names ([`HASHED`]), the hashing
+/// ([`world_hash`]), the presence check ([`has_component`]) and the replay reader's list of what
+/// to compare. It calls `$m` with any leading arguments, a `;`, and the entries.
+macro_rules! hash_table {
     ($m:ident $(, $arg:expr)*) => {
-        $m!($($arg),* ; Transform, Scale, Tree, Grounded, WindState, Plane, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water)
+        $m!($($arg),* ;
+            Transform: required, Scale: required, Tree: required, Grounded: required, WindState: required,
+            Plane: required, Sun: required, Wind: required, Controller: required, Head: required,
+            HitMarker: required, AnchorBall: required, Selection: required, Water: optional;
+            resources;
+            Grass: optional, AerialCrown: optional
+        )
     };
 }
 
-macro_rules! component_names {
-    (; $($t:ident),*) => {
-        &[$(stringify!($t),)* "resources"]
+/// One entry of the world hash's table ([`HASHED`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Hashed {
+    /// The component type's name, or `resources` for the hashed resources.
+    pub name: &'static str,
+    /// Hashed only in a world that has at least one entity with it; then absent from
+    /// [`WorldHash::components`].
+    pub optional: bool,
+}
+
+macro_rules! is_optional {
+    (required) => {
+        false
+    };
+    (optional) => {
+        true
     };
 }
 
-/// The names of the hashed component types, in hashing order. `resources` covers the hashed
-/// resources (tick, RNG position, mode, menu, interaction state, event log, task state, config).
-pub const COMPONENTS: &[&str] = hashed_components!(component_names);
+macro_rules! table_entries {
+    (; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
+        &[
+            $(Hashed { name: stringify!($t), optional: is_optional!($o) },)*
+            Hashed { name: "resources", optional: false },
+            $(Hashed { name: stringify!($late), optional: is_optional!($lo) },)*
+        ]
+    };
+}
 
-/// Component types that take part in the hash only in a world that has at least one of them,
-/// so that adding such a type leaves the hash of every world without it unchanged (a scene
-/// without water or grass hashes as it did before they existed). Such a type is then absent
-/// from [`WorldHash::components`]. `Water` is hashed in its place among [`COMPONENTS`], before
-/// the resources; the others, added later, after the resources ([`LATE_COMPONENTS`]). The
-/// rule is the same for all: no entity with it, nothing hashed.
-pub const OPTIONAL: &[&str] = &["Water", "Grass", "AerialCrown"];
+/// The world hash's table in hashing order, the hashed resources in their place. `resources`
+/// covers the hashed resources (tick, RNG position, mode, menu, interaction state, event log,
+/// task state, config). Registered techniques' components follow, in a world that has them
+/// ([`crate::known_techniques`]).
+pub const HASHED: &[Hashed] = hash_table!(table_entries);
+
+/// Whether `name` is an optional entry of the table ([`Hashed::optional`]).
+pub fn is_optional(name: &str) -> bool {
+    HASHED.iter().any(|h| h.name == name && h.optional)
+}
 
 /// A checkpoint: the total hash, one hash per component type and one per entity.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct WorldHash {
     /// The hash of everything.
     pub total: u64,
-    /// `(component name, hash)` in [`COMPONENTS`] order.
+    /// `(component name, hash)` in [`HASHED`] order, then the techniques' components.
     pub components: Vec<(&'static str, u64)>,
     /// `(entity id bits, hash of all its components)`, sorted by entity.
     pub entities: Vec<(u64, u64)>,
@@ -68,19 +99,16 @@ pub fn has_component(world: &World, entity_bits: u64, name: &str) -> bool {
     let Some(e) = Entity::from_bits(entity_bits) else { return false };
     let Ok(r) = world.entity(e) else { return false };
     macro_rules! has {
-        ($r:expr, $name:expr ; $($t:ident),*) => {
+        ($r:expr, $name:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
             match $name {
                 $(stringify!($t) => $r.has::<$t>(),)*
+                $(stringify!($late) => $r.has::<$late>(),)*
                 _ => false,
             }
         };
     }
-    hashed_components!(has, r, name) || (name == "Grass" && r.has::<Grass>()) || (name == "AerialCrown" && r.has::<AerialCrown>())
+    hash_table!(has, r, name)
 }
-
-/// The [`OPTIONAL`] components hashed after the resources, in this order. Each is hashed from
-/// its postcard bytes like the others.
-pub const LATE_COMPONENTS: &[&str] = &["Grass", "AerialCrown"];
 
 /// Formats a hash as 16 lowercase hex digits.
 pub fn hex(h: u64) -> String {
@@ -102,14 +130,14 @@ impl Acc {
         xxhash_rust::xxh3::xxh3_64(&self.buf)
     }
 
-    /// Hashes every entity's `T`; nothing at all for an [`OPTIONAL`] type that no entity has.
-    fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str) {
+    /// Hashes every entity's `T`; nothing at all for an optional type that no entity has.
+    fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str, optional: bool) {
         let mut rows: Vec<(u64, u64)> = Vec::new();
         for (e, c) in world.query::<(Entity, &T)>().iter() {
             let h = c.hash_value(self);
             rows.push((e.to_bits().get(), h));
         }
-        self.rows(name, rows, OPTIONAL.contains(&name));
+        self.rows(name, rows, optional);
     }
 
     /// A technique's component ([`crate::known_techniques::HashedComponent`]): each entity's postcard
@@ -204,13 +232,7 @@ pub fn plane_hash(p: &Plane) -> u64 {
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     let mut acc = Acc { buf: Vec::with_capacity(256), entities: BTreeMap::new(), components: Vec::new() };
-    macro_rules! hash_each {
-        ($acc:expr, $world:expr ; $($t:ident),*) => {
-            $($acc.component::<$t>($world, stringify!($t));)*
-        };
-    }
-    hashed_components!(hash_each, acc, world);
-    let r = HashedResources {
+    let resources = HashedResources {
         tick: res.tick,
         dt: res.dt,
         seed: res.seed,
@@ -222,12 +244,15 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
         log: &res.log,
         task: &res.task,
     };
-    let rh = acc.value_hash(&r);
-    acc.components.push(("resources", rh));
-    debug_assert!(acc.components.len() <= COMPONENTS.len());
-    // The LATE_COMPONENTS, after the resources.
-    acc.component::<Grass>(world, "Grass");
-    acc.component::<AerialCrown>(world, "AerialCrown");
+    macro_rules! hash_each {
+        ($acc:expr, $world:expr, $resources:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
+            $($acc.component::<$t>($world, stringify!($t), is_optional!($o));)*
+            let rh = $acc.value_hash(&$resources);
+            $acc.components.push(("resources", rh));
+            $($acc.component::<$late>($world, stringify!($late), is_optional!($lo));)*
+        };
+    }
+    hash_table!(hash_each, acc, world, resources);
     // The techniques' components, through the same table; then, while a plug-in technique is
     // active, its name and version. Neither exists in a world of the built-in techniques.
     for t in res.techniques.iter() {

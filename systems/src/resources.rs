@@ -73,20 +73,10 @@ config_fields! {
 }
 
 impl Config {
-    /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`.
+    /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`
+    /// (a recording header's `config` entry): [`Override::new`], then [`Config::apply`].
     pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
-        let field = self
-            .field_mut(name)
-            .ok_or_else(|| format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")))?;
-        let x: f32 = value.trim().parse().map_err(|_| format!("{name}: '{value}' is not a number"))?;
-        if !x.is_finite() || x < 0.0 {
-            return Err(format!("{name}: '{value}' must be a finite, non-negative number"));
-        }
-        *field = x;
-        if self.min_scale > self.max_scale {
-            return Err(format!("min_scale {} is above max_scale {}", self.min_scale, self.max_scale));
-        }
-        Ok(())
+        self.apply(&[Override::new(name, value)?])
     }
 }
 
@@ -102,15 +92,26 @@ pub struct Override {
 }
 
 impl Override {
-    /// Parses `NAME=VALUE` and checks it against the parameters' names and ranges.
+    /// The one place a parameter's text is read: `name` must be one of [`Config::NAMES`] and
+    /// `text` a finite, non-negative number.
+    pub fn new(name: &str, text: &str) -> Result<Override, String> {
+        let (name, text) = (name.trim(), text.trim());
+        let name = Config::NAMES
+            .iter()
+            .copied()
+            .find(|n| *n == name)
+            .ok_or_else(|| format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")))?;
+        let value: f32 = text.parse().map_err(|_| format!("{name}: '{text}' is not a number"))?;
+        if !value.is_finite() || value < 0.0 {
+            return Err(format!("{name}: '{text}' must be a finite, non-negative number"));
+        }
+        Ok(Override { name, value, text: text.to_string() })
+    }
+
+    /// Parses `NAME=VALUE` ([`Override::new`]).
     pub fn parse(arg: &str) -> Result<Override, String> {
         let (name, text) = arg.split_once('=').ok_or_else(|| format!("{arg}: expected NAME=VALUE"))?;
-        let (name, text) = (name.trim(), text.trim());
-        let mut config = Config::default();
-        config.set(name, text)?;
-        let name = Config::NAMES.iter().copied().find(|n| *n == name).unwrap_or_default();
-        let value = config.field_mut(name).map_or(0.0, |v| *v);
-        Ok(Override { name, value, text: text.to_string() })
+        Override::new(name, text)
     }
 
     /// Parses every `NAME=VALUE`, checking that together they keep `min_scale` at or below

@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::lines::{LineError, Lines};
 use super::{sim_for_header_in, CheckpointLine, Header, Line};
-use crate::hash::{hex, WorldHash, COMPONENTS, LATE_COMPONENTS};
+use crate::hash::{hex, WorldHash, HASHED};
 use crate::input::{InputEvent, StampedEvent};
 use crate::resources::Override;
 use crate::sim::Sim;
@@ -83,10 +83,9 @@ pub struct ReplayOptions {
 /// entities whose hash differs crossed with the component types whose hash differs, keeping
 /// only pairs where the entity (still) has that component.
 fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World) -> Vec<Differing> {
-    let comps: Vec<&str> = COMPONENTS
+    let comps: Vec<&str> = HASHED
         .iter()
-        .chain(LATE_COMPONENTS)
-        .copied()
+        .map(|h| h.name)
         .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
         .collect();
     let actual_entities: BTreeMap<String, String> = actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
