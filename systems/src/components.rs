@@ -139,6 +139,29 @@ pub struct Plane {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// The hash of a plane: its name, then its vertices' and triangles' bytes, little-endian.
+pub fn plane_hash(p: &Plane) -> u64 {
+    let mut h = xxhash_rust::xxh3::Xxh3::new();
+    h.update(p.name.as_bytes());
+    h.update(&(p.vertices.len() as u64).to_le_bytes());
+    if cfg!(target_endian = "little") {
+        h.update(bytemuck::cast_slice(&p.vertices));
+        h.update(bytemuck::cast_slice(&p.triangles));
+    } else {
+        for v in &p.vertices {
+            for x in v.to_array() {
+                h.update(&x.to_le_bytes());
+            }
+        }
+        for t in &p.triangles {
+            for i in t {
+                h.update(&i.to_le_bytes());
+            }
+        }
+    }
+    h.digest()
+}
+
 /// The sun: where on Earth and when the scene is, and the resulting direction of sunlight.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Sun {

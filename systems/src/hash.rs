@@ -13,6 +13,7 @@ use serde::Serialize;
 use xxhash_rust::xxh3::Xxh3;
 
 use crate::components::*;
+pub use crate::components::plane_hash;
 use crate::resources::Resources;
 use crate::aerial::AerialCrown;
 use crate::water::Water;
@@ -204,29 +205,6 @@ struct HashedResources<'a> {
     interaction: &'a crate::resources::Interaction,
     log: &'a crate::events::EventLog,
     task: &'a Option<crate::task::TaskState>,
-}
-
-/// The hash of a plane: its name, then its vertices' and triangles' bytes, little-endian.
-pub fn plane_hash(p: &Plane) -> u64 {
-    let mut h = Xxh3::new();
-    h.update(p.name.as_bytes());
-    h.update(&(p.vertices.len() as u64).to_le_bytes());
-    if cfg!(target_endian = "little") {
-        h.update(bytemuck::cast_slice(&p.vertices));
-        h.update(bytemuck::cast_slice(&p.triangles));
-    } else {
-        for v in &p.vertices {
-            for x in v.to_array() {
-                h.update(&x.to_le_bytes());
-            }
-        }
-        for t in &p.triangles {
-            for i in t {
-                h.update(&i.to_le_bytes());
-            }
-        }
-    }
-    h.digest()
 }
 
 /// Hashes the world and the hashed resources.

@@ -386,8 +386,8 @@ pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
     TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
 }
 
-/// [`plane_trimesh`], built once per process for each distinct plane (found by a hash of its
-/// geometry, then compared whole): every recording of a study starts from the same planes, and building their
+/// [`plane_trimesh`], built once per process for each distinct plane (found by its
+/// [`crate::components::plane_hash`], then compared whole): every recording of a study starts from the same planes, and building their
 /// meshes' trees was a twentieth of a replay's time. The mesh is a pure function of the plane, so
 /// sharing it changes nothing a simulation computes.
 fn shared_plane_trimesh(plane: &Plane) -> Option<std::sync::Arc<TriMesh>> {
@@ -397,7 +397,7 @@ fn shared_plane_trimesh(plane: &Plane) -> Option<std::sync::Arc<TriMesh>> {
     static CACHE: OnceLock<Cache> = OnceLock::new();
     /// At most this many planes are kept; past it the cache starts again.
     const MAX_PLANES: usize = 64;
-    let key = xxhash_rust::xxh3::xxh3_64(bytemuck::cast_slice(&plane.vertices)) ^ xxhash_rust::xxh3::xxh3_64(bytemuck::cast_slice(&plane.triangles)).rotate_left(1);
+    let key = crate::components::plane_hash(plane);
     let cache = CACHE.get_or_init(Cache::default);
     if let Ok(map) = cache.lock()
         && let Some(found) = map.get(&key).and_then(|v| v.iter().find(|(p, _)| p == plane))

@@ -22,6 +22,13 @@ pub struct TargetDef {
     pub model: String,
 }
 
+impl TargetDef {
+    /// The required model, resolved against a catalogue; `None` if it has no such model.
+    pub fn model_id(&self, catalogue: &Catalogue) -> Option<ModelId> {
+        catalogue.by_name(&self.model).map(|m| m.id)
+    }
+}
+
 /// A task file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -84,7 +91,7 @@ impl TaskDef {
 
     /// The required model of each target, resolved against a catalogue.
     pub fn target_models(&self, catalogue: &Catalogue) -> Vec<Option<ModelId>> {
-        self.targets.iter().map(|t| catalogue.by_name(&t.model).map(|m| m.id)).collect()
+        self.targets.iter().map(|t| t.model_id(catalogue)).collect()
     }
 }
 

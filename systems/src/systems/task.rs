@@ -32,9 +32,8 @@ fn satisfy_targets(world: &World, task: &mut TaskState, catalogue: &crate::catal
     let trees: Vec<(u64, crate::catalogue::ModelId, Vec3)> = world
         .query::<(Entity, &Tree, &Transform, &Grounded)>()
         .iter()
-        .map(|(e, tree, t, g)| (e.to_bits().get(), tree.model, t.translation, g.0))
-        .filter(|&(id, _, _, grounded)| Some(id) != dragged && (grounded || !require_grounded))
-        .map(|(id, model, p, _)| (id, model, p))
+        .filter(|&(e, _, _, g)| Some(e.to_bits().get()) != dragged && (g.0 || !require_grounded))
+        .map(|(e, tree, t, _)| (e.to_bits().get(), tree.model, t.translation))
         .collect();
     let mut used: Vec<u64> = task.satisfied.iter().flatten().map(|h| h.tree).collect();
     let mut newly = Vec::new();
@@ -42,7 +41,7 @@ fn satisfy_targets(world: &World, task: &mut TaskState, catalogue: &crate::catal
         if task.satisfied[i].is_some() {
             continue;
         }
-        let Some(want) = catalogue.by_name(&target.model).map(|m| m.id) else { continue };
+        let Some(want) = target.model_id(catalogue) else { continue };
         let mut best: Option<(f32, u64, Vec3)> = None;
         for &(id, model, p) in &trees {
             if model != want || used.contains(&id) {
