@@ -11,3 +11,4 @@ pub mod atomic_write;
 pub mod bank;
 pub mod render;
 pub mod lsystem;
+pub mod video;

@@ -22,6 +22,7 @@ pub mod lsystem;
 pub mod models;
 pub mod play;
 pub mod render;
+pub mod render_video;
 pub mod replay;
 pub mod replay_html;
 pub mod replay_seal;

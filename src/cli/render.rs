@@ -4,6 +4,8 @@
 //!   [--overlay none|interaction]` (the overlay defaults to `interaction` for `--replay` only)
 //! - `grove render --scene FILE --frames N --fps F --out DIR [--time-rate R]`
 //! - `grove render --model FILE --out PNG`
+//! - `grove render --replay FILE --video OUT.mp4 [--camera head|shoulder|top|orbit] [--from T]
+//!   [--to T] [--fps F] [--speed S] [--ghosts DIR]` (see `render_video.rs` and `grove::video`)
 //!
 //! The renderer draws whatever [`Sim`] it is given ([`render_sim`]), so a world from a replay or
 //! any other source can be rendered the same way.
@@ -25,18 +27,40 @@ pub struct RenderArgs {
     /// The scene file (RON) to render.
     #[arg(long, conflicts_with_all = ["model", "replay"], required_unless_present_any = ["model", "replay"])]
     pub scene: Option<PathBuf>,
-    /// A recording: render the world at --tick as the headless replay computes it.
-    #[arg(long, conflicts_with = "model", requires = "tick")]
+    /// A recording: render the world at --tick as the headless replay computes it, or the whole
+    /// recording as a video (--video).
+    #[arg(long, conflicts_with = "model")]
     pub replay: Option<PathBuf>,
     /// The tick of --replay to render.
-    #[arg(long, requires = "replay")]
+    #[arg(long, requires = "replay", conflicts_with = "video")]
     pub tick: Option<u64>,
+    /// Write --replay as a video: H.264 in MP4, from --from to --to at --fps frames a second.
+    #[arg(long, value_name = "OUT.mp4", requires = "replay", conflicts_with_all = ["out", "frames"])]
+    pub video: Option<PathBuf>,
+    /// The video's camera: the participant's `head`, over the `shoulder`, the task area from the
+    /// `top`, or an `orbit` around it.
+    #[arg(long, value_enum, default_value_t = grove::video::camera::CameraKind::Head, requires = "video")]
+    pub camera: grove::video::camera::CameraKind,
+    /// The video's first tick: a tick, or `task-start` / `task-end` (default: the recording's
+    /// first tick).
+    #[arg(long, value_name = "T", requires = "video")]
+    pub from: Option<grove::video::Mark>,
+    /// The video's last tick: a tick, or `task-start` / `task-end` (default: the recording's end).
+    #[arg(long, value_name = "T", requires = "video")]
+    pub to: Option<grove::video::Mark>,
+    /// Simulated seconds per second of video (2: twice as fast as it happened).
+    #[arg(long, default_value_t = 1.0, requires = "video")]
+    pub speed: f64,
+    /// A folder of recordings: every other recording of the same task in it is drawn at once,
+    /// aligned at the task's start, each participant's head and ray in its own colour.
+    #[arg(long, value_name = "DIR", requires = "video")]
+    pub ghosts: Option<PathBuf>,
     /// A glTF 2.0 model (.gltf or .glb) to render alone, framed from its bounds.
     #[arg(long)]
     pub model: Option<PathBuf>,
     /// The output PNG, or the output folder with --frames.
-    #[arg(long)]
-    pub out: PathBuf,
+    #[arg(long, required_unless_present = "video")]
+    pub out: Option<PathBuf>,
     /// Image width, pixels.
     #[arg(long, default_value_t = 1280)]
     pub width: u32,
@@ -64,7 +88,8 @@ pub struct RenderArgs {
     /// to see the model sway in the study's wind).
     #[arg(long, conflicts_with = "replay")]
     pub frames: Option<u32>,
-    /// Frames per second of the sequence (simulated time between frames is 1/fps).
+    /// Frames per second of the sequence (simulated time between frames is 1/fps) or of the
+    /// video (a whole number from 1 to 120).
     #[arg(long, default_value_t = 30.0)]
     pub fps: f64,
     /// Set the sun's time rate (sun seconds per simulated second), e.g. 3600 for an hour per second.
@@ -112,7 +137,7 @@ fn options(args: &RenderArgs) -> RenderOptions {
 /// (found in the scene's banks, then the session's).
 /// The scene's photographs are opened before the GPU (`Gpu::new` after this), so that a bad
 /// file is refused at once.
-fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene, aerial: Option<grove::render::aerial_ground::AerialSources>) -> anyhow::Result<Renderer> {
+pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene, aerial: Option<grove::render::aerial_ground::AerialSources>) -> anyhow::Result<Renderer> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
     renderer.options = options(args);
     let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
@@ -151,18 +176,18 @@ fn check_out_file(out: &Path, force: bool) -> anyhow::Result<()> {
 }
 
 /// Checks the --frames arguments and prepares the folder: the ticks between frames.
-fn frames_setup(args: &RenderArgs, n: u32, dt: f32) -> anyhow::Result<u64> {
+fn frames_setup(args: &RenderArgs, out: &Path, n: u32, dt: f32) -> anyhow::Result<u64> {
     if n == 0 || n > 100_000 {
         bail!("--frames must be between 1 and 100000");
     }
     if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 1000.0) {
         bail!("--fps must be in (0, 1000]");
     }
-    if args.out.is_file() {
-        bail!("{}: is a file; with --frames, --out names a folder", args.out.display());
+    if out.is_file() {
+        bail!("{}: is a file; with --frames, --out names a folder", out.display());
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: cannot create folder ({e})", args.out.display()))?;
-    let first = args.out.join("frame_00000.png");
+    std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: cannot create folder ({e})", out.display()))?;
+    let first = out.join("frame_00000.png");
     if first.exists() && !args.force {
         bail!("{}: already exists (use --force to overwrite)", first.display());
     }
@@ -181,7 +206,7 @@ fn load_model_checked(model: &Path) -> anyhow::Result<grove::render::assets::glt
 
 /// `--model FILE --frames N`: the model alone on its stage in the study scene's wind, so that its
 /// wind channels (its own, or those grove computes, docs/model-bank.md) show as motion.
-fn model_frames(args: &RenderArgs, model: &Path, n: u32) -> anyhow::Result<ExitCode> {
+fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::Result<ExitCode> {
     let data = load_model_checked(model)?;
     let id = grove_systems::catalogue::ModelId(0);
     let mut sim = grove_systems::stage::model_stage(data.bounds, args.width as f32 / args.height as f32, false, id).map_err(|e| anyhow!(e))?;
@@ -193,7 +218,7 @@ fn model_frames(args: &RenderArgs, model: &Path, n: u32) -> anyhow::Result<ExitC
         w.gust = grove_systems::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
         w.current = d.gust_average;
     }
-    let ticks_per_frame = frames_setup(args, n, sim.res.dt)?;
+    let ticks_per_frame = frames_setup(args, out, n, sim.res.dt)?;
     let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir()).map_err(|e| anyhow!(e))?;
     // The model alone on its stage is shown as itself: never as an impostor.
@@ -204,31 +229,37 @@ fn model_frames(args: &RenderArgs, model: &Path, n: u32) -> anyhow::Result<ExitC
         if f > 0 {
             sim.run(ticks_per_frame);
         }
-        render_sim(&gpu, &mut renderer, &sim, &args.out.join(format!("frame_{f:05}.png")))?;
+        render_sim(&gpu, &mut renderer, &sim, &out.join(format!("frame_{f:05}.png")))?;
         bar.inc(1);
     }
     bar.finish_and_clear();
-    println!("{}: wrote {n} frames of {} in the study's wind, {ticks_per_frame} ticks apart, on {}", args.out.display(), model.display(), gpu.adapter_name());
+    println!("{}: wrote {n} frames of {} in the study's wind, {ticks_per_frame} ticks apart, on {}", out.display(), model.display(), gpu.adapter_name());
     Ok(ExitCode::SUCCESS)
 }
 
 /// Runs `grove render`.
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     check_size(args.width, args.height)?;
+    if let Some(video) = &args.video {
+        return super::render_video::run(&args, video);
+    }
+    let out = args.out.clone().ok_or_else(|| anyhow!("give --out FILE (or --video OUT.mp4 with --replay)"))?;
+    let out = out.as_path();
     if let (Some(model), Some(n)) = (&args.model, args.frames) {
-        return model_frames(&args, model, n);
+        return model_frames(&args, out, model, n);
     }
     if let Some(model) = &args.model {
-        check_out_file(&args.out, args.force)?;
+        check_out_file(out, args.force)?;
         let data = load_model_checked(model)?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
         let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args)).map_err(|e| anyhow!(e))?;
-        write_via_temp(&args.out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))?;
-        println!("{}: rendered {} ({}x{}) on {}", args.out.display(), model.display(), args.width, args.height, gpu.adapter_name());
+        write_via_temp(out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))?;
+        println!("{}: rendered {} ({}x{}) on {}", out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
-    if let (Some(replay), Some(tick)) = (&args.replay, args.tick) {
-        check_out_file(&args.out, args.force)?;
+    if let Some(replay) = &args.replay {
+        let tick = args.tick.ok_or_else(|| anyhow!("--replay needs --tick N (one picture) or --video OUT.mp4"))?;
+        check_out_file(out, args.force)?;
         let options = grove_systems::replay::ReplayOptions { until: Some(tick), banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
         let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
         if outcome.sim.res.tick < tick {
@@ -238,8 +269,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
         let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene, aerial)?;
-        render_sim(&gpu, &mut renderer, &outcome.sim, &args.out)?;
-        println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
+        render_sim(&gpu, &mut renderer, &outcome.sim, out)?;
+        println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
     let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
@@ -257,15 +288,15 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     match args.frames {
         None => {
-            check_out_file(&args.out, args.force)?;
+            check_out_file(out, args.force)?;
             let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
-            render_sim(&gpu, &mut renderer, &sim, &args.out)?;
-            println!("{}: rendered {} at tick {} ({}x{}) on {}", args.out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
+            render_sim(&gpu, &mut renderer, &sim, out)?;
+            println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
         }
         Some(n) => {
-            let ticks_per_frame = frames_setup(&args, n, scene.dt)?;
+            let ticks_per_frame = frames_setup(&args, out, n, scene.dt)?;
             let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
@@ -273,11 +304,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
                 if f > 0 {
                     sim.run(ticks_per_frame);
                 }
-                render_sim(&gpu, &mut renderer, &sim, &args.out.join(format!("frame_{f:05}.png")))?;
+                render_sim(&gpu, &mut renderer, &sim, &out.join(format!("frame_{f:05}.png")))?;
             }
             println!(
                 "{}: wrote {n} frames, {ticks_per_frame} ticks apart ({:.4} s simulated per frame), on {}",
-                args.out.display(),
+                out.display(),
                 ticks_per_frame as f64 * scene.dt as f64,
                 gpu.adapter_name()
             );

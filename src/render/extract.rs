@@ -323,5 +323,6 @@ fn overlay_scene(sim: &Sim) -> OverlayScene {
         max_ray_length: sim.res.config.max_ray_length,
         handle_radius: sim.res.config.handle_radius,
         eye: sim.head().pose.position,
+        ghosts: Vec::new(),
     }
 }

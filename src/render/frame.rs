@@ -78,7 +78,12 @@ impl Renderer {
         let mut data = FrameData::extract(sim, &self.ground.key);
         if let Some(top) = self.options.top_view {
             data.camera = top.camera();
+        } else if let Some(camera) = self.options.camera {
+            // Markers keep their size as seen from the camera drawn from.
+            data.camera = camera;
+            data.overlay.eye = camera.position;
         }
+        data.overlay.ghosts.clone_from(&self.ghosts);
         if self.options.grass {
             data.extract_grass(sim, &self.grass.key);
         }

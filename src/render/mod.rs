@@ -100,11 +100,14 @@ pub struct RenderOptions {
     /// Draw from straight above with an orthographic projection ([`view::TopView`]) instead of
     /// the world's head camera.
     pub top_view: Option<view::TopView>,
+    /// Draw from this camera instead of the world's head camera (a video's shoulder or orbit
+    /// camera); the head is then drawn as a figure like the ghosts.
+    pub camera: Option<Camera>,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true, top_view: None }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true, top_view: None, camera: None }
     }
 }
 
@@ -129,6 +132,9 @@ pub struct Renderer {
     pub options: RenderOptions,
     /// Statistics of the last frame.
     pub stats: FrameStats,
+    /// Other participants' heads and rays drawn over the world from the next frame (a video's
+    /// `--ghosts`); empty normally.
+    pub ghosts: Vec<overlay::geometry::OverlayGhost>,
     depth: wgpu::TextureView,
     views: view::Views,
     lighting: lighting::Lighting,
@@ -187,6 +193,7 @@ impl Renderer {
             height: height.max(1),
             options,
             stats: FrameStats::default(),
+            ghosts: Vec::new(),
             depth: depth_texture(device, width, height),
             views,
             lighting,

@@ -67,6 +67,27 @@ pub struct OverlayTarget {
     pub done: bool,
 }
 
+/// A participant drawn as a figure: a head with a nose towards where it looks, and its ray (a
+/// video's ghosts, and the participant itself seen from another camera).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OverlayGhost {
+    /// The head's position, metres.
+    pub head: Vec3,
+    /// The head's orientation; it looks along its −Z axis.
+    pub head_rotation: Quat,
+    /// The ray's origin and unit direction.
+    pub ray: (Vec3, Vec3),
+    /// The ray's drawn length, metres (to its hit, or a fixed length).
+    pub ray_length: f32,
+    /// Linear RGBA colour.
+    pub color: [f32; 4],
+    /// Solid (the chosen participant) or a wire figure (the others).
+    pub solid: bool,
+}
+
+/// The radius of a ghost's head, metres.
+pub const GHOST_HEAD_M: f32 = 0.12;
+
 /// What the overlay draws, copied from the world by `render::extract`.
 #[derive(Clone, Debug, Default)]
 pub struct OverlayScene {
@@ -88,6 +109,8 @@ pub struct OverlayScene {
     pub handle_radius: f32,
     /// The eye (the head's position), metres: markers keep a minimum size as seen from it.
     pub eye: Vec3,
+    /// Participants drawn as figures ([`OverlayGhost`]).
+    pub ghosts: Vec<OverlayGhost>,
 }
 
 /// One overlay vertex. A zero normal means "unlit".
@@ -166,6 +189,40 @@ impl OverlayGeometry {
                 self.tri(p1, [wn; 3], color);
             }
         }
+    }
+
+    /// A wire sphere: three great circles.
+    pub fn wire_sphere(&mut self, c: Vec3, r: f32, rot: Quat, color: [f32; 4]) {
+        let segs = 16;
+        for axis in 0..3 {
+            let p = |j: u32| {
+                let a = std::f32::consts::TAU * j as f32 / segs as f32;
+                let (x, y) = (a.cos() * r, a.sin() * r);
+                let v = match axis {
+                    0 => Vec3::new(0.0, x, y),
+                    1 => Vec3::new(x, 0.0, y),
+                    _ => Vec3::new(x, y, 0.0),
+                };
+                c + rot * v
+            };
+            for j in 0..segs {
+                self.line(p(j), p(j + 1), color);
+            }
+        }
+    }
+
+    /// A participant as a figure: head, nose and ray.
+    pub fn ghost(&mut self, g: &OverlayGhost) {
+        let nose = g.head + g.head_rotation * Vec3::new(0.0, 0.0, -GHOST_HEAD_M * 1.2);
+        if g.solid {
+            self.sphere(g.head, GHOST_HEAD_M, g.color);
+            self.cuboid(nose, Vec3::new(0.025, 0.025, 0.05), g.head_rotation, g.color);
+        } else {
+            self.wire_sphere(g.head, GHOST_HEAD_M, g.head_rotation, g.color);
+            self.line(g.head, nose + g.head_rotation * Vec3::new(0.0, 0.0, -0.05), g.color);
+        }
+        let (o, d) = g.ray;
+        self.line(o, o + d * g.ray_length.max(0.0), g.color);
     }
 
     /// A flat ring on the ground, facing up.
@@ -257,6 +314,9 @@ pub fn build(scene: &OverlayScene) -> OverlayGeometry {
             g.sphere(s.center + rot * Vec3::new(x, 0.0, z), hs, [0.95, 0.35, 0.9, 1.0]);
         }
     }
+    for ghost in &scene.ghosts {
+        g.ghost(ghost);
+    }
     for t in &scene.targets {
         // The ring lights up while the hit point is inside the target's tolerance.
         let aimed = hit.is_some_and(|h| h.visible && glam::Vec2::new(h.position.x - t.position.x, h.position.z - t.position.z).length() <= scene.target_tolerance);
@@ -290,6 +350,7 @@ mod tests {
             max_ray_length: 30.0,
             handle_radius: 0.1,
             eye: Vec3::new(0.0, 1.7, 4.0),
+            ghosts: Vec::new(),
         }
     }
 

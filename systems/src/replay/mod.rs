@@ -17,6 +17,7 @@
 pub mod codec;
 mod lines;
 pub mod names;
+pub mod player;
 pub mod reader;
 pub mod scene_ref;
 pub mod upgrade;
@@ -28,6 +29,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 pub use codec::{chained_sum, decode_line, decode_line_chained, encode_line, encode_line_chained, line_sum, rechain, sign_body, split_sum};
+pub use player::Player;
 pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
 pub use upgrade::{upgrade, UpgradeSummary};
 
