@@ -238,35 +238,13 @@ impl Response {
     fn value(&self, input: &ControllerInput) -> f32 {
         let (state, button, axes) = component_values(input, self.part);
         let active = self.states[state as usize];
-        match self.property {
-            Property::Button => {
-                if active {
-                    button
-                } else {
-                    0.0
-                }
-            }
-            Property::XAxis => {
-                if active {
-                    (axes.x + 1.0) / 2.0
-                } else {
-                    0.5
-                }
-            }
-            Property::YAxis => {
-                if active {
-                    (axes.y + 1.0) / 2.0
-                } else {
-                    0.5
-                }
-            }
-            Property::State => {
-                if active {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
+        match (self.property, active) {
+            (Property::Button, true) => button,
+            (Property::XAxis, true) => (axes.x + 1.0) / 2.0,
+            (Property::YAxis, true) => (axes.y + 1.0) / 2.0,
+            (Property::State, true) => 1.0,
+            (Property::Button | Property::State, false) => 0.0,
+            (Property::XAxis | Property::YAxis, false) => 0.5,
         }
     }
 }
@@ -416,7 +394,7 @@ impl ControllerModel {
     /// [`FRONT_DEPTH`] of its most forward one, at rest) on the origin.
     fn front_offset(&self) -> Vec3 {
         let mut points = Vec::new();
-        self.emit(&ControllerInput::default(), Mat4::IDENTITY, &mut |p, _, _| points.push(p));
+        self.pose(&ControllerInput::default(), Mat4::IDENTITY, &mut |p, _, _| points.push(p));
         let front = points.iter().map(|p| p.z).fold(f32::INFINITY, f32::min);
         if !front.is_finite() {
             return Vec3::ZERO;
@@ -452,9 +430,16 @@ impl ControllerModel {
         (world, drawn)
     }
 
-    /// Emits every drawn triangle's vertices (position, unit normal, colour), in model space
-    /// transformed by `place`.
-    fn emit(&self, input: &ControllerInput, place: Mat4, out: &mut dyn FnMut(Vec3, Vec3, [f32; 4])) {
+    /// The placement of the model at a controller pose: grip space (−Z forward, +Y up) turned
+    /// by `rotation` and moved so that its front face sits at `origin`, where the ray starts.
+    pub fn placement(&self, origin: Vec3, rotation: Quat) -> Mat4 {
+        Mat4::from_rotation_translation(rotation, origin) * Mat4::from_translation(self.offset)
+    }
+
+    /// The model posed by `input` at `place` (see [`ControllerModel::placement`]): emits each
+    /// triangle's three vertices (world position, unit normal, colour) in order, and returns
+    /// the touch dot's centre when the touchpad is touched.
+    pub fn pose(&self, input: &ControllerInput, place: Mat4, out: &mut dyn FnMut(Vec3, Vec3, [f32; 4])) -> Option<Vec3> {
         let (world, drawn) = self.world(input);
         for (i, node) in self.nodes.iter().enumerate() {
             let Some(mesh) = node.mesh.and_then(|m| self.meshes.get(m)) else {
@@ -470,23 +455,8 @@ impl ControllerModel {
                 out(m.transform_point3(mesh.positions[k]), (n * mesh.normals[k]).normalize_or_zero(), self.color);
             }
         }
-    }
-
-    /// The placement of the model at a controller pose: grip space (−Z forward, +Y up) turned
-    /// by `rotation` and moved so that its front face sits at `origin`, where the ray starts.
-    pub fn placement(&self, origin: Vec3, rotation: Quat) -> Mat4 {
-        Mat4::from_rotation_translation(rotation, origin) * Mat4::from_translation(self.offset)
-    }
-
-    /// The model posed by `input` at `place` (see [`ControllerModel::placement`]): emits each
-    /// triangle's three vertices (world position, unit normal, colour) in order, and returns
-    /// the touch dot's centre when the touchpad is touched.
-    pub fn pose(&self, input: &ControllerInput, place: Mat4, out: &mut dyn FnMut(Vec3, Vec3, [f32; 4])) -> Option<Vec3> {
-        self.emit(input, place, out);
-        self.touch_point.and_then(|t| {
-            let (world, drawn) = self.world(input);
-            drawn[t].then(|| (place * world[t]).transform_point3(Vec3::ZERO))
-        })
+        let t = self.touch_point?;
+        drawn[t].then(|| (place * world[t]).transform_point3(Vec3::ZERO))
     }
 
     /// The model-space transform of the node called `name` for `input`, if there is one.

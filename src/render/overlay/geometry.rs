@@ -348,7 +348,7 @@ mod tests {
     }
 
     fn model() -> ControllerModel {
-        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets")).join(super::super::controller::MODEL_DIR);
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets")).join(crate::render::overlay::controller::MODEL_DIR);
         ControllerModel::load(&dir).unwrap_or_else(|e| panic!("{e}"))
     }
 
