@@ -346,10 +346,10 @@ impl ControllerModel {
                 // Grove records no other control (the menu button has no component here).
                 _ => continue,
             };
-            if part == Part::Touchpad {
-                if let Some(name) = &component.touch_point_node_name {
-                    touch_point = Some(find(name)?);
-                }
+            if part == Part::Touchpad
+                && let Some(name) = &component.touch_point_node_name
+            {
+                touch_point = Some(find(name)?);
             }
             for r in component.visual_responses.values() {
                 let property = match r.component_property.as_str() {
@@ -484,11 +484,11 @@ impl ControllerModel {
                 continue;
             }
             stack.extend(&self.nodes[i].children);
-            if let Some(mesh) = self.nodes[i].mesh.and_then(|m| self.meshes.get(m)) {
-                if drawn[i] {
-                    sum += mesh.positions.iter().map(|&p| world[i].transform_point3(p)).sum::<Vec3>();
-                    count += mesh.positions.len();
-                }
+            if let Some(mesh) = self.nodes[i].mesh.and_then(|m| self.meshes.get(m))
+                && drawn[i]
+            {
+                sum += mesh.positions.iter().map(|&p| world[i].transform_point3(p)).sum::<Vec3>();
+                count += mesh.positions.len();
             }
         }
         (count > 0).then(|| sum / count as f32)
