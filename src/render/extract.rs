@@ -276,7 +276,7 @@ fn calm() -> Wind {
 
 /// The interaction visuals' inputs: the controller, the hit marker, the anchor ball, the
 /// selection and the running task's targets.
-fn overlay_scene(sim: &Sim) -> OverlayScene {
+pub fn overlay_scene(sim: &Sim) -> OverlayScene {
     let world = &sim.world;
     let hit = world.query::<&HitMarker>().iter().next().map(|h| OverlayHit {
         visible: h.visible,
@@ -288,7 +288,15 @@ fn overlay_scene(sim: &Sim) -> OverlayScene {
     let controllers = world
         .query::<&Controller>()
         .iter()
-        .map(|c| OverlayController { origin: c.ray_origin(), dir: c.ray_dir(), rotation: c.pose.rotation, trigger: c.buttons.trigger })
+        .map(|c| OverlayController {
+            origin: c.ray_origin(),
+            dir: c.ray_dir(),
+            rotation: c.pose.rotation,
+            trigger: c.buttons.trigger,
+            bumper: c.buttons.bumper,
+            touchpad_pressed: c.buttons.touchpad,
+            touchpad: c.touchpad,
+        })
         .collect();
     let anchors = world
         .query::<&AnchorBall>()

@@ -2,8 +2,12 @@
 //! `render::extract` copies from the world): the controller and
 //! its ray, the hit marker, the anchor ball (green, or white when armed), the selection's
 //! bounding box with its corner and edge handles, and the running task's target markers.
+//! The controller is the Magic Leap One model ([`super::controller`]) when it loaded, else a
+//! small dark box.
 
-use glam::{Quat, Vec3};
+use glam::{Quat, Vec2, Vec3};
+
+use super::controller::{ControllerInput, ControllerModel, TOUCH_DOT, TOUCH_DOT_RADIUS};
 
 /// The controller as the overlay draws it.
 #[derive(Clone, Copy, Debug)]
@@ -16,6 +20,19 @@ pub struct OverlayController {
     pub rotation: Quat,
     /// Whether the trigger is held (the ray turns yellow).
     pub trigger: bool,
+    /// Whether the bumper is held.
+    pub bumper: bool,
+    /// Whether the touchpad is pressed.
+    pub touchpad_pressed: bool,
+    /// The touch point, each axis in [−1, 1] (+Y away from the user); zero when untouched.
+    pub touchpad: Vec2,
+}
+
+impl OverlayController {
+    /// What the controller's model shows.
+    pub fn input(&self) -> ControllerInput {
+        ControllerInput { trigger: self.trigger, squeeze: self.bumper, touchpad_pressed: self.touchpad_pressed, touchpad: self.touchpad }
+    }
 }
 
 /// The point the controller ray hits.
@@ -256,15 +273,26 @@ pub fn min_on_screen(size: f32, distance: f32) -> f32 {
     size.max(distance.max(0.0) * MIN_MARKER_ANGLE.tan())
 }
 
-/// Builds the overlay geometry of a frame.
-pub fn build(scene: &OverlayScene) -> OverlayGeometry {
+/// Colour of the controller's box, drawn when its model is missing (linear RGBA).
+pub const CONTROLLER_BOX: [f32; 4] = [0.15, 0.15, 0.17, 1.0];
+
+/// Builds the overlay geometry of a frame; the controllers are `model` when there is one.
+pub fn build(scene: &OverlayScene, model: Option<&ControllerModel>) -> OverlayGeometry {
     let mut g = OverlayGeometry::default();
     let hit = scene.hit;
     let eye = scene.eye;
     for c in &scene.controllers {
         let (o, d) = (c.origin, c.dir);
-        // The controller body: a small dark box along the ray.
-        g.cuboid(o - d * 0.06, Vec3::new(0.02, 0.015, 0.06), c.rotation, [0.15, 0.15, 0.17, 1.0]);
+        if let Some(m) = model {
+            let tris = &mut g.triangles;
+            let dot = m.pose(&c.input(), m.placement(o, c.rotation), &mut |p, n, color| tris.push(OverlayVertex { position: p.to_array(), color, normal: n.to_array() }));
+            if let Some(dot) = dot {
+                g.sphere(dot, TOUCH_DOT_RADIUS, TOUCH_DOT);
+            }
+        } else {
+            // The controller body: a small dark box along the ray.
+            g.cuboid(o - d * 0.06, Vec3::new(0.02, 0.015, 0.06), c.rotation, CONTROLLER_BOX);
+        }
         let len = match hit {
             Some(h) if h.visible => h.distance,
             _ => scene.max_ray_length.min(30.0),
@@ -357,11 +385,63 @@ mod tests {
     #[test]
     fn the_hit_marker_on_water_differs_from_the_one_on_ground() {
         let count = |g: &OverlayGeometry, c: [f32; 4]| g.triangles.iter().filter(|v| v.color == c).count();
-        let ground = build(&scene(false));
-        let water = build(&scene(true));
+        let ground = build(&scene(false), None);
+        let water = build(&scene(true), None);
         assert!(count(&ground, MARKER) > 0 && count(&ground, MARKER_WATER) == 0);
         assert_eq!(count(&water, MARKER), 0, "no blue marker on water");
         // The sphere plus a ring: more triangles than the sphere alone, all in the water colour.
         assert!(count(&water, MARKER_WATER) > count(&ground, MARKER));
+    }
+
+    fn with_controller(input: ControllerInput) -> OverlayScene {
+        let mut s = scene(false);
+        let rotation = Quat::from_rotation_y(0.3);
+        s.controllers.push(OverlayController {
+            origin: Vec3::new(0.2, 1.2, 1.0),
+            dir: rotation * Vec3::NEG_Z,
+            rotation,
+            trigger: input.trigger,
+            bumper: input.squeeze,
+            touchpad_pressed: input.touchpad_pressed,
+            touchpad: input.touchpad,
+        });
+        s
+    }
+
+    fn model() -> ControllerModel {
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets")).join(crate::render::overlay::controller::MODEL_DIR);
+        ControllerModel::load(&dir).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn without_a_model_the_controller_is_a_box() {
+        let boxed = |g: &OverlayGeometry| g.triangles.iter().filter(|v| v.color == CONTROLLER_BOX).count();
+        let g = build(&with_controller(ControllerInput::default()), None);
+        assert_eq!(boxed(&g), 36, "a box: 6 faces of 2 triangles");
+        let m = model();
+        let g = build(&with_controller(ControllerInput::default()), Some(&m));
+        assert_eq!(boxed(&g), 0, "no box with the model");
+        let without = build(&scene(false), None).triangles.len();
+        assert_eq!(g.triangles.len() - without, m.triangle_count() * 3);
+    }
+
+    #[test]
+    fn the_model_follows_the_controller_and_its_buttons() {
+        let m = model();
+        let rest = build(&with_controller(ControllerInput::default()), Some(&m));
+        // The model sits at the ray's origin, behind it.
+        let c = with_controller(ControllerInput::default()).controllers[0];
+        let body = |g: &OverlayGeometry| g.triangles.iter().filter(|v| v.color != MARKER).map(|v| Vec3::from(v.position)).collect::<Vec<_>>();
+        assert!(body(&rest).iter().all(|p| p.distance(c.origin) < 0.2), "the model is at the controller");
+        assert!(body(&rest).iter().all(|p| (*p - c.origin).dot(c.dir) < 1e-3), "the model lies behind the ray origin");
+        // A pulled trigger moves some vertices; a touch adds the dot.
+        let pulled = build(&with_controller(ControllerInput { trigger: true, ..Default::default() }), Some(&m));
+        assert_eq!(pulled.triangles.len(), rest.triangles.len());
+        let moved = rest.triangles.iter().zip(&pulled.triangles).filter(|(a, b)| a.position != b.position).count();
+        assert!(moved > 0 && moved < rest.triangles.len() / 2, "{moved} vertices moved");
+        let touched = build(&with_controller(ControllerInput { touchpad: Vec2::new(0.3, -0.4), ..Default::default() }), Some(&m));
+        let dots = |g: &OverlayGeometry| g.triangles.iter().filter(|v| v.color == TOUCH_DOT).count();
+        assert_eq!(dots(&rest), 0);
+        assert!(dots(&touched) > 0);
     }
 }

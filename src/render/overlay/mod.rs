@@ -2,10 +2,12 @@
 //! and handles, task targets) as triangles and lines rebuilt every frame ([`geometry`]), drawn
 //! last, in [`Phase::Overlay`].
 
+pub mod controller;
 pub mod geometry;
 
 use wgpu::util::DeviceExt;
 
+use self::controller::ControllerModel;
 use self::geometry::OverlayVertex;
 use super::frame::{Feature, FrameContext, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
@@ -26,17 +28,23 @@ pub(crate) struct Overlay {
     triangles: Option<(wgpu::Buffer, u32)>,
     /// This frame's lines and their vertex count.
     lines: Option<(wgpu::Buffer, u32)>,
+    /// The controller's model; `None` draws a box instead.
+    controller: Option<ControllerModel>,
 }
 
 impl Overlay {
-    /// The feature.
+    /// The feature; the controller's model is loaded from the default assets folder (one
+    /// line on stderr, and a box instead, when it cannot be).
     pub fn new(shared: &Shared) -> Overlay {
+        let dir = controller::model_dir(&super::default_assets_dir());
+        let controller = ControllerModel::load(&dir).inspect_err(|e| eprintln!("warning: the controller model did not load, a box stands in: {e}")).ok();
         Overlay {
             module: shared.shader("overlay.wgsl", include_str!("overlay.wgsl")),
             layout: shared.layout("overlay layout", &[Some(&shared.view_layout)]),
             pipelines: PipelineCache::new("overlay"),
             triangles: None,
             lines: None,
+            controller,
         }
     }
 }
@@ -76,7 +84,7 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
 
 impl Feature for Overlay {
     fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        let g = geometry::build(&cx.data.overlay);
+        let g = geometry::build(&cx.data.overlay, self.controller.as_ref());
         let upload = |label, vertices: &[OverlayVertex]| {
             (!vertices.is_empty()).then(|| {
                 let buffer = cx.shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
