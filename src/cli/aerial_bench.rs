@@ -94,8 +94,7 @@ fn cpu_ms() -> f64 {
 
 /// The process's peak resident memory, MiB (Linux; 0 elsewhere).
 fn peak_rss_mib() -> f64 {
-    let status = grove_systems::files::read_text(std::path::Path::new("/proc/self/status"), grove_systems::files::Kind::Status).unwrap_or_default();
-    status.lines().find_map(|l| l.strip_prefix("VmHWM:")).and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok()).map_or(0.0, |kb| kb / 1024.0)
+    super::bench_args::status_mib("VmHWM")
 }
 
 /// One run's figures.

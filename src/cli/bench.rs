@@ -1,7 +1,7 @@
 //! `grove bench`: measure grove and print one JSON object.
 //!
 //! `grove bench` runs every benchmark but `render-reference` (a part of `render`),
-//! `render-gpu` (which needs a real GPU) and `grass` (long on a software rasteriser);
+//! `render-gpu` (which needs a real GPU), `grass` and `video` (long on a software rasteriser);
 //! `grove bench sim raycast` runs only those named. Each benchmark is a function that returns a
 //! JSON value; every figure is the median of several timed runs on one thread, in whatever
 //! build (debug or release) the binary is.
@@ -93,6 +93,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::GrassGoals => ("grass_goals", super::bench_grass::bench_grass_goals()?),
             Which::RenderForest => ("render_forest", super::bench_impostor::bench_forest(render)?),
             Which::Park => ("park", super::bench_park::bench_park(render)?),
+            Which::Video => ("video", super::bench_video::bench_video()?),
         };
         report.insert(name.into(), value);
     }

@@ -41,6 +41,9 @@ pub enum Which {
     /// Fukuda et al.'s park table on assets/scenes/park.ron at 1280x720: nothing, grass, grass
     /// and water, grass, water and shadows.
     Park,
+    /// A 5-minute session written as a 1280x720, 30 fps H.264 video (9,000 frames), with the
+    /// memory every 1,000 frames.
+    Video,
 }
 
 /// Arguments of `grove bench`.
@@ -97,4 +100,15 @@ pub fn time_ms(n: usize, mut f: impl FnMut()) -> Vec<f64> {
             t.elapsed().as_secs_f64() * 1e3
         })
         .collect()
+}
+
+/// A memory figure of this process from `/proc/self/status` (`VmHWM` the peak, `VmRSS` now),
+/// MiB; 0 where there is none (not Linux).
+pub fn status_mib(key: &str) -> f64 {
+    let status = grove_systems::files::read_text(std::path::Path::new("/proc/self/status"), grove_systems::files::Kind::Status).unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix(key).and_then(|r| r.strip_prefix(':')))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+        .map_or(0.0, |kb| kb / 1024.0)
 }

@@ -15,6 +15,7 @@ pub mod bench_raycast;
 pub mod bench_render;
 pub mod bench_suites;
 pub mod bench_replay;
+pub mod bench_video;
 pub mod bench_water;
 pub mod bench_wind;
 pub mod junit;

@@ -14,7 +14,7 @@ use grove_systems::bank::Banks;
 use grove_systems::components::{HitMarker, Transform};
 use grove_systems::events::{Happening, LogEntry};
 use grove_systems::input::InputEvent;
-use grove_systems::replay::{read_events, sim_for_header_in};
+use grove_systems::replay::Player;
 use grove_systems::resources::Override;
 use grove_systems::Sim;
 
@@ -89,10 +89,8 @@ fn tree_xz(sim: &Sim, tree: u64) -> Option<Vec2> {
 /// Re-simulates `path` to `end_tick` under `overrides`, calling `shoot` with the world at each
 /// moment (the ticks in `extra` with their words included; at most one call per tick).
 pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, extra: &[Moment], shoot: &mut dyn FnMut(&Sim, &Moment) -> Result<(), String>) -> Result<Trace, String> {
-    let (header, events) = read_events(path).map_err(|e| e.to_string())?;
-    let mut sim = sim_for_header_in(&header, path.parent(), overrides, banks).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut player = Player::open(path, overrides, banks).map_err(|e| e.to_string())?;
     let mut out = Trace::default();
-    let mut next = 0;
     let mut moving: Option<TreePath> = None;
     let mut take = |sim: &Sim, labels: Vec<String>, out: &mut Trace| -> Result<(), String> {
         if labels.is_empty() {
@@ -104,22 +102,17 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
         Ok(())
     };
     let at_start: Vec<String> = extra.iter().filter(|m| m.tick == 0).map(|m| m.label.clone()).collect();
-    take(&sim, at_start, &mut out)?;
-    while sim.res.tick < end_tick {
-        let tick = sim.res.tick;
-        let mut batch: Vec<InputEvent> = Vec::new();
-        while next < events.len() && events[next].tick <= tick {
-            let e = &events[next];
+    take(player.sim(), at_start, &mut out)?;
+    while player.sim().res.tick < end_tick {
+        let logged = player.sim().res.log.entries.len();
+        // The events of this tick are applied with its step, as the verifying replay does.
+        for e in player.step() {
             if let InputEvent::ButtonDown { button } = &e.event {
                 let name = serde_json::to_value(button).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_else(|| format!("{button:?}"));
                 out.presses.push(Press { tick: e.tick, button: name });
             }
-            batch.push(e.event.clone());
-            next += 1;
         }
-        let logged = sim.res.log.entries.len();
-        // A step's error is an event the world refused; the verifying replay goes on too.
-        let _ = sim.step_with(batch);
+        let sim = player.sim();
 
         // The ray, until the task is over.
         if sim.res.task.as_ref().is_none_or(|t| !t.is_over())
@@ -138,7 +131,7 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
             out.paths.push(done);
         }
         if let Some(tree) = now
-            && let Some(p) = tree_xz(&sim, tree)
+            && let Some(p) = tree_xz(sim, tree)
         {
             let m = moving.get_or_insert_with(|| TreePath { tree, ticks: (sim.res.tick, sim.res.tick), points: Vec::new() });
             m.ticks.1 = sim.res.tick;
@@ -156,12 +149,12 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
             }
         }
         labels.extend(extra.iter().filter(|m| m.tick == sim.res.tick && m.tick > 0).map(|m| m.label.clone()));
-        take(&sim, labels, &mut out)?;
+        take(sim, labels, &mut out)?;
     }
     if let Some(done) = moving.take().filter(|p| p.points.len() > 1) {
         out.paths.push(done);
     }
-    out.log = sim.res.log.entries.clone();
+    out.log = player.sim().res.log.entries.clone();
     Ok(out)
 }
 

@@ -65,11 +65,11 @@ impl TaskArea {
 /// The vertical field of view of the shoulder and orbit cameras, radians (60°).
 pub const FOV_Y: f32 = std::f32::consts::FRAC_PI_3;
 /// How far behind the head the shoulder camera sits, metres.
-pub const SHOULDER_BACK_M: f32 = 2.2;
+pub const SHOULDER_BACK_M: f32 = 1.5;
 /// How far above the head the shoulder camera sits, metres.
-pub const SHOULDER_UP_M: f32 = 0.9;
+pub const SHOULDER_UP_M: f32 = 0.6;
 /// How far to the right of the head (the controller's side) the shoulder camera sits, metres.
-pub const SHOULDER_RIGHT_M: f32 = 0.45;
+pub const SHOULDER_RIGHT_M: f32 = 0.4;
 /// How far ahead of the head the shoulder camera looks, metres.
 pub const SHOULDER_AHEAD_M: f32 = 4.0;
 /// The shoulder camera's time constant: it covers 63 % of a move of the head in this many
@@ -170,19 +170,19 @@ mod tests {
     fn the_shoulder_camera_sits_behind_above_and_right_of_a_head_looking_north() {
         // Looking north (−Z): behind is +Z, right is +X.
         let (eye, look) = shoulder_goal(&head_at(Vec3::new(0.0, 1.6, 0.0), 0.0));
-        assert!(close(eye, Vec3::new(0.45, 2.5, 2.2)), "{eye}");
+        assert!(close(eye, Vec3::new(0.4, 2.2, 1.5)), "{eye}");
         assert!(close(look, Vec3::new(0.0, 0.8, -4.0)), "{look}");
         // Turned to face west (−X, a quarter turn anticlockwise): behind is +X, right is −Z.
         let (eye, _) = shoulder_goal(&head_at(Vec3::ZERO, std::f32::consts::FRAC_PI_2));
-        assert!(close(eye, Vec3::new(2.2, 0.9, -0.45)), "{eye}");
+        assert!(close(eye, Vec3::new(1.5, 0.6, -0.4)), "{eye}");
     }
 
     #[test]
     fn the_shoulder_camera_ignores_pitch_and_looks_forward() {
         let pitched = Head { pose: Pose { position: Vec3::ZERO, rotation: Quat::from_rotation_x(-0.6) }, fov_y: 1.0 };
         let (eye, _) = shoulder_goal(&pitched);
-        assert!(close(eye, Vec3::new(0.45, 0.9, 2.2)), "{eye}");
-        let c = Shoulder { eye, look: Vec3::new(0.45, 0.9, -10.0) }.camera();
+        assert!(close(eye, Vec3::new(0.4, 0.6, 1.5)), "{eye}");
+        let c = Shoulder { eye, look: Vec3::new(0.4, 0.6, -10.0) }.camera();
         assert!((c.rotation * Vec3::NEG_Z).distance(Vec3::NEG_Z) < 1e-4);
     }
 

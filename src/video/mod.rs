@@ -68,7 +68,8 @@ pub fn frame_ticks(from: u64, to: u64, fps: u32, speed: f64, dt: f32) -> Vec<u64
     let span = to.saturating_sub(from) as f64 * dt as f64;
     let n = ((span / speed * fps as f64).round() as u64).clamp(1, MAX_FRAMES);
     let ticks_per_frame = speed / (fps as f64 * dt as f64);
-    (0..n).map(|k| (from + (k as f64 * ticks_per_frame).round() as u64).min(to)).collect()
+    // The step is an f32 (1/60 is 0.016666668): a millionth of a tick absorbs its rounding.
+    (0..n).map(|k| (from + (k as f64 * ticks_per_frame + 1e-6).round() as u64).min(to)).collect()
 }
 
 /// What a video needs to know of its recording before the first frame: the task area (its
