@@ -91,7 +91,7 @@ fn crowns_become_tree_entities_on_their_photographed_centres() {
     let sim = sim(&s);
     let big: Vec<&Crown> = s.crowns.iter().filter(|c| c.radius_m >= 0.5).collect();
     assert!(big.len() >= 3, "the synthetic park has crowns: {}", big.len());
-    let mut found: Vec<(u32, Vec3)> = sim.world.query::<(&Tree, &Transform, &AerialCrown)>().iter().map(|(_, t, c)| (c.id, t.translation)).collect();
+    let mut found: Vec<(u32, Vec3)> = sim.world().query::<(&Tree, &Transform, &AerialCrown)>().iter().map(|(_, t, c)| (c.id, t.translation)).collect();
     found.sort_by_key(|f| f.0);
     assert_eq!(found.len(), big.len());
     for (c, (id, pos)) in big.iter().zip(&found) {
@@ -100,12 +100,12 @@ fn crowns_become_tree_entities_on_their_photographed_centres() {
         assert!((pos.x - (c.x_m as f32 - 32.0)).abs() < 1e-3 && (pos.z - (c.y_m as f32 - 32.0)).abs() < 1e-3, "{c:?} at {pos}");
     }
     // The crowns are hashed; a scene without them is not.
-    let h = grove_systems::hash::world_hash(&sim.world, &sim.res);
+    let h = grove_systems::hash::world_hash(sim.world(), sim.res());
     assert!(h.component("AerialCrown").is_some());
     let mut plain = s.scene.clone();
     plain.aerial = None;
     let plain = Sim::from_scene(&plain, 0).unwrap();
-    assert!(grove_systems::hash::world_hash(&plain.world, &plain.res).component("AerialCrown").is_none());
+    assert!(grove_systems::hash::world_hash(plain.world(), plain.res()).component("AerialCrown").is_none());
 }
 
 #[test]
@@ -326,19 +326,19 @@ fn a_moved_crown_tree_takes_its_canopy_along() {
         *head = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
     }
     // The largest crown's tree, moved 12 m towards the centre along X; another crown removed.
-    let (big, crown) = sim.world.query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
+    let (big, crown) = sim.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
     let dx = if crown.photo_centre.x > 0.0 { -12.0 } else { 12.0 };
-    sim.world.get::<&mut Transform>(big).unwrap().translation.x += dx;
-    let other = sim.world.query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, _)| e).find(|e| *e != big).unwrap();
-    let before = sim.world.query::<&AerialCrown>().iter().count();
+    sim.world().get::<&mut Transform>(big).unwrap().translation.x += dx;
+    let other = sim.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, _)| e).find(|e| *e != big).unwrap();
+    let before = sim.world().query::<&AerialCrown>().iter().count();
     sim.world.despawn(other).unwrap();
-    assert_eq!(sim.world.query::<&AerialCrown>().iter().count(), before - 1);
+    assert_eq!(sim.world().query::<&AerialCrown>().iter().count(), before - 1);
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.overlay = false;
     r.set_aerial(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
     // The crown's top is green at its new place.
-    let foot = sim.world.get::<&Transform>(big).unwrap().translation;
+    let foot = sim.world().get::<&Transform>(big).unwrap().translation;
     let (x, y) = project(eye, target, foot + Vec3::Y * crown.top_m);
     let p = img.get_pixel(x.min(W - 1), y.min(H - 1)).0;
     assert!(p[1] > p[0] && p[1] > p[2], "the moved crown's top at ({x}, {y}) is {p:?}");
@@ -376,8 +376,8 @@ fn trunks_stand_under_the_crowns() {
     // The largest crown's tree, seen from 1.5 m above the ground, three crown radii away on the
     // side away from the park's centre (so no other crown stands between), looking at its
     // trunk's middle.
-    let (big, crown) = sim0.world.query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
-    let foot = sim0.world.get::<&Transform>(big).unwrap().translation;
+    let (big, crown) = sim0.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
+    let foot = sim0.world().get::<&Transform>(big).unwrap().translation;
     let away = Vec3::new(foot.x, 0.0, foot.z).normalize_or(Vec3::Z);
     let mid = foot + Vec3::Y * (0.5 * crown.base_m);
     let eye = foot + away * (3.0 * crown.radius_m) + Vec3::Y * 1.5;

@@ -39,7 +39,7 @@ fn model_path(name: &str) -> std::path::PathBuf {
 fn stage(data: &gltf_load::ModelData, dir: Vec3, distance: f32) -> (Sim, f32) {
     let mut sim = model_stage(data.bounds, 1.0, false, ModelId(0)).unwrap();
     // Without the ground, the tree stands against the sky alone, so its silhouette is exact.
-    let planes: Vec<hecs::Entity> = sim.world.query::<(hecs::Entity, &Plane)>().iter().map(|(e, _)| e).collect();
+    let planes: Vec<hecs::Entity> = sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, _)| e).collect();
     for e in planes {
         sim.world.despawn(e).unwrap();
     }
@@ -136,7 +136,7 @@ fn crossing_the_band_changes_little_per_frame() {
     let dir = Vec3::new(0.0, 0.25, 1.0).normalize();
     let (sim, radius) = stage(&data, dir, 60.0);
     // The tree's bounding sphere on screen: its diameter over the view's extent.
-    let head = *sim.world.query::<&Head>().iter().next().unwrap();
+    let head = *sim.world().query::<&Head>().iter().next().unwrap();
     let pixels = 2.0 * radius * (SIZE as f32 * 0.5 / (head.fov_y * 0.5).tan()) / 60.0;
     let background = draw(&data, &sim, false, 0.0);
     // The threshold swept so that the tree's fade goes from 0 to 1 in 20 equal steps: the
@@ -178,7 +178,7 @@ fn the_forest_scene_holds_ten_thousand_trees() {
     let seconds = t.elapsed().as_secs_f64();
     let mut models = std::collections::BTreeSet::new();
     let (mut n, mut lo, mut hi) = (0usize, Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for (tree, t) in sim.world.query::<(&Tree, &Transform)>().iter() {
+    for (tree, t) in sim.world().query::<(&Tree, &Transform)>().iter() {
         n += 1;
         models.insert(tree.model.0);
         lo = lo.min(t.translation);

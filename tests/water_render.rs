@@ -81,7 +81,7 @@ fn differs(a: &RgbaImage, b: &RgbaImage, x: u32, y: u32) -> bool {
 
 fn despawn_tree_at(sim: &mut Sim, at: Vec3) {
     let found: Vec<hecs::Entity> = sim
-        .world
+        .world()
         .query::<(hecs::Entity, &Tree, &Transform)>()
         .iter()
         .filter(|(_, _, t)| (t.translation.x - at.x).abs() < 0.01 && (t.translation.z - at.z).abs() < 0.01)
@@ -280,7 +280,7 @@ fn golden_pond_from_the_south() {
 fn golden_pond_from_the_east() {
     let mut sim = pond(1.0);
     set_head(&mut sim, Vec3::new(11.0, 2.5, -4.0), Vec3::new(0.0, 0.0, -6.5));
-    assert!(sim.world.query::<&Water>().iter().count() == 1);
+    assert!(sim.world().query::<&Water>().iter().count() == 1);
     let img = render(&sim, 160, 120, WaterOutput::Full, true);
     compare("pond-east", &img, Tolerance { mean_abs: 3.0, percent_over: 3.0 });
 }

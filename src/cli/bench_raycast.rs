@@ -62,7 +62,7 @@ pub fn bench_raycast(args: &BenchArgs) -> anyhow::Result<Value> {
     sim.scatter_trees(RAYCAST_TREES);
     let (mut min, mut max) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let (mut planes, mut plane_triangles) = (0, 0);
-    for p in sim.world.query::<&Plane>().iter() {
+    for p in sim.world().query::<&Plane>().iter() {
         planes += 1;
         plane_triangles += p.triangles.len();
         for v in &p.vertices {
@@ -79,13 +79,13 @@ pub fn bench_raycast(args: &BenchArgs) -> anyhow::Result<Value> {
             (from, (to - from).normalize_or(Vec3::NEG_Y))
         })
         .collect();
-    let spatial = &sim.res.spatial;
-    let max_len = sim.res.config.max_ray_length;
+    let spatial = &sim.res().spatial;
+    let max_len = sim.res().config.max_ray_length;
     let (mut hits, mut tree_hits) = (0, 0);
     for (o, d) in &rays {
         if let Some(h) = spatial.cast(*o, *d, max_len, None) {
             hits += 1;
-            if sim.world.get::<&grove_systems::components::Tree>(h.entity).is_ok() {
+            if sim.world().get::<&grove_systems::components::Tree>(h.entity).is_ok() {
                 tree_hits += 1;
             }
         }

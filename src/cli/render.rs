@@ -141,7 +141,7 @@ pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_sy
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
     renderer.options = options(args);
     let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
-    grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res.catalogue)).map_err(|e| anyhow!(e))?;
+    grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res().catalogue)).map_err(|e| anyhow!(e))?;
     if let Some(aerial) = aerial {
         renderer.set_aerial(aerial).map_err(|e| anyhow!(e))?;
         // A still image shows the photographs as loaded: wait (briefly) for their tiles.
@@ -218,7 +218,7 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
         w.gust = grove_systems::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
         w.current = d.gust_average;
     }
-    let ticks_per_frame = frames_setup(args, out, n, sim.res.dt)?;
+    let ticks_per_frame = frames_setup(args, out, n, sim.res().dt)?;
     let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir()).map_err(|e| anyhow!(e))?;
     // The model alone on its stage is shown as itself: never as an impostor.
@@ -262,8 +262,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         check_out_file(out, args.force)?;
         let options = grove_systems::replay::ReplayOptions { until: Some(tick), banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
         let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
-        if outcome.sim.res.tick < tick {
-            bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res.tick);
+        if outcome.sim.res().tick < tick {
+            bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res().tick);
         }
         let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
         let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
@@ -293,7 +293,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             render_sim(&gpu, &mut renderer, &sim, out)?;
-            println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), scene_path.display(), sim.res.tick, args.width, args.height, gpu.adapter_name());
+            println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), scene_path.display(), sim.res().tick, args.width, args.height, gpu.adapter_name());
         }
         Some(n) => {
             let ticks_per_frame = frames_setup(&args, out, n, scene.dt)?;

@@ -26,7 +26,7 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
             let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{}: {e}", file.display()))?;
             println!("{}: ok, scene '{}'", file.display(), scene.name);
             println!("  dt: {:.6} s ({:.1} Hz), seed {}", scene.dt, 1.0 / scene.dt, scene.seed);
-            for p in sim.world.query::<&Plane>().iter() {
+            for p in sim.world().query::<&Plane>().iter() {
                 let (min, max) = p.vertices.iter().fold((glam::Vec3::MAX, glam::Vec3::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
                 println!(
                     "  plane '{}': {} vertices, {} triangles, x {:.1}..{:.1} m, y {:.2}..{:.2} m, z {:.1}..{:.1} m",

@@ -74,10 +74,10 @@ impl Viewer {
     pub fn open(path: &Path) -> Result<Viewer, String> {
         let outcome = replay_file(path, &ReplayOptions { banks: grove::bank::session_dirs(&[]), ..Default::default() }).map_err(|e| e.to_string())?;
         let (header, events) = read_events(path).map_err(|e| e.to_string())?;
-        let end_tick = outcome.sim.res.tick;
+        let end_tick = outcome.sim.res().tick;
         let markers = outcome
             .sim
-            .res
+            .res()
             .log
             .entries
             .iter()
@@ -116,17 +116,17 @@ impl Viewer {
 
     /// The current tick.
     pub fn tick(&self) -> u64 {
-        self.sim.res.tick
+        self.sim.res().tick
     }
 
     /// Runs one tick: the events stamped with the current tick, then a step. Does nothing at
     /// the end of the recording.
     pub fn step_once(&mut self) {
-        if self.sim.res.tick >= self.end_tick {
+        if self.sim.res().tick >= self.end_tick {
             return;
         }
         let start = self.next_event;
-        while self.events.get(self.next_event).is_some_and(|e| e.tick <= self.sim.res.tick) {
+        while self.events.get(self.next_event).is_some_and(|e| e.tick <= self.sim.res().tick) {
             self.next_event += 1;
         }
         // The headless pass accepted every event (an invalid one would have been reported by
@@ -139,13 +139,13 @@ impl Viewer {
     /// going back.
     pub fn seek(&mut self, tick: u64) {
         let tick = tick.min(self.end_tick);
-        if tick < self.sim.res.tick {
+        if tick < self.sim.res().tick {
             if let Ok(sim) = grove::bank::open_session(&[]).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks)) {
                 self.sim = sim;
                 self.next_event = 0;
             }
         }
-        while self.sim.res.tick < tick {
+        while self.sim.res().tick < tick {
             self.step_once();
         }
     }
@@ -160,7 +160,7 @@ impl Viewer {
         for _ in 0..n {
             self.step_once();
         }
-        if self.sim.res.tick >= self.end_tick {
+        if self.sim.res().tick >= self.end_tick {
             self.playing = false;
         }
     }
@@ -193,7 +193,7 @@ impl Viewer {
                         ui.selectable_value(&mut self.speed, *s, format!("{s}x"));
                     }
                 });
-                let dt = self.sim.res.dt as f64;
+                let dt = self.sim.res().dt as f64;
                 ui.label(
                     RichText::new(format!("tick {} / {}  ({:.2} s / {:.2} s)", self.tick(), self.end_tick, self.tick() as f64 * dt, self.end_tick as f64 * dt))
                         .monospace(),
@@ -242,7 +242,7 @@ impl Viewer {
                 if self.header.synthetic { ", synthetic" } else { "" }
             ));
             let c = self.sim.counts();
-            ui.label(format!("{} trees, mode {}", c.trees, self.sim.res.mode.name()));
+            ui.label(format!("{} trees, mode {}", c.trees, self.sim.res().mode.name()));
         });
         let mut ignored = Vec::new();
         task_panel(ui, &self.sim, &mut ignored, false);

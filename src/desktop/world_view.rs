@@ -42,13 +42,13 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
     let head = head_of(sim);
     let size = Vec2::new(rect.width(), rect.height());
     let to_screen = |p: Vec3| project(&head.pose, head.fov_y, size, p, NEAR).map(|s| Pos2::new(rect.min.x + s.x, rect.min.y + s.y));
-    let sun_dir = sim.world.query::<&Sun>().iter().next().map_or(Vec3::Y, |s| s.direction);
+    let sun_dir = sim.world().query::<&Sun>().iter().next().map_or(Vec3::Y, |s| s.direction);
 
     if options.scenery {
         painter.rect_filled(rect, 0.0, Color32::from_rgb(150, 190, 230));
         let mut mesh = egui::Mesh::default();
         let mut planes: Vec<&Plane> = Vec::new();
-        let mut q = sim.world.query::<&Plane>();
+        let mut q = sim.world().query::<&Plane>();
         planes.extend(q.iter());
         for plane in planes {
             let base = if plane.name == "ground" { [92.0, 128.0, 64.0] } else { [150.0, 130.0, 100.0] };
@@ -71,7 +71,7 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
         painter.add(Shape::mesh(mesh));
     }
 
-    if let Some(task) = sim.res.task.as_ref() {
+    if let Some(task) = sim.res().task.as_ref() {
         let hit = sim.hit_marker();
         for (i, t) in task.def.targets.iter().enumerate() {
             let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
@@ -92,8 +92,8 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
 
     if options.trees {
         let mut trees: Vec<(f32, Vec3, f32, ModelKind, f32)> = Vec::new();
-        for (tree, tf, scale) in sim.world.query::<(&Tree, &Transform, &Scale)>().iter() {
-            let Some(m) = sim.res.catalogue.get(tree.model) else { continue };
+        for (tree, tf, scale) in sim.world().query::<(&Tree, &Transform, &Scale)>().iter() {
+            let Some(m) = sim.res().catalogue.get(tree.model) else { continue };
             let dist = (tf.translation - head.pose.position).length();
             trees.push((dist, tf.translation, m.height() * scale.0, m.kind, m.crown_radius * scale.0));
         }

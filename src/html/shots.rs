@@ -34,7 +34,7 @@ pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, String> {
 fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, String> {
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1)?;
     let banks = grove::bank::open_session(&[])?;
-    grove::bank::load_into(&mut r, &grove::bank::files_for(&banks, &sim.res.catalogue))?;
+    grove::bank::load_into(&mut r, &grove::bank::files_for(&banks, &sim.res().catalogue))?;
     Ok(r)
 }
 

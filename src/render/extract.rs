@@ -132,12 +132,12 @@ impl FrameData {
         let (sun_dir, sun_elevation_deg) = sim
             .sun()
             .map_or((Vec3::new(0.3, 0.8, 0.2).normalize(), 45.0), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
-        let time = sim.res.time();
+        let time = sim.res().time();
         let wind = sim.wind().unwrap_or_else(calm);
 
         let mut trees = Vec::new();
         let mut crowns = Vec::new();
-        for (e, tree, t, s, w, crown) in sim.world.query::<(hecs::Entity, &Tree, &Transform, Option<&Scale>, Option<&WindState>, Option<&AerialCrown>)>().iter() {
+        for (e, tree, t, s, w, crown) in sim.world().query::<(hecs::Entity, &Tree, &Transform, Option<&Scale>, Option<&WindState>, Option<&AerialCrown>)>().iter() {
             // A tree without a wind state stands still: no bend and zero gain.
             let (bend, gain, phase) = w.map_or((Vec2::ZERO, 0.0, 0.0), |w| (w.bend, w.gain, w.phase));
             let draw = TreeDraw {
@@ -163,7 +163,7 @@ impl FrameData {
         let crowns = crowns.into_iter().map(|c| c.1).collect();
 
         let mut ground_key: GroundKey = sim
-            .world
+            .world()
             .query::<(hecs::Entity, &Plane)>()
             .iter()
             .map(|(e, p)| (e.to_bits().get(), p.vertices.len(), p.triangles.len()))
@@ -171,7 +171,7 @@ impl FrameData {
         ground_key.sort_unstable();
         let planes = (&ground_key != have_ground).then(|| {
             let mut planes: Vec<(u64, PlaneMesh)> = sim
-                .world
+                .world()
                 .query::<(hecs::Entity, &Plane)>()
                 .iter()
                 .map(|(e, p)| (e.to_bits().get(), PlaneMesh { vertices: p.vertices.clone(), triangles: p.triangles.clone() }))
@@ -180,7 +180,7 @@ impl FrameData {
             planes.into_iter().map(|(_, p)| p).collect()
         });
         let mut plane_bounds: Option<(Vec3, Vec3)> = None;
-        for p in sim.world.query::<&Plane>().iter() {
+        for p in sim.world().query::<&Plane>().iter() {
             for v in &p.vertices {
                 plane_bounds = Some(plane_bounds.map_or((*v, *v), |(a, b)| (a.min(*v), b.max(*v))));
             }
@@ -210,20 +210,20 @@ impl FrameData {
     /// of the grass buffers the renderer already has): each patch's ground triangles and its
     /// blades, placed by the simulation's pure placement function.
     pub fn extract_grass(&mut self, sim: &Sim, have: &GrassKey) {
-        let mut patches: Vec<(u64, Grass)> = sim.world.query::<(hecs::Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
+        let mut patches: Vec<(u64, Grass)> = sim.world().query::<(hecs::Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
         patches.sort_by_key(|(e, _)| *e);
         // Without patches the planes do not matter (and are not hashed every frame).
         let mut planes: Vec<(u64, u64)> = if patches.is_empty() {
             Vec::new()
         } else {
-            sim.world.query::<(hecs::Entity, &Plane)>().iter().map(|(e, p)| (e.to_bits().get(), grove_systems::hash::plane_hash(p))).collect()
+            sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, p)| (e.to_bits().get(), grove_systems::hash::plane_hash(p))).collect()
         };
         planes.sort_unstable();
         self.grass_key = (planes, patches);
         if &self.grass_key == have {
             return;
         }
-        let mut query = sim.world.query::<(hecs::Entity, &Plane)>();
+        let mut query = sim.world().query::<(hecs::Entity, &Plane)>();
         let mut planes: Vec<(u64, &str, &[Vec3], &[[u32; 3]])> =
             query.iter().map(|(e, p)| (e.to_bits().get(), p.name.as_str(), p.vertices.as_slice(), p.triangles.as_slice())).collect();
         planes.sort_by_key(|p| p.0);
@@ -248,7 +248,7 @@ impl FrameData {
 /// The world's water bodies, sorted by entity.
 fn water_bodies(sim: &Sim) -> Vec<WaterDraw> {
     let mut w: Vec<(u64, WaterDraw)> = sim
-        .world
+        .world()
         .query::<(hecs::Entity, &Water)>()
         .iter()
         .map(|(e, w)| {
@@ -277,7 +277,7 @@ fn calm() -> Wind {
 /// The interaction visuals' inputs: the controller, the hit marker, the anchor ball, the
 /// selection and the running task's targets.
 pub fn overlay_scene(sim: &Sim) -> OverlayScene {
-    let world = &sim.world;
+    let world = sim.world();
     let hit = world.query::<&HitMarker>().iter().next().map(|h| OverlayHit {
         visible: h.visible,
         distance: h.distance,
@@ -309,7 +309,7 @@ pub fn overlay_scene(sim: &Sim) -> OverlayScene {
         .filter(|s| s.tree.is_some())
         .map(|s| OverlaySelection { center: s.center, rotation: Quat::from_rotation_y(s.yaw), half_extents: s.half_extents })
         .collect();
-    let (targets, tolerance) = match &sim.res.task {
+    let (targets, tolerance) = match &sim.res().task {
         Some(task) => (
             task.def
                 .targets
@@ -328,8 +328,8 @@ pub fn overlay_scene(sim: &Sim) -> OverlayScene {
         selections,
         targets,
         target_tolerance: tolerance,
-        max_ray_length: sim.res.config.max_ray_length,
-        handle_radius: sim.res.config.handle_radius,
+        max_ray_length: sim.res().config.max_ray_length,
+        handle_radius: sim.res().config.handle_radius,
         eye: sim.head().pose.position,
         ghosts: Vec::new(),
     }

@@ -18,7 +18,7 @@ use super::participant::{angle_between, angular_width, scatter_direction, sweep}
 use super::synth::{Participant, AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY};
 
 fn hit_of(sim: &Sim) -> HitMarker {
-    sim.world.query::<&HitMarker>().iter().next().copied().unwrap_or_default()
+    sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default()
 }
 
 impl Participant {
@@ -62,7 +62,7 @@ impl Participant {
     /// for the dwell; a tree that lands off target is looked at and removed with Bumper.
     pub(crate) fn gaze_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32, dwell_s: f64) -> anyhow::Result<()> {
         self.think();
-        if self.sim().res.menu.current_model != model {
+        if self.sim().res().menu.current_model != model {
             self.choose(model);
         }
         let goal = Vec2::new(pos.x, pos.z);

@@ -52,8 +52,8 @@ fn hsv(h: f32, s: f32, v: f32) -> [f32; 3] {
 /// short free ray).
 pub fn figure(sim: &Sim, color: [f32; 4], solid: bool) -> OverlayGhost {
     let head = sim.head();
-    let ray = sim.world.query::<&Controller>().iter().next().map_or((head.pose.position, head.pose.forward()), |c| (c.ray_origin(), c.ray_dir()));
-    let ray_length = sim.world.query::<&HitMarker>().iter().next().filter(|h| h.visible).map_or(FREE_RAY_M, |h| h.distance);
+    let ray = sim.world().query::<&Controller>().iter().next().map_or((head.pose.position, head.pose.forward()), |c| (c.ray_origin(), c.ray_dir()));
+    let ray_length = sim.world().query::<&HitMarker>().iter().next().filter(|h| h.visible).map_or(FREE_RAY_M, |h| h.distance);
     OverlayGhost { head: head.pose.position, head_rotation: head.pose.rotation, ray, ray_length, color, solid }
 }
 

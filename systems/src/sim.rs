@@ -201,6 +201,18 @@ impl Sim {
         self.techniques = techniques;
     }
 
+    /// The entities, read-only: what every reader outside the simulation (the renderer, the
+    /// reports, the desktop) sees. Changes go through input events ([`Sim::step_with`]) or the
+    /// scene before [`Sim::from_scene`].
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The resources, read-only (see [`Sim::world`]).
+    pub fn res(&self) -> &Resources {
+        &self.res
+    }
+
     /// Runs `n` steps.
     pub fn run(&mut self, n: u64) {
         for _ in 0..n {

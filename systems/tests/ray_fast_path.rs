@@ -21,13 +21,13 @@ fn the_fast_tree_cast_agrees_with_testing_every_tree() {
     sim.scatter_trees(400);
     sim.res.spatial.refresh(&sim.world, &sim.res.catalogue);
     let (mut min, mut max) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for p in sim.world.query::<&Plane>().iter() {
+    for p in sim.world().query::<&Plane>().iter() {
         for v in &p.vertices {
             min = min.min(*v);
             max = max.max(*v);
         }
     }
-    let spatial = &sim.res.spatial;
+    let spatial = &sim.res().spatial;
     assert!(spatial.tree_count() > 300, "{}", spatial.tree_count());
     let mut state = 99u64;
     let (mut hits, mut zero, mut ties) = (0, 0, 0);

@@ -20,7 +20,7 @@ fn sim_with_trees(n: usize) -> Sim {
 }
 
 fn states(sim: &Sim) -> Vec<WindState> {
-    let mut v: Vec<(u64, WindState)> = sim.world.query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e.to_bits().get(), *w)).collect();
+    let mut v: Vec<(u64, WindState)> = sim.world().query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e.to_bits().get(), *w)).collect();
     v.sort_by_key(|(e, _)| *e);
     v.into_iter().map(|(_, w)| w).collect()
 }
@@ -85,7 +85,7 @@ fn gust_is_periodic_and_stays_within_its_range() {
     let mut sim = sim_with_trees(1);
     sim.run(100);
     sim.step();
-    let expected = gust_at(&g, 100.0 * sim.res.dt as f64);
+    let expected = gust_at(&g, 100.0 * sim.res().dt as f64);
     assert_eq!(sim.wind().unwrap().current, expected);
 }
 
@@ -93,19 +93,19 @@ fn gust_is_periodic_and_stays_within_its_range() {
 fn moving_a_tree_recomputes_its_gain() {
     let mut sim = sim_with_trees(5);
     sim.step();
-    let (entity, _) = sim.world.query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e, *w)).next().unwrap();
+    let (entity, _) = sim.world().query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e, *w)).next().unwrap();
     let new_pos = Vec3::new(7.3, 0.0, -2.9);
-    sim.world.get::<&mut Transform>(entity).unwrap().translation = new_pos;
+    sim.world().get::<&mut Transform>(entity).unwrap().translation = new_pos;
     sim.step();
     let density = sim.wind().unwrap().density;
-    let ws = *sim.world.get::<&WindState>(entity).unwrap();
+    let ws = *sim.world().get::<&WindState>(entity).unwrap();
     assert_eq!(ws.gain, position_gain(new_pos, density));
     // So does changing the wind's density.
     for w in sim.world.query_mut::<&mut Wind>() {
         w.density *= 3.0;
     }
     sim.step();
-    let ws = *sim.world.get::<&WindState>(entity).unwrap();
+    let ws = *sim.world().get::<&WindState>(entity).unwrap();
     assert_eq!(ws.gain, position_gain(new_pos, density * 3.0));
 }
 
@@ -137,14 +137,14 @@ fn det_sin_is_accurate() {
 fn sun_clock_advances_at_its_time_rate() {
     let mut sim = sim_with_trees(0);
     let start = {
-        let mut q = sim.world.query::<&mut Sun>();
+        let mut q = sim.world().query::<&mut Sun>();
         let s = q.iter().next().unwrap();
         s.time_rate = 60.0;
         *s
     };
     // 600 ticks of 1/60 s at 60 sun-seconds per second: ten sun-minutes.
     sim.run(600);
-    let now = *sim.world.query::<&Sun>().iter().next().unwrap();
+    let now = *sim.world().query::<&Sun>().iter().next().unwrap();
     assert_eq!(now.utc_ms - start.utc_ms, 600_000);
     assert!(now.azimuth_deg != start.azimuth_deg && now.elevation_deg != start.elevation_deg);
     let expected = grove_systems::systems::sun::sun_position(now.latitude_deg, now.longitude_deg, now.utc_ms).unwrap();
