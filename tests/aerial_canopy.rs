@@ -125,9 +125,7 @@ fn render(site: &Site, eye: Vec3, target: Vec3, shadows: bool, debug_lod: bool) 
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
     let mut sim = sim(site);
-    for head in sim.world.query_mut::<&mut Head>() {
-        *head = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
-    }
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() });
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.shadows = shadows;
     r.options.overlay = false;
@@ -242,9 +240,7 @@ fn a_level_not_loaded_falls_back_to_the_coarser_one() {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
     let mut sim = sim(&s);
-    for head in sim.world.query_mut::<&mut Head>() {
-        *head = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
-    }
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() });
     let mut sources = grove::aerial::open::open_sources(&s.scene, true).unwrap().unwrap();
     let winter = grove::aerial::RgbImage::load(&s.scene.dir.as_ref().unwrap().join("winter.png"), "winter").unwrap();
     let placement = AerialPlacement { origin_m: glam::DVec2::splat(-32.0), gsd_m: GSD };
@@ -322,16 +318,16 @@ fn a_moved_crown_tree_takes_its_canopy_along() {
     let g = gpu();
     let mut sim = sim(&s);
     let (eye, target) = (Vec3::new(0.0, 60.0, 0.01), Vec3::ZERO);
-    for head in sim.world.query_mut::<&mut Head>() {
-        *head = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
-    }
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() });
     // The largest crown's tree, moved 12 m towards the centre along X; another crown removed.
     let (big, crown) = sim.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
     let dx = if crown.photo_centre.x > 0.0 { -12.0 } else { 12.0 };
-    sim.world().get::<&mut Transform>(big).unwrap().translation.x += dx;
+    let mut moved = *sim.world().get::<&Transform>(big).unwrap();
+    moved.translation.x += dx;
+    sim.set_up().transform(big, moved).unwrap();
     let other = sim.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, _)| e).find(|e| *e != big).unwrap();
     let before = sim.world().query::<&AerialCrown>().iter().count();
-    sim.world.despawn(other).unwrap();
+    sim.set_up().despawn(other).unwrap();
     assert_eq!(sim.world().query::<&AerialCrown>().iter().count(), before - 1);
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.overlay = false;
@@ -386,11 +382,9 @@ fn trunks_stand_under_the_crowns() {
         let g = gpu();
         let mut sim = sim(&s);
         if remove {
-            sim.world.despawn(big).unwrap();
+            sim.set_up().despawn(big).unwrap();
         }
-        for head in sim.world.query_mut::<&mut Head>() {
-            *head = Head { pose: Pose::looking_at(eye, mid), fov_y: 60f32.to_radians() };
-        }
+        sim.set_up().camera(Head { pose: Pose::looking_at(eye, mid), fov_y: 60f32.to_radians() });
         let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
         r.options.overlay = false;
         r.set_aerial(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();

@@ -168,9 +168,7 @@ fn blades_bend_near_the_camera_and_the_hit_point() {
     // A low camera over the patch: the blades below and in front of it bend away.
     let mut s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 0.45, 1.8), Vec3::new(0.0, 0.0, 0.6)));
     let hit = Vec3::new(1.2, 0.0, -0.5);
-    for h in s.world.query_mut::<&mut HitMarker>() {
-        *h = HitMarker { visible: true, position: hit, normal: Vec3::Y, distance: 2.0, target: HitTarget::Plane(0) };
-    }
+    s.set_up().hit_marker(HitMarker { visible: true, position: hit, normal: Vec3::Y, distance: 2.0, target: HitTarget::Plane(0) });
     let (bent, _) = render_with(&s, true, true);
     let (upright, _) = render_with(&s, true, false);
     // Near the eye (the bottom of the image) the bend changes the picture; far beyond both

@@ -41,16 +41,14 @@ fn stage(data: &gltf_load::ModelData, dir: Vec3, distance: f32) -> (Sim, f32) {
     // Without the ground, the tree stands against the sky alone, so its silhouette is exact.
     let planes: Vec<hecs::Entity> = sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, _)| e).collect();
     for e in planes {
-        sim.world.despawn(e).unwrap();
+        sim.set_up().despawn(e).unwrap();
     }
     let (lo, hi) = data.bounds;
     let centre = (lo + hi) * 0.5;
     let radius = (hi - lo).length() * 0.5;
     let eye = centre + dir * distance;
     let fov = 2.0 * (radius / distance).asin() * 1.05;
-    for head in sim.world.query_mut::<&mut Head>() {
-        *head = Head { pose: Pose::looking_at(eye, centre), fov_y: fov };
-    }
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, centre), fov_y: fov });
     (sim, radius)
 }
 
@@ -197,7 +195,6 @@ fn the_forest_scene_holds_ten_thousand_trees() {
 /// detail (every leaf, no impostors).
 #[test]
 fn goldens_of_the_reference_scene_and_the_forest() {
-    use grove_systems::components::Sun;
     use grove_systems::scene::Scene;
     let (w, h) = (160u32, 120u32);
     let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
@@ -215,14 +212,7 @@ fn goldens_of_the_reference_scene_and_the_forest() {
         let (x, z) = ((i % 10) as f32 * 10.0 - 45.0, (i / 10) as f32 * 10.0 - 45.0);
         reference.spawn_tree(ModelId((i % 8) as u8), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, true);
     }
-    for head in reference.world.query_mut::<&mut Head>() {
-        *head = Head { pose: Pose::looking_at(Vec3::new(0.0, 14.0, 62.0), Vec3::ZERO), fov_y: 60f32.to_radians() };
-    }
-    for s in reference.world.query_mut::<&mut Sun>() {
-        s.elevation_deg = 45.0;
-        s.azimuth_deg = 135.0;
-        s.direction = grove_systems::systems::sun::direction_from_angles(135.0, 45.0);
-    }
+    reference.set_up().camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 14.0, 62.0), Vec3::ZERO), fov_y: 60f32.to_radians() }).sun_angles(45.0, 135.0);
     for (name, sim) in [("impostor-reference", &reference), ("impostor-forest", &forest)] {
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
         let g = gpu();
@@ -289,8 +279,9 @@ fn a_slowly_turning_impostor_changes_smoothly() {
     let background = draw(&data, &sim, false, 0.0);
     let frames: Vec<RgbaImage> = (0..=30)
         .map(|k| {
-            for t in sim.world.query_mut::<&mut Transform>() {
-                t.yaw = (k as f32).to_radians();
+            let all: Vec<(hecs::Entity, Transform)> = sim.world().query::<(hecs::Entity, &Transform)>().iter().map(|(e, t)| (e, *t)).collect();
+            for (e, t) in all {
+                sim.set_up().transform(e, Transform { yaw: (k as f32).to_radians(), ..t }).unwrap();
             }
             draw(&data, &sim, true, 1.0e6)
         })

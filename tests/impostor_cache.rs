@@ -34,9 +34,7 @@ fn draw(gpu: &Gpu, r: &mut Renderer, data: &gltf_load::ModelData) -> RgbaImage {
     let (lo, hi) = data.bounds;
     let centre = (lo + hi) * 0.5;
     let eye = centre + Vec3::new(0.0, 20f32.to_radians().sin(), 20f32.to_radians().cos()) * 80.0;
-    for head in sim.world.query_mut::<&mut Head>() {
-        *head = Head { pose: Pose::looking_at(eye, centre), fov_y: 20f32.to_radians() };
-    }
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, centre), fov_y: 20f32.to_radians() });
     r.options.shadows = false;
     r.options.impostor_pixels = 1.0e6;
     offscreen::render_image(gpu, r, &sim).unwrap()

@@ -315,10 +315,12 @@ fn the_anchor_ball_turns_white_exactly_below_the_threshold() {
     assert_eq!(kinds_since(&s, log_start), ["snap_disarmed", "snap_armed"]);
 
     // A smaller threshold turns the same distance green.
-    s.sim_mut().res.config.snap_threshold = threshold - 2.0 * eps;
+    let config = grove_systems::resources::Config { snap_threshold: threshold - 2.0 * eps, ..s.sim().res().config.clone() };
+    s.sim_mut().set_up().config(config);
     s.wait(1);
     assert!(!s.sim().anchor_ball().armed);
-    s.sim_mut().res.config.snap_threshold = threshold;
+    let config = grove_systems::resources::Config { snap_threshold: threshold, ..s.sim().res().config.clone() };
+    s.sim_mut().set_up().config(config);
     s.wait(1);
     s.release(Button::Trigger);
     assert!(s.sim().tree(id).unwrap().grounded.0, "released while white: snapped");

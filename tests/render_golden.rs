@@ -134,19 +134,14 @@ fn impostor_pixels() -> f32 {
 }
 
 fn set_head(sim: &mut Sim, eye: Vec3, target: Vec3, fov_deg: f32) {
-    for head in sim.world.query_mut::<&mut Head>() {
-        *head = Head {
-            pose: Pose::looking_at(eye, target),
-            fov_y: fov_deg.to_radians(),
-        };
-    }
+    sim.set_up().camera(Head {
+        pose: Pose::looking_at(eye, target),
+        fov_y: fov_deg.to_radians(),
+    });
 }
 
 fn set_sun(sim: &mut Sim, utc: &str) {
-    for sun in sim.world.query_mut::<&mut Sun>() {
-        sun.utc_ms = grove_systems::scene::parse_utc_ms(utc).unwrap();
-        grove_systems::systems::sun::update_sun(sun).unwrap();
-    }
+    sim.set_up().sun_utc(utc).unwrap();
 }
 
 /// The pixel a world point projects to.
@@ -215,7 +210,7 @@ fn alpha_clipping_and_two_sided_flip() {
         .map(|(e, _)| e)
         .collect();
     for e in trees {
-        sim.world.despawn(e).unwrap();
+        sim.set_up().despawn(e).unwrap();
     }
     sim.spawn_tree(ModelId(0), Vec3::new(-0.7, 0.0, 0.0), 0.0, 1.0, false);
     sim.spawn_tree(
@@ -232,11 +227,7 @@ fn alpha_clipping_and_two_sided_flip() {
         40.0,
     );
     // The sun behind the camera, so both visible sides face it once the back face is flipped.
-    for sun in sim.world.query_mut::<&mut Sun>() {
-        sun.elevation_deg = 30.0;
-        sun.azimuth_deg = 180.0;
-        sun.direction = grove_systems::systems::sun::direction_from_angles(180.0, 30.0);
-    }
+    sim.set_up().sun_angles(30.0, 180.0);
     let mut r = Renderer::empty(
         &g.device,
         &g.queue,
@@ -335,39 +326,32 @@ fn interaction_visuals() {
     );
     let anchor = Vec3::new(-1.2, 0.0, -1.5);
     let hit = Vec3::new(0.9, 0.4, -2.0);
-    for c in sim.world.query_mut::<&mut Controller>() {
-        c.pose = Pose::looking_at(Vec3::new(0.3, 1.2, 1.5), hit);
-    }
-    for h in sim.world.query_mut::<&mut HitMarker>() {
-        *h = HitMarker {
+    let ball = AnchorBall {
+        visible: true,
+        position: anchor,
+        distance: 0.5,
+        armed: false,
+    };
+    sim.set_up()
+        .controller_pose(Pose::looking_at(Vec3::new(0.3, 1.2, 1.5), hit))
+        .hit_marker(HitMarker {
             visible: true,
             position: hit,
             normal: Vec3::Y,
             distance: Vec3::new(0.3, 1.2, 1.5).distance(hit),
             target: HitTarget::Tree(tree.to_bits().get()),
-        };
-    }
-    for a in sim.world.query_mut::<&mut AnchorBall>() {
-        *a = AnchorBall {
-            visible: true,
-            position: anchor,
-            distance: 0.5,
-            armed: false,
-        };
-    }
-    for s in sim.world.query_mut::<&mut Selection>() {
-        let c = (info.bounds_min + info.bounds_max) * 0.5 + pos;
-        *s = Selection {
+        })
+        .anchor_ball(ball)
+        .selection(Selection {
             tree: Some(tree.to_bits().get()),
-            center: c,
+            center: (info.bounds_min + info.bounds_max) * 0.5 + pos,
             half_extents: (info.bounds_max - info.bounds_min) * 0.5,
             yaw: 0.0,
-        };
-    }
-    sim.res.task = Some(TaskState::new(
-        TaskDef::builtin("ray-casting-7").unwrap(),
-        0,
-    ));
+        })
+        .task(Some(TaskState::new(
+            TaskDef::builtin("ray-casting-7").unwrap(),
+            0,
+        )));
     let green = render(&sim, true);
     // The anchor ball is green while not armed, white when armed.
     let (ax, ay) = project(&sim, anchor);
@@ -376,9 +360,7 @@ fn interaction_visuals() {
         p[1] > 120 && p[1] as i32 - p[0] as i32 > 60 && p[1] as i32 - p[2] as i32 > 60,
         "anchor ball not green: {p:?}"
     );
-    for a in sim.world.query_mut::<&mut AnchorBall>() {
-        a.armed = true;
-    }
+    sim.set_up().anchor_ball(AnchorBall { armed: true, ..ball });
     let white = render(&sim, true);
     let q = white.get_pixel(ax, ay).0;
     assert!(
@@ -476,7 +458,7 @@ fn leaf_simplification_keeps_the_crowns() {
         .map(|(e, _)| e)
         .collect();
     for e in planes {
-        sim.world.despawn(e).unwrap();
+        sim.set_up().despawn(e).unwrap();
     }
     let bl = sim.res().catalogue.by_name("broadleaf-mesh").unwrap().id;
     for k in 0..7 {
@@ -548,11 +530,11 @@ fn each_wind_model_sways_the_trees() {
         60.0,
     );
     let mut frame = |model: WindModel, strength: f32| {
-        for w in sim.world.query_mut::<&mut Wind>() {
-            w.model = model;
-            w.strength = strength;
-            w.current = 1.0;
-        }
+        let mut w = sim.wind().unwrap();
+        w.model = model;
+        w.strength = strength;
+        w.current = 1.0;
+        sim.set_up().wind(w);
         render(&sim, false)
     };
     let calm = frame(WindModel::Hierarchical, 0.0);

@@ -16,7 +16,7 @@ use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::{camera_matrix, Camera, Renderer, WaterOutput};
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{Head, Pose, Transform, Tree};
+use grove_systems::components::{Pose, Transform, Tree};
 use grove_systems::water::Water;
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
@@ -88,8 +88,7 @@ fn despawn_tree_at(sim: &mut Sim, at: Vec3) {
         .map(|(e, _, _)| e)
         .collect();
     assert_eq!(found.len(), 1, "one tree at {at}");
-    sim.world.despawn(found[0]).unwrap();
-    sim.res.spatial.mark_trees_dirty();
+    sim.set_up().despawn(found[0]).unwrap();
 }
 
 /// The mean absolute channel difference over a rectangle (x0, y0, x1, y1).
@@ -264,9 +263,7 @@ fn compare(name: &str, img: &RgbaImage, tol: Tolerance) {
 }
 
 fn set_head(sim: &mut Sim, eye: Vec3, target: Vec3) {
-    for head in sim.world.query_mut::<&mut Head>() {
-        head.pose = Pose::looking_at(eye, target);
-    }
+    sim.set_up().camera_pose(Pose::looking_at(eye, target));
 }
 
 #[test]

@@ -19,7 +19,7 @@ use clap::Args;
 use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::{RenderOptions, Renderer};
-use grove_systems::components::{Head, Pose};
+use grove_systems::components::Pose;
 use grove_systems::Sim;
 use serde_json::json;
 
@@ -131,9 +131,7 @@ fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, cano
         let x = (x0 + (i as f32) * a.speed / 30.0).min(x1);
         let eye = Vec3::new(x, a.fly_height, z);
         let look = eye + Vec3::new(0.0, -a.pitch.to_radians().sin(), -a.pitch.to_radians().cos());
-        for head in sim.world.query_mut::<&mut Head>() {
-            head.pose = Pose::looking_at(eye, look);
-        }
+        sim.set_up().camera_pose(Pose::looking_at(eye, look));
         if i == 2 {
             cpu_start = cpu_ms();
         }

@@ -64,9 +64,7 @@ fn patch(kind: GrassKind, density: f32) -> GrassDef {
 fn sim_of(scene: &Scene, eye: Vec3, target: Vec3) -> anyhow::Result<Sim> {
     let mut sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
     sim.run(1);
-    for h in sim.world.query_mut::<&mut Head>() {
-        *h = Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() };
-    }
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() });
     Ok(sim)
 }
 

@@ -19,7 +19,7 @@ use grove::render::Renderer;
 use grove::render::offscreen::{self, Gpu};
 use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{Head, Pose, Sun};
+use grove_systems::components::{Head, Pose};
 use grove_systems::scene::{CameraDef, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
 use serde_json::{Value, json};
 
@@ -79,18 +79,8 @@ pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
 
 /// Puts the camera at `eye` looking at `target` and the sun at 45° from the south-east.
 pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
-    for h in sim.world.query_mut::<&mut Head>() {
-        *h = Head {
-            pose: Pose::looking_at(eye, target),
-            fov_y: 60f32.to_radians(),
-        };
-    }
     // The sun at 45° elevation, from the south-east.
-    for s in sim.world.query_mut::<&mut Sun>() {
-        s.elevation_deg = 45.0;
-        s.azimuth_deg = 135.0;
-        s.direction = grove_systems::systems::sun::direction_from_angles(135.0, 45.0);
-    }
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() }).sun_angles(45.0, 135.0);
 }
 
 /// A frame figure: the median wall time of a frame and, where the renderer times its passes,

@@ -6,8 +6,6 @@
 //! a release build.
 
 use anyhow::anyhow;
-use grove_systems::components::Sun;
-use grove_systems::systems::{sun, wind};
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
@@ -18,36 +16,28 @@ pub const WIND_BENCH_TREES: usize = 100_000;
 
 /// Runs the wind and sun benchmark and returns its figures.
 pub fn bench_wind(args: &BenchArgs) -> anyhow::Result<Value> {
-    let scene = super::load_scene(&args.scene)?;
+    let mut scene = super::load_scene(&args.scene)?;
+    if scene.sun.time_rate == 0.0 {
+        scene.sun.time_rate = 60.0;
+    }
     eprintln!("bench: wind and sun tick with {WIND_BENCH_TREES} trees");
     let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
     sim.scatter_trees(WIND_BENCH_TREES);
-    for s in sim.world.query_mut::<&mut Sun>() {
-        if s.time_rate == 0.0 {
-            s.time_rate = 60.0;
-        }
-    }
     let ticks = args.ticks.max(1) as usize;
-    let Sim { world, res, .. } = &mut sim;
+    let mut set_up = sim.set_up();
     // Warm the caches, then time both systems together and each alone, advancing the tick
     // counter as the schedule would.
     for _ in 0..5 {
-        wind::run(world, res);
-        sun::run(world, res);
-        res.tick += 1;
+        set_up.run_wind_and_sun(true, true);
     }
     let mut both = time_ms(ticks, || {
-        wind::run(world, res);
-        sun::run(world, res);
-        res.tick += 1;
+        set_up.run_wind_and_sun(true, true);
     });
     let mut wind_only = time_ms(ticks, || {
-        wind::run(world, res);
-        res.tick += 1;
+        set_up.run_wind_and_sun(true, false);
     });
     let mut sun_only = time_ms(ticks, || {
-        sun::run(world, res);
-        res.tick += 1;
+        set_up.run_wind_and_sun(false, true);
     });
     Ok(json!({
         "trees": WIND_BENCH_TREES,

@@ -18,7 +18,6 @@ use clap::Args;
 use grove::atomic_write::write_via_temp;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::{RenderOptions, Renderer};
-use grove_systems::components::Sun;
 use grove_systems::Sim;
 
 /// Arguments of `grove render`.
@@ -211,12 +210,13 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
     let id = grove_systems::catalogue::ModelId(0);
     let mut sim = grove_systems::stage::model_stage(data.bounds, args.width as f32 / args.height as f32, false, id).map_err(|e| anyhow!(e))?;
     let study = grove_systems::scene::Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?;
-    for w in sim.world.query_mut::<&mut grove_systems::components::Wind>() {
+    if let Some(mut w) = sim.wind() {
         let d = &study.wind;
         w.strength = d.strength;
         w.density = d.density;
         w.gust = grove_systems::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
         w.current = d.gust_average;
+        sim.set_up().wind(w);
     }
     let ticks_per_frame = frames_setup(args, out, n, sim.res().dt)?;
     let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
@@ -274,18 +274,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
-    let scene = super::load_scene(scene_path)?;
-    let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
-    let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
-    let mut sim = Sim::from_scene_with(&scene, scene.seed, catalogue).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
+    let mut scene = super::load_scene(scene_path)?;
     if let Some(rate) = args.time_rate {
         if !rate.is_finite() {
             bail!("--time-rate must be a finite number");
         }
-        for sun in sim.world.query_mut::<&mut Sun>() {
-            sun.time_rate = rate;
-        }
+        scene.sun.time_rate = rate;
     }
+    let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
+    let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
+    let mut sim = Sim::from_scene_with(&scene, scene.seed, catalogue).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     match args.frames {
         None => {
             check_out_file(out, args.force)?;

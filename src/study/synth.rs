@@ -342,7 +342,9 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
     let task_salt = task.id.bytes().fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
     let sim_seed = seed.wrapping_mul(1000).wrapping_add(participant as u64);
     let mut sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
-    sim.res.config.apply(overrides).map_err(|e| anyhow!("--set {e}"))?;
+    let mut config = sim.res().config.clone();
+    config.apply(overrides).map_err(|e| anyhow!("--set {e}"))?;
+    sim.set_up().config(config);
     let rng = ChaCha8Rng::seed_from_u64(seed ^ task_salt ^ (participant as u64) << 32);
     let script = Script::new(sim);
     let hand = script.controller().pose.position;

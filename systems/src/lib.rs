@@ -34,6 +34,7 @@ pub mod scatter;
 pub mod resources;
 pub mod scenario;
 pub mod scene;
+pub mod setup;
 pub mod schedule;
 pub mod script;
 pub mod sim;

@@ -16,10 +16,11 @@ pub use crate::components::{tree_components, TreeComponents};
 
 /// A running simulation: the hecs world and its resources.
 pub struct Sim {
-    /// The entities.
-    pub world: World,
-    /// Everything that belongs to no entity.
-    pub res: Resources,
+    /// The entities: read outside the crate through [`Sim::world`], changed by the schedule,
+    /// input events, the scene and [`Sim::set_up`].
+    pub(crate) world: World,
+    /// Everything that belongs to no entity ([`Sim::res`] outside the crate).
+    pub(crate) res: Resources,
     /// The registered techniques, whose systems the schedule runs ([`crate::technique`]).
     pub techniques: crate::technique::Techniques,
 }

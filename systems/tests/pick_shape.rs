@@ -12,14 +12,13 @@ fn one_tree(catalogue: Catalogue) -> (Sim, hecs::Entity, Vec3) {
     let mut sim = Sim::from_scene_with(&Scene::builtin("study").unwrap(), 1, catalogue).unwrap();
     let old: Vec<hecs::Entity> = sim.world().query::<(hecs::Entity, &grove_systems::components::Tree)>().iter().map(|(e, _)| e).collect();
     for e in old {
-        sim.world.despawn(e).unwrap();
+        sim.set_up().despawn(e).unwrap();
     }
-    sim.res.spatial.mark_trees_dirty();
-    sim.res.spatial.refresh(&sim.world, &sim.res.catalogue);
+    sim.set_up().refresh_spatial();
     let model = sim.res().catalogue.by_name("broadleaf-mesh").unwrap().id;
     let e = sim.spawn_tree(model, Vec3::new(-7.0, 0.0, -1.5), 0.0, 1.0, true);
     let base = sim.world().get::<&grove_systems::components::Transform>(e).unwrap().translation;
-    sim.res.spatial.refresh(&sim.world, &sim.res.catalogue);
+    sim.set_up().refresh_spatial();
     (sim, e, base)
 }
 

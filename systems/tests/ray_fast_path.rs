@@ -19,7 +19,7 @@ fn unit(state: &mut u64) -> f32 {
 fn the_fast_tree_cast_agrees_with_testing_every_tree() {
     let mut sim = Sim::from_scene(&Scene::builtin("study").unwrap(), 7).unwrap();
     sim.scatter_trees(400);
-    sim.res.spatial.refresh(&sim.world, &sim.res.catalogue);
+    sim.set_up().refresh_spatial();
     let (mut min, mut max) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     for p in sim.world().query::<&Plane>().iter() {
         for v in &p.vertices {

@@ -2,7 +2,7 @@
 //! periodicity, gain updates when a tree moves, the bend bound and the sun's clock.
 
 use glam::Vec3;
-use grove_systems::components::{Sun, Transform, Wind, WindState};
+use grove_systems::components::{Sun, Transform, WindState};
 use grove_systems::scene::Scene;
 use grove_systems::systems::wind::{det_sin, gust_at, max_bend, position_gain};
 use grove_systems::Sim;
@@ -95,15 +95,16 @@ fn moving_a_tree_recomputes_its_gain() {
     sim.step();
     let (entity, _) = sim.world().query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e, *w)).next().unwrap();
     let new_pos = Vec3::new(7.3, 0.0, -2.9);
-    sim.world().get::<&mut Transform>(entity).unwrap().translation = new_pos;
+    let moved = Transform { translation: new_pos, ..*sim.world().get::<&Transform>(entity).unwrap() };
+    sim.set_up().transform(entity, moved).unwrap();
     sim.step();
     let density = sim.wind().unwrap().density;
     let ws = *sim.world().get::<&WindState>(entity).unwrap();
     assert_eq!(ws.gain, position_gain(new_pos, density));
     // So does changing the wind's density.
-    for w in sim.world.query_mut::<&mut Wind>() {
-        w.density *= 3.0;
-    }
+    let mut w = sim.wind().unwrap();
+    w.density *= 3.0;
+    sim.set_up().wind(w);
     sim.step();
     let ws = *sim.world().get::<&WindState>(entity).unwrap();
     assert_eq!(ws.gain, position_gain(new_pos, density * 3.0));
@@ -135,13 +136,10 @@ fn det_sin_is_accurate() {
 
 #[test]
 fn sun_clock_advances_at_its_time_rate() {
-    let mut sim = sim_with_trees(0);
-    let start = {
-        let mut q = sim.world().query::<&mut Sun>();
-        let s = q.iter().next().unwrap();
-        s.time_rate = 60.0;
-        *s
-    };
+    let mut scene = scene();
+    scene.sun.time_rate = 60.0;
+    let mut sim = Sim::from_scene(&scene, scene.seed).unwrap();
+    let start = sim.sun().unwrap();
     // 600 ticks of 1/60 s at 60 sun-seconds per second: ten sun-minutes.
     sim.run(600);
     let now = *sim.world().query::<&Sun>().iter().next().unwrap();
