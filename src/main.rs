@@ -95,6 +95,7 @@ fn main() -> ExitCode {
         Command::View(args) => cli::view::run(args),
         Command::Sun(args) => cli::sun::run(args),
         Command::Assets(args) => cli::assets::run(args),
+        Command::Render(args) if args.video.is_some() => cli::render_video::run(args),
         Command::Render(args) => cli::render::run(args),
         Command::Lsystem(cmd) => cli::lsystem::run(cmd),
         Command::Aerial(cmd) => cli::aerial::run(cmd),

@@ -5,7 +5,8 @@
 //! - `grove render --scene FILE --frames N --fps F --out DIR [--time-rate R]`
 //! - `grove render --model FILE --out PNG`
 //! - `grove render --replay FILE --video OUT.mp4 [--camera head|shoulder|top|orbit] [--from T]
-//!   [--to T] [--fps F] [--speed S] [--ghosts DIR]` (see `render_video.rs` and `grove::video`)
+//!   [--to T] [--fps F] [--speed S] [--ghosts DIR]` (`render_video.rs`, which `main.rs` calls
+//!   when `--video` is given, and `grove::video`)
 //!
 //! The renderer draws whatever [`Sim`] it is given ([`render_sim`]), so a world from a replay or
 //! any other source can be rendered the same way.
@@ -149,7 +150,7 @@ pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_sy
     Ok(renderer)
 }
 
-fn check_size(w: u32, h: u32) -> anyhow::Result<()> {
+pub(super) fn check_size(w: u32, h: u32) -> anyhow::Result<()> {
     if !(1..=8192).contains(&w) || !(1..=8192).contains(&h) {
         bail!("--width and --height must be between 1 and 8192 (got {w}x{h})");
     }
@@ -240,9 +241,6 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
 /// Runs `grove render`.
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     check_size(args.width, args.height)?;
-    if let Some(video) = &args.video {
-        return super::render_video::run(&args, video);
-    }
     let out = args.out.clone().ok_or_else(|| anyhow!("give --out FILE (or --video OUT.mp4 with --replay)"))?;
     let out = out.as_path();
     if let (Some(model), Some(n)) = (&args.model, args.frames) {

@@ -35,7 +35,10 @@ fn check_out(out: &Path, force: bool) -> anyhow::Result<()> {
 }
 
 /// Runs `grove render --replay FILE --video OUT.mp4`.
-pub fn run(args: &RenderArgs, out: &Path) -> anyhow::Result<ExitCode> {
+pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
+    let args = &args;
+    let out = args.video.as_deref().ok_or_else(|| anyhow!("give --video OUT.mp4"))?;
+    super::render::check_size(args.width, args.height)?;
     let replay = args.replay.as_deref().ok_or_else(|| anyhow!("--video needs --replay FILE"))?;
     check_out(out, args.force)?;
     if args.width % 2 != 0 || args.height % 2 != 0 {
