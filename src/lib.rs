@@ -9,6 +9,8 @@ pub mod aerial;
 pub mod assetgen;
 pub mod atomic_write;
 pub mod bank;
+pub mod html;
 pub mod render;
 pub mod lsystem;
+pub mod study;
 pub mod video;

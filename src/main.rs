@@ -10,8 +10,6 @@ use clap::{Parser, Subcommand};
 
 mod cli;
 mod desktop;
-mod html;
-mod study;
 mod techniques;
 
 /// grove: a deterministic simulation of a tree-planting study.

@@ -115,7 +115,7 @@ impl ReplayReport {
             final_hash: hex(sim.hash().total),
             participant: outcome.header.participant.clone(),
             synthetic: outcome.header.synthetic,
-            task: sim.res().task.as_ref().map(|t| crate::study::technique_report(TaskReport::new(t, sim.res().dt, ticks, &sim.res().catalogue), &sim)),
+            task: sim.res().task.as_ref().map(|t| grove::study::technique_report(TaskReport::new(t, sim.res().dt, ticks, &sim.res().catalogue), &sim)),
         }
     }
 }

@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::bail;
 use grove_systems::replay::ReplayOutcome;
 
-use crate::html::{self, trace::Moment};
+use grove::html::{self, trace::Moment};
 
 /// Refuses a page path that is a folder, lies in a missing folder, or exists (without --force).
 pub fn check_out(page: &Path, force: bool) -> anyhow::Result<()> {
@@ -29,8 +29,8 @@ pub fn check_out(page: &Path, force: bool) -> anyhow::Result<()> {
 pub fn write(file: &Path, outcome: &ReplayOutcome, page: &Path) -> anyhow::Result<()> {
     let name = file.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
     let stem = file.file_stem().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-    let mut trials = vec![crate::study::trial_from_outcome(name, stem, outcome)];
-    crate::study::assign_order(&mut trials);
+    let mut trials = vec![grove::study::trial_from_outcome(name, stem, outcome)];
+    grove::study::assign_order(&mut trials);
     let trial = trials.remove(0);
     // Frames a second before the first diverging checkpoint and at it.
     let extra: Vec<Moment> = outcome

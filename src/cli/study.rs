@@ -20,8 +20,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 pub use super::study_report::{parse_overrides, parse_set, prepare_out, SetArgs};
 use super::study_report::{write_reports, ReportTo};
-use crate::study::shard::{Partial, RunPart, Shard, StudyKey};
-use crate::study::{list_recordings, recordings_in, run_all};
+use grove::study::shard::{Partial, RunPart, Shard, StudyKey};
+use grove::study::{list_recordings, recordings_in, run_all};
 
 /// Arguments of `grove study`.
 #[derive(Args)]
@@ -128,8 +128,8 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let set = parse_set(&args.set)?;
     let html = match (args.html, &args.html_trials) {
         (false, _) => None,
-        (true, None) => Some(crate::html::Selection::Auto),
-        (true, Some(s)) => Some(s.parse::<crate::html::Selection>()?),
+        (true, None) => Some(grove::html::Selection::Auto),
+        (true, Some(s)) => Some(s.parse::<grove::html::Selection>()?),
     };
     // A shard's folder may hold none of the study's recordings (grove synth --shard wrote no
     // participant there); a study without shards needs some.
@@ -160,7 +160,7 @@ fn run_shard(args: &StudyArgs, shard: Shard, set: &SetArgs, files: &[PathBuf], b
     let mine = shard.files(files);
     let base_mine = base_files.map(|b| shard.files(b));
     let runs = compute(set, &mine, base_mine.as_deref());
-    let failed = runs.iter().flat_map(|r| &r.trials).filter(|t| matches!(t.status, crate::study::TrialStatus::Failed | crate::study::TrialStatus::Diverged)).count();
+    let failed = runs.iter().flat_map(|r| &r.trials).filter(|t| matches!(t.status, grove::study::TrialStatus::Failed | grove::study::TrialStatus::Diverged)).count();
     let part = Partial { shard, study, replays: args.replays.display().to_string(), runs };
     write_atomic(out, &part.encode()?)?;
     let wall: f64 = part.runs.iter().map(|r| r.wall_seconds).sum();

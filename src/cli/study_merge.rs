@@ -9,8 +9,8 @@ use std::process::ExitCode;
 use clap::Args;
 
 use super::study_report::{parse_set, prepare_out, write_reports, ReportTo};
-use crate::study::assign_order;
-use crate::study::shard::{combine, Partial};
+use grove::study::assign_order;
+use grove::study::shard::{combine, Partial};
 
 /// Arguments of `grove study merge`.
 #[derive(Args)]

@@ -8,11 +8,11 @@ use anyhow::{anyhow, bail};
 use grove::atomic_write::{write_atomic, write_via_temp};
 use grove_systems::resources::{Config, Override};
 
-use crate::html;
-use crate::study::report::{self, Summary};
-use crate::study::shard::RunPart;
-use crate::study::whatif::{self, Sweep, WhatIf};
-use crate::study::{chart, csv_out, table, Trial, TrialStatus};
+use grove::html;
+use grove::study::report::{self, Summary};
+use grove::study::shard::RunPart;
+use grove::study::whatif::{self, Sweep, WhatIf};
+use grove::study::{chart, csv_out, table, Trial, TrialStatus};
 
 /// Where and how the reports are written.
 pub struct ReportTo {
@@ -25,7 +25,7 @@ pub struct ReportTo {
     /// Whether the what-if compares with `--baseline` recordings (re-simulated participants).
     pub baseline: bool,
     /// `--html`: also write report.html, with these trials' sections.
-    pub html: Option<crate::html::Selection>,
+    pub html: Option<grove::html::Selection>,
 }
 
 /// The files `grove study` writes into `--out`.

@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 use clap::Args;
 
-use crate::study::shard::Shard;
-use crate::study::synth::{conditions, write_conditions, write_study};
+use grove::study::shard::Shard;
+use grove::study::synth::{conditions, write_conditions, write_study};
 
 /// Arguments of `grove synth`.
 #[derive(Args)]

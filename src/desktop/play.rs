@@ -442,7 +442,7 @@ mod tests {
         let replayed = crate::cli::replay::ReplayReport::new(path.display().to_string(), &outcome, 1.0);
         assert!(replayed.verified && replayed.complete);
         assert_eq!(replayed.task.as_ref(), Some(&shown), "grove replay --json reports what the window showed");
-        let trial = crate::study::evaluate(&path, &[]);
+        let trial = grove::study::evaluate(&path, &[]);
         assert_eq!(trial.task.as_ref(), Some(&shown), "grove study reports what the window showed");
     }
 }

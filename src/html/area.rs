@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 
 use glam::{Vec2, Vec3};
-use grove::render::TopView;
+use crate::render::TopView;
 use grove_systems::events::Happening;
 use grove_systems::task::{TargetDef, TaskDef, TaskReport};
 use maud::{html, Markup, PreEscaped};

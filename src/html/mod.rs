@@ -145,7 +145,7 @@ pub fn view_trial(trial: Trial, path: PathBuf, overrides: &[Override], detailed:
         view.trace_error = view.trial.error.clone();
         return view;
     }
-    let banks = match grove::bank::open_session(&[]) {
+    let banks = match crate::bank::open_session(&[]) {
         Ok(b) => b,
         Err(e) => {
             view.trace_error = Some(e);
@@ -193,7 +193,7 @@ pub struct StudyPage<'a> {
 
 /// Writes `html` to `path` through a temporary file and a rename.
 pub fn write_page(path: &Path, html: &str) -> Result<(), HtmlError> {
-    grove::atomic_write::write_atomic(path, html.as_bytes()).map_err(|e| HtmlError::Write { path: path.display().to_string(), reason: e.to_string() })
+    crate::atomic_write::write_atomic(path, html.as_bytes()).map_err(|e| HtmlError::Write { path: path.display().to_string(), reason: e.to_string() })
 }
 
 /// The study's report: traces every trial (rendering the filmstrips of the selected ones and

@@ -2,8 +2,8 @@
 //! embedded as JPEG data URIs: the filmstrip's head-camera frames and the task area from above.
 
 use base64::Engine as _;
-use grove::render::offscreen::{self, Gpu};
-use grove::render::{RenderOptions, Renderer, TopView};
+use crate::render::offscreen::{self, Gpu};
+use crate::render::{RenderOptions, Renderer, TopView};
 use grove_systems::Sim;
 use image::RgbaImage;
 
@@ -33,8 +33,8 @@ pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, String> {
 /// (found in the session's banks, as the replay found them).
 fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, String> {
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1)?;
-    let banks = grove::bank::open_session(&[])?;
-    grove::bank::load_into(&mut r, &grove::bank::files_for(&banks, &sim.res().catalogue))?;
+    let banks = crate::bank::open_session(&[])?;
+    crate::bank::load_into(&mut r, &crate::bank::files_for(&banks, &sim.res().catalogue))?;
     Ok(r)
 }
 

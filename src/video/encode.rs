@@ -27,6 +27,9 @@ pub enum VideoError {
         /// What failed.
         reason: String,
     },
+    /// The renderer failed to draw or read back a frame.
+    #[error("rendering a frame: {0}")]
+    Render(String),
     /// A frame of another size than the video's.
     #[error("frame of {got:?} pixels in a video of {want:?}")]
     FrameSize {

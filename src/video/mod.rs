@@ -35,24 +35,38 @@ pub enum Mark {
     TaskEnd,
 }
 
+/// Why a mark names no tick.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum MarkError {
+    /// Neither a number nor a task mark.
+    #[error("'{0}' is neither a tick (a whole number) nor a task mark (task-start, task-end)")]
+    Unknown(String),
+    /// `task-start` in a recording without a `start_task` event.
+    #[error("the recording starts no task (no task-start mark)")]
+    NoTaskStart,
+    /// `task-end` in a recording without an `end_task` event.
+    #[error("the recording ends no task (no task-end mark)")]
+    NoTaskEnd,
+}
+
 impl std::str::FromStr for Mark {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Mark, String> {
+    type Err = MarkError;
+    fn from_str(s: &str) -> Result<Mark, MarkError> {
         match s {
             "task-start" => Ok(Mark::TaskStart),
             "task-end" => Ok(Mark::TaskEnd),
-            _ => s.parse::<u64>().map(Mark::Tick).map_err(|_| format!("'{s}' is neither a tick (a whole number) nor a task mark (task-start, task-end)")),
+            _ => s.parse::<u64>().map(Mark::Tick).map_err(|_| MarkError::Unknown(s.to_string())),
         }
     }
 }
 
 impl Mark {
     /// The tick this mark names in `player`'s recording.
-    pub fn tick(self, player: &Player) -> Result<u64, String> {
+    pub fn tick(self, player: &Player) -> Result<u64, MarkError> {
         match self {
             Mark::Tick(t) => Ok(t),
-            Mark::TaskStart => player.task_start_tick().ok_or_else(|| "the recording starts no task (no task-start mark)".to_string()),
-            Mark::TaskEnd => player.task_end_tick().ok_or_else(|| "the recording ends no task (no task-end mark)".to_string()),
+            Mark::TaskStart => player.task_start_tick().ok_or(MarkError::NoTaskStart),
+            Mark::TaskEnd => player.task_end_tick().ok_or(MarkError::NoTaskEnd),
         }
     }
 }
@@ -123,13 +137,13 @@ pub struct VideoSummary {
 
 /// Draws `player`'s recording with `renderer` as `spec` asks, and the `ghosts` beside it;
 /// `progress` is called after each frame is drawn.
-pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts: Vec<Ghost>, spec: &VideoSpec<'_>, progress: &mut dyn FnMut(u64)) -> Result<VideoSummary, String> {
+pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts: Vec<Ghost>, spec: &VideoSpec<'_>, progress: &mut dyn FnMut(u64)) -> Result<VideoSummary, VideoError> {
     let (w, h) = renderer.size();
     let dt = player.sim().res().dt;
     let ticks = frame_ticks(spec.from, spec.to, spec.fps, spec.speed, dt);
     let (start, end) = (player.task_start_tick(), player.task_end_tick());
     let own_color = ghosts::participant_color(player.header.participant.as_deref().unwrap_or(""));
-    let mut writer = VideoWriter::create(spec.out, w, h, spec.fps).map_err(|e| e.to_string())?;
+    let mut writer = VideoWriter::create(spec.out, w, h, spec.fps)?;
     let target = Target::new(&gpu.device, w, h);
 
     // The encoder's thread takes frames from a queue two deep.
@@ -145,7 +159,7 @@ pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts:
     let mut seen = 0;
     let mut recent: Vec<(usize, String)> = Vec::new();
     let frame_s = 1.0 / spec.fps as f32;
-    let mut drawn = Ok(());
+    let mut drawn: Result<(), VideoError> = Ok(());
     for (k, &tick) in ticks.iter().enumerate() {
         player.advance_to(tick);
         let sim = player.sim();
@@ -179,22 +193,22 @@ pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts:
         }
         renderer.ghosts = figures;
 
-        renderer.render(sim, target.view())?;
-        let mut img = target.read(&gpu.device, &gpu.queue)?;
+        renderer.render(sim, target.view()).map_err(VideoError::Render)?;
+        let mut img = target.read(&gpu.device, &gpu.queue).map_err(VideoError::Render)?;
         captions::burn(&mut img, &text);
         if send.send(img).is_err() {
             // The encoder stopped: its error is reported below.
-            drawn = Err(String::new());
+            drawn = Err(VideoError::Encoder("stopped".into()));
             break;
         }
         progress(k as u64 + 1);
     }
     drop(send);
     renderer.ghosts.clear();
-    let writer = encoder.join().map_err(|_| "the video encoder stopped unexpectedly".to_string())?.map_err(|e| e.to_string())?;
+    let writer = encoder.join().map_err(|_| VideoError::Encoder("its thread stopped unexpectedly".into()))??;
     drawn?;
     let bytes = writer.bytes();
-    let frames = writer.finish().map_err(|e| e.to_string())?;
+    let frames = writer.finish()?;
     Ok(VideoSummary { frames, bytes })
 }
 

@@ -7,6 +7,7 @@
 //! [`AerialSources`] is what an app hands the renderer (`Renderer::set_aerial`): the clipmap
 //! sources of the pair and of the canopy's layer masks.
 
+mod renderer;
 use glam::{DVec3, Vec2};
 use wgpu::util::DeviceExt;
 

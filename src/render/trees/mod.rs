@@ -6,6 +6,7 @@
 //! pre-pass and then the shading of the alpha-clipped ones (see [`pipelines`]); the shadow map
 //! gets both from [`Feature::draw_depth`].
 
+mod renderer;
 pub mod impostor;
 pub mod instances;
 pub mod lod;
