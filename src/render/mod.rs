@@ -33,7 +33,7 @@ pub mod water;
 
 use std::path::{Path, PathBuf};
 
-use grove_systems::catalogue::{Catalogue, ModelId};
+use grove_systems::catalogue::Catalogue;
 use grove_systems::Sim;
 
 pub use assets::gltf_load;
@@ -46,7 +46,6 @@ pub use trees::model::GpuModel;
 pub use view::{camera_matrix, Camera, TopView};
 pub use water::WaterOutput;
 
-use gltf_load::ModelData;
 
 /// The assets folder: `$GROVE_ASSETS`, else `./assets` when it exists, else the source tree's.
 pub fn default_assets_dir() -> PathBuf {
