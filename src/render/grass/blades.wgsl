@@ -21,7 +21,7 @@
 // The near and middle lists one after the other (cull.wgsl); each draw's base vertex makes
 // `vertex_index / vertices a blade` the index into this buffer.
 @group(2) @binding(2) var<storage, read> lists: array<u32>;
-// The cull pass's draw counts, then from word 16 (`RASTER_OFFSET` in cull.wgsl) the far
+// The cull pass's draw counts, then from word RASTER_OFFSET (written from Rust) the far
 // blades' image (`pack_far`): per pixel 0, or a depth code (nearer is larger) in the top 11
 // bits above the lit colour's square roots in 7 bits each (of 0 … 1 / 0.85, which `tone` maps
 // to white).
@@ -100,12 +100,12 @@ fn blade_vertex(s: Shape, t: f32, side: f32) -> VertexOut {
 
 @vertex
 fn vs_near(@builtin(vertex_index) v: u32) -> VertexOut {
-    return strip_vertex(shapes[lists[v / 15u]], v % 15u, 7u);
+    return strip_vertex(shapes[lists[v / NEAR_VERTICES]], v % NEAR_VERTICES, NEAR_SEGMENTS);
 }
 
 @vertex
 fn vs_mid(@builtin(vertex_index) v: u32) -> VertexOut {
-    return strip_vertex(shapes[lists[v / 7u]], v % 7u, 3u);
+    return strip_vertex(shapes[lists[v / MID_VERTICES]], v % MID_VERTICES, MID_SEGMENTS);
 }
 
 // The far blades' rectangle: two triangles over the box of pixels the cull pass found them to
@@ -134,7 +134,7 @@ struct FarOut {
 @fragment
 fn fs_far(@builtin(position) pos: vec4<f32>) -> FarOut {
     let size = params.viewport.xy;
-    let word = raster[16u + u32(pos.y) * u32(size.x) + u32(pos.x)];
+    let word = raster[RASTER_OFFSET + u32(pos.y) * u32(size.x) + u32(pos.x)];
     if (word == 0u) {
         discard;
     }

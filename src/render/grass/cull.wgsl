@@ -87,13 +87,10 @@ struct Cull {
 // The sky's irradiance (lighting.wgsl's `irradiance_map`), sampled with `wind_sampler`.
 @group(0) @binding(8) var irradiance_map: texture_cube<f32>;
 
-// The indices of a blade at the near and middle levels of detail (indexed triangle lists;
-// blades.wgsl), and the most blades the near and middle index buffers hold (`NEAR_CAP`,
-// `MID_CAP` in src/render/grass/data.rs): blades beyond them drop a level.
-const NEAR_INDICES: u32 = 39u;
-const MID_INDICES: u32 = 15u;
-const NEAR_CAP: u32 = 65536u;
-const MID_CAP: u32 = 262144u;
+// NEAR_INDICES, MID_INDICES (the indices of a blade at the near and middle levels of detail),
+// NEAR_CAP and MID_CAP (the most blades their index buffers hold; blades beyond them drop a
+// level), RASTER_OFFSET, CULL_WORKGROUP and BLADES_PER_INVOCATION are written from Rust's
+// constants ahead of this file (`shader_constants` in src/render/grass/data.rs).
 // The segments a near or middle blade's curve is integrated over before it is fitted, and a
 // far blade's, whose curve is under ten pixels long (even).
 const STEPS: u32 = 8u;
@@ -104,9 +101,7 @@ const MAX_FAR_PIXELS: u32 = 64u;
 const NO_BOX: vec4<f32> = vec4<f32>(1e9, 1e9, -1e9, -1e9);
 // A word of `args` that no one reads, for the far blades' samples outside the image.
 const SCRATCH_WORD: u32 = 15u;
-// The word of `args` where the far blades' image begins (`RASTER_OFFSET` in
-// src/render/grass/data.rs).
-const RASTER_OFFSET: u32 = 16u;
+// The far blades' image begins at word RASTER_OFFSET of `args` (from Rust, see above).
 // The depth codes of an image word (its top 11 bits; the colour takes the 21 below them, 7 a
 // channel).
 const DEPTH_LEVELS: u32 = 2047u;
@@ -242,17 +237,14 @@ fn rasterise_far(draw: bool, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across
 // An invocation culls BLADES_PER_INVOCATION consecutive blades, which lie close together, and
 // lights the far ones among them with the sky's light at the first (`far_sky`); fewer, longer
 // invocations also spare lavapipe its fixed cost per invocation. The workgroup's size and the
-// blades an invocation takes (`CULL_WORKGROUP`, `BLADES_PER_INVOCATION` in
-// src/render/grass/data.rs).
-const CULL_WORKGROUP: u32 = 64u;
-const BLADES_PER_INVOCATION: u32 = 16u;
+// blades an invocation takes are CULL_WORKGROUP and BLADES_PER_INVOCATION (from Rust, see above).
 
 // True in the pipeline for blocks whose every blade is far (src/render/grass/blocks.rs): the
 // near and middle blades' code is left out, which lavapipe would otherwise run, masked, for
 // every blade.
 override FAR_ONLY: bool = false;
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(CULL_WORKGROUP)
 fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) local: u32) {
     // A 2D dispatch when there are more than 65,535 workgroups.
     let slot = group.x + group.y * 65535u + select(0u, cull.far_base, FAR_ONLY);

@@ -161,6 +161,27 @@ pub const LOD_SEGMENTS: [u32; 2] = [7, 3];
 /// ones drop a level.
 pub const LOD_CAPS: [u32; 2] = [65_536, 262_144];
 
+/// The constants the grass shaders share with this file, as WGSL declarations written ahead of
+/// `cull.wgsl` and `blades.wgsl`: the shaders define none of them themselves, so the two sides
+/// cannot drift apart.
+pub fn shader_constants() -> String {
+    let u = |name: &str, v: u64| format!("const {name}: u32 = {v}u;\n");
+    [
+        u("NEAR_INDICES", LOD_INDICES[0] as u64),
+        u("MID_INDICES", LOD_INDICES[1] as u64),
+        u("NEAR_CAP", LOD_CAPS[0] as u64),
+        u("MID_CAP", LOD_CAPS[1] as u64),
+        u("NEAR_SEGMENTS", LOD_SEGMENTS[0] as u64),
+        u("MID_SEGMENTS", LOD_SEGMENTS[1] as u64),
+        u("NEAR_VERTICES", 2 * LOD_SEGMENTS[0] as u64 + 1),
+        u("MID_VERTICES", 2 * LOD_SEGMENTS[1] as u64 + 1),
+        u("RASTER_OFFSET", RASTER_OFFSET),
+        u("CULL_WORKGROUP", CULL_WORKGROUP as u64),
+        u("BLADES_PER_INVOCATION", BLADES_PER_INVOCATION as u64),
+    ]
+    .concat()
+}
+
 /// The index buffer of `blades` blades of `segments` segments: blade `k`'s vertices are
 /// `k (2 s + 1) + c`, `c` the left (even) and right (odd) corners of its rows, then its tip;
 /// quads between the rows (two triangles each) and the tip triangle.
@@ -303,26 +324,31 @@ mod tests {
     }
 
     #[test]
-    fn the_cull_pass_shares_the_levels_constants() {
-        let cull = include_str!("cull.wgsl");
-        for line in [
-            format!("const NEAR_INDICES: u32 = {}u;", LOD_INDICES[0]),
-            format!("const MID_INDICES: u32 = {}u;", LOD_INDICES[1]),
-            format!("const RASTER_OFFSET: u32 = {RASTER_OFFSET}u;"),
-            format!("const CULL_WORKGROUP: u32 = {CULL_WORKGROUP}u;"),
-            format!("const BLADES_PER_INVOCATION: u32 = {BLADES_PER_INVOCATION}u;"),
-            format!("@workgroup_size({CULL_WORKGROUP})"),
-            format!("const NEAR_CAP: u32 = {}u;", LOD_CAPS[0]),
-            format!("const MID_CAP: u32 = {}u;", LOD_CAPS[1]),
-        ] {
-            assert!(cull.contains(&line), "cull.wgsl lacks `{line}`");
+    fn the_shaders_take_the_shared_constants_from_rust_only() {
+        let prelude = shader_constants();
+        let names: Vec<&str> = prelude.lines().map(|l| l.trim_start_matches("const ").split(':').next().unwrap()).collect();
+        assert_eq!(names.len(), 11);
+        for (file, text) in [("cull.wgsl", include_str!("cull.wgsl")), ("blades.wgsl", include_str!("blades.wgsl")), ("shapes.wgsl", include_str!("shapes.wgsl"))] {
+            for name in &names {
+                assert!(!text.contains(&format!("const {name}")), "{file} defines {name} itself");
+            }
+            // No number stands where a shared constant belongs.
+            for literal in ["@workgroup_size(64)", "raster[16u", "% 15u", "% 7u"] {
+                assert!(!text.contains(literal), "{file} has `{literal}`");
+            }
         }
+        // Each constant once, with the value of its Rust twin.
+        for line in ["const NEAR_INDICES: u32 = 39u;", "const MID_INDICES: u32 = 15u;", "const NEAR_VERTICES: u32 = 15u;", "const MID_VERTICES: u32 = 7u;", "const RASTER_OFFSET: u32 = 16u;", "const CULL_WORKGROUP: u32 = 64u;"] {
+            assert_eq!(prelude.matches(line).count(), 1, "{line}");
+        }
+        // The names the shaders use are all declared.
+        let cull = include_str!("cull.wgsl");
         let blades = include_str!("blades.wgsl");
-        assert!(blades.contains(&format!("raster[{RASTER_OFFSET}u + ")), "blades.wgsl reads the far image elsewhere");
-        for (segments, vertices) in [(7, 15), (3, 7)] {
-            assert!(LOD_SEGMENTS.contains(&segments));
-            let call = format!("% {vertices}u, {segments}u)");
-            assert!(blades.contains(&call), "blades.wgsl lacks `{call}`");
+        for name in ["NEAR_INDICES", "MID_INDICES", "NEAR_CAP", "MID_CAP", "RASTER_OFFSET", "CULL_WORKGROUP", "BLADES_PER_INVOCATION"] {
+            assert!(cull.contains(name) && names.contains(&name), "{name}");
+        }
+        for name in ["NEAR_VERTICES", "NEAR_SEGMENTS", "MID_VERTICES", "MID_SEGMENTS", "RASTER_OFFSET"] {
+            assert!(blades.contains(name) && names.contains(&name), "{name}");
         }
     }
 
