@@ -9,6 +9,7 @@ pub mod aerial;
 pub mod assetgen;
 pub mod atomic_write;
 pub mod bank;
+pub mod bench;
 pub mod html;
 pub mod render;
 pub mod lsystem;

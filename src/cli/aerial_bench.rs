@@ -94,7 +94,7 @@ fn cpu_ms() -> f64 {
 
 /// The process's peak resident memory, MiB (Linux; 0 elsewhere).
 fn peak_rss_mib() -> f64 {
-    super::bench_args::status_mib("VmHWM")
+    grove::bench::status_mib("VmHWM")
 }
 
 /// One run's figures.

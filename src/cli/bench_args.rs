@@ -1,8 +1,6 @@
-//! The arguments of `grove bench` and the timing helpers every benchmark shares (a leaf module:
-//! the benchmarks import it, it imports none of them).
+//! The arguments of `grove bench` (the benchmarks themselves are `grove::bench`).
 
 use std::path::PathBuf;
-use std::time::Instant;
 
 use clap::{Args, ValueEnum};
 
@@ -80,35 +78,4 @@ pub fn non_negative(s: &str) -> Result<f32, String> {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
         _ => Err(format!("expected a number of at least 0, got {s:?}")),
     }
-}
-
-/// The median of a slice of timings (sorted in place); 0 for an empty slice.
-pub fn median(values: &mut [f64]) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}
-
-/// Times `f` `n` times and returns the per-call durations in milliseconds.
-pub fn time_ms(n: usize, mut f: impl FnMut()) -> Vec<f64> {
-    (0..n)
-        .map(|_| {
-            let t = Instant::now();
-            f();
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect()
-}
-
-/// A memory figure of this process from `/proc/self/status` (`VmHWM` the peak, `VmRSS` now),
-/// MiB; 0 where there is none (not Linux).
-pub fn status_mib(key: &str) -> f64 {
-    let status = grove_systems::files::read_text(std::path::Path::new("/proc/self/status"), grove_systems::files::Kind::Status).unwrap_or_default();
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix(key).and_then(|r| r.strip_prefix(':')))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
-        .map_or(0.0, |kb| kb / 1024.0)
 }

@@ -36,17 +36,6 @@ pub struct Measure {
     pub cpu_start: Option<f64>,
 }
 
-/// The CPU time this process has used so far, all threads, user and system, seconds. On a
-/// machine shared with other work it says what a frame costs better than the wall clock does.
-pub fn process_cpu_seconds() -> f64 {
-    // SAFETY: getrusage only writes the struct it is given, which is plain data.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    if unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut usage) } != 0 {
-        return 0.0;
-    }
-    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    secs(usage.ru_utime) + secs(usage.ru_stime)
-}
 
 /// The first seconds after the first frame (shader compilation, the budget settling) are not
 /// counted.
@@ -231,7 +220,7 @@ impl Frontend for PlayApp {
         if let Some(m) = self.measure.as_mut() {
             let run_for = m.first_frame.get_or_insert_with(Instant::now).elapsed().as_secs_f64();
             if run_for > MEASURE_WARMUP_S {
-                m.cpu_start.get_or_insert_with(process_cpu_seconds);
+                m.cpu_start.get_or_insert_with(grove::bench::process_cpu_seconds);
                 m.frames += 1;
                 m.time += elapsed;
                 m.scale_sum += self.world3d.budget.scale() as f64;
@@ -293,7 +282,7 @@ impl Frontend for PlayApp {
                 "frame_ms": if m.frames > 0 { 1000.0 * m.time / m.frames as f64 } else { 0.0 },
                 "mean_scale": if m.frames > 0 { m.scale_sum / m.frames as f64 } else { 0.0 },
                 "cpu_ms_per_frame": match m.cpu_start {
-                    Some(c) if m.frames > 0 => 1000.0 * (process_cpu_seconds() - c) / m.frames as f64,
+                    Some(c) if m.frames > 0 => 1000.0 * (grove::bench::process_cpu_seconds() - c) / m.frames as f64,
                     _ => 0.0,
                 },
                 "renderer": self.world3d.active(),

@@ -7,13 +7,13 @@
 use std::path::Path;
 
 use anyhow::anyhow;
-use grove::render::offscreen::Gpu;
-use grove::render::Renderer;
+use crate::render::offscreen::Gpu;
+use crate::render::Renderer;
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench_render::{setup, time_frames, RenderBenchOptions, HEIGHT, WIDTH};
+use super::render::{setup, time_frames, RenderBenchOptions, HEIGHT, WIDTH};
 
 /// The park scene's file, relative to the repository root (where the benchmarks run).
 pub const PARK: &str = "assets/scenes/park.ron";
@@ -52,5 +52,5 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyhow
 pub fn bench_park(options: RenderBenchOptions) -> anyhow::Result<Value> {
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let figures = park_figures(&gpu, &mut renderer, 10)?;
-    Ok(json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": super::bench_render::WALL_TIMING, "park": figures}))
+    Ok(json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": super::render::WALL_TIMING, "park": figures}))
 }

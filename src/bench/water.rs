@@ -12,14 +12,14 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use glam::{Vec2, Vec3};
-use grove::render::offscreen::{self, Gpu};
-use grove::render::Renderer;
+use crate::render::offscreen::{self, Gpu};
+use crate::render::Renderer;
 use grove_systems::scene::PlaneShape;
 use grove_systems::water::WaterDef;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench_render::{ground_scene, place, setup, RenderBenchOptions, HEIGHT, WIDTH};
+use super::render::{ground_scene, place, setup, RenderBenchOptions, HEIGHT, WIDTH};
 
 /// The water test's world: a 600 × 600 m bed 50 m down, 500 × 500 m of water at height 0, the
 /// camera on the south shore 10 m up looking north, the sun at 45°.
@@ -71,11 +71,11 @@ fn time_water(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, water: bool, frames
         }
     }
     renderer.options.water = true;
-    let ms = super::bench_args::median(&mut wall);
+    let ms = super::median(&mut wall);
     let mut v = json!({"ms_per_frame": ms, "fps": 1e3 / ms, "draws": renderer.stats.draws, "triangles": renderer.stats.triangles});
     if timed {
         for (k, name) in names.iter().enumerate() {
-            v[format!("gpu_{name}_pass_ms")] = json!(super::bench_args::median(&mut passes[k]));
+            v[format!("gpu_{name}_pass_ms")] = json!(super::median(&mut passes[k]));
         }
     }
     Ok(v)

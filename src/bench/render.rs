@@ -15,8 +15,8 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use glam::{Vec2, Vec3};
-use grove::render::Renderer;
-use grove::render::offscreen::{self, Gpu};
+use crate::render::Renderer;
+use crate::render::offscreen::{self, Gpu};
 use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
@@ -152,14 +152,14 @@ pub(super) fn time_frames_at(
     }
     let passes = (!shadow.is_empty()).then(|| {
         (
-            super::bench_args::median(&mut shadow),
-            super::bench_args::median(&mut main),
+            super::median(&mut shadow),
+            super::median(&mut main),
         )
     });
     let cpu_ms = cpu_start.zip(process_cpu_ns()).map(|(a, b)| b.saturating_sub(a) as f64 / 1e6 / times.len().max(1) as f64);
     Ok(FrameTime {
         cpu_ms,
-        ms: super::bench_args::median(&mut times),
+        ms: super::median(&mut times),
         passes,
     })
 }

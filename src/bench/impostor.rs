@@ -3,13 +3,13 @@
 //! full-detail render.
 
 use anyhow::anyhow;
-use grove::render::offscreen::{self, Gpu};
-use grove::render::Renderer;
+use crate::render::offscreen::{self, Gpu};
+use crate::render::Renderer;
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench_render::{forest, header, setup, time_frames, time_frames_at, RenderBenchOptions, HEIGHT, WALL_TIMING, WIDTH};
+use super::render::{forest, header, setup, time_frames, time_frames_at, RenderBenchOptions, HEIGHT, WALL_TIMING, WIDTH};
 
 /// The image difference between `sim` drawn with the renderer's options and drawn at full
 /// detail (every leaf, no impostors), shadows as set: the mean absolute difference per channel
@@ -47,7 +47,7 @@ pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> anyhow::Res
 pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_json::Map<String, Value>) -> anyhow::Result<()> {
     const FULL_HD: (u32, u32) = (1920, 1080);
     renderer.resize(FULL_HD.0, FULL_HD.1);
-    let path = grove::render::default_assets_dir().join("scenes/forest.ron");
+    let path = crate::render::default_assets_dir().join("scenes/forest.ron");
     let scene = Scene::load(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let forest_sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
     eprintln!("bench: a million trees (building the world)");
@@ -72,7 +72,7 @@ pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_js
 /// shadows on and off, and its image difference from the full-detail render.
 pub fn bench_forest(options: RenderBenchOptions) -> anyhow::Result<Value> {
     let (gpu, mut renderer, adapter) = setup(options, false)?;
-    let path = grove::render::default_assets_dir().join("scenes/forest.ron");
+    let path = crate::render::default_assets_dir().join("scenes/forest.ron");
     let scene = Scene::load(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
     let mut figures = serde_json::Map::new();

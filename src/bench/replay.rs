@@ -6,14 +6,14 @@ use anyhow::anyhow;
 use glam::Vec3;
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::Button;
-use grove::atomic_write::{write_atomic, write_via_temp};
+use crate::atomic_write::{write_atomic, write_via_temp};
 use grove_systems::replay::{record_events, replay_reader, Header, ReplayOptions};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench_args::median;
+use super::median;
 
 /// Builds a 5-minute recording in memory: the controller sweeps over the ground at 30 Hz and
 /// plants, selects and removes trees every few seconds.
@@ -72,22 +72,22 @@ pub fn bench_replay() -> anyhow::Result<Value> {
 /// (CSV, JSON and chart written to a temporary folder), wall seconds.
 pub fn bench_study() -> anyhow::Result<Value> {
     eprintln!("bench: the whole study");
-    let files = grove::study::recordings_in(std::path::Path::new("replays/study"))?;
+    let files = crate::study::recordings_in(std::path::Path::new("replays/study"))?;
     let out = std::env::temp_dir().join(format!("grove-bench-study-{}", std::process::id()));
     std::fs::create_dir_all(&out)?;
     let mut walls = Vec::new();
     let mut verified = 0;
     for _ in 0..5 {
         let t = Instant::now();
-        let (trials, wall_sim) = grove::study::run_all(&files, &[], &|| {});
-        let summary = grove::study::report::summarize(&trials, &[], wall_sim);
+        let (trials, wall_sim) = crate::study::run_all(&files, &[], &|| {});
+        let summary = crate::study::report::summarize(&trials, &[], wall_sim);
         // Written as `grove study` writes them: through a temporary file and a rename.
-        write_via_temp(&out.join("trial_results.csv"), |tmp| grove::study::csv_out::write_trial_results(tmp, &trials, None))?;
-        write_via_temp(&out.join("trees.csv"), |tmp| grove::study::csv_out::write_trees(tmp, &trials))?;
+        write_via_temp(&out.join("trial_results.csv"), |tmp| crate::study::csv_out::write_trial_results(tmp, &trials, None))?;
+        write_via_temp(&out.join("trees.csv"), |tmp| crate::study::csv_out::write_trees(tmp, &trials))?;
         write_atomic(&out.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
-        write_via_temp(&out.join("ablation.png"), |tmp| grove::study::chart::ablation_chart(tmp, &summary.per_participant, None, "bench", &[], 1100, 600))?;
+        write_via_temp(&out.join("ablation.png"), |tmp| crate::study::chart::ablation_chart(tmp, &summary.per_participant, None, "bench", &[], 1100, 600))?;
         walls.push(t.elapsed().as_secs_f64());
-        verified = trials.iter().filter(|t| t.status == grove::study::TrialStatus::Verified).count();
+        verified = trials.iter().filter(|t| t.status == crate::study::TrialStatus::Verified).count();
     }
     let _ = std::fs::remove_dir_all(&out);
     Ok(json!({

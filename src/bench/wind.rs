@@ -9,13 +9,13 @@ use anyhow::anyhow;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::bench_args::{median, time_ms, BenchArgs};
+use super::{median, time_ms, SimOptions};
 
 /// Trees in the wind benchmark.
 pub const WIND_BENCH_TREES: usize = 100_000;
 
 /// Runs the wind and sun benchmark and returns its figures.
-pub fn bench_wind(args: &BenchArgs) -> anyhow::Result<Value> {
+pub fn bench_wind(args: &SimOptions) -> anyhow::Result<Value> {
     let mut scene = super::load_scene(&args.scene)?;
     if scene.sun.time_rate == 0.0 {
         scene.sun.time_rate = 60.0;

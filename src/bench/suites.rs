@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 
-use super::bench_render::{forest, forest_figures, header, reference_scene, setup, RenderBenchOptions, WALL_TIMING};
+use super::render::{forest, forest_figures, header, reference_scene, setup, RenderBenchOptions, WALL_TIMING};
 
 /// Runs only the reference scene and returns its figures.
 pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
@@ -14,7 +14,7 @@ pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
     out.insert("reference_100_trees".into(), reference);
     if options.impostor_pixels > 0.0 || options.leaf_pixels > 0.0 {
         let sim = forest(10, Some(&|i| (i % 8) as u8))?;
-        out.insert("reference_image_vs_full_detail".into(), super::bench_impostor::image_error(&gpu, &mut renderer, &sim)?);
+        out.insert("reference_image_vs_full_detail".into(), super::impostor::image_error(&gpu, &mut renderer, &sim)?);
     }
     Ok(Value::Object(out))
 }
@@ -32,9 +32,9 @@ pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
     );
     out.insert("reference_100_trees".into(), reference);
     out.insert("forest_10k_trees".into(), forest);
-    out.insert("water_test".into(), super::bench_water::water_figures(&gpu, &mut renderer, 30)?);
-    out.insert("grass".into(), super::bench_grass::bench_grass_gpu(&gpu)?);
-    out.insert("park".into(), super::bench_park::park_figures(&gpu, &mut renderer, 30)?);
-    super::bench_impostor::forest_gpu_figures(&gpu, &mut renderer, &mut out)?;
+    out.insert("water_test".into(), super::water::water_figures(&gpu, &mut renderer, 30)?);
+    out.insert("grass".into(), super::grass::bench_grass_gpu(&gpu)?);
+    out.insert("park".into(), super::park::park_figures(&gpu, &mut renderer, 30)?);
+    super::impostor::forest_gpu_figures(&gpu, &mut renderer, &mut out)?;
     Ok(Value::Object(out))
 }

@@ -1,18 +1,18 @@
 //! `grove bench video`: the 5-minute session of the replay benchmark
-//! ([`super::bench_replay::five_minute_session`]: the controller sweeping, planting and removing)
+//! ([`super::replay::five_minute_session`]: the controller sweeping, planting and removing)
 //! written as a 1280 × 720, 30 fps video from the head camera (9,000 frames), timed as a whole,
 //! with the process's memory every 1,000 frames to show that it stays flat.
 
 use std::time::Instant;
 
 use anyhow::anyhow;
-use grove::render::offscreen::{self, Gpu};
-use grove::render::Renderer;
-use grove::video::{self, camera::CameraKind, VideoSpec};
+use crate::render::offscreen::{self, Gpu};
+use crate::render::Renderer;
+use crate::video::{self, camera::CameraKind, VideoSpec};
 use grove_systems::replay::Player;
 use serde_json::{json, Value};
 
-use super::bench_args::status_mib;
+use super::status_mib;
 
 /// The goal: a 5-minute session encoded in at most real time.
 const GOAL_S: f64 = 300.0;
@@ -22,7 +22,7 @@ pub fn bench_video() -> anyhow::Result<Value> {
     eprintln!("bench: a 5-minute session as a 1280x720, 30 fps video");
     let dir = tempfile_dir()?;
     let recording = dir.join("five-minutes.jsonl");
-    grove::atomic_write::write_atomic(&recording, &super::bench_replay::five_minute_session()?)?;
+    crate::atomic_write::write_atomic(&recording, &super::replay::five_minute_session()?)?;
     let open = || Player::open(&recording, &[], &Default::default()).map_err(|e| anyhow!(e));
     let player = open()?;
     let (area, condition) = video::survey(open()?);
@@ -33,7 +33,7 @@ pub fn bench_video() -> anyhow::Result<Value> {
     let spec = VideoSpec { camera: CameraKind::Head, from, to, fps: 30, speed: 1.0, area, who: format!("bench · {condition}"), out: &out };
     let mut rss = Vec::new();
     let started = Instant::now();
-    let cpu0 = crate::desktop::play::process_cpu_seconds();
+    let cpu0 = super::process_cpu_seconds();
     let summary = video::write(&gpu, &mut renderer, player, Vec::new(), &spec, &mut |k| {
         if k % 1000 == 0 {
             rss.push(json!({"frame": k, "rss_mib": (status_mib("VmRSS") * 10.0).round() / 10.0}));
@@ -41,7 +41,7 @@ pub fn bench_video() -> anyhow::Result<Value> {
     })
     .map_err(|e| anyhow!(e))?;
     let wall = started.elapsed().as_secs_f64();
-    let cpu = crate::desktop::play::process_cpu_seconds() - cpu0;
+    let cpu = super::process_cpu_seconds() - cpu0;
     let video_s = summary.frames as f64 / 30.0;
     let _ = std::fs::remove_dir_all(&dir);
     Ok(json!({

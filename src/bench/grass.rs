@@ -21,8 +21,8 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use glam::Vec3;
-use grove::render::offscreen::{self, Gpu};
-use grove::render::Renderer;
+use crate::render::offscreen::{self, Gpu};
+use crate::render::Renderer;
 use grove_systems::components::{Head, Pose};
 use grove_systems::grass::{GrassDef, GrassKind};
 use grove_systems::scene::{CameraDef, PlaneShape, Scene, WindDef};
@@ -33,7 +33,7 @@ use serde_json::{json, Value};
 /// grass patch over all of it.
 fn field(side: f32, cell: f32, grass: GrassDef) -> Scene {
     // The render benchmarks' flat ground, made perfectly flat, in a calmer wind.
-    let mut scene = super::bench_render::ground_scene(side / 2.0, cell);
+    let mut scene = super::render::ground_scene(side / 2.0, cell);
     scene.name = "grass benchmark".into();
     scene.seed = 11;
     scene.planes[0].name = "field".into();
@@ -102,7 +102,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
     }
     let cpu = cpu_start.zip(process_cpu_ms()).map(|(a, b)| (b - a) / frames.max(1) as f64);
     let blades = r.visible_blades().map_err(|e| anyhow!(e))?;
-    let ms = super::bench_args::median(&mut wall);
+    let ms = super::median(&mut wall);
     let mut v = json!({
         "ms_per_frame": ms,
         "fps": 1e3 / ms,
@@ -115,8 +115,8 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
         v["cpu_ms_per_frame"] = json!(cpu);
     }
     if !compute.is_empty() {
-        v["gpu_compute_pass_ms"] = json!(super::bench_args::median(&mut compute));
-        v["gpu_main_pass_ms"] = json!(super::bench_args::median(&mut main));
+        v["gpu_compute_pass_ms"] = json!(super::median(&mut compute));
+        v["gpu_main_pass_ms"] = json!(super::median(&mut main));
     }
     Ok(v)
 }

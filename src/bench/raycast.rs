@@ -14,7 +14,7 @@ use grove_systems::Sim;
 use serde::Serialize;
 use serde_json::Value;
 
-use super::bench_args::{median, time_ms, BenchArgs};
+use super::{median, time_ms, SimOptions};
 
 /// Trees in the raycast benchmark.
 pub const RAYCAST_TREES: usize = 10_000;
@@ -55,7 +55,7 @@ fn unit(state: &mut u64) -> f32 {
 }
 
 /// Runs the raycast benchmark.
-pub fn bench_raycast(args: &BenchArgs) -> anyhow::Result<Value> {
+pub fn bench_raycast(args: &SimOptions) -> anyhow::Result<Value> {
     let scene = super::load_scene(&args.scene)?;
     eprintln!("bench: raycast with {RAYCAST_TREES} trees");
     let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
