@@ -296,9 +296,9 @@ pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[
     let mut sim = Sim::from_scene_with(&scene, header.seed, catalogue)?;
     let mut config = Config::default();
     for (k, v) in &header.config {
-        config.set(k, v)?;
+        config.set(k, v).map_err(|e| e.to_string())?;
     }
-    config.apply(overrides)?;
+    config.apply(overrides).map_err(|e| e.to_string())?;
     sim.res.config = config;
     Ok(sim)
 }

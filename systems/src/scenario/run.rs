@@ -82,7 +82,7 @@ pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), Str
     }
     let mut config = Config::default();
     for (k, v) in &header.config {
-        config.set(k, v)?;
+        config.set(k, v).map_err(|e| e.to_string())?;
     }
     sim.res.config = config;
     Ok((sim, header))
