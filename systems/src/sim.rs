@@ -51,7 +51,7 @@ impl Sim {
             world.spawn((Water::from(w),));
         }
 
-        let utc_ms = parse_utc_ms(&scene.sun.utc)?;
+        let utc_ms = parse_utc_ms(&scene.sun.utc).map_err(|e| e.to_string())?;
         let mut sun = Sun {
             latitude_deg: scene.sun.latitude_deg,
             longitude_deg: scene.sun.longitude_deg,
@@ -61,7 +61,7 @@ impl Sim {
             azimuth_deg: 0.0,
             direction: Vec3::Y,
         };
-        crate::systems::sun::update_sun(&mut sun)?;
+        crate::systems::sun::update_sun(&mut sun).map_err(|e| e.to_string())?;
         world.spawn((sun,));
 
         let w = &scene.wind;
