@@ -158,7 +158,7 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
             Line::Event(e) => {
                 *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
                 super::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m)))?;
-                e.event.validate().map_err(|m| err((Some(n), m)))?;
+                e.event.validate().map_err(|m| err((Some(n), m.to_string())))?;
                 pending.push(e.event);
             }
             Line::Checkpoint(c) => {

@@ -372,7 +372,7 @@ fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), String> {
             finite_point("by", *by)
         }
         Step::Controller { position, rotation } | Step::Head { position, rotation } => {
-            crate::input::InputEvent::ControllerPose { pose: crate::components::Pose { position: *position, rotation: *rotation } }.validate()
+            crate::input::InputEvent::ControllerPose { pose: crate::components::Pose { position: *position, rotation: *rotation } }.validate().map_err(|e| e.to_string())
         }
         Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => Err("touchpad x and y must lie in [-1, 1]".into()),
         Step::WaitUntil { until: Expect::Hash(_), .. } => Err("a world hash cannot be waited for; check it with an Expect step".into()),
