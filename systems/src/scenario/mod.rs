@@ -376,7 +376,7 @@ fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), String> {
         }
         Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => Err("touchpad x and y must lie in [-1, 1]".into()),
         Step::WaitUntil { until: Expect::Hash(_), .. } => Err("a world hash cannot be waited for; check it with an Expect step".into()),
-        Step::WaitUntil { until, .. } | Step::Expect(until) => until.validate(catalogue),
+        Step::WaitUntil { until, .. } | Step::Expect(until) => until.validate(catalogue).map_err(String::from),
         Step::StartTask(id) if crate::task::TaskDef::builtin(id).is_none() => {
             let known: Vec<&str> = crate::task::BUILTIN_TASKS.iter().map(|(n, _)| *n).collect();
             Err(format!("unknown task \"{id}\"; known: {}", known.join(", ")))
