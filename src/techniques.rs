@@ -12,5 +12,5 @@ pub fn plugins() -> Vec<Technique> {
 
 /// Registers every technique for the simulations this process builds. Called once, first thing.
 pub fn install_all() -> Result<(), String> {
-    install(Techniques::with(plugins())?)
+    install(Techniques::with(plugins()).map_err(|e| e.to_string())?).map_err(|e| e.to_string())
 }

@@ -27,7 +27,7 @@ pub fn session_dirs(args: &[PathBuf]) -> Vec<PathBuf> {
 
 /// Opens the banks of a session (see [`session_dirs`]).
 pub fn open_session(args: &[PathBuf]) -> Result<Banks, String> {
-    Banks::open(&session_dirs(args))
+    Ok(Banks::open(&session_dirs(args))?)
 }
 
 /// Opens the banks of a session on a scene: the scene's own banks first, then [`session_dirs`].
@@ -38,7 +38,7 @@ pub fn open_for_scene(scene: &grove_systems::scene::Scene, args: &[PathBuf]) -> 
             dirs.push(d);
         }
     }
-    Banks::open(&dirs)
+    Ok(Banks::open(&dirs)?)
 }
 
 /// The glTF file of every bank model of a session catalogue, with its model id (ids from 8 on,

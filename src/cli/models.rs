@@ -206,7 +206,7 @@ fn check_bank_model(bank: &Bank, m: &BankModel) -> Vec<String> {
     match bank.current_hash(m) {
         Ok(h) if h == m.hash => {}
         Ok(h) => out.push(format!("its files hash to {h}, the catalogue has {}", m.hash)),
-        Err(e) => return vec![e],
+        Err(e) => return vec![e.to_string()],
     }
     match load_checked(&bank.file_of(m)) {
         Ok(data) => out.extend(differences(m.bounds_min, m.bounds_max, m.triangles, Some(&m.pick), &measure(&data))),

@@ -76,7 +76,7 @@ pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<V
     let mut renderer = session_renderer(device, queue, THUMB_FORMAT, THUMB_SIZE, THUMB_SIZE)?;
     let mut views = Vec::new();
     for m in &catalogue.models {
-        let sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false, m.id)?;
+        let sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false, m.id).map_err(|e| e.to_string())?;
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("tree thumbnail"),
             size: wgpu::Extent3d { width: THUMB_SIZE, height: THUMB_SIZE, depth_or_array_layers: 1 },

@@ -106,7 +106,7 @@ impl LiveSession {
     /// Queues an event for the next tick (or a later one, see the module docs). Events with
     /// invalid numbers are refused.
     pub fn queue(&mut self, event: InputEvent) -> Result<(), String> {
-        event.validate()?;
+        event.validate().map_err(|e| e.to_string())?;
         match self.batches.back_mut() {
             Some(batch) if !conflicts(batch, &event) => batch.push(event),
             _ => self.batches.push_back(vec![event]),
@@ -131,7 +131,7 @@ impl LiveSession {
             }
             self.recorded.push(StampedEvent { tick, event: event.clone() });
         }
-        self.sim.step_with(batch)?;
+        self.sim.step_with(batch).map_err(|e| e.to_string())?;
         if let Some(r) = self.recorder.as_mut() {
             r.after_step(&self.sim).map_err(|e| format!("recording: {e}"))?;
         }

@@ -110,7 +110,11 @@ pub struct AerialCrown {
 
 impl AerialDef {
     /// Checks the numbers; a one-line message for the first problem.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::limits::InvalidScene> {
+        self.validate_message().map_err(crate::limits::InvalidScene)
+    }
+
+    fn validate_message(&self) -> Result<(), String> {
         for (name, path) in [("summer", Some(&self.summer)), ("winter", Some(&self.winter)), ("layers", self.layers.as_ref()), ("crowns", self.crowns.as_ref())] {
             if let Some(p) = path {
                 if p.is_empty() || p.len() > 512 || Path::new(p).is_absolute() {
@@ -158,7 +162,11 @@ impl AerialDef {
 /// `radius_m`; others ignored). At most [`MAX_CROWNS_BYTES`] bytes and
 /// [`limits::MAX_SCENE_TREES`] rows; every number finite, non-negative and within the
 /// coordinate limit. Errors are one line naming the file and the row.
-pub fn read_crowns(path: &Path) -> Result<Vec<CrownDef>, String> {
+pub fn read_crowns(path: &Path) -> Result<Vec<CrownDef>, crate::limits::InvalidScene> {
+    read_crowns_message(path).map_err(crate::limits::InvalidScene)
+}
+
+fn read_crowns_message(path: &Path) -> Result<Vec<CrownDef>, String> {
     let name = path.display();
     let text = crate::files::read_text(path, crate::files::Kind::Table).map_err(|e| e.to_string())?;
     parse_crowns(&text).map_err(|e| format!("{name}: {e}"))
@@ -166,7 +174,11 @@ pub fn read_crowns(path: &Path) -> Result<Vec<CrownDef>, String> {
 
 
 /// Parses the text of a crowns file (see [`read_crowns`]).
-pub fn parse_crowns(text: &str) -> Result<Vec<CrownDef>, String> {
+pub fn parse_crowns(text: &str) -> Result<Vec<CrownDef>, crate::limits::InvalidScene> {
+    parse_crowns_message(text).map_err(crate::limits::InvalidScene)
+}
+
+fn parse_crowns_message(text: &str) -> Result<Vec<CrownDef>, String> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().ok_or("empty; a crowns file starts with a header row")?.split(',').map(str::trim).collect();
     let col = |n: &str| header.iter().position(|h| *h == n).ok_or(format!("the header has no '{n}' column"));
@@ -225,7 +237,7 @@ mod tests {
     #[test]
     fn bad_crowns_are_one_line_errors() {
         for bad in ["", "id,x_m,y_m\n1,2,3", "id,x_m,y_m,radius_m\n1,2,x,3", "id,x_m,y_m,radius_m\n1,2,-3,1", "id,x_m,y_m,radius_m\n1.5,2,3,1", "id,x_m,y_m,radius_m\n1,2"] {
-            let e = parse_crowns(bad).unwrap_err();
+            let e = parse_crowns(bad).unwrap_err().to_string();
             assert!(!e.contains('\n'), "{e}");
         }
     }
@@ -251,7 +263,7 @@ mod tests {
             AerialDef { height_per_radius: 100.0, ..def() },
         ];
         for b in bad {
-            let e = b.validate().unwrap_err();
+            let e = b.validate().unwrap_err().to_string();
             assert!(e.starts_with("aerial:") && !e.contains('\n'), "{e}");
         }
     }

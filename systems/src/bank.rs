@@ -21,6 +21,18 @@ use xxhash_rust::xxh3::Xxh3;
 
 use crate::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind, PickShape};
 
+/// Why a model bank, its catalogue, a model's files or the banks a session or a recording
+/// needs could not be used: one line, usually naming the folder or file.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct BankError(pub String);
+
+impl From<BankError> for String {
+    fn from(e: BankError) -> String {
+        e.0
+    }
+}
+
 /// The catalogue file's name inside a bank folder.
 pub const CATALOGUE_FILE: &str = "catalogue.ron";
 /// The environment variable that names extra banks, separated by `:`.
@@ -133,16 +145,24 @@ pub fn valid_name(name: &str) -> bool {
 
 /// The content hash of a model's files: XXH3-64 over each file's relative path, length and
 /// bytes, in the listed order, as 16 hex digits. The error is one line naming the file.
-pub fn content_hash(dir: &Path, files: &[String]) -> Result<String, String> {
+pub fn content_hash(dir: &Path, files: &[String]) -> Result<String, BankError> {
+    content_hash_message(dir, files).map_err(BankError)
+}
+
+fn content_hash_message(dir: &Path, files: &[String]) -> Result<String, String> {
     if let Some(f) = files.iter().find(|f| !is_inside(f)) {
         return Err(format!("{}: file '{f}' is outside the bank", dir.display()));
     }
-    hash_files(files.iter().map(|f| (f.as_str(), dir.join(f))))
+    Ok(hash_files(files.iter().map(|f| (f.as_str(), dir.join(f))))?)
 }
 
 /// The content hash of files given as (name in the bank, where the bytes are now) pairs: the
 /// same value [`content_hash`] gives once they are in the bank under those names.
-pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, String> {
+pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, BankError> {
+    hash_files_message(files).map_err(BankError)
+}
+
+fn hash_files_message<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Result<String, String> {
     let mut h = Xxh3::new();
     for (name, path) in files {
         // A regular file of at most the model-file limit, opened without blocking on a pipe.
@@ -174,7 +194,11 @@ pub fn hash_files<'a>(files: impl IntoIterator<Item = (&'a str, PathBuf)>) -> Re
 impl Bank {
     /// Opens a bank folder. A folder without a catalogue is an empty bank; a missing folder, a
     /// catalogue that does not parse, or one with invalid entries is an error naming the file.
-    pub fn open(dir: &Path) -> Result<Bank, String> {
+    pub fn open(dir: &Path) -> Result<Bank, BankError> {
+        Self::open_message(dir).map_err(BankError)
+    }
+
+    fn open_message(dir: &Path) -> Result<Bank, String> {
         if !dir.is_dir() {
             return Err(format!("{}: not a folder (a model bank is a folder with a {CATALOGUE_FILE})", dir.display()));
         }
@@ -198,15 +222,23 @@ impl Bank {
     }
 
     /// Recomputes a model's content hash from its files now.
-    pub fn current_hash(&self, m: &BankModel) -> Result<String, String> {
-        content_hash(&self.dir, &m.files)
+    pub fn current_hash(&self, m: &BankModel) -> Result<String, BankError> {
+        self.current_hash_message(m).map_err(BankError)
+    }
+
+    fn current_hash_message(&self, m: &BankModel) -> Result<String, String> {
+        Ok(content_hash(&self.dir, &m.files)?)
     }
 }
 
 impl BankCatalogue {
     /// Parses and checks a bank catalogue: unique valid names, files inside the bank, finite
     /// bounds and a valid pick shape.
-    pub fn from_ron(text: &str) -> Result<BankCatalogue, String> {
+    pub fn from_ron(text: &str) -> Result<BankCatalogue, BankError> {
+        Self::from_ron_message(text).map_err(BankError)
+    }
+
+    fn from_ron_message(text: &str) -> Result<BankCatalogue, String> {
         let cat: BankCatalogue = ron::from_str(text).map_err(|e| format!("catalogue: {e}"))?;
         if cat.models.len() > MAX_MODELS {
             return Err(format!("catalogue: more than {MAX_MODELS} models"));
@@ -265,13 +297,21 @@ pub fn bank_dirs(args: &[PathBuf], env: Option<&str>) -> Vec<PathBuf> {
 
 impl Banks {
     /// Opens every folder; the first error is returned.
-    pub fn open(dirs: &[PathBuf]) -> Result<Banks, String> {
+    pub fn open(dirs: &[PathBuf]) -> Result<Banks, BankError> {
+        Self::open_message(dirs).map_err(BankError)
+    }
+
+    fn open_message(dirs: &[PathBuf]) -> Result<Banks, String> {
         Ok(Banks { banks: dirs.iter().map(|d| Bank::open(d)).collect::<Result<_, _>>()? })
     }
 
     /// Every bank model with its bank, in session order; a name that is shipped, or in an earlier
     /// bank with different files, is an error.
-    pub fn models(&self) -> Result<Vec<(&Bank, &BankModel)>, String> {
+    pub fn models(&self) -> Result<Vec<(&Bank, &BankModel)>, BankError> {
+        self.models_message().map_err(BankError)
+    }
+
+    fn models_message(&self) -> Result<Vec<(&Bank, &BankModel)>, String> {
         let shipped = Catalogue::builtin();
         let mut out: Vec<(&Bank, &BankModel)> = Vec::new();
         for b in &self.banks {
@@ -301,7 +341,11 @@ impl Banks {
 
     /// The catalogue of a new session: the shipped models, then every bank model. Also returns
     /// the header list of the added models, for a recording.
-    pub fn session_catalogue(&self) -> Result<(Catalogue, Vec<HeaderModel>), String> {
+    pub fn session_catalogue(&self) -> Result<(Catalogue, Vec<HeaderModel>), BankError> {
+        self.session_catalogue_message().map_err(BankError)
+    }
+
+    fn session_catalogue_message(&self) -> Result<(Catalogue, Vec<HeaderModel>), String> {
         let mut cat = Catalogue::builtin();
         let mut listed = Vec::new();
         for (_, m) in self.models()? {
@@ -314,7 +358,11 @@ impl Banks {
     /// The catalogue a recording was made with: the shipped models, then the header's models in
     /// its order, each found by name in the banks and checked against its content hash now.
     /// A missing or changed model is one line naming it.
-    pub fn catalogue_for(&self, listed: &[HeaderModel]) -> Result<Catalogue, String> {
+    pub fn catalogue_for(&self, listed: &[HeaderModel]) -> Result<Catalogue, BankError> {
+        self.catalogue_for_message(listed).map_err(BankError)
+    }
+
+    fn catalogue_for_message(&self, listed: &[HeaderModel]) -> Result<Catalogue, String> {
         let mut cat = Catalogue::builtin();
         if cat.len() + listed.len() > MAX_MODELS {
             return Err(format!("header lists more than {} models", MAX_MODELS - cat.len()));

@@ -7,6 +7,17 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+/// A model reference the catalogue does not hold: one line listing the known models.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct UnknownModel(pub String);
+
+impl From<UnknownModel> for String {
+    fn from(e: UnknownModel) -> String {
+        e.0
+    }
+}
+
 /// The catalogue that ships with grove, embedded at compile time.
 pub const DEFAULT_CATALOGUE: &str = include_str!("../../assets/trees/catalogue.ron");
 
@@ -204,7 +215,11 @@ impl Catalogue {
     /// The id of the model a reference names, or one line that lists the known names. An index
     /// is accepted only for the shipped models (below [`SHIPPED_MODELS`]): added models are
     /// named, since their index depends on which banks are loaded.
-    pub fn resolve(&self, model: &ModelRef) -> Result<ModelId, String> {
+    pub fn resolve(&self, model: &ModelRef) -> Result<ModelId, UnknownModel> {
+        self.resolve_message(model).map_err(UnknownModel)
+    }
+
+    fn resolve_message(&self, model: &ModelRef) -> Result<ModelId, String> {
         match model {
             ModelRef::Id(id) if (id.0 as usize) < SHIPPED_MODELS && self.get(*id).is_some() => Ok(*id),
             ModelRef::Id(id) => Err(format!(
@@ -258,7 +273,7 @@ mod tests {
         let cat = Catalogue::builtin();
         assert_eq!(cat.resolve(&ModelRef::Name("birch-mesh".into())), Ok(ModelId(2)));
         assert_eq!(cat.resolve(&ModelRef::Id(ModelId(7))), Ok(ModelId(7)));
-        let e = cat.resolve(&ModelRef::Name("flower".into())).unwrap_err();
+        let e = cat.resolve(&ModelRef::Name("flower".into())).unwrap_err().to_string();
         assert!(e.contains("unknown model 'flower'") && e.contains("broadleaf-mesh") && e.contains("shrub-billboard"), "{e}");
         assert!(cat.resolve(&ModelRef::Id(ModelId(8))).is_err());
         // JSON: a number is an index, a string a name.

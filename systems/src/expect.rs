@@ -14,6 +14,17 @@ use crate::hash::hex;
 use crate::sim::Sim;
 use crate::targets::{ground_distance, Names, TreeRef};
 
+/// Why an expectation's names or numbers are refused ([`Expect::validate`]): one line.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidExpect(pub String);
+
+impl From<InvalidExpect> for String {
+    fn from(e: InvalidExpect) -> String {
+        e.0
+    }
+}
+
 /// The anchor ball as a participant sees it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Ball {
@@ -119,7 +130,11 @@ impl Expect {
 
     /// Checks the names and numbers an expectation carries against a catalogue: known models and
     /// log kinds, finite non-negative distances, a hash of 16 hex digits (or empty).
-    pub fn validate(&self, catalogue: &Catalogue) -> Result<(), String> {
+    pub fn validate(&self, catalogue: &Catalogue) -> Result<(), InvalidExpect> {
+        self.validate_message(catalogue).map_err(InvalidExpect)
+    }
+
+    fn validate_message(&self, catalogue: &Catalogue) -> Result<(), String> {
         let model = |m: &str| if catalogue.by_name(m).is_some() { Ok(()) } else { Err(catalogue.unknown_name(m)) };
         match self {
             Expect::TreeNear { model: m, point, within } => {

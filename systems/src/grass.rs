@@ -128,7 +128,11 @@ pub struct Blade {
 impl GrassDef {
     /// Checks the patch against the scene's planes; returns a one-line message for the first
     /// problem (the caller names the patch).
-    pub fn validate(&self, planes: &[PlaneOutline<'_>]) -> Result<(), String> {
+    pub fn validate(&self, planes: &[PlaneOutline<'_>]) -> Result<(), crate::limits::InvalidScene> {
+        self.validate_message(planes).map_err(crate::limits::InvalidScene)
+    }
+
+    fn validate_message(&self, planes: &[PlaneOutline<'_>]) -> Result<(), String> {
         let nums = [self.density, self.height.0, self.height.1];
         let colours = [self.base_color.to_array(), self.tip_color.to_array()].concat();
         if !nums.iter().chain(&colours).all(|v| v.is_finite()) || !self.polygon.iter().all(|p| p.is_finite()) {
@@ -209,7 +213,11 @@ pub fn bounds(points: impl Iterator<Item = Vec2>) -> (Vec2, Vec2) {
 
 /// Checks a scene's grass section: the number of patches, each patch, and the blades of all
 /// patches together.
-pub fn validate_all(grass: &[GrassDef], planes: &[PlaneOutline<'_>]) -> Result<(), String> {
+pub fn validate_all(grass: &[GrassDef], planes: &[PlaneOutline<'_>]) -> Result<(), crate::limits::InvalidScene> {
+    validate_all_message(grass, planes).map_err(crate::limits::InvalidScene)
+}
+
+fn validate_all_message(grass: &[GrassDef], planes: &[PlaneOutline<'_>]) -> Result<(), String> {
     if grass.len() > limits::MAX_GRASS_PATCHES {
         return Err(format!("{} grass patches is more than the limit of {} per scene ({RAISE})", grass.len(), limits::MAX_GRASS_PATCHES));
     }

@@ -103,35 +103,61 @@ impl InputEvent {
 
     /// Checks the numbers an event carries: poses and axes must be finite, axes within [−1, 1],
     /// and rotations close to unit length.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), InvalidEvent> {
         match self {
             InputEvent::ControllerPose { pose } | InputEvent::HeadPose { pose } => {
                 if !pose.is_finite() {
-                    return Err("pose has a NaN or infinite number".into());
+                    return Err(InvalidEvent::PoseNotFinite);
                 }
                 let len = pose.rotation.length();
                 if (len - 1.0).abs() > 1e-3 {
-                    return Err(format!("pose rotation is not a unit quaternion (length {len})"));
+                    return Err(InvalidEvent::RotationNotUnit(len));
                 }
                 if pose.position.abs().max_element() > 1.0e5 {
-                    return Err("pose position is more than 100 km from the origin".into());
+                    return Err(InvalidEvent::PoseTooFar);
                 }
                 Ok(())
             }
             InputEvent::TouchpadAxes { axes } => {
                 if !axes.is_finite() {
-                    Err("touchpad axes have a NaN or infinite number".into())
+                    Err(InvalidEvent::AxesNotFinite)
                 } else if axes.abs().max_element() > 1.0 {
-                    Err("touchpad axes outside [-1, 1]".into())
+                    Err(InvalidEvent::AxesOutOfRange)
                 } else {
                     Ok(())
                 }
             }
-            InputEvent::StartTask { task } if task.is_empty() => Err("empty task id".into()),
-            InputEvent::SwitchTechnique { technique } if technique.is_empty() || technique.len() > 64 => Err("technique name must have 1 to 64 characters".into()),
+            InputEvent::StartTask { task } if task.is_empty() => Err(InvalidEvent::EmptyTask),
+            InputEvent::SwitchTechnique { technique } if technique.is_empty() || technique.len() > 64 => Err(InvalidEvent::TechniqueName),
             _ => Ok(()),
         }
     }
+}
+
+/// Why an input event's numbers or names are refused ([`InputEvent::validate`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InvalidEvent {
+    /// A pose with a NaN or infinite number.
+    #[error("pose has a NaN or infinite number")]
+    PoseNotFinite,
+    /// A rotation that is not a unit quaternion; its length.
+    #[error("pose rotation is not a unit quaternion (length {0})")]
+    RotationNotUnit(f32),
+    /// A pose more than 100 km from the origin.
+    #[error("pose position is more than 100 km from the origin")]
+    PoseTooFar,
+    /// Touchpad axes with a NaN or infinite number.
+    #[error("touchpad axes have a NaN or infinite number")]
+    AxesNotFinite,
+    /// Touchpad axes outside [−1, 1].
+    #[error("touchpad axes outside [-1, 1]")]
+    AxesOutOfRange,
+    /// A task start with an empty id.
+    #[error("empty task id")]
+    EmptyTask,
+    /// A technique name that is empty or longer than 64 characters.
+    #[error("technique name must have 1 to 64 characters")]
+    TechniqueName,
 }
 
 /// An input event stamped with the tick at which it applies.

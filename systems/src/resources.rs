@@ -75,9 +75,47 @@ config_fields! {
 impl Config {
     /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`
     /// (a recording header's `config` entry): [`Override::new`], then [`Config::apply`].
-    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), ConfigError> {
         self.apply(&[Override::new(name, value)?])
     }
+}
+
+/// Why a config parameter or a set of overrides was refused.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    /// The name is not one of [`Config::NAMES`].
+    #[error("unknown parameter '{name}'; known: {}", Config::NAMES.join(", "))]
+    Unknown {
+        /// The name as written.
+        name: String,
+    },
+    /// The value does not parse as a number.
+    #[error("{name}: '{text}' is not a number")]
+    NotANumber {
+        /// The parameter.
+        name: &'static str,
+        /// The value as written.
+        text: String,
+    },
+    /// The value is infinite, NaN or negative.
+    #[error("{name}: '{text}' must be a finite, non-negative number")]
+    OutOfRange {
+        /// The parameter.
+        name: &'static str,
+        /// The value as written.
+        text: String,
+    },
+    /// An argument without `=`.
+    #[error("{0}: expected NAME=VALUE")]
+    NotNameValue(String),
+    /// Together the overrides put `min_scale` above `max_scale`.
+    #[error("min_scale {min} is above max_scale {max}")]
+    ScaleOrder {
+        /// The resulting `min_scale`.
+        min: f32,
+        /// The resulting `max_scale`.
+        max: f32,
+    },
 }
 
 /// One `--set NAME=VALUE`, parsed once: a known parameter and its checked value.
@@ -94,29 +132,29 @@ pub struct Override {
 impl Override {
     /// The one place a parameter's text is read: `name` must be one of [`Config::NAMES`] and
     /// `text` a finite, non-negative number.
-    pub fn new(name: &str, text: &str) -> Result<Override, String> {
+    pub fn new(name: &str, text: &str) -> Result<Override, ConfigError> {
         let (name, text) = (name.trim(), text.trim());
         let name = Config::NAMES
             .iter()
             .copied()
             .find(|n| *n == name)
-            .ok_or_else(|| format!("unknown parameter '{name}'; known: {}", Config::NAMES.join(", ")))?;
-        let value: f32 = text.parse().map_err(|_| format!("{name}: '{text}' is not a number"))?;
+            .ok_or_else(|| ConfigError::Unknown { name: name.to_string() })?;
+        let value: f32 = text.parse().map_err(|_| ConfigError::NotANumber { name, text: text.to_string() })?;
         if !value.is_finite() || value < 0.0 {
-            return Err(format!("{name}: '{text}' must be a finite, non-negative number"));
+            return Err(ConfigError::OutOfRange { name, text: text.to_string() });
         }
         Ok(Override { name, value, text: text.to_string() })
     }
 
     /// Parses `NAME=VALUE` ([`Override::new`]).
-    pub fn parse(arg: &str) -> Result<Override, String> {
-        let (name, text) = arg.split_once('=').ok_or_else(|| format!("{arg}: expected NAME=VALUE"))?;
+    pub fn parse(arg: &str) -> Result<Override, ConfigError> {
+        let (name, text) = arg.split_once('=').ok_or_else(|| ConfigError::NotNameValue(arg.to_string()))?;
         Override::new(name, text)
     }
 
     /// Parses every `NAME=VALUE`, checking that together they keep `min_scale` at or below
     /// `max_scale`.
-    pub fn parse_all<S: AsRef<str>>(args: &[S]) -> Result<Vec<Override>, String> {
+    pub fn parse_all<S: AsRef<str>>(args: &[S]) -> Result<Vec<Override>, ConfigError> {
         let all = args.iter().map(|a| Override::parse(a.as_ref())).collect::<Result<Vec<_>, _>>()?;
         Config::default().apply(&all)?;
         Ok(all)
@@ -125,14 +163,14 @@ impl Override {
 
 impl Config {
     /// Applies parsed overrides in order.
-    pub fn apply(&mut self, overrides: &[Override]) -> Result<(), String> {
+    pub fn apply(&mut self, overrides: &[Override]) -> Result<(), ConfigError> {
         for o in overrides {
             if let Some(field) = self.field_mut(o.name) {
                 *field = o.value;
             }
         }
         if self.min_scale > self.max_scale {
-            return Err(format!("min_scale {} is above max_scale {}", self.min_scale, self.max_scale));
+            return Err(ConfigError::ScaleOrder { min: self.min_scale, max: self.max_scale });
         }
         Ok(())
     }

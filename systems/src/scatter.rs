@@ -103,7 +103,11 @@ impl ScatterDef {
     /// allocated: the polygon's own area (not its bounding box) over the spacing bounds the
     /// trees, and the bounding box over the spacing bounds the sampling grid. Returns a one-line
     /// message for the first problem.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::limits::InvalidScene> {
+        self.validate_message().map_err(crate::limits::InvalidScene)
+    }
+
+    fn validate_message(&self) -> Result<(), String> {
         if self.models.is_empty() {
             return Err("a scatter needs at least one model".into());
         }
@@ -175,7 +179,11 @@ impl ScatterDef {
     }
 
     /// The trees of this scatter (positions at height 0, put on the ground when spawned).
-    pub fn trees(&self) -> Result<Vec<TreeDef>, String> {
+    pub fn trees(&self) -> Result<Vec<TreeDef>, crate::limits::InvalidScene> {
+        self.trees_message().map_err(crate::limits::InvalidScene)
+    }
+
+    fn trees_message(&self) -> Result<Vec<TreeDef>, String> {
         self.validate()?;
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         let noise = Perlin::new(self.seed as u32 ^ (self.seed >> 32) as u32);
@@ -306,17 +314,17 @@ mod tests {
     fn hostile_scatters_are_refused_before_any_allocation() {
         // Collinear points: no area, whatever the spacing.
         let line = vec![Vec2::ZERO, Vec2::new(1000.0, 0.0), Vec2::new(2000.0, 0.0)];
-        let e = ScatterDef { boundary: line, spacing: 1e-9, ..def(1.0, 0.0) }.validate().unwrap_err();
+        let e = ScatterDef { boundary: line, spacing: 1e-9, ..def(1.0, 0.0) }.validate().unwrap_err().to_string();
         assert!(e.contains("spacing"), "{e}");
         let line = vec![Vec2::ZERO, Vec2::new(1000.0, 0.0), Vec2::new(2000.0, 0.0)];
-        let e = ScatterDef { boundary: line, ..def(1.0, 0.0) }.validate().unwrap_err();
+        let e = ScatterDef { boundary: line, ..def(1.0, 0.0) }.validate().unwrap_err().to_string();
         assert!(e.contains("no area"), "{e}");
         // A sliver: a tiny area but a huge bounding box at a small spacing.
         let sliver = vec![Vec2::ZERO, Vec2::new(1.0e4, 1.0e4), Vec2::new(1.0e4, 1.0e4 + 0.01)];
-        let e = ScatterDef { boundary: sliver, spacing: 0.05, ..def(1.0, 0.0) }.validate().unwrap_err();
+        let e = ScatterDef { boundary: sliver, spacing: 0.05, ..def(1.0, 0.0) }.validate().unwrap_err().to_string();
         assert!(e.contains("cells"), "{e}");
         for bad in [ScatterDef { feature: 1e-30, ..def(1.0, 0.0) }, ScatterDef { scale: (1e30, 1e30), ..def(1.0, 0.0) }, ScatterDef { coverage: 2.0, ..def(1.0, 0.0) }] {
-            let e = bad.validate().unwrap_err();
+            let e = bad.validate().unwrap_err().to_string();
             assert!(e.contains("within"), "{e}");
         }
         assert_eq!(polygon_area(&square(40.0)), 1600.0);

@@ -12,6 +12,7 @@ use noise::{NoiseFn, Perlin};
 use serde::{Deserialize, Serialize};
 
 use crate::limits::{self, MAX_COORD, RAISE};
+pub use crate::limits::InvalidScene;
 
 /// Scenes that ship with grove, embedded at compile time: `(name, RON text)`. A replay header
 /// may name one of these instead of a path.
@@ -218,7 +219,7 @@ impl Scene {
             file: file.to_string(),
             message: format!("line {}, column {}: {}", e.span.start.line, e.span.start.col, e.code),
         })?;
-        scene.validate().map_err(|message| SceneError { file: file.to_string(), message })?;
+        scene.validate().map_err(|e| SceneError { file: file.to_string(), message: e.0 })?;
         Ok(scene)
     }
 
@@ -227,7 +228,11 @@ impl Scene {
     /// be finite and within ±[`MAX_COORD`] metres, so no library ever sees a value it cannot
     /// handle, and the cells, holes, planes and trees are bounded, so building the scene takes
     /// bounded time and memory.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), InvalidScene> {
+        self.validate_message().map_err(InvalidScene)
+    }
+
+    fn validate_message(&self) -> Result<(), String> {
         let finite = |what: &str, ok: bool| if ok { Ok(()) } else { Err(format!("{what} has a NaN or infinite number")) };
         let near = |what: &str, v: &[f32]| {
             finite(what, v.iter().all(|x| x.is_finite()))?;
@@ -398,9 +403,19 @@ pub fn io_message(e: &std::io::Error) -> String {
     }
 }
 
+/// A time that is not RFC 3339.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("'{text}' is not an RFC 3339 time ({reason})")]
+pub struct TimeError {
+    /// The text as written.
+    pub text: String,
+    /// What the parser said.
+    pub reason: String,
+}
+
 /// Parses an RFC 3339 UTC time into milliseconds since the Unix epoch.
-pub fn parse_utc_ms(text: &str) -> Result<i64, String> {
-    let t = chrono::DateTime::parse_from_rfc3339(text.trim()).map_err(|e| format!("'{text}' is not an RFC 3339 time ({e})"))?;
+pub fn parse_utc_ms(text: &str) -> Result<i64, TimeError> {
+    let t = chrono::DateTime::parse_from_rfc3339(text.trim()).map_err(|e| TimeError { text: text.to_string(), reason: e.to_string() })?;
     Ok(t.timestamp_millis())
 }
 

@@ -64,7 +64,7 @@ impl Script {
     }
 
     /// Queues one event for the next tick and records it, or says why it is invalid.
-    pub fn try_push(&mut self, event: InputEvent) -> Result<&mut Self, String> {
+    pub fn try_push(&mut self, event: InputEvent) -> Result<&mut Self, crate::input::InvalidEvent> {
         let tick = self.sim.res.tick;
         event.validate()?;
         self.pending.push(event.clone());

@@ -26,10 +26,10 @@ pub enum SetUpError {
     NoComponent(Entity, &'static str),
     /// A time of day that does not parse.
     #[error("sun time: {0}")]
-    Utc(String),
+    Utc(crate::scene::TimeError),
     /// The sun's position could not be computed.
     #[error("sun position: {0}")]
-    Sun(String),
+    Sun(crate::systems::sun::SunError),
 }
 
 /// Typed set-up changes to a simulation: see the module documentation.

@@ -7,12 +7,43 @@ use rand::RngExt;
 use crate::catalogue::{Catalogue, ModelId};
 use crate::components::*;
 use crate::hash::{world_hash, WorldHash};
-use crate::input::InputEvent;
+use crate::input::{InputEvent, InvalidEvent};
+use crate::limits::InvalidScene;
 use crate::resources::Resources;
-use crate::scene::{parse_utc_ms, plane_geometry, Scene};
+use crate::scene::{parse_utc_ms, plane_geometry, Scene, TimeError};
+use crate::systems::sun::SunError;
 use crate::water::Water;
 
 pub use crate::components::{tree_components, TreeComponents};
+
+/// Why a simulation could not be built from a scene, or an input event was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The scene's model banks could not be opened.
+    #[error("{0}")]
+    Banks(String),
+    /// The scene is invalid.
+    #[error("{0}")]
+    Scene(#[from] InvalidScene),
+    /// The sun's time does not parse.
+    #[error("{0}")]
+    Time(#[from] TimeError),
+    /// The sun's position could not be computed.
+    #[error("{0}")]
+    Sun(#[from] SunError),
+    /// A part of the scene (`tree 3`, `scatter 0`, `aerial`) names a model the catalogue lacks,
+    /// or could not be built.
+    #[error("{part}: {message}")]
+    Part {
+        /// The part, as the scene's messages name it.
+        part: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An input event with invalid numbers or names.
+    #[error("{0}")]
+    Event(#[from] InvalidEvent),
+}
 
 /// A running simulation: the hecs world and its resources.
 pub struct Sim {
@@ -28,16 +59,17 @@ pub struct Sim {
 impl Sim {
     /// Builds the world a scene describes, with the embedded model catalogue and the models of
     /// the scene's own banks ([`Scene::banks`]), if it names any.
-    pub fn from_scene(scene: &Scene, seed: u64) -> Result<Sim, String> {
+    pub fn from_scene(scene: &Scene, seed: u64) -> Result<Sim, SimError> {
         if scene.banks.is_empty() {
             return Sim::from_scene_with(scene, seed, Catalogue::builtin());
         }
-        let (catalogue, _) = crate::bank::Banks::open(&scene.bank_dirs())?.session_catalogue()?;
+        let banks = crate::bank::Banks::open(&scene.bank_dirs()).map_err(|e| SimError::Banks(e.to_string()))?;
+        let (catalogue, _) = banks.session_catalogue().map_err(|e| SimError::Banks(e.to_string()))?;
         Sim::from_scene_with(scene, seed, catalogue)
     }
 
     /// Builds the world a scene describes, with a given catalogue.
-    pub fn from_scene_with(scene: &Scene, seed: u64, catalogue: Catalogue) -> Result<Sim, String> {
+    pub fn from_scene_with(scene: &Scene, seed: u64, catalogue: Catalogue) -> Result<Sim, SimError> {
         scene.validate()?;
         let mut world = World::new();
         let mut res = Resources::new(scene.dt, seed, catalogue);
@@ -94,18 +126,18 @@ impl Sim {
                 .catalogue
                 .by_name(&t.model)
                 .map(|m| m.id)
-                .ok_or_else(|| format!("tree {i}: {}", sim.res.catalogue.unknown_name(&t.model)))?;
+                .ok_or_else(|| SimError::Part { part: format!("tree {i}"), message: sim.res.catalogue.unknown_name(&t.model) })?;
             sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
         }
         let water = crate::water::bodies(&sim.world);
         for (k, sc) in scene.scatter.iter().enumerate() {
-            for t in sc.trees().map_err(|e| format!("scatter {k}: {e}"))? {
+            for t in sc.trees().map_err(|e| SimError::Part { part: format!("scatter {k}"), message: e.0 })? {
                 // A scattered position with no ground below (a hole), or only a pond's bed,
                 // gets no tree.
                 if crate::water::dry_ground(&water, sim.res.spatial.ground_below(t.position, 1.0e3)).is_none() {
                     continue;
                 }
-                let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| format!("scatter {k}: {}", sim.res.catalogue.unknown_name(&t.model)))?;
+                let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| SimError::Part { part: format!("scatter {k}"), message: sim.res.catalogue.unknown_name(&t.model) })?;
                 sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
             }
         }
@@ -119,14 +151,14 @@ impl Sim {
         // same entities as before: a tree of the aerial model at each crown, scaled to its
         // radius, tied to its crown by an `AerialCrown` component.
         if let Some(a) = &scene.aerial {
-            let model = sim.res.catalogue.by_name(&a.model).ok_or_else(|| format!("aerial: {}", sim.res.catalogue.unknown_name(&a.model)))?;
+            let model = sim.res.catalogue.by_name(&a.model).ok_or_else(|| SimError::Part { part: "aerial".into(), message: sim.res.catalogue.unknown_name(&a.model) })?;
             let (id, crown_radius) = (model.id, model.crown_radius.max(0.01));
             for c in a.crown_list.iter().filter(|c| c.radius_m >= a.min_radius_m) {
                 let crown = a.crown(c);
                 let pos = Vec3::new(crown.photo_centre.x, a.elevation, crown.photo_centre.y);
                 let yaw = (c.id as f32 * 137.507_76).rem_euclid(360.0).to_radians();
                 let e = sim.spawn_tree(id, pos, yaw, (c.radius_m / crown_radius).clamp(0.3, 3.0), true);
-                sim.world.insert_one(e, crown).map_err(|e| format!("aerial: {e}"))?;
+                sim.world.insert_one(e, crown).map_err(|e| SimError::Part { part: "aerial".into(), message: e.to_string() })?;
             }
         }
         Ok(sim)
@@ -171,7 +203,7 @@ impl Sim {
     }
 
     /// Queues an input event for the next tick. Invalid numbers are rejected.
-    pub fn push_input(&mut self, event: InputEvent) -> Result<(), String> {
+    pub fn push_input(&mut self, event: InputEvent) -> Result<(), InvalidEvent> {
         event.validate()?;
         self.res.input.push(event);
         Ok(())
@@ -180,7 +212,7 @@ impl Sim {
     /// Applies this tick's input events and runs one fixed step: the one way every driver (the
     /// live session, the replay viewer, scripts, the recorder) advances the world. Stops at the
     /// first invalid event, before stepping.
-    pub fn step_with<I: IntoIterator<Item = InputEvent>>(&mut self, events: I) -> Result<(), String> {
+    pub fn step_with<I: IntoIterator<Item = InputEvent>>(&mut self, events: I) -> Result<(), InvalidEvent> {
         for event in events {
             self.push_input(event)?;
         }

@@ -28,7 +28,7 @@ pub fn frame_bounds(min: Vec3, max: Vec3, fov_y: f32, aspect: f32) -> (Vec3, Vec
 /// [`frame_bounds`], a 40° field of view for an image of `aspect` width over height); with
 /// `with_hole`, a hole in the plane to the camera's right. `bounds` are the model's, in model
 /// space, metres. The catalogue holds one entry, `model`, with those bounds.
-pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: ModelId) -> Result<Sim, String> {
+pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: ModelId) -> Result<Sim, crate::sim::SimError> {
     let (min, max) = bounds;
     let size = (max - min).max_element().max(0.1);
     let half = size * 1.5;

@@ -56,9 +56,24 @@ fn yes() -> bool {
     true
 }
 
+/// Why a task file was refused: one line.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct TaskError(pub String);
+
+impl From<TaskError> for String {
+    fn from(e: TaskError) -> String {
+        e.0
+    }
+}
+
 impl TaskDef {
     /// Parses and checks a task file against a catalogue.
-    pub fn from_ron(text: &str, catalogue: &Catalogue) -> Result<TaskDef, String> {
+    pub fn from_ron(text: &str, catalogue: &Catalogue) -> Result<TaskDef, TaskError> {
+        Self::from_ron_message(text, catalogue).map_err(TaskError)
+    }
+
+    fn from_ron_message(text: &str, catalogue: &Catalogue) -> Result<TaskDef, String> {
         let def: TaskDef = ron::from_str(text).map_err(|e| format!("line {}, column {}: {}", e.span.start.line, e.span.start.col, e.code))?;
         if def.targets.is_empty() {
             return Err("a task needs at least one target".into());

@@ -198,14 +198,14 @@ impl Registry<Technique> {
 
     /// The built-in techniques and these plug-ins. A name registered twice, an empty name or
     /// one with characters other than lowercase letters, digits and `-` is refused.
-    pub fn with(plugins: Vec<Technique>) -> Result<Techniques, String> {
+    pub fn with(plugins: Vec<Technique>) -> Result<Techniques, TechniqueError> {
         let mut all = vec![Technique::ray_casting(), Technique::manual()];
         for t in plugins {
             if t.name.is_empty() || !t.name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-') {
-                return Err(format!("technique name '{}' must be lowercase letters, digits and '-'", t.name.escape_debug()));
+                return Err(TechniqueError::BadName(t.name.to_string()));
             }
             if all.iter().any(|k| k.name == t.name) {
-                return Err(format!("technique '{}' is registered twice", t.name));
+                return Err(TechniqueError::Twice(t.name.to_string()));
             }
             all.push(t);
         }
@@ -218,12 +218,26 @@ impl Registry<Technique> {
     }
 }
 
+/// Why a technique list or its installation was refused.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TechniqueError {
+    /// A name that is empty or has characters other than lowercase letters, digits and `-`.
+    #[error("technique name '{}' must be lowercase letters, digits and '-'", .0.escape_debug())]
+    BadName(String),
+    /// A name registered twice.
+    #[error("technique '{0}' is registered twice")]
+    Twice(String),
+    /// [`install`] called a second time.
+    #[error("the techniques are already installed")]
+    AlreadyInstalled,
+}
+
 static INSTALLED: OnceLock<Techniques> = OnceLock::new();
 
 /// Registers the app's techniques for every simulation built afterwards. Once per process; a
 /// second call is refused.
-pub fn install(techniques: Techniques) -> Result<(), String> {
-    INSTALLED.set(techniques).map_err(|_| "the techniques are already installed".to_string())
+pub fn install(techniques: Techniques) -> Result<(), TechniqueError> {
+    INSTALLED.set(techniques).map_err(|_| TechniqueError::AlreadyInstalled)
 }
 
 /// The installed techniques, or only the built-in ones if [`install`] was never called.
@@ -251,9 +265,9 @@ mod tests {
 
     #[test]
     fn duplicate_and_malformed_names_are_refused() {
-        assert!(Techniques::with(vec![plugin("manual")]).unwrap_err().contains("twice"));
+        assert!(Techniques::with(vec![plugin("manual")]).unwrap_err().to_string().contains("twice"));
         assert!(Techniques::with(vec![plugin("a"), plugin("a")]).is_err());
-        assert!(Techniques::with(vec![plugin("Gaze Dwell")]).unwrap_err().contains("lowercase"));
+        assert!(Techniques::with(vec![plugin("Gaze Dwell")]).unwrap_err().to_string().contains("lowercase"));
         assert!(Techniques::with(vec![plugin("")]).is_err());
         assert!(Techniques::builtin().unknown("x").contains("registered: ray-casting, manual"));
     }

@@ -81,7 +81,11 @@ impl From<&WaterDef> for Water {
 
 impl WaterDef {
     /// Checks one water body; the message names it and the first problem.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::limits::InvalidScene> {
+        self.validate_message().map_err(crate::limits::InvalidScene)
+    }
+
+    fn validate_message(&self) -> Result<(), String> {
         let what = format!("water '{}'", self.name.escape_debug());
         let n = self.polygon.len();
         if n < 3 {
@@ -124,11 +128,15 @@ impl WaterDef {
 }
 
 /// Checks a scene's water list: the count limit, then each body.
-pub fn validate_all(water: &[WaterDef]) -> Result<(), String> {
+pub fn validate_all(water: &[WaterDef]) -> Result<(), crate::limits::InvalidScene> {
+    validate_all_message(water).map_err(crate::limits::InvalidScene)
+}
+
+fn validate_all_message(water: &[WaterDef]) -> Result<(), String> {
     if water.len() > limits::MAX_WATER_BODIES {
         return Err(format!("{} water bodies is more than the limit of {} per scene ({RAISE})", water.len(), limits::MAX_WATER_BODIES));
     }
-    water.iter().try_for_each(WaterDef::validate)
+    Ok(water.iter().try_for_each(WaterDef::validate)?)
 }
 
 /// Twice the signed area of a polygon (shoelace), positive when counter-clockwise in (X, Z).

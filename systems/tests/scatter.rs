@@ -38,7 +38,7 @@ fn bad_scatters_are_refused_with_a_message() {
     let bad = text.replacen("spacing: 1.1,", "spacing: 0.0,", 1);
     let scene = Scene::parse(&bad, "garden.ron");
     let msg = match scene {
-        Ok(s) => s.validate().unwrap_err(),
+        Ok(s) => s.validate().unwrap_err().to_string(),
         Err(e) => e.message,
     };
     assert!(msg.contains("scatter 0") && msg.contains("spacing"), "{msg}");

@@ -181,7 +181,7 @@ fn bad_water_fields_give_one_clear_line() {
     for (w, needle) in cases {
         let mut scene = pond_scene();
         scene.water = vec![w];
-        let e = scene.validate().expect_err(needle);
+        let e = scene.validate().expect_err(needle).to_string();
         assert!(e.contains(needle) && e.contains("water 'p'") && !e.contains('\n'), "{e}");
     }
 }

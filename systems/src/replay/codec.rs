@@ -147,7 +147,7 @@ fn event_from_value(v: serde_json::Value) -> Result<InputEvent, String> {
         return Err(format!("unknown field `{}` in an event of kind `{kind}`, which has no fields", extra.escape_debug()));
     }
     let event: InputEvent = serde_json::from_value(v).map_err(serde_message)?;
-    event.validate()?;
+    event.validate().map_err(|e| e.to_string())?;
     Ok(event)
 }
 
@@ -188,7 +188,7 @@ fn parse_body(body: &str) -> Result<Line, String> {
             && e.event.kind == "controller_pose"
         {
             let event = InputEvent::ControllerPose { pose: e.event.pose };
-            event.validate()?;
+            event.validate().map_err(|e| e.to_string())?;
             return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
         }
         let e: TaggedEvent = serde_json::from_str(body).map_err(serde_message)?;
@@ -210,7 +210,7 @@ fn parse_body(body: &str) -> Result<Line, String> {
         // Read the event again from its JSON object, for the checks `event_from_value` makes.
         let v: serde_json::Value = serde_json::from_str(body).map_err(serde_message)?;
         event_from_value(v.get("event").cloned().unwrap_or_default())?;
-        ev.event.validate()?;
+        ev.event.validate().map_err(|e| e.to_string())?;
     }
     Ok(line)
 }

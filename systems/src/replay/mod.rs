@@ -293,12 +293,12 @@ pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[
     if (scene.dt - header.dt).abs() > 1e-9 {
         return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
     }
-    let mut sim = Sim::from_scene_with(&scene, header.seed, catalogue)?;
+    let mut sim = Sim::from_scene_with(&scene, header.seed, catalogue).map_err(|e| e.to_string())?;
     let mut config = Config::default();
     for (k, v) in &header.config {
-        config.set(k, v)?;
+        config.set(k, v).map_err(|e| e.to_string())?;
     }
-    config.apply(overrides)?;
+    config.apply(overrides).map_err(|e| e.to_string())?;
     sim.res.config = config;
     Ok(sim)
 }
@@ -327,7 +327,7 @@ pub fn record_events_in<W: Write>(out: W, header: &Header, events: &[StampedEven
         if i < events.len() && events[i].tick < sim.res.tick {
             return Err(format!("event {i} is stamped tick {} but the recording is at tick {}", events[i].tick, sim.res.tick));
         }
-        sim.step_with(events[start..i].iter().map(|e| e.event.clone()))?;
+        sim.step_with(events[start..i].iter().map(|e| e.event.clone())).map_err(|e| e.to_string())?;
         rec.after_step(&sim).map_err(|e| e.to_string())?;
     }
     rec.finish(&sim, summary).map_err(|e| e.to_string())

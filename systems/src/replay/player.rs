@@ -35,7 +35,7 @@ impl Player {
         while let Some(checked) = lines.next().map_err(err)? {
             match checked.line {
                 Line::Event(e) => {
-                    e.event.validate().map_err(|m| err((Some(checked.number), m)))?;
+                    e.event.validate().map_err(|m| err((Some(checked.number), m.to_string())))?;
                     events.push(StampedEvent { tick: e.tick, event: e.event });
                 }
                 Line::Footer(f) => final_tick = Some(f.final_tick),

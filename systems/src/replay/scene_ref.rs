@@ -84,7 +84,7 @@ fn load(path: &Path, shown: &str) -> Result<Scene, String> {
         p.name = format!("#{}", i + 1);
     }
     match anonymous.validate() {
-        Err(m) if m.contains("limit") => Err(format!("scene {shown}: {m}")),
+        Err(m) if m.0.contains("limit") => Err(format!("scene {shown}: {m}")),
         _ => Err(generic(String::new())),
     }
 }

@@ -372,11 +372,11 @@ fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), String> {
             finite_point("by", *by)
         }
         Step::Controller { position, rotation } | Step::Head { position, rotation } => {
-            crate::input::InputEvent::ControllerPose { pose: crate::components::Pose { position: *position, rotation: *rotation } }.validate()
+            crate::input::InputEvent::ControllerPose { pose: crate::components::Pose { position: *position, rotation: *rotation } }.validate().map_err(|e| e.to_string())
         }
         Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => Err("touchpad x and y must lie in [-1, 1]".into()),
         Step::WaitUntil { until: Expect::Hash(_), .. } => Err("a world hash cannot be waited for; check it with an Expect step".into()),
-        Step::WaitUntil { until, .. } | Step::Expect(until) => until.validate(catalogue),
+        Step::WaitUntil { until, .. } | Step::Expect(until) => until.validate(catalogue).map_err(String::from),
         Step::StartTask(id) if crate::task::TaskDef::builtin(id).is_none() => {
             let known: Vec<&str> = crate::task::BUILTIN_TASKS.iter().map(|(n, _)| *n).collect();
             Err(format!("unknown task \"{id}\"; known: {}", known.join(", ")))

@@ -69,7 +69,7 @@ impl Outcome {
 
 /// The simulation a loaded scenario starts from, and the header that names it.
 pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), String> {
-    let mut sim = Sim::from_scene(&loaded.scene, loaded.seed)?;
+    let mut sim = Sim::from_scene(&loaded.scene, loaded.seed).map_err(|e| e.to_string())?;
     let mut header = Header::new(&loaded.scene_ref, loaded.seed, loaded.scene.dt);
     header.participant = Some(format!("scenario:{}", loaded.name));
     header.synthetic = true;
@@ -82,7 +82,7 @@ pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), Str
     }
     let mut config = Config::default();
     for (k, v) in &header.config {
-        config.set(k, v)?;
+        config.set(k, v).map_err(|e| e.to_string())?;
     }
     sim.res.config = config;
     Ok((sim, header))
@@ -140,10 +140,10 @@ fn apply(s: &mut Script, step: &Step, update: bool, hashes: &mut Vec<String>) ->
             }
         }
         Step::Controller { position, rotation } => {
-            s.try_push(InputEvent::ControllerPose { pose: Pose { position: *position, rotation: *rotation } })?.wait(1);
+            s.try_push(InputEvent::ControllerPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
         }
         Step::Head { position, rotation } => {
-            s.try_push(InputEvent::HeadPose { pose: Pose { position: *position, rotation: *rotation } })?.wait(1);
+            s.try_push(InputEvent::HeadPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
         }
         Step::Press(b) => {
             s.press((*b).into());

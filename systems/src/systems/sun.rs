@@ -40,13 +40,38 @@ pub struct SolarAngles {
     pub delta_t_s: f64,
 }
 
+/// Why the sun's position could not be computed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SunError {
+    /// A latitude outside −90..=90 degrees, or not finite.
+    #[error("latitude {0} is outside -90..=90 degrees")]
+    Latitude(f64),
+    /// A longitude outside −180..=180 degrees, or not finite.
+    #[error("longitude {0} is outside -180..=180 degrees")]
+    Longitude(f64),
+    /// A year outside the ΔT model's range.
+    #[error("no ΔT for year {year}: {reason}")]
+    DeltaT {
+        /// The year, rounded down.
+        year: f64,
+        /// The model's message.
+        reason: String,
+    },
+    /// A Julian date the solar model refuses.
+    #[error("{0}")]
+    JulianDate(String),
+    /// The solar model failed.
+    #[error("solar position: {0}")]
+    Position(String),
+}
+
 /// Checks a place: latitude in −90..=90 and longitude in −180..=180 degrees, both finite.
-pub fn check_place(latitude_deg: f64, longitude_deg: f64) -> Result<(), String> {
+pub fn check_place(latitude_deg: f64, longitude_deg: f64) -> Result<(), SunError> {
     if !latitude_deg.is_finite() || !(-90.0..=90.0).contains(&latitude_deg) {
-        return Err(format!("latitude {latitude_deg} is outside -90..=90 degrees"));
+        return Err(SunError::Latitude(latitude_deg));
     }
     if !longitude_deg.is_finite() || !(-180.0..=180.0).contains(&longitude_deg) {
-        return Err(format!("longitude {longitude_deg} is outside -180..=180 degrees"));
+        return Err(SunError::Longitude(longitude_deg));
     }
     Ok(())
 }
@@ -81,19 +106,19 @@ pub fn julian_date(utc_ms: i64) -> f64 {
 
 /// ΔT (TT − UT), seconds, estimated for a UTC time (Espenak–Meeus polynomials as updated in
 /// the `solar-positioning` crate; valid for years −500..3000).
-pub fn delta_t(utc_ms: i64) -> Result<f64, String> {
+pub fn delta_t(utc_ms: i64) -> Result<f64, SunError> {
     let year = 2000.0 + (julian_date(utc_ms) - 2_451_544.5) / 365.2425;
-    solar_positioning::delta_t::estimate(year).map_err(|e| format!("no ΔT for year {}: {e}", year.floor()))
+    solar_positioning::delta_t::estimate(year).map_err(|e| SunError::DeltaT { year: year.floor(), reason: e.to_string() })
 }
 
 /// The sun's position from a place and a UTC time in milliseconds, with SPA at sea level, no
 /// refraction, and the estimated ΔT.
-pub fn sun_position(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Result<SolarAngles, String> {
+pub fn sun_position(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Result<SolarAngles, SunError> {
     check_place(latitude_deg, longitude_deg)?;
     let dt = delta_t(utc_ms)?;
-    let jd = JulianDate::new(julian_date(utc_ms), dt).map_err(|e| e.to_string())?;
+    let jd = JulianDate::new(julian_date(utc_ms), dt).map_err(|e| SunError::JulianDate(e.to_string()))?;
     let location = Location { latitude: latitude_deg, longitude: longitude_deg };
-    let pos = SolarPositions::new().at_from_julian(jd, location, 0.0, None).map_err(|e| format!("solar position: {e}"))?;
+    let pos = SolarPositions::new().at_from_julian(jd, location, 0.0, None).map_err(|e| SunError::Position(e.to_string()))?;
     let (azimuth_deg, elevation_deg) = (pos.azimuth(), pos.elevation_angle());
     Ok(SolarAngles {
         elevation_deg,
@@ -105,13 +130,13 @@ pub fn sun_position(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Resul
 }
 
 /// Solar azimuth and true elevation, degrees, for a place and a UTC time in milliseconds.
-pub fn solar_angles(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Result<(f64, f64), String> {
+pub fn solar_angles(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Result<(f64, f64), SunError> {
     let p = sun_position(latitude_deg, longitude_deg, utc_ms)?;
     Ok((p.azimuth_deg, p.elevation_deg))
 }
 
 /// Recomputes a sun's angles and direction from its place and time.
-pub fn update_sun(sun: &mut Sun) -> Result<(), String> {
+pub fn update_sun(sun: &mut Sun) -> Result<(), SunError> {
     let p = sun_position(sun.latitude_deg, sun.longitude_deg, sun.utc_ms)?;
     sun.azimuth_deg = p.azimuth_deg;
     sun.elevation_deg = p.elevation_deg;

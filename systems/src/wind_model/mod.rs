@@ -114,7 +114,11 @@ impl Default for WindResponse {
 
 impl WindResponse {
     /// Checks that every number is finite, the stiffnesses positive and the rest non-negative.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::limits::InvalidScene> {
+        self.validate_message().map_err(crate::limits::InvalidScene)
+    }
+
+    fn validate_message(&self) -> Result<(), String> {
         let all = [
             self.noise_amplitude,
             self.noise_speed,
