@@ -21,16 +21,10 @@ use xxhash_rust::xxh3::Xxh3;
 
 use crate::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind, PickShape};
 
-/// Why a model bank, its catalogue, a model's files or the banks a session or a recording
-/// needs could not be used: one line, usually naming the folder or file.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct BankError(pub String);
-
-impl From<BankError> for String {
-    fn from(e: BankError) -> String {
-        e.0
-    }
+crate::message_error::message_error! {
+    /// Why a model bank, its catalogue, a model's files or the banks a session or a recording
+    /// needs could not be used: one line, usually naming the folder or file.
+    BankError
 }
 
 /// The catalogue file's name inside a bank folder.

@@ -7,15 +7,9 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-/// A model reference the catalogue does not hold: one line listing the known models.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct UnknownModel(pub String);
-
-impl From<UnknownModel> for String {
-    fn from(e: UnknownModel) -> String {
-        e.0
-    }
+crate::message_error::message_error! {
+    /// A model reference the catalogue does not hold: one line listing the known models.
+    UnknownModel
 }
 
 /// The catalogue that ships with grove, embedded at compile time.

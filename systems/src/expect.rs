@@ -14,15 +14,9 @@ use crate::hash::hex;
 use crate::sim::Sim;
 use crate::targets::{ground_distance, Names, TreeRef};
 
-/// Why an expectation's names or numbers are refused ([`Expect::validate`]): one line.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct InvalidExpect(pub String);
-
-impl From<InvalidExpect> for String {
-    fn from(e: InvalidExpect) -> String {
-        e.0
-    }
+crate::message_error::message_error! {
+    /// Why an expectation's names or numbers are refused ([`Expect::validate`]): one line.
+    InvalidExpect
 }
 
 /// The anchor ball as a participant sees it.

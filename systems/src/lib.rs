@@ -28,6 +28,7 @@ pub mod input;
 pub mod interact;
 pub mod known_techniques;
 pub mod limits;
+mod message_error;
 pub mod mode;
 pub mod replay;
 pub mod scatter;

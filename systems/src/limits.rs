@@ -8,17 +8,11 @@
 //! A limit is raised by changing its constant here and rebuilding grove; the error messages say
 //! so ([`RAISE`]).
 
-/// Why a scene, or one of its parts (a plane, the sun, the wind, a scatter, water, grass, the
-/// aerial ground and its crowns), is refused, a crossed limit among other things: one line
-/// naming the part and what is wrong.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct InvalidScene(pub String);
-
-impl From<InvalidScene> for String {
-    fn from(e: InvalidScene) -> String {
-        e.0
-    }
+crate::message_error::message_error! {
+    /// Why a scene, or one of its parts (a plane, the sun, the wind, a scatter, water, grass, the
+    /// aerial ground and its crowns), is refused, a crossed limit among other things: one line
+    /// naming the part and what is wrong.
+    InvalidScene
 }
 
 /// How an error message tells the user to raise a limit.

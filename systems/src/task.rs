@@ -56,15 +56,9 @@ fn yes() -> bool {
     true
 }
 
-/// Why a task file was refused: one line.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct TaskError(pub String);
-
-impl From<TaskError> for String {
-    fn from(e: TaskError) -> String {
-        e.0
-    }
+crate::message_error::message_error! {
+    /// Why a task file was refused: one line.
+    TaskError
 }
 
 impl TaskDef {
