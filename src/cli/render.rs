@@ -157,12 +157,29 @@ pub(super) fn check_size(w: u32, h: u32) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn check_out_file(out: &Path, force: bool) -> anyhow::Result<()> {
+/// An output file's flag and kind, for the messages of [`check_out_file`].
+pub(super) struct OutFile {
+    /// The flag that names it, e.g. `--out`.
+    pub flag: &'static str,
+    /// Its extension, without the dot.
+    pub ext: &'static str,
+    /// What a file name must be, after "needs", e.g. `a PNG`.
+    pub name: &'static str,
+    /// What the flag must name, after "must name".
+    pub kind: &'static str,
+}
+
+/// `--out` of a still.
+pub(super) const PNG_OUT: OutFile = OutFile { flag: "--out", ext: "png", name: "a PNG", kind: "a .png file (grove renders PNG only)" };
+
+/// Refuses an output path that is a folder, has another extension, exists (without `--force`)
+/// or lies in a missing folder.
+pub(super) fn check_out_file(out: &Path, force: bool, file: &OutFile) -> anyhow::Result<()> {
     if out.is_dir() {
-        bail!("{}: is a directory; --out needs a PNG file name", out.display());
+        bail!("{}: is a directory; {} needs {} file name", out.display(), file.flag, file.name);
     }
-    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
-        bail!("{}: --out must name a .png file (grove renders PNG only)", out.display());
+    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case(file.ext)) {
+        bail!("{}: {} must name {}", out.display(), file.flag, file.kind);
     }
     if out.exists() && !force {
         bail!("{}: already exists (use --force to overwrite)", out.display());
@@ -247,7 +264,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         return model_frames(&args, out, model, n);
     }
     if let Some(model) = &args.model {
-        check_out_file(out, args.force)?;
+        check_out_file(out, args.force, &PNG_OUT)?;
         let data = load_model_checked(model)?;
         let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
         let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args)).map_err(|e| anyhow!(e))?;
@@ -257,7 +274,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(replay) = &args.replay {
         let tick = args.tick.ok_or_else(|| anyhow!("--replay needs --tick N (one picture) or --video OUT.mp4"))?;
-        check_out_file(out, args.force)?;
+        check_out_file(out, args.force, &PNG_OUT)?;
         let options = grove_systems::replay::ReplayOptions { until: Some(tick), banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
         let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
         if outcome.sim.res().tick < tick {
@@ -284,7 +301,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let mut sim = Sim::from_scene_with(&scene, scene.seed, catalogue).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     match args.frames {
         None => {
-            check_out_file(out, args.force)?;
+            check_out_file(out, args.force, &PNG_OUT)?;
             let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;

@@ -2,7 +2,6 @@
 //! ghosts and the renderer opened; drawing and encoding are `grove::video`'s. The video is
 //! written through a temporary file and a rename, so a failed or bad run leaves no file.
 
-use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -12,27 +11,10 @@ use grove::render::offscreen::Gpu;
 use grove::video::{self, camera::CameraKind, Mark, VideoSpec};
 use grove_systems::replay::Player;
 
-use super::render::RenderArgs;
+use super::render::{check_out_file, OutFile, RenderArgs};
 
-/// The checks on the output file: an `.mp4` name in an existing folder, not there yet unless
-/// `--force`.
-fn check_out(out: &Path, force: bool) -> anyhow::Result<()> {
-    if out.is_dir() {
-        bail!("{}: is a directory; --video needs an .mp4 file name", out.display());
-    }
-    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("mp4")) {
-        bail!("{}: --video must name an .mp4 file", out.display());
-    }
-    if out.exists() && !force {
-        bail!("{}: already exists (use --force to overwrite)", out.display());
-    }
-    if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
-        if !parent.is_dir() {
-            bail!("{}: folder does not exist", parent.display());
-        }
-    }
-    Ok(())
-}
+/// `--video`: an `.mp4` file.
+const MP4_OUT: OutFile = OutFile { flag: "--video", ext: "mp4", name: "an .mp4", kind: "an .mp4 file" };
 
 /// Runs `grove render --replay FILE --video OUT.mp4`.
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
@@ -40,7 +22,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let out = args.video.as_deref().ok_or_else(|| anyhow!("give --video OUT.mp4"))?;
     super::render::check_size(args.width, args.height)?;
     let replay = args.replay.as_deref().ok_or_else(|| anyhow!("--video needs --replay FILE"))?;
-    check_out(out, args.force)?;
+    check_out_file(out, args.force, &MP4_OUT)?;
     if args.width % 2 != 0 || args.height % 2 != 0 {
         bail!("--width and --height must be even for a video (got {}x{})", args.width, args.height);
     }
