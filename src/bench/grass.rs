@@ -84,7 +84,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
     let mut cpu_start = None;
     for i in 0..=frames.max(1) {
         if i == 1 {
-            cpu_start = process_cpu_ms();
+            cpu_start = Some(super::process_cpu_seconds() * 1e3);
         }
         let t = Instant::now();
         r.render(sim, target.view()).map_err(|e| anyhow!(e))?;
@@ -100,7 +100,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
             main.push(p.ms("main"));
         }
     }
-    let cpu = cpu_start.zip(process_cpu_ms()).map(|(a, b)| (b - a) / frames.max(1) as f64);
+    let cpu = cpu_start.map(|a| (super::process_cpu_seconds() * 1e3 - a) / frames.max(1) as f64);
     let blades = r.visible_blades().map_err(|e| anyhow!(e))?;
     let ms = super::median(&mut wall);
     let mut v = json!({
@@ -121,18 +121,6 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
     Ok(v)
 }
 
-/// The CPU time this process has used so far, all threads, milliseconds (Linux's
-/// `/proc/self/stat`, in clock ticks of 10 ms); `None` elsewhere. On a software adapter it is
-/// the work a frame costs, whatever else the machine runs at the same time.
-fn process_cpu_ms() -> Option<f64> {
-    let stat = grove_systems::files::read_text(std::path::Path::new("/proc/self/stat"), grove_systems::files::Kind::Status).ok()?;
-    // The fields after the command name (in parentheses): utime and stime are the 14th and
-    // 15th fields of the line, the 12th and 13th after the name.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let fields: Vec<&str> = rest.split_whitespace().collect();
-    let ticks = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
-    Some(ticks * 10.0)
-}
 
 /// Fukuda et al.'s test: the 1 km² shell field at 1280 × 720, with and without grass.
 fn fukuda(gpu: &Gpu, frames: usize) -> anyhow::Result<Value> {
