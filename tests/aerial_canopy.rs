@@ -129,7 +129,7 @@ fn render(site: &Site, eye: Vec3, target: Vec3, shadows: bool, debug_lod: bool) 
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.shadows = shadows;
     r.options.overlay = false;
-    r.set_aerial(grove::aerial::open::open_sources(&site.scene, debug_lod).unwrap().unwrap()).unwrap();
+    r.features.aerial.set(grove::aerial::open::open_sources(&site.scene, debug_lod).unwrap().unwrap()).unwrap();
     offscreen::render_image(g, &mut r, &sim).unwrap()
 }
 
@@ -249,7 +249,7 @@ fn a_level_not_loaded_falls_back_to_the_coarser_one() {
     sources.layers = None;
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.overlay = false;
-    r.set_aerial(sources).unwrap();
+    r.features.aerial.set(sources).unwrap();
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
     // Just ahead of the camera level 0 would be red; it is not loaded, so level 1 (yellow: red
     // and green both high) shows there.
@@ -331,7 +331,7 @@ fn a_moved_crown_tree_takes_its_canopy_along() {
     assert_eq!(sim.world().query::<&AerialCrown>().iter().count(), before - 1);
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.overlay = false;
-    r.set_aerial(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
+    r.features.aerial.set(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
     // The crown's top is green at its new place.
     let foot = sim.world().get::<&Transform>(big).unwrap().translation;
@@ -387,7 +387,7 @@ fn trunks_stand_under_the_crowns() {
         sim.set_up().camera(Head { pose: Pose::looking_at(eye, mid), fov_y: 60f32.to_radians() });
         let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
         r.options.overlay = false;
-        r.set_aerial(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
+        r.features.aerial.set(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
         offscreen::render_image(g, &mut r, &sim).unwrap()
     };
     let with = shot(false);

@@ -4,7 +4,7 @@
 
 mod common;
 
-use grove::render::extract::overlay_scene;
+use grove::render::overlay::extract::overlay_scene;
 use grove::render::overlay::controller::{model_dir, ControllerModel};
 use grove::render::overlay::geometry::OverlayController;
 use grove_systems::replay::{replay_file, ReplayOptions};

@@ -66,7 +66,7 @@ fn render_with(sim: &Sim, grass: bool, bend: bool) -> (RgbaImage, BladeCounts) {
     r.options.grass = grass;
     r.options.grass_bend = bend;
     let img = offscreen::render_image(g, &mut r, sim).unwrap();
-    let counts = r.visible_blades().unwrap();
+    let counts = r.features.grass.visible_blades().unwrap();
     (img, counts)
 }
 

@@ -45,3 +45,29 @@ fn the_app_has_no_import_circles() {
         panic!("import circle: {}", cycle.join(" -> "));
     }
 }
+
+#[test]
+fn render_features_import_nothing_from_the_renderer_above_them() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let edges = file_graph(src.as_path());
+    // A feature is a folder of src/render; the renderer is render/mod.rs and the frame.
+    let features: Vec<String> = std::fs::read_dir(src.join("render"))
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().is_dir())
+        .map(|e| format!("render::{}", e.file_name().to_string_lossy()))
+        .collect();
+    assert!(features.iter().any(|f| f == "render::trees") && features.len() >= 8, "{features:?}");
+    let mut upward = Vec::new();
+    for (from, to) in &edges {
+        if !features.iter().any(|f| from == f || from.starts_with(&format!("{f}::"))) {
+            continue;
+        }
+        for t in to.iter().filter(|t| *t == "render" || *t == "render::frame") {
+            upward.push(format!("{from} -> {t}"));
+        }
+    }
+    assert!(upward.is_empty(), "features import from the renderer above them: {upward:?}");
+    // The check sees such an import: the renderer's own frame imports the renderer.
+    assert!(edges["render::frame"].contains("render"), "the graph was read");
+}

@@ -59,7 +59,7 @@ fn draw(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor_pixel
     let g = gpu();
     let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
     if with_model {
-        r.set_model(ModelId(0), data);
+        r.features.trees.set_model(ModelId(0), data);
     }
     r.options.shadows = false;
     r.options.leaf_pixels = 0.0;

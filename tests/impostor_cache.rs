@@ -22,9 +22,9 @@ fn model() -> gltf_load::ModelData {
 /// A renderer with the model loaded through the cache in `dir`, and how many atlases it baked.
 fn load(gpu: &Gpu, data: &gltf_load::ModelData, dir: &std::path::Path) -> (Renderer, usize) {
     let mut r = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
-    r.set_impostor_cache(Some(dir.to_path_buf()));
-    r.set_model(ModelId(0), data);
-    let bakes = r.impostor_bakes();
+    r.features.trees.set_impostor_cache(Some(dir.to_path_buf()));
+    r.features.trees.set_model(ModelId(0), data);
+    let bakes = r.features.trees.impostor_bakes();
     (r, bakes)
 }
 
@@ -94,8 +94,8 @@ fn no_cache_folder_bakes_every_time_and_writes_nothing() {
     let data = model();
     for _ in 0..2 {
         let mut r = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
-        r.set_impostor_cache(None);
-        r.set_model(ModelId(0), &data);
-        assert_eq!(r.impostor_bakes(), 1);
+        r.features.trees.set_impostor_cache(None);
+        r.features.trees.set_model(ModelId(0), &data);
+        assert_eq!(r.features.trees.impostor_bakes(), 1);
     }
 }

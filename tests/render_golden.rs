@@ -239,7 +239,7 @@ fn alpha_clipping_and_two_sided_flip() {
     .unwrap();
     // The card itself, however small it is on screen (impostors have their own goldens).
     r.options.impostor_pixels = 0.0;
-    r.set_model(ModelId(0), &striped_card());
+    r.features.trees.set_model(ModelId(0), &striped_card());
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
 
     // Stripes: along a row through the card, opaque and clipped texels alternate, so the row

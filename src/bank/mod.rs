@@ -64,7 +64,7 @@ pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue)
 pub fn load_into(renderer: &mut crate::render::Renderer, files: &[(ModelId, PathBuf)]) -> Result<(), String> {
     for (id, path) in files {
         let data = validate_gltf(path).map_err(|e| e.to_string())?;
-        renderer.set_model(*id, &data);
+        renderer.features.trees.set_model(*id, &data);
     }
     Ok(())
 }

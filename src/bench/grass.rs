@@ -101,7 +101,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
         }
     }
     let cpu = cpu_start.map(|a| (super::process_cpu_seconds() * 1e3 - a) / frames.max(1) as f64);
-    let blades = r.visible_blades().map_err(|e| anyhow!(e))?;
+    let blades = r.features.grass.visible_blades().map_err(|e| anyhow!(e))?;
     let ms = super::median(&mut wall);
     let mut v = json!({
         "ms_per_frame": ms,

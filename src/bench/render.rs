@@ -295,7 +295,7 @@ pub(super) const WALL_TIMING: &str = "median of 10 frames: wall time of render +
 /// Runs the render benchmarks and returns their figures.
 pub fn bench_render(options: RenderBenchOptions) -> anyhow::Result<Value> {
     let (gpu, mut renderer, adapter) = setup(options, false)?;
-    let models = renderer.model_names();
+    let models = renderer.features.trees.model_names();
     let reference = reference_scene(&gpu, &mut renderer)?;
 
     // Cost per model: n instances on a square grid 3 m apart, seen from above at an angle.
@@ -309,7 +309,7 @@ pub fn bench_render(options: RenderBenchOptions) -> anyhow::Result<Value> {
         row.insert("model".into(), json!(name));
         row.insert(
             "triangles_per_tree".into(),
-            json!(renderer.model(ModelId(id as u8)).map_or(0, |m| m.triangles)),
+            json!(renderer.features.trees.model(ModelId(id as u8)).map_or(0, |m| m.triangles)),
         );
         for n in [1_000usize, 10_000] {
             let side = (n as f32).sqrt().ceil() as usize;

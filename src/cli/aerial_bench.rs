@@ -122,7 +122,7 @@ fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, cano
     let def = scene.aerial.as_ref().expect("checked");
     let (x0, x1) = (def.origin.x, def.origin.x + sources.size_m.x);
     let z = def.origin.y + sources.size_m.y * 0.75;
-    r.set_aerial(sources).map_err(|e| anyhow!(e))?;
+    r.features.aerial.set(sources).map_err(|e| anyhow!(e))?;
     let target = offscreen::Target::new(&gpu.device, a.width, a.height);
     let (mut times, mut uploads) = (Vec::new(), Vec::new());
     let (mut cpu_start, mut frames_missing, mut update_max_ms, mut gpu_bytes) = (0.0, 0u32, 0.0f64, None::<(u64, u64)>);
@@ -140,8 +140,8 @@ fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, cano
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("{e}"))?;
         if i >= 2 {
             times.push(t.elapsed().as_secs_f64() * 1e3);
-            uploads.push(r.aerial_upload_bytes() as f64 / 1024.0);
-            let (missing, update_ms) = r.aerial_streaming();
+            uploads.push(r.features.aerial.upload_bytes() as f64 / 1024.0);
+            let (missing, update_ms) = r.features.aerial.streaming();
             frames_missing += u32::from(missing > 0);
             update_max_ms = update_max_ms.max(update_ms);
         }

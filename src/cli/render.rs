@@ -143,9 +143,9 @@ pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_sy
     let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
     grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res().catalogue)).map_err(|e| anyhow!(e))?;
     if let Some(aerial) = aerial {
-        renderer.set_aerial(aerial).map_err(|e| anyhow!(e))?;
+        renderer.features.aerial.set(aerial).map_err(|e| anyhow!(e))?;
         // A still image shows the photographs as loaded: wait (briefly) for their tiles.
-        renderer.settle_aerial(sim, std::time::Duration::from_secs(20)).map_err(|e| anyhow!(e))?;
+        renderer.features.aerial.settle(sim, renderer.size(), std::time::Duration::from_secs(20)).map_err(|e| anyhow!(e))?;
     }
     Ok(renderer)
 }
@@ -241,7 +241,7 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir()).map_err(|e| anyhow!(e))?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, ..options(args) };
-    renderer.set_model(id, &data);
+    renderer.features.trees.set_model(id, &data);
     let bar = indicatif::ProgressBar::new(n as u64);
     for f in 0..n {
         if f > 0 {

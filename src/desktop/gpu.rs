@@ -63,7 +63,7 @@ pub fn set_session_aerial(scene: grove_systems::scene::Scene) {
 pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, String> {
     let mut r = session_renderer(device, queue, format, width, height)?;
     if let Some(sources) = SESSION_AERIAL.get().map(|s| grove::aerial::open::open_sources(s, false)).transpose()?.flatten() {
-        r.set_aerial(sources)?;
+        r.features.aerial.set(sources)?;
     }
     Ok(Box::new(r))
 }

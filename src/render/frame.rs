@@ -1,143 +1,72 @@
 //! The frame, in order, as `systems/src/schedule.rs` is for the simulation:
 //!
-//! 1. **Extract** ([`FrameData::extract`]): copy what is drawn out of the world.
-//! 2. **Prepare**: the frame-wide choices (shadows on or off, the wind model: one
-//!    [`PipelineKey`]), then each feature's buffers and pipelines ([`Feature::prepare`]), then the
-//!    views' uniforms (the shadow map is fitted to what the features drew).
-//! 3. **Compute**: the grass blades are culled into draw lists and indirect draw counts.
-//! 4. **Shadow**: depth from the sun of every shadow caster ([`Feature::draw_depth`]).
+//! 1. **Extract**: the frame's common data ([`super::extract::common`]: camera, sun, time,
+//!    wind), then each feature copies its own part out of the world ([`Feature::extract`]).
+//! 2. **Views**: the frame-wide choices (shadows on or off, the wind model: one
+//!    [`PipelineKey`]), the main camera's uniforms and the sun's view fitted to what the
+//!    features will draw ([`Feature::shadow_bounds`]).
+//! 3. **Prepare**: each feature's buffers and pipelines from its extracted data
+//!    ([`Feature::prepare`]).
+//! 4. **Compute**: the grass blades are culled into draw lists and indirect draw counts.
+//! 5. **Shadow**: depth from the sun of every shadow caster ([`Feature::draw_depth`]).
 //!    **Water views** (only with water): the reflection (trees, ground, sky from the mirrored
 //!    camera) and the refraction (trees and ground below the surface), at half resolution.
-//! 5. **Main**: the phases in order ([`Phase`]): opaque, alpha-clipped, sky, blended, overlay.
-//! 6. **Resolve** the pass timestamps.
+//! 6. **Main**: the phases in order ([`Phase`]): opaque, alpha-clipped, sky, blended, overlay.
+//! 7. **Resolve** the pass timestamps.
 //!
-//! Features are named fields of the renderer called here in a visible order; there is no
-//! render graph and no registry. A new feature is a folder with its module and shader, one
-//! field and one line in each stage it takes part in (see ARCHITECTURE.md).
+//! Features are named fields of [`super::Features`] called here in a visible order; there is no
+//! render graph and no registry. A new feature is a folder with its module, its `extract.rs` and
+//! its shader, one field and one line in each stage it takes part in (see ARCHITECTURE.md).
 
-use glam::Vec3;
 use grove_systems::Sim;
 
-use super::extract::FrameData;
-use super::gpu::{PipelineKey, Shared, ViewKind};
+use super::extract;
+use super::feature::{union, ExtractContext, Feature, FrameContext, FrameStats, FrameViews, Phase};
+use super::gpu::{PipelineKey, ViewKind};
 use super::lighting::{light_matrix, shadow_bounds, sun_light};
 use super::view::{camera_matrix, ViewUniform};
-use super::{FrameStats, RenderOptions, Renderer};
-
-/// The phases of the main pass, in the order they are drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Phase {
-    /// Opaque surfaces, depth-tested and written.
-    Opaque,
-    /// Alpha-clipped surfaces: a depth pre-pass, then shading at equal depth.
-    AlphaClipped,
-    /// The background, at the far plane, where nothing was drawn.
-    Sky,
-    /// Blended surfaces, far to near, depth-tested but not written (none yet).
-    Blended,
-    /// Interaction visuals, last.
-    Overlay,
-}
-
-/// What a feature's [`Feature::prepare`] sees of the frame.
-pub(crate) struct FrameContext<'a> {
-    /// The device, queue and shared layouts.
-    pub shared: &'a Shared,
-    /// What the frame draws.
-    pub data: &'a FrameData,
-    /// The main view's pipeline key; a feature that casts shadows also prepares the sun's
-    /// (`key.with_view(ViewKind::Sun)`) when `key.shadows` is set.
-    pub key: PipelineKey,
-    /// The target's size, pixels.
-    pub size: (u32, u32),
-    /// The renderer's options.
-    pub options: &'a RenderOptions,
-}
-
-/// The interface between the frame and a drawn feature.
-pub(crate) trait Feature {
-    /// Uploads this frame's data and builds the pipelines of `cx.key` on first use. Fails for
-    /// a key the feature has no pipeline for.
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String>;
-
-    /// Draws depth only from the sun into the shadow map (shadow casters only), with the
-    /// pipelines of `key` (the sun's view).
-    fn draw_depth<'p>(&'p self, _pass: &mut wgpu::RenderPass<'p>, _key: PipelineKey) -> Result<(), String> {
-        Ok(())
-    }
-
-    /// Draws the feature's part of `phase` in the main pass, with the pipelines of `key`. The
-    /// frame has bound group 0 (the view) and group 1 (the lighting); a feature binds group 2.
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String>;
-}
+use super::Renderer;
 
 impl Renderer {
     /// Records one frame of `sim` into `encoder`, drawing into `view`.
     pub(crate) fn encode_frame(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
-        // 1. Extract.
-        let mut data = FrameData::extract(sim, &self.ground.key);
-        if let Some(top) = self.options.top_view {
-            data.camera = top.camera();
-        } else if let Some(camera) = self.options.camera {
-            // Markers keep their size as seen from the camera drawn from.
-            data.camera = camera;
-            data.overlay.eye = camera.position;
-        }
-        data.overlay.ghosts.clone_from(&self.ghosts);
-        if self.options.grass {
-            data.extract_grass(sim, &self.grass.key);
-        }
-        // Without a canopy the photographed crowns are trees like the others.
-        if self.canopy.is_none() || !self.options.canopy {
-            let crown_trees = std::mem::take(&mut data.crown_trees);
-            data.trees.extend(crown_trees);
-            data.crowns.clear();
-        }
-
-        // 2. Prepare. Shadows are decided here and only here: asked for, the sun up, and
-        // something to cast them.
-        self.lighting.set_shadow_size(&self.shared, self.options.shadow_size);
-        let light = sun_light(data.sun_elevation_deg);
         let options = self.options;
-        let mut cx = FrameContext {
-            shared: &self.shared,
-            data: &data,
-            key: PipelineKey { shadows: false, wind: data.wind_model, format: self.format, view: ViewKind::Main },
-            size: (self.width, self.height),
-            options: &options,
-        };
-        cx.key.shadows = options.shadows && light.direct.max_element() > 0.0 && (self.trees.draws_any(&cx) || self.canopy.as_ref().is_some_and(|c| c.draws_any(&cx)));
-        let key = cx.key;
-        self.trees.prepare(&cx)?;
-        self.ground.prepare(&cx)?;
-        self.grass.prepare(&cx)?;
-        self.sky.prepare(&cx)?;
-        self.overlay.prepare(&cx)?;
-        self.water.prepare(&cx)?;
-        if let Some(a) = &mut self.aerial_ground {
-            a.prepare(&cx)?;
-        }
-        if let Some(c) = &mut self.canopy {
-            c.prepare(&cx)?;
-        }
+        let size = (self.width, self.height);
+        let f = &mut self.features;
 
-        // The views: the camera's, and the sun's fitted to the trees and planes within 80 m of
-        // the camera.
-        let view_proj = match options.top_view {
-            Some(top) => top.matrix(),
-            None => camera_matrix(&data.camera, self.width as f32 / self.height as f32),
-        };
-        let drawn = union(union(self.trees.bounds, data.plane_bounds), self.canopy.as_ref().and_then(|c| c.bounds));
-        let (smin, smax) = shadow_bounds(drawn, data.camera.position);
-        let (light_vp, extent) = light_matrix(data.sun_dir, smin, smax);
+        // 1. Extract. Without a canopy the photographed crowns are trees like the others.
+        let common = extract::common(sim, &options);
+        let ecx = ExtractContext { common: &common, options: &options, size, canopy: f.aerial.canopy.is_some() && options.canopy };
+        let trees = f.trees.extract(sim, &ecx);
+        let ground = f.ground.extract(sim, &ecx);
+        let grass = f.grass.extract(sim, &ecx);
+        let sky = f.sky.extract(sim, &ecx);
+        let overlay = f.overlay.extract(sim, &ecx);
+        let water = f.water.extract(sim, &ecx);
+        let aerial_ground = f.aerial.ground.as_ref().map(|a| a.extract(sim, &ecx));
+        let canopy = f.aerial.canopy.as_ref().map(|c| c.extract(sim, &ecx));
+
+        // 2. Views. Shadows are decided here and only here: asked for, the sun up, and
+        // something to cast them.
+        self.lighting.set_shadow_size(&self.shared, options.shadow_size);
+        let light = sun_light(common.sun_elevation_deg);
+        let casts = f.trees.casts_shadows(&trees) || f.aerial.canopy.as_ref().zip(canopy.as_ref()).is_some_and(|(c, x)| c.casts_shadows(x));
+        let key = PipelineKey { shadows: options.shadows && light.direct.max_element() > 0.0 && casts, wind: common.wind_model, format: self.format, view: ViewKind::Main };
+        // The sun's view covers the trees, the planes and the canopy within 80 m of the camera.
+        let canopy_bounds = f.aerial.canopy.as_ref().zip(canopy.as_ref()).and_then(|(c, x)| c.shadow_bounds(x));
+        let drawn = union(union(f.trees.shadow_bounds(&trees), f.ground.shadow_bounds(&ground)), canopy_bounds);
+        let camera_view_proj = camera_matrix(&common.camera, self.width as f32 / self.height as f32);
+        let view_proj = options.top_view.map_or(camera_view_proj, |top| top.matrix());
+        let (smin, smax) = shadow_bounds(drawn, common.camera.position);
+        let (light_vp, extent) = light_matrix(common.sun_dir, smin, smax);
         let shadow_size = self.lighting.shadow_size as f32;
         let main = ViewUniform {
             view_proj: view_proj.to_cols_array_2d(),
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
             light_view_proj: light_vp.to_cols_array_2d(),
-            camera_pos: data.camera.position.to_array(),
-            time: (data.time % 3600.0) as f32,
-            sun_dir: data.sun_dir.to_array(),
+            camera_pos: common.camera.position.to_array(),
+            time: (common.time % 3600.0) as f32,
+            sun_dir: common.sun_dir.to_array(),
             pad0: 0.0,
             sun_color: light.direct.to_array(),
             pad1: 0.0,
@@ -148,18 +77,32 @@ impl Renderer {
             shadow_depth_bias: 0.0005,
             pad2: 0.0,
         };
-        self.views.write(&self.shared.queue, &main, light_vp.to_cols_array_2d(), &data.wind);
-        if let Some(w) = data.water.first() {
-            self.water.write(&self.shared.queue, &main, &data.camera, (self.width, self.height), options.water_output, w.height);
+        self.views.write(&self.shared.queue, &main, light_vp.to_cols_array_2d(), &common.wind);
+        let views = FrameViews { main, camera_view_proj };
+
+        // 3. Prepare.
+        let cx = FrameContext { shared: &self.shared, common: &common, views: &views, key, size, options: &options };
+        f.trees.prepare(&cx, trees)?;
+        f.ground.prepare(&cx, ground)?;
+        f.grass.prepare(&cx, grass)?;
+        f.sky.prepare(&cx, sky)?;
+        f.overlay.prepare(&cx, overlay)?;
+        f.water.prepare(&cx, water)?;
+        if let (Some(a), Some(x)) = (&mut f.aerial.ground, aerial_ground) {
+            a.prepare(&cx, x)?;
         }
-        let mut stats = FrameStats { instances: self.trees.instance_count, ..Default::default() };
+        if let (Some(c), Some(x)) = (&mut f.aerial.canopy, canopy) {
+            c.prepare(&cx, x)?;
+        }
+        let f = &self.features;
+        let mut stats = FrameStats { instances: f.trees.instance_count, ..Default::default() };
 
         if let Some(t) = &mut self.timer {
             t.begin_frame();
         }
-        // 3. Compute: the grass blades are culled into this frame's draw lists.
-        self.grass.compute(encoder, self.timer.as_mut());
-        // 4. Shadow. The pass always runs, so the map is cleared even when nothing casts.
+        // 4. Compute: the grass blades are culled into this frame's draw lists.
+        f.grass.compute(encoder, self.timer.as_mut());
+        // 5. Shadow. The pass always runs, so the map is cleared even when nothing casts.
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow pass"),
@@ -176,17 +119,17 @@ impl Renderer {
             if key.shadows {
                 let sun = key.with_view(ViewKind::Sun);
                 pass.set_bind_group(0, &self.views.sun.bind_group, &[]);
-                self.trees.draw_depth(&mut pass, sun)?;
-                if let Some(c) = &self.canopy {
+                f.trees.draw_depth(&mut pass, sun)?;
+                if let Some(c) = &f.aerial.canopy {
                     c.draw_depth(&mut pass, sun)?;
                 }
             }
         }
 
-        // 4b. Water views: what the water reflects and what lies below it, drawn with the main
+        // 5b. Water views: what the water reflects and what lies below it, drawn with the main
         // view's pipelines from the water's own views. Their draws are not the main pass's.
         let mut water_stats = FrameStats::default();
-        for w in self.water.passes() {
+        for w in f.water.passes() {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(w.label),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -207,15 +150,15 @@ impl Renderer {
             pass.set_bind_group(0, w.view, &[]);
             pass.set_bind_group(1, &self.lighting.bind_group, &[]);
             let s = &mut water_stats;
-            self.trees.draw(Phase::Opaque, &mut pass, key, s)?;
-            self.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
-            self.ground.draw(Phase::Opaque, &mut pass, key, s)?;
+            f.trees.draw(Phase::Opaque, &mut pass, key, s)?;
+            f.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
+            f.ground.draw(Phase::Opaque, &mut pass, key, s)?;
             if w.sky {
-                self.sky.draw(Phase::Sky, &mut pass, key, s)?;
+                f.sky.draw(Phase::Sky, &mut pass, key, s)?;
             }
         }
 
-        // 5. Main.
+        // 6. Main.
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("main pass"),
@@ -239,42 +182,33 @@ impl Renderer {
             let s = &mut stats;
             // Opaque, trees first and the ground after the trees' alpha-clipped leaves: on a
             // software rasteriser the early depth test then skips most hidden ground fragments.
-            self.trees.draw(Phase::Opaque, &mut pass, key, s)?;
-            self.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
-            if let Some(c) = &self.canopy {
+            f.trees.draw(Phase::Opaque, &mut pass, key, s)?;
+            f.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
+            if let Some(c) = &f.aerial.canopy {
                 c.draw(Phase::AlphaClipped, &mut pass, key, s)?;
             }
             // The photograph before the ground, which it hides where it lies.
-            if let Some(a) = &self.aerial_ground {
+            if let Some(a) = &f.aerial.ground {
                 a.draw(Phase::Opaque, &mut pass, key, s)?;
             }
             // Water before the ground, for the same reason: the bed under it is then skipped.
             // The ground still hides the parts of the outline that lie above the shore.
-            self.water.draw(Phase::Opaque, &mut pass, key, s)?;
-            self.ground.draw(Phase::Opaque, &mut pass, key, s)?;
-            self.grass.draw(Phase::Opaque, &mut pass, key, s)?;
+            f.water.draw(Phase::Opaque, &mut pass, key, s)?;
+            f.ground.draw(Phase::Opaque, &mut pass, key, s)?;
+            f.grass.draw(Phase::Opaque, &mut pass, key, s)?;
             // The sky where nothing was drawn.
-            self.sky.draw(Phase::Sky, &mut pass, key, s)?;
+            f.sky.draw(Phase::Sky, &mut pass, key, s)?;
             // Blended: no feature yet (the aerial canopy is alpha-clipped, drawn after the trees).
             if options.overlay {
-                self.overlay.draw(Phase::Overlay, &mut pass, key, s)?;
+                f.overlay.draw(Phase::Overlay, &mut pass, key, s)?;
             }
         }
 
-        // 6. Resolve the timestamps.
+        // 7. Resolve the timestamps.
         if let Some(t) = &mut self.timer {
             t.resolve(encoder);
         }
         self.stats = stats;
         Ok(())
-    }
-}
-
-/// The box around both boxes, or either.
-fn union(a: Option<(Vec3, Vec3)>, b: Option<(Vec3, Vec3)>) -> Option<(Vec3, Vec3)> {
-    match (a, b) {
-        (Some((a0, a1)), Some((b0, b1))) => Some((a0.min(b0), a1.max(b1))),
-        (a, None) => a,
-        (None, b) => b,
     }
 }

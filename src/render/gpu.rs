@@ -22,6 +22,7 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm
 const LIGHTING_WGSL: &str = concat!(include_str!("lighting.wgsl"), "\n", include_str!("srgb.wgsl"));
 
 /// The device, the queue and the resources every feature binds.
+#[derive(Clone)]
 pub(crate) struct Shared {
     /// The device.
     pub device: wgpu::Device,

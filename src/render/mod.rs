@@ -5,25 +5,29 @@
 //! [`Renderer::render_into`] an encoder the caller submits). The offscreen path ([`offscreen`])
 //! wraps it for PNG output and tests.
 //!
-//! A frame runs in stages ([`frame`]): extract (the one reader of the world, [`extract`]),
-//! prepare, compute, shadow, main (opaque, alpha-clipped, sky, blended, overlay). Each drawn
-//! feature is a folder with its module and shader: [`trees`], [`ground`], [`sky`], [`overlay`],
-//! [`water`].
-//! Shared pieces: [`gpu`] (device, layouts, pipeline keys), [`view`] (a camera's uniforms),
-//! [`lighting`] (sun light, shadow map), [`timing`] (pass timestamps), [`assets`] (glTF,
-//! textures).
+//! A frame runs in stages ([`frame`]): extract (the frame's `extract::common`, then each
+//! feature's own), views, prepare, compute, shadow, main (opaque, alpha-clipped, sky, blended,
+//! overlay). Each drawn feature is a folder with its module, its `extract.rs` and its shader:
+//! [`trees`], [`ground`], [`grass`], [`sky`], [`overlay`], [`water`], [`aerial_ground`] and
+//! [`canopy`], the fields of [`Features`].
+//! Shared pieces, leaves that import no feature: [`feature`] (the frame types and the
+//! `Feature` trait), [`options`], [`gpu`] (device, layouts, pipeline keys), [`view`]
+//! (a camera's uniforms), [`lighting`] (sun light, shadow map), [`timing`] (pass timestamps),
+//! [`assets`] (glTF, textures).
 
 pub mod aerial_ground;
 pub mod assets;
 pub mod canopy;
 pub mod clipmap;
 pub mod extract;
+pub mod feature;
 pub mod frame;
 pub mod gpu;
 pub mod grass;
 pub mod ground;
 pub mod lighting;
 pub mod offscreen;
+pub mod options;
 pub mod overlay;
 pub mod sky;
 pub mod timing;
@@ -31,12 +35,12 @@ pub mod trees;
 pub mod view;
 pub mod water;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use grove_systems::catalogue::Catalogue;
 use grove_systems::Sim;
 
-pub use assets::gltf_load;
+pub use assets::{default_assets_dir, gltf_load};
 pub use gpu::{PipelineKey, ViewKind, DEPTH_FORMAT, SHADOW_FORMAT};
 pub use lighting::{light_matrix, sun_light, SunLight};
 pub use timing::PassTimes;
@@ -44,84 +48,28 @@ pub use trees::instances::Instance;
 pub use trees::lod;
 pub use trees::model::GpuModel;
 pub use view::{camera_matrix, Camera, TopView};
-pub use water::WaterOutput;
+pub use aerial_ground::AerialPhotos;
+pub use feature::FrameStats;
+pub use options::{RenderOptions, WaterOutput, DEFAULT_IMPOSTOR_PIXELS};
 
 
-/// The assets folder: `$GROVE_ASSETS`, else `./assets` when it exists, else the source tree's.
-pub fn default_assets_dir() -> PathBuf {
-    if let Some(d) = std::env::var_os("GROVE_ASSETS") {
-        return PathBuf::from(d);
-    }
-    let local = PathBuf::from("assets");
-    if local.join("trees").is_dir() {
-        return local;
-    }
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"))
+/// The drawn features, one named field each; the frame ([`frame`]) calls them in its order.
+/// What a caller sets or reads of one feature is that feature's own method.
+pub struct Features {
+    /// Tree models, instances, impostors.
+    pub trees: trees::Trees,
+    pub(crate) ground: ground::Ground,
+    /// Grass shells and blades.
+    pub grass: grass::Grass,
+    pub(crate) sky: sky::Sky,
+    /// The interaction visuals and a video's ghosts.
+    pub overlay: overlay::Overlay,
+    pub(crate) water: water::WaterFeature,
+    /// The aerial photographs: the aerial ground and the canopy.
+    pub aerial: aerial_ground::AerialPhotos,
 }
 
-/// The default on-screen size, pixels, below which trees are impostors
-/// ([`RenderOptions::impostor_pixels`]).
-pub const DEFAULT_IMPOSTOR_PIXELS: f32 = 150.0;
-
-/// Rendering options.
-#[derive(Clone, Copy, Debug)]
-pub struct RenderOptions {
-    /// Draw the sun's shadow map.
-    pub shadows: bool,
-    /// Shadow-map edge, texels; clamped to [`lighting::SHADOW_SIZES`] (see
-    /// [`Renderer::shadow_size`]).
-    pub shadow_size: u32,
-    /// Background colour where there is no sky (linear RGBA); the sky normally covers it.
-    pub clear: wgpu::Color,
-    /// The smallest area, in pixels, a drawn leaf should cover: farther trees draw a share of
-    /// their leaves, grown to keep the crown's area ([`lod`]). 0 draws every leaf.
-    pub leaf_pixels: f32,
-    /// Draw the scene's water (its reflection and refraction passes and the surface).
-    pub water: bool,
-    /// What the water surface shows (normally the water itself).
-    pub water_output: WaterOutput,
-    /// Draw the scene's grass patches (`--no-grass` turns them off).
-    pub grass: bool,
-    /// Bend grass blades away from the eye and the controller's hit point when they are near.
-    pub grass_bend: bool,
-    /// Draw the interaction visuals (the controller's ray, the hit marker, the anchor ball, the
-    /// selection and the task's targets).
-    pub overlay: bool,
-    /// The on-screen size, in pixels, of a tree's bounding sphere below which it is drawn as an
-    /// impostor (with a cross-fade up to [`trees::impostor::BAND`] times as many). 0 draws
-    /// every tree as a mesh. The default, [`DEFAULT_IMPOSTOR_PIXELS`], keeps the reference
-    /// scene's image within a mean absolute error of 4 of 255 per channel of the full-detail
-    /// render (README, `grove bench render-reference`).
-    pub impostor_pixels: f32,
-    /// Draw the photographed crowns as canopy layers (with aerial photographs set by
-    /// [`Renderer::set_aerial`]); off, or without layer masks, they are drawn as tree models.
-    pub canopy: bool,
-    /// Draw from straight above with an orthographic projection ([`view::TopView`]) instead of
-    /// the world's head camera.
-    pub top_view: Option<view::TopView>,
-    /// Draw from this camera instead of the world's head camera (a video's shoulder or orbit
-    /// camera); the head is then drawn as a figure like the ghosts.
-    pub camera: Option<Camera>,
-}
-
-impl Default for RenderOptions {
-    fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true, top_view: None, camera: None }
-    }
-}
-
-/// Draw statistics of the last frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FrameStats {
-    /// Tree instances drawn.
-    pub instances: usize,
-    /// Draw calls in the main pass.
-    pub draws: usize,
-    /// Triangles submitted in the main pass.
-    pub triangles: usize,
-}
-
-/// The renderer: the frame's shared state and one named field per drawn feature.
+/// The renderer: the frame's shared state and the drawn features.
 pub struct Renderer {
     shared: gpu::Shared,
     format: wgpu::TextureFormat,
@@ -131,21 +79,12 @@ pub struct Renderer {
     pub options: RenderOptions,
     /// Statistics of the last frame.
     pub stats: FrameStats,
-    /// Other participants' heads and rays drawn over the world from the next frame (a video's
-    /// `--ghosts`); empty normally.
-    pub ghosts: Vec<overlay::geometry::OverlayGhost>,
+    /// The drawn features.
+    pub features: Features,
     depth: wgpu::TextureView,
     views: view::Views,
     lighting: lighting::Lighting,
     timer: Option<timing::Timer>,
-    trees: trees::Trees,
-    ground: ground::Ground,
-    grass: grass::Grass,
-    sky: sky::Sky,
-    overlay: overlay::Overlay,
-    water: water::WaterFeature,
-    aerial_ground: Option<aerial_ground::AerialGround>,
-    canopy: Option<canopy::Canopy>,
 }
 
 impl Renderer {
@@ -170,12 +109,12 @@ impl Renderer {
         for m in &catalogue.models {
             let path = assets.join("trees").join(format!("{}.gltf", m.name));
             let data = gltf_load::load_model(&path)?;
-            r.set_model(m.id, &data);
+            r.features.trees.set_model(m.id, &data);
         }
         Ok(r)
     }
 
-    /// A renderer with no models yet (add them with [`Renderer::set_model`]), the environment
+    /// A renderer with no models yet (add them with [`trees::Trees::set_model`]), the environment
     /// and ground texture from `assets/env/`. Pipelines are built on first use.
     pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, width: u32, height: u32, assets: &Path) -> Result<Renderer, String> {
         let (face_size, faces) = assets::textures::load_faces(&assets.join("env"))?;
@@ -192,19 +131,19 @@ impl Renderer {
             height: height.max(1),
             options,
             stats: FrameStats::default(),
-            ghosts: Vec::new(),
             depth: depth_texture(device, width, height),
             views,
             lighting,
             timer: None,
-            trees: trees::Trees::new(&shared),
-            ground,
-            grass,
-            sky: sky::Sky::new(&shared),
-            overlay: overlay::Overlay::new(&shared),
-            water,
-            aerial_ground: None,
-            canopy: None,
+            features: Features {
+                trees: trees::Trees::new(&shared),
+                ground,
+                grass,
+                sky: sky::Sky::new(&shared),
+                overlay: overlay::Overlay::new(&shared),
+                water,
+                aerial: aerial_ground::AerialPhotos::new(&shared),
+            },
             shared,
         })
     }
@@ -221,12 +160,6 @@ impl Renderer {
     /// `None` when pass timing is off. Call it after the frame was submitted and before the next.
     pub fn pass_times(&self) -> Result<Option<PassTimes>, String> {
         self.timer.as_ref().map(|t| t.read(&self.shared.device)).transpose()
-    }
-
-    /// The numbers of grass blades the last frame drew at each level of detail, read back from
-    /// the GPU's indirect draws (waits for the GPU); all zero without blades.
-    pub fn visible_blades(&self) -> Result<grass::BladeCounts, String> {
-        self.grass.visible_blades(&self.shared)
     }
 
     /// The target format.

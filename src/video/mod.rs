@@ -191,7 +191,7 @@ pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts:
         if spec.camera != CameraKind::Head {
             figures.push(ghosts::figure(sim, own_color, true));
         }
-        renderer.ghosts = figures;
+        renderer.features.overlay.ghosts = figures;
 
         renderer.render(sim, target.view()).map_err(VideoError::Render)?;
         let mut img = target.read(&gpu.device, &gpu.queue).map_err(VideoError::Render)?;
@@ -204,7 +204,7 @@ pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts:
         progress(k as u64 + 1);
     }
     drop(send);
-    renderer.ghosts.clear();
+    renderer.features.overlay.ghosts.clear();
     let writer = encoder.join().map_err(|_| VideoError::Encoder("its thread stopped unexpectedly".into()))??;
     drawn?;
     let bytes = writer.bytes();

@@ -4,24 +4,25 @@
 //! photograph lies; where no level of the clipmap has a texel yet the fragment is discarded and
 //! the ground shows. A shadow receiver only.
 //!
-//! [`AerialSources`] is what an app hands the renderer (`Renderer::set_aerial`): the clipmap
+//! [`AerialSources`] is what an app hands the renderer ([`AerialPhotos::set`]): the clipmap
 //! sources of the pair and of the canopy's layer masks.
 
-mod renderer;
+mod photos;
+pub use photos::AerialPhotos;
+
 use glam::{DVec3, Vec2};
 use wgpu::util::DeviceExt;
 
 use super::clipmap::{gpu::WGSL as CLIPMAP_WGSL, ClipCamera, ClipmapSource, GpuClipmap};
-use super::extract::FrameData;
-use super::frame::{Feature, FrameContext, Phase};
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
-use super::FrameStats;
+use super::view::Camera;
 
 /// How far above the ground the photograph lies, metres: with the depth bias of its pipeline,
 /// enough for it to hide the ground at the same height.
 pub const LIFT_M: f32 = 0.02;
 
-/// The photographs of a scene as clipmap sources, for `Renderer::set_aerial`.
+/// The photographs of a scene as clipmap sources, for [`AerialPhotos::set`].
 pub struct AerialSources {
     /// The winter photograph: the ground.
     pub winter: Box<dyn ClipmapSource>,
@@ -53,8 +54,7 @@ struct Params {
 }
 
 /// The clipmap camera of a frame's view: its eye, view direction and frustum.
-pub(crate) fn clip_camera(data: &FrameData, size: (u32, u32)) -> ClipCamera {
-    let c = &data.camera;
+pub(crate) fn clip_camera(c: &Camera, size: (u32, u32)) -> ClipCamera {
     ClipCamera {
         eye: c.position.as_dvec3(),
         forward: (c.rotation * glam::Vec3::NEG_Z).as_dvec3().normalize_or(DVec3::NEG_Y),
@@ -156,8 +156,13 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
 }
 
 impl Feature for AerialGround {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        self.winter.update(&cx.shared.queue, &clip_camera(cx.data, cx.size))?;
+    /// The photograph is the feature's own: it reads nothing of the world.
+    type Extracted = ();
+
+    fn extract(&self, _sim: &grove_systems::Sim, _cx: &ExtractContext<'_>) {}
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, _data: ()) -> Result<(), String> {
+        self.winter.update(&cx.shared.queue, &clip_camera(&cx.common.camera, cx.size))?;
         let (module, layout) = (&self.module, &self.layout);
         self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
     }

@@ -9,7 +9,7 @@ use std::collections::HashMap;
 
 use glam::Vec2;
 
-use crate::render::extract::CrownDraw;
+use super::extract::CrownDraw;
 
 /// How far beyond the crown's radius the canopy reads its mask, in radii (matches the `inside`
 /// test of canopy.wgsl: texels further out belong to neighbouring crowns).

@@ -13,6 +13,7 @@
 //! quads, not alone).
 //! Under each crown stands a trunk ([`trunks`]), drawn and casting shadows with the layers.
 
+mod extract;
 pub mod extents;
 pub(crate) mod trunks;
 
@@ -20,10 +21,10 @@ use wgpu::util::DeviceExt;
 
 use super::aerial_ground::{clip_camera, FedClipmap};
 use super::clipmap::{gpu::WGSL as CLIPMAP_WGSL, GpuClipmap};
-use super::extract::CrownDraw;
-use super::frame::{Feature, FrameContext, Phase};
+pub(crate) use self::extract::CrownDraw;
+use self::extract::Crowns;
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
-use super::FrameStats;
 
 /// The canopy's uniforms (matches `CanopyParams` in canopy.wgsl).
 #[repr(C)]
@@ -94,20 +95,6 @@ pub(crate) fn layer_instances(crowns: &[CrownDraw], layers: u32, eye: glam::Vec3
     (out, main)
 }
 
-/// Whether a crown's layers, or the shadows they cast nearby, may be seen through `view_proj`:
-/// its bounding sphere, grown by twice its height for the shadows, against the frustum's planes.
-pub(crate) fn in_view(view_proj: &glam::Mat4, c: &CrownDraw) -> bool {
-    let centre = c.foot + glam::Vec3::Y * (0.5 * (c.base_m + c.top_m));
-    let r = 1.8 * c.radius_m + 0.5 * (c.top_m - c.base_m) + 2.0 * c.top_m;
-    let m = view_proj.transpose();
-    let (x, y, z, w) = (m.x_axis, m.y_axis, m.z_axis, m.w_axis);
-    // Left, right, bottom, top, near (depth 0..1) and far planes of a wgpu projection.
-    [w + x, w - x, w + y, w - y, z, w - z].iter().all(|p| {
-        let n = p.truncate();
-        let len = n.length().max(1e-12);
-        (n.dot(centre) + p.w) / len >= -r
-    })
-}
 
 /// The canopy's pipelines of one key.
 enum Pipelines {
@@ -138,8 +125,6 @@ pub(crate) struct Canopy {
     instances: Option<(wgpu::Buffer, u32, u32)>,
     /// The layers' extents by crown.
     extents: extents::ExtentCache,
-    /// The bounds of the layers drawn this frame, for the shadow map's fit.
-    pub bounds: Option<(glam::Vec3, glam::Vec3)>,
     /// The trunks under the crowns drawn this frame.
     trunks: trunks::Trunks,
 }
@@ -182,14 +167,8 @@ impl Canopy {
             params_buffer: buffer,
             instances: None,
             extents: extents::ExtentCache::new(bits, layer_count),
-            bounds: None,
             trunks: trunks::Trunks::new(shared),
         }
-    }
-
-    /// Whether this frame has layers to draw (and so shadows to cast).
-    pub fn draws_any(&self, cx: &FrameContext<'_>) -> bool {
-        !cx.data.crowns.is_empty()
     }
 }
 
@@ -224,23 +203,37 @@ fn build(shared: &Shared, c: &Canopy, key: PipelineKey) -> Result<Pipelines, Str
 }
 
 impl Feature for Canopy {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        let camera = clip_camera(cx.data, cx.size);
-        self.summer.update(&cx.shared.queue, &camera)?;
-        self.masks.update(&cx.shared.queue, &camera)?;
-        let view_proj = super::view::camera_matrix(&cx.data.camera, cx.size.0.max(1) as f32 / cx.size.1.max(1) as f32);
-        let visible: Vec<CrownDraw> = cx.data.crowns.iter().filter(|c| in_view(&view_proj, c)).copied().collect();
-        // The angle a pixel spans: the levels and the layers drawn depend on it.
-        self.params.pixel_angle = 2.0 * (0.5 * cx.data.camera.fov_y).tan() / cx.size.1.max(1) as f32;
-        cx.shared.queue.write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
-        let cache = &mut self.extents;
-        let (layers, main) = layer_instances(&visible, self.layer_count, cx.data.camera.position, self.params.pixel_angle, |c| cache.get(c));
-        self.bounds = visible.iter().fold(None, |b, c| {
+    type Extracted = Crowns;
+
+    fn extract(&self, sim: &grove_systems::Sim, cx: &ExtractContext<'_>) -> Crowns {
+        extract::crowns(sim, cx)
+    }
+
+    /// Whether the world has photographed crowns (they cast shadows even when out of view).
+    fn casts_shadows(&self, crowns: &Crowns) -> bool {
+        crowns.any
+    }
+
+    /// The bounds of the layers drawn this frame.
+    fn shadow_bounds(&self, crowns: &Crowns) -> Option<(glam::Vec3, glam::Vec3)> {
+        crowns.visible.iter().fold(None, |b, c| {
             let r = glam::Vec3::new(c.radius_m * 1.25, 0.0, c.radius_m * 1.25);
             let lo = c.foot - r + glam::Vec3::Y * c.base_m;
             let hi = c.foot + r + glam::Vec3::Y * c.top_m;
             Some(b.map_or((lo, hi), |(a, z): (glam::Vec3, glam::Vec3)| (a.min(lo), z.max(hi))))
-        });
+        })
+    }
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, crowns: Crowns) -> Result<(), String> {
+        let camera = clip_camera(&cx.common.camera, cx.size);
+        self.summer.update(&cx.shared.queue, &camera)?;
+        self.masks.update(&cx.shared.queue, &camera)?;
+        let visible = crowns.visible;
+        // The angle a pixel spans: the levels and the layers drawn depend on it.
+        self.params.pixel_angle = 2.0 * (0.5 * cx.common.camera.fov_y).tan() / cx.size.1.max(1) as f32;
+        cx.shared.queue.write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
+        let cache = &mut self.extents;
+        let (layers, main) = layer_instances(&visible, self.layer_count, cx.common.camera.position, self.params.pixel_angle, |c| cache.get(c));
         self.instances = (!layers.is_empty()).then(|| {
             let buffer = cx.shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("canopy layers"),
@@ -294,6 +287,7 @@ impl Feature for Canopy {
 mod tests {
     use glam::{Vec2, Vec3};
 
+    use super::extract::in_view;
     use super::*;
 
     #[test]

@@ -6,7 +6,7 @@
 
 use wgpu::util::DeviceExt;
 
-use super::super::extract::CrownDraw;
+use super::extract::CrownDraw;
 use super::super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
 
 /// One trunk instance: the tree's foot (world metres), the trunk's radius at the foot, its

@@ -27,15 +27,14 @@
 
 pub(crate) mod blocks;
 pub(crate) mod data;
+mod extract;
 pub(crate) mod tiles;
 
 use wgpu::util::DeviceExt;
 
-use super::extract::GrassKey;
-use super::frame::{Feature, FrameContext, Phase};
+use self::extract::{GrassKey, Patches};
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
-use super::view::camera_matrix;
-use super::FrameStats;
 use data::{BladeParams, CullParams, GpuBlade, GrassPatch, ShellParams, MAX_PATCHES};
 
 /// No blade is drawn beyond this distance, metres.
@@ -88,7 +87,8 @@ struct BladeSet {
 }
 
 /// The grass feature.
-pub(crate) struct Grass {
+pub struct Grass {
+    shared: Shared,
     shell_module: wgpu::ShaderModule,
     blade_module: wgpu::ShaderModule,
     shell_group_layout: wgpu::BindGroupLayout,
@@ -107,7 +107,7 @@ pub(crate) struct Grass {
     /// The sky's irradiance cube (the far blades' light).
     irradiance: wgpu::TextureView,
     /// The key of the patches the buffers were built from.
-    pub key: GrassKey,
+    key: GrassKey,
     shells: Vec<ShellPatch>,
     blades: Option<BladeSet>,
     /// Whether this frame draws grass (`RenderOptions::grass`).
@@ -139,7 +139,7 @@ impl Grass {
     /// The feature: shaders, layouts, the cull pipeline, the noise textures; no patches yet.
     /// `irradiance` is the sky's irradiance cube (the lighting's), with which the cull pass
     /// lights the far blades.
-    pub fn new(shared: &Shared, irradiance: &wgpu::TextureView) -> Grass {
+    pub(crate) fn new(shared: &Shared, irradiance: &wgpu::TextureView) -> Grass {
         let device = &shared.device;
         let (v, f, vf, c) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::VERTEX_FRAGMENT, wgpu::ShaderStages::COMPUTE);
         let uniform = buffer_ty(wgpu::BufferBindingType::Uniform);
@@ -209,6 +209,7 @@ impl Grass {
             shells: Vec::new(),
             blades: None,
             enabled: true,
+            shared: shared.clone(),
         }
     }
 
@@ -341,7 +342,7 @@ impl Grass {
 
     /// The compute stage: culls the blades into this frame's lists and draw counts. Records
     /// nothing when there are no blades or grass is off.
-    pub fn compute(&self, encoder: &mut wgpu::CommandEncoder, timer: Option<&mut super::timing::Timer>) {
+    pub(crate) fn compute(&self, encoder: &mut wgpu::CommandEncoder, timer: Option<&mut super::timing::Timer>) {
         let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return };
         let writes = timer.and_then(|t| t.scope("grass compute"));
         let timestamp_writes = writes.map(|w| wgpu::ComputePassTimestampWrites {
@@ -362,7 +363,8 @@ impl Grass {
 
     /// The numbers of blades the last frame drew at each level of detail, read back from the
     /// indirect draws (waits for the GPU); all zero without blades.
-    pub fn visible_blades(&self, shared: &Shared) -> Result<BladeCounts, String> {
+    pub fn visible_blades(&self) -> Result<BladeCounts, String> {
+        let shared = &self.shared;
         let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok(BladeCounts::default()) };
         let bytes = 4 * data::ARGS_WORDS as u64;
         let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: bytes, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
@@ -445,30 +447,37 @@ fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
 }
 
 impl Feature for Grass {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        self.enabled = cx.options.grass;
-        if !self.enabled {
+    /// The patches; `None` when the options turn grass off.
+    type Extracted = Option<Patches>;
+
+    fn extract(&self, sim: &grove_systems::Sim, cx: &ExtractContext<'_>) -> Option<Patches> {
+        cx.options.grass.then(|| extract::patches(sim, &self.key))
+    }
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, patches: Option<Patches>) -> Result<(), String> {
+        self.enabled = patches.is_some();
+        let Some(patches) = patches else {
             return Ok(());
-        }
+        };
         // The far blades' image must fit one storage binding (128 MiB by default: about
         // 5,800 × 5,800 pixels).
         let image_bytes = 4 * (data::RASTER_OFFSET + u64::from(cx.size.0) * u64::from(cx.size.1));
         let limit = cx.shared.device.limits().max_storage_buffer_binding_size as u64;
-        if image_bytes > limit && (self.blades.is_some() || cx.data.grass.as_ref().is_some_and(|p| p.iter().any(|p| !p.shells))) {
+        if image_bytes > limit && (self.blades.is_some() || patches.patches.as_ref().is_some_and(|p| p.iter().any(|p| !p.shells))) {
             return Err(format!("grass blades cannot be drawn at {}x{} pixels: their image needs {image_bytes} bytes, over the device's limit of {limit}", cx.size.0, cx.size.1));
         }
-        if let Some(patches) = &cx.data.grass {
-            self.rebuild(cx.shared, &cx.data.grass_key, patches, cx.size);
+        if let Some(list) = &patches.patches {
+            self.rebuild(cx.shared, &patches.key, list, cx.size);
         }
         self.resize_raster(&cx.shared.device, cx.size);
         let queue = &cx.shared.queue;
-        let w = &cx.data.wind;
-        let time = (cx.data.time % 3600.0) as f32;
+        let w = &cx.common.wind;
+        let time = (cx.common.time % 3600.0) as f32;
         let bend = WIND_BEND * w.strength * w.gust;
         let speed = WIND_SPEED * w.strength.max(0.05);
-        let view_proj = camera_matrix(&cx.data.camera, cx.size.0 as f32 / cx.size.1.max(1) as f32);
+        let view_proj = cx.views.camera_view_proj;
         let planes = data::frustum_planes(view_proj);
-        let eye = cx.data.camera.position;
+        let eye = cx.common.camera.position;
         for s in &mut self.shells {
             // Each tile's layers: none outside the view (its sphere, raised by the grass and its
             // sway), else the ones the shader keeps at the tile's nearest point.
@@ -486,9 +495,9 @@ impl Feature for Grass {
         }
         if let Some(b) = &mut self.blades {
             let bend_near = cx.options.grass_bend;
-            let hit = cx.data.overlay.hit.filter(|h| h.visible && bend_near).map_or([0.0; 4], |h| [h.position.x, h.position.y, h.position.z, HIT_RADIUS]);
+            let hit = patches.hit.filter(|_| bend_near).map_or([0.0; 4], |h| [h.x, h.y, h.z, HIT_RADIUS]);
             let eye_radius = if bend_near { EYE_RADIUS } else { 0.0 };
-            let (lod_near, lod_mid) = data::lod_distances(cx.size.1, cx.data.camera.fov_y);
+            let (lod_near, lod_mid) = data::lod_distances(cx.size.1, cx.common.camera.fov_y);
             let (list, far_base) = blocks::block_lists(&b.blocks, &planes, eye, FAR_DISTANCE, lod_mid);
             b.dispatch = [far_base, list.len() as u32 - far_base];
             if !list.is_empty() {
@@ -508,15 +517,15 @@ impl Feature for Grass {
                 view_proj: view_proj.to_cols_array_2d(),
             };
             queue.write_buffer(&b.cull_params, 0, bytemuck::bytes_of(&cull));
-            let camera = glam::Mat4::from_rotation_translation(cx.data.camera.rotation, cx.data.camera.position);
+            let camera = glam::Mat4::from_rotation_translation(cx.common.camera.rotation, cx.common.camera.position);
             let (depth_a, depth_b) = data::depth_of_view_depth(view_proj, camera);
             // The sun as the frame's uniforms give it (src/render/frame.rs).
-            let light = super::lighting::sun_light(cx.data.sun_elevation_deg);
+            let light = super::lighting::sun_light(cx.common.sun_elevation_deg);
             let params = BladeParams {
                 colours: b.colours,
                 viewport: [cx.size.0 as f32, cx.size.1 as f32, data::FAR_DEPTH_RANGE, 0.0],
                 depth: [depth_a, depth_b, 0.0, 0.0],
-                sun_dir: cx.data.sun_dir.extend(0.0).to_array(),
+                sun_dir: cx.common.sun_dir.extend(0.0).to_array(),
                 sun_color: light.direct.extend(0.0).to_array(),
                 ambient: light.ambient.extend(0.0).to_array(),
             };

@@ -3,6 +3,7 @@
 //! soil floor seen through the holes, and terrain out to the far plane fading into the sky. The
 //! mesh is rebuilt only when the planes change ([`GroundKey`]).
 
+mod extract;
 pub mod landscape;
 pub mod texture;
 
@@ -11,10 +12,9 @@ use std::path::Path;
 use wgpu::util::DeviceExt;
 
 use super::assets::{gltf_load, textures};
-use super::extract::{GroundKey, PlaneMesh};
-use super::frame::{Feature, FrameContext, Phase};
+use self::extract::{GroundKey, PlaneMesh, Planes};
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
-use super::FrameStats;
 
 /// The ground's uniforms (matches `GroundParams` in ground.wgsl).
 #[repr(C)]
@@ -44,7 +44,7 @@ pub(crate) struct Ground {
     far_pipelines: PipelineCache<wgpu::RenderPipeline>,
     bind_group: wgpu::BindGroup,
     /// The key of the planes `mesh` was built from.
-    pub key: GroundKey,
+    key: GroundKey,
     mesh: Option<Mesh>,
 }
 
@@ -192,9 +192,19 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
 }
 
 impl Feature for Ground {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        if let Some(planes) = &cx.data.planes {
-            self.rebuild(cx.shared, &cx.data.ground_key, planes);
+    type Extracted = Planes;
+
+    fn extract(&self, sim: &grove_systems::Sim, _cx: &ExtractContext<'_>) -> Planes {
+        extract::planes(sim, &self.key)
+    }
+
+    fn shadow_bounds(&self, planes: &Planes) -> Option<(glam::Vec3, glam::Vec3)> {
+        planes.bounds
+    }
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, planes: Planes) -> Result<(), String> {
+        if let Some(meshes) = &planes.meshes {
+            self.rebuild(cx.shared, &planes.key, meshes);
         }
         let (module, layout) = (&self.module, &self.layout);
         self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k, false))?;

@@ -3,15 +3,15 @@
 //! last, in [`Phase::Overlay`].
 
 pub mod controller;
+pub mod extract;
 pub mod geometry;
 
 use wgpu::util::DeviceExt;
 
 use self::controller::ControllerModel;
-use self::geometry::OverlayVertex;
-use super::frame::{Feature, FrameContext, Phase};
+use self::geometry::{OverlayGhost, OverlayScene, OverlayVertex};
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
-use super::FrameStats;
 
 /// The overlay's pipelines: triangles and lines.
 pub(crate) struct OverlayPipelines {
@@ -20,7 +20,10 @@ pub(crate) struct OverlayPipelines {
 }
 
 /// The overlay feature.
-pub(crate) struct Overlay {
+pub struct Overlay {
+    /// Other participants' heads and rays drawn over the world from the next frame (a video's
+    /// `--ghosts`); empty normally.
+    pub ghosts: Vec<OverlayGhost>,
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     pipelines: PipelineCache<OverlayPipelines>,
@@ -35,8 +38,8 @@ pub(crate) struct Overlay {
 impl Overlay {
     /// The feature; the controller's model is loaded from the default assets folder (one
     /// line on stderr, and a box instead, when it cannot be).
-    pub fn new(shared: &Shared) -> Overlay {
-        let dir = controller::model_dir(&super::default_assets_dir());
+    pub(crate) fn new(shared: &Shared) -> Overlay {
+        let dir = controller::model_dir(&super::assets::default_assets_dir());
         let controller = ControllerModel::load(&dir).inspect_err(|e| eprintln!("warning: the controller model did not load, a box stands in: {e}")).ok();
         Overlay {
             module: shared.shader("overlay.wgsl", include_str!("overlay.wgsl")),
@@ -45,6 +48,7 @@ impl Overlay {
             triangles: None,
             lines: None,
             controller,
+            ghosts: Vec::new(),
         }
     }
 }
@@ -83,8 +87,21 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
 }
 
 impl Feature for Overlay {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        let g = geometry::build(&cx.data.overlay, self.controller.as_ref());
+    type Extracted = OverlayScene;
+
+    /// The interaction visuals, the ghosts, and with a camera override (not a top view) the
+    /// eye at that camera, so that markers keep their size as seen from it.
+    fn extract(&self, sim: &grove_systems::Sim, cx: &ExtractContext<'_>) -> OverlayScene {
+        let mut scene = extract::overlay_scene(sim);
+        if cx.options.top_view.is_none() && cx.options.camera.is_some() {
+            scene.eye = cx.common.camera.position;
+        }
+        scene.ghosts.clone_from(&self.ghosts);
+        scene
+    }
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, scene: OverlayScene) -> Result<(), String> {
+        let g = geometry::build(&scene, self.controller.as_ref());
         let upload = |label, vertices: &[OverlayVertex]| {
             (!vertices.is_empty()).then(|| {
                 let buffer = cx.shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

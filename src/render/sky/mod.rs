@@ -2,9 +2,8 @@
 //! with the sun's elevation, with a sun disc and glow. Drawn in [`Phase::Sky`], at the far
 //! plane, after everything opaque.
 
-use super::frame::{Feature, FrameContext, Phase};
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
-use super::FrameStats;
 
 /// The sky feature.
 pub(crate) struct Sky {
@@ -46,7 +45,12 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
 }
 
 impl Feature for Sky {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+    /// The sky draws the environment: nothing of the world.
+    type Extracted = ();
+
+    fn extract(&self, _sim: &grove_systems::Sim, _cx: &ExtractContext<'_>) {}
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, _data: ()) -> Result<(), String> {
         let (module, layout) = (&self.module, &self.layout);
         self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
     }

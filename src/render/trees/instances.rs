@@ -4,7 +4,7 @@ use glam::Vec3;
 
 use super::{impostor, lod};
 use super::model::GpuModel;
-use crate::render::extract::TreeDraw;
+use super::extract::TreeDraw;
 use crate::render::view::Camera;
 
 /// One tree instance (vertex buffer slot 1; matches `VertexIn` in trees.wgsl, locations 5–11).
@@ -44,13 +44,11 @@ pub(crate) struct Gathered {
     pub impostors: Vec<Instance>,
     /// The impostor instance range of each model.
     pub impostor_ranges: Vec<std::ops::Range<u32>>,
-    /// The bounds of every tree, metres.
-    pub bounds: Option<(Vec3, Vec3)>,
 }
 
 /// The instances of every tree whose model is loaded, grouped by model and, within a model, by
-/// keep bucket ([`lod::bucket`]), nearest first; the instance range of each (model, bucket);
-/// and the trees' bounds (metres). `height` is the target's height in pixels and
+/// keep bucket ([`lod::bucket`]), nearest first; and the instance range of each (model,
+/// bucket). `height` is the target's height in pixels and
 /// `leaf_pixels` the smallest area a drawn leaf should cover. Trees of a model with an impostor
 /// atlas whose bounding sphere covers fewer than `impostor_pixels` pixels (times
 /// [`impostor::BAND`] for the cross-fade) also go to the impostor list; those wholly impostors
@@ -68,7 +66,6 @@ pub(crate) fn gather(
     // Per model: (bucket, squared distance, instance).
     let mut per_model: Vec<Vec<(usize, f32, Instance)>> = (0..models.len()).map(|_| Vec::new()).collect();
     let mut impostors: Vec<Vec<(f32, Instance)>> = (0..models.len()).map(|_| Vec::new()).collect();
-    let mut bounds: Option<(Vec3, Vec3)> = None;
     for t in trees {
         let Some(Some(model)) = models.get(t.model) else {
             continue;
@@ -94,11 +91,6 @@ pub(crate) fn gather(
         if fade > 0.0 {
             impostors[t.model].push((d2, instance));
         }
-        let r = model.bounds.0.abs().max(model.bounds.1.abs());
-        let ext = Vec3::new(r.x.max(r.z), 0.0, r.x.max(r.z)) * scale;
-        let lo = t.origin + Vec3::new(-ext.x, model.bounds.0.y * scale, -ext.z);
-        let hi = t.origin + Vec3::new(ext.x, model.bounds.1.y * scale, ext.z);
-        bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
     }
     // Nearest first within each bucket, so that the early depth test of a software rasteriser
     // skips more hidden fragments of farther trees. Ties are broken by position, so the order
@@ -126,5 +118,23 @@ pub(crate) fn gather(
         flat.extend(list.iter().map(|e| e.1));
         impostor_ranges.push(base..flat.len() as u32);
     }
-    Gathered { instances: all, ranges, impostors: flat, impostor_ranges, bounds }
+    Gathered { instances: all, ranges, impostors: flat, impostor_ranges }
+}
+
+/// The bounds of every tree whose model is loaded, metres: each model's box turned to any yaw
+/// (its widest horizontal extent both ways), scaled and placed.
+pub(crate) fn bounds(trees: &[TreeDraw], models: &[Option<GpuModel>]) -> Option<(Vec3, Vec3)> {
+    let mut bounds: Option<(Vec3, Vec3)> = None;
+    for t in trees {
+        let Some(Some(model)) = models.get(t.model) else {
+            continue;
+        };
+        let scale = t.scale;
+        let r = model.bounds.0.abs().max(model.bounds.1.abs());
+        let ext = Vec3::new(r.x.max(r.z), 0.0, r.x.max(r.z)) * scale;
+        let lo = t.origin + Vec3::new(-ext.x, model.bounds.0.y * scale, -ext.z);
+        let hi = t.origin + Vec3::new(ext.x, model.bounds.1.y * scale, ext.z);
+        bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+    }
+    bounds
 }

@@ -6,7 +6,8 @@
 //! pre-pass and then the shading of the alpha-clipped ones (see [`pipelines`]); the shadow map
 //! gets both from [`Feature::draw_depth`].
 
-mod renderer;
+mod extract;
+mod models;
 pub mod impostor;
 pub mod instances;
 pub mod lod;
@@ -19,15 +20,17 @@ use self::impostor::draw::ImpostorGpu;
 use self::instances::{gather, BucketRanges, Instance};
 use self::model::{GpuMaterial, GpuModel};
 use self::pipelines::TreePipelines;
-use super::frame::{Feature, FrameContext, Phase};
+use self::extract::TreeDraw;
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{PipelineCache, PipelineKey, Shared, ViewKind};
-use super::FrameStats;
 
 /// The tree shader: wind.wgsl's functions, then the tree's own (lighting.wgsl goes first).
 const TREES_WGSL: &str = concat!(include_str!("wind.wgsl"), "\n", include_str!("impostor/octa.wgsl"), "\n", include_str!("trees.wgsl"));
 
-/// The trees feature: the models, this frame's instances and the pipelines by key.
-pub(crate) struct Trees {
+/// The trees feature: the models, this frame's instances and the pipelines by key. Its own
+/// methods load models and read back what was loaded ([`models`]).
+pub struct Trees {
+    shared: Shared,
     module: wgpu::ShaderModule,
     lit_layout: wgpu::PipelineLayout,
     shadow_layout: wgpu::PipelineLayout,
@@ -40,8 +43,6 @@ pub(crate) struct Trees {
     pub instance_count: usize,
     /// This frame's instance range of each (model, keep bucket).
     ranges: Vec<BucketRanges>,
-    /// The bounds of this frame's trees, metres.
-    pub bounds: Option<(Vec3, Vec3)>,
     /// The impostors' bake, shader and pipelines.
     pub(crate) impostors: ImpostorGpu,
     impostor_instances: wgpu::Buffer,
@@ -63,7 +64,7 @@ enum Materials {
 
 impl Trees {
     /// The feature with no models yet.
-    pub fn new(shared: &Shared) -> Trees {
+    pub(crate) fn new(shared: &Shared) -> Trees {
         let capacity = 1024;
         Trees {
             module: shared.shader("trees.wgsl", TREES_WGSL),
@@ -75,13 +76,13 @@ impl Trees {
             capacity,
             instance_count: 0,
             ranges: Vec::new(),
-            bounds: None,
             impostors: ImpostorGpu::new(shared),
             impostor_instances: instance_buffer(&shared.device, capacity),
             impostor_cache: impostor::cache::default_dir(),
             impostor_bakes: 0,
             impostor_capacity: capacity,
             impostor_ranges: Vec::new(),
+            shared: shared.clone(),
         }
     }
 
@@ -89,7 +90,8 @@ impl Trees {
     /// the cache folder `impostor_cache` where a file for this model and bake is there. A file
     /// that cannot be read is reported in one line on stderr and replaced by a new bake; a cache
     /// that cannot be written is reported and otherwise ignored.
-    pub fn bake_impostor(&mut self, shared: &Shared, model: &mut GpuModel, data: &crate::render::gltf_load::ModelData) {
+    fn bake_impostor(&mut self, model: &mut GpuModel, data: &super::assets::gltf_load::ModelData) {
+        let shared = &self.shared;
         let positions: Vec<Vec3> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
         let key = impostor::cache::model_key(data, impostor::bake::BAKE_WGSL);
         let path = self.impostor_cache.as_deref().map(|d| impostor::cache::file_path(d, &model.name, key));
@@ -131,11 +133,6 @@ impl Trees {
         }
     }
 
-    /// Whether any tree of the frame has a loaded model (so something casts a shadow).
-    pub fn draws_any(&self, cx: &FrameContext<'_>) -> bool {
-        cx.data.trees.iter().any(|t| matches!(self.models.get(t.model), Some(Some(_))))
-    }
-
     /// Draws every tree primitive whose material is of the kind `which`, instanced over its
     /// model's range of the instance buffer, with its material bound. `before_draw` runs just
     /// before each draw, to pick the pipeline or count what is drawn; the shadow pass sets its
@@ -173,8 +170,23 @@ impl Trees {
 }
 
 impl Feature for Trees {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
-        let g = gather(&cx.data.trees, &self.models, &cx.data.camera, cx.size.1, cx.options.leaf_pixels, cx.options.impostor_pixels);
+    type Extracted = Vec<TreeDraw>;
+
+    fn extract(&self, sim: &grove_systems::Sim, cx: &ExtractContext<'_>) -> Vec<TreeDraw> {
+        extract::trees(sim, cx)
+    }
+
+    /// Whether any tree of the frame has a loaded model.
+    fn casts_shadows(&self, trees: &Vec<TreeDraw>) -> bool {
+        trees.iter().any(|t| matches!(self.models.get(t.model), Some(Some(_))))
+    }
+
+    fn shadow_bounds(&self, trees: &Vec<TreeDraw>) -> Option<(Vec3, Vec3)> {
+        instances::bounds(trees, &self.models)
+    }
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, trees: Vec<TreeDraw>) -> Result<(), String> {
+        let g = gather(&trees, &self.models, &cx.common.camera, cx.size.1, cx.options.leaf_pixels, cx.options.impostor_pixels);
         let instances = g.instances;
         if instances.len() > self.capacity {
             self.capacity = instances.len().next_power_of_two();
@@ -193,7 +205,6 @@ impl Feature for Trees {
         self.instance_count = instances.len() + g.impostors.len();
         self.ranges = g.ranges;
         self.impostor_ranges = g.impostor_ranges;
-        self.bounds = g.bounds;
         self.impostors.prepare(cx.shared, cx.key)?;
         if cx.key.shadows {
             self.impostors.prepare(cx.shared, cx.key.with_view(ViewKind::Sun))?;

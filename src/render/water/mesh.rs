@@ -7,7 +7,7 @@
 use glam::{Vec2, Vec3};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
-use crate::render::extract::WaterDraw;
+use super::extract::WaterDraw;
 
 /// One vertex of the water mesh (matches the vertex inputs of water.wgsl).
 #[repr(C)]

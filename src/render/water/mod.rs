@@ -13,29 +13,17 @@
 //!
 //! Units: metres, seconds; right-handed, +Y up.
 
+mod extract;
 pub(crate) mod mesh;
 pub(crate) mod mirror;
 
 use wgpu::util::DeviceExt;
 
-use super::extract::WaterDraw;
-use super::frame::{Feature, FrameContext, Phase};
+use self::extract::WaterDraw;
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, sampler_entry, texture_entry, uniform_entry, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, DEPTH_FORMAT};
+use super::options::WaterOutput;
 use super::view::{Camera, View, ViewUniform, Views};
-use super::FrameStats;
-
-/// What the water surface shows: normally the water; the reflection or the refraction alone for
-/// tests and for looking at one of them.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum WaterOutput {
-    /// Reflection and refraction mixed by Fresnel, with glint and shore.
-    #[default]
-    Full,
-    /// The reflection texture as the surface looks it up (ripples included).
-    Reflection,
-    /// The refraction texture as the surface looks it up.
-    Refraction,
-}
 
 /// How far past the plane the clipped cameras keep geometry, metres, so that nothing touching
 /// the surface is cut a little short.
@@ -153,10 +141,7 @@ impl WaterFeature {
 
     /// Writes the two views and the surface's uniforms for this frame: `main` is the main view's
     /// uniform, `camera` the head's camera, `size` the main target's.
-    pub fn write(&self, queue: &wgpu::Queue, main: &ViewUniform, camera: &Camera, size: (u32, u32), output: WaterOutput, plane: f32) {
-        if !self.active {
-            return;
-        }
+    fn write(&self, queue: &wgpu::Queue, main: &ViewUniform, camera: &Camera, size: (u32, u32), output: WaterOutput, plane: f32) {
         let aspect = size.0 as f32 / size.1.max(1) as f32;
         let refl = mirror::reflection(camera, aspect, plane, CLIP_BIAS);
         let refr = mirror::refraction(camera, aspect, plane, CLIP_BIAS);
@@ -258,13 +243,20 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
 }
 
 impl Feature for WaterFeature {
-    fn prepare(&mut self, cx: &FrameContext<'_>) -> Result<(), String> {
+    /// The water bodies, sorted by entity.
+    type Extracted = Vec<WaterDraw>;
+
+    fn extract(&self, sim: &grove_systems::Sim, _cx: &ExtractContext<'_>) -> Vec<WaterDraw> {
+        extract::water_bodies(sim)
+    }
+
+    fn prepare(&mut self, cx: &FrameContext<'_>, bodies: Vec<WaterDraw>) -> Result<(), String> {
         self.active = false;
-        if !cx.options.water || cx.data.water.is_empty() {
+        if !cx.options.water || bodies.is_empty() {
             return Ok(());
         }
-        if self.bodies != cx.data.water {
-            self.rebuild_mesh(cx.shared, &cx.data.water);
+        if self.bodies != bodies {
+            self.rebuild_mesh(cx.shared, &bodies);
         }
         if self.mesh.is_none() {
             return Ok(());
@@ -277,6 +269,8 @@ impl Feature for WaterFeature {
         let (module, layout) = (&self.module, &self.layout);
         self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?;
         self.active = true;
+        // Its views: the camera mirrored in the first body's surface, and the camera below it.
+        self.write(&cx.shared.queue, &cx.views.main, &cx.common.camera, cx.size, cx.options.water_output, bodies[0].height);
         Ok(())
     }
 

@@ -1,43 +1,44 @@
-//! The renderer's model methods: models uploaded for a catalogue id, the impostor cache, and
-//! what is loaded. They live with the trees feature; `Renderer`'s fields stay private to `render`.
+//! The trees feature's own methods: models uploaded for a catalogue id, the impostor cache, and
+//! what is loaded (`renderer.features.trees`).
 
 use std::path::PathBuf;
 
 use grove_systems::catalogue::ModelId;
 
-use super::super::gltf_load::ModelData;
-use super::super::{GpuModel, Renderer};
+use super::model::GpuModel;
+use super::Trees;
+use crate::render::assets::gltf_load::ModelData;
 
-impl Renderer {
+impl Trees {
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.
     pub fn set_model(&mut self, id: ModelId, data: &ModelData) {
         let mut model = GpuModel::upload(&self.shared, data);
-        self.trees.bake_impostor(&self.shared, &mut model, data);
+        self.bake_impostor(&mut model, data);
         let idx = usize::from(id.0);
-        if self.trees.models.len() <= idx {
-            self.trees.models.resize_with(idx + 1, || None);
+        if self.models.len() <= idx {
+            self.models.resize_with(idx + 1, || None);
         }
-        self.trees.models[idx] = Some(model);
+        self.models[idx] = Some(model);
     }
 
     /// Sets the folder of the impostor atlas cache for models loaded from now on (`None`: bake
     /// every model). The default comes from the environment (`trees::impostor::cache`).
     pub fn set_impostor_cache(&mut self, dir: Option<PathBuf>) {
-        self.trees.impostor_cache = dir;
+        self.impostor_cache = dir;
     }
 
     /// How many impostor atlases this renderer baked (the others were read from the cache).
     pub fn impostor_bakes(&self) -> usize {
-        self.trees.impostor_bakes
+        self.impostor_bakes
     }
 
     /// The model drawn for `id`, if one is loaded.
     pub fn model(&self, id: ModelId) -> Option<&GpuModel> {
-        self.trees.models.get(usize::from(id.0)).and_then(|m| m.as_ref())
+        self.models.get(usize::from(id.0)).and_then(|m| m.as_ref())
     }
 
     /// The names of the loaded models, by id (empty where none).
     pub fn model_names(&self) -> Vec<String> {
-        self.trees.models.iter().map(|m| m.as_ref().map(|m| m.name.clone()).unwrap_or_default()).collect()
+        self.models.iter().map(|m| m.as_ref().map(|m| m.name.clone()).unwrap_or_default()).collect()
     }
 }

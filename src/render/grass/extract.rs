@@ -1,0 +1,66 @@
+//! The grass's extract: the patches' key, and the patches with their ground triangles and
+//! blades (placed by the simulation's pure placement function) when the key differs from the
+//! one the grass was built from; the controller's hit point, which the blades bend away from.
+
+use glam::Vec3;
+use grove_systems::components::{Grass, HitMarker, Plane};
+use grove_systems::grass::{patch_triangles, place_blades, GrassKind};
+use grove_systems::Sim;
+
+use super::data::GrassPatch;
+
+/// Identifies the grass: every plane's hash (`grove_systems::hash::plane_hash`: its name,
+/// vertices and triangles) and every patch (entity bits and component), sorted by entity. The
+/// grass buffers are rebuilt only when this changes.
+pub(crate) type GrassKey = (Vec<(u64, u64)>, Vec<(u64, Grass)>);
+
+/// The grass's data of a frame.
+pub(crate) struct Patches {
+    /// The patches' key.
+    pub key: GrassKey,
+    /// The patches with their triangles and blades; only when `key` differs from the one the
+    /// grass already has.
+    pub patches: Option<Vec<GrassPatch>>,
+    /// The controller's hit point when the hit marker is shown.
+    pub hit: Option<Vec3>,
+}
+
+/// Copies the grass patches from `sim` when the world's key differs from `have` (the key
+/// of the grass buffers the renderer already has): each patch's ground triangles and its
+/// blades, placed by the simulation's pure placement function.
+pub(crate) fn patches(sim: &Sim, have: &GrassKey) -> Patches {
+    let hit = sim.world().query::<&HitMarker>().iter().next().filter(|h| h.visible).map(|h| h.position);
+    let mut patches: Vec<(u64, Grass)> = sim.world().query::<(hecs::Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
+    patches.sort_by_key(|(e, _)| *e);
+    // Without patches the planes do not matter (and are not hashed every frame).
+    let mut planes: Vec<(u64, u64)> = if patches.is_empty() {
+        Vec::new()
+    } else {
+        sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, p)| (e.to_bits().get(), grove_systems::hash::plane_hash(p))).collect()
+    };
+    planes.sort_unstable();
+    let key = (planes, patches);
+    if &key == have {
+        return Patches { key, patches: None, hit };
+    }
+    let mut query = sim.world().query::<(hecs::Entity, &Plane)>();
+    let mut planes: Vec<(u64, &str, &[Vec3], &[[u32; 3]])> =
+        query.iter().map(|(e, p)| (e.to_bits().get(), p.name.as_str(), p.vertices.as_slice(), p.triangles.as_slice())).collect();
+    planes.sort_by_key(|p| p.0);
+    let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|p| (p.1, p.2, p.3)).collect();
+    let out = key.1.iter().map(|(_, g)| {
+        let shells = g.def.kind == GrassKind::Shells;
+        GrassPatch {
+            shells,
+            triangles: if shells { patch_triangles(g, &views) } else { Vec::new() },
+            blades: place_blades(g, &views),
+            root: g.def.base_color,
+            tip: g.def.tip_color,
+            height: g.def.height,
+            density: g.def.density,
+            layers: g.def.shells,
+        }
+    });
+    let patches = Some(out.collect());
+    Patches { key, patches, hit }
+}

@@ -1,0 +1,69 @@
+//! The renderer's options: what a frame draws and how, set by the caller between frames
+//! ([`crate::render::Renderer::options`]). A leaf: it names no feature module.
+
+use super::view::{Camera, TopView};
+
+/// What the water surface shows: normally the water; the reflection or the refraction alone for
+/// tests and for looking at one of them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum WaterOutput {
+    /// Reflection and refraction mixed by Fresnel, with glint and shore.
+    #[default]
+    Full,
+    /// The reflection texture as the surface looks it up (ripples included).
+    Reflection,
+    /// The refraction texture as the surface looks it up.
+    Refraction,
+}
+
+/// The default on-screen size, pixels, below which trees are impostors
+/// ([`RenderOptions::impostor_pixels`]).
+pub const DEFAULT_IMPOSTOR_PIXELS: f32 = 150.0;
+
+/// Rendering options.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderOptions {
+    /// Draw the sun's shadow map.
+    pub shadows: bool,
+    /// Shadow-map edge, texels; clamped to [`crate::render::lighting::SHADOW_SIZES`] (see
+    /// [`crate::render::Renderer::shadow_size`]).
+    pub shadow_size: u32,
+    /// Background colour where there is no sky (linear RGBA); the sky normally covers it.
+    pub clear: wgpu::Color,
+    /// The smallest area, in pixels, a drawn leaf should cover: farther trees draw a share of
+    /// their leaves, grown to keep the crown's area ([`crate::render::lod`]). 0 draws every leaf.
+    pub leaf_pixels: f32,
+    /// Draw the scene's water (its reflection and refraction passes and the surface).
+    pub water: bool,
+    /// What the water surface shows (normally the water itself).
+    pub water_output: WaterOutput,
+    /// Draw the scene's grass patches (`--no-grass` turns them off).
+    pub grass: bool,
+    /// Bend grass blades away from the eye and the controller's hit point when they are near.
+    pub grass_bend: bool,
+    /// Draw the interaction visuals (the controller's ray, the hit marker, the anchor ball, the
+    /// selection and the task's targets).
+    pub overlay: bool,
+    /// The on-screen size, in pixels, of a tree's bounding sphere below which it is drawn as an
+    /// impostor (with a cross-fade up to [`crate::render::trees::impostor::BAND`] times as many). 0 draws
+    /// every tree as a mesh. The default, [`DEFAULT_IMPOSTOR_PIXELS`], keeps the reference
+    /// scene's image within a mean absolute error of 4 of 255 per channel of the full-detail
+    /// render (README, `grove bench render-reference`).
+    pub impostor_pixels: f32,
+    /// Draw the photographed crowns as canopy layers (with aerial photographs set by
+    /// [`crate::render::AerialPhotos::set`]); off, or without layer masks, they are drawn as tree models.
+    pub canopy: bool,
+    /// Draw from straight above with an orthographic projection ([`TopView`]) instead of
+    /// the world's head camera.
+    pub top_view: Option<TopView>,
+    /// Draw from this camera instead of the world's head camera (a video's shoulder or orbit
+    /// camera); the head is then drawn as a figure like the ghosts.
+    pub camera: Option<Camera>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true, top_view: None, camera: None }
+    }
+}
+
