@@ -1,6 +1,6 @@
-//! Extract: the first stage of a frame. [`common`] copies what every feature reads out of a
+//! Extract: the first stage of a frame. `common` copies what every feature reads out of a
 //! [`Sim`] (the camera, the sun, the time, the wind); each drawn feature then copies its own
-//! part in its `extract.rs` ([`super::feature::Feature::extract`]). These files are the only ones
+//! part in its `extract.rs` (`Feature::extract`). These files are the only ones
 //! in `src/render` that read simulation components; every later stage works on the copies.
 
 use glam::Vec3;
