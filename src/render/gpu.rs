@@ -17,9 +17,6 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Depth format of the shadow map.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
 
-/// The shared shading code (frame uniforms, shadow lookup, lighting model), prepended to every
-/// feature's shader.
-const LIGHTING_WGSL: &str = concat!(include_str!("lighting.wgsl"), "\n", include_str!("srgb.wgsl"));
 
 /// The device, the queue and the resources every feature binds.
 #[derive(Clone)]
@@ -107,12 +104,17 @@ impl Shared {
         }
     }
 
-    /// A shader module from a feature's WGSL with lighting.wgsl prepended.
+    /// A shader module of `src` with the pieces it imports ([`super::shader::compose`]).
     pub fn shader(&self, label: &str, src: &str) -> wgpu::ShaderModule {
-        let full = format!("{LIGHTING_WGSL}\n{src}");
+        self.shader_with(label, src, &[])
+    }
+
+    /// A shader module of `src` with the pieces it imports, among them `generated` ones (name,
+    /// WGSL text written from Rust constants).
+    pub fn shader_with(&self, label: &str, src: &str, generated: &[(&str, &str)]) -> wgpu::ShaderModule {
         self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(full.into()),
+            source: wgpu::ShaderSource::Wgsl(super::shader::compose(src, generated).into()),
         })
     }
 

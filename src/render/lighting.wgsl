@@ -1,5 +1,7 @@
 // Shared by every lit pass: the frame uniforms, the lighting resources and the shading model.
-// Prepended to every feature's shader by src/render/gpu.rs (`Shared::shader`).
+// Imported by every lit shader (`// #import lighting`, src/render/shader.rs).
+
+// #import srgb
 
 struct Frame {
     view_proj: mat4x4<f32>,

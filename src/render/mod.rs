@@ -29,6 +29,7 @@ pub mod lighting;
 pub mod offscreen;
 pub mod options;
 pub mod overlay;
+pub(crate) mod shader;
 pub mod sky;
 pub mod timing;
 pub mod trees;

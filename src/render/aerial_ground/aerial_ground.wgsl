@@ -3,6 +3,8 @@
 // photograph loaded the fragment is discarded and the ordinary ground, drawn after it, shows.
 // lighting.wgsl and clipmap.wgsl are prepended (src/render/aerial_ground/mod.rs).
 
+// #import lighting, clipmap
+
 struct AerialGroundParams {
     // The rectangle's corners, world (X, Z) metres, and its height.
     lo: vec2<f32>,

@@ -13,7 +13,7 @@ pub use photos::AerialPhotos;
 use glam::{DVec3, Vec2};
 use wgpu::util::DeviceExt;
 
-use super::clipmap::{gpu::WGSL as CLIPMAP_WGSL, ClipCamera, ClipmapSource, GpuClipmap};
+use super::clipmap::{ClipCamera, ClipmapSource, GpuClipmap};
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
 use super::view::Camera;
@@ -125,7 +125,7 @@ impl AerialGround {
             entries: &[e0, e1, e2, wgpu::BindGroupEntry { binding: 3, resource: buffer.as_entire_binding() }],
         });
         AerialGround {
-            module: shared.shader("aerial_ground.wgsl", &format!("{CLIPMAP_WGSL}\n{}", include_str!("aerial_ground.wgsl"))),
+            module: shared.shader("aerial_ground.wgsl", include_str!("aerial_ground.wgsl")),
             layout: shared.layout("aerial ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group)]),
             pipelines: PipelineCache::new("aerial ground"),
             bind_group,

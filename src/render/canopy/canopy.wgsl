@@ -6,6 +6,8 @@
 // lowest layer, whose outline holds the others).
 // lighting.wgsl and clipmap.wgsl are prepended (src/render/canopy/mod.rs).
 
+// #import lighting, clipmap
+
 struct CanopyParams {
     // The number of layers and the photographs' ground sample distance, metres.
     layer_count: f32,

@@ -20,7 +20,7 @@ pub(crate) mod trunks;
 use wgpu::util::DeviceExt;
 
 use super::aerial_ground::{clip_camera, FedClipmap};
-use super::clipmap::{gpu::WGSL as CLIPMAP_WGSL, GpuClipmap};
+use super::clipmap::GpuClipmap;
 pub(crate) use self::extract::CrownDraw;
 use self::extract::Crowns;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
@@ -154,7 +154,7 @@ impl Canopy {
         });
         let mask_bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("canopy mask bind group"), layout: &mask_group, entries: &masks.gpu.bind_entries(0) });
         Canopy {
-            module: shared.shader("canopy.wgsl", &format!("{CLIPMAP_WGSL}\n{}", include_str!("canopy.wgsl"))),
+            module: shared.shader("canopy.wgsl", include_str!("canopy.wgsl")),
             layout: shared.layout("canopy layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group), Some(&mask_group)]),
             shadow_layout: shared.layout("canopy shadow layout", &[Some(&shared.view_layout), None, Some(&group), Some(&mask_group)]),
             pipelines: PipelineCache::new("canopy"),

@@ -3,6 +3,8 @@
 // shadows. No sway: the canopy layers above do not sway either.
 // lighting.wgsl is prepended (src/render/canopy/trunks.rs).
 
+// #import lighting
+
 struct TrunkIn {
     // The tree's foot (world, metres) and the trunk's radius at the foot, metres.
     @location(0) foot_radius: vec4<f32>,

@@ -11,8 +11,6 @@
 
 use super::{AerialPlacement, ClipmapConfig, ClipmapFrame};
 
-/// The WGSL of the sampling functions, to prepend to a feature's shader.
-pub const WGSL: &str = include_str!("clipmap.wgsl");
 
 /// The most levels the uniform holds (matches `array<ClipLevel, 16>` in clipmap.wgsl).
 pub const MAX_LEVELS: usize = 16;

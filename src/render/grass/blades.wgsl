@@ -14,6 +14,8 @@
 //
 // Units: metres, radians; +Y up.
 
+// #import lighting, grass_constants, grass_shapes
+
 
 
 @group(2) @binding(0) var<uniform> params: BladeParams;

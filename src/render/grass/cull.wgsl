@@ -23,6 +23,8 @@
 //
 // Units: metres, radians, seconds; +Y up; pixels from the image's top left corner.
 
+// #import grass_constants, grass_shapes
+
 struct Blade {
     // The root, metres.
     position: vec3<f32>,

@@ -166,7 +166,7 @@ impl Grass {
                 entry(8, c, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::Cube, multisampled: false }),
             ],
         });
-        let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("cull.wgsl"), source: wgpu::ShaderSource::Wgsl(format!("{}{}{}", data::shader_constants(), include_str!("shapes.wgsl"), include_str!("cull.wgsl")).into()) });
+        let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("cull.wgsl"), source: wgpu::ShaderSource::Wgsl(super::shader::compose(include_str!("cull.wgsl"), &[("grass_constants", &data::shader_constants())]).into()) });
         let cull_layout = shared.layout("grass cull pipeline layout", &[Some(&cull_group_layout)]);
         // The general pipeline and the one specialised to blocks of far blades (blocks.rs).
         let cull_pipelines = [("grass cull pipeline", 0.0), ("grass cull pipeline (far blocks)", 1.0)].map(|(label, far_only)| {
@@ -191,7 +191,7 @@ impl Grass {
         };
         Grass {
             shell_module: shared.shader("shells.wgsl", include_str!("shells.wgsl")),
-            blade_module: shared.shader("blades.wgsl", &format!("{}{}{}", data::shader_constants(), include_str!("shapes.wgsl"), include_str!("blades.wgsl"))),
+            blade_module: shared.shader_with("blades.wgsl", include_str!("blades.wgsl"), &[("grass_constants", &data::shader_constants())]),
             shell_layout: shared.layout("grass shell pipeline layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shell_group_layout)]),
             blade_layout: shared.layout("grass blade pipeline layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&blade_group_layout)]),
             shell_group_layout,

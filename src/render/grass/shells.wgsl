@@ -13,6 +13,8 @@
 //
 // Units: metres; +Y up.
 
+// #import lighting
+
 struct ShellParams {
     // The root colour (rgb) and the number of layers (w).
     root: vec4<f32>,

@@ -13,6 +13,8 @@
 // broad highlight, specular strength 0.08, is left out). The far terrain has its own fragment
 // entry, `fs_far`: no shadow lookups.
 
+// #import lighting
+
 struct GroundParams {
     // Metres per repeat of the ground texture.
     metres_per_repeat: f32,

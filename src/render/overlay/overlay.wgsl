@@ -2,6 +2,8 @@
 // and its handles, and the task's target markers. Flat colours with a simple sun term; lines
 // (zero normal) are unlit. Uses only the frame uniforms (group 0) from lighting.wgsl.
 
+// #import lighting
+
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) color: vec4<f32>,

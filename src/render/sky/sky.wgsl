@@ -1,6 +1,8 @@
 // The sky background: the environment cubemap seen through each pixel, dimmed with the sun's
 // elevation, with a sun disc and glow. lighting.wgsl is prepended.
 
+// #import lighting
+
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     // The view ray through the pixel, world space, not normalised. For a perspective camera it

@@ -24,8 +24,6 @@ use self::extract::TreeDraw;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{PipelineCache, PipelineKey, Shared, ViewKind};
 
-/// The tree shader: wind.wgsl's functions, then the tree's own (lighting.wgsl goes first).
-const TREES_WGSL: &str = concat!(include_str!("wind.wgsl"), "\n", include_str!("impostor/octa.wgsl"), "\n", include_str!("trees.wgsl"));
 
 /// The trees feature: the models, this frame's instances and the pipelines by key. Its own
 /// methods load models and read back what was loaded ([`models`]).
@@ -67,7 +65,7 @@ impl Trees {
     pub(crate) fn new(shared: &Shared) -> Trees {
         let capacity = 1024;
         Trees {
-            module: shared.shader("trees.wgsl", TREES_WGSL),
+            module: shared.shader("trees.wgsl", include_str!("trees.wgsl")),
             lit_layout: shared.layout("tree lit layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
             shadow_layout: shared.layout("tree shadow layout", &[Some(&shared.view_layout), None, Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("trees"),
@@ -93,7 +91,7 @@ impl Trees {
     fn bake_impostor(&mut self, model: &mut GpuModel, data: &super::assets::gltf_load::ModelData) {
         let shared = &self.shared;
         let positions: Vec<Vec3> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
-        let key = impostor::cache::model_key(data, impostor::bake::BAKE_WGSL);
+        let key = impostor::cache::model_key(data, &impostor::bake::bake_wgsl());
         let path = self.impostor_cache.as_deref().map(|d| impostor::cache::file_path(d, &model.name, key));
         let mut atlas = None;
         if let Some(p) = path.as_deref().filter(|p| p.exists()) {

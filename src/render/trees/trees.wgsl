@@ -4,6 +4,8 @@
 // model `WIND_MODEL`) from its `_WIND` channels and the instance's WindState. lighting.wgsl and
 // wind.wgsl are prepended.
 
+// #import lighting, wind, octa
+
 struct Material {
     base_color: vec4<f32>,
     // The alpha below which texels are clipped (negative when opaque).

@@ -7,6 +7,8 @@
 // sun leaves a glint, and where the water is shallow towards the shore it fades into the bed.
 // Units: metres, seconds; +Y up.
 
+// #import lighting
+
 struct WaterParams {
     // World to the reflection texture's clip space (the matrix its pass drew with).
     reflection_view_proj: mat4x4<f32>,

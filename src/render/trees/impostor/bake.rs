@@ -30,8 +30,11 @@ pub(crate) struct BakeParams {
     pub radius: f32,
 }
 
-/// The bake shader's source (srgb.wgsl, octa.wgsl and bake.wgsl), part of the cache key.
-pub const BAKE_WGSL: &str = concat!(include_str!("../../srgb.wgsl"), "\n", include_str!("octa.wgsl"), "\n", include_str!("bake.wgsl"));
+/// The bake shader composed with what it imports (srgb.wgsl and octa.wgsl): its text is part
+/// of the impostor cache's key.
+pub fn bake_wgsl() -> String {
+    crate::render::shader::compose(include_str!("bake.wgsl"), &[])
+}
 
 /// The bake's shader and pipeline, built once per renderer.
 pub(crate) struct Baker {
@@ -45,7 +48,7 @@ impl Baker {
         let device = &shared.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("impostor bake shader"),
-            source: wgpu::ShaderSource::Wgsl(BAKE_WGSL.into()),
+            source: wgpu::ShaderSource::Wgsl(bake_wgsl().into()),
         });
         let params_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("impostor bake params layout"),

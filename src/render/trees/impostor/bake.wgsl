@@ -3,6 +3,8 @@
 // albedo (sRGB, alpha = coverage) and normal (model space, encoded 0..1; alpha = depth across
 // the sphere, 0 nearest) atlases. srgb.wgsl and octa.wgsl are prepended. No wind, no lighting.
 
+// #import srgb, octa
+
 // The model's bounding sphere, model-space metres (mirrors `BakeParams` in bake.rs).
 struct BakeParams {
     centre: vec3<f32>,

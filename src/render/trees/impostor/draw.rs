@@ -22,8 +22,6 @@ struct ImpostorParams {
 // The uniform holds one rectangle per view.
 const _: () = assert!(super::GRID * super::GRID == 64);
 
-/// The impostor shader: wind.wgsl's struct, octa.wgsl, then the impostor's own.
-const IMPOSTOR_WGSL: &str = concat!(include_str!("../wind.wgsl"), "\n", include_str!("octa.wgsl"), "\n", include_str!("impostor.wgsl"));
 
 /// The impostor pipelines of one key: for the main view a depth pre-pass (alpha-tested) and
 /// the shading at equal depth; for the sun's, the pre-pass alone into the shadow map.
@@ -67,7 +65,7 @@ impl ImpostorGpu {
         });
         ImpostorGpu {
             baker: Baker::new(shared),
-            module: shared.shader("impostor.wgsl", IMPOSTOR_WGSL),
+            module: shared.shader("impostor.wgsl", include_str!("impostor.wgsl")),
             lit_layout: shared.layout("impostor lit layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&atlas_layout)]),
             shadow_layout: shared.layout("impostor shadow layout", &[Some(&shared.view_layout), None, Some(&atlas_layout)]),
             atlas_layout,

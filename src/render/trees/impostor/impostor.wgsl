@@ -4,6 +4,8 @@
 // tree's WindState as its trunk is in wind.wgsl. lighting.wgsl, wind.wgsl and
 // octa.wgsl are prepended. Units: metres, radians; +Y up.
 
+// #import lighting, wind, octa
+
 // The model's bounding sphere (model-space metres), as baked (src/render/trees/impostor/draw.rs
 // `ImpostorParams`).
 struct ImpostorParams {

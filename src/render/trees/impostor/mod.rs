@@ -56,8 +56,6 @@ pub const MIP_LEVELS: u32 = 5;
 /// threshold (pixels on screen) and fully an impostor below the threshold.
 pub const BAND: f32 = 1.25;
 
-/// The WGSL shared by the bake, the impostor shader and the tree shader.
-pub const OCTA_WGSL: &str = include_str!("octa.wgsl");
 
 /// A direction with `y >= 0` to the square `[-1, 1]²` (the CPU twin of `hemi_oct_encode`).
 pub fn hemi_oct_encode(d: Vec3) -> Vec2 {

@@ -1,0 +1,118 @@
+//! WGSL composed by one mechanism. A shader names the shared pieces it uses on import lines,
+//! `// #import lighting, wind` (a comment, so every file stays valid WGSL on its own);
+//! [`compose`] writes each piece once, the pieces a piece imports before it, then the shader.
+//!
+//! The pieces are the shared WGSL files of [`LIBRARY`], and pieces the caller generates from
+//! Rust (the grass's constants, `grass::data::shader_constants`), so a constant shared by Rust
+//! and WGSL is written in Rust only. A leaf of `src/render`: it names no feature module.
+
+/// The shared WGSL files by import name.
+pub(crate) const LIBRARY: &[(&str, &str)] = &[
+    // The frame uniforms, the lighting resources and the shading model of every lit pass.
+    ("lighting", include_str!("lighting.wgsl")),
+    // sRGB decoding for textures sampled through a linear format.
+    ("srgb", include_str!("srgb.wgsl")),
+    // The per-vertex wind models (CPU twins in grove-systems' `wind_model`).
+    ("wind", include_str!("trees/wind.wgsl")),
+    // The impostors' hemi-octahedral view layout (CPU twins in `trees::impostor`).
+    ("octa", include_str!("trees/impostor/octa.wgsl")),
+    // Sampling a clipmap of an aerial photograph.
+    ("clipmap", include_str!("clipmap/clipmap.wgsl")),
+    // What the grass cull pass writes per blade and the blade draw's uniforms.
+    ("grass_shapes", include_str!("grass/shapes.wgsl")),
+];
+
+/// The names a WGSL text imports, in order: every `// #import a, b` line.
+pub(crate) fn imports(src: &str) -> Vec<&str> {
+    src.lines()
+        .filter_map(|l| l.trim().strip_prefix("// #import "))
+        .flat_map(|names| names.split(',').map(str::trim).filter(|n| !n.is_empty()))
+        .collect()
+}
+
+/// `src` with the pieces it imports written before it, each once (a piece's own imports before
+/// it), from [`LIBRARY`] and then `generated` (name, WGSL text). An import of no known piece
+/// is a mistake in the program's own shaders: it panics with the name, and the tests compose
+/// every shader.
+pub(crate) fn compose(src: &str, generated: &[(&str, &str)]) -> String {
+    let mut out = String::new();
+    let mut done: Vec<&str> = Vec::new();
+    for name in imports(src) {
+        add(name, generated, &mut done, &mut out, &mut Vec::new());
+    }
+    out.push_str(src);
+    out
+}
+
+/// Writes piece `name` and, before it, what it imports, unless written already; `path` holds
+/// the pieces being written, to name an import circle.
+fn add<'a>(name: &'a str, generated: &[(&'a str, &'a str)], done: &mut Vec<&'a str>, out: &mut String, path: &mut Vec<&'a str>) {
+    if done.contains(&name) {
+        return;
+    }
+    assert!(!path.contains(&name), "WGSL import circle: {} -> {name}", path.join(" -> "));
+    let text = LIBRARY.iter().chain(generated).find(|(n, _)| *n == name).map(|(_, t)| *t);
+    let text = text.unwrap_or_else(|| panic!("WGSL import of an unknown piece '{name}'"));
+    path.push(name);
+    for dep in imports(text) {
+        add(dep, generated, done, out, path);
+    }
+    path.pop();
+    done.push(name);
+    out.push_str(text);
+    out.push('\n');
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pieces_come_once_before_what_imports_them() {
+        let generated = [("a", "// #import b\nconst A: u32 = B;"), ("b", "const B: u32 = 1u;")];
+        let out = compose("// #import a, b\n// #import a\nfn f() -> u32 { return A; }", &generated);
+        assert_eq!(out.matches("const B").count(), 1, "{out}");
+        assert_eq!(out.matches("const A").count(), 1, "{out}");
+        let (a, b, f) = (out.find("const A").unwrap(), out.find("const B").unwrap(), out.find("fn f").unwrap());
+        assert!(b < a && a < f, "{out}");
+    }
+
+    #[test]
+    #[should_panic(expected = "unknown piece 'nope'")]
+    fn an_unknown_import_is_named() {
+        compose("// #import nope\n", &[]);
+    }
+
+    #[test]
+    #[should_panic(expected = "import circle")]
+    fn an_import_circle_is_named() {
+        compose("// #import a\n", &[("a", "// #import b\n"), ("b", "// #import a\n")]);
+    }
+
+    /// Every shader file under src/render imports only known pieces (the render tests compile
+    /// every composed shader on the device).
+    #[test]
+    fn every_shader_file_imports_known_pieces() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/render");
+        let mut files = Vec::new();
+        let mut stack = vec![root];
+        while let Some(dir) = stack.pop() {
+            for e in std::fs::read_dir(dir).unwrap().flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if p.extension().is_some_and(|x| x == "wgsl") {
+                    files.push(p);
+                }
+            }
+        }
+        assert!(files.len() >= 15, "{files:?}");
+        let known: Vec<&str> = LIBRARY.iter().map(|(n, _)| *n).chain(["grass_constants"]).collect();
+        for f in &files {
+            let text = std::fs::read_to_string(f).unwrap();
+            for name in imports(&text) {
+                assert!(known.contains(&name), "{}: imports unknown '{name}'", f.display());
+            }
+        }
+    }
+}
