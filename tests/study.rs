@@ -250,6 +250,13 @@ fn bad_study_input_gives_clear_errors() {
     assert_one_line_error(&out, 2, "no recordings");
     let out = grove(&["study", "--set", "snap_treshold=0.1", "--out", dir.path().join("o").to_str().unwrap()]);
     assert_one_line_error(&out, 2, "unknown parameter 'snap_treshold'");
+    // A value outside the parameter's range, in a sweep too, is refused with the range.
+    let out = grove(&["study", "--set", "snap_threshold=0.1,12", "--out", dir.path().join("o").to_str().unwrap()]);
+    assert_one_line_error(&out, 2, "snap_threshold: '12' must be a number from 0 to 10 m");
+    assert!(!dir.path().join("o").exists());
+    // --help lists every parameter with its default and range.
+    let help = String::from_utf8(grove(&["study", "--help"]).stdout).unwrap();
+    assert!(help.contains("touchpad_dead_zone") && help.contains("0.15, 0 to 1:") && help.contains("0.3 m, 0 to 10 m:"), "{help}");
     let out = grove(&["study", "--replays", "replays/nope", "--out", dir.path().join("o").to_str().unwrap()]);
     assert_one_line_error(&out, 2, "no such folder");
 }

@@ -44,7 +44,7 @@ pub struct StudyArgs {
     /// What-if on the replayed hands: re-run the same input with a changed parameter and compare
     /// with the baseline, e.g. --set snap_threshold=0.2. Several comma-separated values sweep the
     /// parameter: --set snap_threshold=0.05,0.1,0.2,0.3,0.5.
-    #[arg(long = "set", value_name = "NAME=VALUE[,VALUE…]")]
+    #[arg(long = "set", value_name = "NAME=VALUE[,VALUE…]", long_help = set_long_help())]
     pub set: Vec<String>,
     /// What-if on re-simulated participants: compare the recordings in --replays (written by
     /// `grove synth --set …`) with the baseline recordings in this folder.
@@ -169,4 +169,17 @@ fn run_shard(args: &StudyArgs, shard: Shard, set: &SetArgs, files: &[PathBuf], b
     // A failed or diverged recording is a result like any other: the partial is written, and the
     // exit code says so, as a run without shards does.
     Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+/// `--set`'s long help: the short help, then every parameter with its default, range and unit
+/// (from `Config::PARAMS`, the one list the parameters are declared in).
+fn set_long_help() -> String {
+    let mut help = String::from(
+        "What-if on the replayed hands: re-run the same input with a changed parameter and compare with the baseline, e.g. --set snap_threshold=0.2. Several comma-separated values sweep the parameter: --set snap_threshold=0.05,0.1,0.2,0.3,0.5.\n\nParameters (default, accepted range):",
+    );
+    for p in grove_systems::resources::Config::PARAMS {
+        let unit = if p.unit.is_empty() { String::new() } else { format!(" {}", p.unit) };
+        help.push_str(&format!("\n  {:<24} {}{unit}, {} to {}{unit}: {}", p.name, p.default, p.min, p.max, p.doc.trim()));
+    }
+    help
 }

@@ -15,13 +15,39 @@ use crate::spatial::SpatialIndex;
 
 pub use crate::mode::Mode;
 
-/// Defines [`Config`] from one list of `name: default` fields (each a finite, non-negative
-/// `f32` with its doc comment): the struct, its defaults, [`Config::NAMES`] and the lookup by
-/// name that [`Config::set`] uses all come from that list, so a field is written once.
+/// One tunable parameter as [`Config::PARAMS`] lists it: what `--set`, sweeps, what-ifs and
+/// recording headers check a value against, and what `grove study --help` and the reports show.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Param {
+    /// The name, as `--set NAME=VALUE` writes it.
+    pub name: &'static str,
+    /// The default value.
+    pub default: f32,
+    /// The smallest accepted value.
+    pub min: f32,
+    /// The largest accepted value.
+    pub max: f32,
+    /// The unit ("m", "m/s", "deg/s"; "" for a plain number).
+    pub unit: &'static str,
+    /// What it does (its doc comment).
+    pub doc: &'static str,
+}
+
+impl Param {
+    /// The parameter called `name`.
+    pub fn named(name: &str) -> Option<&'static Param> {
+        Config::PARAMS.iter().find(|p| p.name == name)
+    }
+}
+
+/// Defines [`Config`] from one list of fields, each `name: default, [min, max], "unit"` with
+/// its doc comment: the struct, its defaults, [`Config::PARAMS`], [`Config::NAMES`] and the
+/// lookup by name that [`Config::apply`] uses all come from that list, so a field is written
+/// once.
 macro_rules! config_fields {
-    ($($(#[doc = $doc:literal])* $name:ident: $default:expr,)*) => {
+    ($($(#[doc = $doc:literal])* $name:ident: $default:expr, [$min:expr, $max:expr], $unit:literal,)*) => {
         /// Tunable parameters of the interaction systems. Researchers may override any of them
-        /// with `grove study --set NAME=VALUE`; [`Config::NAMES`] lists the names.
+        /// with `grove study --set NAME=VALUE`; [`Config::PARAMS`] lists them with their ranges.
         #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
         #[serde(default, deny_unknown_fields)]
         pub struct Config {
@@ -35,6 +61,16 @@ macro_rules! config_fields {
         }
 
         impl Config {
+            /// Every parameter, in field order, with its default, range, unit and doc.
+            pub const PARAMS: &'static [Param] = &[$(Param {
+                name: stringify!($name),
+                default: $default,
+                min: $min,
+                max: $max,
+                unit: $unit,
+                doc: concat!($($doc),*),
+            },)*];
+
             /// The names [`Config::set`] accepts, in field order.
             pub const NAMES: &'static [&'static str] = &[$(stringify!($name),)*];
 
@@ -51,25 +87,25 @@ macro_rules! config_fields {
 
 config_fields! {
     /// A dragged tree snaps when its lowest point is closer than this to the plane below, metres.
-    snap_threshold: 0.3,
+    snap_threshold: 0.3, [0.0, 10.0], "m",
     /// Touchpad front/back speed along the controller ray, metres per second at full deflection.
-    touchpad_move_rate: 1.5,
+    touchpad_move_rate: 1.5, [0.0, 100.0], "m/s",
     /// Touchpad left/right turn rate, degrees per second at full deflection.
-    touchpad_turn_rate_deg: 90.0,
+    touchpad_turn_rate_deg: 90.0, [0.0, 3600.0], "deg/s",
     /// Touchpad deflections smaller than this are ignored.
-    touchpad_dead_zone: 0.15,
+    touchpad_dead_zone: 0.15, [0.0, 1.0], "",
     /// Smallest allowed uniform scale.
-    min_scale: 0.25,
+    min_scale: 0.25, [0.0, 100.0], "",
     /// Largest allowed uniform scale.
-    max_scale: 4.0,
+    max_scale: 4.0, [0.0, 100.0], "",
     /// Longest ray, metres.
-    max_ray_length: 100.0,
+    max_ray_length: 100.0, [0.0, 10000.0], "m",
     /// Radius of a bounding-box handle for ray picking, metres.
-    handle_radius: 0.15,
+    handle_radius: 0.15, [0.0, 10.0], "m",
     /// Distance in front of the head where a tree chosen from the menu appears, metres.
-    spawn_distance: 1.5,
+    spawn_distance: 1.5, [0.0, 100.0], "m",
     /// How far below head height a tree chosen from the menu appears, metres.
-    spawn_drop: 0.5,
+    spawn_drop: 0.5, [0.0, 100.0], "m",
 }
 
 impl Config {
@@ -97,11 +133,11 @@ pub enum ConfigError {
         /// The value as written.
         text: String,
     },
-    /// The value is infinite, NaN or negative.
-    #[error("{name}: '{text}' must be a finite, non-negative number")]
+    /// The value is infinite, NaN or outside the parameter's range.
+    #[error("{}: '{text}' must be a number from {} to {}{}", param.name, param.min, param.max, unit_suffix(param.unit))]
     OutOfRange {
         /// The parameter.
-        name: &'static str,
+        param: &'static Param,
         /// The value as written.
         text: String,
     },
@@ -118,6 +154,15 @@ pub enum ConfigError {
     },
 }
 
+/// " UNIT" after a number, or nothing for a plain number.
+fn unit_suffix(unit: &str) -> String {
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
+
 /// One `--set NAME=VALUE`, parsed once: a known parameter and its checked value.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Override {
@@ -130,20 +175,16 @@ pub struct Override {
 }
 
 impl Override {
-    /// The one place a parameter's text is read: `name` must be one of [`Config::NAMES`] and
-    /// `text` a finite, non-negative number.
+    /// The one place a parameter's text is read: `name` must be one of [`Config::PARAMS`] and
+    /// `text` a finite number within its range.
     pub fn new(name: &str, text: &str) -> Result<Override, ConfigError> {
         let (name, text) = (name.trim(), text.trim());
-        let name = Config::NAMES
-            .iter()
-            .copied()
-            .find(|n| *n == name)
-            .ok_or_else(|| ConfigError::Unknown { name: name.to_string() })?;
-        let value: f32 = text.parse().map_err(|_| ConfigError::NotANumber { name, text: text.to_string() })?;
-        if !value.is_finite() || value < 0.0 {
-            return Err(ConfigError::OutOfRange { name, text: text.to_string() });
+        let param = Param::named(name).ok_or_else(|| ConfigError::Unknown { name: name.to_string() })?;
+        let value: f32 = text.parse().map_err(|_| ConfigError::NotANumber { name: param.name, text: text.to_string() })?;
+        if !value.is_finite() || value < param.min || value > param.max {
+            return Err(ConfigError::OutOfRange { param, text: text.to_string() });
         }
-        Ok(Override { name, value, text: text.to_string() })
+        Ok(Override { name: param.name, value, text: text.to_string() })
     }
 
     /// Parses `NAME=VALUE` ([`Override::new`]).
@@ -330,5 +371,37 @@ impl Resources {
     /// Simulated time at the start of the current tick, seconds.
     pub fn time(&self) -> f64 {
         self.tick as f64 * self.dt as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_parameter_has_its_field_a_default_within_its_range_and_a_doc() {
+        let defaults = Config::default();
+        assert_eq!(Config::PARAMS.len(), Config::NAMES.len());
+        for p in Config::PARAMS {
+            let mut c = defaults.clone();
+            assert_eq!(c.field_mut(p.name).map(|f| *f), Some(p.default), "{}", p.name);
+            assert!(p.min <= p.default && p.default <= p.max, "{}", p.name);
+            assert!(p.doc.trim().len() > 10, "{}", p.name);
+        }
+        assert_eq!(Param::named("snap_threshold").map(|p| (p.unit, p.max)), Some(("m", 10.0)));
+    }
+
+    #[test]
+    fn a_value_is_read_once_and_checked_against_its_range() {
+        let o = Override::parse(" snap_threshold = 0.2 ").unwrap();
+        assert_eq!((o.name, o.value, o.text.as_str()), ("snap_threshold", 0.2, "0.2"));
+        // The ends of a range are in it; past them is refused with the range and unit.
+        assert!(Override::new("touchpad_dead_zone", "1").is_ok());
+        assert_eq!(Override::new("touchpad_dead_zone", "1.5").unwrap_err().to_string(), "touchpad_dead_zone: '1.5' must be a number from 0 to 1");
+        assert_eq!(Override::new("snap_threshold", "-0.1").unwrap_err().to_string(), "snap_threshold: '-0.1' must be a number from 0 to 10 m");
+        assert!(matches!(Override::new("snap_threshold", "inf"), Err(ConfigError::OutOfRange { .. })));
+        assert!(matches!(Override::new("snap_threshold", "x"), Err(ConfigError::NotANumber { .. })));
+        assert!(matches!(Override::new("snap", "1"), Err(ConfigError::Unknown { .. })));
+        assert!(matches!(Override::parse_all(&["min_scale=5", "max_scale=2"]), Err(ConfigError::ScaleOrder { .. })));
     }
 }
