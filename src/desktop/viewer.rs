@@ -140,7 +140,7 @@ impl Viewer {
     pub fn seek(&mut self, tick: u64) {
         let tick = tick.min(self.end_tick);
         if tick < self.sim.res().tick {
-            if let Ok(sim) = grove::bank::open_session(&[]).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks)) {
+            if let Ok(sim) = grove::bank::open_session(&[]).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks).map_err(|e| e.to_string())) {
                 self.sim = sim;
                 self.next_event = 0;
             }

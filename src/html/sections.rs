@@ -29,7 +29,7 @@ pub fn areas(views: &[TrialView], overrides: &[Override], mut shots: Option<&mut
                 // The scene as the first trial of the condition starts: its own trees, no planted one.
                 let world = read_events(&first.path).map_err(|e| e.to_string()).and_then(|(h, _)| {
                     let banks = crate::bank::open_session(&[])?;
-                    sim_for_header_in(&h, first.path.parent(), overrides, &banks)
+                    sim_for_header_in(&h, first.path.parent(), overrides, &banks).map_err(|e| e.to_string())
                 });
                 match world.and_then(|sim| s.top(&sim, a.view)) {
                     Ok(uri) => image = Some(uri),
