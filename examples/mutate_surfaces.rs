@@ -274,7 +274,7 @@ fn images_and_crowns(dir: &Path, n: usize, rng: &mut Rng, tally: &mut Tally, cur
         run_one(tally, current, "images", format!("#{k} {ext} ({how})"), || match RgbImage::load(&path, "image") {
             Ok(img) if img.data.len() == (img.width * img.height * 3) as usize => Ok("read"),
             Ok(_) => Err("an image whose data does not match its size".into()),
-            Err(e) if e.contains('\n') => Err(format!("a two-line error: {e}")),
+            Err(e) if e.to_string().contains('\n') => Err(format!("a two-line error: {e}")),
             Err(_) => Ok("refused"),
         });
     }

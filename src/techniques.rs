@@ -1,7 +1,7 @@
 //! The app's interaction techniques: the two built-in ones and the plug-ins in [`plugins`].
 //! Registering a plug-in is one line in that list (`docs/techniques.md`).
 
-use grove_systems::technique::{install, Technique, Techniques};
+use grove_systems::technique::{install, Technique, TechniqueError, Techniques};
 
 /// The plug-in techniques, in the order menus and reports list them after the built-in two.
 pub fn plugins() -> Vec<Technique> {
@@ -11,6 +11,6 @@ pub fn plugins() -> Vec<Technique> {
 }
 
 /// Registers every technique for the simulations this process builds. Called once, first thing.
-pub fn install_all() -> Result<(), String> {
-    install(Techniques::with(plugins()).map_err(|e| e.to_string())?).map_err(|e| e.to_string())
+pub fn install_all() -> Result<(), TechniqueError> {
+    install(Techniques::with(plugins())?)
 }

@@ -113,7 +113,7 @@ fn a_missing_photograph_or_bad_field_is_one_line() {
     let s = site();
     let mut scene = s.scene.clone();
     scene.aerial.as_mut().unwrap().winter = "nowhere.png".into();
-    let e = grove::aerial::open::open_sources(&scene, false).err().expect("a missing photograph is an error");
+    let e = grove::aerial::open::open_sources(&scene, false).err().expect("a missing photograph is an error").to_string();
     assert!(e.contains("nowhere.png") && !e.contains('\n'), "{e}");
     let text = std::fs::read_to_string(s.scene.dir.as_ref().unwrap().join("site.ron")).unwrap().replace("gsd_m: 0.25", "gsd_m: -1.0");
     let e = Scene::parse(&text, "bad.ron").unwrap_err().to_string();

@@ -14,6 +14,8 @@ use std::path::Path;
 
 use grove_systems::files::{self, Kind};
 
+use super::AerialError;
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -155,36 +157,36 @@ pub fn label_crowns(mask: &[u8], width: u32, height: u32, gsd: f64) -> Vec<Crown
 
 /// Checks that every crown's numbers are finite: a table grove writes is one grove can read
 /// back, so no non-finite number is ever written.
-pub fn check_finite(crowns: &[Crown]) -> Result<(), String> {
+pub fn check_finite(crowns: &[Crown]) -> Result<(), AerialError> {
     match crowns.iter().find(|c| ![c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m].iter().all(|v| v.is_finite())) {
-        Some(c) => Err(format!("crown {} has a position or size that is not a finite number; check --gsd", c.id)),
+        Some(c) => Err(AerialError::CrownNotFinite(c.id)),
         None => Ok(()),
     }
 }
 
 /// Writes `crowns.csv` (header and one row per crown) atomically.
-pub fn write_csv(path: &Path, crowns: &[Crown]) -> Result<(), String> {
-    check_finite(crowns).map_err(|e| format!("{}: {e}", path.display()))?;
+pub fn write_csv(path: &Path, crowns: &[Crown]) -> Result<(), AerialError> {
+    check_finite(crowns).map_err(|e| e.named(path.display()))?;
     super::raster::write_atomic(path, |w| {
         let mut csv = csv::Writer::from_writer(w);
         for c in crowns {
-            csv.serialize(c).map_err(|e| format!("{}: {e}", path.display()))?;
+            csv.serialize(c).map_err(|e| AerialError::Csv(e).named(path.display()))?;
         }
-        csv.flush().map_err(|e| format!("{}: {e}", path.display()))
+        csv.flush().map_err(|e| AerialError::Io(e).named(path.display()))
     })
 }
 
 /// Reads `crowns.csv`, checking every number; errors name the file and the row.
-pub fn read_csv(path: &Path) -> Result<Vec<Crown>, String> {
+pub fn read_csv(path: &Path) -> Result<Vec<Crown>, AerialError> {
     let name = path.display();
-    let (file, _) = files::open(path, Kind::Table).map_err(|e| e.to_string())?;
+    let (file, _) = files::open(path, Kind::Table).map_err(AerialError::File)?;
     let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(std::io::Read::take(file, Kind::Table.limit())));
     let mut out = Vec::new();
     for (i, row) in rdr.deserialize::<Crown>().enumerate() {
-        let c = row.map_err(|e| format!("{name}: row {}: {}", i + 2, e.to_string().replace('\n', " ")))?;
+        let c = row.map_err(|e| AerialError::Row { row: i + 2, message: e.to_string().replace('\n', " ") }.named(&name))?;
         let nums = [c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m];
         if nums.iter().any(|v| !v.is_finite() || *v < 0.0) {
-            return Err(format!("{name}: row {}: a negative, NaN or infinite number", i + 2));
+            return Err(AerialError::BadRow(i + 2).named(&name));
         }
         out.push(c);
     }
@@ -216,12 +218,12 @@ pub struct Summary {
 }
 
 /// Reads the `summary.json` beside a `crowns.csv`.
-pub fn read_summary(crowns_csv: &Path) -> Result<Summary, String> {
+pub fn read_summary(crowns_csv: &Path) -> Result<Summary, AerialError> {
     let path = crowns_csv.parent().unwrap_or(Path::new(".")).join("summary.json");
-    let text = files::read_text(&path, Kind::Index).map_err(|e| format!("{e} (grove aerial segment writes it beside crowns.csv)"))?;
-    let s: Summary = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let text = files::read_text(&path, Kind::Index).map_err(AerialError::NoSummary)?;
+    let s: Summary = serde_json::from_str(&text).map_err(|e| AerialError::Json(e).named(path.display()))?;
     if s.width == 0 || s.height == 0 || !(s.gsd_m.is_finite() && s.gsd_m > 0.0) {
-        return Err(format!("{}: the image size and gsd_m must be positive", path.display()));
+        return Err(AerialError::SummarySize.named(path.display()));
     }
     Ok(s)
 }

@@ -14,6 +14,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::crowns::Crown;
+use super::AerialError;
 use super::synth::{DistractorRow, TruthRow};
 
 /// Counts and rates of a detection.
@@ -74,24 +75,24 @@ pub struct Truth {
     pub distractors: Vec<DistractorRow>,
 }
 
-fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, String> {
+fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, AerialError> {
     let name = path.display();
     let kind = grove_systems::files::Kind::Table;
-    let (file, _) = grove_systems::files::open(path, kind).map_err(|e| e.to_string())?;
+    let (file, _) = grove_systems::files::open(path, kind).map_err(AerialError::File)?;
     let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(std::io::Read::take(file, kind.limit())));
     rdr.deserialize::<T>()
         .enumerate()
-        .map(|(i, r)| r.map_err(|e| format!("{name}: row {}: {}", i + 2, e.to_string().replace('\n', " "))))
+        .map(|(i, r)| r.map_err(|e| AerialError::Row { row: i + 2, message: e.to_string().replace('\n', " ") }.named(&name)))
         .collect()
 }
 
 impl Truth {
     /// Reads `truth.csv` and, when it exists, `distractors.csv` from a folder.
-    pub fn read(dir: &Path) -> Result<Truth, String> {
+    pub fn read(dir: &Path) -> Result<Truth, AerialError> {
         let trees: Vec<TruthRow> = read_rows(&dir.join("truth.csv"))?;
         for t in &trees {
             if ![t.x_px, t.y_px, t.radius_px].iter().all(|v| v.is_finite()) || t.radius_px <= 0.0 {
-                return Err(format!("{}: tree {} has a bad centre or radius", dir.join("truth.csv").display(), t.id));
+                return Err(AerialError::BadTree(t.id).named(dir.join("truth.csv").display()));
             }
         }
         let dpath = dir.join("distractors.csv");

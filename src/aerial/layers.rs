@@ -4,6 +4,7 @@
 //! from the crown base, is treetop there). Computed in memory from a [`Segmenter`].
 
 use super::mask::{MaskParams, Segmenter, MAX_K};
+use super::AerialError;
 
 /// The most layers a byte holds.
 pub const MAX_LAYERS: u32 = 8;
@@ -11,17 +12,17 @@ pub const MAX_LAYERS: u32 = 8;
 /// The window sides of `count` layers, odd, growing evenly from `k_base` (the lowest layer) to
 /// `k_top` (the highest). Fails with one line for a count outside 1..=8 or a side that is not
 /// odd and in 1..=255, or a top below the base.
-pub fn layer_ks(count: u32, k_base: u32, k_top: u32) -> Result<Vec<u32>, String> {
+pub fn layer_ks(count: u32, k_base: u32, k_top: u32) -> Result<Vec<u32>, AerialError> {
     if !(1..=MAX_LAYERS).contains(&count) {
-        return Err(format!("--layers {count} must be 1 to {MAX_LAYERS}"));
+        return Err(AerialError::LayerCount(count));
     }
     for k in [k_base, k_top] {
         if k == 0 || k % 2 == 0 || k > MAX_K {
-            return Err(format!("window side {k} must be odd and between 1 and {MAX_K}"));
+            return Err(AerialError::WindowSide(k));
         }
     }
     if k_top < k_base {
-        return Err(format!("--k-top {k_top} must not be below --k {k_base}"));
+        return Err(AerialError::KTop { top: k_top, base: k_base });
     }
     let steps = (k_top - k_base) / 2;
     Ok((0..count)

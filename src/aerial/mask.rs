@@ -18,6 +18,7 @@ use rayon::prelude::*;
 
 use super::equalize::{IDENTITY, Luts, equalize_luts};
 use super::raster::RgbImage;
+use super::AerialError;
 
 /// Rows per band of parallel work.
 pub const BAND: usize = 64;
@@ -44,13 +45,13 @@ impl Default for MaskParams {
 
 impl MaskParams {
     /// Checks the parameters; a one-line message for the first problem.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), AerialError> {
         if self.k == 0 || self.k % 2 == 0 || self.k > MAX_K {
-            return Err(format!("--k {} must be odd and between 1 and {MAX_K}", self.k));
+            return Err(AerialError::K(self.k));
         }
         for (name, v) in [("s", self.s), ("w", self.w)] {
             if !(v.is_finite() && (0.0..1.0).contains(&v)) {
-                return Err(format!("--{name} {v} must be a fraction in 0 <= {name} < 1"));
+                return Err(AerialError::Fraction { name, value: v });
             }
         }
         Ok(())
@@ -92,12 +93,9 @@ pub struct Segmenter {
 impl Segmenter {
     /// Computes the flags of a pair, equalising each image first when `equalize` is set. The two
     /// images must be of the same size.
-    pub fn new(summer: &RgbImage, winter: &RgbImage, equalize: bool) -> Result<Segmenter, String> {
+    pub fn new(summer: &RgbImage, winter: &RgbImage, equalize: bool) -> Result<Segmenter, AerialError> {
         if (summer.width, summer.height) != (winter.width, winter.height) {
-            return Err(format!(
-                "the summer image is {} x {} but the winter image is {} x {}; the pair must be registered and of equal size",
-                summer.width, summer.height, winter.width, winter.height
-            ));
+            return Err(AerialError::PairSize { summer: (summer.width, summer.height), winter: (winter.width, winter.height) });
         }
         let (ls, lw) = if equalize {
             rayon::join(|| equalize_luts(summer), || equalize_luts(winter))
@@ -218,7 +216,7 @@ fn prefix(pre: &mut [u32], col: &[u16]) {
 }
 
 /// Convenience: the treetop mask of a pair in one call.
-pub fn treetop_mask(summer: &RgbImage, winter: &RgbImage, equalize: bool, p: &MaskParams) -> Result<Vec<u8>, String> {
+pub fn treetop_mask(summer: &RgbImage, winter: &RgbImage, equalize: bool, p: &MaskParams) -> Result<Vec<u8>, AerialError> {
     p.validate()?;
     Ok(Segmenter::new(summer, winter, equalize)?.mask(p))
 }

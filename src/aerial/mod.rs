@@ -22,6 +22,7 @@
 //! times the ground sample distance (GSD, metres per pixel), from the image's top-left corner.
 
 pub mod crowns;
+mod error;
 pub mod equalize;
 pub mod eval;
 pub mod layers;
@@ -33,6 +34,7 @@ pub mod synth;
 pub mod tiles;
 
 pub use crowns::{Crown, label_crowns};
+pub use error::AerialError;
 pub use equalize::{Luts, equalize_luts};
 pub use mask::{MaskParams, Segmenter};
 pub use raster::RgbImage;

@@ -13,6 +13,7 @@ use glam::{DVec2, Vec2};
 use grove_systems::scene::Scene;
 
 use super::raster::RgbImage;
+use super::AerialError;
 use crate::render::aerial_ground::AerialSources;
 use crate::render::canopy::extents::LayerBits;
 use crate::render::clipmap::image_source::{Downsample, ImageSource};
@@ -33,37 +34,37 @@ pub const TILED: ClipmapConfig = ClipmapConfig { levels: 8, size: 1024 };
 
 /// One photograph of the pair as a clipmap source and its size in texels: a tile folder
 /// streamed from disk, or an image file held in memory.
-fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn ClipmapSource>, u32, u32), String> {
+fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn ClipmapSource>, u32, u32), AerialError> {
     if path.is_dir() {
-        let c = Clipmap::open(path, TILED, placement).map_err(|e| format!("{what}: {e}"))?;
+        let c = Clipmap::open(path, TILED, placement).map_err(|e| AerialError::Clipmap(e).named(what))?;
         let (w, h) = (c.meta().width, c.meta().height);
         return Ok((Box::new(c), w, h));
     }
     let img = RgbImage::load(path, what)?;
     let (w, h) = (img.width, img.height);
-    Ok((Box::new(ImageSource::from_rgb(&img, memory_config(w, h), placement)?), w, h))
+    Ok((Box::new(ImageSource::from_rgb(&img, memory_config(w, h), placement).map_err(AerialError::Clipmap)?), w, h))
 }
 
 /// The clipmap sources of `scene`'s aerial section, or `None` without one. Errors are one line
 /// naming the file: missing or unreadable images, or images of different sizes.
-pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSources>, String> {
+pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSources>, AerialError> {
     let Some(a) = &scene.aerial else { return Ok(None) };
     let placement = AerialPlacement { origin_m: DVec2::new(f64::from(a.origin.x), f64::from(a.origin.y)), gsd_m: f64::from(a.gsd_m) };
     let (winter, w, h) = photo(&resolve(scene, &a.winter), "winter photograph", placement)?;
     let (summer, sw, sh) = photo(&resolve(scene, &a.summer), "summer photograph", placement)?;
     if (sw, sh) != (w, h) {
-        return Err(format!("aerial: the summer photograph is {sw}x{sh} but the winter one is {w}x{h}"));
+        return Err(AerialError::PhotographSizes { summer: (sw, sh), winter: (w, h) });
     }
     let mut layer_bits = None;
     let layers = match &a.layers {
         Some(rel) => {
             let path = resolve(scene, rel);
             if path.is_dir() {
-                return Err(format!("{}: the layer masks must be an image file (a tile pyramid would average their bits)", path.display()));
+                return Err(AerialError::LayersAreFolder(path));
             }
             let m = RgbImage::load(&path, "layer mask")?;
             if (m.width, m.height) != (w, h) {
-                return Err(format!("{}: the layer mask is {}x{} but the photographs are {w}x{h}", path.display(), m.width, m.height));
+                return Err(AerialError::LayerMaskSize { path, mask: (m.width, m.height), photos: (w, h) });
             }
             // The bits once more, a byte a texel, for the canopy's quad sizes.
             layer_bits = Some(LayerBits {
@@ -75,7 +76,7 @@ pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSourc
             });
             // The mask's bits in red, opaque; never blended between texels.
             let rgba = m.data.chunks_exact(3).flat_map(|t| [t[0], 0, 0, 255]).collect();
-            Some(Box::new(ImageSource::with_downsample(w, h, rgba, memory_config(w, h), placement, Downsample::Nearest)?) as _)
+            Some(Box::new(ImageSource::with_downsample(w, h, rgba, memory_config(w, h), placement, Downsample::Nearest).map_err(AerialError::Clipmap)?) as _)
         }
         None => None,
     };

@@ -10,6 +10,8 @@ use std::path::{Path, PathBuf};
 
 use image::{ColorType, ImageDecoder, ImageReader, Limits};
 
+use super::AerialError;
+
 /// The largest image this module reads: 1 GiB of RGB texels (for example 18,000 × 18,000).
 /// A larger image, or a file whose header claims one, is refused before anything is allocated.
 pub const MAX_BYTES: u64 = 1 << 30;
@@ -50,35 +52,36 @@ impl RgbImage {
     /// Reads an 8-bit RGB PNG or TIFF (the format is guessed from the content). `what` names the
     /// image in errors ("summer image"). Any other colour type, a missing or unreadable file, or
     /// an image over [`MAX_BYTES`] is an error of one line.
-    pub fn load(path: &Path, what: &str) -> Result<RgbImage, String> {
+    pub fn load(path: &Path, what: &str) -> Result<RgbImage, AerialError> {
         let name = format!("{what} {}", path.display());
-        let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::Image).map_err(|e| format!("{what} {e}"))?;
+        let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::Image).map_err(|error| AerialError::OpenImage { what: what.to_string(), error })?;
         // The format comes from the content alone: a PNG or TIFF signature, whatever the file is called.
         let mut head = [0u8; 8];
-        let io = |e: std::io::Error| format!("{name}: {}", grove_systems::scene::io_message(&e));
+        let io = |e: std::io::Error| AerialError::Access(e).named(&name);
         let n = std::io::Read::read(&mut file, &mut head).map_err(io)?;
         std::io::Seek::rewind(&mut file).map_err(io)?;
         let format = match &head[..n] {
             [0x89, b'P', b'N', b'G', ..] => image::ImageFormat::Png,
             [b'I', b'I', 42, 0, ..] | [b'M', b'M', 0, 42, ..] => image::ImageFormat::Tiff,
-            _ => return Err(format!("{name}: not a PNG or TIFF image")),
+            _ => return Err(AerialError::NotPngOrTiff.named(&name)),
         };
         let mut reader = ImageReader::with_format(std::io::BufReader::new(file), format);
         let mut limits = Limits::default();
         limits.max_alloc = Some(MAX_BYTES + (64 << 20));
         reader.limits(limits);
-        let decoder = reader.into_decoder().map_err(|e| format!("{name}: {}", one_line(&e.to_string())))?;
+        let decode = |e: image::ImageError| AerialError::Decode(one_line(&e.to_string())).named(&name);
+        let decoder = reader.into_decoder().map_err(decode)?;
         let (width, height) = decoder.dimensions();
         let colour = decoder.color_type();
         if colour != ColorType::Rgb8 {
-            return Err(format!("{name}: is {}, not 8-bit RGB", colour_name(colour)));
+            return Err(AerialError::NotRgb8(colour_name(colour)).named(&name));
         }
         let bytes = width as u64 * height as u64 * 3;
         if bytes > MAX_BYTES || width == 0 || height == 0 {
-            return Err(format!("{name}: {width} x {height} texels is outside 1 texel .. {} MiB", MAX_BYTES >> 20));
+            return Err(AerialError::ImageSize { width, height }.named(&name));
         }
         let mut data = vec![0u8; bytes as usize];
-        decoder.read_image(&mut data).map_err(|e| format!("{name}: {}", one_line(&e.to_string())))?;
+        decoder.read_image(&mut data).map_err(decode)?;
         Ok(RgbImage { width, height, data })
     }
 }
@@ -101,13 +104,13 @@ fn colour_name(c: ColorType) -> String {
 }
 
 /// Refuses to go on when any of `paths` exists and `force` is not set: one line naming the first.
-pub fn check_writable(paths: &[PathBuf], force: bool) -> Result<(), String> {
+pub fn check_writable(paths: &[PathBuf], force: bool) -> Result<(), AerialError> {
     for p in paths {
         if p.is_dir() {
-            return Err(format!("{} is a folder; it cannot be written as a file", p.display()));
+            return Err(AerialError::IsFolder(p.clone()));
         }
         if p.exists() && !force {
-            return Err(format!("{} already exists; pass --force to overwrite it", p.display()));
+            return Err(AerialError::Exists(p.clone()));
         }
     }
     Ok(())
@@ -115,17 +118,18 @@ pub fn check_writable(paths: &[PathBuf], force: bool) -> Result<(), String> {
 
 /// Writes a file through a temporary file in the same folder, renamed into place when `body`
 /// succeeded; on failure the temporary file is removed and nothing at `path` changes.
-pub fn write_atomic(path: &Path, body: impl FnOnce(&mut BufWriter<File>) -> Result<(), String>) -> Result<(), String> {
+pub fn write_atomic(path: &Path, body: impl FnOnce(&mut BufWriter<File>) -> Result<(), AerialError>) -> Result<(), AerialError> {
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let file_name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_else(|| "out".into());
     let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
     let result = (|| {
-        let file = File::create(&tmp).map_err(|e| format!("{}: {}", tmp.display(), grove_systems::scene::io_message(&e)))?;
+        let file = File::create(&tmp).map_err(|e| AerialError::Access(e).named(tmp.display()))?;
         let mut w = BufWriter::with_capacity(1 << 20, file);
         body(&mut w)?;
-        let file = w.into_inner().map_err(|e| format!("{}: {}", path.display(), e.error()))?;
-        file.sync_all().map_err(|e| format!("{}: {e}", path.display()))?;
-        std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+        let io = |e: std::io::Error| AerialError::Io(e).named(path.display());
+        let file = w.into_inner().map_err(|e| io(e.into_error()))?;
+        file.sync_all().map_err(io)?;
+        std::fs::rename(&tmp, path).map_err(io)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
@@ -136,23 +140,23 @@ pub fn write_atomic(path: &Path, body: impl FnOnce(&mut BufWriter<File>) -> Resu
 /// Writes an 8-bit PNG (`channels` 1 grey, 3 RGB) of `width × height` to `w`, row by row:
 /// `body` gets the pixel stream and must write exactly all rows, top first. The whole image is
 /// never held in memory.
-pub fn png_stream<W: Write>(w: W, width: u32, height: u32, channels: u8, body: impl FnOnce(&mut dyn Write) -> Result<(), String>) -> Result<(), String> {
+pub fn png_stream<W: Write>(w: W, width: u32, height: u32, channels: u8, body: impl FnOnce(&mut dyn Write) -> Result<(), AerialError>) -> Result<(), AerialError> {
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(if channels == 1 { png::ColorType::Grayscale } else { png::ColorType::Rgb });
     enc.set_depth(png::BitDepth::Eight);
     enc.set_compression(png::Compression::Fast);
-    let mut writer = enc.write_header().map_err(|e| e.to_string())?;
+    let mut writer = enc.write_header().map_err(AerialError::Png)?;
     {
-        let mut stream = writer.stream_writer().map_err(|e| e.to_string())?;
+        let mut stream = writer.stream_writer().map_err(AerialError::Png)?;
         body(&mut stream)?;
-        stream.finish().map_err(|e| e.to_string())?;
+        stream.finish().map_err(AerialError::Png)?;
     }
-    writer.finish().map_err(|e| e.to_string())
+    writer.finish().map_err(AerialError::Png)
 }
 
 /// Writes an 8-bit PNG (`channels` 1 or 3) atomically.
-pub fn write_png(path: &Path, width: u32, height: u32, channels: u8, data: &[u8]) -> Result<(), String> {
+pub fn write_png(path: &Path, width: u32, height: u32, channels: u8, data: &[u8]) -> Result<(), AerialError> {
     write_atomic(path, |w| {
-        png_stream(w, width, height, channels, |rows| rows.write_all(data).map_err(|e| e.to_string())).map_err(|e| format!("{}: {e}", path.display()))
+        png_stream(w, width, height, channels, |rows| rows.write_all(data).map_err(AerialError::Io)).map_err(|e| e.named(path.display()))
     })
 }

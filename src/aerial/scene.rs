@@ -13,6 +13,7 @@ use grove_systems::catalogue::{Catalogue, ModelKind};
 use grove_systems::scene::{CameraDef, PlaneDef, PlaneShape, Scene, SunDef, TreeDef, WindDef};
 
 use super::crowns::Crown;
+use super::AerialError;
 
 /// The smallest and largest scale given to a tree.
 pub const SCALE_RANGE: (f32, f32) = (0.3, 3.0);
@@ -33,10 +34,10 @@ pub struct SceneOptions {
 }
 
 /// The scene and how many crowns were left out as too small.
-pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene, usize), String> {
+pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene, usize), AerialError> {
     let (w, d) = opts.size_m;
     if !(w.is_finite() && d.is_finite() && w > 0.0 && d > 0.0) {
-        return Err(format!("the photographed area {w} x {d} m must be positive"));
+        return Err(AerialError::Area { width: w, depth: d });
     }
     let catalogue = Catalogue::builtin();
     let models: Vec<_> = catalogue
@@ -45,7 +46,7 @@ pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene
         .filter(|m| m.kind == opts.kind && matches!(m.species.as_str(), "broadleaf" | "birch" | "shrub") && m.crown_radius > 0.0)
         .collect();
     if models.is_empty() {
-        return Err("the model catalogue has no deciduous model of that kind".into());
+        return Err(AerialError::NoModel);
     }
     let mut trees = Vec::new();
     let mut skipped = 0;
@@ -110,27 +111,22 @@ pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene
         // From the south, above the southern edge, looking at the centre.
         camera: CameraDef { position: Vec3::new(0.0, 0.35 * wf.max(df), 0.6 * df), look_at: Vec3::ZERO, fov_y_deg: 60.0 },
     };
-    scene.validate()?;
+    scene.validate().map_err(AerialError::Scene)?;
     Ok((scene, skipped))
 }
 
 /// The scene as RON text with a header comment; within the scene size limit, parsed back and
 /// checked before it is returned.
-pub fn scene_text(scene: &Scene, source: &str) -> Result<String, String> {
+pub fn scene_text(scene: &Scene, source: &str) -> Result<String, AerialError> {
     let limit = grove_systems::limits::MAX_SCENE_BYTES;
-    let too_big = |bytes: String| {
-        format!(
-            "the scene of {} trees would be {bytes} bytes, over the limit of {limit} bytes every command applies to a scene; leave out small crowns with --min-radius",
-            scene.trees.len()
-        )
-    };
+    let too_big = |bytes: String| AerialError::SceneTooBig { trees: scene.trees.len(), bytes };
     // A large scene is measured on a sample of its trees first, so that one far over the limit
     // is refused without writing out and reading back all of it.
     const SAMPLE: usize = 256;
     if scene.trees.len() > 4 * SAMPLE {
         let pretty = |trees: usize| {
             let part = Scene { trees: scene.trees[..trees].to_vec(), ..scene.clone() };
-            ron::ser::to_string_pretty(&part, ron::ser::PrettyConfig::default()).map(|t| t.len()).map_err(|e| e.to_string())
+            ron::ser::to_string_pretty(&part, ron::ser::PrettyConfig::default()).map(|t| t.len()).map_err(AerialError::Ron)
         };
         let (none, some) = (pretty(0)?, pretty(SAMPLE)?);
         let estimate = none + (some - none) * scene.trees.len() / SAMPLE;
@@ -138,7 +134,7 @@ pub fn scene_text(scene: &Scene, source: &str) -> Result<String, String> {
             return Err(too_big(format!("about {estimate}")));
         }
     }
-    let body = ron::ser::to_string_pretty(scene, ron::ser::PrettyConfig::default()).map_err(|e| e.to_string())?;
+    let body = ron::ser::to_string_pretty(scene, ron::ser::PrettyConfig::default()).map_err(AerialError::Ron)?;
     let text = format!(
         "// Written by `grove aerial scene` from {source}: a ground plane of the photographed size and a tree at\n\
          // each treetop crown. Units: metres, degrees where a name ends in _deg. Axes: +Y up, -Z north, +X east.\n\
@@ -149,6 +145,6 @@ pub fn scene_text(scene: &Scene, source: &str) -> Result<String, String> {
     if text.len() as u64 > limit {
         return Err(too_big(text.len().to_string()));
     }
-    Scene::parse(&text, "generated scene").map_err(|e| e.to_string())?;
+    Scene::parse(&text, "generated scene").map_err(AerialError::SceneText)?;
     Ok(text)
 }

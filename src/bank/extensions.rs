@@ -7,17 +7,19 @@ use std::path::Path;
 
 use grove_systems::files::{self, Kind};
 
+use super::BankError;
+
 pub use crate::render::assets::gltf_check::COMPRESSED as REFUSED;
 pub use crate::render::assets::gltf_open::{extensions_of, json_of};
 
 /// Refuses a file that uses an extension grove cannot decode or requires one it does not read:
 /// one line naming the extension (and the conversion). Files that cannot be read or do not
 /// parse pass, for the loader to report.
-pub fn check_file(path: &Path) -> Result<(), String> {
+pub fn check_file(path: &Path) -> Result<(), BankError> {
     let Ok(bytes) = files::read(path, Kind::Gltf) else { return Ok(()) };
     let (required, used) = extensions_of(&bytes);
     let shown = path.display().to_string();
-    crate::render::assets::gltf_check::extensions(&shown, &required, &used).map(|_| ()).map_err(|e| format!("{shown}: {e}"))
+    crate::render::assets::gltf_check::extensions(&shown, &required, &used).map(|_| ()).map_err(|message| BankError::Extension { file: shown.clone(), message })
 }
 
 #[cfg(test)]
@@ -39,7 +41,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let f = dir.join("draco.glb");
         std::fs::write(&f, &glb).unwrap();
-        let e = check_file(&f).unwrap_err();
+        let e = check_file(&f).unwrap_err().to_string();
         assert!(e.contains("KHR_draco_mesh_compression") && e.contains("gltf-transform") && !e.contains('\n'), "{e}");
         std::fs::write(&f, br#"{"asset":{"version":"2.0"}}"#).unwrap();
         assert!(check_file(&f).is_ok());

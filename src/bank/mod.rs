@@ -26,12 +26,12 @@ pub fn session_dirs(args: &[PathBuf]) -> Vec<PathBuf> {
 }
 
 /// Opens the banks of a session (see [`session_dirs`]).
-pub fn open_session(args: &[PathBuf]) -> Result<Banks, String> {
+pub fn open_session(args: &[PathBuf]) -> Result<Banks, BankError> {
     Ok(Banks::open(&session_dirs(args))?)
 }
 
 /// Opens the banks of a session on a scene: the scene's own banks first, then [`session_dirs`].
-pub fn open_for_scene(scene: &grove_systems::scene::Scene, args: &[PathBuf]) -> Result<Banks, String> {
+pub fn open_for_scene(scene: &grove_systems::scene::Scene, args: &[PathBuf]) -> Result<Banks, BankError> {
     let mut dirs = scene.bank_dirs();
     for d in session_dirs(args) {
         if !dirs.contains(&d) {
@@ -43,7 +43,7 @@ pub fn open_for_scene(scene: &grove_systems::scene::Scene, args: &[PathBuf]) -> 
 
 /// The glTF file of every bank model of a session catalogue, with its model id (ids from 8 on,
 /// in the order of [`Banks::session_catalogue`]), for the renderer to load.
-pub fn model_files(banks: &Banks) -> Result<Vec<(ModelId, PathBuf)>, String> {
+pub fn model_files(banks: &Banks) -> Result<Vec<(ModelId, PathBuf)>, BankError> {
     let base = grove_systems::catalogue::SHIPPED_MODELS;
     Ok(banks.models()?.into_iter().enumerate().map(|(i, (b, m))| (ModelId((base + i) as u8), b.file_of(m))).collect())
 }
@@ -61,9 +61,9 @@ pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue)
 
 /// Loads bank models into a renderer (see [`model_files`], [`files_for`]); the error names the
 /// file.
-pub fn load_into(renderer: &mut crate::render::Renderer, files: &[(ModelId, PathBuf)]) -> Result<(), String> {
+pub fn load_into(renderer: &mut crate::render::Renderer, files: &[(ModelId, PathBuf)]) -> Result<(), BankError> {
     for (id, path) in files {
-        let data = validate_gltf(path).map_err(|e| e.to_string())?;
+        let data = validate_gltf(path)?;
         renderer.features.trees.set_model(*id, &data);
     }
     Ok(())

@@ -85,9 +85,9 @@ fn sample(img: &ImageData, uv: Vec2) -> Vec4 {
 }
 
 /// Encodes the thumbnail as PNG bytes.
-pub fn png(data: &ModelData) -> Result<Vec<u8>, String> {
-    let img = image::RgbaImage::from_raw(SIZE, SIZE, draw(data)).ok_or("thumbnail buffer has the wrong size")?;
+pub fn png(data: &ModelData) -> Result<Vec<u8>, super::BankError> {
+    let img = image::RgbaImage::from_raw(SIZE, SIZE, draw(data)).ok_or(super::BankError::ThumbnailSize)?;
     let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png).map_err(|e| format!("cannot encode the thumbnail ({e})"))?;
+    img.write_to(&mut out, image::ImageFormat::Png).map_err(super::BankError::Thumbnail)?;
     Ok(out.into_inner())
 }

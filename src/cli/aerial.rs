@@ -278,7 +278,7 @@ fn segment(a: SegmentArgs) -> anyhow::Result<ExitCode> {
         crowns: found.len(),
     };
     let text = serde_json::to_string_pretty(&summary)?;
-    write_atomic(&outputs[2], |w| std::io::Write::write_all(w, text.as_bytes()).map_err(|e| e.to_string())).map_err(|e| anyhow!(e))?;
+    write_atomic(&outputs[2], |w| std::io::Write::write_all(w, text.as_bytes()).map_err(grove::aerial::AerialError::Io)).map_err(|e| anyhow!(e))?;
     let t_write = t4.elapsed().as_secs_f64();
     if a.json {
         super::print_json(&json!({
@@ -344,7 +344,7 @@ fn scene(a: SceneArgs) -> anyhow::Result<ExitCode> {
     if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         out_dir(dir)?;
     }
-    write_atomic(&a.out, |w| std::io::Write::write_all(w, text.as_bytes()).map_err(|e| e.to_string())).map_err(|e| anyhow!(e))?;
+    write_atomic(&a.out, |w| std::io::Write::write_all(w, text.as_bytes()).map_err(grove::aerial::AerialError::Io)).map_err(|e| anyhow!(e))?;
     println!(
         "{}: {} trees on {:.1} x {:.1} m ({} crowns under {} m left out)",
         a.out.display(),

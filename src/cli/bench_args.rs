@@ -72,10 +72,15 @@ pub struct BenchArgs {
     pub impostor_pixels: f32,
 }
 
+/// A value that is not a finite number of at least 0: the text as given.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("expected a number of at least 0, got {0:?}")]
+pub struct NotNonNegative(pub String);
+
 /// Parses a finite number of at least 0 (a clap value parser).
-pub fn non_negative(s: &str) -> Result<f32, String> {
+pub fn non_negative(s: &str) -> Result<f32, NotNonNegative> {
     match s.parse::<f32>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("expected a number of at least 0, got {s:?}")),
+        _ => Err(NotNonNegative(s.to_string())),
     }
 }

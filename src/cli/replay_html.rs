@@ -39,7 +39,7 @@ pub fn write(file: &Path, outcome: &ReplayOutcome, page: &Path) -> anyhow::Resul
         .flat_map(|d| [Moment { tick: d.tick.saturating_sub(60), label: "1 s before the divergence".into() }, Moment { tick: d.tick, label: "the first diverging checkpoint".into() }])
         .collect();
     let mut pictures = None;
-    let mut shots = html::shots::Shots::new().map_err(|e| pictures = Some(e)).ok();
+    let mut shots = html::shots::Shots::new().map_err(|e| pictures = Some(e.to_string())).ok();
     let mut view = html::view_trial(trial, file.to_path_buf(), &[], true, &extra, shots.as_mut(), &mut pictures);
     view.divergence = outcome.first_divergence.clone();
     html::write_page(page, &html::page::replay(&view, pictures.as_deref()))?;

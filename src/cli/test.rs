@@ -75,7 +75,7 @@ fn scenario_files(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
 
 /// One scenario's result.
 struct Ran {
-    outcome: Result<Outcome, String>,
+    outcome: Result<Outcome, grove_systems::scenario::RunError>,
     seconds: f64,
 }
 
@@ -151,7 +151,7 @@ pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
 fn keep(dir: &Path, name: &str, outcome: &Outcome) -> String {
     let file: String = name.chars().map(|c| if c.is_alphanumeric() || c == '-' || c == '_' || c == '.' { c } else { '_' }).collect();
     let path = dir.join(format!("{file}.jsonl"));
-    let written = outcome.recording().map_err(|e| anyhow!(e)).and_then(|bytes| {
+    let written = outcome.recording().map_err(|e| anyhow!("{e}")).and_then(|bytes| {
         std::fs::create_dir_all(dir).map_err(|e| anyhow!("{}: cannot create ({e})", dir.display()))?;
         write_atomic(&path, &bytes)
     });

@@ -32,7 +32,7 @@ pub fn run(args: ViewArgs) -> anyhow::Result<ExitCode> {
     let mut viewer = match Viewer::open(&args.file) {
         Ok(v) => v,
         Err(e) => {
-            eprintln!("error: {}", e.replace('\n', " "));
+            eprintln!("error: {}", e.to_string().replace('\n', " "));
             return Ok(ExitCode::from(2));
         }
     };

@@ -10,6 +10,7 @@ use grove_systems::stage::model_stage;
 use grove_systems::Sim;
 
 use super::window::WorldRenderer;
+use super::DesktopError;
 
 /// Thumbnail edge, pixels.
 pub const THUMB_SIZE: u32 = 96;
@@ -41,8 +42,8 @@ pub fn set_session_models(catalogue: Catalogue, files: Vec<(ModelId, PathBuf)>) 
 }
 
 /// A renderer with the shipped models and the session's bank models.
-fn session_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, String> {
-    let mut r = Renderer::new(device, queue, format, width, height)?;
+fn session_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, DesktopError> {
+    let mut r = Renderer::new(device, queue, format, width, height).map_err(DesktopError::Renderer)?;
     if let Some((_, files)) = SESSION_MODELS.get() {
         grove::bank::load_into(&mut r, files)?;
     }
@@ -60,10 +61,10 @@ pub fn set_session_aerial(scene: grove_systems::scene::Scene) {
 
 /// Makes the window's world renderer (a [`super::window::RendererFactory`]), with the session's
 /// aerial photographs.
-pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, String> {
+pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, DesktopError> {
     let mut r = session_renderer(device, queue, format, width, height)?;
     if let Some(sources) = SESSION_AERIAL.get().map(|s| grove::aerial::open::open_sources(s, false)).transpose()?.flatten() {
-        r.features.aerial.set(sources)?;
+        r.features.aerial.set(sources).map_err(DesktopError::Renderer)?;
     }
     Ok(Box::new(r))
 }
@@ -71,12 +72,12 @@ pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::T
 /// Renders one thumbnail per model of the session's catalogue (the shipped models, then the
 /// banks'), in model order, each on a small ground plane framed from its bounds (a
 /// [`super::window::ThumbnailFactory`]).
-pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, String> {
+pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, DesktopError> {
     let catalogue = SESSION_MODELS.get().map_or_else(Catalogue::builtin, |(c, _)| c.clone());
     let mut renderer = session_renderer(device, queue, THUMB_FORMAT, THUMB_SIZE, THUMB_SIZE)?;
     let mut views = Vec::new();
     for m in &catalogue.models {
-        let sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false, m.id).map_err(|e| e.to_string())?;
+        let sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false, m.id).map_err(DesktopError::Stage)?;
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("tree thumbnail"),
             size: wgpu::Extent3d { width: THUMB_SIZE, height: THUMB_SIZE, depth_or_array_layers: 1 },
@@ -88,7 +89,7 @@ pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<V
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor { label: Some("tree thumbnail view"), ..Default::default() });
-        renderer.render(&sim, &view)?;
+        renderer.render(&sim, &view).map_err(DesktopError::Renderer)?;
         views.push(view);
     }
     Ok(views)

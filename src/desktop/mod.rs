@@ -15,6 +15,7 @@
 
 pub mod budget;
 pub mod egui_pass;
+mod error;
 pub mod gpu;
 pub mod input_map;
 pub mod play;
@@ -25,3 +26,5 @@ pub mod stats;
 pub mod viewer;
 pub mod window;
 pub mod world_view;
+
+pub use error::DesktopError;

@@ -66,7 +66,7 @@ pub struct PlayApp {
 impl PlayApp {
     /// A play app over a session. With `task`, the task starts at once; with `skip_menu`,
     /// free planting starts at once.
-    pub fn new(session: LiveSession, task: Option<&str>, skip_menu: bool) -> Result<PlayApp, String> {
+    pub fn new(session: LiveSession, task: Option<&str>, skip_menu: bool) -> Result<PlayApp, super::DesktopError> {
         let head = head_of(&session.sim);
         let mut app = PlayApp {
             ui: PlayUi::new(head.pose),
@@ -92,7 +92,7 @@ impl PlayApp {
         Ok(app)
     }
 
-    fn queue(&mut self, e: InputEvent) -> Result<(), String> {
+    fn queue(&mut self, e: InputEvent) -> Result<(), super::DesktopError> {
         if let InputEvent::HeadPose { pose } = &e {
             self.controls.head = *pose;
         }

@@ -20,6 +20,8 @@ use grove_systems::input::{InputEvent, StampedEvent};
 use grove_systems::replay::{Header, Recorder};
 use grove_systems::Sim;
 
+use super::DesktopError;
+
 /// A fixed-step accumulator: wall-clock time in, whole steps out.
 #[derive(Clone, Debug)]
 pub struct FixedStep {
@@ -68,15 +70,15 @@ fn conflicts(batch: &[InputEvent], event: &InputEvent) -> bool {
 pub type FileRecorder = Recorder<BufWriter<File>>;
 
 /// Creates a new recording file, refusing to replace an existing one.
-pub fn create_recording(path: &Path, header: &Header) -> Result<FileRecorder, String> {
-    let f = std::fs::OpenOptions::new().write(true).create_new(true).open(path).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::AlreadyExists {
-            format!("{}: already exists; choose another --record file (grove never overwrites a recording)", path.display())
+pub fn create_recording(path: &Path, header: &Header) -> Result<FileRecorder, DesktopError> {
+    let f = std::fs::OpenOptions::new().write(true).create_new(true).open(path).map_err(|error| {
+        if error.kind() == std::io::ErrorKind::AlreadyExists {
+            DesktopError::RecordingExists(path.to_path_buf())
         } else {
-            format!("{}: {}", path.display(), grove_systems::scene::io_message(&e))
+            DesktopError::CreateRecording { path: path.to_path_buf(), error }
         }
     })?;
-    Recorder::new(BufWriter::new(f), header).map_err(|e| format!("{}: {e}", path.display()))
+    Recorder::new(BufWriter::new(f), header).map_err(|error| DesktopError::RecordingHeader { path: path.to_path_buf(), error })
 }
 
 /// A running session: the simulation, queued input and an optional recording.
@@ -105,8 +107,8 @@ impl LiveSession {
 
     /// Queues an event for the next tick (or a later one, see the module docs). Events with
     /// invalid numbers are refused.
-    pub fn queue(&mut self, event: InputEvent) -> Result<(), String> {
-        event.validate().map_err(|e| e.to_string())?;
+    pub fn queue(&mut self, event: InputEvent) -> Result<(), DesktopError> {
+        event.validate()?;
         match self.batches.back_mut() {
             Some(batch) if !conflicts(batch, &event) => batch.push(event),
             _ => self.batches.push_back(vec![event]),
@@ -122,18 +124,18 @@ impl LiveSession {
 
     /// Runs one tick: applies (and records) the next batch of input, steps, and writes a
     /// checkpoint when one is due. `ms` is the wall-clock milliseconds since the session began.
-    pub fn step(&mut self, ms: u64) -> Result<(), String> {
+    pub fn step(&mut self, ms: u64) -> Result<(), DesktopError> {
         let tick = self.sim.res().tick;
         let batch = self.batches.pop_front().unwrap_or_default();
         for event in &batch {
             if let Some(r) = self.recorder.as_mut() {
-                r.event(tick, ms, self.frame, event).map_err(|e| format!("recording: {e}"))?;
+                r.event(tick, ms, self.frame, event).map_err(DesktopError::Recording)?;
             }
             self.recorded.push(StampedEvent { tick, event: event.clone() });
         }
-        self.sim.step_with(batch).map_err(|e| e.to_string())?;
+        self.sim.step_with(batch)?;
         if let Some(r) = self.recorder.as_mut() {
-            r.after_step(&self.sim).map_err(|e| format!("recording: {e}"))?;
+            r.after_step(&self.sim).map_err(DesktopError::Recording)?;
         }
         Ok(())
     }
@@ -145,16 +147,16 @@ impl LiveSession {
     }
 
     /// Writes buffered recording lines to the file.
-    pub fn flush(&mut self) -> Result<(), String> {
+    pub fn flush(&mut self) -> Result<(), DesktopError> {
         match self.recorder.as_mut() {
-            Some(r) => r.flush().map_err(|e| format!("recording: {e}")),
+            Some(r) => r.flush().map_err(DesktopError::Recording),
             None => Ok(()),
         }
     }
 
     /// Ends the session: input still queued is applied first (one tick per batch), then the
     /// recording gets its footer.
-    pub fn finish(mut self) -> Result<Sim, String> {
+    pub fn finish(mut self) -> Result<Sim, DesktopError> {
         while !self.batches.is_empty() {
             self.step(0)?;
         }
@@ -165,7 +167,7 @@ impl LiveSession {
                 "task": sim.res().task.as_ref().map(|t| t.def.id.clone()),
                 "task_completed": sim.res().task.as_ref().map(|t| t.is_complete()),
             });
-            r.finish(sim, summary).map_err(|e| format!("recording: {e}"))?;
+            r.finish(sim, summary).map_err(DesktopError::Recording)?;
         }
         Ok(self.sim)
     }
@@ -215,7 +217,7 @@ mod tests {
         let path = dir.path().join("s.jsonl");
         std::fs::write(&path, "keep").unwrap();
         let header = Header::new("study", 5, Scene::builtin("study").unwrap().dt);
-        let err = create_recording(&path, &header).err().unwrap();
+        let err = create_recording(&path, &header).err().unwrap().to_string();
         assert!(err.contains("already exists"), "{err}");
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "keep");
 

@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 
 use egui::{Color32, RichText, Ui};
 use grove_systems::input::StampedEvent;
+
+use super::DesktopError;
 use grove_systems::replay::{read_events, replay_file, sim_for_header_in, Header, ReplayOptions};
 use grove_systems::Sim;
 
@@ -71,9 +73,9 @@ pub struct Viewer {
 impl Viewer {
     /// Opens a recording: verifies it headless, then starts the view at tick 0. Unreadable or
     /// malformed files give a one-line error.
-    pub fn open(path: &Path) -> Result<Viewer, String> {
-        let outcome = replay_file(path, &ReplayOptions { banks: grove::bank::session_dirs(&[]), ..Default::default() }).map_err(|e| e.to_string())?;
-        let (header, events) = read_events(path).map_err(|e| e.to_string())?;
+    pub fn open(path: &Path) -> Result<Viewer, DesktopError> {
+        let outcome = replay_file(path, &ReplayOptions { banks: grove::bank::session_dirs(&[]), ..Default::default() })?;
+        let (header, events) = read_events(path)?;
         let end_tick = outcome.sim.res().tick;
         let markers = outcome
             .sim
@@ -96,7 +98,7 @@ impl Viewer {
         if outcome.first_divergence.is_none() && outcome.checkpoints_checked == 0 {
             banner.push("NOT VERIFIED: no checkpoint was reached".to_string());
         }
-        let sim = sim_for_header_in(&header, path.parent(), &[], &grove::bank::open_session(&[])?).map_err(|e| format!("{}: {e}", path.display()))?;
+        let sim = sim_for_header_in(&header, path.parent(), &[], &grove::bank::open_session(&[])?).map_err(|error| DesktopError::Header { path: path.to_path_buf(), error })?;
         let dt = header.dt as f64;
         Ok(Viewer {
             path: path.to_path_buf(),
@@ -140,7 +142,7 @@ impl Viewer {
     pub fn seek(&mut self, tick: u64) {
         let tick = tick.min(self.end_tick);
         if tick < self.sim.res().tick {
-            if let Ok(sim) = grove::bank::open_session(&[]).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks)) {
+            if let Ok(sim) = grove::bank::open_session(&[]).map_err(DesktopError::from).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks).map_err(|error| DesktopError::Header { path: self.path.clone(), error })) {
                 self.sim = sim;
                 self.next_event = 0;
             }
@@ -340,7 +342,7 @@ mod tests {
 
         let garbage = dir.path().join("garbage.jsonl");
         std::fs::write(&garbage, "not a recording\n").unwrap();
-        let err = Viewer::open(&garbage).err().unwrap();
+        let err = Viewer::open(&garbage).err().unwrap().to_string();
         assert!(!err.contains('\n') && err.contains("garbage.jsonl"), "{err}");
     }
 

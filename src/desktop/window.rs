@@ -57,10 +57,10 @@ pub trait WorldRenderer {
 }
 
 /// Makes a world renderer for the window's device, queue, surface format and size.
-pub type RendererFactory = fn(&wgpu::Device, &wgpu::Queue, wgpu::TextureFormat, u32, u32) -> Result<Box<dyn WorldRenderer>, String>;
+pub type RendererFactory = fn(&wgpu::Device, &wgpu::Queue, wgpu::TextureFormat, u32, u32) -> Result<Box<dyn WorldRenderer>, super::DesktopError>;
 
 /// Renders one thumbnail per catalogue model (by model index) into sampleable textures.
-pub type ThumbnailFactory = fn(&wgpu::Device, &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, String>;
+pub type ThumbnailFactory = fn(&wgpu::Device, &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, super::DesktopError>;
 
 /// Makes the thumbnails and registers them with egui; a failure is logged and leaves the
 /// tree buttons without pictures.
@@ -495,8 +495,9 @@ impl<F: Frontend> ApplicationHandler for App<F> {
 /// one line. If the windowing system fails while the window runs (winit panics on some X
 /// errors, for example when the window was destroyed from outside), the failure is caught, the
 /// frontend still finishes, and the session ends normally with a warning line.
-pub fn run<F: Frontend>(title: &str, frontend: F) -> Result<(), String> {
-    let event_loop = EventLoop::new().map_err(|e| format!("cannot open the display ({e}); is DISPLAY set?"))?;
+pub fn run<F: Frontend>(title: &str, frontend: F) -> Result<(), super::DesktopError> {
+    use super::DesktopError;
+    let event_loop = EventLoop::new().map_err(DesktopError::Display)?;
     let gilrs = match gilrs::Gilrs::new() {
         Ok(g) => Some(g),
         Err(e) => {
@@ -541,12 +542,12 @@ pub fn run<F: Frontend>(title: &str, frontend: F) -> Result<(), String> {
         (Some((msg, at)), _) if at.contains("winit") || at.contains("x11") || at.contains("wgpu") => {
             eprintln!("warning: the window ended abruptly ({msg}); the session was ended there");
         }
-        (Some((msg, _)), _) => bug = Some(format!("internal error in the window: {msg}; please report this")),
+        (Some((msg, _)), _) => bug = Some(DesktopError::Internal(msg.clone())),
         (None, Ok(Err(e))) => eprintln!("warning: the window event loop ended with an error ({e}); the session was ended there"),
         _ => {}
     }
-    let finished = app.frontend.finish();
-    if let Some(e) = app.error.or(bug) {
+    let finished = app.frontend.finish().map_err(DesktopError::Window);
+    if let Some(e) = app.error.map(DesktopError::Window).or(bug) {
         finished?;
         return Err(e);
     }

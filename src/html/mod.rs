@@ -43,6 +43,21 @@ pub enum HtmlError {
         /// Why.
         reason: String,
     },
+    /// A picture could not be encoded as JPEG.
+    #[error("JPEG encoding: {0}")]
+    Jpeg(image::ImageError),
+    /// The GPU or the renderer failed (its one-line message).
+    #[error("{0}")]
+    Render(String),
+    /// A picture was asked for before its renderer was made.
+    #[error("no renderer")]
+    NoRenderer,
+    /// The session's model banks could not be opened or loaded.
+    #[error(transparent)]
+    Bank(#[from] crate::bank::BankError),
+    /// The recording could not be replayed.
+    #[error(transparent)]
+    Replay(#[from] grove_systems::replay::ReplayError),
 }
 
 /// Which trials get a section of their own (timeline, filmstrip, numbers).
@@ -148,13 +163,13 @@ pub fn view_trial(trial: Trial, path: PathBuf, overrides: &[Override], detailed:
     let banks = match crate::bank::open_session(&[]) {
         Ok(b) => b,
         Err(e) => {
-            view.trace_error = Some(e);
+            view.trace_error = Some(e.to_string());
             return view;
         }
     };
     let mut frames = Vec::new();
     let mut shots = if detailed { shots } else { None };
-    let mut shoot = |sim: &grove_systems::Sim, m: &Moment| -> Result<(), String> {
+    let mut shoot = |sim: &grove_systems::Sim, m: &Moment| -> Result<(), HtmlError> {
         if let Some(s) = shots.as_deref_mut()
             && pictures.is_none()
             && (frames.len() < MAX_FRAMES || extra.iter().any(|e| e.tick == m.tick))
@@ -162,14 +177,14 @@ pub fn view_trial(trial: Trial, path: PathBuf, overrides: &[Override], detailed:
             match s.frame(sim) {
                 Ok(uri) => frames.push((m.clone(), uri)),
                 // The first failure turns the pictures off, and the page says why.
-                Err(e) => *pictures = Some(e),
+                Err(e) => *pictures = Some(e.to_string()),
             }
         }
         Ok(())
     };
     match trace::trace(&view.path, overrides, &banks, view.trial.ticks, extra, &mut shoot) {
         Ok(t) => view.trace = Some(t),
-        Err(e) => view.trace_error = Some(e),
+        Err(e) => view.trace_error = Some(e.to_string()),
     }
     view.frames = frames;
     view
@@ -204,7 +219,7 @@ pub fn write_study(out: &Path, page: &StudyPage<'_>, trials: &[Trial], selection
     let mut shots = match shots::Shots::new() {
         Ok(s) => Some(s),
         Err(e) => {
-            pictures = Some(e);
+            pictures = Some(e.to_string());
             None
         }
     };

@@ -28,10 +28,10 @@ pub fn areas(views: &[TrialView], overrides: &[Override], mut shots: Option<&mut
             if let (Some(s), None, Some(first)) = (shots.as_deref_mut(), pictures.as_ref(), of.iter().find(|v| v.trace.is_some())) {
                 // The scene as the first trial of the condition starts: its own trees, no planted one.
                 let world = read_events(&first.path).map_err(|e| e.to_string()).and_then(|(h, _)| {
-                    let banks = crate::bank::open_session(&[])?;
-                    sim_for_header_in(&h, first.path.parent(), overrides, &banks)
+                    let banks = crate::bank::open_session(&[]).map_err(|e| e.to_string())?;
+                    sim_for_header_in(&h, first.path.parent(), overrides, &banks).map_err(|e| e.to_string())
                 });
-                match world.and_then(|sim| s.top(&sim, a.view)) {
+                match world.and_then(|sim| s.top(&sim, a.view).map_err(|e| e.to_string())) {
                     Ok(uri) => image = Some(uri),
                     Err(e) => *pictures = Some(e),
                 }

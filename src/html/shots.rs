@@ -5,6 +5,8 @@ use base64::Engine as _;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::{RenderOptions, Renderer, TopView};
 use grove_systems::Sim;
+
+use super::HtmlError;
 use image::RgbaImage;
 
 /// The size of a filmstrip frame, pixels.
@@ -22,17 +24,17 @@ pub struct Shots {
 }
 
 /// An image as a `data:image/jpeg;base64,…` URI.
-pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, String> {
+pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, HtmlError> {
     let rgb = image::DynamicImage::ImageRgba8(img.clone()).to_rgb8();
     let mut bytes = Vec::new();
-    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, quality).encode_image(&rgb).map_err(|e| format!("JPEG encoding: {e}"))?;
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, quality).encode_image(&rgb).map_err(HtmlError::Jpeg)?;
     Ok(format!("data:image/jpeg;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bytes)))
 }
 
 /// A renderer of `size` with the shipped models and the bank models `sim`'s catalogue holds
 /// (found in the session's banks, as the replay found them).
-fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, String> {
-    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1)?;
+fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, HtmlError> {
+    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1).map_err(HtmlError::Render)?;
     let banks = crate::bank::open_session(&[])?;
     crate::bank::load_into(&mut r, &crate::bank::files_for(&banks, &sim.res().catalogue))?;
     Ok(r)
@@ -40,36 +42,36 @@ fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, String> 
 
 impl Shots {
     /// Opens the GPU device (one line when there is none).
-    pub fn new() -> Result<Shots, String> {
-        Ok(Shots { gpu: Gpu::new()?, film: None, top: None, frames: 0 })
+    pub fn new() -> Result<Shots, HtmlError> {
+        Ok(Shots { gpu: Gpu::new().map_err(HtmlError::Render)?, film: None, top: None, frames: 0 })
     }
 
     /// The head camera's view of `sim`, with the interaction visuals (ray, hit marker, targets).
-    pub fn frame(&mut self, sim: &Sim) -> Result<String, String> {
+    pub fn frame(&mut self, sim: &Sim) -> Result<String, HtmlError> {
         if self.film.is_none() {
             let mut r = renderer(&self.gpu, sim, FRAME_SIZE)?;
             r.options = RenderOptions { shadow_size: 512, overlay: true, ..Default::default() };
             self.film = Some(r);
         }
-        let r = self.film.as_mut().ok_or("no renderer")?;
-        let img = offscreen::render_image(&self.gpu, r, sim)?;
+        let r = self.film.as_mut().ok_or(HtmlError::NoRenderer)?;
+        let img = offscreen::render_image(&self.gpu, r, sim).map_err(HtmlError::Render)?;
         self.frames += 1;
         jpeg_uri(&img, 70)
     }
 
     /// `sim`'s ground from straight above over `view`'s rectangle, without the interaction
     /// visuals (the report draws its own over it), `TOP_WIDTH` pixels wide.
-    pub fn top(&mut self, sim: &Sim, view: TopView) -> Result<String, String> {
+    pub fn top(&mut self, sim: &Sim, view: TopView) -> Result<String, HtmlError> {
         let (w, h) = (view.max.x - view.min.x, view.max.y - view.min.y);
         let size = (TOP_WIDTH, ((TOP_WIDTH as f32 * h / w.max(1e-3)).round() as u32).clamp(64, 2 * TOP_WIDTH));
         if self.top.as_ref().is_none_or(|(_, s)| *s != size) {
             let r = renderer(&self.gpu, sim, size)?;
             self.top = Some((r, size));
         }
-        let (r, _) = self.top.as_mut().ok_or("no renderer")?;
+        let (r, _) = self.top.as_mut().ok_or(HtmlError::NoRenderer)?;
         // Every leaf and no impostor: seen from far above, level of detail would thin the crowns.
         r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, top_view: Some(view), ..Default::default() };
-        let img = offscreen::render_image(&self.gpu, r, sim)?;
+        let img = offscreen::render_image(&self.gpu, r, sim).map_err(HtmlError::Render)?;
         jpeg_uri(&img, 80)
     }
 }

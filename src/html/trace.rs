@@ -18,6 +18,8 @@ use grove_systems::replay::Player;
 use grove_systems::resources::Override;
 use grove_systems::Sim;
 
+use super::HtmlError;
+
 /// The edge of a heatmap cell, metres.
 pub const CELL_M: f32 = 0.5;
 
@@ -88,11 +90,11 @@ fn tree_xz(sim: &Sim, tree: u64) -> Option<Vec2> {
 
 /// Re-simulates `path` to `end_tick` under `overrides`, calling `shoot` with the world at each
 /// moment (the ticks in `extra` with their words included; at most one call per tick).
-pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, extra: &[Moment], shoot: &mut dyn FnMut(&Sim, &Moment) -> Result<(), String>) -> Result<Trace, String> {
-    let mut player = Player::open(path, overrides, banks).map_err(|e| e.to_string())?;
+pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, extra: &[Moment], shoot: &mut dyn FnMut(&Sim, &Moment) -> Result<(), HtmlError>) -> Result<Trace, HtmlError> {
+    let mut player = Player::open(path, overrides, banks)?;
     let mut out = Trace::default();
     let mut moving: Option<TreePath> = None;
-    let mut take = |sim: &Sim, labels: Vec<String>, out: &mut Trace| -> Result<(), String> {
+    let mut take = |sim: &Sim, labels: Vec<String>, out: &mut Trace| -> Result<(), HtmlError> {
         if labels.is_empty() {
             return Ok(());
         }

@@ -48,7 +48,7 @@ fn one(path: &Path) -> Result<Split, String> {
     let (sums_ok, sums) = time(|| {
         let mut prev = 0;
         for (i, l) in lines.iter().enumerate() {
-            let (body, sum) = split_sum(l)?;
+            let (body, sum) = split_sum(l).map_err(|e| e.to_string())?;
             if chained_sum(&body, prev) != sum {
                 return Err(format!("line {}: checksum mismatch", i + 1));
             }
@@ -62,7 +62,7 @@ fn one(path: &Path) -> Result<Split, String> {
         let mut prev = 0;
         let mut checkpoints = 0;
         for (i, l) in lines.iter().enumerate() {
-            let (line, _, sum) = decode_line_parts(l, prev)?;
+            let (line, _, sum) = decode_line_parts(l, prev).map_err(|e| e.to_string())?;
             checkpoints += matches!(line, Line::Checkpoint(_) | Line::Footer(_)) as u64;
             prev = if i == 0 { 0 } else { sum };
         }

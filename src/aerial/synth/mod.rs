@@ -23,6 +23,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::raster::{png_stream, write_atomic};
+use super::AerialError;
 pub use shade::{Flight, Season};
 
 /// The smallest and largest image side `synth` makes, texels.
@@ -334,7 +335,7 @@ impl Park {
 /// Writes `summer.png`, `winter.png`, `truth.csv` and `distractors.csv` into `dir` (the caller has
 /// checked that they may be written), rendering in bands of rows; `progress` gets the number of
 /// rows finished so far.
-pub fn write_pair(park: &Park, dir: &Path, progress: &dyn Fn(u64)) -> Result<(), String> {
+pub fn write_pair(park: &Park, dir: &Path, progress: &dyn Fn(u64)) -> Result<(), AerialError> {
     let summer = shade::Shader::new(park, Flight::of(Season::Summer));
     let winter = shade::Shader::new(park, Flight::of(Season::Winter));
     let n = park.size;
@@ -352,28 +353,28 @@ pub fn write_pair(park: &Park, dir: &Path, progress: &dyn Fn(u64)) -> Result<(),
                         let rows = band.min(n - y) as usize;
                         let len = rows * n as usize * 3;
                         rayon::join(|| park.render_rows(&summer, y, &mut buf_s[..len]), || park.render_rows(&winter, y, &mut buf_w[..len]));
-                        s_rows.write_all(&buf_s[..len]).map_err(|e| format!("{ps}: {e}"))?;
-                        w_rows.write_all(&buf_w[..len]).map_err(|e| format!("{pw}: {e}"))?;
+                        s_rows.write_all(&buf_s[..len]).map_err(|e| AerialError::Io(e).named(&ps))?;
+                        w_rows.write_all(&buf_w[..len]).map_err(|e| AerialError::Io(e).named(&pw))?;
                         y += rows as u32;
                         progress(y as u64);
                     }
                     Ok(())
                 })
-                .map_err(|e| format!("{pw}: {e}"))
+                .map_err(|e| e.named(&pw))
             })
-            .map_err(|e| format!("{ps}: {e}"))
+            .map_err(|e| e.named(&ps))
         })
     })?;
     write_csv(&dir.join("truth.csv"), &park.truth())?;
     write_csv(&dir.join("distractors.csv"), &park.distractor_rows())
 }
 
-fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<(), String> {
+fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<(), AerialError> {
     write_atomic(path, |w| {
         let mut csv = csv::Writer::from_writer(w);
         for r in rows {
-            csv.serialize(r).map_err(|e| format!("{}: {e}", path.display()))?;
+            csv.serialize(r).map_err(|e| AerialError::Csv(e).named(path.display()))?;
         }
-        csv.flush().map_err(|e| format!("{}: {e}", path.display()))
+        csv.flush().map_err(|e| AerialError::Io(e).named(path.display()))
     })
 }

@@ -30,6 +30,8 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::AerialError;
+
 pub use read::{Pyramid, TileReader};
 pub use write::{TileOptions, tile_image};
 
@@ -85,29 +87,29 @@ impl PyramidMeta {
     }
 
     /// Checks every field against the format's rules; one line on failure.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), AerialError> {
         if self.format != FORMAT {
-            return Err(format!("format is {:?}, not {FORMAT:?}", self.format));
+            return Err(AerialError::PyramidFormat(self.format.clone()));
         }
         if self.version != VERSION {
-            return Err(format!("format version {} is not supported (this grove reads version {VERSION})", self.version));
+            return Err(AerialError::PyramidVersion(self.version));
         }
         if !(1..=MAX_SIDE).contains(&self.width) || !(1..=MAX_SIDE).contains(&self.height) {
-            return Err(format!("{} x {} texels is outside 1 ..= {MAX_SIDE} per side", self.width, self.height));
+            return Err(AerialError::Sides { width: self.width, height: self.height });
         }
         check_tile(self.tile)?;
         if self.channels != 1 && self.channels != 3 {
-            return Err(format!("{} channels; a pyramid has 1 (grey) or 3 (RGB)", self.channels));
+            return Err(AerialError::Channels(self.channels));
         }
         let levels = levels_for(self.width, self.height, self.tile);
         if self.levels != levels {
-            return Err(format!("{} levels, but a {} x {} image in tiles of {} has {levels}", self.levels, self.width, self.height, self.tile));
+            return Err(AerialError::Levels { levels: self.levels, width: self.width, height: self.height, tile: self.tile, expected: levels });
         }
         if self.fingerprint.len() != 16 || !self.fingerprint.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return Err(format!("fingerprint {:?} is not 16 hexadecimal digits", self.fingerprint));
+            return Err(AerialError::Fingerprint(self.fingerprint.clone()));
         }
         if self.tile_format != "png" {
-            return Err(format!("tile format {:?} is not supported (only \"png\")", self.tile_format));
+            return Err(AerialError::TileFormat(self.tile_format.clone()));
         }
         Ok(())
     }
@@ -131,9 +133,9 @@ impl PyramidMeta {
 }
 
 /// Refuses a tile side that is not a power of two inside [`TILE_RANGE`].
-pub fn check_tile(tile: u32) -> Result<(), String> {
+pub fn check_tile(tile: u32) -> Result<(), AerialError> {
     if !tile.is_power_of_two() || !(TILE_RANGE.0..=TILE_RANGE.1).contains(&tile) {
-        return Err(format!("tile side {tile} must be a power of two from {} to {}", TILE_RANGE.0, TILE_RANGE.1));
+        return Err(AerialError::TileSide(tile));
     }
     Ok(())
 }
@@ -195,6 +197,6 @@ mod unit_tests {
         assert_eq!(m.tile_extent(0, 0, 0), (256, 256));
         assert!(m.validate().is_ok());
         let bad = PyramidMeta { levels: 2, ..m };
-        assert!(bad.validate().unwrap_err().contains("levels"));
+        assert!(bad.validate().unwrap_err().to_string().contains("levels"));
     }
 }

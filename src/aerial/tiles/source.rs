@@ -7,6 +7,7 @@ use std::io::{BufReader, Read};
 use std::path::Path;
 
 use super::MAX_SIDE;
+use crate::aerial::AerialError;
 
 /// A source of image rows, read once from the top.
 pub trait RowSource {
@@ -22,26 +23,27 @@ pub trait RowSource {
 
 /// Opens a PNG or TIFF (the format is read from the first bytes, not the name) as a row source.
 /// Every error is one line naming the file.
-pub fn open(path: &Path) -> Result<Box<dyn RowSource>, String> {
+pub fn open(path: &Path) -> Result<Box<dyn RowSource>, AerialError> {
     let name = path.display().to_string();
     // Only a regular file, opened without blocking; the size is bounded by the dimensions
     // checked below, not by the file's length (a pyramid's source may be tens of gigabytes).
-    let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::ImageRows).map_err(|e| e.to_string())?;
+    let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::ImageRows).map_err(AerialError::File)?;
     let mut head = [0u8; 8];
-    let io = |e: std::io::Error| format!("{name}: {}", grove_systems::scene::io_message(&e));
+    let io = |e: std::io::Error| AerialError::Access(e).named(&name);
+    let refused = |e: String| AerialError::RowReader(e).named(&name);
     let n = file.read(&mut head).map_err(io)?;
     std::io::Seek::rewind(&mut file).map_err(io)?;
     let reader = BufReader::with_capacity(1 << 20, file);
     let source: Box<dyn RowSource> = match &head[..n] {
-        [0x89, b'P', b'N', b'G', ..] => Box::new(PngRows::new(reader).map_err(|e| format!("{name}: {e}"))?),
+        [0x89, b'P', b'N', b'G', ..] => Box::new(PngRows::new(reader).map_err(refused)?),
         [b'I', b'I', 42, 0, ..] | [b'M', b'M', 0, 42, ..] | [b'I', b'I', 43, 0, ..] | [b'M', b'M', 0, 43, ..] => {
-            Box::new(TiffRows::new(reader).map_err(|e| format!("{name}: {e}"))?)
+            Box::new(TiffRows::new(reader).map_err(refused)?)
         }
-        _ => return Err(format!("{name}: not a PNG or TIFF image")),
+        _ => return Err(AerialError::NotPngOrTiff.named(&name)),
     };
     let (w, h) = (source.width(), source.height());
     if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
-        return Err(format!("{name}: {w} x {h} texels is outside 1 ..= {MAX_SIDE} per side"));
+        return Err(AerialError::Sides { width: w, height: h }.named(&name));
     }
     Ok(Box::new(Named { name, inner: source }))
 }
@@ -266,9 +268,9 @@ mod tests {
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
         enc.write_header().unwrap().write_image_data(&[0; 16]).unwrap();
-        let e = open(&path).err().unwrap();
+        let e = open(&path).err().unwrap().to_string();
         assert!(e.contains("8-bit grey or RGB") && !e.contains('\n'), "{e}");
         std::fs::write(&path, b"not an image at all").unwrap();
-        assert!(open(&path).err().unwrap().contains("not a PNG or TIFF"));
+        assert!(open(&path).err().unwrap().to_string().contains("not a PNG or TIFF"));
     }
 }

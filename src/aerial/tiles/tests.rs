@@ -5,6 +5,7 @@ use std::path::Path;
 
 use super::*;
 use crate::aerial::raster::write_png;
+use crate::aerial::AerialError;
 
 /// A texel pattern that differs at every texel and channel.
 fn texel(x: u32, y: u32, k: u32) -> u8 {
@@ -25,7 +26,7 @@ fn make_image(path: &Path, w: u32, h: u32, ch: u8) -> Vec<u8> {
 }
 
 fn tile(src: &Path, out: &Path, size: u32, force: bool) -> Result<PyramidMeta, String> {
-    tile_image(src, out, TileOptions { tile: size, force }, &|_, _| {})
+    tile_image(src, out, TileOptions { tile: size, force }, &|_, _| {}).map_err(String::from)
 }
 
 #[test]
@@ -138,7 +139,8 @@ fn missing_truncated_and_foreign_tiles_and_pyramids_are_one_line_errors() {
     let out = dir.path().join("pyr");
     let meta = tile(&img, &out, 32, false).unwrap();
     let p = Pyramid::open(&out).unwrap();
-    let one_line = |e: String| {
+    let one_line = |e: AerialError| {
+        let e = e.to_string();
         assert!(!e.contains('\n') && !e.is_empty());
         e
     };

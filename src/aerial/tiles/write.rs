@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::source::{self, RowSource};
+use crate::aerial::AerialError;
 use super::{META_FILE, PyramidMeta, check_tile, fingerprint, levels_for, shrink, tile_path};
 
 /// Options of [`tile_image`].
@@ -35,19 +36,19 @@ impl Default for TileOptions {
 
 /// Tiles the PNG or TIFF at `image` into a pyramid folder at `out`. `progress` gets the number
 /// of source rows read so far (out of the image's height). Errors are one line.
-pub fn tile_image(image: &Path, out: &Path, opts: TileOptions, progress: &dyn Fn(u64, u64)) -> Result<PyramidMeta, String> {
+pub fn tile_image(image: &Path, out: &Path, opts: TileOptions, progress: &dyn Fn(u64, u64)) -> Result<PyramidMeta, AerialError> {
     check_tile(opts.tile)?;
     check_destination(out, opts.force)?;
     let mut src = source::open(image)?;
     let tmp = temp_dir(out);
     let _ = std::fs::remove_dir_all(&tmp);
     let result = (|| {
-        std::fs::create_dir_all(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?;
+        std::fs::create_dir_all(&tmp).map_err(|e| AerialError::Io(e).named(tmp.display()))?;
         let meta = write_pyramid(src.as_mut(), &tmp, opts.tile, progress)?;
-        let text = ron::ser::to_string_pretty(&meta, ron::ser::PrettyConfig::default()).map_err(|e| e.to_string())?;
+        let text = ron::ser::to_string_pretty(&meta, ron::ser::PrettyConfig::default()).map_err(AerialError::Ron)?;
         let meta_path = tmp.join(META_FILE);
-        let mut f = File::create(&meta_path).map_err(|e| format!("{}: {e}", meta_path.display()))?;
-        f.write_all(text.as_bytes()).and_then(|_| f.sync_all()).map_err(|e| format!("{}: {e}", meta_path.display()))?;
+        let mut f = File::create(&meta_path).map_err(|e| AerialError::Io(e).named(meta_path.display()))?;
+        f.write_all(text.as_bytes()).and_then(|_| f.sync_all()).map_err(|e| AerialError::Io(e).named(meta_path.display()))?;
         replace_dir(&tmp, out)?;
         Ok(meta)
     })();
@@ -59,22 +60,22 @@ pub fn tile_image(image: &Path, out: &Path, opts: TileOptions, progress: &dyn Fn
 
 /// Refuses a destination that exists without `force`, that is a file, or that is a folder
 /// holding something other than a pyramid.
-fn check_destination(out: &Path, force: bool) -> Result<(), String> {
+fn check_destination(out: &Path, force: bool) -> Result<(), AerialError> {
     if !out.exists() {
         return Ok(());
     }
     if !out.is_dir() {
-        return Err(format!("{}: exists and is not a folder", out.display()));
+        return Err(AerialError::OutNotFolder(out.to_path_buf()));
     }
     let empty = std::fs::read_dir(out).map(|mut d| d.next().is_none()).unwrap_or(false);
     if empty {
         return Ok(());
     }
     if !out.join(META_FILE).is_file() {
-        return Err(format!("{}: exists and is not a pyramid folder (no {META_FILE}); choose another --out", out.display()));
+        return Err(AerialError::OutNotPyramid(out.to_path_buf()));
     }
     if !force {
-        return Err(format!("{}: a pyramid is already there; pass --force to replace it", out.display()));
+        return Err(AerialError::PyramidExists(out.to_path_buf()));
     }
     Ok(())
 }
@@ -86,17 +87,17 @@ fn temp_dir(out: &Path) -> PathBuf {
 }
 
 /// Moves the finished folder `tmp` to `out`, replacing what is there (already checked).
-fn replace_dir(tmp: &Path, out: &Path) -> Result<(), String> {
+fn replace_dir(tmp: &Path, out: &Path) -> Result<(), AerialError> {
     if out.exists() {
         let old = out.with_file_name(format!(".{}.old-{}", out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(), std::process::id()));
-        std::fs::rename(out, &old).map_err(|e| format!("{}: cannot move the old pyramid aside ({e})", out.display()))?;
+        std::fs::rename(out, &old).map_err(|e| AerialError::MoveAside(e).named(out.display()))?;
         if let Err(e) = std::fs::rename(tmp, out) {
             let _ = std::fs::rename(&old, out);
-            return Err(format!("{}: {e}", out.display()));
+            return Err(AerialError::Io(e).named(out.display()));
         }
-        std::fs::remove_dir_all(&old).map_err(|e| format!("{}: {e}", old.display()))
+        std::fs::remove_dir_all(&old).map_err(|e| AerialError::Io(e).named(old.display()))
     } else {
-        std::fs::rename(tmp, out).map_err(|e| format!("{}: {e}", out.display()))
+        std::fs::rename(tmp, out).map_err(|e| AerialError::Io(e).named(out.display()))
     }
 }
 
@@ -112,7 +113,7 @@ struct Band {
 }
 
 /// Streams the source into tiles under `dir` and returns the metadata.
-fn write_pyramid(src: &mut dyn RowSource, dir: &Path, tile: u32, progress: &dyn Fn(u64, u64)) -> Result<PyramidMeta, String> {
+fn write_pyramid(src: &mut dyn RowSource, dir: &Path, tile: u32, progress: &dyn Fn(u64, u64)) -> Result<PyramidMeta, AerialError> {
     let (width, height, ch) = (src.width(), src.height(), src.channels());
     let levels = levels_for(width, height, tile);
     let mut bands: Vec<Band> = (0..levels)
@@ -124,7 +125,7 @@ fn write_pyramid(src: &mut dyn RowSource, dir: &Path, tile: u32, progress: &dyn 
     let mut y = 0;
     while y < height {
         let n = tile.min(height - y);
-        src.read_rows(&mut chunk, n)?;
+        src.read_rows(&mut chunk, n).map_err(AerialError::RowReader)?;
         if y == 0 {
             first_row = chunk[..line].to_vec();
         }
@@ -136,11 +137,11 @@ fn write_pyramid(src: &mut dyn RowSource, dir: &Path, tile: u32, progress: &dyn 
             return Ok(PyramidMeta::new(width, height, ch, tile, fingerprint(width, height, ch, &first_row, &last)));
         }
     }
-    Err("the image has no rows".into())
+    Err(AerialError::NoRows)
 }
 
 /// Appends `n` rows to mip `mip`'s band, writing and halving it whenever it is complete.
-fn push_rows(bands: &mut [Band], mip: usize, data: &[u8], n: u32, ch: u8, tile: u32, dir: &Path) -> Result<(), String> {
+fn push_rows(bands: &mut [Band], mip: usize, data: &[u8], n: u32, ch: u8, tile: u32, dir: &Path) -> Result<(), AerialError> {
     let line = bands[mip].width as usize * ch as usize;
     let mut at = 0u32;
     while at < n {
@@ -166,10 +167,10 @@ fn push_rows(bands: &mut [Band], mip: usize, data: &[u8], n: u32, ch: u8, tile: 
 }
 
 /// Writes the band's tiles (tile row `ty` of mip `mip`) as PNG files, in parallel.
-fn write_band(b: &Band, mip: u32, ty: u32, ch: u8, tile: u32, dir: &Path) -> Result<(), String> {
+fn write_band(b: &Band, mip: u32, ty: u32, ch: u8, tile: u32, dir: &Path) -> Result<(), AerialError> {
     let across = b.width.div_ceil(tile);
     let row_dir = tile_path(dir, mip, 0, ty).parent().map(Path::to_path_buf).unwrap_or_else(|| dir.to_path_buf());
-    std::fs::create_dir_all(&row_dir).map_err(|e| format!("{}: {e}", row_dir.display()))?;
+    std::fs::create_dir_all(&row_dir).map_err(|e| AerialError::Io(e).named(row_dir.display()))?;
     let line = b.width as usize * ch as usize;
     (0..across).into_par_iter().try_for_each(|tx| {
         let x0 = tx * tile;
@@ -181,20 +182,20 @@ fn write_band(b: &Band, mip: u32, ty: u32, ch: u8, tile: u32, dir: &Path) -> Res
             texels.extend_from_slice(&b.rows[s..s + w as usize * c]);
         }
         let path = tile_path(dir, mip, tx, ty);
-        write_tile_png(&path, w, b.filled, ch, &texels).map_err(|e| format!("{}: {e}", path.display()))
+        write_tile_png(&path, w, b.filled, ch, &texels).map_err(|e| e.named(path.display()))
     })
 }
 
 /// Encodes one tile as an 8-bit grey or RGB PNG.
-pub(crate) fn write_tile_png(path: &Path, w: u32, h: u32, ch: u8, texels: &[u8]) -> Result<(), String> {
-    let file = File::create(path).map_err(|e| e.to_string())?;
+pub(crate) fn write_tile_png(path: &Path, w: u32, h: u32, ch: u8, texels: &[u8]) -> Result<(), AerialError> {
+    let file = File::create(path).map_err(AerialError::Io)?;
     let mut enc = png::Encoder::new(BufWriter::new(file), w, h);
     enc.set_color(if ch == 1 { png::ColorType::Grayscale } else { png::ColorType::Rgb });
     enc.set_depth(png::BitDepth::Eight);
     enc.set_compression(png::Compression::Fast);
-    let mut writer = enc.write_header().map_err(|e| e.to_string())?;
-    writer.write_image_data(texels).map_err(|e| e.to_string())?;
-    writer.finish().map_err(|e| e.to_string())
+    let mut writer = enc.write_header().map_err(AerialError::Png)?;
+    writer.write_image_data(texels).map_err(AerialError::Png)?;
+    writer.finish().map_err(AerialError::Png)
 }
 
 /// Halves a band in both directions: each texel the rounded mean of the 2 × 2 (or fewer, at an

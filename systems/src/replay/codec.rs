@@ -11,7 +11,50 @@
 use serde::Deserialize;
 
 use super::{EventLine, Line};
-use crate::input::InputEvent;
+use crate::input::{InputEvent, InvalidEvent};
+
+/// Why one line of a recording is refused: its checksum or its content. Its `Display` is the
+/// message without the line's number (the reader adds it).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LineFormatError {
+    /// The line does not end in a `sum` field.
+    #[error("no checksum (\"sum\" field) at the end; the line is truncated or not a grove recording")]
+    NoChecksum,
+    /// The `sum` field is not 8 hex digits closed by `"}`.
+    #[error("malformed checksum field; the line is truncated or corrupt")]
+    MalformedChecksum,
+    /// The checksum does not match; `chained` when it was chained on a previous line's.
+    #[error("checksum mismatch: the line was changed or corrupted{}", if *chained { ", or a line before it was deleted, duplicated or moved" } else { "" })]
+    ChecksumMismatch {
+        /// Whether the checksum was chained on a previous line's (version 2, after the header's
+        /// successor).
+        chained: bool,
+    },
+    /// The JSON does not have the shape of a line: the first line of serde's message, without
+    /// its position.
+    #[error("{0}")]
+    Json(String),
+    /// A line read as an event whose `type` is something else.
+    #[error("unexpected line type '{}'", .0.escape_debug())]
+    UnexpectedType(String),
+    /// A field in an event of a kind that has no fields.
+    #[error("unknown field `{}` in an event of kind `{kind}`, which has no fields", field.escape_debug())]
+    FieldInFieldlessEvent {
+        /// The field.
+        field: String,
+        /// The event's kind.
+        kind: String,
+    },
+    /// The event's numbers or names are refused.
+    #[error(transparent)]
+    Event(#[from] InvalidEvent),
+}
+
+impl From<serde_json::Error> for LineFormatError {
+    fn from(e: serde_json::Error) -> Self {
+        LineFormatError::Json(serde_message(e))
+    }
+}
 
 /// The checksum of a line's text (without its `sum` field) with seed 0, as version 1 and every
 /// header use: 8 hex digits.
@@ -55,24 +98,24 @@ pub fn sign_body(body: &str, prev: u32) -> (String, u32) {
 
 /// Splits a line into its body (the object without the `sum` field, closed by `}`) and its
 /// checksum, without checking the checksum.
-pub fn split_sum(text: &str) -> Result<(String, u32), String> {
+pub fn split_sum(text: &str) -> Result<(String, u32), LineFormatError> {
     let text = text.trim_end_matches(['\r', '\n']);
     // The sum is always the last field: `,"sum":"` + 8 hex digits + `"}` = 18 bytes.
     let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
-    let idx = idx.ok_or("no checksum (\"sum\" field) at the end; the line is truncated or not a grove recording")?;
+    let idx = idx.ok_or(LineFormatError::NoChecksum)?;
     let tail = &text[idx + SUM_KEY.len()..];
     if !tail.ends_with("\"}") {
-        return Err("malformed checksum field; the line is truncated or corrupt".into());
+        return Err(LineFormatError::MalformedChecksum);
     }
     let sum = tail.get(..8).and_then(|s| if s.bytes().all(|b| b.is_ascii_hexdigit()) { u32::from_str_radix(s, 16).ok() } else { None });
-    let sum = sum.ok_or("malformed checksum field; the line is truncated or corrupt")?;
+    let sum = sum.ok_or(LineFormatError::MalformedChecksum)?;
     Ok((format!("{}}}", &text[..idx]), sum))
 }
 
 /// Re-signs a whole recording's lines as version 2, each checksum chained on the one before
 /// (the header's own checksum is unchanged in form). The bodies are kept as they are; this is
 /// how `grove replay --upgrade` and the mutation tests forge a consistent chain.
-pub fn rechain(lines: &[String]) -> Result<Vec<String>, String> {
+pub fn rechain(lines: &[String]) -> Result<Vec<String>, LineFormatError> {
     let mut prev = 0;
     let mut out = Vec::with_capacity(lines.len());
     for (i, l) in lines.iter().enumerate() {
@@ -138,46 +181,42 @@ fn serde_message(e: serde_json::Error) -> String {
 /// Reads an input event from its JSON object. Events without fields (`open_menu`,
 /// `close_menu`, `end_task`) are refused with any field but `kind`, as every other event is
 /// with a field it does not have.
-fn event_from_value(v: serde_json::Value) -> Result<InputEvent, String> {
+fn event_from_value(v: serde_json::Value) -> Result<InputEvent, LineFormatError> {
     if let serde_json::Value::Object(map) = &v
         && let Some(serde_json::Value::String(kind)) = map.get("kind")
         && matches!(kind.as_str(), "open_menu" | "close_menu" | "end_task")
         && let Some(extra) = map.keys().find(|k| *k != "kind")
     {
-        return Err(format!("unknown field `{}` in an event of kind `{kind}`, which has no fields", extra.escape_debug()));
+        return Err(LineFormatError::FieldInFieldlessEvent { field: extra.clone(), kind: kind.clone() });
     }
-    let event: InputEvent = serde_json::from_value(v).map_err(serde_message)?;
-    event.validate().map_err(|e| e.to_string())?;
+    let event: InputEvent = serde_json::from_value(v)?;
+    event.validate()?;
     Ok(event)
 }
 
 /// Checks a line's seed-0 checksum (a header, or a line of version 1) and parses it.
-pub fn decode_line(text: &str) -> Result<Line, String> {
+pub fn decode_line(text: &str) -> Result<Line, LineFormatError> {
     decode_line_chained(text, 0)
 }
 
 /// Checks a line's checksum, chained on `prev` (see [`chained_sum`]), and parses it.
-pub fn decode_line_chained(text: &str, prev: u32) -> Result<Line, String> {
+pub fn decode_line_chained(text: &str, prev: u32) -> Result<Line, LineFormatError> {
     decode_line_parts(text, prev).map(|(line, _, _)| line)
 }
 
 /// Like [`decode_line_chained`], and also returns the line's body (its text without the `sum`
 /// field) and its checksum.
-pub fn decode_line_parts(text: &str, prev: u32) -> Result<(Line, String, u32), String> {
+pub fn decode_line_parts(text: &str, prev: u32) -> Result<(Line, String, u32), LineFormatError> {
     let (body, sum) = split_sum(text)?;
     if chained_sum(&body, prev) != sum {
-        return Err(if prev == 0 {
-            "checksum mismatch: the line was changed or corrupted".into()
-        } else {
-            "checksum mismatch: the line was changed or corrupted, or a line before it was deleted, duplicated or moved".into()
-        });
+        return Err(LineFormatError::ChecksumMismatch { chained: prev != 0 });
     }
     let line = parse_body(&body)?;
     Ok((line, body, sum))
 }
 
 /// Parses a line's body once its checksum is known to be right.
-fn parse_body(body: &str) -> Result<Line, String> {
+fn parse_body(body: &str) -> Result<Line, LineFormatError> {
     // Event lines are by far the most common: read them straight into their struct, without
     // the buffering that the tagged `Line` enum needs.
     if body.starts_with("{\"type\":\"event\",") {
@@ -188,12 +227,12 @@ fn parse_body(body: &str) -> Result<Line, String> {
             && e.event.kind == "controller_pose"
         {
             let event = InputEvent::ControllerPose { pose: e.event.pose };
-            event.validate().map_err(|e| e.to_string())?;
+            event.validate()?;
             return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
         }
-        let e: TaggedEvent = serde_json::from_str(body).map_err(serde_message)?;
+        let e: TaggedEvent = serde_json::from_str(body)?;
         if e.kind != "event" {
-            return Err(format!("unexpected line type '{}'", e.kind.escape_debug()));
+            return Err(LineFormatError::UnexpectedType(e.kind));
         }
         let event = event_from_value(e.event)?;
         return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
@@ -205,12 +244,12 @@ fn parse_body(body: &str) -> Result<Line, String> {
     {
         return Ok(Line::Checkpoint(super::CheckpointLine { tick: c.tick, hash: c.hash, components: c.components, entities: c.entities }));
     }
-    let line: Line = serde_json::from_str(body).map_err(serde_message)?;
+    let line: Line = serde_json::from_str(body)?;
     if let Line::Event(ev) = &line {
         // Read the event again from its JSON object, for the checks `event_from_value` makes.
-        let v: serde_json::Value = serde_json::from_str(body).map_err(serde_message)?;
+        let v: serde_json::Value = serde_json::from_str(body)?;
         event_from_value(v.get("event").cloned().unwrap_or_default())?;
-        ev.event.validate().map_err(|e| e.to_string())?;
+        ev.event.validate()?;
     }
     Ok(line)
 }

@@ -108,7 +108,7 @@ impl<R: Read> Lines<R> {
                 return Err((Some(1), format!("format version {ver} is not supported; this grove reads versions {READABLE_VERSIONS:?} (upgrade grove to read newer files)")));
             }
         }
-        let header = match decode_line_chained(&first, 0).map_err(|m| (Some(1), m))? {
+        let header = match decode_line_chained(&first, 0).map_err(|m| (Some(1), m.to_string()))? {
             Line::Header(h) => h,
             _ => return Err((Some(1), "missing header: the first line must be the recording header".into())),
         };
@@ -138,7 +138,7 @@ impl<R: Read> Lines<R> {
             return Err(fail("a line after the footer".into()));
         }
         let prev = if self.chained { self.prev } else { 0 };
-        let (line, body, sum) = decode_line_parts(&text, prev).map_err(fail)?;
+        let (line, body, sum) = decode_line_parts(&text, prev).map_err(|m| fail(m.to_string()))?;
         self.prev = sum;
         let tick = match &line {
             Line::Header(_) => return Err(fail("a second header".into())),

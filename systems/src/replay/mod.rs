@@ -28,7 +28,9 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-pub use codec::{chained_sum, decode_line, decode_line_chained, encode_line, encode_line_chained, line_sum, rechain, sign_body, split_sum};
+pub use codec::{chained_sum, decode_line, decode_line_chained, encode_line, encode_line_chained, line_sum, rechain, sign_body, split_sum, LineFormatError};
+pub use names::NameError;
+pub use scene_ref::SceneRefError;
 pub use player::Player;
 pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
 pub use upgrade::{upgrade, UpgradeSummary};
@@ -274,16 +276,69 @@ impl<W: Write> Recorder<W> {
     }
 }
 
+/// Why the simulation a header describes could not be built ([`sim_for_header`]). Its `Display`
+/// is one line, without the file's name (the caller adds it).
+#[derive(Debug, thiserror::Error)]
+pub enum HeaderError {
+    /// A name the header uses does not exist, or a field is not well formed.
+    #[error(transparent)]
+    Names(#[from] NameError),
+    /// The scene it names was refused.
+    #[error(transparent)]
+    Scene(#[from] SceneRefError),
+    /// The model banks, or a model the header lists, could not be used.
+    #[error(transparent)]
+    Banks(#[from] crate::bank::BankError),
+    /// The header's fixed step differs from the scene's.
+    #[error("header dt {header} differs from the scene's dt {scene}")]
+    Dt {
+        /// The header's `dt`.
+        header: f32,
+        /// The scene's `dt`.
+        scene: f32,
+    },
+    /// The simulation could not be built from the scene.
+    #[error(transparent)]
+    Sim(#[from] crate::sim::SimError),
+    /// A config override (the header's or the caller's) was refused.
+    #[error(transparent)]
+    Config(#[from] crate::resources::ConfigError),
+}
+
+/// Why [`record_events`] could not write a recording.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// The header's simulation could not be built.
+    #[error(transparent)]
+    Header(#[from] HeaderError),
+    /// Writing to the output failed (the error's own message).
+    #[error("{0}")]
+    Write(std::io::Error),
+    /// The events are not ordered by tick.
+    #[error("event {index} is stamped tick {tick} but the recording is at tick {at}")]
+    OutOfOrder {
+        /// The event's index in the list.
+        index: usize,
+        /// Its tick.
+        tick: u64,
+        /// The tick the recording had reached.
+        at: u64,
+    },
+    /// An event was refused by the simulation.
+    #[error(transparent)]
+    Event(#[from] crate::input::InvalidEvent),
+}
+
 /// Builds the simulation a header describes: its scene (a built-in name, or a `.ron` file inside
 /// `base_dir` or the working directory, see [`scene_ref::resolve_scene`]), seed, and config
 /// overrides.
-pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Override]) -> Result<Sim, String> {
+pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Override]) -> Result<Sim, HeaderError> {
     sim_for_header_in(header, base_dir, overrides, &Banks::default())
 }
 
 /// Like [`sim_for_header`], with the model banks in which the header's models
 /// ([`Header::models`]) are looked up; a missing or changed model is an error naming it.
-pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[Override], banks: &Banks) -> Result<Sim, String> {
+pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[Override], banks: &Banks) -> Result<Sim, HeaderError> {
     names::check_header(header)?;
     let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
     // The scene's own banks are searched first, as in the session that recorded it.
@@ -291,14 +346,14 @@ pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[
     all.banks.extend(banks.banks.iter().cloned());
     let catalogue = all.catalogue_for(&header.models)?;
     if (scene.dt - header.dt).abs() > 1e-9 {
-        return Err(format!("header dt {} differs from the scene's dt {}", header.dt, scene.dt));
+        return Err(HeaderError::Dt { header: header.dt, scene: scene.dt });
     }
-    let mut sim = Sim::from_scene_with(&scene, header.seed, catalogue).map_err(|e| e.to_string())?;
+    let mut sim = Sim::from_scene_with(&scene, header.seed, catalogue)?;
     let mut config = Config::default();
     for (k, v) in &header.config {
-        config.set(k, v).map_err(|e| e.to_string())?;
+        config.set(k, v)?;
     }
-    config.apply(overrides).map_err(|e| e.to_string())?;
+    config.apply(overrides)?;
     sim.res.config = config;
     Ok(sim)
 }
@@ -306,14 +361,14 @@ pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[
 /// Re-simulates a list of stamped events from a fresh simulation and writes the full recording
 /// (header, events, checkpoints, footer). Tests and synthetic participants use this, so every
 /// checkpoint in their files comes from the simulation itself.
-pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value) -> Result<W, String> {
+pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value) -> Result<W, RecordError> {
     record_events_in(out, header, events, end_tick, summary, &Banks::default())
 }
 
 /// Like [`record_events`], for a header that lists models of these banks.
-pub fn record_events_in<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value, banks: &Banks) -> Result<W, String> {
+pub fn record_events_in<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value, banks: &Banks) -> Result<W, RecordError> {
     let mut sim = sim_for_header_in(header, None, &[], banks)?;
-    let mut rec = Recorder::new(out, header).map_err(|e| e.to_string())?;
+    let mut rec = Recorder::new(out, header).map_err(RecordError::Write)?;
     let mut i = 0;
     let end = end_tick.max(events.last().map_or(0, |e| e.tick + 1));
     while sim.res.tick < end {
@@ -321,15 +376,15 @@ pub fn record_events_in<W: Write>(out: W, header: &Header, events: &[StampedEven
         while i < events.len() && events[i].tick == sim.res.tick {
             let e = &events[i];
             let ms = (e.tick as f64 * header.dt as f64 * 1000.0).round() as u64;
-            rec.event(e.tick, ms, e.tick, &e.event).map_err(|e| e.to_string())?;
+            rec.event(e.tick, ms, e.tick, &e.event).map_err(RecordError::Write)?;
             i += 1;
         }
         if i < events.len() && events[i].tick < sim.res.tick {
-            return Err(format!("event {i} is stamped tick {} but the recording is at tick {}", events[i].tick, sim.res.tick));
+            return Err(RecordError::OutOfOrder { index: i, tick: events[i].tick, at: sim.res.tick });
         }
-        sim.step_with(events[start..i].iter().map(|e| e.event.clone())).map_err(|e| e.to_string())?;
-        rec.after_step(&sim).map_err(|e| e.to_string())?;
+        sim.step_with(events[start..i].iter().map(|e| e.event.clone()))?;
+        rec.after_step(&sim).map_err(RecordError::Write)?;
     }
-    rec.finish(&sim, summary).map_err(|e| e.to_string())
+    rec.finish(&sim, summary).map_err(RecordError::Write)
 }
 

@@ -3,40 +3,85 @@
 //! names something unknown is invalid input (exit 2) rather than a session that silently does
 //! nothing.
 
+use crate::catalogue::UnknownModel;
 use crate::input::InputEvent;
 use super::Header;
 use crate::sim::Sim;
 
+/// A name in a recording that does not exist, or a header field that is not well formed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum NameError {
+    /// The header's task is not a built-in task.
+    #[error("header names unknown task '{task}'; known tasks: {}", known_tasks())]
+    UnknownTask {
+        /// The task as written.
+        task: String,
+    },
+    /// The header's session start is not an RFC 3339 time.
+    #[error("header session_start '{0}' is not an RFC 3339 time such as 2019-06-03T09:00:00Z")]
+    SessionStart(String),
+    /// The header's block is 0.
+    #[error("header block must be 1 or more")]
+    BlockZero,
+    /// A technique that is not registered; the registry's sentence naming it and the known ones.
+    #[error("recording uses {0}")]
+    UnknownTechnique(String),
+    /// The header's technique is registered with another version.
+    #[error("recording uses technique '{name}' version {recorded}, but version {registered} is registered")]
+    TechniqueVersion {
+        /// The technique.
+        name: String,
+        /// The version the recording names.
+        recorded: u32,
+        /// The version this build registers.
+        registered: u32,
+    },
+    /// A header model without a plain name or a 16-hex-digit hash.
+    #[error("header models: '{}' needs a plain name and a 16-hex-digit hash", .0.escape_debug())]
+    HeaderModel(String),
+    /// A `choose_model` event names a model the catalogue does not have.
+    #[error("choose_model names an {0}")]
+    ChooseModel(UnknownModel),
+    /// A `start_task` event names a task that is not built in.
+    #[error("start_task names unknown task '{0}'")]
+    StartTask(String),
+}
+
+/// The built-in tasks, comma-separated.
+fn known_tasks() -> String {
+    let known: Vec<&str> = crate::task::BUILTIN_TASKS.iter().map(|(id, _)| *id).collect();
+    known.join(", ")
+}
+
 /// Checks the header fields that name things: the task must be a known task, the optional
 /// session start a valid RFC 3339 time, the optional block at least 1.
-pub fn check_header(header: &Header) -> Result<(), String> {
+pub fn check_header(header: &Header) -> Result<(), NameError> {
     if let Some(task) = &header.task
         && crate::task::TaskDef::builtin(task).is_none()
     {
-        let known: Vec<&str> = crate::task::BUILTIN_TASKS.iter().map(|(id, _)| *id).collect();
-        return Err(format!("header names unknown task '{task}'; known tasks: {}", known.join(", ")));
+        return Err(NameError::UnknownTask { task: task.clone() });
     }
     if let Some(start) = &header.session_start
         && chrono::DateTime::parse_from_rfc3339(start).is_err()
     {
-        return Err(format!("header session_start '{start}' is not an RFC 3339 time such as 2019-06-03T09:00:00Z"));
+        return Err(NameError::SessionStart(start.clone()));
     }
     if header.block == Some(0) {
-        return Err("header block must be 1 or more".into());
+        return Err(NameError::BlockZero);
     }
     if let Some(t) = &header.technique {
         let registered = crate::technique::installed();
         match registered.get(&t.name) {
-            None => return Err(format!("recording uses {}", registered.unknown(&t.name))),
+            None => return Err(NameError::UnknownTechnique(registered.unknown(&t.name))),
             Some(k) if k.version != t.version => {
-                return Err(format!("recording uses technique '{}' version {}, but version {} is registered", t.name, t.version, k.version));
+                return Err(NameError::TechniqueVersion { name: t.name.clone(), recorded: t.version, registered: k.version });
             }
             Some(_) => {}
         }
     }
     for m in &header.models {
         if !crate::bank::valid_name(&m.name) || m.hash.len() != 16 || !m.hash.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return Err(format!("header models: '{}' needs a plain name and a 16-hex-digit hash", m.name.escape_debug()));
+            return Err(NameError::HeaderModel(m.name.clone()));
         }
     }
     Ok(())
@@ -44,11 +89,11 @@ pub fn check_header(header: &Header) -> Result<(), String> {
 
 /// Checks that an event names only things that exist: a chosen model must be in the catalogue
 /// and a started task must be a known task.
-pub fn check_event(event: &InputEvent, sim: &Sim) -> Result<(), String> {
+pub fn check_event(event: &InputEvent, sim: &Sim) -> Result<(), NameError> {
     match event {
-        InputEvent::ChooseModel { model } => sim.res.catalogue.resolve(model).map(|_| ()).map_err(|e| format!("choose_model names an {e}")),
-        InputEvent::StartTask { task } if crate::task::TaskDef::builtin(task).is_none() => Err(format!("start_task names unknown task '{task}'")),
-        InputEvent::SwitchTechnique { technique } if sim.res.techniques.get(technique).is_none() => Err(format!("recording uses {}", sim.res.techniques.unknown(technique))),
+        InputEvent::ChooseModel { model } => sim.res.catalogue.resolve(model).map(|_| ()).map_err(NameError::ChooseModel),
+        InputEvent::StartTask { task } if crate::task::TaskDef::builtin(task).is_none() => Err(NameError::StartTask(task.clone())),
+        InputEvent::SwitchTechnique { technique } if sim.res.techniques.get(technique).is_none() => Err(NameError::UnknownTechnique(sim.res.techniques.unknown(technique))),
         _ => Ok(()),
     }
 }
@@ -68,7 +113,7 @@ mod tests {
         let bad = |f: &dyn Fn(&mut Header), needle: &str| {
             let mut x = h.clone();
             f(&mut x);
-            let e = check_header(&x).unwrap_err();
+            let e = check_header(&x).unwrap_err().to_string();
             assert!(e.contains(needle), "{e}");
         };
         bad(&|x| x.task = Some("manual-8".into()), "unknown task 'manual-8'");

@@ -43,7 +43,7 @@ impl Player {
             }
         }
         let header = lines.header.clone();
-        let sim = sim_for_header_in(&header, path.parent(), overrides, banks).map_err(|m| err((None, m)))?;
+        let sim = sim_for_header_in(&header, path.parent(), overrides, banks).map_err(|m| err((None, m.to_string())))?;
         // A recording cut short (no footer) ends with its last event.
         let final_tick = final_tick.unwrap_or_else(|| events.last().map_or(0, |e| e.tick + 1));
         Ok(Player { header, events, next: 0, final_tick, sim })

@@ -127,7 +127,7 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let header = lines.header.clone();
     let verifying = options.overrides.is_empty();
     let banks = crate::bank::Banks::open(&options.banks).map_err(|m| err((None, m.0)))?;
-    let mut sim = sim_for_header_in(&header, base_dir, &options.overrides, &banks).map_err(|m| err((Some(1), m)))?;
+    let mut sim = sim_for_header_in(&header, base_dir, &options.overrides, &banks).map_err(|m| err((Some(1), m.to_string())))?;
     let mut outcome_events: BTreeMap<String, u64> = BTreeMap::new();
     let mut checkpoints_checked = 0;
     let mut first_divergence = None;
@@ -157,7 +157,7 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
             Line::Header(_) => {}
             Line::Event(e) => {
                 *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
-                super::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m)))?;
+                super::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m.to_string())))?;
                 e.event.validate().map_err(|m| err((Some(n), m.to_string())))?;
                 pending.push(e.event);
             }

@@ -22,7 +22,7 @@ use crate::replay::Header;
 use crate::targets::Names;
 
 use super::run::{run, RunOptions};
-use super::{Btn, Loaded, Scenario, Step};
+use super::{Btn, DraftError, Loaded, Scenario, Step};
 
 /// A drafted scenario.
 pub struct Draft {
@@ -136,18 +136,18 @@ pub fn expectations(sim: &crate::sim::Sim, names: &Names) -> Vec<Expect> {
 /// Drafts a scenario for the output path `out` (its scene named relative to that file) from a
 /// recording's header and events; `recording_dir` is the recording's folder (where a scene
 /// file it names is looked up) and `final_hash` the recording's final world hash.
-pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Path>, final_hash: &str, end_tick: u64, out: &Path) -> Result<Draft, String> {
+pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Path>, final_hash: &str, end_tick: u64, out: &Path) -> Result<Draft, DraftError> {
     let sim = crate::replay::sim_for_header(header, recording_dir, &[])?;
     let scene = if crate::scene::Scene::builtin(&header.scene).is_some() {
         header.scene.clone()
     } else {
         let base = recording_dir.filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
         let at = base.join(&header.scene);
-        at.canonicalize().map_err(|e| format!("scene {}: {e}", at.display()))?.display().to_string()
+        at.canonicalize().map_err(|error| DraftError::ScenePath { path: at.clone(), error })?.display().to_string()
     };
     let mut config = BTreeMap::new();
     for (k, v) in &header.config {
-        config.insert(k.clone(), v.trim().parse::<f32>().map_err(|_| format!("config {k}: '{v}' is not a number"))?);
+        config.insert(k.clone(), v.trim().parse::<f32>().map_err(|_| DraftError::ConfigNotANumber { name: k.clone(), text: v.clone() })?);
     }
     let mut scenario = Scenario {
         name: None,
@@ -157,10 +157,10 @@ pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Pa
         steps: steps_from_events(events, &sim.res.catalogue, end_tick),
         expect: Vec::new(),
     };
-    let loaded = Loaded::from_text(out, write(&scenario)?).map_err(|e| e.to_string())?;
+    let loaded = Loaded::from_text(out, write(&scenario)?)?;
     let outcome = run(&loaded, &RunOptions::default())?;
     if let Some(f) = outcome.failure {
-        return Err(format!("the drafted steps do not run: {f}"));
+        return Err(DraftError::DoesNotRun(f));
     }
     let names = Names::default();
     scenario.expect = expectations(&outcome.sim, &names);
@@ -175,10 +175,10 @@ pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Pa
 }
 
 /// A scenario as RON text.
-pub fn write(s: &Scenario) -> Result<String, String> {
+pub fn write(s: &Scenario) -> Result<String, ron::Error> {
     // Each step and expectation on a line of its own; `Some(…)` left out, as files may.
     let pretty = ron::ser::PrettyConfig::new().depth_limit(2).indentor("    ").extensions(ron::extensions::Extensions::IMPLICIT_SOME);
-    let text = ron::ser::to_string_pretty(s, pretty).map_err(|e| e.to_string())?;
+    let text = ron::ser::to_string_pretty(s, pretty)?;
     // The struct's name makes the file say what it is; RON allows it before the parenthesis.
     let at = if text.starts_with('(') { Some(0) } else { text.find("\n(").map(|k| k + 1) };
     Ok(match at {

@@ -8,8 +8,11 @@
 //! recording.
 
 pub mod draft;
+mod errors;
 pub mod run;
 pub mod update;
+
+pub use errors::{CheckError, DraftError, HashCountError, RunError, StepError, UnknownTechnique};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -169,14 +172,14 @@ impl Step {
 
 /// A technique by the name files use: `Some(mode)` for a built-in one ("ray-casting",
 /// "manual"), `None` for a registered plug-in technique ([`crate::technique::installed`]).
-pub fn technique(name: &str) -> Result<Option<Mode>, String> {
+pub fn technique(name: &str) -> Result<Option<Mode>, UnknownTechnique> {
     if let Some(mode) = [Mode::RayCasting, Mode::Manual].into_iter().find(|m| m.name() == name) {
         return Ok(Some(mode));
     }
     let registered = crate::technique::installed();
     match registered.get(name) {
         Some(_) => Ok(None),
-        None => Err(format!("unknown technique \"{name}\"; known: {}", registered.names())),
+        None => Err(UnknownTechnique { name: name.to_string(), known: registered.names() }),
     }
 }
 
@@ -280,7 +283,7 @@ impl Loaded {
         // A scene file is found as a recording's header finds one: inside the scenario's
         // folder or the working directory, ending in .ron, never quoted in an error.
         let dir = path.parent().unwrap_or(Path::new(""));
-        let scene = crate::replay::scene_ref::resolve_scene(&scenario.scene, Some(dir)).map_err(|e| invalid(e.replace("the recording's folder", "the scenario's folder").replace("a recording may", "a scenario may")))?;
+        let scene = crate::replay::scene_ref::resolve_scene(&scenario.scene, Some(dir)).map_err(|e| invalid(e.to_string().replace("the recording's folder", "the scenario's folder").replace("a recording may", "a scenario may")))?;
         let scene_ref = if Scene::builtin(&scenario.scene).is_some() {
             scenario.scene.clone()
         } else {
@@ -300,7 +303,7 @@ impl Loaded {
         } else {
             crate::bank::Banks::open(&scene.bank_dirs()).and_then(|b| b.session_catalogue()).map_err(|e| invalid(format!("scene banks: {e}")))?.0
         };
-        check(&scenario, &catalogue).map_err(invalid)?;
+        check(&scenario, &catalogue).map_err(|e| invalid(e.to_string()))?;
         let name = scenario.name.clone().unwrap_or_else(|| {
             let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
             file.strip_suffix(".ron").unwrap_or(&file).to_string()
@@ -312,37 +315,37 @@ impl Loaded {
 
 /// Checks every step and expectation: known models, tasks, techniques and log kinds; finite
 /// numbers; no hash inside a wait; the steps and ticks within their limits.
-pub fn check(s: &Scenario, catalogue: &Catalogue) -> Result<(), String> {
+pub fn check(s: &Scenario, catalogue: &Catalogue) -> Result<(), CheckError> {
     if s.steps.len() + s.expect.len() > MAX_SCENARIO_STEPS {
-        return Err(format!("{} steps and expectations are more than the limit of {MAX_SCENARIO_STEPS} ({})", s.steps.len() + s.expect.len(), crate::limits::RAISE));
+        return Err(CheckError::TooManySteps(s.steps.len() + s.expect.len()));
     }
     let mut ticks: u64 = 0;
     for (i, step) in s.steps.iter().enumerate() {
-        let at = |e: String| format!("step {} {}: {e}", i + 1, step.text());
+        let at = |error: StepError| CheckError::Step { number: i + 1, text: step.text(), error };
         check_step(step, catalogue).map_err(at)?;
         ticks = ticks.saturating_add(step.max_ticks());
         if ticks > MAX_SCENARIO_TICKS {
-            return Err(at(format!("the steps so far may take {ticks} ticks, more than the limit of {MAX_SCENARIO_TICKS} per scenario ({})", crate::limits::RAISE)));
+            return Err(at(StepError::TooManyTicks(ticks)));
         }
     }
     for (i, e) in s.expect.iter().enumerate() {
-        e.validate(catalogue).map_err(|m| format!("expect {} {}: {m}", i + 1, e.text()))?;
+        e.validate(catalogue).map_err(|error| CheckError::Expect { number: i + 1, text: e.text(), error })?;
     }
     Ok(())
 }
 
-fn finite_point(what: &str, p: Vec3) -> Result<(), String> {
+fn finite_point(what: &'static str, p: Vec3) -> Result<(), StepError> {
     if p.is_finite() && p.abs().max_element() <= crate::limits::MAX_COORD {
         Ok(())
     } else {
-        Err(format!("{what} {p} is not a finite point within {} m", crate::limits::MAX_COORD))
+        Err(StepError::NotFinite { what, point: p })
     }
 }
 
-fn check_aim(aim: &Aim) -> Result<(), String> {
+fn check_aim(aim: &Aim) -> Result<(), StepError> {
     match aim {
         Aim::Point(x, y, z) => finite_point("the point", Vec3::new(*x, *y, *z)),
-        Aim::Target(0) => Err("targets count from 1".into()),
+        Aim::Target(0) => Err(StepError::TargetZero),
         Aim::Tree { tree, offset } => {
             check_tree(tree)?;
             finite_point("the offset", *offset)
@@ -355,33 +358,30 @@ fn check_aim(aim: &Aim) -> Result<(), String> {
     }
 }
 
-fn check_tree(tree: &TreeRef) -> Result<(), String> {
+fn check_tree(tree: &TreeRef) -> Result<(), StepError> {
     match tree {
-        TreeRef::Planted(0) => Err("planted trees count from 1".into()),
+        TreeRef::Planted(0) => Err(StepError::PlantedZero),
         TreeRef::Nearest(x, y, z) => finite_point("the point", Vec3::new(*x, *y, *z)),
         _ => Ok(()),
     }
 }
 
-fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), String> {
+fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), StepError> {
     match step {
-        Step::ChooseModel(m) if catalogue.by_name(m).is_none() => Err(catalogue.unknown_name(m)),
+        Step::ChooseModel(m) if catalogue.by_name(m).is_none() => Err(StepError::UnknownModel(catalogue.unknown_name(m))),
         Step::PointAt(aim) | Step::Mark { at: aim, .. } => check_aim(aim),
         Step::Sweep { from, by, .. } => {
             check_aim(from)?;
             finite_point("by", *by)
         }
         Step::Controller { position, rotation } | Step::Head { position, rotation } => {
-            crate::input::InputEvent::ControllerPose { pose: crate::components::Pose { position: *position, rotation: *rotation } }.validate().map_err(|e| e.to_string())
+            Ok(crate::input::InputEvent::ControllerPose { pose: crate::components::Pose { position: *position, rotation: *rotation } }.validate()?)
         }
-        Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => Err("touchpad x and y must lie in [-1, 1]".into()),
-        Step::WaitUntil { until: Expect::Hash(_), .. } => Err("a world hash cannot be waited for; check it with an Expect step".into()),
-        Step::WaitUntil { until, .. } | Step::Expect(until) => until.validate(catalogue).map_err(String::from),
-        Step::StartTask(id) if crate::task::TaskDef::builtin(id).is_none() => {
-            let known: Vec<&str> = crate::task::BUILTIN_TASKS.iter().map(|(n, _)| *n).collect();
-            Err(format!("unknown task \"{id}\"; known: {}", known.join(", ")))
-        }
-        Step::SwitchTechnique(name) => technique(name).map(|_| ()),
+        Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => Err(StepError::Touchpad),
+        Step::WaitUntil { until: Expect::Hash(_), .. } => Err(StepError::WaitForHash),
+        Step::WaitUntil { until, .. } | Step::Expect(until) => Ok(until.validate(catalogue)?),
+        Step::StartTask(id) if crate::task::TaskDef::builtin(id).is_none() => Err(StepError::UnknownTask(id.clone())),
+        Step::SwitchTechnique(name) => technique(name).map(|_| ()).map_err(StepError::from),
         Step::Name { tree, .. } => check_tree(tree),
         _ => Ok(()),
     }

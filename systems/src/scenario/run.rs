@@ -5,12 +5,12 @@
 use crate::components::Pose;
 use crate::expect::Expect;
 use crate::input::{InputEvent, StampedEvent};
-use crate::replay::{record_events, Header};
+use crate::replay::{record_events, Header, RecordError};
 use crate::resources::{Config, Override};
 use crate::script::Script;
 use crate::sim::Sim;
 
-use super::{technique, Loaded, Step};
+use super::{technique, Loaded, RunError, Step};
 
 /// How to run a scenario.
 #[derive(Clone, Debug, Default)]
@@ -62,14 +62,14 @@ pub struct Outcome {
 impl Outcome {
     /// The run as a recording (header, events, checkpoints, footer), re-simulated from its
     /// events, so that `grove replay` and `grove view` show what happened.
-    pub fn recording(&self) -> Result<Vec<u8>, String> {
+    pub fn recording(&self) -> Result<Vec<u8>, RecordError> {
         record_events(Vec::new(), &self.header, &self.events, self.ticks, serde_json::json!({ "scenario": self.header.participant }))
     }
 }
 
 /// The simulation a loaded scenario starts from, and the header that names it.
-pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), String> {
-    let mut sim = Sim::from_scene(&loaded.scene, loaded.seed).map_err(|e| e.to_string())?;
+pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), RunError> {
+    let mut sim = Sim::from_scene(&loaded.scene, loaded.seed)?;
     let mut header = Header::new(&loaded.scene_ref, loaded.seed, loaded.scene.dt);
     header.participant = Some(format!("scenario:{}", loaded.name));
     header.synthetic = true;
@@ -82,14 +82,14 @@ pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), Str
     }
     let mut config = Config::default();
     for (k, v) in &header.config {
-        config.set(k, v).map_err(|e| e.to_string())?;
+        config.set(k, v)?;
     }
     sim.res.config = config;
     Ok((sim, header))
 }
 
 /// Runs a loaded scenario headless.
-pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, String> {
+pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, RunError> {
     let (sim, header) = start(loaded, options)?;
     let mut script = Script::new(sim);
     let mut hashes = Vec::new();
@@ -178,7 +178,7 @@ fn apply(s: &mut Script, step: &Step, update: bool, hashes: &mut Vec<String>) ->
         Step::SwitchTechnique(name) => {
             // A built-in technique as the mode switch it always was (the same events as the
             // committed recordings); a plug-in by name.
-            match technique(name)? {
+            match technique(name).map_err(|e| e.to_string())? {
                 Some(mode) => s.switch_mode(mode),
                 None => s.switch_technique(name),
             };

@@ -74,10 +74,10 @@ fn expect_first(text: &str) -> bool {
 /// Rewrites the text's `Hash("…")` values with `hashes` (in run order: steps, then the end
 /// expectations, `step_hashes` of them from the steps). Errors when the text does not hold
 /// exactly as many hash literals as the run met.
-pub fn pin_hashes(text: &str, hashes: &[String], step_hashes: usize) -> Result<String, String> {
+pub fn pin_hashes(text: &str, hashes: &[String], step_hashes: usize) -> Result<String, super::HashCountError> {
     let spans = hash_literals(text);
     if spans.len() != hashes.len() {
-        return Err(format!("found {} Hash(\"…\") values in the text but the run checked {}; pin them by hand", spans.len(), hashes.len()));
+        return Err(super::HashCountError { found: spans.len(), checked: hashes.len() });
     }
     let mut ordered: Vec<&String> = hashes.iter().collect();
     if expect_first(text) {
