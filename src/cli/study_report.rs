@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use grove::atomic_write::{write_atomic, write_via_temp};
-use grove_systems::resources::{Config, Override};
+use grove_systems::resources::{Config, Override, Overrides};
 
 use grove::html;
 use grove::study::report::{self, Summary};
@@ -130,15 +130,13 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow
     let (trials, wall) = (main.trials, main.wall_seconds);
     let what_if = match runs.next() {
         Some(base) if to.baseline => {
-            let mut params: std::collections::BTreeMap<String, String> = Default::default();
-            for t in &trials {
-                params.extend(t.config.clone());
-            }
+            // The recordings' headers were checked when read; together they must still agree.
+            let params: Overrides = trials.iter().flat_map(|t| t.config.as_slice().iter().cloned()).collect();
             if params.is_empty() {
                 bail!("{}: the recordings carry no changed setting (`config` in their headers); write them with `grove synth --set NAME=VALUE`", to.replays);
             }
-            let params = params.iter().map(|(k, v)| Override::new(k, v)).collect::<Result<Vec<_>, _>>().map_err(|e| anyhow!("{}: {e}", to.replays))?;
-            Config::default().apply(&params).map_err(|e| anyhow!("{}: {e}", to.replays))?;
+            params.config().map_err(|e| anyhow!("{}: {e}", to.replays))?;
+            let params = params.as_slice();
             Some(WhatIf::compare(whatif::RESIMULATED_PARTICIPANTS, whatif::param_changes(&params), &base.trials, &trials, base.wall_seconds))
         }
         Some(base) => Some(WhatIf::compare(whatif::REPLAYED_HANDS, whatif::param_changes(&set.fixed), &base.trials, &trials, base.wall_seconds)),

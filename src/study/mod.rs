@@ -69,7 +69,7 @@ pub struct Trial {
     /// The header's block, if it has one.
     pub header_block: Option<u32>,
     /// The header's configuration overrides.
-    pub config: std::collections::BTreeMap<String, String>,
+    pub config: grove_systems::resources::Overrides,
     /// Position of this recording in the participant's session (1-based), see [`assign_order`].
     pub trial_num: u32,
     /// The block: the header's, or else the position of the task's first trial.

@@ -356,7 +356,7 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
     header.task = Some(task.id.clone());
     header.participant = Some(format!("P{:02}", participant + 1));
     header.synthetic = true;
-    header.config = overrides.iter().map(|o| (o.name.to_string(), o.text.clone())).collect();
+    header.config = overrides.iter().cloned().collect();
 
     p.script.wait(30);
     p.script.push(InputEvent::SwitchMode { mode: task.mode }).wait(1);

@@ -202,6 +202,62 @@ impl Override {
     }
 }
 
+/// Overrides, at most one per parameter, in name order: what a recording header's `config`
+/// holds. Written as a JSON object of name → value text (as `--set` took it) and read back
+/// through [`Override::new`], so a header's parameters are checked once, when it is read.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overrides(Vec<Override>);
+
+impl Overrides {
+    /// Sets `o`, replacing an earlier value of the same parameter.
+    pub fn set(&mut self, o: Override) {
+        match self.0.binary_search_by(|p| p.name.cmp(o.name)) {
+            Ok(i) => self.0[i] = o,
+            Err(i) => self.0.insert(i, o),
+        }
+    }
+
+    /// The overrides, in name order.
+    pub fn as_slice(&self) -> &[Override] {
+        &self.0
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// The defaults with these applied ([`Config::apply`]).
+    pub fn config(&self) -> Result<Config, ConfigError> {
+        let mut config = Config::default();
+        config.apply(&self.0)?;
+        Ok(config)
+    }
+}
+
+impl FromIterator<Override> for Overrides {
+    fn from_iter<I: IntoIterator<Item = Override>>(iter: I) -> Self {
+        let mut all = Overrides::default();
+        for o in iter {
+            all.set(o);
+        }
+        all
+    }
+}
+
+impl Serialize for Overrides {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|o| (o.name, o.text.as_str())))
+    }
+}
+
+impl<'de> Deserialize<'de> for Overrides {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let text = std::collections::BTreeMap::<String, String>::deserialize(d)?;
+        text.iter().map(|(k, v)| Override::new(k, v).map_err(serde::de::Error::custom)).collect()
+    }
+}
+
 impl Config {
     /// Applies parsed overrides in order.
     pub fn apply(&mut self, overrides: &[Override]) -> Result<(), ConfigError> {
@@ -403,5 +459,20 @@ mod tests {
         assert!(matches!(Override::new("snap_threshold", "x"), Err(ConfigError::NotANumber { .. })));
         assert!(matches!(Override::new("snap", "1"), Err(ConfigError::Unknown { .. })));
         assert!(matches!(Override::parse_all(&["min_scale=5", "max_scale=2"]), Err(ConfigError::ScaleOrder { .. })));
+    }
+
+    #[test]
+    fn overrides_are_written_as_their_text_and_checked_when_read() {
+        let mut all: Overrides = ["touchpad_move_rate=3", "snap_threshold=0.20"].iter().map(|a| Override::parse(a).unwrap()).collect();
+        all.set(Override::parse("touchpad_move_rate=2.5").unwrap());
+        // One per parameter, in name order, each as it was written.
+        let json = serde_json::to_string(&all).unwrap();
+        assert_eq!(json, r#"{"snap_threshold":"0.20","touchpad_move_rate":"2.5"}"#);
+        let back: Overrides = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, all);
+        assert_eq!(back.config().unwrap().snap_threshold, 0.2);
+        let bad = serde_json::from_str::<Overrides>(r#"{"snap_threshold":"20"}"#).unwrap_err().to_string();
+        assert!(bad.contains("snap_threshold: '20' must be a number from 0 to 10 m"), "{bad}");
+        assert!(serde_json::from_str::<Overrides>(r#"{"snap":"1"}"#).is_err());
     }
 }

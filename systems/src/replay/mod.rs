@@ -38,7 +38,7 @@ pub use upgrade::{upgrade, UpgradeSummary};
 use crate::bank::{Banks, HeaderModel};
 use crate::hash::{hex, WorldHash};
 use crate::input::{InputEvent, StampedEvent};
-use crate::resources::{Config, Override};
+use crate::resources::{Override, Overrides};
 use crate::sim::Sim;
 
 /// The format version this build writes.
@@ -77,9 +77,9 @@ pub struct Header {
     pub dt: f32,
     /// Whether the session was generated rather than recorded from a person.
     pub synthetic: bool,
-    /// Configuration overrides in effect during the session (names as in [`Config::set`]).
+    /// Configuration overrides in effect during the session, checked when the header is read.
     #[serde(default)]
-    pub config: BTreeMap<String, String>,
+    pub config: Overrides,
     /// Optional: the wall-clock time (UTC, RFC 3339, e.g. "2019-06-03T09:00:00Z") at which this
     /// recording started. Reports order a participant's recordings by it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -123,7 +123,7 @@ impl Header {
             seed,
             dt,
             synthetic: false,
-            config: BTreeMap::new(),
+            config: Overrides::default(),
             session_start: None,
             block: None,
             models: Vec::new(),
@@ -349,10 +349,7 @@ pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[
         return Err(HeaderError::Dt { header: header.dt, scene: scene.dt });
     }
     let mut sim = Sim::from_scene_with(&scene, header.seed, catalogue)?;
-    let mut config = Config::default();
-    for (k, v) in &header.config {
-        config.set(k, v)?;
-    }
+    let mut config = header.config.config()?;
     config.apply(overrides)?;
     sim.res.config = config;
     Ok(sim)

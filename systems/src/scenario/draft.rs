@@ -10,7 +10,6 @@
 //! the recording by a few ticks; the expectations are therefore drafted from the draft's own
 //! run, and [`Draft::same_as_recording`] says whether it ended in the recording's world.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::Vec2;
@@ -145,10 +144,7 @@ pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Pa
         let at = base.join(&header.scene);
         at.canonicalize().map_err(|error| DraftError::ScenePath { path: at.clone(), error })?.display().to_string()
     };
-    let mut config = BTreeMap::new();
-    for (k, v) in &header.config {
-        config.insert(k.clone(), v.trim().parse::<f32>().map_err(|_| DraftError::ConfigNotANumber { name: k.clone(), text: v.clone() })?);
-    }
+    let config = header.config.as_slice().iter().map(|o| (o.name.to_string(), o.value)).collect();
     let mut scenario = Scenario {
         name: None,
         scene,

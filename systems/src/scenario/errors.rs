@@ -122,14 +122,6 @@ pub enum DraftError {
         /// The I/O error (in the message, so not a `source()`: the CLI prints the chain).
         error: std::io::Error,
     },
-    /// A config value of the header that is not a number.
-    #[error("config {name}: '{text}' is not a number")]
-    ConfigNotANumber {
-        /// The parameter.
-        name: String,
-        /// The value as written.
-        text: String,
-    },
     /// The scenario could not be written as RON.
     #[error(transparent)]
     Ron(#[from] ron::Error),

@@ -26,7 +26,7 @@ use crate::files::{self, Kind};
 use crate::input::Button;
 use crate::limits::{MAX_SCENARIO_STEPS, MAX_SCENARIO_TICKS};
 use crate::mode::Mode;
-use crate::resources::Config;
+use crate::resources::{Override, Overrides};
 use crate::scene::Scene;
 use crate::targets::{Aim, TreeRef};
 
@@ -264,8 +264,8 @@ pub struct Loaded {
     pub scene_ref: String,
     /// The seed.
     pub seed: u64,
-    /// The configuration (defaults, then the file's `config`).
-    pub config: BTreeMap<String, String>,
+    /// The file's `config`: the overrides of the defaults.
+    pub config: Overrides,
 }
 
 impl Loaded {
@@ -292,12 +292,8 @@ impl Loaded {
             let abs = [dir.join(&scenario.scene), PathBuf::from(&scenario.scene)].iter().find_map(|p| p.canonicalize().ok()).unwrap_or_default();
             cwd.and_then(|d| abs.strip_prefix(d).ok().map(Path::to_path_buf)).unwrap_or(abs).display().to_string()
         };
-        let mut config = Config::default();
-        let mut config_text = BTreeMap::new();
-        for (k, v) in &scenario.config {
-            config.set(k, &v.to_string()).map_err(|e| invalid(format!("config: {e}")))?;
-            config_text.insert(k.clone(), v.to_string());
-        }
+        let config_text: Overrides = scenario.config.iter().map(|(k, v)| Override::new(k, &v.to_string())).collect::<Result<_, _>>().map_err(|e| invalid(format!("config: {e}")))?;
+        config_text.config().map_err(|e| invalid(format!("config: {e}")))?;
         let catalogue = if scene.banks.is_empty() {
             Catalogue::builtin()
         } else {

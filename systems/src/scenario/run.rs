@@ -6,7 +6,7 @@ use crate::components::Pose;
 use crate::expect::Expect;
 use crate::input::{InputEvent, StampedEvent};
 use crate::replay::{record_events, Header, RecordError};
-use crate::resources::{Config, Override};
+use crate::resources::Override;
 use crate::script::Script;
 use crate::sim::Sim;
 
@@ -75,16 +75,12 @@ pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), Run
     header.synthetic = true;
     header.config = loaded.config.clone();
     for o in &options.overrides {
-        header.config.insert(o.name.to_string(), o.text.clone());
+        header.config.set(o.clone());
     }
     if !loaded.scene.banks.is_empty() {
         header.models = crate::bank::Banks::open(&loaded.scene.bank_dirs())?.session_catalogue()?.1;
     }
-    let mut config = Config::default();
-    for (k, v) in &header.config {
-        config.set(k, v)?;
-    }
-    sim.res.config = config;
+    sim.res.config = header.config.config()?;
     Ok((sim, header))
 }
 
