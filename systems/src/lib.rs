@@ -18,6 +18,7 @@ pub mod aerial;
 pub mod bank;
 pub mod catalogue;
 pub mod components;
+pub mod error;
 pub mod events;
 pub mod expect;
 pub mod files;
@@ -50,4 +51,5 @@ pub mod tree_def;
 pub mod water;
 pub mod wind_model;
 
+pub use error::Error;
 pub use sim::Sim;
