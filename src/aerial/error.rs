@@ -298,20 +298,14 @@ pub enum AerialError {
     /// A source image without rows.
     #[error("the image has no rows")]
     NoRows,
-    /// The renderer's clipmap refused the photograph (its message).
-    #[error("{0}")]
-    Clipmap(String),
+    /// The renderer's clipmap refused the photograph.
+    #[error(transparent)]
+    Clipmap(#[from] crate::render::error::ClipmapError),
 }
 
 impl AerialError {
     /// This error about the file, folder or image named `name`: "`name`: error".
     pub fn named(self, name: impl std::fmt::Display) -> AerialError {
         AerialError::In { name: name.to_string(), error: Box::new(self) }
-    }
-}
-
-impl From<AerialError> for String {
-    fn from(e: AerialError) -> String {
-        e.to_string()
     }
 }

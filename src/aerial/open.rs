@@ -36,13 +36,13 @@ pub const TILED: ClipmapConfig = ClipmapConfig { levels: 8, size: 1024 };
 /// streamed from disk, or an image file held in memory.
 fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn ClipmapSource>, u32, u32), AerialError> {
     if path.is_dir() {
-        let c = Clipmap::open(path, TILED, placement).map_err(|e| AerialError::Clipmap(e).named(what))?;
+        let c = Clipmap::open(path, TILED, placement).map_err(|e| e.named(what))?;
         let (w, h) = (c.meta().width, c.meta().height);
         return Ok((Box::new(c), w, h));
     }
     let img = RgbImage::load(path, what)?;
     let (w, h) = (img.width, img.height);
-    Ok((Box::new(ImageSource::from_rgb(&img, memory_config(w, h), placement).map_err(AerialError::Clipmap)?), w, h))
+    Ok((Box::new(ImageSource::from_rgb(&img, memory_config(w, h), placement)?), w, h))
 }
 
 /// The clipmap sources of `scene`'s aerial section, or `None` without one. Errors are one line
@@ -76,7 +76,7 @@ pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSourc
             });
             // The mask's bits in red, opaque; never blended between texels.
             let rgba = m.data.chunks_exact(3).flat_map(|t| [t[0], 0, 0, 255]).collect();
-            Some(Box::new(ImageSource::with_downsample(w, h, rgba, memory_config(w, h), placement, Downsample::Nearest).map_err(AerialError::Clipmap)?) as _)
+            Some(Box::new(ImageSource::with_downsample(w, h, rgba, memory_config(w, h), placement, Downsample::Nearest)?) as _)
         }
         None => None,
     };

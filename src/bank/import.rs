@@ -61,7 +61,7 @@ pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
     let base = source_dir(file);
     let mut out: Vec<String> = Vec::new();
     for u in uris {
-        let named = |m: String| anyhow!("{}: names the file '{u}', which {m}", file.display());
+        let named = |m: crate::render::error::GltfProblem| anyhow!("{}: names the file '{u}', which {m}", file.display());
         let Some(rel) = gltf_files::relative_path(&u).map_err(named)? else { continue };
         gltf_files::resolve(&base, &u).map_err(named)?;
         if !out.contains(&rel) {

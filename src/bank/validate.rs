@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use crate::render::assets::gltf_load::{load_model, ModelData};
+use crate::render::error::{GltfError, GltfProblem};
 
 /// Why a model was refused, the session's banks could not be opened, or a thumbnail could not
 /// be made. Its `Display` is one line.
@@ -13,16 +14,16 @@ pub enum BankError {
     /// The file is not a model grove draws as it says; the message is one line that names the
     /// file and the fault (an extension, a primitive, a URI, an accessor, the version, the
     /// bounds).
-    #[error("{0}")]
-    Refused(String),
+    #[error(transparent)]
+    Refused(#[from] GltfError),
     /// The file uses or requires a glTF extension grove cannot read: the file and the loader's
     /// words (the extension, and a conversion that works).
-    #[error("{file}: {message}")]
+    #[error("{file}: {problem}")]
     Extension {
         /// The file, as shown.
         file: String,
-        /// The loader's message.
-        message: String,
+        /// What the loader refuses.
+        problem: GltfProblem,
     },
     /// A bank folder, its catalogue or a model it lists could not be used.
     #[error(transparent)]

@@ -70,7 +70,7 @@ fn sim_of(scene: &Scene, eye: Vec3, target: Vec3) -> anyhow::Result<Sim> {
 
 /// A renderer of `width`×`height` with pass timing where the device has it.
 fn renderer(gpu: &Gpu, width: u32, height: u32) -> anyhow::Result<Renderer> {
-    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, width, height).map_err(|e| anyhow!(e))?;
+    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, width, height)?;
     let _ = r.enable_pass_timing();
     Ok(r)
 }
@@ -87,10 +87,10 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
             cpu_start = Some(super::process_cpu_seconds() * 1e3);
         }
         let t = Instant::now();
-        r.render(sim, target.view()).map_err(|e| anyhow!(e))?;
+        r.render(sim, target.view())?;
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        let passes = r.pass_times().map_err(|e| anyhow!(e))?;
+        let passes = r.pass_times()?;
         if i == 0 {
             continue;
         }
@@ -101,7 +101,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
         }
     }
     let cpu = cpu_start.map(|a| (super::process_cpu_seconds() * 1e3 - a) / frames.max(1) as f64);
-    let blades = r.features.grass.visible_blades().map_err(|e| anyhow!(e))?;
+    let blades = r.features.grass.visible_blades()?;
     let ms = super::median(&mut wall);
     let mut v = json!({
         "ms_per_frame": ms,
@@ -190,7 +190,7 @@ fn goal(gpu: &Gpu, frames: usize) -> anyhow::Result<Value> {
 
 /// Runs `grove bench grass` (lavapipe or any adapter).
 pub fn bench_grass() -> anyhow::Result<Value> {
-    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+    let gpu = Gpu::new()?;
     eprintln!("bench: grass on {}", gpu.adapter_name());
     Ok(json!({
         "adapter": gpu.adapter_name(),
@@ -204,7 +204,7 @@ pub fn bench_grass() -> anyhow::Result<Value> {
 /// Runs `grove bench grass-goals`: only the blade goal case and Fukuda et al.'s field, the
 /// median of 20 and 10 frames.
 pub fn bench_grass_goals() -> anyhow::Result<Value> {
-    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+    let gpu = Gpu::new()?;
     eprintln!("bench: grass goals on {}", gpu.adapter_name());
     Ok(json!({
         "adapter": gpu.adapter_name(),

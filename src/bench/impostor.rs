@@ -15,11 +15,11 @@ use super::render::{forest, header, setup, time_frames, time_frames_at, RenderBe
 /// detail (every leaf, no impostors), shadows as set: the mean absolute difference per channel
 /// (0..255) and the share of pixels whose largest channel difference exceeds 40.
 pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> anyhow::Result<Value> {
-    let lod = offscreen::render_image(gpu, renderer, sim).map_err(|e| anyhow!(e))?;
+    let lod = offscreen::render_image(gpu, renderer, sim)?;
     let saved = renderer.options;
     renderer.options.leaf_pixels = 0.0;
     renderer.options.impostor_pixels = 0.0;
-    let full = offscreen::render_image(gpu, renderer, sim).map_err(|e| anyhow!(e));
+    let full = offscreen::render_image(gpu, renderer, sim).map_err(anyhow::Error::from);
     renderer.options = saved;
     let full = full?;
     let mut sums = [0u64; 3];

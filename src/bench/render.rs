@@ -135,12 +135,12 @@ pub(super) fn time_frames_at(
             cpu_start = process_cpu_ns();
         }
         let t = Instant::now();
-        renderer.render(sim, target.view()).map_err(|e| anyhow!(e))?;
+        renderer.render(sim, target.view())?;
         gpu.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| anyhow!("GPU poll failed ({e})"))?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        let passes = renderer.pass_times().map_err(|e| anyhow!(e))?;
+        let passes = renderer.pass_times()?;
         if i == 0 {
             continue;
         }
@@ -190,7 +190,7 @@ pub struct RenderBenchOptions {
 /// Builds the GPU and the renderer at the benchmark's size, and names the adapter on stderr.
 /// With `need_gpu`, a software adapter is an error: its timings would say nothing of a GPU.
 pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Renderer, String)> {
-    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+    let gpu = Gpu::new()?;
     let adapter = gpu.adapter_name();
     if need_gpu && gpu.is_cpu() {
         return Err(anyhow!(
@@ -198,8 +198,7 @@ pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Resu
         ));
     }
     eprintln!("bench: render on {adapter}");
-    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, WIDTH, HEIGHT)
-        .map_err(|e| anyhow!(e))?;
+    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, WIDTH, HEIGHT)?;
     renderer.options.shadow_size = options.shadow_size;
     renderer.options.leaf_pixels = options.leaf_pixels;
     renderer.options.impostor_pixels = options.impostor_pixels;

@@ -27,8 +27,8 @@ pub fn bench_video() -> anyhow::Result<Value> {
     let player = open()?;
     let (area, condition) = video::survey(open()?);
     let (from, to) = (0, player.final_tick());
-    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, 1280, 720).map_err(|e| anyhow!(e))?;
+    let gpu = Gpu::new()?;
+    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, 1280, 720)?;
     let out = dir.join("five-minutes.mp4");
     let spec = VideoSpec { camera: CameraKind::Head, from, to, fps: 30, speed: 1.0, area, who: format!("bench · {condition}"), out: &out };
     let mut rss = Vec::new();

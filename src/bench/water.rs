@@ -55,10 +55,10 @@ fn time_water(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, water: bool, frames
     let mut timed = false;
     for i in 0..=frames.max(1) {
         let t = Instant::now();
-        renderer.render(sim, target.view()).map_err(|e| anyhow!(e))?;
+        renderer.render(sim, target.view())?;
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        let times = renderer.pass_times().map_err(|e| anyhow!(e))?;
+        let times = renderer.pass_times()?;
         if i == 0 {
             continue;
         }

@@ -116,13 +116,13 @@ struct Run {
 
 fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, canopy: bool) -> anyhow::Result<Run> {
     let mut sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
-    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, a.width, a.height).map_err(|e| anyhow!(e))?;
+    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, a.width, a.height)?;
     r.options = RenderOptions { overlay: false, canopy, shadows: !a.no_shadows, ..Default::default() };
     let sources = grove::aerial::open::open_sources(scene, false).map_err(|e| anyhow!(e))?.ok_or_else(|| anyhow!("{}: the scene has no aerial section", a.scene.display()))?;
     let def = scene.aerial.as_ref().expect("checked");
     let (x0, x1) = (def.origin.x, def.origin.x + sources.size_m.x);
     let z = def.origin.y + sources.size_m.y * 0.75;
-    r.features.aerial.set(sources).map_err(|e| anyhow!(e))?;
+    r.features.aerial.set(sources)?;
     let target = offscreen::Target::new(&gpu.device, a.width, a.height);
     let (mut times, mut uploads) = (Vec::new(), Vec::new());
     let (mut cpu_start, mut frames_missing, mut update_max_ms, mut gpu_bytes) = (0.0, 0u32, 0.0f64, None::<(u64, u64)>);
@@ -136,7 +136,7 @@ fn fly(gpu: &Gpu, a: &AerialBenchArgs, scene: &grove_systems::scene::Scene, cano
             cpu_start = cpu_ms();
         }
         let t = Instant::now();
-        r.render(&sim, target.view()).map_err(|e| anyhow!(e))?;
+        r.render(&sim, target.view())?;
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("{e}"))?;
         if i >= 2 {
             times.push(t.elapsed().as_secs_f64() * 1e3);
@@ -183,7 +183,7 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
     if a.runs.is_empty() {
         bail!("--runs needs at least one of canopy, models, ground");
     }
-    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+    let gpu = Gpu::new()?;
     let mut bare = scene.clone();
     if let Some(def) = &mut bare.aerial {
         def.crowns = None;

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use anyhow::{anyhow, bail};
+use anyhow::bail;
 use clap::Args;
 use glam::{DVec2, DVec3};
 use grove::render::clipmap::{AerialPlacement, ClipCamera, ClipmapConfig, ClipmapSource};
@@ -103,7 +103,7 @@ pub fn flight(a: FlightArgs) -> anyhow::Result<ExitCode> {
     }
     let config = ClipmapConfig { levels: a.levels, size: a.size };
     let placement = AerialPlacement { origin_m: DVec2::ZERO, gsd_m: a.gsd };
-    let mut map = Clipmap::open(&a.pyramid, config, placement).map_err(|e| anyhow!(e))?;
+    let mut map = Clipmap::open(&a.pyramid, config, placement)?;
     let meta = map.meta().clone();
     let side_m = DVec2::new(meta.width as f64, meta.height as f64) * a.gsd;
     let bar = ProgressBar::new(a.frames as u64);

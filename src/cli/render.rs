@@ -122,8 +122,8 @@ pub enum Overlay {
 /// Renders one world with an existing renderer and saves it (through a temporary file and a
 /// rename, so a failed render or save leaves no file).
 pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> anyhow::Result<()> {
-    let img = offscreen::render_image(gpu, renderer, sim).map_err(|e| anyhow!(e))?;
-    write_via_temp(out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))
+    let img = offscreen::render_image(gpu, renderer, sim)?;
+    write_via_temp(out, |tmp| Ok(offscreen::save_png(&img, tmp)?))
 }
 
 /// The renderer's options from the arguments: `--no-shadows`, `--no-water`, `--no-grass` and
@@ -138,14 +138,14 @@ fn options(args: &RenderArgs) -> RenderOptions {
 /// The scene's photographs are opened before the GPU (`Gpu::new` after this), so that a bad
 /// file is refused at once.
 pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene, aerial: Option<grove::render::aerial_ground::AerialSources>) -> anyhow::Result<Renderer> {
-    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height).map_err(|e| anyhow!(e))?;
+    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height)?;
     renderer.options = options(args);
     let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
     grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res().catalogue)).map_err(|e| anyhow!(e))?;
     if let Some(aerial) = aerial {
-        renderer.features.aerial.set(aerial).map_err(|e| anyhow!(e))?;
+        renderer.features.aerial.set(aerial)?;
         // A still image shows the photographs as loaded: wait (briefly) for their tiles.
-        renderer.features.aerial.settle(sim, renderer.size(), std::time::Duration::from_secs(20)).map_err(|e| anyhow!(e))?;
+        renderer.features.aerial.settle(sim, renderer.size(), std::time::Duration::from_secs(20))?;
     }
     Ok(renderer)
 }
@@ -237,8 +237,8 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
         sim.set_up().wind(w);
     }
     let ticks_per_frame = frames_setup(args, out, n, sim.res().dt)?;
-    let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-    let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir()).map_err(|e| anyhow!(e))?;
+    let gpu = Gpu::new()?;
+    let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, ..options(args) };
     renderer.features.trees.set_model(id, &data);
@@ -266,9 +266,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     if let Some(model) = &args.model {
         check_out_file(out, args.force, &PNG_OUT)?;
         let data = load_model_checked(model)?;
-        let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
-        let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args)).map_err(|e| anyhow!(e))?;
-        write_via_temp(out, |tmp| offscreen::save_png(&img, tmp).map_err(|e| anyhow!(e)))?;
+        let gpu = Gpu::new()?;
+        let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args))?;
+        write_via_temp(out, |tmp| Ok(offscreen::save_png(&img, tmp)?))?;
         println!("{}: rendered {} ({}x{}) on {}", out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
@@ -282,7 +282,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         }
         let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
         let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
-        let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+        let gpu = Gpu::new()?;
         let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene, aerial)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, out)?;
         println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
@@ -303,7 +303,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         None => {
             check_out_file(out, args.force, &PNG_OUT)?;
             let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
-            let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+            let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             render_sim(&gpu, &mut renderer, &sim, out)?;
             println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), scene_path.display(), sim.res().tick, args.width, args.height, gpu.adapter_name());
@@ -311,7 +311,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         Some(n) => {
             let ticks_per_frame = frames_setup(&args, out, n, scene.dt)?;
             let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
-            let gpu = Gpu::new().map_err(|e| anyhow!(e))?;
+            let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             for f in 0..n {
                 if f > 0 {

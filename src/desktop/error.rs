@@ -18,9 +18,9 @@ pub enum DesktopError {
     /// A panic inside the window that is not the windowing system's: its message.
     #[error("internal error in the window: {0}; please report this")]
     Internal(String),
-    /// The renderer failed (its one-line message).
-    #[error("{0}")]
-    Renderer(String),
+    /// The renderer failed.
+    #[error(transparent)]
+    Renderer(#[from] grove::render::RenderError),
     /// The scene's aerial photographs could not be opened.
     #[error(transparent)]
     Aerial(#[from] grove::aerial::AerialError),

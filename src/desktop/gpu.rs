@@ -22,7 +22,7 @@ impl WorldRenderer for Renderer {
         Renderer::resize(self, width, height);
     }
 
-    fn render(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
+    fn render(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), grove::render::RenderError> {
         Renderer::render_into(self, sim, view, encoder)
     }
 
@@ -43,7 +43,7 @@ pub fn set_session_models(catalogue: Catalogue, files: Vec<(ModelId, PathBuf)>) 
 
 /// A renderer with the shipped models and the session's bank models.
 fn session_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, DesktopError> {
-    let mut r = Renderer::new(device, queue, format, width, height).map_err(DesktopError::Renderer)?;
+    let mut r = Renderer::new(device, queue, format, width, height)?;
     if let Some((_, files)) = SESSION_MODELS.get() {
         grove::bank::load_into(&mut r, files)?;
     }
@@ -64,7 +64,7 @@ pub fn set_session_aerial(scene: grove_systems::scene::Scene) {
 pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, DesktopError> {
     let mut r = session_renderer(device, queue, format, width, height)?;
     if let Some(sources) = SESSION_AERIAL.get().map(|s| grove::aerial::open::open_sources(s, false)).transpose()?.flatten() {
-        r.features.aerial.set(sources).map_err(DesktopError::Renderer)?;
+        r.features.aerial.set(sources)?;
     }
     Ok(Box::new(r))
 }
@@ -89,7 +89,7 @@ pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<V
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor { label: Some("tree thumbnail view"), ..Default::default() });
-        renderer.render(&sim, &view).map_err(DesktopError::Renderer)?;
+        renderer.render(&sim, &view)?;
         views.push(view);
     }
     Ok(views)

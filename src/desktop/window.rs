@@ -51,7 +51,7 @@ pub trait WorldRenderer {
     fn resize(&mut self, width: u32, height: u32);
     /// Records the world as seen from its head into `encoder`, drawing into `view`; the window
     /// submits the encoder, with the UI, as the frame's one command buffer.
-    fn render(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String>;
+    fn render(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), grove::render::RenderError>;
     /// Turns the sun's shadows on or off (the frame-time budget's last resort).
     fn set_shadows(&mut self, _on: bool) {}
 }

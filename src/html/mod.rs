@@ -46,9 +46,9 @@ pub enum HtmlError {
     /// A picture could not be encoded as JPEG.
     #[error("JPEG encoding: {0}")]
     Jpeg(image::ImageError),
-    /// The GPU or the renderer failed (its one-line message).
-    #[error("{0}")]
-    Render(String),
+    /// The GPU or the renderer failed.
+    #[error(transparent)]
+    Render(#[from] crate::render::RenderError),
     /// A picture was asked for before its renderer was made.
     #[error("no renderer")]
     NoRenderer,

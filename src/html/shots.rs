@@ -34,7 +34,7 @@ pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, HtmlError> {
 /// A renderer of `size` with the shipped models and the bank models `sim`'s catalogue holds
 /// (found in the session's banks, as the replay found them).
 fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, HtmlError> {
-    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1).map_err(HtmlError::Render)?;
+    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1)?;
     let banks = crate::bank::open_session(&[])?;
     crate::bank::load_into(&mut r, &crate::bank::files_for(&banks, &sim.res().catalogue))?;
     Ok(r)
@@ -43,7 +43,7 @@ fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, HtmlErro
 impl Shots {
     /// Opens the GPU device (one line when there is none).
     pub fn new() -> Result<Shots, HtmlError> {
-        Ok(Shots { gpu: Gpu::new().map_err(HtmlError::Render)?, film: None, top: None, frames: 0 })
+        Ok(Shots { gpu: Gpu::new()?, film: None, top: None, frames: 0 })
     }
 
     /// The head camera's view of `sim`, with the interaction visuals (ray, hit marker, targets).
@@ -54,7 +54,7 @@ impl Shots {
             self.film = Some(r);
         }
         let r = self.film.as_mut().ok_or(HtmlError::NoRenderer)?;
-        let img = offscreen::render_image(&self.gpu, r, sim).map_err(HtmlError::Render)?;
+        let img = offscreen::render_image(&self.gpu, r, sim)?;
         self.frames += 1;
         jpeg_uri(&img, 70)
     }
@@ -71,7 +71,7 @@ impl Shots {
         let (r, _) = self.top.as_mut().ok_or(HtmlError::NoRenderer)?;
         // Every leaf and no impostor: seen from far above, level of detail would thin the crowns.
         r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, top_view: Some(view), ..Default::default() };
-        let img = offscreen::render_image(&self.gpu, r, sim).map_err(HtmlError::Render)?;
+        let img = offscreen::render_image(&self.gpu, r, sim)?;
         jpeg_uri(&img, 80)
     }
 }

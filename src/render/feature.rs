@@ -9,6 +9,7 @@ use glam::{Mat4, Vec3};
 use grove_systems::wind_model::{WindModel, WindParams};
 use grove_systems::Sim;
 
+use super::error::RenderError;
 use super::gpu::{PipelineKey, Shared};
 use super::options::RenderOptions;
 use super::view::{Camera, ViewUniform};
@@ -121,17 +122,17 @@ pub(crate) trait Feature {
 
     /// Uploads this frame's data and builds the pipelines of `cx.key` on first use. Fails for
     /// a key the feature has no pipeline for.
-    fn prepare(&mut self, cx: &FrameContext<'_>, data: Self::Extracted) -> Result<(), String>;
+    fn prepare(&mut self, cx: &FrameContext<'_>, data: Self::Extracted) -> Result<(), RenderError>;
 
     /// Draws depth only from the sun into the shadow map (shadow casters only), with the
     /// pipelines of `key` (the sun's view).
-    fn draw_depth<'p>(&'p self, _pass: &mut wgpu::RenderPass<'p>, _key: PipelineKey) -> Result<(), String> {
+    fn draw_depth<'p>(&'p self, _pass: &mut wgpu::RenderPass<'p>, _key: PipelineKey) -> Result<(), RenderError> {
         Ok(())
     }
 
     /// Draws the feature's part of `phase` in the main pass, with the pipelines of `key`. The
     /// frame has bound group 0 (the view) and group 1 (the lighting); a feature binds group 2.
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String>;
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError>;
 }
 
 /// The box around both boxes, or either.

@@ -20,6 +20,7 @@
 
 use grove_systems::Sim;
 
+use super::error::RenderError;
 use super::extract;
 use super::feature::{union, ExtractContext, Feature, FrameContext, FrameStats, FrameViews, Phase};
 use super::gpu::{PipelineKey, ViewKind};
@@ -29,7 +30,7 @@ use super::Renderer;
 
 impl Renderer {
     /// Records one frame of `sim` into `encoder`, drawing into `view`.
-    pub(crate) fn encode_frame(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
+    pub(crate) fn encode_frame(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), RenderError> {
         let options = self.options;
         let size = (self.width, self.height);
         let f = &mut self.features;

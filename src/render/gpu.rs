@@ -8,9 +8,9 @@
 
 use std::collections::HashMap;
 
-use grove_systems::wind_model::WindModel;
-
 use super::assets::textures;
+use super::error::PipelineError;
+pub use super::key::{PipelineKey, ViewKind};
 
 /// Depth format of the main pass.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -212,54 +212,6 @@ pub(crate) fn color_target(format: wgpu::TextureFormat, mask: wgpu::ColorWrites)
     [Some(wgpu::ColorTargetState { format, blend: None, write_mask: mask })]
 }
 
-/// The camera a pass draws from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ViewKind {
-    /// The head's camera: the main pass.
-    Main,
-    /// The sun: the shadow map, depth only.
-    Sun,
-}
-
-/// What a pipeline is specialised for: the frame-wide choices compiled into its shaders as WGSL
-/// `override` constants, the target format and the view.
-///
-/// Lavapipe runs both sides of a branch, even one on a uniform value, so a shader that checks a
-/// uniform to skip work pays for that work anyway. The choices that hold for a whole frame are
-/// therefore compiled in: `SHADOWS` (lighting.wgsl: whether lit shaders look up the shadow map)
-/// and `WIND_MODEL` (trees/trees.wgsl). Each feature builds the pipelines of a key on first use
-/// and refuses a key it has no pipeline for (see [`PipelineCache`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct PipelineKey {
-    /// Whether lit shaders sample the shadow map.
-    pub shadows: bool,
-    /// The global wind model.
-    pub wind: WindModel,
-    /// The colour target's format.
-    pub format: wgpu::TextureFormat,
-    /// The view drawn from.
-    pub view: ViewKind,
-}
-
-impl PipelineKey {
-    /// The same key for another view.
-    pub fn with_view(self, view: ViewKind) -> PipelineKey {
-        PipelineKey { view, ..self }
-    }
-
-    /// The `override` constant of lit shaders (lighting.wgsl is prepended to each).
-    pub fn lit_constants(self) -> [(&'static str, f64); 1] {
-        [("SHADOWS", if self.shadows { 1.0 } else { 0.0 })]
-    }
-
-    /// The `override` constants of the tree shaders. The wind model's code is the one the
-    /// simulation's `WindParams::model` carries.
-    pub fn tree_constants(self) -> [(&'static str, f64); 2] {
-        let [lit] = self.lit_constants();
-        [lit, ("WIND_MODEL", f64::from(self.wind.code()))]
-    }
-}
-
 /// A feature's pipelines by key, built on first use.
 pub(crate) struct PipelineCache<T> {
     /// The feature's name, for errors.
@@ -275,19 +227,17 @@ impl<T> PipelineCache<T> {
 
     /// Builds the pipelines of `key` unless they exist. `build` fails for a key the feature
     /// does not support; the error names the feature and the key.
-    pub fn prepare(&mut self, key: PipelineKey, build: impl FnOnce(PipelineKey) -> Result<T, String>) -> Result<(), String> {
+    pub fn prepare(&mut self, key: PipelineKey, build: impl FnOnce(PipelineKey) -> Result<T, PipelineError>) -> Result<(), PipelineError> {
         if !self.built.contains_key(&key) {
-            let value = build(key).map_err(|e| format!("{}: no pipeline for {key:?}: {e}", self.feature))?;
+            let value = build(key).map_err(|e| PipelineError::Refused { feature: self.feature, key, reason: Box::new(e) })?;
             self.built.insert(key, value);
         }
         Ok(())
     }
 
     /// The pipelines of `key`; an error when they were never prepared.
-    pub fn get(&self, key: PipelineKey) -> Result<&T, String> {
-        self.built
-            .get(&key)
-            .ok_or_else(|| format!("{}: no pipeline prepared for {key:?}", self.feature))
+    pub fn get(&self, key: PipelineKey) -> Result<&T, PipelineError> {
+        self.built.get(&key).ok_or(PipelineError::NotPrepared { feature: self.feature, key })
     }
 }
 
@@ -328,6 +278,7 @@ pub(crate) fn sampler_entry(binding: u32, ty: wgpu::SamplerBindingType) -> wgpu:
 #[cfg(test)]
 mod tests {
     use super::*;
+    use grove_systems::wind_model::WindModel;
 
     fn key(view: ViewKind) -> PipelineKey {
         PipelineKey { shadows: true, wind: WindModel::Noise, format: wgpu::TextureFormat::Rgba8UnormSrgb, view }
@@ -336,9 +287,9 @@ mod tests {
     #[test]
     fn an_unprepared_or_refused_key_is_an_error() {
         let mut cache: PipelineCache<u32> = PipelineCache::new("test feature");
-        let err = cache.get(key(ViewKind::Main)).unwrap_err();
+        let err = cache.get(key(ViewKind::Main)).unwrap_err().to_string();
         assert!(err.contains("test feature") && err.contains("Main"), "{err}");
-        let err = cache.prepare(key(ViewKind::Sun), |_| Err("main view only".into())).unwrap_err();
+        let err = cache.prepare(key(ViewKind::Sun), |_| Err(PipelineError::MainViewOnly("the test"))).unwrap_err().to_string();
         assert!(err.contains("test feature") && err.contains("Sun") && err.contains("main view only"), "{err}");
         assert!(cache.get(key(ViewKind::Sun)).is_err());
     }

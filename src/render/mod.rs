@@ -11,20 +11,23 @@
 //! [`trees`], [`ground`], [`grass`], [`sky`], [`overlay`], [`water`], [`aerial_ground`] and
 //! [`canopy`], the fields of [`Features`].
 //! Shared pieces, leaves that import no feature: [`feature`] (the frame types and the
-//! `Feature` trait), [`options`], [`gpu`] (device, layouts, pipeline keys), [`view`]
-//! (a camera's uniforms), [`lighting`] (sun light, shadow map), [`timing`] (pass timestamps),
-//! [`assets`] (glTF, textures).
+//! `Feature` trait), [`options`], [`gpu`] (device, layouts, pipeline keys), [`key`] (the
+//! pipeline key), [`error`] ([`RenderError`], what every fallible function of the renderer
+//! returns), [`view`] (a camera's uniforms), [`lighting`] (sun light, shadow map), [`timing`]
+//! (pass timestamps), [`assets`] (glTF, textures).
 
 pub mod aerial_ground;
 pub mod assets;
 pub mod canopy;
 pub mod clipmap;
+pub mod error;
 pub mod extract;
 pub mod feature;
 pub mod frame;
 pub mod gpu;
 pub mod grass;
 pub mod ground;
+pub mod key;
 pub mod lighting;
 pub mod offscreen;
 pub mod options;
@@ -51,6 +54,7 @@ pub use trees::model::GpuModel;
 pub use view::{camera_matrix, Camera, TopView};
 pub use aerial_ground::AerialPhotos;
 pub use feature::FrameStats;
+pub use error::{ClipmapError, GltfError, GltfProblem, PipelineError, RenderError};
 pub use options::{RenderOptions, WaterOutput, DEFAULT_IMPOSTOR_PIXELS};
 
 
@@ -91,7 +95,7 @@ pub struct Renderer {
 impl Renderer {
     /// A renderer for targets of `target_format` at `width`×`height`, with the models of the
     /// built-in catalogue and the environment from [`default_assets_dir`].
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, String> {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, RenderError> {
         Renderer::with_assets(device, queue, target_format, width, height, &default_assets_dir(), &Catalogue::builtin())
     }
 
@@ -105,7 +109,7 @@ impl Renderer {
         height: u32,
         assets: &Path,
         catalogue: &Catalogue,
-    ) -> Result<Renderer, String> {
+    ) -> Result<Renderer, RenderError> {
         let mut r = Renderer::empty(device, queue, target_format, width, height, assets)?;
         for m in &catalogue.models {
             let path = assets.join("trees").join(format!("{}.gltf", m.name));
@@ -117,7 +121,7 @@ impl Renderer {
 
     /// A renderer with no models yet (add them with [`trees::Trees::set_model`]), the environment
     /// and ground texture from `assets/env/`. Pipelines are built on first use.
-    pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, width: u32, height: u32, assets: &Path) -> Result<Renderer, String> {
+    pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, width: u32, height: u32, assets: &Path) -> Result<Renderer, RenderError> {
         let (face_size, faces) = assets::textures::load_faces(&assets.join("env"))?;
         let shared = gpu::Shared::new(device, queue);
         let options = RenderOptions::default();
@@ -152,14 +156,14 @@ impl Renderer {
     /// Times every following frame's passes with GPU timestamp queries; read them with
     /// [`Renderer::pass_times`]. Fails when the device was opened without
     /// `Features::TIMESTAMP_QUERY` (see [`offscreen::Gpu::new`]).
-    pub fn enable_pass_timing(&mut self) -> Result<(), String> {
+    pub fn enable_pass_timing(&mut self) -> Result<(), RenderError> {
         self.timer = Some(timing::Timer::new(&self.shared.device, &self.shared.queue)?);
         Ok(())
     }
 
     /// The GPU time of the last frame's passes by name ("shadow", "main"). Waits for the GPU;
     /// `None` when pass timing is off. Call it after the frame was submitted and before the next.
-    pub fn pass_times(&self) -> Result<Option<PassTimes>, String> {
+    pub fn pass_times(&self) -> Result<Option<PassTimes>, RenderError> {
         self.timer.as_ref().map(|t| t.read(&self.shared.device)).transpose()
     }
 
@@ -188,7 +192,7 @@ impl Renderer {
 
     /// Renders the world into `view` (a texture of the target format and size) and submits the
     /// frame. Reads the world only.
-    pub fn render(&mut self, sim: &Sim, view: &wgpu::TextureView) -> Result<(), String> {
+    pub fn render(&mut self, sim: &Sim, view: &wgpu::TextureView) -> Result<(), RenderError> {
         let mut encoder = self.shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame encoder") });
         self.encode_frame(sim, view, &mut encoder)?;
         self.shared.queue.submit([encoder.finish()]);
@@ -198,7 +202,7 @@ impl Renderer {
     /// Records the frame into `encoder` without submitting it, for a caller that adds its own
     /// passes (the desktop app's UI) and submits one command buffer. Buffer uploads go through
     /// the queue and take effect at that submission.
-    pub fn render_into(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
+    pub fn render_into(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), RenderError> {
         self.encode_frame(sim, view, encoder)
     }
 }

@@ -8,6 +8,7 @@ use grove_systems::stage::model_stage;
 use grove_systems::Sim;
 use image::RgbaImage;
 
+use super::error::RenderError;
 use super::{gltf_load, RenderOptions, Renderer};
 
 /// The offscreen target format.
@@ -27,7 +28,7 @@ impl Gpu {
     /// A device on the first adapter wgpu offers (backends from `WGPU_BACKEND`, else all;
     /// software adapters such as lavapipe are accepted), with timestamp queries where the
     /// adapter has them. Fails with one line when there is none.
-    pub fn new() -> Result<Gpu, String> {
+    pub fn new() -> Result<Gpu, RenderError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
@@ -36,14 +37,14 @@ impl Gpu {
             compatible_surface: None,
             ..Default::default()
         }))
-        .map_err(|e| format!("no GPU adapter available ({e}); install a Vulkan driver such as mesa-vulkan-drivers (lavapipe)"))?;
+        .map_err(RenderError::Adapter)?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("grove offscreen device"),
             required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
             required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
             ..Default::default()
         }))
-        .map_err(|e| format!("cannot open the GPU device ({e})"))?;
+        .map_err(RenderError::Device)?;
         Ok(Gpu {
             adapter,
             device,
@@ -118,7 +119,7 @@ impl Target {
     }
 
     /// Copies the target to the CPU.
-    pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<RgbaImage, String> {
+    pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<RgbaImage, RenderError> {
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("readback encoder"),
         });
@@ -146,15 +147,15 @@ impl Target {
         });
         device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| format!("GPU poll failed ({e})"))?;
+            .map_err(RenderError::Poll)?;
         rx.recv()
-            .map_err(|_| "GPU readback was dropped".to_string())?
-            .map_err(|e| format!("GPU readback failed ({e})"))?;
+            .map_err(|_| RenderError::ReadbackDropped)?
+            .map_err(RenderError::Readback)?;
         let mut pixels = Vec::with_capacity((self.width * self.height * 4) as usize);
         {
             let data = slice
                 .get_mapped_range()
-                .map_err(|e| format!("GPU readback failed ({e:?})"))?;
+                .map_err(RenderError::ReadbackRange)?;
             for row in 0..self.height {
                 let start = (row * self.padded_row) as usize;
                 pixels.extend_from_slice(&data[start..start + (self.width * 4) as usize]);
@@ -162,12 +163,12 @@ impl Target {
         }
         self.readback.unmap();
         RgbaImage::from_raw(self.width, self.height, pixels)
-            .ok_or_else(|| "readback size mismatch".to_string())
+            .ok_or(RenderError::ReadbackSize)
     }
 }
 
 /// Renders a world into a new image of the renderer's size.
-pub fn render_image(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> Result<RgbaImage, String> {
+pub fn render_image(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> Result<RgbaImage, RenderError> {
     let (w, h) = renderer.size();
     let target = Target::new(&gpu.device, w, h);
     renderer.render(sim, target.view())?;
@@ -175,29 +176,23 @@ pub fn render_image(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> Result<Rgb
 }
 
 /// Saves an image as PNG; the error names the file.
-pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), String> {
-    img.save(path).map_err(|e| {
-        format!(
-            "{}: cannot write PNG ({})",
-            path.display(),
-            super::assets::textures::one_line_image_error(&e)
-        )
-    })
+pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), RenderError> {
+    img.save(path).map_err(|error| RenderError::SavePng { path: path.to_path_buf(), error })
 }
 
 /// Renders any glTF 2.0 file at `width`×`height` with `options`, framed from its bounds, on a
 /// ground plane (the simulation crate's staging scene, [`model_stage`]), always as the mesh
 /// (`options.impostor_pixels` is ignored).
-pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, String> {
+pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
     render_model_data(gpu, &gltf_load::load_model(path)?, width, height, options)
 }
 
 /// [`render_model_file`] of a model already loaded.
-pub fn render_model_data(gpu: &Gpu, data: &gltf_load::ModelData, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, String> {
+pub fn render_model_data(gpu: &Gpu, data: &gltf_load::ModelData, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, FORMAT, width, height, &super::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, ..options };
     renderer.features.trees.set_model(ModelId(0), data);
-    let sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0)).map_err(|e| e.to_string())?;
+    let sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0)).map_err(RenderError::Stage)?;
     render_image(gpu, &mut renderer, &sim)
 }

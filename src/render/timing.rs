@@ -2,6 +2,8 @@
 //! of a scope by name ([`Timer::scope`]) and the times come back by name
 //! ([`PassTimes::ms`]), so a frame may have any number of passes (up to [`MAX_SCOPES`]).
 
+use super::error::RenderError;
+
 /// The most scopes one frame can time.
 pub const MAX_SCOPES: u32 = 32;
 
@@ -35,9 +37,9 @@ pub(crate) struct Timer {
 impl Timer {
     /// A timer on `device`; fails when the device was opened without
     /// `Features::TIMESTAMP_QUERY`.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Timer, String> {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Timer, RenderError> {
         if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
-            return Err("this GPU device has no timestamp queries (Features::TIMESTAMP_QUERY)".into());
+            return Err(RenderError::NoTimestamps);
         }
         let size = u64::from(2 * MAX_SCOPES) * wgpu::QUERY_SIZE as u64;
         let buffer = |label: &str, usage: wgpu::BufferUsages| {
@@ -87,7 +89,7 @@ impl Timer {
     }
 
     /// The times of the last resolved frame. Waits for the GPU.
-    pub fn read(&self, device: &wgpu::Device) -> Result<PassTimes, String> {
+    pub fn read(&self, device: &wgpu::Device) -> Result<PassTimes, RenderError> {
         if self.resolved.is_empty() {
             return Ok(PassTimes::default());
         }
@@ -97,12 +99,12 @@ impl Timer {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("GPU poll failed ({e})"))?;
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(RenderError::Poll)?;
         rx.recv()
-            .map_err(|_| "GPU timestamp readback was dropped".to_string())?
-            .map_err(|e| format!("GPU timestamp readback failed ({e})"))?;
+            .map_err(|_| RenderError::TimestampsDropped)?
+            .map_err(RenderError::Timestamps)?;
         let ticks: Vec<u64> = {
-            let data = slice.get_mapped_range().map_err(|e| format!("GPU timestamp readback failed ({e:?})"))?;
+            let data = slice.get_mapped_range().map_err(RenderError::TimestampsRange)?;
             data.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect()
         };
         self.readback.unmap();

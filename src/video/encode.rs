@@ -29,7 +29,7 @@ pub enum VideoError {
     },
     /// The renderer failed to draw or read back a frame.
     #[error("rendering a frame: {0}")]
-    Render(String),
+    Render(crate::render::RenderError),
     /// A frame of another size than the video's.
     #[error("frame of {got:?} pixels in a video of {want:?}")]
     FrameSize {

@@ -17,7 +17,7 @@ pub trait TileReader: Send + Sync {
     fn meta(&self) -> &PyramidMeta;
     /// Tile `(tx, ty)` of mip `mip` as `tile²` RGBA8 texels, rows from the top: alpha 255 inside
     /// the image, 0 (and colour 0) outside it. An error is one line.
-    fn read_tile(&self, mip: u32, tx: u32, ty: u32) -> Result<Vec<u8>, String>;
+    fn read_tile(&self, mip: u32, tx: u32, ty: u32) -> Result<Vec<u8>, AerialError>;
 }
 
 /// A pyramid folder written by `grove aerial tile`.
@@ -113,7 +113,7 @@ impl TileReader for Pyramid {
     fn meta(&self) -> &PyramidMeta {
         &self.meta
     }
-    fn read_tile(&self, mip: u32, tx: u32, ty: u32) -> Result<Vec<u8>, String> {
-        Pyramid::read_tile(self, mip, tx, ty).map_err(String::from)
+    fn read_tile(&self, mip: u32, tx: u32, ty: u32) -> Result<Vec<u8>, AerialError> {
+        Pyramid::read_tile(self, mip, tx, ty)
     }
 }

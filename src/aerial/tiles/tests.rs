@@ -26,7 +26,7 @@ fn make_image(path: &Path, w: u32, h: u32, ch: u8) -> Vec<u8> {
 }
 
 fn tile(src: &Path, out: &Path, size: u32, force: bool) -> Result<PyramidMeta, String> {
-    tile_image(src, out, TileOptions { tile: size, force }, &|_, _| {}).map_err(String::from)
+    tile_image(src, out, TileOptions { tile: size, force }, &|_, _| {}).map_err(|e| e.to_string())
 }
 
 #[test]

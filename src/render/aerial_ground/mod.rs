@@ -11,6 +11,7 @@ mod photos;
 pub use photos::AerialPhotos;
 
 use glam::{DVec3, Vec2};
+use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use super::clipmap::{ClipCamera, ClipmapSource, GpuClipmap};
@@ -76,17 +77,17 @@ pub(crate) struct FedClipmap {
 
 impl FedClipmap {
     /// The GPU half for `source`, labelled.
-    pub fn new(shared: &Shared, source: Box<dyn ClipmapSource>, label: &str, debug_lod: bool, filter: wgpu::FilterMode) -> Result<FedClipmap, String> {
+    pub fn new(shared: &Shared, source: Box<dyn ClipmapSource>, label: &str, debug_lod: bool, filter: wgpu::FilterMode) -> Result<FedClipmap, RenderError> {
         let mut gpu = GpuClipmap::with_filter(&shared.device, source.config(), source.placement(), label, filter)?;
         gpu.set_debug_lod(debug_lod);
         Ok(FedClipmap { source, gpu, update_ms: 0.0 })
     }
 
     /// Moves the levels for `camera` and writes what changed; the bytes written.
-    pub fn update(&mut self, queue: &wgpu::Queue, camera: &ClipCamera) -> Result<u64, String> {
+    pub fn update(&mut self, queue: &wgpu::Queue, camera: &ClipCamera) -> Result<u64, RenderError> {
         let start = std::time::Instant::now();
         let frame = self.source.update(camera);
-        let bytes = self.gpu.apply(queue, &frame);
+        let bytes = self.gpu.apply(queue, &frame).map_err(RenderError::from);
         self.update_ms = start.elapsed().as_secs_f64() * 1e3;
         bytes
     }
@@ -135,9 +136,9 @@ impl AerialGround {
 }
 
 /// The aerial ground's pipeline of `key`: main view only, pulled towards the eye by a depth bias.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
-        return Err("the aerial ground is drawn from the main view only".into());
+        return Err(PipelineError::MainViewOnly("the aerial ground"));
     }
     let depth = wgpu::DepthStencilState { bias: wgpu::DepthBiasState { constant: -4, slope_scale: -1.0, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) };
     Ok(shared.pipeline(&PipelineSpec {
@@ -161,13 +162,13 @@ impl Feature for AerialGround {
 
     fn extract(&self, _sim: &grove_systems::Sim, _cx: &ExtractContext<'_>) {}
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, _data: ()) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, _data: ()) -> Result<(), RenderError> {
         self.winter.update(&cx.shared.queue, &clip_camera(&cx.common.camera, cx.size))?;
         let (module, layout) = (&self.module, &self.layout);
-        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
+        Ok(self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         if phase != Phase::Opaque {
             return Ok(());
         }

@@ -6,6 +6,7 @@ use grove_systems::Sim;
 
 use super::super::canopy::Canopy;
 use super::super::extract;
+use crate::render::error::RenderError;
 use super::super::gpu::Shared;
 use super::super::options::RenderOptions;
 use super::{clip_camera, AerialGround, AerialSources, FedClipmap};
@@ -29,7 +30,7 @@ impl AerialPhotos {
     /// the ground where it lies, and, with layer masks, the photographed crowns as canopy layers
     /// (see the `aerial_ground` and `canopy` modules). Fails with one line for a clipmap the
     /// device cannot hold.
-    pub fn set(&mut self, sources: AerialSources) -> Result<(), String> {
+    pub fn set(&mut self, sources: AerialSources) -> Result<(), RenderError> {
         let debug = sources.debug_lod;
         let shared = &self.shared;
         let winter = FedClipmap::new(shared, sources.winter, "winter clipmap", debug, wgpu::FilterMode::Linear)?;
@@ -49,7 +50,7 @@ impl AerialPhotos {
     /// ten updates in a row, 15 ms apart, write nothing (the tiles the view needs have arrived),
     /// for at most `timeout`: for still images, whose one frame would otherwise show only the
     /// levels loaded by then.
-    pub fn settle(&mut self, sim: &Sim, size: (u32, u32), timeout: std::time::Duration) -> Result<(), String> {
+    pub fn settle(&mut self, sim: &Sim, size: (u32, u32), timeout: std::time::Duration) -> Result<(), RenderError> {
         if self.ground.is_none() {
             return Ok(());
         }

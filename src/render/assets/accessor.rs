@@ -5,18 +5,20 @@
 
 use gltf::accessor::DataType;
 
+use crate::render::error::GltfProblem;
+
 /// The most elements one accessor may have.
 pub const MAX_COUNT: usize = 1 << 26;
 
 /// Reads an accessor of `N` components per element as floats. Normalised integers map to
 /// [0, 1] (unsigned) or [−1, 1] (signed) as glTF specifies; other integers keep their value.
-pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer::Data]) -> Result<Vec<[f32; N]>, String> {
+pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer::Data]) -> Result<Vec<[f32; N]>, GltfProblem> {
     if acc.dimensions().multiplicity() != N {
-        return Err(format!("accessor {} has {} components, {N} expected", acc.index(), acc.dimensions().multiplicity()));
+        return Err(GltfProblem::Components { accessor: acc.index(), found: acc.dimensions().multiplicity(), expected: N });
     }
     let count = acc.count();
     if count > MAX_COUNT {
-        return Err(format!("accessor {} has more than {MAX_COUNT} elements", acc.index()));
+        return Err(GltfProblem::AccessorTooLong { accessor: acc.index(), max: MAX_COUNT });
     }
     let size = match acc.data_type() {
         DataType::I8 | DataType::U8 => 1,
@@ -53,13 +55,13 @@ pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer
         None => vec![[0.0; N]; count],
         Some(view) => {
             let stride = view.stride().unwrap_or(elem);
-            let buf = buffers.get(view.buffer().index()).ok_or("a buffer view names a missing buffer")?;
-            let view_end = view.offset().checked_add(view.length()).filter(|e| *e <= buf.0.len()).ok_or("a buffer view runs past its buffer")?;
+            let buf = buffers.get(view.buffer().index()).ok_or(GltfProblem::MissingBuffer)?;
+            let view_end = view.offset().checked_add(view.length()).filter(|e| *e <= buf.0.len()).ok_or(GltfProblem::ViewPastItsBuffer)?;
             let start = view.offset() + acc.offset();
             if count > 0 {
-                let end = stride.checked_mul(count - 1).and_then(|x| x.checked_add(start + elem)).ok_or("an accessor is too large")?;
+                let end = stride.checked_mul(count - 1).and_then(|x| x.checked_add(start + elem)).ok_or(GltfProblem::AccessorTooLarge)?;
                 if stride < elem || end > view_end {
-                    return Err(format!("accessor {} runs past its buffer view", acc.index()));
+                    return Err(GltfProblem::AccessorPastItsView(acc.index()));
                 }
             }
             let data = &buf.0;
@@ -76,15 +78,15 @@ pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer
             gltf::accessor::sparse::IndexType::U16 => 2,
             gltf::accessor::sparse::IndexType::U32 => 4,
         };
-        let ibuf = buffers.get(iv.buffer().index()).ok_or("a sparse index view names a missing buffer")?;
-        let vbuf = buffers.get(vv.buffer().index()).ok_or("a sparse value view names a missing buffer")?;
+        let ibuf = buffers.get(iv.buffer().index()).ok_or(GltfProblem::SparseIndexBuffer)?;
+        let vbuf = buffers.get(vv.buffer().index()).ok_or(GltfProblem::SparseValueBuffer)?;
         let istart = iv.offset() + sparse.indices().offset();
         let vstart = vv.offset() + sparse.values().offset();
         let fits = |start: usize, len: usize, within: usize, buf: usize| start.checked_add(len).is_some_and(|e| e <= within && e <= buf);
-        let ilen = n.checked_mul(isize).ok_or("a sparse accessor is too large")?;
-        let vlen = n.checked_mul(elem).ok_or("a sparse accessor is too large")?;
+        let ilen = n.checked_mul(isize).ok_or(GltfProblem::SparseTooLarge)?;
+        let vlen = n.checked_mul(elem).ok_or(GltfProblem::SparseTooLarge)?;
         if !fits(istart, ilen, iv.offset() + iv.length(), ibuf.0.len()) || !fits(vstart, vlen, vv.offset() + vv.length(), vbuf.0.len()) {
-            return Err(format!("the sparse part of accessor {} runs past its buffer views", acc.index()));
+            return Err(GltfProblem::SparsePastViews(acc.index()));
         }
         for k in 0..n {
             let b = &ibuf.0[istart + k * isize..istart + (k + 1) * isize];
@@ -93,7 +95,7 @@ pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer
                 2 => u16::from_le_bytes([b[0], b[1]]) as usize,
                 _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
             };
-            let slot = out.get_mut(i).ok_or_else(|| format!("accessor {} has a sparse index {i} past its {count} elements", acc.index()))?;
+            let slot = out.get_mut(i).ok_or(GltfProblem::SparseIndex { accessor: acc.index(), index: i, count })?;
             *slot = std::array::from_fn(|c| comp(&vbuf.0, vstart + k * elem + c * size));
         }
     }

@@ -6,6 +6,7 @@
 use gltf::accessor::{DataType, Dimensions};
 
 use super::accessor::MAX_COUNT;
+use crate::render::error::GltfProblem;
 
 /// Extensions grove reads and draws: quantised attributes and WebP images (read before the
 /// `gltf` crate sees the file, `gltf_open`), texture transforms and the specular strength.
@@ -22,14 +23,14 @@ pub const COMPRESSED: &[(&str, &str)] = &[
 /// Checks the extensions a file lists (`file` names it in the conversion hint): compressed
 /// geometry and any other required extension grove does not read are refused by name. Returns
 /// one warning for each extension the file uses without requiring it that grove ignores.
-pub fn extensions(file: &str, required: &[String], used: &[String]) -> Result<Vec<String>, String> {
+pub fn extensions(file: &str, required: &[String], used: &[String]) -> Result<Vec<String>, GltfProblem> {
     for (ext, fix) in COMPRESSED {
         if required.iter().chain(used).any(|e| e == ext) {
-            return Err(format!("uses {ext}, which grove does not decode; convert it first with {}", fix.replace("IN", file)));
+            return Err(GltfProblem::Compressed { ext, fix, file: file.to_string() });
         }
     }
     if let Some(ext) = required.iter().find(|e| !HANDLED.contains(&e.as_str())) {
-        return Err(format!("requires the extension {ext}, which grove does not read"));
+        return Err(GltfProblem::Required(ext.clone()));
     }
     let mut warnings = Vec::new();
     for ext in used.iter().filter(|e| !HANDLED.contains(&e.as_str()) && !required.contains(e)) {
@@ -41,16 +42,16 @@ pub fn extensions(file: &str, required: &[String], used: &[String]) -> Result<Ve
 }
 
 /// Checks `asset.version` (and `asset.minVersion`): glTF 2.x only.
-pub fn version(doc: &gltf::Document) -> Result<(), String> {
+pub fn version(doc: &gltf::Document) -> Result<(), GltfProblem> {
     let asset = &doc.as_json().asset;
     let major = |v: &str| v.split('.').next().and_then(|m| m.parse::<u32>().ok());
     let minor_ok = |v: &str| v.split_once('.').is_some_and(|(_, m)| !m.is_empty() && m.chars().all(|c| c.is_ascii_digit()));
     if major(&asset.version) != Some(2) || !minor_ok(&asset.version) {
-        return Err(format!("asset.version is \"{}\"; grove reads glTF 2.x files only", asset.version));
+        return Err(GltfProblem::Version(asset.version.clone()));
     }
     if let Some(min) = &asset.min_version {
         if major(min) != Some(2) || !minor_ok(min) || min.split_once('.').is_some_and(|(_, m)| m != "0") {
-            return Err(format!("asset.minVersion is \"{min}\"; grove reads glTF 2.0"));
+            return Err(GltfProblem::MinVersion(min.clone()));
         }
     }
     Ok(())
@@ -87,29 +88,29 @@ fn run_fits(offset: usize, count: usize, elem: usize, stride: usize, view_len: u
 /// Checks every buffer view against its buffer's data and every accessor (sparse parts
 /// included) against its view, with checked arithmetic, so that a hostile count or offset is
 /// refused by name before anything reads it.
-pub fn bounds(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(), String> {
+pub fn bounds(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(), GltfProblem> {
     for v in doc.views() {
         let len = buffers.get(v.buffer().index()).map_or(0, |b| b.0.len());
         if v.offset().checked_add(v.length()).is_none_or(|end| end > len) {
-            return Err(format!("buffer view {} runs past the end of buffer {} ({len} bytes)", v.index(), v.buffer().index()));
+            return Err(GltfProblem::ViewPastBuffer { view: v.index(), buffer: v.buffer().index(), len });
         }
     }
     for a in doc.accessors() {
         let count = a.count();
         if count > MAX_COUNT {
-            return Err(format!("accessor {} has {count} elements, more than the {MAX_COUNT} grove reads", a.index()));
+            return Err(GltfProblem::TooManyElements { accessor: a.index(), count, max: MAX_COUNT });
         }
         let elem = element_size(a.data_type(), a.dimensions());
         if let Some(view) = a.view() {
             let stride = view.stride().unwrap_or(elem);
             if stride < elem || !run_fits(a.offset(), count, elem, stride, view.length()) {
-                return Err(format!("accessor {} ({count} elements of {elem} bytes from byte {}) runs past its buffer view {} of {} bytes", a.index(), a.offset(), view.index(), view.length()));
+                return Err(GltfProblem::AccessorPastView { accessor: a.index(), count, elem, offset: a.offset(), view: view.index(), view_len: view.length() });
             }
         }
         if let Some(sparse) = a.sparse() {
             let n = sparse.count();
             if n > count {
-                return Err(format!("accessor {} replaces {n} of its {count} elements", a.index()));
+                return Err(GltfProblem::SparseCount { accessor: a.index(), n, count });
             }
             let iv = sparse.indices().view();
             let isize = match sparse.indices().index_type() {
@@ -118,11 +119,11 @@ pub fn bounds(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<()
                 gltf::accessor::sparse::IndexType::U32 => 4,
             };
             if !run_fits(sparse.indices().offset(), n, isize, isize, iv.length()) {
-                return Err(format!("the sparse indices of accessor {} run past their buffer view", a.index()));
+                return Err(GltfProblem::SparseIndicesPast(a.index()));
             }
             let vv = sparse.values().view();
             if !run_fits(sparse.values().offset(), n, elem, elem, vv.length()) {
-                return Err(format!("the sparse values of accessor {} run past their buffer view", a.index()));
+                return Err(GltfProblem::SparseValuesPast(a.index()));
             }
         }
     }
@@ -140,9 +141,9 @@ mod tests {
     #[test]
     fn required_extensions_are_read_or_refused_by_name_and_used_ones_warned() {
         assert!(extensions("f", &s(&["KHR_texture_transform"]), &s(&["KHR_texture_transform"])).unwrap().is_empty());
-        let e = extensions("f", &s(&["EXT_unknown"]), &s(&["EXT_unknown"])).unwrap_err();
+        let e = extensions("f", &s(&["EXT_unknown"]), &s(&["EXT_unknown"])).unwrap_err().to_string();
         assert!(e.contains("EXT_unknown"), "{e}");
-        let e = extensions("f.glb", &[], &s(&["KHR_draco_mesh_compression"])).unwrap_err();
+        let e = extensions("f.glb", &[], &s(&["KHR_draco_mesh_compression"])).unwrap_err().to_string();
         assert!(e.contains("KHR_draco_mesh_compression") && e.contains("cp f.glb"), "{e}");
         let w = extensions("f", &[], &s(&["KHR_materials_emissive_strength", "KHR_mesh_quantization"])).unwrap();
         assert_eq!(w.len(), 1);

@@ -8,16 +8,18 @@ use std::path::{Path, PathBuf};
 
 use grove_systems::files::{self, Kind};
 
+use crate::render::error::GltfProblem;
+
 /// The path a URI names relative to the glTF file's folder (percent-decoded, `./` parts
 /// dropped), or `None` for a `data:` URI. A URL (`http:`, `file:`, …) is refused: grove reads
 /// only files beside the model.
-pub fn relative_path(uri: &str) -> Result<Option<String>, String> {
+pub fn relative_path(uri: &str) -> Result<Option<String>, GltfProblem> {
     if uri.starts_with("data:") {
         return Ok(None);
     }
     let scheme = uri.split_once(':').is_some_and(|(s, _)| s.len() > 1 && s.chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c)));
     if scheme {
-        return Err("is a URL; grove reads only files beside the model or below it".into());
+        return Err(GltfProblem::Url);
     }
     let decoded = percent_decode(uri)?;
     if decoded.starts_with('/') {
@@ -28,14 +30,14 @@ pub fn relative_path(uri: &str) -> Result<Option<String>, String> {
 }
 
 /// Decodes `%XX` escapes (UTF-8).
-fn percent_decode(uri: &str) -> Result<String, String> {
+fn percent_decode(uri: &str) -> Result<String, GltfProblem> {
     let b = uri.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut i = 0;
     while i < b.len() {
         if b[i] == b'%' {
             let hex = b.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok()).and_then(|h| u8::from_str_radix(h, 16).ok());
-            let v = hex.ok_or("has a broken %-escape")?;
+            let v = hex.ok_or(GltfProblem::BrokenEscape)?;
             out.push(v);
             i += 3;
         } else {
@@ -43,54 +45,54 @@ fn percent_decode(uri: &str) -> Result<String, String> {
             i += 1;
         }
     }
-    String::from_utf8(out).map_err(|_| "is not UTF-8 once %-escapes are decoded".to_string())
+    String::from_utf8(out).map_err(|_| GltfProblem::NotUtf8)
 }
 
 /// Resolves a URI the file in `base` names to the real path of a file inside `base`, refusing,
 /// before anything is opened, one that leads out (`..`, an absolute path, a symbolic link to a
 /// file or through a folder outside). `Ok(None)` for a `data:` URI.
-pub fn resolve(base: &Path, uri: &str) -> Result<Option<PathBuf>, String> {
+pub fn resolve(base: &Path, uri: &str) -> Result<Option<PathBuf>, GltfProblem> {
     let Some(rel) = relative_path(uri)? else { return Ok(None) };
     if !grove_systems::bank::is_inside(&rel) {
-        return Err("lies outside the model's folder ('..' or an absolute path); grove reads only files beside the model or below it".into());
+        return Err(GltfProblem::Outside);
     }
     let real = files::within(&base.join(&rel), base).map_err(|e| match e {
-        files::FileError::Outside { .. } => "leads out of the model's folder through a symbolic link; grove reads only files inside it".to_string(),
-        other => other.reason(),
+        files::FileError::Outside { .. } => GltfProblem::SymlinkOut,
+        other => GltfProblem::Unreadable(other),
     })?;
     Ok(Some(real))
 }
 
 /// Reads the file a URI names (see [`resolve`]); `Ok(None)` for a `data:` URI.
-pub fn read_uri(base: &Path, uri: &str) -> Result<Option<Vec<u8>>, String> {
+pub fn read_uri(base: &Path, uri: &str) -> Result<Option<Vec<u8>>, GltfProblem> {
     match resolve(base, uri)? {
-        Some(p) => files::read(&p, Kind::ModelFile).map(Some).map_err(|e| e.reason()),
+        Some(p) => files::read(&p, Kind::ModelFile).map(Some).map_err(GltfProblem::Unreadable),
         None => Ok(None),
     }
 }
 
 /// The bytes of a `data:` URI (base64 only).
-pub fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
-    let rest = uri.strip_prefix("data:").ok_or("not a data URI")?;
-    let (_, b64) = rest.split_once(";base64,").ok_or("is a data URI that is not base64")?;
+pub fn data_uri(uri: &str) -> Result<Vec<u8>, GltfProblem> {
+    let rest = uri.strip_prefix("data:").ok_or(GltfProblem::NotDataUri)?;
+    let (_, b64) = rest.split_once(";base64,").ok_or(GltfProblem::NotBase64Uri)?;
     base64_decode(b64)
 }
 
 /// The file's buffers: the GLB binary chunk, `data:` URIs and files beside it, each at least
 /// as long as its `byteLength`. Errors name the buffer by its URI or index.
-pub fn load_buffers(doc: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>>) -> Result<Vec<gltf::buffer::Data>, String> {
+pub fn load_buffers(doc: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>>) -> Result<Vec<gltf::buffer::Data>, GltfProblem> {
     let mut out = Vec::new();
     for b in doc.buffers() {
         let (name, bytes) = match b.source() {
-            gltf::buffer::Source::Bin => (format!("buffer {}", b.index()), blob.take().ok_or_else(|| format!("buffer {} names the binary chunk, which the file lacks", b.index()))?),
+            gltf::buffer::Source::Bin => (format!("buffer {}", b.index()), blob.take().ok_or(GltfProblem::NoBinChunk(b.index()))?),
             gltf::buffer::Source::Uri(uri) => {
                 let name = if uri.starts_with("data:") { format!("buffer {}", b.index()) } else { format!("buffer '{uri}'") };
                 let bytes = if uri.starts_with("data:") { data_uri(uri) } else { read_uri(base, uri).map(Option::unwrap_or_default) };
-                (name.clone(), bytes.map_err(|m| format!("{name}: {m}"))?)
+                (name.clone(), bytes.map_err(|m| GltfProblem::Part { name, problem: Box::new(m) })?)
             }
         };
         if bytes.len() < b.length() {
-            return Err(format!("{name} has {} bytes, fewer than its byteLength {}", bytes.len(), b.length()));
+            return Err(GltfProblem::ShortBuffer { name, len: bytes.len(), byte_length: b.length() });
         }
         out.push(gltf::buffer::Data(bytes));
     }
@@ -98,7 +100,7 @@ pub fn load_buffers(doc: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>>
 }
 
 /// A small standard base64 decoder for `data:` URIs.
-pub fn base64_decode(s: &str) -> Result<Vec<u8>, String> {
+pub fn base64_decode(s: &str) -> Result<Vec<u8>, GltfProblem> {
     let val = |c: u8| -> Option<u32> {
         Some(match c {
             b'A'..=b'Z' => (c - b'A') as u32,
@@ -115,7 +117,7 @@ pub fn base64_decode(s: &str) -> Result<Vec<u8>, String> {
         if c == b'=' || c.is_ascii_whitespace() {
             continue;
         }
-        let v = val(c).ok_or("has invalid base64")?;
+        let v = val(c).ok_or(GltfProblem::InvalidBase64)?;
         acc = (acc << 6) | v;
         bits += 6;
         if bits >= 8 {
@@ -151,7 +153,7 @@ mod tests {
         assert_eq!(relative_path("./tex/./a.png").unwrap().as_deref(), Some("tex/a.png"));
         assert_eq!(read_uri(&base, "data:x;base64,aGk=").unwrap(), None);
         for bad in ["/dev/zero", "/etc/passwd", "../secret.bin", "extra.bin", "up/secret.bin", "http://example.com/a.bin", "file:///etc/passwd"] {
-            let e = read_uri(&base, bad).unwrap_err();
+            let e = read_uri(&base, bad).unwrap_err().to_string();
             assert!(e.contains("outside") || e.contains("out of") || e.contains("URL"), "{bad}: {e}");
             assert!(!e.contains('\n'));
         }

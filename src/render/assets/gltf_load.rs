@@ -28,6 +28,7 @@ use glam::{Mat4, Vec3, Vec4};
 use grove_systems::files::{self, Kind};
 
 use super::gltf_prim::{name_of, primitive, uv_choice, UvChoice};
+use crate::render::error::{GltfError, GltfProblem};
 pub use super::gltf_prim::{compute_normals, compute_tangents};
 pub use super::model::{ImageData, MaterialData, ModelData, PrimitiveData, Vertex};
 
@@ -35,13 +36,13 @@ pub use super::model::{ImageData, MaterialData, ModelData, PrimitiveData, Vertex
 const MAX_NODE_VISITS: usize = 1_000_000;
 
 /// Loads a glTF 2.0 model. The error is one line naming the file.
-pub fn load_model(path: &Path) -> Result<ModelData, String> {
+pub fn load_model(path: &Path) -> Result<ModelData, GltfError> {
     let file = path.display().to_string();
-    let err = |m: String| format!("{file}: {m}");
-    let bytes = files::read(path, Kind::Gltf).map_err(|e| e.to_string())?;
+    let err = |problem: GltfProblem| GltfError::Model { path: path.to_path_buf(), problem };
+    let bytes = files::read(path, Kind::Gltf).map_err(GltfError::File)?;
     let (required, used) = super::gltf_open::extensions_of(&bytes);
     let mut warnings = super::gltf_check::extensions(&file, &required, &used).map_err(&err)?;
-    let gltf = super::gltf_open::parse(&bytes).map_err(|e| err(format!("not a valid glTF 2.0 file ({})", one_line(&e.to_string()))))?;
+    let gltf = super::gltf_open::parse(&bytes).map_err(|e| err(GltfProblem::Parse(one_line(&e.to_string()))))?;
     let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let doc = gltf.document;
     super::gltf_check::version(&doc).map_err(&err)?;
@@ -54,7 +55,7 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
         gltf::image::Source::Uri { uri, .. } => Some(("texture", uri)),
         gltf::image::Source::View { .. } => None,
     })) {
-        super::gltf_files::resolve(base, uri).map_err(|m| err(format!("{what} '{uri}': {m}")))?;
+        super::gltf_files::resolve(base, uri).map_err(|m| err(GltfProblem::Uri { what, uri: uri.to_string(), problem: Box::new(m) }))?;
     }
     let buffers = super::gltf_files::load_buffers(&doc, base, gltf.blob).map_err(&err)?;
     super::gltf_check::bounds(&doc, &buffers).map_err(&err)?;
@@ -64,11 +65,11 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
             gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => format!("texture '{uri}'"),
             _ => format!("image {i}"),
         };
-        let data = load_image(&img, base, &buffers).map_err(|m| err(format!("{name}: {m}")))?;
+        let data = load_image(&img, base, &buffers).map_err(|m| err(GltfProblem::Part { name, problem: Box::new(m) }))?;
         images.push(data);
     }
     let mut materials: Vec<MaterialData> = doc.materials().map(|m| material(&m)).collect();
-    let uv_choices: Vec<Result<UvChoice, String>> = doc.materials().map(|m| uv_choice(&m)).collect();
+    let uv_choices: Vec<Result<UvChoice, GltfProblem>> = doc.materials().map(|m| uv_choice(&m)).collect();
     for m in doc.materials() {
         warnings.extend(unread_material_parts(&m));
     }
@@ -85,7 +86,7 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     while let Some((node, parent)) = stack.pop() {
         visits += 1;
         if visits > MAX_NODE_VISITS {
-            return Err(err("the node hierarchy is too large or cyclic".into()));
+            return Err(err(GltfProblem::NodeHierarchy));
         }
         let m = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(mesh) = node.mesh() {
@@ -100,7 +101,7 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
                     Some(i) => (i, uv_choices.get(i).cloned().unwrap_or(Ok(UvChoice::default())).map_err(&err)?),
                     None => (default_material, UvChoice::default()),
                 };
-                if let Some(p) = primitive(&prim, &buffers, place, weights, (mat, uv)).map_err(|m| err(format!("{name} {m}")))? {
+                if let Some(p) = primitive(&prim, &buffers, place, weights, (mat, uv)).map_err(|m| err(GltfProblem::Primitive { name, problem: Box::new(m) }))? {
                     if !p.indices.is_empty() {
                         primitives.push(p);
                     }
@@ -112,7 +113,7 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
         }
     }
     if primitives.is_empty() {
-        return Err(err("has no triangles to draw".into()));
+        return Err(err(GltfProblem::NoTriangles));
     }
     let mut bounds = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     for p in &primitives {
@@ -122,15 +123,11 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
         }
     }
     if !(bounds.0.is_finite() && bounds.1.is_finite()) {
-        return Err(err("has non-finite vertex positions".into()));
+        return Err(err(GltfProblem::NonFinite));
     }
     let height = bounds.1.y - bounds.0.y;
     if !(height > 1e-6) {
-        return Err(err(format!(
-            "is {height} m tall after its node transforms (bounds {:?} to {:?}); a model must have height (an all-zero or flattening node matrix?)",
-            bounds.0.to_array(),
-            bounds.1.to_array()
-        )));
+        return Err(err(GltfProblem::Flat { height, min: bounds.0.to_array(), max: bounds.1.to_array() }));
     }
     let own_wind = primitives.iter().all(|p| p.vertices.iter().all(|v| v.wind[3] >= 0.0));
     if !own_wind {
@@ -145,7 +142,7 @@ pub fn load_model(path: &Path) -> Result<ModelData, String> {
     if skinned {
         notes.push("skinned mesh drawn in its bind pose".into());
     }
-    let warnings = warnings.into_iter().map(|w| err(w)).collect();
+    let warnings = warnings.into_iter().map(|w| format!("{file}: {w}")).collect();
     Ok(ModelData { path: path.to_path_buf(), primitives, materials, images, bounds, own_wind, notes, warnings })
 }
 
@@ -179,23 +176,23 @@ fn unread_material_parts(m: &gltf::Material) -> Vec<String> {
     vec![format!("material '{}': grove does not draw {}", m.name().unwrap_or("unnamed"), parts.join(" or "))]
 }
 
-fn load_image(img: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> Result<ImageData, String> {
+fn load_image(img: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> Result<ImageData, GltfProblem> {
     let bytes: Vec<u8> = match img.source() {
         gltf::image::Source::Uri { uri, .. } => match super::gltf_files::read_uri(base, uri)? {
             Some(b) => b,
             None => super::gltf_files::data_uri(uri)?,
         },
         gltf::image::Source::View { view, .. } => {
-            let buf = buffers.get(view.buffer().index()).ok_or("buffer view out of range")?;
+            let buf = buffers.get(view.buffer().index()).ok_or(GltfProblem::ImageView)?;
             let (s, e) = (view.offset(), view.offset() + view.length());
-            buf.0.get(s..e).ok_or("buffer view out of range")?.to_vec()
+            buf.0.get(s..e).ok_or(GltfProblem::ImageView)?.to_vec()
         }
     };
-    let decoded = image::load_from_memory(&bytes).map_err(|e| format!("cannot decode ({})", one_line(&e.to_string())))?;
+    let decoded = image::load_from_memory(&bytes).map_err(|e| GltfProblem::Decode(one_line(&e.to_string())))?;
     let rgba = decoded.to_rgba8();
     let (width, height) = rgba.dimensions();
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(format!("unsupported size {width}x{height}"));
+        return Err(GltfProblem::ImageSize { width, height });
     }
     Ok(ImageData { width, height, rgba: rgba.into_raw() })
 }

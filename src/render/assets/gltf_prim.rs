@@ -7,6 +7,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 
 use super::accessor::read_floats;
+use crate::render::error::GltfProblem;
 use super::model::{PrimitiveData, Vertex};
 
 /// Which texture coordinates a material's textures read: the set and the texture transform
@@ -47,7 +48,7 @@ fn transform_json(v: Option<&serde_json::Value>, tex_coord: u32) -> (u32, [Vec2;
 /// The texture coordinates a material's textures read (base colour, normal map, specular map).
 /// Textures that read different sets or transforms are refused by name: grove draws a material
 /// with one set of coordinates.
-pub fn uv_choice(m: &gltf::Material) -> Result<UvChoice, String> {
+pub fn uv_choice(m: &gltf::Material) -> Result<UvChoice, GltfProblem> {
     let mut found: Vec<(&str, u32, [Vec2; 3])> = Vec::new();
     if let Some(t) = m.pbr_metallic_roughness().base_color_texture() {
         let tt = t.texture_transform();
@@ -71,20 +72,10 @@ pub fn uv_choice(m: &gltf::Material) -> Result<UvChoice, String> {
     }
     let Some(&(_, set, transform)) = found.first() else { return Ok(UvChoice::default()) };
     if let Some((what, other, _)) = found.iter().find(|f| f.1 != set) {
-        return Err(format!(
-            "material '{}' reads its {} texture through TEXCOORD_{other} and its {} texture through TEXCOORD_{set}; grove draws a material with one set of texture coordinates",
-            m.name().unwrap_or("unnamed"),
-            what,
-            found[0].0
-        ));
+        return Err(GltfProblem::TexCoordSets { material: m.name().unwrap_or("unnamed").to_string(), what, other: *other, first: found[0].0, set });
     }
     if let Some((what, _, _)) = found.iter().find(|f| f.2 != transform) {
-        return Err(format!(
-            "material '{}' gives its {} texture another KHR_texture_transform than its {} texture; grove draws a material with one texture transform",
-            m.name().unwrap_or("unnamed"),
-            what,
-            found[0].0
-        ));
+        return Err(GltfProblem::TextureTransforms { material: m.name().unwrap_or("unnamed").to_string(), what, first: found[0].0 });
     }
     Ok(UvChoice { set, transform })
 }
@@ -99,25 +90,25 @@ pub fn name_of(mesh: &gltf::Mesh, prim: &gltf::Primitive) -> String {
 
 /// The triangle list of a primitive's indices (or `0..n` without indices) by its mode; points
 /// and lines are refused by name.
-pub fn triangle_list(mode: Mode, idx: Vec<u32>) -> Result<Vec<u32>, String> {
+pub fn triangle_list(mode: Mode, idx: Vec<u32>) -> Result<Vec<u32>, GltfProblem> {
     let tris: Vec<u32> = match mode {
         Mode::Triangles => idx.chunks_exact(3).flatten().copied().collect(),
         // Every other triangle of a strip is flipped to keep the winding.
         Mode::TriangleStrip => (0..idx.len().saturating_sub(2)).flat_map(|i| if i % 2 == 0 { [idx[i], idx[i + 1], idx[i + 2]] } else { [idx[i + 1], idx[i], idx[i + 2]] }).collect(),
         Mode::TriangleFan => (1..idx.len().saturating_sub(1)).flat_map(|i| [idx[i], idx[i + 1], idx[0]]).collect(),
-        Mode::Points => return Err("draws points, which grove does not draw".into()),
-        Mode::Lines | Mode::LineLoop | Mode::LineStrip => return Err(format!("draws lines ({mode:?}), which grove does not draw")),
+        Mode::Points => return Err(GltfProblem::Points),
+        Mode::Lines | Mode::LineLoop | Mode::LineStrip => return Err(GltfProblem::Lines(mode)),
     };
     Ok(tris)
 }
 
 /// Adds the morph targets' displacements of one attribute, weighted.
-fn morph<const N: usize>(base: &mut [[f32; N]], targets: &[(Option<gltf::Accessor>, f32)], buffers: &[gltf::buffer::Data]) -> Result<(), String> {
+fn morph<const N: usize>(base: &mut [[f32; N]], targets: &[(Option<gltf::Accessor>, f32)], buffers: &[gltf::buffer::Data]) -> Result<(), GltfProblem> {
     for (acc, w) in targets {
         let (Some(acc), true) = (acc, *w != 0.0) else { continue };
         let d = read_floats::<N>(acc, buffers)?;
         if d.len() != base.len() {
-            return Err(format!("morph target accessor {} has {} elements for {} vertices", acc.index(), d.len(), base.len()));
+            return Err(GltfProblem::MorphLength { accessor: acc.index(), len: d.len(), vertices: base.len() });
         }
         for (b, d) in base.iter_mut().zip(&d) {
             for k in 0..N {
@@ -130,7 +121,7 @@ fn morph<const N: usize>(base: &mut [[f32; N]], targets: &[(Option<gltf::Accesso
 
 /// Reads one primitive (see the module docs) with the node's matrix `m` (identity for a skinned
 /// mesh, drawn in its bind pose), its morph `weights` and its material's [`UvChoice`].
-pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4, weights: &[f32], (material, uv): (usize, UvChoice)) -> Result<Option<PrimitiveData>, String> {
+pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4, weights: &[f32], (material, uv): (usize, UvChoice)) -> Result<Option<PrimitiveData>, GltfProblem> {
     let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| d.0.as_slice());
     let reader = prim.reader(get);
     // Float attributes through `accessor::read_floats`, which also reads the integer types of
@@ -138,7 +129,7 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
     let Some(pos) = prim.get(&Semantic::Positions) else { return Ok(None) };
     let targets: Vec<gltf::mesh::MorphTarget> = prim.morph_targets().collect();
     if !targets.is_empty() && !weights.is_empty() && weights.len() != targets.len() {
-        return Err(format!("has {} morph targets and {} default weights", targets.len(), weights.len()));
+        return Err(GltfProblem::MorphWeights { targets: targets.len(), weights: weights.len() });
     }
     let w = |i: usize| weights.get(i).copied().unwrap_or(0.0);
     let mut positions = read_floats::<3>(&pos, buffers)?;
@@ -147,16 +138,16 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
     let n = positions.len();
     let indices: Vec<u32> = match reader.read_indices() {
         Some(i) => i.into_u32().collect(),
-        None if prim.indices().is_some() => return Err("has indices that cannot be read".into()),
+        None if prim.indices().is_some() => return Err(GltfProblem::UnreadableIndices),
         None => (0..n as u32).collect(),
     };
     if indices.iter().any(|&i| i as usize >= n) {
-        return Err("has an index past its vertices".into());
+        return Err(GltfProblem::IndexPastVertices);
     }
     let indices = triangle_list(prim.mode(), indices)?;
     let uvs: Vec<Vec2> = match prim.get(&Semantic::TexCoords(uv.set)) {
         Some(t) => read_floats::<2>(&t, buffers)?.into_iter().map(|q| uv.transform[0] * q[0] + uv.transform[1] * q[1] + uv.transform[2]).collect(),
-        None if uv.set != 0 => return Err(format!("has no TEXCOORD_{} although its material's textures read it", uv.set)),
+        None if uv.set != 0 => return Err(GltfProblem::NoTexCoord(uv.set)),
         None => vec![Vec2::ZERO; n],
     };
     let mut normals: Vec<Vec3> = match prim.get(&Semantic::Normals) {
@@ -169,7 +160,7 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
     };
     // Checked before the tangents are computed from them.
     if uvs.len() != n || normals.len() != n {
-        return Err("has attributes of different lengths".into());
+        return Err(GltfProblem::AttributeLengths);
     }
     let mut tangents: Vec<Vec4> = match prim.get(&Semantic::Tangents) {
         Some(t) => {
@@ -195,7 +186,7 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
         _ => Vec::new(),
     };
     if uvs.len() != n || normals.len() != n || tangents.len() != n || colors.len() != n || (!wind.is_empty() && wind.len() != n) {
-        return Err("has attributes of different lengths".into());
+        return Err(GltfProblem::AttributeLengths);
     }
     // Bake the node transform into the vertices.
     let lin = Mat3::from_mat4(m);
@@ -297,8 +288,8 @@ mod tests {
         // A fan of 5 vertices around 0: 120, 230, 340.
         assert_eq!(triangle_list(Mode::TriangleFan, (0..5).collect()).unwrap(), vec![1, 2, 0, 2, 3, 0, 3, 4, 0]);
         assert!(triangle_list(Mode::TriangleStrip, vec![0, 1]).unwrap().is_empty());
-        assert!(triangle_list(Mode::Points, vec![0]).unwrap_err().contains("points"));
-        assert!(triangle_list(Mode::LineStrip, vec![0, 1]).unwrap_err().contains("lines"));
+        assert!(triangle_list(Mode::Points, vec![0]).unwrap_err().to_string().contains("points"));
+        assert!(triangle_list(Mode::LineStrip, vec![0, 1]).unwrap_err().to_string().contains("lines"));
     }
 
     #[test]

@@ -9,6 +9,7 @@ use wgpu::util::DeviceExt;
 // The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout): the mapping the
 // generator used to write the faces.
 use crate::assetgen::textures::cube_dir;
+use crate::render::error::RenderError;
 
 /// Builds a box-filtered mip chain of an RGBA8 image; with `srgb`, averaging happens in linear
 /// space. Returns the concatenated levels and the level count.
@@ -187,20 +188,20 @@ pub const FACES: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
 /// Reads and decodes an image file (the format from its content) through
 /// `grove_systems::files`: a regular file within the image size limit. The error is one line
 /// naming the file.
-pub fn read_image(path: &Path) -> Result<image::DynamicImage, String> {
-    let bytes = grove_systems::files::read(path, grove_systems::files::Kind::Image).map_err(|e| e.to_string())?;
-    image::load_from_memory(&bytes).map_err(|e| format!("{}: {}", path.display(), one_line_image_error(&e)))
+pub fn read_image(path: &Path) -> Result<image::DynamicImage, RenderError> {
+    let bytes = grove_systems::files::read(path, grove_systems::files::Kind::Image).map_err(RenderError::File)?;
+    image::load_from_memory(&bytes).map_err(|error| RenderError::Image { path: path.to_path_buf(), error })
 }
 
 /// Loads the 6 faces `px.png` … `nz.png` from `dir`. The error names the file.
-pub fn load_faces(dir: &Path) -> Result<(u32, Vec<Vec<u8>>), String> {
+pub fn load_faces(dir: &Path) -> Result<(u32, Vec<Vec<u8>>), RenderError> {
     let mut size = 0;
     let mut faces = Vec::new();
     for f in FACES {
         let p = dir.join(format!("{f}.png"));
         let img = read_image(&p)?.to_rgba8();
         if img.width() != img.height() || (size != 0 && img.width() != size) {
-            return Err(format!("{}: cube faces must be square and all the same size", p.display()));
+            return Err(RenderError::CubeFaces(p));
         }
         size = img.width();
         faces.push(img.into_raw());
@@ -208,13 +209,7 @@ pub fn load_faces(dir: &Path) -> Result<(u32, Vec<Vec<u8>>), String> {
     Ok((size, faces))
 }
 
-/// A short description of an image error.
-pub fn one_line_image_error(e: &image::ImageError) -> String {
-    match e {
-        image::ImageError::IoError(io) => grove_systems::scene::io_message(io),
-        other => other.to_string().replace('\n', " "),
-    }
-}
+pub use crate::render::error::one_line_image_error;
 
 /// The cosine-weighted irradiance of a cubemap (linear RGB), for `out` texels per face edge,
 /// sampling the input at up to 16 texels per face edge.

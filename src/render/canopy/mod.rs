@@ -17,6 +17,7 @@ mod extract;
 pub mod extents;
 pub(crate) mod trunks;
 
+use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use super::aerial_ground::{clip_camera, FedClipmap};
@@ -174,7 +175,7 @@ impl Canopy {
 
 /// The canopy's pipelines of `key`: for the main view alpha-tested shading, for the sun's view
 /// alpha-tested depth.
-fn build(shared: &Shared, c: &Canopy, key: PipelineKey) -> Result<Pipelines, String> {
+fn build(shared: &Shared, c: &Canopy, key: PipelineKey) -> Result<Pipelines, PipelineError> {
     const ATTRS: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4];
     let buffers = [Some(wgpu::VertexBufferLayout { array_stride: 48, step_mode: wgpu::VertexStepMode::Instance, attributes: &ATTRS })];
     let constants = key.lit_constants();
@@ -224,7 +225,7 @@ impl Feature for Canopy {
         })
     }
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, crowns: Crowns) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, crowns: Crowns) -> Result<(), RenderError> {
         let camera = clip_camera(&cx.common.camera, cx.size);
         self.summer.update(&cx.shared.queue, &camera)?;
         self.masks.update(&cx.shared.queue, &camera)?;
@@ -253,10 +254,10 @@ impl Feature for Canopy {
         Ok(())
     }
 
-    fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), String> {
+    fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), RenderError> {
         self.trunks.draw_depth(pass, key)?;
         let Some((buffer, n, main)) = &self.instances else { return Ok(()) };
-        let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err("canopy: the sun's key has no shadow pipeline".into()) };
+        let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err(PipelineError::NoShadowPipeline("canopy").into()) };
         pass.set_pipeline(p);
         pass.set_bind_group(2, &self.bind_group, &[]);
         pass.set_bind_group(3, &self.mask_bind_group, &[]);
@@ -266,12 +267,12 @@ impl Feature for Canopy {
         Ok(())
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         let (Phase::AlphaClipped, Some((buffer, _, main))) = (phase, &self.instances) else { return Ok(()) };
         let trunks = self.trunks.draw(pass, key)?;
         stats.draws += usize::from(trunks > 0);
         stats.triangles += trunks::TRIANGLES as usize * trunks as usize;
-        let Pipelines::Main(shade) = self.pipelines.get(key)? else { return Err("canopy: the main key has no main pipeline".into()) };
+        let Pipelines::Main(shade) = self.pipelines.get(key)? else { return Err(PipelineError::NoMainPipeline("canopy").into()) };
         pass.set_bind_group(2, &self.bind_group, &[]);
         pass.set_bind_group(3, &self.mask_bind_group, &[]);
         pass.set_vertex_buffer(0, buffer.slice(..));

@@ -4,6 +4,7 @@
 //! more instanced draw into the sun's depth). Part of the canopy feature
 //! ([`super::Canopy`]): it has no field or stage of its own in the frame.
 
+use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use super::extract::CrownDraw;
@@ -63,7 +64,7 @@ impl Trunks {
     }
 
     /// Uploads the trunks of `crowns` and builds the pipelines of `keys` on first use.
-    pub fn prepare(&mut self, shared: &Shared, crowns: &[CrownDraw], keys: &[PipelineKey]) -> Result<(), String> {
+    pub fn prepare(&mut self, shared: &Shared, crowns: &[CrownDraw], keys: &[PipelineKey]) -> Result<(), RenderError> {
         let trunks: Vec<TrunkInstance> = crowns.iter().map(trunk_instance).collect();
         self.instances = (!trunks.is_empty()).then(|| {
             let buffer = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -81,9 +82,9 @@ impl Trunks {
     }
 
     /// Draws the trunks' depth from the sun.
-    pub fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), String> {
+    pub fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), RenderError> {
         let Some((buffer, n)) = &self.instances else { return Ok(()) };
-        let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err("trunks: the sun's key has no shadow pipeline".into()) };
+        let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err(PipelineError::NoShadowPipeline("trunks").into()) };
         pass.set_pipeline(p);
         pass.set_vertex_buffer(0, buffer.slice(..));
         pass.draw(0..3 * TRIANGLES, 0..*n);
@@ -91,9 +92,9 @@ impl Trunks {
     }
 
     /// Draws the trunks in the main view; the number of trunks drawn.
-    pub fn draw<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<u32, String> {
+    pub fn draw<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<u32, RenderError> {
         let Some((buffer, n)) = &self.instances else { return Ok(0) };
-        let Pipelines::Main(p) = self.pipelines.get(key)? else { return Err("trunks: the main key has no main pipeline".into()) };
+        let Pipelines::Main(p) = self.pipelines.get(key)? else { return Err(PipelineError::NoMainPipeline("trunks").into()) };
         pass.set_pipeline(p);
         pass.set_vertex_buffer(0, buffer.slice(..));
         pass.draw(0..3 * TRIANGLES, 0..*n);
@@ -102,7 +103,7 @@ impl Trunks {
 }
 
 /// The trunks' pipeline of `key`: lit for the main view, depth only for the sun's.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, shadow_layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<Pipelines, String> {
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, shadow_layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<Pipelines, PipelineError> {
     const ATTRS: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4];
     let buffers = [Some(wgpu::VertexBufferLayout { array_stride: 32, step_mode: wgpu::VertexStepMode::Instance, attributes: &ATTRS })];
     let constants = key.lit_constants();

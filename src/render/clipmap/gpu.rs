@@ -10,6 +10,7 @@
 //! [`GpuClipmap::bind_entries`].
 
 use super::{AerialPlacement, ClipmapConfig, ClipmapFrame};
+use crate::render::error::ClipmapError;
 
 
 /// The most levels the uniform holds (matches `array<ClipLevel, 16>` in clipmap.wgsl).
@@ -43,15 +44,15 @@ struct ClipmapUniform {
 
 /// Checks a configuration: 1..=16 levels, a power-of-two size in 16..=4096 that the device's
 /// texture limits allow.
-pub fn check_config(config: ClipmapConfig, limits: &wgpu::Limits) -> Result<(), String> {
+pub fn check_config(config: ClipmapConfig, limits: &wgpu::Limits) -> Result<(), ClipmapError> {
     if !(1..=MAX_LEVELS as u32).contains(&config.levels) {
-        return Err(format!("a clipmap has 1 to {MAX_LEVELS} levels, not {}", config.levels));
+        return Err(ClipmapError::GpuLevels { levels: config.levels, max: MAX_LEVELS });
     }
     if !config.size.is_power_of_two() || !(16..=4096).contains(&config.size) {
-        return Err(format!("a clipmap level's side must be a power of two from 16 to 4096 texels, not {}", config.size));
+        return Err(ClipmapError::GpuSide(config.size));
     }
     if config.size > limits.max_texture_dimension_2d || config.levels > limits.max_texture_array_layers {
-        return Err(format!("the GPU allows textures of at most {} texels and {} layers", limits.max_texture_dimension_2d, limits.max_texture_array_layers));
+        return Err(ClipmapError::TextureLimits { max_side: limits.max_texture_dimension_2d, max_layers: limits.max_texture_array_layers });
     }
     Ok(())
 }
@@ -73,16 +74,16 @@ pub struct GpuClipmap {
 impl GpuClipmap {
     /// An empty (transparent) clipmap of `config` for a photograph at `placement`; `label` names
     /// its texture ("summer clipmap", say) in GPU captures and errors.
-    pub fn new(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str) -> Result<GpuClipmap, String> {
+    pub fn new(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str) -> Result<GpuClipmap, ClipmapError> {
         GpuClipmap::with_filter(device, config, placement, label, wgpu::FilterMode::Linear)
     }
 
     /// [`GpuClipmap::new`] with a sampler of `filter`: `Nearest` for data that must not be
     /// blended between texels (the layer masks, read with `clipmap_load`).
-    pub fn with_filter(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str, filter: wgpu::FilterMode) -> Result<GpuClipmap, String> {
+    pub fn with_filter(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str, filter: wgpu::FilterMode) -> Result<GpuClipmap, ClipmapError> {
         check_config(config, &device.limits())?;
         if !(placement.gsd_m.is_finite() && placement.gsd_m > 0.0) || !placement.origin_m.is_finite() {
-            return Err(format!("{label}: the ground sample distance must be positive and the origin finite"));
+            return Err(ClipmapError::GpuPlacement { label: label.to_string() });
         }
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
@@ -148,15 +149,15 @@ impl GpuClipmap {
     /// returns the texel bytes written (also kept in [`GpuClipmap::bytes_last`]). An upload that
     /// does not fit its level, or a frame with another number of levels, is an error and
     /// nothing of the frame is written.
-    pub fn apply(&mut self, queue: &wgpu::Queue, frame: &ClipmapFrame) -> Result<u64, String> {
+    pub fn apply(&mut self, queue: &wgpu::Queue, frame: &ClipmapFrame) -> Result<u64, ClipmapError> {
         let n = self.config.size;
         if !frame.placements.is_empty() && frame.placements.len() != self.config.levels as usize {
-            return Err(format!("a clipmap frame has {} placements for {} levels", frame.placements.len(), self.config.levels));
+            return Err(ClipmapError::FramePlacements { placements: frame.placements.len(), levels: self.config.levels });
         }
         for u in &frame.uploads {
             let fits = u.level < self.config.levels && u.x.checked_add(u.w).is_some_and(|e| e <= n) && u.y.checked_add(u.h).is_some_and(|e| e <= n);
             if !fits || u.rgba.len() as u64 != u64::from(u.w) * u64::from(u.h) * 4 {
-                return Err(format!("a clipmap upload of {}x{} texels at ({}, {}) of level {} does not fit a {n}-texel level", u.w, u.h, u.x, u.y, u.level));
+                return Err(ClipmapError::UploadOutside { w: u.w, h: u.h, x: u.x, y: u.y, level: u.level, side: n });
             }
         }
         let mut bytes = 0u64;

@@ -11,6 +11,7 @@
 
 use glam::IVec2;
 
+use crate::render::error::ClipmapError;
 use super::{AerialPlacement, ClipCamera, ClipmapConfig, ClipmapFrame, ClipmapSource, LevelPlacement, Upload};
 
 /// The largest side of a photograph held whole in memory, texels.
@@ -47,17 +48,17 @@ pub enum Downsample {
 impl ImageSource {
     /// A source over `rgba` (`width` × `height` texels, RGBA8, rows top to bottom). Fails with
     /// one line for a size past [`MAX_SIDE`] or data of the wrong length.
-    pub fn new(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement) -> Result<ImageSource, String> {
+    pub fn new(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement) -> Result<ImageSource, ClipmapError> {
         ImageSource::with_downsample(width, height, rgba, config, placement, Downsample::Average)
     }
 
     /// [`ImageSource::new`] with the mips made by `down`.
-    pub fn with_downsample(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement, down: Downsample) -> Result<ImageSource, String> {
+    pub fn with_downsample(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement, down: Downsample) -> Result<ImageSource, ClipmapError> {
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
-            return Err(format!("a photograph held in memory must be 1 to {MAX_SIDE} texels a side, not {width}x{height}; tile it with `grove aerial tile`"));
+            return Err(ClipmapError::MemorySide { width, height, max: MAX_SIDE });
         }
         if rgba.len() as u64 != u64::from(width) * u64::from(height) * 4 {
-            return Err(format!("{width}x{height} RGBA texels need {} bytes, not {}", u64::from(width) * u64::from(height) * 4, rgba.len()));
+            return Err(ClipmapError::RgbaLength { width, height, expected: u64::from(width) * u64::from(height) * 4, found: rgba.len() });
         }
         let mut mips = vec![Mip { width, height, rgba }];
         while mips.len() < config.levels as usize {
@@ -69,7 +70,7 @@ impl ImageSource {
     }
 
     /// A source over an 8-bit RGB photograph, opaque.
-    pub fn from_rgb(img: &crate::aerial::RgbImage, config: ClipmapConfig, placement: AerialPlacement) -> Result<ImageSource, String> {
+    pub fn from_rgb(img: &crate::aerial::RgbImage, config: ClipmapConfig, placement: AerialPlacement) -> Result<ImageSource, ClipmapError> {
         let rgba = img.data.chunks_exact(3).flat_map(|t| [t[0], t[1], t[2], 255]).collect();
         ImageSource::new(img.width, img.height, rgba, config, placement)
     }

@@ -13,6 +13,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 
 use crate::aerial::tiles::TileReader;
+use crate::render::error::ClipmapError;
 
 /// A tile of the pyramid: mip and tile column and row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -59,7 +60,7 @@ fn lock(m: &Mutex<HashSet<TileKey>>) -> MutexGuard<'_, HashSet<TileKey>> {
 
 impl Loader {
     /// Starts the thread, reading from `reader`, with a queue of `queue` requests.
-    pub fn spawn(reader: Arc<dyn TileReader>, queue: usize) -> Result<Loader, String> {
+    pub fn spawn(reader: Arc<dyn TileReader>, queue: usize) -> Result<Loader, ClipmapError> {
         let (req_tx, req_rx) = sync_channel::<TileKey>(queue.max(1));
         let (res_tx, res_rx) = channel();
         let wanted = Arc::new(Mutex::new(HashSet::new()));
@@ -72,7 +73,7 @@ impl Loader {
                     let result = if still {
                         match reader.read_tile(key.mip, key.tx, key.ty) {
                             Ok(rgba) => TileResult::Loaded(Arc::new(rgba)),
-                            Err(e) => TileResult::Failed(e),
+                            Err(e) => TileResult::Failed(e.to_string()),
                         }
                     } else {
                         TileResult::Cancelled
@@ -82,7 +83,7 @@ impl Loader {
                     }
                 }
             })
-            .map_err(|e| format!("cannot start the clipmap's loader thread: {e}"))?;
+            .map_err(ClipmapError::LoaderThread)?;
         Ok(Loader { requests: Some(req_tx), results: res_rx, wanted, thread: Some(thread) })
     }
 

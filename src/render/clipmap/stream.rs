@@ -24,6 +24,8 @@ use super::place::{ImageExtent, place_levels};
 use super::toroid::{TexelRect, exposed, window, wrap};
 use super::{AerialPlacement, ClipCamera, ClipmapConfig, ClipmapFrame, ClipmapSource, LevelPlacement, Upload};
 use crate::aerial::tiles::{Pyramid, PyramidMeta, TileReader};
+use crate::aerial::AerialError;
+use crate::render::error::ClipmapError;
 
 /// Requests the loader's queue holds.
 const QUEUE: usize = 64;
@@ -66,32 +68,32 @@ pub struct Clipmap {
 }
 
 /// Checks a clipmap configuration against the contract's ranges.
-pub fn check_config(config: &ClipmapConfig) -> Result<(), String> {
+pub fn check_config(config: &ClipmapConfig) -> Result<(), ClipmapError> {
     if !(1..=16).contains(&config.levels) {
-        return Err(format!("{} clipmap levels; between 1 and 16 are allowed", config.levels));
+        return Err(ClipmapError::Levels(config.levels));
     }
     if !config.size.is_power_of_two() || !(16..=4096).contains(&config.size) {
-        return Err(format!("clipmap level size {} must be a power of two from 16 to 4096", config.size));
+        return Err(ClipmapError::LevelSize(config.size));
     }
     Ok(())
 }
 
-fn check_placement(p: &AerialPlacement) -> Result<(), String> {
+fn check_placement(p: &AerialPlacement) -> Result<(), ClipmapError> {
     if !(p.gsd_m.is_finite() && p.gsd_m > 0.0) || !p.origin_m.is_finite() {
-        return Err(format!("the photograph's placement (origin {}, {} m per texel) must be finite with a positive ground sample distance", p.origin_m, p.gsd_m));
+        return Err(ClipmapError::Placement { origin: p.origin_m, gsd: p.gsd_m });
     }
     Ok(())
 }
 
 impl Clipmap {
     /// Opens the pyramid at `dir` and starts the loader thread.
-    pub fn open(dir: &Path, config: ClipmapConfig, placement: AerialPlacement) -> Result<Clipmap, String> {
+    pub fn open(dir: &Path, config: ClipmapConfig, placement: AerialPlacement) -> Result<Clipmap, AerialError> {
         let pyramid = Pyramid::open(dir)?;
-        Clipmap::with_reader(Arc::new(pyramid), config, placement)
+        Ok(Clipmap::with_reader(Arc::new(pyramid), config, placement)?)
     }
 
     /// A clipmap over any tile reader (a pyramid, or a stand-in in tests).
-    pub fn with_reader(reader: Arc<dyn TileReader>, config: ClipmapConfig, placement: AerialPlacement) -> Result<Clipmap, String> {
+    pub fn with_reader(reader: Arc<dyn TileReader>, config: ClipmapConfig, placement: AerialPlacement) -> Result<Clipmap, ClipmapError> {
         check_config(&config)?;
         check_placement(&placement)?;
         let meta = reader.meta().clone();

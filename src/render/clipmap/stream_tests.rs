@@ -29,7 +29,7 @@ impl TileReader for SlowReader {
     fn meta(&self) -> &PyramidMeta {
         &self.meta
     }
-    fn read_tile(&self, mip: u32, tx: u32, ty: u32) -> Result<Vec<u8>, String> {
+    fn read_tile(&self, mip: u32, tx: u32, ty: u32) -> Result<Vec<u8>, crate::aerial::AerialError> {
         std::thread::sleep(self.delay);
         self.calls.fetch_add(1, Ordering::SeqCst);
         self.reads.lock().unwrap().push((mip, tx, ty));
@@ -220,12 +220,12 @@ fn a_missing_tile_stays_transparent_and_is_reported_in_one_line() {
 fn a_bad_configuration_or_pyramid_is_refused_in_one_line() {
     let r = reader(64, 64, 16, 0);
     for (cfg, needle) in [(ClipmapConfig { levels: 0, size: 32 }, "levels"), (ClipmapConfig { levels: 2, size: 48 }, "power of two")] {
-        let e = Clipmap::with_reader(r.clone(), cfg, UNIT).err().unwrap();
+        let e = Clipmap::with_reader(r.clone(), cfg, UNIT).err().unwrap().to_string();
         assert!(e.contains(needle), "{e}");
     }
     let bad = AerialPlacement { origin_m: DVec2::ZERO, gsd_m: 0.0 };
     assert!(Clipmap::with_reader(r, CFG, bad).is_err());
     let dir = tempfile::tempdir().unwrap();
-    let e = Clipmap::open(dir.path(), CFG, UNIT).err().unwrap();
+    let e = Clipmap::open(dir.path(), CFG, UNIT).err().unwrap().to_string();
     assert!(e.contains("pyramid.ron") && !e.contains('\n'), "{e}");
 }

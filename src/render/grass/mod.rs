@@ -30,6 +30,7 @@ pub(crate) mod data;
 mod extract;
 pub(crate) mod tiles;
 
+use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use self::extract::{GrassKey, Patches};
@@ -363,7 +364,7 @@ impl Grass {
 
     /// The numbers of blades the last frame drew at each level of detail, read back from the
     /// indirect draws (waits for the GPU); all zero without blades.
-    pub fn visible_blades(&self) -> Result<BladeCounts, String> {
+    pub fn visible_blades(&self) -> Result<BladeCounts, RenderError> {
         let shared = &self.shared;
         let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok(BladeCounts::default()) };
         let bytes = 4 * data::ARGS_WORDS as u64;
@@ -373,8 +374,8 @@ impl Grass {
         shared.queue.submit([encoder.finish()]);
         let slice = read.slice(..);
         slice.map_async(wgpu::MapMode::Read, |_| {});
-        shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("grass counts: {e}"))?;
-        let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(|e| format!("grass counts: {e}"))?).to_vec();
+        shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(RenderError::GrassCountsPoll)?;
+        let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(RenderError::GrassCountsRange)?).to_vec();
         let [n, m] = data::LOD_INDICES;
         Ok(BladeCounts { near: words[0] / n, mid: words[5] / m, far: words[10] })
     }
@@ -399,9 +400,9 @@ impl BladeCounts {
 }
 
 /// The shells' pipeline of `key`: blended layers, depth written, main view only.
-fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
-        return Err("grass is drawn from the main view only".into());
+        return Err(PipelineError::MainViewOnly("grass"));
     }
     const SV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
     let targets = [Some(wgpu::ColorTargetState { format: key.format, blend: Some(wgpu::BlendState::ALPHA_BLENDING), write_mask: wgpu::ColorWrites::ALL })];
@@ -422,9 +423,9 @@ fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
 
 /// The blades' pipelines of `key` (near, middle, and the far blades' rectangle,
 /// which writes the depth of each pixel it keeps): main view only.
-fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 3], String> {
+fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 3], PipelineError> {
     if key.view != ViewKind::Main {
-        return Err("grass is drawn from the main view only".into());
+        return Err(PipelineError::MainViewOnly("grass"));
     }
     let targets = super::gpu::color_target(key.format, wgpu::ColorWrites::ALL);
     let constants = key.lit_constants();
@@ -454,7 +455,7 @@ impl Feature for Grass {
         cx.options.grass.then(|| extract::patches(sim, &self.key))
     }
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, patches: Option<Patches>) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, patches: Option<Patches>) -> Result<(), RenderError> {
         self.enabled = patches.is_some();
         let Some(patches) = patches else {
             return Ok(());
@@ -464,7 +465,7 @@ impl Feature for Grass {
         let image_bytes = 4 * (data::RASTER_OFFSET + u64::from(cx.size.0) * u64::from(cx.size.1));
         let limit = cx.shared.device.limits().max_storage_buffer_binding_size as u64;
         if image_bytes > limit && (self.blades.is_some() || patches.patches.as_ref().is_some_and(|p| p.iter().any(|p| !p.shells))) {
-            return Err(format!("grass blades cannot be drawn at {}x{} pixels: their image needs {image_bytes} bytes, over the device's limit of {limit}", cx.size.0, cx.size.1));
+            return Err(RenderError::GrassImage { width: cx.size.0, height: cx.size.1, bytes: image_bytes, limit });
         }
         if let Some(list) = &patches.patches {
             self.rebuild(cx.shared, &patches.key, list, cx.size);
@@ -538,10 +539,10 @@ impl Feature for Grass {
         }
         let (sm, sl, bm, bl) = (&self.shell_module, &self.shell_layout, &self.blade_module, &self.blade_layout);
         self.shell_pipelines.prepare(cx.key, |k| build_shells(cx.shared, sm, sl, k))?;
-        self.blade_pipelines.prepare(cx.key, |k| build_blades(cx.shared, bm, bl, k))
+        Ok(self.blade_pipelines.prepare(cx.key, |k| build_blades(cx.shared, bm, bl, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         if phase != Phase::Opaque || !self.enabled {
             return Ok(());
         }

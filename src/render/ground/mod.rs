@@ -9,6 +9,7 @@ pub mod texture;
 
 use std::path::Path;
 
+use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use super::assets::{gltf_load, textures};
@@ -51,7 +52,7 @@ pub(crate) struct Ground {
 impl Ground {
     /// The feature with the ground texture `assets/env/ground.png` (2.5 m a repeat), widened
     /// ([`texture::widen`]).
-    pub fn new(shared: &Shared, assets: &Path) -> Result<Ground, String> {
+    pub fn new(shared: &Shared, assets: &Path) -> Result<Ground, RenderError> {
         let path = assets.join("env").join("ground.png");
         let img = textures::read_image(&path)?.to_rgba8();
         let img = texture::widen(&img);
@@ -165,9 +166,9 @@ fn bind_group(shared: &Shared, params: &wgpu::Buffer, texture: &wgpu::TextureVie
 /// The ground's pipeline of `key`: main view only. With `far`, the far terrain's: the fragment
 /// entry `fs_far`, built without shadow lookups whatever the key says (the shadow map does not
 /// reach that far).
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey, far: bool) -> Result<wgpu::RenderPipeline, String> {
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey, far: bool) -> Result<wgpu::RenderPipeline, PipelineError> {
         if key.view != ViewKind::Main {
-            return Err("the ground is drawn from the main view only".into());
+            return Err(PipelineError::MainViewOnly("the ground"));
         }
         const GV: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32, 3 => Float32x3];
         let label = match (far, key.shadows) {
@@ -202,16 +203,16 @@ impl Feature for Ground {
         planes.bounds
     }
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, planes: Planes) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, planes: Planes) -> Result<(), RenderError> {
         if let Some(meshes) = &planes.meshes {
             self.rebuild(cx.shared, &planes.key, meshes);
         }
         let (module, layout) = (&self.module, &self.layout);
         self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k, false))?;
-        self.far_pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k, true))
+        Ok(self.far_pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k, true))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         let (Phase::Opaque, Some(g)) = (phase, &self.mesh) else {
             return Ok(());
         };

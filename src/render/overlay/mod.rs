@@ -6,6 +6,7 @@ pub mod controller;
 pub mod extract;
 pub mod geometry;
 
+use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use self::controller::ControllerModel;
@@ -54,9 +55,9 @@ impl Overlay {
 }
 
 /// The overlay's pipelines of `key`: main view only.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<OverlayPipelines, String> {
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<OverlayPipelines, PipelineError> {
     if key.view != ViewKind::Main {
-        return Err("the overlay is drawn from the main view only".into());
+        return Err(PipelineError::MainViewOnly("the overlay"));
     }
     const OV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4, 2 => Float32x3];
     let buffers = [Some(wgpu::VertexBufferLayout {
@@ -100,7 +101,7 @@ impl Feature for Overlay {
         scene
     }
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, scene: OverlayScene) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, scene: OverlayScene) -> Result<(), RenderError> {
         let g = geometry::build(&scene, self.controller.as_ref());
         let upload = |label, vertices: &[OverlayVertex]| {
             (!vertices.is_empty()).then(|| {
@@ -115,10 +116,10 @@ impl Feature for Overlay {
         self.triangles = upload("overlay triangles", &g.triangles);
         self.lines = upload("overlay lines", &g.lines);
         let (module, layout) = (&self.module, &self.layout);
-        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
+        Ok(self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         if phase != Phase::Overlay {
             return Ok(());
         }

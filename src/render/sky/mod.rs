@@ -3,6 +3,7 @@
 //! plane, after everything opaque.
 
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
+use crate::render::error::{PipelineError, RenderError};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
 
 /// The sky feature.
@@ -24,9 +25,9 @@ impl Sky {
 }
 
 /// The sky's pipeline of `key`: main view only; the shadow and wind choices do not change it.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
-        return Err("the sky is drawn from the main view only".into());
+        return Err(PipelineError::MainViewOnly("the sky"));
     }
     Ok(shared.pipeline(&PipelineSpec {
         label: "sky pipeline",
@@ -50,12 +51,12 @@ impl Feature for Sky {
 
     fn extract(&self, _sim: &grove_systems::Sim, _cx: &ExtractContext<'_>) {}
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, _data: ()) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, _data: ()) -> Result<(), RenderError> {
         let (module, layout) = (&self.module, &self.layout);
-        self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))
+        Ok(self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         if phase == Phase::Sky {
             pass.set_pipeline(self.pipelines.get(key)?);
             pass.draw(0..3, 0..1);

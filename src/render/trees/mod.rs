@@ -22,6 +22,7 @@ use self::model::{GpuMaterial, GpuModel};
 use self::pipelines::TreePipelines;
 use self::extract::TreeDraw;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
+use crate::render::error::{PipelineError, RenderError};
 use super::gpu::{PipelineCache, PipelineKey, Shared, ViewKind};
 
 
@@ -95,7 +96,7 @@ impl Trees {
         let path = self.impostor_cache.as_deref().map(|d| impostor::cache::file_path(d, &model.name, key));
         let mut atlas = None;
         if let Some(p) = path.as_deref().filter(|p| p.exists()) {
-            match grove_systems::files::read(p, grove_systems::files::Kind::Cache).map_err(|e| e.reason()).and_then(|b| impostor::cache::decode(&b, key)) {
+            match grove_systems::files::read(p, grove_systems::files::Kind::Cache).map_err(impostor::cache::AtlasError::Read).and_then(|b| impostor::cache::decode(&b, key)) {
                 Ok(levels) => atlas = self.impostors.baker.from_levels(shared, model, &positions, &levels),
                 Err(e) => eprintln!("warning: impostor cache {}: {e}; baking it again", p.display()),
             }
@@ -183,7 +184,7 @@ impl Feature for Trees {
         instances::bounds(trees, &self.models)
     }
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, trees: Vec<TreeDraw>) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, trees: Vec<TreeDraw>) -> Result<(), RenderError> {
         let g = gather(&trees, &self.models, &cx.common.camera, cx.size.1, cx.options.leaf_pixels, cx.options.impostor_pixels);
         let instances = g.instances;
         if instances.len() > self.capacity {
@@ -215,9 +216,9 @@ impl Feature for Trees {
         Ok(())
     }
 
-    fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), String> {
+    fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), RenderError> {
         let TreePipelines::Shadow(p) = self.pipelines.get(key)? else {
-            return Err(format!("trees: {key:?} is not a shadow key"));
+            return Err(PipelineError::NotShadowKey { feature: "trees", key }.into());
         };
         pass.set_pipeline(&p.opaque);
         self.draw_trees(pass, Materials::Opaque, |_, _, _, _| {});
@@ -228,9 +229,9 @@ impl Feature for Trees {
         Ok(())
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         let TreePipelines::Main(p) = self.pipelines.get(key)? else {
-            return Err(format!("trees: {key:?} is not a main-view key"));
+            return Err(PipelineError::NotMainKey { feature: "trees", key }.into());
         };
         let mut count = |count: u32, range: &std::ops::Range<u32>| {
             stats.draws += 1;

@@ -7,6 +7,7 @@
 //! crown would be fully shaded; with it, each pixel is shaded once. Both passes mark the clip
 //! position `@invariant`, so their depths agree exactly.
 
+use crate::render::error::PipelineError;
 use crate::render::gpu::{color_target, depth_test, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
 
 use super::instances::Instance;
@@ -67,7 +68,7 @@ pub(crate) fn build(
     lit_layout: &wgpu::PipelineLayout,
     shadow_layout: &wgpu::PipelineLayout,
     key: PipelineKey,
-) -> Result<TreePipelines, String> {
+) -> Result<TreePipelines, PipelineError> {
     let buffers = vertex_layout();
     let constants = key.tree_constants();
     // Depth-only pipelines do not shade, so their shadow constant is moot.

@@ -17,6 +17,7 @@ mod extract;
 pub(crate) mod mesh;
 pub(crate) mod mirror;
 
+use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use self::extract::WaterDraw;
@@ -218,9 +219,9 @@ impl WaterFeature {
 }
 
 /// The surface's pipeline of `key`: main view only.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, String> {
+fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
-        return Err("water is drawn from the main view only".into());
+        return Err(PipelineError::MainViewOnly("water"));
     }
     const ATTRS: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4, 2 => Float32x2];
     Ok(shared.pipeline(&PipelineSpec {
@@ -250,7 +251,7 @@ impl Feature for WaterFeature {
         extract::water_bodies(sim)
     }
 
-    fn prepare(&mut self, cx: &FrameContext<'_>, bodies: Vec<WaterDraw>) -> Result<(), String> {
+    fn prepare(&mut self, cx: &FrameContext<'_>, bodies: Vec<WaterDraw>) -> Result<(), RenderError> {
         self.active = false;
         if !cx.options.water || bodies.is_empty() {
             return Ok(());
@@ -274,7 +275,7 @@ impl Feature for WaterFeature {
         Ok(())
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), String> {
+    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         let (Phase::Opaque, true, Some((buffer, count)), Some(t)) = (phase, self.active, &self.mesh, &self.targets) else {
             return Ok(());
         };

@@ -24,6 +24,52 @@ use super::MIP_LEVELS;
 use super::{CELL, GRID};
 use crate::render::assets::gltf_load::ModelData;
 
+/// Why a cache file could not be read, used or written: one line, printed as a warning (the
+/// model is then baked again, or its atlas not kept).
+#[derive(Debug, thiserror::Error)]
+pub enum AtlasError {
+    /// The file could not be read (`grove_systems::files`' reason, without the path).
+    #[error("{}", .0.reason())]
+    Read(grove_systems::files::FileError),
+    /// The file's length is not the layout's.
+    #[error("{found} bytes where {expected} were expected")]
+    Length {
+        /// The file's bytes.
+        found: usize,
+        /// The layout's bytes.
+        expected: usize,
+    },
+    /// The file does not start with the magic.
+    #[error("not an impostor atlas file")]
+    NotAtlas,
+    /// Another bake version, key or layout.
+    #[error("made by another bake or for another model")]
+    OtherBake,
+    /// The checksum does not match.
+    #[error("damaged (its checksum does not match)")]
+    Damaged,
+    /// Waiting for the GPU failed.
+    #[error("GPU poll failed ({0})")]
+    Poll(wgpu::PollError),
+    /// A read-back buffer could not be mapped.
+    #[error("cannot read the atlas back ({0})")]
+    ReadBack(wgpu::MapRangeError),
+    /// A read-back buffer shorter than its level.
+    #[error("short read-back")]
+    ShortReadBack,
+    /// The cache folder could not be created.
+    #[error("{}: cannot create ({error})", dir.display())]
+    CreateDir {
+        /// The folder.
+        dir: PathBuf,
+        /// The I/O error.
+        error: std::io::Error,
+    },
+    /// The file could not be written (the writer's message with its causes).
+    #[error("{0:#}")]
+    Write(anyhow::Error),
+}
+
 /// The bake's version: raise it when the bake changes in a way the shader's source does not
 /// show (the atlas layout, the formats, the view fitting).
 pub const BAKE_VERSION: u32 = 1;
@@ -108,22 +154,22 @@ pub fn encode(key: u64, levels: &[Vec<u8>]) -> Vec<u8> {
 
 /// The levels of a file written by [`encode`] with `key`: `2 × MIP_LEVELS` texel arrays, the
 /// albedo atlas's first. An error names what does not match.
-pub fn decode(bytes: &[u8], key: u64) -> Result<Vec<Vec<u8>>, String> {
+pub fn decode(bytes: &[u8], key: u64) -> Result<Vec<Vec<u8>>, AtlasError> {
     let body: usize = 2 * (0..MIP_LEVELS).map(level_len).sum::<usize>();
     if bytes.len() != HEADER + body + 8 {
-        return Err(format!("{} bytes where {} were expected", bytes.len(), HEADER + body + 8));
+        return Err(AtlasError::Length { found: bytes.len(), expected: HEADER + body + 8 });
     }
     if &bytes[..8] != MAGIC {
-        return Err("not an impostor atlas file".into());
+        return Err(AtlasError::NotAtlas);
     }
     let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap_or_default());
     let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap_or_default());
     if u32_at(8) != BAKE_VERSION || u64_at(12) != key || [u32_at(20), u32_at(24), u32_at(28)] != [GRID, CELL, MIP_LEVELS] {
-        return Err("made by another bake or for another model".into());
+        return Err(AtlasError::OtherBake);
     }
     let end = HEADER + body;
     if xxhash_rust::xxh3::xxh3_64(&bytes[..end]) != u64_at(end) {
-        return Err("damaged (its checksum does not match)".into());
+        return Err(AtlasError::Damaged);
     }
     let mut at = HEADER;
     let mut levels = Vec::with_capacity(2 * MIP_LEVELS as usize);
@@ -138,7 +184,7 @@ pub fn decode(bytes: &[u8], key: u64) -> Result<Vec<Vec<u8>>, String> {
 }
 
 /// Reads every mip level of `textures` back from the GPU (waiting for it), in order.
-pub fn read_back(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::Texture; 2]) -> Result<Vec<Vec<u8>>, String> {
+pub fn read_back(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::Texture; 2]) -> Result<Vec<Vec<u8>>, AtlasError> {
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor read-back") });
     let mut buffers = Vec::new();
     for t in textures {
@@ -164,14 +210,14 @@ pub fn read_back(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::T
     for (b, _, _) in &buffers {
         b.slice(..).map_async(wgpu::MapMode::Read, |_| {});
     }
-    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| format!("GPU poll failed ({e})"))?;
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(AtlasError::Poll)?;
     let mut levels = Vec::with_capacity(buffers.len());
     for (b, row, side) in &buffers {
-        let mapped = b.slice(..).get_mapped_range().map_err(|e| format!("cannot read the atlas back ({e})"))?;
+        let mapped = b.slice(..).get_mapped_range().map_err(AtlasError::ReadBack)?;
         let mut texels = Vec::with_capacity((side * side * 4) as usize);
         for r in 0..*side as usize {
             let start = r * *row as usize;
-            texels.extend_from_slice(mapped.get(start..start + *side as usize * 4).ok_or("short read-back")?);
+            texels.extend_from_slice(mapped.get(start..start + *side as usize * 4).ok_or(AtlasError::ShortReadBack)?);
         }
         drop(mapped);
         b.unmap();
@@ -181,12 +227,12 @@ pub fn read_back(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::T
 }
 
 /// Writes the levels of `textures` into the cache file `path` (through a temporary file).
-pub fn store(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::Texture; 2], path: &Path, key: u64) -> Result<(), String> {
+pub fn store(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::Texture; 2], path: &Path, key: u64) -> Result<(), AtlasError> {
     let levels = read_back(device, queue, textures)?;
     if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create ({e})", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|error| AtlasError::CreateDir { dir: dir.to_path_buf(), error })?;
     }
-    crate::atomic_write::write_atomic(path, &encode(key, &levels)).map_err(|e| format!("{e:#}"))
+    crate::atomic_write::write_atomic(path, &encode(key, &levels)).map_err(AtlasError::Write)
 }
 
 /// Uploads `levels` (from [`decode`]) into `textures`, every mip level.
@@ -226,7 +272,7 @@ mod tests {
         let bytes = encode(7, &levels(1));
         let mut flipped = bytes.clone();
         flipped[HEADER + 1000] ^= 0x10;
-        assert!(decode(&flipped, 7).unwrap_err().contains("checksum"));
+        assert!(decode(&flipped, 7).unwrap_err().to_string().contains("checksum"));
         assert!(decode(&bytes[..bytes.len() - 1], 7).is_err());
         assert!(decode(&[], 7).is_err());
         let mut magic = bytes;

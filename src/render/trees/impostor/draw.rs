@@ -1,5 +1,6 @@
 //! The impostor pipelines and their per-model bind groups.
 
+use crate::render::error::RenderError;
 use wgpu::util::DeviceExt;
 
 use super::bake::Baker;
@@ -103,9 +104,9 @@ impl ImpostorGpu {
     }
 
     /// Builds the pipeline of `key` on first use.
-    pub fn prepare(&mut self, shared: &Shared, key: PipelineKey) -> Result<(), String> {
+    pub fn prepare(&mut self, shared: &Shared, key: PipelineKey) -> Result<(), RenderError> {
         let (module, lit, shadow) = (&self.module, &self.lit_layout, &self.shadow_layout);
-        self.pipelines.prepare(key, |k| Ok(build(shared, module, lit, shadow, k)))
+        Ok(self.pipelines.prepare(key, |k| Ok(build(shared, module, lit, shadow, k)))?)
     }
 }
 
