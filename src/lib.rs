@@ -10,8 +10,11 @@ pub mod assetgen;
 pub mod atomic_write;
 pub mod bank;
 pub mod bench;
+pub mod error;
 pub mod html;
 pub mod render;
 pub mod lsystem;
 pub mod study;
 pub mod video;
+
+pub use error::Error;

@@ -79,6 +79,8 @@ impl fmt::Display for ExprError {
     }
 }
 
+impl std::error::Error for ExprError {}
+
 impl Expr {
     /// Compiles `text`, where `names` are the parameter names in order.
     pub fn parse(text: &str, names: &[String]) -> Result<Expr, ExprError> {
