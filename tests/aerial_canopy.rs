@@ -404,3 +404,22 @@ fn trunks_stand_under_the_crowns() {
     let diff: u16 = (0..3).map(|c| u16::from(p[c].abs_diff(q[c]))).sum();
     assert!(diff > 30, "with the tree {p:?}, without {q:?}");
 }
+
+#[test]
+fn the_flight_benchmark_flies_with_the_canopy_and_with_models() {
+    let s = site();
+    let flight = grove::bench::aerial::Flight { width: 160, height: 120, frames: 3, fly_height: 30.0, pitch: 35.0, speed: 20.0, shadows: true };
+    let canopy = grove::bench::aerial::fly(gpu(), &flight, &s.scene, true).unwrap();
+    let models = grove::bench::aerial::fly(gpu(), &flight, &s.scene, false).unwrap();
+    for run in [&canopy, &models] {
+        assert!(run.median_ms > 0.0 && run.p95_ms >= run.median_ms && run.cpu_ms > 0.0, "{}", run.json());
+        // The clipmaps were filled before the timed frames began or as they flew.
+        assert!(run.upload_max_kib >= run.upload_mean_kib, "{}", run.json());
+    }
+    assert_eq!(canopy.json()["frames_waiting_on_disk"], 0);
+    // Without an aerial section there is nothing to fly over.
+    let mut bare = s.scene.clone();
+    bare.aerial = None;
+    let e = grove::bench::aerial::fly(gpu(), &flight, &bare, true).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("no aerial section"), "{e}");
+}

@@ -3,6 +3,7 @@
 //! every figure is the median of several timed runs, in whatever build (debug or release) the
 //! binary is. The timing and process-measuring helpers they share are here.
 
+pub mod aerial;
 pub mod grass;
 pub mod impostor;
 pub mod park;
