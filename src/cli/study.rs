@@ -41,10 +41,7 @@ pub struct StudyArgs {
     /// Print the summary as JSON on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
-    /// What-if on the replayed hands: re-run the same input with a changed parameter and compare
-    /// with the baseline, e.g. --set snap_threshold=0.2. Several comma-separated values sweep the
-    /// parameter: --set snap_threshold=0.05,0.1,0.2,0.3,0.5.
-    #[arg(long = "set", value_name = "NAME=VALUE[,VALUE…]", long_help = set_long_help())]
+    #[arg(long = "set", value_name = "NAME=VALUE[,VALUE…]", help = SET_HELP, long_help = set_long_help())]
     pub set: Vec<String>,
     /// What-if on re-simulated participants: compare the recordings in --replays (written by
     /// `grove synth --set …`) with the baseline recordings in this folder.
@@ -171,14 +168,15 @@ fn run_shard(args: &StudyArgs, shard: Shard, set: &SetArgs, files: &[PathBuf], b
     Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-/// `--set`'s long help: the short help, then every parameter with its default, range and unit
-/// (from `Config::PARAMS`, the one list the parameters are declared in).
+/// `--set`'s help.
+const SET_HELP: &str = "What-if on the replayed hands: re-run the same input with a changed parameter and compare with the baseline, e.g. --set snap_threshold=0.2. Several comma-separated values sweep the parameter: --set snap_threshold=0.05,0.1,0.2,0.3,0.5.";
+
+/// `--set`'s long help: the help, then every parameter with its default, range and unit (from
+/// `Config::PARAMS`, the one list the parameters are declared in).
 fn set_long_help() -> String {
-    let mut help = String::from(
-        "What-if on the replayed hands: re-run the same input with a changed parameter and compare with the baseline, e.g. --set snap_threshold=0.2. Several comma-separated values sweep the parameter: --set snap_threshold=0.05,0.1,0.2,0.3,0.5.\n\nParameters (default, accepted range):",
-    );
+    let mut help = format!("{SET_HELP}\n\nParameters (default, accepted range):");
     for p in grove_systems::resources::Config::PARAMS {
-        let unit = if p.unit.is_empty() { String::new() } else { format!(" {}", p.unit) };
+        let unit = p.unit_suffix();
         help.push_str(&format!("\n  {:<24} {}{unit}, {} to {}{unit}: {}", p.name, p.default, p.min, p.max, p.doc.trim()));
     }
     help

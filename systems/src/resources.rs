@@ -34,6 +34,15 @@ pub struct Param {
 }
 
 impl Param {
+    /// " UNIT", to write after a value, or nothing for a plain number.
+    pub fn unit_suffix(&self) -> String {
+        if self.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", self.unit)
+        }
+    }
+
     /// The parameter called `name`.
     pub fn named(name: &str) -> Option<&'static Param> {
         Config::PARAMS.iter().find(|p| p.name == name)
@@ -71,7 +80,7 @@ macro_rules! config_fields {
                 doc: concat!($($doc),*),
             },)*];
 
-            /// The names [`Config::set`] accepts, in field order.
+            /// The parameters' names, in field order.
             pub const NAMES: &'static [&'static str] = &[$(stringify!($name),)*];
 
             /// The field called `name`.
@@ -108,14 +117,6 @@ config_fields! {
     spawn_drop: 0.5, [0.0, 100.0], "m",
 }
 
-impl Config {
-    /// Sets one parameter by name from its text value, e.g. `set("snap_threshold", "0.1")`
-    /// (a recording header's `config` entry): [`Override::new`], then [`Config::apply`].
-    pub fn set(&mut self, name: &str, value: &str) -> Result<(), ConfigError> {
-        self.apply(&[Override::new(name, value)?])
-    }
-}
-
 /// Why a config parameter or a set of overrides was refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ConfigError {
@@ -134,7 +135,7 @@ pub enum ConfigError {
         text: String,
     },
     /// The value is infinite, NaN or outside the parameter's range.
-    #[error("{}: '{text}' must be a number from {} to {}{}", param.name, param.min, param.max, unit_suffix(param.unit))]
+    #[error("{}: '{text}' must be a number from {} to {}{}", param.name, param.min, param.max, param.unit_suffix())]
     OutOfRange {
         /// The parameter.
         param: &'static Param,
@@ -152,15 +153,6 @@ pub enum ConfigError {
         /// The resulting `max_scale`.
         max: f32,
     },
-}
-
-/// " UNIT" after a number, or nothing for a plain number.
-fn unit_suffix(unit: &str) -> String {
-    if unit.is_empty() {
-        String::new()
-    } else {
-        format!(" {unit}")
-    }
 }
 
 /// One `--set NAME=VALUE`, parsed once: a known parameter and its checked value.

@@ -90,11 +90,12 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
 impl Feature for Overlay {
     type Extracted = OverlayScene;
 
-    /// The interaction visuals, the ghosts, and with a camera override (not a top view) the
-    /// eye at that camera, so that markers keep their size as seen from it.
+    /// The interaction visuals, the ghosts, and the eye at the camera drawn from (the head's,
+    /// or a video's camera), so that markers keep their size as seen from it; a top view keeps
+    /// the head's eye.
     fn extract(&self, sim: &grove_systems::Sim, cx: &ExtractContext<'_>) -> OverlayScene {
         let mut scene = extract::overlay_scene(sim);
-        if cx.options.top_view.is_none() && cx.options.camera.is_some() {
+        if cx.options.top_view.is_none() {
             scene.eye = cx.common.camera.position;
         }
         scene.ghosts.clone_from(&self.ghosts);
