@@ -24,11 +24,11 @@ pub fn entity(bits: u64) -> Option<Entity> {
 /// The world-space oriented box of the tree `e` from its components and the catalogue, or
 /// `None` if `e` is not a tree (any more) or its model is unknown.
 pub fn tree_box_of(world: &World, catalogue: &Catalogue, e: Entity) -> Option<TreeBox> {
-    let tree = world.get::<&Tree>(e).ok()?;
-    let t = world.get::<&Transform>(e).ok()?;
-    let s = world.get::<&Scale>(e).ok()?;
+    // One lookup of the entity for the three components.
+    let mut q = world.query_one::<(&Tree, &Transform, &Scale)>(e);
+    let (tree, t, s) = q.get().ok()?;
     let m = catalogue.get(tree.model)?;
-    Some(tree_box(e, &t, s.0, m.bounds_min, m.bounds_max))
+    Some(tree_box(e, t, s.0, m.bounds_min, m.bounds_max))
 }
 
 /// The id bits of the selected tree, if any (from the first `Selection` entity).
@@ -80,6 +80,15 @@ pub fn ray_sphere(origin: Vec3, dir: Vec3, center: Vec3, radius: f32, max: f32) 
 /// The nearest handle sphere (radius `radius`) of a box that the ray hits within `max`, with its
 /// distance. Ties go to the handle listed first by [`handle_points`].
 pub fn nearest_handle(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32) -> Option<(Handle, Vec3, f32)> {
+    // Every handle lies within |half extents| of the centre, so a ray that misses the sphere
+    // around them all (with a margin for rounding) hits none: most ticks stop here.
+    let around = b.half_extents.length() + radius;
+    ray_sphere(origin, dir, b.center, around * 1.001 + 1.0e-3, max)?;
+    nearest_of_all_handles(origin, dir, b, radius, max)
+}
+
+/// [`nearest_handle`] without the test against the sphere around all the handles.
+fn nearest_of_all_handles(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32) -> Option<(Handle, Vec3, f32)> {
     let mut best: Option<(Handle, Vec3, f32)> = None;
     for (h, p) in handle_points(b.center, b.half_extents, b.yaw) {
         let limit = best.map_or(max, |b| b.2);
@@ -186,6 +195,32 @@ pub fn spawn_point(head: &Pose, distance: f32, drop: f32) -> Vec3 {
 mod tests {
     use super::*;
     use std::f32::consts::{FRAC_PI_2, PI};
+
+    #[test]
+    fn the_sphere_around_the_handles_never_changes_which_handle_is_hit() {
+        // Rays from around a box, aimed near it, some hitting handles and most not: the early
+        // exit must give the answer of testing all twelve, bit for bit.
+        let mut x: u32 = 7;
+        let mut r = || {
+            x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (x >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let (mut hits, mut misses) = (0, 0);
+        for _ in 0..20_000 {
+            let half = Vec3::new(0.2 + 2.0 * r(), 0.5 + 4.0 * r(), 0.2 + 2.0 * r());
+            let center = Vec3::new(10.0 * r() - 5.0, half.y, 10.0 * r() - 5.0);
+            let b = tree_box(Entity::DANGLING, &Transform { translation: center - Vec3::Y * half.y, yaw: 7.0 * r() }, 1.0, -half, half);
+            let origin = center + Vec3::new(8.0 * r() - 4.0, 3.0 * r(), 8.0 + 4.0 * r());
+            let aim = b.center + Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * half * 3.0;
+            let dir = (aim - origin).normalize();
+            let (radius, max) = (0.05 + 0.3 * r(), 5.0 + 20.0 * r());
+            let fast = nearest_handle(origin, dir, &b, radius, max);
+            let all = nearest_of_all_handles(origin, dir, &b, radius, max);
+            assert_eq!(fast.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits())), all.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits())));
+            if all.is_some() { hits += 1 } else { misses += 1 }
+        }
+        assert!(hits > 1_000 && misses > 1_000, "{hits} hits, {misses} misses");
+    }
 
     #[test]
     fn handles_sit_on_the_box_corners_and_edge_midpoints() {

@@ -72,10 +72,11 @@ pub fn get<T: Single>(world: &World, singles: &Singles) -> Option<T> {
 
 /// Calls `f` on every `T` of the world: on its one entity's directly when there is one.
 pub fn for_each_mut<T: Single>(world: &mut World, singles: &Singles, mut f: impl FnMut(&mut T)) {
+    // `query_one_mut` borrows through `&mut World`, without the runtime borrow flags.
     if let Some(e) = singles.entity::<T>()
-        && let Ok(mut c) = world.get::<&mut T>(e)
+        && let Ok(c) = world.query_one_mut::<&mut T>(e)
     {
-        f(&mut c);
+        f(c);
         return;
     }
     for c in world.query_mut::<&mut T>() {

@@ -100,6 +100,23 @@ pub fn sign_body(body: &str, prev: u32) -> (String, u32) {
 /// checksum, without checking the checksum.
 pub fn split_sum(text: &str) -> Result<(String, u32), LineFormatError> {
     let text = text.trim_end_matches(['\r', '\n']);
+    let (idx, sum) = sum_field(text)?;
+    Ok((format!("{}}}", &text[..idx]), sum))
+}
+
+/// Turns a line into its body in place (the `sum` field cut off, the object closed by `}`), as
+/// [`split_sum`] does without copying the text; returns the checksum.
+pub fn split_sum_in_place(text: &mut String) -> Result<u32, LineFormatError> {
+    let len = text.trim_end_matches(['\r', '\n']).len();
+    text.truncate(len);
+    let (idx, sum) = sum_field(text)?;
+    text.truncate(idx);
+    text.push('}');
+    Ok(sum)
+}
+
+/// Where a line's `sum` field starts, and its value.
+fn sum_field(text: &str) -> Result<(usize, u32), LineFormatError> {
     // The sum is always the last field: `,"sum":"` + 8 hex digits + `"}` = 18 bytes.
     let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
     let idx = idx.ok_or(LineFormatError::NoChecksum)?;
@@ -109,7 +126,7 @@ pub fn split_sum(text: &str) -> Result<(String, u32), LineFormatError> {
     }
     let sum = tail.get(..8).and_then(|s| if s.bytes().all(|b| b.is_ascii_hexdigit()) { u32::from_str_radix(s, 16).ok() } else { None });
     let sum = sum.ok_or(LineFormatError::MalformedChecksum)?;
-    Ok((format!("{}}}", &text[..idx]), sum))
+    Ok((idx, sum))
 }
 
 /// Re-signs a whole recording's lines as version 2, each checksum chained on the one before
@@ -207,12 +224,17 @@ pub fn decode_line_chained(text: &str, prev: u32) -> Result<Line, LineFormatErro
 /// Like [`decode_line_chained`], and also returns the line's body (its text without the `sum`
 /// field) and its checksum.
 pub fn decode_line_parts(text: &str, prev: u32) -> Result<(Line, String, u32), LineFormatError> {
-    let (body, sum) = split_sum(text)?;
-    if chained_sum(&body, prev) != sum {
+    decode_owned(text.to_string(), prev)
+}
+
+/// Like [`decode_line_parts`] on a line the caller owns, which becomes the returned body.
+pub(crate) fn decode_owned(mut text: String, prev: u32) -> Result<(Line, String, u32), LineFormatError> {
+    let sum = split_sum_in_place(&mut text)?;
+    if chained_sum(&text, prev) != sum {
         return Err(LineFormatError::ChecksumMismatch { chained: prev != 0 });
     }
-    let line = parse_body(&body)?;
-    Ok((line, body, sum))
+    let line = parse_body(&text)?;
+    Ok((line, text, sum))
 }
 
 /// Parses a line's body once its checksum is known to be right.

@@ -10,7 +10,7 @@
 
 use std::io::{BufRead, BufReader, Read};
 
-use super::codec::{decode_line_chained, decode_line_parts};
+use super::codec::{decode_line_chained, decode_owned};
 use super::{Header, Line, CHECKPOINT_EVERY, FORMAT_NAME, MAX_LINE, READABLE_VERSIONS};
 use crate::limits::{MAX_TICKS, RAISE};
 
@@ -35,28 +35,23 @@ impl<R: Read> LineReader<R> {
     fn next(&mut self) -> Result<NextLine, String> {
         self.buf.clear();
         self.number += 1;
-        let too_long = || format!("line longer than the limit of {MAX_LINE} bytes; not a grove recording");
-        loop {
-            let chunk = self.inner.fill_buf().map_err(|e| e.to_string())?;
-            if chunk.is_empty() {
-                return Ok(if self.buf.is_empty() { NextLine::End } else { NextLine::Cut });
-            }
-            if let Some(pos) = chunk.iter().position(|&b| b == b'\n') {
-                self.buf.extend_from_slice(&chunk[..pos]);
-                self.inner.consume(pos + 1);
-                break;
-            }
-            let n = chunk.len();
-            self.buf.extend_from_slice(chunk);
-            self.inner.consume(n);
-            if self.buf.len() > MAX_LINE {
-                return Err(too_long());
-            }
+        // At most one byte past the limit is read, so a line without an end never fills memory.
+        let limit = MAX_LINE as u64 + 1;
+        (&mut self.inner).take(limit).read_until(b'\n', &mut self.buf).map_err(|e| e.to_string())?;
+        if self.buf.last() == Some(&b'\n') {
+            self.buf.pop();
+        } else if self.buf.len() > MAX_LINE {
+            return Err(format!("line longer than the limit of {MAX_LINE} bytes; not a grove recording"));
+        } else {
+            return Ok(if self.buf.is_empty() { NextLine::End } else { NextLine::Cut });
         }
         if self.buf.len() > MAX_LINE {
-            return Err(too_long());
+            return Err(format!("line longer than the limit of {MAX_LINE} bytes; not a grove recording"));
         }
-        String::from_utf8(std::mem::take(&mut self.buf)).map(NextLine::Line).map_err(|_| "not valid UTF-8 text".into())
+        // The next line's buffer starts at this one's size, so reading it allocates once.
+        let next = Vec::with_capacity(self.buf.len() + 32);
+        let line = std::mem::replace(&mut self.buf, next);
+        String::from_utf8(line).map(NextLine::Line).map_err(|_| "not valid UTF-8 text".into())
     }
 }
 
@@ -138,7 +133,7 @@ impl<R: Read> Lines<R> {
             return Err(fail("a line after the footer".into()));
         }
         let prev = if self.chained { self.prev } else { 0 };
-        let (line, body, sum) = decode_line_parts(&text, prev).map_err(|m| fail(m.to_string()))?;
+        let (line, body, sum) = decode_owned(text, prev).map_err(|m| fail(m.to_string()))?;
         self.prev = sum;
         let tick = match &line {
             Line::Header(_) => return Err(fail("a second header".into())),
@@ -166,5 +161,42 @@ impl<R: Read> Lines<R> {
         }
         self.last_tick = tick;
         Ok(Some(Checked { number: n, line, tick, body }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read_all(bytes: &[u8]) -> Vec<Result<String, String>> {
+        let mut r = LineReader { inner: BufReader::with_capacity(64, bytes), buf: Vec::new(), number: 0 };
+        let mut out = Vec::new();
+        loop {
+            match r.next() {
+                Ok(NextLine::Line(l)) => out.push(Ok(l)),
+                Ok(NextLine::Cut) => out.push(Ok("<cut>".into())),
+                Ok(NextLine::End) => return out,
+                Err(e) => {
+                    out.push(Err(e));
+                    return out;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn lines_up_to_the_limit_are_read_and_longer_ones_refused() {
+        let at = "a".repeat(MAX_LINE);
+        let over = "b".repeat(MAX_LINE + 1);
+        let text = format!("one\n\n{at}\ntwo\n{over}\nthree\n");
+        let got = read_all(text.as_bytes());
+        assert_eq!(got.len(), 5);
+        assert_eq!(got[..4], [Ok("one".to_string()), Ok(String::new()), Ok(at), Ok("two".to_string())]);
+        assert!(got[4].as_ref().is_err_and(|e| e.contains("longer than the limit")), "{:?}", got[4].as_ref().map(|s| s.len()));
+        // The same without a newline at all: refused, not held whole.
+        assert!(read_all(over.as_bytes())[0].is_err());
+        // A last line without its newline is a cut line; invalid UTF-8 is refused.
+        assert_eq!(read_all(b"x\ny"), [Ok("x".to_string()), Ok("<cut>".to_string())]);
+        assert!(read_all(b"\xff\xfe\n")[0].is_err());
     }
 }

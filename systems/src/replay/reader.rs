@@ -128,7 +128,8 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let verifying = options.overrides.is_empty();
     let banks = crate::bank::Banks::open(&options.banks).map_err(|m| err((None, m.0)))?;
     let mut sim = sim_for_header_in(&header, base_dir, &options.overrides, &banks).map_err(|m| err((Some(1), m.to_string())))?;
-    let mut outcome_events: BTreeMap<String, u64> = BTreeMap::new();
+    // Counted by the kind's static name, and named as `String`s once at the end.
+    let mut counts: BTreeMap<&'static str, u64> = BTreeMap::new();
     let mut checkpoints_checked = 0;
     let mut first_divergence = None;
     let mut complete = false;
@@ -156,7 +157,7 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
         match checked.line {
             Line::Header(_) => {}
             Line::Event(e) => {
-                *outcome_events.entry(e.event.kind().to_string()).or_default() += 1;
+                *counts.entry(e.event.kind()).or_default() += 1;
                 super::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m.to_string())))?;
                 e.event.validate().map_err(|m| err((Some(n), m.to_string())))?;
                 pending.push(e.event);
@@ -190,7 +191,8 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     for event in pending {
         let _ = sim.push_input(event);
     }
-    Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events: outcome_events, verifying })
+    let events = counts.into_iter().map(|(k, n)| (k.to_string(), n)).collect();
+    Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events, verifying })
 }
 
 /// Replays a recording file. Directories, missing files and unreadable files give an error.
