@@ -224,21 +224,83 @@ pub fn decode_line_chained(text: &str, prev: u32) -> Result<Line, LineFormatErro
 /// Like [`decode_line_chained`], and also returns the line's body (its text without the `sum`
 /// field) and its checksum.
 pub fn decode_line_parts(text: &str, prev: u32) -> Result<(Line, String, u32), LineFormatError> {
-    decode_owned(text.to_string(), prev)
+    decode_owned(text.to_string(), prev, Maps::Read)
+}
+
+/// Whether a checkpoint's per-component and per-entity hashes are read into its maps, or only
+/// checked to be maps of strings (the maps left empty), for a reader that needs them only when
+/// the world diverges and then reads the line again ([`parse_body`] with [`Maps::Read`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Maps {
+    Read,
+    CheckOnly,
 }
 
 /// Like [`decode_line_parts`] on a line the caller owns, which becomes the returned body.
-pub(crate) fn decode_owned(mut text: String, prev: u32) -> Result<(Line, String, u32), LineFormatError> {
+pub(crate) fn decode_owned(mut text: String, prev: u32, maps: Maps) -> Result<(Line, String, u32), LineFormatError> {
     let sum = split_sum_in_place(&mut text)?;
     if chained_sum(&text, prev) != sum {
         return Err(LineFormatError::ChecksumMismatch { chained: prev != 0 });
     }
-    let line = parse_body(&text)?;
+    let line = parse_body(&text, maps)?;
     Ok((line, text, sum))
 }
 
+/// A JSON object of string values, checked without keeping it.
+struct StringMap;
+
+impl<'de> Deserialize<'de> for StringMap {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = StringMap;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a map")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut m: A) -> Result<StringMap, A::Error> {
+                while m.next_entry::<AString, AString>()?.is_some() {}
+                Ok(StringMap)
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
+
+/// A JSON string, checked without keeping it.
+struct AString;
+
+impl<'de> Deserialize<'de> for AString {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = AString;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a string")
+            }
+            fn visit_str<E: serde::de::Error>(self, _: &str) -> Result<AString, E> {
+                Ok(AString)
+            }
+        }
+        d.deserialize_str(V)
+    }
+}
+
+/// A checkpoint line checked as [`TaggedCheckpoint`] reads it, keeping only its tick and hash.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CheckedCheckpoint<'a> {
+    #[serde(rename = "type", borrow)]
+    kind: &'a str,
+    tick: u64,
+    hash: String,
+    #[allow(dead_code)]
+    components: StringMap,
+    #[allow(dead_code)]
+    entities: StringMap,
+}
+
 /// Parses a line's body once its checksum is known to be right.
-fn parse_body(body: &str) -> Result<Line, LineFormatError> {
+pub(crate) fn parse_body(body: &str, maps: Maps) -> Result<Line, LineFormatError> {
     // Event lines are by far the most common: read them straight into their struct, without
     // the buffering that the tagged `Line` enum needs.
     if body.starts_with("{\"type\":\"event\",") {
@@ -260,6 +322,14 @@ fn parse_body(body: &str) -> Result<Line, LineFormatError> {
         return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
     }
     // Checkpoints come next, once a second of a recording.
+    if maps == Maps::CheckOnly
+        && body.starts_with("{\"type\":\"checkpoint\",")
+        && let Ok(c) = serde_json::from_str::<CheckedCheckpoint>(body)
+        && c.kind == "checkpoint"
+    {
+        let (components, entities) = Default::default();
+        return Ok(Line::Checkpoint(super::CheckpointLine { tick: c.tick, hash: c.hash, components, entities }));
+    }
     if body.starts_with("{\"type\":\"checkpoint\",")
         && let Ok(c) = serde_json::from_str::<TaggedCheckpoint>(body)
         && c.kind == "checkpoint"
@@ -274,4 +344,32 @@ fn parse_body(body: &str) -> Result<Line, LineFormatError> {
         ev.event.validate()?;
     }
     Ok(line)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_checkpoint_read_without_its_maps_is_checked_as_strictly_as_with_them() {
+        let good = r#"{"type":"checkpoint","tick":60,"hash":"00000000000000aa","components":{"Tree":"0000000000000001"},"entities":{"4294967296":"0000000000000002"}}"#;
+        let Ok(Line::Checkpoint(full)) = parse_body(good, Maps::Read) else { panic!("a good checkpoint") };
+        let Ok(Line::Checkpoint(light)) = parse_body(good, Maps::CheckOnly) else { panic!("a good checkpoint") };
+        assert_eq!((light.tick, &light.hash), (full.tick, &full.hash));
+        assert_eq!(full.components.get("Tree").map(String::as_str), Some("0000000000000001"));
+        assert!(light.components.is_empty() && light.entities.is_empty());
+        // Whatever the full reading refuses, the light one refuses with the same message.
+        for bad in [
+            r#"{"type":"checkpoint","tick":60,"hash":"aa","components":{"Tree":5},"entities":{}}"#,
+            r#"{"type":"checkpoint","tick":60,"hash":"aa","components":{},"entities":[]}"#,
+            r#"{"type":"checkpoint","tick":60,"hash":"aa","components":{}}"#,
+            r#"{"type":"checkpoint","tick":60,"hash":"aa","components":{},"entities":{},"extra":1}"#,
+            r#"{"type":"checkpoint","tick":-1,"hash":"aa","components":{},"entities":{}}"#,
+        ] {
+            let a = parse_body(bad, Maps::Read).err().map(|e| e.to_string());
+            let b = parse_body(bad, Maps::CheckOnly).err().map(|e| e.to_string());
+            assert!(a.is_some(), "{bad}");
+            assert_eq!(a, b, "{bad}");
+        }
+    }
 }

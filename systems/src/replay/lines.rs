@@ -10,7 +10,7 @@
 
 use std::io::{BufRead, BufReader, Read};
 
-use super::codec::{decode_line_chained, decode_owned};
+use super::codec::{decode_line_chained, decode_owned, Maps};
 use super::{Header, Line, CHECKPOINT_EVERY, FORMAT_NAME, MAX_LINE, READABLE_VERSIONS};
 use crate::limits::{MAX_TICKS, RAISE};
 
@@ -67,6 +67,17 @@ pub(crate) struct Checked {
     pub body: String,
 }
 
+impl Checked {
+    /// The line as a checkpoint with all its maps, read again from the body (see
+    /// [`Lines::checkpoint_maps_when_needed`]); `None` for other lines.
+    pub fn checkpoint(&self) -> Option<super::CheckpointLine> {
+        match super::codec::parse_body(&self.body, Maps::Read) {
+            Ok(Line::Checkpoint(c)) => Some(c),
+            _ => None,
+        }
+    }
+}
+
 /// A recording's lines, checked one at a time.
 pub(crate) struct Lines<R: Read> {
     reader: LineReader<R>,
@@ -80,6 +91,9 @@ pub(crate) struct Lines<R: Read> {
     footer_seen: bool,
     /// Whether the file ended in a line without a newline (a cut line, ignored).
     pub cut: bool,
+    /// Whether checkpoints' per-component and per-entity hashes are read (see
+    /// [`Lines::checkpoint_maps_when_needed`]).
+    maps: Maps,
 }
 
 impl<R: Read> Lines<R> {
@@ -111,7 +125,14 @@ impl<R: Read> Lines<R> {
             return Err((Some(1), format!("format {:?} is not '{FORMAT_NAME}'", header.format)));
         }
         let chained = header.format_version >= 2;
-        Ok(Lines { reader, header, chained, prev: 0, last_tick: 0, last_checkpoint: 0, footer_seen: false, cut: false })
+        Ok(Lines { reader, header, chained, prev: 0, last_tick: 0, last_checkpoint: 0, footer_seen: false, cut: false, maps: Maps::Read })
+    }
+
+    /// From now on, a checkpoint's `components` and `entities` maps are checked to be maps of
+    /// strings but left empty: for a reader that needs them only at a divergence, and then reads
+    /// them from the line's body ([`Checked::checkpoint`]).
+    pub fn checkpoint_maps_when_needed(&mut self) {
+        self.maps = Maps::CheckOnly;
     }
 
     /// The next checked line, or `None` at the end of the file (or at a cut last line).
@@ -133,7 +154,7 @@ impl<R: Read> Lines<R> {
             return Err(fail("a line after the footer".into()));
         }
         let prev = if self.chained { self.prev } else { 0 };
-        let (line, body, sum) = decode_owned(text, prev).map_err(|m| fail(m.to_string()))?;
+        let (line, body, sum) = decode_owned(text, prev, self.maps).map_err(|m| fail(m.to_string()))?;
         self.prev = sum;
         let tick = match &line {
             Line::Header(_) => return Err(fail("a second header".into())),

@@ -124,6 +124,8 @@ fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World)
 pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
     let err = |(line, message): LineError| ReplayError { file: file.to_string(), line, message };
     let mut lines = Lines::open(reader).map_err(err)?;
+    // A checkpoint's per-component and per-entity hashes are read only at a divergence.
+    lines.checkpoint_maps_when_needed();
     let header = lines.header.clone();
     let verifying = options.overrides.is_empty();
     let banks = crate::bank::Banks::open(&options.banks).map_err(|m| err((None, m.0)))?;
@@ -162,12 +164,13 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
                 e.event.validate().map_err(|m| err((Some(n), m.to_string())))?;
                 pending.push(e.event);
             }
-            Line::Checkpoint(c) => {
+            Line::Checkpoint(ref c) => {
                 if verifying && first_divergence.is_none() {
                     let h = sim.hash();
                     checkpoints_checked += 1;
                     if hex(h.total) != c.hash {
-                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&c, &h, &sim.world) });
+                        let full = checked.checkpoint().unwrap_or_else(|| c.clone());
+                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&full, &h, &sim.world) });
                     }
                 }
             }
