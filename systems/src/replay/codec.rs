@@ -304,6 +304,11 @@ pub(crate) fn parse_body(body: &str, maps: Maps) -> Result<Line, LineFormatError
     // Event lines are by far the most common: read them straight into their struct, without
     // the buffering that the tagged `Line` enum needs.
     if body.starts_with("{\"type\":\"event\",") {
+        // Most lines are poses in the recorder's own shape: read without serde.
+        if let Some(e) = super::fast_pose::read(body) {
+            e.event.validate()?;
+            return Ok(Line::Event(e));
+        }
         // Controller poses are most of a recording: read them without the buffering that the
         // tagged `InputEvent` enum needs.
         if let Ok(e) = serde_json::from_str::<TaggedPose>(body)

@@ -1,0 +1,242 @@
+//! The controller-pose event line read without serde, when it has exactly the shape the
+//! recorder writes:
+//!
+//! ```text
+//! {"type":"event","tick":T,"ms":M,"frame":F,"event":{"kind":"controller_pose","pose":{"position":[x,y,z],"rotation":[x,y,z,w]}}}
+//! ```
+//!
+//! Pose lines are most of a recording, and reading them through serde's generic machinery was
+//! the larger part of a replay's parsing. Anything else (other spacing, field order, escapes,
+//! numbers this reader does not take) returns `None`, and the line is read by serde as before.
+//!
+//! A number is taken only where serde_json computes it exactly: at most 15 significant digits
+//! and a decimal exponent of at most 22 either way, so the digits as an integer and the power
+//! of ten are both exact in `f64`, and the one division or multiplication that serde_json makes
+//! rounds once, here as there. The value then becomes an `f32` as serde makes it (`as f32`).
+
+use glam::{Quat, Vec3};
+
+use super::EventLine;
+use crate::components::Pose;
+use crate::input::InputEvent;
+
+/// The powers of ten that are exact in `f64`.
+const POW10: [f64; 23] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22];
+
+/// A cursor over the line's bytes.
+struct Cursor<'a> {
+    s: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Cursor<'a> {
+    fn lit(&mut self, l: &str) -> Option<()> {
+        let end = self.at.checked_add(l.len())?;
+        (self.s.get(self.at..end)? == l.as_bytes()).then(|| self.at = end)
+    }
+
+    /// A JSON integer without sign, fraction or exponent: `0` or digits not starting with 0.
+    fn uint(&mut self) -> Option<u64> {
+        let start = self.at;
+        let mut v: u64 = 0;
+        while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
+            v = v.checked_mul(10)?.checked_add(u64::from(b - b'0'))?;
+            self.at += 1;
+        }
+        let n = self.at - start;
+        (n == 1 || (n > 1 && self.s[start] != b'0')).then_some(v)
+    }
+
+    /// A JSON number that serde_json computes exactly (see the module's text), computed as it
+    /// computes it: the digits as an integer, then one multiplication or division by a power
+    /// of ten.
+    fn number(&mut self) -> Option<f32> {
+        let negative = self.s.get(self.at) == Some(&b'-');
+        if negative {
+            self.at += 1;
+        }
+        let (mut significand, mut significant) = (0u64, 0u32);
+        let mut digit = |b: u8, significand: &mut u64| {
+            *significand = *significand * 10 + u64::from(b - b'0');
+            if *significand > 0 {
+                significant += 1;
+            }
+            significant <= 15
+        };
+        let int_start = self.at;
+        while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
+            self.at += 1;
+            if !digit(b, &mut significand) {
+                return None;
+            }
+        }
+        let int_digits = self.at - int_start;
+        if int_digits == 0 || (int_digits > 1 && self.s[int_start] == b'0') {
+            return None;
+        }
+        let mut exponent = 0i32;
+        if self.s.get(self.at) == Some(&b'.') {
+            self.at += 1;
+            let f_start = self.at;
+            while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
+                self.at += 1;
+                if !digit(b, &mut significand) {
+                    return None;
+                }
+            }
+            if self.at == f_start {
+                return None;
+            }
+            exponent = -((self.at - f_start) as i32);
+        }
+        if matches!(self.s.get(self.at), Some(b'e' | b'E')) {
+            self.at += 1;
+            let sign = match self.s.get(self.at) {
+                Some(b'-') => {
+                    self.at += 1;
+                    -1
+                }
+                Some(b'+') => {
+                    self.at += 1;
+                    1
+                }
+                _ => 1,
+            };
+            let e_start = self.at;
+            let mut e = 0i32;
+            while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
+                self.at += 1;
+                e = e * 10 + i32::from(b - b'0');
+                if self.at - e_start > 3 {
+                    return None;
+                }
+            }
+            if self.at == e_start {
+                return None;
+            }
+            exponent += sign * e;
+        }
+        let pow = *POW10.get(exponent.unsigned_abs() as usize)?;
+        let f = significand as f64;
+        let f = if exponent >= 0 { f * pow } else { f / pow };
+        Some(if negative { -f } else { f } as f32)
+    }
+
+    fn numbers<const N: usize>(&mut self) -> Option<[f32; N]> {
+        self.lit("[")?;
+        let mut out = [0.0; N];
+        for (i, x) in out.iter_mut().enumerate() {
+            if i > 0 {
+                self.lit(",")?;
+            }
+            *x = self.number()?;
+        }
+        self.lit("]")?;
+        Some(out)
+    }
+}
+
+/// The event line, if `body` (a line without its `sum` field) is a controller pose written in
+/// the recorder's own shape; `None` otherwise, for serde to read.
+pub(super) fn read(body: &str) -> Option<EventLine> {
+    let mut c = Cursor { s: body.as_bytes(), at: 0 };
+    c.lit("{\"type\":\"event\",\"tick\":")?;
+    let tick = c.uint()?;
+    c.lit(",\"ms\":")?;
+    let ms = c.uint()?;
+    c.lit(",\"frame\":")?;
+    let frame = c.uint()?;
+    c.lit(",\"event\":{\"kind\":\"controller_pose\",\"pose\":{\"position\":")?;
+    let [px, py, pz] = c.numbers::<3>()?;
+    c.lit(",\"rotation\":")?;
+    let [rx, ry, rz, rw] = c.numbers::<4>()?;
+    c.lit("}}}")?;
+    if c.at != body.len() {
+        return None;
+    }
+    let pose = Pose { position: Vec3::new(px, py, pz), rotation: Quat::from_xyzw(rx, ry, rz, rw) };
+    Some(EventLine { tick, ms, frame, event: InputEvent::ControllerPose { pose } })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What serde reads from the same body (the reader's path before this one).
+    fn by_serde(body: &str) -> Option<EventLine> {
+        match serde_json::from_str::<super::super::Line>(body).ok()? {
+            super::super::Line::Event(e) => Some(e),
+            _ => None,
+        }
+    }
+
+    fn bits(e: &EventLine) -> (u64, u64, u64, [u32; 7]) {
+        let InputEvent::ControllerPose { pose } = &e.event else { panic!("a pose") };
+        let p = pose.position.to_array();
+        let r = pose.rotation.to_array();
+        (e.tick, e.ms, e.frame, [p[0], p[1], p[2], r[0], r[1], r[2], r[3]].map(f32::to_bits))
+    }
+
+    fn line(position: &str, rotation: &str) -> String {
+        format!("{{\"type\":\"event\",\"tick\":187,\"ms\":3117,\"frame\":187,\"event\":{{\"kind\":\"controller_pose\",\"pose\":{{\"position\":[{position}],\"rotation\":[{rotation}]}}}}}}")
+    }
+
+    #[test]
+    fn a_pose_line_reads_to_the_same_bits_as_through_serde() {
+        // Numbers as the recorder writes them, and others within this reader's exact range.
+        let cases = [
+            ("0.25,1.3167496,5.743838", "-0.05938796,0.00004282934,0.0000025480444,0.998235"),
+            ("-0,0,1e-7", "0.1,0.2,0.3,0.9"),
+            ("123456789012345,-1.5E3,2.5e+2", "1e-22,-3.4028235e20,0.000000000000000000001,1"),
+            ("0.000001,100000000,-0.0", "0.7071068,0,0,0.7071068"),
+        ];
+        for (p, r) in cases {
+            let body = line(p, r);
+            let fast = read(&body).unwrap_or_else(|| panic!("read: {body}"));
+            let slow = by_serde(&body).expect("serde reads it");
+            assert_eq!(bits(&fast), bits(&slow), "{body}");
+        }
+        // Random f32 values written as serde writes them read back to the same bits.
+        let (mut x, mut read_here) = (99u32, 0);
+        for _ in 0..20_000 {
+            let mut v = [0f32; 7];
+            for f in &mut v {
+                x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let exp = (x >> 27) as i32 - 16;
+                *f = ((x & 0xffff) as f32 / 65536.0 - 0.5) * 2f32.powi(exp);
+            }
+            let j = |s: &[f32]| s.iter().map(|f| serde_json::to_string(f).unwrap()).collect::<Vec<_>>().join(",");
+            let body = line(&j(&v[..3]), &j(&v[3..]));
+            if let Some(fast) = read(&body) {
+                assert_eq!(bits(&fast), bits(&by_serde(&body).unwrap()), "{body}");
+                read_here += 1;
+            }
+        }
+        // Shortest f32 texts have at most 9 digits: nearly all are read here, not by serde.
+        assert!(read_here > 19_000, "{read_here} of 20000 read without serde");
+    }
+
+    #[test]
+    fn anything_but_the_recorders_own_shape_is_left_to_serde() {
+        let good = line("1,2,3", "0,0,0,1");
+        assert!(read(&good).is_some());
+        for bad in [
+            good.replace("\"tick\":187", "\"tick\": 187"),
+            good.replace("\"tick\":187", "\"tick\":0187"),
+            good.replace("\"tick\":187", "\"tick\":1.5"),
+            good.replace("[1,2,3]", "[1,2]"),
+            good.replace("[1,2,3]", "[1,2,3,4]"),
+            good.replace("[1,2,3]", "[1.,2,3]"),
+            good.replace("[1,2,3]", "[01,2,3]"),
+            good.replace("[1,2,3]", "[1e400,2,3]"),
+            good.replace("[1,2,3]", "[1234567890123456,2,3]"),
+            good.replace("[1,2,3]", "[1e23,2,3]"),
+            good.replace("[1,2,3]", "[NaN,2,3]"),
+            good.replace("}}}", "}}"),
+            format!("{good} "),
+            good.replace("controller_pose", "head_pose"),
+        ] {
+            assert!(read(&bad).is_none(), "{bad}");
+        }
+    }
+}
