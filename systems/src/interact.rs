@@ -25,10 +25,12 @@ pub fn entity(bits: u64) -> Option<Entity> {
 /// `None` if `e` is not a tree (any more) or its model is unknown.
 pub fn tree_box_of(world: &World, catalogue: &Catalogue, e: Entity) -> Option<TreeBox> {
     // One lookup of the entity for the three components.
-    let mut q = world.query_one::<(&Tree, &Transform, &Scale)>(e);
-    let (tree, t, s) = q.get().ok()?;
-    let m = catalogue.get(tree.model)?;
-    Some(tree_box(e, t, s.0, m.bounds_min, m.bounds_max))
+    let entity = world.entity(e).ok()?;
+    let model = entity.get::<&Tree>()?.model;
+    let t = *entity.get::<&Transform>()?;
+    let scale = entity.get::<&Scale>()?.0;
+    let m = catalogue.get(model)?;
+    Some(tree_box(e, &t, scale, m.bounds_min, m.bounds_max))
 }
 
 /// The id bits of the selected tree, if any (from the first `Selection` entity).
