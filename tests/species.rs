@@ -254,3 +254,49 @@ fn generation_is_deterministic_in_the_library_too() {
     let c = output::model(&n, &p, 12).unwrap();
     assert_ne!(a.lods[0].wood.positions, c.lods[0].wood.positions);
 }
+
+#[test]
+fn shape_ratios_follow_weber_and_penn() {
+    use grove::species::preset::Shape::*;
+    use grove::species::stems::shape_ratio;
+    let (_, p) = preset::load("oak").unwrap();
+    // The paper's formulas at chosen points, by hand.
+    let cases = [
+        (Conical, 0.5, 0.6),
+        (Spherical, 0.5, 1.0),
+        (Spherical, 0.0, 0.2),
+        (Hemispherical, 1.0, 1.0),
+        (Cylindrical, 0.3, 1.0),
+        (TaperedCylindrical, 0.0, 0.5),
+        (Flame, 0.7, 1.0),
+        (Flame, 0.35, 0.5),
+        (Flame, 1.0, 0.0),
+        (InverseConical, 1.0, 0.2),
+        (TendFlame, 1.0, 0.5),
+    ];
+    for (shape, r, want) in cases {
+        let got = shape_ratio(shape, r, &p);
+        assert!((got - want).abs() < 1e-5, "{shape:?} at {r}: {got}, want {want}");
+    }
+}
+
+#[test]
+fn pruning_keeps_branches_inside_the_envelope() {
+    let (_, mut p) = preset::load("oak").unwrap();
+    // A straight trunk on the axis (the trunk itself is never pruned).
+    p.levels[0].curve_v_deg = 0.0;
+    p.levels[0].seg_splits = 0.0;
+    let free = output::model("oak", &p, 3).unwrap();
+    p.prune_ratio = 1.0;
+    p.prune_width = 0.25;
+    p.prune_width_peak = 0.5;
+    p.prune_power_low = 1.0;
+    p.prune_power_high = 1.0;
+    let pruned = output::model("oak", &p, 3).unwrap();
+    let limit = 0.25 * pruned.tree.scale;
+    let nodes: Vec<Vec3> = pruned.tree.stems.iter().filter(|s| s.level >= 1).flat_map(|s| s.nodes.iter().map(|n| n.pos)).collect();
+    let outside = nodes.iter().filter(|q| Vec2::new(q.x, q.z).length() > limit * 1.001).count();
+    assert!(outside * 100 < nodes.len(), "{outside} of {} branch points outside a {limit} m envelope", nodes.len());
+    let widest = |m: &Model| m.tree.stems.iter().flat_map(|s| s.nodes.iter()).map(|n| Vec2::new(n.pos.x, n.pos.z).length()).fold(0.0, f32::max);
+    assert!(widest(&free) > limit * 1.2, "the unpruned oak reaches past the envelope ({} m)", widest(&free));
+}

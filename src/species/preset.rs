@@ -230,9 +230,10 @@ impl Preset {
     }
 }
 
-/// The folder of the shipped presets.
+/// The folder of the shipped presets: `species/` in the assets folder (`$GROVE_ASSETS`,
+/// `./assets`, or the source tree's).
 pub fn preset_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/species")
+    crate::render::default_assets_dir().join("species")
 }
 
 /// The names of the shipped presets, sorted.

@@ -168,11 +168,8 @@ impl Gen<'_> {
     fn inside(&self, q: Vec3) -> bool {
         let crown = (self.tree.scale - self.base_len).max(1e-3);
         let r = (self.tree.scale - q.y) / crown;
-        if r < 0.0 {
+        if !(0.0..=1.0).contains(&r) {
             return false;
-        }
-        if r > 1.0 {
-            return true;
         }
         Vec2::new(q.x, q.z).length() <= self.p.prune_width * self.tree.scale * envelope(r, self.p)
     }
@@ -190,7 +187,7 @@ impl Gen<'_> {
 
     /// The polylines of one stem: the stem itself and the clones its splits make.
     #[allow(clippy::too_many_arguments)]
-    fn curve(&self, level: usize, start: Vec3, frame: Quat, len: f32, radius: f32, seed: u64, splits: bool) -> Vec<Vec<Node>> {
+    fn curve(&self, level: usize, start: Vec3, frame: Quat, len: f32, radius: f32, seed: u64) -> Vec<Vec<Node>> {
         let lv: &Level = &self.p.levels[level];
         let res = lv.curve_res.max(1) as usize;
         let seg = len / res as f32;
@@ -227,7 +224,7 @@ impl Gen<'_> {
                 pos += frame * Vec3::Y * seg;
                 let z = (i + 1) as f32 / res as f32;
                 nodes.push(Node { pos, radius: self.radius_at(level, radius, z), frame, s: z * len });
-                if splits && i + 1 < res && out.len() + work.len() < 24 {
+                if i + 1 < res && out.len() + work.len() < 24 {
                     let n = (lv.seg_splits + err).floor().max(0.0);
                     err += lv.seg_splits - n;
                     let n = n as usize;
@@ -259,7 +256,7 @@ impl Gen<'_> {
         if level >= 1 && self.p.prune_ratio > 0.0 {
             let mut l = length;
             for _ in 0..14 {
-                let polys = self.curve(level, start, frame, l, radius, seed, false);
+                let polys = self.curve(level, start, frame, l, radius, seed);
                 if polys.iter().flatten().all(|n| self.inside(n.pos)) {
                     break;
                 }
@@ -267,7 +264,7 @@ impl Gen<'_> {
             }
             len = length + (l - length) * self.p.prune_ratio;
         }
-        let polys = self.curve(level, start, frame, len, radius, seed, true);
+        let polys = self.curve(level, start, frame, len, radius, seed);
         let last = level + 1 == self.p.levels.len();
         // A split stem's branches and leaves are shared among its clones by the length each covers.
         let base = if level == 0 && !last { self.base_len.min(len * 0.95) } else { 0.0 };
