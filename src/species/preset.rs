@@ -137,6 +137,12 @@ pub struct Preset {
     pub leaf_scale: f32,
     /// Leaf width as a fraction of its length.
     pub leaf_scale_x: f32,
+    /// Angle between a leaf and its stem, degrees.
+    pub leaf_down_angle_deg: f32,
+    /// Its random variation, degrees (±).
+    pub leaf_down_angle_v_deg: f32,
+    /// Turn about the stem from one leaf to the next, degrees (± 30 at random).
+    pub leaf_rotate_deg: f32,
     /// How much leaves turn their faces up towards the light (0 none, 1 flat).
     pub leaf_bend: f32,
     /// Leaf colour of the texture, sRGB 0..1.
@@ -184,6 +190,9 @@ impl Preset {
         range(r, "leaves", self.leaves, 0.0, 200.0, "per stem");
         range(r, "leaf_scale", self.leaf_scale, 0.01, 2.0, "metres");
         range(r, "leaf_scale_x", self.leaf_scale_x, 0.05, 2.0, "fraction of the length");
+        range(r, "leaf_down_angle_deg", self.leaf_down_angle_deg, 0.0, 180.0, "degrees");
+        range(r, "leaf_down_angle_v_deg", self.leaf_down_angle_v_deg, 0.0, 90.0, "degrees");
+        range(r, "leaf_rotate_deg", self.leaf_rotate_deg, 0.0, 360.0, "degrees");
         range(r, "leaf_bend", self.leaf_bend, 0.0, 1.0, "");
         for (i, c) in self.leaf_colour.iter().enumerate() {
             range(r, &format!("leaf_colour[{i}]"), *c, 0.0, 1.0, "sRGB");

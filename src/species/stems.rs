@@ -340,8 +340,8 @@ impl Gen<'_> {
         for i in 0..count.min(MAX_LEAVES - self.tree.leaves.len()) {
             let s = a + (s1 - a) * ((i as f32 + 0.5 + pm(&mut self.rng, 0.4)) / count as f32).clamp(0.0, 1.0);
             let here = at(nodes, s);
-            rot += 137.5 + pm(&mut self.rng, 30.0);
-            let down = 50.0 + pm(&mut self.rng, 20.0);
+            rot += self.p.leaf_rotate_deg + pm(&mut self.rng, 30.0);
+            let down = self.p.leaf_down_angle_deg + pm(&mut self.rng, self.p.leaf_down_angle_v_deg);
             let f = here.frame * Quat::from_rotation_y(rot.to_radians()) * Quat::from_rotation_x(down.to_radians());
             let dir = f * Vec3::Y;
             let mut normal = f * Vec3::Z;
