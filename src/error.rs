@@ -10,6 +10,7 @@ use crate::lsystem::expr::ExprError;
 use crate::render::trees::impostor::cache::AtlasError;
 use crate::render::overlay::controller::ControllerError;
 use crate::render::{ClipmapError, GltfError, PipelineError, RenderError};
+use crate::species::SpeciesError;
 use crate::video::encode::VideoError;
 use crate::video::ghosts::GhostError;
 use crate::video::MarkError;
@@ -59,6 +60,9 @@ pub enum Error {
     /// [`MarkError`].
     #[error(transparent)]
     Mark(#[from] MarkError),
+    /// [`SpeciesError`].
+    #[error(transparent)]
+    Species(#[from] SpeciesError),
 }
 
 #[cfg(test)]

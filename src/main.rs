@@ -53,6 +53,9 @@ enum Command {
     /// L-system trees: derive (CPU or GPU), write glTF models, benchmark.
     #[command(subcommand)]
     Lsystem(cli::lsystem::LsystemCommand),
+    /// Parametric trees after Weber and Penn from species presets: generate glTF models (docs/species.md).
+    #[command(subcommand)]
+    Trees(cli::trees::TreesCommand),
     /// The model bank: add glTF models, list and check banks (docs/model-bank.md).
     #[command(subcommand)]
     Models(cli::models::ModelsCommand),
@@ -98,6 +101,7 @@ fn main() -> ExitCode {
         Command::Lsystem(cmd) => cli::lsystem::run(cmd),
         Command::Aerial(cmd) => cli::aerial::run(cmd),
         Command::Models(cmd) => cli::models::run(cmd),
+        Command::Trees(cmd) => cli::trees::run(cmd),
     };
     match result {
         Ok(code) => code,

@@ -54,12 +54,15 @@ pub struct MeshData {
     pub uvs: Vec<Vec2>,
     /// Wind channels, see the module documentation.
     pub wind: Vec<Vec4>,
+    /// Vertex colours (linear RGBA, `COLOR_0`), one per vertex, or empty for none.
+    pub colors: Vec<Vec4>,
     /// Triangles, counter-clockwise front faces.
     pub indices: Vec<u32>,
 }
 
 impl MeshData {
-    fn push(&mut self, p: Vec3, n: Vec3, t: Vec4, uv: Vec2, w: Vec4) -> u32 {
+    /// Appends one vertex (its normal normalised; no colour) and returns its index.
+    pub fn push(&mut self, p: Vec3, n: Vec3, t: Vec4, uv: Vec2, w: Vec4) -> u32 {
         let i = self.positions.len() as u32;
         self.positions.push(p);
         self.normals.push(n.normalize());
@@ -82,7 +85,7 @@ impl MeshData {
 
 /// A tangent that is unit length and orthogonal to `n`, with the handedness for which
 /// `cross(n, t) * w` points along `bitangent_dir`.
-fn tangent_frame(n: Vec3, t: Vec3, bitangent_dir: Vec3) -> Vec4 {
+pub fn tangent_frame(n: Vec3, t: Vec3, bitangent_dir: Vec3) -> Vec4 {
     let n = n.normalize();
     let t = (t - n * n.dot(t)).normalize_or(n.any_orthonormal_vector());
     let w = if n.cross(t).dot(bitangent_dir) >= 0.0 { 1.0 } else { -1.0 };

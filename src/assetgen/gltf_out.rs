@@ -107,9 +107,13 @@ pub fn build(name: &str, parts: &[(&MeshData, &MaterialTextures)], bin_uri: &str
         let tan = buf.floats(&flat4(&mesh.tangents), mesh.tangents.len(), "VEC4", None);
         let uv = buf.floats(&flat2(&mesh.uvs), mesh.uvs.len(), "VEC2", None);
         let wind = buf.floats(&flat4(&mesh.wind), mesh.wind.len(), "VEC4", None);
+        let mut attributes = json!({"POSITION": pos, "NORMAL": nrm, "TANGENT": tan, "TEXCOORD_0": uv, "_WIND": wind});
+        if !mesh.colors.is_empty() {
+            attributes["COLOR_0"] = json!(buf.floats(&flat4(&mesh.colors), mesh.colors.len(), "VEC4", None));
+        }
         let idx = buf.indices(&mesh.indices);
         primitives.push(json!({
-            "attributes": {"POSITION": pos, "NORMAL": nrm, "TANGENT": tan, "TEXCOORD_0": uv, "_WIND": wind},
+            "attributes": attributes,
             "indices": idx,
             "material": i,
             "mode": 4

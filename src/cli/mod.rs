@@ -27,6 +27,7 @@ pub mod study_report;
 pub mod sun;
 pub mod synth;
 pub mod test;
+pub mod trees;
 pub mod view;
 
 use std::path::Path;

@@ -1,0 +1,230 @@
+//! Meshes of a generated tree at three levels of detail: swept tubes for the stems, one card per
+//! leaf, the `_WIND` channels of `docs/assets.md` from the stem hierarchy (the trunk has no
+//! distance from the axis, branches their distance, leaves also their distance from where they
+//! hang; every stem of a first-level branch shares its phase), and vertex colours with each
+//! leaf's colour variation and the crown's ambient occlusion.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::preset::Preset;
+use super::stems::{Stem, Tree};
+use crate::assetgen::geometry::{tangent_frame, MeshData};
+
+/// The wood and the leaves of one level of detail.
+#[derive(Clone, Debug, Default)]
+pub struct Lod {
+    /// Bark.
+    pub wood: MeshData,
+    /// Leaf cards.
+    pub leaves: MeshData,
+    /// Leaves kept.
+    pub leaf_count: usize,
+}
+
+impl Lod {
+    /// Triangles of wood and leaves.
+    pub fn triangles(&self) -> usize {
+        self.wood.triangles() + self.leaves.triangles()
+    }
+}
+
+/// How finely the stems are swept.
+#[derive(Clone, Copy, Debug)]
+struct Detail {
+    /// Sides are divided by this (at least 3).
+    coarse: u32,
+    /// Every `step`-th point of a stem becomes a ring (its last always does).
+    step: usize,
+    /// Stems deeper than this are left out.
+    max_level: usize,
+}
+
+/// The shares of the full mesh's triangles the coarser levels of detail aim at.
+pub const LOD_SHARES: [f32; 2] = [0.25, 0.05];
+
+fn sides_of(level: usize, radius: f32) -> u32 {
+    let base = match level {
+        0 => 12,
+        1 => 7,
+        2 => 5,
+        _ => 3,
+    };
+    (base + (radius * 40.0) as u32).min(20)
+}
+
+fn wind(p: Vec3, trunk: bool, attach: Option<Vec3>, phase: f32) -> Vec4 {
+    let axis = if trunk { 0.0 } else { Vec2::new(p.x, p.z).length() };
+    Vec4::new(p.y.max(0.0), axis, attach.map_or(0.0, |a| p.distance(a)), phase)
+}
+
+/// Sweeps a ring along a stem's points.
+fn sweep(mesh: &mut MeshData, stem: &Stem, d: Detail, p: &Preset) {
+    let n = stem.nodes.len();
+    let mut picks: Vec<usize> = (0..n).step_by(d.step.max(1)).collect();
+    if *picks.last().unwrap_or(&0) != n - 1 {
+        picks.push(n - 1);
+    }
+    let sides = (sides_of(stem.level, stem.nodes[0].radius) / d.coarse).max(3);
+    let trunk = stem.level == 0;
+    let base = mesh.positions.len() as u32;
+    let mut v = 0.0;
+    for (j, &k) in picks.iter().enumerate() {
+        let node = &stem.nodes[k];
+        if j > 0 {
+            v += node.pos.distance(stem.nodes[picks[j - 1]].pos);
+        }
+        let (bx, bz, axis) = (node.frame * Vec3::X, node.frame * Vec3::Z, node.frame * Vec3::Y);
+        for i in 0..=sides {
+            let a = i as f32 / sides as f32 * std::f32::consts::TAU;
+            let (sa, ca) = a.sin_cos();
+            let nrm = bx * ca + bz * sa;
+            let lobe = if trunk && p.lobes > 0 { 1.0 + p.lobe_depth * (p.lobes as f32 * a).sin() * (1.0 - k as f32 / n as f32) } else { 1.0 };
+            let pos = node.pos + nrm * node.radius * lobe;
+            let tan = -bx * sa + bz * ca;
+            // The bark texture repeats about every 4 trunk radii around and along.
+            let uv = Vec2::new(i as f32 / sides as f32, v / (stem.nodes[0].radius * 8.0).max(0.05));
+            mesh.push(pos, nrm, tangent_frame(nrm, tan, axis), uv, wind(pos, trunk, None, stem.phase));
+        }
+    }
+    let row = sides + 1;
+    for j in 0..picks.len() as u32 - 1 {
+        for i in 0..sides {
+            let a = base + j * row + i;
+            let (b, c) = (a + 1, a + row);
+            mesh.indices.extend_from_slice(&[a, c, b, b, c, c + 1]);
+        }
+    }
+}
+
+fn wood(tree: &Tree, p: &Preset, d: Detail) -> MeshData {
+    let mut mesh = MeshData::default();
+    for stem in tree.stems.iter().filter(|s| s.level <= d.max_level) {
+        sweep(&mut mesh, stem, d, p);
+    }
+    mesh
+}
+
+/// The leaf cards: every leaf when `keep` is 1, else an even selection of that share of them,
+/// each grown so that together they cover about the same area.
+fn leaves(tree: &Tree, keep: f32) -> (MeshData, usize) {
+    let mut mesh = MeshData::default();
+    let grow = (1.0 / keep.max(1e-3)).sqrt().min(4.0);
+    let (len, width) = (tree.leaf_len * grow, tree.leaf_width * grow);
+    let centre = crown_centre(tree);
+    let mut acc = 0.0f32;
+    let mut count = 0;
+    for leaf in &tree.leaves {
+        acc += keep;
+        if acc < 1.0 {
+            continue;
+        }
+        acc -= 1.0;
+        count += 1;
+        let side = leaf.dir.cross(leaf.normal).normalize_or(leaf.dir.any_orthonormal_vector());
+        let base = leaf.attach + leaf.dir * (0.05 * len);
+        let tip = base + leaf.dir * len;
+        let out = (base - centre).normalize_or(leaf.normal);
+        let n = (leaf.normal * 0.6 + out).normalize_or(leaf.normal);
+        let t = tangent_frame(n, side, -leaf.dir);
+        let h = side * (0.5 * width);
+        let corners = [(base - h, Vec2::new(0.0, 1.0)), (base + h, Vec2::new(1.0, 1.0)), (tip + h, Vec2::new(1.0, 0.0)), (tip - h, Vec2::new(0.0, 0.0))];
+        let ids: Vec<u32> = corners.iter().map(|&(q, uv)| mesh.push(q, n, t, uv, wind(q, false, Some(leaf.attach), leaf.phase))).collect();
+        mesh.indices.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]]);
+        let tint = leaf.tint;
+        mesh.colors.extend(std::iter::repeat_n(Vec4::new(tint, 0.0, 0.0, 1.0), 4));
+    }
+    (mesh, count)
+}
+
+fn crown_centre(tree: &Tree) -> Vec3 {
+    if tree.leaves.is_empty() {
+        return Vec3::new(0.0, tree.scale * 0.6, 0.0);
+    }
+    tree.leaves.iter().fold(Vec3::ZERO, |c, l| c + l.attach) / tree.leaves.len() as f32
+}
+
+/// The crown's outline: its horizontal radius in height bands, from the leaves.
+struct Crown {
+    lo: f32,
+    hi: f32,
+    radii: Vec<f32>,
+}
+
+const BANDS: usize = 24;
+
+impl Crown {
+    fn of(tree: &Tree) -> Crown {
+        let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+        for l in &tree.leaves {
+            lo = lo.min(l.attach.y);
+            hi = hi.max(l.attach.y);
+        }
+        if lo >= hi {
+            return Crown { lo: 0.0, hi: tree.scale.max(0.1), radii: vec![tree.scale * 0.3; BANDS] };
+        }
+        let mut radii = vec![0.0f32; BANDS];
+        for l in &tree.leaves {
+            let b = (((l.attach.y - lo) / (hi - lo)) * BANDS as f32).clamp(0.0, BANDS as f32 - 1.0) as usize;
+            radii[b] = radii[b].max(Vec2::new(l.attach.x, l.attach.z).length());
+        }
+        // Smooth over neighbours so that an empty band does not read as the crown's edge.
+        let smooth: Vec<f32> = (0..BANDS).map(|b| radii[b.saturating_sub(1)..(b + 2).min(BANDS)].iter().copied().fold(0.0, f32::max).max(0.15)).collect();
+        Crown { lo, hi, radii: smooth }
+    }
+
+    /// Ambient occlusion at `q` in 0..1 (1 unoccluded): darker deeper inside and lower in the crown.
+    fn ao(&self, q: Vec3, strength: f32) -> f32 {
+        let f = (q.y - self.lo) / (self.hi - self.lo);
+        let b = (f * BANDS as f32).clamp(0.0, BANDS as f32 - 1.0) as usize;
+        let rel = (Vec2::new(q.x, q.z).length() / self.radii[b]).clamp(0.0, 1.0);
+        let mut occl = (1.0 - rel) * (0.55 + 0.45 * (1.0 - f.clamp(0.0, 1.0)));
+        if f < 0.0 {
+            occl *= 0.5;
+        }
+        1.0 - strength * occl
+    }
+}
+
+/// Fills in the vertex colours: each leaf's tint (stored in red by `leaves`) and the AO.
+fn shade(lod: &mut Lod, crown: &Crown, p: &Preset) {
+    let v = p.leaf_colour_v;
+    for (q, c) in lod.leaves.positions.iter().zip(lod.leaves.colors.iter_mut()) {
+        let t = c.x * 2.0 - 1.0;
+        let ao = crown.ao(*q, p.ao);
+        // Variation in brightness and towards yellow-green.
+        let tint = Vec3::new(1.0 + v * t * 1.2, 1.0 + v * t * 0.6, 1.0 - v * t * 0.4);
+        *c = (tint * ao).min(Vec3::ONE).max(Vec3::ZERO).extend(1.0);
+    }
+    lod.wood.colors = lod.wood.positions.iter().map(|q| Vec3::splat(crown.ao(*q, p.ao * 0.7)).extend(1.0)).collect();
+}
+
+/// The three levels of detail: every stem and leaf, then about 25 % and 5 % of its triangles
+/// (coarser tubes, fewer stem levels, fewer and larger leaf cards).
+pub fn build(tree: &Tree, p: &Preset) -> [Lod; 3] {
+    let crown = Crown::of(tree);
+    let deepest = tree.stems.iter().map(|s| s.level).max().unwrap_or(0);
+    let full_detail = Detail { coarse: 1, step: 1, max_level: deepest };
+    let (l, n) = leaves(tree, 1.0);
+    let mut full = Lod { wood: wood(tree, p, full_detail), leaves: l, leaf_count: n };
+    let total = full.triangles() as f32;
+    let mut out = [Lod::default(), Lod::default()];
+    for (k, share) in LOD_SHARES.iter().enumerate() {
+        let target = total * share;
+        let mut d = Detail { coarse: 2 + 2 * k as u32, step: 2 + 2 * k, max_level: deepest };
+        let mut w = wood(tree, p, d);
+        // Leave out the finest stems until the wood takes at most 60 % of the budget.
+        while w.triangles() as f32 > target * 0.6 && d.max_level > 0 {
+            d.max_level -= 1;
+            w = wood(tree, p, d);
+        }
+        let room = ((target - w.triangles() as f32) / 2.0).max(0.0);
+        let keep = if full.leaf_count == 0 { 0.0 } else { (room / full.leaf_count as f32).min(1.0) };
+        let (l, n) = leaves(tree, keep);
+        out[k] = Lod { wood: w, leaves: l, leaf_count: n };
+    }
+    shade(&mut full, &crown, p);
+    let [mut a, mut b] = out;
+    shade(&mut a, &crown, p);
+    shade(&mut b, &crown, p);
+    [full, a, b]
+}
