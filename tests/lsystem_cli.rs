@@ -3,9 +3,8 @@
 
 mod common;
 
-use std::process::Command;
 
-use common::{assert_one_line_error, grove, root};
+use common::{assert_one_line_error, grove, validate_gltf_dir};
 
 #[test]
 fn derive_prints_length_and_counts() {
@@ -93,13 +92,6 @@ fn models_load_carry_wind_channels_and_pass_the_validator() {
     let out = grove(&["lsystem", "model", "--preset", "shrub", "--n", "6", "--out", dir.path().to_str().unwrap()]);
     assert_one_line_error(&out, 2, "already exists");
 
-    let tool = root().join("tools/gltf-validate");
-    if !tool.join("node_modules").exists() {
-        let ok = Command::new("npm").args(["ci", "--silent", "--no-audit", "--no-fund"]).current_dir(&tool).status().map(|s| s.success()).unwrap_or(false);
-        assert!(ok, "npm ci in tools/gltf-validate failed; the validator is needed for this test");
-    }
-    let out = Command::new("node").arg(tool.join("validate.mjs")).arg(dir.path()).output().expect("node runs");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "validator: {text}{}", String::from_utf8_lossy(&out.stderr));
+    let text = validate_gltf_dir(dir.path());
     assert_eq!(text.matches(": 0 errors").count(), 6, "{text}");
 }

@@ -4,7 +4,6 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3, Vec4};
@@ -12,7 +11,7 @@ use grove::species::output::{self, Model};
 use grove::species::preset;
 use grove_systems::wind_model::{displace_hierarchical, WindParams, WindResponse};
 
-use common::{assert_one_line_error, grove, root};
+use common::{assert_one_line_error, grove, root, validate_gltf_dir};
 
 const SPECIES: [&str; 6] = ["oak", "birch", "beech", "scots_pine", "norway_spruce", "shrub"];
 const BROADLEAF: [&str; 3] = ["oak", "birch", "beech"];
@@ -72,14 +71,7 @@ fn every_species_passes_the_gltf_validator() {
             assert!(prim.attributes().any(|(k, _)| matches!(k, gltf::Semantic::Extras(n) if n == "WIND")), "{s}: _WIND");
         }
     }
-    let tool = root().join("tools/gltf-validate");
-    if !tool.join("node_modules").exists() {
-        let ok = Command::new("npm").args(["ci", "--silent", "--no-audit", "--no-fund"]).current_dir(&tool).status().map(|s| s.success()).unwrap_or(false);
-        assert!(ok, "npm ci in tools/gltf-validate failed; the validator is needed for this test");
-    }
-    let out = Command::new("node").arg(tool.join("validate.mjs")).arg(dir.path()).output().expect("node runs");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "validator: {text}{}", String::from_utf8_lossy(&out.stderr));
+    let text = validate_gltf_dir(dir.path());
     assert_eq!(text.matches(": 0 errors").count(), 3 * SPECIES.len(), "{text}");
 }
 

@@ -35,3 +35,17 @@ pub fn assert_one_line_error(out: &Output, code: i32, needle: &str) {
     assert_eq!(lines.len(), 1, "expected one error line, got: {stderr}");
     assert!(lines[0].contains(needle), "error line {:?} should contain {:?}", lines[0], needle);
 }
+
+/// Runs the Khronos glTF validator (`tools/gltf-validate`, installed with `npm ci` when missing)
+/// on every glTF file in `dir`; asserts that it ran, and returns its report.
+pub fn validate_gltf_dir(dir: &Path) -> String {
+    let tool = root().join("tools/gltf-validate");
+    if !tool.join("node_modules").exists() {
+        let ok = Command::new("npm").args(["ci", "--silent", "--no-audit", "--no-fund"]).current_dir(&tool).status().map(|s| s.success()).unwrap_or(false);
+        assert!(ok, "npm ci in tools/gltf-validate failed; the validator is needed for this test");
+    }
+    let out = Command::new("node").arg(tool.join("validate.mjs")).arg(dir).output().expect("node runs");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "validator: {text}{}", String::from_utf8_lossy(&out.stderr));
+    text
+}
