@@ -45,9 +45,6 @@ impl<R: Read> LineReader<R> {
         } else {
             return Ok(if self.buf.is_empty() { NextLine::End } else { NextLine::Cut });
         }
-        if self.buf.len() > MAX_LINE {
-            return Err(format!("line longer than the limit of {MAX_LINE} bytes; not a grove recording"));
-        }
         // The next line's buffer starts at this one's size, so reading it allocates once.
         let next = Vec::with_capacity(self.buf.len() + 32);
         let line = std::mem::replace(&mut self.buf, next);
