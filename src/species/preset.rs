@@ -159,17 +159,38 @@ pub struct Preset {
     pub levels: Vec<Level>,
 }
 
-/// A number out of its range: the field, the value, the range and the unit.
-fn range(errs: &mut Option<String>, field: &str, v: f32, lo: f32, hi: f32, unit: &str) {
+/// Why a preset's numbers are refused: the first field out of its range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InvalidPreset {
+    /// A number out of its range: the field, the value, the range and the unit.
+    #[error("{field} = {value} is out of range; allowed {lo} to {hi}{}", if unit.is_empty() { String::new() } else { format!(" ({unit})") })]
+    OutOfRange {
+        /// The field, as the preset names it (`levels[1].length`).
+        field: String,
+        /// The value given.
+        value: f32,
+        /// The smallest allowed value.
+        lo: f32,
+        /// The largest allowed value.
+        hi: f32,
+        /// The unit, or empty.
+        unit: &'static str,
+    },
+    /// A `levels` list of the wrong length.
+    #[error("levels has {0} entries; allowed 1 to 4")]
+    Levels(usize),
+}
+
+/// Keeps the first number out of its range.
+fn range(errs: &mut Option<InvalidPreset>, field: &str, v: f32, lo: f32, hi: f32, unit: &'static str) {
     if errs.is_none() && !(v.is_finite() && v >= lo && v <= hi) {
-        let unit = if unit.is_empty() { String::new() } else { format!(" ({unit})") };
-        *errs = Some(format!("{field} = {v} is out of range; allowed {lo} to {hi}{unit}"));
+        *errs = Some(InvalidPreset::OutOfRange { field: field.to_string(), value: v, lo, hi, unit });
     }
 }
 
 impl Preset {
     /// The first field out of its range, as "field = value is out of range; allowed lo to hi".
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidPreset> {
         let mut e = None;
         let r = &mut e;
         range(r, "height", self.height, 0.3, 60.0, "metres");
@@ -203,7 +224,7 @@ impl Preset {
         }
         range(r, "ao", self.ao, 0.0, 1.0, "");
         if e.is_none() && !(1..=4).contains(&self.levels.len()) {
-            e = Some(format!("levels has {} entries; allowed 1 to 4", self.levels.len()));
+            e = Some(InvalidPreset::Levels(self.levels.len()));
         }
         for (i, l) in self.levels.iter().enumerate() {
             let r = &mut e;
@@ -234,7 +255,7 @@ impl Preset {
     pub fn parse(text: &str, file: &str) -> Result<Preset, SpeciesError> {
         let bad = |message: String| SpeciesError::Preset { file: file.to_string(), message: message.replace('\n', " ") };
         let p: Preset = ron::from_str(text).map_err(|e| bad(e.to_string()))?;
-        p.check().map_err(bad)?;
+        p.check().map_err(|e| bad(e.to_string()))?;
         Ok(p)
     }
 }
