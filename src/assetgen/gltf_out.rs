@@ -25,18 +25,26 @@ pub struct MaterialTextures {
 }
 
 impl MaterialTextures {
+    /// The material `name` (`oak-bark`, `birch-card`) with its albedo, normal and specular maps
+    /// `{dir}{name}.png`, `{dir}{name}-normal.png` and `{dir}{name}-specular.png` (`dir` is empty
+    /// or ends in `/`). Bark is opaque and matte; leaves are alpha-masked, two-sided and shinier.
+    pub fn with_maps(name: &str, dir: &str, leaves: bool) -> MaterialTextures {
+        let (specular_factor, roughness) = if leaves { (1.0, 0.6) } else { (0.5, 0.9) };
+        MaterialTextures {
+            name: name.to_string(),
+            albedo: format!("{dir}{name}.png"),
+            normal: format!("{dir}{name}-normal.png"),
+            specular: format!("{dir}{name}-specular.png"),
+            leaves,
+            specular_factor,
+            roughness,
+        }
+    }
+
     /// The bark material of species `n`: its bark texture with normal and specular maps under
     /// `textures/`, opaque, matte.
     pub fn bark(n: &str) -> MaterialTextures {
-        MaterialTextures {
-            name: format!("{n}-bark"),
-            albedo: format!("textures/{n}-bark.png"),
-            normal: format!("textures/{n}-bark-normal.png"),
-            specular: format!("textures/{n}-bark-specular.png"),
-            leaves: false,
-            specular_factor: 0.5,
-            roughness: 0.9,
-        }
+        MaterialTextures::with_maps(&format!("{n}-bark"), "textures/", false)
     }
 }
 

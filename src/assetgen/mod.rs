@@ -140,15 +140,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
             let n = sp.name();
             let bark_mat = MaterialTextures::bark(n);
             let leaf_tex = if kind == ModelKind::Mesh { "leaf" } else { "card" };
-            let leaf_mat = MaterialTextures {
-                name: format!("{n}-{leaf_tex}"),
-                albedo: format!("textures/{n}-{leaf_tex}.png"),
-                normal: format!("textures/{n}-{leaf_tex}-normal.png"),
-                specular: format!("textures/{n}-{leaf_tex}-specular.png"),
-                leaves: true,
-                specular_factor: 1.0,
-                roughness: 0.6,
-            };
+            let leaf_mat = MaterialTextures::with_maps(&format!("{n}-{leaf_tex}"), "textures/", true);
             let bin = format!("{name}.bin");
             let (json, bytes) = gltf_out::build(&name, &[(&wood, &bark_mat), (&foliage, &leaf_mat)], &bin);
             write(&trees.join(format!("{name}.gltf")), json.as_bytes())?;

@@ -186,15 +186,7 @@ fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model
     let p = tex.join(format!("{n}-card-specular.png"));
     save(textures::specular(&ch, 256, 0.4, 0.3).save(&p), &p)?;
     let bark_mat = MaterialTextures::bark(&n);
-    let leaf_mat = MaterialTextures {
-        name: format!("{n}-card"),
-        albedo: format!("textures/{n}-card.png"),
-        normal: format!("textures/{n}-card-normal.png"),
-        specular: format!("textures/{n}-card-specular.png"),
-        leaves: true,
-        specular_factor: 1.0,
-        roughness: 0.6,
-    };
+    let leaf_mat = MaterialTextures::with_maps(&format!("{n}-card"), "textures/", true);
     let mut parts: Vec<(&MeshData, &MaterialTextures)> = vec![(&model.wood, &bark_mat)];
     if !model.leaves.positions.is_empty() {
         parts.push((&model.leaves, &leaf_mat));

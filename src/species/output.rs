@@ -120,24 +120,8 @@ fn stage_files(stage: &Path, model: &Model, p: &Preset) -> Result<(), SpeciesErr
     png(|q| leaf.save(q), &f("leaf"))?;
     png(|q| ln.save(q), &f("leaf-normal"))?;
     png(|q| ls.save(q), &f("leaf-specular"))?;
-    let bark_mat = MaterialTextures {
-        name: format!("{n}-bark"),
-        albedo: format!("{n}-bark.png"),
-        normal: format!("{n}-bark-normal.png"),
-        specular: format!("{n}-bark-specular.png"),
-        leaves: false,
-        specular_factor: 0.5,
-        roughness: 0.9,
-    };
-    let leaf_mat = MaterialTextures {
-        name: format!("{n}-leaf"),
-        albedo: format!("{n}-leaf.png"),
-        normal: format!("{n}-leaf-normal.png"),
-        specular: format!("{n}-leaf-specular.png"),
-        leaves: true,
-        specular_factor: 1.0,
-        roughness: 0.6,
-    };
+    let bark_mat = MaterialTextures::with_maps(&format!("{n}-bark"), "", false);
+    let leaf_mat = MaterialTextures::with_maps(&format!("{n}-leaf"), "", true);
     for (lod, file) in model.lods.iter().zip(lod_names(n)) {
         let mut parts = vec![(&lod.wood, &bark_mat)];
         if !lod.leaves.positions.is_empty() {
