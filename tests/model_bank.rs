@@ -335,9 +335,11 @@ fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
     let scene = Scene::load(&common::root().join("assets/scenes/garden.ron")).unwrap();
     let banks = Banks::open(&scene.bank_dirs()).unwrap();
     let (catalogue, listed) = banks.session_catalogue().unwrap();
-    assert_eq!(listed.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(), ["lsys-broadleaf", "lsys-conifer", "lsys-birch"]);
-    let mut s = Script::new(Sim::from_scene_with(&scene, scene.seed, catalogue).unwrap());
-    let lsys = s.sim().world().query::<&grove_systems::components::Tree>().iter().filter(|t| t.model.0 >= 8).count();
+    let names: Vec<&str> = listed.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names[..3], ["lsys-broadleaf", "lsys-conifer", "lsys-birch"], "the L-system bank first, as the scene names it");
+    assert!(names[3..].iter().all(|n| n.ends_with("-lod1") || n.ends_with("-lod2")) && names.len() == 15, "then the species bank: {names:?}");
+    let mut s = Script::new(Sim::from_scene_with(&scene, scene.seed, catalogue.clone()).unwrap());
+    let lsys = s.sim().world().query::<&grove_systems::components::Tree>().iter().filter(|t| catalogue.models[t.model.0 as usize].name.starts_with("lsys-")).count();
     assert_eq!(lsys, 6, "the garden's six L-system trees");
     let p = Vec3::new(0.0, s.sim().res().spatial.ground_below(Vec3::new(0.0, 50.0, 10.0), 0.0).unwrap().point.y, 10.0);
     s.choose_model("lsys-birch").point_at(p).press(Button::Trigger).wait(70);

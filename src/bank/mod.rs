@@ -69,6 +69,18 @@ pub fn load_into(renderer: &mut crate::render::Renderer, files: &[(ModelId, Path
     Ok(())
 }
 
+/// Loads into a renderer the models of `catalogue` beyond the shipped ones (a scene's or a
+/// replay's), found in the scene's own banks and then the session's (`args`, `GROVE_BANK`).
+pub fn load_for_scene(
+    renderer: &mut crate::render::Renderer,
+    scene: &grove_systems::scene::Scene,
+    args: &[PathBuf],
+    catalogue: &grove_systems::catalogue::Catalogue,
+) -> Result<(), BankError> {
+    let banks = open_for_scene(scene, args)?;
+    load_into(renderer, &files_for(&banks, catalogue))
+}
+
 /// The folder of the shipped models (`assets/trees` of the source tree).
 pub fn shipped_dir() -> PathBuf {
     crate::render::default_assets_dir().join("trees")

@@ -30,6 +30,7 @@ const ROWS: [(&str, bool, bool, bool); 4] = [
 pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyhow::Result<Value> {
     let scene = Scene::load(Path::new(PARK)).map_err(|e| anyhow!("{PARK}: {e}"))?;
     let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    crate::bank::load_for_scene(renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
     let saved = renderer.options;
     let mut rows = serde_json::Map::new();
     for (name, grass, water, shadows) in ROWS {

@@ -1,8 +1,9 @@
 //! `grove bench render`: frame times of the renderer, offscreen at 1280×720.
 //!
 //! - **Reference scene** (after Fukuda et al. 2007): 100 trees at 10 m spacing on a 100 × 100 m
-//!   ground, the sun at 45° elevation, with the shadow map on and off; with all eight models in
-//!   turn, with only billboard models and with only mesh models.
+//!   ground, the sun at 45° elevation, with the shadow map on and off; with all eight classic
+//!   models in turn, with only billboard models, with only mesh models, and with the twelve
+//!   models of the shipped species bank as young trees (`species`).
 //! - **Cost per model**: 1k and 10k instances of each model (shadows off), with triangles per
 //!   frame, billboard versus mesh.
 //!
@@ -217,7 +218,32 @@ pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Resu
 pub(super) fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::Result<Sim> {
     let half = side as f32 * 5.0;
     let scene = ground_scene(half, (half / 25.0).max(2.0));
-    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    Ok(plant(sim, side, models, 1.0))
+}
+
+/// The shipped species bank's folder (`assets/banks/species`, docs/species.md).
+pub fn species_bank() -> std::path::PathBuf {
+    crate::render::default_assets_dir().join("banks/species")
+}
+
+/// The forest of [`forest`] with the twelve models of the shipped species bank in turn, as young
+/// trees (half their grown size, about as tall as the eight classic models), loaded into
+/// `renderer`.
+pub(super) fn species_forest(renderer: &mut Renderer, side: u32) -> anyhow::Result<Sim> {
+    let half = side as f32 * 5.0;
+    let mut scene = ground_scene(half, (half / 25.0).max(2.0));
+    scene.banks = vec![species_bank().display().to_string()];
+    let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    crate::bank::load_for_scene(renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    let first = grove_systems::catalogue::SHIPPED_MODELS as u32;
+    let count = sim.res().catalogue.models.len() as u32 - first;
+    Ok(plant(sim, side, Some(&|i| (first + i % count) as u8), 0.5))
+}
+
+/// Plants `side`² trees of `models` at `scale` in `sim` and places the camera and the sun.
+fn plant(mut sim: Sim, side: u32, models: Option<&dyn Fn(u32) -> u8>, scale: f32) -> Sim {
+    let half = side as f32 * 5.0;
     if let Some(model) = models {
         for i in 0..side * side {
             let (x, z) = (
@@ -228,7 +254,7 @@ pub(super) fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::R
                 ModelId(model(i)),
                 Vec3::new(x, 0.0, z),
                 i as f32 * 0.7,
-                1.0,
+                scale,
                 true,
             );
         }
@@ -238,16 +264,17 @@ pub(super) fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::R
         Vec3::new(0.0, 14.0, half + 12.0),
         Vec3::new(0.0, 0.0, 0.0),
     );
-    Ok(sim)
+    sim
 }
 
-/// The forest's variants: all 8 models in turn ("mixed"), only the billboard models, only the
-/// mesh models, and no trees.
-const VARIANTS: [(&str, Option<fn(u32) -> u8>); 4] = [
+/// The forest's variants: all 8 classic models in turn ("mixed"), only their billboard models,
+/// only their mesh models, no trees, and the species bank's twelve models ("species").
+const VARIANTS: [(&str, Option<fn(u32) -> u8>); 5] = [
     ("mixed", Some(|i| (i % 8) as u8)),
     ("billboard", Some(|i| 4 + (i % 4) as u8)),
     ("mesh", Some(|i| (i % 4) as u8)),
     ("no_trees", None),
+    ("species", None),
 ];
 
 /// The figures of a `side`² forest in every variant, shadows on and off, `frames` frames each.
@@ -259,7 +286,7 @@ pub(super) fn forest_figures(
 ) -> anyhow::Result<Value> {
     let mut figures = serde_json::Map::new();
     for (variant, models) in VARIANTS {
-        let sim = forest(side, models.as_ref().map(|f| f as &dyn Fn(u32) -> u8))?;
+        let sim = if variant == "species" { species_forest(renderer, side)? } else { forest(side, models.as_ref().map(|f| f as &dyn Fn(u32) -> u8))? };
         for shadows in [true, false] {
             renderer.options.shadows = shadows;
             let on = if shadows { "on" } else { "off" };

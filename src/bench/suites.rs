@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 
-use super::render::{forest, forest_figures, header, reference_scene, setup, RenderBenchOptions, WALL_TIMING};
+use super::render::{forest, forest_figures, header, reference_scene, setup, species_forest, RenderBenchOptions, WALL_TIMING};
 
 /// Runs only the reference scene and returns its figures.
 pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
@@ -15,6 +15,8 @@ pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
     if options.impostor_pixels > 0.0 || options.leaf_pixels > 0.0 {
         let sim = forest(10, Some(&|i| (i % 8) as u8))?;
         out.insert("reference_image_vs_full_detail".into(), super::impostor::image_error(&gpu, &mut renderer, &sim)?);
+        let sim = species_forest(&mut renderer, 10)?;
+        out.insert("reference_species_image_vs_full_detail".into(), super::impostor::image_error(&gpu, &mut renderer, &sim)?);
     }
     Ok(Value::Object(out))
 }

@@ -218,18 +218,8 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     let n = a.src.n.unwrap_or(g.n);
     let limits = a.src.limits();
     let name = a.name.clone().unwrap_or_else(|| g.name.clone());
-    if !grove_systems::bank::valid_name(&name) || name.contains('.') {
-        let shown: String = name.chars().take(40).collect();
-        bail!("model name '{shown}{}' must be 1 to 64 letters, digits, '-' and '_'", if name.chars().count() > 40 { "…" } else { "" });
-    }
-    let bank = if a.add {
-        Some(match &a.bank {
-            Some(b) => b.clone(),
-            None => grove::bank::session_dirs(&[]).into_iter().next().ok_or_else(|| anyhow::anyhow!("--add needs --bank DIR (or GROVE_BANK)"))?,
-        })
-    } else {
-        None
-    };
+    super::models::check_model_name(&name)?;
+    let bank = if a.add { Some(super::models::bank_for_add(a.bank.clone())?) } else { None };
     let s = cpu_derive(&g, n, a.src.seed, &limits, None)?;
     let segs = turtle::interpret_parallel(&s, &g, limits.max_bytes)?;
     let model = mesh::build(&g, &segs, &mesh::ModelOptions { height: a.height.unwrap_or(g.height), ..Default::default() })?;
@@ -250,10 +240,7 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     );
     if let Some(bank) = bank {
         let req = grove::bank::import::AddRequest { file: w.gltf.clone(), bank: bank.clone(), name: Some(name.clone()), species: Some(format!("lsystem-{}", g.name)), kind: None };
-        match grove::bank::import::add(&req)? {
-            grove::bank::import::Added::New(m) => println!("added '{}' to {} (lowest point {:.3} m, {} triangles)", m.name, bank.display(), m.bounds_min.y, m.triangles),
-            grove::bank::import::Added::Unchanged(m) => println!("'{}' is already in {} with the same files", m.name, bank.display()),
-        }
+        super::models::print_added(&grove::bank::import::add(&req)?, &bank);
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -27,6 +27,41 @@ pub enum KindArg {
     Billboard,
 }
 
+impl KindArg {
+    /// The catalogue's kind.
+    pub fn kind(self) -> ModelKind {
+        match self {
+            KindArg::Mesh => ModelKind::Mesh,
+            KindArg::Billboard => ModelKind::Billboard,
+        }
+    }
+}
+
+/// The bank folder a generator's `--add` writes to: `--bank`, or the first GROVE_BANK folder.
+pub fn bank_for_add(bank: Option<PathBuf>) -> anyhow::Result<PathBuf> {
+    match bank {
+        Some(b) => Ok(b),
+        None => grove::bank::session_dirs(&[]).into_iter().next().ok_or_else(|| anyhow!("--add needs --bank DIR (or GROVE_BANK)")),
+    }
+}
+
+/// Refuses a model name a bank cannot hold, with one line (before anything is generated).
+pub fn check_model_name(name: &str) -> anyhow::Result<()> {
+    if !grove_systems::bank::valid_name(name) || name.contains('.') {
+        let shown: String = name.chars().take(40).collect();
+        anyhow::bail!("model name '{shown}{}' must be 1 to 64 letters, digits, '-' and '_'", if name.chars().count() > 40 { "…" } else { "" });
+    }
+    Ok(())
+}
+
+/// One line saying what a generator's `--add` did.
+pub fn print_added(added: &Added, bank: &std::path::Path) {
+    match added {
+        Added::New(m) => println!("added '{}' to {} (lowest point {:.3} m, {} triangles)", m.name, bank.display(), m.bounds_min.y, m.triangles),
+        Added::Unchanged(m) => println!("'{}' is already in {} with the same files", m.name, bank.display()),
+    }
+}
+
 /// `grove models` subcommands.
 #[derive(Subcommand)]
 pub enum ModelsCommand {
@@ -116,10 +151,7 @@ fn run_add(a: AddArgs) -> anyhow::Result<ExitCode> {
         Some(b) => b,
         None => grove::bank::session_dirs(&[]).into_iter().next().ok_or_else(|| anyhow!("name the bank folder with --bank DIR (or set GROVE_BANK)"))?,
     };
-    let kind = a.kind.map(|k| match k {
-        KindArg::Mesh => ModelKind::Mesh,
-        KindArg::Billboard => ModelKind::Billboard,
-    });
+    let kind = a.kind.map(KindArg::kind);
     let req = AddRequest { file: a.file, bank: bank.clone(), name: a.name, species: a.species, kind };
     let (added, data) = add_noted(&req)?;
     for w in &data.warnings {

@@ -140,8 +140,7 @@ fn options(args: &RenderArgs) -> RenderOptions {
 pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene, aerial: Option<grove::render::aerial_ground::AerialSources>) -> anyhow::Result<Renderer> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height)?;
     renderer.options = options(args);
-    let banks = grove::bank::open_for_scene(scene, &args.banks).map_err(|e| anyhow!(e))?;
-    grove::bank::load_into(&mut renderer, &grove::bank::files_for(&banks, &sim.res().catalogue)).map_err(|e| anyhow!(e))?;
+    grove::bank::load_for_scene(&mut renderer, scene, &args.banks, &sim.res().catalogue).map_err(|e| anyhow!(e))?;
     if let Some(aerial) = aerial {
         renderer.features.aerial.set(aerial)?;
         // A still image shows the photographs as loaded: wait (briefly) for their tiles.

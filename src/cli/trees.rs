@@ -28,6 +28,22 @@ pub struct GenerateArgs {
     /// The output folder (created if missing; existing files are never replaced).
     #[arg(long)]
     pub out: PathBuf,
+    /// Also add one level of detail of the written model to a model bank (`grove models add`;
+    /// docs/model-bank.md), as species NAME: the folder --bank, or the first GROVE_BANK folder.
+    #[arg(long)]
+    pub add: bool,
+    /// The bank folder for --add.
+    #[arg(long, requires = "add")]
+    pub bank: Option<PathBuf>,
+    /// The level of detail --add adds: 0 every triangle, 1 about 25 %, 2 about 5 %.
+    #[arg(long, requires = "add", default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=2))]
+    pub lod: u8,
+    /// The model's name in the bank (default: the species' name, with `-lod1` or `-lod2` for --lod 1 or 2).
+    #[arg(long, requires = "add")]
+    pub name: Option<String>,
+    /// The model's kind in the bank's menu (default: measured from the leaves' cards).
+    #[arg(long, value_enum, requires = "add")]
+    pub kind: Option<super::models::KindArg>,
 }
 
 /// Runs a `grove trees` subcommand.
@@ -40,6 +56,10 @@ pub fn run(cmd: TreesCommand) -> anyhow::Result<ExitCode> {
         }
         TreesCommand::Generate(a) => {
             let t0 = Instant::now();
+            let bank = if a.add { Some(super::models::bank_for_add(a.bank.clone())?) } else { None };
+            if let Some(name) = &a.name {
+                super::models::check_model_name(name)?;
+            }
             let w = grove::species::output::write(&a.species, a.seed, &a.out)?;
             let m = &w.model;
             let (lo, hi) = m.bounds();
@@ -55,6 +75,18 @@ pub fn run(cmd: TreesCommand) -> anyhow::Result<ExitCode> {
                 m.crown_radius(),
                 t0.elapsed().as_secs_f64()
             );
+            if let Some(bank) = bank {
+                let lod = usize::from(a.lod);
+                let name = a.name.clone().unwrap_or_else(|| grove::species::output::lod_name(&m.name, lod));
+                let req = grove::bank::import::AddRequest {
+                    file: a.out.join(format!("{}.gltf", grove::species::output::lod_name(&m.name, lod))),
+                    bank: bank.clone(),
+                    name: Some(name),
+                    species: Some(m.name.clone()),
+                    kind: a.kind.map(super::models::KindArg::kind),
+                };
+                super::models::print_added(&grove::bank::import::add(&req)?, &bank);
+            }
         }
     }
     Ok(ExitCode::SUCCESS)

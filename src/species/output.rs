@@ -74,7 +74,16 @@ pub fn file_names(name: &str) -> Vec<String> {
 }
 
 fn lod_names(name: &str) -> [String; 3] {
-    [name.to_string(), format!("{name}-lod1"), format!("{name}-lod2")]
+    [lod_name(name, 0), lod_name(name, 1), lod_name(name, 2)]
+}
+
+/// The file stem of level of detail `lod` (0, 1 or 2) of species `name`: `NAME`, `NAME-lod1`, `NAME-lod2`.
+pub fn lod_name(name: &str, lod: usize) -> String {
+    if lod == 0 {
+        name.to_string()
+    } else {
+        format!("{name}-lod{lod}")
+    }
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SpeciesError + '_ {
