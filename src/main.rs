@@ -66,6 +66,7 @@ enum Command {
 
 fn main() -> ExitCode {
     cli::install_panic_hook();
+    cli::quiet_on_closed_pipe();
     if let Err(e) = techniques::install_all() {
         eprintln!("error: {e}");
         return ExitCode::from(2);

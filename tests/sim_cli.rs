@@ -119,3 +119,22 @@ fn help_lists_only_working_subcommands() {
         assert!(out.status.success(), "`grove {cmd} --help` works");
     }
 }
+
+/// A reader that closes the pipe early (`grove … | head`) ends grove quietly: no "internal
+/// error" line, as with other command-line tools.
+#[test]
+fn a_closed_pipe_is_not_an_internal_error() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_grove"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(["scene", "check", "assets/scenes/park.ron"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("internal error"), "{err}");
+    assert!(err.is_empty(), "{err}");
+}

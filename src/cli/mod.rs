@@ -74,6 +74,17 @@ pub fn install_panic_hook() {
     }));
 }
 
+/// Restores the default action of SIGPIPE (Rust ignores it), so that `grove … | head` ends
+/// quietly when the reader closes the pipe, as other command-line tools do, instead of failing
+/// to print and reporting that as an internal error.
+pub fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: called once at start-up, before any thread exists; SIG_DFL is a valid action.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 /// Loads a scene file, with the error naming the file.
 pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
     Ok(Scene::load(path)?)

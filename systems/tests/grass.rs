@@ -13,7 +13,8 @@ fn park_text() -> String {
 }
 
 fn park() -> Scene {
-    Scene::parse(&park_text(), "park.ron").expect("the park scene loads")
+    // Loaded from its file, so that the species bank it names is found beside it.
+    Scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/park.ron"))).expect("the park scene loads")
 }
 
 /// The blades of every blade patch of a world, patch by patch in entity order.
@@ -95,6 +96,9 @@ fn no_blade_stands_over_a_hole() {
     // its water are not part of this test; the ground's hole under the pond stays.
     scene.planes.retain(|p| p.name != "pond bed");
     scene.water.clear();
+    // Nor are its trees, from a bank beside the scene's file (this text has no folder).
+    scene.trees.clear();
+    scene.banks.clear();
     let sim = Sim::from_scene(&scene, scene.seed).unwrap();
     let holes = [(Vec2::new(-6.0, -3.0), 1.0), (Vec2::new(6.0, 4.0), 0.8), (Vec2::new(-12.0, -10.0), 2.3), (Vec2::new(6.0, -6.0), 2.7857)];
     let blades: Vec<Blade> = blades_of(&sim).into_iter().flatten().collect();
