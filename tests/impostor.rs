@@ -226,6 +226,7 @@ fn goldens_of_the_reference_scene_and_the_forest() {
         r.options.impostor_pixels = 20.0;
         let img = offscreen::render_image(g, &mut r, sim).unwrap();
         r.options.impostor_pixels = 0.0;
+        r.options.far_pixels = 0.0;
         r.options.leaf_pixels = 0.0;
         let full = offscreen::render_image(g, &mut r, sim).unwrap();
         r.resize(4 * w, 4 * h);

@@ -378,3 +378,26 @@ fn bad_model_lists_in_headers_are_refused_in_one_line() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_far_model_must_already_be_in_the_bank() {
+    let dir = temp_dir("far");
+    let bank = dir.join("bank");
+    let shrub = common::root().join("assets/trees/shrub-billboard.gltf");
+    let add = |name: &str, far: Option<&str>| {
+        let mut args = vec!["models", "add", shrub.to_str().unwrap(), "--bank", bank.to_str().unwrap(), "--name", name];
+        if let Some(f) = far {
+            args.extend(["--far", f]);
+        }
+        grove(&args)
+    };
+    assert_one_line_error(&add("near", Some("distant")), 2, "is not in this bank");
+    assert!(add("distant", None).status.success());
+    assert_one_line_error(&add("self", Some("self")), 2, "is not in this bank");
+    let o = add("near", Some("distant"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_one_line_error(&add("nearer", Some("near")), 2, "without a far model of its own");
+    let text = std::fs::read_to_string(bank.join("catalogue.ron")).unwrap();
+    assert!(text.contains("far: Some(\"distant\")"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

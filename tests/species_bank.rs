@@ -67,3 +67,43 @@ fn the_landscape_scenes_plant_species() {
         assert!(species.len() >= 4, "{name}: only {species:?}");
     }
 }
+
+/// A species tree small on screen is drawn as its far model: the bank's `NAME-lod1` names
+/// `NAME-lod2`, and the renderer draws exactly the far model's triangles in its place (leaves
+/// and impostors at full detail, no shadows, so that the counts are the models' own).
+#[test]
+fn a_far_tree_is_drawn_as_its_far_model() {
+    use glam::Vec3;
+    use grove::render::offscreen::{self, Gpu};
+    use grove::render::Renderer;
+    use grove_systems::components::{Head, Pose};
+    use grove_systems::scene::Scene;
+    use grove_systems::Sim;
+    let mut scene = Scene::load(&root().join("assets/scenes/park.ron")).unwrap();
+    scene.trees.clear();
+    scene.grass.clear();
+    scene.water.clear();
+    let mut sim = Sim::from_scene(&scene, scene.seed).unwrap();
+    let cat = sim.res().catalogue.clone();
+    let id = |name: &str| cat.models.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("{name}")).clone();
+    let (near, far) = (id("oak-lod1"), id("oak-lod2"));
+    sim.spawn_tree(near.id, Vec3::new(0.0, 0.0, -60.0), 0.0, 0.5, true);
+    sim.set_up().camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, 4.0, -60.0)), fov_y: 60f32.to_radians() });
+    let gpu = Gpu::new().unwrap();
+    let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, 160, 120).unwrap();
+    grove::bank::load_for_scene(&mut r, &scene, &[], &cat).unwrap();
+    r.options.shadows = false;
+    r.options.leaf_pixels = 0.0;
+    r.options.impostor_pixels = 0.0;
+    let mut triangles = |far_pixels: f32| {
+        r.options.far_pixels = far_pixels;
+        offscreen::render_image(&gpu, &mut r, &sim).unwrap();
+        r.stats.triangles as i64
+    };
+    // The tree at half size has a bounding sphere of about 9.7 m radius; at 60 m, with 104
+    // pixels per radian (120 lines, 60°), it covers about 34 pixels: below 400, above 20.
+    let (as_far, as_near, default) = (triangles(400.0), triangles(20.0), triangles(grove::render::DEFAULT_FAR_PIXELS));
+    assert_eq!(as_near - as_far, i64::from(near.triangles) - i64::from(far.triangles), "near {as_near}, far {as_far}");
+    assert_eq!(default, as_far);
+    assert_eq!(triangles(0.0), as_near, "0 always draws the model itself");
+}

@@ -29,6 +29,9 @@ pub struct AddRequest {
     pub species: Option<String>,
     /// The kind (default: measured from the materials).
     pub kind: Option<ModelKind>,
+    /// A coarser model of the same tree, already in the bank, that the renderer draws in this
+    /// one's place where the tree is small on screen ([`BankModel::far`]).
+    pub far: Option<String>,
 }
 
 /// What `add` did.
@@ -135,8 +138,15 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
 
     std::fs::create_dir_all(&req.bank).with_context(|| format!("{}: cannot create the bank folder", req.bank.display()))?;
     let bank = Bank::open(&req.bank).map_err(|e| anyhow!(e))?;
+    if let Some(far) = &req.far {
+        match bank.get(far) {
+            Some(f) if f.far.is_none() && far != &name => {}
+            Some(_) => bail!("{}: --far '{far}' must be another model without a far model of its own", req.bank.display()),
+            None => bail!("{}: --far '{far}' is not in this bank; add it first", req.bank.display()),
+        }
+    }
     if let Some(old) = bank.get(&name) {
-        if old.hash == hash {
+        if old.hash == hash && old.far == req.far {
             return Ok(Added::Unchanged(old.clone()));
         }
         bail!("{}: the bank already has a different model named '{name}'; choose another --name", req.bank.display());
@@ -164,6 +174,7 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
         pick: m.pick,
         wind: if m.own_wind { WindSource::Own } else { WindSource::Computed },
         thumbnail: Some(format!("{name}/thumbnail.png")),
+        far: req.far.clone(),
     };
     // Copy into a hidden folder, then rename it into place: a failure leaves no half model.
     let tmp = req.bank.join(format!(".{name}.tmp-{}", std::process::id()));

@@ -41,30 +41,46 @@ pub fn open_for_scene(scene: &grove_systems::scene::Scene, args: &[PathBuf]) -> 
     Ok(Banks::open(&dirs)?)
 }
 
+/// A bank model for the renderer: its id in the session's catalogue, its glTF file, and the id
+/// of its far model ([`grove_systems::bank::BankModel::far`]) where that is in the catalogue too.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelFile {
+    /// The model's id.
+    pub id: ModelId,
+    /// Its glTF file.
+    pub path: PathBuf,
+    /// The id of the coarser model drawn in its place where the tree is small on screen.
+    pub far: Option<ModelId>,
+}
+
 /// The glTF file of every bank model of a session catalogue, with its model id (ids from 8 on,
 /// in the order of [`Banks::session_catalogue`]), for the renderer to load.
-pub fn model_files(banks: &Banks) -> Result<Vec<(ModelId, PathBuf)>, BankError> {
-    let base = grove_systems::catalogue::SHIPPED_MODELS;
-    Ok(banks.models()?.into_iter().enumerate().map(|(i, (b, m))| (ModelId((base + i) as u8), b.file_of(m))).collect())
+pub fn model_files(banks: &Banks) -> Result<Vec<ModelFile>, BankError> {
+    let (catalogue, _) = banks.session_catalogue()?;
+    Ok(files_for(banks, &catalogue))
 }
 
 /// The glTF files of the models a catalogue holds beyond the shipped ones, looked up by name in
 /// the banks (for a replay, whose catalogue comes from its header).
-pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue) -> Vec<(ModelId, PathBuf)> {
+pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue) -> Vec<ModelFile> {
+    let id_of = |name: &str| catalogue.models.iter().find(|m| m.name == name).map(|m| m.id);
     catalogue
         .models
         .iter()
         .skip(grove_systems::catalogue::SHIPPED_MODELS)
-        .filter_map(|m| banks.find(&m.name).map(|(b, bm)| (m.id, b.file_of(bm))))
+        .filter_map(|m| banks.find(&m.name).map(|(b, bm)| ModelFile { id: m.id, path: b.file_of(bm), far: bm.far.as_deref().and_then(id_of) }))
         .collect()
 }
 
-/// Loads bank models into a renderer (see [`model_files`], [`files_for`]); the error names the
-/// file.
-pub fn load_into(renderer: &mut crate::render::Renderer, files: &[(ModelId, PathBuf)]) -> Result<(), BankError> {
-    for (id, path) in files {
-        let data = validate_gltf(path)?;
-        renderer.features.trees.set_model(*id, &data);
+/// Loads bank models into a renderer (see [`model_files`], [`files_for`]) and ties each to its
+/// far model; the error names the file.
+pub fn load_into(renderer: &mut crate::render::Renderer, files: &[ModelFile]) -> Result<(), BankError> {
+    for f in files {
+        let data = validate_gltf(&f.path)?;
+        renderer.features.trees.set_model(f.id, &data);
+    }
+    for f in files {
+        renderer.features.trees.set_far(f.id, f.far);
     }
     Ok(())
 }

@@ -19,6 +19,7 @@ pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> anyhow::Res
     let saved = renderer.options;
     renderer.options.leaf_pixels = 0.0;
     renderer.options.impostor_pixels = 0.0;
+    renderer.options.far_pixels = 0.0;
     let full = offscreen::render_image(gpu, renderer, sim).map_err(anyhow::Error::from);
     renderer.options = saved;
     let full = full?;

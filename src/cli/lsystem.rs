@@ -239,7 +239,7 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
         hi.z
     );
     if let Some(bank) = bank {
-        let req = grove::bank::import::AddRequest { file: w.gltf.clone(), bank: bank.clone(), name: Some(name.clone()), species: Some(format!("lsystem-{}", g.name)), kind: None };
+        let req = grove::bank::import::AddRequest { file: w.gltf.clone(), bank: bank.clone(), name: Some(name.clone()), species: Some(format!("lsystem-{}", g.name)), kind: None, far: None };
         super::models::print_added(&grove::bank::import::add(&req)?, &bank);
     }
     Ok(ExitCode::SUCCESS)

@@ -90,6 +90,10 @@ pub struct AddArgs {
     /// The kind (default: billboard when most triangles use alpha-clipped materials, else mesh).
     #[arg(long, value_enum)]
     pub kind: Option<KindArg>,
+    /// A coarser model of the same tree, already in the bank, drawn in this one's place where
+    /// the tree is small on screen (docs/model-bank.md, "Far models").
+    #[arg(long, value_name = "NAME")]
+    pub far: Option<String>,
 }
 
 /// Arguments of `grove models list` and `grove models check`.
@@ -152,7 +156,7 @@ fn run_add(a: AddArgs) -> anyhow::Result<ExitCode> {
         None => grove::bank::session_dirs(&[]).into_iter().next().ok_or_else(|| anyhow!("name the bank folder with --bank DIR (or set GROVE_BANK)"))?,
     };
     let kind = a.kind.map(KindArg::kind);
-    let req = AddRequest { file: a.file, bank: bank.clone(), name: a.name, species: a.species, kind };
+    let req = AddRequest { file: a.file, bank: bank.clone(), name: a.name, species: a.species, kind, far: a.far };
     let (added, data) = add_noted(&req)?;
     for w in &data.warnings {
         eprintln!("warning: {w}");

@@ -239,7 +239,7 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
     let gpu = Gpu::new()?;
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
-    renderer.options = RenderOptions { impostor_pixels: 0.0, ..options(args) };
+    renderer.options = RenderOptions { impostor_pixels: 0.0, far_pixels: 0.0, ..options(args) };
     renderer.features.trees.set_model(id, &data);
     let bar = indicatif::ProgressBar::new(n as u64);
     for f in 0..n {

@@ -44,6 +44,10 @@ pub struct GenerateArgs {
     /// The model's kind in the bank's menu (default: measured from the leaves' cards).
     #[arg(long, value_enum, requires = "add")]
     pub kind: Option<super::models::KindArg>,
+    /// A coarser model of the same tree already in the bank (say its `--lod 2`), drawn in this
+    /// one's place where the tree is small on screen (docs/model-bank.md, "Far models").
+    #[arg(long, value_name = "NAME", requires = "add")]
+    pub far: Option<String>,
 }
 
 /// Runs a `grove trees` subcommand.
@@ -84,6 +88,7 @@ pub fn run(cmd: TreesCommand) -> anyhow::Result<ExitCode> {
                     name: Some(name),
                     species: Some(m.name.clone()),
                     kind: a.kind.map(super::models::KindArg::kind),
+                    far: a.far.clone(),
                 };
                 super::models::print_added(&grove::bank::import::add(&req)?, &bank);
             }

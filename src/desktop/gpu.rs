@@ -1,11 +1,10 @@
 //! The wgpu renderer ([`grove::render::Renderer`]) as the desktop's 3D view, and the tree
 //! thumbnails it draws offscreen for the tree-selection window.
 
-use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use grove::render::Renderer;
-use grove_systems::catalogue::{Catalogue, ModelId};
+use grove_systems::catalogue::Catalogue;
 use grove_systems::stage::model_stage;
 use grove_systems::Sim;
 
@@ -33,11 +32,11 @@ impl WorldRenderer for Renderer {
 
 /// The session's catalogue and the glTF files of its bank models, set once by `grove play`
 /// before the window opens (the factories below are plain functions, so they read it here).
-static SESSION_MODELS: OnceLock<(Catalogue, Vec<(ModelId, PathBuf)>)> = OnceLock::new();
+static SESSION_MODELS: OnceLock<(Catalogue, Vec<grove::bank::ModelFile>)> = OnceLock::new();
 
 /// Sets the session's catalogue and bank model files for the renderer and the thumbnails; only
 /// the first call has an effect.
-pub fn set_session_models(catalogue: Catalogue, files: Vec<(ModelId, PathBuf)>) {
+pub fn set_session_models(catalogue: Catalogue, files: Vec<grove::bank::ModelFile>) {
     let _ = SESSION_MODELS.set((catalogue, files));
 }
 
@@ -75,6 +74,8 @@ pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::T
 pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, DesktopError> {
     let catalogue = SESSION_MODELS.get().map_or_else(Catalogue::builtin, |(c, _)| c.clone());
     let mut renderer = session_renderer(device, queue, THUMB_FORMAT, THUMB_SIZE, THUMB_SIZE)?;
+    // A thumbnail shows the model itself, not the far model its size would pick.
+    renderer.options.far_pixels = 0.0;
     let mut views = Vec::new();
     for m in &catalogue.models {
         let sim = model_stage((m.bounds_min, m.bounds_max), 1.0, false, m.id).map_err(DesktopError::Stage)?;

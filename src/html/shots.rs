@@ -70,7 +70,7 @@ impl Shots {
         }
         let (r, _) = self.top.as_mut().ok_or(HtmlError::NoRenderer)?;
         // Every leaf and no impostor: seen from far above, level of detail would thin the crowns.
-        r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, top_view: Some(view), ..Default::default() };
+        r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, far_pixels: 0.0, top_view: Some(view), ..Default::default() };
         let img = offscreen::render_image(&self.gpu, r, sim)?;
         jpeg_uri(&img, 80)
     }

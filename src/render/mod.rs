@@ -55,7 +55,7 @@ pub use view::{camera_matrix, Camera, TopView};
 pub use aerial_ground::AerialPhotos;
 pub use feature::FrameStats;
 pub use error::{ClipmapError, GltfError, GltfProblem, PipelineError, RenderError};
-pub use options::{RenderOptions, WaterOutput, DEFAULT_IMPOSTOR_PIXELS};
+pub use options::{RenderOptions, WaterOutput, DEFAULT_FAR_PIXELS, DEFAULT_IMPOSTOR_PIXELS};
 
 
 /// The drawn features, one named field each; the frame ([`frame`]) calls them in its order.

@@ -191,7 +191,7 @@ pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, option
 pub fn render_model_data(gpu: &Gpu, data: &gltf_load::ModelData, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, FORMAT, width, height, &super::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
-    renderer.options = RenderOptions { impostor_pixels: 0.0, ..options };
+    renderer.options = RenderOptions { impostor_pixels: 0.0, far_pixels: 0.0, ..options };
     renderer.features.trees.set_model(ModelId(0), data);
     let sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0)).map_err(RenderError::Stage)?;
     render_image(gpu, &mut renderer, &sim)

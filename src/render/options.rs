@@ -20,6 +20,11 @@ pub enum WaterOutput {
 /// ([`RenderOptions::impostor_pixels`]).
 pub const DEFAULT_IMPOSTOR_PIXELS: f32 = 150.0;
 
+/// The on-screen size, in pixels, of a tree's bounding sphere below which a model with a far
+/// model is drawn as that model ([`RenderOptions::far_pixels`]): the shipped species' level of
+/// detail 2 (about a fifth of level 1's triangles) stands in for level 1 below it.
+pub const DEFAULT_FAR_PIXELS: f32 = 400.0;
+
 /// Rendering options.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderOptions {
@@ -50,6 +55,10 @@ pub struct RenderOptions {
     /// scene's image within a mean absolute error of 4 of 255 per channel of the full-detail
     /// render (README, `grove bench render-reference`).
     pub impostor_pixels: f32,
+    /// The on-screen size, in pixels, of a tree's bounding sphere below which a model with a
+    /// far model (a coarser level of detail of the same tree, `BankModel::far`) is drawn as that
+    /// model. 0 always draws the model itself. The default is [`DEFAULT_FAR_PIXELS`].
+    pub far_pixels: f32,
     /// Draw the photographed crowns as canopy layers (with aerial photographs set by
     /// [`crate::render::AerialPhotos::set`]); off, or without layer masks, they are drawn as tree models.
     pub canopy: bool,
@@ -63,7 +72,7 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, canopy: true, top_view: None, camera: None }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, canopy: true, top_view: None, camera: None }
     }
 }
 

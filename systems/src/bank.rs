@@ -79,6 +79,11 @@ pub struct BankModel {
     /// A PNG thumbnail, relative to the bank folder, if one was made.
     #[serde(default)]
     pub thumbnail: Option<String>,
+    /// A coarser model of the same tree in the same bank (say its level of detail 2), which the
+    /// renderer draws in this one's place where the tree is small on screen; the simulation
+    /// never sees it (picking, snapping and the hash use this model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub far: Option<String>,
 }
 
 impl BankModel {
@@ -254,6 +259,12 @@ impl BankCatalogue {
             if !finite || m.bounds_min.cmpgt(m.bounds_max).any() || m.bounds_min.abs().max_element().max(m.bounds_max.abs().max_element()) > crate::limits::MAX_COORD {
                 return Err(format!("catalogue: model '{}' has invalid bounds", m.name));
             }
+            if let Some(far) = &m.far {
+                let ok = far != &m.name && cat.models.iter().any(|o| &o.name == far && o.far.is_none());
+                if !ok {
+                    return Err(format!("catalogue: model '{}' names far model '{far}', which is not another model of this bank without a far model of its own", m.name));
+                }
+            }
             let p = &m.pick;
             if !(p.bottom.is_finite() && p.top.is_finite() && p.bottom < p.top && p.radii.iter().all(|r| r.is_finite() && *r >= 0.0)) {
                 return Err(format!("catalogue: model '{}' has an invalid pick shape", m.name));
@@ -397,6 +408,23 @@ mod tests {
         assert!(!is_inside(""));
         assert!(valid_name("oak-1.2_b"));
         assert!(!valid_name(".hidden") && !valid_name("a b") && !valid_name("") && !valid_name(&"x".repeat(65)));
+    }
+
+    #[test]
+    fn a_far_model_is_another_model_of_the_bank_without_one_of_its_own() {
+        let entry = |name: &str, far: Option<&str>| {
+            let far = far.map_or(String::new(), |f| format!("far: Some(\"{f}\"),"));
+            format!("(name: \"{name}\", species: \"s\", kind: Mesh, file: \"{name}/m.glb\", files: [\"{name}/m.glb\"], hash: \"0123456789abcdef\", bounds_min: (-1.0, 0.0, -1.0), bounds_max: (1.0, 2.0, 1.0), crown_radius: 1.0, triangles: 10, pick: (bottom: 0.0, top: 2.0, radii: (1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0)), wind: Own, {far})")
+        };
+        let cat = |entries: &[String]| BankCatalogue::from_ron(&format!("(models: [{}])", entries.join(",")));
+        let ok = cat(&[entry("far", None), entry("near", Some("far"))]).unwrap();
+        assert_eq!(ok.models[1].far.as_deref(), Some("far"));
+        // A catalogue without far models is written as before: no `far` field.
+        assert!(!cat(&[entry("a", None)]).unwrap().to_ron().contains("far"));
+        for bad in [vec![entry("near", Some("gone"))], vec![entry("near", Some("near"))], vec![entry("a", Some("b")), entry("b", Some("c")), entry("c", None)]] {
+            let e = cat(&bad).unwrap_err().to_string();
+            assert!(e.contains("names far model"), "{e}");
+        }
     }
 
     #[test]

@@ -31,6 +31,25 @@ pub struct Instance {
     pub pad: f32,
 }
 
+/// The on-screen sizes, in pixels, that choose how a tree is drawn (see [`gather`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Detail {
+    /// The smallest area a drawn leaf should cover ([`lod::keep_fraction`]).
+    pub leaf_pixels: f32,
+    /// Below this bounding-sphere size a tree is an impostor ([`impostor::fade`]).
+    pub impostor_pixels: f32,
+    /// Below this bounding-sphere size a tree is drawn as its model's far model, if it has one.
+    pub far_pixels: f32,
+}
+
+/// Whether a tree whose model has bounds `bounds` (model space), at `scale` and `distance`
+/// metres, covers fewer than `far_pixels` pixels with its bounding sphere's diameter, so that
+/// its far model stands in for it.
+pub fn uses_far(bounds: (glam::Vec3, glam::Vec3), scale: f32, distance: f32, pixels_per_radian: f32, far_pixels: f32) -> bool {
+    let radius = bounds.0.abs().max(bounds.1.abs()).length() * scale;
+    far_pixels > 0.0 && 2.0 * radius / distance.max(1e-3) * pixels_per_radian < far_pixels
+}
+
 /// The instance range of each keep bucket of one model.
 pub(crate) type BucketRanges = [std::ops::Range<u32>; lod::BUCKETS];
 
@@ -52,26 +71,29 @@ pub(crate) struct Gathered {
 /// `leaf_pixels` the smallest area a drawn leaf should cover. Trees of a model with an impostor
 /// atlas whose bounding sphere covers fewer than `impostor_pixels` pixels (times
 /// [`impostor::BAND`] for the cross-fade) also go to the impostor list; those wholly impostors
-/// leave the mesh list.
-pub(crate) fn gather(
-    trees: &[TreeDraw],
-    models: &[Option<GpuModel>],
-    camera: &Camera,
-    height: u32,
-    leaf_pixels: f32,
-    impostor_pixels: f32,
-) -> Gathered {
+/// leave the mesh list. A tree whose model has a far model (`far`, by model index) is drawn as
+/// that model wherever its bounding sphere covers fewer than `far_pixels` ([`uses_far`]).
+pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Option<usize>], camera: &Camera, height: u32, detail: Detail) -> Gathered {
+    let Detail { leaf_pixels, impostor_pixels, far_pixels } = detail;
     let eye = camera.position;
     let pixels_per_radian = height as f32 * 0.5 / (camera.fov_y * 0.5).tan().max(1e-3);
     // Per model: (bucket, squared distance, instance).
     let mut per_model: Vec<Vec<(usize, f32, Instance)>> = (0..models.len()).map(|_| Vec::new()).collect();
     let mut impostors: Vec<Vec<(f32, Instance)>> = (0..models.len()).map(|_| Vec::new()).collect();
     for t in trees {
-        let Some(Some(model)) = models.get(t.model) else {
+        let Some(Some(near)) = models.get(t.model) else {
             continue;
         };
         let scale = t.scale;
         let d2 = (t.origin - eye).length_squared();
+        // A tree small on screen is drawn as its model's far model, where it has one.
+        let index = match far.get(t.model).copied().flatten() {
+            Some(f) if matches!(models.get(f), Some(Some(_))) && uses_far(near.bounds, scale, d2.sqrt(), pixels_per_radian, far_pixels) => f,
+            _ => t.model,
+        };
+        let Some(Some(model)) = models.get(index) else {
+            continue;
+        };
         let keep = lod::keep_fraction(model.leaf_area * scale * scale, d2.sqrt(), pixels_per_radian, leaf_pixels);
         let fade = model.impostor.as_ref().map_or(0.0, |a| impostor::fade(2.0 * a.radius * scale, d2.sqrt(), pixels_per_radian, impostor_pixels));
         let instance = Instance {
@@ -86,10 +108,10 @@ pub(crate) fn gather(
             pad: 0.0,
         };
         if fade < 1.0 {
-            per_model[t.model].push((lod::bucket(keep), d2, instance));
+            per_model[index].push((lod::bucket(keep), d2, instance));
         }
         if fade > 0.0 {
-            impostors[t.model].push((d2, instance));
+            impostors[index].push((d2, instance));
         }
     }
     // Nearest first within each bucket, so that the early depth test of a software rasteriser
@@ -137,4 +159,27 @@ pub(crate) fn bounds(trees: &[TreeDraw], models: &[Option<GpuModel>]) -> Option<
         bounds = Some(bounds.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
     }
     bounds
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::uses_far;
+
+    #[test]
+    fn a_far_model_stands_in_below_its_size_on_screen() {
+        // A model 10 m tall and 2 m wide: its bounding sphere about the base has a radius of
+        // |(1, 10, 1)| = 10.0995 m. At 720 lines and 60° the view has 623.5 pixels per radian,
+        // so the sphere covers 2 × 10.0995 / 50 × 623.5 = 251.9 pixels at 50 m, 419.8 at 30 m.
+        let bounds = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 10.0, 1.0));
+        let ppr = 720.0 * 0.5 / (30f32.to_radians()).tan();
+        assert!(uses_far(bounds, 1.0, 50.0, ppr, 400.0));
+        assert!(!uses_far(bounds, 1.0, 30.0, ppr, 400.0));
+        // Half the size at 30 m is the whole size at 60 m.
+        assert!(uses_far(bounds, 0.5, 30.0, ppr, 400.0));
+        assert!(!uses_far(bounds, 1.0, 50.0, ppr, 250.0));
+        // 0 never uses the far model.
+        assert!(!uses_far(bounds, 1.0, 1e6, ppr, 0.0));
+    }
 }

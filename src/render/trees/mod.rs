@@ -17,7 +17,7 @@ pub(crate) mod pipelines;
 use glam::Vec3;
 
 use self::impostor::draw::ImpostorGpu;
-use self::instances::{gather, BucketRanges, Instance};
+use self::instances::{gather, BucketRanges, Detail, Instance};
 use self::model::{GpuMaterial, GpuModel};
 use self::pipelines::TreePipelines;
 use self::extract::TreeDraw;
@@ -36,6 +36,8 @@ pub struct Trees {
     pipelines: PipelineCache<TreePipelines>,
     /// The models, by catalogue index.
     pub models: Vec<Option<GpuModel>>,
+    /// Each model's far model, by catalogue index ([`Trees::set_far`]).
+    pub(crate) far: Vec<Option<usize>>,
     instances: wgpu::Buffer,
     capacity: usize,
     /// This frame's instance count.
@@ -71,6 +73,7 @@ impl Trees {
             shadow_layout: shared.layout("tree shadow layout", &[Some(&shared.view_layout), None, Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("trees"),
             models: Vec::new(),
+            far: Vec::new(),
             instances: instance_buffer(&shared.device, capacity),
             capacity,
             instance_count: 0,
@@ -185,7 +188,8 @@ impl Feature for Trees {
     }
 
     fn prepare(&mut self, cx: &FrameContext<'_>, trees: Vec<TreeDraw>) -> Result<(), RenderError> {
-        let g = gather(&trees, &self.models, &cx.common.camera, cx.size.1, cx.options.leaf_pixels, cx.options.impostor_pixels);
+        let detail = Detail { leaf_pixels: cx.options.leaf_pixels, impostor_pixels: cx.options.impostor_pixels, far_pixels: cx.options.far_pixels };
+        let g = gather(&trees, &self.models, &self.far, &cx.common.camera, cx.size.1, detail);
         let instances = g.instances;
         if instances.len() > self.capacity {
             self.capacity = instances.len().next_power_of_two();

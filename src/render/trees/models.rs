@@ -21,6 +21,16 @@ impl Trees {
         self.models[idx] = Some(model);
     }
 
+    /// Draws trees of `id` as model `far` where they are small on screen
+    /// ([`crate::render::RenderOptions::far_pixels`]); `None` draws model `id` at every size.
+    pub fn set_far(&mut self, id: ModelId, far: Option<ModelId>) {
+        let idx = usize::from(id.0);
+        if self.far.len() <= idx {
+            self.far.resize(idx + 1, None);
+        }
+        self.far[idx] = far.map(|f| usize::from(f.0));
+    }
+
     /// Sets the folder of the impostor atlas cache for models loaded from now on (`None`: bake
     /// every model). The default comes from the environment (`trees::impostor::cache`).
     pub fn set_impostor_cache(&mut self, dir: Option<PathBuf>) {
