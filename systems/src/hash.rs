@@ -6,11 +6,8 @@
 //! reports one value per component type and one per entity, so that a replay that diverges can
 //! say which component and which entity differ.
 
-use std::collections::BTreeMap;
-
 use hecs::{Entity, World};
 use serde::Serialize;
-use xxhash_rust::xxh3::Xxh3;
 
 use crate::components::*;
 pub use crate::components::plane_hash;
@@ -116,13 +113,17 @@ pub fn hex(h: u64) -> String {
     format!("{h:016x}")
 }
 
-struct Acc {
+struct Acc<'a> {
     buf: Vec<u8>,
-    entities: BTreeMap<u64, Xxh3>,
+    /// `(entity bits, component name, value hash)` of every hashed component, in the order the
+    /// types are hashed; the entity hashes are made from them at the end.
+    rows: Vec<(u64, &'static str, u64)>,
     components: Vec<(&'static str, u64)>,
+    /// The planes' hashes, computed when the world was built ([`Resources::plane_hashes`]).
+    plane_hashes: &'a [(Entity, u64)],
 }
 
-impl Acc {
+impl Acc<'_> {
     fn value_hash<T: Serialize>(&mut self, value: &T) -> u64 {
         self.buf.clear();
         // Serializing plain data into a Vec cannot fail.
@@ -135,7 +136,7 @@ impl Acc {
     fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str, optional: bool) {
         let mut rows: Vec<(u64, u64)> = Vec::new();
         for (e, c) in world.query::<(Entity, &T)>().iter() {
-            let h = c.hash_value(self);
+            let h = c.hash_value(e, self);
             rows.push((e.to_bits().get(), h));
         }
         self.rows(name, rows, optional);
@@ -150,34 +151,53 @@ impl Acc {
 
     /// Adds one component type's rows `(entity bits, value hash)` to the component and entity
     /// hashes; an optional type without rows adds nothing.
+    ///
+    /// A component type's hash is the XXH3 of its name, then each row's entity bits and value
+    /// hash, little-endian, in entity order: the bytes are gathered and hashed at once (XXH3
+    /// of bytes fed in pieces is the XXH3 of the whole).
     fn rows(&mut self, name: &'static str, mut rows: Vec<(u64, u64)>, optional: bool) {
         rows.sort_unstable_by_key(|r| r.0);
         if rows.is_empty() && optional {
             return;
         }
-        let mut h = Xxh3::new();
-        h.update(name.as_bytes());
+        self.buf.clear();
+        self.buf.extend_from_slice(name.as_bytes());
         for (e, v) in &rows {
-            h.update(&e.to_le_bytes());
-            h.update(&v.to_le_bytes());
-            let eh = self.entities.entry(*e).or_default();
-            eh.update(name.as_bytes());
-            eh.update(&v.to_le_bytes());
+            self.buf.extend_from_slice(&e.to_le_bytes());
+            self.buf.extend_from_slice(&v.to_le_bytes());
+            self.rows.push((*e, name, *v));
         }
-        self.components.push((name, h.digest()));
+        self.components.push((name, xxhash_rust::xxh3::xxh3_64(&self.buf)));
+    }
+
+    /// Each entity's hash: the XXH3 of its components' names and value hashes (little-endian),
+    /// in the order the types were hashed; sorted by entity.
+    fn entities(&mut self) -> Vec<(u64, u64)> {
+        // A stable sort keeps each entity's components in the order they were hashed.
+        self.rows.sort_by_key(|r| r.0);
+        let mut out = Vec::new();
+        for group in self.rows.chunk_by(|a, b| a.0 == b.0) {
+            self.buf.clear();
+            for (_, name, v) in group {
+                self.buf.extend_from_slice(name.as_bytes());
+                self.buf.extend_from_slice(&v.to_le_bytes());
+            }
+            out.push((group[0].0, xxhash_rust::xxh3::xxh3_64(&self.buf)));
+        }
+        out
     }
 }
 
 /// How one component value is hashed.
 trait HashValue {
-    fn hash_value(&self, acc: &mut Acc) -> u64;
+    fn hash_value(&self, entity: Entity, acc: &mut Acc) -> u64;
 }
 
 /// Most components are hashed from their postcard bytes.
 macro_rules! serde_hashed {
     ($($t:ty),*) => {
         $(impl HashValue for $t {
-            fn hash_value(&self, acc: &mut Acc) -> u64 {
+            fn hash_value(&self, _: Entity, acc: &mut Acc) -> u64 {
                 acc.value_hash(self)
             }
         })*
@@ -186,10 +206,18 @@ macro_rules! serde_hashed {
 serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water, Grass, AerialCrown);
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
-/// through serde (the same bits, much faster).
+/// through serde (the same bits, much faster), and only once: a plane never changes after the
+/// world is built, so its hash is the one [`Resources::plane_hashes`] noted then (a plane it
+/// does not list is hashed here).
 impl HashValue for Plane {
-    fn hash_value(&self, _: &mut Acc) -> u64 {
-        plane_hash(self)
+    fn hash_value(&self, entity: Entity, acc: &mut Acc) -> u64 {
+        match acc.plane_hashes.iter().find(|(e, _)| *e == entity) {
+            Some(&(_, h)) => {
+                debug_assert_eq!(h, plane_hash(self), "a plane changed after the world was built");
+                h
+            }
+            None => plane_hash(self),
+        }
     }
 }
 
@@ -209,7 +237,7 @@ struct HashedResources<'a> {
 
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
-    let mut acc = Acc { buf: Vec::with_capacity(256), entities: BTreeMap::new(), components: Vec::new() };
+    let mut acc = Acc { buf: Vec::with_capacity(256), rows: Vec::new(), components: Vec::new(), plane_hashes: &res.plane_hashes };
     let resources = HashedResources {
         tick: res.tick,
         dt: res.dt,
@@ -243,11 +271,13 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
         let h = acc.value_hash(&(active.name, active.version));
         acc.components.push(("technique", h));
     }
-    let mut total = Xxh3::new();
+    // The total: the XXH3 of every component type's name and hash, little-endian, in order.
+    acc.buf.clear();
     for (name, h) in &acc.components {
-        total.update(name.as_bytes());
-        total.update(&h.to_le_bytes());
+        acc.buf.extend_from_slice(name.as_bytes());
+        acc.buf.extend_from_slice(&h.to_le_bytes());
     }
-    let entities: Vec<(u64, u64)> = acc.entities.into_iter().map(|(e, h)| (e, h.digest())).collect();
-    WorldHash { total: total.digest(), components: acc.components, entities }
+    let total = xxhash_rust::xxh3::xxh3_64(&acc.buf);
+    let entities = acc.entities();
+    WorldHash { total, components: acc.components, entities }
 }
