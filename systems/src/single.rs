@@ -9,11 +9,15 @@
 //! back to the query, so a world built another way (tests, a world without a controller) reads as
 //! before.
 //!
+//! It also notes whether the world has no water body at all: no system spawns one, so the
+//! systems that cast rays or look for ground skip the query for water in a world without any.
+//!
 //! Not hashed: it is a cache of the world's own entities.
 
 use hecs::{Component, Entity, World};
 
 use crate::components::{AnchorBall, Controller, Head, HitMarker, Selection, Sun, Wind};
+use crate::water::Water;
 
 /// A component of which a world has one entity.
 pub trait Single: Component + Copy {
@@ -33,6 +37,7 @@ macro_rules! singles {
             pub fn find(world: &World) -> Singles {
                 let mut s = Singles::default();
                 $(s.slots[$i] = only::<$t>(world);)*
+                s.dry = world.query::<&Water>().iter().next().is_none();
                 s
             }
         }
@@ -44,6 +49,8 @@ singles!(Controller = 0, Head = 1, HitMarker = 2, AnchorBall = 3, Selection = 4,
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Singles {
     slots: [Option<Entity>; KINDS],
+    /// The world had no water body when it was built (false: it had one, or it is not known).
+    dry: bool,
 }
 
 fn only<T: Component>(world: &World) -> Option<Entity> {
@@ -61,13 +68,26 @@ impl Singles {
 }
 
 /// A copy of the world's `T`: its one entity's, else the first a query finds, else `None`.
-pub fn get<T: Single>(world: &World, singles: &Singles) -> Option<T> {
+///
+/// It takes the world mutably only to read it through `query_one_mut`, which skips the runtime
+/// borrow flags that `World::get` sets and clears (the systems, its callers, hold the world
+/// mutably anyway).
+pub fn get<T: Single>(world: &mut World, singles: &Singles) -> Option<T> {
     if let Some(e) = singles.entity::<T>()
-        && let Ok(c) = world.get::<&T>(e)
+        && let Ok(c) = world.query_one_mut::<&T>(e)
     {
         return Some(*c);
     }
-    world.query::<&T>().iter().next().copied()
+    world.query_mut::<&T>().into_iter().next().copied()
+}
+
+/// The world's water bodies ([`crate::water::bodies`]); none, without a query, in a world that
+/// had none when it was built.
+pub fn water(world: &World, singles: &Singles) -> Vec<(Entity, Water)> {
+    if singles.dry {
+        return Vec::new();
+    }
+    crate::water::bodies(world)
 }
 
 /// Calls `f` on every `T` of the world: on its one entity's directly when there is one.
@@ -99,14 +119,14 @@ mod tests {
         // Two hit markers: no slot, and every one of them is written.
         assert_eq!(singles.entity::<HitMarker>(), None);
         assert_eq!(singles.entity::<Head>(), None);
-        assert!(get::<Head>(&world, &singles).is_none());
+        assert!(get::<Head>(&mut world, &singles).is_none());
         for_each_mut::<HitMarker>(&mut world, &singles, |m| m.visible = false);
         assert_eq!(world.query::<&HitMarker>().iter().filter(|m| m.visible).count(), 0);
         // A despawned single falls back to the query: none left.
         world.despawn(c).unwrap();
-        assert!(get::<Controller>(&world, &singles).is_none());
+        assert!(get::<Controller>(&mut world, &singles).is_none());
         let c2 = world.spawn((Controller { touchpad: glam::Vec2::ONE, ..Default::default() },));
-        assert_eq!(get::<Controller>(&world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ONE));
+        assert_eq!(get::<Controller>(&mut world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ONE));
         assert_ne!(Some(c2), singles.entity::<Controller>());
     }
 }

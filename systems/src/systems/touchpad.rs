@@ -63,7 +63,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let turn = interact::touchpad_turn(x, res.config.touchpad_turn_rate_deg, dt);
     let dragged = res.interaction.drag.as_mut().filter(|d| d.tree == id);
     let lift = res.config.snap_threshold;
-    let water = crate::water::bodies(world);
+    let water = single::water(world, &res.singles);
     let dry = |spatial: &crate::spatial::SpatialIndex, at: Vec3, scale: f32| {
         crate::water::dry_ground(&water, interact::ground_under(spatial, at, lowest, scale, lift))
     };
