@@ -221,6 +221,7 @@ impl HashValue for Plane {
     }
 }
 
+/// The hashed resources, serialized as one struct: their hash is over its postcard bytes.
 #[derive(Serialize)]
 struct HashedResources<'a> {
     tick: u64,
@@ -235,10 +236,45 @@ struct HashedResources<'a> {
     task: &'a Option<crate::task::TaskState>,
 }
 
-/// Hashes the world and the hashed resources.
-pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
-    let mut acc = Acc { buf: Vec::with_capacity(256), rows: Vec::new(), components: Vec::new(), plane_hashes: &res.plane_hashes };
-    let resources = HashedResources {
+/// The fields of [`HashedResources`] before the log.
+#[derive(Serialize)]
+struct ResourcesHead<'a> {
+    tick: u64,
+    dt: f32,
+    seed: u64,
+    rng_word_pos: u128,
+    config: &'a crate::resources::Config,
+    mode: crate::mode::Mode,
+    menu: &'a crate::resources::MenuState,
+    interaction: &'a crate::resources::Interaction,
+}
+
+/// The postcard bytes of [`HashedResources`], put together as postcard writes a struct (its
+/// fields one after another, a sequence as its length and then its items), with the event log's
+/// entries from [`Resources::log_bytes`], so that each entry is serialized once.
+fn resources_bytes(res: &Resources, buf: &mut Vec<u8>) {
+    let head = ResourcesHead {
+        tick: res.tick,
+        dt: res.dt,
+        seed: res.seed,
+        rng_word_pos: res.rng.get_word_pos(),
+        config: &res.config,
+        mode: res.mode,
+        menu: &res.menu,
+        interaction: &res.interaction,
+    };
+    buf.clear();
+    // Serializing plain data into a Vec cannot fail.
+    *buf = postcard::to_extend(&head, std::mem::take(buf)).unwrap_or_default();
+    *buf = postcard::to_extend(&res.log.entries.len(), std::mem::take(buf)).unwrap_or_default();
+    res.log_bytes.extend(&res.log, buf);
+    *buf = postcard::to_extend(&res.task, std::mem::take(buf)).unwrap_or_default();
+    debug_assert_eq!(*buf, postcard::to_allocvec(&hashed_resources(res)).unwrap_or_default(), "the resources' bytes put together differ from their serialization");
+}
+
+/// The hashed resources as one struct.
+fn hashed_resources(res: &Resources) -> HashedResources<'_> {
+    HashedResources {
         tick: res.tick,
         dt: res.dt,
         seed: res.seed,
@@ -249,16 +285,22 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
         interaction: &res.interaction,
         log: &res.log,
         task: &res.task,
-    };
+    }
+}
+
+/// Hashes the world and the hashed resources.
+pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
+    let mut acc = Acc { buf: Vec::with_capacity(256), rows: Vec::new(), components: Vec::new(), plane_hashes: &res.plane_hashes };
     macro_rules! hash_each {
-        ($acc:expr, $world:expr, $resources:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
+        ($acc:expr, $world:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
             $($acc.component::<$t>($world, stringify!($t), is_optional!($o));)*
-            let rh = $acc.value_hash(&$resources);
+            resources_bytes(res, &mut $acc.buf);
+            let rh = xxhash_rust::xxh3::xxh3_64(&$acc.buf);
             $acc.components.push(("resources", rh));
             $($acc.component::<$late>($world, stringify!($late), is_optional!($lo));)*
         };
     }
-    hash_table!(hash_each, acc, world, resources);
+    hash_table!(hash_each, acc, world);
     // The techniques' components, through the same table; then, while a plug-in technique is
     // active, its name and version. Neither exists in a world of the built-in techniques.
     for t in res.techniques.iter() {
@@ -280,4 +322,35 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     let total = xxhash_rust::xxh3::xxh3_64(&acc.buf);
     let entities = acc.entities();
     WorldHash { total, components: acc.components, entities }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::events::Happening;
+
+    #[test]
+    fn the_resources_bytes_put_together_are_their_serialization() {
+        let mut res = Resources::new(1.0 / 60.0, 3, crate::catalogue::Catalogue::builtin());
+        let whole = |res: &Resources| postcard::to_allocvec(&hashed_resources(res)).unwrap();
+        let mut buf = Vec::new();
+        for tick in 0..200 {
+            res.tick = tick;
+            if tick % 3 == 0 {
+                res.log.push(tick, Happening::Moved { tree: tick, position: glam::Vec3::new(tick as f32, 0.5, -1.0) });
+            }
+            resources_bytes(&res, &mut buf);
+            assert_eq!(buf, whole(&res), "tick {tick}");
+        }
+        // A log past 127 entries (a two-byte count), then a shorter one: the bytes follow it.
+        assert!(res.log.entries.len() < 128);
+        for tick in 0..100 {
+            res.log.push(tick, Happening::MenuOpened);
+        }
+        resources_bytes(&res, &mut buf);
+        assert_eq!(buf, whole(&res));
+        res.log.entries.truncate(2);
+        resources_bytes(&res, &mut buf);
+        assert_eq!(buf, whole(&res));
+    }
 }

@@ -393,6 +393,9 @@ pub struct Resources {
     /// plane never changes afterwards, so the world hash does not hash its mesh again at every
     /// checkpoint. Not hashed: it is a cache of hashed state.
     pub plane_hashes: Vec<(hecs::Entity, u64)>,
+    /// The event log's entries as the world hash serializes them, each serialized once (the log
+    /// only grows). Not hashed: it is a cache of hashed state.
+    pub log_bytes: crate::events::LogBytes,
 }
 
 impl Resources {
@@ -418,6 +421,7 @@ impl Resources {
             singles: crate::single::Singles::default(),
             task_search: None,
             plane_hashes: Vec::new(),
+            log_bytes: crate::events::LogBytes::default(),
         }
     }
 
