@@ -52,6 +52,9 @@ pub const BUILTIN: &[(Stage, &str, System)] = &[
 pub fn step(world: &mut World, res: &mut Resources, techniques: &Techniques) {
     // The active technique is read once per stage: the input stage may switch it, and the new
     // technique's systems run from the next stage on.
+    // The single components read or written by one system are kept for the next ones, within
+    // this step only, and forgotten after each plug-in system ([`crate::single`]).
+    res.singles.begin_step();
     let mut next = 0;
     for stage in Stage::ALL {
         while let Some((s, _, run)) = BUILTIN.get(next) {
@@ -68,8 +71,10 @@ pub fn step(world: &mut World, res: &mut Resources, techniques: &Techniques) {
         let own: Vec<System> = technique.systems.iter().filter(|(s, _, _)| *s == stage).map(|(_, _, run)| *run).collect();
         for run in own {
             run(world, res);
+            res.singles.forget();
         }
     }
+    res.singles.end_step();
     res.tick += 1;
 }
 

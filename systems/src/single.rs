@@ -9,10 +9,20 @@
 //! back to the query, so a world built another way (tests, a world without a controller) reads as
 //! before.
 //!
+//! During a step it also keeps a copy of each single component as a system last read or wrote
+//! it ([`Copies`]), so that the next system that reads it does not look it up again: the
+//! controller, for one, is read by half the systems every tick. Within the built-in systems every
+//! read and write of a single component goes through [`get`] and [`for_each_mut`], which keep the
+//! copies true; the schedule starts each step with none, forgets them after every system of a
+//! plug-in technique (which may write any component), and ends the step with none, so outside a
+//! step (set-up, tests) every read looks the world up.
+//!
 //! It also notes whether the world has no water body at all: no system spawns one, so the
 //! systems that cast rays or look for ground skip the query for water in a world without any.
 //!
 //! Not hashed: it is a cache of the world's own entities.
+
+use std::cell::Cell;
 
 use hecs::{Component, Entity, World};
 
@@ -23,12 +33,17 @@ use crate::water::Water;
 pub trait Single: Component + Copy {
     /// Its slot in [`Singles`].
     const SLOT: usize;
+    /// Its copy in [`Copies`].
+    fn copy(copies: &Copies) -> &Cell<Option<Self>>;
 }
 
 macro_rules! singles {
-    ($($t:ident = $i:expr),* $(,)?) => {
+    ($($t:ident = $i:expr, $field:ident),* $(,)?) => {
         $(impl Single for $t {
             const SLOT: usize = $i;
+            fn copy(copies: &Copies) -> &Cell<Option<Self>> {
+                &copies.$field
+            }
         })*
         /// How many kinds of single entity there are.
         const KINDS: usize = [$($i),*].len();
@@ -41,16 +56,39 @@ macro_rules! singles {
                 s
             }
         }
+        /// Copies of the single components as the running step last read or wrote them
+        /// through this module; none outside a step.
+        #[derive(Clone, Debug, Default)]
+        pub struct Copies {
+            /// Whether a step is running (copies are kept only then).
+            active: Cell<bool>,
+            $($field: Cell<Option<$t>>,)*
+        }
+        impl Copies {
+            fn clear(&self) {
+                $(self.$field.set(None);)*
+            }
+        }
     };
 }
-singles!(Controller = 0, Head = 1, HitMarker = 2, AnchorBall = 3, Selection = 4, Sun = 5, Wind = 6);
+singles!(
+    Controller = 0, controller,
+    Head = 1, head,
+    HitMarker = 2, hit_marker,
+    AnchorBall = 3, anchor_ball,
+    Selection = 4, selection,
+    Sun = 5, sun,
+    Wind = 6, wind,
+);
 
-/// The entity of each single kind, where the world has exactly one.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// The entity of each single kind, where the world has exactly one, and the copies of their
+/// components during a step.
+#[derive(Clone, Debug, Default)]
 pub struct Singles {
     slots: [Option<Entity>; KINDS],
     /// The world had no water body when it was built (false: it had one, or it is not known).
     dry: bool,
+    copies: Copies,
 }
 
 fn only<T: Component>(world: &World) -> Option<Entity> {
@@ -65,18 +103,45 @@ impl Singles {
     pub fn entity<T: Single>(&self) -> Option<Entity> {
         self.slots[T::SLOT]
     }
+
+    /// A step begins: from now on, the components read and written through [`get`] and
+    /// [`for_each_mut`] are kept.
+    pub fn begin_step(&self) {
+        self.copies.clear();
+        self.copies.active.set(true);
+    }
+
+    /// Forgets the kept components: after a system that may have written single components
+    /// other than through this module (a plug-in technique's).
+    pub fn forget(&self) {
+        self.copies.clear();
+    }
+
+    /// The step is over: nothing is kept until the next one begins.
+    pub fn end_step(&self) {
+        self.copies.clear();
+        self.copies.active.set(false);
+    }
 }
 
 /// A copy of the world's `T`: its one entity's, else the first a query finds, else `None`.
+/// During a step, the copy kept from the last read or write of it in this step, if any.
 ///
 /// It takes the world mutably only to read it through `query_one_mut`, which skips the runtime
 /// borrow flags that `World::get` sets and clears (the systems, its callers, hold the world
 /// mutably anyway).
 pub fn get<T: Single>(world: &mut World, singles: &Singles) -> Option<T> {
-    if let Some(e) = singles.entity::<T>()
-        && let Ok(c) = world.query_one_mut::<&T>(e)
-    {
-        return Some(*c);
+    if let Some(e) = singles.entity::<T>() {
+        let copy = T::copy(&singles.copies);
+        if let Some(c) = copy.get() {
+            return Some(c);
+        }
+        if let Ok(c) = world.query_one_mut::<&T>(e) {
+            if singles.copies.active.get() {
+                copy.set(Some(*c));
+            }
+            return Some(*c);
+        }
     }
     world.query_mut::<&T>().into_iter().next().copied()
 }
@@ -97,6 +162,9 @@ pub fn for_each_mut<T: Single>(world: &mut World, singles: &Singles, mut f: impl
         && let Ok(c) = world.query_one_mut::<&mut T>(e)
     {
         f(c);
+        if singles.copies.active.get() {
+            T::copy(&singles.copies).set(Some(*c));
+        }
         return;
     }
     for c in world.query_mut::<&mut T>() {
