@@ -35,12 +35,16 @@ pub trait Single: Component + Copy {
     const SLOT: usize;
     /// Its copy in [`Copies`].
     fn copy(copies: &Copies) -> &Cell<Option<Self>>;
+    /// Whether a copy is kept during a step: for the components that several systems read each
+    /// tick (for the others, keeping one would cost more than it saves).
+    const KEPT: bool;
 }
 
 macro_rules! singles {
-    ($($t:ident = $i:expr, $field:ident),* $(,)?) => {
+    ($($t:ident = $i:expr, $field:ident, $kept:expr),* $(,)?) => {
         $(impl Single for $t {
             const SLOT: usize = $i;
+            const KEPT: bool = $kept;
             fn copy(copies: &Copies) -> &Cell<Option<Self>> {
                 &copies.$field
             }
@@ -72,13 +76,13 @@ macro_rules! singles {
     };
 }
 singles!(
-    Controller = 0, controller,
-    Head = 1, head,
-    HitMarker = 2, hit_marker,
-    AnchorBall = 3, anchor_ball,
-    Selection = 4, selection,
-    Sun = 5, sun,
-    Wind = 6, wind,
+    Controller = 0, controller, true,
+    Head = 1, head, false,
+    HitMarker = 2, hit_marker, true,
+    AnchorBall = 3, anchor_ball, false,
+    Selection = 4, selection, true,
+    Sun = 5, sun, false,
+    Wind = 6, wind, false,
 );
 
 /// The entity of each single kind, where the world has exactly one, and the copies of their
@@ -137,7 +141,7 @@ pub fn get<T: Single>(world: &mut World, singles: &Singles) -> Option<T> {
             return Some(c);
         }
         if let Ok(c) = world.query_one_mut::<&T>(e) {
-            if singles.copies.active.get() {
+            if T::KEPT && singles.copies.active.get() {
                 copy.set(Some(*c));
             }
             return Some(*c);
@@ -162,7 +166,7 @@ pub fn for_each_mut<T: Single>(world: &mut World, singles: &Singles, mut f: impl
         && let Ok(c) = world.query_one_mut::<&mut T>(e)
     {
         f(c);
-        if singles.copies.active.get() {
+        if T::KEPT && singles.copies.active.get() {
             T::copy(&singles.copies).set(Some(*c));
         }
         return;
