@@ -201,4 +201,31 @@ mod tests {
         assert_eq!(get::<Controller>(&mut world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ONE));
         assert_ne!(Some(c2), singles.entity::<Controller>());
     }
+
+    #[test]
+    fn copies_are_kept_within_a_step_and_forgotten_when_something_else_may_write() {
+        let mut world = World::new();
+        let c = world.spawn((Controller::default(),));
+        let singles = Singles::find(&world);
+        let touchpad = |world: &mut World| get::<Controller>(world, &singles).map(|c| c.touchpad.x);
+        // A write behind the module's back (as a plug-in or the set-up may make).
+        let behind = |world: &mut World, x: f32| world.query_one_mut::<&mut Controller>(c).unwrap().touchpad.x = x;
+        // Outside a step nothing is kept: every read sees the world.
+        assert_eq!(touchpad(&mut world), Some(0.0));
+        behind(&mut world, 1.0);
+        assert_eq!(touchpad(&mut world), Some(1.0));
+        // Within a step, a write through the module is what the next read gets.
+        singles.begin_step();
+        for_each_mut::<Controller>(&mut world, &singles, |c| c.touchpad.x = 2.0);
+        assert_eq!(touchpad(&mut world), Some(2.0));
+        assert_eq!(world.query_one_mut::<&Controller>(c).unwrap().touchpad.x, 2.0);
+        // The schedule forgets the copies after a plug-in system, which may write anything.
+        behind(&mut world, 3.0);
+        singles.forget();
+        assert_eq!(touchpad(&mut world), Some(3.0));
+        // And keeps none once the step is over.
+        singles.end_step();
+        behind(&mut world, 4.0);
+        assert_eq!(touchpad(&mut world), Some(4.0));
+    }
 }
