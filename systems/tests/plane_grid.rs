@@ -1,15 +1,17 @@
 //! The plane ray cast through a grid of cells (`plane_grid`) gives parry's triangle-mesh BVH
 //! search's very result, bit for bit, on the shipped scenes' planes (regular grids with holes and
-//! unevenness, a raised terrace, a pond's bed as a ring mesh), for rays of every kind: aimed at
+//! unevenness, a raised terrace, a pond's bed as a ring mesh) and on odd grids (far from the
+//! origin, fine, steep), for rays of every kind: aimed at
 //! the ground as a controller is, straight down as the ground search casts them, along cell edges
 //! and through vertices, level with the ground, from below, long and short.
 
 use std::path::Path;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use grove_systems::components::Plane;
+use grove_systems::holes::Hole;
 use grove_systems::plane_grid::PlaneMesh;
-use grove_systems::scene::Scene;
+use grove_systems::scene::{plane_geometry, PlaneShape, Scene};
 use grove_systems::Sim;
 use parry3d::query::{Ray, RayIntersection};
 
@@ -34,6 +36,20 @@ fn scenes() -> Vec<(String, Scene)> {
 fn planes(scene: &Scene) -> Vec<Plane> {
     let sim = Sim::from_scene(scene, 1).unwrap();
     sim.world().query::<&Plane>().iter().cloned().collect()
+}
+
+/// Grid planes unlike the shipped ones: far from the origin and high up (where single precision
+/// is coarse), finely divided, and steep with cells that do not divide the rectangle evenly.
+fn odd_planes() -> Vec<Plane> {
+    let grid = |name: &str, min: Vec2, size: Vec2, cell: f32, elevation: f32, unevenness: f32, holes: Vec<Hole>| {
+        let (vertices, triangles) = plane_geometry(&PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed: 3, holes });
+        Plane { name: name.into(), vertices, triangles }
+    };
+    vec![
+        grid("far", Vec2::new(40_000.0, -60_000.0), Vec2::new(30.0, 30.0), 1.0, 1_200.0, 0.5, vec![Hole { center: Vec2::new(40_010.0, -59_990.0), radius: 2.0 }]),
+        grid("fine", Vec2::new(-5.0, -5.0), Vec2::new(10.0, 10.0), 0.1, 0.0, 0.02, Vec::new()),
+        grid("steep", Vec2::new(0.0, 0.0), Vec2::new(20.0, 12.0), 0.7, -3.0, 3.0, vec![Hole { center: Vec2::new(10.0, 6.0), radius: 1.5 }]),
+    ]
 }
 
 /// The bits of a hit, to compare exactly.
@@ -62,8 +78,9 @@ fn the_grid_cast_is_parrys_cast_bit_for_bit() {
     let mut state = 7u64;
     let (mut aimed, mut down, mut any, mut level, mut edges) = <(Tally, Tally, Tally, Tally, Tally)>::default();
     let mut meshes = 0;
-    for (name, scene) in scenes() {
-        for plane in planes(&scene) {
+    let all = scenes().into_iter().map(|(name, scene)| (name, planes(&scene))).chain([("odd".to_string(), odd_planes())]);
+    for (name, planes) in all {
+        for plane in planes {
             let Some(mesh) = PlaneMesh::new(&plane) else { continue };
             if !mesh.has_grid() {
                 continue;
@@ -107,8 +124,8 @@ fn the_grid_cast_is_parrys_cast_bit_for_bit() {
             }
         }
     }
-    // The study's ground and terrace, the park's and the pond's.
-    assert!(meshes >= 4, "{meshes} meshes with a grid");
+    // The study's ground and terrace, the park's and the pond's, and the odd ones.
+    assert!(meshes >= 7, "{meshes} meshes with a grid");
     // Most aimed rays hit, and the grid answers nearly all of them itself.
     assert!(aimed.hits * 2 > aimed.rays, "{} of {} aimed rays hit", aimed.hits, aimed.rays);
     assert!(aimed.by_grid * 100 >= aimed.rays * 95, "the grid answered {} of {} aimed rays", aimed.by_grid, aimed.rays);
