@@ -118,6 +118,8 @@ struct Acc<'a> {
     /// `(entity bits, component name, value hash)` of every hashed component, in the order the
     /// types are hashed; the entity hashes are made from them at the end.
     rows: Vec<(u64, &'static str, u64)>,
+    /// One component type's rows `(entity bits, value hash)`, reused from type to type.
+    type_rows: Vec<(u64, u64)>,
     components: Vec<(&'static str, u64)>,
     /// The planes' hashes, computed when the world was built ([`Resources::plane_hashes`]).
     plane_hashes: &'a [(Entity, u64)],
@@ -134,19 +136,21 @@ impl Acc<'_> {
 
     /// Hashes every entity's `T`; nothing at all for an optional type that no entity has.
     fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str, optional: bool) {
-        let mut rows: Vec<(u64, u64)> = Vec::new();
+        let mut rows = std::mem::take(&mut self.type_rows);
+        rows.clear();
         for (e, c) in world.query::<(Entity, &T)>().iter() {
             let h = c.hash_value(e, self);
             rows.push((e.to_bits().get(), h));
         }
-        self.rows(name, rows, optional);
+        self.rows(name, &mut rows, optional);
+        self.type_rows = rows;
     }
 
     /// A technique's component ([`crate::known_techniques::HashedComponent`]): each entity's postcard
     /// bytes hashed as the built-in components' are; nothing when no entity has it.
     fn technique_component(&mut self, world: &World, c: &crate::known_techniques::HashedComponent) {
-        let rows = (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
-        self.rows(c.name, rows, true);
+        let mut rows: Vec<(u64, u64)> = (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
+        self.rows(c.name, &mut rows, true);
     }
 
     /// Adds one component type's rows `(entity bits, value hash)` to the component and entity
@@ -155,14 +159,14 @@ impl Acc<'_> {
     /// A component type's hash is the XXH3 of its name, then each row's entity bits and value
     /// hash, little-endian, in entity order: the bytes are gathered and hashed at once (XXH3
     /// of bytes fed in pieces is the XXH3 of the whole).
-    fn rows(&mut self, name: &'static str, mut rows: Vec<(u64, u64)>, optional: bool) {
+    fn rows(&mut self, name: &'static str, rows: &mut [(u64, u64)], optional: bool) {
         rows.sort_unstable_by_key(|r| r.0);
         if rows.is_empty() && optional {
             return;
         }
         self.buf.clear();
         self.buf.extend_from_slice(name.as_bytes());
-        for (e, v) in &rows {
+        for (e, v) in rows.iter() {
             self.buf.extend_from_slice(&e.to_le_bytes());
             self.buf.extend_from_slice(&v.to_le_bytes());
             self.rows.push((*e, name, *v));
@@ -173,12 +177,15 @@ impl Acc<'_> {
     /// Each entity's hash: the XXH3 of its components' names and value hashes (little-endian),
     /// in the order the types were hashed; sorted by entity.
     fn entities(&mut self) -> Vec<(u64, u64)> {
-        // A stable sort keeps each entity's components in the order they were hashed.
-        self.rows.sort_by_key(|r| r.0);
+        // Each entity's components in the order they were hashed: sorted by entity, then by
+        // their place in `rows` (the same order as a stable sort by entity).
+        let mut order: Vec<(u64, u32)> = self.rows.iter().enumerate().map(|(i, r)| (r.0, i as u32)).collect();
+        order.sort_unstable();
         let mut out = Vec::new();
-        for group in self.rows.chunk_by(|a, b| a.0 == b.0) {
+        for group in order.chunk_by(|a, b| a.0 == b.0) {
             self.buf.clear();
-            for (_, name, v) in group {
+            for &(_, i) in group {
+                let (_, name, v) = self.rows[i as usize];
                 self.buf.extend_from_slice(name.as_bytes());
                 self.buf.extend_from_slice(&v.to_le_bytes());
             }
@@ -290,7 +297,7 @@ fn hashed_resources(res: &Resources) -> HashedResources<'_> {
 
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
-    let mut acc = Acc { buf: Vec::with_capacity(256), rows: Vec::new(), components: Vec::new(), plane_hashes: &res.plane_hashes };
+    let mut acc = Acc { buf: Vec::with_capacity(256), rows: Vec::new(), type_rows: Vec::new(), components: Vec::new(), plane_hashes: &res.plane_hashes };
     macro_rules! hash_each {
         ($acc:expr, $world:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
             $($acc.component::<$t>($world, stringify!($t), is_optional!($o));)*
