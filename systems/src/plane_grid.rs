@@ -4,7 +4,7 @@
 //!
 //! The grid only finds candidates faster: each candidate is tested with parry's own triangle
 //! ray test, and the hit is returned only when it is provably the hit that parry's BVH search
-//! ([`TriMesh::cast_local_ray_and_get_normal`]) returns, bit for bit. That search keeps the
+//! (`TriMesh::cast_local_ray_and_get_normal`) returns, bit for bit. That search keeps the
 //! first triangle it meets at the smallest distance and skips a node whose box the ray enters
 //! no nearer than the best hit so far; so the grid's nearest hit is returned when it is
 //! strictly nearer than every other triangle's hit, and the ray enters its triangle's leaf box
