@@ -183,6 +183,31 @@ pub struct LogEntry {
     pub what: Happening,
 }
 
+/// The postcard bytes of an [`EventLog`]'s entries, kept for the world hash: the log only grows,
+/// so each entry is serialized once rather than at every checkpoint. A cache in the resources,
+/// not hashed itself; a log shorter than what it holds (another log) starts it again.
+#[derive(Debug, Default)]
+pub struct LogBytes(std::sync::Mutex<(usize, Vec<u8>)>);
+
+impl LogBytes {
+    /// Appends to `out` the postcard bytes of every entry of `log`, in order (without the
+    /// entries' count).
+    pub fn extend(&self, log: &EventLog, out: &mut Vec<u8>) {
+        let mut cached = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let (done, bytes) = &mut *cached;
+        if *done > log.entries.len() {
+            *done = 0;
+            bytes.clear();
+        }
+        for e in &log.entries[*done..] {
+            // Serializing plain data into a Vec cannot fail.
+            *bytes = postcard::to_extend(e, std::mem::take(bytes)).unwrap_or_default();
+        }
+        *done = log.entries.len();
+        out.extend_from_slice(bytes);
+    }
+}
+
 /// The append-only interaction event log.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct EventLog {

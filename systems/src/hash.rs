@@ -6,11 +6,8 @@
 //! reports one value per component type and one per entity, so that a replay that diverges can
 //! say which component and which entity differ.
 
-use std::collections::BTreeMap;
-
 use hecs::{Entity, World};
 use serde::Serialize;
-use xxhash_rust::xxh3::Xxh3;
 
 use crate::components::*;
 pub use crate::components::plane_hash;
@@ -116,13 +113,19 @@ pub fn hex(h: u64) -> String {
     format!("{h:016x}")
 }
 
-struct Acc {
+struct Acc<'a> {
     buf: Vec<u8>,
-    entities: BTreeMap<u64, Xxh3>,
+    /// `(entity bits, component name, value hash)` of every hashed component, in the order the
+    /// types are hashed; the entity hashes are made from them at the end.
+    rows: Vec<(u64, &'static str, u64)>,
+    /// One component type's rows `(entity bits, value hash)`, reused from type to type.
+    type_rows: Vec<(u64, u64)>,
     components: Vec<(&'static str, u64)>,
+    /// The planes' hashes, computed when the world was built ([`Resources::plane_hashes`]).
+    plane_hashes: &'a [(Entity, u64)],
 }
 
-impl Acc {
+impl Acc<'_> {
     fn value_hash<T: Serialize>(&mut self, value: &T) -> u64 {
         self.buf.clear();
         // Serializing plain data into a Vec cannot fail.
@@ -133,51 +136,75 @@ impl Acc {
 
     /// Hashes every entity's `T`; nothing at all for an optional type that no entity has.
     fn component<T: HashValue + hecs::Component>(&mut self, world: &World, name: &'static str, optional: bool) {
-        let mut rows: Vec<(u64, u64)> = Vec::new();
+        let mut rows = std::mem::take(&mut self.type_rows);
+        rows.clear();
         for (e, c) in world.query::<(Entity, &T)>().iter() {
-            let h = c.hash_value(self);
+            let h = c.hash_value(e, self);
             rows.push((e.to_bits().get(), h));
         }
-        self.rows(name, rows, optional);
+        self.rows(name, &mut rows, optional);
+        self.type_rows = rows;
     }
 
     /// A technique's component ([`crate::known_techniques::HashedComponent`]): each entity's postcard
     /// bytes hashed as the built-in components' are; nothing when no entity has it.
     fn technique_component(&mut self, world: &World, c: &crate::known_techniques::HashedComponent) {
-        let rows = (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
-        self.rows(c.name, rows, true);
+        let mut rows: Vec<(u64, u64)> = (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
+        self.rows(c.name, &mut rows, true);
     }
 
     /// Adds one component type's rows `(entity bits, value hash)` to the component and entity
     /// hashes; an optional type without rows adds nothing.
-    fn rows(&mut self, name: &'static str, mut rows: Vec<(u64, u64)>, optional: bool) {
+    ///
+    /// A component type's hash is the XXH3 of its name, then each row's entity bits and value
+    /// hash, little-endian, in entity order: the bytes are gathered and hashed at once (XXH3
+    /// of bytes fed in pieces is the XXH3 of the whole).
+    fn rows(&mut self, name: &'static str, rows: &mut [(u64, u64)], optional: bool) {
         rows.sort_unstable_by_key(|r| r.0);
         if rows.is_empty() && optional {
             return;
         }
-        let mut h = Xxh3::new();
-        h.update(name.as_bytes());
-        for (e, v) in &rows {
-            h.update(&e.to_le_bytes());
-            h.update(&v.to_le_bytes());
-            let eh = self.entities.entry(*e).or_default();
-            eh.update(name.as_bytes());
-            eh.update(&v.to_le_bytes());
+        self.buf.clear();
+        self.buf.extend_from_slice(name.as_bytes());
+        for (e, v) in rows.iter() {
+            self.buf.extend_from_slice(&e.to_le_bytes());
+            self.buf.extend_from_slice(&v.to_le_bytes());
+            self.rows.push((*e, name, *v));
         }
-        self.components.push((name, h.digest()));
+        self.components.push((name, xxhash_rust::xxh3::xxh3_64(&self.buf)));
+    }
+
+    /// Each entity's hash: the XXH3 of its components' names and value hashes (little-endian),
+    /// in the order the types were hashed; sorted by entity.
+    fn entities(&mut self) -> Vec<(u64, u64)> {
+        // Each entity's components in the order they were hashed: sorted by entity, then by
+        // their place in `rows` (the same order as a stable sort by entity).
+        let mut order: Vec<(u64, u32)> = self.rows.iter().enumerate().map(|(i, r)| (r.0, i as u32)).collect();
+        order.sort_unstable();
+        let mut out = Vec::new();
+        for group in order.chunk_by(|a, b| a.0 == b.0) {
+            self.buf.clear();
+            for &(_, i) in group {
+                let (_, name, v) = self.rows[i as usize];
+                self.buf.extend_from_slice(name.as_bytes());
+                self.buf.extend_from_slice(&v.to_le_bytes());
+            }
+            out.push((group[0].0, xxhash_rust::xxh3::xxh3_64(&self.buf)));
+        }
+        out
     }
 }
 
 /// How one component value is hashed.
 trait HashValue {
-    fn hash_value(&self, acc: &mut Acc) -> u64;
+    fn hash_value(&self, entity: Entity, acc: &mut Acc) -> u64;
 }
 
 /// Most components are hashed from their postcard bytes.
 macro_rules! serde_hashed {
     ($($t:ty),*) => {
         $(impl HashValue for $t {
-            fn hash_value(&self, acc: &mut Acc) -> u64 {
+            fn hash_value(&self, _: Entity, acc: &mut Acc) -> u64 {
                 acc.value_hash(self)
             }
         })*
@@ -186,13 +213,22 @@ macro_rules! serde_hashed {
 serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water, Grass, AerialCrown);
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
-/// through serde (the same bits, much faster).
+/// through serde (the same bits, much faster), and only once: a plane never changes after the
+/// world is built, so its hash is the one [`Resources::plane_hashes`] noted then (a plane it
+/// does not list is hashed here).
 impl HashValue for Plane {
-    fn hash_value(&self, _: &mut Acc) -> u64 {
-        plane_hash(self)
+    fn hash_value(&self, entity: Entity, acc: &mut Acc) -> u64 {
+        match acc.plane_hashes.iter().find(|(e, _)| *e == entity) {
+            Some(&(_, h)) => {
+                debug_assert_eq!(h, plane_hash(self), "a plane changed after the world was built");
+                h
+            }
+            None => plane_hash(self),
+        }
     }
 }
 
+/// The hashed resources, serialized as one struct: their hash is over its postcard bytes.
 #[derive(Serialize)]
 struct HashedResources<'a> {
     tick: u64,
@@ -207,10 +243,45 @@ struct HashedResources<'a> {
     task: &'a Option<crate::task::TaskState>,
 }
 
-/// Hashes the world and the hashed resources.
-pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
-    let mut acc = Acc { buf: Vec::with_capacity(256), entities: BTreeMap::new(), components: Vec::new() };
-    let resources = HashedResources {
+/// The fields of [`HashedResources`] before the log.
+#[derive(Serialize)]
+struct ResourcesHead<'a> {
+    tick: u64,
+    dt: f32,
+    seed: u64,
+    rng_word_pos: u128,
+    config: &'a crate::resources::Config,
+    mode: crate::mode::Mode,
+    menu: &'a crate::resources::MenuState,
+    interaction: &'a crate::resources::Interaction,
+}
+
+/// The postcard bytes of [`HashedResources`], put together as postcard writes a struct (its
+/// fields one after another, a sequence as its length and then its items), with the event log's
+/// entries from [`Resources::log_bytes`], so that each entry is serialized once.
+fn resources_bytes(res: &Resources, buf: &mut Vec<u8>) {
+    let head = ResourcesHead {
+        tick: res.tick,
+        dt: res.dt,
+        seed: res.seed,
+        rng_word_pos: res.rng.get_word_pos(),
+        config: &res.config,
+        mode: res.mode,
+        menu: &res.menu,
+        interaction: &res.interaction,
+    };
+    buf.clear();
+    // Serializing plain data into a Vec cannot fail.
+    *buf = postcard::to_extend(&head, std::mem::take(buf)).unwrap_or_default();
+    *buf = postcard::to_extend(&res.log.entries.len(), std::mem::take(buf)).unwrap_or_default();
+    res.log_bytes.extend(&res.log, buf);
+    *buf = postcard::to_extend(&res.task, std::mem::take(buf)).unwrap_or_default();
+    debug_assert_eq!(*buf, postcard::to_allocvec(&hashed_resources(res)).unwrap_or_default(), "the resources' bytes put together differ from their serialization");
+}
+
+/// The hashed resources as one struct.
+fn hashed_resources(res: &Resources) -> HashedResources<'_> {
+    HashedResources {
         tick: res.tick,
         dt: res.dt,
         seed: res.seed,
@@ -221,16 +292,22 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
         interaction: &res.interaction,
         log: &res.log,
         task: &res.task,
-    };
+    }
+}
+
+/// Hashes the world and the hashed resources.
+pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
+    let mut acc = Acc { buf: Vec::with_capacity(256), rows: Vec::new(), type_rows: Vec::new(), components: Vec::new(), plane_hashes: &res.plane_hashes };
     macro_rules! hash_each {
-        ($acc:expr, $world:expr, $resources:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
+        ($acc:expr, $world:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
             $($acc.component::<$t>($world, stringify!($t), is_optional!($o));)*
-            let rh = $acc.value_hash(&$resources);
+            resources_bytes(res, &mut $acc.buf);
+            let rh = xxhash_rust::xxh3::xxh3_64(&$acc.buf);
             $acc.components.push(("resources", rh));
             $($acc.component::<$late>($world, stringify!($late), is_optional!($lo));)*
         };
     }
-    hash_table!(hash_each, acc, world, resources);
+    hash_table!(hash_each, acc, world);
     // The techniques' components, through the same table; then, while a plug-in technique is
     // active, its name and version. Neither exists in a world of the built-in techniques.
     for t in res.techniques.iter() {
@@ -243,11 +320,44 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
         let h = acc.value_hash(&(active.name, active.version));
         acc.components.push(("technique", h));
     }
-    let mut total = Xxh3::new();
+    // The total: the XXH3 of every component type's name and hash, little-endian, in order.
+    acc.buf.clear();
     for (name, h) in &acc.components {
-        total.update(name.as_bytes());
-        total.update(&h.to_le_bytes());
+        acc.buf.extend_from_slice(name.as_bytes());
+        acc.buf.extend_from_slice(&h.to_le_bytes());
     }
-    let entities: Vec<(u64, u64)> = acc.entities.into_iter().map(|(e, h)| (e, h.digest())).collect();
-    WorldHash { total: total.digest(), components: acc.components, entities }
+    let total = xxhash_rust::xxh3::xxh3_64(&acc.buf);
+    let entities = acc.entities();
+    WorldHash { total, components: acc.components, entities }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::events::Happening;
+
+    #[test]
+    fn the_resources_bytes_put_together_are_their_serialization() {
+        let mut res = Resources::new(1.0 / 60.0, 3, crate::catalogue::Catalogue::builtin());
+        let whole = |res: &Resources| postcard::to_allocvec(&hashed_resources(res)).unwrap();
+        let mut buf = Vec::new();
+        for tick in 0..200 {
+            res.tick = tick;
+            if tick % 3 == 0 {
+                res.log.push(tick, Happening::Moved { tree: tick, position: glam::Vec3::new(tick as f32, 0.5, -1.0) });
+            }
+            resources_bytes(&res, &mut buf);
+            assert_eq!(buf, whole(&res), "tick {tick}");
+        }
+        // A log past 127 entries (a two-byte count), then a shorter one: the bytes follow it.
+        assert!(res.log.entries.len() < 128);
+        for tick in 0..100 {
+            res.log.push(tick, Happening::MenuOpened);
+        }
+        resources_bytes(&res, &mut buf);
+        assert_eq!(buf, whole(&res));
+        res.log.entries.truncate(2);
+        resources_bytes(&res, &mut buf);
+        assert_eq!(buf, whole(&res));
+    }
 }

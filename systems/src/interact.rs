@@ -23,18 +23,16 @@ pub fn entity(bits: u64) -> Option<Entity> {
 
 /// The world-space oriented box of the tree `e` from its components and the catalogue, or
 /// `None` if `e` is not a tree (any more) or its model is unknown.
-pub fn tree_box_of(world: &World, catalogue: &Catalogue, e: Entity) -> Option<TreeBox> {
-    // One lookup of the entity for the three components.
-    let entity = world.entity(e).ok()?;
-    let model = entity.get::<&Tree>()?.model;
-    let t = *entity.get::<&Transform>()?;
-    let scale = entity.get::<&Scale>()?.0;
+pub fn tree_box_of(world: &mut World, catalogue: &Catalogue, e: Entity) -> Option<TreeBox> {
+    // One lookup of the entity for the three components, without the runtime borrow flags.
+    let (tree, t, scale) = world.query_one_mut::<(&Tree, &Transform, &Scale)>(e).ok()?;
+    let (model, t, scale) = (tree.model, *t, scale.0);
     let m = catalogue.get(model)?;
     Some(tree_box(e, &t, scale, m.bounds_min, m.bounds_max))
 }
 
 /// The id bits of the selected tree, if any (from the first `Selection` entity).
-pub fn selected_tree(world: &World, singles: &Singles) -> Option<u64> {
+pub fn selected_tree(world: &mut World, singles: &Singles) -> Option<u64> {
     single::get::<Selection>(world, singles).and_then(|s| s.tree)
 }
 

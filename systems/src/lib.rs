@@ -31,6 +31,7 @@ pub mod known_techniques;
 pub mod limits;
 mod message_error;
 pub mod mode;
+pub mod plane_grid;
 pub mod replay;
 pub mod scatter;
 pub mod resources;

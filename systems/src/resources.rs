@@ -389,6 +389,13 @@ pub struct Resources {
     /// the spatial index's tree changes, the dragged tree and the task's start tick. Not hashed:
     /// it only lets the search be skipped when it would find what it found before.
     pub task_search: Option<(u64, Option<u64>, u64)>,
+    /// Each plane's hash ([`crate::components::plane_hash`]), noted when the world is built: a
+    /// plane never changes afterwards, so the world hash does not hash its mesh again at every
+    /// checkpoint. Not hashed: it is a cache of hashed state.
+    pub plane_hashes: Vec<(hecs::Entity, u64)>,
+    /// The event log's entries as the world hash serializes them, each serialized once (the log
+    /// only grows). Not hashed: it is a cache of hashed state.
+    pub log_bytes: crate::events::LogBytes,
 }
 
 impl Resources {
@@ -413,6 +420,8 @@ impl Resources {
             spatial: SpatialIndex::default(),
             singles: crate::single::Singles::default(),
             task_search: None,
+            plane_hashes: Vec::new(),
+            log_bytes: crate::events::LogBytes::default(),
         }
     }
 

@@ -47,20 +47,37 @@ pub const BUILTIN: &[(Stage, &str, System)] = &[
     (Stage::Task, "task", systems::task::run),
 ];
 
+/// Where each stage's built-in systems end in [`BUILTIN`] (they are grouped by stage, in order).
+const STAGE_ENDS: [usize; Stage::ALL.len()] = {
+    let mut ends = [0; Stage::ALL.len()];
+    let mut k = 0;
+    while k < Stage::ALL.len() {
+        let mut i = 0;
+        while i < BUILTIN.len() {
+            if BUILTIN[i].0 as usize <= Stage::ALL[k] as usize {
+                ends[k] = i + 1;
+            }
+            i += 1;
+        }
+        k += 1;
+    }
+    ends
+};
+
 /// Runs one fixed step: stage by stage, the built-in systems of the stage and then the active
 /// technique's systems of that stage, then `tick += 1`.
 pub fn step(world: &mut World, res: &mut Resources, techniques: &Techniques) {
     // The active technique is read once per stage: the input stage may switch it, and the new
     // technique's systems run from the next stage on.
-    let mut next = 0;
-    for stage in Stage::ALL {
-        while let Some((s, _, run)) = BUILTIN.get(next) {
-            if *s != stage {
-                break;
-            }
+    // The single components read or written by one system are kept for the next ones, within
+    // this step only, and forgotten after each plug-in system ([`crate::single`]).
+    res.singles.begin_step();
+    let mut start = 0;
+    for (stage, end) in Stage::ALL.into_iter().zip(STAGE_ENDS) {
+        for (_, _, run) in &BUILTIN[start..end] {
             run(world, res);
-            next += 1;
         }
+        start = end;
         let technique = techniques.at(res.technique);
         if technique.systems.is_empty() {
             continue;
@@ -68,8 +85,10 @@ pub fn step(world: &mut World, res: &mut Resources, techniques: &Techniques) {
         let own: Vec<System> = technique.systems.iter().filter(|(s, _, _)| *s == stage).map(|(_, _, run)| *run).collect();
         for run in own {
             run(world, res);
+            res.singles.forget();
         }
     }
+    res.singles.end_step();
     res.tick += 1;
 }
 
@@ -91,8 +110,16 @@ mod tests {
     fn the_built_in_order_is_the_documented_list() {
         let names: Vec<&str> = order(&crate::technique::Technique::ray_casting()).into_iter().map(|(_, n)| n).collect();
         assert_eq!(names, ["input", "sun", "wind", "raycast", "spawn", "plant_remove", "select", "handles", "touchpad", "drag", "selection_box", "task"]);
-        // The stages are contiguous and in order.
+        // The stages are contiguous and in order, and each stage's systems end where
+        // `STAGE_ENDS` says.
         assert!(BUILTIN.windows(2).all(|w| w[0].0 <= w[1].0));
+        let mut start = 0;
+        for (stage, end) in Stage::ALL.into_iter().zip(STAGE_ENDS) {
+            assert!(BUILTIN[start..end].iter().all(|(s, _, _)| *s == stage), "{stage:?}");
+            assert!(BUILTIN[end..].iter().all(|(s, _, _)| *s != stage), "{stage:?}");
+            start = end;
+        }
+        assert_eq!(start, BUILTIN.len());
     }
 
     #[test]

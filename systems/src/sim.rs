@@ -76,7 +76,9 @@ impl Sim {
 
         for p in &scene.planes {
             let (vertices, triangles) = plane_geometry(&p.shape);
-            world.spawn((Plane { name: p.name.clone(), vertices, triangles },));
+            let plane = Plane { name: p.name.clone(), vertices, triangles };
+            let hash = plane_hash(&plane);
+            res.plane_hashes.push((world.spawn((plane,)), hash));
         }
 
         for w in &scene.water {

@@ -9,22 +9,45 @@
 //! back to the query, so a world built another way (tests, a world without a controller) reads as
 //! before.
 //!
+//! During a step it also keeps a copy of each single component as a system last read or wrote
+//! it ([`Copies`]), so that the next system that reads it does not look it up again: the
+//! controller, for one, is read by half the systems every tick. Within the built-in systems every
+//! read and write of a single component goes through [`get`] and [`for_each_mut`], which keep the
+//! copies true; the schedule starts each step with none, forgets them after every system of a
+//! plug-in technique (which may write any component), and ends the step with none, so outside a
+//! step (set-up, tests) every read looks the world up.
+//!
+//! It also notes whether the world has no water body at all: no system spawns one, so the
+//! systems that cast rays or look for ground skip the query for water in a world without any.
+//!
 //! Not hashed: it is a cache of the world's own entities.
+
+use std::cell::Cell;
 
 use hecs::{Component, Entity, World};
 
 use crate::components::{AnchorBall, Controller, Head, HitMarker, Selection, Sun, Wind};
+use crate::water::Water;
 
 /// A component of which a world has one entity.
 pub trait Single: Component + Copy {
     /// Its slot in [`Singles`].
     const SLOT: usize;
+    /// Its copy in [`Copies`].
+    fn copy(copies: &Copies) -> &Cell<Option<Self>>;
+    /// Whether a copy is kept during a step: for the components that several systems read each
+    /// tick (for the others, keeping one would cost more than it saves).
+    const KEPT: bool;
 }
 
 macro_rules! singles {
-    ($($t:ident = $i:expr),* $(,)?) => {
+    ($($t:ident = $i:expr, $field:ident, $kept:expr),* $(,)?) => {
         $(impl Single for $t {
             const SLOT: usize = $i;
+            const KEPT: bool = $kept;
+            fn copy(copies: &Copies) -> &Cell<Option<Self>> {
+                &copies.$field
+            }
         })*
         /// How many kinds of single entity there are.
         const KINDS: usize = [$($i),*].len();
@@ -33,17 +56,43 @@ macro_rules! singles {
             pub fn find(world: &World) -> Singles {
                 let mut s = Singles::default();
                 $(s.slots[$i] = only::<$t>(world);)*
+                s.dry = world.query::<&Water>().iter().next().is_none();
                 s
+            }
+        }
+        /// Copies of the single components as the running step last read or wrote them
+        /// through this module; none outside a step.
+        #[derive(Clone, Debug, Default)]
+        pub struct Copies {
+            /// Whether a step is running (copies are kept only then).
+            active: Cell<bool>,
+            $($field: Cell<Option<$t>>,)*
+        }
+        impl Copies {
+            fn clear(&self) {
+                $(self.$field.set(None);)*
             }
         }
     };
 }
-singles!(Controller = 0, Head = 1, HitMarker = 2, AnchorBall = 3, Selection = 4, Sun = 5, Wind = 6);
+singles!(
+    Controller = 0, controller, true,
+    Head = 1, head, false,
+    HitMarker = 2, hit_marker, true,
+    AnchorBall = 3, anchor_ball, false,
+    Selection = 4, selection, true,
+    Sun = 5, sun, false,
+    Wind = 6, wind, false,
+);
 
-/// The entity of each single kind, where the world has exactly one.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// The entity of each single kind, where the world has exactly one, and the copies of their
+/// components during a step.
+#[derive(Clone, Debug, Default)]
 pub struct Singles {
     slots: [Option<Entity>; KINDS],
+    /// The world had no water body when it was built (false: it had one, or it is not known).
+    dry: bool,
+    copies: Copies,
 }
 
 fn only<T: Component>(world: &World) -> Option<Entity> {
@@ -58,16 +107,56 @@ impl Singles {
     pub fn entity<T: Single>(&self) -> Option<Entity> {
         self.slots[T::SLOT]
     }
+
+    /// A step begins: from now on, the components read and written through [`get`] and
+    /// [`for_each_mut`] are kept.
+    pub fn begin_step(&self) {
+        self.copies.clear();
+        self.copies.active.set(true);
+    }
+
+    /// Forgets the kept components: after a system that may have written single components
+    /// other than through this module (a plug-in technique's).
+    pub fn forget(&self) {
+        self.copies.clear();
+    }
+
+    /// The step is over: nothing is kept until the next one begins.
+    pub fn end_step(&self) {
+        self.copies.clear();
+        self.copies.active.set(false);
+    }
 }
 
 /// A copy of the world's `T`: its one entity's, else the first a query finds, else `None`.
-pub fn get<T: Single>(world: &World, singles: &Singles) -> Option<T> {
-    if let Some(e) = singles.entity::<T>()
-        && let Ok(c) = world.get::<&T>(e)
-    {
-        return Some(*c);
+/// During a step, the copy kept from the last read or write of it in this step, if any.
+///
+/// It takes the world mutably only to read it through `query_one_mut`, which skips the runtime
+/// borrow flags that `World::get` sets and clears (the systems, its callers, hold the world
+/// mutably anyway).
+pub fn get<T: Single>(world: &mut World, singles: &Singles) -> Option<T> {
+    if let Some(e) = singles.entity::<T>() {
+        let copy = T::copy(&singles.copies);
+        if let Some(c) = copy.get() {
+            return Some(c);
+        }
+        if let Ok(c) = world.query_one_mut::<&T>(e) {
+            if T::KEPT && singles.copies.active.get() {
+                copy.set(Some(*c));
+            }
+            return Some(*c);
+        }
     }
-    world.query::<&T>().iter().next().copied()
+    world.query_mut::<&T>().into_iter().next().copied()
+}
+
+/// The world's water bodies ([`crate::water::bodies`]); none, without a query, in a world that
+/// had none when it was built.
+pub fn water(world: &World, singles: &Singles) -> Vec<(Entity, Water)> {
+    if singles.dry {
+        return Vec::new();
+    }
+    crate::water::bodies(world)
 }
 
 /// Calls `f` on every `T` of the world: on its one entity's directly when there is one.
@@ -77,6 +166,9 @@ pub fn for_each_mut<T: Single>(world: &mut World, singles: &Singles, mut f: impl
         && let Ok(c) = world.query_one_mut::<&mut T>(e)
     {
         f(c);
+        if T::KEPT && singles.copies.active.get() {
+            T::copy(&singles.copies).set(Some(*c));
+        }
         return;
     }
     for c in world.query_mut::<&mut T>() {
@@ -99,14 +191,41 @@ mod tests {
         // Two hit markers: no slot, and every one of them is written.
         assert_eq!(singles.entity::<HitMarker>(), None);
         assert_eq!(singles.entity::<Head>(), None);
-        assert!(get::<Head>(&world, &singles).is_none());
+        assert!(get::<Head>(&mut world, &singles).is_none());
         for_each_mut::<HitMarker>(&mut world, &singles, |m| m.visible = false);
         assert_eq!(world.query::<&HitMarker>().iter().filter(|m| m.visible).count(), 0);
         // A despawned single falls back to the query: none left.
         world.despawn(c).unwrap();
-        assert!(get::<Controller>(&world, &singles).is_none());
+        assert!(get::<Controller>(&mut world, &singles).is_none());
         let c2 = world.spawn((Controller { touchpad: glam::Vec2::ONE, ..Default::default() },));
-        assert_eq!(get::<Controller>(&world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ONE));
+        assert_eq!(get::<Controller>(&mut world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ONE));
         assert_ne!(Some(c2), singles.entity::<Controller>());
+    }
+
+    #[test]
+    fn copies_are_kept_within_a_step_and_forgotten_when_something_else_may_write() {
+        let mut world = World::new();
+        let c = world.spawn((Controller::default(),));
+        let singles = Singles::find(&world);
+        let touchpad = |world: &mut World| get::<Controller>(world, &singles).map(|c| c.touchpad.x);
+        // A write behind the module's back (as a plug-in or the set-up may make).
+        let behind = |world: &mut World, x: f32| world.query_one_mut::<&mut Controller>(c).unwrap().touchpad.x = x;
+        // Outside a step nothing is kept: every read sees the world.
+        assert_eq!(touchpad(&mut world), Some(0.0));
+        behind(&mut world, 1.0);
+        assert_eq!(touchpad(&mut world), Some(1.0));
+        // Within a step, a write through the module is what the next read gets.
+        singles.begin_step();
+        for_each_mut::<Controller>(&mut world, &singles, |c| c.touchpad.x = 2.0);
+        assert_eq!(touchpad(&mut world), Some(2.0));
+        assert_eq!(world.query_one_mut::<&Controller>(c).unwrap().touchpad.x, 2.0);
+        // The schedule forgets the copies after a plug-in system, which may write anything.
+        behind(&mut world, 3.0);
+        singles.forget();
+        assert_eq!(touchpad(&mut world), Some(3.0));
+        // And keeps none once the step is over.
+        singles.end_step();
+        behind(&mut world, 4.0);
+        assert_eq!(touchpad(&mut world), Some(4.0));
     }
 }

@@ -14,11 +14,13 @@ use glam::{Quat, Vec3};
 use hecs::{Entity, World};
 use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
-use parry3d::query::{Ray, RayCast};
-use parry3d::shape::{Cuboid, TriMesh, TriMeshFlags};
+use parry3d::query::{Ray, RayCast, RayIntersection};
+use parry3d::shape::Cuboid;
 
 use crate::catalogue::{Catalogue, PickShape, PICK_BANDS};
 use crate::components::{Plane, Scale, Transform, Tree, Wind};
+pub use crate::plane_grid::plane_trimesh;
+use crate::plane_grid::{shared_plane_mesh, PlaneMesh};
 use crate::wind_model::{max_sway, SwayExtent};
 
 /// A tree as the index sees it: its entity and its oriented box in world space.
@@ -50,7 +52,7 @@ pub struct RayHit {
 /// Acceleration structures for ray queries, derived from the world.
 #[derive(Default)]
 pub struct SpatialIndex {
-    planes: Vec<(Entity, std::sync::Arc<TriMesh>)>,
+    planes: Vec<(Entity, std::sync::Arc<PlaneMesh>)>,
     trees: Vec<TreeBox>,
     /// Per tree (same order as `trees`), its pick shape, if its model has one.
     picks: Vec<Option<TreePick>>,
@@ -128,7 +130,7 @@ impl SpatialIndex {
         if !self.built_once || self.planes_dirty {
             self.planes.clear();
             for (e, plane) in world.query::<(Entity, &Plane)>().iter() {
-                if let Some(mesh) = shared_plane_trimesh(plane) {
+                if let Some(mesh) = shared_plane_mesh(plane) {
                     self.planes.push((e, mesh));
                 }
             }
@@ -238,13 +240,25 @@ impl SpatialIndex {
         Some(RayHit { entity: b.entity, distance: toi, point, normal })
     }
 
-    /// The nearest plane hit along a ray, if any, within `max_dist`.
+    /// The nearest plane hit along a ray, if any, within `max_dist`. Each plane's triangles are
+    /// found through its grid of cells ([`PlaneMesh::cast`]), with the very result of parry's
+    /// BVH search ([`SpatialIndex::cast_planes_plain`]).
     pub fn cast_planes(&self, origin: Vec3, dir: Vec3, max_dist: f32) -> Option<RayHit> {
+        self.cast_planes_with(origin, dir, max_dist, PlaneMesh::cast)
+    }
+
+    /// [`SpatialIndex::cast_planes`] through parry's BVH search of each plane alone: the
+    /// reference the grid must agree with.
+    pub fn cast_planes_plain(&self, origin: Vec3, dir: Vec3, max_dist: f32) -> Option<RayHit> {
+        self.cast_planes_with(origin, dir, max_dist, PlaneMesh::cast_plain)
+    }
+
+    fn cast_planes_with(&self, origin: Vec3, dir: Vec3, max_dist: f32, cast: impl Fn(&PlaneMesh, &Ray, f32) -> Option<RayIntersection>) -> Option<RayHit> {
         let ray = Ray::new(origin, dir);
         let mut best: Option<RayHit> = None;
         for (e, mesh) in &self.planes {
             let limit = best.map_or(max_dist, |b| b.distance);
-            if let Some(hit) = mesh.cast_local_ray_and_get_normal(&ray, limit, false) {
+            if let Some(hit) = cast(mesh, &ray, limit) {
                 let mut n = hit.normal.normalize_or(Vec3::Y);
                 if n.dot(dir) > 0.0 {
                     n = -n;
@@ -376,42 +390,6 @@ pub fn nearest(tree: Option<RayHit>, planes: impl FnOnce(f32) -> Option<RayHit>,
         (Some(t), _) => Some(t),
         (None, p) => p,
     }
-}
-
-/// A parry3d triangle mesh for a plane; `None` if it has no valid triangle.
-pub fn plane_trimesh(plane: &Plane) -> Option<TriMesh> {
-    if plane.triangles.is_empty() {
-        return None;
-    }
-    TriMesh::with_flags(plane.vertices.clone(), plane.triangles.clone(), TriMeshFlags::empty()).ok()
-}
-
-/// [`plane_trimesh`], built once per process for each distinct plane (found by its
-/// [`crate::components::plane_hash`], then compared whole): every recording of a study starts from the same planes, and building their
-/// meshes' trees was a twentieth of a replay's time. The mesh is a pure function of the plane, so
-/// sharing it changes nothing a simulation computes.
-fn shared_plane_trimesh(plane: &Plane) -> Option<std::sync::Arc<TriMesh>> {
-    use std::collections::HashMap;
-    use std::sync::{Arc, Mutex, OnceLock};
-    type Cache = Mutex<HashMap<u64, Vec<(Plane, Arc<TriMesh>)>>>;
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    /// At most this many planes are kept; past it the cache starts again.
-    const MAX_PLANES: usize = 64;
-    let key = crate::components::plane_hash(plane);
-    let cache = CACHE.get_or_init(Cache::default);
-    if let Ok(map) = cache.lock()
-        && let Some(found) = map.get(&key).and_then(|v| v.iter().find(|(p, _)| p == plane))
-    {
-        return Some(found.1.clone());
-    }
-    let mesh = Arc::new(plane_trimesh(plane)?);
-    if let Ok(mut map) = cache.lock() {
-        if map.values().map(Vec::len).sum::<usize>() >= MAX_PLANES {
-            map.clear();
-        }
-        map.entry(key).or_default().push((plane.clone(), mesh.clone()));
-    }
-    Some(mesh)
 }
 
 /// A tree's pick shape placed in the world: the model-space bands grown by the wind's sway, and

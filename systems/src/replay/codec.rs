@@ -326,7 +326,13 @@ pub(crate) fn parse_body(body: &str, maps: Maps) -> Result<Line, LineFormatError
         let event = event_from_value(e.event)?;
         return Ok(Line::Event(EventLine { tick: e.tick, ms: e.ms, frame: e.frame, event }));
     }
-    // Checkpoints come next, once a second of a recording.
+    // Checkpoints come next, once a second of a recording: in the recorder's own shape read
+    // without serde.
+    if maps == Maps::CheckOnly
+        && let Some(c) = super::fast_checkpoint::read(body)
+    {
+        return Ok(Line::Checkpoint(c));
+    }
     if maps == Maps::CheckOnly
         && body.starts_with("{\"type\":\"checkpoint\",")
         && let Ok(c) = serde_json::from_str::<CheckedCheckpoint>(body)

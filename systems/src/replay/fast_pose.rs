@@ -23,20 +23,21 @@ use crate::input::InputEvent;
 /// The powers of ten that are exact in `f64`.
 const POW10: [f64; 23] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22];
 
-/// A cursor over the line's bytes.
-struct Cursor<'a> {
-    s: &'a [u8],
-    at: usize,
+/// A cursor over a line's bytes (also [`super::fast_checkpoint`]'s).
+pub(super) struct Cursor<'a> {
+    pub(super) s: &'a [u8],
+    pub(super) at: usize,
 }
 
 impl<'a> Cursor<'a> {
-    fn lit(&mut self, l: &str) -> Option<()> {
+    /// The literal text `l`.
+    pub(super) fn lit(&mut self, l: &str) -> Option<()> {
         let end = self.at.checked_add(l.len())?;
         (self.s.get(self.at..end)? == l.as_bytes()).then(|| self.at = end)
     }
 
     /// A JSON integer without sign, fraction or exponent: `0` or digits not starting with 0.
-    fn uint(&mut self) -> Option<u64> {
+    pub(super) fn uint(&mut self) -> Option<u64> {
         let start = self.at;
         let mut v: u64 = 0;
         while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
@@ -47,47 +48,62 @@ impl<'a> Cursor<'a> {
         (n == 1 || (n > 1 && self.s[start] != b'0')).then_some(v)
     }
 
+    /// One byte.
+    pub(super) fn byte(&mut self, b: u8) -> Option<()> {
+        (self.s.get(self.at) == Some(&b)).then(|| self.at += 1)
+    }
+
+    /// The run of digits at the cursor: its length, and its value when it has at most 19
+    /// digits (which cannot overflow `u64`) on top of `start` × 10^length. The cursor moves past it.
+    fn digits(&mut self, start: u64) -> (usize, Option<u64>) {
+        let from = self.at;
+        let mut v = start;
+        while let Some(&b) = self.s.get(self.at) {
+            let d = b.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            v = v.wrapping_mul(10).wrapping_add(u64::from(d));
+            self.at += 1;
+        }
+        let run = self.at - from;
+        (run, (run <= 19).then_some(v))
+    }
+
     /// A JSON number that serde_json computes exactly (see the module's text), computed as it
     /// computes it: the digits as an integer, then one multiplication or division by a power
     /// of ten.
     fn number(&mut self) -> Option<f32> {
-        let negative = self.s.get(self.at) == Some(&b'-');
-        if negative {
-            self.at += 1;
-        }
-        let (mut significand, mut significant) = (0u64, 0u32);
-        let mut digit = |b: u8, significand: &mut u64| {
-            *significand = *significand * 10 + u64::from(b - b'0');
-            if *significand > 0 {
-                significant += 1;
-            }
-            significant <= 15
-        };
+        /// The digits as an integer stay below this: at most 15 significant digits.
+        const SIGNIFICAND_END: u64 = 1_000_000_000_000_000;
+        let negative = self.byte(b'-').is_some();
         let int_start = self.at;
-        while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
-            self.at += 1;
-            if !digit(b, &mut significand) {
-                return None;
-            }
-        }
-        let int_digits = self.at - int_start;
+        let (int_digits, significand) = self.digits(0);
+        let significand = significand.filter(|&v| v < SIGNIFICAND_END)?;
         if int_digits == 0 || (int_digits > 1 && self.s[int_start] == b'0') {
             return None;
         }
         let mut exponent = 0i32;
-        if self.s.get(self.at) == Some(&b'.') {
-            self.at += 1;
-            let f_start = self.at;
-            while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
-                self.at += 1;
-                if !digit(b, &mut significand) {
-                    return None;
+        let mut significand = significand;
+        if self.byte(b'.').is_some() {
+            // After a zero integer part, the fraction's leading zeros add nothing to the value.
+            let mut zeros = 0;
+            if significand == 0 {
+                while self.s.get(self.at) == Some(&b'0') {
+                    self.at += 1;
+                    zeros += 1;
                 }
             }
-            if self.at == f_start {
+            let (rest, v) = self.digits(significand);
+            let frac_digits = zeros + rest;
+            // With a non-zero integer part, more than 19 digits in all are more than 15
+            // significant ones (and could overflow `u64`).
+            let v = v?;
+            if frac_digits == 0 || (significand > 0 && int_digits + rest > 19) || v >= SIGNIFICAND_END {
                 return None;
             }
-            exponent = -((self.at - f_start) as i32);
+            significand = v;
+            exponent = -(frac_digits as i32);
         }
         if matches!(self.s.get(self.at), Some(b'e' | b'E')) {
             self.at += 1;
@@ -102,36 +118,29 @@ impl<'a> Cursor<'a> {
                 }
                 _ => 1,
             };
-            let e_start = self.at;
-            let mut e = 0i32;
-            while let Some(&b) = self.s.get(self.at).filter(|b| b.is_ascii_digit()) {
-                self.at += 1;
-                e = e * 10 + i32::from(b - b'0');
-                if self.at - e_start > 3 {
-                    return None;
-                }
-            }
-            if self.at == e_start {
+            let (e_digits, e) = self.digits(0);
+            if e_digits == 0 || e_digits > 3 {
                 return None;
             }
-            exponent += sign * e;
+            exponent += sign * e? as i32;
         }
         let pow = *POW10.get(exponent.unsigned_abs() as usize)?;
-        let f = significand as f64;
+        // Below 10^15, so exact through `i64` (one conversion instruction, where `u64` takes a few).
+        let f = significand as i64 as f64;
         let f = if exponent >= 0 { f * pow } else { f / pow };
         Some(if negative { -f } else { f } as f32)
     }
 
     fn numbers<const N: usize>(&mut self) -> Option<[f32; N]> {
-        self.lit("[")?;
+        self.byte(b'[')?;
         let mut out = [0.0; N];
         for (i, x) in out.iter_mut().enumerate() {
             if i > 0 {
-                self.lit(",")?;
+                self.byte(b',')?;
             }
             *x = self.number()?;
         }
-        self.lit("]")?;
+        self.byte(b']')?;
         Some(out)
     }
 }

@@ -15,6 +15,7 @@
 //! and memory. The scene a header names is resolved by [`scene_ref`].
 
 pub mod codec;
+mod fast_checkpoint;
 mod fast_pose;
 mod lines;
 pub mod names;

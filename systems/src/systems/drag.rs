@@ -67,7 +67,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let threshold = res.config.snap_threshold;
     let released = res.edges.up.trigger || !c.buttons.trigger;
 
-    let water = crate::water::bodies(world);
+    let water = single::water(world, &res.singles);
     let Ok((t, g, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &Scale)>(e) else { return };
     let target = c.ray_origin() + c.ray_dir() * drag.grab_distance + drag.offset;
     if drag.moved || target.distance(t.translation) > MOVE_EPSILON {

@@ -61,7 +61,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     });
     // Water is tested after the trees and planes, only up to their hit: a tree or a shore
     // nearer than the surface wins, and in a world without water nothing changes.
-    let water = crate::water::bodies(world);
+    let water = single::water(world, &res.singles);
     if let Some(w) = crate::water::cast(&water, origin, dir, hit.map_or(max, |(h, _)| h.distance)) {
         hit = Some((w, HitTarget::Water(w.entity.to_bits().get())));
     }

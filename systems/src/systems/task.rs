@@ -26,15 +26,29 @@ fn near_any_target(task: &TaskState, p: Vec3) -> bool {
 }
 
 /// Marks the targets that a tree now satisfies, in target order, each tree counting for one
-/// target; returns `(target, tree id)` of each newly satisfied one.
-fn satisfy_targets(world: &World, task: &mut TaskState, catalogue: &crate::catalogue::Catalogue, dragged: Option<u64>, tick: u64) -> Vec<(usize, u64)> {
+/// target; returns `(target, tree id)` of each newly satisfied one. The candidates are every
+/// tree, or only the tree `only` when no other can be new (see [`run`]).
+fn satisfy_targets(world: &mut World, task: &mut TaskState, catalogue: &crate::catalogue::Catalogue, dragged: Option<u64>, only: Option<u64>, tick: u64) -> Vec<(usize, u64)> {
     let require_grounded = task.def.require_grounded;
-    let trees: Vec<(u64, crate::catalogue::ModelId, Vec3)> = world
-        .query::<(Entity, &Tree, &Transform, &Grounded)>()
-        .iter()
-        .filter(|&(e, _, _, g)| Some(e.to_bits().get()) != dragged && (g.0 || !require_grounded))
-        .map(|(e, tree, t, _)| (e.to_bits().get(), tree.model, t.translation))
-        .collect();
+    let keep = |e: Entity, g: &Grounded| Some(e.to_bits().get()) != dragged && (g.0 || !require_grounded);
+    let trees: Vec<(u64, crate::catalogue::ModelId, Vec3)> = match only {
+        Some(id) => crate::interact::entity(id)
+            .and_then(|e| {
+                let (tree, t, g) = world.query_one_mut::<(&Tree, &Transform, &Grounded)>(e).ok()?;
+                keep(e, g).then_some((id, tree.model, t.translation))
+            })
+            .into_iter()
+            .collect(),
+        None => world
+            .query_mut::<(Entity, &Tree, &Transform, &Grounded)>()
+            .into_iter()
+            .filter(|&(e, _, _, g)| keep(e, g))
+            .map(|(e, tree, t, _)| (e.to_bits().get(), tree.model, t.translation))
+            .collect(),
+    };
+    if trees.is_empty() {
+        return Vec::new();
+    }
     let mut used: Vec<u64> = task.satisfied.iter().flatten().map(|h| h.tree).collect();
     let mut newly = Vec::new();
     for (i, target) in task.def.targets.iter().enumerate() {
@@ -118,14 +132,18 @@ pub fn run(world: &mut World, res: &mut Resources) {
     // Targets. A search finds nothing new while no tree was added, removed or moved, the same
     // tree is dragged and no touchpad gesture moves one (the only moves that mark the trees
     // changed when they end rather than as they happen): a target it left unsatisfied has at
-    // most the candidates it had then. So the search runs only when one of those changed.
+    // most the candidates it had then. So the search runs over every tree only when one of
+    // those changed; during a touchpad gesture with nothing else changed, the gesture's tree is
+    // the only one that can have moved, so it is the only candidate.
     let dragged = res.interaction.drag.map(|d| d.tree);
     let search = (res.spatial.tree_changes(), dragged, task.started_tick);
-    let newly = if res.task_search == Some(search) && res.interaction.touchpad.is_none() {
-        Vec::new()
-    } else {
+    let newly = if res.task_search != Some(search) {
         res.task_search = Some(search);
-        satisfy_targets(world, task, &res.catalogue, dragged, tick)
+        satisfy_targets(world, task, &res.catalogue, dragged, None, tick)
+    } else if let Some(g) = res.interaction.touchpad {
+        satisfy_targets(world, task, &res.catalogue, dragged, Some(g.tree), tick)
+    } else {
+        Vec::new()
     };
     for (target, tree) in newly {
         res.log.push(tick, Happening::TargetSatisfied { target, tree });

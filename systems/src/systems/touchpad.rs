@@ -41,8 +41,12 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let Some(c) = single::get::<Controller>(world, &res.singles) else { return };
     let dz = res.config.touchpad_dead_zone;
     let (x, y) = (interact::touchpad_axis(c.touchpad.x, dz), interact::touchpad_axis(c.touchpad.y, dz));
-    let selected = interact::selected_tree(world, &res.singles);
     let active = (x != 0.0 || y != 0.0) && res.interaction.handle_drag.is_none();
+    if !active && res.interaction.touchpad.is_none() {
+        // No gesture to go on with or to end.
+        return;
+    }
+    let selected = interact::selected_tree(world, &res.singles);
 
     if let Some(g) = res.interaction.touchpad
         && (!active || selected != Some(g.tree))
@@ -63,7 +67,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let turn = interact::touchpad_turn(x, res.config.touchpad_turn_rate_deg, dt);
     let dragged = res.interaction.drag.as_mut().filter(|d| d.tree == id);
     let lift = res.config.snap_threshold;
-    let water = crate::water::bodies(world);
+    let water = single::water(world, &res.singles);
     let dry = |spatial: &crate::spatial::SpatialIndex, at: Vec3, scale: f32| {
         crate::water::dry_ground(&water, interact::ground_under(spatial, at, lowest, scale, lift))
     };

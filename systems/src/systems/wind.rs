@@ -29,7 +29,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let dir = Vec2::new(w.direction.x, w.direction.z);
     // Reduce time to one period of the 0.5 Hz oscillation (2 s) in f64 first, so f32 keeps
     // its precision however long the session runs.
-    let tf = (t % 2.0) as f32;
+    let tf = crate::wind_model::exact::rem_2(t) as f32;
     for (tr, ws) in world.query_mut::<(Option<&Transform>, &mut WindState)>() {
         if let Some(tr) = tr {
             // The gain is a function of position: recompute it only when the tree has moved

@@ -10,7 +10,7 @@ use super::{Gust, Wind};
 #[inline]
 pub fn det_sin(x: f32) -> f32 {
     use std::f32::consts::{PI, TAU};
-    let k = (x * (1.0 / TAU) + 0.5).floor();
+    let k = super::exact::floor(x * (1.0 / TAU) + 0.5);
     let r = x - k * TAU;
     // Fold into [−π/2, π/2], where the polynomial is accurate: sin(π − r) = sin(r). Written
     // without branches (abs and copysign are exact), since random tree phases would make a
@@ -29,7 +29,7 @@ pub fn gust_shape(u: f32) -> f32 {
 
 /// The gust factor at time `t` seconds: `average + strength × shape(frequency × t)`.
 pub fn gust_at(g: &Gust, t: f64) -> f32 {
-    let u = (g.frequency as f64 * t).fract() as f32;
+    let u = super::exact::fract(g.frequency as f64 * t) as f32;
     g.average + g.strength * gust_shape(u)
 }
 

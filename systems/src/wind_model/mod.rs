@@ -32,6 +32,7 @@ use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 mod displace;
+pub mod exact;
 mod gust;
 mod noise;
 #[cfg(test)]

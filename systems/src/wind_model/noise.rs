@@ -55,7 +55,8 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
 /// Classic 3D gradient noise at `p`, roughly in [−1, 1], 0 at every lattice point.
 /// WGSL: `wind_perlin3`.
 pub fn perlin3(p: Vec3) -> f32 {
-    let (fx, fy, fz) = (p.x.floor(), p.y.floor(), p.z.floor());
+    use super::exact::floor;
+    let (fx, fy, fz) = (floor(p.x), floor(p.y), floor(p.z));
     let (ix, iy, iz) = (fx as i32, fy as i32, fz as i32);
     let (x, y, z) = (p.x - fx, p.y - fy, p.z - fz);
     let (u, v, w) = (fade(x), fade(y), fade(z));
