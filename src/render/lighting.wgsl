@@ -135,14 +135,15 @@ fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
 // The sky's colour seen along the view ray `to` (any length, not zero), without the sun's disc:
 // the environment cubemap, tinted like the ambient light (warmer when the sun is low) and
 // dimmed with the sun's elevation, plus the sun's halo and its wide glow near the horizon
-// (s^40 and s^4 of the cosine to the sun, from one logarithm). The cubemap is read towards
-// the ray raised above the horizon by 0.02 of its length (about 1.1°), so that a ray below the
-// horizon, which meets the ground, takes the colour of the sky just above the horizon in its
-// direction: the cubemap's own lower half (its ground) is never seen, and the sky meets the
-// faded terrain without a band. The sky shader draws this wherever nothing else was drawn.
+// (s^40 and s^4 of the cosine to the sun, from one logarithm). The cubemap is read along the
+// ray, but no lower than a slope of 0.02 (about 1.1°) above the horizon, so that a ray below
+// the horizon, which meets the ground, takes the colour of the sky just above the horizon in
+// its direction: the cubemap's own lower half (its ground) is never seen, the sky meets the
+// faded terrain without a band, and a surface above the horizon fades into the very sky behind
+// it. The sky shader draws this wherever nothing else was drawn.
 fn sky_along(to: vec3<f32>) -> vec3<f32> {
     let d = length(to);
-    let dir = normalize(vec3<f32>(to.x, max(to.y, 0.0) + 0.02 * d, to.z));
+    let dir = normalize(vec3<f32>(to.x, max(to.y, 0.02 * length(to.xz) + 1e-6), to.z));
     let tint = frame.ambient / max(frame.ambient.r, 0.001);
     let env = srgb_decode(textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb) * frame.sky * tint;
     let ls = log2(max(dot(to, frame.sun_dir) / max(d, 1e-6), 1e-6));
