@@ -1,5 +1,5 @@
 // The sky background: the environment cubemap seen through each pixel, dimmed with the sun's
-// elevation, with a sun disc, halo and glow (lighting.wgsl's `sky_along`, which the aerial
+// elevation, with a sun disc, halo and glow (lighting.wgsl's `sky_lit`, which the aerial
 // perspective fades distant surfaces towards). lighting.wgsl is prepended.
 
 // #import lighting
@@ -26,10 +26,11 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    // The sky along the ray (lighting.wgsl's `sky_along`: below the horizon, where the terrain
+    // The sky along the ray (lighting.wgsl's `sky_lit`: below the horizon, where the terrain
     // has ended at the far plane, the colour the faded terrain takes), and the sun's disc above
     // the horizon only (the ground hides it below): s^600 of the cosine to the sun.
-    let s = max(dot(normalize(in.ray), frame.sun_dir), 1e-6);
-    let disc = exp2(600.0 * log2(s)) * 4.0 * select(0.0, 1.0, in.ray.y > 0.0);
-    return vec4<f32>(tone(sky_along(in.ray) + frame.sun_color * disc), 1.0);
+    let u = normalize(in.ray);
+    let ls = log2(max(dot(u, frame.sun_dir), 1e-6));
+    let disc = exp2(600.0 * ls) * 4.0 * select(0.0, 1.0, u.y > 0.0);
+    return vec4<f32>(tone(sky_lit(u, ls) + frame.sun_color * disc), 1.0);
 }
