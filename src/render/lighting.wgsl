@@ -137,9 +137,9 @@ fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
 // environment cubemap, tinted like the ambient light (warmer when the sun is low) and dimmed
 // with the sun's elevation, plus the sun's halo and its wide glow near the horizon (s^40 and
 // s^4 of the cosine to the sun, from `ls`, the logarithm (base 2) of that cosine). The cubemap
-// is read along the ray, but no lower than a slope of 0.02 (about 1.1°) above the horizon, so
-// that a ray below the horizon, which meets the ground, takes the colour of the sky just above
-// the horizon in its direction: the cubemap's own lower half (its ground) is never seen, the
+// is read along the ray with its height raised to at least 0.02 (about 1.1° above the horizon
+// for a level ray), so that a ray below the horizon, which meets the ground, takes the colour
+// of the sky just above the horizon in its direction: the cubemap's own lower half (its ground) is never seen, the
 // sky meets the faded terrain without a band, and a surface above the horizon fades into the
 // very sky behind it. The sky shader draws this wherever nothing else was drawn.
 fn sky_lit(u: vec3<f32>, ls: f32) -> vec3<f32> {
