@@ -122,13 +122,31 @@ fn aerial(c: vec3<f32>, world_pos: vec3<f32>) -> vec3<f32> {
 }
 
 // The haze colour (rgb) and its share (a) at `world_pos`, as `aerial` mixes them: shaders that
-// fade per vertex interpolate this and mix in the fragment.
+// fade per vertex interpolate this and mix in the fragment. The colour is the sky's along the
+// view ray (`sky_lit`), so terrain that has faded entirely (at the far plane, where it ends) is
+// the colour the sky draws beyond it, from any height: no edge at the horizon.
 fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
     let to = world_pos - frame.camera_pos;
-    let d = length(to);
-    let dir = normalize(vec3<f32>(to.x, max(to.y, 0.0) + 0.02 * d, to.z));
-    let tint = frame.ambient / max(frame.ambient.r, 0.001);
-    let haze = srgb_decode(textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb) * frame.sky * tint;
+    let d = max(length(to), 1e-6);
     let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
-    return vec4<f32>(haze, f);
+    let u = to / d;
+    return vec4<f32>(sky_lit(u, log2(max(dot(u, frame.sun_dir), 1e-6))), f);
+}
+
+// The sky's colour seen along the unit view direction `u`, without the sun's disc: the
+// environment cubemap, tinted like the ambient light (warmer when the sun is low) and dimmed
+// with the sun's elevation, plus the sun's halo and its wide glow near the horizon (s^40 and
+// s^4 of the cosine to the sun, from `ls`, the logarithm (base 2) of that cosine). The cubemap
+// is read along the ray with its height raised to at least 0.02 (about 1.1° above the horizon
+// for a level ray), so that a ray below the horizon, which meets the ground, takes the colour
+// of the sky just above the horizon in its direction: the cubemap's own lower half (its ground) is never seen, the
+// sky meets the faded terrain without a band, and a surface above the horizon fades into the
+// very sky behind it. The sky shader draws this wherever nothing else was drawn.
+fn sky_lit(u: vec3<f32>, ls: f32) -> vec3<f32> {
+    // A cube is read along any non-zero vector: no need to normalise the raised one.
+    let dir = vec3<f32>(u.x, max(u.y, 0.02), u.z);
+    let tint = frame.ambient / max(frame.ambient.r, 0.001);
+    let env = srgb_decode(textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb) * frame.sky * tint;
+    let low = 1.0 - clamp(frame.sun_dir.y * 2.0, 0.0, 1.0);
+    return env + frame.sun_color * (exp2(40.0 * ls) * 0.12 + exp2(4.0 * ls) * 0.25 * low);
 }

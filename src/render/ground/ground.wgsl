@@ -1,6 +1,7 @@
-// Ground planes as a landscape: the Plane meshes, their sides, the soil floor under them (seen
-// through the holes, which are missing triangles) and the terrain around them, lit and shadowed,
-// and faded into the sky's colour at the horizon with distance (aerial perspective).
+// Ground planes as a landscape: the Plane meshes, their sides (earth banks with a soil edge under
+// their outlines, pits with sloping soil walls under their holes: banks.rs), the soil floor under
+// them (seen through the holes, which are missing triangles) and the terrain around them, lit and
+// shadowed, and faded into the sky's colour at the horizon with distance (aerial perspective).
 // lighting.wgsl is prepended (src/render/ground/mod.rs; the kinds are those of
 // src/render/ground/landscape.rs).
 //
@@ -32,9 +33,10 @@ struct GroundParams {
 struct VertexIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
-    // 0 a plane, 1 a plane's side, 2 terrain, 3 the soil floor.
+    // 0 a plane, 1 a plane's soil side (a bank's cut, a pit's wall), 2 terrain, 3 the soil
+    // floor, 4 a bank's grassed slope.
     @location(2) kind: f32,
-    // The albedo's factor at scales above the texture's repeat (linear RGB).
+    // The albedo's factor at scales above the texture's repeat (linear RGB); on soil, its shade.
     @location(3) tint: vec3<f32>,
 };
 
@@ -61,12 +63,12 @@ struct VertexOut {
 const SOIL: vec3<f32> = vec3<f32>(0.2, 0.13, 0.08);
 
 // The albedo's factor of a vertex of `kind` (landscape.rs) with the tint `tint`: the ground as
-// textured and tinted, the terrain a little greener; soil (see `SOIL`) brighter on the sides.
+// textured and tinted, the terrain and the banks' grassed slopes a little greener; soil (see
+// `SOIL`), whose tint is only its shade (darker towards a pit's foot), brighter on the sides.
 fn albedo_factor(kind: u32, tint: vec3<f32>) -> vec3<f32> {
     switch kind {
-        case 1u: { return vec3<f32>(2.0); }
-        case 2u: { return tint * vec3<f32>(0.85, 1.0, 0.75); }
-        case 3u: { return vec3<f32>(1.0); }
+        case 1u: { return 2.0 * tint; }
+        case 2u, 4u: { return tint * vec3<f32>(0.85, 1.0, 0.75); }
         default: { return tint; }
     }
 }

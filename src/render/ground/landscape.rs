@@ -1,25 +1,26 @@
 //! The ground as a landscape around the planes (drawn only; not collidable and not in the world
-//! hash): the sides of every plane (a wall from each boundary edge, a hole's rim included, down
-//! to a floor), the dark soil floor under the planes that shows through the holes, and terrain
-//! from the planes' edge out to the far plane, which the shader fades into the sky.
+//! hash): the sides of every plane (earth banks under its outline and pits under its holes,
+//! down to a floor: [`super::banks`]), the dark soil floor under the planes that shows through
+//! the holes, and terrain from the planes' edge out to the far plane, which the shader fades
+//! into the sky.
 //!
-//! A vertex is 7 floats: position (metres), normal, and its kind ([`KIND_PLANE`] …), which the
-//! ground shader shades differently; the ground adds each vertex's [`Tint`] when it uploads the
-//! mesh. Units: metres; +Y up.
-
-use std::collections::HashMap;
+//! A vertex is 8 floats: position (metres), normal, its kind ([`KIND_PLANE`] …), which the
+//! ground shader shades differently, and a shade (a factor of the albedo: 1, less at the bottom
+//! of a pit's walls); the ground adds each vertex's [`Tint`] when it uploads the mesh. Units: metres; +Y up.
 
 use glam::{Vec2, Vec3};
 use noise::{NoiseFn, Perlin};
 
 /// A vertex of a plane.
 pub const KIND_PLANE: f32 = 0.0;
-/// A vertex of a plane's side (a wall under a boundary edge).
+/// A vertex of a plane's soil side: the cut under its outer edge, a pit's wall.
 pub const KIND_SIDE: f32 = 1.0;
 /// A vertex of the terrain around the planes.
 pub const KIND_TERRAIN: f32 = 2.0;
 /// A vertex of the soil floor under the planes, seen through holes.
 pub const KIND_FLOOR: f32 = 3.0;
+/// A vertex of a bank's grassed slope, under a plane's soil edge.
+pub const KIND_BANK: f32 = 4.0;
 
 /// How far the floor lies below the lowest plane, metres.
 pub const FLOOR_DEPTH: f32 = 0.6;
@@ -27,11 +28,11 @@ pub const FLOOR_DEPTH: f32 = 0.6;
 /// 600 m away).
 pub const TERRAIN_REACH: f32 = 650.0;
 
-/// A mesh being built: vertices of 7 floats and triangle indices.
+/// A mesh being built: vertices of 8 floats and triangle indices.
 #[derive(Default)]
 pub struct LandMesh {
-    /// Position, normal, kind.
-    pub vertices: Vec<[f32; 7]>,
+    /// Position, normal, kind, shade (a factor of the albedo, 1 but at the bottom of a pit).
+    pub vertices: Vec<[f32; 8]>,
     /// Triangles, counter-clockwise seen from the side the normal points to.
     pub indices: Vec<u32>,
 }
@@ -40,43 +41,19 @@ impl LandMesh {
     /// Adds a quad `a b c d` (in order around it) with one normal for all four corners, wound so
     /// that its front faces the normal.
     pub fn quad(&mut self, corners: [Vec3; 4], normal: Vec3, kind: f32) {
+        self.quad_shaded(corners, normal, kind, [1.0; 4]);
+    }
+
+    /// [`LandMesh::quad`] with a shade for each corner.
+    pub fn quad_shaded(&mut self, corners: [Vec3; 4], normal: Vec3, kind: f32, shade: [f32; 4]) {
         let base = self.vertices.len() as u32;
-        for p in corners {
-            self.vertices.push([p.x, p.y, p.z, normal.x, normal.y, normal.z, kind]);
+        for (p, s) in corners.into_iter().zip(shade) {
+            self.vertices.push([p.x, p.y, p.z, normal.x, normal.y, normal.z, kind, s]);
         }
         let [a, b, c, _] = corners;
         let front = (b - a).cross(c - a).dot(normal) >= 0.0;
         let order: [u32; 6] = if front { [0, 1, 2, 0, 2, 3] } else { [0, 2, 1, 0, 3, 2] };
         self.indices.extend(order.iter().map(|i| base + i));
-    }
-}
-
-/// The walls under one plane's boundary edges (edges of exactly one triangle): from the edge
-/// down to `floor_y`, facing away from the triangle.
-pub fn sides(mesh: &mut LandMesh, vertices: &[Vec3], triangles: &[[u32; 3]], floor_y: f32) {
-    let mut edges: HashMap<(u32, u32), (u32, usize)> = HashMap::new();
-    for (t, tri) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            let key = (a.min(b), a.max(b));
-            edges.entry(key).and_modify(|e| e.0 += 1).or_insert((1, t));
-        }
-    }
-    let mut boundary: Vec<((u32, u32), usize)> = edges.into_iter().filter(|(_, (n, _))| *n == 1).map(|(k, (_, t))| (k, t)).collect();
-    // A fixed order, so the mesh is the same from run to run.
-    boundary.sort_unstable();
-    for ((a, b), t) in boundary {
-        let (Some(&pa), Some(&pb)) = (vertices.get(a as usize), vertices.get(b as usize)) else { continue };
-        let tri = triangles[t];
-        let Some(centre) = tri.iter().map(|&i| vertices.get(i as usize).copied()).sum::<Option<Vec3>>().map(|s| s / 3.0) else { continue };
-        let along = pb - pa;
-        let mut out = Vec3::new(along.z, 0.0, -along.x).normalize_or(Vec3::X);
-        let mid = (pa + pb) * 0.5;
-        if out.dot(mid - centre) < 0.0 {
-            out = -out;
-        }
-        let low = |p: Vec3| Vec3::new(p.x, floor_y.min(p.y), p.z);
-        mesh.quad([pa, pb, low(pb), low(pa)], out, KIND_SIDE);
     }
 }
 
@@ -216,32 +193,6 @@ pub fn surroundings(mesh: &mut LandMesh, far: &mut LandMesh, lo: Vec2, hi: Vec2,
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_square_of_two_triangles_gets_four_walls_facing_out() {
-        let v = [Vec3::new(0.0, 1.0, 0.0), Vec3::new(2.0, 1.0, 0.0), Vec3::new(2.0, 1.0, 2.0), Vec3::new(0.0, 1.0, 2.0)];
-        let t = [[0, 3, 1], [1, 3, 2]];
-        let mut m = LandMesh::default();
-        sides(&mut m, &v, &t, -0.5);
-        // The diagonal is shared; the four outer edges are walls.
-        assert_eq!(m.vertices.len(), 16);
-        assert_eq!(m.indices.len(), 24);
-        for q in m.vertices.chunks(4) {
-            let centre = q.iter().fold(Vec3::ZERO, |s, p| s + Vec3::new(p[0], p[1], p[2])) / 4.0;
-            let n = Vec3::new(q[0][3], q[0][4], q[0][5]);
-            // Outward: from the square's centre (1, ·, 1) towards the wall.
-            assert!(n.dot(centre - Vec3::new(1.0, centre.y, 1.0)) > 0.0, "{n} at {centre}");
-            // From the plane's height down to the floor.
-            let ys: Vec<f32> = q.iter().map(|p| p[1]).collect();
-            assert!(ys.contains(&1.0) && ys.contains(&-0.5), "{ys:?}");
-        }
-        // Every triangle's front faces its normal.
-        for tri in m.indices.chunks(3) {
-            let p: Vec<Vec3> = tri.iter().map(|&i| Vec3::new(m.vertices[i as usize][0], m.vertices[i as usize][1], m.vertices[i as usize][2])).collect();
-            let n = Vec3::new(m.vertices[tri[0] as usize][3], m.vertices[tri[0] as usize][4], m.vertices[tri[0] as usize][5]);
-            assert!((p[1] - p[0]).cross(p[2] - p[0]).dot(n) > 0.0);
-        }
-    }
 
     #[test]
     fn the_terrain_surrounds_the_rectangle_without_covering_it() {

@@ -1,8 +1,10 @@
 //! Ground: the planes' meshes, textured in world space at several scales, lit and shadowed (a
-//! shadow receiver only; it casts none), as a landscape ([`landscape`]): the planes' sides, a
-//! soil floor seen through the holes, and terrain out to the far plane fading into the sky. The
-//! mesh is rebuilt only when the planes change ([`GroundKey`]).
+//! shadow receiver only; it casts none), as a landscape ([`landscape`]): the planes' sides as
+//! earth banks and pits ([`banks`]), a soil floor seen through the holes, and terrain out to
+//! the far plane fading into the sky. The mesh is rebuilt only when the planes change
+//! ([`GroundKey`]).
 
+pub mod banks;
 mod extract;
 pub mod landscape;
 pub mod texture;
@@ -89,7 +91,7 @@ impl Ground {
             let tris: Vec<u32> = p.triangles.iter().flatten().copied().filter(|&i| (i as usize) < p.vertices.len()).collect();
             let normals = gltf_load::compute_normals(&p.vertices, &tris);
             for (v, n) in p.vertices.iter().zip(&normals) {
-                land.vertices.push([v.x, v.y, v.z, n.x, n.y, n.z, landscape::KIND_PLANE]);
+                land.vertices.push([v.x, v.y, v.z, n.x, n.y, n.z, landscape::KIND_PLANE, 1.0]);
                 lo = lo.min(*v);
                 hi = hi.max(*v);
             }
@@ -97,10 +99,12 @@ impl Ground {
         }
         if !land.indices.is_empty() {
             let floor_y = lo.y - landscape::FLOOR_DEPTH;
-            for p in planes {
-                landscape::sides(&mut land, &p.vertices, &p.triangles, floor_y);
-            }
             landscape::surroundings(&mut land, &mut far, glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z), lo.y, floor_y);
+            // The sides after the terrain: most of a bank lies under the ground next to it,
+            // which, drawn first, lets the early depth test skip that part.
+            for p in planes {
+                banks::sides(&mut land, &p.vertices, &p.triangles, floor_y);
+            }
         }
         // The far terrain after the near ground, in one buffer.
         let near_count = land.indices.len() as u32;
@@ -115,8 +119,10 @@ impl Ground {
             .iter()
             .map(|v| {
                 let p = glam::Vec2::new(v[0], v[2]);
-                let [r, g, b] = tint.at(p, landscape::detail_weight(p, rect_lo, rect_hi));
-                [v[0], v[1], v[2], v[3], v[4], v[5], v[6], r, g, b]
+                // Soil takes no tint, only its shade.
+                let soil = v[6] == landscape::KIND_SIDE || v[6] == landscape::KIND_FLOOR;
+                let [r, g, b] = if soil { [1.0; 3] } else { tint.at(p, landscape::detail_weight(p, rect_lo, rect_hi)) };
+                [v[0], v[1], v[2], v[3], v[4], v[5], v[6], r * v[7], g * v[7], b * v[7]]
             })
             .collect();
         let idx = land.indices;

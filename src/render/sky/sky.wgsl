@@ -1,5 +1,6 @@
 // The sky background: the environment cubemap seen through each pixel, dimmed with the sun's
-// elevation, with a sun disc and glow. lighting.wgsl is prepended.
+// elevation, with a sun disc, halo and glow (lighting.wgsl's `sky_lit`, which the aerial
+// perspective fades distant surfaces towards). lighting.wgsl is prepended.
 
 // #import lighting
 
@@ -25,14 +26,11 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    let dir = normalize(in.ray);
-    // The sky takes the ambient light's tint (warmer when the sun is low).
-    let tint = frame.ambient / max(frame.ambient.r, 0.001);
-    var c = srgb_decode(textureSampleLevel(env_map, env_sampler, dir, 0.0).rgb) * frame.sky * tint;
-    // Sun disc, a halo, and a wide glow that is strongest when the sun is near the horizon:
-    // s^600, s^40 and s^4 from one logarithm.
-    let ls = log2(max(dot(dir, frame.sun_dir), 1e-6));
-    let low = 1.0 - clamp(frame.sun_dir.y * 2.0, 0.0, 1.0);
-    c = c + frame.sun_color * (exp2(600.0 * ls) * 4.0 + exp2(40.0 * ls) * 0.12 + exp2(4.0 * ls) * 0.25 * low);
-    return vec4<f32>(tone(c), 1.0);
+    // The sky along the ray (lighting.wgsl's `sky_lit`: below the horizon, where the terrain
+    // has ended at the far plane, the colour the faded terrain takes), and the sun's disc above
+    // the horizon only (the ground hides it below): s^600 of the cosine to the sun.
+    let u = normalize(in.ray);
+    let ls = log2(max(dot(u, frame.sun_dir), 1e-6));
+    let disc = exp2(600.0 * ls) * 4.0 * select(0.0, 1.0, u.y > 0.0);
+    return vec4<f32>(tone(sky_lit(u, ls) + frame.sun_color * disc), 1.0);
 }
