@@ -366,7 +366,7 @@ fn gltf_folders(dir: &Path, n: usize, rng: &mut Rng, tally: &mut Tally, current:
         std::fs::write(&file, &text).unwrap();
         let before = listing(&bank);
         run_one(tally, current, "glTF folders", format!("#{k} ({how})"), || {
-            let req = AddRequest { file: file.clone(), bank: bank.clone(), name: Some(format!("m{k}")), species: None, kind: None };
+            let req = AddRequest { file: file.clone(), bank: bank.clone(), name: Some(format!("m{k}")), species: None, kind: None, far: None };
             match add(&req) {
                 Ok(_) => Ok("added"),
                 Err(e) if format!("{e:#}").contains('\n') => Err(format!("a two-line error: {e:#}")),
