@@ -6,7 +6,7 @@
 //! `crate::systems` (raycast, spawn, plant_remove, select, handles, touchpad, drag,
 //! selection_box) call them.
 
-use std::cell::Cell;
+use std::cell::RefCell;
 
 use glam::{Quat, Vec3};
 use hecs::{Entity, World};
@@ -40,35 +40,42 @@ pub fn tree_box_of(world: &mut World, catalogue: &Catalogue, memo: &BoxMemo, e: 
 /// cache in `Resources`, not hashed.
 #[derive(Clone, Debug, Default)]
 pub struct BoxMemo {
-    tree_box: Cell<Option<((u64, [u32; 11]), TreeBox)>>,
-    handles: Cell<Option<([u32; 7], [(Handle, Vec3); 12])>>,
+    tree_box: RefCell<Option<([u32; 13], TreeBox)>>,
+    handles: RefCell<Option<([u32; 7], [(Handle, Vec3); 12])>>,
+}
+
+/// Whether two keys hold the same bits (compared whole, without a call or a branch per value).
+fn same_bits(a: &[u32], b: &[u32]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0, |d, (x, y)| d | (x ^ y)) == 0
 }
 
 impl BoxMemo {
     /// [`tree_box`], kept for the same inputs.
     pub fn tree_box(&self, entity: Entity, transform: &Transform, scale: f32, min: Vec3, max: Vec3) -> TreeBox {
         let (p, a, b) = (transform.translation, min, max);
-        let key = (entity.to_bits().get(), [p.x, p.y, p.z, transform.yaw, scale, a.x, a.y, a.z, b.x, b.y, b.z].map(f32::to_bits));
-        if let Some((k, b)) = self.tree_box.get()
-            && k == key
+        let id = entity.to_bits().get();
+        let f = [p.x, p.y, p.z, transform.yaw, scale, a.x, a.y, a.z, b.x, b.y, b.z].map(f32::to_bits);
+        let key = [id as u32, (id >> 32) as u32, f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8], f[9], f[10]];
+        if let Some((k, b)) = &*self.tree_box.borrow()
+            && same_bits(k, &key)
         {
-            return b;
+            return *b;
         }
         let b = tree_box(entity, transform, scale, min, max);
-        self.tree_box.set(Some((key, b)));
+        *self.tree_box.borrow_mut() = Some((key, b));
         b
     }
 
     /// [`handle_points`], kept for the same inputs.
     pub fn handle_points(&self, center: Vec3, half: Vec3, yaw: f32) -> [(Handle, Vec3); 12] {
         let key = [center.x, center.y, center.z, half.x, half.y, half.z, yaw].map(f32::to_bits);
-        if let Some((k, points)) = self.handles.get()
-            && k == key
+        if let Some((k, points)) = &*self.handles.borrow()
+            && same_bits(k, &key)
         {
-            return points;
+            return *points;
         }
         let points = handle_points(center, half, yaw);
-        self.handles.set(Some((key, points)));
+        *self.handles.borrow_mut() = Some((key, points));
         points
     }
 }

@@ -107,7 +107,8 @@ pub fn split_sum(text: &str) -> Result<(String, u32), LineFormatError> {
 /// Turns a line into its body in place (the `sum` field cut off, the object closed by `}`), as
 /// [`split_sum`] does without copying the text; returns the checksum.
 pub fn split_sum_in_place(text: &mut String) -> Result<u32, LineFormatError> {
-    let len = text.trim_end_matches(['\r', '\n']).len();
+    // `trim_end_matches(['\r', '\n'])`, byte by byte (both are ASCII).
+    let len = text.len() - text.bytes().rev().take_while(|b| matches!(b, b'\r' | b'\n')).count();
     text.truncate(len);
     let (idx, sum) = sum_field(text)?;
     text.truncate(idx);
@@ -127,18 +128,36 @@ fn sum_field(text: &str) -> Result<(usize, u32), LineFormatError> {
     if tail[8..] != *b"\"}" {
         return Err(LineFormatError::MalformedChecksum);
     }
-    let mut sum = 0u32;
+    // Each digit's value from a table (0x10 for a byte that is no hex digit), without a branch
+    // per digit: the digits are random, so a branch would guess wrong half the time.
+    let (mut sum, mut bad) = (0u32, 0u8);
     for &b in &tail[..8] {
-        let digit = match b {
-            b'0'..=b'9' => b - b'0',
-            b'a'..=b'f' => b - b'a' + 10,
-            b'A'..=b'F' => b - b'A' + 10,
-            _ => return Err(LineFormatError::MalformedChecksum),
-        };
-        sum = sum << 4 | u32::from(digit);
+        let digit = HEX_DIGIT[b as usize];
+        bad |= digit;
+        sum = sum << 4 | u32::from(digit & 0xf);
+    }
+    if bad & 0x10 != 0 {
+        return Err(LineFormatError::MalformedChecksum);
     }
     Ok((idx, sum))
 }
+
+/// Each byte's value as a hex digit (either case), 0x10 for a byte that is none.
+const HEX_DIGIT: [u8; 256] = {
+    let mut t = [0x10u8; 256];
+    let mut i = 0;
+    while i < 10 {
+        t[b'0' as usize + i] = i as u8;
+        i += 1;
+    }
+    let mut i = 0;
+    while i < 6 {
+        t[b'a' as usize + i] = 10 + i as u8;
+        t[b'A' as usize + i] = 10 + i as u8;
+        i += 1;
+    }
+    t
+};
 
 /// Re-signs a whole recording's lines as version 2, each checksum chained on the one before
 /// (the header's own checksum is unchanged in form). The bodies are kept as they are; this is
