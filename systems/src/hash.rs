@@ -181,7 +181,7 @@ impl Acc<'_> {
         // their place in `rows` (the same order as a stable sort by entity).
         let mut order: Vec<(u64, u32)> = self.rows.iter().enumerate().map(|(i, r)| (r.0, i as u32)).collect();
         order.sort_unstable();
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(order.len());
         for group in order.chunk_by(|a, b| a.0 == b.0) {
             self.buf.clear();
             for &(_, i) in group {
@@ -297,7 +297,16 @@ fn hashed_resources(res: &Resources) -> HashedResources<'_> {
 
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
-    let mut acc = Acc { buf: Vec::with_capacity(256), rows: Vec::new(), type_rows: Vec::new(), components: Vec::new(), plane_hashes: &res.plane_hashes };
+    // Room for every row at once (most entities have a few hashed components), so the vectors
+    // do not grow a step at a time at every checkpoint.
+    let entities = world.len() as usize;
+    let mut acc = Acc {
+        buf: Vec::with_capacity(256),
+        rows: Vec::with_capacity(4 * entities),
+        type_rows: Vec::with_capacity(entities),
+        components: Vec::with_capacity(HASHED.len() + 4),
+        plane_hashes: &res.plane_hashes,
+    };
     macro_rules! hash_each {
         ($acc:expr, $world:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
             $($acc.component::<$t>($world, stringify!($t), is_optional!($o));)*

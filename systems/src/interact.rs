@@ -6,13 +6,15 @@
 //! `crate::systems` (raycast, spawn, plant_remove, select, handles, touchpad, drag,
 //! selection_box) call them.
 
+use std::cell::RefCell;
+
 use glam::{Quat, Vec3};
 use hecs::{Entity, World};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::Ball;
 
 use crate::catalogue::Catalogue;
-use crate::components::{Handle, Pose, Scale, Selection, Transform, Tree};
+use crate::components::{Handle, Pose, Selection, Transform};
 use crate::single::{self, Singles};
 use crate::spatial::{tree_box, RayHit, SpatialIndex, TreeBox};
 
@@ -23,12 +25,59 @@ pub fn entity(bits: u64) -> Option<Entity> {
 
 /// The world-space oriented box of the tree `e` from its components and the catalogue, or
 /// `None` if `e` is not a tree (any more) or its model is unknown.
-pub fn tree_box_of(world: &mut World, catalogue: &Catalogue, e: Entity) -> Option<TreeBox> {
-    // One lookup of the entity for the three components, without the runtime borrow flags.
-    let (tree, t, scale) = world.query_one_mut::<(&Tree, &Transform, &Scale)>(e).ok()?;
-    let (model, t, scale) = (tree.model, *t, scale.0);
+pub fn tree_box_of(world: &mut World, catalogue: &Catalogue, memo: &BoxMemo, e: Entity) -> Option<TreeBox> {
+    // One prepared look-up of the entity for the three components.
+    let (model, t, scale) = crate::lookup::tree_parts(world, e)?;
     let m = catalogue.get(model)?;
-    Some(tree_box(e, &t, scale, m.bounds_min, m.bounds_max))
+    Some(memo.tree_box(e, &t, scale, m.bounds_min, m.bounds_max))
+}
+
+/// The last tree box ([`tree_box`]) and handle points ([`handle_points`]) computed, each with
+/// the bits of what it was computed from, given again for the same bits: the selected tree's
+/// box is computed twice a tick (by the raycast and selection_box systems) and its handles on
+/// every tick that the ray passes near them, from inputs that change only when the tree moves.
+/// The same bits in give the same bits out, so a kept value is the value computed again. A
+/// cache in `Resources`, not hashed.
+#[derive(Clone, Debug, Default)]
+pub struct BoxMemo {
+    tree_box: RefCell<Option<([u32; 13], TreeBox)>>,
+    handles: RefCell<Option<([u32; 7], [(Handle, Vec3); 12])>>,
+}
+
+/// Whether two keys hold the same bits (compared whole, without a call or a branch per value).
+fn same_bits(a: &[u32], b: &[u32]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+impl BoxMemo {
+    /// [`tree_box`], kept for the same inputs.
+    pub fn tree_box(&self, entity: Entity, transform: &Transform, scale: f32, min: Vec3, max: Vec3) -> TreeBox {
+        let (p, a, b) = (transform.translation, min, max);
+        let id = entity.to_bits().get();
+        let f = [p.x, p.y, p.z, transform.yaw, scale, a.x, a.y, a.z, b.x, b.y, b.z].map(f32::to_bits);
+        let key = [id as u32, (id >> 32) as u32, f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8], f[9], f[10]];
+        if let Some((k, b)) = &*self.tree_box.borrow()
+            && same_bits(k, &key)
+        {
+            return *b;
+        }
+        let b = tree_box(entity, transform, scale, min, max);
+        *self.tree_box.borrow_mut() = Some((key, b));
+        b
+    }
+
+    /// [`handle_points`], kept for the same inputs.
+    pub fn handle_points(&self, center: Vec3, half: Vec3, yaw: f32) -> [(Handle, Vec3); 12] {
+        let key = [center.x, center.y, center.z, half.x, half.y, half.z, yaw].map(f32::to_bits);
+        if let Some((k, points)) = &*self.handles.borrow()
+            && same_bits(k, &key)
+        {
+            return *points;
+        }
+        let points = handle_points(center, half, yaw);
+        *self.handles.borrow_mut() = Some((key, points));
+        points
+    }
 }
 
 /// The id bits of the selected tree, if any (from the first `Selection` entity).
@@ -79,18 +128,18 @@ pub fn ray_sphere(origin: Vec3, dir: Vec3, center: Vec3, radius: f32, max: f32) 
 
 /// The nearest handle sphere (radius `radius`) of a box that the ray hits within `max`, with its
 /// distance. Ties go to the handle listed first by [`handle_points`].
-pub fn nearest_handle(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32) -> Option<(Handle, Vec3, f32)> {
+pub fn nearest_handle(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32, memo: &BoxMemo) -> Option<(Handle, Vec3, f32)> {
     // Every handle lies within |half extents| of the centre, so a ray that misses the sphere
     // around them all (with a margin for rounding) hits none: most ticks stop here.
     let around = b.half_extents.length() + radius;
     ray_sphere(origin, dir, b.center, around * 1.001 + 1.0e-3, max)?;
-    nearest_of_all_handles(origin, dir, b, radius, max)
+    nearest_of_all_handles(origin, dir, b, radius, max, memo)
 }
 
 /// [`nearest_handle`] without the test against the sphere around all the handles.
-fn nearest_of_all_handles(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32) -> Option<(Handle, Vec3, f32)> {
+fn nearest_of_all_handles(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32, memo: &BoxMemo) -> Option<(Handle, Vec3, f32)> {
     let mut best: Option<(Handle, Vec3, f32)> = None;
-    for (h, p) in handle_points(b.center, b.half_extents, b.yaw) {
+    for (h, p) in memo.handle_points(b.center, b.half_extents, b.yaw) {
         let limit = best.map_or(max, |b| b.2);
         if let Some(d) = ray_sphere(origin, dir, p, radius, limit)
             && best.is_none_or(|b| d < b.2)
@@ -206,6 +255,7 @@ mod tests {
             (x >> 8) as f32 / (1u32 << 24) as f32
         };
         let (mut hits, mut misses) = (0, 0);
+        let memo = BoxMemo::default();
         for _ in 0..20_000 {
             let half = Vec3::new(0.2 + 2.0 * r(), 0.5 + 4.0 * r(), 0.2 + 2.0 * r());
             let center = Vec3::new(10.0 * r() - 5.0, half.y, 10.0 * r() - 5.0);
@@ -214,12 +264,47 @@ mod tests {
             let aim = b.center + Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * half * 3.0;
             let dir = (aim - origin).normalize();
             let (radius, max) = (0.05 + 0.3 * r(), 5.0 + 20.0 * r());
-            let fast = nearest_handle(origin, dir, &b, radius, max);
-            let all = nearest_of_all_handles(origin, dir, &b, radius, max);
+            let fast = nearest_handle(origin, dir, &b, radius, max, &memo);
+            let all = nearest_of_all_handles(origin, dir, &b, radius, max, &BoxMemo::default());
             assert_eq!(fast.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits())), all.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits())));
             if all.is_some() { hits += 1 } else { misses += 1 }
         }
         assert!(hits > 1_000 && misses > 1_000, "{hits} hits, {misses} misses");
+    }
+
+    #[test]
+    fn a_kept_box_or_handle_is_what_computing_it_again_gives() {
+        let memo = BoxMemo::default();
+        let bits = |b: &TreeBox| (b.entity, [b.center, b.half_extents].map(|v| v.to_array().map(f32::to_bits)), b.yaw.to_bits());
+        let pts = |p: [(Handle, Vec3); 12]| p.map(|(h, v)| (h, v.to_array().map(f32::to_bits)));
+        let (min, max) = (Vec3::new(-1.0, 0.0, -1.5), Vec3::new(1.0, 6.0, 1.5));
+        let e = |id: u32| Entity::from_bits(u64::from(id) | 1 << 32).unwrap();
+        // Inputs repeated, changed in one value, and changed only in the sign of a zero (equal
+        // as numbers, not as bits; a zero's sign can show in the box).
+        let inputs = [
+            (e(1), Vec3::new(1.0, 0.0, 2.0), 0.5, 1.2),
+            (e(1), Vec3::new(1.0, 0.0, 2.0), 0.5, 1.2),
+            (e(2), Vec3::new(1.0, 0.0, 2.0), 0.5, 1.2),
+            (e(2), Vec3::new(1.0, 0.0, 2.0), 0.5, 1.25),
+            (e(2), Vec3::new(1.0, 0.0, 2.0), 0.0, 1.25),
+            (e(2), Vec3::new(1.0, 0.0, 2.0), -0.0, 1.25),
+            (e(2), Vec3::new(-0.0, 0.0, 2.0), -0.0, 1.25),
+            (e(2), Vec3::new(-0.0, 0.0, 2.0), -0.0, 1.25),
+        ];
+        for (entity, translation, yaw, scale) in inputs {
+            let t = Transform { translation, yaw };
+            let kept = memo.tree_box(entity, &t, scale, min, max);
+            let fresh = tree_box(entity, &t, scale, min, max);
+            assert_eq!(bits(&kept), bits(&fresh));
+            assert_eq!(pts(memo.handle_points(kept.center, kept.half_extents, kept.yaw)), pts(handle_points(fresh.center, fresh.half_extents, fresh.yaw)));
+        }
+        // A box with a zero's sign flipped is another box, bit for bit.
+        let t = |x: f32| Transform { translation: Vec3::new(x, 0.0, 0.0), yaw: 0.0 };
+        let zero = Vec3::new(0.0, 0.0, 0.0);
+        assert_eq!(bits(&memo.tree_box(e(3), &t(0.0), 1.0, zero, zero)), bits(&tree_box(e(3), &t(0.0), 1.0, zero, zero)));
+        assert_eq!(bits(&memo.tree_box(e(3), &t(-0.0), 1.0, zero, zero)), bits(&tree_box(e(3), &t(-0.0), 1.0, zero, zero)));
+        assert_eq!(pts(memo.handle_points(zero, Vec3::ONE, 0.0)), pts(handle_points(zero, Vec3::ONE, 0.0)));
+        assert_eq!(pts(memo.handle_points(-zero, Vec3::ONE, 0.0)), pts(handle_points(-zero, Vec3::ONE, 0.0)));
     }
 
     #[test]
@@ -241,13 +326,13 @@ mod tests {
         let b = TreeBox { entity: Entity::DANGLING, center: Vec3::ZERO, half_extents: Vec3::ONE, yaw: 0.0 };
         // Straight down the +X+Z vertical edge midpoint (1, 0, 1) from above: the top corner
         // (1, 1, 1) is hit first.
-        let (h, _, d) = nearest_handle(Vec3::new(1.0, 5.0, 1.0), Vec3::NEG_Y, &b, 0.1, 100.0).unwrap();
+        let (h, _, d) = nearest_handle(Vec3::new(1.0, 5.0, 1.0), Vec3::NEG_Y, &b, 0.1, 100.0, &BoxMemo::default()).unwrap();
         assert_eq!(h, Handle::Corner(7));
         assert!((d - 3.9).abs() < 1e-5);
         // From the side at mid-height, the edge handle.
-        let (h, _, _) = nearest_handle(Vec3::new(5.0, 0.0, 1.0), Vec3::NEG_X, &b, 0.1, 100.0).unwrap();
+        let (h, _, _) = nearest_handle(Vec3::new(5.0, 0.0, 1.0), Vec3::NEG_X, &b, 0.1, 100.0, &BoxMemo::default()).unwrap();
         assert_eq!(h, Handle::Edge(3));
-        assert!(nearest_handle(Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Y, &b, 0.1, 100.0).is_none());
+        assert!(nearest_handle(Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Y, &b, 0.1, 100.0, &BoxMemo::default()).is_none());
     }
 
     #[test]

@@ -29,6 +29,7 @@ pub mod input;
 pub mod interact;
 pub mod known_techniques;
 pub mod limits;
+pub mod lookup;
 mod message_error;
 pub mod mode;
 pub mod plane_grid;

@@ -385,6 +385,9 @@ pub struct Resources {
     /// The entities of the world's one controller, head, hit marker, anchor ball, selection, sun
     /// and wind ([`crate::single`]). Not hashed: it is a cache of the world's own entities.
     pub singles: crate::single::Singles,
+    /// The selected tree's box and handle points as last computed ([`crate::interact::BoxMemo`]).
+    /// Not hashed: it is a cache of values computed from hashed state.
+    pub boxes: crate::interact::BoxMemo,
     /// What the task system's last search for trees on targets saw ([`crate::systems::task`]):
     /// the spatial index's tree changes, the dragged tree and the task's start tick. Not hashed:
     /// it only lets the search be skipped when it would find what it found before.
@@ -419,6 +422,7 @@ impl Resources {
             task: None,
             spatial: SpatialIndex::default(),
             singles: crate::single::Singles::default(),
+            boxes: crate::interact::BoxMemo::default(),
             task_search: None,
             plane_hashes: Vec::new(),
             log_bytes: crate::events::LogBytes::default(),

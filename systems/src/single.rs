@@ -150,6 +150,22 @@ pub fn get<T: Single>(world: &mut World, singles: &Singles) -> Option<T> {
     world.query_mut::<&T>().into_iter().next().copied()
 }
 
+/// Like [`get`], but only the value of the kind's one entity (kept or looked up), `None` where
+/// the world has no single entity of the kind or it no longer has the component: where it is
+/// `Some`, [`for_each_mut`] writes that one entity alone.
+pub fn get_single<T: Single>(world: &mut World, singles: &Singles) -> Option<T> {
+    let e = singles.entity::<T>()?;
+    let copy = T::copy(&singles.copies);
+    if let Some(c) = copy.get() {
+        return Some(c);
+    }
+    let c = *world.query_one_mut::<&T>(e).ok()?;
+    if T::KEPT && singles.copies.active.get() {
+        copy.set(Some(c));
+    }
+    Some(c)
+}
+
 /// The world's water bodies ([`crate::water::bodies`]); none, without a query, in a world that
 /// had none when it was built.
 pub fn water(world: &World, singles: &Singles) -> Vec<(Entity, Water)> {
@@ -194,11 +210,17 @@ mod tests {
         assert!(get::<Head>(&mut world, &singles).is_none());
         for_each_mut::<HitMarker>(&mut world, &singles, |m| m.visible = false);
         assert_eq!(world.query::<&HitMarker>().iter().filter(|m| m.visible).count(), 0);
+        // Only the one entity's value is its single value: none for the two hit markers.
+        assert_eq!(get_single::<Controller>(&mut world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ZERO));
+        assert!(get_single::<HitMarker>(&mut world, &singles).is_none());
+        assert!(get::<HitMarker>(&mut world, &singles).is_some());
         // A despawned single falls back to the query: none left.
         world.despawn(c).unwrap();
         assert!(get::<Controller>(&mut world, &singles).is_none());
         let c2 = world.spawn((Controller { touchpad: glam::Vec2::ONE, ..Default::default() },));
         assert_eq!(get::<Controller>(&mut world, &singles).map(|c| c.touchpad), Some(glam::Vec2::ONE));
+        // Another controller than the one found at first is no single value.
+        assert!(get_single::<Controller>(&mut world, &singles).is_none());
         assert_ne!(Some(c2), singles.entity::<Controller>());
     }
 

@@ -107,7 +107,8 @@ pub fn split_sum(text: &str) -> Result<(String, u32), LineFormatError> {
 /// Turns a line into its body in place (the `sum` field cut off, the object closed by `}`), as
 /// [`split_sum`] does without copying the text; returns the checksum.
 pub fn split_sum_in_place(text: &mut String) -> Result<u32, LineFormatError> {
-    let len = text.trim_end_matches(['\r', '\n']).len();
+    // `trim_end_matches(['\r', '\n'])`, byte by byte (both are ASCII).
+    let len = text.len() - text.bytes().rev().take_while(|b| matches!(b, b'\r' | b'\n')).count();
     text.truncate(len);
     let (idx, sum) = sum_field(text)?;
     text.truncate(idx);
@@ -117,17 +118,46 @@ pub fn split_sum_in_place(text: &mut String) -> Result<u32, LineFormatError> {
 
 /// Where a line's `sum` field starts, and its value.
 fn sum_field(text: &str) -> Result<(usize, u32), LineFormatError> {
-    // The sum is always the last field: `,"sum":"` + 8 hex digits + `"}` = 18 bytes.
-    let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
+    // The sum is always the last field: `,"sum":"` + 8 hex digits + `"}` = 18 bytes. Read as
+    // bytes: where they match the key, its first byte is ASCII, so a character starts there,
+    // and a byte that is not ASCII is no hex digit.
+    let bytes = text.as_bytes();
+    let idx = bytes.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| bytes[i..i + SUM_KEY.len()] == *SUM_KEY.as_bytes());
     let idx = idx.ok_or(LineFormatError::NoChecksum)?;
-    let tail = &text[idx + SUM_KEY.len()..];
-    if !tail.ends_with("\"}") {
+    let tail = &bytes[idx + SUM_KEY.len()..];
+    if tail[8..] != *b"\"}" {
         return Err(LineFormatError::MalformedChecksum);
     }
-    let sum = tail.get(..8).and_then(|s| if s.bytes().all(|b| b.is_ascii_hexdigit()) { u32::from_str_radix(s, 16).ok() } else { None });
-    let sum = sum.ok_or(LineFormatError::MalformedChecksum)?;
+    // Each digit's value from a table (0x10 for a byte that is no hex digit), without a branch
+    // per digit: the digits are random, so a branch would guess wrong half the time.
+    let (mut sum, mut bad) = (0u32, 0u8);
+    for &b in &tail[..8] {
+        let digit = HEX_DIGIT[b as usize];
+        bad |= digit;
+        sum = sum << 4 | u32::from(digit & 0xf);
+    }
+    if bad & 0x10 != 0 {
+        return Err(LineFormatError::MalformedChecksum);
+    }
     Ok((idx, sum))
 }
+
+/// Each byte's value as a hex digit (either case), 0x10 for a byte that is none.
+const HEX_DIGIT: [u8; 256] = {
+    let mut t = [0x10u8; 256];
+    let mut i = 0;
+    while i < 10 {
+        t[b'0' as usize + i] = i as u8;
+        i += 1;
+    }
+    let mut i = 0;
+    while i < 6 {
+        t[b'a' as usize + i] = 10 + i as u8;
+        t[b'A' as usize + i] = 10 + i as u8;
+        i += 1;
+    }
+    t
+};
 
 /// Re-signs a whole recording's lines as version 2, each checksum chained on the one before
 /// (the header's own checksum is unchanged in form). The bodies are kept as they are; this is
@@ -360,6 +390,35 @@ pub(crate) fn parse_body(body: &str, maps: Maps) -> Result<Line, LineFormatError
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `sum_field` as it read the field through `str` methods, the reference for the bytes.
+    fn sum_field_by_str(text: &str) -> Result<(usize, u32), LineFormatError> {
+        let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
+        let idx = idx.ok_or(LineFormatError::NoChecksum)?;
+        let tail = &text[idx + SUM_KEY.len()..];
+        if !tail.ends_with("\"}") {
+            return Err(LineFormatError::MalformedChecksum);
+        }
+        let sum = tail.get(..8).and_then(|s| if s.bytes().all(|b| b.is_ascii_hexdigit()) { u32::from_str_radix(s, 16).ok() } else { None });
+        Ok((idx, sum.ok_or(LineFormatError::MalformedChecksum)?))
+    }
+
+    #[test]
+    fn the_sum_field_read_as_bytes_is_read_as_through_str() {
+        let good = r#"{"type":"event","tick":3,"ms":50,"frame":3,"event":{"kind":"end_task"},"sum":"4a8E43f9"}"#;
+        assert_eq!(sum_field(good), Ok((good.len() - 18, 0x4a8e_43f9)));
+        // Every byte of the field's last 24 replaced by others (ASCII, a 2-, 3- and 4-byte
+        // character), cut short, or lengthened.
+        let mut cases = vec![String::new(), "}".into(), good[..good.len() - 1].to_string(), format!("{good}}}"), format!("é{good}")];
+        for at in good.len() - 24..good.len() {
+            for with in ["0", "9", "a", "f", "g", "A", "F", "G", "\"", "}", ",", " ", "é", "€", "😀", ""] {
+                cases.push(format!("{}{with}{}", &good[..at], &good[at + 1..]));
+            }
+        }
+        for text in &cases {
+            assert_eq!(sum_field(text), sum_field_by_str(text), "{text}");
+        }
+    }
 
     #[test]
     fn a_checkpoint_read_without_its_maps_is_checked_as_strictly_as_with_them() {

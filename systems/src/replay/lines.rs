@@ -21,6 +21,9 @@ pub(crate) type LineError = (Option<u64>, String);
 struct LineReader<R: Read> {
     inner: BufReader<R>,
     buf: Vec<u8>,
+    /// A line's buffer given back (see [`Lines::keep_checkpoint_bodies_only`]), which the next
+    /// line is read into instead of a new allocation.
+    spare: Vec<u8>,
     number: u64,
 }
 
@@ -38,7 +41,9 @@ impl<R: Read> LineReader<R> {
         if let Ok(available) = self.inner.fill_buf()
             && let Some(end) = memchr::memchr(b'\n', available).filter(|&end| end <= MAX_LINE)
         {
-            let line = available[..end].to_vec();
+            let mut line = std::mem::take(&mut self.spare);
+            line.clear();
+            line.extend_from_slice(&available[..end]);
             self.inner.consume(end + 1);
             return String::from_utf8(line).map(NextLine::Line).map_err(|_| "not valid UTF-8 text".into());
         }
@@ -68,7 +73,8 @@ pub(crate) struct Checked {
     pub line: Line,
     /// Its tick (an event's or checkpoint's `tick`, the footer's `final_tick`).
     pub tick: u64,
-    /// Its text without the `sum` field.
+    /// Its text without the `sum` field (empty for a line other than a checkpoint after
+    /// [`Lines::keep_checkpoint_bodies_only`]).
     pub body: String,
 }
 
@@ -99,12 +105,14 @@ pub(crate) struct Lines<R: Read> {
     /// Whether checkpoints' per-component and per-entity hashes are read (see
     /// [`Lines::checkpoint_maps_when_needed`]).
     maps: Maps,
+    /// Whether only checkpoints keep their body (see [`Lines::keep_checkpoint_bodies_only`]).
+    checkpoint_bodies_only: bool,
 }
 
 impl<R: Read> Lines<R> {
     /// Reads and checks the header.
     pub fn open(reader: R) -> Result<Lines<R>, LineError> {
-        let mut reader = LineReader { inner: BufReader::with_capacity(64 * 1024, reader), buf: Vec::new(), number: 0 };
+        let mut reader = LineReader { inner: BufReader::with_capacity(64 * 1024, reader), buf: Vec::new(), spare: Vec::new(), number: 0 };
         let first = match reader.next().map_err(|m| (Some(1), m))? {
             NextLine::End => return Err((None, "empty file; expected a grove recording header".into())),
             NextLine::Cut => return Err((Some(1), "the header line is cut off (no newline)".into())),
@@ -130,7 +138,7 @@ impl<R: Read> Lines<R> {
             return Err((Some(1), format!("format {:?} is not '{FORMAT_NAME}'", header.format)));
         }
         let chained = header.format_version >= 2;
-        Ok(Lines { reader, header, chained, prev: 0, last_tick: 0, last_checkpoint: 0, footer_seen: false, cut: false, maps: Maps::Read })
+        Ok(Lines { reader, header, chained, prev: 0, last_tick: 0, last_checkpoint: 0, footer_seen: false, cut: false, maps: Maps::Read, checkpoint_bodies_only: false })
     }
 
     /// From now on, a checkpoint's `components` and `entities` maps are checked to be maps of
@@ -138,6 +146,13 @@ impl<R: Read> Lines<R> {
     /// them from the line's body ([`Checked::checkpoint`]).
     pub fn checkpoint_maps_when_needed(&mut self) {
         self.maps = Maps::CheckOnly;
+    }
+
+    /// From now on, only a checkpoint's [`Checked::body`] is kept, any other line's is empty:
+    /// for a reader that reads no other line's text again. Its buffer is then reused for the
+    /// next line.
+    pub fn keep_checkpoint_bodies_only(&mut self) {
+        self.checkpoint_bodies_only = true;
     }
 
     /// The next checked line, or `None` at the end of the file (or at a cut last line).
@@ -186,6 +201,12 @@ impl<R: Read> Lines<R> {
             self.footer_seen = true;
         }
         self.last_tick = tick;
+        let body = if self.checkpoint_bodies_only && !matches!(line, Line::Checkpoint(_)) {
+            self.reader.spare = body.into_bytes();
+            String::new()
+        } else {
+            body
+        };
         Ok(Some(Checked { number: n, line, tick, body }))
     }
 }
@@ -195,7 +216,7 @@ mod tests {
     use super::*;
 
     fn read_all(bytes: &[u8]) -> Vec<Result<String, String>> {
-        let mut r = LineReader { inner: BufReader::with_capacity(64, bytes), buf: Vec::new(), number: 0 };
+        let mut r = LineReader { inner: BufReader::with_capacity(64, bytes), buf: Vec::new(), spare: Vec::new(), number: 0 };
         let mut out = Vec::new();
         loop {
             match r.next() {
@@ -208,6 +229,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn with_checkpoint_bodies_only_the_same_lines_are_read_and_only_checkpoints_keep_their_text() {
+        let file = include_bytes!("../../../replays/scenarios/plant-two.jsonl");
+        let read = |only: bool| {
+            let mut lines = Lines::open(&file[..]).unwrap();
+            if only {
+                lines.keep_checkpoint_bodies_only();
+            }
+            std::iter::from_fn(|| lines.next().unwrap()).map(|c| (c.number, c.tick, format!("{:?}", c.line), c.body)).collect::<Vec<_>>()
+        };
+        let (all, only) = (read(false), read(true));
+        assert_eq!(all.len(), only.len());
+        let mut checkpoints = 0;
+        for (a, o) in all.iter().zip(&only) {
+            assert_eq!((a.0, a.1, &a.2), (o.0, o.1, &o.2));
+            if a.2.starts_with("Checkpoint") {
+                checkpoints += 1;
+                assert_eq!(a.3, o.3);
+            } else {
+                assert!(!a.3.is_empty() && o.3.is_empty(), "{}", a.3);
+            }
+        }
+        assert!(checkpoints > 0 && checkpoints < all.len());
     }
 
     #[test]

@@ -126,6 +126,8 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let mut lines = Lines::open(reader).map_err(err)?;
     // A checkpoint's per-component and per-entity hashes are read only at a divergence.
     lines.checkpoint_maps_when_needed();
+    // And only a checkpoint's body is read again (at a divergence).
+    lines.keep_checkpoint_bodies_only();
     let header = lines.header.clone();
     let verifying = options.overrides.is_empty();
     let banks = crate::bank::Banks::open(&options.banks).map_err(|m| err((None, m.0)))?;

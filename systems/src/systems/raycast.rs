@@ -36,7 +36,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
 
     let selected = interact::selected_tree(world, &res.singles).and_then(interact::entity);
     let selected_box = match (selected, dragged) {
-        (Some(sel), None) => interact::tree_box_of(world, &res.catalogue, sel),
+        (Some(sel), None) => interact::tree_box_of(world, &res.catalogue, &res.boxes, sel),
         _ => None,
     };
     let key = RayKey {
@@ -75,7 +75,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         // ray box: a hit on that tree never hides its handles.
         let own_tree = marker.target == HitTarget::Tree(b.entity.to_bits().get());
         let limit = if marker.visible && !own_tree { (marker.distance + radius).min(max) } else { max };
-        if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit) {
+        if let Some((handle, center, d)) = interact::nearest_handle(origin, dir, &b, radius, limit, &res.boxes) {
             let point = origin + dir * d;
             marker = HitMarker {
                 visible: true,

@@ -8,6 +8,7 @@
 //! The box is the tree's catalogue bounds, scaled and turned with the tree: the same box the
 //! spatial index and the handles use. Only the one selected tree is looked at.
 
+use glam::Vec3;
 use hecs::World;
 
 use crate::components::Selection;
@@ -19,7 +20,15 @@ use crate::single;
 /// Runs the selection box system.
 pub fn run(world: &mut World, res: &mut Resources) {
     let Some(id) = interact::selected_tree(world, &res.singles) else { return };
-    let b = interact::entity(id).and_then(|e| interact::tree_box_of(world, &res.catalogue, e));
+    let b = interact::entity(id).and_then(|e| interact::tree_box_of(world, &res.catalogue, &res.boxes, e));
+    // Most ticks the tree has not moved: the selection holds this very box already (bit for
+    // bit), and writing it again would change nothing.
+    let bits = |c: Vec3, h: Vec3, yaw: f32| (c.to_array().map(f32::to_bits), h.to_array().map(f32::to_bits), yaw.to_bits());
+    if let Some(b) = b
+        && single::get_single::<Selection>(world, &res.singles).is_some_and(|s| bits(s.center, s.half_extents, s.yaw) == bits(b.center, b.half_extents, b.yaw))
+    {
+        return;
+    }
     single::for_each_mut::<Selection>(world, &res.singles, |s| match b {
         Some(b) => {
             s.center = b.center;
