@@ -19,9 +19,14 @@ export DISPLAY=$D
 PLAY=$!
 WID=$(timeout 60 xdotool search --sync --onlyvisible --pid $PLAY | head -1)
 sleep 12
-# Each step: a model button in the Trees window, then a target ring on the ground
-# (the pixel positions are the study scene's task targets seen from its camera).
-for step in "115 384 764 346" "103 597 520 354" "107 455 640 386"; do
+# The Trees window scrolled down to its billboards (six wheel steps).
+xdotool mousemove --window "$WID" 180 300; sleep 0.5
+for _ in 1 2 3 4 5 6; do xdotool click 5; sleep 0.2; done
+sleep 1
+# Each step: a model button in the Trees window (broadleaf, shrub and conifer billboards), then
+# a target ring on the ground (the pixel positions are the study scene's task targets seen
+# from its camera).
+for step in "115 271 764 346" "115 439 520 354" "115 355 640 386"; do
   set -- $step
   xdotool mousemove --window "$WID" "$1" "$2"; sleep 0.4
   xdotool click 1; sleep 1
@@ -31,7 +36,8 @@ for step in "115 384 764 346" "103 597 520 354" "107 455 640 386"; do
 done
 xdotool mousemove --window "$WID" 880 560; sleep 2
 import -window root docs/play.png
-xdotool windowfocus --sync "$WID"; xdotool key Escape
+# Escape asks whether to quit during a task; Enter says yes.
+xdotool windowfocus --sync "$WID"; xdotool key Escape; sleep 1; xdotool key Return
 wait $PLAY
 
 # The viewer on that recording, paused in the middle.
