@@ -88,7 +88,9 @@ pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
 /// the median GPU time of the shadow and main passes.
 pub(super) struct FrameTime {
     ms: f64,
-    passes: Option<(f64, f64)>,
+    /// Each timestamp scope's median time, milliseconds, in the frame's order (the shadow and
+    /// main passes first, 0 in a frame without them); empty without timestamp queries.
+    passes: Vec<(&'static str, f64)>,
     /// The process's CPU time per frame over the timed frames (every thread: on a software
     /// adapter, the rasteriser's too), milliseconds, where the system tells it (Linux).
     cpu_ms: Option<f64>,
@@ -101,9 +103,10 @@ impl FrameTime {
         if let Some(cpu) = self.cpu_ms {
             v["cpu_ms_per_frame"] = json!(cpu);
         }
-        if let Some((shadow, main)) = self.passes {
-            v["gpu_shadow_pass_ms"] = json!(shadow);
-            v["gpu_main_pass_ms"] = json!(main);
+        // `gpu_shadow_pass_ms`, `gpu_main_pass_ms`, and where the frame has them
+        // `gpu_reflection_pass_ms`, `gpu_refraction_pass_ms` and `gpu_grass_compute_pass_ms`.
+        for (name, ms) in &self.passes {
+            v[format!("gpu_{}_pass_ms", name.replace(' ', "_"))] = json!(ms);
         }
         v
     }
@@ -129,7 +132,7 @@ pub(super) fn time_frames_at(
 ) -> anyhow::Result<FrameTime> {
     let target = offscreen::Target::new(&gpu.device, size.0, size.1);
     let mut times = Vec::new();
-    let (mut shadow, mut main) = (Vec::new(), Vec::new());
+    let mut scopes: Vec<(&'static str, Vec<f64>)> = Vec::new();
     let mut cpu_start = None;
     for i in 0..=frames.max(1) {
         if i == 1 {
@@ -147,16 +150,16 @@ pub(super) fn time_frames_at(
         }
         times.push(ms);
         if let Some(p) = passes {
-            shadow.push(p.ms("shadow"));
-            main.push(p.ms("main"));
+            let others = p.scopes.iter().filter(|(n, _)| !matches!(*n, "shadow" | "main"));
+            for (name, ms) in [("shadow", p.ms("shadow")), ("main", p.ms("main"))].into_iter().chain(others.copied()) {
+                match scopes.iter_mut().find(|(n, _)| *n == name) {
+                    Some((_, v)) => v.push(ms),
+                    None => scopes.push((name, vec![ms])),
+                }
+            }
         }
     }
-    let passes = (!shadow.is_empty()).then(|| {
-        (
-            super::median(&mut shadow),
-            super::median(&mut main),
-        )
-    });
+    let passes = scopes.into_iter().map(|(name, mut v)| (name, super::median(&mut v))).collect();
     let cpu_ms = cpu_start.zip(process_cpu_ns()).map(|(a, b)| b.saturating_sub(a) as f64 / 1e6 / times.len().max(1) as f64);
     Ok(FrameTime {
         cpu_ms,
