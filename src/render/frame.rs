@@ -10,7 +10,8 @@
 //! 4. **Compute**: the grass blades are culled into draw lists and indirect draw counts.
 //! 5. **Shadow**: depth from the sun of every shadow caster ([`Feature::draw_depth`]).
 //!    **Water views** (only with water): the reflection (trees, ground, sky from the mirrored
-//!    camera) and the refraction (trees and ground below the surface), at half resolution.
+//!    camera) and the refraction (trees and ground below the surface), at half resolution,
+//!    each only where the surface can read it (a scissor around the ponds' outlines).
 //! 6. **Main**: the phases in order ([`Phase`]): opaque, alpha-clipped, sky, blended, overlay.
 //! 7. **Resolve** the pass timestamps.
 //!
@@ -148,6 +149,9 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            if let Some([x, y, width, height]) = w.scissor {
+                pass.set_scissor_rect(x, y, width, height);
+            }
             pass.set_bind_group(0, w.view, &[]);
             pass.set_bind_group(1, &self.lighting.bind_group, &[]);
             let s = &mut water_stats;

@@ -6,6 +6,9 @@
 //! ground, so that the bed under it is skipped by the depth test) mixes the two with Schlick's Fresnel term, shifted by two scrolling normal maps, tinted
 //! and darkened with the depth of water along the view, with a sun glint and a soft shore.
 //!
+//! Each extra pass draws only the part of its target the surface can read ([`scissor`]: the
+//! ponds' outlines projected by its camera, widened by the ripples' largest shift).
+//!
 //! The two extra passes draw the other features with the main view's pipelines (they differ only
 //! in the view bound as group 0: [`mirror`] makes the matrices, clipping at the plane with an
 //! oblique near plane), so no feature needs a pipeline of its own for them. One reflection plane
@@ -16,6 +19,7 @@
 mod extract;
 pub(crate) mod mesh;
 pub(crate) mod mirror;
+pub(crate) mod scissor;
 
 use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
@@ -62,6 +66,9 @@ pub(crate) struct WaterPass<'a> {
     pub view: &'a wgpu::BindGroup,
     /// Whether the sky is drawn (the reflection) or not (the refraction, cleared to black).
     pub sky: bool,
+    /// The part of the target the surface can read ([`scissor::rect`]), the pass's scissor;
+    /// `None`: the whole target.
+    pub scissor: Option<scissor::Rect>,
 }
 
 /// The water feature.
@@ -81,6 +88,8 @@ pub(crate) struct WaterFeature {
     refraction_view: View,
     /// Whether this frame draws water (asked for, and a mesh to draw).
     active: bool,
+    /// This frame's scissors of the reflection and refraction passes.
+    scissors: [Option<scissor::Rect>; 2],
 }
 
 impl WaterFeature {
@@ -128,6 +137,7 @@ impl WaterFeature {
             reflection_view: views.extra(shared, "water reflection view"),
             refraction_view: views.extra(shared, "water refraction view"),
             active: false,
+            scissors: [None; 2],
         }
     }
 
@@ -135,14 +145,15 @@ impl WaterFeature {
     pub fn passes(&self) -> Vec<WaterPass<'_>> {
         let (true, Some(t)) = (self.active, &self.targets) else { return Vec::new() };
         vec![
-            WaterPass { label: "reflection", color: &t.reflection, depth: &t.reflection_depth, view: &self.reflection_view.bind_group, sky: true },
-            WaterPass { label: "refraction", color: &t.refraction, depth: &t.refraction_depth, view: &self.refraction_view.bind_group, sky: false },
+            WaterPass { label: "reflection", color: &t.reflection, depth: &t.reflection_depth, view: &self.reflection_view.bind_group, sky: true, scissor: self.scissors[0] },
+            WaterPass { label: "refraction", color: &t.refraction, depth: &t.refraction_depth, view: &self.refraction_view.bind_group, sky: false, scissor: self.scissors[1] },
         ]
     }
 
     /// Writes the two views and the surface's uniforms for this frame: `main` is the main view's
-    /// uniform, `camera` the head's camera, `size` the main target's.
-    fn write(&self, queue: &wgpu::Queue, main: &ViewUniform, camera: &Camera, size: (u32, u32), output: WaterOutput, plane: f32) {
+    /// uniform, `camera` the head's camera, `size` the main target's. Returns the reflection's
+    /// and the refraction's view-projection matrices.
+    fn write(&self, queue: &wgpu::Queue, main: &ViewUniform, camera: &Camera, size: (u32, u32), output: WaterOutput, plane: f32) -> [glam::Mat4; 2] {
         let aspect = size.0 as f32 / size.1.max(1) as f32;
         let refl = mirror::reflection(camera, aspect, plane, CLIP_BIAS);
         let refr = mirror::refraction(camera, aspect, plane, CLIP_BIAS);
@@ -165,6 +176,7 @@ impl WaterFeature {
             misc: [mode, size.0 as f32, size.1 as f32, 0.0],
         };
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        [refl.view_proj, refr.view_proj]
     }
 
     fn rebuild_mesh(&mut self, shared: &Shared, bodies: &[WaterDraw]) {
@@ -271,7 +283,8 @@ impl Feature for WaterFeature {
         self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?;
         self.active = true;
         // Its views: the camera mirrored in the first body's surface, and the camera below it.
-        self.write(&cx.shared.queue, &cx.views.main, &cx.common.camera, cx.size, cx.options.water_output, bodies[0].height);
+        let matrices = self.write(&cx.shared.queue, &cx.views.main, &cx.common.camera, cx.size, cx.options.water_output, bodies[0].height);
+        self.scissors = matrices.map(|m| scissor::rect(m, &bodies, size));
         Ok(())
     }
 
