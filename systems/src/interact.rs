@@ -44,11 +44,6 @@ pub struct BoxMemo {
     handles: RefCell<Option<([u32; 7], [(Handle, Vec3); 12])>>,
 }
 
-/// Whether two keys hold the same bits (compared whole, without a call or a branch per value).
-fn same_bits(a: &[u32], b: &[u32]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).fold(0, |d, (x, y)| d | (x ^ y)) == 0
-}
-
 impl BoxMemo {
     /// [`tree_box`], kept for the same inputs.
     pub fn tree_box(&self, entity: Entity, transform: &Transform, scale: f32, min: Vec3, max: Vec3) -> TreeBox {
@@ -57,7 +52,7 @@ impl BoxMemo {
         let f = [p.x, p.y, p.z, transform.yaw, scale, a.x, a.y, a.z, b.x, b.y, b.z].map(f32::to_bits);
         let key = [id as u32, (id >> 32) as u32, f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8], f[9], f[10]];
         if let Some((k, b)) = &*self.tree_box.borrow()
-            && same_bits(k, &key)
+            && *k == key
         {
             return *b;
         }
@@ -70,7 +65,7 @@ impl BoxMemo {
     pub fn handle_points(&self, center: Vec3, half: Vec3, yaw: f32) -> [(Handle, Vec3); 12] {
         let key = [center.x, center.y, center.z, half.x, half.y, half.z, yaw].map(f32::to_bits);
         if let Some((k, points)) = &*self.handles.borrow()
-            && same_bits(k, &key)
+            && *k == key
         {
             return *points;
         }

@@ -135,19 +135,7 @@ impl Singles {
 /// borrow flags that `World::get` sets and clears (the systems, its callers, hold the world
 /// mutably anyway).
 pub fn get<T: Single>(world: &mut World, singles: &Singles) -> Option<T> {
-    if let Some(e) = singles.entity::<T>() {
-        let copy = T::copy(&singles.copies);
-        if let Some(c) = copy.get() {
-            return Some(c);
-        }
-        if let Ok(c) = world.query_one_mut::<&T>(e) {
-            if T::KEPT && singles.copies.active.get() {
-                copy.set(Some(*c));
-            }
-            return Some(*c);
-        }
-    }
-    world.query_mut::<&T>().into_iter().next().copied()
+    get_single(world, singles).or_else(|| world.query_mut::<&T>().into_iter().next().copied())
 }
 
 /// Like [`get`], but only the value of the kind's one entity (kept or looked up), `None` where
