@@ -85,7 +85,7 @@ pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
 }
 
 /// A frame figure: the median wall time of a frame and, where the renderer times its passes,
-/// the median GPU time of the shadow and main passes.
+/// the median GPU time of each pass.
 pub(super) struct FrameTime {
     ms: f64,
     /// Each timestamp scope's median time, milliseconds, in the frame's order (the shadow and
