@@ -6,7 +6,8 @@
 //!    [`PipelineKey`]), the main camera's uniforms and the sun's view fitted to what the
 //!    features will draw ([`Feature::shadow_bounds`]).
 //! 3. **Prepare**: each feature's buffers and pipelines from its extracted data
-//!    ([`Feature::prepare`]).
+//!    ([`Feature::prepare`]); then the trees are culled for each pass: the main view, the water
+//!    views and the shadow map (the trees whose shadows may fall into one of those).
 //! 4. **Compute**: the grass blades are culled into draw lists and indirect draw counts.
 //! 5. **Shadow**: depth from the sun of every shadow caster ([`Feature::draw_depth`]).
 //!    **Water views** (only with water): the reflection (trees, ground, sky from the mirrored
@@ -26,6 +27,8 @@ use super::extract;
 use super::feature::{union, ExtractContext, Feature, FrameContext, FrameStats, FrameViews, Phase};
 use super::gpu::{PipelineKey, ViewKind};
 use super::lighting::{light_matrix, shadow_bounds, sun_light};
+use super::clip::ClipRegion;
+use super::trees::TreeView;
 use super::view::{camera_matrix, ViewUniform};
 use super::Renderer;
 
@@ -96,6 +99,10 @@ impl Renderer {
         if let (Some(c), Some(x)) = (&mut f.aerial.canopy, canopy) {
             c.prepare(&cx, x)?;
         }
+        // The trees each pass draws: those that may reach into its view, and for the shadow
+        // map those whose shadows may (down to the lowest drawn point, less a metre).
+        let sun = key.shadows.then(|| drawn.map(|(lo, _)| (common.sun_dir, lo.y - 1.0))).flatten();
+        f.trees.cull(&ClipRegion::new(view_proj), &f.water.regions(), sun);
         let f = &self.features;
         let mut stats = FrameStats { instances: f.trees.instance_count, ..Default::default() };
 
@@ -131,7 +138,7 @@ impl Renderer {
         // 5b. Water views: what the water reflects and what lies below it, drawn with the main
         // view's pipelines from the water's own views. Their draws are not the main pass's.
         let mut water_stats = FrameStats::default();
-        for w in f.water.passes() {
+        for (i, w) in f.water.passes().into_iter().enumerate() {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(w.label),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -155,8 +162,8 @@ impl Renderer {
             pass.set_bind_group(0, w.view, &[]);
             pass.set_bind_group(1, &self.lighting.bind_group, &[]);
             let s = &mut water_stats;
-            f.trees.draw(Phase::Opaque, &mut pass, key, s)?;
-            f.trees.draw(Phase::AlphaClipped, &mut pass, key, s)?;
+            f.trees.draw_view(TreeView::Extra(i), Phase::Opaque, &mut pass, key, s)?;
+            f.trees.draw_view(TreeView::Extra(i), Phase::AlphaClipped, &mut pass, key, s)?;
             f.ground.draw(Phase::Opaque, &mut pass, key, s)?;
             if w.sky {
                 f.sky.draw(Phase::Sky, &mut pass, key, s)?;

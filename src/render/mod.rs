@@ -19,6 +19,7 @@
 pub mod aerial_ground;
 pub mod assets;
 pub mod canopy;
+pub mod clip;
 pub mod clipmap;
 pub mod error;
 pub mod extract;

@@ -1,6 +1,8 @@
 //! Trees: instanced, textured (albedo, normal, specular), alpha-clipped leaves, swayed per
 //! vertex by the wind (`wind.wgsl`, the twin of `grove_systems::wind_model`), casting shadows.
-//! Far trees draw a share of their leaves, grown to keep the crown's area ([`lod`]).
+//! Far trees draw a share of their leaves, grown to keep the crown's area ([`lod`]). Each pass
+//! draws only the trees that may reach into its view, and the shadow map those whose shadows may
+//! ([`Trees::cull`], [`views`]).
 //!
 //! Phases: [`Phase::Opaque`] draws the opaque materials, [`Phase::AlphaClipped`] the depth
 //! pre-pass and then the shading of the alpha-clipped ones (see [`pipelines`]); the shadow map
@@ -13,17 +15,42 @@ pub mod instances;
 pub mod lod;
 pub mod model;
 pub(crate) mod pipelines;
+pub mod sweep;
+pub(crate) mod views;
 
 use glam::Vec3;
 
 use self::impostor::draw::ImpostorGpu;
 use self::instances::{gather, BucketRanges, Detail, Instance};
+use self::views::ViewDraws;
 use self::model::{GpuMaterial, GpuModel};
 use self::pipelines::TreePipelines;
 use self::extract::TreeDraw;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use crate::render::error::{PipelineError, RenderError};
 use super::gpu::{PipelineCache, PipelineKey, Shared, ViewKind};
+use crate::render::clip::ClipRegion;
+
+/// Which trees a pass draws (see [`views`] and [`Trees::cull`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum TreeView {
+    /// The trees whose shadows may fall into a view: the sun's shadow map.
+    Casters,
+    /// The trees that may reach into the main view.
+    Main,
+    /// The trees that may reach into the extra view of this index ([`Trees::cull`]).
+    Extra(usize),
+}
+
+impl TreeView {
+    fn index(self) -> usize {
+        match self {
+            TreeView::Casters => 0,
+            TreeView::Main => 1,
+            TreeView::Extra(i) => 2 + i,
+        }
+    }
+}
 
 
 /// The trees feature: the models, this frame's instances and the pipelines by key. Its own
@@ -40,10 +67,14 @@ pub struct Trees {
     pub(crate) far: Vec<Option<usize>>,
     instances: wgpu::Buffer,
     capacity: usize,
-    /// This frame's instance count.
+    /// This frame's instance count in the main view (meshes and impostors).
     pub instance_count: usize,
-    /// This frame's instance range of each (model, keep bucket).
-    ranges: Vec<BucketRanges>,
+    /// This frame's trees as gathered, before culling (`None` before the first frame).
+    every: Option<ViewDraws>,
+    /// This frame's trees by view ([`TreeView::index`]), culled ([`Trees::cull`]).
+    views: Vec<ViewDraws>,
+    /// Each view's instance range of each (model, keep bucket), in the uploaded buffer.
+    ranges: Vec<Vec<BucketRanges>>,
     /// The impostors' bake, shader and pipelines.
     pub(crate) impostors: ImpostorGpu,
     impostor_instances: wgpu::Buffer,
@@ -52,8 +83,10 @@ pub struct Trees {
     /// How many atlases were baked rather than read from the cache.
     pub(crate) impostor_bakes: usize,
     impostor_capacity: usize,
-    /// This frame's impostor instance range of each model.
-    impostor_ranges: Vec<std::ops::Range<u32>>,
+    /// Each view's impostor instance range of each model, in the uploaded buffer.
+    impostor_ranges: Vec<Vec<std::ops::Range<u32>>>,
+    /// The wind of this frame (for the trees' boxes; `None` before the first frame).
+    wind: Option<grove_systems::wind_model::WindParams>,
 }
 
 /// Which tree materials a loop over the trees draws.
@@ -77,6 +110,8 @@ impl Trees {
             instances: instance_buffer(&shared.device, capacity),
             capacity,
             instance_count: 0,
+            every: None,
+            views: Vec::new(),
             ranges: Vec::new(),
             impostors: ImpostorGpu::new(shared),
             impostor_instances: instance_buffer(&shared.device, capacity),
@@ -84,6 +119,7 @@ impl Trees {
             impostor_bakes: 0,
             impostor_capacity: capacity,
             impostor_ranges: Vec::new(),
+            wind: None,
             shared: shared.clone(),
         }
     }
@@ -119,10 +155,65 @@ impl Trees {
         });
     }
 
-    /// Draws each model's impostors over its range of the impostor instances (pipeline set).
-    fn draw_impostors<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, mut count: impl FnMut(&std::ops::Range<u32>)) {
+    /// Culls this frame's trees for every pass: the main view's (`main`), each extra view's
+    /// (`extra`, [`TreeView::Extra`] in order) and the shadow map's, which keeps the trees whose
+    /// shadow, cast away from the sun (`sun`: the unit vector towards it and the lowest height a
+    /// shadow can fall on) may reach into one of those views (every tree when `sun` is `None`).
+    /// Uploads every view's instances. Call after [`Feature::prepare`].
+    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>) {
+        let (Some(every), Some(wind)) = (&self.every, &self.wind) else { return };
+        let models = &self.models;
+        let inside = |r: &ClipRegion| views::cull(every, models, wind, |lo, hi| r.may_hold(lo, hi));
+        let receivers: Vec<&ClipRegion> = std::iter::once(main).chain(extra).collect();
+        let casters = match sun {
+            Some((dir, floor)) => views::cull(every, models, wind, |lo, hi| {
+                views::shadow_box(lo, hi, dir, floor).is_none_or(|(lo, hi)| receivers.iter().any(|r| r.may_hold(lo, hi)))
+            }),
+            None => every.clone(),
+        };
+        let main = inside(main);
+        self.instance_count = main.instances.len() + main.impostors.len();
+        self.views = [casters, main].into_iter().chain(extra.iter().map(inside)).collect();
+        self.upload();
+    }
+
+    /// Writes every view's instances one after the other into the instance buffers (grown as
+    /// needed) and keeps each view's ranges, moved to its place there.
+    fn upload(&mut self) {
+        let shift = |r: &std::ops::Range<u32>, by: u32| r.start + by..r.end + by;
+        let (mut meshes, mut impostors) = (Vec::new(), Vec::new());
+        self.ranges.clear();
+        self.impostor_ranges.clear();
+        for v in &self.views {
+            let (a, b) = (meshes.len() as u32, impostors.len() as u32);
+            self.ranges.push(v.ranges.iter().map(|buckets| buckets.each_ref().map(|r| shift(r, a))).collect());
+            self.impostor_ranges.push(v.impostor_ranges.iter().map(|r| shift(r, b)).collect());
+            meshes.extend_from_slice(&v.instances);
+            impostors.extend_from_slice(&v.impostors);
+        }
+        let device = &self.shared.device;
+        if meshes.len() > self.capacity {
+            self.capacity = meshes.len().next_power_of_two();
+            self.instances = instance_buffer(device, self.capacity);
+        }
+        if !meshes.is_empty() {
+            self.shared.queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&meshes));
+        }
+        if impostors.len() > self.impostor_capacity {
+            self.impostor_capacity = impostors.len().next_power_of_two();
+            self.impostor_instances = instance_buffer(device, self.impostor_capacity);
+        }
+        if !impostors.is_empty() {
+            self.shared.queue.write_buffer(&self.impostor_instances, 0, bytemuck::cast_slice(&impostors));
+        }
+    }
+
+    /// Draws each model's impostors of `view` over its range of the impostor instances
+    /// (pipeline set).
+    fn draw_impostors<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, view: TreeView, mut count: impl FnMut(&std::ops::Range<u32>)) {
+        let Some(ranges) = self.impostor_ranges.get(view.index()) else { return };
         pass.set_vertex_buffer(0, self.impostor_instances.slice(..));
-        for (m, range) in self.models.iter().zip(&self.impostor_ranges) {
+        for (m, range) in self.models.iter().zip(ranges) {
             let Some(Some(group)) = m.as_ref().map(|m| m.impostor.as_ref().and_then(|a| a.bind_group.as_ref())) else {
                 continue;
             };
@@ -135,18 +226,20 @@ impl Trees {
         }
     }
 
-    /// Draws every tree primitive whose material is of the kind `which`, instanced over its
-    /// model's range of the instance buffer, with its material bound. `before_draw` runs just
+    /// Draws every tree primitive of `view` whose material is of the kind `which`, instanced
+    /// over its model's range of the instance buffer, with its material bound. `before_draw` runs just
     /// before each draw, to pick the pipeline or count what is drawn; the shadow pass sets its
     /// pipeline beforehand.
     fn draw_trees<'p>(
         &'p self,
         pass: &mut wgpu::RenderPass<'p>,
+        view: TreeView,
         which: Materials,
         mut before_draw: impl FnMut(&mut wgpu::RenderPass<'p>, &'p GpuMaterial, u32, &std::ops::Range<u32>),
     ) {
+        let Some(ranges) = self.ranges.get(view.index()) else { return };
         pass.set_vertex_buffer(1, self.instances.slice(..));
-        for (m, buckets) in self.models.iter().zip(&self.ranges) {
+        for (m, buckets) in self.models.iter().zip(ranges) {
             let Some(m) = m else { continue };
             for p in &m.primitives {
                 let Some(mat) = m.materials.get(p.material) else {
@@ -190,24 +283,10 @@ impl Feature for Trees {
     fn prepare(&mut self, cx: &FrameContext<'_>, trees: Vec<TreeDraw>) -> Result<(), RenderError> {
         let detail = Detail { leaf_pixels: cx.options.leaf_pixels, impostor_pixels: cx.options.impostor_pixels, far_pixels: cx.options.far_pixels };
         let g = gather(&trees, &self.models, &self.far, &cx.common.camera, cx.size.1, detail);
-        let instances = g.instances;
-        if instances.len() > self.capacity {
-            self.capacity = instances.len().next_power_of_two();
-            self.instances = instance_buffer(&cx.shared.device, self.capacity);
-        }
-        if !instances.is_empty() {
-            cx.shared.queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&instances));
-        }
-        if g.impostors.len() > self.impostor_capacity {
-            self.impostor_capacity = g.impostors.len().next_power_of_two();
-            self.impostor_instances = instance_buffer(&cx.shared.device, self.impostor_capacity);
-        }
-        if !g.impostors.is_empty() {
-            cx.shared.queue.write_buffer(&self.impostor_instances, 0, bytemuck::cast_slice(&g.impostors));
-        }
-        self.instance_count = instances.len() + g.impostors.len();
-        self.ranges = g.ranges;
-        self.impostor_ranges = g.impostor_ranges;
+        self.wind = Some(cx.common.wind);
+        self.every = Some(views::all(g));
+        self.views.clear();
+        self.instance_count = 0;
         self.impostors.prepare(cx.shared, cx.key)?;
         if cx.key.shadows {
             self.impostors.prepare(cx.shared, cx.key.with_view(ViewKind::Sun))?;
@@ -225,15 +304,22 @@ impl Feature for Trees {
             return Err(PipelineError::NotShadowKey { feature: "trees", key }.into());
         };
         pass.set_pipeline(&p.opaque);
-        self.draw_trees(pass, Materials::Opaque, |_, _, _, _| {});
+        self.draw_trees(pass, TreeView::Casters, Materials::Opaque, |_, _, _, _| {});
         pass.set_pipeline(&p.masked);
-        self.draw_trees(pass, Materials::Masked, |_, _, _, _| {});
+        self.draw_trees(pass, TreeView::Casters, Materials::Masked, |_, _, _, _| {});
         pass.set_pipeline(&self.impostors.pipelines.get(key)?.depth);
-        self.draw_impostors(pass, |_| {});
+        self.draw_impostors(pass, TreeView::Casters, |_| {});
         Ok(())
     }
 
     fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+        self.draw_view(TreeView::Main, phase, pass, key, stats)
+    }
+}
+
+impl Trees {
+    /// [`Feature::draw`] for the trees of `view`.
+    pub(crate) fn draw_view<'p>(&'p self, view: TreeView, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
         let TreePipelines::Main(p) = self.pipelines.get(key)? else {
             return Err(PipelineError::NotMainKey { feature: "trees", key }.into());
         };
@@ -242,23 +328,23 @@ impl Feature for Trees {
             stats.triangles += count as usize / 3 * range.len();
         };
         match phase {
-            Phase::Opaque => self.draw_trees(pass, Materials::Opaque, |pass, mat, n, range| {
+            Phase::Opaque => self.draw_trees(pass, view, Materials::Opaque, |pass, mat, n, range| {
                 pass.set_pipeline(&p.opaque[mat.double_sided as usize]);
                 count(n, range);
             }),
             Phase::AlphaClipped => {
-                self.draw_trees(pass, Materials::Masked, |pass, mat, _, _| pass.set_pipeline(&p.masked_depth[mat.double_sided as usize]));
-                self.draw_trees(pass, Materials::Masked, |pass, mat, n, range| {
+                self.draw_trees(pass, view, Materials::Masked, |pass, mat, _, _| pass.set_pipeline(&p.masked_depth[mat.double_sided as usize]));
+                self.draw_trees(pass, view, Materials::Masked, |pass, mat, n, range| {
                     pass.set_pipeline(&p.masked_shade[mat.double_sided as usize]);
                     count(n, range);
                 });
                 // Impostors: their depth pre-pass, then their shading at equal depth.
                 let imp = self.impostors.pipelines.get(key)?;
                 pass.set_pipeline(&imp.depth);
-                self.draw_impostors(pass, |_| {});
+                self.draw_impostors(pass, view, |_| {});
                 if let Some(shade) = &imp.shade {
                     pass.set_pipeline(shade);
-                    self.draw_impostors(pass, |range| count(6, range));
+                    self.draw_impostors(pass, view, |range| count(6, range));
                 }
             }
             Phase::Sky | Phase::Blended | Phase::Overlay => {}

@@ -64,6 +64,8 @@ pub struct GpuModel {
     pub leaf_area: f32,
     /// The impostor atlases, baked by the renderer after the upload ([`super::impostor`]).
     pub impostor: Option<super::impostor::Atlas>,
+    /// Where the model's vertices can be in a wind, by height band ([`super::sweep`]).
+    pub sweep: super::sweep::Sweep,
 }
 
 impl GpuModel {
@@ -125,6 +127,7 @@ impl GpuModel {
         // with a shuffle seeded by the model's name, so every run draws the same leaves.
         let seed = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
         let (mut leaf_area, mut simplified) = (0.0f32, 0usize);
+        let mut leaf_orders = Vec::new();
         let primitives = data
             .primitives
             .iter()
@@ -141,6 +144,7 @@ impl GpuModel {
                     }
                     None => (&p.indices, lod::unsimplified(p.vertices.len()), [full; lod::BUCKETS]),
                 };
+                leaf_orders.push(leaves.clone());
                 let buffer = |what: &str, contents: &[u8], usage| {
                     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some(&format!("{name} primitive {i} {what}")),
@@ -158,6 +162,7 @@ impl GpuModel {
             })
             .collect();
         let leaf_area = if simplified > 0 { leaf_area / simplified as f32 } else { 0.0 };
-        GpuModel { name, primitives, materials, bounds: data.bounds, triangles: data.triangles(), leaf_area, impostor: None }
+        let sweep = super::sweep::Sweep::new(data.primitives.iter().zip(&leaf_orders).map(|(p, l)| (&p.vertices[..], &l[..])));
+        GpuModel { name, primitives, materials, bounds: data.bounds, triangles: data.triangles(), leaf_area, impostor: None, sweep }
     }
 }

@@ -27,6 +27,7 @@ use wgpu::util::DeviceExt;
 use self::extract::WaterDraw;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, sampler_entry, texture_entry, uniform_entry, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, DEPTH_FORMAT};
+use super::clip::ClipRegion;
 use super::options::WaterOutput;
 use super::view::{Camera, View, ViewUniform, Views};
 
@@ -90,6 +91,9 @@ pub(crate) struct WaterFeature {
     active: bool,
     /// This frame's scissors of the reflection and refraction passes.
     scissors: [Option<scissor::Rect>; 2],
+    /// This frame's regions of the reflection and refraction passes: their views within their
+    /// scissors.
+    regions: [Option<ClipRegion>; 2],
 }
 
 impl WaterFeature {
@@ -138,6 +142,7 @@ impl WaterFeature {
             refraction_view: views.extra(shared, "water refraction view"),
             active: false,
             scissors: [None; 2],
+            regions: [None; 2],
         }
     }
 
@@ -148,6 +153,14 @@ impl WaterFeature {
             WaterPass { label: "reflection", color: &t.reflection, depth: &t.reflection_depth, view: &self.reflection_view.bind_group, sky: true, scissor: self.scissors[0] },
             WaterPass { label: "refraction", color: &t.refraction, depth: &t.refraction_depth, view: &self.refraction_view.bind_group, sky: false, scissor: self.scissors[1] },
         ]
+    }
+
+    /// The regions of [`WaterFeature::passes`], in the same order: what each pass can draw.
+    pub fn regions(&self) -> Vec<ClipRegion> {
+        if self.passes().is_empty() {
+            return Vec::new();
+        }
+        self.regions.iter().flatten().copied().collect()
     }
 
     /// Writes the two views and the surface's uniforms for this frame: `main` is the main view's
@@ -285,6 +298,7 @@ impl Feature for WaterFeature {
         // Its views: the camera mirrored in the first body's surface, and the camera below it.
         let matrices = self.write(&cx.shared.queue, &cx.views.main, &cx.common.camera, cx.size, cx.options.water_output, bodies[0].height);
         self.scissors = matrices.map(|m| scissor::rect(m, &bodies, size));
+        self.regions = [0, 1].map(|i| Some(ClipRegion::scissored(matrices[i], self.scissors[i], size)));
         Ok(())
     }
 
