@@ -68,11 +68,15 @@ pub struct RenderOptions {
     /// Draw from this camera instead of the world's head camera (a video's shoulder or orbit
     /// camera); the head is then drawn as a figure like the ghosts.
     pub camera: Option<Camera>,
+    /// Skip the trees a pass cannot show: those wholly outside its view, and in the shadow map
+    /// those whose shadows cannot fall into a view (`trees::Trees::cull`). Culling changes no
+    /// pixel; off, every pass draws every tree (for comparing the two).
+    pub cull_trees: bool,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, canopy: true, top_view: None, camera: None }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, canopy: true, top_view: None, camera: None, cull_trees: true }
     }
 }
 

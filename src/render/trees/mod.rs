@@ -159,9 +159,16 @@ impl Trees {
     /// (`extra`, [`TreeView::Extra`] in order) and the shadow map's, which keeps the trees whose
     /// shadow, cast away from the sun (`sun`: the unit vector towards it and the lowest height a
     /// shadow can fall on) may reach into one of those views (every tree when `sun` is `None`).
-    /// Uploads every view's instances. Call after [`Feature::prepare`].
-    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>) {
+    /// Uploads every view's instances. Call after [`Feature::prepare`]. Without `enabled`, every
+    /// view draws every tree.
+    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>, enabled: bool) {
         let (Some(every), Some(wind)) = (&self.every, &self.wind) else { return };
+        if !enabled {
+            self.instance_count = every.instances.len() + every.impostors.len();
+            self.views = vec![every.clone(); 2 + extra.len()];
+            self.upload();
+            return;
+        }
         let models = &self.models;
         let inside = |r: &ClipRegion| views::cull(every, models, wind, |lo, hi| r.may_hold(lo, hi));
         let receivers: Vec<&ClipRegion> = std::iter::once(main).chain(extra).collect();
