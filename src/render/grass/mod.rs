@@ -1,10 +1,12 @@
 //! Grass: shell lawns and compute-generated blades (issue #18), a shadow receiver (it casts
 //! none). Drawn right after the ground in the opaque phase.
 //!
-//! - **Shells** (`shells.wgsl`): per patch, its ground triangles drawn instanced, one instance
-//!   per layer; a strand texture decides which texels of a layer are grass. A large patch is
-//!   split into tiles (`tiles.rs`, at most 256): a tile outside the view is skipped and a far
-//!   one drawn with only the layers the shader keeps at its distance.
+//! - **Shells** (`shells.wgsl`): per patch, its ground triangles drawn once, where the bottom
+//!   layer lies; each fragment walks the layers along its view ray, from the highest the
+//!   triangle keeps at its distance down, and blends them itself (front to back, stopping when
+//!   nothing more shows through). A strand texture decides which texels of a layer are grass.
+//!   A large patch is split into tiles (`tiles.rs`, at most 256): a tile outside the view is
+//!   skipped.
 //! - **Blades**: every blade of every blade patch is uploaded once, when the patches change
 //!   ([`GrassKey`]). Each frame the **compute** stage (`cull.wgsl`) culls them against the view
 //!   frustum and a far distance, evaluates each visible blade's wind, pushes and bend once into
@@ -53,11 +55,9 @@ const WIND_BEND: f32 = 0.9;
 /// One shell patch on the GPU.
 struct ShellPatch {
     vertices: wgpu::Buffer,
-    /// The patch's tiles (runs of its vertex buffer) and the layers each draws this frame
-    /// (0: outside the view).
+    /// The patch's tiles (runs of its vertex buffer) and whether each is in view this frame.
     tiles: Vec<tiles::Tile>,
-    tile_layers: Vec<u32>,
-    layers: u32,
+    tile_visible: Vec<bool>,
     params: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     template: ShellParams,
@@ -261,9 +261,8 @@ impl Grass {
                 });
                 self.shells.push(ShellPatch {
                     vertices: init("grass shell vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
-                    tile_layers: vec![0; tiles.len()],
+                    tile_visible: vec![false; tiles.len()],
                     tiles,
-                    layers: p.layers,
                     params,
                     bind_group,
                     template,
@@ -399,13 +398,14 @@ impl BladeCounts {
     }
 }
 
-/// The shells' pipeline of `key`: blended layers, depth written, main view only.
+/// The shells' pipeline of `key`: opaque (the fragment blends the layers itself), depth
+/// written, main view only.
 fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("grass"));
     }
     const SV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
-    let targets = [Some(wgpu::ColorTargetState { format: key.format, blend: Some(wgpu::BlendState::ALPHA_BLENDING), write_mask: wgpu::ColorWrites::ALL })];
+    let targets = super::gpu::color_target(key.format, wgpu::ColorWrites::ALL);
     Ok(shared.pipeline(&PipelineSpec {
         label: "grass shell pipeline",
         layout,
@@ -480,13 +480,11 @@ impl Feature for Grass {
         let planes = data::frustum_planes(view_proj);
         let eye = cx.common.camera.position;
         for s in &mut self.shells {
-            // Each tile's layers: none outside the view (its sphere, raised by the grass and its
-            // sway), else the ones the shader keeps at the tile's nearest point.
+            // Each tile in view or not: its sphere, raised by the grass and its sway.
             let reach = s.template.tip[3] * 1.5;
-            for (tile, n) in s.tiles.iter().zip(s.tile_layers.iter_mut()) {
+            for (tile, shown) in s.tiles.iter().zip(s.tile_visible.iter_mut()) {
                 let (c, r) = (tile.centre + glam::Vec3::Y * (0.5 * reach), tile.radius + reach);
-                let visible = planes.iter().all(|q| glam::Vec3::new(q[0], q[1], q[2]).dot(c) + q[3] >= -r);
-                *n = if visible { tiles::tile_layers(eye.distance(tile.centre) - tile.radius, s.layers) } else { 0 };
+                *shown = planes.iter().all(|q| glam::Vec3::new(q[0], q[1], q[2]).dot(c) + q[3] >= -r);
             }
             let mut p = s.template;
             // The tip of a shell lawn sways by about a third of its height at full wind.
@@ -565,11 +563,11 @@ impl Feature for Grass {
             for s in &self.shells {
                 pass.set_bind_group(2, &s.bind_group, &[]);
                 pass.set_vertex_buffer(0, s.vertices.slice(..));
-                // One instance per layer, bottom to top, per tile in view.
-                for (tile, &n) in s.tiles.iter().zip(&s.tile_layers).filter(|(_, n)| **n > 0) {
-                    pass.draw(tile.first_vertex..tile.first_vertex + tile.vertex_count, 0..n);
+                // Each tile in view once: the fragments walk the layers.
+                for (tile, _) in s.tiles.iter().zip(&s.tile_visible).filter(|(_, shown)| **shown) {
+                    pass.draw(tile.first_vertex..tile.first_vertex + tile.vertex_count, 0..1);
                     stats.draws += 1;
-                    stats.triangles += (tile.vertex_count / 3 * n) as usize;
+                    stats.triangles += (tile.vertex_count / 3) as usize;
                 }
             }
         }

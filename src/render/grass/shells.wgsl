@@ -1,15 +1,18 @@
-// Shell grass (Fukuda et al. 2007): the patch's ground drawn `shells` times in one instanced
-// draw, layer `instance_index` raised along the normal by its share of the grass height. A
-// noise texture gives every texel (one strand) a height; a layer keeps the texels whose strand
-// reaches it, more transparent towards the tip. Layers are drawn bottom to top, blended.
-// lighting.wgsl is prepended (src/render/gpu.rs).
+// Shell grass (Fukuda et al. 2007): the patch's ground seen through `shells` layers, layer `l`
+// raised along the normal by its share of the grass height and swayed by the wind. A noise
+// texture gives every texel (one strand) a height; a layer keeps the texels whose strand
+// reaches it, more transparent towards the tip; the layers are blended bottom to top.
+//
+// The layers are not drawn one by one: each ground triangle is drawn once, where the bottom
+// layer lies, and the fragment finds every layer along its view ray (see `fs_main`). A software
+// rasteriser pays per fragment far more than per texture read, so one fragment that walks the
+// layers costs a fraction of one fragment per layer.
 //
 // The light is evaluated per vertex (a patch's normal is its triangle's; the aerial
 // perspective changes slowly), and few values cross to the fragment, which adds the strand's
-// colour and, with shadows on, the trees' shadow. (Thinning the layers by the pixels each
-// covers, per triangle or per fragment, was tried: it darkened distant lawns, whose colour
-// builds up over all their layers, and a discarded fragment still costs lavapipe its
-// rasterisation.)
+// colour and, with shadows on, the trees' shadow, looked up once at the bottom layer. (Thinning
+// the layers by the pixels each covers, per triangle or per fragment, was tried with layered
+// draws: it darkened distant lawns, whose colour builds up over all their layers.)
 //
 // Units: metres; +Y up.
 
@@ -47,82 +50,103 @@ fn layers_at(d: f32, layers: f32) -> f32 {
     return layers * mix(1.0, 0.25, smoothstep(25.0, 150.0, d));
 }
 
+// What a ground triangle's corner passes to the fragment. Layer `l`'s surface is the triangle's
+// plane moved by `layer_offset(l)`; the view ray through the bottom layer's point `q` meets it
+// at `t = 1 + n·(offset(l) − offset(0)) / n·(q − eye)` of the way to `q`, and the strand there is
+// the one under that point before the offset.
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
-    // The point where the shadow map is looked up (pushed along the normal, lighting.wgsl's
-    // `shadow_factor`), metres.
-    @location(0) shadow_pos: vec3<f32>,
-    // The strand texture's coordinates (the position before the layer's sway).
-    @location(1) strand_uv: vec2<f32>,
-    // The sky's light and the sun's (without its shadow) for an albedo of one, each already
-    // faded by the aerial perspective, and what the fragment adds to them: the haze and the
-    // sun's highlight. Linear RGB. Few values cross to the fragment, as each costs an
-    // interpolation per pixel and per layer.
+    // The floor point (h = 0), metres.
+    @location(0) floor_pos: vec3<f32>,
+    // The triangle's normal (the same at its three corners).
+    @location(1) normal: vec3<f32>,
     @location(2) ambient: vec3<f32>,
     @location(3) direct: vec3<f32>,
     @location(4) add: vec3<f32>,
-    @location(5) @interpolate(flat) layer: u32,
+    // The wind noise (as `vs_main` reads it per corner) and the triangle's nearest distance to
+    // the eye (the same at its corners; it decides the layers kept, as in `vs_main`).
+    @location(5) wind_noise: f32,
+    @location(6) nearest: f32,
 };
 
+// Layer `layer`'s displacement of the floor (vs_main's): along the normal by its share of the
+// grass height, and along the wind by its sway (quadratic in the height).
+fn layer_offset(n: vec3<f32>, sway_tip: f32, layer: u32) -> vec3<f32> {
+    let hv = (f32(layer) + 0.5) / params.root.w;
+    return n * (params.tip.w * hv) + vec3<f32>(params.wind.x, 0.0, params.wind.y) * (sway_tip * hv * hv);
+}
+
 @vertex
-fn vs_main(v: VertexIn, @builtin(instance_index) layer: u32) -> VertexOut {
-    let layers = params.root.w;
-    let h = (f32(layer) + 0.5) / layers;
+fn vs_main(v: VertexIn) -> VertexOut {
     let wdir = params.wind.xy;
     let uv = v.position.xz * params.strands.y - wdir * params.wind.w * params.strands.z * params.strands.y;
-    let n = textureSampleLevel(wind_tex, wind_sampler, uv, 0.0).r;
-    // Higher layers sway further with the wind (quadratically, as a bending strand).
-    let sway = params.wind.z * (0.35 + 0.65 * n) * h * h;
-    let p = v.position + v.normal * (params.tip.w * h) + vec3<f32>(wdir.x, 0.0, wdir.y) * sway;
     var out: VertexOut;
-    out.clip = frame.view_proj * vec4<f32>(p, 1.0);
-    let nearest = max(distance(v.triangle.xyz, frame.camera_pos) - v.triangle.w, 0.0);
-    if (layer > 0u && f32(layer) >= layers_at(nearest, layers)) {
-        // A layer this triangle does not need at its distance: all three corners collapse
-        // onto one point outside the view, so the triangle is dropped.
-        out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0);
-    }
+    out.floor_pos = v.position;
+    out.normal = v.normal;
+    out.wind_noise = textureSampleLevel(wind_tex, wind_sampler, uv, 0.0).r;
+    // Drawn where the bottom layer lies, so that it has the layered draw's depth.
+    let sway_tip = params.wind.z * (0.35 + 0.65 * out.wind_noise);
+    out.clip = frame.view_proj * vec4<f32>(v.position + layer_offset(v.normal, sway_tip, 0u), 1.0);
+    out.nearest = max(distance(v.triangle.xyz, frame.camera_pos) - v.triangle.w, 0.0);
+    // The light as `vs_main` has it, at the floor.
+    let p = v.position;
     let to_eye = frame.camera_pos - p;
     let dist = length(to_eye);
-    out.shadow_pos = p + v.normal * frame.shadow_normal_offset;
-    out.strand_uv = v.position.xz * params.strands.x / 128.0;
-    // `shade_lit` (lighting.wgsl) with specular 0.05, roughness 0.8 and translucency 0.4, for
-    // an albedo of one, without the shadow; no reflection (too rough to show one).
     let l = frame.sun_dir;
     let ndl = dot(v.normal, l);
     let hv = normalize(l + to_eye / max(dist, 1e-4));
     let irr = textureSampleLevel(irradiance_map, env_sampler, v.normal, 0.0).rgb;
     let spec = frame.sun_color * (0.05 * 0.25 * pow(max(dot(v.normal, hv), 0.0), 30.4) * select(0.0, 1.0, ndl > 0.0));
-    // lighting.wgsl's `aerial`, per vertex: the haze and its share `f`.
     let hz = haze_at(p);
-    let haze = hz.rgb;
     let f = hz.a;
     out.ambient = irr * frame.ambient * (1.0 - f);
     out.direct = frame.sun_color * (max(ndl, 0.0) + 0.4 * max(-ndl, 0.0)) * (1.0 - f);
-    out.add = haze * f + spec * (1.0 - f);
-    out.layer = layer;
+    out.add = hz.rgb * f + spec * (1.0 - f);
     return out;
 }
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let layers = params.root.w;
-    let h = f32(in.layer) / layers;
-    // The strand's height as a share of the grass height.
-    let s = textureSample(strand_tex, nearest_sampler, in.strand_uv).r;
-    let strand = mix(params.strands.w, 1.0, s);
-    // The bottom layer is the lawn's floor; above it only the strands that reach the layer.
-    if (in.layer > 0u && strand < h) {
-        discard;
+    let kept = layers_at(in.nearest, layers);
+    let n = in.normal;
+    let sway_tip = params.wind.z * (0.35 + 0.65 * in.wind_noise);
+    // The ray from the eye through the bottom layer's point.
+    let bottom = layer_offset(n, sway_tip, 0u);
+    let d = in.floor_pos + bottom - frame.camera_pos;
+    let nd = dot(n, d);
+    let scale = params.strands.x / 128.0;
+    // The strand texture's footprint, from the floor's (the layers' differ little from it).
+    let uv0 = in.floor_pos.xz * scale;
+    let gx = dpdx(uv0);
+    let gy = dpdy(uv0);
+    let lit = shadow_factor(in.floor_pos + n * frame.shadow_normal_offset, vec3<f32>(0.0));
+    let light = in.ambient + in.direct * lit;
+    // Front to back, from the highest layer kept: each layer adds its colour times its alpha
+    // times what the layers above it let through, which is the bottom-to-top blend's sum; the
+    // bottom layer is opaque. Once less than 1/1024 gets through, the rest cannot change the
+    // 8-bit result by more than a quarter of a step.
+    var c = vec3<f32>(0.0);
+    var through = 1.0;
+    let top = min(u32(layers) - 1u, u32(max(ceil(kept), 1.0)) - 1u);
+    for (var layer = i32(top); layer >= 0; layer = layer - 1) {
+        let l = u32(layer);
+        let offset = layer_offset(n, sway_tip, l);
+        // Where the ray meets the layer, and the floor point under it.
+        let t = 1.0 + dot(n, offset - bottom) / min(nd, -1e-6);
+        let under = frame.camera_pos + d * t - offset;
+        let s = textureSampleGrad(strand_tex, nearest_sampler, under.xz * scale, gx, gy).r;
+        let strand = mix(params.strands.w, 1.0, s);
+        let h = f32(l) / layers;
+        let albedo = mix(params.root.rgb, params.tip.rgb, h) * mix(0.3, 0.7, h) * (0.8 + 0.4 * s);
+        let col = tone(albedo * light + in.add);
+        let alpha = select(clamp(1.0 - 0.7 * h / max(strand, 1e-3), 0.25, 1.0), 1.0, l == 0u);
+        let a = select(0.0, alpha, l == 0u || strand >= h);
+        c = c + col * (a * through);
+        through = through * (1.0 - a);
+        if (through < 1.0 / 1024.0) {
+            break;
+        }
     }
-    // A dense lawn shades itself: darker towards the floor, and less bright than a bare
-    // surface even at the top (the strands shade each other).
-    let albedo = mix(params.root.rgb, params.tip.rgb, h) * mix(0.3, 0.7, h) * (0.8 + 0.4 * s);
-    // The shadow map, looked up where the vertex shader already pushed the point along the
-    // normal.
-    let lit = shadow_factor(in.shadow_pos, vec3<f32>(0.0));
-    let c = albedo * (in.ambient + in.direct * lit) + in.add;
-    // More transparent towards the tip of each strand.
-    let alpha = select(1.0, clamp(1.0 - 0.7 * h / max(strand, 1e-3), 0.25, 1.0), in.layer > 0u);
-    return vec4<f32>(tone(c), alpha);
+    return vec4<f32>(c, 1.0);
 }

@@ -1,7 +1,6 @@
-//! Shell patches split into tiles, so that each frame draws a tile's layers only where they
-//! can show: a tile outside the view is skipped, and a far tile is drawn with only the layers
-//! `shells.wgsl` keeps at its distance (its instance count), rather than running the vertex
-//! shader for every layer of every triangle of a large lawn and dropping most of them there.
+//! Shell patches split into tiles, so that each frame draws a tile only where it can show: a
+//! tile outside the view is skipped, rather than running the vertex shader for every triangle
+//! of a large lawn and dropping most of them.
 //!
 //! Units: metres.
 
@@ -23,22 +22,6 @@ pub struct Tile {
     pub centre: Vec3,
     /// That sphere's radius, metres.
     pub radius: f32,
-}
-
-/// The layers of a shell lawn kept at distance `d` from the eye, as a real number: all of them
-/// up to 25 m, then fewer, down to a quarter from 150 m on (`layers_at` in shells.wgsl, where a
-/// layer `l > 0` is drawn while `l < layers_at`).
-pub fn layers_at(d: f32, layers: f32) -> f32 {
-    let t = ((d - 25.0) / (150.0 - 25.0)).clamp(0.0, 1.0);
-    let smooth = t * t * (3.0 - 2.0 * t);
-    layers * (1.0 + (0.25 - 1.0) * smooth)
-}
-
-/// The instances (layers, bottom first) to draw of a tile whose nearest point is `d` metres
-/// from the eye: every layer the shader may keep there, one more for rounding, at least the
-/// floor, at most `layers`.
-pub fn tile_layers(d: f32, layers: u32) -> u32 {
-    ((layers_at(d.max(0.0), layers as f32).ceil() as u32) + 1).clamp(1, layers.max(1))
 }
 
 /// Groups triangles into square tiles of at least [`MIN_TILE`] metres on the horizontal plane,
@@ -88,21 +71,6 @@ pub fn tile_triangles(triangles: &[[Vec3; 3]]) -> (Vec<usize>, Vec<Tile>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn layers_fall_from_all_to_a_quarter_between_25_and_150_metres() {
-        assert_eq!(layers_at(10.0, 20.0), 20.0);
-        assert_eq!(layers_at(25.0, 20.0), 20.0);
-        // Half way the smoothstep is one half: 20 × (1 − 0.75 / 2) = 12.5.
-        assert!((layers_at(87.5, 20.0) - 12.5).abs() < 1e-4);
-        assert_eq!(layers_at(150.0, 20.0), 5.0);
-        assert_eq!(layers_at(900.0, 20.0), 5.0);
-        // A tile keeps every layer the shader may draw (l < layers_at), one more, at most all.
-        assert_eq!(tile_layers(0.0, 20), 20);
-        assert_eq!(tile_layers(87.5, 20), 14);
-        assert_eq!(tile_layers(500.0, 20), 6);
-        assert_eq!(tile_layers(500.0, 1), 1);
-    }
 
     #[test]
     fn tiles_cover_every_triangle_once_and_bound_it() {
