@@ -10,7 +10,7 @@
 //
 // The light is evaluated per vertex (a patch's normal is its triangle's; the aerial
 // perspective changes slowly), and few values cross to the fragment, which adds the strand's
-// colour and, with shadows on, the trees' shadow, looked up once at the bottom layer. (Thinning
+// colour and, with shadows on, the trees' shadow, looked up once where the visible strands are. (Thinning
 // the layers by the pixels each covers, per triangle or per fragment, was tried with layered
 // draws: it darkened distant lawns, whose colour builds up over all their layers.)
 //
@@ -120,13 +120,16 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let uv0 = in.floor_pos.xz * scale;
     let gx = dpdx(uv0);
     let gy = dpdy(uv0);
-    let lit = shadow_factor(in.floor_pos + n * frame.shadow_normal_offset, vec3<f32>(0.0));
-    let light = in.ambient + in.direct * lit;
-    // Front to back, from the highest layer kept: each layer adds its colour times its alpha
+    // Front to back, from the highest layer kept: each layer adds its albedo times its alpha
     // times what the layers above it let through, which is the bottom-to-top blend's sum; the
     // bottom layer is opaque. Once less than 1/1024 gets through, the rest cannot change the
-    // 8-bit result by more than a quarter of a step.
-    var c = vec3<f32>(0.0);
+    // 8-bit result by more than a quarter of a step. The points where the ray meets the layers
+    // are summed with the same weights: the trees' shadow is looked up once, at their mean,
+    // where the visible strands are (a lookup at the floor would move the shadows of a low sun
+    // by the grass height over its tangent). The layers are lit and toned after the sum, not
+    // each (the tone curve is nearly straight over a lawn's colours).
+    var albedo_sum = vec3<f32>(0.0);
+    var at = vec3<f32>(0.0);
     var through = 1.0;
     let top = min(u32(layers) - 1u, u32(max(ceil(kept), 1.0)) - 1u);
     for (var layer = i32(top); layer >= 0; layer = layer - 1) {
@@ -134,19 +137,22 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         let offset = layer_offset(n, sway_tip, l);
         // Where the ray meets the layer, and the floor point under it.
         let t = 1.0 + dot(n, offset - bottom) / min(nd, -1e-6);
-        let under = frame.camera_pos + d * t - offset;
-        let s = textureSampleGrad(strand_tex, nearest_sampler, under.xz * scale, gx, gy).r;
+        let hit = frame.camera_pos + d * t;
+        let s = textureSampleGrad(strand_tex, nearest_sampler, (hit - offset).xz * scale, gx, gy).r;
         let strand = mix(params.strands.w, 1.0, s);
         let h = f32(l) / layers;
         let albedo = mix(params.root.rgb, params.tip.rgb, h) * mix(0.3, 0.7, h) * (0.8 + 0.4 * s);
-        let col = tone(albedo * light + in.add);
         let alpha = select(clamp(1.0 - 0.7 * h / max(strand, 1e-3), 0.25, 1.0), 1.0, l == 0u);
-        let a = select(0.0, alpha, l == 0u || strand >= h);
-        c = c + col * (a * through);
-        through = through * (1.0 - a);
+        let w = select(0.0, alpha, l == 0u || strand >= h) * through;
+        albedo_sum = albedo_sum + albedo * w;
+        at = at + hit * w;
+        through = through - w;
         if (through < 1.0 / 1024.0) {
             break;
         }
     }
+    at = at / max(1.0 - through, 1e-6);
+    let lit = shadow_factor(at + n * frame.shadow_normal_offset, vec3<f32>(0.0));
+    let c = tone(albedo_sum * (in.ambient + in.direct * lit) + in.add);
     return vec4<f32>(c, 1.0);
 }
