@@ -16,7 +16,6 @@
 use glam::{Vec2, Vec3};
 use grove_systems::wind_model::WindParams;
 
-use super::instances::Instance;
 use super::lod;
 use crate::render::assets::model::Vertex;
 
@@ -41,6 +40,24 @@ pub struct Band {
     /// The largest distance of a leaf's vertex from the leaf's centre (0 where no primitive is
     /// simplified), m.
     pub leaf: f32,
+}
+
+/// Where a tree of a model stands and how the wind and the level of detail take it: what
+/// [`Sweep::boxes`] reads of a tree instance (`instances::Instance`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// The tree's base, world metres.
+    pub origin: [f32; 3],
+    /// Uniform scale.
+    pub scale: f32,
+    /// Rotation about +Y, radians.
+    pub yaw: f32,
+    /// The trunk's lean, metres per metre of height, world X and Z.
+    pub bend: [f32; 2],
+    /// The wind's gain at the tree.
+    pub gain: f32,
+    /// The share of the leaves drawn (the rest grown to keep the crown's area).
+    pub keep: f32,
 }
 
 /// A model's bands (empty for a model without vertices).
@@ -87,7 +104,7 @@ impl Sweep {
     }
 
     /// The world boxes the bands of a tree at `instance` can reach under `wind`, one per band.
-    pub fn boxes<'a>(&'a self, instance: &'a Instance, wind: &'a WindParams) -> impl Iterator<Item = (Vec3, Vec3)> + 'a {
+    pub fn boxes<'a>(&'a self, instance: &'a Placement, wind: &'a WindParams) -> impl Iterator<Item = (Vec3, Vec3)> + 'a {
         let k = instance.scale;
         let (sin, cos) = instance.yaw.sin_cos();
         let origin = Vec3::from(instance.origin);
@@ -158,7 +175,7 @@ mod tests {
         assert_eq!((top.h2, top.r2, top.b, top.hr, top.leaf), (64.0, 9.0, 0.5, 10.5, 0.0));
         // In a wind the foot does not move and the crown does.
         let w = wind(1.0);
-        let at = Instance { origin: [1.0, 0.0, 2.0], scale: 2.0, yaw: 0.0, bend: [0.05, 0.0], gain: 1.0, phase: 0.0, keep: 1.0, fade: 0.0, pad: 0.0 };
+        let at = Placement { origin: [1.0, 0.0, 2.0], scale: 2.0, yaw: 0.0, bend: [0.05, 0.0], gain: 1.0, keep: 1.0 };
         let boxes: Vec<_> = sweep.boxes(&at, &w).collect();
         assert_eq!(boxes[0], (Vec3::new(1.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0)));
         assert!(boxes[1].1.x > 1.0 + 6.0 && boxes[1].0.y < 15.0);
@@ -171,7 +188,7 @@ mod tests {
         let sweep = Sweep::new([(&vertices[..], &leaves[..])]);
         let w = wind(0.0);
         for yaw in [0.3f32, 1.7, 3.0, -2.2] {
-            let at = Instance { origin: [5.0, 0.5, -3.0], scale: 1.5, yaw, bend: [0.0; 2], gain: 1.0, phase: 0.0, keep: 1.0, fade: 0.0, pad: 0.0 };
+            let at = Placement { origin: [5.0, 0.5, -3.0], scale: 1.5, yaw, bend: [0.0; 2], gain: 1.0, keep: 1.0 };
             let (lo, hi): (Vec3, Vec3) = sweep.boxes(&at, &w).fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)));
             let (s, c) = yaw.sin_cos();
             for v in &vertices {
@@ -213,7 +230,7 @@ mod tests {
         let leaves = vec![[0.5, 0.5, 0.0, 0.5], [0.5, 0.5, 0.0, 0.5]];
         let sweep = Sweep::new([(&vertices[..], &leaves[..])]);
         let w = wind(0.0);
-        let at = |keep| Instance { origin: [0.0; 3], scale: 1.0, yaw: 0.0, bend: [0.0; 2], gain: 1.0, phase: 0.0, keep, fade: 0.0, pad: 0.0 };
+        let at = |keep| Placement { origin: [0.0; 3], scale: 1.0, yaw: 0.0, bend: [0.0; 2], gain: 1.0, keep };
         let width = |keep| sweep.boxes(&at(keep), &w).fold(0.0f32, |m, (l, h)| m.max(h.x - l.x));
         assert!(width(0.1) > width(1.0) + 0.5, "{} vs {}", width(0.1), width(1.0));
     }

@@ -15,6 +15,7 @@ use grove_systems::wind_model::WindParams;
 
 use super::instances::{BucketRanges, Gathered, Instance};
 use super::model::GpuModel;
+use super::sweep::Placement;
 
 /// The instances of one pass and their ranges by (model, keep bucket) and by model for the
 /// impostors, offsets into the pass's own part of the instance buffers.
@@ -28,6 +29,11 @@ pub(crate) struct ViewDraws {
     pub impostors: Vec<Instance>,
     /// The range of each model within `impostors`.
     pub impostor_ranges: Vec<Range<u32>>,
+}
+
+/// What a tree's bands' boxes depend on, of its instance.
+fn placement(i: &Instance) -> Placement {
+    Placement { origin: i.origin, scale: i.scale, yaw: i.yaw, bend: i.bend, gain: i.gain, keep: i.keep }
 }
 
 /// The box an impostor of `model` at `instance` can cover: its bounding sphere's square facing
@@ -59,7 +65,7 @@ pub(crate) fn cull(every: &ViewDraws, models: &[Option<GpuModel>], wind: &WindPa
             if let Some(model) = model {
                 let kept = every.instances[range.start as usize..range.end as usize]
                     .iter()
-                    .filter(|i| model.sweep.boxes(i, wind).any(|(lo, hi)| keep(lo, hi)));
+                    .filter(|i| model.sweep.boxes(&placement(i), wind).any(|(lo, hi)| keep(lo, hi)));
                 out.instances.extend(kept);
             }
             ranges[b] = start..out.instances.len() as u32;
