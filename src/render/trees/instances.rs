@@ -53,7 +53,9 @@ pub fn uses_far(bounds: (glam::Vec3, glam::Vec3), scale: f32, distance: f32, pix
 /// The instance range of each keep bucket of one model.
 pub(crate) type BucketRanges = [std::ops::Range<u32>; lod::BUCKETS];
 
-/// A frame's tree instances, as [`gather`] sorts them.
+/// A frame's tree instances, as [`gather`] sorts them; or the part of them one pass draws
+/// (`views::cull`), in the same order.
+#[derive(Clone, Debug, Default)]
 pub(crate) struct Gathered {
     /// The mesh instances (trees not wholly impostors).
     pub instances: Vec<Instance>,

@@ -21,8 +21,7 @@ pub(crate) mod views;
 use glam::Vec3;
 
 use self::impostor::draw::ImpostorGpu;
-use self::instances::{gather, BucketRanges, Detail, Instance};
-use self::views::ViewDraws;
+use self::instances::{gather, BucketRanges, Detail, Gathered, Instance};
 use self::model::{GpuMaterial, GpuModel};
 use self::pipelines::TreePipelines;
 use self::extract::TreeDraw;
@@ -70,9 +69,7 @@ pub struct Trees {
     /// This frame's instance count in the main view (meshes and impostors).
     pub instance_count: usize,
     /// This frame's trees as gathered, before culling (`None` before the first frame).
-    every: Option<ViewDraws>,
-    /// This frame's trees by view ([`TreeView::index`]), culled ([`Trees::cull`]).
-    views: Vec<ViewDraws>,
+    every: Option<Gathered>,
     /// Each view's instance range of each (model, keep bucket), in the uploaded buffer.
     ranges: Vec<Vec<BucketRanges>>,
     /// The impostors' bake, shader and pipelines.
@@ -111,7 +108,6 @@ impl Trees {
             capacity,
             instance_count: 0,
             every: None,
-            views: Vec::new(),
             ranges: Vec::new(),
             impostors: ImpostorGpu::new(shared),
             impostor_instances: instance_buffer(&shared.device, capacity),
@@ -165,8 +161,8 @@ impl Trees {
         let (Some(every), Some(wind)) = (&self.every, &self.wind) else { return };
         if !enabled {
             self.instance_count = every.instances.len() + every.impostors.len();
-            self.views = vec![every.clone(); 2 + extra.len()];
-            self.upload();
+            let all = vec![every.clone(); 2 + extra.len()];
+            self.upload(&all);
             return;
         }
         let models = &self.models;
@@ -180,18 +176,18 @@ impl Trees {
         };
         let main = inside(main);
         self.instance_count = main.instances.len() + main.impostors.len();
-        self.views = [casters, main].into_iter().chain(extra.iter().map(inside)).collect();
-        self.upload();
+        let views: Vec<Gathered> = [casters, main].into_iter().chain(extra.iter().map(inside)).collect();
+        self.upload(&views);
     }
 
-    /// Writes every view's instances one after the other into the instance buffers (grown as
-    /// needed) and keeps each view's ranges, moved to its place there.
-    fn upload(&mut self) {
+    /// Writes the instances of `views` (by [`TreeView::index`]) one after the other into the
+    /// instance buffers (grown as needed) and keeps each view's ranges, moved to its place there.
+    fn upload(&mut self, views: &[Gathered]) {
         let shift = |r: &std::ops::Range<u32>, by: u32| r.start + by..r.end + by;
         let (mut meshes, mut impostors) = (Vec::new(), Vec::new());
         self.ranges.clear();
         self.impostor_ranges.clear();
-        for v in &self.views {
+        for v in views {
             let (a, b) = (meshes.len() as u32, impostors.len() as u32);
             self.ranges.push(v.ranges.iter().map(|buckets| buckets.each_ref().map(|r| shift(r, a))).collect());
             self.impostor_ranges.push(v.impostor_ranges.iter().map(|r| shift(r, b)).collect());
@@ -291,8 +287,9 @@ impl Feature for Trees {
         let detail = Detail { leaf_pixels: cx.options.leaf_pixels, impostor_pixels: cx.options.impostor_pixels, far_pixels: cx.options.far_pixels };
         let g = gather(&trees, &self.models, &self.far, &cx.common.camera, cx.size.1, detail);
         self.wind = Some(cx.common.wind);
-        self.every = Some(views::all(g));
-        self.views.clear();
+        self.every = Some(g);
+        self.ranges.clear();
+        self.impostor_ranges.clear();
         self.instance_count = 0;
         self.impostors.prepare(cx.shared, cx.key)?;
         if cx.key.shadows {

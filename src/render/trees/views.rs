@@ -1,14 +1,12 @@
-//! The trees each pass draws. The sun's shadow map draws every tree (one out of sight may cast
-//! a shadow into it); the main view and each water view draw only the trees whose box may reach
-//! into their [`ClipRegion`]. A culled tree lies wholly outside the pass's region, so no pixel
-//! changes: the pass is spared its vertices and its triangles, which on a software rasteriser
-//! cost as much as the pixels of a small tree.
+//! The trees each pass draws: the main view and each water view only the trees whose bands may
+//! reach into their [`ClipRegion`](crate::render::clip::ClipRegion), the sun's shadow map only
+//! those whose shadows may fall into one of those views ([`shadow_box`]). A culled tree lies
+//! wholly outside the pass's region, so no pixel changes: the pass is spared its vertices and its
+//! triangles, which on a software rasteriser cost as much as the pixels of a small tree.
 //!
 //! A tree is where its model's height bands can reach in this frame's wind ([`super::sweep`]).
 //!
 //! Units: metres.
-
-use std::ops::Range;
 
 use glam::Vec3;
 use grove_systems::wind_model::WindParams;
@@ -16,20 +14,6 @@ use grove_systems::wind_model::WindParams;
 use super::instances::{BucketRanges, Gathered, Instance};
 use super::model::GpuModel;
 use super::sweep::Placement;
-
-/// The instances of one pass and their ranges by (model, keep bucket) and by model for the
-/// impostors, offsets into the pass's own part of the instance buffers.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct ViewDraws {
-    /// The mesh instances, grouped as [`Gathered::instances`].
-    pub instances: Vec<Instance>,
-    /// The range of each (model, keep bucket) within `instances`.
-    pub ranges: Vec<BucketRanges>,
-    /// The impostor instances, grouped as [`Gathered::impostors`].
-    pub impostors: Vec<Instance>,
-    /// The range of each model within `impostors`.
-    pub impostor_ranges: Vec<Range<u32>>,
-}
 
 /// What a tree's bands' boxes depend on, of its instance.
 fn placement(i: &Instance) -> Placement {
@@ -47,16 +31,11 @@ fn impostor_box(model: &GpuModel, instance: &Instance) -> Option<(Vec3, Vec3)> {
     Some((centre - half, centre + half))
 }
 
-/// Every gathered tree, as the shadow map draws them.
-pub(crate) fn all(g: Gathered) -> ViewDraws {
-    ViewDraws { instances: g.instances, ranges: g.ranges, impostors: g.impostors, impostor_ranges: g.impostor_ranges }
-}
-
-/// The trees of `every` (by model, as [`all`] holds them; `models` by the same index) with a
+/// The trees of `every` (as [`super::instances::gather`] groups them; `models` by the same index) with a
 /// band box ([`super::sweep`], in `wind`) for which `keep` holds, in the same order; impostors
 /// by their square's box.
-pub(crate) fn cull(every: &ViewDraws, models: &[Option<GpuModel>], wind: &WindParams, keep: impl Fn(Vec3, Vec3) -> bool) -> ViewDraws {
-    let mut out = ViewDraws::default();
+pub(crate) fn cull(every: &Gathered, models: &[Option<GpuModel>], wind: &WindParams, keep: impl Fn(Vec3, Vec3) -> bool) -> Gathered {
+    let mut out = Gathered::default();
     for (m, buckets) in every.ranges.iter().enumerate() {
         let model = models.get(m).and_then(Option::as_ref);
         let mut ranges: BucketRanges = Default::default();
