@@ -91,9 +91,9 @@ pub(crate) struct WaterFeature {
     active: bool,
     /// This frame's scissors of the reflection and refraction passes.
     scissors: [Option<scissor::Rect>; 2],
-    /// This frame's regions of the reflection and refraction passes: their views within their
-    /// scissors.
-    regions: [Option<ClipRegion>; 2],
+    /// This frame's regions of the reflection and refraction passes (their views within their
+    /// scissors); empty when no water is drawn.
+    regions: Vec<ClipRegion>,
 }
 
 impl WaterFeature {
@@ -142,7 +142,7 @@ impl WaterFeature {
             refraction_view: views.extra(shared, "water refraction view"),
             active: false,
             scissors: [None; 2],
-            regions: [None; 2],
+            regions: Vec::new(),
         }
     }
 
@@ -156,11 +156,8 @@ impl WaterFeature {
     }
 
     /// The regions of [`WaterFeature::passes`], in the same order: what each pass can draw.
-    pub fn regions(&self) -> Vec<ClipRegion> {
-        if self.passes().is_empty() {
-            return Vec::new();
-        }
-        self.regions.iter().flatten().copied().collect()
+    pub fn regions(&self) -> &[ClipRegion] {
+        &self.regions
     }
 
     /// Writes the two views and the surface's uniforms for this frame: `main` is the main view's
@@ -278,6 +275,7 @@ impl Feature for WaterFeature {
 
     fn prepare(&mut self, cx: &FrameContext<'_>, bodies: Vec<WaterDraw>) -> Result<(), RenderError> {
         self.active = false;
+        self.regions.clear();
         if !cx.options.water || bodies.is_empty() {
             return Ok(());
         }
@@ -298,7 +296,7 @@ impl Feature for WaterFeature {
         // Its views: the camera mirrored in the first body's surface, and the camera below it.
         let matrices = self.write(&cx.shared.queue, &cx.views.main, &cx.common.camera, cx.size, cx.options.water_output, bodies[0].height);
         self.scissors = matrices.map(|m| scissor::rect(m, &bodies, size));
-        self.regions = [0, 1].map(|i| Some(ClipRegion::scissored(matrices[i], self.scissors[i], size)));
+        self.regions = (0..2).map(|i| ClipRegion::scissored(matrices[i], self.scissors[i], size)).collect();
         Ok(())
     }
 
