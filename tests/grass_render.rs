@@ -13,7 +13,7 @@ mod common;
 use std::path::PathBuf;
 
 use glam::Vec3;
-use grove::render::grass::BladeCounts;
+use grove::render::grass::{BladeCounts, BladeLists, BLOCK_BLADES};
 use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
 use grove_systems::components::{HitMarker, HitTarget};
@@ -198,6 +198,38 @@ fn wind_moves_blades_and_a_calm_does_not() {
         s.run(45);
         let b = render(&s);
         assert_eq!(diff(&a, &b, (0, 0, W, H)), 0.0, "{kind}: grass moved in a calm");
+    }
+}
+
+/// The near and middle lists the cull pass left for a frame of `sim`.
+fn lists(sim: &Sim) -> BladeLists {
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let g = gpu();
+    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+    offscreen::render_image(g, &mut r, sim).unwrap();
+    r.features.grass.listed_blades().unwrap()
+}
+
+#[test]
+fn blades_are_drawn_in_the_same_order_every_frame() {
+    // Where two blades meet at the same depth in a pixel, the one drawn first stays; so the
+    // lists must not depend on the order the cull pass's invocations ran in. Each list holds
+    // its blocks' blades one block after the other, each block's in the order of their indices.
+    let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 0.3, 3.5), LOOK));
+    let a = lists(&s);
+    assert!(a.near.len() > 100 && a.mid.len() > 1_000, "near {} middle {}", a.near.len(), a.mid.len());
+    for (name, list) in [("near", &a.near), ("middle", &a.mid)] {
+        let mut seen = std::collections::HashSet::new();
+        let mut blocks = 0;
+        for run in list.chunk_by(|p, q| p / BLOCK_BLADES == q / BLOCK_BLADES) {
+            assert!(seen.insert(run[0] / BLOCK_BLADES), "{name}: block {} in two runs", run[0] / BLOCK_BLADES);
+            assert!(run.windows(2).all(|w| w[0] < w[1]), "{name}: block {} out of order: {:?}", run[0] / BLOCK_BLADES, &run[..run.len().min(40)]);
+            blocks += 1;
+        }
+        assert!(blocks > 1, "{name}: one block only");
+    }
+    for _ in 0..3 {
+        assert_eq!(lists(&s), a, "the lists changed between two frames of one world");
     }
 }
 

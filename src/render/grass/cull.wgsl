@@ -5,9 +5,12 @@
 // wind, so neighbouring blades move together), the pushes away from the eye and the controller's
 // hit point, and the gravity bend, giving the blade's final shape (a quadratic Bézier curve
 // through its root, middle and tip). By the level of detail its distance calls for, a near
-// (7 segments) or middle (3) blade writes its shape into `shapes` and appends its index to the
-// near or middle list, counting the indices of two indexed indirect draws (blades.wgsl). A far
-// blade, narrower than a pixel, is rasterised here: its curve is walked one pixel at a time
+// (7 segments) or middle (3) blade writes its shape into `shapes` and its index into its
+// block's near or middle list; a second stage (`cs_order`) joins the blocks' lists in the
+// frame's order of the blocks, so that the blades are drawn in the same order every frame
+// whatever order the invocations ran in (two blades at the same depth in a pixel leave the
+// one drawn first), and writes the index counts of two indexed indirect draws (blades.wgsl).
+// A far blade, narrower than a pixel, is rasterised here: its curve is walked one pixel at a time
 // and each pixel it covers keeps, in an image after the draw counts in `args`, the nearest blade's depth and colour (an atomic
 // maximum, so the result does not depend on the order the invocations run in); the main pass
 // puts that image over the ground with a rectangle around the far blades' pixels that tests
@@ -69,13 +72,18 @@ struct Cull {
 @group(0) @binding(2) var<storage, read_write> shapes: array<Shape>;
 // The near and middle lists of blade indices, `count` entries each, then this frame's blocks
 // (src/render/grass/blocks.rs): those of the general pipeline, then from `far_base` on those of
-// the far pipeline, one block of BLADES_PER_INVOCATION × CULL_WORKGROUP blades a workgroup.
+// the far pipeline, one block of BLOCK_BLADES (BLADES_PER_INVOCATION × CULL_WORKGROUP) blades a
+// workgroup, `blocks()` words in all. Then, for the general pipeline's blocks in the frame's
+// order: each block's numbers of near and middle blades (`counts_at()`, one word a block: near
+// in the low half, middle in the high half), and each block's own lists (`own_at()`,
+// BLOCK_BLADES words a block: its near blades from the front, its middle blades from the back,
+// each in the order of their indices), which `cs_order` joins.
 @group(0) @binding(3) var<storage, read_write> lists: array<u32>;
 // Two indexed indirect draws (index count, instance count 1, first index, base vertex, first
 // instance) for the near and middle blades, then the number of far blades rasterised here and
 // the box of pixels they cover (smallest x, y, then largest x, y, whole pixels). The
-// frame resets the counts before this pass; each visible blade adds its level's indices (or
-// one). The base vertex of the middle draw points at its list (`count` times its vertices a
+// frame resets the counts before this pass; `cs_order` writes the draws' index counts, and each
+// far blade adds one to theirs. The base vertex of the middle draw points at its list (`count` times its vertices a
 // blade), so that vertex / vertices a blade is the index into `lists`.
 //
 // From word RASTER_OFFSET on, the same buffer holds the far blades' image, one word a pixel,
@@ -110,6 +118,20 @@ const DEPTH_LEVELS: u32 = 2047u;
 // The linear colour that `tone` (lighting.wgsl) maps to white: an image word's colours span
 // 0 … TONE_WHITE.
 const TONE_WHITE: f32 = 1.0 / 0.85;
+// The blades of a block, one workgroup of `cs_cull`.
+const BLOCK_BLADES: u32 = CULL_WORKGROUP * BLADES_PER_INVOCATION;
+
+// The number of blocks of the scene's blades (the last may be shorter), and where the blocks'
+// counts and own lists begin in `lists` (see its declaration).
+fn blocks() -> u32 {
+    return (cull.count + BLOCK_BLADES - 1u) / BLOCK_BLADES;
+}
+fn counts_at() -> u32 {
+    return 2u * cull.count + blocks();
+}
+fn own_at() -> u32 {
+    return 2u * cull.count + 2u * blocks();
+}
 
 // The horizontal push away from `centre` within `radius` (zero outside), as an angle times a
 // direction.
@@ -246,6 +268,10 @@ fn rasterise_far(draw: bool, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, across
 // every blade.
 override FAR_ONLY: bool = false;
 
+// Each invocation's numbers of near and middle blades (near in the low half), so that the
+// workgroup lists its block's blades in the order of their indices.
+var<workgroup> invocation_counts: array<u32, CULL_WORKGROUP>;
+
 @compute @workgroup_size(CULL_WORKGROUP)
 fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) local: u32) {
     // A 2D dispatch when there are more than 65,535 workgroups.
@@ -255,10 +281,15 @@ fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_in
     let sky = far_sky(blades[min(first, cull.count - 1u)].position);
     var far = 0u;
     var far_box = NO_BOX;
+    // Bit k: blade first + k is near (in `near`) or middle (in `mid`).
+    var near = 0u;
+    var mid = 0u;
     for (var k = 0u; k < BLADES_PER_INVOCATION; k = k + 1u) {
-        let b = cull_blade(first + k, sky);
-        far = far + select(0u, 1u, b.x <= b.z);
-        far_box = vec4<f32>(min(far_box.xy, b.xy), max(far_box.zw, b.zw));
+        let c = cull_blade(first + k, sky, false);
+        far = far + select(0u, 1u, c.far_box.x <= c.far_box.z);
+        far_box = vec4<f32>(min(far_box.xy, c.far_box.xy), max(far_box.zw, c.far_box.zw));
+        near = near | select(0u, 1u << k, c.level == 0u);
+        mid = mid | select(0u, 1u << k, c.level == 1u);
     }
     // One atomic per invocation for the far blades' count, and four for their box of pixels
     // (clamped to the image, whole pixels), which the main pass covers (`vs_far`).
@@ -272,11 +303,130 @@ fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_in
         atomicMax(&args[13], hi.x);
         atomicMax(&args[14], hi.y);
     }
+    // The block's own lists, in the order of the blades' indices: each invocation's blades go
+    // after those of the invocations before it (a block's counts fit 16 bits each).
+    invocation_counts[local] = countOneBits(near) | (countOneBits(mid) << 16u);
+    workgroupBarrier();
+    var before = 0u;
+    var total = 0u;
+    for (var j = 0u; j < CULL_WORKGROUP; j = j + 1u) {
+        let c = invocation_counts[j];
+        before = before + select(0u, c, j < local);
+        total = total + c;
+    }
+    if (!FAR_ONLY) {
+        let own = own_at() + slot * BLOCK_BLADES;
+        var n = before & 0xffffu;
+        var m = before >> 16u;
+        for (var k = 0u; k < BLADES_PER_INVOCATION; k = k + 1u) {
+            if ((near & (1u << k)) != 0u) {
+                lists[own + n] = first + k;
+                n = n + 1u;
+            }
+            if ((mid & (1u << k)) != 0u) {
+                lists[own + BLOCK_BLADES - 1u - m] = first + k;
+                m = m + 1u;
+            }
+        }
+        if (local == 0u) {
+            lists[counts_at() + slot] = total;
+        }
+    }
 }
 
-// Culls blade `i`, evaluates its shape and lists or rasterises it (under the sky's light `sky`
-// when it is far); the box of pixels it may cover when it was drawn as a far blade (a projected
-// Bézier curve lies in the box of its projected control points), else `NO_BOX`.
+// The blocks' near and middle blades, in the order of the frame's blocks and of their indices
+// within a block, into the near and middle lists, with the two draws' index counts: one
+// workgroup per block of the general pipeline, after `cs_cull`. A list that is full passes its
+// later blades on to the next level: the near list's to the middle list after its own blades,
+// the middle list's to the far blades, rasterised here.
+var<workgroup> block_sums: array<vec4<u32>, CULL_WORKGROUP>;
+
+@compute @workgroup_size(CULL_WORKGROUP)
+fn cs_order(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) local: u32) {
+    let slot = group.x + group.y * 65535u;
+    // The near and middle blades of the blocks before this one and of all blocks: each
+    // invocation sums every CULL_WORKGROUP-th block, then the workgroup adds the sums up.
+    var sums = vec4<u32>(0u);
+    for (var s = local; s < cull.far_base; s = s + CULL_WORKGROUP) {
+        let c = lists[counts_at() + s];
+        let nm = vec2<u32>(c & 0xffffu, c >> 16u);
+        sums = sums + vec4<u32>(select(vec2<u32>(0u), nm, s < slot), nm);
+    }
+    block_sums[local] = sums;
+    workgroupBarrier();
+    var totals = vec4<u32>(0u);
+    for (var j = 0u; j < CULL_WORKGROUP; j = j + 1u) {
+        totals = totals + block_sums[j];
+    }
+    let near_total = totals.z;
+    let mid_total = totals.w;
+    let mine = lists[counts_at() + slot];
+    let own = own_at() + slot * BLOCK_BLADES;
+    var far = 0u;
+    var far_box = NO_BOX;
+    for (var j = local; j < (mine & 0xffffu); j = j + CULL_WORKGROUP) {
+        let i = lists[own + j];
+        let at = totals.x + j;
+        // Past the near list's end: after the middle list's own blades, or far.
+        let spill = mid_total + at - NEAR_CAP;
+        if (at < NEAR_CAP) {
+            lists[at] = i;
+        } else if (spill < MID_CAP) {
+            lists[cull.count + spill] = i;
+        } else {
+            let b = drop_to_far(i);
+            far = far + 1u;
+            far_box = vec4<f32>(min(far_box.xy, b.xy), max(far_box.zw, b.zw));
+        }
+    }
+    for (var j = local; j < (mine >> 16u); j = j + CULL_WORKGROUP) {
+        let i = lists[own + BLOCK_BLADES - 1u - j];
+        let at = totals.y + j;
+        if (at < MID_CAP) {
+            lists[cull.count + at] = i;
+        } else {
+            let b = drop_to_far(i);
+            far = far + 1u;
+            far_box = vec4<f32>(min(far_box.xy, b.xy), max(far_box.zw, b.zw));
+        }
+    }
+    if (far > 0u) {
+        atomicAdd(&args[10], far);
+        let size = params.viewport.xy;
+        let lo = vec2<u32>(clamp(floor(far_box.xy), vec2<f32>(0.0), size));
+        let hi = vec2<u32>(clamp(ceil(far_box.zw), vec2<f32>(0.0), size));
+        atomicMin(&args[11], lo.x);
+        atomicMin(&args[12], lo.y);
+        atomicMax(&args[13], hi.x);
+        atomicMax(&args[14], hi.y);
+    }
+    // Every workgroup writes the same index counts.
+    if (local == 0u) {
+        let near_drawn = min(near_total, NEAR_CAP);
+        atomicStore(&args[0], near_drawn * NEAR_INDICES);
+        atomicStore(&args[5], min(mid_total + near_total - near_drawn, MID_CAP) * MID_INDICES);
+    }
+}
+
+// Rasterises blade `i`, listed near or middle, as a far blade (both lists are full), under the
+// sky's light its invocation of `cs_cull` took; the box of pixels it may cover.
+fn drop_to_far(i: u32) -> vec4<f32> {
+    let first = i - i % BLADES_PER_INVOCATION;
+    return cull_blade(i, far_sky(blades[min(first, cull.count - 1u)].position), true).far_box;
+}
+
+// What `cull_blade` did with a blade: the box of pixels it may cover when it was drawn as a
+// far blade (else `NO_BOX`), and its level: 0 near, 1 middle (both to be listed), 2 far or
+// not drawn.
+struct Culled {
+    far_box: vec4<f32>,
+    level: u32,
+};
+
+// Culls blade `i` and evaluates its shape: a near or middle blade writes it to `shapes`, a far
+// one (every one with `force_far`) is rasterised under the sky's light `sky`. Its level, and the
+// box of pixels it may cover when it was drawn as a far blade (a projected Bézier curve lies in
+// the box of its projected control points).
 //
 // lavapipe runs a vector of invocations through both sides of every branch and through the first
 // pass of every loop, masked: it leaves a loop only after a pass that none of them stays in, and
@@ -284,7 +434,7 @@ fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_in
 // code of every level, visible or not, and that code is straight-line where it can be; the far
 // pipeline (`FAR_ONLY`) leaves the near and middle levels' code out, and the CPU leaves out the
 // blocks outside the view (src/render/grass/blocks.rs).
-fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
+fn cull_blade(i: u32, sky: vec3<f32>, force_far: bool) -> Culled {
     let b = blades[min(i, cull.count - 1u)];
     // A sphere around the blade, wide enough for its bend, the wind and a push.
     let centre = b.position + vec3<f32>(0.0, 0.5 * b.height, 0.0);
@@ -319,7 +469,7 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
     // is the vertical turned towards `lean` by the gravity bend and then about the tilt axis
     // by its share of the tilt, both at (k + 1/2) / steps of the full angle; the cosines and
     // sines of those angles are advanced by the angle-addition formulas.
-    var level = select(select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near), 2u, FAR_ONLY);
+    let level = select(select(select(2u, 1u, d < cull.lod_mid), 0u, d < cull.lod_near), 2u, FAR_ONLY || force_far);
     let steps = select(STEPS, FAR_STEPS, level == 2u);
     let n_seg = f32(steps);
     let segment_length = b.height / n_seg;
@@ -347,7 +497,8 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
     let tip = p;
     let ctrl = 2.0 * middle - 0.5 * tip;
 
-    for (var listed = !FAR_ONLY && inside && level < 2u; listed; listed = false) {
+    let listed = !FAR_ONLY && inside && level < 2u;
+    if (listed) {
         var s: Shape;
         s.root = b.position;
         let half_width = pack2x16float(vec2<f32>(0.5 * b.width, 0.0)) & 0xffffu;
@@ -357,25 +508,9 @@ fn cull_blade(i: u32, sky: vec3<f32>) -> vec4<f32> {
         s.curve2 = pack2x16float(tip.yz);
         s.across = pack2x16float(across.xz);
         shapes[i] = s;
-
-        // A full list passes the blade on to the next level: the first NEAR_CAP blades to
-        // come get slots, every later one takes its count back.
-        if (level == 0u) {
-            let slot = atomicAdd(&args[0], NEAR_INDICES) / NEAR_INDICES;
-            if (slot < NEAR_CAP) {
-                lists[slot] = i;
-                break;
-            }
-            atomicSub(&args[0], NEAR_INDICES);
-        }
-        let slot = atomicAdd(&args[5], MID_INDICES) / MID_INDICES;
-        if (slot < MID_CAP) {
-            lists[cull.count + slot] = i;
-            break;
-        }
-        // Both lists are full: the blade is drawn as a far one.
-        atomicSub(&args[5], MID_INDICES);
-        level = 2u;
     }
-    return rasterise_far(inside && level == 2u, b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
+    var out: Culled;
+    out.far_box = rasterise_far(inside && level == 2u, b.position, b.position + ctrl, b.position + tip, across, b.packed & 255u, variation, sky);
+    out.level = select(2u, level, listed);
+    return out;
 }

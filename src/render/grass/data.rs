@@ -158,7 +158,8 @@ pub const LOD_INDICES: [u32; 2] = [39, 15];
 pub const LOD_SEGMENTS: [u32; 2] = [7, 3];
 
 /// The most near and middle blades a frame draws (`NEAR_CAP`, `MID_CAP` in cull.wgsl); further
-/// ones drop a level.
+/// ones, in the order the blades are listed, drop a level (near ones after the middle list's own
+/// blades).
 pub const LOD_CAPS: [u32; 2] = [65_536, 262_144];
 
 /// The constants the grass shaders share with this file, as WGSL declarations written ahead of

@@ -10,8 +10,10 @@
 //! - **Blades**: every blade of every blade patch is uploaded once, when the patches change
 //!   ([`GrassKey`]). Each frame the **compute** stage (`cull.wgsl`) culls them against the view
 //!   frustum and a far distance, evaluates each visible blade's wind, pushes and bend once into
-//!   its shape (a Bézier curve), and by level of detail either lists it, counting the indices
-//!   of two indirect draws (7 segments a blade near the camera, 3 further away), or, far away
+//!   its shape (a Bézier curve), and by level of detail either lists it for one of two indirect
+//!   draws (7 segments a blade near the camera, 3 further away; a second stage joins the
+//!   blocks' lists in a fixed order, so that a frame does not depend on the order the
+//!   invocations ran in, see `readback.rs`), or, far away
 //!   where a blade is narrower than a pixel, rasterises its curve itself into an image of the
 //!   nearest far blade's depth and colour per pixel (`raster`); the levels' distances follow
 //!   the pixels a metre covers. The main pass draws the near and middle blades indirectly,
@@ -28,6 +30,9 @@
 //! read from a world-space noise texture. Units: metres, radians, seconds.
 
 pub(crate) mod blocks;
+mod readback;
+pub use blocks::BLOCK_BLADES;
+pub use readback::{BladeCounts, BladeLists};
 pub(crate) mod data;
 mod extract;
 pub(crate) mod tiles;
@@ -99,6 +104,8 @@ pub struct Grass {
     blade_layout: wgpu::PipelineLayout,
     /// The cull pass's general pipeline and its pipeline for blocks of far blades.
     cull_pipelines: [wgpu::ComputePipeline; 2],
+    /// The cull pass's second stage, which joins the general blocks' lists in order (`cs_order`).
+    order_pipeline: wgpu::ComputePipeline,
     shell_pipelines: PipelineCache<wgpu::RenderPipeline>,
     blade_pipelines: PipelineCache<[wgpu::RenderPipeline; 3]>,
     strand_tex: wgpu::TextureView,
@@ -180,6 +187,14 @@ impl Grass {
                 cache: None,
             })
         });
+        let order_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("grass order pipeline"),
+            layout: Some(&cull_layout),
+            module: &cull_module,
+            entry_point: Some("cs_order"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
         let sampler = |label, filter, address| {
             device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some(label),
@@ -199,6 +214,7 @@ impl Grass {
             blade_group_layout,
             cull_group_layout,
             cull_pipelines,
+            order_pipeline,
             shell_pipelines: PipelineCache::new("grass shells"),
             blade_pipelines: PipelineCache::new("grass blades"),
             strand_tex: data::strand_texture(device, &shared.queue),
@@ -280,9 +296,10 @@ impl Grass {
         let bounds = blocks::block_bounds(&blades);
         let count = blades.len() as u32;
         let storage_buffer = |label, size: u64| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
-        // The near and middle lists (far blades are not listed), then this frame's blocks.
-        let lists_bytes = 4 * (2 * u64::from(count) + bounds.len() as u64);
-        let lists = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade lists"), size: lists_bytes, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        // The near and middle lists (far blades are not listed), this frame's blocks, each
+        // block's numbers of near and middle blades and its own lists (cull.wgsl, `lists`).
+        let lists_bytes = 4 * (2 * u64::from(count) + 2 * bounds.len() as u64 + bounds.len() as u64 * u64::from(blocks::BLOCK_BLADES));
+        let lists = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade lists"), size: lists_bytes, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
         let shapes = storage_buffer("grass blade shapes", data::SHAPE_BYTES * u64::from(count));
         let blade_buf = init("grass blades", bytemuck::cast_slice(&blades), wgpu::BufferUsages::STORAGE);
         let uniform = |label, size: usize| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
@@ -359,42 +376,12 @@ impl Grass {
             pass.set_pipeline(pipeline);
             pass.dispatch_workgroups(groups.min(65_535), groups.div_ceil(65_535), 1);
         }
-    }
-
-    /// The numbers of blades the last frame drew at each level of detail, read back from the
-    /// indirect draws (waits for the GPU); all zero without blades.
-    pub fn visible_blades(&self) -> Result<BladeCounts, RenderError> {
-        let shared = &self.shared;
-        let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok(BladeCounts::default()) };
-        let bytes = 4 * data::ARGS_WORDS as u64;
-        let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass counts readback"), size: bytes, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-        let mut encoder = shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grass counts") });
-        encoder.copy_buffer_to_buffer(&b.args, 0, &read, 0, bytes);
-        shared.queue.submit([encoder.finish()]);
-        let slice = read.slice(..);
-        slice.map_async(wgpu::MapMode::Read, |_| {});
-        shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(RenderError::GrassCountsPoll)?;
-        let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(RenderError::GrassCountsRange)?).to_vec();
-        let [n, m] = data::LOD_INDICES;
-        Ok(BladeCounts { near: words[0] / n, mid: words[5] / m, far: words[10] })
-    }
-}
-
-/// The blades a frame drew at each level of detail.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct BladeCounts {
-    /// With 7 segments (13 triangles).
-    pub near: u32,
-    /// With 3 segments (5 triangles).
-    pub mid: u32,
-    /// Rasterised by the cull pass (narrower than a pixel).
-    pub far: u32,
-}
-
-impl BladeCounts {
-    /// All the blades drawn.
-    pub fn total(&self) -> u32 {
-        self.near + self.mid + self.far
+        // Then the general blocks' near and middle blades into the draws' lists, in order.
+        let general = b.dispatch[0];
+        if general > 0 {
+            pass.set_pipeline(&self.order_pipeline);
+            pass.dispatch_workgroups(general.min(65_535), general.div_ceil(65_535), 1);
+        }
     }
 }
 
