@@ -141,11 +141,16 @@ fn blade_patch() {
     let (img, counts) = render_with(&s, true, true);
     // 36 m² at 600 per m²: about 21,600 blades, of which the frame sees most. At 120 pixels and
     // 60°, one metre at d covers 120 / (2 tan 30°) / d ≈ 104 / d pixels: 7 segments within
-    // 104 / 78 ≈ 1.3 m, 3 within 104 / 30 ≈ 3.5 m, lines beyond. The eye is 1.2 m above the
-    // patch's near edge, 6.6 m from its far edge: all three levels are drawn.
+    // 104 / 156 ≈ 0.67 m, 3 within 104 / 30 ≈ 3.5 m, lines beyond. The eye is 1.2 m above the
+    // patch's near edge, 6.6 m from its far edge: the middle and far levels are drawn.
     let BladeCounts { near, mid, far } = counts;
     assert!(counts.total() > 8_000 && counts.total() < 21_600, "{counts:?}");
-    assert!(near > 0 && mid > near && far > mid, "{counts:?}");
+    assert!(near == 0 && mid > 0 && far > mid, "{counts:?}");
+    // From 0.3 m above the near edge, the blades from about 0.4 m (the view's lower edge) to
+    // 0.67 m ahead are near ones.
+    let low = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 0.3, 3.5), LOOK));
+    let (_, low_counts) = render_with(&low, true, true);
+    assert!(low_counts.near > 0 && low_counts.mid > 0 && low_counts.far > 0, "{low_counts:?}");
     let (bare, _) = render_with(&s, false, true);
     assert!(diff(&img, &bare, (0, H / 2, W, H)) > 8.0, "the blades changed nothing");
     compare("grass-blade-patch", &img, 4.0, 5.0);
@@ -215,7 +220,7 @@ fn blades_are_drawn_in_the_same_order_every_frame() {
     // Where two blades meet at the same depth in a pixel, the one drawn first stays; so the
     // lists must not depend on the order the cull pass's invocations ran in. Each list holds
     // its blocks' blades one block after the other, each block's in the order of their indices.
-    let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 0.3, 3.5), LOOK));
+    let s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 0.25, 2.0), LOOK));
     let a = lists(&s);
     assert!(a.near.len() > 100 && a.mid.len() > 1_000, "near {} middle {}", a.near.len(), a.mid.len());
     for (name, list) in [("near", &a.near), ("middle", &a.mid)] {
