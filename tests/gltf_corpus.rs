@@ -28,11 +28,9 @@ const W: u32 = 160;
 const H: u32 = 120;
 const KHRONOS: &str = "tests/fixtures/khronos";
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("grove-gltf-corpus-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// An empty scratch folder, removed when the test ends.
+fn temp_dir(tag: &str) -> common::Scratch {
+    common::scratch(&format!("gltf-corpus-{tag}"))
 }
 
 fn khronos(name: &str) -> PathBuf {

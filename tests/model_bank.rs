@@ -20,11 +20,9 @@ use grove_systems::Sim;
 
 const FLOWER: &str = "tests/fixtures/thirdparty/flower_white.glb";
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("grove-bank-test-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// An empty scratch folder, removed when the test ends.
+fn temp_dir(tag: &str) -> common::Scratch {
+    common::scratch(&format!("bank-test-{tag}"))
 }
 
 /// Every triangle vertex of the default scene in model space, read independently of grove's
@@ -52,16 +50,18 @@ fn mesh_vertices(path: &Path) -> Vec<Vec3> {
 }
 
 /// Adds the flower to a new bank under the name "flower" and returns the bank folder.
-fn bank_with_flower(tag: &str) -> PathBuf {
-    let bank = temp_dir(tag).join("bank");
+/// A bank in a scratch folder (removed when the first is dropped) with the flower added.
+fn bank_with_flower(tag: &str) -> (common::Scratch, PathBuf) {
+    let dir = temp_dir(tag);
+    let bank = dir.join("bank");
     let out = grove(&["models", "add", FLOWER, "--bank", bank.to_str().unwrap(), "--name", "flower", "--species", "flower"]);
     assert!(out.status.success(), "models add: {}", String::from_utf8_lossy(&out.stderr));
-    bank
+    (dir, bank)
 }
 
 #[test]
 fn an_added_model_is_measured_from_its_own_mesh() {
-    let bank = bank_with_flower("measure");
+    let (_dir, bank) = bank_with_flower("measure");
     let b = Bank::open(&bank).unwrap();
     let m = b.get("flower").expect("catalogued");
     assert_eq!(m.species, "flower");
@@ -105,7 +105,7 @@ fn an_added_model_is_measured_from_its_own_mesh() {
 
 #[test]
 fn a_planted_third_party_model_snaps_records_and_replays_and_a_changed_file_is_named() {
-    let bank = bank_with_flower("replay");
+    let (_dir, bank) = bank_with_flower("replay");
     let banks = Banks::open(&[bank.clone()]).unwrap();
     let (catalogue, listed) = banks.session_catalogue().unwrap();
     let flower = catalogue.by_name("flower").unwrap().clone();
@@ -182,7 +182,7 @@ fn unknown_names_list_the_known_ones() {
     let out = grove(&["sim", "--scene", scene.to_str().unwrap(), "--ticks", "1"]);
     assert_one_line_error(&out, 2, "unknown model 'flower'; known models: broadleaf-mesh, conifer-mesh");
     // With the bank that has it, the same scene runs.
-    let bank = bank_with_flower("names-bank");
+    let (_dir, bank) = bank_with_flower("names-bank");
     let ok = grove(&["sim", "--scene", scene.to_str().unwrap(), "--ticks", "1", "--bank", bank.to_str().unwrap()]);
     assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
     let _ = std::fs::remove_dir_all(&dir);

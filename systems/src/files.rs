@@ -259,11 +259,28 @@ pub fn is_link(path: &Path) -> bool {
 mod tests {
     use super::*;
 
-    fn temp(name: &str) -> PathBuf {
+    /// An empty folder under the system's temporary folder, removed with all it holds when
+    /// the test ends, passed or failed.
+    struct Temp(PathBuf);
+
+    impl std::ops::Deref for Temp {
+        type Target = Path;
+        fn deref(&self) -> &Path {
+            &self.0
+        }
+    }
+
+    impl Drop for Temp {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
+    fn temp(name: &str) -> Temp {
         let d = std::env::temp_dir().join(format!("grove-files-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
-        d
+        Temp(d)
     }
 
     #[test]

@@ -12,6 +12,34 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// A folder under the system's temporary folder, removed with all it holds when dropped, so
+/// that a test leaves nothing behind whether it passes or fails. It reads as a [`Path`].
+pub struct Scratch(tempfile::TempDir);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<std::ffi::OsStr> for Scratch {
+    fn as_ref(&self) -> &std::ffi::OsStr {
+        self.0.path().as_os_str()
+    }
+}
+
+/// A new empty [`Scratch`] folder whose name begins with `grove-TAG-`.
+pub fn scratch(tag: &str) -> Scratch {
+    Scratch(tempfile::Builder::new().prefix(&format!("grove-{tag}-")).tempdir().expect("a temporary folder"))
+}
+
 /// Runs the built `grove` binary in the repository root.
 pub fn grove(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_grove")).args(args).current_dir(root()).output().expect("the grove binary runs")
