@@ -196,3 +196,20 @@ fn a_small_system_draws_the_segments_worked_out_by_hand() {
     let segs = turtle::interpret(&derive(&g, 0, 0, &Limits::default()).unwrap(), &g).unwrap();
     assert!(close(segs[0].end, Vec3::new(-1.0, 0.0, 0.0)), "{:?}", segs[0]);
 }
+
+#[test]
+fn the_conifer_preset_has_thin_branches_with_needles_along_them() {
+    // A conifer's branches leave the trunk at a fraction of its girth and carry twigs of needles
+    // along their whole length: not planks as thick as the trunk with a tuft at their ends.
+    let g = presets::preset("conifer").unwrap();
+    let s = derive(&g, 8, 1, &Limits::default()).unwrap();
+    let segs = turtle::interpret(&s, &g).unwrap();
+    let trunk = segs.iter().filter(|s| s.depth == 0).map(|s| s.width).fold(0.0, f32::max);
+    let branches: Vec<_> = segs.iter().filter(|s| s.depth == 1).collect();
+    let thickest = branches.iter().map(|s| s.width).fold(0.0, f32::max);
+    assert!(!branches.is_empty() && thickest <= 0.4 * trunk, "branches up to {thickest} wide on a trunk {trunk} wide");
+    // Four twigs on each branch segment; the leader's own twigs, also one bracket deep, bring
+    // the ratio down (two twigs a segment, as the conifer had, give 2 at most).
+    let twigs = segs.iter().filter(|s| s.depth == 2).count();
+    assert!(twigs as f32 >= 2.2 * branches.len() as f32, "{twigs} twigs on {} branch segments", branches.len());
+}

@@ -93,7 +93,8 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> anyhow::Resu
     let sp = species(&g.species);
     let leaf_size = match sp {
         Species::Broadleaf => 0.55,
-        Species::Conifer => 0.45,
+        // A spray of needles: larger than a leaf, so that a twig's card reads as foliage.
+        Species::Conifer => 0.8,
         Species::Birch => 0.4,
         Species::Shrub => 0.3,
     };

@@ -26,13 +26,14 @@ pub const PRESETS: &[(&str, &str)] = &[
     ),
     (
         "conifer",
-        "name: conifer\n# A cone of whorls: five branches per whorl, the oldest (lowest) longest; branches grow\n\
-         # every other step, the leader two segments a step.\n\
-         species: conifer\nangle: 18\nstep: 0.3\nwidth: 0.3\nwidth-factor: 0.85\n\
+        "name: conifer\n# A cone of whorls: five thin level branches per whorl, the oldest (lowest) longest;\n\
+         # every branch segment carries four twigs of needles, and the leader two between whorls.\n\
+         # Branches grow every other step, the leader two segments a step.\n\
+         species: conifer\nangle: 18\nstep: 0.3\nwidth: 0.2\nwidth-factor: 0.85\n\
          axiom: FFA\n\
-         rule: A -> FF!W/A\n\
-         rule: W -> [&&&&&B]////[&&&&&B]////[&&&&&B]////[&&&&&B]////[&&&&&B]\n\
-         rule: B -> F[-C][+C]E\nrule: E -> B\nrule: C -> F\nheight: 10\nn: 14\n",
+         rule: A -> F[&&&!!!!!!C]/////[&&&!!!!!!C]F!W/A\n\
+         rule: W -> [&&&&&!!!!!!B]////[&&&&&!!!!!!B]////[&&&&&!!!!!!B]////[&&&&&!!!!!!B]////[&&&&&!!!!!!B]\n\
+         rule: B -> F[-C][+C][&C][^^C]E\nrule: E -> !B\nrule: C -> !F\nheight: 10\nn: 14\n",
     ),
     (
         "birch",
