@@ -304,17 +304,19 @@ fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_in
         atomicMax(&args[14], hi.y);
     }
     // The block's own lists, in the order of the blades' indices: each invocation's blades go
-    // after those of the invocations before it (a block's counts fit 16 bits each).
-    invocation_counts[local] = countOneBits(near) | (countOneBits(mid) << 16u);
-    workgroupBarrier();
-    var before = 0u;
-    var total = 0u;
-    for (var j = 0u; j < CULL_WORKGROUP; j = j + 1u) {
-        let c = invocation_counts[j];
-        before = before + select(0u, c, j < local);
-        total = total + c;
-    }
+    // after those of the invocations before it (a block's counts fit 16 bits each). A block of
+    // far blades lists none (FAR_ONLY is the same for the whole dispatch, so the barrier is
+    // reached by all of the workgroup or by none of it).
     if (!FAR_ONLY) {
+        invocation_counts[local] = countOneBits(near) | (countOneBits(mid) << 16u);
+        workgroupBarrier();
+        var before = 0u;
+        var total = 0u;
+        for (var j = 0u; j < CULL_WORKGROUP; j = j + 1u) {
+            let c = invocation_counts[j];
+            before = before + select(0u, c, j < local);
+            total = total + c;
+        }
         let own = own_at() + slot * BLOCK_BLADES;
         var n = before & 0xffffu;
         var m = before >> 16u;
