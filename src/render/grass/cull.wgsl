@@ -272,6 +272,22 @@ override FAR_ONLY: bool = false;
 // workgroup lists its block's blades in the order of their indices.
 var<workgroup> invocation_counts: array<u32, CULL_WORKGROUP>;
 
+// Adds an invocation's `far` far blades to their count, and their box of pixels (clamped to the
+// image, whole pixels), which the main pass covers (`vs_far`), to the frame's: one atomic for the
+// count and four for the box, only where there are far blades.
+fn add_far(far: u32, far_box: vec4<f32>) {
+    if (far > 0u) {
+        atomicAdd(&args[10], far);
+        let size = params.viewport.xy;
+        let lo = vec2<u32>(clamp(floor(far_box.xy), vec2<f32>(0.0), size));
+        let hi = vec2<u32>(clamp(ceil(far_box.zw), vec2<f32>(0.0), size));
+        atomicMin(&args[11], lo.x);
+        atomicMin(&args[12], lo.y);
+        atomicMax(&args[13], hi.x);
+        atomicMax(&args[14], hi.y);
+    }
+}
+
 @compute @workgroup_size(CULL_WORKGROUP)
 fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_index) local: u32) {
     // A 2D dispatch when there are more than 65,535 workgroups.
@@ -291,18 +307,7 @@ fn cs_cull(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_in
         near = near | select(0u, 1u << k, c.level == 0u);
         mid = mid | select(0u, 1u << k, c.level == 1u);
     }
-    // One atomic per invocation for the far blades' count, and four for their box of pixels
-    // (clamped to the image, whole pixels), which the main pass covers (`vs_far`).
-    if (far > 0u) {
-        atomicAdd(&args[10], far);
-        let size = params.viewport.xy;
-        let lo = vec2<u32>(clamp(floor(far_box.xy), vec2<f32>(0.0), size));
-        let hi = vec2<u32>(clamp(ceil(far_box.zw), vec2<f32>(0.0), size));
-        atomicMin(&args[11], lo.x);
-        atomicMin(&args[12], lo.y);
-        atomicMax(&args[13], hi.x);
-        atomicMax(&args[14], hi.y);
-    }
+    add_far(far, far_box);
     // The block's own lists, in the order of the blades' indices: each invocation's blades go
     // after those of the invocations before it (a block's counts fit 16 bits each). A block of
     // far blades lists none (FAR_ONLY is the same for the whole dispatch, so the barrier is
@@ -392,16 +397,7 @@ fn cs_order(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_i
             far_box = vec4<f32>(min(far_box.xy, b.xy), max(far_box.zw, b.zw));
         }
     }
-    if (far > 0u) {
-        atomicAdd(&args[10], far);
-        let size = params.viewport.xy;
-        let lo = vec2<u32>(clamp(floor(far_box.xy), vec2<f32>(0.0), size));
-        let hi = vec2<u32>(clamp(ceil(far_box.zw), vec2<f32>(0.0), size));
-        atomicMin(&args[11], lo.x);
-        atomicMin(&args[12], lo.y);
-        atomicMax(&args[13], hi.x);
-        atomicMax(&args[14], hi.y);
-    }
+    add_far(far, far_box);
     // Every workgroup writes the same index counts.
     if (local == 0u) {
         let near_drawn = min(near_total, NEAR_CAP);
