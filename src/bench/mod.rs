@@ -6,6 +6,7 @@
 pub mod aerial;
 pub mod grass;
 pub mod impostor;
+pub mod pairs;
 pub mod park;
 pub mod raycast;
 pub mod render;
