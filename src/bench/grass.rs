@@ -17,7 +17,7 @@
 //! CPU time of the whole process (all of lavapipe's threads) per frame, which other programs
 //! on the machine disturb far less than the wall time.
 
-use std::time::Instant;
+use super::render::frame_ms;
 
 use anyhow::anyhow;
 use glam::Vec3;
@@ -86,10 +86,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
         if i == 1 {
             cpu_start = Some(super::process_cpu_seconds() * 1e3);
         }
-        let t = Instant::now();
-        r.render(sim, target.view())?;
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
-        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let ms = frame_ms(gpu, r, sim, &target)?;
         let passes = r.pass_times()?;
         if i == 0 {
             continue;
@@ -139,10 +136,7 @@ fn fukuda(gpu: &Gpu, frames: usize) -> anyhow::Result<Value> {
     let target = offscreen::Target::new(&gpu.device, 1280, 720);
     let drop = super::pairs::paired_share(frames, |on| {
         r.options.grass = on;
-        let t = Instant::now();
-        r.render(&sim, target.view())?;
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
-        Ok(t.elapsed().as_secs_f64() * 1e3)
+        frame_ms(gpu, &mut r, &sim, &target)
     })?;
     Ok(json!({
         "resolution": [1280, 720],

@@ -20,7 +20,7 @@ use grove_systems::Sim;
 use serde_json::{json, Value};
 
 use super::pairs::paired_share;
-use super::render::{setup, time_frames, RenderBenchOptions, HEIGHT, WIDTH};
+use super::render::{frame_ms, setup, time_frames, RenderBenchOptions, HEIGHT, WIDTH};
 
 /// A configuration of the table: grass, water, shadows.
 type Config = (bool, bool, bool);
@@ -67,13 +67,10 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyhow
 }
 
 /// Sets `renderer`'s grass, water and shadows to `config` and times one frame of `sim` into
-/// `target`: wall time of the render and the wait for the device, milliseconds.
+/// `target` ([`frame_ms`]).
 fn one_frame(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target, config: Config) -> anyhow::Result<f64> {
     (renderer.options.grass, renderer.options.water, renderer.options.shadows) = config;
-    let t = std::time::Instant::now();
-    renderer.render(sim, target.view())?;
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
-    Ok(t.elapsed().as_secs_f64() * 1e3)
+    frame_ms(gpu, renderer, sim, target)
 }
 
 /// Runs `grove bench park` on whatever adapter wgpu picks (lavapipe here).

@@ -112,6 +112,15 @@ impl FrameTime {
     }
 }
 
+/// Renders one frame of `sim` into `target` and waits for the device: the wall time of both,
+/// milliseconds. Every render benchmark times its frames with this.
+pub(super) fn frame_ms(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target) -> anyhow::Result<f64> {
+    let t = Instant::now();
+    renderer.render(sim, target.view())?;
+    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
+    Ok(t.elapsed().as_secs_f64() * 1e3)
+}
+
 /// Times `frames` frames after one warm-up frame and returns the medians.
 pub(super) fn time_frames(
     gpu: &Gpu,
@@ -138,12 +147,7 @@ pub(super) fn time_frames_at(
         if i == 1 {
             cpu_start = process_cpu_ns();
         }
-        let t = Instant::now();
-        renderer.render(sim, target.view())?;
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| anyhow!("GPU poll failed ({e})"))?;
-        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let ms = frame_ms(gpu, renderer, sim, &target)?;
         let passes = renderer.pass_times()?;
         if i == 0 {
             continue;

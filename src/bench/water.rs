@@ -8,7 +8,6 @@
 //! is idle, the median of several frames after a warm-up frame; pass times where the device has
 //! timestamp queries.
 
-use std::time::Instant;
 
 use anyhow::anyhow;
 use glam::{Vec2, Vec3};
@@ -54,10 +53,7 @@ fn time_water(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, water: bool, frames
     let mut passes: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     let mut timed = false;
     for i in 0..=frames.max(1) {
-        let t = Instant::now();
-        renderer.render(sim, target.view())?;
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
-        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let ms = super::render::frame_ms(gpu, renderer, sim, &target)?;
         let times = renderer.pass_times()?;
         if i == 0 {
             continue;
