@@ -97,7 +97,6 @@ fn added(path: &Path, tag: &str, want: (Vec3, Vec3)) -> String {
     let bank = grove_systems::bank::Bank::open(&dir.join("bank")).unwrap();
     let m = bank.get(tag).unwrap();
     assert_bounds(tag, (m.bounds_min, m.bounds_max), want);
-    let _ = std::fs::remove_dir_all(&dir);
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
@@ -110,7 +109,6 @@ fn refused(path: &Path, needle: &str) {
     let out = grove(&["render", "--model", path.to_str().unwrap(), "--out", png.to_str().unwrap()]);
     assert_one_line_error(&out, 2, needle);
     assert!(!png.exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn render(path: &Path) -> RgbaImage {
@@ -259,7 +257,6 @@ fn strips_and_fans_are_drawn_as_triangles_and_points_and_lines_refused() {
         let f = write_model(&dir, &format!("mode{mode}"), &b, &acc, &format!(r#"{{"attributes":{{"POSITION":0}},"mode":4}},{{"attributes":{{"POSITION":1}},"mode":{mode}}}"#), "");
         refused(&f, &format!("mesh 0 primitive 1 {needle}"));
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A quad whose TEXCOORD_0 is all zero and TEXCOORD_1 spans the texture, with `texture_info`
@@ -320,7 +317,6 @@ fn each_texture_reads_its_own_set_with_its_transform() {
     let got = uvs(&load_model(&rot).unwrap());
     let want = [Vec2::new(-1.0, 0.0), Vec2::new(-1.0, 1.0), Vec2::new(0.0, 1.0), Vec2::new(0.0, 0.0)];
     assert!(got.iter().zip(want).all(|(a, b)| (*a - b).length() < 1e-6), "{got:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -330,7 +326,6 @@ fn textures_of_one_material_on_different_sets_are_refused_by_name() {
     let text = std::fs::read_to_string(&f).unwrap().replace(r#""name":"quad","#, r#""name":"quad","normalTexture":{"index":0,"texCoord":0},"#);
     std::fs::write(&f, text).unwrap();
     refused(&f, "material 'quad' reads its normal texture through TEXCOORD_0");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -343,7 +338,6 @@ fn unknown_extensions_are_refused_when_required_and_named_in_a_warning_when_used
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(stderr.lines().filter(|l| l.starts_with("warning:") && l.contains("EXT_made_up")).count(), 1, "{stderr}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A quad (x −0.5..0.5, y 0..2) skinned to two joints, its node moved 5 m along x (which a
@@ -380,5 +374,4 @@ fn a_skinned_mesh_is_drawn_in_its_bind_pose() {
     let out = added(&f, "skin", data.bounds);
     assert!(out.contains("skinned mesh drawn in its bind pose"), "{out}");
     compare("gltf-skin-bind-pose", &render(&f));
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -167,7 +167,6 @@ fn a_planted_third_party_model_snaps_records_and_replays_and_a_changed_file_is_n
     let check = grove(&["models", "check", "--bank", bank.to_str().unwrap()]);
     assert_eq!(check.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&check.stdout).contains("CHANGED   flower"));
-    let _ = std::fs::remove_dir_all(bank.parent().unwrap());
 }
 
 #[test]
@@ -185,8 +184,6 @@ fn unknown_names_list_the_known_ones() {
     let (_dir, bank) = bank_with_flower("names-bank");
     let ok = grove(&["sim", "--scene", scene.to_str().unwrap(), "--ticks", "1", "--bank", bank.to_str().unwrap()]);
     assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::remove_dir_all(bank.parent().unwrap());
 }
 
 #[test]
@@ -198,7 +195,6 @@ fn compressed_geometry_is_refused_with_the_extension_and_a_conversion() {
     assert_one_line_error(&out, 2, "uses EXT_meshopt_compression");
     assert!(String::from_utf8_lossy(&out.stderr).contains("gltf-transform"));
     assert!(!dir.join("bank").join("draco").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -237,7 +233,6 @@ fn a_quantized_model_is_read_with_its_node_scale_and_added() {
     let b = Bank::open(&dir.join("bank")).unwrap();
     assert_eq!(b.get("quad").unwrap().bounds_max.y, hi.y);
     assert_eq!(b.get("quad").unwrap().files, vec!["quad/quad.gltf".to_string(), "quad/quad.bin".to_string()]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -270,7 +265,6 @@ fn a_webp_only_texture_is_decoded() {
     let out = grove(&["models", "add", file.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(dir.join("bank/tri/leaf.webp").is_file(), "the texture is copied with the model");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -311,7 +305,6 @@ fn an_lsystem_tree_added_to_a_bank_is_planted_and_snaps() {
     let low = interact::lowest_point_y(t.transform.translation.y, tree.lowest_point(), t.scale.0);
     let g = s.sim().res().spatial.ground_below(t.transform.translation + Vec3::Y * 20.0, 0.0).unwrap().point.y;
     assert!(t.grounded.0 && (low - g).abs() < 1e-3, "snapped: lowest point {low}, ground {g}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -325,7 +318,6 @@ fn a_model_without_wind_channels_sways_in_rendered_frames() {
     let b = image::open(dir.join("frame_00001.png")).unwrap().to_rgba8();
     let moved = a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count();
     assert!(moved > 20, "only {moved} pixels changed");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -354,7 +346,6 @@ fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
     let o = replay_file(&file, &ReplayOptions::default()).unwrap();
     assert!(o.first_divergence.is_none() && o.complete && o.checkpoints_checked > 0);
     assert_eq!(o.sim.hash().total, hash);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -376,7 +367,6 @@ fn bad_model_lists_in_headers_are_refused_in_one_line() {
         std::fs::write(&f, format!("{}\n", encode_line(&Line::Header(h)))).unwrap();
         assert_one_line_error(&grove(&["replay", f.to_str().unwrap()]), 2, needle);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -399,5 +389,4 @@ fn a_far_model_must_already_be_in_the_bank() {
     assert_one_line_error(&add("nearer", Some("near")), 2, "without a far model of its own");
     let text = std::fs::read_to_string(bank.join("catalogue.ron")).unwrap();
     assert!(text.contains("far: Some(\"distant\")"), "{text}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -261,32 +261,14 @@ mod tests {
 
     /// An empty folder under the system's temporary folder, removed with all it holds when
     /// the test ends, passed or failed.
-    struct Temp(PathBuf);
-
-    impl std::ops::Deref for Temp {
-        type Target = Path;
-        fn deref(&self) -> &Path {
-            &self.0
-        }
-    }
-
-    impl Drop for Temp {
-        fn drop(&mut self) {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
-    }
-
-    fn temp(name: &str) -> Temp {
-        let d = std::env::temp_dir().join(format!("grove-files-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Temp(d)
+    fn temp(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new().prefix(&format!("grove-files-{name}-")).tempdir().unwrap()
     }
 
     #[test]
     fn a_named_pipe_is_refused_without_blocking() {
         let d = temp("fifo");
-        let fifo = d.join("pipe");
+        let fifo = d.path().join("pipe");
         let status = std::process::Command::new("mkfifo").arg(&fifo).status();
         if !matches!(status, Ok(s) if s.success()) {
             panic!("mkfifo is needed for this test");
@@ -303,13 +285,13 @@ mod tests {
         let e = read(Path::new("/dev/zero"), Kind::Grammar).unwrap_err();
         assert!(matches!(e, FileError::NotRegular { .. }), "{e}");
         let d = temp("size");
-        assert!(matches!(read(&d, Kind::Scene).unwrap_err(), FileError::Directory { .. }));
-        let big = d.join("big.txt");
+        assert!(matches!(read(d.path(), Kind::Scene).unwrap_err(), FileError::Directory { .. }));
+        let big = d.path().join("big.txt");
         std::fs::write(&big, vec![b'x'; (Kind::Grammar.limit() + 1) as usize]).unwrap();
         let e = read_text(&big, Kind::Grammar).unwrap_err();
         assert!(matches!(e, FileError::TooLarge { .. }), "{e}");
         assert!(!e.to_string().contains('\n'));
-        let small = d.join("small.txt");
+        let small = d.path().join("small.txt");
         std::fs::write(&small, "F=FF").unwrap();
         assert_eq!(read_text(&small, Kind::Grammar).unwrap(), "F=FF");
     }
@@ -317,11 +299,11 @@ mod tests {
     #[test]
     fn a_link_out_of_the_folder_is_outside() {
         let d = temp("within");
-        let inside = d.join("model");
+        let inside = d.path().join("model");
         std::fs::create_dir_all(&inside).unwrap();
         std::fs::write(inside.join("a.bin"), b"abc").unwrap();
-        std::fs::write(d.join("secret.bin"), b"secret").unwrap();
-        std::os::unix::fs::symlink(d.join("secret.bin"), inside.join("extra.bin")).unwrap();
+        std::fs::write(d.path().join("secret.bin"), b"secret").unwrap();
+        std::os::unix::fs::symlink(d.path().join("secret.bin"), inside.join("extra.bin")).unwrap();
         std::os::unix::fs::symlink(inside.join("a.bin"), inside.join("alias.bin")).unwrap();
         assert!(within(&inside.join("a.bin"), &inside).is_ok());
         assert!(within(&inside.join("alias.bin"), &inside).is_ok(), "a link that stays inside is fine");
