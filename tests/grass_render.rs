@@ -13,7 +13,7 @@ mod common;
 use std::path::PathBuf;
 
 use glam::Vec3;
-use grove::render::grass::{BladeCounts, BladeLists, BLOCK_BLADES};
+use grove::render::grass::{BladeCounts, BladeLists, BLOCK_BLADES, LOD_CAPS};
 use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
 use grove_systems::components::{HitMarker, HitTarget};
@@ -208,11 +208,30 @@ fn wind_moves_blades_and_a_calm_does_not() {
 
 /// The near and middle lists the cull pass left for a frame of `sim`.
 fn lists(sim: &Sim) -> BladeLists {
+    lists_at(sim, W, H).0
+}
+
+/// The lists, the blades drawn at each level and the image of a frame of `sim` at `w` × `h`.
+fn lists_at(sim: &Sim, w: u32, h: u32) -> (BladeLists, BladeCounts, RgbaImage) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
-    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
-    offscreen::render_image(g, &mut r, sim).unwrap();
-    r.features.grass.listed_blades().unwrap()
+    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, w, h).unwrap();
+    let img = offscreen::render_image(g, &mut r, sim).unwrap();
+    let grass = &r.features.grass;
+    (grass.listed_blades().unwrap(), grass.visible_blades().unwrap(), img)
+}
+
+/// Checks that `list` holds its blocks' blades one block after the other, each block's in the
+/// order of their indices; the number of blocks.
+fn block_runs(name: &str, list: &[u32]) -> usize {
+    let mut seen = std::collections::HashSet::new();
+    let mut blocks = 0;
+    for run in list.chunk_by(|p, q| p / BLOCK_BLADES == q / BLOCK_BLADES) {
+        assert!(seen.insert(run[0] / BLOCK_BLADES), "{name}: block {} in two runs", run[0] / BLOCK_BLADES);
+        assert!(run.windows(2).all(|w| w[0] < w[1]), "{name}: block {} out of order: {:?}", run[0] / BLOCK_BLADES, &run[..run.len().min(40)]);
+        blocks += 1;
+    }
+    blocks
 }
 
 #[test]
@@ -224,18 +243,62 @@ fn blades_are_drawn_in_the_same_order_every_frame() {
     let a = lists(&s);
     assert!(a.near.len() > 100 && a.mid.len() > 1_000, "near {} middle {}", a.near.len(), a.mid.len());
     for (name, list) in [("near", &a.near), ("middle", &a.mid)] {
-        let mut seen = std::collections::HashSet::new();
-        let mut blocks = 0;
-        for run in list.chunk_by(|p, q| p / BLOCK_BLADES == q / BLOCK_BLADES) {
-            assert!(seen.insert(run[0] / BLOCK_BLADES), "{name}: block {} in two runs", run[0] / BLOCK_BLADES);
-            assert!(run.windows(2).all(|w| w[0] < w[1]), "{name}: block {} out of order: {:?}", run[0] / BLOCK_BLADES, &run[..run.len().min(40)]);
-            blocks += 1;
-        }
-        assert!(blocks > 1, "{name}: one block only");
+        assert!(block_runs(name, list) > 1, "{name}: one block only");
     }
     for _ in 0..3 {
         assert_eq!(lists(&s), a, "the lists changed between two frames of one world");
     }
+}
+
+/// Checks a frame of `density` blades a square metre over the 6 × 6 m patch, seen from 1.2 m
+/// above its edge at 1280 × 720, where the near list is full: whole blocks in order; each blade
+/// listed once; the middle list its own blades, then the near ones that did not fit, each part
+/// in block order; the same lists and image in the next frame. The blades drawn at each level.
+fn full_near_list(density: f32) -> BladeCounts {
+    let s = sim(&scene("Blades", density, 0.0, 0.0, Vec3::new(0.0, 1.2, 3.0), Vec3::new(0.0, 0.0, -1.0)));
+    let (a, counts, image) = lists_at(&s, 1280, 720);
+    let [near_cap, mid_cap] = LOD_CAPS;
+    assert_eq!(counts.near, near_cap, "{counts:?}: the near list is not full");
+    assert_eq!((a.near.len(), a.mid.len()), (near_cap as usize, counts.mid as usize));
+    assert!(counts.mid > 0 && counts.mid <= mid_cap, "{counts:?}");
+    block_runs("near", &a.near);
+    let mut all: Vec<u32> = a.near.iter().chain(&a.mid).copied().collect();
+    all.sort_unstable();
+    let listed = all.len();
+    all.dedup();
+    assert_eq!(all.len(), listed, "{density}: {} blades listed twice", listed - all.len());
+    // The middle list's longest prefix in block order (its own blades, and perhaps the first
+    // near ones that did not fit); the rest must be in block order too.
+    let mut seen = std::collections::HashSet::new();
+    let split = (0..a.mid.len())
+        .find(|&i| {
+            let block = a.mid[i] / BLOCK_BLADES;
+            if i > 0 && a.mid[i - 1] / BLOCK_BLADES == block {
+                a.mid[i] <= a.mid[i - 1]
+            } else {
+                !seen.insert(block)
+            }
+        })
+        .unwrap_or(a.mid.len());
+    block_runs("the rest of the middle list", &a.mid[split..]);
+    let (b, c, img) = lists_at(&s, 1280, 720);
+    assert_eq!(c, counts);
+    assert!(b == a, "{density}: the lists changed between two frames of one world");
+    assert!(img == image, "{density}: the image changed between two frames of one world");
+    counts
+}
+
+#[test]
+fn a_full_near_list_passes_its_later_blades_on_in_order() {
+    // 6,000 blades a square metre: more near blades than the near list holds, fewer than both
+    // lists hold. The near list is filled in the order of the blocks; the blades past its end
+    // go to the middle list after the middle list's own blades, and every one is drawn.
+    let some = full_near_list(6_000.0);
+    assert!(some.mid < LOD_CAPS[1], "{some:?}");
+    // 20,000: more than both lists hold; the rest are drawn as far blades.
+    let many = full_near_list(20_000.0);
+    assert!(many.mid == LOD_CAPS[1] && many.far > 0, "{many:?}");
+    assert!(many.total() > 3 * some.total(), "{some:?} {many:?}");
 }
 
 #[test]

@@ -32,6 +32,7 @@
 pub(crate) mod blocks;
 mod readback;
 pub use blocks::BLOCK_BLADES;
+pub use data::LOD_CAPS;
 pub use readback::{BladeCounts, BladeLists};
 pub(crate) mod data;
 mod extract;
