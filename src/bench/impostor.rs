@@ -5,7 +5,6 @@
 use anyhow::anyhow;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
-use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
@@ -49,7 +48,7 @@ pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_js
     const FULL_HD: (u32, u32) = (1920, 1080);
     renderer.resize(FULL_HD.0, FULL_HD.1);
     let path = crate::render::default_assets_dir().join("scenes/forest.ron");
-    let scene = Scene::load(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let scene = super::load_scene(&path)?;
     let forest_sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
     crate::bank::load_for_scene(renderer, &scene, &[], &forest_sim.res().catalogue).map_err(|e| anyhow!(e))?;
     eprintln!("bench: a million trees (building the world)");
@@ -70,12 +69,12 @@ pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_js
     Ok(())
 }
 
-/// `grove bench render-forest`: the forest scene (assets/scenes/forest.ron) from its camera,
-/// shadows on and off, and its image difference from the full-detail render.
-pub fn bench_forest(options: RenderBenchOptions) -> anyhow::Result<Value> {
+/// `grove bench render-forest`: the forest scene (assets/scenes/forest.ron, or `scene`) from its
+/// camera, shadows on and off, and its image difference from the full-detail render.
+pub fn bench_forest(options: RenderBenchOptions, scene: Option<&std::path::Path>) -> anyhow::Result<Value> {
+    let path = scene.map_or_else(|| crate::render::default_assets_dir().join("scenes/forest.ron"), std::path::Path::to_path_buf);
+    let scene = super::load_scene(&path)?;
     let (gpu, mut renderer, adapter) = setup(options, false)?;
-    let path = crate::render::default_assets_dir().join("scenes/forest.ron");
-    let scene = Scene::load(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
     crate::bank::load_for_scene(&mut renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
     let mut figures = serde_json::Map::new();
@@ -89,6 +88,7 @@ pub fn bench_forest(options: RenderBenchOptions) -> anyhow::Result<Value> {
     renderer.options.shadows = true;
     figures.insert("image_vs_full_detail".into(), image_error(&gpu, &mut renderer, &sim)?);
     let mut out = header(adapter, &renderer, WALL_TIMING);
+    out.insert("scene".into(), json!(path.display().to_string()));
     out.insert("forest_10k_trees".into(), Value::Object(figures));
     Ok(Value::Object(out))
 }

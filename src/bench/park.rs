@@ -15,7 +15,6 @@ use std::path::Path;
 use anyhow::anyhow;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
-use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
@@ -25,8 +24,10 @@ use super::render::{frame_ms, setup, time_frames, RenderBenchOptions, HEIGHT, WI
 /// A configuration of the table: grass, water, shadows.
 type Config = (bool, bool, bool);
 
-/// The park scene's file, relative to the repository root (where the benchmarks run).
-pub const PARK: &str = "assets/scenes/park.ron";
+/// The park scene's file: `scenes/park.ron` of the assets folder.
+pub fn park_scene() -> std::path::PathBuf {
+    crate::render::default_assets_dir().join("scenes/park.ron")
+}
 
 /// The table's rows: name, grass, water, shadows.
 const ROWS: [(&str, bool, bool, bool); 4] = [
@@ -36,9 +37,10 @@ const ROWS: [(&str, bool, bool, bool); 4] = [
     ("grass_water_shadows", true, true, true),
 ];
 
-/// The park table with `gpu` and `renderer`: one row per configuration, `frames` frames each.
-pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyhow::Result<Value> {
-    let scene = Scene::load(Path::new(PARK)).map_err(|e| anyhow!("{PARK}: {e}"))?;
+/// The park table of the scene `path` (the park's, [`park_scene`], or another) with `gpu` and
+/// `renderer`: one row per configuration, `frames` frames each.
+pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, path: &Path) -> anyhow::Result<Value> {
+    let scene = super::load_scene(path)?;
     let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
     crate::bank::load_for_scene(renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
     let saved = renderer.options;
@@ -49,7 +51,13 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyhow
         renderer.options.water = water;
         renderer.options.shadows = shadows;
         let t = time_frames(gpu, renderer, &sim, frames)?;
-        rows.insert(name.into(), t.json(renderer));
+        let mut row = t.json(renderer);
+        if grass {
+            // The blades the last frame drew at each level of detail.
+            let b = renderer.features.grass.visible_blades()?;
+            row["blades"] = json!({"near": b.near, "mid": b.mid, "far": b.far});
+        }
+        rows.insert(name.into(), row);
     }
     eprintln!("bench: park, the shares of grass and water in {frames} interleaved pairs of frames each");
     let target = offscreen::Target::new(&gpu.device, WIDTH, HEIGHT);
@@ -58,7 +66,7 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyhow
     let water_share = share((true, false, false), (true, true, false));
     renderer.options = saved;
     Ok(json!({
-        "scene": PARK,
+        "scene": path.display().to_string(),
         "rows": rows,
         "grass_share_of_frame_percent": grass_share?,
         "water_share_of_frame_percent": water_share?,
@@ -73,9 +81,13 @@ fn one_frame(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::
     frame_ms(gpu, renderer, sim, target)
 }
 
-/// Runs `grove bench park` on whatever adapter wgpu picks (lavapipe here).
-pub fn bench_park(options: RenderBenchOptions) -> anyhow::Result<Value> {
+/// Runs `grove bench park` on whatever adapter wgpu picks (lavapipe here), on `scene` (the
+/// park's by default).
+pub fn bench_park(options: RenderBenchOptions, scene: Option<&Path>) -> anyhow::Result<Value> {
+    let path = scene.map_or_else(park_scene, Path::to_path_buf);
+    // A scene that does not load is the user's error, told before the device is set up.
+    super::load_scene(&path)?;
     let (gpu, mut renderer, adapter) = setup(options, false)?;
-    let figures = park_figures(&gpu, &mut renderer, 10)?;
+    let figures = park_figures(&gpu, &mut renderer, 10, &path)?;
     Ok(json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": super::render::WALL_TIMING, "park": figures}))
 }

@@ -29,7 +29,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
     } else {
         args.which.clone()
     };
-    let sim = SimOptions { scene: args.scene.clone(), trees: args.trees.clone(), ticks: args.ticks };
+    if args.scene.is_some() && !which.iter().any(|w| w.takes_scene()) {
+        anyhow::bail!("--scene is used only by the sim, wind, raycast, park and render-forest benchmarks");
+    }
+    let scene = args.scene.as_deref();
+    let study = grove::render::default_assets_dir().join("scenes/study.ron");
+    let sim = SimOptions { scene: scene.map_or(study, std::path::Path::to_path_buf), trees: args.trees.clone(), ticks: args.ticks };
     let mut report = serde_json::Map::new();
     report.insert(
         "build".into(),
@@ -61,8 +66,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::Water => ("water", bench::water::bench_water(render)?),
             Which::Grass => ("grass", bench::grass::bench_grass()?),
             Which::GrassGoals => ("grass_goals", bench::grass::bench_grass_goals()?),
-            Which::RenderForest => ("render_forest", bench::impostor::bench_forest(render)?),
-            Which::Park => ("park", bench::park::bench_park(render)?),
+            Which::RenderForest => ("render_forest", bench::impostor::bench_forest(render, scene)?),
+            Which::Park => ("park", bench::park::bench_park(render, scene)?),
             Which::Video => ("video", bench::video::bench_video()?),
         };
         report.insert(name.into(), value);

@@ -50,9 +50,11 @@ pub struct BenchArgs {
     /// Which benchmarks to run (default: all).
     #[arg(value_enum)]
     pub which: Vec<Which>,
-    /// The scene used by the benchmarks.
-    #[arg(long, default_value = "assets/scenes/study.ron")]
-    pub scene: PathBuf,
+    /// The scene of the benchmarks that take one: sim, wind and raycast (default
+    /// assets/scenes/study.ron), park (default assets/scenes/park.ron) and render-forest
+    /// (default assets/scenes/forest.ron). The others draw scenes of their own.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
     /// Tree counts for the sim tick benchmark (comma-separated).
     #[arg(long, value_delimiter = ',', default_values_t = vec![1_000usize, 10_000, 100_000, 1_000_000])]
     pub trees: Vec<usize>,
@@ -70,6 +72,13 @@ pub struct BenchArgs {
     /// benchmarks (0: every tree a mesh).
     #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = non_negative)]
     pub impostor_pixels: f32,
+}
+
+impl Which {
+    /// Whether the benchmark runs on `--scene`.
+    pub fn takes_scene(self) -> bool {
+        matches!(self, Which::Sim | Which::Wind | Which::Raycast | Which::Park | Which::RenderForest)
+    }
 }
 
 /// A value that is not a finite number of at least 0: the text as given.
