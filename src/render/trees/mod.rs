@@ -155,17 +155,20 @@ impl Trees {
     /// (`extra`, [`TreeView::Extra`] in order) and the shadow map's, which keeps the trees whose
     /// shadow, cast away from the sun (`sun`: the unit vector towards it and the lowest height a
     /// shadow can fall on) may reach into one of those views (every tree when `sun` is `None`).
-    /// Uploads every view's instances. Call after [`Feature::prepare`]. Without `enabled`, every
-    /// view draws every tree.
-    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>, enabled: bool) {
+    /// The shadow map draws its trees with no more leaves than it can show at
+    /// `shadow_texels_per_metre` ([`views::shadow_detail`]). Uploads every view's instances.
+    /// Call after [`Feature::prepare`]. Without `enabled`, every view draws every tree.
+    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>, shadow_texels_per_metre: f32, enabled: bool) {
         let (Some(every), Some(wind)) = (&self.every, &self.wind) else { return };
+        let models = &self.models;
+        let leaf_area = |m: usize| models.get(m).and_then(Option::as_ref).map(|model| model.leaf_area);
         if !enabled {
             self.instance_count = every.instances.len() + every.impostors.len();
-            let all = vec![every.clone(); 2 + extra.len()];
+            let mut all = vec![every.clone(); 2 + extra.len()];
+            all[TreeView::Casters.index()] = views::shadow_detail(every, leaf_area, shadow_texels_per_metre);
             self.upload(&all);
             return;
         }
-        let models = &self.models;
         let inside = |r: &ClipRegion| views::cull(every, models, wind, |lo, hi| r.may_hold(lo, hi));
         let receivers: Vec<&ClipRegion> = std::iter::once(main).chain(extra).collect();
         let casters = match sun {
@@ -174,6 +177,7 @@ impl Trees {
             }),
             None => every.clone(),
         };
+        let casters = views::shadow_detail(&casters, leaf_area, shadow_texels_per_metre);
         let main = inside(main);
         self.instance_count = main.instances.len() + main.impostors.len();
         let views: Vec<Gathered> = [casters, main].into_iter().chain(extra.iter().map(inside)).collect();

@@ -12,6 +12,7 @@ use glam::Vec3;
 use grove_systems::wind_model::WindParams;
 
 use super::instances::{BucketRanges, Gathered, Instance};
+use super::lod;
 use super::model::GpuModel;
 use super::sweep::Placement;
 
@@ -64,6 +65,40 @@ pub(crate) fn cull(every: &Gathered, models: &[Option<GpuModel>], wind: &WindPar
     out
 }
 
+/// The smallest area, in shadow-map texels, that a leaf drawn into the shadow map should cover:
+/// 4 × 4 texels, a little over the 3 × 3 texels each shadow lookup filters.
+pub const SHADOW_LEAF_TEXELS: f32 = 16.0;
+
+/// `casters` (grouped as [`super::instances::gather`] groups them) with each mesh tree's share
+/// of leaves lowered to what the shadow map can show: a leaf should cover
+/// [`SHADOW_LEAF_TEXELS`] texels at `texels_per_metre` ([`lod::keep_fraction`] in the light's
+/// orthographic view), and no tree draws more leaves than the camera's view keeps. `leaf_area`
+/// gives a model's mean leaf area in square metres (by model index). Trees move to their new
+/// keep buckets, in the order they had within each model; impostors are unchanged.
+pub(crate) fn shadow_detail(casters: &Gathered, leaf_area: impl Fn(usize) -> Option<f32>, texels_per_metre: f32) -> Gathered {
+    let mut out = Gathered { impostors: casters.impostors.clone(), impostor_ranges: casters.impostor_ranges.clone(), ..Default::default() };
+    for (m, buckets) in casters.ranges.iter().enumerate() {
+        let area = leaf_area(m);
+        let mut list: Vec<(usize, Instance)> = buckets
+            .iter()
+            .flat_map(|r| casters.instances[r.start as usize..r.end as usize].iter().copied())
+            .map(|mut i| {
+                if let Some(a) = area {
+                    i.keep = i.keep.min(lod::keep_fraction(a * i.scale * i.scale, 1.0, texels_per_metre, SHADOW_LEAF_TEXELS));
+                }
+                (lod::bucket(i.keep), i)
+            })
+            .collect();
+        // A stable sort: each bucket keeps its trees in the order they had.
+        list.sort_by_key(|e| e.0);
+        let base = out.instances.len() as u32;
+        let end = |b: usize| base + list.partition_point(|e| e.0 < b) as u32;
+        out.ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
+        out.instances.extend(list.iter().map(|e| e.1));
+    }
+    out
+}
+
 /// The box that holds the box `lo..hi` and its shadow, cast away from the sun (`sun`, a unit
 /// vector towards it) down to the height `floor`: the box and its copy moved along the light
 /// until its top reaches `floor`. `None` where the sun is too low to bound the shadow.
@@ -79,7 +114,63 @@ pub fn shadow_box(lo: Vec3, hi: Vec3, sun: Vec3, floor: f32) -> Option<(Vec3, Ve
 mod tests {
     use glam::Vec3;
 
-    use super::shadow_box;
+    use super::{shadow_box, shadow_detail, SHADOW_LEAF_TEXELS};
+    use crate::render::trees::instances::{Gathered, Instance};
+    use crate::render::trees::lod;
+
+    fn tree(x: f32, scale: f32, keep: f32) -> Instance {
+        Instance { origin: [x, 0.0, 0.0], scale, yaw: 0.0, bend: [0.0; 2], gain: 1.0, phase: 0.0, keep, fade: 0.0, pad: 0.0 }
+    }
+
+    /// Trees of model 0 (with leaves) and 1 (without), grouped by their keep buckets.
+    fn gathered(trees: &[(usize, Instance)]) -> Gathered {
+        let mut g = Gathered { impostors: vec![tree(99.0, 1.0, 1.0)], impostor_ranges: vec![0..1, 1..1], ..Default::default() };
+        for m in 0..2 {
+            let mut list: Vec<Instance> = trees.iter().filter(|t| t.0 == m).map(|t| t.1).collect();
+            list.sort_by_key(|i| lod::bucket(i.keep));
+            let base = g.instances.len() as u32;
+            let end = |b: usize| base + list.iter().filter(|i| lod::bucket(i.keep) < b).count() as u32;
+            g.ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
+            g.instances.extend(list);
+        }
+        g
+    }
+
+    #[test]
+    fn the_shadow_map_draws_no_more_leaves_than_its_texels_show() {
+        // Leaves of 0.01 m² on trees at full size: at 40 texels a metre a leaf covers 16 texels
+        // (all of it kept), at 20 texels a metre 4 (a quarter).
+        assert!((lod::keep_fraction(0.01, 1.0, 40.0, SHADOW_LEAF_TEXELS) - 1.0).abs() < 1e-6);
+        let trees = [(0, tree(1.0, 1.0, 1.0)), (0, tree(2.0, 1.0, 0.1)), (0, tree(3.0, 0.5, 1.0)), (1, tree(4.0, 1.0, 1.0))];
+        let g = gathered(&trees);
+        let area = |m: usize| (m == 0).then_some(0.01);
+        // At 40 texels a metre only the half-size tree, whose leaves cover 4 texels, is thinned.
+        let fine = shadow_detail(&g, area, 40.0);
+        let keeps = |g: &Gathered| g.instances.iter().map(|i| (i.origin[0], i.keep)).collect::<Vec<_>>();
+        let mut before = keeps(&g);
+        let mut after = keeps(&fine);
+        before.sort_by(|a, b| a.0.total_cmp(&b.0));
+        after.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let expected = [(1.0, 1.0), (2.0, 0.1), (3.0, 0.25), (4.0, 1.0)];
+        assert!(after.iter().zip(&expected).all(|(a, e)| a.0 == e.0 && (a.1 - e.1).abs() < 1e-5), "{after:?}");
+        // Coarse texels: the near tree keeps a quarter, the half-size one 1/16, the one the
+        // camera already thinned keeps its 0.1, the model without leaves is left alone.
+        let coarse = shadow_detail(&g, area, 20.0);
+        let at = |x: f32| coarse.instances.iter().find(|i| i.origin[0] == x).unwrap().keep;
+        assert!((at(1.0) - 0.25).abs() < 1e-6 && (at(3.0) - 0.0625).abs() < 1e-6, "{:?}", keeps(&coarse));
+        assert_eq!((at(2.0), at(4.0)), (0.1, 1.0));
+        // Each tree lies in its model's range, in the range of its new bucket.
+        for (m, buckets) in coarse.ranges.iter().enumerate() {
+            for (b, r) in buckets.iter().enumerate() {
+                for i in &coarse.instances[r.start as usize..r.end as usize] {
+                    assert_eq!(lod::bucket(i.keep), b);
+                    assert_eq!(trees.iter().find(|t| t.1.origin == i.origin).unwrap().0, m);
+                }
+            }
+        }
+        assert_eq!(coarse.instances.len(), 4);
+        assert_eq!((coarse.impostors.len(), coarse.impostor_ranges.clone()), (1, vec![0..1, 1..1]));
+    }
 
     #[test]
     fn a_shadow_box_reaches_down_the_light_to_the_floor() {
