@@ -323,8 +323,9 @@ fn luma(img: &RgbaImage, x: u32, y: u32) -> f64 {
 fn grass_receives_the_trees_shadows() {
     // Four trees around an 8 × 8 m patch under a low morning sun, seen from 5 m straight above
     // its centre: the view holds only the patch, the trees stand outside it and their long
-    // shadows fall into it.
-    for kind in ["Shells", "Blades"] {
+    // shadows fall into it. At 160 × 120 the blades are far (rasterised by the cull pass), at
+    // 480 × 360 they are middle blades (shadowed per vertex).
+    for (kind, w, h) in [("Shells", W, H), ("Blades", W, H), ("Blades", 3 * W, 3 * H)] {
         let text = format!(
             r#"Scene(
     name: "grass shadow test", seed: 3,
@@ -345,18 +346,22 @@ fn grass_receives_the_trees_shadows() {
         let shot = |grass: bool, shadows: bool| {
             let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
             let g = gpu();
-            let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+            let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, w, h).unwrap();
             r.options.grass = grass;
             r.options.shadows = shadows;
-            offscreen::render_image(g, &mut r, &s).unwrap()
+            (offscreen::render_image(g, &mut r, &s).unwrap(), r.features.grass.visible_blades().unwrap())
         };
-        let (grass_lit, grass_shadowed) = (shot(true, false), shot(true, true));
-        let (bare_lit, bare_shadowed) = (shot(false, false), shot(false, true));
+        let ((grass_lit, _), (grass_shadowed, counts)) = (shot(true, false), shot(true, true));
+        let ((bare_lit, _), (bare_shadowed, _)) = (shot(false, false), shot(false, true));
+        if kind == "Blades" {
+            let level = if w == W { counts.far } else { counts.mid };
+            assert!(level > counts.total() / 2, "{kind} at {w} × {h}: {counts:?}");
+        }
         // The pixels where the grass covers the ground (it changes the unshadowed picture) and
         // where the ground lies in a tree's shadow (the bare ground darkens with shadows on).
         let (mut n, mut darker) = (0usize, 0.0);
-        for y in 0..H {
-            for x in 0..W {
+        for y in 0..h {
+            for x in 0..w {
                 let grass_here = (luma(&grass_lit, x, y) - luma(&bare_lit, x, y)).abs() > 10.0;
                 let in_shadow = luma(&bare_lit, x, y) - luma(&bare_shadowed, x, y) > 10.0;
                 if grass_here && in_shadow {
@@ -366,9 +371,9 @@ fn grass_receives_the_trees_shadows() {
             }
         }
         // A shadow covers a good part of the view, and the grass in it is darker too.
-        assert!(n > 500, "{kind}: only {n} grass pixels in a tree's shadow");
+        assert!(n > 500, "{kind} at {w} × {h}: only {n} grass pixels in a tree's shadow");
         let mean = darker / n as f64;
-        assert!(mean > 8.0, "{kind}: the grass in the trees' shadows is only {mean:.1} darker");
+        assert!(mean > 8.0, "{kind} at {w} × {h}: the grass in the trees' shadows is only {mean:.1} darker");
     }
 }
 

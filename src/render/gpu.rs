@@ -52,8 +52,15 @@ impl Shared {
         let lighting_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("lighting layout"),
             entries: &[
-                texture_entry(0, wgpu::TextureViewDimension::D2, wgpu::TextureSampleType::Depth),
-                sampler_entry(1, wgpu::SamplerBindingType::Comparison),
+                // The middle grass blades look up the shadow per vertex.
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ..texture_entry(0, wgpu::TextureViewDimension::D2, wgpu::TextureSampleType::Depth)
+                },
+                wgpu::BindGroupLayoutEntry {
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ..sampler_entry(1, wgpu::SamplerBindingType::Comparison)
+                },
                 // The ground and the grass shells look up the aerial perspective's haze per vertex.
                 wgpu::BindGroupLayoutEntry {
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,

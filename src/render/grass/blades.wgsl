@@ -9,8 +9,9 @@
 //
 // The cull pass has already evaluated the wind, the pushes and the gravity bend: a blade is a
 // quadratic Bézier curve from its root to its tip, widened across and narrowing to the tip. The
-// sun, the sky's irradiance and the specular highlight are evaluated per vertex; the fragment
-// only looks up the shadow (the trees' shadows fall on the grass).
+// sun, the sky's irradiance and the specular highlight are evaluated per vertex; a near blade's
+// fragment only looks up the shadow (the trees' shadows fall on the grass), a middle blade's
+// vertices look it up themselves.
 //
 // Units: metres, radians; +Y up.
 
@@ -105,9 +106,13 @@ fn vs_near(@builtin(vertex_index) v: u32) -> VertexOut {
     return strip_vertex(shapes[lists[v / NEAR_VERTICES]], v % NEAR_VERTICES, NEAR_SEGMENTS);
 }
 
+// A middle blade is a few pixels wide: its shadow is looked up per vertex (7 lookups a blade
+// instead of one for each of its pixels) and `fs_lit` only adds the light up.
 @vertex
 fn vs_mid(@builtin(vertex_index) v: u32) -> VertexOut {
-    return strip_vertex(shapes[lists[v / MID_VERTICES]], v % MID_VERTICES, MID_SEGMENTS);
+    var out = strip_vertex(shapes[lists[v / MID_VERTICES]], v % MID_VERTICES, MID_SEGMENTS);
+    out.direct = out.direct * shadow_factor(out.world_pos, out.normal);
+    return out;
 }
 
 // The far blades' rectangle: two triangles over the box of pixels the cull pass found them to
@@ -161,6 +166,12 @@ fn fs_far(@builtin(position) pos: vec4<f32>) -> FarOut {
     out.colour = vec4<f32>(tone(c), 1.0);
     out.depth = z;
     return out;
+}
+
+// A middle blade's pixel: its light, shadowed per vertex (`vs_mid`).
+@fragment
+fn fs_lit(in: VertexOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(tone(in.ambient + in.direct), 1.0);
 }
 
 @fragment

@@ -432,7 +432,7 @@ fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::Pip
             constants: &constants,
         })
     };
-    Ok([one("grass blade pipeline (near)", "vs_near", "fs_main"), one("grass blade pipeline (middle)", "vs_mid", "fs_main"), one("grass blade pipeline (far)", "vs_far", "fs_far")])
+    Ok([one("grass blade pipeline (near)", "vs_near", "fs_main"), one("grass blade pipeline (middle)", "vs_mid", "fs_lit"), one("grass blade pipeline (far)", "vs_far", "fs_far")])
 }
 
 impl Feature for Grass {
