@@ -55,7 +55,7 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, path: &Pa
         if grass {
             // The blades the last frame drew at each level of detail.
             let b = renderer.features.grass.visible_blades()?;
-            row["blades"] = json!({"near": b.near, "mid": b.mid, "far": b.far});
+            (row["blades_near"], row["blades_mid"], row["blades_far"]) = (json!(b.near), json!(b.mid), json!(b.far));
         }
         rows.insert(name.into(), row);
     }
