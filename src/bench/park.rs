@@ -15,6 +15,7 @@ use std::path::Path;
 use anyhow::anyhow;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
+use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
@@ -37,12 +38,11 @@ const ROWS: [(&str, bool, bool, bool); 4] = [
     ("grass_water_shadows", true, true, true),
 ];
 
-/// The park table of the scene `path` (the park's, [`park_scene`], or another) with `gpu` and
-/// `renderer`: one row per configuration, `frames` frames each.
-pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, path: &Path) -> anyhow::Result<Value> {
-    let scene = super::load_scene(path)?;
-    let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+/// The park table of `scene` (the park's, [`park_scene`], or another; read from `path`) with
+/// `gpu` and `renderer`: one row per configuration, `frames` frames each.
+pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &Scene, path: &Path) -> anyhow::Result<Value> {
+    let sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
+    crate::bank::load_for_scene(renderer, scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
     let saved = renderer.options;
     let mut rows = serde_json::Map::new();
     for (name, grass, water, shadows) in ROWS {
@@ -86,8 +86,8 @@ fn one_frame(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::
 pub fn bench_park(options: RenderBenchOptions, scene: Option<&Path>) -> anyhow::Result<Value> {
     let path = scene.map_or_else(park_scene, Path::to_path_buf);
     // A scene that does not load is the user's error, told before the device is set up.
-    super::load_scene(&path)?;
+    let scene = super::load_scene(&path)?;
     let (gpu, mut renderer, adapter) = setup(options, false)?;
-    let figures = park_figures(&gpu, &mut renderer, 10, &path)?;
+    let figures = park_figures(&gpu, &mut renderer, 10, &scene, &path)?;
     Ok(json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": super::render::WALL_TIMING, "park": figures}))
 }

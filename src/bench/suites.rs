@@ -36,7 +36,8 @@ pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
     out.insert("forest_10k_trees".into(), forest);
     out.insert("water_test".into(), super::water::water_figures(&gpu, &mut renderer, 30)?);
     out.insert("grass".into(), super::grass::bench_grass_gpu(&gpu)?);
-    out.insert("park".into(), super::park::park_figures(&gpu, &mut renderer, 30, &super::park::park_scene())?);
+    let park = super::park::park_scene();
+    out.insert("park".into(), super::park::park_figures(&gpu, &mut renderer, 30, &super::load_scene(&park)?, &park)?);
     super::impostor::forest_gpu_figures(&gpu, &mut renderer, &mut out)?;
     Ok(Value::Object(out))
 }
