@@ -8,7 +8,6 @@
 //! is idle, the median of several frames after a warm-up frame; pass times where the device has
 //! timestamp queries.
 
-
 use anyhow::anyhow;
 use glam::{Vec2, Vec3};
 use crate::render::offscreen::{self, Gpu};

@@ -128,10 +128,7 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
                 .then(p.2.origin[0].total_cmp(&q.2.origin[0]))
                 .then(p.2.origin[2].total_cmp(&q.2.origin[2]))
         });
-        // The list is sorted by bucket, so each bucket is one run of it.
-        let base = all.len() as u32;
-        let end = |b: usize| base + list.partition_point(|e| e.0 < b) as u32;
-        ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
+        ranges.push(bucket_ranges(all.len() as u32, &list, |e| e.0));
         all.extend(list.iter().map(|e| e.2));
     }
     let mut flat = Vec::new();
@@ -143,6 +140,13 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
         impostor_ranges.push(base..flat.len() as u32);
     }
     Gathered { instances: all, ranges, impostors: flat, impostor_ranges }
+}
+
+/// The range of each keep bucket of one model's instances, `sorted` by their bucket (`bucket`
+/// of each), once they are placed from `base` in the instance list: each bucket is one run.
+pub(crate) fn bucket_ranges<T>(base: u32, sorted: &[T], bucket: impl Fn(&T) -> usize) -> BucketRanges {
+    let end = |b: usize| base + sorted.partition_point(|e| bucket(e) < b) as u32;
+    std::array::from_fn(|b| end(b)..end(b + 1))
 }
 
 /// The bounds of every tree whose model is loaded, metres: each model's box turned to any yaw

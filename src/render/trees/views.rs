@@ -11,7 +11,7 @@
 use glam::Vec3;
 use grove_systems::wind_model::WindParams;
 
-use super::instances::{BucketRanges, Gathered, Instance};
+use super::instances::{bucket_ranges, BucketRanges, Gathered, Instance};
 use super::lod;
 use super::model::GpuModel;
 use super::sweep::Placement;
@@ -91,9 +91,7 @@ pub(crate) fn shadow_detail(casters: &Gathered, leaf_area: impl Fn(usize) -> Opt
             .collect();
         // A stable sort: each bucket keeps its trees in the order they had.
         list.sort_by_key(|e| e.0);
-        let base = out.instances.len() as u32;
-        let end = |b: usize| base + list.partition_point(|e| e.0 < b) as u32;
-        out.ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
+        out.ranges.push(bucket_ranges(out.instances.len() as u32, &list, |e| e.0));
         out.instances.extend(list.iter().map(|e| e.1));
     }
     out
