@@ -121,6 +121,9 @@ fn aerial(c: vec3<f32>, world_pos: vec3<f32>) -> vec3<f32> {
     return mix(c, h.rgb, h.a);
 }
 
+// The distance from the camera, metres, within which there is no haze.
+const HAZE_START: f32 = 40.0;
+
 // The haze colour (rgb) and its share (a) at `world_pos`, as `aerial` mixes them: shaders that
 // fade per vertex interpolate this and mix in the fragment. The colour is the sky's along the
 // view ray (`sky_lit`), so terrain that has faded entirely (at the far plane, where it ends) is
@@ -128,7 +131,7 @@ fn aerial(c: vec3<f32>, world_pos: vec3<f32>) -> vec3<f32> {
 fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
     let to = world_pos - frame.camera_pos;
     let d = max(length(to), 1e-6);
-    let f = max(1.0 - exp(-max(d - 40.0, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
+    let f = max(1.0 - exp(-max(d - HAZE_START, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
     let u = to / d;
     return vec4<f32>(sky_lit(u, log2(max(dot(u, frame.sun_dir), 1e-6))), f);
 }

@@ -2,7 +2,7 @@
 // with the normal's component along the face normal flipped on back faces. Every vertex, in the
 // main pass and the shadow pass alike, is displaced by wind.wgsl's `wind_displace` (the global
 // model `WIND_MODEL`) from its `_WIND` channels and the instance's WindState. lighting.wgsl and
-// wind.wgsl are prepended.
+// wind.wgsl are prepended. The main pass fades each vertex into the aerial perspective's haze.
 
 // #import lighting, wind, octa
 
@@ -83,6 +83,9 @@ struct VertexOut {
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
     @location(4) color: vec4<f32>,
+    // The aerial perspective's haze colour (rgb) and its share (a) at the vertex (lighting.wgsl
+    // `haze_at`), as the ground fades: a tree fades into the distance with the ground it stands on.
+    @location(5) haze: vec4<f32>,
 };
 
 fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
@@ -116,6 +119,13 @@ fn vs_main(v: VertexIn) -> VertexOut {
     out.tangent = vec4<f32>(rotate_y(v.tangent.xyz, v.yaw), v.tangent.w);
     out.uv = v.uv;
     out.color = v.color;
+    // Within HAZE_START (40 m) of the camera there is no haze, so the near trees, the most
+    // vertices, skip its sky lookup.
+    out.haze = vec4<f32>(0.0);
+    let to = wp - frame.camera_pos;
+    if (dot(to, to) > HAZE_START * HAZE_START) {
+        out.haze = haze_at(wp);
+    }
     return out;
 }
 
@@ -155,7 +165,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     }
     let spec = spec_tex * material.specular_factor;
     let c = shade(base.rgb, n, in.world_pos, spec, material.roughness, material.translucency);
-    return vec4<f32>(tone(c), 1.0);
+    return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
 }
 
 struct DepthOut {

@@ -124,12 +124,12 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayou
     let sun = matches!(key.view, ViewKind::Sun);
     let constants = [shadows, ("SUN_VIEW", if sun { 1.0 } else { 0.0 })];
     let label = format!("impostor pipeline ({key:?})");
-    let spec = |layout, fragment, depth, targets: &[Option<wgpu::ColorTargetState>]| {
+    let spec = |layout, (vertex, fragment), depth, targets: &[Option<wgpu::ColorTargetState>]| {
         shared.pipeline(&PipelineSpec {
             label: &label,
             layout,
             module,
-            vertex: "vs_impostor",
+            vertex,
             fragment: Some(fragment),
             buffers: &buffers,
             topology: wgpu::PrimitiveTopology::TriangleList,
@@ -145,11 +145,11 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayou
             bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
             ..depth_test(true, wgpu::CompareFunction::Less)
         };
-        ImpostorPipeline { depth: spec(shadow, "fs_impostor_shadow", depth, &[]), shade: None }
+        ImpostorPipeline { depth: spec(shadow, ("vs_impostor_depth", "fs_impostor_shadow"), depth, &[]), shade: None }
     } else {
         ImpostorPipeline {
-            depth: spec(lit, "fs_impostor_depth", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),
-            shade: Some(spec(lit, "fs_impostor", depth_test(false, wgpu::CompareFunction::Equal), &color_target(key.format, wgpu::ColorWrites::ALL))),
+            depth: spec(lit, ("vs_impostor_depth", "fs_impostor_depth"), depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),
+            shade: Some(spec(lit, ("vs_impostor", "fs_impostor"), depth_test(false, wgpu::CompareFunction::Equal), &color_target(key.format, wgpu::ColorWrites::ALL))),
         }
     }
 }

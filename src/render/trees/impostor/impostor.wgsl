@@ -1,7 +1,8 @@
 // Impostors: one quad per far tree, facing the camera (the sun in the shadow map), showing the
 // three atlas views nearest to its direction blended by barycentric weights, alpha-tested
 // against the baked coverage, lit with the baked normals, at the baked depth, and leaned by the
-// tree's WindState as its trunk is in wind.wgsl. lighting.wgsl, wind.wgsl and
+// tree's WindState as its trunk is in wind.wgsl, and faded into the aerial perspective's haze as
+// the mesh is. lighting.wgsl, wind.wgsl and
 // octa.wgsl are prepended. Units: metres, radians; +Y up.
 
 // #import lighting, wind, octa
@@ -53,6 +54,8 @@ struct ImpostorOut {
     @location(6) @interpolate(flat) cells01: vec4<f32>,
     @location(7) @interpolate(flat) cell2: vec2<f32>,
     @location(8) @interpolate(flat) weights: vec3<f32>,
+    // The aerial perspective's haze at the vertex (lighting.wgsl `haze_at`), as on the mesh.
+    @location(9) haze: vec4<f32>,
 };
 
 fn imp_rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
@@ -71,8 +74,24 @@ fn imp_view_coords(rel: vec3<f32>, m: vec3<f32>, cell: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(dot(x, right), dot(x, up)) / imp.radius;
 }
 
+// The main view's impostor vertex: `impostor_vertex` faded into the aerial perspective's haze.
 @vertex
 fn vs_impostor(@builtin(vertex_index) vi: u32, v: ImpostorIn) -> ImpostorOut {
+    var out = impostor_vertex(vi, v);
+    out.haze = haze_at(out.world_pos);
+    return out;
+}
+
+// The impostor vertex of the depth-only passes (the main view's pre-pass and the shadow map):
+// no haze, which they do not draw (and the shadow map's layout binds no environment map). Its
+// clip position is `vs_impostor`'s, computed by the same function.
+@vertex
+fn vs_impostor_depth(@builtin(vertex_index) vi: u32, v: ImpostorIn) -> ImpostorOut {
+    return impostor_vertex(vi, v);
+}
+
+// One corner of an impostor's quad (`vi`, two triangles) for the tree instance `v`.
+fn impostor_vertex(vi: u32, v: ImpostorIn) -> ImpostorOut {
     var corners = array<vec2<f32>, 6>(
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
         vec2<f32>(-1.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
@@ -127,6 +146,7 @@ fn vs_impostor(@builtin(vertex_index) vi: u32, v: ImpostorIn) -> ImpostorOut {
     out.cells01 = vec4<f32>(c0, c1);
     out.cell2 = c2;
     out.weights = vec3<f32>(w0, w1, w2);
+    out.haze = vec4<f32>(0.0);
     return out;
 }
 
@@ -179,7 +199,7 @@ fn fs_impostor(in: ImpostorOut) -> @location(0) vec4<f32> {
     let nm = imp_rotate_y(nd.xyz * 2.0 - 1.0, in.yaw);
     let n = select(vec3<f32>(0.0, 1.0, 0.0), nm * inverseSqrt(max(dot(nm, nm), 1e-12)), dot(nm, nm) > 1e-6);
     let c = shade(albedo, n, surface, 0.0, 0.8, 0.3);
-    return vec4<f32>(tone(c), 1.0);
+    return vec4<f32>(tone(mix(c, in.haze.rgb, in.haze.a)), 1.0);
 }
 
 // Depth only, for the main view's pre-pass: coverage and dither, at the quad's depth. (With the
