@@ -44,6 +44,11 @@ fn world(scene: &Scene, view: Option<(Vec3, Vec3)>) -> Sim {
 
 /// The image and the main view's tree instances, with culling on and off.
 fn both(scene: &Scene, sim: &Sim) -> [(RgbaImage, usize); 2] {
+    both_with_shadow(scene, sim).map(|(img, main, _)| (img, main))
+}
+
+/// The image, the main view's tree instances and the shadow map's, with culling on and off.
+fn both_with_shadow(scene: &Scene, sim: &Sim) -> [(RgbaImage, usize, usize); 2] {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, 320, 180).unwrap();
@@ -51,7 +56,7 @@ fn both(scene: &Scene, sim: &Sim) -> [(RgbaImage, usize); 2] {
     [true, false].map(|cull| {
         r.options.cull_trees = cull;
         let img = offscreen::render_image(g, &mut r, sim).unwrap();
-        (img, r.stats.instances)
+        (img, r.stats.instances, r.stats.shadow_instances)
     })
 }
 
@@ -97,4 +102,19 @@ fn the_pond_and_the_garden_render_the_same_with_and_without_culling() {
         let [(culled, _), (all, _)] = both(&s, &sim);
         assert_same(&format!("{name}, from the far shore"), &culled, &all);
     }
+}
+
+/// The shadow map covers 80 m around the camera (`lighting::shadow_bounds`). In the forest, whose
+/// trees stand up to 600 m deep in the view, it draws only the trees within its own volume,
+/// though the shadows of many more would fall into the view: a tree outside the sun's view
+/// draws nothing into the map, so the image stays the same byte for byte.
+#[test]
+fn the_shadow_map_draws_only_the_trees_in_its_own_volume() {
+    let s = scene("forest.ron");
+    let [(culled, main, casters), (all, every, every_caster)] = both_with_shadow(&s, &world(&s, None));
+    assert_same("forest", &culled, &all);
+    eprintln!("forest: the main view draws {main} trees, the shadow map {casters} (without culling {every} and {every_caster})");
+    assert!(every_caster >= every && every > 5000, "without culling the shadow map draws every tree: {every_caster} of {every}");
+    assert!(casters > 0, "no tree casts a shadow near the camera");
+    assert!(casters * 4 < main, "the shadow map draws {casters} trees, the main view {main}");
 }

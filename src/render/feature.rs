@@ -17,8 +17,10 @@ use super::view::{Camera, ViewUniform};
 /// Draw statistics of the last frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FrameStats {
-    /// Tree instances drawn.
+    /// Tree instances drawn (the main view's).
     pub instances: usize,
+    /// Tree instances drawn into the shadow map (0 without shadows).
+    pub shadow_instances: usize,
     /// Draw calls in the main pass.
     pub draws: usize,
     /// Triangles submitted in the main pass.

@@ -102,9 +102,11 @@ impl Renderer {
         // The trees each pass draws: those that may reach into its view, and for the shadow
         // map those whose shadows may (down to the lowest drawn point, less a metre).
         let sun = key.shadows.then(|| drawn.map(|(lo, _)| (common.sun_dir, lo.y - 1.0))).flatten();
-        f.trees.cull(&ClipRegion::new(view_proj), f.water.regions(), sun, shadow_size / extent.max(1e-3), options.cull_trees);
+        let light = ClipRegion::new(light_vp);
+        f.trees.cull(&ClipRegion::new(view_proj), f.water.regions(), sun, &light, shadow_size / extent.max(1e-3), options.cull_trees);
         let f = &self.features;
-        let mut stats = FrameStats { instances: f.trees.instance_count, ..Default::default() };
+        let shadow_instances = if key.shadows { f.trees.shadow_instance_count } else { 0 };
+        let mut stats = FrameStats { instances: f.trees.instance_count, shadow_instances, ..Default::default() };
 
         if let Some(t) = &mut self.timer {
             t.begin_frame();

@@ -68,6 +68,8 @@ pub struct Trees {
     capacity: usize,
     /// This frame's instance count in the main view (meshes and impostors).
     pub instance_count: usize,
+    /// The tree instances the shadow map draws this frame (set by [`Trees::cull`]).
+    pub shadow_instance_count: usize,
     /// This frame's trees as gathered, before culling (`None` before the first frame).
     every: Option<Gathered>,
     /// Each view's instance range of each (model, keep bucket), in the uploaded buffer.
@@ -107,6 +109,7 @@ impl Trees {
             instances: instance_buffer(&shared.device, capacity),
             capacity,
             instance_count: 0,
+            shadow_instance_count: 0,
             every: None,
             ranges: Vec::new(),
             impostors: ImpostorGpu::new(shared),
@@ -152,18 +155,21 @@ impl Trees {
     }
 
     /// Culls this frame's trees for every pass: the main view's (`main`), each extra view's
-    /// (`extra`, [`TreeView::Extra`] in order) and the shadow map's, which keeps the trees whose
-    /// shadow, cast away from the sun (`sun`: the unit vector towards it and the lowest height a
-    /// shadow can fall on) may reach into one of those views (every tree when `sun` is `None`).
-    /// The shadow map draws its trees with no more leaves than it can show at
-    /// `shadow_texels_per_metre` ([`views::shadow_detail`]). Uploads every view's instances.
-    /// Call after [`Feature::prepare`]. Without `enabled`, every view draws every tree.
-    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>, shadow_texels_per_metre: f32, enabled: bool) {
+    /// (`extra`, [`TreeView::Extra`] in order) and the shadow map's, which keeps the trees that
+    /// may reach into the sun's view (`light`, the shadow map's clip volume: a tree wholly
+    /// outside it draws nothing there) and whose shadow, cast away from the sun (`sun`: the unit
+    /// vector towards it and the lowest height a shadow can fall on), may reach into one of those
+    /// views (any shadow when `sun` is `None`). The shadow map draws its trees with no more
+    /// leaves than it can show at `shadow_texels_per_metre` ([`views::shadow_detail`]). Uploads
+    /// every view's instances. Call after [`Feature::prepare`]. Without `enabled`, every view
+    /// draws every tree.
+    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>, light: &ClipRegion, shadow_texels_per_metre: f32, enabled: bool) {
         let (Some(every), Some(wind)) = (&self.every, &self.wind) else { return };
         let models = &self.models;
         let leaf_area = |m: usize| models.get(m).and_then(Option::as_ref).map(|model| model.leaf_area);
         if !enabled {
             self.instance_count = every.instances.len() + every.impostors.len();
+            self.shadow_instance_count = self.instance_count;
             let mut all = vec![every.clone(); 2 + extra.len()];
             all[TreeView::Casters.index()] = views::shadow_detail(every, leaf_area, shadow_texels_per_metre);
             self.upload(&all);
@@ -171,13 +177,12 @@ impl Trees {
         }
         let inside = |r: &ClipRegion| views::cull(every, models, wind, |lo, hi| r.may_hold(lo, hi));
         let receivers: Vec<&ClipRegion> = std::iter::once(main).chain(extra).collect();
-        let casters = match sun {
-            Some((dir, floor)) => views::cull(every, models, wind, |lo, hi| {
-                views::shadow_box(lo, hi, dir, floor).is_none_or(|(lo, hi)| receivers.iter().any(|r| r.may_hold(lo, hi)))
-            }),
-            None => every.clone(),
-        };
+        let casters = views::cull(every, models, wind, |lo, hi| {
+            let shadow = sun.and_then(|(dir, floor)| views::shadow_box(lo, hi, dir, floor));
+            light.may_hold(lo, hi) && shadow.is_none_or(|(lo, hi)| receivers.iter().any(|r| r.may_hold(lo, hi)))
+        });
         let casters = views::shadow_detail(&casters, leaf_area, shadow_texels_per_metre);
+        self.shadow_instance_count = casters.instances.len() + casters.impostors.len();
         let main = inside(main);
         self.instance_count = main.instances.len() + main.impostors.len();
         let views: Vec<Gathered> = [casters, main].into_iter().chain(extra.iter().map(inside)).collect();
@@ -295,6 +300,7 @@ impl Feature for Trees {
         self.ranges.clear();
         self.impostor_ranges.clear();
         self.instance_count = 0;
+        self.shadow_instance_count = 0;
         self.impostors.prepare(cx.shared, cx.key)?;
         if cx.key.shadows {
             self.impostors.prepare(cx.shared, cx.key.with_view(ViewKind::Sun))?;

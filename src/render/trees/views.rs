@@ -1,6 +1,7 @@
 //! The trees each pass draws: the main view and each water view only the trees whose bands may
 //! reach into their [`ClipRegion`](crate::render::clip::ClipRegion), the sun's shadow map only
-//! those whose shadows may fall into one of those views ([`shadow_box`]). A culled tree lies
+//! those that may reach into its own clip volume and whose shadows may fall into one of those
+//! views ([`shadow_box`]). A culled tree lies
 //! wholly outside the pass's region, so no pixel changes: the pass is spared its vertices and its
 //! triangles, which on a software rasteriser cost as much as the pixels of a small tree.
 //!
