@@ -48,6 +48,11 @@ fn stage(data: &gltf_load::ModelData, distance: f32) -> Sim {
 /// `sim` rendered with the model loaded (or not), no shadows, every leaf, and every tree an
 /// impostor (`impostor`) or none.
 fn draw(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor: bool) -> RgbaImage {
+    draw_counted(data, sim, with_model, impostor).0
+}
+
+/// [`draw`], with the tree instances the main view drew.
+fn draw_counted(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor: bool) -> (RgbaImage, usize) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
     let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
@@ -58,7 +63,8 @@ fn draw(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor: bool
     r.options.leaf_pixels = 0.0;
     r.options.far_pixels = 0.0;
     r.options.impostor_pixels = if impostor { 1.0e6 } else { 0.0 };
-    offscreen::render_image(g, &mut r, sim).unwrap()
+    let img = offscreen::render_image(g, &mut r, sim).unwrap();
+    (img, r.stats.instances)
 }
 
 /// The mean colour of the tree's pixels (those that differ from the render without it by more
@@ -82,10 +88,14 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt()
 }
 
+fn broadleaf() -> gltf_load::ModelData {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trees/broadleaf-mesh.gltf");
+    gltf_load::load_model(&path).unwrap()
+}
+
 #[test]
 fn a_far_tree_fades_towards_the_sky_as_the_ground_does() {
-    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trees/broadleaf-mesh.gltf");
-    let data = gltf_load::load_model(&path).unwrap();
+    let data = broadleaf();
     for impostor in [false, true] {
         let kind = if impostor { "impostor" } else { "mesh" };
         let mut contrast = Vec::new();
@@ -104,5 +114,31 @@ fn a_far_tree_fades_towards_the_sky_as_the_ground_does() {
             contrast[1],
             contrast[0]
         );
+    }
+}
+
+/// A tree lost in the haze (`HIDDEN_IN_HAZE`: 97 % of it, from about 566 m) is not drawn, and
+/// that is invisible: at 560 m, just short of it, the tree is drawn yet no pixel differs from the
+/// sky behind it by more than 4 of 255, while at 500 m it still shows.
+#[test]
+fn a_tree_lost_in_the_haze_is_not_drawn() {
+    use grove::render::lighting::haze_share;
+    use grove::render::trees::instances::HIDDEN_IN_HAZE;
+    let data = broadleaf();
+    assert!(haze_share(560.0) < HIDDEN_IN_HAZE && haze_share(575.0) >= HIDDEN_IN_HAZE);
+    for impostor in [false, true] {
+        let kind = if impostor { "impostor" } else { "mesh" };
+        // The trees drawn and the pixels that differ from the sky by more than 4 in a channel.
+        let seen = |d: f32| {
+            let sim = stage(&data, d);
+            let ((tree, drawn), sky) = (draw_counted(&data, &sim, true, impostor), draw(&data, &sim, false, impostor));
+            let (_, _, n) = tree_and_sky(&tree, &sky);
+            eprintln!("{kind} at {d} m: {drawn} trees drawn, {n} pixels differ from the sky");
+            (drawn, n)
+        };
+        let (drawn, shown) = seen(500.0);
+        assert!(drawn == 1 && shown > (SIZE * SIZE / 40) as usize, "{kind}: at 500 m the tree should still show ({drawn} drawn, {shown} pixels)");
+        assert_eq!(seen(560.0), (1, 0), "{kind}: at 560 m the tree is drawn and shows no more than the haze");
+        assert_eq!(seen(575.0), (0, 0), "{kind}: the tree lost in the haze at 575 m is drawn");
     }
 }

@@ -121,8 +121,14 @@ fn aerial(c: vec3<f32>, world_pos: vec3<f32>) -> vec3<f32> {
     return mix(c, h.rgb, h.a);
 }
 
-// The distance from the camera, metres, within which there is no haze.
+// The haze's share by distance from the camera, metres: none within HAZE_START, then
+// 1 - exp(-(d - HAZE_START) / HAZE_DEPTH), and all of it from HAZE_FULL_FROM to HAZE_FULL_AT
+// (a smoothstep), just short of the far plane (600 m). The CPU twin is `lighting::haze_share`,
+// which holds these constants too.
 const HAZE_START: f32 = 40.0;
+const HAZE_DEPTH: f32 = 400.0;
+const HAZE_FULL_FROM: f32 = 350.0;
+const HAZE_FULL_AT: f32 = 590.0;
 
 // The haze colour (rgb) and its share (a) at `world_pos`, as `aerial` mixes them: shaders that
 // fade per vertex interpolate this and mix in the fragment. The colour is the sky's along the
@@ -131,7 +137,7 @@ const HAZE_START: f32 = 40.0;
 fn haze_at(world_pos: vec3<f32>) -> vec4<f32> {
     let to = world_pos - frame.camera_pos;
     let d = max(length(to), 1e-6);
-    let f = max(1.0 - exp(-max(d - HAZE_START, 0.0) / 400.0), smoothstep(350.0, 590.0, d));
+    let f = max(1.0 - exp(-max(d - HAZE_START, 0.0) / HAZE_DEPTH), smoothstep(HAZE_FULL_FROM, HAZE_FULL_AT, d));
     let u = to / d;
     return vec4<f32>(sky_lit(u, log2(max(dot(u, frame.sun_dir), 1e-6))), f);
 }

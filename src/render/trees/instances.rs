@@ -50,6 +50,12 @@ pub fn uses_far(bounds: (glam::Vec3, glam::Vec3), scale: f32, distance: f32, pix
     far_pixels > 0.0 && 2.0 * radius / distance.max(1e-3) * pixels_per_radian < far_pixels
 }
 
+/// A tree whose base lies this deep in the aerial perspective's haze
+/// ([`haze_share`](crate::render::lighting::haze_share), from about 566 m on) is not drawn:
+/// trees fade into the haze as the ground does (`trees.wgsl`, `impostor.wgsl`), so it would
+/// differ from the haze behind it by at most 3 % of its contrast, a few levels of 255.
+pub const HIDDEN_IN_HAZE: f32 = 0.97;
+
 /// The instance range of each keep bucket of one model.
 pub(crate) type BucketRanges = [std::ops::Range<u32>; lod::BUCKETS];
 
@@ -67,7 +73,8 @@ pub(crate) struct Gathered {
     pub impostor_ranges: Vec<std::ops::Range<u32>>,
 }
 
-/// The instances of every tree whose model is loaded, grouped by model and, within a model, by
+/// The instances of every tree whose model is loaded and that is not lost in the haze
+/// ([`HIDDEN_IN_HAZE`]), grouped by model and, within a model, by
 /// keep bucket ([`lod::bucket`]), nearest first; and the instance range of each (model,
 /// bucket). `height` is the target's height in pixels and
 /// `leaf_pixels` the smallest area a drawn leaf should cover. Trees of a model with an impostor
@@ -88,6 +95,9 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
         };
         let scale = t.scale;
         let d2 = (t.origin - eye).length_squared();
+        if crate::render::lighting::haze_share(d2.sqrt()) >= HIDDEN_IN_HAZE {
+            continue;
+        }
         // A tree small on screen is drawn as its model's far model, where it has one.
         let index = match far.get(t.model).copied().flatten() {
             Some(f) if matches!(models.get(f), Some(Some(_))) && uses_far(near.bounds, scale, d2.sqrt(), pixels_per_radian, far_pixels) => f,
