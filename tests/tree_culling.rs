@@ -114,7 +114,8 @@ fn the_shadow_map_draws_only_the_trees_in_its_own_volume() {
     let [(culled, main, casters), (all, every, every_caster)] = both_with_shadow(&s, &world(&s, None));
     assert_same("forest", &culled, &all);
     eprintln!("forest: the main view draws {main} trees, the shadow map {casters} (without culling {every} and {every_caster})");
-    assert!(every_caster >= every && every > 5000, "without culling the shadow map draws every tree: {every_caster} of {every}");
+    // (Trees lost in the haze, beyond about 566 m, are left out before any view: not all 10,106.)
+    assert!(every_caster >= every && every > main, "without culling the shadow map and the main view draw every tree: {every_caster} and {every}, culled {main}");
     assert!(casters > 0, "no tree casts a shadow near the camera");
     assert!(casters * 4 < main, "the shadow map draws {casters} trees, the main view {main}");
 }
