@@ -14,8 +14,7 @@ use grove::render::offscreen::{self, Gpu};
 use grove::render::trees::impostor::{self, cell_dir, BAND};
 use grove::render::{gltf_load, Renderer};
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{Head, Plane, Pose};
-use grove_systems::stage::model_stage;
+use grove_systems::components::{Head, Pose};
 use grove_systems::Sim;
 use image::RgbaImage;
 
@@ -33,38 +32,15 @@ fn model_path(name: &str) -> std::path::PathBuf {
     std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trees").join(format!("{name}.gltf"))
 }
 
-/// The model's stage (one tree at the origin, yaw 0, no wind), seen from `distance` metres
-/// along the model-space direction `dir` from the centre of its bounds, the field of view
-/// fitted to the bounding sphere. Returns the sim and the sphere's radius.
-fn stage(data: &gltf_load::ModelData, dir: Vec3, distance: f32) -> (Sim, f32) {
-    let mut sim = model_stage(data.bounds, 1.0, false, ModelId(0)).unwrap();
-    // Without the ground, the tree stands against the sky alone, so its silhouette is exact.
-    let planes: Vec<hecs::Entity> = sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, _)| e).collect();
-    for e in planes {
-        sim.set_up().despawn(e).unwrap();
-    }
-    let (lo, hi) = data.bounds;
-    let centre = (lo + hi) * 0.5;
-    let radius = (hi - lo).length() * 0.5;
-    let eye = centre + dir * distance;
-    let fov = 2.0 * (radius / distance).asin() * 1.05;
-    sim.set_up().camera(Head { pose: Pose::looking_at(eye, centre), fov_y: fov });
-    (sim, radius)
-}
+#[path = "fixtures/sky_stage.rs"]
+mod sky_stage;
+use sky_stage::stage;
 
 /// Renders `sim` with the model loaded (or not), no shadows, every leaf drawn, and impostors
 /// below `impostor_pixels`.
 fn draw(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor_pixels: f32) -> RgbaImage {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    let g = gpu();
-    let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
-    if with_model {
-        r.features.trees.set_model(ModelId(0), data);
-    }
-    r.options.shadows = false;
-    r.options.leaf_pixels = 0.0;
-    r.options.impostor_pixels = impostor_pixels;
-    offscreen::render_image(g, &mut r, sim).unwrap()
+    sky_stage::draw(gpu(), data, sim, with_model, SIZE, impostor_pixels).0
 }
 
 /// Whether each pixel shows the tree: it differs from the background render by more than 30

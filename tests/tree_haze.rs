@@ -10,11 +10,8 @@
 //! (lavapipe in CI); without one the test fails loudly.
 
 use glam::Vec3;
-use grove::render::offscreen::{self, Gpu};
-use grove::render::{gltf_load, Renderer};
-use grove_systems::catalogue::ModelId;
-use grove_systems::components::{Head, Plane, Pose};
-use grove_systems::stage::model_stage;
+use grove::render::offscreen::Gpu;
+use grove::render::gltf_load;
 use grove_systems::Sim;
 use image::RgbaImage;
 
@@ -28,21 +25,13 @@ fn gpu() -> &'static Gpu {
     shared_gpu::shared_gpu("tree haze tests")
 }
 
-/// One tree of `data` at the origin with no ground, seen level from `distance` metres south of
-/// its bounds' centre, the field of view fitted to its bounding sphere.
+#[path = "fixtures/sky_stage.rs"]
+mod sky_stage;
+
+/// One tree of `data` against the sky, seen level from `distance` metres south of its bounds'
+/// centre, the field of view fitted to its bounding sphere.
 fn stage(data: &gltf_load::ModelData, distance: f32) -> Sim {
-    let mut sim = model_stage(data.bounds, 1.0, false, ModelId(0)).unwrap();
-    let planes: Vec<hecs::Entity> = sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, _)| e).collect();
-    for e in planes {
-        sim.set_up().despawn(e).unwrap();
-    }
-    let (lo, hi) = data.bounds;
-    let centre = (lo + hi) * 0.5;
-    let radius = (hi - lo).length() * 0.5;
-    let fov = 2.0 * (radius / distance).asin() * 1.05;
-    let eye = centre + Vec3::Z * distance;
-    sim.set_up().camera(Head { pose: Pose::looking_at(eye, centre), fov_y: fov });
-    sim
+    sky_stage::stage(data, Vec3::Z, distance).0
 }
 
 /// `sim` rendered with the model loaded (or not), no shadows, every leaf, and every tree an
@@ -54,21 +43,12 @@ fn draw(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor: bool
 /// [`draw`], with the tree instances the main view drew.
 fn draw_counted(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor: bool) -> (RgbaImage, usize) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    let g = gpu();
-    let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
-    if with_model {
-        r.features.trees.set_model(ModelId(0), data);
-    }
-    r.options.shadows = false;
-    r.options.leaf_pixels = 0.0;
-    r.options.far_pixels = 0.0;
-    r.options.impostor_pixels = if impostor { 1.0e6 } else { 0.0 };
-    let img = offscreen::render_image(g, &mut r, sim).unwrap();
-    (img, r.stats.instances)
+    sky_stage::draw(gpu(), data, sim, with_model, SIZE, if impostor { 1.0e6 } else { 0.0 })
 }
 
 /// The mean colour of the tree's pixels (those that differ from the render without it by more
-/// than 4 in some channel: elsewhere the two renders agree exactly) and of the sky behind them, and how many there are.
+/// than 4 in some channel: elsewhere the two renders agree exactly) and of the sky behind them,
+/// and how many there are.
 fn tree_and_sky(tree: &RgbaImage, sky: &RgbaImage) -> ([f64; 3], [f64; 3], usize) {
     let (mut t, mut s, mut n) = ([0.0; 3], [0.0; 3], 0usize);
     for (a, b) in tree.pixels().zip(sky.pixels()) {
