@@ -100,7 +100,8 @@ impl Renderer {
             c.prepare(&cx, x)?;
         }
         // The trees each pass draws: those that may reach into its view, and for the shadow
-        // map those whose shadows may (down to the lowest drawn point, less a metre).
+        // map those within the sun's view (`light`) whose shadows may reach into one (down to
+        // the lowest drawn point, less a metre).
         let sun = key.shadows.then(|| drawn.map(|(lo, _)| (common.sun_dir, lo.y - 1.0))).flatten();
         let light = ClipRegion::new(light_vp);
         f.trees.cull(&ClipRegion::new(view_proj), f.water.regions(), sun, &light, shadow_size / extent.max(1e-3), options.cull_trees);
