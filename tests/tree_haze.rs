@@ -102,7 +102,7 @@ fn a_far_tree_fades_towards_the_sky_as_the_ground_does() {
 /// sky behind it by more than 4 of 255, while at 500 m it still shows.
 #[test]
 fn a_tree_lost_in_the_haze_is_not_drawn() {
-    use grove::render::lighting::haze_share;
+    use grove::render::haze::haze_share;
     use grove::render::trees::instances::HIDDEN_IN_HAZE;
     let data = broadleaf();
     assert!(haze_share(560.0) < HIDDEN_IN_HAZE && haze_share(575.0) >= HIDDEN_IN_HAZE);

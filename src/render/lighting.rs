@@ -27,24 +27,6 @@ fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 
-/// The aerial perspective's constants (`HAZE_*` in `lighting.wgsl`, which must match): no haze
-/// within `HAZE_START` metres of the camera, then `1 - exp(-(d - HAZE_START) / HAZE_DEPTH)`,
-/// and all of it from `HAZE_FULL_FROM` to `HAZE_FULL_AT` (a smoothstep).
-pub const HAZE_START: f32 = 40.0;
-/// See [`HAZE_START`].
-pub const HAZE_DEPTH: f32 = 400.0;
-/// See [`HAZE_START`].
-pub const HAZE_FULL_FROM: f32 = 350.0;
-/// See [`HAZE_START`].
-pub const HAZE_FULL_AT: f32 = 590.0;
-
-/// The share of the haze over a surface `distance` metres from the camera, 0..1: the CPU twin
-/// of `haze_at`'s share in `lighting.wgsl`.
-pub fn haze_share(distance: f32) -> f32 {
-    let exp = 1.0 - (-(distance - HAZE_START).max(0.0) / HAZE_DEPTH).exp();
-    exp.max(smoothstep(HAZE_FULL_FROM, HAZE_FULL_AT, distance))
-}
-
 /// Light from the sun at `elevation_deg` (true elevation, degrees): off below the horizon,
 /// ramping up over the first 8°, and shifting from a warm orange near the horizon to a slightly
 /// warm white above 30°. The sky and ambient light fade through civil twilight (−6°).
@@ -213,27 +195,6 @@ mod tests {
         for c in box_corners(min, max) {
             let p = m.project_point3(c);
             assert!(p.x.abs() <= 1.0001 && p.y.abs() <= 1.0001 && (0.0..=1.0).contains(&p.z), "{p:?}");
-        }
-    }
-
-    #[test]
-    fn the_haze_share_is_the_shaders() {
-        // The constants are those of lighting.wgsl.
-        let wgsl = include_str!("lighting.wgsl");
-        for (name, value) in [("HAZE_START", HAZE_START), ("HAZE_DEPTH", HAZE_DEPTH), ("HAZE_FULL_FROM", HAZE_FULL_FROM), ("HAZE_FULL_AT", HAZE_FULL_AT)] {
-            assert!(wgsl.contains(&format!("const {name}: f32 = {value:?};")), "lighting.wgsl's {name} is not {value:?}");
-        }
-        // None within 40 m; 1 - 1/e at 440 m; all of it from 590 m; rising in between.
-        assert_eq!(haze_share(10.0), 0.0);
-        assert_eq!(haze_share(40.0), 0.0);
-        assert!((haze_share(440.0) - (1.0 - (-1.0f32).exp()).max(smoothstep(350.0, 590.0, 440.0))).abs() < 1e-6);
-        assert!((haze_share(200.0) - (1.0 - (-0.4f32).exp())).abs() < 1e-6);
-        assert_eq!(haze_share(590.0), 1.0);
-        let mut last = 0.0;
-        for d in (0..700).map(|m| m as f32) {
-            let f = haze_share(d);
-            assert!((last..=1.0).contains(&f), "{d} m: {f}");
-            last = f;
         }
     }
 

@@ -1,7 +1,7 @@
 // Shared by every lit pass: the frame uniforms, the lighting resources and the shading model.
 // Imported by every lit shader (`// #import lighting`, src/render/shader.rs).
 
-// #import srgb
+// #import srgb, haze
 
 struct Frame {
     view_proj: mat4x4<f32>,
@@ -121,16 +121,9 @@ fn aerial(c: vec3<f32>, world_pos: vec3<f32>) -> vec3<f32> {
     return mix(c, h.rgb, h.a);
 }
 
-// The haze's share by distance from the camera, metres: none within HAZE_START, then
-// 1 - exp(-(d - HAZE_START) / HAZE_DEPTH), and all of it from HAZE_FULL_FROM to HAZE_FULL_AT
-// (a smoothstep), just short of the far plane (600 m). The CPU twin is `lighting::haze_share`,
-// which holds these constants too.
-const HAZE_START: f32 = 40.0;
-const HAZE_DEPTH: f32 = 400.0;
-const HAZE_FULL_FROM: f32 = 350.0;
-const HAZE_FULL_AT: f32 = 590.0;
-
-// The haze colour (rgb) and its share (a) at `world_pos`, as `aerial` mixes them: shaders that
+// The haze colour (rgb) and its share (a) at `world_pos`, as `aerial` mixes them (the share by
+// distance from the HAZE_* constants of the piece `haze`, src/render/haze.rs, whose
+// `haze_share` is its CPU twin): shaders that
 // fade per vertex interpolate this and mix in the fragment. The colour is the sky's along the
 // view ray (`sky_lit`), so terrain that has faded entirely (at the far plane, where it ends) is
 // the colour the sky draws beyond it, from any height: no edge at the horizon.

@@ -28,6 +28,7 @@ pub mod frame;
 pub mod gpu;
 pub mod grass;
 pub mod ground;
+pub mod haze;
 pub mod key;
 pub mod lighting;
 pub mod offscreen;

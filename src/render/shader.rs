@@ -2,9 +2,10 @@
 //! `// #import lighting, wind` (a comment, so every file stays valid WGSL on its own);
 //! [`compose`] writes each piece once, the pieces a piece imports before it, then the shader.
 //!
-//! The pieces are the shared WGSL files of [`LIBRARY`], and pieces the caller generates from
-//! Rust (the grass's constants, `grass::data::shader_constants`), so a constant shared by Rust
-//! and WGSL is written in Rust only. A leaf of `src/render`: it names no feature module.
+//! The pieces are the shared WGSL files of [`LIBRARY`], pieces written from Rust that any shader
+//! may import (the haze's constants, `haze::SHADER_CONSTANTS`), and pieces the caller generates
+//! from Rust (the grass's constants, `grass::data::shader_constants`), so a constant shared by
+//! Rust and WGSL is written in Rust only. It names no feature module, only the leaf `haze`.
 
 /// The shared WGSL files by import name.
 pub(crate) const LIBRARY: &[(&str, &str)] = &[
@@ -21,6 +22,12 @@ pub(crate) const LIBRARY: &[(&str, &str)] = &[
     // What the grass cull pass writes per blade and the blade draw's uniforms.
     ("grass_shapes", include_str!("grass/shapes.wgsl")),
 ];
+
+/// The pieces written from Rust that any shader may import: the haze's constants
+/// ([`super::haze`]).
+fn built_in() -> [(&'static str, &'static str); 1] {
+    [("haze", super::haze::SHADER_CONSTANTS.as_str())]
+}
 
 /// The names a WGSL text imports, in order: every `// #import a, b` line.
 pub(crate) fn imports(src: &str) -> Vec<&str> {
@@ -51,7 +58,7 @@ fn add<'a>(name: &'a str, generated: &[(&'a str, &'a str)], done: &mut Vec<&'a s
         return;
     }
     assert!(!path.contains(&name), "WGSL import circle: {} -> {name}", path.join(" -> "));
-    let text = LIBRARY.iter().chain(generated).find(|(n, _)| *n == name).map(|(_, t)| *t);
+    let text = LIBRARY.iter().chain(generated).chain(&built_in()).find(|(n, _)| *n == name).map(|(_, t)| *t);
     let text = text.unwrap_or_else(|| panic!("WGSL import of an unknown piece '{name}'"));
     path.push(name);
     for dep in imports(text) {
@@ -107,12 +114,21 @@ mod tests {
             }
         }
         assert!(files.len() >= 15, "{files:?}");
-        let known: Vec<&str> = LIBRARY.iter().map(|(n, _)| *n).chain(["grass_constants"]).collect();
+        let known: Vec<&str> = LIBRARY.iter().chain(&built_in()).map(|(n, _)| *n).chain(["grass_constants"]).collect();
         for f in &files {
             let text = std::fs::read_to_string(f).unwrap();
             for name in imports(&text) {
                 assert!(known.contains(&name), "{}: imports unknown '{name}'", f.display());
             }
         }
+    }
+
+    #[test]
+    fn lighting_reads_the_haze_constants_written_in_rust() {
+        let wgsl = compose("// #import lighting\n", &[]);
+        for line in super::super::haze::SHADER_CONSTANTS.lines() {
+            assert_eq!(wgsl.matches(line).count(), 1, "{line}");
+        }
+        assert!(wgsl.contains("const HAZE_START: f32 = 40.0;"), "{}", *super::super::haze::SHADER_CONSTANTS);
     }
 }

@@ -51,7 +51,7 @@ pub fn uses_far(bounds: (glam::Vec3, glam::Vec3), scale: f32, distance: f32, pix
 }
 
 /// A tree whose base lies this deep in the aerial perspective's haze
-/// ([`haze_share`](crate::render::lighting::haze_share), from about 566 m on) is not drawn:
+/// ([`haze_share`](crate::render::haze::haze_share), from about 566 m on) is not drawn:
 /// trees fade into the haze as the ground does (`trees.wgsl`, `impostor.wgsl`), so it would
 /// differ from the haze behind it by at most 3 % of its contrast, a few levels of 255.
 pub const HIDDEN_IN_HAZE: f32 = 0.97;
@@ -95,19 +95,20 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
         };
         let scale = t.scale;
         let d2 = (t.origin - eye).length_squared();
-        if crate::render::lighting::haze_share(d2.sqrt()) >= HIDDEN_IN_HAZE {
+        let distance = d2.sqrt();
+        if crate::render::haze::haze_share(distance) >= HIDDEN_IN_HAZE {
             continue;
         }
         // A tree small on screen is drawn as its model's far model, where it has one.
         let index = match far.get(t.model).copied().flatten() {
-            Some(f) if matches!(models.get(f), Some(Some(_))) && uses_far(near.bounds, scale, d2.sqrt(), pixels_per_radian, far_pixels) => f,
+            Some(f) if matches!(models.get(f), Some(Some(_))) && uses_far(near.bounds, scale, distance, pixels_per_radian, far_pixels) => f,
             _ => t.model,
         };
         let Some(Some(model)) = models.get(index) else {
             continue;
         };
-        let keep = lod::keep_fraction(model.leaf_area * scale * scale, d2.sqrt(), pixels_per_radian, leaf_pixels);
-        let fade = model.impostor.as_ref().map_or(0.0, |a| impostor::fade(2.0 * a.radius * scale, d2.sqrt(), pixels_per_radian, impostor_pixels));
+        let keep = lod::keep_fraction(model.leaf_area * scale * scale, distance, pixels_per_radian, leaf_pixels);
+        let fade = model.impostor.as_ref().map_or(0.0, |a| impostor::fade(2.0 * a.radius * scale, distance, pixels_per_radian, impostor_pixels));
         let instance = Instance {
             origin: t.origin.to_array(),
             scale,

@@ -113,7 +113,7 @@ pub fn shadow_box(lo: Vec3, hi: Vec3, sun: Vec3, floor: f32) -> Option<(Vec3, Ve
 mod tests {
     use glam::Vec3;
 
-    use super::{shadow_box, shadow_detail, SHADOW_LEAF_TEXELS};
+    use super::{bucket_ranges, shadow_box, shadow_detail, SHADOW_LEAF_TEXELS};
     use crate::render::trees::instances::{Gathered, Instance};
     use crate::render::trees::lod;
 
@@ -127,9 +127,7 @@ mod tests {
         for m in 0..2 {
             let mut list: Vec<Instance> = trees.iter().filter(|t| t.0 == m).map(|t| t.1).collect();
             list.sort_by_key(|i| lod::bucket(i.keep));
-            let base = g.instances.len() as u32;
-            let end = |b: usize| base + list.iter().filter(|i| lod::bucket(i.keep) < b).count() as u32;
-            g.ranges.push(std::array::from_fn(|b| end(b)..end(b + 1)));
+            g.ranges.push(bucket_ranges(g.instances.len() as u32, &list, |i| lod::bucket(i.keep)));
             g.instances.extend(list);
         }
         g
