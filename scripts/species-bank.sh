@@ -3,7 +3,7 @@
 # bank"): every preset in assets/species at seed 1, its level of detail 1 (about 25 % of the
 # triangles) as the mesh model NAME-lod1 and its level of detail 2 (about 5 %) as the billboard
 # model NAME-lod2, through `grove trees generate --add`; NAME-lod1 names NAME-lod2 as its far
-# model, which the renderer draws in its place where the tree is small on screen. The same grove writes the same bytes; tests/species_bank.rs
+# model, which the renderer draws in its place where the tree is small on screen. The same grove writes the same bytes; tests/integration/species_bank.rs
 # checks that the committed bank is what this script writes.
 #
 #   scripts/species-bank.sh [GROVE_BINARY] [BANK_DIR]

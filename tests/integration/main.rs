@@ -1,0 +1,62 @@
+//! grove's integration tests, one crate: one link of the app instead of one per file (each
+//! test file is a module; `cargo test --test integration NAME::` runs one of them).
+
+#[path = "../../systems/tests/graph/mod.rs"]
+mod graph;
+mod common;
+mod gltf_build;
+mod shared_gpu;
+mod sky_stage;
+mod striped_card;
+
+mod aerial;
+mod aerial_canopy;
+mod aerial_cli;
+mod aerial_tiles_cli;
+mod architecture_doc;
+mod assets;
+mod authoring;
+mod bench_cli;
+mod benchmarks_md;
+mod cli_sun;
+mod controller_model;
+mod desktop_cli;
+mod desktop_xvfb;
+mod gltf_corpus;
+mod gltf_hostile;
+mod grass_render;
+mod horizon;
+mod hostile_inputs;
+mod hostile_surfaces;
+mod html_report;
+mod import_graph;
+mod impostor;
+mod impostor_cache;
+mod interaction;
+mod lsystem;
+mod lsystem_cli;
+mod lsystem_gpu;
+mod lsystem_memo;
+mod model_bank;
+mod one_way_to_read;
+mod park_image;
+mod render_cli;
+mod render_golden;
+mod replay_format;
+mod reports_doc;
+mod scale;
+mod scale_ray;
+mod scenario_files;
+mod scenarios;
+mod sim_cli;
+mod species;
+mod species_bank;
+mod species_render;
+mod study;
+mod techniques;
+mod tree_culling;
+mod tree_haze;
+mod video;
+mod water_cli;
+mod water_render;
+mod wind_gpu;
