@@ -20,6 +20,7 @@ pub mod replay_seal;
 pub mod replay_upgrade;
 pub mod scenario;
 pub mod scene;
+pub mod serve;
 pub mod sim;
 pub mod study;
 pub mod study_merge;
