@@ -7,6 +7,8 @@
 //!   at line N of the file; each line is checked, written, and the answer's `acked` is the number
 //!   of lines now in the file. A refused line ends the request with its reason and the `acked`
 //!   count: nothing past the last good line is written.
+//! - `GET /api/status` names the server; `GET /api/index` lists the files it serves; `GET
+//!   /api/sessions` lists the sessions (without their ids).
 //! - `GET /api/sessions/ID` says how many lines the file has (where a reconnecting client goes
 //!   on from); `POST /api/sessions/ID/end` ends the session and answers with its verification.
 //!
@@ -23,7 +25,8 @@ use hyper::body::Incoming;
 use hyper::{Method, Request, Response};
 use serde_json::json;
 
-use super::http::{json, log, refused, Body, State};
+use super::respond::{json, log, refused, Body};
+use super::state::State;
 use super::line_split::{LineSplitter, SplitError};
 use super::registry::{Entry, Registry, Shared};
 use super::session::{header_from_fields, OpenFields, Session};
@@ -40,12 +43,13 @@ pub async fn route(state: &Arc<State>, req: Request<Incoming>) -> Response<Body>
     let method = req.method().clone();
     let result = match (&method, parts.as_slice()) {
         (&Method::GET, ["api", "status"]) => Ok(status(state)),
+        (&Method::GET, ["api", "index"]) => Ok(json(200, &state.statics.index())),
         (&Method::GET, ["api", "sessions"]) => Ok(json(200, &json!({ "sessions": state.registry.entries().iter().map(public).collect::<Vec<_>>() }))),
         (&Method::POST, ["api", "sessions"]) => open(state, req).await,
         (&Method::GET, ["api", "sessions", id]) => session_status(state, id).await,
         (&Method::POST, ["api", "sessions", id, "lines"]) => append(state, id, req).await,
         (&Method::POST, ["api", "sessions", id, "end"]) => end(state, id, req).await,
-        (_, ["api", "status"] | ["api", "sessions"] | ["api", "sessions", _] | ["api", "sessions", _, "lines" | "end"]) => {
+        (_, ["api", "status"] | ["api", "index"] | ["api", "sessions"] | ["api", "sessions", _] | ["api", "sessions", _, "lines" | "end"]) => {
             Err((Refusal::method(format!("{method} is not served at {path}")), json!({})))
         }
         _ => Err((Refusal::not_found(format!("no API route {path}")), json!({}))),
@@ -68,7 +72,7 @@ fn public(e: &Entry) -> serde_json::Value {
 }
 
 fn status(state: &Arc<State>) -> Response<Body> {
-    json(200, &json!({ "server": "grove serve", "version": env!("CARGO_PKG_VERSION"), "open_sessions": state.registry.open_sessions().len(), "index": state.statics.index() }))
+    json(200, &json!({ "server": "grove serve", "version": env!("CARGO_PKG_VERSION"), "open_sessions": state.registry.open_sessions().len(), "tls": state.tls }))
 }
 
 /// Reads a whole small body within the read timeout.
@@ -351,7 +355,7 @@ pub fn index_page(state: &Arc<State>) -> Response<Body> {
             }
         }
     };
-    let mut r = Response::new(super::http::full(page.into_string()));
+    let mut r = Response::new(super::respond::full(page.into_string()));
     r.headers_mut().insert(hyper::header::CONTENT_TYPE, hyper::header::HeaderValue::from_static("text/html; charset=utf-8"));
     r
 }

@@ -62,7 +62,7 @@ fn recording(ticks: u64) -> Result<(Header, Vec<Bytes>), ServeError> {
         for e in &events {
             rec.event(t, (t as f64 * 1000.0 / 60.0).round() as u64, t, e).map_err(fail)?;
         }
-        sim.step_with(events.into_iter()).map_err(|e| ServeError::Client(e.to_string()))?;
+        sim.step_with(events).map_err(|e| ServeError::Client(e.to_string()))?;
         rec.after_step(&sim).map_err(fail)?;
         if t + 1 == ticks {
             rec.flush().map_err(fail)?;

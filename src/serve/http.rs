@@ -7,8 +7,6 @@ use std::net::SocketAddr;
 use std::sync::Arc;
 use std::time::Duration;
 
-use bytes::Bytes;
-use http_body_util::{combinators::BoxBody, BodyExt, Full};
 use hyper::body::Incoming;
 use hyper::{Method, Request, Response, StatusCode};
 use hyper_util::rt::{TokioIo, TokioTimer};
@@ -17,57 +15,10 @@ use tokio::net::TcpListener;
 use tokio_rustls::TlsAcceptor;
 
 use super::registry::Registry;
+use super::respond::{full, log, refused, Body};
+use super::state::State;
 use super::static_files::StaticRoots;
 use super::{api, ids, tls, token, Refusal, ServeConfig, ServeError};
-
-/// A response body: a whole buffer or a file streamed.
-pub type Body = BoxBody<Bytes, std::io::Error>;
-
-/// What every request sees.
-pub struct State {
-    /// The sessions.
-    pub registry: Registry,
-    /// The token every request must carry, if any.
-    pub token: Option<String>,
-    /// The folders served as they are.
-    pub statics: StaticRoots,
-    /// See [`ServeConfig::read_timeout`].
-    pub read_timeout: Duration,
-    /// See [`ServeConfig::writer_lease`].
-    pub writer_lease: Duration,
-    /// Whether connections are TLS (the token's cookie is then `Secure`).
-    pub tls: bool,
-}
-
-/// A whole response body.
-pub fn full(bytes: impl Into<Bytes>) -> Body {
-    Full::new(bytes.into()).map_err(|never| match never {}).boxed()
-}
-
-/// A JSON response.
-pub fn json(status: u16, value: &serde_json::Value) -> Response<Body> {
-    let mut text = serde_json::to_string(value).unwrap_or_default();
-    text.push('\n');
-    let mut r = Response::new(full(text));
-    *r.status_mut() = StatusCode::from_u16(status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR);
-    r.headers_mut().insert(hyper::header::CONTENT_TYPE, hyper::header::HeaderValue::from_static("application/json"));
-    r.headers_mut().insert(hyper::header::CACHE_CONTROL, hyper::header::HeaderValue::from_static("no-store"));
-    r
-}
-
-/// A refusal as a JSON response `{"error": reason}`, with more fields if given.
-pub fn refused(r: &Refusal, more: serde_json::Value) -> Response<Body> {
-    let mut v = serde_json::json!({ "error": r.reason });
-    if let (Some(obj), serde_json::Value::Object(extra)) = (v.as_object_mut(), more) {
-        obj.extend(extra);
-    }
-    json(r.status, &v)
-}
-
-/// Prints one line of the server's log (stdout), prefixed by the time.
-pub fn log(line: &str) {
-    println!("{} {line}", chrono::DateTime::<chrono::Utc>::from(std::time::SystemTime::now()).format("%H:%M:%S"));
-}
 
 /// Runs the server (see [`super::run`]) until Ctrl-C or SIGTERM, then flushes every open file
 /// and writes `sessions.json`; open sessions stay open, to be continued when it starts again.
@@ -128,10 +79,12 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
             let _permit = permit;
             match acceptor {
                 None => connection(state, stream, peer, watcher).await,
-                Some(acc) => match tokio::time::timeout(state.read_timeout, acc.accept(stream)).await {
-                    Ok(Ok(tls_stream)) => connection(state, tls_stream, peer, watcher).await,
-                    Ok(Err(_)) | Err(_) => {}
-                },
+                Some(acc) => {
+                    // A handshake that fails or does not finish in time ends the connection.
+                    if let Ok(Ok(tls_stream)) = tokio::time::timeout(state.read_timeout, acc.accept(stream)).await {
+                        connection(state, tls_stream, peer, watcher).await;
+                    }
+                }
             }
         });
     }
@@ -152,7 +105,7 @@ async fn connection<I: AsyncRead + AsyncWrite + Unpin + Send + 'static>(state: A
         async move { Ok::<_, Infallible>(route(state, req).await) }
     });
     let mut builder = hyper::server::conn::http1::Builder::new();
-    builder.timer(TokioTimer::new()).header_read_timeout(Some(read_timeout)).keep_alive(true);
+    builder.timer(TokioTimer::new()).header_read_timeout(Some(read_timeout)).keep_alive(true).half_close(true);
     let conn = builder.serve_connection(TokioIo::new(io), service);
     let _ = watcher.watch(conn).await;
 }

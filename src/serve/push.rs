@@ -171,6 +171,19 @@ fn event_ms(line: &str) -> Option<u64> {
     v.get("ms")?.as_u64()
 }
 
+/// How many lines the server has of an open session, asked until it answers (a request of the
+/// lost connection may still hold the session until the server's read time is up).
+async fn server_lines(link: &mut Link<'_>, session: &str) -> Result<u64, ServeError> {
+    loop {
+        let status = link.answer(Method::GET, &format!("/api/sessions/{session}"), Bytes::new()).await?;
+        match status {
+            (200, ref v) if v["state"] == "open" => return v["acked"].as_u64().ok_or_else(|| ServeError::Client("the server's answer has no 'acked' count".into())),
+            (409, ref v) if v["code"] == "busy" => tokio::time::sleep(Duration::from_millis(200)).await,
+            other => return Err(refused("continuing the session", &other)),
+        }
+    }
+}
+
 /// Pushes a recording to the server at `endpoint`; `say` gets a line for each connection lost
 /// and found again.
 pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: &dyn Fn(&str)) -> Result<PushReport, ServeError> {
@@ -229,11 +242,7 @@ pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: 
                 // The answer is lost, not perhaps the lines: ask the server what it has.
                 let mut attempt = 0;
                 link.wait(&e, &mut attempt).await?;
-                let status = link.answer(Method::GET, &format!("/api/sessions/{session}"), Bytes::new()).await?;
-                if status.0 != 200 || status.1["state"] != "open" {
-                    return Err(refused("continuing the session", &status));
-                }
-                status.1["acked"].as_u64()
+                Some(server_lines(&mut link, &session).await?)
             }
         };
         let new_acked = new_acked.ok_or_else(|| ServeError::Client("the server's answer has no 'acked' count".into()))?;

@@ -19,7 +19,7 @@ use hyper::body::Frame;
 use hyper::{Response, StatusCode};
 use tokio::io::AsyncReadExt;
 
-use super::http::{full, Body};
+use super::respond::{full, Body};
 use super::Refusal;
 
 /// A URL prefix and the folder it maps to.
@@ -155,6 +155,9 @@ impl StaticRoots {
     }
 }
 
+/// What a file name's characters become in a URL: all but letters, digits and `-._~` encoded.
+const URL_PART: &percent_encoding::AsciiSet = &percent_encoding::NON_ALPHANUMERIC.remove(b'-').remove(b'.').remove(b'_').remove(b'~');
+
 /// The URLs of the files under `dir`, down to `depth` levels, hidden files left out.
 fn list(dir: &Path, prefix: &str, depth: u32, out: &mut Vec<String>) {
     for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
@@ -164,9 +167,9 @@ fn list(dir: &Path, prefix: &str, depth: u32, out: &mut Vec<String>) {
         }
         let p = e.path();
         if p.is_dir() && depth > 1 {
-            list(&p, &format!("{prefix}{name}/"), depth - 1, out);
+            list(&p, &format!("{prefix}{}/", percent_encoding::utf8_percent_encode(&name, URL_PART)), depth - 1, out);
         } else if p.is_file() {
-            out.push(format!("{prefix}{}", percent_encoding::utf8_percent_encode(&name, percent_encoding::NON_ALPHANUMERIC)));
+            out.push(format!("{prefix}{}", percent_encoding::utf8_percent_encode(&name, URL_PART)));
         }
     }
 }
