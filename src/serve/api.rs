@@ -276,7 +276,9 @@ async fn close_and_verify(state: &Arc<State>, mut s: tokio::sync::OwnedMutexGuar
     let (id, file, path, acked, last_tick, last_checkpoint) = (s.id.clone(), s.file_name.clone(), s.path.clone(), s.acked(), s.last_tick(), s.last_checkpoint());
     drop(s);
     let banks = state.registry.bank_dirs.clone();
+    let permit = state.verifying.acquire().await.map_err(|e| Refusal::internal(e.to_string()))?;
     let v = tokio::task::spawn_blocking(move || verify(&path, &banks, last_tick, last_checkpoint)).await.map_err(|e| Refusal::internal(e.to_string()))?;
+    drop(permit);
     log(&format!("{how} {file}: {acked} lines, {}", v.summary()));
     state.registry.verified(&id, v.clone()).map_err(|e| Refusal::internal(e.to_string()))?;
     Ok(json!({ "acked": acked, "file": file, "state": how, "verification": v }))

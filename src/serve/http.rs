@@ -37,7 +37,15 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     let listener = TcpListener::bind((config.host, config.port)).await.map_err(|e| ServeError::Bind { addr: format!("{}:{}", config.host, config.port), message: e.to_string() })?;
     let addr = listener.local_addr().map_err(|e| ServeError::Bind { addr: config.host.to_string(), message: e.to_string() })?;
     let statics = StaticRoots::new(&config.web, &config.assets, &config.banks);
-    let state = Arc::new(State { registry, token: token.clone(), statics, read_timeout: config.read_timeout, writer_lease: config.writer_lease, tls: acceptor.is_some() });
+    let state = Arc::new(State {
+        registry,
+        token: token.clone(),
+        statics,
+        read_timeout: config.read_timeout,
+        writer_lease: config.writer_lease,
+        tls: acceptor.is_some(),
+        verifying: tokio::sync::Semaphore::new(std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1))),
+    });
 
     let scheme = if acceptor.is_some() { "https" } else { "http" };
     let url = match &token {

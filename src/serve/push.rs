@@ -207,7 +207,9 @@ pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: 
     loop {
         while queued_bytes < 4 * options.max_batch_bytes {
             let Some(line) = source.next()? else { break };
-            if let (Rate::Real(f), Some(ms)) = (options.rate, event_ms(&line)) {
+            if let Rate::Real(f) = options.rate
+                && let Some(ms) = event_ms(&line)
+            {
                 due = due.max(ms as f64 / 1000.0 / f);
             }
             queued_bytes += line.len() + 1;

@@ -19,5 +19,8 @@ pub struct State {
     pub writer_lease: Duration,
     /// Whether connections are TLS (the token's cookie is then `Secure`).
     pub tls: bool,
+    /// Re-simulations running at once: at most one per core less one (at least one), so that
+    /// many sessions ending together do not take the cores from those still streaming.
+    pub verifying: tokio::sync::Semaphore,
 }
 

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use crate::common::{grove, scratch};
-use crate::serve_fixture::{push, spawn_push, study_lines, Proxy, Server};
+use crate::serve_fixture::{push, spawn_push, study_lines, wait_lines, Proxy, Server};
 
 fn sessions_json(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("sessions.json")).unwrap()).unwrap()
@@ -18,12 +18,12 @@ fn a_client_killed_mid_session_leaves_every_acknowledged_line_verified_to_its_la
     let server = Server::start(&dir, 0, &["--abandon-after", "1"]);
     let name = "P10-manual-7.jsonl";
     let original = study_lines(name);
-    let mut client = spawn_push(&Path::new("replays/study").join(name), &server.url, &["--rate", "20"]);
-    // 20 times real time: the session's 85 s take about 4 s; kill it after 1.5.
-    std::thread::sleep(Duration::from_millis(1500));
+    let mut client = spawn_push(&Path::new("replays/study").join(name), &server.url, &["--rate", "10"]);
+    let file = "P10-manual-7-1.jsonl";
+    // 10 times real time: the session's 85 s take about 8 s; kill it a quarter in.
+    wait_lines(&dir.join(file), original.len() / 4, Duration::from_secs(30));
     client.kill().unwrap();
     client.wait().unwrap();
-    let file = "P10-manual-7-1.jsonl";
     assert!(server.wait_log(&format!("abandoned {file}"), Duration::from_secs(10)), "{}", server.log());
     let text = std::fs::read_to_string(dir.join(file)).unwrap();
     let kept: Vec<&str> = text.lines().collect();
@@ -48,10 +48,10 @@ fn a_server_killed_mid_session_and_restarted_continues_the_file_where_the_client
     let port = server.port();
     let name = "P11-ray-casting-7.jsonl";
     let path = Path::new("replays/study").join(name);
-    let client = spawn_push(&path, &server.url, &["--rate", "20", "--timeout", "1", "--give-up", "60", "--json"]);
-    std::thread::sleep(Duration::from_millis(1200));
-    server.signal(libc::SIGKILL);
+    let client = spawn_push(&path, &server.url, &["--rate", "10", "--timeout", "1", "--give-up", "60", "--json"]);
     let file = dir.join("P11-ray-casting-7-1.jsonl");
+    wait_lines(&file, study_lines(name).len() / 4, Duration::from_secs(30));
+    server.signal(libc::SIGKILL);
     let at_kill = std::fs::read_to_string(&file).unwrap();
     assert!(at_kill.lines().count() > 10 && at_kill.lines().count() < study_lines(name).len(), "killed mid-session: {} lines", at_kill.lines().count());
     std::thread::sleep(Duration::from_millis(800));
@@ -72,14 +72,16 @@ fn a_network_gone_for_ten_seconds_loses_nothing_and_duplicates_nothing() {
     let proxy = Proxy::start(&server.addr);
     let name = "P12-manual-7.jsonl";
     let path = Path::new("replays/study").join(name);
-    // At 5 times real time the session takes about 18 s; the network goes at 2 s, for 10 s.
+    // At 5 times real time the session takes about 18 s; the network goes an eighth in, for 10 s.
     let start = Instant::now();
     let client = spawn_push(&path, &format!("http://{}/", proxy.addr), &["--rate", "5", "--timeout", "1", "--give-up", "60", "--json"]);
-    std::thread::sleep(Duration::from_secs(2));
-    proxy.drop_network();
     let file = dir.join("P12-manual-7-1.jsonl");
+    wait_lines(&file, study_lines(name).len() / 8, Duration::from_secs(30));
+    proxy.drop_network();
+    // What was forwarded before the drop may still be being written.
+    std::thread::sleep(Duration::from_millis(300));
     let at_drop = std::fs::read(&file).unwrap().len();
-    std::thread::sleep(Duration::from_secs(10));
+    std::thread::sleep(Duration::from_millis(9700));
     let before_restore = std::fs::read(&file).unwrap().len();
     assert_eq!(at_drop, before_restore, "nothing arrives while the network is gone");
     proxy.restore();

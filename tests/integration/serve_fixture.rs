@@ -172,6 +172,15 @@ pub fn study_files() -> Vec<PathBuf> {
     v
 }
 
+/// Waits until a file has at least `n` lines; panics after `timeout`.
+pub fn wait_lines(path: &Path, n: usize, timeout: Duration) {
+    let start = Instant::now();
+    while std::fs::read_to_string(path).map_or(0, |t| t.lines().count()) < n {
+        assert!(start.elapsed() < timeout, "{} did not reach {n} lines", path.display());
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
 /// Runs `grove serve push FILE --to URL ARGS…`.
 pub fn push(file: &Path, url: &str, args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_grove")).args(["serve", "push"]).arg(file).args(["--to", url]).args(args).current_dir(root()).output().unwrap()

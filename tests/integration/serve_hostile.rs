@@ -151,7 +151,7 @@ fn a_second_writer_on_a_live_session_is_refused() {
 #[test]
 fn a_client_that_sends_one_byte_a_second_is_cut_off_and_holds_up_no_one() {
     let dir = scratch("serve-slow");
-    let server = Server::start(&dir, 0, &["--read-timeout", "2"]);
+    let server = Server::start(&dir, 0, &["--read-timeout", "5"]);
     let (id, file, lines) = session_with(&server, "P05-manual-7.jsonl", 10);
     // A body one byte a second: the line before it arrives whole and is written; the rest is
     // refused when the read time is up.
@@ -169,16 +169,15 @@ fn a_client_that_sends_one_byte_a_second_is_cut_off_and_holds_up_no_one() {
         }
         slow
     });
-    // Meanwhile others are served at once.
-    let t = Instant::now();
-    still_serving(&server);
-    assert!(t.elapsed() < Duration::from_secs(2), "{:?}", t.elapsed());
+    // Meanwhile others are served, before the slow request is over.
     let start = Instant::now();
+    still_serving(&server);
+    assert!(!server.log().contains("did not arrive"), "served only after the slow request ended: {}", server.log());
     let mut slow = writer.join().unwrap();
     let r = read_answer(&mut slow);
-    assert!(start.elapsed() < Duration::from_secs(5));
+    assert!(start.elapsed() < Duration::from_secs(15), "{:?}", start.elapsed());
     assert_eq!(r.status, 408, "{}", r.body);
-    assert!(r.json["error"].as_str().unwrap().contains("did not arrive within 2.0 s"), "{}", r.body);
+    assert!(r.json["error"].as_str().unwrap().contains("did not arrive within 5.0 s"), "{}", r.body);
     assert_eq!(r.json["acked"], 11);
     let lines = study_lines("P05-manual-7.jsonl");
     assert_eq!(std::fs::read_to_string(dir.join(&file)).unwrap(), whole(&lines[..11]));
@@ -191,13 +190,13 @@ fn a_client_that_sends_one_byte_a_second_is_cut_off_and_holds_up_no_one() {
             break;
         }
         std::thread::sleep(Duration::from_millis(400));
-        if start.elapsed() > Duration::from_secs(6) {
+        if start.elapsed() > Duration::from_secs(7) {
             break;
         }
     }
     let r = read_answer(&mut slow);
     assert_ne!(r.status, 200, "{}", r.head);
-    assert!(start.elapsed() < Duration::from_secs(8), "{:?}", start.elapsed());
+    assert!(start.elapsed() < Duration::from_secs(10), "{:?}", start.elapsed());
 }
 
 /// Where the one-byte-a-second part of the body starts: after its first line.
