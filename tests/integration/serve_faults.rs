@@ -15,16 +15,17 @@ fn sessions_json(dir: &Path) -> serde_json::Value {
 #[test]
 fn a_client_killed_mid_session_leaves_every_acknowledged_line_verified_to_its_last_checkpoint() {
     let dir = scratch("serve-client-killed");
-    let server = Server::start(&dir, 0, &["--abandon-after", "1"]);
+    // The recording's longest pause between events is 11 s: 0.55 s at 20 times real time.
+    let server = Server::start(&dir, 0, &["--abandon-after", "3"]);
     let name = "P10-manual-7.jsonl";
     let original = study_lines(name);
-    let mut client = spawn_push(&Path::new("replays/study").join(name), &server.url, &["--rate", "10"]);
+    let mut client = spawn_push(&Path::new("replays/study").join(name), &server.url, &["--rate", "20"]);
     let file = "P10-manual-7-1.jsonl";
-    // 10 times real time: the session's 85 s take about 8 s; kill it a quarter in.
+    // 20 times real time: the session's 85 s take about 4 s; kill it a quarter in.
     wait_lines(&dir.join(file), original.len() / 4, Duration::from_secs(30));
     client.kill().unwrap();
     client.wait().unwrap();
-    assert!(server.wait_log(&format!("abandoned {file}"), Duration::from_secs(10)), "{}", server.log());
+    assert!(server.wait_log(&format!("abandoned {file}"), Duration::from_secs(20)), "{}", server.log());
     let text = std::fs::read_to_string(dir.join(file)).unwrap();
     let kept: Vec<&str> = text.lines().collect();
     assert!(text.ends_with('\n'), "whole lines only");
