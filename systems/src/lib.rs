@@ -50,6 +50,7 @@ pub mod targets;
 pub mod task;
 pub mod technique;
 pub mod tree_def;
+pub mod view;
 pub mod water;
 pub mod wind_model;
 
