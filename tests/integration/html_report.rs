@@ -217,8 +217,8 @@ fn study_script(seed: u64) -> Script {
 
 fn write_recording(path: &Path, participant: &str, script: Script) {
     let (sim, events) = script.into_parts();
-    let end = sim.res().tick + 60;
-    let mut header = Header::new("study", sim.res().seed, sim.res().dt);
+    let end = sim.tick() + 60;
+    let mut header = Header::new("study", sim.seed(), sim.dt());
     header.participant = Some(participant.to_string());
     header.synthetic = true;
     let bytes = record_events(Vec::new(), &header, &events, end, serde_json::json!({})).unwrap();
