@@ -35,6 +35,7 @@ pub mod mode;
 pub mod plane_grid;
 pub mod replay;
 pub mod scatter;
+pub mod resource_hash;
 pub mod resources;
 pub mod scenario;
 pub mod scene;
