@@ -50,7 +50,7 @@ pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_js
     let path = crate::render::default_assets_dir().join("scenes/forest.ron");
     let scene = super::load_scene(&path)?;
     let forest_sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(renderer, &scene, &[], &forest_sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    crate::bank::load_for_scene(renderer, &scene, &[], forest_sim.catalogue()).map_err(|e| anyhow!(e))?;
     eprintln!("bench: a million trees (building the world)");
     let million = forest(1000, Some(&|i| (i % 8) as u8))?;
     for (name, sim) in [("forest_10k_trees_1920x1080", &forest_sim), ("million_trees_1920x1080", &million)] {
@@ -76,7 +76,7 @@ pub fn bench_forest(options: RenderBenchOptions, scene: Option<&std::path::Path>
     let scene = super::load_scene(&path)?;
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(&mut renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    crate::bank::load_for_scene(&mut renderer, &scene, &[], sim.catalogue()).map_err(|e| anyhow!(e))?;
     let mut figures = serde_json::Map::new();
     for shadows in [true, false] {
         renderer.options.shadows = shadows;

@@ -42,7 +42,7 @@ const ROWS: [(&str, bool, bool, bool); 4] = [
 /// `gpu` and `renderer`: one row per configuration, `frames` frames each.
 pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &Scene, path: &Path) -> anyhow::Result<Value> {
     let sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(renderer, scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    crate::bank::load_for_scene(renderer, scene, &[], sim.catalogue()).map_err(|e| anyhow!(e))?;
     let saved = renderer.options;
     let mut rows = serde_json::Map::new();
     for (name, grass, water, shadows) in ROWS {

@@ -242,9 +242,9 @@ pub(super) fn species_forest(renderer: &mut Renderer, side: u32) -> anyhow::Resu
     let mut scene = ground_scene(half, (half / 25.0).max(2.0));
     scene.banks = vec![species_bank().display().to_string()];
     let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    crate::bank::load_for_scene(renderer, &scene, &[], sim.catalogue()).map_err(|e| anyhow!(e))?;
     let first = grove_systems::catalogue::SHIPPED_MODELS as u32;
-    let count = sim.res().catalogue.models.len() as u32 - first;
+    let count = sim.catalogue().models.len() as u32 - first;
     Ok(plant(sim, side, Some(&|i| (first + i % count) as u8), 0.5))
 }
 

@@ -22,7 +22,7 @@ pub fn five_minute_session() -> anyhow::Result<Vec<u8>> {
     let mut script = Script::new(Sim::from_scene(&scene, 7).map_err(|e| anyhow!("{e}"))?);
     let ticks = (300.0 / scene.dt as f64).round() as u64;
     let mut k = 0u64;
-    while script.sim().res().tick + 4 < ticks {
+    while script.sim().tick() + 4 < ticks {
         let a = k as f32 * 0.02;
         let target = Vec3::new(6.0 * a.sin(), 0.0, -5.0 + 3.0 * (0.7 * a).cos());
         script.point_at(target).wait(1);
@@ -39,7 +39,7 @@ pub fn five_minute_session() -> anyhow::Result<Vec<u8>> {
     }
     let (sim, events) = script.into_parts();
     let header = Header::new("study", 7, scene.dt);
-    record_events(Vec::new(), &header, &events, ticks.max(sim.res().tick), json!({})).map_err(|e| anyhow!("{e}"))
+    record_events(Vec::new(), &header, &events, ticks.max(sim.tick()), json!({})).map_err(|e| anyhow!("{e}"))
 }
 
 /// Replay speed of a 5-minute session, in simulated seconds per wall second (median of runs).
@@ -55,7 +55,7 @@ pub fn bench_replay() -> anyhow::Result<Value> {
         let o = replay_reader(&bytes[..], "<5-minute session>", None, &ReplayOptions::default()).map_err(|e| anyhow!("{e}"))?;
         let wall = t.elapsed().as_secs_f64();
         verified &= o.first_divergence.is_none() && o.complete;
-        sim_seconds = o.sim.res().tick as f64 * o.sim.res().dt as f64;
+        sim_seconds = o.sim.tick() as f64 * o.sim.dt() as f64;
         speedups.push(sim_seconds / wall);
         walls.push(wall * 1e3);
     }

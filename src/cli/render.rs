@@ -140,7 +140,7 @@ fn options(args: &RenderArgs) -> RenderOptions {
 pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene, aerial: Option<grove::render::aerial_ground::AerialSources>) -> anyhow::Result<Renderer> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height)?;
     renderer.options = options(args);
-    grove::bank::load_for_scene(&mut renderer, scene, &args.banks, &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    grove::bank::load_for_scene(&mut renderer, scene, &args.banks, sim.catalogue()).map_err(|e| anyhow!(e))?;
     if let Some(aerial) = aerial {
         renderer.features.aerial.set(aerial)?;
         // A still image shows the photographs as loaded: wait (briefly) for their tiles.
@@ -235,7 +235,7 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
         w.current = d.gust_average;
         sim.set_up().wind(w);
     }
-    let ticks_per_frame = frames_setup(args, out, n, sim.res().dt)?;
+    let ticks_per_frame = frames_setup(args, out, n, sim.dt())?;
     let gpu = Gpu::new()?;
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
@@ -276,8 +276,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         check_out_file(out, args.force, &PNG_OUT)?;
         let options = grove_systems::replay::ReplayOptions { until: Some(tick), banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
         let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
-        if outcome.sim.res().tick < tick {
-            bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res().tick);
+        if outcome.sim.tick() < tick {
+            bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.tick());
         }
         let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
         let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
@@ -305,7 +305,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             render_sim(&gpu, &mut renderer, &sim, out)?;
-            println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), scene_path.display(), sim.res().tick, args.width, args.height, gpu.adapter_name());
+            println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), scene_path.display(), sim.tick(), args.width, args.height, gpu.adapter_name());
         }
         Some(n) => {
             let ticks_per_frame = frames_setup(&args, out, n, scene.dt)?;

@@ -49,7 +49,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     if from >= to {
         bail!("--from (tick {from}) must come before --to (tick {to})");
     }
-    let dt = player.sim().res().dt;
+    let dt = player.sim().dt();
     let frames = (to - from) as f64 * dt as f64 / args.speed * fps as f64;
     if frames > video::MAX_FRAMES as f64 {
         bail!("{frames:.0} frames asked for; a video has at most {} (raise --speed or narrow --from/--to)", video::MAX_FRAMES);

@@ -90,8 +90,8 @@ impl ReplayReport {
     /// Builds the report from a replay's outcome.
     pub fn new(file: String, outcome: &ReplayOutcome, wall_seconds: f64) -> ReplayReport {
         let sim = &outcome.sim;
-        let ticks = sim.res().tick;
-        let sim_seconds = grove_systems::task::ticks_to_seconds(ticks, sim.res().dt);
+        let ticks = sim.tick();
+        let sim_seconds = grove_systems::task::ticks_to_seconds(ticks, sim.dt());
         let verified = outcome.verifying && outcome.first_divergence.is_none() && outcome.checkpoints_checked > 0;
         ReplayReport {
             file,
@@ -115,7 +115,7 @@ impl ReplayReport {
             final_hash: hex(sim.hash().total),
             participant: outcome.header.participant.clone(),
             synthetic: outcome.header.synthetic,
-            task: sim.res().task.as_ref().map(|t| grove::study::technique_report(TaskReport::new(t, sim.res().dt, ticks, &sim.res().catalogue), &sim)),
+            task: sim.task().map(|t| grove::study::technique_report(TaskReport::new(t, sim.dt(), ticks, sim.catalogue()), &sim)),
         }
     }
 }

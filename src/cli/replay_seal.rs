@@ -34,7 +34,7 @@ pub fn run(input: &Path, out: Option<&Path>) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(1));
     }
-    let end_tick = outcome.sim.res().tick;
+    let end_tick = outcome.sim.tick();
     let (header, events) = read_events(input).map_err(|e| anyhow!("{e}"))?;
     let summary = serde_json::json!({ "generator": "grove replay --seal" });
     let tmp = out.with_extension("seal.tmp");
@@ -57,7 +57,7 @@ pub fn run(input: &Path, out: Option<&Path>) -> anyhow::Result<ExitCode> {
         out.display(),
         events.len(),
         sealed.checkpoints_checked,
-        sealed.sim.res().tick
+        sealed.sim.tick()
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -37,7 +37,7 @@ pub fn run(cmd: ScenarioCommand) -> anyhow::Result<ExitCode> {
             }
             let (header, events) = read_events(&file).map_err(|e| anyhow!("{e}"))?;
             let replayed = replay_file(&file, &ReplayOptions::default()).map_err(|e| anyhow!("{e}"))?;
-            let end = replayed.sim.res().tick;
+            let end = replayed.sim.tick();
             let final_hash = hex(replayed.sim.hash().total);
             let d = draft(&header, &events, file.parent(), &final_hash, end, &out).map_err(|e| anyhow!("{}: {e}", file.display()))?;
             write_atomic(&out, d.text.as_bytes())?;

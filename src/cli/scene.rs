@@ -5,7 +5,6 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use clap::Subcommand;
-use grove_systems::components::Plane;
 use grove_systems::Sim;
 
 /// Subcommands of `grove scene`.
@@ -26,7 +25,7 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
             let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{}: {e}", file.display()))?;
             println!("{}: ok, scene '{}'", file.display(), scene.name);
             println!("  dt: {:.6} s ({:.1} Hz), seed {}", scene.dt, 1.0 / scene.dt, scene.seed);
-            for p in sim.world().query::<&Plane>().iter() {
+            sim.for_each_plane(|_, p| {
                 let (min, max) = p.vertices.iter().fold((glam::Vec3::MAX, glam::Vec3::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
                 println!(
                     "  plane '{}': {} vertices, {} triangles, x {:.1}..{:.1} m, y {:.2}..{:.2} m, z {:.1}..{:.1} m",
@@ -40,7 +39,7 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
                     min.z,
                     max.z
                 );
-            }
+            });
             let s = &scene.sun;
             println!("  sun: {:.4}° N, {:.4}° E at {} (time rate {})", s.latitude_deg, s.longitude_deg, s.utc, s.time_rate);
             let w = &scene.wind;

@@ -63,7 +63,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     let wall_seconds = start.elapsed().as_secs_f64();
     let report = SimReport {
         scene: args.scene.display().to_string(),
-        ticks: sim.res().tick,
+        ticks: sim.tick(),
         hash: hex(sim.hash().total),
         entities: sim.counts(),
         wall_seconds,

@@ -181,19 +181,19 @@ pub fn trial_from_outcome(file: String, stem: String, o: &grove_systems::replay:
         trial_num_in_block: 0,
         start_time_s: None,
         end_time_s: None,
-        task_start_s: sim.res().task.as_ref().map(|t| grove_systems::task::ticks_to_seconds(t.started_tick, sim.res().dt)),
+        task_start_s: sim.task().map(|t| grove_systems::task::ticks_to_seconds(t.started_tick, sim.dt())),
         status,
         error: o.first_divergence.as_ref().map(|d| format!("diverged at tick {}", d.tick)),
         complete: o.complete,
-        ticks: sim.res().tick,
-        task: sim.res().task.as_ref().map(|t| technique_report(TaskReport::new(t, sim.res().dt, sim.res().tick, &sim.res().catalogue), sim)),
+        ticks: sim.tick(),
+        task: sim.task().map(|t| technique_report(TaskReport::new(t, sim.dt(), sim.tick(), sim.catalogue()), sim)),
     }
 }
 
 /// A task report whose mode is the technique that ran it: a plug-in's name in place of its base
 /// mode, so that reports tell the conditions apart.
 pub fn technique_report(mut report: TaskReport, sim: &grove_systems::Sim) -> TaskReport {
-    let t = sim.res().techniques.at(sim.res().technique);
+    let t = sim.active_technique();
     if !t.is_builtin() {
         report.mode = t.name.to_string();
     }

@@ -14,7 +14,7 @@ use anyhow::{anyhow, bail};
 use glam::{Vec2, Vec3};
 use grove_systems::resources::Override;
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Selection, Transform, Tree};
+use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Transform};
 use grove_systems::events::Happening;
 use grove_systems::input::{Button, InputEvent, StampedEvent};
 use grove_systems::replay::{record_events, Header};
@@ -129,11 +129,11 @@ impl Participant {
     }
 
     fn hit(&self) -> HitMarker {
-        self.sim().world().query::<&HitMarker>().iter().next().copied().unwrap_or_default()
+        self.sim().hit_marker()
     }
 
     pub(crate) fn ground_at(&self, x: f32, z: f32) -> f32 {
-        self.sim().res().spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).map_or(0.0, |h| h.point.y)
+        self.sim().ground_below(Vec3::new(x, 50.0, z), 0.0).map_or(0.0, |h| h.point.y)
     }
 
     pub(crate) fn choose(&mut self, model: ModelId) {
@@ -146,23 +146,19 @@ impl Participant {
     }
 
     pub(crate) fn last_planted(&self) -> Option<(u64, Vec3)> {
-        self.sim().res().log.entries.iter().rev().find_map(|e| match e.what {
+        self.sim().log().entries.iter().rev().find_map(|e| match e.what {
             Happening::Planted { tree, position, .. } => Some((tree, position)),
             _ => None,
         })
     }
 
     pub(crate) fn tree(&self, id: u64) -> Option<(Transform, ModelId, f32)> {
-        let e = hecs::Entity::from_bits(id)?;
-        let t = *self.sim().world().get::<&Transform>(e).ok()?;
-        let m = self.sim().world().get::<&Tree>(e).ok()?.model;
-        let s = self.sim().world().get::<&grove_systems::components::Scale>(e).ok()?.0;
-        Some((t, m, s))
+        self.sim().tree(id).map(|t| (t.transform, t.tree.model, t.scale.0))
     }
 
     pub(crate) fn tree_center(&self, id: u64) -> Option<Vec3> {
         let (t, m, s) = self.tree(id)?;
-        let info = self.sim().res().catalogue.get(m)?;
+        let info = self.sim().catalogue().get(m)?;
         Some(t.translation + Vec3::Y * (info.bounds_min.y + info.bounds_max.y) * 0.5 * s)
     }
 
@@ -171,7 +167,7 @@ impl Participant {
         let Some(c) = self.tree_center(id) else { return };
         let width = angular_width(1.0, (c - self.hand).length() as f64);
         self.aim(c, width, false, &move |sim: &Sim| {
-            let h = sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+            let h = sim.hit_marker();
             h.visible && h.target == HitTarget::Tree(id)
         });
         self.press(Button::Bumper);
@@ -182,9 +178,9 @@ impl Participant {
         let wrong_model = error && self.rng.random::<bool>();
         let mut sloppy = error && !wrong_model;
         self.think();
-        let models = self.sim().res().catalogue.len() as u8;
+        let models = self.sim().catalogue().len() as u8;
         let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
-        if self.sim().res().menu.current_model != chosen {
+        if self.sim().menu().current_model != chosen {
             self.choose(chosen);
         }
         let goal = Vec2::new(pos.x, pos.z);
@@ -193,7 +189,7 @@ impl Participant {
             let point = Vec3::new(pos.x, self.ground_at(pos.x, pos.z), pos.z);
             let width = angular_width(2.0 * margin as f64, (point - self.hand).length() as f64);
             let ok = move |sim: &Sim| {
-                let h = sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+                let h = sim.hit_marker();
                 h.visible && matches!(h.target, HitTarget::Plane(_)) && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
             };
             // An early click skips the corrections once; the plant then usually lands off target.
@@ -221,11 +217,11 @@ impl Participant {
     }
 
     fn selected(&self) -> Option<u64> {
-        self.sim().world().query::<&Selection>().iter().next().and_then(|s| s.tree)
+        self.sim().selection().tree
     }
 
     fn anchor(&self) -> AnchorBall {
-        self.sim().world().query::<&AnchorBall>().iter().next().copied().unwrap_or_default()
+        self.sim().anchor_ball()
     }
 
     fn manual_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32) -> anyhow::Result<()> {
@@ -233,7 +229,7 @@ impl Participant {
         let wrong_model = error && self.rng.random::<bool>();
         let early_release = error && !wrong_model;
         self.think();
-        let models = self.sim().res().catalogue.len() as u8;
+        let models = self.sim().catalogue().len() as u8;
         let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
         self.choose(chosen);
         let id = self.selected().ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
@@ -257,7 +253,7 @@ impl Participant {
             let c = self.tree_center(id).ok_or_else(|| anyhow!("the tree to drag is gone"))?;
             let width = angular_width(1.0, (c - self.hand).length() as f64);
             self.aim(c, width, false, &move |sim: &Sim| {
-                let h = sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+                let h = sim.hit_marker();
                 h.visible && h.target == HitTarget::Tree(id)
             });
             if self.hit().target != HitTarget::Tree(id) {
@@ -266,16 +262,16 @@ impl Participant {
             let press = self.ticks(0.1);
             self.script.push(InputEvent::ButtonDown { button: Button::Trigger }).wait(press);
             for attempt in 0..MAX_CORRECTIONS {
-                let Some(drag) = self.sim().res().interaction.drag else { break };
+                let Some(drag) = self.sim().interaction().drag else { break };
                 let (_, m, s) = self.tree(id).ok_or_else(|| anyhow!("the dragged tree is gone"))?;
-                let lowest = self.sim().res().catalogue.get(m).map_or(0.0, |i| i.lowest_point()) * s;
+                let lowest = self.sim().catalogue().get(m).map_or(0.0, |i| i.lowest_point()) * s;
                 let base = Vec3::new(pos.x, self.ground_at(pos.x, pos.z) - lowest, pos.z);
                 let grab_point = base - drag.offset;
                 let want = grab_point - self.hand;
                 let dir_sigma = self.skill.endpoint_sigma(angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
                 let amplitude = angle_between(self.dir, want);
                 let rot_time = self.skill.aim_time(amplitude, angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
-                let rate = self.sim().res().config.touchpad_move_rate as f64;
+                let rate = self.sim().config().touchpad_move_rate as f64;
                 let delta = want.length() as f64 - drag.grab_distance as f64;
                 // Rate control is imprecise: the thumb comes off a little early or late.
                 let timing: f64 = if attempt == 0 { self.rng.random_range(0.93..1.07) } else { 1.0 };
@@ -315,7 +311,7 @@ impl Participant {
             }
             let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
             self.script.push(InputEvent::ButtonUp { button: Button::Trigger }).wait(rest);
-            let grounded = self.sim().world().get::<&grove_systems::components::Grounded>(hecs::Entity::from_bits(id).ok_or_else(|| anyhow!("bad id"))?).map(|g| g.0).unwrap_or(false);
+            let grounded = self.sim().tree(id).is_some_and(|t| t.grounded.0);
             let here = self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(Vec2::splat(f32::MAX));
             if grounded && here.distance(goal) <= tolerance {
                 return Ok(());
@@ -342,14 +338,14 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
     let task_salt = task.id.bytes().fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
     let sim_seed = seed.wrapping_mul(1000).wrapping_add(participant as u64);
     let mut sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
-    let mut config = sim.res().config.clone();
+    let mut config = sim.config().clone();
     config.apply(overrides).map_err(|e| anyhow!("--set {e}"))?;
     sim.set_up().config(config);
     let rng = ChaCha8Rng::seed_from_u64(seed ^ task_salt ^ (participant as u64) << 32);
     let script = Script::new(sim);
     let hand = script.controller().pose.position;
     let dir = script.controller().pose.forward();
-    let dt = script.sim().res().dt as f64;
+    let dt = script.sim().dt() as f64;
     let mut p = Participant { script, rng, skill, hand, dir, dt };
 
     let mut header = Header::new(&task.scene, sim_seed, scene.dt);
@@ -365,7 +361,7 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
         header.technique = Some(grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
     }
     p.script.push(InputEvent::StartTask { task: task.id.clone() }).wait(1);
-    let models = task.target_models(&p.sim().res().catalogue);
+    let models = task.target_models(p.sim().catalogue());
     // Far targets first, so that trees already planted never stand in the way of the ray.
     let mut order: Vec<usize> = (0..task.targets.len()).collect();
     order.sort_by(|&a, &b| {
@@ -399,16 +395,16 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
     }
     p.think();
     p.script.push(InputEvent::EndTask).wait(30);
-    let end_tick = p.sim().res().tick;
-    let completed = p.sim().res().task.as_ref().is_some_and(|t| t.is_complete());
+    let end_tick = p.sim().tick();
+    let completed = p.sim().task().is_some_and(|t| t.is_complete());
     if !completed && !overrides.is_empty() {
         warn(&format!("P{:02} {}: did not complete the task under the what-if setting", participant + 1, task.id));
     } else if !completed {
         if std::env::var_os("GROVE_SYNTH_DEBUG").is_some() {
-            for e in &p.sim().res().log.entries {
+            for e in &p.sim().log().entries {
                 eprintln!("{} {:?}", e.tick, e.what);
             }
-            eprintln!("{:?}", p.sim().res().task.as_ref().map(|t| &t.satisfied));
+            eprintln!("{:?}", p.sim().task().map(|t| &t.satisfied));
         }
         bail!("participant {} did not complete task {}", participant + 1, task.id);
     }

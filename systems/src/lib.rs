@@ -35,6 +35,7 @@ pub mod mode;
 pub mod plane_grid;
 pub mod replay;
 pub mod scatter;
+pub mod resource_hash;
 pub mod resources;
 pub mod scenario;
 pub mod scene;
@@ -50,6 +51,7 @@ pub mod targets;
 pub mod task;
 pub mod technique;
 pub mod tree_def;
+pub mod view;
 pub mod water;
 pub mod wind_model;
 
