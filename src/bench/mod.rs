@@ -1,4 +1,4 @@
-//! The benchmarks behind `grove bench` (the command is `cli/bench.rs`, which parses its
+//! The benchmarks behind `grove bench` (the command is `cli/bench/`, which parses its
 //! arguments, calls these and prints their JSON): each is a function that returns a JSON value;
 //! every figure is the median of several timed runs, in whatever build (debug or release) the
 //! binary is. The timing and process-measuring helpers they share are here.

@@ -109,7 +109,7 @@ pub struct Partial {
     pub study: StudyKey,
     /// The `--replays` folder as this shard was given it (for messages).
     pub replays: String,
-    /// The runs, in the order the study makes them (see `cli::study::Runs`).
+    /// The runs, in the order the study makes them (see `cli::study::compute`).
     pub runs: Vec<RunPart>,
 }
 

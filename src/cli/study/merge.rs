@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use super::study_report::{parse_set, prepare_out, write_reports, ReportTo};
+use super::report::{parse_set, prepare_out, write_reports, ReportTo};
 use grove::study::assign_order;
 use grove::study::shard::{combine, Partial};
 

@@ -9,6 +9,10 @@
 //!   `grove synth --set …` compared with the baseline recordings in DIR;
 //! - sweep (`--set NAME=V1,V2,…`): the baseline and one replayed-hands run per value.
 
+pub mod merge;
+pub mod report;
+pub mod synth;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -18,8 +22,8 @@ use grove::atomic_write::write_atomic;
 use grove_systems::resources::Override;
 use indicatif::{ProgressBar, ProgressStyle};
 
-pub use super::study_report::{parse_overrides, parse_set, prepare_out, SetArgs};
-use super::study_report::{write_reports, ReportTo};
+pub use report::{parse_overrides, parse_set, prepare_out, SetArgs};
+use report::{write_reports, ReportTo};
 use grove::study::shard::{Partial, RunPart, Shard, StudyKey};
 use grove::study::{list_recordings, recordings_in, run_all};
 
@@ -73,7 +77,7 @@ pub struct StudyArgs {
 pub enum StudyCommand {
     /// Merge the partial results of every shard (`grove study --shard K/N --out PART`) into the
     /// reports a run without shards writes.
-    Merge(super::study_merge::MergeArgs),
+    Merge(merge::MergeArgs),
 }
 
 fn progress(total: u64) -> ProgressBar {
@@ -120,7 +124,7 @@ fn compute(set: &SetArgs, files: &[PathBuf], base_files: Option<&[PathBuf]>) -> 
 /// Runs `grove study` (or `grove study merge`).
 pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     if let Some(StudyCommand::Merge(m)) = args.command {
-        return super::study_merge::run(m);
+        return merge::run(m);
     }
     let set = parse_set(&args.set)?;
     let html = match (args.html, &args.html_trials) {

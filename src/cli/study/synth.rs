@@ -46,7 +46,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
     if args.participants == 0 || args.participants > 999 {
         bail!("--participants {} must be between 1 and 999", args.participants);
     }
-    let overrides = super::study::parse_overrides(&args.set)?;
+    let overrides = super::parse_overrides(&args.set)?;
     if !args.techniques.is_empty() && args.out.is_none() {
         bail!("--techniques writes a study of its own: give it a folder with --out DIR");
     }

@@ -167,7 +167,7 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow
     }
 
     if to.json {
-        super::print_json(&json)?;
+        crate::cli::print_json(&json)?;
     } else {
         print!("{}", table::table(&trials, what_if.as_ref()));
         if let Some(w) = &what_if {
@@ -247,7 +247,7 @@ fn write_sweep(to: &ReportTo, fixed: &[Override], name: &str, values: &[Override
     }
 
     if to.json {
-        super::print_json(&json)?;
+        crate::cli::print_json(&json)?;
     } else {
         println!("sweep of {name} ({}: {}); default {}", sweep.kind, sweep.kind_meaning, sweep.default_value);
         println!("{:>10} {:>8} {:>14} {:>10} {:>10} {:>14} {:>10} {:>10}", "value", "default", "ray_casting_s", "done", "diff_s", "manual_s", "done", "diff_s");

@@ -6,6 +6,9 @@
 //! kept as a recording in `--keep` (default `target/grove-test/NAME.jsonl`, replaced by the
 //! next failed run of that scenario), so `grove view` or `grove replay` shows what happened.
 
+pub mod junit;
+pub mod scenario;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -19,7 +22,6 @@ use grove_systems::scenario::update::pin_hashes;
 use grove_systems::scenario::{Loaded, Step};
 use rayon::prelude::*;
 
-use super::junit;
 
 /// Arguments of `grove test`.
 #[derive(Args)]
@@ -157,7 +159,7 @@ fn keep(dir: &Path, name: &str, outcome: &Outcome) -> String {
     });
     match written {
         Ok(()) => format!("recording: {}", path.display()),
-        Err(e) => format!("recording not kept: {}", super::one_line(&e)),
+        Err(e) => format!("recording not kept: {}", crate::cli::one_line(&e)),
     }
 }
 
