@@ -15,6 +15,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail};
+use grove_systems::set_arg::SetArg;
 use serde::{Deserialize, Serialize};
 use xxhash_rust::xxh3::xxh3_64;
 
@@ -46,6 +47,21 @@ impl std::str::FromStr for Shard {
             return Err(bad());
         }
         Ok(Shard { k, n })
+    }
+}
+
+impl std::fmt::Display for StudyKey {
+    /// The study's arguments as a command line writes them: `--set A=1 --set B=2,3 --baseline`
+    /// (or "no --set" for a plain study).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut words: Vec<String> = self.set.iter().map(|a| format!("--set {a}")).collect();
+        if self.baseline {
+            words.push("--baseline".into());
+        }
+        if words.is_empty() {
+            words.push("no --set".into());
+        }
+        write!(f, "{}", words.join(" "))
     }
 }
 
@@ -82,10 +98,10 @@ fn file_name(path: &Path) -> String {
 }
 
 /// What the study was: every shard of one study has the same key, and the merge checks it.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StudyKey {
-    /// The `--set` arguments as given.
-    pub set: Vec<String>,
+    /// The `--set` arguments, each checked again when a partial result is read.
+    pub set: Vec<SetArg>,
     /// Whether the what-if compares with `--baseline` recordings (re-simulated participants).
     pub baseline: bool,
 }
@@ -158,7 +174,7 @@ pub fn combine(parts: Vec<Partial>, names: &[String]) -> anyhow::Result<(StudyKe
     let mut seen: Vec<Option<&str>> = vec![None; n as usize];
     for (p, name) in parts.iter().zip(names) {
         if p.study != study {
-            bail!("{name}: a shard of another study than {} (--set {:?}{}, not --set {:?}{})", names[0], p.study.set, if p.study.baseline { " with --baseline" } else { "" }, study.set, if study.baseline { " with --baseline" } else { "" });
+            bail!("{name}: a shard of another study than {} ({}, not {})", names[0], p.study, study);
         }
         if p.shard.n != n {
             bail!("{name}: shard {} of a split into {}, but {} is of a split into {n}", p.shard, p.shard.n, names[0]);
@@ -256,6 +272,31 @@ mod tests {
         let mut other = bytes;
         other[MAGIC.len()] = 9;
         assert!(Partial::decode(&other, "p").unwrap_err().to_string().contains("format 9"));
+    }
+
+    #[test]
+    fn the_study_key_is_typed_and_encoded_as_the_text_it_was() {
+        let set: Vec<SetArg> = vec!["snap_threshold= 0.2".parse().unwrap(), "spawn_drop=0.1,0.3".parse().unwrap()];
+        // Each argument is encoded as its text, as format 1 wrote the arguments.
+        assert_eq!(postcard::to_allocvec(&set[0]).unwrap(), postcard::to_allocvec("snap_threshold=0.2").unwrap());
+        let mut p = part(1, 2);
+        p.study = StudyKey { set, baseline: true };
+        let back = Partial::decode(&p.encode().unwrap(), "p").unwrap();
+        assert_eq!(back.study, p.study);
+        assert_eq!(back.study.to_string(), "--set snap_threshold=0.2 --set spawn_drop=0.1,0.3 --baseline");
+        // A part whose arguments do not hold is damaged; one that holds reads as written.
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&FORMAT.to_le_bytes());
+        let foreign = (Shard { k: 1, n: 1 }, (vec!["snap_threshold=99".to_string()], false), "r".to_string(), Vec::<RunPart>::new());
+        let bytes = postcard::to_extend(&foreign, bytes).unwrap();
+        let e = Partial::decode(&bytes, "p").unwrap_err().to_string();
+        assert!(e.contains("damaged partial result"), "{e}");
+        let fine = (Shard { k: 1, n: 1 }, (vec!["snap_threshold=9".to_string()], false), "r".to_string(), Vec::<RunPart>::new());
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&FORMAT.to_le_bytes());
+        assert_eq!(Partial::decode(&postcard::to_extend(&fine, bytes).unwrap(), "p").unwrap().study.set[0].values[0].value, 9.0);
+        let e = combine(vec![part(1, 2), p], &["a".into(), "b".into()]).unwrap_err().to_string();
+        assert!(e.contains("b: a shard of another study than a (--set snap_threshold=0.2 --set spawn_drop=0.1,0.3 --baseline, not no --set)"), "{e}");
     }
 
     #[test]

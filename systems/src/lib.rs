@@ -38,6 +38,7 @@ pub mod scatter;
 pub mod resources;
 pub mod scenario;
 pub mod scene;
+pub mod set_arg;
 pub mod setup;
 pub mod schedule;
 pub mod script;

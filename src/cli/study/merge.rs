@@ -8,7 +8,8 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use super::report::{parse_set, prepare_out, write_reports, ReportTo};
+use super::report::{prepare_out, write_reports, ReportTo};
+use grove_systems::set_arg::SetArgs;
 use grove::study::assign_order;
 use grove::study::shard::{combine, Partial};
 
@@ -37,7 +38,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
     if runs.first().is_none_or(|r| r.trials.is_empty()) {
         anyhow::bail!("{}: no recordings in any of the shards (as grove study refuses a folder without any)", replays);
     }
-    let set = parse_set(&study.set)?;
+    let set = SetArgs::new(&study.set).map_err(|e| anyhow::anyhow!("--set {e}"))?;
     prepare_out(&args.out, args.force)?;
     for r in &mut runs {
         assign_order(&mut r.trials);

@@ -20,10 +20,10 @@ use anyhow::{anyhow, bail};
 use clap::{Args, Subcommand};
 use grove::atomic_write::write_atomic;
 use grove_systems::resources::Override;
+use grove_systems::set_arg::{SetArg, SetArgs};
 use indicatif::{ProgressBar, ProgressStyle};
 
-pub use report::{parse_overrides, parse_set, prepare_out, SetArgs};
-use report::{write_reports, ReportTo};
+use report::{prepare_out, write_reports, ReportTo};
 use grove::study::shard::{Partial, RunPart, Shard, StudyKey};
 use grove::study::{list_recordings, recordings_in, run_all};
 
@@ -46,7 +46,7 @@ pub struct StudyArgs {
     #[arg(long)]
     pub json: bool,
     #[arg(long = "set", value_name = "NAME=VALUE[,VALUE…]", help = SET_HELP, long_help = set_long_help())]
-    pub set: Vec<String>,
+    pub set: Vec<SetArg>,
     /// What-if on re-simulated participants: compare the recordings in --replays (written by
     /// `grove synth --set …`) with the baseline recordings in this folder.
     #[arg(long, value_name = "DIR", conflicts_with = "set")]
@@ -98,10 +98,10 @@ fn compute(set: &SetArgs, files: &[PathBuf], base_files: Option<&[PathBuf]>) -> 
         RunPart { trials, wall_seconds }
     };
     let mut runs = Vec::new();
-    if let Some((_, values)) = &set.sweep {
-        let bar = progress((files.len() * (values.len() + 1)) as u64);
+    if let Some(sweep) = &set.sweep {
+        let bar = progress((files.len() * (sweep.values.len() + 1)) as u64);
         runs.push(run(files, &[], &bar));
-        for v in values {
+        for v in &sweep.values {
             let mut overrides = set.fixed.clone();
             overrides.push(v.clone());
             runs.push(run(files, &overrides, &bar));
@@ -126,7 +126,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     if let Some(StudyCommand::Merge(m)) = args.command {
         return merge::run(m);
     }
-    let set = parse_set(&args.set)?;
+    let set = SetArgs::new(&args.set).map_err(|e| anyhow!("--set {e}"))?;
     let html = match (args.html, &args.html_trials) {
         (false, _) => None,
         (true, None) => Some(grove::html::Selection::Auto),

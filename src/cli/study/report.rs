@@ -6,7 +6,8 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use grove::atomic_write::{write_atomic, write_via_temp};
-use grove_systems::resources::{Config, Override, Overrides};
+use grove_systems::resources::{Override, Overrides};
+use grove_systems::set_arg::{SetArgs, Sweep as SweptParam};
 
 use grove::html;
 use grove::study::report::{self, Summary};
@@ -30,44 +31,6 @@ pub struct ReportTo {
 
 /// The files `grove study` writes into `--out`.
 pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png", "report.html"];
-
-/// Parses and checks `--set NAME=VALUE` arguments, once, into typed overrides.
-pub fn parse_overrides(set: &[String]) -> anyhow::Result<Vec<Override>> {
-    Override::parse_all(set).map_err(|e| anyhow!("--set {e}"))
-}
-
-/// The parsed `--set` arguments: single values, and at most one swept parameter.
-pub struct SetArgs {
-    /// Parameters with one value.
-    pub fixed: Vec<Override>,
-    /// The swept parameter and its values, each already checked.
-    pub sweep: Option<(String, Vec<Override>)>,
-}
-
-/// Splits `--set` arguments into fixed values and one sweep, checking every value once.
-pub fn parse_set(set: &[String]) -> anyhow::Result<SetArgs> {
-    let mut fixed = Vec::new();
-    let mut sweep: Option<(String, Vec<Override>)> = None;
-    for s in set {
-        let (k, v) = s.split_once('=').ok_or_else(|| anyhow!("--set {s}: expected NAME=VALUE"))?;
-        let values: Vec<&str> = v.split(',').map(str::trim).collect();
-        if values.iter().any(|x| x.is_empty()) {
-            bail!("--set {s}: an empty value in the list");
-        }
-        let parsed = values.iter().map(|value| Override::new(k, value)).collect::<Result<Vec<_>, _>>().map_err(|e| anyhow!("--set {e}"))?;
-        if parsed.len() > 1 {
-            if sweep.is_some() {
-                bail!("--set {s}: only one parameter can be swept at a time");
-            }
-            sweep = Some((k.trim().to_string(), parsed));
-        } else {
-            fixed.extend(parsed);
-        }
-    }
-    // The values must also hold together (e.g. min_scale ≤ max_scale).
-    Config::default().apply(&fixed).map_err(|e| anyhow!("--set {e}"))?;
-    Ok(SetArgs { fixed, sweep })
-}
 
 /// Refuses an output folder that is a file, or that holds reports, unless `force`; makes it.
 pub fn prepare_out(out: &std::path::Path, force: bool) -> anyhow::Result<()> {
@@ -122,8 +85,8 @@ fn opt(x: Option<f64>) -> String {
 /// Writes the reports of a study from its runs (see `cli::study::compute` for their order) and
 /// prints the table or the JSON. The exit code is 1 when a recording failed or diverged.
 pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow::Result<ExitCode> {
-    if let Some((name, values)) = &set.sweep {
-        return write_sweep(to, &set.fixed, name, values, runs);
+    if let Some(sweep) = &set.sweep {
+        return write_sweep(to, &set.fixed, sweep, runs);
     }
     let mut runs = runs.into_iter();
     let main = runs.next().ok_or_else(|| anyhow!("a study without a run"))?;
@@ -196,7 +159,8 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> anyhow
 }
 
 /// A sweep's reports: the baseline (first run) and one replayed-hands run per value.
-fn write_sweep(to: &ReportTo, fixed: &[Override], name: &str, values: &[Override], runs: Vec<RunPart>) -> anyhow::Result<ExitCode> {
+fn write_sweep(to: &ReportTo, fixed: &[Override], swept: &SweptParam, runs: Vec<RunPart>) -> anyhow::Result<ExitCode> {
+    let (name, values) = (swept.param.name, &swept.values);
     if runs.len() != values.len() + 1 {
         bail!("a sweep of {} values with {} runs", values.len(), runs.len());
     }
@@ -207,7 +171,7 @@ fn write_sweep(to: &ReportTo, fixed: &[Override], name: &str, values: &[Override
     let mut rows = Vec::new();
     for (v, run) in values.iter().zip(runs) {
         ok &= all_ok(&run.trials);
-        rows.push(Sweep::row(name, &v.text, &baseline, &run.trials));
+        rows.push(Sweep::row(v, &baseline, &run.trials));
     }
     let summary = report::summarize(&baseline, &[], bwall);
     let sweep = Sweep {

@@ -16,7 +16,7 @@ use std::time::Instant;
 use anyhow::{anyhow, bail};
 use clap::Args;
 use grove::atomic_write::write_atomic;
-use grove_systems::resources::Override;
+use grove_systems::set_arg::{SetArg, SetArgs};
 use grove_systems::scenario::run::{run as run_scenario, Outcome, RunOptions};
 use grove_systems::scenario::update::pin_hashes;
 use grove_systems::scenario::{Loaded, Step};
@@ -41,7 +41,7 @@ pub struct TestArgs {
     /// Override a parameter in every scenario, after the file's own config (repeatable), e.g.
     /// --set snap_threshold=0.01.
     #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
+    pub set: Vec<SetArg>,
     /// The folder where a failed scenario's recording is kept.
     #[arg(long, value_name = "DIR", default_value = "target/grove-test")]
     pub keep: PathBuf,
@@ -83,7 +83,7 @@ struct Ran {
 
 /// Runs `grove test`.
 pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
-    let overrides = Override::parse_all(&args.set).map_err(|e| anyhow!("--set: {e}"))?;
+    let overrides = SetArgs::single_values(&args.set).map_err(|e| anyhow!("--set {e}"))?;
     if let Some(out) = &args.junit {
         if out.exists() && !args.force {
             bail!("{}: already exists (use --force to replace it)", out.display());
