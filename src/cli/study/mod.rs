@@ -10,7 +10,6 @@
 //! - sweep (`--set NAME=V1,V2,…`): the baseline and one replayed-hands run per value.
 
 pub mod merge;
-pub mod report;
 pub mod synth;
 
 use std::path::PathBuf;
@@ -23,7 +22,7 @@ use grove_systems::resources::Override;
 use grove_systems::set_arg::{SetArg, SetArgs};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use report::{prepare_out, write_reports, ReportTo};
+use grove::study::write::{prepare_out, write_reports, ReportTo, Reports};
 use grove::study::shard::{Partial, RunPart, Shard, StudyKey};
 use grove::study::{list_recordings, recordings_in, run_all};
 
@@ -144,8 +143,30 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("target/study"));
     prepare_out(&out, args.force)?;
     let runs = compute(&set, &files, base_files.as_deref());
-    let to = ReportTo { out, json: args.json, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html };
-    write_reports(&to, &set, runs)
+    let to = ReportTo { out, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html: html.is_some() };
+    let reports = write_reports(&to, &set, runs)?;
+    show(&to, html.as_ref(), args.json, &reports)
+}
+
+/// Writes report.html if asked (saying so on stderr, with the time it took), prints the table
+/// or the summary as JSON, and gives the exit code: 1 when a recording failed or diverged.
+pub(super) fn show(to: &ReportTo, html: Option<&grove::html::Selection>, json: bool, r: &Reports) -> anyhow::Result<ExitCode> {
+    if let Some(selection) = html {
+        let start = std::time::Instant::now();
+        let page = grove::html::StudyPage { summary: &r.summary, what_if: r.what_if.as_ref(), sweep: r.sweep.as_ref(), charts: r.charts.clone(), replays: to.replays.clone(), overrides: &r.overrides };
+        let file = grove::html::write_study(&to.out, &page, &r.trials, selection)?;
+        let bytes = std::fs::metadata(&file).map(|m| m.len()).unwrap_or(0);
+        eprintln!("study: {} ({:.1} MB) written in {:.1} s", file.display(), bytes as f64 / 1e6, start.elapsed().as_secs_f64());
+    }
+    if json {
+        crate::cli::print_json(&r.json)?;
+    } else {
+        print!("{}", r.text);
+    }
+    if let Some((n, wall)) = r.resimulated {
+        eprintln!("study: {n} recordings re-simulated in {wall:.3} s");
+    }
+    Ok(if r.ok { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 /// `grove study --shard K/N --out PART`: the runs of this shard's recordings, as a partial result.
