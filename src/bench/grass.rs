@@ -42,7 +42,7 @@ fn field(side: f32, cell: f32, grass: GrassDef) -> Scene {
         *noise_seed = 0;
     }
     scene.wind = WindDef { strength: 0.6, gust_average: 0.8, gust_strength: 0.3, ..scene.wind };
-    scene.camera = CameraDef { position: Vec3::new(0.0, 1.7, side / 2.0), look_at: Vec3::ZERO, fov_y_deg: 60.0 };
+    scene.camera = CameraDef { position: Vec3::new(0.0, 1.7, side / 2.0), ..CameraDef::default() };
     scene.grass = vec![grass];
     scene
 }

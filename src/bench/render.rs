@@ -34,7 +34,6 @@ pub(super) const HEIGHT: u32 = 720;
 pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
     Scene {
         name: "render benchmark".into(),
-        dt: 1.0 / 60.0,
         seed: 7,
         planes: vec![PlaneDef {
             name: "ground".into(),
@@ -48,34 +47,10 @@ pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
                 holes: vec![],
             },
         }],
-        sun: SunDef {
-            latitude_deg: 47.37,
-            longitude_deg: 8.54,
-            utc: "2026-06-21T10:00:00Z".into(),
-            time_rate: 0.0,
-        },
-        wind: WindDef {
-            direction: Vec3::X,
-            strength: 1.0,
-            density: 0.15,
-            gust_average: 0.6,
-            gust_strength: 0.4,
-            gust_frequency: 0.2,
-            model: Default::default(),
-            response: Default::default(),
-        },
-        trees: vec![],
-        scatter: vec![],
-        banks: vec![],
-        dir: None,
-        water: vec![],
-        grass: vec![],
-        aerial: None,
-        camera: CameraDef {
-            position: Vec3::new(0.0, 1.7, 6.0),
-            look_at: Vec3::ZERO,
-            fov_y_deg: 60.0,
-        },
+        sun: SunDef::default(),
+        wind: WindDef { strength: 1.0, density: 0.15, gust_average: 0.6, gust_strength: 0.4, gust_frequency: 0.2, ..WindDef::default() },
+        camera: CameraDef::default(),
+        ..Scene::default()
     }
 }
 
