@@ -159,7 +159,7 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> Result
     }
     text.push_str(&table::summary_lines(&summary));
     let _ = writeln!(text, "reports in {}", out.display());
-    let ok = all_ok(&trials) && what_if.as_ref().is_none_or(|w| w.baseline.status.get("failed").is_none() && w.baseline.status.get("diverged").is_none());
+    let ok = all_ok(&trials) && what_if.as_ref().is_none_or(|w| !w.baseline.status.contains_key("failed") && !w.baseline.status.contains_key("diverged"));
     // The what-if trials of replayed hands ran under --set; re-simulated participants carry
     // their setting in their headers.
     let overrides = if to.baseline { Vec::new() } else { set.fixed.clone() };
