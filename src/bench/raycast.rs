@@ -7,13 +7,12 @@
 //! query the raycast system makes every tick); the figure is the median, over several batches,
 //! of the mean time per ray in a batch.
 
-use anyhow::anyhow;
 use glam::Vec3;
 use grove_systems::Sim;
 use serde::Serialize;
 use serde_json::Value;
 
-use super::{median, time_ms, SimOptions};
+use super::{median, time_ms, BenchError, SimOptions};
 
 /// Trees in the raycast benchmark.
 pub const RAYCAST_TREES: usize = 10_000;
@@ -54,10 +53,10 @@ fn unit(state: &mut u64) -> f32 {
 }
 
 /// Runs the raycast benchmark.
-pub fn bench_raycast(args: &SimOptions) -> anyhow::Result<Value> {
+pub fn bench_raycast(args: &SimOptions) -> Result<Value, BenchError> {
     let scene = super::load_scene(&args.scene)?;
     eprintln!("bench: raycast with {RAYCAST_TREES} trees");
-    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
+    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
     sim.scatter_trees(RAYCAST_TREES);
     let (mut min, mut max) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let (mut planes, mut plane_triangles) = (0, 0);

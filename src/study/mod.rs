@@ -6,6 +6,7 @@
 pub mod chart;
 pub mod conditions;
 pub mod csv_out;
+pub mod error;
 pub mod friedman;
 pub mod latin;
 pub mod participant;
@@ -16,6 +17,10 @@ pub mod synth;
 pub mod synth_plugin;
 pub mod table;
 pub mod whatif;
+pub mod write;
+
+pub use error::{StudyError, SynthError};
+pub use shard::ShardError;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -96,25 +101,25 @@ pub struct Trial {
 }
 
 /// Every recording file (`*.jsonl`) in a folder, sorted by name; a folder without any is refused.
-pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn recordings_in(dir: &Path) -> Result<Vec<PathBuf>, StudyError> {
     let files = list_recordings(dir)?;
     if files.is_empty() {
-        anyhow::bail!("{}: no recordings (*.jsonl) in this folder", dir.display());
+        return Err(StudyError::NoRecordings(dir.to_path_buf()));
     }
     Ok(files)
 }
 
 /// Every recording file (`*.jsonl`) in a folder, sorted by name, perhaps none (a shard's folder
 /// may hold no participant).
-pub fn list_recordings(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn list_recordings(dir: &Path) -> Result<Vec<PathBuf>, StudyError> {
     if !dir.exists() {
-        anyhow::bail!("{}: no such folder", dir.display());
+        return Err(StudyError::NoSuchFolder(dir.to_path_buf()));
     }
     if !dir.is_dir() {
-        anyhow::bail!("{}: is not a folder of recordings", dir.display());
+        return Err(StudyError::NotAFolder(dir.to_path_buf()));
     }
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?
+        .map_err(|source| StudyError::Folder { path: dir.to_path_buf(), source })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
         .collect();
@@ -122,7 +127,7 @@ pub fn list_recordings(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     // A pipe, device or folder among them is bad input, refused before anything runs (reading
     // a pipe would block); a damaged recording, by contrast, becomes a failed trial.
     for f in &files {
-        grove_systems::files::check(f, grove_systems::files::Kind::Recording)?;
+        grove_systems::files::check(f, grove_systems::files::Kind::Recording).map_err(grove_systems::Error::from)?;
     }
     Ok(files)
 }

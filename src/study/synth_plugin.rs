@@ -15,7 +15,8 @@ use grove_systems::input::{Button, InputEvent};
 use grove_systems::Sim;
 
 use super::participant::{angle_between, angular_width, scatter_direction, sweep};
-use super::synth::{Participant, AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY};
+use super::error::SynthError;
+use super::synth::{stuck, Participant, AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY};
 
 impl Participant {
     fn gaze(&self) -> (Vec3, Vec3) {
@@ -56,7 +57,7 @@ impl Participant {
 
     /// Places one target by gaze and dwell: choose the model if needed, aim the gaze, hold it
     /// for the dwell; a tree that lands off target is looked at and removed with Bumper.
-    pub(crate) fn gaze_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32, dwell_s: f64) -> anyhow::Result<()> {
+    pub(crate) fn gaze_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32, dwell_s: f64) -> Result<(), SynthError> {
         self.think();
         if self.sim().menu().current_model != model {
             self.choose(model);
@@ -99,6 +100,6 @@ impl Participant {
                 self.press(Button::Bumper);
             }
         }
-        anyhow::bail!("could not plant at ({:.2}, {:.2}) by gaze after several tries", pos.x, pos.z)
+        Err(stuck(&format!("could not plant at ({:.2}, {:.2}) by gaze after several tries", pos.x, pos.z)))
     }
 }

@@ -4,7 +4,7 @@
 //! encoded as H.264 in MP4 ([`encode`]). Frames are drawn on this thread and encoded on a
 //! second one, two frames apart at most, so memory stays flat however long the video.
 //!
-//! Knows nothing of the command line: `cli/render.rs` parses the arguments, builds the renderer
+//! Knows nothing of the command line: `cli/render/` parses the arguments, builds the renderer
 //! and calls [`write`].
 
 pub mod camera;

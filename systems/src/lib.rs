@@ -39,6 +39,7 @@ pub mod resource_hash;
 pub mod resources;
 pub mod scenario;
 pub mod scene;
+pub mod set_arg;
 pub mod setup;
 pub mod schedule;
 pub mod script;

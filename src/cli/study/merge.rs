@@ -8,7 +8,8 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use super::study_report::{parse_set, prepare_out, write_reports, ReportTo};
+use grove::study::write::{prepare_out, write_reports, ReportTo};
+use grove_systems::set_arg::SetArgs;
 use grove::study::assign_order;
 use grove::study::shard::{combine, Partial};
 
@@ -32,16 +33,17 @@ pub struct MergeArgs {
 /// Runs `grove study merge`.
 pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
     let names: Vec<String> = args.parts.iter().map(|p| p.display().to_string()).collect();
-    let parts = args.parts.iter().map(|p| Partial::read(p)).collect::<anyhow::Result<Vec<_>>>()?;
+    let parts = args.parts.iter().map(|p| Partial::read(p)).collect::<Result<Vec<_>, _>>()?;
     let (study, replays, mut runs) = combine(parts, &names)?;
     if runs.first().is_none_or(|r| r.trials.is_empty()) {
         anyhow::bail!("{}: no recordings in any of the shards (as grove study refuses a folder without any)", replays);
     }
-    let set = parse_set(&study.set)?;
+    let set = SetArgs::new(&study.set).map_err(|e| anyhow::anyhow!("--set {e}"))?;
     prepare_out(&args.out, args.force)?;
     for r in &mut runs {
         assign_order(&mut r.trials);
     }
-    let to = ReportTo { out: args.out, json: args.json, replays, baseline: study.baseline, html: None };
-    write_reports(&to, &set, runs)
+    let to = ReportTo { out: args.out, replays, baseline: study.baseline, html: false };
+    let reports = write_reports(&to, &set, runs)?;
+    super::show(&to, None, args.json, &reports)
 }

@@ -7,6 +7,10 @@
 //! Banks are the `--bank` folders in order, then those of `GROVE_BANK` (colon-separated); the
 //! shipped models (`assets/trees`) always come first.
 
+pub mod assets;
+pub mod lsystem;
+pub mod trees;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -209,7 +213,7 @@ fn listed(banks: &[PathBuf]) -> anyhow::Result<Vec<Listed>> {
 fn run_list(a: ListArgs) -> anyhow::Result<ExitCode> {
     let all = listed(&a.banks)?;
     if a.json {
-        super::print_json(&all)?;
+        crate::cli::print_json(&all)?;
     } else {
         for m in &all {
             println!("{:>3}  {:<24} {:<12} {:<9} {:>6.2} m {:>7} tris  {}", m.id, m.name, m.species, m.kind, m.height, m.triangles, m.bank);
@@ -272,7 +276,7 @@ fn run_check(a: ListArgs) -> anyhow::Result<ExitCode> {
     let bad = report.iter().filter(|r| !r.2.is_empty()).count();
     if a.json {
         let v: Vec<serde_json::Value> = report.iter().map(|(n, b, p)| serde_json::json!({ "name": n, "bank": b, "ok": p.is_empty(), "problems": p })).collect();
-        super::print_json(&serde_json::json!({ "models": v, "mismatched": bad }))?;
+        crate::cli::print_json(&serde_json::json!({ "models": v, "mismatched": bad }))?;
     } else {
         for (n, b, p) in &report {
             if p.is_empty() {

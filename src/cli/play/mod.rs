@@ -1,5 +1,7 @@
 //! `grove play`: an interactive session in a window, optionally recorded.
 
+pub mod view;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -72,7 +74,7 @@ fn parse_quality(s: &str) -> Result<Quality, String> {
 pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     let (scene, scene_name) = match &args.scene {
         Some(p) => {
-            let scene = super::load_scene(p)?;
+            let scene = crate::cli::load_scene(p)?;
             let abs = std::fs::canonicalize(p).unwrap_or_else(|_| p.clone());
             (scene, abs.display().to_string())
         }

@@ -5,11 +5,13 @@
 //! - `grove render --scene FILE --frames N --fps F --out DIR [--time-rate R]`
 //! - `grove render --model FILE --out PNG`
 //! - `grove render --replay FILE --video OUT.mp4 [--camera head|shoulder|top|orbit] [--from T]
-//!   [--to T] [--fps F] [--speed S] [--ghosts DIR]` (`render_video.rs`, which `main.rs` calls
+//!   [--to T] [--fps F] [--speed S] [--ghosts DIR]` (`video.rs`, which `main.rs` calls
 //!   when `--video` is given, and `grove::video`)
 //!
 //! The renderer draws whatever [`Sim`] it is given ([`render_sim`]), so a world from a replay or
 //! any other source can be rendered the same way.
+
+pub mod video;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -82,7 +84,7 @@ pub struct RenderArgs {
     pub overlay: Option<Overlay>,
     /// Draw trees whose bounding sphere covers fewer pixels than this as impostors (0: never;
     /// --model always draws the mesh).
-    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = super::bench_args::non_negative)]
+    #[arg(long, default_value_t = grove::render::DEFAULT_IMPOSTOR_PIXELS, value_parser = crate::cli::bench::args::non_negative)]
     pub impostor_pixels: f32,
     /// Write a sequence of this many frames into the folder --out (with --scene, or with --model
     /// to see the model sway in the study's wind).
@@ -288,7 +290,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
-    let mut scene = super::load_scene(scene_path)?;
+    let mut scene = crate::cli::load_scene(scene_path)?;
     if let Some(rate) = args.time_rate {
         if !rate.is_finite() {
             bail!("--time-rate must be a finite number");

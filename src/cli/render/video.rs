@@ -11,7 +11,7 @@ use grove::render::offscreen::Gpu;
 use grove::video::{self, camera::CameraKind, Mark, VideoSpec};
 use grove_systems::replay::Player;
 
-use super::render::{check_out_file, OutFile, RenderArgs};
+use super::{check_out_file, OutFile, RenderArgs};
 
 /// `--video`: an `.mp4` file.
 const MP4_OUT: OutFile = OutFile { flag: "--video", ext: "mp4", name: "an .mp4", kind: "an .mp4 file" };
@@ -20,7 +20,7 @@ const MP4_OUT: OutFile = OutFile { flag: "--video", ext: "mp4", name: "an .mp4",
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let args = &args;
     let out = args.video.as_deref().ok_or_else(|| anyhow!("give --video OUT.mp4"))?;
-    super::render::check_size(args.width, args.height)?;
+    super::check_size(args.width, args.height)?;
     let replay = args.replay.as_deref().ok_or_else(|| anyhow!("--video needs --replay FILE"))?;
     check_out_file(out, args.force, &MP4_OUT)?;
     if args.width % 2 != 0 || args.height % 2 != 0 {
@@ -68,7 +68,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let scene = grove_systems::replay::scene_ref::resolve_scene(&player.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
     let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
     let gpu = Gpu::new()?;
-    let mut renderer = super::render::renderer(&gpu, args, player.sim(), &scene, aerial)?;
+    let mut renderer = super::renderer(&gpu, args, player.sim(), &scene, aerial)?;
     let n = video::frame_ticks(from, to, fps, args.speed, dt).len() as u64;
     let bar = indicatif::ProgressBar::new(n);
     bar.set_style(indicatif::ProgressStyle::with_template("{msg} {wide_bar} {pos}/{len} frames, {per_sec}, {eta} left").map_err(|e| anyhow!(e))?);

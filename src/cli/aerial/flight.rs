@@ -154,7 +154,7 @@ pub fn flight(a: FlightArgs) -> anyhow::Result<ExitCode> {
         "last_error": stats.last_error,
     });
     if a.json {
-        super::print_json(&result)?;
+        crate::cli::print_json(&result)?;
     } else {
         println!(
             "{}: {} frames, update {:.3} ms mean, {:.3} ms p99, {:.3} ms max; {:.0} texels per frame after the first ({} at most, {} in the first); {} tiles loaded, {} failed; {} frames with tiles missing; peak memory {:.0} MiB",

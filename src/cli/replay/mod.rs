@@ -2,7 +2,11 @@
 //!
 //! Exit codes: 0 verified or unverified (no checkpoints to compare), 1 diverged, 2 unreadable or
 //! invalid input. `--seal` re-simulates an event-only file and writes it with checkpoints
-//! (`replay_seal.rs`).
+//! (`seal.rs`).
+
+pub mod html;
+pub mod seal;
+pub mod upgrade;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -123,10 +127,10 @@ impl ReplayReport {
 /// Runs `grove replay`.
 pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
     if args.seal {
-        return super::replay_seal::run(&args.file, args.out.as_deref());
+        return seal::run(&args.file, args.out.as_deref());
     }
     if args.upgrade {
-        return super::replay_upgrade::run(&args.file, args.out.as_deref(), args.force);
+        return upgrade::run(&args.file, args.out.as_deref(), args.force);
     }
     if args.out.is_some() {
         anyhow::bail!("--out is only for --seal or --upgrade");
@@ -135,7 +139,7 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
         anyhow::bail!("--force is only for --upgrade or --html");
     }
     if let Some(page) = &args.html {
-        super::replay_html::check_out(page, args.force)?;
+        html::check_out(page, args.force)?;
     }
     let start = Instant::now();
     let options = ReplayOptions { until: args.until, banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
@@ -149,10 +153,10 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
     let wall = start.elapsed().as_secs_f64();
     let report = ReplayReport::new(args.file.display().to_string(), &outcome, wall);
     if let Some(page) = &args.html {
-        super::replay_html::write(&args.file, &outcome, page)?;
+        html::write(&args.file, &outcome, page)?;
     }
     if args.json {
-        super::print_json(&report)?;
+        crate::cli::print_json(&report)?;
     } else {
         let state = if report.first_divergence.is_some() {
             "DIVERGED"

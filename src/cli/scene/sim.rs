@@ -46,7 +46,7 @@ struct SimReport {
 
 /// Runs `grove sim`.
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
-    let scene = super::load_scene(&args.scene)?;
+    let scene = crate::cli::load_scene(&args.scene)?;
     if args.ticks > grove_systems::limits::MAX_TICKS {
         return Err(anyhow!("--ticks {} is past the limit of {} ticks ({})", args.ticks, grove_systems::limits::MAX_TICKS, grove_systems::limits::RAISE));
     }
@@ -69,7 +69,7 @@ pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
         wall_seconds,
     };
     if args.json {
-        super::print_json(&report)?;
+        crate::cli::print_json(&report)?;
     } else {
         println!(
             "{}: {} ticks, {} trees, {} planes, hash {} ({:.3} s)",

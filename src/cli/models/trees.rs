@@ -43,7 +43,7 @@ pub struct GenerateArgs {
     pub name: Option<String>,
     /// The model's kind in the bank's menu (default: measured from the leaves' cards).
     #[arg(long, value_enum, requires = "add")]
-    pub kind: Option<super::models::KindArg>,
+    pub kind: Option<super::KindArg>,
     /// A coarser model of the same tree already in the bank (say its `--lod 2`), drawn in this
     /// one's place where the tree is small on screen (docs/model-bank.md, "Far models").
     #[arg(long, value_name = "NAME", requires = "add")]
@@ -60,9 +60,9 @@ pub fn run(cmd: TreesCommand) -> anyhow::Result<ExitCode> {
         }
         TreesCommand::Generate(a) => {
             let t0 = Instant::now();
-            let bank = if a.add { Some(super::models::bank_for_add(a.bank.clone())?) } else { None };
+            let bank = if a.add { Some(super::bank_for_add(a.bank.clone())?) } else { None };
             if let Some(name) = &a.name {
-                super::models::check_model_name(name)?;
+                super::check_model_name(name)?;
             }
             let w = grove::species::output::write(&a.species, a.seed, &a.out)?;
             let m = &w.model;
@@ -87,10 +87,10 @@ pub fn run(cmd: TreesCommand) -> anyhow::Result<ExitCode> {
                     bank: bank.clone(),
                     name: Some(name),
                     species: Some(m.name.clone()),
-                    kind: a.kind.map(super::models::KindArg::kind),
+                    kind: a.kind.map(super::KindArg::kind),
                     far: a.far.clone(),
                 };
-                super::models::print_added(&grove::bank::import::add(&req)?, &bank);
+                super::print_added(&grove::bank::import::add(&req)?, &bank);
             }
         }
     }

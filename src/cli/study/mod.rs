@@ -9,6 +9,9 @@
 //!   `grove synth --set …` compared with the baseline recordings in DIR;
 //! - sweep (`--set NAME=V1,V2,…`): the baseline and one replayed-hands run per value.
 
+pub mod merge;
+pub mod synth;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -16,10 +19,10 @@ use anyhow::{anyhow, bail};
 use clap::{Args, Subcommand};
 use grove::atomic_write::write_atomic;
 use grove_systems::resources::Override;
+use grove_systems::set_arg::{SetArg, SetArgs};
 use indicatif::{ProgressBar, ProgressStyle};
 
-pub use super::study_report::{parse_overrides, parse_set, prepare_out, SetArgs};
-use super::study_report::{write_reports, ReportTo};
+use grove::study::write::{prepare_out, write_reports, ReportTo, Reports};
 use grove::study::shard::{Partial, RunPart, Shard, StudyKey};
 use grove::study::{list_recordings, recordings_in, run_all};
 
@@ -42,7 +45,7 @@ pub struct StudyArgs {
     #[arg(long)]
     pub json: bool,
     #[arg(long = "set", value_name = "NAME=VALUE[,VALUE…]", help = SET_HELP, long_help = set_long_help())]
-    pub set: Vec<String>,
+    pub set: Vec<SetArg>,
     /// What-if on re-simulated participants: compare the recordings in --replays (written by
     /// `grove synth --set …`) with the baseline recordings in this folder.
     #[arg(long, value_name = "DIR", conflicts_with = "set")]
@@ -73,7 +76,7 @@ pub struct StudyArgs {
 pub enum StudyCommand {
     /// Merge the partial results of every shard (`grove study --shard K/N --out PART`) into the
     /// reports a run without shards writes.
-    Merge(super::study_merge::MergeArgs),
+    Merge(merge::MergeArgs),
 }
 
 fn progress(total: u64) -> ProgressBar {
@@ -94,10 +97,10 @@ fn compute(set: &SetArgs, files: &[PathBuf], base_files: Option<&[PathBuf]>) -> 
         RunPart { trials, wall_seconds }
     };
     let mut runs = Vec::new();
-    if let Some((_, values)) = &set.sweep {
-        let bar = progress((files.len() * (values.len() + 1)) as u64);
+    if let Some(sweep) = &set.sweep {
+        let bar = progress((files.len() * (sweep.values.len() + 1)) as u64);
         runs.push(run(files, &[], &bar));
-        for v in values {
+        for v in &sweep.values {
             let mut overrides = set.fixed.clone();
             overrides.push(v.clone());
             runs.push(run(files, &overrides, &bar));
@@ -120,9 +123,9 @@ fn compute(set: &SetArgs, files: &[PathBuf], base_files: Option<&[PathBuf]>) -> 
 /// Runs `grove study` (or `grove study merge`).
 pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     if let Some(StudyCommand::Merge(m)) = args.command {
-        return super::study_merge::run(m);
+        return merge::run(m);
     }
-    let set = parse_set(&args.set)?;
+    let set = SetArgs::new(&args.set).map_err(|e| anyhow!("--set {e}"))?;
     let html = match (args.html, &args.html_trials) {
         (false, _) => None,
         (true, None) => Some(grove::html::Selection::Auto),
@@ -140,8 +143,30 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("target/study"));
     prepare_out(&out, args.force)?;
     let runs = compute(&set, &files, base_files.as_deref());
-    let to = ReportTo { out, json: args.json, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html };
-    write_reports(&to, &set, runs)
+    let to = ReportTo { out, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html: html.is_some() };
+    let reports = write_reports(&to, &set, runs)?;
+    show(&to, html.as_ref(), args.json, &reports)
+}
+
+/// Writes report.html if asked (saying so on stderr, with the time it took), prints the table
+/// or the summary as JSON, and gives the exit code: 1 when a recording failed or diverged.
+pub(super) fn show(to: &ReportTo, html: Option<&grove::html::Selection>, json: bool, r: &Reports) -> anyhow::Result<ExitCode> {
+    if let Some(selection) = html {
+        let start = std::time::Instant::now();
+        let page = grove::html::StudyPage { summary: &r.summary, what_if: r.what_if.as_ref(), sweep: r.sweep.as_ref(), charts: r.charts.clone(), replays: to.replays.clone(), overrides: &r.overrides };
+        let file = grove::html::write_study(&to.out, &page, &r.trials, selection)?;
+        let bytes = std::fs::metadata(&file).map(|m| m.len()).unwrap_or(0);
+        eprintln!("study: {} ({:.1} MB) written in {:.1} s", file.display(), bytes as f64 / 1e6, start.elapsed().as_secs_f64());
+    }
+    if json {
+        crate::cli::print_json(&r.json)?;
+    } else {
+        print!("{}", r.text);
+    }
+    if let Some((n, wall)) = r.resimulated {
+        eprintln!("study: {n} recordings re-simulated in {wall:.3} s");
+    }
+    Ok(if r.ok { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 /// `grove study --shard K/N --out PART`: the runs of this shard's recordings, as a partial result.

@@ -6,6 +6,9 @@
 //! kept as a recording in `--keep` (default `target/grove-test/NAME.jsonl`, replaced by the
 //! next failed run of that scenario), so `grove view` or `grove replay` shows what happened.
 
+pub mod junit;
+pub mod scenario;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -13,13 +16,12 @@ use std::time::Instant;
 use anyhow::{anyhow, bail};
 use clap::Args;
 use grove::atomic_write::write_atomic;
-use grove_systems::resources::Override;
+use grove_systems::set_arg::{SetArg, SetArgs};
 use grove_systems::scenario::run::{run as run_scenario, Outcome, RunOptions};
 use grove_systems::scenario::update::pin_hashes;
 use grove_systems::scenario::{Loaded, Step};
 use rayon::prelude::*;
 
-use super::junit;
 
 /// Arguments of `grove test`.
 #[derive(Args)]
@@ -39,7 +41,7 @@ pub struct TestArgs {
     /// Override a parameter in every scenario, after the file's own config (repeatable), e.g.
     /// --set snap_threshold=0.01.
     #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
+    pub set: Vec<SetArg>,
     /// The folder where a failed scenario's recording is kept.
     #[arg(long, value_name = "DIR", default_value = "target/grove-test")]
     pub keep: PathBuf,
@@ -81,7 +83,7 @@ struct Ran {
 
 /// Runs `grove test`.
 pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
-    let overrides = Override::parse_all(&args.set).map_err(|e| anyhow!("--set: {e}"))?;
+    let overrides = SetArgs::single_values(&args.set).map_err(|e| anyhow!("--set {e}"))?;
     if let Some(out) = &args.junit {
         if out.exists() && !args.force {
             bail!("{}: already exists (use --force to replace it)", out.display());
@@ -157,7 +159,7 @@ fn keep(dir: &Path, name: &str, outcome: &Outcome) -> String {
     });
     match written {
         Ok(()) => format!("recording: {}", path.display()),
-        Err(e) => format!("recording not kept: {}", super::one_line(&e)),
+        Err(e) => format!("recording not kept: {}", crate::cli::one_line(&e)),
     }
 }
 

@@ -218,8 +218,8 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     let n = a.src.n.unwrap_or(g.n);
     let limits = a.src.limits();
     let name = a.name.clone().unwrap_or_else(|| g.name.clone());
-    super::models::check_model_name(&name)?;
-    let bank = if a.add { Some(super::models::bank_for_add(a.bank.clone())?) } else { None };
+    super::check_model_name(&name)?;
+    let bank = if a.add { Some(super::bank_for_add(a.bank.clone())?) } else { None };
     let s = cpu_derive(&g, n, a.src.seed, &limits, None)?;
     let segs = turtle::interpret_parallel(&s, &g, limits.max_bytes)?;
     let model = mesh::build(&g, &segs, &mesh::ModelOptions { height: a.height.unwrap_or(g.height), ..Default::default() })?;
@@ -240,7 +240,7 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     );
     if let Some(bank) = bank {
         let req = grove::bank::import::AddRequest { file: w.gltf.clone(), bank: bank.clone(), name: Some(name.clone()), species: Some(format!("lsystem-{}", g.name)), kind: None, far: None };
-        super::models::print_added(&grove::bank::import::add(&req)?, &bank);
+        super::print_added(&grove::bank::import::add(&req)?, &bank);
     }
     Ok(ExitCode::SUCCESS)
 }

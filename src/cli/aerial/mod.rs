@@ -4,11 +4,16 @@
 //! - `grove aerial scene --crowns DIR/crowns.csv --out SCENE.ron`
 //! - `grove aerial synth --size N --seed S --out DIR`
 //! - `grove aerial eval --pair DIR [--k 1,3,5,7,9]`: quality and speed against a synthetic pair's truth
-//! - `grove aerial tile IMAGE --out DIR [--tile 256] [--force]`: a tiled mip pyramid (`aerial_tile.rs`)
-//! - `grove aerial flight --pyramid DIR`: the clipmap's CPU half on a scripted flight (`aerial_flight.rs`)
+//! - `grove aerial tile IMAGE --out DIR [--tile 256] [--force]`: a tiled mip pyramid (`tile.rs`)
+//! - `grove aerial flight --pyramid DIR`: the clipmap's CPU half on a scripted flight (`flight.rs`)
 //!
 //! Outputs are written through temporary files and never replace existing files without
 //! `--force`; bad input is one line on stderr and exit code 2.
+
+pub mod bench;
+pub mod flight;
+pub mod layers;
+pub mod tile;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -38,13 +43,13 @@ pub enum AerialCommand {
     /// Score masks of a synthetic pair against its truth for several k, with and without equalisation.
     Eval(EvalArgs),
     /// The canopy's layer masks: one treetop mask per layer, k growing with height, one bit each.
-    Layers(super::aerial_layers::LayersArgs),
+    Layers(layers::LayersArgs),
     /// A camera flight over a scene's aerial photographs, with and without the canopy: frame time, upload, memory.
-    Bench(super::aerial_bench::AerialBenchArgs),
+    Bench(bench::AerialBenchArgs),
     /// Cut a photograph of any size into a tiled mip pyramid on disk, streaming (docs/aerial-tiles.md).
-    Tile(super::aerial_tile::TileArgs),
+    Tile(tile::TileArgs),
     /// Fly a camera over a pyramid and measure the clipmap's CPU half: update time, texels per frame, memory.
-    Flight(super::aerial_flight::FlightArgs),
+    Flight(flight::FlightArgs),
 }
 
 /// The treetop rule's options, shared by `segment` and `eval`.
@@ -129,7 +134,7 @@ pub struct SceneArgs {
     #[arg(long, default_value = "2026-06-21T10:00:00Z")]
     pub utc: String,
     #[command(flatten)]
-    pub drape: super::aerial_layers::AerialSceneArgs,
+    pub drape: layers::AerialSceneArgs,
     /// Overwrite the scene if it exists.
     #[arg(long)]
     pub force: bool,
@@ -194,10 +199,10 @@ pub fn run(cmd: AerialCommand) -> anyhow::Result<ExitCode> {
         AerialCommand::Scene(a) => scene(a),
         AerialCommand::Synth(a) => synth(a),
         AerialCommand::Eval(a) => eval(a),
-        AerialCommand::Layers(a) => super::aerial_layers::run(a),
-        AerialCommand::Bench(a) => super::aerial_bench::run(a),
-        AerialCommand::Tile(a) => super::aerial_tile::tile(a),
-        AerialCommand::Flight(a) => super::aerial_flight::flight(a),
+        AerialCommand::Layers(a) => layers::run(a),
+        AerialCommand::Bench(a) => bench::run(a),
+        AerialCommand::Tile(a) => tile::tile(a),
+        AerialCommand::Flight(a) => flight::flight(a),
     })
 }
 
@@ -281,7 +286,7 @@ fn segment(a: SegmentArgs) -> anyhow::Result<ExitCode> {
     write_atomic(&outputs[2], |w| std::io::Write::write_all(w, text.as_bytes()).map_err(grove::aerial::AerialError::Io)).map_err(|e| anyhow!(e))?;
     let t_write = t4.elapsed().as_secs_f64();
     if a.json {
-        super::print_json(&json!({
+        crate::cli::print_json(&json!({
             "width": seg.width,
             "height": seg.height,
             "k": p.k,
@@ -338,7 +343,7 @@ fn scene(a: SceneArgs) -> anyhow::Result<ExitCode> {
     if a.drape.aerial {
         let dir = a.out.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
         out_dir(dir)?;
-        super::aerial_layers::drape(&mut scene, &a.drape, &a.crowns, opts.size_m, summary.gsd_m, a.min_radius, dir).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
+        layers::drape(&mut scene, &a.drape, &a.crowns, opts.size_m, summary.gsd_m, a.min_radius, dir).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
     }
     let text = scene_text(&scene, &a.crowns.display().to_string()).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
     if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -433,7 +438,7 @@ fn eval(a: EvalArgs) -> anyhow::Result<ExitCode> {
             .iter()
             .map(|(eq, k, q, tf, tm, tc)| json!({"equalize": eq, "k": k, "quality": q, "seconds": {"equalize_and_flags": tf, "mask": tm, "crowns": tc}}))
             .collect();
-        super::print_json(&json!({"width": w, "height": h, "threads": rayon::current_num_threads(), "results": list}))?;
+        crate::cli::print_json(&json!({"width": w, "height": h, "threads": rayon::current_num_threads(), "results": list}))?;
         return Ok(ExitCode::SUCCESS);
     }
     println!("{}: {w} x {h} texels, {} trees, {} threads", a.pair.display(), truth.trees.len(), rayon::current_num_threads());

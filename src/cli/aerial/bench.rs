@@ -87,7 +87,7 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
     if !(a.fly_height.is_finite() && a.fly_height > 0.0 && a.pitch.is_finite() && (1.0..=90.0).contains(&a.pitch) && a.speed.is_finite() && a.speed >= 0.0) {
         bail!("--fly-height must be positive, --pitch in 1..=90 degrees and --speed non-negative");
     }
-    let scene = super::load_scene(&a.scene)?;
+    let scene = crate::cli::load_scene(&a.scene)?;
     if scene.aerial.is_none() {
         bail!("{}: the scene has no aerial section", a.scene.display());
     }
@@ -123,7 +123,7 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
         for (k, r) in &runs {
             out.insert(name(*k).to_string(), r.json());
         }
-        super::print_json(&json!({ "adapter": gpu.adapter_name(), "width": a.width, "height": a.height, "frames": a.frames, "runs": out, "peak_rss_mib": peak }))?;
+        crate::cli::print_json(&json!({ "adapter": gpu.adapter_name(), "width": a.width, "height": a.height, "frames": a.frames, "runs": out, "peak_rss_mib": peak }))?;
     } else {
         println!("{} at {}x{}, {} frames", gpu.adapter_name(), a.width, a.height, a.frames);
         for (k, r) in &runs {

@@ -7,6 +7,7 @@ use anyhow::{anyhow, bail};
 use clap::Args;
 
 use grove::study::shard::Shard;
+use grove_systems::set_arg::{SetArg, SetArgs};
 use grove::study::synth::{conditions, write_conditions, write_study};
 
 /// Arguments of `grove synth`.
@@ -28,7 +29,7 @@ pub struct SynthArgs {
     /// changed parameter, e.g. --set snap_threshold=0.2. Compare with
     /// `grove study --replays OUT --baseline replays/study`.
     #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
+    pub set: Vec<SetArg>,
     /// The conditions, comma-separated registered techniques (e.g.
     /// ray-casting,manual,gaze-dwell; docs/techniques.md), in a balanced Latin square order per
     /// participant. Default: ray-casting,manual. Needs --out.
@@ -46,7 +47,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
     if args.participants == 0 || args.participants > 999 {
         bail!("--participants {} must be between 1 and 999", args.participants);
     }
-    let overrides = super::study::parse_overrides(&args.set)?;
+    let overrides = SetArgs::single_values(&args.set).map_err(|e| anyhow!("--set {e}"))?;
     if !args.techniques.is_empty() && args.out.is_none() {
         bail!("--techniques writes a study of its own: give it a folder with --out DIR");
     }
@@ -68,7 +69,7 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
         None => println!("wrote {} recordings to {}", written.len(), out.display()),
     }
     if !overrides.is_empty() {
-        println!("re-simulated participants under {}; compare with: grove study --replays {} --baseline replays/study", args.set.join(", "), out.display());
+        println!("re-simulated participants under {}; compare with: grove study --replays {} --baseline replays/study", args.set.iter().map(SetArg::to_string).collect::<Vec<_>>().join(", "), out.display());
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -1,5 +1,8 @@
 //! `grove scene check`: validate a scene file and print a summary.
 
+pub mod sim;
+pub mod sun;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -21,7 +24,7 @@ pub enum SceneCommand {
 pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
     match cmd {
         SceneCommand::Check { file } => {
-            let scene = super::load_scene(&file)?;
+            let scene = crate::cli::load_scene(&file)?;
             let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{}: {e}", file.display()))?;
             println!("{}: ok, scene '{}'", file.display(), scene.name);
             println!("  dt: {:.6} s ({:.1} Hz), seed {}", scene.dt, 1.0 / scene.dt, scene.seed);

@@ -67,7 +67,7 @@ pub fn run(args: SunArgs) -> anyhow::Result<ExitCode> {
         delta_t_s: p.delta_t_s,
     };
     if args.json {
-        super::print_json(&report)?;
+        crate::cli::print_json(&report)?;
     } else {
         let [x, y, z] = report.direction;
         println!("sun at {lat}° N, {lon}° E, {}:", report.utc);

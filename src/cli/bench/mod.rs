@@ -6,12 +6,14 @@
 //! is a function that returns a JSON value, every figure the median of several timed runs on
 //! one thread, in whatever build (debug or release) the binary is.
 
+pub mod args;
+
 use std::process::ExitCode;
 
 use grove::bench::{self, SimOptions};
 use serde_json::{json, Value};
 
-pub use super::bench_args::{BenchArgs, Which};
+pub use args::{BenchArgs, Which};
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
@@ -72,6 +74,6 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
         };
         report.insert(name.into(), value);
     }
-    super::print_json(&Value::Object(report))?;
+    crate::cli::print_json(&Value::Object(report))?;
     Ok(ExitCode::SUCCESS)
 }
