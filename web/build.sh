@@ -9,8 +9,10 @@ if ! rustup target list --installed 2>/dev/null | grep -qx wasm32-unknown-unknow
   rustup target add wasm32-unknown-unknown
 fi
 out="${CARGO_TARGET_DIR:-target}/wasm"
-# No SIMD (wasm's NaN bit patterns are not deterministic, and the native build has none of it
-# either): the target's default features only.
+# No SIMD (wasm's NaN bit patterns are not deterministic): the target's default features only.
+case "${RUSTFLAGS:-} ${CARGO_ENCODED_RUSTFLAGS:-}" in
+  *simd128*|*relaxed-simd*) echo "web/build.sh: RUSTFLAGS turn on wasm SIMD, which the module must not use (docs/wasm.md)" >&2; exit 2 ;;
+esac
 CARGO_PROFILE_RELEASE_DEBUG=0 CARGO_PROFILE_RELEASE_STRIP=true \
   cargo build --locked --release -q --target wasm32-unknown-unknown -p grove-web-sim --target-dir "$out"
 cp "$out/wasm32-unknown-unknown/release/grove_web_sim.wasm" "$out/grove_sim.wasm"

@@ -90,12 +90,12 @@ impl Options {
     /// The header and scene these options describe.
     pub fn start(self) -> Result<Start, Error> {
         match self.header.clone() {
-            Some(line) => self.from_header_line(&line),
+            Some(line) => self.following(&line),
             None => self.new_header(),
         }
     }
 
-    fn from_header_line(self, line: &str) -> Result<Start, Error> {
+    fn following(self, line: &str) -> Result<Start, Error> {
         let fields = [
             ("scene", self.scene.is_some()),
             ("seed", self.seed.is_some()),
