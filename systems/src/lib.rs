@@ -45,6 +45,7 @@ pub mod schedule;
 pub mod script;
 pub mod sim;
 pub mod single;
+pub mod snapshot;
 pub mod spatial;
 pub mod stage;
 pub mod systems;

@@ -17,8 +17,8 @@ use crate::sim::Sim;
 pub fn frame_bounds(min: Vec3, max: Vec3, fov_y: f32, aspect: f32) -> (Vec3, Vec3) {
     let centre = (min + max) * 0.5;
     let radius = ((max - min).length() * 0.5).max(0.01);
-    let half = (fov_y * 0.5).min(((fov_y * 0.5).tan() * aspect).atan());
-    let dist = radius / half.sin() * 1.05;
+    let half = (fov_y * 0.5).min(libm::atanf(libm::tanf(fov_y * 0.5) * aspect));
+    let dist = radius / libm::sinf(half) * 1.05;
     let dir = Vec3::new(0.55, 0.3, 0.78).normalize();
     (centre + dir * dist, centre)
 }

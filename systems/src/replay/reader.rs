@@ -78,6 +78,9 @@ pub struct ReplayOptions {
     pub overrides: Vec<Override>,
     /// The model-bank folders in which the header's models are looked up.
     pub banks: Vec<std::path::PathBuf>,
+    /// The scene, already read, in place of the one the header names (which is then not looked
+    /// up): for a reader without a file system.
+    pub scene: Option<crate::scene::Scene>,
 }
 
 /// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
@@ -138,7 +141,11 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let header = lines.header.clone();
     let verifying = options.overrides.is_empty();
     let banks = crate::bank::Banks::open(&options.banks).map_err(|m| err((None, m.0)))?;
-    let mut sim = sim_for_header_in(&header, base_dir, &options.overrides, &banks).map_err(|m| err((Some(1), m.to_string())))?;
+    let built = match &options.scene {
+        Some(scene) => super::sim_for_header_with_scene(&header, scene.clone(), &options.overrides, &banks),
+        None => sim_for_header_in(&header, base_dir, &options.overrides, &banks),
+    };
+    let mut sim = built.map_err(|m| err((Some(1), m.to_string())))?;
     // Counted by the kind's static name, and named as `String`s once at the end.
     let mut counts: BTreeMap<&'static str, u64> = BTreeMap::new();
     let mut checkpoints_checked = 0;
