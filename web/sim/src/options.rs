@@ -3,7 +3,7 @@
 
 use grove_systems::limits::MAX_SCENE_BYTES;
 use grove_systems::replay::{decode_line, Header, HeaderTechnique, Line, FORMAT_VERSION};
-use grove_systems::resources::Override;
+use grove_systems::set_arg::{SetArg, SetArgs};
 use grove_systems::scene::Scene;
 use serde::Deserialize;
 
@@ -127,7 +127,8 @@ impl Options {
         let name = self.scene.clone().unwrap_or_else(|| "study".into());
         let scene = scene(&name, self.scene_text.as_deref())?;
         let mut header = Header::new(&name, self.seed.unwrap_or(scene.seed), scene.dt);
-        header.config = Override::parse_all(&self.set)?.into_iter().collect();
+        let set = self.set.iter().map(|a| a.parse::<SetArg>()).collect::<Result<Vec<_>, _>>()?;
+        header.config = SetArgs::single_values(&set)?.into_iter().collect();
         header.task = self.task;
         header.participant = self.participant;
         header.synthetic = self.synthetic;
