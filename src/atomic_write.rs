@@ -5,7 +5,6 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, Context};
 
 /// The temporary name beside `path`: hidden, unique to this process and file, and keeping the
 /// extension so that writers which choose the format by extension (PNG, CSV) still do.
@@ -20,13 +19,24 @@ pub fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
+/// A file that could not be put in place: its temporary file could not be written, or renamed.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: cannot write ({source})", path.display())]
+pub struct WriteError {
+    /// The file.
+    pub path: PathBuf,
+    /// Why.
+    #[source]
+    pub source: std::io::Error,
+}
+
 /// Calls `write` with a temporary path beside `path`, then renames the temporary file to
 /// `path`. If `write` fails, or the rename does, the temporary file is removed and `path` is
-/// left as it was.
-pub fn write_via_temp<T>(path: &Path, write: impl FnOnce(&Path) -> anyhow::Result<T>) -> anyhow::Result<T> {
+/// left as it was. Any error type that a [`WriteError`] converts into will do.
+pub fn via_temp<T, E: From<WriteError>>(path: &Path, write: impl FnOnce(&Path) -> Result<T, E>) -> Result<T, E> {
     let tmp = temp_path(path);
     let result = write(&tmp).and_then(|value| {
-        std::fs::rename(&tmp, path).map_err(|e| anyhow!("{}: cannot write ({e})", path.display()))?;
+        std::fs::rename(&tmp, path).map_err(|source| WriteError { path: path.to_path_buf(), source })?;
         Ok(value)
     });
     if result.is_err() {
@@ -35,9 +45,19 @@ pub fn write_via_temp<T>(path: &Path, write: impl FnOnce(&Path) -> anyhow::Resul
     result
 }
 
+/// [`via_temp`] for a writer that returns `anyhow::Result`.
+pub fn write_via_temp<T>(path: &Path, write: impl FnOnce(&Path) -> anyhow::Result<T>) -> anyhow::Result<T> {
+    via_temp(path, write)
+}
+
 /// Writes bytes to `path` through a temporary file and a rename.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    via_temp(path, |tmp| std::fs::write(tmp, bytes).map_err(|source| WriteError { path: path.to_path_buf(), source }))
+}
+
+/// [`write_bytes`] for a caller that returns `anyhow::Result`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    write_via_temp(path, |tmp| std::fs::write(tmp, bytes).with_context(|| format!("{}: cannot write", path.display())))
+    Ok(write_bytes(path, bytes)?)
 }
 
 #[cfg(test)]
@@ -50,7 +70,7 @@ mod tests {
         let path = dir.path().join("out.png");
         let r: anyhow::Result<()> = write_via_temp(&path, |tmp| {
             std::fs::write(tmp, b"half")?;
-            Err(anyhow!("the encoder failed"))
+            Err(anyhow::anyhow!("the encoder failed"))
         });
         assert!(r.is_err());
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing is left behind");
@@ -70,5 +90,15 @@ mod tests {
         .unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn a_typed_write_into_a_missing_folder_names_the_file_and_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("no-such-folder/summary.json");
+        let e = write_bytes(&path, b"{}").unwrap_err();
+        assert_eq!(e.path, path);
+        assert!(e.to_string().starts_with(&format!("{}: cannot write (", path.display())), "{e}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }

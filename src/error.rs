@@ -5,12 +5,15 @@
 
 use crate::aerial::AerialError;
 use crate::bank::validate::BankError;
+use crate::bench::BenchError;
 use crate::html::HtmlError;
 use crate::lsystem::expr::ExprError;
 use crate::render::trees::impostor::cache::AtlasError;
 use crate::render::overlay::controller::ControllerError;
 use crate::render::{ClipmapError, GltfError, PipelineError, RenderError};
 use crate::species::SpeciesError;
+use crate::study::{ShardError, StudyError, SynthError};
+use crate::atomic_write::WriteError;
 use crate::video::encode::VideoError;
 use crate::video::ghosts::GhostError;
 use crate::video::MarkError;
@@ -63,6 +66,21 @@ pub enum Error {
     /// [`SpeciesError`].
     #[error(transparent)]
     Species(#[from] SpeciesError),
+    /// [`StudyError`].
+    #[error(transparent)]
+    Study(#[from] StudyError),
+    /// [`ShardError`].
+    #[error(transparent)]
+    Shard(#[from] ShardError),
+    /// [`SynthError`].
+    #[error(transparent)]
+    Synth(#[from] SynthError),
+    /// [`WriteError`].
+    #[error(transparent)]
+    Write(#[from] WriteError),
+    /// [`BenchError`].
+    #[error(transparent)]
+    Bench(#[from] BenchError),
 }
 
 #[cfg(test)]
@@ -83,5 +101,15 @@ mod tests {
         }
         let e = gltf(std::path::Path::new("/nonexistent/model.gltf")).unwrap_err();
         assert!(e.to_string().contains("model.gltf"), "{e}");
+        fn recordings(dir: &std::path::Path) -> Result<Vec<std::path::PathBuf>, Error> {
+            Ok(crate::study::recordings_in(dir)?)
+        }
+        let e = recordings(std::path::Path::new("/nonexistent/replays")).unwrap_err();
+        assert!(matches!(e, Error::Study(crate::study::StudyError::NoSuchFolder(_))), "{e:?}");
+        assert_eq!(e.to_string(), "/nonexistent/replays: no such folder");
+        fn part(bytes: &[u8]) -> Result<crate::study::shard::Partial, Error> {
+            Ok(crate::study::shard::Partial::decode(bytes, "p.part")?)
+        }
+        assert!(matches!(part(b"x").unwrap_err(), Error::Shard(crate::study::ShardError::NotAPartial(_))));
     }
 }

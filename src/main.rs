@@ -23,7 +23,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scene headless for a number of ticks and print its world hash.
-    Sim(cli::sim::SimArgs),
+    Sim(cli::scene::sim::SimArgs),
     /// Work with scene files.
     #[command(subcommand)]
     Scene(cli::scene::SceneCommand),
@@ -35,27 +35,27 @@ enum Command {
     Test(cli::test::TestArgs),
     /// Scenario files: draft one from a recording.
     #[command(subcommand)]
-    Scenario(cli::scenario::ScenarioCommand),
+    Scenario(cli::test::scenario::ScenarioCommand),
     /// Re-simulate the study's recordings, verify them and write the reports (the main job).
     Study(cli::study::StudyArgs),
     /// Generate synthetic participants' recordings of the study's tasks.
-    Synth(cli::synth::SynthArgs),
+    Synth(cli::study::synth::SynthArgs),
     /// Plant trees interactively in a window (mouse, keyboard or gamepad), optionally recorded.
     Play(cli::play::PlayArgs),
     /// View a recording in a window: play, pause, step, seek, with event markers.
-    View(cli::view::ViewArgs),
+    View(cli::play::view::ViewArgs),
     /// Print the sun's position (NREL SPA) for a place and a UTC time.
-    Sun(cli::sun::SunArgs),
+    Sun(cli::scene::sun::SunArgs),
     /// Regenerate the tree models, textures, catalogue and sky cubemap (deterministic).
-    Assets(cli::assets::AssetsArgs),
+    Assets(cli::models::assets::AssetsArgs),
     /// Render a scene, a frame sequence or a glTF model to PNG (offscreen).
     Render(cli::render::RenderArgs),
     /// L-system trees: derive (CPU or GPU), write glTF models, benchmark.
     #[command(subcommand)]
-    Lsystem(cli::lsystem::LsystemCommand),
+    Lsystem(cli::models::lsystem::LsystemCommand),
     /// Parametric trees after Weber and Penn from species presets: generate glTF models (docs/species.md).
     #[command(subcommand)]
-    Trees(cli::trees::TreesCommand),
+    Trees(cli::models::trees::TreesCommand),
     /// The model bank: add glTF models, list and check banks (docs/model-bank.md).
     #[command(subcommand)]
     Models(cli::models::ModelsCommand),
@@ -87,24 +87,24 @@ fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Sim(args) => cli::sim::run(args),
+        Command::Sim(args) => cli::scene::sim::run(args),
         Command::Scene(cmd) => cli::scene::run(cmd),
         Command::Bench(args) => cli::bench::run(args),
         Command::Replay(args) => cli::replay::run(args),
         Command::Test(args) => cli::test::run(args),
-        Command::Scenario(cmd) => cli::scenario::run(cmd),
+        Command::Scenario(cmd) => cli::test::scenario::run(cmd),
         Command::Study(args) => cli::study::run(args),
-        Command::Synth(args) => cli::synth::run(args),
+        Command::Synth(args) => cli::study::synth::run(args),
         Command::Play(args) => cli::play::run(args),
-        Command::View(args) => cli::view::run(args),
-        Command::Sun(args) => cli::sun::run(args),
-        Command::Assets(args) => cli::assets::run(args),
-        Command::Render(args) if args.video.is_some() => cli::render_video::run(args),
+        Command::View(args) => cli::play::view::run(args),
+        Command::Sun(args) => cli::scene::sun::run(args),
+        Command::Assets(args) => cli::models::assets::run(args),
+        Command::Render(args) if args.video.is_some() => cli::render::video::run(args),
         Command::Render(args) => cli::render::run(args),
-        Command::Lsystem(cmd) => cli::lsystem::run(cmd),
+        Command::Lsystem(cmd) => cli::models::lsystem::run(cmd),
         Command::Aerial(cmd) => cli::aerial::run(cmd),
         Command::Models(cmd) => cli::models::run(cmd),
-        Command::Trees(cmd) => cli::trees::run(cmd),
+        Command::Trees(cmd) => cli::models::trees::run(cmd),
         Command::Serve(args) => cli::serve::run(args),
     };
     match result {

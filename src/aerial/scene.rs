@@ -76,8 +76,6 @@ pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene
     let cell = (wf.max(df) / 200.0).max(1.0);
     let scene = Scene {
         name: opts.name.clone(),
-        dt: 1.0 / 60.0,
-        seed: 0,
         planes: vec![PlaneDef {
             name: "ground".into(),
             shape: PlaneShape::Grid {
@@ -98,18 +96,12 @@ pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene
             gust_average: 0.6,
             gust_strength: 0.3,
             gust_frequency: 0.2,
-            model: Default::default(),
-            response: Default::default(),
+            ..WindDef::default()
         },
         trees,
-        scatter: vec![],
-        banks: vec![],
-        dir: None,
-        water: vec![],
-        grass: vec![],
-        aerial: None,
         // From the south, above the southern edge, looking at the centre.
-        camera: CameraDef { position: Vec3::new(0.0, 0.35 * wf.max(df), 0.6 * df), look_at: Vec3::ZERO, fov_y_deg: 60.0 },
+        camera: CameraDef { position: Vec3::new(0.0, 0.35 * wf.max(df), 0.6 * df), ..CameraDef::default() },
+        ..Scene::default()
     };
     scene.validate().map_err(AerialError::Scene)?;
     Ok((scene, skipped))

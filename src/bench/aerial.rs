@@ -12,7 +12,6 @@
 
 use std::time::Instant;
 
-use anyhow::anyhow;
 use glam::Vec3;
 use grove_systems::components::Pose;
 use grove_systems::scene::Scene;
@@ -21,6 +20,8 @@ use serde_json::{json, Value};
 
 use crate::render::offscreen::{self, Gpu};
 use crate::render::{RenderOptions, Renderer};
+
+use super::BenchError;
 
 /// How a flight is flown and drawn.
 #[derive(Clone, Copy, Debug)]
@@ -63,11 +64,11 @@ pub struct Run {
 }
 
 /// Flies `scene` (which has an `aerial` section) with the canopy or with the crowns as models.
-pub fn fly(gpu: &Gpu, a: &Flight, scene: &Scene, canopy: bool) -> anyhow::Result<Run> {
-    let mut sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
+pub fn fly(gpu: &Gpu, a: &Flight, scene: &Scene, canopy: bool) -> Result<Run, BenchError> {
+    let mut sim = Sim::from_scene(scene, scene.seed).map_err(grove_systems::Error::from)?;
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, a.width, a.height)?;
     r.options = RenderOptions { overlay: false, canopy, shadows: a.shadows, ..Default::default() };
-    let sources = crate::aerial::open::open_sources(scene, false)?.ok_or_else(|| anyhow!("the scene has no aerial section"))?;
+    let sources = crate::aerial::open::open_sources(scene, false)?.ok_or(BenchError::NoAerial)?;
     let def = scene.aerial.as_ref().expect("checked");
     let (x0, x1) = (def.origin.x, def.origin.x + sources.size_m.x);
     let z = def.origin.y + sources.size_m.y * 0.75;
@@ -86,7 +87,7 @@ pub fn fly(gpu: &Gpu, a: &Flight, scene: &Scene, canopy: bool) -> anyhow::Result
         }
         let t = Instant::now();
         r.render(&sim, target.view())?;
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("{e}"))?;
+        gpu.device.poll(wgpu::PollType::wait_indefinitely())?;
         if i >= 2 {
             times.push(t.elapsed().as_secs_f64() * 1e3);
             uploads.push(r.features.aerial.upload_bytes() as f64 / 1024.0);

@@ -17,9 +17,6 @@
 //! CPU time of the whole process (all of lavapipe's threads) per frame, which other programs
 //! on the machine disturb far less than the wall time.
 
-use super::render::frame_ms;
-
-use anyhow::anyhow;
 use glam::Vec3;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
@@ -28,6 +25,9 @@ use grove_systems::grass::{GrassDef, GrassKind};
 use grove_systems::scene::{CameraDef, PlaneShape, Scene, WindDef};
 use grove_systems::Sim;
 use serde_json::{json, Value};
+
+use super::render::frame_ms;
+use super::BenchError;
 
 /// A flat square plane of `side` metres centred on the origin, cells of `cell` metres, with one
 /// grass patch over all of it.
@@ -42,7 +42,7 @@ fn field(side: f32, cell: f32, grass: GrassDef) -> Scene {
         *noise_seed = 0;
     }
     scene.wind = WindDef { strength: 0.6, gust_average: 0.8, gust_strength: 0.3, ..scene.wind };
-    scene.camera = CameraDef { position: Vec3::new(0.0, 1.7, side / 2.0), look_at: Vec3::ZERO, fov_y_deg: 60.0 };
+    scene.camera = CameraDef { position: Vec3::new(0.0, 1.7, side / 2.0), ..CameraDef::default() };
     scene.grass = vec![grass];
     scene
 }
@@ -61,15 +61,15 @@ fn patch(kind: GrassKind, density: f32) -> GrassDef {
     }
 }
 
-fn sim_of(scene: &Scene, eye: Vec3, target: Vec3) -> anyhow::Result<Sim> {
-    let mut sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
+fn sim_of(scene: &Scene, eye: Vec3, target: Vec3) -> Result<Sim, BenchError> {
+    let mut sim = Sim::from_scene(scene, scene.seed).map_err(grove_systems::Error::from)?;
     sim.run(1);
     sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() });
     Ok(sim)
 }
 
 /// A renderer of `width`×`height` with pass timing where the device has it.
-fn renderer(gpu: &Gpu, width: u32, height: u32) -> anyhow::Result<Renderer> {
+fn renderer(gpu: &Gpu, width: u32, height: u32) -> Result<Renderer, BenchError> {
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, width, height)?;
     let _ = r.enable_pass_timing();
     Ok(r)
@@ -77,7 +77,7 @@ fn renderer(gpu: &Gpu, width: u32, height: u32) -> anyhow::Result<Renderer> {
 
 /// The median frame time and pass times of `frames` frames after a warm-up frame, with the
 /// blades the cull pass kept.
-fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result<Value> {
+fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> Result<Value, BenchError> {
     let (w, h) = r.size();
     let target = offscreen::Target::new(&gpu.device, w, h);
     let (mut wall, mut compute, mut main) = (Vec::new(), Vec::new(), Vec::new());
@@ -120,7 +120,7 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> anyhow::Result
 
 
 /// Fukuda et al.'s test: the 1 km² shell field at 1280 × 720, with and without grass.
-fn fukuda(gpu: &Gpu, frames: usize) -> anyhow::Result<Value> {
+fn fukuda(gpu: &Gpu, frames: usize) -> Result<Value, BenchError> {
     // 128 strands per 2 m tile: 64 per metre, 4,096 per m². Cells of 20 m: 2,500 cells.
     let scene = field(1000.0, 20.0, GrassDef { height: (0.05, 0.1), ..patch(GrassKind::Shells, 4096.0) });
     let sim = sim_of(&scene, Vec3::new(0.0, 1.7, 480.0), Vec3::new(0.0, 0.0, 400.0))?;
@@ -154,14 +154,14 @@ fn fukuda(gpu: &Gpu, frames: usize) -> anyhow::Result<Value> {
 const BLADE_COUNTS: [(&str, u32); 4] = [("10k", 10_000), ("37.6k", 37_600), ("100k", 100_000), ("1M", 1_000_000)];
 
 /// A square blade patch of `n` blades at 400 per m², seen from 1.7 m above its near edge.
-fn blade_sim(n: u32) -> anyhow::Result<Sim> {
+fn blade_sim(n: u32) -> Result<Sim, BenchError> {
     let side = (n as f32 / 400.0).sqrt();
     let scene = field(side, (side / 20.0).max(0.25), patch(GrassKind::Blades, 400.0));
     sim_of(&scene, Vec3::new(0.0, 1.7, side / 2.0 + 1.0), Vec3::new(0.0, 0.0, 0.0))
 }
 
 /// The blade figures at `sizes`.
-fn blades(gpu: &Gpu, sizes: &[(u32, u32)], frames: usize) -> anyhow::Result<Value> {
+fn blades(gpu: &Gpu, sizes: &[(u32, u32)], frames: usize) -> Result<Value, BenchError> {
     let mut out = serde_json::Map::new();
     for &(w, h) in sizes {
         let mut row = serde_json::Map::new();
@@ -178,7 +178,7 @@ fn blades(gpu: &Gpu, sizes: &[(u32, u32)], frames: usize) -> anyhow::Result<Valu
 }
 
 /// The goal case: 65,536 blades (16 × 16 m at 256 per m²) all in view from above, 640 × 360.
-fn goal(gpu: &Gpu, frames: usize) -> anyhow::Result<Value> {
+fn goal(gpu: &Gpu, frames: usize) -> Result<Value, BenchError> {
     let scene = field(16.0, 0.5, patch(GrassKind::Blades, 256.0));
     let sim = sim_of(&scene, Vec3::new(0.0, 12.0, 14.0), Vec3::new(0.0, 0.0, 0.5))?;
     let mut r = renderer(gpu, 640, 360)?;
@@ -194,7 +194,7 @@ fn goal(gpu: &Gpu, frames: usize) -> anyhow::Result<Value> {
 }
 
 /// Runs `grove bench grass` (lavapipe or any adapter).
-pub fn bench_grass() -> anyhow::Result<Value> {
+pub fn bench_grass() -> Result<Value, BenchError> {
     let gpu = Gpu::new()?;
     eprintln!("bench: grass on {}", gpu.adapter_name());
     Ok(json!({
@@ -208,7 +208,7 @@ pub fn bench_grass() -> anyhow::Result<Value> {
 
 /// Runs `grove bench grass-goals`: only the blade goal case and Fukuda et al.'s field, the
 /// median of 20 and 10 frames.
-pub fn bench_grass_goals() -> anyhow::Result<Value> {
+pub fn bench_grass_goals() -> Result<Value, BenchError> {
     let gpu = Gpu::new()?;
     eprintln!("bench: grass goals on {}", gpu.adapter_name());
     Ok(json!({
@@ -221,7 +221,7 @@ pub fn bench_grass_goals() -> anyhow::Result<Value> {
 /// The grass case of `grove bench render-gpu` (a real GPU): 1M blades considered at 1280 × 720
 /// (goal: at most 2.5 ms of GPU time) and 4M at 1920 × 1080 (goal: 160 fps or better), and the
 /// 1 km² shell field.
-pub fn bench_grass_gpu(gpu: &Gpu) -> anyhow::Result<Value> {
+pub fn bench_grass_gpu(gpu: &Gpu) -> Result<Value, BenchError> {
     let mut r = renderer(gpu, 1280, 720)?;
     eprintln!("bench: grass, 1M blades at 1280x720");
     let one = time(gpu, &mut r, &blade_sim(1_000_000)?, 30)?;

@@ -2,24 +2,24 @@
 //! detail (simplified foliage and impostors) moves the reference scene's image from the
 //! full-detail render.
 
-use anyhow::anyhow;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
 use super::render::{forest, header, setup, time_frames, time_frames_at, RenderBenchOptions, HEIGHT, WALL_TIMING, WIDTH};
+use super::BenchError;
 
 /// The image difference between `sim` drawn with the renderer's options and drawn at full
 /// detail (every leaf, no impostors), shadows as set: the mean absolute difference per channel
 /// (0..255) and the share of pixels whose largest channel difference exceeds 40.
-pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> anyhow::Result<Value> {
+pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> Result<Value, BenchError> {
     let lod = offscreen::render_image(gpu, renderer, sim)?;
     let saved = renderer.options;
     renderer.options.leaf_pixels = 0.0;
     renderer.options.impostor_pixels = 0.0;
     renderer.options.far_pixels = 0.0;
-    let full = offscreen::render_image(gpu, renderer, sim).map_err(anyhow::Error::from);
+    let full = offscreen::render_image(gpu, renderer, sim);
     renderer.options = saved;
     let full = full?;
     let mut sums = [0u64; 3];
@@ -44,13 +44,13 @@ pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> anyhow::Res
 /// The forest scene at 1920 × 1080 and a million trees (1000 × 1000, 10 m apart, all eight
 /// models in turn) at 1920 × 1080, shadows on and off, for `grove bench render-gpu` (which has
 /// refused a software adapter and turned the timestamp queries on). Adds them to `out`.
-pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_json::Map<String, Value>) -> anyhow::Result<()> {
+pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_json::Map<String, Value>) -> Result<(), BenchError> {
     const FULL_HD: (u32, u32) = (1920, 1080);
     renderer.resize(FULL_HD.0, FULL_HD.1);
     let path = crate::render::default_assets_dir().join("scenes/forest.ron");
     let scene = super::load_scene(&path)?;
-    let forest_sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(renderer, &scene, &[], &forest_sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    let forest_sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
+    crate::bank::load_for_scene(renderer, &scene, &[], forest_sim.catalogue())?;
     eprintln!("bench: a million trees (building the world)");
     let million = forest(1000, Some(&|i| (i % 8) as u8))?;
     for (name, sim) in [("forest_10k_trees_1920x1080", &forest_sim), ("million_trees_1920x1080", &million)] {
@@ -71,12 +71,12 @@ pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_js
 
 /// `grove bench render-forest`: the forest scene (assets/scenes/forest.ron, or `scene`) from its
 /// camera, shadows on and off, and its image difference from the full-detail render.
-pub fn bench_forest(options: RenderBenchOptions, scene: Option<&std::path::Path>) -> anyhow::Result<Value> {
+pub fn bench_forest(options: RenderBenchOptions, scene: Option<&std::path::Path>) -> Result<Value, BenchError> {
     let path = scene.map_or_else(|| crate::render::default_assets_dir().join("scenes/forest.ron"), std::path::Path::to_path_buf);
     let scene = super::load_scene(&path)?;
     let (gpu, mut renderer, adapter) = setup(options, false)?;
-    let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(&mut renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    let sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
+    crate::bank::load_for_scene(&mut renderer, &scene, &[], sim.catalogue())?;
     let mut figures = serde_json::Map::new();
     for shadows in [true, false] {
         renderer.options.shadows = shadows;

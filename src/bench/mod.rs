@@ -1,9 +1,10 @@
-//! The benchmarks behind `grove bench` (the command is `cli/bench.rs`, which parses its
+//! The benchmarks behind `grove bench` (the command is `cli/bench/`, which parses its
 //! arguments, calls these and prints their JSON): each is a function that returns a JSON value;
 //! every figure is the median of several timed runs, in whatever build (debug or release) the
 //! binary is. The timing and process-measuring helpers they share are here.
 
 pub mod aerial;
+pub mod error;
 pub mod grass;
 pub mod impostor;
 pub mod pairs;
@@ -16,10 +17,11 @@ pub mod video;
 pub mod water;
 pub mod wind;
 
+pub use error::BenchError;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::anyhow;
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use serde::Serialize;
@@ -37,8 +39,8 @@ pub struct SimOptions {
 }
 
 /// A scene file, read and checked.
-pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
-    Ok(Scene::load(path)?)
+pub fn load_scene(path: &Path) -> Result<Scene, BenchError> {
+    Ok(Scene::load(path).map_err(grove_systems::Error::from)?)
 }
 
 /// The median of a slice of timings (sorted in place); 0 for an empty slice.
@@ -94,12 +96,12 @@ struct TickFigure {
 
 /// The simulation tick with each of `options.trees` trees scattered in the scene, animation
 /// systems on.
-pub fn bench_sim(options: &SimOptions) -> anyhow::Result<Value> {
+pub fn bench_sim(options: &SimOptions) -> Result<Value, BenchError> {
     let scene = load_scene(&options.scene)?;
     let mut figures = Vec::new();
     for &n in &options.trees {
         eprintln!("bench: sim tick with {n} trees");
-        let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
+        let mut sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
         sim.scatter_trees(n);
         sim.run(5);
         let mut times = time_ms(options.ticks.max(1) as usize, || sim.step());

@@ -12,7 +12,6 @@
 
 use std::path::Path;
 
-use anyhow::anyhow;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
 use grove_systems::scene::Scene;
@@ -21,6 +20,7 @@ use serde_json::{json, Value};
 
 use super::pairs::paired_share;
 use super::render::{frame_ms, setup, time_frames, RenderBenchOptions, HEIGHT, WIDTH};
+use super::BenchError;
 
 /// A configuration of the table: grass, water, shadows.
 type Config = (bool, bool, bool);
@@ -40,9 +40,9 @@ const ROWS: [(&str, bool, bool, bool); 4] = [
 
 /// The park table of `scene` (the park's, [`park_scene`], or another; read from `path`) with
 /// `gpu` and `renderer`: one row per configuration, `frames` frames each.
-pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &Scene, path: &Path) -> anyhow::Result<Value> {
-    let sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(renderer, scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &Scene, path: &Path) -> Result<Value, BenchError> {
+    let sim = Sim::from_scene(scene, scene.seed).map_err(grove_systems::Error::from)?;
+    crate::bank::load_for_scene(renderer, scene, &[], sim.catalogue())?;
     let saved = renderer.options;
     let mut rows = serde_json::Map::new();
     for (name, grass, water, shadows) in ROWS {
@@ -76,14 +76,14 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &S
 
 /// Sets `renderer`'s grass, water and shadows to `config` and times one frame of `sim` into
 /// `target` ([`frame_ms`]).
-fn one_frame(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target, config: Config) -> anyhow::Result<f64> {
+fn one_frame(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target, config: Config) -> Result<f64, BenchError> {
     (renderer.options.grass, renderer.options.water, renderer.options.shadows) = config;
     frame_ms(gpu, renderer, sim, target)
 }
 
 /// Runs `grove bench park` on whatever adapter wgpu picks (lavapipe here), on `scene` (the
 /// park's by default).
-pub fn bench_park(options: RenderBenchOptions, scene: Option<&Path>) -> anyhow::Result<Value> {
+pub fn bench_park(options: RenderBenchOptions, scene: Option<&Path>) -> Result<Value, BenchError> {
     let path = scene.map_or_else(park_scene, Path::to_path_buf);
     // A scene that does not load is the user's error, told before the device is set up.
     let scene = super::load_scene(&path)?;

@@ -7,14 +7,12 @@
 //! query the raycast system makes every tick); the figure is the median, over several batches,
 //! of the mean time per ray in a batch.
 
-use anyhow::anyhow;
 use glam::Vec3;
-use grove_systems::components::Plane;
 use grove_systems::Sim;
 use serde::Serialize;
 use serde_json::Value;
 
-use super::{median, time_ms, SimOptions};
+use super::{median, time_ms, BenchError, SimOptions};
 
 /// Trees in the raycast benchmark.
 pub const RAYCAST_TREES: usize = 10_000;
@@ -55,21 +53,21 @@ fn unit(state: &mut u64) -> f32 {
 }
 
 /// Runs the raycast benchmark.
-pub fn bench_raycast(args: &SimOptions) -> anyhow::Result<Value> {
+pub fn bench_raycast(args: &SimOptions) -> Result<Value, BenchError> {
     let scene = super::load_scene(&args.scene)?;
     eprintln!("bench: raycast with {RAYCAST_TREES} trees");
-    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
+    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
     sim.scatter_trees(RAYCAST_TREES);
     let (mut min, mut max) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let (mut planes, mut plane_triangles) = (0, 0);
-    for p in sim.world().query::<&Plane>().iter() {
+    sim.for_each_plane(|_, p| {
         planes += 1;
         plane_triangles += p.triangles.len();
         for v in &p.vertices {
             min = min.min(*v);
             max = max.max(*v);
         }
-    }
+    });
     let mut state = 0x6772_6f76_6521_u64;
     let mut point = |y: f32| Vec3::new(min.x + (max.x - min.x) * unit(&mut state), y, min.z + (max.z - min.z) * unit(&mut state));
     let rays: Vec<(Vec3, Vec3)> = (0..RAYS)
@@ -79,13 +77,13 @@ pub fn bench_raycast(args: &SimOptions) -> anyhow::Result<Value> {
             (from, (to - from).normalize_or(Vec3::NEG_Y))
         })
         .collect();
-    let spatial = &sim.res().spatial;
-    let max_len = sim.res().config.max_ray_length;
+    let spatial = sim.spatial();
+    let max_len = sim.config().max_ray_length;
     let (mut hits, mut tree_hits) = (0, 0);
     for (o, d) in &rays {
         if let Some(h) = spatial.cast(*o, *d, max_len, None) {
             hits += 1;
-            if sim.world().get::<&grove_systems::components::Tree>(h.entity).is_ok() {
+            if sim.tree(h.entity.to_bits().get()).is_some() {
                 tree_hits += 1;
             }
         }

@@ -14,7 +14,6 @@
 
 use std::time::Instant;
 
-use anyhow::anyhow;
 use glam::{Vec2, Vec3};
 use crate::render::Renderer;
 use crate::render::offscreen::{self, Gpu};
@@ -23,6 +22,8 @@ use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
 use grove_systems::scene::{CameraDef, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
 use serde_json::{Value, json};
+
+use super::BenchError;
 
 /// The benchmark's image width, pixels.
 pub(super) const WIDTH: u32 = 1280;
@@ -33,7 +34,6 @@ pub(super) const HEIGHT: u32 = 720;
 pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
     Scene {
         name: "render benchmark".into(),
-        dt: 1.0 / 60.0,
         seed: 7,
         planes: vec![PlaneDef {
             name: "ground".into(),
@@ -47,34 +47,10 @@ pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
                 holes: vec![],
             },
         }],
-        sun: SunDef {
-            latitude_deg: 47.37,
-            longitude_deg: 8.54,
-            utc: "2026-06-21T10:00:00Z".into(),
-            time_rate: 0.0,
-        },
-        wind: WindDef {
-            direction: Vec3::X,
-            strength: 1.0,
-            density: 0.15,
-            gust_average: 0.6,
-            gust_strength: 0.4,
-            gust_frequency: 0.2,
-            model: Default::default(),
-            response: Default::default(),
-        },
-        trees: vec![],
-        scatter: vec![],
-        banks: vec![],
-        dir: None,
-        water: vec![],
-        grass: vec![],
-        aerial: None,
-        camera: CameraDef {
-            position: Vec3::new(0.0, 1.7, 6.0),
-            look_at: Vec3::ZERO,
-            fov_y_deg: 60.0,
-        },
+        sun: SunDef::default(),
+        wind: WindDef { strength: 1.0, density: 0.15, gust_average: 0.6, gust_strength: 0.4, gust_frequency: 0.2, ..WindDef::default() },
+        camera: CameraDef::default(),
+        ..Scene::default()
     }
 }
 
@@ -114,10 +90,10 @@ impl FrameTime {
 
 /// Renders one frame of `sim` into `target` and waits for the device: the wall time of both,
 /// milliseconds. Every render benchmark times its frames with this.
-pub(super) fn frame_ms(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target) -> anyhow::Result<f64> {
+pub(super) fn frame_ms(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target) -> Result<f64, BenchError> {
     let t = Instant::now();
     renderer.render(sim, target.view())?;
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("GPU poll failed ({e})"))?;
+    gpu.device.poll(wgpu::PollType::wait_indefinitely())?;
     Ok(t.elapsed().as_secs_f64() * 1e3)
 }
 
@@ -127,7 +103,7 @@ pub(super) fn time_frames(
     renderer: &mut Renderer,
     sim: &Sim,
     frames: usize,
-) -> anyhow::Result<FrameTime> {
+) -> Result<FrameTime, BenchError> {
     time_frames_at(gpu, renderer, sim, frames, (WIDTH, HEIGHT))
 }
 
@@ -138,7 +114,7 @@ pub(super) fn time_frames_at(
     sim: &Sim,
     frames: usize,
     size: (u32, u32),
-) -> anyhow::Result<FrameTime> {
+) -> Result<FrameTime, BenchError> {
     let target = offscreen::Target::new(&gpu.device, size.0, size.1);
     let mut times = Vec::new();
     let mut scopes: Vec<(&'static str, Vec<f64>)> = Vec::new();
@@ -197,13 +173,11 @@ pub struct RenderBenchOptions {
 
 /// Builds the GPU and the renderer at the benchmark's size, and names the adapter on stderr.
 /// With `need_gpu`, a software adapter is an error: its timings would say nothing of a GPU.
-pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Result<(Gpu, Renderer, String)> {
+pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> Result<(Gpu, Renderer, String), BenchError> {
     let gpu = Gpu::new()?;
     let adapter = gpu.adapter_name();
     if need_gpu && gpu.is_cpu() {
-        return Err(anyhow!(
-            "the GPU benchmark needs a real GPU, but wgpu picked the software adapter {adapter}"
-        ));
+        return Err(BenchError::SoftwareAdapter(adapter));
     }
     eprintln!("bench: render on {adapter}");
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, WIDTH, HEIGHT)?;
@@ -213,7 +187,7 @@ pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Resu
     // Pass times where the device has timestamp queries; frame times do not depend on them.
     if let Err(e) = renderer.enable_pass_timing() {
         if need_gpu {
-            return Err(anyhow!("the GPU benchmark needs timestamp queries: {e}"));
+            return Err(BenchError::NoTimestamps(e));
         }
     }
     Ok((gpu, renderer, adapter))
@@ -222,10 +196,10 @@ pub(super) fn setup(options: RenderBenchOptions, need_gpu: bool) -> anyhow::Resu
 /// A square forest of `side`² trees 10 m apart on a ground 10 m wider than it, seen from the
 /// south at 14 m above the ground, the sun at 45°. `models` picks a tree's model from its index
 /// (`None`: no trees, the ground and sky alone).
-pub(super) fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> anyhow::Result<Sim> {
+pub(super) fn forest(side: u32, models: Option<&dyn Fn(u32) -> u8>) -> Result<Sim, BenchError> {
     let half = side as f32 * 5.0;
     let scene = ground_scene(half, (half / 25.0).max(2.0));
-    let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    let sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
     Ok(plant(sim, side, models, 1.0))
 }
 
@@ -237,14 +211,14 @@ pub fn species_bank() -> std::path::PathBuf {
 /// The forest of [`forest`] with the twelve models of the shipped species bank in turn, as young
 /// trees (half their grown size, about as tall as the eight classic models), loaded into
 /// `renderer`.
-pub(super) fn species_forest(renderer: &mut Renderer, side: u32) -> anyhow::Result<Sim> {
+pub(super) fn species_forest(renderer: &mut Renderer, side: u32) -> Result<Sim, BenchError> {
     let half = side as f32 * 5.0;
     let mut scene = ground_scene(half, (half / 25.0).max(2.0));
     scene.banks = vec![species_bank().display().to_string()];
-    let sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
-    crate::bank::load_for_scene(renderer, &scene, &[], &sim.res().catalogue).map_err(|e| anyhow!(e))?;
+    let sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
+    crate::bank::load_for_scene(renderer, &scene, &[], sim.catalogue())?;
     let first = grove_systems::catalogue::SHIPPED_MODELS as u32;
-    let count = sim.res().catalogue.models.len() as u32 - first;
+    let count = sim.catalogue().models.len() as u32 - first;
     Ok(plant(sim, side, Some(&|i| (first + i % count) as u8), 0.5))
 }
 
@@ -290,7 +264,7 @@ pub(super) fn forest_figures(
     renderer: &mut Renderer,
     side: u32,
     frames: usize,
-) -> anyhow::Result<Value> {
+) -> Result<Value, BenchError> {
     let mut figures = serde_json::Map::new();
     for (variant, models) in VARIANTS {
         let sim = if variant == "species" { species_forest(renderer, side)? } else { forest(side, models.as_ref().map(|f| f as &dyn Fn(u32) -> u8))? };
@@ -308,7 +282,7 @@ pub(super) fn forest_figures(
 
 /// The reference scene (after Fukuda et al. 2007): 100 trees, 10 m apart on a 100 × 100 m
 /// ground; and the ground and sky alone, the floor under every other figure.
-pub(super) fn reference_scene(gpu: &Gpu, renderer: &mut Renderer) -> anyhow::Result<Value> {
+pub(super) fn reference_scene(gpu: &Gpu, renderer: &mut Renderer) -> Result<Value, BenchError> {
     forest_figures(gpu, renderer, 10, 10)
 }
 
@@ -326,7 +300,7 @@ pub(super) fn header(adapter: String, renderer: &Renderer, timing: &str) -> serd
 pub(super) const WALL_TIMING: &str = "median of 10 frames: wall time of render + device.poll(wait); gpu_*_pass_ms from timestamp queries where the device has them";
 
 /// Runs the render benchmarks and returns their figures.
-pub fn bench_render(options: RenderBenchOptions) -> anyhow::Result<Value> {
+pub fn bench_render(options: RenderBenchOptions) -> Result<Value, BenchError> {
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let models = renderer.features.trees.model_names();
     let reference = reference_scene(&gpu, &mut renderer)?;
@@ -348,7 +322,7 @@ pub fn bench_render(options: RenderBenchOptions) -> anyhow::Result<Value> {
             let side = (n as f32).sqrt().ceil() as usize;
             let half = side as f32 * 1.5;
             let scene = ground_scene(half + 2.0, (half / 25.0).max(1.0));
-            let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+            let mut sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
             for i in 0..n {
                 let (x, z) = (
                     (i % side) as f32 * 3.0 - half,

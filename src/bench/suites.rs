@@ -5,9 +5,10 @@
 use serde_json::Value;
 
 use super::render::{forest, forest_figures, header, reference_scene, setup, species_forest, RenderBenchOptions, WALL_TIMING};
+use super::BenchError;
 
 /// Runs only the reference scene and returns its figures.
-pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
+pub fn bench_reference(options: RenderBenchOptions) -> Result<Value, BenchError> {
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let reference = reference_scene(&gpu, &mut renderer)?;
     let mut out = header(adapter, &renderer, WALL_TIMING);
@@ -23,7 +24,7 @@ pub fn bench_reference(options: RenderBenchOptions) -> anyhow::Result<Value> {
 
 /// The reference scene grown to 10k trees (100 × 100, 10 m apart) on a real GPU, timed with
 /// timestamp queries. Fails on a software adapter or a device without timestamp queries.
-pub fn bench_gpu(options: RenderBenchOptions) -> anyhow::Result<Value> {
+pub fn bench_gpu(options: RenderBenchOptions) -> Result<Value, BenchError> {
     let (gpu, mut renderer, adapter) = setup(options, true)?;
     let reference = reference_scene(&gpu, &mut renderer)?;
     let forest = forest_figures(&gpu, &mut renderer, 100, 30)?;

@@ -5,25 +5,24 @@
 
 use std::time::Instant;
 
-use anyhow::anyhow;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
 use crate::video::{self, camera::CameraKind, VideoSpec};
 use grove_systems::replay::Player;
 use serde_json::{json, Value};
 
-use super::status_mib;
+use super::{status_mib, BenchError};
 
 /// The goal: a 5-minute session encoded in at most real time.
 const GOAL_S: f64 = 300.0;
 
 /// Writes the video and returns its figures.
-pub fn bench_video() -> anyhow::Result<Value> {
+pub fn bench_video() -> Result<Value, BenchError> {
     eprintln!("bench: a 5-minute session as a 1280x720, 30 fps video");
     let dir = tempfile_dir()?;
     let recording = dir.join("five-minutes.jsonl");
-    crate::atomic_write::write_atomic(&recording, &super::replay::five_minute_session()?)?;
-    let open = || Player::open(&recording, &[], &Default::default()).map_err(|e| anyhow!(e));
+    crate::atomic_write::write_bytes(&recording, &super::replay::five_minute_session()?)?;
+    let open = || Player::open(&recording, &[], &Default::default()).map_err(grove_systems::Error::from);
     let player = open()?;
     let (area, condition) = video::survey(open()?);
     let (from, to) = (0, player.final_tick());
@@ -38,8 +37,7 @@ pub fn bench_video() -> anyhow::Result<Value> {
         if k % 1000 == 0 {
             rss.push(json!({"frame": k, "rss_mib": (status_mib("VmRSS") * 10.0).round() / 10.0}));
         }
-    })
-    .map_err(|e| anyhow!(e))?;
+    })?;
     let wall = started.elapsed().as_secs_f64();
     let cpu = super::process_cpu_seconds() - cpu0;
     let video_s = summary.frames as f64 / 30.0;
@@ -63,8 +61,8 @@ pub fn bench_video() -> anyhow::Result<Value> {
 }
 
 /// A fresh folder under the system's temporary folder.
-fn tempfile_dir() -> anyhow::Result<std::path::PathBuf> {
+fn tempfile_dir() -> Result<std::path::PathBuf, BenchError> {
     let dir = std::env::temp_dir().join(format!("grove-bench-video-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| anyhow!("{}: cannot create ({e})", dir.display()))?;
+    std::fs::create_dir_all(&dir).map_err(|source| BenchError::Folder { path: dir.clone(), source })?;
     Ok(dir)
 }

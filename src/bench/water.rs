@@ -8,7 +8,6 @@
 //! is idle, the median of several frames after a warm-up frame; pass times where the device has
 //! timestamp queries.
 
-use anyhow::anyhow;
 use glam::{Vec2, Vec3};
 use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
@@ -18,10 +17,11 @@ use grove_systems::Sim;
 use serde_json::{json, Value};
 
 use super::render::{ground_scene, place, setup, RenderBenchOptions, HEIGHT, WIDTH};
+use super::BenchError;
 
 /// The water test's world: a 600 × 600 m bed 50 m down, 500 × 500 m of water at height 0, the
 /// camera on the south shore 10 m up looking north, the sun at 45°.
-pub fn water_test_scene() -> anyhow::Result<Sim> {
+pub fn water_test_scene() -> Result<Sim, BenchError> {
     let mut scene = ground_scene(300.0, 20.0);
     if let PlaneShape::Grid { elevation, unevenness, .. } = &mut scene.planes[0].shape {
         *elevation = -50.0;
@@ -37,14 +37,14 @@ pub fn water_test_scene() -> anyhow::Result<Sim> {
         ripples: 1.0,
         ripple_speed: 0.05,
     }];
-    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!(e))?;
+    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
     place(&mut sim, Vec3::new(0.0, 10.0, 250.0), Vec3::new(0.0, 0.0, 0.0));
     Ok(sim)
 }
 
 /// Times `frames` frames (after a warm-up) with water on or off: the median wall time and,
 /// with timestamp queries, the median GPU time of each pass.
-fn time_water(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, water: bool, frames: usize) -> anyhow::Result<Value> {
+fn time_water(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, water: bool, frames: usize) -> Result<Value, BenchError> {
     renderer.options.water = water;
     let target = offscreen::Target::new(&gpu.device, WIDTH, HEIGHT);
     let mut wall = Vec::new();
@@ -77,7 +77,7 @@ fn time_water(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, water: bool, frames
 }
 
 /// The water test's figures with `gpu` and `renderer`: with and without water, and the cost.
-pub fn water_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyhow::Result<Value> {
+pub fn water_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> Result<Value, BenchError> {
     let sim = water_test_scene()?;
     eprintln!("bench: water test, with water");
     let with = time_water(gpu, renderer, &sim, true, frames)?;
@@ -94,7 +94,7 @@ pub fn water_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> anyho
 }
 
 /// Runs `grove bench water` on whatever adapter wgpu picks (lavapipe here).
-pub fn bench_water(options: RenderBenchOptions) -> anyhow::Result<Value> {
+pub fn bench_water(options: RenderBenchOptions) -> Result<Value, BenchError> {
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let figures = water_figures(&gpu, &mut renderer, 10)?;
     Ok(json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": "median of 10 frames: wall time of render + device.poll(wait)", "water_test": figures}))

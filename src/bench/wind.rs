@@ -5,23 +5,22 @@
 //! `systems::sun::run` together, and each alone, on one thread. The goal is 1.5 ms per tick in
 //! a release build.
 
-use anyhow::anyhow;
 use grove_systems::Sim;
 use serde_json::{json, Value};
 
-use super::{median, time_ms, SimOptions};
+use super::{median, time_ms, BenchError, SimOptions};
 
 /// Trees in the wind benchmark.
 pub const WIND_BENCH_TREES: usize = 100_000;
 
 /// Runs the wind and sun benchmark and returns its figures.
-pub fn bench_wind(args: &SimOptions) -> anyhow::Result<Value> {
+pub fn bench_wind(args: &SimOptions) -> Result<Value, BenchError> {
     let mut scene = super::load_scene(&args.scene)?;
     if scene.sun.time_rate == 0.0 {
         scene.sun.time_rate = 60.0;
     }
     eprintln!("bench: wind and sun tick with {WIND_BENCH_TREES} trees");
-    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| anyhow!("{e}"))?;
+    let mut sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
     sim.scatter_trees(WIND_BENCH_TREES);
     let ticks = args.ticks.max(1) as usize;
     let mut set_up = sim.set_up();

@@ -1,35 +1,16 @@
-//! Subcommands of the `grove` tool, one module each, and the helpers they share.
+//! Subcommands of the `grove` tool by family, one folder each (its arguments and handlers), and
+//! the helpers they share.
 
 pub mod aerial;
-pub mod aerial_layers;
-pub mod aerial_bench;
-pub mod aerial_flight;
-pub mod aerial_tile;
-pub mod assets;
 pub mod bench;
-pub mod bench_args;
-pub mod junit;
-pub mod lsystem;
 pub mod models;
 pub mod play;
 pub mod render;
-pub mod render_video;
 pub mod replay;
-pub mod replay_html;
-pub mod replay_seal;
-pub mod replay_upgrade;
-pub mod scenario;
 pub mod scene;
 pub mod serve;
-pub mod sim;
 pub mod study;
-pub mod study_merge;
-pub mod study_report;
-pub mod sun;
-pub mod synth;
 pub mod test;
-pub mod trees;
-pub mod view;
 
 use std::path::Path;
 

@@ -71,7 +71,7 @@ impl PlayApp {
         let mut app = PlayApp {
             ui: PlayUi::new(head.pose),
             controls: Controls::new(head.pose, head.fov_y, Vec2::new(1280.0, 720.0)),
-            clock: FixedStep::new(session.sim.res().dt as f64, 30),
+            clock: FixedStep::new(session.sim.dt() as f64, 30),
             session: Some(session),
             started: Instant::now(),
             last_flush: Instant::now(),
@@ -113,7 +113,7 @@ impl PlayApp {
     }
 
     fn menu_open(&self) -> bool {
-        self.session.as_ref().is_some_and(|s| s.sim.res().menu.open)
+        self.session.as_ref().is_some_and(|s| s.sim.menu().open)
     }
 
     fn live(&self) -> bool {
@@ -298,7 +298,7 @@ impl Frontend for PlayApp {
             eprintln!("{}", super::play_ui::result_line(&report));
         }
         if let Some(path) = recording {
-            eprintln!("recording saved to {path} ({} ticks, complete)", sim.res().tick);
+            eprintln!("recording saved to {path} ({} ticks, complete)", sim.tick());
         }
         Ok(())
     }
@@ -400,7 +400,7 @@ mod tests {
             s.step(0).unwrap();
         }
         let def = TaskDef::builtin("ray-casting-7").unwrap();
-        let cat = s.sim.res().catalogue.clone();
+        let cat = s.sim.catalogue().clone();
         // Two right trees at their targets, and one of the first target's model far from any
         // target (an off-target error).
         for t in &def.targets[..2] {
@@ -415,8 +415,8 @@ mod tests {
         }
         // What the window shows once the task has ended.
         let shown = task_result(&s.sim).unwrap();
-        let end = s.sim.res().task.as_ref().unwrap().ended_tick.expect("the task ended");
-        let started = s.sim.res().task.as_ref().unwrap().started_tick;
+        let end = s.sim.task().unwrap().ended_tick.expect("the task ended");
+        let started = s.sim.task().unwrap().started_tick;
         // The participant lingers for 10 more seconds, then closes the window.
         for _ in 0..(10.0 / scene.dt) as usize {
             s.step(0).unwrap();

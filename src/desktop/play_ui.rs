@@ -5,7 +5,7 @@
 use egui::{Color32, RichText, Ui};
 use glam::Vec3;
 use grove_systems::catalogue::ModelKind;
-use grove_systems::components::{Pose, Transform, Tree};
+use grove_systems::components::Pose;
 use grove_systems::input::{Button, InputEvent};
 use grove_systems::resources::Mode;
 use grove_systems::task::{TaskDef, TaskReport, BUILTIN_TASKS};
@@ -67,7 +67,7 @@ pub struct PlayUi {
 /// ([`TaskReport::new`]) from the live world: "now" is the current tick, which only counts for a
 /// task whose clock has not stopped yet.
 pub fn task_result(sim: &Sim) -> Option<TaskReport> {
-    sim.res().task.as_ref().map(|t| TaskReport::new(t, sim.res().dt, sim.res().tick, &sim.res().catalogue))
+    sim.task().map(|t| TaskReport::new(t, sim.dt(), sim.tick(), sim.catalogue()))
 }
 
 /// A task result as one line, in the words of `grove replay`'s summary.
@@ -93,7 +93,7 @@ impl PlayUi {
 
     /// Whether quitting now needs a confirmation: during a running task or a recording.
     pub fn needs_confirmation(&self, sim: Option<&Sim>) -> bool {
-        let task_running = sim.is_some_and(|s| s.res().task.as_ref().is_some_and(|t| !t.is_over()));
+        let task_running = sim.is_some_and(|s| s.task().is_some_and(|t| !t.is_over()));
         self.screen == Screen::Session && (task_running || self.stats.recording.is_some())
     }
 
@@ -116,12 +116,8 @@ impl PlayUi {
     /// The events that remove every tree: for each, the controller is put above its crown
     /// looking straight down and the Bumper is clicked, exactly as a user could do it.
     pub fn clear_events(sim: &Sim) -> Vec<InputEvent> {
-        let mut trees: Vec<(u64, Vec3, f32)> = sim
-            .world()
-            .query::<(hecs::Entity, &Tree, &Transform)>()
-            .iter()
-            .map(|(e, t, tf)| (e.to_bits().get(), tf.translation, sim.res().catalogue.get(t.model).map_or(1.0, |m| m.bounds_max.y)))
-            .collect();
+        let mut trees: Vec<(u64, Vec3, f32)> = Vec::new();
+        sim.for_each_tree(|v| trees.push((v.id, v.transform.translation, sim.catalogue().get(v.model).map_or(1.0, |m| m.bounds_max.y))));
         trees.sort_by_key(|t| t.0);
         let mut out = Vec::new();
         for (_, base, top) in trees {
@@ -141,13 +137,13 @@ impl PlayUi {
             Screen::Start => self.start_menu(ui, &mut out),
             Screen::Session => {
                 self.top_bar(ui, sim, &mut out);
-                if self.show_trees || sim.res().menu.open {
+                if self.show_trees || sim.menu().open {
                     self.tree_window(ui, sim, &mut out);
                 }
-                if sim.res().task.is_some() {
+                if sim.task().is_some() {
                     task_panel(ui, sim, &mut out, true);
                 }
-                if let Some(r) = task_result(sim).filter(|_| sim.res().task.as_ref().is_some_and(|t| t.is_over())) {
+                if let Some(r) = task_result(sim).filter(|_| sim.task().is_some_and(|t| t.is_over())) {
                     result_window(ui, &r, sim);
                 }
             }
@@ -204,13 +200,13 @@ impl PlayUi {
                         Mode::Manual => "Manual modification",
                     };
                     let index = grove_systems::technique::Techniques::of_mode(mode);
-                    if ui.selectable_label(sim.res().technique == index, label).on_hover_text(technique_help(mode.name())).clicked() && sim.res().technique != index {
+                    if ui.selectable_label(sim.technique_index() == index, label).on_hover_text(technique_help(mode.name())).clicked() && sim.technique_index() != index {
                         out.push(InputEvent::SwitchMode { mode });
                     }
                 }
                 // The registered plug-in techniques (`src/techniques.rs`), by name.
-                for (index, t) in sim.res().techniques.iter().enumerate().filter(|(_, t)| !t.is_builtin()) {
-                    if ui.selectable_label(sim.res().technique == index, t.name).on_hover_text(technique_help(t.name)).clicked() && sim.res().technique != index {
+                for (index, t) in sim.known_techniques().iter().enumerate().filter(|(_, t)| !t.is_builtin()) {
+                    if ui.selectable_label(sim.technique_index() == index, t.name).on_hover_text(technique_help(t.name)).clicked() && sim.technique_index() != index {
                         out.push(InputEvent::SwitchTechnique { technique: t.name.to_string() });
                     }
                 }
@@ -236,13 +232,13 @@ impl PlayUi {
     }
 
     fn tree_window(&mut self, ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>) {
-        let title = if sim.res().menu.open { "Trees (menu open)" } else { "Trees" };
+        let title = if sim.menu().open { "Trees (menu open)" } else { "Trees" };
         egui::Window::new(title).id(egui::Id::unique("trees window")).default_pos([10.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
             // The shipped models and every bank's, by kind and then species (in catalogue
             // order within each), scrolling when the bank is long.
             egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
                 for (kind, heading) in [(ModelKind::Mesh, "Mesh"), (ModelKind::Billboard, "Billboard")] {
-                    let mut species: Vec<&str> = sim.res().catalogue.models.iter().filter(|m| m.kind == kind).map(|m| m.species.as_str()).collect();
+                    let mut species: Vec<&str> = sim.catalogue().models.iter().filter(|m| m.kind == kind).map(|m| m.species.as_str()).collect();
                     species.sort_unstable();
                     species.dedup();
                     if species.is_empty() {
@@ -252,15 +248,15 @@ impl PlayUi {
                     for sp in species {
                         ui.label(RichText::new(sp).small());
                         ui.horizontal_wrapped(|ui| {
-                            for m in sim.res().catalogue.models.iter().filter(|m| m.kind == kind && m.species == sp) {
-                                let current = sim.res().menu.current_model == m.id;
+                            for m in sim.catalogue().models.iter().filter(|m| m.kind == kind && m.species == sp) {
+                                let current = sim.menu().current_model == m.id;
                                 let thumb = self.thumbnails.get(usize::from(m.id.0)).copied().flatten();
                                 let button = match thumb {
                                     Some(tex) => egui::Button::image_and_text(egui::Image::new((tex, egui::vec2(64.0, 64.0))), m.name.as_str()),
                                     None => egui::Button::new(m.name.as_str()),
                                 };
                                 if ui.add(button.selected(current)).clicked() {
-                                    if sim.res().mode == Mode::Manual && !sim.res().menu.open {
+                                    if sim.mode() == Mode::Manual && !sim.menu().open {
                                         out.push(InputEvent::OpenMenu);
                                     }
                                     out.push(InputEvent::ChooseModel { model: m.name.as_str().into() });
@@ -270,7 +266,7 @@ impl PlayUi {
                     }
                 }
             });
-            if sim.res().menu.open && ui.button("Close menu").clicked() {
+            if sim.menu().open && ui.button("Close menu").clicked() {
                 out.push(InputEvent::CloseMenu);
             }
         });
@@ -279,7 +275,7 @@ impl PlayUi {
     fn quit_dialog(&mut self, ui: &mut Ui, sim: &Sim) {
         let modal = egui::Modal::new(egui::Id::unique("quit confirmation")).show(ui.ctx(), |ui| {
             ui.heading("Quit the session?");
-            if sim.res().task.as_ref().is_some_and(|t| !t.is_over()) {
+            if sim.task().is_some_and(|t| !t.is_over()) {
                 ui.label("The task is still running; quitting now leaves it unfinished.");
             }
             if let Some(path) = &self.stats.recording {
@@ -304,14 +300,14 @@ impl PlayUi {
         egui::Window::new("Debug").default_pos([1000.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
             let c = sim.counts();
             ui.label(format!("{:.1} fps, frame {:.1} ms (mean over 1 s)", self.stats.fps, self.stats.frame_ms));
-            ui.label(format!("sim {:.0} ticks/s (target {:.0})", self.stats.ticks_per_s, 1.0 / sim.res().dt.max(1e-6)));
+            ui.label(format!("sim {:.0} ticks/s (target {:.0})", self.stats.ticks_per_s, 1.0 / sim.dt().max(1e-6)));
             if let Some(((w, h), (fw, fh))) = self.stats.view_size {
                 let shadows = if self.stats.shadows_off { ", shadows off" } else { "" };
                 ui.label(format!("3D view {w}×{h} of {fw}×{fh} ({:.0} %{shadows})", 100.0 * w as f32 / fw.max(1) as f32));
             }
-            ui.label(format!("tick {} ({:.2} s)", sim.res().tick, sim.res().time()));
+            ui.label(format!("tick {} ({:.2} s)", sim.tick(), sim.time()));
             ui.label(format!("entities {}: {} trees, {} planes", c.total, c.trees, c.planes));
-            ui.label(format!("mode {}, model {}", sim.res().mode.name(), sim.res().catalogue.get(sim.res().menu.current_model).map_or("?", |m| m.name.as_str())));
+            ui.label(format!("mode {}, model {}", sim.mode().name(), sim.catalogue().get(sim.menu().current_model).map_or("?", |m| m.name.as_str())));
             ui.label(format!("GPU {}", if self.stats.adapter.is_empty() { "none" } else { &self.stats.adapter }));
         });
     }
@@ -321,7 +317,7 @@ impl PlayUi {
 /// `grove study` report them.
 fn result_window(ui: &mut Ui, r: &TaskReport, sim: &Sim) {
     egui::Window::new("Task result").collapsible(false).resizable(false).anchor(egui::Align2::CENTER_TOP, [0.0, 60.0]).show(ui.ctx(), |ui| {
-        let targets = sim.res().task.as_ref().map_or(0, |t| t.def.targets.len());
+        let targets = sim.task().map_or(0, |t| t.def.targets.len());
         ui.heading(if r.completed { "All targets done" } else { "Task ended" });
         egui::Grid::new("task result").show(ui, |ui| {
             ui.label("time");
@@ -340,11 +336,11 @@ fn result_window(ui: &mut Ui, r: &TaskReport, sim: &Sim) {
 /// The task panel: targets with check marks and per-tree times, the running timer, and (when
 /// `interactive`) the finish button.
 pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive: bool) {
-    let Some(task) = sim.res().task.as_ref() else { return };
+    let Some(task) = sim.task() else { return };
     egui::Panel::right("task panel").resizable(false).show(ui, |ui| {
         ui.heading(format!("Task {}", task.def.id));
-        let end = task.end_tick().unwrap_or(sim.res().tick);
-        let secs = end.saturating_sub(task.started_tick) as f64 * sim.res().dt as f64;
+        let end = task.end_tick().unwrap_or(sim.tick());
+        let secs = end.saturating_sub(task.started_tick) as f64 * sim.dt() as f64;
         ui.label(RichText::new(format!("time {secs:.1} s")).monospace().size(18.0));
         if task.is_complete() {
             ui.label(RichText::new("all targets done").color(Color32::from_rgb(40, 200, 90)));
@@ -353,7 +349,7 @@ pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive
         for (i, t) in task.def.targets.iter().enumerate() {
             let hit = task.satisfied.get(i).copied().flatten();
             let mark = if hit.is_some() { "[x]" } else { "[ ]" };
-            let time = hit.map(|h| format!(" {:.1} s", (h.tick - task.started_tick) as f64 * sim.res().dt as f64)).unwrap_or_default();
+            let time = hit.map(|h| format!(" {:.1} s", (h.tick - task.started_tick) as f64 * sim.dt() as f64)).unwrap_or_default();
             ui.label(format!("{mark} {} at ({:.1}, {:.1}){time}", t.model, t.position.x, t.position.z));
         }
         ui.separator();
@@ -425,8 +421,8 @@ mod tests {
         h.get_by_label("birch-billboard").click();
         settle(&mut h);
         let sim = &h.state().session.sim;
-        let birch = sim.res().catalogue.by_name("birch-billboard").unwrap().id;
-        assert_eq!(sim.res().menu.current_model, birch);
+        let birch = sim.catalogue().by_name("birch-billboard").unwrap().id;
+        assert_eq!(sim.menu().current_model, birch);
 
         // Plant it with the controller: aim at the ground in front and click.
         let s = &mut h.state_mut().session;
@@ -436,7 +432,8 @@ mod tests {
         s.queue(InputEvent::ButtonUp { button: Button::Trigger }).unwrap();
         settle(&mut h);
         let sim = &h.state().session.sim;
-        let planted: Vec<grove_systems::catalogue::ModelId> = sim.world().query::<&Tree>().iter().map(|t| t.model).filter(|m| *m == birch).collect();
+        let mut planted = Vec::new();
+        sim.for_each_tree(|v| planted.extend(Some(v.model).filter(|m| *m == birch)));
         assert_eq!(planted.len(), 1, "one birch billboard was planted");
 
         // Clear removes every tree through Bumper clicks.
@@ -458,13 +455,13 @@ mod tests {
         h.run();
         h.get_by_label("Manual modification").click();
         settle(&mut h);
-        assert_eq!(h.state().session.sim.res().mode, Mode::Manual);
+        assert_eq!(h.state().session.sim.mode(), Mode::Manual);
         let before = h.state().session.sim.counts().trees;
         h.get_by_label("conifer-mesh").click();
         settle(&mut h);
         let sim = &h.state().session.sim;
         assert_eq!(sim.counts().trees, before + 1, "manual mode: choosing from the menu spawns a tree");
-        assert_eq!(sim.res().log.count("menu_opened"), 1);
+        assert_eq!(sim.log().count("menu_opened"), 1);
     }
 
     #[test]
@@ -474,9 +471,9 @@ mod tests {
         settle(&mut h);
         {
             let sim = &h.state().session.sim;
-            let task = sim.res().task.as_ref().expect("the task started");
+            let task = sim.task().expect("the task started");
             assert_eq!(task.def.id, "manual-7");
-            assert_eq!(sim.res().mode, Mode::Manual);
+            assert_eq!(sim.mode(), Mode::Manual);
         }
         for _ in 0..60 {
             h.state_mut().session.step(0).unwrap();
@@ -489,7 +486,7 @@ mod tests {
         assert!(secs >= 1.0, "the timer runs: {secs}");
         h.get_by_label("Finish task").click();
         settle(&mut h);
-        assert!(h.state().session.sim.res().task.as_ref().unwrap().ended_tick.is_some());
+        assert!(h.state().session.sim.task().unwrap().ended_tick.is_some());
     }
 
     #[test]

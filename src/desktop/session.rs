@@ -125,7 +125,7 @@ impl LiveSession {
     /// Runs one tick: applies (and records) the next batch of input, steps, and writes a
     /// checkpoint when one is due. `ms` is the wall-clock milliseconds since the session began.
     pub fn step(&mut self, ms: u64) -> Result<(), DesktopError> {
-        let tick = self.sim.res().tick;
+        let tick = self.sim.tick();
         let batch = self.batches.pop_front().unwrap_or_default();
         for event in &batch {
             if let Some(r) = self.recorder.as_mut() {
@@ -164,8 +164,8 @@ impl LiveSession {
             let sim = &self.sim;
             let summary = serde_json::json!({
                 "trees": sim.counts().trees,
-                "task": sim.res().task.as_ref().map(|t| t.def.id.clone()),
-                "task_completed": sim.res().task.as_ref().map(|t| t.is_complete()),
+                "task": sim.task().map(|t| t.def.id.clone()),
+                "task_completed": sim.task().map(|t| t.is_complete()),
             });
             r.finish(sim, summary).map_err(DesktopError::Recording)?;
         }

@@ -76,11 +76,10 @@ impl Viewer {
     pub fn open(path: &Path) -> Result<Viewer, DesktopError> {
         let outcome = replay_file(path, &ReplayOptions { banks: grove::bank::session_dirs(&[]), ..Default::default() })?;
         let (header, events) = read_events(path)?;
-        let end_tick = outcome.sim.res().tick;
+        let end_tick = outcome.sim.tick();
         let markers = outcome
             .sim
-            .res()
-            .log
+            .log()
             .entries
             .iter()
             .filter_map(|e| MARKER_KINDS.iter().find(|k| **k == e.what.kind()).map(|k| Marker { tick: e.tick, kind: k }))
@@ -118,17 +117,17 @@ impl Viewer {
 
     /// The current tick.
     pub fn tick(&self) -> u64 {
-        self.sim.res().tick
+        self.sim.tick()
     }
 
     /// Runs one tick: the events stamped with the current tick, then a step. Does nothing at
     /// the end of the recording.
     pub fn step_once(&mut self) {
-        if self.sim.res().tick >= self.end_tick {
+        if self.sim.tick() >= self.end_tick {
             return;
         }
         let start = self.next_event;
-        while self.events.get(self.next_event).is_some_and(|e| e.tick <= self.sim.res().tick) {
+        while self.events.get(self.next_event).is_some_and(|e| e.tick <= self.sim.tick()) {
             self.next_event += 1;
         }
         // The headless pass accepted every event (an invalid one would have been reported by
@@ -141,13 +140,13 @@ impl Viewer {
     /// going back.
     pub fn seek(&mut self, tick: u64) {
         let tick = tick.min(self.end_tick);
-        if tick < self.sim.res().tick {
+        if tick < self.sim.tick() {
             if let Ok(sim) = grove::bank::open_session(&[]).map_err(DesktopError::from).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks).map_err(|error| DesktopError::Header { path: self.path.clone(), error })) {
                 self.sim = sim;
                 self.next_event = 0;
             }
         }
-        while self.sim.res().tick < tick {
+        while self.sim.tick() < tick {
             self.step_once();
         }
     }
@@ -162,7 +161,7 @@ impl Viewer {
         for _ in 0..n {
             self.step_once();
         }
-        if self.sim.res().tick >= self.end_tick {
+        if self.sim.tick() >= self.end_tick {
             self.playing = false;
         }
     }
@@ -195,7 +194,7 @@ impl Viewer {
                         ui.selectable_value(&mut self.speed, *s, format!("{s}x"));
                     }
                 });
-                let dt = self.sim.res().dt as f64;
+                let dt = self.sim.dt() as f64;
                 ui.label(
                     RichText::new(format!("tick {} / {}  ({:.2} s / {:.2} s)", self.tick(), self.end_tick, self.tick() as f64 * dt, self.end_tick as f64 * dt))
                         .monospace(),
@@ -244,7 +243,7 @@ impl Viewer {
                 if self.header.synthetic { ", synthetic" } else { "" }
             ));
             let c = self.sim.counts();
-            ui.label(format!("{} trees, mode {}", c.trees, self.sim.res().mode.name()));
+            ui.label(format!("{} trees, mode {}", c.trees, self.sim.mode().name()));
         });
         let mut ignored = Vec::new();
         task_panel(ui, &self.sim, &mut ignored, false);

@@ -8,7 +8,7 @@
 use egui::{Color32, Painter, Pos2, Rect, Shape, Stroke};
 use glam::{Vec2, Vec3};
 use grove_systems::catalogue::ModelKind;
-use grove_systems::components::{Head, Plane, Sun, Transform, Tree, Scale};
+use grove_systems::components::Head;
 use grove_systems::Sim;
 
 use super::input_map::project;
@@ -42,15 +42,12 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
     let head = head_of(sim);
     let size = Vec2::new(rect.width(), rect.height());
     let to_screen = |p: Vec3| project(&head.pose, head.fov_y, size, p, NEAR).map(|s| Pos2::new(rect.min.x + s.x, rect.min.y + s.y));
-    let sun_dir = sim.world().query::<&Sun>().iter().next().map_or(Vec3::Y, |s| s.direction);
+    let sun_dir = sim.sun().map_or(Vec3::Y, |s| s.direction);
 
     if options.scenery {
         painter.rect_filled(rect, 0.0, Color32::from_rgb(150, 190, 230));
         let mut mesh = egui::Mesh::default();
-        let mut planes: Vec<&Plane> = Vec::new();
-        let mut q = sim.world().query::<&Plane>();
-        planes.extend(q.iter());
-        for plane in planes {
+        sim.for_each_plane(|_, plane| {
             let base = if plane.name == "ground" { [92.0, 128.0, 64.0] } else { [150.0, 130.0, 100.0] };
             for tri in &plane.triangles {
                 let [a, b, c] = tri.map(|i| plane.vertices[i as usize]);
@@ -67,11 +64,11 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
                 }
                 mesh.add_triangle(i, i + 1, i + 2);
             }
-        }
+        });
         painter.add(Shape::mesh(mesh));
     }
 
-    if let Some(task) = sim.res().task.as_ref() {
+    if let Some(task) = sim.task() {
         let hit = sim.hit_marker();
         for (i, t) in task.def.targets.iter().enumerate() {
             let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
@@ -92,11 +89,11 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
 
     if options.trees {
         let mut trees: Vec<(f32, Vec3, f32, ModelKind, f32)> = Vec::new();
-        for (tree, tf, scale) in sim.world().query::<(&Tree, &Transform, &Scale)>().iter() {
-            let Some(m) = sim.res().catalogue.get(tree.model) else { continue };
-            let dist = (tf.translation - head.pose.position).length();
-            trees.push((dist, tf.translation, m.height() * scale.0, m.kind, m.crown_radius * scale.0));
-        }
+        sim.for_each_tree(|v| {
+            let Some(m) = sim.catalogue().get(v.model) else { return };
+            let dist = (v.transform.translation - head.pose.position).length();
+            trees.push((dist, v.transform.translation, m.height() * v.scale, m.kind, m.crown_radius * v.scale));
+        });
         // Far trees first, so near ones cover them.
         trees.sort_by(|a, b| b.0.total_cmp(&a.0));
         for (_, base, height, kind, radius) in trees {

@@ -36,7 +36,7 @@ pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, HtmlError> {
 fn renderer(gpu: &Gpu, sim: &Sim, size: (u32, u32)) -> Result<Renderer, HtmlError> {
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, size.0, size.1)?;
     let banks = crate::bank::open_session(&[])?;
-    crate::bank::load_into(&mut r, &crate::bank::files_for(&banks, &sim.res().catalogue))?;
+    crate::bank::load_into(&mut r, &crate::bank::files_for(&banks, sim.catalogue()))?;
     Ok(r)
 }
 

@@ -11,7 +11,6 @@ use std::path::Path;
 
 use glam::Vec2;
 use grove_systems::bank::Banks;
-use grove_systems::components::{HitMarker, Transform};
 use grove_systems::events::{Happening, LogEntry};
 use grove_systems::input::InputEvent;
 use grove_systems::replay::Player;
@@ -84,8 +83,7 @@ fn moment_label(what: &Happening) -> Option<&'static str> {
 }
 
 fn tree_xz(sim: &Sim, tree: u64) -> Option<Vec2> {
-    let e = hecs::Entity::from_bits(tree)?;
-    sim.world().get::<&Transform>(e).ok().map(|t| Vec2::new(t.translation.x, t.translation.z))
+    sim.tree(tree).map(|t| Vec2::new(t.transform.translation.x, t.transform.translation.z))
 }
 
 /// Re-simulates `path` to `end_tick` under `overrides`, calling `shoot` with the world at each
@@ -98,15 +96,15 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
         if labels.is_empty() {
             return Ok(());
         }
-        let m = Moment { tick: sim.res().tick, label: labels.join(", ") };
+        let m = Moment { tick: sim.tick(), label: labels.join(", ") };
         shoot(sim, &m)?;
         out.moments.push(m);
         Ok(())
     };
     let at_start: Vec<String> = extra.iter().filter(|m| m.tick == 0).map(|m| m.label.clone()).collect();
     take(player.sim(), at_start, &mut out)?;
-    while player.sim().res().tick < end_tick {
-        let logged = player.sim().res().log.entries.len();
+    while player.sim().tick() < end_tick {
+        let logged = player.sim().log().entries.len();
         // The events of this tick are applied with its step, as the verifying replay does.
         for e in player.step() {
             if let InputEvent::ButtonDown { button } = &e.event {
@@ -117,14 +115,14 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
         let sim = player.sim();
 
         // The ray, until the task is over.
-        if sim.res().task.as_ref().is_none_or(|t| !t.is_over())
-            && let Some(hit) = sim.world().query::<&HitMarker>().iter().next().filter(|h| h.visible)
+        if sim.task().is_none_or(|t| !t.is_over())
+            && let Some(hit) = Some(sim.hit_marker()).filter(|h| h.visible)
         {
             let cell = ((hit.position.x / CELL_M).floor() as i32, (hit.position.z / CELL_M).floor() as i32);
             *out.hits.entry(cell).or_insert(0) += 1;
         }
         // The tree being moved, from grab to release.
-        let i = &sim.res().interaction;
+        let i = sim.interaction();
         let now = i.drag.map(|d| d.tree).or(i.touchpad.map(|g| g.tree));
         if moving.as_ref().is_some_and(|p| Some(p.tree) != now)
             && let Some(done) = moving.take()
@@ -135,28 +133,28 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
         if let Some(tree) = now
             && let Some(p) = tree_xz(sim, tree)
         {
-            let m = moving.get_or_insert_with(|| TreePath { tree, ticks: (sim.res().tick, sim.res().tick), points: Vec::new() });
-            m.ticks.1 = sim.res().tick;
+            let m = moving.get_or_insert_with(|| TreePath { tree, ticks: (sim.tick(), sim.tick()), points: Vec::new() });
+            m.ticks.1 = sim.tick();
             if m.points.last().is_none_or(|q| q.distance(p) >= PATH_STEP_M) {
                 m.points.push(p);
             }
         }
         // The moments.
         let mut labels: Vec<String> = Vec::new();
-        for e in &sim.res().log.entries[logged..] {
+        for e in &sim.log().entries[logged..] {
             if let Some(l) = moment_label(&e.what)
                 && !labels.iter().any(|x| x == l)
             {
                 labels.push(l.to_string());
             }
         }
-        labels.extend(extra.iter().filter(|m| m.tick == sim.res().tick && m.tick > 0).map(|m| m.label.clone()));
+        labels.extend(extra.iter().filter(|m| m.tick == sim.tick() && m.tick > 0).map(|m| m.label.clone()));
         take(sim, labels, &mut out)?;
     }
     if let Some(done) = moving.take().filter(|p| p.points.len() > 1) {
         out.paths.push(done);
     }
-    out.log = player.sim().res().log.entries.clone();
+    out.log = player.sim().log().entries.clone();
     Ok(out)
 }
 

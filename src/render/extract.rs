@@ -24,7 +24,7 @@ pub(crate) fn common(sim: &Sim, options: &RenderOptions) -> Common {
     let (sun_dir, sun_elevation_deg) = sim
         .sun()
         .map_or((Vec3::new(0.3, 0.8, 0.2).normalize(), 45.0), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
-    let time = sim.res().time();
+    let time = sim.time();
     let wind = sim.wind().unwrap_or_else(calm);
     Common { camera, sun_dir, sun_elevation_deg, time, wind: WindParams::from_wind(&wind, time), wind_model: wind.model }
 }

@@ -15,6 +15,7 @@ use plotters::prelude::*;
 
 use super::report::ParticipantTimes;
 use super::whatif::Sweep;
+use super::StudyError;
 
 const FONT: &str = "grove-sans";
 /// The ray-casting bar colour.
@@ -35,20 +36,20 @@ fn err(e: impl std::fmt::Display) -> String {
 }
 
 /// Runs `draw` on a PNG file of `width` × `height` pixels; errors name the file.
-fn to_png(path: &Path, width: u32, height: u32, draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>) -> anyhow::Result<()> {
+fn to_png(path: &Path, width: u32, height: u32, draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>) -> Result<(), StudyError> {
     register_font();
     let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
-    draw(&root).and_then(|()| root.present().map_err(err)).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+    draw(&root).and_then(|()| root.present().map_err(err)).map_err(|reason| StudyError::Chart { what: path.display().to_string(), reason })
 }
 
 /// Runs `draw` on an SVG document of `width` × `height` pixels and returns its text; the text
 /// names a font every browser has.
-fn to_svg(width: u32, height: u32, draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>) -> anyhow::Result<String> {
+fn to_svg(width: u32, height: u32, draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>) -> Result<String, StudyError> {
     register_font();
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, (width, height)).into_drawing_area();
-        draw(&root).and_then(|()| root.present().map_err(err)).map_err(|e| anyhow::anyhow!("SVG chart: {e}"))?;
+        draw(&root).and_then(|()| root.present().map_err(err)).map_err(|reason| StudyError::Chart { what: "SVG chart".into(), reason })?;
     }
     Ok(text.replace(&format!("font-family=\"{FONT}\""), "font-family=\"sans-serif\""))
 }
@@ -66,12 +67,12 @@ fn with_notes<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, notes: &[String
 
 /// Draws the grouped bar chart of task times to a PNG file of `width` × `height` pixels.
 /// `baseline`, when given, draws each participant's baseline times as outlines.
-pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> anyhow::Result<()> {
+pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> Result<(), StudyError> {
     to_png(path, width, height, |root| draw_ablation(root, rows, baseline, title, notes))
 }
 
 /// [`ablation_chart`] as the text of an SVG document.
-pub fn ablation_svg(rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> anyhow::Result<String> {
+pub fn ablation_svg(rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> Result<String, StudyError> {
     to_svg(width, height, |root| draw_ablation(root, rows, baseline, title, notes))
 }
 
@@ -158,12 +159,12 @@ fn draw_ablation<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[Part
 }
 
 /// Draws mean task time per mode against the swept value, with the default value marked.
-pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, height: u32) -> anyhow::Result<()> {
+pub fn sweep_chart(path: &Path, sweep: &Sweep, notes: &[String], width: u32, height: u32) -> Result<(), StudyError> {
     to_png(path, width, height, |root| draw_sweep(root, sweep, notes))
 }
 
 /// [`sweep_chart`] as the text of an SVG document.
-pub fn sweep_svg(sweep: &Sweep, notes: &[String], width: u32, height: u32) -> anyhow::Result<String> {
+pub fn sweep_svg(sweep: &Sweep, notes: &[String], width: u32, height: u32) -> Result<String, StudyError> {
     to_svg(width, height, |root| draw_sweep(root, sweep, notes))
 }
 

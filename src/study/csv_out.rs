@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::report::usable_time;
 use super::whatif::{Sweep, WhatIf};
-use super::Trial;
+use super::{StudyError, Trial};
 
 /// The columns of `trial_results.csv`.
 pub const TRIAL_COLUMNS: &[&str] = &[
@@ -27,92 +27,95 @@ fn of(x: Option<f64>) -> String {
     x.map(f).unwrap_or_default()
 }
 
-fn open(path: &Path) -> anyhow::Result<csv::Writer<std::fs::File>> {
-    csv::Writer::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+/// Runs `write` on a CSV writer of `path`; errors name the file.
+fn with_writer(path: &Path, write: impl FnOnce(&mut csv::Writer<std::fs::File>) -> csv::Result<()>) -> Result<(), StudyError> {
+    let csv = |source| StudyError::Csv { path: path.to_path_buf(), source };
+    let mut w = csv::Writer::from_path(path).map_err(csv)?;
+    write(&mut w).and_then(|()| Ok(w.flush()?)).map_err(csv)
 }
 
 /// Writes `trial_results.csv`. With a what-if, its rows are the what-if trials and the last
 /// columns give the baseline and the difference.
-pub fn write_trial_results(path: &Path, trials: &[Trial], what_if: Option<&WhatIf>) -> anyhow::Result<()> {
-    let mut w = open(path)?;
-    w.write_record(TRIAL_COLUMNS)?;
-    let join = |g: &dyn Fn(&super::whatif::ParamChange) -> String| what_if.map(|x| x.parameters.iter().map(g).collect::<Vec<_>>().join(";")).unwrap_or_default();
-    for t in trials {
-        let k = t.task.as_ref();
-        let c = what_if.and_then(|x| x.comparison_for(t));
-        let s = |g: &dyn Fn(&grove_systems::task::TaskReport) -> String| k.map(g).unwrap_or_default();
-        w.write_record([
-            "grove-study".to_string(),
-            t.participant.clone(),
-            "1".into(),
-            t.trial_num.to_string(),
-            t.block_num.to_string(),
-            t.trial_num_in_block.to_string(),
-            of(t.start_time_s),
-            of(t.end_time_s),
-            t.session_start.clone().unwrap_or_default(),
-            s(&|k| k.id.clone()),
-            s(&|k| k.mode.clone()),
-            s(&|k| k.completed.to_string()),
-            of(usable_time(t)),
-            s(&|k| k.trees.len().to_string()),
-            s(&|k| k.model_types.to_string()),
-            s(&|k| k.errors.to_string()),
-            s(&|k| k.error_kinds.removals.to_string()),
-            s(&|k| k.error_kinds.off_target.to_string()),
-            s(&|k| k.error_kinds.released_green.to_string()),
-            s(&|k| k.menu_opens.to_string()),
-            s(&|k| f(k.ray_path_m as f64)),
-            s(&|k| f(k.aiming_s)),
-            s(&|k| f(k.menu_s)),
-            s(&|k| f(k.manipulating_s)),
-            t.status.word().into(),
-            t.synthetic.to_string(),
-            t.file.clone(),
-            what_if.map(|x| x.kind.clone()).unwrap_or_default(),
-            join(&|p| p.name.clone()),
-            join(&|p| p.default_value.clone()),
-            join(&|p| p.new_value.clone()),
-            of(c.and_then(|c| c.baseline_time_s)),
-            of(c.and_then(|c| c.difference_s)),
-        ])?;
-    }
-    w.flush()?;
-    Ok(())
+pub fn write_trial_results(path: &Path, trials: &[Trial], what_if: Option<&WhatIf>) -> Result<(), StudyError> {
+    with_writer(path, |w| {
+        w.write_record(TRIAL_COLUMNS)?;
+        let join = |g: &dyn Fn(&super::whatif::ParamChange) -> String| what_if.map(|x| x.parameters.iter().map(g).collect::<Vec<_>>().join(";")).unwrap_or_default();
+        for t in trials {
+            let k = t.task.as_ref();
+            let c = what_if.and_then(|x| x.comparison_for(t));
+            let s = |g: &dyn Fn(&grove_systems::task::TaskReport) -> String| k.map(g).unwrap_or_default();
+            w.write_record([
+                "grove-study".to_string(),
+                t.participant.clone(),
+                "1".into(),
+                t.trial_num.to_string(),
+                t.block_num.to_string(),
+                t.trial_num_in_block.to_string(),
+                of(t.start_time_s),
+                of(t.end_time_s),
+                t.session_start.clone().unwrap_or_default(),
+                s(&|k| k.id.clone()),
+                s(&|k| k.mode.clone()),
+                s(&|k| k.completed.to_string()),
+                of(usable_time(t)),
+                s(&|k| k.trees.len().to_string()),
+                s(&|k| k.model_types.to_string()),
+                s(&|k| k.errors.to_string()),
+                s(&|k| k.error_kinds.removals.to_string()),
+                s(&|k| k.error_kinds.off_target.to_string()),
+                s(&|k| k.error_kinds.released_green.to_string()),
+                s(&|k| k.menu_opens.to_string()),
+                s(&|k| f(k.ray_path_m as f64)),
+                s(&|k| f(k.aiming_s)),
+                s(&|k| f(k.menu_s)),
+                s(&|k| f(k.manipulating_s)),
+                t.status.word().into(),
+                t.synthetic.to_string(),
+                t.file.clone(),
+                what_if.map(|x| x.kind.clone()).unwrap_or_default(),
+                join(&|p| p.name.clone()),
+                join(&|p| p.default_value.clone()),
+                join(&|p| p.new_value.clone()),
+                of(c.and_then(|c| c.baseline_time_s)),
+                of(c.and_then(|c| c.difference_s)),
+            ])?;
+        }
+        Ok(())
+    })
 }
 
 /// Writes `trees.csv`: one row per satisfied target, in planting order within each trial.
-pub fn write_trees(path: &Path, trials: &[Trial]) -> anyhow::Result<()> {
-    let mut w = open(path)?;
-    w.write_record(TREE_COLUMNS)?;
-    for t in trials {
-        let Some(k) = &t.task else { continue };
-        let mut trees: Vec<_> = k.trees.iter().collect();
-        trees.sort_by(|a, b| (a.tick, a.target).cmp(&(b.tick, b.target)));
-        let mut previous = 0.0;
-        for (i, tree) in trees.iter().enumerate() {
-            w.write_record([
-                t.participant.clone(),
-                t.trial_num.to_string(),
-                k.id.clone(),
-                k.mode.clone(),
-                (i + 1).to_string(),
-                tree.target.to_string(),
-                tree.model.clone(),
-                tree.tick.to_string(),
-                f(tree.time_s),
-                f(tree.time_s - previous),
-                f(tree.position[0] as f64),
-                f(tree.position[1] as f64),
-                f(tree.position[2] as f64),
-                t.status.word().into(),
-                t.synthetic.to_string(),
-            ])?;
-            previous = tree.time_s;
+pub fn write_trees(path: &Path, trials: &[Trial]) -> Result<(), StudyError> {
+    with_writer(path, |w| {
+        w.write_record(TREE_COLUMNS)?;
+        for t in trials {
+            let Some(k) = &t.task else { continue };
+            let mut trees: Vec<_> = k.trees.iter().collect();
+            trees.sort_by(|a, b| (a.tick, a.target).cmp(&(b.tick, b.target)));
+            let mut previous = 0.0;
+            for (i, tree) in trees.iter().enumerate() {
+                w.write_record([
+                    t.participant.clone(),
+                    t.trial_num.to_string(),
+                    k.id.clone(),
+                    k.mode.clone(),
+                    (i + 1).to_string(),
+                    tree.target.to_string(),
+                    tree.model.clone(),
+                    tree.tick.to_string(),
+                    f(tree.time_s),
+                    f(tree.time_s - previous),
+                    f(tree.position[0] as f64),
+                    f(tree.position[1] as f64),
+                    f(tree.position[2] as f64),
+                    t.status.word().into(),
+                    t.synthetic.to_string(),
+                ])?;
+                previous = tree.time_s;
+            }
         }
-    }
-    w.flush()?;
-    Ok(())
+        Ok(())
+    })
 }
 
 /// The columns of `sweep.csv`.
@@ -130,24 +133,24 @@ pub fn sweep_columns() -> Vec<String> {
 }
 
 /// Writes `sweep.csv`: one row per value.
-pub fn write_sweep(path: &Path, sweep: &Sweep) -> anyhow::Result<()> {
-    let mut w = open(path)?;
-    w.write_record(sweep_columns())?;
-    for r in &sweep.rows {
-        let mut rec = vec![sweep.kind.clone(), sweep.parameter.clone(), sweep.default_value.clone(), r.value.clone(), r.is_default.to_string()];
-        for m in ["ray-casting", "manual"] {
-            let c = r.modes.get(m);
-            rec.push(r.completed.get(m).copied().unwrap_or(0).to_string());
-            rec.push(of(c.and_then(|c| c.what_if_mean_s)));
-            rec.push(of(c.and_then(|c| c.baseline_mean_s)));
-            rec.push(of(c.and_then(|c| c.difference_s)));
-            rec.push(c.map_or(0, |c| c.pairs).to_string());
+pub fn write_sweep(path: &Path, sweep: &Sweep) -> Result<(), StudyError> {
+    with_writer(path, |w| {
+        w.write_record(sweep_columns())?;
+        for r in &sweep.rows {
+            let mut rec = vec![sweep.kind.clone(), sweep.parameter.clone(), sweep.default_value.clone(), r.value.clone(), r.is_default.to_string()];
+            for m in ["ray-casting", "manual"] {
+                let c = r.modes.get(m);
+                rec.push(r.completed.get(m).copied().unwrap_or(0).to_string());
+                rec.push(of(c.and_then(|c| c.what_if_mean_s)));
+                rec.push(of(c.and_then(|c| c.baseline_mean_s)));
+                rec.push(of(c.and_then(|c| c.difference_s)));
+                rec.push(c.map_or(0, |c| c.pairs).to_string());
+            }
+            rec.push(r.ray_casting_faster_for_all.map(|b| b.to_string()).unwrap_or_default());
+            rec.push(r.missing_comparisons.join(";"));
+            rec.push(sweep.baseline.synthetic.to_string());
+            w.write_record(rec)?;
         }
-        rec.push(r.ray_casting_faster_for_all.map(|b| b.to_string()).unwrap_or_default());
-        rec.push(r.missing_comparisons.join(";"));
-        rec.push(sweep.baseline.synthetic.to_string());
-        w.write_record(rec)?;
-    }
-    w.flush()?;
-    Ok(())
+        Ok(())
+    })
 }

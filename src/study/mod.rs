@@ -6,6 +6,7 @@
 pub mod chart;
 pub mod conditions;
 pub mod csv_out;
+pub mod error;
 pub mod friedman;
 pub mod latin;
 pub mod participant;
@@ -16,6 +17,10 @@ pub mod synth;
 pub mod synth_plugin;
 pub mod table;
 pub mod whatif;
+pub mod write;
+
+pub use error::{StudyError, SynthError};
+pub use shard::ShardError;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -96,25 +101,25 @@ pub struct Trial {
 }
 
 /// Every recording file (`*.jsonl`) in a folder, sorted by name; a folder without any is refused.
-pub fn recordings_in(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn recordings_in(dir: &Path) -> Result<Vec<PathBuf>, StudyError> {
     let files = list_recordings(dir)?;
     if files.is_empty() {
-        anyhow::bail!("{}: no recordings (*.jsonl) in this folder", dir.display());
+        return Err(StudyError::NoRecordings(dir.to_path_buf()));
     }
     Ok(files)
 }
 
 /// Every recording file (`*.jsonl`) in a folder, sorted by name, perhaps none (a shard's folder
 /// may hold no participant).
-pub fn list_recordings(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn list_recordings(dir: &Path) -> Result<Vec<PathBuf>, StudyError> {
     if !dir.exists() {
-        anyhow::bail!("{}: no such folder", dir.display());
+        return Err(StudyError::NoSuchFolder(dir.to_path_buf()));
     }
     if !dir.is_dir() {
-        anyhow::bail!("{}: is not a folder of recordings", dir.display());
+        return Err(StudyError::NotAFolder(dir.to_path_buf()));
     }
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?
+        .map_err(|source| StudyError::Folder { path: dir.to_path_buf(), source })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
         .collect();
@@ -122,7 +127,7 @@ pub fn list_recordings(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     // A pipe, device or folder among them is bad input, refused before anything runs (reading
     // a pipe would block); a damaged recording, by contrast, becomes a failed trial.
     for f in &files {
-        grove_systems::files::check(f, grove_systems::files::Kind::Recording)?;
+        grove_systems::files::check(f, grove_systems::files::Kind::Recording).map_err(grove_systems::Error::from)?;
     }
     Ok(files)
 }
@@ -181,19 +186,19 @@ pub fn trial_from_outcome(file: String, stem: String, o: &grove_systems::replay:
         trial_num_in_block: 0,
         start_time_s: None,
         end_time_s: None,
-        task_start_s: sim.res().task.as_ref().map(|t| grove_systems::task::ticks_to_seconds(t.started_tick, sim.res().dt)),
+        task_start_s: sim.task().map(|t| grove_systems::task::ticks_to_seconds(t.started_tick, sim.dt())),
         status,
         error: o.first_divergence.as_ref().map(|d| format!("diverged at tick {}", d.tick)),
         complete: o.complete,
-        ticks: sim.res().tick,
-        task: sim.res().task.as_ref().map(|t| technique_report(TaskReport::new(t, sim.res().dt, sim.res().tick, &sim.res().catalogue), sim)),
+        ticks: sim.tick(),
+        task: sim.task().map(|t| technique_report(TaskReport::new(t, sim.dt(), sim.tick(), sim.catalogue()), sim)),
     }
 }
 
 /// A task report whose mode is the technique that ran it: a plug-in's name in place of its base
 /// mode, so that reports tell the conditions apart.
 pub fn technique_report(mut report: TaskReport, sim: &grove_systems::Sim) -> TaskReport {
-    let t = sim.res().techniques.at(sim.res().technique);
+    let t = sim.active_technique();
     if !t.is_builtin() {
         report.mode = t.name.to_string();
     }

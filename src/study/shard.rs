@@ -14,7 +14,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, bail};
+use grove_systems::set_arg::SetArg;
 use serde::{Deserialize, Serialize};
 use xxhash_rust::xxh3::xxh3_64;
 
@@ -26,6 +26,110 @@ pub const MAX_SHARDS: u32 = 1_000_000;
 pub const MAGIC: &[u8] = b"grove-study-part\n";
 /// The version of the partial result encoding after [`MAGIC`].
 pub const FORMAT: u32 = 1;
+
+/// Why a partial result could not be written, read or merged.
+#[derive(Debug, thiserror::Error)]
+pub enum ShardError {
+    /// The encoder failed.
+    #[error("cannot encode the partial result: {0}")]
+    Encode(postcard::Error),
+    /// The file does not start as a partial result does.
+    #[error("{0}: not a partial study result (write one with grove study --shard K/N --out FILE)")]
+    NotAPartial(String),
+    /// The file ends before its format version.
+    #[error("{0}: the partial result is cut short")]
+    CutShort(String),
+    /// Another format version.
+    #[error("{name}: partial result format {version}, this grove reads format {}", FORMAT)]
+    Format {
+        /// The file.
+        name: String,
+        /// Its version.
+        version: u32,
+    },
+    /// The encoding does not decode, or decodes to what no shard writes.
+    #[error("{name}: a damaged partial result ({reason})")]
+    Damaged {
+        /// The file.
+        name: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The file could not be read.
+    #[error(transparent)]
+    File(#[from] grove_systems::files::FileError),
+    /// Nothing to merge.
+    #[error("no partial results to merge")]
+    NoParts,
+    /// A part of another study.
+    #[error("{name}: a shard of another study than {first} ({theirs}, not {ours})")]
+    OtherStudy {
+        /// The part.
+        name: String,
+        /// The first part.
+        first: String,
+        /// The part's study.
+        theirs: String,
+        /// The first part's study.
+        ours: String,
+    },
+    /// A part of another split.
+    #[error("{name}: shard {shard} of a split into {}, but {first} is of a split into {n}", shard.n)]
+    OtherSplit {
+        /// The part.
+        name: String,
+        /// Its shard.
+        shard: Shard,
+        /// The first part.
+        first: String,
+        /// The first part's number of shards.
+        n: u32,
+    },
+    /// A part with another number of runs.
+    #[error("{name}: {runs} runs, but {first} has {expected}")]
+    RunCount {
+        /// The part.
+        name: String,
+        /// Its runs.
+        runs: usize,
+        /// The first part.
+        first: String,
+        /// The first part's runs.
+        expected: usize,
+    },
+    /// A shard given twice.
+    #[error("shard {shard} is given twice: {first} and {second}")]
+    GivenTwice {
+        /// The shard.
+        shard: Shard,
+        /// The first file that holds it.
+        first: String,
+        /// The second.
+        second: String,
+    },
+    /// A part holding a recording of another shard.
+    #[error("{name}: holds {file}, which is in shard {home}, not {shard}")]
+    Foreign {
+        /// The part.
+        name: String,
+        /// The recording.
+        file: String,
+        /// The recording's shard.
+        home: Shard,
+        /// The part's shard.
+        shard: Shard,
+    },
+    /// Shards missing (`shown`: the first few, with how many more).
+    #[error("shard {shown} missing: {given} of {n} partial results given")]
+    Missing {
+        /// The missing shards, the first five and a count of the rest.
+        shown: String,
+        /// The parts given.
+        given: usize,
+        /// The number of shards.
+        n: u32,
+    },
+}
 
 /// One shard of N: `K/N` on the command line, 1 ≤ K ≤ N.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -46,6 +150,21 @@ impl std::str::FromStr for Shard {
             return Err(bad());
         }
         Ok(Shard { k, n })
+    }
+}
+
+impl std::fmt::Display for StudyKey {
+    /// The study's arguments as a command line writes them: `--set A=1 --set B=2,3 --baseline`
+    /// (or "no --set" for a plain study).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut words: Vec<String> = self.set.iter().map(|a| format!("--set {a}")).collect();
+        if self.baseline {
+            words.push("--baseline".into());
+        }
+        if words.is_empty() {
+            words.push("no --set".into());
+        }
+        write!(f, "{}", words.join(" "))
     }
 }
 
@@ -82,10 +201,10 @@ fn file_name(path: &Path) -> String {
 }
 
 /// What the study was: every shard of one study has the same key, and the merge checks it.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StudyKey {
-    /// The `--set` arguments as given.
-    pub set: Vec<String>,
+    /// The `--set` arguments, each checked again when a partial result is read.
+    pub set: Vec<SetArg>,
     /// Whether the what-if compares with `--baseline` recordings (re-simulated participants).
     pub baseline: bool,
 }
@@ -109,7 +228,7 @@ pub struct Partial {
     pub study: StudyKey,
     /// The `--replays` folder as this shard was given it (for messages).
     pub replays: String,
-    /// The runs, in the order the study makes them (see `cli::study::Runs`).
+    /// The runs, in the order the study makes them (see `cli::study::compute`).
     pub runs: Vec<RunPart>,
 }
 
@@ -117,34 +236,35 @@ impl Partial {
     /// The bytes of the file: [`MAGIC`], the format version (u32, little-endian) and the
     /// postcard encoding of the partial (floats as their exact bits, so a merge reproduces
     /// every value of a run without shards).
-    pub fn encode(&self) -> anyhow::Result<Vec<u8>> {
+    pub fn encode(&self) -> Result<Vec<u8>, ShardError> {
         let mut bytes = MAGIC.to_vec();
         bytes.extend_from_slice(&FORMAT.to_le_bytes());
-        postcard::to_extend(self, bytes).map_err(|e| anyhow!("cannot encode the partial result: {e}"))
+        postcard::to_extend(self, bytes).map_err(ShardError::Encode)
     }
 
     /// Reads the bytes [`Partial::encode`] wrote. `name` is the file, for messages.
-    pub fn decode(bytes: &[u8], name: &str) -> anyhow::Result<Partial> {
-        let rest = bytes.strip_prefix(MAGIC).ok_or_else(|| anyhow!("{name}: not a partial study result (write one with grove study --shard K/N --out FILE)"))?;
-        let (version, body) = rest.split_first_chunk::<4>().ok_or_else(|| anyhow!("{name}: the partial result is cut short"))?;
+    pub fn decode(bytes: &[u8], name: &str) -> Result<Partial, ShardError> {
+        let rest = bytes.strip_prefix(MAGIC).ok_or_else(|| ShardError::NotAPartial(name.to_string()))?;
+        let (version, body) = rest.split_first_chunk::<4>().ok_or_else(|| ShardError::CutShort(name.to_string()))?;
         let version = u32::from_le_bytes(*version);
         if version != FORMAT {
-            bail!("{name}: partial result format {version}, this grove reads format {FORMAT}");
+            return Err(ShardError::Format { name: name.to_string(), version });
         }
-        let (part, left): (Partial, &[u8]) = postcard::take_from_bytes(body).map_err(|e| anyhow!("{name}: a damaged partial result ({e})"))?;
+        let damaged = |reason: String| ShardError::Damaged { name: name.to_string(), reason };
+        let (part, left): (Partial, &[u8]) = postcard::take_from_bytes(body).map_err(|e| damaged(e.to_string()))?;
         if !left.is_empty() {
-            bail!("{name}: a damaged partial result ({} bytes after its end)", left.len());
+            return Err(damaged(format!("{} bytes after its end", left.len())));
         }
         let Shard { k, n } = part.shard;
         if k == 0 || k > n || n > MAX_SHARDS {
-            bail!("{name}: a damaged partial result (shard {k}/{n})");
+            return Err(damaged(format!("shard {k}/{n}")));
         }
         Ok(part)
     }
 
     /// Reads a partial result file.
-    pub fn read(path: &Path) -> anyhow::Result<Partial> {
-        let bytes = grove_systems::files::read(path, grove_systems::files::Kind::Cache).map_err(|e| anyhow!("{e}"))?;
+    pub fn read(path: &Path) -> Result<Partial, ShardError> {
+        let bytes = grove_systems::files::read(path, grove_systems::files::Kind::Cache)?;
         Partial::decode(&bytes, &path.display().to_string())
     }
 }
@@ -152,34 +272,34 @@ impl Partial {
 /// Checks that `parts` are every shard of one study, each once, and puts their runs together:
 /// one list of trials and the summed seconds per run, with the study's key and the first
 /// shard's `--replays` folder. `names` are the files, for messages.
-pub fn combine(parts: Vec<Partial>, names: &[String]) -> anyhow::Result<(StudyKey, String, Vec<RunPart>)> {
-    let Some(first) = parts.first() else { bail!("no partial results to merge") };
+pub fn combine(parts: Vec<Partial>, names: &[String]) -> Result<(StudyKey, String, Vec<RunPart>), ShardError> {
+    let Some(first) = parts.first() else { return Err(ShardError::NoParts) };
     let (n, study, runs, replays) = (first.shard.n, first.study.clone(), first.runs.len(), first.replays.clone());
     let mut seen: Vec<Option<&str>> = vec![None; n as usize];
     for (p, name) in parts.iter().zip(names) {
         if p.study != study {
-            bail!("{name}: a shard of another study than {} (--set {:?}{}, not --set {:?}{})", names[0], p.study.set, if p.study.baseline { " with --baseline" } else { "" }, study.set, if study.baseline { " with --baseline" } else { "" });
+            return Err(ShardError::OtherStudy { name: name.clone(), first: names[0].clone(), theirs: p.study.to_string(), ours: study.to_string() });
         }
         if p.shard.n != n {
-            bail!("{name}: shard {} of a split into {}, but {} is of a split into {n}", p.shard, p.shard.n, names[0]);
+            return Err(ShardError::OtherSplit { name: name.clone(), shard: p.shard, first: names[0].clone(), n });
         }
         if p.runs.len() != runs {
-            bail!("{name}: {} runs, but {} has {runs}", p.runs.len(), names[0]);
+            return Err(ShardError::RunCount { name: name.clone(), runs: p.runs.len(), first: names[0].clone(), expected: runs });
         }
         let slot = &mut seen[p.shard.k as usize - 1];
         if let Some(other) = slot {
-            bail!("shard {} is given twice: {other} and {name}", p.shard);
+            return Err(ShardError::GivenTwice { shard: p.shard, first: other.to_string(), second: name.clone() });
         }
         *slot = Some(name);
         if let Some(t) = p.runs.iter().flat_map(|r| &r.trials).find(|t| !p.shard.holds(&t.file)) {
-            bail!("{name}: holds {}, which is in shard {}/{n}, not {}", t.file, shard_of(&t.file, n), p.shard);
+            return Err(ShardError::Foreign { name: name.clone(), file: t.file.clone(), home: Shard { k: shard_of(&t.file, n), n }, shard: p.shard });
         }
     }
     let missing: Vec<String> = seen.iter().enumerate().filter(|(_, s)| s.is_none()).map(|(i, _)| format!("{}/{n}", i + 1)).collect();
     if !missing.is_empty() {
         let shown = missing.iter().take(5).cloned().collect::<Vec<_>>().join(", ");
         let more = if missing.len() > 5 { format!(" and {} more", missing.len() - 5) } else { String::new() };
-        bail!("shard {shown}{more} missing: {} of {n} partial results given", parts.len());
+        return Err(ShardError::Missing { shown: format!("{shown}{more}"), given: parts.len(), n });
     }
     let mut merged: Vec<RunPart> = (0..runs).map(|_| RunPart { trials: Vec::new(), wall_seconds: 0.0 }).collect();
     for p in parts {
@@ -256,6 +376,31 @@ mod tests {
         let mut other = bytes;
         other[MAGIC.len()] = 9;
         assert!(Partial::decode(&other, "p").unwrap_err().to_string().contains("format 9"));
+    }
+
+    #[test]
+    fn the_study_key_is_typed_and_encoded_as_the_text_it_was() {
+        let set: Vec<SetArg> = vec!["snap_threshold= 0.2".parse().unwrap(), "spawn_drop=0.1,0.3".parse().unwrap()];
+        // Each argument is encoded as its text, as format 1 wrote the arguments.
+        assert_eq!(postcard::to_allocvec(&set[0]).unwrap(), postcard::to_allocvec("snap_threshold=0.2").unwrap());
+        let mut p = part(1, 2);
+        p.study = StudyKey { set, baseline: true };
+        let back = Partial::decode(&p.encode().unwrap(), "p").unwrap();
+        assert_eq!(back.study, p.study);
+        assert_eq!(back.study.to_string(), "--set snap_threshold=0.2 --set spawn_drop=0.1,0.3 --baseline");
+        // A part whose arguments do not hold is damaged; one that holds reads as written.
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&FORMAT.to_le_bytes());
+        let foreign = (Shard { k: 1, n: 1 }, (vec!["snap_threshold=99".to_string()], false), "r".to_string(), Vec::<RunPart>::new());
+        let bytes = postcard::to_extend(&foreign, bytes).unwrap();
+        let e = Partial::decode(&bytes, "p").unwrap_err().to_string();
+        assert!(e.contains("damaged partial result"), "{e}");
+        let fine = (Shard { k: 1, n: 1 }, (vec!["snap_threshold=9".to_string()], false), "r".to_string(), Vec::<RunPart>::new());
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&FORMAT.to_le_bytes());
+        assert_eq!(Partial::decode(&postcard::to_extend(&fine, bytes).unwrap(), "p").unwrap().study.set[0].values[0].value, 9.0);
+        let e = combine(vec![part(1, 2), p], &["a".into(), "b".into()]).unwrap_err().to_string();
+        assert!(e.contains("b: a shard of another study than a (--set snap_threshold=0.2 --set spawn_drop=0.1,0.3 --baseline, not no --set)"), "{e}");
     }
 
     #[test]

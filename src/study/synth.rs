@@ -10,11 +10,10 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, bail};
 use glam::{Vec2, Vec3};
 use grove_systems::resources::Override;
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Selection, Transform, Tree};
+use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Transform};
 use grove_systems::events::Happening;
 use grove_systems::input::{Button, InputEvent, StampedEvent};
 use grove_systems::replay::{record_events, Header};
@@ -27,6 +26,7 @@ use grove_systems::Sim;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::error::SynthError;
 use super::shard::Shard;
 use super::participant::{angle_between, angular_width, scatter_direction, sweep, Skill};
 
@@ -129,11 +129,11 @@ impl Participant {
     }
 
     fn hit(&self) -> HitMarker {
-        self.sim().world().query::<&HitMarker>().iter().next().copied().unwrap_or_default()
+        self.sim().hit_marker()
     }
 
     pub(crate) fn ground_at(&self, x: f32, z: f32) -> f32 {
-        self.sim().res().spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).map_or(0.0, |h| h.point.y)
+        self.sim().ground_below(Vec3::new(x, 50.0, z), 0.0).map_or(0.0, |h| h.point.y)
     }
 
     pub(crate) fn choose(&mut self, model: ModelId) {
@@ -146,23 +146,19 @@ impl Participant {
     }
 
     pub(crate) fn last_planted(&self) -> Option<(u64, Vec3)> {
-        self.sim().res().log.entries.iter().rev().find_map(|e| match e.what {
+        self.sim().log().entries.iter().rev().find_map(|e| match e.what {
             Happening::Planted { tree, position, .. } => Some((tree, position)),
             _ => None,
         })
     }
 
     pub(crate) fn tree(&self, id: u64) -> Option<(Transform, ModelId, f32)> {
-        let e = hecs::Entity::from_bits(id)?;
-        let t = *self.sim().world().get::<&Transform>(e).ok()?;
-        let m = self.sim().world().get::<&Tree>(e).ok()?.model;
-        let s = self.sim().world().get::<&grove_systems::components::Scale>(e).ok()?.0;
-        Some((t, m, s))
+        self.sim().tree(id).map(|t| (t.transform, t.tree.model, t.scale.0))
     }
 
     pub(crate) fn tree_center(&self, id: u64) -> Option<Vec3> {
         let (t, m, s) = self.tree(id)?;
-        let info = self.sim().res().catalogue.get(m)?;
+        let info = self.sim().catalogue().get(m)?;
         Some(t.translation + Vec3::Y * (info.bounds_min.y + info.bounds_max.y) * 0.5 * s)
     }
 
@@ -171,7 +167,7 @@ impl Participant {
         let Some(c) = self.tree_center(id) else { return };
         let width = angular_width(1.0, (c - self.hand).length() as f64);
         self.aim(c, width, false, &move |sim: &Sim| {
-            let h = sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+            let h = sim.hit_marker();
             h.visible && h.target == HitTarget::Tree(id)
         });
         self.press(Button::Bumper);
@@ -182,9 +178,9 @@ impl Participant {
         let wrong_model = error && self.rng.random::<bool>();
         let mut sloppy = error && !wrong_model;
         self.think();
-        let models = self.sim().res().catalogue.len() as u8;
+        let models = self.sim().catalogue().len() as u8;
         let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
-        if self.sim().res().menu.current_model != chosen {
+        if self.sim().menu().current_model != chosen {
             self.choose(chosen);
         }
         let goal = Vec2::new(pos.x, pos.z);
@@ -193,7 +189,7 @@ impl Participant {
             let point = Vec3::new(pos.x, self.ground_at(pos.x, pos.z), pos.z);
             let width = angular_width(2.0 * margin as f64, (point - self.hand).length() as f64);
             let ok = move |sim: &Sim| {
-                let h = sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+                let h = sim.hit_marker();
                 h.visible && matches!(h.target, HitTarget::Plane(_)) && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
             };
             // An early click skips the corrections once; the plant then usually lands off target.
@@ -221,29 +217,29 @@ impl Participant {
     }
 
     fn selected(&self) -> Option<u64> {
-        self.sim().world().query::<&Selection>().iter().next().and_then(|s| s.tree)
+        self.sim().selection().tree
     }
 
     fn anchor(&self) -> AnchorBall {
-        self.sim().world().query::<&AnchorBall>().iter().next().copied().unwrap_or_default()
+        self.sim().anchor_ball()
     }
 
-    fn manual_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32) -> anyhow::Result<()> {
+    fn manual_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32) -> Result<(), SynthError> {
         let error = self.rng.random::<f64>() < self.skill.error_rate;
         let wrong_model = error && self.rng.random::<bool>();
         let early_release = error && !wrong_model;
         self.think();
-        let models = self.sim().res().catalogue.len() as u8;
+        let models = self.sim().catalogue().len() as u8;
         let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
         self.choose(chosen);
-        let id = self.selected().ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
+        let id = self.selected().ok_or_else(|| stuck("no tree appeared after choosing a model from the menu"))?;
         self.drag_into_place(id, pos, tolerance, early_release)?;
         if wrong_model {
             self.think();
             self.remove(id);
             self.think();
             self.choose(model);
-            let id = self.selected().ok_or_else(|| anyhow!("no tree appeared after choosing a model from the menu"))?;
+            let id = self.selected().ok_or_else(|| stuck("no tree appeared after choosing a model from the menu"))?;
             self.drag_into_place(id, pos, tolerance, false)?;
         }
         Ok(())
@@ -251,13 +247,13 @@ impl Participant {
 
     /// Grabs a tree and drags it to the target with ray and touchpad until the anchor ball is
     /// white over the target, then releases.
-    fn drag_into_place(&mut self, id: u64, pos: Vec3, tolerance: f32, early_release: bool) -> anyhow::Result<()> {
+    fn drag_into_place(&mut self, id: u64, pos: Vec3, tolerance: f32, early_release: bool) -> Result<(), SynthError> {
         let goal = Vec2::new(pos.x, pos.z);
         for grab in 0..4 {
-            let c = self.tree_center(id).ok_or_else(|| anyhow!("the tree to drag is gone"))?;
+            let c = self.tree_center(id).ok_or_else(|| stuck("the tree to drag is gone"))?;
             let width = angular_width(1.0, (c - self.hand).length() as f64);
             self.aim(c, width, false, &move |sim: &Sim| {
-                let h = sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+                let h = sim.hit_marker();
                 h.visible && h.target == HitTarget::Tree(id)
             });
             if self.hit().target != HitTarget::Tree(id) {
@@ -266,16 +262,16 @@ impl Participant {
             let press = self.ticks(0.1);
             self.script.push(InputEvent::ButtonDown { button: Button::Trigger }).wait(press);
             for attempt in 0..MAX_CORRECTIONS {
-                let Some(drag) = self.sim().res().interaction.drag else { break };
-                let (_, m, s) = self.tree(id).ok_or_else(|| anyhow!("the dragged tree is gone"))?;
-                let lowest = self.sim().res().catalogue.get(m).map_or(0.0, |i| i.lowest_point()) * s;
+                let Some(drag) = self.sim().interaction().drag else { break };
+                let (_, m, s) = self.tree(id).ok_or_else(|| stuck("the dragged tree is gone"))?;
+                let lowest = self.sim().catalogue().get(m).map_or(0.0, |i| i.lowest_point()) * s;
                 let base = Vec3::new(pos.x, self.ground_at(pos.x, pos.z) - lowest, pos.z);
                 let grab_point = base - drag.offset;
                 let want = grab_point - self.hand;
                 let dir_sigma = self.skill.endpoint_sigma(angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
                 let amplitude = angle_between(self.dir, want);
                 let rot_time = self.skill.aim_time(amplitude, angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
-                let rate = self.sim().res().config.touchpad_move_rate as f64;
+                let rate = self.sim().config().touchpad_move_rate as f64;
                 let delta = want.length() as f64 - drag.grab_distance as f64;
                 // Rate control is imprecise: the thumb comes off a little early or late.
                 let timing: f64 = if attempt == 0 { self.rng.random_range(0.93..1.07) } else { 1.0 };
@@ -315,15 +311,20 @@ impl Participant {
             }
             let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
             self.script.push(InputEvent::ButtonUp { button: Button::Trigger }).wait(rest);
-            let grounded = self.sim().world().get::<&grove_systems::components::Grounded>(hecs::Entity::from_bits(id).ok_or_else(|| anyhow!("bad id"))?).map(|g| g.0).unwrap_or(false);
+            let grounded = self.sim().tree(id).is_some_and(|t| t.grounded.0);
             let here = self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(Vec2::splat(f32::MAX));
             if grounded && here.distance(goal) <= tolerance {
                 return Ok(());
             }
             self.think();
         }
-        bail!("could not place the tree at ({:.2}, {:.2}) after several tries", pos.x, pos.z)
+        Err(stuck(&format!("could not place the tree at ({:.2}, {:.2}) after several tries", pos.x, pos.z)))
     }
+}
+
+/// A participant who cannot go on, and why.
+pub(crate) fn stuck(why: &str) -> SynthError {
+    SynthError::Participant(why.to_string())
 }
 
 /// Generates one participant's session for a task, under the configuration `overrides`
@@ -334,22 +335,22 @@ impl Participant {
 /// With a plug-in `technique` (`None`: the task's built-in one) the recording's header names the
 /// plug-in and its version, and its participant model decides how each target is placed
 /// ([`super::synth_plugin`]).
-pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participant: usize, seed: u64, overrides: &[Override], warn: &dyn Fn(&str)) -> anyhow::Result<ParticipantSession> {
-    let scene = Scene::builtin(&task.scene).ok_or_else(|| anyhow!("task {} names unknown scene '{}'", task.id, task.scene))?;
+pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participant: usize, seed: u64, overrides: &[Override], warn: &dyn Fn(&str)) -> Result<ParticipantSession, SynthError> {
+    let scene = Scene::builtin(&task.scene).ok_or_else(|| SynthError::UnknownScene { task: task.id.clone(), scene: task.scene.clone() })?;
     // Each participant has one skill for both tasks; each task has its own simulation seed.
     let mut skill_rng = ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
     let skill = Skill::sample(&mut skill_rng);
     let task_salt = task.id.bytes().fold(0u64, |h, b| h.wrapping_mul(131).wrapping_add(b as u64));
     let sim_seed = seed.wrapping_mul(1000).wrapping_add(participant as u64);
-    let mut sim = Sim::from_scene(&scene, sim_seed).map_err(|e| anyhow!("{e}"))?;
-    let mut config = sim.res().config.clone();
-    config.apply(overrides).map_err(|e| anyhow!("--set {e}"))?;
+    let mut sim = Sim::from_scene(&scene, sim_seed).map_err(grove_systems::Error::from)?;
+    let mut config = sim.config().clone();
+    config.apply(overrides).map_err(SynthError::Settings)?;
     sim.set_up().config(config);
     let rng = ChaCha8Rng::seed_from_u64(seed ^ task_salt ^ (participant as u64) << 32);
     let script = Script::new(sim);
     let hand = script.controller().pose.position;
     let dir = script.controller().pose.forward();
-    let dt = script.sim().res().dt as f64;
+    let dt = script.sim().dt() as f64;
     let mut p = Participant { script, rng, skill, hand, dir, dt };
 
     let mut header = Header::new(&task.scene, sim_seed, scene.dt);
@@ -365,7 +366,7 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
         header.technique = Some(grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
     }
     p.script.push(InputEvent::StartTask { task: task.id.clone() }).wait(1);
-    let models = task.target_models(&p.sim().res().catalogue);
+    let models = task.target_models(p.sim().catalogue());
     // Far targets first, so that trees already planted never stand in the way of the ray.
     let mut order: Vec<usize> = (0..task.targets.len()).collect();
     order.sort_by(|&a, &b| {
@@ -378,7 +379,7 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
         t.participant.iter().find_map(|o| if let Operator::Dwell(s) = o { Some(*s as f64) } else { None }).unwrap_or(0.0)
     });
     for i in order {
-        let model = models[i].ok_or_else(|| anyhow!("target {i} has an unknown model"))?;
+        let model = models[i].ok_or(SynthError::UnknownModel(i))?;
         let pos = task.targets[i].position;
         let placed = match task.mode {
             _ if gaze_dwell.is_some() => p.gaze_target(pos, model, task.tolerance, gaze_dwell.unwrap_or(0.0)),
@@ -399,18 +400,18 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
     }
     p.think();
     p.script.push(InputEvent::EndTask).wait(30);
-    let end_tick = p.sim().res().tick;
-    let completed = p.sim().res().task.as_ref().is_some_and(|t| t.is_complete());
+    let end_tick = p.sim().tick();
+    let completed = p.sim().task().is_some_and(|t| t.is_complete());
     if !completed && !overrides.is_empty() {
         warn(&format!("P{:02} {}: did not complete the task under the what-if setting", participant + 1, task.id));
     } else if !completed {
         if std::env::var_os("GROVE_SYNTH_DEBUG").is_some() {
-            for e in &p.sim().res().log.entries {
+            for e in &p.sim().log().entries {
                 eprintln!("{} {:?}", e.tick, e.what);
             }
-            eprintln!("{:?}", p.sim().res().task.as_ref().map(|t| &t.satisfied));
+            eprintln!("{:?}", p.sim().task().map(|t| &t.satisfied));
         }
-        bail!("participant {} did not complete task {}", participant + 1, task.id);
+        return Err(SynthError::Incomplete { participant: participant + 1, task: task.id.clone() });
     }
     let (_, events) = p.script.into_parts();
     Ok(ParticipantSession { header, events, end_tick })
@@ -440,19 +441,19 @@ pub struct Condition {
 
 /// The conditions of the given techniques: ray-casting and manual do their own tasks; a
 /// plug-in does the task of its base mode with its own technique.
-pub fn conditions(names: &[&str]) -> anyhow::Result<Vec<Condition>> {
+pub fn conditions(names: &[&str]) -> Result<Vec<Condition>, SynthError> {
     let registered = grove_systems::technique::installed();
     let mut out: Vec<Condition> = Vec::new();
     for name in names {
-        let t = registered.get(name).ok_or_else(|| anyhow!("--techniques: {}", registered.unknown(name)))?;
+        let t = registered.get(name).ok_or_else(|| SynthError::UnknownTechnique(registered.unknown(name)))?;
         if out.iter().any(|c| c.technique.as_ref().map_or(c.task.mode.name(), |t| t.name) == t.name) {
-            bail!("--techniques names '{name}' twice");
+            return Err(SynthError::TechniqueTwice(name.to_string()));
         }
         let id = match t.base {
             Mode::RayCasting => "ray-casting-7",
             Mode::Manual => "manual-7",
         };
-        let task = TaskDef::builtin(id).ok_or_else(|| anyhow!("built-in task {id} is missing"))?;
+        let task = TaskDef::builtin(id).ok_or_else(|| SynthError::MissingTask(id.to_string()))?;
         let (technique, name) = if t.is_builtin() { (None, id.to_string()) } else { (Some(t.clone()), t.name.to_string()) };
         out.push(Condition { task, technique, name });
     }
@@ -464,7 +465,7 @@ pub fn conditions(names: &[&str]) -> anyhow::Result<Vec<Condition>> {
 /// manual. Existing files are never overwritten unless `force` is set. With a `shard`, only the
 /// participants of that shard (by their id, `P07`, see [`super::shard`]) are written; each
 /// participant's recordings are the same as without shards.
-pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> Result<Vec<PathBuf>, SynthError> {
     write_conditions(out, &conditions(&["ray-casting", "manual"])?, participants, seed, force, overrides, shard, progress)
 }
 
@@ -474,9 +475,9 @@ pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, over
 /// session start time. Existing files are never overwritten unless `force` is set. With a
 /// `shard`, only that shard's participants are written.
 #[allow(clippy::too_many_arguments)]
-pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> anyhow::Result<Vec<PathBuf>> {
+pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> Result<Vec<PathBuf>, SynthError> {
     if out.exists() && !out.is_dir() {
-        bail!("{}: exists and is not a folder", out.display());
+        return Err(SynthError::OutIsAFile(out.to_path_buf()));
     }
     let mut planned = Vec::new();
     for p in (0..participants).filter(|p| shard.is_none_or(|s| s.holds(&format!("P{:02}", p + 1)))) {
@@ -487,10 +488,10 @@ pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, se
     }
     if !force {
         if let Some((_, _, _, f)) = planned.iter().find(|(_, _, _, f)| f.exists()) {
-            bail!("{}: already exists; use --force to overwrite the recordings in {}", f.display(), out.display());
+            return Err(SynthError::Exists { file: f.clone(), out: out.to_path_buf() });
         }
     }
-    std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|source| SynthError::Io { path: out.to_path_buf(), source })?;
     let mut written = Vec::new();
     let mut next_start = FIRST_SESSION_START;
     for (p, block, task, path) in planned {
@@ -507,10 +508,10 @@ pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, se
         let summary = serde_json::json!({ "generator": "grove synth", "seed": seed });
         // Write to a temporary file and rename, so a failure never leaves half a recording.
         let tmp = path.with_extension("jsonl.tmp");
-        let file = std::fs::File::create(&tmp).map_err(|e| anyhow!("{}: {e}", tmp.display()))?;
-        let w = record_events(std::io::BufWriter::new(file), &session.header, &session.events, session.end_tick, summary).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        let file = std::fs::File::create(&tmp).map_err(|source| SynthError::Io { path: tmp.clone(), source })?;
+        let w = record_events(std::io::BufWriter::new(file), &session.header, &session.events, session.end_tick, summary).map_err(|source| SynthError::Record { path: path.clone(), source })?;
         drop(w);
-        std::fs::rename(&tmp, &path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        std::fs::rename(&tmp, &path).map_err(|source| SynthError::Io { path: path.clone(), source })?;
         written.push(path);
     }
     Ok(written)

@@ -9,17 +9,14 @@
 //! published constants, which a calibrated model would use instead.
 
 use glam::{Vec2, Vec3};
-use grove_systems::components::{HitMarker, HitTarget, Pose};
+use grove_systems::components::{HitTarget, Pose};
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::{Button, InputEvent};
 use grove_systems::Sim;
 
 use super::participant::{angle_between, angular_width, scatter_direction, sweep};
-use super::synth::{Participant, AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY};
-
-fn hit_of(sim: &Sim) -> HitMarker {
-    sim.world().query::<&HitMarker>().iter().next().copied().unwrap_or_default()
-}
+use super::error::SynthError;
+use super::synth::{stuck, Participant, AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY};
 
 impl Participant {
     fn gaze(&self) -> (Vec3, Vec3) {
@@ -60,9 +57,9 @@ impl Participant {
 
     /// Places one target by gaze and dwell: choose the model if needed, aim the gaze, hold it
     /// for the dwell; a tree that lands off target is looked at and removed with Bumper.
-    pub(crate) fn gaze_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32, dwell_s: f64) -> anyhow::Result<()> {
+    pub(crate) fn gaze_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32, dwell_s: f64) -> Result<(), SynthError> {
         self.think();
-        if self.sim().res().menu.current_model != model {
+        if self.sim().menu().current_model != model {
             self.choose(model);
         }
         let goal = Vec2::new(pos.x, pos.z);
@@ -73,7 +70,7 @@ impl Participant {
             let width = angular_width(2.0 * margin as f64, (point - eye).length() as f64);
             let before = self.last_planted().map(|p| p.0);
             self.aim_gaze(point, width, &move |sim: &Sim| {
-                let h = hit_of(sim);
+                let h = sim.hit_marker();
                 h.visible && matches!(h.target, HitTarget::Plane(_)) && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
             });
             // Hold still until the dwell plants (a few ticks beyond it at most).
@@ -97,12 +94,12 @@ impl Participant {
                 let (eye, _) = self.gaze();
                 let width = angular_width(1.0, (c - eye).length() as f64);
                 self.aim_gaze(c, width, &move |sim: &Sim| {
-                    let h = hit_of(sim);
+                    let h = sim.hit_marker();
                     h.visible && h.target == HitTarget::Tree(id)
                 });
                 self.press(Button::Bumper);
             }
         }
-        anyhow::bail!("could not plant at ({:.2}, {:.2}) by gaze after several tries", pos.x, pos.z)
+        Err(stuck(&format!("could not plant at ({:.2}, {:.2}) by gaze after several tries", pos.x, pos.z)))
     }
 }

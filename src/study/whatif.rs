@@ -12,7 +12,7 @@
 
 use std::collections::BTreeMap;
 
-use grove_systems::resources::Override;
+use grove_systems::resources::{Override, Param};
 use serde::Serialize;
 
 use super::report::{summarize, usable_time, Summary};
@@ -222,15 +222,12 @@ pub struct Sweep {
 
 impl Sweep {
     /// Builds the row of one value from its trials and the baseline's.
-    pub fn row(parameter: &str, value: &str, baseline: &[Trial], trials: &[Trial]) -> SweepRow {
+    pub fn row(value: &Override, baseline: &[Trial], trials: &[Trial]) -> SweepRow {
         let w = WhatIf::compare(REPLAYED_HANDS, Vec::new(), baseline, trials, 0.0);
         let s = summarize(trials, &[], 0.0);
-        let is_default = match (value.parse::<f32>(), default_value(parameter).parse::<f32>()) {
-            (Ok(a), Ok(b)) => a == b,
-            _ => value == default_value(parameter),
-        };
+        let is_default = Param::named(value.name).is_some_and(|p| p.default == value.value);
         SweepRow {
-            value: value.to_string(),
+            value: value.text.clone(),
             is_default,
             completed: s.modes.iter().map(|(m, st)| (m.clone(), st.completed)).collect(),
             modes: w.modes,

@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 
 use crate::render::overlay::geometry::OverlayGhost;
 use grove_systems::bank::Banks;
-use grove_systems::components::{Controller, HitMarker};
 use grove_systems::replay::Player;
 use grove_systems::Sim;
 
@@ -52,8 +51,8 @@ fn hsv(h: f32, s: f32, v: f32) -> [f32; 3] {
 /// short free ray).
 pub fn figure(sim: &Sim, color: [f32; 4], solid: bool) -> OverlayGhost {
     let head = sim.head();
-    let ray = sim.world().query::<&Controller>().iter().next().map_or((head.pose.position, head.pose.forward()), |c| (c.ray_origin(), c.ray_dir()));
-    let ray_length = sim.world().query::<&HitMarker>().iter().next().filter(|h| h.visible).map_or(FREE_RAY_M, |h| h.distance);
+    let ray = sim.controller().map_or((head.pose.position, head.pose.forward()), |c| (c.ray_origin(), c.ray_dir()));
+    let ray_length = Some(sim.hit_marker()).filter(|h| h.visible).map_or(FREE_RAY_M, |h| h.distance);
     OverlayGhost { head: head.pose.position, head_rotation: head.pose.rotation, ray, ray_length, color, solid }
 }
 

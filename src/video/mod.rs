@@ -4,7 +4,7 @@
 //! encoded as H.264 in MP4 ([`encode`]). Frames are drawn on this thread and encoded on a
 //! second one, two frames apart at most, so memory stays flat however long the video.
 //!
-//! Knows nothing of the command line: `cli/render.rs` parses the arguments, builds the renderer
+//! Knows nothing of the command line: `cli/render/` parses the arguments, builds the renderer
 //! and calls [`write`].
 
 pub mod camera;
@@ -97,13 +97,13 @@ pub fn survey(mut probe: Player) -> (TaskArea, String) {
     let head = sim.head().pose.position;
     let mut points = vec![head];
     let mut ground = head.y - 1.6;
-    if let Some(task) = &sim.res().task {
+    if let Some(task) = sim.task() {
         points.extend(task.def.targets.iter().map(|t| t.position));
         if !task.def.targets.is_empty() {
             ground = task.def.targets.iter().map(|t| t.position.y).sum::<f32>() / task.def.targets.len() as f32;
         }
     }
-    (TaskArea::around(&points, ground), sim.res().mode.name().to_string())
+    (TaskArea::around(&points, ground), sim.mode().name().to_string())
 }
 
 /// What to draw.
@@ -139,7 +139,7 @@ pub struct VideoSummary {
 /// `progress` is called after each frame is drawn.
 pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts: Vec<Ghost>, spec: &VideoSpec<'_>, progress: &mut dyn FnMut(u64)) -> Result<VideoSummary, VideoError> {
     let (w, h) = renderer.size();
-    let dt = player.sim().res().dt;
+    let dt = player.sim().dt();
     let ticks = frame_ticks(spec.from, spec.to, spec.fps, spec.speed, dt);
     let (start, end) = (player.task_start_tick(), player.task_end_tick());
     let own_color = ghosts::participant_color(player.header.participant.as_deref().unwrap_or(""));
@@ -164,14 +164,14 @@ pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts:
         player.advance_to(tick);
         let sim = player.sim();
         // Captions: what happened since the last frame, each for a second of video.
-        for e in &sim.res().log.entries[seen..] {
+        for e in &sim.log().entries[seen..] {
             if let Some(words) = captions::event_words(&e.what) {
                 recent.push((k, words.to_string()));
             }
         }
-        seen = sim.res().log.entries.len();
+        seen = sim.log().entries.len();
         recent.retain(|(at, _)| k - at < spec.fps as usize);
-        let text = Captions { who: spec.who.clone(), clock: captions::clock(sim.res().tick, start, end, dt), events: recent.iter().map(|(_, t)| t.clone()).collect() };
+        let text = Captions { who: spec.who.clone(), clock: captions::clock(sim.tick(), start, end, dt), events: recent.iter().map(|(_, t)| t.clone()).collect() };
 
         // The camera, and the participant as a figure when seen from outside.
         let head = sim.head();

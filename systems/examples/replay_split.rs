@@ -90,7 +90,7 @@ fn one(path: &Path) -> Result<Split, String> {
         replay,
         hashes: h / reps as f64 * outcome.checkpoints_checked as f64,
         checkpoints,
-        ticks: outcome.sim.res().tick,
+        ticks: outcome.sim.tick(),
         bytes: bytes.len() as u64,
         lines: lines.len() as u64,
     })

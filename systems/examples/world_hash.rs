@@ -39,6 +39,6 @@ fn main() -> ExitCode {
     // As `grove sim` does (no extra trees; it also builds the spatial index first).
     sim.scatter_trees(0);
     sim.run(ticks);
-    println!("{{\"scene\": \"{}\", \"ticks\": {}, \"hash\": \"{}\"}}", scene.display(), sim.res().tick, hex(sim.hash().total));
+    println!("{{\"scene\": \"{}\", \"ticks\": {}, \"hash\": \"{}\"}}", scene.display(), sim.tick(), hex(sim.hash().total));
     ExitCode::SUCCESS
 }

@@ -57,8 +57,8 @@ impl Pose {
 /// The rotation that turns local −Z into `dir` while keeping local +X horizontal (no roll).
 pub fn rotation_towards(dir: Vec3) -> Quat {
     let dir = dir.normalize_or(Vec3::NEG_Z);
-    let yaw = (-dir.x).atan2(-dir.z);
-    let pitch = dir.y.clamp(-1.0, 1.0).asin();
+    let yaw = libm::atan2f(-dir.x, -dir.z);
+    let pitch = libm::asinf(dir.y.clamp(-1.0, 1.0));
     Quat::from_rotation_y(yaw) * Quat::from_rotation_x(pitch)
 }
 

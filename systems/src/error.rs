@@ -118,12 +118,12 @@ pub enum Error {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::resources::Override;
+    use crate::set_arg::SetArg;
 
     #[test]
     fn any_error_converts_with_its_message_unchanged() {
-        fn set(arg: &str) -> Result<Override, Error> {
-            Ok(Override::parse(arg)?)
+        fn set(arg: &str) -> Result<SetArg, Error> {
+            Ok(arg.parse::<SetArg>()?)
         }
         let e = set("snap_threshold=x").unwrap_err();
         assert!(matches!(e, Error::ConfigError(_)));

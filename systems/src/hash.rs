@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::components::*;
 pub use crate::components::plane_hash;
+use crate::resource_hash::ResourceBytes;
 use crate::resources::Resources;
 use crate::aerial::AerialCrown;
 use crate::water::Water;
@@ -64,8 +65,8 @@ macro_rules! table_entries {
 }
 
 /// The world hash's table in hashing order, the hashed resources in their place. `resources`
-/// covers the hashed resources (tick, RNG position, mode, menu, interaction state, event log,
-/// task state, config). Registered techniques' components follow, in a world that has them
+/// covers the hashed resources ([`crate::resource_hash::FIELDS`]: tick, step, seed, RNG
+/// position, config, mode, menu, interaction state, event log, task state). Registered techniques' components follow, in a world that has them
 /// ([`crate::known_techniques`]).
 pub const HASHED: &[Hashed] = hash_table!(table_entries);
 
@@ -228,75 +229,15 @@ impl HashValue for Plane {
     }
 }
 
-/// The hashed resources, serialized as one struct: their hash is over its postcard bytes.
-#[derive(Serialize)]
-struct HashedResources<'a> {
-    tick: u64,
-    dt: f32,
-    seed: u64,
-    rng_word_pos: u128,
-    config: &'a crate::resources::Config,
-    mode: crate::mode::Mode,
-    menu: &'a crate::resources::MenuState,
-    interaction: &'a crate::resources::Interaction,
-    log: &'a crate::events::EventLog,
-    task: &'a Option<crate::task::TaskState>,
-}
-
-/// The fields of [`HashedResources`] before the log.
-#[derive(Serialize)]
-struct ResourcesHead<'a> {
-    tick: u64,
-    dt: f32,
-    seed: u64,
-    rng_word_pos: u128,
-    config: &'a crate::resources::Config,
-    mode: crate::mode::Mode,
-    menu: &'a crate::resources::MenuState,
-    interaction: &'a crate::resources::Interaction,
-}
-
-/// The postcard bytes of [`HashedResources`], put together as postcard writes a struct (its
-/// fields one after another, a sequence as its length and then its items), with the event log's
-/// entries from [`Resources::log_bytes`], so that each entry is serialized once.
-fn resources_bytes(res: &Resources, buf: &mut Vec<u8>) {
-    let head = ResourcesHead {
-        tick: res.tick,
-        dt: res.dt,
-        seed: res.seed,
-        rng_word_pos: res.rng.get_word_pos(),
-        config: &res.config,
-        mode: res.mode,
-        menu: &res.menu,
-        interaction: &res.interaction,
-    };
-    buf.clear();
-    // Serializing plain data into a Vec cannot fail.
-    *buf = postcard::to_extend(&head, std::mem::take(buf)).unwrap_or_default();
-    *buf = postcard::to_extend(&res.log.entries.len(), std::mem::take(buf)).unwrap_or_default();
-    res.log_bytes.extend(&res.log, buf);
-    *buf = postcard::to_extend(&res.task, std::mem::take(buf)).unwrap_or_default();
-    debug_assert_eq!(*buf, postcard::to_allocvec(&hashed_resources(res)).unwrap_or_default(), "the resources' bytes put together differ from their serialization");
-}
-
-/// The hashed resources as one struct.
-fn hashed_resources(res: &Resources) -> HashedResources<'_> {
-    HashedResources {
-        tick: res.tick,
-        dt: res.dt,
-        seed: res.seed,
-        rng_word_pos: res.rng.get_word_pos(),
-        config: &res.config,
-        mode: res.mode,
-        menu: &res.menu,
-        interaction: &res.interaction,
-        log: &res.log,
-        task: &res.task,
-    }
-}
-
 /// Hashes the world and the hashed resources.
 pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
+    world_hash_keeping(world, res, None)
+}
+
+/// [`world_hash`], and with `keep` the hashed resources' bytes and their fields' ends
+/// ([`crate::resource_hash`]) as they were hashed, for a reader that may have to say later which
+/// field differs.
+pub(crate) fn world_hash_keeping(world: &World, res: &Resources, mut keep: Option<&mut ResourceBytes>) -> WorldHash {
     // Room for every row at once (most entities have a few hashed components), so the vectors
     // do not grow a step at a time at every checkpoint.
     let entities = world.len() as usize;
@@ -310,8 +251,13 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     macro_rules! hash_each {
         ($acc:expr, $world:expr ; $($t:ident: $o:ident),* ; resources ; $($late:ident: $lo:ident),*) => {
             $($acc.component::<$t>($world, stringify!($t), is_optional!($o));)*
-            resources_bytes(res, &mut $acc.buf);
+            let ends = crate::resource_hash::write(res, &mut $acc.buf);
             let rh = xxhash_rust::xxh3::xxh3_64(&$acc.buf);
+            if let Some(k) = keep.as_deref_mut() {
+                k.bytes.clear();
+                k.bytes.extend_from_slice(&$acc.buf);
+                k.ends = ends;
+            }
             $acc.components.push(("resources", rh));
             $($acc.component::<$late>($world, stringify!($late), is_optional!($lo));)*
         };
@@ -338,35 +284,4 @@ pub fn world_hash(world: &World, res: &Resources) -> WorldHash {
     let total = xxhash_rust::xxh3::xxh3_64(&acc.buf);
     let entities = acc.entities();
     WorldHash { total, components: acc.components, entities }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::events::Happening;
-
-    #[test]
-    fn the_resources_bytes_put_together_are_their_serialization() {
-        let mut res = Resources::new(1.0 / 60.0, 3, crate::catalogue::Catalogue::builtin());
-        let whole = |res: &Resources| postcard::to_allocvec(&hashed_resources(res)).unwrap();
-        let mut buf = Vec::new();
-        for tick in 0..200 {
-            res.tick = tick;
-            if tick % 3 == 0 {
-                res.log.push(tick, Happening::Moved { tree: tick, position: glam::Vec3::new(tick as f32, 0.5, -1.0) });
-            }
-            resources_bytes(&res, &mut buf);
-            assert_eq!(buf, whole(&res), "tick {tick}");
-        }
-        // A log past 127 entries (a two-byte count), then a shorter one: the bytes follow it.
-        assert!(res.log.entries.len() < 128);
-        for tick in 0..100 {
-            res.log.push(tick, Happening::MenuOpened);
-        }
-        resources_bytes(&res, &mut buf);
-        assert_eq!(buf, whole(&res));
-        res.log.entries.truncate(2);
-        resources_bytes(&res, &mut buf);
-        assert_eq!(buf, whole(&res));
-    }
 }

@@ -156,7 +156,7 @@ pub fn horizontal_radius(point: Vec3, axis: Vec3) -> f32 {
 /// `a` turns every point of it by `a` in this angle.
 pub fn angle_around(point: Vec3, axis: Vec3) -> f32 {
     let d = point - axis;
-    (-d.z).atan2(d.x)
+    libm::atan2f(-d.z, d.x)
 }
 
 /// `a` wrapped into (−π, π].

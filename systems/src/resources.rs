@@ -145,6 +145,15 @@ pub enum ConfigError {
     /// An argument without `=`.
     #[error("{0}: expected NAME=VALUE")]
     NotNameValue(String),
+    /// A list of values with an empty one (`NAME=1,,2`).
+    #[error("{0}: an empty value in the list")]
+    EmptyValue(String),
+    /// A second swept parameter (a run sweeps one at most).
+    #[error("{0}: only one parameter can be swept at a time")]
+    TwoSweeps(String),
+    /// A list of values where nothing is swept.
+    #[error("{0}: one value only here (a list of values sweeps the parameter, which grove study does)")]
+    NoSweepHere(String),
     /// Together the overrides put `min_scale` above `max_scale`.
     #[error("min_scale {min} is above max_scale {max}")]
     ScaleOrder {
@@ -155,7 +164,8 @@ pub enum ConfigError {
     },
 }
 
-/// One `--set NAME=VALUE`, parsed once: a known parameter and its checked value.
+/// One value of a parameter, checked once: a known parameter and its value (`--set` reads them
+/// through [`crate::set_arg::SetArg`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Override {
     /// The parameter, one of [`Config::NAMES`].
@@ -177,20 +187,6 @@ impl Override {
             return Err(ConfigError::OutOfRange { param, text: text.to_string() });
         }
         Ok(Override { name: param.name, value, text: text.to_string() })
-    }
-
-    /// Parses `NAME=VALUE` ([`Override::new`]).
-    pub fn parse(arg: &str) -> Result<Override, ConfigError> {
-        let (name, text) = arg.split_once('=').ok_or_else(|| ConfigError::NotNameValue(arg.to_string()))?;
-        Override::new(name, text)
-    }
-
-    /// Parses every `NAME=VALUE`, checking that together they keep `min_scale` at or below
-    /// `max_scale`.
-    pub fn parse_all<S: AsRef<str>>(args: &[S]) -> Result<Vec<Override>, ConfigError> {
-        let all = args.iter().map(|a| Override::parse(a.as_ref())).collect::<Result<Vec<_>, _>>()?;
-        Config::default().apply(&all)?;
-        Ok(all)
     }
 }
 
@@ -454,7 +450,7 @@ mod tests {
 
     #[test]
     fn a_value_is_read_once_and_checked_against_its_range() {
-        let o = Override::parse(" snap_threshold = 0.2 ").unwrap();
+        let o = Override::new(" snap_threshold ", " 0.2 ").unwrap();
         assert_eq!((o.name, o.value, o.text.as_str()), ("snap_threshold", 0.2, "0.2"));
         // The ends of a range are in it; past them is refused with the range and unit.
         assert!(Override::new("touchpad_dead_zone", "1").is_ok());
@@ -463,13 +459,15 @@ mod tests {
         assert!(matches!(Override::new("snap_threshold", "inf"), Err(ConfigError::OutOfRange { .. })));
         assert!(matches!(Override::new("snap_threshold", "x"), Err(ConfigError::NotANumber { .. })));
         assert!(matches!(Override::new("snap", "1"), Err(ConfigError::Unknown { .. })));
-        assert!(matches!(Override::parse_all(&["min_scale=5", "max_scale=2"]), Err(ConfigError::ScaleOrder { .. })));
+        let mut config = Config::default();
+        let order = [Override::new("min_scale", "5").unwrap(), Override::new("max_scale", "2").unwrap()];
+        assert!(matches!(config.apply(&order), Err(ConfigError::ScaleOrder { .. })));
     }
 
     #[test]
     fn overrides_are_written_as_their_text_and_checked_when_read() {
-        let mut all: Overrides = ["touchpad_move_rate=3", "snap_threshold=0.20"].iter().map(|a| Override::parse(a).unwrap()).collect();
-        all.set(Override::parse("touchpad_move_rate=2.5").unwrap());
+        let mut all: Overrides = [("touchpad_move_rate", "3"), ("snap_threshold", "0.20")].iter().map(|(n, v)| Override::new(n, v).unwrap()).collect();
+        all.set(Override::new("touchpad_move_rate", "2.5").unwrap());
         // One per parameter, in name order, each as it was written.
         let json = serde_json::to_string(&all).unwrap();
         assert_eq!(json, r#"{"snap_threshold":"0.20","touchpad_move_rate":"2.5"}"#);

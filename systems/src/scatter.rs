@@ -212,7 +212,7 @@ impl ScatterDef {
             for _ in 0..30 {
                 let a = rng.random::<f32>() * std::f32::consts::TAU;
                 let d = r * (1.0 + rng.random::<f32>());
-                let p = base + Vec2::new(a.cos(), a.sin()) * d;
+                let p = base + Vec2::new(libm::cosf(a), libm::sinf(a)) * d;
                 if p.x < lo.x || p.y < lo.y || p.x > hi.x || p.y > hi.y || !inside(&self.boundary, p) {
                     continue;
                 }

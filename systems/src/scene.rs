@@ -67,6 +67,34 @@ fn default_dt() -> f32 {
     1.0 / 60.0
 }
 
+/// A scene built in code starts from this: `Scene { planes, ..Scene::default() }` names only
+/// what differs, so a new section (a field with its own `Default`) edits this module and its
+/// feature, never the scenes built elsewhere. An empty scene: no planes, trees or other
+/// sections, the default step (1/60 s), seed 0, and the default sun ([`SunDef::default`]),
+/// calm wind ([`WindDef::default`]) and camera ([`CameraDef::default`]). Scene files are read
+/// as before: a file still names its sun, wind and camera, and a field it leaves out takes the
+/// default its `serde` attribute names.
+impl Default for Scene {
+    fn default() -> Scene {
+        Scene {
+            name: "scene".into(),
+            dt: default_dt(),
+            seed: 0,
+            planes: Vec::new(),
+            sun: SunDef::default(),
+            wind: WindDef::default(),
+            trees: Vec::new(),
+            scatter: Vec::new(),
+            camera: CameraDef::default(),
+            banks: Vec::new(),
+            dir: None,
+            water: Vec::new(),
+            grass: Vec::new(),
+            aerial: None,
+        }
+    }
+}
+
 /// A ground plane.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -128,6 +156,13 @@ pub struct SunDef {
     pub time_rate: f64,
 }
 
+/// Zürich at 10:00 UTC on the summer solstice, the sun fixed.
+impl Default for SunDef {
+    fn default() -> SunDef {
+        SunDef { latitude_deg: 47.37, longitude_deg: 8.54, utc: "2026-06-21T10:00:00Z".into(), time_rate: 0.0 }
+    }
+}
+
 /// The wind.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -152,6 +187,22 @@ pub struct WindDef {
     pub response: crate::wind_model::WindResponse,
 }
 
+/// Calm: no strength and no gusts, blowing towards +X, with the default model and response.
+impl Default for WindDef {
+    fn default() -> WindDef {
+        WindDef {
+            direction: Vec3::X,
+            strength: 0.0,
+            density: 0.1,
+            gust_average: 0.0,
+            gust_strength: 0.0,
+            gust_frequency: 0.0,
+            model: Default::default(),
+            response: Default::default(),
+        }
+    }
+}
+
 pub use crate::tree_def::TreeDef;
 
 /// The initial camera.
@@ -169,6 +220,13 @@ pub struct CameraDef {
 
 fn default_fov() -> f32 {
     60.0
+}
+
+/// At eye height 6 m south of the origin, looking at it, with the default field of view.
+impl Default for CameraDef {
+    fn default() -> CameraDef {
+        CameraDef { position: Vec3::new(0.0, 1.7, 6.0), look_at: Vec3::ZERO, fov_y_deg: default_fov() }
+    }
 }
 
 /// A scene that could not be loaded. Its `Display` is one line that names the file.
@@ -467,6 +525,51 @@ pub fn plane_geometry(shape: &PlaneShape) -> (Vec<Vec3>, Vec<[u32; 3]>) {
                 }
             }
             (vertices, triangles)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ground() -> PlaneDef {
+        let shape = PlaneShape::Grid { min: Vec2::splat(-5.0), size: Vec2::splat(10.0), cell: 1.0, elevation: 0.0, unevenness: 0.0, noise_seed: 0, holes: vec![] };
+        PlaneDef { name: "ground".into(), shape }
+    }
+
+    #[test]
+    fn a_scene_built_from_the_defaults_is_a_valid_file() {
+        let scene = Scene { planes: vec![ground()], ..Scene::default() };
+        scene.validate().unwrap();
+        let text = ron::ser::to_string_pretty(&scene, Default::default()).unwrap();
+        assert_eq!(Scene::parse(&text, "<text>").unwrap(), scene);
+        assert_eq!((scene.dt, scene.seed, scene.camera.fov_y_deg, scene.wind.strength), (1.0 / 60.0, 0, 60.0, 0.0));
+    }
+
+    #[test]
+    fn a_file_reads_as_before_the_defaults() {
+        // What a file leaves out takes its field's serde default, which Default agrees with.
+        let sections = [
+            ("planes", r#"planes: [(name: "ground", shape: Grid(min: (-5.0, -5.0), size: (10.0, 10.0), cell: 1.0, elevation: 0.0))]"#),
+            ("sun", r#"sun: (latitude_deg: 10.0, longitude_deg: 20.0, utc: "2026-01-01T00:00:00Z")"#),
+            ("wind", "wind: (direction: (1.0, 0.0, 0.0), strength: 0.5, density: 0.2, gust_average: 0.1, gust_strength: 0.1, gust_frequency: 0.1)"),
+            ("camera", "camera: (position: (0.0, 2.0, 5.0), look_at: (0.0, 0.0, 0.0))"),
+        ];
+        let file = |leave_out: &str| {
+            let kept: Vec<&str> = sections.iter().filter(|(name, _)| *name != leave_out).map(|(_, text)| *text).collect();
+            format!("Scene(name: \"s\", {})", kept.join(", "))
+        };
+        let scene = Scene::parse(&file(""), "<text>").unwrap();
+        let d = Scene::default();
+        assert_eq!((scene.dt, scene.seed, scene.camera.fov_y_deg, scene.sun.time_rate), (d.dt, d.seed, d.camera.fov_y_deg, d.sun.time_rate));
+        assert_eq!((scene.wind.model, scene.wind.response), (d.wind.model, d.wind.response));
+        assert!(scene.trees.is_empty() && scene.water.is_empty() && scene.grass.is_empty() && scene.aerial.is_none());
+        assert_eq!(scene.planes, vec![ground()]);
+        // The planes, the sun, the wind and the camera have no default in a file: it must name them.
+        for (name, _) in sections {
+            let e = Scene::parse(&file(name), "<text>").unwrap_err().to_string();
+            assert!(e.contains(&format!("missing field named `{name}`")), "{name}: {e}");
         }
     }
 }

@@ -288,7 +288,7 @@ impl Script {
 
     /// A copy of the controller (default if the world has none).
     pub fn controller(&self) -> Controller {
-        self.sim.world.query::<&Controller>().iter().next().copied().unwrap_or_default()
+        self.sim.controller().unwrap_or_default()
     }
 
     /// A copy of the head (default if the world has none).

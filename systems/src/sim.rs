@@ -47,10 +47,10 @@ pub enum SimError {
 
 /// A running simulation: the hecs world and its resources.
 pub struct Sim {
-    /// The entities: read outside the crate through [`Sim::world`], changed by the schedule,
+    /// The entities: read outside the crate through the getters of [`crate::view`], changed by the schedule,
     /// input events, the scene and [`Sim::set_up`].
     pub(crate) world: World,
-    /// Everything that belongs to no entity ([`Sim::res`] outside the crate).
+    /// Everything that belongs to no entity (read outside the crate through [`crate::view`]).
     pub(crate) res: Resources,
     /// The registered techniques, whose systems the schedule runs ([`crate::technique`]).
     pub techniques: crate::technique::Techniques,
@@ -236,15 +236,15 @@ impl Sim {
         self.techniques = techniques;
     }
 
-    /// The entities, read-only: what every reader outside the simulation (the renderer, the
-    /// reports, the desktop) sees. Changes go through input events ([`Sim::step_with`]) or the
-    /// scene before [`Sim::from_scene`].
-    pub fn world(&self) -> &World {
+    /// The entities, read-only, inside the crate. Readers outside it read the typed getters of
+    /// [`crate::view`]; changes go through input events ([`Sim::step_with`]) or the scene before
+    /// [`Sim::from_scene`].
+    pub(crate) fn world(&self) -> &World {
         &self.world
     }
 
-    /// The resources, read-only (see [`Sim::world`]).
-    pub fn res(&self) -> &Resources {
+    /// The resources, read-only, inside the crate (see [`Sim::world`]).
+    pub(crate) fn res(&self) -> &Resources {
         &self.res
     }
 

@@ -542,7 +542,7 @@ fn cylinder_span(o: Vec3, d: Vec3, r: f32) -> Option<(f32, f32)> {
 }
 
 fn box_aabb(b: &TreeBox) -> Aabb {
-    let (s, c) = b.yaw.sin_cos();
+    let (s, c) = libm::sincosf(b.yaw);
     let hx = b.half_extents.x * c.abs() + b.half_extents.z * s.abs();
     let hz = b.half_extents.x * s.abs() + b.half_extents.z * c.abs();
     let h = Vec3::new(hx, b.half_extents.y, hz);

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use crate::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind};
 use crate::components::{Controller, Head, Pose, Sun};
-use crate::scene::{CameraDef, Hole, PlaneDef, PlaneShape, Scene, SunDef, WindDef};
+use crate::scene::{CameraDef, Hole, PlaneDef, PlaneShape, Scene, SunDef};
 use crate::sim::Sim;
 
 /// The eye position and target that show the box `min..max` whole with a vertical field of
@@ -17,8 +17,8 @@ use crate::sim::Sim;
 pub fn frame_bounds(min: Vec3, max: Vec3, fov_y: f32, aspect: f32) -> (Vec3, Vec3) {
     let centre = (min + max) * 0.5;
     let radius = ((max - min).length() * 0.5).max(0.01);
-    let half = (fov_y * 0.5).min(((fov_y * 0.5).tan() * aspect).atan());
-    let dist = radius / half.sin() * 1.05;
+    let half = (fov_y * 0.5).min(libm::atanf(libm::tanf(fov_y * 0.5) * aspect));
+    let dist = radius / libm::sinf(half) * 1.05;
     let dir = Vec3::new(0.55, 0.3, 0.78).normalize();
     (centre + dir * dist, centre)
 }
@@ -34,7 +34,6 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
     let half = size * 1.5;
     let scene = Scene {
         name: "model stage".into(),
-        dt: 1.0 / 60.0,
         seed: 1,
         planes: vec![PlaneDef {
             name: "ground".into(),
@@ -55,34 +54,9 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
                 },
             },
         }],
-        sun: SunDef {
-            latitude_deg: 47.37,
-            longitude_deg: 8.54,
-            utc: "2026-06-21T08:00:00Z".into(),
-            time_rate: 0.0,
-        },
-        wind: WindDef {
-            direction: Vec3::X,
-            strength: 0.0,
-            density: 0.1,
-            gust_average: 0.0,
-            gust_strength: 0.0,
-            gust_frequency: 0.0,
-            model: Default::default(),
-            response: Default::default(),
-        },
-        trees: vec![],
-        scatter: vec![],
-        banks: vec![],
-        dir: None,
-        water: vec![],
-        grass: vec![],
-        aerial: None,
-        camera: CameraDef {
-            position: Vec3::new(0.0, 1.0, 5.0),
-            look_at: Vec3::ZERO,
-            fov_y_deg: 40.0,
-        },
+        sun: SunDef { utc: "2026-06-21T08:00:00Z".into(), ..SunDef::default() },
+        camera: CameraDef { position: Vec3::new(0.0, 1.0, 5.0), look_at: Vec3::ZERO, fov_y_deg: 40.0 },
+        ..Scene::default()
     };
     let info = ModelInfo {
         id: model,

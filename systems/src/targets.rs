@@ -221,5 +221,5 @@ pub fn nearest(sim: &Sim, p: Vec3) -> Option<u64> {
 
 /// The distance between two points along the ground (X and Z only), metres.
 pub fn ground_distance(a: Vec3, b: Vec3) -> f32 {
-    (a.x - b.x).hypot(a.z - b.z)
+    libm::hypotf(a.x - b.x, a.z - b.z)
 }

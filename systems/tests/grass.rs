@@ -3,7 +3,6 @@
 //! are refused with one line.
 
 use glam::{Vec2, Vec3};
-use grove_systems::components::{Grass, Plane};
 use grove_systems::grass::{place_blades, Blade, GrassKind};
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
@@ -19,19 +18,17 @@ fn park() -> Scene {
 
 /// The blades of every blade patch of a world, patch by patch in entity order.
 fn blades_of(sim: &Sim) -> Vec<Vec<Blade>> {
-    let planes: Vec<(String, Vec<Vec3>, Vec<[u32; 3]>)> =
-        sim.world().query::<&Plane>().iter().map(|p| (p.name.clone(), p.vertices.clone(), p.triangles.clone())).collect();
+    let mut planes: Vec<(String, Vec<Vec3>, Vec<[u32; 3]>)> = Vec::new();
+    sim.for_each_plane(|_, p| planes.push((p.name.clone(), p.vertices.clone(), p.triangles.clone())));
     let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|(n, v, t)| (n.as_str(), v.as_slice(), t.as_slice())).collect();
-    let mut patches: Vec<(u64, Grass)> = sim.world().query::<(hecs::Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
-    patches.sort_by_key(|(e, _)| *e);
-    patches.iter().map(|(_, g)| place_blades(g, &views)).collect()
+    sim.grass_patches().iter().map(|(_, g)| place_blades(g, &views)).collect()
 }
 
 #[test]
 fn every_patch_is_a_grass_entity_in_the_hash() {
     let scene = park();
     let sim = Sim::from_scene(&scene, scene.seed).unwrap();
-    let kinds: Vec<GrassKind> = sim.world().query::<&Grass>().iter().map(|g| g.def.kind).collect();
+    let kinds: Vec<GrassKind> = sim.grass_patches().iter().map(|(_, g)| g.def.kind).collect();
     assert_eq!(kinds.len(), 2);
     assert!(kinds.contains(&GrassKind::Shells) && kinds.contains(&GrassKind::Blades));
     let h = sim.hash();
@@ -112,7 +109,7 @@ fn no_blade_stands_over_a_hole() {
             near_hole += usize::from(d < r + 0.3);
         }
         // There is ground under the blade's root, at its height.
-        let hit = sim.res().spatial.ground_below(p, 0.5).unwrap_or_else(|| panic!("no ground below the blade at {p}"));
+        let hit = sim.ground_below(p, 0.5).unwrap_or_else(|| panic!("no ground below the blade at {p}"));
         assert!((hit.point.y - p.y).abs() < 1e-3, "a blade at {p} floats over ground at {}", hit.point.y);
     }
     // The holes' rims are grassed right up to the edge.

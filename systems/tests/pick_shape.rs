@@ -10,14 +10,14 @@ use grove_systems::Sim;
 /// with the given catalogue. Returns the sim, the tree's entity and its base position.
 fn one_tree(catalogue: Catalogue) -> (Sim, hecs::Entity, Vec3) {
     let mut sim = Sim::from_scene_with(&Scene::builtin("study").unwrap(), 1, catalogue).unwrap();
-    let old: Vec<hecs::Entity> = sim.world().query::<(hecs::Entity, &grove_systems::components::Tree)>().iter().map(|(e, _)| e).collect();
+    let old: Vec<hecs::Entity> = sim.tree_ids().into_iter().filter_map(hecs::Entity::from_bits).collect();
     for e in old {
         sim.set_up().despawn(e).unwrap();
     }
     sim.set_up().refresh_spatial();
-    let model = sim.res().catalogue.by_name("broadleaf-mesh").unwrap().id;
+    let model = sim.catalogue().by_name("broadleaf-mesh").unwrap().id;
     let e = sim.spawn_tree(model, Vec3::new(-7.0, 0.0, -1.5), 0.0, 1.0, true);
-    let base = sim.world().get::<&grove_systems::components::Transform>(e).unwrap().translation;
+    let base = sim.tree(e.to_bits().get()).unwrap().transform.translation;
     sim.set_up().refresh_spatial();
     (sim, e, base)
 }
@@ -25,7 +25,7 @@ fn one_tree(catalogue: Catalogue) -> (Sim, hecs::Entity, Vec3) {
 /// The entity a ray from `from` towards `to` hits first.
 fn first_hit(sim: &Sim, from: Vec3, to: Vec3) -> Option<hecs::Entity> {
     let dir = (to - from).normalize();
-    sim.res().spatial.cast(from, dir, 100.0, None).map(|h| h.entity)
+    sim.spatial().cast(from, dir, 100.0, None).map(|h| h.entity)
 }
 
 #[test]
@@ -73,12 +73,12 @@ fn a_ray_starting_inside_the_crown_hits_at_distance_zero_but_not_inside_the_box_
     let pick = m.pick.unwrap();
     let (sim, tree, base) = one_tree(cat);
     let inside = base + Vec3::Y * (0.5 * (pick.bottom + pick.top));
-    let h = sim.res().spatial.cast_trees(inside, Vec3::X, 50.0, None).unwrap();
+    let h = sim.spatial().cast_trees(inside, Vec3::X, 50.0, None).unwrap();
     assert_eq!((h.entity, h.distance), (tree, 0.0));
     // Low beside the trunk, inside the tree's box but outside its shape: looking up at the
     // crown's underside, the tree is hit above, not at the start.
     let low = base + Vec3::new(0.5 * m.bounds_max.x, 0.3, 0.0);
-    let h = sim.res().spatial.cast_trees(low, Vec3::Y, 50.0, None).expect("the crown above");
+    let h = sim.spatial().cast_trees(low, Vec3::Y, 50.0, None).expect("the crown above");
     assert_eq!(h.entity, tree);
     assert!(h.distance > 0.3, "{}", h.distance);
 }

@@ -35,7 +35,9 @@ fn scenes() -> Vec<(String, Scene)> {
 
 fn planes(scene: &Scene) -> Vec<Plane> {
     let sim = Sim::from_scene(scene, 1).unwrap();
-    sim.world().query::<&Plane>().iter().cloned().collect()
+    let mut planes = Vec::new();
+    sim.for_each_plane(|_, p| planes.push(p.clone()));
+    planes
 }
 
 /// Grid planes unlike the shipped ones: far from the origin and high up (where single precision
@@ -142,7 +144,7 @@ fn the_spatial_index_casts_planes_as_parry_does() {
     let mut state = 3u64;
     for (name, scene) in scenes() {
         let sim = Sim::from_scene(&scene, 1).unwrap();
-        let spatial = &sim.res().spatial;
+        let spatial = sim.spatial();
         for _ in 0..2_000 {
             let o = Vec3::new(30.0 * unit(&mut state) - 15.0, 3.0 * unit(&mut state), 30.0 * unit(&mut state) - 15.0);
             let to = Vec3::new(30.0 * unit(&mut state) - 15.0, -0.5, 30.0 * unit(&mut state) - 15.0);

@@ -2,7 +2,6 @@
 //! nearest first) finds the same tree at the same distance as a plain test of every tree.
 
 use glam::Vec3;
-use grove_systems::components::Plane;
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
 
@@ -21,13 +20,13 @@ fn the_fast_tree_cast_agrees_with_testing_every_tree() {
     sim.scatter_trees(400);
     sim.set_up().refresh_spatial();
     let (mut min, mut max) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for p in sim.world().query::<&Plane>().iter() {
+    sim.for_each_plane(|_, p| {
         for v in &p.vertices {
             min = min.min(*v);
             max = max.max(*v);
         }
-    }
-    let spatial = &sim.res().spatial;
+    });
+    let spatial = sim.spatial();
     assert!(spatial.tree_count() > 300, "{}", spatial.tree_count());
     let mut state = 99u64;
     let (mut hits, mut zero, mut ties) = (0, 0, 0);

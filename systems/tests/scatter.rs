@@ -1,7 +1,7 @@
 //! Scenes with scattered trees: the garden builds, every scattered tree is an ordinary tree
 //! entity standing on the ground, and the result depends only on the scene.
 
-use grove_systems::components::{Grounded, Transform, Tree};
+use grove_systems::components::Transform;
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
 
@@ -16,7 +16,8 @@ fn the_garden_scatters_ordinary_grounded_trees() {
     let scattered: usize = scene.scatter.iter().map(|s| s.trees().unwrap().len()).sum();
     assert!(scattered > 60, "{scattered} scattered trees");
     let sim = Sim::from_scene(&scene, scene.seed).unwrap();
-    let trees: Vec<(Transform, bool)> = sim.world().query::<(&Tree, &Transform, &Grounded)>().iter().map(|(_, t, g)| (*t, g.0)).collect();
+    let mut trees: Vec<(Transform, bool)> = Vec::new();
+    sim.for_each_tree(|t| trees.push((t.transform, t.grounded)));
     // Positions over the pond (a hole in the lawn) get no tree; all others do.
     assert!(trees.len() <= scene.trees.len() + scattered && trees.len() + 10 >= scene.trees.len() + scattered, "{} trees of {}", trees.len(), scene.trees.len() + scattered);
     // Every tree stands on the lawn (within its ±5 cm unevenness and the models' roots), except

@@ -15,18 +15,18 @@ fn study() -> Script {
 /// The report as `grove replay` and `grove study` build it, with "now" the last tick run.
 fn report(s: &Script) -> TaskReport {
     let sim = s.sim();
-    TaskReport::new(sim.res().task.as_ref().unwrap(), sim.res().dt, sim.res().tick, &sim.res().catalogue)
+    TaskReport::new(sim.task().unwrap(), sim.dt(), sim.tick(), sim.catalogue())
 }
 
 #[test]
 fn an_ended_task_is_timed_at_its_end_task_not_at_the_end_of_the_input() {
     let mut s = study();
     s.wait(5).start_task("ray-casting-7");
-    let started = s.sim().res().task.as_ref().unwrap().started_tick;
+    let started = s.sim().task().unwrap().started_tick;
     s.wait(200);
-    let end_tick = s.sim().res().tick;
+    let end_tick = s.sim().tick();
     s.end_task();
-    let dt = s.sim().res().dt as f64;
+    let dt = s.sim().dt() as f64;
     let at_end = report(&s);
     // Long after the end, the participant (or a script) keeps clicking at the ground far from
     // every target: planting there would be an off-target error during the task.
@@ -46,8 +46,8 @@ fn an_ended_task_is_timed_at_its_end_task_not_at_the_end_of_the_input() {
 fn a_running_task_is_timed_up_to_now() {
     let mut s = study();
     s.start_task("ray-casting-7").wait(100);
-    let task = s.sim().res().task.as_ref().unwrap();
+    let task = s.sim().task().unwrap();
     assert!(task.end_tick().is_none());
-    let expected = (s.sim().res().tick - task.started_tick) as f64 / 60.0;
+    let expected = (s.sim().tick() - task.started_tick) as f64 / 60.0;
     assert!((report(&s).time_s - expected).abs() < 1e-9);
 }

@@ -14,7 +14,7 @@ use grove_systems::input::Button;
 use grove_systems::interact;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
-use grove_systems::water::{Water, WaterDef};
+use grove_systems::water::WaterDef;
 use grove_systems::Sim;
 
 const SHRUB: ModelId = ModelId(3);
@@ -33,7 +33,7 @@ fn pond() -> Script {
 }
 
 fn water_entity(s: &Script) -> u64 {
-    let ids: Vec<u64> = s.sim().world().query::<(hecs::Entity, &Water)>().iter().map(|(e, _)| e.to_bits().get()).collect();
+    let ids: Vec<u64> = s.sim().water_bodies().iter().map(|(id, _)| *id).collect();
     assert_eq!(ids.len(), 1, "one pond");
     ids[0]
 }
@@ -47,7 +47,7 @@ fn shift_controller(s: &mut Script, by: Vec3) {
 fn the_pond_is_an_entity_in_the_world_hash() {
     let s = pond();
     let id = water_entity(&s);
-    let w = s.sim().world().get::<&Water>(hecs::Entity::from_bits(id).unwrap()).unwrap().clone();
+    let w = s.sim().water_bodies().into_iter().find(|(e, _)| *e == id).unwrap().1;
     assert_eq!(w.height, SURFACE_Y);
     assert!(w.covers_xz(Vec3::new(CENTRE.x, 0.0, CENTRE.y)));
     let h = s.sim().hash();
@@ -89,10 +89,10 @@ fn trigger_on_water_plants_nothing_and_logs_a_refusal() {
     let trees = s.sim().tree_ids();
     let target = Vec3::new(-0.5, SURFACE_Y, -3.5);
     s.choose_model(SHRUB).point_at(target);
-    let from = s.sim().res().log.entries.len();
+    let from = s.sim().log().entries.len();
     s.press(Button::Trigger);
     assert_eq!(s.sim().tree_ids(), trees, "no tree was planted");
-    let new: Vec<&Happening> = s.sim().res().log.entries[from..].iter().map(|e| &e.what).collect();
+    let new: Vec<&Happening> = s.sim().log().entries[from..].iter().map(|e| &e.what).collect();
     assert_eq!(new.len(), 1, "{new:?}");
     let Happening::PlantingRefused { water, position } = new[0] else { panic!("{new:?}") };
     assert_eq!(*water, id);
@@ -111,12 +111,12 @@ fn a_tree_dragged_over_water_never_arms_and_cannot_snap() {
     s.choose_model(SHRUB).point_at(base).press(Button::Trigger);
     let id = *s.sim().tree_ids().last().unwrap();
     s.point_at(base + Vec3::Y * 0.5).hold(Button::Trigger);
-    assert!(s.sim().res().interaction.drag.is_some(), "grabbed");
+    assert!(s.sim().interaction().drag.is_some(), "grabbed");
     // On the shore the anchor ball is white: the tree stands on the ground.
     shift_controller(&mut s, Vec3::new(0.0, 0.05, 0.0));
     assert!(s.sim().anchor_ball().armed, "white over dry ground");
 
-    let lowest = s.sim().res().catalogue.get(SHRUB).unwrap().lowest_point();
+    let lowest = s.sim().catalogue().get(SHRUB).unwrap().lowest_point();
     // The bed, as the scene script builds it: y = −1.5 (1 − (r / 5.6)²) at r metres from the
     // centre; it lies under the surface where that is below −0.15 m, i.e. r < 5.6 √0.9 ≈ 5.31 m.
     // (Between there and the outline the bed is a shore above the surface: dry ground.)
@@ -140,7 +140,7 @@ fn a_tree_dragged_over_water_never_arms_and_cannot_snap() {
     let bed = bed_y(t);
     let low = interact::lowest_point_y(t.y, lowest, 1.0);
     // Lower the tree so that its lowest point is 5 cm above the bed: on dry ground this arms.
-    let threshold = s.sim().res().config.snap_threshold;
+    let threshold = s.sim().config().snap_threshold;
     assert!(0.05 < threshold);
     shift_controller(&mut s, Vec3::new(0.0, bed + 0.05 - low, 0.0));
     let low = interact::lowest_point_y(s.sim().tree(id).unwrap().transform.translation.y, lowest, 1.0);
@@ -148,14 +148,14 @@ fn a_tree_dragged_over_water_never_arms_and_cannot_snap() {
     let ball = s.sim().anchor_ball();
     assert!(!ball.visible && !ball.armed, "no ball over water: {ball:?}");
 
-    let from = s.sim().res().log.entries.len();
+    let from = s.sim().log().entries.len();
     let held = s.sim().tree(id).unwrap().transform;
     s.release(Button::Trigger);
-    let kinds: Vec<&str> = s.sim().res().log.entries[from..].iter().map(|e| e.what.kind()).collect();
+    let kinds: Vec<&str> = s.sim().log().entries[from..].iter().map(|e| e.what.kind()).collect();
     assert_eq!(kinds, ["released_green", "moved"]);
     assert_eq!(s.sim().tree(id).unwrap().transform, held, "it stays where it was let go");
     assert!(!s.sim().tree(id).unwrap().grounded.0, "not grounded in the pond");
-    let all: Vec<&str> = s.sim().res().log.entries.iter().map(|e| e.what.kind()).collect();
+    let all: Vec<&str> = s.sim().log().entries.iter().map(|e| e.what.kind()).collect();
     assert!(!all[from..].contains(&"snapped"));
 }
 

@@ -2,7 +2,7 @@
 //! periodicity, gain updates when a tree moves, the bend bound and the sun's clock.
 
 use glam::Vec3;
-use grove_systems::components::{Sun, Transform, WindState};
+use grove_systems::components::{Transform, WindState};
 use grove_systems::scene::Scene;
 use grove_systems::systems::wind::{det_sin, gust_at, max_bend, position_gain};
 use grove_systems::Sim;
@@ -20,7 +20,8 @@ fn sim_with_trees(n: usize) -> Sim {
 }
 
 fn states(sim: &Sim) -> Vec<WindState> {
-    let mut v: Vec<(u64, WindState)> = sim.world().query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e.to_bits().get(), *w)).collect();
+    let mut v: Vec<(u64, WindState)> = Vec::new();
+    sim.for_each_tree(|t| v.extend(t.wind.map(|w| (t.id, w))));
     v.sort_by_key(|(e, _)| *e);
     v.into_iter().map(|(_, w)| w).collect()
 }
@@ -85,7 +86,7 @@ fn gust_is_periodic_and_stays_within_its_range() {
     let mut sim = sim_with_trees(1);
     sim.run(100);
     sim.step();
-    let expected = gust_at(&g, 100.0 * sim.res().dt as f64);
+    let expected = gust_at(&g, 100.0 * sim.dt() as f64);
     assert_eq!(sim.wind().unwrap().current, expected);
 }
 
@@ -93,20 +94,21 @@ fn gust_is_periodic_and_stays_within_its_range() {
 fn moving_a_tree_recomputes_its_gain() {
     let mut sim = sim_with_trees(5);
     sim.step();
-    let (entity, _) = sim.world().query::<(hecs::Entity, &WindState)>().iter().map(|(e, w)| (e, *w)).next().unwrap();
+    let id = sim.tree_ids()[0];
+    let entity = hecs::Entity::from_bits(id).unwrap();
     let new_pos = Vec3::new(7.3, 0.0, -2.9);
-    let moved = Transform { translation: new_pos, ..*sim.world().get::<&Transform>(entity).unwrap() };
+    let moved = Transform { translation: new_pos, ..sim.tree(id).unwrap().transform };
     sim.set_up().transform(entity, moved).unwrap();
     sim.step();
     let density = sim.wind().unwrap().density;
-    let ws = *sim.world().get::<&WindState>(entity).unwrap();
+    let ws = sim.tree_view(id).unwrap().wind.unwrap();
     assert_eq!(ws.gain, position_gain(new_pos, density));
     // So does changing the wind's density.
     let mut w = sim.wind().unwrap();
     w.density *= 3.0;
     sim.set_up().wind(w);
     sim.step();
-    let ws = *sim.world().get::<&WindState>(entity).unwrap();
+    let ws = sim.tree_view(id).unwrap().wind.unwrap();
     assert_eq!(ws.gain, position_gain(new_pos, density * 3.0));
 }
 
@@ -142,7 +144,7 @@ fn sun_clock_advances_at_its_time_rate() {
     let start = sim.sun().unwrap();
     // 600 ticks of 1/60 s at 60 sun-seconds per second: ten sun-minutes.
     sim.run(600);
-    let now = *sim.world().query::<&Sun>().iter().next().unwrap();
+    let now = sim.sun().unwrap();
     assert_eq!(now.utc_ms - start.utc_ms, 600_000);
     assert!(now.azimuth_deg != start.azimuth_deg && now.elevation_deg != start.elevation_deg);
     let expected = grove_systems::systems::sun::sun_position(now.latitude_deg, now.longitude_deg, now.utc_ms).unwrap();

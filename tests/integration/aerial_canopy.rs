@@ -19,7 +19,7 @@ use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
 use grove_systems::aerial::{AerialCrown, AerialDef};
 use grove_systems::catalogue::ModelKind;
-use grove_systems::components::{Head, Pose, Transform, Tree};
+use grove_systems::components::{Head, Pose, Transform};
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use image::RgbaImage;
@@ -84,13 +84,25 @@ fn sim(site: &Site) -> Sim {
     Sim::from_scene(&site.scene, 0).unwrap()
 }
 
+/// The photographed crowns' trees: entity, transform and crown, in the world's order.
+fn crown_trees(sim: &Sim) -> Vec<(hecs::Entity, Transform, AerialCrown)> {
+    let mut v = Vec::new();
+    sim.for_each_tree(|t| v.extend(t.crown.and_then(|c| Some((hecs::Entity::from_bits(t.id)?, t.transform, c)))));
+    v
+}
+
+/// The tree of the largest photographed crown.
+fn largest_crown(sim: &Sim) -> (hecs::Entity, Transform, AerialCrown) {
+    crown_trees(sim).into_iter().max_by(|a, b| a.2.radius_m.total_cmp(&b.2.radius_m)).unwrap()
+}
+
 #[test]
 fn crowns_become_tree_entities_on_their_photographed_centres() {
     let s = site();
     let sim = sim(&s);
     let big: Vec<&Crown> = s.crowns.iter().filter(|c| c.radius_m >= 0.5).collect();
     assert!(big.len() >= 3, "the synthetic park has crowns: {}", big.len());
-    let mut found: Vec<(u32, Vec3)> = sim.world().query::<(&Tree, &Transform, &AerialCrown)>().iter().map(|(_, t, c)| (c.id, t.translation)).collect();
+    let mut found: Vec<(u32, Vec3)> = crown_trees(&sim).iter().map(|(_, t, c)| (c.id, t.translation)).collect();
     found.sort_by_key(|f| f.0);
     assert_eq!(found.len(), big.len());
     for (c, (id, pos)) in big.iter().zip(&found) {
@@ -99,12 +111,12 @@ fn crowns_become_tree_entities_on_their_photographed_centres() {
         assert!((pos.x - (c.x_m as f32 - 32.0)).abs() < 1e-3 && (pos.z - (c.y_m as f32 - 32.0)).abs() < 1e-3, "{c:?} at {pos}");
     }
     // The crowns are hashed; a scene without them is not.
-    let h = grove_systems::hash::world_hash(sim.world(), sim.res());
+    let h = sim.hash();
     assert!(h.component("AerialCrown").is_some());
     let mut plain = s.scene.clone();
     plain.aerial = None;
     let plain = Sim::from_scene(&plain, 0).unwrap();
-    assert!(grove_systems::hash::world_hash(plain.world(), plain.res()).component("AerialCrown").is_none());
+    assert!(plain.hash().component("AerialCrown").is_none());
 }
 
 #[test]
@@ -319,21 +331,20 @@ fn a_moved_crown_tree_takes_its_canopy_along() {
     let (eye, target) = (Vec3::new(0.0, 60.0, 0.01), Vec3::ZERO);
     sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() });
     // The largest crown's tree, moved 12 m towards the centre along X; another crown removed.
-    let (big, crown) = sim.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
+    let (big, mut moved, crown) = largest_crown(&sim);
     let dx = if crown.photo_centre.x > 0.0 { -12.0 } else { 12.0 };
-    let mut moved = *sim.world().get::<&Transform>(big).unwrap();
     moved.translation.x += dx;
     sim.set_up().transform(big, moved).unwrap();
-    let other = sim.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, _)| e).find(|e| *e != big).unwrap();
-    let before = sim.world().query::<&AerialCrown>().iter().count();
+    let other = crown_trees(&sim).iter().map(|(e, _, _)| *e).find(|e| *e != big).unwrap();
+    let before = crown_trees(&sim).len();
     sim.set_up().despawn(other).unwrap();
-    assert_eq!(sim.world().query::<&AerialCrown>().iter().count(), before - 1);
+    assert_eq!(crown_trees(&sim).len(), before - 1);
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.overlay = false;
     r.features.aerial.set(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
     // The crown's top is green at its new place.
-    let foot = sim.world().get::<&Transform>(big).unwrap().translation;
+    let foot = sim.tree(big.to_bits().get()).unwrap().transform.translation;
     let (x, y) = project(eye, target, foot + Vec3::Y * crown.top_m);
     let p = img.get_pixel(x.min(W - 1), y.min(H - 1)).0;
     assert!(p[1] > p[0] && p[1] > p[2], "the moved crown's top at ({x}, {y}) is {p:?}");
@@ -371,8 +382,8 @@ fn trunks_stand_under_the_crowns() {
     // The largest crown's tree, seen from 1.5 m above the ground, three crown radii away on the
     // side away from the park's centre (so no other crown stands between), looking at its
     // trunk's middle.
-    let (big, crown) = sim0.world().query::<(hecs::Entity, &AerialCrown)>().iter().map(|(e, c)| (e, *c)).max_by(|a, b| a.1.radius_m.total_cmp(&b.1.radius_m)).unwrap();
-    let foot = sim0.world().get::<&Transform>(big).unwrap().translation;
+    let (big, transform, crown) = largest_crown(&sim0);
+    let foot = transform.translation;
     let away = Vec3::new(foot.x, 0.0, foot.z).normalize_or(Vec3::Z);
     let mid = foot + Vec3::Y * (0.5 * crown.base_m);
     let eye = foot + away * (3.0 * crown.radius_m) + Vec3::Y * 1.5;

@@ -39,7 +39,7 @@ fn render(sim: &Sim, w: u32, h: u32) -> RgbaImage {
 
 /// The camera of `sim` (its head).
 fn camera(sim: &Sim) -> Camera {
-    let head = *sim.world().query::<&Head>().iter().next().unwrap();
+    let head = sim.head();
     Camera { position: head.pose.position, rotation: head.pose.rotation, fov_y: head.fov_y }
 }
 

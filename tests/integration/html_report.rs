@@ -2,7 +2,8 @@
 //! (Debian's `chromium`, network off): the DOM after the page's script ran holds every
 //! participant and trial, the numbers of summary.json, no script error; a screenshot of the
 //! overview goes to target/html-report/; the heatmap of a scripted ray that dwells at a known
-//! point peaks there; a diverged recording's page names the tick and the components.
+//! point peaks there; a diverged recording's page names the tick and the components, and the
+//! field when the resources differ.
 
 use crate::common;
 
@@ -217,8 +218,8 @@ fn study_script(seed: u64) -> Script {
 
 fn write_recording(path: &Path, participant: &str, script: Script) {
     let (sim, events) = script.into_parts();
-    let end = sim.res().tick + 60;
-    let mut header = Header::new("study", sim.res().seed, sim.res().dt);
+    let end = sim.tick() + 60;
+    let mut header = Header::new("study", sim.seed(), sim.dt());
     header.participant = Some(participant.to_string());
     header.synthetic = true;
     let bytes = record_events(Vec::new(), &header, &events, end, serde_json::json!({})).unwrap();
@@ -324,4 +325,46 @@ fn bad_html_arguments_are_one_line_errors() {
     let out = grove(&["replay", "replays/study/P01-manual-7.jsonl", "--html", page.to_str().unwrap()]);
     assert_one_line_error(&out, 2, "already exists");
     assert_eq!(std::fs::read_to_string(&page).unwrap(), "mine");
+}
+
+/// A copy of a recording with one controller pose (the first in its second half) moved `by`
+/// metres along X, its checksums signed again.
+fn with_pose_moved(from: &Path, to: &Path, by: f32) {
+    use grove_systems::replay::{decode_line, encode_line, rechain, sign_body, split_sum, Line};
+    let text = std::fs::read_to_string(from).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let i = (lines.len() / 2..lines.len()).find(|&k| lines[k].contains("controller_pose")).unwrap();
+    let (body, _) = split_sum(&lines[i]).unwrap();
+    let Line::Event(mut ev) = decode_line(&sign_body(&body, 0).0).unwrap() else { panic!("not an event") };
+    let grove_systems::input::InputEvent::ControllerPose { pose } = &mut ev.event else { panic!("not a pose") };
+    pose.position.x += by;
+    lines[i] = encode_line(&Line::Event(ev));
+    std::fs::write(to, rechain(&lines).unwrap().join("\n") + "\n").unwrap();
+}
+
+#[test]
+fn a_divergence_in_the_resources_names_the_field() {
+    // The ray moved by 0.1 m for a moment: the controller itself is posed again before the next
+    // checkpoint, but the task has measured a longer path of the ray. The report names the
+    // resources' field, `task`, in --json and in --html, not the resources as a whole.
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("P02-moved.jsonl");
+    with_pose_moved(&root().join("replays/study/P02-ray-casting-7.jsonl"), &bad, 0.1);
+    let json = grove(&["replay", bad.to_str().unwrap(), "--json"]);
+    assert_eq!(json.status.code(), Some(1), "{}", String::from_utf8_lossy(&json.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let differing = v["first_divergence"]["differing"].as_array().unwrap().clone();
+    let fields: Vec<&str> = differing.iter().filter(|x| x["entity"] == "resources").map(|x| x["component"].as_str().unwrap()).collect();
+    assert!(fields.contains(&"task"), "{differing:?}");
+    assert!(fields.iter().all(|f| grove_systems::resource_hash::FIELDS.contains(f)), "only fields are named: {differing:?}");
+
+    let page = dir.path().join("moved.html");
+    let out = grove(&["replay", bad.to_str().unwrap(), "--html", page.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    let html = std::fs::read_to_string(&page).unwrap();
+    let block = slice(&html, "<div class=\"divergence\"", "</table>");
+    for f in &fields {
+        assert!(block.contains(&format!("<tr><td>resources</td><td>{f}</td></tr>")), "resources {f} missing from the page");
+    }
+    assert!(!block.contains("<td>resources</td><td>resources</td>"), "the resources named as a whole");
 }

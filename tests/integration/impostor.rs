@@ -108,7 +108,7 @@ fn crossing_the_band_changes_little_per_frame() {
     let dir = Vec3::new(0.0, 0.25, 1.0).normalize();
     let (sim, radius) = stage(&data, dir, 60.0);
     // The tree's bounding sphere on screen: its diameter over the view's extent.
-    let head = *sim.world().query::<&Head>().iter().next().unwrap();
+    let head = sim.head();
     let pixels = 2.0 * radius * (SIZE as f32 * 0.5 / (head.fov_y * 0.5).tan()) / 60.0;
     let background = draw(&data, &sim, false, 0.0);
     // The threshold swept so that the tree's fade goes from 0 to 1 in 20 equal steps: the
@@ -141,7 +141,6 @@ fn crossing_the_band_changes_little_per_frame() {
 /// shipped species bank over 1 km².
 #[test]
 fn the_forest_scene_holds_ten_thousand_trees() {
-    use grove_systems::components::{Transform, Tree};
     use grove_systems::scene::Scene;
     let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/forest.ron");
     let t = std::time::Instant::now();
@@ -150,14 +149,14 @@ fn the_forest_scene_holds_ten_thousand_trees() {
     let seconds = t.elapsed().as_secs_f64();
     let mut models = std::collections::BTreeSet::new();
     let (mut n, mut lo, mut hi) = (0usize, Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for (tree, t) in sim.world().query::<(&Tree, &Transform)>().iter() {
+    sim.for_each_tree(|t| {
         n += 1;
-        models.insert(tree.model.0);
-        lo = lo.min(t.translation);
-        hi = hi.max(t.translation);
-    }
+        models.insert(t.model.0);
+        lo = lo.min(t.transform.translation);
+        hi = hi.max(t.transform.translation);
+    });
     assert!((9_500..=10_500).contains(&n), "{n} trees");
-    let species: Vec<_> = sim.res().catalogue.models.iter().filter(|m| m.id.0 >= 8).map(|m| m.id.0).collect();
+    let species: Vec<_> = sim.catalogue().models.iter().filter(|m| m.id.0 >= 8).map(|m| m.id.0).collect();
     assert_eq!(species.len(), 12, "the species bank's twelve models");
     assert_eq!(models.into_iter().collect::<Vec<_>>(), species, "every model of the species bank, and no classic one");
     assert!(hi.x - lo.x > 980.0 && hi.z - lo.z > 980.0 && hi.x - lo.x <= 1000.0, "{lo:?}..{hi:?}");
@@ -196,7 +195,7 @@ fn goldens_of_the_reference_scene_and_the_forest() {
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
         let g = gpu();
         let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, w, h).unwrap();
-        grove::bank::load_for_scene(&mut r, &forest_scene, &[], &sim.res().catalogue).unwrap();
+        grove::bank::load_for_scene(&mut r, &forest_scene, &[], sim.catalogue()).unwrap();
         r.options.impostor_pixels = 20.0;
         let img = offscreen::render_image(g, &mut r, sim).unwrap();
         r.options.impostor_pixels = 0.0;
@@ -263,7 +262,8 @@ fn a_slowly_turning_impostor_changes_smoothly() {
     let background = draw(&data, &sim, false, 0.0);
     let frames: Vec<RgbaImage> = (0..=30)
         .map(|k| {
-            let all: Vec<(hecs::Entity, Transform)> = sim.world().query::<(hecs::Entity, &Transform)>().iter().map(|(e, t)| (e, *t)).collect();
+            let mut all: Vec<(hecs::Entity, Transform)> = Vec::new();
+            sim.for_each_tree(|t| all.extend(hecs::Entity::from_bits(t.id).map(|e| (e, t.transform))));
             for (e, t) in all {
                 sim.set_up().transform(e, Transform { yaw: (k as f32).to_radians(), ..t }).unwrap();
             }

@@ -31,7 +31,7 @@ fn study() -> Script {
 
 /// The height of the topmost plane at (x, z), by a vertical ray from high above.
 fn ground_y(s: &Script, x: f32, z: f32) -> f32 {
-    s.sim().res().spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).expect("a plane at this point").point.y
+    s.sim().ground_below(Vec3::new(x, 50.0, z), 0.0).expect("a plane at this point").point.y
 }
 
 fn ground(s: &Script, x: f32, z: f32) -> Vec3 {
@@ -44,12 +44,12 @@ fn new_trees(s: &Script, before: &[u64]) -> Vec<u64> {
 }
 
 fn kinds_since(s: &Script, from: usize) -> Vec<&'static str> {
-    s.sim().res().log.entries[from..].iter().map(|e| e.what.kind()).collect()
+    s.sim().log().entries[from..].iter().map(|e| e.what.kind()).collect()
 }
 
 fn lowest_point(s: &Script, id: u64) -> Vec3 {
     let TreeState { tree, transform: t, scale, .. } = s.sim().tree(id).expect("tree exists");
-    let lowest = s.sim().res().catalogue.get(tree.model).unwrap().lowest_point();
+    let lowest = s.sim().catalogue().get(tree.model).unwrap().lowest_point();
     Vec3::new(t.translation.x, interact::lowest_point_y(t.translation.y, lowest, scale.0), t.translation.z)
 }
 
@@ -75,7 +75,7 @@ fn trigger_on_a_plane_plants_the_current_model_at_the_hit_point() {
     let mut s = study();
     let p = ground(&s, 1.0, -2.0);
     let before = s.sim().tree_ids();
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
     s.choose_model(SHRUB).point_at(p);
     assert!(matches!(s.sim().hit_marker().target, HitTarget::Plane(_)));
     s.press(Button::Trigger);
@@ -95,7 +95,7 @@ fn bumper_on_a_tree_removes_it() {
     let id = plant(&mut s, SHRUB, 1.0, -2.0);
     s.point_at(ground(&s, 1.0, -2.0) + Vec3::Y * 0.8);
     assert_eq!(s.sim().hit_marker().target, HitTarget::Tree(id));
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
     s.press(Button::Bumper);
     assert!(s.sim().tree(id).is_none(), "the tree is gone");
     assert_eq!(kinds_since(&s, log_start), ["removed"]);
@@ -114,7 +114,7 @@ fn a_ray_through_a_plane_hole_plants_nothing() {
     assert!(!s.sim().hit_marker().visible, "nothing is hit through the hole");
     s.press(Button::Trigger);
     assert_eq!(s.sim().tree_ids(), before);
-    assert_eq!(s.sim().res().log.count("planted"), 0);
+    assert_eq!(s.sim().log().count("planted"), 0);
     // Just outside the hole the same press plants.
     let p = ground(&s, 5.5, -2.5);
     s.point_at(p).press(Button::Trigger);
@@ -131,9 +131,9 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     s.point_at(ground(&s, 0.0, 0.0) + Vec3::Y * 0.8).press(Button::Trigger);
     let sel = s.sim().selection();
     assert_eq!(sel.tree, Some(id));
-    let model = s.sim().res().catalogue.get(SHRUB).unwrap().clone();
+    let model = s.sim().catalogue().get(SHRUB).unwrap().clone();
     assert!((sel.half_extents - (model.bounds_max - model.bounds_min) * 0.5).length() < 1e-5);
-    assert_eq!(s.sim().res().log.entries.last().unwrap().what, Happening::Selected { tree: id });
+    assert_eq!(s.sim().log().entries.last().unwrap().what, Happening::Selected { tree: id });
     assert!(s.sim().tree(id).unwrap().grounded.0, "a click does not unground the tree");
 
     // Grab the top front-right corner and pull it outwards.
@@ -151,7 +151,7 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     assert!(expected > 1.2, "the drag should scale up noticeably (ratio {expected})");
     assert!((scale - expected).abs() < 1e-4, "scale {scale}, expected {expected}");
     s.release(Button::Trigger);
-    assert_eq!(s.sim().res().log.entries.last().unwrap().what, Happening::Scaled { tree: id, scale });
+    assert_eq!(s.sim().log().entries.last().unwrap().what, Happening::Scaled { tree: id, scale });
     assert!(lowest_point(&s, id).distance(low0) < 1e-4, "scaling keeps the lowest point in place");
     let sel = s.sim().selection();
     assert!((sel.half_extents - (model.bounds_max - model.bounds_min) * 0.5 * scale).length() < 1e-4);
@@ -169,7 +169,7 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     assert!(expected < -0.3, "a swing to the left turns the tree clockwise (by {expected})");
     assert!((yaw - expected).abs() < 1e-4, "yaw {yaw}, expected {expected}");
     s.release(Button::Trigger);
-    assert_eq!(s.sim().res().log.entries.last().unwrap().what, Happening::Rotated { tree: id, yaw });
+    assert_eq!(s.sim().log().entries.last().unwrap().what, Happening::Rotated { tree: id, yaw });
     assert_eq!(s.sim().tree(id).unwrap().scale.0, scale, "rotating does not scale");
     assert!((s.sim().selection().yaw - yaw).abs() < 1e-6, "the box turns with the tree");
 
@@ -177,7 +177,7 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     let bare = ground(&s, 5.0, -1.0);
     s.switch_mode(Mode::Manual).point_at(bare).press(Button::Trigger);
     assert_eq!(s.sim().selection().tree, None);
-    assert_eq!(s.sim().res().log.entries.last().unwrap().what, Happening::Deselected);
+    assert_eq!(s.sim().log().entries.last().unwrap().what, Happening::Deselected);
 }
 
 #[test]
@@ -186,9 +186,9 @@ fn touchpad_moves_along_the_ray_and_turns() {
     let id = plant(&mut s, SHRUB, 0.0, 0.0);
     s.point_at(ground(&s, 0.0, 0.0) + Vec3::Y * 0.8).press(Button::Trigger);
     assert_eq!(s.sim().selection().tree, Some(id));
-    let cfg = s.sim().res().config.clone();
-    let dt = s.sim().res().dt;
-    let log_start = s.sim().res().log.entries.len();
+    let cfg = s.sim().config().clone();
+    let dt = s.sim().dt();
+    let log_start = s.sim().log().entries.len();
 
     // A grounded tree moves out along the ray's horizontal direction and stays on the ground.
     let start = s.sim().tree(id).unwrap().transform.translation;
@@ -248,14 +248,14 @@ fn drag_and_release_while_white_snaps_the_lowest_point_onto_the_plane() {
     assert!((ball.distance - (low.y - ball.position.y)).abs() < 1e-5);
     assert!(ball.distance > 0.1, "the tree is clearly above the plane");
 
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
     s.release(Button::Trigger);
     let low = lowest_point(&s, id);
     assert!((low.y - ground_y(&s, low.x, low.z)).abs() < 1e-3, "lowest point {} on the plane", low.y);
     assert!(s.sim().tree(id).unwrap().grounded.0, "grounded after the snap");
     assert!(!s.sim().anchor_ball().visible, "the ball hides after the release");
     assert_eq!(kinds_since(&s, log_start), ["snapped", "moved"]);
-    assert!(s.sim().res().interaction.drag.is_none());
+    assert!(s.sim().interaction().drag.is_none());
 }
 
 #[test]
@@ -267,7 +267,7 @@ fn drag_and_release_while_green_leaves_the_tree_where_it_is() {
     let ball = s.sim().anchor_ball();
     assert!(ball.visible && !ball.armed, "green ball at distance {}", ball.distance);
     let held = s.sim().tree(id).unwrap().transform;
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
     s.release(Button::Trigger);
     assert_eq!(s.sim().tree(id).unwrap().transform, held, "not moved by the release");
     assert!(!s.sim().tree(id).unwrap().grounded.0, "not grounded");
@@ -285,7 +285,7 @@ fn over_a_hole_the_ball_hides_and_nothing_snaps() {
     let t = s.sim().tree(id).unwrap().transform.translation;
     assert!((t.x - -2.0).abs() < 1e-4 && (t.z - 4.5).abs() < 1e-4, "over the hole: {t}");
     assert!(!s.sim().anchor_ball().visible, "no plane below: the ball hides");
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
     s.release(Button::Trigger);
     assert_eq!(s.sim().tree(id).unwrap().transform.translation, t);
     assert!(!s.sim().tree(id).unwrap().grounded.0);
@@ -298,9 +298,9 @@ fn the_anchor_ball_turns_white_exactly_below_the_threshold() {
     let id = plant(&mut s, SHRUB, 2.0, 0.0);
     s.point_at(ground(&s, 2.0, 0.0) + Vec3::Y * 0.8).hold(Button::Trigger);
     let d0 = s.sim().anchor_ball().distance;
-    let threshold = s.sim().res().config.snap_threshold;
+    let threshold = s.sim().config().snap_threshold;
     let eps = 1.0e-3;
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
 
     // Raising the controller raises the tree by the same amount, straight up.
     shift_controller(&mut s, Vec3::Y * (threshold + eps - d0));
@@ -315,11 +315,11 @@ fn the_anchor_ball_turns_white_exactly_below_the_threshold() {
     assert_eq!(kinds_since(&s, log_start), ["snap_disarmed", "snap_armed"]);
 
     // A smaller threshold turns the same distance green.
-    let config = grove_systems::resources::Config { snap_threshold: threshold - 2.0 * eps, ..s.sim().res().config.clone() };
+    let config = grove_systems::resources::Config { snap_threshold: threshold - 2.0 * eps, ..s.sim().config().clone() };
     s.sim_mut().set_up().config(config);
     s.wait(1);
     assert!(!s.sim().anchor_ball().armed);
-    let config = grove_systems::resources::Config { snap_threshold: threshold, ..s.sim().res().config.clone() };
+    let config = grove_systems::resources::Config { snap_threshold: threshold, ..s.sim().config().clone() };
     s.sim_mut().set_up().config(config);
     s.wait(1);
     s.release(Button::Trigger);
@@ -331,7 +331,7 @@ fn manual_mode_ignores_trigger_and_bumper_on_empty_ground() {
     let mut s = study();
     s.switch_mode(Mode::Manual);
     let before = s.sim().tree_ids();
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
     s.point_at(ground(&s, 1.0, -2.0));
     assert!(matches!(s.sim().hit_marker().target, HitTarget::Plane(_)));
     s.press(Button::Trigger).press(Button::Bumper);
@@ -361,10 +361,10 @@ fn manual_mode_needs_the_menu_for_every_tree() {
     assert!(Vec3::new(offset.x, 0.0, offset.z).normalize().dot(interact::horizontal_forward(&head)) > 0.9999);
     assert!((t.translation.y - (head.position.y - 0.5)).abs() < 1e-5, "0.5 m below the head");
     assert_eq!(s.sim().selection().tree, Some(new[0]), "the new tree is selected");
-    assert!(!s.sim().res().menu.open, "choosing closes the menu");
+    assert!(!s.sim().menu().open, "choosing closes the menu");
 
     // Choosing again without reopening the menu spawns nothing.
-    let log_start = s.sim().res().log.entries.len();
+    let log_start = s.sim().log().entries.len();
     s.push(grove_systems::input::InputEvent::ChooseModel { model: ModelId(1).into() }).wait(2);
     assert_eq!(new_trees(&s, &before).len(), 1);
     assert_eq!(kinds_since(&s, log_start), ["model_chosen"]);
@@ -372,7 +372,7 @@ fn manual_mode_needs_the_menu_for_every_tree() {
     // Reopening the menu spawns the next one.
     s.choose_model(ModelId(1));
     assert_eq!(new_trees(&s, &before).len(), 2);
-    assert_eq!(s.sim().res().log.count("menu_opened"), 2);
+    assert_eq!(s.sim().log().count("menu_opened"), 2);
 }
 
 /// A scenario that uses every kind of interaction, in both modes.
@@ -430,7 +430,7 @@ fn the_event_log_records_each_action_with_its_tick() {
     let filtered: Vec<&str> = kinds.iter().copied().filter(|k| !k.starts_with("target_")).collect();
     assert_eq!(filtered, expected);
     // Each button action is logged in the tick its event applied at.
-    let log = &s.sim().res().log.entries;
+    let log = &s.sim().log().entries;
     let downs: Vec<u64> = s
         .recorded()
         .iter()
@@ -440,7 +440,7 @@ fn the_event_log_records_each_action_with_its_tick() {
     let removed: Vec<u64> = log.iter().filter(|e| e.what.kind() == "removed").map(|e| e.tick).collect();
     assert_eq!(removed, downs);
     assert!(log.windows(2).all(|w| w[0].tick <= w[1].tick), "ticks never go back");
-    let task = s.sim().res().task.as_ref().unwrap();
+    let task = s.sim().task().unwrap();
     assert_eq!(task.errors.removals, 1);
 }
 
@@ -457,8 +457,8 @@ fn the_same_script_gives_the_same_world_hash_and_replays_from_its_recording() {
     let (sim_a, recording) = a.into_parts();
     let mut replay = study_sim();
     let mut events = recording.iter().peekable();
-    while replay.res().tick < sim_a.res().tick {
-        while let Some(e) = events.next_if(|e| e.tick == replay.res().tick) {
+    while replay.tick() < sim_a.tick() {
+        while let Some(e) = events.next_if(|e| e.tick == replay.tick()) {
             replay.push_input(e.event.clone()).unwrap();
         }
         replay.step();

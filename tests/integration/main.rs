@@ -40,6 +40,7 @@ mod lsystem_memo;
 mod model_bank;
 mod one_way_to_read;
 mod park_image;
+mod read_view;
 mod render_cli;
 mod render_golden;
 mod replay_format;

@@ -113,7 +113,7 @@ fn a_planted_third_party_model_snaps_records_and_replays_and_a_changed_file_is_n
     let mut s = Script::new(Sim::from_scene_with(&scene, 7, catalogue).unwrap());
 
     // Plant the flower by name with the ray.
-    let ground = |s: &Script, x: f32, z: f32| Vec3::new(x, s.sim().res().spatial.ground_below(Vec3::new(x, 50.0, z), 0.0).unwrap().point.y, z);
+    let ground = |s: &Script, x: f32, z: f32| Vec3::new(x, s.sim().ground_below(Vec3::new(x, 50.0, z), 0.0).unwrap().point.y, z);
     let p = ground(&s, 1.0, -2.0);
     s.choose_model("flower").point_at(p).press(Button::Trigger).wait(2);
     let id = *s.sim().tree_ids().last().unwrap();
@@ -142,7 +142,7 @@ fn a_planted_third_party_model_snaps_records_and_replays_and_a_changed_file_is_n
     let (sim, events) = s.into_parts();
     let mut header = Header::new("study", 7, scene.dt);
     header.models = listed;
-    let bytes = record_events_in(Vec::new(), &header, &events, sim.res().tick, serde_json::json!({}), &banks).unwrap();
+    let bytes = record_events_in(Vec::new(), &header, &events, sim.tick(), serde_json::json!({}), &banks).unwrap();
     let text = String::from_utf8(bytes.clone()).unwrap();
     assert!(text.lines().next().unwrap().contains("\"models\":[{\"name\":\"flower\""), "the header lists the model");
     assert!(text.contains("\"model\":\"flower\""), "choose_model names the model");
@@ -290,7 +290,7 @@ fn an_lsystem_tree_added_to_a_bank_is_planted_and_snaps() {
     let tree = catalogue.by_name("lsys-birch").unwrap().clone();
     let scene = Scene::builtin("study").unwrap();
     let mut s = Script::new(Sim::from_scene_with(&scene, 3, catalogue).unwrap());
-    let p = Vec3::new(2.0, s.sim().res().spatial.ground_below(Vec3::new(2.0, 50.0, -3.0), 0.0).unwrap().point.y, -3.0);
+    let p = Vec3::new(2.0, s.sim().ground_below(Vec3::new(2.0, 50.0, -3.0), 0.0).unwrap().point.y, -3.0);
     s.choose_model("lsys-birch").point_at(p).press(Button::Trigger).wait(2);
     let id = *s.sim().tree_ids().last().unwrap();
     assert_eq!(s.sim().tree(id).unwrap().tree.model, tree.id);
@@ -303,7 +303,7 @@ fn an_lsystem_tree_added_to_a_bank_is_planted_and_snaps() {
     s.release(Button::Trigger).wait(2);
     let t = s.sim().tree(id).unwrap();
     let low = interact::lowest_point_y(t.transform.translation.y, tree.lowest_point(), t.scale.0);
-    let g = s.sim().res().spatial.ground_below(t.transform.translation + Vec3::Y * 20.0, 0.0).unwrap().point.y;
+    let g = s.sim().ground_below(t.transform.translation + Vec3::Y * 20.0, 0.0).unwrap().point.y;
     assert!(t.grounded.0 && (low - g).abs() < 1e-3, "snapped: lowest point {low}, ground {g}");
 }
 
@@ -331,15 +331,16 @@ fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
     assert_eq!(names[..3], ["lsys-broadleaf", "lsys-conifer", "lsys-birch"], "the L-system bank first, as the scene names it");
     assert!(names[3..].iter().all(|n| n.ends_with("-lod1") || n.ends_with("-lod2")) && names.len() == 15, "then the species bank: {names:?}");
     let mut s = Script::new(Sim::from_scene_with(&scene, scene.seed, catalogue.clone()).unwrap());
-    let lsys = s.sim().world().query::<&grove_systems::components::Tree>().iter().filter(|t| catalogue.models[t.model.0 as usize].name.starts_with("lsys-")).count();
+    let mut lsys = 0;
+    s.sim().for_each_tree(|t| lsys += usize::from(catalogue.models[t.model.0 as usize].name.starts_with("lsys-")));
     assert_eq!(lsys, 6, "the garden's six L-system trees");
-    let p = Vec3::new(0.0, s.sim().res().spatial.ground_below(Vec3::new(0.0, 50.0, 10.0), 0.0).unwrap().point.y, 10.0);
+    let p = Vec3::new(0.0, s.sim().ground_below(Vec3::new(0.0, 50.0, 10.0), 0.0).unwrap().point.y, 10.0);
     s.choose_model("lsys-birch").point_at(p).press(Button::Trigger).wait(70);
     let hash = s.sim().hash().total;
     let (sim, events) = s.into_parts();
     let mut header = Header::new("assets/scenes/garden.ron", scene.seed, scene.dt);
     header.models = listed;
-    let bytes = record_events_in(Vec::new(), &header, &events, sim.res().tick, serde_json::json!({}), &Banks::default()).unwrap();
+    let bytes = record_events_in(Vec::new(), &header, &events, sim.tick(), serde_json::json!({}), &Banks::default()).unwrap();
     let dir = temp_dir("garden");
     let file = dir.join("garden.jsonl");
     std::fs::write(&file, bytes).unwrap();

@@ -144,7 +144,7 @@ fn set_sun(sim: &mut Sim, utc: &str) {
 
 /// The pixel a world point projects to.
 fn project(sim: &Sim, p: Vec3) -> (u32, u32) {
-    let head = *sim.world().query::<&Head>().iter().next().unwrap();
+    let head = sim.head();
     let camera = Camera { position: head.pose.position, rotation: head.pose.rotation, fov_y: head.fov_y };
     let q = camera_matrix(&camera, W as f32 / H as f32).project_point3(p);
     (
@@ -201,12 +201,8 @@ fn alpha_clipping_and_two_sided_flip() {
     )
     .unwrap();
     // Two cards side by side: the left one shows its front to the camera, the right one its back.
-    let trees: Vec<hecs::Entity> = sim
-        .world()
-        .query::<(hecs::Entity, &Tree)>()
-        .iter()
-        .map(|(e, _)| e)
-        .collect();
+    let mut trees: Vec<hecs::Entity> = Vec::new();
+    sim.for_each_tree(|t| trees.extend(hecs::Entity::from_bits(t.id)));
     for e in trees {
         sim.set_up().despawn(e).unwrap();
     }
@@ -277,8 +273,8 @@ fn alpha_clipping_and_two_sided_flip() {
 fn shadowed_scene() {
     let mut sim = study();
     // A broadleaf and a conifer beside the camera's view, late morning sun from the south-east.
-    let bl = sim.res().catalogue.by_name("broadleaf-mesh").unwrap().id;
-    let cb = sim.res().catalogue.by_name("conifer-billboard").unwrap().id;
+    let bl = sim.catalogue().by_name("broadleaf-mesh").unwrap().id;
+    let cb = sim.catalogue().by_name("conifer-billboard").unwrap().id;
     sim.spawn_tree(bl, Vec3::new(-1.0, 0.0, -3.0), 0.3, 1.0, true);
     sim.spawn_tree(cb, Vec3::new(3.0, 0.0, -5.0), 0.0, 1.0, true);
     set_head(
@@ -312,10 +308,10 @@ fn shadowed_scene() {
 #[test]
 fn interaction_visuals() {
     let mut sim = study();
-    let id = sim.res().catalogue.by_name("shrub-mesh").unwrap().id;
+    let id = sim.catalogue().by_name("shrub-mesh").unwrap().id;
     let tree = sim.spawn_tree(id, Vec3::new(0.5, 0.0, -2.0), 0.0, 1.0, true);
-    let info = sim.res().catalogue.get(id).unwrap().clone();
-    let pos = sim.world().get::<&Transform>(tree).unwrap().translation;
+    let info = sim.catalogue().get(id).unwrap().clone();
+    let pos = sim.tree(tree.to_bits().get()).unwrap().transform.translation;
     set_head(
         &mut sim,
         Vec3::new(0.0, 1.7, 2.0),
@@ -431,13 +427,7 @@ fn study_scene_morning_and_evening() {
 fn night_turns_the_sun_off() {
     let mut sim = study();
     set_sun(&mut sim, "2026-06-21T23:30:00Z");
-    let elevation = sim
-        .world()
-        .query::<&Sun>()
-        .iter()
-        .next()
-        .unwrap()
-        .elevation_deg;
+    let elevation = sim.sun().unwrap().elevation_deg;
     assert!(elevation < 0.0);
     let img = render(&sim, true);
     assert!(luminance(&img, (0, 0, W, H)) < 40.0, "night should be dark");
@@ -449,16 +439,12 @@ fn night_turns_the_sun_off() {
 #[test]
 fn leaf_simplification_keeps_the_crowns() {
     let mut sim = study();
-    let planes: Vec<hecs::Entity> = sim
-        .world()
-        .query::<(hecs::Entity, &Plane)>()
-        .iter()
-        .map(|(e, _)| e)
-        .collect();
+    let mut planes: Vec<hecs::Entity> = Vec::new();
+    sim.for_each_plane(|id, _| planes.extend(hecs::Entity::from_bits(id)));
     for e in planes {
         sim.set_up().despawn(e).unwrap();
     }
-    let bl = sim.res().catalogue.by_name("broadleaf-mesh").unwrap().id;
+    let bl = sim.catalogue().by_name("broadleaf-mesh").unwrap().id;
     set_head(
         &mut sim,
         Vec3::new(0.0, 3.0, 0.0),
@@ -529,7 +515,7 @@ fn leaf_simplification_keeps_the_crowns() {
 fn each_wind_model_sways_the_trees() {
     use grove_systems::wind_model::WindModel;
     let mut sim = study();
-    let bl = sim.res().catalogue.by_name("broadleaf-mesh").unwrap().id;
+    let bl = sim.catalogue().by_name("broadleaf-mesh").unwrap().id;
     sim.spawn_tree(bl, Vec3::new(0.0, 0.0, -6.0), 0.3, 1.0, true);
     set_head(
         &mut sim,

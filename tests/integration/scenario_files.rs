@@ -97,7 +97,7 @@ fn the_scenario_files_reach_the_rust_scenarios_recorded_worlds() {
         let outcome = run(&loaded, &RunOptions::default()).unwrap();
         assert!(outcome.failure.is_none(), "{name}: {:?}", outcome.failure);
         let recorded = replay_file(&root().join("replays/scenarios").join(format!("{name}.jsonl")), &ReplayOptions::default()).unwrap();
-        assert_eq!(outcome.ticks, recorded.sim.res().tick, "{name}: the same number of ticks");
+        assert_eq!(outcome.ticks, recorded.sim.tick(), "{name}: the same number of ticks");
         let want = hex(recorded.sim.hash().total);
         assert_eq!(hex(outcome.sim.hash().total), want, "{name}: the world of the Rust scenario's recording");
         let pinned: Vec<&String> = loaded.scenario.expect.iter().filter_map(|e| if let Expect::Hash(h) = e { Some(h) } else { None }).collect();
@@ -321,13 +321,13 @@ fn the_rust_script_targets_trees_by_name_and_checks_expectations() {
     assert_eq!(s.tree_id(&TreeRef::Last).unwrap(), s.planted()[1]);
     // The scene's own conifer stands at (-11, 0, -13).
     let conifer = s.tree_id(&TreeRef::Nearest(-10.0, 0.0, -12.0)).unwrap();
-    assert_eq!(s.sim().res().catalogue.get(s.sim().tree(conifer).unwrap().tree.model).unwrap().name, "conifer-mesh");
+    assert_eq!(s.sim().catalogue().get(s.sim().tree(conifer).unwrap().tree.model).unwrap().name, "conifer-mesh");
     assert!(s.check(&Expect::TreeNear { model: "birch-mesh".into(), point: Vec3::new(-3.0, 0.0, -3.0), within: 0.5 }).is_ok());
     let m = s.check(&Expect::TreeNear { model: "broadleaf-mesh".into(), point: Vec3::new(2.0, 0.0, -2.0), within: 0.5 }).unwrap_err();
     assert_eq!(m.actual, "no broadleaf-mesh tree");
-    let tick = s.sim().res().tick;
+    let tick = s.sim().tick();
     let m = s.wait_until(&Expect::AnchorBall(Ball::White), 15).unwrap_err();
-    assert_eq!(s.sim().res().tick, tick + 15, "waited exactly the timeout");
+    assert_eq!(s.sim().tick(), tick + 15, "waited exactly the timeout");
     assert!(m.what.contains("timed out after 15 ticks waiting until AnchorBall(White)") && m.expected == "white" && m.actual == "hidden", "{m}");
 }
 

@@ -68,8 +68,8 @@ fn record(name: &str, script: Script) -> Vec<u8> {
     let scene = Scene::builtin("study").unwrap();
     let (sim, events) = script.into_parts();
     // Record two more simulated seconds so that every scenario crosses checkpoints.
-    let end = sim.res().tick + 120;
-    let mut header = Header::new("study", sim.res().seed, scene.dt);
+    let end = sim.tick() + 120;
+    let mut header = Header::new("study", sim.seed(), scene.dt);
     header.participant = Some(format!("scenario:{name}"));
     header.synthetic = true;
     record_events(Vec::new(), &header, &events, end, serde_json::json!({ "scenario": name })).unwrap()
@@ -132,7 +132,7 @@ fn every_recording_under_replays_verifies() {
 fn scenarios_do_what_they_say() {
     for (name, script) in scenarios() {
         let sim = script.sim();
-        let log = &sim.res().log;
+        let log = sim.log();
         match name {
             "plant-two" => assert_eq!(log.count("planted"), 2, "{name}"),
             "plant-remove" => {
@@ -143,7 +143,7 @@ fn scenarios_do_what_they_say() {
                 assert_eq!(log.count("planted"), 1, "{name}: one tree from the menu");
                 assert!(log.count("moved") >= 1, "{name}: the tree was dragged");
             }
-            "task-start" => assert!(sim.res().task.as_ref().is_some_and(|t| t.satisfied[0].is_some()), "{name}: the first target is satisfied"),
+            "task-start" => assert!(sim.task().is_some_and(|t| t.satisfied[0].is_some()), "{name}: the first target is satisfied"),
             _ => unreachable!(),
         }
     }

@@ -49,17 +49,18 @@ fn the_bank_checks() {
 /// classic models (the study scene keeps those: its recordings name them).
 #[test]
 fn the_landscape_scenes_plant_species() {
-    use grove_systems::components::Tree;
     use grove_systems::scene::Scene;
     use grove_systems::Sim;
     for name in ["park", "garden", "forest"] {
         let scene = Scene::load(&root().join(format!("assets/scenes/{name}.ron"))).unwrap();
         let sim = Sim::from_scene(&scene, scene.seed).unwrap();
-        let cat = &sim.res().catalogue;
+        let cat = sim.catalogue();
         let mut species = std::collections::BTreeSet::new();
-        for t in sim.world().query::<&Tree>().iter() {
-            let m = &cat.models[t.model.0 as usize];
-            assert!(t.model.0 >= 8, "{name}: a classic model, {}", m.name);
+        let mut models = Vec::new();
+        sim.for_each_tree(|t| models.push(t.model));
+        for model in models {
+            let m = &cat.models[model.0 as usize];
+            assert!(model.0 >= 8, "{name}: a classic model, {}", m.name);
             if !m.name.starts_with("lsys-") {
                 species.insert(m.species.clone());
             }
@@ -84,7 +85,7 @@ fn a_far_tree_is_drawn_as_its_far_model() {
     scene.grass.clear();
     scene.water.clear();
     let mut sim = Sim::from_scene(&scene, scene.seed).unwrap();
-    let cat = sim.res().catalogue.clone();
+    let cat = sim.catalogue().clone();
     let id = |name: &str| cat.models.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("{name}")).clone();
     let (near, far) = (id("oak-lod1"), id("oak-lod2"));
     sim.spawn_tree(near.id, Vec3::new(0.0, 0.0, -60.0), 0.0, 0.5, true);

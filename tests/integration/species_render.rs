@@ -71,7 +71,8 @@ fn view(data: &ModelData, distance: f32, tree: bool) -> RgbaImage {
     let g = shared_gpu::shared_gpu("species renders");
     let mut sim = grove_systems::stage::model_stage(data.bounds, W as f32 / H as f32, false, ModelId(0)).unwrap();
     if !tree {
-        let trees: Vec<hecs::Entity> = sim.world().query::<(hecs::Entity, &grove_systems::components::Tree)>().iter().map(|(e, _)| e).collect();
+        let mut trees: Vec<hecs::Entity> = Vec::new();
+        sim.for_each_tree(|t| trees.extend(hecs::Entity::from_bits(t.id)));
         for e in trees {
             sim.set_up().despawn(e).unwrap();
         }

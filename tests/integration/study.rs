@@ -254,6 +254,19 @@ fn bad_study_input_gives_clear_errors() {
     let out = grove(&["study", "--set", "snap_threshold=0.1,12", "--out", dir.path().join("o").to_str().unwrap()]);
     assert_one_line_error(&out, 2, "snap_threshold: '12' must be a number from 0 to 10 m");
     assert!(!dir.path().join("o").exists());
+    // The one --set parser serves grove synth and grove test too: the same range, and a list
+    // (a sweep) refused where nothing is swept; min_scale above max_scale refused everywhere.
+    let out = grove(&["synth", "--participants", "1", "--set", "spawn_distance=101", "--out", dir.path().join("s").to_str().unwrap()]);
+    assert_one_line_error(&out, 2, "spawn_distance: '101' must be a number from 0 to 100 m");
+    for cmd in ["synth", "test"] {
+        let out = grove(&[cmd, "--set", "snap_threshold=0.1,0.2"]);
+        assert_one_line_error(&out, 2, "snap_threshold=0.1,0.2: one value only here");
+        let out = grove(&[cmd, "--set", "min_scale=5", "--set", "max_scale=2"]);
+        assert_one_line_error(&out, 2, "min_scale 5 is above max_scale 2");
+    }
+    let out = grove(&["study", "--set", "max_scale=2", "--set", "min_scale=1,3", "--out", dir.path().join("o").to_str().unwrap()]);
+    assert_one_line_error(&out, 2, "min_scale 3 is above max_scale 2");
+    assert!(!dir.path().join("s").exists() && !dir.path().join("o").exists());
     // --help lists every parameter with its default and range.
     let help = String::from_utf8(grove(&["study", "--help"]).stdout).unwrap();
     assert!(help.contains("touchpad_dead_zone") && help.contains("0.15, 0 to 1:") && help.contains("0.3 m, 0 to 10 m:"), "{help}");

@@ -51,7 +51,7 @@ fn both_with_shadow(scene: &Scene, sim: &Sim) -> [(RgbaImage, usize, usize); 2] 
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, 320, 180).unwrap();
-    grove::bank::load_for_scene(&mut r, scene, &[], &sim.res().catalogue).unwrap();
+    grove::bank::load_for_scene(&mut r, scene, &[], sim.catalogue()).unwrap();
     [true, false].map(|cull| {
         r.options.cull_trees = cull;
         let img = offscreen::render_image(g, &mut r, sim).unwrap();

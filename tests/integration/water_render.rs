@@ -16,8 +16,7 @@ use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::{camera_matrix, Camera, Renderer, WaterOutput};
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{Pose, Transform, Tree};
-use grove_systems::water::Water;
+use grove_systems::components::Pose;
 use grove_systems::scene::Scene;
 use grove_systems::Sim;
 use image::RgbaImage;
@@ -79,13 +78,13 @@ fn differs(a: &RgbaImage, b: &RgbaImage, x: u32, y: u32) -> bool {
 }
 
 fn despawn_tree_at(sim: &mut Sim, at: Vec3) {
-    let found: Vec<hecs::Entity> = sim
-        .world()
-        .query::<(hecs::Entity, &Tree, &Transform)>()
-        .iter()
-        .filter(|(_, _, t)| (t.translation.x - at.x).abs() < 0.01 && (t.translation.z - at.z).abs() < 0.01)
-        .map(|(e, _, _)| e)
-        .collect();
+    let mut found: Vec<hecs::Entity> = Vec::new();
+    sim.for_each_tree(|v| {
+        let t = v.transform;
+        if (t.translation.x - at.x).abs() < 0.01 && (t.translation.z - at.z).abs() < 0.01 {
+            found.extend(hecs::Entity::from_bits(v.id));
+        }
+    });
     assert_eq!(found.len(), 1, "one tree at {at}");
     sim.set_up().despawn(found[0]).unwrap();
 }
@@ -276,7 +275,7 @@ fn golden_pond_from_the_south() {
 fn golden_pond_from_the_east() {
     let mut sim = pond(1.0);
     set_head(&mut sim, Vec3::new(11.0, 2.5, -4.0), Vec3::new(0.0, 0.0, -6.5));
-    assert!(sim.world().query::<&Water>().iter().count() == 1);
+    assert!(sim.water_bodies().len() == 1);
     let img = render(&sim, 160, 120, WaterOutput::Full, true);
     compare("pond-east", &img, Tolerance { mean_abs: 3.0, percent_over: 3.0 });
 }

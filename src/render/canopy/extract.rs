@@ -2,8 +2,6 @@
 //! entity, and those in the camera's view.
 
 use glam::{Vec2, Vec3};
-use grove_systems::aerial::AerialCrown;
-use grove_systems::components::{Transform, Tree};
 use grove_systems::Sim;
 
 use crate::render::feature::ExtractContext;
@@ -38,12 +36,12 @@ pub(crate) fn crowns(sim: &Sim, cx: &ExtractContext<'_>) -> Crowns {
     if !cx.canopy {
         return Crowns { any: false, visible: Vec::new() };
     }
-    let mut all: Vec<(u64, CrownDraw)> = sim
-        .world()
-        .query::<(hecs::Entity, &Tree, &Transform, &AerialCrown)>()
-        .iter()
-        .map(|(e, _, t, c)| (e.to_bits().get(), CrownDraw { foot: t.translation, photo_centre: c.photo_centre, radius_m: c.radius_m, base_m: c.base_m, top_m: c.top_m }))
-        .collect();
+    let mut all: Vec<(u64, CrownDraw)> = Vec::new();
+    sim.for_each_tree(|v| {
+        if let Some(c) = v.crown {
+            all.push((v.id, CrownDraw { foot: v.transform.translation, photo_centre: c.photo_centre, radius_m: c.radius_m, base_m: c.base_m, top_m: c.top_m }));
+        }
+    });
     all.sort_by_key(|c| c.0);
     let view_proj = camera_matrix(&cx.common.camera, cx.size.0.max(1) as f32 / cx.size.1.max(1) as f32);
     Crowns { any: !all.is_empty(), visible: all.into_iter().map(|c| c.1).filter(|c| in_view(&view_proj, c)).collect() }

@@ -3,7 +3,7 @@
 //! one the grass was built from; the controller's hit point, which the blades bend away from.
 
 use glam::Vec3;
-use grove_systems::components::{Grass, HitMarker, Plane};
+use grove_systems::components::Grass;
 use grove_systems::grass::{patch_triangles, place_blades, GrassKind};
 use grove_systems::Sim;
 
@@ -29,25 +29,22 @@ pub(crate) struct Patches {
 /// of the grass buffers the renderer already has): each patch's ground triangles and its
 /// blades, placed by the simulation's pure placement function.
 pub(crate) fn patches(sim: &Sim, have: &GrassKey) -> Patches {
-    let hit = sim.world().query::<&HitMarker>().iter().next().filter(|h| h.visible).map(|h| h.position);
-    let mut patches: Vec<(u64, Grass)> = sim.world().query::<(hecs::Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
-    patches.sort_by_key(|(e, _)| *e);
+    let hit = Some(sim.hit_marker()).filter(|h| h.visible).map(|h| h.position);
+    let patches = sim.grass_patches();
     // Without patches the planes do not matter (and are not hashed every frame).
-    let mut planes: Vec<(u64, u64)> = if patches.is_empty() {
-        Vec::new()
-    } else {
-        sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, p)| (e.to_bits().get(), grove_systems::hash::plane_hash(p))).collect()
-    };
+    let mut planes: Vec<(u64, u64)> = Vec::new();
+    if !patches.is_empty() {
+        sim.for_each_plane(|id, p| planes.push((id, grove_systems::hash::plane_hash(p))));
+    }
     planes.sort_unstable();
     let key = (planes, patches);
     if &key == have {
         return Patches { key, patches: None, hit };
     }
-    let mut query = sim.world().query::<(hecs::Entity, &Plane)>();
-    let mut planes: Vec<(u64, &str, &[Vec3], &[[u32; 3]])> =
-        query.iter().map(|(e, p)| (e.to_bits().get(), p.name.as_str(), p.vertices.as_slice(), p.triangles.as_slice())).collect();
+    let mut planes: Vec<(u64, String, Vec<Vec3>, Vec<[u32; 3]>)> = Vec::new();
+    sim.for_each_plane(|id, p| planes.push((id, p.name.clone(), p.vertices.clone(), p.triangles.clone())));
     planes.sort_by_key(|p| p.0);
-    let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|p| (p.1, p.2, p.3)).collect();
+    let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|p| (p.1.as_str(), p.2.as_slice(), p.3.as_slice())).collect();
     let out = key.1.iter().map(|(_, g)| {
         let shells = g.def.kind == GrassKind::Shells;
         GrassPatch {

@@ -2,7 +2,6 @@
 //! ground was built from, and the bounds of every plane vertex (the shadow map's fit).
 
 use glam::Vec3;
-use grove_systems::components::Plane;
 use grove_systems::Sim;
 
 /// Identifies the planes' geometry: per plane, sorted by entity, its entity bits and its vertex
@@ -30,23 +29,20 @@ pub(crate) struct Planes {
 
 /// The planes of `sim`; their meshes only when their key differs from `have`.
 pub(crate) fn planes(sim: &Sim, have: &GroundKey) -> Planes {
-    let mut key: GroundKey = sim.world().query::<(hecs::Entity, &Plane)>().iter().map(|(e, p)| (e.to_bits().get(), p.vertices.len(), p.triangles.len())).collect();
-    key.sort_unstable();
-    let meshes = (&key != have).then(|| {
-        let mut planes: Vec<(u64, PlaneMesh)> = sim
-            .world()
-            .query::<(hecs::Entity, &Plane)>()
-            .iter()
-            .map(|(e, p)| (e.to_bits().get(), PlaneMesh { vertices: p.vertices.clone(), triangles: p.triangles.clone() }))
-            .collect();
-        planes.sort_by_key(|(e, _)| *e);
-        planes.into_iter().map(|(_, p)| p).collect()
-    });
+    let mut key: GroundKey = Vec::new();
     let mut bounds: Option<(Vec3, Vec3)> = None;
-    for p in sim.world().query::<&Plane>().iter() {
+    sim.for_each_plane(|id, p| {
+        key.push((id, p.vertices.len(), p.triangles.len()));
         for v in &p.vertices {
             bounds = Some(bounds.map_or((*v, *v), |(a, b)| (a.min(*v), b.max(*v))));
         }
-    }
+    });
+    key.sort_unstable();
+    let meshes = (&key != have).then(|| {
+        let mut planes: Vec<(u64, PlaneMesh)> = Vec::new();
+        sim.for_each_plane(|id, p| planes.push((id, PlaneMesh { vertices: p.vertices.clone(), triangles: p.triangles.clone() })));
+        planes.sort_by_key(|(e, _)| *e);
+        planes.into_iter().map(|(_, p)| p).collect()
+    });
     Planes { key, meshes, bounds }
 }

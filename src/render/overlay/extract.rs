@@ -2,7 +2,7 @@
 //! anchor ball, the selection and the running task's targets).
 
 use glam::Quat;
-use grove_systems::components::{AnchorBall, Controller, HitMarker, HitTarget, Selection};
+use grove_systems::components::HitTarget;
 use grove_systems::Sim;
 
 use super::geometry::{OverlayAnchor, OverlayController, OverlayHit, OverlayScene, OverlaySelection, OverlayTarget};
@@ -10,17 +10,13 @@ use super::geometry::{OverlayAnchor, OverlayController, OverlayHit, OverlayScene
 /// The interaction visuals' inputs: the controller, the hit marker, the anchor ball, the
 /// selection and the running task's targets.
 pub fn overlay_scene(sim: &Sim) -> OverlayScene {
-    let world = sim.world();
-    let hit = world.query::<&HitMarker>().iter().next().map(|h| OverlayHit {
-        visible: h.visible,
-        distance: h.distance,
-        position: h.position,
-        normal: h.normal,
-        on_water: matches!(h.target, HitTarget::Water(_)),
-    });
-    let controllers = world
-        .query::<&Controller>()
-        .iter()
+    // A world without a hit marker, an anchor ball or a selection reads as their defaults,
+    // which draw nothing (invisible, no tree).
+    let h = sim.hit_marker();
+    let hit = Some(OverlayHit { visible: h.visible, distance: h.distance, position: h.position, normal: h.normal, on_water: matches!(h.target, HitTarget::Water(_)) });
+    let controllers = sim
+        .controller()
+        .into_iter()
         .map(|c| OverlayController {
             origin: c.ray_origin(),
             dir: c.ray_dir(),
@@ -31,18 +27,14 @@ pub fn overlay_scene(sim: &Sim) -> OverlayScene {
             touchpad: c.touchpad,
         })
         .collect();
-    let anchors = world
-        .query::<&AnchorBall>()
-        .iter()
-        .map(|a| OverlayAnchor { visible: a.visible, armed: a.armed, position: a.position, distance: a.distance })
-        .collect();
-    let selections = world
-        .query::<&Selection>()
-        .iter()
+    let a = sim.anchor_ball();
+    let anchors = vec![OverlayAnchor { visible: a.visible, armed: a.armed, position: a.position, distance: a.distance }];
+    let selections = Some(sim.selection())
+        .into_iter()
         .filter(|s| s.tree.is_some())
         .map(|s| OverlaySelection { center: s.center, rotation: Quat::from_rotation_y(s.yaw), half_extents: s.half_extents })
         .collect();
-    let (targets, tolerance) = match &sim.res().task {
+    let (targets, tolerance) = match sim.task() {
         Some(task) => (
             task.def
                 .targets
@@ -61,8 +53,8 @@ pub fn overlay_scene(sim: &Sim) -> OverlayScene {
         selections,
         targets,
         target_tolerance: tolerance,
-        max_ray_length: sim.res().config.max_ray_length,
-        handle_radius: sim.res().config.handle_radius,
+        max_ray_length: sim.config().max_ray_length,
+        handle_radius: sim.config().handle_radius,
         eye: sim.head().pose.position,
         ghosts: Vec::new(),
     }

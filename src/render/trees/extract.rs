@@ -2,8 +2,6 @@
 //! state); the photographed crowns' trees only when the canopy does not draw them.
 
 use glam::{Vec2, Vec3};
-use grove_systems::aerial::AerialCrown;
-use grove_systems::components::{Scale, Transform, Tree, WindState};
 use grove_systems::Sim;
 
 use crate::render::feature::ExtractContext;
@@ -32,16 +30,17 @@ pub(crate) struct TreeDraw {
 pub(crate) fn trees(sim: &Sim, cx: &ExtractContext<'_>) -> Vec<TreeDraw> {
     let mut trees = Vec::new();
     let mut crowns = Vec::new();
-    for (e, tree, t, s, w, crown) in sim.world().query::<(hecs::Entity, &Tree, &Transform, Option<&Scale>, Option<&WindState>, Option<&AerialCrown>)>().iter() {
+    sim.for_each_tree(|v| {
         // A tree without a wind state stands still: no bend and zero gain.
-        let (bend, gain, phase) = w.map_or((Vec2::ZERO, 0.0, 0.0), |w| (w.bend, w.gain, w.phase));
-        let draw = TreeDraw { model: usize::from(tree.model.0), origin: t.translation, yaw: t.yaw, scale: s.map_or(1.0, |s| s.0), bend, gain, phase };
-        match crown {
+        let (bend, gain, phase) = v.wind.map_or((Vec2::ZERO, 0.0, 0.0), |w| (w.bend, w.gain, w.phase));
+        let t = v.transform;
+        let draw = TreeDraw { model: usize::from(v.model.0), origin: t.translation, yaw: t.yaw, scale: v.scale, bend, gain, phase };
+        match v.crown {
             Some(_) if cx.canopy => {}
-            Some(_) => crowns.push((e.to_bits().get(), draw)),
+            Some(_) => crowns.push((v.id, draw)),
             None => trees.push(draw),
         }
-    }
+    });
     crowns.sort_by_key(|c| c.0);
     trees.extend(crowns.into_iter().map(|c| c.1));
     trees

@@ -1,7 +1,6 @@
 //! The water's extract: a copy of each `Water` component, sorted by entity.
 
 use glam::Vec2;
-use grove_systems::water::Water;
 use grove_systems::Sim;
 
 /// One water body as the frame draws it (a copy of its `Water` component).
@@ -23,16 +22,9 @@ pub(crate) struct WaterDraw {
 
 /// The world's water bodies, sorted by entity.
 pub(crate) fn water_bodies(sim: &Sim) -> Vec<WaterDraw> {
-    let mut w: Vec<(u64, WaterDraw)> = sim
-        .world()
-        .query::<(hecs::Entity, &Water)>()
-        .iter()
-        .map(|(e, w)| {
-            let draw = WaterDraw { polygon: w.polygon.clone(), height: w.height, depth: w.depth, colour: w.colour, ripples: w.ripples, ripple_speed: w.ripple_speed };
-            (e.to_bits().get(), draw)
-        })
-        .collect();
-    w.sort_by_key(|(e, _)| *e);
-    w.into_iter().map(|(_, d)| d).collect()
+    sim.water_bodies()
+        .into_iter()
+        .map(|(_, w)| WaterDraw { polygon: w.polygon, height: w.height, depth: w.depth, colour: w.colour, ripples: w.ripples, ripple_speed: w.ripple_speed })
+        .collect()
 }
 

@@ -225,10 +225,10 @@ fn serde_message(e: serde_json::Error) -> String {
     msg.split(" at line ").next().unwrap_or(&msg).to_string()
 }
 
-/// Reads an input event from its JSON object. Events without fields (`open_menu`,
-/// `close_menu`, `end_task`) are refused with any field but `kind`, as every other event is
-/// with a field it does not have.
-fn event_from_value(v: serde_json::Value) -> Result<InputEvent, LineFormatError> {
+/// Reads an input event from its JSON object, as an event line's `event` holds it, and checks
+/// its numbers. Events without fields (`open_menu`, `close_menu`, `end_task`) are refused with
+/// any field but `kind`, as every other event is with a field it does not have.
+pub fn event_from_value(v: serde_json::Value) -> Result<InputEvent, LineFormatError> {
     if let serde_json::Value::Object(map) = &v
         && let Some(serde_json::Value::String(kind)) = map.get("kind")
         && matches!(kind.as_str(), "open_menu" | "close_menu" | "end_task")

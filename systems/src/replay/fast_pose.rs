@@ -304,7 +304,7 @@ mod tests {
             for f in &mut v {
                 x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
                 let exp = (x >> 27) as i32 - 16;
-                *f = ((x & 0xffff) as f32 / 65536.0 - 0.5) * 2f32.powi(exp);
+                *f = ((x & 0xffff) as f32 / 65536.0 - 0.5) * libm::scalbnf(1.0, exp);
             }
             let j = |s: &[f32]| s.iter().map(|f| serde_json::to_string(f).unwrap()).collect::<Vec<_>>().join(",");
             let body = line(&j(&v[..3]), &j(&v[3..]));

@@ -227,6 +227,13 @@ impl<W: Write> Recorder<W> {
         Ok(Recorder { out, events: 0, checkpoints: 0, last_tick: 0, prev: 0 })
     }
 
+    /// Continues a recording whose header line someone else wrote (a server that hands the
+    /// header to a page, which records the rest): nothing is written yet, and the first line's
+    /// checksum chains on 0, as the line after a header always does (see `codec`).
+    pub fn continuing(out: W) -> Recorder<W> {
+        Recorder { out, events: 0, checkpoints: 0, last_tick: 0, prev: 0 }
+    }
+
     fn write(&mut self, line: &Line) -> std::io::Result<()> {
         let (text, sum) = encode_line_chained(line, self.prev);
         self.prev = sum;
@@ -345,6 +352,14 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Ove
 pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[Override], banks: &Banks) -> Result<Sim, HeaderError> {
     names::check_header(header)?;
     let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
+    sim_for_header_with_scene(header, scene, overrides, banks)
+}
+
+/// Like [`sim_for_header_in`], with the scene already read (a page, or the WebAssembly module,
+/// which has no file system, is handed the scene's text); the header's own `scene` field is then
+/// only a name.
+pub fn sim_for_header_with_scene(header: &Header, scene: crate::scene::Scene, overrides: &[Override], banks: &Banks) -> Result<Sim, HeaderError> {
+    names::check_header(header)?;
     // The scene's own banks are searched first, as in the session that recorded it.
     let mut all = Banks::open(&scene.bank_dirs())?;
     all.banks.extend(banks.banks.iter().cloned());

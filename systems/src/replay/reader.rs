@@ -9,7 +9,8 @@ use serde::Serialize;
 
 use super::lines::{LineError, Lines};
 use super::{sim_for_header_in, CheckpointLine, Header, Line};
-use crate::hash::{hex, WorldHash, HASHED};
+use crate::hash::{hex, world_hash_keeping, WorldHash, HASHED};
+use crate::resource_hash::{differing_fields, ResourceBytes};
 use crate::input::{InputEvent, StampedEvent};
 use crate::resources::Override;
 use crate::sim::Sim;
@@ -32,7 +33,7 @@ pub struct ReplayError {
 pub struct Differing {
     /// The entity, as id bits in decimal, or "resources".
     pub entity: String,
-    /// The component type.
+    /// The component type, or for "resources" the field ([`crate::resource_hash::FIELDS`]).
     pub component: String,
 }
 
@@ -77,12 +78,17 @@ pub struct ReplayOptions {
     pub overrides: Vec<Override>,
     /// The model-bank folders in which the header's models are looked up.
     pub banks: Vec<std::path::PathBuf>,
+    /// The scene, already read, in place of the one the header names (which is then not looked
+    /// up): for a reader without a file system.
+    pub scene: Option<crate::scene::Scene>,
 }
 
 /// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
 /// entities whose hash differs crossed with the component types whose hash differs, keeping
-/// only pairs where the entity (still) has that component.
-fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World) -> Vec<Differing> {
+/// only pairs where the entity (still) has that component; and for the resources, the fields
+/// that differ ([`crate::resource_hash::differing_fields`], from the resources at the last
+/// checkpoint that agreed, `agreed`, and now, `now`).
+fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World, agreed: &ResourceBytes, now: &ResourceBytes) -> Vec<Differing> {
     let comps: Vec<&str> = HASHED
         .iter()
         .map(|h| h.name)
@@ -101,7 +107,11 @@ fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World)
     let mut out = Vec::new();
     for c in &comps {
         if *c == "resources" {
-            out.push(Differing { entity: "resources".into(), component: "resources".into() });
+            let fields = match expected.components.get(*c).and_then(|h| u64::from_str_radix(h, 16).ok()) {
+                Some(h) => differing_fields(agreed, now, h),
+                None => vec!["resources"],
+            };
+            out.extend(fields.into_iter().map(|f| Differing { entity: "resources".into(), component: f.into() }));
             continue;
         }
         let before = out.len();
@@ -131,7 +141,11 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let header = lines.header.clone();
     let verifying = options.overrides.is_empty();
     let banks = crate::bank::Banks::open(&options.banks).map_err(|m| err((None, m.0)))?;
-    let mut sim = sim_for_header_in(&header, base_dir, &options.overrides, &banks).map_err(|m| err((Some(1), m.to_string())))?;
+    let built = match &options.scene {
+        Some(scene) => super::sim_for_header_with_scene(&header, scene.clone(), &options.overrides, &banks),
+        None => sim_for_header_in(&header, base_dir, &options.overrides, &banks),
+    };
+    let mut sim = built.map_err(|m| err((Some(1), m.to_string())))?;
     // Counted by the kind's static name, and named as `String`s once at the end.
     let mut counts: BTreeMap<&'static str, u64> = BTreeMap::new();
     let mut checkpoints_checked = 0;
@@ -139,6 +153,10 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let mut complete = false;
     let mut stopped_early = false;
     let until = options.until.unwrap_or(u64::MAX);
+    // The hashed resources at the last checkpoint that agreed (at first, the start, which the
+    // header fixes) and at the one just hashed: what a divergence in the resources is told from.
+    let mut agreed = ResourceBytes::of(&sim.res);
+    let mut now = ResourceBytes::default();
 
     // Steps are bounded: `Lines` refuses a tick more than a checkpoint interval past the last
     // checkpoint, and any tick past the limit.
@@ -168,11 +186,13 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
             }
             Line::Checkpoint(ref c) => {
                 if verifying && first_divergence.is_none() {
-                    let h = sim.hash();
+                    let h = world_hash_keeping(&sim.world, &sim.res, Some(&mut now));
                     checkpoints_checked += 1;
                     if hex(h.total) != c.hash {
                         let full = checked.checkpoint().unwrap_or_else(|| c.clone());
-                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&full, &h, &sim.world) });
+                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&full, &h, &sim.world, &agreed, &now) });
+                    } else {
+                        std::mem::swap(&mut agreed, &mut now);
                     }
                 }
             }

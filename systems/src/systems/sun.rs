@@ -80,7 +80,7 @@ pub fn check_place(latitude_deg: f64, longitude_deg: f64) -> Result<(), SunError
 /// `elevation_deg` above the horizon: `(sin A cos h, sin h, −cos A cos h)`.
 pub fn direction_from_angles_f64(azimuth_deg: f64, elevation_deg: f64) -> [f64; 3] {
     let (a, h) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
-    [a.sin() * h.cos(), h.sin(), -a.cos() * h.cos()]
+    [libm::sin(a) * libm::cos(h), libm::sin(h), -libm::cos(a) * libm::cos(h)]
 }
 
 /// The world-space unit vector towards a sun at `azimuth_deg` (clockwise from north) and
@@ -94,8 +94,8 @@ pub fn direction_from_angles(azimuth_deg: f64, elevation_deg: f64) -> Vec3 {
 /// direction; the inverse of [`direction_from_angles`].
 pub fn angles_from_direction(direction: Vec3) -> (f64, f64) {
     let d = direction.as_dvec3().normalize_or_zero();
-    let azimuth = d.x.atan2(-d.z).to_degrees().rem_euclid(360.0);
-    let elevation = d.y.clamp(-1.0, 1.0).asin().to_degrees();
+    let azimuth = libm::atan2(d.x, -d.z).to_degrees().rem_euclid(360.0);
+    let elevation = libm::asin(d.y.clamp(-1.0, 1.0)).to_degrees();
     (azimuth, elevation)
 }
 

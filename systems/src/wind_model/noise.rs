@@ -96,5 +96,5 @@ pub fn noise_at(v0: Vec3, dir: Vec2, density: f32, speed: f32, t: f32) -> f32 {
 pub fn wave(cycles: f32) -> f32 {
     let u = cycles + 0.5;
     let f = u - u.floor();
-    (TAU * (f - 0.5)).sin()
+    libm::sinf(TAU * (f - 0.5))
 }

@@ -20,14 +20,14 @@ fn script() -> Script {
 
 /// Turns the head to the ground below `point` (the study's ground is uneven).
 fn look_at(s: &mut Script, point: Vec3) {
-    let ground = s.sim().res().spatial.ground_below(Vec3::new(point.x, 50.0, point.z), 0.0).map_or(point.y, |h| h.point.y);
+    let ground = s.sim().ground_below(Vec3::new(point.x, 50.0, point.z), 0.0).map_or(point.y, |h| h.point.y);
     let point = Vec3::new(point.x, ground, point.z);
     let eye = s.head().pose.position;
     s.move_head(Pose::looking_at(eye, point));
 }
 
 fn planted(s: &Script) -> Vec<Vec3> {
-    s.sim().res().log.entries.iter().filter_map(|e| match e.what {
+    s.sim().log().entries.iter().filter_map(|e| match e.what {
         Happening::Planted { position, .. } => Some(position),
         _ => None,
     }).collect()
@@ -37,10 +37,10 @@ fn planted(s: &Script) -> Vec<Vec3> {
 fn a_dwell_of_0_8_s_on_the_ground_plants_there_once() {
     let mut s = script();
     s.switch_technique(NAME);
-    assert_eq!(s.sim().res().techniques.at(s.sim().res().technique).name, NAME);
+    assert_eq!(s.sim().active_technique().name, NAME);
     let target = Vec3::new(1.0, 0.0, -4.0);
     look_at(&mut s, target);
-    let dt = s.sim().res().dt;
+    let dt = s.sim().dt();
     // Just short of the dwell: nothing yet.
     let short = (DWELL_S / dt).floor() as u64 - 3;
     s.wait(short);
@@ -85,13 +85,13 @@ fn the_dwell_component_enters_the_world_hash_only_with_the_technique() {
     s.switch_technique(NAME).wait(3);
     let h = s.sim().hash();
     assert!(h.component("Dwell").is_some() && h.component("technique").is_some());
-    assert_eq!(s.sim().world().query::<&Dwell>().iter().count(), 1);
+    assert_eq!(s.sim().plug_in_components::<Dwell>().len(), 1);
     // Switching back to a built-in technique stops the technique's systems.
     s.switch_mode(grove_systems::mode::Mode::RayCasting);
     look_at(&mut s, Vec3::new(0.0, 0.0, -6.0));
     s.wait(120);
     assert!(planted(&s).is_empty(), "no dwell planting under ray-casting");
-    let log: Vec<&str> = s.sim().res().log.entries.iter().map(|e| e.what.kind()).collect();
+    let log: Vec<&str> = s.sim().log().entries.iter().map(|e| e.what.kind()).collect();
     assert_eq!(log.iter().filter(|k| **k == "technique_changed").count(), 2, "{log:?}");
 }
 
@@ -100,6 +100,6 @@ fn an_unregistered_technique_changes_nothing() {
     let scene = Scene::builtin("study").unwrap();
     let mut s = Script::new(Sim::from_scene(&scene, 7).unwrap());
     s.switch_technique(NAME);
-    assert_eq!(s.sim().res().technique, 0);
-    assert!(s.sim().res().log.entries.is_empty());
+    assert_eq!(s.sim().technique_index(), 0);
+    assert!(s.sim().log().entries.is_empty());
 }

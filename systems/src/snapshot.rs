@@ -1,0 +1,365 @@
+//! [`Snapshot`]: a typed, serializable copy of what a renderer and a task panel need from the
+//! world at one tick (the WebAssembly module hands it to JavaScript as JSON, `web/sim`).
+//!
+//! Reads: trees (`Tree`, `Transform`, `Scale`, `Grounded`), `Controller`, `HitMarker`,
+//! `AnchorBall`, `Selection`, `Head`, `Sun`, and the resources' tick, step, mode, technique,
+//! menu, catalogue, task and config. Writes nothing.
+
+use glam::{Quat, Vec3};
+use serde::Serialize;
+
+use crate::components::{AnchorBall, Controller, Grounded, Handle, HitMarker, HitTarget, Scale, Selection, Transform, Tree};
+use crate::hash::hex;
+use crate::sim::Sim;
+
+/// The world at one tick, as a renderer and a task panel read it. Positions are metres,
+/// angles radians (names ending in `_deg` are degrees), rotations unit quaternions `[x, y, z, w]`;
+/// entity ids are the entity's id bits, as recordings' checkpoints and the event log name them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Snapshot {
+    /// Completed steps.
+    pub tick: u64,
+    /// The fixed step, seconds.
+    pub dt: f32,
+    /// The world hash (16 hex digits), as a checkpoint holds it.
+    pub hash: String,
+    /// The interaction mode of the active technique: "ray-casting" or "manual".
+    pub mode: &'static str,
+    /// The active technique's name (a built-in one's is its mode's).
+    pub technique: String,
+    /// Every tree, by ascending id.
+    pub trees: Vec<TreeSnapshot>,
+    /// The hand controller and its ray.
+    pub controller: ControllerSnapshot,
+    /// The head (the camera).
+    pub head: PoseSnapshot,
+    /// The head camera's vertical field of view, radians.
+    pub fov_y: f32,
+    /// The ball under a dragged tree.
+    pub anchor_ball: AnchorSnapshot,
+    /// The selected tree's bounding box, if a tree is selected.
+    pub bounding_box: Option<BoxSnapshot>,
+    /// The model menu.
+    pub menu: MenuSnapshot,
+    /// The task, if one was started.
+    pub task: Option<TaskSnapshot>,
+    /// The unit vector towards the sun, if the world has one.
+    pub sun_direction: Option<[f32; 3]>,
+}
+
+/// One tree.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TreeSnapshot {
+    /// Its entity id bits.
+    pub id: u64,
+    /// Its model's catalogue name.
+    pub model: String,
+    /// Its model's catalogue index.
+    pub model_index: u8,
+    /// The base of its trunk, metres.
+    pub position: [f32; 3],
+    /// Its heading: rotation about +Y, radians, counter-clockwise seen from above.
+    pub yaw: f32,
+    /// The same rotation as a quaternion `[x, y, z, w]`.
+    pub rotation: [f32; 4],
+    /// Its uniform scale.
+    pub scale: f32,
+    /// Whether it stands on a plane.
+    pub grounded: bool,
+    /// Whether it is the selected tree.
+    pub selected: bool,
+}
+
+/// A position and a rotation.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PoseSnapshot {
+    /// Metres.
+    pub position: [f32; 3],
+    /// A unit quaternion `[x, y, z, w]`.
+    pub rotation: [f32; 4],
+}
+
+/// The controller, its ray and what the ray hits.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ControllerSnapshot {
+    /// The controller's pose.
+    pub pose: PoseSnapshot,
+    /// Where the ray starts, metres.
+    pub ray_origin: [f32; 3],
+    /// The ray's unit direction.
+    pub ray_direction: [f32; 3],
+    /// Buttons held: trigger, bumper, touchpad, menu.
+    pub buttons: [bool; 4],
+    /// The touchpad's thumb position, each axis in [−1, 1].
+    pub touchpad: [f32; 2],
+    /// What the ray hits; `None` when it hits nothing.
+    pub hit: Option<HitSnapshot>,
+}
+
+/// Where the controller ray hits and what.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct HitSnapshot {
+    /// The hit point, metres.
+    pub position: [f32; 3],
+    /// The surface normal there.
+    pub normal: [f32; 3],
+    /// The distance from the ray's origin, metres.
+    pub distance: f32,
+    /// "plane", "tree", "handle" or "water".
+    pub kind: &'static str,
+    /// The entity hit (plane, tree or water), by id bits; `None` for a handle.
+    pub entity: Option<u64>,
+    /// A handle of the bounding box: "corner" or "edge" and its index.
+    pub handle: Option<(&'static str, u8)>,
+}
+
+/// The anchor ball.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct AnchorSnapshot {
+    /// "hidden", "green" (too far above the ground to snap) or "white" (a release snaps).
+    pub state: &'static str,
+    /// Where it sits on the ground, metres.
+    pub position: [f32; 3],
+    /// From the dragged tree's lowest point down to the ground, metres.
+    pub distance: f32,
+}
+
+/// The selected tree's oriented bounding box.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BoxSnapshot {
+    /// The selected tree's id bits.
+    pub tree: u64,
+    /// The box's centre, metres.
+    pub center: [f32; 3],
+    /// Half its extents along its own axes, metres.
+    pub half_extents: [f32; 3],
+    /// Its rotation about +Y, radians.
+    pub yaw: f32,
+}
+
+/// The model menu.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MenuSnapshot {
+    /// Whether it is open.
+    pub open: bool,
+    /// The model Trigger plants in ray-casting mode, by catalogue name.
+    pub current_model: String,
+    /// Every model of the catalogue, by name, in index order.
+    pub models: Vec<String>,
+}
+
+/// The task.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TaskSnapshot {
+    /// Its id, e.g. "ray-casting-7".
+    pub id: String,
+    /// The mode it is done in.
+    pub mode: &'static str,
+    /// How far a tree may stand from its target, metres.
+    pub tolerance: f32,
+    /// Its targets, in the task file's order.
+    pub targets: Vec<TargetSnapshot>,
+    /// How many targets are satisfied.
+    pub satisfied: usize,
+    /// Seconds on the task's clock: from its start to its end, or to now while it runs.
+    pub clock_s: f64,
+    /// Every target is satisfied.
+    pub completed: bool,
+    /// The clock has stopped (every target satisfied, or the task ended).
+    pub done: bool,
+}
+
+/// One target of the task.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TargetSnapshot {
+    /// Where a tree must stand, metres.
+    pub position: [f32; 3],
+    /// The required model's name.
+    pub model: String,
+    /// Whether a tree has satisfied it.
+    pub satisfied: bool,
+    /// The tree that satisfied it first, by id bits.
+    pub tree: Option<u64>,
+}
+
+fn quat(q: Quat) -> [f32; 4] {
+    q.to_array()
+}
+
+fn v3(v: Vec3) -> [f32; 3] {
+    v.to_array()
+}
+
+fn hit(m: &HitMarker) -> Option<HitSnapshot> {
+    let (kind, entity, handle) = match m.target {
+        HitTarget::None => return None,
+        HitTarget::Plane(e) => ("plane", Some(e), None),
+        HitTarget::Tree(e) => ("tree", Some(e), None),
+        HitTarget::Water(e) => ("water", Some(e), None),
+        HitTarget::Handle(Handle::Corner(i)) => ("handle", None, Some(("corner", i))),
+        HitTarget::Handle(Handle::Edge(i)) => ("handle", None, Some(("edge", i))),
+    };
+    if !m.visible {
+        return None;
+    }
+    Some(HitSnapshot { position: v3(m.position), normal: v3(m.normal), distance: m.distance, kind, entity, handle })
+}
+
+impl Sim {
+    /// The world as a renderer and a task panel read it ([`Snapshot`]).
+    pub fn snapshot(&self) -> Snapshot {
+        let (world, res) = (&self.world, &self.res);
+        let model_name = |id: crate::catalogue::ModelId| res.catalogue.get(id).map_or_else(|| format!("#{}", id.0), |m| m.name.clone());
+        let selection = world.query::<&Selection>().iter().next().copied().unwrap_or_default();
+        let mut trees: Vec<TreeSnapshot> = world
+            .query::<(hecs::Entity, &Tree, &Transform, &Scale, &Grounded)>()
+            .iter()
+            .map(|(e, tree, t, s, g)| {
+                let id = e.to_bits().get();
+                TreeSnapshot {
+                    id,
+                    model: model_name(tree.model),
+                    model_index: tree.model.0,
+                    position: v3(t.translation),
+                    yaw: t.yaw,
+                    rotation: quat(t.rotation()),
+                    scale: s.0,
+                    grounded: g.0,
+                    selected: selection.tree == Some(id),
+                }
+            })
+            .collect();
+        trees.sort_by_key(|t| t.id);
+        let controller = world.query::<&Controller>().iter().next().copied().unwrap_or_default();
+        let marker = world.query::<&HitMarker>().iter().next().copied().unwrap_or_default();
+        let ball = world.query::<&AnchorBall>().iter().next().copied().unwrap_or_default();
+        let head = self.head();
+        let technique = res.techniques.at(res.technique);
+        let task = res.task.as_ref().map(|t| {
+            let now = t.end_tick().unwrap_or(res.tick);
+            TaskSnapshot {
+                id: t.def.id.clone(),
+                mode: t.def.mode.name(),
+                tolerance: t.def.tolerance,
+                targets: t
+                    .def
+                    .targets
+                    .iter()
+                    .zip(&t.satisfied)
+                    .map(|(d, s)| TargetSnapshot { position: v3(d.position), model: d.model.clone(), satisfied: s.is_some(), tree: s.map(|h| h.tree) })
+                    .collect(),
+                satisfied: t.satisfied.iter().filter(|s| s.is_some()).count(),
+                clock_s: crate::task::ticks_to_seconds(now.saturating_sub(t.started_tick), res.dt),
+                completed: t.is_complete(),
+                done: t.end_tick().is_some(),
+            }
+        });
+        Snapshot {
+            tick: res.tick,
+            dt: res.dt,
+            hash: hex(self.hash().total),
+            mode: res.mode.name(),
+            technique: technique.name.to_string(),
+            trees,
+            controller: ControllerSnapshot {
+                pose: PoseSnapshot { position: v3(controller.pose.position), rotation: quat(controller.pose.rotation) },
+                ray_origin: v3(controller.ray_origin()),
+                ray_direction: v3(controller.ray_dir()),
+                buttons: [controller.buttons.trigger, controller.buttons.bumper, controller.buttons.touchpad, controller.buttons.menu],
+                touchpad: controller.touchpad.to_array(),
+                hit: hit(&marker),
+            },
+            head: PoseSnapshot { position: v3(head.pose.position), rotation: quat(head.pose.rotation) },
+            fov_y: head.fov_y,
+            anchor_ball: AnchorSnapshot {
+                state: match (ball.visible, ball.armed) {
+                    (false, _) => "hidden",
+                    (true, false) => "green",
+                    (true, true) => "white",
+                },
+                position: v3(ball.position),
+                distance: ball.distance,
+            },
+            bounding_box: selection.tree.map(|tree| BoxSnapshot { tree, center: v3(selection.center), half_extents: v3(selection.half_extents), yaw: selection.yaw }),
+            menu: MenuSnapshot {
+                open: res.menu.open,
+                current_model: model_name(res.menu.current_model),
+                models: res.catalogue.models.iter().map(|m| m.name.clone()).collect(),
+            },
+            task,
+            sun_direction: self.sun().map(|s| v3(s.direction)),
+        }
+    }
+}
+
+impl Sim {
+    /// The task's outcome as `grove replay` and `grove study` report it, if a task was started:
+    /// measured up to now, and under a plug-in technique's name when one is active.
+    pub fn task_report(&self) -> Option<crate::task::TaskReport> {
+        let res = &self.res;
+        let mut report = crate::task::TaskReport::new(res.task.as_ref()?, res.dt, res.tick, &res.catalogue);
+        let technique = res.techniques.at(res.technique);
+        if !technique.is_builtin() {
+            report.mode = technique.name.to_string();
+        }
+        Some(report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::Pose;
+    use crate::input::{Button, InputEvent};
+    use crate::scene::Scene;
+
+    fn study() -> Sim {
+        Sim::from_scene(&Scene::builtin("study").unwrap(), 5).unwrap()
+    }
+
+    #[test]
+    fn a_planted_tree_appears_selected_with_its_box_and_the_ray_hits_the_ground() {
+        let mut sim = study();
+        let before = sim.snapshot();
+        assert_eq!(before.tick, 0);
+        assert!(before.bounding_box.is_none() && before.task.is_none());
+        assert_eq!(before.anchor_ball.state, "hidden");
+        assert_eq!(before.hash, hex(sim.hash().total));
+        let trees_before = before.trees.len();
+        // Aim 4 m ahead at the ground, plant.
+        let pose = Pose::looking_at(Vec3::new(0.0, 1.2, 0.0), Vec3::new(0.0, 0.0, -4.0));
+        sim.step_with([InputEvent::ControllerPose { pose }]).unwrap();
+        let aimed = sim.snapshot();
+        let hit = aimed.controller.hit.clone().expect("the ray hits the ground");
+        assert_eq!(hit.kind, "plane");
+        assert!((hit.position[2] + 4.0).abs() < 0.5, "{hit:?}");
+        sim.step_with([InputEvent::ButtonDown { button: Button::Trigger }]).unwrap();
+        sim.step_with([InputEvent::ButtonUp { button: Button::Trigger }]).unwrap();
+        sim.run(2);
+        let after = sim.snapshot();
+        assert_eq!(after.trees.len(), trees_before + 1, "{:?}", after.trees);
+        let new = after.trees.iter().find(|t| !before.trees.iter().any(|b| b.id == t.id)).unwrap();
+        assert!((new.position[2] + 4.0).abs() < 0.5 && new.grounded, "{new:?}");
+        assert_eq!(new.model, after.menu.current_model);
+        assert_eq!(after.tick, 5);
+        assert_ne!(after.hash, before.hash);
+    }
+
+    #[test]
+    fn the_task_panel_counts_targets_and_runs_its_clock() {
+        let mut sim = study();
+        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into() }]).unwrap();
+        sim.run(60);
+        let s = sim.snapshot();
+        let task = s.task.expect("a task");
+        assert_eq!((task.id.as_str(), task.mode, task.targets.len()), ("ray-casting-7", "ray-casting", 7));
+        assert_eq!(task.satisfied, 0);
+        assert!(!task.done && !task.completed);
+        assert!((task.clock_s - 60.0 * s.dt as f64).abs() < 0.02, "{}", task.clock_s);
+        sim.step_with([InputEvent::EndTask]).unwrap();
+        sim.run(30);
+        let ended = sim.snapshot().task.unwrap();
+        assert!(ended.done && !ended.completed);
+        assert!((ended.clock_s - 61.0 * s.dt as f64).abs() < 0.02, "{}", ended.clock_s);
+    }
+}

@@ -1,0 +1,146 @@
+//! What a new simulation is made from: the options JavaScript hands over as JSON ([`Options`]),
+//! turned into a recording header and its scene ([`Start`]).
+
+use grove_systems::limits::MAX_SCENE_BYTES;
+use grove_systems::replay::{decode_line, Header, HeaderTechnique, Line, FORMAT_VERSION};
+use grove_systems::set_arg::{SetArg, SetArgs};
+use grove_systems::scene::Scene;
+use serde::Deserialize;
+
+use crate::error::Error;
+
+/// The options of a new simulation. Either the fields of a new recording (`scene`, `seed`,
+/// `set`, …), or `header`: a recording's header line made elsewhere (a session server), which
+/// the simulation then follows, its recorder continuing the checksum chain after it.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Options {
+    /// A built-in scene's name ("study"), or the name of the scene file whose text `scene_text`
+    /// holds (a recording's header names it; a native replay looks for it next to the recording).
+    pub scene: Option<String>,
+    /// The scene file's text, for a scene that is not built in.
+    pub scene_text: Option<String>,
+    /// The RNG seed; the scene's own seed by default.
+    pub seed: Option<u64>,
+    /// Parameter overrides, each `NAME=VALUE` as `grove … --set` takes them.
+    #[serde(default)]
+    pub set: Vec<String>,
+    /// Make a recording: its header line is the first line handed back.
+    #[serde(default)]
+    pub record: bool,
+    /// A recording's header line made elsewhere: the simulation is the one it describes, and
+    /// its recorder writes the lines after it.
+    pub header: Option<String>,
+    /// The study task the session runs (its id, e.g. "ray-casting-7"), for the header.
+    pub task: Option<String>,
+    /// The participant's id, for the header.
+    pub participant: Option<String>,
+    /// Whether the session is generated rather than a person's.
+    #[serde(default)]
+    pub synthetic: bool,
+    /// The wall-clock start of the session (RFC 3339), for the header.
+    pub session_start: Option<String>,
+    /// The 1-based block of the participant's session, for the header.
+    pub block: Option<u32>,
+    /// A registered technique to switch to at the first tick (a plug-in's name goes into the
+    /// header, as `grove play --technique` writes it).
+    pub technique: Option<String>,
+}
+
+/// A simulation about to be built: its header, its scene, whether the header line is the
+/// caller's (so the recorder continues after it), and the technique to switch to first.
+pub struct Start {
+    /// The recording's header.
+    pub header: Header,
+    /// The scene the header names.
+    pub scene: Scene,
+    /// The header line came from the caller.
+    pub given_header: bool,
+    /// A technique to switch to at tick 0.
+    pub technique: Option<String>,
+}
+
+/// The scene a name (and optional text) stands for: a built-in one, or the text parsed. The
+/// module has no file system, so a scene that names model banks or an aerial crowns file is
+/// refused.
+pub fn scene(name: &str, text: Option<&str>) -> Result<Scene, Error> {
+    let refuse = |message: String| Error::Scene { name: name.to_string(), message };
+    let Some(text) = text else {
+        return Scene::builtin(name).ok_or_else(|| refuse("not a built-in scene (\"study\"); hand over its text as scene_text".into()));
+    };
+    if text.len() as u64 > MAX_SCENE_BYTES {
+        return Err(refuse(format!("larger than the limit of {MAX_SCENE_BYTES} bytes per scene file")));
+    }
+    let scene = Scene::parse(text, name).map_err(|e| refuse(e.message))?;
+    if !scene.banks.is_empty() {
+        return Err(refuse("it names model banks, which the module cannot read (it has no file system)".into()));
+    }
+    if scene.aerial.as_ref().is_some_and(|a| a.crowns.is_some()) {
+        return Err(refuse("it names an aerial crowns file, which the module cannot read (it has no file system)".into()));
+    }
+    Ok(scene)
+}
+
+impl Options {
+    /// Reads the options from JSON.
+    pub fn parse(json: &str) -> Result<Options, Error> {
+        serde_json::from_str(json).map_err(|e| Error::input("options", e))
+    }
+
+    /// The header and scene these options describe.
+    pub fn start(self) -> Result<Start, Error> {
+        match self.header.clone() {
+            Some(line) => self.following(&line),
+            None => self.new_header(),
+        }
+    }
+
+    fn following(self, line: &str) -> Result<Start, Error> {
+        let fields = [
+            ("scene", self.scene.is_some()),
+            ("seed", self.seed.is_some()),
+            ("set", !self.set.is_empty()),
+            ("record", self.record),
+            ("task", self.task.is_some()),
+            ("participant", self.participant.is_some()),
+            ("synthetic", self.synthetic),
+            ("session_start", self.session_start.is_some()),
+            ("block", self.block.is_some()),
+            ("technique", self.technique.is_some()),
+        ];
+        if let Some((name, _)) = fields.iter().find(|(_, given)| *given) {
+            return Err(Error::input("options", format!("`{name}` is given with `header`: the header line says it")));
+        }
+        let header = match decode_line(line.trim_end_matches(['\r', '\n'])) {
+            Ok(Line::Header(h)) => h,
+            Ok(_) => return Err(Error::HeaderLine("not a header line".into())),
+            Err(e) => return Err(Error::HeaderLine(e.to_string())),
+        };
+        if header.format_version != FORMAT_VERSION {
+            return Err(Error::HeaderLine(format!("format version {} (the recorder continues version {FORMAT_VERSION})", header.format_version)));
+        }
+        let scene = scene(&header.scene, self.scene_text.as_deref())?;
+        Ok(Start { header, scene, given_header: true, technique: None })
+    }
+
+    fn new_header(self) -> Result<Start, Error> {
+        let name = self.scene.clone().unwrap_or_else(|| "study".into());
+        let scene = scene(&name, self.scene_text.as_deref())?;
+        let mut header = Header::new(&name, self.seed.unwrap_or(scene.seed), scene.dt);
+        let set = self.set.iter().map(|a| a.parse::<SetArg>()).collect::<Result<Vec<_>, _>>()?;
+        header.config = SetArgs::single_values(&set)?.into_iter().collect();
+        header.task = self.task;
+        header.participant = self.participant;
+        header.synthetic = self.synthetic;
+        header.session_start = self.session_start;
+        header.block = self.block;
+        if let Some(name) = &self.technique {
+            let techniques = grove_systems::technique::installed();
+            let t = techniques.get(name).ok_or_else(|| Error::input("options", format!("technique: {}", techniques.unknown(name))))?;
+            if !t.is_builtin() {
+                header.technique = Some(HeaderTechnique { name: t.name.to_string(), version: t.version });
+            }
+        }
+        Ok(Start { header, scene, given_header: false, technique: self.technique })
+    }
+}
