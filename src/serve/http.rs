@@ -36,7 +36,7 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     let acceptor = tls::acceptor(&config.tls, &config.out, &shown_host)?.map(TlsAcceptor::from);
     let listener = TcpListener::bind((config.host, config.port)).await.map_err(|e| ServeError::Bind { addr: format!("{}:{}", config.host, config.port), message: e.to_string() })?;
     let addr = listener.local_addr().map_err(|e| ServeError::Bind { addr: config.host.to_string(), message: e.to_string() })?;
-    let statics = StaticRoots::new(&config.web, &config.assets, &config.banks);
+    let statics = StaticRoots::new(&config.web, &config.assets, &config.wasm, &config.banks);
     let state = Arc::new(State {
         registry,
         token: token.clone(),

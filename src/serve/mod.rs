@@ -154,8 +154,10 @@ pub struct ServeConfig {
     pub tls: TlsChoice,
     /// Model-bank folders whose models headers may name and which are served.
     pub banks: Vec<PathBuf>,
-    /// The web folder (`dist/` the page, `client/` the client library, `sim/pkg/` the module).
+    /// The web folder (`dist/` the page, `client/` the client library, `sim/` the module's loader).
     pub web: PathBuf,
+    /// The folder of the built module (`grove_sim.wasm`, as `web/build.sh` makes it).
+    pub wasm: PathBuf,
     /// The assets folder (`scenes/`, `tasks/`, `trees/`, `banks/`).
     pub assets: PathBuf,
     /// The longest a request's head or body may take to arrive.

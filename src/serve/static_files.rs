@@ -1,5 +1,6 @@
 //! Files served as they are: the page (`web/dist/`, at `/`), the client library
-//! (`web/client/`, at `/client/`), the wasm module (`web/sim/pkg/`, at `/sim/`), the scenes,
+//! (`web/client/`, at `/client/`), the simulation's module (its loader `web/sim/`, at `/sim/`,
+//! and `target/wasm/grove_sim.wasm`, at the same path, where the loader looks), the scenes,
 //! tasks, shipped tree models and controller models (`assets/…`, at `/scenes/`, `/tasks/`,
 //! `/models/shipped/`, `/controllers/`) and every model bank (`/models/banks/NAME/`).
 //!
@@ -27,6 +28,8 @@ use super::Refusal;
 struct Root {
     prefix: String,
     dir: PathBuf,
+    /// The one file of the folder served, where only one is.
+    only: Option<&'static str>,
 }
 
 /// The folders served, by URL prefix.
@@ -38,14 +41,16 @@ pub struct StaticRoots {
 impl StaticRoots {
     /// The roots of a web folder, an assets folder and the given model banks (the assets'
     /// own banks, `assets/banks/*`, come first).
-    pub fn new(web: &Path, assets: &Path, banks: &[PathBuf]) -> StaticRoots {
+    pub fn new(web: &Path, assets: &Path, wasm: &Path, banks: &[PathBuf]) -> StaticRoots {
         let mut roots = vec![
-            Root { prefix: "/client/".into(), dir: web.join("client") },
-            Root { prefix: "/sim/".into(), dir: web.join("sim").join("pkg") },
-            Root { prefix: "/scenes/".into(), dir: assets.join("scenes") },
-            Root { prefix: "/tasks/".into(), dir: assets.join("tasks") },
-            Root { prefix: "/models/shipped/".into(), dir: assets.join("trees") },
-            Root { prefix: "/controllers/".into(), dir: assets.join("controllers") },
+            // Where `web/sim/grove-sim.mjs` looks for the module by default, relative to itself.
+            Root { prefix: "/target/wasm/".into(), dir: wasm.to_path_buf(), only: Some("grove_sim.wasm") },
+            Root { prefix: "/client/".into(), dir: web.join("client"), only: None },
+            Root { prefix: "/sim/".into(), dir: web.join("sim"), only: None },
+            Root { prefix: "/scenes/".into(), dir: assets.join("scenes"), only: None },
+            Root { prefix: "/tasks/".into(), dir: assets.join("tasks"), only: None },
+            Root { prefix: "/models/shipped/".into(), dir: assets.join("trees"), only: None },
+            Root { prefix: "/controllers/".into(), dir: assets.join("controllers"), only: None },
         ];
         let mut bank_dirs: Vec<PathBuf> = std::fs::read_dir(assets.join("banks")).into_iter().flatten().flatten().map(|e| e.path()).filter(|p| p.is_dir()).collect();
         bank_dirs.sort();
@@ -61,10 +66,10 @@ impl StaticRoots {
                 k += 1;
             }
             names.push(name.clone());
-            roots.push(Root { prefix: format!("/models/banks/{name}/"), dir });
+            roots.push(Root { prefix: format!("/models/banks/{name}/"), dir, only: None });
         }
         // The page last: it has the shortest prefix.
-        roots.push(Root { prefix: "/".into(), dir: web.join("dist") });
+        roots.push(Root { prefix: "/".into(), dir: web.join("dist"), only: None });
         StaticRoots { roots }
     }
 
@@ -81,7 +86,11 @@ impl StaticRoots {
                 continue;
             }
             let mut urls = Vec::new();
-            list(&r.dir, &r.prefix, 2, &mut urls);
+            match r.only {
+                Some(name) if r.dir.join(name).is_file() => urls.push(format!("{}{name}", r.prefix)),
+                Some(_) => {}
+                None => list(&r.dir, &r.prefix, 2, &mut urls),
+            }
             urls.sort();
             out.insert(r.prefix.trim_matches('/').to_string(), serde_json::Value::from(urls));
         }
@@ -93,6 +102,9 @@ impl StaticRoots {
         let decoded = percent_encoding::percent_decode_str(url_path).decode_utf8().map_err(|_| Refusal::not_found("the path is not UTF-8 once decoded"))?;
         let root = self.roots.iter().find(|r| decoded.starts_with(&r.prefix) || (decoded == r.prefix.trim_end_matches('/') && r.prefix != "/")).ok_or_else(|| Refusal::not_found("nothing is served there"))?;
         let rest = decoded.strip_prefix(&root.prefix).unwrap_or("");
+        if root.only.is_some_and(|name| rest != name) {
+            return Err(Refusal::not_found("only the module is served there"));
+        }
         let mut path = root.dir.clone();
         let parts: Vec<&str> = if rest.is_empty() { Vec::new() } else { rest.split('/').collect() };
         for (i, part) in parts.iter().enumerate() {
@@ -212,13 +224,18 @@ mod tests {
         std::fs::write(d.path().join("outside.txt"), "no").unwrap();
         #[cfg(unix)]
         std::os::unix::fs::symlink(d.path().join("outside.txt"), assets.join("scenes/link.ron")).unwrap();
-        let roots = StaticRoots::new(&web, &assets, &[]);
+        std::fs::create_dir_all(d.path().join("wasm/release")).unwrap();
+        std::fs::write(d.path().join("wasm/grove_sim.wasm"), "\0asm").unwrap();
+        std::fs::write(d.path().join("wasm/release/other.wasm"), "no").unwrap();
+        let roots = StaticRoots::new(&web, &assets, &d.path().join("wasm"), &[]);
         let ok = |p: &str| roots.resolve(p).map(|f| std::fs::read_to_string(f).unwrap());
         assert_eq!(ok("/").unwrap(), "page");
         assert_eq!(ok("/js/a.js").unwrap(), "js");
         assert_eq!(ok("/scenes/study.ron").unwrap(), "()");
         assert_eq!(ok("/scenes/%73tudy.ron").unwrap(), "()", "decoded once");
-        for bad in ["/../outside.txt", "/scenes/../../outside.txt", "/scenes/%2e%2e/%2e%2e/outside.txt", "/scenes/..%2f..%2foutside.txt", "/.env", "/scenes/link.ron", "/scenes//study.ron", "/scenes/%00", "/scenes/a%5c..%5c..%5coutside.txt", "/nothing.txt"] {
+        assert_eq!(ok("/target/wasm/grove_sim.wasm").unwrap(), "\0asm");
+        assert_eq!(roots.index()["target/wasm"], serde_json::json!(["/target/wasm/grove_sim.wasm"]));
+        for bad in ["/../outside.txt", "/scenes/../../outside.txt", "/scenes/%2e%2e/%2e%2e/outside.txt", "/scenes/..%2f..%2foutside.txt", "/.env", "/scenes/link.ron", "/scenes//study.ron", "/scenes/%00", "/scenes/a%5c..%5c..%5coutside.txt", "/nothing.txt", "/target/wasm/release/other.wasm", "/target/wasm/"] {
             let r = roots.resolve(bad);
             assert!(r.as_ref().is_err_and(|e| e.status == 404), "{bad}: {r:?}");
         }

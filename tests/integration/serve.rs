@@ -165,6 +165,7 @@ fn scenes_tasks_and_models_are_served_as_they_are() {
         ("/models/shipped/catalogue.ron", "assets/trees/catalogue.ron", "text/plain"),
         ("/models/banks/species/catalogue.ron", "assets/banks/species/catalogue.ron", "text/plain"),
         ("/client/grove-client.mjs", "web/client/grove-client.mjs", "text/javascript"),
+        ("/sim/grove-sim.mjs", "web/sim/grove-sim.mjs", "text/javascript"),
     ] {
         let r = request(&server.addr, "GET", url, &[], b"");
         assert_eq!(r.status, 200, "{url}: {}", r.body);

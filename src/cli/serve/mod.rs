@@ -30,9 +30,12 @@ pub struct ServeArgs {
     /// A model bank whose models headers may name (and which is served); repeatable.
     #[arg(long)]
     bank: Vec<PathBuf>,
-    /// The web folder: dist/ (the page, at /), client/ (at /client/), sim/pkg/ (the wasm module, at /sim/).
+    /// The web folder: dist/ (the page, at /), client/ (at /client/), sim/ (the module's loader, at /sim/).
     #[arg(long, default_value = "web")]
     web: PathBuf,
+    /// The folder with the built module grove_sim.wasm (bash web/build.sh; default: $CARGO_TARGET_DIR/wasm or target/wasm), served at /target/wasm/.
+    #[arg(long)]
+    wasm: Option<PathBuf>,
     /// The assets folder: scenes/, tasks/, trees/, controllers/ and banks/ are served.
     #[arg(long, default_value = "assets")]
     assets: PathBuf,
@@ -133,6 +136,7 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 tls,
                 banks: grove_systems::bank::bank_dirs(&args.bank, std::env::var(grove_systems::bank::BANK_ENV).ok().as_deref()),
                 web: args.web,
+                wasm: args.wasm.unwrap_or_else(|| PathBuf::from(std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into())).join("wasm")),
                 assets: args.assets,
                 read_timeout: seconds("read-timeout", args.read_timeout)?,
                 writer_lease: seconds("writer-lease", args.writer_lease)?,
