@@ -13,6 +13,7 @@ pub mod bench;
 pub mod error;
 pub mod html;
 pub mod render;
+pub mod serve;
 pub mod species;
 pub mod lsystem;
 pub mod study;

@@ -62,6 +62,8 @@ enum Command {
     /// Treetops from summer and winter aerial photographs: segment, scene, synth, eval.
     #[command(subcommand)]
     Aerial(cli::aerial::AerialCommand),
+    /// A session server: recordings streamed from any device, checked line by line, verified as they end (docs/serve.md).
+    Serve(cli::serve::ServeArgs),
 }
 
 fn main() -> ExitCode {
@@ -103,6 +105,7 @@ fn main() -> ExitCode {
         Command::Aerial(cmd) => cli::aerial::run(cmd),
         Command::Models(cmd) => cli::models::run(cmd),
         Command::Trees(cmd) => cli::models::trees::run(cmd),
+        Command::Serve(args) => cli::serve::run(args),
     };
     match result {
         Ok(code) => code,

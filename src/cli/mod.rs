@@ -8,6 +8,7 @@ pub mod play;
 pub mod render;
 pub mod replay;
 pub mod scene;
+pub mod serve;
 pub mod study;
 pub mod test;
 

@@ -49,6 +49,8 @@ pub enum Kind {
     Cache,
     /// A small status file of the operating system (`/proc/self/status`).
     Status,
+    /// A file a session server sends as it is (a page, the wasm module, a scene, a model).
+    Served,
 }
 
 impl Kind {
@@ -67,6 +69,7 @@ impl Kind {
             Kind::ImageRows => u64::MAX,
             Kind::Cache => l::MAX_CACHE_BYTES,
             Kind::Status => 1 << 20,
+            Kind::Served => l::MAX_MODEL_FILE_BYTES,
         }
     }
 
@@ -84,6 +87,7 @@ impl Kind {
             Kind::Image | Kind::ImageRows => "an image",
             Kind::Cache => "a cache file",
             Kind::Status => "a status file",
+            Kind::Served => "a served file",
         }
     }
 }

@@ -2,17 +2,17 @@
 //! (chained from version 2 on), and the structural rules every line must keep, whatever the
 //! simulation does with it.
 //!
-//! Rules checked here, before any simulation: the header comes first and only once; nothing
-//! follows the footer; ticks never decrease; no tick is past [`MAX_TICKS`]; and no line is more
-//! than [`CHECKPOINT_EVERY`] ticks past the last checkpoint (or the start), since the recorder
-//! writes one every [`CHECKPOINT_EVERY`] ticks. The last rule bounds the simulation a file can
-//! ask for by its number of lines: at most [`CHECKPOINT_EVERY`] steps per line.
+//! The rules are [`super::line_rules`]'s, checked before any simulation: the header comes first
+//! and only once; nothing follows the footer; ticks never decrease; no tick is past the tick
+//! limit; and no line is more than a checkpoint interval past the last checkpoint (or the
+//! start), since the recorder writes one every interval. The last rule bounds the simulation a
+//! file can ask for by its number of lines.
 
 use std::io::{BufRead, BufReader, Read};
 
-use super::codec::{decode_line_chained, decode_owned, Maps};
-use super::{Header, Line, CHECKPOINT_EVERY, FORMAT_NAME, MAX_LINE, READABLE_VERSIONS};
-use crate::limits::{MAX_TICKS, RAISE};
+use super::codec::Maps;
+use super::line_rules::{header_line, LineRules, RuledLine};
+use super::{Header, Line, MAX_LINE};
 
 /// A problem at a line (1-based; `None` for the file as a whole), as the caller reports it.
 pub(crate) type LineError = (Option<u64>, String);
@@ -89,22 +89,14 @@ impl Checked {
     }
 }
 
-/// A recording's lines, checked one at a time.
+/// A recording's lines, checked one at a time by the format's [`LineRules`].
 pub(crate) struct Lines<R: Read> {
     reader: LineReader<R>,
     /// The header (read by [`Lines::open`]).
     pub header: Header,
-    /// Whether checksums are chained (version 2 and later).
-    chained: bool,
-    prev: u32,
-    last_tick: u64,
-    last_checkpoint: u64,
-    footer_seen: bool,
+    rules: LineRules,
     /// Whether the file ended in a line without a newline (a cut line, ignored).
     pub cut: bool,
-    /// Whether checkpoints' per-component and per-entity hashes are read (see
-    /// [`Lines::checkpoint_maps_when_needed`]).
-    maps: Maps,
     /// Whether only checkpoints keep their body (see [`Lines::keep_checkpoint_bodies_only`]).
     checkpoint_bodies_only: bool,
 }
@@ -118,34 +110,16 @@ impl<R: Read> Lines<R> {
             NextLine::Cut => return Err((Some(1), "the header line is cut off (no newline)".into())),
             NextLine::Line(l) => l,
         };
-        // Look at the type and version before the checksum, so a file without a header or of a
-        // future format gets a clear message.
-        if let Ok(v) = serde_json::from_str::<serde_json::Value>(first.trim()) {
-            if v.get("type").and_then(|t| t.as_str()) != Some("header") {
-                return Err((Some(1), "missing header: the first line must be the recording header".into()));
-            }
-            if let Some(ver) = v.get("format_version").and_then(|x| x.as_u64())
-                && !READABLE_VERSIONS.iter().any(|&r| r as u64 == ver)
-            {
-                return Err((Some(1), format!("format version {ver} is not supported; this grove reads versions {READABLE_VERSIONS:?} (upgrade grove to read newer files)")));
-            }
-        }
-        let header = match decode_line_chained(&first, 0).map_err(|m| (Some(1), m.to_string()))? {
-            Line::Header(h) => h,
-            _ => return Err((Some(1), "missing header: the first line must be the recording header".into())),
-        };
-        if header.format != FORMAT_NAME {
-            return Err((Some(1), format!("format {:?} is not '{FORMAT_NAME}'", header.format)));
-        }
-        let chained = header.format_version >= 2;
-        Ok(Lines { reader, header, chained, prev: 0, last_tick: 0, last_checkpoint: 0, footer_seen: false, cut: false, maps: Maps::Read, checkpoint_bodies_only: false })
+        let header = header_line(&first).map_err(|m| (Some(1), m.0))?;
+        let rules = LineRules::after(&header);
+        Ok(Lines { reader, header, rules, cut: false, checkpoint_bodies_only: false })
     }
 
     /// From now on, a checkpoint's `components` and `entities` maps are checked to be maps of
     /// strings but left empty: for a reader that needs them only at a divergence, and then reads
     /// them from the line's body ([`Checked::checkpoint`]).
     pub fn checkpoint_maps_when_needed(&mut self) {
-        self.maps = Maps::CheckOnly;
+        self.rules.checkpoint_maps_when_needed();
     }
 
     /// From now on, only a checkpoint's [`Checked::body`] is kept, any other line's is empty:
@@ -166,41 +140,7 @@ impl<R: Read> Lines<R> {
             }
             NextLine::Line(l) => l,
         };
-        let fail = |m: String| (Some(n), m);
-        if text.trim().is_empty() {
-            return Err(fail("empty line".into()));
-        }
-        if self.footer_seen {
-            return Err(fail("a line after the footer".into()));
-        }
-        let prev = if self.chained { self.prev } else { 0 };
-        let (line, body, sum) = decode_owned(text, prev, self.maps).map_err(|m| fail(m.to_string()))?;
-        self.prev = sum;
-        let tick = match &line {
-            Line::Header(_) => return Err(fail("a second header".into())),
-            Line::Event(e) => e.tick,
-            Line::Checkpoint(c) => c.tick,
-            Line::Footer(f) => f.final_tick,
-        };
-        if tick > MAX_TICKS {
-            return Err(fail(format!("tick {tick} is past the limit of {MAX_TICKS} ticks per recording (about 19 days at 60 Hz; {RAISE})")));
-        }
-        if tick < self.last_tick {
-            return Err(fail(format!("tick {tick} comes after tick {}: ticks out of order", self.last_tick)));
-        }
-        if tick > self.last_checkpoint + CHECKPOINT_EVERY {
-            return Err(fail(format!(
-                "tick {tick} is more than {CHECKPOINT_EVERY} ticks past the last checkpoint (tick {}); a checkpoint is missing",
-                self.last_checkpoint
-            )));
-        }
-        if let Line::Checkpoint(_) = &line {
-            self.last_checkpoint = tick;
-        }
-        if let Line::Footer(_) = &line {
-            self.footer_seen = true;
-        }
-        self.last_tick = tick;
+        let RuledLine { line, tick, body } = self.rules.check(text).map_err(|m| (Some(n), m.0))?;
         let body = if self.checkpoint_bodies_only && !matches!(line, Line::Checkpoint(_)) {
             self.reader.spare = body.into_bytes();
             String::new()

@@ -17,6 +17,7 @@
 pub mod codec;
 mod fast_checkpoint;
 mod fast_pose;
+pub mod line_rules;
 mod lines;
 pub mod names;
 pub mod player;
@@ -31,6 +32,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 pub use codec::{chained_sum, decode_line, decode_line_chained, encode_line, encode_line_chained, line_sum, rechain, sign_body, split_sum, LineFormatError};
+pub use line_rules::{header_line, LineRuleError, LineRules, RuledLine};
 pub use names::NameError;
 pub use scene_ref::SceneRefError;
 pub use player::Player;

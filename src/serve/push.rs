@@ -1,0 +1,268 @@
+//! `grove serve push FILE --to URL`: streams an existing recording to a server as a live client
+//! would, so that a lab can test its network before a participant arrives. It opens a session
+//! with the file's header line, sends the lines in batches (at full speed, or at the pace of the
+//! events' `ms` times, or a multiple of it), each batch starting at the line after the last one
+//! acknowledged; when the connection fails it keeps what is not acknowledged, reconnects, asks
+//! the server how many lines it has and goes on from there, until the server is back or
+//! `give_up` has passed without one.
+
+use std::collections::VecDeque;
+use std::io::Read;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use bytes::Bytes;
+use grove_systems::files::{self, Kind};
+use grove_systems::limits::MAX_LINE_BYTES;
+use hyper::Method;
+use serde::Serialize;
+use serde_json::json;
+
+use super::client::{Answer, Conn, Endpoint};
+use super::line_split::LineSplitter;
+use super::ServeError;
+
+/// How fast lines are sent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rate {
+    /// As fast as the server acknowledges them.
+    Max,
+    /// At the pace of the events' `ms` times, this many times faster (1: real time).
+    Real(f64),
+}
+
+/// Options of a push.
+#[derive(Clone, Debug)]
+pub struct PushOptions {
+    /// How fast.
+    pub rate: Rate,
+    /// The longest one request (or a connection) may take.
+    pub timeout: Duration,
+    /// Give up after this long without reaching the server.
+    pub give_up: Duration,
+    /// The most bytes in one request.
+    pub max_batch_bytes: usize,
+}
+
+/// What a push did.
+#[derive(Clone, Debug, Serialize)]
+pub struct PushReport {
+    /// The file pushed.
+    pub file: String,
+    /// The session's file on the server.
+    pub server_file: String,
+    /// Lines acknowledged (the header included).
+    pub lines: u64,
+    /// Requests that carried lines.
+    pub requests: u64,
+    /// Connections opened again after one failed.
+    pub reconnects: u64,
+    /// Seconds from the first request to the answer of the last.
+    pub seconds: f64,
+    /// The server's answer to the session's end: its state and verification.
+    pub ended: serde_json::Value,
+}
+
+/// The recording's lines, read as they are needed.
+struct Source {
+    file: std::fs::File,
+    splitter: LineSplitter,
+    ready: VecDeque<String>,
+    eof: bool,
+    name: String,
+}
+
+impl Source {
+    fn open(path: &Path) -> Result<Source, ServeError> {
+        let (file, _) = files::open(path, Kind::Recording).map_err(|e| ServeError::Client(e.to_string()))?;
+        Ok(Source { file, splitter: LineSplitter::new(MAX_LINE_BYTES), ready: VecDeque::new(), eof: false, name: path.display().to_string() })
+    }
+
+    fn next(&mut self) -> Result<Option<String>, ServeError> {
+        let mut chunk = vec![0u8; 64 * 1024];
+        while self.ready.is_empty() && !self.eof {
+            let n = self.file.read(&mut chunk).map_err(|e| ServeError::Client(format!("{}: {e}", self.name)))?;
+            if n == 0 {
+                self.eof = true;
+                if !self.splitter.rest().is_empty() {
+                    // A cut last line (a recorder killed mid-line) is not sent, as the replay ignores it.
+                    break;
+                }
+            }
+            let ready = &mut self.ready;
+            self.splitter
+                .push(&chunk[..n], &mut |l| {
+                    ready.push_back(l);
+                    true
+                })
+                .map_err(|e| ServeError::Client(format!("{}: {e}", self.name)))?;
+        }
+        Ok(self.ready.pop_front())
+    }
+}
+
+/// The connection, opened again as needed.
+struct Link<'a> {
+    endpoint: &'a Endpoint,
+    conn: Option<Conn>,
+    options: &'a PushOptions,
+    reconnects: u64,
+    offline_since: Option<Instant>,
+    say: &'a dyn Fn(&str),
+}
+
+impl Link<'_> {
+    async fn call(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, String> {
+        if self.conn.is_none() {
+            let c = self.endpoint.connect(self.options.timeout).await?;
+            if self.offline_since.is_some() {
+                self.reconnects += 1;
+            }
+            self.conn = Some(c);
+        }
+        let conn = self.conn.as_mut().ok_or("no connection")?;
+        match conn.request(method, path, body, self.options.timeout).await {
+            Ok(a) => {
+                if let Some(since) = self.offline_since.take() {
+                    (self.say)(&format!("reconnected after {:.1} s", since.elapsed().as_secs_f64()));
+                }
+                Ok(a)
+            }
+            Err(e) => {
+                self.conn = None;
+                Err(e)
+            }
+        }
+    }
+
+    /// After a failed call: waits a moment, or gives up once the server has been away too long.
+    async fn wait(&mut self, why: &str, attempt: &mut u32) -> Result<(), ServeError> {
+        let since = *self.offline_since.get_or_insert_with(|| {
+            (self.say)(&format!("connection lost ({why}); keeping the lines not yet acknowledged and retrying"));
+            Instant::now()
+        });
+        if since.elapsed() > self.options.give_up {
+            return Err(ServeError::Client(format!("gave up after {:.0} s without the server: {why}", since.elapsed().as_secs_f64())));
+        }
+        *attempt += 1;
+        tokio::time::sleep(Duration::from_millis((100u64 << (*attempt).min(4)).min(1000))).await;
+        Ok(())
+    }
+
+    /// Calls until the server answers (retrying while it cannot be reached).
+    async fn answer(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ServeError> {
+        let mut attempt = 0;
+        loop {
+            match self.call(method.clone(), path, body.clone()).await {
+                Ok(a) => return Ok(a),
+                Err(e) => self.wait(&e, &mut attempt).await?,
+            }
+        }
+    }
+}
+
+fn refused(what: &str, (status, v): &Answer) -> ServeError {
+    ServeError::Client(format!("{what} refused ({status}): {}", v.get("error").and_then(|e| e.as_str()).unwrap_or("no reason given")))
+}
+
+/// The wall-clock milliseconds an event line was made at, if it says.
+fn event_ms(line: &str) -> Option<u64> {
+    let v: serde_json::Value = serde_json::from_str(line).ok()?;
+    v.get("ms")?.as_u64()
+}
+
+/// How many lines the server has of an open session, asked until it answers (a request of the
+/// lost connection may still hold the session until the server's read time is up).
+async fn server_lines(link: &mut Link<'_>, session: &str) -> Result<u64, ServeError> {
+    loop {
+        let status = link.answer(Method::GET, &format!("/api/sessions/{session}"), Bytes::new()).await?;
+        match status {
+            (200, ref v) if v["state"] == "open" => return v["acked"].as_u64().ok_or_else(|| ServeError::Client("the server's answer has no 'acked' count".into())),
+            (409, ref v) if v["code"] == "busy" => tokio::time::sleep(Duration::from_millis(200)).await,
+            other => return Err(refused("continuing the session", &other)),
+        }
+    }
+}
+
+/// Pushes a recording to the server at `endpoint`; `say` gets a line for each connection lost
+/// and found again.
+pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: &dyn Fn(&str)) -> Result<PushReport, ServeError> {
+    let mut source = Source::open(path)?;
+    let header = source.next()?.ok_or_else(|| ServeError::Client(format!("{}: empty file", path.display())))?;
+    let mut link = Link { endpoint, conn: None, options, reconnects: 0, offline_since: None, say };
+    let opened = link.answer(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string())).await?;
+    if opened.0 != 201 {
+        return Err(refused("opening the session", &opened));
+    }
+    let session = opened.1["session"].as_str().unwrap_or("").to_string();
+    let server_file = opened.1["file"].as_str().unwrap_or("").to_string();
+    say(&format!("session {server_file} opened"));
+    let start = Instant::now();
+    let (mut acked, mut requests) = (1u64, 0u64);
+    // Lines read and not yet acknowledged: (number, text, when it is due, seconds from start).
+    let mut queue: VecDeque<(u64, String, f64)> = VecDeque::new();
+    let (mut next_number, mut due) = (2u64, 0.0f64);
+    let mut queued_bytes = 0usize;
+    let lines_path = format!("/api/sessions/{session}/lines");
+    loop {
+        while queued_bytes < 4 * options.max_batch_bytes {
+            let Some(line) = source.next()? else { break };
+            if let Rate::Real(f) = options.rate
+                && let Some(ms) = event_ms(&line)
+            {
+                due = due.max(ms as f64 / 1000.0 / f);
+            }
+            queued_bytes += line.len() + 1;
+            queue.push_back((next_number, line, due));
+            next_number += 1;
+        }
+        let Some(&(from, _, first_due)) = queue.front() else { break };
+        let now = start.elapsed().as_secs_f64();
+        if first_due > now {
+            tokio::time::sleep(Duration::from_secs_f64(first_due - now)).await;
+            continue;
+        }
+        let mut body = Vec::new();
+        for (_, text, d) in queue.iter() {
+            if *d > now || (!body.is_empty() && body.len() + text.len() + 1 > options.max_batch_bytes) {
+                break;
+            }
+            body.extend_from_slice(text.as_bytes());
+            body.push(b'\n');
+        }
+        requests += 1;
+        let answer = link.call(Method::POST, &format!("{lines_path}?from={from}"), Bytes::from(body)).await;
+        let new_acked = match answer {
+            Ok((200, v)) => v["acked"].as_u64(),
+            Ok((409, v)) if v["code"] == "gap" => v["acked"].as_u64(),
+            Ok((409, v)) if v["code"] == "busy" => {
+                tokio::time::sleep(Duration::from_millis(100)).await;
+                Some(acked)
+            }
+            Ok(other) => return Err(refused("a batch of lines", &other)),
+            Err(e) => {
+                // The answer is lost, not perhaps the lines: ask the server what it has.
+                let mut attempt = 0;
+                link.wait(&e, &mut attempt).await?;
+                Some(server_lines(&mut link, &session).await?)
+            }
+        };
+        let new_acked = new_acked.ok_or_else(|| ServeError::Client("the server's answer has no 'acked' count".into()))?;
+        if new_acked + 1 < from {
+            return Err(ServeError::Client(format!("the server has {new_acked} lines of {server_file}, fewer than it acknowledged ({})", from - 1)));
+        }
+        acked = new_acked;
+        while queue.front().is_some_and(|(n, _, _)| *n <= acked) {
+            if let Some((_, text, _)) = queue.pop_front() {
+                queued_bytes -= text.len() + 1;
+            }
+        }
+    }
+    let ended = link.answer(Method::POST, &format!("/api/sessions/{session}/end"), Bytes::new()).await?;
+    let ended = match ended {
+        (200, v) => v,
+        (410, _) => link.answer(Method::GET, &format!("/api/sessions/{session}"), Bytes::new()).await?.1,
+        other => return Err(refused("ending the session", &other)),
+    };
+    Ok(PushReport { file: path.display().to_string(), server_file, lines: acked, requests, reconnects: link.reconnects, seconds: start.elapsed().as_secs_f64(), ended })
+}

@@ -1,0 +1,26 @@
+//! What every request of the server sees.
+
+use std::time::Duration;
+
+use super::registry::Registry;
+use super::static_files::StaticRoots;
+
+/// What every request sees.
+pub struct State {
+    /// The sessions.
+    pub registry: Registry,
+    /// The token every request must carry, if any.
+    pub token: Option<String>,
+    /// The folders served as they are.
+    pub statics: StaticRoots,
+    /// See [`super::ServeConfig::read_timeout`].
+    pub read_timeout: Duration,
+    /// See [`super::ServeConfig::writer_lease`].
+    pub writer_lease: Duration,
+    /// Whether connections are TLS (the token's cookie is then `Secure`).
+    pub tls: bool,
+    /// Re-simulations running at once: at most one per core less one (at least one), so that
+    /// many sessions ending together do not take the cores from those still streaming.
+    pub verifying: tokio::sync::Semaphore,
+}
+
