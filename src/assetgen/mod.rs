@@ -28,9 +28,6 @@ use geometry::MeshData;
 use gltf_out::MaterialTextures;
 use species::Species;
 
-/// Names of the cube faces in wgpu's layer order (+X, −X, +Y, −Y, +Z, −Z).
-pub const CUBE_FACES: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
-
 /// Size of a cube face, texels.
 pub const CUBE_SIZE: u32 = 128;
 
@@ -166,7 +163,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
     files += 1;
 
     // The environment: the sky cubemap and the ground texture.
-    for (face, name) in CUBE_FACES.iter().enumerate() {
+    for (face, name) in crate::cubemap::FACES.iter().enumerate() {
         write_png(&env.join(format!("{name}.png")), Img::Rgb(textures::sky_face(face, CUBE_SIZE)))?;
     }
     write_png(&env.join("ground.png"), Img::Rgb(textures::ground(256)))?;

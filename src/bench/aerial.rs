@@ -67,7 +67,7 @@ pub fn fly(gpu: &Gpu, a: &Flight, scene: &Scene, canopy: bool) -> anyhow::Result
     let mut sim = Sim::from_scene(scene, scene.seed).map_err(|e| anyhow!(e))?;
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, a.width, a.height)?;
     r.options = RenderOptions { overlay: false, canopy, shadows: a.shadows, ..Default::default() };
-    let sources = crate::aerial::open::open_sources(scene, false)?.ok_or_else(|| anyhow!("the scene has no aerial section"))?;
+    let sources = crate::render::aerial_ground::open::open_sources(scene, false)?.ok_or_else(|| anyhow!("the scene has no aerial section"))?;
     let def = scene.aerial.as_ref().expect("checked");
     let (x0, x1) = (def.origin.x, def.origin.x + sources.size_m.x);
     let z = def.origin.y + sources.size_m.y * 0.75;

@@ -280,7 +280,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.res().tick);
         }
         let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
-        let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+        let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
         let gpu = Gpu::new()?;
         let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene, aerial)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, out)?;
@@ -301,7 +301,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     match args.frames {
         None => {
             check_out_file(out, args.force, &PNG_OUT)?;
-            let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+            let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             render_sim(&gpu, &mut renderer, &sim, out)?;
@@ -309,7 +309,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         }
         Some(n) => {
             let ticks_per_frame = frames_setup(&args, out, n, scene.dt)?;
-            let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+            let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             for f in 0..n {

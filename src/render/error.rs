@@ -246,6 +246,25 @@ pub enum ClipmapError {
     /// The loader thread could not be started.
     #[error("cannot start the clipmap's loader thread: {0}")]
     LoaderThread(std::io::Error),
+    /// A photograph, layer mask or tile pyramid that could not be read or does not fit.
+    #[error(transparent)]
+    Aerial(#[from] crate::aerial::AerialError),
+    /// An error about a named photograph: `name` is how the message names it ("winter
+    /// photograph").
+    #[error("{name}: {error}")]
+    In {
+        /// The photograph, as the message names it.
+        name: String,
+        /// What went wrong with it.
+        error: Box<ClipmapError>,
+    },
+}
+
+impl ClipmapError {
+    /// This error about the photograph named `name`: "`name`: error".
+    pub fn named(self, name: impl std::fmt::Display) -> ClipmapError {
+        ClipmapError::In { name: name.to_string(), error: Box::new(self) }
+    }
 }
 
 /// A short description of an image error, on one line.
