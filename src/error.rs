@@ -9,7 +9,8 @@ use crate::html::HtmlError;
 use crate::lsystem::expr::ExprError;
 use crate::render::trees::impostor::cache::AtlasError;
 use crate::render::overlay::controller::ControllerError;
-use crate::render::{ClipmapError, GltfError, PipelineError, RenderError};
+use crate::models::GltfError;
+use crate::render::{ClipmapError, PipelineError, RenderError};
 use crate::species::SpeciesError;
 use crate::video::encode::VideoError;
 use crate::video::ghosts::GhostError;
@@ -78,8 +79,8 @@ mod tests {
         let e = scene(path).unwrap_err();
         assert!(matches!(e, Error::Systems(_)));
         assert_eq!(e.to_string(), grove_systems::scene::Scene::load(path).unwrap_err().to_string());
-        fn gltf(path: &std::path::Path) -> Result<crate::render::gltf_load::ModelData, Error> {
-            Ok(crate::render::gltf_load::load_model(path)?)
+        fn gltf(path: &std::path::Path) -> Result<crate::models::ModelData, Error> {
+            Ok(crate::models::load_model(path)?)
         }
         let e = gltf(std::path::Path::new("/nonexistent/model.gltf")).unwrap_err();
         assert!(e.to_string().contains("model.gltf"), "{e}");

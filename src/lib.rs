@@ -16,6 +16,7 @@ pub mod html;
 pub mod render;
 pub mod species;
 pub mod lsystem;
+pub mod models;
 pub mod study;
 pub mod video;
 

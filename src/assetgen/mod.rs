@@ -13,14 +13,13 @@
 
 pub mod geometry;
 pub mod gltf_out;
-pub mod pick;
 pub mod species;
 pub mod textures;
 
 use std::path::Path;
 
 use anyhow::Context;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use grove_systems::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind};
 use image::{RgbImage, RgbaImage};
 
@@ -56,11 +55,6 @@ fn write_png(path: &Path, img: Img) -> anyhow::Result<()> {
 
 fn write(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     crate::atomic_write::write_atomic(path, bytes)
-}
-
-/// The horizontal radius of a set of meshes around the trunk axis.
-pub fn crown_radius<'a>(meshes: impl IntoIterator<Item = &'a [Vec3]>) -> f32 {
-    meshes.into_iter().flatten().map(|p| Vec2::new(p.x, p.z).length()).fold(0.0, f32::max)
 }
 
 /// Formats a catalogue as RON in the layout of `assets/trees/catalogue.ron`.
@@ -152,9 +146,9 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 kind,
                 bounds_min: a.min(c),
                 bounds_max: b.max(d),
-                crown_radius: crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
+                crown_radius: crate::models::measure::crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
                 triangles: (wood.triangles() + foliage.triangles()) as u32,
-                pick: Some(pick::pick_shape(&[(&wood.positions, &wood.indices), (&foliage.positions, &foliage.indices)])),
+                pick: Some(crate::models::pick::pick_shape(&[(&wood.positions, &wood.indices), (&foliage.positions, &foliage.indices)])),
             });
         }
     }

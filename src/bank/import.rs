@@ -13,8 +13,7 @@ use grove_systems::catalogue::{Catalogue, ModelKind};
 
 use grove_systems::files::{self, Kind};
 
-use crate::render::assets::gltf_files;
-use crate::render::assets::gltf_load::ModelData;
+use crate::models::{gltf_files, ModelData};
 
 /// What to add, and under which name.
 #[derive(Clone, Debug)]
@@ -49,7 +48,7 @@ pub enum Added {
 /// is refused with one line naming the URI, before anything it names is read.
 pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
     let bytes = files::read(file, Kind::Gltf).map_err(|e| anyhow!(e))?;
-    let gltf = crate::render::assets::gltf_open::parse(&bytes).map_err(|e| anyhow!("{}: not a valid glTF 2.0 file ({})", file.display(), e.to_string().replace('\n', " ")))?;
+    let gltf = crate::models::gltf_open::parse(&bytes).map_err(|e| anyhow!("{}: not a valid glTF 2.0 file ({})", file.display(), e.to_string().replace('\n', " ")))?;
     let mut uris: Vec<String> = Vec::new();
     for b in gltf.document.buffers() {
         if let gltf::buffer::Source::Uri(u) = b.source() {
@@ -64,7 +63,7 @@ pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
     let base = source_dir(file);
     let mut out: Vec<String> = Vec::new();
     for u in uris {
-        let named = |m: crate::render::error::GltfProblem| anyhow!("{}: names the file '{u}', which {m}", file.display());
+        let named = |m: crate::models::GltfProblem| anyhow!("{}: names the file '{u}', which {m}", file.display());
         let Some(rel) = gltf_files::relative_path(&u).map_err(named)? else { continue };
         gltf_files::resolve(&base, &u).map_err(named)?;
         if !out.contains(&rel) {
@@ -159,7 +158,7 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
         bail!("{}: exists but is not in the bank's catalogue; remove it or choose another --name", dest.display());
     }
 
-    let m = super::measure(data);
+    let m = crate::models::measure(data);
     let model = BankModel {
         name: name.clone(),
         species,

@@ -4,8 +4,7 @@
 
 use std::path::Path;
 
-use crate::render::assets::gltf_load::{load_model, ModelData};
-use crate::render::error::{GltfError, GltfProblem};
+use crate::models::{load_model, GltfError, GltfProblem, ModelData};
 
 /// Why a model was refused, the session's banks could not be opened, or a thumbnail could not
 /// be made. Its `Display` is one line.

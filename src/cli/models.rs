@@ -13,7 +13,7 @@ use std::process::ExitCode;
 use anyhow::anyhow;
 use clap::{Args, Subcommand, ValueEnum};
 use grove::bank::import::{add_noted, load_checked, AddRequest, Added};
-use grove::bank::measure;
+use grove::models::measure;
 use grove_systems::bank::{Bank, BankModel};
 use grove_systems::catalogue::{Catalogue, ModelKind, PickShape, PICK_BANDS};
 use serde::Serialize;
@@ -219,7 +219,7 @@ fn run_list(a: ListArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// Differences between catalogue measurements and a fresh measurement, as short phrases.
-fn differences(bmin: glam::Vec3, bmax: glam::Vec3, tris: u32, pick: Option<&PickShape>, m: &grove::bank::Measured) -> Vec<String> {
+fn differences(bmin: glam::Vec3, bmax: glam::Vec3, tris: u32, pick: Option<&PickShape>, m: &grove::models::Measured) -> Vec<String> {
     let mut out = Vec::new();
     let tol = 1e-3 * (1.0 + (bmax - bmin).max_element());
     if (bmin - m.bounds_min).abs().max_element() > tol || (bmax - m.bounds_max).abs().max_element() > tol {

@@ -212,7 +212,7 @@ fn frames_setup(args: &RenderArgs, out: &Path, n: u32, dt: f32) -> anyhow::Resul
 
 /// A `--model` file read and checked as a bank model is ([`grove::bank::validate_gltf`]),
 /// before the GPU starts; what it uses that grove does not draw is printed as warnings.
-fn load_model_checked(model: &Path) -> anyhow::Result<grove::render::assets::gltf_load::ModelData> {
+fn load_model_checked(model: &Path) -> anyhow::Result<grove::models::ModelData> {
     let data = grove::bank::validate_gltf(model).map_err(|e| anyhow!(e))?;
     for w in &data.warnings {
         eprintln!("warning: {w}");

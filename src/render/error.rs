@@ -4,16 +4,14 @@
 //! prints an error's whole chain.
 //!
 //! A leaf of `src/render`: it names no feature module (features import it), only the pipeline
-//! key ([`super::key`]) and its own glTF part ([`gltf_problem`]).
-
-pub mod gltf_problem;
+//! key ([`super::key`]) and the models' glTF errors ([`crate::models::GltfError`]).
 
 use std::path::PathBuf;
 
 use glam::DVec2;
 use grove_systems::files::FileError;
 
-pub use self::gltf_problem::{GltfError, GltfProblem};
+pub use crate::models::{GltfError, GltfProblem};
 use super::key::PipelineKey;
 
 /// Why the renderer failed.

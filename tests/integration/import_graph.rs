@@ -96,3 +96,23 @@ fn the_app_has_no_circles_between_folders() {
         panic!("import circle between folders: {}", cycle.join(" -> "));
     }
 }
+
+#[test]
+fn models_are_loaded_without_the_renderer() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let edges = folder_graph(&src);
+    assert!(edges.get("bank").is_some_and(|t| t.contains("models")) && edges.get("render").is_some_and(|t| t.contains("models")), "the folder graph was read: {edges:?}");
+    // What `models` imports from the app: itself and the files at the top of the crate only.
+    let mut above = Vec::new();
+    for (from, to) in file_graph(&src).iter().filter(|(from, _)| folder_of(&src, from) == "models") {
+        for t in to.iter().filter(|t| !folder_of(&src, t).is_empty() && folder_of(&src, t) != "models") {
+            above.push(format!("{from} -> {t}"));
+        }
+    }
+    assert!(above.is_empty(), "models import the app's folders: {above:?}");
+    for entry in std::fs::read_dir(src.join("models")).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(!text.contains("wgpu"), "{} names wgpu", path.display());
+    }
+}

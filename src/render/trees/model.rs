@@ -5,7 +5,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use super::lod;
-use crate::render::assets::gltf_load::ModelData;
+use crate::models::ModelData;
 use crate::render::assets::textures;
 use crate::render::gpu::Shared;
 
