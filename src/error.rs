@@ -4,9 +4,10 @@
 //! any of them as one line on stderr.
 
 use crate::aerial::AerialError;
-use crate::bank::validate::BankError;
+use crate::bank::BankError;
 use crate::html::HtmlError;
 use crate::lsystem::expr::ExprError;
+use crate::lsystem::LsystemError;
 use crate::render::trees::impostor::cache::AtlasError;
 use crate::render::overlay::controller::ControllerError;
 use crate::models::GltfError;
@@ -34,6 +35,9 @@ pub enum Error {
     /// [`ExprError`].
     #[error(transparent)]
     Expr(#[from] ExprError),
+    /// [`LsystemError`].
+    #[error(transparent)]
+    Lsystem(#[from] LsystemError),
     /// [`RenderError`].
     #[error(transparent)]
     Render(#[from] RenderError),

@@ -6,6 +6,7 @@
 //! extensions grove refuses ([`extensions`]), thumbnails ([`thumbnail`]) and `grove models add`
 //! ([`import`]).
 
+pub mod error;
 pub mod extensions;
 pub mod import;
 pub mod thumbnail;
@@ -16,7 +17,8 @@ use std::path::{Path, PathBuf};
 use grove_systems::bank::{bank_dirs, Banks, BANK_ENV};
 use grove_systems::catalogue::ModelId;
 
-pub use validate::{validate_gltf, BankError};
+pub use error::BankError;
+pub use validate::validate_gltf;
 
 /// The bank folders of a session: the `--bank` folders in order, then those of `GROVE_BANK`.
 pub fn session_dirs(args: &[PathBuf]) -> Vec<PathBuf> {

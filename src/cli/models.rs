@@ -246,7 +246,7 @@ fn check_bank_model(bank: &Bank, m: &BankModel) -> Vec<String> {
     }
     match load_checked(&bank.file_of(m)) {
         Ok(data) => out.extend(differences(m.bounds_min, m.bounds_max, m.triangles, Some(&m.pick), &measure(&data))),
-        Err(e) => out.push(crate::cli::one_line(&e)),
+        Err(e) => out.push(crate::cli::one_line(&e.into())),
     }
     out
 }
@@ -260,7 +260,7 @@ fn run_check(a: ListArgs) -> anyhow::Result<ExitCode> {
         let file = shipped.join(format!("{}.gltf", m.name));
         let problems = match load_checked(&file) {
             Ok(data) => differences(m.bounds_min, m.bounds_max, m.triangles, m.pick.as_ref(), &measure(&data)),
-            Err(e) => vec![crate::cli::one_line(&e)],
+            Err(e) => vec![crate::cli::one_line(&e.into())],
         };
         report.push((m.name.clone(), "shipped".into(), problems));
     }
