@@ -52,6 +52,7 @@ pub mod technique;
 pub mod tree_def;
 pub mod water;
 pub mod wind_model;
+pub mod wgsl_struct;
 
 pub use error::Error;
 pub use sim::Sim;

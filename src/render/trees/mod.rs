@@ -100,7 +100,7 @@ impl Trees {
     pub(crate) fn new(shared: &Shared) -> Trees {
         let capacity = 1024;
         Trees {
-            module: shared.shader("trees.wgsl", include_str!("trees.wgsl")),
+            module: shared.shader_with("trees.wgsl", include_str!("trees.wgsl"), &[model::MATERIAL_PIECE]),
             lit_layout: shared.layout("tree lit layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
             shadow_layout: shared.layout("tree shadow layout", &[Some(&shared.view_layout), None, Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("trees"),

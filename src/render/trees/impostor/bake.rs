@@ -33,7 +33,7 @@ pub(crate) struct BakeParams {
 /// The bake shader composed with what it imports (srgb.wgsl and octa.wgsl): its text is part
 /// of the impostor cache's key.
 pub fn bake_wgsl() -> String {
-    crate::render::shader::compose(include_str!("bake.wgsl"), &[])
+    crate::render::shader::compose(include_str!("bake.wgsl"), &[crate::render::trees::model::MATERIAL_PIECE])
 }
 
 /// The bake's shader and pipeline, built once per renderer.
