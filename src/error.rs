@@ -4,13 +4,15 @@
 //! any of them as one line on stderr.
 
 use crate::aerial::AerialError;
-use crate::bank::validate::BankError;
+use crate::bank::BankError;
 use crate::bench::BenchError;
 use crate::html::HtmlError;
 use crate::lsystem::expr::ExprError;
+use crate::lsystem::LsystemError;
 use crate::render::trees::impostor::cache::AtlasError;
 use crate::render::overlay::controller::ControllerError;
-use crate::render::{ClipmapError, GltfError, PipelineError, RenderError};
+use crate::models::GltfError;
+use crate::render::{ClipmapError, PipelineError, RenderError};
 use crate::species::SpeciesError;
 use crate::study::{ShardError, StudyError, SynthError};
 use crate::atomic_write::WriteError;
@@ -36,6 +38,9 @@ pub enum Error {
     /// [`ExprError`].
     #[error(transparent)]
     Expr(#[from] ExprError),
+    /// [`LsystemError`].
+    #[error(transparent)]
+    Lsystem(#[from] LsystemError),
     /// [`RenderError`].
     #[error(transparent)]
     Render(#[from] RenderError),
@@ -96,8 +101,8 @@ mod tests {
         let e = scene(path).unwrap_err();
         assert!(matches!(e, Error::Systems(_)));
         assert_eq!(e.to_string(), grove_systems::scene::Scene::load(path).unwrap_err().to_string());
-        fn gltf(path: &std::path::Path) -> Result<crate::render::gltf_load::ModelData, Error> {
-            Ok(crate::render::gltf_load::load_model(path)?)
+        fn gltf(path: &std::path::Path) -> Result<crate::models::ModelData, Error> {
+            Ok(crate::models::load_model(path)?)
         }
         let e = gltf(std::path::Path::new("/nonexistent/model.gltf")).unwrap_err();
         assert!(e.to_string().contains("model.gltf"), "{e}");

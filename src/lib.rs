@@ -10,12 +10,14 @@ pub mod assetgen;
 pub mod atomic_write;
 pub mod bank;
 pub mod bench;
+pub mod cubemap;
 pub mod error;
 pub mod html;
 pub mod render;
 pub mod serve;
 pub mod species;
 pub mod lsystem;
+pub mod models;
 pub mod study;
 pub mod video;
 

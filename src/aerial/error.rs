@@ -298,9 +298,6 @@ pub enum AerialError {
     /// A source image without rows.
     #[error("the image has no rows")]
     NoRows,
-    /// The renderer's clipmap refused the photograph.
-    #[error(transparent)]
-    Clipmap(#[from] crate::render::error::ClipmapError),
 }
 
 impl AerialError {

@@ -26,7 +26,6 @@ mod error;
 pub mod equalize;
 pub mod eval;
 pub mod layers;
-pub mod open;
 pub mod mask;
 pub mod raster;
 pub mod scene;

@@ -13,23 +13,19 @@
 
 pub mod geometry;
 pub mod gltf_out;
-pub mod pick;
 pub mod species;
 pub mod textures;
 
 use std::path::Path;
 
 use anyhow::Context;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use grove_systems::catalogue::{Catalogue, ModelId, ModelInfo, ModelKind};
 use image::{RgbImage, RgbaImage};
 
 use geometry::MeshData;
 use gltf_out::MaterialTextures;
 use species::Species;
-
-/// Names of the cube faces in wgpu's layer order (+X, −X, +Y, −Y, +Z, −Z).
-pub const CUBE_FACES: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
 
 /// Size of a cube face, texels.
 pub const CUBE_SIZE: u32 = 128;
@@ -59,11 +55,6 @@ fn write_png(path: &Path, img: Img) -> anyhow::Result<()> {
 
 fn write(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     crate::atomic_write::write_atomic(path, bytes)
-}
-
-/// The horizontal radius of a set of meshes around the trunk axis.
-pub fn crown_radius<'a>(meshes: impl IntoIterator<Item = &'a [Vec3]>) -> f32 {
-    meshes.into_iter().flatten().map(|p| Vec2::new(p.x, p.z).length()).fold(0.0, f32::max)
 }
 
 /// Formats a catalogue as RON in the layout of `assets/trees/catalogue.ron`.
@@ -155,9 +146,9 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 kind,
                 bounds_min: a.min(c),
                 bounds_max: b.max(d),
-                crown_radius: crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
+                crown_radius: crate::models::measure::crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
                 triangles: (wood.triangles() + foliage.triangles()) as u32,
-                pick: Some(pick::pick_shape(&[(&wood.positions, &wood.indices), (&foliage.positions, &foliage.indices)])),
+                pick: Some(crate::models::pick::pick_shape(&[(&wood.positions, &wood.indices), (&foliage.positions, &foliage.indices)])),
             });
         }
     }
@@ -166,7 +157,7 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
     files += 1;
 
     // The environment: the sky cubemap and the ground texture.
-    for (face, name) in CUBE_FACES.iter().enumerate() {
+    for (face, name) in crate::cubemap::FACES.iter().enumerate() {
         write_png(&env.join(format!("{name}.png")), Img::Rgb(textures::sky_face(face, CUBE_SIZE)))?;
     }
     write_png(&env.join("ground.png"), Img::Rgb(textures::ground(256)))?;

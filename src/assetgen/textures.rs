@@ -7,6 +7,7 @@ use image::{Rgb, RgbImage, Rgba, RgbaImage};
 use noise::{NoiseFn, Perlin};
 
 use super::geometry::Rng;
+use crate::cubemap::cube_dir;
 use super::species::Species;
 
 /// Fractal noise in about [−1, 1].
@@ -232,22 +233,6 @@ pub fn sky_colour(d: Vec3) -> Vec3 {
         let ground = Vec3::new(0.2, 0.2, 0.16);
         horizon.lerp(ground, (-y).powf(0.4))
     }
-}
-
-/// The world direction of texel `(x, y)` of cube face `face` (order +X, −X, +Y, −Y, +Z, −Z, as
-/// wgpu and Vulkan lay out cube textures).
-pub fn cube_dir(face: usize, x: u32, y: u32, size: u32) -> Vec3 {
-    let s = 2.0 * (x as f32 + 0.5) / size as f32 - 1.0;
-    let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
-    let d = match face {
-        0 => Vec3::new(1.0, -t, -s),
-        1 => Vec3::new(-1.0, -t, s),
-        2 => Vec3::new(s, 1.0, t),
-        3 => Vec3::new(s, -1.0, -t),
-        4 => Vec3::new(s, -t, 1.0),
-        _ => Vec3::new(-s, -t, -1.0),
-    };
-    d.normalize()
 }
 
 /// One face of the sky cubemap, with a little noise as high cloud.

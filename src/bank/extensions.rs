@@ -1,6 +1,6 @@
 //! The glTF extensions grove cannot read, found before the `gltf` crate sees the file, so that
 //! the error names the extension (and, for compressed geometry, a conversion that works)
-//! instead of "not a valid glTF". The lists live with the loader (`render::assets::gltf_check`),
+//! instead of "not a valid glTF". The lists live with the loader (`models::gltf_check`),
 //! which applies the same check to every model it loads.
 
 use std::path::Path;
@@ -9,8 +9,8 @@ use grove_systems::files::{self, Kind};
 
 use super::BankError;
 
-pub use crate::render::assets::gltf_check::COMPRESSED as REFUSED;
-pub use crate::render::assets::gltf_open::{extensions_of, json_of};
+pub use crate::models::gltf_check::COMPRESSED as REFUSED;
+pub use crate::models::gltf_open::{extensions_of, json_of};
 
 /// Refuses a file that uses an extension grove cannot decode or requires one it does not read:
 /// one line naming the extension (and the conversion). Files that cannot be read or do not
@@ -19,7 +19,7 @@ pub fn check_file(path: &Path) -> Result<(), BankError> {
     let Ok(bytes) = files::read(path, Kind::Gltf) else { return Ok(()) };
     let (required, used) = extensions_of(&bytes);
     let shown = path.display().to_string();
-    crate::render::assets::gltf_check::extensions(&shown, &required, &used).map(|_| ()).map_err(|problem| BankError::Extension { file: shown.clone(), problem })
+    crate::models::gltf_check::extensions(&shown, &required, &used).map(|_| ()).map_err(|problem| BankError::Extension { file: shown.clone(), problem })
 }
 
 #[cfg(test)]

@@ -7,14 +7,13 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, bail, Context};
 use grove_systems::bank::{hash_files, valid_name, Bank, BankModel, WindSource, CATALOGUE_FILE, MAX_MODELS};
 use grove_systems::catalogue::{Catalogue, ModelKind};
 
 use grove_systems::files::{self, Kind};
 
-use crate::render::assets::gltf_files;
-use crate::render::assets::gltf_load::ModelData;
+use super::BankError;
+use crate::models::{gltf_files, ModelData};
 
 /// What to add, and under which name.
 #[derive(Clone, Debug)]
@@ -47,9 +46,9 @@ pub enum Added {
 /// relative to its folder, in document order without repeats. One that lies outside the folder
 /// (`..`, an absolute path, a URL, or a symbolic link to a file or through a folder outside it)
 /// is refused with one line naming the URI, before anything it names is read.
-pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
-    let bytes = files::read(file, Kind::Gltf).map_err(|e| anyhow!(e))?;
-    let gltf = crate::render::assets::gltf_open::parse(&bytes).map_err(|e| anyhow!("{}: not a valid glTF 2.0 file ({})", file.display(), e.to_string().replace('\n', " ")))?;
+pub fn resources_of(file: &Path) -> Result<Vec<String>, BankError> {
+    let bytes = files::read(file, Kind::Gltf).map_err(BankError::File)?;
+    let gltf = crate::models::gltf_open::parse(&bytes).map_err(|error| BankError::NotGltf { file: file.to_path_buf(), error })?;
     let mut uris: Vec<String> = Vec::new();
     for b in gltf.document.buffers() {
         if let gltf::buffer::Source::Uri(u) = b.source() {
@@ -64,7 +63,7 @@ pub fn resources_of(file: &Path) -> anyhow::Result<Vec<String>> {
     let base = source_dir(file);
     let mut out: Vec<String> = Vec::new();
     for u in uris {
-        let named = |m: crate::render::error::GltfProblem| anyhow!("{}: names the file '{u}', which {m}", file.display());
+        let named = |problem| BankError::Uri { file: file.to_path_buf(), uri: u.clone(), problem };
         let Some(rel) = gltf_files::relative_path(&u).map_err(named)? else { continue };
         gltf_files::resolve(&base, &u).map_err(named)?;
         if !out.contains(&rel) {
@@ -80,44 +79,44 @@ fn source_dir(file: &Path) -> PathBuf {
 }
 
 /// Loads a file the way `add` does, with every check of [`super::validate_gltf`].
-pub fn load_checked(file: &Path) -> anyhow::Result<ModelData> {
-    super::validate_gltf(file).map_err(|e| anyhow!(e))
+pub fn load_checked(file: &Path) -> Result<ModelData, BankError> {
+    super::validate_gltf(file)
 }
 
 /// Adds a model to a bank (see the module docs).
-pub fn add(req: &AddRequest) -> anyhow::Result<Added> {
+pub fn add(req: &AddRequest) -> Result<Added, BankError> {
     add_noted(req).map(|(added, _)| added)
 }
 
 /// [`add`], also returning the loaded model's `notes` (what a still shows in one state: the
 /// rest pose of its animations, the bind pose of a skin) and `warnings` (what grove does not
 /// draw), for the command's output.
-pub fn add_noted(req: &AddRequest) -> anyhow::Result<(Added, ModelData)> {
+pub fn add_noted(req: &AddRequest) -> Result<(Added, ModelData), BankError> {
     let file = &req.file;
     if !file.is_file() {
-        bail!("{}: {}", file.display(), if file.exists() { "not a regular file" } else { "no such file" });
+        return Err(BankError::NotAFile { file: file.clone(), exists: file.exists() });
     }
     let data = load_checked(file)?;
     let added = add_loaded(req, &data)?;
     Ok((added, data))
 }
 
-fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
+fn add_loaded(req: &AddRequest, data: &ModelData) -> Result<Added, BankError> {
     let file = &req.file;
     let stem = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let name = req.name.clone().unwrap_or(stem);
     if !valid_name(&name) {
-        bail!("model name '{name}' must be 1 to 64 letters, digits, '-', '_' or '.'; choose one with --name");
+        return Err(BankError::Name(name));
     }
     if Catalogue::builtin().by_name(&name).is_some() {
-        bail!("'{name}' is the name of a shipped model; choose another with --name");
+        return Err(BankError::ShippedName(name));
     }
     let species = req.species.clone().unwrap_or_else(|| name.clone());
     if species.is_empty() || species.len() > 64 || species.chars().any(char::is_control) {
-        bail!("--species must be 1 to 64 printable characters");
+        return Err(BankError::Species);
     }
     let src_dir = source_dir(file);
-    let main = file.file_name().map(|s| s.to_string_lossy().into_owned()).ok_or_else(|| anyhow!("{}: not a file name", file.display()))?;
+    let main = file.file_name().map(|s| s.to_string_lossy().into_owned()).ok_or_else(|| BankError::NoFileName(file.clone()))?;
     let mut rels = vec![main.clone()];
     for r in resources_of(file)? {
         if !rels.contains(&r) {
@@ -129,37 +128,37 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
     for r in &rels[1..] {
         let p = src_dir.join(r);
         if !p.exists() {
-            bail!("{}: the file '{r}' it names is missing", file.display());
+            return Err(BankError::Missing { file: file.clone(), rel: r.clone() });
         }
-        files::within(&p, &src_dir).map_err(|e| anyhow!("{}: names the file '{r}', which {}", file.display(), e.reason()))?;
+        files::within(&p, &src_dir).map_err(|error| BankError::Outside { file: file.clone(), rel: r.clone(), error })?;
     }
     let files: Vec<String> = rels.iter().map(|r| format!("{name}/{r}")).collect();
-    let hash = hash_files(files.iter().zip(&rels).map(|(f, r)| (f.as_str(), src_dir.join(r)))).map_err(|e| anyhow!(e))?;
+    let hash = hash_files(files.iter().zip(&rels).map(|(f, r)| (f.as_str(), src_dir.join(r))))?;
 
-    std::fs::create_dir_all(&req.bank).with_context(|| format!("{}: cannot create the bank folder", req.bank.display()))?;
-    let bank = Bank::open(&req.bank).map_err(|e| anyhow!(e))?;
+    std::fs::create_dir_all(&req.bank).map_err(|error| BankError::CreateBank { path: req.bank.clone(), error })?;
+    let bank = Bank::open(&req.bank)?;
     if let Some(far) = &req.far {
         match bank.get(far) {
             Some(f) if f.far.is_none() && far != &name => {}
-            Some(_) => bail!("{}: --far '{far}' must be another model without a far model of its own", req.bank.display()),
-            None => bail!("{}: --far '{far}' is not in this bank; add it first", req.bank.display()),
+            Some(_) => return Err(BankError::FarNotPlain { bank: req.bank.clone(), far: far.clone() }),
+            None => return Err(BankError::FarMissing { bank: req.bank.clone(), far: far.clone() }),
         }
     }
     if let Some(old) = bank.get(&name) {
         if old.hash == hash && old.far == req.far {
             return Ok(Added::Unchanged(old.clone()));
         }
-        bail!("{}: the bank already has a different model named '{name}'; choose another --name", req.bank.display());
+        return Err(BankError::NameTaken { bank: req.bank.clone(), name });
     }
     if bank.catalogue.models.len() >= MAX_MODELS - Catalogue::builtin().len() {
-        bail!("{}: the bank is full ({} models)", req.bank.display(), bank.catalogue.models.len());
+        return Err(BankError::Full { bank: req.bank.clone(), models: bank.catalogue.models.len() });
     }
     let dest = req.bank.join(&name);
     if dest.exists() {
-        bail!("{}: exists but is not in the bank's catalogue; remove it or choose another --name", dest.display());
+        return Err(BankError::Uncatalogued(dest));
     }
 
-    let m = super::measure(data);
+    let m = crate::models::measure(data);
     let model = BankModel {
         name: name.clone(),
         species,
@@ -178,19 +177,19 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
     };
     // Copy into a hidden folder, then rename it into place: a failure leaves no half model.
     let tmp = req.bank.join(format!(".{name}.tmp-{}", std::process::id()));
-    let copied = (|| -> anyhow::Result<()> {
+    let copied = (|| -> Result<(), BankError> {
         for r in &rels {
             let to = tmp.join(r);
             if let Some(parent) = to.parent() {
-                std::fs::create_dir_all(parent).with_context(|| format!("{}: cannot create", parent.display()))?;
+                std::fs::create_dir_all(parent).map_err(|error| BankError::Create { path: parent.to_path_buf(), error })?;
             }
-            let from = files::within(&src_dir.join(r), &src_dir).map_err(|e| anyhow!(e))?;
-            let bytes = files::read(&from, Kind::ModelFile).map_err(|e| anyhow!(e))?;
-            std::fs::write(&to, bytes).with_context(|| format!("{}: cannot copy", src_dir.join(r).display()))?;
+            let from = files::within(&src_dir.join(r), &src_dir).map_err(BankError::File)?;
+            let bytes = files::read(&from, Kind::ModelFile).map_err(BankError::File)?;
+            std::fs::write(&to, bytes).map_err(|error| BankError::Copy { path: src_dir.join(r), error })?;
         }
-        let png = super::thumbnail::png(data).map_err(|e| anyhow!(e))?;
-        std::fs::write(tmp.join("thumbnail.png"), png).with_context(|| format!("{}: cannot write the thumbnail", tmp.display()))?;
-        std::fs::rename(&tmp, &dest).with_context(|| format!("{}: cannot move the model into place", dest.display()))?;
+        let png = super::thumbnail::png(data)?;
+        std::fs::write(tmp.join("thumbnail.png"), png).map_err(|error| BankError::WriteThumbnail { path: tmp.clone(), error })?;
+        std::fs::rename(&tmp, &dest).map_err(|error| BankError::MoveIntoPlace { path: dest.clone(), error })?;
         Ok(())
     })();
     if let Err(e) = copied {
@@ -198,14 +197,14 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> anyhow::Result<Added> {
         return Err(e);
     }
     // The copy must hash as the source did (a file changed while being copied otherwise).
-    let check = grove_systems::bank::content_hash(&req.bank, &model.files).map_err(|e| anyhow!(e));
+    let check = grove_systems::bank::content_hash(&req.bank, &model.files).map_err(BankError::Banks);
     let mut cat = bank.catalogue.clone();
     cat.models.push(model.clone());
     let written = check.and_then(|h| {
         if h != model.hash {
-            bail!("{}: changed while it was being copied; try again", file.display());
+            return Err(BankError::Changed(file.clone()));
         }
-        crate::atomic_write::write_atomic(&req.bank.join(CATALOGUE_FILE), cat.to_ron().as_bytes())
+        crate::atomic_write::write_atomic(&req.bank.join(CATALOGUE_FILE), cat.to_ron().as_bytes()).map_err(BankError::Catalogue)
     });
     if let Err(e) = written {
         let _ = std::fs::remove_dir_all(&dest);

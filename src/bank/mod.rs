@@ -2,12 +2,13 @@
 //! a session's bank models for the renderer (docs/model-bank.md).
 //!
 //! The catalogue format and the content hash are plain data in `grove_systems::bank`; this module
-//! adds what needs the glTF loader: measuring a model's mesh ([`measure`]), the extensions grove
-//! refuses ([`extensions`]), thumbnails ([`thumbnail`]) and `grove models add` ([`import`]).
+//! adds what needs the glTF loader ([`crate::models`], which also measures a model's mesh): the
+//! extensions grove refuses ([`extensions`]), thumbnails ([`thumbnail`]) and `grove models add`
+//! ([`import`]).
 
+pub mod error;
 pub mod extensions;
 pub mod import;
-pub mod measure;
 pub mod thumbnail;
 pub mod validate;
 
@@ -16,8 +17,8 @@ use std::path::{Path, PathBuf};
 use grove_systems::bank::{bank_dirs, Banks, BANK_ENV};
 use grove_systems::catalogue::ModelId;
 
-pub use measure::{measure, Measured};
-pub use validate::{validate_gltf, BankError};
+pub use error::BankError;
+pub use validate::validate_gltf;
 
 /// The bank folders of a session: the `--bank` folders in order, then those of `GROVE_BANK`.
 pub fn session_dirs(args: &[PathBuf]) -> Vec<PathBuf> {

@@ -6,7 +6,7 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use crate::render::assets::gltf_load::{ImageData, ModelData};
+use crate::models::{ImageData, ModelData};
 
 /// Thumbnail edge, pixels.
 pub const SIZE: u32 = 96;

@@ -4,37 +4,8 @@
 
 use std::path::Path;
 
-use crate::render::assets::gltf_load::{load_model, ModelData};
-use crate::render::error::{GltfError, GltfProblem};
-
-/// Why a model was refused, the session's banks could not be opened, or a thumbnail could not
-/// be made. Its `Display` is one line.
-#[derive(Debug, thiserror::Error)]
-pub enum BankError {
-    /// The file is not a model grove draws as it says; the message is one line that names the
-    /// file and the fault (an extension, a primitive, a URI, an accessor, the version, the
-    /// bounds).
-    #[error(transparent)]
-    Refused(#[from] GltfError),
-    /// The file uses or requires a glTF extension grove cannot read: the file and the loader's
-    /// words (the extension, and a conversion that works).
-    #[error("{file}: {problem}")]
-    Extension {
-        /// The file, as shown.
-        file: String,
-        /// What the loader refuses.
-        problem: GltfProblem,
-    },
-    /// A bank folder, its catalogue or a model it lists could not be used.
-    #[error(transparent)]
-    Banks(#[from] grove_systems::bank::BankError),
-    /// The thumbnail's pixels do not fill its size.
-    #[error("thumbnail buffer has the wrong size")]
-    ThumbnailSize,
-    /// The thumbnail could not be encoded as PNG.
-    #[error("cannot encode the thumbnail ({0})")]
-    Thumbnail(image::ImageError),
-}
+use super::BankError;
+use crate::models::{load_model, ModelData};
 
 /// Reads and checks a glTF 2.0 file (`.gltf` or `.glb`) exactly as grove loads it: the file and
 /// every file it names read through `grove_systems::files` with the URIs' places checked first,

@@ -68,7 +68,7 @@ pub fn fly(gpu: &Gpu, a: &Flight, scene: &Scene, canopy: bool) -> Result<Run, Be
     let mut sim = Sim::from_scene(scene, scene.seed).map_err(grove_systems::Error::from)?;
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, a.width, a.height)?;
     r.options = RenderOptions { overlay: false, canopy, shadows: a.shadows, ..Default::default() };
-    let sources = crate::aerial::open::open_sources(scene, false)?.ok_or(BenchError::NoAerial)?;
+    let sources = crate::render::aerial_ground::open::open_sources(scene, false)?.ok_or(BenchError::NoAerial)?;
     let def = scene.aerial.as_ref().expect("checked");
     let (x0, x1) = (def.origin.x, def.origin.x + sources.size_m.x);
     let z = def.origin.y + sources.size_m.y * 0.75;

@@ -23,7 +23,7 @@ pub enum DesktopError {
     Renderer(#[from] grove::render::RenderError),
     /// The scene's aerial photographs could not be opened.
     #[error(transparent)]
-    Aerial(#[from] grove::aerial::AerialError),
+    Aerial(#[from] grove::render::ClipmapError),
     /// The session's model banks could not be opened or loaded.
     #[error(transparent)]
     Bank(#[from] grove::bank::BankError),

@@ -62,7 +62,7 @@ pub fn set_session_aerial(scene: grove_systems::scene::Scene) {
 /// aerial photographs.
 pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, DesktopError> {
     let mut r = session_renderer(device, queue, format, width, height)?;
-    if let Some(sources) = SESSION_AERIAL.get().map(|s| grove::aerial::open::open_sources(s, false)).transpose()?.flatten() {
+    if let Some(sources) = SESSION_AERIAL.get().map(|s| grove::render::aerial_ground::open::open_sources(s, false)).transpose()?.flatten() {
         r.features.aerial.set(sources)?;
     }
     Ok(Box::new(r))

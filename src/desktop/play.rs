@@ -428,9 +428,8 @@ mod tests {
         assert_eq!(task_result(&sim).unwrap(), shown, "the result does not change after the end");
 
         let outcome = replay_file(&path, &ReplayOptions::default()).unwrap();
-        let replayed = crate::cli::replay::ReplayReport::new(path.display().to_string(), &outcome, 1.0);
-        assert!(replayed.verified && replayed.complete);
-        assert_eq!(replayed.task.as_ref(), Some(&shown), "grove replay --json reports what the window showed");
+        assert!(outcome.verifying && outcome.complete && outcome.checkpoints_checked > 0 && outcome.first_divergence.is_none());
+        assert_eq!(task_result(&outcome.sim).as_ref(), Some(&shown), "the replayed session reports what the window showed");
         let trial = grove::study::evaluate(&path, &[]);
         assert_eq!(trial.task.as_ref(), Some(&shown), "grove study reports what the window showed");
     }

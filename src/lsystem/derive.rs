@@ -11,9 +11,9 @@
 //! Memory: one byte per symbol, and one `f32` per parameter in a side array (parameters of the
 //! i-th symbol follow those of the symbols before it; a symbol's count is fixed by the grammar).
 
-use anyhow::bail;
 use rayon::prelude::*;
 
+use super::error::LsystemError;
 use super::grammar::{Choice, Grammar};
 
 /// Symbols per chunk of the parallel passes (fixed, so the work split never changes results).
@@ -105,16 +105,13 @@ impl Default for Limits {
 
 impl Limits {
     /// Fails with one line when a string of `symbols` symbols and `params` parameters is too big.
-    pub fn check(&self, step: u32, symbols: u64, params: u64) -> anyhow::Result<()> {
+    pub fn check(&self, step: u32, symbols: u64, params: u64) -> Result<(), LsystemError> {
         let bytes = symbols + 4 * params;
         if symbols > self.max_symbols || symbols > u32::MAX as u64 {
-            bail!(
-                "derivation step {step} would give {symbols} symbols, more than the limit of {} (--max-symbols)",
-                self.max_symbols.min(u32::MAX as u64)
-            );
+            return Err(LsystemError::TooManySymbols { step, symbols, limit: self.max_symbols.min(u32::MAX as u64) });
         }
         if bytes > self.max_bytes {
-            bail!("derivation step {step} would need {bytes} bytes, more than the limit of {} (--max-bytes)", self.max_bytes);
+            return Err(LsystemError::DeriveBytes { step, bytes, limit: self.max_bytes });
         }
         Ok(())
     }
@@ -184,7 +181,7 @@ fn chunk_sizes(g: &Grammar, syms: &[u8], params: &[f32], base: usize, param_base
 }
 
 /// One derivation step (`step` is 1-based) of `s`.
-pub fn step(g: &Grammar, s: &LString, step: u32, seed: u64, limits: &Limits) -> anyhow::Result<LString> {
+pub fn step(g: &Grammar, s: &LString, step: u32, seed: u64, limits: &Limits) -> Result<LString, LsystemError> {
     let key = step_key(seed, step);
     let parametric = g.is_parametric();
     // Input parameter offsets of the chunks (only needed with parameters).
@@ -272,7 +269,7 @@ pub fn axiom(g: &Grammar) -> LString {
 }
 
 /// Derives `n` steps from the axiom on the current rayon pool.
-pub fn derive(g: &Grammar, n: u32, seed: u64, limits: &Limits) -> anyhow::Result<LString> {
+pub fn derive(g: &Grammar, n: u32, seed: u64, limits: &Limits) -> Result<LString, LsystemError> {
     let mut s = axiom(g);
     limits.check(0, s.len() as u64, s.params.len() as u64)?;
     for k in 1..=n {
@@ -282,7 +279,7 @@ pub fn derive(g: &Grammar, n: u32, seed: u64, limits: &Limits) -> anyhow::Result
 }
 
 /// Derives on a pool of `threads` threads.
-pub fn derive_threads(g: &Grammar, n: u32, seed: u64, limits: &Limits, threads: usize) -> anyhow::Result<LString> {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+pub fn derive_threads(g: &Grammar, n: u32, seed: u64, limits: &Limits, threads: usize) -> Result<LString, LsystemError> {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(LsystemError::ThreadPool)?;
     pool.install(|| derive(g, n, seed, limits))
 }

@@ -8,10 +8,10 @@
 //! parametric grammar is refused with one line. This is the only file of `lsystem` that uses
 //! wgpu; it opens its own device.
 
-use anyhow::{anyhow, bail, Context};
 use wgpu::util::DeviceExt;
 
 use super::derive::{step_key, LString, Limits};
+use super::error::LsystemError;
 use super::grammar::{Choice, Grammar};
 
 const WG: u32 = 256;
@@ -85,13 +85,13 @@ fn grid(groups: u32, max: u32) -> (u32, u32, u32) {
 impl GpuDeriver {
     /// Opens a device on the first adapter wgpu offers (lavapipe is fine) and builds the
     /// pipelines. Fails with one line when there is none.
-    pub fn new() -> anyhow::Result<GpuDeriver> {
+    pub fn new() -> Result<GpuDeriver, LsystemError> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()
         }))
-        .map_err(|e| anyhow!("no GPU adapter available ({e}); install a Vulkan driver such as mesa-vulkan-drivers (lavapipe)"))?;
+        .map_err(LsystemError::Adapter)?;
         let info = adapter.get_info();
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -99,7 +99,7 @@ impl GpuDeriver {
             required_limits: limits.clone(),
             ..Default::default()
         }))
-        .map_err(|e| anyhow!("cannot open the GPU device ({e})"))?;
+        .map_err(LsystemError::Device)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("lsystem derive.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("derive.wgsl").into()),
@@ -179,7 +179,7 @@ impl GpuDeriver {
         total
     }
 
-    fn read(&self, buf: &wgpu::Buffer, bytes: u64) -> anyhow::Result<Vec<u8>> {
+    fn read(&self, buf: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, LsystemError> {
         let size = bytes.max(4).div_ceil(4) * 4;
         let staging = self.buffer("lsystem readback", size, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
         let mut enc = self.device.create_command_encoder(&Default::default());
@@ -189,16 +189,16 @@ impl GpuDeriver {
         staging.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);
         });
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("waiting for the GPU failed ({e})"))?;
-        rx.recv().context("the GPU readback was dropped")?.map_err(|e| anyhow!("cannot read the GPU buffer ({e})"))?;
-        let view = staging.get_mapped_range(..).map_err(|e| anyhow!("cannot read the GPU buffer ({e:?})"))?;
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(LsystemError::Poll)?;
+        rx.recv().map_err(LsystemError::ReadbackDropped)?.map_err(LsystemError::Readback)?;
+        let view = staging.get_mapped_range(..).map_err(LsystemError::ReadbackRange)?;
         Ok(view[..bytes as usize].to_vec())
     }
 
     /// Derives `n` steps of `g` from its axiom; the same string as the CPU gives.
-    pub fn derive(&self, g: &Grammar, n: u32, seed: u64, limits: &Limits) -> anyhow::Result<LString> {
+    pub fn derive(&self, g: &Grammar, n: u32, seed: u64, limits: &Limits) -> Result<LString, LsystemError> {
         if g.is_parametric() || g.is_conditional() {
-            bail!("the GPU derivation handles grammars without parameters or conditions; derive '{}' on the CPU (without --gpu)", g.name);
+            return Err(LsystemError::GpuGrammar(g.name.clone()));
         }
         let (table, pool_base) = tables(g);
         let table = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -216,13 +216,13 @@ impl GpuDeriver {
         let max_succ = g.max_successor() as u64;
         for k in 1..=n {
             if len * max_succ > u32::MAX as u64 {
-                bail!("derivation step {k}: {len} symbols could grow past the GPU's 32-bit offsets; derive on the CPU");
+                return Err(LsystemError::GpuOffsets { step: k, symbols: len });
             }
             let key = step_key(seed, k);
             let words = len.div_ceil(4) as u32;
             let lens = self.buffer("lsystem lengths", words as u64 * 4, wgpu::BufferUsages::STORAGE);
             if words as u64 * 4 > self.max_binding {
-                bail!("derivation step {k}: {len} symbols exceed the GPU's largest storage buffer ({} bytes)", self.max_binding);
+                return Err(LsystemError::GpuBinding { step: k, symbols: len, limit: self.max_binding });
             }
             let (x, y, row) = grid(words.div_ceil(WG), self.max_groups);
             let prm = self.params(len as u32, key, row, pool_base);
@@ -233,7 +233,7 @@ impl GpuDeriver {
             let total = u32::from_le_bytes(self.read(&total_buf, 4)?[..4].try_into().expect("four bytes")) as u64;
             limits.check(k, total, 0)?;
             if total.div_ceil(4) * 4 > self.max_binding {
-                bail!("derivation step {k}: {total} symbols exceed the GPU's largest storage buffer ({} bytes)", self.max_binding);
+                return Err(LsystemError::GpuBinding { step: k, symbols: total, limit: self.max_binding });
             }
             let dst = self.buffer("lsystem symbols", total, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
             let mut enc = self.device.create_command_encoder(&Default::default());

@@ -5,8 +5,7 @@
 //! (`+ - & ^ \ / | [ ] !`). A symbol has the same number of parameters everywhere it appears in
 //! one grammar; parameters live in a side array (see `derive`).
 
-use anyhow::{bail, Context};
-
+use super::error::LsystemError;
 use super::expr::Expr;
 
 /// The turtle commands, besides letters.
@@ -132,7 +131,12 @@ struct Written {
 }
 
 /// Splits `text` into modules, checking every character.
-fn modules(text: &str, what: &str) -> anyhow::Result<Vec<Written>> {
+fn modules(text: &str, what: &str) -> Result<Vec<Written>, LsystemError> {
+    modules_of(text).map_err(|e| e.at(what))
+}
+
+/// [`modules`] without the part's name in the error.
+fn modules_of(text: &str) -> Result<Vec<Written>, LsystemError> {
     let s = text.as_bytes();
     let mut out: Vec<Written> = Vec::new();
     let mut i = 0;
@@ -144,20 +148,20 @@ fn modules(text: &str, what: &str) -> anyhow::Result<Vec<Written>> {
         }
         if c == b'(' {
             let Some(last) = out.last_mut() else {
-                bail!("{what}: '(' at column {} follows no symbol", i + 1);
+                return Err(LsystemError::ParenAfterNothing(i + 1));
             };
             if last.sym == b'[' || last.sym == b']' {
-                bail!("{what}: '{}' takes no parameters", last.sym as char);
+                return Err(LsystemError::BracketParameters(last.sym as char));
             }
             if !last.args.is_empty() {
-                bail!("{what}: a second parameter list at column {}", i + 1);
+                return Err(LsystemError::SecondParameterList(i + 1));
             }
             // Find the matching ')', then split at top-level commas.
             let (mut depth, mut j, mut start) = (0usize, i + 1, i + 1);
             let mut args = Vec::new();
             loop {
                 let Some(&d) = s.get(j) else {
-                    bail!("{what}: '(' at column {} is never closed", i + 1);
+                    return Err(LsystemError::Unclosed(i + 1));
                 };
                 match d {
                     b'(' => depth += 1,
@@ -175,7 +179,7 @@ fn modules(text: &str, what: &str) -> anyhow::Result<Vec<Written>> {
                 j += 1;
             }
             if args.iter().any(|a| a.is_empty()) {
-                bail!("{what}: an empty parameter at column {}", i + 1);
+                return Err(LsystemError::EmptyParameter(i + 1));
             }
             last.args = args;
             i = j + 1;
@@ -183,7 +187,7 @@ fn modules(text: &str, what: &str) -> anyhow::Result<Vec<Written>> {
         }
         if !is_symbol(c) {
             let ch = text[i..].chars().next().unwrap_or('?');
-            bail!("{what}: '{ch}' at column {} is neither a letter nor a turtle command (+ - & ^ \\ / | [ ] !)", i + 1);
+            return Err(LsystemError::NotSymbol { ch, column: i + 1 });
         }
         out.push(Written { sym: c, args: Vec::new() });
         i += 1;
@@ -191,7 +195,7 @@ fn modules(text: &str, what: &str) -> anyhow::Result<Vec<Written>> {
     Ok(out)
 }
 
-fn check_brackets(syms: &[u8], what: &str) -> anyhow::Result<()> {
+fn check_brackets(syms: &[u8], what: &str) -> Result<(), LsystemError> {
     let mut depth = 0i64;
     for &c in syms {
         match c {
@@ -199,49 +203,49 @@ fn check_brackets(syms: &[u8], what: &str) -> anyhow::Result<()> {
             b']' => {
                 depth -= 1;
                 if depth < 0 {
-                    bail!("{what}: ']' without a matching '['");
+                    return Err(LsystemError::UnmatchedClose.at(what));
                 }
             }
             _ => {}
         }
     }
     if depth != 0 {
-        bail!("{what}: {depth} '[' without a matching ']'");
+        return Err(LsystemError::UnmatchedOpen(depth).at(what));
     }
     Ok(())
 }
 
-fn set_arity(arity: &mut [Option<u8>; 128], sym: u8, n: usize, what: &str) -> anyhow::Result<()> {
+fn set_arity(arity: &mut [Option<u8>; 128], sym: u8, n: usize, what: &str) -> Result<(), LsystemError> {
     if n > 8 {
-        bail!("{what}: '{}' has {n} parameters, at most 8 are allowed", sym as char);
+        return Err(LsystemError::TooManyParameters { sym: sym as char, n }.at(what));
     }
     match arity[sym as usize] {
         None => arity[sym as usize] = Some(n as u8),
         Some(a) if a as usize == n => {}
-        Some(a) => bail!("{what}: '{}' has {n} parameters here but {a} elsewhere", sym as char),
+        Some(a) => return Err(LsystemError::Arity { sym: sym as char, n, elsewhere: a }.at(what)),
     }
     Ok(())
 }
 
 impl Grammar {
     /// Checks and compiles a grammar source.
-    pub fn compile(src: &Source) -> anyhow::Result<Grammar> {
+    pub fn compile(src: &Source) -> Result<Grammar, LsystemError> {
         if !(src.angle_deg.is_finite() && src.step.is_finite() && src.step > 0.0 && src.width.is_finite() && src.width >= 0.0) {
-            bail!("angle must be finite, step positive and width not negative");
+            return Err(LsystemError::Turtle);
         }
         if !(src.width_factor.is_finite() && src.width_factor > 0.0) {
-            bail!("width-factor must be positive");
+            return Err(LsystemError::WidthFactor);
         }
         if !(src.height.is_finite() && src.height > 0.0) {
-            bail!("height must be a positive number of metres");
+            return Err(LsystemError::Height);
         }
         if !SPECIES.contains(&src.species.as_str()) {
-            bail!("species '{}' is not one of {}", src.species, SPECIES.join(", "));
+            return Err(LsystemError::Species { name: src.species.clone(), known: SPECIES.join(", ") });
         }
         let mut arity: [Option<u8>; 128] = [None; 128];
         let axiom_mods = modules(&src.axiom, "axiom")?;
         if axiom_mods.is_empty() {
-            bail!("the axiom is empty");
+            return Err(LsystemError::EmptyAxiom);
         }
         let mut axiom = Vec::new();
         let mut axiom_params = Vec::new();
@@ -249,7 +253,7 @@ impl Grammar {
             set_arity(&mut arity, m.sym, m.args.len(), "axiom")?;
             axiom.push(m.sym);
             for a in &m.args {
-                let e = Expr::parse(a, &[]).map_err(|e| anyhow::anyhow!("axiom: {e}"))?;
+                let e = Expr::parse(a, &[]).map_err(|e| LsystemError::Expr(e).at("axiom"))?;
                 axiom_params.push(e.eval(&[]));
             }
         }
@@ -263,7 +267,7 @@ impl Grammar {
             } else if let Some(p) = text.find('=') {
                 (&text[..p], &text[p + 1..])
             } else {
-                bail!("{what}: no '->' (or '=') between predecessor and successor");
+                return Err(LsystemError::NoArrow.at(what));
             };
             let mut lhs = lhs.trim_end();
             // A stochastic weight: `-(0.33)` just before the arrow.
@@ -278,13 +282,13 @@ impl Grammar {
                     weight = w
                         .trim()
                         .parse::<f32>()
-                        .map_err(|_| anyhow::anyhow!("{what}: the weight '{}' is not a number", w.trim()))?;
+                        .map_err(|_| LsystemError::WeightNotNumber(w.trim().to_string()).at(&what))?;
                     weighted = true;
                     lhs = before;
                 }
             }
             if !(weight.is_finite() && weight >= 0.0) {
-                bail!("{what}: the weight must be a finite number, not negative");
+                return Err(LsystemError::Weight.at(what));
             }
             let (pred_text, cond_text) = match lhs.find(':') {
                 Some(p) => (&lhs[..p], Some(lhs[p + 1..].trim())),
@@ -292,11 +296,11 @@ impl Grammar {
             };
             let pred_mods = modules(pred_text, &what)?;
             if pred_mods.len() != 1 {
-                bail!("{what}: the predecessor must be exactly one symbol");
+                return Err(LsystemError::Predecessor.at(what));
             }
             let pred = &pred_mods[0];
             if pred.sym == b'[' || pred.sym == b']' {
-                bail!("{what}: brackets cannot be rewritten");
+                return Err(LsystemError::RewriteBracket.at(what));
             }
             set_arity(&mut arity, pred.sym, pred.args.len(), &what)?;
             let names = pred.args.clone();
@@ -304,14 +308,14 @@ impl Grammar {
                 let ok = n.bytes().next().is_some_and(|c| c.is_ascii_alphabetic() || c == b'_')
                     && n.bytes().all(|c| c.is_ascii_alphanumeric() || c == b'_');
                 if !ok {
-                    bail!("{what}: the predecessor's parameter '{n}' is not a name");
+                    return Err(LsystemError::ParameterNotName(n.clone()).at(what));
                 }
                 if names[..i].contains(n) {
-                    bail!("{what}: the parameter name '{n}' appears twice");
+                    return Err(LsystemError::ParameterTwice(n.clone()).at(what));
                 }
             }
             let cond = match cond_text {
-                Some(c) => Some(Expr::parse(c, &names).map_err(|e| anyhow::anyhow!("{what}: {e}"))?),
+                Some(c) => Some(Expr::parse(c, &names).map_err(|e| LsystemError::Expr(e).at(&what))?),
                 None => None,
             };
             let mut succ = Vec::new();
@@ -320,7 +324,7 @@ impl Grammar {
                 set_arity(&mut arity, m.sym, m.args.len(), &what)?;
                 succ.push(m.sym);
                 for a in &m.args {
-                    args.push(Expr::parse(a, &names).map_err(|e| anyhow::anyhow!("{what}: {e}"))?);
+                    args.push(Expr::parse(a, &names).map_err(|e| LsystemError::Expr(e).at(&what))?);
                 }
             }
             check_brackets(&succ, &what)?;
@@ -337,7 +341,7 @@ impl Grammar {
             let conditional = idx.iter().any(|&i| rules[i as usize].cond.is_some());
             if conditional {
                 if idx.iter().any(|&i| rules[i as usize].weighted) {
-                    bail!("rules for '{}': a stochastic weight cannot be combined with conditions", s as u8 as char);
+                    return Err(LsystemError::WeightWithCondition(s as u8 as char));
                 }
                 *slot = Choice::Conditional(idx);
             } else if idx.len() == 1 && !rules[idx[0] as usize].weighted {
@@ -345,7 +349,7 @@ impl Grammar {
             } else {
                 let total: f64 = idx.iter().map(|&i| rules[i as usize].weight as f64).sum();
                 if !(total > 0.0 && total.is_finite()) {
-                    bail!("rules for '{}': the weights must sum to a positive number", s as u8 as char);
+                    return Err(LsystemError::WeightSum(s as u8 as char));
                 }
                 let mut cum = 0.0f64;
                 let mut table = Vec::new();
@@ -379,7 +383,7 @@ impl Grammar {
     }
 
     /// Parses and compiles a grammar file's text (`origin` names it in errors).
-    pub fn parse_file(text: &str, origin: &str) -> anyhow::Result<Grammar> {
+    pub fn parse_file(text: &str, origin: &str) -> Result<Grammar, LsystemError> {
         let mut src = Source { name: String::new(), ..Source::default() };
         let mut have_axiom = false;
         for (ln, raw) in text.lines().enumerate() {
@@ -393,10 +397,10 @@ impl Grammar {
             }
             let at = || format!("{origin} line {}", ln + 1);
             let Some((key, value)) = line.split_once(':') else {
-                bail!("{}: expected 'key: value'", at());
+                return Err(LsystemError::KeyValue.at(at()));
             };
             let value = value.trim();
-            let num = |v: &str| v.parse::<f32>().with_context(|| format!("{}: '{v}' is not a number", at()));
+            let num = |v: &str| v.parse::<f32>().map_err(|error| LsystemError::NotNumber { value: v.to_string(), error }.at(at()));
             match key.trim() {
                 "name" => src.name = value.to_string(),
                 "axiom" => {
@@ -410,17 +414,17 @@ impl Grammar {
                 "width-factor" => src.width_factor = num(value)?,
                 "species" => src.species = value.to_string(),
                 "height" => src.height = num(value)?,
-                "n" => src.n = value.parse().with_context(|| format!("{}: '{value}' is not a derivation count", at()))?,
-                other => bail!("{}: unknown key '{other}' (name, axiom, rule, angle, step, width, width-factor, species, height, n)", at()),
+                "n" => src.n = value.parse().map_err(|error| LsystemError::NotCount { value: value.to_string(), error }.at(at()))?,
+                other => return Err(LsystemError::UnknownKey(other.to_string()).at(at())),
             }
         }
         if !have_axiom {
-            bail!("{origin}: no 'axiom:' line");
+            return Err(LsystemError::NoAxiom.at(origin));
         }
         if src.name.is_empty() {
             src.name = std::path::Path::new(origin).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         }
-        Grammar::compile(&src).with_context(|| origin.to_string())
+        Grammar::compile(&src).map_err(|e| e.at(origin))
     }
 
     /// Whether any symbol carries parameters.
@@ -443,7 +447,7 @@ impl Grammar {
 mod tests {
     use super::*;
 
-    fn g(axiom: &str, rules: &[&str]) -> anyhow::Result<Grammar> {
+    fn g(axiom: &str, rules: &[&str]) -> Result<Grammar, LsystemError> {
         Grammar::compile(&Source { axiom: axiom.into(), rules: rules.iter().map(|s| s.to_string()).collect(), ..Source::default() })
     }
 

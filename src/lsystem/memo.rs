@@ -17,10 +17,10 @@
 
 use std::mem::MaybeUninit;
 
-use anyhow::bail;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::error::LsystemError;
 use super::grammar::{Choice, Grammar};
 use super::turtle::{check_size, Segment};
 
@@ -143,7 +143,7 @@ fn walk<'e>(
     syms: impl Iterator<Item = (u8, &'e Expansion)>,
     start: Walk,
     mut emit: impl FnMut(&Walk, &Expansion, u32, u32),
-) -> anyhow::Result<(Walk, u32)> {
+) -> Result<(Walk, u32), LsystemError> {
     let mut w = start;
     let mut stack: Vec<Walk> = Vec::new();
     let mut opens = 0u32;
@@ -155,7 +155,7 @@ fn walk<'e>(
                 w.branch = opens;
             }
             b']' => {
-                let Some(s) = stack.pop() else { bail!("unbalanced brackets: ']' without '['") };
+                let Some(s) = stack.pop() else { return Err(LsystemError::UnbalancedClose) };
                 w = s;
             }
             _ => {
@@ -166,14 +166,14 @@ fn walk<'e>(
         }
     }
     if !stack.is_empty() {
-        bail!("unbalanced brackets: {} '[' without ']'", stack.len());
+        return Err(LsystemError::UnbalancedOpen(stack.len()));
     }
     Ok((w, opens))
 }
 
 /// The expansions of every symbol after `k` steps, from those after `k − 1` (`prev`); `None`
 /// where a symbol has no rule (it stays its level-0 self).
-fn next_level(g: &Grammar, bases: &[Expansion], prev: &[Option<Expansion>]) -> anyhow::Result<Vec<Option<Expansion>>> {
+fn next_level(g: &Grammar, bases: &[Expansion], prev: &[Option<Expansion>]) -> Result<Vec<Option<Expansion>>, LsystemError> {
     let get = |c: u8| prev[c as usize].as_ref().unwrap_or(&bases[c as usize]);
     (0..128u8)
         .map(|sym| {
@@ -192,9 +192,9 @@ fn next_level(g: &Grammar, bases: &[Expansion], prev: &[Option<Expansion>]) -> a
 /// Interprets `g` derived `n` times, without deriving the string; fails with one line when the
 /// grammar is not memoisable, the brackets do not balance, or the segments would need more than
 /// `max_bytes`. Runs on the current rayon pool.
-pub fn interpret_memo(g: &Grammar, n: u32, max_bytes: u64) -> anyhow::Result<Vec<Segment>> {
+pub fn interpret_memo(g: &Grammar, n: u32, max_bytes: u64) -> Result<Vec<Segment>, LsystemError> {
     if !applies(g) {
-        bail!("the memoised turtle needs one rule per symbol, without parameters, and balanced brackets in every successor");
+        return Err(LsystemError::NotMemoisable);
     }
     let bases: Vec<Expansion> = (0..128u8).map(|c| base(c, g)).collect();
     // The top walk goes over the axiom's symbols each expanded n − 1 times, one step written out:

@@ -6,12 +6,12 @@
 //! that the model is `height` metres tall.
 
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
 use glam::{Vec3, Vec4};
 
 use super::derive::mix32;
+use super::error::LsystemError;
 use super::grammar::Grammar;
 use super::turtle::Segment;
 use crate::assetgen::geometry::{card, tube, Limb, MeshData};
@@ -65,21 +65,21 @@ fn unit(x: u32) -> f32 {
 }
 
 /// Builds the meshes of the segments.
-pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> anyhow::Result<Model> {
+pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> Result<Model, LsystemError> {
     if segs.is_empty() {
-        bail!("'{}' draws nothing (no F in the derived string)", g.name);
+        return Err(LsystemError::NoSegments(g.name.clone()));
     }
     if segs.len() > opts.max_segments {
-        bail!("'{}' has {} segments, more than a model's limit of {}; use a smaller --n", g.name, segs.len(), opts.max_segments);
+        return Err(LsystemError::TooManySegments { name: g.name.clone(), segments: segs.len(), limit: opts.max_segments });
     }
     if !(opts.height.is_finite() && opts.height > 0.0) {
-        bail!("the height must be a positive number of metres");
+        return Err(LsystemError::ModelHeight);
     }
     if segs.iter().any(|s| !(s.start.is_finite() && s.end.is_finite() && s.width.is_finite())) {
-        bail!("'{}' draws a segment at a position or width that is not a finite number; check its parameters", g.name);
+        return Err(LsystemError::NotFinite(g.name.clone()));
     }
     if segs.iter().all(|s| s.start == s.end) {
-        bail!("'{}' draws nothing: every segment has zero length (check the parameters of F)", g.name);
+        return Err(LsystemError::ZeroLength(g.name.clone()));
     }
     let top = segs.iter().fold(0.0f32, |m, s| m.max(s.start.y).max(s.end.y));
     let extent = segs.iter().fold(0.0f32, |m, s| m.max(s.end.length()));
@@ -120,7 +120,7 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> anyhow::Resu
         }
     }
     if wood.positions.is_empty() {
-        bail!("'{}' draws nothing: its segments are too short to draw (check the parameters of F)", g.name);
+        return Err(LsystemError::TooShort(g.name.clone()));
     }
     let crown = tips.iter().fold(Vec3::ZERO, |c, t| c + t.2) / tips.len().max(1) as f32;
     let mut leaves = MeshData::default();
@@ -141,35 +141,40 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> anyhow::Resu
 /// What `write` wrote.
 pub struct Written {
     /// The glTF file.
-    pub gltf: std::path::PathBuf,
+    pub gltf: PathBuf,
     /// Triangles of the model.
     pub triangles: usize,
 }
 
-fn save(img: Result<(), image::ImageError>, path: &Path) -> anyhow::Result<()> {
-    img.with_context(|| format!("{}: cannot write", path.display()))
+fn save(img: Result<(), image::ImageError>, path: &Path) -> Result<(), LsystemError> {
+    img.map_err(|error| LsystemError::WriteImage { path: path.to_path_buf(), error })
+}
+
+/// A folder created with its parents, or the error naming it.
+fn create_folder(path: &Path) -> Result<(), LsystemError> {
+    std::fs::create_dir_all(path).map_err(|error| LsystemError::CreateFolder { path: path.to_path_buf(), error })
 }
 
 /// Writes `model` as `dir/name.gltf` + `dir/name.bin`, with its textures in `dir/textures/`.
 /// Refuses to replace an existing model file.
-pub fn write(dir: &Path, name: &str, g: &Grammar, model: &Model) -> anyhow::Result<Written> {
+pub fn write(dir: &Path, name: &str, g: &Grammar, model: &Model) -> Result<Written, LsystemError> {
     let gltf = dir.join(format!("{name}.gltf"));
     if gltf.exists() {
-        bail!("{}: already exists; choose another --out folder or remove it", gltf.display());
+        return Err(LsystemError::Exists(gltf));
     }
     // Everything is written into a staging folder beside `dir` first and checked there; only a
     // complete, valid model is moved into `dir` (the glTF file last), so a failure leaves no file.
     let parent = dir.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).with_context(|| format!("{}: cannot create folder", parent.display()))?;
+    create_folder(parent)?;
     let stage = crate::atomic_write::temp_path(&parent.join(format!("{name}-model")));
     let result = write_staged(&stage, dir, name, g, model);
     let _ = std::fs::remove_dir_all(&stage);
     result
 }
 
-fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model) -> anyhow::Result<Written> {
+fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model) -> Result<Written, LsystemError> {
     let tex = stage.join("textures");
-    std::fs::create_dir_all(&tex).with_context(|| format!("{}: cannot create folder", tex.display()))?;
+    create_folder(&tex)?;
     let sp = species(&g.species);
     let n = sp.name();
     let (bark, bh) = textures::bark(sp, 128);
@@ -195,27 +200,27 @@ fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model
     let bin = format!("{name}.bin");
     let (json, bytes) = gltf_out::build(name, &parts, &bin);
     let staged_bin = stage.join(&bin);
-    std::fs::write(&staged_bin, &bytes).with_context(|| format!("{}: cannot write", staged_bin.display()))?;
+    std::fs::write(&staged_bin, &bytes).map_err(|error| LsystemError::Write { path: staged_bin.clone(), error })?;
     let staged_gltf = stage.join(format!("{name}.gltf"));
-    std::fs::write(&staged_gltf, json.as_bytes()).with_context(|| format!("{}: cannot write", staged_gltf.display()))?;
+    std::fs::write(&staged_gltf, json.as_bytes()).map_err(|error| LsystemError::Write { path: staged_gltf.clone(), error })?;
     // The same check a model gets when it is added to a bank.
-    crate::bank::validate_gltf(&staged_gltf).with_context(|| format!("the model written for '{}' is not valid", g.name))?;
+    crate::bank::validate_gltf(&staged_gltf).map_err(|error| LsystemError::Invalid { name: g.name.clone(), error })?;
     place(stage, dir, name, &bin)?;
     Ok(Written { gltf: dir.join(format!("{name}.gltf")), triangles: model.wood.triangles() + model.leaves.triangles() })
 }
 
 /// Moves a staged model into `dir`: textures that are already there with the same bytes are
 /// kept, different ones are refused before anything moves; the glTF file moves last.
-fn place(stage: &Path, dir: &Path, name: &str, bin: &str) -> anyhow::Result<()> {
-    let mut moves: Vec<(std::path::PathBuf, std::path::PathBuf)> = Vec::new();
+fn place(stage: &Path, dir: &Path, name: &str, bin: &str) -> Result<(), LsystemError> {
+    let mut moves: Vec<(PathBuf, PathBuf)> = Vec::new();
     let staged_tex = stage.join("textures");
-    for entry in std::fs::read_dir(&staged_tex).with_context(|| format!("{}: cannot list", staged_tex.display()))? {
-        let from = entry?.path();
+    for entry in std::fs::read_dir(&staged_tex).map_err(|error| LsystemError::List { path: staged_tex.clone(), error })? {
+        let from = entry.map_err(LsystemError::Io)?.path();
         let to = dir.join("textures").join(from.file_name().unwrap_or_default());
         if to.exists() {
             let same = grove_systems::files::read(&to, grove_systems::files::Kind::Image).ok() == grove_systems::files::read(&from, grove_systems::files::Kind::Image).ok();
             if !same {
-                bail!("{}: already exists with other content; choose another --out folder", to.display());
+                return Err(LsystemError::OtherContent(to));
             }
             continue;
         }
@@ -223,13 +228,13 @@ fn place(stage: &Path, dir: &Path, name: &str, bin: &str) -> anyhow::Result<()> 
     }
     let to_bin = dir.join(bin);
     if to_bin.exists() {
-        bail!("{}: already exists; choose another --out folder or remove it", to_bin.display());
+        return Err(LsystemError::Exists(to_bin));
     }
     moves.push((stage.join(bin), to_bin));
     moves.push((stage.join(format!("{name}.gltf")), dir.join(format!("{name}.gltf"))));
-    std::fs::create_dir_all(dir.join("textures")).with_context(|| format!("{}: cannot create folder", dir.join("textures").display()))?;
+    create_folder(&dir.join("textures"))?;
     for (from, to) in &moves {
-        std::fs::rename(from, to).with_context(|| format!("{}: cannot write", to.display()))?;
+        std::fs::rename(from, to).map_err(|error| LsystemError::Write { path: to.clone(), error })?;
     }
     Ok(())
 }

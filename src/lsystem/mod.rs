@@ -7,6 +7,7 @@
 //! format and the command line are described in `docs/lsystem.md`.
 
 pub mod derive;
+pub mod error;
 pub mod expr;
 pub mod gpu;
 pub mod grammar;
@@ -16,5 +17,6 @@ pub mod presets;
 pub mod turtle;
 
 pub use derive::{derive, derive_threads, LString, Limits};
+pub use error::LsystemError;
 pub use grammar::Grammar;
 pub use turtle::Segment;

@@ -2,6 +2,7 @@
 //! three bushes, the six plants of The Algorithmic Beauty of Plants Fig. 1.24 (a–f), and four 3D
 //! trees shaped like the species grove ships.
 
+use super::error::LsystemError;
 use super::grammar::Grammar;
 
 /// `(name, grammar file text)` of every preset.
@@ -62,9 +63,9 @@ pub fn names() -> Vec<&'static str> {
 }
 
 /// The preset called `name`, or an error naming the known ones.
-pub fn preset(name: &str) -> anyhow::Result<Grammar> {
+pub fn preset(name: &str) -> Result<Grammar, LsystemError> {
     match PRESETS.iter().find(|p| p.0 == name) {
         Some((n, text)) => Grammar::parse_file(text, &format!("preset {n}")),
-        None => anyhow::bail!("unknown preset '{name}' (known: {})", names().join(", ")),
+        None => Err(LsystemError::UnknownPreset { name: name.to_string(), known: names().join(", ") }),
     }
 }

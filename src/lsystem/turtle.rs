@@ -11,11 +11,11 @@
 //! skipping nested branches (which other walks take). Every symbol's state goes through the same
 //! operations in the same order as in the sequential turtle, so the segments are bit-identical.
 
-use anyhow::bail;
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::derive::{exclusive_scan, LString, CHUNK};
+use super::error::LsystemError;
 use super::grammar::Grammar;
 
 /// A drawn segment.
@@ -138,16 +138,16 @@ pub fn apply(t: &mut State, sym: u8, args: &[f32], cfg: &Config) -> Option<Vec3>
 }
 
 /// Fails with one line when the segments of `draws` `F`s would need more than `max_bytes`.
-pub fn check_size(draws: u64, max_bytes: u64) -> anyhow::Result<()> {
+pub fn check_size(draws: u64, max_bytes: u64) -> Result<(), LsystemError> {
     let bytes = draws * std::mem::size_of::<Segment>() as u64;
     if bytes > max_bytes {
-        bail!("interpretation would need {bytes} bytes for {draws} segments, more than the limit of {max_bytes} (--max-bytes)");
+        return Err(LsystemError::InterpretBytes { bytes, draws, limit: max_bytes });
     }
     Ok(())
 }
 
 /// The plain sequential turtle.
-pub fn interpret(s: &LString, g: &Grammar) -> anyhow::Result<Vec<Segment>> {
+pub fn interpret(s: &LString, g: &Grammar) -> Result<Vec<Segment>, LsystemError> {
     let cfg = Config::of(g);
     let mut t = cfg.start();
     let mut stack: Vec<(State, u32)> = Vec::new();
@@ -164,7 +164,7 @@ pub fn interpret(s: &LString, g: &Grammar) -> anyhow::Result<Vec<Segment>> {
                 branch = opens;
             }
             b']' => {
-                let Some((st, b)) = stack.pop() else { bail!("unbalanced brackets: ']' without '['") };
+                let Some((st, b)) = stack.pop() else { return Err(LsystemError::UnbalancedClose) };
                 t = st;
                 branch = b;
             }
@@ -180,7 +180,7 @@ pub fn interpret(s: &LString, g: &Grammar) -> anyhow::Result<Vec<Segment>> {
         }
     }
     if !stack.is_empty() {
-        bail!("unbalanced brackets: {} '[' without ']'", stack.len());
+        return Err(LsystemError::UnbalancedOpen(stack.len()));
     }
     Ok(segs)
 }
@@ -274,7 +274,7 @@ fn walk<'s>(scope: &rayon::Scope<'s>, ctx: &'s Ctx<'s>, first: Task) {
 }
 
 /// The parallel turtle on the current rayon pool; equal to `interpret`.
-pub fn interpret_parallel(s: &LString, g: &Grammar, max_bytes: u64) -> anyhow::Result<Vec<Segment>> {
+pub fn interpret_parallel(s: &LString, g: &Grammar, max_bytes: u64) -> Result<Vec<Segment>, LsystemError> {
     let cfg = Config::of(g);
     // Pass 1: per chunk, the counts of drawn symbols, parameters and opening brackets.
     let per_chunk: Vec<Counts> = s
@@ -338,13 +338,13 @@ pub fn interpret_parallel(s: &LString, g: &Grammar, max_bytes: u64) -> anyhow::R
     let mut stack: Vec<u32> = Vec::new();
     for (closes, opens) in loose {
         for (_, m) in closes {
-            let Some(o) = stack.pop() else { bail!("unbalanced brackets: ']' without '['") };
+            let Some(o) = stack.pop() else { return Err(LsystemError::UnbalancedClose) };
             matches[o as usize] = m;
         }
         stack.extend(opens);
     }
     if !stack.is_empty() {
-        bail!("unbalanced brackets: {} '[' without ']'", stack.len());
+        return Err(LsystemError::UnbalancedOpen(stack.len()));
     }
 
     // Pass 3: walk the branches.

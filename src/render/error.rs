@@ -4,16 +4,14 @@
 //! prints an error's whole chain.
 //!
 //! A leaf of `src/render`: it names no feature module (features import it), only the pipeline
-//! key ([`super::key`]) and its own glTF part ([`gltf_problem`]).
-
-pub mod gltf_problem;
+//! key ([`super::key`]) and the models' glTF errors ([`crate::models::GltfError`]).
 
 use std::path::PathBuf;
 
 use glam::DVec2;
 use grove_systems::files::FileError;
 
-pub use self::gltf_problem::{GltfError, GltfProblem};
+pub use crate::models::{GltfError, GltfProblem};
 use super::key::PipelineKey;
 
 /// Why the renderer failed.
@@ -246,6 +244,25 @@ pub enum ClipmapError {
     /// The loader thread could not be started.
     #[error("cannot start the clipmap's loader thread: {0}")]
     LoaderThread(std::io::Error),
+    /// A photograph, layer mask or tile pyramid that could not be read or does not fit.
+    #[error(transparent)]
+    Aerial(#[from] crate::aerial::AerialError),
+    /// An error about a named photograph: `name` is how the message names it ("winter
+    /// photograph").
+    #[error("{name}: {error}")]
+    In {
+        /// The photograph, as the message names it.
+        name: String,
+        /// What went wrong with it.
+        error: Box<ClipmapError>,
+    },
+}
+
+impl ClipmapError {
+    /// This error about the photograph named `name`: "`name`: error".
+    pub fn named(self, name: impl std::fmt::Display) -> ClipmapError {
+        ClipmapError::In { name: name.to_string(), error: Box::new(self) }
+    }
 }
 
 /// A short description of an image error, on one line.

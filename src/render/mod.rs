@@ -46,7 +46,7 @@ use std::path::Path;
 use grove_systems::catalogue::Catalogue;
 use grove_systems::Sim;
 
-pub use assets::{default_assets_dir, gltf_load};
+pub use assets::default_assets_dir;
 pub use gpu::{PipelineKey, ViewKind, DEPTH_FORMAT, SHADOW_FORMAT};
 pub use lighting::{light_matrix, sun_light, SunLight};
 pub use timing::PassTimes;
@@ -56,7 +56,7 @@ pub use trees::model::GpuModel;
 pub use view::{camera_matrix, Camera, TopView};
 pub use aerial_ground::AerialPhotos;
 pub use feature::FrameStats;
-pub use error::{ClipmapError, GltfError, GltfProblem, PipelineError, RenderError};
+pub use error::{ClipmapError, PipelineError, RenderError};
 pub use options::{RenderOptions, WaterOutput, DEFAULT_FAR_PIXELS, DEFAULT_IMPOSTOR_PIXELS};
 
 
@@ -115,7 +115,7 @@ impl Renderer {
         let mut r = Renderer::empty(device, queue, target_format, width, height, assets)?;
         for m in &catalogue.models {
             let path = assets.join("trees").join(format!("{}.gltf", m.name));
-            let data = gltf_load::load_model(&path)?;
+            let data = crate::models::load_model(&path)?;
             r.features.trees.set_model(m.id, &data);
         }
         Ok(r)

@@ -9,7 +9,8 @@ use grove_systems::Sim;
 use image::RgbaImage;
 
 use super::error::RenderError;
-use super::{gltf_load, RenderOptions, Renderer};
+use super::{RenderOptions, Renderer};
+use crate::models::{load_model, ModelData};
 
 /// The offscreen target format.
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -184,11 +185,11 @@ pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), RenderError> {
 /// ground plane (the simulation crate's staging scene, [`model_stage`]), always as the mesh
 /// (`options.impostor_pixels` is ignored).
 pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
-    render_model_data(gpu, &gltf_load::load_model(path)?, width, height, options)
+    render_model_data(gpu, &load_model(path)?, width, height, options)
 }
 
 /// [`render_model_file`] of a model already loaded.
-pub fn render_model_data(gpu: &Gpu, data: &gltf_load::ModelData, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
+pub fn render_model_data(gpu: &Gpu, data: &ModelData, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, FORMAT, width, height, &super::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, far_pixels: 0.0, ..options };

@@ -3,9 +3,13 @@
 //! [`compose`] writes each piece once, the pieces a piece imports before it, then the shader.
 //!
 //! The pieces are the shared WGSL files of [`LIBRARY`], pieces written from Rust that any shader
-//! may import (the haze's constants, `haze::SHADER_CONSTANTS`), and pieces the caller generates
-//! from Rust (the grass's constants, `grass::data::shader_constants`), so a constant shared by
-//! Rust and WGSL is written in Rust only. It names no feature module, only the leaf `haze`.
+//! may import (the haze's constants, `haze::SHADER_CONSTANTS`; the wind's uniform,
+//! `WindParams::WGSL`), and pieces the caller generates from Rust (the grass's constants,
+//! `grass::data::shader_constants`; the trees' `Material`), so a constant or a struct shared by
+//! Rust and WGSL is written in Rust only (structs with `grove_systems::wgsl_struct!`). It names no
+//! feature module, only the leaf `haze`.
+
+use grove_systems::wind_model::WindParams;
 
 /// The shared WGSL files by import name.
 pub(crate) const LIBRARY: &[(&str, &str)] = &[
@@ -24,9 +28,10 @@ pub(crate) const LIBRARY: &[(&str, &str)] = &[
 ];
 
 /// The pieces written from Rust that any shader may import: the haze's constants
-/// ([`super::haze`]).
-fn built_in() -> [(&'static str, &'static str); 1] {
-    [("haze", super::haze::SHADER_CONSTANTS.as_str())]
+/// ([`super::haze`]) and the wind's uniform, declared once in grove-systems
+/// ([`WindParams`], `grove_systems::wgsl_struct!`).
+fn built_in() -> [(&'static str, &'static str); 2] {
+    [("haze", super::haze::SHADER_CONSTANTS.as_str()), ("wind_params", WindParams::WGSL)]
 }
 
 /// The names a WGSL text imports, in order: every `// #import a, b` line.
@@ -68,6 +73,20 @@ fn add<'a>(name: &'a str, generated: &[(&'a str, &'a str)], done: &mut Vec<&'a s
     done.push(name);
     out.push_str(text);
     out.push('\n');
+}
+
+/// The members (name, byte offset) and the size that WGSL gives the struct `name` declared in
+/// `wgsl`, as naga lays it out; `None` when the text does not parse or declares no such struct.
+/// For the tests that hold a struct declared in Rust to the offsets its shaders read.
+#[cfg(test)]
+pub(crate) fn struct_layout(wgsl: &str, name: &str) -> Option<(Vec<(String, usize)>, usize)> {
+    let module = wgpu::naga::front::wgsl::parse_str(wgsl).ok()?;
+    module.types.iter().find_map(|(_, ty)| match &ty.inner {
+        wgpu::naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => {
+            Some((members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect(), *span as usize))
+        }
+        _ => None,
+    })
 }
 
 #[cfg(test)]
@@ -114,7 +133,7 @@ mod tests {
             }
         }
         assert!(files.len() >= 15, "{files:?}");
-        let known: Vec<&str> = LIBRARY.iter().chain(&built_in()).map(|(n, _)| *n).chain(["grass_constants"]).collect();
+        let known: Vec<&str> = LIBRARY.iter().chain(&built_in()).map(|(n, _)| *n).chain(["grass_constants", "material"]).collect();
         for f in &files {
             let text = std::fs::read_to_string(f).unwrap();
             for name in imports(&text) {
@@ -130,5 +149,29 @@ mod tests {
             assert_eq!(wgsl.matches(line).count(), 1, "{line}");
         }
         assert!(wgsl.contains("const HAZE_START: f32 = 40.0;"), "{}", *super::super::haze::SHADER_CONSTANTS);
+    }
+
+    #[test]
+    fn the_wind_uniform_is_written_once_from_rust() {
+        // The impostors read the wind through wind.wgsl, which imports the piece: one
+        // declaration, the one grove-systems writes, laid out at the Rust struct's offsets.
+        let wgsl = compose(include_str!("trees/impostor/impostor.wgsl"), &[]);
+        assert_eq!(wgsl.matches("struct WindParams {").count(), 1, "{wgsl}");
+        assert!(wgsl.contains(WindParams::WGSL));
+        let (members, size) = struct_layout(&wgsl, "WindParams").expect("the composed shader parses and declares WindParams");
+        let rust: Vec<(String, usize)> = WindParams::FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+        assert_eq!(members, rust);
+        assert_eq!(size, std::mem::size_of::<WindParams>());
+        assert_eq!(size, WindParams::SIZE);
+    }
+
+    #[test]
+    fn naga_lays_out_a_small_struct() {
+        // naga's layout of a small struct: the vec2 aligned to 8 bytes, the size rounded up to
+        // its alignment; a struct the text does not declare is none.
+        let (members, size) = struct_layout("struct S { a: f32, b: vec2<f32>, }", "S").unwrap();
+        assert_eq!(members, [("a".to_string(), 0), ("b".to_string(), 8)]);
+        assert_eq!(size, 16);
+        assert_eq!(struct_layout("struct S { a: f32, }", "T"), None);
     }
 }

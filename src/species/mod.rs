@@ -59,6 +59,6 @@ pub enum SpeciesError {
         /// The species.
         name: String,
         /// The loader's words.
-        source: crate::bank::validate::BankError,
+        source: crate::bank::BankError,
     },
 }

@@ -56,6 +56,7 @@ pub mod tree_def;
 pub mod view;
 pub mod water;
 pub mod wind_model;
+pub mod wgsl_struct;
 
 pub use error::Error;
 pub use sim::Sim;

@@ -2,14 +2,15 @@
 //!
 //! Every `crate::NAME` in the code (not in comments) of a file under `systems/src` is an edge
 //! from the file's top-level module to the module `NAME` (a folder such as `systems/` or
-//! `wind_model/` is one module). The graph must have no cycle.
+//! `wind_model/` is one module). The graph must have no cycle; nor must the graph of folders,
+//! where a folder imports another when one of its files imports one of the other's.
 
 mod graph;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
-use graph::{find_cycle, graph, references};
+use graph::{crate_with_folder_cycle, file_graph, find_cycle, folder_graph, graph, references};
 
 #[test]
 fn the_checker_finds_a_circle() {
@@ -32,5 +33,25 @@ fn systems_has_no_import_circles() {
     assert!(edges.contains_key("sim") && edges["sim"].contains("schedule"), "the graph was read: {edges:?}");
     if let Some(cycle) = find_cycle(&edges) {
         panic!("import circle: {}", cycle.join(" -> "));
+    }
+}
+
+#[test]
+fn the_folder_check_finds_a_circle_the_file_check_does_not() {
+    let dir = crate_with_folder_cycle("systems");
+    assert_eq!(find_cycle(&file_graph(&dir)), None, "the files import each other in one direction");
+    let cycle = find_cycle(&folder_graph(&dir)).expect("a circle between folders a and b");
+    assert_eq!(cycle.len(), 3, "{cycle:?}");
+    assert!(cycle.contains(&"a".to_string()) && cycle.contains(&"b".to_string()), "{cycle:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn systems_has_no_circles_between_folders() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let edges = folder_graph(&src);
+    assert!(edges.get("scenario").is_some_and(|t| t.contains("replay")), "the folder graph was read: {edges:?}");
+    if let Some(cycle) = find_cycle(&edges) {
+        panic!("import circle between folders: {}", cycle.join(" -> "));
     }
 }

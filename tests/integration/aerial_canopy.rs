@@ -124,7 +124,7 @@ fn a_missing_photograph_or_bad_field_is_one_line() {
     let s = site();
     let mut scene = s.scene.clone();
     scene.aerial.as_mut().unwrap().winter = "nowhere.png".into();
-    let e = grove::aerial::open::open_sources(&scene, false).err().expect("a missing photograph is an error").to_string();
+    let e = grove::render::aerial_ground::open::open_sources(&scene, false).err().expect("a missing photograph is an error").to_string();
     assert!(e.contains("nowhere.png") && !e.contains('\n'), "{e}");
     let text = std::fs::read_to_string(s.scene.dir.as_ref().unwrap().join("site.ron")).unwrap().replace("gsd_m: 0.25", "gsd_m: -1.0");
     let e = Scene::parse(&text, "bad.ron").unwrap_err().to_string();
@@ -140,7 +140,7 @@ fn render(site: &Site, eye: Vec3, target: Vec3, shadows: bool, debug_lod: bool) 
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.shadows = shadows;
     r.options.overlay = false;
-    r.features.aerial.set(grove::aerial::open::open_sources(&site.scene, debug_lod).unwrap().unwrap()).unwrap();
+    r.features.aerial.set(grove::render::aerial_ground::open::open_sources(&site.scene, debug_lod).unwrap().unwrap()).unwrap();
     offscreen::render_image(g, &mut r, &sim).unwrap()
 }
 
@@ -252,7 +252,7 @@ fn a_level_not_loaded_falls_back_to_the_coarser_one() {
     let g = gpu();
     let mut sim = sim(&s);
     sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() });
-    let mut sources = grove::aerial::open::open_sources(&s.scene, true).unwrap().unwrap();
+    let mut sources = grove::render::aerial_ground::open::open_sources(&s.scene, true).unwrap().unwrap();
     let winter = grove::aerial::RgbImage::load(&s.scene.dir.as_ref().unwrap().join("winter.png"), "winter").unwrap();
     let placement = AerialPlacement { origin_m: glam::DVec2::splat(-32.0), gsd_m: GSD };
     let inner = ImageSource::from_rgb(&winter, ClipmapConfig { levels: 8, size: 256 }, placement).unwrap();
@@ -341,7 +341,7 @@ fn a_moved_crown_tree_takes_its_canopy_along() {
     assert_eq!(crown_trees(&sim).len(), before - 1);
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.overlay = false;
-    r.features.aerial.set(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
+    r.features.aerial.set(grove::render::aerial_ground::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
     let img = offscreen::render_image(g, &mut r, &sim).unwrap();
     // The crown's top is green at its new place.
     let foot = sim.tree(big.to_bits().get()).unwrap().transform.translation;
@@ -397,7 +397,7 @@ fn trunks_stand_under_the_crowns() {
         sim.set_up().camera(Head { pose: Pose::looking_at(eye, mid), fov_y: 60f32.to_radians() });
         let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
         r.options.overlay = false;
-        r.features.aerial.set(grove::aerial::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
+        r.features.aerial.set(grove::render::aerial_ground::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
         offscreen::render_image(g, &mut r, &sim).unwrap()
     };
     let with = shot(false);

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use build::{f32s, float_accessor, index_accessor, position_accessor, u16s, Buffer};
 use common::{assert_one_line_error, grove, root};
 use glam::{Mat4, Vec2, Vec3};
-use grove::render::assets::gltf_load::{load_model, ModelData};
+use grove::models::{load_model, ModelData};
 use grove::render::offscreen;
 use grove::render::RenderOptions;
 use image::RgbaImage;

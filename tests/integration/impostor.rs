@@ -12,7 +12,8 @@
 use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
 use grove::render::trees::impostor::{self, cell_dir, BAND};
-use grove::render::{gltf_load, Renderer};
+use grove::models::{load_model, ModelData};
+use grove::render::Renderer;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
 use grove_systems::Sim;
@@ -36,7 +37,7 @@ use sky_stage::stage;
 
 /// Renders `sim` with the model loaded (or not), no shadows, every leaf drawn, and impostors
 /// below `impostor_pixels`.
-fn draw(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor_pixels: f32) -> RgbaImage {
+fn draw(data: &ModelData, sim: &Sim, with_model: bool, impostor_pixels: f32) -> RgbaImage {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     sky_stage::draw(gpu(), data, sim, with_model, SIZE, impostor_pixels).0
 }
@@ -71,7 +72,7 @@ fn channel_mae(a: &RgbaImage, b: &RgbaImage, pixels: &[bool]) -> f64 {
 
 #[test]
 fn atlas_views_match_the_mesh_from_their_direction() {
-    let data = gltf_load::load_model(&model_path("broadleaf-mesh")).unwrap();
+    let data = load_model(&model_path("broadleaf-mesh")).unwrap();
     // A side view, a view from 45° up, and one near the zenith, each exactly an atlas view.
     for (c, r) in [(7, 4), (5, 6), (4, 4)] {
         let dir = cell_dir(glam::UVec2::new(c, r));
@@ -104,7 +105,7 @@ fn atlas_views_match_the_mesh_from_their_direction() {
 
 #[test]
 fn crossing_the_band_changes_little_per_frame() {
-    let data = gltf_load::load_model(&model_path("conifer-mesh")).unwrap();
+    let data = load_model(&model_path("conifer-mesh")).unwrap();
     let dir = Vec3::new(0.0, 0.25, 1.0).normalize();
     let (sim, radius) = stage(&data, dir, 60.0);
     // The tree's bounding sphere on screen: its diameter over the view's extent.
@@ -256,7 +257,7 @@ fn a_bad_impostor_threshold_is_refused() {
 #[test]
 fn a_slowly_turning_impostor_changes_smoothly() {
     use grove_systems::components::Transform;
-    let data = gltf_load::load_model(&model_path("broadleaf-mesh")).unwrap();
+    let data = load_model(&model_path("broadleaf-mesh")).unwrap();
     let dir = Vec3::new(0.0, 0.2, 1.0).normalize();
     let (mut sim, _) = stage(&data, dir, 200.0);
     let background = draw(&data, &sim, false, 0.0);

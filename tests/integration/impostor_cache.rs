@@ -5,7 +5,8 @@
 
 use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
-use grove::render::{gltf_load, Renderer};
+use grove::models::{load_model, ModelData};
+use grove::render::Renderer;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
 use grove_systems::stage::model_stage;
@@ -14,13 +15,13 @@ use image::RgbaImage;
 
 const SIZE: u32 = 128;
 
-fn model() -> gltf_load::ModelData {
+fn model() -> ModelData {
     let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trees/conifer-mesh.gltf");
-    gltf_load::load_model(&path).unwrap()
+    load_model(&path).unwrap()
 }
 
 /// A renderer with the model loaded through the cache in `dir`, and how many atlases it baked.
-fn load(gpu: &Gpu, data: &gltf_load::ModelData, dir: &std::path::Path) -> (Renderer, usize) {
+fn load(gpu: &Gpu, data: &ModelData, dir: &std::path::Path) -> (Renderer, usize) {
     let mut r = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
     r.features.trees.set_impostor_cache(Some(dir.to_path_buf()));
     r.features.trees.set_model(ModelId(0), data);
@@ -29,7 +30,7 @@ fn load(gpu: &Gpu, data: &gltf_load::ModelData, dir: &std::path::Path) -> (Rende
 }
 
 /// The model's stage seen from 80 m away at 20° up, drawn as an impostor.
-fn draw(gpu: &Gpu, r: &mut Renderer, data: &gltf_load::ModelData) -> RgbaImage {
+fn draw(gpu: &Gpu, r: &mut Renderer, data: &ModelData) -> RgbaImage {
     let mut sim: Sim = model_stage(data.bounds, 1.0, false, ModelId(0)).unwrap();
     let (lo, hi) = data.bounds;
     let centre = (lo + hi) * 0.5;

@@ -225,7 +225,7 @@ fn a_quantized_model_is_read_with_its_node_scale_and_added() {
     );
     let file = dir.join("quad.gltf");
     std::fs::write(&file, gltf).unwrap();
-    let data = grove::render::assets::gltf_load::load_model(&file).unwrap_or_else(|e| panic!("{e}"));
+    let data = grove::models::load_model(&file).unwrap_or_else(|e| panic!("{e}"));
     let (lo, hi) = data.bounds;
     assert!((lo - Vec3::new(-2.0, 0.0, 0.0)).length() < 1e-4 && (hi - Vec3::new(2.0, 4.0, 0.0)).length() < 1e-4, "{lo} {hi}");
     let out = grove(&["models", "add", file.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap()]);
@@ -255,7 +255,7 @@ fn a_webp_only_texture_is_decoded() {
         "nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0}"#;
     let file = dir.join("tri.gltf");
     std::fs::write(&file, gltf).unwrap();
-    let data = grove::render::assets::gltf_load::load_model(&file).unwrap_or_else(|e| panic!("{e}"));
+    let data = grove::models::load_model(&file).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(data.images.len(), 1);
     let im = &data.images[0];
     assert_eq!((im.width, im.height), (2, 2));

@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use grove::render::assets::gltf_load::{self, ModelData};
+use grove::models::{load_model, ModelData};
 use grove::render::offscreen;
 use grove::render::{RenderOptions, Renderer};
 use grove_systems::catalogue::ModelId;
@@ -60,8 +60,8 @@ fn compare(name: &str, img: &RgbaImage) {
 /// The species' model files, written once per test into `dir`.
 fn generate(species: &str, dir: &Path) -> (ModelData, ModelData) {
     grove::species::output::write(species, 1, dir).unwrap_or_else(|e| panic!("{species}: {e}"));
-    let full = gltf_load::load_model(&dir.join(format!("{species}.gltf"))).unwrap();
-    let lod1 = gltf_load::load_model(&dir.join(format!("{species}-lod1.gltf"))).unwrap();
+    let full = load_model(&dir.join(format!("{species}.gltf"))).unwrap();
+    let lod1 = load_model(&dir.join(format!("{species}-lod1.gltf"))).unwrap();
     (full, lod1)
 }
 

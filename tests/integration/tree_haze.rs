@@ -11,7 +11,7 @@
 
 use glam::Vec3;
 use grove::render::offscreen::Gpu;
-use grove::render::gltf_load;
+use grove::models::{load_model, ModelData};
 use grove_systems::Sim;
 use image::RgbaImage;
 
@@ -28,18 +28,18 @@ use crate::sky_stage;
 
 /// One tree of `data` against the sky, seen level from `distance` metres south of its bounds'
 /// centre, the field of view fitted to its bounding sphere.
-fn stage(data: &gltf_load::ModelData, distance: f32) -> Sim {
+fn stage(data: &ModelData, distance: f32) -> Sim {
     sky_stage::stage(data, Vec3::Z, distance).0
 }
 
 /// `sim` rendered with the model loaded (or not), no shadows, every leaf, and every tree an
 /// impostor (`impostor`) or none.
-fn draw(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor: bool) -> RgbaImage {
+fn draw(data: &ModelData, sim: &Sim, with_model: bool, impostor: bool) -> RgbaImage {
     draw_counted(data, sim, with_model, impostor).0
 }
 
 /// [`draw`], with the tree instances the main view drew.
-fn draw_counted(data: &gltf_load::ModelData, sim: &Sim, with_model: bool, impostor: bool) -> (RgbaImage, usize) {
+fn draw_counted(data: &ModelData, sim: &Sim, with_model: bool, impostor: bool) -> (RgbaImage, usize) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     sky_stage::draw(gpu(), data, sim, with_model, SIZE, if impostor { 1.0e6 } else { 0.0 })
 }
@@ -66,9 +66,9 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt()
 }
 
-fn broadleaf() -> gltf_load::ModelData {
+fn broadleaf() -> ModelData {
     let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/trees/broadleaf-mesh.gltf");
-    gltf_load::load_model(&path).unwrap()
+    load_model(&path).unwrap()
 }
 
 #[test]

@@ -112,7 +112,8 @@ fn run_gpu(cases: &[Case]) -> Vec<[f32; 4]> {
     }))
     .expect("request a wgpu device");
 
-    let source = format!("{WIND_WGSL}\n{TEST_WGSL}");
+    // wind.wgsl imports the uniform's declaration, which grove-systems writes.
+    let source = format!("{}\n{WIND_WGSL}\n{TEST_WGSL}", WindParams::WGSL);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("wind test shader"),
         source: wgpu::ShaderSource::Wgsl(source.into()),

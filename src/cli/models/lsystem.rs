@@ -69,15 +69,15 @@ impl GrammarArgs {
 
     fn grammar_unchecked(&self) -> anyhow::Result<Grammar> {
         if let Some(p) = &self.preset {
-            return presets::preset(p);
+            return Ok(presets::preset(p)?);
         }
         if let Some(path) = &self.grammar {
             let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Grammar)?;
-            return Grammar::parse_file(&text, &path.display().to_string());
+            return Ok(Grammar::parse_file(&text, &path.display().to_string())?);
         }
         if let Some(axiom) = &self.axiom {
             let src = Source { axiom: axiom.clone(), rules: self.rules.clone(), angle_deg: self.angle.unwrap_or(25.0), ..Source::default() };
-            return Grammar::compile(&src);
+            return Ok(Grammar::compile(&src)?);
         }
         bail!("give a grammar: --preset NAME, --grammar FILE or --axiom A --rule 'X=...'");
     }
@@ -245,13 +245,13 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn best<T>(repeats: u32, mut f: impl FnMut() -> anyhow::Result<T>) -> anyhow::Result<(f64, T)> {
+fn best<T, E: Into<anyhow::Error>>(repeats: u32, mut f: impl FnMut() -> Result<T, E>) -> anyhow::Result<(f64, T)> {
     let mut best = f64::MAX;
     let mut last = None;
     for _ in 0..repeats.max(1) {
         drop(last.take());
         let t = Instant::now();
-        let r = f()?;
+        let r = f().map_err(Into::into)?;
         best = best.min(t.elapsed().as_secs_f64() * 1e3);
         last = Some(r);
     }

@@ -17,7 +17,7 @@ use std::process::ExitCode;
 use anyhow::anyhow;
 use clap::{Args, Subcommand, ValueEnum};
 use grove::bank::import::{add_noted, load_checked, AddRequest, Added};
-use grove::bank::measure;
+use grove::models::measure;
 use grove_systems::bank::{Bank, BankModel};
 use grove_systems::catalogue::{Catalogue, ModelKind, PickShape, PICK_BANDS};
 use serde::Serialize;
@@ -223,7 +223,7 @@ fn run_list(a: ListArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// Differences between catalogue measurements and a fresh measurement, as short phrases.
-fn differences(bmin: glam::Vec3, bmax: glam::Vec3, tris: u32, pick: Option<&PickShape>, m: &grove::bank::Measured) -> Vec<String> {
+fn differences(bmin: glam::Vec3, bmax: glam::Vec3, tris: u32, pick: Option<&PickShape>, m: &grove::models::Measured) -> Vec<String> {
     let mut out = Vec::new();
     let tol = 1e-3 * (1.0 + (bmax - bmin).max_element());
     if (bmin - m.bounds_min).abs().max_element() > tol || (bmax - m.bounds_max).abs().max_element() > tol {
@@ -250,7 +250,7 @@ fn check_bank_model(bank: &Bank, m: &BankModel) -> Vec<String> {
     }
     match load_checked(&bank.file_of(m)) {
         Ok(data) => out.extend(differences(m.bounds_min, m.bounds_max, m.triangles, Some(&m.pick), &measure(&data))),
-        Err(e) => out.push(crate::cli::one_line(&e)),
+        Err(e) => out.push(crate::cli::one_line(&e.into())),
     }
     out
 }
@@ -264,7 +264,7 @@ fn run_check(a: ListArgs) -> anyhow::Result<ExitCode> {
         let file = shipped.join(format!("{}.gltf", m.name));
         let problems = match load_checked(&file) {
             Ok(data) => differences(m.bounds_min, m.bounds_max, m.triangles, m.pick.as_ref(), &measure(&data)),
-            Err(e) => vec![crate::cli::one_line(&e)],
+            Err(e) => vec![crate::cli::one_line(&e.into())],
         };
         report.push((m.name.clone(), "shipped".into(), problems));
     }

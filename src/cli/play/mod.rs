@@ -96,7 +96,7 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     crate::desktop::gpu::set_session_models(catalogue.clone(), grove::bank::model_files(&banks).map_err(|e| anyhow!(e))?);
     let sim = Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{scene_name}: {e}"))?;
     // The aerial photographs are opened here once, so a bad one is one line before the window.
-    if grove::aerial::open::open_sources(&scene, false).map_err(|e| anyhow!("{scene_name}: {e}"))?.is_some() {
+    if grove::render::aerial_ground::open::open_sources(&scene, false).map_err(|e| anyhow!("{scene_name}: {e}"))?.is_some() {
         crate::desktop::gpu::set_session_aerial(scene.clone());
     }
     let recorder = match &args.record {

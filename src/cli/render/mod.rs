@@ -214,7 +214,7 @@ fn frames_setup(args: &RenderArgs, out: &Path, n: u32, dt: f32) -> anyhow::Resul
 
 /// A `--model` file read and checked as a bank model is ([`grove::bank::validate_gltf`]),
 /// before the GPU starts; what it uses that grove does not draw is printed as warnings.
-fn load_model_checked(model: &Path) -> anyhow::Result<grove::render::assets::gltf_load::ModelData> {
+fn load_model_checked(model: &Path) -> anyhow::Result<grove::models::ModelData> {
     let data = grove::bank::validate_gltf(model).map_err(|e| anyhow!(e))?;
     for w in &data.warnings {
         eprintln!("warning: {w}");
@@ -282,7 +282,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
             bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.tick());
         }
         let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
-        let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+        let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
         let gpu = Gpu::new()?;
         let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene, aerial)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, out)?;
@@ -303,7 +303,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     match args.frames {
         None => {
             check_out_file(out, args.force, &PNG_OUT)?;
-            let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+            let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             render_sim(&gpu, &mut renderer, &sim, out)?;
@@ -311,7 +311,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         }
         Some(n) => {
             let ticks_per_frame = frames_setup(&args, out, n, scene.dt)?;
-            let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+            let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             for f in 0..n {

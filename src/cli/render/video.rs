@@ -66,7 +66,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     };
 
     let scene = grove_systems::replay::scene_ref::resolve_scene(&player.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
-    let aerial = grove::aerial::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+    let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
     let gpu = Gpu::new()?;
     let mut renderer = super::renderer(&gpu, args, player.sim(), &scene, aerial)?;
     let n = video::frame_ticks(from, to, fps, args.speed, dt).len() as u64;

@@ -7,17 +7,17 @@
 //! [`AerialSources`] is what an app hands the renderer ([`AerialPhotos::set`]): the clipmap
 //! sources of the pair and of the canopy's layer masks.
 
+pub mod open;
 mod photos;
 pub use photos::AerialPhotos;
 
-use glam::{DVec3, Vec2};
+use glam::Vec2;
 use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
-use super::clipmap::{ClipCamera, ClipmapSource, GpuClipmap};
+use super::clipmap::{clip_camera, ClipmapSource, FedClipmap, GpuClipmap};
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
-use super::view::Camera;
 
 /// How far above the ground the photograph lies, metres: with the depth bias of its pipeline,
 /// enough for it to hide the ground at the same height.
@@ -33,7 +33,7 @@ pub struct AerialSources {
     pub layers: Option<Box<dyn ClipmapSource>>,
     /// The layer masks' bits in memory, for the canopy's per-layer quad sizes (optional: without
     /// them every layer's quad is as wide as the crown's).
-    pub layer_bits: Option<crate::render::canopy::extents::LayerBits>,
+    pub layer_bits: Option<super::canopy::extents::LayerBits>,
     /// The photographed rectangle's size, metres (east, south), from the sources' origin.
     pub size_m: Vec2,
     /// The ground's height, metres.
@@ -52,45 +52,6 @@ struct Params {
     hi: [f32; 2],
     height: f32,
     pad: [f32; 3],
-}
-
-/// The clipmap camera of a frame's view: its eye, view direction and frustum.
-pub(crate) fn clip_camera(c: &Camera, size: (u32, u32)) -> ClipCamera {
-    ClipCamera {
-        eye: c.position.as_dvec3(),
-        forward: (c.rotation * glam::Vec3::NEG_Z).as_dvec3().normalize_or(DVec3::NEG_Y),
-        fov_y: f64::from(c.fov_y),
-        aspect: f64::from(size.0.max(1)) / f64::from(size.1.max(1)),
-    }
-}
-
-/// A clipmap fed by its source: the pair the ground and the canopy read.
-pub(crate) struct FedClipmap {
-    /// The CPU half.
-    pub source: Box<dyn ClipmapSource>,
-    /// The GPU half.
-    pub gpu: GpuClipmap,
-    /// How long the last [`FedClipmap::update`] took, milliseconds (placing the levels, copying
-    /// the texels of tiles that have arrived, writing them; never reading a tile).
-    pub update_ms: f64,
-}
-
-impl FedClipmap {
-    /// The GPU half for `source`, labelled.
-    pub fn new(shared: &Shared, source: Box<dyn ClipmapSource>, label: &str, debug_lod: bool, filter: wgpu::FilterMode) -> Result<FedClipmap, RenderError> {
-        let mut gpu = GpuClipmap::with_filter(&shared.device, source.config(), source.placement(), label, filter)?;
-        gpu.set_debug_lod(debug_lod);
-        Ok(FedClipmap { source, gpu, update_ms: 0.0 })
-    }
-
-    /// Moves the levels for `camera` and writes what changed; the bytes written.
-    pub fn update(&mut self, queue: &wgpu::Queue, camera: &ClipCamera) -> Result<u64, RenderError> {
-        let start = std::time::Instant::now();
-        let frame = self.source.update(camera);
-        let bytes = self.gpu.apply(queue, &frame).map_err(RenderError::from);
-        self.update_ms = start.elapsed().as_secs_f64() * 1e3;
-        bytes
-    }
 }
 
 /// The aerial ground feature.

@@ -9,7 +9,8 @@ use super::super::extract;
 use crate::render::error::RenderError;
 use super::super::gpu::Shared;
 use super::super::options::RenderOptions;
-use super::{clip_camera, AerialGround, AerialSources, FedClipmap};
+use super::super::clipmap::{clip_camera, FedClipmap};
+use super::{AerialGround, AerialSources};
 
 /// The photographs' two drawn features, each absent until [`AerialPhotos::set`].
 pub struct AerialPhotos {

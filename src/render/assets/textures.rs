@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt;
 
 // The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout): the mapping the
 // generator used to write the faces.
-use crate::assetgen::textures::cube_dir;
+use crate::cubemap::{cube_dir, FACES};
 use crate::render::error::RenderError;
 
 /// Builds a box-filtered mip chain of an RGBA8 image; with `srgb`, averaging happens in linear
@@ -181,9 +181,6 @@ pub struct Environment {
 /// values rather than linear ones darkens mixed texels slightly; for smooth images (the sky, the
 /// ground's noise) it does not show.
 pub const ENCODED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-
-/// Names of the cube faces in wgpu's layer order.
-pub const FACES: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
 
 /// Reads and decodes an image file (the format from its content) through
 /// `grove_systems::files`: a regular file within the image size limit. The error is one line

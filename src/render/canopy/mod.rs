@@ -20,8 +20,7 @@ pub(crate) mod trunks;
 use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
-use super::aerial_ground::{clip_camera, FedClipmap};
-use super::clipmap::GpuClipmap;
+use super::clipmap::{clip_camera, FedClipmap, GpuClipmap};
 pub(crate) use self::extract::CrownDraw;
 use self::extract::Crowns;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};

@@ -119,8 +119,10 @@ pub trait ClipmapSource: Send {
     }
 }
 
+pub mod fed;
 pub mod gpu;
 pub mod image_source;
 
+pub(crate) use fed::{clip_camera, FedClipmap};
 pub use gpu::GpuClipmap;
 pub use image_source::ImageSource;

@@ -24,7 +24,6 @@ use super::place::{ImageExtent, place_levels};
 use super::toroid::{TexelRect, exposed, window, wrap};
 use super::{AerialPlacement, ClipCamera, ClipmapConfig, ClipmapFrame, ClipmapSource, LevelPlacement, Upload};
 use crate::aerial::tiles::{Pyramid, PyramidMeta, TileReader};
-use crate::aerial::AerialError;
 use crate::render::error::ClipmapError;
 
 /// Requests the loader's queue holds.
@@ -87,9 +86,9 @@ fn check_placement(p: &AerialPlacement) -> Result<(), ClipmapError> {
 
 impl Clipmap {
     /// Opens the pyramid at `dir` and starts the loader thread.
-    pub fn open(dir: &Path, config: ClipmapConfig, placement: AerialPlacement) -> Result<Clipmap, AerialError> {
+    pub fn open(dir: &Path, config: ClipmapConfig, placement: AerialPlacement) -> Result<Clipmap, ClipmapError> {
         let pyramid = Pyramid::open(dir)?;
-        Ok(Clipmap::with_reader(Arc::new(pyramid), config, placement)?)
+        Clipmap::with_reader(Arc::new(pyramid), config, placement)
     }
 
     /// A clipmap over any tile reader (a pyramid, or a stand-in in tests).

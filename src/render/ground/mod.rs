@@ -14,7 +14,8 @@ use std::path::Path;
 use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
-use super::assets::{gltf_load, textures};
+use super::assets::textures;
+use crate::models::gltf_load;
 use self::extract::{GroundKey, PlaneMesh, Planes};
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};

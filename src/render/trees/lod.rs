@@ -24,7 +24,7 @@
 
 use glam::Vec3;
 
-use crate::render::assets::gltf_load::Vertex;
+use crate::models::Vertex;
 
 /// A primitive needs at least this many leaves to be simplified.
 pub const MIN_LEAVES: usize = 16;

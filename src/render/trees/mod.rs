@@ -100,7 +100,7 @@ impl Trees {
     pub(crate) fn new(shared: &Shared) -> Trees {
         let capacity = 1024;
         Trees {
-            module: shared.shader("trees.wgsl", include_str!("trees.wgsl")),
+            module: shared.shader_with("trees.wgsl", include_str!("trees.wgsl"), &[model::MATERIAL_PIECE]),
             lit_layout: shared.layout("tree lit layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
             shadow_layout: shared.layout("tree shadow layout", &[Some(&shared.view_layout), None, Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("trees"),
@@ -127,7 +127,7 @@ impl Trees {
     /// the cache folder `impostor_cache` where a file for this model and bake is there. A file
     /// that cannot be read is reported in one line on stderr and replaced by a new bake; a cache
     /// that cannot be written is reported and otherwise ignored.
-    fn bake_impostor(&mut self, model: &mut GpuModel, data: &super::assets::gltf_load::ModelData) {
+    fn bake_impostor(&mut self, model: &mut GpuModel, data: &crate::models::ModelData) {
         let shared = &self.shared;
         let positions: Vec<Vec3> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
         let key = impostor::cache::model_key(data, &impostor::bake::bake_wgsl());

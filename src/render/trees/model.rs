@@ -5,31 +5,37 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use super::lod;
-use crate::render::assets::gltf_load::ModelData;
+use crate::models::ModelData;
 use crate::render::assets::textures;
 use crate::render::gpu::Shared;
 
-/// The per-material uniforms (matches `Material` in trees.wgsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct MaterialUniform {
-    /// Linear RGBA factor of the albedo.
-    base_color: [f32; 4],
-    /// The alpha below which texels are clipped; negative for opaque materials.
-    alpha_cutoff: f32,
-    /// The normal map's strength.
-    normal_scale: f32,
-    /// The specular map's factor.
-    specular_factor: f32,
-    /// Roughness, 0..1.
-    roughness: f32,
-    /// 1 when both faces are drawn.
-    double_sided: f32,
-    /// How much light passes through (leaves), 0..1.
-    translucency: f32,
-    /// Padding to 48 bytes.
-    pad: [f32; 2],
+grove_systems::wgsl_struct! {
+    /// The per-material uniforms, declared once for Rust and WGSL: the shaders that read a
+    /// material (trees.wgsl, the impostor bake's bake.wgsl) import [`MaterialUniform::WGSL`] as
+    /// the piece `material`, the struct `Material`.
+    #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+    pub(crate) struct MaterialUniform as Material {
+        /// Linear RGBA factor of the albedo.
+        base_color: [f32; 4] as "vec4<f32>",
+        /// The alpha below which texels are clipped; negative for opaque materials.
+        alpha_cutoff: f32 as "f32",
+        /// The normal map's strength.
+        normal_scale: f32 as "f32",
+        /// The specular map's factor.
+        specular_factor: f32 as "f32",
+        /// Roughness, 0..1.
+        roughness: f32 as "f32",
+        /// 1 when both faces are drawn.
+        double_sided: f32 as "f32",
+        /// How much light passes through (leaves), 0..1.
+        translucency: f32 as "f32",
+        /// Padding to 48 bytes.
+        pad: [f32; 2] as "vec2<f32>",
+    }
 }
+
+/// The WGSL piece `material` (the struct `Material`), for the shaders that import it.
+pub(crate) const MATERIAL_PIECE: (&str, &str) = ("material", MaterialUniform::WGSL);
 
 pub(crate) struct GpuPrimitive {
     pub vertices: wgpu::Buffer,
@@ -164,5 +170,25 @@ impl GpuModel {
         let leaf_area = if simplified > 0 { leaf_area / simplified as f32 } else { 0.0 };
         let sweep = super::sweep::Sweep::new(data.primitives.iter().zip(&leaf_orders).map(|(p, l)| (&p.vertices[..], &l[..])));
         GpuModel { name, primitives, materials, bounds: data.bounds, triangles: data.triangles(), leaf_area, impostor: None, sweep }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_material_is_written_once_from_rust() {
+        // The trees and the impostor bake read one declaration of `Material`, the Rust one, at
+        // the Rust struct's offsets.
+        for src in [include_str!("trees.wgsl"), include_str!("impostor/bake.wgsl")] {
+            let wgsl = crate::render::shader::compose(src, &[MATERIAL_PIECE]);
+            assert_eq!(wgsl.matches("struct Material {").count(), 1, "{wgsl}");
+            assert!(wgsl.contains(MaterialUniform::WGSL));
+            let (members, size) = crate::render::shader::struct_layout(&wgsl, "Material").expect("the composed shader parses and declares Material");
+            let rust: Vec<(String, usize)> = MaterialUniform::FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+            assert_eq!(members, rust);
+            assert_eq!(size, std::mem::size_of::<MaterialUniform>());
+        }
     }
 }

@@ -7,7 +7,7 @@ use grove_systems::catalogue::ModelId;
 
 use super::model::GpuModel;
 use super::Trees;
-use crate::render::assets::gltf_load::ModelData;
+use crate::models::ModelData;
 
 impl Trees {
     /// Uploads a model and uses it for trees of `id`, replacing any previous one.

@@ -48,7 +48,7 @@ fn vertex_layout() -> [Option<wgpu::VertexBufferLayout<'static>>; 3] {
     const L: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![12 => Float32x4];
     [
         Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<crate::render::assets::gltf_load::Vertex>() as u64,
+            array_stride: std::mem::size_of::<crate::models::Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &V,
         }),

@@ -17,7 +17,7 @@ use glam::{Vec2, Vec3};
 use grove_systems::wind_model::WindParams;
 
 use super::lod;
-use crate::render::assets::model::Vertex;
+use crate::models::Vertex;
 
 /// How many height bands a model is cut into.
 pub const BANDS: usize = 8;

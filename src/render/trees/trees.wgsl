@@ -4,22 +4,7 @@
 // model `WIND_MODEL`) from its `_WIND` channels and the instance's WindState. lighting.wgsl and
 // wind.wgsl are prepended. The main pass fades each vertex into the aerial perspective's haze.
 
-// #import lighting, wind, octa
-
-struct Material {
-    base_color: vec4<f32>,
-    // The alpha below which texels are clipped (negative when opaque).
-    alpha_cutoff: f32,
-    normal_scale: f32,
-    specular_factor: f32,
-    roughness: f32,
-    // 1 when both faces are drawn.
-    double_sided: f32,
-    // How much light passes through (leaves), 0..1.
-    translucency: f32,
-    pad0: f32,
-    pad1: f32,
-};
+// #import lighting, wind, octa, material
 
 // The wind for all trees, written every frame from the world's Wind component and the sim time.
 @group(0) @binding(1) var<uniform> wind: WindParams;

@@ -1,46 +1,16 @@
 // Per-vertex wind models for tree vertex shaders.
 //
-// This file holds only a struct and pure functions (no bindings, no entry points): a shader that
-// animates trees includes this source and binds one `WindParams` uniform itself. The CPU
-// reference of every function is in `systems/src/wind_model.rs` (named without the `wind_`
-// prefix); tests/wind_gpu.rs runs these functions in a compute pass and checks that they agree
-// with it to within 1e-4 m.
+// This file holds only pure functions (no bindings, no entry points): a shader that animates
+// trees includes this source and binds one `WindParams` uniform itself. `WindParams` is declared
+// once, in Rust (`grove_systems::wind_model::WindParams`), and imported as the piece
+// `wind_params`. The CPU reference of every function is in `systems/src/wind_model.rs` (named
+// without the `wind_` prefix); tests/wind_gpu.rs runs these functions in a compute pass and
+// checks that they agree with it to within 1e-4 m.
 //
 // Units: metres, seconds, hertz. World axes: +Y up, -Z north, +X east. `direction` is the
 // horizontal unit vector (world X, Z) the wind blows towards.
 
-// Mirrors `grove_systems::wind_model::WindParams` (64 bytes; upload `WindParams::to_le_bytes()`).
-struct WindParams {
-    // Offset 0: horizontal unit direction the wind blows towards, world (X, Z).
-    direction: vec2<f32>,
-    // Offset 8: the wind's base strength.
-    strength: f32,
-    // Offset 12: the current gust factor (Wind::current).
-    gust: f32,
-    // Offset 16: spatial frequency of the noise, per metre.
-    density: f32,
-    // Offset 20: downwind drift of the noise field, metres per second.
-    noise_speed: f32,
-    // Offset 24: noise model amplitude (s = strength * gust * gain * noise_amplitude).
-    noise_amplitude: f32,
-    // Offset 28: animation time, seconds.
-    time: f32,
-    // Offset 32: trunk stiffness, metres (trunk moves by bend * h^2 / trunk_stiffness).
-    trunk_stiffness: f32,
-    // Offset 36: branch stiffness, metres (branch bobs by s * r^2 / branch_stiffness).
-    branch_stiffness: f32,
-    // Offset 40: branch frequency, hertz.
-    branch_frequency: f32,
-    // Offset 44: leaf flutter per metre of distance to the branch.
-    leaf_flutter: f32,
-    // Offset 48: leaf frequency, hertz.
-    leaf_frequency: f32,
-    // Offset 52: the global model: 0 = noise, 1 = hierarchical.
-    model: u32,
-    // Offsets 56, 60: padding, zero.
-    pad0: u32,
-    pad1: u32,
-}
+// #import wind_params
 
 const WIND_TAU: f32 = 6.2831855;
 const WIND_INV_TAU: f32 = 0.15915494;

@@ -139,42 +139,45 @@ impl WindResponse {
     }
 }
 
-/// The parameters of the per-vertex wind functions, one uniform for all trees.
-///
-/// The WGSL struct `WindParams` in `src/render/trees/wind.wgsl` mirrors this one field by field
-/// (64 bytes, no implicit padding): upload [`WindParams::to_le_bytes`].
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[repr(C)]
-pub struct WindParams {
-    /// Offset 0, `vec2<f32>`: horizontal unit direction the wind blows towards (world X, Z).
-    pub direction: [f32; 2],
-    /// Offset 8: the wind's base strength ([`Wind::strength`]).
-    pub strength: f32,
-    /// Offset 12: the current gust factor ([`Wind::current`]).
-    pub gust: f32,
-    /// Offset 16: spatial frequency of the noise, per metre ([`Wind::density`]).
-    pub density: f32,
-    /// Offset 20: downwind drift of the noise field, metres per second.
-    pub noise_speed: f32,
-    /// Offset 24: noise model amplitude ([`WindResponse::noise_amplitude`]).
-    pub noise_amplitude: f32,
-    /// Offset 28: animation time, seconds (simulated time; f32 keeps millisecond precision for
-    /// about 4 hours).
-    pub time: f32,
-    /// Offset 32: trunk stiffness, metres.
-    pub trunk_stiffness: f32,
-    /// Offset 36: branch stiffness, metres.
-    pub branch_stiffness: f32,
-    /// Offset 40: branch frequency, hertz.
-    pub branch_frequency: f32,
-    /// Offset 44: leaf flutter per metre of distance to the branch.
-    pub leaf_flutter: f32,
-    /// Offset 48: leaf frequency, hertz.
-    pub leaf_frequency: f32,
-    /// Offset 52, `u32`: the global model, [`WindModel::code`].
-    pub model: u32,
-    /// Offsets 56 and 60: padding to 64 bytes (WGSL `pad0`, `pad1`); write zeros.
-    pub pad: [u32; 2],
+crate::wgsl_struct! {
+    /// The parameters of the per-vertex wind functions, one uniform for all trees.
+    ///
+    /// Declared once for Rust and WGSL ([`crate::wgsl_struct!`]): the renderer composes
+    /// [`WindParams::WGSL`] into the shaders as the piece `wind_params`, which
+    /// `src/render/trees/wind.wgsl` imports (64 bytes, no implicit padding); upload
+    /// [`WindParams::to_le_bytes`].
+    #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct WindParams {
+        /// Offset 0, `vec2<f32>`: horizontal unit direction the wind blows towards (world X, Z).
+        pub direction: [f32; 2] as "vec2<f32>",
+        /// Offset 8: the wind's base strength ([`Wind::strength`]).
+        pub strength: f32 as "f32",
+        /// Offset 12: the current gust factor ([`Wind::current`]).
+        pub gust: f32 as "f32",
+        /// Offset 16: spatial frequency of the noise, per metre ([`Wind::density`]).
+        pub density: f32 as "f32",
+        /// Offset 20: downwind drift of the noise field, metres per second.
+        pub noise_speed: f32 as "f32",
+        /// Offset 24: noise model amplitude ([`WindResponse::noise_amplitude`]).
+        pub noise_amplitude: f32 as "f32",
+        /// Offset 28: animation time, seconds (simulated time; f32 keeps millisecond precision for
+        /// about 4 hours).
+        pub time: f32 as "f32",
+        /// Offset 32: trunk stiffness, metres.
+        pub trunk_stiffness: f32 as "f32",
+        /// Offset 36: branch stiffness, metres.
+        pub branch_stiffness: f32 as "f32",
+        /// Offset 40: branch frequency, hertz.
+        pub branch_frequency: f32 as "f32",
+        /// Offset 44: leaf flutter per metre of distance to the branch.
+        pub leaf_flutter: f32 as "f32",
+        /// Offset 48: leaf frequency, hertz.
+        pub leaf_frequency: f32 as "f32",
+        /// Offset 52, `u32`: the global model, [`WindModel::code`].
+        pub model: u32 as "u32",
+        /// Offsets 56 and 60: padding to 64 bytes; write zeros.
+        pub pad: [u32; 2] as "vec2<u32>",
+    }
 }
 
 impl WindParams {

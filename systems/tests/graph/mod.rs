@@ -1,8 +1,9 @@
 #![allow(dead_code)]
 
 //! The import graph of a crate's sources and its cycles, shared by the import-graph tests of
-//! grove-systems (`systems/tests/import_graph.rs`, one node per top-level module) and of the app
-//! (`tests/import_graph.rs`, one node per file).
+//! grove-systems (`systems/tests/import_graph.rs`, one node per top-level module, and one per
+//! folder) and of the app (`tests/integration/import_graph.rs`, one node per file, and one per
+//! folder).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -148,4 +149,61 @@ pub fn file_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
         }
     }
     edges
+}
+
+/// The folder of a file's module: for `a/b/mod.rs` (`a::b`) the folder `a::b` itself, for
+/// `a/b/c.rs` (`a::b::c`) its directory `a::b`, for the files at the top of the crate the empty
+/// path.
+pub fn folder_of(src: &Path, module: &str) -> String {
+    let path = src.join(module.replace("::", "/"));
+    if !module.is_empty() && path.is_dir() {
+        return module.to_string();
+    }
+    module.rsplit_once("::").map_or(String::new(), |(dir, _)| dir.to_string())
+}
+
+/// Whether one folder holds the other (or they are the same): a folder and its own subfolders do
+/// not count against each other, nor does the top of the crate against anything.
+pub fn nested(a: &str, b: &str) -> bool {
+    a.is_empty() || b.is_empty() || a == b || b.starts_with(&format!("{a}::")) || a.starts_with(&format!("{b}::"))
+}
+
+/// The graph with one node per folder of the crate under `src` (`render::canopy`), read from
+/// [`file_graph`]: an edge from a folder to another when a file inside the one imports a file
+/// inside the other, neither folder holding the other.
+pub fn folder_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut edges: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for (from, targets) in file_graph(src) {
+        let a = folder_of(src, &from);
+        for to in targets {
+            let b = folder_of(src, &to);
+            if !nested(&a, &b) {
+                edges.entry(a.clone()).or_default().insert(b);
+            }
+        }
+    }
+    edges
+}
+
+/// A made-up crate under a fresh folder in the temporary folder, with two folders `a` and `b`
+/// whose files import each other's in a circle (`a::x` → `b::y`, `b::z` → `a::w`) while the
+/// files have none: the folder check must find it where the file check does not. Returns the
+/// folder; the caller removes it.
+pub fn crate_with_folder_cycle(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("grove-folder-graph-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for (file, text) in [
+        ("lib.rs", "pub mod a;\npub mod b;\n"),
+        ("a/mod.rs", "pub mod w;\npub mod x;\n"),
+        ("a/w.rs", "pub struct W;\n"),
+        ("a/x.rs", "use crate::b::y::Y;\n"),
+        ("b/mod.rs", "pub mod y;\npub mod z;\n"),
+        ("b/y.rs", "pub struct Y;\n"),
+        ("b/z.rs", "use crate::a::w::W;\n"),
+    ] {
+        let path = dir.join(file);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    }
+    dir
 }

@@ -33,7 +33,7 @@ pub(crate) struct BakeParams {
 /// The bake shader composed with what it imports (srgb.wgsl and octa.wgsl): its text is part
 /// of the impostor cache's key.
 pub fn bake_wgsl() -> String {
-    crate::render::shader::compose(include_str!("bake.wgsl"), &[])
+    crate::render::shader::compose(include_str!("bake.wgsl"), &[crate::render::trees::model::MATERIAL_PIECE])
 }
 
 /// The bake's shader and pipeline, built once per renderer.
@@ -57,7 +57,7 @@ impl Baker {
         let layout = shared.layout("impostor bake layout", &[Some(&params_layout), None, Some(&shared.material_layout)]);
         const V: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x4, 14 => Unorm8x4];
         let buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<crate::render::assets::gltf_load::Vertex>() as u64,
+            array_stride: std::mem::size_of::<crate::models::Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &V,
         })];

@@ -3,25 +3,12 @@
 // albedo (sRGB, alpha = coverage) and normal (model space, encoded 0..1; alpha = depth across
 // the sphere, 0 nearest) atlases. srgb.wgsl and octa.wgsl are prepended. No wind, no lighting.
 
-// #import srgb, octa
+// #import srgb, octa, material
 
 // The model's bounding sphere, model-space metres (mirrors `BakeParams` in bake.rs).
 struct BakeParams {
     centre: vec3<f32>,
     radius: f32,
-};
-
-// Mirrors `Material` in trees.wgsl (src/render/trees/model.rs `MaterialUniform`).
-struct Material {
-    base_color: vec4<f32>,
-    alpha_cutoff: f32,
-    normal_scale: f32,
-    specular_factor: f32,
-    roughness: f32,
-    double_sided: f32,
-    translucency: f32,
-    pad0: f32,
-    pad1: f32,
 };
 
 @group(0) @binding(0) var<uniform> bake: BakeParams;

@@ -22,7 +22,7 @@ use xxhash_rust::xxh3::Xxh3;
 
 use super::MIP_LEVELS;
 use super::{CELL, GRID};
-use crate::render::assets::gltf_load::ModelData;
+use crate::models::ModelData;
 
 /// Why a cache file could not be read, used or written: one line, printed as a warning (the
 /// model is then baked again, or its atlas not kept).

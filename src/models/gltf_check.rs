@@ -6,7 +6,7 @@
 use gltf::accessor::{DataType, Dimensions};
 
 use super::accessor::MAX_COUNT;
-use crate::render::error::GltfProblem;
+use super::error::GltfProblem;
 
 /// Extensions grove reads and draws: quantised attributes and WebP images (read before the
 /// `gltf` crate sees the file, `gltf_open`), texture transforms and the specular strength.

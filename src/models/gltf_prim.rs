@@ -7,8 +7,8 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 
 use super::accessor::read_floats;
-use crate::render::error::GltfProblem;
-use super::model::{PrimitiveData, Vertex};
+use super::error::GltfProblem;
+use super::mesh::{PrimitiveData, Vertex};
 
 /// Which texture coordinates a material's textures read: the set and the texture transform
 /// (`KHR_texture_transform`, a 2×3 affine map, identity without one), the same for all its

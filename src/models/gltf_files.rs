@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use grove_systems::files::{self, Kind};
 
-use crate::render::error::GltfProblem;
+use super::error::GltfProblem;
 
 /// The path a URI names relative to the glTF file's folder (percent-decoded, `./` parts
 /// dropped), or `None` for a `data:` URI. A URL (`http:`, `file:`, …) is refused: grove reads

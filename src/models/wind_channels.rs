@@ -18,7 +18,7 @@ use std::collections::HashMap;
 
 use glam::{Vec2, Vec3};
 
-use super::model::PrimitiveData;
+use super::mesh::PrimitiveData;
 
 /// Fills the wind channels of every vertex of `primitives` (see the module docs). `lowest` is
 /// the model's lowest point, metres. `clipped[i]` says whether primitive i's material is
@@ -126,7 +126,7 @@ pub fn phase(n: u64) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::assets::model::Vertex;
+    use crate::models::mesh::Vertex;
 
     fn tri(points: [[f32; 3]; 3]) -> PrimitiveData {
         PrimitiveData { vertices: points.iter().map(|p| Vertex { position: *p, ..Default::default() }).collect(), indices: vec![0, 1, 2], material: 0 }

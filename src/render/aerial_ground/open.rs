@@ -12,12 +12,13 @@ use std::path::{Path, PathBuf};
 use glam::{DVec2, Vec2};
 use grove_systems::scene::Scene;
 
-use super::raster::RgbImage;
-use super::AerialError;
-use crate::render::aerial_ground::AerialSources;
+use crate::aerial::{AerialError, RgbImage};
 use crate::render::canopy::extents::LayerBits;
 use crate::render::clipmap::image_source::{Downsample, ImageSource};
 use crate::render::clipmap::{AerialPlacement, Clipmap, ClipmapConfig, ClipmapSource};
+use crate::render::error::ClipmapError;
+
+use super::AerialSources;
 
 /// The clipmap of a photograph held in memory: 8 levels of at most 512 texels a side.
 pub fn memory_config(width: u32, height: u32) -> ClipmapConfig {
@@ -34,7 +35,7 @@ pub const TILED: ClipmapConfig = ClipmapConfig { levels: 8, size: 1024 };
 
 /// One photograph of the pair as a clipmap source and its size in texels: a tile folder
 /// streamed from disk, or an image file held in memory.
-fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn ClipmapSource>, u32, u32), AerialError> {
+fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn ClipmapSource>, u32, u32), ClipmapError> {
     if path.is_dir() {
         let c = Clipmap::open(path, TILED, placement).map_err(|e| e.named(what))?;
         let (w, h) = (c.meta().width, c.meta().height);
@@ -47,24 +48,24 @@ fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn
 
 /// The clipmap sources of `scene`'s aerial section, or `None` without one. Errors are one line
 /// naming the file: missing or unreadable images, or images of different sizes.
-pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSources>, AerialError> {
+pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSources>, ClipmapError> {
     let Some(a) = &scene.aerial else { return Ok(None) };
     let placement = AerialPlacement { origin_m: DVec2::new(f64::from(a.origin.x), f64::from(a.origin.y)), gsd_m: f64::from(a.gsd_m) };
     let (winter, w, h) = photo(&resolve(scene, &a.winter), "winter photograph", placement)?;
     let (summer, sw, sh) = photo(&resolve(scene, &a.summer), "summer photograph", placement)?;
     if (sw, sh) != (w, h) {
-        return Err(AerialError::PhotographSizes { summer: (sw, sh), winter: (w, h) });
+        return Err(AerialError::PhotographSizes { summer: (sw, sh), winter: (w, h) }.into());
     }
     let mut layer_bits = None;
     let layers = match &a.layers {
         Some(rel) => {
             let path = resolve(scene, rel);
             if path.is_dir() {
-                return Err(AerialError::LayersAreFolder(path));
+                return Err(AerialError::LayersAreFolder(path).into());
             }
             let m = RgbImage::load(&path, "layer mask")?;
             if (m.width, m.height) != (w, h) {
-                return Err(AerialError::LayerMaskSize { path, mask: (m.width, m.height), photos: (w, h) });
+                return Err(AerialError::LayerMaskSize { path, mask: (m.width, m.height), photos: (w, h) }.into());
             }
             // The bits once more, a byte a texel, for the canopy's quad sizes.
             layer_bits = Some(LayerBits {

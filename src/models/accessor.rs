@@ -5,7 +5,7 @@
 
 use gltf::accessor::DataType;
 
-use crate::render::error::GltfProblem;
+use super::error::GltfProblem;
 
 /// The most elements one accessor may have.
 pub const MAX_COUNT: usize = 1 << 26;

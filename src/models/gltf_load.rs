@@ -28,9 +28,9 @@ use glam::{Mat4, Vec3, Vec4};
 use grove_systems::files::{self, Kind};
 
 use super::gltf_prim::{name_of, primitive, uv_choice, UvChoice};
-use crate::render::error::{GltfError, GltfProblem};
+use super::error::{GltfError, GltfProblem};
 pub use super::gltf_prim::{compute_normals, compute_tangents};
-pub use super::model::{ImageData, MaterialData, ModelData, PrimitiveData, Vertex};
+use super::mesh::{ImageData, MaterialData, ModelData};
 
 /// The most nodes visited while flattening a hierarchy.
 const MAX_NODE_VISITS: usize = 1_000_000;
