@@ -46,6 +46,7 @@ mod replay_format;
 mod reports_doc;
 mod scale;
 mod scale_ray;
+mod scenario_checks;
 mod scenario_files;
 mod scenarios;
 mod sim_cli;

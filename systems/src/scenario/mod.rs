@@ -7,6 +7,7 @@
 //! apart; [`update`] pins world hashes in the file's text; [`draft`] writes a scenario from a
 //! recording.
 
+pub mod aims;
 pub mod draft;
 mod errors;
 pub mod run;
@@ -97,8 +98,11 @@ pub enum Step {
         /// Rotation (x, y, z, w).
         rotation: Quat,
     },
-    /// Press and release a button.
+    /// Press and release a button. After an aim, a Trigger or Bumper press fails unless the ray
+    /// meets what the aim names ([`aims`]).
     Press(Btn),
+    /// Press and release a button where the ray meets nothing (fails if it meets something).
+    PressOnNothing(Btn),
     /// Put a button down.
     Hold(Btn),
     /// Let a button up.
@@ -159,7 +163,7 @@ impl Step {
     /// The most ticks the step can take.
     pub fn max_ticks(&self) -> u64 {
         match self {
-            Step::ChooseModel(_) | Step::Press(_) => 2,
+            Step::ChooseModel(_) | Step::Press(_) | Step::PressOnNothing(_) => 2,
             Step::Sweep { count, .. } => *count,
             Step::Touchpad { ticks, .. } => ticks.saturating_add(1),
             Step::Wait(n) => *n,
@@ -195,6 +199,10 @@ pub struct Scenario {
     /// The RNG seed (default: the scene's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
+    /// Button steps may press where the ray meets nothing (without it, a Trigger or Bumper press
+    /// after an aim fails there).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub press_on_nothing: bool,
     /// Parameter overrides, as `grove study --set` takes them.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub config: BTreeMap<String, f32>,
@@ -344,7 +352,7 @@ fn check_aim(aim: &Aim) -> Result<(), StepError> {
         Aim::Target(0) => Err(StepError::TargetZero),
         Aim::Tree { tree, offset } => {
             check_tree(tree)?;
-            finite_point("the offset", *offset)
+            finite_point("the offset", offset.unwrap_or_default())
         }
         Aim::Mark { offset, y, .. } => {
             finite_point("the offset", *offset)?;

@@ -10,7 +10,17 @@ use crate::resources::Override;
 use crate::script::Script;
 use crate::sim::Sim;
 
-use super::{technique, Loaded, RunError, Step};
+use super::aims::{self, Aimed};
+use super::{technique, Btn, Loaded, RunError, Step};
+
+/// What the runner carries from step to step: the last aim, for the button steps after it.
+#[derive(Clone, Debug, Default)]
+pub struct RunState {
+    /// The aim of the last `PointAt` or `Sweep` (cleared by a `Controller` step).
+    pub aimed: Option<Aimed>,
+    /// The scenario's `press_on_nothing`.
+    pub press_on_nothing: bool,
+}
 
 /// How to run a scenario.
 #[derive(Clone, Debug, Default)]
@@ -90,8 +100,9 @@ pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, RunError> {
     let mut script = Script::new(sim);
     let mut hashes = Vec::new();
     let mut failure = None;
+    let mut state = RunState { press_on_nothing: loaded.scenario.press_on_nothing, ..Default::default() };
     for (i, step) in loaded.scenario.steps.iter().enumerate() {
-        if let Err(message) = apply(&mut script, step, options.update, &mut hashes) {
+        if let Err(message) = apply(&mut script, &mut state, step, options.update, &mut hashes) {
             failure = Some(Failure { step: Some(i + 1), at: step.text(), message });
             break;
         }
@@ -119,33 +130,64 @@ fn expect(script: &Script, e: &Expect, update: bool, hashes: &mut Vec<String>) -
     script.check(e).map_err(|m| m.to_string())
 }
 
+/// Whether a button acts on what the ray meets (plants, selects, grabs, removes).
+fn aimed_button(b: Btn) -> bool {
+    matches!(b, Btn::Trigger | Btn::Bumper)
+}
+
+/// Puts a button down and checks, in the tick it went down, what the ray met against the last
+/// aim.
+fn hold_checked(s: &mut Script, state: &RunState, b: Btn) -> Result<(), String> {
+    s.hold(b.into());
+    match &state.aimed {
+        Some(aimed) if aimed_button(b) => aims::check(s.sim(), s.names(), aimed, state.press_on_nothing),
+        _ => Ok(()),
+    }
+}
+
 /// Plays one step through the script.
-fn apply(s: &mut Script, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
+pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
     let cannot = |e: crate::targets::TargetError| format!("cannot find the target: {e}");
     match step {
         Step::ChooseModel(m) => {
             s.choose_model(m.as_str());
         }
         Step::PointAt(aim) => {
-            s.aim(aim).map_err(cannot)?;
+            let p = s.aim_point(aim).map_err(cannot)?;
+            s.point_at(p);
+            state.aimed = Some(Aimed::new(s.sim(), s.names(), aim, p));
         }
         Step::Sweep { from, by, count } => {
             let p = s.aim_point(from).map_err(cannot)?;
             for k in 0..*count {
                 s.point_at(p + *by * k as f32);
             }
+            if *count > 0 {
+                let last = p + *by * (*count - 1) as f32;
+                let aim = crate::targets::Aim::Point(last.x, last.y, last.z);
+                state.aimed = Some(Aimed { label: format!("the sweep's last point {}", aim.text().trim_start_matches("Point")), ..Aimed::new(s.sim(), s.names(), &aim, last) });
+            }
         }
         Step::Controller { position, rotation } => {
             s.try_push(InputEvent::ControllerPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
+            state.aimed = None;
         }
         Step::Head { position, rotation } => {
             s.try_push(InputEvent::HeadPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
         }
         Step::Press(b) => {
-            s.press((*b).into());
+            let checked = hold_checked(s, state, *b);
+            s.release((*b).into());
+            checked?;
+        }
+        Step::PressOnNothing(b) => {
+            s.hold((*b).into());
+            let checked = aims::check_nothing(s.sim(), s.names());
+            s.release((*b).into());
+            checked?;
         }
         Step::Hold(b) => {
-            s.hold((*b).into());
+            hold_checked(s, state, *b)?;
         }
         Step::Release(b) => {
             s.release((*b).into());
