@@ -54,6 +54,7 @@ mod species;
 mod species_bank;
 mod species_render;
 mod study;
+mod task_targets;
 mod techniques;
 mod tree_culling;
 mod tree_haze;
