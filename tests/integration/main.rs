@@ -48,6 +48,7 @@ mod scale;
 mod scale_ray;
 mod scenario_checks;
 mod scenario_files;
+mod scenario_intents;
 mod scenarios;
 mod sim_cli;
 mod species;

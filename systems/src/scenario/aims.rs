@@ -23,8 +23,35 @@
 use glam::Vec3;
 
 use crate::components::{Controller, HitMarker, HitTarget, Plane};
+use crate::script::Script;
 use crate::sim::Sim;
 use crate::targets::{ground_distance, Aim, Names};
+
+use super::Btn;
+
+/// What the runner carries from step to step: the last aim, for the button steps after it.
+#[derive(Clone, Debug, Default)]
+pub struct RunState {
+    /// The aim of the last `PointAt` or `Sweep` (cleared by a `Controller` step).
+    pub aimed: Option<Aimed>,
+    /// The scenario's `press_on_nothing`.
+    pub press_on_nothing: bool,
+}
+
+/// Whether a button acts on what the ray meets (plants, selects, grabs, removes).
+fn aimed_button(b: Btn) -> bool {
+    matches!(b, Btn::Trigger | Btn::Bumper)
+}
+
+/// Puts a button down and checks, in the tick it went down, what the ray met against the last
+/// aim.
+pub fn hold_checked(s: &mut Script, state: &RunState, b: Btn) -> Result<(), String> {
+    s.hold(b.into());
+    match &state.aimed {
+        Some(aimed) if aimed_button(b) => check(s.sim(), s.names(), aimed, state.press_on_nothing),
+        _ => Ok(()),
+    }
+}
 
 /// How near a plane an aimed point lies to count as a point on the ground, metres.
 pub const ON_GROUND: f32 = 0.1;
@@ -115,13 +142,24 @@ pub fn ordinal(n: usize) -> String {
 /// A tree in words: its model and how the scenario knows it, e.g. `broadleaf-mesh (planted
 /// 1st)`, `birch-mesh (named "oak")`, `conifer-mesh (the scene's, at (-11.0, -13.0))`.
 pub fn tree_words(sim: &Sim, names: &Names, id: u64) -> String {
-    let Some(t) = sim.tree(id) else { return "a removed tree".into() };
-    let model = sim.res.catalogue.get(t.tree.model).map_or("a tree", |m| m.name.as_str());
-    let who = match (names.name_of(id), names.planted(sim).iter().position(|p| *p == id)) {
-        (Some(name), _) => format!("named \"{name}\""),
-        (None, Some(i)) => format!("planted {}", ordinal(i + 1)),
-        (None, None) => format!("standing at ({:.1}, {:.1})", t.transform.translation.x, t.transform.translation.z),
+    let standing = sim.tree(id);
+    // A tree the press itself removed is found in the log.
+    let model = standing.map(|t| t.tree.model).or_else(|| {
+        sim.res.log.entries.iter().rev().find_map(|e| match e.what {
+            crate::events::Happening::Removed { tree, model } | crate::events::Happening::Planted { tree, model, .. } if tree == id => Some(model),
+            _ => None,
+        })
+    });
+    let model = model.and_then(|m| sim.res.catalogue.get(m)).map_or("a tree", |m| m.name.as_str());
+    let mut who = match (names.name_of(id), names.planted(sim).iter().position(|p| *p == id), standing) {
+        (Some(name), _, _) => format!("named \"{name}\""),
+        (None, Some(i), _) => format!("planted {}", ordinal(i + 1)),
+        (None, None, Some(t)) => format!("standing at ({:.1}, {:.1})", t.transform.translation.x, t.transform.translation.z),
+        (None, None, None) => "one of the scene's".into(),
     };
+    if standing.is_none() {
+        who.push_str(", removed by this press");
+    }
     format!("{model} ({who})")
 }
 

@@ -10,6 +10,7 @@
 pub mod aims;
 pub mod draft;
 mod errors;
+pub mod intents;
 pub mod run;
 pub mod update;
 
@@ -66,11 +67,31 @@ impl From<Button> for Btn {
     }
 }
 
-/// One step of a scenario. Each maps to one [`crate::script::Script`] call; the ticks each takes
-/// are listed in `docs/scenarios.md`.
+/// One step of a scenario. The intent steps (`Plant`, `Remove`, `Drag`, [`intents`]) play the
+/// lower-level steps a participant would take and check that what they meant came of it; each
+/// other step maps to one [`crate::script::Script`] call. The ticks each takes are listed in
+/// `docs/scenarios.md`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum Step {
+    /// Choose a model, aim, press Trigger; fails unless a tree of that model was planted within
+    /// the task's tolerance of the aim.
+    Plant {
+        /// The model's catalogue name.
+        model: String,
+        /// Where.
+        at: Aim,
+    },
+    /// Aim at the middle of a tree, press Bumper; fails unless the tree is gone.
+    Remove(TreeRef),
+    /// Grab a tree at its middle, carry it so that its base comes to `to`, release; fails unless
+    /// it snapped to the ground.
+    Drag {
+        /// The tree.
+        tree: TreeRef,
+        /// Where its base goes.
+        to: Aim,
+    },
     /// Choose a model by catalogue name (in manual mode the menu opens first).
     ChooseModel(String),
     /// Aim the controller ray at a point, a tree, a task target or a mark.
@@ -164,6 +185,9 @@ impl Step {
     pub fn max_ticks(&self) -> u64 {
         match self {
             Step::ChooseModel(_) | Step::Press(_) | Step::PressOnNothing(_) => 2,
+            Step::Plant { .. } => 5,
+            Step::Remove(_) => 3,
+            Step::Drag { .. } => 4 + intents::MAX_CARRY_TICKS,
             Step::Sweep { count, .. } => *count,
             Step::Touchpad { ticks, .. } => ticks.saturating_add(1),
             Step::Wait(n) => *n,
@@ -372,7 +396,13 @@ fn check_tree(tree: &TreeRef) -> Result<(), StepError> {
 
 fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), StepError> {
     match step {
-        Step::ChooseModel(m) if catalogue.by_name(m).is_none() => Err(StepError::UnknownModel(catalogue.unknown_name(m))),
+        Step::ChooseModel(m) | Step::Plant { model: m, .. } if catalogue.by_name(m).is_none() => Err(StepError::UnknownModel(catalogue.unknown_name(m))),
+        Step::Plant { at, .. } => check_aim(at),
+        Step::Remove(tree) => check_tree(tree),
+        Step::Drag { tree, to } => {
+            check_tree(tree)?;
+            check_aim(to)
+        }
         Step::PointAt(aim) | Step::Mark { at: aim, .. } => check_aim(aim),
         Step::Sweep { from, by, .. } => {
             check_aim(from)?;

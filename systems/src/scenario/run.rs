@@ -10,17 +10,9 @@ use crate::resources::Override;
 use crate::script::Script;
 use crate::sim::Sim;
 
-use super::aims::{self, Aimed};
-use super::{technique, Btn, Loaded, RunError, Step};
+use super::aims::{self, hold_checked, Aimed, RunState};
+use super::{intents, technique, Loaded, RunError, Step};
 
-/// What the runner carries from step to step: the last aim, for the button steps after it.
-#[derive(Clone, Debug, Default)]
-pub struct RunState {
-    /// The aim of the last `PointAt` or `Sweep` (cleared by a `Controller` step).
-    pub aimed: Option<Aimed>,
-    /// The scenario's `press_on_nothing`.
-    pub press_on_nothing: bool,
-}
 
 /// How to run a scenario.
 #[derive(Clone, Debug, Default)]
@@ -130,25 +122,13 @@ fn expect(script: &Script, e: &Expect, update: bool, hashes: &mut Vec<String>) -
     script.check(e).map_err(|m| m.to_string())
 }
 
-/// Whether a button acts on what the ray meets (plants, selects, grabs, removes).
-fn aimed_button(b: Btn) -> bool {
-    matches!(b, Btn::Trigger | Btn::Bumper)
-}
-
-/// Puts a button down and checks, in the tick it went down, what the ray met against the last
-/// aim.
-fn hold_checked(s: &mut Script, state: &RunState, b: Btn) -> Result<(), String> {
-    s.hold(b.into());
-    match &state.aimed {
-        Some(aimed) if aimed_button(b) => aims::check(s.sim(), s.names(), aimed, state.press_on_nothing),
-        _ => Ok(()),
-    }
-}
-
 /// Plays one step through the script.
 pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
     let cannot = |e: crate::targets::TargetError| format!("cannot find the target: {e}");
     match step {
+        Step::Plant { model, at } => intents::plant(s, state, model, at)?,
+        Step::Remove(tree) => intents::remove(s, state, tree)?,
+        Step::Drag { tree, to } => intents::drag(s, state, tree, to)?,
         Step::ChooseModel(m) => {
             s.choose_model(m.as_str());
         }
