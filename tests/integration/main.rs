@@ -49,6 +49,7 @@ mod scale_ray;
 mod scenario_checks;
 mod scenario_files;
 mod scenario_intents;
+mod scenario_trace;
 mod scenarios;
 mod sim_cli;
 mod species;

@@ -11,6 +11,7 @@ pub mod aims;
 pub mod draft;
 mod errors;
 pub mod intents;
+pub mod observe;
 pub mod run;
 pub mod update;
 

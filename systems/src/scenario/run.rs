@@ -11,6 +11,7 @@ use crate::script::Script;
 use crate::sim::Sim;
 
 use super::aims::{self, hold_checked, Aimed, RunState};
+use super::observe::{self, Snapshot};
 use super::{intents, technique, Loaded, RunError, Step};
 
 
@@ -88,13 +89,53 @@ pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), Run
 
 /// Runs a loaded scenario headless.
 pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, RunError> {
+    run_inner(loaded, options, None).map(|(o, _)| o)
+}
+
+/// One step of a traced run: what it was, its ticks, the state before and after it, and what
+/// it did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepTrace {
+    /// The step, counting from 1.
+    pub number: usize,
+    /// The step as the file writes it.
+    pub text: String,
+    /// The state before it.
+    pub before: Snapshot,
+    /// The state after it (as far as it got, when it failed).
+    pub after: Snapshot,
+    /// What it did, in words; empty when nothing happened.
+    pub did: Vec<String>,
+}
+
+/// Runs a loaded scenario, recording each step ([`StepTrace`]) and calling `frame` with the
+/// world at the start and after each step that ran a tick, for pictures. The run is the very
+/// run [`run`] makes.
+pub fn run_traced(loaded: &Loaded, options: &RunOptions, frame: &mut dyn FnMut(&Sim)) -> Result<(Outcome, Vec<StepTrace>), RunError> {
+    run_inner(loaded, options, Some(frame))
+}
+
+fn run_inner(loaded: &Loaded, options: &RunOptions, mut frame: Option<&mut dyn FnMut(&Sim)>) -> Result<(Outcome, Vec<StepTrace>), RunError> {
     let (sim, header) = start(loaded, options)?;
     let mut script = Script::new(sim);
     let mut hashes = Vec::new();
     let mut failure = None;
+    let mut traces = Vec::new();
     let mut state = RunState { press_on_nothing: loaded.scenario.press_on_nothing, ..Default::default() };
+    if let Some(f) = frame.as_mut() {
+        f(script.sim());
+    }
     for (i, step) in loaded.scenario.steps.iter().enumerate() {
-        if let Err(message) = apply(&mut script, &mut state, step, options.update, &mut hashes) {
+        let before = frame.is_some().then(|| (Snapshot::take(script.sim(), script.names()), script.sim().res.log.entries.len()));
+        let result = apply(&mut script, &mut state, step, options.update, &mut hashes);
+        if let (Some(f), Some((before, from))) = (frame.as_mut(), before) {
+            let after = Snapshot::take(script.sim(), script.names());
+            if after.tick != before.tick {
+                f(script.sim());
+            }
+            traces.push(StepTrace { number: i + 1, text: step.text(), did: observe::did(script.sim(), script.names(), from), before, after });
+        }
+        if let Err(message) = result {
             failure = Some(Failure { step: Some(i + 1), at: step.text(), message });
             break;
         }
@@ -108,7 +149,7 @@ pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, RunError> {
         }
     }
     let (sim, events) = script.into_parts();
-    Ok(Outcome { failure, ticks: sim.res.tick, hashes, header, events, sim })
+    Ok((Outcome { failure, ticks: sim.res.tick, hashes, header, events, sim }, traces))
 }
 
 /// Checks one expectation; with `update`, a world hash is collected rather than compared.
