@@ -99,3 +99,18 @@ fn misspelt_intent_steps_are_refused_in_one_line() {
         assert!(out.stdout.is_empty(), "{name}: nothing runs");
     }
 }
+
+/// Every scenario docs/scenarios.md shows in a `ron` block runs and passes as written (the
+/// first is also checked, with its failing variant, by scenario_files).
+#[test]
+fn every_scenario_in_the_documentation_passes() {
+    let doc = std::fs::read_to_string(common::root().join("docs/scenarios.md")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let blocks: Vec<&str> = doc.split("```ron\n").skip(1).map(|b| &b[..b.find("```").unwrap()]).collect();
+    assert!(blocks.len() >= 2, "the first scenario and the study task in intent steps");
+    assert!(blocks.iter().any(|b| b.matches("Plant(").count() == 7), "a study task as seven Plant lines");
+    for (i, text) in blocks.iter().enumerate() {
+        let (code, line) = run_file(dir.path(), &format!("doc-{}", i + 1), text);
+        assert_eq!(code, Some(0), "block {}: {line}", i + 1);
+    }
+}
