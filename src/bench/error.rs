@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 use crate::aerial::AerialError;
 use crate::atomic_write::WriteError;
-use crate::bank::validate::BankError;
-use crate::render::{PipelineError, RenderError};
+use crate::bank::BankError;
+use crate::render::{ClipmapError, PipelineError, RenderError};
 use crate::study::StudyError;
 use crate::video::encode::VideoError;
 
@@ -54,6 +54,9 @@ pub enum BenchError {
     /// [`AerialError`].
     #[error(transparent)]
     Aerial(#[from] AerialError),
+    /// [`ClipmapError`]: a scene's photographs could not be opened as clipmap sources.
+    #[error(transparent)]
+    Clipmap(#[from] ClipmapError),
     /// [`VideoError`].
     #[error(transparent)]
     Video(#[from] VideoError),

@@ -265,9 +265,9 @@ pub fn area_svg(a: &Area, image: Option<&str>, id: &str) -> Markup {
             g class="targets" {
                 @for (i, t) in a.targets.iter().enumerate() {
                     circle class="target" data-target=(i) cx=(f(t.position.x)) cy=(f(t.position.z)) r=(f(r * 4.0)) fill="none" stroke="#fff" stroke-width=(f(r * 0.8)) {
-                        title { "target " (i) ": " (t.model) }
+                        title { "target " (i + 1) ": " (t.model) }
                     }
-                    text x=(f(t.position.x + r * 5.0)) y=(f(t.position.z - r * 5.0)) font-size=(f(r * 9.0)) fill="#fff" stroke="#000" stroke-width=(f(r * 0.3)) { (i) }
+                    text x=(f(t.position.x + r * 5.0)) y=(f(t.position.z - r * 5.0)) font-size=(f(r * 9.0)) fill="#fff" stroke="#000" stroke-width=(f(r * 0.3)) { (i + 1) }
                 }
             }
             @for (p, points) in &a.paths {
@@ -278,7 +278,7 @@ pub fn area_svg(a: &Area, image: Option<&str>, id: &str) -> Markup {
                     line class="pp vector" data-p=(p) x1=(f(t.position.x)) y1=(f(t.position.z)) x2=(f(at.x)) y2=(f(at.y)) stroke="#ffeb3b" stroke-width=(f(r * 0.7)) {}
                 }
                 circle class="pp planted" data-p=(p) data-target=(target) cx=(f(at.x)) cy=(f(at.y)) r=(f(r * 1.5)) fill="#ffeb3b" stroke="#000" stroke-width=(f(r * 0.3)) {
-                    title { (p) ", target " (target) }
+                    title { (p) ", target " (target + 1) }
                 }
             }
             @for e in &a.errors {

@@ -93,7 +93,7 @@ pub fn durations(report: &TaskReport) -> Markup {
         svg class="durations" viewBox=(format!("0 0 {w} {h}")) width="100%" {
             @for (i, (target, s)) in d.iter().enumerate() {
                 @let model = report.trees.iter().find(|t| t.target == *target).map_or("", |t| t.model.as_str());
-                text x="4" y=(bar_h * (i as f64 + 0.75)) font-size="12" { "#" (i + 1) " target " (target) " (" (model) ")" }
+                text x="4" y=(bar_h * (i as f64 + 0.75)) font-size="12" { "#" (i + 1) " target " (target + 1) " (" (model) ")" }
                 rect class="bar" data-target=(target) data-seconds=(s) x=(left) y=(bar_h * i as f64 + 3.0) width=(((w - left - 70.0) * s / max).max(1.0)) height=(bar_h - 6.0) fill="#2e86c1" {}
                 text x=(left + (w - left - 70.0) * s / max + 4.0) y=(bar_h * (i as f64 + 0.75)) font-size="12" { (format!("{s:.2}")) " s" }
             }

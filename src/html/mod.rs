@@ -11,6 +11,7 @@
 pub mod area;
 pub mod figures;
 pub mod page;
+pub mod scenario_trace;
 pub mod sections;
 pub mod shots;
 pub mod trace;

@@ -71,7 +71,7 @@ pub fn area_section(a: &Area, image: Option<&str>, n: usize) -> Markup {
                 tbody {
                     @for t in &a.per_target {
                         tr class=[(Some(t.index) == hardest).then_some("hardest")] data-target=(t.index) {
-                            td { (t.index) } td { (t.model) } td { (format!("{:.1}, {:.1}", t.position.x, t.position.z)) }
+                            td { (t.index + 1) } td { (t.model) } td { (format!("{:.1}, {:.1}", t.position.x, t.position.z)) }
                             td { (t.satisfied) " of " (t.trials) }
                             td class="num" { (opt(t.mean_took_s, 2)) }
                             td { @if let Some((p, s)) = &t.slowest { (p) " (" (format!("{s:.2}")) " s)" } }
@@ -81,7 +81,7 @@ pub fn area_section(a: &Area, image: Option<&str>, n: usize) -> Markup {
                     }
                 }
             }
-            @if let Some(h) = hardest { p { "Hardest target (longest mean time): " strong { (h) } "." } }
+            @if let Some(h) = hardest { p { "Hardest target (longest mean time): " strong { (h + 1) } "." } }
         }
     }
 }

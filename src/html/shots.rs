@@ -59,6 +59,19 @@ impl Shots {
         jpeg_uri(&img, 70)
     }
 
+    /// The head camera's frame ([`Shots::frame`]) and `sim` from straight above over `view`'s
+    /// rectangle (which should have the frame's shape), both [`FRAME_SIZE`], drawn by the one
+    /// renderer (a scenario trace's pair of frames).
+    pub fn frame_pair(&mut self, sim: &Sim, view: TopView) -> Result<(String, String), HtmlError> {
+        let head = self.frame(sim)?;
+        let r = self.film.as_mut().ok_or(HtmlError::NoRenderer)?;
+        let film = r.options.clone();
+        r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, far_pixels: 0.0, top_view: Some(view), ..film.clone() };
+        let img = offscreen::render_image(&self.gpu, r, sim);
+        r.options = film;
+        Ok((head, jpeg_uri(&img?, 70)?))
+    }
+
     /// `sim`'s ground from straight above over `view`'s rectangle, without the interaction
     /// visuals (the report draws its own over it), `TOP_WIDTH` pixels wide.
     pub fn top(&mut self, sim: &Sim, view: TopView) -> Result<String, HtmlError> {

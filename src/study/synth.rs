@@ -379,7 +379,7 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
         t.participant.iter().find_map(|o| if let Operator::Dwell(s) = o { Some(*s as f64) } else { None }).unwrap_or(0.0)
     });
     for i in order {
-        let model = models[i].ok_or(SynthError::UnknownModel(i))?;
+        let model = models[i].ok_or(SynthError::UnknownModel(i + 1))?;
         let pos = task.targets[i].position;
         let placed = match task.mode {
             _ if gaze_dwell.is_some() => p.gaze_target(pos, model, task.tolerance, gaze_dwell.unwrap_or(0.0)),

@@ -19,18 +19,21 @@ pub struct Captions {
 }
 
 /// The words a caption shows for a happening, for the events a viewer follows (planted,
-/// snapped, removed, selected, and the task's marks); `None` for the rest.
-pub fn event_words(what: &Happening) -> Option<&'static str> {
-    match what {
-        Happening::Planted { .. } => Some("planted"),
-        Happening::Snapped { .. } => Some("snapped to the ground"),
-        Happening::Removed { .. } => Some("removed"),
-        Happening::Selected { .. } => Some("selected"),
-        Happening::TaskStarted { .. } => Some("task started"),
-        Happening::TaskCompleted => Some("task completed"),
-        Happening::TaskEnded => Some("task ended"),
-        _ => None,
-    }
+/// snapped, removed, selected, a target satisfied (numbered from 1, as the task file's
+/// targets are read), and the task's marks); `None` for the rest.
+pub fn event_words(what: &Happening) -> Option<String> {
+    let words = match what {
+        Happening::Planted { .. } => "planted",
+        Happening::Snapped { .. } => "snapped to the ground",
+        Happening::Removed { .. } => "removed",
+        Happening::Selected { .. } => "selected",
+        Happening::TargetSatisfied { target, .. } => return Some(format!("target {} satisfied", target + 1)),
+        Happening::TaskStarted { .. } => "task started",
+        Happening::TaskCompleted => "task completed",
+        Happening::TaskEnded => "task ended",
+        _ => return None,
+    };
+    Some(words.to_string())
 }
 
 /// The task's clock in words: seconds since the task started, with tenths ("12.4 s"), "before
@@ -152,8 +155,10 @@ mod tests {
 
     #[test]
     fn captions_mark_the_followed_events_only() {
-        assert_eq!(event_words(&Happening::Snapped { tree: 1, position: glam::Vec3::ZERO }), Some("snapped to the ground"));
+        assert_eq!(event_words(&Happening::Snapped { tree: 1, position: glam::Vec3::ZERO }).as_deref(), Some("snapped to the ground"));
         assert_eq!(event_words(&Happening::MenuOpened), None);
+        // Targets are numbered from 1 where a person reads them; the log keeps the file's index.
+        assert_eq!(event_words(&Happening::TargetSatisfied { target: 2, tree: 1 }).as_deref(), Some("target 3 satisfied"));
     }
 
     #[test]

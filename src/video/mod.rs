@@ -166,7 +166,7 @@ pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts:
         // Captions: what happened since the last frame, each for a second of video.
         for e in &sim.log().entries[seen..] {
             if let Some(words) = captions::event_words(&e.what) {
-                recent.push((k, words.to_string()));
+                recent.push((k, words));
             }
         }
         seen = sim.log().entries.len();

@@ -198,9 +198,10 @@ impl Script {
         Ok(self.point_at(p))
     }
 
-    /// Aims 2 m up the trunk of a tree, then runs one tick.
+    /// Aims at the middle of a tree's pick shape ([`crate::targets::tree_middle`]), then runs
+    /// one tick.
     pub fn point_at_tree(&mut self, tree: TreeRef) -> Result<&mut Self, TargetError> {
-        self.aim(&Aim::Tree { tree, offset: Vec3::new(0.0, 2.0, 0.0) })
+        self.aim(&Aim::Tree { tree, offset: None })
     }
 
     /// Gives a tree a name that later targets can use (`TreeRef::Named`); runs no tick.
@@ -215,6 +216,11 @@ impl Script {
         let p = self.aim_point(at)?;
         self.names.mark(name, p);
         Ok(self)
+    }
+
+    /// The trees and points the script has named, and where its planting began.
+    pub fn names(&self) -> &Names {
+        &self.names
     }
 
     /// The trees planted since the script started, by entity id bits, in order.

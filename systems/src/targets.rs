@@ -37,13 +37,14 @@ pub enum Aim {
     Point(f32, f32, f32),
     /// The running task's n-th target (counting from 1), on the ground at its position.
     Target(usize),
-    /// A tree's base as it stands now, plus `offset` (default 2 m up the trunk).
+    /// A tree's base as it stands now plus `offset`; without `offset`, the middle of the
+    /// tree's pick shape ([`tree_middle`]), where a ray from anywhere around meets the tree.
     Tree {
         /// The tree.
         tree: TreeRef,
         /// Added to the tree's base position, metres.
-        #[serde(default = "two_metres_up")]
-        offset: Vec3,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        offset: Option<Vec3>,
     },
     /// A point remembered with [`crate::script::Script::mark`] (a `Mark` step), plus `offset`;
     /// with `y`, at that height instead.
@@ -59,14 +60,12 @@ pub enum Aim {
     },
 }
 
-fn two_metres_up() -> Vec3 {
-    Vec3::new(0.0, 2.0, 0.0)
-}
-
 /// A value as a scenario file writes it, on one line: `Logged(kind: "planted", count: 2)`.
 pub fn ron_line<T: Serialize + std::fmt::Debug>(value: &T) -> String {
     let config = ron::ser::PrettyConfig::new().new_line("").indentor("").compact_structs(true).compact_arrays(true).compact_maps(true);
-    ron::ser::to_string_pretty(value, config).unwrap_or_else(|_| format!("{value:?}"))
+    // Optional values as the files write them: `offset: (0.0, 2.0, 0.0)`, not `Some((…))`.
+    let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    options.to_string_pretty(value, config).unwrap_or_else(|_| format!("{value:?}"))
 }
 
 impl TreeRef {
@@ -150,6 +149,11 @@ impl Names {
         self.marks.insert(name.to_string(), point);
     }
 
+    /// The name a tree was given last, if any.
+    pub fn name_of(&self, tree: u64) -> Option<&str> {
+        self.trees.iter().rev().find(|(_, id)| **id == tree).map(|(n, _)| n.as_str())
+    }
+
     /// The trees planted since the script started, by id bits, in order.
     pub fn planted(&self, sim: &Sim) -> Vec<u64> {
         let entries = sim.res.log.entries.get(self.log_start..).unwrap_or_default();
@@ -193,7 +197,10 @@ impl Names {
                 let id = self.tree(sim, tree)?;
                 // `tree` checked that it exists.
                 let base = sim.tree(id).map_or(Vec3::ZERO, |t| t.transform.translation);
-                Ok(base + *offset)
+                Ok(match offset {
+                    Some(o) => base + *o,
+                    None => tree_middle(sim, id).unwrap_or(base),
+                })
             }
             Aim::Mark { name, offset, y } => {
                 let mut p = *self.marks.get(name).ok_or_else(|| TargetError::NoMark(name.clone()))? + *offset;
@@ -204,6 +211,31 @@ impl Names {
             }
         }
     }
+}
+
+/// The middle of a tree's pick shape as it stands now: on its axis, halfway between the
+/// shape's lowest and highest point (or, should the band there be empty, in the middle of the
+/// nearest band that is not); for a model without a pick shape, the centre of its box. A ray
+/// aimed there meets the tree from any side, whatever its height: a 1.3 m shrub at 0.65 m, a
+/// 9 m broadleaf at 4.5 m. `None` if there is no such tree.
+pub fn tree_middle(sim: &Sim, tree: u64) -> Option<Vec3> {
+    let t = sim.tree(tree)?;
+    let model = sim.res.catalogue.get(t.tree.model)?;
+    let (base, scale) = (t.transform.translation, t.scale.0);
+    let local = match &model.pick {
+        Some(p) => {
+            let (h, middle) = (p.band_height(), (p.bottom + p.top) * 0.5);
+            let centre = |i: usize| p.bottom + h * (i as f32 + 0.5);
+            let y = match p.band(middle) {
+                Some(i) if p.radii[i] > 0.0 => middle,
+                // The nearest band that is not empty (the lower on a tie).
+                _ => (0..crate::catalogue::PICK_BANDS).filter(|&i| p.radii[i] > 0.0).map(centre).min_by(|a, b| (a - middle).abs().total_cmp(&(b - middle).abs())).unwrap_or(middle),
+            };
+            Vec3::new(0.0, y, 0.0)
+        }
+        None => glam::Quat::from_rotation_y(t.transform.yaw) * ((model.bounds_min + model.bounds_max) * 0.5),
+    };
+    Some(base + local * scale)
 }
 
 /// The tree whose base is nearest `p` along the ground; ties go to the lower id.

@@ -75,7 +75,7 @@ fn a_target_that_cannot_be_found_fails_the_step_saying_why() {
     let dir = tempfile::tempdir().unwrap();
     let keep = dir.path().join("kept").display().to_string();
     let cases = [
-        ("unnamed", "at: Tree(tree: Named(\"young birch\"))", "at: Tree(tree: Named(\"old oak\"))", "step 5 Mark(name: \"grab\", at: Tree(tree: Named(\"old oak\"), offset: (0.0, 2.0, 0.0))): cannot find the target: no tree is named \"old oak\""),
+        ("unnamed", "at: Tree(tree: Named(\"young birch\"), offset", "at: Tree(tree: Named(\"old oak\"), offset", "step 5 Mark(name: \"grab\", at: Tree(tree: Named(\"old oak\"), offset: (0.0, 2.0, 0.0))): cannot find the target: no tree is named \"old oak\""),
         ("unplanted", "Name(name: \"young birch\", tree: Last)", "Name(name: \"young birch\", tree: Planted(2))", "step 4 Name(name: \"young birch\", tree: Planted(2)): cannot find the target: tree Planted(2) does not exist: 1 trees have been planted so far"),
         ("no-task", "PointAt(Mark(name: \"grab\"))", "PointAt(Target(1))", "step 6 PointAt(Target(1)): cannot find the target: no task is running"),
     ];

@@ -46,7 +46,7 @@ fn scenarios() -> Vec<(&'static str, Script)> {
     let mut s = study_script(3);
     s.switch_mode(Mode::Manual).choose_model(ModelId(4)).wait(10);
     // The tree just spawned, by name rather than by searching the world.
-    let spawned = s.aim_point(&Aim::Tree { tree: TreeRef::Last, offset: Vec3::ZERO }).ok();
+    let spawned = s.aim_point(&Aim::Tree { tree: TreeRef::Last, offset: Some(Vec3::ZERO) }).ok();
     if let Some(p) = spawned {
         s.point_at(p + Vec3::Y * 2.0).hold(Button::Trigger);
         s.touchpad(0.0, 1.0, 90);

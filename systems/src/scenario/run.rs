@@ -10,7 +10,10 @@ use crate::resources::Override;
 use crate::script::Script;
 use crate::sim::Sim;
 
-use super::{technique, Loaded, RunError, Step};
+use super::aims::{self, hold_checked, Aimed, RunState};
+use super::observe::{self, Snapshot};
+use super::{intents, technique, Loaded, RunError, Step};
+
 
 /// How to run a scenario.
 #[derive(Clone, Debug, Default)]
@@ -86,12 +89,53 @@ pub fn start(loaded: &Loaded, options: &RunOptions) -> Result<(Sim, Header), Run
 
 /// Runs a loaded scenario headless.
 pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, RunError> {
+    run_inner(loaded, options, None).map(|(o, _)| o)
+}
+
+/// One step of a traced run: what it was, its ticks, the state before and after it, and what
+/// it did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepTrace {
+    /// The step, counting from 1.
+    pub number: usize,
+    /// The step as the file writes it.
+    pub text: String,
+    /// The state before it.
+    pub before: Snapshot,
+    /// The state after it (as far as it got, when it failed).
+    pub after: Snapshot,
+    /// What it did, in words; empty when nothing happened.
+    pub did: Vec<String>,
+}
+
+/// Runs a loaded scenario, recording each step ([`StepTrace`]) and calling `frame` with the
+/// world at the start and after each step that ran a tick, for pictures. The run is the very
+/// run [`run`] makes.
+pub fn run_traced(loaded: &Loaded, options: &RunOptions, frame: &mut dyn FnMut(&Sim)) -> Result<(Outcome, Vec<StepTrace>), RunError> {
+    run_inner(loaded, options, Some(frame))
+}
+
+fn run_inner(loaded: &Loaded, options: &RunOptions, mut frame: Option<&mut dyn FnMut(&Sim)>) -> Result<(Outcome, Vec<StepTrace>), RunError> {
     let (sim, header) = start(loaded, options)?;
     let mut script = Script::new(sim);
     let mut hashes = Vec::new();
     let mut failure = None;
+    let mut traces = Vec::new();
+    let mut state = RunState { press_on_nothing: loaded.scenario.press_on_nothing, ..Default::default() };
+    if let Some(f) = frame.as_mut() {
+        f(script.sim());
+    }
     for (i, step) in loaded.scenario.steps.iter().enumerate() {
-        if let Err(message) = apply(&mut script, step, options.update, &mut hashes) {
+        let before = frame.is_some().then(|| (Snapshot::take(script.sim(), script.names()), script.sim().res.log.entries.len()));
+        let result = apply(&mut script, &mut state, step, options.update, &mut hashes);
+        if let (Some(f), Some((before, from))) = (frame.as_mut(), before) {
+            let after = Snapshot::take(script.sim(), script.names());
+            if after.tick != before.tick {
+                f(script.sim());
+            }
+            traces.push(StepTrace { number: i + 1, text: step.text(), did: observe::did(script.sim(), script.names(), from), before, after });
+        }
+        if let Err(message) = result {
             failure = Some(Failure { step: Some(i + 1), at: step.text(), message });
             break;
         }
@@ -105,7 +149,7 @@ pub fn run(loaded: &Loaded, options: &RunOptions) -> Result<Outcome, RunError> {
         }
     }
     let (sim, events) = script.into_parts();
-    Ok(Outcome { failure, ticks: sim.res.tick, hashes, header, events, sim })
+    Ok((Outcome { failure, ticks: sim.res.tick, hashes, header, events, sim }, traces))
 }
 
 /// Checks one expectation; with `update`, a world hash is collected rather than compared.
@@ -120,32 +164,51 @@ fn expect(script: &Script, e: &Expect, update: bool, hashes: &mut Vec<String>) -
 }
 
 /// Plays one step through the script.
-fn apply(s: &mut Script, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
+pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
     let cannot = |e: crate::targets::TargetError| format!("cannot find the target: {e}");
     match step {
+        Step::Plant { model, at } => intents::plant(s, state, model, at)?,
+        Step::Remove(tree) => intents::remove(s, state, tree)?,
+        Step::Drag { tree, to } => intents::drag(s, state, tree, to)?,
         Step::ChooseModel(m) => {
             s.choose_model(m.as_str());
         }
         Step::PointAt(aim) => {
-            s.aim(aim).map_err(cannot)?;
+            let p = s.aim_point(aim).map_err(cannot)?;
+            s.point_at(p);
+            state.aimed = Some(Aimed::new(s.sim(), s.names(), aim, p));
         }
         Step::Sweep { from, by, count } => {
             let p = s.aim_point(from).map_err(cannot)?;
             for k in 0..*count {
                 s.point_at(p + *by * k as f32);
             }
+            if *count > 0 {
+                let last = p + *by * (*count - 1) as f32;
+                let aim = crate::targets::Aim::Point(last.x, last.y, last.z);
+                state.aimed = Some(Aimed { label: format!("the sweep's last point {}", aim.text().trim_start_matches("Point")), ..Aimed::new(s.sim(), s.names(), &aim, last) });
+            }
         }
         Step::Controller { position, rotation } => {
             s.try_push(InputEvent::ControllerPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
+            state.aimed = None;
         }
         Step::Head { position, rotation } => {
             s.try_push(InputEvent::HeadPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
         }
         Step::Press(b) => {
-            s.press((*b).into());
+            let checked = hold_checked(s, state, *b);
+            s.release((*b).into());
+            checked?;
+        }
+        Step::PressOnNothing(b) => {
+            s.hold((*b).into());
+            let checked = aims::check_nothing(s.sim(), s.names());
+            s.release((*b).into());
+            checked?;
         }
         Step::Hold(b) => {
-            s.hold((*b).into());
+            hold_checked(s, state, *b)?;
         }
         Step::Release(b) => {
             s.release((*b).into());
