@@ -1,7 +1,9 @@
-//! ARCHITECTURE.md stays true to the code: every path it names in backticks exists in the
-//! repository, and every type, function, constant or `Type::item` it names in backticks is
-//! defined in the source (`struct|enum|trait|type|fn|const|static|mod|macro_rules! NAME` in a
-//! `.rs` or `.wgsl` file).
+//! ARCHITECTURE.md and docs/codemap.md stay true to the code: every path they name in backticks
+//! exists in the repository, and every type, function, constant or `Type::item` they name in
+//! backticks is defined in the source (`struct|enum|trait|type|fn|const|static|mod|macro_rules!
+//! NAME` in a `.rs` or `.wgsl` file). ARCHITECTURE.md stays short, and its codemap stays whole:
+//! every folder of `src/` and `systems/src/` that holds Rust files, and every `grove` command
+//! and subcommand that `grove --help` lists, has its row.
 
 use crate::common;
 
@@ -227,14 +229,23 @@ fn missing(repo: &Repo, doc: &str) -> Vec<String> {
     out.into_iter().collect()
 }
 
+/// Checks that every path and name `file` holds exists, and that it holds at least `least`.
+fn check_doc(repo: &Repo, file: &str, least: usize) {
+    let doc = std::fs::read_to_string(root().join(file)).unwrap();
+    let checked = spans(&doc).iter().filter(|s| is_path(s) || item_name(s).is_some()).count();
+    assert!(checked >= least, "only {checked} paths and names found in {file}");
+    let gone = missing(repo, &doc);
+    assert!(gone.is_empty(), "{file} names what does not exist:\n{}", gone.join("\n"));
+}
+
 #[test]
 fn every_path_and_name_in_architecture_md_exists() {
-    let repo = repo();
-    let doc = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
-    let checked = spans(&doc).iter().filter(|s| is_path(s) || item_name(s).is_some()).count();
-    assert!(checked > 100, "only {checked} paths and names found in ARCHITECTURE.md");
-    let gone = missing(&repo, &doc);
-    assert!(gone.is_empty(), "ARCHITECTURE.md names what does not exist:\n{}", gone.join("\n"));
+    check_doc(&repo(), "ARCHITECTURE.md", 100);
+}
+
+#[test]
+fn every_path_and_name_in_the_detailed_codemap_exists() {
+    check_doc(&repo(), "docs/codemap.md", 300);
 }
 
 #[test]
@@ -259,4 +270,163 @@ fn made_up_paths_and_names_are_reported() {
             "path `warp/`",
         ]
     );
+}
+
+// The codemap's coverage.
+
+/// The most lines ARCHITECTURE.md may have: the detail lives in docs/codemap.md.
+const MOST_LINES: usize = 150;
+
+/// The codemap of `doc`: the lines from its `## Codemap` heading to the next `## ` heading.
+fn codemap(doc: &str) -> String {
+    let mut lines = doc.lines().skip_while(|l| l.trim() != "## Codemap");
+    let heading = lines.next().unwrap_or_default();
+    let body: Vec<&str> = lines.take_while(|l| !l.starts_with("## ")).collect();
+    format!("{heading}\n{}", body.join("\n"))
+}
+
+/// The folders of the two crates' sources that hold `.rs` files, each as a path from the root
+/// ending in `/` (`src/`, `src/render/trees/`, `systems/src/replay/`, …).
+fn source_folders(repo: &Repo) -> BTreeSet<String> {
+    repo.paths
+        .iter()
+        .filter(|p| (p.starts_with("src/") || p.starts_with("systems/src/")) && p.ends_with(".rs"))
+        .map(|p| p[..=p.rfind('/').unwrap()].to_string())
+        .collect()
+}
+
+/// The backticked spans of the table rows of `codemap` (lines that begin with `|`), each with
+/// the root of the `###` section it sits in: that heading's first backticked folder (`src/`,
+/// `systems/src/`), or the repository root under any other heading.
+fn row_spans(codemap: &str) -> Vec<(String, String)> {
+    let mut root = String::new();
+    let mut out = Vec::new();
+    for line in codemap.lines() {
+        if let Some(heading) = line.strip_prefix("### ") {
+            root = spans(heading).into_iter().find(|s| s.ends_with('/')).unwrap_or_default();
+        } else if line.trim_start().starts_with('|') {
+            out.extend(spans(line).into_iter().map(|s| (root.clone(), s)));
+        }
+    }
+    out
+}
+
+/// The folders the rows of `codemap` name: each backticked path ending in `/`, from the root
+/// when it starts with `src/` or `systems/`, else from its section's root (`cli/` under
+/// `src/` is `src/cli/`).
+fn codemap_folders(codemap: &str) -> BTreeSet<String> {
+    row_spans(codemap)
+        .into_iter()
+        .filter(|(_, s)| s.ends_with('/') && !s.contains(char::is_whitespace))
+        .map(|(root, s)| if s.starts_with("src/") || s.starts_with("systems/") { s } else { format!("{root}{s}") })
+        .collect()
+}
+
+/// The commands the rows of `codemap` name, without `grove` (`aerial tile`): a backticked span
+/// `grove A B …` names each word up to the first that is not a command's name (an option, a
+/// FILE); a word may give alternatives, `derive|model` (written `derive\|model` in a table).
+/// A command names its parents too: `grove aerial tile` names `aerial`.
+fn codemap_commands(codemap: &str) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for (_, span) in row_spans(codemap) {
+        let Some(rest) = span.strip_prefix("grove ") else { continue };
+        let mut paths = vec![String::new()];
+        for word in rest.replace("\\|", "|").split_whitespace() {
+            let names: Vec<&str> = word.split('|').collect();
+            let is_name = |n: &&str| !n.is_empty() && n.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-') && !n.starts_with('-');
+            if !names.iter().all(is_name) {
+                break;
+            }
+            paths = paths.iter().flat_map(|p| names.iter().map(move |n| if p.is_empty() { n.to_string() } else { format!("{p} {n}") })).collect();
+            out.extend(paths.iter().cloned());
+        }
+    }
+    out
+}
+
+/// The subcommands of `text`, a clap `--help` page: the names in its `Commands:` list, without
+/// clap's own `help`.
+fn help_commands(text: &str) -> Vec<String> {
+    text.lines()
+        .skip_while(|l| l.trim() != "Commands:")
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|name| *name != "help")
+        .map(str::to_string)
+        .collect()
+}
+
+/// Every command of the `grove` binary, top level and nested, as its `--help` pages list them
+/// (`sim`, `aerial`, `aerial tile`, …).
+fn grove_commands() -> Vec<String> {
+    let mut out = Vec::new();
+    let mut todo = vec![String::new()];
+    while let Some(parent) = todo.pop() {
+        let mut args: Vec<&str> = parent.split_whitespace().collect();
+        args.push("--help");
+        let help = common::grove(&args);
+        assert!(help.status.success(), "grove {} failed: {}", args.join(" "), String::from_utf8_lossy(&help.stderr));
+        for name in help_commands(&String::from_utf8_lossy(&help.stdout)) {
+            let path = if parent.is_empty() { name } else { format!("{parent} {name}") };
+            todo.push(path.clone());
+            out.push(path);
+        }
+    }
+    out.sort();
+    out
+}
+
+/// What `codemap` leaves out of `folders` and `commands`, one line each.
+fn left_out(codemap: &str, folders: &BTreeSet<String>, commands: &[String]) -> Vec<String> {
+    let named_folders = codemap_folders(codemap);
+    let named_commands = codemap_commands(codemap);
+    let folders = folders.iter().filter(|f| !named_folders.contains(*f)).map(|f| format!("folder `{f}`"));
+    let commands = commands.iter().filter(|c| !named_commands.contains(*c)).map(|c| format!("command `grove {c}`"));
+    folders.chain(commands).collect()
+}
+
+#[test]
+fn architecture_md_is_short() {
+    let doc = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let lines = doc.lines().count();
+    assert!(lines <= MOST_LINES, "ARCHITECTURE.md has {lines} lines, more than {MOST_LINES}: move detail to docs/codemap.md");
+}
+
+#[test]
+fn every_source_folder_and_grove_command_has_a_codemap_row() {
+    let repo = repo();
+    let folders = source_folders(&repo);
+    assert!(folders.len() > 30 && folders.contains("src/render/trees/impostor/") && folders.contains("systems/src/"), "the walk found {folders:?}");
+    let commands = grove_commands();
+    assert!(commands.len() > 30 && commands.contains(&"aerial tile".to_string()) && commands.contains(&"sim".to_string()), "grove --help listed {commands:?}");
+    let doc = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let gone = left_out(&codemap(&doc), &folders, &commands);
+    assert!(gone.is_empty(), "ARCHITECTURE.md's codemap has no row for:\n{}", gone.join("\n"));
+}
+
+#[test]
+fn a_folder_or_command_without_a_row_is_reported() {
+    let doc = "# A\n\n## Codemap\n\n### `systems/src/` — the simulation\n\n| folder | what |\n|---|---|\n\
+               | `systems/src/` | the root |\n| `replay/` | recordings; `grove replay` |\n\n\
+               ### `src/` — the app\n\n| folder | what |\n|---|---|\n| `render/`, `render/trees/` | drawing |\n\
+               | `cli/aerial/` | `grove aerial tile\\|flight --out DIR`, `grove lsystem derive` |\n\n\
+               Outside a row `render/water/` and `grove sun` do not count.\n\n\
+               ### Other folders\n\n| `src/study/` | from the root |\n\n## Invariants\n\n| `src/video/` | `grove video` |\n";
+    let folders: BTreeSet<String> = ["systems/src/", "systems/src/replay/", "systems/src/scenario/", "src/render/", "src/render/trees/", "src/render/water/", "src/cli/aerial/", "src/study/", "src/video/"]
+        .map(String::from)
+        .into();
+    let commands: Vec<String> = ["replay", "aerial", "aerial tile", "aerial flight", "aerial eval", "lsystem", "lsystem derive", "sun", "video"].map(String::from).into();
+    assert_eq!(
+        left_out(&codemap(doc), &folders, &commands),
+        [
+            "folder `src/render/water/`",
+            "folder `src/video/`",
+            "folder `systems/src/scenario/`",
+            "command `grove aerial eval`",
+            "command `grove sun`",
+            "command `grove video`",
+        ]
+    );
+    assert_eq!(help_commands("Usage: grove <COMMAND>\n\nCommands:\n  sim    Run\n  scene  Work\n  help   Print\n\nOptions:\n  -h\n"), ["sim", "scene"]);
 }
