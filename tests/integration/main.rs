@@ -3,6 +3,7 @@
 
 #[path = "../../systems/tests/graph/mod.rs"]
 mod graph;
+mod file_size;
 mod common;
 mod gltf_build;
 mod shared_gpu;
