@@ -58,6 +58,12 @@ const page = {
   toSession(p) {
     return page.offset ? toSession(page.offset, { x: p[0], y: p[1], z: p[2] }) : { x: p[0], y: p[1], z: p[2] };
   },
+  /** Where a point of the simulation's frame is on the inline preview's canvas, CSS pixels. */
+  screenPoint(p) {
+    const v = new THREE.Vector3(p[0], p[1], p[2]).project(camera);
+    const r = renderer.domElement.getBoundingClientRect();
+    return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height };
+  },
   profiles: () => controllers?.profiles() ?? [],
 };
 window.grove = page;

@@ -78,9 +78,9 @@ export async function start() {
   return { server, browser, open, requests, errors, foreign, origin, close };
 }
 
-/** Runs `grove ARGS…` in the repository root; resolves to { status, stdout, stderr }. */
-export function grove(args) {
-  const r = spawnSync(GROVE, args, { cwd: ROOT, encoding: 'utf8' });
+/** Runs `grove ARGS…` in `cwd` (the repository root by default); returns { status, stdout, stderr }. */
+export function grove(args, cwd = ROOT) {
+  const r = spawnSync(GROVE, args, { cwd, encoding: 'utf8' });
   return { status: r.status, stdout: r.stdout, stderr: r.stderr };
 }
 
@@ -96,8 +96,8 @@ export function until(page, fn, arg, timeout = 60000) {
   return page.waitForFunction(fn, arg, { timeout, polling: 'raf' });
 }
 
-/** Waits until the simulation has run `n` more ticks. */
+/** Waits until the simulation has run `n` more ticks, or the task has ended (no more ticks). */
 export async function ticks(page, n) {
   const start = await page.evaluate(() => window.grove.snapshot?.tick ?? 0);
-  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t, start + n);
+  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error'].includes(window.grove.state), start + n);
 }

@@ -49,13 +49,19 @@ export async function plantAll(page, { limit = Infinity } = {}) {
   let planted = 0;
   for (;;) {
     const targets = await page.evaluate(() => window.grove.snapshot.task.targets);
-    const i = targets.findIndex((t) => !t.satisfied);
-    if (i < 0 || planted >= limit) return planted;
+    // The farthest first, so that no planted crown stands between the hand and a target.
+    const far = (t) => Math.hypot(t.position[0], t.position[2] - 6);
+    const open = targets.map((t, i) => [t, i]).filter(([t]) => !t.satisfied).sort((a, b) => far(b[0]) - far(a[0]));
+    if (open.length === 0 || planted >= limit) return planted;
+    const i = open[0][1];
     const t = targets[i];
     await choose(page, t.model);
     await aimAt(page, t.moved_to ?? t.position);
     await click(page, 'trigger');
-    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 20000);
+    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 20000).catch(async (e) => {
+      const s = await page.evaluate(() => window.grove.snapshot);
+      throw new Error(`target ${i} (${t.model} at ${t.moved_to ?? t.position}) not satisfied: the ray hits ${JSON.stringify(s.controller.hit)}, trees ${JSON.stringify(s.trees.map((x) => [x.model, x.position]))}, current ${s.menu.current_model}: ${e.message}`);
+    });
     planted++;
   }
 }
