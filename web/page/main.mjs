@@ -49,6 +49,14 @@ const page = {
   get connection() {
     return recorder.state;
   },
+  /** Lines handed to the client library and not yet on the server's disk. */
+  get pending() {
+    return recorder.pending;
+  },
+  /** The anchor ball as drawn: 'hidden', 'white' or 'green'. */
+  overlayBall() {
+    return overlay.ballState();
+  },
   /** The middle of the menu's item for `model` in the simulation's frame (the menu must be open). */
   menuItemPoint(model) {
     const i = model === 'finish' ? menu.models.length - 1 : menu.models.indexOf(model);

@@ -56,6 +56,12 @@ export class Overlay {
     this._up = new THREE.Vector3(0, 0, 1);
   }
 
+  /** The anchor ball as drawn: 'hidden', 'white' or 'green'. */
+  ballState() {
+    if (!this.ball.visible) return 'hidden';
+    return this.ball.material.color.getHex() === WHITE ? 'white' : 'green';
+  }
+
   update(snap, eye) {
     const c = snap.controller;
     const o = c.ray_origin;

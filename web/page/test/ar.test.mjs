@@ -9,7 +9,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import { fileLines, grove, start, until } from './harness.mjs';
-import { plantAll } from './participant.mjs';
+import { enterAndStart, plantAll } from './participant.mjs';
 
 let h;
 before(async () => {
@@ -18,17 +18,6 @@ before(async () => {
 after(async () => {
   await h?.close();
 });
-
-/** Enters an immersive mode and starts the task with a trigger press. */
-export async function enterAndStart(page, mode) {
-  await page.click(`#enter-${mode}`);
-  await until(page, () => window.grove.state === 'instructions' && window.xrDevice.activeSession, null, 30000);
-  await page.waitForTimeout(300);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
-  await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
-  assert.equal(await page.evaluate(() => window.grove.error), null);
-}
 
 test('immersive-ar: 7 trees planted on the room floor, verified, in the study, same hash as native', async (t) => {
   const scratch = [];

@@ -1,6 +1,7 @@
 // A scripted participant for the browser tests: poses the emulated controller (IWER's right
 // Touch Plus) and presses its buttons, frame by frame, as a person in the headset would.
 
+import assert from 'node:assert/strict';
 import { lookRotation } from '../input.mjs';
 import { ticks, until } from './harness.mjs';
 
@@ -64,4 +65,73 @@ export async function plantAll(page, { limit = Infinity } = {}) {
     });
     planted++;
   }
+}
+
+/**
+ * Enters an immersive mode (`ar` or `vr`) and starts the task with a trigger press (a session
+ * being continued starts at once).
+ */
+export async function enterAndStart(page, mode) {
+  await page.click(`#enter-${mode}`);
+  await until(page, () => ['instructions', 'task'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
+  if ((await page.evaluate(() => window.grove.state)) !== 'task') {
+    await page.waitForTimeout(300);
+    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+    await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
+    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  }
+  await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
+  assert.equal(await page.evaluate(() => window.grove.error), null);
+}
+
+/** Holds the controller at `simPoint` ([x, y, z], the simulation's frame), its orientation kept. */
+export async function moveHand(page, simPoint) {
+  await page.evaluate((p) => {
+    const s = window.grove.toSession(p);
+    window.xrDevice.controllers.right.position.set(s.x, s.y, s.z);
+  }, simPoint);
+  await ticks(page, 2);
+}
+
+/** Manual mode: aims at tree `id` (selected: at its box's middle) and presses the trigger on it. */
+export async function grab(page, id) {
+  const box = await page.evaluate(() => window.grove.snapshot.bounding_box);
+  assert.equal(box?.tree, id, 'the tree is selected');
+  // Its middle, else lower down its axis (a billboard's crossed quads, a thin trunk).
+  const [x, y, z] = box.center;
+  let hit = null;
+  for (const f of [0, 0.25, 0.5, 0.75, -0.25]) {
+    await aimAt(page, [x, y - f * box.half_extents[1], z]);
+    hit = await page.evaluate(() => window.grove.snapshot.controller.hit);
+    if (hit?.entity === id) break;
+  }
+  assert.equal(hit?.entity, id, `the ray meets the tree: ${JSON.stringify(hit)}`);
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await ticks(page, 3);
+}
+
+/**
+ * Manual mode, the trigger held on tree `id`: carries the controller so that the tree's origin
+ * comes to `to` ([x, y, z]) in steps of at most `step` metres; returns the snapshot there.
+ */
+export async function carry(page, id, to, { step = 0.15 } = {}) {
+  const tree = async () => page.evaluate((id) => window.grove.snapshot.trees.find((t) => t.id === id), id);
+  let hand = await page.evaluate(() => window.grove.snapshot.controller.pose.position);
+  for (let k = 0; k < 400; k++) {
+    const at = (await tree()).position;
+    const d = [to[0] - at[0], to[1] - at[1], to[2] - at[2]];
+    const n = Math.hypot(...d);
+    if (n < 1e-3) break;
+    const f = Math.min(1, step / n);
+    hand = hand.map((v, i) => v + d[i] * f);
+    await moveHand(page, hand);
+  }
+  return page.evaluate(() => window.grove.snapshot);
+}
+
+/** Releases the trigger and waits a few ticks. */
+export async function release(page) {
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await ticks(page, 3);
+  return page.evaluate(() => window.grove.snapshot);
 }
