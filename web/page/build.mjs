@@ -23,7 +23,7 @@ const out = args.includes('--out') ? resolve(args[args.indexOf('--out') + 1]) : 
 /** The controller profiles the page ships: the devices docs/headset.md names, and their fallbacks. */
 export const PROFILES = ['meta-quest-touch-plus', 'meta-quest-touch-plus-v2', 'oculus-touch-v3', 'magicleap-one'];
 
-const wasm = join(root, process.env.CARGO_TARGET_DIR ?? 'target', 'wasm', 'grove_sim.wasm');
+const wasm = join(resolve(root, process.env.CARGO_TARGET_DIR ?? 'target'), 'wasm', 'grove_sim.wasm');
 if (!existsSync(wasm)) {
   console.error(`web/page/build.mjs: ${wasm} is missing; run bash web/build.sh first`);
   process.exit(2);
