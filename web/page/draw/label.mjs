@@ -37,7 +37,8 @@ export class Label {
         ctx.fillRect(0, i * h, canvas.width, h);
       }
       ctx.fillStyle = hi ? '#10301a' : this.style.color;
-      ctx.fillText(hi ? line.slice(1) : line, h * 0.3, (i + 0.5) * h);
+      // A line longer than the label is narrowed to fit rather than cut off.
+      ctx.fillText(hi ? line.slice(1) : line, h * 0.3, (i + 0.5) * h, canvas.width - h * 0.6);
     });
     this.texture.needsUpdate = true;
   }

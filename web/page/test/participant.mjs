@@ -8,8 +8,8 @@ import { ticks, until } from './harness.mjs';
 /** Where the controller is held, relative to the head, metres (local-floor). */
 const HAND = { x: 0.15, y: -0.3, z: -0.25 };
 
-/** Points the controller at `simPoint` ([x, y, z] in the simulation's frame). */
-export async function aimAt(page, simPoint) {
+/** Points the controller, held at `hand` from the head, at `simPoint` ([x, y, z] in the simulation's frame). */
+export async function aimAt(page, simPoint, hand = HAND) {
   await page.evaluate(
     ({ p, hand }) => {
       const d = window.xrDevice;
@@ -18,7 +18,7 @@ export async function aimAt(page, simPoint) {
       window.__aim = { from, target };
       d.controllers.right.position.set(from.x, from.y, from.z);
     },
-    { p: simPoint, hand: HAND },
+    { p: simPoint, hand },
   );
   const { from, target } = await page.evaluate(() => window.__aim);
   const dir = [target.x - from.x, target.y - from.y, target.z - from.z];
