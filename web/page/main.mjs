@@ -41,6 +41,8 @@ const page = {
   offset: null,
   floor: null,
   frameMs: [],
+  /** The last frames of the task: { steps, step, snapshot, update } (ms), for the benchmark. */
+  perf: [],
   frames: 0,
   resumed: false,
   get snapshot() {
@@ -407,7 +409,12 @@ function loop(time, frame) {
     if (run.snapshot.task?.done) finishRun();
   }
   const snap = run?.snapshot;
+  const t1 = performance.now();
   if (snap) draw(snap, frame);
+  if (run?.timing && page.state === 'task') {
+    page.perf.push({ ...run.timing, update: performance.now() - t1 });
+    if (page.perf.length > 2000) page.perf.shift();
+  }
   if (page.state !== 'task' && xr && frame) controllers?.update(frame, xr.base);
   const ms = performance.now() - t0;
   page.frameMs.push(ms);

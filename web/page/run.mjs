@@ -30,6 +30,7 @@ export class TaskRun {
     this.t0 = performance.now();
     this.lastTime = null;
     this.finished = false;
+    this.timing = null;
   }
 
   /**
@@ -94,13 +95,17 @@ export class TaskRun {
     const elapsed = this.lastTime === null ? 0 : (time - this.lastTime) / 1000;
     this.lastTime = time;
     const steps = this.clock.advance(elapsed);
+    const t0 = performance.now();
     for (let k = 0; k < steps; k++) {
       const events = k === 0 ? this.#events(input) : [];
       const stamp = { tick: this.sim.tick, ms: this.ms(), frame: input.frame ?? 0 };
       for (const event of events) this.sim.push({ ...stamp, event });
       this.sim.step();
     }
+    const t1 = performance.now();
     if (steps > 0) this.snapshot = this.sim.snapshot();
+    // What this frame's JavaScript spent (ms): the steps with their events, and the snapshot.
+    this.timing = { steps, step: t1 - t0, snapshot: performance.now() - t1 };
     return steps;
   }
 
