@@ -322,8 +322,9 @@ pub struct TaskReport {
     /// Seconds spent manipulating trees.
     pub manipulating_s: f64,
     /// The targets the scene's ground moved (a room without the study scene's terrace): the
-    /// layout the trial used, when it is not the task file's. Absent when none moved.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// layout the trial used, when it is not the task file's; empty when none moved. Always
+    /// written: a study shard's partial result (postcard) is not self-describing.
+    #[serde(default)]
     pub moved_targets: Vec<MovedTarget>,
 }
 
