@@ -11,6 +11,9 @@
 //!   /api/sessions` lists the sessions (without their ids).
 //! - `GET /api/sessions/ID` says how many lines the file has (where a reconnecting client goes
 //!   on from); `POST /api/sessions/ID/end` ends the session and answers with its verification.
+//! - `GET /api/sessions/ID/lines` is the open session's file as acknowledged (a reloaded page
+//!   re-simulates it to go on where it stopped); `GET /api/sessions/ID/scene` the text of the
+//!   scene file its header names (a room a page built, [`super::room_scene`]).
 //!
 //! Every session request names its client in the header `Grove-Writer`: while one client writes
 //! a session, another is refused until the first has made no request for the writer lease.
@@ -25,7 +28,7 @@ use hyper::body::Incoming;
 use hyper::{Method, Request, Response};
 use serde_json::json;
 
-use super::respond::{json, log, refused, Body};
+use super::respond::{json, log, refused, text, Body};
 use super::state::State;
 use super::line_split::{LineSplitter, SplitError};
 use super::registry::{Entry, Registry, Shared};
@@ -48,8 +51,10 @@ pub async fn route(state: &Arc<State>, req: Request<Incoming>) -> Response<Body>
         (&Method::POST, ["api", "sessions"]) => open(state, req).await,
         (&Method::GET, ["api", "sessions", id]) => session_status(state, id).await,
         (&Method::POST, ["api", "sessions", id, "lines"]) => append(state, id, req).await,
+        (&Method::GET, ["api", "sessions", id, "lines"]) => read_back(state, id, false).await,
+        (&Method::GET, ["api", "sessions", id, "scene"]) => read_back(state, id, true).await,
         (&Method::POST, ["api", "sessions", id, "end"]) => end(state, id, req).await,
-        (_, ["api", "status"] | ["api", "index"] | ["api", "sessions"] | ["api", "sessions", _] | ["api", "sessions", _, "lines" | "end"]) => {
+        (_, ["api", "status"] | ["api", "index"] | ["api", "sessions"] | ["api", "sessions", _] | ["api", "sessions", _, "lines" | "end" | "scene"]) => {
             Err((Refusal::method(format!("{method} is not served at {path}")), json!({})))
         }
         _ => Err((Refusal::not_found(format!("no API route {path}")), json!({}))),
@@ -158,6 +163,38 @@ async fn session_status(state: &Arc<State>, id: &str) -> Answer {
         Err(_) => return Err((Refusal::conflict("the session is busy with another request; ask again"), json!({ "code": "busy" }))),
     };
     Ok(json(200, &json!({ "acked": s.acked(), "state": if s.ended { "ended" } else { "open" }, "file": s.file_name })))
+}
+
+/// An open session's file as acknowledged (its first `acked` lines), or, with `scene`, the text
+/// of the scene file its header names. Reading takes no writer lease: whoever has the id may
+/// read what it may write.
+async fn read_back(state: &Arc<State>, id: &str, scene: bool) -> Answer {
+    let shared = find(state, id)?;
+    let (path, acked, scene_name) = match tokio::time::timeout(state.read_timeout + Duration::from_secs(1), shared.lock()).await {
+        Ok(s) => (s.path.clone(), s.acked(), s.header.scene.clone()),
+        Err(_) => return Err((Refusal::conflict("the session is busy with another request; ask again"), json!({ "code": "busy" }))),
+    };
+    let dir = state.registry.dir.clone();
+    let read = tokio::task::spawn_blocking(move || -> Result<String, Refusal> {
+        use grove_systems::files::{read_text, Kind};
+        if scene {
+            if grove_systems::scene::Scene::builtin(&scene_name).is_some() {
+                return Err(Refusal::not_found(format!("the session's scene is the built-in scene {scene_name:?}, not a file")));
+            }
+            // Where the replay looks: the recordings' folder, then the working directory.
+            let cwd = std::env::current_dir().unwrap_or_default();
+            let path = [&dir, &cwd].into_iter().find_map(|base| grove_systems::files::within(&base.join(&scene_name), base).ok());
+            let path = path.ok_or_else(|| Refusal::not_found(format!("the session's scene file {scene_name:?} is not in the sessions' folder or the working directory")))?;
+            return read_text(&path, Kind::Scene).map_err(|e| Refusal::internal(e.reason()));
+        }
+        let all = read_text(&path, Kind::Recording).map_err(|e| Refusal::internal(e.reason()))?;
+        // Lines are only appended, so the first `acked` ones are as acknowledged even while a
+        // later request writes more.
+        let end = all.match_indices('\n').nth(acked.saturating_sub(1) as usize).map_or(all.len(), |(i, _)| i + 1);
+        Ok(all[..end].to_string())
+    });
+    let body = read.await.map_err(|e| no_more(Refusal::internal(e.to_string())))?.map_err(no_more)?;
+    Ok(text(body))
 }
 
 /// Takes the session for one request of `writer`: refused while another request on it is in

@@ -4,7 +4,8 @@
 //!
 //! - [`session`]: a session's file, each line checked by the replay crate's rules before it is
 //!   written; [`registry`]: the open sessions and `DIR/sessions.json`; [`verify`]: the
-//!   re-simulation of a session that ended.
+//!   re-simulation of a session that ended; [`room_scene`]: a scene a client built (a headset's
+//!   room), kept beside the recordings.
 //! - [`http`]: connections (plain or TLS, bounded in number and time), the token, the routes;
 //!   [`api`]: the session routes; [`static_files`]: files served as they are, never outside
 //!   their folders.
@@ -20,6 +21,7 @@ pub mod line_split;
 pub mod push;
 pub mod registry;
 pub mod respond;
+pub mod room_scene;
 pub mod session;
 pub mod state;
 pub mod static_files;

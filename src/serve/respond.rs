@@ -26,6 +26,14 @@ pub fn json(status: u16, value: &serde_json::Value) -> Response<Body> {
     r
 }
 
+/// A plain-text answer (200), not cached: a recording's lines, a scene's text.
+pub fn text(body: String) -> Response<Body> {
+    let mut r = Response::new(full(body));
+    r.headers_mut().insert(hyper::header::CONTENT_TYPE, hyper::header::HeaderValue::from_static("text/plain; charset=utf-8"));
+    r.headers_mut().insert(hyper::header::CACHE_CONTROL, hyper::header::HeaderValue::from_static("no-store"));
+    r
+}
+
 /// A refusal as a JSON response `{"error": reason}`, with more fields if given.
 pub fn refused(r: &Refusal, more: serde_json::Value) -> Response<Body> {
     let mut v = serde_json::json!({ "error": r.reason });

@@ -52,12 +52,24 @@ pub struct OpenFields {
     /// The 1-based block of the participant's session.
     #[serde(default)]
     pub block: Option<u32>,
+    /// A scene the client built (a headset's room), in place of `scene`: checked, kept beside the
+    /// recordings and named by the header ([`super::room_scene`]).
+    #[serde(default)]
+    pub scene_text: Option<String>,
 }
 
 /// The header a server writes for a session opened by its fields: this build's format, the
 /// scene's fixed step, the server's clock as `session_start`, not synthetic.
 pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Refusal> {
-    let scene_name = fields.scene.clone().unwrap_or_else(|| "study".into());
+    let scene_name = match (&fields.scene, &fields.scene_text) {
+        (Some(_), Some(_)) => return Err(Refusal::bad("an open request names a scene or sends scene_text, not both")),
+        (_, Some(text)) => {
+            // The participant id is checked before a file is written for the session.
+            super::ids::participant(&fields.participant).map_err(|e| Refusal::bad(e.to_string()))?;
+            super::room_scene::keep(text, dir)?
+        }
+        (name, None) => name.clone().unwrap_or_else(|| "study".into()),
+    };
     let scene = replay::scene_ref::resolve_scene(&scene_name, Some(dir)).map_err(|e| Refusal::bad(e.to_string()))?;
     let mut header = Header::new(&scene_name, fields.seed, scene.dt);
     header.participant = Some(fields.participant.clone());

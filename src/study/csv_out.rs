@@ -12,7 +12,7 @@ use super::{StudyError, Trial};
 pub const TRIAL_COLUMNS: &[&str] = &[
     "experiment", "ppid", "session_num", "trial_num", "block_num", "trial_num_in_block", "start_time", "end_time", "session_start", "task", "mode", "completed",
     "time_s", "trees", "model_types", "errors", "removals", "off_target", "released_green", "menu_opens", "ray_path_m", "aiming_s", "menu_s", "manipulating_s",
-    "status", "synthetic", "file", "what_if_kind", "parameter", "default_value", "new_value", "baseline_time_s", "difference_s",
+    "status", "synthetic", "file", "what_if_kind", "parameter", "default_value", "new_value", "baseline_time_s", "difference_s", "layout",
 ];
 
 /// The columns of `trees.csv`.
@@ -32,6 +32,16 @@ fn with_writer(path: &Path, write: impl FnOnce(&mut csv::Writer<std::fs::File>) 
     let csv = |source| StudyError::Csv { path: path.to_path_buf(), source };
     let mut w = csv::Writer::from_path(path).map_err(csv)?;
     write(&mut w).and_then(|()| Ok(w.flush()?)).map_err(csv)
+}
+
+/// The layout a trial's targets had: `task file`, or the targets the scene's ground moved (a room
+/// without the study scene's terrace), each as `TARGET:FROM_Y>TO_Y` (0-based target, heights in
+/// metres), separated by `;`.
+fn layout(k: &grove_systems::task::TaskReport) -> String {
+    if k.moved_targets.is_empty() {
+        return "task file".into();
+    }
+    k.moved_targets.iter().map(|m| format!("{}:{:.2}>{:.2}", m.target, m.from[1], m.to[1])).collect::<Vec<_>>().join(";")
 }
 
 /// Writes `trial_results.csv`. With a what-if, its rows are the what-if trials and the last
@@ -78,6 +88,7 @@ pub fn write_trial_results(path: &Path, trials: &[Trial], what_if: Option<&WhatI
                 join(&|p| p.new_value.clone()),
                 of(c.and_then(|c| c.baseline_time_s)),
                 of(c.and_then(|c| c.difference_s)),
+                s(&layout),
             ])?;
         }
         Ok(())

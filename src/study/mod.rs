@@ -198,6 +198,7 @@ pub fn trial_from_outcome(file: String, stem: String, o: &grove_systems::replay:
 /// A task report whose mode is the technique that ran it: a plug-in's name in place of its base
 /// mode, so that reports tell the conditions apart.
 pub fn technique_report(mut report: TaskReport, sim: &grove_systems::Sim) -> TaskReport {
+    report.moved_targets = sim.moved_targets();
     let t = sim.active_technique();
     if !t.is_builtin() {
         report.mode = t.name.to_string();

@@ -51,6 +51,7 @@ pub mod stage;
 pub mod systems;
 pub mod targets;
 pub mod task;
+pub mod task_layout;
 pub mod technique;
 pub mod tree_def;
 pub mod view;

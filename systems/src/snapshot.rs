@@ -180,6 +180,9 @@ pub struct TargetSnapshot {
     pub satisfied: bool,
     /// The tree that satisfied it first, by id bits.
     pub tree: Option<u64>,
+    /// Where it lies when the scene's ground has no plane at its height (a room without the
+    /// study scene's terrace): the point on the plane below (`crate::task_layout`).
+    pub moved_to: Option<[f32; 3]>,
 }
 
 fn quat(q: Quat) -> [f32; 4] {
@@ -235,6 +238,7 @@ impl Sim {
         let ball = world.query::<&AnchorBall>().iter().next().copied().unwrap_or_default();
         let head = self.head();
         let technique = res.techniques.at(res.technique);
+        let moved = self.moved_targets();
         let task = res.task.as_ref().map(|t| {
             let now = t.end_tick().unwrap_or(res.tick);
             TaskSnapshot {
@@ -246,7 +250,14 @@ impl Sim {
                     .targets
                     .iter()
                     .zip(&t.satisfied)
-                    .map(|(d, s)| TargetSnapshot { position: v3(d.position), model: d.model.clone(), satisfied: s.is_some(), tree: s.map(|h| h.tree) })
+                    .enumerate()
+                    .map(|(i, (d, s))| TargetSnapshot {
+                        position: v3(d.position),
+                        model: d.model.clone(),
+                        satisfied: s.is_some(),
+                        tree: s.map(|h| h.tree),
+                        moved_to: moved.iter().find(|m| m.target == i).map(|m| m.to),
+                    })
                     .collect(),
                 satisfied: t.satisfied.iter().filter(|s| s.is_some()).count(),
                 clock_s: crate::task::ticks_to_seconds(now.saturating_sub(t.started_tick), res.dt),
@@ -298,6 +309,7 @@ impl Sim {
     pub fn task_report(&self) -> Option<crate::task::TaskReport> {
         let res = &self.res;
         let mut report = crate::task::TaskReport::new(res.task.as_ref()?, res.dt, res.tick, &res.catalogue);
+        report.moved_targets = self.moved_targets();
         let technique = res.techniques.at(res.technique);
         if !technique.is_builtin() {
             report.mode = technique.name.to_string();

@@ -275,6 +275,18 @@ pub struct TreeReport {
     pub position: [f32; 3],
 }
 
+/// A target that the scene's ground has no plane for at its height, moved onto the plane below
+/// (`crate::task_layout`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MovedTarget {
+    /// Its index in the task file's targets, from 0.
+    pub target: usize,
+    /// Where the task file puts it, metres.
+    pub from: [f32; 3],
+    /// Where it lies on the scene's ground, metres.
+    pub to: [f32; 3],
+}
+
 /// A task's outcome, as `grove replay --json` and `grove study` report it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TaskReport {
@@ -309,6 +321,11 @@ pub struct TaskReport {
     pub menu_s: f64,
     /// Seconds spent manipulating trees.
     pub manipulating_s: f64,
+    /// The targets the scene's ground moved (a room without the study scene's terrace): the
+    /// layout the trial used, when it is not the task file's; empty when none moved. Always
+    /// written: a study shard's partial result (postcard) is not self-describing.
+    #[serde(default)]
+    pub moved_targets: Vec<MovedTarget>,
 }
 
 impl TaskReport {
@@ -362,6 +379,7 @@ impl TaskReport {
             aiming_s: secs(task.aiming_ticks),
             menu_s: secs(task.menu_ticks),
             manipulating_s: secs(task.manipulating_ticks),
+            moved_targets: Vec::new(),
         }
     }
 }

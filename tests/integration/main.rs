@@ -58,6 +58,7 @@ mod serve;
 mod serve_faults;
 mod serve_fixture;
 mod serve_hostile;
+mod serve_room;
 mod sim_cli;
 mod species;
 mod species_bank;

@@ -175,9 +175,13 @@ fn scenes_tasks_and_models_are_served_as_they_are() {
     let bin = request(&server.addr, "HEAD", "/models/shipped/birch-mesh.bin", &[], b"");
     let len = std::fs::metadata(crate::common::root().join("assets/trees/birch-mesh.bin")).unwrap().len();
     assert!(bin.head.contains(&format!("content-length: {len}")), "{}", bin.head);
-    // Without a built page, / is the server's own index of sessions and files.
+    // With a built page (web/dist, `node web/page/build.mjs`), / is the page; without one, the
+    // server's own index of sessions and files.
     let index = request(&server.addr, "GET", "/", &[], b"");
-    assert!(index.body.contains("grove serve") && index.body.contains("/scenes/study.ron"), "{}", index.body);
+    match std::fs::read_to_string(crate::common::root().join("web/dist/index.html")) {
+        Ok(page) => assert_eq!(index.body, page),
+        Err(_) => assert!(index.body.contains("grove serve") && index.body.contains("/scenes/study.ron"), "{}", index.body),
+    }
     let index = request(&server.addr, "GET", "/api/index", &[], b"");
     assert_eq!(index.json["tasks"], serde_json::json!(["/tasks/manual-7.ron", "/tasks/ray-casting-7.ron"]));
 }

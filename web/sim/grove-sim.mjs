@@ -169,6 +169,14 @@ export class Sim {
     return JSON.parse(this.grove.call('grove_sim_snapshot', [this.handle])[1]);
   }
 
+  /**
+   * The ground planes, for drawing: [{ id, name, vertices: [x, y, z, …] (metres), triangles:
+   * [i, j, k, …] (counter-clockwise seen from above) }], by entity id.
+   */
+  ground() {
+    return JSON.parse(this.grove.call('grove_sim_ground', [this.handle])[1]);
+  }
+
   /** The world hash, 16 hex digits. */
   hash() {
     return this.grove.call('grove_sim_hash', [this.handle])[1];

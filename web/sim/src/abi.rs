@@ -152,6 +152,12 @@ pub extern "C" fn grove_sim_snapshot(handle: u32) -> i32 {
     answer(with_sim(handle, |s| json(&s.snapshot())).map(|j| (0, j)))
 }
 
+/// The ground planes as JSON ([`Session::ground`]): 0 or -1.
+#[unsafe(no_mangle)]
+pub extern "C" fn grove_sim_ground(handle: u32) -> i32 {
+    answer(with_sim(handle, |s| json(&s.ground())).map(|j| (0, j)))
+}
+
 /// The world hash (16 hex digits): 0 or -1.
 #[unsafe(no_mangle)]
 pub extern "C" fn grove_sim_hash(handle: u32) -> i32 {

@@ -196,6 +196,20 @@ impl Session {
         self.sim.snapshot()
     }
 
+    /// The ground planes as a renderer draws them: each plane's name and entity id bits, its
+    /// vertices (x, y, z after one another, metres) and its triangles (three vertex indices
+    /// each, counter-clockwise seen from above), by entity id.
+    pub fn ground(&self) -> Vec<serde_json::Value> {
+        let mut planes = Vec::new();
+        self.sim.for_each_plane(|id, p| {
+            let vertices: Vec<f32> = p.vertices.iter().flat_map(|v| v.to_array()).collect();
+            let triangles: Vec<u32> = p.triangles.iter().flatten().copied().collect();
+            planes.push((id, serde_json::json!({ "id": id, "name": p.name, "vertices": vertices, "triangles": triangles })));
+        });
+        planes.sort_by_key(|(id, _)| *id);
+        planes.into_iter().map(|(_, v)| v).collect()
+    }
+
     /// The world hash, 16 hex digits.
     pub fn hash(&self) -> String {
         grove_systems::hash::hex(self.sim.hash().total)

@@ -172,3 +172,26 @@ fn the_c_abi_answers_errors_as_text_and_counts_handles() {
     assert_eq!(result(), format!("no simulation with handle {h}"));
     assert_eq!(grove_sim_tick(9999), -1.0);
 }
+
+#[test]
+fn the_ground_is_the_scene_planes_triangles_in_the_world() {
+    let (session, _) = Session::new(r#"{"scene":"study"}"#).unwrap();
+    let ground = session.ground();
+    let names: Vec<&str> = ground.iter().map(|p| p["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["ground", "terrace"]);
+    for p in &ground {
+        let vertices = p["vertices"].as_array().unwrap();
+        let triangles = p["triangles"].as_array().unwrap();
+        assert_eq!(vertices.len() % 3, 0);
+        assert!(!triangles.is_empty() && triangles.len() % 3 == 0);
+        let n = (vertices.len() / 3) as u64;
+        assert!(triangles.iter().all(|i| i.as_u64().unwrap() < n));
+    }
+    // The terrace: 8 x 5 m in 0.5 m cells at 0.8 m, minus nothing: 16 x 10 cells, 2 triangles each.
+    let terrace = &ground[1];
+    assert_eq!(terrace["triangles"].as_array().unwrap().len(), 16 * 10 * 2 * 3);
+    let ys: Vec<f64> = terrace["vertices"].as_array().unwrap().iter().skip(1).step_by(3).map(|v| v.as_f64().unwrap()).collect();
+    assert!(ys.iter().all(|y| (y - 0.8).abs() <= 0.011), "{ys:?}");
+    // The ground has its four holes: fewer triangles than 30 x 30 cells make.
+    assert!(ground[0]["triangles"].as_array().unwrap().len() < 30 * 30 * 2 * 3);
+}

@@ -1,0 +1,103 @@
+// What the page's browser tests share (node --test web/page/test/): the page built into
+// web/dist, a `grove serve` of the debug build on a free port in a scratch folder, headless
+// Chromium started by playwright-core (Debian's /usr/bin/chromium, software WebGL through
+// SwiftShader), the WebXR emulator bundled for the tests only, every request checked to stay on
+// the server's origin, and the moves of a scripted participant.
+
+import { spawnSync } from 'node:child_process';
+import { existsSync, readFileSync } from 'node:fs';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { build } from 'esbuild';
+import { chromium } from 'playwright-core';
+import { startServer } from '../../client/test/helpers.mjs';
+
+export const WEB = resolve(dirname(fileURLToPath(import.meta.url)), '../..');
+export const ROOT = resolve(WEB, '..');
+export const GROVE = process.env.GROVE_BIN ?? join(ROOT, 'target/debug/grove');
+export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+
+let emulator = null;
+
+/** The page built once per test process (web/dist), and the emulator bundled. */
+export async function prepare() {
+  if (!process.env.GROVE_PAGE_BUILT) {
+    const r = spawnSync(process.execPath, [join(WEB, 'page/build.mjs')], { encoding: 'utf8' });
+    if (r.status !== 0) throw new Error(`the page did not build: ${r.stderr}`);
+    process.env.GROVE_PAGE_BUILT = '1';
+  }
+  if (!emulator) {
+    const out = await build({ entryPoints: [join(WEB, 'page/test/emulator.mjs')], bundle: true, format: 'iife', write: false, logLevel: 'error', target: 'es2022' });
+    emulator = out.outputFiles[0].text;
+  }
+  return emulator;
+}
+
+/**
+ * A server and a browser: resolves to { server, browser, open(query, { xr, room }), requests,
+ * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
+ * server's URL with `query`, the emulator installed when `xr` is set.
+ */
+export async function start() {
+  const script = await prepare();
+  const server = await startServer();
+  const browser = await chromium.launch({
+    executablePath: CHROMIUM,
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist'],
+  });
+  const origin = new URL(server.url).origin;
+  const requests = [];
+  const errors = [];
+  async function open(query, { xr = false, room = true, context = null, width = 480, height = 360 } = {}) {
+    const ctx = context ?? (await browser.newContext({ viewport: { width, height } }));
+    const page = await ctx.newPage();
+    page.on('request', (r) => requests.push(r.url()));
+    page.on('pageerror', (e) => errors.push(String(e.stack ?? e)));
+    page.on('response', (r) => {
+      if (r.status() >= 400) errors.push(`${r.status()} ${r.url()}`);
+    });
+    page.on('console', (m) => {
+      if (m.type() === 'error') errors.push(m.text());
+    });
+    if (xr) {
+      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room })};`);
+      await page.addInitScript(script);
+    }
+    await page.goto(`${origin}/?${query}`);
+    await page.waitForFunction(() => window.grove && ['instructions', 'error'].includes(window.grove.state), null, { timeout: 60000 });
+    const state = await page.evaluate(() => window.grove.state);
+    if (state === "error") throw new Error(`the page failed: ${await page.evaluate(() => window.grove.error)}; ${errors.join(" / ")}`);
+    return { page, context: ctx };
+  }
+  /** Requests that left the server's origin (must be none). */
+  const foreign = () => requests.filter((u) => !u.startsWith(origin + '/') && !u.startsWith('data:') && !u.startsWith('blob:'));
+  async function close() {
+    await browser.close();
+    await server.stop();
+  }
+  return { server, browser, open, requests, errors, foreign, origin, close };
+}
+
+/** Runs `grove ARGS…` in `cwd` (the repository root by default); returns { status, stdout, stderr }. */
+export function grove(args, cwd = ROOT) {
+  const r = spawnSync(GROVE, args, { cwd, encoding: 'utf8' });
+  return { status: r.status, stdout: r.stdout, stderr: r.stderr };
+}
+
+/** The lines of a file (without newlines). */
+export function fileLines(path) {
+  return readFileSync(path, 'utf8').split('\n').filter((l) => l.length > 0);
+}
+
+export { existsSync };
+
+/** Waits in the page until `fn(arg)` is true (polling each animation frame). */
+export function until(page, fn, arg, timeout = 60000) {
+  return page.waitForFunction(fn, arg, { timeout, polling: 'raf' });
+}
+
+/** Waits until the simulation has run `n` more ticks, or the task has ended (no more ticks). */
+export async function ticks(page, n) {
+  const start = await page.evaluate(() => window.grove.snapshot?.tick ?? 0);
+  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error'].includes(window.grove.state), start + n);
+}

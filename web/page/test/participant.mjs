@@ -1,0 +1,137 @@
+// A scripted participant for the browser tests: poses the emulated controller (IWER's right
+// Touch Plus) and presses its buttons, frame by frame, as a person in the headset would.
+
+import assert from 'node:assert/strict';
+import { lookRotation } from '../input.mjs';
+import { ticks, until } from './harness.mjs';
+
+/** Where the controller is held, relative to the head, metres (local-floor). */
+const HAND = { x: 0.15, y: -0.3, z: -0.25 };
+
+/** Points the controller, held at `hand` from the head, at `simPoint` ([x, y, z] in the simulation's frame). */
+export async function aimAt(page, simPoint, hand = HAND) {
+  await page.evaluate(
+    ({ p, hand }) => {
+      const d = window.xrDevice;
+      const target = window.grove.toSession(p);
+      const from = { x: d.position.x + hand.x, y: d.position.y + hand.y, z: d.position.z + hand.z };
+      window.__aim = { from, target };
+      d.controllers.right.position.set(from.x, from.y, from.z);
+    },
+    { p: simPoint, hand },
+  );
+  const { from, target } = await page.evaluate(() => window.__aim);
+  const dir = [target.x - from.x, target.y - from.y, target.z - from.z];
+  const n = Math.hypot(...dir);
+  const q = lookRotation(dir.map((v) => v / n));
+  await page.evaluate((q) => window.xrDevice.controllers.right.quaternion.set(q[0], q[1], q[2], q[3]), q);
+  await ticks(page, 3);
+}
+
+/** Presses and releases an IWER button ('trigger', 'squeeze', 'b-button', …), a few ticks each. */
+export async function click(page, button, hold = 4) {
+  await page.evaluate((b) => window.xrDevice.controllers.right.updateButtonValue(b, 1), button);
+  await ticks(page, hold);
+  await page.evaluate((b) => window.xrDevice.controllers.right.updateButtonValue(b, 0), button);
+  await ticks(page, hold);
+}
+
+/** Opens the menu with B and chooses `model` with the trigger. */
+export async function choose(page, model) {
+  await click(page, 'b-button');
+  await until(page, () => window.grove.snapshot.menu.open);
+  await aimAt(page, await page.evaluate((m) => window.grove.menuItemPoint(m), model));
+  await click(page, 'trigger');
+  await until(page, (m) => !window.grove.snapshot.menu.open && window.grove.snapshot.menu.current_model === m, model);
+}
+
+/** Plants the model of every target not yet satisfied at it (ray-casting): menu, aim, trigger. */
+export async function plantAll(page, { limit = Infinity } = {}) {
+  let planted = 0;
+  for (;;) {
+    const targets = await page.evaluate(() => window.grove.snapshot.task.targets);
+    // The farthest first, so that no planted crown stands between the hand and a target.
+    const far = (t) => Math.hypot(t.position[0], t.position[2] - 6);
+    const open = targets.map((t, i) => [t, i]).filter(([t]) => !t.satisfied).sort((a, b) => far(b[0]) - far(a[0]));
+    if (open.length === 0 || planted >= limit) return planted;
+    const i = open[0][1];
+    const t = targets[i];
+    await choose(page, t.model);
+    await aimAt(page, t.moved_to ?? t.position);
+    await click(page, 'trigger');
+    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 20000).catch(async (e) => {
+      const s = await page.evaluate(() => window.grove.snapshot);
+      throw new Error(`target ${i} (${t.model} at ${t.moved_to ?? t.position}) not satisfied: the ray hits ${JSON.stringify(s.controller.hit)}, trees ${JSON.stringify(s.trees.map((x) => [x.model, x.position]))}, current ${s.menu.current_model}: ${e.message}`);
+    });
+    planted++;
+  }
+}
+
+/**
+ * Enters an immersive mode (`ar` or `vr`) and starts the task with a trigger press (a session
+ * being continued starts at once).
+ */
+export async function enterAndStart(page, mode) {
+  await page.click(`#enter-${mode}`);
+  await until(page, () => ['instructions', 'task'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
+  if ((await page.evaluate(() => window.grove.state)) !== 'task') {
+    await page.waitForTimeout(300);
+    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+    await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
+    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  }
+  await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
+  assert.equal(await page.evaluate(() => window.grove.error), null);
+}
+
+/** Holds the controller at `simPoint` ([x, y, z], the simulation's frame), its orientation kept. */
+export async function moveHand(page, simPoint) {
+  await page.evaluate((p) => {
+    const s = window.grove.toSession(p);
+    window.xrDevice.controllers.right.position.set(s.x, s.y, s.z);
+  }, simPoint);
+  await ticks(page, 2);
+}
+
+/** Manual mode: aims at tree `id` (selected: at its box's middle) and presses the trigger on it. */
+export async function grab(page, id) {
+  const box = await page.evaluate(() => window.grove.snapshot.bounding_box);
+  assert.equal(box?.tree, id, 'the tree is selected');
+  // Its middle, else lower down its axis (a billboard's crossed quads, a thin trunk).
+  const [x, y, z] = box.center;
+  let hit = null;
+  for (const f of [0, 0.25, 0.5, 0.75, -0.25]) {
+    await aimAt(page, [x, y - f * box.half_extents[1], z]);
+    hit = await page.evaluate(() => window.grove.snapshot.controller.hit);
+    if (hit?.entity === id) break;
+  }
+  assert.equal(hit?.entity, id, `the ray meets the tree: ${JSON.stringify(hit)}`);
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await ticks(page, 3);
+}
+
+/**
+ * Manual mode, the trigger held on tree `id`: carries the controller so that the tree's origin
+ * comes to `to` ([x, y, z]) in steps of at most `step` metres; returns the snapshot there.
+ */
+export async function carry(page, id, to, { step = 0.15 } = {}) {
+  const tree = async () => page.evaluate((id) => window.grove.snapshot.trees.find((t) => t.id === id), id);
+  let hand = await page.evaluate(() => window.grove.snapshot.controller.pose.position);
+  for (let k = 0; k < 400; k++) {
+    const at = (await tree()).position;
+    const d = [to[0] - at[0], to[1] - at[1], to[2] - at[2]];
+    const n = Math.hypot(...d);
+    if (n < 1e-3) break;
+    const f = Math.min(1, step / n);
+    hand = hand.map((v, i) => v + d[i] * f);
+    await moveHand(page, hand);
+  }
+  return page.evaluate(() => window.grove.snapshot);
+}
+
+/** Releases the trigger and waits a few ticks. */
+export async function release(page) {
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await ticks(page, 3);
+  return page.evaluate(() => window.grove.snapshot);
+}
