@@ -13,6 +13,7 @@ bad input gives one line on stderr and exit 2.
 import argparse
 import json
 import os
+import re
 import sys
 import tempfile
 
@@ -108,6 +109,11 @@ def f_serve(d):
             f"{num(dig(d, 'serve', 'server_rss_mib_max'))} MiB")
 
 
+def f_page(d):
+    return (f"{num(dig(d, 'page_frame', 'total_ms'))} ms (p95 {num(dig(d, 'page_frame', 'total_ms_p95'))} ms); "
+            f"page.js {num((dig(d, 'page_js_gzip_bytes') or 0) / 1000, 0)} kB gzipped")
+
+
 def f_lsystem(d):
     r = rows_where(d, "n", 7)
     if not r:
@@ -178,6 +184,8 @@ ROWS = [
     ("the simulation as WebAssembly in Node: a 5-minute session replayed; the module's size", "wasm.json", f_wasm,
      "≥ 5,000 ×; ≤ 1,500 kB"),
     ("`grove serve`: 50 sessions at once on loopback, acknowledgement p50 / p99", "serve.json", f_serve, "p99 ≤ 20 ms"),
+    ("the headset page's JavaScript per frame (steps, snapshot, three.js update), 9 trees, headless Chromium; "
+     "its bundle", "page.json", f_page, "≤ 3 ms"),
     ("L-system bush 2, n = 7: derive (2 threads) / interpret (memoised)", "lsystem.json", f_lsystem, "≤ 60 / ≤ 40 ms"),
     ("reference scene, 100 trees, shadows, 1280 × 720", "render_reference.json",
      f_frame("reference_100_trees", "mixed_shadows_on"), "≥ 16.2 fps"),
@@ -218,7 +226,7 @@ def table(folder):
             continue
         except (OSError, ValueError) as e:
             fail(f"{path}: {e}")
-        machine = str(d.get("machine", "")).split(",")[0]
+        machine = re.split(r",| \(", str(d.get("machine", "")))[0]
         when = d.get("date", "")
         if d.get("run"):
             runs.add(d["run"])

@@ -109,3 +109,25 @@ fn the_study_lists_an_event_only_file_as_unverified() {
     // Not synthetic, so no note.
     assert!(v["note"].is_null());
 }
+
+/// A recording that names a scene file beside it (as `grove serve` writes a headset's room)
+/// seals from any working directory: the scene is read from the recording's folder, as
+/// `grove replay` reads it.
+#[test]
+fn a_recording_naming_a_scene_beside_it_seals_from_another_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(root().join("assets/scenes/study.ron"), dir.path().join("room.ron")).unwrap();
+    let mut lines = example_lines("docs/authoring.md");
+    assert!(lines[0].contains("\"scene\":\"study\""), "{}", lines[0]);
+    lines[0] = lines[0].replace("\"scene\":\"study\"", "\"scene\":\"room.ron\"");
+    let file = dir.path().join("one-tree.jsonl");
+    write_recording(&file, &lines);
+    let sealed = dir.path().join("sealed.jsonl");
+    // The working directory is the repository's root, which has no room.ron.
+    assert!(!root().join("room.ron").exists());
+    let out = grove(&["replay", "--seal", file.to_str().unwrap(), "--out", sealed.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let (code, v) = replay_json(&sealed);
+    assert_eq!((code, v["status"].as_str()), (Some(0), Some("verified")), "{v}");
+    assert_eq!(v["task"]["trees"].as_array().map(Vec::len), Some(1), "{v}");
+}

@@ -383,7 +383,13 @@ pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent],
 
 /// Like [`record_events`], for a header that lists models of these banks.
 pub fn record_events_in<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value, banks: &Banks) -> Result<W, RecordError> {
-    let mut sim = sim_for_header_in(header, None, &[], banks)?;
+    record_events_beside(out, header, events, end_tick, summary, None, banks)
+}
+
+/// Like [`record_events_in`], with a scene the header names by path read relative to `base_dir`
+/// (the recording's folder, as `replay_file` reads it) instead of the working directory.
+pub fn record_events_beside<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value, base_dir: Option<&Path>, banks: &Banks) -> Result<W, RecordError> {
+    let mut sim = sim_for_header_in(header, base_dir, &[], banks)?;
     let mut rec = Recorder::new(out, header).map_err(RecordError::Write)?;
     let mut i = 0;
     let end = end_tick.max(events.last().map_or(0, |e| e.tick + 1));
