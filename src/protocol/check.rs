@@ -84,7 +84,7 @@ fn conditions(p: &Protocol) -> Result<(), Broken> {
             return Err(broken(place, format!("task '{}' does not exist (the tasks: {})", c.task, known.join(", "))));
         }
     }
-    let rows = crate::study::latin::williams(p.conditions.len()).len();
+    let rows = super::latin::williams(p.conditions.len()).len();
     if p.participants == 0 || p.participants % rows != 0 || p.participants > 10_000 {
         return Err(broken(
             "participants",

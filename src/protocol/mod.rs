@@ -10,6 +10,7 @@
 pub mod answer;
 pub mod check;
 pub mod format;
+pub mod latin;
 pub mod score;
 pub mod shipped;
 
@@ -117,12 +118,12 @@ impl Loaded {
 
     /// The rows of the balanced Latin square over the conditions.
     pub fn rows(&self) -> usize {
-        crate::study::latin::williams(self.protocol.conditions.len()).len()
+        latin::williams(self.protocol.conditions.len()).len()
     }
 
     /// The order (condition indices) of the participant with 0-based index `p`.
     pub fn order(&self, p: usize) -> Vec<usize> {
-        crate::study::latin::order(p, self.protocol.conditions.len())
+        latin::order(p, self.protocol.conditions.len())
     }
 
     /// The steps of a participant whose conditions come in `order`: each block in turn, the

@@ -8,7 +8,7 @@ pub mod conditions;
 pub mod csv_out;
 pub mod error;
 pub mod friedman;
-pub mod latin;
+pub use crate::protocol::latin;
 pub mod participant;
 pub mod questionnaire;
 pub mod report;
