@@ -38,6 +38,26 @@ fn counts(cats: &[String], given: &[&Answer]) -> Vec<usize> {
         .collect()
 }
 
+/// A column chart of counts over a numeric item's answers, low to high.
+fn columns_chart(cats: &[String], n: &[usize], id: &str) -> Markup {
+    let most = n.iter().copied().max().unwrap_or(0).max(1);
+    let step = (460.0 / cats.len() as f64).min(36.0);
+    let (w, h, top) = (step * cats.len() as f64 + 20.0, 96.0, 70.0);
+    let every = cats.len().div_ceil(11);
+    html! {
+        svg class="distribution" data-item=(id) width=(w) height=(h) viewBox=(format!("0 0 {w} {h}")) role="img" {
+            line x1="10" y1=(top) x2=(w - 10.0) y2=(top) stroke="#999" {}
+            @for (i, (c, k)) in cats.iter().zip(n).enumerate() {
+                @let x = 10.0 + step * i as f64;
+                @let bh = 56.0 * *k as f64 / most as f64;
+                rect x=(x + 1.0) y=(top - bh) width=(step - 2.0) height=(bh) fill="#4a8f5a" data-count=(k) {}
+                @if *k > 0 { text x=(x + step / 2.0) y=(top - bh - 3.0) text-anchor="middle" font-size="10" { (k) } }
+                @if i % every == 0 { text x=(x + step / 2.0) y=(top + 13.0) text-anchor="middle" font-size="10" { (c) } }
+            }
+        }
+    }
+}
+
 /// A bar chart of counts, one bar per category.
 fn bars(cats: &[String], n: &[usize], id: &str) -> Markup {
     let most = n.iter().copied().max().unwrap_or(0).max(1);
@@ -62,6 +82,7 @@ fn item_charts(ins: &Instrument, cond: Option<&str>, answers: &[Answer]) -> Mark
             div class="item" {
                 h4 { code { (id) } " — " (item.text) " (" (given.len()) " answers)" }
                 @match categories(&item.kind) {
+                    Some(cats) if matches!(item.kind, ItemKind::Rating { .. } | ItemKind::Scale { .. } | ItemKind::Likert { .. }) => { (columns_chart(&cats, &counts(&cats, &given), &id)) }
                     Some(cats) => { (bars(&cats, &counts(&cats, &given), &id)) }
                     None => { ul class="texts" data-item=(id) { @for a in &given { li { strong { (a.participant) } ": " (cell(&a.answer)) } } } }
                 }
@@ -97,7 +118,7 @@ pub fn section(q: &Questionnaires, views: &[TrialView]) -> Markup {
             @for (ins, cond) in &groups {
                 @if let Some(i) = q.loaded.instrument(ins) {
                     h3 { (i.title) @if let Some(c) = cond { " — after " (c) } }
-                    (item_charts(&i, cond.as_deref(), &q.answers))
+                    div class="items" { (item_charts(&i, cond.as_deref(), &q.answers)) }
                 }
             }
             h3 { "Each participant: answers beside trials" }

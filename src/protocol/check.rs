@@ -255,3 +255,15 @@ fn kind(k: &ItemKind) -> Result<(), String> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_shipped_instrument_parses_and_keeps_the_rules() {
+        for id in super::shipped::IDS {
+            let ins = super::shipped::get(id).unwrap_or_else(|| panic!("{id} does not parse"));
+            assert_eq!(ins.id, *id);
+            super::instrument(&ins).unwrap_or_else(|b| panic!("{id}: {}: {}", b.place, b.message));
+        }
+    }
+}
