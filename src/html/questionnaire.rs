@@ -145,3 +145,22 @@ pub fn section(q: &Questionnaires, views: &[TrialView]) -> Markup {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn each_item_has_its_distribution_and_each_participant_their_answers() {
+        let dir = tempfile::tempdir().unwrap();
+        crate::study::questionnaire::fixture(dir.path());
+        let q = crate::study::questionnaire::load(dir.path()).unwrap().unwrap();
+        let html = super::section(&q, &[]).into_string();
+        // Both rated guidance 8: the column for 8 counts 2, the one for 3 (replaced) none.
+        let chart = html.split("data-item=\"tree-planting.guidance\"").nth(1).unwrap().split("</svg>").next().unwrap();
+        let counts: Vec<&str> = chart.split("data-count=\"").skip(1).map(|s| s.split('"').next().unwrap()).collect();
+        assert_eq!(counts, vec!["0", "0", "0", "0", "0", "0", "0", "0", "2", "0", "0"]);
+        let choices = html.split("data-item=\"tree-planting.more_instructions\"").nth(1).unwrap().split("</svg>").next().unwrap();
+        assert_eq!(choices.matches("data-count=\"2\"").count(), 2, "two choices, each given by both");
+        assert!(html.contains("data-participant=\"P01\"") && html.contains("data-participant=\"P02\""));
+        assert!(html.contains("1 of 2 participants rated"), "the comparison: P01 7 vs 4, P02 5 vs 5");
+    }
+}

@@ -19,6 +19,8 @@ pub const CELL_M: f32 = crate::html::trace::CELL_M;
 #[derive(Default)]
 pub struct LiveCache {
     views: Mutex<HashMap<String, (u64, Value)>>,
+    /// Held while a view is made: one re-simulation at a time, however many pages poll.
+    pub making: tokio::sync::Mutex<()>,
 }
 
 impl LiveCache {

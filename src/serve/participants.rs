@@ -20,6 +20,9 @@ use super::Refusal;
 pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
 /// The copy of the protocol kept in the folder (what `grove study` reads).
 pub const PROTOCOL_FILE: &str = "protocol.ron";
+/// The most answer lines one participant's file takes (answers given again included), so that
+/// a client repeating answers cannot fill the disk.
+pub const MAX_ANSWER_LINES: usize = 10_000;
 
 /// One participant.
 #[derive(Clone, Debug)]
@@ -36,6 +39,8 @@ pub struct Participant {
     pub at: usize,
     /// Answers by (step, item), the last given.
     pub answers: BTreeMap<(usize, String), Value>,
+    /// Answer lines in their file.
+    pub answer_lines: usize,
 }
 
 /// A request's view of whether a step is finished: the task sessions the server has ended.
@@ -131,7 +136,7 @@ impl Participants {
         let first = json!({"line": "participant", "participant": id, "protocol": self.loaded.protocol.name, "index": index, "order": names, "time": now()});
         let step = step_line(&steps, 0);
         self.append(&id, &[first, step])?;
-        let p = Participant { id, index, order, steps, at: 0, answers: BTreeMap::new() };
+        let p = Participant { id, index, order, steps, at: 0, answers: BTreeMap::new(), answer_lines: 0 };
         let v = self.state(&p);
         list.push(p);
         Ok((v, true))
@@ -164,6 +169,9 @@ impl Participants {
         if answers.is_empty() {
             return Err(Refusal::bad("no answers given: send {\"step\": N, \"answers\": {ITEM: ANSWER, …}}"));
         }
+        if p.answer_lines + answers.len() > MAX_ANSWER_LINES {
+            return Err(Refusal::too_large(format!("participant {id} has given {} answers, the most one participant's file takes is {MAX_ANSWER_LINES}", p.answer_lines)));
+        }
         let time = now();
         let cond = condition.map(|c| self.loaded.protocol.conditions[c].name.clone());
         let mut lines = Vec::new();
@@ -173,6 +181,7 @@ impl Participants {
             lines.push(json!({"line": "answer", "step": step, "block": p.steps[p.at].name, "instrument": ins.id, "condition": cond, "item": item_id, "answer": value, "time": time}));
         }
         self.append(id, &lines)?;
+        p.answer_lines += lines.len();
         for (item_id, value) in answers {
             p.answers.insert((p.at, item_id.clone()), value.clone());
         }
@@ -301,16 +310,70 @@ fn read_back(loaded: &Loaded, path: &Path) -> Result<Participant, String> {
                 let index = v["index"].as_u64().ok_or_else(|| bad(n + 1, "no index"))? as usize;
                 let order = loaded.order(index);
                 let steps = loaded.steps(&order);
-                p = Some(Participant { id, index, order, steps, at: 0, answers: BTreeMap::new() });
+                p = Some(Participant { id, index, order, steps, at: 0, answers: BTreeMap::new(), answer_lines: 0 });
             }
             (Some("step"), Some(p)) => p.at = (v["step"].as_u64().unwrap_or(1) as usize).saturating_sub(1).min(p.steps.len()),
             (Some("done"), Some(p)) => p.at = p.steps.len(),
             (Some("answer"), Some(p)) => {
                 let step = (v["step"].as_u64().unwrap_or(1) as usize).saturating_sub(1);
                 p.answers.insert((step, v["item"].as_str().unwrap_or_default().to_string()), v["answer"].clone());
+                p.answer_lines += 1;
             }
             _ => return Err(bad(n + 1, "not a line of a participant's file")),
         }
     }
     p.ok_or_else(|| format!("{}: no participant line", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct NoneEnded;
+    impl TaskSessions for NoneEnded {
+        fn ended(&self, _: &str, _: &str) -> bool {
+            false
+        }
+    }
+
+    fn shipped() -> Loaded {
+        crate::protocol::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/protocols/tree-planting.ron")).expect("the shipped protocol")
+    }
+
+    #[test]
+    fn a_participant_resumes_at_their_step_and_a_line_cut_short_by_a_crash_is_dropped() {
+        let dir = tempfile::tempdir().unwrap();
+        let (ps, _) = Participants::open(shipped(), dir.path()).unwrap();
+        let (first, new) = ps.join(None).unwrap();
+        assert!(new);
+        assert_eq!(first["participant"], "P01");
+        ps.next("P01", 1, &NoneEnded).unwrap();
+        ps.next("P01", 2, &NoneEnded).unwrap();
+        let refused = ps.next("P01", 3, &NoneEnded).unwrap_err();
+        assert_eq!(refused.status, 409);
+        drop(ps);
+        // A crash in the middle of a write leaves part of a line: it was never acknowledged.
+        let file = dir.path().join("P01.answers.jsonl");
+        let whole = std::fs::read_to_string(&file).unwrap();
+        std::fs::write(&file, format!("{whole}{{\"line\":\"step\",\"st")).unwrap();
+        let (again, notes) = Participants::open(shipped(), dir.path()).unwrap();
+        assert_eq!(notes, vec!["participant P01 resumes at step 3 of 8".to_string()]);
+        assert_eq!(again.get("P01").unwrap()["step"], 3);
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), whole);
+        let (second, new) = again.join(None).unwrap();
+        assert!(new);
+        assert_eq!(second["order"], serde_json::json!(["manual", "ray-casting"]));
+    }
+
+    #[test]
+    fn a_folder_keeps_its_protocol_and_refuses_another() {
+        let dir = tempfile::tempdir().unwrap();
+        let loaded = shipped();
+        Participants::open(loaded.clone(), dir.path()).unwrap();
+        assert_eq!(std::fs::read_to_string(dir.path().join(PROTOCOL_FILE)).unwrap(), loaded.text);
+        let mut other = loaded;
+        other.text.push_str("\n// changed\n");
+        let e = Participants::open(other, dir.path()).err().expect("refused");
+        assert!(e.contains("holds another protocol"), "{e}");
+    }
 }

@@ -150,6 +150,7 @@ async fn dashboard(state: &Arc<State>, parts: &Participants) -> Value {
     let mut sessions = Vec::new();
     for e in state.registry.entries() {
         let mut v = json!({"file": e.file, "participant": e.participant, "task": e.task, "state": e.state, "lines": e.lines, "opened": e.opened, "closed": e.closed, "verification": e.verification});
+        let _one_at_a_time = state.live.making.lock().await;
         let live = match state.live.get(&e.file, e.lines) {
             Some(l) => Some(l),
             None if e.state == "open" || state.live.last(&e.file).is_none() => {

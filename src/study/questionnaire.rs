@@ -314,3 +314,69 @@ pub fn lines(q: &Questionnaires) -> String {
     }
     t
 }
+
+/// A protocol folder for tests: the shipped protocol and two participants' answers (P01 gives
+/// `guidance` twice: 3, then 8).
+#[cfg(test)]
+pub fn fixture(dir: &Path) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::copy(root.join("assets/protocols/tree-planting.ron"), dir.join("protocol.ron")).unwrap();
+    let line = |_p: &str, step: u64, ins: &str, cond: Option<&str>, item: &str, v: Value| serde_json::json!({"line": "answer", "step": step, "block": "x", "instrument": ins, "condition": cond, "item": item, "answer": v, "time": "2026-12-01T09:00:00.000Z"}).to_string() + "\n";
+    for (p, index, sus, billboard, lowpoly, tlx) in [("P01", 0, [4, 2, 4, 1, 4, 2, 5, 2, 4, 1], 7, 4, 30), ("P02", 1, [3, 3, 3, 3, 3, 3, 3, 3, 3, 3], 5, 5, 60)] {
+        let mut text = serde_json::json!({"line": "participant", "participant": p, "protocol": "tree-planting", "index": index, "order": [], "time": "t"}).to_string() + "\n";
+        for (i, item) in ["mental", "physical", "temporal", "performance", "effort", "frustration"].iter().enumerate() {
+            text += &line(p, 4, "nasa-tlx", Some("manual"), item, serde_json::json!(tlx + 5 * i as i64));
+        }
+        if p == "P01" {
+            text += &line(p, 7, "tree-planting", None, "guidance", serde_json::json!(3));
+        }
+        text += &line(p, 7, "tree-planting", None, "guidance", serde_json::json!(8));
+        text += &line(p, 7, "tree-planting", None, "more_instructions", serde_json::json!(["Bounding box", "Ray-casting"]));
+        text += &line(p, 7, "tree-planting", None, "realism_billboard", serde_json::json!(billboard));
+        text += &line(p, 7, "tree-planting", None, "realism_lowpoly", serde_json::json!(lowpoly));
+        text += &line(p, 7, "tree-planting", None, "would_use", serde_json::json!(p == "P01"));
+        for (i, s) in sus.iter().enumerate() {
+            text += &line(p, 8, "sus", None, &format!("sus{}", i + 1), serde_json::json!(s));
+        }
+        std::fs::write(dir.join(format!("{p}{ANSWERS_SUFFIX}")), text).unwrap();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn answers_scores_and_comparisons_of_a_protocol_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        fixture(dir.path());
+        let q = load(dir.path()).unwrap().expect("a protocol folder");
+        // 6 TLX + 5 questions + 10 SUS each; P01's first guidance is replaced by their second.
+        assert_eq!(q.answers.len(), 42);
+        let guidance: Vec<&Value> = q.answers.iter().filter(|a| a.item == "guidance").map(|a| &a.answer).collect();
+        assert_eq!(guidance, vec![&serde_json::json!(8), &serde_json::json!(8)]);
+        let score = |p: &str, ins: &str| q.scores.iter().find(|s| s.participant == p && s.instrument == ins).map(|s| s.score);
+        // P01's SUS: (3+3+3+4+3+3+4+3+3+4) × 2.5; P02 all 3s: 50; TLX the mean of 30..55 and 60..85.
+        assert_eq!(score("P01", "sus"), Some(82.5));
+        assert_eq!(score("P02", "sus"), Some(50.0));
+        assert_eq!(score("P01", "nasa-tlx"), Some(42.5));
+        assert_eq!(score("P02", "nasa-tlx"), Some(72.5));
+        let c = &q.comparisons[0];
+        assert_eq!((c.n, c.b_higher, c.same, c.a_higher), (2, 1, 1, 0));
+        assert_eq!(cell(&serde_json::json!(["a", "b"])), "a;b");
+        assert_eq!(cell(&serde_json::json!(false)), "no");
+        let cols = columns(&q.loaded);
+        assert_eq!(cols.len(), 6 * 2 + 7 + 10);
+        assert_eq!(cols[6], ("nasa-tlx".to_string(), Some("manual".to_string()), "mental".to_string()));
+    }
+
+    #[test]
+    fn a_folder_without_a_protocol_has_no_questionnaires_and_a_damaged_answers_file_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(load(dir.path()).unwrap().is_none());
+        fixture(dir.path());
+        std::fs::write(dir.path().join("P03.answers.jsonl"), "{\"line\": \"answer\"}\nnot json\n").unwrap();
+        let e = load(dir.path()).err().expect("refused").to_string();
+        assert!(e.contains("P03.answers.jsonl") && e.contains("line 1"), "{e}");
+    }
+}
