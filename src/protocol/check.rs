@@ -85,7 +85,7 @@ fn conditions(p: &Protocol) -> Result<(), Broken> {
         }
     }
     let rows = super::latin::williams(p.conditions.len()).len();
-    if p.participants == 0 || p.participants % rows != 0 || p.participants > 10_000 {
+    if p.participants == 0 || !p.participants.is_multiple_of(rows) || p.participants > 10_000 {
         return Err(broken(
             "participants",
             format!(
