@@ -96,3 +96,27 @@ fn a_folder_that_holds_another_protocol_is_refused() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("holds another protocol") && err.trim_end().lines().count() == 1, "{err}");
 }
+
+#[test]
+fn the_protocol_pages_and_requests_need_the_token_and_a_server_without_a_protocol_says_so() {
+    use crate::serve_fixture::{request, Server};
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&dir.path().join("out"), 0, &["--require-token", "--protocol", "assets/protocols/tree-planting.ron"]);
+    let token = server.url.split("token=").nth(1).expect("a token in the URL").to_string();
+    let bearer = format!("Bearer {token}");
+    for path in ["/dashboard", "/protocol", "/api/dashboard", "/api/protocol/participants/P01"] {
+        assert_eq!(request(&server.addr, "GET", path, &[], b"").status, 401, "{path}");
+    }
+    let joined = request(&server.addr, "POST", "/api/protocol/participants", &[("Authorization", &bearer)], b"{}");
+    assert_eq!(joined.status, 201, "{}", joined.body);
+    assert_eq!(joined.json["participant"], "P01");
+    let page = request(&server.addr, "GET", "/dashboard", &[("Authorization", &bearer)], b"");
+    assert_eq!(page.status, 200);
+    assert!(page.body.contains("<table id=\"sessions\">"));
+    let live = request(&server.addr, "GET", "/api/dashboard", &[("Authorization", &bearer)], b"");
+    assert_eq!(live.json["participants"][0]["participant"], "P01");
+    let plain = Server::start(&dir.path().join("plain"), 0, &[]);
+    let none = request(&plain.addr, "GET", "/api/protocol", &[], b"");
+    assert_eq!(none.status, 404);
+    assert!(none.json["error"].as_str().unwrap().contains("runs no protocol"), "{}", none.body);
+}
