@@ -95,7 +95,9 @@ pub async fn route(state: &Arc<State>, req: Request<Incoming>) -> Response<Body>
     match answer {
         Ok(r) => r,
         Err(r) => {
-            if r.status != 404 {
+            // A page waiting for a task to end asks every two seconds: those answers are not logged.
+            let waiting = r.status == 409 && path.ends_with("/next");
+            if r.status != 404 && !waiting {
                 super::respond::log(&format!("refused {method} {path}: {}", r.reason));
             }
             let more = match (&method, segs.as_slice()) {
