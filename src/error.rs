@@ -74,6 +74,9 @@ pub enum Error {
     /// [`StudyError`].
     #[error(transparent)]
     Study(#[from] StudyError),
+    /// [`ProtocolError`].
+    #[error(transparent)]
+    Protocol(#[from] crate::protocol::ProtocolError),
     /// [`ShardError`].
     #[error(transparent)]
     Shard(#[from] ShardError),

@@ -18,6 +18,7 @@ pub mod serve;
 pub mod species;
 pub mod lsystem;
 pub mod models;
+pub mod protocol;
 pub mod study;
 pub mod video;
 

@@ -11,6 +11,7 @@
 pub mod area;
 pub mod figures;
 pub mod page;
+pub mod questionnaire;
 pub mod scenario_trace;
 pub mod sections;
 pub mod shots;
@@ -205,6 +206,8 @@ pub struct StudyPage<'a> {
     pub replays: String,
     /// The overrides the trials ran under.
     pub overrides: &'a [Override],
+    /// The questionnaires of a protocol's folder, if any.
+    pub questionnaires: Option<&'a crate::study::questionnaire::Questionnaires>,
 }
 
 /// Writes `html` to `path` through a temporary file and a rename.

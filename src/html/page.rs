@@ -200,7 +200,7 @@ pub fn study(page: &StudyPage<'_>, views: &[TrialView], areas: &[(Area, Option<S
     let detailed = views.iter().filter(|v| v.detailed).count();
     let body = html! {
         header { h1 { "grove study report" } p { "Recordings: " code { (page.replays) } " · " (views.len()) " trials · " (page.summary.participants) " participants" @if !page.overrides.is_empty() { " · under " (page.overrides.iter().map(|o| format!("{}={}", o.name, o.text)).collect::<Vec<_>>().join(", ")) } }
-            nav { a href="#overview" { "Overview" } " · " a href="#trials" { "Trials" } " · " a href="#area" { "Task area" } " · " a href="#trial-sections" { "Each trial" } } }
+            nav { a href="#overview" { "Overview" } " · " a href="#trials" { "Trials" } " · " a href="#area" { "Task area" } @if page.questionnaires.is_some() { " · " a href="#questionnaires" { "Questionnaires" } } " · " a href="#trial-sections" { "Each trial" } } }
         (pictures_note(pictures))
         (overview(page, views))
         (trials_table(views))
@@ -209,6 +209,7 @@ pub fn study(page: &StudyPage<'_>, views: &[TrialView], areas: &[(Area, Option<S
             (source(page.summary, "ray hits, moved trees, planted trees and errors"))
             @for (i, (a, img)) in areas.iter().enumerate() { (area_section(a, img.as_deref(), i)) }
         }
+        @if let Some(q) = page.questionnaires { (super::questionnaire::section(q, views)) }
         section id="trial-sections" {
             h2 { "Each trial" }
             @if detailed < views.len() { p { (detailed) " of " (views.len()) " trials have a section (choose with --html-trials)." } }

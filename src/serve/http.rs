@@ -30,6 +30,17 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     for e in registry.unverified_ended() {
         api::verify_again(&registry, &e).await;
     }
+    let participants = match &config.protocol {
+        None => None,
+        Some(loaded) => {
+            let (p, notes) = super::participants::Participants::open(loaded.clone(), &config.out).map_err(|message| ServeError::Io { path: config.out.display().to_string(), message })?;
+            log(&format!("protocol {}: {} participants, {} conditions; the participant's page is /protocol, the researcher's /dashboard", loaded.protocol.name, loaded.protocol.participants, loaded.protocol.conditions.len()));
+            for n in notes {
+                log(&n);
+            }
+            Some(Arc::new(p))
+        }
+    };
     let needs_token = config.require_token || !config.host.is_loopback();
     let token = if needs_token { Some(ids::random_hex(16)?) } else { None };
     let shown_host = token::shown_host(config.host);
@@ -45,6 +56,8 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
         writer_lease: config.writer_lease,
         tls: acceptor.is_some(),
         verifying: tokio::sync::Semaphore::new(std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1))),
+        participants,
+        live: Default::default(),
     });
 
     let scheme = if acceptor.is_some() { "https" } else { "http" };
@@ -187,7 +200,9 @@ async fn route(state: Arc<State>, req: Request<Incoming>) -> Response<Body> {
         }
     }
     let path = req.uri().path().to_string();
-    let mut response = if path == "/api" || path.starts_with("/api/") {
+    let mut response = if super::protocol_api::is_protocol_path(&path) {
+        super::protocol_api::route(&state, req).await
+    } else if path == "/api" || path.starts_with("/api/") {
         api::route(&state, req).await
     } else if req.method() == Method::GET || req.method() == Method::HEAD {
         let head = req.method() == Method::HEAD;

@@ -18,6 +18,10 @@ pub mod client;
 pub mod http;
 pub mod ids;
 pub mod line_split;
+pub mod live;
+pub mod pages;
+pub mod participants;
+pub mod protocol_api;
 pub mod push;
 pub mod registry;
 pub mod respond;
@@ -174,6 +178,8 @@ pub struct ServeConfig {
     pub max_connections: usize,
     /// Ask for the token on a loopback address too.
     pub require_token: bool,
+    /// The study protocol run for the participants (`docs/protocol.md`), if any.
+    pub protocol: Option<crate::protocol::Loaded>,
 }
 
 /// Runs the server until Ctrl-C (or SIGTERM); see [`http::serve`].

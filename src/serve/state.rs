@@ -22,5 +22,9 @@ pub struct State {
     /// Re-simulations running at once: at most one per core less one (at least one), so that
     /// many sessions ending together do not take the cores from those still streaming.
     pub verifying: tokio::sync::Semaphore,
+    /// The protocol's participants, when the server runs one.
+    pub participants: Option<std::sync::Arc<super::participants::Participants>>,
+    /// The dashboard's live views of the sessions.
+    pub live: super::live::LiveCache,
 }
 

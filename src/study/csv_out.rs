@@ -28,7 +28,7 @@ fn of(x: Option<f64>) -> String {
 }
 
 /// Runs `write` on a CSV writer of `path`; errors name the file.
-fn with_writer(path: &Path, write: impl FnOnce(&mut csv::Writer<std::fs::File>) -> csv::Result<()>) -> Result<(), StudyError> {
+pub(crate) fn with_writer(path: &Path, write: impl FnOnce(&mut csv::Writer<std::fs::File>) -> csv::Result<()>) -> Result<(), StudyError> {
     let csv = |source| StudyError::Csv { path: path.to_path_buf(), source };
     let mut w = csv::Writer::from_path(path).map_err(csv)?;
     write(&mut w).and_then(|()| Ok(w.flush()?)).map_err(csv)

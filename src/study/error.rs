@@ -57,6 +57,14 @@ pub enum StudyError {
         /// The drawing backend's message.
         reason: String,
     },
+    /// A protocol folder's questionnaire answers or protocol could not be read.
+    #[error("{path}: {reason}")]
+    Answers {
+        /// The file.
+        path: String,
+        /// Why, one line.
+        reason: String,
+    },
     /// A value could not be written as JSON.
     #[error("cannot write JSON: {0}")]
     Json(#[from] serde_json::Error),

@@ -8,8 +8,9 @@ pub mod conditions;
 pub mod csv_out;
 pub mod error;
 pub mod friedman;
-pub mod latin;
+pub use crate::protocol::latin;
 pub mod participant;
+pub mod questionnaire;
 pub mod report;
 pub mod shard;
 pub mod stats;
@@ -122,6 +123,8 @@ pub fn list_recordings(dir: &Path) -> Result<Vec<PathBuf>, StudyError> {
         .map_err(|source| StudyError::Folder { path: dir.to_path_buf(), source })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
+        // A protocol's answers lie beside its recordings (docs/protocol.md).
+        .filter(|p| !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.ends_with(questionnaire::ANSWERS_SUFFIX)))
         .collect();
     files.sort();
     // A pipe, device or folder among them is bad input, refused before anything runs (reading

@@ -27,10 +27,12 @@ pub struct ReportTo {
     pub baseline: bool,
     /// Whether the caller writes the HTML report: [`Reports::charts`] then holds its charts.
     pub html: bool,
+    /// The folder whose questionnaires (a protocol's answers, `docs/protocol.md`) join the reports.
+    pub questionnaires: Option<PathBuf>,
 }
 
 /// The files `grove study` writes into `--out`.
-pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png", "report.html"];
+pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png", "report.html", "questionnaire_long.csv", "questionnaire_wide.csv", "questionnaire_scores.csv"];
 
 /// What [`write_reports`] wrote, for the caller to show, and what the HTML report is made of.
 pub struct Reports {
@@ -54,6 +56,8 @@ pub struct Reports {
     pub charts: Vec<(String, String)>,
     /// The settings the trials ran under (a replayed-hands what-if's `--set`; none otherwise).
     pub overrides: Vec<Override>,
+    /// The questionnaires of a protocol's folder, if any.
+    pub questionnaires: Option<super::questionnaire::Questionnaires>,
 }
 
 /// Refuses an output folder that is a file, or that holds reports, unless `force`; makes it.
@@ -127,7 +131,15 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> Result
     let summary = report::summarize(&trials, &set.fixed, wall);
     via_temp(&out.join("trial_results.csv"), |tmp| csv_out::write_trial_results(tmp, &trials, what_if.as_ref()))?;
     via_temp(&out.join("trees.csv"), |tmp| csv_out::write_trees(tmp, &trials))?;
-    let json = serde_json::json!({"note": &summary.note, "summary": &summary, "what_if": &what_if, "sweep": null, "trials": &trials});
+    let questionnaires = match &to.questionnaires {
+        Some(dir) => super::questionnaire::load(dir)?,
+        None => None,
+    };
+    let mut json = serde_json::json!({"note": &summary.note, "summary": &summary, "what_if": &what_if, "sweep": null, "trials": &trials});
+    if let Some(q) = &questionnaires {
+        super::questionnaire::write(out, q)?;
+        json["questionnaires"] = super::questionnaire::json(q);
+    }
     write_json(&out.join("summary.json"), &json)?;
     let title = match &what_if {
         None => "Task time per participant: ray-casting vs manual".to_string(),
@@ -158,12 +170,15 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> Result
         text.push_str("under the what-if:\n");
     }
     text.push_str(&table::summary_lines(&summary));
+    if let Some(q) = &questionnaires {
+        text.push_str(&super::questionnaire::lines(q));
+    }
     let _ = writeln!(text, "reports in {}", out.display());
     let ok = all_ok(&trials) && what_if.as_ref().is_none_or(|w| !w.baseline.status.contains_key("failed") && !w.baseline.status.contains_key("diverged"));
     // The what-if trials of replayed hands ran under --set; re-simulated participants carry
     // their setting in their headers.
     let overrides = if to.baseline { Vec::new() } else { set.fixed.clone() };
-    Ok(Reports { json, text, ok, resimulated: Some((trials.len(), wall)), trials, summary, what_if, sweep: None, charts, overrides })
+    Ok(Reports { json, text, ok, resimulated: Some((trials.len(), wall)), trials, summary, what_if, sweep: None, charts, overrides, questionnaires })
 }
 
 /// A sweep's reports: the baseline (first run) and one replayed-hands run per value.
@@ -238,5 +253,5 @@ fn write_sweep(to: &ReportTo, fixed: &[Override], swept: &SweptParam, runs: Vec<
     text.push_str("baseline (every parameter at its default):\n");
     text.push_str(&table::summary_lines(&summary));
     let _ = writeln!(text, "reports in {} (sweep.csv, sweep.png)", out.display());
-    Ok(Reports { json, text, ok, resimulated: None, trials: baseline, summary, what_if: None, sweep: Some(sweep), charts, overrides: Vec::new() })
+    Ok(Reports { json, text, ok, resimulated: None, trials: baseline, summary, what_if: None, sweep: Some(sweep), charts, overrides: Vec::new(), questionnaires: None })
 }

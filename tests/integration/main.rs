@@ -34,6 +34,7 @@ mod import_graph;
 mod impostor;
 mod impostor_cache;
 mod interaction;
+mod protocol;
 mod library_errors;
 mod lsystem;
 mod lsystem_cli;

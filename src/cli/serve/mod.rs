@@ -57,6 +57,9 @@ pub struct ServeArgs {
     /// Ask for the token on a loopback address too.
     #[arg(long)]
     require_token: bool,
+    /// Run a study protocol (docs/protocol.md, e.g. assets/protocols/tree-planting.ron): participant ids, condition orders, the page /protocol, answers in DIR/<id>.answers.jsonl, the live page /dashboard.
+    #[arg(long, value_name = "FILE")]
+    protocol: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -129,6 +132,10 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
             if args.max_sessions == 0 || args.max_connections == 0 {
                 bail!("--max-sessions and --max-connections must be at least 1");
             }
+            let protocol = match &args.protocol {
+                Some(p) => Some(grove::protocol::load(p)?),
+                None => None,
+            };
             let config = ServeConfig {
                 out: args.out,
                 host: args.host,
@@ -144,6 +151,7 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 max_sessions: args.max_sessions,
                 max_connections: args.max_connections,
                 require_token: args.require_token,
+                protocol,
             };
             serve::run(config)?;
             Ok(ExitCode::SUCCESS)

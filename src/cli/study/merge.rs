@@ -43,7 +43,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<ExitCode> {
     for r in &mut runs {
         assign_order(&mut r.trials);
     }
-    let to = ReportTo { out: args.out, replays, baseline: study.baseline, html: false };
+    let to = ReportTo { out: args.out, replays, baseline: study.baseline, html: false, questionnaires: None };
     let reports = write_reports(&to, &set, runs)?;
     super::show(&to, None, args.json, &reports)
 }

@@ -143,7 +143,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("target/study"));
     prepare_out(&out, args.force)?;
     let runs = compute(&set, &files, base_files.as_deref());
-    let to = ReportTo { out, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html: html.is_some() };
+    let to = ReportTo { out, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html: html.is_some(), questionnaires: Some(args.replays.clone()) };
     let reports = write_reports(&to, &set, runs)?;
     show(&to, html.as_ref(), args.json, &reports)
 }
@@ -153,7 +153,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
 pub(super) fn show(to: &ReportTo, html: Option<&grove::html::Selection>, json: bool, r: &Reports) -> anyhow::Result<ExitCode> {
     if let Some(selection) = html {
         let start = std::time::Instant::now();
-        let page = grove::html::StudyPage { summary: &r.summary, what_if: r.what_if.as_ref(), sweep: r.sweep.as_ref(), charts: r.charts.clone(), replays: to.replays.clone(), overrides: &r.overrides };
+        let page = grove::html::StudyPage { summary: &r.summary, what_if: r.what_if.as_ref(), sweep: r.sweep.as_ref(), charts: r.charts.clone(), replays: to.replays.clone(), overrides: &r.overrides, questionnaires: r.questionnaires.as_ref() };
         let file = grove::html::write_study(&to.out, &page, &r.trials, selection)?;
         let bytes = std::fs::metadata(&file).map(|m| m.len()).unwrap_or(0);
         eprintln!("study: {} ({:.1} MB) written in {:.1} s", file.display(), bytes as f64 / 1e6, start.elapsed().as_secs_f64());
