@@ -34,6 +34,7 @@ mod impostor;
 mod impostor_cache;
 mod interaction;
 mod library_errors;
+mod lod_fade;
 mod lsystem;
 mod lsystem_cli;
 mod lsystem_gpu;
