@@ -59,6 +59,11 @@ pub struct RenderOptions {
     /// far model (a coarser level of detail of the same tree, `BankModel::far`) is drawn as that
     /// model. 0 always draws the model itself. The default is [`DEFAULT_FAR_PIXELS`].
     pub far_pixels: f32,
+    /// Cross-fade between a tree's levels of detail with a screen-door dither: its model and its
+    /// far model over [`crate::render::trees::instances::FAR_BAND`], its mesh and its impostor
+    /// over [`crate::render::trees::impostor::BAND`], in the shadow map too. Off, each level
+    /// gives way to the next at once (for showing the pop the cross-fade removes).
+    pub lod_cross_fade: bool,
     /// Draw the photographed crowns as canopy layers (with aerial photographs set by
     /// [`crate::render::AerialPhotos::set`]); off, or without layer masks, they are drawn as tree models.
     pub canopy: bool,
@@ -76,7 +81,7 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, canopy: true, top_view: None, camera: None, cull_trees: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, lod_cross_fade: true, canopy: true, top_view: None, camera: None, cull_trees: true }
     }
 }
 

@@ -130,8 +130,7 @@ fn leaves(tree: &Tree, keep: f32) -> (MeshData, usize) {
         let corners = [(base - h, Vec2::new(0.0, 1.0)), (base + h, Vec2::new(1.0, 1.0)), (tip + h, Vec2::new(1.0, 0.0)), (tip - h, Vec2::new(0.0, 0.0))];
         let ids: Vec<u32> = corners.iter().map(|&(q, uv)| mesh.push(q, n, t, uv, wind(q, false, Some(leaf.attach), leaf.phase))).collect();
         mesh.indices.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]]);
-        let tint = leaf.tint;
-        mesh.colors.extend(std::iter::repeat_n(Vec4::new(tint, 0.0, 0.0, 1.0), 4));
+        mesh.colors.extend(std::iter::repeat_n(Vec4::new(leaf.tint, leaf.depth, 0.0, 1.0), 4));
     }
     (mesh, count)
 }
@@ -185,18 +184,22 @@ impl Crown {
     }
 }
 
-/// Fills in the vertex colours: each leaf's tint (stored in red by `leaves`) and the AO.
+/// Fills in the vertex colours: each leaf's tint (stored in red by `leaves`), the AO, and the
+/// darkening of a clump's inside (its depth in the clump stored in green).
 fn shade(lod: &mut Lod, crown: &Crown, p: &Preset) {
     let v = p.leaf_colour_v;
     for (q, c) in lod.leaves.positions.iter().zip(lod.leaves.colors.iter_mut()) {
         let t = c.x * 2.0 - 1.0;
-        let ao = crown.ao(*q, p.ao);
+        let ao = crown.ao(*q, p.ao) * (1.0 - CLUMP_AO * p.ao * (1.0 - c.y));
         // Variation in brightness and towards yellow-green.
         let tint = Vec3::new(1.0 + v * t * 1.2, 1.0 + v * t * 0.6, 1.0 - v * t * 0.4);
         *c = (tint * ao).min(Vec3::ONE).max(Vec3::ZERO).extend(1.0);
     }
     lod.wood.colors = lod.wood.positions.iter().map(|q| Vec3::splat(crown.ao(*q, p.ao * 0.7)).extend(1.0)).collect();
 }
+
+/// How much darker a clump's middle is than its outside, times the preset's `ao`.
+const CLUMP_AO: f32 = 0.6;
 
 /// The three levels of detail: every stem and leaf, then about 25 % and 5 % of its triangles
 /// (coarser tubes, fewer stem levels, fewer and larger leaf cards).

@@ -15,6 +15,13 @@ use super::stems::{self, Tree};
 use super::{images, SpeciesError};
 use crate::assetgen::gltf_out::{self, MaterialTextures};
 
+/// The leaf material's specular factor (`KHR_materials_specular`): with the leaf's specular
+/// map (about 0.5) the sun's highlight is at most 0.25 × 0.5 × this of its light, and the sky's
+/// reflection is skipped (the renderer's `glossy` stays under 0.02).
+pub const LEAF_SPECULAR: f32 = 0.06;
+/// The leaf material's roughness: a broad highlight.
+pub const LEAF_ROUGHNESS: f32 = 0.8;
+
 /// A generated model, before it is written.
 pub struct Model {
     /// The species' name.
@@ -130,7 +137,9 @@ fn stage_files(stage: &Path, model: &Model, p: &Preset) -> Result<(), SpeciesErr
     png(|q| ln.save(q), &f("leaf-normal"))?;
     png(|q| ls.save(q), &f("leaf-specular"))?;
     let bark_mat = MaterialTextures::with_maps(&format!("{n}-bark"), "", false);
-    let leaf_mat = MaterialTextures::with_maps(&format!("{n}-leaf"), "", true);
+    // Leaves are matt: a weak, broad highlight and no sky reflection, so that no leaf flares
+    // brighter than the sunlit ground.
+    let leaf_mat = MaterialTextures { specular_factor: LEAF_SPECULAR, roughness: LEAF_ROUGHNESS, ..MaterialTextures::with_maps(&format!("{n}-leaf"), "", true) };
     for (lod, file) in model.lods.iter().zip(lod_names(n)) {
         let mut parts = vec![(&lod.wood, &bark_mat)];
         if !lod.leaves.positions.is_empty() {

@@ -149,6 +149,16 @@ pub struct Preset {
     pub leaf_colour: [f32; 3],
     /// Per-leaf colour variation (0 none).
     pub leaf_colour_v: f32,
+    /// The share of each last-level stem's leaves gathered in a clump at its tip (0: spread
+    /// evenly along it, the default).
+    #[serde(default)]
+    pub leaf_clumps: f32,
+    /// A clump's radius, leaf lengths (with `leaf_clumps` above 0).
+    #[serde(default = "default_clump_radius")]
+    pub clump_radius: f32,
+    /// Colour variation from one clump to the next (0 none, the default), on top of each leaf's.
+    #[serde(default)]
+    pub clump_colour_v: f32,
     /// Bark pattern.
     pub bark_style: BarkStyle,
     /// Mean bark colour of the texture, sRGB 0..1.
@@ -157,6 +167,10 @@ pub struct Preset {
     pub ao: f32,
     /// The stem levels, trunk first (1 to 4).
     pub levels: Vec<Level>,
+}
+
+fn default_clump_radius() -> f32 {
+    1.5
 }
 
 /// Why a preset's numbers are refused: the first field out of its range.
@@ -219,6 +233,9 @@ impl Preset {
             range(r, &format!("leaf_colour[{i}]"), *c, 0.0, 1.0, "sRGB");
         }
         range(r, "leaf_colour_v", self.leaf_colour_v, 0.0, 0.5, "");
+        range(r, "leaf_clumps", self.leaf_clumps, 0.0, 1.0, "share of the leaves");
+        range(r, "clump_radius", self.clump_radius, 0.5, 10.0, "leaf lengths");
+        range(r, "clump_colour_v", self.clump_colour_v, 0.0, 0.5, "");
         for (i, c) in self.bark_colour.iter().enumerate() {
             range(r, &format!("bark_colour[{i}]"), *c, 0.0, 1.0, "sRGB");
         }

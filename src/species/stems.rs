@@ -55,6 +55,9 @@ pub struct Leaf {
     pub phase: f32,
     /// A random number in 0..1 for its colour.
     pub tint: f32,
+    /// How far it lies out from the middle of its clump, 0..1 (1 for a leaf in no clump): the
+    /// clump's inside is darker.
+    pub depth: f32,
 }
 
 /// A generated tree.
@@ -327,7 +330,9 @@ impl Gen<'_> {
         }
     }
 
-    /// The leaves on a last-level polyline.
+    /// The leaves on a last-level polyline: spread along it, and the share `leaf_clumps` of them
+    /// in a clump about its tip (leaves radiating from the clump's middle, deeper ones darker,
+    /// one colour shift for the whole clump).
     fn leaves(&mut self, nodes: &[Node], len: f32, offset: f32, phase: f32, share: f32) {
         let (s0, s1) = (nodes[0].s, nodes[nodes.len() - 1].s);
         let a = s0.max(len * 0.1);
@@ -336,9 +341,12 @@ impl Gen<'_> {
         }
         let n = self.p.leaves * share * shape_ratio(Shape::TaperedCylindrical, offset, self.p) * (s1 - a) / (len * 0.9).max(1e-3);
         let count = (n + self.rng.f()).floor() as usize;
+        let count = count.min(MAX_LEAVES - self.tree.leaves.len());
+        let clumped = if self.p.leaf_clumps > 0.0 { ((count as f32 * self.p.leaf_clumps).round() as usize).min(count) } else { 0 };
+        let spread = count - clumped;
         let mut rot = self.rng.range(0.0, 360.0);
-        for i in 0..count.min(MAX_LEAVES - self.tree.leaves.len()) {
-            let s = a + (s1 - a) * ((i as f32 + 0.5 + pm(&mut self.rng, 0.4)) / count as f32).clamp(0.0, 1.0);
+        for i in 0..spread {
+            let s = a + (s1 - a) * ((i as f32 + 0.5 + pm(&mut self.rng, 0.4)) / spread as f32).clamp(0.0, 1.0);
             let here = at(nodes, s);
             rot += self.p.leaf_rotate_deg + pm(&mut self.rng, 30.0);
             let down = self.p.leaf_down_angle_deg + pm(&mut self.rng, self.p.leaf_down_angle_v_deg);
@@ -351,7 +359,37 @@ impl Gen<'_> {
             let normal = normal.lerp(Vec3::Y, self.p.leaf_bend).normalize_or(Vec3::Y);
             let dir = (dir - normal * normal.dot(dir)).normalize_or(normal.any_orthonormal_vector());
             let tint = self.rng.f();
-            self.tree.leaves.push(Leaf { attach: here.pos, dir, normal, phase, tint });
+            self.tree.leaves.push(Leaf { attach: here.pos, dir, normal, phase, tint, depth: 1.0 });
+        }
+        if clumped > 0 {
+            self.clump(&nodes[nodes.len() - 1], clumped, phase);
+        }
+    }
+
+    /// `count` leaves in a clump about a stem's tip `tip`: their bases fill a ball a little
+    /// ahead of the tip, each pointing away from its middle and turned up by `leaf_bend`.
+    fn clump(&mut self, tip: &Node, count: usize, phase: f32) {
+        let radius = self.p.clump_radius * self.p.leaf_scale;
+        let ahead = tip.frame * Vec3::Y;
+        let centre = tip.pos + ahead * (0.35 * radius);
+        let shift = self.rng.f();
+        let v = self.p.clump_colour_v / self.p.leaf_colour_v.max(1e-3);
+        for _ in 0..count {
+            let u = self.rng.unit();
+            let u = (u + ahead * 0.3).normalize_or(ahead);
+            // Bases from the middle to 70 % of the radius (the cards reach out to the rest).
+            let r = 0.7 * self.rng.f().sqrt();
+            let attach = centre + u * (radius * r);
+            let mut normal = (u.any_orthonormal_vector() * pm(&mut self.rng, 1.0) + Vec3::Y * 0.5 + u * 0.3).normalize_or(Vec3::Y);
+            if normal.y < 0.0 {
+                normal = -normal;
+            }
+            let normal = normal.lerp(Vec3::Y, self.p.leaf_bend).normalize_or(Vec3::Y);
+            let dir = (u - normal * normal.dot(u)).normalize_or(normal.any_orthonormal_vector());
+            // The clump's shift, in the units of the per-leaf variation, plus the leaf's own.
+            let own = self.rng.f();
+            let tint = (0.5 + (shift - 0.5) * v + (own - 0.5) * 0.5).clamp(0.0, 1.0);
+            self.tree.leaves.push(Leaf { attach, dir, normal, phase, tint, depth: r / 0.7 });
         }
     }
 }

@@ -14,7 +14,7 @@
 //!
 //! Units: metres, X and Z of the ground plane (the `Vec2`'s `y` is Z).
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 use serde::{Deserialize, Serialize};
 
@@ -134,4 +134,58 @@ pub fn hole_mask(grid: &GridFrame, holes: &[Hole], centre: &dyn Fn(u32, u32, boo
         }
     }
     mask
+}
+
+/// Cuts the holes of a grid plane exactly: moves the vertices on the rims of `holes` onto the
+/// holes' circles, so that each rim is a polygon inscribed in its circle instead of a zigzag
+/// along the grid's triangles (whose tips, where a diagonal crosses the circle, read as spikes).
+/// A rim vertex is one shared by a kept triangle (`kept`) and a left-out one (in `all`, the
+/// grid's every triangle, but not in `kept`); it moves along the line from the nearest hole's
+/// centre onto that circle, where that is within `cell` of it, and takes the plane's height there
+/// (`height`). A kept triangle that this leaves with less than a hundredth of a cell's area, or
+/// turned over (a sliver between the circle and its chord), is left out too, and the rims it
+/// uncovers are moved in turn. Returns the kept triangles.
+pub fn cut_rims(vertices: &mut [Vec3], mut kept: Vec<[u32; 3]>, all: &[[u32; 3]], holes: &[Hole], cell: f32, height: &dyn Fn(Vec2) -> f32) -> Vec<[u32; 3]> {
+    let n = vertices.len();
+    let mut moved = vec![false; n];
+    for _ in 0..4 {
+        let (mut on_kept, mut on_cut) = (vec![false; n], vec![false; n]);
+        for t in &kept {
+            for &i in t {
+                on_kept[i as usize] = true;
+            }
+        }
+        let kept_set: std::collections::HashSet<[u32; 3]> = kept.iter().copied().collect();
+        for t in all.iter().filter(|t| !kept_set.contains(*t)) {
+            for &i in t {
+                on_cut[i as usize] = true;
+            }
+        }
+        for (k, v) in vertices.iter_mut().enumerate() {
+            if moved[k] || !(on_kept[k] && on_cut[k]) {
+                continue;
+            }
+            let q = Vec2::new(v.x, v.z);
+            let nearest = holes.iter().min_by(|a, b| (q.distance(a.center) - a.radius).abs().total_cmp(&(q.distance(b.center) - b.radius).abs()));
+            let Some(h) = nearest else { continue };
+            let off = q - h.center;
+            if off.length() < 1e-6 || (off.length() - h.radius).abs() > cell {
+                continue;
+            }
+            let on = h.center + off.normalize() * h.radius;
+            *v = Vec3::new(on.x, height(on), on.y);
+            moved[k] = true;
+        }
+        let before = kept.len();
+        let area = |t: &[u32; 3]| {
+            let p = |i: u32| Vec2::new(vertices[i as usize].x, vertices[i as usize].z);
+            // Counter-clockwise seen from above (+Y) in (x, z) is clockwise: the sign flips.
+            -(p(t[1]) - p(t[0])).perp_dot(p(t[2]) - p(t[0])) * 0.5
+        };
+        kept.retain(|t| area(t) > 0.01 * cell * cell);
+        if kept.len() == before {
+            break;
+        }
+    }
+    kept
 }

@@ -61,6 +61,12 @@ pub struct Scene {
     /// `aerial.rs`); absent in scenes without photographs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub aerial: Option<crate::aerial::AerialDef>,
+    /// Cut the grid planes' holes exactly: the vertices on a hole's rim are moved onto its circle
+    /// ([`crate::holes::cut_rims`]), so a pit is round instead of following the grid's triangles
+    /// with spikes along its diagonals. Off by default, so that the planes (and every world hash)
+    /// of existing scenes stay as they are.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub exact_holes: bool,
 }
 
 fn default_dt() -> f32 {
@@ -91,6 +97,7 @@ impl Default for Scene {
             water: Vec::new(),
             grass: Vec::new(),
             aerial: None,
+            exact_holes: false,
         }
     }
 }
@@ -482,6 +489,20 @@ pub fn format_utc_ms(ms: i64) -> String {
     chrono::DateTime::from_timestamp_millis(ms)
         .map(|t| t.to_rfc3339_opts(chrono::SecondsFormat::Millis, true))
         .unwrap_or_else(|| format!("{ms} ms"))
+}
+
+/// Builds the vertices and triangles of a plane shape, with its holes cut exactly where
+/// `exact_holes` ([`Scene::exact_holes`]).
+pub fn plane_geometry_cut(shape: &PlaneShape, exact_holes: bool) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let (mut vertices, mut triangles) = plane_geometry(shape);
+    if let (true, PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes }) = (exact_holes, shape) {
+        let plain = PlaneShape::Grid { min: *min, size: *size, cell: *cell, elevation: *elevation, unevenness: *unevenness, noise_seed: *noise_seed, holes: Vec::new() };
+        let full = plane_geometry(&plain).1;
+        let perlin = Perlin::new(*noise_seed);
+        let height = |q: Vec2| elevation + unevenness * perlin.get([q.x as f64 * 0.23, q.y as f64 * 0.23]) as f32;
+        triangles = crate::holes::cut_rims(&mut vertices, triangles, &full, holes, *cell, &height);
+    }
+    (vertices, triangles)
 }
 
 /// Builds the vertices and triangles of a plane shape.

@@ -10,7 +10,7 @@ use crate::hash::{world_hash, WorldHash};
 use crate::input::{InputEvent, InvalidEvent};
 use crate::limits::InvalidScene;
 use crate::resources::Resources;
-use crate::scene::{parse_utc_ms, plane_geometry, Scene, TimeError};
+use crate::scene::{parse_utc_ms, Scene, TimeError};
 use crate::systems::sun::SunError;
 use crate::water::Water;
 
@@ -75,7 +75,7 @@ impl Sim {
         let mut res = Resources::new(scene.dt, seed, catalogue);
 
         for p in &scene.planes {
-            let (vertices, triangles) = plane_geometry(&p.shape);
+            let (vertices, triangles) = crate::scene::plane_geometry_cut(&p.shape, scene.exact_holes);
             let plane = Plane { name: p.name.clone(), vertices, triangles };
             let hash = plane_hash(&plane);
             res.plane_hashes.push((world.spawn((plane,)), hash));

@@ -55,3 +55,50 @@ fn a_hole_larger_than_the_plane_removes_every_triangle_and_a_far_one_none() {
     let (_, t) = plane_geometry(&grid(vec![Hole { center: Vec2::new(50.0, 0.0), radius: 10.0 }]));
     assert_eq!(t.len(), 8 * 12 * 2);
 }
+
+/// The rim vertices of a plane's holes (vertices of kept triangles on a boundary edge inside the
+/// plane's outline): their distances from the nearest hole's circle, metres.
+fn rim_offsets(vertices: &[glam::Vec3], triangles: &[[u32; 3]], holes: &[Hole], lo: Vec2, hi: Vec2) -> Vec<f32> {
+    let mut count = std::collections::HashMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let inside = |q: Vec2| q.x > lo.x + 1e-3 && q.y > lo.y + 1e-3 && q.x < hi.x - 1e-3 && q.y < hi.y - 1e-3;
+    let mut on: Vec<u32> = count.iter().filter(|(_, c)| **c == 1).flat_map(|((a, b), _)| [*a, *b]).collect();
+    on.sort_unstable();
+    on.dedup();
+    on.iter()
+        .map(|&i| Vec2::new(vertices[i as usize].x, vertices[i as usize].z))
+        .filter(|&q| inside(q))
+        .map(|q| holes.iter().map(|h| (q.distance(h.center) - h.radius).abs()).fold(f32::MAX, f32::min))
+        .collect()
+}
+
+/// With `exact_holes` a pit's rim lies on its circle, every triangle still faces up, and the
+/// plane keeps its triangles but a few slivers; without it (the default, as the study scene has it) the rim
+/// follows the grid's triangles, up to most of a cell off the circle at the diagonals' spikes.
+#[test]
+fn exact_holes_put_the_rim_on_the_circle() {
+    use grove_systems::scene::plane_geometry_cut;
+    let (min, size) = (Vec2::new(-20.0, -15.0), Vec2::new(40.0, 30.0));
+    let holes = vec![Hole { center: Vec2::new(-4.0, 2.0), radius: 2.5 }, Hole { center: Vec2::new(9.3, -4.1), radius: 4.2 }];
+    let shape = PlaneShape::Grid { min, size, cell: 1.0, elevation: 0.0, unevenness: 0.05, noise_seed: 3, holes: holes.clone() };
+    let (v0, t0) = plane_geometry_cut(&shape, false);
+    assert_eq!((v0.clone(), t0.clone()), plane_geometry(&shape), "off is the plane as it always was");
+    let (v1, t1) = plane_geometry_cut(&shape, true);
+    // Only slivers between a circle and its chords are left out.
+    assert!(t1.iter().all(|t| t0.contains(t)) && t1.len() + 40 > t0.len(), "{} of {} triangles kept", t1.len(), t0.len());
+    let off = |v: &[glam::Vec3], t: &[[u32; 3]]| rim_offsets(v, t, &holes, min, min + size);
+    let (jagged, exact) = (off(&v0, &t0), off(&v1, &t1));
+    let worst = |o: &[f32]| o.iter().copied().fold(0.0, f32::max);
+    assert!(exact.len() > 20 && jagged.len() > 20, "{} and {} rim vertices", exact.len(), jagged.len());
+    assert!(worst(&exact) < 1e-4, "exact rims lie on their circles (worst {} m off)", worst(&exact));
+    assert!(worst(&jagged) > 0.3, "the grid's rims stray from the circle (worst {} m)", worst(&jagged));
+    for t in &t1 {
+        let (a, b, c) = (v1[t[0] as usize], v1[t[1] as usize], v1[t[2] as usize]);
+        assert!((b - a).cross(c - a).y > 1e-4, "a triangle of the cut plane faces down or has no area: {a} {b} {c}");
+    }
+}

@@ -36,6 +36,7 @@ mod impostor_cache;
 mod interaction;
 mod protocol;
 mod library_errors;
+mod lod_fade;
 mod lsystem;
 mod lsystem_cli;
 mod lsystem_gpu;

@@ -236,6 +236,35 @@ fn the_crown_is_darker_inside_and_leaves_vary_in_colour() {
     }
 }
 
+/// Oak, beech and the shrub carry most of their leaves in clumps at the ends of the twigs: the
+/// preset's share of leaves is clumped, a clump's inside is darker than its outside, and the
+/// leaves of one clump are closer in colour than leaves of different clumps.
+#[test]
+fn broadleaf_crowns_grow_in_clumps_darker_inside_and_coloured_by_clump() {
+    for s in ["oak", "beech", "shrub"] {
+        let m = model(s);
+        let p = preset::load(s).unwrap().1;
+        let leaves = &m.tree.leaves;
+        let clumped = leaves.iter().filter(|l| l.depth < 1.0).count() as f32 / leaves.len() as f32;
+        assert!(p.leaf_clumps > 0.0 && (clumped - p.leaf_clumps).abs() < 0.1, "{s}: {clumped} of the leaves clumped, the preset asks {}", p.leaf_clumps);
+        // Green of the vertex colour (the first vertex of each leaf card) by depth in the clump.
+        let green: Vec<(f32, f32)> = leaves.iter().zip(m.lods[0].leaves.colors.iter().step_by(4)).map(|(l, c)| (l.depth, c.y)).collect();
+        let mean = |lo: f32, hi: f32| {
+            let v: Vec<f32> = green.iter().filter(|g| g.0 >= lo && g.0 < hi).map(|g| g.1).collect();
+            assert!(v.len() > 100, "{s}: leaves at depth {lo}..{hi}");
+            v.iter().sum::<f32>() / v.len() as f32
+        };
+        let (inner, outer) = (mean(0.0, 0.3), mean(0.7, 1.0));
+        assert!(inner < 0.9 * outer, "{s}: clump inside {inner}, outside {outer}");
+        // Neighbours in the list are mostly of one clump; leaves 997 apart of different ones.
+        let tints: Vec<f32> = leaves.iter().filter(|l| l.depth < 1.0).map(|l| l.tint).collect();
+        let spread = |k: usize| tints.iter().zip(&tints[k..]).map(|(a, b)| (a - b).abs()).sum::<f32>() / (tints.len() - k) as f32;
+        assert!(spread(1) < 0.8 * spread(997), "{s}: colour within clumps {} against between {}", spread(1), spread(997));
+    }
+    // Presets without clumps keep their leaves spread along the twigs.
+    assert!(model("birch").tree.leaves.iter().all(|l| l.depth == 1.0));
+}
+
 #[test]
 fn generation_is_deterministic_in_the_library_too() {
     let (n, p) = preset::load("birch").unwrap();

@@ -35,6 +35,7 @@ pub use blocks::BLOCK_BLADES;
 pub use data::LOD_CAPS;
 pub use readback::{BladeCounts, BladeLists};
 pub(crate) mod data;
+pub(crate) mod edges;
 mod extract;
 pub(crate) mod tiles;
 
@@ -247,13 +248,14 @@ impl Grass {
                 // the same for its three corners, so the shader thins a whole triangle's layers
                 // with distance at once.
                 let (order, tiles) = tiles::tile_triangles(&p.triangles);
-                let mut verts: Vec<[f32; 10]> = Vec::with_capacity(p.triangles.len() * 3);
-                for t in order.iter().map(|&k| &p.triangles[k]) {
+                let edge = edges::edge_shares(&p.triangles);
+                let mut verts: Vec<[f32; 11]> = Vec::with_capacity(p.triangles.len() * 3);
+                for (t, e) in order.iter().map(|&k| (&p.triangles[k], &edge[k])) {
                     let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or(glam::Vec3::Y);
                     let n = if n.y < 0.0 { -n } else { n };
                     let c = (t[0] + t[1] + t[2]) / 3.0;
                     let r = t.iter().map(|v| v.distance(c)).fold(0.0, f32::max);
-                    verts.extend(t.iter().map(|v| [v.x, v.y, v.z, n.x, n.y, n.z, c.x, c.y, c.z, r]));
+                    verts.extend(t.iter().zip(e).map(|(v, e)| [v.x, v.y, v.z, n.x, n.y, n.z, c.x, c.y, c.z, r, *e]));
                 }
                 if verts.is_empty() {
                     continue;
@@ -386,21 +388,22 @@ impl Grass {
     }
 }
 
-/// The shells' pipeline of `key`: opaque (the fragment blends the layers itself), depth
-/// written, main view only.
+/// The shells' pipeline of `key`: opaque but along the lawn's edge (the fragment blends the
+/// layers itself), depth written, main view only.
 fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("grass"));
     }
-    const SV: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
-    let targets = super::gpu::color_target(key.format, wgpu::ColorWrites::ALL);
+    const SV: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32];
+    // Blended over the ground only along the lawn's edge ([`edges`]): alpha is 1 elsewhere.
+    let targets = [Some(wgpu::ColorTargetState { format: key.format, blend: Some(wgpu::BlendState::ALPHA_BLENDING), write_mask: wgpu::ColorWrites::ALL })];
     Ok(shared.pipeline(&PipelineSpec {
         label: "grass shell pipeline",
         layout,
         module,
         vertex: "vs_main",
         fragment: Some("fs_main"),
-        buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 40, step_mode: wgpu::VertexStepMode::Vertex, attributes: &SV })],
+        buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 44, step_mode: wgpu::VertexStepMode::Vertex, attributes: &SV })],
         topology: wgpu::PrimitiveTopology::TriangleList,
         cull: None,
         depth: depth_test(true, wgpu::CompareFunction::Less),

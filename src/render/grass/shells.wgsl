@@ -41,6 +41,8 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     // The triangle's centre (xyz) and radius (w), metres: the same for its three corners.
     @location(2) triangle: vec4<f32>,
+    // The corner's distance to the lawn's edge over the fade band (grass/edges.rs), at most 1.
+    @location(3) edge: f32,
 };
 
 // Shell layers fade out of sight with distance as the strands shrink below a pixel: all layers
@@ -67,6 +69,7 @@ struct VertexOut {
     // the eye (the same at its corners; it decides the layers kept, as in `vs_main`).
     @location(5) wind_noise: f32,
     @location(6) nearest: f32,
+    @location(7) edge: f32,
 };
 
 // Layer `layer`'s displacement of the floor (vs_main's): along the normal by its share of the
@@ -83,6 +86,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
     var out: VertexOut;
     out.floor_pos = v.position;
     out.normal = v.normal;
+    out.edge = v.edge;
     out.wind_noise = textureSampleLevel(wind_tex, wind_sampler, uv, 0.0).r;
     // Drawn where the bottom layer lies, so that it has the layered draw's depth.
     let sway_tip = params.wind.z * (0.35 + 0.65 * out.wind_noise);
@@ -128,6 +132,11 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     // where the visible strands are (a lookup at the floor would move the shadows of a low sun
     // by the grass height over its tangent). The layers are lit and toned after the sum, not
     // each (the tone curve is nearly straight over a lawn's colours).
+    // Along the lawn's edge it turns transparent over the ground (border blend) and its
+    // strands shorten to nothing (height falloff, more slowly: the short lawn's dark floor
+    // would read as a dark rim).
+    let cover = smoothstep(0.0, 1.0, in.edge);
+    let grow = sqrt(cover);
     var albedo_sum = vec3<f32>(0.0);
     var at = vec3<f32>(0.0);
     var through = 1.0;
@@ -139,7 +148,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         let t = 1.0 + dot(n, offset - bottom) / min(nd, -1e-6);
         let hit = frame.camera_pos + d * t;
         let s = textureSampleGrad(strand_tex, nearest_sampler, (hit - offset).xz * scale, gx, gy).r;
-        let strand = mix(params.strands.w, 1.0, s);
+        let strand = mix(params.strands.w, 1.0, s) * grow;
         let h = f32(l) / layers;
         let albedo = mix(params.root.rgb, params.tip.rgb, h) * mix(0.3, 0.7, h) * (0.8 + 0.4 * s);
         let alpha = select(clamp(1.0 - 0.7 * h / max(strand, 1e-3), 0.25, 1.0), 1.0, l == 0u);
@@ -154,5 +163,5 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     at = at / max(1.0 - through, 1e-6);
     let lit = shadow_factor(at + n * frame.shadow_normal_offset, vec3<f32>(0.0));
     let c = tone(albedo_sum * (in.ambient + in.direct * lit) + in.add);
-    return vec4<f32>(c, 1.0);
+    return vec4<f32>(c, cover);
 }

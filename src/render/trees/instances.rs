@@ -25,10 +25,14 @@ pub struct Instance {
     pub phase: f32,
     /// The share of the leaves drawn, 0..1 ([`lod::keep_fraction`]).
     pub keep: f32,
-    /// The share of the tree drawn as an impostor, 0..1 ([`impostor::fade`]; location 13).
+    /// The share of the tree drawn as an impostor, 0..1 ([`impostor::fade`]; location 13): the
+    /// mesh drops the fragments whose dither is below it. The far model of a tree in the
+    /// cross-fade from its model also drops those below `1 -` [`far_share`] here.
     pub fade: f32,
-    /// Padding to 48 bytes.
-    pub pad: f32,
+    /// The share of the tree handed to its far model, 0..1 ([`far_share`]; location 15): the
+    /// mesh drops the fragments whose dither is at least `1 - handoff`, which the far model
+    /// keeps. 0 on far models and on models without one.
+    pub handoff: f32,
 }
 
 /// The on-screen sizes, in pixels, that choose how a tree is drawn (see [`gather`]).
@@ -40,14 +44,25 @@ pub(crate) struct Detail {
     pub impostor_pixels: f32,
     /// Below this bounding-sphere size a tree is drawn as its model's far model, if it has one.
     pub far_pixels: f32,
+    /// Cross-fade between levels of detail over a band ([`FAR_BAND`], [`impostor::BAND`]);
+    /// without it, each level gives way to the next at once at its threshold.
+    pub cross_fade: bool,
 }
 
-/// Whether a tree whose model has bounds `bounds` (model space), at `scale` and `distance`
-/// metres, covers fewer than `far_pixels` pixels with its bounding sphere's diameter, so that
-/// its far model stands in for it.
-pub fn uses_far(bounds: (glam::Vec3, glam::Vec3), scale: f32, distance: f32, pixels_per_radian: f32, far_pixels: f32) -> bool {
+/// The width of the cross-fade band from a model to its far model: a tree is all model above
+/// `FAR_BAND` times `far_pixels` and all far model below `far_pixels`; between, the two share
+/// its pixels by the impostors' screen-door dither (`impostor_dither`), so the switch trades
+/// pixels one by one instead of popping.
+pub const FAR_BAND: f32 = 1.25;
+
+/// The share of a tree handed to its model's far model, 0 (all model) to 1 (all far model): its
+/// model has bounds `bounds` (model space), the tree is at `scale` and `distance` metres, and
+/// its bounding sphere's diameter covers some pixels against `far_pixels` (0: never the far
+/// model), with the band [`FAR_BAND`], or a hard switch at `far_pixels` without `cross_fade`.
+pub fn far_share(bounds: (Vec3, Vec3), scale: f32, distance: f32, pixels_per_radian: f32, far_pixels: f32, cross_fade: bool) -> f32 {
     let radius = bounds.0.abs().max(bounds.1.abs()).length() * scale;
-    far_pixels > 0.0 && 2.0 * radius / distance.max(1e-3) * pixels_per_radian < far_pixels
+    let band = if cross_fade { FAR_BAND } else { 1.0 };
+    impostor::fade_in_band(2.0 * radius, distance, pixels_per_radian, far_pixels, band)
 }
 
 /// A tree whose base lies this deep in the aerial perspective's haze
@@ -81,9 +96,11 @@ pub(crate) struct Gathered {
 /// atlas whose bounding sphere covers fewer than `impostor_pixels` pixels (times
 /// [`impostor::BAND`] for the cross-fade) also go to the impostor list; those wholly impostors
 /// leave the mesh list. A tree whose model has a far model (`far`, by model index) is drawn as
-/// that model wherever its bounding sphere covers fewer than `far_pixels` ([`uses_far`]).
+/// that model wherever its bounding sphere covers fewer than `far_pixels`, and as both, sharing
+/// its pixels, up to [`FAR_BAND`] times as many ([`far_share`]).
 pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Option<usize>], camera: &Camera, height: u32, detail: Detail) -> Gathered {
-    let Detail { leaf_pixels, impostor_pixels, far_pixels } = detail;
+    let Detail { leaf_pixels, impostor_pixels, far_pixels, cross_fade } = detail;
+    let band = if cross_fade { impostor::BAND } else { 1.0 };
     let eye = camera.position;
     let pixels_per_radian = height as f32 * 0.5 / (camera.fov_y * 0.5).tan().max(1e-3);
     // Per model: (bucket, squared distance, instance).
@@ -99,32 +116,41 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
         if crate::render::haze::haze_share(distance) >= HIDDEN_IN_HAZE {
             continue;
         }
-        // A tree small on screen is drawn as its model's far model, where it has one.
-        let index = match far.get(t.model).copied().flatten() {
-            Some(f) if matches!(models.get(f), Some(Some(_))) && uses_far(near.bounds, scale, distance, pixels_per_radian, far_pixels) => f,
-            _ => t.model,
+        // A tree small on screen is drawn as its model's far model, where it has one, and as
+        // both within the band: (model index, share handed to the far model).
+        let share = match far.get(t.model).copied().flatten() {
+            Some(f) if matches!(models.get(f), Some(Some(_))) => Some((f, far_share(near.bounds, scale, distance, pixels_per_radian, far_pixels, cross_fade))),
+            _ => None,
         };
-        let Some(Some(model)) = models.get(index) else {
-            continue;
+        let levels = match share {
+            Some((f, s)) if s >= 1.0 => [Some((f, 0.0, 0.0)), None],
+            // The model keeps the pixels whose dither is below 1 - s, the far model the others.
+            Some((f, s)) if s > 0.0 => [Some((t.model, 0.0, s)), Some((f, 1.0 - s, 0.0))],
+            _ => [Some((t.model, 0.0, 0.0)), None],
         };
-        let keep = lod::keep_fraction(model.leaf_area * scale * scale, distance, pixels_per_radian, leaf_pixels);
-        let fade = model.impostor.as_ref().map_or(0.0, |a| impostor::fade(2.0 * a.radius * scale, distance, pixels_per_radian, impostor_pixels));
-        let instance = Instance {
-            origin: t.origin.to_array(),
-            scale,
-            yaw: t.yaw,
-            bend: t.bend.to_array(),
-            gain: t.gain,
-            phase: t.phase,
-            keep,
-            fade,
-            pad: 0.0,
-        };
-        if fade < 1.0 {
-            per_model[index].push((lod::bucket(keep), d2, instance));
-        }
-        if fade > 0.0 {
-            impostors[index].push((d2, instance));
+        for (index, floor, handoff) in levels.into_iter().flatten() {
+            let Some(Some(model)) = models.get(index) else {
+                continue;
+            };
+            let keep = lod::keep_fraction(model.leaf_area * scale * scale, distance, pixels_per_radian, leaf_pixels);
+            let fade = model.impostor.as_ref().map_or(0.0, |a| impostor::fade_in_band(2.0 * a.radius * scale, distance, pixels_per_radian, impostor_pixels, band));
+            let instance = Instance {
+                origin: t.origin.to_array(),
+                scale,
+                yaw: t.yaw,
+                bend: t.bend.to_array(),
+                gain: t.gain,
+                phase: t.phase,
+                keep,
+                fade: fade.max(floor),
+                handoff,
+            };
+            if fade < 1.0 {
+                per_model[index].push((lod::bucket(keep), d2, instance));
+            }
+            if fade > 0.0 {
+                impostors[index].push((d2, Instance { fade, ..instance }));
+            }
         }
     }
     // Nearest first within each bucket, so that the early depth test of a software rasteriser
@@ -182,7 +208,7 @@ pub(crate) fn bounds(trees: &[TreeDraw], models: &[Option<GpuModel>]) -> Option<
 mod tests {
     use glam::Vec3;
 
-    use super::uses_far;
+    use super::{far_share, FAR_BAND};
 
     #[test]
     fn a_far_model_stands_in_below_its_size_on_screen() {
@@ -191,12 +217,20 @@ mod tests {
         // so the sphere covers 2 × 10.0995 / 50 × 623.5 = 251.9 pixels at 50 m, 419.8 at 30 m.
         let bounds = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 10.0, 1.0));
         let ppr = 720.0 * 0.5 / (30f32.to_radians()).tan();
-        assert!(uses_far(bounds, 1.0, 50.0, ppr, 400.0));
-        assert!(!uses_far(bounds, 1.0, 30.0, ppr, 400.0));
+        let hard = |scale: f32, d: f32, px: f32| far_share(bounds, scale, d, ppr, px, false);
+        assert_eq!(hard(1.0, 50.0, 400.0), 1.0);
+        assert_eq!(hard(1.0, 30.0, 400.0), 0.0);
         // Half the size at 30 m is the whole size at 60 m.
-        assert!(uses_far(bounds, 0.5, 30.0, ppr, 400.0));
-        assert!(!uses_far(bounds, 1.0, 50.0, ppr, 250.0));
+        assert_eq!(hard(0.5, 30.0, 400.0), 1.0);
+        assert_eq!(hard(1.0, 50.0, 250.0), 0.0);
         // 0 never uses the far model.
-        assert!(!uses_far(bounds, 1.0, 1e6, ppr, 0.0));
+        assert_eq!(hard(1.0, 1e6, 0.0), 0.0);
+        assert_eq!(far_share(bounds, 1.0, 1e6, ppr, 0.0, true), 0.0);
+        // With the cross-fade, 419.8 px lies in the band 400..500 px, a fifth of the way in; at
+        // 50 m the far model has it all, and above 500 px the model.
+        let soft = |d: f32| far_share(bounds, 1.0, d, ppr, 400.0, true);
+        assert!((soft(30.0) - (500.0 - 419.8) / 100.0).abs() < 2e-3, "{}", soft(30.0));
+        assert_eq!(soft(50.0), 1.0);
+        assert_eq!(soft(2.0 * 10.0995 * ppr / (400.0 * FAR_BAND * 1.01)), 0.0);
     }
 }

@@ -293,7 +293,7 @@ impl Feature for Trees {
     }
 
     fn prepare(&mut self, cx: &FrameContext<'_>, trees: Vec<TreeDraw>) -> Result<(), RenderError> {
-        let detail = Detail { leaf_pixels: cx.options.leaf_pixels, impostor_pixels: cx.options.impostor_pixels, far_pixels: cx.options.far_pixels };
+        let detail = Detail { leaf_pixels: cx.options.leaf_pixels, impostor_pixels: cx.options.impostor_pixels, far_pixels: cx.options.far_pixels, cross_fade: cx.options.lod_cross_fade };
         let g = gather(&trees, &self.models, &self.far, &cx.common.camera, cx.size.1, detail);
         self.wind = Some(cx.common.wind);
         self.every = Some(g);

@@ -42,8 +42,8 @@ pub(crate) enum TreePipelines {
 /// The vertex buffers: 0 the model's vertices, 1 the instances, 2 the leaves (see `lod`).
 fn vertex_layout() -> [Option<wgpu::VertexBufferLayout<'static>>; 3] {
     const V: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x4, 14 => Unorm8x4];
-    const I: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
-        5 => Float32x3, 6 => Float32, 7 => Float32, 8 => Float32x2, 9 => Float32, 10 => Float32, 11 => Float32, 13 => Float32
+    const I: [wgpu::VertexAttribute; 9] = wgpu::vertex_attr_array![
+        5 => Float32x3, 6 => Float32, 7 => Float32, 8 => Float32x2, 9 => Float32, 10 => Float32, 11 => Float32, 13 => Float32, 15 => Float32
     ];
     const L: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![12 => Float32x4];
     [

@@ -47,6 +47,9 @@ struct VertexIn {
     // The vertex colour (COLOR_0, linear; white where the model has none), multiplying the base
     // colour.
     @location(14) color: vec4<f32>,
+    // The share of the tree handed to its far model (instances.rs `far_share`): fragments whose
+    // dither is at least 1 - handoff go to the far model, and opaque parts give way above half.
+    @location(15) handoff: f32,
 };
 
 // The linear size of a leaf of rank `rank` on a tree that keeps the share `keep` of its leaves:
@@ -83,7 +86,7 @@ fn rotate_y(v: vec3<f32>, yaw: f32) -> vec3<f32> {
 // origin) displaced by the wind. The _WIND distances are model-space metres, so x, y and z are
 // scaled with the tree; w (the branch phase) is not.
 fn world_position(v: VertexIn) -> vec3<f32> {
-    if (material.alpha_cutoff < 0.0 && v.fade >= 0.5) {
+    if (material.alpha_cutoff < 0.0 && (v.fade >= 0.5 || v.handoff > 0.5)) {
         // Every vertex at one point: the triangles have no area and draw nothing.
         return v.origin;
     }
@@ -158,6 +161,7 @@ struct DepthOut {
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) fade: f32,
     @location(2) alpha: f32,
+    @location(3) @interpolate(flat) handoff: f32,
 };
 
 // Depth only, for the shadow map (with the light's frame) and the alpha-clipped materials'
@@ -168,6 +172,7 @@ fn vs_depth(v: VertexIn) -> DepthOut {
     out.clip = frame.view_proj * vec4<f32>(world_position(v), 1.0);
     out.uv = v.uv;
     out.fade = v.fade;
+    out.handoff = v.handoff;
     out.alpha = v.color.a;
     return out;
 }
@@ -180,8 +185,11 @@ fn fs_alpha_test(in: DepthOut) {
     if (material.alpha_cutoff >= 0.0 && a < material.alpha_cutoff) {
         discard;
     }
-    // The impostor's share of the cross-fade (the impostor keeps the complementary pixels).
-    if (impostor_dither(in.clip.xy) < in.fade) {
+    // The coarser levels' shares of the cross-fades: the impostor's (or, on a far model, the
+    // model's) below `fade`, the far model's from 1 - handoff; each keeps the complementary
+    // pixels.
+    let d = impostor_dither(in.clip.xy);
+    if (d < in.fade || d >= 1.0 - in.handoff) {
         discard;
     }
 }

@@ -118,7 +118,7 @@ mod tests {
     use crate::render::trees::lod;
 
     fn tree(x: f32, scale: f32, keep: f32) -> Instance {
-        Instance { origin: [x, 0.0, 0.0], scale, yaw: 0.0, bend: [0.0; 2], gain: 1.0, phase: 0.0, keep, fade: 0.0, pad: 0.0 }
+        Instance { origin: [x, 0.0, 0.0], scale, yaw: 0.0, bend: [0.0; 2], gain: 1.0, phase: 0.0, keep, fade: 0.0, handoff: 0.0 }
     }
 
     /// Trees of model 0 (with leaves) and 1 (without), grouped by their keep buckets.

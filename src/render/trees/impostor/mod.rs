@@ -121,12 +121,23 @@ pub fn view_rects(positions: &[Vec3], centre: Vec3, radius: f32) -> Vec<Vec4> {
 /// in metres, `pixels_per_radian` as in [`super::lod::keep_fraction`]. A threshold of 0 turns
 /// impostors off.
 pub fn fade(diameter: f32, distance: f32, pixels_per_radian: f32, impostor_pixels: f32) -> f32 {
-    if impostor_pixels <= 0.0 || !(diameter > 0.0) {
+    fade_in_band(diameter, distance, pixels_per_radian, impostor_pixels, BAND)
+}
+
+/// The share handed from one level of detail to the next, coarser one, 0 to 1, as [`fade`] with
+/// a band of `band` times the threshold `pixels_below` (the same rule serves the cross-fade from
+/// a model to its far model, `super::instances`). A band of 1 or less is a hard switch: 1 below
+/// the threshold, 0 at or above it.
+pub fn fade_in_band(diameter: f32, distance: f32, pixels_per_radian: f32, pixels_below: f32, band: f32) -> f32 {
+    if pixels_below <= 0.0 || !(diameter > 0.0) {
         return 0.0;
     }
     let pixels = diameter * pixels_per_radian / distance.max(0.01);
-    let hi = impostor_pixels * BAND;
-    ((hi - pixels) / (hi - impostor_pixels)).clamp(0.0, 1.0)
+    if band <= 1.0 {
+        return if pixels < pixels_below { 1.0 } else { 0.0 };
+    }
+    let hi = pixels_below * band;
+    ((hi - pixels) / (hi - pixels_below)).clamp(0.0, 1.0)
 }
 
 /// The interleaved gradient noise of a pixel (the twin of `impostor_dither`).
@@ -201,6 +212,9 @@ mod tests {
         // 67.5 px: halfway through the band.
         assert!((f(10_000.0 / 67.5) - 0.5).abs() < 1e-5);
         assert_eq!(fade(10.0, 1000.0, 1000.0, 0.0), 0.0, "0 turns impostors off");
+        // Without a band the switch is hard, at the threshold.
+        let hard = |d: f32| fade_in_band(10.0, d, 1000.0, 60.0, 1.0);
+        assert_eq!((hard(10_000.0 / 61.0), hard(10_000.0 / 59.0)), (0.0, 1.0));
         // Monotone in the distance.
         let mut last = 0.0;
         for k in 0..400 {
