@@ -154,3 +154,41 @@ fn the_committed_page_is_what_the_script_writes_from_its_inputs() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(std::fs::read_to_string(&out_path).unwrap(), committed, "docs/benchmarks.md is stale: regenerate it with `{command}`");
 }
+
+/// `scripts/headline.py` writes the README's headline table between its markers from a folder of
+/// benchmark JSON: a figure from the file that holds it, a row whose file is missing says so,
+/// and the text around the markers is kept; a README without the markers is refused (exit 2).
+#[test]
+fn the_headline_table_is_written_between_its_markers_from_the_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let bench = dir.path().join("benchmarks");
+    std::fs::create_dir(&bench).unwrap();
+    std::fs::write(
+        bench.join("raycast.json"),
+        r#"{"machine": "Test CPU, 2 cores", "date": "2026-11-24", "command": "grove bench raycast", "run": "a test run",
+            "raycast": {"trees": 10000, "ns_per_ray_median": 1470}}"#,
+    )
+    .unwrap();
+    let readme = dir.path().join("README.md");
+    let before = "# grove\n\nintro\n\n<!-- headline table: written by scripts/headline.py from docs/benchmarks/*.json -->\nold table\n<!-- end of the headline table -->\n\nafter\n";
+    std::fs::write(&readme, before).unwrap();
+    let run = |readme: &Path| {
+        Command::new(python())
+            .arg(root().join("scripts/headline.py"))
+            .args(["--readme", readme.to_str().unwrap(), bench.to_str().unwrap()])
+            .output()
+            .unwrap()
+    };
+    let out = run(&readme);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&readme).unwrap();
+    assert!(text.starts_with("# grove\n\nintro\n\n") && text.ends_with("<!-- end of the headline table -->\n\nafter\n"), "{text}");
+    assert!(!text.contains("old table"), "{text}");
+    assert!(text.contains("| one controller ray, 10k trees and the study planes | 1.47 µs | ≤ 2 µs | Test CPU, 2026-11-24 |"), "{text}");
+    assert!(text.contains("| simulation tick, 100k / 1M trees | not measured |"), "{text}");
+    assert!(text.contains("From one run: a test run."), "{text}");
+    let bare = dir.path().join("BARE.md");
+    std::fs::write(&bare, "# no markers\n").unwrap();
+    assert_one_line_error(&run(&bare), 2, "marker");
+    assert_eq!(std::fs::read_to_string(&bare).unwrap(), "# no markers\n");
+}
