@@ -28,6 +28,12 @@ fn pnum(field: &str, p: Option<f64>) -> Markup {
 }
 
 fn document(title: &str, body: Markup) -> String {
+    self_contained(title, CSS, JS, body)
+}
+
+/// A self-contained page: its title, its style sheet and script inlined, nothing fetched. The
+/// study's and a recording's report and a scenario's trace are written through it.
+pub(crate) fn self_contained(title: &str, css: &str, js: &str, body: Markup) -> String {
     html! {
         (DOCTYPE)
         html lang="en" {
@@ -35,11 +41,11 @@ fn document(title: &str, body: Markup) -> String {
                 meta charset="utf-8";
                 meta name="viewport" content="width=device-width, initial-scale=1";
                 title { (title) }
-                style { (PreEscaped(CSS)) }
+                style { (PreEscaped(css)) }
             }
             body {
                 (body)
-                script { (PreEscaped(JS)) }
+                script { (PreEscaped(js)) }
             }
         }
     }

@@ -18,7 +18,7 @@ use grove_systems::scenario::observe::Snapshot;
 use grove_systems::scenario::run::{run_traced, Failure, Outcome, RunOptions, StepTrace};
 use grove_systems::scenario::Loaded;
 use grove_systems::Sim;
-use maud::{html, Markup, PreEscaped, DOCTYPE};
+use maud::{html, Markup, PreEscaped};
 
 use super::shots::{Shots, FRAME_SIZE};
 use super::HtmlError;
@@ -206,19 +206,7 @@ pub fn page(loaded: &Loaded, t: &Traced, recording: &Path) -> String {
         }
         script type="application/json" id="frames" { (PreEscaped(frames_json.replace("</", "<\\/"))) }
     };
-    html! {
-        (DOCTYPE)
-        html lang="en" {
-            head {
-                meta charset="utf-8";
-                meta name="viewport" content="width=device-width, initial-scale=1";
-                title { "grove test trace: " (loaded.name) }
-                style { (PreEscaped(CSS)) }
-            }
-            body { (body) script { (PreEscaped(JS)) } }
-        }
-    }
-    .into_string()
+    super::page::self_contained(&format!("grove test trace: {}", loaded.name), CSS, JS, body)
 }
 
 /// Traces a scenario into `out` (through a temporary file and a rename); `recording` is where
