@@ -8,31 +8,13 @@
 use crate::common;
 
 use std::path::Path;
-use std::process::Command;
 
-use common::{assert_one_line_error, grove, root};
+use common::{assert_one_line_error, chromium, grove, root};
 use glam::Vec3;
 use grove_systems::replay::{record_events, Header};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::Sim;
-
-/// Chromium's headless run of a local file: the DOM after the scripts ran, and what it logged.
-fn chromium(args: &[&str], page: &Path) -> (String, String) {
-    let url = format!("file://{}", page.canonicalize().unwrap().display());
-    let profile = tempfile::tempdir().unwrap();
-    let out = Command::new("chromium")
-        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--virtual-time-budget=5000", "--enable-logging=stderr", "--v=0"])
-        // No network: every host name fails to resolve.
-        .arg("--host-resolver-rules=MAP * ~NOTFOUND")
-        .arg(format!("--user-data-dir={}", profile.path().display()))
-        .args(args)
-        .arg(&url)
-        .output()
-        .expect("chromium runs (scripts/test installs Debian's chromium)");
-    assert!(out.status.success(), "chromium failed: {}", String::from_utf8_lossy(&out.stderr));
-    (String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
-}
 
 /// The page's script ran to its end and nothing was reported as an error, by the page or in
 /// Chromium's console log.

@@ -7,25 +7,7 @@
 
 use crate::common;
 
-use std::path::Path;
-use std::process::Command;
-
-use common::grove;
-
-fn chromium_dom(page: &Path) -> (String, String) {
-    let url = format!("file://{}", page.canonicalize().unwrap().display());
-    let profile = tempfile::tempdir().unwrap();
-    let out = Command::new("chromium")
-        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--virtual-time-budget=5000", "--enable-logging=stderr", "--v=0"])
-        .arg("--host-resolver-rules=MAP * ~NOTFOUND")
-        .arg(format!("--user-data-dir={}", profile.path().display()))
-        .arg("--dump-dom")
-        .arg(&url)
-        .output()
-        .expect("chromium runs (scripts/test installs Debian's chromium)");
-    assert!(out.status.success(), "chromium failed: {}", String::from_utf8_lossy(&out.stderr));
-    (String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
-}
+use common::{chromium, grove};
 
 /// The value of `attr="…"` in `tag`.
 fn attr<'a>(tag: &'a str, attr: &str) -> Option<&'a str> {
@@ -110,7 +92,7 @@ fn the_trace_of_a_failed_scenario_shows_each_step_before_and_after_and_highlight
         assert!(!html.contains(bad), "the page loads nothing from outside ({bad})");
     }
 
-    let (dom, log) = chromium_dom(&page);
+    let (dom, log) = chromium(&["--dump-dom"], &page);
     assert!(dom.contains("data-ready=\"1\""), "the page's script ran to its end");
     assert!(!dom.contains("data-errors="), "the page caught no error");
     assert!(!log.lines().any(|l| l.contains(":CONSOLE")), "the page logged nothing");
@@ -153,7 +135,7 @@ fn trace_writes_every_scenario_with_its_recording() {
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     let page = traces.join("plant-two.html");
     assert!(stdout.contains(&format!("trace: {}", page.display())), "{stdout}");
-    let (dom, _) = chromium_dom(&page);
+    let (dom, _) = chromium(&["--dump-dom"], &page);
     assert!(dom.contains("class=\"verdict pass\""), "a passing scenario's trace says so");
     assert!(tags(&dom, "li", "failed").is_empty() && !dom.contains("section class=\"step failed\""), "nothing is highlighted");
     let recording = traces.join("plant-two.jsonl");

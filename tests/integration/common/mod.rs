@@ -77,3 +77,21 @@ pub fn validate_gltf_dir(dir: &Path) -> String {
     assert!(out.status.success(), "validator: {text}{}", String::from_utf8_lossy(&out.stderr));
     text
 }
+
+/// Chromium's headless run of a local file (Debian's `chromium`, no network: every host name
+/// fails to resolve), with `args` such as `--dump-dom` or `--screenshot=…`: what it printed (the
+/// DOM after the page's scripts ran, for `--dump-dom`) and what it logged.
+pub fn chromium(args: &[&str], page: &Path) -> (String, String) {
+    let url = format!("file://{}", page.canonicalize().unwrap().display());
+    let profile = tempfile::tempdir().unwrap();
+    let out = Command::new("chromium")
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--virtual-time-budget=5000", "--enable-logging=stderr", "--v=0"])
+        .arg("--host-resolver-rules=MAP * ~NOTFOUND")
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .args(args)
+        .arg(&url)
+        .output()
+        .expect("chromium runs (scripts/test installs Debian's chromium)");
+    assert!(out.status.success(), "chromium failed: {}", String::from_utf8_lossy(&out.stderr));
+    (String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
