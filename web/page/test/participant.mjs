@@ -8,8 +8,17 @@ import { ticks, until } from './harness.mjs';
 /** Where the controller is held, relative to the head, metres (local-floor). */
 const HAND = { x: 0.15, y: -0.3, z: -0.25 };
 
-/** Points the controller, held at `hand` from the head, at `simPoint` ([x, y, z] in the simulation's frame). */
-export async function aimAt(page, simPoint, hand = HAND) {
+/** Waits until the page has drawn `n` more frames (whether a simulation runs or not). */
+export async function frames(page, n) {
+  const start = await page.evaluate(() => window.grove.frames);
+  await until(page, (t) => window.grove.frames >= t, start + n);
+}
+
+/**
+ * Points the controller, held at `hand` from the head, at `simPoint` ([x, y, z] in the
+ * simulation's frame); `wait` lets the page see it (three ticks of the task by default).
+ */
+export async function aimAt(page, simPoint, hand = HAND, wait = (page) => ticks(page, 3)) {
   await page.evaluate(
     ({ p, hand }) => {
       const d = window.xrDevice;
@@ -25,7 +34,22 @@ export async function aimAt(page, simPoint, hand = HAND) {
   const n = Math.hypot(...dir);
   const q = lookRotation(dir.map((v) => v / n));
   await page.evaluate((q) => window.xrDevice.controllers.right.quaternion.set(q[0], q[1], q[2], q[3]), q);
-  await ticks(page, 3);
+  await wait(page);
+}
+
+/**
+ * Presses the protocol's panel button `id` (docs/protocol.md) as a participant does: aims the
+ * ray at it, checks that the panel highlights it, and pulls the trigger.
+ */
+export async function pressPanel(page, id) {
+  const point = await page.evaluate((id) => window.grove.panelPoint(id), id);
+  assert.ok(point, `the panel has a button ${id}: ${JSON.stringify(await page.evaluate(() => window.grove.panel))}`);
+  await aimAt(page, point, HAND, (page) => frames(page, 3));
+  await until(page, (id) => window.grove.panel?.hover === id, id, 10000);
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await frames(page, 3);
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await frames(page, 3);
 }
 
 /** Presses and releases an IWER button ('trigger', 'squeeze', 'b-button', …), a few ticks each. */
