@@ -251,8 +251,7 @@ function studyButtons(message = '') {
 /** Shows the participant's step: a panel, the practice's free scene, or a task (a stored one continues). */
 function showStep() {
   const st = study.current;
-  steps.placed = false;
-  steps.image = null;
+  Object.assign(steps, { placed: false, image: null });
   hud.label.mesh.visible = false;
   menu.close();
   if (st?.kind === 'practice') return startPractice(st);
@@ -307,8 +306,7 @@ function stepFrame(frame) {
 async function press(id, frame) {
   steps.busy = true;
   try {
-    if (id === 'start-task') return await startRun(frame);
-    if (id === 'end-practice') return await endPractice();
+    if (id === 'start-task' || id === 'end-practice') return await (id === 'start-task' ? startRun(frame) : endPractice());
     const r = await study.press(id);
     if (r === 'step' || (r === 'typing' && !xr)) (r === 'step' ? showStep : showTyped)();
   } catch (e) {
@@ -444,6 +442,7 @@ async function startRun(frame) {
   world.update(run.snapshot);
   $('panel').hidden = page.mode !== 'inline' ? false : true;
   hud.label.mesh.visible = Boolean(xr);
+  panel.hide();
   setState('task');
 }
 
@@ -565,6 +564,7 @@ function loop(time, frame) {
   }
   const snap = run?.snapshot;
   const t1 = performance.now();
+  overlay.root.visible = page.state !== 'step' && page.state !== 'typing'; // the ray, box and targets of a run
   if (snap && page.state !== 'step') draw(snap, frame);
   else if (snap) world?.update(snap);
   if (run?.timing && page.state === 'task') {

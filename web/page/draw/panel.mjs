@@ -46,6 +46,11 @@ export class Panel {
     mesh.renderOrder = 20;
     this.group.add(mesh);
     parent.add(this.group);
+    // The ray from the controller while the panel is open, up to the panel (or 3 m).
+    this.ray = new THREE.Line(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3(0, 0, -1)]), new THREE.LineBasicMaterial({ color: 0xf5d58a }));
+    this.ray.frustumCulled = false;
+    this.ray.visible = false;
+    parent.add(this.ray);
     this.boxes = [];
     this.hover = null;
     this.key = null;
@@ -81,7 +86,19 @@ export class Panel {
 
   hide() {
     this.group.visible = false;
+    this.ray.visible = false;
     this.hover = null;
+  }
+
+  /** Draws the ray from `origin` along `dir` (or none, when `origin` is null). */
+  pointer(origin, dir) {
+    this.ray.visible = Boolean(origin) && this.group.visible;
+    if (!this.ray.visible) return;
+    const t = this.#distance(origin, dir) ?? 3;
+    const pos = this.ray.geometry.attributes.position;
+    pos.setXYZ(0, ...origin);
+    pos.setXYZ(1, origin[0] + dir[0] * t, origin[1] + dir[1] * t, origin[2] + dir[2] * t);
+    pos.needsUpdate = true;
   }
 
   /** Draws `boxes` (redrawn only when they or the hovered button changed). */
@@ -171,14 +188,19 @@ export class Panel {
 
   /** Whether the ray meets the panel at all. */
   meets(origin, dir) {
-    if (!this.group.visible) return false;
+    return this.#distance(origin, dir) !== null;
+  }
+
+  /** How far along the ray (a unit `dir`) it meets the panel, or null. */
+  #distance(origin, dir) {
+    if (!this.group.visible) return null;
     this.group.updateMatrix();
     const inv = this.group.matrix.clone().invert();
     const o = new THREE.Vector3(...origin).applyMatrix4(inv);
     const d = new THREE.Vector3(...dir).transformDirection(inv);
-    if (Math.abs(d.z) < 1e-6) return false;
+    if (Math.abs(d.z) < 1e-6) return null;
     const t = -o.z / d.z;
-    return t >= 0 && Math.abs(o.x + d.x * t) <= this.width / 2 && Math.abs(o.y + d.y * t) <= this.height / 2;
+    return t >= 0 && Math.abs(o.x + d.x * t) <= this.width / 2 && Math.abs(o.y + d.y * t) <= this.height / 2 ? t : null;
   }
 
   /** The middle of button `id` in the parent's frame, [x, y, z] (for tests aiming at it), or null. */

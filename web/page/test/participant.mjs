@@ -3,6 +3,8 @@
 
 import assert from 'node:assert/strict';
 import { lookRotation } from '../input.mjs';
+import { openSession } from '../../client/grove-client.mjs';
+import { studyLines } from '../../client/test/helpers.mjs';
 import { ticks, until } from './harness.mjs';
 
 /** Where the controller is held, relative to the head, metres (local-floor). */
@@ -158,4 +160,41 @@ export async function release(page) {
   await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
   await ticks(page, 3);
   return page.evaluate(() => window.grove.snapshot);
+}
+
+/** A protocol's participant enters immersive-vr; their step shows at once (a panel, the practice or a task). */
+export async function enterStudy(page) {
+  await page.click('#enter-vr');
+  await until(page, () => ['step', 'practice', 'task', 'error'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
+  assert.equal(await page.evaluate(() => window.grove.error), null);
+  await until(page, () => window.grove.state !== 'step' || window.grove.panel);
+}
+
+/**
+ * Brings participant `p` of tree-planting.ron to its seven questions through the server's routes
+ * (at `url`): the steps before them passed, each task's session pushed from the study's
+ * recording of `p`, each NASA-TLX answered. Resolves to the participant's state.
+ */
+export async function toTheQuestions(url, p) {
+  const api = async (method, path, body) => {
+    const r = await fetch(new URL(path, url), { method, headers: { 'content-type': 'application/json' }, body: body === undefined ? undefined : JSON.stringify(body) });
+    const v = await r.json();
+    assert.ok(r.ok, `${method} ${path}: ${r.status} ${JSON.stringify(v)}`);
+    return v;
+  };
+  const tlx = { mental: 25, physical: 30, temporal: 20, performance: 10, effort: 35, frustration: 5 };
+  let s = await api('POST', '/api/protocol/participants', { participant: p });
+  for (;;) {
+    const st = s.steps[s.step - 1];
+    if (st.kind === 'questionnaire' && st.instrument.id === 'tree-planting') return s;
+    if (st.kind === 'task') {
+      const rec = studyLines(`${p}-${st.task}.jsonl`);
+      const session = await openSession(url, { header: rec[0] });
+      for (const l of rec.slice(1)) session.append(l);
+      await session.flush();
+      await session.end();
+    }
+    if (st.kind === 'questionnaire') await api('POST', `/api/protocol/participants/${p}/answers`, { step: s.step, answers: tlx });
+    s = await api('POST', `/api/protocol/participants/${p}/next`, { from: s.step });
+  }
 }

@@ -11,10 +11,8 @@ import assert from 'node:assert/strict';
 import { readdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { openSession } from '../../client/grove-client.mjs';
-import { studyLines } from '../../client/test/helpers.mjs';
 import { fileLines, start, until } from './harness.mjs';
-import { aimAt, click, frames, pressPanel } from './participant.mjs';
+import { aimAt, click, enterStudy as enter, frames, pressPanel, toTheQuestions } from './participant.mjs';
 
 let h;
 before(async () => {
@@ -26,21 +24,6 @@ after(async () => {
 
 const lines = (p) => fileLines(join(h.server.dir, `${p}.answers.jsonl`)).map((l) => JSON.parse(l));
 const study = (page) => page.evaluate(() => window.grove.study);
-
-async function api(method, path, body) {
-  const r = await fetch(new URL(path, h.server.url), { method, headers: { 'content-type': 'application/json' }, body: body === undefined ? undefined : JSON.stringify(body) });
-  const v = await r.json();
-  assert.ok(r.ok, `${method} ${path}: ${r.status} ${JSON.stringify(v)}`);
-  return v;
-}
-
-/** Enters immersive-vr; the participant's step shows at once. */
-async function enter(page) {
-  await page.click('#enter-vr');
-  await until(page, () => ['step', 'practice', 'task', 'error'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
-  assert.equal(await page.evaluate(() => window.grove.error), null);
-  await until(page, () => window.grove.state !== 'step' || window.grove.panel);
-}
 
 test('P01 goes through the instructions, the practice and a task with the panel, as the server leads', async () => {
   const { page } = await h.open('participant=P01&quality=low&render_every=4', { xr: true, room: false });
@@ -79,27 +62,8 @@ test('P01 goes through the instructions, the practice and a task with the panel,
   await page.close();
 });
 
-/** P02 brought to the seven questions: every step before them through the server's routes. */
-async function toTheQuestions() {
-  const tlx = { mental: 25, physical: 30, temporal: 20, performance: 10, effort: 35, frustration: 5 };
-  let s = await api('POST', '/api/protocol/participants', { participant: 'P02' });
-  for (;;) {
-    const st = s.steps[s.step - 1];
-    if (st.kind === 'questionnaire' && st.instrument.id === 'tree-planting') return s;
-    if (st.kind === 'task') {
-      const rec = studyLines(`P02-${st.task}.jsonl`);
-      const session = await openSession(h.server.url, { header: rec[0] });
-      for (const l of rec.slice(1)) session.append(l);
-      await session.flush();
-      await session.end();
-    }
-    if (st.kind === 'questionnaire') await api('POST', `/api/protocol/participants/P02/answers`, { step: s.step, answers: tlx });
-    s = await api('POST', `/api/protocol/participants/P02/next`, { from: s.step });
-  }
-}
-
 test('P02 answers the seven questions in the headset with the ray and the trigger', async () => {
-  const at = await toTheQuestions();
+  const at = await toTheQuestions(h.server.url, 'P02');
   assert.equal(at.step, 7);
   const first = await h.open('participant=P02&quality=low&render_every=4', { xr: true, room: false });
   let page = first.page;
@@ -111,7 +75,7 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   assert.ok(texts.includes('Not at all') && texts.includes('Very well'), `the anchors at the ends: ${texts}`);
   assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).map((b) => b.label), ['0', '1', '2', '3', '4', '5', '6', '7', '8', '9', '10', 'Next']);
   await pressPanel(page, 'opt:8');
-  assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label), ['8', 'Next']);
+  assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label), ['8']);
   await pressPanel(page, 'next');
   await pressPanel(page, 'opt:2'); // Bounding box
   await pressPanel(page, 'next');
@@ -126,7 +90,7 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   s = await study(page);
   assert.deepEqual([s.step, s.kind, s.item], [7, 'questionnaire', 'realism_lowpoly']);
   await pressPanel(page, 'back');
-  assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label), ['7', 'Next']);
+  assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label), ['7']);
   await pressPanel(page, 'next');
 
   await pressPanel(page, 'opt:4');
