@@ -25,7 +25,7 @@ import { Controllers } from './draw/controllers.mjs';
 import { Panel } from './draw/panel.mjs';
 import { controlsFor, hudLines, nextTarget, taskText } from './text.mjs';
 import { Study, StudyApi } from './study.mjs';
-import { button, loadImage, panelFrame, poseArrays, rememberParticipant, typedForm } from './steps.mjs';
+import { button, loadImage, panelFrame, poseArrays, rememberParticipant, studyView, typedForm } from './steps.mjs';
 
 const params = new URLSearchParams(location.search);
 const $ = (id) => document.getElementById(id);
@@ -80,17 +80,8 @@ const page = {
     return { x: r.left + ((v.x + 1) / 2) * r.width, y: r.top + ((1 - v.y) / 2) * r.height };
   },
   profiles: () => controllers?.profiles() ?? [],
-  /** Where the participant of a protocol is: { participant, step, kind, block, item, message, … }. */
-  get study() {
-    return study?.summary() ?? null;
-  },
-  /** The protocol's panel: its buttons ({ id, label, on }) and text; the middle of a button in the simulation's frame. */
-  get panel() {
-    return panel?.isOpen ? { buttons: panel.buttons(), texts: panel.texts(), hover: panel.hover } : null;
-  },
-  panelPoint: (id) => panel?.buttonPoint(id) ?? null,
 };
-window.grove = page;
+window.grove = Object.defineProperties(page, studyView(() => study, () => panel));
 
 const recorder = new Recorder(location.href);
 let grove = null;
@@ -254,6 +245,7 @@ function showStep() {
   Object.assign(steps, { placed: false, image: null });
   hud.label.mesh.visible = false;
   menu.close();
+  $('panel').hidden = page.mode === 'inline'; // the mouse points at the panel in the scene
   if (st?.kind === 'practice') return startPractice(st);
   if (st?.kind === 'task') {
     page.task = st.task;

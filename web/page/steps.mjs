@@ -83,3 +83,17 @@ export function loadImage(src, loaded) {
   image.src = src + (token ? `?token=${encodeURIComponent(token)}` : '');
   return image;
 }
+
+/**
+ * The page state's properties for a protocol (window.grove): `study`, where the participant is
+ * ({ participant, step, kind, block, item, typing, message }); `panel`, its buttons ({ id,
+ * label, on }), text and the button under the ray; `panelPoint(id)`, the middle of a button in
+ * the simulation's frame.
+ */
+export function studyView(study, panel) {
+  return {
+    study: { get: () => study()?.summary() ?? null },
+    panel: { get: () => (panel()?.isOpen ? { buttons: panel().buttons(), texts: panel().texts(), hover: panel().hover } : null) },
+    panelPoint: { value: (id) => panel()?.buttonPoint(id) ?? null },
+  };
+}

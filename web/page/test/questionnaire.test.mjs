@@ -137,3 +137,21 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   assert.deepEqual(h.foreign(), []);
   assert.deepEqual(h.errors, []);
 });
+
+test('the inline preview: the same panel, pressed with the mouse', async () => {
+  const { page } = await h.open('participant=P04&quality=low&render_every=2');
+  assert.equal(await page.evaluate(() => window.grove.study.participant), 'P04');
+  await page.click('#enter-inline');
+  await until(page, () => window.grove.state === 'step' && window.grove.panel);
+  const at = await page.evaluate(() => window.grove.screenPoint(window.grove.panelPoint('continue')));
+  await page.mouse.move(at.x, at.y);
+  await until(page, () => window.grove.panel.hover === 'continue');
+  await page.mouse.down();
+  await frames(page, 2);
+  await page.mouse.up();
+  await until(page, () => window.grove.state === 'practice');
+  assert.equal((await study(page)).step, 2);
+  assert.deepEqual(lines('P04').filter((l) => l.line === 'step').map((l) => l.block), ['instructions', 'practice']);
+  assert.deepEqual(h.errors, []);
+  await page.close();
+});
