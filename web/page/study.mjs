@@ -25,13 +25,10 @@ export class StudyApi {
     return v;
   }
 
-  /** The protocol the server runs, or null when it runs none. */
+  /** The protocol the server runs, or null when it runs none (its status says, without a 404 to log). */
   async protocol() {
-    try {
-      return await this.call('GET', '/api/protocol');
-    } catch {
-      return null;
-    }
+    const status = await this.call('GET', '/api/status').catch(() => null);
+    return status?.protocol ? this.call('GET', '/api/protocol') : null;
   }
 
   join(id) {
