@@ -301,6 +301,7 @@ async function press(id, frame) {
     if (id === 'start-task' || id === 'end-practice') return await (id === 'start-task' ? startRun(frame) : endPractice());
     const r = await study.press(id);
     if (r === 'step' || (r === 'typing' && !xr)) (r === 'step' ? showStep : showTyped)();
+    else if (r === 'leave') await xr?.session.end();
   } catch (e) {
     fail(e);
   } finally {

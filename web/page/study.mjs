@@ -121,7 +121,8 @@ export class Study {
     if (!st) return textLayout(size, { title: 'Thank you', text: 'The session is over. You can take the headset off.' });
     if (this.typing) {
       const n = this.typing.length;
-      return textLayout(size, { title: titleOf(st), text: `Thank you. ${n === 1 ? 'One answer is' : `${n} answers are`} to be typed: take the headset off and type ${n === 1 ? 'it' : 'them'} on the page.`, message });
+      const text = `Thank you. ${n === 1 ? 'One answer is' : `${n} answers are`} to be typed: leave the headset's view, take the headset off and type ${n === 1 ? 'it' : 'them'} on the page.`;
+      return textLayout(size, { title: titleOf(st), text, message, buttons: [{ id: 'leave', label: 'Leave' }] });
     }
     if (st.kind === 'instructions') {
       return textLayout(size, { title: st.block, text: st.text, image, note: st.video ? 'Watch the video on the screen.' : '', message, buttons: [{ id: 'continue', label: 'Continue' }] });
@@ -143,13 +144,14 @@ export class Study {
 
   /**
    * A panel button pressed. Resolves to what the page must do: 'step' (the step changed: show
-   * it), 'start-task', 'end-practice', 'typing' (answers to type on the page), or null (redraw).
+   * it), 'start-task', 'end-practice', 'typing' (answers to type on the page), 'leave' (end the
+   * immersive session for them), or null (redraw).
    */
   async press(id) {
     const st = this.current;
     if (!st) return null;
     if (id === 'continue') return this.next();
-    if (id === 'start-task' || id === 'end-practice') return id;
+    if (id === 'start-task' || id === 'end-practice' || id === 'leave') return id;
     if (!this.q || this.typing) return null;
     const q = this.q;
     const row = q.rows[q.index];

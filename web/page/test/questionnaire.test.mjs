@@ -119,11 +119,12 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   await pressPanel(page, 'send');
   await until(page, () => window.grove.study.typing !== null);
   assert.match((await page.evaluate(() => window.grove.panel.texts)).join(' '), /take the headset off and type it on the page/);
+  assert.equal(await page.evaluate(() => window.grove.state), 'step', 'the immersive view stays until the participant leaves it');
   const answers = Object.fromEntries(lines('P02').filter((l) => l.line === 'answer' && l.step === 7).map((l) => [l.item, l.answer]));
   assert.deepEqual(answers, { guidance: 8, more_instructions: ['Bounding box'], realism_billboard: 7, realism_lowpoly: 4, more_realistic: ["Leaves' animation", 'Shadow'], would_use: true });
 
-  // The headset off: the page asks for the typed answer, then the next step.
-  await page.evaluate(() => window.xrDevice.activeSession.end());
+  // The headset's view left: the page asks for the typed answer, then the next step.
+  await pressPanel(page, 'leave');
   await until(page, () => window.grove.state === 'typing');
   await page.fill('#typed textarea[name="uses"]', '  teaching urban planning ');
   await page.click('#typed-send');
