@@ -212,9 +212,11 @@ export class Study {
       this.set(await this.api.next(this.participant, this.state.step));
       return 'step';
     } catch (e) {
-      if (e.body?.state) this.state = e.body.state;
+      // The server says where the participant is; another step than this one is shown instead.
+      const moved = e.body?.state && e.body.state.step !== this.state.step;
+      if (moved) this.set(e.body.state);
       this.message = e.message;
-      return null;
+      return moved ? 'step' : null;
     }
   }
 
