@@ -9,7 +9,8 @@
  */
 export function panelFrame(panel, state, { head, ray, down, boxes, practice }) {
   if (!state.placed) {
-    panel.place(head, practice ? { distance: 1.3, drop: 0.55, side: -0.5 } : {});
+    // The practice's panel small, low and to the left, leaving the scene in view.
+    panel.place(head, practice ? { distance: 1.2, drop: 0.35, side: -0.35, scale: 0.55 } : {});
     state.placed = true;
   }
   panel.show(boxes);

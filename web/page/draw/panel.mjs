@@ -67,9 +67,10 @@ export class Panel {
 
   /**
    * Places the panel `distance` metres in front of `head` ({ position: [x, y, z], rotation:
-   * [x, y, z, w] }, the simulation's frame), `drop` below the eyes, facing it.
+   * [x, y, z, w] }, the simulation's frame), `drop` below the eyes and `side` to the right,
+   * facing it, drawn at `scale`.
    */
-  place(head, { distance = 1.1, drop = 0.1, side = 0 } = {}) {
+  place(head, { distance = 1.1, drop = 0.1, side = 0, scale = 1 } = {}) {
     const [x, y, z] = head.position;
     const q = new THREE.Quaternion(...head.rotation);
     const f = new THREE.Vector3(0, 0, -1).applyQuaternion(q);
@@ -80,6 +81,7 @@ export class Panel {
     this.group.position.set(x + f.x * distance + r.x * side, y - drop, z + f.z * distance + r.z * side);
     const eye = new THREE.Vector3(x + r.x * side, y - drop, z + r.z * side);
     this.group.lookAt(this.group.parent.localToWorld(eye));
+    this.group.scale.setScalar(scale);
     this.group.visible = true;
     this.group.updateMatrixWorld(true);
   }
@@ -200,7 +202,8 @@ export class Panel {
     const d = new THREE.Vector3(...dir).transformDirection(inv);
     if (Math.abs(d.z) < 1e-6) return null;
     const t = -o.z / d.z;
-    return t >= 0 && Math.abs(o.x + d.x * t) <= this.width / 2 && Math.abs(o.y + d.y * t) <= this.height / 2 ? t : null;
+    // In the panel's units; the parent's are `scale` times larger.
+    return t >= 0 && Math.abs(o.x + d.x * t) <= this.width / 2 && Math.abs(o.y + d.y * t) <= this.height / 2 ? t * this.group.scale.x : null;
   }
 
   /** The middle of button `id` in the parent's frame, [x, y, z] (for tests aiming at it), or null. */

@@ -150,9 +150,18 @@ test('the inline preview: the same panel, pressed with the mouse', async () => {
   await page.mouse.down();
   await frames(page, 2);
   await page.mouse.up();
-  await until(page, () => window.grove.state === 'practice');
+  await until(page, () => window.grove.state === 'practice' && window.grove.panel);
   assert.equal((await study(page)).step, 2);
-  assert.deepEqual(lines('P04').filter((l) => l.line === 'step').map((l) => l.block), ['instructions', 'practice']);
+  // The practice's small panel is in the preview's view too.
+  const end = await page.evaluate(() => window.grove.screenPoint(window.grove.panelPoint('end-practice')));
+  assert.ok(end.x > 0 && end.x < 480 && end.y > 0 && end.y < 360, `End practice in view: ${JSON.stringify(end)}`);
+  await page.mouse.move(end.x, end.y);
+  await until(page, () => window.grove.panel.hover === 'end-practice');
+  await page.mouse.down();
+  await frames(page, 2);
+  await page.mouse.up();
+  await until(page, () => window.grove.study.kind === 'task' && window.grove.state === 'step');
+  assert.deepEqual(lines('P04').filter((l) => l.line === 'step').map((l) => l.block), ['instructions', 'practice', 'tasks']);
   assert.deepEqual(h.errors, []);
   await page.close();
 });
