@@ -79,6 +79,17 @@ export function buttonRows(options) {
 }
 
 /**
+ * The panel's lines of buttons for `row`: [[{ k, label, on }]], `k` the option's index, `on`
+ * whether it is chosen. Numbers side by side (two rows for a long scale); words one per line
+ * when there are more than two of them.
+ */
+export function optionLines(row, choices) {
+  const words = row.options.length > 2 && !row.typed && row.options.some((o) => String(o.label).length > 3);
+  const lines = words ? row.options.map((o) => [o]) : buttonRows(row.options);
+  return lines.map((line) => line.map((o) => ({ k: row.options.indexOf(o), label: o.label, on: isChosen(choices, row, o.value) })));
+}
+
+/**
  * The participant's choices so far: `{ [item]: value }` (a list for Multiple, LATER or SKIP for
  * free text). Returns new choices with `value` chosen for `row`: a multiple-choice option is
  * toggled, anything else replaces the earlier choice.

@@ -5,7 +5,7 @@
 // instructions with a Continue button, a questionnaire one item at a time (form.mjs), the
 // task's start, the end. Practice and tasks are the page's runs (main.mjs).
 
-import { build, choicesFrom, choose, missingMessage, rowOf, titleOf, typedAnswers } from './form.mjs';
+import { build, choicesFrom, choose, missingMessage, optionLines, rowOf, titleOf, typedAnswers } from './form.mjs';
 import { itemLayout, textLayout } from './draw/questionnaire.mjs';
 
 /** The server's protocol routes, with the token the page's URL carries. */
@@ -135,7 +135,7 @@ export class Study {
       return textLayout(size, { title: `Task: ${st.task}`, text: taskText, message, buttons: [{ id: 'start-task', label: 'Start' }] });
     }
     const { rows, choices, index } = this.q;
-    return itemLayout(size, { title: titleOf(st), index, count: rows.length, row: rows[index], choices, message });
+    return itemLayout(size, { title: titleOf(st), index, count: rows.length, row: rows[index], lines: optionLines(rows[index], choices), message });
   }
 
   #save() {

@@ -1,9 +1,8 @@
 // The layouts of the protocol's panel (draw/panel.mjs): a questionnaire one item at a time (the
 // instrument's title, the question, its answers as rows of buttons with the anchors at the
 // ends, Back / Next, Send on the last; a message line for what stops the sending), and the
-// other steps as text with their buttons. The logic of the items is form.mjs's.
-
-import { buttonRows, isChosen } from '../form.mjs';
+// other steps as text with their buttons. The logic of the items is form.mjs's, which hands
+// these layouts their lines of buttons.
 
 const M = 36; // margin, px
 const GAP = 10;
@@ -23,10 +22,11 @@ function footer(w, h, buttons) {
 }
 
 /**
- * One item of a questionnaire: `{ title, index, count, row, choices, message }` (row: form.mjs's
- * rowOf; choices: the participant's so far). Size `{ w, h }` in pixels.
+ * One item of a questionnaire: `{ title, index, count, row, lines, message }` (row: form.mjs's
+ * rowOf; lines: its optionLines, the buttons with the participant's choices). Size `{ w, h }`
+ * in pixels.
  */
-export function itemLayout({ w, h }, { title, index, count, row, choices, message }) {
+export function itemLayout({ w, h }, { title, index, count, row, lines, message }) {
   const boxes = [
     { type: 'text', text: title, x: M, y: M, w: w - 2 * M - 180, size: 32, bold: true },
     { type: 'text', text: `${index + 1} / ${count}`, x: w - M - 180, y: M, w: 180, size: 28, align: 'right', color: '#b9c8bc' },
@@ -37,17 +37,10 @@ export function itemLayout({ w, h }, { title, index, count, row, choices, messag
     boxes.push({ type: 'text', text: 'You will type this answer on the page after you take the headset off.', x: M, y, w: w - 2 * M, size: 28, color: '#f5d58a' });
     y += 90;
   }
-  const rows = buttonRows(row.options);
-  const long = row.options.some((o) => String(o.label).length > 3);
-  // Numbers side by side; words one per row when they do not fit side by side.
-  const lines = long && !row.typed && row.options.length > 2 ? row.options.map((o) => [o]) : rows;
   const bh = lines.length > 4 ? Math.max(38, Math.floor((h - y - 230) / lines.length) - GAP) : 60;
   for (const line of lines) {
     const bw = (w - 2 * M - GAP * (line.length - 1)) / line.length;
-    line.forEach((o, i) => {
-      const k = row.options.indexOf(o);
-      boxes.push({ type: 'button', id: optionId(k), label: o.label, x: M + i * (bw + GAP), y, w: bw, h: bh, on: isChosen(choices, row, o.value) });
-    });
+    line.forEach((o, i) => boxes.push({ type: 'button', id: optionId(o.k), label: o.label, x: M + i * (bw + GAP), y, w: bw, h: bh, on: o.on }));
     y += bh + GAP;
   }
   if (row.anchors) {

@@ -5,7 +5,7 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { LATER, SKIP, build, buttonRows, choicesFrom, choose, isChosen, kindOf, missingMessage, rowOf, titleOf, typedAnswers } from '../form.mjs';
+import { LATER, SKIP, build, buttonRows, choicesFrom, choose, isChosen, kindOf, missingMessage, optionLines, rowOf, titleOf, typedAnswers } from '../form.mjs';
 
 // The items of assets/protocols/tree-planting.ron as GET /api/protocol/participants/ID lists them.
 const items = [
@@ -97,4 +97,18 @@ test('every item kind of the shipped protocols has its buttons', () => {
   assert.deepEqual(kinds, ['Rating', 'Scale', 'Likert', 'Single', 'Multiple', 'Text', 'YesNo']);
   const args = { Rating: {}, Scale: { min: 1, max: 3 }, Likert: { points: 3 }, Single: { choices: ['a'] }, Multiple: { choices: ['a'] }, Text: {}, YesNo: null };
   for (const k of kinds) assert.ok(rowOf({ id: k, text: k, kind: args[k] === null ? k : { [k]: args[k] } }), k);
+});
+
+test("the panel's lines: numbers side by side, more than two words one per line, the chosen ones on", () => {
+  const c = choose(choose({}, rows[0], 7), rows[1], 'Bounding box');
+  const rating = optionLines(rows[0], c);
+  assert.equal(rating.length, 1);
+  assert.deepEqual(rating[0].filter((b) => b.on).map((b) => [b.k, b.label]), [[7, '7']]);
+  const multi = optionLines(rows[1], c);
+  assert.deepEqual(multi.map((l) => l.map((b) => [b.k, b.on])), [[[0, false]], [[1, false]], [[2, true]], [[3, false]]]);
+  assert.deepEqual(optionLines(rows[3], {}).map((l) => l.map((b) => b.label)), [['Yes', 'No']]);
+  assert.deepEqual(optionLines(rows[2], { uses: LATER }).map((l) => l.map((b) => [b.label, b.on])), [[['Type it on the page', true], ['Skip it', false]]]);
+  const tlx = rowOf({ id: 'mental', text: 'M', kind: { Scale: { min: 0, max: 100, step: 5 } } });
+  assert.deepEqual(optionLines(tlx, { mental: 100 }).map((l) => l.length), [11, 10]);
+  assert.deepEqual(optionLines(tlx, { mental: 100 })[1].at(-1), { k: 20, label: '100', on: true });
 });

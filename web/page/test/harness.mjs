@@ -96,8 +96,11 @@ export function until(page, fn, arg, timeout = 60000) {
   return page.waitForFunction(fn, arg, { timeout, polling: 'raf' });
 }
 
-/** Waits until the simulation has run `n` more ticks, or the task has ended (no more ticks). */
+/**
+ * Waits until the simulation has run `n` more ticks, or the task has ended (no more ticks; a
+ * protocol's page may already be at its next step).
+ */
 export async function ticks(page, n) {
   const start = await page.evaluate(() => window.grove.snapshot?.tick ?? 0);
-  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error'].includes(window.grove.state), start + n);
+  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error', 'step'].includes(window.grove.state), start + n);
 }
