@@ -30,14 +30,16 @@ export function itemLayout({ w, h }, { title, index, count, row, lines, message 
   const boxes = [
     { type: 'text', text: title, x: M, y: M, w: w - 2 * M - 180, size: 32, bold: true },
     { type: 'text', text: `${index + 1} / ${count}`, x: w - M - 180, y: M, w: 180, size: 28, align: 'right', color: '#b9c8bc' },
-    { type: 'text', text: row.text + (row.required ? '' : ' (optional)'), x: M, y: M + 64, w: w - 2 * M, size: 34 },
+    { type: 'text', text: row.text + (row.multi ? ' (choose any, or none)' : '') + (row.required ? '' : ' (optional)'), x: M, y: M + 64, w: w - 2 * M, size: 34 },
   ];
   let y = M + 200;
   if (row.typed) {
     boxes.push({ type: 'text', text: 'You will type this answer on the page after you take the headset off.', x: M, y, w: w - 2 * M, size: 28, color: '#f5d58a' });
     y += 90;
   }
-  const bh = lines.length > 4 ? Math.max(38, Math.floor((h - y - 230) / lines.length) - GAP) : 60;
+  // The buttons' height: what is left above the anchors, the message and the footer, at most 60 px.
+  const room = h - M - 64 - y - (row.anchors ? 44 : 0) - (message ? 56 : 12);
+  const bh = Math.max(30, Math.min(60, Math.floor(room / Math.max(1, lines.length)) - GAP));
   for (const line of lines) {
     const bw = (w - 2 * M - GAP * (line.length - 1)) / line.length;
     line.forEach((o, i) => boxes.push({ type: 'button', id: optionId(o.k), label: o.label, x: M + i * (bw + GAP), y, w: bw, h: bh, on: o.on }));
@@ -47,8 +49,7 @@ export function itemLayout({ w, h }, { title, index, count, row, lines, message 
     boxes.push({ type: 'text', text: row.anchors[0], x: M, y: y + 4, w: (w - 2 * M) / 2, size: 26, color: '#b9c8bc' });
     boxes.push({ type: 'text', text: row.anchors[1], x: w / 2, y: y + 4, w: (w - 2 * M) / 2, size: 26, color: '#b9c8bc', align: 'right' });
   }
-  if (row.multi) boxes.push({ type: 'text', text: 'Choose any (or none).', x: M, y: y + 4, w: w - 2 * M, size: 26, color: '#b9c8bc' });
-  if (message) boxes.push({ type: 'text', text: message, x: M, y: h - M - 64 - 80, w: w - 2 * M, size: 28, color: '#ff9d85' });
+  if (message) boxes.push({ type: 'text', text: message, x: M, y: h - M - 64 - 48, w: w - 2 * M, size: 28, color: '#ff9d85' });
   const foot = [];
   if (index > 0) foot.push({ id: 'back', label: 'Back', left: true });
   foot.push(index < count - 1 ? { id: 'next', label: 'Next' } : { id: 'send', label: 'Send', on: true });
