@@ -263,8 +263,14 @@ function startPractice(st) {
   setState('practice');
 }
 
+/** Ends the practice's run (it records nothing). */
+function dropPractice() {
+  run?.sim.free();
+  run = null;
+}
+
 async function endPractice() {
-  [run] = [null, run?.sim.free()];
+  dropPractice();
   await study.next();
   showStep();
 }
@@ -311,7 +317,7 @@ async function press(id, frame) {
 
 /** The immersive session ended: the typed answers' form, or the buttons to enter again. */
 function studyPaused() {
-  if (page.state === 'practice') [run] = [null, run?.sim.free()];
+  if (page.state === 'practice') dropPractice();
   panel.hide();
   if (study.typing) return showTyped();
   studyButtons('The headset\'s session ended: enter again to go on.');
