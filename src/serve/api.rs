@@ -77,7 +77,9 @@ fn public(e: &Entry) -> serde_json::Value {
 }
 
 fn status(state: &Arc<State>) -> Response<Body> {
-    json(200, &json!({ "server": "grove serve", "version": env!("CARGO_PKG_VERSION"), "open_sessions": state.registry.open_sessions().len(), "tls": state.tls }))
+    // `protocol`: the name of the protocol the server runs (the headset page then follows it), or null.
+    let protocol = state.participants.as_ref().map(|p| p.loaded.protocol.name.clone());
+    json(200, &json!({ "server": "grove serve", "version": env!("CARGO_PKG_VERSION"), "open_sessions": state.registry.open_sessions().len(), "tls": state.tls, "protocol": protocol }))
 }
 
 /// Reads a whole small body within the read timeout.

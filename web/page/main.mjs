@@ -3,8 +3,10 @@
 // mouse; the simulation in the WebAssembly module, drawn with three.js; the recording streamed
 // to `grove serve` through its client library.
 //
-// The page is a small state machine, so that blocks other than a task can be added:
+// The page is a small state machine:
 //   connecting -> instructions -> (starting) -> task -> done     (or error)
+// and, when the server runs a protocol (study.mjs), the participant's steps:
+//   connecting -> instructions -> step (a panel) | practice | task -> … -> step (the end)
 // `window.grove` is its state for the people running a session and for the tests.
 
 import * as THREE from 'three';
@@ -20,7 +22,10 @@ import { Overlay } from './draw/overlay.mjs';
 import { Menu } from './draw/menu.mjs';
 import { Hud } from './draw/hud.mjs';
 import { Controllers } from './draw/controllers.mjs';
-import { controlsFor, hudLines, nextTarget } from './text.mjs';
+import { Panel } from './draw/panel.mjs';
+import { controlsFor, hudLines, nextTarget, taskText } from './text.mjs';
+import { Study, StudyApi } from './study.mjs';
+import { button, loadImage, panelFrame, poseArrays, rememberParticipant, studyView, typedForm } from './steps.mjs';
 
 const params = new URLSearchParams(location.search);
 const $ = (id) => document.getElementById(id);
@@ -76,7 +81,7 @@ const page = {
   },
   profiles: () => controllers?.profiles() ?? [],
 };
-window.grove = page;
+window.grove = Object.defineProperties(page, studyView(() => study, () => panel));
 
 const recorder = new Recorder(location.href);
 let grove = null;
@@ -95,6 +100,11 @@ let controllers = null;
 let mouse = null;
 let xr = null; // { session, base, space, finder, mapper, ar }
 let menuRay = null; // [origin, dir] of this frame's controller
+let study = null; // the participant's way through the server's protocol, if it runs one
+let panel; // the protocol's panel
+let modes = null;
+let home = null; // the study scene's head and field of view (the inline preview between runs)
+const steps = { placed: false, down: false, busy: false, image: null, until: null };
 
 function setState(state, message = '') {
   page.state = state;
@@ -131,6 +141,7 @@ function setupRenderer() {
   menu = new Menu(simRoot);
   hud = new Hud(simRoot);
   hud.label.mesh.visible = false;
+  panel = new Panel(simRoot);
   window.addEventListener('resize', () => {
     if (renderer.xr.isPresenting) return;
     renderer.setSize(window.innerWidth, window.innerHeight, false);
@@ -152,14 +163,18 @@ async function main() {
   grove = await loadGrove(new URL('grove_sim.wasm', document.baseURI));
   const probe = grove.createSim({ scene: 'study' });
   const catalogue = probe.snapshot().menu.models;
+  home = { head: probe.snapshot().head, fov_y: probe.snapshot().fov_y };
   models = new Models(new URL('models/shipped/', document.baseURI).href);
-  const [modes] = await Promise.all([offeredModes(), models.load(catalogue).catch(() => {})]);
+  const api = new StudyApi(location.href);
+  const [offered, , protocol] = await Promise.all([offeredModes(), models.load(catalogue).catch(() => {}), api.protocol()]);
+  modes = offered;
   showWorld(probe, false);
   world.update(probe.snapshot());
   probe.free();
   if (stored && (page.participant && stored.participant !== page.participant)) stored = null;
   if (stored && params.get('task') && stored.task !== page.task) stored = null;
-  instructions(modes);
+  if (protocol) await studyIntro(api, protocol);
+  else instructions(modes);
   renderer.setAnimationLoop(loop);
 }
 
@@ -176,11 +191,13 @@ function instructions(modes) {
   who.hidden = Boolean(resume || params.get('participant'));
   $('participant').value = page.participant;
   $('task').value = page.task;
-  $('instructions').textContent =
-    modeOfTask(page.task) === 'manual'
-      ? 'Open the menu and choose the model each orange ring asks for; it appears in front of you. Drag it with the trigger onto its ring: the ball under it turns white when letting go will snap it to the ground.'
-      : 'Open the menu and choose the model each orange ring asks for, then point at the ring and press the trigger to plant it there.';
+  $('instructions').textContent = taskText(page.task);
   renderControls(false);
+  enterButtons(resume ? 'Continue' : 'Start');
+}
+
+/** The buttons that enter each mode the browser offers. */
+function enterButtons(verb) {
   const buttons = $('buttons');
   buttons.replaceChildren();
   const add = (label, mode) => {
@@ -190,10 +207,134 @@ function instructions(modes) {
     b.addEventListener('click', () => enter(mode).catch(fail));
     buttons.append(b);
   };
-  const verb = resume ? 'Continue' : 'Start';
   if (modes.ar) add(`${verb} in AR`, 'ar');
   if (modes.vr) add(`${verb} in VR`, 'vr');
   add(`${verb} the preview (mouse)`, 'inline');
+}
+
+/** A protocol's participant: named in the URL, else joined by the Start button; then the enter buttons. */
+async function studyIntro(api, protocol) {
+  setState('instructions');
+  $('who').hidden = true;
+  $('controls').replaceChildren();
+  const join = async (id) => {
+    study = new Study(api, protocol, await api.join(id));
+    page.participant = study.participant;
+    if (!id) rememberParticipant(page.participant);
+    if (stored && stored.participant !== page.participant) stored = null;
+    studyButtons();
+  };
+  if (page.participant) return join(page.participant);
+  $('title').textContent = `Study: ${protocol.name}`;
+  $('instructions').textContent = 'Press Start when the researcher asks you to.';
+  $('buttons').replaceChildren(button('join', 'Start', () => join(null), fail));
+}
+
+function studyButtons(message = '') {
+  const s = study.summary();
+  $('panel').hidden = false;
+  $('title').textContent = `Participant ${s.participant}`;
+  $('instructions').textContent = s.kind === 'done' ? 'The session is over. Thank you.' : `Step ${s.step} of ${s.steps}: ${s.block}. Put the headset on and enter to go on.`;
+  enterButtons('Continue');
+  setState('instructions', message);
+}
+
+/** Shows the participant's step: a panel, the practice's free scene, or a task (a stored one continues). */
+function showStep() {
+  const st = study.current;
+  Object.assign(steps, { placed: false, image: null });
+  hud.label.mesh.visible = false;
+  menu.close();
+  $('panel').hidden = page.mode === 'inline'; // the mouse points at the panel in the scene
+  if (st?.kind === 'practice') return startPractice(st);
+  if (st?.kind === 'task') {
+    page.task = st.task;
+    if (stored && stored.participant === page.participant && stored.task === st.task) return startRun(null).catch(fail);
+  }
+  if (st?.kind === 'instructions' && st.image) steps.image = loadImage(st.image, () => (panel.key = null));
+  setState('step');
+}
+
+function startPractice(st) {
+  run = new TaskRun(grove.createSim({ scene: st.scene ?? 'study' }), null);
+  showWorld(run.sim, Boolean(xr?.ar));
+  steps.until = st.seconds ? performance.now() + st.seconds * 1000 : null;
+  hud.label.mesh.visible = Boolean(xr);
+  setState('practice');
+}
+
+/** Ends the practice's run (it records nothing). */
+function dropPractice() {
+  run?.sim.free();
+  run = null;
+}
+
+async function endPractice() {
+  dropPractice();
+  await study.next();
+  showStep();
+}
+
+/** A frame of a step's panel: placed in front of the head, the ray's button highlighted, the trigger pressing it. */
+function stepFrame(frame) {
+  if (xr && !frame) return;
+  const source = xr ? primarySource(xr.session) : null;
+  let [head, ray, down] = [run?.snapshot.head ?? home.head, null, false];
+  if (xr) {
+    const viewer = inSim(frame.getViewerPose(xr.base)?.transform);
+    if (viewer) head = poseArrays(viewer);
+    const c = source ? inSim(frame.getPose(source.targetRaySpace, xr.base)?.transform) : null;
+    if (c) ray = [poseArrays(c).position, forward(c.orientation)];
+    down = Boolean(source?.gamepad?.buttons?.[0]?.pressed);
+    controllers ??= new Controllers(scene);
+  } else if (mouse) {
+    if (!run) placeInlineCamera(home);
+    const p = mouse.pose(camera, THREE);
+    ray = [poseArrays(p).position, forward(p.orientation)];
+    down = mouse.buttons.trigger;
+  }
+  const practice = page.state === 'practice';
+  const seconds = steps.until === null ? null : (steps.until - performance.now()) / 1000;
+  const boxes = study.layout(panel.size, { image: steps.image, seconds, taskText: taskText(study.current?.task) });
+  const pressed = panelFrame(panel, steps, { head, ray, down, boxes, practice });
+  if (pressed && !steps.busy) press(pressed, frame);
+  if (practice && seconds !== null && seconds <= 0 && !steps.busy) press('end-practice', frame);
+}
+
+async function press(id, frame) {
+  steps.busy = true;
+  try {
+    if (id === 'start-task' || id === 'end-practice') return await (id === 'start-task' ? startRun(frame) : endPractice());
+    const r = await study.press(id);
+    if (r === 'step' || (r === 'typing' && !xr)) (r === 'step' ? showStep : showTyped)();
+    else if (r === 'leave') await xr?.session.end();
+  } catch (e) {
+    fail(e);
+  } finally {
+    steps.busy = false;
+  }
+}
+
+/** The immersive session ended: the typed answers' form, or the buttons to enter again. */
+function studyPaused() {
+  if (page.state === 'practice') dropPractice();
+  panel.hide();
+  if (study.typing) return showTyped();
+  studyButtons('The headset\'s session ended: enter again to go on.');
+}
+
+/** The page's small form for the answers typed once the headset is off. */
+function showTyped() {
+  setState('typing');
+  $('panel').hidden = false;
+  [$('buttons'), $('controls')].forEach((e) => e.replaceChildren());
+  $('title').textContent = 'Please type these answers';
+  const send = async (texts) => {
+    if ((await study.sendTyped(texts)) !== 'step') throw new Error(study.message);
+    if (xr || page.mode === 'inline') showStep();
+    else studyButtons();
+  };
+  typedForm($('instructions'), study.typing, send, (m) => ($('message').textContent = m));
 }
 
 function renderControls(noSqueeze) {
@@ -219,12 +360,13 @@ function readWho() {
 
 /** Enters a mode: the inline preview starts at once, an immersive session waits for the trigger. */
 async function enter(mode) {
-  readWho();
+  if (!study) readWho();
   page.mode = mode;
   $('buttons').replaceChildren();
   if (mode === 'inline') {
     mouse = new MouseInput($('canvas'));
     renderControls(false);
+    if (study) return showStep();
     await startRun(null);
     return;
   }
@@ -240,9 +382,11 @@ async function enter(mode) {
   }
   session.addEventListener('end', () => {
     xr = null;
+    if (study) return studyPaused();
     if (page.state === 'task' || page.state === 'instructions') setState('instructions', 'The immersive session ended; the recording stays open: start again to continue it.');
   });
   hud.label.mesh.visible = true;
+  if (study) return showStep();
   setState('instructions', 'Press the trigger to start.');
   if (stored) await startRun(null);
 }
@@ -296,6 +440,8 @@ async function startRun(frame) {
   showWorld(run.sim, Boolean(xr?.ar));
   world.update(run.snapshot);
   $('panel').hidden = page.mode !== 'inline' ? false : true;
+  hud.label.mesh.visible = Boolean(xr);
+  panel.hide();
   setState('task');
 }
 
@@ -305,6 +451,10 @@ async function finishRun() {
     const result = await run.finish();
     page.verification = result?.verification ?? null;
     setState('done', `Saved ${page.file}: ${page.verification?.status ?? 'sent'}.`);
+    if (study) {
+      await study.next();
+      return showStep();
+    }
     $('panel').hidden = false;
     $('title').textContent = 'Thank you: the task is done.';
   } catch (e) {
@@ -398,19 +548,24 @@ function loop(time, frame) {
     const f = xr.finder?.found;
     hud.set(['grove: ' + page.task, f ? `floor: ${f.source}` : 'VR: the study scene', '!Press the trigger to start', `server: ${recorder.state}`]);
   }
-  if (run && page.state === 'task') {
+  if (study && (page.state === 'step' || page.state === 'practice')) stepFrame(frame);
+  if (run && (page.state === 'task' || page.state === 'practice')) {
     if (!xr) placeInlineCamera(run.snapshot);
     const input = xr ? (frame ? xrInput(frame) : null) : mouseInput();
     if (input) {
       input.frame = page.frames;
       input.menuPick = () => (menuRay ? menu.itemAt(menuRay[0], menuRay[1]) : -1);
+      // In practice the trigger presses the panel's button when the ray is on the panel.
+      if (page.state === 'practice' && menuRay && panel.meets(menuRay[0], menuRay[1])) input.buttons.trigger = run.buttons.trigger;
       run.frame(time, input);
     }
-    if (run.snapshot.task?.done) finishRun();
+    if (page.state === 'task' && run.snapshot.task?.done) finishRun();
   }
   const snap = run?.snapshot;
   const t1 = performance.now();
-  if (snap) draw(snap, frame);
+  overlay.root.visible = page.state !== 'step' && page.state !== 'typing'; // the ray, box and targets of a run
+  if (snap && page.state !== 'step') draw(snap, frame);
+  else if (snap) world?.update(snap);
   if (run?.timing && page.state === 'task') {
     page.perf.push({ ...run.timing, update: performance.now() - t1 });
     if (page.perf.length > 2000) page.perf.shift();

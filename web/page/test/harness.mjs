@@ -34,13 +34,13 @@ export async function prepare() {
 }
 
 /**
- * A server and a browser: resolves to { server, browser, open(query, { xr, room }), requests,
+ * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room }), requests,
  * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
  * server's URL with `query`, the emulator installed when `xr` is set.
  */
-export async function start() {
+export async function start(serve = []) {
   const script = await prepare();
-  const server = await startServer();
+  const server = await startServer(serve);
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
     args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist'],
@@ -96,8 +96,11 @@ export function until(page, fn, arg, timeout = 60000) {
   return page.waitForFunction(fn, arg, { timeout, polling: 'raf' });
 }
 
-/** Waits until the simulation has run `n` more ticks, or the task has ended (no more ticks). */
+/**
+ * Waits until the simulation has run `n` more ticks, or the task has ended (no more ticks; a
+ * protocol's page may already be at its next step).
+ */
 export async function ticks(page, n) {
   const start = await page.evaluate(() => window.grove.snapshot?.tick ?? 0);
-  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error'].includes(window.grove.state), start + n);
+  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error', 'step'].includes(window.grove.state), start + n);
 }

@@ -3,13 +3,24 @@
 
 import assert from 'node:assert/strict';
 import { lookRotation } from '../input.mjs';
+import { openSession } from '../../client/grove-client.mjs';
+import { studyLines } from '../../client/test/helpers.mjs';
 import { ticks, until } from './harness.mjs';
 
 /** Where the controller is held, relative to the head, metres (local-floor). */
 const HAND = { x: 0.15, y: -0.3, z: -0.25 };
 
-/** Points the controller, held at `hand` from the head, at `simPoint` ([x, y, z] in the simulation's frame). */
-export async function aimAt(page, simPoint, hand = HAND) {
+/** Waits until the page has drawn `n` more frames (whether a simulation runs or not). */
+export async function frames(page, n) {
+  const start = await page.evaluate(() => window.grove.frames);
+  await until(page, (t) => window.grove.frames >= t, start + n);
+}
+
+/**
+ * Points the controller, held at `hand` from the head, at `simPoint` ([x, y, z] in the
+ * simulation's frame); `wait` lets the page see it (three ticks of the task by default).
+ */
+export async function aimAt(page, simPoint, hand = HAND, wait = (page) => ticks(page, 3)) {
   await page.evaluate(
     ({ p, hand }) => {
       const d = window.xrDevice;
@@ -25,7 +36,22 @@ export async function aimAt(page, simPoint, hand = HAND) {
   const n = Math.hypot(...dir);
   const q = lookRotation(dir.map((v) => v / n));
   await page.evaluate((q) => window.xrDevice.controllers.right.quaternion.set(q[0], q[1], q[2], q[3]), q);
-  await ticks(page, 3);
+  await wait(page);
+}
+
+/**
+ * Presses the protocol's panel button `id` (docs/protocol.md) as a participant does: aims the
+ * ray at it, checks that the panel highlights it, and pulls the trigger.
+ */
+export async function pressPanel(page, id) {
+  const point = await page.evaluate((id) => window.grove.panelPoint(id), id);
+  assert.ok(point, `the panel has a button ${id}: ${JSON.stringify(await page.evaluate(() => window.grove.panel))}`);
+  await aimAt(page, point, HAND, (page) => frames(page, 3));
+  await until(page, (id) => window.grove.panel?.hover === id, id, 10000);
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await frames(page, 3);
+  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await frames(page, 3);
 }
 
 /** Presses and releases an IWER button ('trigger', 'squeeze', 'b-button', …), a few ticks each. */
@@ -134,4 +160,41 @@ export async function release(page) {
   await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
   await ticks(page, 3);
   return page.evaluate(() => window.grove.snapshot);
+}
+
+/** A protocol's participant enters immersive-vr; their step shows at once (a panel, the practice or a task). */
+export async function enterStudy(page) {
+  await page.click('#enter-vr');
+  await until(page, () => ['step', 'practice', 'task', 'error'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
+  assert.equal(await page.evaluate(() => window.grove.error), null);
+  await until(page, () => window.grove.state !== 'step' || window.grove.panel);
+}
+
+/**
+ * Brings participant `p` of tree-planting.ron to its seven questions through the server's routes
+ * (at `url`): the steps before them passed, each task's session pushed from the study's
+ * recording of `p`, each NASA-TLX answered. Resolves to the participant's state.
+ */
+export async function toTheQuestions(url, p) {
+  const api = async (method, path, body) => {
+    const r = await fetch(new URL(path, url), { method, headers: { 'content-type': 'application/json' }, body: body === undefined ? undefined : JSON.stringify(body) });
+    const v = await r.json();
+    assert.ok(r.ok, `${method} ${path}: ${r.status} ${JSON.stringify(v)}`);
+    return v;
+  };
+  const tlx = { mental: 25, physical: 30, temporal: 20, performance: 10, effort: 35, frustration: 5 };
+  let s = await api('POST', '/api/protocol/participants', { participant: p });
+  for (;;) {
+    const st = s.steps[s.step - 1];
+    if (st.kind === 'questionnaire' && st.instrument.id === 'tree-planting') return s;
+    if (st.kind === 'task') {
+      const rec = studyLines(`${p}-${st.task}.jsonl`);
+      const session = await openSession(url, { header: rec[0] });
+      for (const l of rec.slice(1)) session.append(l);
+      await session.flush();
+      await session.end();
+    }
+    if (st.kind === 'questionnaire') await api('POST', `/api/protocol/participants/${p}/answers`, { step: s.step, answers: tlx });
+    s = await api('POST', `/api/protocol/participants/${p}/next`, { from: s.step });
+  }
 }
