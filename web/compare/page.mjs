@@ -211,9 +211,7 @@ function render(handle, view, width, height, mode = 'beauty') {
     r.render(s, cam);
     restore();
     s.remove(tree);
-    const gl = r.getContext();
-    const px = new Uint8Array(width * height * 4);
-    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    const px = pixels(r, width, height);
     let top = -1, bottom = -1, left = width, right = -1, count = 0;
     for (let y = 0; y < height; y++) {
       const row = height - 1 - y; // readPixels starts at the bottom row
@@ -236,6 +234,34 @@ function render(handle, view, width, height, mode = 'beauty') {
   r.render(s, cam);
   s.remove(tree);
   return r.domElement.toDataURL('image/png');
+}
+
+function pixels(r, width, height) {
+  const gl = r.getContext();
+  const px = new Uint8Array(width * height * 4);
+  gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, px);
+  return px;
+}
+
+/**
+ * The tree's pixels in the drawn frame (its silhouette found with `render`'s mask): their mean
+ * sRGB colour and luma (0–255), and the share of them darker than luma 25 (near black).
+ */
+function colours(handle, view, width, height) {
+  render(handle, view, width, height, 'mask');
+  const mask = pixels(renderer, width, height);
+  render(handle, view, width, height);
+  const px = pixels(renderer, width, height);
+  let n = 0, dark = 0;
+  const sum = [0, 0, 0];
+  for (let i = 0; i < mask.length; i += 4) {
+    if (mask[i] <= 127) continue;
+    n++;
+    for (let c = 0; c < 3; c++) sum[c] += px[i + c];
+    if (0.2126 * px[i] + 0.7152 * px[i + 1] + 0.0722 * px[i + 2] < 25) dark++;
+  }
+  const mean = sum.map((v) => v / Math.max(n, 1));
+  return { pixels: n, mean, luma: 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2], dark: dark / Math.max(n, 1) };
 }
 
 /**
@@ -273,4 +299,4 @@ async function grid(cells, columns, rows, w, h, title) {
   return c.toDataURL('image/png');
 }
 
-window.compare = { THREE, trees, groveTree, ezTree, stand, fitDistance, render, grid, ready: true };
+window.compare = { THREE, trees, groveTree, ezTree, stand, fitDistance, render, colours, grid, ready: true };

@@ -58,7 +58,12 @@ try {
     const right = await session.call('render', 'ez', view, w, h);
     cells.push([left, right]);
     rows.push([pair.label[0], `beside ${pair.ez}`, `${height.toFixed(1)} m tall`, `camera ${view.distance.toFixed(1)} m away`, `grove ${Math.round(grove.triangles / 1000)}k triangles`, `ez-tree ${Math.round(ez.triangles / 1000)}k`]);
-    console.log(`${pair.grove} / ${pair.ez}: ${height.toFixed(2)} m, camera at ${view.distance.toFixed(2)} m, ${grove.triangles} and ${ez.triangles} triangles, ${((Date.now() - t0) / 1000).toFixed(1)} s`);
+    const tone = [];
+    for (const handle of ['grove', 'ez']) {
+      const c = await session.call('colours', handle, view, w, h);
+      tone.push(`${handle} ${c.pixels} px, mean sRGB (${c.mean.map((v) => v.toFixed(0)).join(', ')}), luma ${c.luma.toFixed(1)}, ${(c.dark * 100).toFixed(1)} % near black`);
+    }
+    console.log(`${pair.grove} / ${pair.ez}: ${height.toFixed(2)} m, camera at ${view.distance.toFixed(2)} m, ${grove.triangles} and ${ez.triangles} triangles, ${((Date.now() - t0) / 1000).toFixed(1)} s; the trees' pixels: ${tone.join('; ')}`);
   }
   const title = `grove (left) and ez-tree 1.1.0 (right), each pair at the grove tree's height; camera at ${EYE} m, ${FOV}° field of view, looking at ${TARGET * 100} % of the height`;
   const url = await session.call('grid', cells, ['grove', 'ez-tree'], rows, w, h, title);
