@@ -116,7 +116,7 @@ export async function open({ width = 480, height = 400 } = {}) {
       await browser.close();
       rmSync(trees, { recursive: true, force: true });
     };
-    return { call, page, trees, errors, foreign, close };
+    return { call, trees, errors, foreign, close };
   } catch (e) {
     await browser.close();
     rmSync(trees, { recursive: true, force: true });

@@ -299,4 +299,4 @@ async function grid(cells, columns, rows, w, h, title) {
   return c.toDataURL('image/png');
 }
 
-window.compare = { THREE, trees, groveTree, ezTree, stand, fitDistance, render, colours, grid, ready: true };
+window.compare = { groveTree, ezTree, stand, fitDistance, render, colours, grid, ready: true };
