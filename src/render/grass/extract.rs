@@ -29,8 +29,9 @@ pub(crate) struct Patches {
 
 /// Copies the grass patches from `sim` when the world's key differs from `have` (the key
 /// of the grass buffers the renderer already has): each patch's ground triangles and its
-/// blades, placed by the simulation's pure placement function.
-pub(crate) fn patches(sim: &Sim, have: &GrassKey) -> Patches {
+/// blades, placed by the simulation's pure placement function (a blade lawn's faded along its
+/// edge when `fade`).
+pub(crate) fn patches(sim: &Sim, have: &GrassKey, fade: bool) -> Patches {
     let hit = Some(sim.hit_marker()).filter(|h| h.visible).map(|h| h.position);
     let patches = sim.grass_patches();
     // Without patches the planes do not matter (and are not hashed every frame).
@@ -52,7 +53,9 @@ pub(crate) fn patches(sim: &Sim, have: &GrassKey) -> Patches {
         let triangles = patch_triangles(g, &views);
         let mut blades = place_blades(g, &views);
         // A blade lawn fades into the ground along its edge (the simulation's blades are untouched).
-        edges::fade_blades(&triangles, &mut blades);
+        if fade {
+            edges::fade_blades(&triangles, &mut blades);
+        }
         GrassPatch {
             shells,
             triangles: if shells { triangles } else { Vec::new() },
