@@ -64,6 +64,10 @@ pub struct RenderOptions {
     /// over [`crate::render::trees::impostor::BAND`], in the shadow map too. Off, each level
     /// gives way to the next at once (for showing the pop the cross-fade removes).
     pub lod_cross_fade: bool,
+    /// Fade a blade lawn into the ground along its edge (`grass/edges.rs`): fewer and shorter
+    /// blades towards the edge. Off, the blades stand as the simulation places them, up to a hard
+    /// edge (for comparing with images drawn before the fade). Read when the grass is built.
+    pub blade_edge_fade: bool,
     /// Draw the photographed crowns as canopy layers (with aerial photographs set by
     /// [`crate::render::AerialPhotos::set`]); off, or without layer masks, they are drawn as tree models.
     pub canopy: bool,
@@ -81,7 +85,7 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, lod_cross_fade: true, canopy: true, top_view: None, camera: None, cull_trees: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, lod_cross_fade: true, blade_edge_fade: true, canopy: true, top_view: None, camera: None, cull_trees: true }
     }
 }
 

@@ -78,6 +78,10 @@ pub struct RenderArgs {
     /// Leave out the scene's grass patches (shells and blades).
     #[arg(long)]
     pub no_grass: bool,
+    /// Draw a blade lawn up to a hard edge, without its fade into the ground (for comparing with
+    /// images drawn before the fade).
+    #[arg(long)]
+    pub no_blade_fade: bool,
     /// The interaction visuals (the controller's ray, hit marker, selection, targets): `none` or
     /// `interaction`. Default: `interaction` for --replay, `none` for --scene and --model.
     #[arg(long, value_enum)]
@@ -128,11 +132,11 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
     write_via_temp(out, |tmp| Ok(offscreen::save_png(&img, tmp)?))
 }
 
-/// The renderer's options from the arguments: `--no-shadows`, `--no-water`, `--no-grass` and
-/// `--overlay` are applied here and nowhere else.
+/// The renderer's options from the arguments: `--no-shadows`, `--no-water`, `--no-grass`,
+/// `--no-blade-fade` and `--overlay` are applied here and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
     let overlay = args.overlay.unwrap_or(if args.replay.is_some() { Overlay::Interaction } else { Overlay::None });
-    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, canopy: !args.no_canopy, ..Default::default() }
+    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, blade_edge_fade: !args.no_blade_fade, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, canopy: !args.no_canopy, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds

@@ -1,6 +1,7 @@
 //! The grass's extract: the patches' key, and the patches with their ground triangles and
 //! blades (placed by the simulation's pure placement function) when the key differs from the
-//! one the grass was built from; the controller's hit point, which the blades bend away from.
+//! one the grass was built from, a blade lawn's blades faded along its edge (`edges.rs`); the
+//! controller's hit point, which the blades bend away from.
 
 use glam::Vec3;
 use grove_systems::components::Grass;
@@ -8,6 +9,7 @@ use grove_systems::grass::{patch_triangles, place_blades, GrassKind};
 use grove_systems::Sim;
 
 use super::data::GrassPatch;
+use super::edges;
 
 /// Identifies the grass: every plane's hash (`grove_systems::hash::plane_hash`: its name,
 /// vertices and triangles) and every patch (entity bits and component), sorted by entity. The
@@ -27,8 +29,9 @@ pub(crate) struct Patches {
 
 /// Copies the grass patches from `sim` when the world's key differs from `have` (the key
 /// of the grass buffers the renderer already has): each patch's ground triangles and its
-/// blades, placed by the simulation's pure placement function.
-pub(crate) fn patches(sim: &Sim, have: &GrassKey) -> Patches {
+/// blades, placed by the simulation's pure placement function (a blade lawn's faded along its
+/// edge when `fade`).
+pub(crate) fn patches(sim: &Sim, have: &GrassKey, fade: bool) -> Patches {
     let hit = Some(sim.hit_marker()).filter(|h| h.visible).map(|h| h.position);
     let patches = sim.grass_patches();
     // Without patches the planes do not matter (and are not hashed every frame).
@@ -47,10 +50,16 @@ pub(crate) fn patches(sim: &Sim, have: &GrassKey) -> Patches {
     let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|p| (p.1.as_str(), p.2.as_slice(), p.3.as_slice())).collect();
     let out = key.1.iter().map(|(_, g)| {
         let shells = g.def.kind == GrassKind::Shells;
+        let triangles = patch_triangles(g, &views);
+        let mut blades = place_blades(g, &views);
+        // A blade lawn fades into the ground along its edge (the simulation's blades are untouched).
+        if fade {
+            edges::fade_blades(&triangles, &mut blades);
+        }
         GrassPatch {
             shells,
-            triangles: if shells { patch_triangles(g, &views) } else { Vec::new() },
-            blades: place_blades(g, &views),
+            triangles: if shells { triangles } else { Vec::new() },
+            blades,
             root: g.def.base_color,
             tip: g.def.tip_color,
             height: g.def.height,

@@ -443,7 +443,7 @@ impl Feature for Grass {
     type Extracted = Option<Patches>;
 
     fn extract(&self, sim: &grove_systems::Sim, cx: &ExtractContext<'_>) -> Option<Patches> {
-        cx.options.grass.then(|| extract::patches(sim, &self.key))
+        cx.options.grass.then(|| extract::patches(sim, &self.key, cx.options.blade_edge_fade))
     }
 
     fn prepare(&mut self, cx: &FrameContext<'_>, patches: Option<Patches>) -> Result<(), RenderError> {

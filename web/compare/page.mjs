@@ -1,0 +1,302 @@
+// The comparison page (bundled by web/compare/compare.mjs, never part of the headset page): one
+// three.js set-up (camera, sun and sky light, a ground plane, ACES tone mapping, the sun's shadow)
+// in which grove's trees (glTF written by `grove trees generate`) and ez-tree's presets are drawn
+// alike. The page only exposes functions on `window.compare`; node drives it (docs/species.md).
+
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { Tree } from '@dgreenheck/ez-tree';
+
+const SKY = new THREE.Color(0x9fc3e6);
+const GROUND = new THREE.Color(0x7a8048);
+/** The sun: 40° above the horizon, behind the camera and 30° to its left (the camera looks along -z). */
+const SUN_ELEVATION = 40;
+const SUN_AZIMUTH = -30;
+
+let renderer = null;
+
+function stage(width, height) {
+  if (!renderer) {
+    const canvas = document.createElement('canvas');
+    document.body.appendChild(canvas);
+    renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+    renderer.shadowMap.enabled = true;
+    renderer.shadowMap.type = THREE.PCFSoftShadowMap;
+  }
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height, false);
+  return renderer;
+}
+
+/** A tree's box, in its parent's frame, from its meshes' geometry (not their bounding spheres). */
+function box(object) {
+  object.updateMatrixWorld(true);
+  return new THREE.Box3().setFromObject(object, true);
+}
+
+/**
+ * Scales `object` uniformly to `height` metres and stands it on the ground with its box's middle
+ * over the origin; returns its box afterwards.
+ */
+function standAt(object, height) {
+  const b = box(object);
+  const s = height / (b.max.y - b.min.y);
+  object.scale.multiplyScalar(s);
+  const c = box(object);
+  object.position.x -= (c.min.x + c.max.x) / 2;
+  object.position.z -= (c.min.z + c.max.z) / 2;
+  object.position.y -= c.min.y;
+  return box(object);
+}
+
+const trees = new Map();
+
+/** Keeps `tree` as `handle`, freeing the GPU buffers of the tree it replaces. */
+function keep(handle, tree) {
+  trees.get(handle)?.traverse((o) => {
+    if (o.isMesh) o.geometry.dispose();
+  });
+  trees.set(handle, tree);
+}
+
+/** Loads one of grove's glTF trees from `url`; the handle names it for `render` and `stand`. */
+async function groveTree(handle, url) {
+  const gltf = await new GLTFLoader().loadAsync(url);
+  const tree = new THREE.Group();
+  tree.add(gltf.scene);
+  tree.traverse((o) => {
+    if (o.isMesh) {
+      o.castShadow = true;
+      o.receiveShadow = true;
+    }
+  });
+  keep(handle, tree);
+  return measure(tree);
+}
+
+/** Generates one of ez-tree's presets (by its name in TreePreset); the handle names it for `render` and `stand`. */
+function ezTree(handle, preset) {
+  const ez = new Tree();
+  ez.loadPreset(preset);
+  ez.generate();
+  ez.traverse((o) => {
+    if (o.isMesh) {
+      o.castShadow = true;
+      o.receiveShadow = true;
+    }
+  });
+  const tree = new THREE.Group();
+  tree.add(ez);
+  keep(handle, tree);
+  return measure(tree);
+}
+
+function measure(tree) {
+  const b = box(tree);
+  return { min: b.min.toArray(), max: b.max.toArray(), triangles: triangles(tree) };
+}
+
+/** Tree `handle` scaled to `height` metres and stood on the ground over the origin; its box. */
+function stand(handle, height) {
+  standAt(trees.get(handle), height);
+  return measure(trees.get(handle));
+}
+
+function triangles(object) {
+  let n = 0;
+  object.traverse((o) => {
+    if (o.isMesh) n += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3;
+  });
+  return n;
+}
+
+function camera(view, aspect) {
+  const cam = new THREE.PerspectiveCamera(view.fov, aspect, 0.05, 500);
+  cam.position.set(0, view.eye, view.distance);
+  cam.lookAt(0, view.target, 0);
+  cam.updateMatrixWorld(true);
+  return cam;
+}
+
+/**
+ * The least distance (in steps of 1 %) from which a camera at eye height, looking at `target`
+ * metres up the trunk, sees every corner of every box inside `margin` of the frame's edges.
+ */
+function fitDistance(boxes, { fov, eye, target, aspect, margin = 0.95, from = 1 }) {
+  const corners = [];
+  for (const { min, max } of boxes) {
+    for (const x of [min[0], max[0]]) for (const y of [min[1], max[1]]) for (const z of [min[2], max[2]]) {
+      corners.push(new THREE.Vector3(x, y, z));
+    }
+  }
+  for (let d = from; d < 1000; d *= 1.01) {
+    const cam = camera({ fov, eye, target, distance: d }, aspect);
+    const fits = corners.every((c) => {
+      const p = c.clone().project(cam);
+      return p.z < 1 && Math.abs(p.x) <= margin && Math.abs(p.y) <= margin;
+    });
+    if (fits) return d;
+  }
+  return null;
+}
+
+function scene(tree, { ground = true } = {}) {
+  const s = new THREE.Scene();
+  s.background = SKY.clone();
+  s.add(new THREE.HemisphereLight(0xcfe3ff, 0x5a5038, 1.5));
+  const sun = new THREE.DirectionalLight(0xfff2dc, 3.0);
+  const el = THREE.MathUtils.degToRad(SUN_ELEVATION);
+  const az = THREE.MathUtils.degToRad(SUN_AZIMUTH);
+  const b = box(tree);
+  const size = b.getSize(new THREE.Vector3());
+  const reach = Math.max(size.x, size.y, size.z) * 1.2 + 2;
+  sun.position.set(Math.cos(el) * Math.sin(az) * reach, Math.sin(el) * reach, Math.cos(el) * Math.cos(az) * reach);
+  sun.target.position.set(0, size.y / 2, 0);
+  sun.castShadow = true;
+  sun.shadow.mapSize.set(2048, 2048);
+  const cam = sun.shadow.camera;
+  cam.left = -reach;
+  cam.right = reach;
+  cam.top = reach;
+  cam.bottom = -reach;
+  cam.near = 0.1;
+  cam.far = reach * 3;
+  sun.shadow.bias = -0.0005;
+  sun.shadow.normalBias = 0.02;
+  s.add(sun, sun.target);
+  if (ground) {
+    const plane = new THREE.Mesh(new THREE.PlaneGeometry(2000, 2000), new THREE.MeshStandardMaterial({ color: GROUND, roughness: 1 }));
+    plane.rotation.x = -Math.PI / 2;
+    plane.receiveShadow = true;
+    s.add(plane);
+  }
+  s.add(tree);
+  return s;
+}
+
+/** Every mesh drawn flat white (keeping its texture's alpha cut-out) on black, for silhouettes. */
+function masked(tree) {
+  const saved = [];
+  tree.traverse((o) => {
+    if (!o.isMesh) return;
+    const m = o.material;
+    saved.push([o, m]);
+    // The texture only for its alpha (the cut-out of a leaf card): every drawn pixel is white.
+    o.material = new THREE.MeshBasicMaterial({ color: 0xffffff, map: m.map ?? null, alphaTest: m.alphaTest || 0, side: m.side });
+    o.material.onBeforeCompile = (shader) => {
+      shader.fragmentShader = shader.fragmentShader.replace('#include <map_fragment>', '#include <map_fragment>\n\tdiffuseColor.rgb = vec3(1.0);');
+    };
+  });
+  return () => saved.forEach(([o, m]) => {
+    o.material.dispose();
+    o.material = m;
+  });
+}
+
+/**
+ * Draws tree `handle` from `view` ({ fov, eye, target, distance }) into a width × height frame.
+ * Mode 'beauty' returns the frame as a PNG data URL; 'mask' draws its silhouette and returns the
+ * rows and columns it spans and its share of the frame.
+ */
+function render(handle, view, width, height, mode = 'beauty') {
+  const tree = trees.get(handle);
+  const r = stage(width, height);
+  const cam = camera(view, width / height);
+  if (mode === 'mask') {
+    const restore = masked(tree);
+    const s = new THREE.Scene();
+    s.background = new THREE.Color(0x000000);
+    s.add(tree);
+    r.toneMapping = THREE.NoToneMapping;
+    r.render(s, cam);
+    restore();
+    s.remove(tree);
+    const px = pixels(r, width, height);
+    let top = -1, bottom = -1, left = width, right = -1, count = 0;
+    for (let y = 0; y < height; y++) {
+      const row = height - 1 - y; // readPixels starts at the bottom row
+      for (let x = 0; x < width; x++) {
+        if (px[(y * width + x) * 4] > 127) {
+          count++;
+          if (top < 0 || row < top) top = row;
+          if (row > bottom) bottom = row;
+          if (x < left) left = x;
+          if (x > right) right = x;
+        }
+      }
+    }
+    return { top, bottom, left, right, count, share: count / (width * height) };
+  }
+  r.toneMapping = THREE.ACESFilmicToneMapping;
+  r.toneMappingExposure = 1.0;
+  r.outputColorSpace = THREE.SRGBColorSpace;
+  const s = scene(tree);
+  r.render(s, cam);
+  s.remove(tree);
+  return r.domElement.toDataURL('image/png');
+}
+
+function pixels(r, width, height) {
+  const gl = r.getContext();
+  const px = new Uint8Array(width * height * 4);
+  gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, px);
+  return px;
+}
+
+/**
+ * The tree's pixels in the drawn frame (its silhouette found with `render`'s mask): their mean
+ * sRGB colour and luma (0–255), and the share of them darker than luma 25 (near black).
+ */
+function colours(handle, view, width, height) {
+  render(handle, view, width, height, 'mask');
+  const mask = pixels(renderer, width, height);
+  render(handle, view, width, height);
+  const px = pixels(renderer, width, height);
+  let n = 0, dark = 0;
+  const sum = [0, 0, 0];
+  for (let i = 0; i < mask.length; i += 4) {
+    if (mask[i] <= 127) continue;
+    n++;
+    for (let c = 0; c < 3; c++) sum[c] += px[i + c];
+    if (0.2126 * px[i] + 0.7152 * px[i + 1] + 0.0722 * px[i + 2] < 25) dark++;
+  }
+  const mean = sum.map((v) => v / Math.max(n, 1));
+  return { pixels: n, mean, luma: 0.2126 * mean[0] + 0.7152 * mean[1] + 0.0722 * mean[2], dark: dark / Math.max(n, 1) };
+}
+
+/**
+ * The labelled grid: `cells` rows of [left, right] PNG data URLs, each cell w × h, with a title
+ * per column and a label per row. Returns the grid as a PNG data URL.
+ */
+async function grid(cells, columns, rows, w, h, title) {
+  const pad = 8, head = 56, side = 170;
+  const c = document.createElement('canvas');
+  c.width = side + columns.length * (w + pad) + pad;
+  c.height = head + cells.length * (h + pad) + pad;
+  const g = c.getContext('2d');
+  g.fillStyle = '#ffffff';
+  g.fillRect(0, 0, c.width, c.height);
+  g.fillStyle = '#111111';
+  g.font = '15px "DejaVu Sans", sans-serif';
+  g.fillText(title, pad, 20);
+  g.font = 'bold 20px "DejaVu Sans", sans-serif';
+  columns.forEach((name, i) => g.fillText(name, side + i * (w + pad) + pad, head - 10));
+  for (let r = 0; r < cells.length; r++) {
+    const y = head + r * (h + pad);
+    g.fillStyle = '#111111';
+    g.font = 'bold 18px "DejaVu Sans", sans-serif';
+    rows[r].forEach((line, k) => {
+      g.font = k === 0 ? 'bold 18px "DejaVu Sans", sans-serif' : '14px "DejaVu Sans", sans-serif';
+      g.fillText(line, pad, y + 24 + k * 20);
+    });
+    for (let i = 0; i < cells[r].length; i++) {
+      const img = new Image();
+      img.src = cells[r][i];
+      await img.decode();
+      g.drawImage(img, side + i * (w + pad) + pad, y);
+    }
+  }
+  return c.toDataURL('image/png');
+}
+
+window.compare = { groveTree, ezTree, stand, fitDistance, render, colours, grid, ready: true };
