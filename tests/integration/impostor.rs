@@ -114,14 +114,25 @@ fn crossing_the_band_changes_little_per_frame() {
     let background = draw(&data, &sim, false, 0.0);
     // The threshold swept so that the tree's fade goes from 0 to 1 in 20 equal steps: the
     // same frames as the tree receding through the band.
+    let threshold = |k: usize| {
+        let fade = k as f32 / 20.0;
+        // fade = (BAND t - pixels) / ((BAND - 1) t)  =>  t = pixels / (BAND - fade (BAND - 1)).
+        pixels / (BAND - fade * (BAND - 1.0)) * if k == 20 { 1.01 } else { 1.0 }
+    };
+    // One renderer for every frame (the atlas baked once), its threshold set per frame; its
+    // middle frame is checked against a fresh renderer's below.
+    let mut renderer = {
+        let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        sky_stage::renderer(gpu(), &data, true, SIZE, 0.0)
+    };
     let frames: Vec<RgbaImage> = (0..=20)
         .map(|k| {
-            let fade = k as f32 / 20.0;
-            // fade = (BAND t - pixels) / ((BAND - 1) t)  =>  t = pixels / (BAND - fade (BAND - 1)).
-            let threshold = pixels / (BAND - fade * (BAND - 1.0));
-            draw(&data, &sim, true, threshold * if k == 20 { 1.01 } else { 1.0 })
+            let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+            renderer.options.impostor_pixels = threshold(k);
+            offscreen::render_image(gpu(), &mut renderer, &sim).unwrap()
         })
         .collect();
+    assert!(frames[10] == draw(&data, &sim, true, threshold(10)), "a reused renderer draws what a fresh one draws");
     let tree: Vec<bool> = {
         let (a, b) = (mask(&frames[0], &background), mask(&frames[20], &background));
         a.iter().zip(&b).map(|(x, y)| *x || *y).collect()
@@ -261,6 +272,12 @@ fn a_slowly_turning_impostor_changes_smoothly() {
     let dir = Vec3::new(0.0, 0.2, 1.0).normalize();
     let (mut sim, _) = stage(&data, dir, 200.0);
     let background = draw(&data, &sim, false, 0.0);
+    // One renderer for every frame (its impostor atlas baked once); its first frame is checked
+    // against a fresh renderer's below, so reusing it changes nothing drawn.
+    let mut renderer = {
+        let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+        sky_stage::renderer(gpu(), &data, true, SIZE, 1.0e6)
+    };
     let frames: Vec<RgbaImage> = (0..=30)
         .map(|k| {
             let mut all: Vec<(hecs::Entity, Transform)> = Vec::new();
@@ -268,9 +285,11 @@ fn a_slowly_turning_impostor_changes_smoothly() {
             for (e, t) in all {
                 sim.set_up().transform(e, Transform { yaw: (k as f32).to_radians(), ..t }).unwrap();
             }
-            draw(&data, &sim, true, 1.0e6)
+            let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
+            offscreen::render_image(gpu(), &mut renderer, &sim).unwrap()
         })
         .collect();
+    assert!(frames[30] == draw(&data, &sim, true, 1.0e6), "a reused renderer draws what a fresh one draws");
     let tree: Vec<bool> = frames.iter().fold(vec![false; (SIZE * SIZE) as usize], |acc, f| acc.iter().zip(mask(f, &background)).map(|(a, b)| *a || b).collect());
     let tree_pixels = tree.iter().filter(|&&x| x).count() as f64;
     assert!(tree_pixels > 2000.0, "the tree should fill the frame ({tree_pixels} px)");
