@@ -4,6 +4,7 @@
 
 import * as THREE from 'three';
 import { Label } from './label.mjs';
+import { horizontalForward } from './panel.mjs';
 
 const ROW = 0.09; // metres per item
 const WIDTH = 0.7;
@@ -39,11 +40,7 @@ export class Menu {
   open(models, head) {
     if (models.join() !== this.models.join()) this.#build(models);
     const [x, y, z] = head.position;
-    const q = new THREE.Quaternion(...head.rotation);
-    const f = new THREE.Vector3(0, 0, -1).applyQuaternion(q);
-    f.y = 0;
-    if (f.lengthSq() < 1e-6) f.set(0, 0, -1);
-    f.normalize();
+    const f = horizontalForward(head.rotation);
     this.group.position.set(x + f.x, y - 0.15, z + f.z);
     this.group.lookAt(this.group.parent.localToWorld(new THREE.Vector3(x, y - 0.15, z)));
     this.group.visible = true;

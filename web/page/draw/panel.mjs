@@ -28,6 +28,15 @@ export function wrap(ctx, text, w) {
   return lines;
 }
 
+/** The horizontal unit direction a head with `rotation` ([x, y, z, w]) looks along (-Z when it
+ * looks straight up or down): where a panel opens in front of it. */
+export function horizontalForward(rotation) {
+  const f = new THREE.Vector3(0, 0, -1).applyQuaternion(new THREE.Quaternion(...rotation));
+  f.y = 0;
+  if (f.lengthSq() < 1e-6) f.set(0, 0, -1);
+  return f.normalize();
+}
+
 export class Panel {
   /** A panel `width` x `height` metres in `parent` (the simulation's frame). */
   constructor(parent, { width = 1.1, height = 0.8, name = 'panel' } = {}) {
@@ -72,11 +81,7 @@ export class Panel {
    */
   place(head, { distance = 1.1, drop = 0.1, side = 0, scale = 1 } = {}) {
     const [x, y, z] = head.position;
-    const q = new THREE.Quaternion(...head.rotation);
-    const f = new THREE.Vector3(0, 0, -1).applyQuaternion(q);
-    f.y = 0;
-    if (f.lengthSq() < 1e-6) f.set(0, 0, -1);
-    f.normalize();
+    const f = horizontalForward(head.rotation);
     const r = new THREE.Vector3(-f.z, 0, f.x);
     this.group.position.set(x + f.x * distance + r.x * side, y - drop, z + f.z * distance + r.z * side);
     const eye = new THREE.Vector3(x + r.x * side, y - drop, z + r.z * side);
@@ -174,16 +179,10 @@ export class Panel {
 
   /** The button the ray from `origin` along `dir` ([x, y, z], the parent's frame) points at, or null. */
   hit(origin, dir) {
-    if (!this.group.visible) return null;
-    this.group.updateMatrix();
-    const inv = this.group.matrix.clone().invert();
-    const o = new THREE.Vector3(...origin).applyMatrix4(inv);
-    const d = new THREE.Vector3(...dir).transformDirection(inv);
-    if (Math.abs(d.z) < 1e-6) return null;
-    const t = -o.z / d.z;
-    if (t < 0) return null;
-    const u = ((o.x + d.x * t) / this.width + 0.5) * this.canvas.width;
-    const v = (0.5 - (o.y + d.y * t) / this.height) * this.canvas.height;
+    const p = this.#onPlane(origin, dir);
+    if (!p) return null;
+    const u = (p.x / this.width + 0.5) * this.canvas.width;
+    const v = (0.5 - p.y / this.height) * this.canvas.height;
     const b = this.boxes.find((b) => b.type === 'button' && u >= b.x && u <= b.x + b.w && v >= b.y && v <= b.y + b.h);
     return b ? b.id : null;
   }
@@ -195,6 +194,14 @@ export class Panel {
 
   /** How far along the ray (a unit `dir`) it meets the panel, or null. */
   #distance(origin, dir) {
+    const p = this.#onPlane(origin, dir);
+    // In the panel's units; the parent's are `scale` times larger.
+    return p && Math.abs(p.x) <= this.width / 2 && Math.abs(p.y) <= this.height / 2 ? p.t * this.group.scale.x : null;
+  }
+
+  /** Where the ray meets the visible panel's plane, in its own units ({ x, y } from its centre,
+   * `t` along the ray), or null when it is hidden or the ray points away from it. */
+  #onPlane(origin, dir) {
     if (!this.group.visible) return null;
     this.group.updateMatrix();
     const inv = this.group.matrix.clone().invert();
@@ -202,8 +209,7 @@ export class Panel {
     const d = new THREE.Vector3(...dir).transformDirection(inv);
     if (Math.abs(d.z) < 1e-6) return null;
     const t = -o.z / d.z;
-    // In the panel's units; the parent's are `scale` times larger.
-    return t >= 0 && Math.abs(o.x + d.x * t) <= this.width / 2 && Math.abs(o.y + d.y * t) <= this.height / 2 ? t * this.group.scale.x : null;
+    return t >= 0 ? { x: o.x + d.x * t, y: o.y + d.y * t, t } : null;
   }
 
   /** The middle of button `id` in the parent's frame, [x, y, z] (for tests aiming at it), or null. */
