@@ -141,7 +141,8 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
 
 test('the inline preview: the same panel, pressed with the mouse', async () => {
   const { page } = await h.open('participant=P04&quality=low&render_every=2');
-  assert.equal(await page.evaluate(() => window.grove.study.participant), 'P04');
+  // The page joins the participant once it has asked the server: wait for it, not only the load.
+  await until(page, () => window.grove.study?.participant === 'P04');
   await page.click('#enter-inline');
   await until(page, () => window.grove.state === 'step' && window.grove.panel);
   const at = await page.evaluate(() => window.grove.screenPoint(window.grove.panelPoint('continue')));
