@@ -58,10 +58,25 @@ fn sim(s: &Scene) -> Sim {
     Sim::from_scene(s, s.seed).unwrap()
 }
 
+/// A renderer at `w` × `h` with only the catalogue's models that `sim`'s trees use: loading
+/// every model and baking its impostor atlas, as `Renderer::new` does, costs far more than
+/// these small frames, and a model no tree uses draws nothing.
+fn renderer_for(g: &Gpu, sim: &Sim, w: u32, h: u32) -> Renderer {
+    let assets = grove::render::default_assets_dir();
+    let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, w, h, &assets).unwrap();
+    let mut used = Vec::new();
+    sim.for_each_tree(|t| used.push(t.model));
+    for m in grove_systems::catalogue::Catalogue::builtin().models.iter().filter(|m| used.contains(&m.id)) {
+        let data = grove::models::load_model(&assets.join("trees").join(format!("{}.gltf", m.name))).unwrap();
+        r.features.trees.set_model(m.id, &data);
+    }
+    r
+}
+
 fn render_with(sim: &Sim, grass: bool, bend: bool) -> (RgbaImage, BladeCounts) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
-    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
+    let mut r = renderer_for(g, sim, W, H);
     r.options.grass = grass;
     r.options.grass_bend = bend;
     let img = offscreen::render_image(g, &mut r, sim).unwrap();
@@ -214,7 +229,7 @@ fn lists(sim: &Sim) -> BladeLists {
 fn lists_at(sim: &Sim, w: u32, h: u32) -> (BladeLists, BladeCounts, RgbaImage) {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = gpu();
-    let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, w, h).unwrap();
+    let mut r = renderer_for(g, sim, w, h);
     let img = offscreen::render_image(g, &mut r, sim).unwrap();
     let grass = &r.features.grass;
     (grass.listed_blades().unwrap(), grass.visible_blades().unwrap(), img)
@@ -345,7 +360,7 @@ fn grass_receives_the_trees_shadows() {
         let shot = |grass: bool, shadows: bool| {
             let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
             let g = gpu();
-            let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, w, h).unwrap();
+            let mut r = renderer_for(g, &s, w, h);
             r.options.grass = grass;
             r.options.shadows = shadows;
             (offscreen::render_image(g, &mut r, &s).unwrap(), r.features.grass.visible_blades().unwrap())
