@@ -31,6 +31,7 @@ pub mod ground;
 pub mod haze;
 pub mod key;
 pub mod lighting;
+pub(crate) mod mix;
 pub mod offscreen;
 pub mod options;
 pub mod overlay;

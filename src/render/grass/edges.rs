@@ -9,6 +9,8 @@ use std::collections::HashMap;
 use glam::{Vec2, Vec3};
 use grove_systems::grass::Blade;
 
+use crate::render::mix::mix;
+
 /// The width of the band along a lawn's edge over which it fades, metres.
 pub const EDGE_FADE: f32 = 1.2;
 
@@ -86,11 +88,7 @@ pub fn edge_shares(triangles: &[[Vec3; 3]]) -> Vec<[f32; 3]> {
 
 /// A number in 0..1 fixed by a blade's root: which blades a thinning band keeps.
 fn root_hash(p: Vec3) -> f32 {
-    let mut h = (u64::from(p.x.to_bits()) << 32 | u64::from(p.z.to_bits())) ^ u64::from(p.y.to_bits()).rotate_left(17);
-    // splitmix64's finaliser.
-    h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    h ^= h >> 31;
+    let h = mix((u64::from(p.x.to_bits()) << 32 | u64::from(p.z.to_bits())) ^ u64::from(p.y.to_bits()).rotate_left(17));
     (h >> 40) as f32 / (1u64 << 24) as f32
 }
 

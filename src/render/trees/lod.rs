@@ -25,6 +25,7 @@
 use glam::Vec3;
 
 use crate::models::Vertex;
+use crate::render::mix::mix;
 
 /// A primitive needs at least this many leaves to be simplified.
 pub const MIN_LEAVES: usize = 16;
@@ -77,13 +78,6 @@ fn find(parent: &mut [u32], mut i: u32) -> u32 {
         i = p;
     }
     i
-}
-
-/// A 64-bit mix (SplitMix64's finaliser), for a shuffle that needs no RNG state.
-fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 /// Splits `indices` (a triangle list over `vertices`) into leaves, shuffles them with `seed`,
