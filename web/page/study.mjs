@@ -3,7 +3,7 @@
 // for each (so that a reload resumes where the server says the participant is). The steps
 // without the simulation are shown on a panel (draw/panel.mjs) and answered with the ray:
 // instructions with a Continue button, a questionnaire one item at a time (form.mjs), the
-// task's start, the end. Practice and tasks are the page's runs (main.mjs).
+// task's start, the end. Practice and tasks are the page's runs (flow/protocol.mjs, flow/task.mjs).
 
 import { build, choicesFrom, choose, missingMessage, optionLines, rowOf, titleOf, typedAnswers } from './form.mjs';
 import { itemLayout, textLayout } from './draw/questionnaire.mjs';

@@ -1,7 +1,8 @@
 // What the simulation shows beyond the world: the controller's ray and its hit marker, the
 // anchor ball under a dragged tree (green while a release would not snap, white when it would),
 // the selected tree's bounding box and its 12 handles, and the task's targets (each on the
-// plane it lies on: `moved_to` where the room has no plane at its height), all from the snapshot.
+// plane it lies on: `moved_to` where the room has no plane at its height), all from the snapshot
+// of the run shown. A feature of the view (view/features.mjs).
 
 import * as THREE from 'three';
 import { Label } from './label.mjs';
@@ -62,7 +63,13 @@ export class Overlay {
     return this.ball.material.color.getHex() === WHITE ? 'white' : 'green';
   }
 
-  update(snap, eye) {
+  /** Shown with a run's snapshot (`s.live`), its labels turned to `s.eye`; hidden on a step's panel. */
+  update(s) {
+    this.root.visible = Boolean(s.live);
+    if (s.live) this.#draw(s.live, s.eye);
+  }
+
+  #draw(snap, eye) {
     const c = snap.controller;
     const o = c.ray_origin;
     const d = c.ray_direction;

@@ -1,13 +1,19 @@
 // The inline preview's input: the mouse as the controller, as `grove play` has it
-// (docs/desktop.md). The ray leaves the head through the pointer; the left button is Trigger,
-// the right button Bumper, the middle button or M is Menu; the wheel moves the selected tree
-// along the ray (Touchpad front and back), Q and E turn it (Touchpad left and right).
+// (docs/desktop.md). The ray leaves the head (the view's camera, placed where the simulation's
+// head is) through the pointer; the left button is Trigger, the right button Bumper, the middle
+// button or M is Menu; the wheel moves the selected tree along the ray (Touchpad front and
+// back), Q and E turn it (Touchpad left and right). The same shape as the XR sources
+// (input/xr.mjs), with no head of its own: the simulation's head stays where it is.
 
-import { lookRotation } from './input.mjs';
+import * as THREE from 'three';
+import { lookRotation } from './pose.mjs';
 
 export class MouseInput {
-  constructor(canvas) {
+  /** `canvas`: the preview's; `camera`: the three.js camera the preview is drawn from. */
+  constructor(canvas, camera) {
     this.canvas = canvas;
+    this.camera = camera;
+    this.noSqueeze = false;
     this.ndc = [0, 0];
     this.buttons = { trigger: false, bumper: false, touchpad: false, menu: false };
     this.axes = [0, 0];
@@ -56,14 +62,29 @@ export class MouseInput {
   }
 
   /**
-   * The controller's pose: at the camera (a three.js camera placed at the head), its ray through
-   * the pointer. Plain numbers; the caller rounds them to f32.
+   * The controller's pose: at the camera, its ray through the pointer (input/pose.mjs's shape;
+   * plain numbers, which the run rounds to f32).
    */
-  pose(camera, THREE) {
+  pose() {
+    const camera = this.camera;
     const v = new THREE.Vector3(this.ndc[0], this.ndc[1], 0.5).unproject(camera);
     const o = camera.position;
     const d = v.sub(o).normalize();
-    const q = lookRotation([d.x, d.y, d.z]);
-    return { position: { x: o.x, y: o.y, z: o.z }, orientation: { x: q[0], y: q[1], z: q[2], w: q[3] } };
+    return { position: [o.x, o.y, o.z], rotation: lookRotation([d.x, d.y, d.z]) };
+  }
+
+  /** This frame's { head: null, pose, buttons, axes } (the XR frame, if any, is not the mouse's). */
+  poll() {
+    return { head: null, pose: this.pose(), buttons: { ...this.buttons }, axes: this.touchpad() };
+  }
+
+  /** The rows [control, what it does] for a task's mode ('ray-casting' or 'manual'). */
+  controls(mode) {
+    return [
+      ['Left button', mode === 'manual' ? 'grab and drag a tree or a handle' : 'plant on the ground, select a tree; choose in the menu'],
+      ['Right button', 'remove the tree under the ray'],
+      ['M or middle button', 'open the model menu'],
+      ['Wheel, Q / E', 'move the selected tree along the ray, turn it'],
+    ];
   }
 }

@@ -1,8 +1,8 @@
-// Input for the simulation from a WebXR input source (or the mouse, in the inline preview):
-// grove's four buttons from the gamepad's state, read at the simulation's tick and turned into
-// edges (never from `select` events, which emulators and browsers fire at different moments),
-// the touchpad's axes, and poses as the f32 numbers the simulation consumes and the recording
-// keeps (docs/headset.md, "Controls").
+// grove's four controller buttons, as every input source hands them to the page: the gamepad's
+// state mapped to them (ButtonMapper: Bumper's alternative on a controller without a squeeze),
+// read at the simulation's tick and turned into edges (never from `select` events, which
+// emulators and browsers fire at different moments), and the touchpad's axes from a thumbstick
+// or a touchpad (docs/headset.md, "Controls").
 
 /** grove's buttons, in the order a snapshot's `controller.buttons` lists them. */
 export const BUTTONS = ['trigger', 'bumper', 'touchpad', 'menu'];
@@ -93,34 +93,4 @@ export function touchpadAxes(gamepad) {
   };
   // The gamepad's +Y is towards the user (down on the stick); grove's +Y is to the front.
   return [q(pick[0]), q(-pick[1]) || 0];
-}
-
-/**
- * A pose as the simulation consumes it: every number rounded to f32 (Math.fround), which is what
- * the module parses and the recording keeps, bit for bit. `position` {x, y, z}, `orientation`
- * {x, y, z, w} (an XRRigidTransform's, or three.js's).
- */
-export function f32Pose(position, orientation) {
-  const f = Math.fround;
-  return { position: [f(position.x), f(position.y), f(position.z)], rotation: [f(orientation.x), f(orientation.y), f(orientation.z), f(orientation.w)] };
-}
-
-/** A key that is equal for equal f32 poses (to send a pose only when it changed). */
-export function poseKey(pose) {
-  return pose.position.join(',') + ';' + pose.rotation.join(',');
-}
-
-/**
- * The rotation [x, y, z, w] that turns -Z into the unit direction `d` ([x, y, z]) keeping +X
- * level (no roll), as the simulation's `rotation_towards` does: a yaw about +Y, then a pitch.
- */
-export function lookRotation(d) {
-  const yaw = Math.atan2(-d[0], -d[2]);
-  const pitch = Math.asin(Math.max(-1, Math.min(1, d[1])));
-  const sy = Math.sin(yaw / 2);
-  const cy = Math.cos(yaw / 2);
-  const sp = Math.sin(pitch / 2);
-  const cp = Math.cos(pitch / 2);
-  // q = qYaw * qPitch
-  return [cy * sp, sy * cp, -sy * sp, cy * cp];
 }
