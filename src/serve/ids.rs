@@ -6,7 +6,7 @@
 use std::fs::{File, OpenOptions};
 use std::path::{Path, PathBuf};
 
-use super::ServeError;
+use crate::serve::ServeError;
 
 /// The longest participant id, characters.
 pub const MAX_PARTICIPANT: usize = 32;

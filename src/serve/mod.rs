@@ -12,26 +12,13 @@
 //! - [`client`], [`push`]: an HTTP client that streams a recording as a live client would
 //!   (`grove serve push`); [`bench`]: many sessions at once (`grove serve bench`).
 
-pub mod api;
-pub mod bench;
+pub mod app;
 pub mod client;
 pub mod http;
 pub mod ids;
 pub mod line_split;
-pub mod live;
-pub mod pages;
-pub mod participants;
-pub mod protocol_api;
-pub mod push;
-pub mod registry;
-pub mod respond;
-pub mod room_scene;
-pub mod session;
-pub mod state;
-pub mod static_files;
-pub mod tls;
-pub mod token;
-pub mod verify;
+pub mod protocol;
+pub mod sessions;
 
 use std::net::IpAddr;
 use std::path::PathBuf;
@@ -182,8 +169,8 @@ pub struct ServeConfig {
     pub protocol: Option<crate::protocol::Loaded>,
 }
 
-/// Runs the server until Ctrl-C (or SIGTERM); see [`http::serve`].
+/// Runs the server until Ctrl-C (or SIGTERM); see [`http::listen::serve`].
 pub fn run(config: ServeConfig) -> Result<(), ServeError> {
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build().map_err(|e| ServeError::Io { path: "tokio runtime".into(), message: e.to_string() })?;
-    runtime.block_on(http::serve(config))
+    runtime.block_on(http::listen::serve(config))
 }

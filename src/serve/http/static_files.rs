@@ -20,8 +20,8 @@ use hyper::body::Frame;
 use hyper::{Response, StatusCode};
 use tokio::io::AsyncReadExt;
 
-use super::respond::{full, Body};
-use super::Refusal;
+use crate::serve::http::respond::{full, Body};
+use crate::serve::Refusal;
 
 /// A URL prefix and the folder it maps to.
 #[derive(Clone, Debug)]

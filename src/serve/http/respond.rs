@@ -5,7 +5,7 @@ use bytes::Bytes;
 use http_body_util::{combinators::BoxBody, BodyExt, Full};
 use hyper::{Response, StatusCode};
 
-use super::Refusal;
+use crate::serve::Refusal;
 
 /// A response body: a whole buffer or a file streamed.
 pub type Body = BoxBody<Bytes, std::io::Error>;

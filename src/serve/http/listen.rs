@@ -14,13 +14,15 @@ use tokio::io::{AsyncRead, AsyncWrite};
 use tokio::net::TcpListener;
 use tokio_rustls::TlsAcceptor;
 
-use super::registry::Registry;
-use super::respond::{full, log, refused, Body};
-use super::state::State;
-use super::static_files::StaticRoots;
-use super::{api, ids, tls, token, Refusal, ServeConfig, ServeError};
+use crate::serve::sessions::registry::Registry;
+use crate::serve::http::respond::{full, log, refused, Body};
+use crate::serve::app::State;
+use crate::serve::http::static_files::StaticRoots;
+use crate::serve::http::{banner as token, tls};
+use crate::serve::sessions::routes as api;
+use crate::serve::{ids, Refusal, ServeConfig, ServeError};
 
-/// Runs the server (see [`super::run`]) until Ctrl-C or SIGTERM, then flushes every open file
+/// Runs the server (see [`crate::serve::run`]) until Ctrl-C or SIGTERM, then flushes every open file
 /// and writes `sessions.json`; open sessions stay open, to be continued when it starts again.
 pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     let (registry, notes) = Registry::load(&config.out, config.banks.clone(), config.max_sessions)?;
@@ -33,7 +35,7 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     let participants = match &config.protocol {
         None => None,
         Some(loaded) => {
-            let (p, notes) = super::participants::Participants::open(loaded.clone(), &config.out).map_err(|message| ServeError::Io { path: config.out.display().to_string(), message })?;
+            let (p, notes) = crate::serve::protocol::participants::Participants::open(loaded.clone(), &config.out).map_err(|message| ServeError::Io { path: config.out.display().to_string(), message })?;
             log(&format!("protocol {}: {} participants, {} conditions; the participant's page is /protocol, the researcher's /dashboard", loaded.protocol.name, loaded.protocol.participants, loaded.protocol.conditions.len()));
             for n in notes {
                 log(&n);
@@ -200,8 +202,8 @@ async fn route(state: Arc<State>, req: Request<Incoming>) -> Response<Body> {
         }
     }
     let path = req.uri().path().to_string();
-    let mut response = if super::protocol_api::is_protocol_path(&path) {
-        super::protocol_api::route(&state, req).await
+    let mut response = if crate::serve::protocol::routes::is_protocol_path(&path) {
+        crate::serve::protocol::routes::route(&state, req).await
     } else if path == "/api" || path.starts_with("/api/") {
         api::route(&state, req).await
     } else if req.method() == Method::GET || req.method() == Method::HEAD {

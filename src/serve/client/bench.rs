@@ -22,8 +22,8 @@ use grove_systems::replay::{encode_line, Header, Line, Recorder};
 use hyper::Method;
 use serde_json::json;
 
-use super::client::Endpoint;
-use super::ServeError;
+use crate::serve::client::conn::Endpoint;
+use crate::serve::ServeError;
 
 /// Options of the benchmark.
 #[derive(Clone, Debug)]

@@ -12,7 +12,7 @@ use tokio_rustls::rustls;
 use tokio_rustls::rustls::pki_types::pem::PemObject;
 use tokio_rustls::rustls::pki_types::{CertificateDer, PrivateKeyDer};
 
-use super::{ServeError, TlsChoice};
+use crate::serve::{ServeError, TlsChoice};
 
 fn tls_err(e: impl std::fmt::Display) -> ServeError {
     ServeError::Tls(e.to_string())

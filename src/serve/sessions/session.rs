@@ -1,6 +1,6 @@
 //! One session being recorded: its file, and every line checked before it is written.
 //!
-//! A session's file is `DIR/<participant>-<task>-<n>.jsonl` ([`super::ids`]). Its header is
+//! A session's file is `DIR/<participant>-<task>-<n>.jsonl` ([`crate::serve::ids`]). Its header is
 //! checked field by field (the replay format's header rules, the scene, the models and
 //! techniques it names, a participant id fit for a file name) before the file is made; then
 //! each line that arrives is checked by the replay crate's own rules ([`LineRules`]: checksum
@@ -25,9 +25,9 @@ use grove_systems::limits::{MAX_LINE_BYTES, MAX_RECORDING_BYTES};
 use grove_systems::replay::{self, header_line, Header, HeaderTechnique, Line, LineRules};
 use grove_systems::sim::Sim;
 
-use super::ids;
-use super::line_split::LineSplitter;
-use super::Refusal;
+use crate::serve::ids;
+use crate::serve::line_split::LineSplitter;
+use crate::serve::Refusal;
 
 /// What a client may set when it opens a session by its fields; the server writes the header.
 #[derive(Clone, Debug, Default, serde::Deserialize)]
@@ -53,7 +53,7 @@ pub struct OpenFields {
     #[serde(default)]
     pub block: Option<u32>,
     /// A scene the client built (a headset's room), in place of `scene`: checked, kept beside the
-    /// recordings and named by the header ([`super::room_scene`]).
+    /// recordings and named by the header ([`crate::serve::sessions::room_scene`]).
     #[serde(default)]
     pub scene_text: Option<String>,
 }
@@ -65,8 +65,8 @@ pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Ref
         (Some(_), Some(_)) => return Err(Refusal::bad("an open request names a scene or sends scene_text, not both")),
         (_, Some(text)) => {
             // The participant id is checked before a file is written for the session.
-            super::ids::participant(&fields.participant).map_err(|e| Refusal::bad(e.to_string()))?;
-            super::room_scene::keep(text, dir)?
+            crate::serve::ids::participant(&fields.participant).map_err(|e| Refusal::bad(e.to_string()))?;
+            crate::serve::sessions::room_scene::keep(text, dir)?
         }
         (name, None) => name.clone().unwrap_or_else(|| "study".into()),
     };

@@ -10,9 +10,9 @@ use std::sync::{Arc, Mutex};
 use grove_systems::bank::Banks;
 use serde::{Deserialize, Serialize};
 
-use super::session::Session;
-use super::verify::Verification;
-use super::{ids, Refusal, ServeError};
+use crate::serve::sessions::session::Session;
+use crate::serve::sessions::verify::Verification;
+use crate::serve::{ids, Refusal, ServeError};
 
 /// The file that lists a folder's sessions.
 pub const SESSIONS_FILE: &str = "sessions.json";

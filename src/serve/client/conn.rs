@@ -15,7 +15,7 @@ use tokio::net::TcpStream;
 use tokio_rustls::rustls;
 use tokio_rustls::rustls::pki_types::ServerName;
 
-use super::ServeError;
+use crate::serve::ServeError;
 
 /// Where a server is, from a URL such as `http://host:port/?token=T`.
 #[derive(Clone)]
@@ -48,10 +48,10 @@ impl Endpoint {
         let tls = if https {
             let ca = ca.ok_or_else(|| bad("an https URL needs --ca CERT.pem, the server's certificate (grove serve --tls auto writes it to DIR/tls/cert.pem)"))?;
             let mut roots = rustls::RootCertStore::empty();
-            for c in super::tls::read_certs(ca)? {
+            for c in crate::serve::http::tls::read_certs(ca)? {
                 roots.add(c).map_err(|e| ServeError::Tls(format!("{}: {e}", ca.display())))?;
             }
-            let config = rustls::ClientConfig::builder_with_provider(super::tls::provider())
+            let config = rustls::ClientConfig::builder_with_provider(crate::serve::http::tls::provider())
                 .with_safe_default_protocol_versions()
                 .map_err(|e| ServeError::Tls(e.to_string()))?
                 .with_root_certificates(roots)
@@ -61,7 +61,7 @@ impl Endpoint {
         } else {
             None
         };
-        let writer = format!("grove-{}", super::ids::random_hex(8)?);
+        let writer = format!("grove-{}", crate::serve::ids::random_hex(8)?);
         Ok(Endpoint { host, port, token, tls, writer })
     }
 

@@ -14,7 +14,7 @@ use serde_json::{json, Value};
 
 use crate::protocol::{Loaded, Step, StepKind};
 
-use super::Refusal;
+use crate::serve::Refusal;
 
 /// The suffix of a participant's file.
 pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
@@ -117,7 +117,7 @@ impl Participants {
     pub fn join(&self, id: Option<&str>) -> Result<(Value, bool), Refusal> {
         let mut list = self.list.lock().unwrap_or_else(|p| p.into_inner());
         if let Some(id) = id {
-            if super::ids::participant(id).is_err() {
+            if crate::serve::ids::participant(id).is_err() {
                 return Err(Refusal::bad("a participant id is 1 to 32 letters, digits, '_' or '-', starting with a letter or digit"));
             }
             if let Some(p) = list.iter().find(|p| p.id == id) {

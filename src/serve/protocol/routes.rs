@@ -18,11 +18,11 @@ use hyper::body::Incoming;
 use hyper::{Method, Request, Response};
 use serde_json::{json, Value};
 
-use super::participants::{Participants, TaskSessions};
-use super::registry::Registry;
-use super::respond::{full, json, refused, Body};
-use super::state::State;
-use super::Refusal;
+use crate::serve::protocol::participants::{Participants, TaskSessions};
+use crate::serve::sessions::registry::Registry;
+use crate::serve::http::respond::{full, json, refused, Body};
+use crate::serve::app::State;
+use crate::serve::Refusal;
 
 /// The largest body of a protocol request (answers included).
 const MAX_BODY: usize = 256 * 1024;
@@ -50,8 +50,8 @@ pub async fn route(state: &Arc<State>, req: Request<Incoming>) -> Response<Body>
     let segs: Vec<&str> = segs.iter().map(|s| s.as_str()).collect();
     let method = req.method().clone();
     let answer: Result<Response<Body>, Refusal> = match (&method, segs.as_slice()) {
-        (&Method::GET, ["protocol"]) => Ok(html(super::pages::PROTOCOL)),
-        (&Method::GET, ["dashboard"]) => Ok(html(super::pages::DASHBOARD)),
+        (&Method::GET, ["protocol"]) => Ok(html(crate::serve::protocol::pages::PROTOCOL)),
+        (&Method::GET, ["dashboard"]) => Ok(html(crate::serve::protocol::pages::DASHBOARD)),
         (&Method::GET, ["protocol", "media", block, what]) => media(&parts, block, what),
         (&Method::GET, ["api", "protocol"]) => {
             let p = &parts.loaded.protocol;
@@ -98,7 +98,7 @@ pub async fn route(state: &Arc<State>, req: Request<Incoming>) -> Response<Body>
             // A page waiting for a task to end asks every two seconds: those answers are not logged.
             let waiting = r.status == 409 && path.ends_with("/next");
             if r.status != 404 && !waiting {
-                super::respond::log(&format!("refused {method} {path}: {}", r.reason));
+                crate::serve::http::respond::log(&format!("refused {method} {path}: {}", r.reason));
             }
             let more = match (&method, segs.as_slice()) {
                 (_, ["api", "protocol", "participants", id, ..]) => parts.get(id).map(|s| json!({"state": s})).unwrap_or(json!({})),
@@ -121,7 +121,7 @@ fn media(parts: &Participants, block: &str, what: &str) -> Result<Response<Body>
     let inside = grove_systems::files::within(&path, &parts.loaded.folder).map_err(|e| Refusal::not_found(e.reason()))?;
     let bytes = grove_systems::files::read(&inside, grove_systems::files::Kind::Served).map_err(|e| Refusal::not_found(e.reason()))?;
     let mut r = Response::new(full(bytes));
-    if let Ok(v) = hyper::header::HeaderValue::from_str(super::static_files::content_type(&inside)) {
+    if let Ok(v) = hyper::header::HeaderValue::from_str(crate::serve::http::static_files::content_type(&inside)) {
         r.headers_mut().insert(hyper::header::CONTENT_TYPE, v);
     }
     Ok(r)
@@ -157,7 +157,7 @@ async fn dashboard(state: &Arc<State>, parts: &Participants) -> Value {
             Some(l) => Some(l),
             None if e.state == "open" || state.live.last(&e.file).is_none() => {
                 let (path, scratch, banks) = (state.registry.dir.join(&e.file), std::env::temp_dir().join(format!("grove-live-{}", std::process::id())), state.registry.bank_dirs.clone());
-                match tokio::task::spawn_blocking(move || super::live::view(&path, &scratch, &banks)).await {
+                match tokio::task::spawn_blocking(move || crate::serve::protocol::live::view(&path, &scratch, &banks)).await {
                     Ok(Ok(l)) => {
                         state.live.put(&e.file, e.lines, l.clone());
                         Some(l)

@@ -13,7 +13,7 @@
 //!   on from); `POST /api/sessions/ID/end` ends the session and answers with its verification.
 //! - `GET /api/sessions/ID/lines` is the open session's file as acknowledged (a reloaded page
 //!   re-simulates it to go on where it stopped); `GET /api/sessions/ID/scene` the text of the
-//!   scene file its header names (a room a page built, [`super::room_scene`]).
+//!   scene file its header names (a room a page built, [`crate::serve::sessions::room_scene`]).
 //!
 //! Every session request names its client in the header `Grove-Writer`: while one client writes
 //! a session, another is refused until the first has made no request for the writer lease.
@@ -28,13 +28,13 @@ use hyper::body::Incoming;
 use hyper::{Method, Request, Response};
 use serde_json::json;
 
-use super::respond::{json, log, refused, text, Body};
-use super::state::State;
-use super::line_split::{LineSplitter, SplitError};
-use super::registry::{Entry, Registry, Shared};
-use super::session::{header_from_fields, OpenFields, Session};
-use super::verify::{verify, Verification};
-use super::{ids, Refusal};
+use crate::serve::http::respond::{json, log, refused, text, Body};
+use crate::serve::app::State;
+use crate::serve::line_split::{LineSplitter, SplitError};
+use crate::serve::sessions::registry::{Entry, Registry, Shared};
+use crate::serve::sessions::session::{header_from_fields, OpenFields, Session};
+use crate::serve::sessions::verify::{verify, Verification};
+use crate::serve::{ids, Refusal};
 
 /// The largest body of a request other than lines (an open request carries a header line).
 const MAX_JSON_BODY: usize = 2 * MAX_LINE_BYTES + 4096;
@@ -396,7 +396,7 @@ pub fn index_page(state: &Arc<State>) -> Response<Body> {
             }
         }
     };
-    let mut r = Response::new(super::respond::full(page.into_string()));
+    let mut r = Response::new(crate::serve::http::respond::full(page.into_string()));
     r.headers_mut().insert(hyper::header::CONTENT_TYPE, hyper::header::HeaderValue::from_static("text/html; charset=utf-8"));
     r
 }

@@ -18,9 +18,9 @@ use hyper::Method;
 use serde::Serialize;
 use serde_json::json;
 
-use super::client::{Answer, Conn, Endpoint};
-use super::line_split::LineSplitter;
-use super::ServeError;
+use crate::serve::client::conn::{Answer, Conn, Endpoint};
+use crate::serve::line_split::LineSplitter;
+use crate::serve::ServeError;
 
 /// How fast lines are sent.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -2,8 +2,8 @@
 
 use std::time::Duration;
 
-use super::registry::Registry;
-use super::static_files::StaticRoots;
+use crate::serve::sessions::registry::Registry;
+use crate::serve::http::static_files::StaticRoots;
 
 /// What every request sees.
 pub struct State {
@@ -13,9 +13,9 @@ pub struct State {
     pub token: Option<String>,
     /// The folders served as they are.
     pub statics: StaticRoots,
-    /// See [`super::ServeConfig::read_timeout`].
+    /// See [`crate::serve::ServeConfig::read_timeout`].
     pub read_timeout: Duration,
-    /// See [`super::ServeConfig::writer_lease`].
+    /// See [`crate::serve::ServeConfig::writer_lease`].
     pub writer_lease: Duration,
     /// Whether connections are TLS (the token's cookie is then `Secure`).
     pub tls: bool,
@@ -23,8 +23,8 @@ pub struct State {
     /// many sessions ending together do not take the cores from those still streaming.
     pub verifying: tokio::sync::Semaphore,
     /// The protocol's participants, when the server runs one.
-    pub participants: Option<std::sync::Arc<super::participants::Participants>>,
+    pub participants: Option<std::sync::Arc<crate::serve::protocol::participants::Participants>>,
     /// The dashboard's live views of the sessions.
-    pub live: super::live::LiveCache,
+    pub live: crate::serve::protocol::live::LiveCache,
 }
 
