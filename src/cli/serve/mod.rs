@@ -173,16 +173,17 @@ fn push(p: PushArgs) -> anyhow::Result<ExitCode> {
     let endpoint = serve::client::conn::Endpoint::parse(&p.to, p.ca.as_deref())?;
     let say = |m: &str| eprintln!("{}: {m}", p.file.display());
     let report = runtime()?.block_on(serve::client::push::push(&p.file, &endpoint, &options, &say))?;
-    let status = report.ended["verification"]["status"].as_str().unwrap_or("?").to_string();
+    let status = report.status();
+    let shown = status.map_or("?", |s| s.as_str());
     if p.json {
         crate::cli::print_json(&report)?;
     } else {
         println!(
             "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects) to {}: {}",
-            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, status
+            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, shown
         );
     }
-    Ok(if status == "diverged" || status == "invalid" { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    Ok(if status.is_some_and(|s| s.failed()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
 fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
