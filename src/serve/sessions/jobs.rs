@@ -17,10 +17,6 @@ use crate::serve::sessions::session::Session;
 use crate::serve::sessions::states::SessionState;
 use crate::serve::sessions::verify::{verify, Verification};
 
-fn task_failed(e: tokio::task::JoinError) -> SessionError {
-    SessionError::Task(e.to_string())
-}
-
 impl Sessions {
     /// Ends a session (held by its caller) as `how` (ended or abandoned), re-simulates its file
     /// and records the result; returns the answer to its client.
@@ -31,7 +27,7 @@ impl Sessions {
         drop(s);
         let banks = self.registry.bank_dirs.clone();
         let permit = self.verifying.acquire().await.map_err(|e| SessionError::Task(e.to_string()))?;
-        let v = tokio::task::spawn_blocking(move || verify(&path, &banks, last_tick, last_checkpoint)).await.map_err(task_failed)?;
+        let v = tokio::task::spawn_blocking(move || verify(&path, &banks, last_tick, last_checkpoint)).await.map_err(|e| SessionError::Task(e.to_string()))?;
         drop(permit);
         log(&format!("{how} {file}: {acked} lines, {}", v.summary()));
         self.registry.verified(&id, v.clone())?;
