@@ -33,10 +33,6 @@ impl Refusal {
     pub fn bad(reason: impl Into<String>) -> Refusal {
         Refusal::new(400, reason)
     }
-    /// 401: no valid token.
-    pub fn unauthorized(reason: impl Into<String>) -> Refusal {
-        Refusal::new(401, reason)
-    }
     /// 404: nothing there.
     pub fn not_found(reason: impl Into<String>) -> Refusal {
         Refusal::new(404, reason)
@@ -49,26 +45,9 @@ impl Refusal {
     pub fn timeout(reason: impl Into<String>) -> Refusal {
         Refusal::new(408, reason)
     }
-    /// 409: the session is in another state than the request assumes (another writer, a
-    /// request in progress, another next line).
-    pub fn conflict(reason: impl Into<String>) -> Refusal {
-        Refusal::new(409, reason)
-    }
-    /// 410: the session has ended.
-    pub fn gone(reason: impl Into<String>) -> Refusal {
-        Refusal::new(410, reason)
-    }
     /// 413: over a size limit.
     pub fn too_large(reason: impl Into<String>) -> Refusal {
         Refusal::new(413, reason)
-    }
-    /// 422: a line breaks the format's rules.
-    pub fn bad_line(reason: impl Into<String>) -> Refusal {
-        Refusal::new(422, reason)
-    }
-    /// 503: the server takes no more sessions now.
-    pub fn busy(reason: impl Into<String>) -> Refusal {
-        Refusal::new(503, reason)
     }
     /// 500: the server failed (a file could not be written).
     pub fn internal(reason: impl Into<String>) -> Refusal {
