@@ -61,6 +61,7 @@ mod serve_faults;
 mod serve_fixture;
 mod serve_hostile;
 mod serve_room;
+mod serve_routes;
 mod sim_cli;
 mod species;
 mod species_bank;

@@ -7,7 +7,8 @@ use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::{Args, Subcommand};
-use grove::serve::{self, bench::BenchOptions, push::PushOptions, push::Rate, ServeConfig, TlsChoice};
+use grove::serve::client::{bench::BenchOptions, push::PushOptions, push::Rate};
+use grove::serve::{self, ServeConfig, TlsChoice};
 
 /// `grove serve` and its subcommands.
 #[derive(Args)]
@@ -169,19 +170,20 @@ fn push(p: PushArgs) -> anyhow::Result<ExitCode> {
         },
     };
     let options = PushOptions { rate, timeout: seconds("timeout", p.timeout)?, give_up: seconds("give-up", p.give_up)?, max_batch_bytes: 256 * 1024 };
-    let endpoint = serve::client::Endpoint::parse(&p.to, p.ca.as_deref())?;
+    let endpoint = serve::client::conn::Endpoint::parse(&p.to, p.ca.as_deref())?;
     let say = |m: &str| eprintln!("{}: {m}", p.file.display());
-    let report = runtime()?.block_on(serve::push::push(&p.file, &endpoint, &options, &say))?;
-    let status = report.ended["verification"]["status"].as_str().unwrap_or("?").to_string();
+    let report = runtime()?.block_on(serve::client::push::push(&p.file, &endpoint, &options, &say))?;
+    let status = report.status();
+    let shown = status.map_or("?", |s| s.as_str());
     if p.json {
         crate::cli::print_json(&report)?;
     } else {
         println!(
             "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects) to {}: {}",
-            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, status
+            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, shown
         );
     }
-    Ok(if status == "diverged" || status == "invalid" { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    Ok(if status.is_some_and(|s| s.failed()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
 fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
@@ -192,7 +194,7 @@ fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
     let grove = std::env::current_exe().context("cannot find the grove program to start the server")?;
     let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove };
     let say = |m: &str| eprintln!("serve bench: {m}");
-    let mut report = runtime()?.block_on(serve::bench::bench(&options, &say))?;
+    let mut report = runtime()?.block_on(serve::client::bench::bench(&options, &say))?;
     if let Some(o) = report.as_object_mut() {
         o.insert("build".into(), serde_json::json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
         o.insert("threads".into(), serde_json::json!(std::thread::available_parallelism().map_or(1, |n| n.get())));

@@ -8,7 +8,7 @@
 //! plain name (not empty, not `.` or `..`, no `/`, `\`, NUL or leading dot, so no hidden file);
 //! the file found must then lie inside the folder by canonical path (no symbolic link out), be
 //! a regular file within the size limit, and is read through `grove_systems::files`. Whatever is
-//! refused gets 404 with the reason.
+//! refused gets 404 with the reason; a method other than GET and HEAD gets 405, as from the routers.
 
 use std::path::{Path, PathBuf};
 
@@ -17,11 +17,12 @@ use futures_util::stream;
 use grove_systems::files::{self, Kind};
 use http_body_util::{BodyExt, StreamBody};
 use hyper::body::Frame;
-use hyper::{Response, StatusCode};
+use hyper::{Method, Response, StatusCode};
 use tokio::io::AsyncReadExt;
 
-use super::respond::{full, Body};
-use super::Refusal;
+use crate::serve::http::refusal::Refusal;
+use crate::serve::http::respond::{full, Body};
+use crate::serve::http::router::wrong_method;
 
 /// A URL prefix and the folder it maps to.
 #[derive(Clone, Debug)]
@@ -123,6 +124,16 @@ impl StaticRoots {
         let real = files::within(&path, &root.dir).map_err(|e| Refusal::not_found(e.reason()))?;
         files::check(&real, Kind::Served).map_err(|e| Refusal::not_found(e.reason()))?;
         Ok(real)
+    }
+
+    /// Answers a request for a file: GET and HEAD are served, any other method is refused as
+    /// the routers refuse it (405).
+    pub async fn answer(&self, method: &Method, url_path: &str) -> Result<Response<Body>, Refusal> {
+        match *method {
+            Method::GET => self.serve(url_path, false).await,
+            Method::HEAD => self.serve(url_path, true).await,
+            _ => Err(wrong_method(method, url_path, &[Method::GET, Method::HEAD])),
+        }
     }
 
     /// Serves a URL path: the file, streamed, with its content type (no body for HEAD).

@@ -1,6 +1,6 @@
 //! One session being recorded: its file, and every line checked before it is written.
 //!
-//! A session's file is `DIR/<participant>-<task>-<n>.jsonl` ([`super::ids`]). Its header is
+//! A session's file is `DIR/<participant>-<task>-<n>.jsonl` ([`crate::serve::ids`]). Its header is
 //! checked field by field (the replay format's header rules, the scene, the models and
 //! techniques it names, a participant id fit for a file name) before the file is made; then
 //! each line that arrives is checked by the replay crate's own rules ([`LineRules`]: checksum
@@ -25,9 +25,9 @@ use grove_systems::limits::{MAX_LINE_BYTES, MAX_RECORDING_BYTES};
 use grove_systems::replay::{self, header_line, Header, HeaderTechnique, Line, LineRules};
 use grove_systems::sim::Sim;
 
-use super::ids;
-use super::line_split::LineSplitter;
-use super::Refusal;
+use crate::serve::ids;
+use crate::serve::line_split::LineSplitter;
+use crate::serve::sessions::error::SessionError;
 
 /// What a client may set when it opens a session by its fields; the server writes the header.
 #[derive(Clone, Debug, Default, serde::Deserialize)]
@@ -53,24 +53,24 @@ pub struct OpenFields {
     #[serde(default)]
     pub block: Option<u32>,
     /// A scene the client built (a headset's room), in place of `scene`: checked, kept beside the
-    /// recordings and named by the header ([`super::room_scene`]).
+    /// recordings and named by the header ([`crate::serve::sessions::room_scene`]).
     #[serde(default)]
     pub scene_text: Option<String>,
 }
 
 /// The header a server writes for a session opened by its fields: this build's format, the
 /// scene's fixed step, the server's clock as `session_start`, not synthetic.
-pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Refusal> {
+pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, SessionError> {
     let scene_name = match (&fields.scene, &fields.scene_text) {
-        (Some(_), Some(_)) => return Err(Refusal::bad("an open request names a scene or sends scene_text, not both")),
+        (Some(_), Some(_)) => return Err(SessionError::SceneTwice),
         (_, Some(text)) => {
             // The participant id is checked before a file is written for the session.
-            super::ids::participant(&fields.participant).map_err(|e| Refusal::bad(e.to_string()))?;
-            super::room_scene::keep(text, dir)?
+            ids::participant(&fields.participant)?;
+            crate::serve::sessions::room_scene::keep(text, dir)?
         }
         (name, None) => name.clone().unwrap_or_else(|| "study".into()),
     };
-    let scene = replay::scene_ref::resolve_scene(&scene_name, Some(dir)).map_err(|e| Refusal::bad(e.to_string()))?;
+    let scene = replay::scene_ref::resolve_scene(&scene_name, Some(dir)).map_err(|e| SessionError::Scene(e.to_string()))?;
     let mut header = Header::new(&scene_name, fields.seed, scene.dt);
     header.participant = Some(fields.participant.clone());
     header.task = fields.task.clone();
@@ -82,7 +82,7 @@ pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Ref
     {
         let registered = grove_systems::technique::installed();
         let Some(t) = registered.get(name) else {
-            return Err(Refusal::bad(format!("technique: {}", registered.unknown(name))));
+            return Err(SessionError::Technique(registered.unknown(name).to_string()));
         };
         header.technique = Some(HeaderTechnique { name: name.clone(), version: t.version });
     }
@@ -126,32 +126,32 @@ pub struct Session {
 /// Checks a header for a session: the replay format's own checks (names, scene, models,
 /// technique, fixed step, config), and a participant id and task fit for a file name. Returns the
 /// simulation it describes and the file name parts.
-fn check_header(header: &Header, dir: &Path, banks: &Banks) -> Result<(Sim, String, String), Refusal> {
-    let participant = header.participant.as_deref().ok_or_else(|| Refusal::bad("the header has no participant id; a session needs one"))?;
-    let participant = ids::participant(participant).map_err(|e| Refusal::bad(e.to_string()))?.to_string();
-    let task = ids::task_part(header.task.as_deref()).map_err(|e| Refusal::bad(e.to_string()))?;
-    let sim = replay::sim_for_header_in(header, Some(dir), &[], banks).map_err(|e| Refusal::bad(format!("header: {e}")))?;
+fn check_header(header: &Header, dir: &Path, banks: &Banks) -> Result<(Sim, String, String), SessionError> {
+    let participant = header.participant.as_deref().ok_or(SessionError::NoParticipant)?;
+    let participant = ids::participant(participant)?.to_string();
+    let task = ids::task_part(header.task.as_deref())?;
+    let sim = replay::sim_for_header_in(header, Some(dir), &[], banks).map_err(|e| SessionError::Header(e.to_string()))?;
     Ok((sim, participant, task))
 }
 
 impl Session {
     /// Checks the header line and makes the session's file with it (written and handed to the
     /// operating system before this returns).
-    pub fn create(dir: &Path, id: String, header_text: &str, banks: &Banks) -> Result<Session, Refusal> {
+    pub fn create(dir: &Path, id: String, header_text: &str, banks: &Banks) -> Result<Session, SessionError> {
         if header_text.len() > MAX_LINE_BYTES {
-            return Err(Refusal::too_large(format!("the header line is longer than the limit of {MAX_LINE_BYTES} bytes")));
+            return Err(SessionError::HeaderTooLong { limit: MAX_LINE_BYTES });
         }
         if header_text.contains('\n') {
-            return Err(Refusal::bad("the header must be one line"));
+            return Err(SessionError::HeaderLines);
         }
-        let header = header_line(header_text).map_err(|e| Refusal::bad(format!("header: {e}")))?;
+        let header = header_line(header_text).map_err(|e| SessionError::Header(e.to_string()))?;
         let (sim, participant, task) = check_header(&header, dir, banks)?;
-        let (mut file, path) = ids::create_session_file(dir, &participant, &task).map_err(|e| Refusal::internal(e.to_string()))?;
+        let (mut file, path) = ids::create_session_file(dir, &participant, &task)?;
         let mut bytes = header_text.as_bytes().to_vec();
         bytes.push(b'\n');
         if let Err(e) = file.write_all(&bytes) {
             let _ = std::fs::remove_file(&path);
-            return Err(Refusal::internal(format!("{}: cannot write ({e})", path.display())));
+            return Err(SessionError::HeaderWrite { path: path.display().to_string(), message: e.to_string() });
         }
         let rules = LineRules::after(&header);
         Ok(Session {
@@ -180,16 +180,18 @@ impl Session {
     /// it was when it arrived; a cut last line (bytes after the last newline, never
     /// acknowledged) is cut off the file. A line that breaks the rules is an error: the file was
     /// changed by someone else, and the session is not continued.
-    pub fn resume(dir: &Path, id: String, name: &str, banks: &Banks) -> Result<Session, String> {
+    pub fn resume(dir: &Path, id: String, name: &str, banks: &Banks) -> Result<Session, SessionError> {
         let path = dir.join(name);
-        let (mut input, _) = files::open(&path, Kind::Recording).map_err(|e| e.to_string())?;
+        let shown = path.display().to_string();
+        let io = |e: std::io::Error| SessionError::Io { path: shown.clone(), message: e.to_string() };
+        let (mut input, _) = files::open(&path, Kind::Recording).map_err(|e| SessionError::Read(e.to_string()))?;
         let mut splitter = LineSplitter::new(MAX_LINE_BYTES);
         let mut state: Option<(Header, LineRules, Sim)> = None;
         let mut problem: Option<String> = None;
         let (mut good_bytes, mut last_checkpoint) = (0u64, 0u64);
         let mut chunk = vec![0u8; 64 * 1024];
         loop {
-            let n = input.read(&mut chunk).map_err(|e| format!("{}: {e}", path.display()))?;
+            let n = input.read(&mut chunk).map_err(io)?;
             if n == 0 {
                 break;
             }
@@ -198,7 +200,7 @@ impl Session {
                 let result = match state.as_mut() {
                     None => header_line(&text)
                         .map_err(|e| e.to_string())
-                        .and_then(|h| check_header(&h, dir, banks).map(|(sim, _, _)| (h, sim)).map_err(|r| r.reason))
+                        .and_then(|h| check_header(&h, dir, banks).map(|(sim, _, _)| (h, sim)).map_err(|r| r.to_string()))
                         .map(|(h, sim)| state = Some((h.clone(), LineRules::after(&h), sim))),
                     Some((_, rules, sim)) => take_line(rules, sim, text).map(|tick| {
                         if let Some(t) = tick {
@@ -220,20 +222,20 @@ impl Session {
             match going {
                 Ok(true) => {}
                 Ok(false) => break,
-                Err(e) => return Err(format!("{}: {e}", path.display())),
+                Err(e) => return Err(SessionError::Io { path: shown, message: e.to_string() }),
             }
         }
-        if let Some(p) = problem {
-            return Err(format!("{}:{}: {p}", path.display(), splitter.lines()));
+        if let Some(why) = problem {
+            return Err(SessionError::FileLine { path: shown, line: splitter.lines(), why });
         }
-        let Some((header, rules, sim)) = state else { return Err(format!("{}: no header line", path.display())) };
+        let Some((header, rules, sim)) = state else { return Err(SessionError::NoHeader { path: shown }) };
         let last_tick = rules.last_tick();
-        let file = OpenOptions::new().write(true).open(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let file = OpenOptions::new().write(true).open(&path).map_err(io)?;
         if !splitter.rest().is_empty() {
-            file.set_len(good_bytes).map_err(|e| format!("{}: cannot cut its last, unfinished line ({e})", path.display()))?;
+            file.set_len(good_bytes).map_err(|e| SessionError::Cut { path: shown.clone(), message: e.to_string() })?;
         }
         drop(file);
-        let file = OpenOptions::new().append(true).open(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let file = OpenOptions::new().append(true).open(&path).map_err(io)?;
         Ok(Session {
             id,
             file_name: name.to_string(),
@@ -284,14 +286,14 @@ impl Session {
 
     /// Checks the next line (its text without the newline) and keeps it for [`Session::write_out`];
     /// a line that breaks a rule is refused with the reason, and nothing changes.
-    pub fn take(&mut self, text: String) -> Result<(), String> {
+    pub fn take(&mut self, text: String) -> Result<(), SessionError> {
         let number = self.next_number();
         let grown = self.bytes + self.pending.len() as u64 + text.len() as u64 + 1;
         if grown > MAX_RECORDING_BYTES {
-            return Err(format!("line {number}: the recording would pass the limit of {MAX_RECORDING_BYTES} bytes per recording"));
+            return Err(SessionError::RecordingFull { number, limit: MAX_RECORDING_BYTES });
         }
         let bytes = text.as_bytes().to_vec();
-        let checkpoint = take_line(&mut self.rules, &self.sim, text).map_err(|e| format!("line {number}: {e}"))?;
+        let checkpoint = take_line(&mut self.rules, &self.sim, text).map_err(|why| SessionError::Line { number, why })?;
         if let Some(t) = checkpoint {
             self.pending_checkpoint = t;
         }
@@ -303,14 +305,14 @@ impl Session {
 
     /// Hands the lines taken since the last call to the operating system in one write. A failed
     /// write breaks the session (see [`Session::broken`]).
-    pub fn write_out(&mut self) -> Result<(), String> {
+    pub fn write_out(&mut self) -> Result<(), SessionError> {
         if self.pending.is_empty() {
             return Ok(());
         }
         if let Err(e) = self.file.write_all(&self.pending) {
-            let why = format!("{}: cannot write ({e}); restart the server to continue the session", self.path.display());
-            self.broken = Some(why.clone());
-            return Err(why);
+            let failed = SessionError::Write { path: self.path.display().to_string(), message: e.to_string() };
+            self.broken = Some(failed.to_string());
+            return Err(failed);
         }
         self.bytes += self.pending.len() as u64;
         self.lines += self.pending_lines;

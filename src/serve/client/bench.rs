@@ -22,8 +22,8 @@ use grove_systems::replay::{encode_line, Header, Line, Recorder};
 use hyper::Method;
 use serde_json::json;
 
-use super::client::Endpoint;
-use super::ServeError;
+use crate::serve::client::conn::{ClientError, Endpoint};
+use crate::serve::sessions::states::VerifyStatus;
 
 /// Options of the benchmark.
 #[derive(Clone, Debug)]
@@ -39,14 +39,14 @@ pub struct BenchOptions {
 /// One session's recording made ahead: each tick's lines as one request body, and the lines of
 /// the header's successors (the same for every session: the checksum chain starts after the
 /// header, and the participant changes nothing in the world).
-fn recording(ticks: u64) -> Result<(Header, Vec<Bytes>), ServeError> {
-    let scene = grove_systems::scene::Scene::builtin("study").ok_or_else(|| ServeError::Client("no built-in study scene".into()))?;
+fn recording(ticks: u64) -> Result<(Header, Vec<Bytes>), ClientError> {
+    let scene = grove_systems::scene::Scene::builtin("study").ok_or_else(|| ClientError::Local("no built-in study scene".into()))?;
     let mut header = Header::new("study", 1, scene.dt);
     header.participant = Some("B01".into());
-    let mut sim = grove_systems::replay::sim_for_header(&header, None, &[]).map_err(|e| ServeError::Client(e.to_string()))?;
+    let mut sim = grove_systems::replay::sim_for_header(&header, None, &[]).map_err(|e| ClientError::Local(e.to_string()))?;
     let mut out = Vec::new();
-    let mut rec = Recorder::new(&mut out, &header).map_err(|e| ServeError::Client(e.to_string()))?;
-    let fail = |e: std::io::Error| ServeError::Client(e.to_string());
+    let mut rec = Recorder::new(&mut out, &header).map_err(|e| ClientError::Local(e.to_string()))?;
+    let fail = |e: std::io::Error| ClientError::Local(e.to_string());
     let mut batches = Vec::with_capacity(ticks as usize);
     let mut taken = rec.get_ref().len();
     for t in 0..ticks {
@@ -62,7 +62,7 @@ fn recording(ticks: u64) -> Result<(Header, Vec<Bytes>), ServeError> {
         for e in &events {
             rec.event(t, (t as f64 * 1000.0 / 60.0).round() as u64, t, e).map_err(fail)?;
         }
-        sim.step_with(events).map_err(|e| ServeError::Client(e.to_string()))?;
+        sim.step_with(events).map_err(|e| ClientError::Local(e.to_string()))?;
         rec.after_step(&sim).map_err(fail)?;
         if t + 1 == ticks {
             rec.flush().map_err(fail)?;
@@ -86,15 +86,15 @@ struct Server {
     url: String,
 }
 
-fn start_server(grove: &Path, dir: &Path) -> Result<Server, ServeError> {
+fn start_server(grove: &Path, dir: &Path) -> Result<Server, ClientError> {
     let mut child = Command::new(grove)
         .args(["serve", "--port", "0", "--abandon-after", "3600", "--max-sessions", "10000", "--out"])
         .arg(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()
-        .map_err(|e| ServeError::Client(format!("cannot start {}: {e}", grove.display())))?;
-    let stdout = child.stdout.take().ok_or_else(|| ServeError::Client("no output from the server".into()))?;
+        .map_err(|e| ClientError::Local(format!("cannot start {}: {e}", grove.display())))?;
+    let stdout = child.stdout.take().ok_or_else(|| ClientError::Local("no output from the server".into()))?;
     let mut lines = BufReader::new(stdout).lines();
     let url = loop {
         match lines.next() {
@@ -105,7 +105,7 @@ fn start_server(grove: &Path, dir: &Path) -> Result<Server, ServeError> {
             }
             _ => {
                 let _ = child.kill();
-                return Err(ServeError::Client("the server ended before it listened".into()));
+                return Err(ClientError::Local("the server ended before it listened".into()));
             }
         }
     };
@@ -141,7 +141,7 @@ fn round(x: f64, digits: i32) -> f64 {
 }
 
 /// Runs the benchmark and returns its figures as JSON.
-pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_json::Value, ServeError> {
+pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_json::Value, ClientError> {
     let ticks = (options.seconds * 60.0).round().max(2.0) as u64;
     say(&format!("making a {ticks}-tick recording"));
     let (header, batches) = recording(ticks)?;
@@ -175,9 +175,9 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
         tasks.push(tokio::spawn(async move { session(endpoint, header_line, batches, start, offset).await }));
     }
     let mut acks: Vec<(f64, f64)> = Vec::new();
-    let mut statuses: Vec<String> = Vec::new();
+    let mut statuses: Vec<Option<VerifyStatus>> = Vec::new();
     for t in tasks {
-        let (a, status) = t.await.map_err(|e| ServeError::Client(e.to_string()))??;
+        let (a, status) = t.await.map_err(|e| ClientError::Local(e.to_string()))??;
         acks.extend(a);
         statuses.push(status);
     }
@@ -211,7 +211,7 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
         (Some(f), Some(l)) if l.0 > f.0 => (l.1 - f.1) / (l.0 - f.0) * 100.0,
         _ => f64::NAN,
     };
-    let verified = statuses.iter().filter(|s| *s == "verified").count();
+    let verified = statuses.iter().filter(|s| **s == Some(VerifyStatus::Verified)).count();
     Ok(json!({
         "serve": {
             "sessions": options.sessions,
@@ -231,12 +231,12 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
 
 /// One session: opened, each tick's lines sent on time, ended. Returns (seconds since the start,
 /// acknowledgement ms) per request and the verification's status.
-async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, start: Instant, offset: Duration) -> Result<(Vec<(f64, f64)>, String), ServeError> {
+async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, start: Instant, offset: Duration) -> Result<(Vec<(f64, f64)>, Option<VerifyStatus>), ClientError> {
     let timeout = Duration::from_secs(10);
-    let mut conn = endpoint.connect(timeout).await.map_err(ServeError::Client)?;
-    let (status, v) = conn.request(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string()), timeout).await.map_err(ServeError::Client)?;
+    let mut conn = endpoint.connect(timeout).await?;
+    let (status, v) = conn.request(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string()), timeout).await?;
     if status != 201 {
-        return Err(ServeError::Client(format!("open refused ({status}): {v}")));
+        return Err(ClientError::Refused { what: "open".into(), status, reason: v.to_string() });
     }
     let id = v["session"].as_str().unwrap_or("").to_string();
     let mut acks = Vec::with_capacity(batches.len());
@@ -245,14 +245,14 @@ async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, s
     for (t, batch) in batches.iter().enumerate() {
         tokio::time::sleep_until(begin + Duration::from_secs_f64(t as f64 / 60.0)).await;
         let sent = Instant::now();
-        let (status, v) = conn.request(Method::POST, &format!("/api/sessions/{id}/lines?from={from}"), batch.clone(), timeout).await.map_err(ServeError::Client)?;
+        let (status, v) = conn.request(Method::POST, &format!("/api/sessions/{id}/lines?from={from}"), batch.clone(), timeout).await?;
         let ms = sent.elapsed().as_secs_f64() * 1000.0;
         if status != 200 {
-            return Err(ServeError::Client(format!("lines refused ({status}): {v}")));
+            return Err(ClientError::Refused { what: "lines".into(), status, reason: v.to_string() });
         }
         from = v["acked"].as_u64().unwrap_or(0) + 1;
         acks.push((sent.duration_since(start).as_secs_f64(), ms));
     }
-    let (_, v) = conn.request(Method::POST, &format!("/api/sessions/{id}/end"), Bytes::new(), Duration::from_secs(60)).await.map_err(ServeError::Client)?;
-    Ok((acks, v["verification"]["status"].as_str().unwrap_or("?").to_string()))
+    let (_, v) = conn.request(Method::POST, &format!("/api/sessions/{id}/end"), Bytes::new(), Duration::from_secs(60)).await?;
+    Ok((acks, serde_json::from_value(v["verification"]["status"].clone()).ok()))
 }

@@ -1,6 +1,6 @@
-//! How the server shows itself: the address a client on the network reaches it by, and its URL
-//! (with the token) as a QR code in the terminal, for a headset that has no keyboard worth
-//! typing on.
+//! How the server shows itself at start: the address a client on the network reaches it by, its
+//! URL (with the token), and that URL as a QR code in the terminal, for a headset that has no
+//! keyboard worth typing on.
 
 use std::net::{IpAddr, Ipv4Addr, UdpSocket};
 
@@ -18,6 +18,15 @@ pub fn shown_host(host: IpAddr) -> String {
 /// `host:port`.
 pub fn host_port(host: &str, port: u16) -> String {
     format!("{host}:{port}")
+}
+
+/// The URL a client opens: `http(s)://host:port/`, with `?token=` when there is one.
+pub fn url(tls: bool, host: &str, port: u16, token: Option<&str>) -> String {
+    let scheme = if tls { "https" } else { "http" };
+    match token {
+        Some(t) => format!("{scheme}://{}/?token={t}", host_port(host, port)),
+        None => format!("{scheme}://{}/", host_port(host, port)),
+    }
 }
 
 /// This machine's address on its default route, if it has one.

@@ -15,6 +15,25 @@ use serde_json::{json, Value};
 /// The side of a hit cell, metres (as the HTML report's map).
 pub const CELL_M: f32 = crate::html::trace::CELL_M;
 
+/// Why a live view could not be made (the dashboard shows it in the view's place).
+#[derive(Debug, thiserror::Error)]
+pub enum LiveError {
+    /// The file could not be read.
+    #[error("{0}")]
+    Read(String),
+    /// The scratch copy could not be written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The path.
+        path: String,
+        /// What went wrong, one line.
+        message: String,
+    },
+    /// The model banks could not be opened, or the replay refused the copy.
+    #[error("{0}")]
+    Replay(String),
+}
+
 /// Live views by session file, with the line count each was made at.
 #[derive(Default)]
 pub struct LiveCache {
@@ -41,20 +60,21 @@ impl LiveCache {
 }
 
 /// Re-simulates the whole lines of `path` (a copy in `scratch`) and describes the world.
-pub fn view(path: &Path, scratch: &Path, bank_dirs: &[PathBuf]) -> Result<Value, String> {
-    let text = grove_systems::files::read(path, grove_systems::files::Kind::Recording).map_err(|e| e.reason())?;
+pub fn view(path: &Path, scratch: &Path, bank_dirs: &[PathBuf]) -> Result<Value, LiveError> {
+    let io = |p: &Path, e: std::io::Error| LiveError::Io { path: p.display().to_string(), message: e.to_string() };
+    let text = grove_systems::files::read(path, grove_systems::files::Kind::Recording).map_err(|e| LiveError::Read(e.reason()))?;
     let whole = text.iter().rposition(|b| *b == b'\n').map_or(0, |i| i + 1);
-    std::fs::create_dir_all(scratch).map_err(|e| format!("{}: {e}", scratch.display()))?;
+    std::fs::create_dir_all(scratch).map_err(|e| io(scratch, e))?;
     let copy = scratch.join(path.file_name().unwrap_or_default());
-    std::fs::write(&copy, &text[..whole]).map_err(|e| format!("{}: {e}", copy.display()))?;
-    let banks = Banks::open(bank_dirs).map_err(|e| e.to_string())?;
+    std::fs::write(&copy, &text[..whole]).map_err(|e| io(&copy, e))?;
+    let banks = Banks::open(bank_dirs).map_err(|e| LiveError::Replay(e.to_string()))?;
     let result = run(&copy, &banks);
     let _ = std::fs::remove_file(&copy);
     result
 }
 
-fn run(copy: &Path, banks: &Banks) -> Result<Value, String> {
-    let mut player = Player::open(copy, &[], banks).map_err(|e| e.to_string())?;
+fn run(copy: &Path, banks: &Banks) -> Result<Value, LiveError> {
+    let mut player = Player::open(copy, &[], banks).map_err(|e| LiveError::Replay(e.to_string()))?;
     let end = player.final_tick();
     let mut hits: BTreeMap<(i32, i32), u32> = BTreeMap::new();
     while player.sim().tick() < end {

@@ -14,7 +14,7 @@ use serde_json::{json, Value};
 
 use crate::protocol::{Loaded, Step, StepKind};
 
-use super::Refusal;
+use crate::serve::protocol::error::ParticipantError;
 
 /// The suffix of a participant's file.
 pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
@@ -61,28 +61,28 @@ fn now() -> String {
     chrono::DateTime::<chrono::Utc>::from(std::time::SystemTime::now()).format("%Y-%m-%dT%H:%M:%S%.3fZ").to_string()
 }
 
-fn io(path: &Path, e: impl std::fmt::Display) -> Refusal {
-    Refusal::internal(format!("{}: {e}", path.display()))
+fn io(path: &Path, e: impl std::fmt::Display) -> ParticipantError {
+    ParticipantError::Io { path: path.display().to_string(), message: e.to_string() }
 }
 
 impl Participants {
     /// Opens a folder for a protocol: keeps a copy of the protocol in it (refusing a folder that
     /// holds another one) and reads back every participant's file.
-    pub fn open(loaded: Loaded, dir: &Path) -> Result<(Participants, Vec<String>), String> {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    pub fn open(loaded: Loaded, dir: &Path) -> Result<(Participants, Vec<String>), ParticipantError> {
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
         let copy = dir.join(PROTOCOL_FILE);
         if copy.exists() {
-            let held = grove_systems::files::read_text(&copy, grove_systems::files::Kind::Index).map_err(|e| e.reason())?;
+            let held = grove_systems::files::read_text(&copy, grove_systems::files::Kind::Index).map_err(|e| ParticipantError::File(e.reason()))?;
             if held != loaded.text {
-                return Err(format!("{} holds another protocol than the one given; start a new --out folder for it", copy.display()));
+                return Err(ParticipantError::OtherProtocol { copy: copy.display().to_string() });
             }
         } else {
-            crate::atomic_write::write_bytes(&copy, loaded.text.as_bytes()).map_err(|e| e.to_string())?;
+            crate::atomic_write::write_bytes(&copy, loaded.text.as_bytes()).map_err(|e| ParticipantError::File(e.to_string()))?;
         }
         let mut list = Vec::new();
         let mut notes = Vec::new();
         let mut names: Vec<PathBuf> = std::fs::read_dir(dir)
-            .map_err(|e| format!("{}: {e}", dir.display()))?
+            .map_err(|e| io(dir, e))?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.ends_with(ANSWERS_SUFFIX)))
             .collect();
@@ -101,7 +101,7 @@ impl Participants {
     }
 
     /// Appends lines to a participant's file in one write.
-    fn append(&self, id: &str, lines: &[Value]) -> Result<(), Refusal> {
+    fn append(&self, id: &str, lines: &[Value]) -> Result<(), ParticipantError> {
         let path = self.path_of(id);
         let mut bytes = Vec::new();
         for l in lines {
@@ -114,11 +114,11 @@ impl Participants {
 
     /// A new participant (the next id and the next row of the square), or the one named `id`
     /// if it exists; `true` when new.
-    pub fn join(&self, id: Option<&str>) -> Result<(Value, bool), Refusal> {
+    pub fn join(&self, id: Option<&str>) -> Result<(Value, bool), ParticipantError> {
         let mut list = self.list.lock().unwrap_or_else(|p| p.into_inner());
         if let Some(id) = id {
-            if super::ids::participant(id).is_err() {
-                return Err(Refusal::bad("a participant id is 1 to 32 letters, digits, '_' or '-', starting with a letter or digit"));
+            if crate::serve::ids::participant(id).is_err() {
+                return Err(ParticipantError::BadId);
             }
             if let Some(p) = list.iter().find(|p| p.id == id) {
                 return Ok((self.state(p), false));
@@ -127,7 +127,7 @@ impl Participants {
         let index = list.len();
         let total = self.loaded.protocol.participants;
         if index >= total {
-            return Err(Refusal::conflict(format!("the protocol is for {total} participants, and all {total} have joined")));
+            return Err(ParticipantError::AllJoined { total });
         }
         let id = id.map(str::to_string).unwrap_or_else(|| format!("P{:02}", index + 1));
         let order = self.loaded.order(index);
@@ -143,9 +143,9 @@ impl Participants {
     }
 
     /// A participant's state.
-    pub fn get(&self, id: &str) -> Result<Value, Refusal> {
+    pub fn get(&self, id: &str) -> Result<Value, ParticipantError> {
         let list = self.list.lock().unwrap_or_else(|p| p.into_inner());
-        list.iter().find(|p| p.id == id).map(|p| self.state(p)).ok_or_else(|| Refusal::not_found(format!("no participant {id}")))
+        list.iter().find(|p| p.id == id).map(|p| self.state(p)).ok_or_else(|| ParticipantError::Unknown(id.to_string()))
     }
 
     /// Every participant's state.
@@ -156,28 +156,28 @@ impl Participants {
 
     /// Records answers to the questionnaire of step `step` (1-based): every one is checked
     /// against its item before any is written.
-    pub fn answer(&self, id: &str, step: usize, answers: &serde_json::Map<String, Value>) -> Result<Value, Refusal> {
+    pub fn answer(&self, id: &str, step: usize, answers: &serde_json::Map<String, Value>) -> Result<Value, ParticipantError> {
         let mut list = self.list.lock().unwrap_or_else(|p| p.into_inner());
-        let p = list.iter_mut().find(|p| p.id == id).ok_or_else(|| Refusal::not_found(format!("no participant {id}")))?;
+        let p = list.iter_mut().find(|p| p.id == id).ok_or_else(|| ParticipantError::Unknown(id.to_string()))?;
         if step != p.at + 1 {
-            return Err(Refusal::conflict(format!("participant {id} is at step {}, not {step}", p.at + 1)));
+            return Err(ParticipantError::WrongStep { id: id.to_string(), at: p.at + 1, step });
         }
         let Some(StepKind::Questionnaire { instrument, condition }) = p.steps.get(p.at).map(|s| s.kind.clone()) else {
-            return Err(Refusal::conflict(format!("step {step} of participant {id} is not a questionnaire")));
+            return Err(ParticipantError::NotAQuestionnaire { id: id.to_string(), step });
         };
-        let ins = self.loaded.instrument(&instrument).ok_or_else(|| Refusal::internal("the instrument is gone"))?;
+        let ins = self.loaded.instrument(&instrument).ok_or(ParticipantError::InstrumentGone)?;
         if answers.is_empty() {
-            return Err(Refusal::bad("no answers given: send {\"step\": N, \"answers\": {ITEM: ANSWER, …}}"));
+            return Err(ParticipantError::NoAnswers);
         }
         if p.answer_lines + answers.len() > MAX_ANSWER_LINES {
-            return Err(Refusal::too_large(format!("participant {id} has given {} answers, the most one participant's file takes is {MAX_ANSWER_LINES}", p.answer_lines)));
+            return Err(ParticipantError::TooManyAnswers { id: id.to_string(), given: p.answer_lines, most: MAX_ANSWER_LINES });
         }
         let time = now();
         let cond = condition.map(|c| self.loaded.protocol.conditions[c].name.clone());
         let mut lines = Vec::new();
         for (item_id, value) in answers {
-            let item = ins.items.iter().find(|i| &i.id == item_id).ok_or_else(|| Refusal::bad_line(format!("questionnaire '{}' has no item '{item_id}'", ins.id)))?;
-            crate::protocol::answer::check(item, value).map_err(Refusal::bad_line)?;
+            let item = ins.items.iter().find(|i| &i.id == item_id).ok_or_else(|| ParticipantError::NoSuchItem { instrument: ins.id.clone(), item: item_id.clone() })?;
+            crate::protocol::answer::check(item, value).map_err(ParticipantError::BadAnswer)?;
             lines.push(json!({"line": "answer", "step": step, "block": p.steps[p.at].name, "instrument": ins.id, "condition": cond, "item": item_id, "answer": value, "time": time}));
         }
         self.append(id, &lines)?;
@@ -190,27 +190,27 @@ impl Participants {
 
     /// Moves participant `id` from step `from` (1-based) to the next, if the step is finished:
     /// a task whose session has ended, a questionnaire with every required item answered.
-    pub fn next(&self, id: &str, from: usize, tasks: &dyn TaskSessions) -> Result<Value, Refusal> {
+    pub fn next(&self, id: &str, from: usize, tasks: &dyn TaskSessions) -> Result<Value, ParticipantError> {
         let mut list = self.list.lock().unwrap_or_else(|p| p.into_inner());
-        let p = list.iter_mut().find(|p| p.id == id).ok_or_else(|| Refusal::not_found(format!("no participant {id}")))?;
+        let p = list.iter_mut().find(|p| p.id == id).ok_or_else(|| ParticipantError::Unknown(id.to_string()))?;
         if p.at >= p.steps.len() {
-            return Err(Refusal::conflict(format!("participant {id} has finished the protocol")));
+            return Err(ParticipantError::Finished(id.to_string()));
         }
         if from != p.at + 1 {
-            return Err(Refusal::conflict(format!("participant {id} is at step {}, not {from}", p.at + 1)));
+            return Err(ParticipantError::WrongStep { id: id.to_string(), at: p.at + 1, step: from });
         }
         match &p.steps[p.at].kind {
             StepKind::Task { condition } => {
                 let task = &self.loaded.protocol.conditions[*condition].task;
                 if !tasks.ended(id, task) {
-                    return Err(Refusal::conflict(format!("step {from} is task {task}: its session has not ended yet")));
+                    return Err(ParticipantError::TaskNotEnded { step: from, task: task.clone() });
                 }
             }
             StepKind::Questionnaire { instrument, .. } => {
-                let ins = self.loaded.instrument(instrument).ok_or_else(|| Refusal::internal("the instrument is gone"))?;
+                let ins = self.loaded.instrument(instrument).ok_or(ParticipantError::InstrumentGone)?;
                 let missing: Vec<&str> = ins.items.iter().filter(|i| i.required && !p.answers.contains_key(&(p.at, i.id.clone()))).map(|i| i.id.as_str()).collect();
                 if !missing.is_empty() {
-                    return Err(Refusal::conflict(format!("step {from}: items not answered yet: {}", missing.join(", "))));
+                    return Err(ParticipantError::NotAnswered { step: from, missing: missing.join(", ") });
                 }
             }
             StepKind::Instructions | StepKind::Practice => {}
@@ -290,17 +290,17 @@ fn step_line(steps: &[Step], at: usize) -> Value {
 
 /// Reads a participant's file back: the participant, the last step entered, the answers. A last
 /// line cut short by a crash (no newline) was never acknowledged and is cut off.
-fn read_back(loaded: &Loaded, path: &Path) -> Result<Participant, String> {
-    let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Recording).map_err(|e| e.reason())?;
+fn read_back(loaded: &Loaded, path: &Path) -> Result<Participant, ParticipantError> {
+    let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Recording).map_err(|e| ParticipantError::File(e.reason()))?;
     let whole = match text.rfind('\n') {
         Some(end) => end + 1,
         None => 0,
     };
     if whole < text.len() {
-        let f = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        f.set_len(whole as u64).map_err(|e| format!("{}: {e}", path.display()))?;
+        let f = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| io(path, e))?;
+        f.set_len(whole as u64).map_err(|e| io(path, e))?;
     }
-    let bad = |n: usize, why: &str| format!("{}: line {n}: {why}", path.display());
+    let bad = |n: usize, why: &str| io(path, format!("line {n}: {why}"));
     let mut p: Option<Participant> = None;
     for (n, line) in text[..whole].lines().enumerate() {
         let v: Value = serde_json::from_str(line).map_err(|e| bad(n + 1, &e.to_string()))?;
@@ -322,7 +322,7 @@ fn read_back(loaded: &Loaded, path: &Path) -> Result<Participant, String> {
             _ => return Err(bad(n + 1, "not a line of a participant's file")),
         }
     }
-    p.ok_or_else(|| format!("{}: no participant line", path.display()))
+    p.ok_or_else(|| io(path, "no participant line"))
 }
 
 #[cfg(test)]
@@ -349,7 +349,7 @@ mod tests {
         assert_eq!(first["participant"], "P01");
         ps.next("P01", 1, &NoneEnded).unwrap();
         ps.next("P01", 2, &NoneEnded).unwrap();
-        let refused = ps.next("P01", 3, &NoneEnded).unwrap_err();
+        let refused = crate::serve::http::refusal::Refusal::from(ps.next("P01", 3, &NoneEnded).unwrap_err());
         assert_eq!(refused.status, 409);
         drop(ps);
         // A crash in the middle of a write leaves part of a line: it was never acknowledged.
@@ -374,6 +374,6 @@ mod tests {
         let mut other = loaded;
         other.text.push_str("\n// changed\n");
         let e = Participants::open(other, dir.path()).err().expect("refused");
-        assert!(e.contains("holds another protocol"), "{e}");
+        assert!(e.to_string().contains("holds another protocol"), "{e}");
     }
 }

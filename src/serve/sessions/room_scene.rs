@@ -12,7 +12,7 @@ use std::path::Path;
 use grove_systems::limits::MAX_SCENE_BYTES;
 use grove_systems::scene::Scene;
 
-use super::Refusal;
+use crate::serve::http::refusal::Refusal;
 
 /// The file name a scene text is kept under.
 pub fn file_name(text: &str) -> String {

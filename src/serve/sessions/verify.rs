@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use grove_systems::replay::{replay_file, ReplayOptions};
 use serde::{Deserialize, Serialize};
 
+use crate::serve::sessions::states::VerifyStatus;
+
 /// The first checkpoint at which the re-simulation and the file disagree.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FirstDivergence {
@@ -22,8 +24,8 @@ pub struct FirstDivergence {
 /// What the re-simulation of a session's file found.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Verification {
-    /// `verified`, `unverified`, `incomplete`, `diverged` or `invalid`.
-    pub status: String,
+    /// Verified, unverified, incomplete, diverged or invalid.
+    pub status: VerifyStatus,
     /// Whether the file has its footer.
     pub complete: bool,
     /// Checkpoints compared (the footer's final hash included).
@@ -40,22 +42,27 @@ pub struct Verification {
 }
 
 impl Verification {
+    /// A file the replay refused (or that could not be read back), with why.
+    pub fn invalid(error: String, last_tick: u64) -> Verification {
+        Verification { status: VerifyStatus::Invalid, complete: false, checkpoints_checked: 0, verified_to_tick: None, last_tick, first_divergence: None, error: Some(error) }
+    }
+
     /// One line for the terminal.
     pub fn summary(&self) -> String {
-        match self.status.as_str() {
-            "verified" => format!("verified ({} checkpoints, final tick {})", self.checkpoints_checked, self.last_tick),
-            "unverified" => format!("unverified (no checkpoint to compare; tick {})", self.last_tick),
-            "incomplete" => format!(
+        match self.status {
+            VerifyStatus::Verified => format!("verified ({} checkpoints, final tick {})", self.checkpoints_checked, self.last_tick),
+            VerifyStatus::Unverified => format!("unverified (no checkpoint to compare; tick {})", self.last_tick),
+            VerifyStatus::Incomplete => format!(
                 "incomplete (no footer): verified to tick {}, its last checkpoint ({} checkpoints); the file ends at tick {}",
                 self.verified_to_tick.unwrap_or(0),
                 self.checkpoints_checked,
                 self.last_tick
             ),
-            "diverged" => match &self.first_divergence {
+            VerifyStatus::Diverged => match &self.first_divergence {
                 Some(d) => format!("diverged at tick {} (the file has {}, the re-simulation {})", d.tick, d.expected_hash, d.actual_hash),
                 None => "diverged".into(),
             },
-            _ => format!("invalid: {}", self.error.as_deref().unwrap_or("?")),
+            VerifyStatus::Invalid => format!("invalid: {}", self.error.as_deref().unwrap_or("?")),
         }
     }
 }
@@ -66,32 +73,24 @@ impl Verification {
 pub fn verify(path: &Path, banks: &[PathBuf], last_tick: u64, last_checkpoint: u64) -> Verification {
     let options = ReplayOptions { banks: banks.to_vec(), ..ReplayOptions::default() };
     match replay_file(path, &options) {
-        Err(e) => Verification {
-            status: "invalid".into(),
-            complete: false,
-            checkpoints_checked: 0,
-            verified_to_tick: None,
-            last_tick,
-            first_divergence: None,
-            error: Some(e.to_string()),
-        },
+        Err(e) => Verification::invalid(e.to_string(), last_tick),
         Ok(out) => {
             let first_divergence = out.first_divergence.map(|d| FirstDivergence { tick: d.tick, expected_hash: d.expected_hash, actual_hash: d.actual_hash });
             let status = if first_divergence.is_some() {
-                "diverged"
+                VerifyStatus::Diverged
             } else if !out.complete {
-                "incomplete"
+                VerifyStatus::Incomplete
             } else if out.checkpoints_checked == 0 {
-                "unverified"
+                VerifyStatus::Unverified
             } else {
-                "verified"
+                VerifyStatus::Verified
             };
             let verified_to_tick = match (&first_divergence, out.complete) {
                 (Some(_), _) => None,
                 (None, true) => Some(last_tick),
                 (None, false) => Some(last_checkpoint),
             };
-            Verification { status: status.into(), complete: out.complete, checkpoints_checked: out.checkpoints_checked, verified_to_tick, last_tick, first_divergence, error: None }
+            Verification { status, complete: out.complete, checkpoints_checked: out.checkpoints_checked, verified_to_tick, last_tick, first_divergence, error: None }
         }
     }
 }

@@ -18,9 +18,9 @@ use hyper::Method;
 use serde::Serialize;
 use serde_json::json;
 
-use super::client::{Answer, Conn, Endpoint};
-use super::line_split::LineSplitter;
-use super::ServeError;
+use crate::serve::client::conn::{Answer, ClientError, Conn, Endpoint};
+use crate::serve::line_split::LineSplitter;
+use crate::serve::sessions::states::{Code, SessionState, VerifyStatus};
 
 /// How fast lines are sent.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,6 +63,13 @@ pub struct PushReport {
     pub ended: serde_json::Value,
 }
 
+impl PushReport {
+    /// The verification's status, as the server's answer says it.
+    pub fn status(&self) -> Option<VerifyStatus> {
+        field(&self.ended["verification"], "status")
+    }
+}
+
 /// The recording's lines, read as they are needed.
 struct Source {
     file: std::fs::File,
@@ -73,15 +80,15 @@ struct Source {
 }
 
 impl Source {
-    fn open(path: &Path) -> Result<Source, ServeError> {
-        let (file, _) = files::open(path, Kind::Recording).map_err(|e| ServeError::Client(e.to_string()))?;
+    fn open(path: &Path) -> Result<Source, ClientError> {
+        let (file, _) = files::open(path, Kind::Recording).map_err(|e| ClientError::Local(e.to_string()))?;
         Ok(Source { file, splitter: LineSplitter::new(MAX_LINE_BYTES), ready: VecDeque::new(), eof: false, name: path.display().to_string() })
     }
 
-    fn next(&mut self) -> Result<Option<String>, ServeError> {
+    fn next(&mut self) -> Result<Option<String>, ClientError> {
         let mut chunk = vec![0u8; 64 * 1024];
         while self.ready.is_empty() && !self.eof {
-            let n = self.file.read(&mut chunk).map_err(|e| ServeError::Client(format!("{}: {e}", self.name)))?;
+            let n = self.file.read(&mut chunk).map_err(|e| ClientError::Local(format!("{}: {e}", self.name)))?;
             if n == 0 {
                 self.eof = true;
                 if !self.splitter.rest().is_empty() {
@@ -95,7 +102,7 @@ impl Source {
                     ready.push_back(l);
                     true
                 })
-                .map_err(|e| ServeError::Client(format!("{}: {e}", self.name)))?;
+                .map_err(|e| ClientError::Local(format!("{}: {e}", self.name)))?;
         }
         Ok(self.ready.pop_front())
     }
@@ -112,7 +119,7 @@ struct Link<'a> {
 }
 
 impl Link<'_> {
-    async fn call(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, String> {
+    async fn call(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ClientError> {
         if self.conn.is_none() {
             let c = self.endpoint.connect(self.options.timeout).await?;
             if self.offline_since.is_some() {
@@ -120,7 +127,7 @@ impl Link<'_> {
             }
             self.conn = Some(c);
         }
-        let conn = self.conn.as_mut().ok_or("no connection")?;
+        let conn = self.conn.as_mut().ok_or_else(|| ClientError::Connection("no connection".into()))?;
         match conn.request(method, path, body, self.options.timeout).await {
             Ok(a) => {
                 if let Some(since) = self.offline_since.take() {
@@ -136,13 +143,13 @@ impl Link<'_> {
     }
 
     /// After a failed call: waits a moment, or gives up once the server has been away too long.
-    async fn wait(&mut self, why: &str, attempt: &mut u32) -> Result<(), ServeError> {
+    async fn wait(&mut self, why: &ClientError, attempt: &mut u32) -> Result<(), ClientError> {
         let since = *self.offline_since.get_or_insert_with(|| {
             (self.say)(&format!("connection lost ({why}); keeping the lines not yet acknowledged and retrying"));
             Instant::now()
         });
         if since.elapsed() > self.options.give_up {
-            return Err(ServeError::Client(format!("gave up after {:.0} s without the server: {why}", since.elapsed().as_secs_f64())));
+            return Err(ClientError::GaveUp { seconds: since.elapsed().as_secs_f64(), why: why.to_string() });
         }
         *attempt += 1;
         tokio::time::sleep(Duration::from_millis((100u64 << (*attempt).min(4)).min(1000))).await;
@@ -150,7 +157,7 @@ impl Link<'_> {
     }
 
     /// Calls until the server answers (retrying while it cannot be reached).
-    async fn answer(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ServeError> {
+    async fn answer(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ClientError> {
         let mut attempt = 0;
         loop {
             match self.call(method.clone(), path, body.clone()).await {
@@ -161,8 +168,18 @@ impl Link<'_> {
     }
 }
 
-fn refused(what: &str, (status, v): &Answer) -> ServeError {
-    ServeError::Client(format!("{what} refused ({status}): {}", v.get("error").and_then(|e| e.as_str()).unwrap_or("no reason given")))
+fn refused(what: &str, (status, v): &Answer) -> ClientError {
+    ClientError::Refused { what: what.to_string(), status: *status, reason: v.get("error").and_then(|e| e.as_str()).unwrap_or("no reason given").to_string() }
+}
+
+/// A field of the server's answer as its type (a state, a code), if it has it.
+fn field<T: serde::de::DeserializeOwned>(v: &serde_json::Value, key: &str) -> Option<T> {
+    serde_json::from_value(v.get(key)?.clone()).ok()
+}
+
+/// The server's answer lacks the line count.
+fn no_acked() -> ClientError {
+    ClientError::Answer("the server's answer has no 'acked' count".into())
 }
 
 /// The wall-clock milliseconds an event line was made at, if it says.
@@ -173,12 +190,12 @@ fn event_ms(line: &str) -> Option<u64> {
 
 /// How many lines the server has of an open session, asked until it answers (a request of the
 /// lost connection may still hold the session until the server's read time is up).
-async fn server_lines(link: &mut Link<'_>, session: &str) -> Result<u64, ServeError> {
+async fn server_lines(link: &mut Link<'_>, session: &str) -> Result<u64, ClientError> {
     loop {
         let status = link.answer(Method::GET, &format!("/api/sessions/{session}"), Bytes::new()).await?;
         match status {
-            (200, ref v) if v["state"] == "open" => return v["acked"].as_u64().ok_or_else(|| ServeError::Client("the server's answer has no 'acked' count".into())),
-            (409, ref v) if v["code"] == "busy" => tokio::time::sleep(Duration::from_millis(200)).await,
+            (200, ref v) if field(v, "state") == Some(SessionState::Open) => return v["acked"].as_u64().ok_or_else(no_acked),
+            (409, ref v) if field(v, "code") == Some(Code::Busy) => tokio::time::sleep(Duration::from_millis(200)).await,
             other => return Err(refused("continuing the session", &other)),
         }
     }
@@ -186,9 +203,9 @@ async fn server_lines(link: &mut Link<'_>, session: &str) -> Result<u64, ServeEr
 
 /// Pushes a recording to the server at `endpoint`; `say` gets a line for each connection lost
 /// and found again.
-pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: &dyn Fn(&str)) -> Result<PushReport, ServeError> {
+pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: &dyn Fn(&str)) -> Result<PushReport, ClientError> {
     let mut source = Source::open(path)?;
-    let header = source.next()?.ok_or_else(|| ServeError::Client(format!("{}: empty file", path.display())))?;
+    let header = source.next()?.ok_or_else(|| ClientError::Local(format!("{}: empty file", path.display())))?;
     let mut link = Link { endpoint, conn: None, options, reconnects: 0, offline_since: None, say };
     let opened = link.answer(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string())).await?;
     if opened.0 != 201 {
@@ -234,8 +251,8 @@ pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: 
         let answer = link.call(Method::POST, &format!("{lines_path}?from={from}"), Bytes::from(body)).await;
         let new_acked = match answer {
             Ok((200, v)) => v["acked"].as_u64(),
-            Ok((409, v)) if v["code"] == "gap" => v["acked"].as_u64(),
-            Ok((409, v)) if v["code"] == "busy" => {
+            Ok((409, v)) if field(&v, "code") == Some(Code::Gap) => v["acked"].as_u64(),
+            Ok((409, v)) if field(&v, "code") == Some(Code::Busy) => {
                 tokio::time::sleep(Duration::from_millis(100)).await;
                 Some(acked)
             }
@@ -247,9 +264,9 @@ pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: 
                 Some(server_lines(&mut link, &session).await?)
             }
         };
-        let new_acked = new_acked.ok_or_else(|| ServeError::Client("the server's answer has no 'acked' count".into()))?;
+        let new_acked = new_acked.ok_or_else(no_acked)?;
         if new_acked + 1 < from {
-            return Err(ServeError::Client(format!("the server has {new_acked} lines of {server_file}, fewer than it acknowledged ({})", from - 1)));
+            return Err(ClientError::Answer(format!("the server has {new_acked} lines of {server_file}, fewer than it acknowledged ({})", from - 1)));
         }
         acked = new_acked;
         while queue.front().is_some_and(|(n, _, _)| *n <= acked) {
