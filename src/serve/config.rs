@@ -51,6 +51,8 @@ pub struct ServeConfig {
     pub max_connections: usize,
     /// Ask for the token on a loopback address too.
     pub require_token: bool,
+    /// Draw a new token instead of the one kept in the folder (`DIR/token`).
+    pub new_token: bool,
     /// The study protocol run for the participants (`docs/protocol.md`), if any.
     pub protocol: Option<crate::protocol::Loaded>,
 }

@@ -111,18 +111,22 @@ fn a_participant_id_that_is_a_path_is_refused_and_nothing_is_made() {
         h[field] = serde_json::json!(value);
         let body = h.as_object().unwrap().iter().filter(|(k, _)| *k != "sum").map(|(k, v)| format!("\"{k}\":{v}")).collect::<Vec<_>>().join(",");
         let line = grove_systems::replay::sign_body(&format!("{{{body}}}"), 0).0;
-        let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "header": line }).to_string().as_bytes());
+        let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "header": line }).to_string().as_bytes());
         assert_eq!(r.status, 400, "{}", r.body);
         assert!(r.json["error"].as_str().unwrap().contains(reason), "{field}: {}", r.body);
         // The same by fields.
-        let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "participant": if field == "participant" { value } else { "P03" }, field: value }).to_string().as_bytes());
+        let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "participant": if field == "participant" { value } else { "P03" }, field: value }).to_string().as_bytes());
         assert_eq!(r.status, 400, "{}", r.body);
     }
     let names: Vec<String> = std::fs::read_dir(dir.join("sessions")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert_eq!(names, ["sessions.json"]);
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "nothing beside the folder either");
+    // An open request without its client's name is refused before the header is read.
+    let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "header": study_lines("P03-manual-7.jsonl")[0] }).to_string().as_bytes());
+    assert_eq!(r.status, 400, "{}", r.body);
+    assert!(r.json["error"].as_str().unwrap().contains("an open request needs the Grove-Writer header"), "{}", r.body);
     header["sum"] = serde_json::json!("00000000");
-    let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "header": header.to_string() }).to_string().as_bytes());
+    let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "header": header.to_string() }).to_string().as_bytes());
     assert_eq!(r.status, 400, "{}", r.body);
     still_serving(&server);
 }

@@ -58,6 +58,9 @@ pub struct ServeArgs {
     /// Ask for the token on a loopback address too.
     #[arg(long)]
     require_token: bool,
+    /// Draw a new token instead of the one kept in DIR/token (clients with the old one are then refused).
+    #[arg(long)]
+    new_token: bool,
     /// Run a study protocol (docs/protocol.md, e.g. assets/protocols/tree-planting.ron): participant ids, condition orders, the page /protocol, answers in DIR/<id>.answers.jsonl, the live page /dashboard.
     #[arg(long, value_name = "FILE")]
     protocol: Option<PathBuf>,
@@ -130,6 +133,9 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                     _ => bail!("--tls takes 'auto' or 'CERT,KEY' (two PEM files)"),
                 },
             };
+            if args.new_token && !args.require_token && args.host.is_loopback() {
+                bail!("--new-token is for a server that asks for a token: a network address (--host) or --require-token");
+            }
             if args.max_sessions == 0 || args.max_connections == 0 {
                 bail!("--max-sessions and --max-connections must be at least 1");
             }
@@ -152,6 +158,7 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 max_sessions: args.max_sessions,
                 max_connections: args.max_connections,
                 require_token: args.require_token,
+                new_token: args.new_token,
                 protocol,
             };
             serve::run(config)?;
@@ -178,9 +185,10 @@ fn push(p: PushArgs) -> anyhow::Result<ExitCode> {
     if p.json {
         crate::cli::print_json(&report)?;
     } else {
+        let continued = if report.continued_from > 1 { format!(", continued from line {}", report.continued_from + 1) } else { String::new() };
         println!(
-            "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects) to {}: {}",
-            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, shown
+            "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects{continued}) to {} (session {}): {}",
+            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, report.session, shown
         );
     }
     Ok(if status.is_some_and(|s| s.failed()) { ExitCode::from(1) } else { ExitCode::SUCCESS })

@@ -1,20 +1,23 @@
 //! What `/api/dashboard` answers: every participant (their step) and every session (open ones
-//! with their live view, ended ones with their verification), polled every second by the
+//! with their live view, ended ones with their verification, and a session of a task that is not
+//! its participant's task step with why: `not_this_steps`), polled every second by the
 //! researcher's page.
 
 use serde_json::{json, Value};
 
 use crate::serve::protocol::live::view;
-use crate::serve::protocol::Protocol;
+use crate::serve::protocol::{task_step, Protocol};
 use crate::serve::sessions::states::SessionState;
 
 /// Every participant and every session, each with its live view.
 pub async fn dashboard(protocol: &Protocol) -> Value {
     let (parts, live, registry) = (&protocol.participants, &protocol.live, &protocol.sessions.registry);
     let participants = parts.all();
+    let steps = parts.task_steps();
     let mut sessions = Vec::new();
     for e in registry.entries() {
         let mut v = json!({"file": e.file, "participant": e.participant, "task": e.task, "state": e.state, "lines": e.lines, "opened": e.opened, "closed": e.closed, "verification": e.verification});
+        v["not_this_steps"] = json!(task_step::listed(&e, &steps));
         let _one_at_a_time = live.making.lock().await;
         let seen = match live.get(&e.file, e.lines) {
             Some(l) => Some(l),

@@ -3,6 +3,8 @@
 //! - `POST /api/sessions` opens a session, from a header line (`{"header": "…"}`) or from the
 //!   fields a client may set (`{"participant": …, "task": …, "scene": …, "seed": …,
 //!   "technique": …, "block": …}`); the answer has the session id and the header line written.
+//!   With `"continue": true` beside a header line, the session that the same line opened before
+//!   is answered instead (200, `"continued": true`): how `grove serve push` run again goes on.
 //! - `POST /api/sessions/ID/lines?from=N` appends lines (the body, each ending in `\n`) starting
 //!   at line N of the file; each line is checked, written, and the answer's `acked` is the number
 //!   of lines now in the file. A refused line ends the request with its reason and the `acked`
@@ -34,7 +36,7 @@ use crate::serve::http::router::{find, Route};
 use crate::serve::line_split::{LineSplitter, SplitError};
 use crate::serve::log::log;
 use crate::serve::sessions::error::SessionError;
-use crate::serve::sessions::registry::Entry;
+use crate::serve::sessions::registry::{Entry, OpenWith, Opened};
 use crate::serve::sessions::service::Sessions;
 use crate::serve::sessions::session::{header_from_fields, OpenFields};
 use crate::serve::sessions::states::SessionState;
@@ -106,34 +108,49 @@ fn writer_of(headers: &HeaderMap, request: &'static str) -> Result<String, Sessi
     Ok(w.to_string())
 }
 
-/// The writer an open request names, if it names one.
-fn optional_writer(headers: &HeaderMap) -> Result<Option<String>, SessionError> {
-    match writer_of(headers, "") {
-        Err(SessionError::NoWriter { .. }) => Ok(None),
-        w => w.map(Some),
-    }
-}
-
 async fn open(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Result<Response<Body>, SessionError> {
     let (head, body) = req.into_parts();
     let body = BodyReader::new(body, sessions.read_timeout);
-    let writer = optional_writer(&head.headers)?;
-    let body = body.json_object(MAX_JSON_BODY).await?;
-    let header_text = if body.contains_key("header") {
+    let writer = writer_of(&head.headers, "an open request")?;
+    let mut body = body.json_object(MAX_JSON_BODY).await?;
+    let continuing = match body.remove("continue") {
+        None => None,
+        Some(Value::Bool(b)) => Some(b),
+        Some(_) => return Err(SessionError::ContinueNotBool),
+    };
+    let (header_text, with) = if body.contains_key("header") {
         if body.len() != 1 {
             return Err(SessionError::HeaderAndFields);
         }
-        body["header"].as_str().ok_or(SessionError::HeaderNotText)?.to_string()
+        let with = if continuing == Some(true) { OpenWith::LineContinuing } else { OpenWith::Line };
+        (body["header"].as_str().ok_or(SessionError::HeaderNotText)?.to_string(), with)
     } else {
+        if continuing.is_some() {
+            return Err(SessionError::ContinueWithFields);
+        }
         let fields: OpenFields = serde_json::from_value(Value::Object(body)).map_err(|e| SessionError::Fields(e.to_string()))?;
-        encode_line(&Line::Header(header_from_fields(&fields, &sessions.registry.dir)?))
+        (encode_line(&Line::Header(header_from_fields(&fields, &sessions.registry.dir)?)), OpenWith::Fields)
     };
     let (all, text) = (sessions.clone(), header_text.clone());
-    let opened = tokio::task::spawn_blocking(move || all.registry.open(&text)).await.map_err(|e| SessionError::Task(e.to_string()))?;
-    let (entry, shared) = opened.inspect_err(|e| log(&format!("refused a session: {e}")))?;
-    shared.lock().await.writer = writer;
-    log(&format!("opened {} (participant {}, task {})", entry.file, entry.participant, entry.task.as_deref().unwrap_or("none")));
-    Ok(json(201, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": 1 })))
+    let opened = tokio::task::spawn_blocking(move || all.registry.open(&text, with)).await.map_err(|e| SessionError::Task(e.to_string()))?;
+    match opened.inspect_err(|e| log(&format!("refused a session: {e}")))? {
+        Opened::New(entry, shared) => {
+            shared.lock().await.writer = Some(writer);
+            log(&format!("opened {} (participant {}, task {})", entry.file, entry.participant, entry.task.as_deref().unwrap_or("none")));
+            Ok(json(201, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": 1 })))
+        }
+        Opened::Found(entry, Some(shared)) => {
+            let s = sessions.take(shared, &writer)?;
+            let acked = s.acked();
+            drop(s);
+            log(&format!("continuing {} for the same recording pushed again ({acked} lines)", entry.file));
+            Ok(json(200, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": acked, "state": SessionState::Open, "continued": true })))
+        }
+        Opened::Found(entry, None) => {
+            let found = json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": entry.lines, "state": entry.state, "verification": entry.verification, "continued": true });
+            Ok(json(200, &found))
+        }
+    }
 }
 
 async fn status(sessions: &Sessions, id: &str) -> Result<Response<Body>, SessionError> {
