@@ -21,6 +21,7 @@ mod bench_cli;
 mod benchmarks_md;
 mod cli_sun;
 mod controller_model;
+mod csv_cells;
 mod desktop_cli;
 mod desktop_xvfb;
 mod gltf_corpus;
