@@ -71,7 +71,7 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
 
     let app = Arc::new(App { sessions: sessions.clone(), protocol, statics: StaticRoots::new(&config.web, &config.assets, &config.wasm, &config.banks), tls: acceptor.is_some() });
     let abandon = tokio::spawn(abandon_loop(sessions.clone(), config.abandon_after));
-    let limits = Limits { read_timeout: config.read_timeout, max_connections: config.max_connections };
+    let limits = Limits { read_timeout: config.read_timeout, max_connections: config.max_connections, max_per_address: config.max_per_address };
     serve_until(listener, acceptor, token.map(|(t, _)| t), &limits, app, stop_signal()).await;
     abandon.abort();
     let open = sessions.flush_all().await;

@@ -59,6 +59,7 @@ mod scenario_intents;
 mod scenario_trace;
 mod scenarios;
 mod serve;
+mod serve_crowd;
 mod serve_faults;
 mod serve_fixture;
 mod serve_hostile;

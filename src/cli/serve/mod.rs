@@ -52,9 +52,12 @@ pub struct ServeArgs {
     /// The most sessions open at once.
     #[arg(long, default_value_t = 256)]
     max_sessions: usize,
-    /// The most connections served at once (more wait to be accepted).
+    /// The most connections served at once; a new one closes the one idle longest (while all are busy, it waits).
     #[arg(long, default_value_t = 512)]
     max_connections: usize,
+    /// The most connections from one address; a new one closes that address's one idle longest (while all are busy, it is closed).
+    #[arg(long, default_value_t = 256)]
+    max_connections_per_address: usize,
     /// Ask for the token on a loopback address too.
     #[arg(long)]
     require_token: bool,
@@ -136,8 +139,8 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
             if args.new_token && !args.require_token && args.host.is_loopback() {
                 bail!("--new-token is for a server that asks for a token: a network address (--host) or --require-token");
             }
-            if args.max_sessions == 0 || args.max_connections == 0 {
-                bail!("--max-sessions and --max-connections must be at least 1");
+            if args.max_sessions == 0 || args.max_connections == 0 || args.max_connections_per_address == 0 {
+                bail!("--max-sessions, --max-connections and --max-connections-per-address must be at least 1");
             }
             let protocol = match &args.protocol {
                 Some(p) => Some(grove::protocol::load(p)?),
@@ -157,6 +160,7 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 abandon_after: seconds("abandon-after", args.abandon_after)?,
                 max_sessions: args.max_sessions,
                 max_connections: args.max_connections,
+                max_per_address: args.max_connections_per_address,
                 require_token: args.require_token,
                 new_token: args.new_token,
                 protocol,
