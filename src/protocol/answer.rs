@@ -6,8 +6,21 @@ use serde_json::Value;
 
 use super::format::{Item, ItemKind};
 
-/// Checks `answer` against `item`; the error is the reason, one line.
-pub fn check(item: &Item, answer: &Value) -> Result<(), String> {
+/// An answer that does not fit its item: the reason, one line.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{reason}")]
+pub struct BadAnswer {
+    /// Why, naming the item.
+    pub reason: String,
+}
+
+/// Checks `answer` against `item`.
+pub fn check(item: &Item, answer: &Value) -> Result<(), BadAnswer> {
+    fits(item, answer).map_err(|reason| BadAnswer { reason })
+}
+
+/// Whether `answer` fits `item`; the error is the reason.
+fn fits(item: &Item, answer: &Value) -> Result<(), String> {
     let id = &item.id;
     let whole = |lo: i64, hi: i64, step: i64| -> Result<(), String> {
         let v = answer.as_i64().ok_or_else(|| format!("item '{id}' takes a whole number from {lo} to {hi}, not {}", short(answer)))?;
@@ -80,13 +93,13 @@ mod tests {
     fn numbers_must_be_whole_and_in_range_and_on_a_step() {
         let r = item(ItemKind::Rating { anchors: vec!["a".into(), "b".into()] });
         assert!(check(&r, &json!(0)).is_ok() && check(&r, &json!(10)).is_ok());
-        assert!(check(&r, &json!(11)).unwrap_err().contains("out of range"));
+        assert!(check(&r, &json!(11)).unwrap_err().reason.contains("out of range"));
         assert!(check(&r, &json!(-1)).is_err());
         assert!(check(&r, &json!(2.5)).is_err());
         assert!(check(&r, &json!("7")).is_err());
         let s = item(ItemKind::Scale { min: 0, max: 100, step: 5, anchors: vec![] });
         assert!(check(&s, &json!(35)).is_ok());
-        assert!(check(&s, &json!(33)).unwrap_err().contains("steps of 5"));
+        assert!(check(&s, &json!(33)).unwrap_err().reason.contains("steps of 5"));
         let l = item(ItemKind::Likert { points: 5, anchors: vec![] });
         assert!(check(&l, &json!(1)).is_ok() && check(&l, &json!(5)).is_ok());
         assert!(check(&l, &json!(0)).is_err() && check(&l, &json!(6)).is_err());
@@ -96,15 +109,15 @@ mod tests {
     fn choices_text_and_yes_no() {
         let one = item(ItemKind::Single { choices: vec!["a".into(), "b".into()] });
         assert!(check(&one, &json!("a")).is_ok());
-        assert!(check(&one, &json!("c")).unwrap_err().contains("no choice 'c'"));
+        assert!(check(&one, &json!("c")).unwrap_err().reason.contains("no choice 'c'"));
         let many = item(ItemKind::Multiple { choices: vec!["a".into(), "b".into()] });
         assert!(check(&many, &json!([])).is_ok() && check(&many, &json!(["b", "a"])).is_ok());
-        assert!(check(&many, &json!(["a", "a"])).unwrap_err().contains("twice"));
+        assert!(check(&many, &json!(["a", "a"])).unwrap_err().reason.contains("twice"));
         assert!(check(&many, &json!(["z"])).is_err());
         assert!(check(&many, &json!("a")).is_err());
         let text = item(ItemKind::Text { max_chars: 3 });
         assert!(check(&text, &json!("abç")).is_ok());
-        assert!(check(&text, &json!("abcd")).unwrap_err().contains("at most 3"));
+        assert!(check(&text, &json!("abcd")).unwrap_err().reason.contains("at most 3"));
         let yn = item(ItemKind::YesNo);
         assert!(check(&yn, &json!(true)).is_ok() && check(&yn, &json!("yes")).is_err());
     }

@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use clap::Args;
 use grove_systems::hash::hex;
+use grove_systems::replay::verdict::Verdict;
 use grove_systems::replay::{replay_file, Divergence, ReplayOptions, ReplayOutcome};
 use grove_systems::task::TaskReport;
 use serde::Serialize;
@@ -70,7 +71,9 @@ pub struct ReplayReport {
     pub speedup: f64,
     /// Every checkpoint compared matched (and at least one was compared).
     pub verified: bool,
-    /// "verified", "unverified" (no checkpoint to compare) or "diverged".
+    /// "verified", "unverified" (no checkpoint compared), "incomplete" (no footer; verified to
+    /// its last checkpoint) or "diverged", as `grove serve` says it
+    /// ([`grove_systems::replay::verdict::Verdict`]).
     pub status: &'static str,
     /// The file has its footer.
     pub complete: bool,
@@ -105,13 +108,7 @@ impl ReplayReport {
             wall_seconds,
             speedup: if wall_seconds > 0.0 { sim_seconds / wall_seconds } else { f64::INFINITY },
             verified,
-            status: if outcome.first_divergence.is_some() {
-                "diverged"
-            } else if verified {
-                "verified"
-            } else {
-                "unverified"
-            },
+            status: Verdict::of(outcome.first_divergence.is_some(), outcome.complete, if outcome.verifying { outcome.checkpoints_checked } else { 0 }).as_str(),
             complete: outcome.complete,
             checkpoints_checked: outcome.checkpoints_checked,
             first_divergence: outcome.first_divergence.clone(),

@@ -21,7 +21,7 @@ use tokio::net::TcpListener;
 use tokio_rustls::TlsAcceptor;
 
 use crate::serve::http::error::HttpError;
-use crate::serve::http::pool::{Pool, Ticket};
+use crate::serve::http::pool::{Busy, Pool, Ticket};
 use crate::serve::http::respond::Body;
 use crate::serve::http::token::Token;
 use crate::serve::log::log;
@@ -113,10 +113,7 @@ async fn connection<H: Handler, I: AsyncRead + AsyncWrite + Unpin + Send + 'stat
         async move {
             let response = checked(handler, token.as_deref(), req).await;
             // Busy until the answer's body has been sent (or dropped).
-            Ok::<_, Infallible>(response.map(|body| body.map_frame(move |frame| {
-                let _ = &busy;
-                frame
-            }).boxed()))
+            Ok::<_, Infallible>(response.map(|body| Held { body, _busy: busy }.boxed()))
         }
     });
     let mut builder = hyper::server::conn::http1::Builder::new();
@@ -132,6 +129,30 @@ async fn connection<H: Handler, I: AsyncRead + AsyncWrite + Unpin + Send + 'stat
             _ = &mut conn => return,
             _ = tokio::time::sleep(Duration::from_millis(10)) => {}
         }
+    }
+}
+
+/// A response body that keeps its connection busy until it has been sent (or dropped), and is
+/// otherwise the body it holds (its length included, sent as Content-Length).
+struct Held {
+    body: Body,
+    _busy: Busy,
+}
+
+impl hyper::body::Body for Held {
+    type Data = bytes::Bytes;
+    type Error = std::io::Error;
+
+    fn poll_frame(mut self: std::pin::Pin<&mut Self>, cx: &mut std::task::Context<'_>) -> std::task::Poll<Option<Result<hyper::body::Frame<bytes::Bytes>, std::io::Error>>> {
+        std::pin::Pin::new(&mut self.body).poll_frame(cx)
+    }
+
+    fn is_end_stream(&self) -> bool {
+        self.body.is_end_stream()
+    }
+
+    fn size_hint(&self) -> hyper::body::SizeHint {
+        self.body.size_hint()
     }
 }
 

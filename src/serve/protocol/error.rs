@@ -87,8 +87,8 @@ pub enum ParticipantError {
         item: String,
     },
     /// An answer that does not fit its item.
-    #[error("{0}")]
-    BadAnswer(String),
+    #[error(transparent)]
+    BadAnswer(#[from] crate::protocol::answer::BadAnswer),
     /// The participant has finished.
     #[error("participant {0} has finished the protocol")]
     Finished(String),

@@ -209,7 +209,7 @@ impl Participants {
         let mut lines = Vec::new();
         for (item_id, value) in answers {
             let item = ins.items.iter().find(|i| &i.id == item_id).ok_or_else(|| ParticipantError::NoSuchItem { instrument: ins.id.clone(), item: item_id.clone() })?;
-            crate::protocol::answer::check(item, value).map_err(ParticipantError::BadAnswer)?;
+            crate::protocol::answer::check(item, value)?;
             lines.push(json!({"line": "answer", "step": step, "block": p.steps[p.at].name, "instrument": ins.id, "condition": cond, "item": item_id, "answer": value, "time": time}));
         }
         self.append(id, &lines)?;

@@ -123,8 +123,9 @@ pub async fn route(protocol: Option<&Protocol>, req: Request<Incoming>) -> Respo
 
 fn media(parts: &Participants, block: &str, what: &str) -> Result<Response<Body>, ParticipantError> {
     let path = parts.media(block, what).ok_or_else(|| ParticipantError::NoMedia { block: block.to_string(), what: what.to_string() })?;
-    let inside = grove_systems::files::within(&path, &parts.loaded.folder).map_err(|e| ParticipantError::Media(e.reason()))?;
-    let bytes = grove_systems::files::read(&inside, grove_systems::files::Kind::Served).map_err(|e| ParticipantError::Media(e.reason()))?;
+    let unserved = |e: grove_systems::files::FileError| ParticipantError::Media(format!("block {block}'s {what}: {}", e.public_reason()));
+    let inside = grove_systems::files::within(&path, &parts.loaded.folder).map_err(unserved)?;
+    let bytes = grove_systems::files::read(&inside, grove_systems::files::Kind::Served).map_err(unserved)?;
     let mut r = Response::new(full(bytes));
     if let Ok(v) = hyper::header::HeaderValue::from_str(crate::serve::http::static_files::content_type(&inside)) {
         r.headers_mut().insert(hyper::header::CONTENT_TYPE, v);

@@ -11,7 +11,7 @@
 //!   count: nothing past the last good line is written.
 //! - `GET /api/sessions` lists the sessions (without their ids).
 //! - `GET /api/sessions/ID` says how many lines the file has (where a reconnecting client goes
-//!   on from); `POST /api/sessions/ID/end` ends the session and answers with its verification.
+//!   on from), at once, even while another request on the session is in progress; `POST /api/sessions/ID/end` ends the session and answers with its verification.
 //! - `GET /api/sessions/ID/lines` is the open session's file as acknowledged (a reloaded page
 //!   re-simulates it to go on where it stopped); `GET /api/sessions/ID/scene` the text of the
 //!   scene file its header names (a room a page built, [`crate::serve::sessions::room_scene`]).
@@ -160,9 +160,17 @@ async fn status(sessions: &Sessions, id: &str) -> Result<Response<Body>, Session
         Err(gone @ SessionError::Gone { .. }) => return Ok(json(200, &Value::Object(Refusal::from(gone).more))),
         Err(e) => return Err(e),
     };
-    let s = sessions.read(&shared).await?;
-    let state = if s.ended { SessionState::Ended } else { SessionState::Open };
-    Ok(json(200, &json!({ "acked": s.acked(), "state": state, "file": s.file_name })))
+    // Never waiting for a request in progress on the session: its lines are counted in the
+    // session's entry as they are written.
+    let (acked, ended, file) = match shared.try_lock() {
+        Ok(s) => (s.acked(), s.ended, s.file_name.clone()),
+        Err(_) => match sessions.registry.entry(id) {
+            Some(e) => (e.lines, e.state != SessionState::Open, e.file),
+            None => return Err(SessionError::NoSuchSession),
+        },
+    };
+    let state = if ended { SessionState::Ended } else { SessionState::Open };
+    Ok(json(200, &json!({ "acked": acked, "state": state, "file": file })))
 }
 
 /// An open session's file as acknowledged (its first `acked` lines), or, with `scene`, the text
@@ -239,6 +247,7 @@ async fn append(sessions: &Sessions, id: &str, req: Request<Incoming>) -> Result
         if let Err(e) = s.write_out() {
             stop = Some(e);
         }
+        sessions.registry.note_lines(&s.id, s.acked());
     }
     if stop.is_none() && !splitter.rest().is_empty() {
         stop = Some(SessionError::NoNewline { number: s.acked() + 1 });

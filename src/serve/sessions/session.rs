@@ -178,7 +178,8 @@ impl Session {
 
     /// Opens an existing session's file again (after a restart): every line is checked again as
     /// it was when it arrived; a cut last line (bytes after the last newline, never
-    /// acknowledged) is cut off the file. A line that breaks the rules is an error: the file was
+    /// acknowledged) is cut off the file; the session's last request counts from the file's last
+    /// write, so that the abandon clock goes on across the restart. A line that breaks the rules is an error: the file was
     /// changed by someone else, and the session is not continued.
     pub fn resume(dir: &Path, id: String, name: &str, banks: &Banks) -> Result<Session, SessionError> {
         let path = dir.join(name);
@@ -230,6 +231,9 @@ impl Session {
         }
         let Some((header, rules, sim)) = state else { return Err(SessionError::NoHeader { path: shown }) };
         let last_tick = rules.last_tick();
+        // The abandon clock goes on from the file's last write, not from the restart.
+        let written = std::fs::metadata(&path).and_then(|m| m.modified()).ok().and_then(|t| t.elapsed().ok());
+        let last_seen = written.and_then(|ago| Instant::now().checked_sub(ago)).unwrap_or_else(Instant::now);
         let file = OpenOptions::new().write(true).open(&path).map_err(io)?;
         if !splitter.rest().is_empty() {
             file.set_len(good_bytes).map_err(|e| SessionError::Cut { path: shown.clone(), message: e.to_string() })?;
@@ -252,7 +256,7 @@ impl Session {
             pending_checkpoint: last_checkpoint,
             last_tick,
             writer: None,
-            last_seen: Instant::now(),
+            last_seen,
             ended: false,
             broken: None,
         })

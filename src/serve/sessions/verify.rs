@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use grove_systems::replay::verdict::Verdict;
 use grove_systems::replay::{replay_file, ReplayOptions};
 use serde::{Deserialize, Serialize};
 
@@ -76,15 +77,7 @@ pub fn verify(path: &Path, banks: &[PathBuf], last_tick: u64, last_checkpoint: u
         Err(e) => Verification::invalid(e.to_string(), last_tick),
         Ok(out) => {
             let first_divergence = out.first_divergence.map(|d| FirstDivergence { tick: d.tick, expected_hash: d.expected_hash, actual_hash: d.actual_hash });
-            let status = if first_divergence.is_some() {
-                VerifyStatus::Diverged
-            } else if !out.complete {
-                VerifyStatus::Incomplete
-            } else if out.checkpoints_checked == 0 {
-                VerifyStatus::Unverified
-            } else {
-                VerifyStatus::Verified
-            };
+            let status = VerifyStatus::of(Verdict::of(first_divergence.is_some(), out.complete, out.checkpoints_checked));
             let verified_to_tick = match (&first_divergence, out.complete) {
                 (Some(_), _) => None,
                 (None, true) => Some(last_tick),

@@ -24,6 +24,7 @@ pub mod player;
 pub mod reader;
 pub mod scene_ref;
 pub mod upgrade;
+pub mod verdict;
 
 use std::collections::BTreeMap;
 use std::io::Write;

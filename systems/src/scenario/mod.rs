@@ -15,7 +15,7 @@ pub mod observe;
 pub mod run;
 pub mod update;
 
-pub use errors::{CheckError, DraftError, HashCountError, RunError, StepError, UnknownTechnique};
+pub use errors::{CheckError, DraftError, HashCountError, RunError, StepError, StepFailed, UnknownTechnique};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

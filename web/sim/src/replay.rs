@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 
+use grove_systems::replay::verdict::Verdict;
 use grove_systems::replay::{decode_line, replay_reader, Divergence, Line, ReplayOptions};
 use grove_systems::task::{ticks_to_seconds, TaskReport};
 use serde::{Deserialize, Serialize};
@@ -41,7 +42,8 @@ pub struct ReplayReport {
     pub speedup: f64,
     /// Every checkpoint compared matched (and at least one was compared).
     pub verified: bool,
-    /// "verified", "unverified" (no checkpoint to compare) or "diverged".
+    /// "verified", "unverified" (no checkpoint compared), "incomplete" (no footer) or
+    /// "diverged", as `grove replay --json` says it.
     pub status: &'static str,
     /// The file has its footer.
     pub complete: bool,
@@ -98,13 +100,7 @@ pub fn replay(args: &ReplayArgs, recording: &[u8]) -> Result<Replayed, Error> {
         wall_seconds: 0.0,
         speedup: 0.0,
         verified,
-        status: if outcome.first_divergence.is_some() {
-            "diverged"
-        } else if verified {
-            "verified"
-        } else {
-            "unverified"
-        },
+        status: Verdict::of(outcome.first_divergence.is_some(), outcome.complete, if outcome.verifying { outcome.checkpoints_checked } else { 0 }).as_str(),
         complete: outcome.complete,
         checkpoints_checked: outcome.checkpoints_checked,
         first_divergence: outcome.first_divergence.clone(),
