@@ -49,7 +49,7 @@ const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
  */
 export function unreachable(base, e, timeoutMs) {
   const late = e?.name === 'TimeoutError' || e?.name === 'AbortError';
-  const why = late ? `no answer within ${(timeoutMs / 1000).toFixed(0)} s` : e?.cause?.code ?? (e?.name === 'TypeError' ? 'no connection' : e?.message ?? String(e));
+  const why = late ? `no answer within ${(timeoutMs / 1000).toFixed(0)} s` : e?.cause?.code ?? e?.cause?.message ?? (e?.name === 'TypeError' ? 'no connection' : e?.message ?? String(e));
   return `the server ${base} is unreachable (${why})`;
 }
 
