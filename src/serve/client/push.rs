@@ -21,7 +21,7 @@ use hyper::Method;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::serve::client::conn::{Answer, ClientError, Conn, Endpoint};
+use crate::serve::client::conn::{Answer, ClientError, Conn, Endpoint, Reply};
 use crate::serve::line_split::LineSplitter;
 use crate::serve::sessions::states::{Code, SessionState, VerifyStatus};
 
@@ -127,7 +127,8 @@ struct Link<'a> {
 }
 
 impl Link<'_> {
-    async fn call(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ClientError> {
+    /// One request on the connection (opened again if it was lost): the whole answer.
+    async fn send(&mut self, method: Method, path: &str, body: Bytes) -> Result<Reply, ClientError> {
         if self.conn.is_none() {
             let c = self.endpoint.connect(self.options.timeout).await?;
             if self.offline_since.is_some() {
@@ -136,12 +137,13 @@ impl Link<'_> {
             self.conn = Some(c);
         }
         let conn = self.conn.as_mut().ok_or_else(|| ClientError::Connection("no connection".into()))?;
-        match conn.request(method, path, body, self.options.timeout).await {
-            Ok(a) => {
+        let writer = self.endpoint.writer.clone();
+        match conn.send(method, path, &[("grove-writer", writer.as_str())], body, self.options.timeout).await {
+            Ok(r) => {
                 if let Some(since) = self.offline_since.take() {
                     (self.say)(&format!("reconnected after {:.1} s", since.elapsed().as_secs_f64()));
                 }
-                Ok(a)
+                Ok(r)
             }
             Err(e) => {
                 self.conn = None;
@@ -150,28 +152,18 @@ impl Link<'_> {
         }
     }
 
+    async fn call(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ClientError> {
+        self.send(method, path, body).await.map(|r| (r.status, r.json()))
+    }
+
     /// A GET whose answer is text (a session read back), retried while the server cannot be
     /// reached.
     async fn text(&mut self, path: &str) -> Result<(u16, Bytes), ClientError> {
         let mut attempt = 0;
         loop {
-            if self.conn.is_none() {
-                match self.endpoint.connect(self.options.timeout).await {
-                    Ok(c) => self.conn = Some(c),
-                    Err(e) => {
-                        self.wait(&e, &mut attempt).await?;
-                        continue;
-                    }
-                }
-            }
-            let conn = self.conn.as_mut().ok_or_else(|| ClientError::Connection("no connection".into()))?;
-            let writer = self.endpoint.writer.clone();
-            match conn.send(Method::GET, path, &[("grove-writer", writer.as_str())], Bytes::new(), self.options.timeout).await {
+            match self.send(Method::GET, path, Bytes::new()).await {
                 Ok(r) => return Ok((r.status, r.body)),
-                Err(e) => {
-                    self.conn = None;
-                    self.wait(&e, &mut attempt).await?;
-                }
+                Err(e) => self.wait(&e, &mut attempt).await?,
             }
         }
     }

@@ -11,7 +11,31 @@ use serde_json::Value;
 
 use crate::protocol::Loaded;
 use crate::serve::protocol::error::ParticipantError;
-use crate::serve::protocol::participants::{Participant, ANSWERS_SUFFIX};
+use crate::protocol::Step;
+
+/// The suffix of a participant's file.
+pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
+/// One participant.
+#[derive(Clone, Debug)]
+pub struct Participant {
+    /// The id (`P01`, …).
+    pub id: String,
+    /// Their index (0-based) among the participants: the Latin square's row.
+    pub index: usize,
+    /// Their conditions in order (indices of the protocol's conditions).
+    pub order: Vec<usize>,
+    /// Their steps.
+    pub steps: Vec<Step>,
+    /// When each step began (the time of its line in their file; the first step's is when they
+    /// joined), for the steps they have reached.
+    pub began: Vec<Option<String>>,
+    /// The step they are at (0-based; `steps.len()` once done).
+    pub at: usize,
+    /// Answers by (step, item), the last given.
+    pub answers: BTreeMap<(usize, String), Value>,
+    /// Answer lines in their file.
+    pub answer_lines: usize,
+}
 
 fn io(path: &Path, e: impl std::fmt::Display) -> ParticipantError {
     ParticipantError::Io { path: path.display().to_string(), message: e.to_string() }

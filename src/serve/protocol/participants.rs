@@ -15,36 +15,14 @@ use serde_json::{json, Value};
 use crate::protocol::{Loaded, Step, StepKind};
 
 use crate::serve::protocol::error::ParticipantError;
+pub use crate::serve::protocol::folder::{Participant, ANSWERS_SUFFIX};
 
-/// The suffix of a participant's file.
-pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
 /// The copy of the protocol kept in the folder (what `grove study` reads).
 pub const PROTOCOL_FILE: &str = "protocol.ron";
 /// The most answer lines one participant's file takes (answers given again included), so that
 /// a client repeating answers cannot fill the disk.
 pub const MAX_ANSWER_LINES: usize = 10_000;
 
-/// One participant.
-#[derive(Clone, Debug)]
-pub struct Participant {
-    /// The id (`P01`, …).
-    pub id: String,
-    /// Their index (0-based) among the participants: the Latin square's row.
-    pub index: usize,
-    /// Their conditions in order (indices of the protocol's conditions).
-    pub order: Vec<usize>,
-    /// Their steps.
-    pub steps: Vec<Step>,
-    /// When each step began (the time of its line in their file; the first step's is when they
-    /// joined), for the steps they have reached.
-    pub began: Vec<Option<String>>,
-    /// The step they are at (0-based; `steps.len()` once done).
-    pub at: usize,
-    /// Answers by (step, item), the last given.
-    pub answers: BTreeMap<(usize, String), Value>,
-    /// Answer lines in their file.
-    pub answer_lines: usize,
-}
 
 /// What the participants see of the folder's sessions: the one that finishes a task step, and
 /// the participant ids the sessions use.

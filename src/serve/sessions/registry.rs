@@ -53,31 +53,31 @@ pub struct Entry {
     pub identity: Option<String>,
 }
 
-/// A recording's identity: the XXH3-128 of its header line (which holds its participant, task,
-/// seed, start time and checksum), 32 hex digits.
+/// A recording's identity: the XXH3-128 of its header line (its participant, task, seed, start
+/// time and checksum), 32 hex digits.
 pub fn identity(header_line: &str) -> String {
     format!("{:032x}", xxhash_rust::xxh3::xxh3_128(header_line.as_bytes()))
 }
 
-/// How a session is opened.
+/// How a session is opened: from the fields a client may set (the server writes the header), with
+/// a recording's whole header line (its identity recorded), or with that line continuing the
+/// session it opened before if there is one (`"continue": true`, as `grove serve push` asks).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OpenWith {
-    /// From the fields a client may set: the server wrote the header.
+    /// From fields.
     Fields,
-    /// With a recording's whole header line: its identity is recorded.
+    /// With a header line.
     Line,
-    /// With a recording's whole header line, continuing the session that line opened before if
-    /// there is one (`"continue": true`, as `grove serve push` asks).
+    /// With a header line, continuing.
     LineContinuing,
 }
 
-/// What opening a session found: a new session, or the session a recording of the same identity
-/// already has (open, or ended).
+/// What opening found: a new session and its file, or the session of the same recording opened
+/// earlier (its entry, and the session while it is open).
 pub enum Opened {
-    /// A new session and its file.
+    /// A new session.
     New(Entry, Shared),
-    /// The session of the same recording, opened earlier: its entry, and the session while it
-    /// is open.
+    /// The same recording's session.
     Found(Entry, Option<Shared>),
 }
 
@@ -180,19 +180,8 @@ impl Registry {
         }
         let id = ids::random_hex(16)?;
         let session = Session::create(&self.dir, id.clone(), header_text, &self.banks)?;
-        let entry = Entry {
-            id: id.clone(),
-            file: session.file_name.clone(),
-            participant: session.header.participant.clone().unwrap_or_default(),
-            task: session.header.task.clone(),
-            opened: now(),
-            state: SessionState::Open,
-            lines: session.acked(),
-            closed: None,
-            verification: None,
-            note: None,
-            identity: key,
-        };
+        let (participant, task) = (session.header.participant.clone().unwrap_or_default(), session.header.task.clone());
+        let entry = Entry { id: id.clone(), file: session.file_name.clone(), participant, task, opened: now(), state: SessionState::Open, lines: session.acked(), closed: None, verification: None, note: None, identity: key };
         let shared = Arc::new(tokio::sync::Mutex::new(session));
         self.entries.lock().unwrap_or_else(|p| p.into_inner()).push(entry.clone());
         self.open.lock().unwrap_or_else(|p| p.into_inner()).insert(id, shared.clone());

@@ -28,7 +28,7 @@ use crate::sim::Sim;
 use crate::targets::{ground_distance, Aim, Names};
 
 use super::Btn;
-use super::errors::StepFailed;
+use super::failed::StepFailed;
 
 /// What the runner carries from step to step: the last aim, for the button steps after it.
 #[derive(Clone, Debug, Default)]

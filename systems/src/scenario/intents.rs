@@ -24,7 +24,7 @@ use crate::targets::{ground_distance, tree_middle, Aim, TreeRef};
 
 use super::aims::{hold_checked, Aimed, RunState, GROUND_TOLERANCE};
 use super::Btn;
-use super::errors::StepFailed;
+use super::failed::StepFailed;
 
 /// The farthest a dragged tree is carried in one tick, metres (a brisk arm: 12 m/s at 60 Hz).
 pub const DRAG_STEP: f32 = 0.2;

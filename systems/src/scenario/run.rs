@@ -12,7 +12,7 @@ use crate::sim::Sim;
 
 use super::aims::{self, hold_checked, Aimed, RunState};
 use super::observe::{self, Snapshot};
-use super::errors::StepFailed;
+use super::failed::StepFailed;
 use super::{intents, technique, Loaded, RunError, Step};
 
 
