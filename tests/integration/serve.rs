@@ -101,7 +101,8 @@ fn on_a_network_address_every_request_needs_the_token() {
     let server = Server::start(&dir, 0, &["--host", "0.0.0.0"]);
     let token = server.url.split("?token=").nth(1).expect("the URL carries the token").to_string();
     assert_eq!(token.len(), 32);
-    assert!(server.log().contains('█'), "a QR code is printed: {}", server.log());
+    // The QR code follows the URL line in the log.
+    assert!(server.wait_log("█", Duration::from_secs(10)), "a QR code is printed: {}", server.log());
     let header = &study_lines("P07-manual-7.jsonl")[0];
     let open_body = serde_json::json!({ "header": header }).to_string();
     for (method, path, body) in [("GET", "/api/status", ""), ("GET", "/scenes/study.ron", ""), ("GET", "/", ""), ("POST", "/api/sessions", open_body.as_str())] {
