@@ -13,7 +13,7 @@ import * as THREE from 'three';
 import { loadGrove } from '../sim/grove-sim.mjs';
 import { ButtonMapper, lacksSqueeze, touchpadAxes } from './input.mjs';
 import { MouseInput } from './mouse.mjs';
-import { roomSceneText, horizontalPlanes, toSession, toSim } from './room.mjs';
+import { horizontalPlanes, toSession, toSim } from './room.mjs';
 import { Recorder, storedSession } from './recorder.mjs';
 import { TaskRun, modeOfTask } from './run.mjs';
 import { FloorFinder, offeredModes, offsetFor, requestSession } from './xr.mjs';
@@ -191,7 +191,7 @@ function instructions(modes) {
   who.hidden = Boolean(resume || params.get('participant'));
   $('participant').value = page.participant;
   $('task').value = page.task;
-  $('instructions').textContent = taskText(page.task);
+  $('instructions').textContent = taskText(modeOfTask(grove, page.task));
   renderControls(false);
   enterButtons(resume ? 'Continue' : 'Start');
 }
@@ -295,7 +295,7 @@ function stepFrame(frame) {
   }
   const practice = page.state === 'practice';
   const seconds = steps.until === null ? null : (steps.until - performance.now()) / 1000;
-  const boxes = study.layout(panel.size, { image: steps.image, seconds, taskText: taskText(study.current?.task) });
+  const boxes = study.layout(panel.size, { image: steps.image, seconds, taskText: taskText(modeOfTask(grove, study.current?.task)) });
   const pressed = panelFrame(panel, steps, { head, ray, down, boxes, practice });
   if (pressed && !steps.busy) press(pressed, frame);
   if (practice && seconds !== null && seconds <= 0 && !steps.busy) press('end-practice', frame);
@@ -338,7 +338,7 @@ function showTyped() {
 }
 
 function renderControls(noSqueeze) {
-  const rows = controlsFor(modeOfTask(page.task), noSqueeze, xr === null && page.mode === 'inline');
+  const rows = controlsFor(modeOfTask(grove, page.task), noSqueeze, xr === null && page.mode === 'inline');
   $('controls').replaceChildren(
     ...rows.map(([k, v]) => {
       const tr = document.createElement('tr');
@@ -391,20 +391,10 @@ async function enter(mode) {
   if (stored) await startRun(null);
 }
 
-/** The scene text of the room, built in the frame the task starts (AR). */
+/** The scene text of the room, built by the module from the floor and planes of the frame the task starts in (AR). */
 function roomText(frame) {
-  const floor = xr.finder.found;
-  const planes = horizontalPlanes(frame, xr.base)
-    .map((p) => ({ ...p, points: p.points.map((q) => toSim(page.offset, q).position), y: p.y - page.offset.position.y }))
-    .filter((p) => p.y > 0.3 && p.y < 2.2)
-    .slice(0, 16);
-  const text = roomSceneText({ source: floor.source, floorY: floor.y, planes });
-  const probe = grove.createSim({ scene: 'room.ron', scene_text: text });
-  probe.push({ kind: 'start_task', task: page.task });
-  probe.step();
-  const moved = (probe.snapshot().task?.targets ?? []).map((t, i) => ({ target: i, model: t.model, from: t.position, to: t.moved_to })).filter((m) => m.to);
-  probe.free();
-  return roomSceneText({ source: floor.source, floorY: floor.y, planes, moved });
+  const planes = horizontalPlanes(frame, xr.base).map((p) => ({ label: p.label, points: p.points.map((q) => toSim(page.offset, q).position) }));
+  return grove.roomScene({ source: xr.finder.found.source, floor_y: xr.finder.found.y, planes, task: page.task || null });
 }
 
 /** Starts the task (a new session) or continues the stored one; `frame` is the XR frame it starts in. */
