@@ -35,6 +35,7 @@ mod impostor;
 mod impostor_cache;
 mod interaction;
 mod protocol;
+mod questionnaire_rules;
 mod library_errors;
 mod lod_fade;
 mod lsystem;
