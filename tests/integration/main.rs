@@ -37,6 +37,7 @@ mod impostor_cache;
 mod interaction;
 mod protocol;
 mod protocol_steps;
+mod questionnaire_rules;
 mod library_errors;
 mod lod_fade;
 mod lsystem;

@@ -12,6 +12,7 @@ use std::sync::Mutex;
 
 use serde_json::{json, Value};
 
+use crate::protocol::form::FormInstrument;
 use crate::protocol::{Loaded, Step, StepKind};
 
 use crate::serve::protocol::error::ParticipantError;
@@ -279,7 +280,7 @@ impl Participants {
             }
             (StepKind::Questionnaire { instrument, condition }, _) => {
                 o.insert("kind".into(), json!("questionnaire"));
-                o.insert("instrument".into(), serde_json::to_value(self.loaded.instrument(instrument)).unwrap_or(Value::Null));
+                o.insert("instrument".into(), serde_json::to_value(self.loaded.instrument(instrument).map(|i| FormInstrument::new(&i))).unwrap_or(Value::Null));
                 o.insert("condition".into(), json!(condition.map(|c| self.loaded.protocol.conditions[c].name.clone())));
             }
             _ => {}
