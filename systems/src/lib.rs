@@ -32,6 +32,7 @@ pub mod limits;
 pub mod lookup;
 mod message_error;
 pub mod mode;
+mod plane_geometry;
 pub mod plane_grid;
 pub mod replay;
 pub mod scatter;

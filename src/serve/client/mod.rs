@@ -1,7 +1,7 @@
 //! The server's one HTTP client and what uses it: `conn.rs` the client (a keep-alive
 //! connection, plain or TLS, the token, every request bounded in time; the Rust tests' requests
 //! go through it too), `push.rs` `grove serve push` (a recording streamed as a live client
-//! would, reconnecting where the network fails), `bench.rs` `grove serve bench` (many sessions
+//! would, reconnecting where the network fails; `source.rs` reads the file's lines), `bench.rs` `grove serve bench` (many sessions
 //! at once against a server process of its own).
 //!
 //! It knows the server only by its wire format: the routes, the JSON answers, the states and
@@ -11,3 +11,4 @@
 pub mod bench;
 pub mod conn;
 pub mod push;
+mod source;
