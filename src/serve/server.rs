@@ -15,7 +15,6 @@ use crate::serve::http::static_files::StaticRoots;
 use crate::serve::http::token::Token;
 use crate::serve::http::{banner, tls};
 use crate::serve::log::log;
-use crate::serve::protocol::live::LiveCache;
 use crate::serve::protocol::participants::Participants;
 use crate::serve::protocol::Protocol;
 use crate::serve::sessions::jobs::abandon_loop;
@@ -44,7 +43,7 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
             for n in notes {
                 log(&n);
             }
-            Some(Protocol { participants, live: LiveCache::default(), sessions: sessions.clone() })
+            Some(Protocol { participants, sessions: sessions.clone() })
         }
     };
     let shown_host = banner::shown_host(config.host);

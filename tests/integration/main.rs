@@ -60,6 +60,7 @@ mod serve;
 mod serve_faults;
 mod serve_fixture;
 mod serve_hostile;
+mod serve_live;
 mod serve_room;
 mod serve_routes;
 mod sim_cli;

@@ -67,7 +67,7 @@ pub struct ServeArgs {
 enum ServeCommand {
     /// Stream a recording to a server as a live client would (a lab's network test).
     Push(PushArgs),
-    /// Many sessions at once against a server on loopback: acknowledgement times, server CPU and memory (JSON).
+    /// Many sessions at once against a server of its own on loopback (or --to URL): acknowledgement times, how soon each checkpoint is verified live, server CPU and memory (JSON).
     Bench(BenchArgs),
 }
 
@@ -100,9 +100,15 @@ struct BenchArgs {
     /// Sessions streaming at once.
     #[arg(long, default_value_t = 50)]
     sessions: usize,
-    /// Seconds each session streams (the figures in docs/benchmarks.md: 600).
+    /// Seconds each session streams (the figures in docs/benchmarks.md: 60).
     #[arg(long, default_value_t = 60.0)]
     seconds: f64,
+    /// A server already running, on this machine or another (its URL as grove serve printed it, with its ?token=): streamed to in place of a server of the bench's own, whose CPU and memory are then not read.
+    #[arg(long)]
+    to: Option<String>,
+    /// The server's certificate to trust for an https --to URL (grove serve --tls auto writes DIR/tls/cert.pem).
+    #[arg(long, requires = "to")]
+    ca: Option<PathBuf>,
 }
 
 fn seconds(name: &str, s: f64) -> anyhow::Result<Duration> {
@@ -192,7 +198,11 @@ fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
     }
     seconds("seconds", b.seconds)?;
     let grove = std::env::current_exe().context("cannot find the grove program to start the server")?;
-    let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove };
+    let to = match &b.to {
+        Some(url) => Some(serve::client::conn::Endpoint::parse(url, b.ca.as_deref())?),
+        None => None,
+    };
+    let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove, to };
     let say = |m: &str| eprintln!("serve bench: {m}");
     let mut report = runtime()?.block_on(serve::client::bench::bench(&options, &say))?;
     if let Some(o) = report.as_object_mut() {

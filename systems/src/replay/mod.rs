@@ -24,6 +24,7 @@ pub mod player;
 pub mod reader;
 pub mod scene_ref;
 pub mod upgrade;
+pub mod verifier;
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -38,6 +39,7 @@ pub use scene_ref::SceneRefError;
 pub use player::Player;
 pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
 pub use upgrade::{upgrade, UpgradeSummary};
+pub use verifier::Verifier;
 
 use crate::bank::{Banks, HeaderModel};
 use crate::hash::{hex, WorldHash};

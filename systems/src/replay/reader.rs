@@ -7,11 +7,12 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::lines::{LineError, Lines};
+use super::lines::{checkpoint_of, Checked, LineError, Lines};
+use super::verifier::Verifier;
 use super::{sim_for_header_in, CheckpointLine, Header, Line};
-use crate::hash::{hex, world_hash_keeping, WorldHash, HASHED};
+use crate::hash::{hex, WorldHash, HASHED};
 use crate::resource_hash::{differing_fields, ResourceBytes};
-use crate::input::{InputEvent, StampedEvent};
+use crate::input::StampedEvent;
 use crate::resources::Override;
 use crate::sim::Sim;
 
@@ -88,7 +89,7 @@ pub struct ReplayOptions {
 /// only pairs where the entity (still) has that component; and for the resources, the fields
 /// that differ ([`crate::resource_hash::differing_fields`], from the resources at the last
 /// checkpoint that agreed, `agreed`, and now, `now`).
-fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World, agreed: &ResourceBytes, now: &ResourceBytes) -> Vec<Differing> {
+pub(super) fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World, agreed: &ResourceBytes, now: &ResourceBytes) -> Vec<Differing> {
     let comps: Vec<&str> = HASHED
         .iter()
         .map(|h| h.name)
@@ -145,77 +146,31 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
         Some(scene) => super::sim_for_header_with_scene(&header, scene.clone(), &options.overrides, &banks),
         None => sim_for_header_in(&header, base_dir, &options.overrides, &banks),
     };
-    let mut sim = built.map_err(|m| err((Some(1), m.to_string())))?;
+    let sim = built.map_err(|m| err((Some(1), m.to_string())))?;
+    let mut verifier = Verifier::new(sim, verifying);
     // Counted by the kind's static name, and named as `String`s once at the end.
     let mut counts: BTreeMap<&'static str, u64> = BTreeMap::new();
-    let mut checkpoints_checked = 0;
-    let mut first_divergence = None;
-    let mut complete = false;
     let mut stopped_early = false;
     let until = options.until.unwrap_or(u64::MAX);
-    // The hashed resources at the last checkpoint that agreed (at first, the start, which the
-    // header fixes) and at the one just hashed: what a divergence in the resources is told from.
-    let mut agreed = ResourceBytes::of(&sim.res);
-    let mut now = ResourceBytes::default();
 
     // Steps are bounded: `Lines` refuses a tick more than a checkpoint interval past the last
     // checkpoint, and any tick past the limit.
-    // The events read for the coming tick are applied with the step that reaches the next line's
-    // tick (each was validated when read).
-    let mut pending: Vec<InputEvent> = Vec::new();
-    let advance = |sim: &mut Sim, pending: &mut Vec<InputEvent>, to: u64| {
-        while sim.res.tick < to.min(until) {
-            let _ = sim.step_with(pending.drain(..));
-        }
-    };
-
-    while let Some(checked) = lines.next().map_err(err)? {
-        let (n, tick) = (checked.number, checked.tick);
+    while let Some(Checked { number: n, line, tick, body }) = lines.next().map_err(err)? {
         if tick > until {
             stopped_early = true;
             break;
         }
-        advance(&mut sim, &mut pending, tick);
-        match checked.line {
-            Line::Header(_) => {}
-            Line::Event(e) => {
-                *counts.entry(e.event.kind()).or_default() += 1;
-                // Its numbers were validated when the line was read (`codec::parse_body`).
-                super::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m.to_string())))?;
-                pending.push(e.event);
-            }
-            Line::Checkpoint(ref c) => {
-                if verifying && first_divergence.is_none() {
-                    let h = world_hash_keeping(&sim.world, &sim.res, Some(&mut now));
-                    checkpoints_checked += 1;
-                    if hex(h.total) != c.hash {
-                        let full = checked.checkpoint().unwrap_or_else(|| c.clone());
-                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&full, &h, &sim.world, &agreed, &now) });
-                    } else {
-                        std::mem::swap(&mut agreed, &mut now);
-                    }
-                }
-            }
-            Line::Footer(f) => {
-                if verifying && first_divergence.is_none() {
-                    let h = sim.hash();
-                    checkpoints_checked += 1;
-                    if hex(h.total) != f.final_hash {
-                        first_divergence = Some(Divergence { tick, expected_hash: f.final_hash.clone(), actual_hash: hex(h.total), differing: Vec::new() });
-                    }
-                }
-                complete = true;
-            }
+        if let Line::Event(e) = &line {
+            *counts.entry(e.event.kind()).or_default() += 1;
         }
+        verifier.take(line, tick, || checkpoint_of(&body), |_| {}).map_err(|m| err((Some(n), m.to_string())))?;
     }
     if stopped_early {
         // `until` is below a tick that `Lines` accepted, so this is bounded too.
-        advance(&mut sim, &mut pending, until);
+        verifier.advance(until, |_| {});
     }
-    // Events of a tick the recording ends at wait in the input queue, as a live session leaves them.
-    for event in pending {
-        let _ = sim.push_input(event);
-    }
+    let complete = verifier.complete();
+    let (sim, checkpoints_checked, first_divergence) = verifier.finish();
     let events = counts.into_iter().map(|(k, n)| (k.to_string(), n)).collect();
     Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events, verifying })
 }
