@@ -25,7 +25,7 @@ use grove_systems::replay::{encode_line, Header, Line, Recorder, CHECKPOINT_EVER
 use hyper::Method;
 use serde_json::json;
 
-use crate::serve::client::bench_live::{watch_live, Checkpoints};
+use crate::serve::client::bench_live::{quantile, round, watch_live, Checkpoints};
 use crate::serve::client::conn::{ClientError, Endpoint};
 use crate::serve::sessions::states::VerifyStatus;
 
@@ -132,20 +132,6 @@ fn sample(pid: u32) -> Option<(f64, f64)> {
     let status = grove_systems::files::read_text(Path::new(&format!("/proc/{pid}/status")), grove_systems::files::Kind::Status).ok()?;
     let kb: f64 = status.lines().find_map(|l| l.strip_prefix("VmRSS:"))?.split_whitespace().next()?.parse().ok()?;
     Some((cpu, kb / 1024.0))
-}
-
-/// The `q` quantile of sorted values (NaN for none).
-pub(super) fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
-/// `x` rounded to `digits` decimals.
-pub(super) fn round(x: f64, digits: i32) -> f64 {
-    let m = 10f64.powi(digits);
-    (x * m).round() / m
 }
 
 /// Runs the benchmark and returns its figures as JSON.

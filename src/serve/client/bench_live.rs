@@ -12,7 +12,6 @@ use std::time::{Duration, Instant};
 use bytes::Bytes;
 use hyper::Method;
 
-use crate::serve::client::bench::{quantile, round};
 use crate::serve::client::conn::Endpoint;
 use crate::serve::sessions::states::VerifyStatus;
 
@@ -107,4 +106,18 @@ pub async fn watch_live(endpoint: Endpoint, checkpoints: Checkpoints) {
             checkpoints.verified(file, live["verified_to_tick"].as_u64().unwrap_or(0), status);
         }
     }
+}
+
+/// The `q` quantile of sorted values (NaN for none).
+pub fn quantile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+/// `x` rounded to `digits` decimals.
+pub fn round(x: f64, digits: i32) -> f64 {
+    let m = 10f64.powi(digits);
+    (x * m).round() / m
 }

@@ -37,9 +37,9 @@ pub use line_rules::{header_line, LineRuleError, LineRules, RuledLine};
 pub use names::NameError;
 pub use scene_ref::SceneRefError;
 pub use player::Player;
-pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
+pub use reader::{read_events, replay_file, replay_reader, ReplayError, ReplayOptions, ReplayOutcome};
 pub use upgrade::{upgrade, UpgradeSummary};
-pub use verifier::Verifier;
+pub use verifier::{Differing, Divergence, Verifier};
 
 use crate::bank::{Banks, HeaderModel};
 use crate::hash::{hex, WorldHash};

@@ -1,17 +1,14 @@
-//! The verifying reader: re-simulates a recording from its header and compares every
-//! checkpoint. The lines themselves are checked by [`super::lines`] before any simulation.
+//! The verifying reader: re-simulates a recording file from its header and compares every
+//! checkpoint, by handing each line to [`super::verifier::Verifier`]. The lines themselves are
+//! checked by [`super::lines`] before any simulation.
 
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
 
-use serde::Serialize;
-
 use super::lines::{checkpoint_of, Checked, LineError, Lines};
-use super::verifier::Verifier;
-use super::{sim_for_header_in, CheckpointLine, Header, Line};
-use crate::hash::{hex, WorldHash, HASHED};
-use crate::resource_hash::{differing_fields, ResourceBytes};
+use super::verifier::{Divergence, Verifier};
+use super::{sim_for_header_in, Header, Line};
 use crate::input::StampedEvent;
 use crate::resources::Override;
 use crate::sim::Sim;
@@ -27,28 +24,6 @@ pub struct ReplayError {
     pub line: Option<u64>,
     /// What is wrong.
     pub message: String,
-}
-
-/// One (entity, component) pair that differs at a divergent checkpoint.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
-pub struct Differing {
-    /// The entity, as id bits in decimal, or "resources".
-    pub entity: String,
-    /// The component type, or for "resources" the field ([`crate::resource_hash::FIELDS`]).
-    pub component: String,
-}
-
-/// The first checkpoint at which the replay and the recording disagree.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Divergence {
-    /// The checkpoint's tick.
-    pub tick: u64,
-    /// The recorded hash.
-    pub expected_hash: String,
-    /// The re-simulated hash.
-    pub actual_hash: String,
-    /// Which entities and components differ.
-    pub differing: Vec<Differing>,
 }
 
 /// The outcome of a replay.
@@ -82,51 +57,6 @@ pub struct ReplayOptions {
     /// The scene, already read, in place of the one the header names (which is then not looked
     /// up): for a reader without a file system.
     pub scene: Option<crate::scene::Scene>,
-}
-
-/// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
-/// entities whose hash differs crossed with the component types whose hash differs, keeping
-/// only pairs where the entity (still) has that component; and for the resources, the fields
-/// that differ ([`crate::resource_hash::differing_fields`], from the resources at the last
-/// checkpoint that agreed, `agreed`, and now, `now`).
-pub(super) fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World, agreed: &ResourceBytes, now: &ResourceBytes) -> Vec<Differing> {
-    let comps: Vec<&str> = HASHED
-        .iter()
-        .map(|h| h.name)
-        .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
-        .collect();
-    let actual_entities: BTreeMap<String, String> = actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
-    let mut ents: Vec<String> = expected
-        .entities
-        .iter()
-        .filter(|(e, h)| actual_entities.get(*e) != Some(*h))
-        .map(|(e, _)| e.clone())
-        .chain(actual_entities.keys().filter(|e| !expected.entities.contains_key(*e)).cloned())
-        .collect();
-    ents.sort_by_key(|e| e.parse::<u64>().unwrap_or(u64::MAX));
-    ents.dedup();
-    let mut out = Vec::new();
-    for c in &comps {
-        if *c == "resources" {
-            let fields = match expected.components.get(*c).and_then(|h| u64::from_str_radix(h, 16).ok()) {
-                Some(h) => differing_fields(agreed, now, h),
-                None => vec!["resources"],
-            };
-            out.extend(fields.into_iter().map(|f| Differing { entity: "resources".into(), component: f.into() }));
-            continue;
-        }
-        let before = out.len();
-        for e in &ents {
-            let bits = e.parse::<u64>().unwrap_or(0);
-            if crate::hash::has_component(world, bits, c) || !actual_entities.contains_key(e) {
-                out.push(Differing { entity: e.clone(), component: (*c).to_string() });
-            }
-        }
-        if out.len() == before {
-            out.push(Differing { entity: "?".into(), component: (*c).to_string() });
-        }
-    }
-    out
 }
 
 /// Replays a recording from a reader. `file` names it in errors; `base_dir` is the recording's

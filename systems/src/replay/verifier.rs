@@ -9,14 +9,84 @@
 //! with the world once the world has reached its tick. After a divergence the world goes on, and
 //! no further checkpoint is compared.
 
-use crate::hash::{hex, world_hash_keeping};
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::hash::{hex, world_hash_keeping, WorldHash, HASHED};
 use crate::input::InputEvent;
-use crate::resource_hash::ResourceBytes;
+use crate::resource_hash::{differing_fields, ResourceBytes};
 use crate::sim::Sim;
 
 use super::names::{check_event, NameError};
-use super::reader::{differing, Divergence};
 use super::{CheckpointLine, Line};
+
+/// One (entity, component) pair that differs at a divergent checkpoint.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Differing {
+    /// The entity, as id bits in decimal, or "resources".
+    pub entity: String,
+    /// The component type, or for "resources" the field ([`crate::resource_hash::FIELDS`]).
+    pub component: String,
+}
+
+/// The first checkpoint at which the replay and the recording disagree.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Divergence {
+    /// The checkpoint's tick.
+    pub tick: u64,
+    /// The recorded hash.
+    pub expected_hash: String,
+    /// The re-simulated hash.
+    pub actual_hash: String,
+    /// Which entities and components differ.
+    pub differing: Vec<Differing>,
+}
+
+/// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
+/// entities whose hash differs crossed with the component types whose hash differs, keeping
+/// only pairs where the entity (still) has that component; and for the resources, the fields
+/// that differ ([`crate::resource_hash::differing_fields`], from the resources at the last
+/// checkpoint that agreed, `agreed`, and now, `now`).
+fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World, agreed: &ResourceBytes, now: &ResourceBytes) -> Vec<Differing> {
+    let comps: Vec<&str> = HASHED
+        .iter()
+        .map(|h| h.name)
+        .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
+        .collect();
+    let actual_entities: BTreeMap<String, String> = actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
+    let mut ents: Vec<String> = expected
+        .entities
+        .iter()
+        .filter(|(e, h)| actual_entities.get(*e) != Some(*h))
+        .map(|(e, _)| e.clone())
+        .chain(actual_entities.keys().filter(|e| !expected.entities.contains_key(*e)).cloned())
+        .collect();
+    ents.sort_by_key(|e| e.parse::<u64>().unwrap_or(u64::MAX));
+    ents.dedup();
+    let mut out = Vec::new();
+    for c in &comps {
+        if *c == "resources" {
+            let fields = match expected.components.get(*c).and_then(|h| u64::from_str_radix(h, 16).ok()) {
+                Some(h) => differing_fields(agreed, now, h),
+                None => vec!["resources"],
+            };
+            out.extend(fields.into_iter().map(|f| Differing { entity: "resources".into(), component: f.into() }));
+            continue;
+        }
+        let before = out.len();
+        for e in &ents {
+            let bits = e.parse::<u64>().unwrap_or(0);
+            if crate::hash::has_component(world, bits, c) || !actual_entities.contains_key(e) {
+                out.push(Differing { entity: e.clone(), component: (*c).to_string() });
+            }
+        }
+        if out.len() == before {
+            out.push(Differing { entity: "?".into(), component: (*c).to_string() });
+        }
+    }
+    out
+}
 
 /// A recording's world, stepped and verified as its lines are handed over.
 pub struct Verifier {
