@@ -1,7 +1,8 @@
 //! What happens to sessions besides their requests: a session ended (by its client or as
-//! abandoned) gets its verification (the live one, [`crate::serve::sessions::live`]) recorded; a loop ends the sessions that had no
-//! request for `--abandon-after`; at the start, sessions that ended without their verification
-//! are verified; at the stop, every open file is handed to the operating system.
+//! abandoned) gets its verification (the live one, [`crate::serve::sessions::live`]) recorded; a
+//! loop ends the sessions that had no request for `--abandon-after`; at the start, sessions that
+//! ended without their verification are verified; at the stop, every open file is handed to the
+//! operating system.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -21,8 +22,9 @@ use crate::serve::sessions::verify::{verify, Verification};
 const END_PATIENCE: Duration = Duration::from_secs(60);
 
 impl Sessions {
-    /// Ends a session (held by its caller) as `how` (ended or abandoned), re-simulates its file
-    /// and records the result; returns the answer to its client.
+    /// Ends a session (held by its caller) as `how` (ended or abandoned), waits for its
+    /// verification (its live replay reaching the last line) and records it; returns the answer
+    /// to its client.
     pub async fn close_and_verify(&self, mut s: OwnedMutexGuard<Session>, how: SessionState) -> Result<Value, SessionError> {
         s.write_out()?;
         self.registry.close(&mut s, how)?;
