@@ -29,7 +29,7 @@ pub fn run(config: ServeConfig) -> Result<(), ServeError> {
 /// Runs the server until Ctrl-C or SIGTERM, then flushes every open file and writes
 /// `sessions.json`; open sessions stay open, to be continued when it starts again.
 pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
-    let (sessions, notes) = Sessions::load(&config.out, config.banks.clone(), config.max_sessions, config.read_timeout, config.writer_lease)?;
+    let (sessions, notes) = Sessions::load(&config.out, config.banks.clone(), config.max_sessions, config.read_timeout, config.writer_lease, config.live)?;
     for n in notes {
         log(&n);
     }

@@ -146,3 +146,21 @@ fn a_session_that_verifies_is_verified_as_it_streams_and_at_its_end() {
     assert_eq!(end.json["verification"]["checkpoints_checked"], report["checkpoints_checked"], "{report}");
     assert_eq!(end.json["verification"]["last_tick"], report["ticks"]);
 }
+
+#[test]
+fn with_live_off_a_session_is_verified_at_its_end_only() {
+    let dir = scratch("serve-live-off");
+    let server = Server::start(&dir, 0, &["--live", "off"]);
+    let lines = with_wrong_checkpoint(1200);
+    let (id, file) = open(&server.addr, "w", &lines[0], None);
+    let r = append(&server.addr, "w", &id, 2, &lines[1..]);
+    assert_eq!(r.json["acked"].as_u64(), Some(lines.len() as u64), "{}", r.body);
+    let listed = request(&server.addr, "GET", "/api/sessions", &[], b"");
+    let entry = listed.json["sessions"].as_array().unwrap().iter().find(|e| e["file"] == file.as_str()).unwrap().clone();
+    assert!(entry["live"].is_null(), "nothing watched: {entry}");
+    let end = request(&server.addr, "POST", &format!("/api/sessions/{id}/end"), &[("grove-writer", "w")], b"");
+    assert_eq!(end.status, 200, "{}", end.body);
+    let report: serde_json::Value = serde_json::from_slice(&grove(&["replay", &dir.join(&file).display().to_string(), "--json"]).stdout).unwrap();
+    assert_eq!(end.json["verification"]["status"], "diverged", "its file re-simulated at the end: {}", end.body);
+    assert_eq!(end.json["verification"]["first_divergence"]["tick"], report["first_divergence"]["tick"], "{report}");
+}

@@ -58,6 +58,9 @@ pub struct ServeArgs {
     /// Ask for the token on a loopback address too.
     #[arg(long)]
     require_token: bool,
+    /// Verify every session as it streams ('on'), or only at its end, re-simulating its file ('off': for comparisons).
+    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+    live: String,
     /// Run a study protocol (docs/protocol.md, e.g. assets/protocols/tree-planting.ron): participant ids, condition orders, the page /protocol, answers in DIR/<id>.answers.jsonl, the live page /dashboard.
     #[arg(long, value_name = "FILE")]
     protocol: Option<PathBuf>,
@@ -109,6 +112,9 @@ struct BenchArgs {
     /// The server's certificate to trust for an https --to URL (grove serve --tls auto writes DIR/tls/cert.pem).
     #[arg(long, requires = "to")]
     ca: Option<PathBuf>,
+    /// Its own server's live verification, 'on' or 'off' (a comparison: sessions then verified only at their end).
+    #[arg(long, default_value = "on", value_parser = ["on", "off"], conflicts_with = "to")]
+    live: String,
 }
 
 fn seconds(name: &str, s: f64) -> anyhow::Result<Duration> {
@@ -159,6 +165,7 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 max_connections: args.max_connections,
                 require_token: args.require_token,
                 protocol,
+                live: args.live == "on",
             };
             serve::run(config)?;
             Ok(ExitCode::SUCCESS)
@@ -202,7 +209,7 @@ fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
         Some(url) => Some(serve::client::conn::Endpoint::parse(url, b.ca.as_deref())?),
         None => None,
     };
-    let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove, to };
+    let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove, to, live: b.live == "on" };
     let say = |m: &str| eprintln!("serve bench: {m}");
     let mut report = runtime()?.block_on(serve::client::bench::bench(&options, &say))?;
     if let Some(o) = report.as_object_mut() {

@@ -40,6 +40,8 @@ pub struct BenchOptions {
     pub grove: PathBuf,
     /// A server already running to stream to, in place of one of its own.
     pub to: Option<Endpoint>,
+    /// Whether its own server verifies every session as it streams (`--live on`).
+    pub live: bool,
 }
 
 /// One session's recording made ahead: each tick's lines as one request body, and the lines of
@@ -92,9 +94,9 @@ struct Server {
     url: String,
 }
 
-fn start_server(grove: &Path, dir: &Path) -> Result<Server, ClientError> {
+fn start_server(grove: &Path, dir: &Path, live: bool) -> Result<Server, ClientError> {
     let mut child = Command::new(grove)
-        .args(["serve", "--port", "0", "--abandon-after", "3600", "--max-sessions", "10000", "--out"])
+        .args(["serve", "--port", "0", "--abandon-after", "3600", "--max-sessions", "10000", "--live", if live { "on" } else { "off" }, "--out"])
         .arg(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
@@ -145,7 +147,7 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
         Some(to) => (None, to.clone()),
         None => {
             let _ = std::fs::remove_dir_all(&dir);
-            let server = start_server(&options.grove, &dir)?;
+            let server = start_server(&options.grove, &dir, options.live)?;
             let endpoint = Endpoint::parse(&server.url, None)?;
             (Some(server), endpoint)
         }
@@ -223,7 +225,11 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
     Ok(json!({
         "serve": {
             "server": if options.to.is_some() { endpoint.shown() } else { "its own, on loopback".to_string() },
-            "live_verification": "on",
+            "live_verification": match (&options.to, options.live) {
+                (Some(_), _) => "the server's",
+                (None, true) => "on",
+                (None, false) => "off",
+            },
             "live_checkpoints_verified": live.verified,
             "live_verify_ms_p50": live.p50,
             "live_verify_ms_p99": live.p99,

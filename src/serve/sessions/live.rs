@@ -5,7 +5,9 @@
 //! queue holds each session at most once, so it is never longer than the sessions watched. The
 //! workers (one per core less one, at least one; at a lower priority than the requests on Linux)
 //! take a session, replay what it gained (at most [`super::live_replay::TURN_BYTES`] a turn) and
-//! publish its verification.
+//! publish its verification; a worker that emptied the queue waits [`PASS`] before the next, so
+//! that it takes each session a few ticks at a time. `grove serve --live off` watches nothing (a
+//! session is then verified at its end, its file re-simulated whole): for comparisons.
 //!
 //! When a session ends, its verification is the live one once the worker has replayed its last
 //! line ([`Live::finish`]): the file is not simulated a second time. Its view (the world's
@@ -23,6 +25,12 @@ use grove_systems::bank::Banks;
 
 use crate::serve::sessions::live_replay::{LiveReplay, LiveView};
 use crate::serve::sessions::verify::Verification;
+
+/// How long a worker that found the queue empty waits before it takes the next session.
+const PASS: Duration = Duration::from_millis(20);
+/// How much lower than the requests' the workers' priority is (a nice value, on Linux).
+#[cfg(target_os = "linux")]
+const NICE: libc::c_int = 5;
 
 /// A session's replay, or its last view once it ended.
 enum Kept {
@@ -82,12 +90,19 @@ impl Slot {
 pub struct Live {
     slots: Mutex<HashMap<String, Arc<Slot>>>,
     queue: mpsc::Sender<Arc<Slot>>,
+    /// False when sessions are not watched (`grove serve --live off`): each is verified at its
+    /// end only.
+    enabled: bool,
 }
 
 impl Live {
-    /// Starts the workers, with the model banks a header may name.
-    pub fn start(bank_dirs: &[PathBuf]) -> Live {
+    /// Starts the workers, with the model banks a header may name; with `enabled` false, none:
+    /// nothing is watched.
+    pub fn start(bank_dirs: &[PathBuf], enabled: bool) -> Live {
         let (queue, rx) = mpsc::channel::<Arc<Slot>>();
+        if !enabled {
+            return Live { slots: Mutex::new(HashMap::new()), queue, enabled };
+        }
         let rx = Arc::new(Mutex::new(rx));
         let banks = Arc::new(Banks::open(bank_dirs).unwrap_or_default());
         let workers = std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1));
@@ -98,7 +113,7 @@ impl Live {
                 crate::serve::log::log(&format!("cannot start a live verification worker: {e}"));
             }
         }
-        Live { slots: Mutex::new(HashMap::new()), queue }
+        Live { slots: Mutex::new(HashMap::new()), queue, enabled }
     }
 
     /// Watches session `id`, whose file at `path` has `acked` bytes acknowledged so far (its
@@ -108,6 +123,9 @@ impl Live {
     }
 
     fn add(&self, id: &str, path: &Path, acked: u64, ending: bool) {
+        if !self.enabled {
+            return;
+        }
         let slot = Arc::new(Slot {
             acked: AtomicU64::new(acked),
             ending: AtomicBool::new(ending),
@@ -192,10 +210,19 @@ impl Live {
 }
 
 /// A worker: takes a queued session, replays what it gained, queues it again when more waits.
+/// When the queue is empty it waits [`PASS`] before it waits for the next session, so that a
+/// session streaming at 60 Hz is taken a few ticks at a time rather than at every request.
 fn work(rx: &Mutex<mpsc::Receiver<Arc<Slot>>>, banks: &Banks, again: &mpsc::Sender<Arc<Slot>>) {
     lower_priority();
     loop {
-        let next = lock(rx).recv();
+        let next = lock(rx).try_recv();
+        let next = match next {
+            Err(mpsc::TryRecvError::Empty) => {
+                std::thread::sleep(PASS);
+                lock(rx).recv().map_err(|_| mpsc::TryRecvError::Disconnected)
+            }
+            other => other,
+        };
         let Ok(slot) = next else { return };
         slot.queued.store(false, Ordering::Release);
         if slot.turn(banks) && !slot.queued.swap(true, Ordering::AcqRel) {
@@ -204,13 +231,14 @@ fn work(rx: &Mutex<mpsc::Receiver<Arc<Slot>>>, banks: &Banks, again: &mpsc::Send
     }
 }
 
-/// On Linux, the calling thread's nice value raised by 10: the workers yield to the requests.
+/// On Linux, the calling thread's nice value raised by [`NICE`]: the workers yield to the
+/// requests.
 fn lower_priority() {
     #[cfg(target_os = "linux")]
     // SAFETY: gettid and setpriority have no preconditions; PRIO_PROCESS with a thread id sets
     // that thread's nice value on Linux.
     unsafe {
         let tid = libc::gettid();
-        libc::setpriority(libc::PRIO_PROCESS, tid as libc::id_t, 10);
+        libc::setpriority(libc::PRIO_PROCESS, tid as libc::id_t, NICE);
     }
 }

@@ -30,12 +30,12 @@ pub struct Sessions {
 }
 
 impl Sessions {
-    /// Opens a folder (made if missing) and continues the sessions still open in it; returns a
-    /// line per session continued or not.
-    pub fn load(dir: &std::path::Path, banks: Vec<PathBuf>, max_open: usize, read_timeout: Duration, writer_lease: Duration) -> Result<(Sessions, Vec<String>), SessionError> {
+    /// Opens a folder (made if missing) and continues the sessions still open in it, each
+    /// verified as it streams unless `live` is false; returns a line per session continued or not.
+    pub fn load(dir: &std::path::Path, banks: Vec<PathBuf>, max_open: usize, read_timeout: Duration, writer_lease: Duration, live: bool) -> Result<(Sessions, Vec<String>), SessionError> {
         let (registry, notes) = Registry::load(dir, banks, max_open)?;
         let verifying = Semaphore::new(std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1)));
-        let live = Live::start(&registry.bank_dirs);
+        let live = Live::start(&registry.bank_dirs, live);
         for shared in registry.open_sessions() {
             // Nothing else holds a session yet.
             if let Ok(s) = shared.try_lock() {
