@@ -47,10 +47,14 @@ pub struct ServeConfig {
     pub abandon_after: Duration,
     /// The most sessions open at once.
     pub max_sessions: usize,
-    /// The most connections served at once (more wait to be accepted).
+    /// The most connections served at once (the longest idle one closes for a new one).
     pub max_connections: usize,
+    /// The most connections from one address (the longest idle one of it closes for a new one).
+    pub max_per_address: usize,
     /// Ask for the token on a loopback address too.
     pub require_token: bool,
+    /// Draw a new token instead of the one kept in the folder (`DIR/token`).
+    pub new_token: bool,
     /// The study protocol run for the participants (`docs/protocol.md`), if any.
     pub protocol: Option<crate::protocol::Loaded>,
     /// Whether every session is verified as it streams (else only at its end, its file

@@ -86,9 +86,15 @@ pub fn same_secret(a: &str, b: &str) -> bool {
     a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 
-/// Whether a session id is of the server's own form (32 hex digits), checked before any lookup.
+/// Whether a text is a secret of the server's own form (32 lowercase hex digits: 128 bits from
+/// [`random_hex`]), as session ids and tokens are.
+pub fn is_secret(text: &str) -> bool {
+    text.len() == 32 && text.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase())
+}
+
+/// Whether a session id is of the server's own form, checked before any lookup.
 pub fn is_session_id(id: &str) -> bool {
-    id.len() == 32 && id.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase())
+    is_secret(id)
 }
 
 #[cfg(test)]

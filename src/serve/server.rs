@@ -1,5 +1,6 @@
 //! `grove serve` from start to stop: the sessions' folder read back (its open sessions continued,
-//! its unverified ones verified), the protocol's participants, the token, TLS, the listener and
+//! its unverified ones verified), the protocol's participants, the token (kept in the folder),
+//! TLS, the listener and
 //! the banner; then requests until Ctrl-C or SIGTERM; then every open file flushed and
 //! `sessions.json` written, the open sessions left open to be continued at the next start.
 
@@ -12,7 +13,7 @@ use crate::serve::config::ServeConfig;
 use crate::serve::error::ServeError;
 use crate::serve::http::listen::{bind, serve_until, stop_signal, Limits};
 use crate::serve::http::static_files::StaticRoots;
-use crate::serve::http::token::Token;
+use crate::serve::http::token::{Kept, Token, TOKEN_FILE};
 use crate::serve::http::{banner, tls};
 use crate::serve::log::log;
 use crate::serve::protocol::participants::Participants;
@@ -49,20 +50,28 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     let shown_host = banner::shown_host(config.host);
     let acceptor = tls::acceptor(&config.tls, &config.out, &shown_host)?.map(TlsAcceptor::from);
     let needs_token = config.require_token || !config.host.is_loopback();
-    let token = if needs_token { Some(Token::new(acceptor.is_some())?) } else { None };
+    let token = match needs_token {
+        false => None,
+        true => Some(Token::kept(&config.out, acceptor.is_some(), config.new_token)?),
+    };
     let (listener, addr) = bind(config.host, config.port).await?;
-    let url = banner::url(acceptor.is_some(), &shown_host, addr.port(), token.as_ref().map(Token::secret));
+    let url = banner::url(acceptor.is_some(), &shown_host, addr.port(), token.as_ref().map(|(t, _)| t.secret()));
     log(&format!("grove serve {}: sessions in {}", env!("CARGO_PKG_VERSION"), config.out.display()));
     log(&format!("listening on {url}"));
-    if token.is_some() {
+    if let Some((_, kept)) = &token {
+        let file = config.out.join(TOKEN_FILE);
+        log(&match kept {
+            Kept::Read => format!("the token is the one kept in {} (clients that had it go on; --new-token draws another)", file.display()),
+            Kept::Drawn => format!("a new token, kept in {} for the next start on this folder", file.display()),
+        });
         log("every request needs this token (in the URL once, then a cookie; or 'Authorization: Bearer TOKEN'); scan to open it:");
         println!("{}", banner::qr(&url));
     }
 
     let app = Arc::new(App { sessions: sessions.clone(), protocol, statics: StaticRoots::new(&config.web, &config.assets, &config.wasm, &config.banks), tls: acceptor.is_some() });
     let abandon = tokio::spawn(abandon_loop(sessions.clone(), config.abandon_after));
-    let limits = Limits { read_timeout: config.read_timeout, max_connections: config.max_connections };
-    serve_until(listener, acceptor, token, &limits, app, stop_signal()).await;
+    let limits = Limits { read_timeout: config.read_timeout, max_connections: config.max_connections, max_per_address: config.max_per_address };
+    serve_until(listener, acceptor, token.map(|(t, _)| t), &limits, app, stop_signal()).await;
     abandon.abort();
     let open = sessions.flush_all().await;
     sessions.registry.save()?;

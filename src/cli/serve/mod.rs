@@ -52,15 +52,21 @@ pub struct ServeArgs {
     /// The most sessions open at once.
     #[arg(long, default_value_t = 256)]
     max_sessions: usize,
-    /// The most connections served at once (more wait to be accepted).
+    /// The most connections served at once; a new one closes the one idle longest (while all are busy, it waits).
     #[arg(long, default_value_t = 512)]
     max_connections: usize,
+    /// The most connections from one address; a new one closes that address's one idle longest (while all are busy, it is closed).
+    #[arg(long, default_value_t = 256)]
+    max_connections_per_address: usize,
     /// Ask for the token on a loopback address too.
     #[arg(long)]
     require_token: bool,
     /// Verify every session as it streams ('on'), or only at its end, re-simulating its file ('off': for comparisons).
     #[arg(long, default_value = "on", value_parser = ["on", "off"])]
     live: String,
+    /// Draw a new token instead of the one kept in DIR/token (clients with the old one are then refused).
+    #[arg(long)]
+    new_token: bool,
     /// Run a study protocol (docs/protocol.md, e.g. assets/protocols/tree-planting.ron): participant ids, condition orders, the page /protocol, answers in DIR/<id>.answers.jsonl, the live page /dashboard.
     #[arg(long, value_name = "FILE")]
     protocol: Option<PathBuf>,
@@ -142,8 +148,11 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                     _ => bail!("--tls takes 'auto' or 'CERT,KEY' (two PEM files)"),
                 },
             };
-            if args.max_sessions == 0 || args.max_connections == 0 {
-                bail!("--max-sessions and --max-connections must be at least 1");
+            if args.new_token && !args.require_token && args.host.is_loopback() {
+                bail!("--new-token is for a server that asks for a token: a network address (--host) or --require-token");
+            }
+            if args.max_sessions == 0 || args.max_connections == 0 || args.max_connections_per_address == 0 {
+                bail!("--max-sessions, --max-connections and --max-connections-per-address must be at least 1");
             }
             let protocol = match &args.protocol {
                 Some(p) => Some(grove::protocol::load(p)?),
@@ -163,7 +172,9 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 abandon_after: seconds("abandon-after", args.abandon_after)?,
                 max_sessions: args.max_sessions,
                 max_connections: args.max_connections,
+                max_per_address: args.max_connections_per_address,
                 require_token: args.require_token,
+                new_token: args.new_token,
                 protocol,
                 live: args.live == "on",
             };
@@ -191,9 +202,10 @@ fn push(p: PushArgs) -> anyhow::Result<ExitCode> {
     if p.json {
         crate::cli::print_json(&report)?;
     } else {
+        let continued = if report.continued_from > 1 { format!(", continued from line {}", report.continued_from + 1) } else { String::new() };
         println!(
-            "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects) to {}: {}",
-            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, shown
+            "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects{continued}) to {} (session {}): {}",
+            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, report.session, shown
         );
     }
     Ok(if status.is_some_and(|s| s.failed()) { ExitCode::from(1) } else { ExitCode::SUCCESS })

@@ -89,12 +89,16 @@ fn recording(ticks: u64) -> Result<(Header, Vec<Bytes>), ClientError> {
 }
 
 /// The server process and what it printed.
-struct Server {
-    child: Child,
-    url: String,
+pub struct Server {
+    /// The process.
+    pub child: Child,
+    /// The URL it printed.
+    pub url: String,
 }
 
-fn start_server(grove: &Path, dir: &Path, live: bool) -> Result<Server, ClientError> {
+/// Starts `grove serve` on loopback (any free port) on `dir`, as its own process, verifying
+/// sessions as they stream or not (`--live`); returns once it listens.
+pub fn start_server(grove: &Path, dir: &Path, live: bool) -> Result<Server, ClientError> {
     let mut child = Command::new(grove)
         .args(["serve", "--port", "0", "--abandon-after", "3600", "--max-sessions", "10000", "--live", if live { "on" } else { "off" }, "--out"])
         .arg(dir)

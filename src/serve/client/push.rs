@@ -4,7 +4,10 @@
 //! events' `ms` times, or a multiple of it), each batch starting at the line after the last one
 //! acknowledged; when the connection fails it keeps what is not acknowledged, reconnects, asks
 //! the server how many lines it has and goes on from there, until the server is back or
-//! `give_up` has passed without one.
+//! `give_up` has passed without one. Run again on the same file (after it was killed, or after the
+//! server restarted), it continues the session it began: the server finds it by the file's
+//! header line, its identity, and the push checks that what the server has is the file's start,
+//! so that a recording never makes a second file.
 
 use std::collections::VecDeque;
 use std::io::Read;
@@ -18,7 +21,7 @@ use hyper::Method;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::serve::client::conn::{Answer, ClientError, Conn, Endpoint};
+use crate::serve::client::conn::{Answer, ClientError, Conn, Endpoint, Reply};
 use crate::serve::line_split::LineSplitter;
 use crate::serve::sessions::states::{Code, SessionState, VerifyStatus};
 
@@ -49,9 +52,14 @@ pub struct PushOptions {
 pub struct PushReport {
     /// The file pushed.
     pub file: String,
+    /// The session's id on the server.
+    pub session: String,
     /// The session's file on the server.
     pub server_file: String,
-    /// Lines acknowledged (the header included).
+    /// Lines the server had of the recording when this push began: 1 (its header) for a new
+    /// session, more when a push of the same file had begun it.
+    pub continued_from: u64,
+    /// Lines acknowledged in all (the header included).
     pub lines: u64,
     /// Requests that carried lines.
     pub requests: u64,
@@ -119,7 +127,8 @@ struct Link<'a> {
 }
 
 impl Link<'_> {
-    async fn call(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ClientError> {
+    /// One request on the connection (opened again if it was lost): the whole answer.
+    async fn send(&mut self, method: Method, path: &str, body: Bytes) -> Result<Reply, ClientError> {
         if self.conn.is_none() {
             let c = self.endpoint.connect(self.options.timeout).await?;
             if self.offline_since.is_some() {
@@ -128,16 +137,33 @@ impl Link<'_> {
             self.conn = Some(c);
         }
         let conn = self.conn.as_mut().ok_or_else(|| ClientError::Connection("no connection".into()))?;
-        match conn.request(method, path, body, self.options.timeout).await {
-            Ok(a) => {
+        let writer = self.endpoint.writer.clone();
+        match conn.send(method, path, &[("grove-writer", writer.as_str())], body, self.options.timeout).await {
+            Ok(r) => {
                 if let Some(since) = self.offline_since.take() {
                     (self.say)(&format!("reconnected after {:.1} s", since.elapsed().as_secs_f64()));
                 }
-                Ok(a)
+                Ok(r)
             }
             Err(e) => {
                 self.conn = None;
                 Err(e)
+            }
+        }
+    }
+
+    async fn call(&mut self, method: Method, path: &str, body: Bytes) -> Result<Answer, ClientError> {
+        self.send(method, path, body).await.map(|r| (r.status, r.json()))
+    }
+
+    /// A GET whose answer is text (a session read back), retried while the server cannot be
+    /// reached.
+    async fn text(&mut self, path: &str) -> Result<(u16, Bytes), ClientError> {
+        let mut attempt = 0;
+        loop {
+            match self.send(Method::GET, path, Bytes::new()).await {
+                Ok(r) => return Ok((r.status, r.body)),
+                Err(e) => self.wait(&e, &mut attempt).await?,
             }
         }
     }
@@ -201,24 +227,107 @@ async fn server_lines(link: &mut Link<'_>, session: &str) -> Result<u64, ClientE
     }
 }
 
-/// Pushes a recording to the server at `endpoint`; `say` gets a line for each connection lost
-/// and found again.
+/// Where a push begins: a new session, or the one an earlier push of the same recording opened.
+struct Begun {
+    session: String,
+    server_file: String,
+    /// Lines the server had of it when this push began (1: a new session, its header).
+    acked: u64,
+    /// The server's entry, when the session has ended already (nothing is sent then).
+    ended: Option<serde_json::Value>,
+}
+
+/// Opens the session of a recording, or finds the one an earlier push of it opened (`"continue":
+/// true`: the server looks it up by the header line, the recording's identity), waiting while a
+/// request of that earlier push still holds it.
+async fn begin(link: &mut Link<'_>, header: &str, say: &dyn Fn(&str)) -> Result<Begun, ClientError> {
+    let body = Bytes::from(json!({ "header": header, "continue": true }).to_string());
+    let (status, v) = loop {
+        match link.answer(Method::POST, "/api/sessions", body.clone()).await? {
+            (409, v) if field(&v, "code") == Some(Code::Busy) => tokio::time::sleep(Duration::from_millis(200)).await,
+            answer => break answer,
+        }
+    };
+    if status != 201 && status != 200 {
+        return Err(refused("opening the session", &(status, v)));
+    }
+    let session = v["session"].as_str().unwrap_or("").to_string();
+    let server_file = v["file"].as_str().unwrap_or("").to_string();
+    let acked = v["acked"].as_u64().ok_or_else(no_acked)?;
+    let state: Option<SessionState> = field(&v, "state");
+    match (status, state) {
+        (201, _) => say(&format!("session {session} opened: {server_file}")),
+        (_, Some(SessionState::Open)) => say(&format!("session {session} continued: {server_file} has {acked} lines of this recording; sending from line {}", acked + 1)),
+        (_, Some(SessionState::Ended)) => {
+            say(&format!("session {session} ({server_file}) of this recording has ended already: nothing sent"));
+            return Ok(Begun { session, server_file, acked, ended: Some(v) });
+        }
+        (_, Some(state)) => {
+            return Err(ClientError::Answer(format!(
+                "session {session} ({server_file}) of this recording is {state} with {acked} lines and cannot be continued; push the file to a server on a new --out folder"
+            )))
+        }
+        (_, None) => return Err(ClientError::Answer("the server's answer has no session state".into())),
+    }
+    Ok(Begun { session, server_file, acked, ended: None })
+}
+
+/// Checks that the server's first `acked` lines of a continued session are the recording's
+/// (the header already read), reading them past in `source`.
+async fn same_start(link: &mut Link<'_>, begun: &Begun, source: &mut Source) -> Result<(), ClientError> {
+    let (status, text) = link.text(&format!("/api/sessions/{}/lines", begun.session)).await?;
+    if status != 200 {
+        return Err(ClientError::Refused { what: "reading the session back".into(), status, reason: String::from_utf8_lossy(&text).trim().to_string() });
+    }
+    let text = String::from_utf8_lossy(&text);
+    for (i, theirs) in text.lines().enumerate().skip(1).take(begun.acked.saturating_sub(1) as usize) {
+        let ours = source.next()?;
+        if ours.as_deref() != Some(theirs) {
+            return Err(ClientError::Answer(format!(
+                "line {} of {} on the server differs from {}'s: the session holds another recording with the same header line",
+                i + 1,
+                begun.server_file,
+                source.name
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Pushes a recording to the server at `endpoint`; `say` gets a line for the session (its id) and
+/// for each connection lost and found again. Run again on the same file (after it was killed),
+/// it continues the session it began, from the line after the last the server has.
 pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: &dyn Fn(&str)) -> Result<PushReport, ClientError> {
     let mut source = Source::open(path)?;
     let header = source.next()?.ok_or_else(|| ClientError::Local(format!("{}: empty file", path.display())))?;
-    let mut link = Link { endpoint, conn: None, options, reconnects: 0, offline_since: None, say };
-    let opened = link.answer(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string())).await?;
-    if opened.0 != 201 {
-        return Err(refused("opening the session", &opened));
+    // One writer name per recording: a push run again is the same client to the server.
+    let mut endpoint = endpoint.clone();
+    endpoint.writer = format!("push-{:016x}", xxhash_rust::xxh3::xxh3_64(header.as_bytes()));
+    let mut link = Link { endpoint: &endpoint, conn: None, options, reconnects: 0, offline_since: None, say };
+    let begun = begin(&mut link, &header, say).await?;
+    let report = |lines, requests, reconnects, seconds, ended| PushReport {
+        file: path.display().to_string(),
+        session: begun.session.clone(),
+        server_file: begun.server_file.clone(),
+        continued_from: begun.acked,
+        lines,
+        requests,
+        reconnects,
+        seconds,
+        ended,
+    };
+    if let Some(ended) = &begun.ended {
+        return Ok(report(begun.acked, 0, 0, 0.0, ended.clone()));
     }
-    let session = opened.1["session"].as_str().unwrap_or("").to_string();
-    let server_file = opened.1["file"].as_str().unwrap_or("").to_string();
-    say(&format!("session {server_file} opened"));
+    if begun.acked > 1 {
+        same_start(&mut link, &begun, &mut source).await?;
+    }
+    let (session, server_file) = (begun.session.clone(), begun.server_file.clone());
     let start = Instant::now();
-    let (mut acked, mut requests) = (1u64, 0u64);
+    let (mut acked, mut requests) = (begun.acked, 0u64);
     // Lines read and not yet acknowledged: (number, text, when it is due, seconds from start).
     let mut queue: VecDeque<(u64, String, f64)> = VecDeque::new();
-    let (mut next_number, mut due) = (2u64, 0.0f64);
+    let (mut next_number, mut due) = (acked + 1, 0.0f64);
     let mut queued_bytes = 0usize;
     let lines_path = format!("/api/sessions/{session}/lines");
     loop {
@@ -281,5 +390,5 @@ pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: 
         (410, _) => link.answer(Method::GET, &format!("/api/sessions/{session}"), Bytes::new()).await?.1,
         other => return Err(refused("ending the session", &other)),
     };
-    Ok(PushReport { file: path.display().to_string(), server_file, lines: acked, requests, reconnects: link.reconnects, seconds: start.elapsed().as_secs_f64(), ended })
+    Ok(report(acked, requests, link.reconnects, start.elapsed().as_secs_f64(), ended))
 }

@@ -1,4 +1,5 @@
-//! Why the listener could not start: the address, the certificate, the files of `--tls auto`.
+//! Why the listener could not start: the address, the certificate, the files of `--tls auto`,
+//! the token kept in the folder.
 
 /// Why the listener could not start, one line.
 #[derive(Debug, thiserror::Error)]
@@ -14,7 +15,10 @@ pub enum HttpError {
     /// The certificate or key could not be made or read.
     #[error("TLS: {0}")]
     Tls(String),
-    /// A file or folder of the certificate could not be written.
+    /// The token could not be drawn.
+    #[error(transparent)]
+    Random(#[from] crate::serve::ids::IdError),
+    /// A file or folder of the certificate or the token could not be read or written.
     #[error("{path}: {message}")]
     Io {
         /// The path.

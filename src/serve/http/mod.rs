@@ -1,5 +1,5 @@
 //! HTTP, the server's lowest room: connections (`listen.rs`: plain or TLS over `tls.rs`,
-//! bounded in number and time), the token checked before any handler sees a request
+//! bounded in number and time; `pool.rs`: which connection gives way, the idle first), the token checked before any handler sees a request
 //! (`token.rs`), how the server shows itself at start (`banner.rs`: its URL and QR code), the
 //! one reader of request bodies (`body.rs`), the one router behaviour (`router.rs`: 404 for an
 //! unknown path, 405 with `Allow` for a wrong method), refusals (`refusal.rs`) and responses
@@ -13,6 +13,7 @@ pub mod banner;
 pub mod body;
 pub mod error;
 pub mod listen;
+pub mod pool;
 pub mod refusal;
 pub mod respond;
 pub mod router;

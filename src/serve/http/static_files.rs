@@ -90,7 +90,7 @@ impl StaticRoots {
             match r.only {
                 Some(name) if r.dir.join(name).is_file() => urls.push(format!("{}{name}", r.prefix)),
                 Some(_) => {}
-                None => list(&r.dir, &r.prefix, 2, &mut urls),
+                None => list(&r.dir, &r.dir, &r.prefix, 2, &mut urls),
             }
             urls.sort();
             out.insert(r.prefix.trim_matches('/').to_string(), serde_json::Value::from(urls));
@@ -121,8 +121,8 @@ impl StaticRoots {
         if path.is_dir() {
             path.push("index.html");
         }
-        let real = files::within(&path, &root.dir).map_err(|e| Refusal::not_found(e.reason()))?;
-        files::check(&real, Kind::Served).map_err(|e| Refusal::not_found(e.reason()))?;
+        let real = files::within(&path, &root.dir).map_err(|e| not_served(&decoded, &e))?;
+        files::check(&real, Kind::Served).map_err(|e| not_served(&decoded, &e))?;
         Ok(real)
     }
 
@@ -145,7 +145,7 @@ impl StaticRoots {
         })
         .await
         .map_err(|e| Refusal::internal(e.to_string()))?;
-        let (file, len) = opened.map_err(|e| Refusal::not_found(e.reason()))?;
+        let (file, len) = opened.map_err(|e| not_served(url_path, &e))?;
         let body = if head {
             full(Bytes::new())
         } else {
@@ -178,19 +178,28 @@ impl StaticRoots {
     }
 }
 
+/// 404 for a URL whose file is not served, naming the URL and why, never a path of the machine.
+fn not_served(url_path: &str, e: &files::FileError) -> Refusal {
+    Refusal::not_found(format!("{url_path}: {}", e.public_reason()))
+}
+
 /// What a file name's characters become in a URL: all but letters, digits and `-._~` encoded.
 const URL_PART: &percent_encoding::AsciiSet = &percent_encoding::NON_ALPHANUMERIC.remove(b'-').remove(b'.').remove(b'_').remove(b'~');
 
-/// The URLs of the files under `dir`, down to `depth` levels, hidden files left out.
-fn list(dir: &Path, prefix: &str, depth: u32, out: &mut Vec<String>) {
+/// The URLs of the files under `dir`, down to `depth` levels, hidden files left out, as they are
+/// served: nothing that lies outside `root` (through a symbolic link) is listed.
+fn list(root: &Path, dir: &Path, prefix: &str, depth: u32, out: &mut Vec<String>) {
     for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         if name.starts_with('.') {
             continue;
         }
         let p = e.path();
+        if files::within(&p, root).is_err() {
+            continue;
+        }
         if p.is_dir() && depth > 1 {
-            list(&p, &format!("{prefix}{}/", percent_encoding::utf8_percent_encode(&name, URL_PART)), depth - 1, out);
+            list(root, &p, &format!("{prefix}{}/", percent_encoding::utf8_percent_encode(&name, URL_PART)), depth - 1, out);
         } else if p.is_file() {
             out.push(format!("{prefix}{}", percent_encoding::utf8_percent_encode(&name, URL_PART)));
         }
@@ -246,6 +255,21 @@ mod tests {
         assert_eq!(ok("/scenes/%73tudy.ron").unwrap(), "()", "decoded once");
         assert_eq!(ok("/target/wasm/grove_sim.wasm").unwrap(), "\0asm");
         assert_eq!(roots.index()["target/wasm"], serde_json::json!(["/target/wasm/grove_sim.wasm"]));
+        // Nothing behind a symbolic link out of a folder is listed, and no refusal names a path
+        // of the machine.
+        #[cfg(unix)]
+        {
+            std::fs::create_dir_all(d.path().join("elsewhere")).unwrap();
+            std::fs::write(d.path().join("elsewhere/secret-name.ron"), "()").unwrap();
+            std::os::unix::fs::symlink(d.path().join("elsewhere"), assets.join("scenes/linked")).unwrap();
+            let listed = roots.index().to_string();
+            assert!(!listed.contains("secret-name") && !listed.contains("link.ron"), "{listed}");
+            assert!(listed.contains("/scenes/study.ron"), "{listed}");
+            for url in ["/scenes/linked/secret-name.ron", "/scenes/link.ron"] {
+                let refused = roots.resolve(url).unwrap_err();
+                assert!(refused.reason.starts_with(url) && !refused.reason.contains(&*d.path().to_string_lossy()), "{}", refused.reason);
+            }
+        }
         for bad in ["/../outside.txt", "/scenes/../../outside.txt", "/scenes/%2e%2e/%2e%2e/outside.txt", "/scenes/..%2f..%2foutside.txt", "/.env", "/scenes/link.ron", "/scenes//study.ron", "/scenes/%00", "/scenes/a%5c..%5c..%5coutside.txt", "/nothing.txt", "/target/wasm/release/other.wasm", "/target/wasm/"] {
             let r = roots.resolve(bad);
             assert!(r.as_ref().is_err_and(|e| e.status == 404), "{bad}: {r:?}");

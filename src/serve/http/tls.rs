@@ -61,16 +61,7 @@ fn auto_cert(dir: &Path, shown_host: &str) -> Result<(std::path::PathBuf, std::p
 
 /// Writes a file readable by its owner only (through a temporary file and a rename).
 fn write_private(path: &Path, bytes: &[u8]) -> Result<(), HttpError> {
-    crate::atomic_write::write_via_temp(path, |tmp| {
-        let mut o = std::fs::OpenOptions::new();
-        o.write(true).create_new(true);
-        #[cfg(unix)]
-        std::os::unix::fs::OpenOptionsExt::mode(&mut o, 0o600);
-        let mut f = o.open(tmp)?;
-        std::io::Write::write_all(&mut f, bytes)?;
-        Ok(())
-    })
-    .map_err(|e| HttpError::Io { path: path.display().to_string(), message: format!("{e:#}") })
+    crate::atomic_write::write_private(path, bytes).map_err(|e| HttpError::Io { path: path.display().to_string(), message: e.source.to_string() })
 }
 
 /// The server's TLS configuration for a choice, if any.

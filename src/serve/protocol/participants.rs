@@ -12,41 +12,29 @@ use std::sync::Mutex;
 
 use serde_json::{json, Value};
 
+use crate::protocol::form::FormInstrument;
 use crate::protocol::{Loaded, Step, StepKind};
 
 use crate::serve::protocol::error::ParticipantError;
+pub use crate::serve::protocol::folder::{Participant, ANSWERS_SUFFIX};
 
-/// The suffix of a participant's file.
-pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
 /// The copy of the protocol kept in the folder (what `grove study` reads).
 pub const PROTOCOL_FILE: &str = "protocol.ron";
 /// The most answer lines one participant's file takes (answers given again included), so that
 /// a client repeating answers cannot fill the disk.
 pub const MAX_ANSWER_LINES: usize = 10_000;
 
-/// One participant.
-#[derive(Clone, Debug)]
-pub struct Participant {
-    /// The id (`P01`, …).
-    pub id: String,
-    /// Their index (0-based) among the participants: the Latin square's row.
-    pub index: usize,
-    /// Their conditions in order (indices of the protocol's conditions).
-    pub order: Vec<usize>,
-    /// Their steps.
-    pub steps: Vec<Step>,
-    /// The step they are at (0-based; `steps.len()` once done).
-    pub at: usize,
-    /// Answers by (step, item), the last given.
-    pub answers: BTreeMap<(usize, String), Value>,
-    /// Answer lines in their file.
-    pub answer_lines: usize,
-}
 
-/// A request's view of whether a step is finished: the task sessions the server has ended.
+/// What the participants see of the folder's sessions: the one that finishes a task step, and
+/// the participant ids the sessions use.
 pub trait TaskSessions {
-    /// Whether a session of `participant` for `task` has ended (or was abandoned).
-    fn ended(&self, participant: &str, task: &str) -> bool;
+    /// The file of the session that finishes `participant`'s step of `task` that began at `began`
+    /// (`docs/protocol.md`: theirs, of that task, opened after the step began, and complete or
+    /// ended by its client); or, when none does, each session of theirs for that task that is
+    /// not this step's, with why.
+    fn finishing(&self, participant: &str, task: &str, began: &str) -> Result<String, Vec<(String, &'static str)>>;
+    /// The participant ids the folder's sessions use, each with one of its files.
+    fn ids_in_use(&self) -> Vec<(String, String)>;
 }
 
 /// Every participant of a folder.
@@ -79,20 +67,8 @@ impl Participants {
         } else {
             crate::atomic_write::write_bytes(&copy, loaded.text.as_bytes()).map_err(|e| ParticipantError::File(e.to_string()))?;
         }
-        let mut list = Vec::new();
-        let mut notes = Vec::new();
-        let mut names: Vec<PathBuf> = std::fs::read_dir(dir)
-            .map_err(|e| io(dir, e))?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.ends_with(ANSWERS_SUFFIX)))
-            .collect();
-        names.sort();
-        for path in names {
-            let p = read_back(&loaded, &path)?;
-            notes.push(format!("participant {} resumes at step {} of {}", p.id, (p.at + 1).min(p.steps.len()), p.steps.len()));
-            list.push(p);
-        }
-        list.sort_by_key(|p| p.index);
+        let list = crate::serve::protocol::folder::read_all(&loaded, dir)?;
+        let notes = list.iter().map(|p| format!("participant {} resumes at step {} of {}", p.id, (p.at + 1).min(p.steps.len()), p.steps.len())).collect();
         Ok((Participants { loaded, dir: dir.to_path_buf(), list: Mutex::new(list) }, notes))
     }
 
@@ -113,9 +89,18 @@ impl Participants {
     }
 
     /// A new participant (the next id and the next row of the square), or the one named `id`
-    /// if it exists; `true` when new.
-    pub fn join(&self, id: Option<&str>) -> Result<(Value, bool), ParticipantError> {
+    /// if it exists; `true` when new. One namespace: an automatic id skips every id in use (a
+    /// participant's, or one the folder's sessions use), a new id that is in use is refused, and
+    /// ids are compared without regard to case.
+    pub fn join(&self, id: Option<&str>, sessions: &dyn TaskSessions) -> Result<(Value, bool), ParticipantError> {
         let mut list = self.list.lock().unwrap_or_else(|p| p.into_inner());
+        let used = sessions.ids_in_use();
+        let holder = |candidate: &str| -> Option<String> {
+            match list.iter().find(|p| p.id.eq_ignore_ascii_case(candidate)) {
+                Some(p) => Some(format!("participant {}", p.id)),
+                None => used.iter().find(|(i, _)| i.eq_ignore_ascii_case(candidate)).map(|(i, f)| format!("the sessions of {i} in this folder ({f})")),
+            }
+        };
         if let Some(id) = id {
             if crate::serve::ids::participant(id).is_err() {
                 return Err(ParticipantError::BadId);
@@ -123,20 +108,31 @@ impl Participants {
             if let Some(p) = list.iter().find(|p| p.id == id) {
                 return Ok((self.state(p), false));
             }
+            if let Some(holder) = holder(id) {
+                return Err(ParticipantError::IdInUse { id: id.to_string(), holder });
+            }
         }
         let index = list.len();
         let total = self.loaded.protocol.participants;
         if index >= total {
             return Err(ParticipantError::AllJoined { total });
         }
-        let id = id.map(str::to_string).unwrap_or_else(|| format!("P{:02}", index + 1));
+        let id = match id {
+            Some(id) => id.to_string(),
+            None => (index + 1..).map(|n| format!("P{n:02}")).find(|c| holder(c).is_none()).unwrap_or_default(),
+        };
         let order = self.loaded.order(index);
         let steps = self.loaded.steps(&order);
         let names: Vec<&str> = order.iter().map(|c| self.loaded.protocol.conditions[*c].name.as_str()).collect();
-        let first = json!({"line": "participant", "participant": id, "protocol": self.loaded.protocol.name, "index": index, "order": names, "time": now()});
-        let step = step_line(&steps, 0);
+        let time = now();
+        let first = json!({"line": "participant", "participant": id, "protocol": self.loaded.protocol.name, "index": index, "order": names, "time": time});
+        let step = step_line(&steps, 0, &time);
         self.append(&id, &[first, step])?;
-        let p = Participant { id, index, order, steps, at: 0, answers: BTreeMap::new(), answer_lines: 0 };
+        let mut began = vec![None; steps.len()];
+        if let Some(b) = began.first_mut() {
+            *b = Some(time);
+        }
+        let p = Participant { id, index, order, steps, began, at: 0, answers: BTreeMap::new(), answer_lines: 0 };
         let v = self.state(&p);
         list.push(p);
         Ok((v, true))
@@ -146,6 +142,21 @@ impl Participants {
     pub fn get(&self, id: &str) -> Result<Value, ParticipantError> {
         let list = self.list.lock().unwrap_or_else(|p| p.into_inner());
         list.iter().find(|p| p.id == id).map(|p| self.state(p)).ok_or_else(|| ParticipantError::Unknown(id.to_string()))
+    }
+
+    /// Every participant's task steps: (participant, task, when the step began if they have
+    /// reached it).
+    pub fn task_steps(&self) -> Vec<(String, String, Option<String>)> {
+        let list = self.list.lock().unwrap_or_else(|p| p.into_inner());
+        let mut out = Vec::new();
+        for p in list.iter() {
+            for (i, s) in p.steps.iter().enumerate() {
+                if let StepKind::Task { condition } = &s.kind {
+                    out.push((p.id.clone(), self.loaded.protocol.conditions[*condition].task.clone(), p.began.get(i).cloned().flatten()));
+                }
+            }
+        }
+        out
     }
 
     /// Every participant's state.
@@ -177,7 +188,7 @@ impl Participants {
         let mut lines = Vec::new();
         for (item_id, value) in answers {
             let item = ins.items.iter().find(|i| &i.id == item_id).ok_or_else(|| ParticipantError::NoSuchItem { instrument: ins.id.clone(), item: item_id.clone() })?;
-            crate::protocol::answer::check(item, value).map_err(ParticipantError::BadAnswer)?;
+            crate::protocol::answer::check(item, value)?;
             lines.push(json!({"line": "answer", "step": step, "block": p.steps[p.at].name, "instrument": ins.id, "condition": cond, "item": item_id, "answer": value, "time": time}));
         }
         self.append(id, &lines)?;
@@ -202,8 +213,10 @@ impl Participants {
         match &p.steps[p.at].kind {
             StepKind::Task { condition } => {
                 let task = &self.loaded.protocol.conditions[*condition].task;
-                if !tasks.ended(id, task) {
-                    return Err(ParticipantError::TaskNotEnded { step: from, task: task.clone() });
+                let began = p.began.get(p.at).cloned().flatten().unwrap_or_default();
+                if let Err(others) = tasks.finishing(id, task, &began) {
+                    let others = others.iter().map(|(file, why)| format!("{file} ({why})")).collect();
+                    return Err(ParticipantError::TaskNotEnded { step: from, task: task.clone(), others });
                 }
             }
             StepKind::Questionnaire { instrument, .. } => {
@@ -215,9 +228,13 @@ impl Participants {
             }
             StepKind::Instructions | StepKind::Practice => {}
         }
-        let line = if p.at + 1 < p.steps.len() { step_line(&p.steps, p.at + 1) } else { json!({"line": "done", "time": now()}) };
+        let time = now();
+        let line = if p.at + 1 < p.steps.len() { step_line(&p.steps, p.at + 1, &time) } else { json!({"line": "done", "time": time}) };
         self.append(id, &[line])?;
         p.at += 1;
+        if let Some(b) = p.began.get_mut(p.at) {
+            *b = Some(time);
+        }
         Ok(self.state(p))
     }
 
@@ -263,7 +280,7 @@ impl Participants {
             }
             (StepKind::Questionnaire { instrument, condition }, _) => {
                 o.insert("kind".into(), json!("questionnaire"));
-                o.insert("instrument".into(), serde_json::to_value(self.loaded.instrument(instrument)).unwrap_or(Value::Null));
+                o.insert("instrument".into(), serde_json::to_value(self.loaded.instrument(instrument).map(|i| FormInstrument::new(&i))).unwrap_or(Value::Null));
                 o.insert("condition".into(), json!(condition.map(|c| self.loaded.protocol.conditions[c].name.clone())));
             }
             _ => {}
@@ -284,55 +301,22 @@ impl Participants {
     }
 }
 
-fn step_line(steps: &[Step], at: usize) -> Value {
-    json!({"line": "step", "step": at + 1, "block": steps[at].name, "time": now()})
-}
-
-/// Reads a participant's file back: the participant, the last step entered, the answers. A last
-/// line cut short by a crash (no newline) was never acknowledged and is cut off.
-fn read_back(loaded: &Loaded, path: &Path) -> Result<Participant, ParticipantError> {
-    let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Recording).map_err(|e| ParticipantError::File(e.reason()))?;
-    let whole = match text.rfind('\n') {
-        Some(end) => end + 1,
-        None => 0,
-    };
-    if whole < text.len() {
-        let f = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| io(path, e))?;
-        f.set_len(whole as u64).map_err(|e| io(path, e))?;
-    }
-    let bad = |n: usize, why: &str| io(path, format!("line {n}: {why}"));
-    let mut p: Option<Participant> = None;
-    for (n, line) in text[..whole].lines().enumerate() {
-        let v: Value = serde_json::from_str(line).map_err(|e| bad(n + 1, &e.to_string()))?;
-        match (v["line"].as_str(), p.as_mut()) {
-            (Some("participant"), None) => {
-                let id = v["participant"].as_str().ok_or_else(|| bad(n + 1, "no participant"))?.to_string();
-                let index = v["index"].as_u64().ok_or_else(|| bad(n + 1, "no index"))? as usize;
-                let order = loaded.order(index);
-                let steps = loaded.steps(&order);
-                p = Some(Participant { id, index, order, steps, at: 0, answers: BTreeMap::new(), answer_lines: 0 });
-            }
-            (Some("step"), Some(p)) => p.at = (v["step"].as_u64().unwrap_or(1) as usize).saturating_sub(1).min(p.steps.len()),
-            (Some("done"), Some(p)) => p.at = p.steps.len(),
-            (Some("answer"), Some(p)) => {
-                let step = (v["step"].as_u64().unwrap_or(1) as usize).saturating_sub(1);
-                p.answers.insert((step, v["item"].as_str().unwrap_or_default().to_string()), v["answer"].clone());
-                p.answer_lines += 1;
-            }
-            _ => return Err(bad(n + 1, "not a line of a participant's file")),
-        }
-    }
-    p.ok_or_else(|| io(path, "no participant line"))
+fn step_line(steps: &[Step], at: usize, time: &str) -> Value {
+    json!({"line": "step", "step": at + 1, "block": steps[at].name, "time": time})
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    struct NoneEnded;
+    /// A folder whose sessions finish no step and use these ids.
+    struct NoneEnded(Vec<&'static str>);
     impl TaskSessions for NoneEnded {
-        fn ended(&self, _: &str, _: &str) -> bool {
-            false
+        fn finishing(&self, _: &str, _: &str, _: &str) -> Result<String, Vec<(String, &'static str)>> {
+            Err(Vec::new())
+        }
+        fn ids_in_use(&self) -> Vec<(String, String)> {
+            self.0.iter().map(|i| (i.to_string(), format!("{i}-manual-7-1.jsonl"))).collect()
         }
     }
 
@@ -344,12 +328,12 @@ mod tests {
     fn a_participant_resumes_at_their_step_and_a_line_cut_short_by_a_crash_is_dropped() {
         let dir = tempfile::tempdir().unwrap();
         let (ps, _) = Participants::open(shipped(), dir.path()).unwrap();
-        let (first, new) = ps.join(None).unwrap();
+        let (first, new) = ps.join(None, &NoneEnded(vec![])).unwrap();
         assert!(new);
         assert_eq!(first["participant"], "P01");
-        ps.next("P01", 1, &NoneEnded).unwrap();
-        ps.next("P01", 2, &NoneEnded).unwrap();
-        let refused = crate::serve::http::refusal::Refusal::from(ps.next("P01", 3, &NoneEnded).unwrap_err());
+        ps.next("P01", 1, &NoneEnded(vec![])).unwrap();
+        ps.next("P01", 2, &NoneEnded(vec![])).unwrap();
+        let refused = crate::serve::http::refusal::Refusal::from(ps.next("P01", 3, &NoneEnded(vec![])).unwrap_err());
         assert_eq!(refused.status, 409);
         drop(ps);
         // A crash in the middle of a write leaves part of a line: it was never acknowledged.
@@ -360,7 +344,7 @@ mod tests {
         assert_eq!(notes, vec!["participant P01 resumes at step 3 of 8".to_string()]);
         assert_eq!(again.get("P01").unwrap()["step"], 3);
         assert_eq!(std::fs::read_to_string(&file).unwrap(), whole);
-        let (second, new) = again.join(None).unwrap();
+        let (second, new) = again.join(None, &NoneEnded(vec![])).unwrap();
         assert!(new);
         assert_eq!(second["order"], serde_json::json!(["manual", "ray-casting"]));
     }

@@ -83,25 +83,20 @@ pub async fn route(protocol: Option<&Protocol>, req: Request<Incoming>) -> Respo
             Ok(json(200, &json!({"name": p.name, "participants": p.participants, "conditions": p.conditions, "scene": p.scene, "joined": parts.all().len()})))
         }
         To::Join => match body(protocol, req).await {
-            Ok(v) => parts.join(v.get("participant").and_then(Value::as_str)).map(|(v, new)| json(if new { 201 } else { 200 }, &v)),
+            Ok(v) => joining(&v).and_then(|named| parts.join(named, protocol.sessions.as_ref())).map(|(v, new)| json(if new { 201 } else { 200 }, &v)),
             Err(e) => Err(e),
         },
         To::Participant => parts.get(id).map(|v| json(200, &v)),
         To::Answers => match body(protocol, req).await {
-            Ok(v) => {
-                let step = v.get("step").and_then(Value::as_u64).unwrap_or(0) as usize;
-                match v.get("answers").and_then(Value::as_object) {
-                    Some(a) => parts.answer(id, step, a).map(|v| json(200, &v)),
-                    None => Err(ParticipantError::AnswersShape),
-                }
-            }
+            Ok(v) => step_of(&v, "step").and_then(|step| match v.get("answers").and_then(Value::as_object) {
+                Some(a) => parts.answer(id, step, a).map(|v| json(200, &v)),
+                None => Err(ParticipantError::AnswersShape),
+            }),
             Err(e) => Err(e),
         },
         To::Next => match body(protocol, req).await {
-            Ok(v) => match v.get("from").and_then(Value::as_u64) {
-                Some(from) => parts.next(id, from as usize, protocol.sessions.as_ref()).map(|v| json(200, &v)),
-                None => Err(ParticipantError::FromShape),
-            },
+            Ok(v) if !v.contains_key("from") => Err(ParticipantError::FromShape),
+            Ok(v) => step_of(&v, "from").and_then(|from| parts.next(id, from, protocol.sessions.as_ref())).map(|v| json(200, &v)),
             Err(e) => Err(e),
         },
         To::Dashboard => Ok(json(200, &dashboard(protocol).await)),
@@ -128,13 +123,41 @@ pub async fn route(protocol: Option<&Protocol>, req: Request<Incoming>) -> Respo
 
 fn media(parts: &Participants, block: &str, what: &str) -> Result<Response<Body>, ParticipantError> {
     let path = parts.media(block, what).ok_or_else(|| ParticipantError::NoMedia { block: block.to_string(), what: what.to_string() })?;
-    let inside = grove_systems::files::within(&path, &parts.loaded.folder).map_err(|e| ParticipantError::Media(e.reason()))?;
-    let bytes = grove_systems::files::read(&inside, grove_systems::files::Kind::Served).map_err(|e| ParticipantError::Media(e.reason()))?;
+    let unserved = |e: grove_systems::files::FileError| ParticipantError::Media(format!("block {block}'s {what}: {}", e.public_reason()));
+    let inside = grove_systems::files::within(&path, &parts.loaded.folder).map_err(unserved)?;
+    let bytes = grove_systems::files::read(&inside, grove_systems::files::Kind::Served).map_err(unserved)?;
     let mut r = Response::new(full(bytes));
     if let Ok(v) = hyper::header::HeaderValue::from_str(crate::serve::http::static_files::content_type(&inside)) {
         r.headers_mut().insert(hyper::header::CONTENT_TYPE, v);
     }
     Ok(r)
+}
+
+/// The id a join request names: none (`{}`), or a string (`{"participant": "P07"}`); anything
+/// else is refused.
+fn joining(v: &serde_json::Map<String, Value>) -> Result<Option<&str>, ParticipantError> {
+    if let Some(other) = v.keys().find(|k| *k != "participant") {
+        return Err(ParticipantError::JoinShape(other.chars().take(40).collect()));
+    }
+    match v.get("participant") {
+        None => Ok(None),
+        Some(Value::String(id)) => Ok(Some(id)),
+        Some(other) => Err(ParticipantError::IdNotText(sent(other))),
+    }
+}
+
+/// A step a request names (`step`, `from`): a whole number from 1.
+fn step_of(v: &serde_json::Map<String, Value>, field: &'static str) -> Result<usize, ParticipantError> {
+    match v.get(field).and_then(Value::as_u64) {
+        Some(n) if n >= 1 => Ok(n as usize),
+        _ => Err(ParticipantError::StepNotNumber { field, sent: v.get(field).map_or_else(|| "nothing".into(), sent) }),
+    }
+}
+
+/// A value as the request sent it, as JSON, cut short.
+fn sent(v: &Value) -> String {
+    let text = v.to_string();
+    if text.chars().count() > 40 { format!("{}…", text.chars().take(40).collect::<String>()) } else { text }
 }
 
 /// The request's body, a JSON object (an empty body is `{}`).

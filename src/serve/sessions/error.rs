@@ -41,6 +41,12 @@ pub enum SessionError {
     /// An open request with a header line and other fields.
     #[error("an open request with a header line has no other field")]
     HeaderAndFields,
+    /// `continue` that is not true or false.
+    #[error("'continue' must be true or false")]
+    ContinueNotBool,
+    /// `continue` beside fields: only a recording's header line names a recording to continue.
+    #[error("'continue' goes with a recording's header line ({{\"header\": LINE, \"continue\": true}}), not with fields")]
+    ContinueWithFields,
     /// The header line is not a string.
     #[error("'header' must be the header line, a string")]
     HeaderNotText,

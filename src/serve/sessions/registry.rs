@@ -46,6 +46,39 @@ pub struct Entry {
     /// Why a session could not be continued.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
+    /// For a session opened with a recording's whole header line (`grove serve push`): the
+    /// recording's identity, [`identity`] of that line, by which a push of the same file
+    /// continues this session instead of making a second file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub identity: Option<String>,
+}
+
+/// A recording's identity: the XXH3-128 of its header line (its participant, task, seed, start
+/// time and checksum), 32 hex digits.
+pub fn identity(header_line: &str) -> String {
+    format!("{:032x}", xxhash_rust::xxh3::xxh3_128(header_line.as_bytes()))
+}
+
+/// How a session is opened: from the fields a client may set (the server writes the header), with
+/// a recording's whole header line (its identity recorded), or with that line continuing the
+/// session it opened before if there is one (`"continue": true`, as `grove serve push` asks).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OpenWith {
+    /// From fields.
+    Fields,
+    /// With a header line.
+    Line,
+    /// With a header line, continuing.
+    LineContinuing,
+}
+
+/// What opening found: a new session and its file, or the session of the same recording opened
+/// earlier (its entry, and the session while it is open).
+pub enum Opened {
+    /// A new session.
+    New(Entry, Shared),
+    /// The same recording's session.
+    Found(Entry, Option<Shared>),
 }
 
 #[derive(Serialize, Deserialize)]
@@ -67,12 +100,17 @@ pub struct Registry {
     banks: Banks,
     entries: Mutex<Vec<Entry>>,
     open: Mutex<HashMap<String, Shared>>,
+    /// Held while a session is looked up by its recording's identity and made if there is none,
+    /// so that two pushes of one recording at once do not make two files.
+    opening: Mutex<()>,
     /// The most sessions open at once.
     pub max_open: usize,
 }
 
+/// The time now, UTC, to the millisecond (a protocol's task step compares it to when the step
+/// began).
 fn now() -> String {
-    chrono::DateTime::<chrono::Utc>::from(std::time::SystemTime::now()).format("%Y-%m-%dT%H:%M:%SZ").to_string()
+    chrono::DateTime::<chrono::Utc>::from(std::time::SystemTime::now()).format("%Y-%m-%dT%H:%M:%S%.3fZ").to_string()
 }
 
 impl Registry {
@@ -109,7 +147,7 @@ impl Registry {
                 }
             }
         }
-        let registry = Registry { dir: dir.to_path_buf(), bank_dirs, banks, entries: Mutex::new(entries), open: Mutex::new(open), max_open };
+        let registry = Registry { dir: dir.to_path_buf(), bank_dirs, banks, entries: Mutex::new(entries), open: Mutex::new(open), opening: Mutex::new(()), max_open };
         registry.save()?;
         Ok((registry, notes))
     }
@@ -123,31 +161,32 @@ impl Registry {
         crate::atomic_write::write_atomic(&path, text.as_bytes()).map_err(|e| SessionError::Io { path: path.display().to_string(), message: format!("{e:#}") })
     }
 
-    /// Opens a session with this header line: checked, its file made, listed.
-    pub fn open(&self, header_text: &str) -> Result<(Entry, Shared), SessionError> {
+    /// Opens a session with this header line: checked, its file made, listed. Continuing (a
+    /// recording pushed whole), the session that a header line of the same [`identity`] opened
+    /// before is found instead, if there is one.
+    pub fn open(&self, header_text: &str, with: OpenWith) -> Result<Opened, SessionError> {
+        let _one_at_a_time = (with == OpenWith::LineContinuing).then(|| self.opening.lock().unwrap_or_else(|p| p.into_inner()));
+        let key = (with != OpenWith::Fields).then(|| identity(header_text));
+        if let (Some(key), OpenWith::LineContinuing) = (&key, with) {
+            let earlier = self.entries.lock().unwrap_or_else(|p| p.into_inner()).iter().rev().find(|e| e.identity.as_ref() == Some(key)).cloned();
+            if let Some(e) = earlier {
+                let shared = self.get(&e.id);
+                return Ok(Opened::Found(e, shared));
+            }
+        }
         let open = self.open.lock().unwrap_or_else(|p| p.into_inner()).len();
         if open >= self.max_open {
             return Err(SessionError::Full { open });
         }
         let id = ids::random_hex(16)?;
         let session = Session::create(&self.dir, id.clone(), header_text, &self.banks)?;
-        let entry = Entry {
-            id: id.clone(),
-            file: session.file_name.clone(),
-            participant: session.header.participant.clone().unwrap_or_default(),
-            task: session.header.task.clone(),
-            opened: now(),
-            state: SessionState::Open,
-            lines: session.acked(),
-            closed: None,
-            verification: None,
-            note: None,
-        };
+        let (participant, task) = (session.header.participant.clone().unwrap_or_default(), session.header.task.clone());
+        let entry = Entry { id: id.clone(), file: session.file_name.clone(), participant, task, opened: now(), state: SessionState::Open, lines: session.acked(), closed: None, verification: None, note: None, identity: key };
         let shared = Arc::new(tokio::sync::Mutex::new(session));
         self.entries.lock().unwrap_or_else(|p| p.into_inner()).push(entry.clone());
         self.open.lock().unwrap_or_else(|p| p.into_inner()).insert(id, shared.clone());
         self.save()?;
-        Ok((entry, shared))
+        Ok(Opened::New(entry, shared))
     }
 
     /// An open session by id.

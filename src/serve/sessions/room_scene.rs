@@ -4,13 +4,14 @@
 //! is ever replaced by another), and named by the session's header, so that `grove replay`,
 //! `grove study` and the server's own verification find the same ground.
 //!
-//! A scene that names model banks or an aerial crowns file is refused: those are files of the
-//! client's machine, which a recording's folder does not have.
+//! The scene must keep the rule the WebAssembly module keeps for the scenes it is handed
+//! (`grove_systems::scene_text`): within the size limit, a valid scene, naming no file (model
+//! banks, aerial photographs), since the client's files are not beside a recording. So a room the
+//! module built is never refused here.
 
 use std::path::Path;
 
-use grove_systems::limits::MAX_SCENE_BYTES;
-use grove_systems::scene::Scene;
+use grove_systems::scene_text::{self_contained, SceneTextError};
 
 use crate::serve::http::refusal::Refusal;
 
@@ -22,16 +23,10 @@ pub fn file_name(text: &str) -> String {
 /// Checks `text` as a scene for a session and writes it into `dir` (unless the same text is
 /// there already); returns its file name, which the header names.
 pub fn keep(text: &str, dir: &Path) -> Result<String, Refusal> {
-    if text.len() as u64 > MAX_SCENE_BYTES {
-        return Err(Refusal::too_large(format!("scene_text is larger than the limit of {MAX_SCENE_BYTES} bytes per scene")));
-    }
-    let scene = Scene::parse(text, "scene_text").map_err(|e| Refusal::bad(e.to_string()))?;
-    if !scene.banks.is_empty() {
-        return Err(Refusal::bad("scene_text names model banks, which are files of the client's machine; send a scene without banks"));
-    }
-    if scene.aerial.is_some() {
-        return Err(Refusal::bad("scene_text names aerial photographs, which are files of the client's machine; send a scene without them"));
-    }
+    self_contained(text).map_err(|e| match e {
+        SceneTextError::TooLarge => Refusal::too_large(format!("scene_text: {e}")),
+        _ => Refusal::bad(format!("scene_text: {e}")),
+    })?;
     let name = file_name(text);
     let path = dir.join(&name);
     match grove_systems::files::read(&path, grove_systems::files::Kind::Scene) {
@@ -47,6 +42,8 @@ pub fn keep(text: &str, dir: &Path) -> Result<String, Refusal> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use grove_systems::limits::MAX_SCENE_BYTES;
+    use grove_systems::scene::Scene;
 
     fn floor_scene(elevation: f32) -> String {
         let study = Scene::builtin("study").unwrap();

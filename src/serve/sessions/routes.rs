@@ -3,13 +3,15 @@
 //! - `POST /api/sessions` opens a session, from a header line (`{"header": "…"}`) or from the
 //!   fields a client may set (`{"participant": …, "task": …, "scene": …, "seed": …,
 //!   "technique": …, "block": …}`); the answer has the session id and the header line written.
+//!   With `"continue": true` beside a header line, the session that the same line opened before
+//!   is answered instead (200, `"continued": true`): how `grove serve push` run again goes on.
 //! - `POST /api/sessions/ID/lines?from=N` appends lines (the body, each ending in `\n`) starting
 //!   at line N of the file; each line is checked, written, and the answer's `acked` is the number
 //!   of lines now in the file. A refused line ends the request with its reason and the `acked`
 //!   count: nothing past the last good line is written.
 //! - `GET /api/sessions` lists the sessions (without their ids).
 //! - `GET /api/sessions/ID` says how many lines the file has (where a reconnecting client goes
-//!   on from); `POST /api/sessions/ID/end` ends the session and answers with its verification.
+//!   on from), at once, even while another request on the session is in progress; `POST /api/sessions/ID/end` ends the session and answers with its verification.
 //! - `GET /api/sessions/ID/lines` is the open session's file as acknowledged (a reloaded page
 //!   re-simulates it to go on where it stopped); `GET /api/sessions/ID/scene` the text of the
 //!   scene file its header names (a room a page built, [`crate::serve::sessions::room_scene`]).
@@ -34,7 +36,7 @@ use crate::serve::http::router::{find, Route};
 use crate::serve::line_split::{LineSplitter, SplitError};
 use crate::serve::log::log;
 use crate::serve::sessions::error::SessionError;
-use crate::serve::sessions::registry::Entry;
+use crate::serve::sessions::registry::{Entry, OpenWith, Opened};
 use crate::serve::sessions::service::Sessions;
 use crate::serve::sessions::session::{header_from_fields, OpenFields};
 use crate::serve::sessions::states::SessionState;
@@ -108,38 +110,53 @@ fn writer_of(headers: &HeaderMap, request: &'static str) -> Result<String, Sessi
     Ok(w.to_string())
 }
 
-/// The writer an open request names, if it names one.
-fn optional_writer(headers: &HeaderMap) -> Result<Option<String>, SessionError> {
-    match writer_of(headers, "") {
-        Err(SessionError::NoWriter { .. }) => Ok(None),
-        w => w.map(Some),
-    }
-}
-
 async fn open(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Result<Response<Body>, SessionError> {
     let (head, body) = req.into_parts();
     let body = BodyReader::new(body, sessions.read_timeout);
-    let writer = optional_writer(&head.headers)?;
-    let body = body.json_object(MAX_JSON_BODY).await?;
-    let header_text = if body.contains_key("header") {
+    let writer = writer_of(&head.headers, "an open request")?;
+    let mut body = body.json_object(MAX_JSON_BODY).await?;
+    let continuing = match body.remove("continue") {
+        None => None,
+        Some(Value::Bool(b)) => Some(b),
+        Some(_) => return Err(SessionError::ContinueNotBool),
+    };
+    let (header_text, with) = if body.contains_key("header") {
         if body.len() != 1 {
             return Err(SessionError::HeaderAndFields);
         }
-        body["header"].as_str().ok_or(SessionError::HeaderNotText)?.to_string()
+        let with = if continuing == Some(true) { OpenWith::LineContinuing } else { OpenWith::Line };
+        (body["header"].as_str().ok_or(SessionError::HeaderNotText)?.to_string(), with)
     } else {
+        if continuing.is_some() {
+            return Err(SessionError::ContinueWithFields);
+        }
         let fields: OpenFields = serde_json::from_value(Value::Object(body)).map_err(|e| SessionError::Fields(e.to_string()))?;
-        encode_line(&Line::Header(header_from_fields(&fields, &sessions.registry.dir)?))
+        (encode_line(&Line::Header(header_from_fields(&fields, &sessions.registry.dir)?)), OpenWith::Fields)
     };
     let (all, text) = (sessions.clone(), header_text.clone());
-    let opened = tokio::task::spawn_blocking(move || all.registry.open(&text)).await.map_err(|e| SessionError::Task(e.to_string()))?;
-    let (entry, shared) = opened.inspect_err(|e| log(&format!("refused a session: {e}")))?;
-    {
-        let mut s = shared.lock().await;
-        s.writer = writer;
-        sessions.live.watch(&s.id, &s.path, s.bytes());
+    let opened = tokio::task::spawn_blocking(move || all.registry.open(&text, with)).await.map_err(|e| SessionError::Task(e.to_string()))?;
+    match opened.inspect_err(|e| log(&format!("refused a session: {e}")))? {
+        Opened::New(entry, shared) => {
+            {
+                let mut s = shared.lock().await;
+                s.writer = Some(writer);
+                sessions.live.watch(&s.id, &s.path, s.bytes());
+            }
+            log(&format!("opened {} (participant {}, task {})", entry.file, entry.participant, entry.task.as_deref().unwrap_or("none")));
+            Ok(json(201, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": 1 })))
+        }
+        Opened::Found(entry, Some(shared)) => {
+            let s = sessions.take(shared, &writer)?;
+            let acked = s.acked();
+            drop(s);
+            log(&format!("continuing {} for the same recording pushed again ({acked} lines)", entry.file));
+            Ok(json(200, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": acked, "state": SessionState::Open, "continued": true })))
+        }
+        Opened::Found(entry, None) => {
+            let found = json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": entry.lines, "state": entry.state, "verification": entry.verification, "continued": true });
+            Ok(json(200, &found))
+        }
     }
-    log(&format!("opened {} (participant {}, task {})", entry.file, entry.participant, entry.task.as_deref().unwrap_or("none")));
-    Ok(json(201, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": 1 })))
 }
 
 async fn status(sessions: &Sessions, id: &str) -> Result<Response<Body>, SessionError> {
@@ -149,9 +166,17 @@ async fn status(sessions: &Sessions, id: &str) -> Result<Response<Body>, Session
         Err(gone @ SessionError::Gone { .. }) => return Ok(json(200, &Value::Object(Refusal::from(gone).more))),
         Err(e) => return Err(e),
     };
-    let s = sessions.read(&shared).await?;
-    let state = if s.ended { SessionState::Ended } else { SessionState::Open };
-    Ok(json(200, &json!({ "acked": s.acked(), "state": state, "file": s.file_name })))
+    // Never waiting for a request in progress on the session: its lines are counted in the
+    // session's entry as they are written.
+    let (acked, ended, file) = match shared.try_lock() {
+        Ok(s) => (s.acked(), s.ended, s.file_name.clone()),
+        Err(_) => match sessions.registry.entry(id) {
+            Some(e) => (e.lines, e.state != SessionState::Open, e.file),
+            None => return Err(SessionError::NoSuchSession),
+        },
+    };
+    let state = if ended { SessionState::Ended } else { SessionState::Open };
+    Ok(json(200, &json!({ "acked": acked, "state": state, "file": file })))
 }
 
 /// An open session's file as acknowledged (its first `acked` lines), or, with `scene`, the text
@@ -228,6 +253,7 @@ async fn append(sessions: &Sessions, id: &str, req: Request<Incoming>) -> Result
         if let Err(e) = s.write_out() {
             stop = Some(e);
         }
+        sessions.registry.note_lines(&s.id, s.acked());
     }
     if stop.is_none() && !splitter.rest().is_empty() {
         stop = Some(SessionError::NoNewline { number: s.acked() + 1 });

@@ -22,7 +22,7 @@ use std::time::Instant;
 use grove_systems::bank::Banks;
 use grove_systems::files::{self, Kind};
 use grove_systems::limits::{MAX_LINE_BYTES, MAX_RECORDING_BYTES};
-use grove_systems::replay::{self, header_line, Header, HeaderTechnique, Line, LineRules};
+use grove_systems::replay::{self, header_line, session_start_at, Header, Line, LineRules, SessionFields};
 use grove_systems::sim::Sim;
 
 use crate::serve::ids;
@@ -71,22 +71,16 @@ pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Ses
         (name, None) => name.clone().unwrap_or_else(|| "study".into()),
     };
     let scene = replay::scene_ref::resolve_scene(&scene_name, Some(dir)).map_err(|e| SessionError::Scene(e.to_string()))?;
-    let mut header = Header::new(&scene_name, fields.seed, scene.dt);
-    header.participant = Some(fields.participant.clone());
-    header.task = fields.task.clone();
-    header.block = fields.block;
-    header.session_start = Some(chrono::DateTime::<chrono::Utc>::from(std::time::SystemTime::now()).format("%Y-%m-%dT%H:%M:%SZ").to_string());
-    if let Some(name) = &fields.technique
-        && name != "ray-casting"
-        && name != "manual"
-    {
-        let registered = grove_systems::technique::installed();
-        let Some(t) = registered.get(name) else {
-            return Err(SessionError::Technique(registered.unknown(name).to_string()));
-        };
-        header.technique = Some(HeaderTechnique { name: name.clone(), version: t.version });
-    }
-    Ok(header)
+    let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
+    let session = SessionFields {
+        participant: Some(fields.participant.clone()),
+        task: fields.task.clone(),
+        block: fields.block,
+        session_start: Some(session_start_at(now)),
+        technique: fields.technique.clone(),
+        ..Default::default()
+    };
+    session.header(&scene_name, fields.seed, scene.dt).map_err(|e| SessionError::Technique(e.to_string()))
 }
 
 /// A session's file with the rules its next line must keep.
@@ -178,7 +172,8 @@ impl Session {
 
     /// Opens an existing session's file again (after a restart): every line is checked again as
     /// it was when it arrived; a cut last line (bytes after the last newline, never
-    /// acknowledged) is cut off the file. A line that breaks the rules is an error: the file was
+    /// acknowledged) is cut off the file; the session's last request counts from the file's last
+    /// write, so that the abandon clock goes on across the restart. A line that breaks the rules is an error: the file was
     /// changed by someone else, and the session is not continued.
     pub fn resume(dir: &Path, id: String, name: &str, banks: &Banks) -> Result<Session, SessionError> {
         let path = dir.join(name);
@@ -230,6 +225,9 @@ impl Session {
         }
         let Some((header, rules, sim)) = state else { return Err(SessionError::NoHeader { path: shown }) };
         let last_tick = rules.last_tick();
+        // The abandon clock goes on from the file's last write, not from the restart.
+        let written = std::fs::metadata(&path).and_then(|m| m.modified()).ok().and_then(|t| t.elapsed().ok());
+        let last_seen = written.and_then(|ago| Instant::now().checked_sub(ago)).unwrap_or_else(Instant::now);
         let file = OpenOptions::new().write(true).open(&path).map_err(io)?;
         if !splitter.rest().is_empty() {
             file.set_len(good_bytes).map_err(|e| SessionError::Cut { path: shown.clone(), message: e.to_string() })?;
@@ -252,7 +250,7 @@ impl Session {
             pending_checkpoint: last_checkpoint,
             last_tick,
             writer: None,
-            last_seen: Instant::now(),
+            last_seen,
             ended: false,
             broken: None,
         })

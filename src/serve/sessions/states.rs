@@ -48,7 +48,7 @@ impl std::fmt::Display for SessionState {
 pub enum VerifyStatus {
     /// Every checkpoint and the footer's final hash agree.
     Verified,
-    /// A complete file without a checkpoint to compare.
+    /// No checkpoint to compare (a session with only its header, too).
     Unverified,
     /// No footer: verified to its last checkpoint.
     Incomplete,
@@ -67,6 +67,18 @@ impl VerifyStatus {
             VerifyStatus::Incomplete => "incomplete",
             VerifyStatus::Diverged => "diverged",
             VerifyStatus::Invalid => "invalid",
+        }
+    }
+
+    /// The status of a file the replay read (every one but `invalid`), by the rule `grove replay
+    /// --json` follows too.
+    pub fn of(verdict: grove_systems::replay::verdict::Verdict) -> VerifyStatus {
+        use grove_systems::replay::verdict::Verdict as V;
+        match verdict {
+            V::Verified => VerifyStatus::Verified,
+            V::Unverified => VerifyStatus::Unverified,
+            V::Incomplete => VerifyStatus::Incomplete,
+            V::Diverged => VerifyStatus::Diverged,
         }
     }
 

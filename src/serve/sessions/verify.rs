@@ -6,6 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
+use grove_systems::replay::verdict::Verdict;
 use grove_systems::replay::{replay_file, Divergence, ReplayOptions};
 use serde::{Deserialize, Serialize};
 
@@ -81,19 +82,10 @@ pub fn verify(path: &Path, banks: &[PathBuf], last_tick: u64, last_checkpoint: u
 
 impl Verification {
     /// What a replay found, the file's last line and last checkpoint being at these ticks:
-    /// diverged, else incomplete (no footer: verified to its last checkpoint), else unverified
-    /// (nothing compared) or verified.
+    /// the status by the rule `grove replay --json` follows too ([`Verdict::of`]).
     pub fn found(complete: bool, checkpoints_checked: u64, divergence: Option<&Divergence>, last_tick: u64, last_checkpoint: u64) -> Verification {
         let first_divergence = divergence.map(|d| FirstDivergence { tick: d.tick, expected_hash: d.expected_hash.clone(), actual_hash: d.actual_hash.clone() });
-        let status = if first_divergence.is_some() {
-            VerifyStatus::Diverged
-        } else if !complete {
-            VerifyStatus::Incomplete
-        } else if checkpoints_checked == 0 {
-            VerifyStatus::Unverified
-        } else {
-            VerifyStatus::Verified
-        };
+        let status = VerifyStatus::of(Verdict::of(first_divergence.is_some(), complete, checkpoints_checked));
         let verified_to_tick = match (&first_divergence, complete) {
             (Some(_), _) => None,
             (None, true) => Some(last_tick),

@@ -22,8 +22,11 @@ mod lines;
 pub mod names;
 pub mod player;
 pub mod reader;
+pub mod report;
 pub mod scene_ref;
+pub mod session_header;
 pub mod upgrade;
+pub mod verdict;
 pub mod verifier;
 
 use std::collections::BTreeMap;
@@ -38,6 +41,8 @@ pub use names::NameError;
 pub use scene_ref::SceneRefError;
 pub use player::Player;
 pub use reader::{read_events, replay_file, replay_reader, ReplayError, ReplayOptions, ReplayOutcome};
+pub use report::ReplayReport;
+pub use session_header::{session_start_at, SessionFields, SessionHeaderError};
 pub use upgrade::{upgrade, UpgradeSummary};
 pub use verifier::{Differing, Divergence, Verifier};
 

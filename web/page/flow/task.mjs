@@ -8,7 +8,7 @@
 
 import { State } from './flow.mjs';
 import { TaskRun } from '../run.mjs';
-import { horizontalPlanes, roomSceneText, toSim } from '../room.mjs';
+import { horizontalPlanes, toSim } from '../room.mjs';
 import { offsetFor } from '../xr.mjs';
 
 /** The world a sim shows (the view's `s.world`): its ground, its first snapshot's trees, whether over a room (AR). */
@@ -21,21 +21,11 @@ export function showWorld(app, run) {
   app.world = worldOf(run.sim, run.snapshot, Boolean(app.xr?.ar));
 }
 
-/** The scene text of the room, built in the frame the task starts (AR). */
+/** The scene text of the room, built by the module from the floor and planes of the frame the task starts in (AR). */
 function roomText(app, frame) {
   const { xr, page } = app;
-  const floor = xr.finder.found;
-  const planes = horizontalPlanes(frame, xr.base)
-    .map((p) => ({ ...p, points: p.points.map((q) => toSim(page.offset, q).position), y: p.y - page.offset.position.y }))
-    .filter((p) => p.y > 0.3 && p.y < 2.2)
-    .slice(0, 16);
-  const text = roomSceneText({ source: floor.source, floorY: floor.y, planes });
-  const probe = app.grove.createSim({ scene: 'room.ron', scene_text: text });
-  probe.push({ kind: 'start_task', task: page.task });
-  probe.step();
-  const moved = (probe.snapshot().task?.targets ?? []).map((t, i) => ({ target: i, model: t.model, from: t.position, to: t.moved_to })).filter((m) => m.to);
-  probe.free();
-  return roomSceneText({ source: floor.source, floorY: floor.y, planes, moved });
+  const planes = horizontalPlanes(frame, xr.base).map((p) => ({ label: p.label, points: p.points.map((q) => toSim(page.offset, q).position) }));
+  return app.grove.roomScene({ source: xr.finder.found.source, floor_y: xr.finder.found.y, planes, task: page.task || null });
 }
 
 /** Starts the task (a new session) or continues the stored one; `frame` is the XR frame it starts in. */
