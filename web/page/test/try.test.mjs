@@ -1,8 +1,9 @@
 // The researcher's dry run, `node web/page/try.mjs` (docs/headset.md, "A dry run"), run as a
-// researcher runs it, against a `grove serve` already running: a task on its own, and the whole
-// of assets/protocols/tree-planting.ron with a participant the server names; each recording it
-// reports is in the server's folder and verifies with `grove replay`; a bad argument and a
-// server that is not there are refused with one line and exit 2.
+// researcher runs it, against a `grove serve` already running: the manual task on its own, and a
+// whole protocol (tests/fixtures/protocols/dry-run.ron: every kind of step, one of each, its task
+// the ray-casting one) with a participant the server names; each recording it reports is in the
+// server's folder and verifies with `grove replay`; a bad argument and a server that is not there
+// are refused with one line and exit 2.
 
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
@@ -38,10 +39,10 @@ function replayed(dir, file) {
   return JSON.parse(r.stdout);
 }
 
-test('a dry run of the task against grove serve: two trees, Finish task, verified, exit 0', async () => {
+test('a dry run of the manual task against grove serve: two trees, Finish task, verified, exit 0', async () => {
   const server = await startServer();
   servers.push(server);
-  const r = await dryRun(['--to', server.url, '--participant', 'DRY1', '--trees', '2', '--json']);
+  const r = await dryRun(['--to', server.url, '--participant', 'DRY1', '--task', 'manual-7', '--trees', '2', '--json']);
   assert.equal(r.status, 0, `${r.stderr}\n${r.stdout}`);
   const out = JSON.parse(r.stdout);
   assert.equal(out.protocol, null);
@@ -49,8 +50,8 @@ test('a dry run of the task against grove serve: two trees, Finish task, verifie
   assert.equal(out.verified, true);
   assert.equal(out.sessions.length, 1);
   const [s] = out.sessions;
-  assert.deepEqual([s.task, s.trees, s.verification.status], ['ray-casting-7', 2, 'verified']);
-  assert.match(s.file, /^DRY1-ray-casting-7-\d+\.jsonl$/);
+  assert.deepEqual([s.task, s.trees, s.verification.status], ['manual-7', 2, 'verified']);
+  assert.match(s.file, /^DRY1-manual-7-\d+\.jsonl$/);
   const report = replayed(server.dir, s.file);
   assert.equal(report.verified, true);
   assert.equal(report.complete, true, 'Finish task ended the recording with its footer');
@@ -58,25 +59,26 @@ test('a dry run of the task against grove serve: two trees, Finish task, verifie
   assert.deepEqual(out.page_errors, []);
 });
 
-test('a dry run of the whole protocol: every step, both tasks verified, the answers written', async () => {
-  const server = await startServer(['--protocol', 'assets/protocols/tree-planting.ron']);
+test('a dry run of a protocol: every step, its task verified, the answers written and the typed one', async () => {
+  // The shortest protocol with every kind of step: instructions, a practice, one task, one
+  // questionnaire with a free text typed on the page (the shipped one has more of each, and takes
+  // minutes).
+  const server = await startServer(['--protocol', 'tests/fixtures/protocols/dry-run.ron']);
   servers.push(server);
   const r = await dryRun(['--to', server.url, '--trees', '1']);
   assert.equal(r.status, 0, `${r.stderr}\n${r.stdout}`);
   const lines = r.stdout.trim().split('\n');
-  assert.match(lines.at(-1), /^P01 through tree-planting in vr on http:\/\/127\.0\.0\.1:\d+: verified/);
+  assert.match(lines.at(-1), /^P01 through dry-run in vr on http:\/\/127\.0\.0\.1:\d+: verified/);
   const files = lines.slice(0, -1).map((l) => l.split(':')[0]);
-  // P01 is the Latin square's first row: ray-casting, then manual.
-  assert.deepEqual(files.map((f) => f.replace(/-\d+\.jsonl$/, '')), ['P01-ray-casting-7', 'P01-manual-7']);
-  for (const f of files) {
-    const report = replayed(server.dir, f);
-    assert.equal(report.verified, true, f);
-    assert.equal(report.task.trees.length, 1, `${f}: one tree on its target`);
-  }
+  assert.deepEqual(files.map((f) => f.replace(/-\d+\.jsonl$/, '')), ['P01-ray-casting-7']);
+  const report = replayed(server.dir, files[0]);
+  assert.equal(report.verified, true, files[0]);
+  assert.equal(report.task.trees.length, 1, `${files[0]}: one tree on its target`);
   const answers = readFileSync(join(server.dir, 'P01.answers.jsonl'), 'utf8').trim().split('\n').map((l) => JSON.parse(l));
-  assert.deepEqual(answers.filter((l) => l.line === 'step').map((l) => l.step), [1, 2, 3, 4, 5, 6, 7, 8], 'every step begun');
-  const answered = new Set(answers.filter((l) => l.line === 'answer').map((l) => `${l.step}.${l.item}`));
-  for (const item of ['4.mental', '6.frustration', '7.guidance', '7.would_use', '8.sus10']) assert.ok(answered.has(item), `${item} answered: ${[...answered]}`);
+  assert.deepEqual(answers.filter((l) => l.line === 'step').map((l) => l.step), [1, 2, 3, 4], 'every step begun');
+  const answered = new Map(answers.filter((l) => l.line === 'answer').map((l) => [`${l.step}.${l.item}`, l.answer]));
+  for (const item of ['4.guidance', '4.more_instructions', '4.would_use']) assert.ok(answered.has(item), `${item} answered on the panel: ${[...answered.keys()]}`);
+  assert.equal(answered.get('4.uses'), 'dry run', 'the free text typed on the page');
   const p01 = await (await fetch(new URL('/api/protocol/participants/P01', server.url))).json();
   assert.equal(p01.done, true, JSON.stringify(p01));
 });
