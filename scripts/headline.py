@@ -190,7 +190,7 @@ ROWS = [
     ("1,000 recordings re-simulated and reported (`grove study`)", "scale.json", f_scale, "≤ 2 s"),
     ("the simulation as WebAssembly in Node: a 5-minute session replayed; the module's size", "wasm.json", f_wasm,
      "≥ 5,000 ×; ≤ 1,500 kB"),
-    ("`grove serve`: 50 sessions at once on loopback, each verified as it streams, acknowledgement p50 / p99", "serve.json", f_serve, "p99 ≤ 20 ms; live ≤ 1 s"),
+    ("`grove serve`: 50 sessions at once on loopback, acknowledgement p50 / p99", "serve.json", f_serve, "p99 ≤ 20 ms; live ≤ 1 s"),
     ("the headset page's JavaScript per frame (steps, snapshot, three.js update), 9 trees, headless Chromium; "
      "its bundle", "page.json", f_page, "≤ 3 ms"),
     ("L-system bush 2, n = 7: derive (2 threads) / interpret (memoised)", "lsystem.json", f_lsystem, "≤ 60 / ≤ 40 ms"),
