@@ -262,6 +262,12 @@ impl Session {
         self.lines
     }
 
+    /// Bytes in the file and handed to the operating system: the acknowledged lines, each
+    /// ending in its newline.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
+
     /// The number the next line will have.
     pub fn next_number(&self) -> u64 {
         self.lines + self.pending_lines + 1

@@ -27,6 +27,7 @@ pub mod scene_ref;
 pub mod session_header;
 pub mod upgrade;
 pub mod verdict;
+pub mod verifier;
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -39,10 +40,11 @@ pub use line_rules::{header_line, LineRuleError, LineRules, RuledLine};
 pub use names::NameError;
 pub use scene_ref::SceneRefError;
 pub use player::Player;
-pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
+pub use reader::{read_events, replay_file, replay_reader, ReplayError, ReplayOptions, ReplayOutcome};
 pub use report::ReplayReport;
 pub use session_header::{session_start_at, SessionFields, SessionHeaderError};
 pub use upgrade::{upgrade, UpgradeSummary};
+pub use verifier::{Differing, Divergence, Verifier};
 
 use crate::bank::{Banks, HeaderModel};
 use crate::hash::{hex, WorldHash};

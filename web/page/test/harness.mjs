@@ -26,6 +26,11 @@ export async function prepare() {
     if (r.status !== 0) throw new Error(`the page did not build: ${r.stderr}`);
     process.env.GROVE_PAGE_BUILT = '1';
   }
+  return emulatorScript();
+}
+
+/** The emulator bundled into one script for the tests' pages (once per process). */
+async function emulatorScript() {
   if (!emulator) {
     const out = await build({ entryPoints: [join(WEB, 'page/test/emulator.mjs')], bundle: true, format: 'iife', write: false, logLevel: 'error', target: 'es2022' });
     emulator = out.outputFiles[0].text;
@@ -39,13 +44,26 @@ export async function prepare() {
  * server's URL with `query`, the emulator installed when `xr` is set.
  */
 export async function start(serve = []) {
-  const script = await prepare();
+  await prepare();
   const server = await startServer(serve);
+  const b = await browse(server.url);
+  return { ...b, server, close: async () => { await b.close(); await server.stop(); } };
+}
+
+/**
+ * Headless Chromium with the emulator bundled, for the server at `url` (its `?token=`, if any, is
+ * added to the first page's query, as the printed URL carries it): resolves to { browser,
+ * open(query, { xr, room }), requests, errors, foreign, origin, close }. `chromiumArgs` are added
+ * to the browser's (an https server's certificate to accept).
+ */
+export async function browse(url, { chromiumArgs = [] } = {}) {
+  const script = await emulatorScript();
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist'],
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist', ...chromiumArgs],
   });
-  const origin = new URL(server.url).origin;
+  const origin = new URL(url).origin;
+  const token = new URL(url).searchParams.get('token');
   const requests = [];
   const errors = [];
   async function open(query, { xr = false, room = true, context = null, width = 480, height = 360 } = {}) {
@@ -63,7 +81,7 @@ export async function start(serve = []) {
       await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room })};`);
       await page.addInitScript(script);
     }
-    await page.goto(`${origin}/?${query}`);
+    await page.goto(`${origin}/?${token ? `token=${encodeURIComponent(token)}&` : ''}${query}`);
     await page.waitForFunction(() => window.grove && ['instructions', 'error'].includes(window.grove.state), null, { timeout: 60000 });
     const state = await page.evaluate(() => window.grove.state);
     if (state === "error") throw new Error(`the page failed: ${await page.evaluate(() => window.grove.error)}; ${errors.join(" / ")}`);
@@ -71,11 +89,8 @@ export async function start(serve = []) {
   }
   /** Requests that left the server's origin (must be none). */
   const foreign = () => requests.filter((u) => !u.startsWith(origin + '/') && !u.startsWith('data:') && !u.startsWith('blob:'));
-  async function close() {
-    await browser.close();
-    await server.stop();
-  }
-  return { server, browser, open, requests, errors, foreign, origin, close };
+  const close = () => browser.close();
+  return { browser, open, requests, errors, foreign, origin, close };
 }
 
 /** Runs `grove ARGS…` in `cwd` (the repository root by default); returns { status, stdout, stderr }. */
