@@ -2,7 +2,7 @@
 //!
 //! - `POST /api/sessions` opens a session, from a header line (`{"header": "…"}`) or from the
 //!   fields a client may set (`{"participant": …, "task": …, "scene": …, "seed": …,
-//!   "technique": …, "block": …}`); the answer has the session id and the header line written.
+//!   "technique": …, "block": …, "scene_text": …, "device": …}`); the answer has the session id and the header line written.
 //! - `POST /api/sessions/ID/lines?from=N` appends lines (the body, each ending in `\n`) starting
 //!   at line N of the file; each line is checked, written, and the answer's `acked` is the number
 //!   of lines now in the file. A refused line ends the request with its reason and the `acked`

@@ -56,6 +56,10 @@ pub struct OpenFields {
     /// recordings and named by the header ([`super::room_scene`]).
     #[serde(default)]
     pub scene_text: Option<String>,
+    /// The input device the client uses, written into the header as it is (checked with the
+    /// header's other names).
+    #[serde(default)]
+    pub device: Option<grove_systems::replay::HeaderDevice>,
 }
 
 /// The header a server writes for a session opened by its fields: this build's format, the
@@ -75,6 +79,7 @@ pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Ref
     header.participant = Some(fields.participant.clone());
     header.task = fields.task.clone();
     header.block = fields.block;
+    header.device = fields.device.clone();
     header.session_start = Some(chrono::DateTime::<chrono::Utc>::from(std::time::SystemTime::now()).format("%Y-%m-%dT%H:%M:%SZ").to_string());
     if let Some(name) = &fields.technique
         && name != "ray-casting"

@@ -37,6 +37,7 @@ pub mod replay;
 pub mod scatter;
 pub mod resource_hash;
 pub mod resources;
+pub mod room_layout;
 pub mod scenario;
 pub mod scene;
 pub mod set_arg;

@@ -360,7 +360,7 @@ mod tests {
     #[test]
     fn the_task_panel_counts_targets_and_runs_its_clock() {
         let mut sim = study();
-        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into() }]).unwrap();
+        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into(), layout: None }]).unwrap();
         sim.run(60);
         let s = sim.snapshot();
         let task = s.task.expect("a task");
