@@ -157,6 +157,9 @@ pub struct TaskSnapshot {
     pub mode: &'static str,
     /// How far a tree may stand from its target, metres.
     pub tolerance: f32,
+    /// The scale of a room layout (`crate::room_layout`: the study as a scale model, new trees
+    /// and handles at it), 1 for the task file's layout: what a page draws targets and handles at.
+    pub layout_scale: f32,
     /// Its targets, in the task file's order.
     pub targets: Vec<TargetSnapshot>,
     /// How many targets are satisfied.
@@ -245,6 +248,7 @@ impl Sim {
                 id: t.def.id.clone(),
                 mode: t.def.mode.name(),
                 tolerance: t.def.tolerance,
+                layout_scale: crate::task::layout_scale(Some(t)),
                 targets: t
                     .def
                     .targets

@@ -197,9 +197,9 @@ impl TaskState {
     /// or when the room's floor has no point far enough from its edges); the tolerance is scaled
     /// with the spacing.
     pub fn laid_out(mut def: TaskDef, tick: u64, layout: Option<&crate::room_layout::TaskLayout>) -> TaskState {
-        let Some(crate::room_layout::TaskLayout::Room { floor }) = layout else { return TaskState::new(def, tick) };
+        let Some(crate::room_layout::TaskLayout::Room { floor, keep_out }) = layout else { return TaskState::new(def, tick) };
         let file: Vec<Vec3> = def.targets.iter().map(|t| t.position).collect();
-        let Some((placed, placement)) = crate::room_layout::place(&file, floor) else { return TaskState::new(def, tick) };
+        let Some((placed, placement)) = crate::room_layout::place(&file, floor, keep_out) else { return TaskState::new(def, tick) };
         for (t, p) in def.targets.iter_mut().zip(placed) {
             t.position = p;
         }
@@ -267,10 +267,11 @@ mod tests {
     }
 }
 
-/// The scale a new tree is planted or spawned at: 1, or during a task laid out in a room the
-/// layout's scale, so that the study stands in the room as a scale model (its spacing, its trees
-/// and its tolerance scaled alike, `crate::room_layout`).
-pub fn new_tree_scale(task: Option<&TaskState>) -> f32 {
+/// The scale of the study during a task laid out in a room (`crate::room_layout`), else 1: new
+/// trees are planted or spawned at it and the box's handles are picked at the handle radius times
+/// it, so that the study stands in the room as a scale model (its spacing, its tolerance, its
+/// trees and their handles scaled alike).
+pub fn layout_scale(task: Option<&TaskState>) -> f32 {
     task.and_then(|t| t.layout.as_ref()).map_or(1.0, |l| l.scale)
 }
 

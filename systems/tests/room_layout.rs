@@ -39,10 +39,10 @@ fn report(s: &Script) -> TaskReport {
 
 #[test]
 fn the_task_is_done_on_the_targets_laid_out_in_the_room() {
-    let mut s = started(Some(TaskLayout::Room { floor: room() }));
+    let mut s = started(Some(TaskLayout::Room { floor: room(), keep_out: vec![] }));
     let targets: Vec<(Vec3, String)> = s.sim().task().unwrap().def.targets.iter().map(|t| (t.position, t.model.clone())).collect();
     let file: Vec<Vec3> = grove_systems::task::TaskDef::builtin("ray-casting-7").unwrap().targets.iter().map(|t| t.position).collect();
-    let (placed, placement) = place(&file, &room()).unwrap();
+    let (placed, placement) = place(&file, &room(), &[]).unwrap();
     assert_eq!(targets.iter().map(|t| t.0).collect::<Vec<_>>(), placed);
     for (p, _) in &targets {
         assert!(p.x >= -2.0 + EDGE_MARGIN_M as f32 && p.x <= 2.0 - EDGE_MARGIN_M as f32 && p.z >= 3.5 && p.z <= 6.5 && p.y == 0.0, "{p}");
@@ -67,15 +67,43 @@ fn the_task_is_done_on_the_targets_laid_out_in_the_room() {
 }
 
 #[test]
+fn in_the_manual_task_a_small_tree_is_grabbed_by_itself_not_its_handles_and_snaps_on_its_target() {
+    let mut s = Script::new(Sim::from_scene(&room_scene(), 4).unwrap());
+    s.push(InputEvent::SwitchMode { mode: grove_systems::mode::Mode::Manual });
+    s.push(InputEvent::StartTask { task: "manual-7".into(), layout: Some(TaskLayout::Room { floor: room(), keep_out: vec![] }) }).wait(1);
+    let target = s.sim().task().unwrap().def.targets[2].clone();
+    s.choose_model(target.model.as_str());
+    let snap = s.sim().snapshot();
+    let b = snap.bounding_box.clone().expect("the new tree is selected");
+    let tree = snap.trees.iter().find(|t| t.id == b.tree).unwrap().clone();
+    assert!(tree.scale < 0.2 && !tree.grounded, "{tree:?}");
+    s.point_at(Vec3::from(b.center));
+    let hit = s.sim().snapshot().controller.hit.unwrap();
+    assert_eq!((hit.kind, hit.entity), ("tree", Some(b.tree)), "the handles, picked at the layout's scale, leave the tree's box free");
+    // Grab it and carry the controller so that the tree's base comes just above the target.
+    s.hold(Button::Trigger);
+    let from = s.controller().pose;
+    let d = Vec3::new(target.position.x, 0.02, target.position.z) - Vec3::from(tree.position);
+    for k in 1..=10 {
+        s.move_controller(grove_systems::components::Pose { position: from.position + d * (k as f32 / 10.0), rotation: from.rotation });
+    }
+    assert_eq!(s.sim().snapshot().anchor_ball.state, "white");
+    s.release(Button::Trigger).wait(2);
+    let after = s.sim().snapshot();
+    assert!(after.trees.iter().find(|t| t.id == b.tree).unwrap().grounded);
+    assert!(after.task.unwrap().targets[2].satisfied);
+}
+
+#[test]
 fn without_a_layout_the_task_file_holds_and_the_event_is_written_as_before() {
     let file = started(None);
-    let laid = started(Some(TaskLayout::Room { floor: room() }));
+    let laid = started(Some(TaskLayout::Room { floor: room(), keep_out: vec![] }));
     assert_eq!(report(&file).layout, None);
     assert_eq!(file.sim().task().unwrap().def, grove_systems::task::TaskDef::builtin("ray-casting-7").unwrap());
     assert_ne!(file.sim().hash().total, laid.sim().hash().total, "the layout is part of the task's state");
     let plain = serde_json::to_string(&InputEvent::StartTask { task: "manual-7".into(), layout: None }).unwrap();
     assert_eq!(plain, r#"{"kind":"start_task","task":"manual-7"}"#);
-    let event = InputEvent::StartTask { task: "manual-7".into(), layout: Some(TaskLayout::Room { floor: vec![[0.0, 0.0], [1.5, 0.0], [1.5, 2.0]] }) };
+    let event = InputEvent::StartTask { task: "manual-7".into(), layout: Some(TaskLayout::Room { floor: vec![[0.0, 0.0], [1.5, 0.0], [1.5, 2.0]], keep_out: vec![] }) };
     let text = serde_json::to_string(&event).unwrap();
     assert_eq!(text, r#"{"kind":"start_task","task":"manual-7","layout":{"room":{"floor":[[0.0,0.0],[1.5,0.0],[1.5,2.0]]}}}"#);
     assert_eq!(serde_json::from_str::<InputEvent>(&text).unwrap(), event);
@@ -85,7 +113,7 @@ fn without_a_layout_the_task_file_holds_and_the_event_is_written_as_before() {
 
 #[test]
 fn a_floor_without_room_for_the_margin_keeps_the_task_file() {
-    let s = started(Some(TaskLayout::Room { floor: vec![[0.0, 0.0], [0.8, 0.0], [0.8, 3.0], [0.0, 3.0]] }));
+    let s = started(Some(TaskLayout::Room { floor: vec![[0.0, 0.0], [0.8, 0.0], [0.8, 3.0], [0.0, 3.0]], keep_out: vec![] }));
     assert_eq!(report(&s).layout, None);
     assert_eq!(s.sim().task().unwrap().def, grove_systems::task::TaskDef::builtin("ray-casting-7").unwrap());
 }

@@ -11,7 +11,7 @@
 //! deselected).
 //!
 //! Planting happens only in ray-casting mode: the current model is placed upright (yaw 0,
-//! scale 1, or a room layout's scale: `task::new_tree_scale`) with its base, the model origin,
+//! scale 1, or a room layout's scale: `task::layout_scale`) with its base, the model origin,
 //! exactly at the hit point, and is grounded. In
 //! manual mode a Trigger on a plane does nothing here (the select system treats it as a click on
 //! empty ground). Removal works in both modes, because manual mode has no other way to take a
@@ -45,7 +45,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         if res.catalogue.get(model).is_some() {
             let wind = single::get::<Wind>(world, &res.singles);
             let e = world.reserve_entity();
-            cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, hit.position, 0.0, crate::task::new_tree_scale(res.task.as_ref()), true));
+            cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, hit.position, 0.0, crate::task::layout_scale(res.task.as_ref()), true));
             res.log.push(tick, Happening::Planted { tree: e.to_bits().get(), model, position: hit.position });
             changed = true;
         }

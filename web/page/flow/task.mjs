@@ -7,8 +7,8 @@
 // the run, the XR session and the page's record (`page`, which window.grove shows).
 
 import { State } from './flow.mjs';
-import { TaskRun } from '../run.mjs';
-import { horizontalPlanes, roomSceneText, toSim } from '../room.mjs';
+import { TaskRun, modeOfTask } from '../run.mjs';
+import { floorOf, horizontalPlanes, roomSceneText, toSim } from '../room.mjs';
 import { offsetFor } from '../xr.mjs';
 
 /** The world a sim shows (the view's `s.world`): its ground, its first snapshot's trees, whether over a room (AR). */
@@ -21,17 +21,37 @@ export function showWorld(app, run) {
   app.world = worldOf(run.sim, run.snapshot, Boolean(app.xr?.ar));
 }
 
-/** The scene text of the room, built in the frame the task starts (AR). */
-function roomText(app, frame) {
+/** The room's horizontal planes in the simulation's frame (AR): its floor plane, if any, and the others (tables, shelves). */
+function roomPlanes(app, frame) {
+  const { xr, page } = app;
+  const found = horizontalPlanes(frame, xr.base);
+  const sim = (p) => ({ ...p, points: p.points.map((q) => toSim(page.offset, q).position), y: p.y - page.offset.position.y });
+  const floor = floorOf(found);
+  return { floor: floor ? sim(floor) : null, others: found.map(sim).filter((p) => p.y > 0.3 && p.y < 2.2).slice(0, 16) };
+}
+
+/**
+ * The task's layout in the room (AR, `layout=room` by default): the floor plane's outline, and
+ * the outlines of the planes over it (kept out), in the simulation's frame, [x, z] as f32
+ * (systems/src/room_layout.rs); null without a floor plane (a hit test or local-floor:
+ * outdoors, the task file's layout) or with `layout=file`.
+ */
+function roomLayout(app, { floor, others }) {
+  if (app.params.get('layout') === 'file' || !floor) return null;
+  const outline = (p) => p.points.slice(0, 256).map((q) => [Math.fround(q.x), Math.fround(q.z)]);
+  // At most 256 points in all (systems/src/room_layout.rs): the floor's, then the planes' that fit.
+  let room = 256 - Math.min(256, floor.points.length);
+  const keep = others.map(outline).filter((o) => (o.length <= room ? ((room -= o.length), true) : false));
+  return { room: { floor: outline(floor), ...(keep.length ? { keep_out: keep } : {}) } };
+}
+
+/** The scene text of the room, built in the frame the task starts (AR), for the task laid out as `layout` says. */
+function roomText(app, planes, layout) {
   const { xr, page } = app;
   const floor = xr.finder.found;
-  const planes = horizontalPlanes(frame, xr.base)
-    .map((p) => ({ ...p, points: p.points.map((q) => toSim(page.offset, q).position), y: p.y - page.offset.position.y }))
-    .filter((p) => p.y > 0.3 && p.y < 2.2)
-    .slice(0, 16);
   const text = roomSceneText({ source: floor.source, floorY: floor.y, planes });
   const probe = app.grove.createSim({ scene: 'room.ron', scene_text: text });
-  probe.push({ kind: 'start_task', task: page.task });
+  probe.push({ kind: 'start_task', task: page.task, ...(layout ? { layout } : {}) });
   probe.step();
   const moved = (probe.snapshot().task?.targets ?? []).map((t, i) => ({ target: i, model: t.model, from: t.position, to: t.moved_to })).filter((m) => m.to);
   probe.free();
@@ -41,15 +61,26 @@ function roomText(app, frame) {
 /** Starts the task (a new session) or continues the stored one; `frame` is the XR frame it starts in. */
 export async function startRun(app, frame) {
   const { flow, page, xr, view, recorder, screen } = app;
+  // The device that started the task is the recording's; one that cannot do the task's mode is
+  // refused here, with the reason (input/xr.mjs, `refuses`).
+  const refusal = app.input?.refuses?.(modeOfTask(page.task));
+  if (refusal) throw new Error(`this device cannot do the ${modeOfTask(page.task)} task: ${refusal}`);
+  page.device = app.input?.device?.() ?? null;
   flow.go(State.STARTING);
   let sceneText;
+  let layout = null;
   if (xr && !app.stored) {
     const viewer = frame.getViewerPose(xr.base);
     const floorY = xr.ar ? xr.finder.found.y : 0;
     page.offset = offsetFor(viewer.transform, floorY);
     page.floor = xr.ar ? xr.finder.found : null;
     view.placeSimRoot(page.offset);
-    if (xr.ar) sceneText = roomText(app, frame);
+    if (xr.ar) {
+      const planes = roomPlanes(app, frame);
+      layout = roomLayout(app, planes);
+      sceneText = roomText(app, planes.others, layout);
+    }
+    page.floorOutline = layout?.room.floor ?? null;
   } else if (xr && app.stored) {
     page.offset = app.stored.offset ?? page.offset;
     if (page.offset) view.placeSimRoot(page.offset);
@@ -62,14 +93,16 @@ export async function startRun(app, frame) {
   } else {
     const fields = { participant: page.participant, task: page.task, seed: page.seed };
     if (sceneText) fields.scene_text = sceneText;
+    if (page.device) fields.device = page.device;
     const header = await recorder.open(fields, { offset: page.offset, mode: page.mode });
-    app.run = TaskRun.start(app.grove, recorder, { header, sceneText, task: page.task });
+    app.run = TaskRun.start(app.grove, recorder, { header, sceneText, task: page.task, layout });
     page.file = recorder.session.file;
   }
   app.stored = null;
   screen.file(page.file);
   showWorld(app, app.run);
-  screen.panel(page.mode !== 'inline');
+  // A phone's panel would cover the camera's view: its touch bar and header stay.
+  screen.panel(page.mode !== 'inline' && page.device?.mapping !== 'screen');
   flow.go(State.TASK);
 }
 
