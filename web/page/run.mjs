@@ -8,9 +8,14 @@ import { FixedStep } from './clock.mjs';
 import { edges, statesOf } from './input/buttons.mjs';
 import { f32Pose, poseKey } from './input/pose.mjs';
 
-/** The mode a task is done in: its id says it (`manual-7`, `ray-casting-7`). */
-export function modeOfTask(task) {
-  return task?.startsWith('manual') ? 'manual' : 'ray-casting';
+/** The mode a task is done in, as the module's definition of it says; 'ray-casting' without a known task. */
+export function modeOfTask(grove, task) {
+  if (!task) return 'ray-casting';
+  try {
+    return grove.task(task).mode;
+  } catch {
+    return 'ray-casting'; // not a built-in task: the server refuses the session
+  }
 }
 
 export class TaskRun {
@@ -44,7 +49,7 @@ export class TaskRun {
     const sim = grove.createSim({ header, scene_text: sceneText, onLine: (l) => recorder.append(l) });
     const run = new TaskRun(sim, recorder);
     if (task) {
-      if (modeOfTask(task) === 'manual') sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'switch_mode', mode: 'manual' } });
+      if (modeOfTask(grove, task) === 'manual') sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'switch_mode', mode: 'manual' } });
       sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'start_task', task, ...(layout ? { layout } : {}) } });
     }
     return run;

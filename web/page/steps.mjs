@@ -35,6 +35,7 @@ export function typedForm(container, rows, send, say) {
     const t = document.createElement('textarea');
     t.name = row.id;
     t.rows = 4;
+    if (row.maxChars) t.maxLength = row.maxChars;
     t.style.width = '100%';
     label.append(document.createElement('br'), t);
     form.append(label);

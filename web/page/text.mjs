@@ -1,11 +1,10 @@
 // What the page says: the task's instructions, the task panel's lines, the next target. The
 // controls of each device are its input source's words (input/xr.mjs, input/mouse.mjs).
 
-import { modeOfTask } from './run.mjs';
 
-/** What a task asks, in a few words for its participant. */
-export function taskText(task) {
-  return modeOfTask(task) === 'manual'
+/** What a task done in `mode` ('ray-casting' or 'manual', run.mjs's modeOfTask) asks, in a few words for its participant. */
+export function taskText(mode) {
+  return mode === 'manual'
     ? 'Open the menu and choose the model each orange ring asks for; it appears in front of you. Drag it with the trigger onto its ring: the ball under it turns white when letting go will snap it to the ground.'
     : 'Open the menu and choose the model each orange ring asks for, then point at the ring and press the trigger to plant it there.';
 }

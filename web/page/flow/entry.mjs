@@ -25,9 +25,9 @@ export function instructions(app) {
     page.participant = resume.participant;
     page.task = resume.task;
   }
-  screen.text(resume ? `Continue ${resume.file}` : `Task ${page.task}`, taskText(page.task));
+  screen.text(resume ? `Continue ${resume.file}` : `Task ${page.task}`, taskText(modeOfTask(app.grove, page.task)));
   screen.who({ hidden: Boolean(resume || app.params.get('participant')), participant: page.participant, task: page.task });
-  screen.controls(controllerControls(modeOfTask(page.task), false)); // until the device is known
+  screen.controls(controllerControls(modeOfTask(app.grove, page.task), false)); // until the device is known
   screen.enterButtons(resume ? 'Continue' : 'Start', app.modes);
 }
 
@@ -42,7 +42,7 @@ export async function enter(app, mode) {
   screen.buttons();
   if (mode === 'inline') {
     app.input = new MouseInput(screen.canvas, view.camera);
-    screen.controls(app.input.controls(modeOfTask(page.task)));
+    screen.controls(app.input.controls(modeOfTask(app.grove, page.task)));
     if (app.study) return showStep(app);
     return startRun(app, null);
   }
@@ -58,7 +58,7 @@ export async function enter(app, mode) {
   app.input = new XrInput(ctx, {
     onSource: (source) => {
       page.noSqueeze = source.noSqueeze;
-      screen.controls(source.controls(modeOfTask(page.task)));
+      screen.controls(source.controls(modeOfTask(app.grove, page.task)));
     },
   });
   if (ar) app.world = null; // the room is the world until the task starts

@@ -9,6 +9,7 @@ import { showWorld, startRun } from './task.mjs';
 import { TaskRun } from '../run.mjs';
 import { Study } from '../study.mjs';
 import { button, loadImage, panelFrame, rememberParticipant } from '../steps.mjs';
+import { modeOfTask } from '../run.mjs';
 import { taskText } from '../text.mjs';
 
 /** The participant named in the URL joins at once; else the page waits for the Start button. */
@@ -82,7 +83,7 @@ export function stepFrame(app, { frame, input, ray }) {
   const practice = flow.is(State.PRACTICE);
   const seconds = steps.until === null ? null : (steps.until - performance.now()) / 1000;
   const panel = view.features.panel;
-  const boxes = study.layout(panel.size, { image: steps.image, seconds, taskText: taskText(study.current?.task) });
+  const boxes = study.layout(panel.size, { image: steps.image, seconds, taskText: taskText(modeOfTask(app.grove, study.current?.task)) });
   const pressed = panelFrame(panel, steps, { head, ray, down, boxes, practice });
   if (pressed && !steps.busy) press(app, pressed, frame);
   if (practice && seconds !== null && seconds <= 0 && !steps.busy) press(app, 'end-practice', frame);

@@ -8,7 +8,7 @@
 
 import { State } from './flow.mjs';
 import { TaskRun, modeOfTask } from '../run.mjs';
-import { floorOf, horizontalPlanes, roomSceneText, toSim } from '../room.mjs';
+import { floorOf, horizontalPlanes, toSim } from '../room.mjs';
 import { offsetFor } from '../xr.mjs';
 
 /** The world a sim shows (the view's `s.world`): its ground, its first snapshot's trees, whether over a room (AR). */
@@ -21,13 +21,14 @@ export function showWorld(app, run) {
   app.world = worldOf(run.sim, run.snapshot, Boolean(app.xr?.ar));
 }
 
-/** The room's horizontal planes in the simulation's frame (AR): its floor plane, if any, and the others (tables, shelves). */
+/** The room's horizontal planes in the simulation's frame (AR): its floor plane, if any, the others (tables, shelves) and all of them. */
 function roomPlanes(app, frame) {
   const { xr, page } = app;
   const found = horizontalPlanes(frame, xr.base);
   const sim = (p) => ({ ...p, points: p.points.map((q) => toSim(page.offset, q).position), y: p.y - page.offset.position.y });
   const floor = floorOf(found);
-  return { floor: floor ? sim(floor) : null, others: found.map(sim).filter((p) => p.y > 0.3 && p.y < 2.2).slice(0, 16) };
+  const all = found.map(sim);
+  return { floor: floor ? sim(floor) : null, others: all.filter((p) => p.y > 0.3 && p.y < 2.2).slice(0, 16), all };
 }
 
 /**
@@ -45,17 +46,14 @@ function roomLayout(app, { floor, others }) {
   return { room: { floor: outline(floor), ...(keep.length ? { keep_out: keep } : {}) } };
 }
 
-/** The scene text of the room, built in the frame the task starts (AR), for the task laid out as `layout` says. */
+/**
+ * The scene text of the room, built by the module from the floor and `planes` of the frame the
+ * task starts in (AR), for the task laid out as `layout` says (the targets it moves named).
+ */
 function roomText(app, planes, layout) {
   const { xr, page } = app;
-  const floor = xr.finder.found;
-  const text = roomSceneText({ source: floor.source, floorY: floor.y, planes });
-  const probe = app.grove.createSim({ scene: 'room.ron', scene_text: text });
-  probe.push({ kind: 'start_task', task: page.task, ...(layout ? { layout } : {}) });
-  probe.step();
-  const moved = (probe.snapshot().task?.targets ?? []).map((t, i) => ({ target: i, model: t.model, from: t.position, to: t.moved_to })).filter((m) => m.to);
-  probe.free();
-  return roomSceneText({ source: floor.source, floorY: floor.y, planes, moved });
+  const found = planes.map((p) => ({ label: p.label, points: p.points }));
+  return app.grove.roomScene({ source: xr.finder.found.source, floor_y: xr.finder.found.y, planes: found, task: page.task || null, ...(layout ? { layout } : {}) });
 }
 
 /** Starts the task (a new session) or continues the stored one; `frame` is the XR frame it starts in. */
@@ -63,8 +61,8 @@ export async function startRun(app, frame) {
   const { flow, page, xr, view, recorder, screen } = app;
   // The device that started the task is the recording's; one that cannot do the task's mode is
   // refused here, with the reason (input/xr.mjs, `refuses`).
-  const refusal = app.input?.refuses?.(modeOfTask(page.task));
-  if (refusal) throw new Error(`this device cannot do the ${modeOfTask(page.task)} task: ${refusal}`);
+  const refusal = app.input?.refuses?.(modeOfTask(app.grove, page.task));
+  if (refusal) throw new Error(`this device cannot do the ${modeOfTask(app.grove, page.task)} task: ${refusal}`);
   page.device = app.input?.device?.() ?? null;
   flow.go(State.STARTING);
   let sceneText;
@@ -78,7 +76,7 @@ export async function startRun(app, frame) {
     if (xr.ar) {
       const planes = roomPlanes(app, frame);
       layout = roomLayout(app, planes);
-      sceneText = roomText(app, planes.others, layout);
+      sceneText = roomText(app, planes.all, layout);
     }
     page.floorOutline = layout?.room.floor ?? null;
   } else if (xr && app.stored) {
