@@ -51,18 +51,18 @@ export async function openMenu(page, how) {
   if (how === 'screen') await press(page, '#touch-menu');
   else {
     await page.evaluate(() => window.xrDouble.pinch([0, 1, 0], 'left'));
-    await until(page, () => window.grove.snapshot.menu.open, null, 10000);
+    await until(page, () => window.grove.snapshot.menu.open, null, 30000);
     await page.evaluate(() => window.xrDouble.lift('left'));
     await frames(page, 5);
   }
-  await until(page, () => window.grove.snapshot.menu.open, null, 10000);
+  await until(page, () => window.grove.snapshot.menu.open, null, 30000);
 }
 
 /** Chooses `model` ('finish': Finish task) in the open menu, by a tap or a pinch on its item. */
 export async function chooseIn(page, model, how) {
   const at = await page.evaluate((m) => window.grove.menuItemPoint(m), model);
   await (how === 'screen' ? tap(page, at) : pinch(page, at));
-  if (model !== 'finish') await until(page, (m) => !window.grove.snapshot.menu.open && window.grove.snapshot.menu.current_model === m, model, 10000);
+  if (model !== 'finish') await until(page, (m) => !window.grove.snapshot.menu.open && window.grove.snapshot.menu.current_model === m, model, 30000);
 }
 
 /** Enters `mode` and starts the task with a tap or a pinch (the device has no trigger). */

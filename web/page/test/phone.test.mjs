@@ -52,7 +52,7 @@ test("a phone: taps plant, the touch bar's taps never reach the scene, Remove ta
     await openMenu(page, 'screen');
     await chooseIn(page, targets[i].model, 'screen');
     await tap(page, targets[i].position);
-    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 10000);
+    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 30000);
   }
   assert.equal(await page.evaluate(() => window.grove.snapshot.trees.length), 2);
   // A press on Menu makes a screen touch too (as a phone's browser does), right over a target: the
@@ -71,12 +71,12 @@ test("a phone: taps plant, the touch bar's taps never reach the scene, Remove ta
   assert.equal(after.trees.length, 2, 'the touch on the bar planted nothing');
   assert.equal(after.controller.buttons[0], false, 'and never pressed the trigger');
   await tap(page, [0, 0, 4]); // a tap off the menu's items closes it
-  await until(page, () => !window.grove.snapshot.menu.open, null, 10000);
+  await until(page, () => !window.grove.snapshot.menu.open, null, 30000);
   // Remove: on the tree last tapped.
   await tap(page, [targets[4].position[0], 0.05, targets[4].position[2]]);
-  await until(page, () => window.grove.snapshot.bounding_box, null, 10000);
+  await until(page, () => window.grove.snapshot.bounding_box, null, 30000);
   await press(page, '#touch-remove');
-  await until(page, () => window.grove.snapshot.trees.length === 1, null, 10000);
+  await until(page, () => window.grove.snapshot.trees.length === 1, null, 30000);
   const report = await finish(page);
   assert.equal(report.task.error_kinds.removals, 1);
   assert.deepEqual(report.device, DEVICE);
@@ -99,7 +99,7 @@ test('a phone in the manual task: a tree dragged by the finger comes down onto i
     },
   });
   assert.equal(ball, 'white', 'the tree came down to the floor under the finger');
-  await until(page, (t) => window.grove.snapshot.task.targets[t].satisfied, 2, 10000).catch(async (e) => {
+  await until(page, (t) => window.grove.snapshot.task.targets[t].satisfied, 2, 30000).catch(async (e) => {
     const s = await page.evaluate(() => window.grove.snapshot);
     throw new Error(`${e.message}: tree ${JSON.stringify(s.trees)}, target ${target.position}, ball ${JSON.stringify(s.anchor_ball)}`);
   });

@@ -47,12 +47,12 @@ test('gaze and pinch: trees planted where the eyes look, the menu from the left 
     await openMenu(page, 'pinch');
     await chooseIn(page, targets[i].model, 'pinch');
     await pinch(page, targets[i].position);
-    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 10000);
+    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 30000);
   }
   assert.equal(await page.evaluate(() => window.grove.snapshot.trees.length), own + 2, 'two trees, none planted by the menu\'s pinches');
   // A short left pinch is Bumper, at its gaze: it removes the tree looked at.
   await pinch(page, targets[0].position, 'left');
-  await until(page, (n) => window.grove.snapshot.trees.length === n, own + 1, 10000);
+  await until(page, (n) => window.grove.snapshot.trees.length === n, own + 1, 30000);
   const report = await finish(page);
   assert.equal(report.task.trees.length, 2, 'both targets were satisfied (a removal does not take that back)');
   assert.equal(report.task.error_kinds.removals, 1);
@@ -81,11 +81,11 @@ test('gaze and pinch in the manual task: a tree dragged by the pinching hand sna
     await page.evaluate((g) => window.xrDouble.moveGrip(g), grip.map((v, i) => v + (d[i] * k) / 40));
     await frames(page, 2);
   }
-  await until(page, () => window.grove.snapshot.anchor_ball.state === 'white', null, 10000);
+  await until(page, () => window.grove.snapshot.anchor_ball.state === 'white', null, 30000);
   const carried = await page.evaluate((id) => window.grove.snapshot.trees.find((x) => x.id === id), spawned.id);
   assert.ok(Math.hypot(carried.position[0] - to[0], carried.position[2] - to[2]) < 0.02, `carried to ${carried.position}, not ${to}`);
   await page.evaluate(() => window.xrDouble.lift('right'));
-  await until(page, (id) => window.grove.snapshot.trees.find((x) => x.id === id)?.grounded, spawned.id, 10000);
+  await until(page, (id) => window.grove.snapshot.trees.find((x) => x.id === id)?.grounded, spawned.id, 30000);
   assert.equal(await page.evaluate(() => window.grove.snapshot.task.targets.filter((x) => x.satisfied).length), 1, 'its target is satisfied');
   const report = await finish(page);
   assert.equal(report.task.trees.length, 1);
