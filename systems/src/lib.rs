@@ -39,6 +39,7 @@ pub mod scatter;
 pub mod resource_hash;
 pub mod resources;
 pub mod room;
+pub mod room_layout;
 pub mod scenario;
 pub mod scene;
 pub mod scene_text;

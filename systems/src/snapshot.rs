@@ -178,6 +178,9 @@ pub struct TaskSnapshot {
     pub mode: &'static str,
     /// How far a tree may stand from its target, metres.
     pub tolerance: f32,
+    /// The scale of a room layout (`crate::room_layout`: the study as a scale model, new trees
+    /// and handles at it), 1 for the task file's layout: what a page draws targets and handles at.
+    pub layout_scale: f32,
     /// Its targets, in the task file's order.
     pub targets: Vec<TargetSnapshot>,
     /// How many targets are satisfied.
@@ -265,6 +268,7 @@ impl Sim {
                 id: t.def.id.clone(),
                 mode: t.def.mode.name(),
                 tolerance: t.def.tolerance,
+                layout_scale: crate::task::layout_scale(Some(t)),
                 targets: t
                     .def
                     .targets
@@ -405,7 +409,7 @@ mod tests {
     #[test]
     fn the_task_panel_counts_targets_and_runs_its_clock() {
         let mut sim = study();
-        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into() }]).unwrap();
+        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into(), layout: None }]).unwrap();
         sim.run(60);
         let s = sim.snapshot();
         let task = s.task.expect("a task");

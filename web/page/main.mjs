@@ -55,6 +55,8 @@ const app = {
     file: null,
     verification: null,
     noSqueeze: false,
+    device: null,
+    floorOutline: null,
     offset: null,
     floor: null,
     frameMs: [],

@@ -8,7 +8,8 @@ import { toSession } from './room.mjs';
 
 /**
  * Makes `app.page` (the page's record: mode, participant, task, seed, file, verification,
- * noSqueeze, offset, floor, frameMs, perf, frames, resumed) the page's scripting interface, with
+ * noSqueeze, device, floorOutline, offset, floor, frameMs, perf, frames, resumed) the page's
+ * scripting interface, with
  * the members read from the rest of the page; returns it.
  */
 export function install(app) {

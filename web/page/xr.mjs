@@ -16,13 +16,14 @@ export async function offeredModes() {
 /** Requests an immersive session (`ar` or `vr`); `overlay` is the DOM overlay's root (AR on phones). */
 export async function requestSession(mode, overlay) {
   if (mode === 'ar') {
+    // A phone's screen taps need no feature; hands need `hand-tracking` (input/hands.mjs).
     return navigator.xr.requestSession('immersive-ar', {
       requiredFeatures: ['local-floor'],
-      optionalFeatures: ['hit-test', 'plane-detection', 'dom-overlay'],
+      optionalFeatures: ['hit-test', 'plane-detection', 'dom-overlay', 'hand-tracking'],
       domOverlay: overlay ? { root: overlay } : undefined,
     });
   }
-  return navigator.xr.requestSession('immersive-vr', { requiredFeatures: ['local-floor'] });
+  return navigator.xr.requestSession('immersive-vr', { requiredFeatures: ['local-floor'], optionalFeatures: ['hand-tracking'] });
 }
 
 /**

@@ -2,7 +2,7 @@
 //!
 //! - `POST /api/sessions` opens a session, from a header line (`{"header": "…"}`) or from the
 //!   fields a client may set (`{"participant": …, "task": …, "scene": …, "seed": …,
-//!   "technique": …, "block": …}`); the answer has the session id and the header line written.
+//!   "technique": …, "block": …, "scene_text": …, "device": …}`); the answer has the session id and the header line written.
 //!   With `"continue": true` beside a header line, the session that the same line opened before
 //!   is answered instead (200, `"continued": true`): how `grove serve push` run again goes on.
 //! - `POST /api/sessions/ID/lines?from=N` appends lines (the body, each ending in `\n`) starting

@@ -5,7 +5,8 @@
 // the server's origin, and the moves of a scripted participant.
 
 import { spawnSync } from 'node:child_process';
-import { existsSync, readFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { build } from 'esbuild';
@@ -39,9 +40,10 @@ async function emulatorScript() {
 }
 
 /**
- * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room }), requests,
+ * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room, device }), requests,
  * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
- * server's URL with `query`, the emulator installed when `xr` is set.
+ * server's URL with `query`, the emulator installed when `xr` is set (`device`: emulator.mjs's
+ * `quest`, `phone` or `visionpro`).
  */
 export async function start(serve = []) {
   await prepare();
@@ -66,7 +68,7 @@ export async function browse(url, { chromiumArgs = [] } = {}) {
   const token = new URL(url).searchParams.get('token');
   const requests = [];
   const errors = [];
-  async function open(query, { xr = false, room = true, context = null, width = 480, height = 360 } = {}) {
+  async function open(query, { xr = false, room = true, device = 'quest', context = null, width = 480, height = 360 } = {}) {
     const ctx = context ?? (await browser.newContext({ viewport: { width, height } }));
     const page = await ctx.newPage();
     page.on('request', (r) => requests.push(r.url()));
@@ -78,7 +80,7 @@ export async function browse(url, { chromiumArgs = [] } = {}) {
       if (m.type() === 'error') errors.push(m.text());
     });
     if (xr) {
-      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room })};`);
+      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room, device })};`);
       await page.addInitScript(script);
     }
     await page.goto(`${origin}/?${token ? `token=${encodeURIComponent(token)}&` : ''}${query}`);
@@ -97,6 +99,24 @@ export async function browse(url, { chromiumArgs = [] } = {}) {
 export function grove(args, cwd = ROOT) {
   const r = spawnSync(GROVE, args, { cwd, encoding: 'utf8' });
   return { status: r.status, stdout: r.stdout, stderr: r.stderr };
+}
+
+/** `grove study` over `replays` into a scratch folder: trial_results.csv's rows by column name. */
+export function studyRows(replays) {
+  const out = mkdtempSync(join(tmpdir(), 'grove-page-study-'));
+  try {
+    const r = grove(['study', '--replays', replays, '--out', out, '--force']);
+    if (r.status !== 0) throw new Error(`grove study: ${r.stderr}`);
+    return trialRows(out);
+  } finally {
+    rmSync(out, { recursive: true, force: true });
+  }
+}
+
+/** trial_results.csv of a study's folder, its rows by column name. */
+export function trialRows(dir) {
+  const csv = readFileSync(join(dir, 'trial_results.csv'), 'utf8').trim().split('\n').map((l) => l.split(','));
+  return csv.slice(1).map((r) => Object.fromEntries(csv[0].map((c, i) => [c, r[i]])));
 }
 
 /** The lines of a file (without newlines). */

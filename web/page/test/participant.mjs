@@ -1,5 +1,6 @@
 // A scripted participant for the browser tests: poses the emulated controller (IWER's right
-// Touch Plus) and presses its buttons, frame by frame, as a person in the headset would.
+// Touch Plus) or hand and presses its buttons or pinches (emulator.mjs's `xrParticipant`), frame
+// by frame, as a person in the headset would.
 
 import assert from 'node:assert/strict';
 import { lookRotation } from '../input/pose.mjs';
@@ -27,7 +28,7 @@ export async function aimAt(page, simPoint, hand = HAND, wait = (page) => ticks(
       const target = window.grove.toSession(p);
       const from = { x: d.position.x + hand.x, y: d.position.y + hand.y, z: d.position.z + hand.z };
       window.__aim = { from, target };
-      d.controllers.right.position.set(from.x, from.y, from.z);
+      window.xrParticipant.pointer().position.set(from.x, from.y, from.z);
     },
     { p: simPoint, hand },
   );
@@ -35,7 +36,7 @@ export async function aimAt(page, simPoint, hand = HAND, wait = (page) => ticks(
   const dir = [target.x - from.x, target.y - from.y, target.z - from.z];
   const n = Math.hypot(...dir);
   const q = lookRotation(dir.map((v) => v / n));
-  await page.evaluate((q) => window.xrDevice.controllers.right.quaternion.set(q[0], q[1], q[2], q[3]), q);
+  await page.evaluate((q) => window.xrParticipant.pointer().quaternion.set(q[0], q[1], q[2], q[3]), q);
   await wait(page);
 }
 
@@ -48,23 +49,23 @@ export async function pressPanel(page, id) {
   assert.ok(point, `the panel has a button ${id}: ${JSON.stringify(await page.evaluate(() => window.grove.panel))}`);
   await aimAt(page, point, HAND, (page) => frames(page, 3));
   await until(page, (id) => window.grove.panel?.hover === id, id, 10000);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 1));
   await frames(page, 3);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 0));
   await frames(page, 3);
 }
 
 /** Presses and releases an IWER button ('trigger', 'squeeze', 'b-button', …), a few ticks each. */
 export async function click(page, button, hold = 4) {
-  await page.evaluate((b) => window.xrDevice.controllers.right.updateButtonValue(b, 1), button);
+  await page.evaluate((b) => window.xrParticipant.press(b, 1), button);
   await ticks(page, hold);
-  await page.evaluate((b) => window.xrDevice.controllers.right.updateButtonValue(b, 0), button);
+  await page.evaluate((b) => window.xrParticipant.press(b, 0), button);
   await ticks(page, hold);
 }
 
-/** Opens the menu with B and chooses `model` with the trigger. */
+/** Opens the menu with B (with hands: the left hand's pinch held 0.5 s) and chooses `model` with the trigger. */
 export async function choose(page, model) {
-  await click(page, 'b-button');
+  await click(page, 'b-button', 40);
   await until(page, () => window.grove.snapshot.menu.open);
   await aimAt(page, await page.evaluate((m) => window.grove.menuItemPoint(m), model));
   await click(page, 'trigger');
@@ -102,9 +103,9 @@ export async function enterAndStart(page, mode) {
   await until(page, () => ['instructions', 'task'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
   if ((await page.evaluate(() => window.grove.state)) !== 'task') {
     await page.waitForTimeout(300);
-    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+    await page.evaluate(() => window.xrParticipant.press('trigger', 1));
     await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
-    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+    await page.evaluate(() => window.xrParticipant.press('trigger', 0));
   }
   await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
   assert.equal(await page.evaluate(() => window.grove.error), null);
@@ -114,7 +115,7 @@ export async function enterAndStart(page, mode) {
 export async function moveHand(page, simPoint) {
   await page.evaluate((p) => {
     const s = window.grove.toSession(p);
-    window.xrDevice.controllers.right.position.set(s.x, s.y, s.z);
+    window.xrParticipant.pointer().position.set(s.x, s.y, s.z);
   }, simPoint);
   await ticks(page, 2);
 }
@@ -132,7 +133,7 @@ export async function grab(page, id) {
     if (hit?.entity === id) break;
   }
   assert.equal(hit?.entity, id, `the ray meets the tree: ${JSON.stringify(hit)}`);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 1));
   await ticks(page, 3);
 }
 
@@ -157,7 +158,7 @@ export async function carry(page, id, to, { step = 0.15 } = {}) {
 
 /** Releases the trigger and waits a few ticks. */
 export async function release(page) {
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 0));
   await ticks(page, 3);
   return page.evaluate(() => window.grove.snapshot);
 }
