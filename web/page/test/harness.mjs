@@ -36,7 +36,8 @@ export async function prepare() {
 /**
  * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room }), requests,
  * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
- * server's URL with `query`, the emulator installed when `xr` is set.
+ * server's URL with `query`, the emulator installed when `xr` is set (`room`: @iwer/sem's office; `depth`:
+ * the headset offers depth sensing; `light`: a light estimate, emulator.mjs).
  */
 export async function start(serve = []) {
   const script = await prepare();
@@ -48,7 +49,7 @@ export async function start(serve = []) {
   const origin = new URL(server.url).origin;
   const requests = [];
   const errors = [];
-  async function open(query, { xr = false, room = true, context = null, width = 480, height = 360 } = {}) {
+  async function open(query, { xr = false, room = true, depth = true, light = null, context = null, width = 480, height = 360 } = {}) {
     const ctx = context ?? (await browser.newContext({ viewport: { width, height } }));
     const page = await ctx.newPage();
     page.on('request', (r) => requests.push(r.url()));
@@ -60,7 +61,7 @@ export async function start(serve = []) {
       if (m.type() === 'error') errors.push(m.text());
     });
     if (xr) {
-      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room })};`);
+      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room, depth, light })};`);
       await page.addInitScript(script);
     }
     await page.goto(`${origin}/?${query}`);
