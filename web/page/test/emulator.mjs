@@ -4,7 +4,8 @@
 // Bundled by harness.mjs into one script that Playwright adds before the page's own scripts;
 // `window.__groveXR` ({ room, device }) chooses the room and the device: `quest` (the default),
 // `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
-// (immersive-vr only, no controllers).
+// (immersive-vr only, no controllers); `depth: false` a headset without depth sensing, `light` a
+// light estimate (below).
 //
 // IWER emulates neither `screen` nor `transient-pointer` input, so for those devices this file
 // adds test doubles of XRInputSource (`window.xrDouble`, input/sources.mjs meets them as it would
@@ -38,7 +39,21 @@ const DEVICES = {
     supportedFeatures: ['viewer', 'local', 'local-floor', 'hand-tracking'],
   },
 };
-const device = new XRDevice(DEVICES[kind], { stereoEnabled: false });
+// `depth: false`: a headset without depth sensing (IWER's Quest 3 offers it, from the room's meshes).
+// `light: { sh, direction, intensity }`: a test double of WebXR light estimation (IWER has none):
+// the session grants `light-estimation`, its light probe gives this estimate every frame.
+const features = DEVICES[kind].supportedFeatures.filter((f) => f !== 'depth-sensing' || config.depth !== false);
+const headset = { ...DEVICES[kind], supportedFeatures: config.light ? [...features, 'light-estimation'] : features };
+if (config.light) {
+  const { sh, direction, intensity } = config.light;
+  XRSession.prototype.requestLightProbe = () => Promise.resolve(new EventTarget());
+  XRFrame.prototype.getLightEstimate = () => ({
+    sphericalHarmonicsCoefficients: Float32Array.from(sh),
+    primaryLightDirection: { x: direction[0], y: direction[1], z: direction[2], w: 0 },
+    primaryLightIntensity: { x: intensity[0], y: intensity[1], z: intensity[2], w: 1 },
+  });
+}
+const device = new XRDevice(headset, { stereoEnabled: false });
 device.installRuntime({ forceInstall: true });
 if (config.room) {
   device.installSEM(SyntheticEnvironmentModule);

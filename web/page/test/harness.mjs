@@ -43,7 +43,8 @@ async function emulatorScript() {
  * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room, device }), requests,
  * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
  * server's URL with `query`, the emulator installed when `xr` is set (`device`: emulator.mjs's
- * `quest`, `phone` or `visionpro`).
+ * `quest`, `phone` or `visionpro`; `room`: @iwer/sem's office; `depth`: the headset offers depth
+ * sensing; `light`: a light estimate, emulator.mjs).
  */
 export async function start(serve = []) {
   await prepare();
@@ -68,7 +69,7 @@ export async function browse(url, { chromiumArgs = [] } = {}) {
   const token = new URL(url).searchParams.get('token');
   const requests = [];
   const errors = [];
-  async function open(query, { xr = false, room = true, device = 'quest', context = null, width = 480, height = 360 } = {}) {
+  async function open(query, { xr = false, room = true, device = 'quest', depth = true, light = null, context = null, width = 480, height = 360 } = {}) {
     const ctx = context ?? (await browser.newContext({ viewport: { width, height } }));
     const page = await ctx.newPage();
     page.on('request', (r) => requests.push(r.url()));
@@ -80,7 +81,7 @@ export async function browse(url, { chromiumArgs = [] } = {}) {
       if (m.type() === 'error') errors.push(m.text());
     });
     if (xr) {
-      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room, device })};`);
+      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room, device, depth, light })};`);
       await page.addInitScript(script);
     }
     await page.goto(`${origin}/?${token ? `token=${encodeURIComponent(token)}&` : ''}${query}`);

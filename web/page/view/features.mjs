@@ -17,15 +17,19 @@
 // Everything the flow draws is in the simulation's frame (`view.simRoot`), placed in the
 // session's reference space by the offset (room.mjs); `view.scene` is the session's space.
 // A new feature (wind, environment light, depth occlusion …) is one module in draw/ and one line
-// here; a new field of `s` is one line in flow/frame.mjs.
+// here; a new field of `s` is one line in flow/frame.mjs. A feature may also have
+// `beforeSession(session)`, called as an immersive session is presented (view/view.mjs).
+// While a light estimate lights AR, `scene.environment` is draw/xrlight.mjs's; it gives it back after.
 
 import { Controllers } from '../draw/controllers.mjs';
 import { Ground } from '../draw/ground.mjs';
 import { Hud } from '../draw/hud.mjs';
 import { Menu } from '../draw/menu.mjs';
+import { Occlusion } from '../draw/occlusion.mjs';
 import { Overlay } from '../draw/overlay.mjs';
 import { Panel } from '../draw/panel.mjs';
 import { World } from '../draw/world.mjs';
+import { XrLight } from '../draw/xrlight.mjs';
 
 /** name -> make(view): the view's features (`view.features.NAME`). */
 export const FEATURES = {
@@ -36,4 +40,6 @@ export const FEATURES = {
   world: (v) => new World(v.scene, v.simRoot, v.models, { shadows: v.shadows }),
   ground: (v) => new Ground(v.simRoot),
   controllers: (v) => new Controllers(v.scene),
+  occlusion: (v) => new Occlusion(v.renderer, v.scene),
+  xrlight: (v) => new XrLight(v.renderer, v.scene),
 };

@@ -32,9 +32,13 @@ export class View {
     });
   }
 
-  /** Presents an immersive session; resolves to its `local-floor` reference space. */
+  /**
+   * Presents an immersive session; resolves to its `local-floor` reference space. A feature with
+   * `beforeSession(session)` sees the session first (draw/xrlight.mjs).
+   */
   async present(session) {
     this.renderer.xr.setReferenceSpaceType('local-floor');
+    for (const f of Object.values(this.features)) f.beforeSession?.(session);
     await this.renderer.xr.setSession(session);
     return this.renderer.xr.getReferenceSpace();
   }
