@@ -18,6 +18,8 @@ import { Recorder, storedSession } from './recorder.mjs';
 import { TaskRun, modeOfTask } from './run.mjs';
 import { FloorFinder, offeredModes, offsetFor, requestSession } from './xr.mjs';
 import { Models, WorldView } from './draw/world.mjs';
+import { createRenderer, environmentFor } from './draw/renderer.mjs';
+import { loadEnvironment } from './draw/sky.mjs';
 import { Overlay } from './draw/overlay.mjs';
 import { Menu } from './draw/menu.mjs';
 import { Hud } from './draw/hud.mjs';
@@ -86,6 +88,7 @@ window.grove = Object.defineProperties(page, studyView(() => study, () => panel)
 const recorder = new Recorder(location.href);
 let grove = null;
 let models = null;
+let env = null; // the sky's cube and the ground's texture (draw/sky.mjs)
 let run = null;
 let stored = storedSession();
 let renderer;
@@ -126,11 +129,9 @@ recorder.addEventListener('state', (e) => {
 
 function setupRenderer() {
   const canvas = $('canvas');
-  renderer = new THREE.WebGLRenderer({ canvas, antialias: !low, alpha: true, powerPreference: 'high-performance' });
+  renderer = createRenderer(canvas, { low });
   renderer.setPixelRatio(low ? 1 : Math.min(window.devicePixelRatio, 2));
   renderer.setSize(window.innerWidth, window.innerHeight, false);
-  renderer.shadowMap.enabled = !low;
-  renderer.shadowMap.type = THREE.PCFShadowMap;
   renderer.xr.enabled = true;
   scene = new THREE.Scene();
   simRoot = new THREE.Group();
@@ -153,9 +154,8 @@ function setupRenderer() {
 /** The world of a run: its ground once, its trees every frame. */
 function showWorld(sim, ar) {
   if (world) simRoot.remove(world.root);
-  world = new WorldView(simRoot, models, { ar, shadows: !low });
+  world = new WorldView(simRoot, models, { ar, shadows: !low, sky: env?.cube, groundTexture: env?.ground, environment: environmentFor(renderer, { ar, cube: env?.cube }) });
   world.setGround(sim.ground());
-  scene.background = ar ? null : new THREE.Color(0x9cc3e6);
 }
 
 async function main() {
@@ -166,7 +166,8 @@ async function main() {
   home = { head: probe.snapshot().head, fov_y: probe.snapshot().fov_y };
   models = new Models(new URL('models/shipped/', document.baseURI).href);
   const api = new StudyApi(location.href);
-  const [offered, , protocol] = await Promise.all([offeredModes(), models.load(catalogue).catch(() => {}), api.protocol()]);
+  const envLoad = loadEnvironment(new URL('env/', document.baseURI)).then((e) => (env = e)).catch(() => {});
+  const [offered, , protocol] = await Promise.all([offeredModes(), models.load(catalogue).catch(() => {}), api.protocol(), envLoad]);
   modes = offered;
   showWorld(probe, false);
   world.update(probe.snapshot());
@@ -378,7 +379,6 @@ async function enter(mode) {
   if (mode === 'ar') {
     if (world) simRoot.remove(world.root);
     world = null;
-    scene.background = null;
   }
   session.addEventListener('end', () => {
     xr = null;
