@@ -1,6 +1,6 @@
-// One still picture drawn by the headset page's own modules (draw/world.mjs, trees.mjs,
-// shading.mjs, light.mjs, sky.mjs, wind.mjs, renderer.mjs), bundled by web/page/render.mjs for
-// headless Chromium and never part of the page itself. The model stands on grove's model stage
+// One still picture drawn by the headset page's own view (view/view.mjs and its features:
+// draw/world.mjs, trees.mjs, ground.mjs, shading.mjs, light.mjs, sky.mjs, wind.mjs, leaves.mjs),
+// bundled by web/page/render.mjs for headless Chromium and never part of the page itself. The model stands on grove's model stage
 // as `grove render --model` frames it: the WebAssembly module builds the very stage
 // (grove_systems::stage::model_stage, with the study's wind for a tick), so the camera, the sun
 // and the wind are the native renderer's numbers, not copies of them.
@@ -11,32 +11,35 @@
 
 import * as THREE from 'three';
 import { loadGrove } from '../sim/grove-sim.mjs';
-import { Models, WorldView } from './draw/world.mjs';
-import { createRenderer, environmentFor } from './draw/renderer.mjs';
+import { Models } from './draw/world.mjs';
 import { loadEnvironment } from './draw/sky.mjs';
+import { View } from './view/view.mjs';
 
 let grove = null;
 let env = null;
+let view = null;
 let renderer = null;
 
-const renderers = new Map();
+const views = new Map();
 
 /**
- * The module, the sky and ground, and the renderer (`antialias`: multisampled, as the page
+ * The module, the sky and ground, and the page's view (`antialias`: multisampled, as the page
  * draws; off, one sample a pixel as grove's renderer draws), made once.
  */
 export async function setUp({ antialias = true } = {}) {
   grove ??= await loadGrove(new URL('/grove_sim.wasm', location.href));
   env ??= await loadEnvironment(new URL('/env/', location.href));
-  if (!renderers.has(antialias)) {
+  if (!views.has(antialias)) {
     const canvas = document.createElement('canvas');
     document.body.append(canvas);
-    const r = createRenderer(canvas, { preserve: true, antialias });
-    r.setPixelRatio(1);
-    renderers.set(antialias, r);
+    const v = new View(canvas, { models: null, antialias, preserve: true });
+    v.renderer.setPixelRatio(1);
+    v.setEnvironment(env);
+    views.set(antialias, v);
   }
-  renderer = renderers.get(antialias);
-  return { grove, env, renderer };
+  view = views.get(antialias);
+  renderer = view.renderer;
+  return { grove, env, renderer, view };
 }
 
 /**
@@ -103,13 +106,15 @@ async function render({ model, width, height, tick = null, background = 'sky', a
   renderer.setSize(width, height, false);
   try {
     const snap = sim.snapshot();
-    const scene = new THREE.Scene();
-    const world = new WorldView(scene, models, { sky: env.cube, groundTexture: env.ground, environment: environmentFor(renderer, { cube: env.cube }), background: background !== 'transparent', pixelsPerRadian: height / 2 / Math.tan(snap.fov_y / 2) });
-    world.setGround(sim.ground());
-    world.update(snap);
-    const camera = new THREE.PerspectiveCamera(THREE.MathUtils.radToDeg(snap.fov_y), width / height, 0.05, 600);
-    camera.position.fromArray(snap.head.position);
-    camera.quaternion.fromArray(snap.head.rotation);
+    // The frame's state as the flow hands it to the view (view/features.mjs): a world and its
+    // snapshot, nothing of a run's interaction.
+    const state = { state: 'task', world: { ar: false, ground: sim.ground(), snapshot: snap }, snap, live: null, xr: null, ray: null, eye: null, hud: null, panel: false };
+    Object.assign(view, { models, background: background !== 'transparent', pixelsPerRadian: height / 2 / Math.tan(snap.fov_y / 2) });
+    view.update(state);
+    view.placeCamera(snap);
+    const { camera, scene } = view;
+    Object.assign(camera, { aspect: width / height, near: 0.05, far: 600 });
+    camera.updateProjectionMatrix();
     let pixels;
     if (background === 'transparent') pixels = drawAlone(scene, camera, width, height);
     else {

@@ -137,3 +137,29 @@ float leaf_scale( float rank, float keep ) {
 
 /** The leaf scaling of `transformed` (model space), before the wind. */
 export const LEAF_SCALE_GLSL = 'transformed = leaf.xyz + ( transformed - leaf.xyz ) * leaf_scale( leaf.w, treeKeep );';
+
+/** Pixels per radian of a headset's eye (Quest 3: 1832 pixels over about 96° of height). */
+export const EYE_PIXELS_PER_RADIAN = 825;
+
+/**
+ * The leaves' level of detail (a feature of the view, view/features.mjs, after the trees and the
+ * light): each tree draws the share of its leaves grove would draw at its distance from the head
+ * (`view.pixelsPerRadian`), and its shadow no more than the shadow map can show.
+ */
+export class LeafDetail {
+  constructor(view) {
+    this.view = view;
+  }
+
+  update(s) {
+    const snap = s.snap ?? s.world?.snapshot;
+    if (!s.world || !snap) return;
+    const { features, pixelsPerRadian } = this.view;
+    const eye = snap.head ? new THREE.Vector3().fromArray(snap.head.position) : null;
+    for (const { object } of features.world.trees.values()) {
+      const area = (object.userData.leafArea ?? 0) * object.scale.x * object.scale.x;
+      const keep = eye ? keepFraction(area, eye.distanceTo(object.position), pixelsPerRadian, LEAF_PIXELS) : 1;
+      object.userData.wind?.setKeep(keep, Math.min(keep, keepFraction(area, 1, features.light.texelsPerMetre, SHADOW_LEAF_TEXELS)));
+    }
+  }
+}

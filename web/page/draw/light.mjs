@@ -10,6 +10,10 @@
 //   reflections prefiltered by three's PMREMGenerator at the sky's brightness; in AR a neutral
 //   white environment and three's RoomEnvironment's reflections, until the browser's light
 //   estimate is used.
+//
+// A feature of the view (view/features.mjs): every frame the sun and the sky's brightness follow
+// the snapshot, and the shadow's view is fitted around the ground and the trees (cut to 80 m
+// around the head, as src/render/lighting.rs's `shadow_bounds` cuts it).
 
 import * as THREE from 'three';
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
@@ -20,19 +24,49 @@ import { Sky } from './sky.mjs';
 export const SHADOW_SIZE = 1024;
 
 export class Light {
-  /** `root`: the group the sun is added to (the simulation's frame). */
-  constructor(root, { shadows = true } = {}) {
+  /** `view`: the view (its renderer, scene, simulation's frame, and the ground and trees it draws). */
+  constructor(view) {
+    this.view = view;
+    this.shown = null;
+    this.root = new THREE.Group();
+    this.root.name = 'light';
+    this.root.visible = false;
+    view.simRoot.add(this.root);
     this.sun = new THREE.DirectionalLight(0xffffff, Math.PI);
     this.sun.name = 'sun';
-    this.sun.castShadow = shadows;
+    this.sun.castShadow = view.shadows;
     this.sun.shadow.mapSize.set(SHADOW_SIZE, SHADOW_SIZE);
     this.sun.shadow.bias = -0.0005;
     this.probe = new THREE.LightProbe();
     this.probe.name = 'sky light';
-    root.add(this.sun, this.sun.target, this.probe);
+    this.root.add(this.sun, this.sun.target, this.probe);
     this.direction = new THREE.Vector3(0, 1, 0);
     this.sky = 1;
     this.reflections = null;
+    this.texelsPerMetre = SHADOW_SIZE;
+  }
+
+  /** The world's light (s.world, and the snapshot's `light`); none without a world. */
+  update(s) {
+    const { view } = this;
+    if (s.world !== this.shown) {
+      this.shown = s.world;
+      this.root.visible = Boolean(s.world);
+      if (s.world) this.setEnvironment(view.environment(s.world.ar));
+    }
+    if (!s.world) {
+      view.scene.environment = null;
+      return;
+    }
+    const snap = s.snap ?? s.world.snapshot;
+    this.set(snap?.light);
+    const box = view.features.world.box().union(view.features.ground.box);
+    if (snap?.head) {
+      const h = new THREE.Vector3().fromArray(snap.head.position);
+      box.intersect(new THREE.Box3(h.clone().subScalar(80).setY(-1000), h.clone().addScalar(80).setY(1000)));
+    }
+    this.texelsPerMetre = this.fitShadow(box);
+    this.apply(view.scene, view.simRoot);
   }
 
   /** The environment (`environmentFor` in renderer.mjs): its irradiance and reflections. */
@@ -43,7 +77,7 @@ export class Light {
   }
 
   /** The sun of a snapshot's `light`; hidden below the horizon. */
-  update(light) {
+  set(light) {
     if (!light) return;
     this.direction.fromArray(light.sun_direction).normalize();
     const [r, g, b] = light.direct;

@@ -147,3 +147,32 @@ export async function loadEnvironment(base) {
   ground.anisotropy = 4;
   return { cube, ground };
 }
+
+/** The plain sky's colour where grove's sky has not loaded. */
+const PLAIN_SKY = new THREE.Color(0x9cc3e6);
+
+/**
+ * The sky of the world shown (a feature of the view: view/features.mjs): grove's sky behind VR
+ * and the preview, turned with the simulation's frame, and the sky's uniforms (the haze) from
+ * the frame's snapshot; nothing in AR, where the room is seen, nor where the view draws the
+ * trees alone (`view.background` false).
+ */
+export class SkyFeature {
+  constructor(view) {
+    this.view = view;
+    this.sky = null; // the Sky, made once the environment is there
+  }
+
+  update(s) {
+    const { view } = this;
+    const cube = view.env?.cube ?? null;
+    if (cube && !this.sky) {
+      this.sky = new Sky(cube);
+      view.simRoot.add(this.sky.mesh);
+    }
+    const shown = Boolean(s.world && !s.world.ar);
+    if (this.sky) this.sky.mesh.visible = shown && view.background;
+    view.scene.background = shown && view.background && !this.sky ? PLAIN_SKY : null;
+    updateSky((s.snap ?? s.world?.snapshot)?.light, shown ? cube : null, view.simRoot);
+  }
+}

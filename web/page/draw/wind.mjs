@@ -221,3 +221,10 @@ export class TreeWind {
     return m;
   }
 }
+
+/** The wind's state of the frame's snapshot, for every tree (a feature of the view: view/features.mjs). */
+export class Wind {
+  update(s) {
+    setWind((s.snap ?? s.world?.snapshot)?.wind);
+  }
+}

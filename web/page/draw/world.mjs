@@ -1,95 +1,52 @@
-// The world as three.js draws it from the simulation's snapshot: the ground planes, the trees
-// (trees.mjs: the catalogue's models, swaying in the wind), the sky (sky.mjs) and the light
-// (light.mjs: the sun, its shadows fitted around the ground and the trees, the environment), as
-// grove's renderer draws them. In AR the ground is drawn with a shadow-only material, so the
-// trees' shadows fall onto the real floor and nothing else of the ground is seen.
+// The trees of the world shown, as three.js draws them from the simulation's snapshot: the
+// catalogue's models (trees.mjs: loaded once each, cloned per tree, shaded as grove shades them
+// and swaying in the wind with their shadows). A feature of the view (view/features.mjs); the
+// ground is ground.mjs's, the sun and the environment light.mjs's, the sky sky.mjs's, the wind's
+// state wind.mjs's and the leaves' level of detail leaves.mjs's.
 //
 // Everything is in the simulation's frame (metres, +Y up); the page's XR reference space is
 // offset so that the headset's poses are in that frame too (room.mjs).
 
 import * as THREE from 'three';
-import { LEAF_PIXELS, SHADOW_LEAF_TEXELS, keepFraction } from './leaves.mjs';
-import { Light } from './light.mjs';
-import { groveShading } from './shading.mjs';
-import { Sky, updateSky } from './sky.mjs';
-import { setWind } from './wind.mjs';
 
 export { Models } from './trees.mjs';
 
-/** Pixels per radian of a headset's eye (Quest 3: 1832 pixels over about 96° of height). */
-const EYE_PIXELS_PER_RADIAN = 825;
-
-/** Metres per repeat of the ground's texture (grove's ground tile, src/render/ground/mod.rs). */
-const GROUND_REPEAT = 2.5;
-
-/** The ground, trees and light of one scene. */
-export class WorldView {
-  /**
-   * `ar`: draw the ground as a shadow catcher over the real room. `sky`: the sky's cube texture
-   * (sky.mjs), drawn behind the world outside AR. `groundTexture`: the ground's texture (else a
-   * plain colour). `environment`: the environment light (renderer.mjs `environmentFor`).
-   * `background: false` draws the trees alone (no sky, no ground), lit and shadowed as with
-   * them. `pixelsPerRadian` (the view's height over its field of view, half over the tangent of
-   * half) and `leafPixels` set the leaves' level of detail (leaves.mjs).
-   */
-  constructor(scene, models, { ar = false, shadows = true, sky = null, groundTexture = null, environment = null, background = true, pixelsPerRadian = EYE_PIXELS_PER_RADIAN, leafPixels = LEAF_PIXELS } = {}) {
-    this.detail = { pixelsPerRadian, leafPixels };
-    this.scene = scene;
-    this.models = models;
-    this.ar = ar;
-    this.background = background;
-    this.groundTexture = groundTexture;
+/** The trees of the world shown (a feature of the view: view/features.mjs). */
+export class World {
+  /** `view`: the view (its simulation's frame, and its `models`: trees.mjs's Models). */
+  constructor(view) {
+    this.view = view;
+    this.shown = null; // the world record drawn (flow/task.mjs's worldOf), or null
     this.trees = new Map(); // id -> { object, model }
     this.root = new THREE.Group();
     this.root.name = 'world';
-    scene.add(this.root);
-    this.light = new Light(this.root, { shadows });
-    this.light.setEnvironment(environment);
-    this.cube = ar ? null : sky;
-    this.sky = sky && !ar && background ? new Sky(sky) : null;
-    if (this.sky) this.root.add(this.sky.mesh);
-    this.ground = new THREE.Group();
-    this.ground.visible = background;
-    this.groundBox = new THREE.Box3();
-    this.root.add(this.ground);
+    this.root.visible = false;
+    view.simRoot.add(this.root);
   }
 
-  /** The ground planes, from the module's `ground()`. */
-  setGround(planes) {
-    this.ground.clear();
-    for (const p of planes) {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute('position', new THREE.Float32BufferAttribute(p.vertices, 3));
-      g.setIndex(p.triangles);
-      g.computeVertexNormals();
-      const v = p.vertices;
-      const uv = new Float32Array((v.length / 3) * 2);
-      for (let i = 0; i < v.length / 3; i++) {
-        uv[2 * i] = v[3 * i] / GROUND_REPEAT;
-        uv[2 * i + 1] = v[3 * i + 2] / GROUND_REPEAT;
-      }
-      g.setAttribute('uv', new THREE.Float32BufferAttribute(uv, 2));
-      g.computeBoundingBox();
-      this.groundBox.union(g.boundingBox);
-      const material = this.ar
-        ? new THREE.ShadowMaterial({ opacity: 0.45 })
-        : groveShading(new THREE.MeshStandardMaterial({ map: this.groundTexture, color: this.groundTexture ? 0xffffff : p.name === 'terrace' ? 0x8d7f62 : 0x6f8f4e, roughness: 0.95 }), { specular: 0 });
-      const mesh = new THREE.Mesh(g, material);
-      mesh.name = `plane:${p.name}`;
-      mesh.receiveShadow = true;
-      this.ground.add(mesh);
-    }
+  /** A new world ({ ar, snapshot }) starts with its own trees; a run's snapshot moves them. */
+  update(s) {
+    if (s.world !== this.shown) this.#show(s.world);
+    if (this.shown && s.snap) this.#trees(s.snap);
   }
 
-  /** Brings trees and the sun to the snapshot. */
-  update(snap) {
+  #show(world) {
+    this.shown = world;
+    for (const entry of this.trees.values()) this.root.remove(entry.object);
+    this.trees.clear();
+    this.root.visible = Boolean(world);
+    if (world?.snapshot) this.#trees(world.snapshot);
+  }
+
+  /** Brings the trees to the snapshot: where they stand, and their state in the wind. */
+  #trees(snap) {
     const seen = new Set();
     for (const t of snap.trees) {
       seen.add(t.id);
       let entry = this.trees.get(t.id);
       if (!entry || entry.model !== t.model) {
         if (entry) this.root.remove(entry.object);
-        entry = { object: this.models.instance(t.model), model: t.model };
+        entry = { object: this.view.models.instance(t.model), model: t.model };
         entry.object.name = `tree:${t.id}`;
         this.root.add(entry.object);
         this.trees.set(t.id, entry);
@@ -106,28 +63,14 @@ export class WorldView {
         this.trees.delete(id);
       }
     }
-    setWind(snap.wind);
-    this.light.update(snap.light);
-    updateSky(snap.light, this.cube, this.root);
-    // The sun's view covers the ground and the trees, cut to 80 m around the head (as
-    // src/render/lighting.rs's shadow_bounds cuts it).
+  }
+
+  /** The trees' box in the simulation's frame (empty when none is shown). */
+  box() {
     const box = new THREE.Box3();
+    if (!this.root.visible) return box;
     for (const { object } of this.trees.values()) box.union(new THREE.Box3().setFromObject(object));
-    this.root.updateWorldMatrix(true, false);
-    box.applyMatrix4(this.root.matrixWorld.clone().invert()).union(this.groundBox);
-    if (snap.head) {
-      const h = new THREE.Vector3().fromArray(snap.head.position);
-      box.intersect(new THREE.Box3(h.clone().subScalar(80).setY(-1000), h.clone().addScalar(80).setY(1000)));
-    }
-    const texelsPerMetre = this.light.fitShadow(box);
-    const eye = snap.head ? new THREE.Vector3().fromArray(snap.head.position) : null;
-    for (const { object } of this.trees.values()) {
-      const area = (object.userData.leafArea ?? 0) * object.scale.x * object.scale.x;
-      const keep = eye ? keepFraction(area, eye.distanceTo(object.position), this.detail.pixelsPerRadian, this.detail.leafPixels) : 1;
-      object.userData.wind?.setKeep(keep, Math.min(keep, keepFraction(area, 1, texelsPerMetre, SHADOW_LEAF_TEXELS)));
-    }
-    let top = this.root;
-    while (top.parent) top = top.parent;
-    if (top.isScene) this.light.apply(top, this.root);
+    this.view.simRoot.updateWorldMatrix(true, false);
+    return box.applyMatrix4(this.view.simRoot.matrixWorld.clone().invert());
   }
 }
