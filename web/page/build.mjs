@@ -22,10 +22,10 @@ const root = resolve(web, '..');
 const args = process.argv.slice(2);
 const out = args.includes('--out') ? resolve(args[args.indexOf('--out') + 1]) : join(web, 'dist');
 
-/** The controller profiles the page ships: the devices docs/headset.md names, and their fallbacks. */
 /** The files of assets/env the page draws: the sky's six faces and the ground. */
 export const ENV_FILES = ['px.png', 'nx.png', 'py.png', 'ny.png', 'pz.png', 'nz.png', 'ground.png'];
 
+/** The controller profiles the page ships: the devices docs/headset.md names, and their fallbacks. */
 export const PROFILES = ['meta-quest-touch-plus', 'meta-quest-touch-plus-v2', 'oculus-touch-v3', 'magicleap-one'];
 
 const wasm = join(resolve(root, process.env.CARGO_TARGET_DIR ?? 'target'), 'wasm', 'grove_sim.wasm');

@@ -58,6 +58,7 @@ function glsl(points, tree) {
   uniform(gl, p, 'treeBend', { isVector2: true, x: tree.wind?.bend[0] ?? 0, y: tree.wind?.bend[1] ?? 0 });
   uniform(gl, p, 'treeGain', tree.wind?.gain ?? 0);
   uniform(gl, p, 'treePhase', tree.wind?.phase ?? 0);
+  uniform(gl, p, 'treeKeep', 1); // every leaf drawn at its size (leaves.mjs): the wind alone moves them
   const attribute = (name, size, data) => {
     const b = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, b);
