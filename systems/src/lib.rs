@@ -28,6 +28,7 @@ pub mod holes;
 pub mod input;
 pub mod interact;
 pub mod known_techniques;
+pub mod light;
 pub mod limits;
 pub mod lookup;
 mod message_error;

@@ -1,32 +1,26 @@
 // The room's light in AR: where the session grants `light-estimation` (xr.mjs asks for it,
 // optional; Android's Chrome offers it), three.js's XREstimatedLight lights the scene from the
 // browser's XRLightProbe (its spherical harmonics as a light probe, its main light as a
-// directional light, its reflection cube map as the scene's environment); until the first
-// estimate, and where there is none, a neutral environment: three.js's RoomEnvironment as a light
-// probe (LightProbeGenerator's spherical harmonics; diffuse only: a prefiltered environment map
-// halved the frame rate of software WebGL, and leaves are rough). A feature of the view
-// (view/features.mjs); it owns `scene.environment` while an estimate lights AR and gives it back
-// after. VR and the preview are left as they are.
+// directional light, its reflection cube map as the scene's environment), in place of the world's
+// neutral AR environment (draw/light.mjs: its light probe is hidden and `scene.environment` is the
+// estimate's while an estimate lights AR, and both are given back after; the sun stays, casting
+// the shadows). Until the first estimate, and where there is none, the neutral environment of
+// draw/light.mjs lights AR. A feature of the view (view/features.mjs), updated after `light`.
+// VR and the preview are left as they are.
 
-import * as THREE from 'three';
-import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
-import { LightProbeGenerator } from 'three/addons/lights/LightProbeGenerator.js';
 import { XREstimatedLight } from 'three/addons/webxr/XREstimatedLight.js';
 
 /** Whether an XR session shows the real world (AR). */
 const isAr = (session) => Boolean(session) && ['alpha-blend', 'additive'].includes(session.environmentBlendMode);
 
 export class XrLight {
-  /** `renderer`: the view's; `scene`: the session's space (its environment). */
-  constructor(renderer, scene) {
-    this.renderer = renderer;
-    this.scene = scene;
-    this.neutral = null; // the neutral room's light probe, once made (#makeNeutral)
-    this.making = false;
+  /** `view`: the view (its renderer, the session's space `scene`, and its `light` feature). */
+  constructor(view) {
+    this.view = view;
+    this.renderer = view.renderer;
+    this.scene = view.scene;
     this.estimated = null; // XREstimatedLight while a session with light estimation runs
     this.estimating = false; // whether an estimate has come
-    this.owned = null; // the environment this module put on the scene
-    this.before = null; // the scene's environment before that
     /** Where AR's light comes from now: 'estimate', 'neutral', or null (not in AR). */
     this.source = null;
   }
@@ -57,13 +51,10 @@ export class XrLight {
     const xr = this.renderer.xr;
     const ar = xr.isPresenting && isAr(xr.getSession());
     this.source = !ar ? null : this.estimating ? 'estimate' : 'neutral';
-    if (this.source === 'neutral' && !this.neutral && !this.making) this.#makeNeutral();
-    if (this.neutral) this.neutral.visible = this.source === 'neutral';
-    const env = this.source === 'estimate' ? this.estimated.environment : null;
-    if (env === this.owned) return;
-    if (this.owned === null) this.before = this.scene.environment; // taken now
-    this.scene.environment = env ?? this.before; // given back when the estimate ends
-    this.owned = env;
+    const world = this.view.features.light;
+    // The world's light (updated just before) set its own environment and probe this frame.
+    if (world) world.probe.visible = this.source !== 'estimate';
+    if (this.source === 'estimate' && this.estimated.environment) this.scene.environment = this.estimated.environment;
   }
 
   /** What lights AR now: null outside AR, else { source, main } (main: the estimate's light, { direction, intensity, color }, or null). */
@@ -72,20 +63,5 @@ export class XrLight {
     const d = this.estimated?.directionalLight;
     const main = this.source === 'estimate' && d ? { direction: d.position.toArray(), intensity: d.intensity, color: d.color.toArray() } : null;
     return { source: this.source, main };
-  }
-
-  /** The neutral room's light: RoomEnvironment drawn once into a small cube, as a light probe. */
-  async #makeNeutral() {
-    this.making = true;
-    const target = new THREE.WebGLCubeRenderTarget(16);
-    const room = new RoomEnvironment();
-    new THREE.CubeCamera(0.1, 100, target).update(this.renderer, room);
-    const probe = await LightProbeGenerator.fromCubeRenderTarget(this.renderer, target);
-    target.dispose();
-    room.dispose();
-    probe.name = 'neutral light';
-    probe.visible = false;
-    this.scene.add(probe);
-    this.neutral = probe;
   }
 }
