@@ -18,7 +18,7 @@ pub(super) struct Source {
     splitter: LineSplitter,
     ready: VecDeque<String>,
     eof: bool,
-    name: String,
+    pub(super) name: String,
 }
 
 impl Source {
