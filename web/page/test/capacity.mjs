@@ -136,7 +136,7 @@ async function main() {
   const json = {
     command:
       'bash web/build.sh (the module, if missing); npm ci (web/); node web/page/test/capacity.mjs --json docs/benchmarks/capacity.json',
-    machine: 'any: counts of what is drawn, not timings (headless Chromium, SwiftShader)',
+    machine: 'any machine (counts of what is drawn, not timings; headless Chromium, SwiftShader)',
     date: new Date().toISOString().slice(0, 10),
     note: `counts, not timings: three.js renderer.info.render of one frame drawn by the page's view (web/page/still.mjs) in headless Chromium, 1 and ${N} trees of each model where the stage's one stands; per tree = the slope, fixed = sky, ground and the shadow map's set-up; a single-view frame = one eye; *_low: the page's quality=low (no shadow map); trees_in_budget: Meta's WebXR guidance for Quest, ${BUDGET.calls} draw calls and ${BUDGET.triangles} triangles per eye (docs/headset.md, What a headset holds); no instancing, no impostors`,
     headset_capacity: rows,
