@@ -7,7 +7,8 @@
 //
 // window.still.render({ model, width, height, tick, background }) resolves to { pixels (RGBA,
 // straight alpha, top row first, base64), width, height, camera, light, wind, trees }; tests
-// bundle their own entries around `setUp` and `stage` (web/page/test/wind-probe.mjs).
+// bundle their own entries around `setUp`, `stage` and `show` (web/page/test/wind-probe.mjs,
+// capacity-probe.mjs).
 
 import * as THREE from 'three';
 import { loadGrove } from '../sim/grove-sim.mjs';
@@ -52,7 +53,9 @@ export async function stage(model, { aspect, tick = null, antialias = true }) {
   const models = new Models('/model/', { antialias });
   await models.load(['model'], { model });
   const box = models.bounds('model');
-  const sim = grove.createSim({ stage: { min: box.min.toArray(), max: box.max.toArray(), aspect, wind: tick !== null } });
+  const sim = grove.createSim({
+    stage: { min: box.min.toArray(), max: box.max.toArray(), aspect, wind: tick !== null },
+  });
   for (let i = 0; i < (tick ?? 0); i++) sim.step();
   return { models, sim };
 }
@@ -63,7 +66,8 @@ function readPixels(width, height) {
   const px = new Uint8Array(width * height * 4);
   gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, px);
   const out = new Uint8Array(px.length);
-  for (let y = 0; y < height; y++) out.set(px.subarray((height - 1 - y) * width * 4, (height - y) * width * 4), y * width * 4);
+  for (let y = 0; y < height; y++)
+    out.set(px.subarray((height - 1 - y) * width * 4, (height - y) * width * 4), y * width * 4);
   return out;
 }
 
@@ -97,24 +101,47 @@ function base64(bytes) {
 }
 
 /**
+ * The view brought to `snap` (the stage's snapshot, or one a test makes of it) with `models` and
+ * the stage's `ground`, its camera framed for `width` × `height`: { scene, camera } to draw.
+ */
+export function show({ models, snap, ground, width, height, background = 'sky' }) {
+  renderer.setSize(width, height, false);
+  // The frame's state as the flow hands it to the view (view/features.mjs): a world and its
+  // snapshot, nothing of a run's interaction.
+  const state = {
+    state: 'task',
+    world: { ar: false, ground, snapshot: snap },
+    snap,
+    live: null,
+    xr: null,
+    ray: null,
+    eye: null,
+    hud: null,
+    panel: false,
+  };
+  Object.assign(view, {
+    models,
+    background: background !== 'transparent',
+    pixelsPerRadian: height / 2 / Math.tan(snap.fov_y / 2),
+  });
+  view.update(state);
+  view.placeCamera(snap);
+  const { camera, scene } = view;
+  Object.assign(camera, { aspect: width / height, near: 0.05, far: 600 });
+  camera.updateProjectionMatrix();
+  return { scene, camera };
+}
+
+/**
  * Draws `model` (a URL of a glTF file) on its stage at `width` × `height`, after `tick` ticks of
  * the study's wind (null: calm, tick 0), over the stage's sky and ground or (background
  * 'transparent') alone.
  */
 async function render({ model, width, height, tick = null, background = 'sky', antialias = true }) {
   const { models, sim } = await stage(model, { aspect: width / height, tick, antialias });
-  renderer.setSize(width, height, false);
   try {
     const snap = sim.snapshot();
-    // The frame's state as the flow hands it to the view (view/features.mjs): a world and its
-    // snapshot, nothing of a run's interaction.
-    const state = { state: 'task', world: { ar: false, ground: sim.ground(), snapshot: snap }, snap, live: null, xr: null, ray: null, eye: null, hud: null, panel: false };
-    Object.assign(view, { models, background: background !== 'transparent', pixelsPerRadian: height / 2 / Math.tan(snap.fov_y / 2) });
-    view.update(state);
-    view.placeCamera(snap);
-    const { camera, scene } = view;
-    Object.assign(camera, { aspect: width / height, near: 0.05, far: 600 });
-    camera.updateProjectionMatrix();
+    const { camera, scene } = show({ models, snap, ground: sim.ground(), width, height, background });
     let pixels;
     if (background === 'transparent') pixels = drawAlone(scene, camera, width, height);
     else {
@@ -123,7 +150,18 @@ async function render({ model, width, height, tick = null, background = 'sky', a
       pixels = readPixels(width, height);
     }
     const info = { calls: renderer.info.render.calls, triangles: renderer.info.render.triangles };
-    return { pixels: base64(pixels), width, height, tick: snap.tick, camera: snap.head, fov_y: snap.fov_y, light: snap.light, wind: snap.wind, trees: snap.trees, info };
+    return {
+      pixels: base64(pixels),
+      width,
+      height,
+      tick: snap.tick,
+      camera: snap.head,
+      fov_y: snap.fov_y,
+      light: snap.light,
+      wind: snap.wind,
+      trees: snap.trees,
+      info,
+    };
   } finally {
     sim.free();
   }
