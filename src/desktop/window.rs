@@ -25,7 +25,7 @@ use std::time::Instant;
 use winit::application::ApplicationHandler;
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
-use winit::window::{Window, WindowId};
+use winit::window::WindowId;
 
 use super::budget::{Budget, Quality};
 use super::input_map::PadInput;

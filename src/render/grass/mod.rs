@@ -40,7 +40,7 @@ mod extract;
 pub(crate) mod tiles;
 mod setup;
 
-use crate::render::error::{PipelineError, RenderError};
+use crate::render::error::RenderError;
 use wgpu::util::DeviceExt;
 
 use self::extract::{GrassKey, Patches};
