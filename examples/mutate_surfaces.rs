@@ -14,16 +14,16 @@
 //! table of outcomes per surface and exits 1 if anything failed.
 
 use std::collections::BTreeMap;
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use grove::aerial::{crowns, raster::RgbImage};
-use grove::bank::import::{add, AddRequest};
+use grove::bank::import::{AddRequest, add};
 use grove::lsystem::{derive, grammar::Grammar, mesh, presets::PRESETS, turtle};
-use grove_systems::scene::Scene;
 use grove_systems::Sim;
+use grove_systems::scene::Scene;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -43,7 +43,26 @@ const HANG: Duration = Duration::from_secs(2);
 const WATCHDOG: Duration = Duration::from_secs(60);
 
 /// Numbers a hostile file would hold.
-const HOSTILE: [&str; 18] = ["0", "-1", "1e-30", "1e30", "1e39", "-1e39", "NaN", "inf", "5e19", "2000", "4294967296", "18446744073709551615", "0.000001", "-0.0", "1e308", "65536", "3", "1e-9"];
+const HOSTILE: [&str; 18] = [
+    "0",
+    "-1",
+    "1e-30",
+    "1e30",
+    "1e39",
+    "-1e39",
+    "NaN",
+    "inf",
+    "5e19",
+    "2000",
+    "4294967296",
+    "18446744073709551615",
+    "0.000001",
+    "-0.0",
+    "1e308",
+    "65536",
+    "3",
+    "1e-9",
+];
 
 /// What happened to one mutant, and the failures of the run.
 #[derive(Default)]
@@ -62,7 +81,13 @@ impl Tally {
 type Current = Arc<Mutex<Option<(String, Instant)>>>;
 
 /// Runs one mutant: `Ok(outcome)` or `Err(failure)` from `f`, a panic, or a hang all counted.
-fn run_one(tally: &mut Tally, current: &Current, surface: &str, label: String, f: impl FnOnce() -> Result<&'static str, String>) {
+fn run_one(
+    tally: &mut Tally,
+    current: &Current,
+    surface: &str,
+    label: String,
+    f: impl FnOnce() -> Result<&'static str, String>,
+) {
     *current.lock().unwrap() = Some((label.clone(), Instant::now()));
     let start = Instant::now();
     let r = catch_unwind(AssertUnwindSafe(f));
@@ -138,7 +163,11 @@ fn number_spans(text: &str) -> Vec<(usize, usize)> {
         if b[i].is_ascii_digit() && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_')) {
             let start = if i > 0 && b[i - 1] == b'-' { i - 1 } else { i };
             let mut j = i;
-            while j < b.len() && (b[j].is_ascii_digit() || matches!(b[j], b'.' | b'e' | b'E') || (matches!(b[j], b'-' | b'+') && matches!(b[j - 1], b'e' | b'E'))) {
+            while j < b.len()
+                && (b[j].is_ascii_digit()
+                    || matches!(b[j], b'.' | b'e' | b'E')
+                    || (matches!(b[j], b'-' | b'+') && matches!(b[j - 1], b'e' | b'E')))
+            {
                 j += 1;
             }
             out.push((start, j));
@@ -218,7 +247,12 @@ fn grammars(dir: &Path, n: usize, rng: &mut Rng, tally: &mut Tally, current: &Cu
             }
             match mesh::write(&out, "m", &g, &model) {
                 Ok(_) => Ok("written"),
-                Err(_) if listing(&out).is_empty() && listing(dir).iter().all(|(p, _)| !p.to_string_lossy().contains(".m-model")) => Ok("refused when written"),
+                Err(_)
+                    if listing(&out).is_empty()
+                        && listing(dir).iter().all(|(p, _)| !p.to_string_lossy().contains(".m-model")) =>
+                {
+                    Ok("refused when written")
+                }
                 Err(e) => Err(format!("a failed write left files: {e:#}")),
             }
         });
@@ -280,7 +314,16 @@ fn images_and_crowns(dir: &Path, n: usize, rng: &mut Rng, tally: &mut Tally, cur
     }
     let mut csv = String::from("id,x_px,y_px,area_px,radius_px,x_m,y_m,area_m2,radius_m\n");
     for i in 0..20u32 {
-        csv.push_str(&format!("{},{}.5,{}.5,{},3.1,{}.05,{}.05,{},0.31\n", i + 1, 10 + i * 7, 12 + i * 5, 30 + i, 1 + i, 2 + i, 0.3 + i as f32 * 0.01));
+        csv.push_str(&format!(
+            "{},{}.5,{}.5,{},3.1,{}.05,{}.05,{},0.31\n",
+            i + 1,
+            10 + i * 7,
+            12 + i * 5,
+            30 + i,
+            1 + i,
+            2 + i,
+            0.3 + i as f32 * 0.01
+        ));
     }
     for k in 0..n {
         let (text, how) = mutate_text(&csv, rng);
@@ -347,7 +390,17 @@ fn model_folder(dir: &Path) -> (PathBuf, String) {
 }
 
 /// URIs a hostile model names.
-const URIS: [&str; 9] = ["../secret.bin", "/etc/passwd", "/dev/zero", "link.bin", "linkdir/leaf.png", "pipe.bin", "missing.bin", "tex/../../secret.bin", "data:application/octet-stream;base64,AAAA"];
+const URIS: [&str; 9] = [
+    "../secret.bin",
+    "/etc/passwd",
+    "/dev/zero",
+    "link.bin",
+    "linkdir/leaf.png",
+    "pipe.bin",
+    "missing.bin",
+    "tex/../../secret.bin",
+    "data:application/octet-stream;base64,AAAA",
+];
 
 fn gltf_folders(dir: &Path, n: usize, rng: &mut Rng, tally: &mut Tally, current: &Current) {
     let (model, json) = model_folder(dir);
@@ -366,7 +419,14 @@ fn gltf_folders(dir: &Path, n: usize, rng: &mut Rng, tally: &mut Tally, current:
         std::fs::write(&file, &text).unwrap();
         let before = listing(&bank);
         run_one(tally, current, "glTF folders", format!("#{k} ({how})"), || {
-            let req = AddRequest { file: file.clone(), bank: bank.clone(), name: Some(format!("m{k}")), species: None, kind: None, far: None };
+            let req = AddRequest {
+                file: file.clone(),
+                bank: bank.clone(),
+                name: Some(format!("m{k}")),
+                species: None,
+                kind: None,
+                far: None,
+            };
             match add(&req) {
                 Ok(_) => Ok("added"),
                 Err(e) if format!("{e:#}").contains('\n') => Err(format!("a two-line error: {e:#}")),
@@ -406,13 +466,15 @@ fn main() {
     std::panic::set_hook(Box::new(|_| {}));
     let current: Current = Arc::new(Mutex::new(None));
     let watch = current.clone();
-    std::thread::spawn(move || loop {
-        std::thread::sleep(Duration::from_secs(1));
-        if let Some((label, start)) = watch.lock().unwrap().clone()
-            && start.elapsed() > WATCHDOG
-        {
-            eprintln!("mutant {label} has run for more than {WATCHDOG:?}: aborting the run");
-            std::process::abort();
+    std::thread::spawn(move || {
+        loop {
+            std::thread::sleep(Duration::from_secs(1));
+            if let Some((label, start)) = watch.lock().unwrap().clone()
+                && start.elapsed() > WATCHDOG
+            {
+                eprintln!("mutant {label} has run for more than {WATCHDOG:?}: aborting the run");
+                std::process::abort();
+            }
         }
     });
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
@@ -441,7 +503,12 @@ fn main() {
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
     // SAFETY: `usage` is valid for writes.
     unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut usage) };
-    println!("{} mutants per surface, seed {seed}, {:.1} s, peak memory {} MB", n, start.elapsed().as_secs_f64(), usage.ru_maxrss / 1024);
+    println!(
+        "{} mutants per surface, seed {seed}, {:.1} s, peak memory {} MB",
+        n,
+        start.elapsed().as_secs_f64(),
+        usage.ru_maxrss / 1024
+    );
     if !tally.failures.is_empty() {
         for f in tally.failures.iter().take(40) {
             println!("FAILED: {f}");

@@ -5,7 +5,6 @@
 
 use std::path::{Path, PathBuf};
 
-
 /// The temporary name beside `path`: hidden, unique to this process and file, and keeping the
 /// extension so that writers which choose the format by extension (PNG, CSV) still do.
 pub fn temp_path(path: &Path) -> PathBuf {

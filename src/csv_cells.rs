@@ -25,7 +25,11 @@ fn is_number(text: &str) -> bool {
     };
     let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
     let mantissa_ok = match mantissa.split_once('.') {
-        Some((whole, frac)) => (digits(whole) || whole.is_empty()) && (digits(frac) || frac.is_empty()) && !(whole.is_empty() && frac.is_empty()),
+        Some((whole, frac)) => {
+            (digits(whole) || whole.is_empty())
+                && (digits(frac) || frac.is_empty())
+                && !(whole.is_empty() && frac.is_empty())
+        }
         None => digits(mantissa),
     };
     let exponent_ok = exponent.is_none_or(|e| digits(e.strip_prefix(['+', '-']).unwrap_or(e)));
@@ -127,7 +131,8 @@ mod tests {
             species: String,
             x_m: f64,
         }
-        let text = |w: Writer<Vec<u8>>| String::from_utf8(w.inner.into_inner().map_err(|e| e.into_error()).unwrap()).unwrap();
+        let text =
+            |w: Writer<Vec<u8>>| String::from_utf8(w.inner.into_inner().map_err(|e| e.into_error()).unwrap()).unwrap();
         let mut w = Writer::from_writer(Vec::new());
         w.write_record(["P01", "=HYPERLINK(\"x\")", "-1.5"]).unwrap();
         w.flush().unwrap();

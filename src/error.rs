@@ -4,22 +4,22 @@
 //! any of them as one line on stderr.
 
 use crate::aerial::AerialError;
+use crate::atomic_write::WriteError;
 use crate::bank::BankError;
 use crate::bench::BenchError;
 use crate::html::HtmlError;
-use crate::lsystem::expr::ExprError;
 use crate::lsystem::LsystemError;
-use crate::render::trees::impostor::cache::AtlasError;
-use crate::render::overlay::controller::ControllerError;
+use crate::lsystem::expr::ExprError;
 use crate::models::GltfError;
+use crate::render::overlay::controller::ControllerError;
+use crate::render::trees::impostor::cache::AtlasError;
 use crate::render::{ClipmapError, PipelineError, RenderError};
 use crate::serve::ServeError;
 use crate::species::SpeciesError;
 use crate::study::{ShardError, StudyError, SynthError};
-use crate::atomic_write::WriteError;
+use crate::video::MarkError;
 use crate::video::encode::VideoError;
 use crate::video::ghosts::GhostError;
-use crate::video::MarkError;
 
 /// Any error of the `grove` library, or of grove-systems beneath it.
 #[derive(Debug, thiserror::Error)]

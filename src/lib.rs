@@ -14,12 +14,12 @@ pub mod csv_cells;
 pub mod cubemap;
 pub mod error;
 pub mod html;
-pub mod render;
-pub mod serve;
-pub mod species;
 pub mod lsystem;
 pub mod models;
 pub mod protocol;
+pub mod render;
+pub mod serve;
+pub mod species;
 pub mod study;
 pub mod video;
 

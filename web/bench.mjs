@@ -38,7 +38,9 @@ function parseArgs(argv) {
       args.out = v;
       i++;
     } else {
-      throw new Error(`unknown or incomplete argument ${a}; usage: node web/bench.mjs [--native BIN] [--pairs N] [--note TEXT] [--out FILE]`);
+      throw new Error(
+        `unknown or incomplete argument ${a}; usage: node web/bench.mjs [--native BIN] [--pairs N] [--note TEXT] [--out FILE]`,
+      );
     }
   }
   return args;
@@ -57,7 +59,10 @@ function lookRotation([dx, dy, dz]) {
 }
 
 const HAND = [0.25, 1.3, 5.7];
-const aim = (target) => ({ kind: 'controller_pose', pose: { position: HAND, rotation: lookRotation(target.map((c, i) => c - HAND[i])) } });
+const aim = (target) => ({
+  kind: 'controller_pose',
+  pose: { position: HAND, rotation: lookRotation(target.map((c, i) => c - HAND[i])) },
+});
 
 /**
  * A 5-minute session recorded by the module: the controller sweeps over the ground at 30 Hz and
@@ -110,7 +115,14 @@ async function moduleReplay(bytes, warmRuns) {
     throw new Error(`the 5-minute session did not verify in the module: ${report.status}`);
   }
   const warm = median(runs.slice(1));
-  return { sim_seconds: report.sim_seconds, first_run_ms: round(runs[0] * 1e3, 2), first_run_speedup: Math.round(report.sim_seconds / runs[0]), wall_ms_median: round(warm * 1e3, 2), speedup_median: Math.round(report.sim_seconds / warm), verified: true };
+  return {
+    sim_seconds: report.sim_seconds,
+    first_run_ms: round(runs[0] * 1e3, 2),
+    first_run_speedup: Math.round(report.sim_seconds / runs[0]),
+    wall_ms_median: round(warm * 1e3, 2),
+    speedup_median: Math.round(report.sim_seconds / warm),
+    verified: true,
+  };
 }
 
 function nativeReplay(bin, file) {
@@ -131,7 +143,13 @@ function tickFigure(grove) {
     sim.push({ tick: t, event: { kind: 'choose_model', model: target.model } });
     const [x, y, z] = target.position;
     const from = [x, y + 2.5, z + 2];
-    sim.push({ tick: t + 1, event: { kind: 'controller_pose', pose: { position: from, rotation: lookRotation([x - from[0], y - from[1], z - from[2]]) } } });
+    sim.push({
+      tick: t + 1,
+      event: {
+        kind: 'controller_pose',
+        pose: { position: from, rotation: lookRotation([x - from[0], y - from[1], z - from[2]]) },
+      },
+    });
     sim.push({ tick: t + 5, event: { kind: 'button_down', button: 'trigger' } });
     sim.push({ tick: t + 8, event: { kind: 'button_up', button: 'trigger' } });
     t += 30;
@@ -159,7 +177,14 @@ function tickFigure(grove) {
   }
   sim.free();
   // The first 10 batches warm the engine up.
-  return { trees, ms_per_tick_median: round(median(batches.slice(10)), 4), goal_ms: 0.2, snapshot_ms_median: round(median(snapshots.slice(10)), 4), ray_hits_tree_share: round(kinds.filter((k) => k === 'tree').length / kinds.length, 2), ray_hits_ground_share: round(kinds.filter((k) => k === 'plane').length / kinds.length, 2) };
+  return {
+    trees,
+    ms_per_tick_median: round(median(batches.slice(10)), 4),
+    goal_ms: 0.2,
+    snapshot_ms_median: round(median(snapshots.slice(10)), 4),
+    ray_hits_tree_share: round(kinds.filter((k) => k === 'tree').length / kinds.length, 2),
+    ray_hits_ground_share: round(kinds.filter((k) => k === 'plane').length / kinds.length, 2),
+  };
 }
 
 async function main() {
@@ -172,7 +197,11 @@ async function main() {
     build: `release, wasm32-unknown-unknown, Node ${process.versions.node}`,
     threads: 1,
     ...(args.note ? { note: args.note } : {}),
-    wasm_module: { bytes: bytes.length, gzipped_bytes: gzipSync(bytes, { level: 9 }).length, goal_gzipped_bytes: 1.5e6 },
+    wasm_module: {
+      bytes: bytes.length,
+      gzipped_bytes: gzipSync(bytes, { level: 9 }).length,
+      goal_gzipped_bytes: 1.5e6,
+    },
   };
   const grove = await loadGrove(bytes);
   const session = fiveMinuteSession(grove);
@@ -188,7 +217,11 @@ async function main() {
       }
     }
     if (args.native) {
-      replay.ratios = { module_over_native_wall: Array.from({ length: args.pairs }, (_, i) => round(replay[`module_${i + 1}`].wall_ms_median / replay[`native_${i + 1}`].wall_ms_median, 2)) };
+      replay.ratios = {
+        module_over_native_wall: Array.from({ length: args.pairs }, (_, i) =>
+          round(replay[`module_${i + 1}`].wall_ms_median / replay[`native_${i + 1}`].wall_ms_median, 2),
+        ),
+      };
     }
     result.wasm_replay = replay;
   } finally {

@@ -158,7 +158,10 @@ pub fn label_crowns(mask: &[u8], width: u32, height: u32, gsd: f64) -> Vec<Crown
 /// Checks that every crown's numbers are finite: a table grove writes is one grove can read
 /// back, so no non-finite number is ever written.
 pub fn check_finite(crowns: &[Crown]) -> Result<(), AerialError> {
-    match crowns.iter().find(|c| ![c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m].iter().all(|v| v.is_finite())) {
+    match crowns
+        .iter()
+        .find(|c| ![c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m].iter().all(|v| v.is_finite()))
+    {
         Some(c) => Err(AerialError::CrownNotFinite(c.id)),
         None => Ok(()),
     }
@@ -183,7 +186,8 @@ pub fn read_csv(path: &Path) -> Result<Vec<Crown>, AerialError> {
     let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(std::io::Read::take(file, Kind::Table.limit())));
     let mut out = Vec::new();
     for (i, row) in rdr.deserialize::<Crown>().enumerate() {
-        let c = row.map_err(|e| AerialError::Row { row: i + 2, message: e.to_string().replace('\n', " ") }.named(&name))?;
+        let c =
+            row.map_err(|e| AerialError::Row { row: i + 2, message: e.to_string().replace('\n', " ") }.named(&name))?;
         let nums = [c.x_px, c.y_px, c.radius_px, c.x_m, c.y_m, c.area_m2, c.radius_m];
         if nums.iter().any(|v| !v.is_finite() || *v < 0.0) {
             return Err(AerialError::BadRow(i + 2).named(&name));

@@ -190,7 +190,10 @@ pub enum AerialError {
     #[error("{0}")]
     Scene(grove_systems::limits::InvalidScene),
     /// The generated scene's text is over the scene size limit.
-    #[error("the scene of {trees} trees would be {bytes} bytes, over the limit of {} bytes every command applies to a scene; leave out small crowns with --min-radius", grove_systems::limits::MAX_SCENE_BYTES)]
+    #[error(
+        "the scene of {trees} trees would be {bytes} bytes, over the limit of {} bytes every command applies to a scene; leave out small crowns with --min-radius",
+        grove_systems::limits::MAX_SCENE_BYTES
+    )]
     SceneTooBig {
         /// Trees in the scene.
         trees: usize,
@@ -271,7 +274,9 @@ pub enum AerialError {
         ny: u32,
     },
     /// A tile of the wrong size or colour type.
-    #[error("is {width} x {height} {colour:?}, expected {expected_width} x {expected_height} {expected_colour:?}; the tile does not belong to this pyramid")]
+    #[error(
+        "is {width} x {height} {colour:?}, expected {expected_width} x {expected_height} {expected_colour:?}; the tile does not belong to this pyramid"
+    )]
     ForeignTile {
         /// Its width.
         width: u32,

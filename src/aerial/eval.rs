@@ -13,8 +13,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::crowns::Crown;
 use super::AerialError;
+use super::crowns::Crown;
 use super::synth::{DistractorRow, TruthRow};
 
 /// Counts and rates of a detection.
@@ -82,7 +82,9 @@ fn read_rows<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>, Aeri
     let mut rdr = csv::Reader::from_reader(std::io::BufReader::new(std::io::Read::take(file, kind.limit())));
     rdr.deserialize::<T>()
         .enumerate()
-        .map(|(i, r)| r.map_err(|e| AerialError::Row { row: i + 2, message: e.to_string().replace('\n', " ") }.named(&name)))
+        .map(|(i, r)| {
+            r.map_err(|e| AerialError::Row { row: i + 2, message: e.to_string().replace('\n', " ") }.named(&name))
+        })
         .collect()
 }
 
@@ -177,7 +179,12 @@ pub fn evaluate(mask: &[u8], crowns: &[Crown], truth: &Truth, width: u32, height
     let matched = match_centres(&detections, &deciduous);
     let conifer_crowns = detections
         .iter()
-        .filter(|c| truth.trees.iter().any(|t| t.kind != "deciduous" && (c.x_px - t.x_px).powi(2) + (c.y_px - t.y_px).powi(2) <= t.radius_px * t.radius_px))
+        .filter(|c| {
+            truth.trees.iter().any(|t| {
+                t.kind != "deciduous"
+                    && (c.x_px - t.x_px).powi(2) + (c.y_px - t.y_px).powi(2) <= t.radius_px * t.radius_px
+            })
+        })
         .count();
     Quality {
         mask: Scores::new(tp, fp, fn_),

@@ -3,8 +3,8 @@
 //! off towards the top, packed one bit per layer into a byte per texel (bit i: layer i, counted
 //! from the crown base, is treetop there). Computed in memory from a [`Segmenter`].
 
-use super::mask::{MaskParams, Segmenter, MAX_K};
 use super::AerialError;
+use super::mask::{MAX_K, MaskParams, Segmenter};
 
 /// The most layers a byte holds.
 pub const MAX_LAYERS: u32 = 8;
@@ -72,13 +72,25 @@ mod tests {
         // 81 − 4 × 8 = 49.
         let n = 21u32;
         let grey = [120u8, 120, 120];
-        let summer: Vec<[u8; 3]> = (0..n * n).map(|i| if (6..15).contains(&(i % n)) && (6..15).contains(&(i / n)) { [40, 160, 40] } else { grey }).collect();
+        let summer: Vec<[u8; 3]> = (0..n * n)
+            .map(|i| if (6..15).contains(&(i % n)) && (6..15).contains(&(i / n)) { [40, 160, 40] } else { grey })
+            .collect();
         let winter = vec![grey; (n * n) as usize];
-        let seg = Segmenter::new(&RgbImage::from_texels(n, n, &summer).unwrap(), &RgbImage::from_texels(n, n, &winter).unwrap(), false).unwrap();
+        let seg = Segmenter::new(
+            &RgbImage::from_texels(n, n, &summer).unwrap(),
+            &RgbImage::from_texels(n, n, &winter).unwrap(),
+            false,
+        )
+        .unwrap();
         let packed = layer_masks(&seg, &[1, 5, 9], 0.5, 0.5);
         let count = |bit: u8| packed.iter().filter(|&&b| b & (1 << bit) != 0).count();
         assert_eq!((count(0), count(1), count(2)), (81, 69, 49));
         // No texel outside the square is set.
-        assert!(packed.iter().enumerate().all(|(i, &b)| b == 0 || ((6..15).contains(&(i as u32 % n)) && (6..15).contains(&(i as u32 / n)))));
+        assert!(
+            packed
+                .iter()
+                .enumerate()
+                .all(|(i, &b)| b == 0 || ((6..15).contains(&(i as u32 % n)) && (6..15).contains(&(i as u32 / n))))
+        );
     }
 }

@@ -16,9 +16,9 @@
 
 use rayon::prelude::*;
 
+use super::AerialError;
 use super::equalize::{IDENTITY, Luts, equalize_luts};
 use super::raster::RgbImage;
-use super::AerialError;
 
 /// Rows per band of parallel work.
 pub const BAND: usize = 64;
@@ -95,14 +95,18 @@ impl Segmenter {
     /// images must be of the same size.
     pub fn new(summer: &RgbImage, winter: &RgbImage, equalize: bool) -> Result<Segmenter, AerialError> {
         if (summer.width, summer.height) != (winter.width, winter.height) {
-            return Err(AerialError::PairSize { summer: (summer.width, summer.height), winter: (winter.width, winter.height) });
+            return Err(AerialError::PairSize {
+                summer: (summer.width, summer.height),
+                winter: (winter.width, winter.height),
+            });
         }
         let (ls, lw) = if equalize {
             rayon::join(|| equalize_luts(summer), || equalize_luts(winter))
         } else {
             (IDENTITY, IDENTITY)
         };
-        let (summer_green, winter_not_green) = rayon::join(|| flags_where(summer, &ls, 0), || flags_where(winter, &lw, 1));
+        let (summer_green, winter_not_green) =
+            rayon::join(|| flags_where(summer, &ls, 0), || flags_where(winter, &lw, 1));
         Ok(Segmenter { width: summer.width, height: summer.height, summer_green, winter_not_green })
     }
 
@@ -216,7 +220,12 @@ fn prefix(pre: &mut [u32], col: &[u16]) {
 }
 
 /// Convenience: the treetop mask of a pair in one call.
-pub fn treetop_mask(summer: &RgbImage, winter: &RgbImage, equalize: bool, p: &MaskParams) -> Result<Vec<u8>, AerialError> {
+pub fn treetop_mask(
+    summer: &RgbImage,
+    winter: &RgbImage,
+    equalize: bool,
+    p: &MaskParams,
+) -> Result<Vec<u8>, AerialError> {
     p.validate()?;
     Ok(Segmenter::new(summer, winter, equalize)?.mask(p))
 }

@@ -22,8 +22,8 @@
 //! times the ground sample distance (GSD, metres per pixel), from the image's top-left corner.
 
 pub mod crowns;
-mod error;
 pub mod equalize;
+mod error;
 pub mod eval;
 pub mod layers;
 pub mod mask;
@@ -33,7 +33,7 @@ pub mod synth;
 pub mod tiles;
 
 pub use crowns::{Crown, label_crowns};
-pub use error::AerialError;
 pub use equalize::{Luts, equalize_luts};
+pub use error::AerialError;
 pub use mask::{MaskParams, Segmenter};
 pub use raster::RgbImage;

@@ -54,7 +54,8 @@ impl RgbImage {
     /// an image over [`MAX_BYTES`] is an error of one line.
     pub fn load(path: &Path, what: &str) -> Result<RgbImage, AerialError> {
         let name = format!("{what} {}", path.display());
-        let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::Image).map_err(|error| AerialError::OpenImage { what: what.to_string(), error })?;
+        let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::Image)
+            .map_err(|error| AerialError::OpenImage { what: what.to_string(), error })?;
         // The format comes from the content alone: a PNG or TIFF signature, whatever the file is called.
         let mut head = [0u8; 8];
         let io = |e: std::io::Error| AerialError::Access(e).named(&name);
@@ -118,7 +119,10 @@ pub fn check_writable(paths: &[PathBuf], force: bool) -> Result<(), AerialError>
 
 /// Writes a file through a temporary file in the same folder, renamed into place when `body`
 /// succeeded; on failure the temporary file is removed and nothing at `path` changes.
-pub fn write_atomic(path: &Path, body: impl FnOnce(&mut BufWriter<File>) -> Result<(), AerialError>) -> Result<(), AerialError> {
+pub fn write_atomic(
+    path: &Path,
+    body: impl FnOnce(&mut BufWriter<File>) -> Result<(), AerialError>,
+) -> Result<(), AerialError> {
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let file_name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_else(|| "out".into());
     let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
@@ -140,7 +144,13 @@ pub fn write_atomic(path: &Path, body: impl FnOnce(&mut BufWriter<File>) -> Resu
 /// Writes an 8-bit PNG (`channels` 1 grey, 3 RGB) of `width × height` to `w`, row by row:
 /// `body` gets the pixel stream and must write exactly all rows, top first. The whole image is
 /// never held in memory.
-pub fn png_stream<W: Write>(w: W, width: u32, height: u32, channels: u8, body: impl FnOnce(&mut dyn Write) -> Result<(), AerialError>) -> Result<(), AerialError> {
+pub fn png_stream<W: Write>(
+    w: W,
+    width: u32,
+    height: u32,
+    channels: u8,
+    body: impl FnOnce(&mut dyn Write) -> Result<(), AerialError>,
+) -> Result<(), AerialError> {
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(if channels == 1 { png::ColorType::Grayscale } else { png::ColorType::Rgb });
     enc.set_depth(png::BitDepth::Eight);
@@ -157,6 +167,7 @@ pub fn png_stream<W: Write>(w: W, width: u32, height: u32, channels: u8, body: i
 /// Writes an 8-bit PNG (`channels` 1 or 3) atomically.
 pub fn write_png(path: &Path, width: u32, height: u32, channels: u8, data: &[u8]) -> Result<(), AerialError> {
     write_atomic(path, |w| {
-        png_stream(w, width, height, channels, |rows| rows.write_all(data).map_err(AerialError::Io)).map_err(|e| e.named(path.display()))
+        png_stream(w, width, height, channels, |rows| rows.write_all(data).map_err(AerialError::Io))
+            .map_err(|e| e.named(path.display()))
     })
 }

@@ -12,8 +12,8 @@ use glam::{Vec2, Vec3};
 use grove_systems::catalogue::{Catalogue, ModelKind};
 use grove_systems::scene::{CameraDef, PlaneDef, PlaneShape, Scene, SunDef, TreeDef, WindDef};
 
-use super::crowns::Crown;
 use super::AerialError;
+use super::crowns::Crown;
 
 /// The smallest and largest scale given to a tree.
 pub const SCALE_RANGE: (f32, f32) = (0.3, 3.0);
@@ -43,7 +43,9 @@ pub fn scene_from_crowns(crowns: &[Crown], opts: &SceneOptions) -> Result<(Scene
     let models: Vec<_> = catalogue
         .models
         .iter()
-        .filter(|m| m.kind == opts.kind && matches!(m.species.as_str(), "broadleaf" | "birch" | "shrub") && m.crown_radius > 0.0)
+        .filter(|m| {
+            m.kind == opts.kind && matches!(m.species.as_str(), "broadleaf" | "birch" | "shrub") && m.crown_radius > 0.0
+        })
         .collect();
     if models.is_empty() {
         return Err(AerialError::NoModel);
@@ -118,7 +120,9 @@ pub fn scene_text(scene: &Scene, source: &str) -> Result<String, AerialError> {
     if scene.trees.len() > 4 * SAMPLE {
         let pretty = |trees: usize| {
             let part = Scene { trees: scene.trees[..trees].to_vec(), ..scene.clone() };
-            ron::ser::to_string_pretty(&part, ron::ser::PrettyConfig::default()).map(|t| t.len()).map_err(AerialError::Ron)
+            ron::ser::to_string_pretty(&part, ron::ser::PrettyConfig::default())
+                .map(|t| t.len())
+                .map_err(AerialError::Ron)
         };
         let (none, some) = (pretty(0)?, pretty(SAMPLE)?);
         let estimate = none + (some - none) * scene.trees.len() / SAMPLE;

@@ -146,7 +146,8 @@ pub fn tube(mesh: &mut MeshData, limb: &Limb, sides: u32, rings: u32, droop: f32
     }
     // Close the tip with a small cone so the tube is not open at the end.
     let tip = limb.end + axis * limb.r1.max(0.005);
-    let tw = Vec4::new(tip.y.max(0.0), if limb.trunk { 0.0 } else { Vec2::new(tip.x, tip.z).length() }, 0.0, limb.phase);
+    let tw =
+        Vec4::new(tip.y.max(0.0), if limb.trunk { 0.0 } else { Vec2::new(tip.x, tip.z).length() }, 0.0, limb.phase);
     let ti = mesh.push(tip, axis, tangent_frame(axis, b1, b2), Vec2::new(0.5, len * v_scale + 0.05), tw);
     let last = base + rings * row;
     for i in 0..sides {
@@ -157,7 +158,17 @@ pub fn tube(mesh: &mut MeshData, limb: &Limb, sides: u32, rings: u32, droop: f32
 /// Appends one folded leaf: a diamond of four vertices (base, right, tip, left) with a slight
 /// V fold along the midrib. `attach` is the point on the branch the leaf hangs from.
 #[allow(clippy::too_many_arguments)]
-pub fn leaf(mesh: &mut MeshData, attach: Vec3, base: Vec3, dir: Vec3, side: Vec3, length: f32, width: f32, outward: Vec3, phase: f32) {
+pub fn leaf(
+    mesh: &mut MeshData,
+    attach: Vec3,
+    base: Vec3,
+    dir: Vec3,
+    side: Vec3,
+    length: f32,
+    width: f32,
+    outward: Vec3,
+    phase: f32,
+) {
     let dir = dir.normalize();
     let mut side = (side - dir * dir.dot(side)).normalize_or(dir.any_orthonormal_vector());
     let mut face_n = side.cross(dir).normalize();
@@ -186,7 +197,16 @@ pub fn leaf(mesh: &mut MeshData, attach: Vec3, base: Vec3, dir: Vec3, side: Vec3
 /// Appends one foliage card: a square of `size` metres centred at `centre`, facing `normal`,
 /// textured with the whole leaf-cluster texture. The vertex normals lean outward from the crown
 /// centre so that the cards shade like a rounded crown.
-pub fn card(mesh: &mut MeshData, centre: Vec3, normal: Vec3, up: Vec3, size: f32, crown_centre: Vec3, attach: Vec3, phase: f32) {
+pub fn card(
+    mesh: &mut MeshData,
+    centre: Vec3,
+    normal: Vec3,
+    up: Vec3,
+    size: f32,
+    crown_centre: Vec3,
+    attach: Vec3,
+    phase: f32,
+) {
     let n = normal.normalize();
     let up = (up - n * n.dot(up)).normalize_or(n.any_orthonormal_vector());
     let right = up.cross(n);

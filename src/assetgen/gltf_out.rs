@@ -2,7 +2,7 @@
 //! textures referenced by relative URI.
 
 use glam::{Vec2, Vec3, Vec4};
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 use super::geometry::MeshData;
 
@@ -110,7 +110,12 @@ pub fn build(name: &str, parts: &[(&MeshData, &MaterialTextures)], bin_uri: &str
     let mut primitives = Vec::new();
     for (i, (mesh, mat)) in parts.iter().enumerate() {
         let (min, max) = mesh.bounds();
-        let pos = buf.floats(&flat3(&mesh.positions), mesh.positions.len(), "VEC3", Some((min.to_array().to_vec(), max.to_array().to_vec())));
+        let pos = buf.floats(
+            &flat3(&mesh.positions),
+            mesh.positions.len(),
+            "VEC3",
+            Some((min.to_array().to_vec(), max.to_array().to_vec())),
+        );
         let nrm = buf.floats(&flat3(&mesh.normals), mesh.normals.len(), "VEC3", None);
         let tan = buf.floats(&flat4(&mesh.tangents), mesh.tangents.len(), "VEC4", None);
         let uv = buf.floats(&flat2(&mesh.uvs), mesh.uvs.len(), "VEC2", None);

@@ -146,9 +146,15 @@ pub fn generate(out: &Path) -> anyhow::Result<Summary> {
                 kind,
                 bounds_min: a.min(c),
                 bounds_max: b.max(d),
-                crown_radius: crate::models::measure::crown_radius([wood.positions.as_slice(), foliage.positions.as_slice()]),
+                crown_radius: crate::models::measure::crown_radius([
+                    wood.positions.as_slice(),
+                    foliage.positions.as_slice(),
+                ]),
                 triangles: (wood.triangles() + foliage.triangles()) as u32,
-                pick: Some(crate::models::pick::pick_shape(&[(&wood.positions, &wood.indices), (&foliage.positions, &foliage.indices)])),
+                pick: Some(crate::models::pick::pick_shape(&[
+                    (&wood.positions, &wood.indices),
+                    (&foliage.positions, &foliage.indices),
+                ])),
             });
         }
     }

@@ -4,7 +4,7 @@
 
 use glam::{Vec3, Vec3Swizzles};
 
-use super::geometry::{card, leaf, tube, Limb, MeshData, Rng};
+use super::geometry::{Limb, MeshData, Rng, card, leaf, tube};
 
 /// The species the generator knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,8 +83,32 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
     match species {
         Species::Broadleaf => {
             crown_centre = Vec3::new(0.0, 4.9, 0.0);
-            add(Limb { start: Vec3::new(0.0, -0.05, 0.0), end: Vec3::new(0.0, 3.2, 0.0), r0: 0.24, r1: 0.16, phase: 0.0, trunk: true }, ts, if cheap { 1 } else { 3 }, 0.0);
-            add(Limb { start: Vec3::new(0.0, 3.2, 0.0), end: Vec3::new(0.05, 5.6, -0.05), r0: 0.16, r1: 0.06, phase: 0.0, trunk: true }, ts, if cheap { 1 } else { 2 }, 0.0);
+            add(
+                Limb {
+                    start: Vec3::new(0.0, -0.05, 0.0),
+                    end: Vec3::new(0.0, 3.2, 0.0),
+                    r0: 0.24,
+                    r1: 0.16,
+                    phase: 0.0,
+                    trunk: true,
+                },
+                ts,
+                if cheap { 1 } else { 3 },
+                0.0,
+            );
+            add(
+                Limb {
+                    start: Vec3::new(0.0, 3.2, 0.0),
+                    end: Vec3::new(0.05, 5.6, -0.05),
+                    r0: 0.16,
+                    r1: 0.06,
+                    phase: 0.0,
+                    trunk: true,
+                },
+                ts,
+                if cheap { 1 } else { 2 },
+                0.0,
+            );
             for i in 0..6 {
                 let a = golden(i) + rng.range(-0.2, 0.2);
                 let y = 2.7 + 0.3 * i as f32;
@@ -105,13 +129,37 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                     add(Limb { start: from, end: to, r0: 0.035, r1: 0.015, phase: sphase, trunk: false }, tw, 1, 0.0);
                     clusters.push(Cluster { centre: to, attach: from, phase: sphase, radius: 0.8, along: sdir });
                 }
-                clusters.push(Cluster { centre: end, attach: start + dir * len * 0.7, phase, radius: 0.85, along: dir });
+                clusters.push(Cluster {
+                    centre: end,
+                    attach: start + dir * len * 0.7,
+                    phase,
+                    radius: 0.85,
+                    along: dir,
+                });
             }
-            clusters.push(Cluster { centre: Vec3::new(0.0, 6.3, 0.0), attach: Vec3::new(0.0, 5.6, 0.0), phase: 0.5, radius: 0.9, along: Vec3::Y });
+            clusters.push(Cluster {
+                centre: Vec3::new(0.0, 6.3, 0.0),
+                attach: Vec3::new(0.0, 5.6, 0.0),
+                phase: 0.5,
+                radius: 0.9,
+                along: Vec3::Y,
+            });
         }
         Species::Conifer => {
             crown_centre = Vec3::new(0.0, 4.5, 0.0);
-            add(Limb { start: Vec3::new(0.0, -0.05, 0.0), end: Vec3::new(0.0, 8.7, 0.0), r0: 0.2, r1: 0.025, phase: 0.0, trunk: true }, ts, if cheap { 2 } else { 6 }, 0.0);
+            add(
+                Limb {
+                    start: Vec3::new(0.0, -0.05, 0.0),
+                    end: Vec3::new(0.0, 8.7, 0.0),
+                    r0: 0.2,
+                    r1: 0.025,
+                    phase: 0.0,
+                    trunk: true,
+                },
+                ts,
+                if cheap { 2 } else { 6 },
+                0.0,
+            );
             let mut i = 0;
             let mut y = 1.3;
             while y < 8.4 {
@@ -126,20 +174,42 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                     add(Limb { start, end, r0: 0.035, r1: 0.01, phase, trunk: false }, tw, 1, 0.08 * len);
                     for s in [0.45f32, 0.8] {
                         let c = start + dir * len * s;
-                        clusters.push(Cluster { centre: c, attach: start + dir * len * (s - 0.2), phase, radius: 0.35 * len.max(0.5), along: dir });
+                        clusters.push(Cluster {
+                            centre: c,
+                            attach: start + dir * len * (s - 0.2),
+                            phase,
+                            radius: 0.35 * len.max(0.5),
+                            along: dir,
+                        });
                     }
                 }
                 i += 1;
                 y += 0.55;
             }
-            clusters.push(Cluster { centre: Vec3::new(0.0, 8.65, 0.0), attach: Vec3::new(0.0, 8.3, 0.0), phase: 0.3, radius: 0.3, along: Vec3::Y });
+            clusters.push(Cluster {
+                centre: Vec3::new(0.0, 8.65, 0.0),
+                attach: Vec3::new(0.0, 8.3, 0.0),
+                phase: 0.3,
+                radius: 0.3,
+                along: Vec3::Y,
+            });
         }
         Species::Birch => {
             crown_centre = Vec3::new(0.0, 5.6, 0.0);
-            let pts = [Vec3::new(0.0, -0.05, 0.0), Vec3::new(0.08, 3.0, 0.0), Vec3::new(0.02, 5.6, 0.08), Vec3::new(-0.03, 7.7, 0.0)];
+            let pts = [
+                Vec3::new(0.0, -0.05, 0.0),
+                Vec3::new(0.08, 3.0, 0.0),
+                Vec3::new(0.02, 5.6, 0.08),
+                Vec3::new(-0.03, 7.7, 0.0),
+            ];
             let radii = [0.14, 0.1, 0.06, 0.02];
             for s in 0..3 {
-                add(Limb { start: pts[s], end: pts[s + 1], r0: radii[s], r1: radii[s + 1], phase: 0.0, trunk: true }, ts, if cheap { 1 } else { 2 }, 0.0);
+                add(
+                    Limb { start: pts[s], end: pts[s + 1], r0: radii[s], r1: radii[s + 1], phase: 0.0, trunk: true },
+                    ts,
+                    if cheap { 1 } else { 2 },
+                    0.0,
+                );
             }
             for i in 0..14 {
                 let a = golden(i);
@@ -155,10 +225,28 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                 // Drooping twigs hanging from the branch end.
                 let droop_end = end + Vec3::new(dir.x * 0.3, -0.7 * len, dir.z * 0.3);
                 add(Limb { start: end, end: droop_end, r0: 0.01, r1: 0.005, phase, trunk: false }, 3, 1, 0.0);
-                clusters.push(Cluster { centre: end.lerp(droop_end, 0.5), attach: end, phase, radius: 0.45, along: (droop_end - end).normalize() });
-                clusters.push(Cluster { centre: start.lerp(end, 0.55), attach: start, phase, radius: 0.35, along: dir });
+                clusters.push(Cluster {
+                    centre: end.lerp(droop_end, 0.5),
+                    attach: end,
+                    phase,
+                    radius: 0.45,
+                    along: (droop_end - end).normalize(),
+                });
+                clusters.push(Cluster {
+                    centre: start.lerp(end, 0.55),
+                    attach: start,
+                    phase,
+                    radius: 0.35,
+                    along: dir,
+                });
             }
-            clusters.push(Cluster { centre: Vec3::new(0.0, 7.6, 0.0), attach: Vec3::new(0.0, 7.2, 0.0), phase: 0.7, radius: 0.35, along: Vec3::Y });
+            clusters.push(Cluster {
+                centre: Vec3::new(0.0, 7.6, 0.0),
+                attach: Vec3::new(0.0, 7.2, 0.0),
+                phase: 0.7,
+                radius: 0.35,
+                along: Vec3::Y,
+            });
         }
         Species::Shrub => {
             crown_centre = Vec3::new(0.0, 0.8, 0.0);
@@ -175,7 +263,13 @@ pub fn skeleton(species: Species, cheap: bool) -> Skeleton {
                 add(Limb { start: mid, end: mid + sdir * 0.5, r0: 0.015, r1: 0.008, phase, trunk: false }, 3, 1, 0.0);
                 clusters.push(Cluster { centre: end, attach: mid, phase, radius: 0.45, along: dir });
                 clusters.push(Cluster { centre: mid + sdir * 0.5, attach: mid, phase, radius: 0.35, along: sdir });
-                clusters.push(Cluster { centre: base + dir * len * 0.35 + Vec3::new(a.cos(), 0.0, a.sin()) * 0.3, attach: base, phase, radius: 0.3, along: dir });
+                clusters.push(Cluster {
+                    centre: base + dir * len * 0.35 + Vec3::new(a.cos(), 0.0, a.sin()) * 0.3,
+                    attach: base,
+                    phase,
+                    radius: 0.3,
+                    along: dir,
+                });
             }
         }
     }

@@ -7,8 +7,8 @@ use image::{Rgb, RgbImage, Rgba, RgbaImage};
 use noise::{NoiseFn, Perlin};
 
 use super::geometry::Rng;
-use crate::cubemap::cube_dir;
 use super::species::Species;
+use crate::cubemap::cube_dir;
 
 /// Fractal noise in about [−1, 1].
 fn fbm(p: &Perlin, x: f64, y: f64, octaves: u32) -> f64 {
@@ -133,7 +133,11 @@ pub fn leaf(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
 pub fn card(species: Species, size: u32) -> (RgbaImage, Vec<f32>) {
     let mut rng = Rng::new(31 + species as u64);
     let col = leaf_colour(species);
-    let mut img = RgbaImage::from_pixel(size, size, Rgba([(col.x * 255.0) as u8, (col.y * 255.0) as u8, (col.z * 255.0) as u8, 0]));
+    let mut img = RgbaImage::from_pixel(
+        size,
+        size,
+        Rgba([(col.x * 255.0) as u8, (col.y * 255.0) as u8, (col.z * 255.0) as u8, 0]),
+    );
     let mut h = vec![0.0f32; (size * size) as usize];
     let s = size as f32;
     let stamp = |img: &mut RgbaImage, h: &mut [f32], c: Vec2, dir: Vec2, len: f32, wid: f32, shade: f32, tilt: Vec2| {

@@ -19,7 +19,9 @@ pub fn check_file(path: &Path) -> Result<(), BankError> {
     let Ok(bytes) = files::read(path, Kind::Gltf) else { return Ok(()) };
     let (required, used) = extensions_of(&bytes);
     let shown = path.display().to_string();
-    crate::models::gltf_check::extensions(&shown, &required, &used).map(|_| ()).map_err(|problem| BankError::Extension { file: shown.clone(), problem })
+    crate::models::gltf_check::extensions(&shown, &required, &used)
+        .map(|_| ())
+        .map_err(|problem| BankError::Extension { file: shown.clone(), problem })
 }
 
 #[cfg(test)]

@@ -7,13 +7,13 @@
 
 use std::path::{Path, PathBuf};
 
-use grove_systems::bank::{hash_files, valid_name, Bank, BankModel, WindSource, CATALOGUE_FILE, MAX_MODELS};
+use grove_systems::bank::{Bank, BankModel, CATALOGUE_FILE, MAX_MODELS, WindSource, hash_files, valid_name};
 use grove_systems::catalogue::{Catalogue, ModelKind};
 
 use grove_systems::files::{self, Kind};
 
 use super::BankError;
-use crate::models::{gltf_files, ModelData};
+use crate::models::{ModelData, gltf_files};
 
 /// What to add, and under which name.
 #[derive(Clone, Debug)]
@@ -48,7 +48,8 @@ pub enum Added {
 /// is refused with one line naming the URI, before anything it names is read.
 pub fn resources_of(file: &Path) -> Result<Vec<String>, BankError> {
     let bytes = files::read(file, Kind::Gltf).map_err(BankError::File)?;
-    let gltf = crate::models::gltf_open::parse(&bytes).map_err(|error| BankError::NotGltf { file: file.to_path_buf(), error })?;
+    let gltf = crate::models::gltf_open::parse(&bytes)
+        .map_err(|error| BankError::NotGltf { file: file.to_path_buf(), error })?;
     let mut uris: Vec<String> = Vec::new();
     for b in gltf.document.buffers() {
         if let gltf::buffer::Source::Uri(u) = b.source() {
@@ -116,7 +117,10 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> Result<Added, BankError> {
         return Err(BankError::Species);
     }
     let src_dir = source_dir(file);
-    let main = file.file_name().map(|s| s.to_string_lossy().into_owned()).ok_or_else(|| BankError::NoFileName(file.clone()))?;
+    let main = file
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .ok_or_else(|| BankError::NoFileName(file.clone()))?;
     let mut rels = vec![main.clone()];
     for r in resources_of(file)? {
         if !rels.contains(&r) {
@@ -130,7 +134,11 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> Result<Added, BankError> {
         if !p.exists() {
             return Err(BankError::Missing { file: file.clone(), rel: r.clone() });
         }
-        files::within(&p, &src_dir).map_err(|error| BankError::Outside { file: file.clone(), rel: r.clone(), error })?;
+        files::within(&p, &src_dir).map_err(|error| BankError::Outside {
+            file: file.clone(),
+            rel: r.clone(),
+            error,
+        })?;
     }
     let files: Vec<String> = rels.iter().map(|r| format!("{name}/{r}")).collect();
     let hash = hash_files(files.iter().zip(&rels).map(|(f, r)| (f.as_str(), src_dir.join(r))))?;
@@ -181,14 +189,16 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> Result<Added, BankError> {
         for r in &rels {
             let to = tmp.join(r);
             if let Some(parent) = to.parent() {
-                std::fs::create_dir_all(parent).map_err(|error| BankError::Create { path: parent.to_path_buf(), error })?;
+                std::fs::create_dir_all(parent)
+                    .map_err(|error| BankError::Create { path: parent.to_path_buf(), error })?;
             }
             let from = files::within(&src_dir.join(r), &src_dir).map_err(BankError::File)?;
             let bytes = files::read(&from, Kind::ModelFile).map_err(BankError::File)?;
             std::fs::write(&to, bytes).map_err(|error| BankError::Copy { path: src_dir.join(r), error })?;
         }
         let png = super::thumbnail::png(data)?;
-        std::fs::write(tmp.join("thumbnail.png"), png).map_err(|error| BankError::WriteThumbnail { path: tmp.clone(), error })?;
+        std::fs::write(tmp.join("thumbnail.png"), png)
+            .map_err(|error| BankError::WriteThumbnail { path: tmp.clone(), error })?;
         std::fs::rename(&tmp, &dest).map_err(|error| BankError::MoveIntoPlace { path: dest.clone(), error })?;
         Ok(())
     })();
@@ -204,7 +214,8 @@ fn add_loaded(req: &AddRequest, data: &ModelData) -> Result<Added, BankError> {
         if h != model.hash {
             return Err(BankError::Changed(file.clone()));
         }
-        crate::atomic_write::write_atomic(&req.bank.join(CATALOGUE_FILE), cat.to_ron().as_bytes()).map_err(BankError::Catalogue)
+        crate::atomic_write::write_atomic(&req.bank.join(CATALOGUE_FILE), cat.to_ron().as_bytes())
+            .map_err(BankError::Catalogue)
     });
     if let Err(e) = written {
         let _ = std::fs::remove_dir_all(&dest);

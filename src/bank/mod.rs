@@ -14,7 +14,7 @@ pub mod validate;
 
 use std::path::{Path, PathBuf};
 
-use grove_systems::bank::{bank_dirs, Banks, BANK_ENV};
+use grove_systems::bank::{BANK_ENV, Banks, bank_dirs};
 use grove_systems::catalogue::ModelId;
 
 pub use error::BankError;
@@ -69,7 +69,13 @@ pub fn files_for(banks: &Banks, catalogue: &grove_systems::catalogue::Catalogue)
         .models
         .iter()
         .skip(grove_systems::catalogue::SHIPPED_MODELS)
-        .filter_map(|m| banks.find(&m.name).map(|(b, bm)| ModelFile { id: m.id, path: b.file_of(bm), far: bm.far.as_deref().and_then(id_of) }))
+        .filter_map(|m| {
+            banks.find(&m.name).map(|(b, bm)| ModelFile {
+                id: m.id,
+                path: b.file_of(bm),
+                far: bm.far.as_deref().and_then(id_of),
+            })
+        })
         .collect()
 }
 

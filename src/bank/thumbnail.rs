@@ -20,7 +20,8 @@ pub fn draw(data: &ModelData) -> Vec<u8> {
     let extent = (hi.x - lo.x).max(hi.y - lo.y).max(1e-6) * 1.08;
     let centre = Vec2::new((lo.x + hi.x) * 0.5, (lo.y + hi.y) * 0.5);
     // Model point to pixel coordinates (x right, y down).
-    let to_px = |p: Vec3| Vec2::new(((p.x - centre.x) / extent + 0.5) * n as f32, (0.5 - (p.y - centre.y) / extent) * n as f32);
+    let to_px =
+        |p: Vec3| Vec2::new(((p.x - centre.x) / extent + 0.5) * n as f32, (0.5 - (p.y - centre.y) / extent) * n as f32);
     let light = Vec3::new(0.4, 0.8, 0.45).normalize();
     for prim in &data.primitives {
         let mat = data.materials.get(prim.material).cloned().unwrap_or_default();

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::BankError;
-use crate::models::{load_model, ModelData};
+use crate::models::{ModelData, load_model};
 
 /// Reads and checks a glTF 2.0 file (`.gltf` or `.glb`) exactly as grove loads it: the file and
 /// every file it names read through `grove_systems::files` with the URIs' places checked first,

@@ -13,10 +13,10 @@
 use std::time::Instant;
 
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::components::Pose;
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 use crate::render::offscreen::{self, Gpu};
 use crate::render::{RenderOptions, Renderer};

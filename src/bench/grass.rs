@@ -17,17 +17,17 @@
 //! CPU time of the whole process (all of lavapipe's threads) per frame, which other programs
 //! on the machine disturb far less than the wall time.
 
-use glam::Vec3;
-use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
+use crate::render::offscreen::{self, Gpu};
+use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::components::{Head, Pose};
 use grove_systems::grass::{GrassDef, GrassKind};
 use grove_systems::scene::{CameraDef, PlaneShape, Scene, WindDef};
-use grove_systems::Sim;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use super::render::frame_ms;
 use super::BenchError;
+use super::render::frame_ms;
 
 /// A flat square plane of `side` metres centred on the origin, cells of `cell` metres, with one
 /// grass patch over all of it.
@@ -117,7 +117,6 @@ fn time(gpu: &Gpu, r: &mut Renderer, sim: &Sim, frames: usize) -> Result<Value, 
     }
     Ok(v)
 }
-
 
 /// Fukuda et al.'s test: the 1 km² shell field at 1280 × 720, with and without grass.
 fn fukuda(gpu: &Gpu, frames: usize) -> Result<Value, BenchError> {

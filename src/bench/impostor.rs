@@ -2,13 +2,15 @@
 //! detail (simplified foliage and impostors) moves the reference scene's image from the
 //! full-detail render.
 
-use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
+use crate::render::offscreen::{self, Gpu};
 use grove_systems::Sim;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use super::render::{forest, header, setup, time_frames, time_frames_at, RenderBenchOptions, HEIGHT, WALL_TIMING, WIDTH};
 use super::BenchError;
+use super::render::{
+    HEIGHT, RenderBenchOptions, WALL_TIMING, WIDTH, forest, header, setup, time_frames, time_frames_at,
+};
 
 /// The image difference between `sim` drawn with the renderer's options and drawn at full
 /// detail (every leaf, no impostors), shadows as set: the mean absolute difference per channel
@@ -44,7 +46,11 @@ pub fn image_error(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim) -> Result<Valu
 /// The forest scene at 1920 × 1080 and a million trees (1000 × 1000, 10 m apart, all eight
 /// models in turn) at 1920 × 1080, shadows on and off, for `grove bench render-gpu` (which has
 /// refused a software adapter and turned the timestamp queries on). Adds them to `out`.
-pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_json::Map<String, Value>) -> Result<(), BenchError> {
+pub fn forest_gpu_figures(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    out: &mut serde_json::Map<String, Value>,
+) -> Result<(), BenchError> {
     const FULL_HD: (u32, u32) = (1920, 1080);
     renderer.resize(FULL_HD.0, FULL_HD.1);
     let path = crate::render::default_assets_dir().join("scenes/forest.ron");
@@ -72,7 +78,8 @@ pub fn forest_gpu_figures(gpu: &Gpu, renderer: &mut Renderer, out: &mut serde_js
 /// `grove bench render-forest`: the forest scene (assets/scenes/forest.ron, or `scene`) from its
 /// camera, shadows on and off, and its image difference from the full-detail render.
 pub fn bench_forest(options: RenderBenchOptions, scene: Option<&std::path::Path>) -> Result<Value, BenchError> {
-    let path = scene.map_or_else(|| crate::render::default_assets_dir().join("scenes/forest.ron"), std::path::Path::to_path_buf);
+    let path = scene
+        .map_or_else(|| crate::render::default_assets_dir().join("scenes/forest.ron"), std::path::Path::to_path_buf);
     let scene = super::load_scene(&path)?;
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;

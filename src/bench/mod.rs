@@ -23,8 +23,8 @@ pub use error::BenchError;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use grove_systems::scene::Scene;
 use grove_systems::Sim;
+use grove_systems::scene::Scene;
 use serde::Serialize;
 use serde_json::Value;
 
@@ -67,7 +67,8 @@ pub fn time_ms(n: usize, mut f: impl FnMut()) -> Vec<f64> {
 /// A memory figure of this process from `/proc/self/status` (`VmHWM` the peak, `VmRSS` now),
 /// MiB; 0 where there is none (not Linux).
 pub fn status_mib(key: &str) -> f64 {
-    let status = grove_systems::files::read_text(Path::new("/proc/self/status"), grove_systems::files::Kind::Status).unwrap_or_default();
+    let status = grove_systems::files::read_text(Path::new("/proc/self/status"), grove_systems::files::Kind::Status)
+        .unwrap_or_default();
     status
         .lines()
         .find_map(|l| l.strip_prefix(key).and_then(|r| r.strip_prefix(':')))
@@ -108,7 +109,12 @@ pub fn bench_sim(options: &SimOptions) -> Result<Value, BenchError> {
         let mut times = time_ms(options.ticks.max(1) as usize, || sim.step());
         let min = times.iter().copied().fold(f64::MAX, f64::min);
         let max = times.iter().copied().fold(0.0, f64::max);
-        figures.push(TickFigure { trees: n, ms_per_tick_median: median(&mut times), ms_per_tick_min: min, ms_per_tick_max: max });
+        figures.push(TickFigure {
+            trees: n,
+            ms_per_tick_median: median(&mut times),
+            ms_per_tick_min: min,
+            ms_per_tick_max: max,
+        });
     }
     Ok(serde_json::to_value(figures)?)
 }

@@ -38,7 +38,8 @@ mod tests {
     fn a_share_is_the_median_of_the_pairs_and_survives_a_drift() {
         // Water adds 10 ms to a 90 ms frame (10 % of 100), while the machine slows down over the
         // run: each pair's frames slow alike, the pairs' shares stay near 10 %.
-        let pairs: Vec<(f64, f64)> = (0..9).map(|k| (90.0 * (1.0 + 0.1 * k as f64), 100.0 * (1.0 + 0.1 * k as f64))).collect();
+        let pairs: Vec<(f64, f64)> =
+            (0..9).map(|k| (90.0 * (1.0 + 0.1 * k as f64), 100.0 * (1.0 + 0.1 * k as f64))).collect();
         assert!((share_of_pairs(&pairs) - 10.0).abs() < 1e-9);
         // Timing the rows apart, the first half of the run without and the second with, would
         // have given far more: the drift counted as water.

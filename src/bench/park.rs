@@ -12,15 +12,15 @@
 
 use std::path::Path;
 
-use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
-use grove_systems::scene::Scene;
+use crate::render::offscreen::{self, Gpu};
 use grove_systems::Sim;
-use serde_json::{json, Value};
+use grove_systems::scene::Scene;
+use serde_json::{Value, json};
 
-use super::pairs::paired_share;
-use super::render::{frame_ms, setup, time_frames, RenderBenchOptions, HEIGHT, WIDTH};
 use super::BenchError;
+use super::pairs::paired_share;
+use super::render::{HEIGHT, RenderBenchOptions, WIDTH, frame_ms, setup, time_frames};
 
 /// A configuration of the table: grass, water, shadows.
 type Config = (bool, bool, bool);
@@ -40,7 +40,13 @@ const ROWS: [(&str, bool, bool, bool); 4] = [
 
 /// The park table of `scene` (the park's, [`park_scene`], or another; read from `path`) with
 /// `gpu` and `renderer`: one row per configuration, `frames` frames each.
-pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &Scene, path: &Path) -> Result<Value, BenchError> {
+pub fn park_figures(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    frames: usize,
+    scene: &Scene,
+    path: &Path,
+) -> Result<Value, BenchError> {
     let sim = Sim::from_scene(scene, scene.seed).map_err(grove_systems::Error::from)?;
     crate::bank::load_for_scene(renderer, scene, &[], sim.catalogue())?;
     let saved = renderer.options;
@@ -61,7 +67,9 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &S
     }
     eprintln!("bench: park, the shares of grass and water in {frames} interleaved pairs of frames each");
     let target = offscreen::Target::new(&gpu.device, WIDTH, HEIGHT);
-    let mut share = |without: Config, with: Config| paired_share(frames, |on| one_frame(gpu, renderer, &sim, &target, if on { with } else { without }));
+    let mut share = |without: Config, with: Config| {
+        paired_share(frames, |on| one_frame(gpu, renderer, &sim, &target, if on { with } else { without }))
+    };
     let grass_share = share((false, false, false), (true, false, false));
     let water_share = share((true, false, false), (true, true, false));
     renderer.options = saved;
@@ -76,7 +84,13 @@ pub fn park_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize, scene: &S
 
 /// Sets `renderer`'s grass, water and shadows to `config` and times one frame of `sim` into
 /// `target` ([`frame_ms`]).
-fn one_frame(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target, config: Config) -> Result<f64, BenchError> {
+fn one_frame(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    sim: &Sim,
+    target: &offscreen::Target,
+    config: Config,
+) -> Result<f64, BenchError> {
     (renderer.options.grass, renderer.options.water, renderer.options.shadows) = config;
     frame_ms(gpu, renderer, sim, target)
 }
@@ -89,5 +103,7 @@ pub fn bench_park(options: RenderBenchOptions, scene: Option<&Path>) -> Result<V
     let scene = super::load_scene(&path)?;
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let figures = park_figures(&gpu, &mut renderer, 10, &scene, &path)?;
-    Ok(json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": super::render::WALL_TIMING, "park": figures}))
+    Ok(
+        json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": super::render::WALL_TIMING, "park": figures}),
+    )
 }

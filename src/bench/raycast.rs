@@ -12,7 +12,7 @@ use grove_systems::Sim;
 use serde::Serialize;
 use serde_json::Value;
 
-use super::{median, time_ms, BenchError, SimOptions};
+use super::{BenchError, SimOptions, median, time_ms};
 
 /// Trees in the raycast benchmark.
 pub const RAYCAST_TREES: usize = 10_000;
@@ -69,7 +69,8 @@ pub fn bench_raycast(args: &SimOptions) -> Result<Value, BenchError> {
         }
     });
     let mut state = 0x6772_6f76_6521_u64;
-    let mut point = |y: f32| Vec3::new(min.x + (max.x - min.x) * unit(&mut state), y, min.z + (max.z - min.z) * unit(&mut state));
+    let mut point =
+        |y: f32| Vec3::new(min.x + (max.x - min.x) * unit(&mut state), y, min.z + (max.z - min.z) * unit(&mut state));
     let rays: Vec<(Vec3, Vec3)> = (0..RAYS)
         .map(|_| {
             let from = point(1.7);

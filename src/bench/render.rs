@@ -14,9 +14,9 @@
 
 use std::time::Instant;
 
-use glam::{Vec2, Vec3};
 use crate::render::Renderer;
 use crate::render::offscreen::{self, Gpu};
+use glam::{Vec2, Vec3};
 use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
@@ -48,7 +48,14 @@ pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
             },
         }],
         sun: SunDef::default(),
-        wind: WindDef { strength: 1.0, density: 0.15, gust_average: 0.6, gust_strength: 0.4, gust_frequency: 0.2, ..WindDef::default() },
+        wind: WindDef {
+            strength: 1.0,
+            density: 0.15,
+            gust_average: 0.6,
+            gust_strength: 0.4,
+            gust_frequency: 0.2,
+            ..WindDef::default()
+        },
         camera: CameraDef::default(),
         ..Scene::default()
     }
@@ -57,7 +64,9 @@ pub(super) fn ground_scene(half: f32, cell: f32) -> Scene {
 /// Puts the camera at `eye` looking at `target` and the sun at 45° from the south-east.
 pub(super) fn place(sim: &mut Sim, eye: Vec3, target: Vec3) {
     // The sun at 45° elevation, from the south-east.
-    sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() }).sun_angles(45.0, 135.0);
+    sim.set_up()
+        .camera(Head { pose: Pose::looking_at(eye, target), fov_y: 60f32.to_radians() })
+        .sun_angles(45.0, 135.0);
 }
 
 /// A frame figure: the median wall time of a frame and, where the renderer times its passes,
@@ -90,7 +99,12 @@ impl FrameTime {
 
 /// Renders one frame of `sim` into `target` and waits for the device: the wall time of both,
 /// milliseconds. Every render benchmark times its frames with this.
-pub(super) fn frame_ms(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, target: &offscreen::Target) -> Result<f64, BenchError> {
+pub(super) fn frame_ms(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    sim: &Sim,
+    target: &offscreen::Target,
+) -> Result<f64, BenchError> {
     let t = Instant::now();
     renderer.render(sim, target.view())?;
     gpu.device.poll(wgpu::PollType::wait_indefinitely())?;
@@ -140,12 +154,9 @@ pub(super) fn time_frames_at(
         }
     }
     let passes = scopes.into_iter().map(|(name, mut v)| (name, super::median(&mut v))).collect();
-    let cpu_ms = cpu_start.zip(process_cpu_ns()).map(|(a, b)| b.saturating_sub(a) as f64 / 1e6 / times.len().max(1) as f64);
-    Ok(FrameTime {
-        cpu_ms,
-        ms: super::median(&mut times),
-        passes,
-    })
+    let cpu_ms =
+        cpu_start.zip(process_cpu_ns()).map(|(a, b)| b.saturating_sub(a) as f64 / 1e6 / times.len().max(1) as f64);
+    Ok(FrameTime { cpu_ms, ms: super::median(&mut times), passes })
 }
 
 /// The CPU time of every thread of this process so far, nanoseconds: the sum of the run times
@@ -154,7 +165,8 @@ pub(super) fn time_frames_at(
 fn process_cpu_ns() -> Option<u64> {
     let mut sum = 0u64;
     for task in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
-        let stat = grove_systems::files::read_text(&task.path().join("schedstat"), grove_systems::files::Kind::Status).ok()?;
+        let stat =
+            grove_systems::files::read_text(&task.path().join("schedstat"), grove_systems::files::Kind::Status).ok()?;
         sum += stat.split_whitespace().next()?.parse::<u64>().ok()?;
     }
     Some(sum)
@@ -227,24 +239,11 @@ fn plant(mut sim: Sim, side: u32, models: Option<&dyn Fn(u32) -> u8>, scale: f32
     let half = side as f32 * 5.0;
     if let Some(model) = models {
         for i in 0..side * side {
-            let (x, z) = (
-                (i % side) as f32 * 10.0 - half + 5.0,
-                (i / side) as f32 * 10.0 - half + 5.0,
-            );
-            sim.spawn_tree(
-                ModelId(model(i)),
-                Vec3::new(x, 0.0, z),
-                i as f32 * 0.7,
-                scale,
-                true,
-            );
+            let (x, z) = ((i % side) as f32 * 10.0 - half + 5.0, (i / side) as f32 * 10.0 - half + 5.0);
+            sim.spawn_tree(ModelId(model(i)), Vec3::new(x, 0.0, z), i as f32 * 0.7, scale, true);
         }
     }
-    place(
-        &mut sim,
-        Vec3::new(0.0, 14.0, half + 12.0),
-        Vec3::new(0.0, 0.0, 0.0),
-    );
+    place(&mut sim, Vec3::new(0.0, 14.0, half + 12.0), Vec3::new(0.0, 0.0, 0.0));
     sim
 }
 
@@ -267,7 +266,11 @@ pub(super) fn forest_figures(
 ) -> Result<Value, BenchError> {
     let mut figures = serde_json::Map::new();
     for (variant, models) in VARIANTS {
-        let sim = if variant == "species" { species_forest(renderer, side)? } else { forest(side, models.as_ref().map(|f| f as &dyn Fn(u32) -> u8))? };
+        let sim = if variant == "species" {
+            species_forest(renderer, side)?
+        } else {
+            forest(side, models.as_ref().map(|f| f as &dyn Fn(u32) -> u8))?
+        };
         for shadows in [true, false] {
             renderer.options.shadows = shadows;
             let on = if shadows { "on" } else { "off" };
@@ -324,30 +327,14 @@ pub fn bench_render(options: RenderBenchOptions) -> Result<Value, BenchError> {
             let scene = ground_scene(half + 2.0, (half / 25.0).max(1.0));
             let mut sim = Sim::from_scene(&scene, scene.seed).map_err(grove_systems::Error::from)?;
             for i in 0..n {
-                let (x, z) = (
-                    (i % side) as f32 * 3.0 - half,
-                    (i / side) as f32 * 3.0 - half,
-                );
-                sim.spawn_tree(
-                    ModelId(id as u8),
-                    Vec3::new(x, 0.0, z),
-                    i as f32 * 0.7,
-                    1.0,
-                    false,
-                );
+                let (x, z) = ((i % side) as f32 * 3.0 - half, (i / side) as f32 * 3.0 - half);
+                sim.spawn_tree(ModelId(id as u8), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, false);
             }
-            place(
-                &mut sim,
-                Vec3::new(0.0, half * 0.9, half * 1.9),
-                Vec3::new(0.0, 0.0, 0.0),
-            );
+            place(&mut sim, Vec3::new(0.0, half * 0.9, half * 1.9), Vec3::new(0.0, 0.0, 0.0));
             eprintln!("bench: {name} × {n}");
             let ft = time_frames(&gpu, &mut renderer, &sim, if n >= 10_000 { 2 } else { 4 })?;
             row.insert(format!("ms_per_frame_{n}"), json!(ft.ms));
-            row.insert(
-                format!("triangles_per_frame_{n}"),
-                json!(renderer.stats.triangles),
-            );
+            row.insert(format!("triangles_per_frame_{n}"), json!(renderer.stats.triangles));
         }
         per_model.push(Value::Object(row));
     }

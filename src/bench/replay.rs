@@ -2,17 +2,17 @@
 
 use std::time::Instant;
 
+use crate::atomic_write::{via_temp, write_bytes};
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::Button;
-use crate::atomic_write::{via_temp, write_bytes};
-use grove_systems::replay::{record_events, replay_reader, Header, ReplayOptions};
+use grove_systems::replay::{Header, ReplayOptions, record_events, replay_reader};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
-use grove_systems::Sim;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use super::{median, BenchError};
+use super::{BenchError, median};
 
 /// Builds a 5-minute recording in memory: the controller sweeps over the ground at 30 Hz and
 /// plants, selects and removes trees every few seconds.
@@ -38,7 +38,8 @@ pub fn five_minute_session() -> Result<Vec<u8>, BenchError> {
     }
     let (sim, events) = script.into_parts();
     let header = Header::new("study", 7, scene.dt);
-    Ok(record_events(Vec::new(), &header, &events, ticks.max(sim.tick()), json!({})).map_err(grove_systems::Error::from)?)
+    Ok(record_events(Vec::new(), &header, &events, ticks.max(sim.tick()), json!({}))
+        .map_err(grove_systems::Error::from)?)
 }
 
 /// Replay speed of a 5-minute session, in simulated seconds per wall second (median of runs).
@@ -51,7 +52,8 @@ pub fn bench_replay() -> Result<Value, BenchError> {
     let mut verified = true;
     for _ in 0..7 {
         let t = Instant::now();
-        let o = replay_reader(&bytes[..], "<5-minute session>", None, &ReplayOptions::default()).map_err(grove_systems::Error::from)?;
+        let o = replay_reader(&bytes[..], "<5-minute session>", None, &ReplayOptions::default())
+            .map_err(grove_systems::Error::from)?;
         let wall = t.elapsed().as_secs_f64();
         verified &= o.first_divergence.is_none() && o.complete;
         sim_seconds = o.sim.tick() as f64 * o.sim.dt() as f64;
@@ -84,7 +86,9 @@ pub fn bench_study() -> Result<Value, BenchError> {
         via_temp(&out.join("trial_results.csv"), |tmp| crate::study::csv_out::write_trial_results(tmp, &trials, None))?;
         via_temp(&out.join("trees.csv"), |tmp| crate::study::csv_out::write_trees(tmp, &trials))?;
         write_bytes(&out.join("summary.json"), serde_json::to_string_pretty(&summary)?.as_bytes())?;
-        via_temp(&out.join("ablation.png"), |tmp| crate::study::chart::ablation_chart(tmp, &summary.per_participant, None, "bench", &[], 1100, 600))?;
+        via_temp(&out.join("ablation.png"), |tmp| {
+            crate::study::chart::ablation_chart(tmp, &summary.per_participant, None, "bench", &[], 1100, 600)
+        })?;
         walls.push(t.elapsed().as_secs_f64());
         verified = trials.iter().filter(|t| t.status == crate::study::TrialStatus::Verified).count();
     }

@@ -9,19 +9,26 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use super::{median, BenchError};
+use super::{BenchError, median};
 use crate::serve::client::bench::start_server;
 use crate::serve::client::conn::Endpoint;
-use crate::serve::client::push::{push, PushOptions, Rate};
+use crate::serve::client::push::{PushOptions, Rate, push};
 
 /// Idle connections held open.
 const IDLE: usize = 600;
 /// The addresses they come from (127.0.0.2 onwards).
 const ADDRESSES: u8 = 3;
 /// The recordings pushed to each server.
-const RECORDINGS: [&str; 6] = ["P01-manual-7.jsonl", "P02-manual-7.jsonl", "P03-manual-7.jsonl", "P04-manual-7.jsonl", "P05-manual-7.jsonl", "P06-manual-7.jsonl"];
+const RECORDINGS: [&str; 6] = [
+    "P01-manual-7.jsonl",
+    "P02-manual-7.jsonl",
+    "P03-manual-7.jsonl",
+    "P04-manual-7.jsonl",
+    "P05-manual-7.jsonl",
+    "P06-manual-7.jsonl",
+];
 
 fn failed(what: impl std::fmt::Display) -> BenchError {
     BenchError::Serve(what.to_string())
@@ -37,15 +44,23 @@ pub fn bench_serve_idle(grove: &Path) -> Result<Value, BenchError> {
     let mut crowded = start_server(grove, &scratch.join("crowded"), true).map_err(failed)?;
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build().map_err(failed)?;
     let result = runtime.block_on(async {
-        let addr: std::net::SocketAddr = crowded.url.trim_start_matches("http://").trim_end_matches('/').parse().map_err(failed)?;
+        let addr: std::net::SocketAddr =
+            crowded.url.trim_start_matches("http://").trim_end_matches('/').parse().map_err(failed)?;
         let mut idle = Vec::new();
         for i in 0..IDLE {
             let socket = tokio::net::TcpSocket::new_v4().map_err(failed)?;
-            socket.bind((std::net::Ipv4Addr::new(127, 0, 0, 2 + (i % ADDRESSES as usize) as u8), 0).into()).map_err(failed)?;
+            socket
+                .bind((std::net::Ipv4Addr::new(127, 0, 0, 2 + (i % ADDRESSES as usize) as u8), 0).into())
+                .map_err(failed)?;
             idle.push(socket.connect(addr).await.map_err(failed)?);
         }
         tokio::time::sleep(Duration::from_millis(300)).await;
-        let options = PushOptions { rate: Rate::Max, timeout: Duration::from_secs(10), give_up: Duration::from_secs(60), max_batch_bytes: 256 * 1024 };
+        let options = PushOptions {
+            rate: Rate::Max,
+            timeout: Duration::from_secs(10),
+            give_up: Duration::from_secs(60),
+            max_batch_bytes: 256 * 1024,
+        };
         let (mut alone, mut with_idle) = (Vec::new(), Vec::new());
         let mut lines = 0;
         for name in RECORDINGS {
@@ -58,7 +73,10 @@ pub fn bench_serve_idle(grove: &Path) -> Result<Value, BenchError> {
                 lines = report.lines.max(lines);
             }
         }
-        let open = idle.iter().filter(|s| s.try_read(&mut [0u8; 1]).is_err_and(|e| e.kind() == std::io::ErrorKind::WouldBlock)).count();
+        let open = idle
+            .iter()
+            .filter(|s| s.try_read(&mut [0u8; 1]).is_err_and(|e| e.kind() == std::io::ErrorKind::WouldBlock))
+            .count();
         Ok::<_, BenchError>((alone, with_idle, lines, IDLE - open))
     });
     let _ = baseline.child.kill();

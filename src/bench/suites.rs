@@ -4,8 +4,10 @@
 
 use serde_json::Value;
 
-use super::render::{forest, forest_figures, header, reference_scene, setup, species_forest, RenderBenchOptions, WALL_TIMING};
 use super::BenchError;
+use super::render::{
+    RenderBenchOptions, WALL_TIMING, forest, forest_figures, header, reference_scene, setup, species_forest,
+};
 
 /// Runs only the reference scene and returns its figures.
 pub fn bench_reference(options: RenderBenchOptions) -> Result<Value, BenchError> {
@@ -17,7 +19,10 @@ pub fn bench_reference(options: RenderBenchOptions) -> Result<Value, BenchError>
         let sim = forest(10, Some(&|i| (i % 8) as u8))?;
         out.insert("reference_image_vs_full_detail".into(), super::impostor::image_error(&gpu, &mut renderer, &sim)?);
         let sim = species_forest(&mut renderer, 10)?;
-        out.insert("reference_species_image_vs_full_detail".into(), super::impostor::image_error(&gpu, &mut renderer, &sim)?);
+        out.insert(
+            "reference_species_image_vs_full_detail".into(),
+            super::impostor::image_error(&gpu, &mut renderer, &sim)?,
+        );
     }
     Ok(Value::Object(out))
 }

@@ -5,13 +5,13 @@
 
 use std::time::Instant;
 
-use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
-use crate::video::{self, camera::CameraKind, VideoSpec};
+use crate::render::offscreen::{self, Gpu};
+use crate::video::{self, VideoSpec, camera::CameraKind};
 use grove_systems::replay::Player;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use super::{status_mib, BenchError};
+use super::{BenchError, status_mib};
 
 /// The goal: a 5-minute session encoded in at most real time.
 const GOAL_S: f64 = 300.0;
@@ -29,7 +29,16 @@ pub fn bench_video() -> Result<Value, BenchError> {
     let gpu = Gpu::new()?;
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, 1280, 720)?;
     let out = dir.join("five-minutes.mp4");
-    let spec = VideoSpec { camera: CameraKind::Head, from, to, fps: 30, speed: 1.0, area, who: format!("bench · {condition}"), out: &out };
+    let spec = VideoSpec {
+        camera: CameraKind::Head,
+        from,
+        to,
+        fps: 30,
+        speed: 1.0,
+        area,
+        who: format!("bench · {condition}"),
+        out: &out,
+    };
     let mut rss = Vec::new();
     let started = Instant::now();
     let cpu0 = super::process_cpu_seconds();

@@ -8,16 +8,16 @@
 //! is idle, the median of several frames after a warm-up frame; pass times where the device has
 //! timestamp queries.
 
-use glam::{Vec2, Vec3};
-use crate::render::offscreen::{self, Gpu};
 use crate::render::Renderer;
+use crate::render::offscreen::{self, Gpu};
+use glam::{Vec2, Vec3};
+use grove_systems::Sim;
 use grove_systems::scene::PlaneShape;
 use grove_systems::water::WaterDef;
-use grove_systems::Sim;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use super::render::{ground_scene, place, setup, RenderBenchOptions, HEIGHT, WIDTH};
 use super::BenchError;
+use super::render::{HEIGHT, RenderBenchOptions, WIDTH, ground_scene, place, setup};
 
 /// The water test's world: a 600 × 600 m bed 50 m down, 500 × 500 m of water at height 0, the
 /// camera on the south shore 10 m up looking north, the sun at 45°.
@@ -97,5 +97,7 @@ pub fn water_figures(gpu: &Gpu, renderer: &mut Renderer, frames: usize) -> Resul
 pub fn bench_water(options: RenderBenchOptions) -> Result<Value, BenchError> {
     let (gpu, mut renderer, adapter) = setup(options, false)?;
     let figures = water_figures(&gpu, &mut renderer, 10)?;
-    Ok(json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": "median of 10 frames: wall time of render + device.poll(wait)", "water_test": figures}))
+    Ok(
+        json!({"adapter": adapter, "resolution": [WIDTH, HEIGHT], "timing": "median of 10 frames: wall time of render + device.poll(wait)", "water_test": figures}),
+    )
 }

@@ -6,9 +6,9 @@
 //! a release build.
 
 use grove_systems::Sim;
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use super::{median, time_ms, BenchError, SimOptions};
+use super::{BenchError, SimOptions, median, time_ms};
 
 /// Trees in the wind benchmark.
 pub const WIND_BENCH_TREES: usize = 100_000;

@@ -32,7 +32,10 @@ pub fn usage_error_line(e: &clap::Error) -> String {
     {
         let args: Vec<String> = std::env::args().collect();
         if let Some(i) = args.iter().position(|a| a == arg).filter(|&i| i > 0 && args[i - 1].starts_with("--")) {
-            return format!("error: invalid value '{arg}' for '{}': a negative number is not allowed there (see --help)", args[i - 1]);
+            return format!(
+                "error: invalid value '{arg}' for '{}': a negative number is not allowed there (see --help)",
+                args[i - 1]
+            );
         }
     }
     let text = e.render().to_string();

@@ -76,14 +76,27 @@ fn texture_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             wgpu::BindGroupLayoutEntry {
                 binding: 0,
                 visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture { multisampled: false, sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2 },
+                ty: wgpu::BindingType::Texture {
+                    multisampled: false,
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
                 count: None,
             },
-            wgpu::BindGroupLayoutEntry { binding: 1, visibility: wgpu::ShaderStages::FRAGMENT, ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering), count: None },
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
             wgpu::BindGroupLayoutEntry {
                 binding: 2,
                 visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer { has_dynamic_offset: false, min_binding_size: std::num::NonZeroU64::new(16), ty: wgpu::BufferBindingType::Uniform },
+                ty: wgpu::BindingType::Buffer {
+                    has_dynamic_offset: false,
+                    min_binding_size: std::num::NonZeroU64::new(16),
+                    ty: wgpu::BufferBindingType::Uniform,
+                },
                 count: None,
             },
         ],
@@ -101,13 +114,20 @@ pub fn scissor(clip: egui::Rect, pixels_per_point: f32, size: [u32; 2]) -> (u32,
 impl EguiPass {
     /// The pass for frames of `format`.
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> EguiPass {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("lean egui shader"), source: wgpu::ShaderSource::Wgsl(EGUI_WGSL.into()) });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("lean egui shader"),
+            source: wgpu::ShaderSource::Wgsl(EGUI_WGSL.into()),
+        });
         let uniform_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("lean egui locals"),
             entries: &[wgpu::BindGroupLayoutEntry {
                 binding: 0,
                 visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer { has_dynamic_offset: false, min_binding_size: std::num::NonZeroU64::new(16), ty: wgpu::BufferBindingType::Uniform },
+                ty: wgpu::BindingType::Buffer {
+                    has_dynamic_offset: false,
+                    min_binding_size: std::num::NonZeroU64::new(16),
+                    ty: wgpu::BufferBindingType::Uniform,
+                },
                 count: None,
             }],
         });
@@ -123,7 +143,11 @@ impl EguiPass {
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: uniform.as_entire_binding() }],
         });
         let textures = texture_layout(device);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("lean egui layout"), bind_group_layouts: &[Some(&uniform_layout), Some(&textures)], immediate_size: 0 });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("lean egui layout"),
+            bind_group_layouts: &[Some(&uniform_layout), Some(&textures)],
+            immediate_size: 0,
+        });
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("lean egui pipeline"),
             layout: Some(&layout),
@@ -137,7 +161,11 @@ impl EguiPass {
                     attributes: &wgpu::vertex_attr_array![0 => Float32x2, 1 => Float32x2, 2 => Uint32],
                 })],
             },
-            primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleList, cull_mode: None, ..Default::default() },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                cull_mode: None,
+                ..Default::default()
+            },
             depth_stencil: None,
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
@@ -148,8 +176,16 @@ impl EguiPass {
                     format,
                     // egui's blending: premultiplied colour, and alpha as egui-wgpu blends it.
                     blend: Some(wgpu::BlendState {
-                        color: wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha, operation: wgpu::BlendOperation::Add },
-                        alpha: wgpu::BlendComponent { src_factor: wgpu::BlendFactor::OneMinusDstAlpha, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add },
+                        color: wgpu::BlendComponent {
+                            src_factor: wgpu::BlendFactor::One,
+                            dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                            operation: wgpu::BlendOperation::Add,
+                        },
+                        alpha: wgpu::BlendComponent {
+                            src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
+                            dst_factor: wgpu::BlendFactor::One,
+                            operation: wgpu::BlendOperation::Add,
+                        },
                     }),
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
@@ -161,7 +197,13 @@ impl EguiPass {
     }
 
     /// Uploads the jobs' meshes and the screen size (in points) for the next [`EguiPass::render`].
-    pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, jobs: &[ClippedPrimitive], size_in_points: [f32; 2]) {
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        jobs: &[ClippedPrimitive],
+        size_in_points: [f32; 2],
+    ) {
         let mut locals = [0u8; 16];
         locals[0..4].copy_from_slice(&size_in_points[0].to_ne_bytes());
         locals[4..8].copy_from_slice(&size_in_points[1].to_ne_bytes());
@@ -183,7 +225,12 @@ impl EguiPass {
             // Sizes are kept a multiple of 4 bytes, as copies require.
             let needed = (bytes.len() as u64).next_multiple_of(4).max(4);
             if buffer.as_ref().is_none_or(|b| b.size() < needed) {
-                *buffer = Some(device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: needed.next_power_of_two(), usage: usage | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false }));
+                *buffer = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: needed.next_power_of_two(),
+                    usage: usage | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }));
             }
             if !bytes.is_empty() {
                 let b = buffer.as_ref().expect("made above");
@@ -198,7 +245,14 @@ impl EguiPass {
 
     /// Draws the jobs prepared last into `pass` (a target of `size` pixels), binding each
     /// mesh's texture from `textures`. A mesh whose texture is unknown is skipped.
-    pub fn render(&self, pass: &mut wgpu::RenderPass<'_>, jobs: &[ClippedPrimitive], textures: &egui_wgpu::Renderer, pixels_per_point: f32, size: [u32; 2]) {
+    pub fn render(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        jobs: &[ClippedPrimitive],
+        textures: &egui_wgpu::Renderer,
+        pixels_per_point: f32,
+        size: [u32; 2],
+    ) {
         let (Some(vertices), Some(indices)) = (&self.vertices, &self.indices) else { return };
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.uniform_group, &[]);

@@ -4,12 +4,12 @@
 use std::sync::OnceLock;
 
 use grove::render::Renderer;
+use grove_systems::Sim;
 use grove_systems::catalogue::Catalogue;
 use grove_systems::stage::model_stage;
-use grove_systems::Sim;
 
-use super::window::WorldRenderer;
 use super::DesktopError;
+use super::window::WorldRenderer;
 
 /// Thumbnail edge, pixels.
 pub const THUMB_SIZE: u32 = 96;
@@ -21,7 +21,12 @@ impl WorldRenderer for Renderer {
         Renderer::resize(self, width, height);
     }
 
-    fn render(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), grove::render::RenderError> {
+    fn render(
+        &mut self,
+        sim: &Sim,
+        view: &wgpu::TextureView,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<(), grove::render::RenderError> {
         Renderer::render_into(self, sim, view, encoder)
     }
 
@@ -41,7 +46,13 @@ pub fn set_session_models(catalogue: Catalogue, files: Vec<grove::bank::ModelFil
 }
 
 /// A renderer with the shipped models and the session's bank models.
-fn session_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, DesktopError> {
+fn session_renderer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    format: wgpu::TextureFormat,
+    width: u32,
+    height: u32,
+) -> Result<Renderer, DesktopError> {
     let mut r = Renderer::new(device, queue, format, width, height)?;
     if let Some((_, files)) = SESSION_MODELS.get() {
         grove::bank::load_into(&mut r, files)?;
@@ -60,9 +71,17 @@ pub fn set_session_aerial(scene: grove_systems::scene::Scene) {
 
 /// Makes the window's world renderer (a [`super::window::RendererFactory`]), with the session's
 /// aerial photographs.
-pub fn make_renderer(device: &wgpu::Device, queue: &wgpu::Queue, format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Box<dyn WorldRenderer>, DesktopError> {
+pub fn make_renderer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    format: wgpu::TextureFormat,
+    width: u32,
+    height: u32,
+) -> Result<Box<dyn WorldRenderer>, DesktopError> {
     let mut r = session_renderer(device, queue, format, width, height)?;
-    if let Some(sources) = SESSION_AERIAL.get().map(|s| grove::render::aerial_ground::open::open_sources(s, false)).transpose()?.flatten() {
+    if let Some(sources) =
+        SESSION_AERIAL.get().map(|s| grove::render::aerial_ground::open::open_sources(s, false)).transpose()?.flatten()
+    {
         r.features.aerial.set(sources)?;
     }
     Ok(Box::new(r))
@@ -89,7 +108,8 @@ pub fn render_thumbnails(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<V
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor { label: Some("tree thumbnail view"), ..Default::default() });
+        let view = texture
+            .create_view(&wgpu::TextureViewDescriptor { label: Some("tree thumbnail view"), ..Default::default() });
         renderer.render(&sim, &view)?;
         views.push(view);
     }

@@ -15,7 +15,7 @@
 //!   Menu, D-pad = touchpad, left stick walks, right stick turns.
 
 use glam::{Vec2, Vec3};
-use grove_systems::components::{rotation_towards, Pose};
+use grove_systems::components::{Pose, rotation_towards};
 use grove_systems::input::{Button, InputEvent};
 use winit::event::MouseButton;
 use winit::keyboard::KeyCode;
@@ -304,7 +304,8 @@ impl Controls {
     /// The touchpad deflection the held keys, the wheel and the D-pad ask for now.
     pub fn touchpad_axes(&self) -> Vec2 {
         let k = |a: bool, b: bool| (a as i32 - b as i32) as f32;
-        let mut axes = Vec2::new(k(self.pad_keys[3], self.pad_keys[2]), k(self.pad_keys[0], self.pad_keys[1])) + self.dpad;
+        let mut axes =
+            Vec2::new(k(self.pad_keys[3], self.pad_keys[2]), k(self.pad_keys[0], self.pad_keys[1])) + self.dpad;
         if self.wheel_left > 0.0 {
             axes.y += self.wheel_dir;
         }
@@ -478,7 +479,10 @@ mod tests {
         assert_eq!(t.last(), Some(&InputEvent::ButtonDown { button: Button::Trigger }));
         let b = c.pad(PadInput::Button(gilrs::Button::East, true), false);
         assert_eq!(b.last(), Some(&InputEvent::ButtonDown { button: Button::Bumper }));
-        assert_eq!(c.pad(PadInput::Button(gilrs::Button::Start, true), false), vec![InputEvent::ButtonDown { button: Button::Menu }]);
+        assert_eq!(
+            c.pad(PadInput::Button(gilrs::Button::Start, true), false),
+            vec![InputEvent::ButtonDown { button: Button::Menu }]
+        );
         c.pad(PadInput::Button(gilrs::Button::DPadLeft, true), false);
         assert!(c.frame(0.016).contains(&InputEvent::TouchpadAxes { axes: Vec2::new(-1.0, 0.0) }));
         c.pad(PadInput::Axis(gilrs::Axis::LeftStickY, 1.0), false);

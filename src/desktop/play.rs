@@ -12,8 +12,8 @@ use super::input_map::{Controls, PadInput};
 use super::play_ui::{PlayUi, Screen};
 use super::session::{FixedStep, LiveSession};
 use super::stats::{FrameStats, Rolling};
-use super::window::{make_thumbnails, Frontend, GpuContext, ThumbnailFactory, World3d};
-use super::world_view::{head_of, paint_world, ViewOptions};
+use super::window::{Frontend, GpuContext, ThumbnailFactory, World3d, make_thumbnails};
+use super::world_view::{ViewOptions, head_of, paint_world};
 
 /// How often the recording is flushed to disk, wall-clock seconds.
 pub const FLUSH_EVERY_S: f64 = 1.0;
@@ -35,7 +35,6 @@ pub struct Measure {
     /// the warm-up ended.
     pub cpu_start: Option<f64>,
 }
-
 
 /// The first seconds after the first frame (shader compilation, the budget settling) are not
 /// counted.
@@ -130,7 +129,13 @@ impl Frontend for PlayApp {
         }
     }
 
-    fn draw_3d(&mut self, gpu: GpuContext<'_>, encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+    fn draw_3d(
+        &mut self,
+        gpu: GpuContext<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        view: &wgpu::TextureView,
+        size: (u32, u32),
+    ) -> bool {
         let drew = match self.session.as_ref() {
             Some(s) => self.world3d.draw(&gpu, encoder, &s.sim, view, size),
             None => false,
@@ -307,15 +312,15 @@ impl Frontend for PlayApp {
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
+    use grove_systems::Sim;
     use grove_systems::components::Pose;
     use grove_systems::input::{Button, InputEvent};
-    use grove_systems::replay::{replay_file, Header, ReplayOptions};
+    use grove_systems::replay::{Header, ReplayOptions, replay_file};
     use grove_systems::scene::Scene;
     use grove_systems::task::TaskDef;
-    use grove_systems::Sim;
 
-    use super::super::play_ui::{task_result, PlayUi};
-    use super::super::session::{create_recording, LiveSession};
+    use super::super::play_ui::{PlayUi, task_result};
+    use super::super::session::{LiveSession, create_recording};
 
     /// Clicks Trigger with the controller aimed from above at a ground point.
     fn plant_at(s: &mut LiveSession, at: Vec3) {
@@ -342,7 +347,17 @@ mod tests {
         for _ in 0..6 {
             s.step(0).unwrap();
         }
-        s.recorded().iter().map(|e| e.event.clone()).filter(|e| matches!(e, InputEvent::ButtonDown { button: Button::Trigger } | InputEvent::ButtonUp { button: Button::Trigger })).collect()
+        s.recorded()
+            .iter()
+            .map(|e| e.event.clone())
+            .filter(|e| {
+                matches!(
+                    e,
+                    InputEvent::ButtonDown { button: Button::Trigger }
+                        | InputEvent::ButtonUp { button: Button::Trigger }
+                )
+            })
+            .collect()
     }
 
     #[test]
@@ -356,7 +371,10 @@ mod tests {
         // Pressed in the scene, released over a menu: a whole click in the scene.
         mouse(&mut app, true, false);
         mouse(&mut app, false, true);
-        assert_eq!(triggers(&mut app), vec![InputEvent::ButtonDown { button: Button::Trigger }, InputEvent::ButtonUp { button: Button::Trigger }]);
+        assert_eq!(
+            triggers(&mut app),
+            vec![InputEvent::ButtonDown { button: Button::Trigger }, InputEvent::ButtonUp { button: Button::Trigger }]
+        );
         // While the quit confirmation is open, the scene takes no press.
         app.ui.confirm_quit = true;
         mouse(&mut app, true, false);
@@ -376,7 +394,10 @@ mod tests {
         app.ui.confirm_quit = false;
         app.session.as_mut().unwrap().queue(InputEvent::EndTask).unwrap();
         app.session.as_mut().unwrap().step(0).unwrap();
-        assert!(super::super::window::Frontend::close_requested(&mut app), "an ended task without a recording closes at once");
+        assert!(
+            super::super::window::Frontend::close_requested(&mut app),
+            "an ended task without a recording closes at once"
+        );
         app.ui.quit = false;
         app.ui.stats.recording = Some("x.jsonl".into());
         assert!(!super::super::window::Frontend::close_requested(&mut app), "a recording: ask first");
@@ -422,14 +443,26 @@ mod tests {
             s.step(0).unwrap();
         }
         let sim = s.finish().unwrap();
-        assert!((shown.time_s - grove_systems::task::ticks_to_seconds(end - started, scene.dt)).abs() < 1e-9, "the time is the time at end_task");
+        assert!(
+            (shown.time_s - grove_systems::task::ticks_to_seconds(end - started, scene.dt)).abs() < 1e-9,
+            "the time is the time at end_task"
+        );
         assert_eq!(shown.trees.len(), 2, "{shown:?}");
         assert_eq!(shown.errors, 1, "{shown:?}");
         assert_eq!(task_result(&sim).unwrap(), shown, "the result does not change after the end");
 
         let outcome = replay_file(&path, &ReplayOptions::default()).unwrap();
-        assert!(outcome.verifying && outcome.complete && outcome.checkpoints_checked > 0 && outcome.first_divergence.is_none());
-        assert_eq!(task_result(&outcome.sim).as_ref(), Some(&shown), "the replayed session reports what the window showed");
+        assert!(
+            outcome.verifying
+                && outcome.complete
+                && outcome.checkpoints_checked > 0
+                && outcome.first_divergence.is_none()
+        );
+        assert_eq!(
+            task_result(&outcome.sim).as_ref(),
+            Some(&shown),
+            "the replayed session reports what the window showed"
+        );
         let trial = grove::study::evaluate(&path, &[]);
         assert_eq!(trial.task.as_ref(), Some(&shown), "grove study reports what the window showed");
     }

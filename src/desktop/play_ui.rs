@@ -4,12 +4,12 @@
 
 use egui::{Color32, RichText, Ui};
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelKind;
 use grove_systems::components::Pose;
 use grove_systems::input::{Button, InputEvent};
 use grove_systems::resources::Mode;
-use grove_systems::task::{TaskDef, TaskReport, BUILTIN_TASKS};
-use grove_systems::Sim;
+use grove_systems::task::{BUILTIN_TASKS, TaskDef, TaskReport};
 
 use super::input_map::BINDINGS;
 
@@ -117,7 +117,9 @@ impl PlayUi {
     /// looking straight down and the Bumper is clicked, exactly as a user could do it.
     pub fn clear_events(sim: &Sim) -> Vec<InputEvent> {
         let mut trees: Vec<(u64, Vec3, f32)> = Vec::new();
-        sim.for_each_tree(|v| trees.push((v.id, v.transform.translation, sim.catalogue().get(v.model).map_or(1.0, |m| m.bounds_max.y))));
+        sim.for_each_tree(|v| {
+            trees.push((v.id, v.transform.translation, sim.catalogue().get(v.model).map_or(1.0, |m| m.bounds_max.y)))
+        });
         trees.sort_by_key(|t| t.0);
         let mut out = Vec::new();
         for (_, base, top) in trees {
@@ -169,25 +171,29 @@ impl PlayUi {
     }
 
     fn start_menu(&mut self, ui: &mut Ui, out: &mut Vec<InputEvent>) {
-        egui::Window::new("grove").collapsible(false).resizable(false).anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0]).show(ui.ctx(), |ui| {
-            ui.heading("Plant trees on the study site");
-            ui.add_space(6.0);
-            if ui.button("Free planting").clicked() {
-                self.screen = Screen::Session;
-            }
-            ui.separator();
-            ui.label("Run a study task:");
-            for (id, _) in BUILTIN_TASKS {
-                if ui.button(format!("Task {id}")).clicked() {
-                    out.extend(PlayUi::start_task_events(id));
+        egui::Window::new("grove")
+            .collapsible(false)
+            .resizable(false)
+            .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+            .show(ui.ctx(), |ui| {
+                ui.heading("Plant trees on the study site");
+                ui.add_space(6.0);
+                if ui.button("Free planting").clicked() {
                     self.screen = Screen::Session;
                 }
-            }
-            ui.separator();
-            if ui.button("Help").clicked() {
-                self.show_help = true;
-            }
-        });
+                ui.separator();
+                ui.label("Run a study task:");
+                for (id, _) in BUILTIN_TASKS {
+                    if ui.button(format!("Task {id}")).clicked() {
+                        out.extend(PlayUi::start_task_events(id));
+                        self.screen = Screen::Session;
+                    }
+                }
+                ui.separator();
+                if ui.button("Help").clicked() {
+                    self.show_help = true;
+                }
+            });
     }
 
     fn top_bar(&mut self, ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>) {
@@ -200,13 +206,23 @@ impl PlayUi {
                         Mode::Manual => "Manual modification",
                     };
                     let index = grove_systems::technique::Techniques::of_mode(mode);
-                    if ui.selectable_label(sim.technique_index() == index, label).on_hover_text(technique_help(mode.name())).clicked() && sim.technique_index() != index {
+                    if ui
+                        .selectable_label(sim.technique_index() == index, label)
+                        .on_hover_text(technique_help(mode.name()))
+                        .clicked()
+                        && sim.technique_index() != index
+                    {
                         out.push(InputEvent::SwitchMode { mode });
                     }
                 }
                 // The registered plug-in techniques (`src/techniques.rs`), by name.
                 for (index, t) in sim.known_techniques().iter().enumerate().filter(|(_, t)| !t.is_builtin()) {
-                    if ui.selectable_label(sim.technique_index() == index, t.name).on_hover_text(technique_help(t.name)).clicked() && sim.technique_index() != index {
+                    if ui
+                        .selectable_label(sim.technique_index() == index, t.name)
+                        .on_hover_text(technique_help(t.name))
+                        .clicked()
+                        && sim.technique_index() != index
+                    {
                         out.push(InputEvent::SwitchTechnique { technique: t.name.to_string() });
                     }
                 }
@@ -233,43 +249,55 @@ impl PlayUi {
 
     fn tree_window(&mut self, ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>) {
         let title = if sim.menu().open { "Trees (menu open)" } else { "Trees" };
-        egui::Window::new(title).id(egui::Id::unique("trees window")).default_pos([10.0, 60.0]).resizable(false).show(ui.ctx(), |ui| {
-            // The shipped models and every bank's, by kind and then species (in catalogue
-            // order within each), scrolling when the bank is long.
-            egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
-                for (kind, heading) in [(ModelKind::Mesh, "Mesh"), (ModelKind::Billboard, "Billboard")] {
-                    let mut species: Vec<&str> = sim.catalogue().models.iter().filter(|m| m.kind == kind).map(|m| m.species.as_str()).collect();
-                    species.sort_unstable();
-                    species.dedup();
-                    if species.is_empty() {
-                        continue;
-                    }
-                    ui.label(RichText::new(heading).strong());
-                    for sp in species {
-                        ui.label(RichText::new(sp).small());
-                        ui.horizontal_wrapped(|ui| {
-                            for m in sim.catalogue().models.iter().filter(|m| m.kind == kind && m.species == sp) {
-                                let current = sim.menu().current_model == m.id;
-                                let thumb = self.thumbnails.get(usize::from(m.id.0)).copied().flatten();
-                                let button = match thumb {
-                                    Some(tex) => egui::Button::image_and_text(egui::Image::new((tex, egui::vec2(64.0, 64.0))), m.name.as_str()),
-                                    None => egui::Button::new(m.name.as_str()),
-                                };
-                                if ui.add(button.selected(current)).clicked() {
-                                    if sim.mode() == Mode::Manual && !sim.menu().open {
-                                        out.push(InputEvent::OpenMenu);
+        egui::Window::new(title).id(egui::Id::unique("trees window")).default_pos([10.0, 60.0]).resizable(false).show(
+            ui.ctx(),
+            |ui| {
+                // The shipped models and every bank's, by kind and then species (in catalogue
+                // order within each), scrolling when the bank is long.
+                egui::ScrollArea::vertical().max_height(420.0).show(ui, |ui| {
+                    for (kind, heading) in [(ModelKind::Mesh, "Mesh"), (ModelKind::Billboard, "Billboard")] {
+                        let mut species: Vec<&str> = sim
+                            .catalogue()
+                            .models
+                            .iter()
+                            .filter(|m| m.kind == kind)
+                            .map(|m| m.species.as_str())
+                            .collect();
+                        species.sort_unstable();
+                        species.dedup();
+                        if species.is_empty() {
+                            continue;
+                        }
+                        ui.label(RichText::new(heading).strong());
+                        for sp in species {
+                            ui.label(RichText::new(sp).small());
+                            ui.horizontal_wrapped(|ui| {
+                                for m in sim.catalogue().models.iter().filter(|m| m.kind == kind && m.species == sp) {
+                                    let current = sim.menu().current_model == m.id;
+                                    let thumb = self.thumbnails.get(usize::from(m.id.0)).copied().flatten();
+                                    let button = match thumb {
+                                        Some(tex) => egui::Button::image_and_text(
+                                            egui::Image::new((tex, egui::vec2(64.0, 64.0))),
+                                            m.name.as_str(),
+                                        ),
+                                        None => egui::Button::new(m.name.as_str()),
+                                    };
+                                    if ui.add(button.selected(current)).clicked() {
+                                        if sim.mode() == Mode::Manual && !sim.menu().open {
+                                            out.push(InputEvent::OpenMenu);
+                                        }
+                                        out.push(InputEvent::ChooseModel { model: m.name.as_str().into() });
                                     }
-                                    out.push(InputEvent::ChooseModel { model: m.name.as_str().into() });
                                 }
-                            }
-                        });
+                            });
+                        }
                     }
+                });
+                if sim.menu().open && ui.button("Close menu").clicked() {
+                    out.push(InputEvent::CloseMenu);
                 }
-            });
-            if sim.menu().open && ui.button("Close menu").clicked() {
-                out.push(InputEvent::CloseMenu);
-            }
-        });
+            },
+        );
     }
 
     fn quit_dialog(&mut self, ui: &mut Ui, sim: &Sim) {
@@ -303,11 +331,18 @@ impl PlayUi {
             ui.label(format!("sim {:.0} ticks/s (target {:.0})", self.stats.ticks_per_s, 1.0 / sim.dt().max(1e-6)));
             if let Some(((w, h), (fw, fh))) = self.stats.view_size {
                 let shadows = if self.stats.shadows_off { ", shadows off" } else { "" };
-                ui.label(format!("3D view {w}×{h} of {fw}×{fh} ({:.0} %{shadows})", 100.0 * w as f32 / fw.max(1) as f32));
+                ui.label(format!(
+                    "3D view {w}×{h} of {fw}×{fh} ({:.0} %{shadows})",
+                    100.0 * w as f32 / fw.max(1) as f32
+                ));
             }
             ui.label(format!("tick {} ({:.2} s)", sim.tick(), sim.time()));
             ui.label(format!("entities {}: {} trees, {} planes", c.total, c.trees, c.planes));
-            ui.label(format!("mode {}, model {}", sim.mode().name(), sim.catalogue().get(sim.menu().current_model).map_or("?", |m| m.name.as_str())));
+            ui.label(format!(
+                "mode {}, model {}",
+                sim.mode().name(),
+                sim.catalogue().get(sim.menu().current_model).map_or("?", |m| m.name.as_str())
+            ));
             ui.label(format!("GPU {}", if self.stats.adapter.is_empty() { "none" } else { &self.stats.adapter }));
         });
     }
@@ -316,21 +351,25 @@ impl PlayUi {
 /// The result of a task whose clock has stopped: time, trees and errors, as `grove replay` and
 /// `grove study` report them.
 fn result_window(ui: &mut Ui, r: &TaskReport, sim: &Sim) {
-    egui::Window::new("Task result").collapsible(false).resizable(false).anchor(egui::Align2::CENTER_TOP, [0.0, 60.0]).show(ui.ctx(), |ui| {
-        let targets = sim.task().map_or(0, |t| t.def.targets.len());
-        ui.heading(if r.completed { "All targets done" } else { "Task ended" });
-        egui::Grid::new("task result").show(ui, |ui| {
-            ui.label("time");
-            ui.label(RichText::new(format!("{:.2} s", r.time_s)).monospace());
-            ui.end_row();
-            ui.label("trees");
-            ui.label(RichText::new(format!("{} of {targets}", r.trees.len())).monospace());
-            ui.end_row();
-            ui.label("errors");
-            ui.label(RichText::new(format!("{}", r.errors)).monospace());
-            ui.end_row();
+    egui::Window::new("Task result")
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_TOP, [0.0, 60.0])
+        .show(ui.ctx(), |ui| {
+            let targets = sim.task().map_or(0, |t| t.def.targets.len());
+            ui.heading(if r.completed { "All targets done" } else { "Task ended" });
+            egui::Grid::new("task result").show(ui, |ui| {
+                ui.label("time");
+                ui.label(RichText::new(format!("{:.2} s", r.time_s)).monospace());
+                ui.end_row();
+                ui.label("trees");
+                ui.label(RichText::new(format!("{} of {targets}", r.trees.len())).monospace());
+                ui.end_row();
+                ui.label("errors");
+                ui.label(RichText::new(format!("{}", r.errors)).monospace());
+                ui.end_row();
+            });
         });
-    });
 }
 
 /// The task panel: targets with check marks and per-tree times, the running timer, and (when
@@ -349,7 +388,9 @@ pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive
         for (i, t) in task.def.targets.iter().enumerate() {
             let hit = task.satisfied.get(i).copied().flatten();
             let mark = if hit.is_some() { "[x]" } else { "[ ]" };
-            let time = hit.map(|h| format!(" {:.1} s", (h.tick - task.started_tick) as f64 * sim.dt() as f64)).unwrap_or_default();
+            let time = hit
+                .map(|h| format!(" {:.1} s", (h.tick - task.started_tick) as f64 * sim.dt() as f64))
+                .unwrap_or_default();
             ui.label(format!("{mark} {} at ({:.1}, {:.1}){time}", t.model, t.position.x, t.position.z));
         }
         ui.separator();
@@ -359,7 +400,6 @@ pub fn task_panel(ui: &mut Ui, sim: &Sim, out: &mut Vec<InputEvent>, interactive
         }
     });
 }
-
 
 /// A technique's tooltip: its description, then each controller button it uses with the desktop
 /// key or mouse button that produces it (`Technique::controls`).
@@ -376,8 +416,8 @@ fn technique_help(name: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use egui_kittest::kittest::Queryable;
     use egui_kittest::Harness;
+    use egui_kittest::kittest::Queryable;
     use grove_systems::scene::Scene;
 
     use crate::desktop::session::LiveSession;

@@ -16,9 +16,9 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
+use grove_systems::Sim;
 use grove_systems::input::{InputEvent, StampedEvent};
 use grove_systems::replay::{Header, Recorder};
-use grove_systems::Sim;
 
 use super::DesktopError;
 
@@ -60,7 +60,9 @@ impl FixedStep {
 fn conflicts(batch: &[InputEvent], event: &InputEvent) -> bool {
     use InputEvent::*;
     match event {
-        ButtonDown { button } | ButtonUp { button } => batch.iter().any(|e| matches!(e, ButtonDown { button: b } | ButtonUp { button: b } if b == button)),
+        ButtonDown { button } | ButtonUp { button } => {
+            batch.iter().any(|e| matches!(e, ButtonDown { button: b } | ButtonUp { button: b } if b == button))
+        }
         ControllerPose { .. } => batch.iter().any(|e| matches!(e, ButtonDown { .. } | ButtonUp { .. })),
         _ => false,
     }
@@ -78,7 +80,8 @@ pub fn create_recording(path: &Path, header: &Header) -> Result<FileRecorder, De
             DesktopError::CreateRecording { path: path.to_path_buf(), error }
         }
     })?;
-    Recorder::new(BufWriter::new(f), header).map_err(|error| DesktopError::RecordingHeader { path: path.to_path_buf(), error })
+    Recorder::new(BufWriter::new(f), header)
+        .map_err(|error| DesktopError::RecordingHeader { path: path.to_path_buf(), error })
 }
 
 /// A running session: the simulation, queued input and an optional recording.
@@ -179,7 +182,7 @@ mod tests {
     use glam::Vec3;
     use grove_systems::components::Pose;
     use grove_systems::input::Button;
-    use grove_systems::replay::{replay_file, ReplayOptions};
+    use grove_systems::replay::{ReplayOptions, replay_file};
     use grove_systems::scene::Scene;
 
     #[test]

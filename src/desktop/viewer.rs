@@ -14,8 +14,8 @@ use egui::{Color32, RichText, Ui};
 use grove_systems::input::StampedEvent;
 
 use super::DesktopError;
-use grove_systems::replay::{read_events, replay_file, sim_for_header_in, Header, ReplayOptions};
 use grove_systems::Sim;
+use grove_systems::replay::{Header, ReplayOptions, read_events, replay_file, sim_for_header_in};
 
 use super::play_ui::task_panel;
 use super::session::FixedStep;
@@ -74,7 +74,8 @@ impl Viewer {
     /// Opens a recording: verifies it headless, then starts the view at tick 0. Unreadable or
     /// malformed files give a one-line error.
     pub fn open(path: &Path) -> Result<Viewer, DesktopError> {
-        let outcome = replay_file(path, &ReplayOptions { banks: grove::bank::session_dirs(&[]), ..Default::default() })?;
+        let outcome =
+            replay_file(path, &ReplayOptions { banks: grove::bank::session_dirs(&[]), ..Default::default() })?;
         let (header, events) = read_events(path)?;
         let end_tick = outcome.sim.tick();
         let markers = outcome
@@ -82,7 +83,9 @@ impl Viewer {
             .log()
             .entries
             .iter()
-            .filter_map(|e| MARKER_KINDS.iter().find(|k| **k == e.what.kind()).map(|k| Marker { tick: e.tick, kind: k }))
+            .filter_map(|e| {
+                MARKER_KINDS.iter().find(|k| **k == e.what.kind()).map(|k| Marker { tick: e.tick, kind: k })
+            })
             .collect();
         let mut banner = Vec::new();
         if let Some(d) = &outcome.first_divergence {
@@ -92,12 +95,16 @@ impl Viewer {
             ));
         }
         if !outcome.complete {
-            banner.push("INCOMPLETE: the recording has no footer (the session was cut off); it is shown up to its last line".to_string());
+            banner.push(
+                "INCOMPLETE: the recording has no footer (the session was cut off); it is shown up to its last line"
+                    .to_string(),
+            );
         }
         if outcome.first_divergence.is_none() && outcome.checkpoints_checked == 0 {
             banner.push("NOT VERIFIED: no checkpoint was reached".to_string());
         }
-        let sim = sim_for_header_in(&header, path.parent(), &[], &grove::bank::open_session(&[])?).map_err(|error| DesktopError::Header { path: path.to_path_buf(), error })?;
+        let sim = sim_for_header_in(&header, path.parent(), &[], &grove::bank::open_session(&[])?)
+            .map_err(|error| DesktopError::Header { path: path.to_path_buf(), error })?;
         let dt = header.dt as f64;
         Ok(Viewer {
             path: path.to_path_buf(),
@@ -141,7 +148,10 @@ impl Viewer {
     pub fn seek(&mut self, tick: u64) {
         let tick = tick.min(self.end_tick);
         if tick < self.sim.tick() {
-            if let Ok(sim) = grove::bank::open_session(&[]).map_err(DesktopError::from).and_then(|banks| sim_for_header_in(&self.header, self.path.parent(), &[], &banks).map_err(|error| DesktopError::Header { path: self.path.clone(), error })) {
+            if let Ok(sim) = grove::bank::open_session(&[]).map_err(DesktopError::from).and_then(|banks| {
+                sim_for_header_in(&self.header, self.path.parent(), &[], &banks)
+                    .map_err(|error| DesktopError::Header { path: self.path.clone(), error })
+            }) {
                 self.sim = sim;
                 self.next_event = 0;
             }
@@ -196,8 +206,14 @@ impl Viewer {
                 });
                 let dt = self.sim.dt() as f64;
                 ui.label(
-                    RichText::new(format!("tick {} / {}  ({:.2} s / {:.2} s)", self.tick(), self.end_tick, self.tick() as f64 * dt, self.end_tick as f64 * dt))
-                        .monospace(),
+                    RichText::new(format!(
+                        "tick {} / {}  ({:.2} s / {:.2} s)",
+                        self.tick(),
+                        self.end_tick,
+                        self.tick() as f64 * dt,
+                        self.end_tick as f64 * dt
+                    ))
+                    .monospace(),
                 );
             });
             let mut t = self.tick();
@@ -224,7 +240,10 @@ impl Viewer {
             let painter = ui.painter();
             for m in &self.markers {
                 let x = x0 + (x1 - x0) * (m.tick as f32 / self.end_tick.max(1) as f32);
-                painter.line_segment([egui::pos2(x, strip.min.y), egui::pos2(x, strip.max.y)], egui::Stroke::new(2.0, marker_color(m.kind)));
+                painter.line_segment(
+                    [egui::pos2(x, strip.min.y), egui::pos2(x, strip.max.y)],
+                    egui::Stroke::new(2.0, marker_color(m.kind)),
+                );
             }
             ui.horizontal(|ui| {
                 for k in MARKER_KINDS {
@@ -267,7 +286,10 @@ mod tests {
         for p in [Vec3::new(4.0, 0.0, -2.0), Vec3::new(-4.0, 0.0, -2.0)] {
             s.point_at(p).press(Button::Trigger).wait(20);
         }
-        s.push(InputEvent::ControllerPose { pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(4.0, 0.5, -2.0)) }).wait(1);
+        s.push(InputEvent::ControllerPose {
+            pose: Pose::looking_at(Vec3::new(0.0, 1.7, 6.0), Vec3::new(4.0, 0.5, -2.0)),
+        })
+        .wait(1);
         s.press(Button::Bumper).wait(30);
         let events = s.recorded().to_vec();
         let mut header = Header::new("study", 9, scene.dt);
@@ -351,7 +373,9 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = recording(dir.path());
         let v = Viewer::open(&path).unwrap();
-        let mut h = egui_kittest::Harness::builder().with_size(egui::vec2(1280.0, 720.0)).build_ui_state(|ui, v: &mut Viewer| v.ui(ui), v);
+        let mut h = egui_kittest::Harness::builder()
+            .with_size(egui::vec2(1280.0, 720.0))
+            .build_ui_state(|ui, v: &mut Viewer| v.ui(ui), v);
         h.get_by_label("Step").click();
         h.run();
         assert_eq!(h.state().tick(), 1);
@@ -387,7 +411,13 @@ impl super::window::Frontend for ViewApp {
         self.world3d.gpu_ready(&gpu, size);
     }
 
-    fn draw_3d(&mut self, gpu: super::window::GpuContext<'_>, encoder: &mut wgpu::CommandEncoder, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+    fn draw_3d(
+        &mut self,
+        gpu: super::window::GpuContext<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        view: &wgpu::TextureView,
+        size: (u32, u32),
+    ) -> bool {
         self.world3d.draw(&gpu, encoder, &self.viewer.sim, view, size)
     }
 
@@ -414,7 +444,12 @@ impl super::window::Frontend for ViewApp {
 
     fn ui(&mut self, ui: &mut egui::Ui) {
         let painter = ui.ctx().layer_painter(egui::LayerId::background());
-        super::world_view::paint_world(&painter, ui.ctx().content_rect(), &self.viewer.sim, super::world_view::ViewOptions::with_renderer(self.world3d.active()));
+        super::world_view::paint_world(
+            &painter,
+            ui.ctx().content_rect(),
+            &self.viewer.sim,
+            super::world_view::ViewOptions::with_renderer(self.world3d.active()),
+        );
         self.viewer.ui(ui);
     }
 

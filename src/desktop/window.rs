@@ -31,7 +31,7 @@ use super::budget::{Budget, Quality};
 use super::input_map::PadInput;
 use super::scaled::Upscaler;
 use super::stats::{FrameStats, Rolling};
-use super::surface::{clear_colour, init_gfx, Gfx};
+use super::surface::{Gfx, clear_colour, init_gfx};
 
 /// The GPU objects a frontend may use to draw (the renderer, thumbnails).
 pub struct GpuContext<'a> {
@@ -51,13 +51,24 @@ pub trait WorldRenderer {
     fn resize(&mut self, width: u32, height: u32);
     /// Records the world as seen from its head into `encoder`, drawing into `view`; the window
     /// submits the encoder, with the UI, as the frame's one command buffer.
-    fn render(&mut self, sim: &grove_systems::Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), grove::render::RenderError>;
+    fn render(
+        &mut self,
+        sim: &grove_systems::Sim,
+        view: &wgpu::TextureView,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<(), grove::render::RenderError>;
     /// Turns the sun's shadows on or off (the frame-time budget's last resort).
     fn set_shadows(&mut self, _on: bool) {}
 }
 
 /// Makes a world renderer for the window's device, queue, surface format and size.
-pub type RendererFactory = fn(&wgpu::Device, &wgpu::Queue, wgpu::TextureFormat, u32, u32) -> Result<Box<dyn WorldRenderer>, super::DesktopError>;
+pub type RendererFactory = fn(
+    &wgpu::Device,
+    &wgpu::Queue,
+    wgpu::TextureFormat,
+    u32,
+    u32,
+) -> Result<Box<dyn WorldRenderer>, super::DesktopError>;
 
 /// Renders one thumbnail per catalogue model (by model index) into sampleable textures.
 pub type ThumbnailFactory = fn(&wgpu::Device, &wgpu::Queue) -> Result<Vec<wgpu::TextureView>, super::DesktopError>;
@@ -66,7 +77,10 @@ pub type ThumbnailFactory = fn(&wgpu::Device, &wgpu::Queue) -> Result<Vec<wgpu::
 /// tree buttons without pictures.
 pub fn make_thumbnails(factory: ThumbnailFactory, gpu: GpuContext<'_>) -> Vec<Option<egui::TextureId>> {
     match factory(gpu.device, gpu.queue) {
-        Ok(views) => views.iter().map(|v| Some(gpu.egui.register_native_texture(gpu.device, v, wgpu::FilterMode::Linear))).collect(),
+        Ok(views) => views
+            .iter()
+            .map(|v| Some(gpu.egui.register_native_texture(gpu.device, v, wgpu::FilterMode::Linear)))
+            .collect(),
         Err(e) => {
             tracing::warn!("no tree thumbnails: {e}");
             Vec::new()
@@ -91,7 +105,15 @@ pub struct World3d {
 
 impl Default for World3d {
     fn default() -> World3d {
-        World3d { factory: None, budget: Budget::new(Quality::Auto), renderer: None, upscaler: None, format: None, size: (0, 0), last_draw: None }
+        World3d {
+            factory: None,
+            budget: Budget::new(Quality::Auto),
+            renderer: None,
+            upscaler: None,
+            format: None,
+            size: (0, 0),
+            last_draw: None,
+        }
     }
 }
 
@@ -123,7 +145,14 @@ impl World3d {
 
     /// Draws `sim` into `view` (a frame of `size` pixels), at the budget's internal resolution;
     /// the upscaling pass goes into `encoder`. Returns whether it drew.
-    pub fn draw(&mut self, gpu: &GpuContext<'_>, encoder: &mut wgpu::CommandEncoder, sim: &grove_systems::Sim, view: &wgpu::TextureView, size: (u32, u32)) -> bool {
+    pub fn draw(
+        &mut self,
+        gpu: &GpuContext<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        sim: &grove_systems::Sim,
+        view: &wgpu::TextureView,
+        size: (u32, u32),
+    ) -> bool {
         let Some(r) = self.renderer.as_mut() else { return false };
         // The time between draws is the whole frame's time, which is what the budget is for.
         let now = Instant::now();
@@ -172,7 +201,13 @@ pub trait Frontend {
     fn update(&mut self, elapsed: f64) -> Result<(), String>;
     /// Draws the 3D view into `view` with the renderer, if the frontend has one; returns
     /// whether it drew (then the UI keeps the scenery out of its own view).
-    fn draw_3d(&mut self, _gpu: GpuContext<'_>, _encoder: &mut wgpu::CommandEncoder, _view: &wgpu::TextureView, _size: (u32, u32)) -> bool {
+    fn draw_3d(
+        &mut self,
+        _gpu: GpuContext<'_>,
+        _encoder: &mut wgpu::CommandEncoder,
+        _view: &wgpu::TextureView,
+        _size: (u32, u32),
+    ) -> bool {
         false
     }
     /// Draws the UI for one frame.
@@ -261,11 +296,19 @@ impl<F: Frontend> App<F> {
             }
             return;
         };
-        let view = frame.texture.create_view(&wgpu::TextureViewDescriptor { label: Some("grove window frame"), ..Default::default() });
-        let mut encoder = gfx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grove window frame") });
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor { label: Some("grove window frame"), ..Default::default() });
+        let mut encoder =
+            gfx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grove window frame") });
         let size = (gfx.config.width, gfx.config.height);
         let drew_3d = self.frontend.draw_3d(
-            GpuContext { device: &gfx.device, queue: &gfx.queue, format: gfx.config.format, egui: &mut gfx.egui_renderer },
+            GpuContext {
+                device: &gfx.device,
+                queue: &gfx.queue,
+                format: gfx.config.format,
+                egui: &mut gfx.egui_renderer,
+            },
             &mut encoder,
             &view,
             size,
@@ -276,7 +319,11 @@ impl<F: Frontend> App<F> {
         let egui_view = if gfx.egui_format == gfx.config.format {
             None
         } else {
-            Some(frame.texture.create_view(&wgpu::TextureViewDescriptor { label: Some("grove window frame (egui)"), format: Some(gfx.egui_format), ..Default::default() }))
+            Some(frame.texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("grove window frame (egui)"),
+                format: Some(gfx.egui_format),
+                ..Default::default()
+            }))
         };
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -286,7 +333,11 @@ impl<F: Frontend> App<F> {
                     resolve_target: None,
                     depth_slice: None,
                     ops: wgpu::Operations {
-                        load: if drew_3d { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(clear_colour(gfx.egui_format)) },
+                        load: if drew_3d {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(clear_colour(gfx.egui_format))
+                        },
                         store: wgpu::StoreOp::Store,
                     },
                 })],
@@ -330,7 +381,12 @@ impl<F: Frontend> ApplicationHandler for App<F> {
             Ok((mut gfx, adapter)) => {
                 let size = (gfx.config.width, gfx.config.height);
                 self.frontend.gpu_ready(
-                    GpuContext { device: &gfx.device, queue: &gfx.queue, format: gfx.config.format, egui: &mut gfx.egui_renderer },
+                    GpuContext {
+                        device: &gfx.device,
+                        queue: &gfx.queue,
+                        format: gfx.config.format,
+                        egui: &mut gfx.egui_renderer,
+                    },
                     &adapter,
                     size,
                 );
@@ -451,7 +507,12 @@ pub fn run<F: Frontend>(title: &str, frontend: F) -> Result<(), super::DesktopEr
     let previous = std::panic::take_hook();
     let sink = caught.clone();
     std::panic::set_hook(Box::new(move |info| {
-        let msg = info.payload().downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| info.payload().downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown cause".into());
+        let msg = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown cause".into());
         let at = info.location().map(|l| l.file().to_string()).unwrap_or_default();
         if let Ok(mut c) = sink.lock() {
             c.get_or_insert((msg.replace('\n', " "), at));
@@ -471,7 +532,9 @@ pub fn run<F: Frontend>(title: &str, frontend: F) -> Result<(), super::DesktopEr
             eprintln!("warning: the window ended abruptly ({msg}); the session was ended there");
         }
         (Some((msg, _)), _) => bug = Some(DesktopError::Internal(msg.clone())),
-        (None, Ok(Err(e))) => eprintln!("warning: the window event loop ended with an error ({e}); the session was ended there"),
+        (None, Ok(Err(e))) => {
+            eprintln!("warning: the window event loop ended with an error ({e}); the session was ended there")
+        }
         _ => {}
     }
     let finished = app.frontend.finish().map_err(DesktopError::Window);

@@ -7,9 +7,9 @@
 
 use egui::{Color32, Painter, Pos2, Rect, Shape, Stroke};
 use glam::{Vec2, Vec3};
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelKind;
 use grove_systems::components::Head;
-use grove_systems::Sim;
 
 use super::input_map::project;
 
@@ -41,7 +41,8 @@ impl ViewOptions {
 pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOptions) {
     let head = head_of(sim);
     let size = Vec2::new(rect.width(), rect.height());
-    let to_screen = |p: Vec3| project(&head.pose, head.fov_y, size, p, NEAR).map(|s| Pos2::new(rect.min.x + s.x, rect.min.y + s.y));
+    let to_screen =
+        |p: Vec3| project(&head.pose, head.fov_y, size, p, NEAR).map(|s| Pos2::new(rect.min.x + s.x, rect.min.y + s.y));
     let sun_dir = sim.sun().map_or(Vec3::Y, |s| s.direction);
 
     if options.scenery {
@@ -74,8 +75,13 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
             let done = task.satisfied.get(i).is_some_and(|s| s.is_some());
             // Aiming help: the ring keeps a minimum size on screen, and lights up (white and
             // thicker) while the ray's hit point is inside the target's tolerance.
-            let aimed = hit.visible && Vec2::new(hit.position.x - t.position.x, hit.position.z - t.position.z).length() <= task.def.tolerance;
-            let radius = grove::render::overlay::geometry::min_on_screen(task.def.tolerance, head.pose.position.distance(t.position));
+            let aimed = hit.visible
+                && Vec2::new(hit.position.x - t.position.x, hit.position.z - t.position.z).length()
+                    <= task.def.tolerance;
+            let radius = grove::render::overlay::geometry::min_on_screen(
+                task.def.tolerance,
+                head.pose.position.distance(t.position),
+            );
             let (color, width) = if done {
                 (Color32::from_rgb(40, 200, 90), 2.0)
             } else if aimed {
@@ -100,7 +106,8 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
             let top = base + Vec3::Y * height;
             let crown = base + Vec3::Y * (height * 0.65);
             let (Some(pb), Some(pt), Some(pc)) = (to_screen(base), to_screen(top), to_screen(crown)) else { continue };
-            let r_px = to_screen(crown + head.pose.rotation * Vec3::X * radius).map_or(4.0, |p| (p - pc).length()).max(2.0);
+            let r_px =
+                to_screen(crown + head.pose.rotation * Vec3::X * radius).map_or(4.0, |p| (p - pc).length()).max(2.0);
             painter.line_segment([pb, pt], Stroke::new((r_px * 0.12).clamp(1.0, 8.0), Color32::from_rgb(100, 70, 40)));
             let green = match kind {
                 ModelKind::Mesh => Color32::from_rgb(40, 110, 45),
@@ -120,7 +127,15 @@ pub fn paint_world(painter: &Painter, rect: Rect, sim: &Sim, options: ViewOption
             let l = sel.half_extents * Vec3::new(x, y, z);
             sel.center + Vec3::new(c * l.x + s * l.z, l.y, -s * l.x + c * l.z)
         };
-        let pts: Vec<Option<Pos2>> = (0..8).map(|i| to_screen(corner(if i & 1 == 1 { 1.0 } else { -1.0 }, if i & 2 == 2 { 1.0 } else { -1.0 }, if i & 4 == 4 { 1.0 } else { -1.0 }))).collect();
+        let pts: Vec<Option<Pos2>> = (0..8)
+            .map(|i| {
+                to_screen(corner(
+                    if i & 1 == 1 { 1.0 } else { -1.0 },
+                    if i & 2 == 2 { 1.0 } else { -1.0 },
+                    if i & 4 == 4 { 1.0 } else { -1.0 },
+                ))
+            })
+            .collect();
         for (a, b) in [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)] {
             if let (Some(pa), Some(pb)) = (pts[a], pts[b]) {
                 painter.line_segment([pa, pb], Stroke::new(1.5, Color32::from_rgb(90, 200, 255)));

@@ -6,13 +6,13 @@
 
 use std::collections::BTreeMap;
 
-use glam::{Vec2, Vec3};
 use crate::render::TopView;
+use glam::{Vec2, Vec3};
 use grove_systems::events::Happening;
 use grove_systems::task::{TargetDef, TaskDef, TaskReport};
-use maud::{html, Markup, PreEscaped};
+use maud::{Markup, PreEscaped, html};
 
-use super::trace::{Trace, CELL_M};
+use super::trace::{CELL_M, Trace};
 
 /// One trial as the task area sees it.
 pub struct AreaTrial<'a> {
@@ -140,12 +140,22 @@ fn mean(xs: &[f64]) -> Option<f64> {
 
 /// The rectangle that holds the targets, the planted trees, the moved trees and the cells the
 /// ray hit most, with a margin.
-fn bounds(targets: &[TargetDef], planted: &[(String, usize, Vec2)], paths: &[(String, Vec<Vec2>)], heat: &BTreeMap<String, BTreeMap<(i32, i32), u32>>) -> TopView {
+fn bounds(
+    targets: &[TargetDef],
+    planted: &[(String, usize, Vec2)],
+    paths: &[(String, Vec<Vec2>)],
+    heat: &BTreeMap<String, BTreeMap<(i32, i32), u32>>,
+) -> TopView {
     let mut pts: Vec<Vec2> = targets.iter().map(|t| xz(t.position)).collect();
     pts.extend(planted.iter().map(|p| p.2));
     pts.extend(paths.iter().flat_map(|p| p.1.iter().copied()));
     let (total, max) = total_heat(heat);
-    pts.extend(total.iter().filter(|(_, n)| **n * 50 >= max).map(|((x, z), _)| Vec2::new((*x as f32 + 0.5) * CELL_M, (*z as f32 + 0.5) * CELL_M)));
+    pts.extend(
+        total
+            .iter()
+            .filter(|(_, n)| **n * 50 >= max)
+            .map(|((x, z), _)| Vec2::new((*x as f32 + 0.5) * CELL_M, (*z as f32 + 0.5) * CELL_M)),
+    );
     let (mut min, mut maxp) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
     for p in pts.iter().filter(|p| p.is_finite() && p.abs().max_element() < 1e4) {
         min = min.min(*p);
@@ -177,7 +187,11 @@ pub fn gather(condition: &str, trials: &[AreaTrial<'_>]) -> Area {
         }
         paths.extend(t.trace.paths.iter().map(|p| (t.participant.to_string(), p.points.clone())));
         if let Some(r) = t.report {
-            planted.extend(r.trees.iter().map(|tree| (t.participant.to_string(), tree.target, Vec2::new(tree.position[0], tree.position[2]))));
+            planted.extend(
+                r.trees.iter().map(|tree| {
+                    (t.participant.to_string(), tree.target, Vec2::new(tree.position[0], tree.position[2]))
+                }),
+            );
         }
         errors.extend(error_marks(t.participant, t.report, t.trace, def.as_ref()));
     }
@@ -195,8 +209,15 @@ pub fn gather(condition: &str, trials: &[AreaTrial<'_>]) -> Area {
                     }
                 }
             }
-            let dists: Vec<f64> = planted.iter().filter(|p| p.1 == i).map(|p| p.2.distance(xz(target.position)) as f64).collect();
-            let near = |p: Vec2| targets.iter().enumerate().min_by(|a, b| xz(a.1.position).distance(p).total_cmp(&xz(b.1.position).distance(p))).map(|(k, _)| k);
+            let dists: Vec<f64> =
+                planted.iter().filter(|p| p.1 == i).map(|p| p.2.distance(xz(target.position)) as f64).collect();
+            let near = |p: Vec2| {
+                targets
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| xz(a.1.position).distance(p).total_cmp(&xz(b.1.position).distance(p)))
+                    .map(|(k, _)| k)
+            };
             TargetStats {
                 index: i,
                 model: target.model.clone(),
@@ -237,8 +258,18 @@ fn f(v: f32) -> String {
 
 /// The per-participant cells as JSON for report.js: `{"cell": m, "p": {"P01": [[x, z, n], …]}}`.
 fn heat_json(a: &Area) -> String {
-    let p: serde_json::Map<String, serde_json::Value> =
-        a.heat.iter().map(|(k, cells)| (k.clone(), serde_json::json!(cells.iter().map(|((x, z), n)| [*x as i64, *z as i64, *n as i64]).collect::<Vec<_>>()))).collect();
+    let p: serde_json::Map<String, serde_json::Value> = a
+        .heat
+        .iter()
+        .map(|(k, cells)| {
+            (
+                k.clone(),
+                serde_json::json!(
+                    cells.iter().map(|((x, z), n)| [*x as i64, *z as i64, *n as i64]).collect::<Vec<_>>()
+                ),
+            )
+        })
+        .collect();
     // "</" cannot end the script element early: JSON allows "<\/".
     serde_json::json!({"cell": CELL_M, "p": p}).to_string().replace("</", "<\\/")
 }

@@ -3,7 +3,7 @@
 
 use grove_systems::events::{Happening, LogEntry};
 use grove_systems::task::TaskReport;
-use maud::{html, Markup};
+use maud::{Markup, html};
 
 use super::area::tree_durations;
 use super::trace::Trace;
@@ -50,7 +50,8 @@ pub fn timeline(trace: &Trace, ticks: u64, report: Option<&TaskReport>) -> Marku
     let h = row_h * rows as f64 + 34.0;
     let span = (ticks.max(1)) as f64 / TPS;
     let x = |tick: u64| left + (w - left - 10.0) * (tick as f64 / TPS) / span;
-    let step = [1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 60.0, 120.0, 300.0].into_iter().find(|s| span / s <= 12.0).unwrap_or(600.0);
+    let step =
+        [1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 60.0, 120.0, 300.0].into_iter().find(|s| span / s <= 12.0).unwrap_or(600.0);
     let axis_y = row_h * rows as f64 + 6.0;
     html! {
         svg class="timeline" viewBox=(format!("0 0 {w} {h}")) width="100%" {

@@ -20,10 +20,10 @@ pub mod trace;
 use std::path::{Path, PathBuf};
 
 use grove_systems::replay::Divergence;
-use rayon::prelude::*;
 use grove_systems::resources::Override;
+use rayon::prelude::*;
 
-use crate::study::report::{incomplete_reason, Summary};
+use crate::study::report::{Summary, incomplete_reason};
 use crate::study::whatif::{Sweep, WhatIf};
 use crate::study::{Trial, TrialStatus};
 use trace::{Moment, Trace};
@@ -104,12 +104,17 @@ pub fn selected(trials: &[Trial], selection: &Selection) -> Result<Vec<bool>, Ht
         }
         Selection::Auto => {
             let mut pick: Vec<bool> = trials.iter().map(|t| incomplete_reason(t).is_some()).collect();
-            let mut conditions: Vec<&str> = trials.iter().filter_map(|t| t.task.as_ref().map(|k| k.mode.as_str())).collect();
+            let mut conditions: Vec<&str> =
+                trials.iter().filter_map(|t| t.task.as_ref().map(|k| k.mode.as_str())).collect();
             conditions.sort_unstable();
             conditions.dedup();
             for c in conditions {
-                let mut done: Vec<(usize, f64)> =
-                    trials.iter().enumerate().filter(|(_, t)| t.task.as_ref().is_some_and(|k| k.mode == c)).filter_map(|(i, t)| crate::study::report::usable_time(t).map(|s| (i, s))).collect();
+                let mut done: Vec<(usize, f64)> = trials
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, t)| t.task.as_ref().is_some_and(|k| k.mode == c))
+                    .filter_map(|(i, t)| crate::study::report::usable_time(t).map(|s| (i, s)))
+                    .collect();
                 done.sort_by(|a, b| b.1.total_cmp(&a.1));
                 for (i, _) in done.into_iter().take(3) {
                     pick[i] = true;
@@ -142,7 +147,12 @@ impl TrialView {
     /// The section's anchor: the file name without `.jsonl`, in safe characters.
     pub fn anchor(&self) -> String {
         let stem = self.trial.file.trim_end_matches(".jsonl");
-        format!("t-{}", stem.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect::<String>())
+        format!(
+            "t-{}",
+            stem.chars()
+                .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+                .collect::<String>()
+        )
     }
 
     /// The condition: the task's mode or technique, or `no task`.
@@ -156,8 +166,17 @@ pub const MAX_FRAMES: usize = 24;
 
 /// Re-simulates one trial for the page; with `shots`, renders its filmstrip (and the moments
 /// in `extra`).
-pub fn view_trial(trial: Trial, path: PathBuf, overrides: &[Override], detailed: bool, extra: &[Moment], shots: Option<&mut shots::Shots>, pictures: &mut Option<String>) -> TrialView {
-    let mut view = TrialView { trial, path, trace: None, trace_error: None, frames: Vec::new(), detailed, divergence: None };
+pub fn view_trial(
+    trial: Trial,
+    path: PathBuf,
+    overrides: &[Override],
+    detailed: bool,
+    extra: &[Moment],
+    shots: Option<&mut shots::Shots>,
+    pictures: &mut Option<String>,
+) -> TrialView {
+    let mut view =
+        TrialView { trial, path, trace: None, trace_error: None, frames: Vec::new(), detailed, divergence: None };
     if view.trial.status == TrialStatus::Failed {
         view.trace_error = view.trial.error.clone();
         return view;
@@ -212,12 +231,18 @@ pub struct StudyPage<'a> {
 
 /// Writes `html` to `path` through a temporary file and a rename.
 pub fn write_page(path: &Path, html: &str) -> Result<(), HtmlError> {
-    crate::atomic_write::write_atomic(path, html.as_bytes()).map_err(|e| HtmlError::Write { path: path.display().to_string(), reason: e.to_string() })
+    crate::atomic_write::write_atomic(path, html.as_bytes())
+        .map_err(|e| HtmlError::Write { path: path.display().to_string(), reason: e.to_string() })
 }
 
 /// The study's report: traces every trial (rendering the filmstrips of the selected ones and
 /// the task area from above), writes `report.html` into `out`. Returns the file.
-pub fn write_study(out: &Path, page: &StudyPage<'_>, trials: &[Trial], selection: &Selection) -> Result<PathBuf, HtmlError> {
+pub fn write_study(
+    out: &Path,
+    page: &StudyPage<'_>,
+    trials: &[Trial],
+    selection: &Selection,
+) -> Result<PathBuf, HtmlError> {
     let pick = selected(trials, selection)?;
     let mut pictures: Option<String> = None;
     let mut shots = match shots::Shots::new() {
@@ -228,7 +253,10 @@ pub fn write_study(out: &Path, page: &StudyPage<'_>, trials: &[Trial], selection
         }
     };
     let bar = indicatif::ProgressBar::new(trials.len() as u64);
-    bar.set_style(indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} trials traced and filmed {elapsed}").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} trials traced and filmed {elapsed}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
     bar.set_prefix("report.html");
     let dir = PathBuf::from(&page.replays);
     // The trials without a section need no picture: re-simulated in parallel, one per thread;
@@ -246,7 +274,15 @@ pub fn write_study(out: &Path, page: &StudyPage<'_>, trials: &[Trial], selection
         .collect();
     for ((slot, t), &detailed) in views.iter_mut().zip(trials).zip(&pick) {
         if detailed {
-            *slot = Some(view_trial(t.clone(), dir.join(&t.file), page.overrides, true, &[], shots.as_mut(), &mut pictures));
+            *slot = Some(view_trial(
+                t.clone(),
+                dir.join(&t.file),
+                page.overrides,
+                true,
+                &[],
+                shots.as_mut(),
+                &mut pictures,
+            ));
             bar.inc(1);
         }
     }
@@ -275,18 +311,35 @@ mod tests {
 
     #[test]
     fn a_big_study_gets_sections_for_its_three_slowest_per_condition_and_its_incomplete_trials() {
-        let mut trials: Vec<Trial> = (0..60).flat_map(|i| [trial(&format!("P{i:02}"), "ray-casting", 10.0 + i as f64, true), trial(&format!("P{i:02}"), "manual", 100.0 - i as f64, true)]).collect();
+        let mut trials: Vec<Trial> = (0..60)
+            .flat_map(|i| {
+                [
+                    trial(&format!("P{i:02}"), "ray-casting", 10.0 + i as f64, true),
+                    trial(&format!("P{i:02}"), "manual", 100.0 - i as f64, true),
+                ]
+            })
+            .collect();
         trials[7] = trial("P03", "manual", 500.0, false);
         let pick = selected(&trials, &Selection::Auto).unwrap();
         let chosen: Vec<&str> = trials.iter().zip(&pick).filter(|(_, p)| **p).map(|(t, _)| t.file.as_str()).collect();
         // Ray-casting: P59, P58, P57 were slowest; manual: P00, P01, P02; P03's manual did not complete.
-        let want = ["P00-manual-7.jsonl", "P01-manual-7.jsonl", "P02-manual-7.jsonl", "P03-manual-7.jsonl", "P57-ray-casting-7.jsonl", "P58-ray-casting-7.jsonl", "P59-ray-casting-7.jsonl"];
+        let want = [
+            "P00-manual-7.jsonl",
+            "P01-manual-7.jsonl",
+            "P02-manual-7.jsonl",
+            "P03-manual-7.jsonl",
+            "P57-ray-casting-7.jsonl",
+            "P58-ray-casting-7.jsonl",
+            "P59-ray-casting-7.jsonl",
+        ];
         assert_eq!(chosen, want);
         // A small study: every trial; a named participant: theirs; an unknown one: an error.
         assert!(selected(&trials[..50], &Selection::Auto).unwrap().iter().all(|p| *p));
         let p = selected(&trials, &"P05".parse().unwrap()).unwrap();
         assert_eq!(p.iter().filter(|x| **x).count(), 2);
-        assert!(matches!(selected(&trials, &"P05,X".parse().unwrap()), Err(HtmlError::UnknownParticipant(x)) if x == "X"));
+        assert!(
+            matches!(selected(&trials, &"P05,X".parse().unwrap()), Err(HtmlError::UnknownParticipant(x)) if x == "X")
+        );
         assert_eq!("all".parse::<Selection>().unwrap(), Selection::All);
         assert!(matches!(" , ".parse::<Selection>(), Err(HtmlError::EmptySelection)));
     }

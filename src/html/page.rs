@@ -1,7 +1,7 @@
 //! The HTML documents (maud templates): the study's page (overview, trials table, task areas,
 //! trial sections) and one recording's page.
 
-use maud::{html, Markup, PreEscaped, DOCTYPE};
+use maud::{DOCTYPE, Markup, PreEscaped, html};
 
 use super::area::Area;
 use super::sections::{area_section, num, trial_section};
@@ -150,7 +150,8 @@ fn sweep(sw: &crate::study::whatif::Sweep) -> Markup {
 
 /// Per condition, the slowest completed trial and where its time went.
 fn slowest(views: &[TrialView]) -> Markup {
-    let mut conditions: Vec<String> = views.iter().filter(|v| v.trial.task.is_some()).map(TrialView::condition).collect();
+    let mut conditions: Vec<String> =
+        views.iter().filter(|v| v.trial.task.is_some()).map(TrialView::condition).collect();
     conditions.sort();
     conditions.dedup();
     html! {
@@ -209,7 +210,12 @@ fn pictures_note(note: Option<&str>) -> Markup {
 }
 
 /// The study's page.
-pub fn study(page: &StudyPage<'_>, views: &[TrialView], areas: &[(Area, Option<String>)], pictures: Option<&str>) -> String {
+pub fn study(
+    page: &StudyPage<'_>,
+    views: &[TrialView],
+    areas: &[(Area, Option<String>)],
+    pictures: Option<&str>,
+) -> String {
     let detailed = views.iter().filter(|v| v.detailed).count();
     let body = html! {
         header { h1 { "grove study report" } p { "Recordings: " code { (page.replays) } " · " (views.len()) " trials · " (page.summary.participants) " participants" @if !page.overrides.is_empty() { " · under " (page.overrides.iter().map(|o| format!("{}={}", o.name, o.text)).collect::<Vec<_>>().join(", ")) } }

@@ -2,11 +2,11 @@
 //! comparisons, a distribution chart per item (inline SVG: how many participants gave each
 //! answer), and each participant's answers beside their trials.
 
-use maud::{html, Markup};
+use maud::{Markup, html};
 use serde_json::Value;
 
 use crate::protocol::{Instrument, ItemKind};
-use crate::study::questionnaire::{cell, columns, Answer, Questionnaires};
+use crate::study::questionnaire::{Answer, Questionnaires, cell, columns};
 
 use super::TrialView;
 
@@ -158,7 +158,8 @@ mod tests {
         let chart = html.split("data-item=\"tree-planting.guidance\"").nth(1).unwrap().split("</svg>").next().unwrap();
         let counts: Vec<&str> = chart.split("data-count=\"").skip(1).map(|s| s.split('"').next().unwrap()).collect();
         assert_eq!(counts, vec!["0", "0", "0", "0", "0", "0", "0", "0", "2", "0", "0"]);
-        let choices = html.split("data-item=\"tree-planting.more_instructions\"").nth(1).unwrap().split("</svg>").next().unwrap();
+        let choices =
+            html.split("data-item=\"tree-planting.more_instructions\"").nth(1).unwrap().split("</svg>").next().unwrap();
         assert_eq!(choices.matches("data-count=\"2\"").count(), 2, "two choices, each given by both");
         assert!(html.contains("data-participant=\"P01\"") && html.contains("data-participant=\"P02\""));
         assert!(html.contains("1 of 2 participants rated"), "the comparison: P01 7 vs 4, P02 5 vs 5");

@@ -14,14 +14,14 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
-use grove_systems::scenario::observe::Snapshot;
-use grove_systems::scenario::run::{run_traced, Failure, Outcome, RunOptions, StepTrace};
-use grove_systems::scenario::Loaded;
 use grove_systems::Sim;
-use maud::{html, Markup, PreEscaped};
+use grove_systems::scenario::Loaded;
+use grove_systems::scenario::observe::Snapshot;
+use grove_systems::scenario::run::{Failure, Outcome, RunOptions, StepTrace, run_traced};
+use maud::{Markup, PreEscaped, html};
 
-use super::shots::{Shots, FRAME_SIZE};
 use super::HtmlError;
+use super::shots::{FRAME_SIZE, Shots};
 use crate::render::TopView;
 
 const CSS: &str = include_str!("scenario_trace.css");
@@ -54,7 +54,8 @@ fn top_view(steps: &[StepTrace]) -> TopView {
         pts.push(Vec2::new(end.x, end.z));
         pts.extend(s.trees.iter().chain(&s.targets).map(|&(x, z)| Vec2::new(x, z)));
     }
-    let (mut min, mut max) = pts.iter().fold((Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)), |(a, b), p| (a.min(*p), b.max(*p)));
+    let (mut min, mut max) =
+        pts.iter().fold((Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)), |(a, b), p| (a.min(*p), b.max(*p)));
     if pts.is_empty() {
         (min, max) = (Vec2::splat(-10.0), Vec2::splat(10.0));
     }
@@ -157,7 +158,11 @@ fn side(class: &str, view: &TopView, s: &Snapshot, frames: &BTreeMap<u64, (Strin
 }
 
 fn shell_quote(p: &str) -> String {
-    if p.chars().all(|c| c.is_ascii_alphanumeric() || "/._-+".contains(c)) { p.to_string() } else { format!("'{}'", p.replace('\'', "'\\''")) }
+    if p.chars().all(|c| c.is_ascii_alphanumeric() || "/._-+".contains(c)) {
+        p.to_string()
+    } else {
+        format!("'{}'", p.replace('\'', "'\\''"))
+    }
 }
 
 /// The page.
@@ -165,7 +170,13 @@ pub fn page(loaded: &Loaded, t: &Traced, recording: &Path) -> String {
     let failure: Option<&Failure> = t.outcome.failure.as_ref();
     let failed_step = failure.and_then(|f| f.step);
     let rec = shell_quote(&recording.display().to_string());
-    let frames_json = serde_json::to_string(&t.frames.iter().flat_map(|(tick, (h, top))| [(format!("h{tick}"), h.as_str()), (format!("t{tick}"), top.as_str())]).collect::<BTreeMap<_, _>>()).unwrap_or_else(|_| "{}".into());
+    let frames_json = serde_json::to_string(
+        &t.frames
+            .iter()
+            .flat_map(|(tick, (h, top))| [(format!("h{tick}"), h.as_str()), (format!("t{tick}"), top.as_str())])
+            .collect::<BTreeMap<_, _>>(),
+    )
+    .unwrap_or_else(|_| "{}".into());
     let body = html! {
         header {
             h1 { "grove test trace: " (loaded.name) }
@@ -212,8 +223,10 @@ pub fn page(loaded: &Loaded, t: &Traced, recording: &Path) -> String {
 /// Traces a scenario into `out` (through a temporary file and a rename); `recording` is where
 /// its recording is, for the `grove view` commands.
 pub fn write(loaded: &Loaded, options: &RunOptions, recording: &Path, out: &Path) -> Result<Traced, HtmlError> {
-    let traced = trace(loaded, options).map_err(|e| HtmlError::Write { path: out.display().to_string(), reason: e.to_string() })?;
+    let traced = trace(loaded, options)
+        .map_err(|e| HtmlError::Write { path: out.display().to_string(), reason: e.to_string() })?;
     let text = page(loaded, &traced, recording);
-    crate::atomic_write::write_atomic(out, text.as_bytes()).map_err(|e| HtmlError::Write { path: out.display().to_string(), reason: e.to_string() })?;
+    crate::atomic_write::write_atomic(out, text.as_bytes())
+        .map_err(|e| HtmlError::Write { path: out.display().to_string(), reason: e.to_string() })?;
     Ok(traced)
 }

@@ -2,16 +2,21 @@
 
 use grove_systems::replay::{read_events, sim_for_header_in};
 use grove_systems::resources::Override;
-use maud::{html, Markup};
+use maud::{Markup, html};
 
+use super::TrialView;
 use super::area::{self, Area, AreaTrial};
 use super::figures;
 use super::shots::Shots;
-use super::TrialView;
 
 /// One condition's area and its picture from above (a data URI), in the order conditions first
 /// appear among the trials.
-pub fn areas(views: &[TrialView], overrides: &[Override], mut shots: Option<&mut Shots>, pictures: &mut Option<String>) -> Vec<(Area, Option<String>)> {
+pub fn areas(
+    views: &[TrialView],
+    overrides: &[Override],
+    mut shots: Option<&mut Shots>,
+    pictures: &mut Option<String>,
+) -> Vec<(Area, Option<String>)> {
     let mut conditions: Vec<String> = Vec::new();
     for v in views.iter().filter(|v| v.trace.is_some()) {
         if !conditions.contains(&v.condition()) {
@@ -22,10 +27,21 @@ pub fn areas(views: &[TrialView], overrides: &[Override], mut shots: Option<&mut
         .into_iter()
         .map(|c| {
             let of: Vec<&TrialView> = views.iter().filter(|v| v.condition() == c).collect();
-            let trials: Vec<AreaTrial<'_>> = of.iter().filter_map(|v| v.trace.as_ref().map(|trace| AreaTrial { participant: &v.trial.participant, report: v.trial.task.as_ref(), trace })).collect();
+            let trials: Vec<AreaTrial<'_>> = of
+                .iter()
+                .filter_map(|v| {
+                    v.trace.as_ref().map(|trace| AreaTrial {
+                        participant: &v.trial.participant,
+                        report: v.trial.task.as_ref(),
+                        trace,
+                    })
+                })
+                .collect();
             let a = area::gather(&c, &trials);
             let mut image = None;
-            if let (Some(s), None, Some(first)) = (shots.as_deref_mut(), pictures.as_ref(), of.iter().find(|v| v.trace.is_some())) {
+            if let (Some(s), None, Some(first)) =
+                (shots.as_deref_mut(), pictures.as_ref(), of.iter().find(|v| v.trace.is_some()))
+            {
                 // The scene as the first trial of the condition starts: its own trees, no planted one.
                 let world = read_events(&first.path).map_err(|e| e.to_string()).and_then(|(h, _)| {
                     let banks = crate::bank::open_session(&[]).map_err(|e| e.to_string())?;
@@ -48,7 +64,12 @@ fn opt(x: Option<f64>, d: usize) -> String {
 /// A condition's task area: the map with the participants' switches, and the per-target table.
 pub fn area_section(a: &Area, image: Option<&str>, n: usize) -> Markup {
     let id = format!("c{n}");
-    let hardest = a.per_target.iter().filter(|t| t.mean_took_s.is_some()).max_by(|x, y| x.mean_took_s.unwrap_or(0.0).total_cmp(&y.mean_took_s.unwrap_or(0.0))).map(|t| t.index);
+    let hardest = a
+        .per_target
+        .iter()
+        .filter(|t| t.mean_took_s.is_some())
+        .max_by(|x, y| x.mean_took_s.unwrap_or(0.0).total_cmp(&y.mean_took_s.unwrap_or(0.0)))
+        .map(|t| t.index);
     html! {
         section class="area-section" data-condition=(a.condition) {
             h3 { "Condition: " (a.condition) }

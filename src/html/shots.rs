@@ -1,9 +1,9 @@
 //! The report's pictures, rendered headless by the renderer (lavapipe where there is no GPU) and
 //! embedded as JPEG data URIs: the filmstrip's head-camera frames and the task area from above.
 
-use base64::Engine as _;
 use crate::render::offscreen::{self, Gpu};
 use crate::render::{RenderOptions, Renderer, TopView};
+use base64::Engine as _;
 use grove_systems::Sim;
 
 use super::HtmlError;
@@ -27,7 +27,9 @@ pub struct Shots {
 pub fn jpeg_uri(img: &RgbaImage, quality: u8) -> Result<String, HtmlError> {
     let rgb = image::DynamicImage::ImageRgba8(img.clone()).to_rgb8();
     let mut bytes = Vec::new();
-    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, quality).encode_image(&rgb).map_err(HtmlError::Jpeg)?;
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, quality)
+        .encode_image(&rgb)
+        .map_err(HtmlError::Jpeg)?;
     Ok(format!("data:image/jpeg;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bytes)))
 }
 
@@ -66,7 +68,16 @@ impl Shots {
         let head = self.frame(sim)?;
         let r = self.film.as_mut().ok_or(HtmlError::NoRenderer)?;
         let film = r.options.clone();
-        r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, far_pixels: 0.0, top_view: Some(view), ..film.clone() };
+        r.options = RenderOptions {
+            overlay: false,
+            grass: false,
+            water: false,
+            leaf_pixels: 0.0,
+            impostor_pixels: 0.0,
+            far_pixels: 0.0,
+            top_view: Some(view),
+            ..film.clone()
+        };
         let img = offscreen::render_image(&self.gpu, r, sim);
         r.options = film;
         Ok((head, jpeg_uri(&img?, 70)?))
@@ -83,7 +94,16 @@ impl Shots {
         }
         let (r, _) = self.top.as_mut().ok_or(HtmlError::NoRenderer)?;
         // Every leaf and no impostor: seen from far above, level of detail would thin the crowns.
-        r.options = RenderOptions { overlay: false, grass: false, water: false, leaf_pixels: 0.0, impostor_pixels: 0.0, far_pixels: 0.0, top_view: Some(view), ..Default::default() };
+        r.options = RenderOptions {
+            overlay: false,
+            grass: false,
+            water: false,
+            leaf_pixels: 0.0,
+            impostor_pixels: 0.0,
+            far_pixels: 0.0,
+            top_view: Some(view),
+            ..Default::default()
+        };
         let img = offscreen::render_image(&self.gpu, r, sim)?;
         jpeg_uri(&img, 80)
     }

@@ -10,12 +10,12 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::Vec2;
+use grove_systems::Sim;
 use grove_systems::bank::Banks;
 use grove_systems::events::{Happening, LogEntry};
 use grove_systems::input::InputEvent;
 use grove_systems::replay::Player;
 use grove_systems::resources::Override;
-use grove_systems::Sim;
 
 use super::HtmlError;
 
@@ -88,7 +88,14 @@ fn tree_xz(sim: &Sim, tree: u64) -> Option<Vec2> {
 
 /// Re-simulates `path` to `end_tick` under `overrides`, calling `shoot` with the world at each
 /// moment (the ticks in `extra` with their words included; at most one call per tick).
-pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, extra: &[Moment], shoot: &mut dyn FnMut(&Sim, &Moment) -> Result<(), HtmlError>) -> Result<Trace, HtmlError> {
+pub fn trace(
+    path: &Path,
+    overrides: &[Override],
+    banks: &Banks,
+    end_tick: u64,
+    extra: &[Moment],
+    shoot: &mut dyn FnMut(&Sim, &Moment) -> Result<(), HtmlError>,
+) -> Result<Trace, HtmlError> {
     let mut player = Player::open(path, overrides, banks)?;
     let mut out = Trace::default();
     let mut moving: Option<TreePath> = None;
@@ -108,7 +115,10 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
         // The events of this tick are applied with its step, as the verifying replay does.
         for e in player.step() {
             if let InputEvent::ButtonDown { button } = &e.event {
-                let name = serde_json::to_value(button).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_else(|| format!("{button:?}"));
+                let name = serde_json::to_value(button)
+                    .ok()
+                    .and_then(|v| v.as_str().map(str::to_string))
+                    .unwrap_or_else(|| format!("{button:?}"));
                 out.presses.push(Press { tick: e.tick, button: name });
             }
         }
@@ -133,7 +143,8 @@ pub fn trace(path: &Path, overrides: &[Override], banks: &Banks, end_tick: u64, 
         if let Some(tree) = now
             && let Some(p) = tree_xz(sim, tree)
         {
-            let m = moving.get_or_insert_with(|| TreePath { tree, ticks: (sim.tick(), sim.tick()), points: Vec::new() });
+            let m =
+                moving.get_or_insert_with(|| TreePath { tree, ticks: (sim.tick(), sim.tick()), points: Vec::new() });
             m.ticks.1 = sim.tick();
             if m.points.last().is_none_or(|q| q.distance(p) >= PATH_STEP_M) {
                 m.points.push(p);

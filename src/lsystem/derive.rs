@@ -151,7 +151,9 @@ fn pick(g: &Grammar, s: u8, index: u32, key: u32, args: &[f32]) -> Option<u32> {
             }
             Some(t[k].1)
         }
-        Choice::Conditional(rs) => rs.iter().copied().find(|&r| g.rules[r as usize].cond.as_ref().is_none_or(|c| c.eval(args) != 0.0)),
+        Choice::Conditional(rs) => {
+            rs.iter().copied().find(|&r| g.rules[r as usize].cond.as_ref().is_none_or(|c| c.eval(args) != 0.0))
+        }
     }
 }
 
@@ -218,11 +220,8 @@ pub fn step(g: &Grammar, s: &LString, step: u32, seed: u64, limits: &Limits) -> 
         par_parts.push(a);
         rest_p = b;
     }
-    s.syms
-        .par_chunks(CHUNK)
-        .zip(sym_parts.into_par_iter().zip(par_parts))
-        .enumerate()
-        .for_each(|(c, (chunk, (out, pout)))| {
+    s.syms.par_chunks(CHUNK).zip(sym_parts.into_par_iter().zip(par_parts)).enumerate().for_each(
+        |(c, (chunk, (out, pout)))| {
             let base = c * CHUNK;
             let (mut o, mut po, mut p) = (0usize, 0usize, in_param_base[c] as usize);
             for (i, &x) in chunk.iter().enumerate() {
@@ -247,7 +246,8 @@ pub fn step(g: &Grammar, s: &LString, step: u32, seed: u64, limits: &Limits) -> 
                 }
                 p += a;
             }
-        });
+        },
+    );
     Ok(LString { syms, params })
 }
 
@@ -279,7 +279,13 @@ pub fn derive(g: &Grammar, n: u32, seed: u64, limits: &Limits) -> Result<LString
 }
 
 /// Derives on a pool of `threads` threads.
-pub fn derive_threads(g: &Grammar, n: u32, seed: u64, limits: &Limits, threads: usize) -> Result<LString, LsystemError> {
+pub fn derive_threads(
+    g: &Grammar,
+    n: u32,
+    seed: u64,
+    limits: &Limits,
+    threads: usize,
+) -> Result<LString, LsystemError> {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(LsystemError::ThreadPool)?;
     pool.install(|| derive(g, n, seed, limits))
 }

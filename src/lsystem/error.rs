@@ -176,7 +176,9 @@ pub enum LsystemError {
     #[error("{0}")]
     ThreadPool(rayon::ThreadPoolBuildError),
     /// An interpretation past the memory limit.
-    #[error("interpretation would need {bytes} bytes for {draws} segments, more than the limit of {limit} (--max-bytes)")]
+    #[error(
+        "interpretation would need {bytes} bytes for {draws} segments, more than the limit of {limit} (--max-bytes)"
+    )]
     InterpretBytes {
         /// The bytes it would need.
         bytes: u64,
@@ -192,7 +194,9 @@ pub enum LsystemError {
     #[error("unbalanced brackets: {0} '[' without ']'")]
     UnbalancedOpen(usize),
     /// A grammar the memoised turtle cannot interpret.
-    #[error("the memoised turtle needs one rule per symbol, without parameters, and balanced brackets in every successor")]
+    #[error(
+        "the memoised turtle needs one rule per symbol, without parameters, and balanced brackets in every successor"
+    )]
     NotMemoisable,
     /// No GPU adapter.
     #[error("no GPU adapter available ({0}); install a Vulkan driver such as mesa-vulkan-drivers (lavapipe)")]
@@ -213,7 +217,9 @@ pub enum LsystemError {
     #[error("cannot read the GPU buffer ({0:?})")]
     ReadbackRange(wgpu::MapRangeError),
     /// A grammar the GPU derivation does not handle (its name).
-    #[error("the GPU derivation handles grammars without parameters or conditions; derive '{0}' on the CPU (without --gpu)")]
+    #[error(
+        "the GPU derivation handles grammars without parameters or conditions; derive '{0}' on the CPU (without --gpu)"
+    )]
     GpuGrammar(String),
     /// A derivation step whose string could outgrow the GPU's 32-bit offsets.
     #[error("derivation step {step}: {symbols} symbols could grow past the GPU's 32-bit offsets; derive on the CPU")]

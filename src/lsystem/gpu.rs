@@ -10,7 +10,7 @@
 
 use wgpu::util::DeviceExt;
 
-use super::derive::{step_key, LString, Limits};
+use super::derive::{LString, Limits, step_key};
 use super::error::LsystemError;
 use super::grammar::{Choice, Grammar};
 
@@ -67,7 +67,8 @@ fn tables(g: &Grammar) -> (Vec<u32>, u32) {
 
 /// Bytes packed four to a little-endian u32 (at least one word).
 fn pack(bytes: &[u8]) -> Vec<u32> {
-    let mut w: Vec<u32> = bytes.chunks(4).map(|c| c.iter().enumerate().fold(0u32, |a, (i, &b)| a | (b as u32) << (8 * i))).collect();
+    let mut w: Vec<u32> =
+        bytes.chunks(4).map(|c| c.iter().enumerate().fold(0u32, |a, (i, &b)| a | (b as u32) << (8 * i))).collect();
     if w.is_empty() {
         w.push(0);
     }
@@ -139,7 +140,12 @@ impl GpuDeriver {
     }
 
     fn buffer(&self, label: &str, bytes: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-        self.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: bytes.max(4).div_ceil(4) * 4, usage, mapped_at_creation: false })
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes.max(4).div_ceil(4) * 4,
+            usage,
+            mapped_at_creation: false,
+        })
     }
 
     fn params(&self, n: u32, key: u32, row: u32, pool: u32) -> wgpu::Buffer {
@@ -151,11 +157,20 @@ impl GpuDeriver {
     }
 
     /// One dispatch in its own compute pass (passes are ordered, so each sees the last's writes).
-    fn dispatch(&self, enc: &mut wgpu::CommandEncoder, pipe: &wgpu::ComputePipeline, entries: &[(u32, &wgpu::Buffer)], groups: (u32, u32)) {
+    fn dispatch(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        pipe: &wgpu::ComputePipeline,
+        entries: &[(u32, &wgpu::Buffer)],
+        groups: (u32, u32),
+    ) {
         let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &pipe.get_bind_group_layout(0),
-            entries: &entries.iter().map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() }).collect::<Vec<_>>(),
+            entries: &entries
+                .iter()
+                .map(|(b, buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() })
+                .collect::<Vec<_>>(),
         });
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: None });
         pass.set_pipeline(pipe);
@@ -167,7 +182,11 @@ impl GpuDeriver {
     /// the total.
     fn scan(&self, enc: &mut wgpu::CommandEncoder, data: &wgpu::Buffer, n: u32) -> wgpu::Buffer {
         let blocks = n.div_ceil(WG).max(1);
-        let sums = self.buffer("lsystem block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+        let sums = self.buffer(
+            "lsystem block sums",
+            blocks as u64 * 4,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        );
         let (x, y, _) = grid(blocks, self.max_groups);
         let prm = self.params(n, 0, 0, 0);
         self.dispatch(enc, &self.scan_block, &[(0, &prm), (3, data), (4, &sums)], (x, y));
@@ -181,7 +200,8 @@ impl GpuDeriver {
 
     fn read(&self, buf: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>, LsystemError> {
         let size = bytes.max(4).div_ceil(4) * 4;
-        let staging = self.buffer("lsystem readback", size, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+        let staging =
+            self.buffer("lsystem readback", size, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
         let mut enc = self.device.create_command_encoder(&Default::default());
         enc.copy_buffer_to_buffer(buf, 0, &staging, 0, size);
         self.queue.submit([enc.finish()]);

@@ -230,7 +230,12 @@ fn set_arity(arity: &mut [Option<u8>; 128], sym: u8, n: usize, what: &str) -> Re
 impl Grammar {
     /// Checks and compiles a grammar source.
     pub fn compile(src: &Source) -> Result<Grammar, LsystemError> {
-        if !(src.angle_deg.is_finite() && src.step.is_finite() && src.step > 0.0 && src.width.is_finite() && src.width >= 0.0) {
+        if !(src.angle_deg.is_finite()
+            && src.step.is_finite()
+            && src.step > 0.0
+            && src.width.is_finite()
+            && src.width >= 0.0)
+        {
             return Err(LsystemError::Turtle);
         }
         if !(src.width_factor.is_finite() && src.width_factor > 0.0) {
@@ -355,7 +360,11 @@ impl Grammar {
                 let mut table = Vec::new();
                 for (k, &i) in idx.iter().enumerate() {
                     cum += rules[i as usize].weight as f64;
-                    let t = if k + 1 == idx.len() { 1u32 << 24 } else { ((cum / total) * (1u32 << 24) as f64).round() as u32 };
+                    let t = if k + 1 == idx.len() {
+                        1u32 << 24
+                    } else {
+                        ((cum / total) * (1u32 << 24) as f64).round() as u32
+                    };
                     table.push((t.min(1 << 24), i));
                 }
                 *slot = Choice::Stochastic(table);
@@ -400,7 +409,9 @@ impl Grammar {
                 return Err(LsystemError::KeyValue.at(at()));
             };
             let value = value.trim();
-            let num = |v: &str| v.parse::<f32>().map_err(|error| LsystemError::NotNumber { value: v.to_string(), error }.at(at()));
+            let num = |v: &str| {
+                v.parse::<f32>().map_err(|error| LsystemError::NotNumber { value: v.to_string(), error }.at(at()))
+            };
             match key.trim() {
                 "name" => src.name = value.to_string(),
                 "axiom" => {
@@ -414,7 +425,11 @@ impl Grammar {
                 "width-factor" => src.width_factor = num(value)?,
                 "species" => src.species = value.to_string(),
                 "height" => src.height = num(value)?,
-                "n" => src.n = value.parse().map_err(|error| LsystemError::NotCount { value: value.to_string(), error }.at(at()))?,
+                "n" => {
+                    src.n = value
+                        .parse()
+                        .map_err(|error| LsystemError::NotCount { value: value.to_string(), error }.at(at()))?
+                }
                 other => return Err(LsystemError::UnknownKey(other.to_string()).at(at())),
             }
         }
@@ -422,7 +437,8 @@ impl Grammar {
             return Err(LsystemError::NoAxiom.at(origin));
         }
         if src.name.is_empty() {
-            src.name = std::path::Path::new(origin).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            src.name =
+                std::path::Path::new(origin).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         }
         Grammar::compile(&src).map_err(|e| e.at(origin))
     }
@@ -448,7 +464,11 @@ mod tests {
     use super::*;
 
     fn g(axiom: &str, rules: &[&str]) -> Result<Grammar, LsystemError> {
-        Grammar::compile(&Source { axiom: axiom.into(), rules: rules.iter().map(|s| s.to_string()).collect(), ..Source::default() })
+        Grammar::compile(&Source {
+            axiom: axiom.into(),
+            rules: rules.iter().map(|s| s.to_string()).collect(),
+            ..Source::default()
+        })
     }
 
     #[test]

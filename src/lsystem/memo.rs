@@ -22,7 +22,7 @@ use rayon::prelude::*;
 
 use super::error::LsystemError;
 use super::grammar::{Choice, Grammar};
-use super::turtle::{check_size, Segment};
+use super::turtle::{Segment, check_size};
 
 /// A segment of an expansion, in the frame of the turtle that enters it.
 #[derive(Clone, Copy, Debug)]
@@ -173,7 +173,11 @@ fn walk<'e>(
 
 /// The expansions of every symbol after `k` steps, from those after `k − 1` (`prev`); `None`
 /// where a symbol has no rule (it stays its level-0 self).
-fn next_level(g: &Grammar, bases: &[Expansion], prev: &[Option<Expansion>]) -> Result<Vec<Option<Expansion>>, LsystemError> {
+fn next_level(
+    g: &Grammar,
+    bases: &[Expansion],
+    prev: &[Option<Expansion>],
+) -> Result<Vec<Option<Expansion>>, LsystemError> {
     let get = |c: u8| prev[c as usize].as_ref().unwrap_or(&bases[c as usize]);
     (0..128u8)
         .map(|sym| {

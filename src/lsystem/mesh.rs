@@ -14,7 +14,7 @@ use super::derive::mix32;
 use super::error::LsystemError;
 use super::grammar::Grammar;
 use super::turtle::Segment;
-use crate::assetgen::geometry::{card, tube, Limb, MeshData};
+use crate::assetgen::geometry::{Limb, MeshData, card, tube};
 use crate::assetgen::gltf_out::{self, MaterialTextures};
 use crate::assetgen::species::Species;
 use crate::assetgen::textures;
@@ -70,7 +70,11 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> Result<Model
         return Err(LsystemError::NoSegments(g.name.clone()));
     }
     if segs.len() > opts.max_segments {
-        return Err(LsystemError::TooManySegments { name: g.name.clone(), segments: segs.len(), limit: opts.max_segments });
+        return Err(LsystemError::TooManySegments {
+            name: g.name.clone(),
+            segments: segs.len(),
+            limit: opts.max_segments,
+        });
     }
     if !(opts.height.is_finite() && opts.height > 0.0) {
         return Err(LsystemError::ModelHeight);
@@ -113,7 +117,13 @@ pub fn build(g: &Grammar, segs: &[Segment], opts: &ModelOptions) -> Result<Model
             Some(w) => (w * 0.5 * scale).clamp(min_r, r0),
             None => (r0 * 0.6).max(min_r),
         };
-        let sides = if r0 > 0.05 { 8 } else if r0 > 0.015 { 5 } else { 3 };
+        let sides = if r0 > 0.05 {
+            8
+        } else if r0 > 0.015 {
+            5
+        } else {
+            3
+        };
         tube(&mut wood, &Limb { start: a, end: b, r0, r1, phase, trunk: s.depth == 0 }, sides, 1, 0.0, 1.0);
         if next.is_none() {
             tips.push((i, a, b, phase));
@@ -202,7 +212,8 @@ fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model
     let staged_bin = stage.join(&bin);
     std::fs::write(&staged_bin, &bytes).map_err(|error| LsystemError::Write { path: staged_bin.clone(), error })?;
     let staged_gltf = stage.join(format!("{name}.gltf"));
-    std::fs::write(&staged_gltf, json.as_bytes()).map_err(|error| LsystemError::Write { path: staged_gltf.clone(), error })?;
+    std::fs::write(&staged_gltf, json.as_bytes())
+        .map_err(|error| LsystemError::Write { path: staged_gltf.clone(), error })?;
     // The same check a model gets when it is added to a bank.
     crate::bank::validate_gltf(&staged_gltf).map_err(|error| LsystemError::Invalid { name: g.name.clone(), error })?;
     place(stage, dir, name, &bin)?;
@@ -214,11 +225,14 @@ fn write_staged(stage: &Path, dir: &Path, name: &str, g: &Grammar, model: &Model
 fn place(stage: &Path, dir: &Path, name: &str, bin: &str) -> Result<(), LsystemError> {
     let mut moves: Vec<(PathBuf, PathBuf)> = Vec::new();
     let staged_tex = stage.join("textures");
-    for entry in std::fs::read_dir(&staged_tex).map_err(|error| LsystemError::List { path: staged_tex.clone(), error })? {
+    for entry in
+        std::fs::read_dir(&staged_tex).map_err(|error| LsystemError::List { path: staged_tex.clone(), error })?
+    {
         let from = entry.map_err(LsystemError::Io)?.path();
         let to = dir.join("textures").join(from.file_name().unwrap_or_default());
         if to.exists() {
-            let same = grove_systems::files::read(&to, grove_systems::files::Kind::Image).ok() == grove_systems::files::read(&from, grove_systems::files::Kind::Image).ok();
+            let same = grove_systems::files::read(&to, grove_systems::files::Kind::Image).ok()
+                == grove_systems::files::read(&from, grove_systems::files::Kind::Image).ok();
             if !same {
                 return Err(LsystemError::OtherContent(to));
             }

@@ -16,7 +16,7 @@ pub mod mesh;
 pub mod presets;
 pub mod turtle;
 
-pub use derive::{derive, derive_threads, LString, Limits};
+pub use derive::{LString, Limits, derive, derive_threads};
 pub use error::LsystemError;
 pub use grammar::Grammar;
 pub use turtle::Segment;

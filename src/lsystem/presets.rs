@@ -7,15 +7,30 @@ use super::grammar::Grammar;
 
 /// `(name, grammar file text)` of every preset.
 pub const PRESETS: &[(&str, &str)] = &[
-    ("bush1", "name: bush1\n# Paul Bourke, L-system user notes, bush 1.\nangle: 25.7\naxiom: Y\nrule: X -> X[-FFF][+FFF]FX\nrule: Y -> YFX[+Y][-Y]\nn: 6\n"),
-    ("bush2", "name: bush2\n# Paul Bourke, L-system user notes, bush 2.\nangle: 22.5\naxiom: F\nrule: F -> FF+[+F-F-F]-[-F+F+F]\nn: 4\n"),
-    ("bush3", "name: bush3\n# Paul Bourke, L-system user notes, bush 3.\nangle: 35\naxiom: F\nrule: F -> F[+FF][-FF]F[-F][+F]F\nn: 4\n"),
+    (
+        "bush1",
+        "name: bush1\n# Paul Bourke, L-system user notes, bush 1.\nangle: 25.7\naxiom: Y\nrule: X -> X[-FFF][+FFF]FX\nrule: Y -> YFX[+Y][-Y]\nn: 6\n",
+    ),
+    (
+        "bush2",
+        "name: bush2\n# Paul Bourke, L-system user notes, bush 2.\nangle: 22.5\naxiom: F\nrule: F -> FF+[+F-F-F]-[-F+F+F]\nn: 4\n",
+    ),
+    (
+        "bush3",
+        "name: bush3\n# Paul Bourke, L-system user notes, bush 3.\nangle: 35\naxiom: F\nrule: F -> F[+FF][-FF]F[-F][+F]F\nn: 4\n",
+    ),
     ("abop-a", "name: abop-a\n# ABOP Fig. 1.24a.\nangle: 25.7\naxiom: F\nrule: F -> F[+F]F[-F]F\nn: 5\n"),
     ("abop-b", "name: abop-b\n# ABOP Fig. 1.24b.\nangle: 20\naxiom: F\nrule: F -> F[+F]F[-F][F]\nn: 5\n"),
     ("abop-c", "name: abop-c\n# ABOP Fig. 1.24c.\nangle: 22.5\naxiom: F\nrule: F -> FF-[-F+F+F]+[+F-F-F]\nn: 4\n"),
     ("abop-d", "name: abop-d\n# ABOP Fig. 1.24d.\nangle: 20\naxiom: X\nrule: X -> F[+X]F[-X]+X\nrule: F -> FF\nn: 7\n"),
-    ("abop-e", "name: abop-e\n# ABOP Fig. 1.24e.\nangle: 25.7\naxiom: X\nrule: X -> F[+X][-X]FX\nrule: F -> FF\nn: 7\n"),
-    ("abop-f", "name: abop-f\n# ABOP Fig. 1.24f.\nangle: 22.5\naxiom: X\nrule: X -> F-[[X]+X]+F[+FX]-X\nrule: F -> FF\nn: 5\n"),
+    (
+        "abop-e",
+        "name: abop-e\n# ABOP Fig. 1.24e.\nangle: 25.7\naxiom: X\nrule: X -> F[+X][-X]FX\nrule: F -> FF\nn: 7\n",
+    ),
+    (
+        "abop-f",
+        "name: abop-f\n# ABOP Fig. 1.24f.\nangle: 22.5\naxiom: X\nrule: X -> F-[[X]+X]+F[+FX]-X\nrule: F -> FF\nn: 5\n",
+    ),
     (
         "broadleaf",
         "name: broadleaf\n# A round crown: three (or two) branches at every fork, after ABOP Fig. 1.25.\n\

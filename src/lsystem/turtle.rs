@@ -14,7 +14,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::derive::{exclusive_scan, LString, CHUNK};
+use super::derive::{CHUNK, LString, exclusive_scan};
 use super::error::LsystemError;
 use super::grammar::Grammar;
 
@@ -264,7 +264,9 @@ fn walk<'s>(scope: &rayon::Scope<'s>, ctx: &'s Ctx<'s>, first: Task) {
             if let Some(to) = apply(&mut state, sym, args, &ctx.cfg) {
                 // SAFETY: `draws` is this `F`'s ordinal among all drawn symbols, below the
                 // capacity reserved for them, and no other walk visits this `F`.
-                unsafe { ctx.out.add(draws).write(Segment { start: from, end: to, width: state.width, depth, branch }) };
+                unsafe {
+                    ctx.out.add(draws).write(Segment { start: from, end: to, width: state.width, depth, branch })
+                };
                 draws += 1;
             }
             p += a;

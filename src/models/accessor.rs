@@ -12,9 +12,16 @@ pub const MAX_COUNT: usize = 1 << 26;
 
 /// Reads an accessor of `N` components per element as floats. Normalised integers map to
 /// [0, 1] (unsigned) or [−1, 1] (signed) as glTF specifies; other integers keep their value.
-pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer::Data]) -> Result<Vec<[f32; N]>, GltfProblem> {
+pub fn read_floats<const N: usize>(
+    acc: &gltf::Accessor,
+    buffers: &[gltf::buffer::Data],
+) -> Result<Vec<[f32; N]>, GltfProblem> {
     if acc.dimensions().multiplicity() != N {
-        return Err(GltfProblem::Components { accessor: acc.index(), found: acc.dimensions().multiplicity(), expected: N });
+        return Err(GltfProblem::Components {
+            accessor: acc.index(),
+            found: acc.dimensions().multiplicity(),
+            expected: N,
+        });
     }
     let count = acc.count();
     if count > MAX_COUNT {
@@ -56,10 +63,17 @@ pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer
         Some(view) => {
             let stride = view.stride().unwrap_or(elem);
             let buf = buffers.get(view.buffer().index()).ok_or(GltfProblem::MissingBuffer)?;
-            let view_end = view.offset().checked_add(view.length()).filter(|e| *e <= buf.0.len()).ok_or(GltfProblem::ViewPastItsBuffer)?;
+            let view_end = view
+                .offset()
+                .checked_add(view.length())
+                .filter(|e| *e <= buf.0.len())
+                .ok_or(GltfProblem::ViewPastItsBuffer)?;
             let start = view.offset() + acc.offset();
             if count > 0 {
-                let end = stride.checked_mul(count - 1).and_then(|x| x.checked_add(start + elem)).ok_or(GltfProblem::AccessorTooLarge)?;
+                let end = stride
+                    .checked_mul(count - 1)
+                    .and_then(|x| x.checked_add(start + elem))
+                    .ok_or(GltfProblem::AccessorTooLarge)?;
                 if stride < elem || end > view_end {
                     return Err(GltfProblem::AccessorPastItsView(acc.index()));
                 }
@@ -82,10 +96,14 @@ pub fn read_floats<const N: usize>(acc: &gltf::Accessor, buffers: &[gltf::buffer
         let vbuf = buffers.get(vv.buffer().index()).ok_or(GltfProblem::SparseValueBuffer)?;
         let istart = iv.offset() + sparse.indices().offset();
         let vstart = vv.offset() + sparse.values().offset();
-        let fits = |start: usize, len: usize, within: usize, buf: usize| start.checked_add(len).is_some_and(|e| e <= within && e <= buf);
+        let fits = |start: usize, len: usize, within: usize, buf: usize| {
+            start.checked_add(len).is_some_and(|e| e <= within && e <= buf)
+        };
         let ilen = n.checked_mul(isize).ok_or(GltfProblem::SparseTooLarge)?;
         let vlen = n.checked_mul(elem).ok_or(GltfProblem::SparseTooLarge)?;
-        if !fits(istart, ilen, iv.offset() + iv.length(), ibuf.0.len()) || !fits(vstart, vlen, vv.offset() + vv.length(), vbuf.0.len()) {
+        if !fits(istart, ilen, iv.offset() + iv.length(), ibuf.0.len())
+            || !fits(vstart, vlen, vv.offset() + vv.length(), vbuf.0.len())
+        {
             return Err(GltfProblem::SparsePastViews(acc.index()));
         }
         for k in 0..n {

@@ -85,7 +85,9 @@ pub enum GltfProblem {
     #[error("has non-finite vertex positions")]
     NonFinite,
     /// The model is flat after its node transforms.
-    #[error("is {height} m tall after its node transforms (bounds {min:?} to {max:?}); a model must have height (an all-zero or flattening node matrix?)")]
+    #[error(
+        "is {height} m tall after its node transforms (bounds {min:?} to {max:?}); a model must have height (an all-zero or flattening node matrix?)"
+    )]
     Flat {
         /// Its height, metres.
         height: f32,
@@ -118,7 +120,9 @@ pub enum GltfProblem {
     #[error("is not UTF-8 once %-escapes are decoded")]
     NotUtf8,
     /// A URI with `..` or an absolute path.
-    #[error("lies outside the model's folder ('..' or an absolute path); grove reads only files beside the model or below it")]
+    #[error(
+        "lies outside the model's folder ('..' or an absolute path); grove reads only files beside the model or below it"
+    )]
     Outside,
     /// A URI that leads out of the folder through a symbolic link.
     #[error("leads out of the model's folder through a symbolic link; grove reads only files inside it")]
@@ -169,7 +173,9 @@ pub enum GltfProblem {
         max: usize,
     },
     /// An accessor past the end of its buffer view.
-    #[error("accessor {accessor} ({count} elements of {elem} bytes from byte {offset}) runs past its buffer view {view} of {view_len} bytes")]
+    #[error(
+        "accessor {accessor} ({count} elements of {elem} bytes from byte {offset}) runs past its buffer view {view} of {view_len} bytes"
+    )]
     AccessorPastView {
         /// The accessor.
         accessor: usize,
@@ -253,7 +259,9 @@ pub enum GltfProblem {
         count: usize,
     },
     /// A material whose textures read different coordinate sets.
-    #[error("material '{material}' reads its {what} texture through TEXCOORD_{other} and its {first} texture through TEXCOORD_{set}; grove draws a material with one set of texture coordinates")]
+    #[error(
+        "material '{material}' reads its {what} texture through TEXCOORD_{other} and its {first} texture through TEXCOORD_{set}; grove draws a material with one set of texture coordinates"
+    )]
     TexCoordSets {
         /// The material's name.
         material: String,
@@ -267,7 +275,9 @@ pub enum GltfProblem {
         set: u32,
     },
     /// A material whose textures have different transforms.
-    #[error("material '{material}' gives its {what} texture another KHR_texture_transform than its {first} texture; grove draws a material with one texture transform")]
+    #[error(
+        "material '{material}' gives its {what} texture another KHR_texture_transform than its {first} texture; grove draws a material with one texture transform"
+    )]
     TextureTransforms {
         /// The material's name.
         material: String,

@@ -10,14 +10,21 @@ use super::error::GltfProblem;
 
 /// Extensions grove reads and draws: quantised attributes and WebP images (read before the
 /// `gltf` crate sees the file, `gltf_open`), texture transforms and the specular strength.
-pub const HANDLED: &[&str] = &["KHR_mesh_quantization", "KHR_texture_webp", "KHR_texture_transform", "KHR_materials_specular"];
+pub const HANDLED: &[&str] =
+    &["KHR_mesh_quantization", "KHR_texture_webp", "KHR_texture_transform", "KHR_materials_specular"];
 
 /// Compressed-geometry extensions grove does not decode, each with the command that writes an
 /// uncompressed copy grove reads (glTF-Transform's CLI; its author documents `cp` as the way to
 /// decompress, donmccurdy/glTF-Transform#150).
 pub const COMPRESSED: &[(&str, &str)] = &[
-    ("KHR_draco_mesh_compression", "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes Draco when it reads a file and writes plain buffers)"),
-    ("EXT_meshopt_compression", "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes meshopt when it reads a file and writes plain buffers)"),
+    (
+        "KHR_draco_mesh_compression",
+        "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes Draco when it reads a file and writes plain buffers)",
+    ),
+    (
+        "EXT_meshopt_compression",
+        "`npx @gltf-transform/cli cp IN out.glb` (glTF-Transform decodes meshopt when it reads a file and writes plain buffers)",
+    ),
 ];
 
 /// Checks the extensions a file lists (`file` names it in the conversion hint): compressed
@@ -45,7 +52,8 @@ pub fn extensions(file: &str, required: &[String], used: &[String]) -> Result<Ve
 pub fn version(doc: &gltf::Document) -> Result<(), GltfProblem> {
     let asset = &doc.as_json().asset;
     let major = |v: &str| v.split('.').next().and_then(|m| m.parse::<u32>().ok());
-    let minor_ok = |v: &str| v.split_once('.').is_some_and(|(_, m)| !m.is_empty() && m.chars().all(|c| c.is_ascii_digit()));
+    let minor_ok =
+        |v: &str| v.split_once('.').is_some_and(|(_, m)| !m.is_empty() && m.chars().all(|c| c.is_ascii_digit()));
     if major(&asset.version) != Some(2) || !minor_ok(&asset.version) {
         return Err(GltfProblem::Version(asset.version.clone()));
     }
@@ -82,7 +90,11 @@ fn run_fits(offset: usize, count: usize, elem: usize, stride: usize, view_len: u
     if count == 0 {
         return offset <= view_len;
     }
-    stride.checked_mul(count - 1).and_then(|x| x.checked_add(offset)).and_then(|x| x.checked_add(elem)).is_some_and(|end| end <= view_len)
+    stride
+        .checked_mul(count - 1)
+        .and_then(|x| x.checked_add(offset))
+        .and_then(|x| x.checked_add(elem))
+        .is_some_and(|end| end <= view_len)
 }
 
 /// Checks every buffer view against its buffer's data and every accessor (sparse parts
@@ -104,7 +116,14 @@ pub fn bounds(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<()
         if let Some(view) = a.view() {
             let stride = view.stride().unwrap_or(elem);
             if stride < elem || !run_fits(a.offset(), count, elem, stride, view.length()) {
-                return Err(GltfProblem::AccessorPastView { accessor: a.index(), count, elem, offset: a.offset(), view: view.index(), view_len: view.length() });
+                return Err(GltfProblem::AccessorPastView {
+                    accessor: a.index(),
+                    count,
+                    elem,
+                    offset: a.offset(),
+                    view: view.index(),
+                    view_len: view.length(),
+                });
             }
         }
         if let Some(sparse) = a.sparse() {

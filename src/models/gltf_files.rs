@@ -17,7 +17,9 @@ pub fn relative_path(uri: &str) -> Result<Option<String>, GltfProblem> {
     if uri.starts_with("data:") {
         return Ok(None);
     }
-    let scheme = uri.split_once(':').is_some_and(|(s, _)| s.len() > 1 && s.chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c)));
+    let scheme = uri
+        .split_once(':')
+        .is_some_and(|(s, _)| s.len() > 1 && s.chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c)));
     if scheme {
         return Err(GltfProblem::Url);
     }
@@ -36,7 +38,10 @@ fn percent_decode(uri: &str) -> Result<String, GltfProblem> {
     let mut i = 0;
     while i < b.len() {
         if b[i] == b'%' {
-            let hex = b.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok()).and_then(|h| u8::from_str_radix(h, 16).ok());
+            let hex = b
+                .get(i + 1..i + 3)
+                .and_then(|h| std::str::from_utf8(h).ok())
+                .and_then(|h| u8::from_str_radix(h, 16).ok());
             let v = hex.ok_or(GltfProblem::BrokenEscape)?;
             out.push(v);
             i += 3;
@@ -80,14 +85,25 @@ pub fn data_uri(uri: &str) -> Result<Vec<u8>, GltfProblem> {
 
 /// The file's buffers: the GLB binary chunk, `data:` URIs and files beside it, each at least
 /// as long as its `byteLength`. Errors name the buffer by its URI or index.
-pub fn load_buffers(doc: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>>) -> Result<Vec<gltf::buffer::Data>, GltfProblem> {
+pub fn load_buffers(
+    doc: &gltf::Document,
+    base: &Path,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<gltf::buffer::Data>, GltfProblem> {
     let mut out = Vec::new();
     for b in doc.buffers() {
         let (name, bytes) = match b.source() {
-            gltf::buffer::Source::Bin => (format!("buffer {}", b.index()), blob.take().ok_or(GltfProblem::NoBinChunk(b.index()))?),
+            gltf::buffer::Source::Bin => {
+                (format!("buffer {}", b.index()), blob.take().ok_or(GltfProblem::NoBinChunk(b.index()))?)
+            }
             gltf::buffer::Source::Uri(uri) => {
-                let name = if uri.starts_with("data:") { format!("buffer {}", b.index()) } else { format!("buffer '{uri}'") };
-                let bytes = if uri.starts_with("data:") { data_uri(uri) } else { read_uri(base, uri).map(Option::unwrap_or_default) };
+                let name =
+                    if uri.starts_with("data:") { format!("buffer {}", b.index()) } else { format!("buffer '{uri}'") };
+                let bytes = if uri.starts_with("data:") {
+                    data_uri(uri)
+                } else {
+                    read_uri(base, uri).map(Option::unwrap_or_default)
+                };
                 (name.clone(), bytes.map_err(|m| GltfProblem::Part { name, problem: Box::new(m) })?)
             }
         };
@@ -152,7 +168,15 @@ mod tests {
         assert_eq!(read_uri(&base, "./a%20b.bin").unwrap().unwrap(), b"abcd");
         assert_eq!(relative_path("./tex/./a.png").unwrap().as_deref(), Some("tex/a.png"));
         assert_eq!(read_uri(&base, "data:x;base64,aGk=").unwrap(), None);
-        for bad in ["/dev/zero", "/etc/passwd", "../secret.bin", "extra.bin", "up/secret.bin", "http://example.com/a.bin", "file:///etc/passwd"] {
+        for bad in [
+            "/dev/zero",
+            "/etc/passwd",
+            "../secret.bin",
+            "extra.bin",
+            "up/secret.bin",
+            "http://example.com/a.bin",
+            "file:///etc/passwd",
+        ] {
             let e = read_uri(&base, bad).unwrap_err().to_string();
             assert!(e.contains("outside") || e.contains("out of") || e.contains("URL"), "{bad}: {e}");
             assert!(!e.contains('\n'));

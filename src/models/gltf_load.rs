@@ -27,8 +27,8 @@ use std::path::Path;
 use glam::{Mat4, Vec3, Vec4};
 use grove_systems::files::{self, Kind};
 
-use super::gltf_prim::{name_of, primitive, uv_choice, UvChoice};
 use super::error::{GltfError, GltfProblem};
+use super::gltf_prim::{UvChoice, name_of, primitive, uv_choice};
 pub use super::gltf_prim::{compute_normals, compute_tangents};
 use super::mesh::{ImageData, MaterialData, ModelData};
 
@@ -48,14 +48,19 @@ pub fn load_model(path: &Path) -> Result<ModelData, GltfError> {
     super::gltf_check::version(&doc).map_err(&err)?;
     // Every URI's place is checked before any file is read, so that the first fault named is
     // the one that matters (a texture outside the folder, not a buffer read first).
-    for (what, uri) in doc.buffers().filter_map(|b| match b.source() {
-        gltf::buffer::Source::Uri(u) => Some(("buffer", u)),
-        gltf::buffer::Source::Bin => None,
-    }).chain(doc.images().filter_map(|i| match i.source() {
-        gltf::image::Source::Uri { uri, .. } => Some(("texture", uri)),
-        gltf::image::Source::View { .. } => None,
-    })) {
-        super::gltf_files::resolve(base, uri).map_err(|m| err(GltfProblem::Uri { what, uri: uri.to_string(), problem: Box::new(m) }))?;
+    for (what, uri) in doc
+        .buffers()
+        .filter_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(u) => Some(("buffer", u)),
+            gltf::buffer::Source::Bin => None,
+        })
+        .chain(doc.images().filter_map(|i| match i.source() {
+            gltf::image::Source::Uri { uri, .. } => Some(("texture", uri)),
+            gltf::image::Source::View { .. } => None,
+        }))
+    {
+        super::gltf_files::resolve(base, uri)
+            .map_err(|m| err(GltfProblem::Uri { what, uri: uri.to_string(), problem: Box::new(m) }))?;
     }
     let buffers = super::gltf_files::load_buffers(&doc, base, gltf.blob).map_err(&err)?;
     super::gltf_check::bounds(&doc, &buffers).map_err(&err)?;
@@ -65,7 +70,8 @@ pub fn load_model(path: &Path) -> Result<ModelData, GltfError> {
             gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => format!("texture '{uri}'"),
             _ => format!("image {i}"),
         };
-        let data = load_image(&img, base, &buffers).map_err(|m| err(GltfProblem::Part { name, problem: Box::new(m) }))?;
+        let data =
+            load_image(&img, base, &buffers).map_err(|m| err(GltfProblem::Part { name, problem: Box::new(m) }))?;
         images.push(data);
     }
     let mut materials: Vec<MaterialData> = doc.materials().map(|m| material(&m)).collect();
@@ -101,7 +107,9 @@ pub fn load_model(path: &Path) -> Result<ModelData, GltfError> {
                     Some(i) => (i, uv_choices.get(i).cloned().unwrap_or(Ok(UvChoice::default())).map_err(&err)?),
                     None => (default_material, UvChoice::default()),
                 };
-                if let Some(p) = primitive(&prim, &buffers, place, weights, (mat, uv)).map_err(|m| err(GltfProblem::Primitive { name, problem: Box::new(m) }))? {
+                if let Some(p) = primitive(&prim, &buffers, place, weights, (mat, uv))
+                    .map_err(|m| err(GltfProblem::Primitive { name, problem: Box::new(m) }))?
+                {
                     if !p.indices.is_empty() {
                         primitives.push(p);
                     }
@@ -131,7 +139,8 @@ pub fn load_model(path: &Path) -> Result<ModelData, GltfError> {
     }
     let own_wind = primitives.iter().all(|p| p.vertices.iter().all(|v| v.wind[3] >= 0.0));
     if !own_wind {
-        let clipped: Vec<bool> = primitives.iter().map(|p| materials.get(p.material).is_some_and(|m| m.alpha_cutoff.is_some())).collect();
+        let clipped: Vec<bool> =
+            primitives.iter().map(|p| materials.get(p.material).is_some_and(|m| m.alpha_cutoff.is_some())).collect();
         super::wind_channels::compute_with(&mut primitives, bounds.0.y, &clipped);
     }
     let mut notes = Vec::new();

@@ -26,7 +26,12 @@ pub fn json_of(bytes: &[u8]) -> Option<&[u8]> {
 pub fn extensions_of(bytes: &[u8]) -> (Vec<String>, Vec<String>) {
     let Some(json) = json_of(bytes) else { return (Vec::new(), Vec::new()) };
     let Ok(v) = serde_json::from_slice::<serde_json::Value>(json) else { return (Vec::new(), Vec::new()) };
-    let list = |key: &str| -> Vec<String> { v.get(key).and_then(|x| x.as_array()).map(|a| a.iter().filter_map(|s| s.as_str().map(String::from)).collect()).unwrap_or_default() };
+    let list = |key: &str| -> Vec<String> {
+        v.get(key)
+            .and_then(|x| x.as_array())
+            .map(|a| a.iter().filter_map(|s| s.as_str().map(String::from)).collect())
+            .unwrap_or_default()
+    };
     (list("extensionsRequired"), list("extensionsUsed"))
 }
 
@@ -43,7 +48,8 @@ fn without_handled(bytes: &[u8]) -> Option<Vec<u8>> {
     }
     if let Some(textures) = v.get_mut("textures").and_then(|t| t.as_array_mut()) {
         for t in textures.iter_mut().filter_map(|t| t.as_object_mut()) {
-            let webp = t.get("extensions").and_then(|e| e.get("KHR_texture_webp")).and_then(|w| w.get("source")).cloned();
+            let webp =
+                t.get("extensions").and_then(|e| e.get("KHR_texture_webp")).and_then(|w| w.get("source")).cloned();
             if let (None, Some(src)) = (t.get("source"), webp) {
                 t.insert("source".into(), src);
                 changed = true;
@@ -92,7 +98,13 @@ fn positions_in_range(g: &gltf::Gltf) -> gltf::Result<()> {
             if let Some(i) = prim.attributes.get(&Checked::Valid(gltf::json::mesh::Semantic::Positions))
                 && i.value() >= root.accessors.len()
             {
-                let path = gltf::json::Path::new().field("meshes").index(m).field("primitives").index(p).field("attributes").key("POSITION");
+                let path = gltf::json::Path::new()
+                    .field("meshes")
+                    .index(m)
+                    .field("primitives")
+                    .index(p)
+                    .field("attributes")
+                    .key("POSITION");
                 return Err(gltf::Error::Validation(vec![(path, Error::IndexOutOfBounds)]));
             }
         }

@@ -38,7 +38,10 @@ pub fn transform_of(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> [Vec2; 
 fn transform_json(v: Option<&serde_json::Value>, tex_coord: u32) -> (u32, [Vec2; 3]) {
     let Some(v) = v else { return (tex_coord, UvChoice::default().transform) };
     let pair = |k: &str, d: f32| -> [f32; 2] {
-        v.get(k).and_then(|a| a.as_array()).filter(|a| a.len() == 2).map_or([d, d], |a| [a[0].as_f64().unwrap_or(d as f64) as f32, a[1].as_f64().unwrap_or(d as f64) as f32])
+        v.get(k)
+            .and_then(|a| a.as_array())
+            .filter(|a| a.len() == 2)
+            .map_or([d, d], |a| [a[0].as_f64().unwrap_or(d as f64) as f32, a[1].as_f64().unwrap_or(d as f64) as f32])
     };
     let rot = v.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0) as f32;
     let set = v.get("texCoord").and_then(|t| t.as_u64()).map_or(tex_coord, |t| t.min(u32::MAX as u64) as u32);
@@ -72,10 +75,20 @@ pub fn uv_choice(m: &gltf::Material) -> Result<UvChoice, GltfProblem> {
     }
     let Some(&(_, set, transform)) = found.first() else { return Ok(UvChoice::default()) };
     if let Some((what, other, _)) = found.iter().find(|f| f.1 != set) {
-        return Err(GltfProblem::TexCoordSets { material: m.name().unwrap_or("unnamed").to_string(), what, other: *other, first: found[0].0, set });
+        return Err(GltfProblem::TexCoordSets {
+            material: m.name().unwrap_or("unnamed").to_string(),
+            what,
+            other: *other,
+            first: found[0].0,
+            set,
+        });
     }
     if let Some((what, _, _)) = found.iter().find(|f| f.2 != transform) {
-        return Err(GltfProblem::TextureTransforms { material: m.name().unwrap_or("unnamed").to_string(), what, first: found[0].0 });
+        return Err(GltfProblem::TextureTransforms {
+            material: m.name().unwrap_or("unnamed").to_string(),
+            what,
+            first: found[0].0,
+        });
     }
     Ok(UvChoice { set, transform })
 }
@@ -94,7 +107,9 @@ pub fn triangle_list(mode: Mode, idx: Vec<u32>) -> Result<Vec<u32>, GltfProblem>
     let tris: Vec<u32> = match mode {
         Mode::Triangles => idx.chunks_exact(3).flatten().copied().collect(),
         // Every other triangle of a strip is flipped to keep the winding.
-        Mode::TriangleStrip => (0..idx.len().saturating_sub(2)).flat_map(|i| if i % 2 == 0 { [idx[i], idx[i + 1], idx[i + 2]] } else { [idx[i + 1], idx[i], idx[i + 2]] }).collect(),
+        Mode::TriangleStrip => (0..idx.len().saturating_sub(2))
+            .flat_map(|i| if i % 2 == 0 { [idx[i], idx[i + 1], idx[i + 2]] } else { [idx[i + 1], idx[i], idx[i + 2]] })
+            .collect(),
         Mode::TriangleFan => (1..idx.len().saturating_sub(1)).flat_map(|i| [idx[i], idx[i + 1], idx[0]]).collect(),
         Mode::Points => return Err(GltfProblem::Points),
         Mode::Lines | Mode::LineLoop | Mode::LineStrip => return Err(GltfProblem::Lines(mode)),
@@ -103,7 +118,11 @@ pub fn triangle_list(mode: Mode, idx: Vec<u32>) -> Result<Vec<u32>, GltfProblem>
 }
 
 /// Adds the morph targets' displacements of one attribute, weighted.
-fn morph<const N: usize>(base: &mut [[f32; N]], targets: &[(Option<gltf::Accessor>, f32)], buffers: &[gltf::buffer::Data]) -> Result<(), GltfProblem> {
+fn morph<const N: usize>(
+    base: &mut [[f32; N]],
+    targets: &[(Option<gltf::Accessor>, f32)],
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), GltfProblem> {
     for (acc, w) in targets {
         let (Some(acc), true) = (acc, *w != 0.0) else { continue };
         let d = read_floats::<N>(acc, buffers)?;
@@ -121,7 +140,13 @@ fn morph<const N: usize>(base: &mut [[f32; N]], targets: &[(Option<gltf::Accesso
 
 /// Reads one primitive (see the module docs) with the node's matrix `m` (identity for a skinned
 /// mesh, drawn in its bind pose), its morph `weights` and its material's [`UvChoice`].
-pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4, weights: &[f32], (material, uv): (usize, UvChoice)) -> Result<Option<PrimitiveData>, GltfProblem> {
+pub fn primitive(
+    prim: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+    m: Mat4,
+    weights: &[f32],
+    (material, uv): (usize, UvChoice),
+) -> Result<Option<PrimitiveData>, GltfProblem> {
     let get = |b: gltf::Buffer| buffers.get(b.index()).map(|d| d.0.as_slice());
     let reader = prim.reader(get);
     // Float attributes through `accessor::read_floats`, which also reads the integer types of
@@ -133,7 +158,11 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
     }
     let w = |i: usize| weights.get(i).copied().unwrap_or(0.0);
     let mut positions = read_floats::<3>(&pos, buffers)?;
-    morph(&mut positions, &targets.iter().enumerate().map(|(i, t)| (t.positions(), w(i))).collect::<Vec<_>>(), buffers)?;
+    morph(
+        &mut positions,
+        &targets.iter().enumerate().map(|(i, t)| (t.positions(), w(i))).collect::<Vec<_>>(),
+        buffers,
+    )?;
     let positions: Vec<Vec3> = positions.into_iter().map(Vec3::from).collect();
     let n = positions.len();
     let indices: Vec<u32> = match reader.read_indices() {
@@ -146,7 +175,10 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
     }
     let indices = triangle_list(prim.mode(), indices)?;
     let uvs: Vec<Vec2> = match prim.get(&Semantic::TexCoords(uv.set)) {
-        Some(t) => read_floats::<2>(&t, buffers)?.into_iter().map(|q| uv.transform[0] * q[0] + uv.transform[1] * q[1] + uv.transform[2]).collect(),
+        Some(t) => read_floats::<2>(&t, buffers)?
+            .into_iter()
+            .map(|q| uv.transform[0] * q[0] + uv.transform[1] * q[1] + uv.transform[2])
+            .collect(),
         None if uv.set != 0 => return Err(GltfProblem::NoTexCoord(uv.set)),
         None => vec![Vec2::ZERO; n],
     };
@@ -166,7 +198,11 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
         Some(t) => {
             let mut v = read_floats::<4>(&t, buffers)?;
             let mut xyz: Vec<[f32; 3]> = v.iter().map(|q| [q[0], q[1], q[2]]).collect();
-            morph(&mut xyz, &targets.iter().enumerate().map(|(i, t)| (t.tangents(), w(i))).collect::<Vec<_>>(), buffers)?;
+            morph(
+                &mut xyz,
+                &targets.iter().enumerate().map(|(i, t)| (t.tangents(), w(i))).collect::<Vec<_>>(),
+                buffers,
+            )?;
             for (q, d) in v.iter_mut().zip(&xyz) {
                 q[..3].copy_from_slice(d);
             }
@@ -175,17 +211,27 @@ pub fn primitive(prim: &gltf::Primitive, buffers: &[gltf::buffer::Data], m: Mat4
         None => compute_tangents(&positions, &normals, &uvs, &indices),
     };
     let colors: Vec<[u8; 4]> = match prim.get(&Semantic::Colors(0)) {
-        Some(c) if c.dimensions() == gltf::accessor::Dimensions::Vec3 => read_floats::<3>(&c, buffers)?.into_iter().map(|q| unorm([q[0], q[1], q[2], 1.0])).collect(),
+        Some(c) if c.dimensions() == gltf::accessor::Dimensions::Vec3 => {
+            read_floats::<3>(&c, buffers)?.into_iter().map(|q| unorm([q[0], q[1], q[2], 1.0])).collect()
+        }
         Some(c) => read_floats::<4>(&c, buffers)?.into_iter().map(unorm).collect(),
         None => vec![[255; 4]; n],
     };
     let wind: Vec<Vec4> = match prim.get(&Semantic::Extras("WIND".into())) {
-        Some(acc) if acc.dimensions() == gltf::accessor::Dimensions::Vec4 && acc.data_type() == gltf::accessor::DataType::F32 => {
+        Some(acc)
+            if acc.dimensions() == gltf::accessor::Dimensions::Vec4
+                && acc.data_type() == gltf::accessor::DataType::F32 =>
+        {
             gltf::accessor::Iter::<[f32; 4]>::new(acc, get).map(|it| it.map(Vec4::from).collect()).unwrap_or_default()
         }
         _ => Vec::new(),
     };
-    if uvs.len() != n || normals.len() != n || tangents.len() != n || colors.len() != n || (!wind.is_empty() && wind.len() != n) {
+    if uvs.len() != n
+        || normals.len() != n
+        || tangents.len() != n
+        || colors.len() != n
+        || (!wind.is_empty() && wind.len() != n)
+    {
         return Err(GltfProblem::AttributeLengths);
     }
     // Bake the node transform into the vertices.

@@ -41,19 +41,31 @@ pub fn crown_radius<'a>(meshes: impl IntoIterator<Item = &'a [Vec3]>) -> f32 {
 
 /// Measures a loaded model.
 pub fn measure(data: &ModelData) -> Measured {
-    let positions: Vec<Vec<Vec3>> = data.primitives.iter().map(|p| p.vertices.iter().map(|v| Vec3::from(v.position)).collect()).collect();
-    let meshes: Vec<(&[Vec3], &[u32])> = positions.iter().zip(&data.primitives).map(|(p, prim)| (p.as_slice(), prim.indices.as_slice())).collect();
+    let positions: Vec<Vec<Vec3>> =
+        data.primitives.iter().map(|p| p.vertices.iter().map(|v| Vec3::from(v.position)).collect()).collect();
+    let meshes: Vec<(&[Vec3], &[u32])> =
+        positions.iter().zip(&data.primitives).map(|(p, prim)| (p.as_slice(), prim.indices.as_slice())).collect();
     let pick = pick_shape(&meshes);
     let crown_radius = crown_radius(positions.iter().map(|p| p.as_slice()));
     let triangles = data.triangles() as u32;
     let (mut clipped, mut area) = (0usize, 0.0f64);
-    for p in data.primitives.iter().filter(|p| data.materials.get(p.material).is_some_and(|m| m.alpha_cutoff.is_some())) {
+    for p in data.primitives.iter().filter(|p| data.materials.get(p.material).is_some_and(|m| m.alpha_cutoff.is_some()))
+    {
         for t in p.indices.chunks_exact(3) {
             let [a, b, c] = [t[0], t[1], t[2]].map(|i| Vec3::from(p.vertices[i as usize].position));
             area += 0.5 * (b - a).cross(c - a).length() as f64;
             clipped += 1;
         }
     }
-    let kind = if clipped > 0 && area / clipped as f64 >= CARD_AREA as f64 { ModelKind::Billboard } else { ModelKind::Mesh };
-    Measured { bounds_min: data.bounds.0, bounds_max: data.bounds.1, crown_radius, triangles, pick, kind, own_wind: data.own_wind }
+    let kind =
+        if clipped > 0 && area / clipped as f64 >= CARD_AREA as f64 { ModelKind::Billboard } else { ModelKind::Mesh };
+    Measured {
+        bounds_min: data.bounds.0,
+        bounds_max: data.bounds.1,
+        crown_radius,
+        triangles,
+        pick,
+        kind,
+        own_wind: data.own_wind,
+    }
 }

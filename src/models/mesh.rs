@@ -79,7 +79,14 @@ pub struct Vertex {
 
 impl Default for Vertex {
     fn default() -> Self {
-        Vertex { position: [0.0; 3], normal: [0.0; 3], uv: [0.0; 2], tangent: [0.0; 4], wind: [0.0; 4], color: [255; 4] }
+        Vertex {
+            position: [0.0; 3],
+            normal: [0.0; 3],
+            uv: [0.0; 2],
+            tangent: [0.0; 4],
+            wind: [0.0; 4],
+            color: [255; 4],
+        }
     }
 }
 

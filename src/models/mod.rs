@@ -26,5 +26,5 @@ pub mod wind_channels;
 
 pub use error::{GltfError, GltfProblem};
 pub use gltf_load::load_model;
-pub use measure::{measure, Measured};
+pub use measure::{Measured, measure};
 pub use mesh::{ImageData, MaterialData, ModelData, PrimitiveData, Vertex};

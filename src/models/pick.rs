@@ -2,7 +2,7 @@
 //! the model's vertices in its height band, so that every vertex lies inside.
 
 use glam::{Vec2, Vec3};
-use grove_systems::catalogue::{PickShape, PICK_BANDS};
+use grove_systems::catalogue::{PICK_BANDS, PickShape};
 
 /// Computes the pick shape of a model from its triangles (model space; `meshes` are pairs of
 /// positions and triangle indices). The bands span the vertices' heights. A band's radius is the
@@ -71,7 +71,12 @@ mod tests {
         for i in 0..16u32 {
             let j = (i + 1) % 16;
             for k in 0..per_ring as u32 - 1 {
-                let (a, b, c, d) = (i * per_ring as u32 + k, i * per_ring as u32 + k + 1, j * per_ring as u32 + k, j * per_ring as u32 + k + 1);
+                let (a, b, c, d) = (
+                    i * per_ring as u32 + k,
+                    i * per_ring as u32 + k + 1,
+                    j * per_ring as u32 + k,
+                    j * per_ring as u32 + k + 1,
+                );
                 idx.extend([a, b, c, b, d, c]);
             }
         }

@@ -24,11 +24,14 @@ use super::mesh::PrimitiveData;
 /// the model's lowest point, metres. `clipped[i]` says whether primitive i's material is
 /// alpha-clipped.
 pub fn compute_with(primitives: &mut [PrimitiveData], lowest: f32, clipped: &[bool]) {
-    let offsets: Vec<usize> = primitives.iter().scan(0, |acc, p| {
-        let o = *acc;
-        *acc += p.vertices.len();
-        Some(o)
-    }).collect();
+    let offsets: Vec<usize> = primitives
+        .iter()
+        .scan(0, |acc, p| {
+            let o = *acc;
+            *acc += p.vertices.len();
+            Some(o)
+        })
+        .collect();
     let total: usize = primitives.iter().map(|p| p.vertices.len()).sum();
     if total == 0 {
         return;
@@ -66,7 +69,8 @@ pub fn compute_with(primitives: &mut [PrimitiveData], lowest: f32, clipped: &[bo
             }
         }
     }
-    let positions: Vec<Vec3> = primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
+    let positions: Vec<Vec3> =
+        primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
     let roots: Vec<usize> = (0..total).map(|i| find(&mut parent, i)).collect();
     // Parts numbered by their first vertex; the trunk is the part of the lowest vertex (the
     // first such vertex on ties).
@@ -101,7 +105,11 @@ pub fn compute_with(primitives: &mut [PrimitiveData], lowest: f32, clipped: &[bo
             let is_trunk = root == trunk && !one_part;
             let x = (pos.y - lowest).max(0.0);
             let y = if is_trunk { 0.0 } else { Vec2::new(pos.x, pos.z).length() };
-            let z = if clipped.get(k).copied().unwrap_or(false) { hang.get(&root).map_or(0.0, |h| (pos - *h).length()) } else { 0.0 };
+            let z = if clipped.get(k).copied().unwrap_or(false) {
+                hang.get(&root).map_or(0.0, |h| (pos - *h).length())
+            } else {
+                0.0
+            };
             let w = if root == trunk { 0.0 } else { phase(number[&root] as u64) };
             v.wind = [x, y, z, w];
         }
@@ -129,7 +137,11 @@ mod tests {
     use crate::models::mesh::Vertex;
 
     fn tri(points: [[f32; 3]; 3]) -> PrimitiveData {
-        PrimitiveData { vertices: points.iter().map(|p| Vertex { position: *p, ..Default::default() }).collect(), indices: vec![0, 1, 2], material: 0 }
+        PrimitiveData {
+            vertices: points.iter().map(|p| Vertex { position: *p, ..Default::default() }).collect(),
+            indices: vec![0, 1, 2],
+            material: 0,
+        }
     }
 
     #[test]

@@ -63,7 +63,9 @@ fn fits(item: &Item, answer: &Value) -> Result<(), String> {
     let id = &item.id;
     match takes(&item.kind) {
         Takes::Whole { lo, hi, step } => {
-            let v = answer.as_i64().ok_or_else(|| format!("item '{id}' takes a whole number from {lo} to {hi}, not {}", short(answer)))?;
+            let v = answer
+                .as_i64()
+                .ok_or_else(|| format!("item '{id}' takes a whole number from {lo} to {hi}, not {}", short(answer)))?;
             if v < lo || v > hi {
                 return Err(format!("item '{id}' takes a whole number from {lo} to {hi}; {v} is out of range"));
             }
@@ -73,18 +75,28 @@ fn fits(item: &Item, answer: &Value) -> Result<(), String> {
             Ok(())
         }
         Takes::One(choices) => {
-            let s = answer.as_str().ok_or_else(|| format!("item '{id}' takes one of its choices (a string), not {}", short(answer)))?;
+            let s = answer
+                .as_str()
+                .ok_or_else(|| format!("item '{id}' takes one of its choices (a string), not {}", short(answer)))?;
             if !choices.iter().any(|c| c == s) {
                 return Err(format!("item '{id}' has no choice '{}' (its choices: {})", clip(s), choices.join(", ")));
             }
             Ok(())
         }
         Takes::Several(choices) => {
-            let list = answer.as_array().ok_or_else(|| format!("item '{id}' takes a list of its choices, not {}", short(answer)))?;
+            let list = answer
+                .as_array()
+                .ok_or_else(|| format!("item '{id}' takes a list of its choices, not {}", short(answer)))?;
             for (i, v) in list.iter().enumerate() {
-                let s = v.as_str().ok_or_else(|| format!("item '{id}': every answer in the list is one of its choices (a string), not {}", short(v)))?;
+                let s = v.as_str().ok_or_else(|| {
+                    format!("item '{id}': every answer in the list is one of its choices (a string), not {}", short(v))
+                })?;
                 if !choices.iter().any(|c| c == s) {
-                    return Err(format!("item '{id}' has no choice '{}' (its choices: {})", clip(s), choices.join(", ")));
+                    return Err(format!(
+                        "item '{id}' has no choice '{}' (its choices: {})",
+                        clip(s),
+                        choices.join(", ")
+                    ));
                 }
                 if list[..i].contains(v) {
                     return Err(format!("item '{id}': choice '{s}' is given twice"));
@@ -100,7 +112,10 @@ fn fits(item: &Item, answer: &Value) -> Result<(), String> {
             }
             Ok(())
         }
-        Takes::YesNo => answer.as_bool().map(|_| ()).ok_or_else(|| format!("item '{id}' takes yes or no (true or false), not {}", short(answer))),
+        Takes::YesNo => answer
+            .as_bool()
+            .map(|_| ())
+            .ok_or_else(|| format!("item '{id}' takes yes or no (true or false), not {}", short(answer))),
     }
 }
 

@@ -47,7 +47,10 @@ pub fn check(p: &Protocol, folder: &Path) -> Result<(), Broken> {
     conditions(p)?;
     for ins in &p.instruments {
         if shipped::get(&ins.id).is_some() {
-            return Err(broken(format!("instrument '{}'", ins.id), "is the id of a shipped instrument; use it without declaring it, or give yours another id"));
+            return Err(broken(
+                format!("instrument '{}'", ins.id),
+                "is the id of a shipped instrument; use it without declaring it, or give yours another id",
+            ));
         }
         instrument(ins)?;
     }
@@ -60,7 +63,12 @@ pub fn check(p: &Protocol, folder: &Path) -> Result<(), Broken> {
     for (i, c) in p.compare.iter().enumerate() {
         for side in [&c.a, &c.b] {
             if !is_numeric_item(p, side) {
-                return Err(broken(format!("compare {}", i + 1), format!("'{side}' is not 'instrument/item' of a numeric item (rating, scale or Likert) of a questionnaire the protocol gives")));
+                return Err(broken(
+                    format!("compare {}", i + 1),
+                    format!(
+                        "'{side}' is not 'instrument/item' of a numeric item (rating, scale or Likert) of a questionnaire the protocol gives"
+                    ),
+                ));
             }
         }
     }
@@ -119,7 +127,8 @@ fn blocks(p: &Protocol, folder: &Path) -> Result<(), Broken> {
                     return Err(broken(place, "an empty block: instructions need a text, an image or a video"));
                 }
                 for f in [image, video].into_iter().flatten() {
-                    grove_systems::files::within(&folder.join(f), folder).map_err(|e| broken(place.clone(), e.reason()))?;
+                    grove_systems::files::within(&folder.join(f), folder)
+                        .map_err(|e| broken(place.clone(), e.reason()))?;
                 }
             }
             Block::Practice { seconds, .. } => {
@@ -132,7 +141,10 @@ fn blocks(p: &Protocol, folder: &Path) -> Result<(), Broken> {
             Block::Tasks { after, .. } => {
                 tasks += 1;
                 if tasks > 1 {
-                    return Err(broken(place, "a second Tasks block: the conditions' tasks are one block, done once in each participant's order"));
+                    return Err(broken(
+                        place,
+                        "a second Tasks block: the conditions' tasks are one block, done once in each participant's order",
+                    ));
                 }
                 for id in after {
                     questionnaire(p, id).map_err(|m| broken(place.clone(), m))?;
@@ -147,7 +159,11 @@ fn blocks(p: &Protocol, folder: &Path) -> Result<(), Broken> {
 /// An instrument the protocol may give: its own, or a shipped one.
 fn questionnaire(p: &Protocol, id: &str) -> Result<(), String> {
     match p.instruments.iter().find(|i| i.id == id).cloned().or_else(|| shipped::get(id)) {
-        None => Err(format!("questionnaire '{id}' does not exist (the protocol's: {}; shipped: {})", p.instruments.iter().map(|i| i.id.as_str()).collect::<Vec<_>>().join(", "), shipped::IDS.join(", "))),
+        None => Err(format!(
+            "questionnaire '{id}' does not exist (the protocol's: {}; shipped: {})",
+            p.instruments.iter().map(|i| i.id.as_str()).collect::<Vec<_>>().join(", "),
+            shipped::IDS.join(", ")
+        )),
         Some(i) if i.items.is_empty() => Err(format!("an empty block: questionnaire '{id}' has no items")),
         Some(_) => Ok(()),
     }
@@ -161,7 +177,13 @@ fn is_numeric_item(p: &Protocol, path: &str) -> bool {
         _ => false,
     });
     let found = p.instruments.iter().find(|i| i.id == ins).cloned().or_else(|| shipped::get(ins));
-    given && found.is_some_and(|i| i.items.iter().any(|it| it.id == item && matches!(it.kind, ItemKind::Rating { .. } | ItemKind::Scale { .. } | ItemKind::Likert { .. })))
+    given
+        && found.is_some_and(|i| {
+            i.items.iter().any(|it| {
+                it.id == item
+                    && matches!(it.kind, ItemKind::Rating { .. } | ItemKind::Scale { .. } | ItemKind::Likert { .. })
+            })
+        })
 }
 
 /// Checks one instrument.
@@ -189,14 +211,21 @@ pub fn instrument(ins: &Instrument) -> Result<(), Broken> {
     let fits = match ins.scoring {
         Scoring::None => Ok(()),
         Scoring::Sus => {
-            if ins.items.len() == 10 && ins.items.iter().all(|i| matches!(i.kind, ItemKind::Likert { points: 5, .. }) && i.required) {
+            if ins.items.len() == 10
+                && ins.items.iter().all(|i| matches!(i.kind, ItemKind::Likert { points: 5, .. }) && i.required)
+            {
                 Ok(())
             } else {
                 Err("Sus scoring needs ten required 5-point Likert items")
             }
         }
         Scoring::RawTlx => {
-            if ins.items.len() == 6 && ins.items.iter().all(|i| matches!(i.kind, ItemKind::Scale { .. } | ItemKind::Rating { .. }) && i.required) {
+            if ins.items.len() == 6
+                && ins
+                    .items
+                    .iter()
+                    .all(|i| matches!(i.kind, ItemKind::Scale { .. } | ItemKind::Rating { .. }) && i.required)
+            {
                 Ok(())
             } else {
                 Err("RawTlx scoring needs six required scale items (the six subscales)")
@@ -214,15 +243,25 @@ fn kind(k: &ItemKind) -> Result<(), String> {
     match k {
         ItemKind::Rating { anchors } => {
             if anchors.len() != 2 || !anchors_named(anchors) {
-                return Err("a 0–10 rating needs its anchors: the words at 0 and at 10 (anchors: [\"…\", \"…\"])".into());
+                return Err(
+                    "a 0–10 rating needs its anchors: the words at 0 and at 10 (anchors: [\"…\", \"…\"])".into()
+                );
             }
         }
         ItemKind::Scale { min, max, step, anchors } => {
             if anchors.len() != 2 || !anchors_named(anchors) {
                 return Err("a scale needs its anchors: the words at its two ends (anchors: [\"…\", \"…\"])".into());
             }
-            if min >= max || *step <= 0 || (max - min) % step != 0 || (max - min) / step > MAX_SCALE_STEPS || min.abs() > 1_000_000 || max.abs() > 1_000_000 {
-                return Err(format!("a scale from {min} to {max} in steps of {step}: min must be below max, and (max − min) a multiple of the step, at most {MAX_SCALE_STEPS} steps"));
+            if min >= max
+                || *step <= 0
+                || (max - min) % step != 0
+                || (max - min) / step > MAX_SCALE_STEPS
+                || min.abs() > 1_000_000
+                || max.abs() > 1_000_000
+            {
+                return Err(format!(
+                    "a scale from {min} to {max} in steps of {step}: min must be below max, and (max − min) a multiple of the step, at most {MAX_SCALE_STEPS} steps"
+                ));
             }
         }
         ItemKind::Likert { points, anchors } => {
@@ -230,7 +269,9 @@ fn kind(k: &ItemKind) -> Result<(), String> {
                 return Err(format!("a Likert item has 2 to 11 points, not {points}"));
             }
             if !(anchors.len() == 2 || anchors.len() as i64 == *points) || !anchors_named(anchors) {
-                return Err(format!("a Likert scale needs its anchors: the words at its two ends, or one for each of its {points} points"));
+                return Err(format!(
+                    "a Likert scale needs its anchors: the words at its two ends, or one for each of its {points} points"
+                ));
             }
         }
         ItemKind::Single { choices } | ItemKind::Multiple { choices } => {

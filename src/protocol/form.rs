@@ -9,7 +9,7 @@
 use serde::Serialize;
 use serde_json::Value;
 
-use super::answer::{takes, Takes};
+use super::answer::{Takes, takes};
 use super::format::{Instrument, Item, ItemKind, Scoring};
 
 /// An instrument as the pages get it: the protocol's fields, its items as [`FormItem`]s.
@@ -76,18 +76,35 @@ fn ends(anchors: &[String]) -> Option<[String; 2]> {
 impl FormItem {
     /// The pages' form of `item`.
     pub fn new(item: &Item) -> FormItem {
-        let mut form = FormItem { item: item.clone(), options: Vec::new(), anchors: None, multi: false, typed: false, max_chars: None };
-        let words = |choices: &[String]| choices.iter().map(|c| FormOption { value: Value::from(c.as_str()), label: c.clone() }).collect();
+        let mut form = FormItem {
+            item: item.clone(),
+            options: Vec::new(),
+            anchors: None,
+            multi: false,
+            typed: false,
+            max_chars: None,
+        };
+        let words = |choices: &[String]| {
+            choices.iter().map(|c| FormOption { value: Value::from(c.as_str()), label: c.clone() }).collect()
+        };
         match takes(&item.kind) {
             Takes::Whole { lo, hi, step } => {
                 let steps = if step > 0 && hi >= lo { (hi - lo) / step + 1 } else { 0 };
-                form.options = (0..steps).map(|k| lo + k * step).map(|v| FormOption { value: Value::from(v), label: v.to_string() }).collect();
+                form.options = (0..steps)
+                    .map(|k| lo + k * step)
+                    .map(|v| FormOption { value: Value::from(v), label: v.to_string() })
+                    .collect();
                 let anchors = match &item.kind {
-                    ItemKind::Rating { anchors } | ItemKind::Scale { anchors, .. } | ItemKind::Likert { anchors, .. } => anchors.as_slice(),
+                    ItemKind::Rating { anchors }
+                    | ItemKind::Scale { anchors, .. }
+                    | ItemKind::Likert { anchors, .. } => anchors.as_slice(),
                     _ => &[],
                 };
                 // A word for every point (more than two): each option says its word, no anchors.
-                if matches!(item.kind, ItemKind::Likert { .. }) && anchors.len() == form.options.len() && anchors.len() > 2 {
+                if matches!(item.kind, ItemKind::Likert { .. })
+                    && anchors.len() == form.options.len()
+                    && anchors.len() > 2
+                {
                     for (o, word) in form.options.iter_mut().zip(anchors) {
                         o.label = word.clone();
                     }
@@ -104,7 +121,12 @@ impl FormItem {
                 form.typed = true;
                 form.max_chars = Some(max_chars);
             }
-            Takes::YesNo => form.options = vec![FormOption { value: Value::Bool(true), label: "Yes".into() }, FormOption { value: Value::Bool(false), label: "No".into() }],
+            Takes::YesNo => {
+                form.options = vec![
+                    FormOption { value: Value::Bool(true), label: "Yes".into() },
+                    FormOption { value: Value::Bool(false), label: "No".into() },
+                ]
+            }
         }
         form
     }
@@ -129,7 +151,10 @@ mod tests {
     #[test]
     fn numbers_are_rows_of_options_with_the_anchors_at_their_ends() {
         let rating = item(ItemKind::Rating { anchors: words(&["Not at all", "Very well"]) });
-        assert_eq!(rating.options.iter().map(|o| o.value.as_i64().unwrap()).collect::<Vec<_>>(), (0..=10).collect::<Vec<_>>());
+        assert_eq!(
+            rating.options.iter().map(|o| o.value.as_i64().unwrap()).collect::<Vec<_>>(),
+            (0..=10).collect::<Vec<_>>()
+        );
         assert_eq!(rating.anchors, Some(["Not at all".to_string(), "Very well".to_string()]));
         let tlx = item(ItemKind::Scale { min: 0, max: 100, step: 5, anchors: words(&["Very low", "Very high"]) });
         assert_eq!(tlx.options.len(), 21);
@@ -147,7 +172,11 @@ mod tests {
         assert_eq!(pairs(&l), (1..=5).zip(five).map(|(v, w)| (Value::from(v), w)).collect::<Vec<_>>());
         assert_eq!(l.anchors, None, "a word on every point needs no anchors");
         let two = item(ItemKind::Likert { points: 2, anchors: words(&["No", "Yes"]) });
-        assert_eq!(two.options.iter().map(|o| o.label.as_str()).collect::<Vec<_>>(), ["1", "2"], "two words on two points are its ends");
+        assert_eq!(
+            two.options.iter().map(|o| o.label.as_str()).collect::<Vec<_>>(),
+            ["1", "2"],
+            "two words on two points are its ends"
+        );
     }
 
     #[test]

@@ -92,7 +92,10 @@ impl Block {
     /// The block's name.
     pub fn name(&self) -> &str {
         match self {
-            Block::Instructions { name, .. } | Block::Practice { name, .. } | Block::Tasks { name, .. } | Block::Questionnaire { name, .. } => name,
+            Block::Instructions { name, .. }
+            | Block::Practice { name, .. }
+            | Block::Tasks { name, .. }
+            | Block::Questionnaire { name, .. } => name,
         }
     }
 }

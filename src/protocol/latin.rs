@@ -52,7 +52,11 @@ mod tests {
         }
         for pos in 0..k {
             for c in 0..k {
-                assert_eq!(rows.iter().filter(|r| r[pos] == c).count(), rows.len() / k, "position {pos}, condition {c}");
+                assert_eq!(
+                    rows.iter().filter(|r| r[pos] == c).count(),
+                    rows.len() / k,
+                    "position {pos}, condition {c}"
+                );
             }
         }
         // Every ordered pair (a then b at once) equally often.

@@ -96,7 +96,11 @@ pub struct Step {
 /// Reads and checks a protocol file.
 pub fn load(path: &Path) -> Result<Loaded, ProtocolError> {
     let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Index)?;
-    let folder = path.parent().map(|p| if p.as_os_str().is_empty() { Path::new(".") } else { p }).unwrap_or(Path::new(".")).to_path_buf();
+    let folder = path
+        .parent()
+        .map(|p| if p.as_os_str().is_empty() { Path::new(".") } else { p })
+        .unwrap_or(Path::new("."))
+        .to_path_buf();
     parse(&text, &path.display().to_string(), &folder)
 }
 
@@ -108,7 +112,11 @@ pub fn parse(text: &str, path: &str, folder: &Path) -> Result<Loaded, ProtocolEr
         column: e.span.start.col,
         message: e.code.to_string().replace(['\n', '\r'], " "),
     })?;
-    check::check(&protocol, folder).map_err(|b| ProtocolError::Invalid { path: path.to_string(), place: b.place, message: b.message })?;
+    check::check(&protocol, folder).map_err(|b| ProtocolError::Invalid {
+        path: path.to_string(),
+        place: b.place,
+        message: b.message,
+    })?;
     Ok(Loaded { protocol, text: text.to_string(), folder: folder.to_path_buf() })
 }
 
@@ -137,12 +145,20 @@ impl Loaded {
             match block {
                 Block::Instructions { .. } => steps.push(Step { block: b, name, kind: StepKind::Instructions }),
                 Block::Practice { .. } => steps.push(Step { block: b, name, kind: StepKind::Practice }),
-                Block::Questionnaire { instrument, .. } => steps.push(Step { block: b, name, kind: StepKind::Questionnaire { instrument: instrument.clone(), condition: None } }),
+                Block::Questionnaire { instrument, .. } => steps.push(Step {
+                    block: b,
+                    name,
+                    kind: StepKind::Questionnaire { instrument: instrument.clone(), condition: None },
+                }),
                 Block::Tasks { after, .. } => {
                     for &c in order {
                         steps.push(Step { block: b, name: name.clone(), kind: StepKind::Task { condition: c } });
                         for a in after {
-                            steps.push(Step { block: b, name: name.clone(), kind: StepKind::Questionnaire { instrument: a.clone(), condition: Some(c) } });
+                            steps.push(Step {
+                                block: b,
+                                name: name.clone(),
+                                kind: StepKind::Questionnaire { instrument: a.clone(), condition: Some(c) },
+                            });
                         }
                     }
                 }
@@ -164,7 +180,13 @@ mod tests {
         assert_eq!(p.order(0), vec![0, 1]);
         assert_eq!(p.order(1), vec![1, 0]);
         let steps = p.steps(&p.order(1));
-        let tasks: Vec<usize> = steps.iter().filter_map(|s| match s.kind { StepKind::Task { condition } => Some(condition), _ => None }).collect();
+        let tasks: Vec<usize> = steps
+            .iter()
+            .filter_map(|s| match s.kind {
+                StepKind::Task { condition } => Some(condition),
+                _ => None,
+            })
+            .collect();
         assert_eq!(tasks, vec![1, 0]);
         let q = p.instrument("tree-planting").expect("the paper's questionnaire");
         assert_eq!(q.items.len(), 7);

@@ -6,7 +6,8 @@ use super::format::Instrument;
 /// The ids of the shipped instruments.
 pub const IDS: &[&str] = &["sus", "nasa-tlx"];
 
-const TEXTS: &[&str] = &[include_str!("../../assets/protocols/sus.ron"), include_str!("../../assets/protocols/nasa-tlx.ron")];
+const TEXTS: &[&str] =
+    &[include_str!("../../assets/protocols/sus.ron"), include_str!("../../assets/protocols/nasa-tlx.ron")];
 
 /// A shipped instrument by id.
 pub fn get(id: &str) -> Option<Instrument> {

@@ -130,7 +130,13 @@ mod tests {
             for i in 0..27 {
                 let f = Vec3::new((i % 3) as f32, ((i / 3) % 3) as f32, (i / 9) as f32) * 0.5;
                 let p = m * (lo + (hi - lo) * f).extend(1.0);
-                let shown = p.w > 0.0 && p.x >= x0 * p.w && p.x <= x1 * p.w && p.y >= y0 * p.w && p.y <= y1 * p.w && p.z >= 0.0 && p.z <= p.w;
+                let shown = p.w > 0.0
+                    && p.x >= x0 * p.w
+                    && p.x <= x1 * p.w
+                    && p.y >= y0 * p.w
+                    && p.y <= y1 * p.w
+                    && p.z >= 0.0
+                    && p.z <= p.w;
                 if shown {
                     inside += 1;
                     assert!(held, "a box with a point inside was culled: {lo} {hi}");

@@ -11,8 +11,8 @@ use std::path::PathBuf;
 use glam::DVec2;
 use grove_systems::files::FileError;
 
-pub use crate::models::{GltfError, GltfProblem};
 use super::key::PipelineKey;
+pub use crate::models::{GltfError, GltfProblem};
 
 /// Why the renderer failed.
 #[derive(Debug, thiserror::Error)]
@@ -57,7 +57,9 @@ pub enum RenderError {
     #[error("grass counts: {0}")]
     GrassCountsRange(wgpu::MapRangeError),
     /// The far grass blades' image is larger than one storage binding of the device.
-    #[error("grass blades cannot be drawn at {width}x{height} pixels: their image needs {bytes} bytes, over the device's limit of {limit}")]
+    #[error(
+        "grass blades cannot be drawn at {width}x{height} pixels: their image needs {bytes} bytes, over the device's limit of {limit}"
+    )]
     GrassImage {
         /// Target width, pixels.
         width: u32,
@@ -206,7 +208,9 @@ pub enum ClipmapError {
         side: u32,
     },
     /// A photograph too large (or empty) to be held in memory.
-    #[error("a photograph held in memory must be 1 to {max} texels a side, not {width}x{height}; tile it with `grove aerial tile`")]
+    #[error(
+        "a photograph held in memory must be 1 to {max} texels a side, not {width}x{height}; tile it with `grove aerial tile`"
+    )]
     MemorySide {
         /// Width, texels.
         width: u32,
@@ -234,7 +238,9 @@ pub enum ClipmapError {
     #[error("clipmap level size {0} must be a power of two from 16 to 4096")]
     LevelSize(u32),
     /// A photograph's placement that is not finite or has no positive ground sample distance.
-    #[error("the photograph's placement (origin {origin}, {gsd} m per texel) must be finite with a positive ground sample distance")]
+    #[error(
+        "the photograph's placement (origin {origin}, {gsd} m per texel) must be finite with a positive ground sample distance"
+    )]
     Placement {
         /// The origin, metres.
         origin: DVec2,

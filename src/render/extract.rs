@@ -4,9 +4,9 @@
 //! in `src/render` that read simulation components; every later stage works on the copies.
 
 use glam::Vec3;
-use grove_systems::wind_model::{Wind, WindParams};
-use grove_systems::light::NO_SUN;
 use grove_systems::Sim;
+use grove_systems::light::NO_SUN;
+use grove_systems::wind_model::{Wind, WindParams};
 
 use super::feature::Common;
 use super::options::RenderOptions;
@@ -22,10 +22,16 @@ pub(crate) fn common(sim: &Sim, options: &RenderOptions) -> Common {
     } else if let Some(c) = options.camera {
         camera = c;
     }
-    let (sun_dir, sun_elevation_deg) = sim
-        .sun()
-        .map_or((NO_SUN.0.normalize(), NO_SUN.1), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
+    let (sun_dir, sun_elevation_deg) =
+        sim.sun().map_or((NO_SUN.0.normalize(), NO_SUN.1), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
     let time = sim.time();
     let wind = sim.wind().unwrap_or_else(Wind::calm);
-    Common { camera, sun_dir, sun_elevation_deg, time, wind: WindParams::from_wind(&wind, time), wind_model: wind.model }
+    Common {
+        camera,
+        sun_dir,
+        sun_elevation_deg,
+        time,
+        wind: WindParams::from_wind(&wind, time),
+        wind_model: wind.model,
+    }
 }

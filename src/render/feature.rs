@@ -6,8 +6,8 @@
 //! from here and never from the renderer above them.
 
 use glam::{Mat4, Vec3};
-use grove_systems::wind_model::{WindModel, WindParams};
 use grove_systems::Sim;
+use grove_systems::wind_model::{WindModel, WindParams};
 
 use super::error::RenderError;
 use super::gpu::{PipelineKey, Shared};
@@ -134,7 +134,13 @@ pub(crate) trait Feature {
 
     /// Draws the feature's part of `phase` in the main pass, with the pipelines of `key`. The
     /// frame has bound group 0 (the view) and group 1 (the lighting); a feature binds group 2.
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError>;
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError>;
 }
 
 /// The box around both boxes, or either.

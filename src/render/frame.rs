@@ -22,26 +22,36 @@
 
 use grove_systems::Sim;
 
+use super::Renderer;
+use super::clip::ClipRegion;
 use super::error::RenderError;
 use super::extract;
-use super::feature::{union, ExtractContext, Feature, FrameContext, FrameStats, FrameViews, Phase};
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, FrameViews, Phase, union};
 use super::gpu::{PipelineKey, ViewKind};
 use super::lighting::{light_matrix, shadow_bounds, sun_light};
-use super::clip::ClipRegion;
 use super::trees::TreeView;
-use super::view::{camera_matrix, ViewUniform};
-use super::Renderer;
+use super::view::{ViewUniform, camera_matrix};
 
 impl Renderer {
     /// Records one frame of `sim` into `encoder`, drawing into `view`.
-    pub(crate) fn encode_frame(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), RenderError> {
+    pub(crate) fn encode_frame(
+        &mut self,
+        sim: &Sim,
+        view: &wgpu::TextureView,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<(), RenderError> {
         let options = self.options;
         let size = (self.width, self.height);
         let f = &mut self.features;
 
         // 1. Extract. Without a canopy the photographed crowns are trees like the others.
         let common = extract::common(sim, &options);
-        let ecx = ExtractContext { common: &common, options: &options, size, canopy: f.aerial.canopy.is_some() && options.canopy };
+        let ecx = ExtractContext {
+            common: &common,
+            options: &options,
+            size,
+            canopy: f.aerial.canopy.is_some() && options.canopy,
+        };
         let trees = f.trees.extract(sim, &ecx);
         let ground = f.ground.extract(sim, &ecx);
         let grass = f.grass.extract(sim, &ecx);
@@ -55,8 +65,14 @@ impl Renderer {
         // something to cast them.
         self.lighting.set_shadow_size(&self.shared, options.shadow_size);
         let light = sun_light(common.sun_elevation_deg);
-        let casts = f.trees.casts_shadows(&trees) || f.aerial.canopy.as_ref().zip(canopy.as_ref()).is_some_and(|(c, x)| c.casts_shadows(x));
-        let key = PipelineKey { shadows: options.shadows && light.direct.max_element() > 0.0 && casts, wind: common.wind_model, format: self.format, view: ViewKind::Main };
+        let casts = f.trees.casts_shadows(&trees)
+            || f.aerial.canopy.as_ref().zip(canopy.as_ref()).is_some_and(|(c, x)| c.casts_shadows(x));
+        let key = PipelineKey {
+            shadows: options.shadows && light.direct.max_element() > 0.0 && casts,
+            wind: common.wind_model,
+            format: self.format,
+            view: ViewKind::Main,
+        };
         // The sun's view covers the trees, the planes and the canopy within 80 m of the camera.
         let canopy_bounds = f.aerial.canopy.as_ref().zip(canopy.as_ref()).and_then(|(c, x)| c.shadow_bounds(x));
         let drawn = union(union(f.trees.shadow_bounds(&trees), f.ground.shadow_bounds(&ground)), canopy_bounds);
@@ -104,7 +120,14 @@ impl Renderer {
         // the lowest drawn point, less a metre).
         let sun = key.shadows.then(|| drawn.map(|(lo, _)| (common.sun_dir, lo.y - 1.0))).flatten();
         let light = ClipRegion::new(light_vp);
-        f.trees.cull(&ClipRegion::new(view_proj), f.water.regions(), sun, &light, shadow_size / extent.max(1e-3), options.cull_trees);
+        f.trees.cull(
+            &ClipRegion::new(view_proj),
+            f.water.regions(),
+            sun,
+            &light,
+            shadow_size / extent.max(1e-3),
+            options.cull_trees,
+        );
         let f = &self.features;
         let shadow_instances = if key.shadows { f.trees.shadow_instance_count } else { 0 };
         let mut stats = FrameStats { instances: f.trees.instance_count, shadow_instances, ..Default::default() };
@@ -148,7 +171,10 @@ impl Renderer {
                     view: w.color,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: w.depth,
@@ -181,7 +207,10 @@ impl Renderer {
                     view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(self.options.clear), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(self.options.clear),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &self.depth,

@@ -17,7 +17,6 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Depth format of the shadow map.
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
 
-
 /// The device, the queue and the resources every feature binds.
 #[derive(Clone)]
 pub(crate) struct Shared {
@@ -135,7 +134,12 @@ impl Shared {
     }
 
     /// A material bind group: uniforms, albedo, normal map, specular map, the material sampler.
-    pub fn material_bind_group(&self, label: &str, uniforms: &wgpu::Buffer, views: [&wgpu::TextureView; 3]) -> wgpu::BindGroup {
+    pub fn material_bind_group(
+        &self,
+        label: &str,
+        uniforms: &wgpu::Buffer,
+        views: [&wgpu::TextureView; 3],
+    ) -> wgpu::BindGroup {
         let [albedo, normal, spec] = views;
         self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),
@@ -215,7 +219,10 @@ pub(crate) fn depth_test(write: bool, compare: wgpu::CompareFunction) -> wgpu::D
 }
 
 /// One colour target of `format`, unblended, writing `mask`.
-pub(crate) fn color_target(format: wgpu::TextureFormat, mask: wgpu::ColorWrites) -> [Option<wgpu::ColorTargetState>; 1] {
+pub(crate) fn color_target(
+    format: wgpu::TextureFormat,
+    mask: wgpu::ColorWrites,
+) -> [Option<wgpu::ColorTargetState>; 1] {
     [Some(wgpu::ColorTargetState { format, blend: None, write_mask: mask })]
 }
 
@@ -234,9 +241,14 @@ impl<T> PipelineCache<T> {
 
     /// Builds the pipelines of `key` unless they exist. `build` fails for a key the feature
     /// does not support; the error names the feature and the key.
-    pub fn prepare(&mut self, key: PipelineKey, build: impl FnOnce(PipelineKey) -> Result<T, PipelineError>) -> Result<(), PipelineError> {
+    pub fn prepare(
+        &mut self,
+        key: PipelineKey,
+        build: impl FnOnce(PipelineKey) -> Result<T, PipelineError>,
+    ) -> Result<(), PipelineError> {
         if !self.built.contains_key(&key) {
-            let value = build(key).map_err(|e| PipelineError::Refused { feature: self.feature, key, reason: Box::new(e) })?;
+            let value =
+                build(key).map_err(|e| PipelineError::Refused { feature: self.feature, key, reason: Box::new(e) })?;
             self.built.insert(key, value);
         }
         Ok(())
@@ -263,7 +275,11 @@ pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 }
 
 /// A texture binding, seen by the fragment stage.
-pub(crate) fn texture_entry(binding: u32, dim: wgpu::TextureViewDimension, sample: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn texture_entry(
+    binding: u32,
+    dim: wgpu::TextureViewDimension,
+    sample: wgpu::TextureSampleType,
+) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
@@ -296,7 +312,10 @@ mod tests {
         let mut cache: PipelineCache<u32> = PipelineCache::new("test feature");
         let err = cache.get(key(ViewKind::Main)).unwrap_err().to_string();
         assert!(err.contains("test feature") && err.contains("Main"), "{err}");
-        let err = cache.prepare(key(ViewKind::Sun), |_| Err(PipelineError::MainViewOnly("the test"))).unwrap_err().to_string();
+        let err = cache
+            .prepare(key(ViewKind::Sun), |_| Err(PipelineError::MainViewOnly("the test")))
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("test feature") && err.contains("Sun") && err.contains("main view only"), "{err}");
         assert!(cache.get(key(ViewKind::Sun)).is_err());
     }

@@ -10,9 +10,14 @@ pub use grove_systems::light::{HAZE_DEPTH, HAZE_FULL_AT, HAZE_FULL_FROM, HAZE_ST
 
 /// The WGSL piece `haze`: the constants above.
 pub static SHADER_CONSTANTS: LazyLock<String> = LazyLock::new(|| {
-    [("HAZE_START", HAZE_START), ("HAZE_DEPTH", HAZE_DEPTH), ("HAZE_FULL_FROM", HAZE_FULL_FROM), ("HAZE_FULL_AT", HAZE_FULL_AT)]
-        .map(|(name, v)| format!("const {name}: f32 = {v:?};\n"))
-        .concat()
+    [
+        ("HAZE_START", HAZE_START),
+        ("HAZE_DEPTH", HAZE_DEPTH),
+        ("HAZE_FULL_FROM", HAZE_FULL_FROM),
+        ("HAZE_FULL_AT", HAZE_FULL_AT),
+    ]
+    .map(|(name, v)| format!("const {name}: f32 = {v:?};\n"))
+    .concat()
 });
 
 fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
@@ -48,5 +53,4 @@ mod tests {
             last = f;
         }
     }
-
 }

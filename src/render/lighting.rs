@@ -8,9 +8,9 @@
 use glam::{Mat4, Vec3};
 
 use super::assets::textures::{self, Environment};
-use super::gpu::{Shared, SHADOW_FORMAT};
+use super::gpu::{SHADOW_FORMAT, Shared};
 
-pub use grove_systems::light::{sun_light, SunLight};
+pub use grove_systems::light::{SunLight, sun_light};
 
 /// The eight corners of the axis-aligned box `min..max`.
 pub fn box_corners(min: Vec3, max: Vec3) -> [Vec3; 8] {
@@ -37,7 +37,8 @@ pub fn light_matrix(sun_dir: Vec3, min: Vec3, max: Vec3) -> (Mat4, f32) {
         lo = lo.min(p);
         hi = hi.max(p);
     }
-    let proj = glam::camera::rh::proj::directx::orthographic(lo.x, hi.x, lo.y, hi.y, (-hi.z - 1.0).max(0.01), -lo.z + 1.0);
+    let proj =
+        glam::camera::rh::proj::directx::orthographic(lo.x, hi.x, lo.y, hi.y, (-hi.z - 1.0).max(0.01), -lo.z + 1.0);
     (proj * view, (hi.x - lo.x).max(hi.y - lo.y))
 }
 
@@ -123,7 +124,13 @@ fn shadow_texture(device: &wgpu::Device, size: u32) -> wgpu::TextureView {
     tex.create_view(&wgpu::TextureViewDescriptor { label: Some("shadow map view"), ..Default::default() })
 }
 
-fn bind_group(shared: &Shared, shadow: &wgpu::TextureView, shadow_sampler: &wgpu::Sampler, env: &Environment, env_sampler: &wgpu::Sampler) -> wgpu::BindGroup {
+fn bind_group(
+    shared: &Shared,
+    shadow: &wgpu::TextureView,
+    shadow_sampler: &wgpu::Sampler,
+    env: &Environment,
+    env_sampler: &wgpu::Sampler,
+) -> wgpu::BindGroup {
     shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("lighting bind group"),
         layout: &shared.lighting_layout,

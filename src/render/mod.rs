@@ -44,22 +44,21 @@ pub mod water;
 
 use std::path::Path;
 
-use grove_systems::catalogue::Catalogue;
 use grove_systems::Sim;
+use grove_systems::catalogue::Catalogue;
 
+pub use aerial_ground::AerialPhotos;
 pub use assets::default_assets_dir;
-pub use gpu::{PipelineKey, ViewKind, DEPTH_FORMAT, SHADOW_FORMAT};
-pub use lighting::{light_matrix, sun_light, SunLight};
+pub use error::{ClipmapError, PipelineError, RenderError};
+pub use feature::FrameStats;
+pub use gpu::{DEPTH_FORMAT, PipelineKey, SHADOW_FORMAT, ViewKind};
+pub use lighting::{SunLight, light_matrix, sun_light};
+pub use options::{DEFAULT_FAR_PIXELS, DEFAULT_IMPOSTOR_PIXELS, RenderOptions, WaterOutput};
 pub use timing::PassTimes;
 pub use trees::instances::Instance;
 pub use trees::lod;
 pub use trees::model::GpuModel;
-pub use view::{camera_matrix, Camera, TopView};
-pub use aerial_ground::AerialPhotos;
-pub use feature::FrameStats;
-pub use error::{ClipmapError, PipelineError, RenderError};
-pub use options::{RenderOptions, WaterOutput, DEFAULT_FAR_PIXELS, DEFAULT_IMPOSTOR_PIXELS};
-
+pub use view::{Camera, TopView, camera_matrix};
 
 /// The drawn features, one named field each; the frame ([`frame`]) calls them in its order.
 /// What a caller sets or reads of one feature is that feature's own method.
@@ -98,7 +97,13 @@ pub struct Renderer {
 impl Renderer {
     /// A renderer for targets of `target_format` at `width`×`height`, with the models of the
     /// built-in catalogue and the environment from [`default_assets_dir`].
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, width: u32, height: u32) -> Result<Renderer, RenderError> {
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target_format: wgpu::TextureFormat,
+        width: u32,
+        height: u32,
+    ) -> Result<Renderer, RenderError> {
         Renderer::with_assets(device, queue, target_format, width, height, &default_assets_dir(), &Catalogue::builtin())
     }
 
@@ -124,7 +129,14 @@ impl Renderer {
 
     /// A renderer with no models yet (add them with [`trees::Trees::set_model`]), the environment
     /// and ground texture from `assets/env/`. Pipelines are built on first use.
-    pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue, target_format: wgpu::TextureFormat, width: u32, height: u32, assets: &Path) -> Result<Renderer, RenderError> {
+    pub fn empty(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target_format: wgpu::TextureFormat,
+        width: u32,
+        height: u32,
+        assets: &Path,
+    ) -> Result<Renderer, RenderError> {
         let (face_size, faces) = assets::textures::load_faces(&assets.join("env"))?;
         let shared = gpu::Shared::new(device, queue);
         let options = RenderOptions::default();
@@ -196,7 +208,8 @@ impl Renderer {
     /// Renders the world into `view` (a texture of the target format and size) and submits the
     /// frame. Reads the world only.
     pub fn render(&mut self, sim: &Sim, view: &wgpu::TextureView) -> Result<(), RenderError> {
-        let mut encoder = self.shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame encoder") });
+        let mut encoder =
+            self.shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame encoder") });
         self.encode_frame(sim, view, &mut encoder)?;
         self.shared.queue.submit([encoder.finish()]);
         Ok(())
@@ -205,7 +218,12 @@ impl Renderer {
     /// Records the frame into `encoder` without submitting it, for a caller that adds its own
     /// passes (the desktop app's UI) and submits one command buffer. Buffer uploads go through
     /// the queue and take effect at that submission.
-    pub fn render_into(&mut self, sim: &Sim, view: &wgpu::TextureView, encoder: &mut wgpu::CommandEncoder) -> Result<(), RenderError> {
+    pub fn render_into(
+        &mut self,
+        sim: &Sim,
+        view: &wgpu::TextureView,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<(), RenderError> {
         self.encode_frame(sim, view, encoder)
     }
 }

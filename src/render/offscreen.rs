@@ -3,14 +3,14 @@
 
 use std::path::Path;
 
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::stage::{in_study_wind, model_stage};
-use grove_systems::Sim;
 use image::RgbaImage;
 
 use super::error::RenderError;
 use super::{RenderOptions, Renderer};
-use crate::models::{load_model, ModelData};
+use crate::models::{ModelData, load_model};
 
 /// The offscreen target format.
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -30,8 +30,7 @@ impl Gpu {
     /// software adapters such as lavapipe are accepted), with timestamp queries where the
     /// adapter has them. Fails with one line when there is none.
     pub fn new() -> Result<Gpu, RenderError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
@@ -46,11 +45,7 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(RenderError::Device)?;
-        Ok(Gpu {
-            adapter,
-            device,
-            queue,
-        })
+        Ok(Gpu { adapter, device, queue })
     }
 
     /// Whether the adapter is a software rasteriser (lavapipe, llvmpipe, WARP) rather than a GPU.
@@ -80,11 +75,7 @@ impl Target {
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Target {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("offscreen colour target"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -92,26 +83,16 @@ impl Target {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("offscreen colour view"),
-            ..Default::default()
-        });
-        let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let view = texture
+            .create_view(&wgpu::TextureViewDescriptor { label: Some("offscreen colour view"), ..Default::default() });
+        let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("offscreen readback buffer"),
             size: (padded_row * height) as u64,
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        Target {
-            texture,
-            view,
-            readback,
-            width,
-            height,
-            padded_row,
-        }
+        Target { texture, view, readback, width, height, padded_row }
     }
 
     /// The view to render into.
@@ -121,9 +102,8 @@ impl Target {
 
     /// Copies the target to the CPU.
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<RgbaImage, RenderError> {
-        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("readback encoder"),
-        });
+        let mut enc =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback encoder") });
         enc.copy_texture_to_buffer(
             self.texture.as_image_copy(),
             wgpu::TexelCopyBufferInfo {
@@ -134,11 +114,7 @@ impl Target {
                     rows_per_image: Some(self.height),
                 },
             },
-            wgpu::Extent3d {
-                width: self.width,
-                height: self.height,
-                depth_or_array_layers: 1,
-            },
+            wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
         );
         queue.submit([enc.finish()]);
         let slice = self.readback.slice(..);
@@ -146,25 +122,18 @@ impl Target {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(RenderError::Poll)?;
-        rx.recv()
-            .map_err(|_| RenderError::ReadbackDropped)?
-            .map_err(RenderError::Readback)?;
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(RenderError::Poll)?;
+        rx.recv().map_err(|_| RenderError::ReadbackDropped)?.map_err(RenderError::Readback)?;
         let mut pixels = Vec::with_capacity((self.width * self.height * 4) as usize);
         {
-            let data = slice
-                .get_mapped_range()
-                .map_err(RenderError::ReadbackRange)?;
+            let data = slice.get_mapped_range().map_err(RenderError::ReadbackRange)?;
             for row in 0..self.height {
                 let start = (row * self.padded_row) as usize;
                 pixels.extend_from_slice(&data[start..start + (self.width * 4) as usize]);
             }
         }
         self.readback.unmap();
-        RgbaImage::from_raw(self.width, self.height, pixels)
-            .ok_or(RenderError::ReadbackSize)
+        RgbaImage::from_raw(self.width, self.height, pixels).ok_or(RenderError::ReadbackSize)
     }
 }
 
@@ -184,18 +153,32 @@ pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), RenderError> {
 /// Renders any glTF 2.0 file at `width`×`height` with `options`, framed from its bounds, on a
 /// ground plane (the simulation crate's staging scene, [`model_stage`]), always as the mesh
 /// (`options.impostor_pixels` is ignored).
-pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
+pub fn render_model_file(
+    gpu: &Gpu,
+    path: &Path,
+    width: u32,
+    height: u32,
+    options: RenderOptions,
+) -> Result<RgbaImage, RenderError> {
     render_model_data(gpu, &load_model(path)?, width, height, options, None)
 }
 
 /// [`render_model_file`] of a model already loaded; with `tick`, the stage in the study's wind
 /// ([`in_study_wind`]) after that many ticks.
-pub fn render_model_data(gpu: &Gpu, data: &ModelData, width: u32, height: u32, options: RenderOptions, tick: Option<u64>) -> Result<RgbaImage, RenderError> {
+pub fn render_model_data(
+    gpu: &Gpu,
+    data: &ModelData,
+    width: u32,
+    height: u32,
+    options: RenderOptions,
+    tick: Option<u64>,
+) -> Result<RgbaImage, RenderError> {
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, FORMAT, width, height, &super::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, far_pixels: 0.0, ..options };
     renderer.features.trees.set_model(ModelId(0), data);
-    let mut sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0)).map_err(RenderError::Stage)?;
+    let mut sim =
+        model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0)).map_err(RenderError::Stage)?;
     if let Some(t) = tick {
         in_study_wind(&mut sim).map_err(RenderError::Stage)?;
         sim.run(t);

@@ -90,7 +90,25 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, lod_cross_fade: true, blade_edge_fade: true, canopy: true, top_view: None, camera: None, background: true, cull_trees: true }
+        RenderOptions {
+            shadows: true,
+            shadow_size: 1024,
+            clear: wgpu::Color::BLACK,
+            leaf_pixels: 32.0,
+            water: true,
+            water_output: WaterOutput::Full,
+            grass: true,
+            grass_bend: true,
+            overlay: true,
+            impostor_pixels: DEFAULT_IMPOSTOR_PIXELS,
+            far_pixels: DEFAULT_FAR_PIXELS,
+            lod_cross_fade: true,
+            blade_edge_fade: true,
+            canopy: true,
+            top_view: None,
+            camera: None,
+            background: true,
+            cull_trees: true,
+        }
     }
 }
-

@@ -58,7 +58,13 @@ pub(crate) fn compose(src: &str, generated: &[(&str, &str)]) -> String {
 
 /// Writes piece `name` and, before it, what it imports, unless written already; `path` holds
 /// the pieces being written, to name an import circle.
-fn add<'a>(name: &'a str, generated: &[(&'a str, &'a str)], done: &mut Vec<&'a str>, out: &mut String, path: &mut Vec<&'a str>) {
+fn add<'a>(
+    name: &'a str,
+    generated: &[(&'a str, &'a str)],
+    done: &mut Vec<&'a str>,
+    out: &mut String,
+    path: &mut Vec<&'a str>,
+) {
     if done.contains(&name) {
         return;
     }
@@ -82,9 +88,10 @@ fn add<'a>(name: &'a str, generated: &[(&'a str, &'a str)], done: &mut Vec<&'a s
 pub(crate) fn struct_layout(wgsl: &str, name: &str) -> Option<(Vec<(String, usize)>, usize)> {
     let module = wgpu::naga::front::wgsl::parse_str(wgsl).ok()?;
     module.types.iter().find_map(|(_, ty)| match &ty.inner {
-        wgpu::naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => {
-            Some((members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect(), *span as usize))
-        }
+        wgpu::naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => Some((
+            members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect(),
+            *span as usize,
+        )),
         _ => None,
     })
 }
@@ -133,7 +140,8 @@ mod tests {
             }
         }
         assert!(files.len() >= 15, "{files:?}");
-        let known: Vec<&str> = LIBRARY.iter().chain(&built_in()).map(|(n, _)| *n).chain(["grass_constants", "material"]).collect();
+        let known: Vec<&str> =
+            LIBRARY.iter().chain(&built_in()).map(|(n, _)| *n).chain(["grass_constants", "material"]).collect();
         for f in &files {
             let text = std::fs::read_to_string(f).unwrap();
             for name in imports(&text) {
@@ -158,7 +166,8 @@ mod tests {
         let wgsl = compose(include_str!("trees/impostor/impostor.wgsl"), &[]);
         assert_eq!(wgsl.matches("struct WindParams {").count(), 1, "{wgsl}");
         assert!(wgsl.contains(WindParams::WGSL));
-        let (members, size) = struct_layout(&wgsl, "WindParams").expect("the composed shader parses and declares WindParams");
+        let (members, size) =
+            struct_layout(&wgsl, "WindParams").expect("the composed shader parses and declares WindParams");
         let rust: Vec<(String, usize)> = WindParams::FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
         assert_eq!(members, rust);
         assert_eq!(size, std::mem::size_of::<WindParams>());

@@ -51,7 +51,10 @@ impl Timer {
                 ty: wgpu::QueryType::Timestamp,
                 count: 2 * MAX_SCOPES,
             }),
-            resolve: buffer("pass timestamps resolve", wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            resolve: buffer(
+                "pass timestamps resolve",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
             readback: buffer("pass timestamps readback", wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
             period_ns: f64::from(queue.get_timestamp_period()),
             scopes: Vec::new(),
@@ -83,7 +86,13 @@ impl Timer {
         let count = 2 * self.scopes.len() as u32;
         if count > 0 {
             encoder.resolve_query_set(&self.set, 0..count, &self.resolve, 0);
-            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, u64::from(count) * wgpu::QUERY_SIZE as u64);
+            encoder.copy_buffer_to_buffer(
+                &self.resolve,
+                0,
+                &self.readback,
+                0,
+                u64::from(count) * wgpu::QUERY_SIZE as u64,
+            );
         }
         self.resolved = std::mem::take(&mut self.scopes);
     }
@@ -100,9 +109,7 @@ impl Timer {
             let _ = tx.send(r);
         });
         device.poll(wgpu::PollType::wait_indefinitely()).map_err(RenderError::Poll)?;
-        rx.recv()
-            .map_err(|_| RenderError::TimestampsDropped)?
-            .map_err(RenderError::Timestamps)?;
+        rx.recv().map_err(|_| RenderError::TimestampsDropped)?.map_err(RenderError::Timestamps)?;
         let ticks: Vec<u64> = {
             let data = slice.get_mapped_range().map_err(RenderError::TimestampsRange)?;
             data.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect()

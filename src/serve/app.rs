@@ -11,12 +11,12 @@ use hyper::{Method, Request, Response};
 use serde_json::json;
 
 use crate::serve::http::listen::Handler;
-use crate::serve::http::respond::{json, refused, Body};
-use crate::serve::http::router::{find, Route};
+use crate::serve::http::respond::{Body, json, refused};
+use crate::serve::http::router::{Route, find};
 use crate::serve::http::static_files::StaticRoots;
 use crate::serve::index_page;
-use crate::serve::protocol::routes as protocol_routes;
 use crate::serve::protocol::Protocol;
+use crate::serve::protocol::routes as protocol_routes;
 use crate::serve::sessions::routes as session_routes;
 use crate::serve::sessions::service::Sessions;
 
@@ -53,13 +53,19 @@ impl App {
         } else if session_routes::serves(&path) {
             session_routes::route(&self.sessions, req).await
         } else if path == "/api" || path.starts_with("/api/") {
-            let routes = [Route { method: Method::GET, path: "/api/status", to: To::Status }, Route { method: Method::GET, path: "/api/index", to: To::Index }];
+            let routes = [
+                Route { method: Method::GET, path: "/api/status", to: To::Status },
+                Route { method: Method::GET, path: "/api/index", to: To::Index },
+            ];
             match find(&routes, req.method(), &path) {
                 Ok((To::Status, _)) => self.status(),
                 Ok((To::Index, _)) => json(200, &self.statics.index()),
                 Err(miss) => refused(&miss),
             }
-        } else if path == "/" && (req.method() == Method::GET || req.method() == Method::HEAD) && !self.statics.has_page() {
+        } else if path == "/"
+            && (req.method() == Method::GET || req.method() == Method::HEAD)
+            && !self.statics.has_page()
+        {
             index_page::page(&self.sessions.registry.entries(), &self.statics.index())
         } else {
             self.statics.answer(req.method(), &path).await.unwrap_or_else(|r| refused(&r))
@@ -70,6 +76,9 @@ impl App {
     /// (the headset page then follows it) or null.
     fn status(&self) -> Response<Body> {
         let protocol = self.protocol.as_ref().map(|p| p.participants.loaded.protocol.name.clone());
-        json(200, &json!({ "server": "grove serve", "version": env!("CARGO_PKG_VERSION"), "open_sessions": self.sessions.registry.open_sessions().len(), "tls": self.tls, "protocol": protocol }))
+        json(
+            200,
+            &json!({ "server": "grove serve", "version": env!("CARGO_PKG_VERSION"), "open_sessions": self.sessions.registry.open_sessions().len(), "tls": self.tls, "protocol": protocol }),
+        )
     }
 }

@@ -44,7 +44,9 @@ pub fn participant(id: &str) -> Result<&str, BadId> {
     if id.is_empty() || id.len() > MAX_PARTICIPANT {
         return Err(bad("it must be 1 to 32 characters long"));
     }
-    if !id.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-') || !id.as_bytes()[0].is_ascii_alphanumeric() {
+    if !id.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+        || !id.as_bytes()[0].is_ascii_alphanumeric()
+    {
         return Err(bad("only letters, digits, '_' and '-' are allowed, starting with a letter or digit"));
     }
     Ok(id)
@@ -54,7 +56,12 @@ pub fn participant(id: &str) -> Result<&str, BadId> {
 pub fn task_part(task: Option<&str>) -> Result<String, BadId> {
     match task {
         None => Ok("free".into()),
-        Some(t) if grove_systems::task::TaskDef::builtin(t).is_some() && t.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-') => Ok(t.to_string()),
+        Some(t)
+            if grove_systems::task::TaskDef::builtin(t).is_some()
+                && t.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-') =>
+        {
+            Ok(t.to_string())
+        }
         Some(t) => Err(BadId { field: "task", value: t.chars().take(80).collect(), why: "it is not a built-in task" }),
     }
 }
@@ -71,7 +78,10 @@ pub fn create_session_file(dir: &Path, participant: &str, task: &str) -> Result<
             Err(e) => return Err(IdError::File { path: path.display().to_string(), message: e.to_string() }),
         }
     }
-    Err(IdError::File { path: dir.display().to_string(), message: format!("100000 files of {participant}-{task} already; use another folder") })
+    Err(IdError::File {
+        path: dir.display().to_string(),
+        message: format!("100000 files of {participant}-{task} already; use another folder"),
+    })
 }
 
 /// `n` random bytes from the operating system as lowercase hex.
@@ -127,7 +137,10 @@ mod tests {
         std::fs::write(dir.path().join("P02-free-1.jsonl"), b"x").unwrap();
         let (_, c) = create_session_file(dir.path(), "P02", "free").unwrap();
         let name = |p: &PathBuf| p.file_name().unwrap().to_string_lossy().into_owned();
-        assert_eq!([name(&a), name(&b), name(&c)], ["P01-manual-7-1.jsonl", "P01-manual-7-2.jsonl", "P02-free-2.jsonl"]);
+        assert_eq!(
+            [name(&a), name(&b), name(&c)],
+            ["P01-manual-7-1.jsonl", "P01-manual-7-2.jsonl", "P02-free-2.jsonl"]
+        );
         assert_eq!(std::fs::read(dir.path().join("P02-free-1.jsonl")).unwrap(), b"x", "an existing file is left alone");
     }
 

@@ -2,7 +2,7 @@
 
 use hyper::Response;
 
-use crate::serve::http::respond::{html, Body};
+use crate::serve::http::respond::{Body, html};
 use crate::serve::sessions::registry::Entry;
 
 /// The server's own page: its sessions (file, state, lines, verification) and the files it

@@ -22,7 +22,9 @@ impl From<SessionError> for Refusal {
                     E::Writer { acked, .. } => r.with("acked", acked).with("code", json!(Code::Writer)),
                     E::Gap { acked } => r.with("acked", acked).with("code", json!(Code::Gap)),
                     E::Broken { acked, .. } => r.with("acked", acked),
-                    E::Gone { state, acked, verification, .. } => r.with("acked", acked).with("state", json!(state)).with("verification", json!(verification)),
+                    E::Gone { state, acked, verification, .. } => {
+                        r.with("acked", acked).with("state", json!(state)).with("verification", json!(verification))
+                    }
                     _ => r,
                 }
             }
@@ -36,15 +38,39 @@ fn session_status(e: &SessionError) -> u16 {
     match e {
         E::Refused(r) => r.status,
         E::Stopped { cause, .. } => session_status(cause),
-        E::HeaderLines | E::Header(_) | E::NoParticipant | E::BadId(_) | E::SceneTwice | E::Scene(_) | E::Technique(_) => 400,
-        E::HeaderAndFields | E::HeaderNotText | E::ContinueNotBool | E::ContinueWithFields | E::Fields(_) | E::NoNewline { .. } | E::NoWriter { .. } | E::BadWriter | E::NoFrom => 400,
+        E::HeaderLines
+        | E::Header(_)
+        | E::NoParticipant
+        | E::BadId(_)
+        | E::SceneTwice
+        | E::Scene(_)
+        | E::Technique(_) => 400,
+        E::HeaderAndFields
+        | E::HeaderNotText
+        | E::ContinueNotBool
+        | E::ContinueWithFields
+        | E::Fields(_)
+        | E::NoNewline { .. }
+        | E::NoWriter { .. }
+        | E::BadWriter
+        | E::NoFrom => 400,
         E::NoSuchSession | E::BuiltinScene(_) | E::NoSceneFile(_) => 404,
         E::Busy | E::InProgress | E::Writer { .. } | E::Gap { .. } => 409,
         E::Gone { .. } | E::Ended => 410,
         E::HeaderTooLong { .. } | E::LineTooLong { .. } => 413,
         E::RecordingFull { .. } | E::Line { .. } | E::NotUtf8 { .. } => 422,
         E::Full { .. } => 503,
-        E::Name(_) | E::HeaderWrite { .. } | E::Write { .. } | E::Broken { .. } | E::Io { .. } | E::FileLine { .. } | E::NoHeader { .. } | E::Cut { .. } | E::Banks(_) | E::Read(_) | E::Task(_) => 500,
+        E::Name(_)
+        | E::HeaderWrite { .. }
+        | E::Write { .. }
+        | E::Broken { .. }
+        | E::Io { .. }
+        | E::FileLine { .. }
+        | E::NoHeader { .. }
+        | E::Cut { .. }
+        | E::Banks(_)
+        | E::Read(_)
+        | E::Task(_) => 500,
     }
 }
 
@@ -53,12 +79,30 @@ impl From<ParticipantError> for Refusal {
         use ParticipantError as E;
         let status = match &e {
             E::Refused(r) => return r.clone(),
-            E::BadId | E::IdNotText(_) | E::JoinShape(_) | E::NoAnswers | E::AnswersShape | E::FromShape | E::StepNotNumber { .. } => 400,
+            E::BadId
+            | E::IdNotText(_)
+            | E::JoinShape(_)
+            | E::NoAnswers
+            | E::AnswersShape
+            | E::FromShape
+            | E::StepNotNumber { .. } => 400,
             E::NoProtocol | E::Unknown(_) | E::NoMedia { .. } | E::Media(_) => 404,
-            E::AllJoined { .. } | E::IdInUse { .. } | E::WrongStep { .. } | E::NotAQuestionnaire { .. } | E::Finished(_) | E::TaskNotEnded { .. } | E::NotAnswered { .. } => 409,
+            E::AllJoined { .. }
+            | E::IdInUse { .. }
+            | E::WrongStep { .. }
+            | E::NotAQuestionnaire { .. }
+            | E::Finished(_)
+            | E::TaskNotEnded { .. }
+            | E::NotAnswered { .. } => 409,
             E::TooManyAnswers { .. } => 413,
             E::NoSuchItem { .. } | E::BadAnswer(_) => 422,
-            E::InstrumentGone | E::OtherProtocol { .. } | E::FileId { .. } | E::RepeatedId { .. } | E::CaseClash { .. } | E::File(_) | E::Io { .. } => 500,
+            E::InstrumentGone
+            | E::OtherProtocol { .. }
+            | E::FileId { .. }
+            | E::RepeatedId { .. }
+            | E::CaseClash { .. }
+            | E::File(_)
+            | E::Io { .. } => 500,
         };
         Refusal::new(status, e.to_string())
     }

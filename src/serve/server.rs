@@ -11,26 +11,36 @@ use tokio_rustls::TlsAcceptor;
 use crate::serve::app::App;
 use crate::serve::config::ServeConfig;
 use crate::serve::error::ServeError;
-use crate::serve::http::listen::{bind, serve_until, stop_signal, Limits};
+use crate::serve::http::listen::{Limits, bind, serve_until, stop_signal};
 use crate::serve::http::static_files::StaticRoots;
-use crate::serve::http::token::{Kept, Token, TOKEN_FILE};
+use crate::serve::http::token::{Kept, TOKEN_FILE, Token};
 use crate::serve::http::{banner, tls};
 use crate::serve::log::log;
-use crate::serve::protocol::participants::Participants;
 use crate::serve::protocol::Protocol;
+use crate::serve::protocol::participants::Participants;
 use crate::serve::sessions::jobs::abandon_loop;
 use crate::serve::sessions::service::Sessions;
 
 /// Runs the server until Ctrl-C (or SIGTERM).
 pub fn run(config: ServeConfig) -> Result<(), ServeError> {
-    let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build().map_err(|e| ServeError::Runtime(e.to_string()))?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| ServeError::Runtime(e.to_string()))?;
     runtime.block_on(serve(config))
 }
 
 /// Runs the server until Ctrl-C or SIGTERM, then flushes every open file and writes
 /// `sessions.json`; open sessions stay open, to be continued when it starts again.
 pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
-    let (sessions, notes) = Sessions::load(&config.out, config.banks.clone(), config.max_sessions, config.read_timeout, config.writer_lease, config.live)?;
+    let (sessions, notes) = Sessions::load(
+        &config.out,
+        config.banks.clone(),
+        config.max_sessions,
+        config.read_timeout,
+        config.writer_lease,
+        config.live,
+    )?;
     for n in notes {
         log(&n);
     }
@@ -39,8 +49,14 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     let protocol = match &config.protocol {
         None => None,
         Some(loaded) => {
-            let (participants, notes) = Participants::open(loaded.clone(), &config.out).map_err(|source| ServeError::Protocol { path: config.out.display().to_string(), source })?;
-            log(&format!("protocol {}: {} participants, {} conditions; the participant's page is /protocol, the researcher's /dashboard", loaded.protocol.name, loaded.protocol.participants, loaded.protocol.conditions.len()));
+            let (participants, notes) = Participants::open(loaded.clone(), &config.out)
+                .map_err(|source| ServeError::Protocol { path: config.out.display().to_string(), source })?;
+            log(&format!(
+                "protocol {}: {} participants, {} conditions; the participant's page is /protocol, the researcher's /dashboard",
+                loaded.protocol.name,
+                loaded.protocol.participants,
+                loaded.protocol.conditions.len()
+            ));
             for n in notes {
                 log(&n);
             }
@@ -61,20 +77,37 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
     if let Some((_, kept)) = &token {
         let file = config.out.join(TOKEN_FILE);
         log(&match kept {
-            Kept::Read => format!("the token is the one kept in {} (clients that had it go on; --new-token draws another)", file.display()),
+            Kept::Read => format!(
+                "the token is the one kept in {} (clients that had it go on; --new-token draws another)",
+                file.display()
+            ),
             Kept::Drawn => format!("a new token, kept in {} for the next start on this folder", file.display()),
         });
-        log("every request needs this token (in the URL once, then a cookie; or 'Authorization: Bearer TOKEN'); scan to open it:");
+        log(
+            "every request needs this token (in the URL once, then a cookie; or 'Authorization: Bearer TOKEN'); scan to open it:",
+        );
         println!("{}", banner::qr(&url));
     }
 
-    let app = Arc::new(App { sessions: sessions.clone(), protocol, statics: StaticRoots::new(&config.web, &config.assets, &config.wasm, &config.banks), tls: acceptor.is_some() });
+    let app = Arc::new(App {
+        sessions: sessions.clone(),
+        protocol,
+        statics: StaticRoots::new(&config.web, &config.assets, &config.wasm, &config.banks),
+        tls: acceptor.is_some(),
+    });
     let abandon = tokio::spawn(abandon_loop(sessions.clone(), config.abandon_after));
-    let limits = Limits { read_timeout: config.read_timeout, max_connections: config.max_connections, max_per_address: config.max_per_address };
+    let limits = Limits {
+        read_timeout: config.read_timeout,
+        max_connections: config.max_connections,
+        max_per_address: config.max_per_address,
+    };
     serve_until(listener, acceptor, token.map(|(t, _)| t), &limits, app, stop_signal()).await;
     abandon.abort();
     let open = sessions.flush_all().await;
     sessions.registry.save()?;
-    log(&format!("stopped; {open} sessions left open in {} (continued when grove serve starts again on it)", config.out.display()));
+    log(&format!(
+        "stopped; {open} sessions left open in {} (continued when grove serve starts again on it)",
+        config.out.display()
+    ));
     Ok(())
 }

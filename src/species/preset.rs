@@ -270,7 +270,8 @@ impl Preset {
 
     /// Parses and checks a preset's text; `file` names it in the error.
     pub fn parse(text: &str, file: &str) -> Result<Preset, SpeciesError> {
-        let bad = |message: String| SpeciesError::Preset { file: file.to_string(), message: message.replace('\n', " ") };
+        let bad =
+            |message: String| SpeciesError::Preset { file: file.to_string(), message: message.replace('\n', " ") };
         let p: Preset = ron::from_str(text).map_err(|e| bad(e.to_string()))?;
         p.check().map_err(|e| bad(e.to_string()))?;
         Ok(p)

@@ -13,9 +13,9 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::StudyError;
 use super::report::ParticipantTimes;
 use super::whatif::Sweep;
-use super::StudyError;
 
 const FONT: &str = "grove-sans";
 /// The ray-casting bar colour.
@@ -36,26 +36,42 @@ fn err(e: impl std::fmt::Display) -> String {
 }
 
 /// Runs `draw` on a PNG file of `width` × `height` pixels; errors name the file.
-fn to_png(path: &Path, width: u32, height: u32, draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>) -> Result<(), StudyError> {
+fn to_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<(), String>,
+) -> Result<(), StudyError> {
     register_font();
     let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
-    draw(&root).and_then(|()| root.present().map_err(err)).map_err(|reason| StudyError::Chart { what: path.display().to_string(), reason })
+    draw(&root)
+        .and_then(|()| root.present().map_err(err))
+        .map_err(|reason| StudyError::Chart { what: path.display().to_string(), reason })
 }
 
 /// Runs `draw` on an SVG document of `width` × `height` pixels and returns its text; the text
 /// names a font every browser has.
-fn to_svg(width: u32, height: u32, draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>) -> Result<String, StudyError> {
+fn to_svg(
+    width: u32,
+    height: u32,
+    draw: impl FnOnce(&DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String>,
+) -> Result<String, StudyError> {
     register_font();
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, (width, height)).into_drawing_area();
-        draw(&root).and_then(|()| root.present().map_err(err)).map_err(|reason| StudyError::Chart { what: "SVG chart".into(), reason })?;
+        draw(&root)
+            .and_then(|()| root.present().map_err(err))
+            .map_err(|reason| StudyError::Chart { what: "SVG chart".into(), reason })?;
     }
     Ok(text.replace(&format!("font-family=\"{FONT}\""), "font-family=\"sans-serif\""))
 }
 
 /// Splits off a strip at the bottom for the notes and writes them there.
-fn with_notes<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, notes: &[String]) -> Result<DrawingArea<DB, Shift>, String> {
+fn with_notes<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    notes: &[String],
+) -> Result<DrawingArea<DB, Shift>, String> {
     let (_, h) = root.dim_in_pixel();
     let strip = 8 + 22 * notes.len() as i32;
     let (main, foot) = root.split_vertically((h as i32 - strip).max(1));
@@ -67,22 +83,50 @@ fn with_notes<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, notes: &[String
 
 /// Draws the grouped bar chart of task times to a PNG file of `width` × `height` pixels.
 /// `baseline`, when given, draws each participant's baseline times as outlines.
-pub fn ablation_chart(path: &Path, rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> Result<(), StudyError> {
+pub fn ablation_chart(
+    path: &Path,
+    rows: &[ParticipantTimes],
+    baseline: Option<&[ParticipantTimes]>,
+    title: &str,
+    notes: &[String],
+    width: u32,
+    height: u32,
+) -> Result<(), StudyError> {
     to_png(path, width, height, |root| draw_ablation(root, rows, baseline, title, notes))
 }
 
 /// [`ablation_chart`] as the text of an SVG document.
-pub fn ablation_svg(rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String], width: u32, height: u32) -> Result<String, StudyError> {
+pub fn ablation_svg(
+    rows: &[ParticipantTimes],
+    baseline: Option<&[ParticipantTimes]>,
+    title: &str,
+    notes: &[String],
+    width: u32,
+    height: u32,
+) -> Result<String, StudyError> {
     to_svg(width, height, |root| draw_ablation(root, rows, baseline, title, notes))
 }
 
-fn draw_ablation<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[ParticipantTimes], baseline: Option<&[ParticipantTimes]>, title: &str, notes: &[String]) -> Result<(), String> {
+fn draw_ablation<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    rows: &[ParticipantTimes],
+    baseline: Option<&[ParticipantTimes]>,
+    title: &str,
+    notes: &[String],
+) -> Result<(), String> {
     root.fill(&WHITE).map_err(err)?;
     let main = with_notes(root, notes)?;
     let base_of = |p: &str| baseline.and_then(|b| b.iter().find(|r| r.participant == p));
     let max = rows
         .iter()
-        .flat_map(|r| [r.ray_casting_s, r.manual_s, base_of(&r.participant).and_then(|b| b.ray_casting_s), base_of(&r.participant).and_then(|b| b.manual_s)])
+        .flat_map(|r| {
+            [
+                r.ray_casting_s,
+                r.manual_s,
+                base_of(&r.participant).and_then(|b| b.ray_casting_s),
+                base_of(&r.participant).and_then(|b| b.manual_s),
+            ]
+        })
         .flatten()
         .fold(1.0f64, f64::max)
         * 1.2;
@@ -111,7 +155,9 @@ fn draw_ablation<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[Part
         .axis_desc_style((FONT, 20))
         .draw()
         .map_err(err)?;
-    let bar = |i: usize, offset: f64, v: f64, c: RGBColor| Rectangle::new([(i as f64 + offset, 0.0), (i as f64 + offset + 0.38, v)], c.filled());
+    let bar = |i: usize, offset: f64, v: f64, c: RGBColor| {
+        Rectangle::new([(i as f64 + offset, 0.0), (i as f64 + offset + 0.38, v)], c.filled())
+    };
     chart
         .draw_series(rows.iter().enumerate().filter_map(|(i, r)| r.ray_casting_s.map(|v| bar(i, -0.4, v, RAY))))
         .map_err(err)?
@@ -124,25 +170,44 @@ fn draw_ablation<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[Part
         .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], MANUAL.filled()));
     // A missing bar: a red cross where the bar would stand, so that no bar silently disappears.
     let h = max * 0.06;
-    let crosses: Vec<(usize, f64)> =
-        rows.iter().enumerate().flat_map(|(i, r)| [(r.ray_casting_s.is_none()).then_some((i, -0.4)), (r.manual_s.is_none()).then_some((i, 0.02))]).flatten().collect();
+    let crosses: Vec<(usize, f64)> = rows
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| {
+            [(r.ray_casting_s.is_none()).then_some((i, -0.4)), (r.manual_s.is_none()).then_some((i, 0.02))]
+        })
+        .flatten()
+        .collect();
     if !crosses.is_empty() {
         chart
             .draw_series(crosses.iter().flat_map(|&(i, o)| {
                 let (x0, x1) = (i as f64 + o + 0.04, i as f64 + o + 0.34);
-                [PathElement::new(vec![(x0, 0.0), (x1, h)], MISSING.stroke_width(4)), PathElement::new(vec![(x0, h), (x1, 0.0)], MISSING.stroke_width(4))]
+                [
+                    PathElement::new(vec![(x0, 0.0), (x1, h)], MISSING.stroke_width(4)),
+                    PathElement::new(vec![(x0, h), (x1, 0.0)], MISSING.stroke_width(4)),
+                ]
             }))
             .map_err(err)?
             .label("missing: trial not completed")
             .legend(move |(x, y)| PathElement::new(vec![(x, y - 6), (x + 14, y + 6)], MISSING.stroke_width(3)));
     }
     if let Some(b) = baseline {
-        let outline = |i: usize, o: f64, v: f64| Rectangle::new([(i as f64 + o, 0.0), (i as f64 + o + 0.38, v)], BLACK.stroke_width(2));
+        let outline = |i: usize, o: f64, v: f64| {
+            Rectangle::new([(i as f64 + o, 0.0), (i as f64 + o + 0.38, v)], BLACK.stroke_width(2))
+        };
         chart
-            .draw_series(rows.iter().enumerate().flat_map(|(i, r)| {
-                let b = b.iter().find(|x| x.participant == r.participant);
-                [b.and_then(|b| b.ray_casting_s).map(|v| outline(i, -0.4, v)), b.and_then(|b| b.manual_s).map(|v| outline(i, 0.02, v))]
-            }).flatten())
+            .draw_series(
+                rows.iter()
+                    .enumerate()
+                    .flat_map(|(i, r)| {
+                        let b = b.iter().find(|x| x.participant == r.participant);
+                        [
+                            b.and_then(|b| b.ray_casting_s).map(|v| outline(i, -0.4, v)),
+                            b.and_then(|b| b.manual_s).map(|v| outline(i, 0.02, v)),
+                        ]
+                    })
+                    .flatten(),
+            )
             .map_err(err)?
             .label("baseline (default settings)")
             .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], BLACK.stroke_width(2)));
@@ -168,11 +233,19 @@ pub fn sweep_svg(sweep: &Sweep, notes: &[String], width: u32, height: u32) -> Re
     to_svg(width, height, |root| draw_sweep(root, sweep, notes))
 }
 
-fn draw_sweep<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, sweep: &Sweep, notes: &[String]) -> Result<(), String> {
+fn draw_sweep<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    sweep: &Sweep,
+    notes: &[String],
+) -> Result<(), String> {
     root.fill(&WHITE).map_err(err)?;
     let main = with_notes(root, notes)?;
     let points = |mode: &str| -> Vec<(f64, f64)> {
-        sweep.rows.iter().filter_map(|r| Some((r.value.parse::<f64>().ok()?, r.modes.get(mode)?.what_if_mean_s?))).collect()
+        sweep
+            .rows
+            .iter()
+            .filter_map(|r| Some((r.value.parse::<f64>().ok()?, r.modes.get(mode)?.what_if_mean_s?)))
+            .collect()
     };
     let xs: Vec<f64> = sweep.rows.iter().filter_map(|r| r.value.parse::<f64>().ok()).collect();
     let (lo, hi) = xs.iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
@@ -195,9 +268,15 @@ fn draw_sweep<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, sweep: &Sweep, 
         .draw()
         .map_err(err)?;
     if let Ok(d) = sweep.default_value.parse::<f64>() {
-        chart.draw_series([PathElement::new(vec![(d, 0.0), (d, ymax)], RGBColor(120, 120, 120).stroke_width(2))]).map_err(err)?;
         chart
-            .draw_series([Text::new(format!("default {}", sweep.default_value), (d, ymax * 0.97), (FONT, 16).into_font().color(&BLACK))])
+            .draw_series([PathElement::new(vec![(d, 0.0), (d, ymax)], RGBColor(120, 120, 120).stroke_width(2))])
+            .map_err(err)?;
+        chart
+            .draw_series([Text::new(
+                format!("default {}", sweep.default_value),
+                (d, ymax * 0.97),
+                (FONT, 16).into_font().color(&BLACK),
+            )])
             .map_err(err)?;
     }
     for (mode, colour) in [("ray-casting", RAY), ("manual", MANUAL)] {
@@ -217,11 +296,15 @@ fn draw_sweep<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, sweep: &Sweep, 
                 let x = r.value.parse::<f64>().ok()?;
                 let c = r.modes.get(mode)?;
                 let (done, all) = (r.completed.get(mode).copied().unwrap_or(0), c.pairs + c.unpaired);
-                (done < all).then(|| (x, c.what_if_mean_s.map_or(ymax * 0.04, |y| y + ymax * 0.03), format!("{done}/{all} completed")))
+                (done < all).then(|| {
+                    (x, c.what_if_mean_s.map_or(ymax * 0.04, |y| y + ymax * 0.03), format!("{done}/{all} completed"))
+                })
             })
             .collect();
         chart
-            .draw_series(labels.into_iter().map(|(x, y, t)| Text::new(t, (x, y), (FONT, 15).into_font().color(&colour))))
+            .draw_series(
+                labels.into_iter().map(|(x, y, t)| Text::new(t, (x, y), (FONT, 15).into_font().color(&colour))),
+            )
             .map_err(err)?;
     }
     chart

@@ -5,8 +5,8 @@
 
 use serde::Serialize;
 
-use super::friedman::{analyse, markdown, Conditions};
 use super::Trial;
+use super::friedman::{Conditions, analyse, markdown};
 
 /// Task times at one block position, over every condition.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -66,7 +66,9 @@ pub fn k_conditions(trials: &[Trial], usable_time: fn(&Trial) -> Option<f64>) ->
     for p in participants {
         let row: Option<Vec<f64>> = conditions
             .iter()
-            .map(|c| trials.iter().find(|t| t.participant == p && condition(t) == Some(c.as_str())).and_then(usable_time))
+            .map(|c| {
+                trials.iter().find(|t| t.participant == p && condition(t) == Some(c.as_str())).and_then(usable_time)
+            })
             .collect();
         match row {
             Some(r) => rows.push(r),
@@ -78,17 +80,30 @@ pub fn k_conditions(trials: &[Trial], usable_time: fn(&Trial) -> Option<f64>) ->
     for block in 1..=blocks {
         let times: Vec<f64> = trials.iter().filter(|t| t.block_num == block).filter_map(usable_time).collect();
         if !times.is_empty() {
-            by_block.push(Position { block, n: times.len(), mean_time_s: times.iter().sum::<f64>() / times.len() as f64 });
+            by_block.push(Position {
+                block,
+                n: times.len(),
+                mean_time_s: times.iter().sum::<f64>() / times.len() as f64,
+            });
         }
     }
-    Some(KConditions { complete_participants: rows.len(), analysis: analyse(&conditions, &rows, "s"), conditions, left_out, by_block })
+    Some(KConditions {
+        complete_participants: rows.len(),
+        analysis: analyse(&conditions, &rows, "s"),
+        conditions,
+        left_out,
+        by_block,
+    })
 }
 
 /// The section as text for the terminal and the report (Markdown).
 pub fn lines(k: &KConditions) -> String {
     let mut s = match &k.analysis {
         Some(a) => markdown(a, "task time"),
-        None => format!("### task time: {} conditions\n\nFewer than two participants have every condition; no test.\n", k.conditions.len()),
+        None => format!(
+            "### task time: {} conditions\n\nFewer than two participants have every condition; no test.\n",
+            k.conditions.len()
+        ),
     };
     if !k.left_out.is_empty() {
         s += &format!("\nLeft out (a condition missing or unusable): {}.\n", k.left_out.join(", "));

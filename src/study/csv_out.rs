@@ -10,15 +10,63 @@ use super::{StudyError, Trial};
 
 /// The columns of `trial_results.csv`.
 pub const TRIAL_COLUMNS: &[&str] = &[
-    "experiment", "ppid", "session_num", "trial_num", "block_num", "trial_num_in_block", "start_time", "end_time", "session_start", "task", "mode", "completed",
-    "time_s", "trees", "model_types", "errors", "removals", "off_target", "released_green", "menu_opens", "ray_path_m", "aiming_s", "menu_s", "manipulating_s",
-    "status", "synthetic", "file", "what_if_kind", "parameter", "default_value", "new_value", "baseline_time_s", "difference_s", "layout",
-    "device", "target_ray_mode", "input_profile",
+    "experiment",
+    "ppid",
+    "session_num",
+    "trial_num",
+    "block_num",
+    "trial_num_in_block",
+    "start_time",
+    "end_time",
+    "session_start",
+    "task",
+    "mode",
+    "completed",
+    "time_s",
+    "trees",
+    "model_types",
+    "errors",
+    "removals",
+    "off_target",
+    "released_green",
+    "menu_opens",
+    "ray_path_m",
+    "aiming_s",
+    "menu_s",
+    "manipulating_s",
+    "status",
+    "synthetic",
+    "file",
+    "what_if_kind",
+    "parameter",
+    "default_value",
+    "new_value",
+    "baseline_time_s",
+    "difference_s",
+    "layout",
+    "device",
+    "target_ray_mode",
+    "input_profile",
 ];
 
 /// The columns of `trees.csv`.
-pub const TREE_COLUMNS: &[&str] =
-    &["ppid", "trial_num", "task", "mode", "order", "target", "model", "tick", "time_since_start_s", "time_since_previous_s", "x", "y", "z", "status", "synthetic"];
+pub const TREE_COLUMNS: &[&str] = &[
+    "ppid",
+    "trial_num",
+    "task",
+    "mode",
+    "order",
+    "target",
+    "model",
+    "tick",
+    "time_since_start_s",
+    "time_since_previous_s",
+    "x",
+    "y",
+    "z",
+    "status",
+    "synthetic",
+];
 
 fn f(x: f64) -> String {
     format!("{x:.4}")
@@ -30,7 +78,10 @@ fn of(x: Option<f64>) -> String {
 
 /// Runs `write` on a CSV writer of `path` (every cell written by [`crate::csv_cells`]'s rule);
 /// errors name the file.
-pub(crate) fn with_writer(path: &Path, write: impl FnOnce(&mut crate::csv_cells::Writer<std::fs::File>) -> csv::Result<()>) -> Result<(), StudyError> {
+pub(crate) fn with_writer(
+    path: &Path,
+    write: impl FnOnce(&mut crate::csv_cells::Writer<std::fs::File>) -> csv::Result<()>,
+) -> Result<(), StudyError> {
     let csv = |source| StudyError::Csv { path: path.to_path_buf(), source };
     let mut w = crate::csv_cells::Writer::from_path(path).map_err(csv)?;
     write(&mut w).and_then(|()| Ok(w.flush()?)).map_err(csv)
@@ -52,7 +103,9 @@ pub fn layout(k: &grove_systems::task::TaskReport) -> String {
 pub fn write_trial_results(path: &Path, trials: &[Trial], what_if: Option<&WhatIf>) -> Result<(), StudyError> {
     with_writer(path, |w| {
         w.write_record(TRIAL_COLUMNS)?;
-        let join = |g: &dyn Fn(&super::whatif::ParamChange) -> String| what_if.map(|x| x.parameters.iter().map(g).collect::<Vec<_>>().join(";")).unwrap_or_default();
+        let join = |g: &dyn Fn(&super::whatif::ParamChange) -> String| {
+            what_if.map(|x| x.parameters.iter().map(g).collect::<Vec<_>>().join(";")).unwrap_or_default()
+        };
         for t in trials {
             let k = t.task.as_ref();
             let c = what_if.and_then(|x| x.comparison_for(t));
@@ -137,7 +190,8 @@ pub fn write_trees(path: &Path, trials: &[Trial]) -> Result<(), StudyError> {
 
 /// The columns of `sweep.csv`.
 pub fn sweep_columns() -> Vec<String> {
-    let mut cols: Vec<String> = ["what_if_kind", "parameter", "default_value", "value", "is_default"].iter().map(|s| s.to_string()).collect();
+    let mut cols: Vec<String> =
+        ["what_if_kind", "parameter", "default_value", "value", "is_default"].iter().map(|s| s.to_string()).collect();
     for m in ["ray_casting", "manual"] {
         for c in ["completed", "mean_s", "baseline_mean_s", "difference_s", "pairs"] {
             cols.push(format!("{m}_{c}"));
@@ -154,7 +208,13 @@ pub fn write_sweep(path: &Path, sweep: &Sweep) -> Result<(), StudyError> {
     with_writer(path, |w| {
         w.write_record(sweep_columns())?;
         for r in &sweep.rows {
-            let mut rec = vec![sweep.kind.clone(), sweep.parameter.clone(), sweep.default_value.clone(), r.value.clone(), r.is_default.to_string()];
+            let mut rec = vec![
+                sweep.kind.clone(),
+                sweep.parameter.clone(),
+                sweep.default_value.clone(),
+                r.value.clone(),
+                r.is_default.to_string(),
+            ];
             for m in ["ray-casting", "manual"] {
                 let c = r.modes.get(m);
                 rec.push(r.completed.get(m).copied().unwrap_or(0).to_string());

@@ -72,7 +72,9 @@ pub enum StudyError {
     #[error(transparent)]
     Write(#[from] WriteError),
     /// What-if recordings (`--baseline`) without a changed setting in their headers.
-    #[error("{0}: the recordings carry no changed setting (`config` in their headers); write them with `grove synth --set NAME=VALUE`")]
+    #[error(
+        "{0}: the recordings carry no changed setting (`config` in their headers); write them with `grove synth --set NAME=VALUE`"
+    )]
     NoChangedSetting(String),
     /// The settings of what-if recordings do not hold together.
     #[error("{replays}: {source}")]

@@ -10,7 +10,7 @@
 use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use super::stats::{paired, PairedStats};
+use super::stats::{PairedStats, paired};
 
 /// The Friedman rank test of k conditions over n participants (blocks).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -169,7 +169,12 @@ pub fn markdown(c: &Conditions, what: &str) -> String {
     let f = &c.friedman;
     let mut s = format!(
         "### {what}: {} conditions\n\nFriedman test over {} participants: χ²({}) = {:.3}, p = {}; Kendall's W = {:.3}.\n\n| condition | mean rank |\n|---|---|\n",
-        f.k, f.n, f.df, f.chi_squared, pval(Some(f.p)), f.kendall_w
+        f.k,
+        f.n,
+        f.df,
+        f.chi_squared,
+        pval(Some(f.p)),
+        f.kendall_w
     );
     for (name, r) in c.names.iter().zip(&f.mean_ranks) {
         s += &format!("| {name} | {r:.2} |\n");

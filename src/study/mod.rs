@@ -26,7 +26,7 @@ pub use shard::ShardError;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use grove_systems::replay::{replay_file, ReplayOptions};
+use grove_systems::replay::{ReplayOptions, replay_file};
 use grove_systems::resources::Override;
 use grove_systems::task::TaskReport;
 use rayon::prelude::*;
@@ -244,7 +244,14 @@ fn epoch_seconds(time: &str) -> Option<f64> {
 /// `start_time_s` is measured from the participant's earliest `session_start` when every one of
 /// their recordings has one, and otherwise from the start of each recording.
 pub fn assign_order(trials: &mut [Trial]) {
-    let key = |t: &Trial| (t.participant.clone(), t.session_start.as_deref().and_then(epoch_seconds).map(|s| (s * 1000.0) as i64), t.header_block, t.file.clone());
+    let key = |t: &Trial| {
+        (
+            t.participant.clone(),
+            t.session_start.as_deref().and_then(epoch_seconds).map(|s| (s * 1000.0) as i64),
+            t.header_block,
+            t.file.clone(),
+        )
+    };
     // Recordings without a session start sort after those with one (None < Some, so flip it).
     trials.sort_by(|a, b| {
         let (ka, kb) = (key(a), key(b));

@@ -13,8 +13,8 @@ use serde_json::Value;
 
 use crate::protocol::{self, Block, Instrument, Loaded, Scoring};
 
-use super::stats::{paired, PairedStats};
 use super::StudyError;
+use super::stats::{PairedStats, paired};
 
 /// The suffix of a participant's answers file.
 pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
@@ -149,7 +149,8 @@ pub fn load(dir: &Path) -> Result<Option<Questionnaires>, StudyError> {
     files.sort();
     let mut answers = Vec::new();
     for f in &files {
-        let text = grove_systems::files::read_text(f, grove_systems::files::Kind::Recording).map_err(|e| bad(f, e.reason()))?;
+        let text = grove_systems::files::read_text(f, grove_systems::files::Kind::Recording)
+            .map_err(|e| bad(f, e.reason()))?;
         let mut latest: BTreeMap<(u64, String), Answer> = BTreeMap::new();
         let mut participant = None;
         for (n, line) in text.lines().enumerate() {
@@ -157,7 +158,9 @@ pub fn load(dir: &Path) -> Result<Option<Questionnaires>, StudyError> {
             match v["line"].as_str() {
                 Some("participant") => participant = v["participant"].as_str().map(str::to_string),
                 Some("answer") => {
-                    let p = participant.clone().ok_or_else(|| bad(f, format!("line {}: an answer before the participant line", n + 1)))?;
+                    let p = participant
+                        .clone()
+                        .ok_or_else(|| bad(f, format!("line {}: an answer before the participant line", n + 1)))?;
                     let a = Answer {
                         participant: p,
                         instrument: v["instrument"].as_str().unwrap_or_default().into(),
@@ -173,7 +176,12 @@ pub fn load(dir: &Path) -> Result<Option<Questionnaires>, StudyError> {
             }
         }
         let mut mine: Vec<Answer> = latest.into_values().collect();
-        let place = |a: &Answer| loaded.instrument(&a.instrument).and_then(|i| i.items.iter().position(|x| x.id == a.item)).unwrap_or(usize::MAX);
+        let place = |a: &Answer| {
+            loaded
+                .instrument(&a.instrument)
+                .and_then(|i| i.items.iter().position(|x| x.id == a.item))
+                .unwrap_or(usize::MAX)
+        };
         mine.sort_by_key(|a| (a.step, place(a)));
         answers.extend(mine);
     }
@@ -191,7 +199,8 @@ fn scores(loaded: &Loaded, answers: &[Answer]) -> Vec<Score> {
     let mut out = Vec::new();
     for ((participant, instrument, condition), given) in groups {
         let Some(ins) = loaded.instrument(&instrument) else { continue };
-        let values: Vec<Option<i64>> = ins.items.iter().map(|i| given.iter().find(|a| a.item == i.id).and_then(|a| a.answer.as_i64())).collect();
+        let values: Vec<Option<i64>> =
+            ins.items.iter().map(|i| given.iter().find(|a| a.item == i.id).and_then(|a| a.answer.as_i64())).collect();
         if let Some(score) = protocol::score::score(&ins, &values) {
             let scoring = match ins.scoring {
                 Scoring::Sus => "sus",
@@ -207,7 +216,10 @@ fn scores(loaded: &Loaded, answers: &[Answer]) -> Vec<Score> {
 fn compare(loaded: &Loaded, answers: &[Answer]) -> Vec<Comparison> {
     let value = |p: &str, path: &str| -> Option<f64> {
         let (ins, item) = path.split_once('/')?;
-        answers.iter().find(|a| a.participant == p && a.instrument == ins && a.item == item && a.condition.is_none()).and_then(|a| a.answer.as_f64())
+        answers
+            .iter()
+            .find(|a| a.participant == p && a.instrument == ins && a.item == item && a.condition.is_none())
+            .and_then(|a| a.answer.as_f64())
     };
     let mut people: Vec<&str> = answers.iter().map(|a| a.participant.as_str()).collect();
     people.dedup();
@@ -237,19 +249,28 @@ pub const SCORE_COLUMNS: &[&str] = &["participant", "instrument", "condition", "
 
 /// Writes `questionnaire_long.csv`, `questionnaire_wide.csv` and `questionnaire_scores.csv`.
 pub fn write(out: &Path, q: &Questionnaires) -> Result<(), StudyError> {
-    use crate::atomic_write::via_temp;
     use super::csv_out::with_writer;
+    use crate::atomic_write::via_temp;
     via_temp(&out.join("questionnaire_long.csv"), |tmp| {
         with_writer(tmp, |w| {
             w.write_record(LONG_COLUMNS)?;
             for a in &q.answers {
-                w.write_record([a.participant.clone(), a.instrument.clone(), a.condition.clone().unwrap_or_default(), a.item.clone(), cell(&a.answer), a.time.clone(), a.step.to_string()])?;
+                w.write_record([
+                    a.participant.clone(),
+                    a.instrument.clone(),
+                    a.condition.clone().unwrap_or_default(),
+                    a.item.clone(),
+                    cell(&a.answer),
+                    a.time.clone(),
+                    a.step.to_string(),
+                ])?;
             }
             Ok(())
         })
     })?;
     let cols = columns(&q.loaded);
-    let mut score_cols: Vec<(String, Option<String>)> = q.scores.iter().map(|s| (s.instrument.clone(), s.condition.clone())).collect();
+    let mut score_cols: Vec<(String, Option<String>)> =
+        q.scores.iter().map(|s| (s.instrument.clone(), s.condition.clone())).collect();
     score_cols.sort();
     score_cols.dedup();
     via_temp(&out.join("questionnaire_wide.csv"), |tmp| {
@@ -263,10 +284,22 @@ pub fn write(out: &Path, q: &Questionnaires) -> Result<(), StudyError> {
             for p in people {
                 let mut row = vec![p.to_string()];
                 for (i, c, it) in &cols {
-                    row.push(q.answers.iter().find(|a| a.participant == p && &a.instrument == i && &a.condition == c && &a.item == it).map(|a| cell(&a.answer)).unwrap_or_default());
+                    row.push(
+                        q.answers
+                            .iter()
+                            .find(|a| a.participant == p && &a.instrument == i && &a.condition == c && &a.item == it)
+                            .map(|a| cell(&a.answer))
+                            .unwrap_or_default(),
+                    );
                 }
                 for (i, c) in &score_cols {
-                    row.push(q.scores.iter().find(|s| s.participant == p && &s.instrument == i && &s.condition == c).map(|s| s.score.to_string()).unwrap_or_default());
+                    row.push(
+                        q.scores
+                            .iter()
+                            .find(|s| s.participant == p && &s.instrument == i && &s.condition == c)
+                            .map(|s| s.score.to_string())
+                            .unwrap_or_default(),
+                    );
                 }
                 w.write_record(&row)?;
             }
@@ -277,7 +310,13 @@ pub fn write(out: &Path, q: &Questionnaires) -> Result<(), StudyError> {
         with_writer(tmp, |w| {
             w.write_record(SCORE_COLUMNS)?;
             for s in &q.scores {
-                w.write_record([s.participant.clone(), s.instrument.clone(), s.condition.clone().unwrap_or_default(), s.scoring.clone(), s.score.to_string()])?;
+                w.write_record([
+                    s.participant.clone(),
+                    s.instrument.clone(),
+                    s.condition.clone().unwrap_or_default(),
+                    s.scoring.clone(),
+                    s.score.to_string(),
+                ])?;
             }
             Ok(())
         })
@@ -301,16 +340,31 @@ pub fn lines(q: &Questionnaires) -> String {
     use std::fmt::Write as _;
     let mut t = String::new();
     let people = q.answers.iter().map(|a| a.participant.as_str()).collect::<std::collections::BTreeSet<_>>().len();
-    let _ = writeln!(t, "questionnaires ({}): {} answers of {people} participants", q.loaded.protocol.name, q.answers.len());
+    let _ = writeln!(
+        t,
+        "questionnaires ({}): {} answers of {people} participants",
+        q.loaded.protocol.name,
+        q.answers.len()
+    );
     let mut means: BTreeMap<(String, Option<String>), Vec<f64>> = BTreeMap::new();
     for s in &q.scores {
         means.entry((s.instrument.clone(), s.condition.clone())).or_default().push(s.score);
     }
     for ((ins, cond), v) in means {
-        let _ = writeln!(t, "  {ins}{}: mean score {:.1} (n = {})", cond.map(|c| format!(" after {c}")).unwrap_or_default(), v.iter().sum::<f64>() / v.len() as f64, v.len());
+        let _ = writeln!(
+            t,
+            "  {ins}{}: mean score {:.1} (n = {})",
+            cond.map(|c| format!(" after {c}")).unwrap_or_default(),
+            v.iter().sum::<f64>() / v.len() as f64,
+            v.len()
+        );
     }
     for c in &q.comparisons {
-        let _ = writeln!(t, "  {} vs {}: {} of {} participants rated {} higher, {} the same, {} lower", c.b, c.a, c.b_higher, c.n, c.b, c.same, c.a_higher);
+        let _ = writeln!(
+            t,
+            "  {} vs {}: {} of {} participants rated {} higher, {} the same, {} lower",
+            c.b, c.a, c.b_higher, c.n, c.b, c.same, c.a_higher
+        );
     }
     t
 }
@@ -321,8 +375,12 @@ pub fn lines(q: &Questionnaires) -> String {
 pub fn fixture(dir: &Path) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     std::fs::copy(root.join("assets/protocols/tree-planting.ron"), dir.join("protocol.ron")).unwrap();
-    let line = |_p: &str, step: u64, ins: &str, cond: Option<&str>, item: &str, v: Value| serde_json::json!({"line": "answer", "step": step, "block": "x", "instrument": ins, "condition": cond, "item": item, "answer": v, "time": "2026-12-01T09:00:00.000Z"}).to_string() + "\n";
-    for (p, index, sus, billboard, lowpoly, tlx) in [("P01", 0, [4, 2, 4, 1, 4, 2, 5, 2, 4, 1], 7, 4, 30), ("P02", 1, [3, 3, 3, 3, 3, 3, 3, 3, 3, 3], 5, 5, 60)] {
+    let line = |_p: &str, step: u64, ins: &str, cond: Option<&str>, item: &str, v: Value| {
+        serde_json::json!({"line": "answer", "step": step, "block": "x", "instrument": ins, "condition": cond, "item": item, "answer": v, "time": "2026-12-01T09:00:00.000Z"}).to_string() + "\n"
+    };
+    for (p, index, sus, billboard, lowpoly, tlx) in
+        [("P01", 0, [4, 2, 4, 1, 4, 2, 5, 2, 4, 1], 7, 4, 30), ("P02", 1, [3, 3, 3, 3, 3, 3, 3, 3, 3, 3], 5, 5, 60)]
+    {
         let mut text = serde_json::json!({"line": "participant", "participant": p, "protocol": "tree-planting", "index": index, "order": [], "time": "t"}).to_string() + "\n";
         for (i, item) in ["mental", "physical", "temporal", "performance", "effort", "frustration"].iter().enumerate() {
             text += &line(p, 4, "nasa-tlx", Some("manual"), item, serde_json::json!(tlx + 5 * i as i64));
@@ -331,7 +389,8 @@ pub fn fixture(dir: &Path) {
             text += &line(p, 7, "tree-planting", None, "guidance", serde_json::json!(3));
         }
         text += &line(p, 7, "tree-planting", None, "guidance", serde_json::json!(8));
-        text += &line(p, 7, "tree-planting", None, "more_instructions", serde_json::json!(["Bounding box", "Ray-casting"]));
+        text +=
+            &line(p, 7, "tree-planting", None, "more_instructions", serde_json::json!(["Bounding box", "Ray-casting"]));
         text += &line(p, 7, "tree-planting", None, "realism_billboard", serde_json::json!(billboard));
         text += &line(p, 7, "tree-planting", None, "realism_lowpoly", serde_json::json!(lowpoly));
         text += &line(p, 7, "tree-planting", None, "would_use", serde_json::json!(p == "P01"));
@@ -355,7 +414,8 @@ mod tests {
         assert_eq!(q.answers.len(), 42);
         let guidance: Vec<&Value> = q.answers.iter().filter(|a| a.item == "guidance").map(|a| &a.answer).collect();
         assert_eq!(guidance, vec![&serde_json::json!(8), &serde_json::json!(8)]);
-        let score = |p: &str, ins: &str| q.scores.iter().find(|s| s.participant == p && s.instrument == ins).map(|s| s.score);
+        let score =
+            |p: &str, ins: &str| q.scores.iter().find(|s| s.participant == p && s.instrument == ins).map(|s| s.score);
         // P01's SUS: (3+3+3+4+3+3+4+3+3+4) × 2.5; P02 all 3s: 50; TLX the mean of 30..55 and 60..85.
         assert_eq!(score("P01", "sus"), Some(82.5));
         assert_eq!(score("P02", "sus"), Some(50.0));

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use grove_systems::resources::Override;
 use serde::Serialize;
 
-use super::stats::{paired, PairedStats};
+use super::stats::{PairedStats, paired};
 use super::{Trial, TrialStatus};
 
 /// The note every output carries when any recording is synthetic.
@@ -34,7 +34,13 @@ impl ModeStats {
         let times: Vec<f64> = trials.iter().filter_map(|t| usable_time(t)).collect();
         let (mean, sd) = mean_sd(&times);
         let errors: Vec<f64> = trials.iter().filter_map(|t| t.task.as_ref()).map(|k| k.errors as f64).collect();
-        ModeStats { trials: trials.len(), completed: times.len(), mean_time_s: mean, sd_time_s: sd, mean_errors: mean_sd(&errors).0 }
+        ModeStats {
+            trials: trials.len(),
+            completed: times.len(),
+            mean_time_s: mean,
+            sd_time_s: sd,
+            mean_errors: mean_sd(&errors).0,
+        }
     }
 }
 
@@ -187,7 +193,9 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
         .into_iter()
         .map(|(participant, (ray, manual, why))| {
             let both = ray.zip(manual);
-            let missing = both.is_none().then(|| if why.is_empty() { "a task was not recorded".to_string() } else { why.join("; ") });
+            let missing = both
+                .is_none()
+                .then(|| if why.is_empty() { "a task was not recorded".to_string() } else { why.join("; ") });
             ParticipantTimes {
                 participant,
                 ray_casting_s: ray,
@@ -199,7 +207,8 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
         })
         .collect();
     let differences: Vec<f64> = per_participant.iter().filter_map(|p| p.difference_s).collect();
-    let missing_comparisons: Vec<String> = per_participant.iter().filter(|p| p.difference_s.is_none()).map(|p| p.participant.clone()).collect();
+    let missing_comparisons: Vec<String> =
+        per_participant.iter().filter(|p| p.difference_s.is_none()).map(|p| p.participant.clone()).collect();
     let synthetic = trials.iter().any(|t| t.synthetic);
     Summary {
         note: synthetic.then(|| SYNTHETIC_NOTE.to_string()),
@@ -246,13 +255,17 @@ pub struct DeviceStats {
 
 /// The statistics of every device that made trials of a task, in each of `modes` it was used in.
 pub fn by_device(trials: &[Trial], modes: &[String]) -> Vec<DeviceStats> {
-    let mut devices: Vec<&str> = trials.iter().filter(|t| t.task.is_some()).map(|t| t.device.mapping.as_str()).collect();
+    let mut devices: Vec<&str> =
+        trials.iter().filter(|t| t.task.is_some()).map(|t| t.device.mapping.as_str()).collect();
     devices.sort_unstable();
     devices.dedup();
     let mut out = Vec::new();
     for device in devices {
         for mode in modes {
-            let of: Vec<&Trial> = trials.iter().filter(|t| t.device.mapping == device && t.task.as_ref().is_some_and(|k| &k.mode == mode)).collect();
+            let of: Vec<&Trial> = trials
+                .iter()
+                .filter(|t| t.device.mapping == device && t.task.as_ref().is_some_and(|k| &k.mode == mode))
+                .collect();
             if !of.is_empty() {
                 out.push(DeviceStats { device: device.to_string(), mode: mode.clone(), stats: ModeStats::of(&of) });
             }
@@ -273,18 +286,35 @@ mod tests {
             "header_block": null, "config": {}, "trial_num": 1, "block_num": 1, "trial_num_in_block": 1, "start_time_s": null, "end_time_s": null, "task_start_s": null,
             "status": "verified", "error": null, "complete": true, "ticks": 60, "task": task}))
         .unwrap();
-        assert_eq!(t.device, grove_systems::replay::HeaderDevice::unknown(), "a trial without a device reads as a controller");
+        assert_eq!(
+            t.device,
+            grove_systems::replay::HeaderDevice::unknown(),
+            "a trial without a device reads as a controller"
+        );
         t.device.mapping = mapping.into();
         t
     }
 
     #[test]
     fn each_device_is_compared_in_each_mode_it_was_used_in() {
-        let trials = [trial("controller", "ray-casting", 10.0), trial("controller", "ray-casting", 14.0), trial("screen", "ray-casting", 30.0), trial("screen", "manual", 90.0)];
+        let trials = [
+            trial("controller", "ray-casting", 10.0),
+            trial("controller", "ray-casting", 14.0),
+            trial("screen", "ray-casting", 30.0),
+            trial("screen", "manual", 90.0),
+        ];
         let modes = ["ray-casting".to_string(), "manual".to_string()];
         let s = by_device(&trials, &modes);
-        let rows: Vec<(&str, &str, usize, Option<f64>)> = s.iter().map(|d| (d.device.as_str(), d.mode.as_str(), d.stats.trials, d.stats.mean_time_s)).collect();
-        assert_eq!(rows, [("controller", "ray-casting", 2, Some(12.0)), ("screen", "ray-casting", 1, Some(30.0)), ("screen", "manual", 1, Some(90.0))]);
+        let rows: Vec<(&str, &str, usize, Option<f64>)> =
+            s.iter().map(|d| (d.device.as_str(), d.mode.as_str(), d.stats.trials, d.stats.mean_time_s)).collect();
+        assert_eq!(
+            rows,
+            [
+                ("controller", "ray-casting", 2, Some(12.0)),
+                ("screen", "ray-casting", 1, Some(30.0)),
+                ("screen", "manual", 1, Some(90.0))
+            ]
+        );
         assert_eq!(s[0].stats.mean_errors, Some(1.0));
     }
 }

@@ -278,13 +278,23 @@ pub fn combine(parts: Vec<Partial>, names: &[String]) -> Result<(StudyKey, Strin
     let mut seen: Vec<Option<&str>> = vec![None; n as usize];
     for (p, name) in parts.iter().zip(names) {
         if p.study != study {
-            return Err(ShardError::OtherStudy { name: name.clone(), first: names[0].clone(), theirs: p.study.to_string(), ours: study.to_string() });
+            return Err(ShardError::OtherStudy {
+                name: name.clone(),
+                first: names[0].clone(),
+                theirs: p.study.to_string(),
+                ours: study.to_string(),
+            });
         }
         if p.shard.n != n {
             return Err(ShardError::OtherSplit { name: name.clone(), shard: p.shard, first: names[0].clone(), n });
         }
         if p.runs.len() != runs {
-            return Err(ShardError::RunCount { name: name.clone(), runs: p.runs.len(), first: names[0].clone(), expected: runs });
+            return Err(ShardError::RunCount {
+                name: name.clone(),
+                runs: p.runs.len(),
+                first: names[0].clone(),
+                expected: runs,
+            });
         }
         let slot = &mut seen[p.shard.k as usize - 1];
         if let Some(other) = slot {
@@ -292,10 +302,16 @@ pub fn combine(parts: Vec<Partial>, names: &[String]) -> Result<(StudyKey, Strin
         }
         *slot = Some(name);
         if let Some(t) = p.runs.iter().flat_map(|r| &r.trials).find(|t| !p.shard.holds(&t.file)) {
-            return Err(ShardError::Foreign { name: name.clone(), file: t.file.clone(), home: Shard { k: shard_of(&t.file, n), n }, shard: p.shard });
+            return Err(ShardError::Foreign {
+                name: name.clone(),
+                file: t.file.clone(),
+                home: Shard { k: shard_of(&t.file, n), n },
+                shard: p.shard,
+            });
         }
     }
-    let missing: Vec<String> = seen.iter().enumerate().filter(|(_, s)| s.is_none()).map(|(i, _)| format!("{}/{n}", i + 1)).collect();
+    let missing: Vec<String> =
+        seen.iter().enumerate().filter(|(_, s)| s.is_none()).map(|(i, _)| format!("{}/{n}", i + 1)).collect();
     if !missing.is_empty() {
         let shown = missing.iter().take(5).cloned().collect::<Vec<_>>().join(", ");
         let more = if missing.len() > 5 { format!(" and {} more", missing.len() - 5) } else { String::new() };
@@ -329,7 +345,10 @@ mod tests {
         assert_eq!(shard_key("alice.jsonl"), "alice.jsonl");
         for n in [2, 3, 5, 8] {
             for p in 1..=50 {
-                assert_eq!(shard_of(&format!("P{p:02}-manual-7.jsonl"), n), shard_of(&format!("P{p:02}-ray-casting-7.jsonl"), n));
+                assert_eq!(
+                    shard_of(&format!("P{p:02}-manual-7.jsonl"), n),
+                    shard_of(&format!("P{p:02}-ray-casting-7.jsonl"), n)
+                );
                 assert_eq!(shard_of(&format!("P{p:02}-manual-7.jsonl"), n), shard_of(&format!("P{p:02}"), n));
             }
         }
@@ -355,7 +374,12 @@ mod tests {
 
     fn part(k: u32, n: u32) -> Partial {
         let study = StudyKey { set: vec![], baseline: false };
-        Partial { shard: Shard { k, n }, study, replays: "r".into(), runs: vec![RunPart { trials: vec![], wall_seconds: 0.25 }] }
+        Partial {
+            shard: Shard { k, n },
+            study,
+            replays: "r".into(),
+            runs: vec![RunPart { trials: vec![], wall_seconds: 0.25 }],
+        }
     }
 
     #[test]
@@ -391,14 +415,27 @@ mod tests {
         // A part whose arguments do not hold is damaged; one that holds reads as written.
         let mut bytes = MAGIC.to_vec();
         bytes.extend_from_slice(&FORMAT.to_le_bytes());
-        let foreign = (Shard { k: 1, n: 1 }, (vec!["snap_threshold=99".to_string()], false), "r".to_string(), Vec::<RunPart>::new());
+        let foreign = (
+            Shard { k: 1, n: 1 },
+            (vec!["snap_threshold=99".to_string()], false),
+            "r".to_string(),
+            Vec::<RunPart>::new(),
+        );
         let bytes = postcard::to_extend(&foreign, bytes).unwrap();
         let e = Partial::decode(&bytes, "p").unwrap_err().to_string();
         assert!(e.contains("damaged partial result"), "{e}");
-        let fine = (Shard { k: 1, n: 1 }, (vec!["snap_threshold=9".to_string()], false), "r".to_string(), Vec::<RunPart>::new());
+        let fine = (
+            Shard { k: 1, n: 1 },
+            (vec!["snap_threshold=9".to_string()], false),
+            "r".to_string(),
+            Vec::<RunPart>::new(),
+        );
         let mut bytes = MAGIC.to_vec();
         bytes.extend_from_slice(&FORMAT.to_le_bytes());
-        assert_eq!(Partial::decode(&postcard::to_extend(&fine, bytes).unwrap(), "p").unwrap().study.set[0].values[0].value, 9.0);
+        assert_eq!(
+            Partial::decode(&postcard::to_extend(&fine, bytes).unwrap(), "p").unwrap().study.set[0].values[0].value,
+            9.0
+        );
         let e = combine(vec![part(1, 2), p], &["a".into(), "b".into()]).unwrap_err().to_string();
         assert!(e.contains("b: a shard of another study than a (--set snap_threshold=0.2 --set spawn_drop=0.1,0.3 --baseline, not no --set)"), "{e}");
     }

@@ -11,24 +11,24 @@
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
-use grove_systems::resources::Override;
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{AnchorBall, HitMarker, HitTarget, Pose, Transform};
 use grove_systems::events::Happening;
 use grove_systems::input::{Button, InputEvent, StampedEvent};
-use grove_systems::replay::{record_events, Header};
+use grove_systems::replay::{Header, record_events};
 use grove_systems::resources::Mode;
+use grove_systems::resources::Override;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::task::TaskDef;
 use grove_systems::technique::{Operator, Technique};
-use grove_systems::Sim;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::error::SynthError;
+use super::participant::{Skill, angle_between, angular_width, scatter_direction, sweep};
 use super::shard::Shard;
-use super::participant::{angle_between, angular_width, scatter_direction, sweep, Skill};
 
 /// A controller pose is sent every this many ticks while the hand moves (30 Hz at 60 Hz ticks),
 /// like a tracking system that reports at half the simulation rate.
@@ -179,7 +179,8 @@ impl Participant {
         let mut sloppy = error && !wrong_model;
         self.think();
         let models = self.sim().catalogue().len() as u8;
-        let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
+        let chosen =
+            if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
         if self.sim().menu().current_model != chosen {
             self.choose(chosen);
         }
@@ -190,7 +191,9 @@ impl Participant {
             let width = angular_width(2.0 * margin as f64, (point - self.hand).length() as f64);
             let ok = move |sim: &Sim| {
                 let h = sim.hit_marker();
-                h.visible && matches!(h.target, HitTarget::Plane(_)) && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
+                h.visible
+                    && matches!(h.target, HitTarget::Plane(_))
+                    && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
             };
             // An early click skips the corrections once; the plant then usually lands off target.
             self.aim(point, width, sloppy, &ok);
@@ -230,7 +233,8 @@ impl Participant {
         let early_release = error && !wrong_model;
         self.think();
         let models = self.sim().catalogue().len() as u8;
-        let chosen = if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
+        let chosen =
+            if wrong_model { ModelId((model.0 + 1 + self.rng.random_range(0..models - 1)) % models) } else { model };
         self.choose(chosen);
         let id = self.selected().ok_or_else(|| stuck("no tree appeared after choosing a model from the menu"))?;
         self.drag_into_place(id, pos, tolerance, early_release)?;
@@ -268,9 +272,13 @@ impl Participant {
                 let base = Vec3::new(pos.x, self.ground_at(pos.x, pos.z) - lowest, pos.z);
                 let grab_point = base - drag.offset;
                 let want = grab_point - self.hand;
-                let dir_sigma = self.skill.endpoint_sigma(angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
+                let dir_sigma = self
+                    .skill
+                    .endpoint_sigma(angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
                 let amplitude = angle_between(self.dir, want);
-                let rot_time = self.skill.aim_time(amplitude, angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
+                let rot_time = self
+                    .skill
+                    .aim_time(amplitude, angular_width(2.0 * (tolerance * AIM_MARGIN) as f64, want.length() as f64));
                 let rate = self.sim().config().touchpad_move_rate as f64;
                 let delta = want.length() as f64 - drag.grab_distance as f64;
                 // Rate control is imprecise: the thumb comes off a little early or late.
@@ -312,7 +320,8 @@ impl Participant {
             let rest = self.ticks((self.skill.press - 0.1).max(self.dt));
             self.script.push(InputEvent::ButtonUp { button: Button::Trigger }).wait(rest);
             let grounded = self.sim().tree(id).is_some_and(|t| t.grounded.0);
-            let here = self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(Vec2::splat(f32::MAX));
+            let here =
+                self.tree(id).map(|t| Vec2::new(t.0.translation.x, t.0.translation.z)).unwrap_or(Vec2::splat(f32::MAX));
             if grounded && here.distance(goal) <= tolerance {
                 return Ok(());
             }
@@ -335,8 +344,16 @@ pub(crate) fn stuck(why: &str) -> SynthError {
 /// With a plug-in `technique` (`None`: the task's built-in one) the recording's header names the
 /// plug-in and its version, and its participant model decides how each target is placed
 /// ([`super::synth_plugin`]).
-pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participant: usize, seed: u64, overrides: &[Override], warn: &dyn Fn(&str)) -> Result<ParticipantSession, SynthError> {
-    let scene = Scene::builtin(&task.scene).ok_or_else(|| SynthError::UnknownScene { task: task.id.clone(), scene: task.scene.clone() })?;
+pub fn synthesize_with(
+    task: &TaskDef,
+    technique: Option<&Technique>,
+    participant: usize,
+    seed: u64,
+    overrides: &[Override],
+    warn: &dyn Fn(&str),
+) -> Result<ParticipantSession, SynthError> {
+    let scene = Scene::builtin(&task.scene)
+        .ok_or_else(|| SynthError::UnknownScene { task: task.id.clone(), scene: task.scene.clone() })?;
     // Each participant has one skill for both tasks; each task has its own simulation seed.
     let mut skill_rng = ChaCha8Rng::seed_from_u64(seed ^ (participant as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
     let skill = Skill::sample(&mut skill_rng);
@@ -363,7 +380,8 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
     p.script.push(InputEvent::SwitchMode { mode: task.mode }).wait(1);
     if let Some(t) = technique {
         p.script.push(InputEvent::SwitchTechnique { technique: t.name.to_string() }).wait(1);
-        header.technique = Some(grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
+        header.technique =
+            Some(grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
     }
     p.script.push(InputEvent::StartTask { task: task.id.clone(), layout: None }).wait(1);
     let models = task.target_models(p.sim().catalogue());
@@ -376,7 +394,10 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
     });
     // A plug-in whose participant aims with the head and dwells: its dwell, seconds.
     let gaze_dwell = technique.filter(|t| t.participant.contains(&Operator::AimHead)).map(|t| {
-        t.participant.iter().find_map(|o| if let Operator::Dwell(s) = o { Some(*s as f64) } else { None }).unwrap_or(0.0)
+        t.participant
+            .iter()
+            .find_map(|o| if let Operator::Dwell(s) = o { Some(*s as f64) } else { None })
+            .unwrap_or(0.0)
     });
     for i in order {
         let model = models[i].ok_or(SynthError::UnknownModel(i + 1))?;
@@ -394,7 +415,11 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
                 return Err(e);
             }
             // Under a what-if setting the participant may be unable to go on: they stop here.
-            warn(&format!("P{:02} {}: {e}; the participant stops and the trial stays incomplete", participant + 1, task.id));
+            warn(&format!(
+                "P{:02} {}: {e}; the participant stops and the trial stays incomplete",
+                participant + 1,
+                task.id
+            ));
             break;
         }
     }
@@ -425,7 +450,9 @@ pub const REST_BETWEEN_BLOCKS_S: i64 = 120;
 
 /// An RFC 3339 UTC time from seconds since the Unix epoch.
 fn rfc3339(secs: i64) -> String {
-    chrono::DateTime::from_timestamp(secs, 0).map(|t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true)).unwrap_or_default()
+    chrono::DateTime::from_timestamp(secs, 0)
+        .map(|t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true))
+        .unwrap_or_default()
 }
 
 /// One condition of a study: a task done with a technique.
@@ -454,7 +481,8 @@ pub fn conditions(names: &[&str]) -> Result<Vec<Condition>, SynthError> {
             Mode::Manual => "manual-7",
         };
         let task = TaskDef::builtin(id).ok_or_else(|| SynthError::MissingTask(id.to_string()))?;
-        let (technique, name) = if t.is_builtin() { (None, id.to_string()) } else { (Some(t.clone()), t.name.to_string()) };
+        let (technique, name) =
+            if t.is_builtin() { (None, id.to_string()) } else { (Some(t.clone()), t.name.to_string()) };
         out.push(Condition { task, technique, name });
     }
     Ok(out)
@@ -465,8 +493,25 @@ pub fn conditions(names: &[&str]) -> Result<Vec<Condition>, SynthError> {
 /// manual. Existing files are never overwritten unless `force` is set. With a `shard`, only the
 /// participants of that shard (by their id, `P07`, see [`super::shard`]) are written; each
 /// participant's recordings are the same as without shards.
-pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> Result<Vec<PathBuf>, SynthError> {
-    write_conditions(out, &conditions(&["ray-casting", "manual"])?, participants, seed, force, overrides, shard, progress)
+pub fn write_study(
+    out: &Path,
+    participants: usize,
+    seed: u64,
+    force: bool,
+    overrides: &[Override],
+    shard: Option<Shard>,
+    progress: &dyn Fn(&str),
+) -> Result<Vec<PathBuf>, SynthError> {
+    write_conditions(
+        out,
+        &conditions(&["ray-casting", "manual"])?,
+        participants,
+        seed,
+        force,
+        overrides,
+        shard,
+        progress,
+    )
 }
 
 /// Writes one recording per participant per condition to `out`. Each participant does the
@@ -475,7 +520,16 @@ pub fn write_study(out: &Path, participants: usize, seed: u64, force: bool, over
 /// session start time. Existing files are never overwritten unless `force` is set. With a
 /// `shard`, only that shard's participants are written.
 #[allow(clippy::too_many_arguments)]
-pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, seed: u64, force: bool, overrides: &[Override], shard: Option<Shard>, progress: &dyn Fn(&str)) -> Result<Vec<PathBuf>, SynthError> {
+pub fn write_conditions(
+    out: &Path,
+    tasks: &[Condition],
+    participants: usize,
+    seed: u64,
+    force: bool,
+    overrides: &[Override],
+    shard: Option<Shard>,
+    progress: &dyn Fn(&str),
+) -> Result<Vec<PathBuf>, SynthError> {
     if out.exists() && !out.is_dir() {
         return Err(SynthError::OutIsAFile(out.to_path_buf()));
     }
@@ -509,7 +563,9 @@ pub fn write_conditions(out: &Path, tasks: &[Condition], participants: usize, se
         // Write to a temporary file and rename, so a failure never leaves half a recording.
         let tmp = path.with_extension("jsonl.tmp");
         let file = std::fs::File::create(&tmp).map_err(|source| SynthError::Io { path: tmp.clone(), source })?;
-        let w = record_events(std::io::BufWriter::new(file), &session.header, &session.events, session.end_tick, summary).map_err(|source| SynthError::Record { path: path.clone(), source })?;
+        let w =
+            record_events(std::io::BufWriter::new(file), &session.header, &session.events, session.end_tick, summary)
+                .map_err(|source| SynthError::Record { path: path.clone(), source })?;
         drop(w);
         std::fs::rename(&tmp, &path).map_err(|source| SynthError::Io { path: path.clone(), source })?;
         written.push(path);

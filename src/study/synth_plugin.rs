@@ -9,14 +9,14 @@
 //! published constants, which a calibrated model would use instead.
 
 use glam::{Vec2, Vec3};
-use grove_systems::components::{HitTarget, Pose};
-use grove_systems::catalogue::ModelId;
-use grove_systems::input::{Button, InputEvent};
 use grove_systems::Sim;
+use grove_systems::catalogue::ModelId;
+use grove_systems::components::{HitTarget, Pose};
+use grove_systems::input::{Button, InputEvent};
 
-use super::participant::{angle_between, angular_width, scatter_direction, sweep};
 use super::error::SynthError;
-use super::synth::{stuck, Participant, AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY};
+use super::participant::{angle_between, angular_width, scatter_direction, sweep};
+use super::synth::{AIM_MARGIN, MAX_CORRECTIONS, POSE_EVERY, Participant, stuck};
 
 impl Participant {
     fn gaze(&self) -> (Vec3, Vec3) {
@@ -57,7 +57,13 @@ impl Participant {
 
     /// Places one target by gaze and dwell: choose the model if needed, aim the gaze, hold it
     /// for the dwell; a tree that lands off target is looked at and removed with Bumper.
-    pub(crate) fn gaze_target(&mut self, pos: Vec3, model: ModelId, tolerance: f32, dwell_s: f64) -> Result<(), SynthError> {
+    pub(crate) fn gaze_target(
+        &mut self,
+        pos: Vec3,
+        model: ModelId,
+        tolerance: f32,
+        dwell_s: f64,
+    ) -> Result<(), SynthError> {
         self.think();
         if self.sim().menu().current_model != model {
             self.choose(model);
@@ -71,7 +77,9 @@ impl Participant {
             let before = self.last_planted().map(|p| p.0);
             self.aim_gaze(point, width, &move |sim: &Sim| {
                 let h = sim.hit_marker();
-                h.visible && matches!(h.target, HitTarget::Plane(_)) && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
+                h.visible
+                    && matches!(h.target, HitTarget::Plane(_))
+                    && Vec2::new(h.position.x, h.position.z).distance(goal) < margin
             });
             // Hold still until the dwell plants (a few ticks beyond it at most).
             let wait = self.ticks(dwell_s) + 6;

@@ -1,7 +1,7 @@
 //! The terminal output of a study: the table of trials (with a what-if's baseline and
 //! differences) and the summary lines under it.
 
-use super::report::{usable_time, Summary};
+use super::report::{Summary, usable_time};
 use super::stats::PairedStats;
 use super::whatif::WhatIf;
 use super::{Trial, TrialStatus};
@@ -21,7 +21,10 @@ pub fn table(trials: &[Trial], what_if: Option<&WhatIf>) -> String {
             "participant", "trial", "task", "mode", "baseline_s", "what_if_s", "diff_s", "trees", "errors", "status"
         ));
     } else {
-        out.push_str(&format!("{:<12} {:>5} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n", "participant", "trial", "task", "mode", "time_s", "trees", "errors", "verified"));
+        out.push_str(&format!(
+            "{:<12} {:>5} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n",
+            "participant", "trial", "task", "mode", "time_s", "trees", "errors", "verified"
+        ));
     }
     for t in trials {
         let (task, mode, trees, errors) = match &t.task {
@@ -49,7 +52,17 @@ pub fn table(trials: &[Trial], what_if: Option<&WhatIf>) -> String {
                 status
             ));
         } else {
-            out.push_str(&format!("{:<12} {:>5} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n", t.participant, t.trial_num, task, mode, opt(time, 2), trees, errors, status));
+            out.push_str(&format!(
+                "{:<12} {:>5} {:<15} {:<12} {:>8} {:>6} {:>7}  {}\n",
+                t.participant,
+                t.trial_num,
+                task,
+                mode,
+                opt(time, 2),
+                trees,
+                errors,
+                status
+            ));
         }
     }
     out
@@ -73,7 +86,15 @@ pub fn summary_lines(s: &Summary) -> String {
     if s.by_device.iter().any(|d| d.device != "controller") {
         for d in &s.by_device {
             let m = &d.stats;
-            out.push_str(&format!("device {:<17} {:<12} mean {} s (sd {}) over {} completed of {} trials\n", d.device, d.mode, opt(m.mean_time_s, 2), opt(m.sd_time_s, 2), m.completed, m.trials));
+            out.push_str(&format!(
+                "device {:<17} {:<12} mean {} s (sd {}) over {} completed of {} trials\n",
+                d.device,
+                d.mode,
+                opt(m.mean_time_s, 2),
+                opt(m.sd_time_s, 2),
+                m.completed,
+                m.trials
+            ));
         }
     }
     for i in &s.incomplete {
@@ -85,7 +106,10 @@ pub fn summary_lines(s: &Summary) -> String {
         None if s.missing_comparisons.is_empty() => "cannot say (no participant has both tasks)".to_string(),
         None => format!("cannot say (no comparison for {})", s.missing_comparisons.join(", ")),
     };
-    out.push_str(&format!("ray-casting faster for every participant: {faster} ({} of {} participants compared)\n", s.comparisons, s.participants));
+    out.push_str(&format!(
+        "ray-casting faster for every participant: {faster} ({} of {} participants compared)\n",
+        s.comparisons, s.participants
+    ));
     match &s.paired {
         Some(p) => out.push_str(&paired_line(p)),
         None => out.push_str("paired statistics: fewer than two participants with both tasks\n"),
@@ -102,7 +126,10 @@ pub fn summary_lines(s: &Summary) -> String {
 /// One paragraph of paired statistics for the terminal.
 pub fn paired_line(p: &PairedStats) -> String {
     if p.t.is_none() {
-        return format!("paired ({}, n = {}): every difference is {:.2} {}; no spread, so no test\n", p.difference, p.n, p.mean_difference, p.unit);
+        return format!(
+            "paired ({}, n = {}): every difference is {:.2} {}; no spread, so no test\n",
+            p.difference, p.n, p.mean_difference, p.unit
+        );
     }
     format!(
         "paired ({}, n = {}): mean {:.2} {u} (95 % CI {} to {} {u}), sd {:.2} {u}; t({}) = {}, p = {}; Wilcoxon W+ = {}, W- = {}, p = {} ({}); Cohen's d_z = {}\n",

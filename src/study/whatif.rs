@@ -15,9 +15,9 @@ use std::collections::BTreeMap;
 use grove_systems::resources::{Override, Param};
 use serde::Serialize;
 
-use super::report::{summarize, usable_time, Summary};
-use super::stats::{paired, PairedStats};
 use super::Trial;
+use super::report::{Summary, summarize, usable_time};
+use super::stats::{PairedStats, paired};
 
 /// The name of the replayed-hands kind.
 pub const REPLAYED_HANDS: &str = "replayed hands";
@@ -56,7 +56,14 @@ pub fn default_value(name: &str) -> String {
 
 /// Builds the parameter list of a what-if from `name=value` overrides.
 pub fn param_changes(overrides: &[Override]) -> Vec<ParamChange> {
-    overrides.iter().map(|o| ParamChange { name: o.name.to_string(), default_value: default_value(o.name), new_value: o.text.clone() }).collect()
+    overrides
+        .iter()
+        .map(|o| ParamChange {
+            name: o.name.to_string(),
+            default_value: default_value(o.name),
+            new_value: o.text.clone(),
+        })
+        .collect()
 }
 
 /// One trial of the what-if next to its baseline.
@@ -124,7 +131,13 @@ fn mean(xs: &[f64]) -> Option<f64> {
 
 impl WhatIf {
     /// Compares what-if trials with baseline trials of the same participant and task.
-    pub fn compare(kind: &str, parameters: Vec<ParamChange>, baseline: &[Trial], what_if: &[Trial], baseline_wall: f64) -> WhatIf {
+    pub fn compare(
+        kind: &str,
+        parameters: Vec<ParamChange>,
+        baseline: &[Trial],
+        what_if: &[Trial],
+        baseline_wall: f64,
+    ) -> WhatIf {
         let base: BTreeMap<(String, String), &Trial> = baseline.iter().map(|t| (key(t), t)).collect();
         let per_trial: Vec<TrialComparison> = what_if
             .iter()
@@ -146,7 +159,11 @@ impl WhatIf {
         let mut modes = BTreeMap::new();
         for mode in ["ray-casting", "manual"] {
             let rows: Vec<&TrialComparison> = per_trial.iter().filter(|c| c.mode == mode).collect();
-            let base_times: Vec<f64> = baseline.iter().filter(|t| t.task.as_ref().is_some_and(|k| k.mode == mode)).filter_map(usable_time).collect();
+            let base_times: Vec<f64> = baseline
+                .iter()
+                .filter(|t| t.task.as_ref().is_some_and(|k| k.mode == mode))
+                .filter_map(usable_time)
+                .collect();
             let what_times: Vec<f64> = rows.iter().filter_map(|c| c.what_if_time_s).collect();
             let diffs: Vec<f64> = rows.iter().filter_map(|c| c.difference_s).collect();
             modes.insert(
@@ -179,7 +196,11 @@ impl WhatIf {
 
     /// "snap_threshold 0.3 (default) → 0.2", for tables and charts.
     pub fn parameters_text(&self) -> String {
-        self.parameters.iter().map(|p| format!("{} {} (default) → {}", p.name, p.default_value, p.new_value)).collect::<Vec<_>>().join(", ")
+        self.parameters
+            .iter()
+            .map(|p| format!("{} {} (default) → {}", p.name, p.default_value, p.new_value))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 

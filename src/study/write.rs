@@ -15,7 +15,7 @@ use crate::atomic_write::{via_temp, write_bytes};
 use super::report::{self, Summary};
 use super::shard::RunPart;
 use super::whatif::{self, Sweep, WhatIf};
-use super::{chart, csv_out, table, StudyError, Trial, TrialStatus};
+use super::{StudyError, Trial, TrialStatus, chart, csv_out, table};
 
 /// Where and how the reports are written.
 pub struct ReportTo {
@@ -32,7 +32,18 @@ pub struct ReportTo {
 }
 
 /// The files `grove study` writes into `--out`.
-pub const REPORT_FILES: &[&str] = &["trial_results.csv", "trees.csv", "summary.json", "ablation.png", "sweep.csv", "sweep.png", "report.html", "questionnaire_long.csv", "questionnaire_wide.csv", "questionnaire_scores.csv"];
+pub const REPORT_FILES: &[&str] = &[
+    "trial_results.csv",
+    "trees.csv",
+    "summary.json",
+    "ablation.png",
+    "sweep.csv",
+    "sweep.png",
+    "report.html",
+    "questionnaire_long.csv",
+    "questionnaire_wide.csv",
+    "questionnaire_scores.csv",
+];
 
 /// What [`write_reports`] wrote, for the caller to show, and what the HTML report is made of.
 pub struct Reports {
@@ -65,9 +76,7 @@ pub fn prepare_out(out: &Path, force: bool) -> Result<(), StudyError> {
     if out.exists() && !out.is_dir() {
         return Err(StudyError::OutIsAFile(out.to_path_buf()));
     }
-    if !force
-        && let Some(old) = REPORT_FILES.iter().map(|f| out.join(f)).find(|p| p.exists())
-    {
+    if !force && let Some(old) = REPORT_FILES.iter().map(|f| out.join(f)).find(|p| p.exists()) {
         return Err(StudyError::EarlierReports { out: out.to_path_buf(), old });
     }
     std::fs::create_dir_all(out).map_err(|source| StudyError::Folder { path: out.to_path_buf(), source })
@@ -89,7 +98,10 @@ fn notes(what_if: Option<&WhatIf>, summary: &Summary) -> Vec<String> {
         n.push("Filled bars: the what-if; black outlines: the baseline.".into());
     }
     if !summary.missing_comparisons.is_empty() {
-        n.push(format!("No comparison for {} (a red cross marks each missing bar).", summary.missing_comparisons.join(", ")));
+        n.push(format!(
+            "No comparison for {} (a red cross marks each missing bar).",
+            summary.missing_comparisons.join(", ")
+        ));
     }
     if summary.synthetic {
         n.push("Synthetic data: simulated participants (grove synth), not people.".into());
@@ -121,9 +133,21 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> Result
             }
             params.config().map_err(|source| StudyError::Settings { replays: to.replays.clone(), source })?;
             let params = params.as_slice();
-            Some(WhatIf::compare(whatif::RESIMULATED_PARTICIPANTS, whatif::param_changes(params), &base.trials, &trials, base.wall_seconds))
+            Some(WhatIf::compare(
+                whatif::RESIMULATED_PARTICIPANTS,
+                whatif::param_changes(params),
+                &base.trials,
+                &trials,
+                base.wall_seconds,
+            ))
         }
-        Some(base) => Some(WhatIf::compare(whatif::REPLAYED_HANDS, whatif::param_changes(&set.fixed), &base.trials, &trials, base.wall_seconds)),
+        Some(base) => Some(WhatIf::compare(
+            whatif::REPLAYED_HANDS,
+            whatif::param_changes(&set.fixed),
+            &base.trials,
+            &trials,
+            base.wall_seconds,
+        )),
         None => None,
     };
 
@@ -147,8 +171,32 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> Result
         Some(w) => format!("What-if ({}): {}", w.kind, w.parameters_text().replace('→', "->")),
     };
     let baseline_rows = what_if.as_ref().map(|w| w.baseline.per_participant.as_slice());
-    via_temp(&out.join("ablation.png"), |tmp| chart::ablation_chart(tmp, &summary.per_participant, baseline_rows, &title, &notes(what_if.as_ref(), &summary), 1100, 640))?;
-    let charts = if to.html { vec![(title.clone(), chart::ablation_svg(&summary.per_participant, baseline_rows, &title, &notes(what_if.as_ref(), &summary), 1100, 640)?)] } else { Vec::new() };
+    via_temp(&out.join("ablation.png"), |tmp| {
+        chart::ablation_chart(
+            tmp,
+            &summary.per_participant,
+            baseline_rows,
+            &title,
+            &notes(what_if.as_ref(), &summary),
+            1100,
+            640,
+        )
+    })?;
+    let charts = if to.html {
+        vec![(
+            title.clone(),
+            chart::ablation_svg(
+                &summary.per_participant,
+                baseline_rows,
+                &title,
+                &notes(what_if.as_ref(), &summary),
+                1100,
+                640,
+            )?,
+        )]
+    } else {
+        Vec::new()
+    };
 
     let mut text = table::table(&trials, what_if.as_ref());
     if let Some(w) = &what_if {
@@ -174,15 +222,35 @@ pub fn write_reports(to: &ReportTo, set: &SetArgs, runs: Vec<RunPart>) -> Result
         text.push_str(&super::questionnaire::lines(q));
     }
     let _ = writeln!(text, "reports in {}", out.display());
-    let ok = all_ok(&trials) && what_if.as_ref().is_none_or(|w| !w.baseline.status.contains_key("failed") && !w.baseline.status.contains_key("diverged"));
+    let ok = all_ok(&trials)
+        && what_if
+            .as_ref()
+            .is_none_or(|w| !w.baseline.status.contains_key("failed") && !w.baseline.status.contains_key("diverged"));
     // The what-if trials of replayed hands ran under --set; re-simulated participants carry
     // their setting in their headers.
     let overrides = if to.baseline { Vec::new() } else { set.fixed.clone() };
-    Ok(Reports { json, text, ok, resimulated: Some((trials.len(), wall)), trials, summary, what_if, sweep: None, charts, overrides, questionnaires })
+    Ok(Reports {
+        json,
+        text,
+        ok,
+        resimulated: Some((trials.len(), wall)),
+        trials,
+        summary,
+        what_if,
+        sweep: None,
+        charts,
+        overrides,
+        questionnaires,
+    })
 }
 
 /// A sweep's reports: the baseline (first run) and one replayed-hands run per value.
-fn write_sweep(to: &ReportTo, fixed: &[Override], swept: &SweptParam, runs: Vec<RunPart>) -> Result<Reports, StudyError> {
+fn write_sweep(
+    to: &ReportTo,
+    fixed: &[Override],
+    swept: &SweptParam,
+    runs: Vec<RunPart>,
+) -> Result<Reports, StudyError> {
     let (name, values) = (swept.param.name, &swept.values);
     if runs.len() != values.len() + 1 {
         return Err(StudyError::Runs { expected: values.len() + 1, given: runs.len() });
@@ -212,29 +280,56 @@ fn write_sweep(to: &ReportTo, fixed: &[Override], swept: &SweptParam, runs: Vec<
     via_temp(&out.join("sweep.csv"), |tmp| csv_out::write_sweep(tmp, &sweep))?;
     let json = serde_json::json!({"note": &summary.note, "summary": &summary, "what_if": null, "sweep": &sweep, "trials": &baseline});
     write_json(&out.join("summary.json"), &json)?;
-    let mut n = vec![format!("Sweep, {}: {}.", sweep.kind, sweep.kind_meaning), format!("Default {} = {}; means are over the completed trials.", name, sweep.default_value)];
+    let mut n = vec![
+        format!("Sweep, {}: {}.", sweep.kind, sweep.kind_meaning),
+        format!("Default {} = {}; means are over the completed trials.", name, sweep.default_value),
+    ];
     if !sweep.fixed.is_empty() {
-        n.push(format!("Held for every value: {}.", sweep.fixed.iter().map(|p| format!("{} = {} (default {})", p.name, p.new_value, p.default_value)).collect::<Vec<_>>().join(", ")));
+        n.push(format!(
+            "Held for every value: {}.",
+            sweep
+                .fixed
+                .iter()
+                .map(|p| format!("{} = {} (default {})", p.name, p.new_value, p.default_value))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
     }
     if summary.synthetic {
         n.push("Synthetic data: simulated participants (grove synth), not people.".into());
     }
     via_temp(&out.join("sweep.png"), |tmp| chart::sweep_chart(tmp, &sweep, &n, 1000, 620))?;
     via_temp(&out.join("ablation.png"), |tmp| {
-        chart::ablation_chart(tmp, &summary.per_participant, None, "Baseline task time per participant: ray-casting vs manual", &notes(None, &summary), 1100, 640)
+        chart::ablation_chart(
+            tmp,
+            &summary.per_participant,
+            None,
+            "Baseline task time per participant: ray-casting vs manual",
+            &notes(None, &summary),
+            1100,
+            640,
+        )
     })?;
     let charts = if to.html {
         let title = "Baseline task time per participant: ray-casting vs manual".to_string();
         vec![
-            (title.clone(), chart::ablation_svg(&summary.per_participant, None, &title, &notes(None, &summary), 1100, 640)?),
+            (
+                title.clone(),
+                chart::ablation_svg(&summary.per_participant, None, &title, &notes(None, &summary), 1100, 640)?,
+            ),
             (format!("Mean task time against {name}"), chart::sweep_svg(&sweep, &n, 1000, 620)?),
         ]
     } else {
         Vec::new()
     };
 
-    let mut text = format!("sweep of {name} ({}: {}); default {}\n", sweep.kind, sweep.kind_meaning, sweep.default_value);
-    let _ = writeln!(text, "{:>10} {:>8} {:>14} {:>10} {:>10} {:>14} {:>10} {:>10}", "value", "default", "ray_casting_s", "done", "diff_s", "manual_s", "done", "diff_s");
+    let mut text =
+        format!("sweep of {name} ({}: {}); default {}\n", sweep.kind, sweep.kind_meaning, sweep.default_value);
+    let _ = writeln!(
+        text,
+        "{:>10} {:>8} {:>14} {:>10} {:>10} {:>14} {:>10} {:>10}",
+        "value", "default", "ray_casting_s", "done", "diff_s", "manual_s", "done", "diff_s"
+    );
     for r in &sweep.rows {
         let m = |mode: &str| r.modes.get(mode);
         let _ = writeln!(
@@ -253,5 +348,17 @@ fn write_sweep(to: &ReportTo, fixed: &[Override], swept: &SweptParam, runs: Vec<
     text.push_str("baseline (every parameter at its default):\n");
     text.push_str(&table::summary_lines(&summary));
     let _ = writeln!(text, "reports in {} (sweep.csv, sweep.png)", out.display());
-    Ok(Reports { json, text, ok, resimulated: None, trials: baseline, summary, what_if: None, sweep: Some(sweep), charts, overrides: Vec::new(), questionnaires: None })
+    Ok(Reports {
+        json,
+        text,
+        ok,
+        resimulated: None,
+        trials: baseline,
+        summary,
+        what_if: None,
+        sweep: Some(sweep),
+        charts,
+        overrides: Vec::new(),
+        questionnaires: None,
+    })
 }

@@ -3,8 +3,8 @@
 //! frames: the previous camera, the head now and the time between frames); the task area from
 //! straight above (orthographic); and a slow orbit around the task area.
 
-use glam::{Vec2, Vec3};
 use crate::render::{Camera, TopView};
+use glam::{Vec2, Vec3};
 use grove_systems::components::{Head, Pose};
 
 /// Which camera a video is drawn from.
@@ -45,7 +45,11 @@ impl TaskArea {
         }
         let min = finite.iter().fold(Vec2::splat(f32::MAX), |a, p| a.min(*p));
         let max = finite.iter().fold(Vec2::splat(f32::MIN), |a, p| a.max(*p));
-        TaskArea { center: (min + max) * 0.5, half: ((max - min) * 0.5 + Vec2::splat(AREA_MARGIN_M)).max(Vec2::splat(5.0)), ground_y }
+        TaskArea {
+            center: (min + max) * 0.5,
+            half: ((max - min) * 0.5 + Vec2::splat(AREA_MARGIN_M)).max(Vec2::splat(5.0)),
+            ground_y,
+        }
     }
 
     /// The same area widened on one side so that its width over depth is `aspect` (the image's),

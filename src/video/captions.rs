@@ -155,10 +155,16 @@ mod tests {
 
     #[test]
     fn captions_mark_the_followed_events_only() {
-        assert_eq!(event_words(&Happening::Snapped { tree: 1, position: glam::Vec3::ZERO }).as_deref(), Some("snapped to the ground"));
+        assert_eq!(
+            event_words(&Happening::Snapped { tree: 1, position: glam::Vec3::ZERO }).as_deref(),
+            Some("snapped to the ground")
+        );
         assert_eq!(event_words(&Happening::MenuOpened), None);
         // Targets are numbered from 1 where a person reads them; the log keeps the file's index.
-        assert_eq!(event_words(&Happening::TargetSatisfied { target: 2, tree: 1 }).as_deref(), Some("target 3 satisfied"));
+        assert_eq!(
+            event_words(&Happening::TargetSatisfied { target: 2, tree: 1 }).as_deref(),
+            Some("target 3 satisfied")
+        );
     }
 
     #[test]
@@ -166,7 +172,10 @@ mod tests {
         let (w, h) = (640, 360);
         let grey = image::Rgba([128, 128, 128, 255]);
         let mut img = RgbaImage::from_pixel(w, h, grey);
-        burn(&mut img, &Captions { who: "P03 · ray-casting".into(), clock: "task 12.4 s".into(), events: vec!["planted".into()] });
+        burn(
+            &mut img,
+            &Captions { who: "P03 · ray-casting".into(), clock: "task 12.4 s".into(), events: vec!["planted".into()] },
+        );
         let (top, bottom) = covered_rows(h);
         let mut changed_top = 0;
         let (mut white, mut dark) = (0, 0);

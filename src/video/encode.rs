@@ -9,9 +9,11 @@ use std::io::BufWriter;
 use std::path::Path;
 
 use image::RgbaImage;
-use openh264::encoder::{BitRate, Encoder, EncoderConfig, FrameRate, IntraFramePeriod, QpRange, RateControlMode, UsageType, VuiConfig};
-use openh264::formats::{RgbaSliceU8, YUVBuffer};
 use openh264::OpenH264API;
+use openh264::encoder::{
+    BitRate, Encoder, EncoderConfig, FrameRate, IntraFramePeriod, QpRange, RateControlMode, UsageType, VuiConfig,
+};
+use openh264::formats::{RgbaSliceU8, YUVBuffer};
 
 /// Why a video could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -79,7 +81,8 @@ impl VideoWriter {
             .vui(VuiConfig::bt601())
             .num_threads(1)
             .debug(false);
-        let encoder = Encoder::with_api_config(OpenH264API::from_source(), config).map_err(|e| VideoError::Encoder(e.to_string()))?;
+        let encoder = Encoder::with_api_config(OpenH264API::from_source(), config)
+            .map_err(|e| VideoError::Encoder(e.to_string()))?;
         let file = File::create(path).map_err(|e| write_err(&e))?;
         let config = mp4::Mp4Config {
             major_brand: str::parse("isom").map_err(|e| write_err(&e))?,
@@ -88,7 +91,17 @@ impl VideoWriter {
             timescale: 1000,
         };
         let mp4 = mp4::Mp4Writer::write_start(BufWriter::new(file), &config).map_err(|e| write_err(&e))?;
-        Ok(VideoWriter { encoder, yuv: YUVBuffer::new(width as usize, height as usize), mp4, path: name, size: (width, height), track: false, frames: 0, bytes: 0, fps })
+        Ok(VideoWriter {
+            encoder,
+            yuv: YUVBuffer::new(width as usize, height as usize),
+            mp4,
+            path: name,
+            size: (width, height),
+            track: false,
+            frames: 0,
+            bytes: 0,
+            fps,
+        })
     }
 
     /// Encodes and writes one frame.
@@ -120,17 +133,32 @@ impl VideoWriter {
                 track_type: mp4::TrackType::Video,
                 timescale: self.fps * TICKS_PER_FRAME,
                 language: "und".into(),
-                media_conf: mp4::MediaConfig::AvcConfig(mp4::AvcConfig { width: w as u16, height: h as u16, seq_param_set, pic_param_set }),
+                media_conf: mp4::MediaConfig::AvcConfig(mp4::AvcConfig {
+                    width: w as u16,
+                    height: h as u16,
+                    seq_param_set,
+                    pic_param_set,
+                }),
             };
-            self.mp4.add_track(&track).map_err(|e| VideoError::Write { path: self.path.clone(), reason: e.to_string() })?;
+            self.mp4
+                .add_track(&track)
+                .map_err(|e| VideoError::Write { path: self.path.clone(), reason: e.to_string() })?;
             self.track = true;
         }
         if sample.is_empty() {
             return Err(VideoError::Encoder(format!("frame {} was skipped by the encoder", self.frames)));
         }
         self.bytes += sample.len() as u64;
-        let s = mp4::Mp4Sample { start_time: self.frames * TICKS_PER_FRAME as u64, duration: TICKS_PER_FRAME, rendering_offset: 0, is_sync: sync, bytes: bytes::Bytes::from(sample) };
-        self.mp4.write_sample(1, &s).map_err(|e| VideoError::Write { path: self.path.clone(), reason: e.to_string() })?;
+        let s = mp4::Mp4Sample {
+            start_time: self.frames * TICKS_PER_FRAME as u64,
+            duration: TICKS_PER_FRAME,
+            rendering_offset: 0,
+            is_sync: sync,
+            bytes: bytes::Bytes::from(sample),
+        };
+        self.mp4
+            .write_sample(1, &s)
+            .map_err(|e| VideoError::Write { path: self.path.clone(), reason: e.to_string() })?;
         self.frames += 1;
         Ok(())
     }
@@ -159,11 +187,7 @@ impl VideoWriter {
 /// A NAL unit without its Annex B start code (`00 00 01` or `00 00 00 01`).
 fn strip_start_code(nal: &[u8]) -> &[u8] {
     let zeros = nal.iter().take_while(|&&b| b == 0).count();
-    if zeros >= 2 && nal.get(zeros) == Some(&1) {
-        &nal[zeros + 1..]
-    } else {
-        nal
-    }
+    if zeros >= 2 && nal.get(zeros) == Some(&1) { &nal[zeros + 1..] } else { nal }
 }
 
 #[cfg(test)]

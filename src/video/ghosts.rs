@@ -5,9 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::render::overlay::geometry::OverlayGhost;
+use grove_systems::Sim;
 use grove_systems::bank::Banks;
 use grove_systems::replay::Player;
-use grove_systems::Sim;
 
 /// At most this many ghosts are drawn.
 pub const MAX_GHOSTS: usize = 64;
@@ -19,7 +19,8 @@ const FREE_RAY_M: f32 = 3.0;
 /// number (P01, P12, …) take that number's place on a wheel of twelve hues that puts
 /// neighbours far apart (five steps of 30° each); other ids take a hash's place.
 pub fn participant_color(id: &str) -> [f32; 4] {
-    let digits: String = id.chars().rev().take_while(|c| c.is_ascii_digit()).collect::<Vec<_>>().into_iter().rev().collect();
+    let digits: String =
+        id.chars().rev().take_while(|c| c.is_ascii_digit()).collect::<Vec<_>>().into_iter().rev().collect();
     let n = match digits.parse::<u64>() {
         Ok(n) => n.wrapping_sub(1),
         Err(_) => xxhash_rust::xxh3::xxh3_64(id.as_bytes()),
@@ -95,9 +96,18 @@ pub enum GhostError {
 /// The recordings of `task` in `dir` other than `chosen`, opened and aligned: a ghost's tick is
 /// the chosen tick plus its task start minus `chosen_start` (both the ticks of their
 /// `start_task` events; recordings without one are aligned at tick 0).
-pub fn open(dir: &Path, chosen: &Path, task: Option<&str>, chosen_start: Option<u64>, banks: &Banks) -> Result<Vec<Ghost>, GhostError> {
+pub fn open(
+    dir: &Path,
+    chosen: &Path,
+    task: Option<&str>,
+    chosen_start: Option<u64>,
+    banks: &Banks,
+) -> Result<Vec<Ghost>, GhostError> {
     let listing = std::fs::read_dir(dir).map_err(|e| GhostError::Folder(dir.display().to_string(), e.to_string()))?;
-    let mut files: Vec<PathBuf> = listing.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "jsonl")).collect();
+    let mut files: Vec<PathBuf> = listing
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "jsonl"))
+        .collect();
     files.sort();
     let chosen = std::fs::canonicalize(chosen).ok();
     let mut ghosts = Vec::new();
@@ -109,7 +119,11 @@ pub fn open(dir: &Path, chosen: &Path, task: Option<&str>, chosen_start: Option<
         if player.header.task.as_deref() != task {
             continue;
         }
-        let participant = player.header.participant.clone().unwrap_or_else(|| f.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
+        let participant = player
+            .header
+            .participant
+            .clone()
+            .unwrap_or_else(|| f.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default());
         let offset = player.task_start_tick().unwrap_or(0) as i64 - chosen_start.unwrap_or(0) as i64;
         ghosts.push(Ghost { color: participant_color(&participant), participant, player, offset });
         if ghosts.len() > MAX_GHOSTS {

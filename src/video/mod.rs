@@ -15,8 +15,8 @@ pub mod ghosts;
 use std::path::Path;
 use std::sync::mpsc;
 
-use crate::render::offscreen::{Gpu, Target};
 use crate::render::Renderer;
+use crate::render::offscreen::{Gpu, Target};
 use grove_systems::replay::Player;
 
 use camera::{CameraKind, Shoulder, TaskArea};
@@ -137,7 +137,14 @@ pub struct VideoSummary {
 
 /// Draws `player`'s recording with `renderer` as `spec` asks, and the `ghosts` beside it;
 /// `progress` is called after each frame is drawn.
-pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts: Vec<Ghost>, spec: &VideoSpec<'_>, progress: &mut dyn FnMut(u64)) -> Result<VideoSummary, VideoError> {
+pub fn write(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    mut player: Player,
+    mut ghosts: Vec<Ghost>,
+    spec: &VideoSpec<'_>,
+    progress: &mut dyn FnMut(u64),
+) -> Result<VideoSummary, VideoError> {
     let (w, h) = renderer.size();
     let dt = player.sim().dt();
     let ticks = frame_ticks(spec.from, spec.to, spec.fps, spec.speed, dt);
@@ -171,7 +178,11 @@ pub fn write(gpu: &Gpu, renderer: &mut Renderer, mut player: Player, mut ghosts:
         }
         seen = sim.log().entries.len();
         recent.retain(|(at, _)| k - at < spec.fps as usize);
-        let text = Captions { who: spec.who.clone(), clock: captions::clock(sim.tick(), start, end, dt), events: recent.iter().map(|(_, t)| t.clone()).collect() };
+        let text = Captions {
+            who: spec.who.clone(),
+            clock: captions::clock(sim.tick(), start, end, dt),
+            events: recent.iter().map(|(_, t)| t.clone()).collect(),
+        };
 
         // The camera, and the participant as a figure when seen from outside.
         let head = sim.head();

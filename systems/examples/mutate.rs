@@ -27,15 +27,15 @@
 //! the run (a watchdog aborts the process and names the mutant). The run prints one summary and
 //! exits 1 if anything failed.
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use grove_systems::replay::{rechain, replay_reader, ReplayOptions};
-use grove_systems::scene::Scene;
 use grove_systems::Sim;
+use grove_systems::replay::{ReplayOptions, rechain, replay_reader};
+use grove_systems::scene::Scene;
 
 /// A small deterministic generator (SplitMix64), so the run needs no RNG crate.
 struct Rng(u64);
@@ -81,7 +81,13 @@ const HANG: Duration = Duration::from_secs(2);
 const ABORT_AFTER: Duration = Duration::from_secs(60);
 
 /// Runs `f` under the watchdog and `catch_unwind`; returns its outcome and the time it took.
-fn guarded(name: &str, current: &Mutex<String>, started: &AtomicU64, epoch: Instant, f: impl FnOnce() -> Outcome) -> (Outcome, Duration) {
+fn guarded(
+    name: &str,
+    current: &Mutex<String>,
+    started: &AtomicU64,
+    epoch: Instant,
+    f: impl FnOnce() -> Outcome,
+) -> (Outcome, Duration) {
     *current.lock().unwrap() = name.to_string();
     started.store(epoch.elapsed().as_millis() as u64 + 1, Ordering::SeqCst);
     let t = Instant::now();
@@ -114,8 +120,39 @@ fn scene_outcome(text: &str) -> Outcome {
     }
 }
 
-const HOSTILE_NUMBERS: &[&str] = &["0", "-1", "1000000000", "1000000000000", "18446744073709551615", "1e39", "-1e39", "NaN", "1e999", "0.5", "4294967296", "-0"];
-const HOSTILE_SCENE_NUMBERS: &[&str] = &["5e19", "-5e19", "1e39", "NaN", "inf", "-inf", "0", "-1", "0.0", "-0.0", "2000.0", "1e-30", "1e6", "1000001.0", "4294967296", "18446744073709551615", "1e-3"];
+const HOSTILE_NUMBERS: &[&str] = &[
+    "0",
+    "-1",
+    "1000000000",
+    "1000000000000",
+    "18446744073709551615",
+    "1e39",
+    "-1e39",
+    "NaN",
+    "1e999",
+    "0.5",
+    "4294967296",
+    "-0",
+];
+const HOSTILE_SCENE_NUMBERS: &[&str] = &[
+    "5e19",
+    "-5e19",
+    "1e39",
+    "NaN",
+    "inf",
+    "-inf",
+    "0",
+    "-1",
+    "0.0",
+    "-0.0",
+    "2000.0",
+    "1e-30",
+    "1e6",
+    "1000001.0",
+    "4294967296",
+    "18446744073709551615",
+    "1e-3",
+];
 
 /// The byte ranges of the numbers in a text.
 fn numbers(text: &str) -> Vec<(usize, usize)> {
@@ -149,7 +186,11 @@ fn forge_body(body: &str, rng: &mut Rng) -> Option<String> {
         }
         2 => {
             // An unknown field, in the line or in its event.
-            let at = if body.contains("\"event\":{") && rng.below(2) == 0 { body.find("\"event\":{").map(|i| i + 9) } else { Some(1) };
+            let at = if body.contains("\"event\":{") && rng.below(2) == 0 {
+                body.find("\"event\":{").map(|i| i + 9)
+            } else {
+                Some(1)
+            };
             let at = at?;
             Some(format!("{}\"bogus\":1,{}", &body[..at], &body[at..]))
         }
@@ -161,7 +202,8 @@ fn forge_body(body: &str, rng: &mut Rng) -> Option<String> {
             Some(format!("{}{}", &body[..s], &body[end..]))
         }
         _ => {
-            let kinds = ["open_menu", "close_menu", "end_task", "button_down", "start_task", "choose_model", "teleport"];
+            let kinds =
+                ["open_menu", "close_menu", "end_task", "button_down", "start_task", "choose_model", "teleport"];
             let i = body.find("\"kind\":\"")? + 8;
             let j = i + body[i..].find('"')?;
             Some(format!("{}{}{}", &body[..i], kinds[rng.below(kinds.len())], &body[j..]))
@@ -197,7 +239,9 @@ fn scene_mutant(base: &str, rng: &mut Rng) -> String {
         }
         6 => {
             let n = [100, 5_000, 10_001, 20_000][rng.below(4)];
-            let holes: String = (0..n).map(|k| format!("(center: ({}.0, {}.0), radius: {}.0),", k % 30 - 15, (k / 30) % 30 - 15, 1 + k % 7)).collect();
+            let holes: String = (0..n)
+                .map(|k| format!("(center: ({}.0, {}.0), radius: {}.0),", k % 30 - 15, (k / 30) % 30 - 15, 1 + k % 7))
+                .collect();
             base.replacen("holes: [", &format!("holes: [{holes}"), 1)
         }
         _ => {
@@ -217,7 +261,9 @@ fn arg(args: &[String], name: &str, default: u64) -> u64 {
 fn peak_rss_mb() -> f64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok()))
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
         .map_or(f64::NAN, |kb| kb / 1024.0)
 }
 
@@ -231,14 +277,18 @@ fn main() {
     let base = root.clone();
 
     let mut files = vec![root.join("tests/fixtures/replay-v2.jsonl")];
-    let mut scen: Vec<PathBuf> = std::fs::read_dir(root.join("replays/scenarios")).map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect()).unwrap_or_default();
+    let mut scen: Vec<PathBuf> = std::fs::read_dir(root.join("replays/scenarios"))
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
     scen.sort();
     files.extend(scen);
     let recordings: Vec<(String, Vec<String>)> = files
         .iter()
         .filter_map(|p| {
             let text = std::fs::read_to_string(p).ok()?;
-            text.lines().next()?.contains("\"format_version\":2").then(|| (p.file_name().unwrap().to_string_lossy().into_owned(), text.lines().map(str::to_string).collect()))
+            text.lines().next()?.contains("\"format_version\":2").then(|| {
+                (p.file_name().unwrap().to_string_lossy().into_owned(), text.lines().map(str::to_string).collect())
+            })
         })
         .collect();
     if recordings.is_empty() {
@@ -252,12 +302,18 @@ fn main() {
     let epoch = Instant::now();
     {
         let (current, started) = (current.clone(), started.clone());
-        std::thread::spawn(move || loop {
-            std::thread::sleep(Duration::from_millis(500));
-            let s = started.load(Ordering::SeqCst);
-            if s > 0 && epoch.elapsed().as_millis() as u64 > s + ABORT_AFTER.as_millis() as u64 {
-                eprintln!("error: mutant {} has run for more than {} s: a hang", current.lock().unwrap(), ABORT_AFTER.as_secs());
-                std::process::abort();
+        std::thread::spawn(move || {
+            loop {
+                std::thread::sleep(Duration::from_millis(500));
+                let s = started.load(Ordering::SeqCst);
+                if s > 0 && epoch.elapsed().as_millis() as u64 > s + ABORT_AFTER.as_millis() as u64 {
+                    eprintln!(
+                        "error: mutant {} has run for more than {} s: a hang",
+                        current.lock().unwrap(),
+                        ABORT_AFTER.as_secs()
+                    );
+                    std::process::abort();
+                }
             }
         });
     }
@@ -266,23 +322,24 @@ fn main() {
 
     let mut tally = Tally::default();
     let mut slowest = (Duration::ZERO, String::new());
-    let mut record = |tally: &mut Tally, family: &str, name: String, outcome: Outcome, took: Duration, must_detect: bool| {
-        tally.add(&format!("replay {family} total"));
-        tally.add(&format!("replay {family} {outcome:?}"));
-        if took > slowest.0 {
-            slowest = (took, name.clone());
-        }
-        if outcome == Outcome::Panicked {
-            tally.failures.push(format!("{name}: panicked"));
-        }
-        if took > HANG {
-            tally.failures.push(format!("{name}: took {:.1} s", took.as_secs_f64()));
-        }
-        if must_detect && !matches!(outcome, Outcome::Refused | Outcome::Incomplete) {
-            tally.add(&format!("replay {family} UNDETECTED"));
-            tally.failures.push(format!("{name}: undetected ({outcome:?})"));
-        }
-    };
+    let mut record =
+        |tally: &mut Tally, family: &str, name: String, outcome: Outcome, took: Duration, must_detect: bool| {
+            tally.add(&format!("replay {family} total"));
+            tally.add(&format!("replay {family} {outcome:?}"));
+            if took > slowest.0 {
+                slowest = (took, name.clone());
+            }
+            if outcome == Outcome::Panicked {
+                tally.failures.push(format!("{name}: panicked"));
+            }
+            if took > HANG {
+                tally.failures.push(format!("{name}: took {:.1} s", took.as_secs_f64()));
+            }
+            if must_detect && !matches!(outcome, Outcome::Refused | Outcome::Incomplete) {
+                tally.add(&format!("replay {family} UNDETECTED"));
+                tally.failures.push(format!("{name}: undetected ({outcome:?})"));
+            }
+        };
     let join = |lines: &[String]| lines.join("\n") + "\n";
     let mut replays = 0usize;
 
@@ -400,7 +457,13 @@ fn main() {
         }
     }
 
-    println!("mutation run: {} replay mutants of {} version-2 recordings, {} scene mutants, {:.1} s", replays, recordings.len(), scene_target, epoch.elapsed().as_secs_f64());
+    println!(
+        "mutation run: {} replay mutants of {} version-2 recordings, {} scene mutants, {:.1} s",
+        replays,
+        recordings.len(),
+        scene_target,
+        epoch.elapsed().as_secs_f64()
+    );
     for (k, v) in &tally.counts {
         println!("  {k:<32} {v}");
     }

@@ -12,7 +12,7 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
-use grove_systems::replay::{replay_reader, ReplayOptions};
+use grove_systems::replay::{ReplayOptions, replay_reader};
 use grove_systems::task::ticks_to_seconds;
 
 fn main() -> ExitCode {

@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use grove_systems::files::{self, Kind};
 use grove_systems::replay::codec::{chained_sum, decode_line_parts, split_sum};
-use grove_systems::replay::{replay_reader, Line, ReplayOptions};
+use grove_systems::replay::{Line, ReplayOptions, replay_reader};
 
 #[derive(Default, Clone, Copy)]
 struct Split {
@@ -71,7 +71,8 @@ fn one(path: &Path) -> Result<Split, String> {
     let checkpoints = decoded.map_err(|e| format!("{}: {e}", path.display()))?;
     // The whole replay from memory: parsing, stepping and checkpoint hashes.
     let base = path.parent();
-    let (outcome, replay) = time(|| replay_reader(&bytes[..], &path.display().to_string(), base, &ReplayOptions::default()));
+    let (outcome, replay) =
+        time(|| replay_reader(&bytes[..], &path.display().to_string(), base, &ReplayOptions::default()));
     let outcome = outcome.map_err(|e| e.to_string())?;
     if outcome.first_divergence.is_some() {
         return Err(format!("{}: diverged", path.display()));
@@ -108,7 +109,9 @@ fn main() -> ExitCode {
         }
     };
     let mut paths: Vec<PathBuf> = match std::fs::read_dir(&dir) {
-        Ok(d) => d.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|x| x == "jsonl")).collect(),
+        Ok(d) => {
+            d.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|x| x == "jsonl")).collect()
+        }
         Err(e) => {
             eprintln!("replay_split: {}: {e}", dir.display());
             return ExitCode::from(2);

@@ -15,8 +15,8 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use grove_systems::scenario::run::{run, RunOptions};
 use grove_systems::scenario::Loaded;
+use grove_systems::scenario::run::{RunOptions, run};
 
 fn scenarios(args: &[String]) -> Result<Vec<PathBuf>, String> {
     if !args.is_empty() {
@@ -69,12 +69,18 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
         let path = Path::new(out).join(format!("{}.jsonl", loaded.name));
-        let written = outcome.recording().map_err(|e| e.to_string()).and_then(|bytes| std::fs::write(&path, bytes).map_err(|e| e.to_string()));
+        let written = outcome
+            .recording()
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| std::fs::write(&path, bytes).map_err(|e| e.to_string()));
         if let Err(e) = written {
             eprintln!("scenario_recording: {}: {e}", path.display());
             return ExitCode::from(2);
         }
-        println!("{}", serde_json::json!({ "scenario": file.display().to_string(), "recording": path.display().to_string(), "hashes": outcome.hashes }));
+        println!(
+            "{}",
+            serde_json::json!({ "scenario": file.display().to_string(), "recording": path.display().to_string(), "hashes": outcome.hashes })
+        );
     }
     ExitCode::SUCCESS
 }

@@ -13,9 +13,9 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use grove_systems::Sim;
 use grove_systems::hash::hex;
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
 
 fn main() -> ExitCode {
     let mut args = std::env::args().skip(1);
@@ -28,7 +28,9 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let built = Scene::load(&scene).map_err(|e| e.to_string()).and_then(|s| Sim::from_scene(&s, s.seed).map_err(|e| e.to_string()));
+    let built = Scene::load(&scene)
+        .map_err(|e| e.to_string())
+        .and_then(|s| Sim::from_scene(&s, s.seed).map_err(|e| e.to_string()));
     let mut sim = match built {
         Ok(sim) => sim,
         Err(e) => {
@@ -39,6 +41,11 @@ fn main() -> ExitCode {
     // As `grove sim` does (no extra trees; it also builds the spatial index first).
     sim.scatter_trees(0);
     sim.run(ticks);
-    println!("{{\"scene\": \"{}\", \"ticks\": {}, \"hash\": \"{}\"}}", scene.display(), sim.tick(), hex(sim.hash().total));
+    println!(
+        "{{\"scene\": \"{}\", \"ticks\": {}, \"hash\": \"{}\"}}",
+        scene.display(),
+        sim.tick(),
+        hex(sim.hash().total)
+    );
     ExitCode::SUCCESS
 }

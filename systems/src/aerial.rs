@@ -115,7 +115,12 @@ impl AerialDef {
     }
 
     fn validate_message(&self) -> Result<(), String> {
-        for (name, path) in [("summer", Some(&self.summer)), ("winter", Some(&self.winter)), ("layers", self.layers.as_ref()), ("crowns", self.crowns.as_ref())] {
+        for (name, path) in [
+            ("summer", Some(&self.summer)),
+            ("winter", Some(&self.winter)),
+            ("layers", self.layers.as_ref()),
+            ("crowns", self.crowns.as_ref()),
+        ] {
             if let Some(p) = path {
                 if p.is_empty() || p.len() > 512 || Path::new(p).is_absolute() {
                     return Err(format!("aerial: {name} must be a relative path of at most 512 bytes"));
@@ -172,7 +177,6 @@ fn read_crowns_message(path: &Path) -> Result<Vec<CrownDef>, String> {
     parse_crowns(&text).map_err(|e| format!("{name}: {e}"))
 }
 
-
 /// Parses the text of a crowns file (see [`read_crowns`]).
 pub fn parse_crowns(text: &str) -> Result<Vec<CrownDef>, crate::limits::InvalidScene> {
     parse_crowns_message(text).map_err(crate::limits::InvalidScene)
@@ -180,7 +184,8 @@ pub fn parse_crowns(text: &str) -> Result<Vec<CrownDef>, crate::limits::InvalidS
 
 fn parse_crowns_message(text: &str) -> Result<Vec<CrownDef>, String> {
     let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().ok_or("empty; a crowns file starts with a header row")?.split(',').map(str::trim).collect();
+    let header: Vec<&str> =
+        lines.next().ok_or("empty; a crowns file starts with a header row")?.split(',').map(str::trim).collect();
     let col = |n: &str| header.iter().position(|h| *h == n).ok_or(format!("the header has no '{n}' column"));
     let (ci, cx, cy, cr) = (col("id")?, col("x_m")?, col("y_m")?, col("radius_m")?);
     let mut out = Vec::new();
@@ -191,7 +196,11 @@ fn parse_crowns_message(text: &str) -> Result<Vec<CrownDef>, String> {
         }
         let cells: Vec<&str> = line.split(',').map(str::trim).collect();
         let num = |c: usize| -> Result<f64, String> {
-            let v: f64 = cells.get(c).ok_or(format!("row {row}: too few columns"))?.parse().map_err(|_| format!("row {row}: not a number"))?;
+            let v: f64 = cells
+                .get(c)
+                .ok_or(format!("row {row}: too few columns"))?
+                .parse()
+                .map_err(|_| format!("row {row}: not a number"))?;
             if !v.is_finite() || v < 0.0 || v > f64::from(MAX_COORD) {
                 return Err(format!("row {row}: a negative, NaN, infinite or too large number"));
             }
@@ -231,12 +240,25 @@ mod tests {
     fn crowns_are_read_by_column_name() {
         let text = "id,x_px,y_px,area_px,radius_px,x_m,y_m,area_m2,radius_m\n1,4,8,50,4,1.0,2.0,3.1,1.5\n2,5,9,60,4,10.5,20.25,3.1,2\n";
         let c = parse_crowns(text).unwrap();
-        assert_eq!(c, vec![CrownDef { id: 1, x_m: 1.0, y_m: 2.0, radius_m: 1.5 }, CrownDef { id: 2, x_m: 10.5, y_m: 20.25, radius_m: 2.0 }]);
+        assert_eq!(
+            c,
+            vec![
+                CrownDef { id: 1, x_m: 1.0, y_m: 2.0, radius_m: 1.5 },
+                CrownDef { id: 2, x_m: 10.5, y_m: 20.25, radius_m: 2.0 }
+            ]
+        );
     }
 
     #[test]
     fn bad_crowns_are_one_line_errors() {
-        for bad in ["", "id,x_m,y_m\n1,2,3", "id,x_m,y_m,radius_m\n1,2,x,3", "id,x_m,y_m,radius_m\n1,2,-3,1", "id,x_m,y_m,radius_m\n1.5,2,3,1", "id,x_m,y_m,radius_m\n1,2"] {
+        for bad in [
+            "",
+            "id,x_m,y_m\n1,2,3",
+            "id,x_m,y_m,radius_m\n1,2,x,3",
+            "id,x_m,y_m,radius_m\n1,2,-3,1",
+            "id,x_m,y_m,radius_m\n1.5,2,3,1",
+            "id,x_m,y_m,radius_m\n1,2",
+        ] {
             let e = parse_crowns(bad).unwrap_err().to_string();
             assert!(!e.contains('\n'), "{e}");
         }

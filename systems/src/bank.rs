@@ -139,7 +139,9 @@ pub fn is_inside(rel: &str) -> bool {
 /// Whether a name is usable as a model name: 1 to 64 ASCII letters, digits, '-', '_' or '.',
 /// not starting with '.'.
 pub fn valid_name(name: &str) -> bool {
-    (1..=64).contains(&name.len()) && !name.starts_with('.') && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_' || b == b'.')
+    (1..=64).contains(&name.len())
+        && !name.starts_with('.')
+        && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_' || b == b'.')
 }
 
 /// The content hash of a model's files: XXH3-64 over each file's relative path, length and
@@ -256,17 +258,27 @@ impl BankCatalogue {
                 return Err(format!("catalogue: model '{}' has a thumbnail outside the bank", m.name));
             }
             let finite = m.bounds_min.is_finite() && m.bounds_max.is_finite() && m.crown_radius.is_finite();
-            if !finite || m.bounds_min.cmpgt(m.bounds_max).any() || m.bounds_min.abs().max_element().max(m.bounds_max.abs().max_element()) > crate::limits::MAX_COORD {
+            if !finite
+                || m.bounds_min.cmpgt(m.bounds_max).any()
+                || m.bounds_min.abs().max_element().max(m.bounds_max.abs().max_element()) > crate::limits::MAX_COORD
+            {
                 return Err(format!("catalogue: model '{}' has invalid bounds", m.name));
             }
             if let Some(far) = &m.far {
                 let ok = far != &m.name && cat.models.iter().any(|o| &o.name == far && o.far.is_none());
                 if !ok {
-                    return Err(format!("catalogue: model '{}' names far model '{far}', which is not another model of this bank without a far model of its own", m.name));
+                    return Err(format!(
+                        "catalogue: model '{}' names far model '{far}', which is not another model of this bank without a far model of its own",
+                        m.name
+                    ));
                 }
             }
             let p = &m.pick;
-            if !(p.bottom.is_finite() && p.top.is_finite() && p.bottom < p.top && p.radii.iter().all(|r| r.is_finite() && *r >= 0.0)) {
+            if !(p.bottom.is_finite()
+                && p.top.is_finite()
+                && p.bottom < p.top
+                && p.radii.iter().all(|r| r.is_finite() && *r >= 0.0))
+            {
                 return Err(format!("catalogue: model '{}' has an invalid pick shape", m.name));
             }
         }
@@ -276,7 +288,9 @@ impl BankCatalogue {
     /// The catalogue as RON text, with a comment line on top.
     pub fn to_ron(&self) -> String {
         let body = ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default()).unwrap_or_default();
-        format!("// A grove model bank, written by `grove models add` (docs/model-bank.md).\n// Model space: metres, +Y up, origin at the base of the trunk.\n{body}\n")
+        format!(
+            "// A grove model bank, written by `grove models add` (docs/model-bank.md).\n// Model space: metres, +Y up, origin at the base of the trunk.\n{body}\n"
+        )
     }
 }
 
@@ -326,7 +340,12 @@ impl Banks {
                 }
                 match out.iter().find(|(_, o)| o.name == m.name) {
                     Some((ob, o)) if o.hash != m.hash => {
-                        return Err(format!("model '{}' is in two banks with different files: {} and {}", m.name, ob.dir.display(), b.dir.display()));
+                        return Err(format!(
+                            "model '{}' is in two banks with different files: {} and {}",
+                            m.name,
+                            ob.dir.display(),
+                            b.dir.display()
+                        ));
                     }
                     Some(_) => {}
                     None => out.push((b, m)),
@@ -378,8 +397,15 @@ impl Banks {
             }
             let Some((bank, m)) = self.find(&h.name) else {
                 let dirs: Vec<String> = self.banks.iter().map(|b| b.dir.display().to_string()).collect();
-                let searched = if dirs.is_empty() { "no bank was given".to_string() } else { format!("searched {}", dirs.join(", ")) };
-                return Err(format!("the recording uses model '{}', which is in no bank ({searched}); pass --bank DIR or set {BANK_ENV}", h.name));
+                let searched = if dirs.is_empty() {
+                    "no bank was given".to_string()
+                } else {
+                    format!("searched {}", dirs.join(", "))
+                };
+                return Err(format!(
+                    "the recording uses model '{}', which is in no bank ({searched}); pass --bank DIR or set {BANK_ENV}",
+                    h.name
+                ));
             };
             let now = bank.current_hash(m)?;
             if now != h.hash || m.hash != h.hash {
@@ -414,14 +440,20 @@ mod tests {
     fn a_far_model_is_another_model_of_the_bank_without_one_of_its_own() {
         let entry = |name: &str, far: Option<&str>| {
             let far = far.map_or(String::new(), |f| format!("far: Some(\"{f}\"),"));
-            format!("(name: \"{name}\", species: \"s\", kind: Mesh, file: \"{name}/m.glb\", files: [\"{name}/m.glb\"], hash: \"0123456789abcdef\", bounds_min: (-1.0, 0.0, -1.0), bounds_max: (1.0, 2.0, 1.0), crown_radius: 1.0, triangles: 10, pick: (bottom: 0.0, top: 2.0, radii: (1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0)), wind: Own, {far})")
+            format!(
+                "(name: \"{name}\", species: \"s\", kind: Mesh, file: \"{name}/m.glb\", files: [\"{name}/m.glb\"], hash: \"0123456789abcdef\", bounds_min: (-1.0, 0.0, -1.0), bounds_max: (1.0, 2.0, 1.0), crown_radius: 1.0, triangles: 10, pick: (bottom: 0.0, top: 2.0, radii: (1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0)), wind: Own, {far})"
+            )
         };
         let cat = |entries: &[String]| BankCatalogue::from_ron(&format!("(models: [{}])", entries.join(",")));
         let ok = cat(&[entry("far", None), entry("near", Some("far"))]).unwrap();
         assert_eq!(ok.models[1].far.as_deref(), Some("far"));
         // A catalogue without far models is written as before: no `far` field.
         assert!(!cat(&[entry("a", None)]).unwrap().to_ron().contains("far"));
-        for bad in [vec![entry("near", Some("gone"))], vec![entry("near", Some("near"))], vec![entry("a", Some("b")), entry("b", Some("c")), entry("c", None)]] {
+        for bad in [
+            vec![entry("near", Some("gone"))],
+            vec![entry("near", Some("near"))],
+            vec![entry("a", Some("b")), entry("b", Some("c")), entry("c", None)],
+        ] {
             let e = cat(&bad).unwrap_err().to_string();
             assert!(e.contains("names far model"), "{e}");
         }

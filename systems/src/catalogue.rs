@@ -179,7 +179,10 @@ impl Catalogue {
                 return Err(CatalogueError::Invalid(format!("model {} has invalid bounds", m.name)));
             }
             if let Some(p) = &m.pick {
-                let valid = p.bottom.is_finite() && p.top.is_finite() && p.bottom < p.top && p.radii.iter().all(|r| r.is_finite() && *r >= 0.0);
+                let valid = p.bottom.is_finite()
+                    && p.top.is_finite()
+                    && p.bottom < p.top
+                    && p.radii.iter().all(|r| r.is_finite() && *r >= 0.0);
                 if !valid {
                     return Err(CatalogueError::Invalid(format!("model {} has an invalid pick shape", m.name)));
                 }
@@ -268,7 +271,10 @@ mod tests {
         assert_eq!(cat.resolve(&ModelRef::Name("birch-mesh".into())), Ok(ModelId(2)));
         assert_eq!(cat.resolve(&ModelRef::Id(ModelId(7))), Ok(ModelId(7)));
         let e = cat.resolve(&ModelRef::Name("flower".into())).unwrap_err().to_string();
-        assert!(e.contains("unknown model 'flower'") && e.contains("broadleaf-mesh") && e.contains("shrub-billboard"), "{e}");
+        assert!(
+            e.contains("unknown model 'flower'") && e.contains("broadleaf-mesh") && e.contains("shrub-billboard"),
+            "{e}"
+        );
         assert!(cat.resolve(&ModelRef::Id(ModelId(8))).is_err());
         // JSON: a number is an index, a string a name.
         assert_eq!(serde_json::from_str::<ModelRef>("3").unwrap(), ModelRef::Id(ModelId(3)));

@@ -2,26 +2,26 @@
 //! [`Error`] with `?`, its one-line message unchanged, for a caller that wants a single type
 //! (the specific types stay for callers that match on what went wrong).
 
-use crate::catalogue::{CatalogueError, UnknownModel};
-use crate::resources::ConfigError;
-use crate::files::FileError;
-use crate::scene::{SceneError, TimeError};
-use crate::limits::InvalidScene;
-use crate::sim::SimError;
-use crate::setup::SetUpError;
-use crate::input::InvalidEvent;
-use crate::systems::sun::SunError;
-use crate::targets::TargetError;
-use crate::technique::TechniqueError;
-use crate::task::TaskError;
-use crate::expect::InvalidExpect;
 use crate::bank::BankError;
+use crate::catalogue::{CatalogueError, UnknownModel};
+use crate::expect::InvalidExpect;
+use crate::files::FileError;
+use crate::input::InvalidEvent;
+use crate::limits::InvalidScene;
 use crate::replay::codec::LineFormatError;
 use crate::replay::names::NameError;
+use crate::replay::reader::ReplayError;
 use crate::replay::scene_ref::SceneRefError;
 use crate::replay::{HeaderError, RecordError};
-use crate::replay::reader::ReplayError;
+use crate::resources::ConfigError;
 use crate::scenario::{CheckError, DraftError, HashCountError, RunError, ScenarioError, StepError, UnknownTechnique};
+use crate::scene::{SceneError, TimeError};
+use crate::setup::SetUpError;
+use crate::sim::SimError;
+use crate::systems::sun::SunError;
+use crate::targets::TargetError;
+use crate::task::TaskError;
+use crate::technique::TechniqueError;
 
 /// Any error of grove-systems.
 #[derive(Debug, thiserror::Error)]

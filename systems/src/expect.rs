@@ -12,7 +12,7 @@ use crate::components::{Transform, Tree};
 use crate::events::Happening;
 use crate::hash::hex;
 use crate::sim::Sim;
-use crate::targets::{ground_distance, Names, TreeRef};
+use crate::targets::{Names, TreeRef, ground_distance};
 
 crate::message_error::message_error! {
     /// Why an expectation's names or numbers are refused ([`Expect::validate`]): one line.
@@ -134,7 +134,10 @@ impl Expect {
             Expect::TreeNear { model: m, point, within } => {
                 model(m)?;
                 if !point.is_finite() || point.abs().max_element() > crate::limits::MAX_COORD {
-                    return Err(format!("TreeNear point {point} is not a finite point within {} m", crate::limits::MAX_COORD));
+                    return Err(format!(
+                        "TreeNear point {point} is not a finite point within {} m",
+                        crate::limits::MAX_COORD
+                    ));
                 }
                 if !(within.is_finite() && *within >= 0.0) {
                     return Err(format!("TreeNear within {within} must be a finite, non-negative distance"));
@@ -145,19 +148,23 @@ impl Expect {
             Expect::TaskCompleted { within_s } if !(within_s.is_finite() && *within_s >= 0.0) => {
                 Err(format!("TaskCompleted within_s {within_s} must be a finite, non-negative number of seconds"))
             }
-            Expect::Logged { kind, .. } | Expect::LoggedAtLeast { kind, .. } if !Happening::KINDS.contains(&kind.as_str()) => {
+            Expect::Logged { kind, .. } | Expect::LoggedAtLeast { kind, .. }
+                if !Happening::KINDS.contains(&kind.as_str()) =>
+            {
                 Err(format!("unknown log kind \"{kind}\"; known: {}", Happening::KINDS.join(", ")))
             }
-            Expect::Hash(h) if !(h.is_empty() || (h.len() == 16 && h.bytes().all(|b| b.is_ascii_hexdigit()))) => {
-                Err(format!("Hash(\"{h}\") is not 16 hex digits (write Hash(\"\") and run grove test --update to pin it)"))
-            }
+            Expect::Hash(h) if !(h.is_empty() || (h.len() == 16 && h.bytes().all(|b| b.is_ascii_hexdigit()))) => Err(
+                format!("Hash(\"{h}\") is not 16 hex digits (write Hash(\"\") and run grove test --update to pin it)"),
+            ),
             _ => Ok(()),
         }
     }
 
     /// Evaluates the expectation now.
     pub fn check(&self, sim: &Sim, names: &Names) -> Result<(), Mismatch> {
-        let fail = |what: &str, expected: String, actual: String| -> Result<(), Mismatch> { Err(Mismatch { what: what.to_string(), expected, actual }) };
+        let fail = |what: &str, expected: String, actual: String| -> Result<(), Mismatch> {
+            Err(Mismatch { what: what.to_string(), expected, actual })
+        };
         match self {
             Expect::TreeNear { model, point, within } => {
                 let id = sim.res.catalogue.by_name(model).map(|m| m.id);
@@ -171,17 +178,17 @@ impl Expect {
                 let expected = format!("a {model} tree within {within} m of {}", p3(*point));
                 match nearest {
                     Some((d, _)) if d <= *within => Ok(()),
-                    Some((d, at)) => fail("tree near a point", expected, format!("the nearest {model} tree stands {d:.2} m away, at {}", p3(at))),
+                    Some((d, at)) => fail(
+                        "tree near a point",
+                        expected,
+                        format!("the nearest {model} tree stands {d:.2} m away, at {}", p3(at)),
+                    ),
                     None => fail("tree near a point", expected, format!("no {model} tree")),
                 }
             }
             Expect::TreeCount(n) => {
                 let count = sim.world.query::<&Tree>().iter().count();
-                if count == *n {
-                    Ok(())
-                } else {
-                    fail("the number of trees", n.to_string(), count.to_string())
-                }
+                if count == *n { Ok(()) } else { fail("the number of trees", n.to_string(), count.to_string()) }
             }
             Expect::AnchorBall(want) => {
                 let b = sim.anchor_ball();
@@ -193,13 +200,21 @@ impl Expect {
                 if got == *want {
                     Ok(())
                 } else {
-                    let actual = if b.visible { format!("{} ({:.3} m above the ground)", got.word(), b.distance) } else { got.word().to_string() };
+                    let actual = if b.visible {
+                        format!("{} ({:.3} m above the ground)", got.word(), b.distance)
+                    } else {
+                        got.word().to_string()
+                    };
                     fail("the anchor ball", want.word().to_string(), actual)
                 }
             }
             Expect::Selected(want) => {
                 let sel = sim.selection().tree;
-                let model_of = |id: u64| sim.tree(id).and_then(|t| sim.res.catalogue.get(t.tree.model)).map_or_else(|| "?".to_string(), |m| m.name.clone());
+                let model_of = |id: u64| {
+                    sim.tree(id)
+                        .and_then(|t| sim.res.catalogue.get(t.tree.model))
+                        .map_or_else(|| "?".to_string(), |m| m.name.clone())
+                };
                 let actual = sel.map_or_else(|| "nothing".to_string(), |id| format!("a {} tree", model_of(id)));
                 let (ok, expected) = match want {
                     Selected::Nothing => (sel.is_none(), "nothing".to_string()),
@@ -209,18 +224,22 @@ impl Expect {
                         Err(e) => return fail("the selection", format!("the tree {}", r.text()), e.to_string()),
                     },
                 };
-                if ok {
-                    Ok(())
-                } else {
-                    fail("the selection", expected, actual)
-                }
+                if ok { Ok(()) } else { fail("the selection", expected, actual) }
             }
             Expect::TaskCompleted { within_s } => {
                 let expected = format!("the task completed within {within_s} s");
                 let Some(task) = &sim.res.task else { return fail("the task", expected, "no task was started".into()) };
                 let done = task.satisfied.iter().filter(|s| s.is_some()).count();
                 match task.completed_tick {
-                    None => fail("the task", expected, format!("{} not completed ({done} of {} targets satisfied)", task.def.id, task.def.targets.len())),
+                    None => fail(
+                        "the task",
+                        expected,
+                        format!(
+                            "{} not completed ({done} of {} targets satisfied)",
+                            task.def.id,
+                            task.def.targets.len()
+                        ),
+                    ),
                     Some(t) => {
                         let secs = crate::task::ticks_to_seconds(t - task.started_tick, sim.res.dt);
                         if secs <= *within_s as f64 {
@@ -237,13 +256,27 @@ impl Expect {
                 match n.checked_sub(1).and_then(|i| task.satisfied.get(i)) {
                     Some(Some(_)) => Ok(()),
                     Some(None) => fail("the task", expected, format!("target {n} of {} not satisfied", task.def.id)),
-                    None => fail("the task", expected, format!("{} has {} targets (counting from 1)", task.def.id, task.satisfied.len())),
+                    None => fail(
+                        "the task",
+                        expected,
+                        format!("{} has {} targets (counting from 1)", task.def.id, task.satisfied.len()),
+                    ),
                 }
             }
             Expect::NoErrors => match &sim.res.task {
                 Some(task) if task.errors.total() > 0 => {
                     let e = task.errors;
-                    fail("errors", "none".into(), format!("{} ({} removals, {} off target, {} released green)", e.total(), e.removals, e.off_target, e.released_green))
+                    fail(
+                        "errors",
+                        "none".into(),
+                        format!(
+                            "{} ({} removals, {} off target, {} released green)",
+                            e.total(),
+                            e.removals,
+                            e.off_target,
+                            e.released_green
+                        ),
+                    )
                 }
                 Some(_) => Ok(()),
                 None => {
@@ -251,7 +284,11 @@ impl Expect {
                     if green + refused == 0 {
                         Ok(())
                     } else {
-                        fail("errors", "none".into(), format!("{green} drags released green, {refused} plantings refused"))
+                        fail(
+                            "errors",
+                            "none".into(),
+                            format!("{green} drags released green, {refused} plantings refused"),
+                        )
                     }
                 }
             },

@@ -128,7 +128,9 @@ pub enum FileError {
         what: &'static str,
     },
     /// A path that leads out of the folder it must stay in.
-    #[error("{path}: lies outside {folder} (through '..', an absolute path or a symbolic link); only files inside it are read")]
+    #[error(
+        "{path}: lies outside {folder} (through '..', an absolute path or a symbolic link); only files inside it are read"
+    )]
     Outside {
         /// The path as given.
         path: String,
@@ -221,7 +223,8 @@ pub fn open(path: &Path, kind: Kind) -> Result<(File, u64), FileError> {
         use std::os::unix::fs::OpenOptionsExt;
         // O_NONBLOCK: a pipe swapped in after the check opens at once instead of waiting for a
         // writer; the check on the handle below then refuses it. Regular files ignore the flag.
-        const O_NONBLOCK: i32 = if cfg!(any(target_os = "macos", target_os = "ios", target_os = "freebsd")) { 0x4 } else { 0o4000 };
+        const O_NONBLOCK: i32 =
+            if cfg!(any(target_os = "macos", target_os = "ios", target_os = "freebsd")) { 0x4 } else { 0o4000 };
         options.custom_flags(O_NONBLOCK);
     }
     let file = options.open(path).map_err(|e| io_error(path, &e))?;

@@ -142,7 +142,10 @@ impl GrassDef {
             return Err(format!("density {} must be positive (blades or strands per square metre)", self.density));
         }
         if !(self.height.0 > 0.0 && self.height.0 <= self.height.1 && self.height.1 <= MAX_HEIGHT) {
-            return Err(format!("height ({}, {}) must be (min, max) with 0 < min <= max <= {MAX_HEIGHT} m", self.height.0, self.height.1));
+            return Err(format!(
+                "height ({}, {}) must be (min, max) with 0 < min <= max <= {MAX_HEIGHT} m",
+                self.height.0, self.height.1
+            ));
         }
         if colours.iter().any(|c| !(0.0..=1.0).contains(c)) {
             return Err("base_color and tip_color must be linear RGB with every channel in 0..=1".into());
@@ -151,7 +154,10 @@ impl GrassDef {
             return Err(format!("shells {} must be between 1 and {MAX_SHELLS} layers", self.shells));
         }
         if !self.polygon.is_empty() && self.polygon.len() < 3 {
-            return Err(format!("polygon has {} points; it needs at least 3 (or none for the whole planes)", self.polygon.len()));
+            return Err(format!(
+                "polygon has {} points; it needs at least 3 (or none for the whole planes)",
+                self.polygon.len()
+            ));
         }
         if self.polygon.len() > limits::MAX_GRASS_POLYGON {
             return Err(format!("polygon has more than {} points ({RAISE})", limits::MAX_GRASS_POLYGON));
@@ -168,7 +174,8 @@ impl GrassDef {
         if area <= 0.0 {
             return Err("lies off every plane it covers (its polygon overlaps none of them)".into());
         }
-        if self.kind == GrassKind::Blades && f64::from(area) * f64::from(self.density) > limits::MAX_GRASS_BLADES as f64 {
+        if self.kind == GrassKind::Blades && f64::from(area) * f64::from(self.density) > limits::MAX_GRASS_BLADES as f64
+        {
             return Err(format!(
                 "density {} over about {area:.0} m² would place more than the limit of {} blades per scene ({RAISE})",
                 self.density,
@@ -219,7 +226,11 @@ pub fn validate_all(grass: &[GrassDef], planes: &[PlaneOutline<'_>]) -> Result<(
 
 fn validate_all_message(grass: &[GrassDef], planes: &[PlaneOutline<'_>]) -> Result<(), String> {
     if grass.len() > limits::MAX_GRASS_PATCHES {
-        return Err(format!("{} grass patches is more than the limit of {} per scene ({RAISE})", grass.len(), limits::MAX_GRASS_PATCHES));
+        return Err(format!(
+            "{} grass patches is more than the limit of {} per scene ({RAISE})",
+            grass.len(),
+            limits::MAX_GRASS_PATCHES
+        ));
     }
     let mut blades = 0.0f64;
     for (i, g) in grass.iter().enumerate() {
@@ -229,7 +240,10 @@ fn validate_all_message(grass: &[GrassDef], planes: &[PlaneOutline<'_>]) -> Resu
         }
     }
     if blades > limits::MAX_GRASS_BLADES as f64 {
-        return Err(format!("the grass patches together would place more than the limit of {} blades per scene ({RAISE})", limits::MAX_GRASS_BLADES));
+        return Err(format!(
+            "the grass patches together would place more than the limit of {} blades per scene ({RAISE})",
+            limits::MAX_GRASS_BLADES
+        ));
     }
     Ok(())
 }
@@ -253,7 +267,8 @@ impl Grass {
     /// Whether a point (x, z) lies in the patch's polygon (always, without one) and outside
     /// every hole.
     pub fn contains(&self, p: Vec2) -> bool {
-        (self.def.polygon.is_empty() || inside(&self.def.polygon, p)) && !self.holes.iter().any(|h| p.distance(h.center) < h.radius)
+        (self.def.polygon.is_empty() || inside(&self.def.polygon, p))
+            && !self.holes.iter().any(|h| p.distance(h.center) < h.radius)
     }
 }
 
@@ -266,7 +281,9 @@ pub fn patch_triangles(grass: &Grass, planes: &[(&str, &[Vec3], &[[u32; 3]])]) -
             continue;
         }
         for t in triangles.iter() {
-            let Some(tri) = t.iter().map(|&i| vertices.get(i as usize).copied()).collect::<Option<Vec<Vec3>>>() else { continue };
+            let Some(tri) = t.iter().map(|&i| vertices.get(i as usize).copied()).collect::<Option<Vec<Vec3>>>() else {
+                continue;
+            };
             let c = (tri[0] + tri[1] + tri[2]) / 3.0;
             if grass.contains(Vec2::new(c.x, c.z)) {
                 out.push([tri[0], tri[1], tri[2]]);

@@ -9,11 +9,11 @@
 use hecs::{Entity, World};
 use serde::Serialize;
 
-use crate::components::*;
+use crate::aerial::AerialCrown;
 pub use crate::components::plane_hash;
+use crate::components::*;
 use crate::resource_hash::ResourceBytes;
 use crate::resources::Resources;
-use crate::aerial::AerialCrown;
 use crate::water::Water;
 
 /// The world hash's table, declared once: every hashed component type in hashing order, each
@@ -150,7 +150,8 @@ impl Acc<'_> {
     /// A technique's component ([`crate::known_techniques::HashedComponent`]): each entity's postcard
     /// bytes hashed as the built-in components' are; nothing when no entity has it.
     fn technique_component(&mut self, world: &World, c: &crate::known_techniques::HashedComponent) {
-        let mut rows: Vec<(u64, u64)> = (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
+        let mut rows: Vec<(u64, u64)> =
+            (c.rows)(world).into_iter().map(|(e, bytes)| (e, xxhash_rust::xxh3::xxh3_64(&bytes))).collect();
         self.rows(c.name, &mut rows, true);
     }
 
@@ -211,7 +212,23 @@ macro_rules! serde_hashed {
         })*
     };
 }
-serde_hashed!(Transform, Scale, Tree, Grounded, WindState, Sun, Wind, Controller, Head, HitMarker, AnchorBall, Selection, Water, Grass, AerialCrown);
+serde_hashed!(
+    Transform,
+    Scale,
+    Tree,
+    Grounded,
+    WindState,
+    Sun,
+    Wind,
+    Controller,
+    Head,
+    HitMarker,
+    AnchorBall,
+    Selection,
+    Water,
+    Grass,
+    AerialCrown
+);
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than
 /// through serde (the same bits, much faster), and only once: a plane never changes after the

@@ -54,7 +54,9 @@ pub fn hole_mask(grid: &GridFrame, holes: &[Hole], centre: &dyn Fn(u32, u32, boo
     let rows = nx >= nz;
     let (n_along, n_across) = if rows { (nx, nz) } else { (nz, nx) };
     // The exact centre of the triangle at position `m` along line `(n, upper)`.
-    let at = |n: usize, upper: bool, m: usize| if rows { centre(m as u32, n as u32, upper) } else { centre(n as u32, m as u32, upper) };
+    let at = |n: usize, upper: bool, m: usize| {
+        if rows { centre(m as u32, n as u32, upper) } else { centre(n as u32, m as u32, upper) }
+    };
     let along = |p: Vec2| if rows { p.x } else { p.y };
     let across = |p: Vec2| if rows { p.y } else { p.x };
     let (min_along, min_across) = if rows { (grid.min.x, grid.min.y) } else { (grid.min.y, grid.min.x) };
@@ -145,7 +147,14 @@ pub fn hole_mask(grid: &GridFrame, holes: &[Hole], centre: &dyn Fn(u32, u32, boo
 /// (`height`). A kept triangle that this leaves with less than a hundredth of a cell's area, or
 /// turned over (a sliver between the circle and its chord), is left out too, and the rims it
 /// uncovers are moved in turn. Returns the kept triangles.
-pub fn cut_rims(vertices: &mut [Vec3], mut kept: Vec<[u32; 3]>, all: &[[u32; 3]], holes: &[Hole], cell: f32, height: &dyn Fn(Vec2) -> f32) -> Vec<[u32; 3]> {
+pub fn cut_rims(
+    vertices: &mut [Vec3],
+    mut kept: Vec<[u32; 3]>,
+    all: &[[u32; 3]],
+    holes: &[Hole],
+    cell: f32,
+    height: &dyn Fn(Vec2) -> f32,
+) -> Vec<[u32; 3]> {
     let n = vertices.len();
     let mut moved = vec![false; n];
     for _ in 0..4 {
@@ -166,7 +175,9 @@ pub fn cut_rims(vertices: &mut [Vec3], mut kept: Vec<[u32; 3]>, all: &[[u32; 3]]
                 continue;
             }
             let q = Vec2::new(v.x, v.z);
-            let nearest = holes.iter().min_by(|a, b| (q.distance(a.center) - a.radius).abs().total_cmp(&(q.distance(b.center) - b.radius).abs()));
+            let nearest = holes.iter().min_by(|a, b| {
+                (q.distance(a.center) - a.radius).abs().total_cmp(&(q.distance(b.center) - b.radius).abs())
+            });
             let Some(h) = nearest else { continue };
             let off = q - h.center;
             if off.length() < 1e-6 || (off.length() - h.radius).abs() > cell {

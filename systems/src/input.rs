@@ -133,7 +133,9 @@ impl InputEvent {
             }
             InputEvent::StartTask { task, .. } if task.is_empty() => Err(InvalidEvent::EmptyTask),
             InputEvent::StartTask { layout: Some(l), .. } => l.validate().map_err(InvalidEvent::Layout),
-            InputEvent::SwitchTechnique { technique } if technique.is_empty() || technique.len() > 64 => Err(InvalidEvent::TechniqueName),
+            InputEvent::SwitchTechnique { technique } if technique.is_empty() || technique.len() > 64 => {
+                Err(InvalidEvent::TechniqueName)
+            }
             _ => Ok(()),
         }
     }

@@ -16,7 +16,7 @@ use parry3d::shape::Ball;
 use crate::catalogue::Catalogue;
 use crate::components::{Handle, Pose, Selection, Transform};
 use crate::single::{self, Singles};
-use crate::spatial::{tree_box, RayHit, SpatialIndex, TreeBox};
+use crate::spatial::{RayHit, SpatialIndex, TreeBox, tree_box};
 
 /// The entity with these id bits, if the bits are a valid id (it may still be despawned).
 pub fn entity(bits: u64) -> Option<Entity> {
@@ -123,7 +123,14 @@ pub fn ray_sphere(origin: Vec3, dir: Vec3, center: Vec3, radius: f32, max: f32) 
 
 /// The nearest handle sphere (radius `radius`) of a box that the ray hits within `max`, with its
 /// distance. Ties go to the handle listed first by [`handle_points`].
-pub fn nearest_handle(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32, memo: &BoxMemo) -> Option<(Handle, Vec3, f32)> {
+pub fn nearest_handle(
+    origin: Vec3,
+    dir: Vec3,
+    b: &TreeBox,
+    radius: f32,
+    max: f32,
+    memo: &BoxMemo,
+) -> Option<(Handle, Vec3, f32)> {
     // Every handle lies within |half extents| of the centre, so a ray that misses the sphere
     // around them all (with a margin for rounding) hits none: most ticks stop here.
     let around = b.half_extents.length() + radius;
@@ -132,7 +139,14 @@ pub fn nearest_handle(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f3
 }
 
 /// [`nearest_handle`] without the test against the sphere around all the handles.
-fn nearest_of_all_handles(origin: Vec3, dir: Vec3, b: &TreeBox, radius: f32, max: f32, memo: &BoxMemo) -> Option<(Handle, Vec3, f32)> {
+fn nearest_of_all_handles(
+    origin: Vec3,
+    dir: Vec3,
+    b: &TreeBox,
+    radius: f32,
+    max: f32,
+    memo: &BoxMemo,
+) -> Option<(Handle, Vec3, f32)> {
     let mut best: Option<(Handle, Vec3, f32)> = None;
     for (h, p) in memo.handle_points(b.center, b.half_extents, b.yaw) {
         let limit = best.map_or(max, |b| b.2);
@@ -254,14 +268,23 @@ mod tests {
         for _ in 0..20_000 {
             let half = Vec3::new(0.2 + 2.0 * r(), 0.5 + 4.0 * r(), 0.2 + 2.0 * r());
             let center = Vec3::new(10.0 * r() - 5.0, half.y, 10.0 * r() - 5.0);
-            let b = tree_box(Entity::DANGLING, &Transform { translation: center - Vec3::Y * half.y, yaw: 7.0 * r() }, 1.0, -half, half);
+            let b = tree_box(
+                Entity::DANGLING,
+                &Transform { translation: center - Vec3::Y * half.y, yaw: 7.0 * r() },
+                1.0,
+                -half,
+                half,
+            );
             let origin = center + Vec3::new(8.0 * r() - 4.0, 3.0 * r(), 8.0 + 4.0 * r());
             let aim = b.center + Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * half * 3.0;
             let dir = (aim - origin).normalize();
             let (radius, max) = (0.05 + 0.3 * r(), 5.0 + 20.0 * r());
             let fast = nearest_handle(origin, dir, &b, radius, max, &memo);
             let all = nearest_of_all_handles(origin, dir, &b, radius, max, &BoxMemo::default());
-            assert_eq!(fast.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits())), all.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits())));
+            assert_eq!(
+                fast.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits())),
+                all.map(|(h, p, d)| (h, p.to_array().map(f32::to_bits), d.to_bits()))
+            );
             if all.is_some() { hits += 1 } else { misses += 1 }
         }
         assert!(hits > 1_000 && misses > 1_000, "{hits} hits, {misses} misses");
@@ -270,7 +293,9 @@ mod tests {
     #[test]
     fn a_kept_box_or_handle_is_what_computing_it_again_gives() {
         let memo = BoxMemo::default();
-        let bits = |b: &TreeBox| (b.entity, [b.center, b.half_extents].map(|v| v.to_array().map(f32::to_bits)), b.yaw.to_bits());
+        let bits = |b: &TreeBox| {
+            (b.entity, [b.center, b.half_extents].map(|v| v.to_array().map(f32::to_bits)), b.yaw.to_bits())
+        };
         let pts = |p: [(Handle, Vec3); 12]| p.map(|(h, v)| (h, v.to_array().map(f32::to_bits)));
         let (min, max) = (Vec3::new(-1.0, 0.0, -1.5), Vec3::new(1.0, 6.0, 1.5));
         let e = |id: u32| Entity::from_bits(u64::from(id) | 1 << 32).unwrap();
@@ -291,13 +316,22 @@ mod tests {
             let kept = memo.tree_box(entity, &t, scale, min, max);
             let fresh = tree_box(entity, &t, scale, min, max);
             assert_eq!(bits(&kept), bits(&fresh));
-            assert_eq!(pts(memo.handle_points(kept.center, kept.half_extents, kept.yaw)), pts(handle_points(fresh.center, fresh.half_extents, fresh.yaw)));
+            assert_eq!(
+                pts(memo.handle_points(kept.center, kept.half_extents, kept.yaw)),
+                pts(handle_points(fresh.center, fresh.half_extents, fresh.yaw))
+            );
         }
         // A box with a zero's sign flipped is another box, bit for bit.
         let t = |x: f32| Transform { translation: Vec3::new(x, 0.0, 0.0), yaw: 0.0 };
         let zero = Vec3::new(0.0, 0.0, 0.0);
-        assert_eq!(bits(&memo.tree_box(e(3), &t(0.0), 1.0, zero, zero)), bits(&tree_box(e(3), &t(0.0), 1.0, zero, zero)));
-        assert_eq!(bits(&memo.tree_box(e(3), &t(-0.0), 1.0, zero, zero)), bits(&tree_box(e(3), &t(-0.0), 1.0, zero, zero)));
+        assert_eq!(
+            bits(&memo.tree_box(e(3), &t(0.0), 1.0, zero, zero)),
+            bits(&tree_box(e(3), &t(0.0), 1.0, zero, zero))
+        );
+        assert_eq!(
+            bits(&memo.tree_box(e(3), &t(-0.0), 1.0, zero, zero)),
+            bits(&tree_box(e(3), &t(-0.0), 1.0, zero, zero))
+        );
         assert_eq!(pts(memo.handle_points(zero, Vec3::ONE, 0.0)), pts(handle_points(zero, Vec3::ONE, 0.0)));
         assert_eq!(pts(memo.handle_points(-zero, Vec3::ONE, 0.0)), pts(handle_points(-zero, Vec3::ONE, 0.0)));
     }
@@ -321,11 +355,13 @@ mod tests {
         let b = TreeBox { entity: Entity::DANGLING, center: Vec3::ZERO, half_extents: Vec3::ONE, yaw: 0.0 };
         // Straight down the +X+Z vertical edge midpoint (1, 0, 1) from above: the top corner
         // (1, 1, 1) is hit first.
-        let (h, _, d) = nearest_handle(Vec3::new(1.0, 5.0, 1.0), Vec3::NEG_Y, &b, 0.1, 100.0, &BoxMemo::default()).unwrap();
+        let (h, _, d) =
+            nearest_handle(Vec3::new(1.0, 5.0, 1.0), Vec3::NEG_Y, &b, 0.1, 100.0, &BoxMemo::default()).unwrap();
         assert_eq!(h, Handle::Corner(7));
         assert!((d - 3.9).abs() < 1e-5);
         // From the side at mid-height, the edge handle.
-        let (h, _, _) = nearest_handle(Vec3::new(5.0, 0.0, 1.0), Vec3::NEG_X, &b, 0.1, 100.0, &BoxMemo::default()).unwrap();
+        let (h, _, _) =
+            nearest_handle(Vec3::new(5.0, 0.0, 1.0), Vec3::NEG_X, &b, 0.1, 100.0, &BoxMemo::default()).unwrap();
         assert_eq!(h, Handle::Edge(3));
         assert!(nearest_handle(Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Y, &b, 0.1, 100.0, &BoxMemo::default()).is_none());
     }

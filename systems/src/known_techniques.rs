@@ -32,7 +32,11 @@ impl HashedComponent {
 
 fn rows_of<T: Serialize + hecs::Component>(world: &World) -> Vec<(u64, Vec<u8>)> {
     // Serializing plain data into a Vec cannot fail.
-    world.query::<(Entity, &T)>().iter().map(|(e, c)| (e.to_bits().get(), postcard::to_allocvec(c).unwrap_or_default())).collect()
+    world
+        .query::<(Entity, &T)>()
+        .iter()
+        .map(|(e, c)| (e.to_bits().get(), postcard::to_allocvec(c).unwrap_or_default()))
+        .collect()
 }
 
 /// One registered technique as the world knows it.
@@ -102,7 +106,10 @@ pub const MANUAL_ABOUT: &str = "choose a model from the menu, then drag it into 
 impl Registry<Known> {
     /// Only the two built-in techniques.
     pub fn builtin() -> KnownTechniques {
-        Registry(Arc::new(vec![Known::builtin(Mode::RayCasting, RAY_CASTING_ABOUT), Known::builtin(Mode::Manual, MANUAL_ABOUT)]))
+        Registry(Arc::new(vec![
+            Known::builtin(Mode::RayCasting, RAY_CASTING_ABOUT),
+            Known::builtin(Mode::Manual, MANUAL_ABOUT),
+        ]))
     }
 }
 

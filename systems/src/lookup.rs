@@ -36,7 +36,9 @@ mod tests {
     fn a_prepared_look_up_answers_as_query_one_mut_across_worlds_and_new_archetypes() {
         let tree = |m: u8| Tree { model: ModelId(m) };
         let t = |x: f32| Transform { translation: glam::Vec3::new(x, 0.0, 0.0), yaw: x };
-        let direct = |world: &mut World, e: Entity| world.query_one_mut::<(&Tree, &Transform, &Scale)>(e).ok().map(|(tree, t, s)| (tree.model, *t, s.0));
+        let direct = |world: &mut World, e: Entity| {
+            world.query_one_mut::<(&Tree, &Transform, &Scale)>(e).ok().map(|(tree, t, s)| (tree.model, *t, s.0))
+        };
         let mut a = World::new();
         let mut b = World::new();
         let a1 = a.spawn((tree(1), t(1.0), Scale(1.5)));

@@ -11,8 +11,17 @@ use crate::scene::PlaneShape;
 /// `exact_holes` ([`Scene::exact_holes`]).
 pub fn plane_geometry_cut(shape: &PlaneShape, exact_holes: bool) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let (mut vertices, mut triangles) = plane_geometry(shape);
-    if let (true, PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes }) = (exact_holes, shape) {
-        let plain = PlaneShape::Grid { min: *min, size: *size, cell: *cell, elevation: *elevation, unevenness: *unevenness, noise_seed: *noise_seed, holes: Vec::new() };
+    if let (true, PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes }) = (exact_holes, shape)
+    {
+        let plain = PlaneShape::Grid {
+            min: *min,
+            size: *size,
+            cell: *cell,
+            elevation: *elevation,
+            unevenness: *unevenness,
+            noise_seed: *noise_seed,
+            holes: Vec::new(),
+        };
         let full = plane_geometry(&plain).1;
         let perlin = Perlin::new(*noise_seed);
         let height = |q: Vec2| elevation + unevenness * perlin.get([q.x as f64 * 0.23, q.y as f64 * 0.23]) as f32;

@@ -216,7 +216,9 @@ impl CellGrid {
         // The stretch of the ray inside the mesh's box (grown by the margin): no triangle can be
         // hit elsewhere.
         let (mut t0, mut t1) = (0.0f32, limit);
-        for (o, d, lo, hi) in [(o.x, d.x, self.lo.x, self.hi.x), (o.y, d.y, self.lo.y, self.hi.y), (o.z, d.z, self.lo.z, self.hi.z)] {
+        for (o, d, lo, hi) in
+            [(o.x, d.x, self.lo.x, self.hi.x), (o.y, d.y, self.lo.y, self.hi.y), (o.z, d.z, self.lo.z, self.hi.z)]
+        {
             let (lo, hi) = (lo - eps, hi + eps);
             if d == 0.0 {
                 if o < lo || o > hi {
@@ -234,7 +236,11 @@ impl CellGrid {
         // Walk along the axis the ray moves along most; `u` is that axis, `v` the other one.
         let along_x = d.x.abs() >= d.z.abs();
         let (ou, du, ov, dv) = if along_x { (o.x, d.x, o.z, d.z) } else { (o.z, d.z, o.x, d.x) };
-        let (min_u, min_v, nu, nv) = if along_x { (self.min.x, self.min.y, self.nx, self.nz) } else { (self.min.y, self.min.x, self.nz, self.nx) };
+        let (min_u, min_v, nu, nv) = if along_x {
+            (self.min.x, self.min.y, self.nx, self.nz)
+        } else {
+            (self.min.y, self.min.x, self.nz, self.nx)
+        };
         let cell_of = |iu: usize, iv: usize| if along_x { iv * self.nx + iu } else { iu * self.nx + iv };
         // The cell holding a coordinate, -1 before the first and `cells` after the last (a
         // truncation, which is the floor for the non-negative values it is used on).
@@ -250,7 +256,8 @@ impl CellGrid {
         };
         // The columns of that stretch.
         let (u0, u1) = (ou + du * t0, ou + du * t1);
-        let (first, last) = (index(u0.min(u1) - eps, min_u, nu).max(0), index(u0.max(u1) + eps, min_u, nu).min(nu as isize - 1));
+        let (first, last) =
+            (index(u0.min(u1) - eps, min_u, nu).max(0), index(u0.max(u1) + eps, min_u, nu).min(nu as isize - 1));
         if first > last {
             return Some(None);
         }
@@ -280,7 +287,8 @@ impl CellGrid {
             let (va, vb) = (ov + dv * ta, ov + dv * tb);
             let (y0, y1) = (o.y + d.y * ta, o.y + d.y * tb);
             let (ylo, yhi) = (y0.min(y1) - eps, y0.max(y1) + eps);
-            let (j0, j1) = (index(va.min(vb) - eps, min_v, nv).max(0), index(va.max(vb) + eps, min_v, nv).min(nv as isize - 1));
+            let (j0, j1) =
+                (index(va.min(vb) - eps, min_v, nv).max(0), index(va.max(vb) + eps, min_v, nv).min(nv as isize - 1));
             for iv in j0..=j1 {
                 let c = cell_of(iu as usize, iv as usize);
                 let [lo, hi] = self.heights[c];
@@ -291,7 +299,9 @@ impl CellGrid {
                     if best.is_some_and(|b| b.tri == tri) {
                         continue;
                     }
-                    let Some(hit) = mesh.triangle(tri).cast_local_ray_and_get_normal(ray, f32::MAX, false) else { continue };
+                    let Some(hit) = mesh.triangle(tri).cast_local_ray_and_get_normal(ray, f32::MAX, false) else {
+                        continue;
+                    };
                     let toi = hit.time_of_impact;
                     if !(toi < limit) {
                         continue;

@@ -133,7 +133,19 @@ mod tests {
     /// The hashed resources serialized at once, as one tuple (postcard writes a tuple as it
     /// writes a struct: field after field).
     fn whole(r: &Resources) -> Vec<u8> {
-        postcard::to_allocvec(&(r.tick, r.dt, r.seed, r.rng.get_word_pos(), &r.config, r.mode, &r.menu, &r.interaction, &r.log, &r.task)).unwrap()
+        postcard::to_allocvec(&(
+            r.tick,
+            r.dt,
+            r.seed,
+            r.rng.get_word_pos(),
+            &r.config,
+            r.mode,
+            &r.menu,
+            &r.interaction,
+            &r.log,
+            &r.task,
+        ))
+        .unwrap()
     }
 
     #[test]

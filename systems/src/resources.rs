@@ -4,8 +4,8 @@
 //! the input events of the current tick, the interaction event log and the interaction state.
 //! Everything here except the derived caches is covered by the world hash.
 
-use rand_chacha::ChaCha8Rng;
 use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::catalogue::{Catalogue, ModelId};
@@ -36,11 +36,7 @@ pub struct Param {
 impl Param {
     /// " UNIT", to write after a value, or nothing for a plain number.
     pub fn unit_suffix(&self) -> String {
-        if self.unit.is_empty() {
-            String::new()
-        } else {
-            format!(" {}", self.unit)
-        }
+        if self.unit.is_empty() { String::new() } else { format!(" {}", self.unit) }
     }
 
     /// The parameter called `name`.
@@ -182,7 +178,8 @@ impl Override {
     pub fn new(name: &str, text: &str) -> Result<Override, ConfigError> {
         let (name, text) = (name.trim(), text.trim());
         let param = Param::named(name).ok_or_else(|| ConfigError::Unknown { name: name.to_string() })?;
-        let value: f32 = text.parse().map_err(|_| ConfigError::NotANumber { name: param.name, text: text.to_string() })?;
+        let value: f32 =
+            text.parse().map_err(|_| ConfigError::NotANumber { name: param.name, text: text.to_string() })?;
         if !value.is_finite() || value < param.min || value > param.max {
             return Err(ConfigError::OutOfRange { param, text: text.to_string() });
         }
@@ -454,8 +451,14 @@ mod tests {
         assert_eq!((o.name, o.value, o.text.as_str()), ("snap_threshold", 0.2, "0.2"));
         // The ends of a range are in it; past them is refused with the range and unit.
         assert!(Override::new("touchpad_dead_zone", "1").is_ok());
-        assert_eq!(Override::new("touchpad_dead_zone", "1.5").unwrap_err().to_string(), "touchpad_dead_zone: '1.5' must be a number from 0 to 1");
-        assert_eq!(Override::new("snap_threshold", "-0.1").unwrap_err().to_string(), "snap_threshold: '-0.1' must be a number from 0 to 10 m");
+        assert_eq!(
+            Override::new("touchpad_dead_zone", "1.5").unwrap_err().to_string(),
+            "touchpad_dead_zone: '1.5' must be a number from 0 to 1"
+        );
+        assert_eq!(
+            Override::new("snap_threshold", "-0.1").unwrap_err().to_string(),
+            "snap_threshold: '-0.1' must be a number from 0 to 10 m"
+        );
         assert!(matches!(Override::new("snap_threshold", "inf"), Err(ConfigError::OutOfRange { .. })));
         assert!(matches!(Override::new("snap_threshold", "x"), Err(ConfigError::NotANumber { .. })));
         assert!(matches!(Override::new("snap", "1"), Err(ConfigError::Unknown { .. })));
@@ -466,7 +469,10 @@ mod tests {
 
     #[test]
     fn overrides_are_written_as_their_text_and_checked_when_read() {
-        let mut all: Overrides = [("touchpad_move_rate", "3"), ("snap_threshold", "0.20")].iter().map(|(n, v)| Override::new(n, v).unwrap()).collect();
+        let mut all: Overrides = [("touchpad_move_rate", "3"), ("snap_threshold", "0.20")]
+            .iter()
+            .map(|(n, v)| Override::new(n, v).unwrap())
+            .collect();
         all.set(Override::new("touchpad_move_rate", "2.5").unwrap());
         // One per parameter, in name order, each as it was written.
         let json = serde_json::to_string(&all).unwrap();

@@ -74,7 +74,9 @@ pub enum FloorError {
     #[error("a room layout's floor has no area")]
     Area,
     /// More than [`MAX_KEEP_OUT`] keep-out outlines, or one that is not an outline.
-    #[error("a room layout's keep_out needs at most {MAX_KEEP_OUT} outlines of at least 3 finite points within 10 km, and at most {MAX_FLOOR_POINTS} points with the floor's")]
+    #[error(
+        "a room layout's keep_out needs at most {MAX_KEEP_OUT} outlines of at least 3 finite points within 10 km, and at most {MAX_FLOOR_POINTS} points with the floor's"
+    )]
     KeepOut,
 }
 
@@ -201,7 +203,10 @@ fn circle_entry(o: P, u: P, c: P, r: f64) -> Option<f64> {
 /// The smallest λ ≥ 0 at which `o + λ u` comes within `r` of the segment `a`–`b` (the segment's
 /// capsule), for `o` outside it.
 fn capsule_entry(o: P, u: P, a: P, b: P, r: f64) -> Option<f64> {
-    let mut best = [circle_entry(o, u, a, r), circle_entry(o, u, b, r)].into_iter().flatten().fold(None, |m: Option<f64>, l| Some(m.map_or(l, |m| m.min(l))));
+    let mut best = [circle_entry(o, u, a, r), circle_entry(o, u, b, r)]
+        .into_iter()
+        .flatten()
+        .fold(None, |m: Option<f64>, l| Some(m.map_or(l, |m| m.min(l))));
     let d = sub(b, a);
     let len = libm::sqrt(dot(d, d));
     if len > 0.0 {
@@ -277,12 +282,16 @@ pub fn place(targets: &[Vec3], floor: &[[f32; 2]], keep_out: &[Vec<[f32; 2]>]) -
     }
     let region = Region { outlines: std::iter::once(poly.clone()).chain(keep_out.iter().map(|o| points(o))).collect() };
     let n = targets.len() as f64;
-    let home = (targets.iter().map(|t| t.x as f64).sum::<f64>() / n, targets.iter().map(|t| t.z as f64).sum::<f64>() / n);
+    let home =
+        (targets.iter().map(|t| t.x as f64).sum::<f64>() / n, targets.iter().map(|t| t.z as f64).sum::<f64>() / n);
     let offsets: Vec<P> = targets.iter().map(|t| (t.x as f64 - home.0, t.z as f64 - home.1)).collect();
     // The search tries the farthest targets first: they bind first, so a poor shift stops soon.
     let mut order = offsets.clone();
     order.sort_by(|a, b| dot(*b, *b).total_cmp(&dot(*a, *a)));
-    let (lo, hi) = poly.iter().fold(((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY)), |(lo, hi), p| ((lo.0.min(p.0), lo.1.min(p.1)), (hi.0.max(p.0), hi.1.max(p.1))));
+    let (lo, hi) =
+        poly.iter().fold(((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY)), |(lo, hi), p| {
+            ((lo.0.min(p.0), lo.1.min(p.1)), (hi.0.max(p.0), hi.1.max(p.1)))
+        });
     // The task file's own place, when the whole layout fits there, is kept as it is.
     let (centre, scale) = match reach(&region, home, &order, SEARCH_MARGIN_M, 0.0) {
         Some(s) if s >= 1.0 => (home, 1.0),
@@ -301,7 +310,10 @@ pub fn place(targets: &[Vec3], floor: &[[f32; 2]], keep_out: &[Vec<[f32; 2]>]) -
             (c, s)
         }
     };
-    let placed: Vec<Vec3> = offsets.iter().map(|q| Vec3::new((centre.0 + q.0 * scale) as f32, 0.0, (centre.1 + q.1 * scale) as f32)).collect();
+    let placed: Vec<Vec3> = offsets
+        .iter()
+        .map(|q| Vec3::new((centre.0 + q.0 * scale) as f32, 0.0, (centre.1 + q.1 * scale) as f32))
+        .collect();
     let edge = placed.iter().map(|p| region.edge_distance((p.x as f64, p.z as f64))).fold(f64::INFINITY, f64::min);
     let placement = RoomPlacement {
         scale: scale as f32,
@@ -319,7 +331,17 @@ mod tests {
 
     /// The study's targets (assets/tasks/ray-casting-7.ron; systems/tests/room_layout.rs lays out the file's own).
     fn study() -> Vec<Vec3> {
-        [(-7.0, 0.0, -1.5), (0.0, 0.0, -4.5), (5.5, 0.0, -0.5), (-3.0, 0.0, -9.5), (3.5, 0.0, -11.5), (-12.5, 0.0, -5.0), (10.0, 0.8, -11.0)].map(|(x, y, z)| Vec3::new(x, y, z)).to_vec()
+        [
+            (-7.0, 0.0, -1.5),
+            (0.0, 0.0, -4.5),
+            (5.5, 0.0, -0.5),
+            (-3.0, 0.0, -9.5),
+            (3.5, 0.0, -11.5),
+            (-12.5, 0.0, -5.0),
+            (10.0, 0.8, -11.0),
+        ]
+        .map(|(x, y, z)| Vec3::new(x, y, z))
+        .to_vec()
     }
 
     fn rect(x0: f32, z0: f32, x1: f32, z1: f32) -> Vec<[f32; 2]> {
@@ -425,14 +447,42 @@ mod tests {
     fn floors_are_checked() {
         let ok = TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![] };
         assert_eq!(ok.validate(), Ok(()));
-        assert_eq!(TaskLayout::Room { floor: vec![[0.0, 0.0], [1.0, 0.0]], keep_out: vec![] }.validate(), Err(FloorError::Points(2)));
-        assert_eq!(TaskLayout::Room { floor: vec![[0.0, 0.0], [1.0, f32::NAN], [1.0, 1.0]], keep_out: vec![] }.validate(), Err(FloorError::Point));
-        assert_eq!(TaskLayout::Room { floor: vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], keep_out: vec![] }.validate(), Err(FloorError::Area));
-        assert_eq!(TaskLayout::Room { floor: vec![[0.0, 0.0]; 300], keep_out: vec![] }.validate(), Err(FloorError::Points(300)));
-        assert_eq!(TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![vec![[0.0, 0.0], [1.0, 0.0]]] }.validate(), Err(FloorError::KeepOut));
-        assert_eq!(TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![rect(0.5, 0.5, 1.0, 1.0); 17] }.validate(), Err(FloorError::KeepOut));
+        assert_eq!(
+            TaskLayout::Room { floor: vec![[0.0, 0.0], [1.0, 0.0]], keep_out: vec![] }.validate(),
+            Err(FloorError::Points(2))
+        );
+        assert_eq!(
+            TaskLayout::Room { floor: vec![[0.0, 0.0], [1.0, f32::NAN], [1.0, 1.0]], keep_out: vec![] }.validate(),
+            Err(FloorError::Point)
+        );
+        assert_eq!(
+            TaskLayout::Room { floor: vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]], keep_out: vec![] }.validate(),
+            Err(FloorError::Area)
+        );
+        assert_eq!(
+            TaskLayout::Room { floor: vec![[0.0, 0.0]; 300], keep_out: vec![] }.validate(),
+            Err(FloorError::Points(300))
+        );
+        assert_eq!(
+            TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![vec![[0.0, 0.0], [1.0, 0.0]]] }
+                .validate(),
+            Err(FloorError::KeepOut)
+        );
+        assert_eq!(
+            TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![rect(0.5, 0.5, 1.0, 1.0); 17] }
+                .validate(),
+            Err(FloorError::KeepOut)
+        );
         let many = (0..253).map(|i| [i as f32, (i % 2) as f32]).collect::<Vec<_>>();
-        assert_eq!(TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![many[..252].to_vec()] }.validate(), Ok(()), "256 points in all");
-        assert_eq!(TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![many] }.validate(), Err(FloorError::KeepOut), "257 points in all");
+        assert_eq!(
+            TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![many[..252].to_vec()] }.validate(),
+            Ok(()),
+            "256 points in all"
+        );
+        assert_eq!(
+            TaskLayout::Room { floor: rect(0.0, 0.0, 2.0, 2.0), keep_out: vec![many] }.validate(),
+            Err(FloorError::KeepOut),
+            "257 points in all"
+        );
     }
 }

@@ -126,7 +126,11 @@ impl ScatterDef {
             return Err(format!("a scatter's boundary has a point beyond {c} m"));
         }
         let range = |name: &str, v: f32, (lo, hi): (f32, f32)| {
-            if (lo..=hi).contains(&v) { Ok(()) } else { Err(format!("a scatter's {name} is {v}; it must be within {lo}..={hi}")) }
+            if (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("a scatter's {name} is {v}; it must be within {lo}..={hi}"))
+            }
         };
         range("spacing", self.spacing, SPACING)?;
         range("feature", self.feature, FEATURE)?;
@@ -143,7 +147,10 @@ impl ScatterDef {
         }
         let most = self.most_trees();
         if most > (4 * MAX_TREES) as f64 {
-            return Err(format!("a scatter of spacing {} m over {area:.0} m² could place more than {MAX_TREES} trees", self.spacing));
+            return Err(format!(
+                "a scatter of spacing {} m over {area:.0} m² could place more than {MAX_TREES} trees",
+                self.spacing
+            ));
         }
         let cells = self.grid_cells();
         if cells > MAX_GRID_CELLS as f64 {
@@ -246,7 +253,13 @@ impl ScatterDef {
             let yaw_deg = rng.random::<f32>() * 360.0;
             let scale = self.scale.0 + (self.scale.1 - self.scale.0) * rng.random::<f32>();
             if keep {
-                trees.push(TreeDef { model: model.clone(), position: Vec3::new(p.x, 0.0, p.y), yaw_deg, scale, on_ground: true });
+                trees.push(TreeDef {
+                    model: model.clone(),
+                    position: Vec3::new(p.x, 0.0, p.y),
+                    yaw_deg,
+                    scale,
+                    on_ground: true,
+                });
             }
         }
         if trees.len() > MAX_TREES {
@@ -265,7 +278,16 @@ mod tests {
     }
 
     fn def(coverage: f32, contrast: f32) -> ScatterDef {
-        ScatterDef { models: vec!["a".into(), "b".into()], boundary: square(40.0), spacing: 2.0, coverage, contrast, feature: 8.0, scale: (0.8, 1.2), seed: 9 }
+        ScatterDef {
+            models: vec!["a".into(), "b".into()],
+            boundary: square(40.0),
+            spacing: 2.0,
+            coverage,
+            contrast,
+            feature: 8.0,
+            scale: (0.8, 1.2),
+            seed: 9,
+        }
     }
 
     #[test]
@@ -295,7 +317,8 @@ mod tests {
         let d = def(0.5, 2.0);
         let noise = Perlin::new(9);
         let t = d.trees().unwrap();
-        let mean_p: f32 = t.iter().map(|x| d.probability(&noise, Vec2::new(x.position.x, x.position.z))).sum::<f32>() / t.len() as f32;
+        let mean_p: f32 = t.iter().map(|x| d.probability(&noise, Vec2::new(x.position.x, x.position.z))).sum::<f32>()
+            / t.len() as f32;
         assert!(mean_p > 0.6, "mean probability at the trees {mean_p}");
     }
 
@@ -323,7 +346,11 @@ mod tests {
         let sliver = vec![Vec2::ZERO, Vec2::new(1.0e4, 1.0e4), Vec2::new(1.0e4, 1.0e4 + 0.01)];
         let e = ScatterDef { boundary: sliver, spacing: 0.05, ..def(1.0, 0.0) }.validate().unwrap_err().to_string();
         assert!(e.contains("cells"), "{e}");
-        for bad in [ScatterDef { feature: 1e-30, ..def(1.0, 0.0) }, ScatterDef { scale: (1e30, 1e30), ..def(1.0, 0.0) }, ScatterDef { coverage: 2.0, ..def(1.0, 0.0) }] {
+        for bad in [
+            ScatterDef { feature: 1e-30, ..def(1.0, 0.0) },
+            ScatterDef { scale: (1e30, 1e30), ..def(1.0, 0.0) },
+            ScatterDef { coverage: 2.0, ..def(1.0, 0.0) },
+        ] {
             let e = bad.validate().unwrap_err().to_string();
             assert!(e.contains("within"), "{e}");
         }

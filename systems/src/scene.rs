@@ -10,8 +10,8 @@ use std::path::Path;
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::limits::{self, MAX_COORD, RAISE};
 pub use crate::limits::InvalidScene;
+use crate::limits::{self, MAX_COORD, RAISE};
 pub use crate::plane_geometry::{plane_geometry, plane_geometry_cut};
 
 /// Scenes that ship with grove, embedded at compile time: `(name, RON text)`. A replay header
@@ -258,7 +258,10 @@ impl Scene {
         let dir = scene.dir.clone().unwrap_or_default();
         if let Some(a) = &mut scene.aerial {
             if let Some(c) = &a.crowns {
-                a.crown_list = crate::aerial::read_crowns(&dir.join(c)).map_err(|message| SceneError { file: path.display().to_string(), message: format!("aerial crowns: {message}") })?;
+                a.crown_list = crate::aerial::read_crowns(&dir.join(c)).map_err(|message| SceneError {
+                    file: path.display().to_string(),
+                    message: format!("aerial crowns: {message}"),
+                })?;
             }
         }
         Ok(scene)
@@ -298,7 +301,8 @@ impl Scene {
     }
 
     fn validate_message(&self) -> Result<(), String> {
-        let finite = |what: &str, ok: bool| if ok { Ok(()) } else { Err(format!("{what} has a NaN or infinite number")) };
+        let finite =
+            |what: &str, ok: bool| if ok { Ok(()) } else { Err(format!("{what} has a NaN or infinite number")) };
         let near = |what: &str, v: &[f32]| {
             finite(what, v.iter().all(|x| x.is_finite()))?;
             if v.iter().any(|x| x.abs() > MAX_COORD) {
@@ -312,11 +316,17 @@ impl Scene {
         if self.planes.is_empty() {
             return Err("a scene needs at least one plane".into());
         }
-        if self.banks.len() > 8 || self.banks.iter().any(|b| b.is_empty() || b.len() > 512 || Path::new(b).is_absolute()) {
+        if self.banks.len() > 8
+            || self.banks.iter().any(|b| b.is_empty() || b.len() > 512 || Path::new(b).is_absolute())
+        {
             return Err("banks: at most 8 folders, each a relative path to a model bank".into());
         }
         if self.planes.len() > limits::MAX_PLANES {
-            return Err(format!("{} planes is more than the limit of {} planes per scene ({RAISE})", self.planes.len(), limits::MAX_PLANES));
+            return Err(format!(
+                "{} planes is more than the limit of {} planes per scene ({RAISE})",
+                self.planes.len(),
+                limits::MAX_PLANES
+            ));
         }
         let mut cells = 0u64;
         for p in &self.planes {
@@ -334,7 +344,10 @@ impl Scene {
                     }
                     for t in triangles {
                         if t.iter().any(|&i| i as usize >= vertices.len()) {
-                            return Err(format!("{what} has a triangle {t:?} with an index past its {} vertices", vertices.len()));
+                            return Err(format!(
+                                "{what} has a triangle {t:?} with an index past its {} vertices",
+                                vertices.len()
+                            ));
                         }
                     }
                     (triangles.len() as u64).div_ceil(2)
@@ -349,10 +362,16 @@ impl Scene {
                     let reach = min.abs().max(max.abs()).max_element();
                     let least = limits::MIN_CELL.max(reach * limits::MIN_CELL_RELATIVE);
                     if *cell < least {
-                        return Err(format!("{what}: cell {cell} m is finer than {least} m (at least 1 mm, and 1/100000 of the plane's distance from the origin)"));
+                        return Err(format!(
+                            "{what}: cell {cell} m is finer than {least} m (at least 1 mm, and 1/100000 of the plane's distance from the origin)"
+                        ));
                     }
                     if holes.len() > limits::MAX_HOLES_PER_PLANE {
-                        return Err(format!("{what}: {} holes is more than the limit of {} holes per plane ({RAISE})", holes.len(), limits::MAX_HOLES_PER_PLANE));
+                        return Err(format!(
+                            "{what}: {} holes is more than the limit of {} holes per plane ({RAISE})",
+                            holes.len(),
+                            limits::MAX_HOLES_PER_PLANE
+                        ));
                     }
                     for h in holes {
                         near(&what, &[h.center.x, h.center.y, h.radius])?;
@@ -386,13 +405,29 @@ impl Scene {
         }
         parse_utc_ms(&s.utc).map_err(|e| format!("sun utc: {e}"))?;
         let w = &self.wind;
-        near("wind", &[w.direction.x, w.direction.y, w.direction.z, w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency])?;
+        near(
+            "wind",
+            &[
+                w.direction.x,
+                w.direction.y,
+                w.direction.z,
+                w.strength,
+                w.density,
+                w.gust_average,
+                w.gust_strength,
+                w.gust_frequency,
+            ],
+        )?;
         if w.strength < 0.0 || w.density < 0.0 || w.gust_frequency < 0.0 {
             return Err("wind strength, density and gust frequency must not be negative".into());
         }
         w.response.validate()?;
         if self.trees.len() > limits::MAX_SCENE_TREES {
-            return Err(format!("{} trees is more than the limit of {} trees per scene ({RAISE})", self.trees.len(), limits::MAX_SCENE_TREES));
+            return Err(format!(
+                "{} trees is more than the limit of {} trees per scene ({RAISE})",
+                self.trees.len(),
+                limits::MAX_SCENE_TREES
+            ));
         }
         for (i, t) in self.trees.iter().enumerate() {
             near(&format!("tree {i}"), &[t.position.x, t.position.y, t.position.z, t.yaw_deg])?;
@@ -402,7 +437,11 @@ impl Scene {
             }
         }
         if self.scatter.len() > limits::MAX_SCATTERS {
-            return Err(format!("{} scatters is more than the limit of {} per scene ({RAISE})", self.scatter.len(), limits::MAX_SCATTERS));
+            return Err(format!(
+                "{} scatters is more than the limit of {} per scene ({RAISE})",
+                self.scatter.len(),
+                limits::MAX_SCATTERS
+            ));
         }
         let mut most = self.trees.len() as f64;
         for (i, sc) in self.scatter.iter().enumerate() {
@@ -455,7 +494,8 @@ impl PlaneDef {
 /// followed) of at most [`limits::MAX_SCENE_BYTES`], checked before anything is read, never
 /// blocking on a pipe, and read with that bound in case the file grows meanwhile.
 pub fn read_scene_text(path: &Path) -> Result<String, SceneError> {
-    crate::files::read_text(path, crate::files::Kind::Scene).map_err(|e| SceneError { file: path.display().to_string(), message: e.reason() })
+    crate::files::read_text(path, crate::files::Kind::Scene)
+        .map_err(|e| SceneError { file: path.display().to_string(), message: e.reason() })
 }
 
 /// A one-line description of an I/O error.
@@ -480,7 +520,8 @@ pub struct TimeError {
 
 /// Parses an RFC 3339 UTC time into milliseconds since the Unix epoch.
 pub fn parse_utc_ms(text: &str) -> Result<i64, TimeError> {
-    let t = chrono::DateTime::parse_from_rfc3339(text.trim()).map_err(|e| TimeError { text: text.to_string(), reason: e.to_string() })?;
+    let t = chrono::DateTime::parse_from_rfc3339(text.trim())
+        .map_err(|e| TimeError { text: text.to_string(), reason: e.to_string() })?;
     Ok(t.timestamp_millis())
 }
 
@@ -496,7 +537,15 @@ mod tests {
     use super::*;
 
     fn ground() -> PlaneDef {
-        let shape = PlaneShape::Grid { min: Vec2::splat(-5.0), size: Vec2::splat(10.0), cell: 1.0, elevation: 0.0, unevenness: 0.0, noise_seed: 0, holes: vec![] };
+        let shape = PlaneShape::Grid {
+            min: Vec2::splat(-5.0),
+            size: Vec2::splat(10.0),
+            cell: 1.0,
+            elevation: 0.0,
+            unevenness: 0.0,
+            noise_seed: 0,
+            holes: vec![],
+        };
         PlaneDef { name: "ground".into(), shape }
     }
 
@@ -513,18 +562,28 @@ mod tests {
     fn a_file_reads_as_before_the_defaults() {
         // What a file leaves out takes its field's serde default, which Default agrees with.
         let sections = [
-            ("planes", r#"planes: [(name: "ground", shape: Grid(min: (-5.0, -5.0), size: (10.0, 10.0), cell: 1.0, elevation: 0.0))]"#),
+            (
+                "planes",
+                r#"planes: [(name: "ground", shape: Grid(min: (-5.0, -5.0), size: (10.0, 10.0), cell: 1.0, elevation: 0.0))]"#,
+            ),
             ("sun", r#"sun: (latitude_deg: 10.0, longitude_deg: 20.0, utc: "2026-01-01T00:00:00Z")"#),
-            ("wind", "wind: (direction: (1.0, 0.0, 0.0), strength: 0.5, density: 0.2, gust_average: 0.1, gust_strength: 0.1, gust_frequency: 0.1)"),
+            (
+                "wind",
+                "wind: (direction: (1.0, 0.0, 0.0), strength: 0.5, density: 0.2, gust_average: 0.1, gust_strength: 0.1, gust_frequency: 0.1)",
+            ),
             ("camera", "camera: (position: (0.0, 2.0, 5.0), look_at: (0.0, 0.0, 0.0))"),
         ];
         let file = |leave_out: &str| {
-            let kept: Vec<&str> = sections.iter().filter(|(name, _)| *name != leave_out).map(|(_, text)| *text).collect();
+            let kept: Vec<&str> =
+                sections.iter().filter(|(name, _)| *name != leave_out).map(|(_, text)| *text).collect();
             format!("Scene(name: \"s\", {})", kept.join(", "))
         };
         let scene = Scene::parse(&file(""), "<text>").unwrap();
         let d = Scene::default();
-        assert_eq!((scene.dt, scene.seed, scene.camera.fov_y_deg, scene.sun.time_rate), (d.dt, d.seed, d.camera.fov_y_deg, d.sun.time_rate));
+        assert_eq!(
+            (scene.dt, scene.seed, scene.camera.fov_y_deg, scene.sun.time_rate),
+            (d.dt, d.seed, d.camera.fov_y_deg, d.sun.time_rate)
+        );
         assert_eq!((scene.wind.model, scene.wind.response), (d.wind.model, d.wind.response));
         assert!(scene.trees.is_empty() && scene.water.is_empty() && scene.grass.is_empty() && scene.aerial.is_none());
         assert_eq!(scene.planes, vec![ground()]);

@@ -27,7 +27,9 @@ pub enum SceneTextError {
     #[error("it names model banks, which are files of the machine that wrote it; send a scene that names no file")]
     Banks,
     /// It has an aerial section, which names photographs (and maybe a crowns file).
-    #[error("it names aerial photographs, which are files of the machine that wrote it; send a scene that names no file")]
+    #[error(
+        "it names aerial photographs, which are files of the machine that wrote it; send a scene that names no file"
+    )]
     Aerial,
 }
 
@@ -64,9 +66,18 @@ mod tests {
         assert_eq!(self_contained(&banked).unwrap_err(), SceneTextError::Banks);
         let aerial = "aerial: Some((summer: \"s.png\", winter: \"w.png\", gsd_m: 0.5, origin: (0.0, 0.0))),";
         let photographed = study().replacen("name: \"study\",", &format!("name: \"study\", {aerial}"), 1);
-        assert_eq!(self_contained(&photographed).unwrap_err(), SceneTextError::Aerial, "photographs without a crowns file are files too");
-        assert!(matches!(self_contained("Scene(name: \"x\"").unwrap_err(), SceneTextError::Invalid(m) if m.starts_with("line 1")));
-        assert_eq!(self_contained(&" ".repeat(MAX_SCENE_TEXT_BYTES as usize + 1)).unwrap_err(), SceneTextError::TooLarge);
+        assert_eq!(
+            self_contained(&photographed).unwrap_err(),
+            SceneTextError::Aerial,
+            "photographs without a crowns file are files too"
+        );
+        assert!(
+            matches!(self_contained("Scene(name: \"x\"").unwrap_err(), SceneTextError::Invalid(m) if m.starts_with("line 1"))
+        );
+        assert_eq!(
+            self_contained(&" ".repeat(MAX_SCENE_TEXT_BYTES as usize + 1)).unwrap_err(),
+            SceneTextError::TooLarge
+        );
         let bell = study().replacen("name: \"study\"", "name: \"st\u{7}udy\"", 1);
         assert_eq!(self_contained(&bell).unwrap_err(), SceneTextError::Control(7));
         assert!(self_contained(&study().replace('\n', "\r\n\t")).is_ok(), "tabs and line breaks are text");

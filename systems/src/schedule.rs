@@ -28,8 +28,8 @@ use hecs::World;
 
 use crate::resources::Resources;
 use crate::systems;
-pub use crate::technique::{Stage, System};
 use crate::technique::Techniques;
+pub use crate::technique::{Stage, System};
 
 /// The built-in systems with their stage and name, in the order they run.
 pub const BUILTIN: &[(Stage, &str, System)] = &[
@@ -82,7 +82,8 @@ pub fn step(world: &mut World, res: &mut Resources, techniques: &Techniques) {
         if technique.systems.is_empty() {
             continue;
         }
-        let own: Vec<System> = technique.systems.iter().filter(|(s, _, _)| *s == stage).map(|(_, _, run)| *run).collect();
+        let own: Vec<System> =
+            technique.systems.iter().filter(|(s, _, _)| *s == stage).map(|(_, _, run)| *run).collect();
         for run in own {
             run(world, res);
             res.singles.forget();
@@ -109,7 +110,23 @@ mod tests {
     #[test]
     fn the_built_in_order_is_the_documented_list() {
         let names: Vec<&str> = order(&crate::technique::Technique::ray_casting()).into_iter().map(|(_, n)| n).collect();
-        assert_eq!(names, ["input", "sun", "wind", "raycast", "spawn", "plant_remove", "select", "handles", "touchpad", "drag", "selection_box", "task"]);
+        assert_eq!(
+            names,
+            [
+                "input",
+                "sun",
+                "wind",
+                "raycast",
+                "spawn",
+                "plant_remove",
+                "select",
+                "handles",
+                "touchpad",
+                "drag",
+                "selection_box",
+                "task"
+            ]
+        );
         // The stages are contiguous and in order, and each stage's systems end where
         // `STAGE_ENDS` says.
         assert!(BUILTIN.windows(2).all(|w| w[0].0 <= w[1].0));

@@ -254,7 +254,10 @@ impl Script {
             match self.check(expect) {
                 Ok(()) => return Ok(waited),
                 Err(m) if waited >= timeout => {
-                    return Err(Mismatch { what: format!("timed out after {timeout} ticks waiting until {}: {}", expect.text(), m.what), ..m });
+                    return Err(Mismatch {
+                        what: format!("timed out after {timeout} ticks waiting until {}: {}", expect.text(), m.what),
+                        ..m
+                    });
                 }
                 Err(_) => {
                     self.wait(1);

@@ -31,7 +31,8 @@ impl FromStr for SetArg {
             return Err(ConfigError::EmptyValue(arg.to_string()));
         }
         let values = texts.iter().map(|t| Override::new(name, t)).collect::<Result<Vec<_>, _>>()?;
-        let param = Param::named(values[0].name).ok_or_else(|| ConfigError::Unknown { name: name.trim().to_string() })?;
+        let param =
+            Param::named(values[0].name).ok_or_else(|| ConfigError::Unknown { name: name.trim().to_string() })?;
         Ok(SetArg { param, values })
     }
 }
@@ -137,7 +138,10 @@ mod tests {
         assert!(matches!(arg("snap=1"), Err(ConfigError::Unknown { .. })));
         assert!(matches!(arg("snap_threshold=x"), Err(ConfigError::NotANumber { .. })));
         assert!(matches!(arg("snap_threshold="), Err(ConfigError::NotANumber { .. })));
-        assert_eq!(arg("snap_threshold=0.1,12").unwrap_err().to_string(), "snap_threshold: '12' must be a number from 0 to 10 m");
+        assert_eq!(
+            arg("snap_threshold=0.1,12").unwrap_err().to_string(),
+            "snap_threshold: '12' must be a number from 0 to 10 m"
+        );
     }
 
     #[test]
@@ -148,7 +152,10 @@ mod tests {
         // Written back as given, without the spaces around the values.
         assert_eq!(a.to_string(), "snap_threshold=0.05,0.1,0.30");
         assert_eq!(arg(&a.to_string()).unwrap(), a);
-        assert_eq!(arg("snap_threshold=0.1,").unwrap_err().to_string(), "snap_threshold=0.1,: an empty value in the list");
+        assert_eq!(
+            arg("snap_threshold=0.1,").unwrap_err().to_string(),
+            "snap_threshold=0.1,: an empty value in the list"
+        );
         assert!(matches!(arg("snap_threshold=,0.1"), Err(ConfigError::EmptyValue(_))));
     }
 
@@ -164,13 +171,17 @@ mod tests {
 
     #[test]
     fn a_run_has_at_most_one_sweep_and_values_that_hold_together() {
-        let args: Vec<SetArg> = ["spawn_distance=2", "snap_threshold=0.1,0.2", "spawn_drop=0.3"].iter().map(|s| arg(s).unwrap()).collect();
+        let args: Vec<SetArg> =
+            ["spawn_distance=2", "snap_threshold=0.1,0.2", "spawn_drop=0.3"].iter().map(|s| arg(s).unwrap()).collect();
         let set = SetArgs::new(&args).unwrap();
         assert_eq!(set.fixed.iter().map(|o| o.name).collect::<Vec<_>>(), ["spawn_distance", "spawn_drop"]);
         let sweep = set.sweep.unwrap();
         assert_eq!((sweep.param.name, sweep.values.len()), ("snap_threshold", 2));
         let two = [arg("snap_threshold=0.1,0.2").unwrap(), arg("spawn_distance=1,2").unwrap()];
-        assert_eq!(SetArgs::new(&two).unwrap_err().to_string(), "spawn_distance=1,2: only one parameter can be swept at a time");
+        assert_eq!(
+            SetArgs::new(&two).unwrap_err().to_string(),
+            "spawn_distance=1,2: only one parameter can be swept at a time"
+        );
         let order = [arg("min_scale=5").unwrap(), arg("max_scale=2").unwrap()];
         assert!(matches!(SetArgs::new(&order), Err(ConfigError::ScaleOrder { .. })));
         assert!(matches!(SetArgs::single_values(&order), Err(ConfigError::ScaleOrder { .. })));

@@ -10,7 +10,7 @@
 
 use hecs::Entity;
 
-use crate::components::{AnchorBall, Controller, Head, HitMarker, Pose, Selection, Sun, Tree, Transform, Wind};
+use crate::components::{AnchorBall, Controller, Head, HitMarker, Pose, Selection, Sun, Transform, Tree, Wind};
 use crate::resources::Config;
 use crate::sim::Sim;
 use crate::task::TaskState;

@@ -6,15 +6,15 @@ use rand::RngExt;
 
 use crate::catalogue::{Catalogue, ModelId};
 use crate::components::*;
-use crate::hash::{world_hash, WorldHash};
+use crate::hash::{WorldHash, world_hash};
 use crate::input::{InputEvent, InvalidEvent};
 use crate::limits::InvalidScene;
 use crate::resources::Resources;
-use crate::scene::{parse_utc_ms, Scene, TimeError};
+use crate::scene::{Scene, TimeError, parse_utc_ms};
 use crate::systems::sun::SunError;
 use crate::water::Water;
 
-pub use crate::components::{tree_components, TreeComponents};
+pub use crate::components::{TreeComponents, tree_components};
 
 /// Why a simulation could not be built from a scene, or an input event was refused.
 #[derive(Debug, thiserror::Error)]
@@ -112,7 +112,8 @@ impl Sim {
 
         let head = Pose::looking_at(scene.camera.position, scene.camera.look_at);
         world.spawn((Head { pose: head, fov_y: scene.camera.fov_y_deg.to_radians() },));
-        let hand = Pose { position: head.position + head.rotation * Vec3::new(0.25, -0.35, -0.3), rotation: head.rotation };
+        let hand =
+            Pose { position: head.position + head.rotation * Vec3::new(0.25, -0.35, -0.3), rotation: head.rotation };
         world.spawn((Controller { pose: hand, ..Default::default() },));
         world.spawn((HitMarker::default(),));
         world.spawn((AnchorBall::default(),));
@@ -123,12 +124,10 @@ impl Sim {
         let mut sim = Sim { world, res, techniques: crate::technique::Techniques::builtin() };
         sim.set_techniques(crate::technique::installed());
         for (i, t) in scene.trees.iter().enumerate() {
-            let model = sim
-                .res
-                .catalogue
-                .by_name(&t.model)
-                .map(|m| m.id)
-                .ok_or_else(|| SimError::Part { part: format!("tree {i}"), message: sim.res.catalogue.unknown_name(&t.model) })?;
+            let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| SimError::Part {
+                part: format!("tree {i}"),
+                message: sim.res.catalogue.unknown_name(&t.model),
+            })?;
             sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
         }
         let water = crate::water::bodies(&sim.world);
@@ -139,7 +138,10 @@ impl Sim {
                 if crate::water::dry_ground(&water, sim.res.spatial.ground_below(t.position, 1.0e3)).is_none() {
                     continue;
                 }
-                let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| SimError::Part { part: format!("scatter {k}"), message: sim.res.catalogue.unknown_name(&t.model) })?;
+                let model = sim.res.catalogue.by_name(&t.model).map(|m| m.id).ok_or_else(|| SimError::Part {
+                    part: format!("scatter {k}"),
+                    message: sim.res.catalogue.unknown_name(&t.model),
+                })?;
                 sim.spawn_tree(model, t.position, t.yaw_deg.to_radians(), t.scale, t.on_ground);
             }
         }
@@ -153,14 +155,19 @@ impl Sim {
         // same entities as before: a tree of the aerial model at each crown, scaled to its
         // radius, tied to its crown by an `AerialCrown` component.
         if let Some(a) = &scene.aerial {
-            let model = sim.res.catalogue.by_name(&a.model).ok_or_else(|| SimError::Part { part: "aerial".into(), message: sim.res.catalogue.unknown_name(&a.model) })?;
+            let model = sim.res.catalogue.by_name(&a.model).ok_or_else(|| SimError::Part {
+                part: "aerial".into(),
+                message: sim.res.catalogue.unknown_name(&a.model),
+            })?;
             let (id, crown_radius) = (model.id, model.crown_radius.max(0.01));
             for c in a.crown_list.iter().filter(|c| c.radius_m >= a.min_radius_m) {
                 let crown = a.crown(c);
                 let pos = Vec3::new(crown.photo_centre.x, a.elevation, crown.photo_centre.y);
                 let yaw = (c.id as f32 * 137.507_76).rem_euclid(360.0).to_radians();
                 let e = sim.spawn_tree(id, pos, yaw, (c.radius_m / crown_radius).clamp(0.3, 3.0), true);
-                sim.world.insert_one(e, crown).map_err(|e| SimError::Part { part: "aerial".into(), message: e.to_string() })?;
+                sim.world
+                    .insert_one(e, crown)
+                    .map_err(|e| SimError::Part { part: "aerial".into(), message: e.to_string() })?;
             }
         }
         Ok(sim)
@@ -168,7 +175,14 @@ impl Sim {
 
     /// Spawns a tree directly (for scenes and scale tests), drawing its wind phase from the RNG.
     /// With `on_ground`, its lowest point is put on the plane below `position`, if there is one.
-    pub fn spawn_tree(&mut self, model: ModelId, position: Vec3, yaw: f32, scale: f32, on_ground: bool) -> hecs::Entity {
+    pub fn spawn_tree(
+        &mut self,
+        model: ModelId,
+        position: Vec3,
+        yaw: f32,
+        scale: f32,
+        on_ground: bool,
+    ) -> hecs::Entity {
         let lowest = self.res.catalogue.get(model).map_or(0.0, |m| m.lowest_point());
         let mut pos = position;
         let mut grounded = false;
@@ -284,7 +298,12 @@ impl Sim {
     pub fn tree(&self, id: u64) -> Option<TreeState> {
         let e = hecs::Entity::from_bits(id)?;
         let mut q = self.world.query_one::<(&Tree, &Transform, &Scale, &Grounded)>(e);
-        q.get().ok().map(|(tree, transform, scale, grounded)| TreeState { tree: *tree, transform: *transform, scale: *scale, grounded: *grounded })
+        q.get().ok().map(|(tree, transform, scale, grounded)| TreeState {
+            tree: *tree,
+            transform: *transform,
+            scale: *scale,
+            grounded: *grounded,
+        })
     }
 
     /// The head (the camera): the world's `Head`, or [`Sim::fallback_head`] when it has
@@ -306,7 +325,8 @@ impl Sim {
 
     /// The id bits of every tree, in ascending order.
     pub fn tree_ids(&self) -> Vec<u64> {
-        let mut ids: Vec<u64> = self.world.query::<(hecs::Entity, &Tree)>().iter().map(|(e, _)| e.to_bits().get()).collect();
+        let mut ids: Vec<u64> =
+            self.world.query::<(hecs::Entity, &Tree)>().iter().map(|(e, _)| e.to_bits().get()).collect();
         ids.sort_unstable();
         ids
     }

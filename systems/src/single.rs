@@ -76,13 +76,27 @@ macro_rules! singles {
     };
 }
 singles!(
-    Controller = 0, controller, true,
-    Head = 1, head, false,
-    HitMarker = 2, hit_marker, true,
-    AnchorBall = 3, anchor_ball, false,
-    Selection = 4, selection, true,
-    Sun = 5, sun, false,
-    Wind = 6, wind, false,
+    Controller = 0,
+    controller,
+    true,
+    Head = 1,
+    head,
+    false,
+    HitMarker = 2,
+    hit_marker,
+    true,
+    AnchorBall = 3,
+    anchor_ball,
+    false,
+    Selection = 4,
+    selection,
+    true,
+    Sun = 5,
+    sun,
+    false,
+    Wind = 6,
+    wind,
+    false,
 );
 
 /// The entity of each single kind, where the world has exactly one, and the copies of their

@@ -8,11 +8,13 @@
 use glam::{Quat, Vec3};
 use serde::Serialize;
 
-use crate::components::{AnchorBall, Controller, Grounded, Handle, HitMarker, HitTarget, Scale, Selection, Transform, Tree, WindState};
-use crate::light::{sun_light, HAZE_DEPTH, HAZE_FULL_AT, HAZE_FULL_FROM, HAZE_START, NO_SUN};
-use crate::wind_model::{Wind, WindParams};
+use crate::components::{
+    AnchorBall, Controller, Grounded, Handle, HitMarker, HitTarget, Scale, Selection, Transform, Tree, WindState,
+};
 use crate::hash::hex;
+use crate::light::{HAZE_DEPTH, HAZE_FULL_AT, HAZE_FULL_FROM, HAZE_START, NO_SUN, sun_light};
 use crate::sim::Sim;
+use crate::wind_model::{Wind, WindParams};
 
 /// The world at one tick, as a renderer and a task panel read it. Positions are metres,
 /// angles radians (names ending in `_deg` are degrees), rotations unit quaternions `[x, y, z, w]`;
@@ -275,7 +277,9 @@ impl Sim {
     /// The world as a renderer and a task panel read it ([`Snapshot`]).
     pub fn snapshot(&self) -> Snapshot {
         let (world, res) = (&self.world, &self.res);
-        let model_name = |id: crate::catalogue::ModelId| res.catalogue.get(id).map_or_else(|| format!("#{}", id.0), |m| m.name.clone());
+        let model_name = |id: crate::catalogue::ModelId| {
+            res.catalogue.get(id).map_or_else(|| format!("#{}", id.0), |m| m.name.clone())
+        };
         let selection = world.query::<&Selection>().iter().next().copied().unwrap_or_default();
         let mut trees: Vec<TreeSnapshot> = world
             .query::<(hecs::Entity, &Tree, &Transform, &Scale, &Grounded, Option<&WindState>)>()
@@ -341,7 +345,12 @@ impl Sim {
                 pose: PoseSnapshot { position: v3(controller.pose.position), rotation: quat(controller.pose.rotation) },
                 ray_origin: v3(controller.ray_origin()),
                 ray_direction: v3(controller.ray_dir()),
-                buttons: [controller.buttons.trigger, controller.buttons.bumper, controller.buttons.touchpad, controller.buttons.menu],
+                buttons: [
+                    controller.buttons.trigger,
+                    controller.buttons.bumper,
+                    controller.buttons.touchpad,
+                    controller.buttons.menu,
+                ],
                 touchpad: controller.touchpad.to_array(),
                 hit: hit(&marker),
             },
@@ -358,8 +367,17 @@ impl Sim {
             },
             bounding_box: selection.tree.map(|tree| {
                 let handles = crate::interact::handle_points(selection.center, selection.half_extents, selection.yaw);
-                let handles = handles.iter().map(|&(h, p)| HandleSnapshot { kind: handle_name(h).0, index: handle_name(h).1, position: v3(p) }).collect();
-                BoxSnapshot { tree, center: v3(selection.center), half_extents: v3(selection.half_extents), yaw: selection.yaw, handles }
+                let handles = handles
+                    .iter()
+                    .map(|&(h, p)| HandleSnapshot { kind: handle_name(h).0, index: handle_name(h).1, position: v3(p) })
+                    .collect();
+                BoxSnapshot {
+                    tree,
+                    center: v3(selection.center),
+                    half_extents: v3(selection.half_extents),
+                    yaw: selection.yaw,
+                    handles,
+                }
             }),
             menu: MenuSnapshot {
                 open: res.menu.open,
@@ -374,10 +392,19 @@ impl Sim {
     }
 
     fn light(&self) -> LightSnapshot {
-        let (dir, elevation_deg) = self.sun().map_or((NO_SUN.0.normalize(), NO_SUN.1), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
+        let (dir, elevation_deg) = self
+            .sun()
+            .map_or((NO_SUN.0.normalize(), NO_SUN.1), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
         let l = sun_light(elevation_deg);
         let haze = [HAZE_START, HAZE_DEPTH, HAZE_FULL_FROM, HAZE_FULL_AT];
-        LightSnapshot { sun_direction: v3(dir), elevation_deg, direct: v3(l.direct), ambient: v3(l.ambient), sky: l.sky, haze }
+        LightSnapshot {
+            sun_direction: v3(dir),
+            elevation_deg,
+            direct: v3(l.direct),
+            ambient: v3(l.ambient),
+            sky: l.sky,
+            haze,
+        }
     }
 }
 
@@ -453,7 +480,11 @@ mod tests {
         assert_eq!((b.handles[7].kind, b.handles[7].index), ("corner", 7));
         assert!(near(b.handles[7].position, at(h[0], h[1], h[2])), "{:?}", b.handles[7]);
         assert_eq!((b.handles[9].kind, b.handles[9].index), ("edge", 1));
-        assert!(near(b.handles[9].position, at(h[0], 0.0, -h[2])), "the edges at the centre's height: {:?}", b.handles[9]);
+        assert!(
+            near(b.handles[9].position, at(h[0], 0.0, -h[2])),
+            "the edges at the centre's height: {:?}",
+            b.handles[9]
+        );
     }
 
     #[test]

@@ -17,11 +17,11 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use parry3d::query::{Ray, RayCast, RayIntersection};
 use parry3d::shape::Cuboid;
 
-use crate::catalogue::{Catalogue, PickShape, PICK_BANDS};
+use crate::catalogue::{Catalogue, PICK_BANDS, PickShape};
 use crate::components::{Plane, Scale, Transform, Tree, Wind};
 pub use crate::plane_grid::plane_trimesh;
-use crate::plane_grid::{shared_plane_mesh, PlaneMesh};
-use crate::wind_model::{max_sway, SwayExtent};
+use crate::plane_grid::{PlaneMesh, shared_plane_mesh};
+use crate::wind_model::{SwayExtent, max_sway};
 
 /// A tree as the index sees it: its entity and its oriented box in world space.
 #[derive(Clone, Copy, Debug)]
@@ -253,7 +253,13 @@ impl SpatialIndex {
         self.cast_planes_with(origin, dir, max_dist, PlaneMesh::cast_plain)
     }
 
-    fn cast_planes_with(&self, origin: Vec3, dir: Vec3, max_dist: f32, cast: impl Fn(&PlaneMesh, &Ray, f32) -> Option<RayIntersection>) -> Option<RayHit> {
+    fn cast_planes_with(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        max_dist: f32,
+        cast: impl Fn(&PlaneMesh, &Ray, f32) -> Option<RayIntersection>,
+    ) -> Option<RayHit> {
         let ray = Ray::new(origin, dir);
         let mut best: Option<RayHit> = None;
         for (e, mesh) in &self.planes {
@@ -412,7 +418,14 @@ impl TreePick {
     /// each band, world metres.
     pub fn new(shape: PickShape, t: &Transform, scale: f32, pads: [f32; PICK_BANDS]) -> TreePick {
         let scale = if scale.is_finite() && scale > 1e-6 { scale } else { 1e-6 };
-        TreePick { shape, base: t.translation, yaw: t.yaw, inv_rot: Quat::from_rotation_y(-t.yaw), scale, pads: pads.map(|p| p / scale) }
+        TreePick {
+            shape,
+            base: t.translation,
+            yaw: t.yaw,
+            inv_rot: Quat::from_rotation_y(-t.yaw),
+            scale,
+            pads: pads.map(|p| p / scale),
+        }
     }
 
     /// A world point in model space.

@@ -28,7 +28,12 @@ pub fn frame_bounds(min: Vec3, max: Vec3, fov_y: f32, aspect: f32) -> (Vec3, Vec
 /// [`frame_bounds`], a 40° field of view for an image of `aspect` width over height); with
 /// `with_hole`, a hole in the plane to the camera's right. `bounds` are the model's, in model
 /// space, metres. The catalogue holds one entry, `model`, with those bounds.
-pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: ModelId) -> Result<Sim, crate::sim::SimError> {
+pub fn model_stage(
+    bounds: (Vec3, Vec3),
+    aspect: f32,
+    with_hole: bool,
+    model: ModelId,
+) -> Result<Sim, crate::sim::SimError> {
     let (min, max) = bounds;
     let size = (max - min).max_element().max(0.1);
     let half = size * 1.5;
@@ -45,10 +50,7 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
                 unevenness: 0.0,
                 noise_seed: 0,
                 holes: if with_hole {
-                    vec![Hole {
-                        center: glam::Vec2::new(half * 0.55, half * 0.3),
-                        radius: size * 0.2,
-                    }]
+                    vec![Hole { center: glam::Vec2::new(half * 0.55, half * 0.3), radius: size * 0.2 }]
                 } else {
                     vec![]
                 },
@@ -65,12 +67,7 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
         kind: ModelKind::Mesh,
         bounds_min: min,
         bounds_max: max,
-        crown_radius: Vec3::new(
-            min.x.abs().max(max.x.abs()),
-            0.0,
-            min.z.abs().max(max.z.abs()),
-        )
-        .length(),
+        crown_radius: Vec3::new(min.x.abs().max(max.x.abs()), 0.0, min.z.abs().max(max.z.abs())).length(),
         triangles: 0,
         pick: None,
     };
@@ -79,10 +76,7 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
     let fov = 40f32.to_radians();
     let (eye, target) = frame_bounds(min, max, fov, aspect);
     for (_, head) in sim.world.query_mut::<(hecs::Entity, &mut Head)>() {
-        *head = Head {
-            pose: Pose::looking_at(eye, target),
-            fov_y: fov,
-        };
+        *head = Head { pose: Pose::looking_at(eye, target), fov_y: fov };
     }
     // A sun from over the camera's left shoulder, 40° up, so the model is lit from the front
     // and its shadow falls to the right where the camera sees it.
@@ -92,12 +86,8 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
         sun.direction = crate::systems::sun::direction_from_angles(110.0, 40.0);
     }
     // No controller ray in a model view.
-    let controllers: Vec<hecs::Entity> = sim
-        .world
-        .query::<(hecs::Entity, &Controller)>()
-        .iter()
-        .map(|(e, _)| e)
-        .collect();
+    let controllers: Vec<hecs::Entity> =
+        sim.world.query::<(hecs::Entity, &Controller)>().iter().map(|(e, _)| e).collect();
     for e in controllers {
         let _ = sim.world.despawn(e);
     }
@@ -109,12 +99,14 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
 /// motion as the stage's ticks run (`grove render --model FILE --tick T` and `--frames`, and the
 /// headset page's `render.mjs --tick`). A stage without a `Wind` entity is left as it is.
 pub fn in_study_wind(sim: &mut Sim) -> Result<(), crate::sim::SimError> {
-    let study = Scene::builtin("study").ok_or_else(|| crate::limits::InvalidScene("the built-in study scene is missing".into()))?;
+    let study = Scene::builtin("study")
+        .ok_or_else(|| crate::limits::InvalidScene("the built-in study scene is missing".into()))?;
     if let Some(mut w) = sim.wind() {
         let d = &study.wind;
         w.strength = d.strength;
         w.density = d.density;
-        w.gust = crate::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
+        w.gust =
+            crate::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
         w.current = d.gust_average;
         sim.set_up().wind(w);
     }
@@ -142,11 +134,15 @@ mod tests {
 
     #[test]
     fn the_study_wind_on_a_stage_is_the_study_scene_s() {
-        let mut sim = model_stage((Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 3.0, 1.0)), 1.5, false, ModelId(0)).unwrap();
+        let mut sim =
+            model_stage((Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 3.0, 1.0)), 1.5, false, ModelId(0)).unwrap();
         assert_eq!(sim.wind().unwrap().strength, 0.0, "the stage is calm");
         in_study_wind(&mut sim).unwrap();
         let (w, d) = (sim.wind().unwrap(), Scene::builtin("study").unwrap().wind);
         assert!(d.strength > 0.0 && d.gust_strength > 0.0, "the study scene has gusts");
-        assert_eq!((w.strength, w.density, w.gust.strength, w.current), (d.strength, d.density, d.gust_strength, d.gust_average));
+        assert_eq!(
+            (w.strength, w.density, w.gust.strength, w.current),
+            (d.strength, d.density, d.gust_strength, d.gust_average)
+        );
     }
 }

@@ -62,7 +62,12 @@ pub enum Aim {
 
 /// A value as a scenario file writes it, on one line: `Logged(kind: "planted", count: 2)`.
 pub fn ron_line<T: Serialize + std::fmt::Debug>(value: &T) -> String {
-    let config = ron::ser::PrettyConfig::new().new_line("").indentor("").compact_structs(true).compact_arrays(true).compact_maps(true);
+    let config = ron::ser::PrettyConfig::new()
+        .new_line("")
+        .indentor("")
+        .compact_structs(true)
+        .compact_arrays(true)
+        .compact_maps(true);
     // Optional values as the files write them: `offset: (0.0, 2.0, 0.0)`, not `Some((…))`.
     let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     options.to_string_pretty(value, config).unwrap_or_else(|_| format!("{value:?}"))
@@ -172,7 +177,9 @@ impl Names {
             TreeRef::Last => *self.planted(sim).last().ok_or(TargetError::NonePlanted)?,
             TreeRef::Planted(n) => {
                 let planted = self.planted(sim);
-                *n.checked_sub(1).and_then(|i| planted.get(i)).ok_or(TargetError::NotPlanted { n: *n, planted: planted.len() })?
+                *n.checked_sub(1)
+                    .and_then(|i| planted.get(i))
+                    .ok_or(TargetError::NotPlanted { n: *n, planted: planted.len() })?
             }
             TreeRef::Named(name) => *self.trees.get(name).ok_or_else(|| TargetError::NoName(name.clone()))?,
             TreeRef::Nearest(x, y, z) => nearest(sim, Vec3::new(*x, *y, *z)).ok_or(TargetError::NoTrees)?,
@@ -190,7 +197,11 @@ impl Names {
             Aim::Target(n) => {
                 let task = sim.res.task.as_ref().ok_or(TargetError::NoTask(*n))?;
                 let targets = &task.def.targets;
-                let t = n.checked_sub(1).and_then(|i| targets.get(i)).ok_or_else(|| TargetError::NoTarget { task: task.def.id.clone(), count: targets.len(), n: *n })?;
+                let t = n.checked_sub(1).and_then(|i| targets.get(i)).ok_or_else(|| TargetError::NoTarget {
+                    task: task.def.id.clone(),
+                    count: targets.len(),
+                    n: *n,
+                })?;
                 Ok(t.position)
             }
             Aim::Tree { tree, offset } => {
@@ -229,7 +240,11 @@ pub fn tree_middle(sim: &Sim, tree: u64) -> Option<Vec3> {
             let y = match p.band(middle) {
                 Some(i) if p.radii[i] > 0.0 => middle,
                 // The nearest band that is not empty (the lower on a tie).
-                _ => (0..crate::catalogue::PICK_BANDS).filter(|&i| p.radii[i] > 0.0).map(centre).min_by(|a, b| (a - middle).abs().total_cmp(&(b - middle).abs())).unwrap_or(middle),
+                _ => (0..crate::catalogue::PICK_BANDS)
+                    .filter(|&i| p.radii[i] > 0.0)
+                    .map(centre)
+                    .min_by(|a, b| (a - middle).abs().total_cmp(&(b - middle).abs()))
+                    .unwrap_or(middle),
             };
             Vec3::new(0.0, y, 0.0)
         }

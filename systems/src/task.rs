@@ -68,7 +68,8 @@ impl TaskDef {
     }
 
     fn from_ron_message(text: &str, catalogue: &Catalogue) -> Result<TaskDef, String> {
-        let def: TaskDef = ron::from_str(text).map_err(|e| format!("line {}, column {}: {}", e.span.start.line, e.span.start.col, e.code))?;
+        let def: TaskDef = ron::from_str(text)
+            .map_err(|e| format!("line {}, column {}: {}", e.span.start.line, e.span.start.col, e.code))?;
         if def.targets.is_empty() {
             return Err("a task needs at least one target".into());
         }
@@ -197,9 +198,13 @@ impl TaskState {
     /// or when the room's floor has no point far enough from its edges); the tolerance is scaled
     /// with the spacing.
     pub fn laid_out(mut def: TaskDef, tick: u64, layout: Option<&crate::room_layout::TaskLayout>) -> TaskState {
-        let Some(crate::room_layout::TaskLayout::Room { floor, keep_out }) = layout else { return TaskState::new(def, tick) };
+        let Some(crate::room_layout::TaskLayout::Room { floor, keep_out }) = layout else {
+            return TaskState::new(def, tick);
+        };
         let file: Vec<Vec3> = def.targets.iter().map(|t| t.position).collect();
-        let Some((placed, placement)) = crate::room_layout::place(&file, floor, keep_out) else { return TaskState::new(def, tick) };
+        let Some((placed, placement)) = crate::room_layout::place(&file, floor, keep_out) else {
+            return TaskState::new(def, tick);
+        };
         for (t, p) in def.targets.iter_mut().zip(placed) {
             t.position = p;
         }

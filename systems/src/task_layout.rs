@@ -70,7 +70,15 @@ mod tests {
     #[test]
     fn a_room_with_only_a_floor_moves_the_terrace_target_onto_it() {
         let mut scene = Scene::builtin("study").unwrap();
-        let floor = PlaneShape::Grid { min: glam::Vec2::new(-20.0, -20.0), size: glam::Vec2::new(40.0, 40.0), cell: 2.0, elevation: -0.05, unevenness: 0.0, noise_seed: 0, holes: Vec::new() };
+        let floor = PlaneShape::Grid {
+            min: glam::Vec2::new(-20.0, -20.0),
+            size: glam::Vec2::new(40.0, 40.0),
+            cell: 2.0,
+            elevation: -0.05,
+            unevenness: 0.0,
+            noise_seed: 0,
+            holes: Vec::new(),
+        };
         scene.planes = vec![PlaneDef { name: "floor".into(), shape: floor }];
         scene.trees.clear();
         let sim = started(&scene);
@@ -84,7 +92,11 @@ mod tests {
 
     #[test]
     fn a_target_over_no_plane_or_near_one_stays() {
-        let stays = |y: f32, ground: Option<f32>| moved_onto(Vec3::new(1.0, y, 2.0), |p, lift| ground.filter(|g| *g <= p.y + lift).map(|g| Vec3::new(p.x, g, p.z)));
+        let stays = |y: f32, ground: Option<f32>| {
+            moved_onto(Vec3::new(1.0, y, 2.0), |p, lift| {
+                ground.filter(|g| *g <= p.y + lift).map(|g| Vec3::new(p.x, g, p.z))
+            })
+        };
         assert_eq!(stays(0.8, None), None);
         assert_eq!(stays(0.8, Some(0.6)), None);
         assert_eq!(stays(0.0, Some(0.25)), None);

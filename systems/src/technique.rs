@@ -50,7 +50,8 @@ pub enum Stage {
 
 impl Stage {
     /// Every stage, in schedule order.
-    pub const ALL: [Stage; 6] = [Stage::Input, Stage::Environment, Stage::Ray, Stage::Interaction, Stage::Constraints, Stage::Task];
+    pub const ALL: [Stage; 6] =
+        [Stage::Input, Stage::Environment, Stage::Ray, Stage::Interaction, Stage::Constraints, Stage::Task];
 
     /// The stage's name as documentation and `--help` use it.
     pub fn name(self) -> &'static str {
@@ -132,8 +133,16 @@ impl Technique {
             systems: Vec::new(),
             components: Vec::new(),
             controls: vec![
-                Control { button: Button::Trigger, desktop: "left mouse button", action: "plant on the ground, select a tree" },
-                Control { button: Button::Bumper, desktop: "right mouse button", action: "remove the tree under the ray" },
+                Control {
+                    button: Button::Trigger,
+                    desktop: "left mouse button",
+                    action: "plant on the ground, select a tree",
+                },
+                Control {
+                    button: Button::Bumper,
+                    desktop: "right mouse button",
+                    action: "remove the tree under the ray",
+                },
                 Control { button: Button::Menu, desktop: "Tab or M", action: "open the model menu" },
             ],
             participant: vec![Operator::Mental, Operator::Menu, Operator::AimRay, Operator::Press(Button::Trigger)],
@@ -151,9 +160,21 @@ impl Technique {
             systems: Vec::new(),
             components: Vec::new(),
             controls: vec![
-                Control { button: Button::Trigger, desktop: "left mouse button", action: "grab and drag a tree or a handle" },
-                Control { button: Button::Bumper, desktop: "right mouse button", action: "remove the tree under the ray" },
-                Control { button: Button::Touchpad, desktop: "mouse wheel or Up/Down (front/back), Q/E (left/right)", action: "move the selected tree along the ray and turn it" },
+                Control {
+                    button: Button::Trigger,
+                    desktop: "left mouse button",
+                    action: "grab and drag a tree or a handle",
+                },
+                Control {
+                    button: Button::Bumper,
+                    desktop: "right mouse button",
+                    action: "remove the tree under the ray",
+                },
+                Control {
+                    button: Button::Touchpad,
+                    desktop: "mouse wheel or Up/Down (front/back), Q/E (left/right)",
+                    action: "move the selected tree along the ray and turn it",
+                },
                 Control { button: Button::Menu, desktop: "Tab or M", action: "open the model menu" },
             ],
             participant: vec![
@@ -174,7 +195,13 @@ impl Technique {
 
     /// What the world knows of it (all but its systems, controls and participant model).
     pub fn known(&self) -> Known {
-        Known { name: self.name, version: self.version, about: self.about, base: self.base, components: self.components.clone() }
+        Known {
+            name: self.name,
+            version: self.version,
+            about: self.about,
+            base: self.base,
+            components: self.components.clone(),
+        }
     }
 }
 
@@ -250,7 +277,16 @@ mod tests {
     use super::*;
 
     fn plugin(name: &'static str) -> Technique {
-        Technique { name, version: 2, about: "", base: Mode::RayCasting, systems: Vec::new(), components: Vec::new(), controls: Vec::new(), participant: Vec::new() }
+        Technique {
+            name,
+            version: 2,
+            about: "",
+            base: Mode::RayCasting,
+            systems: Vec::new(),
+            components: Vec::new(),
+            controls: Vec::new(),
+            participant: Vec::new(),
+        }
     }
 
     #[test]

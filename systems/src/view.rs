@@ -44,10 +44,19 @@ pub struct TreeView {
     pub crown: Option<AerialCrown>,
 }
 
-type TreeQuery<'a> = (Entity, &'a Tree, &'a Transform, &'a Scale, &'a Grounded, Option<&'a WindState>, Option<&'a AerialCrown>);
+type TreeQuery<'a> =
+    (Entity, &'a Tree, &'a Transform, &'a Scale, &'a Grounded, Option<&'a WindState>, Option<&'a AerialCrown>);
 
 fn tree_view((e, tree, transform, scale, grounded, wind, crown): TreeQuery<'_>) -> TreeView {
-    TreeView { id: e.to_bits().get(), model: tree.model, transform: *transform, scale: scale.0, grounded: grounded.0, wind: wind.copied(), crown: crown.copied() }
+    TreeView {
+        id: e.to_bits().get(),
+        model: tree.model,
+        transform: *transform,
+        scale: scale.0,
+        grounded: grounded.0,
+        wind: wind.copied(),
+        crown: crown.copied(),
+    }
 }
 
 impl Sim {
@@ -165,7 +174,8 @@ impl Sim {
 
     /// Copies of the grass patches with their entities' id bits, sorted by entity.
     pub fn grass_patches(&self) -> Vec<(u64, Grass)> {
-        let mut v: Vec<(u64, Grass)> = self.world().query::<(Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
+        let mut v: Vec<(u64, Grass)> =
+            self.world().query::<(Entity, &Grass)>().iter().map(|(e, g)| (e.to_bits().get(), g.clone())).collect();
         v.sort_by_key(|(e, _)| *e);
         v
     }
@@ -174,7 +184,8 @@ impl Sim {
     /// sorted by entity: what the technique's tests read (the built-in components have the
     /// getters above).
     pub fn plug_in_components<T: hecs::Component + Clone>(&self) -> Vec<(u64, T)> {
-        let mut v: Vec<(u64, T)> = self.world().query::<(Entity, &T)>().iter().map(|(e, c)| (e.to_bits().get(), c.clone())).collect();
+        let mut v: Vec<(u64, T)> =
+            self.world().query::<(Entity, &T)>().iter().map(|(e, c)| (e.to_bits().get(), c.clone())).collect();
         v.sort_by_key(|(e, _)| *e);
         v
     }

@@ -92,7 +92,10 @@ impl WaterDef {
             return Err(format!("{what}: its polygon has {n} vertices; a water body needs at least 3"));
         }
         if n > limits::MAX_WATER_VERTICES {
-            return Err(format!("{what}: {n} polygon vertices is more than the limit of {} ({RAISE})", limits::MAX_WATER_VERTICES));
+            return Err(format!(
+                "{what}: {n} polygon vertices is more than the limit of {} ({RAISE})",
+                limits::MAX_WATER_VERTICES
+            ));
         }
         for (i, v) in self.polygon.iter().enumerate() {
             if !v.is_finite() {
@@ -134,7 +137,11 @@ pub fn validate_all(water: &[WaterDef]) -> Result<(), crate::limits::InvalidScen
 
 fn validate_all_message(water: &[WaterDef]) -> Result<(), String> {
     if water.len() > limits::MAX_WATER_BODIES {
-        return Err(format!("{} water bodies is more than the limit of {} per scene ({RAISE})", water.len(), limits::MAX_WATER_BODIES));
+        return Err(format!(
+            "{} water bodies is more than the limit of {} per scene ({RAISE})",
+            water.len(),
+            limits::MAX_WATER_BODIES
+        ));
     }
     Ok(water.iter().try_for_each(WaterDef::validate)?)
 }
@@ -173,7 +180,9 @@ fn segments_touch(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> bool {
     if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
         return true;
     }
-    let on = |p: Vec2, q: Vec2, r: Vec2| r.x >= p.x.min(q.x) && r.x <= p.x.max(q.x) && r.y >= p.y.min(q.y) && r.y <= p.y.max(q.y);
+    let on = |p: Vec2, q: Vec2, r: Vec2| {
+        r.x >= p.x.min(q.x) && r.x <= p.x.max(q.x) && r.y >= p.y.min(q.y) && r.y <= p.y.max(q.y)
+    };
     (d1 == 0.0 && on(c, d, a)) || (d2 == 0.0 && on(c, d, b)) || (d3 == 0.0 && on(a, b, c)) || (d4 == 0.0 && on(a, b, d))
 }
 
@@ -252,13 +261,28 @@ mod tests {
 
     fn square(h: f32) -> Water {
         let polygon = vec![Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0), Vec2::new(4.0, 4.0), Vec2::new(0.0, 4.0)];
-        Water { name: "sq".into(), polygon, height: h, depth: 1.0, colour: [0.1, 0.2, 0.3], ripples: 1.0, ripple_speed: 0.05 }
+        Water {
+            name: "sq".into(),
+            polygon,
+            height: h,
+            depth: 1.0,
+            colour: [0.1, 0.2, 0.3],
+            ripples: 1.0,
+            ripple_speed: 0.05,
+        }
     }
 
     #[test]
     fn points_inside_and_outside_a_concave_outline() {
         // An L shape: the notch at (3, 3) is outside.
-        let l = [Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0), Vec2::new(4.0, 2.0), Vec2::new(2.0, 2.0), Vec2::new(2.0, 4.0), Vec2::new(0.0, 4.0)];
+        let l = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(4.0, 0.0),
+            Vec2::new(4.0, 2.0),
+            Vec2::new(2.0, 2.0),
+            Vec2::new(2.0, 4.0),
+            Vec2::new(0.0, 4.0),
+        ];
         assert!(contains(&l, Vec2::new(1.0, 1.0)));
         assert!(contains(&l, Vec2::new(1.0, 3.0)));
         assert!(contains(&l, Vec2::new(3.0, 1.0)));

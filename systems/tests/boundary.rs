@@ -4,12 +4,12 @@
 //! and the resources are private to grove-systems); `Sim::set_up` is its only other way in.
 
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::components::Pose;
 use grove_systems::events::Happening;
 use grove_systems::input::Button;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
-use grove_systems::Sim;
 
 fn scripted(seed: u64) -> Script {
     let mut scene = Scene::builtin("study").unwrap();

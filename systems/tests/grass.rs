@@ -3,9 +3,9 @@
 //! are refused with one line.
 
 use glam::{Vec2, Vec3};
-use grove_systems::grass::{place_blades, Blade, GrassKind};
-use grove_systems::scene::Scene;
 use grove_systems::Sim;
+use grove_systems::grass::{Blade, GrassKind, place_blades};
+use grove_systems::scene::Scene;
 
 fn park_text() -> String {
     std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/park.ron")).expect("park scene")
@@ -13,14 +13,16 @@ fn park_text() -> String {
 
 fn park() -> Scene {
     // Loaded from its file, so that the species bank it names is found beside it.
-    Scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/park.ron"))).expect("the park scene loads")
+    Scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/park.ron")))
+        .expect("the park scene loads")
 }
 
 /// The blades of every blade patch of a world, patch by patch in entity order.
 fn blades_of(sim: &Sim) -> Vec<Vec<Blade>> {
     let mut planes: Vec<(String, Vec<Vec3>, Vec<[u32; 3]>)> = Vec::new();
     sim.for_each_plane(|_, p| planes.push((p.name.clone(), p.vertices.clone(), p.triangles.clone())));
-    let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|(n, v, t)| (n.as_str(), v.as_slice(), t.as_slice())).collect();
+    let views: Vec<(&str, &[Vec3], &[[u32; 3]])> =
+        planes.iter().map(|(n, v, t)| (n.as_str(), v.as_slice(), t.as_slice())).collect();
     sim.grass_patches().iter().map(|(_, g)| place_blades(g, &views)).collect()
 }
 
@@ -87,7 +89,10 @@ fn no_blade_stands_over_a_hole() {
     let text = park_text()
         .replace("polygon: [(1.0, 0.0), (11.0, 0.0), (11.0, 8.0), (1.0, 8.0)],", "")
         .replace("density: 300.0,", "density: 40.0,")
-        .replace("(center: (6.0, 4.0), radius: 0.8),", "(center: (6.0, 4.0), radius: 0.8), (center: (-12.0, -10.0), radius: 2.3),");
+        .replace(
+            "(center: (6.0, 4.0), radius: 0.8),",
+            "(center: (6.0, 4.0), radius: 0.8), (center: (-12.0, -10.0), radius: 2.3),",
+        );
     let mut scene = Scene::parse(&text, "holes.ron").unwrap();
     // The pond's bed (a separate plane whose rim overlaps the ground by a few millimetres) and
     // its water are not part of this test; the ground's hole under the pond stays.
@@ -97,7 +102,12 @@ fn no_blade_stands_over_a_hole() {
     scene.trees.clear();
     scene.banks.clear();
     let sim = Sim::from_scene(&scene, scene.seed).unwrap();
-    let holes = [(Vec2::new(-6.0, -3.0), 1.0), (Vec2::new(6.0, 4.0), 0.8), (Vec2::new(-12.0, -10.0), 2.3), (Vec2::new(6.0, -6.0), 2.7857)];
+    let holes = [
+        (Vec2::new(-6.0, -3.0), 1.0),
+        (Vec2::new(6.0, 4.0), 0.8),
+        (Vec2::new(-12.0, -10.0), 2.3),
+        (Vec2::new(6.0, -6.0), 2.7857),
+    ];
     let blades: Vec<Blade> = blades_of(&sim).into_iter().flatten().collect();
     assert!(blades.len() > 15_000, "{} blades", blades.len());
     let mut near_hole = 0;

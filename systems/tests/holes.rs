@@ -1,12 +1,14 @@
 //! The hole mask of `holes.rs` against its definition: every grid triangle tested against every
 //! hole.
 use glam::Vec2;
-use grove_systems::scene::{plane_geometry, Hole, PlaneShape};
+use grove_systems::scene::{Hole, PlaneShape, plane_geometry};
 
 /// Every triangle tested against every hole: the definition the mask must match. Returns
 /// the number of triangles kept.
 fn brute_force(shape: &PlaneShape) -> usize {
-    let PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes } = shape.clone() else { unreachable!() };
+    let PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes } = shape.clone() else {
+        unreachable!()
+    };
     let plain = PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes: vec![] };
     let (vertices, all) = plane_geometry(&plain);
     all.iter()
@@ -36,7 +38,10 @@ fn the_mask_matches_testing_every_triangle_against_every_hole() {
         };
         let cell = 0.1 + rnd() * 0.9;
         let holes: Vec<Hole> = (0..(case % 7) * 3)
-            .map(|_| Hole { center: min + Vec2::new(rnd() * size.x * 1.4 - size.x * 0.2, rnd() * size.y * 1.4 - size.y * 0.2), radius: rnd() * rnd() * size.max_element() * 0.5 })
+            .map(|_| Hole {
+                center: min + Vec2::new(rnd() * size.x * 1.4 - size.x * 0.2, rnd() * size.y * 1.4 - size.y * 0.2),
+                radius: rnd() * rnd() * size.max_element() * 0.5,
+            })
             .collect();
         let shape = PlaneShape::Grid { min, size, cell, elevation: 0.3, unevenness: 0.2, noise_seed: case, holes };
         let (_, kept) = plane_geometry(&shape);
@@ -49,7 +54,15 @@ fn the_mask_matches_testing_every_triangle_against_every_hole() {
 
 #[test]
 fn a_hole_larger_than_the_plane_removes_every_triangle_and_a_far_one_none() {
-    let grid = |holes| PlaneShape::Grid { min: Vec2::new(-2.0, -3.0), size: Vec2::new(4.0, 6.0), cell: 0.5, elevation: 0.0, unevenness: 0.0, noise_seed: 0, holes };
+    let grid = |holes| PlaneShape::Grid {
+        min: Vec2::new(-2.0, -3.0),
+        size: Vec2::new(4.0, 6.0),
+        cell: 0.5,
+        elevation: 0.0,
+        unevenness: 0.0,
+        noise_seed: 0,
+        holes,
+    };
     let (_, t) = plane_geometry(&grid(vec![Hole { center: Vec2::ZERO, radius: 100.0 }]));
     assert!(t.is_empty());
     let (_, t) = plane_geometry(&grid(vec![Hole { center: Vec2::new(50.0, 0.0), radius: 10.0 }]));
@@ -84,13 +97,27 @@ fn rim_offsets(vertices: &[glam::Vec3], triangles: &[[u32; 3]], holes: &[Hole], 
 fn exact_holes_put_the_rim_on_the_circle() {
     use grove_systems::scene::plane_geometry_cut;
     let (min, size) = (Vec2::new(-20.0, -15.0), Vec2::new(40.0, 30.0));
-    let holes = vec![Hole { center: Vec2::new(-4.0, 2.0), radius: 2.5 }, Hole { center: Vec2::new(9.3, -4.1), radius: 4.2 }];
-    let shape = PlaneShape::Grid { min, size, cell: 1.0, elevation: 0.0, unevenness: 0.05, noise_seed: 3, holes: holes.clone() };
+    let holes =
+        vec![Hole { center: Vec2::new(-4.0, 2.0), radius: 2.5 }, Hole { center: Vec2::new(9.3, -4.1), radius: 4.2 }];
+    let shape = PlaneShape::Grid {
+        min,
+        size,
+        cell: 1.0,
+        elevation: 0.0,
+        unevenness: 0.05,
+        noise_seed: 3,
+        holes: holes.clone(),
+    };
     let (v0, t0) = plane_geometry_cut(&shape, false);
     assert_eq!((v0.clone(), t0.clone()), plane_geometry(&shape), "off is the plane as it always was");
     let (v1, t1) = plane_geometry_cut(&shape, true);
     // Only slivers between a circle and its chords are left out.
-    assert!(t1.iter().all(|t| t0.contains(t)) && t1.len() + 40 > t0.len(), "{} of {} triangles kept", t1.len(), t0.len());
+    assert!(
+        t1.iter().all(|t| t0.contains(t)) && t1.len() + 40 > t0.len(),
+        "{} of {} triangles kept",
+        t1.len(),
+        t0.len()
+    );
     let off = |v: &[glam::Vec3], t: &[[u32; 3]]| rim_offsets(v, t, &holes, min, min + size);
     let (jagged, exact) = (off(&v0, &t0), off(&v1, &t1));
     let worst = |o: &[f32]| o.iter().copied().fold(0.0, f32::max);

@@ -2,9 +2,9 @@
 //! the trunk, reaches the ground; rays at the trunk and into the crown still hit the tree.
 
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::catalogue::Catalogue;
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
 
 /// The study scene with its trees removed and one broadleaf-mesh tree at (-7, ground, -1.5),
 /// with the given catalogue. Returns the sim, the tree's entity and its base position.

@@ -8,11 +8,11 @@
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
+use grove_systems::Sim;
 use grove_systems::components::Plane;
 use grove_systems::holes::Hole;
 use grove_systems::plane_grid::PlaneMesh;
-use grove_systems::scene::{plane_geometry, PlaneShape, Scene};
-use grove_systems::Sim;
+use grove_systems::scene::{PlaneShape, Scene, plane_geometry};
 use parry3d::query::{Ray, RayIntersection};
 
 /// A splitmix64 step, mapped to [0, 1).
@@ -44,19 +44,38 @@ fn planes(scene: &Scene) -> Vec<Plane> {
 /// is coarse), finely divided, and steep with cells that do not divide the rectangle evenly.
 fn odd_planes() -> Vec<Plane> {
     let grid = |name: &str, min: Vec2, size: Vec2, cell: f32, elevation: f32, unevenness: f32, holes: Vec<Hole>| {
-        let (vertices, triangles) = plane_geometry(&PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed: 3, holes });
+        let (vertices, triangles) =
+            plane_geometry(&PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed: 3, holes });
         Plane { name: name.into(), vertices, triangles }
     };
     vec![
-        grid("far", Vec2::new(40_000.0, -60_000.0), Vec2::new(30.0, 30.0), 1.0, 1_200.0, 0.5, vec![Hole { center: Vec2::new(40_010.0, -59_990.0), radius: 2.0 }]),
+        grid(
+            "far",
+            Vec2::new(40_000.0, -60_000.0),
+            Vec2::new(30.0, 30.0),
+            1.0,
+            1_200.0,
+            0.5,
+            vec![Hole { center: Vec2::new(40_010.0, -59_990.0), radius: 2.0 }],
+        ),
         grid("fine", Vec2::new(-5.0, -5.0), Vec2::new(10.0, 10.0), 0.1, 0.0, 0.02, Vec::new()),
-        grid("steep", Vec2::new(0.0, 0.0), Vec2::new(20.0, 12.0), 0.7, -3.0, 3.0, vec![Hole { center: Vec2::new(10.0, 6.0), radius: 1.5 }]),
+        grid(
+            "steep",
+            Vec2::new(0.0, 0.0),
+            Vec2::new(20.0, 12.0),
+            0.7,
+            -3.0,
+            3.0,
+            vec![Hole { center: Vec2::new(10.0, 6.0), radius: 1.5 }],
+        ),
     ]
 }
 
 /// The bits of a hit, to compare exactly.
 fn bits(hit: Option<RayIntersection>) -> Option<(u32, [u32; 3], String)> {
-    hit.map(|h| (h.time_of_impact.to_bits(), h.normal.to_array().map(f32::to_bits), format!("{:?} {:?}", h.feature, h.subshape)))
+    hit.map(|h| {
+        (h.time_of_impact.to_bits(), h.normal.to_array().map(f32::to_bits), format!("{:?} {:?}", h.feature, h.subshape))
+    })
 }
 
 #[derive(Default)]
@@ -80,7 +99,8 @@ fn the_grid_cast_is_parrys_cast_bit_for_bit() {
     let mut state = 7u64;
     let (mut aimed, mut down, mut any, mut level, mut edges) = <(Tally, Tally, Tally, Tally, Tally)>::default();
     let mut meshes = 0;
-    let all = scenes().into_iter().map(|(name, scene)| (name, planes(&scene))).chain([("odd".to_string(), odd_planes())]);
+    let all =
+        scenes().into_iter().map(|(name, scene)| (name, planes(&scene))).chain([("odd".to_string(), odd_planes())]);
     for (name, planes) in all {
         for plane in planes {
             let Some(mesh) = PlaneMesh::new(&plane) else { continue };
@@ -99,14 +119,27 @@ fn the_grid_cast_is_parrys_cast_bit_for_bit() {
                 let limit = [100.0, 1.0e4, (to - from).length() * 1.5, 0.5][k % 4];
                 check(&mesh, Ray::new(from, dir), limit, &what, &mut aimed);
                 // Straight down, as the ground below a point is found.
-                let p = Vec3::new(r(&mut state, lo.x - 1.0, hi.x + 1.0), hi.y + r(&mut state, -0.5, 2.0), r(&mut state, lo.z - 1.0, hi.z + 1.0));
+                let p = Vec3::new(
+                    r(&mut state, lo.x - 1.0, hi.x + 1.0),
+                    hi.y + r(&mut state, -0.5, 2.0),
+                    r(&mut state, lo.z - 1.0, hi.z + 1.0),
+                );
                 check(&mesh, Ray::new(p, Vec3::NEG_Y), 1.0e4, &what, &mut down);
                 // Any direction from anywhere around the plane, below it too.
-                let o = Vec3::new(r(&mut state, lo.x - 5.0, hi.x + 5.0), r(&mut state, lo.y - 2.0, hi.y + 10.0), r(&mut state, lo.z - 5.0, hi.z + 5.0));
-                let d = Vec3::new(r(&mut state, -1.0, 1.0), r(&mut state, -1.0, 1.0), r(&mut state, -1.0, 1.0)).normalize_or(Vec3::X);
+                let o = Vec3::new(
+                    r(&mut state, lo.x - 5.0, hi.x + 5.0),
+                    r(&mut state, lo.y - 2.0, hi.y + 10.0),
+                    r(&mut state, lo.z - 5.0, hi.z + 5.0),
+                );
+                let d = Vec3::new(r(&mut state, -1.0, 1.0), r(&mut state, -1.0, 1.0), r(&mut state, -1.0, 1.0))
+                    .normalize_or(Vec3::X);
                 check(&mesh, Ray::new(o, d), [100.0, 3.0, 1.0e4][k % 3], &what, &mut any);
                 // Level with the ground, inside its unevenness.
-                let o = Vec3::new(r(&mut state, lo.x - 2.0, hi.x + 2.0), r(&mut state, lo.y, hi.y), r(&mut state, lo.z - 2.0, hi.z + 2.0));
+                let o = Vec3::new(
+                    r(&mut state, lo.x - 2.0, hi.x + 2.0),
+                    r(&mut state, lo.y, hi.y),
+                    r(&mut state, lo.z - 2.0, hi.z + 2.0),
+                );
                 let a = r(&mut state, 0.0, std::f32::consts::TAU);
                 check(&mesh, Ray::new(o, Vec3::new(a.cos(), 0.0, a.sin())), 100.0, &what, &mut level);
             }
@@ -119,7 +152,13 @@ fn the_grid_cast_is_parrys_cast_bit_for_bit() {
                     check(&mesh, Ray::new(Vec3::new(m.x, hi.y + 1.0, m.z), Vec3::NEG_Y), 1.0e4, &what, &mut edges);
                     // Along the line through two neighbouring vertices, just above it.
                     let d = (*w - *v).normalize_or(Vec3::X);
-                    check(&mesh, Ray::new(*v - d * 3.0 + Vec3::Y * 0.5, (d - Vec3::Y * 0.1).normalize()), 100.0, &what, &mut edges);
+                    check(
+                        &mesh,
+                        Ray::new(*v - d * 3.0 + Vec3::Y * 0.5, (d - Vec3::Y * 0.1).normalize()),
+                        100.0,
+                        &what,
+                        &mut edges,
+                    );
                 }
                 let from = *v + Vec3::new(r(&mut state, -4.0, 4.0), r(&mut state, 0.5, 2.0), r(&mut state, -4.0, 4.0));
                 check(&mesh, Ray::new(from, (*v - from).normalize()), 100.0, &what, &mut edges);
@@ -136,7 +175,12 @@ fn the_grid_cast_is_parrys_cast_bit_for_bit() {
     }
     // Rays through shared vertices and edges hit several triangles at the same distance: parry's
     // search, whose order names one of them, answers those.
-    assert!(edges.by_grid > 0 && edges.by_grid * 2 < edges.rays, "the grid answered {} of {} rays through vertices and edges", edges.by_grid, edges.rays);
+    assert!(
+        edges.by_grid > 0 && edges.by_grid * 2 < edges.rays,
+        "the grid answered {} of {} rays through vertices and edges",
+        edges.by_grid,
+        edges.rays
+    );
 }
 
 #[test]
@@ -150,10 +194,23 @@ fn the_spatial_index_casts_planes_as_parry_does() {
             let to = Vec3::new(30.0 * unit(&mut state) - 15.0, -0.5, 30.0 * unit(&mut state) - 15.0);
             let d = (to - o).normalize_or(Vec3::NEG_Y);
             let (fast, plain) = (spatial.cast_planes(o, d, 100.0), spatial.cast_planes_plain(o, d, 100.0));
-            let key = |h: Option<grove_systems::spatial::RayHit>| h.map(|h| (h.entity, h.distance.to_bits(), h.point.to_array().map(f32::to_bits), h.normal.to_array().map(f32::to_bits)));
+            let key = |h: Option<grove_systems::spatial::RayHit>| {
+                h.map(|h| {
+                    (
+                        h.entity,
+                        h.distance.to_bits(),
+                        h.point.to_array().map(f32::to_bits),
+                        h.normal.to_array().map(f32::to_bits),
+                    )
+                })
+            };
             assert_eq!(key(fast), key(plain), "{name}: {o} → {d}");
             let below = Vec3::new(o.x, 5.0, o.z);
-            assert_eq!(key(spatial.ground_below(below, 0.0)), key(spatial.cast_planes_plain(below, Vec3::NEG_Y, 1.0e4)), "{name}: below {below}");
+            assert_eq!(
+                key(spatial.ground_below(below, 0.0)),
+                key(spatial.cast_planes_plain(below, Vec3::NEG_Y, 1.0e4)),
+                "{name}: below {below}"
+            );
         }
     }
 }

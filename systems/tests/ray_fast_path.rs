@@ -2,8 +2,8 @@
 //! nearest first) finds the same tree at the same distance as a plain test of every tree.
 
 use glam::Vec3;
-use grove_systems::scene::Scene;
 use grove_systems::Sim;
+use grove_systems::scene::Scene;
 
 /// A splitmix64 step, mapped to [0, 1).
 fn unit(state: &mut u64) -> f32 {
@@ -31,7 +31,8 @@ fn the_fast_tree_cast_agrees_with_testing_every_tree() {
     let mut state = 99u64;
     let (mut hits, mut zero, mut ties) = (0, 0, 0);
     for k in 0..4_000 {
-        let point = |y: f32, s: &mut u64| Vec3::new(min.x + (max.x - min.x) * unit(s), y, min.z + (max.z - min.z) * unit(s));
+        let point =
+            |y: f32, s: &mut u64| Vec3::new(min.x + (max.x - min.x) * unit(s), y, min.z + (max.z - min.z) * unit(s));
         // Eyes at head height, among the crowns and above them, aimed at the ground or across it.
         let eye = [12.0 * unit(&mut state), 40.0, 1.7][k % 3];
         let from = point(eye, &mut state);

@@ -1,9 +1,9 @@
 //! Scenes with scattered trees: the garden builds, every scattered tree is an ordinary tree
 //! entity standing on the ground, and the result depends only on the scene.
 
+use grove_systems::Sim;
 use grove_systems::components::Transform;
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
 
 fn garden() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/garden.ron");
@@ -19,7 +19,12 @@ fn the_garden_scatters_ordinary_grounded_trees() {
     let mut trees: Vec<(Transform, bool)> = Vec::new();
     sim.for_each_tree(|t| trees.push((t.transform, t.grounded)));
     // Positions over the pond (a hole in the lawn) get no tree; all others do.
-    assert!(trees.len() <= scene.trees.len() + scattered && trees.len() + 10 >= scene.trees.len() + scattered, "{} trees of {}", trees.len(), scene.trees.len() + scattered);
+    assert!(
+        trees.len() <= scene.trees.len() + scattered && trees.len() + 10 >= scene.trees.len() + scattered,
+        "{} trees of {}",
+        trees.len(),
+        scene.trees.len() + scattered
+    );
     // Every tree stands on the lawn (within its ±5 cm unevenness and the models' roots), except
     // that none may stand in the pond.
     for (t, grounded) in &trees {

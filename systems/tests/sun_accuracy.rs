@@ -11,8 +11,8 @@
 //! - solar-noon elevation, azimuth quadrants and the world-space direction (+X east, −Z north).
 
 use chrono::{DateTime, Datelike, NaiveDate, Utc};
-use grove_systems::systems::sun::{angles_from_direction, direction_from_angles, sun_position, SolarAngles};
-use solar_positioning::{time::JulianDate, Location, RefractionCorrection, SolarPositions};
+use grove_systems::systems::sun::{SolarAngles, angles_from_direction, direction_from_angles, sun_position};
+use solar_positioning::{Location, RefractionCorrection, SolarPositions, time::JulianDate};
 
 fn ms(y: i32, mo: u32, d: u32, h: u32, mi: u32, s: u32) -> i64 {
     NaiveDate::from_ymd_opt(y, mo, d).unwrap().and_hms_opt(h, mi, s).unwrap().and_utc().timestamp_millis()
@@ -46,7 +46,12 @@ const SPA_AZIMUTH: f64 = 194.34024;
 fn crate_reproduces_the_nrel_spa_test_case_with_its_inputs() {
     let jd = JulianDate::from_utc(2003, 10, 17, 19, 30, 30.0, 67.0).unwrap();
     let p = SolarPositions::new()
-        .at_from_julian(jd, Location { latitude: SPA_LAT, longitude: SPA_LON }, 1830.14, Some(RefractionCorrection::new(820.0, 11.0).unwrap()))
+        .at_from_julian(
+            jd,
+            Location { latitude: SPA_LAT, longitude: SPA_LON },
+            1830.14,
+            Some(RefractionCorrection::new(820.0, 11.0).unwrap()),
+        )
         .unwrap();
     assert!((p.zenith_angle() - SPA_ZENITH).abs() < 1e-4, "zenith {}", p.zenith_angle());
     assert!((p.azimuth() - SPA_AZIMUTH).abs() < 1e-4, "azimuth {}", p.azimuth());
@@ -58,7 +63,8 @@ fn grove_geometric_sun_differs_from_the_spa_test_case_only_by_refraction() {
     let ours = pos(SPA_LAT, SPA_LON, ms(2003, 10, 17, 19, 30, 30));
     // The refraction SPA adds (Reda & Andreas 2003, eq. 42, at 820 mbar and 11 °C) at our elevation.
     let e0 = ours.elevation_deg;
-    let refraction = (820.0 / 1010.0) * (283.0 / (273.0 + 11.0)) * 1.02 / (60.0 * (e0 + 10.3 / (e0 + 5.11)).to_radians().tan());
+    let refraction =
+        (820.0 / 1010.0) * (283.0 / (273.0 + 11.0)) * 1.02 / (60.0 * (e0 + 10.3 / (e0 + 5.11)).to_radians().tan());
     // The rest of the difference comes from the observer's height (1830 m of parallax, about
     // 2e-6°) and ΔT (67 s against the estimate; the sun moves 4e-5° per second of ΔT).
     let dt_effect = (ours.delta_t_s - 67.0).abs() * 4.2e-5;
@@ -117,11 +123,27 @@ fn grove_matches_spa_with_observed_delta_t_from_1950_to_2100() {
         };
         for delta_t in deltas {
             let secs = dt.format("%S").to_string().parse::<f64>().unwrap();
-            let jd = JulianDate::from_utc(dt.year(), dt.month(), dt.day(), dt.format("%H").to_string().parse().unwrap(), dt.format("%M").to_string().parse().unwrap(), secs, delta_t).unwrap();
-            let r = SolarPositions::new().at_from_julian(jd, Location { latitude: lat, longitude: lon }, 0.0, None).unwrap();
+            let jd = JulianDate::from_utc(
+                dt.year(),
+                dt.month(),
+                dt.day(),
+                dt.format("%H").to_string().parse().unwrap(),
+                dt.format("%M").to_string().parse().unwrap(),
+                secs,
+                delta_t,
+            )
+            .unwrap();
+            let r = SolarPositions::new()
+                .at_from_julian(jd, Location { latitude: lat, longitude: lon }, 0.0, None)
+                .unwrap();
             let sep = separation_deg(ours.direction, dir(r.azimuth(), r.elevation_angle()));
             worst = worst.max(sep);
-            assert!((ours.elevation_deg - r.elevation_angle()).abs() < 0.02, "{lat} {lon} {dt}: elevation {} vs {}", ours.elevation_deg, r.elevation_angle());
+            assert!(
+                (ours.elevation_deg - r.elevation_angle()).abs() < 0.02,
+                "{lat} {lon} {dt}: elevation {} vs {}",
+                ours.elevation_deg,
+                r.elevation_angle()
+            );
             assert!(sep < 0.02, "{lat} {lon} {dt}: {sep}° from SPA with ΔT {delta_t}");
         }
     }
@@ -138,7 +160,8 @@ fn grove_agrees_with_grena3_from_2010_to_2100() {
         }
         let ours = pos(lat, lon, t);
         let jd = JulianDate::new(2_440_587.5 + t as f64 / 86_400_000.0, ours.delta_t_s).unwrap();
-        let g = SolarPositions::grena3().at_from_julian(jd, Location { latitude: lat, longitude: lon }, 0.0, None).unwrap();
+        let g =
+            SolarPositions::grena3().at_from_julian(jd, Location { latitude: lat, longitude: lon }, 0.0, None).unwrap();
         let sep = separation_deg(ours.direction, dir(g.azimuth(), g.elevation_angle()));
         worst = worst.max(sep);
         // Grena3 is accurate to 0.01° (its paper), and it ignores the 0.0024° of parallax.
@@ -156,7 +179,9 @@ fn noaa(lat: f64, lon: f64, utc_ms: i64) -> (f64, f64) {
     let m = 357.52911 + jc * (35999.05029 - 0.0001537 * jc);
     let e = 0.016708634 - jc * (0.000042037 + 0.0000001267 * jc);
     let mr = m.to_radians();
-    let c = mr.sin() * (1.914602 - jc * (0.004817 + 0.000014 * jc)) + (2.0 * mr).sin() * (0.019993 - 0.000101 * jc) + (3.0 * mr).sin() * 0.000289;
+    let c = mr.sin() * (1.914602 - jc * (0.004817 + 0.000014 * jc))
+        + (2.0 * mr).sin() * (0.019993 - 0.000101 * jc)
+        + (3.0 * mr).sin() * 0.000289;
     let omega = (125.04 - 1934.136 * jc).to_radians();
     let app_long = (l0 + c - 0.00569 - 0.00478 * omega.sin()).to_radians();
     let mean_obliq = 23.0 + (26.0 + (21.448 - jc * (46.815 + jc * (0.00059 - jc * 0.001813))) / 60.0) / 60.0;
@@ -189,7 +214,12 @@ fn grove_agrees_with_the_independent_noaa_algorithm_from_1950_to_2100() {
         let sep = separation_deg(ours.direction, dir(az, el));
         worst = worst.max(sep);
         // NOAA states about one arc minute (0.017°); parallax adds up to 0.0024°.
-        assert!(sep < 0.025, "{lat} {lon} {t}: {sep}° from NOAA ({az}, {el}) vs ({}, {})", ours.azimuth_deg, ours.elevation_deg);
+        assert!(
+            sep < 0.025,
+            "{lat} {lon} {t}: {sep}° from NOAA ({az}, {el}) vs ({}, {})",
+            ours.azimuth_deg,
+            ours.elevation_deg
+        );
     }
     eprintln!("1950–2100: largest separation from NOAA/Meeus: {worst:.2e}°");
 }
@@ -220,7 +250,11 @@ fn solar_noon_elevation_is_ninety_minus_latitude_minus_declination() {
                 let decl = SolarPositions::new().for_time_from_julian(jd).unwrap().declination();
                 let expected = 90.0 - (lat - decl).abs();
                 // Topocentric parallax lowers the sun by up to 0.0024°.
-                assert!((p.elevation_deg - expected).abs() < 0.01, "{year}-{month}-{day} lat {lat}: noon elevation {} vs {expected}", p.elevation_deg);
+                assert!(
+                    (p.elevation_deg - expected).abs() < 0.01,
+                    "{year}-{month}-{day} lat {lat}: noon elevation {} vs {expected}",
+                    p.elevation_deg
+                );
                 // At noon the sun is due south where it culminates south of the zenith, due north
                 // otherwise. Within a degree of the zenith the azimuth is ill-defined (it swings
                 // through 180° in seconds), so only the elevation is checked there.
@@ -228,7 +262,11 @@ fn solar_noon_elevation_is_ninety_minus_latitude_minus_declination() {
                     continue;
                 }
                 let towards_south = lat > decl;
-                let off = if towards_south { (p.azimuth_deg - 180.0).abs() } else { p.azimuth_deg.min(360.0 - p.azimuth_deg) };
+                let off = if towards_south {
+                    (p.azimuth_deg - 180.0).abs()
+                } else {
+                    p.azimuth_deg.min(360.0 - p.azimuth_deg)
+                };
                 assert!(off < 0.5, "{year}-{month}-{day} lat {lat}: noon azimuth {}", p.azimuth_deg);
                 // And the direction says so: −Z is north.
                 assert_eq!(p.direction[2] > 0.0, towards_south, "lat {lat}, decl {decl}");
@@ -244,16 +282,25 @@ fn morning_sun_is_in_the_east_and_afternoon_sun_in_the_west() {
         for month in 1..=12u32 {
             for lat in [-60.0, -35.0, -12.0, 0.0, 8.0, 30.0, 47.4, 65.0] {
                 let lon = -170.0 + ((year as u32 * 7 + month * 29) % 340) as f64;
-                let local = |h: i64| ms(year, month, 15, 12, 0, 0) + (h - 12) * 3_600_000 - (lon / 15.0 * 3_600_000.0) as i64;
+                let local =
+                    |h: i64| ms(year, month, 15, 12, 0, 0) + (h - 12) * 3_600_000 - (lon / 15.0 * 3_600_000.0) as i64;
                 let morning = pos(lat, lon, local(9));
                 let afternoon = pos(lat, lon, local(15));
                 if morning.elevation_deg > 0.0 {
-                    assert!(morning.azimuth_deg > 0.0 && morning.azimuth_deg < 180.0, "{year}-{month} lat {lat}: morning azimuth {}", morning.azimuth_deg);
+                    assert!(
+                        morning.azimuth_deg > 0.0 && morning.azimuth_deg < 180.0,
+                        "{year}-{month} lat {lat}: morning azimuth {}",
+                        morning.azimuth_deg
+                    );
                     assert!(morning.direction[0] > 0.0, "morning sun should be towards +X (east)");
                     checked += 1;
                 }
                 if afternoon.elevation_deg > 0.0 {
-                    assert!(afternoon.azimuth_deg > 180.0 && afternoon.azimuth_deg < 360.0, "{year}-{month} lat {lat}: afternoon azimuth {}", afternoon.azimuth_deg);
+                    assert!(
+                        afternoon.azimuth_deg > 180.0 && afternoon.azimuth_deg < 360.0,
+                        "{year}-{month} lat {lat}: afternoon azimuth {}",
+                        afternoon.azimuth_deg
+                    );
                     assert!(afternoon.direction[0] < 0.0, "afternoon sun should be towards −X (west)");
                     checked += 1;
                 }

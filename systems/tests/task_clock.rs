@@ -2,11 +2,11 @@
 //! EndTask), never at the end of the input, and nothing after the end counts as an error.
 
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::input::Button;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::task::TaskReport;
-use grove_systems::Sim;
 
 fn study() -> Script {
     Script::new(Sim::from_scene(&Scene::builtin("study").unwrap(), 7).unwrap())

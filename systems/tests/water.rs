@@ -7,6 +7,7 @@
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{HitTarget, Pose};
 use grove_systems::events::Happening;
@@ -15,7 +16,6 @@ use grove_systems::interact;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::water::WaterDef;
-use grove_systems::Sim;
 
 const SHRUB: ModelId = ModelId(3);
 /// The pond's surface height and centre, as `scripts/pond-scene.py` writes them.
@@ -160,7 +160,15 @@ fn a_tree_dragged_over_water_never_arms_and_cannot_snap() {
 }
 
 fn def(polygon: Vec<Vec2>) -> WaterDef {
-    WaterDef { name: "p".into(), polygon, height: 0.0, depth: 1.0, colour: [0.1, 0.2, 0.3], ripples: 1.0, ripple_speed: 0.05 }
+    WaterDef {
+        name: "p".into(),
+        polygon,
+        height: 0.0,
+        depth: 1.0,
+        colour: [0.1, 0.2, 0.3],
+        ripples: 1.0,
+        ripple_speed: 0.05,
+    }
 }
 
 #[test]

@@ -2,10 +2,10 @@
 //! periodicity, gain updates when a tree moves, the bend bound and the sun's clock.
 
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::components::{Transform, WindState};
 use grove_systems::scene::Scene;
 use grove_systems::systems::wind::{det_sin, gust_at, max_bend, position_gain};
-use grove_systems::Sim;
 
 fn scene() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/scenes/study.ron");
@@ -163,7 +163,10 @@ fn scenes_choose_the_wind_model_and_response() {
     assert_eq!(w.response.trunk_stiffness, 7.5);
     assert_eq!(w.response.leaf_frequency, grove_systems::wind_model::WindResponse::default().leaf_frequency);
     // The default is the hierarchical model.
-    assert_eq!(Sim::from_scene(&self::scene(), 1).unwrap().wind().unwrap().model, grove_systems::wind_model::WindModel::Hierarchical);
+    assert_eq!(
+        Sim::from_scene(&self::scene(), 1).unwrap().wind().unwrap().model,
+        grove_systems::wind_model::WindModel::Hierarchical
+    );
     let err = Scene::parse(&with("response: (branch_stiffness: 0.0),"), "test").unwrap_err().to_string();
     assert!(err.contains("stiffness"), "{err}");
     assert!(Scene::parse(&with("response: (stifness: 1.0),"), "test").is_err());

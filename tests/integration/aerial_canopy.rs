@@ -12,16 +12,16 @@ use glam::{Vec2, Vec3};
 use grove::aerial::crowns::{self, Crown};
 use grove::aerial::layers::{layer_ks, layer_masks};
 use grove::aerial::raster::write_png;
-use grove::aerial::scene::{scene_from_crowns, scene_text, SceneOptions};
+use grove::aerial::scene::{SceneOptions, scene_from_crowns, scene_text};
 use grove::aerial::synth::{Park, Season};
-use grove::aerial::{label_crowns, MaskParams, Segmenter};
-use grove::render::offscreen::{self, Gpu};
+use grove::aerial::{MaskParams, Segmenter, label_crowns};
 use grove::render::Renderer;
+use grove::render::offscreen::{self, Gpu};
+use grove_systems::Sim;
 use grove_systems::aerial::{AerialCrown, AerialDef};
 use grove_systems::catalogue::ModelKind;
 use grove_systems::components::{Head, Pose, Transform};
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
 use image::RgbaImage;
 
 const W: u32 = 160;
@@ -58,7 +58,13 @@ fn site() -> Site {
     write_png(&p("layers.png"), SIZE, SIZE, 3, &rgb).unwrap();
     crowns::write_csv(&p("crowns.csv"), &found).unwrap();
     let size_m = f64::from(SIZE) * GSD;
-    let opts = SceneOptions { name: "aerial test".into(), size_m: (size_m, size_m), min_radius_m: 0.5, kind: ModelKind::Mesh, sun: (47.3769, 8.5417, "2026-06-21T10:00:00Z".into()) };
+    let opts = SceneOptions {
+        name: "aerial test".into(),
+        size_m: (size_m, size_m),
+        min_radius_m: 0.5,
+        kind: ModelKind::Mesh,
+        sun: (47.3769, 8.5417, "2026-06-21T10:00:00Z".into()),
+    };
     let (mut scene, _) = scene_from_crowns(&found, &opts).unwrap();
     scene.trees.clear();
     scene.aerial = Some(AerialDef {
@@ -108,7 +114,10 @@ fn crowns_become_tree_entities_on_their_photographed_centres() {
     for (c, (id, pos)) in big.iter().zip(&found) {
         // The photograph's centre is the world origin: x = x_m − 32 m, z = y_m − 32 m.
         assert_eq!(c.id, *id);
-        assert!((pos.x - (c.x_m as f32 - 32.0)).abs() < 1e-3 && (pos.z - (c.y_m as f32 - 32.0)).abs() < 1e-3, "{c:?} at {pos}");
+        assert!(
+            (pos.x - (c.x_m as f32 - 32.0)).abs() < 1e-3 && (pos.z - (c.y_m as f32 - 32.0)).abs() < 1e-3,
+            "{c:?} at {pos}"
+        );
     }
     // The crowns are hashed; a scene without them is not.
     let h = sim.hash();
@@ -124,9 +133,14 @@ fn a_missing_photograph_or_bad_field_is_one_line() {
     let s = site();
     let mut scene = s.scene.clone();
     scene.aerial.as_mut().unwrap().winter = "nowhere.png".into();
-    let e = grove::render::aerial_ground::open::open_sources(&scene, false).err().expect("a missing photograph is an error").to_string();
+    let e = grove::render::aerial_ground::open::open_sources(&scene, false)
+        .err()
+        .expect("a missing photograph is an error")
+        .to_string();
     assert!(e.contains("nowhere.png") && !e.contains('\n'), "{e}");
-    let text = std::fs::read_to_string(s.scene.dir.as_ref().unwrap().join("site.ron")).unwrap().replace("gsd_m: 0.25", "gsd_m: -1.0");
+    let text = std::fs::read_to_string(s.scene.dir.as_ref().unwrap().join("site.ron"))
+        .unwrap()
+        .replace("gsd_m: 0.25", "gsd_m: -1.0");
     let e = Scene::parse(&text, "bad.ron").unwrap_err().to_string();
     assert!(e.contains("gsd_m") && !e.contains('\n'), "{e}");
 }
@@ -140,7 +154,10 @@ fn render(site: &Site, eye: Vec3, target: Vec3, shadows: bool, debug_lod: bool) 
     let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
     r.options.shadows = shadows;
     r.options.overlay = false;
-    r.features.aerial.set(grove::render::aerial_ground::open::open_sources(&site.scene, debug_lod).unwrap().unwrap()).unwrap();
+    r.features
+        .aerial
+        .set(grove::render::aerial_ground::open::open_sources(&site.scene, debug_lod).unwrap().unwrap())
+        .unwrap();
     offscreen::render_image(g, &mut r, &sim).unwrap()
 }
 
@@ -150,7 +167,9 @@ fn compare(name: &str, img: &RgbaImage, mean_abs: f64, percent_over: f64) {
         img.save(&path).unwrap();
         return;
     }
-    let want = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+    let want = image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display()))
+        .to_rgba8();
     assert_eq!(want.dimensions(), img.dimensions());
     let (mut sum, mut over) = (0u64, 0u64);
     for (a, b) in want.pixels().zip(img.pixels()) {
@@ -164,17 +183,29 @@ fn compare(name: &str, img: &RgbaImage, mean_abs: f64, percent_over: f64) {
         let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/snapshot-failures");
         let _ = std::fs::create_dir_all(&dir);
         let _ = img.save(dir.join(format!("{name}.png")));
-        panic!("{name}: mean abs diff {mean:.2} (limit {mean_abs}) or {percent:.2} % pixels over 40 (limit {percent_over} %)");
+        panic!(
+            "{name}: mean abs diff {mean:.2} (limit {mean_abs}) or {percent:.2} % pixels over 40 (limit {percent_over} %)"
+        );
     }
 }
 
 fn mean_luminance(img: &RgbaImage) -> f64 {
-    img.pixels().map(|p| 0.2126 * f64::from(p.0[0]) + 0.7152 * f64::from(p.0[1]) + 0.0722 * f64::from(p.0[2])).sum::<f64>() / f64::from(W * H)
+    img.pixels()
+        .map(|p| 0.2126 * f64::from(p.0[0]) + 0.7152 * f64::from(p.0[1]) + 0.0722 * f64::from(p.0[2]))
+        .sum::<f64>()
+        / f64::from(W * H)
 }
 
 /// The pixel a world point projects to with the test's camera (60° vertical field of view).
 fn project(eye: Vec3, target: Vec3, p: Vec3) -> (u32, u32) {
-    let m = grove::render::camera_matrix(&grove::render::Camera { position: eye, rotation: Pose::looking_at(eye, target).rotation, fov_y: 60f32.to_radians() }, W as f32 / H as f32);
+    let m = grove::render::camera_matrix(
+        &grove::render::Camera {
+            position: eye,
+            rotation: Pose::looking_at(eye, target).rotation,
+            fov_y: 60f32.to_radians(),
+        },
+        W as f32 / H as f32,
+    );
     let ndc = m.project_point3(p);
     (((ndc.x * 0.5 + 0.5) * W as f32) as u32, ((0.5 - ndc.y * 0.5) * H as f32) as u32)
 }
@@ -222,7 +253,6 @@ fn debug_lod_colours_the_levels() {
     assert!(!red(far), "far ground {far:?} at ({x}, {y})");
 }
 
-
 /// A source that serves `inner` with every texel of level 0 not loaded (alpha 0), as a level
 /// whose tiles have not arrived yet.
 struct Level0Missing(grove::render::clipmap::ImageSource);
@@ -265,7 +295,10 @@ fn a_level_not_loaded_falls_back_to_the_coarser_one() {
     // Just ahead of the camera level 0 would be red; it is not loaded, so level 1 (yellow: red
     // and green both high) shows there.
     let p = img.get_pixel(W / 2, H - 3).0;
-    assert!(p[0] > 60 && p[1] > 60 && u16::from(p[1]) * 10 > u16::from(p[0]) * 6 && p[2] < p[1] / 2, "near ground {p:?} is not level 1's yellow");
+    assert!(
+        p[0] > 60 && p[1] > 60 && u16::from(p[1]) * 10 > u16::from(p[0]) * 6 && p[2] < p[1] / 2,
+        "near ground {p:?} is not level 1's yellow"
+    );
 }
 
 #[test]
@@ -273,10 +306,18 @@ fn apply_counts_the_bytes_it_uploads_and_refuses_uploads_that_do_not_fit() {
     use grove::render::clipmap::{AerialPlacement, ClipmapConfig, ClipmapFrame, GpuClipmap, LevelPlacement, Upload};
     let g = gpu();
     let config = ClipmapConfig { levels: 2, size: 16 };
-    let mut c = GpuClipmap::new(&g.device, config, AerialPlacement { origin_m: glam::DVec2::ZERO, gsd_m: 1.0 }, "test clipmap").unwrap();
-    let placements = vec![LevelPlacement { mip: 0, origin: glam::IVec2::ZERO }, LevelPlacement { mip: 1, origin: glam::IVec2::ZERO }];
+    let mut c =
+        GpuClipmap::new(&g.device, config, AerialPlacement { origin_m: glam::DVec2::ZERO, gsd_m: 1.0 }, "test clipmap")
+            .unwrap();
+    let placements = vec![
+        LevelPlacement { mip: 0, origin: glam::IVec2::ZERO },
+        LevelPlacement { mip: 1, origin: glam::IVec2::ZERO },
+    ];
     // A 16 × 3 strip and a 2 × 16 one: (48 + 32) texels of 4 bytes.
-    let uploads = vec![Upload { level: 0, x: 0, y: 13, w: 16, h: 3, rgba: vec![255; 16 * 3 * 4] }, Upload { level: 1, x: 14, y: 0, w: 2, h: 16, rgba: vec![255; 2 * 16 * 4] }];
+    let uploads = vec![
+        Upload { level: 0, x: 0, y: 13, w: 16, h: 3, rgba: vec![255; 16 * 3 * 4] },
+        Upload { level: 1, x: 14, y: 0, w: 2, h: 16, rgba: vec![255; 2 * 16 * 4] },
+    ];
     assert_eq!(c.apply(&g.queue, &ClipmapFrame { placements: placements.clone(), uploads }).unwrap(), 320);
     assert_eq!((c.bytes_last, c.bytes_total), (320, 320));
     let past_the_edge = vec![Upload { level: 0, x: 15, y: 0, w: 2, h: 1, rgba: vec![0; 8] }];
@@ -288,7 +329,11 @@ fn apply_counts_the_bytes_it_uploads_and_refuses_uploads_that_do_not_fit() {
 
 /// Runs the grove binary; its exit code and stderr.
 fn grove(args: &[&str]) -> (i32, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_grove")).args(args).env("XDG_RUNTIME_DIR", std::env::temp_dir()).output().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_grove"))
+        .args(args)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .unwrap();
     (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
 }
 
@@ -300,7 +345,11 @@ fn the_cli_refuses_bad_aerial_input_with_one_line_and_exit_2() {
     let out = dir.join("out.png");
     let cases = [
         ("missing winter photograph", text.replace("winter: \"winter.png\"", "winter: \"gone.png\""), "gone.png"),
-        ("truncated crowns file", text.replace("crowns: Some(\"crowns.csv\")", "crowns: Some(\"short.csv\")"), "short.csv"),
+        (
+            "truncated crowns file",
+            text.replace("crowns: Some(\"crowns.csv\")", "crowns: Some(\"short.csv\")"),
+            "short.csv",
+        ),
         ("bad layer count", text.replace("layer_count: 6", "layer_count: 12"), "layer_count"),
         ("absolute path", text.replace("summer: \"summer.png\"", "summer: \"/etc/hostname\""), "summer"),
     ];
@@ -308,7 +357,17 @@ fn the_cli_refuses_bad_aerial_input_with_one_line_and_exit_2() {
     for (what, scene, needle) in cases {
         let path = dir.join("bad.ron");
         std::fs::write(&path, scene).unwrap();
-        let (code, err) = grove(&["render", "--scene", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--width", "32", "--height", "24"]);
+        let (code, err) = grove(&[
+            "render",
+            "--scene",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--width",
+            "32",
+            "--height",
+            "24",
+        ]);
         let lines: Vec<&str> = err.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR")).collect();
         assert_eq!(code, 2, "{what}: {err}");
         assert!(lines.len() == 1 && lines[0].contains(needle), "{what}: {err}");
@@ -316,9 +375,25 @@ fn the_cli_refuses_bad_aerial_input_with_one_line_and_exit_2() {
     }
     // grove aerial layers: a count past 8 layers and a missing photograph.
     let summer = dir.join("summer.png");
-    let (code, err) = grove(&["aerial", "layers", summer.to_str().unwrap(), summer.to_str().unwrap(), "--out", dir.join("l.png").to_str().unwrap(), "--layers", "9"]);
+    let (code, err) = grove(&[
+        "aerial",
+        "layers",
+        summer.to_str().unwrap(),
+        summer.to_str().unwrap(),
+        "--out",
+        dir.join("l.png").to_str().unwrap(),
+        "--layers",
+        "9",
+    ]);
     assert!(code == 2 && err.trim().lines().count() == 1 && err.contains("--layers 9"), "{err}");
-    let (code, err) = grove(&["aerial", "layers", "nowhere.png", summer.to_str().unwrap(), "--out", dir.join("l.png").to_str().unwrap()]);
+    let (code, err) = grove(&[
+        "aerial",
+        "layers",
+        "nowhere.png",
+        summer.to_str().unwrap(),
+        "--out",
+        dir.join("l.png").to_str().unwrap(),
+    ]);
     assert!(code == 2 && err.trim().lines().count() == 1 && err.contains("nowhere.png"), "{err}");
 }
 
@@ -359,13 +434,52 @@ fn the_commands_make_and_render_an_aerial_scene() {
         assert_eq!(code, 0, "grove {args:?}: {err}");
     };
     ok(&["aerial", "synth", "--size", "128", "--gsd", "0.25", "--seed", "4", "--out", &p("")]);
-    ok(&["aerial", "segment", "--summer", &p("summer.png"), "--winter", &p("winter.png"), "--gsd", "0.25", "--out", &p("seg")]);
-    ok(&["aerial", "layers", &p("summer.png"), &p("winter.png"), "--out", &p("layers.png"), "--layers", "4", "--k-top", "9"]);
-    ok(&["aerial", "scene", "--crowns", &p("seg/crowns.csv"), "--out", &p("site.ron"), "--aerial", "--summer", &p("summer.png"), "--winter", &p("winter.png"), "--layers", &p("layers.png")]);
+    ok(&[
+        "aerial",
+        "segment",
+        "--summer",
+        &p("summer.png"),
+        "--winter",
+        &p("winter.png"),
+        "--gsd",
+        "0.25",
+        "--out",
+        &p("seg"),
+    ]);
+    ok(&[
+        "aerial",
+        "layers",
+        &p("summer.png"),
+        &p("winter.png"),
+        "--out",
+        &p("layers.png"),
+        "--layers",
+        "4",
+        "--k-top",
+        "9",
+    ]);
+    ok(&[
+        "aerial",
+        "scene",
+        "--crowns",
+        &p("seg/crowns.csv"),
+        "--out",
+        &p("site.ron"),
+        "--aerial",
+        "--summer",
+        &p("summer.png"),
+        "--winter",
+        &p("winter.png"),
+        "--layers",
+        &p("layers.png"),
+    ]);
     let scene = Scene::load(&dir.path().join("site.ron")).unwrap();
     let a = scene.aerial.as_ref().unwrap();
     // The paths are relative to the scene's folder; the photograph's centre is the origin.
-    assert_eq!((a.summer.as_str(), a.layers.as_deref(), a.crowns.as_deref()), ("summer.png", Some("layers.png"), Some("seg/crowns.csv")));
+    assert_eq!(
+        (a.summer.as_str(), a.layers.as_deref(), a.crowns.as_deref()),
+        ("summer.png", Some("layers.png"), Some("seg/crowns.csv"))
+    );
     assert_eq!(a.origin, Vec2::splat(-16.0));
     assert!(scene.trees.is_empty() && !a.crown_list.is_empty());
     // The layer masks hold 4 bits at most.
@@ -397,7 +511,10 @@ fn trunks_stand_under_the_crowns() {
         sim.set_up().camera(Head { pose: Pose::looking_at(eye, mid), fov_y: 60f32.to_radians() });
         let mut r = Renderer::new(&g.device, &g.queue, offscreen::FORMAT, W, H).unwrap();
         r.options.overlay = false;
-        r.features.aerial.set(grove::render::aerial_ground::open::open_sources(&s.scene, false).unwrap().unwrap()).unwrap();
+        r.features
+            .aerial
+            .set(grove::render::aerial_ground::open::open_sources(&s.scene, false).unwrap().unwrap())
+            .unwrap();
         offscreen::render_image(g, &mut r, &sim).unwrap()
     };
     let with = shot(false);
@@ -418,7 +535,15 @@ fn trunks_stand_under_the_crowns() {
 #[test]
 fn the_flight_benchmark_flies_with_the_canopy_and_with_models() {
     let s = site();
-    let flight = grove::bench::aerial::Flight { width: 160, height: 120, frames: 3, fly_height: 30.0, pitch: 35.0, speed: 20.0, shadows: true };
+    let flight = grove::bench::aerial::Flight {
+        width: 160,
+        height: 120,
+        frames: 3,
+        fly_height: 30.0,
+        pitch: 35.0,
+        speed: 20.0,
+        shadows: true,
+    };
     let canopy = grove::bench::aerial::fly(gpu(), &flight, &s.scene, true).unwrap();
     let models = grove::bench::aerial::fly(gpu(), &flight, &s.scene, false).unwrap();
     for run in [&canopy, &models] {

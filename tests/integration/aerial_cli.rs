@@ -36,7 +36,19 @@ fn synth_segment_scene_and_eval() {
     assert!(truth.contains("deciduous") && truth.contains("evergreen"));
 
     let seg = tmp.path().join("seg");
-    let text = ok(&["aerial", "segment", "--summer", &s(&pair.join("summer.png")), "--winter", &s(&pair.join("winter.png")), "--gsd", "0.2", "--out", &s(&seg), "--json"]);
+    let text = ok(&[
+        "aerial",
+        "segment",
+        "--summer",
+        &s(&pair.join("summer.png")),
+        "--winter",
+        &s(&pair.join("winter.png")),
+        "--gsd",
+        "0.2",
+        "--out",
+        &s(&seg),
+        "--json",
+    ]);
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["width"], 256);
     assert!(v["crowns"].as_u64().unwrap() > 0, "{v}");
@@ -73,7 +85,18 @@ fn tiff_input_gives_the_same_mask_as_png() {
     }
     let run = |ext: &str, out: &str| {
         let out = tmp.path().join(out);
-        ok(&["aerial", "segment", "--summer", &s(&pair.join(format!("summer.{ext}"))), "--winter", &s(&pair.join(format!("winter.{ext}"))), "--k", "5", "--out", &s(&out)]);
+        ok(&[
+            "aerial",
+            "segment",
+            "--summer",
+            &s(&pair.join(format!("summer.{ext}"))),
+            "--winter",
+            &s(&pair.join(format!("winter.{ext}"))),
+            "--k",
+            "5",
+            "--out",
+            &s(&out),
+        ]);
         std::fs::read(out.join("crowns.csv")).unwrap()
     };
     assert_eq!(run("png", "a"), run("tif", "b"));
@@ -87,7 +110,16 @@ fn bad_inputs_are_one_line_and_exit_2() {
     synth(&b, 48);
     let out = s(&tmp.path().join("out"));
     let seg = |summer: &Path, winter: &Path, extra: &[&str]| {
-        let mut args = vec!["aerial".to_string(), "segment".into(), "--summer".into(), s(summer), "--winter".into(), s(winter), "--out".into(), out.clone()];
+        let mut args = vec![
+            "aerial".to_string(),
+            "segment".into(),
+            "--summer".into(),
+            s(summer),
+            "--winter".into(),
+            s(winter),
+            "--out".into(),
+            out.clone(),
+        ];
         args.extend(extra.iter().map(|x| x.to_string()));
         grove(&args.iter().map(|x| x.as_str()).collect::<Vec<_>>())
     };
@@ -106,10 +138,17 @@ fn bad_inputs_are_one_line_and_exit_2() {
     let truncated = tmp.path().join("cut.png");
     let bytes = std::fs::read(&sa).unwrap();
     std::fs::write(&truncated, &bytes[..bytes.len() / 2]).unwrap();
-    assert_eq!(grove(&["aerial", "segment", "--summer", &s(&truncated), "--winter", &s(&wa), "--out", &out]).status.code(), Some(2));
+    assert_eq!(
+        grove(&["aerial", "segment", "--summer", &s(&truncated), "--winter", &s(&wa), "--out", &out]).status.code(),
+        Some(2)
+    );
     assert_one_line_error(&seg(&sa, &wa, &["--k", "4"]), 2, "--k 4 must be odd");
     assert_one_line_error(&seg(&sa, &wa, &["--s", "1.5"]), 2, "--s 1.5 must be a fraction");
-    assert_one_line_error(&seg(&sa, &wa, &["--gsd", "0"]), 2, "--gsd 0 must be between 0.0001 and 1000 metres per pixel");
+    assert_one_line_error(
+        &seg(&sa, &wa, &["--gsd", "0"]),
+        2,
+        "--gsd 0 must be between 0.0001 and 1000 metres per pixel",
+    );
     assert!(!tmp.path().join("out").exists(), "no output from failed runs");
 
     // An existing output is never overwritten without --force.
@@ -119,7 +158,11 @@ fn bad_inputs_are_one_line_and_exit_2() {
     assert_one_line_error(&seg(&sa, &wa, &["--k", "7"]), 2, "already exists; pass --force");
     assert_eq!(std::fs::read(out_dir.join("mask.png")).unwrap(), before);
     assert!(seg(&sa, &wa, &["--k", "7", "--force"]).status.success());
-    let leftovers: Vec<_> = std::fs::read_dir(&out_dir).unwrap().filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp-")).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .collect();
     assert!(leftovers.is_empty(), "no temporary files left");
 
     // Synth and scene refuse to overwrite too; bad sizes and crowns files are one line.
@@ -127,13 +170,29 @@ fn bad_inputs_are_one_line_and_exit_2() {
     let again = grove(&["aerial", "synth", "--size", "40", "--out", &s(&a)]);
     assert_one_line_error(&again, 2, "already exists; pass --force");
     assert_eq!(std::fs::read(a.join("truth.csv")).unwrap(), truth_before);
-    assert_one_line_error(&grove(&["aerial", "synth", "--size", "8", "--out", &s(&tmp.path().join("tiny"))]), 2, "--size 8 must be between");
+    assert_one_line_error(
+        &grove(&["aerial", "synth", "--size", "8", "--out", &s(&tmp.path().join("tiny"))]),
+        2,
+        "--size 8 must be between",
+    );
     let scene = s(&tmp.path().join("s.ron"));
-    assert_one_line_error(&grove(&["aerial", "scene", "--crowns", &s(&a.join("truth.csv")), "--out", &scene]), 2, "summary.json");
+    assert_one_line_error(
+        &grove(&["aerial", "scene", "--crowns", &s(&a.join("truth.csv")), "--out", &scene]),
+        2,
+        "summary.json",
+    );
     let bad = tmp.path().join("bad");
     std::fs::create_dir_all(&bad).unwrap();
     std::fs::copy(out_dir.join("summary.json"), bad.join("summary.json")).unwrap();
-    std::fs::write(bad.join("crowns.csv"), "id,x_px,y_px,area_px,radius_px,x_m,y_m,area_m2,radius_m\n1,2,3,4,5,NaN,1,1,1\n").unwrap();
-    assert_one_line_error(&grove(&["aerial", "scene", "--crowns", &s(&bad.join("crowns.csv")), "--out", &scene]), 2, "row 2");
+    std::fs::write(
+        bad.join("crowns.csv"),
+        "id,x_px,y_px,area_px,radius_px,x_m,y_m,area_m2,radius_m\n1,2,3,4,5,NaN,1,1,1\n",
+    )
+    .unwrap();
+    assert_one_line_error(
+        &grove(&["aerial", "scene", "--crowns", &s(&bad.join("crowns.csv")), "--out", &scene]),
+        2,
+        "row 2",
+    );
     assert!(!tmp.path().join("s.ron").exists());
 }

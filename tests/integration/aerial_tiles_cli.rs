@@ -35,15 +35,44 @@ fn tile_a_synthetic_photograph_and_refuse_bad_input() {
     assert_one_line_error(&grove(&["aerial", "tile", &s(&summer), "--out", &s(&pyr)]), 2, "--force");
     assert_eq!(std::fs::read(pyr.join("pyramid.ron")).unwrap(), before);
     let other = tmp.path().join("other");
-    assert_one_line_error(&grove(&["aerial", "tile", &s(&summer), "--out", &s(&other), "--tile", "100"]), 2, "power of two");
-    assert_one_line_error(&grove(&["aerial", "tile", &s(&pair.join("truth.csv")), "--out", &s(&other)]), 2, "not a PNG or TIFF");
-    assert_one_line_error(&grove(&["aerial", "tile", &s(&tmp.path().join("none.png")), "--out", &s(&other)]), 2, "none.png");
+    assert_one_line_error(
+        &grove(&["aerial", "tile", &s(&summer), "--out", &s(&other), "--tile", "100"]),
+        2,
+        "power of two",
+    );
+    assert_one_line_error(
+        &grove(&["aerial", "tile", &s(&pair.join("truth.csv")), "--out", &s(&other)]),
+        2,
+        "not a PNG or TIFF",
+    );
+    assert_one_line_error(
+        &grove(&["aerial", "tile", &s(&tmp.path().join("none.png")), "--out", &s(&other)]),
+        2,
+        "none.png",
+    );
     assert!(!other.exists());
-    let names: Vec<String> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let names: Vec<String> =
+        std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(names.iter().all(|n| !n.starts_with('.')), "no temporary folder is left: {names:?}");
 
     // The flight benchmark over the pyramid, and its bad input.
-    let out = grove(&["aerial", "flight", "--pyramid", &s(&pyr), "--levels", "3", "--size", "64", "--frames", "40", "--fps", "200", "--gsd", "0.2", "--json"]);
+    let out = grove(&[
+        "aerial",
+        "flight",
+        "--pyramid",
+        &s(&pyr),
+        "--levels",
+        "3",
+        "--size",
+        "64",
+        "--frames",
+        "40",
+        "--fps",
+        "200",
+        "--gsd",
+        "0.2",
+        "--json",
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["frames"], 40);

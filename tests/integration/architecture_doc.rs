@@ -13,7 +13,26 @@ use std::path::Path;
 use common::root;
 
 /// External crates a name may start with; their items are not looked up.
-const EXTERNAL: &[&str] = &["grove", "hecs", "glam", "wgpu", "parry3d", "serde", "rayon", "statrs", "plotters", "egui", "winit", "std", "clap", "postcard", "thiserror", "gltf", "naga", "naga_oil"];
+const EXTERNAL: &[&str] = &[
+    "grove",
+    "hecs",
+    "glam",
+    "wgpu",
+    "parry3d",
+    "serde",
+    "rayon",
+    "statrs",
+    "plotters",
+    "egui",
+    "winit",
+    "std",
+    "clap",
+    "postcard",
+    "thiserror",
+    "gltf",
+    "naga",
+    "naga_oil",
+];
 
 /// Directories never walked: build output, version control, installed packages.
 const SKIP_DIRS: &[&str] = &["target", ".git", "node_modules"];
@@ -136,7 +155,9 @@ fn item_name(span: &str) -> Option<String> {
         None => span.trim_end_matches('!'),
     };
     let ident = |s: &str| {
-        !s.is_empty() && s.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_') && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        !s.is_empty()
+            && s.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
     };
     if !core.split("::").all(ident) {
         return None;
@@ -187,8 +208,12 @@ fn item_exists(repo: &Repo, name: &str) -> bool {
         }
         if last.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit()) {
             // A lower-case word: a module (a file or a folder), an item, a field or a crate.
-            let module = repo.paths.iter().any(|p| p.ends_with(&format!("/{last}.rs")) || p.ends_with(&format!("/{last}/")));
-            let field = repo.source.iter().any(|(_, t)| t.contains(&format!("pub {last}:")) || t.contains(&format!("pub(crate) {last}:")));
+            let module =
+                repo.paths.iter().any(|p| p.ends_with(&format!("/{last}.rs")) || p.ends_with(&format!("/{last}/")));
+            let field = repo
+                .source
+                .iter()
+                .any(|(_, t)| t.contains(&format!("pub {last}:")) || t.contains(&format!("pub(crate) {last}:")));
             return module || field || EXTERNAL.contains(&last) || defined(repo, last);
         }
         return defined(repo, last);
@@ -196,7 +221,8 @@ fn item_exists(repo: &Repo, name: &str) -> bool {
     let owner = segs[segs.len() - 2];
     if owner.chars().next().is_some_and(|c| c.is_ascii_lowercase()) {
         // module::Item: the module is a file or folder, the item is defined.
-        let module = repo.paths.iter().any(|p| p.ends_with(&format!("/{owner}.rs")) || p.ends_with(&format!("/{owner}/")));
+        let module =
+            repo.paths.iter().any(|p| p.ends_with(&format!("/{owner}.rs")) || p.ends_with(&format!("/{owner}/")));
         return module && defined(repo, last);
     }
     // Type::item: the type is defined, and a file that defines it names the item (a method,
@@ -333,11 +359,18 @@ fn codemap_commands(codemap: &str) -> BTreeSet<String> {
         let mut paths = vec![String::new()];
         for word in rest.replace("\\|", "|").split_whitespace() {
             let names: Vec<&str> = word.split('|').collect();
-            let is_name = |n: &&str| !n.is_empty() && n.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-') && !n.starts_with('-');
+            let is_name = |n: &&str| {
+                !n.is_empty()
+                    && n.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+                    && !n.starts_with('-')
+            };
             if !names.iter().all(is_name) {
                 break;
             }
-            paths = paths.iter().flat_map(|p| names.iter().map(move |n| if p.is_empty() { n.to_string() } else { format!("{p} {n}") })).collect();
+            paths = paths
+                .iter()
+                .flat_map(|p| names.iter().map(move |n| if p.is_empty() { n.to_string() } else { format!("{p} {n}") }))
+                .collect();
             out.extend(paths.iter().cloned());
         }
     }
@@ -390,16 +423,25 @@ fn left_out(codemap: &str, folders: &BTreeSet<String>, commands: &[String]) -> V
 fn architecture_md_is_short() {
     let doc = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
     let lines = doc.lines().count();
-    assert!(lines <= MOST_LINES, "ARCHITECTURE.md has {lines} lines, more than {MOST_LINES}: move detail to docs/codemap.md");
+    assert!(
+        lines <= MOST_LINES,
+        "ARCHITECTURE.md has {lines} lines, more than {MOST_LINES}: move detail to docs/codemap.md"
+    );
 }
 
 #[test]
 fn every_source_folder_and_grove_command_has_a_codemap_row() {
     let repo = repo();
     let folders = source_folders(&repo);
-    assert!(folders.len() > 30 && folders.contains("src/render/trees/impostor/") && folders.contains("systems/src/"), "the walk found {folders:?}");
+    assert!(
+        folders.len() > 30 && folders.contains("src/render/trees/impostor/") && folders.contains("systems/src/"),
+        "the walk found {folders:?}"
+    );
     let commands = grove_commands();
-    assert!(commands.len() > 30 && commands.contains(&"aerial tile".to_string()) && commands.contains(&"sim".to_string()), "grove --help listed {commands:?}");
+    assert!(
+        commands.len() > 30 && commands.contains(&"aerial tile".to_string()) && commands.contains(&"sim".to_string()),
+        "grove --help listed {commands:?}"
+    );
     let doc = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
     let gone = left_out(&codemap(&doc), &folders, &commands);
     assert!(gone.is_empty(), "ARCHITECTURE.md's codemap has no row for:\n{}", gone.join("\n"));
@@ -413,10 +455,32 @@ fn a_folder_or_command_without_a_row_is_reported() {
                | `cli/aerial/` | `grove aerial tile\\|flight --out DIR`, `grove lsystem derive` |\n\n\
                Outside a row `render/water/` and `grove sun` do not count.\n\n\
                ### Other folders\n\n| `src/study/` | from the root |\n\n## Invariants\n\n| `src/video/` | `grove video` |\n";
-    let folders: BTreeSet<String> = ["systems/src/", "systems/src/replay/", "systems/src/scenario/", "src/render/", "src/render/trees/", "src/render/water/", "src/cli/aerial/", "src/study/", "src/video/"]
-        .map(String::from)
-        .into();
-    let commands: Vec<String> = ["replay", "aerial", "aerial tile", "aerial flight", "aerial eval", "lsystem", "lsystem derive", "sun", "video"].map(String::from).into();
+    let folders: BTreeSet<String> = [
+        "systems/src/",
+        "systems/src/replay/",
+        "systems/src/scenario/",
+        "src/render/",
+        "src/render/trees/",
+        "src/render/water/",
+        "src/cli/aerial/",
+        "src/study/",
+        "src/video/",
+    ]
+    .map(String::from)
+    .into();
+    let commands: Vec<String> = [
+        "replay",
+        "aerial",
+        "aerial tile",
+        "aerial flight",
+        "aerial eval",
+        "lsystem",
+        "lsystem derive",
+        "sun",
+        "video",
+    ]
+    .map(String::from)
+    .into();
     assert_eq!(
         left_out(&codemap(doc), &folders, &commands),
         [
@@ -428,5 +492,10 @@ fn a_folder_or_command_without_a_row_is_reported() {
             "command `grove video`",
         ]
     );
-    assert_eq!(help_commands("Usage: grove <COMMAND>\n\nCommands:\n  sim    Run\n  scene  Work\n  help   Print\n\nOptions:\n  -h\n"), ["sim", "scene"]);
+    assert_eq!(
+        help_commands(
+            "Usage: grove <COMMAND>\n\nCommands:\n  sim    Run\n  scene  Work\n  help   Print\n\nOptions:\n  -h\n"
+        ),
+        ["sim", "scene"]
+    );
 }

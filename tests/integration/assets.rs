@@ -36,12 +36,31 @@ fn catalogue_bounds_match_the_gltf_files() {
     let text = std::fs::read_to_string(assets().join("trees/catalogue.ron")).unwrap();
     let cat = Catalogue::from_ron(&text).unwrap();
     assert_eq!(cat.len(), 8);
-    let names = ["broadleaf-mesh", "conifer-mesh", "birch-mesh", "shrub-mesh", "broadleaf-billboard", "conifer-billboard", "birch-billboard", "shrub-billboard"];
+    let names = [
+        "broadleaf-mesh",
+        "conifer-mesh",
+        "birch-mesh",
+        "shrub-mesh",
+        "broadleaf-billboard",
+        "conifer-billboard",
+        "birch-billboard",
+        "shrub-billboard",
+    ];
     for (m, want) in cat.models.iter().zip(names) {
         assert_eq!(m.name, want);
         let (lo, hi, crown, tris) = measure(&assets().join(format!("trees/{}.gltf", m.name)));
-        assert!((lo - m.bounds_min).abs().max_element() < 1e-5, "{}: bounds_min {lo} vs catalogue {}", m.name, m.bounds_min);
-        assert!((hi - m.bounds_max).abs().max_element() < 1e-5, "{}: bounds_max {hi} vs catalogue {}", m.name, m.bounds_max);
+        assert!(
+            (lo - m.bounds_min).abs().max_element() < 1e-5,
+            "{}: bounds_min {lo} vs catalogue {}",
+            m.name,
+            m.bounds_min
+        );
+        assert!(
+            (hi - m.bounds_max).abs().max_element() < 1e-5,
+            "{}: bounds_max {hi} vs catalogue {}",
+            m.name,
+            m.bounds_max
+        );
         assert!((crown - m.crown_radius).abs() < 1e-5, "{}: crown {crown} vs {}", m.name, m.crown_radius);
         assert_eq!(tris, m.triangles, "{}", m.name);
     }
@@ -55,7 +74,9 @@ fn models_have_sizes_and_costs_in_range() {
     for m in &cat.models {
         match m.kind {
             ModelKind::Mesh => assert!((1000..=6000).contains(&m.triangles), "{}: {} triangles", m.name, m.triangles),
-            ModelKind::Billboard => assert!((100..=1000).contains(&m.triangles), "{}: {} triangles", m.name, m.triangles),
+            ModelKind::Billboard => {
+                assert!((100..=1000).contains(&m.triangles), "{}: {} triangles", m.name, m.triangles)
+            }
         }
         assert!(m.bounds_min.y < 0.0 && m.bounds_min.y > -0.1, "{}: roots {}", m.name, m.bounds_min.y);
     }
@@ -92,7 +113,8 @@ fn models_carry_maps_alpha_mask_and_wind_channels() {
             assert_eq!(wind.dimensions(), gltf::accessor::Dimensions::Vec4);
             let r = prim.reader(|b| Some(&buffers[b.index()]));
             assert!(r.read_tangents().is_some());
-            let values: Vec<[f32; 4]> = gltf::accessor::Iter::new(wind, |b| Some(buffers[b.index()].0.as_slice())).unwrap().collect();
+            let values: Vec<[f32; 4]> =
+                gltf::accessor::Iter::new(wind, |b| Some(buffers[b.index()].0.as_slice())).unwrap().collect();
             assert!(values.iter().all(|w| w[0] >= 0.0 && (0.0..=1.0).contains(&w[3])));
             // Height above the root follows the vertex height.
             for (w, p) in values.iter().zip(r.read_positions().unwrap()) {
@@ -124,8 +146,13 @@ fn generator_reproduces_the_committed_files_byte_for_byte() {
     assert_eq!(files.len(), summary.files);
     for f in files {
         let rel = f.strip_prefix(tmp.path()).unwrap();
-        let committed = std::fs::read(assets().join(rel)).unwrap_or_else(|_| panic!("{} is not committed", rel.display()));
-        assert!(std::fs::read(&f).unwrap() == committed, "{} differs from the committed file; run `grove assets`", rel.display());
+        let committed =
+            std::fs::read(assets().join(rel)).unwrap_or_else(|_| panic!("{} is not committed", rel.display()));
+        assert!(
+            std::fs::read(&f).unwrap() == committed,
+            "{} differs from the committed file; run `grove assets`",
+            rel.display()
+        );
     }
 }
 
@@ -149,7 +176,8 @@ fn pick_shapes_hold_every_vertex_and_are_tighter_than_the_bounds() {
     for m in &Catalogue::builtin().models {
         let pick = m.pick.unwrap_or_else(|| panic!("{} has no pick shape", m.name));
         let verts = vertices(&assets().join(format!("trees/{}.gltf", m.name)));
-        let outside = verts.iter().filter(|p| !pick.contains(**p, &[1e-4; grove_systems::catalogue::PICK_BANDS])).count();
+        let outside =
+            verts.iter().filter(|p| !pick.contains(**p, &[1e-4; grove_systems::catalogue::PICK_BANDS])).count();
         assert_eq!(outside, 0, "{}: {outside} of {} vertices outside {pick:?}", m.name, verts.len());
         // Sample the bounds on a grid: a good share of the box must be outside the shape,
         // in particular next to the trunk below the crown.
@@ -172,7 +200,11 @@ fn pick_shapes_hold_every_vertex_and_are_tighter_than_the_bounds() {
         // starts high (a conifer's lowest branches and a shrub's leaves reach the ground).
         if m.species == "broadleaf" || m.species == "birch" {
             let beside_trunk = Vec3::new(hi.x * 0.7, lo.y + pick.band_height() * 0.5, 0.0);
-            assert!(!pick.contains(beside_trunk, &[0.0; grove_systems::catalogue::PICK_BANDS]), "{}: {beside_trunk} beside the trunk is picked", m.name);
+            assert!(
+                !pick.contains(beside_trunk, &[0.0; grove_systems::catalogue::PICK_BANDS]),
+                "{}: {beside_trunk} beside the trunk is picked",
+                m.name
+            );
         }
     }
 }

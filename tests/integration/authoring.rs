@@ -28,7 +28,8 @@ fn write_recording(path: &std::path::Path, lines: &[String]) {
 
 fn replay_json(path: &std::path::Path) -> (Option<i32>, serde_json::Value) {
     let out = grove(&["replay", "--json", path.to_str().unwrap()]);
-    let v = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("bad JSON ({e}); stderr: {}", String::from_utf8_lossy(&out.stderr)));
+    let v = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("bad JSON ({e}); stderr: {}", String::from_utf8_lossy(&out.stderr)));
     (out.status.code(), v)
 }
 
@@ -80,7 +81,15 @@ fn the_documented_example_replays_unverified_then_seals_and_verifies() {
 fn unknown_tasks_and_models_are_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let lines = example_lines("docs/authoring.md");
-    let bad_task: Vec<String> = lines.iter().enumerate().map(|(i, l)| if i == 0 { l.replace("\"task\":\"ray-casting-7\"", "\"task\":\"no-such-task\"") } else { l.clone() }).collect();
+    let bad_task: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .map(
+            |(i, l)| {
+                if i == 0 { l.replace("\"task\":\"ray-casting-7\"", "\"task\":\"no-such-task\"") } else { l.clone() }
+            },
+        )
+        .collect();
     let f = dir.path().join("bad-task.jsonl");
     write_recording(&f, &bad_task);
     assert_one_line_error(&grove(&["replay", f.to_str().unwrap()]), 2, "unknown task 'no-such-task'");
@@ -90,7 +99,11 @@ fn unknown_tasks_and_models_are_bad_input() {
     assert_one_line_error(&grove(&["replay", f.to_str().unwrap()]), 2, "unknown model 9");
     // Sealing a bad file is bad input too, and writes nothing.
     let out = dir.path().join("out.jsonl");
-    assert_one_line_error(&grove(&["replay", "--seal", f.to_str().unwrap(), "--out", out.to_str().unwrap()]), 2, "unknown model 9");
+    assert_one_line_error(
+        &grove(&["replay", "--seal", f.to_str().unwrap(), "--out", out.to_str().unwrap()]),
+        2,
+        "unknown model 9",
+    );
     assert!(!out.exists());
 }
 
@@ -100,7 +113,14 @@ fn the_study_lists_an_event_only_file_as_unverified() {
     let rec = dir.path().join("rec");
     std::fs::create_dir(&rec).unwrap();
     write_recording(&rec.join("X01-ray-casting-7.jsonl"), &example_lines("docs/authoring.md"));
-    let out = grove(&["study", "--json", "--replays", rec.to_str().unwrap(), "--out", dir.path().join("o").to_str().unwrap()]);
+    let out = grove(&[
+        "study",
+        "--json",
+        "--replays",
+        rec.to_str().unwrap(),
+        "--out",
+        dir.path().join("o").to_str().unwrap(),
+    ]);
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["trials"][0]["status"], "unverified");

@@ -20,7 +20,9 @@ fn script(args: &[&str], dir: &Path) -> Output {
         .args(args)
         .current_dir(dir)
         .output()
-        .unwrap_or_else(|e| panic!("running {} scripts/benchmarks_md.py: {e} (set GROVE_PYTHON or install python3)", python()))
+        .unwrap_or_else(|e| {
+            panic!("running {} scripts/benchmarks_md.py: {e} (set GROVE_PYTHON or install python3)", python())
+        })
 }
 
 const RUN: &str = r#"{
@@ -53,7 +55,12 @@ fn one_table_per_benchmark_with_machine_command_and_date() {
     let page = std::fs::read_to_string(dir.path().join("page.md")).unwrap();
 
     let sim = section(&page, "sim_tick");
-    for meta in ["- machine: Test CPU, 2 cores", "- command: `grove bench sim water raycast`", "- date: 2026-11-24", "- build: release"] {
+    for meta in [
+        "- machine: Test CPU, 2 cores",
+        "- command: `grove bench sim water raycast`",
+        "- date: 2026-11-24",
+        "- build: release",
+    ] {
         assert!(sim.contains(&meta), "{meta:?} missing from {sim:#?}");
     }
     let table: Vec<&str> = sim.iter().copied().filter(|l| l.starts_with('|')).collect();
@@ -104,7 +111,8 @@ fn missing_date_and_hand_written_pages_are_refused() {
     assert!(!dir.path().join("page.md").exists(), "no page is written on bad input");
 
     std::fs::write(dir.path().join("page.md"), "# notes written by hand\n").unwrap();
-    let out = script(&["--machine", "M", "--command", "C", "--date", "D", "--out", "page.md", "later.json"], dir.path());
+    let out =
+        script(&["--machine", "M", "--command", "C", "--date", "D", "--out", "page.md", "later.json"], dir.path());
     assert_one_line_error(&out, 2, "not written by this script");
     assert_eq!(std::fs::read_to_string(dir.path().join("page.md")).unwrap(), "# notes written by hand\n");
 
@@ -121,7 +129,20 @@ fn the_json_grove_bench_prints_becomes_a_table() {
     let bench = common::grove(&["bench", "sim", "--trees", "1000,2000", "--ticks", "3"]);
     assert!(bench.status.success(), "{}", String::from_utf8_lossy(&bench.stderr));
     std::fs::write(dir.path().join("sim.json"), &bench.stdout).unwrap();
-    let out = script(&["--machine", "this machine", "--command", "grove bench sim", "--date", "today", "--out", "page.md", "sim.json"], dir.path());
+    let out = script(
+        &[
+            "--machine",
+            "this machine",
+            "--command",
+            "grove bench sim",
+            "--date",
+            "today",
+            "--out",
+            "page.md",
+            "sim.json",
+        ],
+        dir.path(),
+    );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let page = std::fs::read_to_string(dir.path().join("page.md")).unwrap();
     let sim = section(&page, "sim_tick");
@@ -152,7 +173,11 @@ fn the_committed_page_is_what_the_script_writes_from_its_inputs() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert_eq!(std::fs::read_to_string(&out_path).unwrap(), committed, "docs/benchmarks.md is stale: regenerate it with `{command}`");
+    assert_eq!(
+        std::fs::read_to_string(&out_path).unwrap(),
+        committed,
+        "docs/benchmarks.md is stale: regenerate it with `{command}`"
+    );
 }
 
 /// `scripts/headline.py` writes the README's headline table between its markers from a folder of
@@ -182,9 +207,17 @@ fn the_headline_table_is_written_between_its_markers_from_the_json() {
     let out = run(&readme);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&readme).unwrap();
-    assert!(text.starts_with("# grove\n\nintro\n\n") && text.ends_with("<!-- end of the headline table -->\n\nafter\n"), "{text}");
+    assert!(
+        text.starts_with("# grove\n\nintro\n\n") && text.ends_with("<!-- end of the headline table -->\n\nafter\n"),
+        "{text}"
+    );
     assert!(!text.contains("old table"), "{text}");
-    assert!(text.contains("| one controller ray, 10k trees and the study planes | 1.47 µs | ≤ 2 µs | Test CPU, 2026-11-24 |"), "{text}");
+    assert!(
+        text.contains(
+            "| one controller ray, 10k trees and the study planes | 1.47 µs | ≤ 2 µs | Test CPU, 2026-11-24 |"
+        ),
+        "{text}"
+    );
     assert!(text.contains("| simulation tick, 100k / 1M trees | not measured |"), "{text}");
     assert!(text.contains("From one run: a test run."), "{text}");
     let bare = dir.path().join("BARE.md");

@@ -4,10 +4,10 @@
 
 use crate::common;
 
+use grove::render::overlay::controller::{ControllerModel, model_dir};
 use grove::render::overlay::extract::overlay_scene;
-use grove::render::overlay::controller::{model_dir, ControllerModel};
 use grove::render::overlay::geometry::OverlayController;
-use grove_systems::replay::{replay_file, ReplayOptions};
+use grove_systems::replay::{ReplayOptions, replay_file};
 
 /// The recording: a trigger press and release at its start.
 const RECORDING: &str = "replays/scenarios/plant-two.jsonl";
@@ -17,7 +17,8 @@ const TRIGGER: &str = "xr_standard_trigger_pressed_value";
 /// The controller as the overlay sees it after replaying up to `tick`.
 fn controller_at(tick: u64) -> OverlayController {
     let path = common::root().join(RECORDING);
-    let outcome = replay_file(&path, &ReplayOptions { until: Some(tick), ..Default::default() }).unwrap_or_else(|e| panic!("{e}"));
+    let outcome = replay_file(&path, &ReplayOptions { until: Some(tick), ..Default::default() })
+        .unwrap_or_else(|e| panic!("{e}"));
     let scene = overlay_scene(&outcome.sim);
     assert_eq!(scene.controllers.len(), 1, "one controller");
     scene.controllers[0]

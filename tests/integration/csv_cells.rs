@@ -20,14 +20,28 @@ fn a_formula_as_a_free_text_answer_is_text_in_every_csv_the_study_writes() {
         serde_json::json!({"line": "answer", "step": 7, "block": "questions", "instrument": "tree-planting", "condition": null, "item": "uses", "answer": "=HYPERLINK(\"x\")", "time": "2026-12-01T09:20:00.000Z"}).to_string(),
         serde_json::json!({"line": "answer", "step": 7, "block": "questions", "instrument": "tree-planting", "condition": null, "item": "guidance", "answer": 8, "time": "2026-12-01T09:20:00.000Z"}).to_string(),
     ];
-    std::fs::write(dir.join("P01.answers.jsonl"), answers.iter().map(|l| format!("{l}\n")).collect::<String>()).unwrap();
+    std::fs::write(dir.join("P01.answers.jsonl"), answers.iter().map(|l| format!("{l}\n")).collect::<String>())
+        .unwrap();
     let out = dir.join("report");
     let run = grove(&["study", "--replays", &dir.display().to_string(), "--out", &out.display().to_string()]);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let mut csvs: Vec<std::path::PathBuf> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "csv")).collect();
+    let mut csvs: Vec<std::path::PathBuf> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "csv"))
+        .collect();
     csvs.sort();
     let names: Vec<String> = csvs.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
-    assert_eq!(names, ["questionnaire_long.csv", "questionnaire_scores.csv", "questionnaire_wide.csv", "trees.csv", "trial_results.csv"]);
+    assert_eq!(
+        names,
+        [
+            "questionnaire_long.csv",
+            "questionnaire_scores.csv",
+            "questionnaire_wide.csv",
+            "trees.csv",
+            "trial_results.csv"
+        ]
+    );
     let mut numbers = 0;
     for path in &csvs {
         let mut found = false;
@@ -40,7 +54,10 @@ fn a_formula_as_a_free_text_answer_is_text_in_every_csv_the_study_writes() {
                 found |= cell == "'=HYPERLINK(\"x\")";
             }
         }
-        let holds_answers = names.iter().zip(&csvs).any(|(n, p)| p == path && (n == "questionnaire_long.csv" || n == "questionnaire_wide.csv"));
+        let holds_answers = names
+            .iter()
+            .zip(&csvs)
+            .any(|(n, p)| p == path && (n == "questionnaire_long.csv" || n == "questionnaire_wide.csv"));
         assert_eq!(found, holds_answers, "{}: the answer as text", path.display());
     }
     assert!(numbers > 0, "negative numbers (the trees' coordinates) are written as numbers");

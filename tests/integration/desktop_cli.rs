@@ -48,7 +48,12 @@ fn view_of_an_unreadable_file_is_one_line_and_exit_2() {
 
 #[test]
 fn play_rejects_a_bad_quality_or_measure_before_opening_a_window() {
-    for args in [["play", "--quality", "0.1"], ["play", "--quality", "fast"], ["play", "--measure", "nan"], ["play", "--measure", "1"]] {
+    for args in [
+        ["play", "--quality", "0.1"],
+        ["play", "--quality", "fast"],
+        ["play", "--measure", "nan"],
+        ["play", "--measure", "1"],
+    ] {
         let (code, err) = run(&args);
         assert_eq!(code, Some(2), "{args:?}: {err}");
         assert!(err.starts_with("error: ") && err.contains(args[1]), "{args:?}: {err}");

@@ -30,13 +30,21 @@ impl Drop for Kill {
 }
 
 fn have(tool: &str) -> bool {
-    Command::new("sh").arg("-c").arg(format!("command -v {tool}")).stdout(Stdio::null()).status().is_ok_and(|s| s.success())
+    Command::new("sh")
+        .arg("-c")
+        .arg(format!("command -v {tool}"))
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
 }
 
 /// Starts Xvfb on a free display number and waits for its socket.
 fn start_xvfb() -> (Child, String) {
     assert!(have("Xvfb"), "Xvfb is not installed; install it (Debian: apt-get install xvfb) to run the window test");
-    assert!(have("xdotool"), "xdotool is not installed; install it (Debian: apt-get install xdotool) to run the window test");
+    assert!(
+        have("xdotool"),
+        "xdotool is not installed; install it (Debian: apt-get install xdotool) to run the window test"
+    );
     let base = 99 + (std::process::id() % 300);
     for n in base..base + 200 {
         let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
@@ -152,7 +160,8 @@ fn play_exit(dir: &Path, kill: &mut Kill, what: &str) -> (std::process::ExitStat
 
 fn replay_json(record: &Path) -> serde_json::Value {
     let out = Command::new(GROVE).args(["replay", "--json"]).arg(record).output().unwrap();
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("replay JSON: {e}; stderr {}", String::from_utf8_lossy(&out.stderr)));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("replay JSON: {e}; stderr {}", String::from_utf8_lossy(&out.stderr)));
     assert_eq!(out.status.code(), Some(0), "replay: {report}");
     report
 }
@@ -203,7 +212,8 @@ fn a_click_in_a_real_window_plants_a_tree_that_replays_exactly() {
     assert!(status.success(), "grove play failed: {status}; its stderr: {stderr}");
 
     let out = Command::new(GROVE).args(["replay", "--json"]).arg(&record).output().unwrap();
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("replay JSON: {e}; stderr {}", String::from_utf8_lossy(&out.stderr)));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("replay JSON: {e}; stderr {}", String::from_utf8_lossy(&out.stderr)));
     assert_eq!(out.status.code(), Some(0), "replay: {report}");
     assert_eq!(report["verified"], true, "{report}");
     assert_eq!(report["complete"], true, "the recording has its footer: {report}");
@@ -246,7 +256,12 @@ fn menu_clicks_never_pull_the_trigger_and_the_result_agrees_with_replay_and_stud
     let _one = one_window();
     let (xvfb, display) = start_xvfb();
     let mut kill = Kill(vec![xvfb]);
-    let wid = start_play(&display, dir.path(), &["--task", "ray-casting-7", "--participant", "PX", "--record", record.to_str().unwrap()], &mut kill);
+    let wid = start_play(
+        &display,
+        dir.path(),
+        &["--task", "ray-casting-7", "--participant", "PX", "--record", record.to_str().unwrap()],
+        &mut kill,
+    );
     wait_running(&record);
 
     // A quick click on a tree button in the always-visible Trees window, then a slow one.
@@ -271,7 +286,10 @@ fn menu_clicks_never_pull_the_trigger_and_the_result_agrees_with_replay_and_stud
     let (status, stderr) = play_exit(dir.path(), &mut kill, "Escape and Enter");
     assert!(status.success(), "grove play failed: {status}; its stderr: {stderr}");
     let last = stderr.lines().last().unwrap_or_default();
-    assert!(last.contains("recording saved to") && last.contains(record.to_str().unwrap()), "the last line says where the recording is: {stderr}");
+    assert!(
+        last.contains("recording saved to") && last.contains(record.to_str().unwrap()),
+        "the last line says where the recording is: {stderr}"
+    );
 
     let text = std::fs::read_to_string(&record).unwrap();
     let kinds = |kind: &str| text.lines().filter(|l| l.contains(&format!("\"{kind}\""))).count();
@@ -280,7 +298,10 @@ fn menu_clicks_never_pull_the_trigger_and_the_result_agrees_with_replay_and_stud
     assert_eq!(kinds("end_task"), 1, "Finish task was clicked");
 
     // The result the window printed is what grove replay and grove study report.
-    let line = stderr.lines().find(|l| l.starts_with("task ray-casting-7")).unwrap_or_else(|| panic!("no result line: {stderr}"));
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("task ray-casting-7"))
+        .unwrap_or_else(|| panic!("no result line: {stderr}"));
     let report = replay_json(&record);
     assert_eq!(report["verified"], true, "{report}");
     assert_eq!(report["complete"], true, "{report}");
@@ -291,14 +312,26 @@ fn menu_clicks_never_pull_the_trigger_and_the_result_agrees_with_replay_and_stud
     // The time is the time of the end_task event (the task started at tick 0), not the end of
     // the file, which came later.
     let tick_of = |kind: &str| -> Option<u64> {
-        text.lines().filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok()).find(|v| v["event"]["kind"] == kind).and_then(|v| v["tick"].as_u64())
+        text.lines()
+            .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+            .find(|v| v["event"]["kind"] == kind)
+            .and_then(|v| v["tick"].as_u64())
     };
     let (start, end) = (tick_of("start_task").unwrap(), tick_of("end_task").unwrap());
     let dt = report["sim_seconds"].as_f64().unwrap() / report["ticks"].as_f64().unwrap();
-    assert!((time - (end - start) as f64 * dt).abs() < 1e-6, "the time stopped at Finish task: {time} s, end_task at tick {end}");
+    assert!(
+        (time - (end - start) as f64 * dt).abs() < 1e-6,
+        "the time stopped at Finish task: {time} s, end_task at tick {end}"
+    );
     assert!(report["ticks"].as_u64().unwrap() > end + 10, "the session ran on after Finish task: {report}");
 
-    let out = Command::new(GROVE).args(["study", "--json", "--replays"]).arg(&recordings).arg("--out").arg(dir.path().join("study")).output().unwrap();
+    let out = Command::new(GROVE)
+        .args(["study", "--json", "--replays"])
+        .arg(&recordings)
+        .arg("--out")
+        .arg(dir.path().join("study"))
+        .output()
+        .unwrap();
     assert!(out.status.success(), "study: {}", String::from_utf8_lossy(&out.stderr));
     let study: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let trial = &study["trials"][0]["task"];
@@ -322,7 +355,10 @@ fn a_window_destroyed_from_outside_leaves_a_complete_recording() {
     assert!(status.success(), "exit 0 when the window is destroyed: {status}; stderr: {stderr}");
     assert!(!stderr.contains("internal error") && !stderr.contains("panicked"), "no panic: {stderr}");
     let last = stderr.lines().last().unwrap_or_default();
-    assert!(last.contains("recording saved to") && last.contains(record.to_str().unwrap()), "the last line says where the recording is: {stderr}");
+    assert!(
+        last.contains("recording saved to") && last.contains(record.to_str().unwrap()),
+        "the last line says where the recording is: {stderr}"
+    );
     let report = replay_json(&record);
     assert_eq!(report["verified"], true, "{report}");
     assert_eq!(report["complete"], true, "the recording has its footer: {report}");

@@ -84,5 +84,8 @@ pub fn position_accessor(view: usize, p: &[f32]) -> String {
             hi[k] = hi[k].max(q[k]);
         }
     }
-    format!(r#"{{"bufferView":{view},"componentType":5126,"count":{},"type":"VEC3","min":{lo:?},"max":{hi:?}}}"#, p.len() / 3)
+    format!(
+        r#"{{"bufferView":{view},"componentType":5126,"count":{},"type":"VEC3","min":{lo:?},"max":{hi:?}}}"#,
+        p.len() / 3
+    )
 }

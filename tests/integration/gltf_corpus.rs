@@ -14,12 +14,12 @@ use crate::shared_gpu;
 
 use std::path::{Path, PathBuf};
 
-use build::{f32s, float_accessor, index_accessor, position_accessor, u16s, Buffer};
+use build::{Buffer, f32s, float_accessor, index_accessor, position_accessor, u16s};
 use common::{assert_one_line_error, grove, root};
 use glam::{Mat4, Vec2, Vec3};
-use grove::models::{load_model, ModelData};
-use grove::render::offscreen;
+use grove::models::{ModelData, load_model};
 use grove::render::RenderOptions;
+use grove::render::offscreen;
 use image::RgbaImage;
 
 const W: u32 = 160;
@@ -76,7 +76,10 @@ fn bounds_of(v: &[Vec3]) -> (Vec3, Vec3) {
 }
 
 fn assert_bounds(what: &str, got: (Vec3, Vec3), want: (Vec3, Vec3)) {
-    assert!((got.0 - want.0).abs().max_element() < 1e-5 && (got.1 - want.1).abs().max_element() < 1e-5, "{what}: bounds {got:?}, the file says {want:?}");
+    assert!(
+        (got.0 - want.0).abs().max_element() < 1e-5 && (got.1 - want.1).abs().max_element() < 1e-5,
+        "{what}: bounds {got:?}, the file says {want:?}"
+    );
 }
 
 /// Loads a file, checks its bounds against [`reference_vertices`] and returns it.
@@ -90,7 +93,8 @@ fn load_checked_bounds(path: &Path) -> ModelData {
 /// loaded ones. Returns stdout.
 fn added(path: &Path, tag: &str, want: (Vec3, Vec3)) -> String {
     let dir = temp_dir(&format!("bank-{tag}"));
-    let out = grove(&["models", "add", path.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap(), "--name", tag]);
+    let out =
+        grove(&["models", "add", path.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap(), "--name", tag]);
     assert!(out.status.success(), "models add {}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
     let bank = grove_systems::bank::Bank::open(&dir.join("bank")).unwrap();
     let m = bank.get(tag).unwrap();
@@ -123,7 +127,9 @@ fn compare(name: &str, img: &RgbaImage) {
         img.save(&path).unwrap();
         return;
     }
-    let want = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+    let want = image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display()))
+        .to_rgba8();
     assert_eq!(want.dimensions(), img.dimensions(), "{name}: size");
     let (mut sum, mut over) = (0u64, 0u64);
     for (a, b) in want.pixels().zip(img.pixels()) {
@@ -137,7 +143,9 @@ fn compare(name: &str, img: &RgbaImage) {
         let dir = root().join("target/snapshot-failures");
         let _ = std::fs::create_dir_all(&dir);
         let _ = img.save(dir.join(format!("{name}.png")));
-        panic!("{name}: differs from its golden (mean {mean:.2}, {percent:.2}% over 40); actual image in target/snapshot-failures/");
+        panic!(
+            "{name}: differs from its golden (mean {mean:.2}, {percent:.2}% over 40); actual image in target/snapshot-failures/"
+        );
     }
 }
 
@@ -165,20 +173,26 @@ fn box_vertex_colors_is_drawn_in_its_colours() {
     let data = load_checked_bounds(&path);
     // The file's own accessor min/max, with an identity node.
     assert_bounds("BoxVertexColors", data.bounds, (Vec3::ZERO, Vec3::ONE));
-    let colours: std::collections::HashSet<[u8; 4]> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| v.color)).collect();
+    let colours: std::collections::HashSet<[u8; 4]> =
+        data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| v.color)).collect();
     assert!(colours.len() >= 6, "the vertex colours are read: {colours:?}");
     added(&path, "box", (Vec3::ZERO, Vec3::ONE));
     // The bank's thumbnail (drawn on the CPU) shows the colours too.
     let thumb = grove::bank::thumbnail::draw(&data);
-    let strong = thumb.chunks_exact(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 60).count();
+    let strong =
+        thumb.chunks_exact(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 60).count();
     assert!(strong > 100, "the thumbnail is coloured: {strong} strongly coloured pixels");
     let img = render(&path);
     // The same cube with its colours renamed to an attribute grove ignores: a white cube.
     let dir = temp_dir("box-white");
     let white = dir.join("BoxWhite.gltf");
-    std::fs::write(&white, std::fs::read_to_string(&path).unwrap().replace(r#""COLOR_0" : 3"#, r#""_UNUSED" : 3"#)).unwrap();
+    std::fs::write(&white, std::fs::read_to_string(&path).unwrap().replace(r#""COLOR_0" : 3"#, r#""_UNUSED" : 3"#))
+        .unwrap();
     let [r, g, b] = coloured_pixels(&img, &render(&white));
-    assert!(r > 50 && g > 50 && b > 50, "a multicoloured cube, not a white one: red {r}, green {g}, blue {b} strongly coloured pixels");
+    assert!(
+        r > 50 && g > 50 && b > 50,
+        "a multicoloured cube, not a white one: red {r}, green {g}, blue {b} strongly coloured pixels"
+    );
     compare("gltf-box-vertex-colors", &img);
 }
 
@@ -236,10 +250,20 @@ fn write_model(dir: &Path, name: &str, buf: &Buffer, accessors: &[String], prims
 fn strips_and_fans_are_drawn_as_triangles_and_points_and_lines_refused() {
     let dir = temp_dir("modes");
     let mut b = Buffer::default();
-    let (sp, fp) = ([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0], [2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 3.0, 1.0, 0.0, 2.0, 1.0, 0.0]);
+    let (sp, fp) = (
+        [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0],
+        [2.0, 0.0, 0.0, 3.0, 0.0, 0.0, 3.0, 1.0, 0.0, 2.0, 1.0, 0.0],
+    );
     let (strip, fan) = (b.view(&f32s(&sp)), b.view(&f32s(&fp)));
     let acc = [position_accessor(strip, &sp), position_accessor(fan, &fp)];
-    let f = write_model(&dir, "modes", &b, &acc, r#"{"attributes":{"POSITION":0},"mode":5},{"attributes":{"POSITION":1},"mode":6}"#, "");
+    let f = write_model(
+        &dir,
+        "modes",
+        &b,
+        &acc,
+        r#"{"attributes":{"POSITION":0},"mode":5},{"attributes":{"POSITION":1},"mode":6}"#,
+        "",
+    );
     let data = load_checked_bounds(&f);
     assert_eq!(data.triangles(), 4, "two triangles from the strip, two from the fan");
     // Both quads face +Z (counter-clockwise seen from +Z), as glTF winds strips and fans.
@@ -252,7 +276,14 @@ fn strips_and_fans_are_drawn_as_triangles_and_points_and_lines_refused() {
     added(&f, "modes", (Vec3::ZERO, Vec3::new(3.0, 1.0, 0.0)));
     compare("gltf-strip-fan", &render(&f));
     for (mode, needle) in [(0, "draws points"), (1, "draws lines"), (2, "draws lines"), (3, "draws lines")] {
-        let f = write_model(&dir, &format!("mode{mode}"), &b, &acc, &format!(r#"{{"attributes":{{"POSITION":0}},"mode":4}},{{"attributes":{{"POSITION":1}},"mode":{mode}}}"#), "");
+        let f = write_model(
+            &dir,
+            &format!("mode{mode}"),
+            &b,
+            &acc,
+            &format!(r#"{{"attributes":{{"POSITION":0}},"mode":4}},{{"attributes":{{"POSITION":1}},"mode":{mode}}}"#),
+            "",
+        );
         refused(&f, &format!("mesh 0 primitive 1 {needle}"));
     }
 }
@@ -261,7 +292,12 @@ fn strips_and_fans_are_drawn_as_triangles_and_points_and_lines_refused() {
 /// as the material's base colour texture, and an 8×8 texture in quadrants (red, green / blue,
 /// white).
 fn textured_quad(dir: &Path, name: &str, texture_info: &str, extra: &str) -> PathBuf {
-    let img = image::RgbaImage::from_fn(8, 8, |x, y| image::Rgba([[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [255, 255, 255, 255]][((y / 4) * 2 + x / 4) as usize]));
+    let img = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba(
+            [[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], [255, 255, 255, 255]]
+                [((y / 4) * 2 + x / 4) as usize],
+        )
+    });
     img.save(dir.join("quad.png")).unwrap();
     let mut b = Buffer::default();
     let p = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0];
@@ -269,11 +305,23 @@ fn textured_quad(dir: &Path, name: &str, texture_info: &str, extra: &str) -> Pat
     let uv0 = b.view(&f32s(&[0.0; 8]));
     let uv1 = b.view(&f32s(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]));
     let idx = b.view(&u16s(&[0, 1, 2, 0, 2, 3]));
-    let acc = [position_accessor(pos, &p), float_accessor(uv0, 4, "VEC2"), float_accessor(uv1, 4, "VEC2"), index_accessor(idx, 6)];
+    let acc = [
+        position_accessor(pos, &p),
+        float_accessor(uv0, 4, "VEC2"),
+        float_accessor(uv1, 4, "VEC2"),
+        index_accessor(idx, 6),
+    ];
     let extra = format!(
         r#","images":[{{"uri":"quad.png"}}],"samplers":[{{"magFilter":9728,"minFilter":9728}}],"textures":[{{"source":0,"sampler":0}}],"materials":[{{"name":"quad","pbrMetallicRoughness":{{"baseColorTexture":{texture_info}}}}}]{extra}"#
     );
-    write_model(dir, name, &b, &acc, r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1,"TEXCOORD_1":2},"indices":3,"material":0}"#, &extra)
+    write_model(
+        dir,
+        name,
+        &b,
+        &acc,
+        r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1,"TEXCOORD_1":2},"indices":3,"material":0}"#,
+        &extra,
+    )
 }
 
 fn uvs(data: &ModelData) -> Vec<Vec2> {
@@ -285,7 +333,11 @@ fn each_texture_reads_its_own_set_with_its_transform() {
     let dir = temp_dir("uv");
     let set1 = textured_quad(&dir, "set1", r#"{"index":0,"texCoord":1}"#, "");
     let data = load_checked_bounds(&set1);
-    assert_eq!(uvs(&data), vec![Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 0.0)], "TEXCOORD_1, not TEXCOORD_0");
+    assert_eq!(
+        uvs(&data),
+        vec![Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 0.0)],
+        "TEXCOORD_1, not TEXCOORD_0"
+    );
     added(&set1, "set1", data.bounds);
     let img = render(&set1);
     // Through TEXCOORD_0 (all zero) the quad is one colour; through TEXCOORD_1 the quadrants
@@ -293,7 +345,10 @@ fn each_texture_reads_its_own_set_with_its_transform() {
     let set0 = textured_quad(&dir, "set0", r#"{"index":0}"#, "");
     let one_colour = render(&set0);
     let [_, g, b] = coloured_pixels(&img, &one_colour);
-    assert!(g > 20 && b > 20, "the green and blue quadrants show, as TEXCOORD_1 spreads the texture: green {g}, blue {b}");
+    assert!(
+        g > 20 && b > 20,
+        "the green and blue quadrants show, as TEXCOORD_1 spreads the texture: green {g}, blue {b}"
+    );
     compare("gltf-texcoord-1", &img);
     // KHR_texture_transform (required): scale 0.5 and offset (0.5, 0): u' = 0.5 u + 0.5, v' = 0.5 v,
     // the quad shows the top right quadrant of the texture: green.
@@ -311,7 +366,12 @@ fn each_texture_reads_its_own_set_with_its_transform() {
     assert!(g > 20 && g > 4 * (r + b), "the green quadrant fills the quad: red {r} green {g} blue {b}");
     compare("gltf-texture-transform", &img);
     // A rotation by 90°: (u, v) → (−v, u), as the extension's matrix says.
-    let rot = textured_quad(&dir, "rotation", r#"{"index":0,"texCoord":1,"extensions":{"KHR_texture_transform":{"rotation":1.5707964}}}"#, r#","extensionsUsed":["KHR_texture_transform"]"#);
+    let rot = textured_quad(
+        &dir,
+        "rotation",
+        r#"{"index":0,"texCoord":1,"extensions":{"KHR_texture_transform":{"rotation":1.5707964}}}"#,
+        r#","extensionsUsed":["KHR_texture_transform"]"#,
+    );
     let got = uvs(&load_model(&rot).unwrap());
     let want = [Vec2::new(-1.0, 0.0), Vec2::new(-1.0, 1.0), Vec2::new(0.0, 1.0), Vec2::new(0.0, 0.0)];
     assert!(got.iter().zip(want).all(|(a, b)| (*a - b).length() < 1e-6), "{got:?}");
@@ -321,7 +381,9 @@ fn each_texture_reads_its_own_set_with_its_transform() {
 fn textures_of_one_material_on_different_sets_are_refused_by_name() {
     let dir = temp_dir("uvmix");
     let f = textured_quad(&dir, "mix", r#"{"index":0,"texCoord":1}"#, "");
-    let text = std::fs::read_to_string(&f).unwrap().replace(r#""name":"quad","#, r#""name":"quad","normalTexture":{"index":0,"texCoord":0},"#);
+    let text = std::fs::read_to_string(&f)
+        .unwrap()
+        .replace(r#""name":"quad","#, r#""name":"quad","normalTexture":{"index":0,"texCoord":0},"#);
     std::fs::write(&f, text).unwrap();
     refused(&f, "material 'quad' reads its normal texture through TEXCOORD_0");
 }
@@ -329,13 +391,22 @@ fn textures_of_one_material_on_different_sets_are_refused_by_name() {
 #[test]
 fn unknown_extensions_are_refused_when_required_and_named_in_a_warning_when_used() {
     let dir = temp_dir("ext");
-    let req = textured_quad(&dir, "req", r#"{"index":0}"#, r#","extensionsUsed":["EXT_made_up"],"extensionsRequired":["EXT_made_up"]"#);
+    let req = textured_quad(
+        &dir,
+        "req",
+        r#"{"index":0}"#,
+        r#","extensionsUsed":["EXT_made_up"],"extensionsRequired":["EXT_made_up"]"#,
+    );
     refused(&req, "requires the extension EXT_made_up");
     let used = textured_quad(&dir, "used", r#"{"index":0}"#, r#","extensionsUsed":["EXT_made_up"]"#);
     let out = grove(&["models", "add", used.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(stderr.lines().filter(|l| l.starts_with("warning:") && l.contains("EXT_made_up")).count(), 1, "{stderr}");
+    assert_eq!(
+        stderr.lines().filter(|l| l.starts_with("warning:") && l.contains("EXT_made_up")).count(),
+        1,
+        "{stderr}"
+    );
 }
 
 /// A quad (x −0.5..0.5, y 0..2) skinned to two joints, its node moved 5 m along x (which a
@@ -348,7 +419,10 @@ fn a_skinned_mesh_is_drawn_in_its_bind_pose() {
     let pos = b.view(&f32s(&p));
     let joints = b.view(&u16s(&[0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0]));
     let weights = b.view(&f32s(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]));
-    let ibm = b.view(&f32s(&[1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 1.0]));
+    let ibm = b.view(&f32s(&[
+        1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+        0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 1.0,
+    ]));
     let idx = b.view(&u16s(&[0, 1, 2, 0, 2, 3]));
     let acc = [
         position_accessor(pos, &p),

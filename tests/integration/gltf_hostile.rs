@@ -10,9 +10,9 @@ use crate::gltf_build as build;
 
 use std::path::{Path, PathBuf};
 
-use build::{f32s, u16s, Buffer};
+use build::{Buffer, f32s, u16s};
 use common::assert_one_line_error;
-use common::bounded::{grove_bounded, MEMORY_BOUND_KB, TIME_BOUND};
+use common::bounded::{MEMORY_BOUND_KB, TIME_BOUND, grove_bounded};
 
 fn temp_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("grove-gltf-hostile-{tag}-{}", std::process::id()));
@@ -28,7 +28,10 @@ fn refused_by_both(file: &Path, needle: &str) {
     let bank = dir.join("bank");
     let png = dir.join("out.png");
     let f = file.to_str().unwrap();
-    for args in [vec!["models", "add", f, "--bank", bank.to_str().unwrap(), "--name", "tri"], vec!["render", "--model", f, "--out", png.to_str().unwrap()]] {
+    for args in [
+        vec!["models", "add", f, "--bank", bank.to_str().unwrap(), "--name", "tri"],
+        vec!["render", "--model", f, "--out", png.to_str().unwrap()],
+    ] {
         let (out, took, rss_kb) = grove_bounded(&args);
         assert_one_line_error(&out, 2, needle);
         assert!(took < TIME_BOUND, "grove {args:?} took {took:?}");
@@ -36,7 +39,9 @@ fn refused_by_both(file: &Path, needle: &str) {
     }
     assert!(!png.exists(), "no image is written");
     assert!(!bank.join("tri").exists(), "nothing is copied into the bank");
-    let listed = std::fs::read_dir(&bank).map(|d| d.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned()).collect::<Vec<_>>()).unwrap_or_default();
+    let listed = std::fs::read_dir(&bank)
+        .map(|d| d.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned()).collect::<Vec<_>>())
+        .unwrap_or_default();
     assert!(listed.iter().all(|n| n == "catalogue.ron"), "the bank holds only its catalogue: {listed:?}");
     if bank.join("catalogue.ron").exists() {
         assert!(!std::fs::read_to_string(bank.join("catalogue.ron")).unwrap().contains("tri"), "nothing is catalogued");
@@ -56,7 +61,12 @@ fn triangle_model(dir: &Path, extra_buffer: Option<&str>, texture: Option<&str>)
         buffers.push_str(&format!(r#",{{"uri":"{b}","byteLength":4}}"#));
     }
     let (images, material) = match texture {
-        Some(t) => (format!(r#","images":[{{"uri":"{t}"}}],"textures":[{{"source":0}}],"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}]"#), r#","material":0"#),
+        Some(t) => (
+            format!(
+                r#","images":[{{"uri":"{t}"}}],"textures":[{{"source":0}}],"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}]"#
+            ),
+            r#","material":0"#,
+        ),
         None => (String::new(), ""),
     };
     let gltf = format!(
@@ -80,7 +90,15 @@ fn a_symbolic_link_out_of_the_models_folder_is_refused_and_nothing_is_copied() {
     // link's, not the model's.
     std::fs::remove_file(dir.join("model/extra.bin")).unwrap();
     std::fs::write(dir.join("model/extra.bin"), b"abcd").unwrap();
-    let out = common::grove(&["models", "add", file.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap(), "--name", "tri"]);
+    let out = common::grove(&[
+        "models",
+        "add",
+        file.to_str().unwrap(),
+        "--bank",
+        dir.join("bank").to_str().unwrap(),
+        "--name",
+        "tri",
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(dir.join("bank/tri/extra.bin").is_file());
     let _ = std::fs::remove_dir_all(&dir);
@@ -111,12 +129,14 @@ fn etc_passwd_as_a_buffer_or_a_texture_is_refused_as_outside_not_decoded() {
     let dir = temp_dir("passwd-buf");
     let file = triangle_model(&dir, Some("/etc/passwd"), None);
     refused_by_both(&file, "'/etc/passwd'");
-    let (out, _, _) = grove_bounded(&["render", "--model", file.to_str().unwrap(), "--out", dir.join("x.png").to_str().unwrap()]);
+    let (out, _, _) =
+        grove_bounded(&["render", "--model", file.to_str().unwrap(), "--out", dir.join("x.png").to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("outside"), "{}", String::from_utf8_lossy(&out.stderr));
     let dir2 = temp_dir("passwd-tex");
     let file = triangle_model(&dir2, None, Some("/etc/passwd"));
     refused_by_both(&file, "'/etc/passwd'");
-    let (out, _, _) = grove_bounded(&["render", "--model", file.to_str().unwrap(), "--out", dir2.join("x.png").to_str().unwrap()]);
+    let (out, _, _) =
+        grove_bounded(&["render", "--model", file.to_str().unwrap(), "--out", dir2.join("x.png").to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("outside") && !stderr.contains("decode"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
@@ -145,7 +165,15 @@ fn the_unchanged_embedded_triangle_is_accepted() {
     // The base of the three cases below, so that each refusal is the change's.
     let dir = temp_dir("base");
     let file = embedded(&dir, |j| j);
-    let out = common::grove(&["models", "add", file.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap(), "--name", "tri"]);
+    let out = common::grove(&[
+        "models",
+        "add",
+        file.to_str().unwrap(),
+        "--bank",
+        dir.join("bank").to_str().unwrap(),
+        "--name",
+        "tri",
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -161,7 +189,9 @@ fn asset_version_3_is_refused() {
 #[test]
 fn an_index_accessor_of_2_pow_32_minus_1_over_6_bytes_is_refused() {
     let dir = temp_dir("count");
-    let file = embedded(&dir, |j| j.replace(r#""componentType":5123,"count":3"#, r#""componentType":5123,"count":4294967295"#));
+    let file = embedded(&dir, |j| {
+        j.replace(r#""componentType":5123,"count":3"#, r#""componentType":5123,"count":4294967295"#)
+    });
     refused_by_both(&file, "accessor 1");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -169,7 +199,9 @@ fn an_index_accessor_of_2_pow_32_minus_1_over_6_bytes_is_refused() {
 #[test]
 fn an_all_zero_node_matrix_is_refused_as_a_model_0_m_tall() {
     let dir = temp_dir("zero-matrix");
-    let file = embedded(&dir, |j| j.replace(r#""nodes":[{"mesh":0}]"#, r#""nodes":[{"mesh":0,"matrix":[0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]}]"#));
+    let file = embedded(&dir, |j| {
+        j.replace(r#""nodes":[{"mesh":0}]"#, r#""nodes":[{"mesh":0,"matrix":[0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]}]"#)
+    });
     refused_by_both(&file, "0 m tall");
     let _ = std::fs::remove_dir_all(&dir);
 }

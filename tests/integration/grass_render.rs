@@ -13,12 +13,12 @@ use crate::common;
 use std::path::PathBuf;
 
 use glam::Vec3;
-use grove::render::grass::{BladeCounts, BladeLists, BLOCK_BLADES, LOD_CAPS};
-use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
+use grove::render::grass::{BLOCK_BLADES, BladeCounts, BladeLists, LOD_CAPS};
+use grove::render::offscreen::{self, Gpu};
+use grove_systems::Sim;
 use grove_systems::components::{HitMarker, HitTarget};
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
 use image::RgbaImage;
 
 const W: u32 = 160;
@@ -120,16 +120,27 @@ fn compare(name: &str, img: &RgbaImage, mean_abs: f64, percent_over: f64) {
         img.save(&path).unwrap();
         return;
     }
-    let want = image::open(&path).unwrap_or_else(|e| panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+    let want = image::open(&path)
+        .unwrap_or_else(|e| {
+            panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display())
+        })
+        .to_rgba8();
     assert_eq!(want.dimensions(), img.dimensions(), "{name}: size differs from the snapshot");
     let mean = diff(&want, img, (0, 0, W, H));
-    let over = want.pixels().zip(img.pixels()).filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > PIXEL_THRESHOLD)).count();
+    let over = want
+        .pixels()
+        .zip(img.pixels())
+        .filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > PIXEL_THRESHOLD))
+        .count();
     let percent = over as f64 * 100.0 / f64::from(W * H);
     if mean > mean_abs || percent > percent_over {
         let dir = root().join("target/snapshot-failures");
         let _ = std::fs::create_dir_all(&dir);
         let _ = img.save(dir.join(format!("{name}.png")));
-        panic!("{name}: differs from {} (mean abs diff {mean:.2} > {mean_abs} or {percent:.2}% pixels over {PIXEL_THRESHOLD} > {percent_over}%); actual image in target/snapshot-failures/", path.display());
+        panic!(
+            "{name}: differs from {} (mean abs diff {mean:.2} > {mean_abs} or {percent:.2}% pixels over {PIXEL_THRESHOLD} > {percent_over}%); actual image in target/snapshot-failures/",
+            path.display()
+        );
     }
 }
 
@@ -187,7 +198,13 @@ fn blades_bend_near_the_camera_and_the_hit_point() {
     // A low camera over the patch: the blades below and in front of it bend away.
     let mut s = sim(&scene("Blades", 600.0, 0.0, 0.0, Vec3::new(0.0, 0.45, 1.8), Vec3::new(0.0, 0.0, 0.6)));
     let hit = Vec3::new(1.2, 0.0, -0.5);
-    s.set_up().hit_marker(HitMarker { visible: true, position: hit, normal: Vec3::Y, distance: 2.0, target: HitTarget::Plane(0) });
+    s.set_up().hit_marker(HitMarker {
+        visible: true,
+        position: hit,
+        normal: Vec3::Y,
+        distance: 2.0,
+        target: HitTarget::Plane(0),
+    });
     let (bent, _) = render_with(&s, true, true);
     let (upright, _) = render_with(&s, true, false);
     // Near the eye (the bottom of the image) the bend changes the picture; far beyond both
@@ -242,7 +259,12 @@ fn block_runs(name: &str, list: &[u32]) -> usize {
     let mut blocks = 0;
     for run in list.chunk_by(|p, q| p / BLOCK_BLADES == q / BLOCK_BLADES) {
         assert!(seen.insert(run[0] / BLOCK_BLADES), "{name}: block {} in two runs", run[0] / BLOCK_BLADES);
-        assert!(run.windows(2).all(|w| w[0] < w[1]), "{name}: block {} out of order: {:?}", run[0] / BLOCK_BLADES, &run[..run.len().min(40)]);
+        assert!(
+            run.windows(2).all(|w| w[0] < w[1]),
+            "{name}: block {} out of order: {:?}",
+            run[0] / BLOCK_BLADES,
+            &run[..run.len().min(40)]
+        );
         blocks += 1;
     }
     blocks
@@ -287,11 +309,7 @@ fn full_near_list(density: f32) -> BladeCounts {
     let split = (0..a.mid.len())
         .find(|&i| {
             let block = a.mid[i] / BLOCK_BLADES;
-            if i > 0 && a.mid[i - 1] / BLOCK_BLADES == block {
-                a.mid[i] <= a.mid[i - 1]
-            } else {
-                !seen.insert(block)
-            }
+            if i > 0 && a.mid[i - 1] / BLOCK_BLADES == block { a.mid[i] <= a.mid[i - 1] } else { !seen.insert(block) }
         })
         .unwrap_or(a.mid.len());
     block_runs("the rest of the middle list", &a.mid[split..]);
@@ -396,7 +414,11 @@ fn bad_grass_fields_exit_2_with_one_line() {
     let dir = std::env::temp_dir().join(format!("grove-grass-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let park = std::fs::read_to_string(root().join("assets/scenes/park.ron")).unwrap();
-    let cases = [("density: 4000.0,", "density: -1.0,", "density -1 must be positive"), ("shells: 20,", "shells: 0,", "shells 0"), ("planes: [\"ground\"],", "planes: [\"pond\"],", "names plane 'pond'")];
+    let cases = [
+        ("density: 4000.0,", "density: -1.0,", "density -1 must be positive"),
+        ("shells: 20,", "shells: 0,", "shells 0"),
+        ("planes: [\"ground\"],", "planes: [\"pond\"],", "names plane 'pond'"),
+    ];
     for (i, (from, to, needle)) in cases.into_iter().enumerate() {
         let path = dir.join(format!("bad-{i}.ron"));
         std::fs::write(&path, park.replacen(from, to, 1)).unwrap();
@@ -409,14 +431,14 @@ fn bad_grass_fields_exit_2_with_one_line() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-
 #[test]
 fn no_grass_and_the_overlay_from_the_command_line() {
     let dir = std::env::temp_dir().join(format!("grove-grass-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let run = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
-        let mut args = vec!["render", "--scene", "assets/scenes/park.ron", "--width", "160", "--height", "120", "--out"];
+        let mut args =
+            vec!["render", "--scene", "assets/scenes/park.ron", "--width", "160", "--height", "120", "--out"];
         args.push(out.to_str().unwrap());
         args.extend_from_slice(extra);
         let o = common::grove(&args);

@@ -112,7 +112,10 @@ fn from_above_the_terrain_fades_into_the_sky_without_a_band() {
     let (w, h) = (960, 540);
     let mut sim = study();
     let side = 204.8f32;
-    sim.set_up().camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 0.35 * side, 0.6 * side), Vec3::ZERO), fov_y: 60f32.to_radians() });
+    sim.set_up().camera(Head {
+        pose: Pose::looking_at(Vec3::new(0.0, 0.35 * side, 0.6 * side), Vec3::ZERO),
+        fov_y: 60f32.to_radians(),
+    });
     let img = render(&sim, w, h);
     let horizon = horizon_row(&sim, w, h);
     assert!(horizon < 0.0 && horizon > -10.0, "horizon at row {horizon}");
@@ -126,7 +129,10 @@ fn from_above_the_terrain_fades_into_the_sky_without_a_band() {
     let rows = row_means(&img, cols.clone(), 0..200);
     // The top rows are the sky's colour at the horizon, not a band of another colour.
     for (y, r) in rows.iter().enumerate().take(30) {
-        assert!((0..3).all(|c| (r[c] - sky[c]).abs() < 12.0), "row {y} is {r:.0?}, not the sky's colour at the horizon {sky:.0?}");
+        assert!(
+            (0..3).all(|c| (r[c] - sky[c]).abs() < 12.0),
+            "row {y} is {r:.0?}, not the sky's colour at the horizon {sky:.0?}"
+        );
     }
     // From the terrain at the bottom of the stretch up to the top, no band: the terrain fades
     // into the sky.

@@ -16,7 +16,7 @@ use common::{assert_one_line_error, grove, root};
 use glam::{Quat, Vec3};
 use grove_systems::components::Pose;
 use grove_systems::input::{Button, InputEvent, StampedEvent};
-use grove_systems::replay::{rechain, record_events, sign_body, split_sum, Header};
+use grove_systems::replay::{Header, rechain, record_events, sign_body, split_sum};
 use grove_systems::scene::Scene;
 
 fn corpus_dir() -> PathBuf {
@@ -61,7 +61,10 @@ fn base_recording() -> Vec<String> {
     let mut at = |tick: u64, event: InputEvent| events.push(StampedEvent { tick, event });
     at(0, InputEvent::StartTask { task: "ray-casting-7".into(), layout: None });
     for i in 0..90u64 {
-        let pose = Pose { position: Vec3::new(0.25, 1.35, 5.7), rotation: Quat::from_rotation_y(i as f32 * 0.002 - 0.1) * Quat::from_rotation_x(-0.4) };
+        let pose = Pose {
+            position: Vec3::new(0.25, 1.35, 5.7),
+            rotation: Quat::from_rotation_y(i as f32 * 0.002 - 0.1) * Quat::from_rotation_x(-0.4),
+        };
         at(i + 1, InputEvent::ControllerPose { pose });
     }
     at(20, InputEvent::ButtonDown { button: Button::Trigger });
@@ -119,10 +122,18 @@ fn write_corpus() {
     let cp = find(&base, "\"type\":\"checkpoint\",\"tick\":60,");
     write("checkpoint-at-tick-1e9.jsonl", join(forge(&base, cp, "\"tick\":60,", "\"tick\":1000000000,")));
     let footer = base.len() - 1;
-    write("footer-final-tick-1e12.jsonl", join(forge(&base, footer, "\"final_tick\":130,", "\"final_tick\":1000000000000,")));
-    write("footer-final-tick-u64-max.jsonl", join(forge(&base, footer, "\"final_tick\":130,", "\"final_tick\":18446744073709551615,")));
+    write(
+        "footer-final-tick-1e12.jsonl",
+        join(forge(&base, footer, "\"final_tick\":130,", "\"final_tick\":1000000000000,")),
+    );
+    write(
+        "footer-final-tick-u64-max.jsonl",
+        join(forge(&base, footer, "\"final_tick\":130,", "\"final_tick\":18446744073709551615,")),
+    );
     write("event-long-after-the-last-checkpoint.jsonl", join(forge(&base, end, "\"tick\":100,", "\"tick\":10000000,")));
-    let with_scene = |scene: &str| join(forge(&base, 0, "\"scene\":\"study\"", &format!("\"scene\":{}", serde_json::to_string(scene).unwrap())));
+    let with_scene = |scene: &str| {
+        join(forge(&base, 0, "\"scene\":\"study\"", &format!("\"scene\":{}", serde_json::to_string(scene).unwrap())))
+    };
     write("scene-far-grid.jsonl", with_scene("far-grid.ron"));
     write("scene-ten-big-planes.jsonl", with_scene("ten-big-planes.ron"));
     write("scene-dev-zero.jsonl", with_scene("/dev/zero"));
@@ -131,9 +142,16 @@ fn write_corpus() {
     write("scene-outside-the-folder.jsonl", with_scene("../../assets/scenes/study.ron"));
     write("scene-not-a-scene.jsonl", with_scene("not-a-scene.ron"));
     write("not-a-scene.ron", "SECRET-TOKEN-1234 is not a scene\n".into());
-    for (file, kind) in [("close-menu-unknown-field.jsonl", "close_menu"), ("open-menu-unknown-field.jsonl", "open_menu"), ("end-task-unknown-field.jsonl", "end_task")] {
+    for (file, kind) in [
+        ("close-menu-unknown-field.jsonl", "close_menu"),
+        ("open-menu-unknown-field.jsonl", "open_menu"),
+        ("end-task-unknown-field.jsonl", "end_task"),
+    ] {
         let i = find(&base, &format!("\"kind\":\"{kind}\""));
-        write(file, join(forge(&base, i, &format!("{{\"kind\":\"{kind}\"}}"), &format!("{{\"kind\":\"{kind}\",\"bogus\":1}}"))));
+        write(
+            file,
+            join(forge(&base, i, &format!("{{\"kind\":\"{kind}\"}}"), &format!("{{\"kind\":\"{kind}\",\"bogus\":1}}"))),
+        );
     }
     // Structural damage keeps every line's own text and sum, as a lost or repeated line would.
     let up = find(&base, "\"button_up\",\"button\":\"trigger\"");
@@ -152,7 +170,9 @@ fn write_corpus() {
     write("one-big-plane.ron", scene_text(&grid("(-1000.0, -1000.0)", "(2000.0, 2000.0)", "")));
     let ten: Vec<String> = (0..10).map(|_| grid("(-1000.0, -1000.0)", "(2000.0, 2000.0)", "")).collect();
     write("ten-big-planes.ron", scene_text(&ten.join(", ")));
-    let holes: String = (0..20_000).map(|k| format!("(center: ({}.0, {}.0), radius: 3.0),", k % 200 * 10 - 1000, k / 200 * 10 - 1000)).collect();
+    let holes: String = (0..20_000)
+        .map(|k| format!("(center: ({}.0, {}.0), radius: 3.0),", k % 200 * 10 - 1000, k / 200 * 10 - 1000))
+        .collect();
     write("many-holes.ron", scene_text(&grid("(-1000.0, -1000.0)", "(2000.0, 2000.0)", &holes)));
 }
 
@@ -162,12 +182,20 @@ fn every_reproducer_of_the_corpus_is_refused_with_one_line_in_bounded_time_and_m
     let dir = corpus_dir();
     for (file, needle) in RECORDINGS {
         let path = dir.join(file);
-        assert!(path.exists(), "{} is missing; run UPDATE_CORPUS=1 cargo test --test integration hostile_inputs::", path.display());
+        assert!(
+            path.exists(),
+            "{} is missing; run UPDATE_CORPUS=1 cargo test --test integration hostile_inputs::",
+            path.display()
+        );
         refused_within_bounds(&["replay", path.to_str().unwrap()], needle);
     }
     for (file, needle) in SCENES {
         let path = dir.join(file);
-        assert!(path.exists(), "{} is missing; run UPDATE_CORPUS=1 cargo test --test integration hostile_inputs::", path.display());
+        assert!(
+            path.exists(),
+            "{} is missing; run UPDATE_CORPUS=1 cargo test --test integration hostile_inputs::",
+            path.display()
+        );
         refused_within_bounds(&["scene", "check", path.to_str().unwrap()], needle);
         refused_within_bounds(&["sim", "--scene", path.to_str().unwrap(), "--ticks", "1"], needle);
     }
@@ -271,7 +299,8 @@ fn upgrade_rewrites_version_1_as_version_2_with_the_same_lines() {
     // Both replay alike.
     let a = grove(&["replay", "--json", v1.to_str().unwrap()]);
     let b = grove(&["replay", "--json", v2.to_str().unwrap()]);
-    let (a, b): (serde_json::Value, serde_json::Value) = (serde_json::from_slice(&a.stdout).unwrap(), serde_json::from_slice(&b.stdout).unwrap());
+    let (a, b): (serde_json::Value, serde_json::Value) =
+        (serde_json::from_slice(&a.stdout).unwrap(), serde_json::from_slice(&b.stdout).unwrap());
     assert_eq!(a["final_hash"], b["final_hash"]);
     assert_eq!(a["verified"], b["verified"]);
     assert_eq!(b["format_version"], 2);
@@ -297,7 +326,9 @@ fn every_deletion_duplication_and_neighbour_swap_of_a_version_2_recording_is_cau
         let mut v = base.clone();
         v.remove(i);
         match replay(&v) {
-            Err(e) => assert!(e.line == Some(i as u64 + 1), "deleting line {} is reported at the next line: {e}", i + 1),
+            Err(e) => {
+                assert!(e.line == Some(i as u64 + 1), "deleting line {} is reported at the next line: {e}", i + 1)
+            }
             Ok(o) => assert!(i == base.len() - 1 && !o.complete, "deleting line {} went unnoticed", i + 1),
         }
         let mut v = base.clone();

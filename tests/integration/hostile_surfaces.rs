@@ -41,7 +41,10 @@ fn hostile_scatters_are_refused_before_they_allocate() {
         (scatter(SQUARE, "1.0", ", feature: 1e-30"), "feature"),
         (scatter(SQUARE, "1.0", ", scale: (1e30, 1e30)"), "scale"),
         (scatter("(0.0, 0.0), (10000.0, 10000.0), (10000.0, 10000.01)", "0.05", ""), "cells"),
-        (scatter("(0.0, 0.0), (200.0, 0.0), (200.0, 200.0), (0.0, 200.0)", "1.5", "").repeat(20), "more than the limit of 100000 trees"),
+        (
+            scatter("(0.0, 0.0), (200.0, 0.0), (200.0, 200.0), (0.0, 200.0)", "1.5", "").repeat(20),
+            "more than the limit of 100000 trees",
+        ),
         (scatter(SQUARE, "1.0", "").repeat(600), "scatters is more than the limit"),
     ];
     for (i, (scatters, needle)) in cases.iter().enumerate() {
@@ -60,7 +63,10 @@ fn pipes_and_devices_named_as_inputs_are_refused_without_blocking() {
     let out = dir.path().join("out");
     refused_within_bounds(&["lsystem", "derive", "--grammar", s(&fifo)], "not a regular file");
     refused_within_bounds(&["lsystem", "derive", "--grammar", "/dev/zero"], "not a regular file");
-    refused_within_bounds(&["aerial", "segment", "--summer", s(&fifo), "--winter", s(&fifo), "--out", s(&out)], "not a regular file");
+    refused_within_bounds(
+        &["aerial", "segment", "--summer", s(&fifo), "--winter", s(&fifo), "--out", s(&out)],
+        "not a regular file",
+    );
     refused_within_bounds(&["aerial", "tile", s(&fifo), "--out", s(&out)], "not a regular file");
     refused_within_bounds(&["aerial", "tile", "/dev/zero", "--out", s(&out)], "not a regular file");
     // A crowns file that is a pipe, with a valid summary beside it.
@@ -68,17 +74,32 @@ fn pipes_and_devices_named_as_inputs_are_refused_without_blocking() {
     std::fs::create_dir(&crowns_dir).unwrap();
     std::fs::write(crowns_dir.join("summary.json"), SUMMARY).unwrap();
     mkfifo(&crowns_dir.join("crowns.csv"));
-    refused_within_bounds(&["aerial", "scene", "--crowns", s(&crowns_dir.join("crowns.csv")), "--out", s(&dir.path().join("a.ron"))], "not a regular file");
+    refused_within_bounds(
+        &["aerial", "scene", "--crowns", s(&crowns_dir.join("crowns.csv")), "--out", s(&dir.path().join("a.ron"))],
+        "not a regular file",
+    );
     // A recording in a study folder that is a pipe.
     let replays = dir.path().join("replays");
     std::fs::create_dir(&replays).unwrap();
-    std::fs::copy(root().join("replays/study/P01-ray-casting-7.jsonl"), replays.join("P01-ray-casting-7.jsonl")).unwrap();
+    std::fs::copy(root().join("replays/study/P01-ray-casting-7.jsonl"), replays.join("P01-ray-casting-7.jsonl"))
+        .unwrap();
     mkfifo(&replays.join("P01-manual-7.jsonl"));
-    refused_within_bounds(&["study", "--replays", s(&replays), "--out", s(&dir.path().join("study"))], "not a regular file");
+    refused_within_bounds(
+        &["study", "--replays", s(&replays), "--out", s(&dir.path().join("study"))],
+        "not a regular file",
+    );
     // An aerial photograph named by a scene.
     let scene = dir.path().join("aerial.ron");
-    std::fs::write(&scene, study_scene_with("aerial: Some((summer: \"pipe.png\", winter: \"pipe.png\", gsd_m: 0.1, origin: (0.0, 0.0))),")).unwrap();
-    refused_writing_nothing(&["render", "--scene", s(&scene), "--out", s(&dir.path().join("r.png")), "--width", "64", "--height", "36"], "not a regular file", dir.path());
+    std::fs::write(
+        &scene,
+        study_scene_with("aerial: Some((summer: \"pipe.png\", winter: \"pipe.png\", gsd_m: 0.1, origin: (0.0, 0.0))),"),
+    )
+    .unwrap();
+    refused_writing_nothing(
+        &["render", "--scene", s(&scene), "--out", s(&dir.path().join("r.png")), "--width", "64", "--height", "36"],
+        "not a regular file",
+        dir.path(),
+    );
 }
 
 const SUMMARY: &str = r#"{"width": 1000, "height": 1000, "gsd_m": 0.1, "k": 3, "s": 0.5, "w": 0.5, "equalize": true, "treetop_texels": 0, "crowns": 0}"#;
@@ -98,10 +119,18 @@ fn a_grammar_of_zero_length_segments_writes_no_model() {
     let g = dir.path().join("flat.lsys");
     std::fs::write(&g, "axiom: F(1)\nrule: F(x) -> F(0)[+F(0)]\n").unwrap();
     let out = dir.path().join("out");
-    refused_writing_nothing(&["lsystem", "model", "--grammar", s(&g), "--n", "3", "--out", s(&out)], "zero length", dir.path());
+    refused_writing_nothing(
+        &["lsystem", "model", "--grammar", s(&g), "--n", "3", "--out", s(&out)],
+        "zero length",
+        dir.path(),
+    );
     // A name too long for a model: refused before anything is written.
     let long = "a".repeat(300);
-    refused_writing_nothing(&["lsystem", "model", "--preset", "bush2", "--n", "2", "--name", &long, "--out", s(&out)], "must be 1 to 64", dir.path());
+    refused_writing_nothing(
+        &["lsystem", "model", "--preset", "bush2", "--n", "2", "--name", &long, "--out", s(&out)],
+        "must be 1 to 64",
+        dir.path(),
+    );
 }
 
 #[test]
@@ -113,7 +142,11 @@ fn a_model_written_then_refused_later_leaves_nothing() {
     assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
     let first: Vec<PathBuf> = std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().path()).collect();
     assert!(first.iter().any(|p| p.extension().is_some_and(|e| e == "gltf")), "{first:?}");
-    refused_writing_nothing(&["lsystem", "model", "--preset", "bush2", "--n", "2", "--out", s(&out)], "already exists", dir.path());
+    refused_writing_nothing(
+        &["lsystem", "model", "--preset", "bush2", "--n", "2", "--out", s(&out)],
+        "already exists",
+        dir.path(),
+    );
 }
 
 #[test]
@@ -128,7 +161,11 @@ fn an_aerial_scene_that_no_command_could_load_is_not_written() {
     std::fs::write(&crowns, text).unwrap();
     std::fs::write(dir.path().join("summary.json"), SUMMARY).unwrap();
     let out = dir.path().join("scene.ron");
-    refused_writing_nothing(&["aerial", "scene", "--crowns", s(&crowns), "--out", s(&out), "--min-radius", "0"], "bytes, over the limit of 8388608 bytes", dir.path());
+    refused_writing_nothing(
+        &["aerial", "scene", "--crowns", s(&crowns), "--out", s(&out), "--min-radius", "0"],
+        "bytes, over the limit of 8388608 bytes",
+        dir.path(),
+    );
 }
 
 #[test]
@@ -136,7 +173,11 @@ fn a_ground_resolution_that_overflows_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("seg");
     let png = root().join("docs/aerial-pair.png");
-    refused_writing_nothing(&["aerial", "segment", "--summer", s(&png), "--winter", s(&png), "--gsd", "1e308", "--out", s(&out)], "--gsd", dir.path());
+    refused_writing_nothing(
+        &["aerial", "segment", "--summer", s(&png), "--winter", s(&png), "--gsd", "1e308", "--out", s(&out)],
+        "--gsd",
+        dir.path(),
+    );
 }
 
 #[test]
@@ -194,11 +235,18 @@ fn gltf_mutants_the_mutation_run_found_are_refused_by_name() {
         // A POSITION accessor past the accessors (the gltf crate's validation indexed it unchecked).
         (|j| j.replace(r#""POSITION": 0"#, r#""POSITION": 2000"#), "POSITION"),
         // Fewer texture coordinates than positions (the tangents were computed before the check).
-        (|j| j.replace(r#""count": 3, "type": "VEC2""#, r#""count": 0, "type": "VEC2""#), "attributes of different lengths"),
+        (
+            |j| j.replace(r#""count": 3, "type": "VEC2""#, r#""count": 0, "type": "VEC2""#),
+            "attributes of different lengths",
+        ),
     ];
     for (i, (edit, needle)) in cases.into_iter().enumerate() {
         let d = dir.path().join(format!("case{i}"));
         let file = triangle_model(&d, edit);
-        refused_writing_nothing(&["models", "add", s(&file), "--bank", s(&bank), "--name", &format!("m{i}")], needle, dir.path());
+        refused_writing_nothing(
+            &["models", "add", s(&file), "--bank", s(&bank), "--name", &format!("m{i}")],
+            needle,
+            dir.path(),
+        );
     }
 }

@@ -11,16 +11,20 @@ use std::path::Path;
 
 use common::{assert_one_line_error, chromium, grove, root};
 use glam::Vec3;
-use grove_systems::replay::{record_events, Header};
+use grove_systems::Sim;
+use grove_systems::replay::{Header, record_events};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
-use grove_systems::Sim;
 
 /// The page's script ran to its end and nothing was reported as an error, by the page or in
 /// Chromium's console log.
 fn assert_no_page_errors(dom: &str, log: &str) {
     assert!(dom.contains("data-ready=\"1\""), "the page's script did not finish");
-    assert!(!dom.contains("data-errors="), "the page caught errors: {}", attr_after(dom, "data-errors=\"").unwrap_or_default());
+    assert!(
+        !dom.contains("data-errors="),
+        "the page caught errors: {}",
+        attr_after(dom, "data-errors=\"").unwrap_or_default()
+    );
     // Chromium logs every console message (console.error, uncaught exceptions) as ":CONSOLE";
     // the page logs nothing when all is well.
     for line in log.lines() {
@@ -78,7 +82,8 @@ fn the_study_report_shows_every_trial_and_the_numbers_of_summary_json() {
     for needle in ["src=\"http", "href=\"http", "<link ", "src=\"//", "@import"] {
         assert!(!html.contains(needle), "the page refers to something outside it: {needle}");
     }
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap()).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap()).unwrap();
     let (dom, log) = chromium(&["--dump-dom"], &page);
     assert_no_page_errors(&dom, &log);
 
@@ -90,10 +95,17 @@ fn the_study_report_shows_every_trial_and_the_numbers_of_summary_json() {
         let row = slice(&dom, &format!("<tr class=\"trial-row\" data-file=\"{file}\""), "</tr>");
         assert!(row.contains(&format!("data-participant=\"{}\"", t["participant"].as_str().unwrap())), "{row}");
         assert_number(row, "time_s", &t["task"]["time_s"]);
-        let section = slice(&dom, &format!("<section class=\"trial\" id=\"t-{}\" data-file=\"{file}\"", file.trim_end_matches(".jsonl")), "</section>");
+        let section = slice(
+            &dom,
+            &format!("<section class=\"trial\" id=\"t-{}\" data-file=\"{file}\"", file.trim_end_matches(".jsonl")),
+            "</section>",
+        );
         assert!(section.contains("class=\"timeline\""), "{file}: no timeline");
         assert!(section.contains("data:image/jpeg;base64,"), "{file}: no filmstrip");
-        assert!(section.contains(&format!("grove view replays/study/{file} --at {}", t["task"]["start_tick"])), "{file}: no command at the task start");
+        assert!(
+            section.contains(&format!("grove view replays/study/{file} --at {}", t["task"]["start_tick"])),
+            "{file}: no command at the task start"
+        );
         // One frame per planting at least (ray-casting plants 7; manual spawns and snaps them).
         assert!(section.matches("<figure data-tick=").count() >= 7, "{file}");
     }
@@ -107,7 +119,17 @@ fn the_study_report_shows_every_trial_and_the_numbers_of_summary_json() {
     }
     // The paired statistics and the per-condition means.
     let overview = slice(&dom, "<section id=\"overview\"", "<section id=\"trials\"");
-    for f in ["n", "mean_difference", "sd_difference", "ci95_low", "ci95_high", "t", "wilcoxon_w_plus", "wilcoxon_w_minus", "cohens_dz"] {
+    for f in [
+        "n",
+        "mean_difference",
+        "sd_difference",
+        "ci95_low",
+        "ci95_high",
+        "t",
+        "wilcoxon_w_plus",
+        "wilcoxon_w_minus",
+        "cohens_dz",
+    ] {
         assert_number(overview, &format!("paired.{f}"), &s["paired"][f]);
     }
     for f in ["t_test_p", "wilcoxon_p"] {
@@ -129,23 +151,53 @@ fn the_study_report_shows_every_trial_and_the_numbers_of_summary_json() {
         let area = slice(&dom, &format!("<section class=\"area-section\" data-condition=\"{m}\""), "</section>");
         assert!(area.contains("<image href=\"data:image/jpeg;base64,"), "{m}: no picture from above");
         assert_eq!(area.matches("class=\"pswitch\"").count(), 12, "{m}");
-        assert_eq!(area.matches("<tr data-target=").count() + area.matches("class=\"hardest\" data-target=").count(), 7, "{m}");
+        assert_eq!(
+            area.matches("<tr data-target=").count() + area.matches("class=\"hardest\" data-target=").count(),
+            7,
+            "{m}"
+        );
         // The errors placed near the targets are the errors the task system counted.
         let table = slice(area, "<table class=\"targets-table\"", "</table>");
-        let placed: u64 = table.split("<tr").skip(2).map(|row| row.rsplit("<td class=\"num\">").next().unwrap().split('<').next().unwrap().parse::<u64>().unwrap()).sum();
-        let counted: u64 = trials.iter().filter(|t| t["task"]["mode"] == m).map(|t| t["task"]["errors"].as_u64().unwrap()).sum();
+        let placed: u64 = table
+            .split("<tr")
+            .skip(2)
+            .map(|row| {
+                row.rsplit("<td class=\"num\">").next().unwrap().split('<').next().unwrap().parse::<u64>().unwrap()
+            })
+            .sum();
+        let counted: u64 =
+            trials.iter().filter(|t| t["task"]["mode"] == m).map(|t| t["task"]["errors"].as_u64().unwrap()).sum();
         assert_eq!(placed, counted, "{m}: errors on the map");
         // Targets are numbered from 1 where a person reads them (the rows, the map's labels),
         // while data-target keeps the file's index as trees.csv does (docs/reports.md).
-        let numbers: Vec<String> = table.split("<tr").skip(2).map(|row| row.split("<td>").nth(1).unwrap().split('<').next().unwrap().to_string()).collect();
+        let numbers: Vec<String> = table
+            .split("<tr")
+            .skip(2)
+            .map(|row| row.split("<td>").nth(1).unwrap().split('<').next().unwrap().to_string())
+            .collect();
         assert_eq!(numbers, (1..=7).map(|n| n.to_string()).collect::<Vec<_>>(), "{m}: the table's target numbers");
-        assert!(area.contains("<title>target 1: ") && area.contains("<title>target 7: ") && !area.contains("<title>target 0: "), "{m}: the map's targets");
+        assert!(
+            area.contains("<title>target 1: ")
+                && area.contains("<title>target 7: ")
+                && !area.contains("<title>target 0: "),
+            "{m}: the map's targets"
+        );
         assert!(table.contains("data-target=\"0\""), "{m}: data-target is the file's index");
     }
     // Who was slowest in each condition, from summary.json's trials.
     for m in ["ray-casting", "manual"] {
-        let slowest = trials.iter().filter(|t| t["task"]["mode"] == m).max_by(|a, b| a["task"]["time_s"].as_f64().unwrap().total_cmp(&b["task"]["time_s"].as_f64().unwrap())).unwrap();
-        assert!(overview.contains(&format!("<li data-condition=\"{m}\" data-participant=\"{}\"", slowest["participant"].as_str().unwrap())), "{m}: slowest");
+        let slowest = trials
+            .iter()
+            .filter(|t| t["task"]["mode"] == m)
+            .max_by(|a, b| a["task"]["time_s"].as_f64().unwrap().total_cmp(&b["task"]["time_s"].as_f64().unwrap()))
+            .unwrap();
+        assert!(
+            overview.contains(&format!(
+                "<li data-condition=\"{m}\" data-participant=\"{}\"",
+                slowest["participant"].as_str().unwrap()
+            )),
+            "{m}: slowest"
+        );
     }
 
     // A screenshot of the overview, to be looked at.
@@ -170,16 +222,34 @@ fn a_what_if_report_shows_the_baseline_the_changed_setting_and_the_differences()
         std::fs::copy(root().join("replays/study").join(f), replays.join(f)).unwrap();
     }
     let out_dir = dir.path().join("out");
-    let out = grove(&["study", "--replays", replays.to_str().unwrap(), "--out", out_dir.to_str().unwrap(), "--html", "--set", "snap_threshold=0.2"]);
+    let out = grove(&[
+        "study",
+        "--replays",
+        replays.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--html",
+        "--set",
+        "snap_threshold=0.2",
+    ]);
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
     let (dom, log) = chromium(&["--dump-dom"], &out_dir.join("report.html"));
     assert_no_page_errors(&dom, &log);
     let w = &summary["what_if"];
     let section = slice(&dom, "<section id=\"what-if\"", "</section>");
     assert!(section.contains(w["kind"].as_str().unwrap()));
     let p = &w["parameters"][0];
-    assert!(section.contains(&format!("<td>{}</td><td>{}</td><td><strong>{}</strong></td>", p["name"].as_str().unwrap(), p["default_value"].as_str().unwrap(), p["new_value"].as_str().unwrap())), "{section}");
+    assert!(
+        section.contains(&format!(
+            "<td>{}</td><td>{}</td><td><strong>{}</strong></td>",
+            p["name"].as_str().unwrap(),
+            p["default_value"].as_str().unwrap(),
+            p["new_value"].as_str().unwrap()
+        )),
+        "{section}"
+    );
     for m in ["ray-casting", "manual"] {
         for f in ["baseline_mean_s", "what_if_mean_s", "difference_s"] {
             assert_number(section, &format!("what_if.{m}.{f}"), &w["modes"][m][f]);
@@ -191,7 +261,11 @@ fn a_what_if_report_shows_the_baseline_the_changed_setting_and_the_differences()
         Some(false) => "no",
         None => "cannot say",
     };
-    let said = format!("baseline: <strong>{}</strong>; under the what-if: <strong>{}</strong>", claim(&w["baseline"]["ray_casting_faster_for_all"]), claim(&summary["summary"]["ray_casting_faster_for_all"]));
+    let said = format!(
+        "baseline: <strong>{}</strong>; under the what-if: <strong>{}</strong>",
+        claim(&w["baseline"]["ray_casting_faster_for_all"]),
+        claim(&summary["summary"]["ray_casting_faster_for_all"])
+    );
     assert!(section.contains(&said), "{said} not in {section}");
     assert_eq!(claim(&summary["summary"]["ray_casting_faster_for_all"]), "cannot say");
     // The trial that no longer completes is named with its reason.
@@ -217,7 +291,16 @@ fn write_recording(path: &Path, participant: &str, script: Script) {
 /// The rectangles of the first heatmap in `dom`: (x, z of the cell's corner, ticks).
 fn heat_cells(dom: &str) -> Vec<(f64, f64, u64)> {
     let g = slice(dom, "<g class=\"heat\"", "</g>");
-    g.split("<rect").skip(1).map(|r| (attr_after(r, " x=\"").unwrap().parse().unwrap(), attr_after(r, " y=\"").unwrap().parse().unwrap(), attr_after(r, "data-n=\"").unwrap().parse().unwrap())).collect()
+    g.split("<rect")
+        .skip(1)
+        .map(|r| {
+            (
+                attr_after(r, " x=\"").unwrap().parse().unwrap(),
+                attr_after(r, " y=\"").unwrap().parse().unwrap(),
+                attr_after(r, "data-n=\"").unwrap().parse().unwrap(),
+            )
+        })
+        .collect()
 }
 
 #[test]
@@ -243,7 +326,10 @@ fn the_heatmap_of_a_ray_that_dwells_at_a_point_peaks_there() {
     let &(x, z, n) = cells.iter().max_by_key(|c| c.2).expect("a heatmap with cells");
     // The busiest cell holds the dwell point, and about ten seconds of ticks.
     let cell = attr_after(&dom, "<g class=\"heat\" data-cell=\"").unwrap().parse::<f64>().unwrap();
-    assert!((x..x + cell).contains(&(dwell.x as f64)) && (z..z + cell).contains(&(dwell.z as f64)), "peak at ({x}, {z}), dwell point {dwell}");
+    assert!(
+        (x..x + cell).contains(&(dwell.x as f64)) && (z..z + cell).contains(&(dwell.z as f64)),
+        "peak at ({x}, {z}), dwell point {dwell}"
+    );
     assert!((590..=610).contains(&n), "{n} ticks in the peak cell");
     // The others saw the ray for about a second each.
     assert!(cells.iter().filter(|c| (c.0, c.1) != (x, z)).all(|c| c.2 <= 70), "{cells:?}");
@@ -269,7 +355,11 @@ fn a_replay_page_shows_the_trial_and_where_it_diverged() {
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     let i = (lines.len() / 2..lines.len()).find(|&k| lines[k].contains("controller_pose")).unwrap();
     let (body, _) = grove_systems::replay::split_sum(&lines[i]).unwrap();
-    let grove_systems::replay::Line::Event(mut ev) = grove_systems::replay::decode_line(&grove_systems::replay::sign_body(&body, 0).0).unwrap() else { panic!("not an event") };
+    let grove_systems::replay::Line::Event(mut ev) =
+        grove_systems::replay::decode_line(&grove_systems::replay::sign_body(&body, 0).0).unwrap()
+    else {
+        panic!("not an event")
+    };
     if let grove_systems::input::InputEvent::ControllerPose { pose } = &mut ev.event {
         pose.position.x += 0.001;
     }
@@ -286,9 +376,13 @@ fn a_replay_page_shows_the_trial_and_where_it_diverged() {
     let (dom, log) = chromium(&["--dump-dom"], &bad_page);
     assert_no_page_errors(&dom, &log);
     let block = slice(&dom, "<div class=\"divergence\"", "</table>");
-    assert_eq!(attr_after(block, "<strong class=\"div-tick\">").map(|s| s.split('<').next().unwrap_or_default().to_string()), Some(d["tick"].to_string()));
+    assert_eq!(
+        attr_after(block, "<strong class=\"div-tick\">").map(|s| s.split('<').next().unwrap_or_default().to_string()),
+        Some(d["tick"].to_string())
+    );
     for x in d["differing"].as_array().unwrap() {
-        let row = format!("<tr><td>{}</td><td>{}</td></tr>", x["entity"].as_str().unwrap(), x["component"].as_str().unwrap());
+        let row =
+            format!("<tr><td>{}</td><td>{}</td></tr>", x["entity"].as_str().unwrap(), x["component"].as_str().unwrap());
         assert!(block.contains(&row), "{row} missing");
     }
     // Frames just before and at the divergence.
@@ -305,7 +399,16 @@ fn bad_html_arguments_are_one_line_errors() {
     for f in ["P01-manual-7.jsonl", "P01-ray-casting-7.jsonl"] {
         std::fs::copy(root().join("replays/study").join(f), replays.join(f)).unwrap();
     }
-    let out = grove(&["study", "--replays", replays.to_str().unwrap(), "--out", dir.path().to_str().unwrap(), "--html", "--html-trials", "P99"]);
+    let out = grove(&[
+        "study",
+        "--replays",
+        replays.to_str().unwrap(),
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--html",
+        "--html-trials",
+        "P99",
+    ]);
     assert_one_line_error(&out, 2, "P99");
     assert!(!dir.path().join("report.html").exists());
     let page = dir.path().join("p.html");
@@ -318,7 +421,7 @@ fn bad_html_arguments_are_one_line_errors() {
 /// A copy of a recording with one controller pose (the first in its second half) moved `by`
 /// metres along X, its checksums signed again.
 fn with_pose_moved(from: &Path, to: &Path, by: f32) {
-    use grove_systems::replay::{decode_line, encode_line, rechain, sign_body, split_sum, Line};
+    use grove_systems::replay::{Line, decode_line, encode_line, rechain, sign_body, split_sum};
     let text = std::fs::read_to_string(from).unwrap();
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     let i = (lines.len() / 2..lines.len()).find(|&k| lines[k].contains("controller_pose")).unwrap();
@@ -342,9 +445,13 @@ fn a_divergence_in_the_resources_names_the_field() {
     assert_eq!(json.status.code(), Some(1), "{}", String::from_utf8_lossy(&json.stderr));
     let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
     let differing = v["first_divergence"]["differing"].as_array().unwrap().clone();
-    let fields: Vec<&str> = differing.iter().filter(|x| x["entity"] == "resources").map(|x| x["component"].as_str().unwrap()).collect();
+    let fields: Vec<&str> =
+        differing.iter().filter(|x| x["entity"] == "resources").map(|x| x["component"].as_str().unwrap()).collect();
     assert!(fields.contains(&"task"), "{differing:?}");
-    assert!(fields.iter().all(|f| grove_systems::resource_hash::FIELDS.contains(f)), "only fields are named: {differing:?}");
+    assert!(
+        fields.iter().all(|f| grove_systems::resource_hash::FIELDS.contains(f)),
+        "only fields are named: {differing:?}"
+    );
 
     let page = dir.path().join("moved.html");
     let out = grove(&["replay", bad.to_str().unwrap(), "--html", page.to_str().unwrap()]);
@@ -352,7 +459,10 @@ fn a_divergence_in_the_resources_names_the_field() {
     let html = std::fs::read_to_string(&page).unwrap();
     let block = slice(&html, "<div class=\"divergence\"", "</table>");
     for f in &fields {
-        assert!(block.contains(&format!("<tr><td>resources</td><td>{f}</td></tr>")), "resources {f} missing from the page");
+        assert!(
+            block.contains(&format!("<tr><td>resources</td><td>{f}</td></tr>")),
+            "resources {f} missing from the page"
+        );
     }
     assert!(!block.contains("<td>resources</td><td>resources</td>"), "the resources named as a whole");
 }

@@ -101,7 +101,11 @@ fn the_app_has_no_circles_between_folders() {
 fn models_are_loaded_without_the_renderer() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let edges = folder_graph(&src);
-    assert!(edges.get("bank").is_some_and(|t| t.contains("models")) && edges.get("render").is_some_and(|t| t.contains("models")), "the folder graph was read: {edges:?}");
+    assert!(
+        edges.get("bank").is_some_and(|t| t.contains("models"))
+            && edges.get("render").is_some_and(|t| t.contains("models")),
+        "the folder graph was read: {edges:?}"
+    );
     // What `models` imports from the app: itself and the files at the top of the crate only.
     let mut above = Vec::new();
     for (from, to) in file_graph(&src).iter().filter(|(from, _)| folder_of(&src, from) == "models") {

@@ -8,15 +8,14 @@
 //!   frame changes more than a third of the tree's pixels, while the mesh and the impostor alone
 //!   differ in more pixels than any one step changes.
 
-
 use glam::Vec3;
-use grove::render::offscreen::{self, Gpu};
-use grove::render::trees::impostor::{self, cell_dir, BAND};
-use grove::models::{load_model, ModelData};
+use grove::models::{ModelData, load_model};
 use grove::render::Renderer;
+use grove::render::offscreen::{self, Gpu};
+use grove::render::trees::impostor::{self, BAND, cell_dir};
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
-use grove_systems::Sim;
 use image::RgbaImage;
 
 const SIZE: u32 = 192;
@@ -92,9 +91,12 @@ fn atlas_views_match_the_mesh_from_their_direction() {
         let iou = inter / union;
         let cover = i.iter().filter(|&&x| x).count() as f64 / mesh_pixels as f64;
         let mae = channel_mae(&mesh, &imp, &both);
-        eprintln!("view ({c}, {r}): silhouette IoU {iou:.3}, coverage ratio {cover:.3}, colour MAE {mae:.2} over {inter} px");
+        eprintln!(
+            "view ({c}, {r}): silhouette IoU {iou:.3}, coverage ratio {cover:.3}, colour MAE {mae:.2} over {inter} px"
+        );
         let (bm, bi) = (blocks(&m), blocks(&i));
-        let block_iou = bm.iter().zip(&bi).filter(|(a, b)| **a && **b).count() as f64 / bm.iter().zip(&bi).filter(|(a, b)| **a || **b).count() as f64;
+        let block_iou = bm.iter().zip(&bi).filter(|(a, b)| **a && **b).count() as f64
+            / bm.iter().zip(&bi).filter(|(a, b)| **a || **b).count() as f64;
         eprintln!("view ({c}, {r}): 4×4-block silhouette IoU {block_iou:.3}");
         assert!(iou >= 0.5, "view ({c}, {r}): silhouettes overlap by {iou:.3}");
         assert!(block_iou >= 0.8, "view ({c}, {r}): block silhouettes overlap by {block_iou:.3}");
@@ -140,7 +142,8 @@ fn crossing_the_band_changes_little_per_frame() {
     let tree_pixels = tree.iter().filter(|&&x| x).count() as f64;
     assert!(tree_pixels > 1500.0, "the tree should be visible ({tree_pixels} px)");
     let changed = |a: &RgbaImage, b: &RgbaImage| {
-        a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 40)).count() as f64 / tree_pixels
+        a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 40)).count() as f64
+            / tree_pixels
     };
     let whole = changed(&frames[0], &frames[20]);
     let worst = frames.windows(2).map(|w| changed(&w[0], &w[1])).fold(0.0, f64::max);
@@ -202,7 +205,10 @@ fn goldens_of_the_reference_scene_and_the_forest() {
         let (x, z) = ((i % 10) as f32 * 10.0 - 45.0, (i / 10) as f32 * 10.0 - 45.0);
         reference.spawn_tree(ModelId((i % 8) as u8), Vec3::new(x, 0.0, z), i as f32 * 0.7, 1.0, true);
     }
-    reference.set_up().camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 14.0, 62.0), Vec3::ZERO), fov_y: 60f32.to_radians() }).sun_angles(45.0, 135.0);
+    reference
+        .set_up()
+        .camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 14.0, 62.0), Vec3::ZERO), fov_y: 60f32.to_radians() })
+        .sun_angles(45.0, 135.0);
     for (name, sim) in [("impostor-reference", &reference), ("impostor-forest", &forest)] {
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
         let g = gpu();
@@ -219,23 +225,36 @@ fn goldens_of_the_reference_scene_and_the_forest() {
         let truth = image::imageops::resize(&big, w, h, image::imageops::FilterType::Triangle);
         let all = vec![true; (w * h) as usize];
         let (lod_err, full_err) = (channel_mae(&img, &truth, &all), channel_mae(&full, &truth, &all));
-        eprintln!("{name}: from the truth, {lod_err:.2} per channel with the level of detail, {full_err:.2} at full detail");
-        assert!(lod_err <= full_err + 1.5, "{name}: {lod_err:.2} per channel from the truth, full detail {full_err:.2}");
+        eprintln!(
+            "{name}: from the truth, {lod_err:.2} per channel with the level of detail, {full_err:.2} at full detail"
+        );
+        assert!(
+            lod_err <= full_err + 1.5,
+            "{name}: {lod_err:.2} per channel from the truth, full detail {full_err:.2}"
+        );
         let path = root.join("tests/snapshots").join(format!("{name}.png"));
         if std::env::var("UPDATE_SNAPSHOTS").is_ok_and(|v| v == "1") {
             img.save(&path).unwrap();
             continue;
         }
-        let want = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+        let want = image::open(&path)
+            .unwrap_or_else(|e| panic!("{}: {e}; create it with UPDATE_SNAPSHOTS=1", path.display()))
+            .to_rgba8();
         assert_eq!(want.dimensions(), img.dimensions());
         let mae = channel_mae(&want, &img, &all);
-        let over = want.pixels().zip(img.pixels()).filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 40)).count() as f64 / all.len() as f64 * 100.0;
+        let over = want.pixels().zip(img.pixels()).filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 40)).count()
+            as f64
+            / all.len() as f64
+            * 100.0;
         if mae > 3.0 || over > 3.0 {
             let dir = root.join("target/snapshot-failures");
             let _ = std::fs::create_dir_all(&dir);
             let _ = img.save(dir.join(format!("{name}.png")));
         }
-        assert!(mae <= 3.0 && over <= 3.0, "{name}: {mae:.2} per channel, {over:.2} % of pixels over 40 from the snapshot");
+        assert!(
+            mae <= 3.0 && over <= 3.0,
+            "{name}: {mae:.2} per channel, {over:.2} % of pixels over 40 from the snapshot"
+        );
     }
 }
 
@@ -290,15 +309,24 @@ fn a_slowly_turning_impostor_changes_smoothly() {
         })
         .collect();
     assert!(frames[30] == draw(&data, &sim, true, 1.0e6), "a reused renderer draws what a fresh one draws");
-    let tree: Vec<bool> = frames.iter().fold(vec![false; (SIZE * SIZE) as usize], |acc, f| acc.iter().zip(mask(f, &background)).map(|(a, b)| *a || b).collect());
+    let tree: Vec<bool> = frames.iter().fold(vec![false; (SIZE * SIZE) as usize], |acc, f| {
+        acc.iter().zip(mask(f, &background)).map(|(a, b)| *a || b).collect()
+    });
     let tree_pixels = tree.iter().filter(|&&x| x).count() as f64;
     assert!(tree_pixels > 2000.0, "the tree should fill the frame ({tree_pixels} px)");
-    let changed = |a: &RgbaImage, b: &RgbaImage| a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 40)).count() as f64 / tree_pixels;
+    let changed = |a: &RgbaImage, b: &RgbaImage| {
+        a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 40)).count() as f64
+            / tree_pixels
+    };
     let mut steps: Vec<f64> = frames.windows(2).map(|w| changed(&w[0], &w[1])).collect();
     let worst = steps.iter().copied().fold(0.0, f64::max);
     steps.sort_by(|a, b| a.total_cmp(b));
     let median = steps[steps.len() / 2];
-    eprintln!("turning impostor: median step {:.1} %, worst {:.1} % of the tree's pixels", median * 100.0, worst * 100.0);
+    eprintln!(
+        "turning impostor: median step {:.1} %, worst {:.1} % of the tree's pixels",
+        median * 100.0,
+        worst * 100.0
+    );
     assert!(worst <= 3.0 * median.max(0.01), "a jump: worst step {worst:.3} against a median of {median:.3}");
     assert!(worst <= 0.25, "one frame changed {:.1} % of the tree", worst * 100.0);
 }

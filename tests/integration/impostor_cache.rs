@@ -4,13 +4,13 @@
 //! again and replaced, without a panic.
 
 use glam::Vec3;
-use grove::render::offscreen::{self, Gpu};
-use grove::models::{load_model, ModelData};
+use grove::models::{ModelData, load_model};
 use grove::render::Renderer;
+use grove::render::offscreen::{self, Gpu};
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
 use grove_systems::stage::model_stage;
-use grove_systems::Sim;
 use image::RgbaImage;
 
 const SIZE: u32 = 128;
@@ -22,7 +22,9 @@ fn model() -> ModelData {
 
 /// A renderer with the model loaded through the cache in `dir`, and how many atlases it baked.
 fn load(gpu: &Gpu, data: &ModelData, dir: &std::path::Path) -> (Renderer, usize) {
-    let mut r = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
+    let mut r =
+        Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir())
+            .unwrap();
     r.features.trees.set_impostor_cache(Some(dir.to_path_buf()));
     r.features.trees.set_model(ModelId(0), data);
     let bakes = r.features.trees.impostor_bakes();
@@ -43,7 +45,8 @@ fn draw(gpu: &Gpu, r: &mut Renderer, data: &ModelData) -> RgbaImage {
 
 /// The cache files in `dir`.
 fn files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
-    let mut v: Vec<_> = std::fs::read_dir(dir.join("impostors")).map(|d| d.flatten().map(|e| e.path()).collect()).unwrap_or_default();
+    let mut v: Vec<_> =
+        std::fs::read_dir(dir.join("impostors")).map(|d| d.flatten().map(|e| e.path()).collect()).unwrap_or_default();
     v.sort();
     v
 }
@@ -94,7 +97,15 @@ fn no_cache_folder_bakes_every_time_and_writes_nothing() {
     let gpu = Gpu::new().unwrap_or_else(|e| panic!("impostor tests need a GPU adapter: {e}"));
     let data = model();
     for _ in 0..2 {
-        let mut r = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
+        let mut r = Renderer::empty(
+            &gpu.device,
+            &gpu.queue,
+            offscreen::FORMAT,
+            SIZE,
+            SIZE,
+            &grove::render::default_assets_dir(),
+        )
+        .unwrap();
         r.features.trees.set_impostor_cache(None);
         r.features.trees.set_model(ModelId(0), &data);
         assert_eq!(r.features.trees.impostor_bakes(), 1);

@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Handle, HitTarget, Pose};
 use grove_systems::events::Happening;
@@ -12,9 +13,8 @@ use grove_systems::input::Button;
 use grove_systems::interact;
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
-use grove_systems::sim::TreeState;
 use grove_systems::script::Script;
-use grove_systems::Sim;
+use grove_systems::sim::TreeState;
 
 /// The shrub: a small model whose whole box is within reach of the controller.
 const SHRUB: ModelId = ModelId(3);
@@ -164,7 +164,8 @@ fn select_then_scale_with_a_corner_then_rotate_with_an_edge() {
     s.hold(Button::Trigger).point_at(edge + Vec3::new(-2.0, 0.0, 0.0));
     let c = s.controller();
     let grab = c.ray_origin() + c.ray_dir() * hit.distance;
-    let expected = interact::edge_yaw(0.0, interact::angle_around(hit.position, axis), interact::angle_around(grab, axis));
+    let expected =
+        interact::edge_yaw(0.0, interact::angle_around(hit.position, axis), interact::angle_around(grab, axis));
     let yaw = s.sim().tree(id).unwrap().transform.yaw;
     assert!(expected < -0.3, "a swing to the left turns the tree clockwise (by {expected})");
     assert!((yaw - expected).abs() < 1e-4, "yaw {yaw}, expected {expected}");

@@ -8,12 +8,12 @@
 //! that the check can fail.
 
 use glam::Vec3;
-use grove::models::{load_model, ModelData};
-use grove::render::offscreen;
+use grove::models::{ModelData, load_model};
 use grove::render::Renderer;
+use grove::render::offscreen;
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::{Head, Pose};
-use grove_systems::Sim;
 use image::RgbaImage;
 
 use crate::shared_gpu::{self, LOCK};
@@ -28,7 +28,10 @@ const FRAMES: usize = 40;
 const BOUND: f64 = 1.35;
 
 fn bank_model(name: &str) -> ModelData {
-    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/banks/species").join(name).join(format!("{name}.gltf"));
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/banks/species")
+        .join(name)
+        .join(format!("{name}.gltf"));
     load_model(&path).unwrap()
 }
 
@@ -47,10 +50,20 @@ enum Levels {
 
 /// The flight: the tree seen from each of `distances` metres (from its base) along `dir`, with
 /// a fixed field of view `fov`, every leaf drawn, no impostors.
-fn fly(near: &ModelData, far: &ModelData, sim: &mut Sim, distances: &[f32], dir: Vec3, fov: f32, levels: Levels) -> Vec<RgbaImage> {
+fn fly(
+    near: &ModelData,
+    far: &ModelData,
+    sim: &mut Sim,
+    distances: &[f32],
+    dir: Vec3,
+    fov: f32,
+    levels: Levels,
+) -> Vec<RgbaImage> {
     let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let g = shared_gpu::shared_gpu("the level-of-detail cross-fade test");
-    let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir()).unwrap();
+    let mut r =
+        Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, SIZE, SIZE, &grove::render::default_assets_dir())
+            .unwrap();
     if levels != Levels::None {
         r.features.trees.set_model(ModelId(0), near);
         r.features.trees.set_model(ModelId(1), far);
@@ -78,7 +91,8 @@ fn fly(near: &ModelData, far: &ModelData, sim: &mut Sim, distances: &[f32], dir:
 /// The share of the tree's pixels (`tree_pixels` of them) that differ by more than 40 in some
 /// channel between `a` and `b`.
 fn changed(a: &RgbaImage, b: &RgbaImage, tree_pixels: f64) -> f64 {
-    a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 40)).count() as f64 / tree_pixels
+    a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 40)).count() as f64
+        / tree_pixels
 }
 
 fn steps(frames: &[RgbaImage], tree_pixels: f64) -> Vec<f64> {
@@ -97,7 +111,9 @@ fn flying_through_the_switch_to_level_two_does_not_pop() {
     let ppr = SIZE as f32 * 0.5 / (fov * 0.5).tan();
     // From 4 % above the band (240 → 300 px) to 4 % below its foot, in equal ratios.
     let (start, end) = (FAR_PIXELS * 1.25 * 1.04, FAR_PIXELS * 0.96);
-    let distances: Vec<f32> = (0..FRAMES).map(|k| 2.0 * radius * ppr / (start * (end / start).powf(k as f32 / (FRAMES - 1) as f32))).collect();
+    let distances: Vec<f32> = (0..FRAMES)
+        .map(|k| 2.0 * radius * ppr / (start * (end / start).powf(k as f32 / (FRAMES - 1) as f32)))
+        .collect();
 
     let mut flight = |levels| fly(&near, &far, &mut sim, &distances, dir, fov, levels);
     let background = flight(Levels::None);
@@ -111,20 +127,37 @@ fn flying_through_the_switch_to_level_two_does_not_pop() {
         assert!(frames[FRAMES - 1] == far_only[FRAMES - 1], "the last frame should be level 2 alone");
     }
     // The tree's pixels: those of the first or the last frame that are not the sky's.
-    let tree = |a: &RgbaImage, b: &RgbaImage| a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 30)).count();
+    let tree = |a: &RgbaImage, b: &RgbaImage| {
+        a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 30)).count()
+    };
     let tree_pixels = (tree(&on[0], &background[0]) + tree(&on[FRAMES - 1], &background[FRAMES - 1])) as f64 / 2.0;
     assert!(tree_pixels > 2000.0, "the tree should be seen ({tree_pixels} px)");
     let whole = changed(&near_only[FRAMES / 2], &far_only[FRAMES / 2], tree_pixels);
     let (n, f) = (steps(&near_only, tree_pixels), steps(&far_only, tree_pixels));
     // Each step's change over the flight's own change at that step.
-    let excess = |frames: &[RgbaImage]| -> Vec<f64> { steps(frames, tree_pixels).iter().zip(n.iter().zip(&f)).map(|(s, (a, b))| s / a.max(*b)).collect() };
+    let excess = |frames: &[RgbaImage]| -> Vec<f64> {
+        steps(frames, tree_pixels).iter().zip(n.iter().zip(&f)).map(|(s, (a, b))| s / a.max(*b)).collect()
+    };
     let (on_excess, off_excess) = (excess(&on), excess(&off));
     let worst = |e: &[f64]| e.iter().copied().fold(0.0, f64::max);
     let list = |e: &[f64]| e.iter().map(|x| format!("{x:.2}")).collect::<Vec<_>>().join(" ");
-    eprintln!("tree {tree_pixels} px; level 1 against level 2: {:.1} % of it; a step of level 1 alone changes {:.1} to {:.1} %", whole * 100.0, n.iter().copied().fold(1.0, f64::min) * 100.0, worst(&n) * 100.0);
+    eprintln!(
+        "tree {tree_pixels} px; level 1 against level 2: {:.1} % of it; a step of level 1 alone changes {:.1} to {:.1} %",
+        whole * 100.0,
+        n.iter().copied().fold(1.0, f64::min) * 100.0,
+        worst(&n) * 100.0
+    );
     eprintln!("steps over the single levels' with the cross-fade: {}", list(&on_excess));
     eprintln!("steps over the single levels' without it: {}", list(&off_excess));
     assert!(whole > 0.15, "the levels should differ enough to pop ({:.1} % of the tree)", whole * 100.0);
-    assert!(worst(&on_excess) <= BOUND, "with the cross-fade a step changes {:.2} times what the flight alone does", worst(&on_excess));
-    assert!(worst(&off_excess) > BOUND, "without the cross-fade the check should fail, but its worst step is {:.2}", worst(&off_excess));
+    assert!(
+        worst(&on_excess) <= BOUND,
+        "with the cross-fade a step changes {:.2} times what the flight alone does",
+        worst(&on_excess)
+    );
+    assert!(
+        worst(&off_excess) > BOUND,
+        "without the cross-fade the check should fail, but its worst step is {:.2}",
+        worst(&off_excess)
+    );
 }

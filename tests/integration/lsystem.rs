@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use glam::Vec3;
 use grove::lsystem::grammar::Source;
-use grove::lsystem::{derive, derive_threads, presets, turtle, Grammar, Limits};
+use grove::lsystem::{Grammar, Limits, derive, derive_threads, presets, turtle};
 
 /// The deterministic presets' axioms and rules, written out again here (not read from the
 /// program) for the count recurrence.
@@ -91,7 +91,12 @@ fn one_and_two_threads_give_the_same_string_on_every_preset() {
 
 #[test]
 fn stochastic_rules_depend_on_the_seed_and_follow_their_weights() {
-    let g = Grammar::compile(&Source { axiom: "A".repeat(200_000), rules: vec!["A -(1)-> B".into(), "A -(3)-> C".into()], ..Source::default() }).unwrap();
+    let g = Grammar::compile(&Source {
+        axiom: "A".repeat(200_000),
+        rules: vec!["A -(1)-> B".into(), "A -(3)-> C".into()],
+        ..Source::default()
+    })
+    .unwrap();
     let s = derive(&g, 1, 1, &Limits::default()).unwrap();
     let c = s.counts();
     let share = c[b'C' as usize] as f64 / 200_000.0;
@@ -127,7 +132,12 @@ fn parametric_rules_rewrite_with_conditions() {
     let big = derive(&g, 12, 0, &Limits::default()).unwrap();
     assert_eq!(turtle::interpret(&big, &g).unwrap(), turtle::interpret_parallel(&big, &g, u64::MAX).unwrap());
     // ABOP's notation from the issue: F(l) -> F(l*0.8)[+F(l*0.6)].
-    let g = Grammar::compile(&Source { axiom: "F(1)".into(), rules: vec!["F(l) -> F(l*0.8)[+F(l*0.6)]".into()], ..Source::default() }).unwrap();
+    let g = Grammar::compile(&Source {
+        axiom: "F(1)".into(),
+        rules: vec!["F(l) -> F(l*0.8)[+F(l*0.6)]".into()],
+        ..Source::default()
+    })
+    .unwrap();
     let s = derive(&g, 1, 0, &Limits::default()).unwrap();
     assert_eq!(s.params, vec![0.8, 0.6]);
     assert_eq!(s.syms, b"F[+F]");
@@ -144,8 +154,18 @@ fn parallel_turtle_equals_sequential_turtle_on_every_preset() {
         }
         let s = derive(&g, n, 3, &limits).unwrap();
         let seq = turtle::interpret(&s, &g).unwrap();
-        let par1 = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| turtle::interpret_parallel(&s, &g, u64::MAX)).unwrap();
-        let par2 = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| turtle::interpret_parallel(&s, &g, u64::MAX)).unwrap();
+        let par1 = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| turtle::interpret_parallel(&s, &g, u64::MAX))
+            .unwrap();
+        let par2 = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap()
+            .install(|| turtle::interpret_parallel(&s, &g, u64::MAX))
+            .unwrap();
         assert!(!seq.is_empty(), "{name}");
         assert_eq!(seq.len(), s.counts()[b'F' as usize] as usize, "{name}");
         assert!(seq == par1, "{name}: one-thread parallel turtle differs");
@@ -167,7 +187,14 @@ fn a_small_system_draws_the_segments_worked_out_by_hand() {
     // !        : width 0.2 -> 0.1
     // &F       : pitch down (heading towards -Z): (0,1,0) -> (0,1,-1), width 0.1
     // |F       : turn around (heading +Z): (0,1,-1) -> (0,1,0)
-    let g = Grammar::compile(&Source { axiom: "F[+F][-FF]!&F|F".into(), angle_deg: 90.0, width: 0.2, width_factor: 0.5, ..Source::default() }).unwrap();
+    let g = Grammar::compile(&Source {
+        axiom: "F[+F][-FF]!&F|F".into(),
+        angle_deg: 90.0,
+        width: 0.2,
+        width_factor: 0.5,
+        ..Source::default()
+    })
+    .unwrap();
     let s = derive(&g, 0, 0, &Limits::default()).unwrap();
     let segs = turtle::interpret(&s, &g).unwrap();
     let want = [
@@ -185,7 +212,9 @@ fn a_small_system_draws_the_segments_worked_out_by_hand() {
         assert_eq!((sg.depth, sg.branch), (w.3, w.4), "segment {i}");
     }
     // Parametric forms: F(2), then +(90) turns towards -X, F(0.5), !(0.3) sets the width, F(1).
-    let g = Grammar::compile(&Source { axiom: "F(2)+(90)F(0.5)!(0.3)F(1)".into(), angle_deg: 10.0, ..Source::default() }).unwrap();
+    let g =
+        Grammar::compile(&Source { axiom: "F(2)+(90)F(0.5)!(0.3)F(1)".into(), angle_deg: 10.0, ..Source::default() })
+            .unwrap();
     let segs = turtle::interpret(&derive(&g, 0, 0, &Limits::default()).unwrap(), &g).unwrap();
     assert_eq!(segs.len(), 3);
     assert!(close(segs[0].end, Vec3::new(0.0, 2.0, 0.0)), "{:?}", segs[0]);

@@ -3,12 +3,26 @@
 
 use crate::common;
 
-
 use common::{assert_one_line_error, grove, validate_gltf_dir};
 
 #[test]
 fn derive_prints_length_and_counts() {
-    let out = grove(&["lsystem", "derive", "--axiom", "X", "--rule", "X=F[+X]F[-X]+X", "--rule", "F=FF", "--angle", "20", "--n", "2", "--json", "--print"]);
+    let out = grove(&[
+        "lsystem",
+        "derive",
+        "--axiom",
+        "X",
+        "--rule",
+        "X=F[+X]F[-X]+X",
+        "--rule",
+        "F=FF",
+        "--angle",
+        "20",
+        "--n",
+        "2",
+        "--json",
+        "--print",
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     // By hand: X -> F[+X]F[-X]+X (12 symbols), then each F doubles and each X expands again.
@@ -62,8 +76,23 @@ fn a_derivation_past_the_limit_stops_with_one_line() {
 #[test]
 fn models_load_carry_wind_channels_and_pass_the_validator() {
     let dir = tempfile::tempdir().unwrap();
-    for (preset, n) in [("broadleaf", "6"), ("conifer", "12"), ("birch", "9"), ("shrub", "6"), ("bush2", "3"), ("abop-d", "5")] {
-        let out = grove(&["lsystem", "model", "--preset", preset, "--n", n, "--seed", "5", "--height", "5", "--out", dir.path().to_str().unwrap()]);
+    for (preset, n) in
+        [("broadleaf", "6"), ("conifer", "12"), ("birch", "9"), ("shrub", "6"), ("bush2", "3"), ("abop-d", "5")]
+    {
+        let out = grove(&[
+            "lsystem",
+            "model",
+            "--preset",
+            preset,
+            "--n",
+            n,
+            "--seed",
+            "5",
+            "--height",
+            "5",
+            "--out",
+            dir.path().to_str().unwrap(),
+        ]);
         assert!(out.status.success(), "{preset}: {}", String::from_utf8_lossy(&out.stderr));
         let path = dir.path().join(format!("{preset}.gltf"));
         let (doc, buffers, _) = gltf::import(&path).unwrap_or_else(|e| panic!("{preset}: {e}"));

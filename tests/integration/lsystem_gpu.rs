@@ -3,11 +3,13 @@
 //! Without a wgpu adapter the test fails with a message that says so.
 
 use grove::lsystem::gpu::GpuDeriver;
-use grove::lsystem::{derive, derive_threads, presets, Limits};
+use grove::lsystem::{Limits, derive, derive_threads, presets};
 
 #[test]
 fn gpu_equals_cpu_on_every_preset() {
-    let gpu = GpuDeriver::new().unwrap_or_else(|e| panic!("{e}: this test needs a GPU or lavapipe (apt-get install mesa-vulkan-drivers libvulkan1)"));
+    let gpu = GpuDeriver::new().unwrap_or_else(|e| {
+        panic!("{e}: this test needs a GPU or lavapipe (apt-get install mesa-vulkan-drivers libvulkan1)")
+    });
     eprintln!("lsystem_gpu: adapter {}", gpu.adapter());
     let limits = Limits::default();
     for name in presets::names() {

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use grove::lsystem::grammar::Source;
-use grove::lsystem::{derive, memo, presets, turtle, Grammar, Limits};
+use grove::lsystem::{Grammar, Limits, derive, memo, presets, turtle};
 
 /// Positions may differ from the sequential turtle's by rounding only: at most this fraction of
 /// the tree's extent (single precision carries about 7 digits; composing rotations in another
@@ -49,7 +49,13 @@ fn a_small_system_memoised_gives_the_segments_worked_out_by_hand() {
     // F[+F]F[+F]A, drawn from the origin heading +Y with left = -X:
     // F (0,0,0)->(0,1,0); [+F] (0,1,0)->(-1,1,0) in branch 1; F (0,1,0)->(0,2,0);
     // [+F] (0,2,0)->(-1,2,0) in branch 2.
-    let g = Grammar::compile(&Source { axiom: "A".into(), rules: vec!["A -> F[+F]A".into()], angle_deg: 90.0, ..Source::default() }).unwrap();
+    let g = Grammar::compile(&Source {
+        axiom: "A".into(),
+        rules: vec!["A -> F[+F]A".into()],
+        angle_deg: 90.0,
+        ..Source::default()
+    })
+    .unwrap();
     let segs = memo::interpret_memo(&g, 2, u64::MAX).unwrap();
     let want = [
         (Vec3::ZERO, Vec3::Y, 0, 0),
@@ -66,9 +72,23 @@ fn a_small_system_memoised_gives_the_segments_worked_out_by_hand() {
 
 #[test]
 fn grammars_that_cannot_be_memoised_are_refused_in_one_line() {
-    let stochastic = Grammar::compile(&Source { axiom: "A".into(), rules: vec!["A -(1)-> FA".into(), "A -(1)-> F".into()], ..Source::default() }).unwrap();
-    let parametric = Grammar::compile(&Source { axiom: "F(1)".into(), rules: vec!["F(l) -> F(l*0.8)[+F(l*0.6)]".into()], ..Source::default() }).unwrap();
-    let unbalanced = Grammar::compile(&Source { axiom: "A[]".into(), rules: vec!["A -> F[A".into(), "B -> ]".into()], ..Source::default() });
+    let stochastic = Grammar::compile(&Source {
+        axiom: "A".into(),
+        rules: vec!["A -(1)-> FA".into(), "A -(1)-> F".into()],
+        ..Source::default()
+    })
+    .unwrap();
+    let parametric = Grammar::compile(&Source {
+        axiom: "F(1)".into(),
+        rules: vec!["F(l) -> F(l*0.8)[+F(l*0.6)]".into()],
+        ..Source::default()
+    })
+    .unwrap();
+    let unbalanced = Grammar::compile(&Source {
+        axiom: "A[]".into(),
+        rules: vec!["A -> F[A".into(), "B -> ]".into()],
+        ..Source::default()
+    });
     for g in [Some(stochastic), Some(parametric), unbalanced.ok()].into_iter().flatten() {
         assert!(!memo::applies(&g));
         let e = memo::interpret_memo(&g, 3, u64::MAX).unwrap_err().to_string();

@@ -9,14 +9,14 @@ use std::path::{Path, PathBuf};
 
 use common::{assert_one_line_error, grove};
 use glam::{Mat4, Vec2, Vec3};
+use grove_systems::Sim;
 use grove_systems::bank::{Bank, Banks};
 use grove_systems::catalogue::PICK_BANDS;
 use grove_systems::input::Button;
 use grove_systems::interact;
-use grove_systems::replay::{record_events_in, replay_file, Header, ReplayOptions};
+use grove_systems::replay::{Header, ReplayOptions, record_events_in, replay_file};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
-use grove_systems::Sim;
 
 const FLOWER: &str = "tests/fixtures/thirdparty/flower_white.glb";
 
@@ -54,7 +54,8 @@ fn mesh_vertices(path: &Path) -> Vec<Vec3> {
 fn bank_with_flower(tag: &str) -> (common::Scratch, PathBuf) {
     let dir = temp_dir(tag);
     let bank = dir.join("bank");
-    let out = grove(&["models", "add", FLOWER, "--bank", bank.to_str().unwrap(), "--name", "flower", "--species", "flower"]);
+    let out =
+        grove(&["models", "add", FLOWER, "--bank", bank.to_str().unwrap(), "--name", "flower", "--species", "flower"]);
     assert!(out.status.success(), "models add: {}", String::from_utf8_lossy(&out.stderr));
     (dir, bank)
 }
@@ -93,7 +94,8 @@ fn an_added_model_is_measured_from_its_own_mesh() {
     // Adding it again is a no-op; another file under the same name is refused.
     let again = grove(&["models", "add", FLOWER, "--bank", bank.to_str().unwrap(), "--name", "flower"]);
     assert!(again.status.success());
-    let other = grove(&["models", "add", "assets/trees/shrub-mesh.gltf", "--bank", bank.to_str().unwrap(), "--name", "flower"]);
+    let other =
+        grove(&["models", "add", "assets/trees/shrub-mesh.gltf", "--bank", bank.to_str().unwrap(), "--name", "flower"]);
     assert_one_line_error(&other, 2, "different model named 'flower'");
     let check = grove(&["models", "check", "--bank", bank.to_str().unwrap()]);
     assert!(check.status.success(), "{}", String::from_utf8_lossy(&check.stdout));
@@ -113,7 +115,8 @@ fn a_planted_third_party_model_snaps_records_and_replays_and_a_changed_file_is_n
     let mut s = Script::new(Sim::from_scene_with(&scene, 7, catalogue).unwrap());
 
     // Plant the flower by name with the ray.
-    let ground = |s: &Script, x: f32, z: f32| Vec3::new(x, s.sim().ground_below(Vec3::new(x, 50.0, z), 0.0).unwrap().point.y, z);
+    let ground =
+        |s: &Script, x: f32, z: f32| Vec3::new(x, s.sim().ground_below(Vec3::new(x, 50.0, z), 0.0).unwrap().point.y, z);
     let p = ground(&s, 1.0, -2.0);
     s.choose_model("flower").point_at(p).press(Button::Trigger).wait(2);
     let id = *s.sim().tree_ids().last().unwrap();
@@ -227,7 +230,10 @@ fn a_quantized_model_is_read_with_its_node_scale_and_added() {
     std::fs::write(&file, gltf).unwrap();
     let data = grove::models::load_model(&file).unwrap_or_else(|e| panic!("{e}"));
     let (lo, hi) = data.bounds;
-    assert!((lo - Vec3::new(-2.0, 0.0, 0.0)).length() < 1e-4 && (hi - Vec3::new(2.0, 4.0, 0.0)).length() < 1e-4, "{lo} {hi}");
+    assert!(
+        (lo - Vec3::new(-2.0, 0.0, 0.0)).length() < 1e-4 && (hi - Vec3::new(2.0, 4.0, 0.0)).length() < 1e-4,
+        "{lo} {hi}"
+    );
     let out = grove(&["models", "add", file.to_str().unwrap(), "--bank", dir.join("bank").to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let b = Bank::open(&dir.join("bank")).unwrap();
@@ -272,8 +278,23 @@ fn an_lsystem_tree_added_to_a_bank_is_planted_and_snaps() {
     let dir = temp_dir("lsys");
     let bank = dir.join("bank");
     let out = grove(&[
-        "lsystem", "model", "--preset", "birch", "--n", "7", "--seed", "3", "--height", "5", "--out",
-        dir.join("out").to_str().unwrap(), "--name", "lsys-birch", "--add", "--bank", bank.to_str().unwrap(),
+        "lsystem",
+        "model",
+        "--preset",
+        "birch",
+        "--n",
+        "7",
+        "--seed",
+        "3",
+        "--height",
+        "5",
+        "--out",
+        dir.join("out").to_str().unwrap(),
+        "--name",
+        "lsys-birch",
+        "--add",
+        "--bank",
+        bank.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let b = Bank::open(&bank).unwrap();
@@ -312,7 +333,21 @@ fn a_model_without_wind_channels_sways_in_rendered_frames() {
     // The flower has no _WIND attribute; grove computes channels, so on the static stage (no sun
     // motion, nothing else moving) two frames a second apart differ only by the wind.
     let dir = temp_dir("frames");
-    let out = grove(&["render", "--model", FLOWER, "--frames", "2", "--fps", "1", "--width", "96", "--height", "72", "--out", dir.to_str().unwrap()]);
+    let out = grove(&[
+        "render",
+        "--model",
+        FLOWER,
+        "--frames",
+        "2",
+        "--fps",
+        "1",
+        "--width",
+        "96",
+        "--height",
+        "72",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let a = image::open(dir.join("frame_00000.png")).unwrap().to_rgba8();
     let b = image::open(dir.join("frame_00001.png")).unwrap().to_rgba8();
@@ -328,8 +363,15 @@ fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
     let banks = Banks::open(&scene.bank_dirs()).unwrap();
     let (catalogue, listed) = banks.session_catalogue().unwrap();
     let names: Vec<&str> = listed.iter().map(|m| m.name.as_str()).collect();
-    assert_eq!(names[..3], ["lsys-broadleaf", "lsys-conifer", "lsys-birch"], "the L-system bank first, as the scene names it");
-    assert!(names[3..].iter().all(|n| n.ends_with("-lod1") || n.ends_with("-lod2")) && names.len() == 15, "then the species bank: {names:?}");
+    assert_eq!(
+        names[..3],
+        ["lsys-broadleaf", "lsys-conifer", "lsys-birch"],
+        "the L-system bank first, as the scene names it"
+    );
+    assert!(
+        names[3..].iter().all(|n| n.ends_with("-lod1") || n.ends_with("-lod2")) && names.len() == 15,
+        "then the species bank: {names:?}"
+    );
     let mut s = Script::new(Sim::from_scene_with(&scene, scene.seed, catalogue.clone()).unwrap());
     let mut lsys = 0;
     s.sim().for_each_tree(|t| lsys += usize::from(catalogue.models[t.model.0 as usize].name.starts_with("lsys-")));
@@ -340,7 +382,8 @@ fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
     let (sim, events) = s.into_parts();
     let mut header = Header::new("assets/scenes/garden.ron", scene.seed, scene.dt);
     header.models = listed;
-    let bytes = record_events_in(Vec::new(), &header, &events, sim.tick(), serde_json::json!({}), &Banks::default()).unwrap();
+    let bytes =
+        record_events_in(Vec::new(), &header, &events, sim.tick(), serde_json::json!({}), &Banks::default()).unwrap();
     let dir = temp_dir("garden");
     let file = dir.join("garden.jsonl");
     std::fs::write(&file, bytes).unwrap();
@@ -352,13 +395,16 @@ fn a_recording_on_the_garden_replays_with_the_scenes_own_bank() {
 #[test]
 fn bad_model_lists_in_headers_are_refused_in_one_line() {
     use grove_systems::bank::HeaderModel;
-    use grove_systems::replay::{encode_line, Line};
+    use grove_systems::replay::{Line, encode_line};
     let dir = temp_dir("headers");
     let cases: Vec<(Vec<HeaderModel>, &str)> = vec![
         (vec![HeaderModel { name: "../etc".into(), hash: "0123456789abcdef".into() }], "plain name"),
         (vec![HeaderModel { name: "oak".into(), hash: "xyz".into() }], "16-hex-digit hash"),
         (vec![HeaderModel { name: "birch-mesh".into(), hash: "0123456789abcdef".into() }], "shipped name"),
-        ((0..300).map(|i| HeaderModel { name: format!("m{i}"), hash: "0123456789abcdef".into() }).collect(), "more than"),
+        (
+            (0..300).map(|i| HeaderModel { name: format!("m{i}"), hash: "0123456789abcdef".into() }).collect(),
+            "more than",
+        ),
         (vec![HeaderModel { name: "oak".into(), hash: "0123456789abcdef".into() }], "in no bank"),
     ];
     for (k, (models, needle)) in cases.into_iter().enumerate() {

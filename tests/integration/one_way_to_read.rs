@@ -6,7 +6,8 @@
 use std::path::{Path, PathBuf};
 
 /// Calls that open a file for reading without the checks.
-const DIRECT: [&str; 6] = ["File::open(", "fs::read(", "fs::read_to_string(", "image::open(", "ImageReader::open(", "fs::File::open("];
+const DIRECT: [&str; 6] =
+    ["File::open(", "fs::read(", "fs::read_to_string(", "image::open(", "ImageReader::open(", "fs::File::open("];
 
 /// The one module allowed to open input files.
 const THE_MODULE: &str = "systems/src/files.rs";
@@ -55,7 +56,11 @@ fn direct_reads(root: &Path) -> Vec<String> {
 fn input_files_are_opened_only_through_grove_systems_files() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let found = direct_reads(root);
-    assert!(found.is_empty(), "open input files with grove_systems::files (read, read_text, open), not directly:\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "open input files with grove_systems::files (read, read_text, open), not directly:\n{}",
+        found.join("\n")
+    );
 }
 
 #[test]

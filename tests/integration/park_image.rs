@@ -19,7 +19,18 @@ fn the_park_stays_within_4_of_255_per_channel_of_the_full_quality_image_of_2026_
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("park.png");
     let scene = root().join("assets/scenes/park.ron");
-    let run = grove(&["render", "--scene", scene.to_str().unwrap(), "--width", "480", "--height", "270", "--no-blade-fade", "--out", out.to_str().unwrap()]);
+    let run = grove(&[
+        "render",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--width",
+        "480",
+        "--height",
+        "270",
+        "--no-blade-fade",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(run.status.success(), "grove render failed: {}", String::from_utf8_lossy(&run.stderr));
     let now = image::open(&out).unwrap().to_rgb8();
     let reference = image::open(root().join("tests/snapshots/park-full-quality-2026-11-27.png")).unwrap().to_rgb8();

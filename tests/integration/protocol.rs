@@ -49,16 +49,29 @@ fn an_unknown_item_type_is_refused_with_its_line_and_column() {
 #[test]
 fn a_scale_without_anchors_is_refused_naming_its_item() {
     let err = refused(&with("kind: Rating(anchors: [\"Not at all\", \"Very well\"])", "kind: Rating()"));
-    assert!(err.contains("instrument 'tree-planting', item 1 'guidance'") && err.contains("needs its anchors"), "{err}");
-    let err = refused(&shipped().replace("kind: Rating(anchors: [\"Not realistic at all\", \"Very realistic\"])", "kind: Scale(min: 0, max: 10, anchors: [\"low\"])"));
+    assert!(
+        err.contains("instrument 'tree-planting', item 1 'guidance'") && err.contains("needs its anchors"),
+        "{err}"
+    );
+    let err = refused(&shipped().replace(
+        "kind: Rating(anchors: [\"Not realistic at all\", \"Very realistic\"])",
+        "kind: Scale(min: 0, max: 10, anchors: [\"low\"])",
+    ));
     assert!(err.contains("item 3 'realism_billboard'") && err.contains("a scale needs its anchors"), "{err}");
 }
 
 #[test]
 fn conditions_a_latin_square_cannot_balance_are_refused() {
     let err = refused(&with("participants: 12", "participants: 7"));
-    assert!(err.contains("participants: a balanced Latin square of 2 conditions has 2 rows") && err.contains("the protocol has 7"), "{err}");
-    let three = with("Condition(name: \"manual\", task: \"manual-7\"),", "Condition(name: \"manual\", task: \"manual-7\"),\n        Condition(name: \"again\", task: \"manual-7\"),");
+    assert!(
+        err.contains("participants: a balanced Latin square of 2 conditions has 2 rows")
+            && err.contains("the protocol has 7"),
+        "{err}"
+    );
+    let three = with(
+        "Condition(name: \"manual\", task: \"manual-7\"),",
+        "Condition(name: \"manual\", task: \"manual-7\"),\n        Condition(name: \"again\", task: \"manual-7\"),",
+    );
     let err = refused(&three.replacen("participants: 12", "participants: 8", 1));
     assert!(err.contains("3 conditions has 6 rows") && err.contains("multiple of 6"), "{err}");
 }
@@ -70,7 +83,13 @@ fn an_empty_block_is_refused() {
     let end = start + text[start..].find("\",\n").unwrap() + 2;
     let err = refused(&format!("{}{}", &text[..start], &text[end..]));
     assert!(err.contains("block 1 'instructions': an empty block"), "{err}");
-    let err = refused(&with("blocks: [", "blocks: [\n        Questionnaire(name: \"nothing\", instrument: \"empty\"),").replacen("instruments: [", "instruments: [\n        Instrument(id: \"empty\", title: \"Nothing\", items: []),", 1));
+    let err = refused(
+        &with("blocks: [", "blocks: [\n        Questionnaire(name: \"nothing\", instrument: \"empty\"),").replacen(
+            "instruments: [",
+            "instruments: [\n        Instrument(id: \"empty\", title: \"Nothing\", items: []),",
+            1,
+        ),
+    );
     assert!(err.contains("instrument 'empty': an empty questionnaire"), "{err}");
 }
 
@@ -78,7 +97,10 @@ fn an_empty_block_is_refused() {
 fn a_task_that_does_not_exist_is_refused() {
     let err = refused(&with("task: \"manual-7\"", "task: \"manual-9\""));
     assert!(err.contains("condition 2 'manual': task 'manual-9' does not exist"), "{err}");
-    let err = refused(&with("Questionnaire(name: \"usability\", instrument: \"sus\")", "Questionnaire(name: \"usability\", instrument: \"umux\")"));
+    let err = refused(&with(
+        "Questionnaire(name: \"usability\", instrument: \"sus\")",
+        "Questionnaire(name: \"usability\", instrument: \"umux\")",
+    ));
     assert!(err.contains("block 5 'usability': questionnaire 'umux' does not exist"), "{err}");
 }
 
@@ -99,9 +121,13 @@ fn a_folder_that_holds_another_protocol_is_refused() {
 
 #[test]
 fn the_protocol_pages_and_requests_need_the_token_and_a_server_without_a_protocol_says_so() {
-    use crate::serve_fixture::{request, Server};
+    use crate::serve_fixture::{Server, request};
     let dir = tempfile::tempdir().unwrap();
-    let server = Server::start(&dir.path().join("out"), 0, &["--require-token", "--protocol", "assets/protocols/tree-planting.ron"]);
+    let server = Server::start(
+        &dir.path().join("out"),
+        0,
+        &["--require-token", "--protocol", "assets/protocols/tree-planting.ron"],
+    );
     let token = server.url.split("token=").nth(1).expect("a token in the URL").to_string();
     let bearer = format!("Bearer {token}");
     for path in ["/dashboard", "/protocol", "/api/dashboard", "/api/protocol/participants/P01"] {

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use crate::common::{assert_one_line_error, grove, scratch};
-use crate::serve_fixture::{append, open, push, request, study_lines, Server};
+use crate::serve_fixture::{Server, append, open, push, request, study_lines};
 
 const PROTOCOL: &str = "assets/protocols/tree-planting.ron";
 
@@ -30,11 +30,16 @@ fn named_p03_then_automatic_ids_give_no_second_p03_and_a_restart_opens_the_folde
     let named = join(r#"{"participant": "P03"}"#);
     assert_eq!((named.status, named.json["participant"].as_str()), (201, Some("P03")), "{}", named.body);
     // P01 is the network test's, P03 is taken: the automatic ids are P02, then P04.
-    let auto: Vec<String> = (0..2).map(|_| join("{}")).map(|a| a.json["participant"].as_str().unwrap_or_default().to_string()).collect();
+    let auto: Vec<String> =
+        (0..2).map(|_| join("{}")).map(|a| a.json["participant"].as_str().unwrap_or_default().to_string()).collect();
     assert_eq!(auto, ["P02", "P04"]);
     for (body, status, reason) in [
         (r#"{"participant": "p03"}"#, 409, "participant id p03 is in use by participant P03"),
-        (r#"{"participant": "P01"}"#, 409, "participant id P01 is in use by the sessions of P01 in this folder (P01-manual-7-1.jsonl)"),
+        (
+            r#"{"participant": "P01"}"#,
+            409,
+            "participant id P01 is in use by the sessions of P01 in this folder (P01-manual-7-1.jsonl)",
+        ),
         (r#"{"participant": 7}"#, 400, "'participant' must be a participant id, a string"),
         (r#"{"participant": null}"#, 400, "the request sent null"),
         (r#"{"participant": "P05", "order": 1}"#, 400, "the request has 'order'"),
@@ -58,7 +63,9 @@ fn named_p03_then_automatic_ids_give_no_second_p03_and_a_restart_opens_the_folde
 
 /// A participant's file as an older grove serve wrote it.
 fn participant_line(id: &str, index: usize) -> String {
-    format!("{{\"line\":\"participant\",\"participant\":\"{id}\",\"protocol\":\"tree-planting\",\"index\":{index},\"order\":[\"ray-casting\",\"manual\"],\"time\":\"2026-12-01T09:00:00.000Z\"}}\n{{\"line\":\"step\",\"step\":1,\"block\":\"instructions\",\"time\":\"2026-12-01T09:00:00.000Z\"}}\n")
+    format!(
+        "{{\"line\":\"participant\",\"participant\":\"{id}\",\"protocol\":\"tree-planting\",\"index\":{index},\"order\":[\"ray-casting\",\"manual\"],\"time\":\"2026-12-01T09:00:00.000Z\"}}\n{{\"line\":\"step\",\"step\":1,\"block\":\"instructions\",\"time\":\"2026-12-01T09:00:00.000Z\"}}\n"
+    )
 }
 
 fn start_refused(dir: &Path) -> std::process::Output {
@@ -71,8 +78,17 @@ fn a_folder_with_a_repeated_id_is_reported_by_name_with_how_to_mend_it() {
     std::fs::write(dir.join("P01.answers.jsonl"), participant_line("P01", 1)).unwrap();
     std::fs::write(dir.join("P03.answers.jsonl"), participant_line("P03", 0) + &participant_line("P03", 2)).unwrap();
     let out = start_refused(&dir);
-    assert_one_line_error(&out, 2, "P03.answers.jsonl: two participants have the id P03, participant 1 and participant 3 (from line 3)");
-    assert!(String::from_utf8_lossy(&out.stderr).contains("To mend the folder, move the second participant's lines (from line 3 on"), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_one_line_error(
+        &out,
+        2,
+        "P03.answers.jsonl: two participants have the id P03, participant 1 and participant 3 (from line 3)",
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stderr)
+            .contains("To mend the folder, move the second participant's lines (from line 3 on"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 
     let dir = scratch("protocol-case");
     std::fs::write(dir.join("P03.answers.jsonl"), participant_line("P03", 0)).unwrap();
@@ -91,16 +107,27 @@ fn a_stale_or_header_only_session_does_not_finish_a_task_step() {
     let joined = call(&server, "POST", "/api/protocol/participants", "{}");
     assert_eq!(joined.json["participant"], "P01", "{}", joined.body);
     assert_eq!(joined.json["steps"][2]["task"], "ray-casting-7");
-    let next = |from: u64| call(&server, "POST", "/api/protocol/participants/P01/next", &format!("{{\"from\": {from}}}"));
+    let next =
+        |from: u64| call(&server, "POST", "/api/protocol/participants/P01/next", &format!("{{\"from\": {from}}}"));
     assert_eq!(next(1).status, 200);
     // While P01 practises, their task's recording is pushed into the folder: a session opened
     // before the task step began.
     let out = push(Path::new("replays/study/P01-ray-casting-7.jsonl"), &server.url, &[]);
-    assert!(out.status.success() && String::from_utf8_lossy(&out.stdout).contains("verified"), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success() && String::from_utf8_lossy(&out.stdout).contains("verified"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(next(2).status, 200, "on to the task step");
     let r = next(3);
     assert_eq!(r.status, 409, "{}", r.body);
-    assert!(r.json["error"].as_str().unwrap().contains("its session has not ended yet; not this step's: P01-ray-casting-7-1.jsonl (opened before the step began)"), "{}", r.body);
+    assert!(
+        r.json["error"].as_str().unwrap().contains(
+            "its session has not ended yet; not this step's: P01-ray-casting-7-1.jsonl (opened before the step began)"
+        ),
+        "{}",
+        r.body
+    );
     // After the step began: a session with only its header, ended by its client.
     let lines = study_lines("P01-ray-casting-7.jsonl");
     let (bare, bare_file) = open(&server.addr, "w", &lines[0], None);
@@ -117,7 +144,12 @@ fn a_stale_or_header_only_session_does_not_finish_a_task_step() {
     let r = next(3);
     assert_eq!((r.status, r.json["step"].as_u64()), (200, Some(4)), "{}", r.body);
     let d = call(&server, "GET", "/api/dashboard", "");
-    let listed: Vec<(String, serde_json::Value)> = d.json["sessions"].as_array().unwrap().iter().map(|s| (s["file"].as_str().unwrap().to_string(), s["not_this_steps"].clone())).collect();
+    let listed: Vec<(String, serde_json::Value)> = d.json["sessions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| (s["file"].as_str().unwrap().to_string(), s["not_this_steps"].clone()))
+        .collect();
     assert_eq!(
         listed,
         [
@@ -127,10 +159,26 @@ fn a_stale_or_header_only_session_does_not_finish_a_task_step() {
         ]
     );
     // A step sent as something other than a whole number is named as sent.
-    let r = call(&server, "POST", "/api/protocol/participants/P01/answers", r#"{"step": "four", "answers": {"mental": 5}}"#);
+    let r = call(
+        &server,
+        "POST",
+        "/api/protocol/participants/P01/answers",
+        r#"{"step": "four", "answers": {"mental": 5}}"#,
+    );
     assert_eq!(r.status, 400, "{}", r.body);
-    assert!(r.json["error"].as_str().unwrap().contains("'step' must be the participant's step, a whole number from 1; the request sent \"four\""), "{}", r.body);
+    assert!(
+        r.json["error"]
+            .as_str()
+            .unwrap()
+            .contains("'step' must be the participant's step, a whole number from 1; the request sent \"four\""),
+        "{}",
+        r.body
+    );
     let r = call(&server, "POST", "/api/protocol/participants/P01/answers", r#"{"step": 7, "answers": {"mental": 5}}"#);
     assert_eq!(r.status, 409, "{}", r.body);
-    assert!(r.json["error"].as_str().unwrap().contains("participant P01 is at step 4; the request names step 7"), "{}", r.body);
+    assert!(
+        r.json["error"].as_str().unwrap().contains("participant P01 is at step 4; the request names step 7"),
+        "{}",
+        r.body
+    );
 }

@@ -8,7 +8,8 @@
 use std::path::{Path, PathBuf};
 
 /// The folders outside the simulation's own sources.
-const READERS: [&str; 8] = ["src", "techniques", "tests", "examples", "fuzz", "tools", "systems/tests", "systems/examples"];
+const READERS: [&str; 8] =
+    ["src", "techniques", "tests", "examples", "fuzz", "tools", "systems/tests", "systems/examples"];
 
 /// The accessors, written so that this file does not contain them.
 fn accessors() -> [String; 2] {
@@ -58,7 +59,11 @@ fn readers_use_the_typed_view() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     assert!(root.join("systems/src/view.rs").is_file(), "the typed view is where this test says");
     let found = accessor_reads(root);
-    assert!(found.is_empty(), "read the simulation through Sim's getters (systems/src/view.rs), not its world or resources:\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "read the simulation through Sim's getters (systems/src/view.rs), not its world or resources:\n{}",
+        found.join("\n")
+    );
 }
 
 #[test]
@@ -72,8 +77,13 @@ fn the_scan_sees_an_accessor() {
     }
     let [world, res] = accessors();
     std::fs::write(dir.path().join("src/a/b.rs"), format!("fn f(sim: &Sim) {{ let t = sim{res}.tick; }}\n")).unwrap();
-    std::fs::write(dir.path().join("tests/integration/c.rs"), format!("fn g(sim: &Sim) {{\n    sim\n        {world}\n        .len();\n}}\n")).unwrap();
-    std::fs::write(dir.path().join("systems/src/view.rs"), format!("fn tick(&self) -> u64 {{ self{res}.tick }}\n")).unwrap();
+    std::fs::write(
+        dir.path().join("tests/integration/c.rs"),
+        format!("fn g(sim: &Sim) {{\n    sim\n        {world}\n        .len();\n}}\n"),
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("systems/src/view.rs"), format!("fn tick(&self) -> u64 {{ self{res}.tick }}\n"))
+        .unwrap();
     let found = accessor_reads(dir.path());
     assert_eq!(found.len(), 2, "{found:?}");
     assert!(found[0].starts_with("src/a/b.rs:1:") && found[1].starts_with("tests/integration/c.rs:3:"), "{found:?}");

@@ -17,25 +17,11 @@ fn root() -> PathBuf {
 fn fails_with(args: &[&str], needle: &str) {
     let out = grove().args(args).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    let lines: Vec<&str> = err
-        .lines()
-        .filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty())
-        .collect();
+    let lines: Vec<&str> = err.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty()).collect();
     assert!(!out.status.success(), "{args:?} should fail");
-    assert_eq!(
-        lines.len(),
-        1,
-        "{args:?}: expected one error line, got {err}"
-    );
-    assert!(
-        lines[0].starts_with("error: ") && lines[0].contains(needle),
-        "{args:?}: {}",
-        lines[0]
-    );
-    assert!(
-        !err.contains("panicked") && !err.contains("internal error"),
-        "{err}"
-    );
+    assert_eq!(lines.len(), 1, "{args:?}: expected one error line, got {err}");
+    assert!(lines[0].starts_with("error: ") && lines[0].contains(needle), "{args:?}: {}", lines[0]);
+    assert!(!err.contains("panicked") && !err.contains("internal error"), "{err}");
 }
 
 fn copy_model(dir: &Path, name: &str) -> PathBuf {
@@ -45,16 +31,8 @@ fn copy_model(dir: &Path, name: &str) -> PathBuf {
         let f = f.unwrap().path();
         std::fs::copy(&f, dir.join("textures").join(f.file_name().unwrap())).unwrap();
     }
-    std::fs::copy(
-        src.join(format!("{name}.bin")),
-        dir.join(format!("{name}.bin")),
-    )
-    .unwrap();
-    std::fs::copy(
-        src.join(format!("{name}.gltf")),
-        dir.join(format!("{name}.gltf")),
-    )
-    .unwrap();
+    std::fs::copy(src.join(format!("{name}.bin")), dir.join(format!("{name}.bin"))).unwrap();
+    std::fs::copy(src.join(format!("{name}.gltf")), dir.join(format!("{name}.gltf"))).unwrap();
     dir.join(format!("{name}.gltf"))
 }
 
@@ -63,14 +41,8 @@ fn missing_scene_and_model_give_one_line_errors() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("x.png");
     let out = out.to_str().unwrap();
-    fails_with(
-        &["render", "--scene", "no/such/scene.ron", "--out", out],
-        "no such file",
-    );
-    fails_with(
-        &["render", "--model", "no/such/tree.gltf", "--out", out],
-        "no such file",
-    );
+    fails_with(&["render", "--scene", "no/such/scene.ron", "--out", out], "no such file");
+    fails_with(&["render", "--model", "no/such/tree.gltf", "--out", out], "no such file");
 }
 
 #[test]
@@ -79,15 +51,8 @@ fn broken_gltf_and_missing_texture_give_one_line_errors() {
     let out = tmp.path().join("x.png");
     let out = out.to_str().unwrap();
     let broken = tmp.path().join("broken.gltf");
-    std::fs::write(
-        &broken,
-        "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ",
-    )
-    .unwrap();
-    fails_with(
-        &["render", "--model", broken.to_str().unwrap(), "--out", out],
-        "not a valid glTF",
-    );
+    std::fs::write(&broken, "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ").unwrap();
+    fails_with(&["render", "--model", broken.to_str().unwrap(), "--out", out], "not a valid glTF");
 
     let dir = tmp.path().join("m");
     let model = copy_model(&dir, "shrub-billboard");
@@ -98,10 +63,7 @@ fn broken_gltf_and_missing_texture_give_one_line_errors() {
     );
 
     std::fs::write(dir.join("textures/shrub-card.png"), b"not a png").unwrap();
-    fails_with(
-        &["render", "--model", model.to_str().unwrap(), "--out", out],
-        "cannot decode",
-    );
+    fails_with(&["render", "--model", model.to_str().unwrap(), "--out", out], "cannot decode");
 }
 
 #[test]
@@ -122,11 +84,7 @@ fn render_writes_a_png_of_the_requested_size_and_refuses_to_overwrite() {
         ])
         .output()
         .unwrap();
-    assert!(
-        st.status.success(),
-        "{}",
-        String::from_utf8_lossy(&st.stderr)
-    );
+    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
     let img = image::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (96, 64));
     fails_with(
@@ -169,18 +127,9 @@ fn frame_sequence_moves_the_sun() {
         ])
         .output()
         .unwrap();
-    assert!(
-        st.status.success(),
-        "{}",
-        String::from_utf8_lossy(&st.stderr)
-    );
-    let frames: Vec<_> = (0..3)
-        .map(|i| {
-            image::open(dir.join(format!("frame_{i:05}.png")))
-                .unwrap()
-                .to_rgba8()
-        })
-        .collect();
+    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+    let frames: Vec<_> =
+        (0..3).map(|i| image::open(dir.join(format!("frame_{i:05}.png"))).unwrap().to_rgba8()).collect();
     // Two hours of sun per frame: consecutive frames differ.
     assert_ne!(frames[0].as_raw(), frames[1].as_raw());
     assert_ne!(frames[1].as_raw(), frames[2].as_raw());
@@ -232,11 +181,7 @@ fn a_glb_model_without_tangents_or_textures_renders() {
         ])
         .output()
         .unwrap();
-    assert!(
-        st.status.success(),
-        "{}",
-        String::from_utf8_lossy(&st.stderr)
-    );
+    assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
     let img = image::open(&out).unwrap().to_rgba8();
     // The white triangle is framed in the middle of the image.
     let p = img.get_pixel(32, 24).0;
@@ -265,33 +210,17 @@ fn a_replay_renders_at_a_tick_and_differs_from_its_start() {
             ])
             .output()
             .unwrap();
-        assert!(
-            st.status.success(),
-            "{}",
-            String::from_utf8_lossy(&st.stderr)
-        );
+        assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
         image::open(&out).unwrap().to_rgba8()
     };
     let start = render("0", "start.png");
     let later = render("150", "later.png");
     assert_eq!((later.width(), later.height()), (96, 64));
     // Two trees were planted in between, so the pictures differ.
-    let changed = start
-        .pixels()
-        .zip(later.pixels())
-        .filter(|(a, b)| a != b)
-        .count();
+    let changed = start.pixels().zip(later.pixels()).filter(|(a, b)| a != b).count();
     assert!(changed > 50, "only {changed} pixels changed");
     fails_with(
-        &[
-            "render",
-            "--replay",
-            rec,
-            "--tick",
-            "99999",
-            "--out",
-            tmp.path().join("x.png").to_str().unwrap(),
-        ],
+        &["render", "--replay", rec, "--tick", "99999", "--out", tmp.path().join("x.png").to_str().unwrap()],
         "ends at tick",
     );
     fails_with(
@@ -314,24 +243,12 @@ fn a_replay_renders_at_a_tick_and_differs_from_its_start() {
 fn gpu_benchmark_refuses_a_software_adapter() {
     let gpu = grove::render::offscreen::Gpu::new().unwrap();
     if gpu.is_cpu() {
-        fails_with(
-            &["bench", "render-gpu"],
-            "needs a real GPU, but wgpu picked the software adapter",
-        );
+        fails_with(&["bench", "render-gpu"], "needs a real GPU, but wgpu picked the software adapter");
     } else {
         let out = grove().args(["bench", "render-gpu"]).output().unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        assert!(
-            v["render_gpu"]["forest_10k_trees"]["mixed_shadows_on"]["gpu_main_pass_ms"]
-                .as_f64()
-                .unwrap()
-                > 0.0
-        );
+        assert!(v["render_gpu"]["forest_10k_trees"]["mixed_shadows_on"]["gpu_main_pass_ms"].as_f64().unwrap() > 0.0);
     }
 }
 
@@ -346,7 +263,19 @@ fn a_transparent_model_render_is_the_model_alone_with_its_coverage() {
     let render = |background: &str| {
         let out = tmp.path().join(format!("{background}.png"));
         let st = grove()
-            .args(["render", "--model", model.to_str().unwrap(), "--background", background, "--width", "160", "--height", "120", "--out", out.to_str().unwrap()])
+            .args([
+                "render",
+                "--model",
+                model.to_str().unwrap(),
+                "--background",
+                background,
+                "--width",
+                "160",
+                "--height",
+                "120",
+                "--out",
+                out.to_str().unwrap(),
+            ])
             .output()
             .unwrap();
         assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
@@ -359,9 +288,13 @@ fn a_transparent_model_render_is_the_model_alone_with_its_coverage() {
     assert!(clear.pixels().all(|p| p.0[3] == 0 || p.0[3] == 255), "coverage is 0 or 255");
     // The trunk at 0.5 m up, where the stage's camera sees it.
     let data = grove::models::load_model(&model).unwrap();
-    let (eye, target) = grove_systems::stage::frame_bounds(data.bounds.0, data.bounds.1, 40f32.to_radians(), 160.0 / 120.0);
+    let (eye, target) =
+        grove_systems::stage::frame_bounds(data.bounds.0, data.bounds.1, 40f32.to_radians(), 160.0 / 120.0);
     let rotation = grove_systems::components::Pose::looking_at(eye, target).rotation;
-    let m = grove::render::camera_matrix(&grove::render::Camera { position: eye, rotation, fov_y: 40f32.to_radians() }, 160.0 / 120.0);
+    let m = grove::render::camera_matrix(
+        &grove::render::Camera { position: eye, rotation, fov_y: 40f32.to_radians() },
+        160.0 / 120.0,
+    );
     let p = m.project_point3(glam::Vec3::new(0.0, 0.5, 0.0));
     let (px, py) = (((p.x + 1.0) * 80.0) as u32, ((1.0 - p.y) * 60.0) as u32);
     assert_eq!(clear.get_pixel(px, py).0[3], 255, "the trunk at ({px}, {py}) is covered");
@@ -375,7 +308,18 @@ fn a_transparent_model_render_is_the_model_alone_with_its_coverage() {
     let out = tmp.path().join("x.png");
     let m = model.to_str().unwrap();
     fails_with(&["render", "--model", m, "--background", "blue", "--out", out.to_str().unwrap()], "blue");
-    fails_with(&["render", "--scene", "assets/scenes/study.ron", "--background", "transparent", "--out", out.to_str().unwrap()], "--model");
+    fails_with(
+        &[
+            "render",
+            "--scene",
+            "assets/scenes/study.ron",
+            "--background",
+            "transparent",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        "--model",
+    );
 }
 
 /// `--model FILE --tick T`: the model in the study's wind after T ticks, which moves it.
@@ -385,7 +329,19 @@ fn a_model_at_a_tick_sways_in_the_study_s_wind() {
     let model = root().join("assets/trees/birch-mesh.gltf");
     let render = |tick: Option<&str>, name: &str| {
         let out = tmp.path().join(format!("{name}.png"));
-        let mut args = vec!["render", "--model", model.to_str().unwrap(), "--background", "transparent", "--width", "96", "--height", "72", "--out", out.to_str().unwrap()];
+        let mut args = vec![
+            "render",
+            "--model",
+            model.to_str().unwrap(),
+            "--background",
+            "transparent",
+            "--width",
+            "96",
+            "--height",
+            "72",
+            "--out",
+            out.to_str().unwrap(),
+        ];
         if let Some(t) = tick {
             args.extend(["--tick", t]);
         }
@@ -394,9 +350,17 @@ fn a_model_at_a_tick_sways_in_the_study_s_wind() {
         image::open(&out).unwrap().to_rgba8()
     };
     let (calm, a, b) = (render(None, "calm"), render(Some("60"), "a"), render(Some("90"), "b"));
-    let differ = |x: &image::RgbaImage, y: &image::RgbaImage| x.pixels().zip(y.pixels()).filter(|(p, q)| p.0[3] != q.0[3]).count();
+    let differ = |x: &image::RgbaImage, y: &image::RgbaImage| {
+        x.pixels().zip(y.pixels()).filter(|(p, q)| p.0[3] != q.0[3]).count()
+    };
     assert!(differ(&calm, &a) > 0 && differ(&a, &b) > 0, "the wind moves the model's silhouette");
     let out = tmp.path().join("x.png");
-    fails_with(&["render", "--model", model.to_str().unwrap(), "--tick", "999999999", "--out", out.to_str().unwrap()], "--tick");
-    fails_with(&["render", "--scene", "assets/scenes/study.ron", "--tick", "3", "--out", out.to_str().unwrap()], "--tick");
+    fails_with(
+        &["render", "--model", model.to_str().unwrap(), "--tick", "999999999", "--out", out.to_str().unwrap()],
+        "--tick",
+    );
+    fails_with(
+        &["render", "--scene", "assets/scenes/study.ron", "--tick", "3", "--out", out.to_str().unwrap()],
+        "--tick",
+    );
 }

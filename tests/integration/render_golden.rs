@@ -59,16 +59,9 @@ fn compare(name: &str, img: &RgbaImage, tol: Tolerance) {
     }
     let want = match image::open(&path) {
         Ok(i) => i.to_rgba8(),
-        Err(e) => panic!(
-            "{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1",
-            path.display()
-        ),
+        Err(e) => panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display()),
     };
-    assert_eq!(
-        want.dimensions(),
-        img.dimensions(),
-        "{name}: size differs from the snapshot"
-    );
+    assert_eq!(want.dimensions(), img.dimensions(), "{name}: size differs from the snapshot");
     let (mut sum, mut over) = (0u64, 0u64);
     for (a, b) in want.pixels().zip(img.pixels()) {
         let mut worst = 0u8;
@@ -132,10 +125,7 @@ fn impostor_pixels() -> f32 {
 }
 
 fn set_head(sim: &mut Sim, eye: Vec3, target: Vec3, fov_deg: f32) {
-    sim.set_up().camera(Head {
-        pose: Pose::looking_at(eye, target),
-        fov_y: fov_deg.to_radians(),
-    });
+    sim.set_up().camera(Head { pose: Pose::looking_at(eye, target), fov_y: fov_deg.to_radians() });
 }
 
 fn set_sun(sim: &mut Sim, utc: &str) {
@@ -147,10 +137,7 @@ fn project(sim: &Sim, p: Vec3) -> (u32, u32) {
     let head = sim.head();
     let camera = Camera { position: head.pose.position, rotation: head.pose.rotation, fov_y: head.fov_y };
     let q = camera_matrix(&camera, W as f32 / H as f32).project_point3(p);
-    (
-        ((q.x * 0.5 + 0.5) * W as f32) as u32,
-        ((0.5 - q.y * 0.5) * H as f32) as u32,
-    )
+    (((q.x * 0.5 + 0.5) * W as f32) as u32, ((0.5 - q.y * 0.5) * H as f32) as u32)
 }
 
 macro_rules! model_test {
@@ -168,14 +155,7 @@ macro_rules! model_test {
                 "{}: nothing drawn in the centre (sky {sky:.0}, centre {centre:.0})",
                 $name
             );
-            compare(
-                concat!("model-", $name),
-                &img,
-                Tolerance {
-                    mean_abs: 3.0,
-                    percent_over: 2.0,
-                },
-            );
+            compare(concat!("model-", $name), &img, Tolerance { mean_abs: 3.0, percent_over: 2.0 });
         }
     };
 }
@@ -207,30 +187,11 @@ fn alpha_clipping_and_two_sided_flip() {
         sim.set_up().despawn(e).unwrap();
     }
     sim.spawn_tree(ModelId(0), Vec3::new(-0.7, 0.0, 0.0), 0.0, 1.0, false);
-    sim.spawn_tree(
-        ModelId(0),
-        Vec3::new(0.7, 0.0, 0.0),
-        std::f32::consts::PI,
-        1.0,
-        false,
-    );
-    set_head(
-        &mut sim,
-        Vec3::new(0.0, 0.5, 2.6),
-        Vec3::new(0.0, 0.5, 0.0),
-        40.0,
-    );
+    sim.spawn_tree(ModelId(0), Vec3::new(0.7, 0.0, 0.0), std::f32::consts::PI, 1.0, false);
+    set_head(&mut sim, Vec3::new(0.0, 0.5, 2.6), Vec3::new(0.0, 0.5, 0.0), 40.0);
     // The sun behind the camera, so both visible sides face it once the back face is flipped.
     sim.set_up().sun_angles(30.0, 180.0);
-    let mut r = Renderer::empty(
-        &g.device,
-        &g.queue,
-        offscreen::FORMAT,
-        W,
-        H,
-        &root().join("assets"),
-    )
-    .unwrap();
+    let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, W, H, &root().join("assets")).unwrap();
     // The card itself, however small it is on screen (impostors have their own goldens).
     r.options.impostor_pixels = 0.0;
     r.features.trees.set_model(ModelId(0), &striped_card());
@@ -240,33 +201,15 @@ fn alpha_clipping_and_two_sided_flip() {
     // has many strong colour changes; clipped texels show what lies behind (not card green).
     let (lx, ly) = project(&sim, Vec3::new(-0.7, 0.5, 0.0));
     let (rx, _) = project(&sim, Vec3::new(0.7, 0.5, 0.0));
-    let row: Vec<[u8; 4]> = (lx.saturating_sub(20)..(lx + 20).min(W))
-        .map(|x| img.get_pixel(x, ly).0)
-        .collect();
+    let row: Vec<[u8; 4]> = (lx.saturating_sub(20)..(lx + 20).min(W)).map(|x| img.get_pixel(x, ly).0).collect();
     let greenish = |p: &[u8; 4]| p[1] as i32 - p[0].max(p[2]) as i32 > 40;
-    let changes = row
-        .windows(2)
-        .filter(|w| greenish(&w[0]) != greenish(&w[1]))
-        .count();
-    assert!(
-        changes >= 4,
-        "expected alternating clipped stripes, got {changes} changes in {row:?}"
-    );
+    let changes = row.windows(2).filter(|w| greenish(&w[0]) != greenish(&w[1])).count();
+    assert!(changes >= 4, "expected alternating clipped stripes, got {changes} changes in {row:?}");
     // The back side is lit like the front (its normal flipped towards the viewer and sun).
     let front = luminance(&img, (lx - 10, ly - 8, lx + 10, ly + 8));
     let back = luminance(&img, (rx - 10, ly - 8, rx + 10, ly + 8));
-    assert!(
-        back > 0.75 * front,
-        "back face too dark: front {front:.1}, back {back:.1}"
-    );
-    compare(
-        "alpha-clip-two-sided",
-        &img,
-        Tolerance {
-            mean_abs: 3.0,
-            percent_over: 2.0,
-        },
-    );
+    assert!(back > 0.75 * front, "back face too dark: front {front:.1}, back {back:.1}");
+    compare("alpha-clip-two-sided", &img, Tolerance { mean_abs: 3.0, percent_over: 2.0 });
 }
 
 #[test]
@@ -277,32 +220,14 @@ fn shadowed_scene() {
     let cb = sim.catalogue().by_name("conifer-billboard").unwrap().id;
     sim.spawn_tree(bl, Vec3::new(-1.0, 0.0, -3.0), 0.3, 1.0, true);
     sim.spawn_tree(cb, Vec3::new(3.0, 0.0, -5.0), 0.0, 1.0, true);
-    set_head(
-        &mut sim,
-        Vec3::new(2.0, 4.0, 8.0),
-        Vec3::new(0.0, 0.5, -3.0),
-        60.0,
-    );
+    set_head(&mut sim, Vec3::new(2.0, 4.0, 8.0), Vec3::new(0.0, 0.5, -3.0), 60.0);
     set_sun(&mut sim, "2026-06-21T08:30:00Z");
     let lit = render(&sim, false);
     let shadowed = render(&sim, true);
     // Shadows only darken: the whole image, and clearly somewhere.
-    let (a, b) = (
-        luminance(&lit, (0, 0, W, H)),
-        luminance(&shadowed, (0, 0, W, H)),
-    );
-    assert!(
-        b < a - 1.0,
-        "shadows did not darken the image ({a:.1} → {b:.1})"
-    );
-    compare(
-        "shadowed-scene",
-        &shadowed,
-        Tolerance {
-            mean_abs: 3.0,
-            percent_over: 2.5,
-        },
-    );
+    let (a, b) = (luminance(&lit, (0, 0, W, H)), luminance(&shadowed, (0, 0, W, H)));
+    assert!(b < a - 1.0, "shadows did not darken the image ({a:.1} → {b:.1})");
+    compare("shadowed-scene", &shadowed, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
 }
 
 #[test]
@@ -312,20 +237,10 @@ fn interaction_visuals() {
     let tree = sim.spawn_tree(id, Vec3::new(0.5, 0.0, -2.0), 0.0, 1.0, true);
     let info = sim.catalogue().get(id).unwrap().clone();
     let pos = sim.tree(tree.to_bits().get()).unwrap().transform.translation;
-    set_head(
-        &mut sim,
-        Vec3::new(0.0, 1.7, 2.0),
-        Vec3::new(0.0, 0.3, -2.0),
-        60.0,
-    );
+    set_head(&mut sim, Vec3::new(0.0, 1.7, 2.0), Vec3::new(0.0, 0.3, -2.0), 60.0);
     let anchor = Vec3::new(-1.2, 0.0, -1.5);
     let hit = Vec3::new(0.9, 0.4, -2.0);
-    let ball = AnchorBall {
-        visible: true,
-        position: anchor,
-        distance: 0.5,
-        armed: false,
-    };
+    let ball = AnchorBall { visible: true, position: anchor, distance: 0.5, armed: false };
     sim.set_up()
         .controller_pose(Pose::looking_at(Vec3::new(0.3, 1.2, 1.5), hit))
         .hit_marker(HitMarker {
@@ -342,10 +257,7 @@ fn interaction_visuals() {
             half_extents: (info.bounds_max - info.bounds_min) * 0.5,
             yaw: 0.0,
         })
-        .task(Some(TaskState::new(
-            TaskDef::builtin("ray-casting-7").unwrap(),
-            0,
-        )));
+        .task(Some(TaskState::new(TaskDef::builtin("ray-casting-7").unwrap(), 0)));
     let green = render(&sim, true);
     // The anchor ball is green while not armed, white when armed.
     let (ax, ay) = project(&sim, anchor);
@@ -357,18 +269,8 @@ fn interaction_visuals() {
     sim.set_up().anchor_ball(AnchorBall { armed: true, ..ball });
     let white = render(&sim, true);
     let q = white.get_pixel(ax, ay).0;
-    assert!(
-        q[0] > 140 && q[1] > 140 && q[2] > 140,
-        "armed anchor ball not white: {q:?}"
-    );
-    compare(
-        "interaction-visuals",
-        &green,
-        Tolerance {
-            mean_abs: 3.0,
-            percent_over: 2.5,
-        },
-    );
+    assert!(q[0] > 140 && q[1] > 140 && q[2] > 140, "armed anchor ball not white: {q:?}");
+    compare("interaction-visuals", &green, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
 }
 
 fn study_at(utc: &str) -> RgbaImage {
@@ -393,34 +295,11 @@ fn study_scene_morning_and_evening() {
         }
         r / b.max(1.0)
     };
-    let (lm, le) = (
-        luminance(&morning, (0, H / 2, W, H)),
-        luminance(&evening, (0, H / 2, W, H)),
-    );
-    assert!(
-        le < lm,
-        "the evening ground should be darker ({lm:.1} vs {le:.1})"
-    );
-    assert!(
-        warmth(&evening) > warmth(&morning),
-        "the evening light should be warmer"
-    );
-    compare(
-        "study-morning",
-        &morning,
-        Tolerance {
-            mean_abs: 3.0,
-            percent_over: 2.5,
-        },
-    );
-    compare(
-        "study-evening",
-        &evening,
-        Tolerance {
-            mean_abs: 3.0,
-            percent_over: 2.5,
-        },
-    );
+    let (lm, le) = (luminance(&morning, (0, H / 2, W, H)), luminance(&evening, (0, H / 2, W, H)));
+    assert!(le < lm, "the evening ground should be darker ({lm:.1} vs {le:.1})");
+    assert!(warmth(&evening) > warmth(&morning), "the evening light should be warmer");
+    compare("study-morning", &morning, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
+    compare("study-evening", &evening, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
 }
 
 #[test]
@@ -445,12 +324,7 @@ fn leaf_simplification_keeps_the_crowns() {
         sim.set_up().despawn(e).unwrap();
     }
     let bl = sim.catalogue().by_name("broadleaf-mesh").unwrap().id;
-    set_head(
-        &mut sim,
-        Vec3::new(0.0, 3.0, 0.0),
-        Vec3::new(0.0, 3.0, -60.0),
-        40.0,
-    );
+    set_head(&mut sim, Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, 3.0, -60.0), 40.0);
     // The sky alone, before the trees are planted.
     let sky = {
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
@@ -460,13 +334,7 @@ fn leaf_simplification_keeps_the_crowns() {
         offscreen::render_image(g, &mut r, &sim).unwrap()
     };
     for k in 0..7 {
-        sim.spawn_tree(
-            bl,
-            Vec3::new(-18.0 + k as f32 * 6.0, 0.0, -40.0 - k as f32 * 20.0),
-            0.4 * k as f32,
-            1.0,
-            true,
-        );
+        sim.spawn_tree(bl, Vec3::new(-18.0 + k as f32 * 6.0, 0.0, -40.0 - k as f32 * 20.0), 0.4 * k as f32, 1.0, true);
     }
     let draw = |leaf_pixels: f32| {
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
@@ -480,32 +348,16 @@ fn leaf_simplification_keeps_the_crowns() {
     };
     let (full, full_tris) = draw(0.0);
     let (lod, lod_tris) = draw(grove::render::RenderOptions::default().leaf_pixels);
-    assert!(
-        lod_tris * 3 < full_tris,
-        "simplification should drop most triangles: {lod_tris} of {full_tris}"
-    );
+    assert!(lod_tris * 3 < full_tris, "simplification should drop most triangles: {lod_tris} of {full_tris}");
     // Crown pixels: those far from the sky behind them (the far crowns fade into the haze, so
     // their colour alone does not tell them from the sky).
     let crown = |img: &RgbaImage| {
-        img.pixels()
-            .zip(sky.pixels())
-            .filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 12))
-            .count() as f64
+        img.pixels().zip(sky.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > 12)).count() as f64
     };
     let (a, b) = (crown(&full), crown(&lod));
     assert!(a > 200.0, "the crowns should be visible ({a} pixels)");
-    assert!(
-        (b - a).abs() / a < 0.2,
-        "crown coverage changed from {a} to {b} pixels"
-    );
-    compare(
-        "leaf-simplification",
-        &lod,
-        Tolerance {
-            mean_abs: 3.0,
-            percent_over: 2.5,
-        },
-    );
+    assert!((b - a).abs() / a < 0.2, "crown coverage changed from {a} to {b} pixels");
+    compare("leaf-simplification", &lod, Tolerance { mean_abs: 3.0, percent_over: 2.5 });
 }
 
 /// The renderer builds its tree pipelines for one wind model at a time. A tree in a strong wind
@@ -517,12 +369,7 @@ fn each_wind_model_sways_the_trees() {
     let mut sim = study();
     let bl = sim.catalogue().by_name("broadleaf-mesh").unwrap().id;
     sim.spawn_tree(bl, Vec3::new(0.0, 0.0, -6.0), 0.3, 1.0, true);
-    set_head(
-        &mut sim,
-        Vec3::new(0.0, 2.5, 2.0),
-        Vec3::new(0.0, 2.5, -6.0),
-        60.0,
-    );
+    set_head(&mut sim, Vec3::new(0.0, 2.5, 2.0), Vec3::new(0.0, 2.5, -6.0), 60.0);
     let mut frame = |model: WindModel, strength: f32| {
         let mut w = sim.wind().unwrap();
         w.model = model;
@@ -535,18 +382,12 @@ fn each_wind_model_sways_the_trees() {
     let noise = frame(WindModel::Noise, 8.0);
     let hierarchical = frame(WindModel::Hierarchical, 8.0);
     let changed = |a: &RgbaImage, b: &RgbaImage| {
-        a.pixels()
-            .zip(b.pixels())
-            .filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > PIXEL_THRESHOLD))
-            .count()
+        a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|c| p.0[c].abs_diff(q.0[c]) > PIXEL_THRESHOLD)).count()
     };
     for (name, img) in [("noise", &noise), ("hierarchical", &hierarchical)] {
         let n = changed(&calm, img);
         assert!(n > 50, "the {name} wind model moved only {n} pixels");
     }
     let n = changed(&noise, &hierarchical);
-    assert!(
-        n > 50,
-        "the two wind models drew nearly the same frame ({n} pixels apart)"
-    );
+    assert!(n > 50, "the two wind models drew nearly the same frame ({n} pixels apart)");
 }

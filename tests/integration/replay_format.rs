@@ -10,7 +10,7 @@ use glam::{Quat, Vec3};
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::Pose;
 use grove_systems::input::{Button, InputEvent, StampedEvent};
-use grove_systems::replay::{decode_line, encode_line, record_events, Header, Line};
+use grove_systems::replay::{Header, Line, decode_line, encode_line, record_events};
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 
@@ -25,10 +25,16 @@ fn session() -> (Header, Vec<StampedEvent>) {
     at(0, InputEvent::StartTask { task: "ray-casting-7".into(), layout: None });
     for i in 0..200u64 {
         let a = i as f32 * 0.01;
-        let pose = Pose { position: Vec3::new(0.25, 1.35, 5.7), rotation: Quat::from_rotation_y(a - 1.0) * Quat::from_rotation_x(-0.4) };
+        let pose = Pose {
+            position: Vec3::new(0.25, 1.35, 5.7),
+            rotation: Quat::from_rotation_y(a - 1.0) * Quat::from_rotation_x(-0.4),
+        };
         at(i + 1, InputEvent::ControllerPose { pose });
         if i % 50 == 0 {
-            at(i + 1, InputEvent::HeadPose { pose: Pose::looking_at(Vec3::new(a, 1.7, 6.0), Vec3::new(0.0, 0.5, -4.0)) });
+            at(
+                i + 1,
+                InputEvent::HeadPose { pose: Pose::looking_at(Vec3::new(a, 1.7, 6.0), Vec3::new(0.0, 0.5, -4.0)) },
+            );
         }
     }
     at(20, InputEvent::ButtonDown { button: Button::Trigger });
@@ -65,7 +71,8 @@ fn write_lines(path: &Path, lines: &[String]) {
 }
 
 fn json(out: &std::process::Output) -> serde_json::Value {
-    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("bad JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)))
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("bad JSON ({e}): {}", String::from_utf8_lossy(&out.stdout)))
 }
 
 #[test]
@@ -128,7 +135,9 @@ fn a_changed_pose_that_still_parses_diverges_at_the_next_checkpoint() {
     // Change the last controller pose (tick 200) and give the line a valid checksum.
     let i = lines.iter().position(|l| l.contains("\"tick\":200,") && l.contains("controller_pose")).unwrap();
     let (body, _) = grove_systems::replay::split_sum(&lines[i]).unwrap();
-    let Line::Event(mut ev) = decode_line(&grove_systems::replay::sign_body(&body, 0).0).unwrap() else { panic!("not an event") };
+    let Line::Event(mut ev) = decode_line(&grove_systems::replay::sign_body(&body, 0).0).unwrap() else {
+        panic!("not an event")
+    };
     if let InputEvent::ControllerPose { pose } = &mut ev.event {
         pose.position.x += 0.001;
     }
@@ -166,10 +175,14 @@ fn bad(name: &str, mutate: impl FnOnce(&mut Vec<String>), needle: &str) {
 
 #[test]
 fn a_truncated_line_is_an_error_naming_the_line() {
-    bad("truncated", |l| {
-        let n = l[10].len() / 2;
-        l[10].truncate(n);
-    }, ":11:");
+    bad(
+        "truncated",
+        |l| {
+            let n = l[10].len() / 2;
+            l[10].truncate(n);
+        },
+        ":11:",
+    );
 }
 
 #[test]
@@ -205,34 +218,58 @@ fn an_unknown_event_kind_is_an_error() {
 
 #[test]
 fn a_future_format_version_is_an_error() {
-    bad("future", |l| replace_event(l, "\"header\"", |b| b.replace("\"format_version\":2", "\"format_version\":99")), "format version 99");
+    bad(
+        "future",
+        |l| replace_event(l, "\"header\"", |b| b.replace("\"format_version\":2", "\"format_version\":99")),
+        "format version 99",
+    );
 }
 
 #[test]
 fn nan_and_infinite_poses_are_errors() {
-    bad("nan", |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[NaN", 1)), "expected value");
-    bad("huge", |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[1e999", 1)), "out of range");
+    bad(
+        "nan",
+        |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[NaN", 1)),
+        "expected value",
+    );
+    bad(
+        "huge",
+        |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[1e999", 1)),
+        "out of range",
+    );
     // Finite as a JSON number, but infinite as an f32.
-    bad("inf", |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[1e39", 1)), "NaN or infinite");
+    bad(
+        "inf",
+        |l| replace_event(l, "\"tick\":60,\"ms\"", |b| b.replacen("\"position\":[0.25", "\"position\":[1e39", 1)),
+        "NaN or infinite",
+    );
 }
 
 #[test]
 fn ticks_out_of_order_are_an_error() {
     // With the chain signed again, so that the order itself is what is caught.
-    bad("order", |l| {
-        l.swap(30, 32);
-        let chained = grove_systems::replay::rechain(l).unwrap();
-        *l = chained;
-    }, "out of order");
+    bad(
+        "order",
+        |l| {
+            l.swap(30, 32);
+            let chained = grove_systems::replay::rechain(l).unwrap();
+            *l = chained;
+        },
+        "out of order",
+    );
     // Without, the chain breaks at the first moved line.
     bad("moved", |l| l.swap(30, 80), ":31: checksum mismatch");
 }
 
 #[test]
 fn a_missing_header_is_an_error() {
-    bad("noheader", |l| {
-        l.remove(0);
-    }, "missing header");
+    bad(
+        "noheader",
+        |l| {
+            l.remove(0);
+        },
+        "missing header",
+    );
 }
 
 #[test]
@@ -307,7 +344,15 @@ fn the_version_2_fixture_is_readable() {
 #[test]
 fn unknown_fields_are_refused_on_events_without_fields() {
     for kind in ["open_menu", "close_menu", "end_task"] {
-        bad(kind, |l| replace_event(l, &format!("\"kind\":\"{kind}\""), |b| b.replace(&format!("{{\"kind\":\"{kind}\"}}"), &format!("{{\"kind\":\"{kind}\",\"bogus\":1}}"))), "unknown field `bogus`");
+        bad(
+            kind,
+            |l| {
+                replace_event(l, &format!("\"kind\":\"{kind}\""), |b| {
+                    b.replace(&format!("{{\"kind\":\"{kind}\"}}"), &format!("{{\"kind\":\"{kind}\",\"bogus\":1}}"))
+                })
+            },
+            "unknown field `bogus`",
+        );
     }
 }
 
@@ -334,7 +379,9 @@ fn the_recorder_flushes_every_press_at_once() {
     let pose = Pose { position: Vec3::new(0.0, 1.0, 0.0), rotation: Quat::IDENTITY };
     rec.event(3, 50, 3, &InputEvent::ControllerPose { pose }).unwrap();
     rec.event(3, 50, 3, &InputEvent::ButtonDown { button: Button::Trigger }).unwrap();
-    let f = rec.finish(&grove_systems::Sim::from_scene(&Scene::builtin("study").unwrap(), 42).unwrap(), serde_json::json!({})).unwrap();
+    let f = rec
+        .finish(&grove_systems::Sim::from_scene(&Scene::builtin("study").unwrap(), 42).unwrap(), serde_json::json!({}))
+        .unwrap();
     let text = String::from_utf8(f.flushed).unwrap();
     assert_eq!(text.lines().count(), 4, "header, pose, press and footer");
     // Now without the footer: the press must already be out, even though the pose before it

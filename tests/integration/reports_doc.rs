@@ -62,7 +62,16 @@ fn every_column_and_field_is_documented() {
     let mut columns = Vec::new();
 
     let out_a = dir.path().join("a");
-    let o = grove(&["study", "--json", "--replays", rec.to_str().unwrap(), "--out", out_a.to_str().unwrap(), "--set", "snap_threshold=0.2"]);
+    let o = grove(&[
+        "study",
+        "--json",
+        "--replays",
+        rec.to_str().unwrap(),
+        "--out",
+        out_a.to_str().unwrap(),
+        "--set",
+        "snap_threshold=0.2",
+    ]);
     assert!(o.status.code().is_some(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(!v["what_if"].is_null());
@@ -73,8 +82,18 @@ fn every_column_and_field_is_documented() {
     columns.extend(csv_header(&out_a.join("trees.csv")));
 
     let out_b = dir.path().join("b");
-    let o = grove(&["study", "--json", "--replays", rec.to_str().unwrap(), "--out", out_b.to_str().unwrap(), "--set", "snap_threshold=0.1,0.3"]);
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&o.stderr)));
+    let o = grove(&[
+        "study",
+        "--json",
+        "--replays",
+        rec.to_str().unwrap(),
+        "--out",
+        out_b.to_str().unwrap(),
+        "--set",
+        "snap_threshold=0.1,0.3",
+    ]);
+    let v: serde_json::Value =
+        serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&o.stderr)));
     assert!(!v["sweep"].is_null());
     collect_keys(&v, &mut keys);
     columns.extend(csv_header(&out_b.join("sweep.csv")));
@@ -84,7 +103,9 @@ fn every_column_and_field_is_documented() {
     collect_keys(&v, &mut keys);
 
     // The walk found the fields it should have, so the check cannot pass vacuously.
-    for k in ["ray_casting_faster_for_all", "wilcoxon_p", "baseline_time_s", "kind_meaning", "time_since_start_s", "speedup"] {
+    for k in
+        ["ray_casting_faster_for_all", "wilcoxon_p", "baseline_time_s", "kind_meaning", "time_since_start_s", "speedup"]
+    {
         assert!(keys.contains(k) || columns.iter().any(|c| c == k), "the outputs lack {k}");
     }
     let missing_fields = undocumented(&doc, keys);

@@ -36,9 +36,11 @@ fn without_timing(json: &str) -> String {
 /// Asserts that two report folders hold the same files: CSV and PNG byte for byte, summary.json
 /// equal apart from `wall_seconds`, which is its only line that differs.
 fn assert_same_reports(whole: &Path, merged: &Path) {
-    let mut names: Vec<String> = std::fs::read_dir(whole).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(whole).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     names.sort();
-    let mut merged_names: Vec<String> = std::fs::read_dir(merged).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut merged_names: Vec<String> =
+        std::fs::read_dir(merged).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     merged_names.sort();
     assert_eq!(names, merged_names, "the same report files");
     assert!(names.iter().any(|n| n == "trial_results.csv") && names.iter().any(|n| n == "summary.json"), "{names:?}");
@@ -48,7 +50,10 @@ fn assert_same_reports(whole: &Path, merged: &Path) {
             let (a, b) = (String::from_utf8(a).unwrap(), String::from_utf8(b).unwrap());
             assert_eq!(without_timing(&a), without_timing(&b), "summary.json apart from wall_seconds");
             let differing: Vec<(&str, &str)> = a.lines().zip(b.lines()).filter(|(x, y)| x != y).collect();
-            assert!(differing.iter().all(|(x, _)| x.trim_start().starts_with("\"wall_seconds\"")), "only timing lines differ: {differing:?}");
+            assert!(
+                differing.iter().all(|(x, _)| x.trim_start().starts_with("\"wall_seconds\"")),
+                "only timing lines differ: {differing:?}"
+            );
             assert_eq!(a.lines().count(), b.lines().count());
         } else {
             assert!(a == b, "{n} differs between the run without shards and the merge");
@@ -72,7 +77,10 @@ fn shards_counted(args: &[&str], n: u32, dir: &Path) -> Vec<(PathBuf, usize)> {
             let o = Command::new(env!("CARGO_BIN_EXE_grove")).args(&all).current_dir(root()).output().unwrap();
             ok(&o);
             let stdout = String::from_utf8_lossy(&o.stdout);
-            let count = stdout.strip_prefix(&format!("shard {k}/{n}: ")).and_then(|r| r.split(' ').next()).and_then(|c| c.parse().ok());
+            let count = stdout
+                .strip_prefix(&format!("shard {k}/{n}: "))
+                .and_then(|r| r.split(' ').next())
+                .and_then(|c| c.parse().ok());
             (part, count.unwrap_or_else(|| panic!("shard {k}/{n} printed {stdout}")))
         })
         .collect()
@@ -172,11 +180,15 @@ fn shards_of_re_simulated_participants_merge_and_synth_shards_are_the_same_recor
         ok(&o);
         assert!(String::from_utf8_lossy(&o.stdout).contains(&format!("(shard {k}/3)")));
     }
-    let mut names: Vec<String> = std::fs::read_dir(&rec).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(&rec).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     names.sort();
     assert_eq!(names.len(), 6, "{names:?}");
     for n in &names {
-        assert!(std::fs::read(rec.join(n)).unwrap() == std::fs::read(root().join("replays/study").join(n)).unwrap(), "{n} differs from the committed recording");
+        assert!(
+            std::fs::read(rec.join(n)).unwrap() == std::fs::read(root().join("replays/study").join(n)).unwrap(),
+            "{n} differs from the committed recording"
+        );
     }
     // A shard's synth writes exactly the recordings the same shard of the study re-simulates.
     let one = dir.path().join("one");
@@ -184,13 +196,25 @@ fn shards_of_re_simulated_participants_merge_and_synth_shards_are_the_same_recor
     let o = grove(&["study", "--replays", s(&one), "--shard", "2/3", "--out", s(&dir.path().join("p"))]);
     ok(&o);
     let n = std::fs::read_dir(&one).unwrap().count();
-    assert!(String::from_utf8_lossy(&o.stdout).contains(&format!("{n} of {n} recordings")), "{}", String::from_utf8_lossy(&o.stdout));
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains(&format!("{n} of {n} recordings")),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
     // A shard without any participant writes no recording, and its study is an empty part.
     let k = (1..=4).find(|&k| !(1..=3).any(|p| grove_shard_holds(k, 4, p))).expect("a shard of 4 without P01–P03");
     let none = dir.path().join("none");
     ok(&grove(&["synth", "--participants", "3", "--shard", &format!("{k}/4"), "--out", s(&none)]));
     assert_eq!(std::fs::read_dir(&none).unwrap().count(), 0);
-    let o = grove(&["study", "--replays", s(&none), "--shard", &format!("{k}/4"), "--out", s(&dir.path().join("empty-part"))]);
+    let o = grove(&[
+        "study",
+        "--replays",
+        s(&none),
+        "--shard",
+        &format!("{k}/4"),
+        "--out",
+        s(&dir.path().join("empty-part")),
+    ]);
     ok(&o);
     assert!(String::from_utf8_lossy(&o.stdout).contains("0 of 0 recordings"), "{}", String::from_utf8_lossy(&o.stdout));
 
@@ -247,7 +271,11 @@ fn a_missing_repeated_or_foreign_shard_is_one_line_and_nothing_is_written() {
     let parts = shards(&["--replays", s(&rec)], 3, dir.path());
     let out = dir.path().join("out");
     assert_one_line_error(&merge(&parts[..2], &out), 2, "shard 3/3 missing");
-    assert_one_line_error(&merge(&[parts[0].clone(), parts[1].clone(), parts[1].clone(), parts[2].clone()], &out), 2, "shard 2/3 is given twice");
+    assert_one_line_error(
+        &merge(&[parts[0].clone(), parts[1].clone(), parts[1].clone(), parts[2].clone()], &out),
+        2,
+        "shard 2/3 is given twice",
+    );
     // A shard of the same recordings under another setting is another study.
     let other = dir.path().join("other");
     ok(&grove(&["study", "--replays", s(&rec), "--set", "snap_threshold=0.2", "--shard", "3/3", "--out", s(&other)]));
@@ -264,14 +292,30 @@ fn a_missing_repeated_or_foreign_shard_is_one_line_and_nothing_is_written() {
 
     // Bad --shard values, a missing --out and an existing partial result.
     for bad in ["0/3", "4/3", "3", "x/y"] {
-        assert_one_line_error(&grove(&["study", "--replays", s(&rec), "--shard", bad, "--out", s(&dir.path().join("q"))]), 2, "--shard");
-        assert_one_line_error(&grove(&["synth", "--participants", "2", "--shard", bad, "--out", s(&dir.path().join("q"))]), 2, "--shard");
+        assert_one_line_error(
+            &grove(&["study", "--replays", s(&rec), "--shard", bad, "--out", s(&dir.path().join("q"))]),
+            2,
+            "--shard",
+        );
+        assert_one_line_error(
+            &grove(&["synth", "--participants", "2", "--shard", bad, "--out", s(&dir.path().join("q"))]),
+            2,
+            "--shard",
+        );
     }
     assert_one_line_error(&grove(&["study", "--replays", s(&rec), "--shard", "1/3"]), 2, "--out PART");
     let before = std::fs::read(&parts[0]).unwrap();
-    assert_one_line_error(&grove(&["study", "--replays", s(&rec), "--shard", "1/3", "--out", s(&parts[0])]), 2, "already exists");
+    assert_one_line_error(
+        &grove(&["study", "--replays", s(&rec), "--shard", "1/3", "--out", s(&parts[0])]),
+        2,
+        "already exists",
+    );
     assert_eq!(std::fs::read(&parts[0]).unwrap(), before, "the partial result is left as it was");
-    assert_one_line_error(&grove(&["study", "--replays", s(&rec), "--shard", "1/3", "--out", s(dir.path())]), 2, "is a folder");
+    assert_one_line_error(
+        &grove(&["study", "--replays", s(&rec), "--shard", "1/3", "--out", s(dir.path())]),
+        2,
+        "is a folder",
+    );
     // Shards that hold no recording at all make no study.
     let empty = dir.path().join("empty");
     std::fs::create_dir(&empty).unwrap();

@@ -11,7 +11,13 @@ use std::process::{Command, Output};
 use common::{grove, root};
 
 fn ok(o: &Output) {
-    assert!(o.status.success(), "exit {:?}; stdout: {}; stderr: {}", o.status.code(), String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "exit {:?}; stdout: {}; stderr: {}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 fn python() -> String {
@@ -29,13 +35,20 @@ fn python() -> String {
 
 fn same_reports(whole: &Path, merged: &Path) {
     for n in ["trial_results.csv", "trees.csv", "ablation.png"] {
-        assert!(std::fs::read(whole.join(n)).unwrap() == std::fs::read(merged.join(n)).unwrap(), "{n} differs between the run without shards and Ray's");
+        assert!(
+            std::fs::read(whole.join(n)).unwrap() == std::fs::read(merged.join(n)).unwrap(),
+            "{n} differs between the run without shards and Ray's"
+        );
     }
     let strip = |p: &Path| -> String {
         let text = std::fs::read_to_string(p).unwrap();
         text.lines().filter(|l| !l.trim_start().starts_with("\"wall_seconds\"")).collect::<Vec<_>>().join("\n")
     };
-    assert_eq!(strip(&whole.join("summary.json")), strip(&merged.join("summary.json")), "summary.json apart from wall_seconds");
+    assert_eq!(
+        strip(&whole.join("summary.json")),
+        strip(&merged.join("summary.json")),
+        "summary.json apart from wall_seconds"
+    );
 }
 
 #[test]
@@ -71,7 +84,16 @@ fn a_local_ray_cluster_runs_a_1000_recording_synthetic_study_through_the_driver(
     let timings = dir.path().join("timings.json");
     let o = Command::new(&python)
         .arg(root().join("scripts/ray_study.py"))
-        .args(["--grove", env!("CARGO_BIN_EXE_grove"), "--replays", rec.to_str().unwrap(), "--shards", "4", "--num-cpus", "2"])
+        .args([
+            "--grove",
+            env!("CARGO_BIN_EXE_grove"),
+            "--replays",
+            rec.to_str().unwrap(),
+            "--shards",
+            "4",
+            "--num-cpus",
+            "2",
+        ])
         .args(["--out", merged.to_str().unwrap(), "--timings", timings.to_str().unwrap()])
         .current_dir(root())
         .output()
@@ -94,11 +116,30 @@ fn a_local_ray_cluster_runs_a_1000_recording_synthetic_study_through_the_driver(
     ok(&grove(&["synth", "--participants", "3", "--out", base.to_str().unwrap()]));
     ok(&grove(&["synth", "--participants", "3", "--set", "touchpad_move_rate=3", "--out", what.to_str().unwrap()]));
     let whole = dir.path().join("synth-whole");
-    ok(&grove(&["study", "--replays", what.to_str().unwrap(), "--baseline", base.to_str().unwrap(), "--out", whole.to_str().unwrap()]));
+    ok(&grove(&[
+        "study",
+        "--replays",
+        what.to_str().unwrap(),
+        "--baseline",
+        base.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+    ]));
     let merged = dir.path().join("synth-ray");
     let o = Command::new(&python)
         .arg(root().join("scripts/ray_study.py"))
-        .args(["--grove", env!("CARGO_BIN_EXE_grove"), "--synth-participants", "3", "--synth-set", "touchpad_move_rate=3", "--shards", "2", "--num-cpus", "2"])
+        .args([
+            "--grove",
+            env!("CARGO_BIN_EXE_grove"),
+            "--synth-participants",
+            "3",
+            "--synth-set",
+            "touchpad_move_rate=3",
+            "--shards",
+            "2",
+            "--num-cpus",
+            "2",
+        ])
         .args(["--out", merged.to_str().unwrap()])
         .current_dir(root())
         .output()
@@ -111,12 +152,26 @@ fn a_local_ray_cluster_runs_a_1000_recording_synthetic_study_through_the_driver(
     // A driver whose shards fail (grove refuses their input) says why in one line.
     let o = Command::new(&python)
         .arg(root().join("scripts/ray_study.py"))
-        .args(["--grove", env!("CARGO_BIN_EXE_grove"), "--replays", rec.to_str().unwrap(), "--set", "snap_treshold=0.1", "--shards", "2", "--num-cpus", "2"])
+        .args([
+            "--grove",
+            env!("CARGO_BIN_EXE_grove"),
+            "--replays",
+            rec.to_str().unwrap(),
+            "--set",
+            "snap_treshold=0.1",
+            "--shards",
+            "2",
+            "--num-cpus",
+            "2",
+        ])
         .args(["--out", dir.path().join("x").to_str().unwrap()])
         .current_dir(root())
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(stderr.lines().any(|l| l.starts_with("ray_study: ") && l.contains("unknown parameter 'snap_treshold'")), "{stderr}");
+    assert!(
+        stderr.lines().any(|l| l.starts_with("ray_study: ") && l.contains("unknown parameter 'snap_treshold'")),
+        "{stderr}"
+    );
 }

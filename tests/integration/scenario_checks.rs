@@ -8,10 +8,10 @@ use std::path::Path;
 use std::process::Output;
 
 use common::grove;
+use grove_systems::Sim;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::targets::{Aim, TreeRef};
-use grove_systems::Sim;
 
 fn stdout(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
@@ -24,7 +24,11 @@ fn run_file(dir: &Path, name: &str, text: &str) -> (Option<i32>, String) {
     std::fs::write(&path, text).unwrap();
     let keep = dir.join("kept");
     let out = grove(&["test", "--keep", &keep.display().to_string(), &path.display().to_string()]);
-    let line = stdout(&out).lines().find(|l| l.split_whitespace().nth(1) == Some(name)).map(str::to_string).unwrap_or_else(|| panic!("{name}: no result line: {:?}", out));
+    let line = stdout(&out)
+        .lines()
+        .find(|l| l.split_whitespace().nth(1) == Some(name))
+        .map(str::to_string)
+        .unwrap_or_else(|| panic!("{name}: no result line: {:?}", out));
     (out.status.code(), line)
 }
 
@@ -56,7 +60,8 @@ fn a_tree_in_front_of_a_target_fails_the_press_naming_it() {
     assert!(line.contains("step 7 Press(Trigger): the ray meets broadleaf-mesh (planted 1st) at "), "{line}");
     assert!(line.contains(", before Target(2) at "), "{line}");
     // The same scenario without the tree on the way passes.
-    let clear = steps.replace(&format!("PointAt(Point({:.2}, 0.0, {:.2}))", mid.x, mid.z), "PointAt(Point(-4.0, 0.0, 2.0))");
+    let clear =
+        steps.replace(&format!("PointAt(Point({:.2}, 0.0, {:.2}))", mid.x, mid.z), "PointAt(Point(-4.0, 0.0, 2.0))");
     let (code, line) = run_file(dir.path(), "clear", &scenario(&clear, "TargetSatisfied(2)"));
     assert_eq!(code, Some(0), "{line}");
 }
@@ -74,7 +79,8 @@ fn a_bumper_over_a_shrub_fails_at_the_press_and_a_tree_aim_hits_the_shrub() {
     assert!(line.contains("step 6 Press(Bumper): the ray meets nothing within 100 m, not shrub-billboard (planted 1st) aimed at Tree(tree: Last, offset: (0.0, 2.0, 0.0))"), "{line}");
     assert!(line.contains("PressOnNothing"), "says how to press on nothing: {line}");
     let middle = format!("{plant}, PointAt(Tree(tree: Last)), Press(Bumper), Wait(5)");
-    let (code, line) = run_file(dir.path(), "middle", &scenario(&middle, "TreeCount(2), Logged(kind: \"removed\", count: 1)"));
+    let (code, line) =
+        run_file(dir.path(), "middle", &scenario(&middle, "TreeCount(2), Logged(kind: \"removed\", count: 1)"));
     assert_eq!(code, Some(0), "{line}");
 }
 
@@ -106,19 +112,26 @@ fn pressing_on_nothing_is_said_explicitly() {
     let (code, line) = run_file(dir.path(), "unsaid", &scenario(&format!("{sky}, Press(Trigger)"), "TreeCount(2)"));
     assert_eq!(code, Some(1), "{line}");
     assert!(line.contains("step 2 Press(Trigger): the ray meets nothing within 100 m"), "{line}");
-    let (code, line) = run_file(dir.path(), "said", &scenario(&format!("{sky}, PressOnNothing(Trigger)"), "TreeCount(2)"));
+    let (code, line) =
+        run_file(dir.path(), "said", &scenario(&format!("{sky}, PressOnNothing(Trigger)"), "TreeCount(2)"));
     assert_eq!(code, Some(0), "{line}");
-    let text = scenario(&format!("{sky}, Press(Trigger)"), "TreeCount(2)").replace("seed: 1,", "seed: 1, press_on_nothing: true,");
+    let text = scenario(&format!("{sky}, Press(Trigger)"), "TreeCount(2)")
+        .replace("seed: 1,", "seed: 1, press_on_nothing: true,");
     let (code, line) = run_file(dir.path(), "switch", &text);
     assert_eq!(code, Some(0), "{line}");
-    let (code, line) = run_file(dir.path(), "ground", &scenario("PointAt(Point(1.0, 0.0, -3.0)), PressOnNothing(Trigger)", ""));
+    let (code, line) =
+        run_file(dir.path(), "ground", &scenario("PointAt(Point(1.0, 0.0, -3.0)), PressOnNothing(Trigger)", ""));
     assert_eq!(code, Some(1), "{line}");
     assert!(line.contains("step 2 PressOnNothing(Trigger): the ray meets the plane \"ground\" at "), "{line}");
     // The switch does not excuse a press that meets the wrong thing.
     // 1.5 m behind the tree as seen from the start: the ray passes its trunk near the ground.
     let base = glam::Vec3::new(-10.0, 0.0, -5.0);
     let away = (base - controller_start()).with_y(0.0).normalize() * 1.5;
-    let steps = format!("ChooseModel(\"broadleaf-mesh\"), PointAt(Point(-10.0, 0.0, -5.0)), Press(Trigger), PointAt(Point({:.2}, 0.0, {:.2})), Press(Trigger)", base.x + away.x, base.z + away.z);
+    let steps = format!(
+        "ChooseModel(\"broadleaf-mesh\"), PointAt(Point(-10.0, 0.0, -5.0)), Press(Trigger), PointAt(Point({:.2}, 0.0, {:.2})), Press(Trigger)",
+        base.x + away.x,
+        base.z + away.z
+    );
     let text = scenario(&steps, "").replace("seed: 1,", "seed: 1, press_on_nothing: true,");
     let (code, line) = run_file(dir.path(), "behind", &text);
     assert_eq!(code, Some(1), "{line}");

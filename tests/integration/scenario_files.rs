@@ -9,16 +9,16 @@ use std::process::Output;
 
 use common::{assert_one_line_error, grove, root};
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::expect::{Ball, Expect};
 use grove_systems::hash::hex;
 use grove_systems::input::Button;
-use grove_systems::replay::{replay_file, ReplayOptions};
-use grove_systems::scenario::run::{run, RunOptions};
+use grove_systems::replay::{ReplayOptions, replay_file};
+use grove_systems::scenario::run::{RunOptions, run};
 use grove_systems::scenario::{Loaded, Step};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::targets::TreeRef;
-use grove_systems::Sim;
 
 /// The scenarios of tests/integration/scenarios.rs, each also a file under tests/scenarios/.
 const RUST_SCENARIOS: &[&str] = &["plant-two", "plant-remove", "manual-drag", "task-start"];
@@ -56,7 +56,10 @@ fn every_shipped_scenario_passes_in_grove_test() {
     let out = grove_args(&["test", "tests/scenarios", "--keep"], &[keep.path()]);
     let (stdout, stderr) = text(&out);
     assert_eq!(out.status.code(), Some(0), "stdout: {stdout}\nstderr: {stderr}");
-    let files = std::fs::read_dir(root().join("tests/scenarios")).unwrap().filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "ron")).count();
+    let files = std::fs::read_dir(root().join("tests/scenarios"))
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "ron"))
+        .count();
     assert!(files >= RUST_SCENARIOS.len() + 1, "the Rust scenarios and drag-snap are files");
     let passed: Vec<&str> = stdout.lines().filter(|l| l.starts_with("pass  ")).collect();
     assert_eq!(passed.len(), files, "one pass line per file: {stdout}");
@@ -66,7 +69,8 @@ fn every_shipped_scenario_passes_in_grove_test() {
     assert_eq!(std::fs::read_dir(keep.path()).unwrap().count(), 0, "nothing is kept when everything passes");
     // One at a time, the same results in the same order.
     let serial = grove_args(&["test", "tests/scenarios", "--jobs", "1", "--keep"], &[keep.path()]);
-    let verdicts = |s: &str| s.lines().map(|l| l.split_whitespace().take(2).collect::<Vec<_>>().join(" ")).collect::<Vec<_>>();
+    let verdicts =
+        |s: &str| s.lines().map(|l| l.split_whitespace().take(2).collect::<Vec<_>>().join(" ")).collect::<Vec<_>>();
     assert_eq!(verdicts(&text(&serial).0), verdicts(&stdout));
 }
 
@@ -75,9 +79,24 @@ fn a_target_that_cannot_be_found_fails_the_step_saying_why() {
     let dir = tempfile::tempdir().unwrap();
     let keep = dir.path().join("kept").display().to_string();
     let cases = [
-        ("unnamed", "at: Tree(tree: Named(\"young birch\"), offset", "at: Tree(tree: Named(\"old oak\"), offset", "step 5 Mark(name: \"grab\", at: Tree(tree: Named(\"old oak\"), offset: (0.0, 2.0, 0.0))): cannot find the target: no tree is named \"old oak\""),
-        ("unplanted", "Name(name: \"young birch\", tree: Last)", "Name(name: \"young birch\", tree: Planted(2))", "step 4 Name(name: \"young birch\", tree: Planted(2)): cannot find the target: tree Planted(2) does not exist: 1 trees have been planted so far"),
-        ("no-task", "PointAt(Mark(name: \"grab\"))", "PointAt(Target(1))", "step 6 PointAt(Target(1)): cannot find the target: no task is running"),
+        (
+            "unnamed",
+            "at: Tree(tree: Named(\"young birch\"), offset",
+            "at: Tree(tree: Named(\"old oak\"), offset",
+            "step 5 Mark(name: \"grab\", at: Tree(tree: Named(\"old oak\"), offset: (0.0, 2.0, 0.0))): cannot find the target: no tree is named \"old oak\"",
+        ),
+        (
+            "unplanted",
+            "Name(name: \"young birch\", tree: Last)",
+            "Name(name: \"young birch\", tree: Planted(2))",
+            "step 4 Name(name: \"young birch\", tree: Planted(2)): cannot find the target: tree Planted(2) does not exist: 1 trees have been planted so far",
+        ),
+        (
+            "no-task",
+            "PointAt(Mark(name: \"grab\"))",
+            "PointAt(Target(1))",
+            "step 6 PointAt(Target(1)): cannot find the target: no task is running",
+        ),
     ];
     for (name, from, to, needle) in cases {
         let path = mutant(dir.path(), name, &shipped_text("drag-snap"), from, to);
@@ -96,11 +115,18 @@ fn the_scenario_files_reach_the_rust_scenarios_recorded_worlds() {
         let loaded = Loaded::load(&shipped(name)).unwrap_or_else(|e| panic!("{e}"));
         let outcome = run(&loaded, &RunOptions::default()).unwrap();
         assert!(outcome.failure.is_none(), "{name}: {:?}", outcome.failure);
-        let recorded = replay_file(&root().join("replays/scenarios").join(format!("{name}.jsonl")), &ReplayOptions::default()).unwrap();
+        let recorded =
+            replay_file(&root().join("replays/scenarios").join(format!("{name}.jsonl")), &ReplayOptions::default())
+                .unwrap();
         assert_eq!(outcome.ticks, recorded.sim.tick(), "{name}: the same number of ticks");
         let want = hex(recorded.sim.hash().total);
         assert_eq!(hex(outcome.sim.hash().total), want, "{name}: the world of the Rust scenario's recording");
-        let pinned: Vec<&String> = loaded.scenario.expect.iter().filter_map(|e| if let Expect::Hash(h) = e { Some(h) } else { None }).collect();
+        let pinned: Vec<&String> = loaded
+            .scenario
+            .expect
+            .iter()
+            .filter_map(|e| if let Expect::Hash(h) = e { Some(h) } else { None })
+            .collect();
         assert_eq!(pinned, vec![&want], "{name}: the pinned hash is the recording's final hash");
     }
 }
@@ -132,11 +158,13 @@ fn mutated_files_are_refused_in_one_line() {
 fn an_expectation_that_cannot_hold_fails_naming_the_step_and_keeps_the_recording() {
     let dir = tempfile::tempdir().unwrap();
     let keep = dir.path().join("kept");
-    let path = mutant(dir.path(), "five-trees", &shipped_text("plant-two"), "Expect(TreeCount(4))", "Expect(TreeCount(5))");
+    let path =
+        mutant(dir.path(), "five-trees", &shipped_text("plant-two"), "Expect(TreeCount(4))", "Expect(TreeCount(5))");
     let out = grove_args(&["test", "--keep", &keep.display().to_string()], &[&path]);
     let (stdout, stderr) = text(&out);
     assert_eq!(out.status.code(), Some(1), "stdout: {stdout}\nstderr: {stderr}");
-    let line = stdout.lines().find(|l| l.starts_with("FAIL  five-trees")).unwrap_or_else(|| panic!("a FAIL line: {stdout}"));
+    let line =
+        stdout.lines().find(|l| l.starts_with("FAIL  five-trees")).unwrap_or_else(|| panic!("a FAIL line: {stdout}"));
     assert!(line.contains("step 8 Expect(TreeCount(5))"), "names the step: {line}");
     assert!(line.contains("expected 5, actual 4"), "expected and actual: {line}");
     let kept = keep.join("five-trees.jsonl");
@@ -153,7 +181,13 @@ fn an_expectation_that_cannot_hold_fails_naming_the_step_and_keeps_the_recording
 #[test]
 fn a_wait_until_timeout_names_the_condition() {
     let dir = tempfile::tempdir().unwrap();
-    let path = mutant(dir.path(), "wait-nine", &shipped_text("plant-two"), "Wait(30),", "WaitUntil(until: TreeCount(9), timeout: 20),");
+    let path = mutant(
+        dir.path(),
+        "wait-nine",
+        &shipped_text("plant-two"),
+        "Wait(30),",
+        "WaitUntil(until: TreeCount(9), timeout: 20),",
+    );
     let out = grove_args(&["test", "--keep", &dir.path().join("kept").display().to_string()], &[&path]);
     let (stdout, _) = text(&out);
     assert_eq!(out.status.code(), Some(1), "{stdout}");
@@ -162,7 +196,13 @@ fn a_wait_until_timeout_names_the_condition() {
     assert!(stdout.contains("expected 9, actual 4"), "{stdout}");
     // A condition that comes true in time passes the step.
     let unpinned = shipped_text("plant-two").lines().filter(|l| !l.contains("Hash(")).collect::<Vec<_>>().join("\n");
-    let path = mutant(dir.path(), "wait-four", &unpinned, "Wait(30),", "WaitUntil(until: TreeCount(4), timeout: 20), Wait(30),");
+    let path = mutant(
+        dir.path(),
+        "wait-four",
+        &unpinned,
+        "Wait(30),",
+        "WaitUntil(until: TreeCount(4), timeout: 20), Wait(30),",
+    );
     let out = grove_args(&["test"], &[&path]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out).0);
 }
@@ -177,7 +217,10 @@ fn drag_and_snap_fails_at_the_anchor_ball_under_a_tiny_snap_threshold() {
     let (stdout, _) = text(&out);
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     let line = stdout.lines().find(|l| l.starts_with("FAIL  drag-snap")).unwrap_or_else(|| panic!("{stdout}"));
-    assert!(line.contains("Expect(AnchorBall(White))") && line.contains("the anchor ball: expected white, actual green"), "{line}");
+    assert!(
+        line.contains("Expect(AnchorBall(White))") && line.contains("the anchor ball: expected white, actual green"),
+        "{line}"
+    );
     // The kept recording carries the override, so it replays as it ran.
     let rec = std::fs::read_to_string(dir.path().join("drag-snap.jsonl")).unwrap();
     assert!(rec.lines().next().unwrap().contains("\"snap_threshold\":\"0.01\""), "{}", rec.lines().next().unwrap());
@@ -198,7 +241,10 @@ fn junit_output_is_read_by_junitparser_with_the_right_counts_and_times() {
     mutant(dir.path(), "broken", &shipped_text("plant-remove"), "TreeCount(2)", "TreeCount(7)");
     let xml = dir.path().join("out").join("results.xml");
     std::fs::create_dir(xml.parent().unwrap()).unwrap();
-    let out = grove_args(&["test", "--keep", &dir.path().join("kept").display().to_string(), "--junit", &xml.display().to_string()], &[dir.path()]);
+    let out = grove_args(
+        &["test", "--keep", &dir.path().join("kept").display().to_string(), "--junit", &xml.display().to_string()],
+        &[dir.path()],
+    );
     let (stdout, stderr) = text(&out);
     assert_eq!(out.status.code(), Some(1), "stdout: {stdout}\nstderr: {stderr}");
     let script = r#"
@@ -218,7 +264,12 @@ print(json.dumps({"suites": len(suites), "tests": sum(s.tests for s in suites),
                   "failures": sum(s.failures for s in suites), "errors": sum(s.errors for s in suites),
                   "time": sum(s.time for s in suites), "cases": cases}))
 "#;
-    let py = std::process::Command::new(python()).arg("-c").arg(script).arg(&xml).output().unwrap_or_else(|e| panic!("cannot run {} ({e}); set GROVE_PYTHON", python()));
+    let py = std::process::Command::new(python())
+        .arg("-c")
+        .arg(script)
+        .arg(&xml)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {} ({e}); set GROVE_PYTHON", python()));
     assert!(py.status.success(), "junitparser: {}", String::from_utf8_lossy(&py.stderr));
     let got: serde_json::Value = serde_json::from_slice(&py.stdout).unwrap();
     assert_eq!(got["suites"], 1);
@@ -270,31 +321,52 @@ fn a_recording_becomes_a_scenario_that_passes() {
     assert_eq!(out.status.code(), Some(0), "{:?}", text(&out));
     let loaded = Loaded::load(&out_path).unwrap_or_else(|e| panic!("{e}"));
     // The Rust script chose models 2 and 5 by index and aimed at (1, 0, −3) and (−5, 0, −4).
-    let chosen: Vec<&str> = loaded.scenario.steps.iter().filter_map(|s| if let Step::ChooseModel(m) = s { Some(m.as_str()) } else { None }).collect();
+    let chosen: Vec<&str> = loaded
+        .scenario
+        .steps
+        .iter()
+        .filter_map(|s| if let Step::ChooseModel(m) = s { Some(m.as_str()) } else { None })
+        .collect();
     assert_eq!(chosen, ["birch-mesh", "conifer-billboard"]);
-    let near = |model: &str, p: Vec3| loaded.scenario.expect.iter().any(|e| matches!(e, Expect::TreeNear { model: m, point, .. } if m == model && (point.x - p.x).hypot(point.z - p.z) < 0.5));
-    assert!(near("birch-mesh", Vec3::new(1.0, 0.0, -3.0)) && near("conifer-billboard", Vec3::new(-5.0, 0.0, -4.0)), "{:?}", loaded.scenario.expect);
+    let near = |model: &str, p: Vec3| {
+        loaded.scenario.expect.iter().any(|e| matches!(e, Expect::TreeNear { model: m, point, .. } if m == model && (point.x - p.x).hypot(point.z - p.z) < 0.5))
+    };
+    assert!(
+        near("birch-mesh", Vec3::new(1.0, 0.0, -3.0)) && near("conifer-billboard", Vec3::new(-5.0, 0.0, -4.0)),
+        "{:?}",
+        loaded.scenario.expect
+    );
     assert!(loaded.scenario.expect.contains(&Expect::TreeCount(4)));
     let ran = grove_args(&["test"], &[&out_path]);
     assert_eq!(ran.status.code(), Some(0), "{}", text(&ran).0);
     // A draft of a manual-mode session with a touchpad push and a drag also runs as written.
     let drag = dir.path().join("drag.ron");
     let rec = root().join("replays/scenarios/manual-drag.jsonl");
-    assert_eq!(grove_args(&["scenario", "from-recording", &rec.display().to_string(), "--out"], &[&drag]).status.code(), Some(0));
+    assert_eq!(
+        grove_args(&["scenario", "from-recording", &rec.display().to_string(), "--out"], &[&drag]).status.code(),
+        Some(0)
+    );
     let ran = grove_args(&["test"], &[&drag]);
     assert_eq!(ran.status.code(), Some(0), "{}", text(&ran).0);
     // A synthetic participant's whole task: the draft plants every target's model at its
     // place (tolerance 0.5 m, as in the task file) and completes the task.
     let task = dir.path().join("task.ron");
     let rec = root().join("replays/study/P01-ray-casting-7.jsonl");
-    assert_eq!(grove_args(&["scenario", "from-recording", &rec.display().to_string(), "--out"], &[&task]).status.code(), Some(0));
+    assert_eq!(
+        grove_args(&["scenario", "from-recording", &rec.display().to_string(), "--out"], &[&task]).status.code(),
+        Some(0)
+    );
     let drafted = Loaded::load(&task).unwrap_or_else(|e| panic!("{e}"));
     let def = grove_systems::task::TaskDef::builtin("ray-casting-7").unwrap();
     for t in &def.targets {
         let hit = drafted.scenario.expect.iter().any(|e| matches!(e, Expect::TreeNear { model, point, .. } if *model == t.model && (point.x - t.position.x).hypot(point.z - t.position.z) <= 0.5));
         assert!(hit, "a {} near {}: {:?}", t.model, t.position, drafted.scenario.expect);
     }
-    assert!(drafted.scenario.expect.iter().any(|e| matches!(e, Expect::TaskCompleted { .. })), "{:?}", drafted.scenario.expect);
+    assert!(
+        drafted.scenario.expect.iter().any(|e| matches!(e, Expect::TaskCompleted { .. })),
+        "{:?}",
+        drafted.scenario.expect
+    );
     assert_eq!(grove_args(&["test"], &[&task]).status.code(), Some(0));
     // An existing file is not overwritten.
     let again = grove_args(&["scenario", "from-recording", &rec.display().to_string(), "--out"], &[&out_path]);
@@ -322,13 +394,23 @@ fn the_rust_script_targets_trees_by_name_and_checks_expectations() {
     // The scene's own conifer stands at (-11, 0, -13).
     let conifer = s.tree_id(&TreeRef::Nearest(-10.0, 0.0, -12.0)).unwrap();
     assert_eq!(s.sim().catalogue().get(s.sim().tree(conifer).unwrap().tree.model).unwrap().name, "conifer-mesh");
-    assert!(s.check(&Expect::TreeNear { model: "birch-mesh".into(), point: Vec3::new(-3.0, 0.0, -3.0), within: 0.5 }).is_ok());
-    let m = s.check(&Expect::TreeNear { model: "broadleaf-mesh".into(), point: Vec3::new(2.0, 0.0, -2.0), within: 0.5 }).unwrap_err();
+    assert!(
+        s.check(&Expect::TreeNear { model: "birch-mesh".into(), point: Vec3::new(-3.0, 0.0, -3.0), within: 0.5 })
+            .is_ok()
+    );
+    let m = s
+        .check(&Expect::TreeNear { model: "broadleaf-mesh".into(), point: Vec3::new(2.0, 0.0, -2.0), within: 0.5 })
+        .unwrap_err();
     assert_eq!(m.actual, "no broadleaf-mesh tree");
     let tick = s.sim().tick();
     let m = s.wait_until(&Expect::AnchorBall(Ball::White), 15).unwrap_err();
     assert_eq!(s.sim().tick(), tick + 15, "waited exactly the timeout");
-    assert!(m.what.contains("timed out after 15 ticks waiting until AnchorBall(White)") && m.expected == "white" && m.actual == "hidden", "{m}");
+    assert!(
+        m.what.contains("timed out after 15 ticks waiting until AnchorBall(White)")
+            && m.expected == "white"
+            && m.actual == "hidden",
+        "{m}"
+    );
 }
 
 /// The first example of docs/scenarios.md, as a reader would save it, passes; with the tree
@@ -348,7 +430,10 @@ fn the_example_in_the_documentation_runs_as_documented() {
     let keep = dir.path().join("kept");
     let out = grove_args(&["test", "--keep", &keep.display().to_string()], &[&path]);
     assert_eq!(out.status.code(), Some(1));
-    let line = format!("end expectation TreeCount(4): the number of trees: expected 4, actual 3; recording: {}", keep.join("plant.jsonl").display());
+    let line = format!(
+        "end expectation TreeCount(4): the number of trees: expected 4, actual 3; recording: {}",
+        keep.join("plant.jsonl").display()
+    );
     assert!(text(&out).0.contains(&line), "{}", text(&out).0);
     assert!(doc.contains("end expectation TreeCount(4): the number of trees: expected 4, actual 3; recording: target/grove-test/plant.jsonl"), "the document shows that line");
 }

@@ -17,7 +17,11 @@ fn run_file(dir: &Path, name: &str, text: &str) -> (Option<i32>, String) {
     let keep = dir.join("kept");
     let out = grove(&["test", "--keep", &keep.display().to_string(), &path.display().to_string()]);
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    let line = stdout.lines().find(|l| l.split_whitespace().nth(1) == Some(name)).map(str::to_string).unwrap_or_else(|| panic!("{name}: no result line: {out:?}"));
+    let line = stdout
+        .lines()
+        .find(|l| l.split_whitespace().nth(1) == Some(name))
+        .map(str::to_string)
+        .unwrap_or_else(|| panic!("{name}: no result line: {out:?}"));
     (out.status.code(), line)
 }
 
@@ -32,8 +36,14 @@ fn the_study_tasks_written_as_intent_steps_complete() {
     let dir = tempfile::tempdir().unwrap();
     let task = TaskDef::builtin("ray-casting-7").unwrap();
     let mut steps = vec!["StartTask(\"ray-casting-7\")".to_string()];
-    steps.extend(task.targets.iter().enumerate().map(|(i, t)| format!("Plant(model: \"{}\", at: Target({}))", t.model, i + 1)));
-    let (code, line) = run_file(dir.path(), "plant-seven", &scenario("study", &steps, "TaskCompleted(within_s: 30.0), NoErrors, TreeCount(9)"));
+    steps.extend(
+        task.targets.iter().enumerate().map(|(i, t)| format!("Plant(model: \"{}\", at: Target({}))", t.model, i + 1)),
+    );
+    let (code, line) = run_file(
+        dir.path(),
+        "plant-seven",
+        &scenario("study", &steps, "TaskCompleted(within_s: 30.0), NoErrors, TreeCount(9)"),
+    );
     assert_eq!(code, Some(0), "{line}");
 
     let task = TaskDef::builtin("manual-7").unwrap();
@@ -42,12 +52,22 @@ fn the_study_tasks_written_as_intent_steps_complete() {
         steps.push(format!("ChooseModel(\"{}\")", t.model));
         steps.push(format!("Drag(tree: Last, to: Target({}))", i + 1));
     }
-    let (code, line) = run_file(dir.path(), "drag-seven", &scenario("study", &steps, "TaskCompleted(within_s: 60.0), NoErrors, Logged(kind: \"snapped\", count: 7)"));
+    let (code, line) = run_file(
+        dir.path(),
+        "drag-seven",
+        &scenario("study", &steps, "TaskCompleted(within_s: 60.0), NoErrors, Logged(kind: \"snapped\", count: 7)"),
+    );
     assert_eq!(code, Some(0), "{line}");
 
     // Plant, then Remove by name.
-    let steps = ["Plant(model: \"shrub-billboard\", at: Point(1.0, 0.0, -3.0))", "Name(name: \"bush\", tree: Last)", "Remove(Named(\"bush\"))"].map(String::from);
-    let (code, line) = run_file(dir.path(), "remove", &scenario("study", &steps, "TreeCount(2), Logged(kind: \"removed\", count: 1)"));
+    let steps = [
+        "Plant(model: \"shrub-billboard\", at: Point(1.0, 0.0, -3.0))",
+        "Name(name: \"bush\", tree: Last)",
+        "Remove(Named(\"bush\"))",
+    ]
+    .map(String::from);
+    let (code, line) =
+        run_file(dir.path(), "remove", &scenario("study", &steps, "TreeCount(2), Logged(kind: \"removed\", count: 1)"));
     assert_eq!(code, Some(0), "{line}");
 }
 
@@ -57,20 +77,53 @@ fn intent_steps_fail_naming_why() {
     let dir = tempfile::tempdir().unwrap();
     let cases: [(&str, &str, Vec<&str>, &str); 5] = [
         // A tree is planted only in ray-casting mode.
-        ("plant-manual", "study", vec!["SwitchTechnique(\"manual\")", "Plant(model: \"birch-mesh\", at: Point(1.0, 0.0, -3.0))"], "step 2 Plant(model: \"birch-mesh\", at: Point(1.0, 0.0, -3.0)): Plant plants in ray-casting mode"),
+        (
+            "plant-manual",
+            "study",
+            vec!["SwitchTechnique(\"manual\")", "Plant(model: \"birch-mesh\", at: Point(1.0, 0.0, -3.0))"],
+            "step 2 Plant(model: \"birch-mesh\", at: Point(1.0, 0.0, -3.0)): Plant plants in ray-casting mode",
+        ),
         // Nothing is planted on water.
-        ("plant-water", "assets/scenes/pond.ron", vec!["Plant(model: \"birch-mesh\", at: Point(0.0, -0.15, -6.0))"], "step 1 Plant(model: \"birch-mesh\", at: Point(0.0, -0.15, -6.0)): nothing was planted: the ray met water"),
+        (
+            "plant-water",
+            "assets/scenes/pond.ron",
+            vec!["Plant(model: \"birch-mesh\", at: Point(0.0, -0.15, -6.0))"],
+            "step 1 Plant(model: \"birch-mesh\", at: Point(0.0, -0.15, -6.0)): nothing was planted: the ray met water",
+        ),
         // A tree behind another is not the tree the Bumper meets.
         (
             "remove-hidden",
             "study",
-            vec!["Plant(model: \"shrub-billboard\", at: Point(0.0, 0.0, -6.0))", "Name(name: \"small\", tree: Last)", "Plant(model: \"broadleaf-mesh\", at: Point(0.0, 0.0, -2.0))", "Remove(Named(\"small\"))"],
+            vec![
+                "Plant(model: \"shrub-billboard\", at: Point(0.0, 0.0, -6.0))",
+                "Name(name: \"small\", tree: Last)",
+                "Plant(model: \"broadleaf-mesh\", at: Point(0.0, 0.0, -2.0))",
+                "Remove(Named(\"small\"))",
+            ],
             "step 4 Remove(Named(\"small\")): the ray meets broadleaf-mesh (planted 2nd, removed by this press) at ",
         ),
         // Carried to a point 1.5 m above the ground, the tree is released green.
-        ("drag-air", "study", vec!["SwitchTechnique(\"manual\")", "ChooseModel(\"birch-mesh\")", "Drag(tree: Last, to: Point(2.0, 1.5, -3.0))"], "step 3 Drag(tree: Last, to: Point(2.0, 1.5, -3.0)): the tree Last did not snap to the ground at Point(2.0, 1.5, -3.0): the anchor ball was green ("),
+        (
+            "drag-air",
+            "study",
+            vec![
+                "SwitchTechnique(\"manual\")",
+                "ChooseModel(\"birch-mesh\")",
+                "Drag(tree: Last, to: Point(2.0, 1.5, -3.0))",
+            ],
+            "step 3 Drag(tree: Last, to: Point(2.0, 1.5, -3.0)): the tree Last did not snap to the ground at Point(2.0, 1.5, -3.0): the anchor ball was green (",
+        ),
         // Carried over a hole, there is no ground under it.
-        ("drag-hole", "study", vec!["SwitchTechnique(\"manual\")", "ChooseModel(\"birch-mesh\")", "Drag(tree: Last, to: Point(-7.5, 0.0, -9.0))"], "did not snap to the ground at Point(-7.5, 0.0, -9.0): the anchor ball was hidden"),
+        (
+            "drag-hole",
+            "study",
+            vec![
+                "SwitchTechnique(\"manual\")",
+                "ChooseModel(\"birch-mesh\")",
+                "Drag(tree: Last, to: Point(-7.5, 0.0, -9.0))",
+            ],
+            "did not snap to the ground at Point(-7.5, 0.0, -9.0): the anchor ball was hidden",
+        ),
     ];
     for (name, scene, steps, needle) in cases {
         let steps: Vec<String> = steps.into_iter().map(String::from).collect();

@@ -47,7 +47,8 @@ fn sections(dom: &str) -> Vec<&str> {
 /// The frame (data URI) of each side and view in a step's section.
 fn frames(section: &str) -> [(String, String); 2] {
     let side = |name: &str| {
-        let i = section.find(&format!("<figure class=\"{name}\"")).unwrap_or_else(|| panic!("a {name} figure: {section}"));
+        let i =
+            section.find(&format!("<figure class=\"{name}\"")).unwrap_or_else(|| panic!("a {name} figure: {section}"));
         let fig = &section[i..i + section[i..].find("</figure>").unwrap()];
         let head = tags(fig, "img", "head").first().and_then(|t| attr(t, "src")).unwrap_or_default().to_string();
         let top = tags(fig, "image", "top-frame").first().and_then(|t| attr(t, "href")).unwrap_or_default().to_string();
@@ -84,7 +85,8 @@ fn the_trace_of_a_failed_scenario_shows_each_step_before_and_after_and_highlight
     assert!(stdout.contains(&format!("; trace: {}", page.display())), "names the trace: {stdout}");
     assert!(stdout.contains("step 4 Plant(model: \"conifer-billboard\", at: Point(0.25, 0.0, -5.3)): the ray meets broadleaf-mesh (planted 2nd)"), "{stdout}");
     // The trace and the recording, nothing half-written.
-    let mut names: Vec<String> = std::fs::read_dir(&keep).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(&keep).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     names.sort();
     assert_eq!(names, ["blocked.html", "blocked.jsonl"]);
     let html = std::fs::read_to_string(&page).unwrap();
@@ -101,15 +103,32 @@ fn the_trace_of_a_failed_scenario_shows_each_step_before_and_after_and_highlight
     for (i, s) in steps.iter().enumerate() {
         assert!(s.contains(&format!("data-step=\"{}\"", i + 1)), "{s}");
         for (side, (head, top)) in ["before", "after"].iter().zip(frames(s)) {
-            assert!(head.starts_with("data:image/jpeg;base64,") && head.len() > 1000, "step {}: a {side} frame from the head", i + 1);
-            assert!(top.starts_with("data:image/jpeg;base64,") && top.len() > 1000, "step {}: a {side} frame from above", i + 1);
+            assert!(
+                head.starts_with("data:image/jpeg;base64,") && head.len() > 1000,
+                "step {}: a {side} frame from the head",
+                i + 1
+            );
+            assert!(
+                top.starts_with("data:image/jpeg;base64,") && top.len() > 1000,
+                "step {}: a {side} frame from above",
+                i + 1
+            );
         }
         assert!(s.contains("grove view ") && s.contains(" --at "), "step {}: the command that opens it", i + 1);
     }
     // Only the failing step is highlighted, with its message, in the list too.
-    let failed: Vec<usize> = steps.iter().enumerate().filter(|(_, s)| s.starts_with("<section class=\"step failed\"")).map(|(i, _)| i + 1).collect();
+    let failed: Vec<usize> = steps
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.starts_with("<section class=\"step failed\""))
+        .map(|(i, _)| i + 1)
+        .collect();
     assert_eq!(failed, [4]);
-    assert!(steps[3].contains("class=\"message\"") && steps[3].contains("the ray meets broadleaf-mesh (planted 2nd)"), "{}", steps[3]);
+    assert!(
+        steps[3].contains("class=\"message\"") && steps[3].contains("the ray meets broadleaf-mesh (planted 2nd)"),
+        "{}",
+        steps[3]
+    );
     assert_eq!(tags(&dom, "li", "failed").len(), 1);
     // What each step did.
     assert!(steps[0].contains("planted birch-mesh (planted 1st)"), "{}", steps[0]);
@@ -123,7 +142,10 @@ fn the_trace_of_a_failed_scenario_shows_each_step_before_and_after_and_highlight
     assert!(h0 == h1 && t0 == t1, "the naming step's frames are the same");
     // The ray, the point it meets and the selection are drawn on the view from above.
     let after = &steps[3][steps[3].find("<figure class=\"after\"").unwrap()..];
-    assert!(after.contains("class=\"ray\"") && after.contains("class=\"hit\"") && after.contains("class=\"selection\""), "{after}");
+    assert!(
+        after.contains("class=\"ray\"") && after.contains("class=\"hit\"") && after.contains("class=\"selection\""),
+        "{after}"
+    );
 }
 
 #[test]
@@ -137,7 +159,10 @@ fn trace_writes_every_scenario_with_its_recording() {
     assert!(stdout.contains(&format!("trace: {}", page.display())), "{stdout}");
     let (dom, _) = chromium(&["--dump-dom"], &page);
     assert!(dom.contains("class=\"verdict pass\""), "a passing scenario's trace says so");
-    assert!(tags(&dom, "li", "failed").is_empty() && !dom.contains("section class=\"step failed\""), "nothing is highlighted");
+    assert!(
+        tags(&dom, "li", "failed").is_empty() && !dom.contains("section class=\"step failed\""),
+        "nothing is highlighted"
+    );
     let recording = traces.join("plant-two.jsonl");
     assert!(dom.contains(&format!("grove view {} --at 0", recording.display())), "the commands open its recording");
     let replayed = grove(&["replay", &recording.display().to_string()]);

@@ -15,14 +15,14 @@ use std::path::{Path, PathBuf};
 
 use common::root;
 use glam::Vec3;
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::input::Button;
-use grove_systems::replay::{record_events, replay_file, Header, ReplayOptions};
+use grove_systems::replay::{Header, ReplayOptions, record_events, replay_file};
 use grove_systems::resources::Mode;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::targets::{Aim, TreeRef};
-use grove_systems::Sim;
 
 fn study_script(seed: u64) -> Script {
     let scene = Scene::builtin("study").unwrap();
@@ -97,8 +97,13 @@ fn scenario_recordings_match_their_scripts() {
     for (name, script) in scenarios() {
         let bytes = record(name, script);
         let path = dir.join(format!("{name}.jsonl"));
-        let committed = std::fs::read(&path).unwrap_or_else(|_| panic!("{} is missing; run UPDATE_REPLAYS=1 cargo test --test integration scenarios::", path.display()));
-        assert!(committed == bytes, "{name}: the committed recording differs from its script; if the simulation changed on purpose, run UPDATE_REPLAYS=1 cargo test --test integration scenarios::");
+        let committed = std::fs::read(&path).unwrap_or_else(|_| {
+            panic!("{} is missing; run UPDATE_REPLAYS=1 cargo test --test integration scenarios::", path.display())
+        });
+        assert!(
+            committed == bytes,
+            "{name}: the committed recording differs from its script; if the simulation changed on purpose, run UPDATE_REPLAYS=1 cargo test --test integration scenarios::"
+        );
     }
 }
 
@@ -143,7 +148,9 @@ fn scenarios_do_what_they_say() {
                 assert_eq!(log.count("planted"), 1, "{name}: one tree from the menu");
                 assert!(log.count("moved") >= 1, "{name}: the tree was dragged");
             }
-            "task-start" => assert!(sim.task().is_some_and(|t| t.satisfied[0].is_some()), "{name}: the first target is satisfied"),
+            "task-start" => {
+                assert!(sim.task().is_some_and(|t| t.satisfied[0].is_some()), "{name}: the first target is satisfied")
+            }
             _ => unreachable!(),
         }
     }

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::time::Duration;
 
 use crate::common::{grove, scratch};
-use crate::serve_fixture::{append, open, push, request, study_files, study_lines, Server};
+use crate::serve_fixture::{Server, append, open, push, request, study_files, study_lines};
 
 /// The recording's name as the server makes it: `P01-manual-7.jsonl` -> `P01-manual-7-1.jsonl`.
 fn served_name(original: &Path) -> String {
@@ -21,7 +21,8 @@ fn every_study_recording_pushed_at_full_speed_comes_out_byte_for_byte_and_gives_
     assert!(files.len() >= 24);
     // Four pushes at a time.
     for group in files.chunks(4) {
-        let running: Vec<_> = group.iter().map(|f| (f.clone(), crate::serve_fixture::spawn_push(f, &server.url, &["--json"]))).collect();
+        let running: Vec<_> =
+            group.iter().map(|f| (f.clone(), crate::serve_fixture::spawn_push(f, &server.url, &["--json"]))).collect();
         for (f, child) in running {
             let out = child.wait_with_output().unwrap();
             assert!(out.status.success(), "{}: {}", f.display(), String::from_utf8_lossy(&out.stderr));
@@ -33,7 +34,8 @@ fn every_study_recording_pushed_at_full_speed_comes_out_byte_for_byte_and_gives_
         let pushed = std::fs::read(sessions.join(served_name(f))).unwrap();
         assert!(pushed == std::fs::read(f).unwrap(), "{} differs from the original", served_name(f));
     }
-    let listed: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(sessions.join("sessions.json")).unwrap()).unwrap();
+    let listed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(sessions.join("sessions.json")).unwrap()).unwrap();
     let entries = listed["sessions"].as_array().unwrap();
     assert_eq!(entries.len(), files.len());
     assert!(entries.iter().all(|e| e["state"] == "ended" && e["verification"]["status"] == "verified"), "{listed}");
@@ -68,7 +70,10 @@ fn two_sessions_at_once_write_two_files() {
     let (ida, fa) = open(&server.addr, "wa", &a[0], None);
     let (idb, fb) = open(&server.addr, "wb", &a[0], None);
     let (idc, fc) = open(&server.addr, "wc", &b[0], None);
-    assert_eq!([fa.as_str(), fb.as_str(), fc.as_str()], ["P06-manual-7-1.jsonl", "P06-manual-7-2.jsonl", "P06-ray-casting-7-1.jsonl"]);
+    assert_eq!(
+        [fa.as_str(), fb.as_str(), fc.as_str()],
+        ["P06-manual-7-1.jsonl", "P06-manual-7-2.jsonl", "P06-ray-casting-7-1.jsonl"]
+    );
     // Batches of the three interleaved.
     let (mut na, mut nc) = (1usize, 1usize);
     while na < a.len() || nc < b.len() {
@@ -87,7 +92,11 @@ fn two_sessions_at_once_write_two_files() {
     let whole = |l: &[String]| l.iter().map(|x| format!("{x}\n")).collect::<String>();
     assert_eq!(std::fs::read_to_string(dir.join(&fa)).unwrap(), whole(&a));
     assert_eq!(std::fs::read_to_string(dir.join(&fc)).unwrap(), whole(&b));
-    assert_eq!(std::fs::read_to_string(dir.join(&fb)).unwrap(), whole(&a[..1]), "the second session has only its header");
+    assert_eq!(
+        std::fs::read_to_string(dir.join(&fb)).unwrap(),
+        whole(&a[..1]),
+        "the second session has only its header"
+    );
     // The session with only its header has no checkpoint to compare: unverified, as grove replay says.
     for (id, w, status) in [(&ida, "wa", "verified"), (&idc, "wc", "verified"), (&idb, "wb", "unverified")] {
         let r = request(&server.addr, "POST", &format!("/api/sessions/{id}/end"), &[("grove-writer", w)], b"");
@@ -105,7 +114,12 @@ fn on_a_network_address_every_request_needs_the_token() {
     assert!(server.wait_log("█", Duration::from_secs(10)), "a QR code is printed: {}", server.log());
     let header = &study_lines("P07-manual-7.jsonl")[0];
     let open_body = serde_json::json!({ "header": header }).to_string();
-    for (method, path, body) in [("GET", "/api/status", ""), ("GET", "/scenes/study.ron", ""), ("GET", "/", ""), ("POST", "/api/sessions", open_body.as_str())] {
+    for (method, path, body) in [
+        ("GET", "/api/status", ""),
+        ("GET", "/scenes/study.ron", ""),
+        ("GET", "/", ""),
+        ("POST", "/api/sessions", open_body.as_str()),
+    ] {
         for auth in [None, Some("Bearer 00000000000000000000000000000000"), Some("Bearer ")] {
             let h: Vec<(&str, &str)> = auth.map(|a| vec![("authorization", a)]).unwrap_or_default();
             let r = request(&server.addr, method, path, &h, body.as_bytes());
@@ -113,7 +127,8 @@ fn on_a_network_address_every_request_needs_the_token() {
             assert!(r.body.contains("token") && !r.body.contains("sessions"), "only the refusal: {}", r.body);
         }
     }
-    let mut written: Vec<String> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut written: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     written.sort();
     assert_eq!(written, ["sessions.json", "token"], "nothing but the sessions' list and the kept token was written");
     // With the token: in the URL once (a cookie is set), then the cookie or a bearer header.
@@ -141,7 +156,11 @@ fn with_tls_auto_a_client_that_trusts_the_certificate_pushes_over_https() {
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
-        assert_eq!(std::fs::metadata(dir.join("tls/key.pem")).unwrap().permissions().mode() & 0o077, 0, "the key is its owner's alone");
+        assert_eq!(
+            std::fs::metadata(dir.join("tls/key.pem")).unwrap().permissions().mode() & 0o077,
+            0,
+            "the key is its owner's alone"
+        );
     }
     let f = Path::new("replays/study/P08-manual-7.jsonl");
     let out = push(f, &server.url, &["--ca", &cert.display().to_string()]);
@@ -184,7 +203,9 @@ fn scenes_tasks_and_models_are_served_as_they_are() {
     let index = request(&server.addr, "GET", "/", &[], b"");
     match std::fs::read_to_string(crate::common::root().join("web/dist/index.html")) {
         Ok(page) => assert_eq!(index.body, page),
-        Err(_) => assert!(index.body.contains("grove serve") && index.body.contains("/scenes/study.ron"), "{}", index.body),
+        Err(_) => {
+            assert!(index.body.contains("grove serve") && index.body.contains("/scenes/study.ron"), "{}", index.body)
+        }
     }
     let index = request(&server.addr, "GET", "/api/index", &[], b"");
     assert_eq!(index.json["tasks"], serde_json::json!(["/tasks/manual-7.ron", "/tasks/ray-casting-7.ron"]));
@@ -201,8 +222,12 @@ fn ctrl_c_flushes_every_open_session_and_a_restart_continues_it() {
     let status = server.signal(libc::SIGINT);
     assert!(status.success(), "{status}: {}", server.log());
     assert!(server.log().contains("1 sessions left open"), "{}", server.log());
-    let listed: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("sessions.json")).unwrap()).unwrap();
-    assert_eq!((listed["sessions"][0]["state"].as_str(), listed["sessions"][0]["lines"].as_u64()), (Some("open"), Some(half as u64)));
+    let listed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("sessions.json")).unwrap()).unwrap();
+    assert_eq!(
+        (listed["sessions"][0]["state"].as_str(), listed["sessions"][0]["lines"].as_u64()),
+        (Some("open"), Some(half as u64))
+    );
     let whole = |l: &[String]| l.iter().map(|x| format!("{x}\n")).collect::<String>();
     assert_eq!(std::fs::read_to_string(dir.join(&file)).unwrap(), whole(&lines[..half]));
     let server = Server::start(&dir, 0, &[]);

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::time::Duration;
 
 use crate::common::scratch;
-use crate::serve_fixture::{push, read_answer, request, Server};
+use crate::serve_fixture::{Server, push, read_answer, request};
 
 /// Whether the server has closed a connection the test holds (end of stream or a reset).
 fn closed_by_server(s: &mut TcpStream) -> bool {
@@ -49,7 +49,10 @@ fn an_address_whose_connections_are_all_busy_gets_no_more_and_another_address_is
     let busy: Vec<TcpStream> = (0..3)
         .map(|_| {
             let mut s = TcpStream::connect(&server.addr).unwrap();
-            s.write_all(b"POST /api/sessions HTTP/1.1\r\nHost: x\r\ngrove-writer: w\r\nContent-Length: 1000\r\n\r\n{\"hea").unwrap();
+            s.write_all(
+                b"POST /api/sessions HTTP/1.1\r\nHost: x\r\ngrove-writer: w\r\nContent-Length: 1000\r\n\r\n{\"hea",
+            )
+            .unwrap();
             s
         })
         .collect();

@@ -42,7 +42,9 @@ impl Server {
             .spawn()
             .expect("grove serve starts");
         let log = Arc::new(Mutex::new(String::new()));
-        for stream in [Box::new(child.stdout.take().unwrap()) as Box<dyn Read + Send>, Box::new(child.stderr.take().unwrap())] {
+        for stream in
+            [Box::new(child.stdout.take().unwrap()) as Box<dyn Read + Send>, Box::new(child.stderr.take().unwrap())]
+        {
             let log = log.clone();
             std::thread::spawn(move || {
                 for line in BufReader::new(stream).lines().map_while(Result::ok) {
@@ -54,7 +56,8 @@ impl Server {
         }
         let start = Instant::now();
         let url = loop {
-            if let Some(u) = log.lock().unwrap().split("listening on ").nth(1).and_then(|r| r.split_whitespace().next()) {
+            if let Some(u) = log.lock().unwrap().split("listening on ").nth(1).and_then(|r| r.split_whitespace().next())
+            {
                 break u.to_string();
             }
             if let Ok(Some(status)) = child.try_wait() {
@@ -100,7 +103,15 @@ impl Server {
     /// The server's resident memory peak (VmHWM), KiB.
     pub fn peak_kib(&self) -> u64 {
         let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();
-        status.lines().find_map(|l| l.strip_prefix("VmHWM:")).unwrap().split_whitespace().next().unwrap().parse().unwrap()
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix("VmHWM:"))
+            .unwrap()
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
     }
 }
 
@@ -150,7 +161,12 @@ pub fn read_answer(s: &mut TcpStream) -> Answer {
     let text = String::from_utf8_lossy(&raw).into_owned();
     let (head, body) = text.split_once("\r\n\r\n").unwrap_or((&text, ""));
     let status = head.split_whitespace().nth(1).and_then(|c| c.parse().ok()).unwrap_or(0);
-    Answer { status, json: serde_json::from_str(body.trim()).unwrap_or(serde_json::Value::Null), head: head.to_string(), body: body.to_string() }
+    Answer {
+        status,
+        json: serde_json::from_str(body.trim()).unwrap_or(serde_json::Value::Null),
+        head: head.to_string(),
+        body: body.to_string(),
+    }
 }
 
 /// A session opened with a header line by writer `w`; returns its id and file name.
@@ -179,7 +195,11 @@ pub fn study_lines(name: &str) -> Vec<String> {
 
 /// Every study recording's path, sorted.
 pub fn study_files() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("replays/study")).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "jsonl")).collect();
+    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("replays/study"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "jsonl"))
+        .collect();
     v.sort();
     v
 }
@@ -195,12 +215,28 @@ pub fn wait_lines(path: &Path, n: usize, timeout: Duration) {
 
 /// Runs `grove serve push FILE --to URL ARGS…`.
 pub fn push(file: &Path, url: &str, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_grove")).args(["serve", "push"]).arg(file).args(["--to", url]).args(args).current_dir(root()).output().unwrap()
+    Command::new(env!("CARGO_BIN_EXE_grove"))
+        .args(["serve", "push"])
+        .arg(file)
+        .args(["--to", url])
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap()
 }
 
 /// Starts `grove serve push` without waiting.
 pub fn spawn_push(file: &Path, url: &str, args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_grove")).args(["serve", "push"]).arg(file).args(["--to", url]).args(args).current_dir(root()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap()
+    Command::new(env!("CARGO_BIN_EXE_grove"))
+        .args(["serve", "push"])
+        .arg(file)
+        .args(["--to", url])
+        .args(args)
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
 }
 
 /// A TCP proxy to `target` on its own port. While dropped, bytes go nowhere and new
@@ -255,7 +291,10 @@ fn forward(client: TcpStream, target: &str, dropped: &Arc<AtomicBool>, generatio
         return;
     }
     let Ok(server) = TcpStream::connect(target) else { return };
-    for (from, to) in [(client.try_clone().unwrap(), server.try_clone().unwrap()), (server.try_clone().unwrap(), client.try_clone().unwrap())] {
+    for (from, to) in [
+        (client.try_clone().unwrap(), server.try_clone().unwrap()),
+        (server.try_clone().unwrap(), client.try_clone().unwrap()),
+    ] {
         let (d, g) = (dropped.clone(), generation.clone());
         std::thread::spawn(move || pipe(from, to, &d, &g, born));
     }
@@ -266,7 +305,13 @@ fn forward(client: TcpStream, target: &str, dropped: &Arc<AtomicBool>, generatio
     let _ = server.shutdown(Shutdown::Both);
 }
 
-fn pipe(mut from: TcpStream, mut to: TcpStream, dropped: &AtomicBool, generation: &std::sync::atomic::AtomicU64, born: u64) {
+fn pipe(
+    mut from: TcpStream,
+    mut to: TcpStream,
+    dropped: &AtomicBool,
+    generation: &std::sync::atomic::AtomicU64,
+    born: u64,
+) {
     from.set_read_timeout(Some(Duration::from_millis(50))).unwrap();
     let mut buf = [0u8; 16384];
     loop {

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use crate::common::scratch;
-use crate::serve_fixture::{append, open, push, read_answer, request, study_lines, Server};
+use crate::serve_fixture::{Server, append, open, push, read_answer, request, study_lines};
 
 fn whole(lines: &[String]) -> String {
     lines.iter().map(|l| format!("{l}\n")).collect()
@@ -17,7 +17,11 @@ fn whole(lines: &[String]) -> String {
 fn still_serving(server: &Server) {
     assert_eq!(request(&server.addr, "GET", "/api/status", &[], b"").status, 200, "{}", server.log());
     let out = push(Path::new("replays/study/P12-ray-casting-7.jsonl"), &server.url, &[]);
-    assert!(out.status.success() && String::from_utf8_lossy(&out.stdout).contains("verified"), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success() && String::from_utf8_lossy(&out.stdout).contains("verified"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 /// A session with its first `n` lines written; returns (id, file, lines).
@@ -47,7 +51,9 @@ fn bad_lines_are_refused_with_their_reason_and_the_session_goes_on_from_the_last
     let unknown_model = {
         let prev = u32::from_str_radix(&lines[29][lines[29].len() - 10..lines[29].len() - 2], 16).unwrap();
         let tick: u64 = serde_json::from_str::<serde_json::Value>(&lines[29]).unwrap()["tick"].as_u64().unwrap();
-        let body = format!("{{\"type\":\"event\",\"tick\":{tick},\"ms\":0,\"frame\":0,\"event\":{{\"kind\":\"choose_model\",\"model\":\"no-such-tree\"}}}}");
+        let body = format!(
+            "{{\"type\":\"event\",\"tick\":{tick},\"ms\":0,\"frame\":0,\"event\":{{\"kind\":\"choose_model\",\"model\":\"no-such-tree\"}}}}"
+        );
         grove_systems::replay::sign_body(&body, prev).0
     };
     for (bad, status, reason) in [
@@ -61,19 +67,38 @@ fn bad_lines_are_refused_with_their_reason_and_the_session_goes_on_from_the_last
         assert_eq!(r.status, status, "{}", r.body);
         assert!(r.json["error"].as_str().unwrap().contains(reason), "{}", r.body);
         assert_eq!(r.json["acked"], 30);
-        assert_eq!(std::fs::read_to_string(dir.join(&file)).unwrap(), whole(&lines[..30]), "nothing past the last good line");
+        assert_eq!(
+            std::fs::read_to_string(dir.join(&file)).unwrap(),
+            whole(&lines[..30]),
+            "nothing past the last good line"
+        );
     }
     // A line without its newline is not taken either.
-    let r = request(&server.addr, "POST", &format!("/api/sessions/{id}/lines?from=31"), &[("grove-writer", "w")], lines[30].as_bytes());
+    let r = request(
+        &server.addr,
+        "POST",
+        &format!("/api/sessions/{id}/lines?from=31"),
+        &[("grove-writer", "w")],
+        lines[30].as_bytes(),
+    );
     assert_eq!((r.status, r.json["acked"].as_u64()), (400, Some(30)), "{}", r.body);
     // A batch that does not start at the next line is refused with the count.
     let r = append(&server.addr, "w", &id, 40, &lines[39..41]);
-    assert_eq!((r.status, r.json["code"].as_str(), r.json["acked"].as_u64()), (409, Some("gap"), Some(30)), "{}", r.body);
+    assert_eq!(
+        (r.status, r.json["code"].as_str(), r.json["acked"].as_u64()),
+        (409, Some("gap"), Some(30)),
+        "{}",
+        r.body
+    );
     // The session goes on from the last good line.
     assert_eq!(append(&server.addr, "w", &id, 31, &lines[30..]).json["acked"].as_u64(), Some(lines.len() as u64));
     let r = request(&server.addr, "POST", &format!("/api/sessions/{id}/end"), &[("grove-writer", "w")], b"");
     assert_eq!(r.json["verification"]["status"], "verified", "{}", r.body);
-    assert!(server.log().contains("refused a line of P01-ray-casting-7-1.jsonl: line 31: checksum mismatch"), "{}", server.log());
+    assert!(
+        server.log().contains("refused a line of P01-ray-casting-7-1.jsonl: line 31: checksum mismatch"),
+        "{}",
+        server.log()
+    );
     still_serving(&server);
 }
 
@@ -87,9 +112,14 @@ fn a_ten_megabyte_line_is_refused_without_being_held() {
     body.push(b'\n');
     body.extend(std::iter::repeat_n(b'x', 10 << 20));
     body.push(b'\n');
-    let r = request(&server.addr, "POST", &format!("/api/sessions/{id}/lines?from=13"), &[("grove-writer", "w")], &body);
+    let r =
+        request(&server.addr, "POST", &format!("/api/sessions/{id}/lines?from=13"), &[("grove-writer", "w")], &body);
     assert_eq!(r.status, 413, "{}", r.body);
-    assert!(r.json["error"].as_str().unwrap().contains("line 14 is longer than the limit of 1048576 bytes"), "{}", r.body);
+    assert!(
+        r.json["error"].as_str().unwrap().contains("line 14 is longer than the limit of 1048576 bytes"),
+        "{}",
+        r.body
+    );
     assert_eq!(r.json["acked"], 13, "the good line before it is written");
     assert_eq!(std::fs::read_to_string(dir.join(&file)).unwrap(), whole(&lines[..13]));
     let grown = server.peak_kib().saturating_sub(before);
@@ -106,27 +136,68 @@ fn a_participant_id_that_is_a_path_is_refused_and_nothing_is_made() {
     let dir = scratch("serve-ids");
     let server = Server::start(&dir.join("sessions"), 0, &[]);
     let mut header: serde_json::Value = serde_json::from_str(&study_lines("P03-manual-7.jsonl")[0]).unwrap();
-    for (field, value, reason) in [("participant", "../../etc/x", "participant \"../../etc/x\" is not allowed"), ("participant", "a/b", "not allowed"), ("task", "../x", "task \"../x\" is not allowed"), ("scene", "/etc/passwd", "scene")] {
+    for (field, value, reason) in [
+        ("participant", "../../etc/x", "participant \"../../etc/x\" is not allowed"),
+        ("participant", "a/b", "not allowed"),
+        ("task", "../x", "task \"../x\" is not allowed"),
+        ("scene", "/etc/passwd", "scene"),
+    ] {
         let mut h = header.clone();
         h[field] = serde_json::json!(value);
-        let body = h.as_object().unwrap().iter().filter(|(k, _)| *k != "sum").map(|(k, v)| format!("\"{k}\":{v}")).collect::<Vec<_>>().join(",");
+        let body = h
+            .as_object()
+            .unwrap()
+            .iter()
+            .filter(|(k, _)| *k != "sum")
+            .map(|(k, v)| format!("\"{k}\":{v}"))
+            .collect::<Vec<_>>()
+            .join(",");
         let line = grove_systems::replay::sign_body(&format!("{{{body}}}"), 0).0;
-        let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "header": line }).to_string().as_bytes());
+        let r = request(
+            &server.addr,
+            "POST",
+            "/api/sessions",
+            &[("grove-writer", "w")],
+            serde_json::json!({ "header": line }).to_string().as_bytes(),
+        );
         assert_eq!(r.status, 400, "{}", r.body);
         assert!(r.json["error"].as_str().unwrap().contains(reason), "{field}: {}", r.body);
         // The same by fields.
-        let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "participant": if field == "participant" { value } else { "P03" }, field: value }).to_string().as_bytes());
+        let r = request(
+            &server.addr,
+            "POST",
+            "/api/sessions",
+            &[("grove-writer", "w")],
+            serde_json::json!({ "participant": if field == "participant" { value } else { "P03" }, field: value })
+                .to_string()
+                .as_bytes(),
+        );
         assert_eq!(r.status, 400, "{}", r.body);
     }
-    let names: Vec<String> = std::fs::read_dir(dir.join("sessions")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let names: Vec<String> = std::fs::read_dir(dir.join("sessions"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     assert_eq!(names, ["sessions.json"]);
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "nothing beside the folder either");
     // An open request without its client's name is refused before the header is read.
-    let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "header": study_lines("P03-manual-7.jsonl")[0] }).to_string().as_bytes());
+    let r = request(
+        &server.addr,
+        "POST",
+        "/api/sessions",
+        &[],
+        serde_json::json!({ "header": study_lines("P03-manual-7.jsonl")[0] }).to_string().as_bytes(),
+    );
     assert_eq!(r.status, 400, "{}", r.body);
     assert!(r.json["error"].as_str().unwrap().contains("an open request needs the Grove-Writer header"), "{}", r.body);
     header["sum"] = serde_json::json!("00000000");
-    let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "header": header.to_string() }).to_string().as_bytes());
+    let r = request(
+        &server.addr,
+        "POST",
+        "/api/sessions",
+        &[("grove-writer", "w")],
+        serde_json::json!({ "header": header.to_string() }).to_string().as_bytes(),
+    );
     assert_eq!(r.status, 400, "{}", r.body);
     still_serving(&server);
 }
@@ -136,7 +207,9 @@ fn a_second_writer_on_a_live_session_is_refused() {
     let dir = scratch("serve-second-writer");
     let server = Server::start(&dir, 0, &["--writer-lease", "30"]);
     let (id, file, lines) = session_with(&server, "P04-ray-casting-7.jsonl", 20);
-    for (method, path) in [("POST", format!("/api/sessions/{id}/lines?from=21")), ("POST", format!("/api/sessions/{id}/end"))] {
+    for (method, path) in
+        [("POST", format!("/api/sessions/{id}/lines?from=21")), ("POST", format!("/api/sessions/{id}/end"))]
+    {
         let body = whole(&lines[20..25]);
         let r = request(&server.addr, method, &path, &[("grove-writer", "intruder")], body.as_bytes());
         assert_eq!((r.status, r.json["code"].as_str()), (409, Some("writer")), "{}", r.body);
@@ -161,7 +234,10 @@ fn a_client_that_sends_one_byte_a_second_is_cut_off_and_holds_up_no_one() {
     // refused when the read time is up.
     let body = format!("{}\n{}\n", lines[10], lines[11]);
     let mut slow = TcpStream::connect(&server.addr).unwrap();
-    let head = format!("POST /api/sessions/{id}/lines?from=11 HTTP/1.1\r\nHost: x\r\ngrove-writer: w\r\nConnection: close\r\nContent-Length: {}\r\n\r\n", body.len());
+    let head = format!(
+        "POST /api/sessions/{id}/lines?from=11 HTTP/1.1\r\nHost: x\r\ngrove-writer: w\r\nConnection: close\r\nContent-Length: {}\r\n\r\n",
+        body.len()
+    );
     slow.write_all(head.as_bytes()).unwrap();
     slow.write_all(&body.as_bytes()[..lines[10].len() + 1]).unwrap();
     let writer = std::thread::spawn(move || {
@@ -211,14 +287,26 @@ fn a_session_s_status_is_answered_while_another_request_holds_it() {
     // A lines request whose last line never arrives holds the session for the read time.
     let body = format!("{}\n{}\n{}", lines[10], lines[11], &lines[12][..20]);
     let mut slow = TcpStream::connect(&server.addr).unwrap();
-    let head = format!("POST /api/sessions/{id}/lines?from=11 HTTP/1.1\r\nHost: x\r\ngrove-writer: w\r\nContent-Length: {}\r\n\r\n", body.len() + 100);
+    let head = format!(
+        "POST /api/sessions/{id}/lines?from=11 HTTP/1.1\r\nHost: x\r\ngrove-writer: w\r\nContent-Length: {}\r\n\r\n",
+        body.len() + 100
+    );
     slow.write_all(head.as_bytes()).unwrap();
     slow.write_all(body.as_bytes()).unwrap();
     std::thread::sleep(Duration::from_millis(300));
     let start = Instant::now();
     let r = request(&server.addr, "GET", &format!("/api/sessions/{id}"), &[], b"");
-    assert!(start.elapsed() < Duration::from_secs(5), "answered without waiting for the read time: {:?}", start.elapsed());
-    assert_eq!((r.status, r.json["acked"].as_u64(), r.json["state"].as_str()), (200, Some(12), Some("open")), "the two whole lines are counted: {}", r.body);
+    assert!(
+        start.elapsed() < Duration::from_secs(5),
+        "answered without waiting for the read time: {:?}",
+        start.elapsed()
+    );
+    assert_eq!(
+        (r.status, r.json["acked"].as_u64(), r.json["state"].as_str()),
+        (200, Some(12), Some("open")),
+        "the two whole lines are counted: {}",
+        r.body
+    );
     // Writing it is refused while the request holds it, as before.
     let w = append(&server.addr, "w", &id, 13, &lines[12..14]);
     assert_eq!((w.status, w.json["code"].as_str()), (409, Some("busy")), "{}", w.body);
@@ -250,7 +338,11 @@ fn path_traversal_in_static_and_model_urls_is_refused() {
         assert_eq!(r.status, 404, "{url}: {}", r.body);
         assert!(!r.body.contains("[package]") && !r.body.contains("root:"), "{url}");
         assert!(r.json["error"].is_string(), "{url}: a reason: {}", r.body);
-        assert!(!r.body.contains(&*crate::common::root().to_string_lossy()), "{url}: no path of the machine: {}", r.body);
+        assert!(
+            !r.body.contains(&*crate::common::root().to_string_lossy()),
+            "{url}: no path of the machine: {}",
+            r.body
+        );
     }
     assert_eq!(request(&server.addr, "DELETE", "/scenes/study.ron", &[], b"").status, 405);
     still_serving(&server);

@@ -10,7 +10,7 @@ use grove_systems::catalogue::{Catalogue, ModelId};
 use grove_systems::replay::rechain;
 
 use crate::common::{grove, scratch};
-use crate::serve_fixture::{append, open, request, study_lines, Server};
+use crate::serve_fixture::{Server, append, open, request, study_lines};
 
 const RECORDING: &str = "P01-ray-casting-7.jsonl";
 
@@ -94,7 +94,8 @@ fn a_divergence_injected_mid_stream_is_on_the_dashboard_before_the_session_ends(
     assert_eq!(d["tick"], 660);
     assert_eq!(d["expected_hash"], "0123456789abcdef");
     let listed = request(&server.addr, "GET", "/api/sessions", &[], b"");
-    let entry = listed.json["sessions"].as_array().unwrap().iter().find(|e| e["file"] == file.as_str()).unwrap().clone();
+    let entry =
+        listed.json["sessions"].as_array().unwrap().iter().find(|e| e["file"] == file.as_str()).unwrap().clone();
     assert_eq!(entry["live"]["status"], "diverged", "the listing has it too: {entry}");
     assert!(entry.get("id").is_none(), "the listing never has an id");
 
@@ -125,11 +126,18 @@ fn a_session_that_verifies_is_verified_as_it_streams_and_at_its_end() {
     let r = append(&server.addr, "w", &id, 2, &lines[1..half]);
     assert_eq!(r.status, 200, "{}", r.body);
     // The last checkpoint among the lines sent, as the file has it.
-    let last_checkpoint = lines[1..half].iter().rev().find_map(|l| l.strip_prefix("{\"type\":\"checkpoint\",\"tick\":").and_then(|r| r.split(',').next()?.parse::<u64>().ok())).unwrap();
+    let last_checkpoint = lines[1..half]
+        .iter()
+        .rev()
+        .find_map(|l| {
+            l.strip_prefix("{\"type\":\"checkpoint\",\"tick\":").and_then(|r| r.split(',').next()?.parse::<u64>().ok())
+        })
+        .unwrap();
     let start = Instant::now();
     let live = loop {
         let listed = request(&server.addr, "GET", "/api/sessions", &[], b"");
-        let entry = listed.json["sessions"].as_array().unwrap().iter().find(|e| e["file"] == file.as_str()).unwrap().clone();
+        let entry =
+            listed.json["sessions"].as_array().unwrap().iter().find(|e| e["file"] == file.as_str()).unwrap().clone();
         if entry["live"]["verified_to_tick"] == last_checkpoint {
             break entry["live"].clone();
         }
@@ -142,7 +150,8 @@ fn a_session_that_verifies_is_verified_as_it_streams_and_at_its_end() {
     assert_eq!(r.json["acked"].as_u64(), Some(lines.len() as u64), "{}", r.body);
     let end = request(&server.addr, "POST", &format!("/api/sessions/{id}/end"), &[("grove-writer", "w")], b"");
     assert_eq!(end.json["verification"]["status"], "verified", "{}", end.body);
-    let report: serde_json::Value = serde_json::from_slice(&grove(&["replay", &dir.join(&file).display().to_string(), "--json"]).stdout).unwrap();
+    let report: serde_json::Value =
+        serde_json::from_slice(&grove(&["replay", &dir.join(&file).display().to_string(), "--json"]).stdout).unwrap();
     assert_eq!(end.json["verification"]["checkpoints_checked"], report["checkpoints_checked"], "{report}");
     assert_eq!(end.json["verification"]["last_tick"], report["ticks"]);
 }
@@ -156,11 +165,13 @@ fn with_live_off_a_session_is_verified_at_its_end_only() {
     let r = append(&server.addr, "w", &id, 2, &lines[1..]);
     assert_eq!(r.json["acked"].as_u64(), Some(lines.len() as u64), "{}", r.body);
     let listed = request(&server.addr, "GET", "/api/sessions", &[], b"");
-    let entry = listed.json["sessions"].as_array().unwrap().iter().find(|e| e["file"] == file.as_str()).unwrap().clone();
+    let entry =
+        listed.json["sessions"].as_array().unwrap().iter().find(|e| e["file"] == file.as_str()).unwrap().clone();
     assert!(entry["live"].is_null(), "nothing watched: {entry}");
     let end = request(&server.addr, "POST", &format!("/api/sessions/{id}/end"), &[("grove-writer", "w")], b"");
     assert_eq!(end.status, 200, "{}", end.body);
-    let report: serde_json::Value = serde_json::from_slice(&grove(&["replay", &dir.join(&file).display().to_string(), "--json"]).stdout).unwrap();
+    let report: serde_json::Value =
+        serde_json::from_slice(&grove(&["replay", &dir.join(&file).display().to_string(), "--json"]).stdout).unwrap();
     assert_eq!(end.json["verification"]["status"], "diverged", "its file re-simulated at the end: {}", end.body);
     assert_eq!(end.json["verification"]["first_divergence"]["tick"], report["first_divergence"]["tick"], "{report}");
 }

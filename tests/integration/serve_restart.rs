@@ -6,14 +6,18 @@ use std::path::Path;
 use std::time::Duration;
 
 use crate::common::scratch;
-use crate::serve_fixture::{push, request, spawn_push, study_lines, wait_lines, Server};
+use crate::serve_fixture::{Server, push, request, spawn_push, study_lines, wait_lines};
 
 fn token_of(url: &str) -> String {
     url.split("?token=").nth(1).expect("the URL carries a token").to_string()
 }
 
 fn jsonl_files(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n.ends_with(".jsonl")).collect();
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".jsonl"))
+        .collect();
     names.sort();
     names
 }
@@ -23,11 +27,19 @@ fn a_server_killed_mid_push_keeps_its_token_and_the_push_goes_on_after_the_resta
     let dir = scratch("serve-token-kept");
     let mut server = Server::start(&dir, 0, &["--require-token"]);
     let (port, token) = (server.port(), token_of(&server.url));
-    assert_eq!(std::fs::read_to_string(dir.join("token")).unwrap(), format!("{token}\n"), "the token is kept in the folder");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("token")).unwrap(),
+        format!("{token}\n"),
+        "the token is kept in the folder"
+    );
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
-        assert_eq!(std::fs::metadata(dir.join("token")).unwrap().permissions().mode() & 0o077, 0, "the token file is its owner's alone");
+        assert_eq!(
+            std::fs::metadata(dir.join("token")).unwrap().permissions().mode() & 0o077,
+            0,
+            "the token file is its owner's alone"
+        );
     }
     let name = "P10-ray-casting-7.jsonl";
     let path = Path::new("replays/study").join(name);
@@ -48,8 +60,14 @@ fn a_server_killed_mid_push_keeps_its_token_and_the_push_goes_on_after_the_resta
     assert!(report["reconnects"].as_u64().unwrap() >= 1, "{report}");
     assert_eq!(report["ended"]["verification"]["status"], "verified", "{report}");
     let session = report["session"].as_str().unwrap();
-    assert!(stderr.contains(&format!("session {session} opened: P10-ray-casting-7-1.jsonl")), "the push names its session: {stderr}");
-    assert!(std::fs::read(&file).unwrap() == std::fs::read(&path).unwrap(), "the file is the recording: nothing lost, nothing twice");
+    assert!(
+        stderr.contains(&format!("session {session} opened: P10-ray-casting-7-1.jsonl")),
+        "the push names its session: {stderr}"
+    );
+    assert!(
+        std::fs::read(&file).unwrap() == std::fs::read(&path).unwrap(),
+        "the file is the recording: nothing lost, nothing twice"
+    );
     assert_eq!(jsonl_files(&dir), ["P10-ray-casting-7-1.jsonl"]);
 }
 
@@ -69,9 +87,13 @@ fn new_token_draws_another_and_the_old_one_is_refused_with_a_json_answer() {
     assert!(refused.head.contains("content-type: application/json"), "{}", refused.head);
     assert!(refused.head.to_lowercase().contains("www-authenticate: bearer"), "{}", refused.head);
     assert!(refused.json["error"].as_str().unwrap().contains("a session token is needed"), "{}", refused.body);
-    assert_eq!(request(&server.addr, "GET", "/api/status", &[("authorization", &format!("Bearer {new}"))], b"").status, 200);
+    assert_eq!(
+        request(&server.addr, "GET", "/api/status", &[("authorization", &format!("Bearer {new}"))], b"").status,
+        200
+    );
     // On loopback without --require-token there is no token to draw.
-    let out = crate::common::grove(&["serve", "--port", "0", "--new-token", "--out", &dir.join("x").display().to_string()]);
+    let out =
+        crate::common::grove(&["serve", "--port", "0", "--new-token", "--out", &dir.join("x").display().to_string()]);
     crate::common::assert_one_line_error(&out, 2, "--new-token is for a server that asks for a token");
 }
 
@@ -87,7 +109,12 @@ fn a_push_killed_and_run_again_continues_its_session_and_makes_one_file() {
     first.kill().unwrap();
     let first = first.wait_with_output().unwrap();
     let first_err = String::from_utf8_lossy(&first.stderr).into_owned();
-    let session = first_err.split("session ").nth(1).and_then(|r| r.split_whitespace().next()).expect("the first push printed its session").to_string();
+    let session = first_err
+        .split("session ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .expect("the first push printed its session")
+        .to_string();
     let at_kill = std::fs::read_to_string(&file).unwrap().lines().count();
     assert!(at_kill > 1 && at_kill < study_lines(name).len(), "killed mid-push: {at_kill} lines");
 
@@ -106,10 +133,19 @@ fn a_push_killed_and_run_again_continues_its_session_and_makes_one_file() {
     // Once more after the end: nothing is sent, the session's verification is reported.
     let third = push(&path, &server.url, &[]);
     assert!(third.status.success(), "{}", String::from_utf8_lossy(&third.stderr));
-    assert!(String::from_utf8_lossy(&third.stderr).contains("has ended already: nothing sent"), "{}", String::from_utf8_lossy(&third.stderr));
-    assert!(String::from_utf8_lossy(&third.stdout).contains(&format!("(session {session}): verified")), "{}", String::from_utf8_lossy(&third.stdout));
+    assert!(
+        String::from_utf8_lossy(&third.stderr).contains("has ended already: nothing sent"),
+        "{}",
+        String::from_utf8_lossy(&third.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&third.stdout).contains(&format!("(session {session}): verified")),
+        "{}",
+        String::from_utf8_lossy(&third.stdout)
+    );
     assert_eq!(jsonl_files(&dir), ["P09-ray-casting-7-1.jsonl"]);
-    let listed: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("sessions.json")).unwrap()).unwrap();
+    let listed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("sessions.json")).unwrap()).unwrap();
     assert_eq!(listed["sessions"].as_array().unwrap().len(), 1, "{listed}");
 }
 
@@ -120,7 +156,13 @@ fn a_push_whose_start_differs_from_the_server_s_is_refused() {
     let lines = study_lines("P08-ray-casting-7.jsonl");
     // The server has the recording's first 20 lines; the file pushed has the same header line
     // but another line 10.
-    let a = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "header": lines[0], "continue": true }).to_string().as_bytes());
+    let a = request(
+        &server.addr,
+        "POST",
+        "/api/sessions",
+        &[("grove-writer", "w")],
+        serde_json::json!({ "header": lines[0], "continue": true }).to_string().as_bytes(),
+    );
     assert_eq!(a.status, 201, "{}", a.body);
     let id = a.json["session"].as_str().unwrap();
     let r = crate::serve_fixture::append(&server.addr, "w", id, 2, &lines[1..20]);
@@ -135,5 +177,9 @@ fn a_push_whose_start_differs_from_the_server_s_is_refused() {
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("line 10 of P08-ray-casting-7-1.jsonl on the server differs"), "{err}");
-    assert_eq!(std::fs::read_to_string(dir.join("P08-ray-casting-7-1.jsonl")).unwrap().lines().count(), 20, "nothing written by the refused push");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("P08-ray-casting-7-1.jsonl")).unwrap().lines().count(),
+        20,
+        "nothing written by the refused push"
+    );
 }

@@ -3,7 +3,7 @@
 //! reads its session back from.
 
 use crate::common::{grove, scratch};
-use crate::serve_fixture::{append, open, request, study_lines, Server};
+use crate::serve_fixture::{Server, append, open, request, study_lines};
 
 /// A room as a page builds it: a flat floor at `y`, the study scene's sun, wind and camera.
 fn room_text(y: f32) -> String {
@@ -21,7 +21,10 @@ fn a_session_opened_with_its_room_scene_keeps_it_beside_the_recording_and_replay
     let dir = scratch("serve-room");
     let server = Server::start(&dir, 0, &[]);
     let text = room_text(-0.03);
-    let a = open_fields(&server, &serde_json::json!({ "participant": "P40", "task": "ray-casting-7", "seed": 7, "scene_text": text }));
+    let a = open_fields(
+        &server,
+        &serde_json::json!({ "participant": "P40", "task": "ray-casting-7", "seed": 7, "scene_text": text }),
+    );
     assert_eq!(a.status, 201, "{}", a.body);
     let header: serde_json::Value = serde_json::from_str(a.json["header"].as_str().unwrap()).unwrap();
     let scene = header["scene"].as_str().unwrap().to_string();
@@ -34,9 +37,13 @@ fn a_session_opened_with_its_room_scene_keeps_it_beside_the_recording_and_replay
     let l = request(&server.addr, "GET", &format!("/api/sessions/{id}/lines"), &[], b"");
     assert_eq!((l.status, l.body.clone()), (200, format!("{}\n", a.json["header"].as_str().unwrap())));
     // The same room again: the same file, a second session.
-    let b = open_fields(&server, &serde_json::json!({ "participant": "P40", "task": "ray-casting-7", "scene_text": text }));
+    let b =
+        open_fields(&server, &serde_json::json!({ "participant": "P40", "task": "ray-casting-7", "scene_text": text }));
     assert_eq!(b.status, 201, "{}", b.body);
-    assert_eq!(serde_json::from_str::<serde_json::Value>(b.json["header"].as_str().unwrap()).unwrap()["scene"], scene.as_str());
+    assert_eq!(
+        serde_json::from_str::<serde_json::Value>(b.json["header"].as_str().unwrap()).unwrap()["scene"],
+        scene.as_str()
+    );
     let end = request(&server.addr, "POST", &format!("/api/sessions/{id}/end"), &[("grove-writer", "page")], b"");
     assert_eq!(end.status, 200, "{}", end.body);
     assert_eq!(end.json["verification"]["error"], serde_json::Value::Null, "{}", end.body);
@@ -53,7 +60,10 @@ fn a_bad_room_scene_is_refused_with_its_reason_and_nothing_is_written() {
     let cases = [
         (serde_json::json!({ "participant": "P1", "scene": "study", "scene_text": room_text(0.0) }), "not both"),
         (serde_json::json!({ "participant": "P1", "scene_text": "Scene(name: \"x\"" }), "scene_text: line 1"),
-        (serde_json::json!({ "participant": "P1", "scene_text": room_text(0.0).replacen("name: \"room\",", "name: \"room\", banks: [\"..\"],", 1) }), "model banks"),
+        (
+            serde_json::json!({ "participant": "P1", "scene_text": room_text(0.0).replacen("name: \"room\",", "name: \"room\", banks: [\"..\"],", 1) }),
+            "model banks",
+        ),
         (serde_json::json!({ "participant": "../P1", "scene_text": room_text(0.0) }), "participant"),
     ];
     for (body, reason) in cases {
@@ -61,7 +71,11 @@ fn a_bad_room_scene_is_refused_with_its_reason_and_nothing_is_written() {
         assert_eq!(a.status, 400, "{}", a.body);
         assert!(a.json["error"].as_str().unwrap().contains(reason), "{reason}: {}", a.body);
     }
-    let files: Vec<String> = std::fs::read_dir(&*dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n != "sessions.json").collect();
+    let files: Vec<String> = std::fs::read_dir(&*dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "sessions.json")
+        .collect();
     assert!(files.is_empty(), "{files:?}");
     assert!(request(&server.addr, "GET", "/api/status", &[], b"").status == 200, "still serving");
 }
@@ -86,5 +100,9 @@ fn a_session_s_lines_read_back_are_the_acknowledged_ones_and_a_built_in_scene_is
     assert_eq!(unknown.status, 404);
     let ended = request(&server.addr, "POST", &format!("/api/sessions/{id}/end"), &[("grove-writer", "w")], b"");
     assert_eq!(ended.status, 200);
-    assert_eq!(request(&server.addr, "GET", &format!("/api/sessions/{id}/lines"), &[], b"").status, 410, "an ended session is read from its folder, not here");
+    assert_eq!(
+        request(&server.addr, "GET", &format!("/api/sessions/{id}/lines"), &[], b"").status,
+        410,
+        "an ended session is read from its folder, not here"
+    );
 }

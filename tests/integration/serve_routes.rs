@@ -4,14 +4,20 @@
 //! `Allow`; the files refuse a method other than GET and HEAD the same way.
 
 use crate::common::scratch;
-use crate::serve_fixture::{request, Server};
+use crate::serve_fixture::{Server, request};
 
 #[test]
 fn a_wrong_method_and_an_unknown_path_are_answered_alike_on_every_router() {
     let dir = scratch("serve-routes");
     let server = Server::start(&dir, 0, &["--protocol", "assets/protocols/tree-planting.ron"]);
     let id = "0123456789abcdef0123456789abcdef";
-    for path in [format!("/api/sessions/{id}/lines/more"), "/api/sessions/x/y/z".into(), "/api/protocol/participants/P01/skip".into(), "/api/protocol/nothing".into(), "/api/nothing".into()] {
+    for path in [
+        format!("/api/sessions/{id}/lines/more"),
+        "/api/sessions/x/y/z".into(),
+        "/api/protocol/participants/P01/skip".into(),
+        "/api/protocol/nothing".into(),
+        "/api/nothing".into(),
+    ] {
         let r = request(&server.addr, "GET", &path, &[], b"");
         assert_eq!(r.status, 404, "{path}: {}", r.body);
         assert_eq!(r.json, serde_json::json!({ "error": format!("no route {path}") }), "{path}");
@@ -29,7 +35,11 @@ fn a_wrong_method_and_an_unknown_path_are_answered_alike_on_every_router() {
     ] {
         let r = request(&server.addr, method, &path, &[], b"");
         assert_eq!(r.status, 405, "{method} {path}: {}", r.body);
-        assert_eq!(r.json, serde_json::json!({ "error": format!("{method} is not served at {path}; it takes {allow}") }), "{method} {path}");
+        assert_eq!(
+            r.json,
+            serde_json::json!({ "error": format!("{method} is not served at {path}; it takes {allow}") }),
+            "{method} {path}"
+        );
         assert!(r.head.contains(&format!("\r\nallow: {allow}")), "{method} {path}: {}", r.head);
     }
     assert!(!server.log().contains("refused"), "neither is logged: {}", server.log());

@@ -29,7 +29,11 @@ fn the_study_hash_is_stable_and_pinned() {
         std::fs::write(&pin, format!("{hash}\n")).unwrap();
     }
     let pinned = std::fs::read_to_string(&pin).expect("pinned hash file; create it with UPDATE_PINS=1");
-    assert_eq!(hash, pinned.trim(), "the study hash changed; if intended, run UPDATE_PINS=1 cargo test --test integration sim_cli::");
+    assert_eq!(
+        hash,
+        pinned.trim(),
+        "the study hash changed; if intended, run UPDATE_PINS=1 cargo test --test integration sim_cli::"
+    );
 }
 
 #[test]

@@ -27,11 +27,16 @@ fn the_committed_bank_is_what_the_script_writes() {
     let shipped = root().join("assets/banks/species");
     let want = std::fs::read_to_string(shipped.join("catalogue.ron")).unwrap();
     let got = std::fs::read_to_string(fresh.join("catalogue.ron")).unwrap();
-    assert_eq!(got, want, "assets/banks/species is not what scripts/species-bank.sh writes: regenerate it (docs/species.md)");
+    assert_eq!(
+        got, want,
+        "assets/banks/species is not what scripts/species-bank.sh writes: regenerate it (docs/species.md)"
+    );
     // Every model of every species at two levels of detail.
     for species in ["oak", "birch", "beech", "scots_pine", "norway_spruce", "shrub"] {
         for (lod, kind) in [(1, "Mesh"), (2, "Billboard")] {
-            let entry = format!("name: \"{species}-lod{lod}\",\n            species: \"{species}\",\n            kind: {kind},");
+            let entry = format!(
+                "name: \"{species}-lod{lod}\",\n            species: \"{species}\",\n            kind: {kind},"
+            );
             assert!(want.contains(&entry), "no {species}-lod{lod} of kind {kind} in the bank");
         }
     }
@@ -49,8 +54,8 @@ fn the_bank_checks() {
 /// classic models (the study scene keeps those: its recordings name them).
 #[test]
 fn the_landscape_scenes_plant_species() {
-    use grove_systems::scene::Scene;
     use grove_systems::Sim;
+    use grove_systems::scene::Scene;
     for name in ["park", "garden", "forest"] {
         let scene = Scene::load(&root().join(format!("assets/scenes/{name}.ron"))).unwrap();
         let sim = Sim::from_scene(&scene, scene.seed).unwrap();
@@ -75,11 +80,11 @@ fn the_landscape_scenes_plant_species() {
 #[test]
 fn a_far_tree_is_drawn_as_its_far_model() {
     use glam::Vec3;
-    use grove::render::offscreen::{self, Gpu};
     use grove::render::Renderer;
+    use grove::render::offscreen::{self, Gpu};
+    use grove_systems::Sim;
     use grove_systems::components::{Head, Pose};
     use grove_systems::scene::Scene;
-    use grove_systems::Sim;
     let mut scene = Scene::load(&root().join("assets/scenes/park.ron")).unwrap();
     scene.trees.clear();
     scene.grass.clear();
@@ -89,7 +94,10 @@ fn a_far_tree_is_drawn_as_its_far_model() {
     let id = |name: &str| cat.models.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("{name}")).clone();
     let (near, far) = (id("oak-lod1"), id("oak-lod2"));
     sim.spawn_tree(near.id, Vec3::new(0.0, 0.0, -60.0), 0.0, 0.5, true);
-    sim.set_up().camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, 4.0, -60.0)), fov_y: 60f32.to_radians() });
+    sim.set_up().camera(Head {
+        pose: Pose::looking_at(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, 4.0, -60.0)),
+        fov_y: 60f32.to_radians(),
+    });
     let gpu = Gpu::new().unwrap();
     let mut r = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, 160, 120).unwrap();
     grove::bank::load_for_scene(&mut r, &scene, &[], &cat).unwrap();

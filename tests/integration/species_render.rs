@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use grove::models::{load_model, ModelData};
+use grove::models::{ModelData, load_model};
 use grove::render::offscreen;
 use grove::render::{RenderOptions, Renderer};
 use grove_systems::catalogue::ModelId;
@@ -39,7 +39,11 @@ fn compare(name: &str, img: &RgbaImage) {
         img.save(&path).unwrap();
         return;
     }
-    let want = image::open(&path).unwrap_or_else(|e| panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+    let want = image::open(&path)
+        .unwrap_or_else(|e| {
+            panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display())
+        })
+        .to_rgba8();
     assert_eq!(want.dimensions(), img.dimensions(), "{name}: size differs from the snapshot");
     let (mut sum, mut over) = (0u64, 0u64);
     for (a, b) in want.pixels().zip(img.pixels()) {
@@ -53,7 +57,10 @@ fn compare(name: &str, img: &RgbaImage) {
         let dir = root().join("target/snapshot-failures");
         let _ = std::fs::create_dir_all(&dir);
         let _ = img.save(dir.join(format!("{name}.png")));
-        panic!("{name}: differs from {} (mean abs diff {mean:.2} > 3 or {percent:.2}% pixels over {PIXEL_THRESHOLD} > 2%)", path.display());
+        panic!(
+            "{name}: differs from {} (mean abs diff {mean:.2} > 3 or {percent:.2}% pixels over {PIXEL_THRESHOLD} > 2%)",
+            path.display()
+        );
     }
 }
 
@@ -84,7 +91,10 @@ fn view_sized(data: &ModelData, distance: f32, tree: bool, w: u32, h: u32, leaf_
     }
     let height = data.bounds.1.y;
     let fov: f32 = 50.0;
-    sim.set_up().camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 1.7, distance), Vec3::new(0.0, height * 0.45, 0.0)), fov_y: fov.to_radians() });
+    sim.set_up().camera(Head {
+        pose: Pose::looking_at(Vec3::new(0.0, 1.7, distance), Vec3::new(0.0, height * 0.45, 0.0)),
+        fov_y: fov.to_radians(),
+    });
     sim.set_up().sun_angles(40.0, 150.0);
     let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, w, h, &root().join("assets")).unwrap();
     r.options.impostor_pixels = 0.0;
@@ -95,7 +105,10 @@ fn view_sized(data: &ModelData, distance: f32, tree: bool, w: u32, h: u32, leaf_
 
 /// Pixels where the image with the tree differs from the stage without it.
 fn tree_pixels(img: &RgbaImage, stage: &RgbaImage) -> usize {
-    img.pixels().zip(stage.pixels()).filter(|(p, q)| (0..3).map(|c| p.0[c].abs_diff(q.0[c])).max().unwrap() > 30).count()
+    img.pixels()
+        .zip(stage.pixels())
+        .filter(|(p, q)| (0..3).map(|c| p.0[c].abs_diff(q.0[c])).max().unwrap() > 30)
+        .count()
 }
 
 fn species_test(species: &str) {
@@ -185,11 +198,16 @@ fn the_shrub_is_a_solid_clumped_mass_with_no_bright_leaf() {
             img.save(root().join(format!("docs/species-shrub-{distance}m.png"))).unwrap();
         }
         // The sunlit ground: the brightest pixel of the stage's lowest fifth (all ground).
-        let mut ground: Vec<f32> = stage.enumerate_pixels().filter(|(_, y, _)| *y >= h * 4 / 5).map(|(_, _, p)| luma(p)).collect();
+        let mut ground: Vec<f32> =
+            stage.enumerate_pixels().filter(|(_, y, _)| *y >= h * 4 / 5).map(|(_, _, p)| luma(p)).collect();
         ground.sort_by(f32::total_cmp);
         let sunlit = ground[ground.len() - 1];
         // Magenta: red and blue well above green (no sky, ground or soil pixel is).
-        let mask: Vec<bool> = foliage.pixels().zip(stage.pixels()).map(|(p, q)| p != q && p.0[0] > p.0[1].saturating_add(12) && p.0[2] > p.0[1].saturating_add(6)).collect();
+        let mask: Vec<bool> = foliage
+            .pixels()
+            .zip(stage.pixels())
+            .map(|(p, q)| p != q && p.0[0] > p.0[1].saturating_add(12) && p.0[2] > p.0[1].saturating_add(6))
+            .collect();
         let shrub = mask.iter().filter(|&&m| m).count();
         let bright = img.pixels().zip(&mask).filter(|(p, m)| **m && luma(p) > sunlit).count();
         // The outline's fill: the share of the shrub's pixels in the middle of its outline (the
@@ -211,7 +229,11 @@ fn the_shrub_is_a_solid_clumped_mass_with_no_bright_leaf() {
         // Red stem pixels above the lowest quarter of the shrub's rows.
         let (top, bottom) = (rows[0].0, rows[rows.len() - 1].0);
         let base = bottom - (bottom - top) / 4;
-        let is_red = |p: &image::Rgba<u8>| p.0[0] > 60 && u16::from(p.0[0]) > 2 * u16::from(p.0[1]) + 20 && u16::from(p.0[0]) > 2 * u16::from(p.0[2]) + 20;
+        let is_red = |p: &image::Rgba<u8>| {
+            p.0[0] > 60
+                && u16::from(p.0[0]) > 2 * u16::from(p.0[1]) + 20
+                && u16::from(p.0[0]) > 2 * u16::from(p.0[2]) + 20
+        };
         let red_above = stems.enumerate_pixels().filter(|(_, y, p)| (*y as usize) < base && is_red(p)).count();
         let red_base = stems.enumerate_pixels().filter(|(_, y, p)| (*y as usize) >= base && is_red(p)).count();
         eprintln!(
@@ -221,9 +243,15 @@ fn the_shrub_is_a_solid_clumped_mass_with_no_bright_leaf() {
             red_above as f64 * 100.0 / shrub as f64
         );
         assert!(shrub > 5_000, "the shrub should be seen at {distance} m ({shrub} px)");
-        assert!((bright as f64) <= 0.005 * shrub as f64, "at {distance} m {bright} of the shrub's {shrub} px are brighter than the sunlit ground ({sunlit:.0})");
+        assert!(
+            (bright as f64) <= 0.005 * shrub as f64,
+            "at {distance} m {bright} of the shrub's {shrub} px are brighter than the sunlit ground ({sunlit:.0})"
+        );
         assert!(fill >= 0.9, "at {distance} m the shrub fills {:.1} % of the middle of its outline", fill * 100.0);
-        assert!((red_above as f64) <= 0.01 * shrub as f64, "at {distance} m its stems cover {red_above} px above the base");
+        assert!(
+            (red_above as f64) <= 0.01 * shrub as f64,
+            "at {distance} m its stems cover {red_above} px above the base"
+        );
         assert!(red_base > 0, "at {distance} m the stems should show at the base");
     }
 }
@@ -235,7 +263,8 @@ fn species_sheet() {
     let (w, h) = (200u32, 260u32);
     let path = root().join("docs/species.png");
     if !update() {
-        let sheet = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; write it with UPDATE_SNAPSHOTS=1", path.display()));
+        let sheet =
+            image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; write it with UPDATE_SNAPSHOTS=1", path.display()));
         assert_eq!((sheet.width(), sheet.height()), (w * SPECIES.len() as u32, h));
         return;
     }

@@ -9,7 +9,8 @@ fn study_json(extra: &[&str], out: &std::path::Path) -> (std::process::Output, s
     let mut args = vec!["study", "--json", "--out", out.to_str().unwrap()];
     args.extend_from_slice(extra);
     let o = grove(&args);
-    let v = serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("bad JSON ({e}); stderr: {}", String::from_utf8_lossy(&o.stderr)));
+    let v = serde_json::from_slice(&o.stdout)
+        .unwrap_or_else(|e| panic!("bad JSON ({e}); stderr: {}", String::from_utf8_lossy(&o.stderr)));
     (o, v)
 }
 
@@ -88,7 +89,8 @@ fn the_study_reproduces_the_papers_finding() {
             previous = since_start;
         }
     }
-    let summary: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.path().join("summary.json")).unwrap()).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["summary"]["trials"], 24);
     let png = image::open(dir.path().join("ablation.png")).unwrap().to_rgb8();
     assert!(png.width() >= 800 && png.height() >= 400);
@@ -146,7 +148,9 @@ fn a_what_if_run_re_evaluates_the_same_input() {
     // Incomplete trials: counted, named, left out; the claim over every participant is open.
     let s = &v["summary"];
     assert_eq!(s["incomplete_count"].as_u64().unwrap() as usize, 12 - manual_done);
-    assert!(s["incomplete"].as_array().unwrap().iter().all(|i| i["reason"] == "not completed" && i["task"] == "manual-7"));
+    assert!(
+        s["incomplete"].as_array().unwrap().iter().all(|i| i["reason"] == "not completed" && i["task"] == "manual-7")
+    );
     assert!(s["ray_casting_faster_for_all"].is_null());
     assert_eq!(s["missing_comparisons"].as_array().unwrap().len(), 12 - manual_done);
     // Paired statistics need two participants with both tasks.
@@ -160,7 +164,10 @@ fn a_what_if_run_re_evaluates_the_same_input() {
     for r in rdr.records() {
         let r = r.unwrap();
         assert_eq!(&r[col("what_if_kind")], "replayed hands");
-        assert_eq!((&r[col("parameter")], &r[col("default_value")], &r[col("new_value")]), ("snap_threshold", "0.3", "0.05"));
+        assert_eq!(
+            (&r[col("parameter")], &r[col("default_value")], &r[col("new_value")]),
+            ("snap_threshold", "0.3", "0.05")
+        );
         if &r[col("completed")] == "false" {
             assert_eq!(&r[col("time_s")], "");
             assert_eq!(&r[col("difference_s")], "");
@@ -181,7 +188,10 @@ fn a_sweep_writes_one_row_per_value_and_its_chart() {
     for f in ["P01-ray-casting-7.jsonl", "P01-manual-7.jsonl", "P02-ray-casting-7.jsonl", "P02-manual-7.jsonl"] {
         std::fs::copy(root().join("replays/study").join(f), rec.join(f)).unwrap();
     }
-    let (out, v) = study_json(&["--replays", rec.to_str().unwrap(), "--set", "snap_threshold=0.05,0.3,0.5"], &dir.path().join("o"));
+    let (out, v) = study_json(
+        &["--replays", rec.to_str().unwrap(), "--set", "snap_threshold=0.05,0.3,0.5"],
+        &dir.path().join("o"),
+    );
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     let sweep = &v["sweep"];
     assert_eq!(sweep["parameter"], "snap_threshold");
@@ -202,15 +212,40 @@ fn a_sweep_writes_one_row_per_value_and_its_chart() {
     assert!(count([46, 134, 193]) > 200 && count([230, 126, 34]) > 200, "both lines are drawn");
     // The terminal table of a single what-if names the kind, the default and the new value, and
     // gives the baseline, the what-if and the difference per trial.
-    let o = grove(&["study", "--replays", rec.to_str().unwrap(), "--out", dir.path().join("t").to_str().unwrap(), "--set", "snap_threshold=0.2"]);
+    let o = grove(&[
+        "study",
+        "--replays",
+        rec.to_str().unwrap(),
+        "--out",
+        dir.path().join("t").to_str().unwrap(),
+        "--set",
+        "snap_threshold=0.2",
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.starts_with("what-if (replayed hands): snap_threshold 0.3 (default) → 0.2\n"), "{text}");
-    for needle in ["baseline_s", "what_if_s", "diff_s", "what-if kind: replayed hands", "paired (manual − ray-casting, n = 2)", "note: synthetic data"] {
+    for needle in [
+        "baseline_s",
+        "what_if_s",
+        "diff_s",
+        "what-if kind: replayed hands",
+        "paired (manual − ray-casting, n = 2)",
+        "note: synthetic data",
+    ] {
         assert!(text.contains(needle), "{needle} missing in:\n{text}");
     }
     // Two swept parameters at once are refused.
-    let o = grove(&["study", "--replays", rec.to_str().unwrap(), "--out", dir.path().join("p").to_str().unwrap(), "--set", "snap_threshold=0.1,0.2", "--set", "spawn_distance=1,2"]);
+    let o = grove(&[
+        "study",
+        "--replays",
+        rec.to_str().unwrap(),
+        "--out",
+        dir.path().join("p").to_str().unwrap(),
+        "--set",
+        "snap_threshold=0.1,0.2",
+        "--set",
+        "spawn_distance=1,2",
+    ]);
     assert_one_line_error(&o, 2, "only one parameter can be swept");
 }
 
@@ -223,11 +258,13 @@ fn re_simulated_participants_are_compared_with_their_baseline() {
         std::fs::copy(root().join("replays/study").join(f), base.join(f)).unwrap();
     }
     let what = dir.path().join("what");
-    let out = grove(&["synth", "--participants", "1", "--set", "touchpad_move_rate=3", "--out", what.to_str().unwrap()]);
+    let out =
+        grove(&["synth", "--participants", "1", "--set", "touchpad_move_rate=3", "--out", what.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let header = std::fs::read_to_string(what.join("P01-manual-7.jsonl")).unwrap();
     assert!(header.lines().next().unwrap().contains("\"config\":{\"touchpad_move_rate\":\"3\"}"));
-    let (out, v) = study_json(&["--replays", what.to_str().unwrap(), "--baseline", base.to_str().unwrap()], &dir.path().join("o"));
+    let (out, v) =
+        study_json(&["--replays", what.to_str().unwrap(), "--baseline", base.to_str().unwrap()], &dir.path().join("o"));
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     let w = &v["what_if"];
     assert_eq!(w["kind"], "re-simulated participants");
@@ -246,7 +283,8 @@ fn re_simulated_participants_are_compared_with_their_baseline() {
 #[test]
 fn bad_study_input_gives_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
-    let out = grove(&["study", "--replays", dir.path().to_str().unwrap(), "--out", dir.path().join("o").to_str().unwrap()]);
+    let out =
+        grove(&["study", "--replays", dir.path().to_str().unwrap(), "--out", dir.path().join("o").to_str().unwrap()]);
     assert_one_line_error(&out, 2, "no recordings");
     let out = grove(&["study", "--set", "snap_treshold=0.1", "--out", dir.path().join("o").to_str().unwrap()]);
     assert_one_line_error(&out, 2, "unknown parameter 'snap_treshold'");
@@ -256,7 +294,15 @@ fn bad_study_input_gives_clear_errors() {
     assert!(!dir.path().join("o").exists());
     // The one --set parser serves grove synth and grove test too: the same range, and a list
     // (a sweep) refused where nothing is swept; min_scale above max_scale refused everywhere.
-    let out = grove(&["synth", "--participants", "1", "--set", "spawn_distance=101", "--out", dir.path().join("s").to_str().unwrap()]);
+    let out = grove(&[
+        "synth",
+        "--participants",
+        "1",
+        "--set",
+        "spawn_distance=101",
+        "--out",
+        dir.path().join("s").to_str().unwrap(),
+    ]);
     assert_one_line_error(&out, 2, "spawn_distance: '101' must be a number from 0 to 100 m");
     for cmd in ["synth", "test"] {
         let out = grove(&[cmd, "--set", "snap_threshold=0.1,0.2"]);
@@ -264,12 +310,23 @@ fn bad_study_input_gives_clear_errors() {
         let out = grove(&[cmd, "--set", "min_scale=5", "--set", "max_scale=2"]);
         assert_one_line_error(&out, 2, "min_scale 5 is above max_scale 2");
     }
-    let out = grove(&["study", "--set", "max_scale=2", "--set", "min_scale=1,3", "--out", dir.path().join("o").to_str().unwrap()]);
+    let out = grove(&[
+        "study",
+        "--set",
+        "max_scale=2",
+        "--set",
+        "min_scale=1,3",
+        "--out",
+        dir.path().join("o").to_str().unwrap(),
+    ]);
     assert_one_line_error(&out, 2, "min_scale 3 is above max_scale 2");
     assert!(!dir.path().join("s").exists() && !dir.path().join("o").exists());
     // --help lists every parameter with its default and range.
     let help = String::from_utf8(grove(&["study", "--help"]).stdout).unwrap();
-    assert!(help.contains("touchpad_dead_zone") && help.contains("0.15, 0 to 1:") && help.contains("0.3 m, 0 to 10 m:"), "{help}");
+    assert!(
+        help.contains("touchpad_dead_zone") && help.contains("0.15, 0 to 1:") && help.contains("0.3 m, 0 to 10 m:"),
+        "{help}"
+    );
     let out = grove(&["study", "--replays", "replays/nope", "--out", dir.path().join("o").to_str().unwrap()]);
     assert_one_line_error(&out, 2, "no such folder");
 }

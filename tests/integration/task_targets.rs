@@ -3,14 +3,14 @@
 //! and each target, with a tree of its model planted at every other target, the controller's
 //! ray from where it starts, aimed at the target, meets the ground there first.
 
+use grove_systems::Sim;
 use grove_systems::catalogue::Catalogue;
 use grove_systems::components::HitTarget;
 use grove_systems::scenario::aims::{self, Aimed, Intent};
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::targets::ground_distance;
-use grove_systems::task::{TaskDef, BUILTIN_TASKS};
-use grove_systems::Sim;
+use grove_systems::task::{BUILTIN_TASKS, TaskDef};
 
 /// Where each target's ray meets something other than the ground at the target, in words.
 fn blocked(task: &TaskDef) -> Vec<String> {
@@ -21,17 +21,26 @@ fn blocked(task: &TaskDef) -> Vec<String> {
         let mut sim = Sim::from_scene(&scene, scene.seed).unwrap();
         sim.step();
         for (j, other) in task.targets.iter().enumerate().filter(|(j, _)| *j != i) {
-            let model = catalogue.by_name(&other.model).unwrap_or_else(|| panic!("target {}: model {}", j + 1, other.model)).id;
+            let model =
+                catalogue.by_name(&other.model).unwrap_or_else(|| panic!("target {}: model {}", j + 1, other.model)).id;
             // Planted as the plant system plants: the model's origin on the ground point.
             sim.spawn_tree(model, other.position, 0.0, 1.0, true);
         }
         let mut script = Script::new(sim);
         script.wait(1).point_at(target.position);
         let hit = script.sim().hit_marker();
-        let on_ground = matches!(hit.target, HitTarget::Plane(_)) && ground_distance(hit.position, target.position) <= task.tolerance;
+        let on_ground = matches!(hit.target, HitTarget::Plane(_))
+            && ground_distance(hit.position, target.position) <= task.tolerance;
         if !on_ground {
-            let aimed = Aimed { label: format!("Target({})", i + 1), point: target.position, intent: Intent::Ground { point: target.position, within: task.tolerance, plane: None } };
-            let why = aims::check(script.sim(), script.names(), &aimed, false).err().map(|e| e.to_string()).unwrap_or_default();
+            let aimed = Aimed {
+                label: format!("Target({})", i + 1),
+                point: target.position,
+                intent: Intent::Ground { point: target.position, within: task.tolerance, plane: None },
+            };
+            let why = aims::check(script.sim(), script.names(), &aimed, false)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default();
             found.push(format!("{} target {} ({}): {why}", task.id, i + 1, target.model));
         }
     }

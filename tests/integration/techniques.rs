@@ -11,7 +11,15 @@ use common::{assert_one_line_error, grove, grove_with};
 use grove_systems::replay::rechain;
 
 fn synth(out: &Path, participants: &str, techniques: &str) {
-    let o = grove(&["synth", "--participants", participants, "--techniques", techniques, "--out", &out.display().to_string()]);
+    let o = grove(&[
+        "synth",
+        "--participants",
+        participants,
+        "--techniques",
+        techniques,
+        "--out",
+        &out.display().to_string(),
+    ]);
     assert!(o.status.success(), "synth: {}", String::from_utf8_lossy(&o.stderr));
 }
 
@@ -29,13 +37,18 @@ fn twelve_participants_by_three_techniques_give_a_friedman_analysis() {
     let mut first = std::collections::BTreeMap::new();
     for p in 1..=12 {
         for t in ["ray-casting-7", "manual-7", "gaze-dwell"] {
-            let header: serde_json::Value = serde_json::from_str(&lines(&rec.join(format!("P{p:02}-{t}.jsonl")))[0]).unwrap();
+            let header: serde_json::Value =
+                serde_json::from_str(&lines(&rec.join(format!("P{p:02}-{t}.jsonl")))[0]).unwrap();
             if header["block"] == 1 {
                 *first.entry(t).or_insert(0) += 1;
             }
             let named = header.get("technique").map(|t| (t["name"].clone(), t["version"].clone()));
             if t == "gaze-dwell" {
-                assert_eq!(named, Some(("gaze-dwell".into(), 1.into())), "the header names the plug-in and its version");
+                assert_eq!(
+                    named,
+                    Some(("gaze-dwell".into(), 1.into())),
+                    "the header names the plug-in and its version"
+                );
             } else {
                 assert_eq!(named, None, "a built-in technique's header is as before");
             }
@@ -70,9 +83,20 @@ fn twelve_participants_by_three_techniques_give_a_friedman_analysis() {
     // The paired two-condition analysis is still there, unchanged in form.
     assert_eq!(v["summary"]["paired"]["difference"], "manual − ray-casting");
     // The terminal report prints the section.
-    let o = grove(&["study", "--replays", &rec.display().to_string(), "--out", &dir.path().join("out2").display().to_string()]);
+    let o = grove(&[
+        "study",
+        "--replays",
+        &rec.display().to_string(),
+        "--out",
+        &dir.path().join("out2").display().to_string(),
+    ]);
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("Friedman test over 12 participants: χ²(2)") && text.contains("p (Holm)") && text.contains("gaze-dwell − ray-casting"), "{text}");
+    assert!(
+        text.contains("Friedman test over 12 participants: χ²(2)")
+            && text.contains("p (Holm)")
+            && text.contains("gaze-dwell − ray-casting"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -100,7 +124,11 @@ fn a_recording_whose_technique_is_not_registered_ends_with_exit_2_naming_it() {
 fn unknown_techniques_on_the_command_line_are_one_line_errors() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x").display().to_string();
-    assert_one_line_error(&grove(&["synth", "--techniques", "ray-casting,grid-snap", "--out", &out]), 2, "technique 'grid-snap' is not registered");
+    assert_one_line_error(
+        &grove(&["synth", "--techniques", "ray-casting,grid-snap", "--out", &out]),
+        2,
+        "technique 'grid-snap' is not registered",
+    );
     assert_one_line_error(&grove(&["synth", "--techniques", "manual,manual", "--out", &out]), 2, "twice");
     assert_one_line_error(&grove(&["synth", "--techniques", "gaze-dwell"]), 2, "--out");
     assert_one_line_error(&grove(&["play", "--technique", "grid-snap"]), 2, "technique 'grid-snap' is not registered");
@@ -139,7 +167,11 @@ fn a_scenario_file_switches_to_a_plug_in_technique_by_name() {
     std::fs::write(&bad, std::fs::read_to_string(&file).unwrap().replace("\"gaze-dwell\"", "\"grid-snap\"")).unwrap();
     let o = grove_with(&["test"], &bad);
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("known: ray-casting, manual, gaze-dwell"), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("known: ray-casting, manual, gaze-dwell"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 /// The plug-in's committed synthetic recordings (`techniques/gaze-dwell/replays/`) replay to
@@ -154,7 +186,14 @@ fn the_committed_gaze_dwell_recordings_replay_and_regenerate_unchanged() {
     for name in ["P01-gaze-dwell.jsonl", "P02-gaze-dwell.jsonl"] {
         let o = grove_with(&["replay"], &committed.join(name));
         let text = String::from_utf8_lossy(&o.stdout);
-        assert!(o.status.success() && text.contains("verified, complete") && text.contains("(gaze-dwell): completed"), "{name}: {text}{}", String::from_utf8_lossy(&o.stderr));
-        assert!(std::fs::read(committed.join(name)).unwrap() == std::fs::read(dir.path().join(name)).unwrap(), "{name} differs from a fresh grove synth");
+        assert!(
+            o.status.success() && text.contains("verified, complete") && text.contains("(gaze-dwell): completed"),
+            "{name}: {text}{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(
+            std::fs::read(committed.join(name)).unwrap() == std::fs::read(dir.path().join(name)).unwrap(),
+            "{name} differs from a fresh grove synth"
+        );
     }
 }

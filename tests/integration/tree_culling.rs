@@ -9,11 +9,11 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
-use grove::render::offscreen::{self, Gpu};
 use grove::render::Renderer;
+use grove::render::offscreen::{self, Gpu};
+use grove_systems::Sim;
 use grove_systems::components::{Head, Pose};
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
 use image::RgbaImage;
 
 use crate::shared_gpu;
@@ -115,9 +115,14 @@ fn the_shadow_map_draws_only_the_trees_in_its_own_volume() {
     let s = scene("forest.ron");
     let [(culled, main, casters), (all, every, every_caster)] = both_with_shadow(&s, &world(&s, None));
     assert_same("forest", &culled, &all);
-    eprintln!("forest: the main view draws {main} trees, the shadow map {casters} (without culling {every} and {every_caster})");
+    eprintln!(
+        "forest: the main view draws {main} trees, the shadow map {casters} (without culling {every} and {every_caster})"
+    );
     // (Trees lost in the haze, beyond about 566 m, are left out before any view: not all 10,106.)
-    assert!(every_caster >= every && every > main, "without culling the shadow map and the main view draw every tree: {every_caster} and {every}, culled {main}");
+    assert!(
+        every_caster >= every && every > main,
+        "without culling the shadow map and the main view draw every tree: {every_caster} and {every}, culled {main}"
+    );
     assert!(casters > 0, "no tree casts a shadow near the camera");
     assert!(casters * 4 < main, "the shadow map draws {casters} trees, the main view {main}");
 }

@@ -10,8 +10,8 @@
 //! (lavapipe in CI); without one the test fails loudly.
 
 use glam::Vec3;
+use grove::models::{ModelData, load_model};
 use grove::render::offscreen::Gpu;
-use grove::models::{load_model, ModelData};
 use grove_systems::Sim;
 use image::RgbaImage;
 
@@ -115,7 +115,10 @@ fn a_tree_lost_in_the_haze_is_not_drawn() {
             (drawn, n)
         };
         let (drawn, shown) = seen(500.0);
-        assert!(drawn == 1 && shown > (SIZE * SIZE / 40) as usize, "{kind}: at 500 m the tree should still show ({drawn} drawn, {shown} pixels)");
+        assert!(
+            drawn == 1 && shown > (SIZE * SIZE / 40) as usize,
+            "{kind}: at 500 m the tree should still show ({drawn} drawn, {shown} pixels)"
+        );
         assert_eq!(seen(560.0), (1, 0), "{kind}: at 560 m the tree is drawn and shows no more than the haze");
         assert_eq!(seen(575.0), (0, 0), "{kind}: the tree lost in the haze at 575 m is drawn");
     }

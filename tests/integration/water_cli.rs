@@ -33,7 +33,11 @@ fn scene_check_lists_the_pond() {
 #[test]
 fn bad_water_fields_give_one_line_errors() {
     broken("depth", &pond().replacen("depth: 1.35,", "depth: -2.0,", 1), "depth -2 must be in (0, 10000]");
-    broken("colour", &pond().replacen("colour: (0.02, 0.07, 0.06),", "colour: (0.02, 7.0, 0.06),", 1), "colour component 7");
+    broken(
+        "colour",
+        &pond().replacen("colour: (0.02, 0.07, 0.06),", "colour: (0.02, 7.0, 0.06),", 1),
+        "colour component 7",
+    );
     broken("ripples", &pond().replacen("ripples: 1.0,", "ripples: 9.0,", 1), "ripples 9 is outside");
     broken("height", &pond().replacen("height: -0.15,", "height: NaN,", 1), "height");
     broken("unknown", &pond().replacen("ripples: 1.0,", "ripples: 1.0, waves: 2,", 1), "waves");
@@ -42,7 +46,11 @@ fn bad_water_fields_give_one_line_errors() {
     let start = p.find("polygon: [").unwrap();
     let end = start + p[start..].find("],").unwrap() + 2;
     broken("two", &format!("{}polygon: [(0.0, 0.0), (1.0, 0.0)],{}", &p[..start], &p[end..]), "at least 3");
-    broken("bowtie", &format!("{}polygon: [(0.0, 0.0), (2.0, 2.0), (2.0, 0.0), (0.0, 2.0)],{}", &p[..start], &p[end..]), "cross");
+    broken(
+        "bowtie",
+        &format!("{}polygon: [(0.0, 0.0), (2.0, 2.0), (2.0, 0.0), (0.0, 2.0)],{}", &p[..start], &p[end..]),
+        "cross",
+    );
 }
 
 #[test]
@@ -51,7 +59,8 @@ fn render_draws_the_pond_unless_told_no_water() {
     let (with, without) = (dir.path().join("with.png"), dir.path().join("without.png"));
     for (path, extra) in [(&with, None), (&without, Some("--no-water"))] {
         let p = path.display().to_string();
-        let mut args = vec!["render", "--scene", "assets/scenes/pond.ron", "--out", p.as_str(), "--width", "96", "--height", "64"];
+        let mut args =
+            vec!["render", "--scene", "assets/scenes/pond.ron", "--out", p.as_str(), "--width", "96", "--height", "64"];
         args.extend(extra);
         let out = grove(&args);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

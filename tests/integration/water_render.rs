@@ -14,11 +14,11 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use grove::render::offscreen::{self, Gpu};
-use grove::render::{camera_matrix, Camera, Renderer, WaterOutput};
+use grove::render::{Camera, Renderer, WaterOutput, camera_matrix};
+use grove_systems::Sim;
 use grove_systems::catalogue::ModelId;
 use grove_systems::components::Pose;
 use grove_systems::scene::Scene;
-use grove_systems::Sim;
 use image::RgbaImage;
 
 use crate::shared_gpu;
@@ -145,7 +145,8 @@ fn the_shore_birch_appears_mirrored_and_upside_down_in_the_water() {
             // Look within 1 m of the trunk's mirror (the crown is about 3 m wide), ±2 rows.
             let (x1, _) = project(&with, mirrored + Vec3::X * 1.0, w, h);
             let reach = (x1 - mx).abs().max(2.0) as i32;
-            let hit = (-reach..=reach).any(|dx| (-2..=2).any(|dy| differs(&a, &b, (mx as i32 + dx) as u32, (my as i32 + dy) as u32)));
+            let hit = (-reach..=reach)
+                .any(|dx| (-2..=2).any(|dy| differs(&a, &b, (mx as i32 + dx) as u32, (my as i32 + dy) as u32)));
             found += usize::from(hit);
         }
         assert!(landed >= 5, "{output:?}: the test's view shows {landed} crown heights in the water");
@@ -256,7 +257,12 @@ fn compare(name: &str, img: &RgbaImage, tol: Tolerance) {
         let dir = root().join("target/snapshot-failures");
         let _ = std::fs::create_dir_all(&dir);
         let _ = img.save(dir.join(format!("{name}.png")));
-        panic!("{name}: differs from {} (mean abs diff {mean:.2} > {} or {percent:.2}% pixels over {PIXEL_THRESHOLD} > {}%)", path.display(), tol.mean_abs, tol.percent_over);
+        panic!(
+            "{name}: differs from {} (mean abs diff {mean:.2} > {} or {percent:.2}% pixels over {PIXEL_THRESHOLD} > {}%)",
+            path.display(),
+            tol.mean_abs,
+            tol.percent_over
+        );
     }
 }
 
@@ -279,4 +285,3 @@ fn golden_pond_from_the_east() {
     let img = render(&sim, 160, 120, WaterOutput::Full, true);
     compare("pond-east", &img, Tolerance { mean_abs: 3.0, percent_over: 3.0 });
 }
-

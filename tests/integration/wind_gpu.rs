@@ -7,7 +7,7 @@
 //! test fails with a message that says so.
 
 use glam::{Vec2, Vec3, Vec4};
-use grove_systems::wind_model::{self, hash_u32, WindParams};
+use grove_systems::wind_model::{self, WindParams, hash_u32};
 use wgpu::util::DeviceExt;
 
 const WIND_WGSL: &str = include_str!("../../src/render/trees/wind.wgsl");
@@ -99,17 +99,17 @@ fn f32_bytes(values: impl IntoIterator<Item = f32>) -> Vec<u8> {
 /// Runs the WGSL functions on the GPU and returns one vec4 per case.
 fn run_gpu(cases: &[Case]) -> Vec<[f32; 4]> {
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())).unwrap_or_else(|e| {
-        panic!(
-            "no wgpu adapter ({e}); this test needs a GPU or a software Vulkan driver \
+    let adapter =
+        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())).unwrap_or_else(|e| {
+            panic!(
+                "no wgpu adapter ({e}); this test needs a GPU or a software Vulkan driver \
              (apt-get install mesa-vulkan-drivers libvulkan1 for lavapipe)"
-        )
-    });
+            )
+        });
     eprintln!("wind_gpu: adapter {:?}", adapter.get_info());
-    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("wind test device"),
-        ..Default::default()
-    }))
+    let (device, queue) = pollster::block_on(
+        adapter.request_device(&wgpu::DeviceDescriptor { label: Some("wind test device"), ..Default::default() }),
+    )
     .expect("request a wgpu device");
 
     // wind.wgsl imports the uniform's declaration, which grove-systems writes.
@@ -166,9 +166,11 @@ fn run_gpu(cases: &[Case]) -> Vec<[f32; 4]> {
         ],
     });
 
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("wind test encoder") });
+    let mut encoder =
+        device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("wind test encoder") });
     {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("wind test pass"), timestamp_writes: None });
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("wind test pass"), timestamp_writes: None });
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bind_group, &[]);
         pass.dispatch_workgroups(cases.len().div_ceil(64) as u32, 1, 1);
@@ -207,8 +209,14 @@ fn wgsl_wind_matches_cpu_reference_within_a_tenth_of_a_millimetre() {
         let n = wind_model::noise01(c.params.density * c.v0 + Vec3::new(0.1, 0.2, 0.3));
         worst_noise = worst_noise.max((n - g[3]).abs());
     }
-    eprintln!("wind_gpu: max error noise model {:.2e} m, hierarchical {:.2e} m; raw noise {:.2e}", worst[0], worst[1], worst_noise);
-    eprintln!("wind_gpu: largest displacement noise model {:.3} m, hierarchical {:.3} m", largest_sway[0], largest_sway[1]);
+    eprintln!(
+        "wind_gpu: max error noise model {:.2e} m, hierarchical {:.2e} m; raw noise {:.2e}",
+        worst[0], worst[1], worst_noise
+    );
+    eprintln!(
+        "wind_gpu: largest displacement noise model {:.3} m, hierarchical {:.3} m",
+        largest_sway[0], largest_sway[1]
+    );
     assert!(worst_noise <= 1e-5, "raw noise differs by {worst_noise}");
     // The cases must actually move vertices by a visible amount, or the comparison says little.
     assert!(largest_sway[0] > 0.05 && largest_sway[1] > 0.05, "displacements too small: {largest_sway:?}");

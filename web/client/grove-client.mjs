@@ -27,16 +27,16 @@ const DEFAULTS = {
 function newWriterId() {
   const bytes = new Uint8Array(12);
   globalThis.crypto.getRandomValues(bytes);
-  return "js-" + Array.from(bytes, (b) => b.toString(16).padStart(2, "0")).join("");
+  return 'js-' + Array.from(bytes, (b) => b.toString(16).padStart(2, '0')).join('');
 }
 
 /** The server's base URL (without query) and the token its URL carries, if any. */
 function splitUrl(url) {
   const u = new URL(url);
-  const token = u.searchParams.get("token");
-  u.search = "";
-  u.hash = "";
-  const base = u.toString().replace(/\/+$/, "");
+  const token = u.searchParams.get('token');
+  u.search = '';
+  u.hash = '';
+  const base = u.toString().replace(/\/+$/, '');
   return { base, token };
 }
 
@@ -49,7 +49,9 @@ const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
  */
 export function unreachable(base, e, timeoutMs) {
   const late = e?.name === 'TimeoutError' || e?.name === 'AbortError';
-  const why = late ? `no answer within ${(timeoutMs / 1000).toFixed(0)} s` : e?.cause?.code ?? e?.cause?.message ?? (e?.name === 'TypeError' ? 'no connection' : e?.message ?? String(e));
+  const why = late
+    ? `no answer within ${(timeoutMs / 1000).toFixed(0)} s`
+    : (e?.cause?.code ?? e?.cause?.message ?? (e?.name === 'TypeError' ? 'no connection' : (e?.message ?? String(e))));
   return `the server ${base} is unreachable (${why})`;
 }
 
@@ -57,7 +59,7 @@ export function unreachable(base, e, timeoutMs) {
 export class SessionError extends Error {
   constructor(message, status, body) {
     super(message);
-    this.name = "SessionError";
+    this.name = 'SessionError';
     this.status = status;
     this.body = body;
   }
@@ -75,12 +77,18 @@ class Connection {
 
   /** One request; resolves to { status, json } or throws a SessionError with status 0. */
   async request(method, path, body) {
-    const headers = { "grove-writer": this.writer };
+    const headers = { 'grove-writer': this.writer };
     if (this.token) headers.authorization = `Bearer ${this.token}`;
-    if (body !== undefined) headers["content-type"] = typeof body === "string" && body.startsWith("{") ? "application/json" : "text/plain";
+    if (body !== undefined)
+      headers['content-type'] = typeof body === 'string' && body.startsWith('{') ? 'application/json' : 'text/plain';
     let response;
     try {
-      response = await this.fetch(this.base + path, { method, headers, body, signal: AbortSignal.timeout(this.timeoutMs) });
+      response = await this.fetch(this.base + path, {
+        method,
+        headers,
+        body,
+        signal: AbortSignal.timeout(this.timeoutMs),
+      });
     } catch (e) {
       throw new SessionError(unreachable(this.base, e, this.timeoutMs), 0, null);
     }
@@ -144,12 +152,16 @@ export class Session extends EventTarget {
 
   /** Appends a line (one recording line, without its newline) and starts sending it. */
   append(line) {
-    if (this.#closed) throw new SessionError("the session is closed", 0, null);
-    const text = line.endsWith("\n") ? line.slice(0, -1) : line;
-    if (text.includes("\n")) throw new SessionError("append takes one line at a time", 0, null);
+    if (this.#closed) throw new SessionError('the session is closed', 0, null);
+    const text = line.endsWith('\n') ? line.slice(0, -1) : line;
+    if (text.includes('\n')) throw new SessionError('append takes one line at a time', 0, null);
     const bytes = new TextEncoder().encode(text).length + 1;
     if (this.#queuedBytes + bytes > this.#options.maxBufferedBytes) {
-      throw new SessionError(`more than ${this.#options.maxBufferedBytes} bytes wait to be sent; the server has been unreachable too long`, 0, null);
+      throw new SessionError(
+        `more than ${this.#options.maxBufferedBytes} bytes wait to be sent; the server has been unreachable too long`,
+        0,
+        null,
+      );
     }
     this.#queue.push({ number: this.#next++, text, bytes });
     this.#queuedBytes += bytes;
@@ -186,18 +198,18 @@ export class Session extends EventTarget {
     for (let attempt = 0; ; attempt++) {
       let r;
       try {
-        r = await this.#conn.request("POST", `/api/sessions/${this.id}/end`);
+        r = await this.#conn.request('POST', `/api/sessions/${this.id}/end`);
       } catch (e) {
         await this.#wait(e, attempt);
         continue;
       }
-      if (r.status === 409 && r.json?.code === "busy") {
+      if (r.status === 409 && r.json?.code === 'busy') {
         await sleep(this.#options.retryMinMs);
         continue;
       }
       if (r.status === 410) {
         // Ended by an earlier try whose answer was lost: its entry has the verification.
-        const s = await this.#conn.request("GET", `/api/sessions/${this.id}`);
+        const s = await this.#conn.request('GET', `/api/sessions/${this.id}`);
         this.#closed = true;
         return s.json;
       }
@@ -210,18 +222,18 @@ export class Session extends EventTarget {
   /** Stops sending (a page being left); the server keeps what it acknowledged. */
   close() {
     this.#closed = true;
-    for (const w of this.#waiters.splice(0)) w.reject(new SessionError("the session was closed", 0, null));
+    for (const w of this.#waiters.splice(0)) w.reject(new SessionError('the session was closed', 0, null));
   }
 
   #ackTo(acked) {
-    if (typeof acked !== "number") return;
+    if (typeof acked !== 'number') return;
     if (acked + 1 < (this.#queue[0]?.number ?? this.#next)) {
       this.#refuse(new SessionError(`the server has ${acked} lines, fewer than it acknowledged`, 0, null));
       return;
     }
     this.#acked = acked;
     while (this.#queue.length && this.#queue[0].number <= acked) this.#queuedBytes -= this.#queue.shift().bytes;
-    this.dispatchEvent(Object.assign(new Event("ack"), { acked }));
+    this.dispatchEvent(Object.assign(new Event('ack'), { acked }));
     this.#waiters = this.#waiters.filter((w) => {
       if (w.target <= acked) w.resolve(acked);
       return w.target > acked;
@@ -230,14 +242,14 @@ export class Session extends EventTarget {
 
   #refuse(error) {
     this.#refusal = error;
-    this.dispatchEvent(Object.assign(new Event("refused"), { reason: error.message, status: error.status }));
+    this.dispatchEvent(Object.assign(new Event('refused'), { reason: error.message, status: error.status }));
     for (const w of this.#waiters.splice(0)) w.reject(error);
   }
 
   async #wait(error, attempt) {
     if (!this.#offline) {
       this.#offline = true;
-      this.dispatchEvent(Object.assign(new Event("offline"), { reason: error.message }));
+      this.dispatchEvent(Object.assign(new Event('offline'), { reason: error.message }));
     }
     const o = this.#options;
     await sleep(Math.min(o.retryMaxMs, o.retryMinMs * 2 ** Math.min(attempt, 6)));
@@ -246,7 +258,7 @@ export class Session extends EventTarget {
   #online() {
     if (this.#offline) {
       this.#offline = false;
-      this.dispatchEvent(new Event("online"));
+      this.dispatchEvent(new Event('online'));
     }
   }
 
@@ -254,14 +266,20 @@ export class Session extends EventTarget {
   async #resync() {
     for (let attempt = 0; !this.#closed; attempt++) {
       try {
-        const r = await this.#conn.request("GET", `/api/sessions/${this.id}`);
-        if (r.status === 200 && r.json?.state === "open") {
+        const r = await this.#conn.request('GET', `/api/sessions/${this.id}`);
+        if (r.status === 200 && r.json?.state === 'open') {
           this.#online();
           this.#ackTo(r.json.acked);
           return;
         }
         if (r.status === 200 || r.status === 404) {
-          this.#refuse(new SessionError(`the session is no longer open on the server (${r.json?.state ?? r.json?.error})`, r.status, r.json));
+          this.#refuse(
+            new SessionError(
+              `the session is no longer open on the server (${r.json?.state ?? r.json?.error})`,
+              r.status,
+              r.json,
+            ),
+          );
           return;
         }
         await sleep(this.#options.retryMinMs);
@@ -278,16 +296,16 @@ export class Session extends EventTarget {
       let attempt = 0;
       while (this.#queue.length && !this.#closed && !this.#refusal) {
         const from = this.#queue[0].number;
-        let body = "";
+        let body = '';
         let size = 0;
         for (const q of this.#queue) {
           if (size && size + q.bytes > this.#options.maxBatchBytes) break;
-          body += q.text + "\n";
+          body += q.text + '\n';
           size += q.bytes;
         }
         let r;
         try {
-          r = await this.#conn.request("POST", `/api/sessions/${this.id}/lines?from=${from}`, body);
+          r = await this.#conn.request('POST', `/api/sessions/${this.id}/lines?from=${from}`, body);
         } catch (e) {
           await this.#wait(e, attempt++);
           await this.#resync();
@@ -295,12 +313,12 @@ export class Session extends EventTarget {
         }
         attempt = 0;
         this.#online();
-        if (r.status === 200 || (r.status === 409 && r.json?.code === "gap")) {
+        if (r.status === 200 || (r.status === 409 && r.json?.code === 'gap')) {
           this.#ackTo(r.json?.acked);
-        } else if (r.status === 409 && r.json?.code === "busy") {
+        } else if (r.status === 409 && r.json?.code === 'busy') {
           await sleep(this.#options.retryMinMs);
         } else {
-          if (typeof r.json?.acked === "number") this.#ackTo(r.json.acked);
+          if (typeof r.json?.acked === 'number') this.#ackTo(r.json.acked);
           this.#refuse(new SessionError(r.json?.error ?? `lines refused (${r.status})`, r.status, r.json));
         }
       }
@@ -325,7 +343,7 @@ export async function openSession(url, what, options = {}) {
   for (let attempt = 0; ; attempt++) {
     let r;
     try {
-      r = await conn.request("POST", "/api/sessions", JSON.stringify(what));
+      r = await conn.request('POST', '/api/sessions', JSON.stringify(what));
     } catch (e) {
       if (attempt >= (o.openAttempts ?? 20)) throw e;
       await sleep(Math.min(o.retryMaxMs, o.retryMinMs * 2 ** Math.min(attempt, 6)));
@@ -344,7 +362,8 @@ export async function openSession(url, what, options = {}) {
 export async function resumeSession(url, id, options = {}) {
   const o = withDefaults(options);
   const conn = new Connection(url, o);
-  const r = await conn.request("GET", `/api/sessions/${id}`);
-  if (r.status !== 200 || r.json?.state !== "open") throw new SessionError(r.json?.error ?? `the session is not open (${r.json?.state ?? r.status})`, r.status, r.json);
+  const r = await conn.request('GET', `/api/sessions/${id}`);
+  if (r.status !== 200 || r.json?.state !== 'open')
+    throw new SessionError(r.json?.error ?? `the session is not open (${r.json?.state ?? r.status})`, r.status, r.json);
   return new Session(conn, o, { id, file: r.json.file, header: null, acked: r.json.acked });
 }

@@ -125,9 +125,11 @@ function camera(view, aspect) {
 function fitDistance(boxes, { fov, eye, target, aspect, margin = 0.95, from = 1 }) {
   const corners = [];
   for (const { min, max } of boxes) {
-    for (const x of [min[0], max[0]]) for (const y of [min[1], max[1]]) for (const z of [min[2], max[2]]) {
-      corners.push(new THREE.Vector3(x, y, z));
-    }
+    for (const x of [min[0], max[0]])
+      for (const y of [min[1], max[1]])
+        for (const z of [min[2], max[2]]) {
+          corners.push(new THREE.Vector3(x, y, z));
+        }
   }
   for (let d = from; d < 1000; d *= 1.01) {
     const cam = camera({ fov, eye, target, distance: d }, aspect);
@@ -165,7 +167,10 @@ function scene(tree, { ground = true } = {}) {
   sun.shadow.normalBias = 0.02;
   s.add(sun, sun.target);
   if (ground) {
-    const plane = new THREE.Mesh(new THREE.PlaneGeometry(2000, 2000), new THREE.MeshStandardMaterial({ color: GROUND, roughness: 1 }));
+    const plane = new THREE.Mesh(
+      new THREE.PlaneGeometry(2000, 2000),
+      new THREE.MeshStandardMaterial({ color: GROUND, roughness: 1 }),
+    );
     plane.rotation.x = -Math.PI / 2;
     plane.receiveShadow = true;
     s.add(plane);
@@ -182,15 +187,24 @@ function masked(tree) {
     const m = o.material;
     saved.push([o, m]);
     // The texture only for its alpha (the cut-out of a leaf card): every drawn pixel is white.
-    o.material = new THREE.MeshBasicMaterial({ color: 0xffffff, map: m.map ?? null, alphaTest: m.alphaTest || 0, side: m.side });
+    o.material = new THREE.MeshBasicMaterial({
+      color: 0xffffff,
+      map: m.map ?? null,
+      alphaTest: m.alphaTest || 0,
+      side: m.side,
+    });
     o.material.onBeforeCompile = (shader) => {
-      shader.fragmentShader = shader.fragmentShader.replace('#include <map_fragment>', '#include <map_fragment>\n\tdiffuseColor.rgb = vec3(1.0);');
+      shader.fragmentShader = shader.fragmentShader.replace(
+        '#include <map_fragment>',
+        '#include <map_fragment>\n\tdiffuseColor.rgb = vec3(1.0);',
+      );
     };
   });
-  return () => saved.forEach(([o, m]) => {
-    o.material.dispose();
-    o.material = m;
-  });
+  return () =>
+    saved.forEach(([o, m]) => {
+      o.material.dispose();
+      o.material = m;
+    });
 }
 
 /**
@@ -212,7 +226,11 @@ function render(handle, view, width, height, mode = 'beauty') {
     restore();
     s.remove(tree);
     const px = pixels(r, width, height);
-    let top = -1, bottom = -1, left = width, right = -1, count = 0;
+    let top = -1,
+      bottom = -1,
+      left = width,
+      right = -1,
+      count = 0;
     for (let y = 0; y < height; y++) {
       const row = height - 1 - y; // readPixels starts at the bottom row
       for (let x = 0; x < width; x++) {
@@ -252,7 +270,8 @@ function colours(handle, view, width, height) {
   const mask = pixels(renderer, width, height);
   render(handle, view, width, height);
   const px = pixels(renderer, width, height);
-  let n = 0, dark = 0;
+  let n = 0,
+    dark = 0;
   const sum = [0, 0, 0];
   for (let i = 0; i < mask.length; i += 4) {
     if (mask[i] <= 127) continue;
@@ -269,7 +288,9 @@ function colours(handle, view, width, height) {
  * per column and a label per row. Returns the grid as a PNG data URL.
  */
 async function grid(cells, columns, rows, w, h, title) {
-  const pad = 8, head = 56, side = 170;
+  const pad = 8,
+    head = 56,
+    side = 170;
   const c = document.createElement('canvas');
   c.width = side + columns.length * (w + pad) + pad;
   c.height = head + cells.length * (h + pad) + pad;

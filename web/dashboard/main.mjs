@@ -55,13 +55,32 @@ function map(s) {
   z1 += pad;
   const size = 260;
   const k = size / Math.max(x1 - x0, z1 - z0);
-  const g = svg('svg', { class: 'map', width: size, height: size, viewBox: `0 0 ${size} ${size}`, 'data-file': s.file });
+  const g = svg('svg', {
+    class: 'map',
+    width: size,
+    height: size,
+    viewBox: `0 0 ${size} ${size}`,
+    'data-file': s.file,
+  });
   const most = Math.max(1, ...l.hits.map((h) => h[2]));
   for (const [x, z, n] of l.hits) {
-    g.append(svg('rect', { x: (x * l.cell_m - x0) * k, y: (z * l.cell_m - z0) * k, width: l.cell_m * k, height: l.cell_m * k, fill: '#e07020', 'fill-opacity': 0.15 + (0.85 * n) / most }));
+    g.append(
+      svg('rect', {
+        x: (x * l.cell_m - x0) * k,
+        y: (z * l.cell_m - z0) * k,
+        width: l.cell_m * k,
+        height: l.cell_m * k,
+        fill: '#e07020',
+        'fill-opacity': 0.15 + (0.85 * n) / most,
+      }),
+    );
   }
-  for (const [x, z] of l.targets) g.append(svg('circle', { cx: (x - x0) * k, cy: (z - z0) * k, r: 6, fill: 'none', stroke: '#2050c0', 'stroke-width': 2 }));
-  for (const [x, z] of l.trees) g.append(svg('circle', { class: 'tree', cx: (x - x0) * k, cy: (z - z0) * k, r: 3.5, fill: '#1a7a35' }));
+  for (const [x, z] of l.targets)
+    g.append(
+      svg('circle', { cx: (x - x0) * k, cy: (z - z0) * k, r: 6, fill: 'none', stroke: '#2050c0', 'stroke-width': 2 }),
+    );
+  for (const [x, z] of l.trees)
+    g.append(svg('circle', { class: 'tree', cx: (x - x0) * k, cy: (z - z0) * k, r: 3.5, fill: '#1a7a35' }));
   const f = document.createElement('figure');
   const c = document.createElement('figcaption');
   c.textContent = `${s.participant} · ${s.task ?? 'free'} · ${l.trees.length} trees · north up`;
@@ -109,7 +128,12 @@ async function refresh() {
       ]);
     }),
   );
-  $('#maps').replaceChildren(...d.sessions.filter((s) => s.state === 'open' && s.live && s.live.trees).map(map).filter(Boolean));
+  $('#maps').replaceChildren(
+    ...d.sessions
+      .filter((s) => s.state === 'open' && s.live && s.live.trees)
+      .map(map)
+      .filter(Boolean),
+  );
   $('#updated').textContent = `updated ${new Date().toLocaleTimeString()}`;
 }
 

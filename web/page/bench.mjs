@@ -23,7 +23,9 @@ for (let i = 0; i < argv.length; i += 2) {
   else if (a === '--note' && v) args.note = v;
   else if (a === '--out' && v) args.out = v;
   else {
-    console.error(`error: unknown or incomplete argument ${a}; usage: node web/page/bench.mjs [--frames N] [--note TEXT] [--out FILE]`);
+    console.error(
+      `error: unknown or incomplete argument ${a}; usage: node web/page/bench.mjs [--frames N] [--note TEXT] [--out FILE]`,
+    );
     process.exit(2);
   }
 }
@@ -39,7 +41,10 @@ let result;
 try {
   // Drawn one frame in ten, without antialiasing or shadows, so that SwiftShader leaves the frame
   // rate near a headset's and a frame runs about one step, as it does there.
-  const { page } = await h.open('participant=BENCH&task=ray-casting-7&seed=1&quality=low&render_every=10', { xr: true, room: false });
+  const { page } = await h.open('participant=BENCH&task=ray-casting-7&seed=1&quality=low&render_every=10', {
+    xr: true,
+    room: false,
+  });
   await enterAndStart(page, 'vr');
   const own = await page.evaluate(() => window.grove.snapshot.trees.length);
   // Seven trees of the current model on the ground in front, off the targets (the task goes on).
@@ -84,9 +89,24 @@ try {
       trees,
       frames: perf.length,
       steps_per_frame: round(perf.reduce((s, p) => s + p.steps, 0) / perf.length, 2),
-      step_ms: round(quantile(framed.map((p) => p.step), 0.5)),
-      snapshot_ms: round(quantile(framed.map((p) => p.snapshot), 0.5)),
-      update_ms: round(quantile(perf.map((p) => p.update), 0.5)),
+      step_ms: round(
+        quantile(
+          framed.map((p) => p.step),
+          0.5,
+        ),
+      ),
+      snapshot_ms: round(
+        quantile(
+          framed.map((p) => p.snapshot),
+          0.5,
+        ),
+      ),
+      update_ms: round(
+        quantile(
+          perf.map((p) => p.update),
+          0.5,
+        ),
+      ),
       total_ms: round(quantile(total, 0.5)),
       total_ms_p95: round(quantile(total, 0.95)),
       total_ms_mean: round(total.reduce((a, b) => a + b, 0) / total.length),

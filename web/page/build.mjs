@@ -37,7 +37,15 @@ if (!existsSync(wasm)) {
 rmSync(out, { recursive: true, force: true });
 mkdirSync(out, { recursive: true });
 // ES modules for today's browsers, minified, their licences in a file beside each.
-const bundled = { bundle: true, format: 'esm', target: 'es2022', minify: true, sourcemap: false, legalComments: 'linked', logLevel: 'warning' };
+const bundled = {
+  bundle: true,
+  format: 'esm',
+  target: 'es2022',
+  minify: true,
+  sourcemap: false,
+  legalComments: 'linked',
+  logLevel: 'warning',
+};
 const result = await build({
   ...bundled,
   entryPoints: [join(here, 'main.mjs')],
@@ -48,7 +56,11 @@ const result = await build({
 });
 // The protocol's form page and the dashboard (web/protocol/, web/dashboard/): their markup is
 // built into grove serve, their modules are served from here as /protocol.js and /dashboard.js.
-await build({ ...bundled, entryPoints: { protocol: join(web, 'protocol', 'main.mjs'), dashboard: join(web, 'dashboard', 'main.mjs') }, outdir: out });
+await build({
+  ...bundled,
+  entryPoints: { protocol: join(web, 'protocol', 'main.mjs'), dashboard: join(web, 'dashboard', 'main.mjs') },
+  outdir: out,
+});
 copyFileSync(join(here, 'index.html'), join(out, 'index.html'));
 copyFileSync(join(here, 'page.css'), join(out, 'page.css'));
 copyFileSync(wasm, join(out, 'grove_sim.wasm'));
@@ -78,5 +90,10 @@ const summary = {
 };
 summary.protocol_js_bytes = size(join(out, 'protocol.js'));
 summary.dashboard_js_bytes = size(join(out, 'dashboard.js'));
-writeFileSync(join(out, 'build.json'), JSON.stringify({ ...summary, inputs: Object.keys(result.metafile.inputs).length }, null, 2));
-console.log(`${out}: page.js ${summary.page_js_bytes} bytes (${summary.page_js_gzip_bytes} gzipped), grove_sim.wasm ${summary.wasm_bytes} bytes (${summary.wasm_gzip_bytes} gzipped), profiles ${PROFILES.join(', ')}`);
+writeFileSync(
+  join(out, 'build.json'),
+  JSON.stringify({ ...summary, inputs: Object.keys(result.metafile.inputs).length }, null, 2),
+);
+console.log(
+  `${out}: page.js ${summary.page_js_bytes} bytes (${summary.page_js_gzip_bytes} gzipped), grove_sim.wasm ${summary.wasm_bytes} bytes (${summary.wasm_gzip_bytes} gzipped), profiles ${PROFILES.join(', ')}`,
+);

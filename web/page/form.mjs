@@ -24,11 +24,26 @@ export const SKIP = 'skip';
  * LATER or SKIP (a required one has none: it is always typed later).
  */
 export function rowOf(item) {
-  if (!Array.isArray(item.options)) throw new Error(`item '${item.id}' comes without its options: the server describes every item with them`);
+  if (!Array.isArray(item.options))
+    throw new Error(`item '${item.id}' comes without its options: the server describes every item with them`);
   const required = item.required !== false;
   const typed = Boolean(item.typed);
-  const later = required ? [] : [{ value: LATER, label: 'Type it on the page' }, { value: SKIP, label: 'Skip it' }];
-  return { id: item.id, text: item.text, required, options: typed ? later : item.options, multi: Boolean(item.multi), anchors: item.anchors ?? null, typed, maxChars: item.max_chars ?? null };
+  const later = required
+    ? []
+    : [
+        { value: LATER, label: 'Type it on the page' },
+        { value: SKIP, label: 'Skip it' },
+      ];
+  return {
+    id: item.id,
+    text: item.text,
+    required,
+    options: typed ? later : item.options,
+    multi: Boolean(item.multi),
+    anchors: item.anchors ?? null,
+    typed,
+    maxChars: item.max_chars ?? null,
+  };
 }
 
 /** The rows of buttons an item's options are laid out in (at most ROW_MAX each, balanced). */
@@ -49,7 +64,9 @@ export function buttonRows(options) {
 export function optionLines(row, choices) {
   const words = row.options.length > 2 && !row.typed && row.options.some((o) => String(o.label).length > 3);
   const lines = words ? row.options.map((o) => [o]) : buttonRows(row.options);
-  return lines.map((line) => line.map((o) => ({ k: row.options.indexOf(o), label: o.label, on: isChosen(choices, row, o.value) })));
+  return lines.map((line) =>
+    line.map((o) => ({ k: row.options.indexOf(o), label: o.label, on: isChosen(choices, row, o.value) })),
+  );
 }
 
 /**

@@ -82,13 +82,21 @@ async function boot() {
   app.home = { head: first.head, fov_y: first.fov_y };
   const api = new StudyApi(location.href);
   const env = loadEnvironment(new URL('env/', document.baseURI)).catch(() => null); // grove's sky and ground
-  const [modes, , protocol] = await Promise.all([offeredModes(), models.load(first.menu.models).catch(() => {}), api.protocol()]);
+  const [modes, , protocol] = await Promise.all([
+    offeredModes(),
+    models.load(first.menu.models).catch(() => {}),
+    api.protocol(),
+  ]);
   app.modes = modes;
   app.view.setEnvironment(await env);
   app.world = worldOf(probe, probe.snapshot(), false);
   probe.free();
   const stored = app.stored;
-  if (stored && ((page.participant && stored.participant !== page.participant) || (params.get('task') && stored.task !== page.task))) app.stored = null;
+  if (
+    stored &&
+    ((page.participant && stored.participant !== page.participant) || (params.get('task') && stored.task !== page.task))
+  )
+    app.stored = null;
   if (protocol) await studyIntro(app, api, protocol);
   else instructions(app);
   app.view.loop(loop);

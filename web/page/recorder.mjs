@@ -75,7 +75,14 @@ export class Recorder extends EventTarget {
   async open(fields, extra = {}) {
     const writer = newWriter();
     const s = await openSession(this.url, fields, { writer });
-    this.#watch(s, { id: s.id, writer, file: s.file, participant: fields.participant, task: fields.task ?? null, ...extra });
+    this.#watch(s, {
+      id: s.id,
+      writer,
+      file: s.file,
+      participant: fields.participant,
+      task: fields.task ?? null,
+      ...extra,
+    });
     return s.header;
   }
 

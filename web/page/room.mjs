@@ -43,7 +43,11 @@ export function toSession(offset, p) {
   const yaw = 2 * Math.atan2(offset.orientation.y, offset.orientation.w);
   const c = Math.cos(yaw);
   const s = Math.sin(yaw);
-  return { x: offset.position.x + c * p.x + s * p.z, y: offset.position.y + p.y, z: offset.position.z - s * p.x + c * p.z };
+  return {
+    x: offset.position.x + c * p.x + s * p.z,
+    y: offset.position.y + p.y,
+    z: offset.position.z - s * p.x + c * p.z,
+  };
 }
 
 /**
@@ -57,7 +61,11 @@ export function horizontalPlanes(frame, space) {
     const pose = frame.getPose(plane.planeSpace, space);
     if (!pose) continue;
     const m = pose.transform.matrix;
-    const points = plane.polygon.map((p) => ({ x: m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12], y: m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13], z: m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14] }));
+    const points = plane.polygon.map((p) => ({
+      x: m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12],
+      y: m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13],
+      z: m[2] * p.x + m[6] * p.y + m[10] * p.z + m[14],
+    }));
     if (points.length < 3) continue;
     let area = 0;
     for (let i = 0; i < points.length; i++) {
@@ -66,7 +74,12 @@ export function horizontalPlanes(frame, space) {
       area += a.x * b.z - b.x * a.z;
     }
     const y = points.reduce((s, p) => s + p.y, 0) / points.length;
-    out.push({ label: (plane.semanticLabel ?? 'plane').replace(/[^a-z_]/gi, '').toLowerCase() || 'plane', y, points, area: Math.abs(area) / 2 });
+    out.push({
+      label: (plane.semanticLabel ?? 'plane').replace(/[^a-z_]/gi, '').toLowerCase() || 'plane',
+      y,
+      points,
+      area: Math.abs(area) / 2,
+    });
   }
   return out;
 }

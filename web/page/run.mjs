@@ -49,7 +49,8 @@ export class TaskRun {
     const sim = grove.createSim({ header, scene_text: sceneText, onLine: (l) => recorder.append(l) });
     const run = new TaskRun(sim, recorder);
     if (task) {
-      if (modeOfTask(grove, task) === 'manual') sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'switch_mode', mode: 'manual' } });
+      if (modeOfTask(grove, task) === 'manual')
+        sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'switch_mode', mode: 'manual' } });
       sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'start_task', task, ...(layout ? { layout } : {}) } });
     }
     return run;
@@ -80,7 +81,8 @@ export class TaskRun {
     while (sim.tick < end) made.push(...sim.step());
     const expected = lines.slice(1);
     for (let i = 0; i < expected.length; i++) {
-      if (made[i] !== expected[i]) throw new Error(`line ${i + 2} of the session does not re-simulate to the same line`);
+      if (made[i] !== expected[i])
+        throw new Error(`line ${i + 2} of the session does not re-simulate to the same line`);
     }
     sim.onLine = (l) => recorder.append(l);
     return new TaskRun(sim, recorder, { msAtStart: lastMs + 1 });

@@ -136,5 +136,6 @@ export class Screen {
 
 /** Throws unless `id` is a participant id: 1 to 32 letters, digits, _ or -, starting with a letter or digit. */
 export function checkParticipant(id) {
-  if (!ID.test(id)) throw new Error('a participant id is needed: 1 to 32 letters, digits, _ or -, starting with a letter or digit');
+  if (!ID.test(id))
+    throw new Error('a participant id is needed: 1 to 32 letters, digits, _ or -, starting with a letter or digit');
 }

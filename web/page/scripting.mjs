@@ -51,7 +51,11 @@ export function install(app) {
     /** Where a protocol's participant is: { participant, step, steps, kind, block, item, typing, message }, or null. */
     study: { get: () => app.study?.summary() ?? null, enumerable: true },
     /** The protocol's panel while it shows: { buttons: [{ id, label, on }], texts, hover }, or null. */
-    panel: { get: () => (panel()?.isOpen ? { buttons: panel().buttons(), texts: panel().texts(), hover: panel().hover } : null), enumerable: true },
+    panel: {
+      get: () =>
+        panel()?.isOpen ? { buttons: panel().buttons(), texts: panel().texts(), hover: panel().hover } : null,
+      enumerable: true,
+    },
     /** What hides the trees in AR: the session's depth sensing ({ usage, format }) while it is used, else null. */
     occlusion: { get: () => features()?.occlusion.active ?? null, enumerable: true },
     /** AR's light: { source: 'estimate' (the browser's light estimation) or 'neutral', main: the estimate's main light }, or null outside AR. */

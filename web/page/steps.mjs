@@ -16,7 +16,7 @@ export function panelFrame(panel, state, { head, ray, down, boxes, practice }) {
   panel.show(boxes);
   const hover = ray ? panel.hit(ray[0], ray[1]) : null;
   panel.setHover(hover);
-  panel.pointer(practice ? null : ray?.[0] ?? null, ray?.[1]);
+  panel.pointer(practice ? null : (ray?.[0] ?? null), ray?.[1]);
   const pressed = down && !state.down && hover ? hover : null;
   state.down = down;
   return pressed;

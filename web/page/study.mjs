@@ -22,7 +22,12 @@ export class StudyApi {
     if (this.token) headers.authorization = `Bearer ${this.token}`;
     let r;
     try {
-      r = await fetch(this.base + path, { method, headers, cache: 'no-store', body: body === undefined ? undefined : JSON.stringify(body) });
+      r = await fetch(this.base + path, {
+        method,
+        headers,
+        cache: 'no-store',
+        body: body === undefined ? undefined : JSON.stringify(body),
+      });
     } catch (e) {
       throw Object.assign(new Error(unreachable(this.base, e, 0)), { status: 0 });
     }
@@ -124,24 +129,50 @@ export class Study {
   layout(size, { image = null, seconds = null, taskText = '' } = {}) {
     const st = this.current;
     const message = this.message;
-    if (!st) return textLayout(size, { title: 'Thank you', text: 'The session is over. You can take the headset off.' });
+    if (!st)
+      return textLayout(size, { title: 'Thank you', text: 'The session is over. You can take the headset off.' });
     if (this.typing) {
       const n = this.typing.length;
       const text = `Thank you. ${n === 1 ? 'One answer is' : `${n} answers are`} to be typed: leave the headset's view, take the headset off and type ${n === 1 ? 'it' : 'them'} on the page.`;
       return textLayout(size, { title: titleOf(st), text, message, buttons: [{ id: 'leave', label: 'Leave' }] });
     }
     if (st.kind === 'instructions') {
-      return textLayout(size, { title: st.block, text: st.text, image, note: st.video ? 'Watch the video on the screen.' : '', message, buttons: [{ id: 'continue', label: 'Continue' }] });
+      return textLayout(size, {
+        title: st.block,
+        text: st.text,
+        image,
+        note: st.video ? 'Watch the video on the screen.' : '',
+        message,
+        buttons: [{ id: 'continue', label: 'Continue' }],
+      });
     }
     if (st.kind === 'practice') {
       const left = seconds === null ? '' : `${Math.max(0, Math.ceil(seconds))} s left`;
-      return textLayout(size, { title: 'Practice', text: st.text ?? 'Try the controls.', note: left, message, buttons: [{ id: 'end-practice', label: 'End practice' }] });
+      return textLayout(size, {
+        title: 'Practice',
+        text: st.text ?? 'Try the controls.',
+        note: left,
+        message,
+        buttons: [{ id: 'end-practice', label: 'End practice' }],
+      });
     }
     if (st.kind === 'task') {
-      return textLayout(size, { title: `Task: ${st.task}`, text: taskText, message, buttons: [{ id: 'start-task', label: 'Start' }] });
+      return textLayout(size, {
+        title: `Task: ${st.task}`,
+        text: taskText,
+        message,
+        buttons: [{ id: 'start-task', label: 'Start' }],
+      });
     }
     const { rows, choices, index } = this.q;
-    return itemLayout(size, { title: titleOf(st), index, count: rows.length, row: rows[index], lines: optionLines(rows[index], choices), message });
+    return itemLayout(size, {
+      title: titleOf(st),
+      index,
+      count: rows.length,
+      row: rows[index],
+      lines: optionLines(rows[index], choices),
+      message,
+    });
   }
 
   #save() {

@@ -1,7 +1,6 @@
 // What the page says: the task's instructions, the task panel's lines, the next target. The
 // controls of each device are its input source's words (input/xr.mjs, input/mouse.mjs).
 
-
 /** What a task done in `mode` ('ray-casting' or 'manual', run.mjs's modeOfTask) asks, in a few words for its participant. */
 export function taskText(mode) {
   return mode === 'manual'
@@ -31,7 +30,8 @@ export function hudLines(snap, { noSqueeze, mapping, connection, pending, state,
     lines.push(`${t.id}: ${t.satisfied}/${t.targets.length} · ${t.clock_s.toFixed(1)} s`);
     const next = nextTarget(snap);
     if (state === 'done') lines.push(`!Done: ${verification?.status ?? 'saving…'}`);
-    else lines.push(next ? `!Next: ${next.model}${next.moved_to ? ' (moved to the floor)' : ''}` : '!All targets planted');
+    else
+      lines.push(next ? `!Next: ${next.model}${next.moved_to ? ' (moved to the floor)' : ''}` : '!All targets planted');
   } else {
     lines.push('free session');
     lines.push('');

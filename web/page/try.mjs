@@ -20,13 +20,24 @@ import { readFileSync } from 'node:fs';
 import { browse, until } from './test/harness.mjs';
 import { enterAndStart, playTask, throughProtocol } from './test/participant.mjs';
 
-const USAGE = 'usage: node web/page/try.mjs --to URL [--participant ID] [--task ray-casting-7|manual-7] [--mode vr|ar] [--seed N] [--trees N] [--ca CERT.pem] [--timeout SECONDS] [--json]';
+const USAGE =
+  'usage: node web/page/try.mjs --to URL [--participant ID] [--task ray-casting-7|manual-7] [--mode vr|ar] [--seed N] [--trees N] [--ca CERT.pem] [--timeout SECONDS] [--json]';
 
 /** Why the dry run could not be run: one line, exit 2. */
 class CannotRun extends Error {}
 
 function parse(argv) {
-  const a = { to: null, participant: null, task: null, mode: 'vr', seed: 1, trees: Infinity, ca: null, timeout: 900, json: false };
+  const a = {
+    to: null,
+    participant: null,
+    task: null,
+    mode: 'vr',
+    seed: 1,
+    trees: Infinity,
+    ca: null,
+    timeout: 900,
+    json: false,
+  };
   const bad = (m) => {
     throw new CannotRun(`${m}; ${USAGE}`);
   };
@@ -52,13 +63,18 @@ function parse(argv) {
     bad(`--to ${a.to}: not a URL such as http://127.0.0.1:8080/`);
   }
   if (!['http:', 'https:'].includes(url.protocol)) bad(`--to ${a.to}: the URL must start with http:// or https://`);
-  if (url.protocol === 'https:' && !a.ca) bad('an https URL needs --ca CERT.pem, the server\'s certificate (grove serve --tls auto writes DIR/tls/cert.pem)');
-  if (a.participant !== null && !/^[A-Za-z0-9][A-Za-z0-9_-]{0,31}$/.test(a.participant)) bad(`--participant ${a.participant}: 1 to 32 letters, digits, _ or -, starting with a letter or digit`);
-  if (a.task !== null && !['ray-casting-7', 'manual-7'].includes(a.task)) bad(`--task ${a.task}: ray-casting-7 or manual-7`);
+  if (url.protocol === 'https:' && !a.ca)
+    bad("an https URL needs --ca CERT.pem, the server's certificate (grove serve --tls auto writes DIR/tls/cert.pem)");
+  if (a.participant !== null && !/^[A-Za-z0-9][A-Za-z0-9_-]{0,31}$/.test(a.participant))
+    bad(`--participant ${a.participant}: 1 to 32 letters, digits, _ or -, starting with a letter or digit`);
+  if (a.task !== null && !['ray-casting-7', 'manual-7'].includes(a.task))
+    bad(`--task ${a.task}: ray-casting-7 or manual-7`);
   if (!['vr', 'ar'].includes(a.mode)) bad(`--mode ${a.mode}: vr or ar`);
   if (!/^\d{1,15}$/.test(String(a.seed))) bad(`--seed ${a.seed}: a whole number`);
-  if (a.trees !== Infinity && !/^[0-7]$/.test(a.trees)) bad(`--trees ${a.trees}: 0 to 7 (the targets to plant before Finish task; all by default)`);
-  if (!/^\d+(\.\d+)?$/.test(String(a.timeout)) || Number(a.timeout) <= 0) bad(`--timeout ${a.timeout}: seconds above 0`);
+  if (a.trees !== Infinity && !/^[0-7]$/.test(a.trees))
+    bad(`--trees ${a.trees}: 0 to 7 (the targets to plant before Finish task; all by default)`);
+  if (!/^\d+(\.\d+)?$/.test(String(a.timeout)) || Number(a.timeout) <= 0)
+    bad(`--timeout ${a.timeout}: seconds above 0`);
   return { ...a, url, trees: Number(a.trees), timeout: Number(a.timeout) * 1000 };
 }
 
@@ -83,7 +99,10 @@ async function status(page) {
 async function aTask(h, a) {
   const participant = a.participant ?? 'TRY';
   const task = a.task ?? 'ray-casting-7';
-  const { page } = await h.open(`participant=${participant}&task=${task}&seed=${a.seed}&quality=low&render_every=4`, { xr: true, room: a.mode === 'ar' });
+  const { page } = await h.open(`participant=${participant}&task=${task}&seed=${a.seed}&quality=low&render_every=4`, {
+    xr: true,
+    room: a.mode === 'ar',
+  });
   await enterAndStart(page, a.mode);
   const session = await playTask(page, { trees: a.trees });
   return { protocol: null, participant, sessions: [session] };
@@ -98,7 +117,8 @@ async function aProtocol(h, a, protocol) {
     await until(page, () => window.grove.study?.participant || window.grove.state === 'error');
   }
   const participant = await page.evaluate(() => window.grove.study?.participant ?? null);
-  if (!participant) throw new CannotRun(`the page did not join a participant: ${await page.evaluate(() => window.grove.error)}`);
+  if (!participant)
+    throw new CannotRun(`the page did not join a participant: ${await page.evaluate(() => window.grove.error)}`);
   const sessions = await throughProtocol(page, { mode: a.mode, trees: a.trees });
   return { protocol, participant, sessions };
 }
@@ -115,16 +135,30 @@ async function dryRun(a) {
       });
       const { protocol } = await status(probe.page);
       await probe.context.close();
-      if (protocol && a.task) throw new CannotRun(`the server runs the protocol ${protocol}, which says the tasks: leave out --task`);
+      if (protocol && a.task)
+        throw new CannotRun(`the server runs the protocol ${protocol}, which says the tasks: leave out --task`);
       return protocol ? aProtocol(h, a, protocol) : aTask(h, a);
     };
     let timer;
-    const late = new Promise((_, reject) => (timer = setTimeout(() => reject(new CannotRun(`the dry run did not end within ${a.timeout / 1000} s`)), a.timeout)));
+    const late = new Promise(
+      (_, reject) =>
+        (timer = setTimeout(
+          () => reject(new CannotRun(`the dry run did not end within ${a.timeout / 1000} s`)),
+          a.timeout,
+        )),
+    );
     const result = await Promise.race([run(), late]).finally(() => clearTimeout(timer));
     const foreign = h.foreign();
     if (foreign.length) throw new CannotRun(`the page made requests outside the server: ${foreign.join(', ')}`);
     const verified = result.sessions.length > 0 && result.sessions.every((s) => s.verification?.status === 'verified');
-    return { server: a.url.origin, mode: a.mode, ...result, verified, seconds: Math.round((Date.now() - started) / 100) / 10, page_errors: h.errors };
+    return {
+      server: a.url.origin,
+      mode: a.mode,
+      ...result,
+      verified,
+      seconds: Math.round((Date.now() - started) / 100) / 10,
+      page_errors: h.errors,
+    };
   } finally {
     await h.close();
   }
@@ -137,12 +171,20 @@ async function main() {
     const r = await dryRun(a);
     if (a.json) console.log(JSON.stringify(r, null, 2));
     else {
-      for (const s of r.sessions) console.log(`${s.file}: ${s.task}, ${s.trees} trees planted, ${s.verification?.status ?? 'no verification'}${s.verification?.first_divergence ? ` (diverged at tick ${s.verification.first_divergence.tick})` : ''}`);
-      console.log(`${r.participant}${r.protocol ? ` through ${r.protocol}` : ''} in ${r.mode} on ${r.server}: ${r.verified ? 'verified' : 'not verified'} (${r.seconds} s)`);
+      for (const s of r.sessions)
+        console.log(
+          `${s.file}: ${s.task}, ${s.trees} trees planted, ${s.verification?.status ?? 'no verification'}${s.verification?.first_divergence ? ` (diverged at tick ${s.verification.first_divergence.tick})` : ''}`,
+        );
+      console.log(
+        `${r.participant}${r.protocol ? ` through ${r.protocol}` : ''} in ${r.mode} on ${r.server}: ${r.verified ? 'verified' : 'not verified'} (${r.seconds} s)`,
+      );
     }
     process.exit(r.verified ? 0 : 1);
   } catch (e) {
-    const why = e instanceof CannotRun ? e.message : `the participant could not be played: ${String(e.message ?? e).split('\n')[0]}`;
+    const why =
+      e instanceof CannotRun
+        ? e.message
+        : `the participant could not be played: ${String(e.message ?? e).split('\n')[0]}`;
     console.error(`error: ${why}`);
     process.exit(2);
   }

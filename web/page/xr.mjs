@@ -24,13 +24,23 @@ export async function requestSession(mode, overlay) {
     // A phone's screen taps need no feature; hands need `hand-tracking` (input/hands.mjs).
     return navigator.xr.requestSession('immersive-ar', {
       requiredFeatures: ['local-floor'],
-      optionalFeatures: ['hit-test', 'plane-detection', 'dom-overlay', 'hand-tracking', 'depth-sensing', 'light-estimation'],
+      optionalFeatures: [
+        'hit-test',
+        'plane-detection',
+        'dom-overlay',
+        'hand-tracking',
+        'depth-sensing',
+        'light-estimation',
+      ],
       domOverlay: overlay ? { root: overlay } : undefined,
       // Real things hide the trees (draw/occlusion.mjs): the depth as a texture, as Quest 3 offers it.
       depthSensing: DEPTH_SENSING,
     });
   }
-  return navigator.xr.requestSession('immersive-vr', { requiredFeatures: ['local-floor'], optionalFeatures: ['hand-tracking'] });
+  return navigator.xr.requestSession('immersive-vr', {
+    requiredFeatures: ['local-floor'],
+    optionalFeatures: ['hand-tracking'],
+  });
 }
 
 /**
@@ -46,7 +56,12 @@ export class FloorFinder {
     if (session.requestHitTestSource) {
       session
         .requestReferenceSpace('viewer')
-        .then((viewer) => session.requestHitTestSource({ space: viewer, offsetRay: new XRRay({ x: 0, y: 0, z: 0, w: 1 }, { x: 0, y: -1, z: 0, w: 0 }) }))
+        .then((viewer) =>
+          session.requestHitTestSource({
+            space: viewer,
+            offsetRay: new XRRay({ x: 0, y: 0, z: 0, w: 1 }, { x: 0, y: -1, z: 0, w: 0 }),
+          }),
+        )
         .then((s) => (this.hitSource = s))
         .catch(() => {});
     }

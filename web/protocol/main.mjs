@@ -15,7 +15,11 @@ let state = null;
 let timer = null;
 
 async function call(method, url, body) {
-  const r = await fetch(url, { method, headers: { 'content-type': 'application/json' }, body: body === undefined ? undefined : JSON.stringify(body) });
+  const r = await fetch(url, {
+    method,
+    headers: { 'content-type': 'application/json' },
+    body: body === undefined ? undefined : JSON.stringify(body),
+  });
   const v = await r.json().catch(() => ({}));
   if (!r.ok) throw Object.assign(new Error(v.error || r.statusText), { status: r.status, body: v });
   return v;
@@ -36,7 +40,10 @@ function say(msg) {
 
 async function start() {
   if (!pid) {
-    main.replaceChildren(el('p', {}, 'Welcome. Press Start when the researcher asks you to.'), el('button', { id: 'start' }, 'Start'));
+    main.replaceChildren(
+      el('p', {}, 'Welcome. Press Start when the researcher asks you to.'),
+      el('button', { id: 'start' }, 'Start'),
+    );
     $('#start').onclick = async () => {
       try {
         const s = await call('POST', '/api/protocol/participants', {});
@@ -93,7 +100,12 @@ function show(s) {
     main.replaceChildren(...kids);
   } else if (st.kind === 'practice') {
     const left = el('p', { id: 'clock' });
-    main.replaceChildren(head, el('p', {}, st.text || 'Practise in the free scene.'), left, el('button', { id: 'next' }, 'End practice'));
+    main.replaceChildren(
+      head,
+      el('p', {}, st.text || 'Practise in the free scene.'),
+      left,
+      el('button', { id: 'next' }, 'End practice'),
+    );
     if (st.seconds) {
       const until = Date.now() + st.seconds * 1000;
       timer = setInterval(() => {
@@ -103,7 +115,15 @@ function show(s) {
       }, 250);
     }
   } else if (st.kind === 'task') {
-    main.replaceChildren(head, el('p', {}, `Put on the headset: task ${st.task} (${st.condition}) is next. This page goes on by itself once the task has ended.`), el('button', { id: 'next' }, 'The task is done'));
+    main.replaceChildren(
+      head,
+      el(
+        'p',
+        {},
+        `Put on the headset: task ${st.task} (${st.condition}) is next. This page goes on by itself once the task has ended.`,
+      ),
+      el('button', { id: 'next' }, 'The task is done'),
+    );
     timer = setInterval(async () => {
       try {
         show(await call('POST', `/api/protocol/participants/${pid}/next`, { from: state.step }));
@@ -133,12 +153,18 @@ function fieldset(row, given) {
   for (const line of optionLines(row, given)) {
     const div = el('div', { class: numbers ? 'scale' : 'choices' });
     for (const b of line) {
-      const input = el('input', { type: row.multi ? 'checkbox' : 'radio', name: row.id, value: String(row.options[b.k].value), checked: b.on });
+      const input = el('input', {
+        type: row.multi ? 'checkbox' : 'radio',
+        name: row.id,
+        value: String(row.options[b.k].value),
+        checked: b.on,
+      });
       div.append(el('label', {}, input, numbers ? b.label : ` ${b.label}`));
     }
     fs.append(div);
   }
-  if (row.anchors) fs.append(el('div', { class: 'anchors' }, el('span', {}, row.anchors[0]), el('span', {}, row.anchors[1])));
+  if (row.anchors)
+    fs.append(el('div', { class: 'anchors' }, el('span', {}, row.anchors[0]), el('span', {}, row.anchors[1])));
   return fs;
 }
 
@@ -154,11 +180,14 @@ function form(ins, given) {
     const picked = {};
     for (const row of rows) {
       const fs = f.querySelector(`fieldset[data-item="${CSS.escape(row.id)}"]`);
-      picked[row.id] = row.typed ? fs.querySelector('textarea').value : [...fs.querySelectorAll('input:checked')].map((i) => i.value);
+      picked[row.id] = row.typed
+        ? fs.querySelector('textarea').value
+        : [...fs.querySelectorAll('input:checked')].map((i) => i.value);
     }
     const answers = formAnswers(rows, picked);
     try {
-      if (Object.keys(answers).length) state = await call('POST', `/api/protocol/participants/${pid}/answers`, { step: state.step, answers });
+      if (Object.keys(answers).length)
+        state = await call('POST', `/api/protocol/participants/${pid}/answers`, { step: state.step, answers });
       await next();
     } catch (e) {
       say(e.message);

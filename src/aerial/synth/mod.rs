@@ -22,8 +22,8 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::raster::{png_stream, write_atomic};
 use super::AerialError;
+use super::raster::{png_stream, write_atomic};
 pub use shade::{Flight, Season};
 
 /// The smallest and largest image side `synth` makes, texels.
@@ -199,7 +199,12 @@ impl Park {
         let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xA5E1_7A11);
         let side = size as f64 * gsd;
         let mut distractors = Vec::new();
-        let at = |fx: f64, fy: f64, w: f64, h: f64| Rect { x0: fx * side, y0: fy * side, x1: fx * side + w, y1: fy * side + h };
+        let at = |fx: f64, fy: f64, w: f64, h: f64| Rect {
+            x0: fx * side,
+            y0: fy * side,
+            x1: fx * side + w,
+            y1: fy * side + h,
+        };
         // The lawn and the roof scale with the park; the car park holds cars of a real size.
         distractors.push(Distractor { kind: DistractorKind::Lawn, rect: at(0.08, 0.62, 0.15 * side, 0.11 * side) });
         distractors.push(Distractor { kind: DistractorKind::Roof, rect: at(0.66, 0.1, 0.12 * side, 0.08 * side) });
@@ -216,7 +221,12 @@ impl Park {
             for i in (1..order.len()).rev() {
                 order.swap(i, rng.random_range(0..=i));
             }
-            let car = |s: usize| Rect { x0: lot.x0 + s as f64 * slot + 0.35, y0: lot.y0 + 0.75, x1: lot.x0 + s as f64 * slot + 0.35 + car_w, y1: lot.y0 + 0.75 + car_h };
+            let car = |s: usize| Rect {
+                x0: lot.x0 + s as f64 * slot + 0.35,
+                y0: lot.y0 + 0.75,
+                x1: lot.x0 + s as f64 * slot + 0.35 + car_w,
+                y1: lot.y0 + 0.75 + car_h,
+            };
             for &s in &order[..greens] {
                 distractors.push(Distractor { kind: DistractorKind::Car, rect: car(s) });
             }
@@ -352,7 +362,10 @@ pub fn write_pair(park: &Park, dir: &Path, progress: &dyn Fn(u64)) -> Result<(),
                     while y < n {
                         let rows = band.min(n - y) as usize;
                         let len = rows * n as usize * 3;
-                        rayon::join(|| park.render_rows(&summer, y, &mut buf_s[..len]), || park.render_rows(&winter, y, &mut buf_w[..len]));
+                        rayon::join(
+                            || park.render_rows(&summer, y, &mut buf_s[..len]),
+                            || park.render_rows(&winter, y, &mut buf_w[..len]),
+                        );
                         s_rows.write_all(&buf_s[..len]).map_err(|e| AerialError::Io(e).named(&ps))?;
                         w_rows.write_all(&buf_w[..len]).map_err(|e| AerialError::Io(e).named(&pw))?;
                         y += rows as u32;

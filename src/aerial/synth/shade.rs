@@ -118,7 +118,16 @@ impl<'a> Shader<'a> {
         let side = park.size as f64 * park.gsd;
         let cells = (side / GRID_CELL_M).ceil().max(1.0) as usize;
         let mut grid = vec![Vec::new(); cells * cells];
-        let mut shader = Shader { park, flight, to_sun, shadow_dir, cell: GRID_CELL_M, cells, grid: Vec::new(), perlin: Perlin::new(park.seed as u32) };
+        let mut shader = Shader {
+            park,
+            flight,
+            to_sun,
+            shadow_dir,
+            cell: GRID_CELL_M,
+            cells,
+            grid: Vec::new(),
+            perlin: Perlin::new(park.seed as u32),
+        };
         for (i, t) in park.trees.iter().enumerate() {
             let (sx, sy, a, _) = shader.shadow(t);
             let reach = 1.25 * t.radius;
@@ -163,7 +172,9 @@ impl<'a> Shader<'a> {
         for c in 0..3 {
             // Shot noise: its spread grows with the square root of the signal (±4 levels at 100).
             let signal = albedo[c] * light * self.flight.exposure * self.flight.white_balance[c];
-            let noise = (hash01(self.park.seed ^ (season << 40) ^ c as u64, x as u64, y as u64) - 0.5) * 0.8 * signal.max(0.0).sqrt();
+            let noise = (hash01(self.park.seed ^ (season << 40) ^ c as u64, x as u64, y as u64) - 0.5)
+                * 0.8
+                * signal.max(0.0).sqrt();
             let v = signal + noise;
             out[c] = v.round().clamp(0.0, 255.0) as u8;
         }

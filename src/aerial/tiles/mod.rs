@@ -103,7 +103,13 @@ impl PyramidMeta {
         }
         let levels = levels_for(self.width, self.height, self.tile);
         if self.levels != levels {
-            return Err(AerialError::Levels { levels: self.levels, width: self.width, height: self.height, tile: self.tile, expected: levels });
+            return Err(AerialError::Levels {
+                levels: self.levels,
+                width: self.width,
+                height: self.height,
+                tile: self.tile,
+                expected: levels,
+            });
         }
         if self.fingerprint.len() != 16 || !self.fingerprint.bytes().all(|b| b.is_ascii_hexdigit()) {
             return Err(AerialError::Fingerprint(self.fingerprint.clone()));

@@ -34,13 +34,17 @@ impl Pyramid {
         if !dir.is_dir() {
             return Err(AerialError::NotPyramidFolder(dir.to_path_buf()));
         }
-        let (file, _) = grove_systems::files::open(&path, grove_systems::files::Kind::Index).map_err(AerialError::NoPyramidMeta)?;
+        let (file, _) =
+            grove_systems::files::open(&path, grove_systems::files::Kind::Index).map_err(AerialError::NoPyramidMeta)?;
         let mut text = String::new();
-        file.take(MAX_META_BYTES + 1).read_to_string(&mut text).map_err(|e| AerialError::Io(e).named(path.display()))?;
+        file.take(MAX_META_BYTES + 1)
+            .read_to_string(&mut text)
+            .map_err(|e| AerialError::Io(e).named(path.display()))?;
         if text.len() as u64 > MAX_META_BYTES {
             return Err(AerialError::MetaTooLong(MAX_META_BYTES >> 10).named(path.display()));
         }
-        let meta: PyramidMeta = ron::from_str(&text).map_err(|e| AerialError::Decode(e.to_string().replace('\n', " ")).named(path.display()))?;
+        let meta: PyramidMeta = ron::from_str(&text)
+            .map_err(|e| AerialError::Decode(e.to_string().replace('\n', " ")).named(path.display()))?;
         meta.validate().map_err(|e| e.named(path.display()))?;
         Ok(Pyramid { dir: dir.to_path_buf(), meta })
     }
@@ -50,7 +54,11 @@ impl Pyramid {
     pub fn open_expecting(dir: &Path, expected: &str) -> Result<Pyramid, AerialError> {
         let p = Pyramid::open(dir)?;
         if !p.meta.fingerprint.eq_ignore_ascii_case(expected) {
-            return Err(AerialError::OtherImage { dir: dir.to_path_buf(), found: p.meta.fingerprint.clone(), expected: expected.to_string() });
+            return Err(AerialError::OtherImage {
+                dir: dir.to_path_buf(),
+                found: p.meta.fingerprint.clone(),
+                expected: expected.to_string(),
+            });
         }
         Ok(p)
     }
@@ -77,20 +85,37 @@ impl Pyramid {
         }
         let path = tile_path(&self.dir, mip, tx, ty);
         let what = format!("{}: tile ({tx}, {ty}) of mip {mip}", self.dir.display());
-        let (file, _) = grove_systems::files::open(&path, grove_systems::files::Kind::Image).map_err(|e| AerialError::File(e).named(&what))?;
+        let (file, _) = grove_systems::files::open(&path, grove_systems::files::Kind::Image)
+            .map_err(|e| AerialError::File(e).named(&what))?;
         let (w, h) = m.tile_extent(mip, tx, ty);
         let c = m.channels as usize;
-        let mut dec = png::Decoder::new_with_limits(BufReader::new(file), png::Limits { bytes: 4 * (m.tile as usize).pow(2) + (1 << 20) });
+        let mut dec = png::Decoder::new_with_limits(
+            BufReader::new(file),
+            png::Limits { bytes: 4 * (m.tile as usize).pow(2) + (1 << 20) },
+        );
         dec.set_transformations(png::Transformations::IDENTITY);
-        let mut reader = dec.read_info().map_err(|e| AerialError::Decode(e.to_string().replace('\n', " ")).named(&what))?;
+        let mut reader =
+            dec.read_info().map_err(|e| AerialError::Decode(e.to_string().replace('\n', " ")).named(&what))?;
         let info = reader.info();
         let expect_colour = if c == 1 { png::ColorType::Grayscale } else { png::ColorType::Rgb };
-        if (info.width, info.height) != (w, h) || info.color_type != expect_colour || info.bit_depth != png::BitDepth::Eight {
-            let foreign = AerialError::ForeignTile { width: info.width, height: info.height, colour: info.color_type, expected_width: w, expected_height: h, expected_colour: expect_colour };
+        if (info.width, info.height) != (w, h)
+            || info.color_type != expect_colour
+            || info.bit_depth != png::BitDepth::Eight
+        {
+            let foreign = AerialError::ForeignTile {
+                width: info.width,
+                height: info.height,
+                colour: info.color_type,
+                expected_width: w,
+                expected_height: h,
+                expected_colour: expect_colour,
+            };
             return Err(foreign.named(&what));
         }
         let mut texels = vec![0u8; w as usize * h as usize * c];
-        reader.next_frame(&mut texels).map_err(|e| AerialError::DamagedTile(e.to_string().replace('\n', " ")).named(&what))?;
+        reader
+            .next_frame(&mut texels)
+            .map_err(|e| AerialError::DamagedTile(e.to_string().replace('\n', " ")).named(&what))?;
         let n = m.tile as usize;
         let mut rgba = vec![0u8; n * n * 4];
         for y in 0..h as usize {

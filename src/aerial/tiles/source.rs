@@ -27,7 +27,8 @@ pub fn open(path: &Path) -> Result<Box<dyn RowSource>, AerialError> {
     let name = path.display().to_string();
     // Only a regular file, opened without blocking; the size is bounded by the dimensions
     // checked below, not by the file's length (a pyramid's source may be tens of gigabytes).
-    let (mut file, _) = grove_systems::files::open(path, grove_systems::files::Kind::ImageRows).map_err(AerialError::File)?;
+    let (mut file, _) =
+        grove_systems::files::open(path, grove_systems::files::Kind::ImageRows).map_err(AerialError::File)?;
     let mut head = [0u8; 8];
     let io = |e: std::io::Error| AerialError::Access(e).named(&name);
     let refused = |e: String| AerialError::RowReader(e).named(&name);
@@ -95,7 +96,9 @@ impl PngRows {
         let channels = match reader.output_color_type() {
             (png::ColorType::Grayscale, png::BitDepth::Eight) => 1,
             (png::ColorType::Rgb, png::BitDepth::Eight) => 3,
-            (c, d) => return Err(format!("is {c:?} of {} bits per sample; a pyramid needs 8-bit grey or RGB", d as u8)),
+            (c, d) => {
+                return Err(format!("is {c:?} of {} bits per sample; a pyramid needs 8-bit grey or RGB", d as u8));
+            }
         };
         Ok(PngRows { reader, width, height, channels })
     }
@@ -160,7 +163,18 @@ impl TiffRows {
         if chunk.0 == 0 || chunk.1 == 0 || chunk.1 > MAX_SIDE || chunk.0 > MAX_SIDE {
             return Err(format!("chunks of {} x {} texels", chunk.0, chunk.1));
         }
-        Ok(TiffRows { dec, width, height, channels, chunk, tiled, band: Vec::new(), band_rows: 0, band_pos: 0, next_chunk_row: 0 })
+        Ok(TiffRows {
+            dec,
+            width,
+            height,
+            channels,
+            chunk,
+            tiled,
+            band: Vec::new(),
+            band_rows: 0,
+            band_pos: 0,
+            next_chunk_row: 0,
+        })
     }
 
     /// Decodes the next strip, or the next row of tiles, into `band`.

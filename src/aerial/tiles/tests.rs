@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use super::*;
-use crate::aerial::raster::write_png;
 use crate::aerial::AerialError;
+use crate::aerial::raster::write_png;
 
 /// A texel pattern that differs at every texel and channel.
 fn texel(x: u32, y: u32, k: u32) -> u8 {
@@ -113,7 +113,8 @@ fn an_existing_pyramid_is_kept_without_force_and_replaced_with_it() {
     assert!(tile(&a, &other, 16, true).unwrap_err().contains("not a pyramid"));
     assert_eq!(std::fs::read(other.join("keep.txt")).unwrap(), b"mine");
     // Nothing but the inputs and outputs is left behind (no temporary folders).
-    let mut names: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     names.sort();
     assert_eq!(names, ["a.png", "b.png", "photos", "pyr"]);
 }

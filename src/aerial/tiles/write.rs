@@ -16,8 +16,8 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::source::{self, RowSource};
-use crate::aerial::AerialError;
 use super::{META_FILE, PyramidMeta, check_tile, fingerprint, levels_for, shrink, tile_path};
+use crate::aerial::AerialError;
 
 /// Options of [`tile_image`].
 #[derive(Clone, Copy, Debug)]
@@ -36,7 +36,12 @@ impl Default for TileOptions {
 
 /// Tiles the PNG or TIFF at `image` into a pyramid folder at `out`. `progress` gets the number
 /// of source rows read so far (out of the image's height). Errors are one line.
-pub fn tile_image(image: &Path, out: &Path, opts: TileOptions, progress: &dyn Fn(u64, u64)) -> Result<PyramidMeta, AerialError> {
+pub fn tile_image(
+    image: &Path,
+    out: &Path,
+    opts: TileOptions,
+    progress: &dyn Fn(u64, u64),
+) -> Result<PyramidMeta, AerialError> {
     check_tile(opts.tile)?;
     check_destination(out, opts.force)?;
     let mut src = source::open(image)?;
@@ -48,7 +53,9 @@ pub fn tile_image(image: &Path, out: &Path, opts: TileOptions, progress: &dyn Fn
         let text = ron::ser::to_string_pretty(&meta, ron::ser::PrettyConfig::default()).map_err(AerialError::Ron)?;
         let meta_path = tmp.join(META_FILE);
         let mut f = File::create(&meta_path).map_err(|e| AerialError::Io(e).named(meta_path.display()))?;
-        f.write_all(text.as_bytes()).and_then(|_| f.sync_all()).map_err(|e| AerialError::Io(e).named(meta_path.display()))?;
+        f.write_all(text.as_bytes())
+            .and_then(|_| f.sync_all())
+            .map_err(|e| AerialError::Io(e).named(meta_path.display()))?;
         replace_dir(&tmp, out)?;
         Ok(meta)
     })();
@@ -89,7 +96,11 @@ fn temp_dir(out: &Path) -> PathBuf {
 /// Moves the finished folder `tmp` to `out`, replacing what is there (already checked).
 fn replace_dir(tmp: &Path, out: &Path) -> Result<(), AerialError> {
     if out.exists() {
-        let old = out.with_file_name(format!(".{}.old-{}", out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(), std::process::id()));
+        let old = out.with_file_name(format!(
+            ".{}.old-{}",
+            out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+            std::process::id()
+        ));
         std::fs::rename(out, &old).map_err(|e| AerialError::MoveAside(e).named(out.display()))?;
         if let Err(e) = std::fs::rename(tmp, out) {
             let _ = std::fs::rename(&old, out);
@@ -113,7 +124,12 @@ struct Band {
 }
 
 /// Streams the source into tiles under `dir` and returns the metadata.
-fn write_pyramid(src: &mut dyn RowSource, dir: &Path, tile: u32, progress: &dyn Fn(u64, u64)) -> Result<PyramidMeta, AerialError> {
+fn write_pyramid(
+    src: &mut dyn RowSource,
+    dir: &Path,
+    tile: u32,
+    progress: &dyn Fn(u64, u64),
+) -> Result<PyramidMeta, AerialError> {
     let (width, height, ch) = (src.width(), src.height(), src.channels());
     let levels = levels_for(width, height, tile);
     let mut bands: Vec<Band> = (0..levels)
@@ -141,7 +157,15 @@ fn write_pyramid(src: &mut dyn RowSource, dir: &Path, tile: u32, progress: &dyn 
 }
 
 /// Appends `n` rows to mip `mip`'s band, writing and halving it whenever it is complete.
-fn push_rows(bands: &mut [Band], mip: usize, data: &[u8], n: u32, ch: u8, tile: u32, dir: &Path) -> Result<(), AerialError> {
+fn push_rows(
+    bands: &mut [Band],
+    mip: usize,
+    data: &[u8],
+    n: u32,
+    ch: u8,
+    tile: u32,
+    dir: &Path,
+) -> Result<(), AerialError> {
     let line = bands[mip].width as usize * ch as usize;
     let mut at = 0u32;
     while at < n {

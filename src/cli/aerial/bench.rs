@@ -15,7 +15,7 @@ use std::process::ExitCode;
 
 use anyhow::bail;
 use clap::Args;
-use grove::bench::aerial::{fly, Flight};
+use grove::bench::aerial::{Flight, fly};
 use grove::render::offscreen::Gpu;
 use serde_json::json;
 
@@ -84,7 +84,13 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
     if !(1..=100_000).contains(&a.frames) {
         bail!("--frames {} must be between 1 and 100000", a.frames);
     }
-    if !(a.fly_height.is_finite() && a.fly_height > 0.0 && a.pitch.is_finite() && (1.0..=90.0).contains(&a.pitch) && a.speed.is_finite() && a.speed >= 0.0) {
+    if !(a.fly_height.is_finite()
+        && a.fly_height > 0.0
+        && a.pitch.is_finite()
+        && (1.0..=90.0).contains(&a.pitch)
+        && a.speed.is_finite()
+        && a.speed >= 0.0)
+    {
         bail!("--fly-height must be positive, --pitch in 1..=90 degrees and --speed non-negative");
     }
     let scene = crate::cli::load_scene(&a.scene)?;
@@ -100,7 +106,15 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
         def.crowns = None;
         def.crown_list.clear();
     }
-    let flight = Flight { width: a.width, height: a.height, frames: a.frames, fly_height: a.fly_height, pitch: a.pitch, speed: a.speed, shadows: !a.no_shadows };
+    let flight = Flight {
+        width: a.width,
+        height: a.height,
+        frames: a.frames,
+        fly_height: a.fly_height,
+        pitch: a.pitch,
+        speed: a.speed,
+        shadows: !a.no_shadows,
+    };
     let mut runs = Vec::new();
     for kind in &a.runs {
         let run = match kind {
@@ -123,7 +137,9 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
         for (k, r) in &runs {
             out.insert(name(*k).to_string(), r.json());
         }
-        crate::cli::print_json(&json!({ "adapter": gpu.adapter_name(), "width": a.width, "height": a.height, "frames": a.frames, "runs": out, "peak_rss_mib": peak }))?;
+        crate::cli::print_json(
+            &json!({ "adapter": gpu.adapter_name(), "width": a.width, "height": a.height, "frames": a.frames, "runs": out, "peak_rss_mib": peak }),
+        )?;
     } else {
         println!("{} at {}x{}, {} frames", gpu.adapter_name(), a.width, a.height, a.frames);
         for (k, r) in &runs {
@@ -139,7 +155,8 @@ pub fn run(a: AerialBenchArgs) -> anyhow::Result<ExitCode> {
                 r.upload_max_kib,
                 r.frames_missing,
                 r.update_max_ms,
-                r.gpu_mib.map_or("not reported".to_string(), |(a, r)| format!("{a:.0} MiB at most ({r:.0} MiB reserved)"))
+                r.gpu_mib
+                    .map_or("not reported".to_string(), |(a, r)| format!("{a:.0} MiB at most ({r:.0} MiB reserved)"))
             );
         }
         println!("  peak resident memory {peak:.0} MiB");

@@ -14,8 +14,8 @@ use std::time::{Duration, Instant};
 use anyhow::bail;
 use clap::Args;
 use glam::{DVec2, DVec3};
-use grove::render::clipmap::{AerialPlacement, ClipCamera, ClipmapConfig, ClipmapSource};
 use grove::render::clipmap::Clipmap;
+use grove::render::clipmap::{AerialPlacement, ClipCamera, ClipmapConfig, ClipmapSource};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 
@@ -73,7 +73,9 @@ fn camera(a: &FlightArgs, side_m: DVec2, i: u32) -> ClipCamera {
 
 /// The process's peak resident memory, MiB (Linux; 0 elsewhere).
 fn peak_rss_mib() -> f64 {
-    let status = grove_systems::files::read_text(std::path::Path::new("/proc/self/status"), grove_systems::files::Kind::Status).unwrap_or_default();
+    let status =
+        grove_systems::files::read_text(std::path::Path::new("/proc/self/status"), grove_systems::files::Kind::Status)
+            .unwrap_or_default();
     status
         .lines()
         .find_map(|l| l.strip_prefix("VmHWM:"))
@@ -107,7 +109,10 @@ pub fn flight(a: FlightArgs) -> anyhow::Result<ExitCode> {
     let meta = map.meta().clone();
     let side_m = DVec2::new(meta.width as f64, meta.height as f64) * a.gsd;
     let bar = ProgressBar::new(a.frames as u64);
-    bar.set_style(ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} frames {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     bar.set_prefix("flight");
     let (mut times, mut texels) = (Vec::with_capacity(a.frames as usize), Vec::with_capacity(a.frames as usize));
     let mut frames_missing = 0u32;

@@ -8,9 +8,9 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use clap::Args;
-use grove::aerial::layers::{layer_ks, layer_masks};
-use grove::aerial::raster::{check_writable, write_png, RgbImage};
 use grove::aerial::Segmenter;
+use grove::aerial::layers::{layer_ks, layer_masks};
+use grove::aerial::raster::{RgbImage, check_writable, write_png};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Arguments of `grove aerial layers`.
@@ -57,10 +57,18 @@ pub fn run(a: LayersArgs) -> anyhow::Result<ExitCode> {
     let summer = RgbImage::load(&a.summer, "summer image").map_err(|e| anyhow!(e))?;
     let winter = RgbImage::load(&a.winter, "winter image").map_err(|e| anyhow!(e))?;
     if (summer.width, summer.height) != (winter.width, winter.height) {
-        bail!("the summer image is {} x {} but the winter image is {} x {}; the pair must be registered and of equal size", summer.width, summer.height, winter.width, winter.height);
+        bail!(
+            "the summer image is {} x {} but the winter image is {} x {}; the pair must be registered and of equal size",
+            summer.width,
+            summer.height,
+            winter.width,
+            winter.height
+        );
     }
     let bar = ProgressBar::new(u64::from(a.layers) + 1);
-    bar.set_style(ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len}").unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     bar.set_message("layer masks");
     let seg = Segmenter::new(&summer, &winter, !a.no_equalize).map_err(|e| anyhow!(e))?;
     drop((summer, winter));
@@ -77,7 +85,14 @@ pub fn run(a: LayersArgs) -> anyhow::Result<ExitCode> {
     let rgb: Vec<u8> = packed.iter().flat_map(|&b| [b, b, b]).collect();
     write_png(&a.out, seg.width, seg.height, 3, &rgb).map_err(|e| anyhow!(e))?;
     let ks_text: Vec<String> = ks.iter().map(u32::to_string).collect();
-    println!("{}: {} layers of {} x {} texels, k = {}", a.out.display(), a.layers, seg.width, seg.height, ks_text.join(", "));
+    println!(
+        "{}: {} layers of {} x {} texels, k = {}",
+        a.out.display(),
+        a.layers,
+        seg.width,
+        seg.height,
+        ks_text.join(", ")
+    );
     Ok(ExitCode::SUCCESS)
 }
 
@@ -102,16 +117,28 @@ pub struct AerialSceneArgs {
 
 /// `path` relative to the folder `dir`, which must hold it (at any depth); one line otherwise.
 fn relative_to(path: &std::path::Path, dir: &std::path::Path) -> anyhow::Result<String> {
-    let abs = path.canonicalize().map_err(|e| anyhow!("{}: {}", path.display(), grove_systems::scene::io_message(&e)))?;
-    let base = dir.canonicalize().map_err(|e| anyhow!("{}: {}", dir.display(), grove_systems::scene::io_message(&e)))?;
-    let rel = abs.strip_prefix(&base).map_err(|_| anyhow!("{}: must lie in the scene's folder {} or below it", path.display(), dir.display()))?;
+    let abs =
+        path.canonicalize().map_err(|e| anyhow!("{}: {}", path.display(), grove_systems::scene::io_message(&e)))?;
+    let base =
+        dir.canonicalize().map_err(|e| anyhow!("{}: {}", dir.display(), grove_systems::scene::io_message(&e)))?;
+    let rel = abs
+        .strip_prefix(&base)
+        .map_err(|_| anyhow!("{}: must lie in the scene's folder {} or below it", path.display(), dir.display()))?;
     rel.to_str().map(str::to_string).ok_or_else(|| anyhow!("{}: the path is not valid UTF-8", path.display()))
 }
 
 /// Turns a scene of trees at crowns into one with the pair draped under it: no trees, an
 /// `aerial` section whose crowns file makes them. The photographs' centre is the world origin
 /// (as `grove aerial scene` places trees). `scene_dir` is the written scene's folder.
-pub fn drape(scene: &mut grove_systems::scene::Scene, a: &AerialSceneArgs, crowns: &std::path::Path, size_m: (f64, f64), gsd_m: f64, min_radius_m: f64, scene_dir: &std::path::Path) -> anyhow::Result<()> {
+pub fn drape(
+    scene: &mut grove_systems::scene::Scene,
+    a: &AerialSceneArgs,
+    crowns: &std::path::Path,
+    size_m: (f64, f64),
+    gsd_m: f64,
+    min_radius_m: f64,
+    scene_dir: &std::path::Path,
+) -> anyhow::Result<()> {
     let (Some(summer), Some(winter)) = (&a.summer, &a.winter) else { bail!("--aerial needs --summer and --winter") };
     scene.trees.clear();
     scene.aerial = Some(grove_systems::aerial::AerialDef {

@@ -283,7 +283,10 @@ fn segment(a: SegmentArgs) -> anyhow::Result<ExitCode> {
         crowns: found.len(),
     };
     let text = serde_json::to_string_pretty(&summary)?;
-    write_atomic(&outputs[2], |w| std::io::Write::write_all(w, text.as_bytes()).map_err(grove::aerial::AerialError::Io)).map_err(|e| anyhow!(e))?;
+    write_atomic(&outputs[2], |w| {
+        std::io::Write::write_all(w, text.as_bytes()).map_err(grove::aerial::AerialError::Io)
+    })
+    .map_err(|e| anyhow!(e))?;
     let t_write = t4.elapsed().as_secs_f64();
     if a.json {
         crate::cli::print_json(&json!({
@@ -343,13 +346,15 @@ fn scene(a: SceneArgs) -> anyhow::Result<ExitCode> {
     if a.drape.aerial {
         let dir = a.out.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
         out_dir(dir)?;
-        layers::drape(&mut scene, &a.drape, &a.crowns, opts.size_m, summary.gsd_m, a.min_radius, dir).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
+        layers::drape(&mut scene, &a.drape, &a.crowns, opts.size_m, summary.gsd_m, a.min_radius, dir)
+            .map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
     }
     let text = scene_text(&scene, &a.crowns.display().to_string()).map_err(|e| anyhow!("{}: {e}", a.out.display()))?;
     if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         out_dir(dir)?;
     }
-    write_atomic(&a.out, |w| std::io::Write::write_all(w, text.as_bytes()).map_err(grove::aerial::AerialError::Io)).map_err(|e| anyhow!(e))?;
+    write_atomic(&a.out, |w| std::io::Write::write_all(w, text.as_bytes()).map_err(grove::aerial::AerialError::Io))
+        .map_err(|e| anyhow!(e))?;
     println!(
         "{}: {} trees on {:.1} x {:.1} m ({} crowns under {} m left out)",
         a.out.display(),
@@ -372,7 +377,10 @@ fn synth(a: SynthArgs) -> anyhow::Result<ExitCode> {
     out_dir(&a.out)?;
     let park = Park::layout(a.size, a.gsd, a.seed);
     let bar = ProgressBar::new(a.size as u64);
-    bar.set_style(ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} rows {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} rows {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     bar.set_prefix("synth");
     let t0 = Instant::now();
     write_pair(&park, &a.out, &|rows| bar.set_position(rows)).map_err(|e| anyhow!(e))?;
@@ -438,11 +446,20 @@ fn eval(a: EvalArgs) -> anyhow::Result<ExitCode> {
             .iter()
             .map(|(eq, k, q, tf, tm, tc)| json!({"equalize": eq, "k": k, "quality": q, "seconds": {"equalize_and_flags": tf, "mask": tm, "crowns": tc}}))
             .collect();
-        crate::cli::print_json(&json!({"width": w, "height": h, "threads": rayon::current_num_threads(), "results": list}))?;
+        crate::cli::print_json(
+            &json!({"width": w, "height": h, "threads": rayon::current_num_threads(), "results": list}),
+        )?;
         return Ok(ExitCode::SUCCESS);
     }
-    println!("{}: {w} x {h} texels, {} trees, {} threads", a.pair.display(), truth.trees.len(), rayon::current_num_threads());
-    println!("| equalised | k | mask P | mask R | mask F1 | F1 outside distractors | centre P | centre R | centre F1 | crowns | conifer texels in mask | distractor texels in mask | flags s | mask s |");
+    println!(
+        "{}: {w} x {h} texels, {} trees, {} threads",
+        a.pair.display(),
+        truth.trees.len(),
+        rayon::current_num_threads()
+    );
+    println!(
+        "| equalised | k | mask P | mask R | mask F1 | F1 outside distractors | centre P | centre R | centre F1 | crowns | conifer texels in mask | distractor texels in mask | flags s | mask s |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (eq, k, q, tf, tm, _) in &rows {
         println!(

@@ -29,7 +29,10 @@ pub struct TileArgs {
 /// Runs `grove aerial tile`.
 pub fn tile(a: TileArgs) -> anyhow::Result<ExitCode> {
     let bar = ProgressBar::new(0);
-    bar.set_style(ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} rows {elapsed} (eta {eta})").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} rows {elapsed} (eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     bar.set_prefix("tile");
     let t0 = Instant::now();
     let meta = tile_image(&a.image, &a.out, TileOptions { tile: a.tile, force: a.force }, &|rows, of| {

@@ -11,41 +11,26 @@ pub mod args;
 use std::process::ExitCode;
 
 use grove::bench::{self, SimOptions};
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 pub use args::{BenchArgs, Which};
 
 /// Runs `grove bench`.
 pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
-    let all = [
-        Which::Sim,
-        Which::Raycast,
-        Which::Wind,
-        Which::Replay,
-        Which::Study,
-        Which::Render,
-        Which::Water,
-    ];
-    let which: Vec<Which> = if args.which.is_empty() {
-        all.to_vec()
-    } else {
-        args.which.clone()
-    };
+    let all = [Which::Sim, Which::Raycast, Which::Wind, Which::Replay, Which::Study, Which::Render, Which::Water];
+    let which: Vec<Which> = if args.which.is_empty() { all.to_vec() } else { args.which.clone() };
     if args.scene.is_some() && !which.iter().any(|w| w.takes_scene()) {
         anyhow::bail!("--scene is used only by the sim, wind, raycast, park and render-forest benchmarks");
     }
     let scene = args.scene.as_deref();
     let study = grove::render::default_assets_dir().join("scenes/study.ron");
-    let sim = SimOptions { scene: scene.map_or(study, std::path::Path::to_path_buf), trees: args.trees.clone(), ticks: args.ticks };
+    let sim = SimOptions {
+        scene: scene.map_or(study, std::path::Path::to_path_buf),
+        trees: args.trees.clone(),
+        ticks: args.ticks,
+    };
     let mut report = serde_json::Map::new();
-    report.insert(
-        "build".into(),
-        json!(if cfg!(debug_assertions) {
-            "debug"
-        } else {
-            "release"
-        }),
-    );
+    report.insert("build".into(), json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
     report.insert("threads".into(), json!(1));
     let render = bench::render::RenderBenchOptions {
         shadow_size: args.shadow_size,
@@ -60,10 +45,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::Wind => ("wind_sun_tick", bench::wind::bench_wind(&sim)?),
             Which::Raycast => ("raycast", bench::raycast::bench_raycast(&sim)?),
             Which::Render => ("render", bench::render::bench_render(render)?),
-            Which::RenderReference => (
-                "render_reference",
-                bench::suites::bench_reference(render)?,
-            ),
+            Which::RenderReference => ("render_reference", bench::suites::bench_reference(render)?),
             Which::RenderGpu => ("render_gpu", bench::suites::bench_gpu(render)?),
             Which::Water => ("water", bench::water::bench_water(render)?),
             Which::Grass => ("grass", bench::grass::bench_grass()?),

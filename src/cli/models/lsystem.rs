@@ -7,9 +7,9 @@ use std::time::Instant;
 
 use anyhow::bail;
 use clap::{Args, Subcommand};
-use grove::lsystem::grammar::{Source, COMMANDS};
 use grove::lsystem::gpu::GpuDeriver;
-use grove::lsystem::{derive, memo, mesh, presets, turtle, Grammar, LString, Limits};
+use grove::lsystem::grammar::{COMMANDS, Source};
+use grove::lsystem::{Grammar, LString, Limits, derive, memo, mesh, presets, turtle};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Subcommands of `grove lsystem`.
@@ -76,7 +76,12 @@ impl GrammarArgs {
             return Ok(Grammar::parse_file(&text, &path.display().to_string())?);
         }
         if let Some(axiom) = &self.axiom {
-            let src = Source { axiom: axiom.clone(), rules: self.rules.clone(), angle_deg: self.angle.unwrap_or(25.0), ..Source::default() };
+            let src = Source {
+                axiom: axiom.clone(),
+                rules: self.rules.clone(),
+                angle_deg: self.angle.unwrap_or(25.0),
+                ..Source::default()
+            };
             return Ok(Grammar::compile(&src)?);
         }
         bail!("give a grammar: --preset NAME, --grammar FILE or --axiom A --rule 'X=...'");
@@ -159,7 +164,8 @@ pub fn run(cmd: LsystemCommand) -> anyhow::Result<ExitCode> {
 }
 
 fn cpu_derive(g: &Grammar, n: u32, seed: u64, limits: &Limits, threads: Option<usize>) -> anyhow::Result<LString> {
-    let bar = ProgressBar::new(n as u64).with_style(ProgressStyle::with_template("{msg} {bar:30} {pos}/{len} steps").expect("valid template"));
+    let bar = ProgressBar::new(n as u64)
+        .with_style(ProgressStyle::with_template("{msg} {bar:30} {pos}/{len} steps").expect("valid template"));
     bar.set_message(format!("deriving {}", g.name));
     let work = || -> anyhow::Result<LString> {
         let mut s = derive::axiom(g);
@@ -184,7 +190,11 @@ fn run_derive(a: DeriveArgs) -> anyhow::Result<ExitCode> {
     if a.threads == Some(0) {
         bail!("--threads must be at least 1");
     }
-    let s = if a.gpu { GpuDeriver::new()?.derive(&g, n, a.src.seed, &limits)? } else { cpu_derive(&g, n, a.src.seed, &limits, a.threads)? };
+    let s = if a.gpu {
+        GpuDeriver::new()?.derive(&g, n, a.src.seed, &limits)?
+    } else {
+        cpu_derive(&g, n, a.src.seed, &limits, a.threads)?
+    };
     if a.print && s.len() > 1_000_000 {
         bail!("the derived string has {} symbols, too many to print (at most 1,000,000)", s.len());
     }
@@ -222,7 +232,8 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
     let bank = if a.add { Some(super::bank_for_add(a.bank.clone())?) } else { None };
     let s = cpu_derive(&g, n, a.src.seed, &limits, None)?;
     let segs = turtle::interpret_parallel(&s, &g, limits.max_bytes)?;
-    let model = mesh::build(&g, &segs, &mesh::ModelOptions { height: a.height.unwrap_or(g.height), ..Default::default() })?;
+    let model =
+        mesh::build(&g, &segs, &mesh::ModelOptions { height: a.height.unwrap_or(g.height), ..Default::default() })?;
     let w = mesh::write(&a.out, &name, &g, &model)?;
     let (lo, hi) = model.bounds;
     println!(
@@ -239,7 +250,14 @@ fn run_model(a: ModelArgs) -> anyhow::Result<ExitCode> {
         hi.z
     );
     if let Some(bank) = bank {
-        let req = grove::bank::import::AddRequest { file: w.gltf.clone(), bank: bank.clone(), name: Some(name.clone()), species: Some(format!("lsystem-{}", g.name)), kind: None, far: None };
+        let req = grove::bank::import::AddRequest {
+            file: w.gltf.clone(),
+            bank: bank.clone(),
+            name: Some(name.clone()),
+            species: Some(format!("lsystem-{}", g.name)),
+            kind: None,
+            far: None,
+        };
         super::print_added(&grove::bank::import::add(&req)?, &bank);
     }
     Ok(ExitCode::SUCCESS)
@@ -262,8 +280,10 @@ fn run_bench(a: BenchArgs) -> anyhow::Result<ExitCode> {
     let g = presets::preset(&a.preset)?;
     let limits = Limits::default();
     let gpu = if a.no_gpu { None } else { Some(GpuDeriver::new()?) };
-    let pools: Vec<rayon::ThreadPool> = [1, 2].iter().map(|&t| rayon::ThreadPoolBuilder::new().num_threads(t).build()).collect::<Result<_, _>>()?;
-    let bar = ProgressBar::new(a.n.len() as u64 * 6).with_style(ProgressStyle::with_template("bench {bar:30} {pos}/{len} {msg}").expect("valid template"));
+    let pools: Vec<rayon::ThreadPool> =
+        [1, 2].iter().map(|&t| rayon::ThreadPoolBuilder::new().num_threads(t).build()).collect::<Result<_, _>>()?;
+    let bar = ProgressBar::new(a.n.len() as u64 * 6)
+        .with_style(ProgressStyle::with_template("bench {bar:30} {pos}/{len} {msg}").expect("valid template"));
     let mut rows = Vec::new();
     for &n in &a.n {
         bar.set_message(format!("n = {n}"));
@@ -320,16 +340,25 @@ fn run_bench(a: BenchArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     println!("{} (fastest of {}; GPU: {})", a.preset, a.repeats, adapter.as_deref().unwrap_or("not run"));
-    println!("| n | symbols | segments | derive 1 thread | derive 2 threads | derive GPU | interpret sequential | interpret 1 thread | interpret 2 threads | memoised 1 thread | memoised 2 threads |");
+    println!(
+        "| n | symbols | segments | derive 1 thread | derive 2 threads | derive GPU | interpret sequential | interpret 1 thread | interpret 2 threads | memoised 1 thread | memoised 2 threads |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let ms = |v: &serde_json::Value| v.as_f64().map(|x| format!("{x:.1} ms")).unwrap_or_else(|| "—".into());
     for r in &rows {
         println!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            r["n"], r["symbols"], r["segments"],
-            ms(&r["derive_ms_1_thread"]), ms(&r["derive_ms_2_threads"]), ms(&r["derive_ms_gpu"]),
-            ms(&r["interpret_ms_sequential"]), ms(&r["interpret_ms_1_thread"]), ms(&r["interpret_ms_2_threads"]),
-            ms(&r["interpret_ms_memo_1_thread"]), ms(&r["interpret_ms_memo_2_threads"])
+            r["n"],
+            r["symbols"],
+            r["segments"],
+            ms(&r["derive_ms_1_thread"]),
+            ms(&r["derive_ms_2_threads"]),
+            ms(&r["derive_ms_gpu"]),
+            ms(&r["interpret_ms_sequential"]),
+            ms(&r["interpret_ms_1_thread"]),
+            ms(&r["interpret_ms_2_threads"]),
+            ms(&r["interpret_ms_memo_1_thread"]),
+            ms(&r["interpret_ms_memo_2_threads"])
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -16,10 +16,10 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use clap::{Args, Subcommand, ValueEnum};
-use grove::bank::import::{add_noted, load_checked, AddRequest, Added};
+use grove::bank::import::{AddRequest, Added, add_noted, load_checked};
 use grove::models::measure;
 use grove_systems::bank::{Bank, BankModel};
-use grove_systems::catalogue::{Catalogue, ModelKind, PickShape, PICK_BANDS};
+use grove_systems::catalogue::{Catalogue, ModelKind, PICK_BANDS, PickShape};
 use serde::Serialize;
 
 /// The kinds a user can name.
@@ -45,7 +45,10 @@ impl KindArg {
 pub fn bank_for_add(bank: Option<PathBuf>) -> anyhow::Result<PathBuf> {
     match bank {
         Some(b) => Ok(b),
-        None => grove::bank::session_dirs(&[]).into_iter().next().ok_or_else(|| anyhow!("--add needs --bank DIR (or GROVE_BANK)")),
+        None => grove::bank::session_dirs(&[])
+            .into_iter()
+            .next()
+            .ok_or_else(|| anyhow!("--add needs --bank DIR (or GROVE_BANK)")),
     }
 }
 
@@ -53,7 +56,10 @@ pub fn bank_for_add(bank: Option<PathBuf>) -> anyhow::Result<PathBuf> {
 pub fn check_model_name(name: &str) -> anyhow::Result<()> {
     if !grove_systems::bank::valid_name(name) || name.contains('.') {
         let shown: String = name.chars().take(40).collect();
-        anyhow::bail!("model name '{shown}{}' must be 1 to 64 letters, digits, '-' and '_'", if name.chars().count() > 40 { "…" } else { "" });
+        anyhow::bail!(
+            "model name '{shown}{}' must be 1 to 64 letters, digits, '-' and '_'",
+            if name.chars().count() > 40 { "…" } else { "" }
+        );
     }
     Ok(())
 }
@@ -61,7 +67,13 @@ pub fn check_model_name(name: &str) -> anyhow::Result<()> {
 /// One line saying what a generator's `--add` did.
 pub fn print_added(added: &Added, bank: &std::path::Path) {
     match added {
-        Added::New(m) => println!("added '{}' to {} (lowest point {:.3} m, {} triangles)", m.name, bank.display(), m.bounds_min.y, m.triangles),
+        Added::New(m) => println!(
+            "added '{}' to {} (lowest point {:.3} m, {} triangles)",
+            m.name,
+            bank.display(),
+            m.bounds_min.y,
+            m.triangles
+        ),
         Added::Unchanged(m) => println!("'{}' is already in {} with the same files", m.name, bank.display()),
     }
 }
@@ -157,7 +169,10 @@ pub fn run(cmd: ModelsCommand) -> anyhow::Result<ExitCode> {
 fn run_add(a: AddArgs) -> anyhow::Result<ExitCode> {
     let bank = match a.bank {
         Some(b) => b,
-        None => grove::bank::session_dirs(&[]).into_iter().next().ok_or_else(|| anyhow!("name the bank folder with --bank DIR (or set GROVE_BANK)"))?,
+        None => grove::bank::session_dirs(&[])
+            .into_iter()
+            .next()
+            .ok_or_else(|| anyhow!("name the bank folder with --bank DIR (or set GROVE_BANK)"))?,
     };
     let kind = a.kind.map(KindArg::kind);
     let req = AddRequest { file: a.file, bank: bank.clone(), name: a.name, species: a.species, kind, far: a.far };
@@ -181,7 +196,9 @@ fn run_add(a: AddArgs) -> anyhow::Result<ExitCode> {
                 grove_systems::bank::WindSource::Computed => "computed",
             }
         ),
-        Added::Unchanged(m) => println!("'{}' is already in {} with the same files; nothing changed", m.name, bank.display()),
+        Added::Unchanged(m) => {
+            println!("'{}' is already in {} with the same files; nothing changed", m.name, bank.display())
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -199,12 +216,16 @@ fn listed(banks: &[PathBuf]) -> anyhow::Result<Vec<Listed>> {
             species: m.species.clone(),
             kind: kind_name(m.kind),
             bank: bank_model.map_or("shipped".into(), |(b, _)| b.dir.display().to_string()),
-            file: bank_model.map_or_else(|| shipped.join(format!("{}.gltf", m.name)).display().to_string(), |(b, bm)| b.file_of(bm).display().to_string()),
+            file: bank_model.map_or_else(
+                || shipped.join(format!("{}.gltf", m.name)).display().to_string(),
+                |(b, bm)| b.file_of(bm).display().to_string(),
+            ),
             height: m.height(),
             lowest_point: m.lowest_point(),
             triangles: m.triangles,
             hash: bank_model.map(|(_, bm)| bm.hash.clone()),
-            thumbnail: bank_model.and_then(|(b, bm)| bm.thumbnail.as_ref().map(|t| b.dir.join(t).display().to_string())),
+            thumbnail: bank_model
+                .and_then(|(b, bm)| bm.thumbnail.as_ref().map(|t| b.dir.join(t).display().to_string())),
         });
     }
     Ok(out)
@@ -216,24 +237,41 @@ fn run_list(a: ListArgs) -> anyhow::Result<ExitCode> {
         crate::cli::print_json(&all)?;
     } else {
         for m in &all {
-            println!("{:>3}  {:<24} {:<12} {:<9} {:>6.2} m {:>7} tris  {}", m.id, m.name, m.species, m.kind, m.height, m.triangles, m.bank);
+            println!(
+                "{:>3}  {:<24} {:<12} {:<9} {:>6.2} m {:>7} tris  {}",
+                m.id, m.name, m.species, m.kind, m.height, m.triangles, m.bank
+            );
         }
     }
     Ok(ExitCode::SUCCESS)
 }
 
 /// Differences between catalogue measurements and a fresh measurement, as short phrases.
-fn differences(bmin: glam::Vec3, bmax: glam::Vec3, tris: u32, pick: Option<&PickShape>, m: &grove::models::Measured) -> Vec<String> {
+fn differences(
+    bmin: glam::Vec3,
+    bmax: glam::Vec3,
+    tris: u32,
+    pick: Option<&PickShape>,
+    m: &grove::models::Measured,
+) -> Vec<String> {
     let mut out = Vec::new();
     let tol = 1e-3 * (1.0 + (bmax - bmin).max_element());
     if (bmin - m.bounds_min).abs().max_element() > tol || (bmax - m.bounds_max).abs().max_element() > tol {
-        out.push(format!("bounds are {:?}..{:?} in the file, {:?}..{:?} in the catalogue", m.bounds_min.to_array(), m.bounds_max.to_array(), bmin.to_array(), bmax.to_array()));
+        out.push(format!(
+            "bounds are {:?}..{:?} in the file, {:?}..{:?} in the catalogue",
+            m.bounds_min.to_array(),
+            m.bounds_max.to_array(),
+            bmin.to_array(),
+            bmax.to_array()
+        ));
     }
     if tris != m.triangles {
         out.push(format!("{} triangles in the file, {tris} in the catalogue", m.triangles));
     }
     if let Some(p) = pick {
-        let off = (0..PICK_BANDS).any(|i| (p.radii[i] - m.pick.radii[i]).abs() > tol) || (p.top - m.pick.top).abs() > tol || (p.bottom - m.pick.bottom).abs() > tol;
+        let off = (0..PICK_BANDS).any(|i| (p.radii[i] - m.pick.radii[i]).abs() > tol)
+            || (p.top - m.pick.top).abs() > tol
+            || (p.bottom - m.pick.bottom).abs() > tol;
         if off {
             out.push("the pick shape differs".into());
         }
@@ -275,7 +313,10 @@ fn run_check(a: ListArgs) -> anyhow::Result<ExitCode> {
     }
     let bad = report.iter().filter(|r| !r.2.is_empty()).count();
     if a.json {
-        let v: Vec<serde_json::Value> = report.iter().map(|(n, b, p)| serde_json::json!({ "name": n, "bank": b, "ok": p.is_empty(), "problems": p })).collect();
+        let v: Vec<serde_json::Value> = report
+            .iter()
+            .map(|(n, b, p)| serde_json::json!({ "name": n, "bank": b, "ok": p.is_empty(), "problems": p }))
+            .collect();
         crate::cli::print_json(&serde_json::json!({ "models": v, "mismatched": bad }))?;
     } else {
         for (n, b, p) in &report {

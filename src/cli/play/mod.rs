@@ -7,14 +7,14 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use clap::Args;
-use grove_systems::replay::{session_start_at, SessionFields};
+use grove_systems::Sim;
+use grove_systems::replay::{SessionFields, session_start_at};
 use grove_systems::scene::Scene;
 use grove_systems::task::TaskDef;
-use grove_systems::Sim;
 
 use crate::desktop::budget::{Budget, Quality};
 use crate::desktop::play::PlayApp;
-use crate::desktop::session::{create_recording, LiveSession};
+use crate::desktop::session::{LiveSession, create_recording};
 
 /// Arguments of `grove play`.
 #[derive(Args)]
@@ -78,7 +78,10 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
             let abs = std::fs::canonicalize(p).unwrap_or_else(|_| p.clone());
             (scene, abs.display().to_string())
         }
-        None => (Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?, "study".to_string()),
+        None => (
+            Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?,
+            "study".to_string(),
+        ),
     };
     if let Some(t) = &args.task {
         if TaskDef::builtin(t).is_none() {
@@ -93,16 +96,23 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     let seed = args.seed.unwrap_or(scene.seed);
     let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{scene_name}: {e}"))?;
     let (catalogue, listed) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
-    crate::desktop::gpu::set_session_models(catalogue.clone(), grove::bank::model_files(&banks).map_err(|e| anyhow!(e))?);
+    crate::desktop::gpu::set_session_models(
+        catalogue.clone(),
+        grove::bank::model_files(&banks).map_err(|e| anyhow!(e))?,
+    );
     let sim = Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{scene_name}: {e}"))?;
     // The aerial photographs are opened here once, so a bad one is one line before the window.
-    if grove::render::aerial_ground::open::open_sources(&scene, false).map_err(|e| anyhow!("{scene_name}: {e}"))?.is_some() {
+    if grove::render::aerial_ground::open::open_sources(&scene, false)
+        .map_err(|e| anyhow!("{scene_name}: {e}"))?
+        .is_some()
+    {
         crate::desktop::gpu::set_session_aerial(scene.clone());
     }
     let recorder = match &args.record {
         Some(path) => {
             // The wall-clock start of the recording, so that reports order a participant's sessions.
-            let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
+            let now =
+                std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
             let fields = SessionFields {
                 participant: args.participant.clone(),
                 task: args.task.clone(),
@@ -119,11 +129,20 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     let mut session = LiveSession::new(sim, recorder);
     session.record_path = args.record.clone();
     if let Some(t) = technique {
-        session.queue(grove_systems::input::InputEvent::SwitchTechnique { technique: t.name.to_string() }).map_err(|e| anyhow!(e))?;
+        session
+            .queue(grove_systems::input::InputEvent::SwitchTechnique { technique: t.name.to_string() })
+            .map_err(|e| anyhow!(e))?;
     }
     let mut app = PlayApp::new(session, args.task.as_deref(), args.free).map_err(|e| anyhow!(e))?;
     app.ui.stats.recording = args.record.as_ref().map(|p| p.display().to_string());
-    app.measure = args.measure.map(|seconds| crate::desktop::play::Measure { seconds, frames: 0, time: 0.0, scale_sum: 0.0, first_frame: None, cpu_start: None });
+    app.measure = args.measure.map(|seconds| crate::desktop::play::Measure {
+        seconds,
+        frames: 0,
+        time: 0.0,
+        scale_sum: 0.0,
+        first_frame: None,
+        cpu_start: None,
+    });
     if !args.simple_view {
         app.world3d.factory = Some(crate::desktop::gpu::make_renderer);
         app.world3d.budget = Budget::new(args.quality);

@@ -154,14 +154,31 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
 fn options(args: &RenderArgs) -> RenderOptions {
     let overlay = args.overlay.unwrap_or(if args.replay.is_some() { Overlay::Interaction } else { Overlay::None });
     let sky = args.background.unwrap_or(Background::Sky) == Background::Sky;
-    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, blade_edge_fade: !args.no_blade_fade, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, canopy: !args.no_canopy, background: sky, clear: if sky { wgpu::Color::BLACK } else { wgpu::Color::TRANSPARENT }, ..Default::default() }
+    RenderOptions {
+        shadows: !args.no_shadows,
+        water: !args.no_water,
+        grass: !args.no_grass,
+        blade_edge_fade: !args.no_blade_fade,
+        overlay: overlay == Overlay::Interaction,
+        impostor_pixels: args.impostor_pixels,
+        canopy: !args.no_canopy,
+        background: sky,
+        clear: if sky { wgpu::Color::BLACK } else { wgpu::Color::TRANSPARENT },
+        ..Default::default()
+    }
 }
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds
 /// (found in the scene's banks, then the session's).
 /// The scene's photographs are opened before the GPU (`Gpu::new` after this), so that a bad
 /// file is refused at once.
-pub(super) fn renderer(gpu: &Gpu, args: &RenderArgs, sim: &Sim, scene: &grove_systems::scene::Scene, aerial: Option<grove::render::aerial_ground::AerialSources>) -> anyhow::Result<Renderer> {
+pub(super) fn renderer(
+    gpu: &Gpu,
+    args: &RenderArgs,
+    sim: &Sim,
+    scene: &grove_systems::scene::Scene,
+    aerial: Option<grove::render::aerial_ground::AerialSources>,
+) -> anyhow::Result<Renderer> {
     let mut renderer = Renderer::new(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height)?;
     renderer.options = options(args);
     grove::bank::load_for_scene(&mut renderer, scene, &args.banks, sim.catalogue()).map_err(|e| anyhow!(e))?;
@@ -193,7 +210,8 @@ pub(super) struct OutFile {
 }
 
 /// `--out` of a still.
-pub(super) const PNG_OUT: OutFile = OutFile { flag: "--out", ext: "png", name: "a PNG", kind: "a .png file (grove renders PNG only)" };
+pub(super) const PNG_OUT: OutFile =
+    OutFile { flag: "--out", ext: "png", name: "a PNG", kind: "a .png file (grove renders PNG only)" };
 
 /// Refuses an output path that is a folder, has another extension, exists (without `--force`)
 /// or lies in a missing folder.
@@ -249,11 +267,19 @@ fn load_model_checked(model: &Path) -> anyhow::Result<grove::models::ModelData> 
 fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::Result<ExitCode> {
     let data = load_model_checked(model)?;
     let id = grove_systems::catalogue::ModelId(0);
-    let mut sim = grove_systems::stage::model_stage(data.bounds, args.width as f32 / args.height as f32, false, id).map_err(|e| anyhow!(e))?;
+    let mut sim = grove_systems::stage::model_stage(data.bounds, args.width as f32 / args.height as f32, false, id)
+        .map_err(|e| anyhow!(e))?;
     grove_systems::stage::in_study_wind(&mut sim).map_err(|e| anyhow!(e))?;
     let ticks_per_frame = frames_setup(args, out, n, sim.dt())?;
     let gpu = Gpu::new()?;
-    let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir())?;
+    let mut renderer = Renderer::empty(
+        &gpu.device,
+        &gpu.queue,
+        offscreen::FORMAT,
+        args.width,
+        args.height,
+        &grove::render::default_assets_dir(),
+    )?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, far_pixels: 0.0, ..options(args) };
     renderer.features.trees.set_model(id, &data);
@@ -266,7 +292,12 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
         bar.inc(1);
     }
     bar.finish_and_clear();
-    println!("{}: wrote {n} frames of {} in the study's wind, {ticks_per_frame} ticks apart, on {}", out.display(), model.display(), gpu.adapter_name());
+    println!(
+        "{}: wrote {n} frames of {} in the study's wind, {ticks_per_frame} ticks apart, on {}",
+        out.display(),
+        model.display(),
+        gpu.adapter_name()
+    );
     Ok(ExitCode::SUCCESS)
 }
 
@@ -291,26 +322,48 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args), args.tick)?;
         write_via_temp(out, |tmp| Ok(offscreen::save_png(&img, tmp)?))?;
         let at = args.tick.map_or(String::new(), |t| format!(" at tick {t} in the study's wind"));
-        println!("{}: rendered {}{at} ({}x{}) on {}", out.display(), model.display(), args.width, args.height, gpu.adapter_name());
+        println!(
+            "{}: rendered {}{at} ({}x{}) on {}",
+            out.display(),
+            model.display(),
+            args.width,
+            args.height,
+            gpu.adapter_name()
+        );
         return Ok(ExitCode::SUCCESS);
     }
     if let Some(replay) = &args.replay {
         let tick = args.tick.ok_or_else(|| anyhow!("--replay needs --tick N (one picture) or --video OUT.mp4"))?;
         check_out_file(out, args.force, &PNG_OUT)?;
-        let options = grove_systems::replay::ReplayOptions { until: Some(tick), banks: grove::bank::session_dirs(&args.banks), ..Default::default() };
+        let options = grove_systems::replay::ReplayOptions {
+            until: Some(tick),
+            banks: grove::bank::session_dirs(&args.banks),
+            ..Default::default()
+        };
         let outcome = grove_systems::replay::replay_file(replay, &options).map_err(|e| anyhow!("{e}"))?;
         if outcome.sim.tick() < tick {
             bail!("{}: the recording ends at tick {}, before --tick {tick}", replay.display(), outcome.sim.tick());
         }
-        let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
-        let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+        let scene = grove_systems::replay::scene_ref::resolve_scene(&outcome.header.scene, replay.parent())
+            .map_err(|e| anyhow!(e))?;
+        let aerial =
+            grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
         let gpu = Gpu::new()?;
         let mut renderer = renderer(&gpu, &args, &outcome.sim, &scene, aerial)?;
         render_sim(&gpu, &mut renderer, &outcome.sim, out)?;
-        println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), replay.display(), tick, args.width, args.height, gpu.adapter_name());
+        println!(
+            "{}: rendered {} at tick {} ({}x{}) on {}",
+            out.display(),
+            replay.display(),
+            tick,
+            args.width,
+            args.height,
+            gpu.adapter_name()
+        );
         return Ok(ExitCode::SUCCESS);
     }
-    let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
+    let scene_path =
+        args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
     if args.tick.is_some() {
         bail!("--tick goes with --replay or --model, not with --scene (use --frames for a sequence)");
     }
@@ -321,21 +374,33 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         }
         scene.sun.time_rate = rate;
     }
-    let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
+    let banks =
+        grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
-    let mut sim = Sim::from_scene_with(&scene, scene.seed, catalogue).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
+    let mut sim =
+        Sim::from_scene_with(&scene, scene.seed, catalogue).map_err(|e| anyhow!("{}: {e}", scene_path.display()))?;
     match args.frames {
         None => {
             check_out_file(out, args.force, &PNG_OUT)?;
-            let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+            let aerial =
+                grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             render_sim(&gpu, &mut renderer, &sim, out)?;
-            println!("{}: rendered {} at tick {} ({}x{}) on {}", out.display(), scene_path.display(), sim.tick(), args.width, args.height, gpu.adapter_name());
+            println!(
+                "{}: rendered {} at tick {} ({}x{}) on {}",
+                out.display(),
+                scene_path.display(),
+                sim.tick(),
+                args.width,
+                args.height,
+                gpu.adapter_name()
+            );
         }
         Some(n) => {
             let ticks_per_frame = frames_setup(&args, out, n, scene.dt)?;
-            let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
+            let aerial =
+                grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
             let gpu = Gpu::new()?;
             let mut renderer = renderer(&gpu, &args, &sim, &scene, aerial)?;
             for f in 0..n {

@@ -8,10 +8,10 @@ use std::time::Instant;
 use anyhow::{anyhow, bail};
 use grove::atomic_write::write_via_temp;
 use grove::render::offscreen::Gpu;
-use grove::video::{self, camera::CameraKind, Mark, VideoSpec};
+use grove::video::{self, Mark, VideoSpec, camera::CameraKind};
 use grove_systems::replay::Player;
 
-use super::{check_out_file, OutFile, RenderArgs};
+use super::{OutFile, RenderArgs, check_out_file};
 
 /// `--video`: an `.mp4` file.
 const MP4_OUT: OutFile = OutFile { flag: "--video", ext: "mp4", name: "an .mp4", kind: "an .mp4 file" };
@@ -41,7 +41,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let banks = grove::bank::open_session(&args.banks).map_err(|e| anyhow!(e))?;
     let player = Player::open(replay, &[], &banks).map_err(|e| anyhow!(e))?;
     let end = player.final_tick();
-    let from = args.from.unwrap_or(Mark::Tick(0)).tick(&player).map_err(|e| anyhow!("{}: --from: {e}", replay.display()))?;
+    let from =
+        args.from.unwrap_or(Mark::Tick(0)).tick(&player).map_err(|e| anyhow!("{}: --from: {e}", replay.display()))?;
     let to = args.to.map_or(Ok(end), |m| m.tick(&player)).map_err(|e| anyhow!("{}: --to: {e}", replay.display()))?;
     if to > end {
         bail!("{}: --to {to} is past the recording's end (tick {end})", replay.display());
@@ -52,10 +53,14 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let dt = player.sim().dt();
     let frames = (to - from) as f64 * dt as f64 / args.speed * fps as f64;
     if frames > video::MAX_FRAMES as f64 {
-        bail!("{frames:.0} frames asked for; a video has at most {} (raise --speed or narrow --from/--to)", video::MAX_FRAMES);
+        bail!(
+            "{frames:.0} frames asked for; a video has at most {} (raise --speed or narrow --from/--to)",
+            video::MAX_FRAMES
+        );
     }
     let ghosts = match &args.ghosts {
-        Some(dir) => video::ghosts::open(dir, replay, player.header.task.as_deref(), player.task_start_tick(), &banks).map_err(|e| anyhow!(e))?,
+        Some(dir) => video::ghosts::open(dir, replay, player.header.task.as_deref(), player.task_start_tick(), &banks)
+            .map_err(|e| anyhow!(e))?,
         None => Vec::new(),
     };
     let (area, condition) = video::survey(Player::open(replay, &[], &banks).map_err(|e| anyhow!(e))?);
@@ -65,13 +70,17 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         None => format!("{participant} · {condition}"),
     };
 
-    let scene = grove_systems::replay::scene_ref::resolve_scene(&player.header.scene, replay.parent()).map_err(|e| anyhow!(e))?;
+    let scene = grove_systems::replay::scene_ref::resolve_scene(&player.header.scene, replay.parent())
+        .map_err(|e| anyhow!(e))?;
     let aerial = grove::render::aerial_ground::open::open_sources(&scene, args.debug_lod).map_err(|e| anyhow!(e))?;
     let gpu = Gpu::new()?;
     let mut renderer = super::renderer(&gpu, args, player.sim(), &scene, aerial)?;
     let n = video::frame_ticks(from, to, fps, args.speed, dt).len() as u64;
     let bar = indicatif::ProgressBar::new(n);
-    bar.set_style(indicatif::ProgressStyle::with_template("{msg} {wide_bar} {pos}/{len} frames, {per_sec}, {eta} left").map_err(|e| anyhow!(e))?);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} {wide_bar} {pos}/{len} frames, {per_sec}, {eta} left")
+            .map_err(|e| anyhow!(e))?,
+    );
     bar.set_message("rendering");
     let ghost_count = ghosts.len();
     let started = Instant::now();

@@ -36,7 +36,12 @@ pub fn write(file: &Path, outcome: &ReplayOutcome, page: &Path) -> anyhow::Resul
     let extra: Vec<Moment> = outcome
         .first_divergence
         .iter()
-        .flat_map(|d| [Moment { tick: d.tick.saturating_sub(60), label: "1 s before the divergence".into() }, Moment { tick: d.tick, label: "the first diverging checkpoint".into() }])
+        .flat_map(|d| {
+            [
+                Moment { tick: d.tick.saturating_sub(60), label: "1 s before the divergence".into() },
+                Moment { tick: d.tick, label: "the first diverging checkpoint".into() },
+            ]
+        })
         .collect();
     let mut pictures = None;
     let mut shots = html::shots::Shots::new().map_err(|e| pictures = Some(e.to_string())).ok();

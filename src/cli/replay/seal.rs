@@ -13,7 +13,7 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use grove_systems::bank::Banks;
-use grove_systems::replay::{read_events, record_events_beside, replay_file, ReplayOptions};
+use grove_systems::replay::{ReplayOptions, read_events, record_events_beside, replay_file};
 
 /// Seals `input` into `out`. Returns exit code 1 when `input` has checkpoints that diverge
 /// (sealing would hide that); errors are bad input (exit 2).
@@ -41,7 +41,16 @@ pub fn run(input: &Path, out: Option<&Path>) -> anyhow::Result<ExitCode> {
     let tmp = out.with_extension("seal.tmp");
     let written = (|| -> anyhow::Result<()> {
         let file = std::fs::File::create(&tmp).map_err(|e| anyhow!("{}: {e}", tmp.display()))?;
-        let w = record_events_beside(std::io::BufWriter::new(file), &header, &events, end_tick, summary, input.parent(), &Banks::default()).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+        let w = record_events_beside(
+            std::io::BufWriter::new(file),
+            &header,
+            &events,
+            end_tick,
+            summary,
+            input.parent(),
+            &Banks::default(),
+        )
+        .map_err(|e| anyhow!("{}: {e}", input.display()))?;
         w.into_inner().map_err(|e| anyhow!("{}: {}", tmp.display(), e.error()))?.sync_all()?;
         std::fs::rename(&tmp, out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
         Ok(())

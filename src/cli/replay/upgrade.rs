@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use anyhow::{anyhow, bail};
 use grove::atomic_write::write_via_temp;
-use grove_systems::replay::{upgrade, UpgradeSummary};
+use grove_systems::replay::{UpgradeSummary, upgrade};
 
 /// Runs the upgrade of `input` into `out`.
 pub fn run(input: &Path, out: Option<&Path>, force: bool) -> anyhow::Result<ExitCode> {

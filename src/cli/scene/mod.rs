@@ -29,7 +29,8 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
             println!("{}: ok, scene '{}'", file.display(), scene.name);
             println!("  dt: {:.6} s ({:.1} Hz), seed {}", scene.dt, 1.0 / scene.dt, scene.seed);
             sim.for_each_plane(|_, p| {
-                let (min, max) = p.vertices.iter().fold((glam::Vec3::MAX, glam::Vec3::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+                let (min, max) =
+                    p.vertices.iter().fold((glam::Vec3::MAX, glam::Vec3::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
                 println!(
                     "  plane '{}': {} vertices, {} triangles, x {:.1}..{:.1} m, y {:.2}..{:.2} m, z {:.1}..{:.1} m",
                     p.name,
@@ -44,19 +45,44 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<ExitCode> {
                 );
             });
             let s = &scene.sun;
-            println!("  sun: {:.4}° N, {:.4}° E at {} (time rate {})", s.latitude_deg, s.longitude_deg, s.utc, s.time_rate);
+            println!(
+                "  sun: {:.4}° N, {:.4}° E at {} (time rate {})",
+                s.latitude_deg, s.longitude_deg, s.utc, s.time_rate
+            );
             let w = &scene.wind;
-            println!("  wind: strength {}, density {}/m, gusts {} ± {} at {} Hz", w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency);
+            println!(
+                "  wind: strength {}, density {}/m, gusts {} ± {} at {} Hz",
+                w.strength, w.density, w.gust_average, w.gust_strength, w.gust_frequency
+            );
             println!("  trees: {}", scene.trees.len());
             for w in &scene.water {
                 let area = grove_systems::water::signed_area(&w.polygon).abs();
-                println!("  water '{}': {} vertices, {area:.1} m², surface at {:.2} m, {:.2} m deep", w.name, w.polygon.len(), w.height, w.depth);
+                println!(
+                    "  water '{}': {} vertices, {area:.1} m², surface at {:.2} m, {:.2} m deep",
+                    w.name,
+                    w.polygon.len(),
+                    w.height,
+                    w.depth
+                );
             }
             for g in &scene.grass {
-                println!("  grass '{}': {:?}, {} per m², {:.2}..{:.2} m tall, over about {:.0} m²", g.name, g.kind, g.density, g.height.0, g.height.1, g.area_on(&scene.plane_outlines()));
+                println!(
+                    "  grass '{}': {:?}, {} per m², {:.2}..{:.2} m tall, over about {:.0} m²",
+                    g.name,
+                    g.kind,
+                    g.density,
+                    g.height.0,
+                    g.height.1,
+                    g.area_on(&scene.plane_outlines())
+                );
             }
             let c = &scene.camera;
-            println!("  camera: at {:?} looking at {:?}, fov {}°", c.position.to_array(), c.look_at.to_array(), c.fov_y_deg);
+            println!(
+                "  camera: at {:?} looking at {:?}, fov {}°",
+                c.position.to_array(),
+                c.look_at.to_array(),
+                c.fov_y_deg
+            );
             Ok(ExitCode::SUCCESS)
         }
     }

@@ -6,9 +6,9 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use clap::Args;
+use grove_systems::Sim;
 use grove_systems::hash::hex;
 use grove_systems::sim::EntityCounts;
-use grove_systems::Sim;
 use serde::Serialize;
 
 /// Arguments of `grove sim`.
@@ -48,15 +48,22 @@ struct SimReport {
 pub fn run(args: SimArgs) -> anyhow::Result<ExitCode> {
     let scene = crate::cli::load_scene(&args.scene)?;
     if args.ticks > grove_systems::limits::MAX_TICKS {
-        return Err(anyhow!("--ticks {} is past the limit of {} ticks ({})", args.ticks, grove_systems::limits::MAX_TICKS, grove_systems::limits::RAISE));
+        return Err(anyhow!(
+            "--ticks {} is past the limit of {} ticks ({})",
+            args.ticks,
+            grove_systems::limits::MAX_TICKS,
+            grove_systems::limits::RAISE
+        ));
     }
     if args.trees > 5_000_000 {
         return Err(anyhow!("--trees {} is more than 5,000,000", args.trees));
     }
     let seed = args.seed.unwrap_or(scene.seed);
-    let banks = grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
+    let banks =
+        grove::bank::open_for_scene(&scene, &args.banks).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
     let (catalogue, _) = banks.session_catalogue().map_err(|e| anyhow!(e))?;
-    let mut sim = Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
+    let mut sim =
+        Sim::from_scene_with(&scene, seed, catalogue).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
     sim.scatter_trees(args.trees);
     let start = Instant::now();
     sim.run(args.ticks);

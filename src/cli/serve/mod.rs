@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use anyhow::{bail, Context};
+use anyhow::{Context, bail};
 use clap::{Args, Subcommand};
 use grove::serve::client::{bench::BenchOptions, push::PushOptions, push::Rate};
 use grove::serve::{self, ServeConfig, TlsChoice};
@@ -144,12 +144,16 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 None => TlsChoice::Off,
                 Some("auto") => TlsChoice::Auto,
                 Some(pair) => match pair.split_once(',') {
-                    Some((c, k)) if !c.is_empty() && !k.is_empty() => TlsChoice::Files { cert: c.into(), key: k.into() },
+                    Some((c, k)) if !c.is_empty() && !k.is_empty() => {
+                        TlsChoice::Files { cert: c.into(), key: k.into() }
+                    }
                     _ => bail!("--tls takes 'auto' or 'CERT,KEY' (two PEM files)"),
                 },
             };
             if args.new_token && !args.require_token && args.host.is_loopback() {
-                bail!("--new-token is for a server that asks for a token: a network address (--host) or --require-token");
+                bail!(
+                    "--new-token is for a server that asks for a token: a network address (--host) or --require-token"
+                );
             }
             if args.max_sessions == 0 || args.max_connections == 0 || args.max_connections_per_address == 0 {
                 bail!("--max-sessions, --max-connections and --max-connections-per-address must be at least 1");
@@ -163,9 +167,14 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 host: args.host,
                 port: args.port,
                 tls,
-                banks: grove_systems::bank::bank_dirs(&args.bank, std::env::var(grove_systems::bank::BANK_ENV).ok().as_deref()),
+                banks: grove_systems::bank::bank_dirs(
+                    &args.bank,
+                    std::env::var(grove_systems::bank::BANK_ENV).ok().as_deref(),
+                ),
                 web: args.web,
-                wasm: args.wasm.unwrap_or_else(|| PathBuf::from(std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into())).join("wasm")),
+                wasm: args.wasm.unwrap_or_else(|| {
+                    PathBuf::from(std::env::var("CARGO_TARGET_DIR").unwrap_or_else(|_| "target".into())).join("wasm")
+                }),
                 assets: args.assets,
                 read_timeout: seconds("read-timeout", args.read_timeout)?,
                 writer_lease: seconds("writer-lease", args.writer_lease)?,
@@ -193,7 +202,12 @@ fn push(p: PushArgs) -> anyhow::Result<ExitCode> {
             _ => bail!("--rate takes 'max', 'real' or a factor of real time above 0, such as 10"),
         },
     };
-    let options = PushOptions { rate, timeout: seconds("timeout", p.timeout)?, give_up: seconds("give-up", p.give_up)?, max_batch_bytes: 256 * 1024 };
+    let options = PushOptions {
+        rate,
+        timeout: seconds("timeout", p.timeout)?,
+        give_up: seconds("give-up", p.give_up)?,
+        max_batch_bytes: 256 * 1024,
+    };
     let endpoint = serve::client::conn::Endpoint::parse(&p.to, p.ca.as_deref())?;
     let say = |m: &str| eprintln!("{}: {m}", p.file.display());
     let report = runtime()?.block_on(serve::client::push::push(&p.file, &endpoint, &options, &say))?;
@@ -202,10 +216,21 @@ fn push(p: PushArgs) -> anyhow::Result<ExitCode> {
     if p.json {
         crate::cli::print_json(&report)?;
     } else {
-        let continued = if report.continued_from > 1 { format!(", continued from line {}", report.continued_from + 1) } else { String::new() };
+        let continued = if report.continued_from > 1 {
+            format!(", continued from line {}", report.continued_from + 1)
+        } else {
+            String::new()
+        };
         println!(
             "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects{continued}) to {} (session {}): {}",
-            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, report.session, shown
+            report.file,
+            report.lines,
+            report.seconds,
+            report.requests,
+            report.reconnects,
+            report.server_file,
+            report.session,
+            shown
         );
     }
     Ok(if status.is_some_and(|s| s.failed()) { ExitCode::from(1) } else { ExitCode::SUCCESS })

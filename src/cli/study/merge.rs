@@ -8,10 +8,10 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use grove::study::write::{prepare_out, write_reports, ReportTo};
-use grove_systems::set_arg::SetArgs;
 use grove::study::assign_order;
-use grove::study::shard::{combine, Partial};
+use grove::study::shard::{Partial, combine};
+use grove::study::write::{ReportTo, prepare_out, write_reports};
+use grove_systems::set_arg::SetArgs;
 
 /// Arguments of `grove study merge`.
 #[derive(Args)]

@@ -22,8 +22,8 @@ use grove_systems::resources::Override;
 use grove_systems::set_arg::{SetArg, SetArgs};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use grove::study::write::{prepare_out, write_reports, ReportTo, Reports};
 use grove::study::shard::{Partial, RunPart, Shard, StudyKey};
+use grove::study::write::{ReportTo, Reports, prepare_out, write_reports};
 use grove::study::{list_recordings, recordings_in, run_all};
 
 /// Arguments of `grove study`.
@@ -81,7 +81,10 @@ pub enum StudyCommand {
 
 fn progress(total: u64) -> ProgressBar {
     let bar = ProgressBar::new(total);
-    bar.set_style(ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} re-simulations {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+    bar.set_style(
+        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} re-simulations {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
     bar.set_prefix("study");
     bar
 }
@@ -109,7 +112,8 @@ fn compute(set: &SetArgs, files: &[PathBuf], base_files: Option<&[PathBuf]>) -> 
         return runs;
     }
     let what_if = !set.fixed.is_empty() || base_files.is_some();
-    let bar = progress((files.len() + base_files.map_or(if what_if { files.len() } else { 0 }, <[PathBuf]>::len)) as u64);
+    let bar =
+        progress((files.len() + base_files.map_or(if what_if { files.len() } else { 0 }, <[PathBuf]>::len)) as u64);
     runs.push(run(files, &set.fixed, &bar));
     if let Some(base) = base_files {
         runs.push(run(base, &[], &bar));
@@ -143,20 +147,44 @@ pub fn run(args: StudyArgs) -> anyhow::Result<ExitCode> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("target/study"));
     prepare_out(&out, args.force)?;
     let runs = compute(&set, &files, base_files.as_deref());
-    let to = ReportTo { out, replays: args.replays.display().to_string(), baseline: args.baseline.is_some(), html: html.is_some(), questionnaires: Some(args.replays.clone()) };
+    let to = ReportTo {
+        out,
+        replays: args.replays.display().to_string(),
+        baseline: args.baseline.is_some(),
+        html: html.is_some(),
+        questionnaires: Some(args.replays.clone()),
+    };
     let reports = write_reports(&to, &set, runs)?;
     show(&to, html.as_ref(), args.json, &reports)
 }
 
 /// Writes report.html if asked (saying so on stderr, with the time it took), prints the table
 /// or the summary as JSON, and gives the exit code: 1 when a recording failed or diverged.
-pub(super) fn show(to: &ReportTo, html: Option<&grove::html::Selection>, json: bool, r: &Reports) -> anyhow::Result<ExitCode> {
+pub(super) fn show(
+    to: &ReportTo,
+    html: Option<&grove::html::Selection>,
+    json: bool,
+    r: &Reports,
+) -> anyhow::Result<ExitCode> {
     if let Some(selection) = html {
         let start = std::time::Instant::now();
-        let page = grove::html::StudyPage { summary: &r.summary, what_if: r.what_if.as_ref(), sweep: r.sweep.as_ref(), charts: r.charts.clone(), replays: to.replays.clone(), overrides: &r.overrides, questionnaires: r.questionnaires.as_ref() };
+        let page = grove::html::StudyPage {
+            summary: &r.summary,
+            what_if: r.what_if.as_ref(),
+            sweep: r.sweep.as_ref(),
+            charts: r.charts.clone(),
+            replays: to.replays.clone(),
+            overrides: &r.overrides,
+            questionnaires: r.questionnaires.as_ref(),
+        };
         let file = grove::html::write_study(&to.out, &page, &r.trials, selection)?;
         let bytes = std::fs::metadata(&file).map(|m| m.len()).unwrap_or(0);
-        eprintln!("study: {} ({:.1} MB) written in {:.1} s", file.display(), bytes as f64 / 1e6, start.elapsed().as_secs_f64());
+        eprintln!(
+            "study: {} ({:.1} MB) written in {:.1} s",
+            file.display(),
+            bytes as f64 / 1e6,
+            start.elapsed().as_secs_f64()
+        );
     }
     if json {
         crate::cli::print_json(&r.json)?;
@@ -170,10 +198,19 @@ pub(super) fn show(to: &ReportTo, html: Option<&grove::html::Selection>, json: b
 }
 
 /// `grove study --shard K/N --out PART`: the runs of this shard's recordings, as a partial result.
-fn run_shard(args: &StudyArgs, shard: Shard, set: &SetArgs, files: &[PathBuf], base_files: Option<&[PathBuf]>) -> anyhow::Result<ExitCode> {
+fn run_shard(
+    args: &StudyArgs,
+    shard: Shard,
+    set: &SetArgs,
+    files: &[PathBuf],
+    base_files: Option<&[PathBuf]>,
+) -> anyhow::Result<ExitCode> {
     let Some(out) = &args.out else { bail!("--shard {shard} writes a partial result: name its file with --out PART") };
     if out.is_dir() {
-        bail!("{}: is a folder; --shard writes a partial result file (merge them into a folder with grove study merge)", out.display());
+        bail!(
+            "{}: is a folder; --shard writes a partial result file (merge them into a folder with grove study merge)",
+            out.display()
+        );
     }
     if out.exists() && !args.force {
         bail!("{}: already exists; use --force to replace it, or another --out", out.display());
@@ -182,12 +219,21 @@ fn run_shard(args: &StudyArgs, shard: Shard, set: &SetArgs, files: &[PathBuf], b
     let mine = shard.files(files);
     let base_mine = base_files.map(|b| shard.files(b));
     let runs = compute(set, &mine, base_mine.as_deref());
-    let failed = runs.iter().flat_map(|r| &r.trials).filter(|t| matches!(t.status, grove::study::TrialStatus::Failed | grove::study::TrialStatus::Diverged)).count();
+    let failed = runs
+        .iter()
+        .flat_map(|r| &r.trials)
+        .filter(|t| matches!(t.status, grove::study::TrialStatus::Failed | grove::study::TrialStatus::Diverged))
+        .count();
     let part = Partial { shard, study, replays: args.replays.display().to_string(), runs };
     write_atomic(out, &part.encode()?)?;
     let wall: f64 = part.runs.iter().map(|r| r.wall_seconds).sum();
     let runs = if part.runs.len() == 1 { "1 run".to_string() } else { format!("{} runs", part.runs.len()) };
-    println!("shard {shard}: {} of {} recordings ({runs}) in {wall:.3} s; partial result in {}", mine.len(), files.len(), out.display());
+    println!(
+        "shard {shard}: {} of {} recordings ({runs}) in {wall:.3} s; partial result in {}",
+        mine.len(),
+        files.len(),
+        out.display()
+    );
     // A failed or diverged recording is a result like any other: the partial is written, and the
     // exit code says so, as a run without shards does.
     Ok(if failed == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
@@ -202,7 +248,14 @@ fn set_long_help() -> String {
     let mut help = format!("{SET_HELP}\n\nParameters (default, accepted range):");
     for p in grove_systems::resources::Config::PARAMS {
         let unit = p.unit_suffix();
-        help.push_str(&format!("\n  {:<24} {}{unit}, {} to {}{unit}: {}", p.name, p.default, p.min, p.max, p.doc.trim()));
+        help.push_str(&format!(
+            "\n  {:<24} {}{unit}, {} to {}{unit}: {}",
+            p.name,
+            p.default,
+            p.min,
+            p.max,
+            p.doc.trim()
+        ));
     }
     help
 }

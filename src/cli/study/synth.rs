@@ -7,8 +7,8 @@ use anyhow::{anyhow, bail};
 use clap::Args;
 
 use grove::study::shard::Shard;
-use grove_systems::set_arg::{SetArg, SetArgs};
 use grove::study::synth::{conditions, write_conditions, write_study};
+use grove_systems::set_arg::{SetArg, SetArgs};
 
 /// Arguments of `grove synth`.
 #[derive(Args)]
@@ -62,14 +62,27 @@ pub fn run(args: SynthArgs) -> anyhow::Result<ExitCode> {
         write_study(&out, args.participants, args.seed, args.force, &overrides, shard, &progress)?
     } else {
         let names: Vec<&str> = args.techniques.iter().map(|s| s.as_str()).collect();
-        write_conditions(&out, &conditions(&names)?, args.participants, args.seed, args.force, &overrides, shard, &progress)?
+        write_conditions(
+            &out,
+            &conditions(&names)?,
+            args.participants,
+            args.seed,
+            args.force,
+            &overrides,
+            shard,
+            &progress,
+        )?
     };
     match shard {
         Some(s) => println!("wrote {} recordings (shard {s}) to {}", written.len(), out.display()),
         None => println!("wrote {} recordings to {}", written.len(), out.display()),
     }
     if !overrides.is_empty() {
-        println!("re-simulated participants under {}; compare with: grove study --replays {} --baseline replays/study", args.set.iter().map(SetArg::to_string).collect::<Vec<_>>().join(", "), out.display());
+        println!(
+            "re-simulated participants under {}; compare with: grove study --replays {} --baseline replays/study",
+            args.set.iter().map(SetArg::to_string).collect::<Vec<_>>().join(", "),
+            out.display()
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -44,7 +44,13 @@ pub fn document(suite: &str, cases: &[Case]) -> String {
     let failures = cases.iter().filter(|c| c.failure.is_some()).count();
     let total: f64 = cases.iter().map(|c| seconds(c.seconds).parse::<f64>().unwrap_or(0.0)).sum();
     let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    let _ = writeln!(x, "<testsuites name=\"{}\" tests=\"{}\" failures=\"{failures}\" errors=\"0\" time=\"{}\">", escape(suite), cases.len(), seconds(total));
+    let _ = writeln!(
+        x,
+        "<testsuites name=\"{}\" tests=\"{}\" failures=\"{failures}\" errors=\"0\" time=\"{}\">",
+        escape(suite),
+        cases.len(),
+        seconds(total)
+    );
     let _ = writeln!(
         x,
         "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{failures}\" errors=\"0\" skipped=\"0\" time=\"{}\">",
@@ -53,14 +59,24 @@ pub fn document(suite: &str, cases: &[Case]) -> String {
         seconds(total)
     );
     for c in cases {
-        let head = format!("    <testcase name=\"{}\" classname=\"grove.scenarios\" file=\"{}\" time=\"{}\"", escape(&c.name), escape(&c.file), seconds(c.seconds));
+        let head = format!(
+            "    <testcase name=\"{}\" classname=\"grove.scenarios\" file=\"{}\" time=\"{}\"",
+            escape(&c.name),
+            escape(&c.file),
+            seconds(c.seconds)
+        );
         match &c.failure {
             None => {
                 let _ = writeln!(x, "{head}/>");
             }
             Some((message, details)) => {
                 let _ = writeln!(x, "{head}>");
-                let _ = writeln!(x, "      <failure message=\"{}\" type=\"expectation\">{}</failure>", escape(message), escape(details));
+                let _ = writeln!(
+                    x,
+                    "      <failure message=\"{}\" type=\"expectation\">{}</failure>",
+                    escape(message),
+                    escape(details)
+                );
                 let _ = writeln!(x, "    </testcase>");
             }
         }
@@ -82,7 +98,12 @@ mod tests {
     fn counts_and_times_add_up() {
         let cases = vec![
             Case { name: "a".into(), file: "a.ron".into(), seconds: 0.1234, failure: None },
-            Case { name: "b<".into(), file: "b.ron".into(), seconds: 0.5, failure: Some(("step 1 x".into(), "more".into())) },
+            Case {
+                name: "b<".into(),
+                file: "b.ron".into(),
+                seconds: 0.5,
+                failure: Some(("step 1 x".into(), "more".into())),
+            },
         ];
         let doc = document("grove", &cases);
         assert!(doc.contains("tests=\"2\" failures=\"1\" errors=\"0\" time=\"0.623\""), "{doc}");

@@ -18,12 +18,11 @@ use std::time::Instant;
 use anyhow::{anyhow, bail};
 use clap::Args;
 use grove::atomic_write::write_atomic;
-use grove_systems::set_arg::{SetArg, SetArgs};
-use grove_systems::scenario::run::{run as run_scenario, Outcome, RunOptions};
+use grove_systems::scenario::run::{Outcome, RunOptions, run as run_scenario};
 use grove_systems::scenario::update::pin_hashes;
 use grove_systems::scenario::{Loaded, Step};
+use grove_systems::set_arg::{SetArg, SetArgs};
 use rayon::prelude::*;
-
 
 /// Arguments of `grove test`.
 #[derive(Args)]
@@ -109,7 +108,10 @@ pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let options = RunOptions { overrides, update: args.update };
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.jobs.unwrap_or(0)).build().map_err(|e| anyhow!("--jobs: {e}"))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs.unwrap_or(0))
+        .build()
+        .map_err(|e| anyhow!("--jobs: {e}"))?;
     let started = Instant::now();
     let results: Vec<Ran> = pool.install(|| {
         loaded
@@ -161,7 +163,12 @@ pub fn run(args: TestArgs) -> anyhow::Result<ExitCode> {
             }
         }
         let details = failure.as_ref().map(|f| format!("{}: {f}", l.path.display()));
-        cases.push(junit::Case { name: l.name.clone(), file: l.path.display().to_string(), seconds: r.seconds, failure: failure.map(|f| (f, details.unwrap_or_default())) });
+        cases.push(junit::Case {
+            name: l.name.clone(),
+            file: l.path.display().to_string(),
+            seconds: r.seconds,
+            failure: failure.map(|f| (f, details.unwrap_or_default())),
+        });
     }
     let n = loaded.len();
     println!("{n} scenario{}: {} passed, {failed} failed ({wall:.2} s)", if n == 1 { "" } else { "s" }, n - failed);
@@ -219,11 +226,17 @@ fn update(l: &Loaded, o: &Outcome) -> anyhow::Result<()> {
         println!("      {}: hashes not updated: the run failed before reaching all of them", l.path.display());
         return Ok(());
     }
-    let step_hashes = l.scenario.steps.iter().filter(|s| matches!(s, Step::Expect(grove_systems::expect::Expect::Hash(_)))).count();
+    let step_hashes =
+        l.scenario.steps.iter().filter(|s| matches!(s, Step::Expect(grove_systems::expect::Expect::Hash(_)))).count();
     let text = pin_hashes(&l.text, &o.hashes, step_hashes).map_err(|e| anyhow!("{}: {e}", l.path.display()))?;
     if text != l.text {
         write_atomic(&l.path, text.as_bytes())?;
-        println!("      {}: pinned {} world hash{}", l.path.display(), o.hashes.len(), if o.hashes.len() == 1 { "" } else { "es" });
+        println!(
+            "      {}: pinned {} world hash{}",
+            l.path.display(),
+            o.hashes.len(),
+            if o.hashes.len() == 1 { "" } else { "es" }
+        );
     }
     Ok(())
 }

@@ -8,7 +8,7 @@ use anyhow::{anyhow, bail};
 use clap::Subcommand;
 use grove::atomic_write::write_atomic;
 use grove_systems::hash::hex;
-use grove_systems::replay::{read_events, replay_file, ReplayOptions};
+use grove_systems::replay::{ReplayOptions, read_events, replay_file};
 use grove_systems::scenario::draft::draft;
 
 /// Subcommands of `grove scenario`.
@@ -39,11 +39,21 @@ pub fn run(cmd: ScenarioCommand) -> anyhow::Result<ExitCode> {
             let replayed = replay_file(&file, &ReplayOptions::default()).map_err(|e| anyhow!("{e}"))?;
             let end = replayed.sim.tick();
             let final_hash = hex(replayed.sim.hash().total);
-            let d = draft(&header, &events, file.parent(), &final_hash, end, &out).map_err(|e| anyhow!("{}: {e}", file.display()))?;
+            let d = draft(&header, &events, file.parent(), &final_hash, end, &out)
+                .map_err(|e| anyhow!("{}: {e}", file.display()))?;
             write_atomic(&out, d.text.as_bytes())?;
-            println!("{}: {} steps and {} expectations from {} events of {}", out.display(), d.steps, d.expectations, events.len(), file.display());
+            println!(
+                "{}: {} steps and {} expectations from {} events of {}",
+                out.display(),
+                d.steps,
+                d.expectations,
+                events.len(),
+                file.display()
+            );
             if !d.same_as_recording {
-                println!("  note: the steps re-enact the session approximately (each step takes its own ticks); the expectations come from the draft's own run");
+                println!(
+                    "  note: the steps re-enact the session approximately (each step takes its own ticks); the expectations come from the draft's own run"
+                );
             }
             Ok(ExitCode::SUCCESS)
         }

@@ -11,13 +11,13 @@ pub mod open;
 mod photos;
 pub use photos::AerialPhotos;
 
-use glam::Vec2;
 use crate::render::error::{PipelineError, RenderError};
+use glam::Vec2;
 use wgpu::util::DeviceExt;
 
-use super::clipmap::{clip_camera, ClipmapSource, FedClipmap, GpuClipmap};
+use super::clipmap::{ClipmapSource, FedClipmap, GpuClipmap, clip_camera};
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
-use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use super::gpu::{PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, color_target, depth_test};
 
 /// How far above the ground the photograph lies, metres: with the depth bias of its pipeline,
 /// enough for it to hide the ground at the same height.
@@ -88,7 +88,10 @@ impl AerialGround {
         });
         AerialGround {
             module: shared.shader("aerial_ground.wgsl", include_str!("aerial_ground.wgsl")),
-            layout: shared.layout("aerial ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group)]),
+            layout: shared.layout(
+                "aerial ground layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group)],
+            ),
             pipelines: PipelineCache::new("aerial ground"),
             bind_group,
             winter,
@@ -97,11 +100,19 @@ impl AerialGround {
 }
 
 /// The aerial ground's pipeline of `key`: main view only, pulled towards the eye by a depth bias.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
+fn build(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("the aerial ground"));
     }
-    let depth = wgpu::DepthStencilState { bias: wgpu::DepthBiasState { constant: -4, slope_scale: -1.0, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) };
+    let depth = wgpu::DepthStencilState {
+        bias: wgpu::DepthBiasState { constant: -4, slope_scale: -1.0, clamp: 0.0 },
+        ..depth_test(true, wgpu::CompareFunction::Less)
+    };
     Ok(shared.pipeline(&PipelineSpec {
         label: "aerial ground pipeline",
         layout,
@@ -129,7 +140,13 @@ impl Feature for AerialGround {
         Ok(self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         if phase != Phase::Opaque {
             return Ok(());
         }

@@ -35,7 +35,11 @@ pub const TILED: ClipmapConfig = ClipmapConfig { levels: 8, size: 1024 };
 
 /// One photograph of the pair as a clipmap source and its size in texels: a tile folder
 /// streamed from disk, or an image file held in memory.
-fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn ClipmapSource>, u32, u32), ClipmapError> {
+fn photo(
+    path: &Path,
+    what: &str,
+    placement: AerialPlacement,
+) -> Result<(Box<dyn ClipmapSource>, u32, u32), ClipmapError> {
     if path.is_dir() {
         let c = Clipmap::open(path, TILED, placement).map_err(|e| e.named(what))?;
         let (w, h) = (c.meta().width, c.meta().height);
@@ -50,7 +54,10 @@ fn photo(path: &Path, what: &str, placement: AerialPlacement) -> Result<(Box<dyn
 /// naming the file: missing or unreadable images, or images of different sizes.
 pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSources>, ClipmapError> {
     let Some(a) = &scene.aerial else { return Ok(None) };
-    let placement = AerialPlacement { origin_m: DVec2::new(f64::from(a.origin.x), f64::from(a.origin.y)), gsd_m: f64::from(a.gsd_m) };
+    let placement = AerialPlacement {
+        origin_m: DVec2::new(f64::from(a.origin.x), f64::from(a.origin.y)),
+        gsd_m: f64::from(a.gsd_m),
+    };
     let (winter, w, h) = photo(&resolve(scene, &a.winter), "winter photograph", placement)?;
     let (summer, sw, sh) = photo(&resolve(scene, &a.summer), "summer photograph", placement)?;
     if (sw, sh) != (w, h) {
@@ -77,7 +84,14 @@ pub fn open_sources(scene: &Scene, debug_lod: bool) -> Result<Option<AerialSourc
             });
             // The mask's bits in red, opaque; never blended between texels.
             let rgba = m.data.chunks_exact(3).flat_map(|t| [t[0], 0, 0, 255]).collect();
-            Some(Box::new(ImageSource::with_downsample(w, h, rgba, memory_config(w, h), placement, Downsample::Nearest)?) as _)
+            Some(Box::new(ImageSource::with_downsample(
+                w,
+                h,
+                rgba,
+                memory_config(w, h),
+                placement,
+                Downsample::Nearest,
+            )?) as _)
         }
         None => None,
     };

@@ -5,12 +5,12 @@
 use grove_systems::Sim;
 
 use super::super::canopy::Canopy;
+use super::super::clipmap::{FedClipmap, clip_camera};
 use super::super::extract;
-use crate::render::error::RenderError;
 use super::super::gpu::Shared;
 use super::super::options::RenderOptions;
-use super::super::clipmap::{clip_camera, FedClipmap};
 use super::{AerialGround, AerialSources};
+use crate::render::error::RenderError;
 
 /// The photographs' two drawn features, each absent until [`AerialPhotos::set`].
 pub struct AerialPhotos {
@@ -38,7 +38,8 @@ impl AerialPhotos {
         self.ground = Some(AerialGround::new(shared, winter, sources.size_m, sources.elevation_m));
         self.canopy = match sources.layers {
             Some(layers) => {
-                let summer = FedClipmap::new(shared, sources.summer, "summer clipmap", debug, wgpu::FilterMode::Linear)?;
+                let summer =
+                    FedClipmap::new(shared, sources.summer, "summer clipmap", debug, wgpu::FilterMode::Linear)?;
                 let masks = FedClipmap::new(shared, layers, "layer mask clipmap", false, wgpu::FilterMode::Nearest)?;
                 Some(Canopy::new(shared, summer, masks, sources.layer_count.clamp(1, 8), sources.layer_bits))
             }

@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt;
 
 // The direction of texel (x, y) of cube face `face` (wgpu/Vulkan layout): the mapping the
 // generator used to write the faces.
-use crate::cubemap::{cube_dir, FACES};
+use crate::cubemap::{FACES, cube_dir};
 use crate::render::error::RenderError;
 
 /// Builds a box-filtered mip chain of an RGBA8 image; with `srgb`, averaging happens in linear
@@ -70,20 +70,44 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 }
 
 /// Uploads an RGBA8 image with mips as a 2D texture and returns its view.
-pub fn upload_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8], srgb: bool) -> wgpu::TextureView {
+pub fn upload_2d(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+    srgb: bool,
+) -> wgpu::TextureView {
     let format = if srgb { wgpu::TextureFormat::Rgba8UnormSrgb } else { wgpu::TextureFormat::Rgba8Unorm };
     upload_2d_as(device, queue, label, width, height, rgba, srgb, format)
 }
 
 /// [`upload_2d`] of an sRGB-encoded image into [`ENCODED_FORMAT`]: its mips averaged in linear
 /// light, its bytes kept encoded, for shaders that decode after filtering.
-pub fn upload_2d_encoded(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8]) -> wgpu::TextureView {
+pub fn upload_2d_encoded(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> wgpu::TextureView {
     upload_2d_as(device, queue, label, width, height, rgba, true, ENCODED_FORMAT)
 }
 
 /// Uploads `rgba` with mips (averaged in linear light where `srgb`) as a 2D texture of `format`.
 #[allow(clippy::too_many_arguments)]
-fn upload_2d_as(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, width: u32, height: u32, rgba: &[u8], srgb: bool, format: wgpu::TextureFormat) -> wgpu::TextureView {
+fn upload_2d_as(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+    srgb: bool,
+    format: wgpu::TextureFormat,
+) -> wgpu::TextureView {
     let (data, levels) = mip_chain(width, height, rgba, srgb);
     upload_chain(device, queue, label, (width, height), (&data, levels), format)
 }
@@ -134,14 +158,27 @@ fn resample_nearest((sw, sh, t): Rgba<'_>, width: u32, height: u32) -> Vec<u8> {
 }
 
 /// [`normal_specular_chain`] uploaded as a linear 2D texture (`Rgba8Unorm`).
-pub fn upload_normal_specular(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, normal: Option<Rgba<'_>>, specular: Option<Rgba<'_>>) -> wgpu::TextureView {
+pub fn upload_normal_specular(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    normal: Option<Rgba<'_>>,
+    specular: Option<Rgba<'_>>,
+) -> wgpu::TextureView {
     let (size, data, levels) = normal_specular_chain(normal, specular);
     upload_chain(device, queue, label, size, (&data, levels), wgpu::TextureFormat::Rgba8Unorm)
 }
 
 /// Uploads a mip chain (`levels` levels concatenated, from `size` down) as a 2D texture of
 /// `format`.
-fn upload_chain(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, (width, height): (u32, u32), (data, levels): (&[u8], u32), format: wgpu::TextureFormat) -> wgpu::TextureView {
+fn upload_chain(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    (width, height): (u32, u32),
+    (data, levels): (&[u8], u32),
+    format: wgpu::TextureFormat,
+) -> wgpu::TextureView {
     let tex = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
@@ -223,7 +260,11 @@ pub fn irradiance(size: u32, faces: &[Vec<u8>], out: u32) -> Vec<Vec<[f32; 3]>> 
                 let t = 2.0 * (y as f32 + 0.5) / size as f32 - 1.0;
                 let solid = 1.0 / (1.0 + s * s + t * t).powf(1.5);
                 let i = ((y * size + x) * 4) as usize;
-                let c = Vec3::new(srgb_to_linear(face[i] as f32 / 255.0), srgb_to_linear(face[i + 1] as f32 / 255.0), srgb_to_linear(face[i + 2] as f32 / 255.0));
+                let c = Vec3::new(
+                    srgb_to_linear(face[i] as f32 / 255.0),
+                    srgb_to_linear(face[i + 1] as f32 / 255.0),
+                    srgb_to_linear(face[i + 2] as f32 / 255.0),
+                );
                 samples.push((d, c * solid, solid));
                 x += step;
             }
@@ -274,7 +315,11 @@ pub fn upload_environment(device: &wgpu::Device, queue: &wgpu::Queue, size: u32,
             wgpu::util::TextureDataOrder::LayerMajor,
             data,
         );
-        tex.create_view(&wgpu::TextureViewDescriptor { label: Some(label), dimension: Some(wgpu::TextureViewDimension::Cube), ..Default::default() })
+        tex.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(label),
+            dimension: Some(wgpu::TextureViewDimension::Cube),
+            ..Default::default()
+        })
     };
     let env = cube("environment cubemap", size, levels, ENCODED_FORMAT, &data);
     const IRR: u32 = 8;
@@ -325,7 +370,9 @@ mod tests {
         let (s_chain, _) = mip_chain(w, h, &spec, false);
         assert_eq!(((pw, ph), levels), ((w, h), n_levels));
         assert_eq!(packed.len(), n_chain.len());
-        for (i, ((p, n), s)) in packed.chunks_exact(4).zip(n_chain.chunks_exact(4)).zip(s_chain.chunks_exact(4)).enumerate() {
+        for (i, ((p, n), s)) in
+            packed.chunks_exact(4).zip(n_chain.chunks_exact(4)).zip(s_chain.chunks_exact(4)).enumerate()
+        {
             assert_eq!(p, [n[0], n[1], n[2], s[3]], "texel {i} of the chain");
         }
         let (_, no_spec, _) = normal_specular_chain(Some((w, h, &normal)), None);

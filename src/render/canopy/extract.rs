@@ -39,7 +39,16 @@ pub(crate) fn crowns(sim: &Sim, cx: &ExtractContext<'_>) -> Crowns {
     let mut all: Vec<(u64, CrownDraw)> = Vec::new();
     sim.for_each_tree(|v| {
         if let Some(c) = v.crown {
-            all.push((v.id, CrownDraw { foot: v.transform.translation, photo_centre: c.photo_centre, radius_m: c.radius_m, base_m: c.base_m, top_m: c.top_m }));
+            all.push((
+                v.id,
+                CrownDraw {
+                    foot: v.transform.translation,
+                    photo_centre: c.photo_centre,
+                    radius_m: c.radius_m,
+                    base_m: c.base_m,
+                    top_m: c.top_m,
+                },
+            ));
         }
     });
     all.sort_by_key(|c| c.0);

@@ -13,18 +13,18 @@
 //! quads, not alone).
 //! Under each crown stands a trunk ([`trunks`]), drawn and casting shadows with the layers.
 
-mod extract;
 pub mod extents;
+mod extract;
 pub(crate) mod trunks;
 
 use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
-use super::clipmap::{clip_camera, FedClipmap, GpuClipmap};
 pub(crate) use self::extract::CrownDraw;
 use self::extract::Crowns;
+use super::clipmap::{FedClipmap, GpuClipmap, clip_camera};
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
-use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
+use super::gpu::{PipelineCache, PipelineKey, PipelineSpec, SHADOW_FORMAT, Shared, ViewKind, color_target, depth_test};
 
 /// The canopy's uniforms (matches `CanopyParams` in canopy.wgsl).
 #[repr(C)]
@@ -66,7 +66,13 @@ pub(crate) fn layer_drawn(i: u32, layers: u32, radius_px: f32) -> bool {
 /// half-side of each layer's quad in metres) is not 0. After them come the crowns' lowest
 /// layers again, in the order of `crowns`: the shadow pass draws those. Layer i stands at a
 /// height from the crown base (i = 0) to its top (i = layers − 1), evenly spaced.
-pub(crate) fn layer_instances(crowns: &[CrownDraw], layers: u32, eye: glam::Vec3, pixel_angle: f32, mut extents: impl FnMut(&CrownDraw) -> [f32; 8]) -> (Vec<LayerInstance>, usize) {
+pub(crate) fn layer_instances(
+    crowns: &[CrownDraw],
+    layers: u32,
+    eye: glam::Vec3,
+    pixel_angle: f32,
+    mut extents: impl FnMut(&CrownDraw) -> [f32; 8],
+) -> (Vec<LayerInstance>, usize) {
     let centre = |c: &CrownDraw| c.foot + glam::Vec3::Y * (0.5 * (c.base_m + c.top_m));
     let mut order: Vec<(f32, usize)> = crowns.iter().enumerate().map(|(k, c)| (centre(c).distance(eye), k)).collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -94,7 +100,6 @@ pub(crate) fn layer_instances(crowns: &[CrownDraw], layers: u32, eye: glam::Vec3
     }
     (out, main)
 }
-
 
 /// The canopy's pipelines of one key.
 enum Pipelines {
@@ -132,7 +137,13 @@ pub(crate) struct Canopy {
 impl Canopy {
     /// The feature over the summer and layer-mask clipmaps with `layer_count` layers; with the
     /// masks' bits in memory, each layer's quad is only as wide as its bits reach.
-    pub fn new(shared: &Shared, summer: FedClipmap, masks: FedClipmap, layer_count: u32, bits: Option<extents::LayerBits>) -> Canopy {
+    pub fn new(
+        shared: &Shared,
+        summer: FedClipmap,
+        masks: FedClipmap,
+        layer_count: u32,
+        bits: Option<extents::LayerBits>,
+    ) -> Canopy {
         let gsd = summer.source.placement().gsd_m as f32;
         let params = Params { layer_count: layer_count as f32, gsd_m: gsd, pixel_angle: 1e-3, pad: 0.0 };
         let buffer = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -145,18 +156,29 @@ impl Canopy {
             label: Some("canopy layout"),
             entries: &[a, b, c, super::gpu::uniform_entry(3)],
         });
-        let mask_group = shared.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("canopy mask layout"), entries: &GpuClipmap::layout_entries(0) });
+        let mask_group = shared.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("canopy mask layout"),
+            entries: &GpuClipmap::layout_entries(0),
+        });
         let [s0, s1, s2] = summer.gpu.bind_entries(0);
         let bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("canopy bind group"),
             layout: &group,
             entries: &[s0, s1, s2, wgpu::BindGroupEntry { binding: 3, resource: buffer.as_entire_binding() }],
         });
-        let mask_bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("canopy mask bind group"), layout: &mask_group, entries: &masks.gpu.bind_entries(0) });
+        let mask_bind_group = shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("canopy mask bind group"),
+            layout: &mask_group,
+            entries: &masks.gpu.bind_entries(0),
+        });
         Canopy {
             module: shared.shader("canopy.wgsl", include_str!("canopy.wgsl")),
-            layout: shared.layout("canopy layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group), Some(&mask_group)]),
-            shadow_layout: shared.layout("canopy shadow layout", &[Some(&shared.view_layout), None, Some(&group), Some(&mask_group)]),
+            layout: shared.layout(
+                "canopy layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group), Some(&mask_group)],
+            ),
+            shadow_layout: shared
+                .layout("canopy shadow layout", &[Some(&shared.view_layout), None, Some(&group), Some(&mask_group)]),
             pipelines: PipelineCache::new("canopy"),
             bind_group,
             mask_bind_group,
@@ -176,7 +198,11 @@ impl Canopy {
 /// alpha-tested depth.
 fn build(shared: &Shared, c: &Canopy, key: PipelineKey) -> Result<Pipelines, PipelineError> {
     const ATTRS: [wgpu::VertexAttribute; 3] = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4];
-    let buffers = [Some(wgpu::VertexBufferLayout { array_stride: 48, step_mode: wgpu::VertexStepMode::Instance, attributes: &ATTRS })];
+    let buffers = [Some(wgpu::VertexBufferLayout {
+        array_stride: 48,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &ATTRS,
+    })];
     let constants = key.lit_constants();
     let pipeline = |label, layout, fragment, depth, targets: &[Option<wgpu::ColorTargetState>]| {
         shared.pipeline(&PipelineSpec {
@@ -194,9 +220,19 @@ fn build(shared: &Shared, c: &Canopy, key: PipelineKey) -> Result<Pipelines, Pip
         })
     };
     Ok(match key.view {
-        ViewKind::Main => Pipelines::Main(pipeline("canopy pipeline", &c.layout, "fs_main", depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::ALL))),
+        ViewKind::Main => Pipelines::Main(pipeline(
+            "canopy pipeline",
+            &c.layout,
+            "fs_main",
+            depth_test(true, wgpu::CompareFunction::Less),
+            &color_target(key.format, wgpu::ColorWrites::ALL),
+        )),
         ViewKind::Sun => {
-            let depth = wgpu::DepthStencilState { format: SHADOW_FORMAT, bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) };
+            let depth = wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
+                ..depth_test(true, wgpu::CompareFunction::Less)
+            };
             Pipelines::Shadow(pipeline("canopy shadow pipeline", &c.shadow_layout, "fs_depth", depth, &[]))
         }
     })
@@ -233,7 +269,10 @@ impl Feature for Canopy {
         self.params.pixel_angle = 2.0 * (0.5 * cx.common.camera.fov_y).tan() / cx.size.1.max(1) as f32;
         cx.shared.queue.write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
         let cache = &mut self.extents;
-        let (layers, main) = layer_instances(&visible, self.layer_count, cx.common.camera.position, self.params.pixel_angle, |c| cache.get(c));
+        let (layers, main) =
+            layer_instances(&visible, self.layer_count, cx.common.camera.position, self.params.pixel_angle, |c| {
+                cache.get(c)
+            });
         self.instances = (!layers.is_empty()).then(|| {
             let buffer = cx.shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("canopy layers"),
@@ -256,7 +295,9 @@ impl Feature for Canopy {
     fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), RenderError> {
         self.trunks.draw_depth(pass, key)?;
         let Some((buffer, n, main)) = &self.instances else { return Ok(()) };
-        let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err(PipelineError::NoShadowPipeline("canopy").into()) };
+        let Pipelines::Shadow(p) = self.pipelines.get(key)? else {
+            return Err(PipelineError::NoShadowPipeline("canopy").into());
+        };
         pass.set_pipeline(p);
         pass.set_bind_group(2, &self.bind_group, &[]);
         pass.set_bind_group(3, &self.mask_bind_group, &[]);
@@ -266,12 +307,20 @@ impl Feature for Canopy {
         Ok(())
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         let (Phase::AlphaClipped, Some((buffer, _, main))) = (phase, &self.instances) else { return Ok(()) };
         let trunks = self.trunks.draw(pass, key)?;
         stats.draws += usize::from(trunks > 0);
         stats.triangles += trunks::TRIANGLES as usize * trunks as usize;
-        let Pipelines::Main(shade) = self.pipelines.get(key)? else { return Err(PipelineError::NoMainPipeline("canopy").into()) };
+        let Pipelines::Main(shade) = self.pipelines.get(key)? else {
+            return Err(PipelineError::NoMainPipeline("canopy").into());
+        };
         pass.set_bind_group(2, &self.bind_group, &[]);
         pass.set_bind_group(3, &self.mask_bind_group, &[]);
         pass.set_vertex_buffer(0, buffer.slice(..));
@@ -292,10 +341,19 @@ mod tests {
 
     #[test]
     fn crowns_behind_the_camera_or_far_to_the_side_are_culled() {
-        use crate::render::view::{camera_matrix, Camera};
+        use crate::render::view::{Camera, camera_matrix};
         // The camera at the origin looks north (−Z) with a 60° field of view.
-        let m = camera_matrix(&Camera { position: Vec3::ZERO, rotation: glam::Quat::IDENTITY, fov_y: 60f32.to_radians() }, 1.0);
-        let crown = |x: f32, z: f32| CrownDraw { foot: Vec3::new(x, 0.0, z), photo_centre: Vec2::ZERO, radius_m: 1.0, base_m: 2.0, top_m: 4.0 };
+        let m = camera_matrix(
+            &Camera { position: Vec3::ZERO, rotation: glam::Quat::IDENTITY, fov_y: 60f32.to_radians() },
+            1.0,
+        );
+        let crown = |x: f32, z: f32| CrownDraw {
+            foot: Vec3::new(x, 0.0, z),
+            photo_centre: Vec2::ZERO,
+            radius_m: 1.0,
+            base_m: 2.0,
+            top_m: 4.0,
+        };
         // Ahead, 50 m away: seen. Its sphere: centre 3 m up, radius 1.8 + 1 + 8 = 10.8 m.
         assert!(in_view(&m, &crown(0.0, -50.0)));
         // 50 m behind: the near plane (z = 0 in view space) is 50 m from it, more than 10.8.
@@ -309,17 +367,24 @@ mod tests {
 
     #[test]
     fn near_crowns_come_first_far_ones_draw_fewer_layers_and_the_shadow_layers_come_last() {
-        let crown = |z: f32| CrownDraw { foot: Vec3::new(0.0, 0.0, z), photo_centre: Vec2::new(0.0, z), radius_m: 2.0, base_m: 2.0, top_m: 6.0 };
+        let crown = |z: f32| CrownDraw {
+            foot: Vec3::new(0.0, 0.0, z),
+            photo_centre: Vec2::new(0.0, z),
+            radius_m: 2.0,
+            base_m: 2.0,
+            top_m: 6.0,
+        };
         // From the crowns' centre height (4 m), with pixels of 1 mrad: 2 m at 100 m span 20
         // pixels (all 6 layers), at 400 m 5 pixels (layers 0, 2, 4 and the top 5), at 1000 m
         // 2 pixels (layers 0 and 5). The crowns are listed far to near.
         let crowns = [crown(-1000.0), crown(-400.0), crown(-100.0)];
         let (l, main) = layer_instances(&crowns, 6, Vec3::new(0.0, 4.0, 0.0), 1e-3, |_| [2.5; 8]);
         let drawn: Vec<(f32, u32)> = l[..main].iter().map(|x| (x[2], x[7] as u32)).collect();
-        let want: Vec<(f32, u32)> = [(-100.0, vec![5, 4, 3, 2, 1, 0]), (-400.0, vec![5, 4, 2, 0]), (-1000.0, vec![5, 0])]
-            .into_iter()
-            .flat_map(|(z, ls)| ls.into_iter().map(move |i| (z, i)))
-            .collect();
+        let want: Vec<(f32, u32)> =
+            [(-100.0, vec![5, 4, 3, 2, 1, 0]), (-400.0, vec![5, 4, 2, 0]), (-1000.0, vec![5, 0])]
+                .into_iter()
+                .flat_map(|(z, ls)| ls.into_iter().map(move |i| (z, i)))
+                .collect();
         assert_eq!(drawn, want);
         // Then the three crowns' lowest layers, in the given order, for the shadow pass.
         let shadow: Vec<(f32, f32)> = l[main..].iter().map(|x| (x[2], x[7])).collect();
@@ -331,7 +396,8 @@ mod tests {
     fn empty_layers_are_not_drawn_and_quads_take_their_extents() {
         let c = CrownDraw { foot: Vec3::ZERO, photo_centre: Vec2::ZERO, radius_m: 2.0, base_m: 2.0, top_m: 6.0 };
         // Layers 3 to 5 empty, layer 0 2.4 m wide, the others 1 m.
-        let (l, main) = layer_instances(&[c], 6, Vec3::new(0.0, 4.0, 10.0), 1e-3, |_| [2.4, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let (l, main) =
+            layer_instances(&[c], 6, Vec3::new(0.0, 4.0, 10.0), 1e-3, |_| [2.4, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
         let drawn: Vec<(u32, f32)> = l[..main].iter().map(|x| (x[7] as u32, x[8])).collect();
         assert_eq!(drawn, vec![(2, 1.0), (1, 1.0), (0, 2.4)]);
         assert_eq!(l.len(), main + 1);
@@ -342,7 +408,13 @@ mod tests {
 
     #[test]
     fn layers_stand_evenly_from_base_to_top() {
-        let c = CrownDraw { foot: Vec3::new(1.0, 2.0, 3.0), photo_centre: Vec2::new(5.0, 6.0), radius_m: 2.0, base_m: 3.0, top_m: 8.0 };
+        let c = CrownDraw {
+            foot: Vec3::new(1.0, 2.0, 3.0),
+            photo_centre: Vec2::new(5.0, 6.0),
+            radius_m: 2.0,
+            base_m: 3.0,
+            top_m: 8.0,
+        };
         // Seen from 10 m with pixels of 1 mrad its radius spans 200 pixels: all six layers.
         let eye = Vec3::new(1.0, 2.0 + 5.5, 13.0);
         let (l, main) = layer_instances(&[c], 6, eye, 1e-3, |_| [2.5; 8]);

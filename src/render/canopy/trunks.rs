@@ -7,8 +7,10 @@
 use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
+use super::super::gpu::{
+    PipelineCache, PipelineKey, PipelineSpec, SHADOW_FORMAT, Shared, ViewKind, color_target, depth_test,
+};
 use super::extract::CrownDraw;
-use super::super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
 
 /// One trunk instance: the tree's foot (world metres), the trunk's radius at the foot, its
 /// height over the foot and padding (matches `TrunkIn` in trunks.wgsl).
@@ -84,7 +86,9 @@ impl Trunks {
     /// Draws the trunks' depth from the sun.
     pub fn draw_depth<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<(), RenderError> {
         let Some((buffer, n)) = &self.instances else { return Ok(()) };
-        let Pipelines::Shadow(p) = self.pipelines.get(key)? else { return Err(PipelineError::NoShadowPipeline("trunks").into()) };
+        let Pipelines::Shadow(p) = self.pipelines.get(key)? else {
+            return Err(PipelineError::NoShadowPipeline("trunks").into());
+        };
         pass.set_pipeline(p);
         pass.set_vertex_buffer(0, buffer.slice(..));
         pass.draw(0..3 * TRIANGLES, 0..*n);
@@ -94,7 +98,9 @@ impl Trunks {
     /// Draws the trunks in the main view; the number of trunks drawn.
     pub fn draw<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey) -> Result<u32, RenderError> {
         let Some((buffer, n)) = &self.instances else { return Ok(0) };
-        let Pipelines::Main(p) = self.pipelines.get(key)? else { return Err(PipelineError::NoMainPipeline("trunks").into()) };
+        let Pipelines::Main(p) = self.pipelines.get(key)? else {
+            return Err(PipelineError::NoMainPipeline("trunks").into());
+        };
         pass.set_pipeline(p);
         pass.set_vertex_buffer(0, buffer.slice(..));
         pass.draw(0..3 * TRIANGLES, 0..*n);
@@ -103,9 +109,19 @@ impl Trunks {
 }
 
 /// The trunks' pipeline of `key`: lit for the main view, depth only for the sun's.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, shadow_layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<Pipelines, PipelineError> {
+fn build(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    shadow_layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> Result<Pipelines, PipelineError> {
     const ATTRS: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4];
-    let buffers = [Some(wgpu::VertexBufferLayout { array_stride: 32, step_mode: wgpu::VertexStepMode::Instance, attributes: &ATTRS })];
+    let buffers = [Some(wgpu::VertexBufferLayout {
+        array_stride: 32,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &ATTRS,
+    })];
     let constants = key.lit_constants();
     Ok(match key.view {
         ViewKind::Main => Pipelines::Main(shared.pipeline(&PipelineSpec {
@@ -130,7 +146,11 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLa
             buffers: &buffers,
             topology: wgpu::PrimitiveTopology::TriangleList,
             cull: None,
-            depth: wgpu::DepthStencilState { format: SHADOW_FORMAT, bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 }, ..depth_test(true, wgpu::CompareFunction::Less) },
+            depth: wgpu::DepthStencilState {
+                format: SHADOW_FORMAT,
+                bias: wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 },
+                ..depth_test(true, wgpu::CompareFunction::Less)
+            },
             targets: &[],
             constants: &constants,
         })),
@@ -147,7 +167,13 @@ mod tests {
     fn a_trunk_stands_at_the_foot_and_reaches_into_the_crown() {
         // A crown 2 m wide in radius from 3.6 m to 6 m: the trunk is 0.14 m wide at the foot and
         // 3.6 + 0.3 · 2.4 = 4.32 m high.
-        let c = CrownDraw { foot: Vec3::new(1.0, 0.5, -2.0), photo_centre: Vec2::new(9.0, 9.0), radius_m: 2.0, base_m: 3.6, top_m: 6.0 };
+        let c = CrownDraw {
+            foot: Vec3::new(1.0, 0.5, -2.0),
+            photo_centre: Vec2::new(9.0, 9.0),
+            radius_m: 2.0,
+            base_m: 3.6,
+            top_m: 6.0,
+        };
         let t = trunk_instance(&c);
         assert_eq!(t[..3], [1.0, 0.5, -2.0]);
         assert!((t[3] - 0.14).abs() < 1e-6 && (t[4] - 4.32).abs() < 1e-5, "{t:?}");

@@ -32,7 +32,13 @@ pub(crate) struct FedClipmap {
 
 impl FedClipmap {
     /// The GPU half for `source`, labelled.
-    pub fn new(shared: &Shared, source: Box<dyn ClipmapSource>, label: &str, debug_lod: bool, filter: wgpu::FilterMode) -> Result<FedClipmap, RenderError> {
+    pub fn new(
+        shared: &Shared,
+        source: Box<dyn ClipmapSource>,
+        label: &str,
+        debug_lod: bool,
+        filter: wgpu::FilterMode,
+    ) -> Result<FedClipmap, RenderError> {
         let mut gpu = GpuClipmap::with_filter(&shared.device, source.config(), source.placement(), label, filter)?;
         gpu.set_debug_lod(debug_lod);
         Ok(FedClipmap { source, gpu, update_ms: 0.0 })

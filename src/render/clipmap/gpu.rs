@@ -12,7 +12,6 @@
 use super::{AerialPlacement, ClipmapConfig, ClipmapFrame};
 use crate::render::error::ClipmapError;
 
-
 /// The most levels the uniform holds (matches `array<ClipLevel, 16>` in clipmap.wgsl).
 pub const MAX_LEVELS: usize = 16;
 
@@ -52,7 +51,10 @@ pub fn check_config(config: ClipmapConfig, limits: &wgpu::Limits) -> Result<(), 
         return Err(ClipmapError::GpuSide(config.size));
     }
     if config.size > limits.max_texture_dimension_2d || config.levels > limits.max_texture_array_layers {
-        return Err(ClipmapError::TextureLimits { max_side: limits.max_texture_dimension_2d, max_layers: limits.max_texture_array_layers });
+        return Err(ClipmapError::TextureLimits {
+            max_side: limits.max_texture_dimension_2d,
+            max_layers: limits.max_texture_array_layers,
+        });
     }
     Ok(())
 }
@@ -74,13 +76,24 @@ pub struct GpuClipmap {
 impl GpuClipmap {
     /// An empty (transparent) clipmap of `config` for a photograph at `placement`; `label` names
     /// its texture ("summer clipmap", say) in GPU captures and errors.
-    pub fn new(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str) -> Result<GpuClipmap, ClipmapError> {
+    pub fn new(
+        device: &wgpu::Device,
+        config: ClipmapConfig,
+        placement: AerialPlacement,
+        label: &str,
+    ) -> Result<GpuClipmap, ClipmapError> {
         GpuClipmap::with_filter(device, config, placement, label, wgpu::FilterMode::Linear)
     }
 
     /// [`GpuClipmap::new`] with a sampler of `filter`: `Nearest` for data that must not be
     /// blended between texels (the layer masks, read with `clipmap_load`).
-    pub fn with_filter(device: &wgpu::Device, config: ClipmapConfig, placement: AerialPlacement, label: &str, filter: wgpu::FilterMode) -> Result<GpuClipmap, ClipmapError> {
+    pub fn with_filter(
+        device: &wgpu::Device,
+        config: ClipmapConfig,
+        placement: AerialPlacement,
+        label: &str,
+        filter: wgpu::FilterMode,
+    ) -> Result<GpuClipmap, ClipmapError> {
         check_config(config, &device.limits())?;
         if !(placement.gsd_m.is_finite() && placement.gsd_m > 0.0) || !placement.origin_m.is_finite() {
             return Err(ClipmapError::GpuPlacement { label: label.to_string() });
@@ -130,7 +143,8 @@ impl GpuClipmap {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let mut c = GpuClipmap { config, texture, view, sampler, uniform_buffer, uniform, bytes_last: 0, bytes_total: 0 };
+        let mut c =
+            GpuClipmap { config, texture, view, sampler, uniform_buffer, uniform, bytes_last: 0, bytes_total: 0 };
         c.uniform.debug_lod = 0;
         Ok(c)
     }
@@ -152,10 +166,15 @@ impl GpuClipmap {
     pub fn apply(&mut self, queue: &wgpu::Queue, frame: &ClipmapFrame) -> Result<u64, ClipmapError> {
         let n = self.config.size;
         if !frame.placements.is_empty() && frame.placements.len() != self.config.levels as usize {
-            return Err(ClipmapError::FramePlacements { placements: frame.placements.len(), levels: self.config.levels });
+            return Err(ClipmapError::FramePlacements {
+                placements: frame.placements.len(),
+                levels: self.config.levels,
+            });
         }
         for u in &frame.uploads {
-            let fits = u.level < self.config.levels && u.x.checked_add(u.w).is_some_and(|e| e <= n) && u.y.checked_add(u.h).is_some_and(|e| e <= n);
+            let fits = u.level < self.config.levels
+                && u.x.checked_add(u.w).is_some_and(|e| e <= n)
+                && u.y.checked_add(u.h).is_some_and(|e| e <= n);
             if !fits || u.rgba.len() as u64 != u64::from(u.w) * u64::from(u.h) * 4 {
                 return Err(ClipmapError::UploadOutside { w: u.w, h: u.h, x: u.x, y: u.y, level: u.level, side: n });
             }
@@ -196,7 +215,11 @@ impl GpuClipmap {
             wgpu::BindGroupLayoutEntry {
                 binding: first,
                 visibility: vf,
-                ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
                 count: None,
             },
             wgpu::BindGroupLayoutEntry {
@@ -209,7 +232,12 @@ impl GpuClipmap {
                 },
                 count: None,
             },
-            wgpu::BindGroupLayoutEntry { binding: first + 2, visibility: vf, ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering), count: None },
+            wgpu::BindGroupLayoutEntry {
+                binding: first + 2,
+                visibility: vf,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
         ]
     }
 

@@ -11,8 +11,8 @@
 
 use glam::IVec2;
 
-use crate::render::error::ClipmapError;
 use super::{AerialPlacement, ClipCamera, ClipmapConfig, ClipmapFrame, ClipmapSource, LevelPlacement, Upload};
+use crate::render::error::ClipmapError;
 
 /// The largest side of a photograph held whole in memory, texels.
 pub const MAX_SIDE: u32 = 8192;
@@ -48,17 +48,35 @@ pub enum Downsample {
 impl ImageSource {
     /// A source over `rgba` (`width` × `height` texels, RGBA8, rows top to bottom). Fails with
     /// one line for a size past [`MAX_SIDE`] or data of the wrong length.
-    pub fn new(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement) -> Result<ImageSource, ClipmapError> {
+    pub fn new(
+        width: u32,
+        height: u32,
+        rgba: Vec<u8>,
+        config: ClipmapConfig,
+        placement: AerialPlacement,
+    ) -> Result<ImageSource, ClipmapError> {
         ImageSource::with_downsample(width, height, rgba, config, placement, Downsample::Average)
     }
 
     /// [`ImageSource::new`] with the mips made by `down`.
-    pub fn with_downsample(width: u32, height: u32, rgba: Vec<u8>, config: ClipmapConfig, placement: AerialPlacement, down: Downsample) -> Result<ImageSource, ClipmapError> {
+    pub fn with_downsample(
+        width: u32,
+        height: u32,
+        rgba: Vec<u8>,
+        config: ClipmapConfig,
+        placement: AerialPlacement,
+        down: Downsample,
+    ) -> Result<ImageSource, ClipmapError> {
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
             return Err(ClipmapError::MemorySide { width, height, max: MAX_SIDE });
         }
         if rgba.len() as u64 != u64::from(width) * u64::from(height) * 4 {
-            return Err(ClipmapError::RgbaLength { width, height, expected: u64::from(width) * u64::from(height) * 4, found: rgba.len() });
+            return Err(ClipmapError::RgbaLength {
+                width,
+                height,
+                expected: u64::from(width) * u64::from(height) * 4,
+                found: rgba.len(),
+            });
         }
         let mut mips = vec![Mip { width, height, rgba }];
         while mips.len() < config.levels as usize {
@@ -70,7 +88,11 @@ impl ImageSource {
     }
 
     /// A source over an 8-bit RGB photograph, opaque.
-    pub fn from_rgb(img: &crate::aerial::RgbImage, config: ClipmapConfig, placement: AerialPlacement) -> Result<ImageSource, ClipmapError> {
+    pub fn from_rgb(
+        img: &crate::aerial::RgbImage,
+        config: ClipmapConfig,
+        placement: AerialPlacement,
+    ) -> Result<ImageSource, ClipmapError> {
         let rgba = img.data.chunks_exact(3).flat_map(|t| [t[0], t[1], t[2], 255]).collect();
         ImageSource::new(img.width, img.height, rgba, config, placement)
     }
@@ -87,7 +109,8 @@ impl ImageSource {
                 let centre = |c: f64, o: f64| ((c - o) / texel).floor() as i64;
                 let cx = centre(camera.eye.x, self.placement.origin_m.x).clamp(-(1 << 40), 1 << 40);
                 let cy = centre(camera.eye.z, self.placement.origin_m.y).clamp(-(1 << 40), 1 << 40);
-                let o = |c: i64| ((c - n / 2).div_euclid(snap) * snap).clamp(i32::MIN as i64, i32::MAX as i64 - n) as i32;
+                let o =
+                    |c: i64| ((c - n / 2).div_euclid(snap) * snap).clamp(i32::MIN as i64, i32::MAX as i64 - n) as i32;
                 LevelPlacement { mip, origin: IVec2::new(o(cx), o(cy)) }
             })
             .collect()

@@ -123,6 +123,6 @@ pub mod fed;
 pub mod gpu;
 pub mod image_source;
 
-pub(crate) use fed::{clip_camera, FedClipmap};
+pub(crate) use fed::{FedClipmap, clip_camera};
 pub use gpu::GpuClipmap;
 pub use image_source::ImageSource;

@@ -83,7 +83,8 @@ pub fn layout(camera: &ClipCamera) -> Layout {
     let ground = flat.normalize();
     let right = d.cross(DVec3::Y).normalize();
     let up = right.cross(d);
-    let half = if camera.fov_y.is_finite() { (camera.fov_y / 2.0).clamp(0.0, std::f64::consts::FRAC_PI_2) } else { 0.0 };
+    let half =
+        if camera.fov_y.is_finite() { (camera.fov_y / 2.0).clamp(0.0, std::f64::consts::FRAC_PI_2) } else { 0.0 };
     let ray = d * half.cos() - up * half.sin();
     let bottom = if eye.y > 0.0 && ray.y < 0.0 { below + DVec2::new(ray.x, ray.z) * (eye.y / -ray.y) } else { below };
     Layout::Forward { bottom, ground }
@@ -95,7 +96,12 @@ pub fn level_mip(level: u32, extent: &ImageExtent) -> u32 {
 }
 
 /// Every level's placement for `camera`, finest first.
-pub fn place_levels(config: &ClipmapConfig, aerial: &AerialPlacement, extent: &ImageExtent, camera: &ClipCamera) -> Vec<LevelPlacement> {
+pub fn place_levels(
+    config: &ClipmapConfig,
+    aerial: &AerialPlacement,
+    extent: &ImageExtent,
+    camera: &ClipCamera,
+) -> Vec<LevelPlacement> {
     let lay = layout(camera);
     let n = config.size as f64;
     (0..config.levels)

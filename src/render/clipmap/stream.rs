@@ -92,7 +92,11 @@ impl Clipmap {
     }
 
     /// A clipmap over any tile reader (a pyramid, or a stand-in in tests).
-    pub fn with_reader(reader: Arc<dyn TileReader>, config: ClipmapConfig, placement: AerialPlacement) -> Result<Clipmap, ClipmapError> {
+    pub fn with_reader(
+        reader: Arc<dyn TileReader>,
+        config: ClipmapConfig,
+        placement: AerialPlacement,
+    ) -> Result<Clipmap, ClipmapError> {
         check_config(&config)?;
         check_placement(&placement)?;
         let meta = reader.meta().clone();
@@ -192,7 +196,17 @@ impl Clipmap {
                         self.stats.loaded += 1;
                         arrived.push(key);
                     } else {
-                        self.fail(key, format!("tile ({}, {}) of mip {} came back with {} bytes, expected {}", key.tx, key.ty, key.mip, rgba.len(), n * n * 4));
+                        self.fail(
+                            key,
+                            format!(
+                                "tile ({}, {}) of mip {} came back with {} bytes, expected {}",
+                                key.tx,
+                                key.ty,
+                                key.mip,
+                                rgba.len(),
+                                n * n * 4
+                            ),
+                        );
                     }
                 }
                 TileResult::Failed(e) => self.fail(key, e),
@@ -251,14 +265,16 @@ impl Clipmap {
                 Err(RequestRefused::Full) => queue_open = false,
                 Err(RequestRefused::Gone) => {
                     queue_open = false;
-                    self.stats.last_error = Some("the clipmap's loader thread has stopped; no more tiles will load".into());
+                    self.stats.last_error =
+                        Some("the clipmap's loader thread has stopped; no more tiles will load".into());
                 }
             }
         }
         self.stats.missing = missing;
         // Forget the oldest tiles no window needs once the cache is over its capacity.
         if self.cache.len() > self.capacity {
-            let mut old: Vec<(u64, TileKey)> = self.cache.iter().filter(|(k, _)| !wanted.contains(*k)).map(|(k, v)| (v.1, *k)).collect();
+            let mut old: Vec<(u64, TileKey)> =
+                self.cache.iter().filter(|(k, _)| !wanted.contains(*k)).map(|(k, v)| (v.1, *k)).collect();
             old.sort_unstable();
             for (_, k) in old.into_iter().take(self.cache.len() - self.capacity) {
                 self.cache.remove(&k);

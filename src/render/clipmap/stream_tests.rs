@@ -90,7 +90,11 @@ impl Textures {
             (p.origin.y..p.origin.y + n).all(|v| {
                 (p.origin.x..p.origin.x + n).all(|u| {
                     let k = ((v.rem_euclid(n) * n + u.rem_euclid(n)) * 4) as usize;
-                    let want = if u >= 0 && v >= 0 && (u as u32) < w && (v as u32) < h { pattern(p.mip, u as u32, v as u32) } else { [0; 4] };
+                    let want = if u >= 0 && v >= 0 && (u as u32) < w && (v as u32) < h {
+                        pattern(p.mip, u as u32, v as u32)
+                    } else {
+                        [0; 4]
+                    };
                     self.levels[l][k..k + 4] == want
                 })
             })
@@ -189,7 +193,13 @@ fn a_missing_tile_stays_transparent_and_is_reported_in_one_line() {
     let data: Vec<u8> = (0..64 * 64 * 3).map(|i| (i % 200) as u8 + 10).collect();
     crate::aerial::raster::write_png(&img, 64, 64, 3, &data).unwrap();
     let pyr = dir.path().join("pyr");
-    crate::aerial::tiles::tile_image(&img, &pyr, crate::aerial::tiles::TileOptions { tile: 16, force: false }, &|_, _| {}).unwrap();
+    crate::aerial::tiles::tile_image(
+        &img,
+        &pyr,
+        crate::aerial::tiles::TileOptions { tile: 16, force: false },
+        &|_, _| {},
+    )
+    .unwrap();
     std::fs::remove_file(crate::aerial::tiles::tile_path(&pyr, 0, 1, 1)).unwrap();
     let cfg = ClipmapConfig { levels: 2, size: 32 };
     let mut map = Clipmap::open(&pyr, cfg, UNIT).unwrap();
@@ -219,7 +229,9 @@ fn a_missing_tile_stays_transparent_and_is_reported_in_one_line() {
 #[test]
 fn a_bad_configuration_or_pyramid_is_refused_in_one_line() {
     let r = reader(64, 64, 16, 0);
-    for (cfg, needle) in [(ClipmapConfig { levels: 0, size: 32 }, "levels"), (ClipmapConfig { levels: 2, size: 48 }, "power of two")] {
+    for (cfg, needle) in
+        [(ClipmapConfig { levels: 0, size: 32 }, "levels"), (ClipmapConfig { levels: 2, size: 48 }, "power of two")]
+    {
         let e = Clipmap::with_reader(r.clone(), cfg, UNIT).err().unwrap().to_string();
         assert!(e.contains(needle), "{e}");
     }

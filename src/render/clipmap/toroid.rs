@@ -37,7 +37,12 @@ impl TexelRect {
         let y0 = self.y.max(other.y);
         let x1 = (self.x as i64 + self.w as i64).min(other.x as i64 + other.w as i64);
         let y1 = (self.y as i64 + self.h as i64).min(other.y as i64 + other.h as i64);
-        (x1 > x0 as i64 && y1 > y0 as i64).then(|| TexelRect { x: x0, y: y0, w: (x1 - x0 as i64) as u32, h: (y1 - y0 as i64) as u32 })
+        (x1 > x0 as i64 && y1 > y0 as i64).then(|| TexelRect {
+            x: x0,
+            y: y0,
+            w: (x1 - x0 as i64) as u32,
+            h: (y1 - y0 as i64) as u32,
+        })
     }
 }
 
@@ -101,7 +106,10 @@ pub fn wrap(rect: &TexelRect, size: u32) -> Vec<Piece> {
     let mut out = Vec::with_capacity(4);
     for &(ty, sy, h) in &split(rect.y, rect.h) {
         for &(tx, sx, w) in &split(rect.x, rect.w) {
-            out.push(Piece { tex: IVec2::new(tx as i32, ty as i32), src: TexelRect { x: sx as i32, y: sy as i32, w, h } });
+            out.push(Piece {
+                tex: IVec2::new(tx as i32, ty as i32),
+                src: TexelRect { x: sx as i32, y: sy as i32, w, h },
+            });
         }
     }
     out
@@ -126,7 +134,12 @@ mod tests {
         fn apply(&mut self, rects: &[TexelRect]) {
             for r in rects {
                 for p in wrap(r, self.n as u32) {
-                    assert!(p.tex.x >= 0 && p.tex.y >= 0 && p.tex.x as u32 + p.src.w <= self.n as u32 && p.tex.y as u32 + p.src.h <= self.n as u32);
+                    assert!(
+                        p.tex.x >= 0
+                            && p.tex.y >= 0
+                            && p.tex.x as u32 + p.src.w <= self.n as u32
+                            && p.tex.y as u32 + p.src.h <= self.n as u32
+                    );
                     for j in 0..p.src.h as i32 {
                         for i in 0..p.src.w as i32 {
                             let k = (p.tex.y + j) as usize * self.n + (p.tex.x + i) as usize;
@@ -159,7 +172,17 @@ mod tests {
         assert_eq!(tex.written, 256);
         tex.check(&cur);
         // (dx, dy) and the texels a move must write: |dx|·16 + |dy|·(16 − |dx|).
-        let moves = [(3, 0, 48), (0, 2, 32), (-4, 0, 64), (5, -3, 80 + 33), (-7, 6, 112 + 54), (0, 0, 0), (15, 15, 240 + 15), (-20, 1, 256), (11, -9, 176 + 45)];
+        let moves = [
+            (3, 0, 48),
+            (0, 2, 32),
+            (-4, 0, 64),
+            (5, -3, 80 + 33),
+            (-7, 6, 112 + 54),
+            (0, 0, 0),
+            (15, 15, 240 + 15),
+            (-20, 1, 256),
+            (11, -9, 176 + 45),
+        ];
         for (dx, dy, texels) in moves {
             let next = at(0, cur.origin.x + dx, cur.origin.y + dy);
             let rects = exposed(Some(&cur), &next, n);
@@ -172,7 +195,10 @@ mod tests {
             cur = next;
         }
         // A new mip rewrites the whole window.
-        assert_eq!(exposed(Some(&cur), &at(1, cur.origin.x, cur.origin.y), n).iter().map(TexelRect::area).sum::<u64>(), 256);
+        assert_eq!(
+            exposed(Some(&cur), &at(1, cur.origin.x, cur.origin.y), n).iter().map(TexelRect::area).sum::<u64>(),
+            256
+        );
     }
 
     #[test]

@@ -16,7 +16,7 @@
 
 use glam::Vec3;
 
-use super::data::{GpuBlade, BLADES_PER_INVOCATION, CULL_WORKGROUP};
+use super::data::{BLADES_PER_INVOCATION, CULL_WORKGROUP, GpuBlade};
 
 /// The blades of a block: one workgroup of the cull pass.
 pub const BLOCK_BLADES: u32 = CULL_WORKGROUP * BLADES_PER_INVOCATION;
@@ -71,7 +71,8 @@ pub fn spatial_order(blades: &mut Vec<GpuBlade>) {
     }
     let side = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
     let cell = |v: f32, k: usize| (((v - lo[k]) / side * 65535.0) as u32).min(65535);
-    let mut keyed: Vec<(u32, usize)> = blades.iter().enumerate().map(|(i, b)| (morton(cell(b.position[0], 0), cell(b.position[2], 1)), i)).collect();
+    let mut keyed: Vec<(u32, usize)> =
+        blades.iter().enumerate().map(|(i, b)| (morton(cell(b.position[0], 0), cell(b.position[2], 1)), i)).collect();
     keyed.sort_unstable();
     *blades = keyed.into_iter().map(|(_, i)| blades[i]).collect();
 }
@@ -112,16 +113,18 @@ pub fn classify(block: &Block, planes: &[[f32; 4]; 6], camera: Vec3, far_distanc
             return Class::Hidden;
         }
     }
-    if nearest >= lod_mid * (1.0 + 1e-5) + 1e-4 {
-        Class::Far
-    } else {
-        Class::Mixed
-    }
+    if nearest >= lod_mid * (1.0 + 1e-5) + 1e-4 { Class::Far } else { Class::Mixed }
 }
 
 /// The blocks the general pipeline culls this frame, then those the far pipeline culls, as
 /// one list of block indices, with the length of the first part.
-pub fn block_lists(blocks: &[Block], planes: &[[f32; 4]; 6], camera: Vec3, far_distance: f32, lod_mid: f32) -> (Vec<u32>, u32) {
+pub fn block_lists(
+    blocks: &[Block],
+    planes: &[[f32; 4]; 6],
+    camera: Vec3,
+    far_distance: f32,
+    lod_mid: f32,
+) -> (Vec<u32>, u32) {
     let mut mixed = Vec::new();
     let mut far = Vec::new();
     for (i, b) in blocks.iter().enumerate() {
@@ -162,7 +165,8 @@ mod tests {
     fn spatial_order_is_a_permutation_into_compact_blocks() {
         // A 128 × 64 grid of blades, 10 cm apart, in row order: a run of 1024 is 8 rows of
         // 12.8 m; in Morton order it should be a 3.2 × 3.2 m square (32 × 32 blades).
-        let mut blades: Vec<GpuBlade> = (0..64).flat_map(|r| (0..128).map(move |c| blade(c as f32 * 0.1, r as f32 * 0.1, 0.3))).collect();
+        let mut blades: Vec<GpuBlade> =
+            (0..64).flat_map(|r| (0..128).map(move |c| blade(c as f32 * 0.1, r as f32 * 0.1, 0.3))).collect();
         let before: Vec<[u32; 2]> = blades.iter().map(|b| [b.position[0].to_bits(), b.position[2].to_bits()]).collect();
         spatial_order(&mut blades);
         let mut a = before.clone();
@@ -222,7 +226,8 @@ mod tests {
     fn shader_test(b: &GpuBlade, planes: &[[f32; 4]; 6], camera: Vec3, far_distance: f32) -> (bool, f32) {
         let centre = Vec3::new(b.position[0], b.position[1] + 0.5 * b.height, b.position[2]);
         let d = centre.distance(camera);
-        let inside = d <= far_distance && planes.iter().all(|p| Vec3::new(p[0], p[1], p[2]).dot(centre) + p[3] >= -b.height);
+        let inside =
+            d <= far_distance && planes.iter().all(|p| Vec3::new(p[0], p[1], p[2]).dot(centre) + p[3] >= -b.height);
         (inside, d)
     }
 
@@ -237,13 +242,23 @@ mod tests {
             let mut r = |lo: f32, hi: f32| lo + (hi - lo) * rng.random::<f32>();
             let eye = Vec3::new(r(-80.0, 80.0), r(0.5, 30.0), r(-80.0, 80.0));
             let target = Vec3::new(r(-80.0, 80.0), 0.0, r(-80.0, 80.0));
-            let view_proj = glam::camera::rh::proj::directx::perspective(r(0.5, 1.5), r(1.0, 2.0), 0.05, 600.0) * glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y);
+            let view_proj = glam::camera::rh::proj::directx::perspective(r(0.5, 1.5), r(1.0, 2.0), 0.05, 600.0)
+                * glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y);
             let planes = super::super::data::frustum_planes(view_proj);
             // A block of 200 blades in a random square of up to 4 m, up to 40 m ahead of the eye.
             let ahead = (target - eye).with_y(0.0).normalize_or(Vec3::X);
             let c = eye + ahead * r(0.0, 40.0) + ahead.cross(Vec3::Y) * r(-8.0, 8.0);
             let (cx, cz, side) = (c.x, c.z, r(0.2, 4.0));
-            let blades: Vec<GpuBlade> = (0..200).map(|_| GpuBlade { position: [cx + r(0.0, side), r(-0.2, 0.2), cz + r(0.0, side)], height: r(0.05, 0.6), yaw: 0.0, bend: 0.0, width: 0.01, packed: 0 }).collect();
+            let blades: Vec<GpuBlade> = (0..200)
+                .map(|_| GpuBlade {
+                    position: [cx + r(0.0, side), r(-0.2, 0.2), cz + r(0.0, side)],
+                    height: r(0.05, 0.6),
+                    yaw: 0.0,
+                    bend: 0.0,
+                    width: 0.01,
+                    packed: 0,
+                })
+                .collect();
             let block = block_bounds(&blades)[0];
             let class = classify(&block, &planes, eye, far_distance, lod_mid);
             for b in &blades {

@@ -63,7 +63,14 @@ impl GpuBlade {
     /// A blade of patch `patch` (below [`MAX_PATCHES`]).
     pub fn new(b: &Blade, patch: usize) -> GpuBlade {
         let frac = ((b.variation.clamp(0.0, 1.0) * 16_777_215.0) as u32) << 8;
-        GpuBlade { position: b.position.to_array(), height: b.height, yaw: b.yaw, bend: b.bend, width: b.width, packed: frac | (patch as u32 & 255) }
+        GpuBlade {
+            position: b.position.to_array(),
+            height: b.height,
+            yaw: b.yaw,
+            bend: b.bend,
+            width: b.width,
+            packed: frac | (patch as u32 & 255),
+        }
     }
 }
 
@@ -329,9 +336,14 @@ mod tests {
     #[test]
     fn the_shaders_take_the_shared_constants_from_rust_only() {
         let prelude = shader_constants();
-        let names: Vec<&str> = prelude.lines().map(|l| l.trim_start_matches("const ").split(':').next().unwrap()).collect();
+        let names: Vec<&str> =
+            prelude.lines().map(|l| l.trim_start_matches("const ").split(':').next().unwrap()).collect();
         assert_eq!(names.len(), 11);
-        for (file, text) in [("cull.wgsl", include_str!("cull.wgsl")), ("blades.wgsl", include_str!("blades.wgsl")), ("shapes.wgsl", include_str!("shapes.wgsl"))] {
+        for (file, text) in [
+            ("cull.wgsl", include_str!("cull.wgsl")),
+            ("blades.wgsl", include_str!("blades.wgsl")),
+            ("shapes.wgsl", include_str!("shapes.wgsl")),
+        ] {
             for name in &names {
                 assert!(!text.contains(&format!("const {name}")), "{file} defines {name} itself");
             }
@@ -341,13 +353,28 @@ mod tests {
             }
         }
         // Each constant once, with the value of its Rust twin.
-        for line in ["const NEAR_INDICES: u32 = 39u;", "const MID_INDICES: u32 = 15u;", "const NEAR_VERTICES: u32 = 15u;", "const MID_VERTICES: u32 = 7u;", "const RASTER_OFFSET: u32 = 16u;", "const CULL_WORKGROUP: u32 = 64u;"] {
+        for line in [
+            "const NEAR_INDICES: u32 = 39u;",
+            "const MID_INDICES: u32 = 15u;",
+            "const NEAR_VERTICES: u32 = 15u;",
+            "const MID_VERTICES: u32 = 7u;",
+            "const RASTER_OFFSET: u32 = 16u;",
+            "const CULL_WORKGROUP: u32 = 64u;",
+        ] {
             assert_eq!(prelude.matches(line).count(), 1, "{line}");
         }
         // The names the shaders use are all declared.
         let cull = include_str!("cull.wgsl");
         let blades = include_str!("blades.wgsl");
-        for name in ["NEAR_INDICES", "MID_INDICES", "NEAR_CAP", "MID_CAP", "RASTER_OFFSET", "CULL_WORKGROUP", "BLADES_PER_INVOCATION"] {
+        for name in [
+            "NEAR_INDICES",
+            "MID_INDICES",
+            "NEAR_CAP",
+            "MID_CAP",
+            "RASTER_OFFSET",
+            "CULL_WORKGROUP",
+            "BLADES_PER_INVOCATION",
+        ] {
             assert!(cull.contains(name) && names.contains(&name), "{name}");
         }
         for name in ["NEAR_VERTICES", "NEAR_SEGMENTS", "MID_VERTICES", "MID_SEGMENTS", "RASTER_OFFSET"] {
@@ -396,7 +423,8 @@ mod tests {
 
     #[test]
     fn a_blade_keeps_its_patch_and_variation() {
-        let b = Blade { position: Vec3::new(1.0, 2.0, 3.0), height: 0.2, yaw: 1.0, bend: 0.3, width: 0.01, variation: 0.5 };
+        let b =
+            Blade { position: Vec3::new(1.0, 2.0, 3.0), height: 0.2, yaw: 1.0, bend: 0.3, width: 0.01, variation: 0.5 };
         let g = GpuBlade::new(&b, 5);
         assert_eq!(g.packed & 255, 5);
         let v = (g.packed >> 8) as f32 / 16_777_216.0;

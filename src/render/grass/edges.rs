@@ -51,7 +51,13 @@ impl Edges {
         let mut grid: HashMap<glam::IVec2, Vec<(Vec2, Vec2)>> = HashMap::new();
         let mut edges: Vec<(Vec2, Vec2)> = count.values().filter(|e| e.0 == 1).map(|e| (e.1, e.2)).collect();
         // A fixed order, so the buckets (and the result) never depend on the map's.
-        edges.sort_by(|p, q| p.0.x.total_cmp(&q.0.x).then(p.0.y.total_cmp(&q.0.y)).then(p.1.x.total_cmp(&q.1.x)).then(p.1.y.total_cmp(&q.1.y)));
+        edges.sort_by(|p, q| {
+            p.0.x
+                .total_cmp(&q.0.x)
+                .then(p.0.y.total_cmp(&q.0.y))
+                .then(p.1.x.total_cmp(&q.1.x))
+                .then(p.1.y.total_cmp(&q.1.y))
+        });
         for (a, b) in edges {
             let (lo, hi) = (cell(a.min(b)), cell(a.max(b)));
             for x in lo.x..=hi.x {
@@ -130,7 +136,12 @@ mod tests {
         }
         let shares = edge_shares(&tris);
         let at = |x: f32, z: f32| {
-            tris.iter().zip(&shares).flat_map(|(t, s)| t.iter().zip(s)).find(|(p, _)| p.x == x && p.z == z).map(|(_, s)| *s).unwrap()
+            tris.iter()
+                .zip(&shares)
+                .flat_map(|(t, s)| t.iter().zip(s))
+                .find(|(p, _)| p.x == x && p.z == z)
+                .map(|(_, s)| *s)
+                .unwrap()
         };
         assert_eq!(at(0.0, 3.0), 0.0, "on the outline");
         assert!((at(1.0, 3.0) - 1.0 / EDGE_FADE).abs() < 1e-6, "a metre in");
@@ -153,7 +164,14 @@ mod tests {
             }
         }
         let mut blades: Vec<Blade> = (0..160 * 160)
-            .map(|k| Blade { position: Vec3::new((k % 160) as f32 * 0.05 + 0.025, 0.0, (k / 160) as f32 * 0.05 + 0.025), height: 0.3, yaw: 0.0, bend: 0.0, width: 0.01, variation: 0.5 })
+            .map(|k| Blade {
+                position: Vec3::new((k % 160) as f32 * 0.05 + 0.025, 0.0, (k / 160) as f32 * 0.05 + 0.025),
+                height: 0.3,
+                yaw: 0.0,
+                bend: 0.0,
+                width: 0.01,
+                variation: 0.5,
+            })
             .collect();
         let before = blades.clone();
         fade_blades(&tris, &mut blades);
@@ -161,7 +179,8 @@ mod tests {
         // The distance of a blade from the square's outline.
         let inset = |b: &Blade| b.position.x.min(b.position.z).min(8.0 - b.position.x).min(8.0 - b.position.z);
         let band = |lo: f32, hi: f32| blades.iter().filter(move |b| (lo..hi).contains(&inset(b)));
-        let kept = |lo: f32, hi: f32| band(lo, hi).filter(|b| b.height > 0.0).count() as f32 / band(lo, hi).count() as f32;
+        let kept =
+            |lo: f32, hi: f32| band(lo, hi).filter(|b| b.height > 0.0).count() as f32 / band(lo, hi).count() as f32;
         let mean = |lo: f32, hi: f32| band(lo, hi).map(|b| b.height).sum::<f32>() / band(lo, hi).count() as f32;
         // Beyond the band every blade is as it was.
         for (b, o) in blades.iter().zip(&before) {

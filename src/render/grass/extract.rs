@@ -4,9 +4,9 @@
 //! controller's hit point, which the blades bend away from.
 
 use glam::Vec3;
-use grove_systems::components::Grass;
-use grove_systems::grass::{patch_triangles, place_blades, GrassKind};
 use grove_systems::Sim;
+use grove_systems::components::Grass;
+use grove_systems::grass::{GrassKind, patch_triangles, place_blades};
 
 use super::data::GrassPatch;
 use super::edges;
@@ -47,7 +47,8 @@ pub(crate) fn patches(sim: &Sim, have: &GrassKey, fade: bool) -> Patches {
     let mut planes: Vec<(u64, String, Vec<Vec3>, Vec<[u32; 3]>)> = Vec::new();
     sim.for_each_plane(|id, p| planes.push((id, p.name.clone(), p.vertices.clone(), p.triangles.clone())));
     planes.sort_by_key(|p| p.0);
-    let views: Vec<(&str, &[Vec3], &[[u32; 3]])> = planes.iter().map(|p| (p.1.as_str(), p.2.as_slice(), p.3.as_slice())).collect();
+    let views: Vec<(&str, &[Vec3], &[[u32; 3]])> =
+        planes.iter().map(|p| (p.1.as_str(), p.2.as_slice(), p.3.as_slice())).collect();
     let out = key.1.iter().map(|(_, g)| {
         let shells = g.def.kind == GrassKind::Shells;
         let triangles = patch_triangles(g, &views);

@@ -37,8 +37,8 @@ pub use readback::{BladeCounts, BladeLists};
 pub(crate) mod data;
 pub(crate) mod edges;
 mod extract;
-pub(crate) mod tiles;
 mod setup;
+pub(crate) mod tiles;
 
 use crate::render::error::RenderError;
 use wgpu::util::DeviceExt;
@@ -46,8 +46,8 @@ use wgpu::util::DeviceExt;
 use self::extract::{GrassKey, Patches};
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
 use super::gpu::{PipelineCache, PipelineKey, Shared};
-use setup::{build_blades, build_shells, buffer_entries};
-use data::{BladeParams, CullParams, GpuBlade, GrassPatch, ShellParams, MAX_PATCHES};
+use data::{BladeParams, CullParams, GpuBlade, GrassPatch, MAX_PATCHES, ShellParams};
+use setup::{buffer_entries, build_blades, build_shells};
 
 /// No blade is drawn beyond this distance, metres.
 pub const FAR_DISTANCE: f32 = 60.0;
@@ -134,7 +134,9 @@ impl Grass {
         self.key = key.clone();
         self.shells.clear();
         self.blades = None;
-        let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
         let mut blades: Vec<GpuBlade> = Vec::new();
         let mut colours = [[0.0f32; 4]; 2 * MAX_PATCHES];
         for (i, p) in patches.iter().enumerate() {
@@ -161,14 +163,24 @@ impl Grass {
                     wind: [1.0, 0.0, 0.0, 0.0],
                     strands: [p.density.sqrt(), WIND_SCALE, 0.0, p.height.0 / p.height.1],
                 };
-                let params = init("grass shell parameters", bytemuck::bytes_of(&template), wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+                let params = init(
+                    "grass shell parameters",
+                    bytemuck::bytes_of(&template),
+                    wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                );
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("grass shell bind group"),
                     layout: &self.shell_group_layout,
                     entries: &[
                         wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&self.strand_tex) },
-                        wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&self.wind_tex) },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&self.strand_tex),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::TextureView(&self.wind_tex),
+                        },
                         wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::Sampler(&self.nearest) },
                         wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.linear) },
                     ],
@@ -193,14 +205,34 @@ impl Grass {
         blocks::spatial_order(&mut blades);
         let bounds = blocks::block_bounds(&blades);
         let count = blades.len() as u32;
-        let storage_buffer = |label, size: u64| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
+        let storage_buffer = |label, size: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            })
+        };
         // The near and middle lists (far blades are not listed), this frame's blocks, each
         // block's numbers of near and middle blades and its own lists (cull.wgsl, `lists`).
-        let lists_bytes = 4 * (2 * u64::from(count) + 2 * bounds.len() as u64 + bounds.len() as u64 * u64::from(blocks::BLOCK_BLADES));
-        let lists = device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass blade lists"), size: lists_bytes, usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC, mapped_at_creation: false });
+        let lists_bytes = 4
+            * (2 * u64::from(count) + 2 * bounds.len() as u64 + bounds.len() as u64 * u64::from(blocks::BLOCK_BLADES));
+        let lists = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass blade lists"),
+            size: lists_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
         let shapes = storage_buffer("grass blade shapes", data::SHAPE_BYTES * u64::from(count));
         let blade_buf = init("grass blades", bytemuck::cast_slice(&blades), wgpu::BufferUsages::STORAGE);
-        let uniform = |label, size: usize| device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size as u64, usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
+        let uniform = |label, size: usize| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
         let cull_params = uniform("grass cull parameters", std::mem::size_of::<CullParams>());
         let draw_params = uniform("grass blade parameters", std::mem::size_of::<BladeParams>());
         let index_buffer = |k: usize| {
@@ -209,7 +241,8 @@ impl Grass {
         };
         let indices = [index_buffer(0), index_buffer(1)];
         let args = args_buffer(device, size);
-        let (cull_group, draw_group) = self.blade_groups(device, [&cull_params, &blade_buf, &shapes, &lists, &args, &draw_params]);
+        let (cull_group, draw_group) =
+            self.blade_groups(device, [&cull_params, &blade_buf, &shapes, &lists, &args, &draw_params]);
         self.blades = Some(BladeSet {
             count,
             indices,
@@ -237,10 +270,19 @@ impl Grass {
         entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&self.wind_tex) });
         entries.push(wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.linear) });
         entries.push(wgpu::BindGroupEntry { binding: 7, resource: draw_params.as_entire_binding() });
-        entries.push(wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&self.irradiance) });
-        let cull_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass cull bind group"), layout: &self.cull_group_layout, entries: &entries });
+        entries
+            .push(wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&self.irradiance) });
+        let cull_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("grass cull bind group"),
+            layout: &self.cull_group_layout,
+            entries: &entries,
+        });
         let entries = buffer_entries(&[draw_params, shapes, lists, args]);
-        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("grass blade bind group"), layout: &self.blade_group_layout, entries: &entries });
+        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("grass blade bind group"),
+            layout: &self.blade_group_layout,
+            entries: &entries,
+        });
         (cull_group, draw_group)
     }
 
@@ -249,7 +291,8 @@ impl Grass {
     fn resize_raster(&mut self, device: &wgpu::Device, size: (u32, u32)) {
         let Some(b) = self.blades.as_ref().filter(|b| b.raster_size != size) else { return };
         let args = args_buffer(device, size);
-        let (cull_group, draw_group) = self.blade_groups(device, [&b.cull_params, &b.blades, &b.shapes, &b.lists, &args, &b.draw_params]);
+        let (cull_group, draw_group) =
+            self.blade_groups(device, [&b.cull_params, &b.blades, &b.shapes, &b.lists, &args, &b.draw_params]);
         if let Some(b) = self.blades.as_mut() {
             (b.args, b.raster_size, b.cull_group, b.draw_group) = (args, size, cull_group, draw_group);
         }
@@ -267,7 +310,8 @@ impl Grass {
         });
         // No far blade covers a pixel until the pass has rasterised them.
         encoder.clear_buffer(&b.args, 4 * data::RASTER_OFFSET, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("grass cull pass"), timestamp_writes });
+        let mut pass = encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("grass cull pass"), timestamp_writes });
         pass.set_bind_group(0, &b.cull_group, &[]);
         // A workgroup per block in view: the general pipeline's blocks, then the far ones.
         for (pipeline, &groups) in self.cull_pipelines.iter().zip(&b.dispatch).filter(|(_, g)| **g > 0) {
@@ -300,7 +344,9 @@ impl Feature for Grass {
         // 5,800 × 5,800 pixels).
         let image_bytes = 4 * (data::RASTER_OFFSET + u64::from(cx.size.0) * u64::from(cx.size.1));
         let limit = cx.shared.device.limits().max_storage_buffer_binding_size as u64;
-        if image_bytes > limit && (self.blades.is_some() || patches.patches.as_ref().is_some_and(|p| p.iter().any(|p| !p.shells))) {
+        if image_bytes > limit
+            && (self.blades.is_some() || patches.patches.as_ref().is_some_and(|p| p.iter().any(|p| !p.shells)))
+        {
             return Err(RenderError::GrassImage { width: cx.size.0, height: cx.size.1, bytes: image_bytes, limit });
         }
         if let Some(list) = &patches.patches {
@@ -368,7 +414,8 @@ impl Feature for Grass {
             // The two indexed indirect draws: nothing until the cull pass, one instance each,
             // the middle draw's base vertex at its list; no far blade yet.
             let mid_vertices = 2 * data::LOD_SEGMENTS[1] + 1;
-            let args: [u32; data::ARGS_WORDS] = [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0, u32::MAX, u32::MAX, 0, 0];
+            let args: [u32; data::ARGS_WORDS] =
+                [0, 1, 0, 0, 0, 0, 1, 0, mid_vertices * b.count, 0, 0, u32::MAX, u32::MAX, 0, 0];
             queue.write_buffer(&b.args, 0, bytemuck::cast_slice(&args));
         }
         let (sm, sl, bm, bl) = (&self.shell_module, &self.shell_layout, &self.blade_module, &self.blade_layout);
@@ -376,7 +423,13 @@ impl Feature for Grass {
         Ok(self.blade_pipelines.prepare(cx.key, |k| build_blades(cx.shared, bm, bl, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         if phase != Phase::Opaque || !self.enabled {
             return Ok(());
         }
@@ -419,7 +472,10 @@ fn args_buffer(device: &wgpu::Device, size: (u32, u32)) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("grass indirect draws and far blades"),
         size: 4 * (data::RASTER_OFFSET + pixels),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::INDIRECT
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     })
 }

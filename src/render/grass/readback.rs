@@ -3,7 +3,7 @@
 //!
 //! Reads: the grass's indirect draws and lists. Waits for the GPU.
 
-use super::{data, Grass};
+use super::{Grass, data};
 use crate::render::error::RenderError;
 
 /// The blades a frame drew at each level of detail.
@@ -35,19 +35,31 @@ pub struct BladeLists {
 }
 
 /// `words` words of `buffer` from word `first` (waits for the GPU).
-fn read_words(shared: &crate::render::gpu::Shared, buffer: &wgpu::Buffer, first: u64, words: u64) -> Result<Vec<u32>, RenderError> {
+fn read_words(
+    shared: &crate::render::gpu::Shared,
+    buffer: &wgpu::Buffer,
+    first: u64,
+    words: u64,
+) -> Result<Vec<u32>, RenderError> {
     if words == 0 {
         return Ok(Vec::new());
     }
     let bytes = 4 * words;
-    let read = shared.device.create_buffer(&wgpu::BufferDescriptor { label: Some("grass readback"), size: bytes, usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST, mapped_at_creation: false });
-    let mut encoder = shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grass readback") });
+    let read = shared.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("grass readback"),
+        size: bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder =
+        shared.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("grass readback") });
     encoder.copy_buffer_to_buffer(buffer, 4 * first, &read, 0, bytes);
     shared.queue.submit([encoder.finish()]);
     let slice = read.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
     shared.device.poll(wgpu::PollType::wait_indefinitely()).map_err(RenderError::GrassCountsPoll)?;
-    let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().map_err(RenderError::GrassCountsRange)?).to_vec();
+    let words: Vec<u32> =
+        bytemuck::cast_slice(&slice.get_mapped_range().map_err(RenderError::GrassCountsRange)?).to_vec();
     Ok(words)
 }
 
@@ -65,6 +77,9 @@ impl Grass {
     pub fn listed_blades(&self) -> Result<BladeLists, RenderError> {
         let Some(b) = self.blades.as_ref().filter(|_| self.enabled) else { return Ok(BladeLists::default()) };
         let counts = self.visible_blades()?;
-        Ok(BladeLists { near: read_words(&self.shared, &b.lists, 0, counts.near.into())?, mid: read_words(&self.shared, &b.lists, b.count.into(), counts.mid.into())? })
+        Ok(BladeLists {
+            near: read_words(&self.shared, &b.lists, 0, counts.near.into())?,
+            mid: read_words(&self.shared, &b.lists, b.count.into(), counts.mid.into())?,
+        })
     }
 }

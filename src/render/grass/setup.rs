@@ -2,11 +2,11 @@
 //! compute pipelines, the noise textures and samplers made once by [`Grass::new`], and the
 //! shells' and blades' render pipelines built per pipeline key.
 
+use super::Grass;
 use super::data::{self};
 use super::extract::GrassKey;
-use super::Grass;
 use crate::render::error::PipelineError;
-use crate::render::gpu::{depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use crate::render::gpu::{PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, depth_test};
 
 fn entry(binding: u32, visibility: wgpu::ShaderStages, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }
@@ -21,12 +21,20 @@ fn storage(read_only: bool) -> wgpu::BindingType {
 }
 
 fn float_texture() -> wgpu::BindingType {
-    wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false }
+    wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    }
 }
 
 /// Bind group entries 0, 1, … for whole buffers.
 pub(super) fn buffer_entries<'a>(buffers: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
-    buffers.iter().enumerate().map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() }).collect()
+    buffers
+        .iter()
+        .enumerate()
+        .map(|(k, b)| wgpu::BindGroupEntry { binding: k as u32, resource: b.as_entire_binding() })
+        .collect()
 }
 
 impl Grass {
@@ -35,16 +43,32 @@ impl Grass {
     /// lights the far blades.
     pub(crate) fn new(shared: &Shared, irradiance: &wgpu::TextureView) -> Grass {
         let device = &shared.device;
-        let (v, f, vf, c) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::VERTEX_FRAGMENT, wgpu::ShaderStages::COMPUTE);
+        let (v, f, vf, c) = (
+            wgpu::ShaderStages::VERTEX,
+            wgpu::ShaderStages::FRAGMENT,
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            wgpu::ShaderStages::COMPUTE,
+        );
         let uniform = buffer_ty(wgpu::BufferBindingType::Uniform);
         let filtering = wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering);
         let shell_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass shell layout"),
-            entries: &[entry(0, vf, uniform), entry(1, f, float_texture()), entry(2, v, float_texture()), entry(3, f, filtering), entry(4, v, filtering)],
+            entries: &[
+                entry(0, vf, uniform),
+                entry(1, f, float_texture()),
+                entry(2, v, float_texture()),
+                entry(3, f, filtering),
+                entry(4, v, filtering),
+            ],
         });
         let blade_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass blade layout"),
-            entries: &[entry(0, vf, uniform), entry(1, v, storage(true)), entry(2, v, storage(true)), entry(3, vf, storage(true))],
+            entries: &[
+                entry(0, vf, uniform),
+                entry(1, v, storage(true)),
+                entry(2, v, storage(true)),
+                entry(3, vf, storage(true)),
+            ],
         });
         let cull_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass cull layout"),
@@ -57,22 +81,43 @@ impl Grass {
                 entry(5, c, float_texture()),
                 entry(6, c, filtering),
                 entry(7, c, uniform),
-                entry(8, c, wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Float { filterable: true }, view_dimension: wgpu::TextureViewDimension::Cube, multisampled: false }),
+                entry(
+                    8,
+                    c,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::Cube,
+                        multisampled: false,
+                    },
+                ),
             ],
         });
-        let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("cull.wgsl"), source: wgpu::ShaderSource::Wgsl(crate::render::shader::compose(include_str!("cull.wgsl"), &[("grass_constants", &data::shader_constants())]).into()) });
+        let cull_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("cull.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(
+                crate::render::shader::compose(
+                    include_str!("cull.wgsl"),
+                    &[("grass_constants", &data::shader_constants())],
+                )
+                .into(),
+            ),
+        });
         let cull_layout = shared.layout("grass cull pipeline layout", &[Some(&cull_group_layout)]);
         // The general pipeline and the one specialised to blocks of far blades (blocks.rs).
-        let cull_pipelines = [("grass cull pipeline", 0.0), ("grass cull pipeline (far blocks)", 1.0)].map(|(label, far_only)| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: Some(&cull_layout),
-                module: &cull_module,
-                entry_point: Some("cs_cull"),
-                compilation_options: wgpu::PipelineCompilationOptions { constants: &[("FAR_ONLY", far_only)], ..Default::default() },
-                cache: None,
-            })
-        });
+        let cull_pipelines =
+            [("grass cull pipeline", 0.0), ("grass cull pipeline (far blocks)", 1.0)].map(|(label, far_only)| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&cull_layout),
+                    module: &cull_module,
+                    entry_point: Some("cs_cull"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &[("FAR_ONLY", far_only)],
+                        ..Default::default()
+                    },
+                    cache: None,
+                })
+            });
         let order_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("grass order pipeline"),
             layout: Some(&cull_layout),
@@ -93,9 +138,19 @@ impl Grass {
         };
         Grass {
             shell_module: shared.shader("shells.wgsl", include_str!("shells.wgsl")),
-            blade_module: shared.shader_with("blades.wgsl", include_str!("blades.wgsl"), &[("grass_constants", &data::shader_constants())]),
-            shell_layout: shared.layout("grass shell pipeline layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shell_group_layout)]),
-            blade_layout: shared.layout("grass blade pipeline layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&blade_group_layout)]),
+            blade_module: shared.shader_with(
+                "blades.wgsl",
+                include_str!("blades.wgsl"),
+                &[("grass_constants", &data::shader_constants())],
+            ),
+            shell_layout: shared.layout(
+                "grass shell pipeline layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shell_group_layout)],
+            ),
+            blade_layout: shared.layout(
+                "grass blade pipeline layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&blade_group_layout)],
+            ),
             shell_group_layout,
             blade_group_layout,
             cull_group_layout,
@@ -119,20 +174,34 @@ impl Grass {
 
 /// The shells' pipeline of `key`: opaque but along the lawn's edge (the fragment blends the
 /// layers itself), depth written, main view only.
-pub(super) fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
+pub(super) fn build_shells(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("grass"));
     }
-    const SV: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32];
+    const SV: [wgpu::VertexAttribute; 4] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32];
     // Blended over the ground only along the lawn's edge ([`edges`]): alpha is 1 elsewhere.
-    let targets = [Some(wgpu::ColorTargetState { format: key.format, blend: Some(wgpu::BlendState::ALPHA_BLENDING), write_mask: wgpu::ColorWrites::ALL })];
+    let targets = [Some(wgpu::ColorTargetState {
+        format: key.format,
+        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+        write_mask: wgpu::ColorWrites::ALL,
+    })];
     Ok(shared.pipeline(&PipelineSpec {
         label: "grass shell pipeline",
         layout,
         module,
         vertex: "vs_main",
         fragment: Some("fs_main"),
-        buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 44, step_mode: wgpu::VertexStepMode::Vertex, attributes: &SV })],
+        buffers: &[Some(wgpu::VertexBufferLayout {
+            array_stride: 44,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &SV,
+        })],
         topology: wgpu::PrimitiveTopology::TriangleList,
         cull: None,
         depth: depth_test(true, wgpu::CompareFunction::Less),
@@ -143,7 +212,12 @@ pub(super) fn build_shells(shared: &Shared, module: &wgpu::ShaderModule, layout:
 
 /// The blades' pipelines of `key` (near, middle, and the far blades' rectangle,
 /// which writes the depth of each pixel it keeps): main view only.
-pub(super) fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<[wgpu::RenderPipeline; 3], PipelineError> {
+pub(super) fn build_blades(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> Result<[wgpu::RenderPipeline; 3], PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("grass"));
     }
@@ -164,5 +238,9 @@ pub(super) fn build_blades(shared: &Shared, module: &wgpu::ShaderModule, layout:
             constants: &constants,
         })
     };
-    Ok([one("grass blade pipeline (near)", "vs_near", "fs_main"), one("grass blade pipeline (middle)", "vs_mid", "fs_lit"), one("grass blade pipeline (far)", "vs_far", "fs_far")])
+    Ok([
+        one("grass blade pipeline (near)", "vs_near", "fs_main"),
+        one("grass blade pipeline (middle)", "vs_mid", "fs_lit"),
+        one("grass blade pipeline (far)", "vs_far", "fs_far"),
+    ])
 }

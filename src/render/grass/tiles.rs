@@ -79,7 +79,12 @@ mod tests {
         for i in 0..50 {
             for j in 0..50 {
                 let (x, z) = (i as f32 * 2.0, j as f32 * 2.0);
-                let (a, b, c, d) = (Vec3::new(x, 0.0, z), Vec3::new(x + 2.0, 0.0, z), Vec3::new(x + 2.0, 0.5, z + 2.0), Vec3::new(x, 0.0, z + 2.0));
+                let (a, b, c, d) = (
+                    Vec3::new(x, 0.0, z),
+                    Vec3::new(x + 2.0, 0.0, z),
+                    Vec3::new(x + 2.0, 0.5, z + 2.0),
+                    Vec3::new(x, 0.0, z + 2.0),
+                );
                 tris.push([a, b, c]);
                 tris.push([a, c, d]);
             }

@@ -28,7 +28,7 @@ use std::collections::{HashMap, HashSet};
 
 use glam::{Vec2, Vec3};
 
-use super::landscape::{LandMesh, KIND_BANK, KIND_SIDE};
+use super::landscape::{KIND_BANK, KIND_SIDE, LandMesh};
 
 /// A bank's grassed slope: metres out for every metre down (1 : 1.5, about 34°).
 pub const BANK_RUN: f32 = 1.5;
@@ -80,7 +80,8 @@ pub fn rims(vertices: &[Vec3], triangles: &[[u32; 3]]) -> (Vec<Rim>, Vec<((u32, 
             edges.entry(key).and_modify(|e| e.0 += 1).or_insert((1, t));
         }
     }
-    let mut boundary: Vec<((u32, u32), usize)> = edges.into_iter().filter(|(_, (c, _))| *c == 1).map(|(k, (_, t))| (k, t)).collect();
+    let mut boundary: Vec<((u32, u32), usize)> =
+        edges.into_iter().filter(|(_, (c, _))| *c == 1).map(|(k, (_, t))| (k, t)).collect();
     // A fixed order, so the mesh is the same from run to run.
     boundary.sort_unstable();
     let tri_of: HashMap<(u32, u32), usize> = boundary.iter().copied().collect();
@@ -156,11 +157,7 @@ fn rim(vertices: &[Vec3], triangles: &[[u32; 3]], walk: Vec<u32>, walked: &[((u3
 /// no longer than [`MITRE_LIMIT`].
 pub fn mitre(a: Vec2, b: Vec2) -> Vec2 {
     let c = 1.0 + a.dot(b);
-    if c >= 2.0 / (MITRE_LIMIT * MITRE_LIMIT) {
-        (a + b) / c
-    } else {
-        (a + b).normalize_or(a) * MITRE_LIMIT
-    }
+    if c >= 2.0 / (MITRE_LIMIT * MITRE_LIMIT) { (a + b) / c } else { (a + b).normalize_or(a) * MITRE_LIMIT }
 }
 
 /// The feet of a hole's rim at `floor_y`, in (x, z), for the rim's vertices `rim` and its edges'
@@ -214,7 +211,8 @@ pub fn sides(mesh: &mut LandMesh, vertices: &[Vec3], triangles: &[[u32; 3]], flo
                 mesh.quad_shaded([a, b, fb, fa], normal, KIND_SIDE, [1.0, 1.0, PIT_FOOT_SHADE, PIT_FOOT_SHADE]);
             }
         } else {
-            let profile: Vec<(Vec3, Vec3)> = (0..n).map(|i| bank_profile(top[i], mitre(r.away[(i + n - 1) % n], r.away[i]), floor_y)).collect();
+            let profile: Vec<(Vec3, Vec3)> =
+                (0..n).map(|i| bank_profile(top[i], mitre(r.away[(i + n - 1) % n], r.away[i]), floor_y)).collect();
             for i in 0..n {
                 let j = (i + 1) % n;
                 let away = Vec3::new(r.away[i].x, 0.0, r.away[i].y);

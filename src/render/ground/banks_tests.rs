@@ -1,6 +1,6 @@
 use super::*;
 use crate::render::ground::landscape::KIND_FLOOR;
-use grove_systems::scene::{plane_geometry, Hole, PlaneShape};
+use grove_systems::scene::{Hole, PlaneShape, plane_geometry};
 
 /// A vertex's position.
 fn pos(v: &[f32; 8]) -> Vec3 {
@@ -9,7 +9,10 @@ fn pos(v: &[f32; 8]) -> Vec3 {
 
 /// The quads of `mesh` (four vertices each, as `LandMesh::quad` adds them): corners, normal, kind.
 fn quads(mesh: &LandMesh) -> Vec<([Vec3; 4], Vec3, f32)> {
-    mesh.vertices.chunks(4).map(|q| ([pos(&q[0]), pos(&q[1]), pos(&q[2]), pos(&q[3])], Vec3::new(q[0][3], q[0][4], q[0][5]), q[0][6])).collect()
+    mesh.vertices
+        .chunks(4)
+        .map(|q| ([pos(&q[0]), pos(&q[1]), pos(&q[2]), pos(&q[3])], Vec3::new(q[0][3], q[0][4], q[0][5]), q[0][6]))
+        .collect()
 }
 
 /// Every triangle's front faces its vertices' normal.
@@ -17,13 +20,19 @@ fn fronts_face_normals(mesh: &LandMesh) {
     for tri in mesh.indices.chunks(3) {
         let v: Vec<&[f32; 8]> = tri.iter().map(|&i| &mesh.vertices[i as usize]).collect();
         let n = Vec3::new(v[0][3], v[0][4], v[0][5]);
-        assert!((pos(v[1]) - pos(v[0])).cross(pos(v[2]) - pos(v[0])).dot(n) > 0.0, "a triangle faces away from its normal {n}");
+        assert!(
+            (pos(v[1]) - pos(v[0])).cross(pos(v[2]) - pos(v[0])).dot(n) > 0.0,
+            "a triangle faces away from its normal {n}"
+        );
     }
 }
 
 /// A 2 m square at height `y`, two triangles, counter-clockwise from above.
 fn square(y: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    (vec![Vec3::new(0.0, y, 0.0), Vec3::new(2.0, y, 0.0), Vec3::new(2.0, y, 2.0), Vec3::new(0.0, y, 2.0)], vec![[0, 3, 1], [1, 3, 2]])
+    (
+        vec![Vec3::new(0.0, y, 0.0), Vec3::new(2.0, y, 0.0), Vec3::new(2.0, y, 2.0), Vec3::new(0.0, y, 2.0)],
+        vec![[0, 3, 1], [1, 3, 2]],
+    )
 }
 
 #[test]
@@ -68,7 +77,11 @@ fn a_raised_square_stands_on_a_bank_whose_foot_lies_out_by_its_slope() {
         let (lip, foot) = ((c[0] + c[1]) * 0.5, (c[2] + c[3]) * 0.5);
         let at_ground = lip + (foot - lip) * (lip.y / (lip.y - foot.y));
         let expect = lip_out + (1.0 - SOIL_EDGE) * BANK_RUN;
-        assert!((outside(at_ground) - expect).abs() < 1e-5, "{kind}: meets the ground {} out, not {expect}", outside(at_ground));
+        assert!(
+            (outside(at_ground) - expect).abs() < 1e-5,
+            "{kind}: meets the ground {} out, not {expect}",
+            outside(at_ground)
+        );
         assert!(expect > 1.0, "a bank about as wide as it is high, or wider");
     }
 }
@@ -76,7 +89,15 @@ fn a_raised_square_stands_on_a_bank_whose_foot_lies_out_by_its_slope() {
 #[test]
 fn a_hole_is_a_pit_whose_walls_slope_in_to_the_floor() {
     let hole = Hole { center: Vec2::new(0.3, -0.2), radius: 1.3 };
-    let shape = PlaneShape::Grid { min: Vec2::splat(-4.0), size: Vec2::splat(8.0), cell: 0.5, elevation: 0.0, unevenness: 0.0, noise_seed: 0, holes: vec![hole] };
+    let shape = PlaneShape::Grid {
+        min: Vec2::splat(-4.0),
+        size: Vec2::splat(8.0),
+        cell: 0.5,
+        elevation: 0.0,
+        unevenness: 0.0,
+        noise_seed: 0,
+        holes: vec![hole],
+    };
     let (v, t) = plane_geometry(&shape);
     let (found, stray) = rims(&v, &t);
     assert!(stray.is_empty(), "{stray:?}");
@@ -144,7 +165,15 @@ fn the_zigzag_rims_of_the_study_holes_slope_in_under_the_hole() {
         Hole { center: Vec2::new(-2.0, 4.5), radius: 0.8 },
         Hole { center: Vec2::new(10.0, 6.0), radius: 1.3 },
     ];
-    let shape = PlaneShape::Grid { min: Vec2::splat(-15.0), size: Vec2::splat(30.0), cell: 1.0, elevation: 0.0, unevenness: 0.04, noise_seed: 7, holes };
+    let shape = PlaneShape::Grid {
+        min: Vec2::splat(-15.0),
+        size: Vec2::splat(30.0),
+        cell: 1.0,
+        elevation: 0.0,
+        unevenness: 0.04,
+        noise_seed: 7,
+        holes,
+    };
     let (v, t) = plane_geometry(&shape);
     let (found, stray) = rims(&v, &t);
     assert!(stray.is_empty());
@@ -158,7 +187,12 @@ fn the_zigzag_rims_of_the_study_holes_slope_in_under_the_hole() {
             // edge (at a spike's tip only a little).
             let (a, b) = (xz(top[i]), xz(top[(i + 1) % n]));
             let line = |f: Vec2| (f - a).dot(rim.away[i]);
-            assert!(line(feet[i]) > 0.05 && line(feet[(i + 1) % n]) > 0.05, "wall {a}-{b} with feet {} {}", feet[i], feet[(i + 1) % n]);
+            assert!(
+                line(feet[i]) > 0.05 && line(feet[(i + 1) % n]) > 0.05,
+                "wall {a}-{b} with feet {} {}",
+                feet[i],
+                feet[(i + 1) % n]
+            );
             // Every foot moved well in from its rim vertex.
             assert!(feet[i].distance(a) > 0.25, "foot {} of {a}", feet[i]);
         }
@@ -176,7 +210,13 @@ fn the_zigzag_rims_of_the_study_holes_slope_in_under_the_hole() {
 #[test]
 fn rims_that_touch_at_a_vertex_get_vertical_walls() {
     // Two triangles sharing only vertex 0: four boundary edges meet there.
-    let v = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(-1.0, 0.0, 0.0), Vec3::new(-1.0, 0.0, -1.0)];
+    let v = [
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(-1.0, 0.0, 0.0),
+        Vec3::new(-1.0, 0.0, -1.0),
+    ];
     let t = [[0, 2, 1], [0, 4, 3]];
     let (found, stray) = rims(&v, &t);
     assert!(found.is_empty());
@@ -203,5 +243,3 @@ fn a_mitre_moves_both_edges_out_by_one_and_is_bounded() {
     let sharp = mitre(x, Vec2::new(-0.99, 0.14).normalize());
     assert!(sharp.length() <= MITRE_LIMIT + 1e-5, "{sharp}");
 }
-
-

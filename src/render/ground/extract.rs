@@ -40,7 +40,9 @@ pub(crate) fn planes(sim: &Sim, have: &GroundKey) -> Planes {
     key.sort_unstable();
     let meshes = (&key != have).then(|| {
         let mut planes: Vec<(u64, PlaneMesh)> = Vec::new();
-        sim.for_each_plane(|id, p| planes.push((id, PlaneMesh { vertices: p.vertices.clone(), triangles: p.triangles.clone() })));
+        sim.for_each_plane(|id, p| {
+            planes.push((id, PlaneMesh { vertices: p.vertices.clone(), triangles: p.triangles.clone() }))
+        });
         planes.sort_by_key(|(e, _)| *e);
         planes.into_iter().map(|(_, p)| p).collect()
     });

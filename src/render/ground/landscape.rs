@@ -90,8 +90,11 @@ impl Tint {
     /// The albedo factor (linear RGB, about 0.6 to 1.4) at `p` (x, z in metres), with the
     /// detail scale weighted by `detail` (0 to 1).
     pub fn at(&self, p: Vec2, detail: f32) -> [f32; 3] {
-        let n = |f: &Perlin, scale: f32, offset: f64| f.get([f64::from(p.x / scale) + offset, f64::from(p.y / scale) - offset]) as f32;
-        let b = 1.0 + 0.35 * detail * n(&self.detail, self.detail_scale, 0.31) + 0.3 * n(&self.broad, TINT_SCALES[1], 0.57);
+        let n = |f: &Perlin, scale: f32, offset: f64| {
+            f.get([f64::from(p.x / scale) + offset, f64::from(p.y / scale) - offset]) as f32
+        };
+        let b =
+            1.0 + 0.35 * detail * n(&self.detail, self.detail_scale, 0.31) + 0.3 * n(&self.broad, TINT_SCALES[1], 0.57);
         let h = n(&self.hue, TINT_SCALES[2], 0.13);
         [b * (1.0 + 0.25 * h), b, b * (1.0 - 0.3 * h)]
     }
@@ -110,7 +113,9 @@ pub fn detail_weight(p: Vec2, lo: Vec2, hi: Vec2) -> f32 {
 pub fn mean_edge(vertices: &[Vec3], triangles: &[[u32; 3]]) -> f32 {
     let (mut sum, mut n) = (0.0f64, 0u32);
     for t in triangles {
-        let Some(p) = t.iter().map(|&i| vertices.get(i as usize).copied()).collect::<Option<Vec<Vec3>>>() else { continue };
+        let Some(p) = t.iter().map(|&i| vertices.get(i as usize).copied()).collect::<Option<Vec<Vec3>>>() else {
+            continue;
+        };
         for k in 0..3 {
             sum += f64::from(p[k].distance(p[(k + 1) % 3]));
             n += 1;
@@ -150,7 +155,12 @@ fn axis_lines(lo: f32, hi: f32) -> Vec<f32> {
     let band = NEAR_BAND.min(TERRAIN_REACH);
     let hi = hi.max(lo + 1e-3);
     let mut v = lines(lo - TERRAIN_REACH, lo - band, TERRAIN_CELL);
-    for part in [lines(lo - band, lo, TERRAIN_CELL), lines(lo, hi, TERRAIN_CELL), lines(hi, hi + band, TERRAIN_CELL), lines(hi + band, hi + TERRAIN_REACH, TERRAIN_CELL)] {
+    for part in [
+        lines(lo - band, lo, TERRAIN_CELL),
+        lines(lo, hi, TERRAIN_CELL),
+        lines(hi, hi + band, TERRAIN_CELL),
+        lines(hi + band, hi + TERRAIN_REACH, TERRAIN_CELL),
+    ] {
         v.extend_from_slice(&part[1..]);
     }
     v
@@ -163,19 +173,28 @@ fn axis_lines(lo: f32, hi: f32) -> Vec<f32> {
 /// cheap far-ground shading.
 pub fn surroundings(mesh: &mut LandMesh, far: &mut LandMesh, lo: Vec2, hi: Vec2, ground_y: f32, floor_y: f32) {
     let at = |x: f32, z: f32, y: f32| Vec3::new(x, y, z);
-    mesh.quad([at(lo.x, lo.y, floor_y), at(hi.x, lo.y, floor_y), at(hi.x, hi.y, floor_y), at(lo.x, hi.y, floor_y)], Vec3::Y, KIND_FLOOR);
+    mesh.quad(
+        [at(lo.x, lo.y, floor_y), at(hi.x, lo.y, floor_y), at(hi.x, hi.y, floor_y), at(lo.x, hi.y, floor_y)],
+        Vec3::Y,
+        KIND_FLOOR,
+    );
     let (xs, zs) = (axis_lines(lo.x, hi.x), axis_lines(lo.y, hi.y));
     let g = ground_y;
     let band = NEAR_BAND.min(TERRAIN_REACH);
     for w in zs.windows(2) {
         for u in xs.windows(2) {
             let centre = Vec2::new((u[0] + u[1]) * 0.5, (w[0] + w[1]) * 0.5);
-            let inside = |m: f32| centre.x > lo.x - m && centre.x < hi.x + m && centre.y > lo.y - m && centre.y < hi.y + m;
+            let inside =
+                |m: f32| centre.x > lo.x - m && centre.x < hi.x + m && centre.y > lo.y - m && centre.y < hi.y + m;
             if inside(0.0) {
                 continue;
             }
             if !inside(band) {
-                far.quad([at(u[0], w[0], g), at(u[1], w[0], g), at(u[1], w[1], g), at(u[0], w[1], g)], Vec3::Y, KIND_TERRAIN);
+                far.quad(
+                    [at(u[0], w[0], g), at(u[1], w[0], g), at(u[1], w[1], g), at(u[0], w[1], g)],
+                    Vec3::Y,
+                    KIND_TERRAIN,
+                );
                 continue;
             }
             // A cell of the near band, cut into cells of at most NEAR_CELL. Their corners on the
@@ -183,7 +202,11 @@ pub fn surroundings(mesh: &mut LandMesh, far: &mut LandMesh, lo: Vec2, hi: Vec2,
             let (xs, zs) = (lines(u[0], u[1], NEAR_CELL), lines(w[0], w[1], NEAR_CELL));
             for b in zs.windows(2) {
                 for a in xs.windows(2) {
-                    mesh.quad([at(a[0], b[0], g), at(a[1], b[0], g), at(a[1], b[1], g), at(a[0], b[1], g)], Vec3::Y, KIND_TERRAIN);
+                    mesh.quad(
+                        [at(a[0], b[0], g), at(a[1], b[0], g), at(a[1], b[1], g), at(a[0], b[1], g)],
+                        Vec3::Y,
+                        KIND_TERRAIN,
+                    );
                 }
             }
         }
@@ -201,25 +224,30 @@ mod tests {
         // Terrain area: the big square less the rectangle.
         let mut area = 0.0;
         for (m, is_far) in [(&near, false), (&far, true)] {
-        for (q, tri) in m.indices.chunks(3).enumerate() {
-            let p: Vec<Vec3> = tri.iter().map(|&i| Vec3::new(m.vertices[i as usize][0], m.vertices[i as usize][1], m.vertices[i as usize][2])).collect();
-            if m.vertices[tri[0] as usize][6] == KIND_TERRAIN {
-                area += 0.5 * f64::from((p[1] - p[0]).cross(p[2] - p[0]).length());
-                // No terrain triangle's centre lies inside the rectangle.
-                let c = (p[0] + p[1] + p[2]) / 3.0;
-                assert!(c.x.abs() >= 5.0 || c.z.abs() >= 5.0, "triangle {q} at {c}");
-                // The far part lies beyond the near band, the near part within it.
-                let out = c.x.abs().max(c.z.abs()) - 5.0;
-                assert_eq!(is_far, out > NEAR_BAND, "triangle {q} at {c}");
-                // No side of a cell is longer than a cell (the diagonal excepted): 40 m far
-                // away, 4 m in the near band.
-                let cell = if is_far { TERRAIN_CELL } else { NEAR_CELL };
-                for k in 0..3 {
-                    let e = p[(k + 1) % 3] - p[k];
-                    assert!(e.x.abs() <= cell + 1e-3 && e.z.abs() <= cell + 1e-3, "{e}");
+            for (q, tri) in m.indices.chunks(3).enumerate() {
+                let p: Vec<Vec3> = tri
+                    .iter()
+                    .map(|&i| {
+                        Vec3::new(m.vertices[i as usize][0], m.vertices[i as usize][1], m.vertices[i as usize][2])
+                    })
+                    .collect();
+                if m.vertices[tri[0] as usize][6] == KIND_TERRAIN {
+                    area += 0.5 * f64::from((p[1] - p[0]).cross(p[2] - p[0]).length());
+                    // No terrain triangle's centre lies inside the rectangle.
+                    let c = (p[0] + p[1] + p[2]) / 3.0;
+                    assert!(c.x.abs() >= 5.0 || c.z.abs() >= 5.0, "triangle {q} at {c}");
+                    // The far part lies beyond the near band, the near part within it.
+                    let out = c.x.abs().max(c.z.abs()) - 5.0;
+                    assert_eq!(is_far, out > NEAR_BAND, "triangle {q} at {c}");
+                    // No side of a cell is longer than a cell (the diagonal excepted): 40 m far
+                    // away, 4 m in the near band.
+                    let cell = if is_far { TERRAIN_CELL } else { NEAR_CELL };
+                    for k in 0..3 {
+                        let e = p[(k + 1) % 3] - p[k];
+                        assert!(e.x.abs() <= cell + 1e-3 && e.z.abs() <= cell + 1e-3, "{e}");
+                    }
                 }
             }
-        }
         }
         let side = 10.0 + 2.0 * f64::from(TERRAIN_REACH);
         // Within the rounding of f32 corners over some two thousand cells.
@@ -278,14 +306,18 @@ mod tests {
         let p = Vec2::new(12.3, -4.5);
         assert_eq!(tint.at(p, 1.0), Tint::default().at(p, 1.0));
         // Smooth: points 1 m apart differ less than points 6 m apart, so 4 m cells carry it.
-        let near: f64 = (0..100).map(|k| {
-            let q = Vec2::new(k as f32 * 7.1, k as f32 * 3.3);
-            f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(1.0, 0.0), 1.0)[1]).abs())
-        }).sum();
-        let far: f64 = (0..100).map(|k| {
-            let q = Vec2::new(k as f32 * 7.1, k as f32 * 3.3);
-            f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(6.0, 0.0), 1.0)[1]).abs())
-        }).sum();
+        let near: f64 = (0..100)
+            .map(|k| {
+                let q = Vec2::new(k as f32 * 7.1, k as f32 * 3.3);
+                f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(1.0, 0.0), 1.0)[1]).abs())
+            })
+            .sum();
+        let far: f64 = (0..100)
+            .map(|k| {
+                let q = Vec2::new(k as f32 * 7.1, k as f32 * 3.3);
+                f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(6.0, 0.0), 1.0)[1]).abs())
+            })
+            .sum();
         assert!(near < far, "1 m apart {near}, 6 m apart {far}");
     }
 
@@ -303,10 +335,12 @@ mod tests {
         assert_eq!(Tint::for_mesh(10.0).detail_scale, 30.0);
         // So between vertices 10 m apart the coarse tint changes less than the fine one.
         let step = |tint: &Tint| -> f64 {
-            (0..200).map(|k| {
-                let q = Vec2::new(k as f32 * 10.0, 3.7);
-                f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(10.0, 0.0), 1.0)[1]).abs())
-            }).sum()
+            (0..200)
+                .map(|k| {
+                    let q = Vec2::new(k as f32 * 10.0, 3.7);
+                    f64::from((tint.at(q, 1.0)[1] - tint.at(q + Vec2::new(10.0, 0.0), 1.0)[1]).abs())
+                })
+                .sum()
         };
         assert!(step(&Tint::for_mesh(10.0)) < step(&Tint::default()));
     }

@@ -14,11 +14,11 @@ use std::path::Path;
 use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
-use super::assets::textures;
-use crate::models::gltf_load;
 use self::extract::{GroundKey, PlaneMesh, Planes};
+use super::assets::textures;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
-use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use super::gpu::{PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, color_target, depth_test};
+use crate::models::gltf_load;
 
 /// The ground's uniforms (matches `GroundParams` in ground.wgsl).
 #[repr(C)]
@@ -60,15 +60,28 @@ impl Ground {
         let img = textures::read_image(&path)?.to_rgba8();
         let img = texture::widen(&img);
         // Encoded bytes in a linear format, decoded in the shader after filtering (`ENCODED_FORMAT`).
-        let texture = textures::upload_2d_encoded(&shared.device, &shared.queue, "ground albedo", img.width(), img.height(), img.as_raw());
+        let texture = textures::upload_2d_encoded(
+            &shared.device,
+            &shared.queue,
+            "ground albedo",
+            img.width(),
+            img.height(),
+            img.as_raw(),
+        );
         let params = shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("ground parameters"),
-            contents: bytemuck::bytes_of(&GroundParams { metres_per_repeat: 2.5 * texture::WIDEN as f32, pad: [0.0; 3] }),
+            contents: bytemuck::bytes_of(&GroundParams {
+                metres_per_repeat: 2.5 * texture::WIDEN as f32,
+                pad: [0.0; 3],
+            }),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         Ok(Ground {
             module: shared.shader("ground.wgsl", include_str!("ground.wgsl")),
-            layout: shared.layout("ground layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
+            layout: shared.layout(
+                "ground layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)],
+            ),
             pipelines: PipelineCache::new("ground"),
             far_pipelines: PipelineCache::new("far ground"),
             bind_group: bind_group(shared, &params, &texture),
@@ -89,7 +102,8 @@ impl Ground {
         for p in planes {
             coarsest = coarsest.max(landscape::mean_edge(&p.vertices, &p.triangles));
             let base = land.vertices.len() as u32;
-            let tris: Vec<u32> = p.triangles.iter().flatten().copied().filter(|&i| (i as usize) < p.vertices.len()).collect();
+            let tris: Vec<u32> =
+                p.triangles.iter().flatten().copied().filter(|&i| (i as usize) < p.vertices.len()).collect();
             let normals = gltf_load::compute_normals(&p.vertices, &tris);
             for (v, n) in p.vertices.iter().zip(&normals) {
                 land.vertices.push([v.x, v.y, v.z, n.x, n.y, n.z, landscape::KIND_PLANE, 1.0]);
@@ -100,7 +114,14 @@ impl Ground {
         }
         if !land.indices.is_empty() {
             let floor_y = lo.y - landscape::FLOOR_DEPTH;
-            landscape::surroundings(&mut land, &mut far, glam::Vec2::new(lo.x, lo.z), glam::Vec2::new(hi.x, hi.z), lo.y, floor_y);
+            landscape::surroundings(
+                &mut land,
+                &mut far,
+                glam::Vec2::new(lo.x, lo.z),
+                glam::Vec2::new(hi.x, hi.z),
+                lo.y,
+                floor_y,
+            );
             // The sides after the terrain: most of a bank lies under the ground next to it,
             // which, drawn first, lets the early depth test skip that part.
             for p in planes {
@@ -132,7 +153,9 @@ impl Ground {
             self.mesh = None;
             return;
         }
-        let buffer = |label, contents: &[u8], usage| shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let buffer = |label, contents: &[u8], usage| {
+            shared.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        };
         self.mesh = Some(Mesh {
             vertices: buffer("ground vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX),
             indices: buffer("ground indices", bytemuck::cast_slice(&idx), wgpu::BufferUsages::INDEX),
@@ -140,7 +163,6 @@ impl Ground {
             index_count: idx.len() as u32,
         });
     }
-
 }
 
 /// The ground's bind group: the material layout with the ground's own sampler, which filters
@@ -173,30 +195,41 @@ fn bind_group(shared: &Shared, params: &wgpu::Buffer, texture: &wgpu::TextureVie
 /// The ground's pipeline of `key`: main view only. With `far`, the far terrain's: the fragment
 /// entry `fs_far`, built without shadow lookups whatever the key says (the shadow map does not
 /// reach that far).
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey, far: bool) -> Result<wgpu::RenderPipeline, PipelineError> {
-        if key.view != ViewKind::Main {
-            return Err(PipelineError::MainViewOnly("the ground"));
-        }
-        const GV: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32, 3 => Float32x3];
-        let label = match (far, key.shadows) {
-            (true, _) => "far ground pipeline",
-            (false, true) => "ground pipeline (shadows)",
-            (false, false) => "ground pipeline (no shadows)",
-        };
-        let constants = if far { [("SHADOWS", 0.0)] } else { key.lit_constants() };
-        Ok(shared.pipeline(&PipelineSpec {
-            label,
-            layout,
-            module,
-            vertex: "vs_main",
-            fragment: Some(if far { "fs_far" } else { "fs_main" }),
-            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 40, step_mode: wgpu::VertexStepMode::Vertex, attributes: &GV })],
-            topology: wgpu::PrimitiveTopology::TriangleList,
-            cull: None,
-            depth: depth_test(true, wgpu::CompareFunction::Less),
-            targets: &color_target(key.format, wgpu::ColorWrites::ALL),
-            constants: &constants,
-        }))
+fn build(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+    far: bool,
+) -> Result<wgpu::RenderPipeline, PipelineError> {
+    if key.view != ViewKind::Main {
+        return Err(PipelineError::MainViewOnly("the ground"));
+    }
+    const GV: [wgpu::VertexAttribute; 4] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32, 3 => Float32x3];
+    let label = match (far, key.shadows) {
+        (true, _) => "far ground pipeline",
+        (false, true) => "ground pipeline (shadows)",
+        (false, false) => "ground pipeline (no shadows)",
+    };
+    let constants = if far { [("SHADOWS", 0.0)] } else { key.lit_constants() };
+    Ok(shared.pipeline(&PipelineSpec {
+        label,
+        layout,
+        module,
+        vertex: "vs_main",
+        fragment: Some(if far { "fs_far" } else { "fs_main" }),
+        buffers: &[Some(wgpu::VertexBufferLayout {
+            array_stride: 40,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &GV,
+        })],
+        topology: wgpu::PrimitiveTopology::TriangleList,
+        cull: None,
+        depth: depth_test(true, wgpu::CompareFunction::Less),
+        targets: &color_target(key.format, wgpu::ColorWrites::ALL),
+        constants: &constants,
+    }))
 }
 
 impl Feature for Ground {
@@ -219,7 +252,13 @@ impl Feature for Ground {
         Ok(self.far_pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k, true))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         let (Phase::Opaque, Some(g)) = (phase, &self.mesh) else {
             return Ok(());
         };

@@ -44,7 +44,9 @@ fn widened_texel(tile: &RgbaImage, x: u32, y: u32) -> image::Rgba<u8> {
     let weight = (0.45 + 0.3 * s1 * s2 + 0.2 * s3).clamp(0.0, 0.85);
     let a = tile.get_pixel(x % w, y % h).0;
     let b = copy(x as f32, y as f32);
-    image::Rgba(std::array::from_fn(|k| (f32::from(a[k]) * (1.0 - weight) + b[k] * weight).round().clamp(0.0, 255.0) as u8))
+    image::Rgba(std::array::from_fn(|k| {
+        (f32::from(a[k]) * (1.0 - weight) + b[k] * weight).round().clamp(0.0, 255.0) as u8
+    }))
 }
 
 #[cfg(test)]
@@ -54,7 +56,14 @@ mod tests {
     /// A tile with a pattern that shows any seam or shift: a diagonal ramp in red, a checker in
     /// green, noise-like values in blue.
     fn tile() -> RgbaImage {
-        RgbaImage::from_fn(16, 16, |x, y| image::Rgba([((x + y) * 8) as u8, if (x / 2 + y / 2) % 2 == 0 { 40 } else { 200 }, ((x * 37 + y * 91) % 256) as u8, 255]))
+        RgbaImage::from_fn(16, 16, |x, y| {
+            image::Rgba([
+                ((x + y) * 8) as u8,
+                if (x / 2 + y / 2) % 2 == 0 { 40 } else { 200 },
+                ((x * 37 + y * 91) % 256) as u8,
+                255,
+            ])
+        })
     }
 
     /// The largest difference of any channel between two pixels.
@@ -70,7 +79,9 @@ mod tests {
         // The mirrored copy holds the same texels, so the mean of each channel stays within a
         // few levels of the tile's (bilinear filtering and the blend move it a little).
         for k in 0..3 {
-            let mean = |img: &RgbaImage| img.pixels().map(|p| f64::from(p.0[k])).sum::<f64>() / f64::from(img.width() * img.height());
+            let mean = |img: &RgbaImage| {
+                img.pixels().map(|p| f64::from(p.0[k])).sum::<f64>() / f64::from(img.width() * img.height())
+            };
             assert!((mean(&big) - mean(&t)).abs() < 12.0, "channel {k}: {} vs {}", mean(&big), mean(&t));
         }
         // Alpha stays opaque.
@@ -94,7 +105,10 @@ mod tests {
         let moved = big.enumerate_pixels().map(|(x, y, p)| diff(p, t.get_pixel(x % 16, y % 16))).max().unwrap_or(0);
         assert!(moved > 20, "{moved}");
         // And one tile differs from the next.
-        let shifted = (0..h).flat_map(|y| (0..16).map(move |x| (x, y))).filter(|&(x, y)| diff(big.get_pixel(x, y), big.get_pixel(x + 16, y)) > 10).count();
+        let shifted = (0..h)
+            .flat_map(|y| (0..16).map(move |x| (x, y)))
+            .filter(|&(x, y)| diff(big.get_pixel(x, y), big.get_pixel(x + 16, y)) > 10)
+            .count();
         assert!(shifted > 100, "{shifted}");
     }
 }

@@ -255,18 +255,27 @@ impl ControllerModel {
     pub fn load(dir: &Path) -> Result<ControllerModel, ControllerError> {
         let profile_path = dir.join("profile.json");
         let text = files::read_text(&profile_path, Kind::Index)?;
-        let asset = Self::asset_path(&text).map_err(|message| ControllerError::Profile { path: profile_path.display().to_string(), message })?;
+        let asset = Self::asset_path(&text)
+            .map_err(|message| ControllerError::Profile { path: profile_path.display().to_string(), message })?;
         let glb_path: PathBuf = files::within(&dir.join(&asset), dir)?;
         let glb = files::read(&glb_path, Kind::Gltf)?;
         Self::from_bytes(&text, &glb).map_err(|e| match e {
-            ControllerError::Profile { message, .. } => ControllerError::Profile { path: profile_path.display().to_string(), message },
-            ControllerError::Gltf { message, .. } => ControllerError::Gltf { path: glb_path.display().to_string(), message },
+            ControllerError::Profile { message, .. } => {
+                ControllerError::Profile { path: profile_path.display().to_string(), message }
+            }
+            ControllerError::Gltf { message, .. } => {
+                ControllerError::Gltf { path: glb_path.display().to_string(), message }
+            }
             other => other,
         })
     }
 
     fn layout(profile: &Profile) -> Result<&Layout, String> {
-        profile.layouts.get(LAYOUT).or_else(|| profile.layouts.values().next()).ok_or_else(|| "it has no layouts".to_string())
+        profile
+            .layouts
+            .get(LAYOUT)
+            .or_else(|| profile.layouts.values().next())
+            .ok_or_else(|| "it has no layouts".to_string())
     }
 
     fn asset_path(profile_json: &str) -> Result<String, String> {
@@ -295,7 +304,8 @@ impl ControllerModel {
                 }
             })
             .collect();
-        let scene = doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| gltf_err("it has no scene".into()))?;
+        let scene =
+            doc.default_scene().or_else(|| doc.scenes().next()).ok_or_else(|| gltf_err("it has no scene".into()))?;
         let roots: Vec<usize> = scene.nodes().map(|n| n.index()).collect();
         let mut color = None;
         let mut meshes = Vec::new();
@@ -320,14 +330,23 @@ impl ControllerModel {
                     None => vec![Vec3::ZERO; positions.len()],
                 };
                 if normals.len() != positions.len() {
-                    return Err(gltf_err(format!("mesh {}: {} normals for {} positions", mesh.index(), normals.len(), positions.len())));
+                    return Err(gltf_err(format!(
+                        "mesh {}: {} normals for {} positions",
+                        mesh.index(),
+                        normals.len(),
+                        positions.len()
+                    )));
                 }
                 let indices: Vec<u32> = match reader.read_indices() {
                     Some(i) => i.into_u32().collect(),
                     None => (0..positions.len() as u32).collect(),
                 };
                 if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-                    return Err(gltf_err(format!("mesh {}: index {bad} past its {} vertices", mesh.index(), positions.len())));
+                    return Err(gltf_err(format!(
+                        "mesh {}: index {bad} past its {} vertices",
+                        mesh.index(),
+                        positions.len()
+                    )));
                 }
                 m.indices.extend(indices[..indices.len() / 3 * 3].iter().map(|i| i + base));
                 m.positions.extend(positions);
@@ -335,7 +354,9 @@ impl ControllerModel {
             }
             meshes.push(m);
         }
-        let find = |name: &str| nodes.iter().position(|n| n.name == name).ok_or_else(|| ControllerError::MissingNode(name.to_string()));
+        let find = |name: &str| {
+            nodes.iter().position(|n| n.name == name).ok_or_else(|| ControllerError::MissingNode(name.to_string()))
+        };
         let mut responses = Vec::new();
         let mut touch_point = None;
         for component in layout.components.values() {
@@ -372,8 +393,13 @@ impl ControllerModel {
                 }
                 let effect = match r.value_node_property.as_str() {
                     "transform" => {
-                        let name = |n: &Option<String>, what: &str| n.clone().ok_or_else(|| profile_err(format!("{} has no {what}", r.value_node_name)));
-                        Effect::Transform { min: find(&name(&r.min_node_name, "minNodeName")?)?, max: find(&name(&r.max_node_name, "maxNodeName")?)? }
+                        let name = |n: &Option<String>, what: &str| {
+                            n.clone().ok_or_else(|| profile_err(format!("{} has no {what}", r.value_node_name)))
+                        };
+                        Effect::Transform {
+                            min: find(&name(&r.min_node_name, "minNodeName")?)?,
+                            max: find(&name(&r.max_node_name, "maxNodeName")?)?,
+                        }
                     }
                     "visibility" => Effect::Visibility,
                     other => {
@@ -411,7 +437,9 @@ impl ControllerModel {
         for r in &self.responses {
             let v = r.value(input);
             match r.effect {
-                Effect::Transform { min, max } => local[r.node] = Trs::lerp(self.nodes[min].local, self.nodes[max].local, v),
+                Effect::Transform { min, max } => {
+                    local[r.node] = Trs::lerp(self.nodes[min].local, self.nodes[max].local, v)
+                }
                 Effect::Visibility => visible[r.node] = v > 0.5,
             }
         }
@@ -439,7 +467,12 @@ impl ControllerModel {
     /// The model posed by `input` at `place` (see [`ControllerModel::placement`]): emits each
     /// triangle's three vertices (world position, unit normal, colour) in order, and returns
     /// the touch dot's centre when the touchpad is touched.
-    pub fn pose(&self, input: &ControllerInput, place: Mat4, out: &mut dyn FnMut(Vec3, Vec3, [f32; 4])) -> Option<Vec3> {
+    pub fn pose(
+        &self,
+        input: &ControllerInput,
+        place: Mat4,
+        out: &mut dyn FnMut(Vec3, Vec3, [f32; 4]),
+    ) -> Option<Vec3> {
         let (world, drawn) = self.world(input);
         for (i, node) in self.nodes.iter().enumerate() {
             let Some(mesh) = node.mesh.and_then(|m| self.meshes.get(m)) else {

@@ -24,7 +24,10 @@ fn nodes_are_found_although_the_profile_names_another_root() {
     let profile: serde_json::Value = serde_json::from_str(&text).unwrap();
     let profile_root = profile["layouts"][LAYOUT]["rootNodeName"].as_str().unwrap();
     let m = model();
-    assert!(m.node_transform(&ControllerInput::default(), profile_root).is_none(), "the profile's root {profile_root:?} is not a node of the glb");
+    assert!(
+        m.node_transform(&ControllerInput::default(), profile_root).is_none(),
+        "the profile's root {profile_root:?} is not a node of the glb"
+    );
     assert!(m.node_transform(&ControllerInput::default(), "magic_leap_one_none").is_some());
     // Trigger 1, squeeze 2 (with its mirror), touchpad 6: every response of the layout.
     assert_eq!(m.responses.len(), 9);
@@ -35,7 +38,9 @@ fn nodes_are_found_although_the_profile_names_another_root() {
 
 #[test]
 fn a_response_naming_a_missing_node_is_an_error() {
-    let text = std::fs::read_to_string(dir().join("profile.json")).unwrap().replace("xr_standard_trigger_pressed_min", "no_such_node");
+    let text = std::fs::read_to_string(dir().join("profile.json"))
+        .unwrap()
+        .replace("xr_standard_trigger_pressed_min", "no_such_node");
     let glb = std::fs::read(dir().join("none.glb")).unwrap();
     match ControllerModel::from_bytes(&text, &glb) {
         Err(ControllerError::MissingNode(n)) => assert_eq!(n, "no_such_node"),
@@ -66,11 +71,17 @@ fn the_bumper_and_the_touchpad_press_move_their_parts() {
     let rest = ControllerInput::default();
     let bumper = "xr_standard_squeeze_pressed_value";
     let squeezed = ControllerInput { squeeze: true, ..rest };
-    assert!(close(m.node_transform(&squeezed, bumper).unwrap(), m.node_transform(&rest, "xr_standard_squeeze_pressed_max").unwrap()));
+    assert!(close(
+        m.node_transform(&squeezed, bumper).unwrap(),
+        m.node_transform(&rest, "xr_standard_squeeze_pressed_max").unwrap()
+    ));
     assert!(m.mesh_centre(&rest, bumper).unwrap().distance(m.mesh_centre(&squeezed, bumper).unwrap()) > 5e-4);
     let pad = "xr_standard_touchpad_pressed_value";
     let pressed = ControllerInput { touchpad_pressed: true, ..rest };
-    assert!(close(m.node_transform(&pressed, pad).unwrap(), m.node_transform(&rest, "xr_standard_touchpad_pressed_max").unwrap()));
+    assert!(close(
+        m.node_transform(&pressed, pad).unwrap(),
+        m.node_transform(&rest, "xr_standard_touchpad_pressed_max").unwrap()
+    ));
     assert!(!close(m.node_transform(&rest, pad).unwrap(), m.node_transform(&pressed, pad).unwrap()));
 }
 
@@ -83,7 +94,9 @@ fn the_touch_dot_shows_only_while_touched_and_follows_the_axes() {
     assert_eq!(m.node_drawn(&rest, dot), Some(false));
     assert_eq!(m.pose(&rest, Mat4::IDENTITY, &mut none.clone()), None);
     let touch = |x: f32, y: f32| ControllerInput { touchpad: Vec2::new(x, y), ..rest };
-    let at = |i: ControllerInput| m.pose(&i, Mat4::IDENTITY, &mut none.clone()).expect("the touch dot is shown while touched");
+    let at = |i: ControllerInput| {
+        m.pose(&i, Mat4::IDENTITY, &mut none.clone()).expect("the touch dot is shown while touched")
+    };
     assert_eq!(m.node_drawn(&touch(0.5, 0.0), dot), Some(true));
     // Grip space: +X right, −Z forward. Right on the pad is right; front (away from the user)
     // is forward.
@@ -92,7 +105,10 @@ fn the_touch_dot_shows_only_while_touched_and_follows_the_axes() {
     let (back, front) = (at(touch(0.0, -1.0)), at(touch(0.0, 1.0)));
     assert!(back.z - front.z > 0.02, "back {back}, front {front}");
     // Pressed, the dot shows too.
-    assert!(m.pose(&ControllerInput { touchpad_pressed: true, ..touch(0.2, 0.2) }, Mat4::IDENTITY, &mut none.clone()).is_some());
+    assert!(
+        m.pose(&ControllerInput { touchpad_pressed: true, ..touch(0.2, 0.2) }, Mat4::IDENTITY, &mut none.clone())
+            .is_some()
+    );
 }
 
 #[test]

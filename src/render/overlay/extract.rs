@@ -2,8 +2,8 @@
 //! anchor ball, the selection and the running task's targets).
 
 use glam::Quat;
-use grove_systems::components::HitTarget;
 use grove_systems::Sim;
+use grove_systems::components::HitTarget;
 
 use super::geometry::{OverlayAnchor, OverlayController, OverlayHit, OverlayScene, OverlaySelection, OverlayTarget};
 
@@ -13,7 +13,13 @@ pub fn overlay_scene(sim: &Sim) -> OverlayScene {
     // A world without a hit marker, an anchor ball or a selection reads as their defaults,
     // which draw nothing (invisible, no tree).
     let h = sim.hit_marker();
-    let hit = Some(OverlayHit { visible: h.visible, distance: h.distance, position: h.position, normal: h.normal, on_water: matches!(h.target, HitTarget::Water(_)) });
+    let hit = Some(OverlayHit {
+        visible: h.visible,
+        distance: h.distance,
+        position: h.position,
+        normal: h.normal,
+        on_water: matches!(h.target, HitTarget::Water(_)),
+    });
     let controllers = sim
         .controller()
         .into_iter()
@@ -28,11 +34,16 @@ pub fn overlay_scene(sim: &Sim) -> OverlayScene {
         })
         .collect();
     let a = sim.anchor_ball();
-    let anchors = vec![OverlayAnchor { visible: a.visible, armed: a.armed, position: a.position, distance: a.distance }];
+    let anchors =
+        vec![OverlayAnchor { visible: a.visible, armed: a.armed, position: a.position, distance: a.distance }];
     let selections = Some(sim.selection())
         .into_iter()
         .filter(|s| s.tree.is_some())
-        .map(|s| OverlaySelection { center: s.center, rotation: Quat::from_rotation_y(s.yaw), half_extents: s.half_extents })
+        .map(|s| OverlaySelection {
+            center: s.center,
+            rotation: Quat::from_rotation_y(s.yaw),
+            half_extents: s.half_extents,
+        })
         .collect();
     let (targets, tolerance) = match sim.task() {
         Some(task) => (
@@ -40,7 +51,10 @@ pub fn overlay_scene(sim: &Sim) -> OverlayScene {
                 .targets
                 .iter()
                 .enumerate()
-                .map(|(i, t)| OverlayTarget { position: t.position, done: task.satisfied.get(i).is_some_and(|s| s.is_some()) })
+                .map(|(i, t)| OverlayTarget {
+                    position: t.position,
+                    done: task.satisfied.get(i).is_some_and(|s| s.is_some()),
+                })
                 .collect(),
             task.def.tolerance,
         ),

@@ -31,7 +31,12 @@ pub struct OverlayController {
 impl OverlayController {
     /// What the controller's model shows.
     pub fn input(&self) -> ControllerInput {
-        ControllerInput { trigger: self.trigger, squeeze: self.bumper, touchpad_pressed: self.touchpad_pressed, touchpad: self.touchpad }
+        ControllerInput {
+            trigger: self.trigger,
+            squeeze: self.bumper,
+            touchpad_pressed: self.touchpad_pressed,
+            touchpad: self.touchpad,
+        }
     }
 }
 
@@ -285,7 +290,9 @@ pub fn build(scene: &OverlayScene, model: Option<&ControllerModel>) -> OverlayGe
         let (o, d) = (c.origin, c.dir);
         if let Some(m) = model {
             let tris = &mut g.triangles;
-            let dot = m.pose(&c.input(), m.placement(o, c.rotation), &mut |p, n, color| tris.push(OverlayVertex { position: p.to_array(), color, normal: n.to_array() }));
+            let dot = m.pose(&c.input(), m.placement(o, c.rotation), &mut |p, n, color| {
+                tris.push(OverlayVertex { position: p.to_array(), color, normal: n.to_array() })
+            });
             if let Some(dot) = dot {
                 g.sphere(dot, TOUCH_DOT_RADIUS, TOUCH_DOT);
             }
@@ -323,7 +330,15 @@ pub fn build(scene: &OverlayScene, model: Option<&ControllerModel>) -> OverlayGe
     for s in &scene.selections {
         let rot = s.rotation;
         let h = s.half_extents;
-        let corner = |i: u8| s.center + rot * Vec3::new(if i & 1 != 0 { h.x } else { -h.x }, if i & 2 != 0 { h.y } else { -h.y }, if i & 4 != 0 { h.z } else { -h.z });
+        let corner = |i: u8| {
+            s.center
+                + rot
+                    * Vec3::new(
+                        if i & 1 != 0 { h.x } else { -h.x },
+                        if i & 2 != 0 { h.y } else { -h.y },
+                        if i & 4 != 0 { h.z } else { -h.z },
+                    )
+        };
         let yellow = [1.0, 0.85, 0.1, 1.0];
         for i in 0..8u8 {
             for bit in [1u8, 2, 4] {
@@ -347,7 +362,11 @@ pub fn build(scene: &OverlayScene, model: Option<&ControllerModel>) -> OverlayGe
     }
     for t in &scene.targets {
         // The ring lights up while the hit point is inside the target's tolerance.
-        let aimed = hit.is_some_and(|h| h.visible && glam::Vec2::new(h.position.x - t.position.x, h.position.z - t.position.z).length() <= scene.target_tolerance);
+        let aimed = hit.is_some_and(|h| {
+            h.visible
+                && glam::Vec2::new(h.position.x - t.position.x, h.position.z - t.position.z).length()
+                    <= scene.target_tolerance
+        });
         let color = if aimed && !t.done {
             RING_LIT
         } else if t.done {
@@ -370,7 +389,13 @@ mod tests {
     fn scene(on_water: bool) -> OverlayScene {
         OverlayScene {
             controllers: Vec::new(),
-            hit: Some(OverlayHit { visible: true, distance: 5.0, position: Vec3::new(0.0, -0.15, -4.0), normal: Vec3::Y, on_water }),
+            hit: Some(OverlayHit {
+                visible: true,
+                distance: 5.0,
+                position: Vec3::new(0.0, -0.15, -4.0),
+                normal: Vec3::Y,
+                on_water,
+            }),
             anchors: Vec::new(),
             selections: Vec::new(),
             targets: Vec::new(),
@@ -409,7 +434,8 @@ mod tests {
     }
 
     fn model() -> ControllerModel {
-        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets")).join(crate::render::overlay::controller::MODEL_DIR);
+        let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"))
+            .join(crate::render::overlay::controller::MODEL_DIR);
         ControllerModel::load(&dir).unwrap_or_else(|e| panic!("{e}"))
     }
 
@@ -431,7 +457,9 @@ mod tests {
         let rest = build(&with_controller(ControllerInput::default()), Some(&m));
         // The model sits at the ray's origin, behind it.
         let c = with_controller(ControllerInput::default()).controllers[0];
-        let body = |g: &OverlayGeometry| g.triangles.iter().filter(|v| v.color != MARKER).map(|v| Vec3::from(v.position)).collect::<Vec<_>>();
+        let body = |g: &OverlayGeometry| {
+            g.triangles.iter().filter(|v| v.color != MARKER).map(|v| Vec3::from(v.position)).collect::<Vec<_>>()
+        };
         assert!(body(&rest).iter().all(|p| p.distance(c.origin) < 0.2), "the model is at the controller");
         assert!(body(&rest).iter().all(|p| (*p - c.origin).dot(c.dir) < 1e-3), "the model lies behind the ray origin");
         // A pulled trigger moves some vertices; a touch adds the dot.
@@ -439,7 +467,8 @@ mod tests {
         assert_eq!(pulled.triangles.len(), rest.triangles.len());
         let moved = rest.triangles.iter().zip(&pulled.triangles).filter(|(a, b)| a.position != b.position).count();
         assert!(moved > 0 && moved < rest.triangles.len() / 2, "{moved} vertices moved");
-        let touched = build(&with_controller(ControllerInput { touchpad: Vec2::new(0.3, -0.4), ..Default::default() }), Some(&m));
+        let touched =
+            build(&with_controller(ControllerInput { touchpad: Vec2::new(0.3, -0.4), ..Default::default() }), Some(&m));
         let dots = |g: &OverlayGeometry| g.triangles.iter().filter(|v| v.color == TOUCH_DOT).count();
         assert_eq!(dots(&rest), 0);
         assert!(dots(&touched) > 0);

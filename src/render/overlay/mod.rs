@@ -12,7 +12,7 @@ use wgpu::util::DeviceExt;
 use self::controller::ControllerModel;
 use self::geometry::{OverlayGhost, OverlayScene, OverlayVertex};
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
-use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
+use super::gpu::{PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, color_target, depth_test};
 
 /// The overlay's pipelines: triangles and lines.
 pub(crate) struct OverlayPipelines {
@@ -41,7 +41,9 @@ impl Overlay {
     /// line on stderr, and a box instead, when it cannot be).
     pub(crate) fn new(shared: &Shared) -> Overlay {
         let dir = controller::model_dir(&super::assets::default_assets_dir());
-        let controller = ControllerModel::load(&dir).inspect_err(|e| eprintln!("warning: the controller model did not load, a box stands in: {e}")).ok();
+        let controller = ControllerModel::load(&dir)
+            .inspect_err(|e| eprintln!("warning: the controller model did not load, a box stands in: {e}"))
+            .ok();
         Overlay {
             module: shared.shader("overlay.wgsl", include_str!("overlay.wgsl")),
             layout: shared.layout("overlay layout", &[Some(&shared.view_layout)]),
@@ -55,7 +57,12 @@ impl Overlay {
 }
 
 /// The overlay's pipelines of `key`: main view only.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<OverlayPipelines, PipelineError> {
+fn build(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> Result<OverlayPipelines, PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("the overlay"));
     }
@@ -120,7 +127,13 @@ impl Feature for Overlay {
         Ok(self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         if phase != Phase::Overlay {
             return Ok(());
         }

@@ -3,8 +3,8 @@
 //! plane, after everything opaque.
 
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
+use super::gpu::{PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, color_target, depth_test};
 use crate::render::error::{PipelineError, RenderError};
-use super::gpu::{color_target, depth_test, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind};
 
 /// The sky feature.
 pub(crate) struct Sky {
@@ -25,7 +25,12 @@ impl Sky {
 }
 
 /// The sky's pipeline of `key`: main view only; the shadow and wind choices do not change it.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
+fn build(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("the sky"));
     }
@@ -56,7 +61,13 @@ impl Feature for Sky {
         Ok(self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?)
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         if phase == Phase::Sky {
             pass.set_pipeline(self.pipelines.get(key)?);
             pass.draw(0..3, 0..1);

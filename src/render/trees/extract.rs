@@ -34,7 +34,15 @@ pub(crate) fn trees(sim: &Sim, cx: &ExtractContext<'_>) -> Vec<TreeDraw> {
         // A tree without a wind state stands still: no bend and zero gain.
         let (bend, gain, phase) = v.wind.map_or((Vec2::ZERO, 0.0, 0.0), |w| (w.bend, w.gain, w.phase));
         let t = v.transform;
-        let draw = TreeDraw { model: usize::from(v.model.0), origin: t.translation, yaw: t.yaw, scale: v.scale, bend, gain, phase };
+        let draw = TreeDraw {
+            model: usize::from(v.model.0),
+            origin: t.translation,
+            yaw: t.yaw,
+            scale: v.scale,
+            bend,
+            gain,
+            phase,
+        };
         match v.crown {
             Some(_) if cx.canopy => {}
             Some(_) => crowns.push((v.id, draw)),

@@ -2,9 +2,9 @@
 
 use glam::Vec3;
 
-use super::{impostor, lod};
-use super::model::GpuModel;
 use super::extract::TreeDraw;
+use super::model::GpuModel;
+use super::{impostor, lod};
 use crate::render::view::Camera;
 
 /// One tree instance (vertex buffer slot 1; matches `VertexIn` in trees.wgsl, locations 5–11).
@@ -59,7 +59,14 @@ pub const FAR_BAND: f32 = 1.25;
 /// model has bounds `bounds` (model space), the tree is at `scale` and `distance` metres, and
 /// its bounding sphere's diameter covers some pixels against `far_pixels` (0: never the far
 /// model), with the band [`FAR_BAND`], or a hard switch at `far_pixels` without `cross_fade`.
-pub fn far_share(bounds: (Vec3, Vec3), scale: f32, distance: f32, pixels_per_radian: f32, far_pixels: f32, cross_fade: bool) -> f32 {
+pub fn far_share(
+    bounds: (Vec3, Vec3),
+    scale: f32,
+    distance: f32,
+    pixels_per_radian: f32,
+    far_pixels: f32,
+    cross_fade: bool,
+) -> f32 {
     let radius = bounds.0.abs().max(bounds.1.abs()).length() * scale;
     let band = if cross_fade { FAR_BAND } else { 1.0 };
     impostor::fade_in_band(2.0 * radius, distance, pixels_per_radian, far_pixels, band)
@@ -98,7 +105,14 @@ pub(crate) struct Gathered {
 /// leave the mesh list. A tree whose model has a far model (`far`, by model index) is drawn as
 /// that model wherever its bounding sphere covers fewer than `far_pixels`, and as both, sharing
 /// its pixels, up to [`FAR_BAND`] times as many ([`far_share`]).
-pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Option<usize>], camera: &Camera, height: u32, detail: Detail) -> Gathered {
+pub(crate) fn gather(
+    trees: &[TreeDraw],
+    models: &[Option<GpuModel>],
+    far: &[Option<usize>],
+    camera: &Camera,
+    height: u32,
+    detail: Detail,
+) -> Gathered {
     let Detail { leaf_pixels, impostor_pixels, far_pixels, cross_fade } = detail;
     let band = if cross_fade { impostor::BAND } else { 1.0 };
     let eye = camera.position;
@@ -119,7 +133,9 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
         // A tree small on screen is drawn as its model's far model, where it has one, and as
         // both within the band: (model index, share handed to the far model).
         let share = match far.get(t.model).copied().flatten() {
-            Some(f) if matches!(models.get(f), Some(Some(_))) => Some((f, far_share(near.bounds, scale, distance, pixels_per_radian, far_pixels, cross_fade))),
+            Some(f) if matches!(models.get(f), Some(Some(_))) => {
+                Some((f, far_share(near.bounds, scale, distance, pixels_per_radian, far_pixels, cross_fade)))
+            }
             _ => None,
         };
         let levels = match share {
@@ -133,7 +149,9 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
                 continue;
             };
             let keep = lod::keep_fraction(model.leaf_area * scale * scale, distance, pixels_per_radian, leaf_pixels);
-            let fade = model.impostor.as_ref().map_or(0.0, |a| impostor::fade_in_band(2.0 * a.radius * scale, distance, pixels_per_radian, impostor_pixels, band));
+            let fade = model.impostor.as_ref().map_or(0.0, |a| {
+                impostor::fade_in_band(2.0 * a.radius * scale, distance, pixels_per_radian, impostor_pixels, band)
+            });
             let instance = Instance {
                 origin: t.origin.to_array(),
                 scale,
@@ -171,7 +189,11 @@ pub(crate) fn gather(trees: &[TreeDraw], models: &[Option<GpuModel>], far: &[Opt
     let mut flat = Vec::new();
     let mut impostor_ranges = Vec::new();
     for mut list in impostors {
-        list.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.origin[0].total_cmp(&q.1.origin[0])).then(p.1.origin[2].total_cmp(&q.1.origin[2])));
+        list.sort_by(|p, q| {
+            p.0.total_cmp(&q.0)
+                .then(p.1.origin[0].total_cmp(&q.1.origin[0]))
+                .then(p.1.origin[2].total_cmp(&q.1.origin[2]))
+        });
         let base = flat.len() as u32;
         flat.extend(list.iter().map(|e| e.1));
         impostor_ranges.push(base..flat.len() as u32);
@@ -208,7 +230,7 @@ pub(crate) fn bounds(trees: &[TreeDraw], models: &[Option<GpuModel>]) -> Option<
 mod tests {
     use glam::Vec3;
 
-    use super::{far_share, FAR_BAND};
+    use super::{FAR_BAND, far_share};
 
     #[test]
     fn a_far_model_stands_in_below_its_size_on_screen() {

@@ -156,12 +156,7 @@ pub fn order_leaves(vertices: &[Vertex], indices: &[u32], seed: u64) -> Option<L
 /// camera's distance to the tree in metres, `pixels_per_radian` the viewport height over the
 /// vertical field of view's extent, `(height / 2) / tan(fov_y / 2)`. A `leaf_pixels` of 0
 /// turns simplification off.
-pub fn keep_fraction(
-    leaf_area: f32,
-    distance: f32,
-    pixels_per_radian: f32,
-    leaf_pixels: f32,
-) -> f32 {
+pub fn keep_fraction(leaf_area: f32, distance: f32, pixels_per_radian: f32, leaf_pixels: f32) -> f32 {
     if leaf_pixels <= 0.0 || !(leaf_area > 0.0) {
         return 1.0;
     }
@@ -208,10 +203,7 @@ mod tests {
             let x = q as f32 * 2.0;
             let base = v.len() as u32;
             for (dx, dy) in [(0.0, 0.0), (side, 0.0), (side, side), (0.0, side)] {
-                v.push(Vertex {
-                    position: [x + dx, dy, 0.0],
-                    ..Default::default()
-                });
+                v.push(Vertex { position: [x + dx, dy, 0.0], ..Default::default() });
             }
             idx.extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
         }
@@ -231,22 +223,13 @@ mod tests {
             assert_eq!(tri.len(), 6);
             let l = o.leaf[tri[0] as usize];
             assert!(tri.iter().all(|&i| o.leaf[i as usize] == l));
-            assert!(
-                (l[3] - (k as f32 + 0.5) / 40.0).abs() < 1e-6,
-                "ranks rise along the index buffer"
-            );
-            assert!(
-                (l[1] - 0.25).abs() < 1e-6,
-                "the centre is the quad's middle"
-            );
+            assert!((l[3] - (k as f32 + 0.5) / 40.0).abs() < 1e-6, "ranks rise along the index buffer");
+            assert!((l[1] - 0.25).abs() < 1e-6, "the centre is the quad's middle");
         }
         // The shuffle is not the identity, and the same seed gives the same order.
         assert_ne!(o.indices, idx);
         assert_eq!(order_leaves(&v, &idx, 7), Some(o.clone()));
-        assert_ne!(
-            order_leaves(&v, &idx, 8).map(|p| p.indices),
-            Some(o.indices)
-        );
+        assert_ne!(order_leaves(&v, &idx, 8).map(|p| p.indices), Some(o.indices));
     }
 
     #[test]
@@ -278,10 +261,8 @@ mod tests {
     fn drawn_area_stays_the_crowns() {
         let n = 4096;
         for keep in [1.0, 0.8, 0.5, 0.25, 0.1, MIN_KEEP] {
-            let area: f32 = (0..n)
-                .map(|k| leaf_scale((k as f32 + 0.5) / n as f32, keep).powi(2))
-                .sum::<f32>()
-                / n as f32;
+            let area: f32 =
+                (0..n).map(|k| leaf_scale((k as f32 + 0.5) / n as f32, keep).powi(2)).sum::<f32>() / n as f32;
             assert!((area - 1.0).abs() < 0.01, "keep {keep}: area {area}");
         }
         assert_eq!(leaf_scale(-1.0, 0.1), 1.0);
@@ -297,10 +278,7 @@ mod tests {
             while keep > MIN_KEEP {
                 let next = keep * 0.999;
                 let (a, b) = (area(keep), area(next));
-                assert!(
-                    (a - b).abs() < 0.05 * b.max(1.0),
-                    "rank {rank} at keep {keep}: area {a} -> {b}"
-                );
+                assert!((a - b).abs() < 0.05 * b.max(1.0), "rank {rank} at keep {keep}: area {a} -> {b}");
                 keep = next;
             }
         }

@@ -9,26 +9,26 @@
 //! gets both from [`Feature::draw_depth`].
 
 mod extract;
-mod models;
 pub mod impostor;
 pub mod instances;
 pub mod lod;
 pub mod model;
+mod models;
 pub(crate) mod pipelines;
 pub mod sweep;
 pub(crate) mod views;
 
 use glam::Vec3;
 
+use self::extract::TreeDraw;
 use self::impostor::draw::ImpostorGpu;
-use self::instances::{gather, BucketRanges, Detail, Gathered, Instance};
+use self::instances::{BucketRanges, Detail, Gathered, Instance, gather};
 use self::model::{GpuMaterial, GpuModel};
 use self::pipelines::TreePipelines;
-use self::extract::TreeDraw;
 use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
-use crate::render::error::{PipelineError, RenderError};
 use super::gpu::{PipelineCache, PipelineKey, Shared, ViewKind};
 use crate::render::clip::ClipRegion;
+use crate::render::error::{PipelineError, RenderError};
 
 /// Which trees a pass draws (see [`views`] and [`Trees::cull`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,7 +50,6 @@ impl TreeView {
         }
     }
 }
-
 
 /// The trees feature: the models, this frame's instances and the pipelines by key. Its own
 /// methods load models and read back what was loaded ([`models`]).
@@ -101,8 +100,12 @@ impl Trees {
         let capacity = 1024;
         Trees {
             module: shared.shader_with("trees.wgsl", include_str!("trees.wgsl"), &[model::MATERIAL_PIECE]),
-            lit_layout: shared.layout("tree lit layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)]),
-            shadow_layout: shared.layout("tree shadow layout", &[Some(&shared.view_layout), None, Some(&shared.material_layout)]),
+            lit_layout: shared.layout(
+                "tree lit layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&shared.material_layout)],
+            ),
+            shadow_layout: shared
+                .layout("tree shadow layout", &[Some(&shared.view_layout), None, Some(&shared.material_layout)]),
             pipelines: PipelineCache::new("trees"),
             models: Vec::new(),
             far: Vec::new(),
@@ -129,12 +132,16 @@ impl Trees {
     /// that cannot be written is reported and otherwise ignored.
     fn bake_impostor(&mut self, model: &mut GpuModel, data: &crate::models::ModelData) {
         let shared = &self.shared;
-        let positions: Vec<Vec3> = data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
+        let positions: Vec<Vec3> =
+            data.primitives.iter().flat_map(|p| p.vertices.iter().map(|v| Vec3::from(v.position))).collect();
         let key = impostor::cache::model_key(data, &impostor::bake::bake_wgsl());
         let path = self.impostor_cache.as_deref().map(|d| impostor::cache::file_path(d, &model.name, key));
         let mut atlas = None;
         if let Some(p) = path.as_deref().filter(|p| p.exists()) {
-            match grove_systems::files::read(p, grove_systems::files::Kind::Cache).map_err(impostor::cache::AtlasError::Read).and_then(|b| impostor::cache::decode(&b, key)) {
+            match grove_systems::files::read(p, grove_systems::files::Kind::Cache)
+                .map_err(impostor::cache::AtlasError::Read)
+                .and_then(|b| impostor::cache::decode(&b, key))
+            {
                 Ok(levels) => atlas = self.impostors.baker.from_levels(shared, model, &positions, &levels),
                 Err(e) => eprintln!("warning: impostor cache {}: {e}; baking it again", p.display()),
             }
@@ -163,7 +170,15 @@ impl Trees {
     /// leaves than it can show at `shadow_texels_per_metre` ([`views::shadow_detail`]). Uploads
     /// every view's instances. Call after [`Feature::prepare`]. Without `enabled`, every view
     /// draws every tree.
-    pub(crate) fn cull(&mut self, main: &ClipRegion, extra: &[ClipRegion], sun: Option<(Vec3, f32)>, light: &ClipRegion, shadow_texels_per_metre: f32, enabled: bool) {
+    pub(crate) fn cull(
+        &mut self,
+        main: &ClipRegion,
+        extra: &[ClipRegion],
+        sun: Option<(Vec3, f32)>,
+        light: &ClipRegion,
+        shadow_texels_per_metre: f32,
+        enabled: bool,
+    ) {
         let (Some(every), Some(wind)) = (&self.every, &self.wind) else { return };
         let models = &self.models;
         let leaf_area = |m: usize| models.get(m).and_then(Option::as_ref).map(|model| model.leaf_area);
@@ -222,7 +237,12 @@ impl Trees {
 
     /// Draws each model's impostors of `view` over its range of the impostor instances
     /// (pipeline set).
-    fn draw_impostors<'p>(&'p self, pass: &mut wgpu::RenderPass<'p>, view: TreeView, mut count: impl FnMut(&std::ops::Range<u32>)) {
+    fn draw_impostors<'p>(
+        &'p self,
+        pass: &mut wgpu::RenderPass<'p>,
+        view: TreeView,
+        mut count: impl FnMut(&std::ops::Range<u32>),
+    ) {
         let Some(ranges) = self.impostor_ranges.get(view.index()) else { return };
         pass.set_vertex_buffer(0, self.impostor_instances.slice(..));
         for (m, range) in self.models.iter().zip(ranges) {
@@ -293,7 +313,12 @@ impl Feature for Trees {
     }
 
     fn prepare(&mut self, cx: &FrameContext<'_>, trees: Vec<TreeDraw>) -> Result<(), RenderError> {
-        let detail = Detail { leaf_pixels: cx.options.leaf_pixels, impostor_pixels: cx.options.impostor_pixels, far_pixels: cx.options.far_pixels, cross_fade: cx.options.lod_cross_fade };
+        let detail = Detail {
+            leaf_pixels: cx.options.leaf_pixels,
+            impostor_pixels: cx.options.impostor_pixels,
+            far_pixels: cx.options.far_pixels,
+            cross_fade: cx.options.lod_cross_fade,
+        };
         let g = gather(&trees, &self.models, &self.far, &cx.common.camera, cx.size.1, detail);
         self.wind = Some(cx.common.wind);
         self.every = Some(g);
@@ -308,7 +333,8 @@ impl Feature for Trees {
         let (module, lit, shadow) = (&self.module, &self.lit_layout, &self.shadow_layout);
         self.pipelines.prepare(cx.key, |k| pipelines::build(cx.shared, module, lit, shadow, k))?;
         if cx.key.shadows {
-            self.pipelines.prepare(cx.key.with_view(ViewKind::Sun), |k| pipelines::build(cx.shared, module, lit, shadow, k))?;
+            self.pipelines
+                .prepare(cx.key.with_view(ViewKind::Sun), |k| pipelines::build(cx.shared, module, lit, shadow, k))?;
         }
         Ok(())
     }
@@ -326,14 +352,27 @@ impl Feature for Trees {
         Ok(())
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         self.draw_view(TreeView::Main, phase, pass, key, stats)
     }
 }
 
 impl Trees {
     /// [`Feature::draw`] for the trees of `view`.
-    pub(crate) fn draw_view<'p>(&'p self, view: TreeView, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
+    pub(crate) fn draw_view<'p>(
+        &'p self,
+        view: TreeView,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
         let TreePipelines::Main(p) = self.pipelines.get(key)? else {
             return Err(PipelineError::NotMainKey { feature: "trees", key }.into());
         };
@@ -347,7 +386,9 @@ impl Trees {
                 count(n, range);
             }),
             Phase::AlphaClipped => {
-                self.draw_trees(pass, view, Materials::Masked, |pass, mat, _, _| pass.set_pipeline(&p.masked_depth[mat.double_sided as usize]));
+                self.draw_trees(pass, view, Materials::Masked, |pass, mat, _, _| {
+                    pass.set_pipeline(&p.masked_depth[mat.double_sided as usize])
+                });
                 self.draw_trees(pass, view, Materials::Masked, |pass, mat, n, range| {
                     pass.set_pipeline(&p.masked_shade[mat.double_sided as usize]);
                     count(n, range);

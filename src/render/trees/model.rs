@@ -91,11 +91,20 @@ impl GpuModel {
             .enumerate()
             .map(|(i, img)| {
                 data.materials.iter().any(|m| m.albedo == Some(i)).then(|| {
-                    textures::upload_2d_encoded(device, &shared.queue, &format!("{name} image {i} (sRGB-encoded albedo)"), img.width, img.height, &img.rgba)
+                    textures::upload_2d_encoded(
+                        device,
+                        &shared.queue,
+                        &format!("{name} image {i} (sRGB-encoded albedo)"),
+                        img.width,
+                        img.height,
+                        &img.rgba,
+                    )
                 })
             })
             .collect();
-        let image = |k: Option<usize>| k.and_then(|k| data.images.get(k)).map(|img| (img.width, img.height, img.rgba.as_slice()));
+        let image = |k: Option<usize>| {
+            k.and_then(|k| data.images.get(k)).map(|img| (img.width, img.height, img.rgba.as_slice()))
+        };
         let materials = data
             .materials
             .iter()
@@ -120,10 +129,19 @@ impl GpuModel {
                 // The normal map in RGB and the specular map in A: trees.wgsl reads both with one
                 // sample. The specular slot of the shared layout holds the same view, so a shader
                 // that reads the specular map there (its alpha) reads the same values.
-                let normal_spec =
-                    textures::upload_normal_specular(device, &shared.queue, &format!("{name} material {i} normal and specular ({})", m.name), image(m.normal), image(m.specular));
+                let normal_spec = textures::upload_normal_specular(
+                    device,
+                    &shared.queue,
+                    &format!("{name} material {i} normal and specular ({})", m.name),
+                    image(m.normal),
+                    image(m.specular),
+                );
                 GpuMaterial {
-                    bind_group: shared.material_bind_group(&format!("{name} material {i} bind group"), &buf, [albedo, &normal_spec, &normal_spec]),
+                    bind_group: shared.material_bind_group(
+                        &format!("{name} material {i} bind group"),
+                        &buf,
+                        [albedo, &normal_spec, &normal_spec],
+                    ),
                     double_sided: m.double_sided,
                     masked: m.alpha_cutoff.is_some(),
                 }
@@ -131,7 +149,8 @@ impl GpuModel {
             .collect();
         // Alpha-clipped primitives of many pieces are simplified with distance (see `lod`),
         // with a shuffle seeded by the model's name, so every run draws the same leaves.
-        let seed = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+        let seed =
+            name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
         let (mut leaf_area, mut simplified) = (0.0f32, 0usize);
         let mut leaf_orders = Vec::new();
         let primitives = data
@@ -168,8 +187,18 @@ impl GpuModel {
             })
             .collect();
         let leaf_area = if simplified > 0 { leaf_area / simplified as f32 } else { 0.0 };
-        let sweep = super::sweep::Sweep::new(data.primitives.iter().zip(&leaf_orders).map(|(p, l)| (&p.vertices[..], &l[..])));
-        GpuModel { name, primitives, materials, bounds: data.bounds, triangles: data.triangles(), leaf_area, impostor: None, sweep }
+        let sweep =
+            super::sweep::Sweep::new(data.primitives.iter().zip(&leaf_orders).map(|(p, l)| (&p.vertices[..], &l[..])));
+        GpuModel {
+            name,
+            primitives,
+            materials,
+            bounds: data.bounds,
+            triangles: data.triangles(),
+            leaf_area,
+            impostor: None,
+            sweep,
+        }
     }
 }
 
@@ -185,7 +214,8 @@ mod tests {
             let wgsl = crate::render::shader::compose(src, &[MATERIAL_PIECE]);
             assert_eq!(wgsl.matches("struct Material {").count(), 1, "{wgsl}");
             assert!(wgsl.contains(MaterialUniform::WGSL));
-            let (members, size) = crate::render::shader::struct_layout(&wgsl, "Material").expect("the composed shader parses and declares Material");
+            let (members, size) = crate::render::shader::struct_layout(&wgsl, "Material")
+                .expect("the composed shader parses and declares Material");
             let rust: Vec<(String, usize)> = MaterialUniform::FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
             assert_eq!(members, rust);
             assert_eq!(size, std::mem::size_of::<MaterialUniform>());

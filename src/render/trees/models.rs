@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 use grove_systems::catalogue::ModelId;
 
-use super::model::GpuModel;
 use super::Trees;
+use super::model::GpuModel;
 use crate::models::ModelData;
 
 impl Trees {

@@ -8,7 +8,7 @@
 //! position `@invariant`, so their depths agree exactly.
 
 use crate::render::error::PipelineError;
-use crate::render::gpu::{color_target, depth_test, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
+use crate::render::gpu::{PipelineKey, PipelineSpec, SHADOW_FORMAT, Shared, ViewKind, color_target, depth_test};
 
 use super::instances::Instance;
 
@@ -73,7 +73,13 @@ pub(crate) fn build(
     let constants = key.tree_constants();
     // Depth-only pipelines do not shade, so their shadow constant is moot.
     let depth_constants = PipelineKey { shadows: false, ..key }.tree_constants();
-    let pipeline = |label: &str, layout, two_sided: bool, (vertex, fragment): (&str, Option<&str>), depth, targets: &[Option<wgpu::ColorTargetState>], constants: &[(&str, f64)]| {
+    let pipeline = |label: &str,
+                    layout,
+                    two_sided: bool,
+                    (vertex, fragment): (&str, Option<&str>),
+                    depth,
+                    targets: &[Option<wgpu::ColorTargetState>],
+                    constants: &[(&str, f64)]| {
         let sides = if two_sided { "two-sided" } else { "one-sided" };
         shared.pipeline(&PipelineSpec {
             label: &format!("tree {label} pipeline ({sides}, {key:?})"),
@@ -95,12 +101,23 @@ pub(crate) fn build(
             let no_color = color_target(key.format, wgpu::ColorWrites::empty());
             let less = depth_test(true, wgpu::CompareFunction::Less);
             let equal = depth_test(false, wgpu::CompareFunction::Equal);
-            let both = |label: &str, stages, depth: &wgpu::DepthStencilState, targets: &[Option<wgpu::ColorTargetState>], constants: &[(&str, f64)]| {
-                [false, true].map(|two_sided| pipeline(label, lit_layout, two_sided, stages, depth.clone(), targets, constants))
+            let both = |label: &str,
+                        stages,
+                        depth: &wgpu::DepthStencilState,
+                        targets: &[Option<wgpu::ColorTargetState>],
+                        constants: &[(&str, f64)]| {
+                [false, true]
+                    .map(|two_sided| pipeline(label, lit_layout, two_sided, stages, depth.clone(), targets, constants))
             };
             Ok(TreePipelines::Main(MainPipelines {
                 opaque: both("opaque", ("vs_main", Some("fs_main")), &less, &color, &constants),
-                masked_depth: both("depth pre-pass", ("vs_depth", Some("fs_alpha_test")), &less, &no_color, &depth_constants),
+                masked_depth: both(
+                    "depth pre-pass",
+                    ("vs_depth", Some("fs_alpha_test")),
+                    &less,
+                    &no_color,
+                    &depth_constants,
+                ),
                 masked_shade: both("alpha-clipped", ("vs_main", Some("fs_main")), &equal, &color, &constants),
             }))
         }
@@ -111,8 +128,24 @@ pub(crate) fn build(
                 ..depth_test(true, wgpu::CompareFunction::Less)
             };
             Ok(TreePipelines::Shadow(ShadowPipelines {
-                opaque: pipeline("shadow (opaque)", shadow_layout, true, ("vs_depth", None), depth.clone(), &[], &depth_constants),
-                masked: pipeline("shadow (alpha-clipped)", shadow_layout, true, ("vs_depth", Some("fs_alpha_test")), depth, &[], &depth_constants),
+                opaque: pipeline(
+                    "shadow (opaque)",
+                    shadow_layout,
+                    true,
+                    ("vs_depth", None),
+                    depth.clone(),
+                    &[],
+                    &depth_constants,
+                ),
+                masked: pipeline(
+                    "shadow (alpha-clipped)",
+                    shadow_layout,
+                    true,
+                    ("vs_depth", Some("fs_alpha_test")),
+                    depth,
+                    &[],
+                    &depth_constants,
+                ),
             }))
         }
     }

@@ -83,7 +83,8 @@ impl Sweep {
             for (i, v) in vertices.iter().enumerate() {
                 let p = Vec3::from(v.position);
                 let [h, r, b, _] = v.wind.map(f32::abs);
-                let leaf = leaves.get(i).filter(|l| l[3] >= 0.0).map_or(0.0, |l| p.distance(Vec3::new(l[0], l[1], l[2])));
+                let leaf =
+                    leaves.get(i).filter(|l| l[3] >= 0.0).map_or(0.0, |l| p.distance(Vec3::new(l[0], l[1], l[2])));
                 let e = Band { lo: p, hi: p, h2: h * h, r2: r * r, b, hr: h + r, leaf };
                 let slot = &mut bands[band_of(p.y)];
                 *slot = Some(match *slot {
@@ -104,7 +105,11 @@ impl Sweep {
     }
 
     /// The world boxes the bands of a tree at `instance` can reach under `wind`, one per band.
-    pub fn boxes<'a>(&'a self, instance: &'a Placement, wind: &'a WindParams) -> impl Iterator<Item = (Vec3, Vec3)> + 'a {
+    pub fn boxes<'a>(
+        &'a self,
+        instance: &'a Placement,
+        wind: &'a WindParams,
+    ) -> impl Iterator<Item = (Vec3, Vec3)> + 'a {
         let k = instance.scale;
         let (sin, cos) = instance.yaw.sin_cos();
         let origin = Vec3::from(instance.origin);
@@ -165,7 +170,11 @@ mod tests {
     #[test]
     fn bands_split_a_model_by_height_and_keep_each_bands_largest_channels() {
         // A trunk from 0 to 8 m and a branch tip at 7.5 m, 3 m out.
-        let vertices = [vertex([0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]), vertex([0.0, 8.0, 0.0], [8.0, 0.0, 0.0, 0.0]), vertex([3.0, 7.5, 0.0], [7.5, 3.0, 0.5, 0.2])];
+        let vertices = [
+            vertex([0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]),
+            vertex([0.0, 8.0, 0.0], [8.0, 0.0, 0.0, 0.0]),
+            vertex([3.0, 7.5, 0.0], [7.5, 3.0, 0.5, 0.2]),
+        ];
         let leaves = lod::unsimplified(vertices.len());
         let sweep = Sweep::new([(&vertices[..], &leaves[..])]);
         assert_eq!(sweep.bands.len(), 2, "{:?}", sweep.bands);
@@ -189,12 +198,16 @@ mod tests {
         let w = wind(0.0);
         for yaw in [0.3f32, 1.7, 3.0, -2.2] {
             let at = Placement { origin: [5.0, 0.5, -3.0], scale: 1.5, yaw, bend: [0.0; 2], gain: 1.0, keep: 1.0 };
-            let (lo, hi): (Vec3, Vec3) = sweep.boxes(&at, &w).fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)));
+            let (lo, hi): (Vec3, Vec3) =
+                sweep.boxes(&at, &w).fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)));
             let (s, c) = yaw.sin_cos();
             for v in &vertices {
                 let p = Vec3::from(v.position) * 1.5;
                 let world = Vec3::from(at.origin) + Vec3::new(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
-                assert!(world.cmpge(lo - 1e-5).all() && world.cmple(hi + 1e-5).all(), "{world} outside {lo}..{hi} at yaw {yaw}");
+                assert!(
+                    world.cmpge(lo - 1e-5).all() && world.cmple(hi + 1e-5).all(),
+                    "{world} outside {lo}..{hi} at yaw {yaw}"
+                );
             }
         }
     }

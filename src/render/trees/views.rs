@@ -12,7 +12,7 @@
 use glam::Vec3;
 use grove_systems::wind_model::WindParams;
 
-use super::instances::{bucket_ranges, BucketRanges, Gathered, Instance};
+use super::instances::{BucketRanges, Gathered, Instance, bucket_ranges};
 use super::lod;
 use super::model::GpuModel;
 use super::sweep::Placement;
@@ -36,7 +36,12 @@ fn impostor_box(model: &GpuModel, instance: &Instance) -> Option<(Vec3, Vec3)> {
 /// The trees of `every` (as [`super::instances::gather`] groups them; `models` by the same index) with a
 /// band box ([`super::sweep`], in `wind`) for which `keep` holds, in the same order; impostors
 /// by their square's box.
-pub(crate) fn cull(every: &Gathered, models: &[Option<GpuModel>], wind: &WindParams, keep: impl Fn(Vec3, Vec3) -> bool) -> Gathered {
+pub(crate) fn cull(
+    every: &Gathered,
+    models: &[Option<GpuModel>],
+    wind: &WindParams,
+    keep: impl Fn(Vec3, Vec3) -> bool,
+) -> Gathered {
     let mut out = Gathered::default();
     for (m, buckets) in every.ranges.iter().enumerate() {
         let model = models.get(m).and_then(Option::as_ref);
@@ -76,8 +81,16 @@ pub const SHADOW_LEAF_TEXELS: f32 = 16.0;
 /// orthographic view), and no tree draws more leaves than the camera's view keeps. `leaf_area`
 /// gives a model's mean leaf area in square metres (by model index). Trees move to their new
 /// keep buckets, in the order they had within each model; impostors are unchanged.
-pub(crate) fn shadow_detail(casters: &Gathered, leaf_area: impl Fn(usize) -> Option<f32>, texels_per_metre: f32) -> Gathered {
-    let mut out = Gathered { impostors: casters.impostors.clone(), impostor_ranges: casters.impostor_ranges.clone(), ..Default::default() };
+pub(crate) fn shadow_detail(
+    casters: &Gathered,
+    leaf_area: impl Fn(usize) -> Option<f32>,
+    texels_per_metre: f32,
+) -> Gathered {
+    let mut out = Gathered {
+        impostors: casters.impostors.clone(),
+        impostor_ranges: casters.impostor_ranges.clone(),
+        ..Default::default()
+    };
     for (m, buckets) in casters.ranges.iter().enumerate() {
         let area = leaf_area(m);
         let mut list: Vec<(usize, Instance)> = buckets
@@ -85,7 +98,12 @@ pub(crate) fn shadow_detail(casters: &Gathered, leaf_area: impl Fn(usize) -> Opt
             .flat_map(|r| casters.instances[r.start as usize..r.end as usize].iter().copied())
             .map(|mut i| {
                 if let Some(a) = area {
-                    i.keep = i.keep.min(lod::keep_fraction(a * i.scale * i.scale, 1.0, texels_per_metre, SHADOW_LEAF_TEXELS));
+                    i.keep = i.keep.min(lod::keep_fraction(
+                        a * i.scale * i.scale,
+                        1.0,
+                        texels_per_metre,
+                        SHADOW_LEAF_TEXELS,
+                    ));
                 }
                 (lod::bucket(i.keep), i)
             })
@@ -113,17 +131,28 @@ pub fn shadow_box(lo: Vec3, hi: Vec3, sun: Vec3, floor: f32) -> Option<(Vec3, Ve
 mod tests {
     use glam::Vec3;
 
-    use super::{bucket_ranges, shadow_box, shadow_detail, SHADOW_LEAF_TEXELS};
+    use super::{SHADOW_LEAF_TEXELS, bucket_ranges, shadow_box, shadow_detail};
     use crate::render::trees::instances::{Gathered, Instance};
     use crate::render::trees::lod;
 
     fn tree(x: f32, scale: f32, keep: f32) -> Instance {
-        Instance { origin: [x, 0.0, 0.0], scale, yaw: 0.0, bend: [0.0; 2], gain: 1.0, phase: 0.0, keep, fade: 0.0, handoff: 0.0 }
+        Instance {
+            origin: [x, 0.0, 0.0],
+            scale,
+            yaw: 0.0,
+            bend: [0.0; 2],
+            gain: 1.0,
+            phase: 0.0,
+            keep,
+            fade: 0.0,
+            handoff: 0.0,
+        }
     }
 
     /// Trees of model 0 (with leaves) and 1 (without), grouped by their keep buckets.
     fn gathered(trees: &[(usize, Instance)]) -> Gathered {
-        let mut g = Gathered { impostors: vec![tree(99.0, 1.0, 1.0)], impostor_ranges: vec![0..1, 1..1], ..Default::default() };
+        let mut g =
+            Gathered { impostors: vec![tree(99.0, 1.0, 1.0)], impostor_ranges: vec![0..1, 1..1], ..Default::default() };
         for m in 0..2 {
             let mut list: Vec<Instance> = trees.iter().filter(|t| t.0 == m).map(|t| t.1).collect();
             list.sort_by_key(|i| lod::bucket(i.keep));
@@ -138,7 +167,8 @@ mod tests {
         // Leaves of 0.01 m² on trees at full size: at 40 texels a metre a leaf covers 16 texels
         // (all of it kept), at 20 texels a metre 4 (a quarter).
         assert!((lod::keep_fraction(0.01, 1.0, 40.0, SHADOW_LEAF_TEXELS) - 1.0).abs() < 1e-6);
-        let trees = [(0, tree(1.0, 1.0, 1.0)), (0, tree(2.0, 1.0, 0.1)), (0, tree(3.0, 0.5, 1.0)), (1, tree(4.0, 1.0, 1.0))];
+        let trees =
+            [(0, tree(1.0, 1.0, 1.0)), (0, tree(2.0, 1.0, 0.1)), (0, tree(3.0, 0.5, 1.0)), (1, tree(4.0, 1.0, 1.0))];
         let g = gathered(&trees);
         let area = |m: usize| (m == 0).then_some(0.01);
         // At 40 texels a metre only the half-size tree, whose leaves cover 4 texels, is thinned.

@@ -24,7 +24,13 @@ pub(crate) struct WaterDraw {
 pub(crate) fn water_bodies(sim: &Sim) -> Vec<WaterDraw> {
     sim.water_bodies()
         .into_iter()
-        .map(|(_, w)| WaterDraw { polygon: w.polygon, height: w.height, depth: w.depth, colour: w.colour, ripples: w.ripples, ripple_speed: w.ripple_speed })
+        .map(|(_, w)| WaterDraw {
+            polygon: w.polygon,
+            height: w.height,
+            depth: w.depth,
+            colour: w.colour,
+            ripples: w.ripples,
+            ripple_speed: w.ripple_speed,
+        })
         .collect()
 }
-

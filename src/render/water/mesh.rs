@@ -51,7 +51,11 @@ pub fn build(bodies: &[WaterDraw]) -> Vec<WaterVertex> {
         let colour_depth = [b.colour[0], b.colour[1], b.colour[2], b.depth];
         for tri in triangulate(&b.polygon) {
             for p in tri {
-                v.push(WaterVertex { position: [p.x, b.height, p.y], colour_depth, ripple: [b.ripples, b.ripple_speed] });
+                v.push(WaterVertex {
+                    position: [p.x, b.height, p.y],
+                    colour_depth,
+                    ripple: [b.ripples, b.ripple_speed],
+                });
             }
         }
     }
@@ -110,7 +114,14 @@ mod tests {
     #[test]
     fn a_concave_outline_is_filled_exactly() {
         // An L of area 12 m²: the triangles cover it and nothing of its notch.
-        let l = [Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0), Vec2::new(4.0, 2.0), Vec2::new(2.0, 2.0), Vec2::new(2.0, 4.0), Vec2::new(0.0, 4.0)];
+        let l = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(4.0, 0.0),
+            Vec2::new(4.0, 2.0),
+            Vec2::new(2.0, 2.0),
+            Vec2::new(2.0, 4.0),
+            Vec2::new(0.0, 4.0),
+        ];
         let tris = triangulate(&l);
         let total: f32 = tris.iter().map(area).sum();
         assert!((total - 12.0).abs() < 1e-4, "area {total}");
@@ -128,7 +139,8 @@ mod tests {
         assert!((0..n).any(|i| texel(i, 5)[0] < 100) && (0..n).any(|i| texel(i, 5)[0] > 156));
         // The last column continues into the first: neighbours across the seam are close.
         let seam = (0..n).map(|j| (i32::from(texel(n - 1, j)[0]) - i32::from(texel(0, j)[0])).abs()).max().unwrap();
-        let inside = (0..n).map(|j| (i32::from(texel(n / 2, j)[0]) - i32::from(texel(n / 2 + 1, j)[0])).abs()).max().unwrap();
+        let inside =
+            (0..n).map(|j| (i32::from(texel(n / 2, j)[0]) - i32::from(texel(n / 2 + 1, j)[0])).abs()).max().unwrap();
         assert!(seam <= inside + 4, "seam step {seam}, inner step {inside}");
     }
 }

@@ -99,7 +99,11 @@ pub fn refraction(camera: &Camera, aspect: f32, h: f32, bias: f32) -> WaterCamer
     let world_to_view = view_matrix(camera);
     let proj = projection(camera, aspect);
     let plane = plane_in_view(world_to_view, Vec4::new(0.0, -1.0, 0.0, h + bias));
-    WaterCamera { view_proj: oblique(proj, plane) * world_to_view, inv_view_proj: (proj * world_to_view).inverse(), eye: camera.position }
+    WaterCamera {
+        view_proj: oblique(proj, plane) * world_to_view,
+        inv_view_proj: (proj * world_to_view).inverse(),
+        eye: camera.position,
+    }
 }
 
 #[cfg(test)]
@@ -109,7 +113,11 @@ mod tests {
 
     fn camera() -> Camera {
         // 1.7 m up, looking north and 10° down.
-        Camera { position: Vec3::new(0.0, 1.7, 4.0), rotation: Quat::from_rotation_x(-10f32.to_radians()), fov_y: 60f32.to_radians() }
+        Camera {
+            position: Vec3::new(0.0, 1.7, 4.0),
+            rotation: Quat::from_rotation_x(-10f32.to_radians()),
+            fov_y: 60f32.to_radians(),
+        }
     }
 
     /// Whether a world point is drawn by a camera: inside the clip volume (x, y in ±w, depth in 0..w).

@@ -25,9 +25,12 @@ use crate::render::error::{PipelineError, RenderError};
 use wgpu::util::DeviceExt;
 
 use self::extract::WaterDraw;
-use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
-use super::gpu::{color_target, depth_test, sampler_entry, texture_entry, uniform_entry, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, DEPTH_FORMAT};
 use super::clip::ClipRegion;
+use super::feature::{ExtractContext, Feature, FrameContext, FrameStats, Phase};
+use super::gpu::{
+    DEPTH_FORMAT, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, color_target, depth_test, sampler_entry,
+    texture_entry, uniform_entry,
+};
 use super::options::WaterOutput;
 use super::view::{Camera, View, ViewUniform, Views};
 
@@ -115,7 +118,15 @@ impl WaterFeature {
             ],
         });
         let n = mesh::NORMAL_MAP_SIZE;
-        let normal_map = super::assets::textures::upload_2d(device, &shared.queue, "water normal map", n, n, &mesh::normal_map(), false);
+        let normal_map = super::assets::textures::upload_2d(
+            device,
+            &shared.queue,
+            "water normal map",
+            n,
+            n,
+            &mesh::normal_map(),
+            false,
+        );
         let clamp_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("water clamp sampler"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -124,12 +135,19 @@ impl WaterFeature {
         });
         let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("water parameters"),
-            contents: bytemuck::bytes_of(&WaterParams { reflection_view_proj: [[0.0; 4]; 4], refraction_inv_view_proj: [[0.0; 4]; 4], misc: [0.0; 4] }),
+            contents: bytemuck::bytes_of(&WaterParams {
+                reflection_view_proj: [[0.0; 4]; 4],
+                refraction_inv_view_proj: [[0.0; 4]; 4],
+                misc: [0.0; 4],
+            }),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         WaterFeature {
             module: shared.shader("water.wgsl", include_str!("water.wgsl")),
-            layout: shared.layout("water pipeline layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group_layout)]),
+            layout: shared.layout(
+                "water pipeline layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&group_layout)],
+            ),
             group_layout,
             pipelines: PipelineCache::new("water"),
             normal_map,
@@ -150,8 +168,22 @@ impl WaterFeature {
     pub fn passes(&self) -> Vec<WaterPass<'_>> {
         let (true, Some(t)) = (self.active, &self.targets) else { return Vec::new() };
         vec![
-            WaterPass { label: "reflection", color: &t.reflection, depth: &t.reflection_depth, view: &self.reflection_view.bind_group, sky: true, scissor: self.scissors[0] },
-            WaterPass { label: "refraction", color: &t.refraction, depth: &t.refraction_depth, view: &self.refraction_view.bind_group, sky: false, scissor: self.scissors[1] },
+            WaterPass {
+                label: "reflection",
+                color: &t.reflection,
+                depth: &t.reflection_depth,
+                view: &self.reflection_view.bind_group,
+                sky: true,
+                scissor: self.scissors[0],
+            },
+            WaterPass {
+                label: "refraction",
+                color: &t.refraction,
+                depth: &t.refraction_depth,
+                view: &self.refraction_view.bind_group,
+                sky: false,
+                scissor: self.scissors[1],
+            },
         ]
     }
 
@@ -163,7 +195,15 @@ impl WaterFeature {
     /// Writes the two views and the surface's uniforms for this frame: `main` is the main view's
     /// uniform, `camera` the head's camera, `size` the main target's. Returns the reflection's
     /// and the refraction's view-projection matrices.
-    fn write(&self, queue: &wgpu::Queue, main: &ViewUniform, camera: &Camera, size: (u32, u32), output: WaterOutput, plane: f32) -> [glam::Mat4; 2] {
+    fn write(
+        &self,
+        queue: &wgpu::Queue,
+        main: &ViewUniform,
+        camera: &Camera,
+        size: (u32, u32),
+        output: WaterOutput,
+        plane: f32,
+    ) -> [glam::Mat4; 2] {
         let aspect = size.0 as f32 / size.1.max(1) as f32;
         let refl = mirror::reflection(camera, aspect, plane, CLIP_BIAS);
         let refr = mirror::refraction(camera, aspect, plane, CLIP_BIAS);
@@ -241,7 +281,12 @@ impl WaterFeature {
 }
 
 /// The surface's pipeline of `key`: main view only.
-fn build(shared: &Shared, module: &wgpu::ShaderModule, layout: &wgpu::PipelineLayout, key: PipelineKey) -> Result<wgpu::RenderPipeline, PipelineError> {
+fn build(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> Result<wgpu::RenderPipeline, PipelineError> {
     if key.view != ViewKind::Main {
         return Err(PipelineError::MainViewOnly("water"));
     }
@@ -294,14 +339,28 @@ impl Feature for WaterFeature {
         self.pipelines.prepare(cx.key, |k| build(cx.shared, module, layout, k))?;
         self.active = true;
         // Its views: the camera mirrored in the first body's surface, and the camera below it.
-        let matrices = self.write(&cx.shared.queue, &cx.views.main, &cx.common.camera, cx.size, cx.options.water_output, bodies[0].height);
+        let matrices = self.write(
+            &cx.shared.queue,
+            &cx.views.main,
+            &cx.common.camera,
+            cx.size,
+            cx.options.water_output,
+            bodies[0].height,
+        );
         self.scissors = matrices.map(|m| scissor::rect(m, &bodies, size));
         self.regions = (0..2).map(|i| ClipRegion::scissored(matrices[i], self.scissors[i], size)).collect();
         Ok(())
     }
 
-    fn draw<'p>(&'p self, phase: Phase, pass: &mut wgpu::RenderPass<'p>, key: PipelineKey, stats: &mut FrameStats) -> Result<(), RenderError> {
-        let (Phase::Opaque, true, Some((buffer, count)), Some(t)) = (phase, self.active, &self.mesh, &self.targets) else {
+    fn draw<'p>(
+        &'p self,
+        phase: Phase,
+        pass: &mut wgpu::RenderPass<'p>,
+        key: PipelineKey,
+        stats: &mut FrameStats,
+    ) -> Result<(), RenderError> {
+        let (Phase::Opaque, true, Some((buffer, count)), Some(t)) = (phase, self.active, &self.mesh, &self.targets)
+        else {
             return Ok(());
         };
         pass.set_pipeline(self.pipelines.get(key)?);

@@ -81,8 +81,15 @@ mod tests {
     /// The reflection's and the refraction's view-projection matrices, as the frame makes them,
     /// seen from 1.7 m up looking north and 10° down.
     fn cameras() -> [Mat4; 2] {
-        let camera = Camera { position: Vec3::new(0.0, 1.7, 4.0), rotation: Quat::from_rotation_x(-10f32.to_radians()), fov_y: 60f32.to_radians() };
-        [mirror::reflection(&camera, 16.0 / 9.0, HEIGHT, 0.02).view_proj, mirror::refraction(&camera, 16.0 / 9.0, HEIGHT, 0.02).view_proj]
+        let camera = Camera {
+            position: Vec3::new(0.0, 1.7, 4.0),
+            rotation: Quat::from_rotation_x(-10f32.to_radians()),
+            fov_y: 60f32.to_radians(),
+        };
+        [
+            mirror::reflection(&camera, 16.0 / 9.0, HEIGHT, 0.02).view_proj,
+            mirror::refraction(&camera, 16.0 / 9.0, HEIGHT, 0.02).view_proj,
+        ]
     }
 
     /// Where in a `size` target the surface reads for the world point `p` with the lookup
@@ -101,7 +108,10 @@ mod tests {
                 let r = rect(vp, std::slice::from_ref(&body), size).expect("a pond in front of the camera is bounded");
                 assert!(r[2] >= 1 && r[3] >= 1 && r[0] + r[2] <= size.0 && r[1] + r[3] <= size.1, "{r:?}");
                 if small {
-                    assert!(r[2] * r[3] < size.0 * size.1 / 4, "a small pond's rectangle is a small part of the target: {r:?}");
+                    assert!(
+                        r[2] * r[3] < size.0 * size.1 / 4,
+                        "a small pond's rectangle is a small part of the target: {r:?}"
+                    );
                 }
                 let centre = body.polygon.iter().copied().sum::<Vec2>() / body.polygon.len() as f32;
                 let outer = body.polygon[0].distance(centre) * 0.95;
@@ -109,11 +119,21 @@ mod tests {
                     // A sunflower spiral over the disc inside the outline.
                     let a = i as f32 * 2.399;
                     let p = centre + outer * ((i as f32 + 0.5) / 400.0).sqrt() * Vec2::new(a.cos(), a.sin());
-                    for shift in [Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0), Vec2::new(1.0, -1.0), Vec2::new(-1.0, -1.0)] {
+                    for shift in
+                        [Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0), Vec2::new(1.0, -1.0), Vec2::new(-1.0, -1.0)]
+                    {
                         let t = read_at(vp, Vec3::new(p.x, HEIGHT, p.y), shift * RIPPLE_SHIFT, size);
                         // Bilinear filtering reads the texels about half a texel either side.
-                        assert!(t.x - 1.0 >= r[0] as f32 && t.x + 1.0 <= (r[0] + r[2]) as f32, "x {} outside {r:?}", t.x);
-                        assert!(t.y - 1.0 >= r[1] as f32 && t.y + 1.0 <= (r[1] + r[3]) as f32, "y {} outside {r:?}", t.y);
+                        assert!(
+                            t.x - 1.0 >= r[0] as f32 && t.x + 1.0 <= (r[0] + r[2]) as f32,
+                            "x {} outside {r:?}",
+                            t.x
+                        );
+                        assert!(
+                            t.y - 1.0 >= r[1] as f32 && t.y + 1.0 <= (r[1] + r[3]) as f32,
+                            "y {} outside {r:?}",
+                            t.y
+                        );
                     }
                 }
             }

@@ -21,11 +21,11 @@ use bytes::Bytes;
 use glam::{Quat, Vec3};
 use grove_systems::components::Pose;
 use grove_systems::input::{Button, InputEvent};
-use grove_systems::replay::{encode_line, Header, Line, Recorder, CHECKPOINT_EVERY};
+use grove_systems::replay::{CHECKPOINT_EVERY, Header, Line, Recorder, encode_line};
 use hyper::Method;
 use serde_json::json;
 
-use crate::serve::client::bench_live::{quantile, round, watch_live, Checkpoints};
+use crate::serve::client::bench_live::{Checkpoints, quantile, round, watch_live};
 use crate::serve::client::conn::{ClientError, Endpoint};
 use crate::serve::sessions::states::VerifyStatus;
 
@@ -48,10 +48,12 @@ pub struct BenchOptions {
 /// the header's successors (the same for every session: the checksum chain starts after the
 /// header, and the participant changes nothing in the world).
 fn recording(ticks: u64) -> Result<(Header, Vec<Bytes>), ClientError> {
-    let scene = grove_systems::scene::Scene::builtin("study").ok_or_else(|| ClientError::Local("no built-in study scene".into()))?;
+    let scene = grove_systems::scene::Scene::builtin("study")
+        .ok_or_else(|| ClientError::Local("no built-in study scene".into()))?;
     let mut header = Header::new("study", 1, scene.dt);
     header.participant = Some("B01".into());
-    let mut sim = grove_systems::replay::sim_for_header(&header, None, &[]).map_err(|e| ClientError::Local(e.to_string()))?;
+    let mut sim =
+        grove_systems::replay::sim_for_header(&header, None, &[]).map_err(|e| ClientError::Local(e.to_string()))?;
     let mut out = Vec::new();
     let mut rec = Recorder::new(&mut out, &header).map_err(|e| ClientError::Local(e.to_string()))?;
     let fail = |e: std::io::Error| ClientError::Local(e.to_string());
@@ -59,7 +61,10 @@ fn recording(ticks: u64) -> Result<(Header, Vec<Bytes>), ClientError> {
     let mut taken = rec.get_ref().len();
     for t in 0..ticks {
         let a = t as f32 * 0.02;
-        let hand = Pose { position: Vec3::new(0.3 * a.cos(), 1.2, 0.3 * a.sin()), rotation: Quat::from_rotation_x(-0.6 + 0.2 * (a * 0.7).sin()) };
+        let hand = Pose {
+            position: Vec3::new(0.3 * a.cos(), 1.2, 0.3 * a.sin()),
+            rotation: Quat::from_rotation_x(-0.6 + 0.2 * (a * 0.7).sin()),
+        };
         let head = Pose { position: Vec3::new(0.0, 1.6, 0.0), rotation: Quat::from_rotation_y(0.3 * (a * 0.5).sin()) };
         let mut events = vec![InputEvent::ControllerPose { pose: hand }, InputEvent::HeadPose { pose: head }];
         match t % 120 {
@@ -100,7 +105,18 @@ pub struct Server {
 /// sessions as they stream or not (`--live`); returns once it listens.
 pub fn start_server(grove: &Path, dir: &Path, live: bool) -> Result<Server, ClientError> {
     let mut child = Command::new(grove)
-        .args(["serve", "--port", "0", "--abandon-after", "3600", "--max-sessions", "10000", "--live", if live { "on" } else { "off" }, "--out"])
+        .args([
+            "serve",
+            "--port",
+            "0",
+            "--abandon-after",
+            "3600",
+            "--max-sessions",
+            "10000",
+            "--live",
+            if live { "on" } else { "off" },
+            "--out",
+        ])
         .arg(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
@@ -128,14 +144,18 @@ pub fn start_server(grove: &Path, dir: &Path, live: bool) -> Result<Server, Clie
 
 /// CPU seconds (user + system) and resident memory (MiB) of a process, from `/proc`.
 fn sample(pid: u32) -> Option<(f64, f64)> {
-    let stat = grove_systems::files::read_text(Path::new(&format!("/proc/{pid}/stat")), grove_systems::files::Kind::Status).ok()?;
+    let stat =
+        grove_systems::files::read_text(Path::new(&format!("/proc/{pid}/stat")), grove_systems::files::Kind::Status)
+            .ok()?;
     // Fields after the command's closing parenthesis: state is field 3, utime 14, stime 15.
     let rest = &stat[stat.rfind(')')? + 2..];
     let f: Vec<&str> = rest.split_whitespace().collect();
     // SAFETY: sysconf has no preconditions.
     let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) }.max(1) as f64;
     let cpu = (f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?) / hz;
-    let status = grove_systems::files::read_text(Path::new(&format!("/proc/{pid}/status")), grove_systems::files::Kind::Status).ok()?;
+    let status =
+        grove_systems::files::read_text(Path::new(&format!("/proc/{pid}/status")), grove_systems::files::Kind::Status)
+            .ok()?;
     let kb: f64 = status.lines().find_map(|l| l.strip_prefix("VmRSS:"))?.split_whitespace().next()?.parse().ok()?;
     Some((cpu, kb / 1024.0))
 }
@@ -181,7 +201,9 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
         let header_line = encode_line(&Line::Header(h));
         // Sessions start spread over one tick, as independent headsets would.
         let offset = Duration::from_secs_f64(i as f64 / options.sessions as f64 / 60.0);
-        tasks.push(tokio::spawn(async move { session(endpoint, header_line, batches, start, offset, checkpoints).await }));
+        tasks.push(tokio::spawn(
+            async move { session(endpoint, header_line, batches, start, offset, checkpoints).await },
+        ));
     }
     let mut acks: Vec<(f64, f64)> = Vec::new();
     let mut statuses: Vec<Option<VerifyStatus>> = Vec::new();
@@ -225,7 +247,11 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
         _ => f64::NAN,
     };
     let verified = statuses.iter().filter(|s| **s == Some(VerifyStatus::Verified)).count();
-    let (samples_max, cpu_total) = if samples.is_empty() { (None, None) } else { (Some(round(samples.iter().map(|s| s.2).fold(0.0, f64::max), 1)), Some(round(cpu_total, 1))) };
+    let (samples_max, cpu_total) = if samples.is_empty() {
+        (None, None)
+    } else {
+        (Some(round(samples.iter().map(|s| s.2).fold(0.0, f64::max), 1)), Some(round(cpu_total, 1)))
+    };
     Ok(json!({
         "serve": {
             "server": if options.to.is_some() { endpoint.shown() } else { "its own, on loopback".to_string() },
@@ -256,10 +282,19 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
 
 /// One session: opened, each tick's lines sent on time, ended. Returns (seconds since the start,
 /// acknowledgement ms) per request and the verification's status.
-async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, start: Instant, offset: Duration, checkpoints: Checkpoints) -> Result<(Vec<(f64, f64)>, Option<VerifyStatus>), ClientError> {
+async fn session(
+    endpoint: Endpoint,
+    header: String,
+    batches: Arc<Vec<Bytes>>,
+    start: Instant,
+    offset: Duration,
+    checkpoints: Checkpoints,
+) -> Result<(Vec<(f64, f64)>, Option<VerifyStatus>), ClientError> {
     let timeout = Duration::from_secs(10);
     let mut conn = endpoint.connect(timeout).await?;
-    let (status, v) = conn.request(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string()), timeout).await?;
+    let (status, v) = conn
+        .request(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string()), timeout)
+        .await?;
     if status != 201 {
         return Err(ClientError::Refused { what: "open".into(), status, reason: v.to_string() });
     }
@@ -271,7 +306,9 @@ async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, s
     for (t, batch) in batches.iter().enumerate() {
         tokio::time::sleep_until(begin + Duration::from_secs_f64(t as f64 / 60.0)).await;
         let sent = Instant::now();
-        let (status, v) = conn.request(Method::POST, &format!("/api/sessions/{id}/lines?from={from}"), batch.clone(), timeout).await?;
+        let (status, v) = conn
+            .request(Method::POST, &format!("/api/sessions/{id}/lines?from={from}"), batch.clone(), timeout)
+            .await?;
         let ms = sent.elapsed().as_secs_f64() * 1000.0;
         if status != 200 {
             return Err(ClientError::Refused { what: "lines".into(), status, reason: v.to_string() });
@@ -284,6 +321,7 @@ async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, s
             checkpoints.acked(&file, tick);
         }
     }
-    let (_, v) = conn.request(Method::POST, &format!("/api/sessions/{id}/end"), Bytes::new(), Duration::from_secs(60)).await?;
+    let (_, v) =
+        conn.request(Method::POST, &format!("/api/sessions/{id}/end"), Bytes::new(), Duration::from_secs(60)).await?;
     Ok((acks, serde_json::from_value(v["verification"]["status"].clone()).ok()))
 }

@@ -101,7 +101,9 @@ pub async fn watch_live(endpoint: Endpoint, checkpoints: Checkpoints) {
             continue;
         };
         for s in listing["sessions"].as_array().into_iter().flatten() {
-            let (Some(file), Some(live)) = (s["file"].as_str(), s.get("live").filter(|l| !l.is_null())) else { continue };
+            let (Some(file), Some(live)) = (s["file"].as_str(), s.get("live").filter(|l| !l.is_null())) else {
+                continue;
+            };
             let Ok(status) = serde_json::from_value::<VerifyStatus>(live["status"].clone()) else { continue };
             checkpoints.verified(file, live["verified_to_tick"].as_u64().unwrap_or(0), status);
         }

@@ -10,7 +10,7 @@ use std::time::Duration;
 use bytes::Bytes;
 use http_body_util::{BodyExt, Full};
 use hyper::client::conn::http1::SendRequest;
-use hyper::header::{HeaderMap, HeaderName, HeaderValue, AUTHORIZATION, HOST};
+use hyper::header::{AUTHORIZATION, HOST, HeaderMap, HeaderName, HeaderValue};
 use hyper::{Method, Request, Uri};
 use hyper_util::rt::TokioIo;
 use tokio::net::TcpStream;
@@ -19,7 +19,7 @@ use tokio_rustls::rustls::pki_types::ServerName;
 
 use crate::serve::http::error::HttpError;
 use crate::serve::http::tls;
-use crate::serve::ids::{random_hex, IdError};
+use crate::serve::ids::{IdError, random_hex};
 
 /// Why a client could not reach the server, or what the server refused; one line.
 #[derive(Debug, thiserror::Error)]
@@ -112,7 +112,12 @@ impl Endpoint {
             Some("https") => true,
             _ => return Err(bad("the URL must start with http:// or https://")),
         };
-        let host = uri.host().ok_or_else(|| bad("the URL has no host"))?.trim_start_matches('[').trim_end_matches(']').to_string();
+        let host = uri
+            .host()
+            .ok_or_else(|| bad("the URL has no host"))?
+            .trim_start_matches('[')
+            .trim_end_matches(']')
+            .to_string();
         let port = uri.port_u16().unwrap_or(if https { 443 } else { 80 });
         let token = uri.query().and_then(|q| q.split('&').find_map(|p| p.strip_prefix("token=")).map(str::to_string));
         let tls = if https {
@@ -126,7 +131,8 @@ impl Endpoint {
                 .map_err(|e| HttpError::Tls(e.to_string()))?
                 .with_root_certificates(roots)
                 .with_no_client_auth();
-            let name = ServerName::try_from(host.clone()).map_err(|_| bad("the host is not a valid TLS server name"))?;
+            let name =
+                ServerName::try_from(host.clone()).map_err(|_| bad("the host is not a valid TLS server name"))?;
             Some((tokio_rustls::TlsConnector::from(Arc::new(config)), name))
         } else {
             None
@@ -143,19 +149,26 @@ impl Endpoint {
     /// Opens a connection within `timeout`.
     pub async fn connect(&self, timeout: Duration) -> Result<Conn, ClientError> {
         let go = async {
-            let tcp = TcpStream::connect((self.host.as_str(), self.port)).await.map_err(|e| ClientError::Connection(format!("cannot connect to {}:{}: {e}", self.host, self.port)))?;
+            let tcp = TcpStream::connect((self.host.as_str(), self.port))
+                .await
+                .map_err(|e| ClientError::Connection(format!("cannot connect to {}:{}: {e}", self.host, self.port)))?;
             let _ = tcp.set_nodelay(true);
             match &self.tls {
                 None => handshake(TokioIo::new(tcp)).await,
                 Some((connector, name)) => {
-                    let stream = connector.connect(name.clone(), tcp).await.map_err(|e| ClientError::Connection(format!("TLS: {e}")))?;
+                    let stream = connector
+                        .connect(name.clone(), tcp)
+                        .await
+                        .map_err(|e| ClientError::Connection(format!("TLS: {e}")))?;
                     handshake(TokioIo::new(stream)).await
                 }
             }
         };
         match tokio::time::timeout(timeout, go).await {
             Ok(r) => r.map(|sender| Conn { sender, endpoint: self.clone() }),
-            Err(_) => Err(ClientError::Late(format!("no connection to {}:{}", self.host, self.port), timeout.as_secs_f64())),
+            Err(_) => {
+                Err(ClientError::Late(format!("no connection to {}:{}", self.host, self.port), timeout.as_secs_f64()))
+            }
         }
     }
 }
@@ -164,7 +177,8 @@ async fn handshake<I>(io: I) -> Result<SendRequest<Full<Bytes>>, ClientError>
 where
     I: hyper::rt::Read + hyper::rt::Write + Unpin + Send + 'static,
 {
-    let (sender, conn) = hyper::client::conn::http1::handshake(io).await.map_err(|e| ClientError::Connection(e.to_string()))?;
+    let (sender, conn) =
+        hyper::client::conn::http1::handshake(io).await.map_err(|e| ClientError::Connection(e.to_string()))?;
     tokio::spawn(async move {
         let _ = conn.await;
     });
@@ -181,7 +195,13 @@ impl Conn {
     /// Sends a request as a session's client does (its token and its writer name) and reads the
     /// whole answer within `timeout`. An error means the connection is no longer usable (open
     /// another).
-    pub async fn request(&mut self, method: Method, path: &str, body: Bytes, timeout: Duration) -> Result<Answer, ClientError> {
+    pub async fn request(
+        &mut self,
+        method: Method,
+        path: &str,
+        body: Bytes,
+        timeout: Duration,
+    ) -> Result<Answer, ClientError> {
         let writer = self.endpoint.writer.clone();
         let reply = self.send(method, path, &[("grove-writer", writer.as_str())], body, timeout).await?;
         Ok((reply.status, reply.json()))
@@ -189,9 +209,19 @@ impl Conn {
 
     /// Sends a request with these headers (and the URL's token, if it had one) and reads the
     /// whole answer within `timeout`.
-    pub async fn send(&mut self, method: Method, path: &str, headers: &[(&str, &str)], body: Bytes, timeout: Duration) -> Result<Reply, ClientError> {
+    pub async fn send(
+        &mut self,
+        method: Method,
+        path: &str,
+        headers: &[(&str, &str)],
+        body: Bytes,
+        timeout: Duration,
+    ) -> Result<Reply, ClientError> {
         let broken = |e: &dyn std::fmt::Display| ClientError::Connection(e.to_string());
-        let mut req = Request::builder().method(method).uri(path).header(HOST, format!("{}:{}", self.endpoint.host, self.endpoint.port));
+        let mut req = Request::builder()
+            .method(method)
+            .uri(path)
+            .header(HOST, format!("{}:{}", self.endpoint.host, self.endpoint.port));
         if let Some(t) = &self.endpoint.token {
             req = req.header(AUTHORIZATION, format!("Bearer {t}"));
         }

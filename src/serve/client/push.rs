@@ -19,7 +19,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::serve::client::conn::{Answer, ClientError, Conn, Endpoint, Reply};
-use crate::serve::client::source::{event_ms, Source};
+use crate::serve::client::source::{Source, event_ms};
 use crate::serve::sessions::states::{Code, SessionState, VerifyStatus};
 
 /// How fast lines are sent.
@@ -154,7 +154,11 @@ impl Link<'_> {
 }
 
 fn refused(what: &str, (status, v): &Answer) -> ClientError {
-    ClientError::Refused { what: what.to_string(), status: *status, reason: v.get("error").and_then(|e| e.as_str()).unwrap_or("no reason given").to_string() }
+    ClientError::Refused {
+        what: what.to_string(),
+        status: *status,
+        reason: v.get("error").and_then(|e| e.as_str()).unwrap_or("no reason given").to_string(),
+    }
 }
 
 /// A field of the server's answer as its type (a state, a code), if it has it.
@@ -173,8 +177,12 @@ async fn server_lines(link: &mut Link<'_>, session: &str) -> Result<u64, ClientE
     loop {
         let status = link.answer(Method::GET, &format!("/api/sessions/{session}"), Bytes::new()).await?;
         match status {
-            (200, ref v) if field(v, "state") == Some(SessionState::Open) => return v["acked"].as_u64().ok_or_else(no_acked),
-            (409, ref v) if field(v, "code") == Some(Code::Busy) => tokio::time::sleep(Duration::from_millis(200)).await,
+            (200, ref v) if field(v, "state") == Some(SessionState::Open) => {
+                return v["acked"].as_u64().ok_or_else(no_acked);
+            }
+            (409, ref v) if field(v, "code") == Some(Code::Busy) => {
+                tokio::time::sleep(Duration::from_millis(200)).await
+            }
             other => return Err(refused("continuing the session", &other)),
         }
     }
@@ -210,7 +218,10 @@ async fn begin(link: &mut Link<'_>, header: &str, say: &dyn Fn(&str)) -> Result<
     let state: Option<SessionState> = field(&v, "state");
     match (status, state) {
         (201, _) => say(&format!("session {session} opened: {server_file}")),
-        (_, Some(SessionState::Open)) => say(&format!("session {session} continued: {server_file} has {acked} lines of this recording; sending from line {}", acked + 1)),
+        (_, Some(SessionState::Open)) => say(&format!(
+            "session {session} continued: {server_file} has {acked} lines of this recording; sending from line {}",
+            acked + 1
+        )),
         (_, Some(SessionState::Ended)) => {
             say(&format!("session {session} ({server_file}) of this recording has ended already: nothing sent"));
             return Ok(Begun { session, server_file, acked, ended: Some(v) });
@@ -218,7 +229,7 @@ async fn begin(link: &mut Link<'_>, header: &str, say: &dyn Fn(&str)) -> Result<
         (_, Some(state)) => {
             return Err(ClientError::Answer(format!(
                 "session {session} ({server_file}) of this recording is {state} with {acked} lines and cannot be continued; push the file to a server on a new --out folder"
-            )))
+            )));
         }
         (_, None) => return Err(ClientError::Answer("the server's answer has no session state".into())),
     }
@@ -230,7 +241,11 @@ async fn begin(link: &mut Link<'_>, header: &str, say: &dyn Fn(&str)) -> Result<
 async fn same_start(link: &mut Link<'_>, begun: &Begun, source: &mut Source) -> Result<(), ClientError> {
     let (status, text) = link.text(&format!("/api/sessions/{}/lines", begun.session)).await?;
     if status != 200 {
-        return Err(ClientError::Refused { what: "reading the session back".into(), status, reason: String::from_utf8_lossy(&text).trim().to_string() });
+        return Err(ClientError::Refused {
+            what: "reading the session back".into(),
+            status,
+            reason: String::from_utf8_lossy(&text).trim().to_string(),
+        });
     }
     let text = String::from_utf8_lossy(&text);
     for (i, theirs) in text.lines().enumerate().skip(1).take(begun.acked.saturating_sub(1) as usize) {
@@ -250,7 +265,12 @@ async fn same_start(link: &mut Link<'_>, begun: &Begun, source: &mut Source) -> 
 /// Pushes a recording to the server at `endpoint`; `say` gets a line for the session (its id) and
 /// for each connection lost and found again. Run again on the same file (after it was killed),
 /// it continues the session it began, from the line after the last the server has.
-pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: &dyn Fn(&str)) -> Result<PushReport, ClientError> {
+pub async fn push(
+    path: &Path,
+    endpoint: &Endpoint,
+    options: &PushOptions,
+    say: &dyn Fn(&str),
+) -> Result<PushReport, ClientError> {
     let mut source = Source::open(path)?;
     let header = source.next()?.ok_or_else(|| ClientError::Local(format!("{}: empty file", path.display())))?;
     // One writer name per recording: a push run again is the same client to the server.
@@ -328,7 +348,10 @@ pub async fn push(path: &Path, endpoint: &Endpoint, options: &PushOptions, say: 
         };
         let new_acked = new_acked.ok_or_else(no_acked)?;
         if new_acked + 1 < from {
-            return Err(ClientError::Answer(format!("the server has {new_acked} lines of {server_file}, fewer than it acknowledged ({})", from - 1)));
+            return Err(ClientError::Answer(format!(
+                "the server has {new_acked} lines of {server_file}, fewer than it acknowledged ({})",
+                from - 1
+            )));
         }
         acked = new_acked;
         while queue.front().is_some_and(|(n, _, _)| *n <= acked) {

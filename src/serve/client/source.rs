@@ -24,7 +24,13 @@ pub(super) struct Source {
 impl Source {
     pub(super) fn open(path: &Path) -> Result<Source, ClientError> {
         let (file, _) = files::open(path, Kind::Recording).map_err(|e| ClientError::Local(e.to_string()))?;
-        Ok(Source { file, splitter: LineSplitter::new(MAX_LINE_BYTES), ready: VecDeque::new(), eof: false, name: path.display().to_string() })
+        Ok(Source {
+            file,
+            splitter: LineSplitter::new(MAX_LINE_BYTES),
+            ready: VecDeque::new(),
+            eof: false,
+            name: path.display().to_string(),
+        })
     }
 
     pub(super) fn next(&mut self) -> Result<Option<String>, ClientError> {

@@ -46,14 +46,23 @@ pub struct Limits {
 
 /// Listens on `host:port` (port 0: any free one); returns the listener and its address.
 pub async fn bind(host: IpAddr, port: u16) -> Result<(TcpListener, SocketAddr), HttpError> {
-    let listener = TcpListener::bind((host, port)).await.map_err(|e| HttpError::Bind { addr: format!("{host}:{port}"), message: e.to_string() })?;
+    let listener = TcpListener::bind((host, port))
+        .await
+        .map_err(|e| HttpError::Bind { addr: format!("{host}:{port}"), message: e.to_string() })?;
     let addr = listener.local_addr().map_err(|e| HttpError::Bind { addr: host.to_string(), message: e.to_string() })?;
     Ok((listener, addr))
 }
 
 /// Serves connections until `stop` fires, then lets the requests in progress finish (3 s at
 /// most). Every request must carry `token`, if there is one, before `handler` sees it.
-pub async fn serve_until<H: Handler>(listener: TcpListener, acceptor: Option<TlsAcceptor>, token: Option<Token>, limits: &Limits, handler: Arc<H>, stop: impl Future<Output = ()>) {
+pub async fn serve_until<H: Handler>(
+    listener: TcpListener,
+    acceptor: Option<TlsAcceptor>,
+    token: Option<Token>,
+    limits: &Limits,
+    handler: Arc<H>,
+    stop: impl Future<Output = ()>,
+) {
     let graceful = GracefulShutdown::new();
     let token = token.map(Arc::new);
     let pool = Pool::new(limits.max_connections, limits.max_per_address);
@@ -80,7 +89,8 @@ pub async fn serve_until<H: Handler>(listener: TcpListener, acceptor: Option<Tls
             },
         };
         let _ = stream.set_nodelay(true);
-        let (handler, token, acceptor, watcher) = (handler.clone(), token.clone(), acceptor.clone(), graceful.watcher());
+        let (handler, token, acceptor, watcher) =
+            (handler.clone(), token.clone(), acceptor.clone(), graceful.watcher());
         tokio::spawn(async move {
             let ticket = Arc::new(ticket);
             match acceptor {
@@ -106,7 +116,14 @@ pub async fn serve_until<H: Handler>(listener: TcpListener, acceptor: Option<Tls
 /// Serves one connection's requests (HTTP/1.1, keep-alive) until it closes, or until the pool
 /// closes it for another connection: at once when no request is in progress, else once the
 /// request's answer has been sent.
-async fn connection<H: Handler, I: AsyncRead + AsyncWrite + Unpin + Send + 'static>(handler: Arc<H>, token: Option<Arc<Token>>, read_timeout: Duration, io: I, watcher: Watcher, ticket: Arc<Ticket>) {
+async fn connection<H: Handler, I: AsyncRead + AsyncWrite + Unpin + Send + 'static>(
+    handler: Arc<H>,
+    token: Option<Arc<Token>>,
+    read_timeout: Duration,
+    io: I,
+    watcher: Watcher,
+    ticket: Arc<Ticket>,
+) {
     let seen = ticket.clone();
     let service = hyper::service::service_fn(move |req| {
         let (handler, token, busy) = (handler.clone(), token.clone(), seen.busy());
@@ -143,7 +160,10 @@ impl hyper::body::Body for Held {
     type Data = bytes::Bytes;
     type Error = std::io::Error;
 
-    fn poll_frame(mut self: std::pin::Pin<&mut Self>, cx: &mut std::task::Context<'_>) -> std::task::Poll<Option<Result<hyper::body::Frame<bytes::Bytes>, std::io::Error>>> {
+    fn poll_frame(
+        mut self: std::pin::Pin<&mut Self>,
+        cx: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<Option<Result<hyper::body::Frame<bytes::Bytes>, std::io::Error>>> {
         std::pin::Pin::new(&mut self.body).poll_frame(cx)
     }
 

@@ -51,7 +51,13 @@ pub struct Busy {
 impl Pool {
     /// A pool of at most `max` connections, `per_address` from one address.
     pub fn new(max: usize, per_address: usize) -> Arc<Pool> {
-        Arc::new(Pool { slots: Mutex::new(HashMap::new()), next: 0.into(), freed: Notify::new(), max: max.max(1), per_address: per_address.max(1) })
+        Arc::new(Pool {
+            slots: Mutex::new(HashMap::new()),
+            next: 0.into(),
+            freed: Notify::new(),
+            max: max.max(1),
+            per_address: per_address.max(1),
+        })
     }
 
     /// Connections held now.
@@ -80,7 +86,12 @@ impl Pool {
                 }
                 if slots.len() < self.max || close_idlest(&mut slots, None) {
                     let id = self.next.fetch_add(1, Ordering::Relaxed);
-                    let slot = Arc::new(Slot { peer, busy: AtomicU32::new(0), idle_since: Mutex::new(Instant::now()), close: Notify::new() });
+                    let slot = Arc::new(Slot {
+                        peer,
+                        busy: AtomicU32::new(0),
+                        idle_since: Mutex::new(Instant::now()),
+                        close: Notify::new(),
+                    });
                     slots.insert(id, slot.clone());
                     return Some(Ticket { pool: self.clone(), id, slot });
                 }

@@ -2,8 +2,8 @@
 //! a refusal as its JSON answer.
 
 use bytes::Bytes;
-use http_body_util::{combinators::BoxBody, BodyExt, Full};
-use hyper::header::{HeaderValue, ALLOW, CACHE_CONTROL, CONTENT_TYPE};
+use http_body_util::{BodyExt, Full, combinators::BoxBody};
+use hyper::header::{ALLOW, CACHE_CONTROL, CONTENT_TYPE, HeaderValue};
 use hyper::{Response, StatusCode};
 
 use crate::serve::http::refusal::Refusal;

@@ -89,9 +89,15 @@ mod tests {
         assert_eq!(find(&table(), &Method::POST, "/api/sessions/abc/lines"), Ok((To::Lines, vec!["abc"])));
         assert_eq!(find(&table(), &Method::GET, "/api/sessions"), Ok((To::List, vec![])));
         let unknown = find(&table(), &Method::GET, "/api/sessions/abc/nothing").unwrap_err();
-        assert_eq!((unknown.status, unknown.reason.as_str(), unknown.allow), (404, "no route /api/sessions/abc/nothing", None));
+        assert_eq!(
+            (unknown.status, unknown.reason.as_str(), unknown.allow),
+            (404, "no route /api/sessions/abc/nothing", None)
+        );
         let wrong = find(&table(), &Method::DELETE, "/api/sessions").unwrap_err();
-        assert_eq!((wrong.status, wrong.reason.as_str()), (405, "DELETE is not served at /api/sessions; it takes GET, POST"));
+        assert_eq!(
+            (wrong.status, wrong.reason.as_str()),
+            (405, "DELETE is not served at /api/sessions; it takes GET, POST")
+        );
         assert_eq!(wrong.allow.as_deref(), Some("GET, POST"));
         assert_eq!(find(&table(), &Method::GET, "/api/sessions/abc/lines").unwrap_err().allow.as_deref(), Some("POST"));
     }

@@ -21,7 +21,7 @@ use hyper::{Method, Response, StatusCode};
 use tokio::io::AsyncReadExt;
 
 use crate::serve::http::refusal::Refusal;
-use crate::serve::http::respond::{full, Body};
+use crate::serve::http::respond::{Body, full};
 use crate::serve::http::router::wrong_method;
 
 /// A URL prefix and the folder it maps to.
@@ -53,13 +53,21 @@ impl StaticRoots {
             Root { prefix: "/models/shipped/".into(), dir: assets.join("trees"), only: None },
             Root { prefix: "/controllers/".into(), dir: assets.join("controllers"), only: None },
         ];
-        let mut bank_dirs: Vec<PathBuf> = std::fs::read_dir(assets.join("banks")).into_iter().flatten().flatten().map(|e| e.path()).filter(|p| p.is_dir()).collect();
+        let mut bank_dirs: Vec<PathBuf> = std::fs::read_dir(assets.join("banks"))
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.is_dir())
+            .collect();
         bank_dirs.sort();
         bank_dirs.extend(banks.iter().cloned());
         let mut names: Vec<String> = Vec::new();
         for dir in bank_dirs {
-            let base: String = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "bank".into());
-            let base: String = base.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+            let base: String =
+                dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "bank".into());
+            let base: String =
+                base.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
             let mut name = base.clone();
             let mut k = 2;
             while names.contains(&name) {
@@ -100,8 +108,14 @@ impl StaticRoots {
 
     /// The file a URL path names, checked (see the module's documentation).
     pub fn resolve(&self, url_path: &str) -> Result<PathBuf, Refusal> {
-        let decoded = percent_encoding::percent_decode_str(url_path).decode_utf8().map_err(|_| Refusal::not_found("the path is not UTF-8 once decoded"))?;
-        let root = self.roots.iter().find(|r| decoded.starts_with(&r.prefix) || (decoded == r.prefix.trim_end_matches('/') && r.prefix != "/")).ok_or_else(|| Refusal::not_found("nothing is served there"))?;
+        let decoded = percent_encoding::percent_decode_str(url_path)
+            .decode_utf8()
+            .map_err(|_| Refusal::not_found("the path is not UTF-8 once decoded"))?;
+        let root = self
+            .roots
+            .iter()
+            .find(|r| decoded.starts_with(&r.prefix) || (decoded == r.prefix.trim_end_matches('/') && r.prefix != "/"))
+            .ok_or_else(|| Refusal::not_found("nothing is served there"))?;
         let rest = decoded.strip_prefix(&root.prefix).unwrap_or("");
         if root.only.is_some_and(|name| rest != name) {
             return Err(Refusal::not_found("only the module is served there"));
@@ -113,8 +127,15 @@ impl StaticRoots {
             if part.is_empty() && last {
                 break;
             }
-            if part.is_empty() || *part == "." || *part == ".." || part.starts_with('.') || part.contains(['\\', '\0', ':']) {
-                return Err(Refusal::not_found(format!("the path part {part:?} is not a plain name; only files inside the served folders are sent")));
+            if part.is_empty()
+                || *part == "."
+                || *part == ".."
+                || part.starts_with('.')
+                || part.contains(['\\', '\0', ':'])
+            {
+                return Err(Refusal::not_found(format!(
+                    "the path part {part:?} is not a plain name; only files inside the served folders are sent"
+                )));
             }
             path.push(part);
         }
@@ -184,7 +205,8 @@ fn not_served(url_path: &str, e: &files::FileError) -> Refusal {
 }
 
 /// What a file name's characters become in a URL: all but letters, digits and `-._~` encoded.
-const URL_PART: &percent_encoding::AsciiSet = &percent_encoding::NON_ALPHANUMERIC.remove(b'-').remove(b'.').remove(b'_').remove(b'~');
+const URL_PART: &percent_encoding::AsciiSet =
+    &percent_encoding::NON_ALPHANUMERIC.remove(b'-').remove(b'.').remove(b'_').remove(b'~');
 
 /// The URLs of the files under `dir`, down to `depth` levels, hidden files left out, as they are
 /// served: nothing that lies outside `root` (through a symbolic link) is listed.
@@ -199,7 +221,13 @@ fn list(root: &Path, dir: &Path, prefix: &str, depth: u32, out: &mut Vec<String>
             continue;
         }
         if p.is_dir() && depth > 1 {
-            list(root, &p, &format!("{prefix}{}/", percent_encoding::utf8_percent_encode(&name, URL_PART)), depth - 1, out);
+            list(
+                root,
+                &p,
+                &format!("{prefix}{}/", percent_encoding::utf8_percent_encode(&name, URL_PART)),
+                depth - 1,
+                out,
+            );
         } else if p.is_file() {
             out.push(format!("{prefix}{}", percent_encoding::utf8_percent_encode(&name, URL_PART)));
         }
@@ -267,10 +295,27 @@ mod tests {
             assert!(listed.contains("/scenes/study.ron"), "{listed}");
             for url in ["/scenes/linked/secret-name.ron", "/scenes/link.ron"] {
                 let refused = roots.resolve(url).unwrap_err();
-                assert!(refused.reason.starts_with(url) && !refused.reason.contains(&*d.path().to_string_lossy()), "{}", refused.reason);
+                assert!(
+                    refused.reason.starts_with(url) && !refused.reason.contains(&*d.path().to_string_lossy()),
+                    "{}",
+                    refused.reason
+                );
             }
         }
-        for bad in ["/../outside.txt", "/scenes/../../outside.txt", "/scenes/%2e%2e/%2e%2e/outside.txt", "/scenes/..%2f..%2foutside.txt", "/.env", "/scenes/link.ron", "/scenes//study.ron", "/scenes/%00", "/scenes/a%5c..%5c..%5coutside.txt", "/nothing.txt", "/target/wasm/release/other.wasm", "/target/wasm/"] {
+        for bad in [
+            "/../outside.txt",
+            "/scenes/../../outside.txt",
+            "/scenes/%2e%2e/%2e%2e/outside.txt",
+            "/scenes/..%2f..%2foutside.txt",
+            "/.env",
+            "/scenes/link.ron",
+            "/scenes//study.ron",
+            "/scenes/%00",
+            "/scenes/a%5c..%5c..%5coutside.txt",
+            "/nothing.txt",
+            "/target/wasm/release/other.wasm",
+            "/target/wasm/",
+        ] {
             let r = roots.resolve(bad);
             assert!(r.as_ref().is_err_and(|e| e.status == 404), "{bad}: {r:?}");
         }

@@ -27,7 +27,9 @@ pub fn provider() -> Arc<rustls::crypto::CryptoProvider> {
 /// Reads a PEM certificate chain.
 pub fn read_certs(path: &Path) -> Result<Vec<CertificateDer<'static>>, HttpError> {
     let bytes = files::read(path, Kind::Index).map_err(tls_err)?;
-    let certs: Vec<_> = CertificateDer::pem_slice_iter(&bytes).collect::<Result<_, _>>().map_err(|e| HttpError::Tls(format!("{}: not a PEM certificate chain ({e:?})", path.display())))?;
+    let certs: Vec<_> = CertificateDer::pem_slice_iter(&bytes)
+        .collect::<Result<_, _>>()
+        .map_err(|e| HttpError::Tls(format!("{}: not a PEM certificate chain ({e:?})", path.display())))?;
     if certs.is_empty() {
         return Err(HttpError::Tls(format!("{}: no certificate in it", path.display())));
     }
@@ -36,7 +38,8 @@ pub fn read_certs(path: &Path) -> Result<Vec<CertificateDer<'static>>, HttpError
 
 fn read_key(path: &Path) -> Result<PrivateKeyDer<'static>, HttpError> {
     let bytes = files::read(path, Kind::Index).map_err(tls_err)?;
-    PrivateKeyDer::from_pem_slice(&bytes).map_err(|e| HttpError::Tls(format!("{}: not a PEM private key ({e:?})", path.display())))
+    PrivateKeyDer::from_pem_slice(&bytes)
+        .map_err(|e| HttpError::Tls(format!("{}: not a PEM private key ({e:?})", path.display())))
 }
 
 /// Makes (once) the self-signed certificate of `dir/tls/` for `localhost`, 127.0.0.1 and the
@@ -47,25 +50,33 @@ fn auto_cert(dir: &Path, shown_host: &str) -> Result<(std::path::PathBuf, std::p
     if cert.is_file() && key.is_file() {
         return Ok((cert, key));
     }
-    std::fs::create_dir_all(&tls_dir).map_err(|e| HttpError::Io { path: tls_dir.display().to_string(), message: e.to_string() })?;
+    std::fs::create_dir_all(&tls_dir)
+        .map_err(|e| HttpError::Io { path: tls_dir.display().to_string(), message: e.to_string() })?;
     let mut names = vec!["localhost".to_string(), "127.0.0.1".to_string()];
     let bare = shown_host.trim_start_matches('[').trim_end_matches(']').to_string();
     if !names.contains(&bare) {
         names.push(bare);
     }
-    let made = rcgen::generate_simple_self_signed(names).map_err(|e| HttpError::Tls(format!("cannot make a self-signed certificate: {e}")))?;
+    let made = rcgen::generate_simple_self_signed(names)
+        .map_err(|e| HttpError::Tls(format!("cannot make a self-signed certificate: {e}")))?;
     write_private(&key, made.signing_key.serialize_pem().as_bytes())?;
-    crate::atomic_write::write_atomic(&cert, made.cert.pem().as_bytes()).map_err(|e| HttpError::Io { path: cert.display().to_string(), message: format!("{e:#}") })?;
+    crate::atomic_write::write_atomic(&cert, made.cert.pem().as_bytes())
+        .map_err(|e| HttpError::Io { path: cert.display().to_string(), message: format!("{e:#}") })?;
     Ok((cert, key))
 }
 
 /// Writes a file readable by its owner only (through a temporary file and a rename).
 fn write_private(path: &Path, bytes: &[u8]) -> Result<(), HttpError> {
-    crate::atomic_write::write_private(path, bytes).map_err(|e| HttpError::Io { path: path.display().to_string(), message: e.source.to_string() })
+    crate::atomic_write::write_private(path, bytes)
+        .map_err(|e| HttpError::Io { path: path.display().to_string(), message: e.source.to_string() })
 }
 
 /// The server's TLS configuration for a choice, if any.
-pub fn acceptor(choice: &TlsChoice, dir: &Path, shown_host: &str) -> Result<Option<Arc<rustls::ServerConfig>>, HttpError> {
+pub fn acceptor(
+    choice: &TlsChoice,
+    dir: &Path,
+    shown_host: &str,
+) -> Result<Option<Arc<rustls::ServerConfig>>, HttpError> {
     let (cert, key) = match choice {
         TlsChoice::Off => return Ok(None),
         TlsChoice::Auto => auto_cert(dir, shown_host)?,

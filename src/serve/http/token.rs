@@ -8,12 +8,12 @@
 
 use std::path::Path;
 
-use hyper::header::{HeaderValue, AUTHORIZATION, COOKIE, WWW_AUTHENTICATE};
+use hyper::header::{AUTHORIZATION, COOKIE, HeaderValue, WWW_AUTHENTICATE};
 use hyper::{Request, Response};
 
 use crate::serve::http::error::HttpError;
 use crate::serve::http::refusal::Refusal;
-use crate::serve::http::respond::{refused, Body};
+use crate::serve::http::respond::{Body, refused};
 use crate::serve::ids::{random_hex, same_secret};
 
 /// The file of a folder that keeps its token.
@@ -42,7 +42,8 @@ impl Token {
         let path = dir.join(TOKEN_FILE);
         let shown = path.display().to_string();
         if !renew && path.exists() {
-            let text = grove_systems::files::read_text(&path, grove_systems::files::Kind::Index).map_err(|e| HttpError::Io { path: shown.clone(), message: e.reason() })?;
+            let text = grove_systems::files::read_text(&path, grove_systems::files::Kind::Index)
+                .map_err(|e| HttpError::Io { path: shown.clone(), message: e.reason() })?;
             let secret = text.trim_end_matches('\n');
             if !crate::serve::ids::is_secret(secret) {
                 return Err(HttpError::Io { path: shown, message: "not a token (32 lowercase hex digits on one line); start the server with --new-token to draw another".into() });
@@ -50,8 +51,10 @@ impl Token {
             return Ok((Token { secret: secret.to_string(), tls }, Kept::Read));
         }
         let secret = random_hex(16)?;
-        std::fs::create_dir_all(dir).map_err(|e| HttpError::Io { path: dir.display().to_string(), message: e.to_string() })?;
-        crate::atomic_write::write_private(&path, format!("{secret}\n").as_bytes()).map_err(|e| HttpError::Io { path: shown, message: e.source.to_string() })?;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| HttpError::Io { path: dir.display().to_string(), message: e.to_string() })?;
+        crate::atomic_write::write_private(&path, format!("{secret}\n").as_bytes())
+            .map_err(|e| HttpError::Io { path: shown, message: e.source.to_string() })?;
         Ok((Token { secret, tls }, Kept::Drawn))
     }
 
@@ -66,10 +69,21 @@ impl Token {
         match carried(req) {
             (Some(t), in_url) if same_secret(&t, &self.secret) => {
                 let secure = if self.tls { "; Secure" } else { "" };
-                Ok(in_url.then(|| HeaderValue::from_str(&format!("grove_token={}; Path=/; HttpOnly; SameSite=Strict{secure}", self.secret)).ok()).flatten())
+                Ok(in_url
+                    .then(|| {
+                        HeaderValue::from_str(&format!(
+                            "grove_token={}; Path=/; HttpOnly; SameSite=Strict{secure}",
+                            self.secret
+                        ))
+                        .ok()
+                    })
+                    .flatten())
             }
             _ => {
-                let mut r = refused(&Refusal::new(401, "a session token is needed: open the URL grove serve printed (or send 'Authorization: Bearer TOKEN')"));
+                let mut r = refused(&Refusal::new(
+                    401,
+                    "a session token is needed: open the URL grove serve printed (or send 'Authorization: Bearer TOKEN')",
+                ));
                 r.headers_mut().insert(WWW_AUTHENTICATE, HeaderValue::from_static("Bearer realm=\"grove serve\""));
                 Err(r)
             }

@@ -6,9 +6,9 @@
 
 use std::sync::Arc;
 
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
-use crate::serve::protocol::{task_step, Protocol};
+use crate::serve::protocol::{Protocol, task_step};
 use crate::serve::sessions::service::Sessions;
 
 /// Every participant and every session, each with its live view.

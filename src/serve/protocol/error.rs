@@ -5,11 +5,7 @@ use crate::serve::http::refusal::Refusal;
 
 /// The sessions that are not a step's, as the end of its refusal: `; not this step's: FILE (why), …`.
 fn not_this_steps(others: &[String]) -> String {
-    if others.is_empty() {
-        String::new()
-    } else {
-        format!("; not this step's: {}", others.join(", "))
-    }
+    if others.is_empty() { String::new() } else { format!("; not this step's: {}", others.join(", ")) }
 }
 
 /// Why a protocol request, or the protocol's folder, was refused.
@@ -22,13 +18,17 @@ pub enum ParticipantError {
     #[error("a participant id is 1 to 32 letters, digits, '_' or '-', starting with a letter or digit")]
     BadId,
     /// A participant id that is not a string.
-    #[error("'participant' must be a participant id, a string (1 to 32 letters, digits, '_' or '-'); the request sent {0}")]
+    #[error(
+        "'participant' must be a participant id, a string (1 to 32 letters, digits, '_' or '-'); the request sent {0}"
+    )]
     IdNotText(String),
     /// A join request with other fields than `participant`.
     #[error("send {{}} for a new participant or {{\"participant\": ID}}; the request has '{0}'")]
     JoinShape(String),
     /// A new participant's id already in use (ids are compared without regard to case).
-    #[error("participant id {id} is in use by {holder} (ids are compared without regard to case); choose another, or send {{}} for the next free one")]
+    #[error(
+        "participant id {id} is in use by {holder} (ids are compared without regard to case); choose another, or send {{}} for the next free one"
+    )]
     IdInUse {
         /// The id asked for.
         id: String,
@@ -137,7 +137,9 @@ pub enum ParticipantError {
     FromShape,
     /// A participant's file whose participant line names another id than its file, or an id
     /// unfit for a file name.
-    #[error("{file}: its participant line names {id:?}, which is not the id its name gives; a participant's file is ID.answers.jsonl with that ID inside")]
+    #[error(
+        "{file}: its participant line names {id:?}, which is not the id its name gives; a participant's file is ID.answers.jsonl with that ID inside"
+    )]
     FileId {
         /// The file.
         file: String,
@@ -145,7 +147,9 @@ pub enum ParticipantError {
         id: String,
     },
     /// Two participants with one id in one file, as an older `grove serve` could write.
-    #[error("{file}: two participants have the id {id}, participant {first} and participant {second} (from line {line}), as an older grove serve gave a named id again as an automatic one; their steps and answers are mixed in this file. To mend the folder, move the second participant's lines (from line {line} on, those of their steps) into a file of an id no one has, such as {id}-2.answers.jsonl with that id in its first line, and rename their recordings to it; or go on in a new --out folder")]
+    #[error(
+        "{file}: two participants have the id {id}, participant {first} and participant {second} (from line {line}), as an older grove serve gave a named id again as an automatic one; their steps and answers are mixed in this file. To mend the folder, move the second participant's lines (from line {line} on, those of their steps) into a file of an id no one has, such as {id}-2.answers.jsonl with that id in its first line, and rename their recordings to it; or go on in a new --out folder"
+    )]
     RepeatedId {
         /// The file.
         file: String,
@@ -159,7 +163,9 @@ pub enum ParticipantError {
         line: usize,
     },
     /// Two participants whose ids differ only in case (one file on a macOS or Windows disk).
-    #[error("{dir}: participants {a} and {b} have ids that differ only in case, which are one file on a macOS or Windows disk; rename one participant's files (its answers and recordings) to an id no one has")]
+    #[error(
+        "{dir}: participants {a} and {b} have ids that differ only in case, which are one file on a macOS or Windows disk; rename one participant's files (its answers and recordings) to an id no one has"
+    )]
     CaseClash {
         /// The folder.
         dir: String,

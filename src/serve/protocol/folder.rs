@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use crate::protocol::Loaded;
-use crate::serve::protocol::error::ParticipantError;
 use crate::protocol::Step;
+use crate::serve::protocol::error::ParticipantError;
 
 /// The suffix of a participant's file.
 pub const ANSWERS_SUFFIX: &str = ".answers.jsonl";
@@ -65,7 +65,8 @@ pub fn read_all(loaded: &Loaded, dir: &Path) -> Result<Vec<Participant>, Partici
 /// began, the answers. A last line cut short by a crash (no newline) was never acknowledged and
 /// is cut off.
 fn read_back(loaded: &Loaded, path: &Path) -> Result<Participant, ParticipantError> {
-    let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Recording).map_err(|e| ParticipantError::File(e.reason()))?;
+    let text = grove_systems::files::read_text(path, grove_systems::files::Kind::Recording)
+        .map_err(|e| ParticipantError::File(e.reason()))?;
     let whole = text.rfind('\n').map_or(0, |end| end + 1);
     if whole < text.len() {
         let f = std::fs::OpenOptions::new().write(true).open(path).map_err(|e| io(path, e))?;
@@ -91,11 +92,26 @@ fn read_back(loaded: &Loaded, path: &Path) -> Result<Participant, ParticipantErr
                 if let Some(first) = began.first_mut() {
                     *first = Some(time);
                 }
-                p = Some(Participant { id, index, order, steps, began, at: 0, answers: BTreeMap::new(), answer_lines: 0 });
+                p = Some(Participant {
+                    id,
+                    index,
+                    order,
+                    steps,
+                    began,
+                    at: 0,
+                    answers: BTreeMap::new(),
+                    answer_lines: 0,
+                });
             }
             (Some("participant"), Some(first)) => {
                 let second = v["index"].as_u64().map_or(0, |i| i + 1);
-                return Err(ParticipantError::RepeatedId { file, id: first.id.clone(), first: first.index + 1, second, line: n + 1 });
+                return Err(ParticipantError::RepeatedId {
+                    file,
+                    id: first.id.clone(),
+                    first: first.index + 1,
+                    second,
+                    line: n + 1,
+                });
             }
             (Some("step"), Some(p)) => {
                 p.at = (v["step"].as_u64().unwrap_or(1) as usize).saturating_sub(1).min(p.steps.len());

@@ -35,10 +35,18 @@ pub struct Protocol {
 
 impl TaskSessions for Sessions {
     fn finishing(&self, participant: &str, task: &str, began: &str) -> Result<String, Vec<(String, &'static str)>> {
-        let theirs: Vec<Entry> = self.registry.entries().into_iter().filter(|e| e.participant == participant && e.task.as_deref() == Some(task)).collect();
+        let theirs: Vec<Entry> = self
+            .registry
+            .entries()
+            .into_iter()
+            .filter(|e| e.participant == participant && e.task.as_deref() == Some(task))
+            .collect();
         match theirs.iter().find(|e| task_step::finishes(e, began)) {
             Some(e) => Ok(e.file.clone()),
-            None => Err(theirs.iter().filter_map(|e| task_step::not_this_steps(e, began).map(|why| (e.file.clone(), why))).collect()),
+            None => Err(theirs
+                .iter()
+                .filter_map(|e| task_step::not_this_steps(e, began).map(|why| (e.file.clone(), why)))
+                .collect()),
         }
     }
 

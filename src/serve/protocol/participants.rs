@@ -10,20 +10,19 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 use crate::protocol::form::FormInstrument;
 use crate::protocol::{Loaded, Step, StepKind};
 
 use crate::serve::protocol::error::ParticipantError;
-pub use crate::serve::protocol::folder::{Participant, ANSWERS_SUFFIX};
+pub use crate::serve::protocol::folder::{ANSWERS_SUFFIX, Participant};
 
 /// The copy of the protocol kept in the folder (what `grove study` reads).
 pub const PROTOCOL_FILE: &str = "protocol.ron";
 /// The most answer lines one participant's file takes (answers given again included), so that
 /// a client repeating answers cannot fill the disk.
 pub const MAX_ANSWER_LINES: usize = 10_000;
-
 
 /// What the participants see of the folder's sessions: the one that finishes a task step, and
 /// the participant ids the sessions use.
@@ -60,15 +59,22 @@ impl Participants {
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
         let copy = dir.join(PROTOCOL_FILE);
         if copy.exists() {
-            let held = grove_systems::files::read_text(&copy, grove_systems::files::Kind::Index).map_err(|e| ParticipantError::File(e.reason()))?;
+            let held = grove_systems::files::read_text(&copy, grove_systems::files::Kind::Index)
+                .map_err(|e| ParticipantError::File(e.reason()))?;
             if held != loaded.text {
                 return Err(ParticipantError::OtherProtocol { copy: copy.display().to_string() });
             }
         } else {
-            crate::atomic_write::write_bytes(&copy, loaded.text.as_bytes()).map_err(|e| ParticipantError::File(e.to_string()))?;
+            crate::atomic_write::write_bytes(&copy, loaded.text.as_bytes())
+                .map_err(|e| ParticipantError::File(e.to_string()))?;
         }
         let list = crate::serve::protocol::folder::read_all(&loaded, dir)?;
-        let notes = list.iter().map(|p| format!("participant {} resumes at step {} of {}", p.id, (p.at + 1).min(p.steps.len()), p.steps.len())).collect();
+        let notes = list
+            .iter()
+            .map(|p| {
+                format!("participant {} resumes at step {} of {}", p.id, (p.at + 1).min(p.steps.len()), p.steps.len())
+            })
+            .collect();
         Ok((Participants { loaded, dir: dir.to_path_buf(), list: Mutex::new(list) }, notes))
     }
 
@@ -98,7 +104,10 @@ impl Participants {
         let holder = |candidate: &str| -> Option<String> {
             match list.iter().find(|p| p.id.eq_ignore_ascii_case(candidate)) {
                 Some(p) => Some(format!("participant {}", p.id)),
-                None => used.iter().find(|(i, _)| i.eq_ignore_ascii_case(candidate)).map(|(i, f)| format!("the sessions of {i} in this folder ({f})")),
+                None => used
+                    .iter()
+                    .find(|(i, _)| i.eq_ignore_ascii_case(candidate))
+                    .map(|(i, f)| format!("the sessions of {i} in this folder ({f})")),
             }
         };
         if let Some(id) = id {
@@ -152,7 +161,11 @@ impl Participants {
         for p in list.iter() {
             for (i, s) in p.steps.iter().enumerate() {
                 if let StepKind::Task { condition } = &s.kind {
-                    out.push((p.id.clone(), self.loaded.protocol.conditions[*condition].task.clone(), p.began.get(i).cloned().flatten()));
+                    out.push((
+                        p.id.clone(),
+                        self.loaded.protocol.conditions[*condition].task.clone(),
+                        p.began.get(i).cloned().flatten(),
+                    ));
                 }
             }
         }
@@ -167,7 +180,12 @@ impl Participants {
 
     /// Records answers to the questionnaire of step `step` (1-based): every one is checked
     /// against its item before any is written.
-    pub fn answer(&self, id: &str, step: usize, answers: &serde_json::Map<String, Value>) -> Result<Value, ParticipantError> {
+    pub fn answer(
+        &self,
+        id: &str,
+        step: usize,
+        answers: &serde_json::Map<String, Value>,
+    ) -> Result<Value, ParticipantError> {
         let mut list = self.list.lock().unwrap_or_else(|p| p.into_inner());
         let p = list.iter_mut().find(|p| p.id == id).ok_or_else(|| ParticipantError::Unknown(id.to_string()))?;
         if step != p.at + 1 {
@@ -181,13 +199,21 @@ impl Participants {
             return Err(ParticipantError::NoAnswers);
         }
         if p.answer_lines + answers.len() > MAX_ANSWER_LINES {
-            return Err(ParticipantError::TooManyAnswers { id: id.to_string(), given: p.answer_lines, most: MAX_ANSWER_LINES });
+            return Err(ParticipantError::TooManyAnswers {
+                id: id.to_string(),
+                given: p.answer_lines,
+                most: MAX_ANSWER_LINES,
+            });
         }
         let time = now();
         let cond = condition.map(|c| self.loaded.protocol.conditions[c].name.clone());
         let mut lines = Vec::new();
         for (item_id, value) in answers {
-            let item = ins.items.iter().find(|i| &i.id == item_id).ok_or_else(|| ParticipantError::NoSuchItem { instrument: ins.id.clone(), item: item_id.clone() })?;
+            let item = ins
+                .items
+                .iter()
+                .find(|i| &i.id == item_id)
+                .ok_or_else(|| ParticipantError::NoSuchItem { instrument: ins.id.clone(), item: item_id.clone() })?;
             crate::protocol::answer::check(item, value)?;
             lines.push(json!({"line": "answer", "step": step, "block": p.steps[p.at].name, "instrument": ins.id, "condition": cond, "item": item_id, "answer": value, "time": time}));
         }
@@ -221,7 +247,12 @@ impl Participants {
             }
             StepKind::Questionnaire { instrument, .. } => {
                 let ins = self.loaded.instrument(instrument).ok_or(ParticipantError::InstrumentGone)?;
-                let missing: Vec<&str> = ins.items.iter().filter(|i| i.required && !p.answers.contains_key(&(p.at, i.id.clone()))).map(|i| i.id.as_str()).collect();
+                let missing: Vec<&str> = ins
+                    .items
+                    .iter()
+                    .filter(|i| i.required && !p.answers.contains_key(&(p.at, i.id.clone())))
+                    .map(|i| i.id.as_str())
+                    .collect();
                 if !missing.is_empty() {
                     return Err(ParticipantError::NotAnswered { step: from, missing: missing.join(", ") });
                 }
@@ -229,7 +260,11 @@ impl Participants {
             StepKind::Instructions | StepKind::Practice => {}
         }
         let time = now();
-        let line = if p.at + 1 < p.steps.len() { step_line(&p.steps, p.at + 1, &time) } else { json!({"line": "done", "time": time}) };
+        let line = if p.at + 1 < p.steps.len() {
+            step_line(&p.steps, p.at + 1, &time)
+        } else {
+            json!({"line": "done", "time": time})
+        };
         self.append(id, &[line])?;
         p.at += 1;
         if let Some(b) = p.began.get_mut(p.at) {
@@ -242,7 +277,8 @@ impl Participants {
     fn state(&self, p: &Participant) -> Value {
         let cond = |c: usize| &self.loaded.protocol.conditions[c];
         let steps: Vec<Value> = p.steps.iter().enumerate().map(|(i, s)| self.describe(i, s)).collect();
-        let answers: serde_json::Map<String, Value> = p.answers.iter().filter(|((s, _), _)| *s == p.at).map(|((_, k), v)| (k.clone(), v.clone())).collect();
+        let answers: serde_json::Map<String, Value> =
+            p.answers.iter().filter(|((s, _), _)| *s == p.at).map(|((_, k), v)| (k.clone(), v.clone())).collect();
         json!({
             "participant": p.id,
             "protocol": self.loaded.protocol.name,
@@ -280,7 +316,11 @@ impl Participants {
             }
             (StepKind::Questionnaire { instrument, condition }, _) => {
                 o.insert("kind".into(), json!("questionnaire"));
-                o.insert("instrument".into(), serde_json::to_value(self.loaded.instrument(instrument).map(|i| FormInstrument::new(&i))).unwrap_or(Value::Null));
+                o.insert(
+                    "instrument".into(),
+                    serde_json::to_value(self.loaded.instrument(instrument).map(|i| FormInstrument::new(&i)))
+                        .unwrap_or(Value::Null),
+                );
                 o.insert("condition".into(), json!(condition.map(|c| self.loaded.protocol.conditions[c].name.clone())));
             }
             _ => {}

@@ -15,7 +15,8 @@ impl TaskSessions for NoneEnded {
 }
 
 fn shipped() -> Loaded {
-    crate::protocol::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/protocols/tree-planting.ron")).expect("the shipped protocol")
+    crate::protocol::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/protocols/tree-planting.ron"))
+        .expect("the shipped protocol")
 }
 
 #[test]

@@ -13,18 +13,18 @@
 
 use hyper::body::Incoming;
 use hyper::{Method, Request, Response};
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 use crate::serve::http::body::BodyReader;
 use crate::serve::http::refusal::Refusal;
-use crate::serve::http::respond::{full, html, json, refused, Body};
-use crate::serve::http::router::{find, Route};
+use crate::serve::http::respond::{Body, full, html, json, refused};
+use crate::serve::http::router::{Route, find};
 use crate::serve::log::log;
+use crate::serve::protocol::Protocol;
 use crate::serve::protocol::dashboard::dashboard;
 use crate::serve::protocol::error::ParticipantError;
 use crate::serve::protocol::pages::{DASHBOARD, PROTOCOL};
 use crate::serve::protocol::participants::Participants;
-use crate::serve::protocol::Protocol;
 
 /// The largest body of a protocol request (answers included).
 const MAX_BODY: usize = 256 * 1024;
@@ -58,7 +58,12 @@ fn routes() -> [Route<To>; 9] {
 
 /// Whether `path` is one of the protocol's.
 pub fn serves(path: &str) -> bool {
-    path == "/protocol" || path == "/dashboard" || path.starts_with("/protocol/") || path == "/api/protocol" || path.starts_with("/api/protocol/") || path == "/api/dashboard"
+    path == "/protocol"
+        || path == "/dashboard"
+        || path.starts_with("/protocol/")
+        || path == "/api/protocol"
+        || path.starts_with("/api/protocol/")
+        || path == "/api/dashboard"
 }
 
 /// Routes a protocol request (`protocol`: the protocol the server runs, if any).
@@ -80,10 +85,15 @@ pub async fn route(protocol: Option<&Protocol>, req: Request<Incoming>) -> Respo
         To::Media => media(parts, id, captured.get(1).copied().unwrap_or_default()),
         To::Info => {
             let p = &parts.loaded.protocol;
-            Ok(json(200, &json!({"name": p.name, "participants": p.participants, "conditions": p.conditions, "scene": p.scene, "joined": parts.all().len()})))
+            Ok(json(
+                200,
+                &json!({"name": p.name, "participants": p.participants, "conditions": p.conditions, "scene": p.scene, "joined": parts.all().len()}),
+            ))
         }
         To::Join => match body(protocol, req).await {
-            Ok(v) => joining(&v).and_then(|named| parts.join(named, protocol.sessions.as_ref())).map(|(v, new)| json(if new { 201 } else { 200 }, &v)),
+            Ok(v) => joining(&v)
+                .and_then(|named| parts.join(named, protocol.sessions.as_ref()))
+                .map(|(v, new)| json(if new { 201 } else { 200 }, &v)),
             Err(e) => Err(e),
         },
         To::Participant => parts.get(id).map(|v| json(200, &v)),
@@ -96,7 +106,9 @@ pub async fn route(protocol: Option<&Protocol>, req: Request<Incoming>) -> Respo
         },
         To::Next => match body(protocol, req).await {
             Ok(v) if !v.contains_key("from") => Err(ParticipantError::FromShape),
-            Ok(v) => step_of(&v, "from").and_then(|from| parts.next(id, from, protocol.sessions.as_ref())).map(|v| json(200, &v)),
+            Ok(v) => step_of(&v, "from")
+                .and_then(|from| parts.next(id, from, protocol.sessions.as_ref()))
+                .map(|v| json(200, &v)),
             Err(e) => Err(e),
         },
         To::Dashboard => Ok(json(200, &dashboard(protocol).await)),
@@ -122,8 +134,12 @@ pub async fn route(protocol: Option<&Protocol>, req: Request<Incoming>) -> Respo
 }
 
 fn media(parts: &Participants, block: &str, what: &str) -> Result<Response<Body>, ParticipantError> {
-    let path = parts.media(block, what).ok_or_else(|| ParticipantError::NoMedia { block: block.to_string(), what: what.to_string() })?;
-    let unserved = |e: grove_systems::files::FileError| ParticipantError::Media(format!("block {block}'s {what}: {}", e.public_reason()));
+    let path = parts
+        .media(block, what)
+        .ok_or_else(|| ParticipantError::NoMedia { block: block.to_string(), what: what.to_string() })?;
+    let unserved = |e: grove_systems::files::FileError| {
+        ParticipantError::Media(format!("block {block}'s {what}: {}", e.public_reason()))
+    };
     let inside = grove_systems::files::within(&path, &parts.loaded.folder).map_err(unserved)?;
     let bytes = grove_systems::files::read(&inside, grove_systems::files::Kind::Served).map_err(unserved)?;
     let mut r = Response::new(full(bytes));

@@ -47,9 +47,14 @@ pub fn finishes(e: &Entry, began: &str) -> bool {
 /// task, when it began).
 pub fn listed(e: &Entry, steps: &[(String, String, Option<String>)]) -> Option<String> {
     let task = e.task.as_deref()?;
-    let theirs: Vec<&Option<String>> = steps.iter().filter(|(p, t, _)| *p == e.participant && t == task).map(|(_, _, b)| b).collect();
+    let theirs: Vec<&Option<String>> =
+        steps.iter().filter(|(p, t, _)| *p == e.participant && t == task).map(|(_, _, b)| b).collect();
     if theirs.is_empty() {
-        return Some(if steps.iter().any(|(p, _, _)| *p == e.participant) { format!("{task} is not a task of {}", e.participant) } else { format!("no participant {} in the protocol", e.participant) });
+        return Some(if steps.iter().any(|(p, _, _)| *p == e.participant) {
+            format!("{task} is not a task of {}", e.participant)
+        } else {
+            format!("no participant {} in the protocol", e.participant)
+        });
     }
     // The step it may be: the last one of that task that began before it opened, else the first.
     let began: Vec<&String> = theirs.iter().filter_map(|b| b.as_ref()).collect();
@@ -66,8 +71,21 @@ mod tests {
     use crate::serve::sessions::verify::Verification;
 
     fn entry(opened: &str, state: SessionState, lines: u64, complete: Option<bool>) -> Entry {
-        let verification = complete.map(|complete| Verification { complete, ..Verification::invalid(String::new(), 0) });
-        Entry { id: "0".repeat(32), file: "P01-manual-7-1.jsonl".into(), participant: "P01".into(), task: Some("manual-7".into()), opened: opened.into(), state, lines, closed: None, verification, note: None, identity: None }
+        let verification =
+            complete.map(|complete| Verification { complete, ..Verification::invalid(String::new(), 0) });
+        Entry {
+            id: "0".repeat(32),
+            file: "P01-manual-7-1.jsonl".into(),
+            participant: "P01".into(),
+            task: Some("manual-7".into()),
+            opened: opened.into(),
+            state,
+            lines,
+            closed: None,
+            verification,
+            note: None,
+            identity: None,
+        }
     }
 
     #[test]

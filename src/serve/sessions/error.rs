@@ -45,7 +45,9 @@ pub enum SessionError {
     #[error("'continue' must be true or false")]
     ContinueNotBool,
     /// `continue` beside fields: only a recording's header line names a recording to continue.
-    #[error("'continue' goes with a recording's header line ({{\"header\": LINE, \"continue\": true}}), not with fields")]
+    #[error(
+        "'continue' goes with a recording's header line ({{\"header\": LINE, \"continue\": true}}), not with fields"
+    )]
     ContinueWithFields,
     /// The header line is not a string.
     #[error("'header' must be the header line, a string")]
@@ -191,7 +193,9 @@ pub enum SessionError {
         acked: u64,
     },
     /// Another client writes the session.
-    #[error("session {file} is being written by another client (its last request {idle_s:.1} s ago); another client may take it over after {lease_s:.0} s without requests")]
+    #[error(
+        "session {file} is being written by another client (its last request {idle_s:.1} s ago); another client may take it over after {lease_s:.0} s without requests"
+    )]
     Writer {
         /// The session's file.
         file: String,

@@ -7,7 +7,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 use tokio::sync::OwnedMutexGuard;
 
 use crate::serve::log::log;
@@ -16,7 +16,7 @@ use crate::serve::sessions::registry::Entry;
 use crate::serve::sessions::service::Sessions;
 use crate::serve::sessions::session::Session;
 use crate::serve::sessions::states::SessionState;
-use crate::serve::sessions::verify::{verify, Verification};
+use crate::serve::sessions::verify::{Verification, verify};
 
 /// The longest an end waits for the live verification to reach the session's last line.
 const END_PATIENCE: Duration = Duration::from_secs(60);
@@ -25,10 +25,22 @@ impl Sessions {
     /// Ends a session (held by its caller) as `how` (ended or abandoned), waits for its
     /// verification (its live replay reaching the last line) and records it; returns the answer
     /// to its client.
-    pub async fn close_and_verify(&self, mut s: OwnedMutexGuard<Session>, how: SessionState) -> Result<Value, SessionError> {
+    pub async fn close_and_verify(
+        &self,
+        mut s: OwnedMutexGuard<Session>,
+        how: SessionState,
+    ) -> Result<Value, SessionError> {
         s.write_out()?;
         self.registry.close(&mut s, how)?;
-        let (id, file, path, acked, last_tick, last_checkpoint, bytes) = (s.id.clone(), s.file_name.clone(), s.path.clone(), s.acked(), s.last_tick(), s.last_checkpoint(), s.bytes());
+        let (id, file, path, acked, last_tick, last_checkpoint, bytes) = (
+            s.id.clone(),
+            s.file_name.clone(),
+            s.path.clone(),
+            s.acked(),
+            s.last_tick(),
+            s.last_checkpoint(),
+            s.bytes(),
+        );
         drop(s);
         // The live verification once it has replayed the last line; the whole file re-simulated
         // only when the session was not watched or its worker did not finish in time.
@@ -37,7 +49,9 @@ impl Sessions {
             None => {
                 let banks = self.registry.bank_dirs.clone();
                 let permit = self.verifying.acquire().await.map_err(|e| SessionError::Task(e.to_string()))?;
-                let v = tokio::task::spawn_blocking(move || verify(&path, &banks, last_tick, last_checkpoint)).await.map_err(|e| SessionError::Task(e.to_string()))?;
+                let v = tokio::task::spawn_blocking(move || verify(&path, &banks, last_tick, last_checkpoint))
+                    .await
+                    .map_err(|e| SessionError::Task(e.to_string()))?;
                 drop(permit);
                 v
             }

@@ -18,7 +18,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{mpsc, Arc, Mutex};
+use std::sync::{Arc, Mutex, mpsc};
 use std::time::Duration;
 
 use grove_systems::bank::Banks;
@@ -108,7 +108,8 @@ impl Live {
         let workers = std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1));
         for i in 0..workers {
             let (rx, banks, again) = (rx.clone(), banks.clone(), queue.clone());
-            let spawned = std::thread::Builder::new().name(format!("grove-live-{i}")).spawn(move || work(&rx, &banks, &again));
+            let spawned =
+                std::thread::Builder::new().name(format!("grove-live-{i}")).spawn(move || work(&rx, &banks, &again));
             if let Err(e) = spawned {
                 crate::serve::log::log(&format!("cannot start a live verification worker: {e}"));
             }

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use grove_systems::bank::Banks;
 use grove_systems::events::Happening;
 use grove_systems::limits::MAX_LINE_BYTES;
-use grove_systems::replay::{header_line, sim_for_header_in, Line, LineRules, ReplayError, Verifier};
+use grove_systems::replay::{Line, LineRules, ReplayError, Verifier, header_line, sim_for_header_in};
 use grove_systems::sim::Sim;
 use serde::Serialize;
 
@@ -89,7 +89,16 @@ pub struct LiveReplay {
 impl LiveReplay {
     /// A replay of the file at `path`, which nothing has been read of yet.
     pub fn new(path: &Path) -> LiveReplay {
-        LiveReplay { path: path.to_path_buf(), file: None, offset: 0, splitter: LineSplitter::new(MAX_LINE_BYTES), stage: Stage::Header, hits: BTreeMap::new(), error: None, buf: Vec::new() }
+        LiveReplay {
+            path: path.to_path_buf(),
+            file: None,
+            offset: 0,
+            splitter: LineSplitter::new(MAX_LINE_BYTES),
+            stage: Stage::Header,
+            hits: BTreeMap::new(),
+            error: None,
+            buf: Vec::new(),
+        }
     }
 
     /// Bytes of the file taken so far.
@@ -115,7 +124,8 @@ impl LiveReplay {
 
     fn read_chunk(&mut self, end: u64, banks: &Banks) -> Result<(), String> {
         if self.file.is_none() {
-            let (f, _) = grove_systems::files::open(&self.path, grove_systems::files::Kind::Recording).map_err(|e| e.reason())?;
+            let (f, _) = grove_systems::files::open(&self.path, grove_systems::files::Kind::Recording)
+                .map_err(|e| e.reason())?;
             self.file = Some(f);
         }
         let Some(file) = self.file.as_mut() else { return Ok(()) };
@@ -138,7 +148,9 @@ impl LiveReplay {
                 match take(stage, hits, dir, banks, text) {
                     Ok(()) => true,
                     Err(message) => {
-                        failed = Some(ReplayError { file: path.display().to_string(), line: Some(number), message }.to_string());
+                        failed = Some(
+                            ReplayError { file: path.display().to_string(), line: Some(number), message }.to_string(),
+                        );
                         false
                     }
                 }
@@ -160,9 +172,16 @@ impl LiveReplay {
     /// The verification of the lines replayed so far (before the header: verified to tick 0).
     pub fn verification(&self) -> Verification {
         let (last_tick, found) = match &self.stage {
-            Stage::Going { rules, verifier, last_checkpoint } => {
-                (rules.last_tick(), Verification::found(verifier.complete(), verifier.checkpoints_checked(), verifier.first_divergence(), rules.last_tick(), *last_checkpoint))
-            }
+            Stage::Going { rules, verifier, last_checkpoint } => (
+                rules.last_tick(),
+                Verification::found(
+                    verifier.complete(),
+                    verifier.checkpoints_checked(),
+                    verifier.first_divergence(),
+                    rules.last_tick(),
+                    *last_checkpoint,
+                ),
+            ),
             Stage::Header => (0, Verification::found(false, 0, None, 0, 0)),
         };
         match &self.error {
@@ -197,12 +216,22 @@ impl LiveReplay {
 
 /// Replays one line (its text without the newline): the header builds the world, every later
 /// line is checked by the rules and handed to the verifier; each step's hit is counted.
-fn take(stage: &mut Stage, hits: &mut BTreeMap<(i32, i32), u32>, dir: &Path, banks: &Banks, text: String) -> Result<(), String> {
+fn take(
+    stage: &mut Stage,
+    hits: &mut BTreeMap<(i32, i32), u32>,
+    dir: &Path,
+    banks: &Banks,
+    text: String,
+) -> Result<(), String> {
     match stage {
         Stage::Header => {
             let header = header_line(&text).map_err(|e| e.to_string())?;
             let sim = sim_for_header_in(&header, Some(dir), &[], banks).map_err(|e| e.to_string())?;
-            *stage = Stage::Going { rules: LineRules::after(&header), verifier: Box::new(Verifier::new(sim, true)), last_checkpoint: 0 };
+            *stage = Stage::Going {
+                rules: LineRules::after(&header),
+                verifier: Box::new(Verifier::new(sim, true)),
+                last_checkpoint: 0,
+            };
             Ok(())
         }
         Stage::Going { rules, verifier, last_checkpoint } => {

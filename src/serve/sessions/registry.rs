@@ -117,15 +117,23 @@ impl Registry {
     /// Opens a folder (made if missing), reads its `sessions.json` and continues the sessions
     /// still open. Returns the registry and a line per session continued or not.
     pub fn load(dir: &Path, bank_dirs: Vec<PathBuf>, max_open: usize) -> Result<(Registry, Vec<String>), SessionError> {
-        std::fs::create_dir_all(dir).map_err(|e| SessionError::Io { path: dir.display().to_string(), message: e.to_string() })?;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| SessionError::Io { path: dir.display().to_string(), message: e.to_string() })?;
         let banks = Banks::open(&bank_dirs).map_err(|e| SessionError::Banks(e.to_string()))?;
         let list = dir.join(SESSIONS_FILE);
         let mut entries = Vec::new();
         if list.exists() {
-            let text = grove_systems::files::read_text(&list, grove_systems::files::Kind::Index).map_err(|e| SessionError::Io { path: list.display().to_string(), message: e.reason() })?;
-            let file: SessionsFile = serde_json::from_str(&text).map_err(|e| SessionError::Io { path: list.display().to_string(), message: format!("not a sessions list ({e})") })?;
+            let text = grove_systems::files::read_text(&list, grove_systems::files::Kind::Index)
+                .map_err(|e| SessionError::Io { path: list.display().to_string(), message: e.reason() })?;
+            let file: SessionsFile = serde_json::from_str(&text).map_err(|e| SessionError::Io {
+                path: list.display().to_string(),
+                message: format!("not a sessions list ({e})"),
+            })?;
             if file.format != "grove-sessions" || file.version != 1 {
-                return Err(SessionError::Io { path: list.display().to_string(), message: "not a grove sessions list of version 1".into() });
+                return Err(SessionError::Io {
+                    path: list.display().to_string(),
+                    message: "not a grove sessions list of version 1".into(),
+                });
             }
             entries = file.sessions;
         }
@@ -147,7 +155,15 @@ impl Registry {
                 }
             }
         }
-        let registry = Registry { dir: dir.to_path_buf(), bank_dirs, banks, entries: Mutex::new(entries), open: Mutex::new(open), opening: Mutex::new(()), max_open };
+        let registry = Registry {
+            dir: dir.to_path_buf(),
+            bank_dirs,
+            banks,
+            entries: Mutex::new(entries),
+            open: Mutex::new(open),
+            opening: Mutex::new(()),
+            max_open,
+        };
         registry.save()?;
         Ok((registry, notes))
     }
@@ -158,17 +174,26 @@ impl Registry {
         let file = SessionsFile { format: "grove-sessions".into(), version: 1, sessions: entries.clone() };
         let text = serde_json::to_string_pretty(&file).unwrap_or_default() + "\n";
         let path = self.dir.join(SESSIONS_FILE);
-        crate::atomic_write::write_atomic(&path, text.as_bytes()).map_err(|e| SessionError::Io { path: path.display().to_string(), message: format!("{e:#}") })
+        crate::atomic_write::write_atomic(&path, text.as_bytes())
+            .map_err(|e| SessionError::Io { path: path.display().to_string(), message: format!("{e:#}") })
     }
 
     /// Opens a session with this header line: checked, its file made, listed. Continuing (a
     /// recording pushed whole), the session that a header line of the same [`identity`] opened
     /// before is found instead, if there is one.
     pub fn open(&self, header_text: &str, with: OpenWith) -> Result<Opened, SessionError> {
-        let _one_at_a_time = (with == OpenWith::LineContinuing).then(|| self.opening.lock().unwrap_or_else(|p| p.into_inner()));
+        let _one_at_a_time =
+            (with == OpenWith::LineContinuing).then(|| self.opening.lock().unwrap_or_else(|p| p.into_inner()));
         let key = (with != OpenWith::Fields).then(|| identity(header_text));
         if let (Some(key), OpenWith::LineContinuing) = (&key, with) {
-            let earlier = self.entries.lock().unwrap_or_else(|p| p.into_inner()).iter().rev().find(|e| e.identity.as_ref() == Some(key)).cloned();
+            let earlier = self
+                .entries
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .iter()
+                .rev()
+                .find(|e| e.identity.as_ref() == Some(key))
+                .cloned();
             if let Some(e) = earlier {
                 let shared = self.get(&e.id);
                 return Ok(Opened::Found(e, shared));
@@ -181,7 +206,19 @@ impl Registry {
         let id = ids::random_hex(16)?;
         let session = Session::create(&self.dir, id.clone(), header_text, &self.banks)?;
         let (participant, task) = (session.header.participant.clone().unwrap_or_default(), session.header.task.clone());
-        let entry = Entry { id: id.clone(), file: session.file_name.clone(), participant, task, opened: now(), state: SessionState::Open, lines: session.acked(), closed: None, verification: None, note: None, identity: key };
+        let entry = Entry {
+            id: id.clone(),
+            file: session.file_name.clone(),
+            participant,
+            task,
+            opened: now(),
+            state: SessionState::Open,
+            lines: session.acked(),
+            closed: None,
+            verification: None,
+            note: None,
+            identity: key,
+        };
         let shared = Arc::new(tokio::sync::Mutex::new(session));
         self.entries.lock().unwrap_or_else(|p| p.into_inner()).push(entry.clone());
         self.open.lock().unwrap_or_else(|p| p.into_inner()).insert(id, shared.clone());

@@ -3,9 +3,9 @@
 
 use super::*;
 
-    /// A `sessions.json` as docs/serve.md describes it, written out by hand: one entry in every
-    /// state, and a verification of every status.
-    const LISTED: &str = r#"{
+/// A `sessions.json` as docs/serve.md describes it, written out by hand: one entry in every
+/// state, and a verification of every status.
+const LISTED: &str = r#"{
   "format": "grove-sessions",
   "version": 1,
   "sessions": [
@@ -131,17 +131,17 @@ use super::*;
 }
 "#;
 
-    #[test]
-    fn sessions_json_in_every_state_is_read_and_written_back_byte_for_byte() {
-        let dir = tempfile::tempdir().unwrap();
-        let study = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("replays/study/P01-manual-7.jsonl");
-        std::fs::copy(study, dir.path().join("P01-manual-7-1.jsonl")).unwrap();
-        std::fs::write(dir.path().join(SESSIONS_FILE), LISTED).unwrap();
-        let (registry, notes) = Registry::load(dir.path(), Vec::new(), 4).unwrap();
-        assert_eq!(notes, ["continuing P01-manual-7-1.jsonl (701 lines)"]);
-        let states: Vec<SessionState> = registry.entries().iter().map(|e| e.state).collect();
-        use SessionState::*;
-        assert_eq!(states, [Open, Ended, Abandoned, Ended, Ended, Abandoned, Unresumable]);
-        registry.save().unwrap();
-        assert_eq!(std::fs::read_to_string(dir.path().join(SESSIONS_FILE)).unwrap(), LISTED);
-    }
+#[test]
+fn sessions_json_in_every_state_is_read_and_written_back_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("replays/study/P01-manual-7.jsonl");
+    std::fs::copy(study, dir.path().join("P01-manual-7-1.jsonl")).unwrap();
+    std::fs::write(dir.path().join(SESSIONS_FILE), LISTED).unwrap();
+    let (registry, notes) = Registry::load(dir.path(), Vec::new(), 4).unwrap();
+    assert_eq!(notes, ["continuing P01-manual-7-1.jsonl (701 lines)"]);
+    let states: Vec<SessionState> = registry.entries().iter().map(|e| e.state).collect();
+    use SessionState::*;
+    assert_eq!(states, [Open, Ended, Abandoned, Ended, Ended, Abandoned, Unresumable]);
+    registry.save().unwrap();
+    assert_eq!(std::fs::read_to_string(dir.path().join(SESSIONS_FILE)).unwrap(), LISTED);
+}

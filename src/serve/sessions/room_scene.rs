@@ -11,7 +11,7 @@
 
 use std::path::Path;
 
-use grove_systems::scene_text::{self_contained, SceneTextError};
+use grove_systems::scene_text::{SceneTextError, self_contained};
 
 use crate::serve::http::refusal::Refusal;
 

@@ -23,22 +23,22 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use grove_systems::limits::MAX_LINE_BYTES;
-use grove_systems::replay::{encode_line, Line};
+use grove_systems::replay::{Line, encode_line};
 use hyper::body::Incoming;
 use hyper::header::HeaderMap;
 use hyper::{Method, Request, Response};
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 use crate::serve::http::body::BodyReader;
 use crate::serve::http::refusal::Refusal;
-use crate::serve::http::respond::{json, refused, text, Body};
-use crate::serve::http::router::{find, Route};
+use crate::serve::http::respond::{Body, json, refused, text};
+use crate::serve::http::router::{Route, find};
 use crate::serve::line_split::{LineSplitter, SplitError};
 use crate::serve::log::log;
 use crate::serve::sessions::error::SessionError;
 use crate::serve::sessions::registry::{Entry, OpenWith, Opened};
 use crate::serve::sessions::service::Sessions;
-use crate::serve::sessions::session::{header_from_fields, OpenFields};
+use crate::serve::sessions::session::{OpenFields, header_from_fields};
 use crate::serve::sessions::states::SessionState;
 
 /// The largest body of a request other than lines (an open request carries a header line).
@@ -82,7 +82,10 @@ pub async fn route(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Response
     };
     let id = ids.first().copied().unwrap_or_default();
     let answer = match to {
-        To::List => Ok(json(200, &json!({ "sessions": sessions.registry.entries().iter().map(|e| public(sessions, e)).collect::<Vec<_>>() }))),
+        To::List => Ok(json(
+            200,
+            &json!({ "sessions": sessions.registry.entries().iter().map(|e| public(sessions, e)).collect::<Vec<_>>() }),
+        )),
         To::Open => open(sessions, req).await,
         To::Status => status(sessions, id).await,
         To::Append => append(sessions, id, req).await,
@@ -130,11 +133,14 @@ async fn open(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Result<Respon
         if continuing.is_some() {
             return Err(SessionError::ContinueWithFields);
         }
-        let fields: OpenFields = serde_json::from_value(Value::Object(body)).map_err(|e| SessionError::Fields(e.to_string()))?;
+        let fields: OpenFields =
+            serde_json::from_value(Value::Object(body)).map_err(|e| SessionError::Fields(e.to_string()))?;
         (encode_line(&Line::Header(header_from_fields(&fields, &sessions.registry.dir)?)), OpenWith::Fields)
     };
     let (all, text) = (sessions.clone(), header_text.clone());
-    let opened = tokio::task::spawn_blocking(move || all.registry.open(&text, with)).await.map_err(|e| SessionError::Task(e.to_string()))?;
+    let opened = tokio::task::spawn_blocking(move || all.registry.open(&text, with))
+        .await
+        .map_err(|e| SessionError::Task(e.to_string()))?;
     match opened.inspect_err(|e| log(&format!("refused a session: {e}")))? {
         Opened::New(entry, shared) => {
             {
@@ -142,7 +148,12 @@ async fn open(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Result<Respon
                 s.writer = Some(writer);
                 sessions.live.watch(&s.id, &s.path, s.bytes());
             }
-            log(&format!("opened {} (participant {}, task {})", entry.file, entry.participant, entry.task.as_deref().unwrap_or("none")));
+            log(&format!(
+                "opened {} (participant {}, task {})",
+                entry.file,
+                entry.participant,
+                entry.task.as_deref().unwrap_or("none")
+            ));
             Ok(json(201, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": 1 })))
         }
         Opened::Found(entry, Some(shared)) => {
@@ -150,7 +161,10 @@ async fn open(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Result<Respon
             let acked = s.acked();
             drop(s);
             log(&format!("continuing {} for the same recording pushed again ({acked} lines)", entry.file));
-            Ok(json(200, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": acked, "state": SessionState::Open, "continued": true })))
+            Ok(json(
+                200,
+                &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": acked, "state": SessionState::Open, "continued": true }),
+            ))
         }
         Opened::Found(entry, None) => {
             let found = json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": entry.lines, "state": entry.state, "verification": entry.verification, "continued": true });
@@ -190,7 +204,7 @@ async fn read_back(sessions: &Sessions, id: &str, scene: bool) -> Result<Respons
     };
     let dir = sessions.registry.dir.clone();
     let read = tokio::task::spawn_blocking(move || -> Result<String, SessionError> {
-        use grove_systems::files::{read_text, Kind};
+        use grove_systems::files::{Kind, read_text};
         let unreadable = |e: grove_systems::files::FileError| SessionError::Read(e.reason());
         if scene {
             if grove_systems::scene::Scene::builtin(&scene_name).is_some() {
@@ -198,7 +212,9 @@ async fn read_back(sessions: &Sessions, id: &str, scene: bool) -> Result<Respons
             }
             // Where the replay looks: the recordings' folder, then the working directory.
             let cwd = std::env::current_dir().unwrap_or_default();
-            let path = [&dir, &cwd].into_iter().find_map(|base| grove_systems::files::within(&base.join(&scene_name), base).ok());
+            let path = [&dir, &cwd]
+                .into_iter()
+                .find_map(|base| grove_systems::files::within(&base.join(&scene_name), base).ok());
             let path = path.ok_or(SessionError::NoSceneFile(scene_name))?;
             return read_text(&path, Kind::Scene).map_err(unreadable);
         }
@@ -246,7 +262,9 @@ async fn append(sessions: &Sessions, id: &str, req: Request<Incoming>) -> Result
             }
         });
         stop = bad_line.or(match split {
-            Err(SplitError::TooLong { number, limit }) => Some(SessionError::LineTooLong { number: first + number, limit }),
+            Err(SplitError::TooLong { number, limit }) => {
+                Some(SessionError::LineTooLong { number: first + number, limit })
+            }
             Err(SplitError::NotUtf8 { number }) => Some(SessionError::NotUtf8 { number: first + number }),
             Ok(_) => None,
         });

@@ -32,9 +32,17 @@ pub struct Sessions {
 impl Sessions {
     /// Opens a folder (made if missing) and continues the sessions still open in it, each
     /// verified as it streams unless `live` is false; returns a line per session continued or not.
-    pub fn load(dir: &std::path::Path, banks: Vec<PathBuf>, max_open: usize, read_timeout: Duration, writer_lease: Duration, live: bool) -> Result<(Sessions, Vec<String>), SessionError> {
+    pub fn load(
+        dir: &std::path::Path,
+        banks: Vec<PathBuf>,
+        max_open: usize,
+        read_timeout: Duration,
+        writer_lease: Duration,
+        live: bool,
+    ) -> Result<(Sessions, Vec<String>), SessionError> {
         let (registry, notes) = Registry::load(dir, banks, max_open)?;
-        let verifying = Semaphore::new(std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1)));
+        let verifying =
+            Semaphore::new(std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1)));
         let live = Live::start(&registry.bank_dirs, live);
         for shared in registry.open_sessions() {
             // Nothing else holds a session yet.
@@ -53,7 +61,12 @@ impl Sessions {
         match self.registry.get(id) {
             Some(s) => Ok(s),
             None => match self.registry.entry(id) {
-                Some(e) => Err(SessionError::Gone { file: e.file, state: e.state, acked: e.lines, verification: e.verification.map(Box::new) }),
+                Some(e) => Err(SessionError::Gone {
+                    file: e.file,
+                    state: e.state,
+                    acked: e.lines,
+                    verification: e.verification.map(Box::new),
+                }),
                 None => Err(SessionError::NoSuchSession),
             },
         }
@@ -61,7 +74,9 @@ impl Sessions {
 
     /// Waits for a session to read it, at most as long as a request may take.
     pub async fn read<'a>(&self, shared: &'a Shared) -> Result<MutexGuard<'a, Session>, SessionError> {
-        tokio::time::timeout(self.read_timeout + Duration::from_secs(1), shared.lock()).await.map_err(|_| SessionError::Busy)
+        tokio::time::timeout(self.read_timeout + Duration::from_secs(1), shared.lock())
+            .await
+            .map_err(|_| SessionError::Busy)
     }
 
     /// Takes the session for one request of `writer`: refused while another request on it is in
@@ -79,7 +94,12 @@ impl Sessions {
             && w != writer
             && idle < self.writer_lease
         {
-            return Err(SessionError::Writer { file: s.file_name.clone(), idle_s: idle.as_secs_f64(), lease_s: self.writer_lease.as_secs_f64(), acked: s.acked() });
+            return Err(SessionError::Writer {
+                file: s.file_name.clone(),
+                idle_s: idle.as_secs_f64(),
+                lease_s: self.writer_lease.as_secs_f64(),
+                acked: s.acked(),
+            });
         }
         s.writer = Some(writer.to_string());
         s.last_seen = Instant::now();

@@ -22,7 +22,7 @@ use std::time::Instant;
 use grove_systems::bank::Banks;
 use grove_systems::files::{self, Kind};
 use grove_systems::limits::{MAX_LINE_BYTES, MAX_RECORDING_BYTES};
-use grove_systems::replay::{self, header_line, session_start_at, Header, Line, LineRules, SessionFields};
+use grove_systems::replay::{self, Header, Line, LineRules, SessionFields, header_line, session_start_at};
 use grove_systems::sim::Sim;
 
 use crate::serve::ids;
@@ -74,7 +74,8 @@ pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Ses
         }
         (name, None) => name.clone().unwrap_or_else(|| "study".into()),
     };
-    let scene = replay::scene_ref::resolve_scene(&scene_name, Some(dir)).map_err(|e| SessionError::Scene(e.to_string()))?;
+    let scene =
+        replay::scene_ref::resolve_scene(&scene_name, Some(dir)).map_err(|e| SessionError::Scene(e.to_string()))?;
     let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
     let session = SessionFields {
         participant: Some(fields.participant.clone()),
@@ -84,7 +85,8 @@ pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Ses
         technique: fields.technique.clone(),
         ..Default::default()
     };
-    let mut header = session.header(&scene_name, fields.seed, scene.dt).map_err(|e| SessionError::Technique(e.to_string()))?;
+    let mut header =
+        session.header(&scene_name, fields.seed, scene.dt).map_err(|e| SessionError::Technique(e.to_string()))?;
     header.device = fields.device.clone();
     Ok(header)
 }
@@ -130,7 +132,8 @@ fn check_header(header: &Header, dir: &Path, banks: &Banks) -> Result<(Sim, Stri
     let participant = header.participant.as_deref().ok_or(SessionError::NoParticipant)?;
     let participant = ids::participant(participant)?.to_string();
     let task = ids::task_part(header.task.as_deref())?;
-    let sim = replay::sim_for_header_in(header, Some(dir), &[], banks).map_err(|e| SessionError::Header(e.to_string()))?;
+    let sim =
+        replay::sim_for_header_in(header, Some(dir), &[], banks).map_err(|e| SessionError::Header(e.to_string()))?;
     Ok((sim, participant, task))
 }
 
@@ -201,7 +204,9 @@ impl Session {
                 let result = match state.as_mut() {
                     None => header_line(&text)
                         .map_err(|e| e.to_string())
-                        .and_then(|h| check_header(&h, dir, banks).map(|(sim, _, _)| (h, sim)).map_err(|r| r.to_string()))
+                        .and_then(|h| {
+                            check_header(&h, dir, banks).map(|(sim, _, _)| (h, sim)).map_err(|r| r.to_string())
+                        })
                         .map(|(h, sim)| state = Some((h.clone(), LineRules::after(&h), sim))),
                     Some((_, rules, sim)) => take_line(rules, sim, text).map(|tick| {
                         if let Some(t) = tick {
@@ -303,7 +308,8 @@ impl Session {
             return Err(SessionError::RecordingFull { number, limit: MAX_RECORDING_BYTES });
         }
         let bytes = text.as_bytes().to_vec();
-        let checkpoint = take_line(&mut self.rules, &self.sim, text).map_err(|why| SessionError::Line { number, why })?;
+        let checkpoint =
+            take_line(&mut self.rules, &self.sim, text).map_err(|why| SessionError::Line { number, why })?;
         if let Some(t) = checkpoint {
             self.pending_checkpoint = t;
         }

@@ -113,7 +113,12 @@ mod tests {
 
     // The words of docs/serve.md's `sessions.json` table and its 409 codes, written out here as
     // the files have them: every state, status and code written as its word and read back.
-    const STATES: [(SessionState, &str); 4] = [(SessionState::Open, "open"), (SessionState::Ended, "ended"), (SessionState::Abandoned, "abandoned"), (SessionState::Unresumable, "unresumable")];
+    const STATES: [(SessionState, &str); 4] = [
+        (SessionState::Open, "open"),
+        (SessionState::Ended, "ended"),
+        (SessionState::Abandoned, "abandoned"),
+        (SessionState::Unresumable, "unresumable"),
+    ];
     const STATUSES: [(VerifyStatus, &str); 5] = [
         (VerifyStatus::Verified, "verified"),
         (VerifyStatus::Unverified, "unverified"),

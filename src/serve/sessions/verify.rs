@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use grove_systems::replay::verdict::Verdict;
-use grove_systems::replay::{replay_file, Divergence, ReplayOptions};
+use grove_systems::replay::{Divergence, ReplayOptions, replay_file};
 use serde::{Deserialize, Serialize};
 
 use crate::serve::sessions::states::VerifyStatus;
@@ -46,13 +46,23 @@ pub struct Verification {
 impl Verification {
     /// A file the replay refused (or that could not be read back), with why.
     pub fn invalid(error: String, last_tick: u64) -> Verification {
-        Verification { status: VerifyStatus::Invalid, complete: false, checkpoints_checked: 0, verified_to_tick: None, last_tick, first_divergence: None, error: Some(error) }
+        Verification {
+            status: VerifyStatus::Invalid,
+            complete: false,
+            checkpoints_checked: 0,
+            verified_to_tick: None,
+            last_tick,
+            first_divergence: None,
+            error: Some(error),
+        }
     }
 
     /// One line for the terminal.
     pub fn summary(&self) -> String {
         match self.status {
-            VerifyStatus::Verified => format!("verified ({} checkpoints, final tick {})", self.checkpoints_checked, self.last_tick),
+            VerifyStatus::Verified => {
+                format!("verified ({} checkpoints, final tick {})", self.checkpoints_checked, self.last_tick)
+            }
             VerifyStatus::Unverified => format!("unverified (no checkpoint to compare; tick {})", self.last_tick),
             VerifyStatus::Incomplete => format!(
                 "incomplete (no footer): verified to tick {}, its last checkpoint ({} checkpoints); the file ends at tick {}",
@@ -61,7 +71,10 @@ impl Verification {
                 self.last_tick
             ),
             VerifyStatus::Diverged => match &self.first_divergence {
-                Some(d) => format!("diverged at tick {} (the file has {}, the re-simulation {})", d.tick, d.expected_hash, d.actual_hash),
+                Some(d) => format!(
+                    "diverged at tick {} (the file has {}, the re-simulation {})",
+                    d.tick, d.expected_hash, d.actual_hash
+                ),
                 None => "diverged".into(),
             },
             VerifyStatus::Invalid => format!("invalid: {}", self.error.as_deref().unwrap_or("?")),
@@ -76,21 +89,45 @@ pub fn verify(path: &Path, banks: &[PathBuf], last_tick: u64, last_checkpoint: u
     let options = ReplayOptions { banks: banks.to_vec(), ..ReplayOptions::default() };
     match replay_file(path, &options) {
         Err(e) => Verification::invalid(e.to_string(), last_tick),
-        Ok(out) => Verification::found(out.complete, out.checkpoints_checked, out.first_divergence.as_ref(), last_tick, last_checkpoint),
+        Ok(out) => Verification::found(
+            out.complete,
+            out.checkpoints_checked,
+            out.first_divergence.as_ref(),
+            last_tick,
+            last_checkpoint,
+        ),
     }
 }
 
 impl Verification {
     /// What a replay found, the file's last line and last checkpoint being at these ticks:
     /// the status by the rule `grove replay --json` follows too ([`Verdict::of`]).
-    pub fn found(complete: bool, checkpoints_checked: u64, divergence: Option<&Divergence>, last_tick: u64, last_checkpoint: u64) -> Verification {
-        let first_divergence = divergence.map(|d| FirstDivergence { tick: d.tick, expected_hash: d.expected_hash.clone(), actual_hash: d.actual_hash.clone() });
+    pub fn found(
+        complete: bool,
+        checkpoints_checked: u64,
+        divergence: Option<&Divergence>,
+        last_tick: u64,
+        last_checkpoint: u64,
+    ) -> Verification {
+        let first_divergence = divergence.map(|d| FirstDivergence {
+            tick: d.tick,
+            expected_hash: d.expected_hash.clone(),
+            actual_hash: d.actual_hash.clone(),
+        });
         let status = VerifyStatus::of(Verdict::of(first_divergence.is_some(), complete, checkpoints_checked));
         let verified_to_tick = match (&first_divergence, complete) {
             (Some(_), _) => None,
             (None, true) => Some(last_tick),
             (None, false) => Some(last_checkpoint),
         };
-        Verification { status, complete, checkpoints_checked, verified_to_tick, last_tick, first_divergence, error: None }
+        Verification {
+            status,
+            complete,
+            checkpoints_checked,
+            verified_to_tick,
+            last_tick,
+            first_divergence,
+            error: None,
+        }
     }
 }

@@ -122,7 +122,8 @@ fn sum_field(text: &str) -> Result<(usize, u32), LineFormatError> {
     // bytes: where they match the key, its first byte is ASCII, so a character starts there,
     // and a byte that is not ASCII is no hex digit.
     let bytes = text.as_bytes();
-    let idx = bytes.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| bytes[i..i + SUM_KEY.len()] == *SUM_KEY.as_bytes());
+    let idx =
+        bytes.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| bytes[i..i + SUM_KEY.len()] == *SUM_KEY.as_bytes());
     let idx = idx.ok_or(LineFormatError::NoChecksum)?;
     let tail = &bytes[idx + SUM_KEY.len()..];
     if tail[8..] != *b"\"}" {
@@ -375,7 +376,12 @@ pub(crate) fn parse_body(body: &str, maps: Maps) -> Result<Line, LineFormatError
         && let Ok(c) = serde_json::from_str::<TaggedCheckpoint>(body)
         && c.kind == "checkpoint"
     {
-        return Ok(Line::Checkpoint(super::CheckpointLine { tick: c.tick, hash: c.hash, components: c.components, entities: c.entities }));
+        return Ok(Line::Checkpoint(super::CheckpointLine {
+            tick: c.tick,
+            hash: c.hash,
+            components: c.components,
+            entities: c.entities,
+        }));
     }
     let line: Line = serde_json::from_str(body)?;
     if let Line::Event(ev) = &line {
@@ -393,13 +399,18 @@ mod tests {
 
     /// `sum_field` as it read the field through `str` methods, the reference for the bytes.
     fn sum_field_by_str(text: &str) -> Result<(usize, u32), LineFormatError> {
-        let idx = text.len().checked_sub(SUM_KEY.len() + 10).filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
+        let idx = text
+            .len()
+            .checked_sub(SUM_KEY.len() + 10)
+            .filter(|&i| text.is_char_boundary(i) && text[i..].starts_with(SUM_KEY));
         let idx = idx.ok_or(LineFormatError::NoChecksum)?;
         let tail = &text[idx + SUM_KEY.len()..];
         if !tail.ends_with("\"}") {
             return Err(LineFormatError::MalformedChecksum);
         }
-        let sum = tail.get(..8).and_then(|s| if s.bytes().all(|b| b.is_ascii_hexdigit()) { u32::from_str_radix(s, 16).ok() } else { None });
+        let sum = tail.get(..8).and_then(|s| {
+            if s.bytes().all(|b| b.is_ascii_hexdigit()) { u32::from_str_radix(s, 16).ok() } else { None }
+        });
         Ok((idx, sum.ok_or(LineFormatError::MalformedChecksum)?))
     }
 
@@ -409,7 +420,13 @@ mod tests {
         assert_eq!(sum_field(good), Ok((good.len() - 18, 0x4a8e_43f9)));
         // Every byte of the field's last 24 replaced by others (ASCII, a 2-, 3- and 4-byte
         // character), cut short, or lengthened.
-        let mut cases = vec![String::new(), "}".into(), good[..good.len() - 1].to_string(), format!("{good}}}"), format!("é{good}")];
+        let mut cases = vec![
+            String::new(),
+            "}".into(),
+            good[..good.len() - 1].to_string(),
+            format!("{good}}}"),
+            format!("é{good}"),
+        ];
         for at in good.len() - 24..good.len() {
             for with in ["0", "9", "a", "f", "g", "A", "F", "G", "\"", "}", ",", " ", "é", "€", "😀", ""] {
                 cases.push(format!("{}{with}{}", &good[..at], &good[at + 1..]));

@@ -12,8 +12,8 @@
 //! and the line is read by serde as before. Checkpoints are one line in eight of a study's
 //! recordings, and their maps were most of the parsing left after the pose lines.
 
-use super::fast_pose::Cursor;
 use super::CheckpointLine;
+use super::fast_pose::Cursor;
 
 /// The bytes a plain string may hold: printable ASCII other than `"` and `\`.
 const PLAIN: [bool; 256] = {
@@ -79,15 +79,19 @@ pub(super) fn read(body: &str) -> Option<CheckpointLine> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::codec::{parse_body, Maps};
     use super::super::Line;
+    use super::super::codec::{Maps, parse_body};
     use super::*;
 
     const GOOD: &str = r#"{"type":"checkpoint","tick":60,"hash":"1aecc9c608920b40","components":{"AnchorBall":"468164055b7c42fd","Tree":"f262b8d91b956498"},"entities":{"4294967296":"434800c22c663003"}}"#;
 
     #[test]
     fn a_checkpoint_in_the_recorders_shape_reads_as_serde_reads_it() {
-        for body in [GOOD.to_string(), GOOD.replace(r#"{"AnchorBall":"468164055b7c42fd","Tree":"f262b8d91b956498"}"#, "{}"), GOOD.replace("\"tick\":60", "\"tick\":0")] {
+        for body in [
+            GOOD.to_string(),
+            GOOD.replace(r#"{"AnchorBall":"468164055b7c42fd","Tree":"f262b8d91b956498"}"#, "{}"),
+            GOOD.replace("\"tick\":60", "\"tick\":0"),
+        ] {
             let fast = read(&body).unwrap_or_else(|| panic!("read: {body}"));
             let Ok(Line::Checkpoint(full)) = parse_body(&body, Maps::Read) else { panic!("serde reads {body}") };
             assert_eq!((fast.tick, &fast.hash), (full.tick, &full.hash), "{body}");

@@ -21,7 +21,10 @@ use crate::components::Pose;
 use crate::input::InputEvent;
 
 /// The powers of ten that are exact in `f64`.
-const POW10: [f64; 23] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22];
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+    1e21, 1e22,
+];
 
 /// The powers of ten up to 10^8, as integers.
 const POW10_U64: [u64; 9] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000, 100_000_000];
@@ -279,7 +282,9 @@ mod tests {
     }
 
     fn line(position: &str, rotation: &str) -> String {
-        format!("{{\"type\":\"event\",\"tick\":187,\"ms\":3117,\"frame\":187,\"event\":{{\"kind\":\"controller_pose\",\"pose\":{{\"position\":[{position}],\"rotation\":[{rotation}]}}}}}}")
+        format!(
+            "{{\"type\":\"event\",\"tick\":187,\"ms\":3117,\"frame\":187,\"event\":{{\"kind\":\"controller_pose\",\"pose\":{{\"position\":[{position}],\"rotation\":[{rotation}]}}}}}}"
+        )
     }
 
     #[test]

@@ -7,8 +7,8 @@
 //! server feeds each line as it arrives. A line that breaks a rule leaves the rules' state as it
 //! was, so the stream may go on from the last good line.
 
-use super::codec::{decode_line_chained, decode_owned, Maps};
-use super::{Header, Line, CHECKPOINT_EVERY, FORMAT_NAME, READABLE_VERSIONS};
+use super::codec::{Maps, decode_line_chained, decode_owned};
+use super::{CHECKPOINT_EVERY, FORMAT_NAME, Header, Line, READABLE_VERSIONS};
 use crate::limits::{MAX_TICKS, RAISE};
 
 crate::message_error::message_error! {
@@ -30,7 +30,9 @@ pub fn header_line(text: &str) -> Result<Header, LineRuleError> {
         if let Some(ver) = v.get("format_version").and_then(|x| x.as_u64())
             && !READABLE_VERSIONS.iter().any(|&r| r as u64 == ver)
         {
-            return Err(fail(format!("format version {ver} is not supported; this grove reads versions {READABLE_VERSIONS:?} (upgrade grove to read newer files)")));
+            return Err(fail(format!(
+                "format version {ver} is not supported; this grove reads versions {READABLE_VERSIONS:?} (upgrade grove to read newer files)"
+            )));
         }
     }
     let header = match decode_line_chained(text, 0).map_err(|m| fail(m.to_string()))? {
@@ -69,7 +71,14 @@ pub struct LineRules {
 impl LineRules {
     /// The rules for the lines after this header.
     pub fn after(header: &Header) -> LineRules {
-        LineRules { chained: header.format_version >= 2, prev: 0, last_tick: 0, last_checkpoint: 0, footer_seen: false, maps: Maps::Read }
+        LineRules {
+            chained: header.format_version >= 2,
+            prev: 0,
+            last_tick: 0,
+            last_checkpoint: 0,
+            footer_seen: false,
+            maps: Maps::Read,
+        }
     }
 
     /// From now on a checkpoint's per-component and per-entity maps are checked but left empty
@@ -107,7 +116,9 @@ impl LineRules {
             Line::Footer(f) => f.final_tick,
         };
         if tick > MAX_TICKS {
-            return Err(fail(format!("tick {tick} is past the limit of {MAX_TICKS} ticks per recording (about 19 days at 60 Hz; {RAISE})")));
+            return Err(fail(format!(
+                "tick {tick} is past the limit of {MAX_TICKS} ticks per recording (about 19 days at 60 Hz; {RAISE})"
+            )));
         }
         if tick < self.last_tick {
             return Err(fail(format!("tick {tick} comes after tick {}: ticks out of order", self.last_tick)));

@@ -11,7 +11,7 @@
 use std::io::{BufRead, BufReader, Read};
 
 use super::codec::Maps;
-use super::line_rules::{header_line, LineRules, RuledLine};
+use super::line_rules::{LineRules, RuledLine, header_line};
 use super::{Header, Line, MAX_LINE};
 
 /// A problem at a line (1-based; `None` for the file as a whole), as the caller reports it.
@@ -102,7 +102,12 @@ pub(crate) struct Lines<R: Read> {
 impl<R: Read> Lines<R> {
     /// Reads and checks the header.
     pub fn open(reader: R) -> Result<Lines<R>, LineError> {
-        let mut reader = LineReader { inner: BufReader::with_capacity(64 * 1024, reader), buf: Vec::new(), spare: Vec::new(), number: 0 };
+        let mut reader = LineReader {
+            inner: BufReader::with_capacity(64 * 1024, reader),
+            buf: Vec::new(),
+            spare: Vec::new(),
+            number: 0,
+        };
         let first = match reader.next().map_err(|m| (Some(1), m))? {
             NextLine::End => return Err((None, "empty file; expected a grove recording header".into())),
             NextLine::Cut => return Err((Some(1), "the header line is cut off (no newline)".into())),
@@ -154,7 +159,8 @@ mod tests {
     use super::*;
 
     fn read_all(bytes: &[u8]) -> Vec<Result<String, String>> {
-        let mut r = LineReader { inner: BufReader::with_capacity(64, bytes), buf: Vec::new(), spare: Vec::new(), number: 0 };
+        let mut r =
+            LineReader { inner: BufReader::with_capacity(64, bytes), buf: Vec::new(), spare: Vec::new(), number: 0 };
         let mut out = Vec::new();
         loop {
             match r.next() {
@@ -177,7 +183,9 @@ mod tests {
             if only {
                 lines.keep_checkpoint_bodies_only();
             }
-            std::iter::from_fn(|| lines.next().unwrap()).map(|c| (c.number, c.tick, format!("{:?}", c.line), c.body)).collect::<Vec<_>>()
+            std::iter::from_fn(|| lines.next().unwrap())
+                .map(|c| (c.number, c.tick, format!("{:?}", c.line), c.body))
+                .collect::<Vec<_>>()
         };
         let (all, only) = (read(false), read(true));
         assert_eq!(all.len(), only.len());
@@ -202,7 +210,11 @@ mod tests {
         let got = read_all(text.as_bytes());
         assert_eq!(got.len(), 5);
         assert_eq!(got[..4], [Ok("one".to_string()), Ok(String::new()), Ok(at), Ok("two".to_string())]);
-        assert!(got[4].as_ref().is_err_and(|e| e.contains("longer than the limit")), "{:?}", got[4].as_ref().map(|s| s.len()));
+        assert!(
+            got[4].as_ref().is_err_and(|e| e.contains("longer than the limit")),
+            "{:?}",
+            got[4].as_ref().map(|s| s.len())
+        );
         // The same without a newline at all: refused, not held whole.
         assert!(read_all(over.as_bytes())[0].is_err());
         // A last line without its newline is a cut line; invalid UTF-8 is refused.

@@ -35,19 +35,22 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-pub use codec::{chained_sum, decode_line, decode_line_chained, encode_line, encode_line_chained, line_sum, rechain, sign_body, split_sum, LineFormatError};
-pub use line_rules::{header_line, LineRuleError, LineRules, RuledLine};
+pub use codec::{
+    LineFormatError, chained_sum, decode_line, decode_line_chained, encode_line, encode_line_chained, line_sum,
+    rechain, sign_body, split_sum,
+};
+pub use line_rules::{LineRuleError, LineRules, RuledLine, header_line};
 pub use names::NameError;
-pub use scene_ref::SceneRefError;
 pub use player::Player;
-pub use reader::{read_events, replay_file, replay_reader, ReplayError, ReplayOptions, ReplayOutcome};
+pub use reader::{ReplayError, ReplayOptions, ReplayOutcome, read_events, replay_file, replay_reader};
 pub use report::ReplayReport;
-pub use session_header::{session_start_at, SessionFields, SessionHeaderError};
-pub use upgrade::{upgrade, UpgradeSummary};
+pub use scene_ref::SceneRefError;
+pub use session_header::{SessionFields, SessionHeaderError, session_start_at};
+pub use upgrade::{UpgradeSummary, upgrade};
 pub use verifier::{Differing, Divergence, Verifier};
 
 use crate::bank::{Banks, HeaderModel};
-use crate::hash::{hex, WorldHash};
+use crate::hash::{WorldHash, hex};
 use crate::input::{InputEvent, StampedEvent};
 use crate::resources::{Override, Overrides};
 use crate::sim::Sim;
@@ -290,7 +293,10 @@ impl<W: Write> Recorder<W> {
         self.events += 1;
         self.last_tick = self.last_tick.max(tick);
         self.write(&Line::Event(EventLine { tick, ms, frame, event: event.clone() }))?;
-        if !matches!(event, InputEvent::ControllerPose { .. } | InputEvent::HeadPose { .. } | InputEvent::TouchpadAxes { .. }) {
+        if !matches!(
+            event,
+            InputEvent::ControllerPose { .. } | InputEvent::HeadPose { .. } | InputEvent::TouchpadAxes { .. }
+        ) {
             self.out.flush()?;
         }
         Ok(())
@@ -394,7 +400,12 @@ pub fn sim_for_header(header: &Header, base_dir: Option<&Path>, overrides: &[Ove
 
 /// Like [`sim_for_header`], with the model banks in which the header's models
 /// ([`Header::models`]) are looked up; a missing or changed model is an error naming it.
-pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[Override], banks: &Banks) -> Result<Sim, HeaderError> {
+pub fn sim_for_header_in(
+    header: &Header,
+    base_dir: Option<&Path>,
+    overrides: &[Override],
+    banks: &Banks,
+) -> Result<Sim, HeaderError> {
     names::check_header(header)?;
     let scene = scene_ref::resolve_scene(&header.scene, base_dir)?;
     sim_for_header_with_scene(header, scene, overrides, banks)
@@ -403,7 +414,12 @@ pub fn sim_for_header_in(header: &Header, base_dir: Option<&Path>, overrides: &[
 /// Like [`sim_for_header_in`], with the scene already read (a page, or the WebAssembly module,
 /// which has no file system, is handed the scene's text); the header's own `scene` field is then
 /// only a name.
-pub fn sim_for_header_with_scene(header: &Header, scene: crate::scene::Scene, overrides: &[Override], banks: &Banks) -> Result<Sim, HeaderError> {
+pub fn sim_for_header_with_scene(
+    header: &Header,
+    scene: crate::scene::Scene,
+    overrides: &[Override],
+    banks: &Banks,
+) -> Result<Sim, HeaderError> {
     names::check_header(header)?;
     // The scene's own banks are searched first, as in the session that recorded it.
     let mut all = Banks::open(&scene.bank_dirs())?;
@@ -422,18 +438,39 @@ pub fn sim_for_header_with_scene(header: &Header, scene: crate::scene::Scene, ov
 /// Re-simulates a list of stamped events from a fresh simulation and writes the full recording
 /// (header, events, checkpoints, footer). Tests and synthetic participants use this, so every
 /// checkpoint in their files comes from the simulation itself.
-pub fn record_events<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value) -> Result<W, RecordError> {
+pub fn record_events<W: Write>(
+    out: W,
+    header: &Header,
+    events: &[StampedEvent],
+    end_tick: u64,
+    summary: serde_json::Value,
+) -> Result<W, RecordError> {
     record_events_in(out, header, events, end_tick, summary, &Banks::default())
 }
 
 /// Like [`record_events`], for a header that lists models of these banks.
-pub fn record_events_in<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value, banks: &Banks) -> Result<W, RecordError> {
+pub fn record_events_in<W: Write>(
+    out: W,
+    header: &Header,
+    events: &[StampedEvent],
+    end_tick: u64,
+    summary: serde_json::Value,
+    banks: &Banks,
+) -> Result<W, RecordError> {
     record_events_beside(out, header, events, end_tick, summary, None, banks)
 }
 
 /// Like [`record_events_in`], with a scene the header names by path read relative to `base_dir`
 /// (the recording's folder, as `replay_file` reads it) instead of the working directory.
-pub fn record_events_beside<W: Write>(out: W, header: &Header, events: &[StampedEvent], end_tick: u64, summary: serde_json::Value, base_dir: Option<&Path>, banks: &Banks) -> Result<W, RecordError> {
+pub fn record_events_beside<W: Write>(
+    out: W,
+    header: &Header,
+    events: &[StampedEvent],
+    end_tick: u64,
+    summary: serde_json::Value,
+    base_dir: Option<&Path>,
+    banks: &Banks,
+) -> Result<W, RecordError> {
     let mut sim = sim_for_header_in(header, base_dir, &[], banks)?;
     let mut rec = Recorder::new(out, header).map_err(RecordError::Write)?;
     let mut i = 0;
@@ -454,4 +491,3 @@ pub fn record_events_beside<W: Write>(out: W, header: &Header, events: &[Stamped
     }
     rec.finish(&sim, summary).map_err(RecordError::Write)
 }
-

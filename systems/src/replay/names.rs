@@ -3,9 +3,9 @@
 //! names something unknown is invalid input (exit 2) rather than a session that silently does
 //! nothing.
 
+use super::Header;
 use crate::catalogue::UnknownModel;
 use crate::input::InputEvent;
-use super::Header;
 use crate::sim::Sim;
 
 /// A name in a recording that does not exist, or a header field that is not well formed.
@@ -82,14 +82,23 @@ pub fn check_header(header: &Header) -> Result<(), NameError> {
         match registered.get(&t.name) {
             None => return Err(NameError::UnknownTechnique(registered.unknown(&t.name))),
             Some(k) if k.version != t.version => {
-                return Err(NameError::TechniqueVersion { name: t.name.clone(), recorded: t.version, registered: k.version });
+                return Err(NameError::TechniqueVersion {
+                    name: t.name.clone(),
+                    recorded: t.version,
+                    registered: k.version,
+                });
             }
             Some(_) => {}
         }
     }
     if let Some(d) = &header.device {
-        for (field, value) in [("profile", &d.profile), ("target_ray_mode", &d.target_ray_mode), ("mapping", &d.mapping)] {
-            if value.is_empty() || value.len() > 64 || !value.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-') {
+        for (field, value) in
+            [("profile", &d.profile), ("target_ray_mode", &d.target_ray_mode), ("mapping", &d.mapping)]
+        {
+            if value.is_empty()
+                || value.len() > 64
+                || !value.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-')
+            {
                 return Err(NameError::Device { field, value: value.chars().take(80).collect() });
             }
         }
@@ -106,9 +115,15 @@ pub fn check_header(header: &Header) -> Result<(), NameError> {
 /// and a started task must be a known task.
 pub fn check_event(event: &InputEvent, sim: &Sim) -> Result<(), NameError> {
     match event {
-        InputEvent::ChooseModel { model } => sim.res.catalogue.resolve(model).map(|_| ()).map_err(NameError::ChooseModel),
-        InputEvent::StartTask { task, .. } if crate::task::TaskDef::builtin(task).is_none() => Err(NameError::StartTask(task.clone())),
-        InputEvent::SwitchTechnique { technique } if sim.res.techniques.get(technique).is_none() => Err(NameError::UnknownTechnique(sim.res.techniques.unknown(technique))),
+        InputEvent::ChooseModel { model } => {
+            sim.res.catalogue.resolve(model).map(|_| ()).map_err(NameError::ChooseModel)
+        }
+        InputEvent::StartTask { task, .. } if crate::task::TaskDef::builtin(task).is_none() => {
+            Err(NameError::StartTask(task.clone()))
+        }
+        InputEvent::SwitchTechnique { technique } if sim.res.techniques.get(technique).is_none() => {
+            Err(NameError::UnknownTechnique(sim.res.techniques.unknown(technique)))
+        }
         _ => Ok(()),
     }
 }
@@ -134,7 +149,11 @@ mod tests {
         bad(&|x| x.task = Some("manual-8".into()), "unknown task 'manual-8'");
         bad(&|x| x.session_start = Some("3 June 2019".into()), "RFC 3339");
         bad(&|x| x.block = Some(0), "block");
-        let device = |mapping: &str| super::super::HeaderDevice { profile: "generic-hand".into(), target_ray_mode: "tracked-pointer".into(), mapping: mapping.into() };
+        let device = |mapping: &str| super::super::HeaderDevice {
+            profile: "generic-hand".into(),
+            target_ray_mode: "tracked-pointer".into(),
+            mapping: mapping.into(),
+        };
         let mut with_device = h.clone();
         with_device.device = Some(device("hands"));
         assert!(check_header(&with_device).is_ok());

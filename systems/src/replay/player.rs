@@ -10,7 +10,7 @@ use crate::resources::Override;
 use crate::sim::Sim;
 
 use super::lines::Lines;
-use super::{sim_for_header_in, Header, Line, ReplayError};
+use super::{Header, Line, ReplayError, sim_for_header_in};
 
 /// A recording's events and the world they drive.
 pub struct Player {
@@ -43,7 +43,8 @@ impl Player {
             }
         }
         let header = lines.header.clone();
-        let sim = sim_for_header_in(&header, path.parent(), overrides, banks).map_err(|m| err((None, m.to_string())))?;
+        let sim =
+            sim_for_header_in(&header, path.parent(), overrides, banks).map_err(|m| err((None, m.to_string())))?;
         // A recording cut short (no footer) ends with its last event.
         let final_tick = final_tick.unwrap_or_else(|| events.last().map_or(0, |e| e.tick + 1));
         Ok(Player { header, events, next: 0, final_tick, sim })

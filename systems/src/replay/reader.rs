@@ -6,9 +6,9 @@ use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
 
-use super::lines::{checkpoint_of, Checked, LineError, Lines};
+use super::lines::{Checked, LineError, Lines, checkpoint_of};
 use super::verifier::{Divergence, Verifier};
-use super::{sim_for_header_in, Header, Line};
+use super::{Header, Line, sim_for_header_in};
 use crate::input::StampedEvent;
 use crate::resources::Override;
 use crate::sim::Sim;
@@ -62,7 +62,12 @@ pub struct ReplayOptions {
 /// Replays a recording from a reader. `file` names it in errors; `base_dir` is the recording's
 /// folder, where a scene file it names may lie. Checkpoints are verified unless
 /// `options.overrides` is non-empty (a what-if run).
-pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
+pub fn replay_reader<R: Read>(
+    reader: R,
+    file: &str,
+    base_dir: Option<&Path>,
+    options: &ReplayOptions,
+) -> Result<ReplayOutcome, ReplayError> {
     let err = |(line, message): LineError| ReplayError { file: file.to_string(), line, message };
     let mut lines = Lines::open(reader).map_err(err)?;
     // A checkpoint's per-component and per-entity hashes are read only at a divergence.
@@ -102,13 +107,25 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
     let complete = verifier.complete();
     let (sim, checkpoints_checked, first_divergence) = verifier.finish();
     let events = counts.into_iter().map(|(k, n)| (k.to_string(), n)).collect();
-    Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events, verifying })
+    Ok(ReplayOutcome {
+        header,
+        sim,
+        complete: complete && !stopped_early,
+        checkpoints_checked,
+        first_divergence,
+        events,
+        verifying,
+    })
 }
 
 /// Replays a recording file. Directories, missing files and unreadable files give an error.
 pub fn replay_file(path: &Path, options: &ReplayOptions) -> Result<ReplayOutcome, ReplayError> {
     let file = path.display().to_string();
-    let (f, _) = crate::files::open(path, crate::files::Kind::Recording).map_err(|e| ReplayError { file: file.clone(), line: None, message: e.reason() })?;
+    let (f, _) = crate::files::open(path, crate::files::Kind::Recording).map_err(|e| ReplayError {
+        file: file.clone(),
+        line: None,
+        message: e.reason(),
+    })?;
     replay_reader(f, &file, path.parent(), options)
 }
 

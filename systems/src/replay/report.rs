@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use super::{Divergence, ReplayOutcome};
 use crate::hash::hex;
-use crate::task::{ticks_to_seconds, TaskReport};
+use crate::task::{TaskReport, ticks_to_seconds};
 
 /// What a replay of one recording found.
 #[derive(Clone, Debug, Serialize)]
@@ -65,7 +65,12 @@ impl ReplayReport {
             wall_seconds: 0.0,
             speedup: 0.0,
             verified,
-            status: super::verdict::Verdict::of(outcome.first_divergence.is_some(), outcome.complete, if outcome.verifying { outcome.checkpoints_checked } else { 0 }).as_str(),
+            status: super::verdict::Verdict::of(
+                outcome.first_divergence.is_some(),
+                outcome.complete,
+                if outcome.verifying { outcome.checkpoints_checked } else { 0 },
+            )
+            .as_str(),
             complete: outcome.complete,
             checkpoints_checked: outcome.checkpoints_checked,
             first_divergence: outcome.first_divergence.clone(),
@@ -91,14 +96,17 @@ impl ReplayReport {
 mod tests {
     use super::*;
     use crate::input::InputEvent;
-    use crate::replay::{record_events, replay_reader, Header, ReplayOptions};
+    use crate::replay::{Header, ReplayOptions, record_events, replay_reader};
 
     #[test]
     fn a_recorded_task_reports_verified_with_its_task_and_the_caller_s_time() {
         let scene = crate::scene::Scene::builtin("study").unwrap();
         let mut header = Header::new("study", 3, scene.dt);
         header.participant = Some("R01".into());
-        let events = vec![crate::input::StampedEvent { tick: 0, event: InputEvent::StartTask { task: "ray-casting-7".into(), layout: None } }];
+        let events = vec![crate::input::StampedEvent {
+            tick: 0,
+            event: InputEvent::StartTask { task: "ray-casting-7".into(), layout: None },
+        }];
         let bytes = record_events(Vec::new(), &header, &events, 130, serde_json::json!({})).unwrap();
         let outcome = replay_reader(&bytes[..], "r.jsonl", None, &ReplayOptions::default()).unwrap();
         let report = ReplayReport::new("r.jsonl".into(), &outcome);

@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::limits::MAX_SCENE_BYTES;
-use crate::scene::{read_scene_text, Scene};
+use crate::scene::{Scene, read_scene_text};
 
 /// Why the scene a header (or a scenario) names was refused. Its `Display` names the scene as
 /// written, quoted, and never quotes the file's content.
@@ -24,7 +24,9 @@ pub enum SceneRefError {
         name: String,
     },
     /// Not a built-in name and not a `.ron` file.
-    #[error("scene {name:?} is not a built-in scene name (\"study\") and does not end in .ron; a recording may only name a scene file ending in .ron")]
+    #[error(
+        "scene {name:?} is not a built-in scene name (\"study\") and does not end in .ron; a recording may only name a scene file ending in .ron"
+    )]
     NotRon {
         /// The name as written.
         name: String,
@@ -38,7 +40,9 @@ pub enum SceneRefError {
         error: std::io::Error,
     },
     /// The file exists but leads outside both folders.
-    #[error("scene {name:?} leads outside the recording's folder and the working directory; a recording may only name a scene file inside them")]
+    #[error(
+        "scene {name:?} leads outside the recording's folder and the working directory; a recording may only name a scene file inside them"
+    )]
     Outside {
         /// The name as written.
         name: String,
@@ -58,13 +62,18 @@ pub enum SceneRefError {
         error: std::io::Error,
     },
     /// A folder, device, pipe or socket.
-    #[error("scene {name:?} is not a regular file (a folder, device, pipe or socket); a recording may only name a regular .ron file")]
+    #[error(
+        "scene {name:?} is not a regular file (a folder, device, pipe or socket); a recording may only name a regular .ron file"
+    )]
     NotRegularFile {
         /// The name as written.
         name: String,
     },
     /// Larger than [`MAX_SCENE_BYTES`].
-    #[error("scene {name:?} is larger than the limit of {MAX_SCENE_BYTES} bytes per scene file ({})", crate::limits::RAISE)]
+    #[error(
+        "scene {name:?} is larger than the limit of {MAX_SCENE_BYTES} bytes per scene file ({})",
+        crate::limits::RAISE
+    )]
     TooLarge {
         /// The name as written.
         name: String,
@@ -153,7 +162,8 @@ fn load(path: &Path, name: &str) -> Result<Scene, SceneRefError> {
     }
     let text = read_scene_text(path).map_err(|error| SceneRefError::Read { name: named(), error })?;
     // Only the position of a parse error: its message may quote the file's content.
-    let mut scene: Scene = ron::from_str(&text).map_err(|e| SceneRefError::Invalid { name: named(), at: Some((e.span.start.line, e.span.start.col)) })?;
+    let mut scene: Scene = ron::from_str(&text)
+        .map_err(|e| SceneRefError::Invalid { name: named(), at: Some((e.span.start.line, e.span.start.col)) })?;
     // Its banks are relative to its own folder.
     scene.dir = Some(path.parent().map(Path::to_path_buf).unwrap_or_default());
     if scene.validate().is_ok() {

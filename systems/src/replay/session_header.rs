@@ -50,7 +50,8 @@ impl SessionFields {
         header.config = self.config.clone();
         if let Some(name) = &self.technique {
             let techniques = crate::technique::installed();
-            let t = techniques.get(name).ok_or_else(|| SessionHeaderError::UnknownTechnique(techniques.unknown(name)))?;
+            let t =
+                techniques.get(name).ok_or_else(|| SessionHeaderError::UnknownTechnique(techniques.unknown(name)))?;
             if !t.is_builtin() {
                 header.technique = Some(HeaderTechnique { name: t.name.to_string(), version: t.version });
             }
@@ -62,7 +63,8 @@ impl SessionFields {
 /// A session's `session_start`: `unix_seconds` after the Unix epoch as RFC 3339 UTC to the
 /// second (`2019-06-03T09:00:00Z`), the form the replay format's header rule reads.
 pub fn session_start_at(unix_seconds: i64) -> String {
-    chrono::DateTime::from_timestamp(unix_seconds, 0).map_or_else(|| "1970-01-01T00:00:00Z".to_string(), |t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true))
+    chrono::DateTime::from_timestamp(unix_seconds, 0)
+        .map_or_else(|| "1970-01-01T00:00:00Z".to_string(), |t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true))
 }
 
 #[cfg(test)]
@@ -71,7 +73,14 @@ mod tests {
 
     #[test]
     fn the_fields_fill_the_header_and_a_built_in_technique_is_not_written() {
-        let fields = SessionFields { participant: Some("P09".into()), task: Some("manual-7".into()), block: Some(2), session_start: Some(session_start_at(1_559_552_400)), technique: Some("manual".into()), ..Default::default() };
+        let fields = SessionFields {
+            participant: Some("P09".into()),
+            task: Some("manual-7".into()),
+            block: Some(2),
+            session_start: Some(session_start_at(1_559_552_400)),
+            technique: Some("manual".into()),
+            ..Default::default()
+        };
         let h = fields.header("study", 4, 0.5).unwrap();
         assert_eq!((h.scene.as_str(), h.seed, h.dt), ("study", 4, 0.5));
         assert_eq!((h.participant.as_deref(), h.task.as_deref(), h.block), (Some("P09"), Some("manual-7"), Some(2)));
@@ -83,7 +92,9 @@ mod tests {
 
     #[test]
     fn an_unknown_technique_is_refused_naming_the_registered_ones() {
-        let e = SessionFields { technique: Some("telekinesis".into()), ..Default::default() }.header("study", 0, 0.5).unwrap_err();
+        let e = SessionFields { technique: Some("telekinesis".into()), ..Default::default() }
+            .header("study", 0, 0.5)
+            .unwrap_err();
         assert!(e.to_string().starts_with("technique: ") && e.to_string().contains("ray-casting, manual"), "{e}");
     }
 }

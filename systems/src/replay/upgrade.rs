@@ -6,7 +6,7 @@ use std::io::{Read, Write};
 
 use super::codec::sign_body;
 use super::lines::Lines;
-use super::{encode_line, Line, ReplayError, FORMAT_VERSION};
+use super::{FORMAT_VERSION, Line, ReplayError, encode_line};
 
 /// What [`upgrade`] wrote.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -26,7 +26,10 @@ pub fn upgrade<R: Read, W: Write>(input: R, file: &str, mut out: W) -> Result<Up
     let err = |(line, message): (Option<u64>, String)| ReplayError { file: file.to_string(), line, message };
     let mut lines = Lines::open(input).map_err(err)?;
     if lines.header.format_version >= FORMAT_VERSION {
-        return Err(err((Some(1), format!("already format version {}; nothing to upgrade", lines.header.format_version))));
+        return Err(err((
+            Some(1),
+            format!("already format version {}; nothing to upgrade", lines.header.format_version),
+        )));
     }
     let io = |e: std::io::Error| err((None, format!("cannot write the upgraded recording ({e})")));
     let mut header = lines.header.clone();

@@ -13,12 +13,12 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use crate::hash::{hex, world_hash_keeping, WorldHash, HASHED};
+use crate::hash::{HASHED, WorldHash, hex, world_hash_keeping};
 use crate::input::InputEvent;
-use crate::resource_hash::{differing_fields, ResourceBytes};
+use crate::resource_hash::{ResourceBytes, differing_fields};
 use crate::sim::Sim;
 
-use super::names::{check_event, NameError};
+use super::names::{NameError, check_event};
 use super::{CheckpointLine, Line};
 
 /// One (entity, component) pair that differs at a divergent checkpoint.
@@ -48,13 +48,20 @@ pub struct Divergence {
 /// only pairs where the entity (still) has that component; and for the resources, the fields
 /// that differ ([`crate::resource_hash::differing_fields`], from the resources at the last
 /// checkpoint that agreed, `agreed`, and now, `now`).
-fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World, agreed: &ResourceBytes, now: &ResourceBytes) -> Vec<Differing> {
+fn differing(
+    expected: &CheckpointLine,
+    actual: &WorldHash,
+    world: &hecs::World,
+    agreed: &ResourceBytes,
+    now: &ResourceBytes,
+) -> Vec<Differing> {
     let comps: Vec<&str> = HASHED
         .iter()
         .map(|h| h.name)
         .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
         .collect();
-    let actual_entities: BTreeMap<String, String> = actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
+    let actual_entities: BTreeMap<String, String> =
+        actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
     let mut ents: Vec<String> = expected
         .entities
         .iter()
@@ -108,7 +115,16 @@ impl Verifier {
     /// false (a what-if run under overrides) no checkpoint is compared.
     pub fn new(sim: Sim, verifying: bool) -> Verifier {
         let agreed = ResourceBytes::of(&sim.res);
-        Verifier { sim, pending: Vec::new(), verifying, checkpoints_checked: 0, first_divergence: None, complete: false, agreed, now: ResourceBytes::default() }
+        Verifier {
+            sim,
+            pending: Vec::new(),
+            verifying,
+            checkpoints_checked: 0,
+            first_divergence: None,
+            complete: false,
+            agreed,
+            now: ResourceBytes::default(),
+        }
     }
 
     /// Steps the world until its tick is `to` (nothing when it is there already), the events
@@ -126,7 +142,13 @@ impl Verifier {
     /// checkpoint or the footer is compared. `full` gives a checkpoint with its per-component
     /// and per-entity maps when the line's own were left empty, read only at a divergence. An
     /// event naming what the world does not have (a model, task or technique) is refused.
-    pub fn take(&mut self, line: Line, tick: u64, full: impl FnOnce() -> Option<CheckpointLine>, each: impl FnMut(&Sim)) -> Result<(), NameError> {
+    pub fn take(
+        &mut self,
+        line: Line,
+        tick: u64,
+        full: impl FnOnce() -> Option<CheckpointLine>,
+        each: impl FnMut(&Sim),
+    ) -> Result<(), NameError> {
         self.advance(tick, each);
         match line {
             Line::Header(_) => {}
@@ -142,7 +164,8 @@ impl Verifier {
                     if hex(h.total) != c.hash {
                         let whole = full().unwrap_or_else(|| c.clone());
                         let differing = differing(&whole, &h, &self.sim.world, &self.agreed, &self.now);
-                        self.first_divergence = Some(Divergence { tick, expected_hash: c.hash, actual_hash: hex(h.total), differing });
+                        self.first_divergence =
+                            Some(Divergence { tick, expected_hash: c.hash, actual_hash: hex(h.total), differing });
                     } else {
                         std::mem::swap(&mut self.agreed, &mut self.now);
                     }
@@ -153,7 +176,12 @@ impl Verifier {
                     let h = self.sim.hash();
                     self.checkpoints_checked += 1;
                     if hex(h.total) != f.final_hash {
-                        self.first_divergence = Some(Divergence { tick, expected_hash: f.final_hash, actual_hash: hex(h.total), differing: Vec::new() });
+                        self.first_divergence = Some(Divergence {
+                            tick,
+                            expected_hash: f.final_hash,
+                            actual_hash: hex(h.total),
+                            differing: Vec::new(),
+                        });
                     }
                 }
                 self.complete = true;
@@ -196,7 +224,7 @@ impl Verifier {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::replay::{header_line, rechain, replay_reader, sim_for_header, LineRules, ReplayOptions};
+    use crate::replay::{LineRules, ReplayOptions, header_line, rechain, replay_reader, sim_for_header};
 
     fn lines() -> Vec<String> {
         include_str!("../../../replays/scenarios/plant-two.jsonl").lines().map(str::to_string).collect()
@@ -234,7 +262,8 @@ mod tests {
     #[test]
     fn a_changed_checkpoint_is_found_at_its_own_line_with_what_the_file_replay_finds() {
         let mut lines = lines();
-        let at = lines.iter().position(|l| l.contains("\"tick\":120") && l.starts_with("{\"type\":\"checkpoint\"")).unwrap();
+        let at =
+            lines.iter().position(|l| l.contains("\"tick\":120") && l.starts_with("{\"type\":\"checkpoint\"")).unwrap();
         let hash = &lines[at]["{\"type\":\"checkpoint\",\"tick\":120,\"hash\":\"".len()..][..16];
         lines[at] = lines[at].replacen(hash, "0123456789abcdef", 1);
         let lines = rechain(&lines).unwrap();

@@ -25,7 +25,7 @@ use glam::Vec3;
 use crate::components::{Controller, HitMarker, HitTarget, Plane};
 use crate::script::Script;
 use crate::sim::Sim;
-use crate::targets::{ground_distance, Aim, Names};
+use crate::targets::{Aim, Names, ground_distance};
 
 use super::Btn;
 use super::failed::StepFailed;
@@ -103,7 +103,11 @@ impl Aimed {
                 Ok(id) => Intent::Tree(id),
                 Err(_) => classify(sim, point),
             },
-            Aim::Target(_) => Intent::Ground { point, within: sim.res.task.as_ref().map_or(GROUND_TOLERANCE, |t| t.def.tolerance), plane: plane_under(sim, point) },
+            Aim::Target(_) => Intent::Ground {
+                point,
+                within: sim.res.task.as_ref().map_or(GROUND_TOLERANCE, |t| t.def.tolerance),
+                plane: plane_under(sim, point),
+            },
             Aim::Point(..) | Aim::Mark { .. } => classify(sim, point),
         };
         Aimed { label: aim.text(), point, intent }
@@ -118,7 +122,9 @@ fn classify(sim: &Sim, point: Vec3) -> Intent {
         return Intent::Tree(inside.entity.to_bits().get());
     }
     match spatial.ground_below(point, ON_GROUND) {
-        Some(g) if g.distance <= 2.0 * ON_GROUND => Intent::Ground { point, within: GROUND_TOLERANCE, plane: Some(g.entity.to_bits().get()) },
+        Some(g) if g.distance <= 2.0 * ON_GROUND => {
+            Intent::Ground { point, within: GROUND_TOLERANCE, plane: Some(g.entity.to_bits().get()) }
+        }
         _ => Intent::Air(point),
     }
 }
@@ -147,7 +153,12 @@ pub fn tree_words(sim: &Sim, names: &Names, id: u64) -> String {
     // A tree the press itself removed is found in the log.
     let model = standing.map(|t| t.tree.model).or_else(|| {
         sim.res.log.entries.iter().rev().find_map(|e| match e.what {
-            crate::events::Happening::Removed { tree, model } | crate::events::Happening::Planted { tree, model, .. } if tree == id => Some(model),
+            crate::events::Happening::Removed { tree, model }
+            | crate::events::Happening::Planted { tree, model, .. }
+                if tree == id =>
+            {
+                Some(model)
+            }
             _ => None,
         })
     });
@@ -155,7 +166,9 @@ pub fn tree_words(sim: &Sim, names: &Names, id: u64) -> String {
     let mut who = match (names.name_of(id), names.planted(sim).iter().position(|p| *p == id), standing) {
         (Some(name), _, _) => format!("named \"{name}\""),
         (None, Some(i), _) => format!("planted {}", ordinal(i + 1)),
-        (None, None, Some(t)) => format!("standing at ({:.1}, {:.1})", t.transform.translation.x, t.transform.translation.z),
+        (None, None, Some(t)) => {
+            format!("standing at ({:.1}, {:.1})", t.transform.translation.x, t.transform.translation.z)
+        }
         (None, None, None) => "one of the scene's".into(),
     };
     if standing.is_none() {
@@ -170,11 +183,13 @@ pub fn met_words(sim: &Sim, names: &Names, marker: &HitMarker) -> String {
         HitTarget::None => "nothing".into(),
         HitTarget::Tree(id) => tree_words(sim, names, id),
         HitTarget::Plane(id) => {
-            let name = hecs::Entity::from_bits(id).and_then(|e| sim.world.get::<&Plane>(e).ok().map(|p| p.name.clone()));
+            let name =
+                hecs::Entity::from_bits(id).and_then(|e| sim.world.get::<&Plane>(e).ok().map(|p| p.name.clone()));
             format!("the plane \"{}\"", name.unwrap_or_default())
         }
         HitTarget::Water(id) => {
-            let name = hecs::Entity::from_bits(id).and_then(|e| sim.world.get::<&crate::water::Water>(e).ok().map(|w| w.name.clone()));
+            let name = hecs::Entity::from_bits(id)
+                .and_then(|e| sim.world.get::<&crate::water::Water>(e).ok().map(|w| w.name.clone()));
             format!("the water \"{}\"", name.unwrap_or_default())
         }
         HitTarget::Handle(h) => {
@@ -240,11 +255,7 @@ pub fn check(sim: &Sim, names: &Names, aimed: &Aimed, nothing_ok: bool) -> Resul
 /// Checks that the ray met nothing in the last tick (a `PressOnNothing` step).
 pub fn check_nothing(sim: &Sim, names: &Names) -> Result<(), StepFailed> {
     let m = sim.hit_marker();
-    if m.visible {
-        Err(StepFailed::NotNothing(met(sim, names, &m)))
-    } else {
-        Ok(())
-    }
+    if m.visible { Err(StepFailed::NotNothing(met(sim, names, &m))) } else { Ok(()) }
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@ use crate::input::{InputEvent, StampedEvent};
 use crate::replay::Header;
 use crate::targets::Names;
 
-use super::run::{run, RunOptions};
+use super::run::{RunOptions, run};
 use super::{Btn, DraftError, Loaded, Scenario, Step};
 
 /// A drafted scenario.
@@ -63,13 +63,18 @@ pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tic
             tick = e.tick;
         }
         let (step, ticks) = match &e.event {
-            InputEvent::ControllerPose { pose } => (Step::Controller { position: pose.position, rotation: pose.rotation }, 1),
+            InputEvent::ControllerPose { pose } => {
+                (Step::Controller { position: pose.position, rotation: pose.rotation }, 1)
+            }
             InputEvent::HeadPose { pose } => (Step::Head { position: pose.position, rotation: pose.rotation }, 1),
             InputEvent::ButtonDown { button } => (Step::Hold(Btn::from(*button)), 1),
             InputEvent::ButtonUp { button } => (Step::Release(Btn::from(*button)), 1),
             InputEvent::TouchpadAxes { axes } => {
                 // Held until the next touchpad event (or one tick).
-                let until = events[i + 1..].iter().find(|n| matches!(n.event, InputEvent::TouchpadAxes { .. })).map_or(e.tick + 1, |n| n.tick);
+                let until = events[i + 1..]
+                    .iter()
+                    .find(|n| matches!(n.event, InputEvent::TouchpadAxes { .. }))
+                    .map_or(e.tick + 1, |n| n.tick);
                 let ticks = until.saturating_sub(e.tick).max(1);
                 touch_until = Some(e.tick + ticks);
                 (Step::Touchpad { x: axes.x, y: axes.y, ticks }, ticks + 1)
@@ -77,7 +82,11 @@ pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tic
             InputEvent::OpenMenu => (Step::OpenMenu, 1),
             InputEvent::CloseMenu => (Step::CloseMenu, 1),
             InputEvent::ChooseModel { model } => {
-                let name = catalogue.resolve(model).ok().and_then(|id| catalogue.get(id)).map_or_else(|| format!("{model:?}"), |m| m.name.clone());
+                let name = catalogue
+                    .resolve(model)
+                    .ok()
+                    .and_then(|id| catalogue.get(id))
+                    .map_or_else(|| format!("{model:?}"), |m| m.name.clone());
                 (Step::ChooseModel(name), 1)
             }
             InputEvent::SwitchMode { mode } => (Step::SwitchTechnique(mode.name().to_string()), 1),
@@ -104,7 +113,11 @@ pub fn expectations(sim: &crate::sim::Sim, names: &Names) -> Vec<Expect> {
             let model = sim.res.catalogue.get(t.tree.model).map_or_else(String::new, |m| m.name.clone());
             let p = t.transform.translation;
             let round = |x: f32| (x * 100.0).round() / 100.0;
-            out.push(Expect::TreeNear { model, point: glam::Vec3::new(round(p.x), round(p.y), round(p.z)), within: 0.5 });
+            out.push(Expect::TreeNear {
+                model,
+                point: glam::Vec3::new(round(p.x), round(p.y), round(p.z)),
+                within: 0.5,
+            });
         }
     }
     if let Some(task) = &sim.res.task {
@@ -113,7 +126,13 @@ pub fn expectations(sim: &crate::sim::Sim, names: &Names) -> Vec<Expect> {
                 let secs = crate::task::ticks_to_seconds(t - task.started_tick, sim.res.dt);
                 out.push(Expect::TaskCompleted { within_s: (secs + 1.0).ceil() as f32 });
             }
-            None => out.extend(task.satisfied.iter().enumerate().filter(|(_, s)| s.is_some()).map(|(i, _)| Expect::TargetSatisfied(i + 1))),
+            None => out.extend(
+                task.satisfied
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, s)| s.is_some())
+                    .map(|(i, _)| Expect::TargetSatisfied(i + 1)),
+            ),
         }
     }
     let selected = match sim.selection().tree.and_then(|id| sim.tree(id)) {
@@ -135,7 +154,14 @@ pub fn expectations(sim: &crate::sim::Sim, names: &Names) -> Vec<Expect> {
 /// Drafts a scenario for the output path `out` (its scene named relative to that file) from a
 /// recording's header and events; `recording_dir` is the recording's folder (where a scene
 /// file it names is looked up) and `final_hash` the recording's final world hash.
-pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Path>, final_hash: &str, end_tick: u64, out: &Path) -> Result<Draft, DraftError> {
+pub fn draft(
+    header: &Header,
+    events: &[StampedEvent],
+    recording_dir: Option<&Path>,
+    final_hash: &str,
+    end_tick: u64,
+    out: &Path,
+) -> Result<Draft, DraftError> {
     let sim = crate::replay::sim_for_header(header, recording_dir, &[])?;
     let scene = if crate::scene::Scene::builtin(&header.scene).is_some() {
         header.scene.clone()
@@ -174,7 +200,10 @@ pub fn draft(header: &Header, events: &[StampedEvent], recording_dir: Option<&Pa
 /// A scenario as RON text.
 pub fn write(s: &Scenario) -> Result<String, ron::Error> {
     // Each step and expectation on a line of its own; `Some(…)` left out, as files may.
-    let pretty = ron::ser::PrettyConfig::new().depth_limit(2).indentor("    ").extensions(ron::extensions::Extensions::IMPLICIT_SOME);
+    let pretty = ron::ser::PrettyConfig::new()
+        .depth_limit(2)
+        .indentor("    ")
+        .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
     let text = ron::ser::to_string_pretty(s, pretty)?;
     // The struct's name makes the file say what it is; RON allows it before the parenthesis.
     let at = if text.starts_with('(') { Some(0) } else { text.find("\n(").map(|k| k + 1) };

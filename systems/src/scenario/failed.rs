@@ -39,7 +39,9 @@ pub enum StepFailed {
     #[error("the ray meets {0}, not nothing")]
     NotNothing(String),
     /// `Plant` in manual mode.
-    #[error("Plant plants in ray-casting mode; in manual mode a tree comes from the menu: ChooseModel(\"…\"), then Drag(tree: Last, to: …)")]
+    #[error(
+        "Plant plants in ray-casting mode; in manual mode a tree comes from the menu: ChooseModel(\"…\"), then Drag(tree: Last, to: …)"
+    )]
     PlantInManual,
     /// The press met water, where nothing is planted.
     #[error("nothing was planted: the ray met water at {0}, where nothing is planted")]

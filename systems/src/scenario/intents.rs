@@ -20,10 +20,10 @@ use crate::expect::{Ball, Expect};
 use crate::input::{Button, InputEvent};
 use crate::mode::Mode;
 use crate::script::Script;
-use crate::targets::{ground_distance, tree_middle, Aim, TreeRef};
+use crate::targets::{Aim, TreeRef, ground_distance, tree_middle};
 
-use super::aims::{hold_checked, Aimed, RunState, GROUND_TOLERANCE};
 use super::Btn;
+use super::aims::{Aimed, GROUND_TOLERANCE, RunState, hold_checked};
 use super::failed::StepFailed;
 
 /// The farthest a dragged tree is carried in one tick, metres (a brisk arm: 12 m/s at 60 Hz).
@@ -72,7 +72,12 @@ pub fn plant(s: &mut Script, state: &mut RunState, model: &str, at: &Aim) -> Res
         return Err(StepFailed::OnWater(at.text()));
     }
     let Some(&(tree, position)) = planted.last() else { return Err(StepFailed::NothingPlanted) };
-    let got = s.sim().tree(tree).and_then(|t| s.sim().res.catalogue.get(t.tree.model)).map(|m| m.name.clone()).unwrap_or_default();
+    let got = s
+        .sim()
+        .tree(tree)
+        .and_then(|t| s.sim().res.catalogue.get(t.tree.model))
+        .map(|m| m.name.clone())
+        .unwrap_or_default();
     if got != model {
         return Err(StepFailed::WrongModel { got, model: model.to_string() });
     }

@@ -318,21 +318,38 @@ impl Loaded {
         // A scene file is found as a recording's header finds one: inside the scenario's
         // folder or the working directory, ending in .ron, never quoted in an error.
         let dir = path.parent().unwrap_or(Path::new(""));
-        let scene = crate::replay::scene_ref::resolve_scene(&scenario.scene, Some(dir)).map_err(|e| invalid(e.to_string().replace("the recording's folder", "the scenario's folder").replace("a recording may", "a scenario may")))?;
+        let scene = crate::replay::scene_ref::resolve_scene(&scenario.scene, Some(dir)).map_err(|e| {
+            invalid(
+                e.to_string()
+                    .replace("the recording's folder", "the scenario's folder")
+                    .replace("a recording may", "a scenario may"),
+            )
+        })?;
         let scene_ref = if Scene::builtin(&scenario.scene).is_some() {
             scenario.scene.clone()
         } else {
             // As the kept recording's header names it: relative to the working directory.
             let cwd = std::env::current_dir().ok().and_then(|d| d.canonicalize().ok());
-            let abs = [dir.join(&scenario.scene), PathBuf::from(&scenario.scene)].iter().find_map(|p| p.canonicalize().ok()).unwrap_or_default();
+            let abs = [dir.join(&scenario.scene), PathBuf::from(&scenario.scene)]
+                .iter()
+                .find_map(|p| p.canonicalize().ok())
+                .unwrap_or_default();
             cwd.and_then(|d| abs.strip_prefix(d).ok().map(Path::to_path_buf)).unwrap_or(abs).display().to_string()
         };
-        let config_text: Overrides = scenario.config.iter().map(|(k, v)| Override::new(k, &v.to_string())).collect::<Result<_, _>>().map_err(|e| invalid(format!("config: {e}")))?;
+        let config_text: Overrides = scenario
+            .config
+            .iter()
+            .map(|(k, v)| Override::new(k, &v.to_string()))
+            .collect::<Result<_, _>>()
+            .map_err(|e| invalid(format!("config: {e}")))?;
         config_text.config().map_err(|e| invalid(format!("config: {e}")))?;
         let catalogue = if scene.banks.is_empty() {
             Catalogue::builtin()
         } else {
-            crate::bank::Banks::open(&scene.bank_dirs()).and_then(|b| b.session_catalogue()).map_err(|e| invalid(format!("scene banks: {e}")))?.0
+            crate::bank::Banks::open(&scene.bank_dirs())
+                .and_then(|b| b.session_catalogue())
+                .map_err(|e| invalid(format!("scene banks: {e}")))?
+                .0
         };
         check(&scenario, &catalogue).map_err(|e| invalid(e.to_string()))?;
         let name = scenario.name.clone().unwrap_or_else(|| {
@@ -399,7 +416,9 @@ fn check_tree(tree: &TreeRef) -> Result<(), StepError> {
 
 fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), StepError> {
     match step {
-        Step::ChooseModel(m) | Step::Plant { model: m, .. } if catalogue.by_name(m).is_none() => Err(StepError::UnknownModel(catalogue.unknown_name(m))),
+        Step::ChooseModel(m) | Step::Plant { model: m, .. } if catalogue.by_name(m).is_none() => {
+            Err(StepError::UnknownModel(catalogue.unknown_name(m)))
+        }
         Step::Plant { at, .. } => check_aim(at),
         Step::Remove(tree) => check_tree(tree),
         Step::Drag { tree, to } => {
@@ -412,9 +431,14 @@ fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), StepError> {
             finite_point("by", *by)
         }
         Step::Controller { position, rotation } | Step::Head { position, rotation } => {
-            Ok(crate::input::InputEvent::ControllerPose { pose: crate::components::Pose { position: *position, rotation: *rotation } }.validate()?)
+            Ok(crate::input::InputEvent::ControllerPose {
+                pose: crate::components::Pose { position: *position, rotation: *rotation },
+            }
+            .validate()?)
         }
-        Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => Err(StepError::Touchpad),
+        Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => {
+            Err(StepError::Touchpad)
+        }
         Step::WaitUntil { until: Expect::Hash(_), .. } => Err(StepError::WaitForHash),
         Step::WaitUntil { until, .. } | Step::Expect(until) => Ok(until.validate(catalogue)?),
         Step::StartTask(id) if crate::task::TaskDef::builtin(id).is_none() => Err(StepError::UnknownTask(id.clone())),

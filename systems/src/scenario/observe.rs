@@ -55,10 +55,33 @@ impl Snapshot {
         let c = sim.world.query::<&crate::components::Controller>().iter().next().copied().unwrap_or_default();
         let m = sim.hit_marker();
         let sel = sim.selection();
-        let selected = sel.tree.filter(|id| sim.tree(*id).is_some()).map(|id| SelectedBox { center: sel.center, half_extents: sel.half_extents, yaw: sel.yaw, words: aims::tree_words(sim, names, id) });
-        let trees = sim.tree_ids().into_iter().filter_map(|id| sim.tree(id)).map(|t| (t.transform.translation.x, t.transform.translation.z)).collect();
-        let targets = sim.res.task.as_ref().map_or_else(Vec::new, |t| t.def.targets.iter().map(|d| (d.position.x, d.position.z)).collect());
-        Snapshot { tick: sim.res.tick, ray_origin: c.ray_origin(), ray_dir: c.ray_dir(), hit: m.visible.then_some(m.position), met: aims::met(sim, names, &m), selected, trees, targets }
+        let selected = sel.tree.filter(|id| sim.tree(*id).is_some()).map(|id| SelectedBox {
+            center: sel.center,
+            half_extents: sel.half_extents,
+            yaw: sel.yaw,
+            words: aims::tree_words(sim, names, id),
+        });
+        let trees = sim
+            .tree_ids()
+            .into_iter()
+            .filter_map(|id| sim.tree(id))
+            .map(|t| (t.transform.translation.x, t.transform.translation.z))
+            .collect();
+        let targets = sim
+            .res
+            .task
+            .as_ref()
+            .map_or_else(Vec::new, |t| t.def.targets.iter().map(|d| (d.position.x, d.position.z)).collect());
+        Snapshot {
+            tick: sim.res.tick,
+            ray_origin: c.ray_origin(),
+            ray_dir: c.ray_dir(),
+            hit: m.visible.then_some(m.position),
+            met: aims::met(sim, names, &m),
+            selected,
+            trees,
+            targets,
+        }
     }
 
     /// Where the ray is drawn to: the point it meets, or `length` metres along it.
@@ -75,7 +98,8 @@ fn xz(p: Vec3) -> String {
 /// when nothing did.
 pub fn did(sim: &Sim, names: &Names, from: usize) -> Vec<String> {
     let tree = |id: u64| aims::tree_words(sim, names, id);
-    let model = |m: crate::catalogue::ModelId| sim.res.catalogue.get(m).map_or_else(|| "?".to_string(), |i| i.name.clone());
+    let model =
+        |m: crate::catalogue::ModelId| sim.res.catalogue.get(m).map_or_else(|| "?".to_string(), |i| i.name.clone());
     let mut out: Vec<String> = Vec::new();
     for e in sim.res.log.entries.get(from..).unwrap_or_default() {
         let words = match &e.what {
@@ -88,7 +112,9 @@ pub fn did(sim: &Sim, names: &Names, from: usize) -> Vec<String> {
             Happening::Moved { tree: t, position } => format!("moved {} to {}", tree(*t), xz(*position)),
             Happening::SnapArmed { .. } => "anchor ball white".into(),
             Happening::SnapDisarmed { .. } => "anchor ball green".into(),
-            Happening::Snapped { tree: t, position } => format!("snapped {} to the ground at {}", tree(*t), xz(*position)),
+            Happening::Snapped { tree: t, position } => {
+                format!("snapped {} to the ground at {}", tree(*t), xz(*position))
+            }
             Happening::ReleasedGreen { tree: t } => format!("released {} green (not snapped)", tree(*t)),
             Happening::ModeChanged { mode } => format!("mode {}", mode.name()),
             Happening::MenuOpened => "menu opened".into(),

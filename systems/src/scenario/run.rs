@@ -5,16 +5,15 @@
 use crate::components::Pose;
 use crate::expect::Expect;
 use crate::input::{InputEvent, StampedEvent};
-use crate::replay::{record_events, Header, RecordError};
+use crate::replay::{Header, RecordError, record_events};
 use crate::resources::Override;
 use crate::script::Script;
 use crate::sim::Sim;
 
-use super::aims::{self, hold_checked, Aimed, RunState};
-use super::observe::{self, Snapshot};
+use super::aims::{self, Aimed, RunState, hold_checked};
 use super::failed::StepFailed;
-use super::{intents, technique, Loaded, RunError, Step};
-
+use super::observe::{self, Snapshot};
+use super::{Loaded, RunError, Step, intents, technique};
 
 /// How to run a scenario.
 #[derive(Clone, Debug, Default)]
@@ -67,7 +66,13 @@ impl Outcome {
     /// The run as a recording (header, events, checkpoints, footer), re-simulated from its
     /// events, so that `grove replay` and `grove view` show what happened.
     pub fn recording(&self) -> Result<Vec<u8>, RecordError> {
-        record_events(Vec::new(), &self.header, &self.events, self.ticks, serde_json::json!({ "scenario": self.header.participant }))
+        record_events(
+            Vec::new(),
+            &self.header,
+            &self.events,
+            self.ticks,
+            serde_json::json!({ "scenario": self.header.participant }),
+        )
     }
 }
 
@@ -112,11 +117,19 @@ pub struct StepTrace {
 /// Runs a loaded scenario, recording each step ([`StepTrace`]) and calling `frame` with the
 /// world at the start and after each step that ran a tick, for pictures. The run is the very
 /// run [`run`] makes.
-pub fn run_traced(loaded: &Loaded, options: &RunOptions, frame: &mut dyn FnMut(&Sim)) -> Result<(Outcome, Vec<StepTrace>), RunError> {
+pub fn run_traced(
+    loaded: &Loaded,
+    options: &RunOptions,
+    frame: &mut dyn FnMut(&Sim),
+) -> Result<(Outcome, Vec<StepTrace>), RunError> {
     run_inner(loaded, options, Some(frame))
 }
 
-fn run_inner(loaded: &Loaded, options: &RunOptions, mut frame: Option<&mut dyn FnMut(&Sim)>) -> Result<(Outcome, Vec<StepTrace>), RunError> {
+fn run_inner(
+    loaded: &Loaded,
+    options: &RunOptions,
+    mut frame: Option<&mut dyn FnMut(&Sim)>,
+) -> Result<(Outcome, Vec<StepTrace>), RunError> {
     let (sim, header) = start(loaded, options)?;
     let mut script = Script::new(sim);
     let mut hashes = Vec::new();
@@ -127,14 +140,21 @@ fn run_inner(loaded: &Loaded, options: &RunOptions, mut frame: Option<&mut dyn F
         f(script.sim());
     }
     for (i, step) in loaded.scenario.steps.iter().enumerate() {
-        let before = frame.is_some().then(|| (Snapshot::take(script.sim(), script.names()), script.sim().res.log.entries.len()));
+        let before =
+            frame.is_some().then(|| (Snapshot::take(script.sim(), script.names()), script.sim().res.log.entries.len()));
         let result = apply(&mut script, &mut state, step, options.update, &mut hashes);
         if let (Some(f), Some((before, from))) = (frame.as_mut(), before) {
             let after = Snapshot::take(script.sim(), script.names());
             if after.tick != before.tick {
                 f(script.sim());
             }
-            traces.push(StepTrace { number: i + 1, text: step.text(), did: observe::did(script.sim(), script.names(), from), before, after });
+            traces.push(StepTrace {
+                number: i + 1,
+                text: step.text(),
+                did: observe::did(script.sim(), script.names(), from),
+                before,
+                after,
+            });
         }
         if let Err(failed) = result {
             failure = Some(Failure { step: Some(i + 1), at: step.text(), message: failed.to_string() });
@@ -165,7 +185,13 @@ fn expect(script: &Script, e: &Expect, update: bool, hashes: &mut Vec<String>) -
 }
 
 /// Plays one step through the script.
-pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), StepFailed> {
+pub fn apply(
+    s: &mut Script,
+    state: &mut RunState,
+    step: &Step,
+    update: bool,
+    hashes: &mut Vec<String>,
+) -> Result<(), StepFailed> {
     match step {
         Step::Plant { model, at } => intents::plant(s, state, model, at)?,
         Step::Remove(tree) => intents::remove(s, state, tree)?,
@@ -186,7 +212,10 @@ pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, ha
             if *count > 0 {
                 let last = p + *by * (*count - 1) as f32;
                 let aim = crate::targets::Aim::Point(last.x, last.y, last.z);
-                state.aimed = Some(Aimed { label: format!("the sweep's last point {}", aim.text().trim_start_matches("Point")), ..Aimed::new(s.sim(), s.names(), &aim, last) });
+                state.aimed = Some(Aimed {
+                    label: format!("the sweep's last point {}", aim.text().trim_start_matches("Point")),
+                    ..Aimed::new(s.sim(), s.names(), &aim, last)
+                });
             }
         }
         Step::Controller { position, rotation } => {

@@ -22,7 +22,9 @@ fn hash_literals(text: &str) -> Vec<(usize, usize)> {
                 i += 2;
             }
             b'"' => i = skip_string(b, i),
-            b'H' if text[i..].starts_with("Hash") && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_')) => {
+            b'H' if text[i..].starts_with("Hash")
+                && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_')) =>
+            {
                 let mut j = i + 4;
                 while j < b.len() && b[j].is_ascii_whitespace() {
                     j += 1;
@@ -102,7 +104,10 @@ mod tests {
     fn hashes_are_replaced_in_order_and_comments_kept() {
         let text = "// Hash(\"zz\") in a comment\n(steps: [Expect(Hash(\"\"))], expect: [Hash( \"0000000000000000\" ), TreeCount(1)])";
         let out = pin_hashes(text, &["aaaaaaaaaaaaaaaa".into(), "bbbbbbbbbbbbbbbb".into()], 1).unwrap();
-        assert_eq!(out, "// Hash(\"zz\") in a comment\n(steps: [Expect(Hash(\"aaaaaaaaaaaaaaaa\"))], expect: [Hash( \"bbbbbbbbbbbbbbbb\" ), TreeCount(1)])");
+        assert_eq!(
+            out,
+            "// Hash(\"zz\") in a comment\n(steps: [Expect(Hash(\"aaaaaaaaaaaaaaaa\"))], expect: [Hash( \"bbbbbbbbbbbbbbbb\" ), TreeCount(1)])"
+        );
     }
 
     #[test]

@@ -75,7 +75,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
         g.0 = false;
         drag.moved = true;
     }
-    let ground = crate::water::dry_ground(&water, interact::ground_under(&res.spatial, t.translation, lowest, s.0, threshold));
+    let ground =
+        crate::water::dry_ground(&water, interact::ground_under(&res.spatial, t.translation, lowest, s.0, threshold));
     let ball = match ground {
         Some(h) => {
             let distance = interact::lowest_point_y(t.translation.y, lowest, s.0) - h.point.y;
@@ -105,7 +106,11 @@ pub fn run(world: &mut World, res: &mut Resources) {
         *b = if released { AnchorBall::default() } else { ball };
     });
     if drag.moved && !released && ball.armed != was_armed {
-        let what = if ball.armed { Happening::SnapArmed { tree: drag.tree } } else { Happening::SnapDisarmed { tree: drag.tree } };
+        let what = if ball.armed {
+            Happening::SnapArmed { tree: drag.tree }
+        } else {
+            Happening::SnapDisarmed { tree: drag.tree }
+        };
         res.log.push(tick, what);
     }
     if released {

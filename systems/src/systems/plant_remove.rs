@@ -45,7 +45,18 @@ pub fn run(world: &mut World, res: &mut Resources) {
         if res.catalogue.get(model).is_some() {
             let wind = single::get::<Wind>(world, &res.singles);
             let e = world.reserve_entity();
-            cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, hit.position, 0.0, crate::task::layout_scale(res.task.as_ref()), true));
+            cmd.insert(
+                e,
+                tree_components(
+                    &mut res.rng,
+                    wind.as_ref(),
+                    model,
+                    hit.position,
+                    0.0,
+                    crate::task::layout_scale(res.task.as_ref()),
+                    true,
+                ),
+            );
             res.log.push(tick, Happening::Planted { tree: e.to_bits().get(), model, position: hit.position });
             changed = true;
         }

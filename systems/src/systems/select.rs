@@ -47,8 +47,12 @@ pub fn run(world: &mut World, res: &mut Resources) {
                 interact::set_selected(world, &res.singles, Some(id));
                 res.log.push(tick, Happening::Selected { tree: id });
             }
-            res.interaction.drag =
-                Some(Drag { tree: id, grab_distance: hit.distance, offset: t.translation - hit.position, moved: false });
+            res.interaction.drag = Some(Drag {
+                tree: id,
+                grab_distance: hit.distance,
+                offset: t.translation - hit.position,
+                moved: false,
+            });
             false
         }
         HitTarget::Handle(handle) => {

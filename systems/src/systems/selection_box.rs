@@ -23,9 +23,11 @@ pub fn run(world: &mut World, res: &mut Resources) {
     let b = interact::entity(id).and_then(|e| interact::tree_box_of(world, &res.catalogue, &res.boxes, e));
     // Most ticks the tree has not moved: the selection holds this very box already (bit for
     // bit), and writing it again would change nothing.
-    let bits = |c: Vec3, h: Vec3, yaw: f32| (c.to_array().map(f32::to_bits), h.to_array().map(f32::to_bits), yaw.to_bits());
+    let bits =
+        |c: Vec3, h: Vec3, yaw: f32| (c.to_array().map(f32::to_bits), h.to_array().map(f32::to_bits), yaw.to_bits());
     if let Some(b) = b
-        && single::get_single::<Selection>(world, &res.singles).is_some_and(|s| bits(s.center, s.half_extents, s.yaw) == bits(b.center, b.half_extents, b.yaw))
+        && single::get_single::<Selection>(world, &res.singles)
+            .is_some_and(|s| bits(s.center, s.half_extents, s.yaw) == bits(b.center, b.half_extents, b.yaw))
     {
         return;
     }

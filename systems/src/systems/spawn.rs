@@ -40,7 +40,18 @@ pub fn run(world: &mut World, res: &mut Resources) {
 
     let mut cmd = CommandBuffer::new();
     let e = world.reserve_entity();
-    cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, position, 0.0, crate::task::layout_scale(res.task.as_ref()), false));
+    cmd.insert(
+        e,
+        tree_components(
+            &mut res.rng,
+            wind.as_ref(),
+            model,
+            position,
+            0.0,
+            crate::task::layout_scale(res.task.as_ref()),
+            false,
+        ),
+    );
     cmd.run_on(world);
     res.spatial.mark_trees_dirty();
 

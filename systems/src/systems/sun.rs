@@ -14,7 +14,7 @@
 use glam::Vec3;
 use hecs::World;
 use serde::Serialize;
-use solar_positioning::{time::JulianDate, Location, SolarPositions};
+use solar_positioning::{Location, SolarPositions, time::JulianDate};
 
 use crate::components::Sun;
 use crate::resources::Resources;
@@ -108,7 +108,8 @@ pub fn julian_date(utc_ms: i64) -> f64 {
 /// the `solar-positioning` crate; valid for years −500..3000).
 pub fn delta_t(utc_ms: i64) -> Result<f64, SunError> {
     let year = 2000.0 + (julian_date(utc_ms) - 2_451_544.5) / 365.2425;
-    solar_positioning::delta_t::estimate(year).map_err(|e| SunError::DeltaT { year: year.floor(), reason: e.to_string() })
+    solar_positioning::delta_t::estimate(year)
+        .map_err(|e| SunError::DeltaT { year: year.floor(), reason: e.to_string() })
 }
 
 /// The sun's position from a place and a UTC time in milliseconds, with SPA at sea level, no
@@ -118,7 +119,8 @@ pub fn sun_position(latitude_deg: f64, longitude_deg: f64, utc_ms: i64) -> Resul
     let dt = delta_t(utc_ms)?;
     let jd = JulianDate::new(julian_date(utc_ms), dt).map_err(|e| SunError::JulianDate(e.to_string()))?;
     let location = Location { latitude: latitude_deg, longitude: longitude_deg };
-    let pos = SolarPositions::new().at_from_julian(jd, location, 0.0, None).map_err(|e| SunError::Position(e.to_string()))?;
+    let pos =
+        SolarPositions::new().at_from_julian(jd, location, 0.0, None).map_err(|e| SunError::Position(e.to_string()))?;
     let (azimuth_deg, elevation_deg) = (pos.azimuth(), pos.elevation_angle());
     Ok(SolarAngles {
         elevation_deg,

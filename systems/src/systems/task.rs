@@ -28,7 +28,14 @@ fn near_any_target(task: &TaskState, p: Vec3) -> bool {
 /// Marks the targets that a tree now satisfies, in target order, each tree counting for one
 /// target; returns `(target, tree id)` of each newly satisfied one. The candidates are every
 /// tree, or only the tree `only` when no other can be new (see [`run`]).
-fn satisfy_targets(world: &mut World, task: &mut TaskState, catalogue: &crate::catalogue::Catalogue, dragged: Option<u64>, only: Option<u64>, tick: u64) -> Vec<(usize, u64)> {
+fn satisfy_targets(
+    world: &mut World,
+    task: &mut TaskState,
+    catalogue: &crate::catalogue::Catalogue,
+    dragged: Option<u64>,
+    only: Option<u64>,
+    tick: u64,
+) -> Vec<(usize, u64)> {
     let require_grounded = task.def.require_grounded;
     let keep = |e: Entity, g: &Grounded| Some(e.to_bits().get()) != dragged && (g.0 || !require_grounded);
     let trees: Vec<(u64, crate::catalogue::ModelId, Vec3)> = match only {
@@ -88,7 +95,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
     // Errors and menu opens, from the log entries since the last tick.
     if task.log_cursor == usize::MAX {
         // The StartTask entry was logged this tick; count only what follows it.
-        task.log_cursor = res.log.entries.iter().rposition(|e| matches!(e.what, Happening::TaskStarted { .. })).map_or(0, |i| i + 1);
+        task.log_cursor =
+            res.log.entries.iter().rposition(|e| matches!(e.what, Happening::TaskStarted { .. })).map_or(0, |i| i + 1);
     }
     for entry in &res.log.entries[task.log_cursor..] {
         match &entry.what {
@@ -98,7 +106,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
             Happening::Planted { position, .. } | Happening::Snapped { position, .. } => {
                 // In manual mode a new tree appears in front of the user and is moved into
                 // place, so only a snap counts as a placement there.
-                let placement = matches!(entry.what, Happening::Snapped { .. }) || task.def.mode == crate::mode::Mode::RayCasting;
+                let placement =
+                    matches!(entry.what, Happening::Snapped { .. }) || task.def.mode == crate::mode::Mode::RayCasting;
                 if placement && !near_any_target(task, *position) {
                     task.errors.off_target += 1;
                 }
@@ -109,7 +118,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
     task.log_cursor = res.log.entries.len();
 
     // Where the time goes.
-    let touchpad_active = single::get::<Controller>(world, &res.singles).is_some_and(|c| c.touchpad.abs().max_element() > res.config.touchpad_dead_zone)
+    let touchpad_active = single::get::<Controller>(world, &res.singles)
+        .is_some_and(|c| c.touchpad.abs().max_element() > res.config.touchpad_dead_zone)
         && single::get::<Selection>(world, &res.singles).is_some_and(|s| s.tree.is_some());
     if res.menu.open {
         task.menu_ticks += 1;

@@ -57,7 +57,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
         return;
     }
     let Some(e) = selected.and_then(interact::entity) else { return };
-    let Some(lowest) = world.get::<&Tree>(e).ok().and_then(|t| res.catalogue.get(t.model)).map(|m| m.lowest_point()) else {
+    let Some(lowest) = world.get::<&Tree>(e).ok().and_then(|t| res.catalogue.get(t.model)).map(|m| m.lowest_point())
+    else {
         return;
     };
     let id = e.to_bits().get();
@@ -72,7 +73,8 @@ pub fn run(world: &mut World, res: &mut Resources) {
         crate::water::dry_ground(&water, interact::ground_under(spatial, at, lowest, scale, lift))
     };
 
-    let Ok((t, grounded, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &crate::components::Scale)>(e) else {
+    let Ok((t, grounded, s)) = world.query_one_mut::<(&mut Transform, &mut Grounded, &crate::components::Scale)>(e)
+    else {
         return;
     };
     if step != 0.0 {

@@ -4,7 +4,7 @@
 use glam::{Vec2, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
 
-use super::{max_bend, noise01, noise_at, wave, Wind, WindModel, WindParams, INV_TAU};
+use super::{INV_TAU, Wind, WindModel, WindParams, max_bend, noise_at, noise01, wave};
 
 /// Noise-displacement model: `v0 + d · s · w · (noise(density · v0, t) − 0.5)`.
 ///
@@ -52,11 +52,8 @@ pub fn displace_hierarchical(v0: Vec3, ch: Vec4, bend: Vec2, gain: f32, tree_pha
     // Leaves flutter in all three axes, in proportion to their distance to the branch.
     let a = s * p.leaf_flutter * b;
     let f = p.leaf_frequency;
-    let leaf = Vec3::new(
-        a * wave(f * t + phi),
-        a * wave(1.37 * f * t + phi + 0.25),
-        a * wave(1.71 * f * t + phi + 0.5),
-    );
+    let leaf =
+        Vec3::new(a * wave(f * t + phi), a * wave(1.37 * f * t + phi + 0.25), a * wave(1.71 * f * t + phi + 0.5));
     v0 + trunk + branch + leaf
 }
 
@@ -97,7 +94,11 @@ impl SwayExtent {
     /// A conservative extent from a model's height and crown radius and the instance's scale:
     /// height to root ≤ height, distances to trunk and branch ≤ crown radius.
     pub fn from_bounds(height: f32, crown_radius: f32, scale: f32) -> SwayExtent {
-        SwayExtent { height: height * scale, trunk_distance: crown_radius * scale, branch_distance: crown_radius * scale }
+        SwayExtent {
+            height: height * scale,
+            trunk_distance: crown_radius * scale,
+            branch_distance: crown_radius * scale,
+        }
     }
 }
 

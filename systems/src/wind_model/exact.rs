@@ -45,14 +45,63 @@ mod tests {
 
     /// Edge values and a sweep of bit patterns across every exponent.
     fn f32s() -> impl Iterator<Item = f32> {
-        let edges = [0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5, 8_388_607.5, -8_388_607.5, 8_388_608.0, -8_388_609.0, f32::MIN_POSITIVE, -f32::MIN_POSITIVE, 1e-45, -1e-45, f32::MAX, f32::MIN, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
-        edges.into_iter().chain((0..400_000u32).map(|i| f32::from_bits(i.wrapping_mul(2_654_435_761).rotate_left(7) ^ i)))
+        let edges = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            1.5,
+            -1.5,
+            8_388_607.5,
+            -8_388_607.5,
+            8_388_608.0,
+            -8_388_609.0,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            1e-45,
+            -1e-45,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        edges
+            .into_iter()
+            .chain((0..400_000u32).map(|i| f32::from_bits(i.wrapping_mul(2_654_435_761).rotate_left(7) ^ i)))
     }
 
     fn f64s() -> impl Iterator<Item = f64> {
-        let edges = [0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.0, -2.0, 3.0, 1.999_999_999, 4_503_599_627_370_495.5, 4_503_599_627_370_496.0, -4_503_599_627_370_495.5, f64::MIN_POSITIVE, 5e-324, -5e-324, f64::MAX, f64::MIN, f64::INFINITY, f64::NEG_INFINITY, f64::NAN];
+        let edges = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.0,
+            -2.0,
+            3.0,
+            1.999_999_999,
+            4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            -4_503_599_627_370_495.5,
+            f64::MIN_POSITIVE,
+            5e-324,
+            -5e-324,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
         let ticks = (0..200_000u64).map(|k| k as f64 * (1.0f32 / 60.0) as f64);
-        edges.into_iter().chain(ticks).chain((0..400_000u64).map(|i| f64::from_bits(i.wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(11) ^ i)))
+        edges
+            .into_iter()
+            .chain(ticks)
+            .chain((0..400_000u64).map(|i| f64::from_bits(i.wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(11) ^ i)))
     }
 
     #[test]

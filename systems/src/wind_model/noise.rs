@@ -67,7 +67,8 @@ pub fn perlin3(p: Vec3) -> f32 {
     let n001 = grad(lattice_hash(ix, iy, iz.wrapping_add(1)), x, y, z - 1.0);
     let n101 = grad(lattice_hash(ix.wrapping_add(1), iy, iz.wrapping_add(1)), x - 1.0, y, z - 1.0);
     let n011 = grad(lattice_hash(ix, iy.wrapping_add(1), iz.wrapping_add(1)), x, y - 1.0, z - 1.0);
-    let n111 = grad(lattice_hash(ix.wrapping_add(1), iy.wrapping_add(1), iz.wrapping_add(1)), x - 1.0, y - 1.0, z - 1.0);
+    let n111 =
+        grad(lattice_hash(ix.wrapping_add(1), iy.wrapping_add(1), iz.wrapping_add(1)), x - 1.0, y - 1.0, z - 1.0);
     let x00 = lerp(n000, n100, u);
     let x10 = lerp(n010, n110, u);
     let x01 = lerp(n001, n101, u);

@@ -115,7 +115,12 @@ fn displacement_never_exceeds_max_sway() {
             let t = seq(i, 8) as f64 * 600.0;
             w.current = gust_at(&w.gust, t);
             let p = WindParams::from_wind(&w, t);
-            let ch = Vec4::new(seq(i, 9) * extent.height, seq(i, 10) * extent.trunk_distance, seq(i, 11) * extent.branch_distance, seq(i, 12));
+            let ch = Vec4::new(
+                seq(i, 9) * extent.height,
+                seq(i, 10) * extent.trunk_distance,
+                seq(i, 11) * extent.branch_distance,
+                seq(i, 12),
+            );
             let gain = 0.5 + seq(i, 13);
             let phase = seq(i, 14) * TAU;
             let dir = Vec2::new(p.direction[0], p.direction[1]);

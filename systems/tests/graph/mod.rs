@@ -64,7 +64,12 @@ pub fn graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
 
 /// A cycle of the graph, if it has one (depth-first search).
 pub fn find_cycle(edges: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
-    fn visit(n: &str, edges: &BTreeMap<String, BTreeSet<String>>, state: &mut BTreeMap<String, u8>, stack: &mut Vec<String>) -> Option<Vec<String>> {
+    fn visit(
+        n: &str,
+        edges: &BTreeMap<String, BTreeSet<String>>,
+        state: &mut BTreeMap<String, u8>,
+        stack: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
         state.insert(n.to_string(), 1);
         stack.push(n.to_string());
         for m in edges.get(n).into_iter().flatten() {
@@ -133,7 +138,8 @@ fn paths_after(text: &str, prefix: &str) -> Vec<String> {
 pub fn file_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
     let mut files = Vec::new();
     rust_files(src, &mut files);
-    let texts: BTreeMap<String, String> = files.iter().map(|f| (module_path(src, f), std::fs::read_to_string(f).unwrap())).collect();
+    let texts: BTreeMap<String, String> =
+        files.iter().map(|f| (module_path(src, f), std::fs::read_to_string(f).unwrap())).collect();
     let resolve = |from: &str, path: &str| -> Option<String> {
         let parts: Vec<&str> = path.split("::").collect();
         (1..=parts.len()).rev().map(|k| parts[..k].join("::")).find(|c| c != from && texts.contains_key(c))
@@ -143,7 +149,9 @@ pub fn file_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
         let targets = edges.entry(module.clone()).or_default();
         let parent: Vec<&str> = module.split("::").filter(|p| !p.is_empty()).collect();
         let parent = parent[..parent.len().saturating_sub(1)].join("::");
-        let up = paths_after(text, "super::").into_iter().map(|p| if parent.is_empty() { p } else { format!("{parent}::{p}") });
+        let up = paths_after(text, "super::")
+            .into_iter()
+            .map(|p| if parent.is_empty() { p } else { format!("{parent}::{p}") });
         for path in paths_after(text, "crate::").into_iter().chain(up) {
             targets.extend(resolve(module, &path));
         }

@@ -12,10 +12,10 @@
 
 use glam::Vec3;
 use grove_systems::components::{Controller, Head, HitMarker, HitTarget};
+use grove_systems::input::Button;
 use grove_systems::mode::Mode;
 use grove_systems::resources::Resources;
 use grove_systems::technique::{Control, HashedComponent, Operator, Stage, Technique};
-use grove_systems::input::Button;
 use hecs::World;
 use serde::{Deserialize, Serialize};
 
@@ -49,7 +49,11 @@ pub fn technique() -> Technique {
         systems: vec![(Stage::Input, "gaze_aims", gaze_aims), (Stage::Ray, "dwell", dwell)],
         components: vec![HashedComponent::of::<Dwell>("Dwell")],
         controls: vec![
-            Control { button: Button::Trigger, desktop: "left mouse button", action: "plant where the gaze rests, at once" },
+            Control {
+                button: Button::Trigger,
+                desktop: "left mouse button",
+                action: "plant where the gaze rests, at once",
+            },
             Control { button: Button::Bumper, desktop: "right mouse button", action: "remove the tree under the gaze" },
             Control { button: Button::Menu, desktop: "Tab or M", action: "open the model menu" },
         ],

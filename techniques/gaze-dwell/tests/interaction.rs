@@ -2,14 +2,14 @@
 //! technique registered, driven by input events only.
 
 use glam::Vec3;
-use grove_gaze_dwell::{technique, Dwell, DWELL_S, NAME};
+use grove_gaze_dwell::{DWELL_S, Dwell, NAME, technique};
+use grove_systems::Sim;
 use grove_systems::components::Pose;
 use grove_systems::events::Happening;
 use grove_systems::input::Button;
 use grove_systems::scene::Scene;
 use grove_systems::script::Script;
 use grove_systems::technique::Techniques;
-use grove_systems::Sim;
 
 fn script() -> Script {
     let scene = Scene::builtin("study").unwrap();
@@ -27,10 +27,15 @@ fn look_at(s: &mut Script, point: Vec3) {
 }
 
 fn planted(s: &Script) -> Vec<Vec3> {
-    s.sim().log().entries.iter().filter_map(|e| match e.what {
-        Happening::Planted { position, .. } => Some(position),
-        _ => None,
-    }).collect()
+    s.sim()
+        .log()
+        .entries
+        .iter()
+        .filter_map(|e| match e.what {
+            Happening::Planted { position, .. } => Some(position),
+            _ => None,
+        })
+        .collect()
 }
 
 #[test]

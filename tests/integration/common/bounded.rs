@@ -11,7 +11,6 @@ use super::{assert_one_line_error, root};
 pub const TIME_BOUND: Duration = Duration::from_secs(2);
 pub const MEMORY_BOUND_KB: i64 = 200 * 1024;
 
-
 /// The small parent that runs `grove` and reports its peak memory and wall time. Linux records
 /// the address space a process leaves at `exec` in its peak: a child spawned straight from this
 /// test process (one binary holding every integration test, renderers included) would start at the
@@ -75,7 +74,10 @@ pub fn grove_bounded(args: &[&str]) -> (Output, Duration, i64) {
     let measured = std::fs::read_to_string(report.path()).unwrap_or_default();
     let mut fields = measured.split_whitespace().map(|v| v.parse::<i64>().unwrap_or(-1));
     let (rss_kb, took_ns) = (fields.next().unwrap_or(-1), fields.next().unwrap_or(-1));
-    assert!(rss_kb > 0 && took_ns > 0, "the measuring parent reported nothing for grove {args:?} ({measured:?}, {status})");
+    assert!(
+        rss_kb > 0 && took_ns > 0,
+        "the measuring parent reported nothing for grove {args:?} ({measured:?}, {status})"
+    );
     let output = Output { status, stdout: out_reader.join().unwrap(), stderr: err_reader.join().unwrap() };
     (output, Duration::from_nanos(took_ns as u64), rss_kb)
 }
@@ -87,7 +89,6 @@ pub fn refused_within_bounds(args: &[&str], needle: &str) {
     assert!(took < TIME_BOUND, "grove {args:?} took {took:?}");
     assert!(rss_kb < MEMORY_BOUND_KB, "grove {args:?} used {} MB", rss_kb / 1024);
 }
-
 
 /// Every file below `dir` (relative paths, sorted), to check that a refused command wrote nothing.
 pub fn listing(dir: &Path) -> Vec<String> {

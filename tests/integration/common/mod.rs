@@ -69,7 +69,12 @@ pub fn assert_one_line_error(out: &Output, code: i32, needle: &str) {
 pub fn validate_gltf_dir(dir: &Path) -> String {
     let tool = root().join("tools/gltf-validate");
     if !tool.join("node_modules").exists() {
-        let ok = Command::new("npm").args(["ci", "--silent", "--no-audit", "--no-fund"]).current_dir(&tool).status().map(|s| s.success()).unwrap_or(false);
+        let ok = Command::new("npm")
+            .args(["ci", "--silent", "--no-audit", "--no-fund"])
+            .current_dir(&tool)
+            .status()
+            .map(|s| s.success())
+            .unwrap_or(false);
         assert!(ok, "npm ci in tools/gltf-validate failed; the validator is needed for this test");
     }
     let out = Command::new("node").arg(tool.join("validate.mjs")).arg(dir).output().expect("node runs");
@@ -85,7 +90,15 @@ pub fn chromium(args: &[&str], page: &Path) -> (String, String) {
     let url = format!("file://{}", page.canonicalize().unwrap().display());
     let profile = tempfile::tempdir().unwrap();
     let out = Command::new("chromium")
-        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--virtual-time-budget=5000", "--enable-logging=stderr", "--v=0"])
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--virtual-time-budget=5000",
+            "--enable-logging=stderr",
+            "--v=0",
+        ])
         .arg("--host-resolver-rules=MAP * ~NOTFOUND")
         .arg(format!("--user-data-dir={}", profile.path().display()))
         .args(args)

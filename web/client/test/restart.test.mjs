@@ -17,7 +17,10 @@ import { GROVE, ROOT, studyLines } from './helpers.mjs';
 
 /** `grove serve --out DIR --port PORT ARGS…`; resolves to { child, url } once it listens. */
 function serve(dir, port, extra) {
-  const child = spawn(GROVE, ['serve', '--port', String(port), '--out', dir, ...extra], { cwd: ROOT, stdio: ['ignore', 'pipe', 'pipe'] });
+  const child = spawn(GROVE, ['serve', '--port', String(port), '--out', dir, ...extra], {
+    cwd: ROOT,
+    stdio: ['ignore', 'pipe', 'pipe'],
+  });
   let log = '';
   return new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error(`grove serve did not start: ${log}`)), 30000);
@@ -61,16 +64,25 @@ async function closedPort() {
 
 test('an unreachable server is named as such', async () => {
   const port = await closedPort();
-  await assert.rejects(openSession(`http://127.0.0.1:${port}/`, { participant: 'P01' }, { openAttempts: 0, timeoutMs: 2000 }), new RegExp(`the server http://127\\.0\\.0\\.1:${port} is unreachable \\(ECONNREFUSED\\)`));
+  await assert.rejects(
+    openSession(`http://127.0.0.1:${port}/`, { participant: 'P01' }, { openAttempts: 0, timeoutMs: 2000 }),
+    new RegExp(`the server http://127\\.0\\.0\\.1:${port} is unreachable \\(ECONNREFUSED\\)`),
+  );
   // What a browser's fetch throws says nothing but TypeError.
-  assert.equal(unreachable('http://192.168.1.5:8080', new TypeError('Failed to fetch'), 10000), 'the server http://192.168.1.5:8080 is unreachable (no connection)');
+  assert.equal(
+    unreachable('http://192.168.1.5:8080', new TypeError('Failed to fetch'), 10000),
+    'the server http://192.168.1.5:8080 is unreachable (no connection)',
+  );
 });
 
 test('a page in Chromium goes on streaming after the server is killed and started again', async () => {
   const dir = mkdtempSync(join(tmpdir(), 'grove-client-restart-'));
   const { chromium } = await import('playwright-core');
   let server = await serve(dir, 0, ['--require-token']);
-  const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', args: ['--no-sandbox', '--disable-background-networking'] });
+  const browser = await chromium.launch({
+    executablePath: '/usr/bin/chromium',
+    args: ['--no-sandbox', '--disable-background-networking'],
+  });
   try {
     const url = new URL(server.url);
     const token = url.searchParams.get('token');
@@ -82,7 +94,11 @@ test('a page in Chromium goes on streaming after the server is killed and starte
     const lines = studyLines('P07-ray-casting-7.jsonl');
     await page.evaluate(async (all) => {
       const { openSession } = await import('/client/grove-client.mjs');
-      const s = await openSession(`${location.origin}/`, { header: all[0] }, { timeoutMs: 1000, retryMinMs: 50, retryMaxMs: 300 });
+      const s = await openSession(
+        `${location.origin}/`,
+        { header: all[0] },
+        { timeoutMs: 1000, retryMinMs: 50, retryMaxMs: 300 },
+      );
       window.events = [];
       s.addEventListener('offline', (e) => window.events.push(`offline: ${e.reason}`));
       s.addEventListener('online', () => window.events.push('online'));
@@ -110,10 +126,17 @@ test('a page in Chromium goes on streaming after the server is killed and starte
     const result = await page.evaluate(() => window.done);
     const events = await page.evaluate(() => window.events);
     assert.equal(result.verification.status, 'verified', JSON.stringify({ result, events }));
-    assert.ok(events.some((e) => /^offline: the server http:\/\/127\.0\.0\.1:\d+ is unreachable \(no connection\)$/.test(e)), events.join(' / '));
+    assert.ok(
+      events.some((e) => /^offline: the server http:\/\/127\.0\.0\.1:\d+ is unreachable \(no connection\)$/.test(e)),
+      events.join(' / '),
+    );
     assert.ok(events.includes('online'), events.join(' / '));
     assert.ok(!events.some((e) => e.startsWith('refused')), events.join(' / '));
-    assert.equal(readFileSync(file, 'utf8'), lines.join('\n') + '\n', 'the file is the recording: nothing lost, nothing twice');
+    assert.equal(
+      readFileSync(file, 'utf8'),
+      lines.join('\n') + '\n',
+      'the file is the recording: nothing lost, nothing twice',
+    );
   } finally {
     await browser.close();
     await kill(server, 'SIGTERM');

@@ -13,7 +13,10 @@ import { XrController } from '../input/xr.mjs';
 const PROFILES = new URL('profiles', document.baseURI).href.replace(/\/?$/, '');
 
 function stick() {
-  const m = new THREE.Mesh(new THREE.CylinderGeometry(0.015, 0.02, 0.14, 10), new THREE.MeshStandardMaterial({ color: 0x303438 }));
+  const m = new THREE.Mesh(
+    new THREE.CylinderGeometry(0.015, 0.02, 0.14, 10),
+    new THREE.MeshStandardMaterial({ color: 0x303438 }),
+  );
   m.rotation.x = Math.PI / 2;
   const g = new THREE.Group();
   g.add(m);

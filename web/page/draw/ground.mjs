@@ -47,7 +47,9 @@ export class Ground {
       const colour = texture ? 0xffffff : p.name === 'terrace' ? 0x8d7f62 : 0x6f8f4e;
       const material = s.world.ar
         ? new THREE.ShadowMaterial({ opacity: 0.45 })
-        : groveShading(new THREE.MeshStandardMaterial({ map: texture, color: colour, roughness: 0.95 }), { specular: 0 });
+        : groveShading(new THREE.MeshStandardMaterial({ map: texture, color: colour, roughness: 0.95 }), {
+            specular: 0,
+          });
       const mesh = new THREE.Mesh(g, material);
       mesh.name = `plane:${p.name}`;
       mesh.receiveShadow = true;

@@ -5,7 +5,11 @@ import * as THREE from 'three';
 
 export class Label {
   /** `width` x `height` metres, drawn at `px` pixels per metre. */
-  constructor(width, height, { px = 256, background = 'rgba(20, 28, 24, 0.78)', color = '#f4f7f2', font = 'sans-serif' } = {}) {
+  constructor(
+    width,
+    height,
+    { px = 256, background = 'rgba(20, 28, 24, 0.78)', color = '#f4f7f2', font = 'sans-serif' } = {},
+  ) {
     this.canvas = document.createElement('canvas');
     this.canvas.width = Math.max(8, Math.round(width * px));
     this.canvas.height = Math.max(8, Math.round(height * px));
@@ -13,7 +17,10 @@ export class Label {
     this.texture = new THREE.CanvasTexture(this.canvas);
     this.texture.colorSpace = THREE.SRGBColorSpace;
     this.style = { background, color, font };
-    this.mesh = new THREE.Mesh(new THREE.PlaneGeometry(width, height), new THREE.MeshBasicMaterial({ map: this.texture, transparent: true, depthTest: true }));
+    this.mesh = new THREE.Mesh(
+      new THREE.PlaneGeometry(width, height),
+      new THREE.MeshBasicMaterial({ map: this.texture, transparent: true, depthTest: true }),
+    );
     this.mesh.renderOrder = 10;
     this.text = null;
   }

@@ -81,7 +81,7 @@ export function orderLeaves(geometry, seed) {
   const keys = leaves.map((_, k) => mix(seed ^ mix(BigInt(k))));
   const order = leaves.map((_, k) => k).sort((a, b) => (keys[a] < keys[b] ? -1 : keys[a] > keys[b] ? 1 : a - b));
   const p = geometry.attributes.position;
-  const out = new (index.constructor)(index.length);
+  const out = new index.constructor(index.length);
   let o = 0;
   let total = 0;
   const [A, B, C] = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
@@ -159,7 +159,10 @@ export class LeafDetail {
     for (const { object } of features.world.trees.values()) {
       const area = (object.userData.leafArea ?? 0) * object.scale.x * object.scale.x;
       const keep = eye ? keepFraction(area, eye.distanceTo(object.position), pixelsPerRadian, LEAF_PIXELS) : 1;
-      object.userData.wind?.setKeep(keep, Math.min(keep, keepFraction(area, 1, features.light.texelsPerMetre, SHADOW_LEAF_TEXELS)));
+      object.userData.wind?.setKeep(
+        keep,
+        Math.min(keep, keepFraction(area, 1, features.light.texelsPerMetre, SHADOW_LEAF_TEXELS)),
+      );
     }
   }
 }

@@ -100,17 +100,32 @@ export class Light {
     this.sun.target.position.copy(centre);
     this.sun.updateMatrixWorld(true);
     this.sun.target.updateMatrixWorld(true);
-    const view = new THREE.Matrix4().lookAt(this.sun.position, centre, Math.abs(this.direction.y) > 0.99 ? new THREE.Vector3(0, 0, 1) : new THREE.Vector3(0, 1, 0));
+    const view = new THREE.Matrix4().lookAt(
+      this.sun.position,
+      centre,
+      Math.abs(this.direction.y) > 0.99 ? new THREE.Vector3(0, 0, 1) : new THREE.Vector3(0, 1, 0),
+    );
     view.setPosition(this.sun.position).invert();
     const lo = new THREE.Vector3(Infinity, Infinity, Infinity);
     const hi = new THREE.Vector3(-Infinity, -Infinity, -Infinity);
     for (let i = 0; i < 8; i++) {
-      const c = new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y, i & 4 ? box.max.z : box.min.z).applyMatrix4(view);
+      const c = new THREE.Vector3(
+        i & 1 ? box.max.x : box.min.x,
+        i & 2 ? box.max.y : box.min.y,
+        i & 4 ? box.max.z : box.min.z,
+      ).applyMatrix4(view);
       lo.min(c);
       hi.max(c);
     }
     const cam = this.sun.shadow.camera;
-    Object.assign(cam, { left: lo.x, right: hi.x, bottom: lo.y, top: hi.y, near: Math.max(-hi.z - 1, 0.01), far: -lo.z + 1 });
+    Object.assign(cam, {
+      left: lo.x,
+      right: hi.x,
+      bottom: lo.y,
+      top: hi.y,
+      near: Math.max(-hi.z - 1, 0.01),
+      far: -lo.z + 1,
+    });
     cam.updateProjectionMatrix();
     const extent = Math.max(hi.x - lo.x, hi.y - lo.y);
     this.sun.shadow.normalBias = (extent / SHADOW_SIZE) * 1.5;

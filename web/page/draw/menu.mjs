@@ -91,13 +91,17 @@ export class Menu {
     const snap = s.live;
     if (snap?.menu.open && !this.isOpen) this.open([...snap.menu.models, 'Finish task'], snap.head);
     if (!snap?.menu.open && this.isOpen) this.close();
-    if (this.isOpen) this.#items(s.ray ? this.itemAt(s.ray[0], s.ray[1]) : -1, snap.menu.current_model, 'Choose a model (trigger)');
+    if (this.isOpen)
+      this.#items(s.ray ? this.itemAt(s.ray[0], s.ray[1]) : -1, snap.menu.current_model, 'Choose a model (trigger)');
   }
 
   /** Redraws the items: the one under the ray highlighted, the current model marked. */
   #items(hover, current, hint) {
     if (!this.label) return;
     this.hover = hover;
-    this.label.set([hint, ...this.models.map((m, i) => `${i === hover ? '!' : ''}${m === current ? '• ' : '   '}${m}`)]);
+    this.label.set([
+      hint,
+      ...this.models.map((m, i) => `${i === hover ? '!' : ''}${m === current ? '• ' : '   '}${m}`),
+    ]);
   }
 }

@@ -21,7 +21,12 @@ export function mipChain(data, width, height) {
     const next = new Uint8Array(nw * nh * 4);
     for (let y = 0; y < nh; y++) {
       for (let x = 0; x < nw; x++) {
-        const taps = [[0, 0], [1, 0], [0, 1], [1, 1]].map(([dx, dy]) => 4 * (Math.min(y * 2 + dy, h - 1) * w + Math.min(x * 2 + dx, w - 1)));
+        const taps = [
+          [0, 0],
+          [1, 0],
+          [0, 1],
+          [1, 1],
+        ].map(([dx, dy]) => 4 * (Math.min(y * 2 + dy, h - 1) * w + Math.min(x * 2 + dx, w - 1)));
         const o = 4 * (y * nw + x);
         let alpha = 0;
         let weights = 0;
@@ -32,7 +37,8 @@ export function mipChain(data, width, height) {
           weights += a;
           for (let c = 0; c < 3; c++) sum[c] += lut[cur[t + c]] * a;
         }
-        for (let c = 0; c < 3; c++) next[o + c] = Math.floor(Math.min(Math.max(toSrgb(sum[c] / weights), 0), 1) * 255 + 0.5);
+        for (let c = 0; c < 3; c++)
+          next[o + c] = Math.floor(Math.min(Math.max(toSrgb(sum[c] / weights), 0), 1) * 255 + 0.5);
         next[o + 3] = Math.floor(Math.min((alpha / 4) * 1.15, 1) * 255 + 0.5);
       }
     }

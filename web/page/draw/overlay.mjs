@@ -19,20 +19,32 @@ export class Overlay {
     this.ray = new THREE.Line(rayGeometry, new THREE.LineBasicMaterial({ color: 0xa8e8ff }));
     this.ray.frustumCulled = false;
     this.root.add(this.ray);
-    this.marker = new THREE.Mesh(new THREE.RingGeometry(0.06, 0.1, 24), new THREE.MeshBasicMaterial({ color: 0xa8e8ff, side: THREE.DoubleSide, depthTest: false }));
+    this.marker = new THREE.Mesh(
+      new THREE.RingGeometry(0.06, 0.1, 24),
+      new THREE.MeshBasicMaterial({ color: 0xa8e8ff, side: THREE.DoubleSide, depthTest: false }),
+    );
     this.marker.renderOrder = 5;
     this.root.add(this.marker);
-    this.ball = new THREE.Mesh(new THREE.SphereGeometry(0.12, 16, 12), new THREE.MeshStandardMaterial({ color: GREEN, emissive: 0x202020 }));
+    this.ball = new THREE.Mesh(
+      new THREE.SphereGeometry(0.12, 16, 12),
+      new THREE.MeshStandardMaterial({ color: GREEN, emissive: 0x202020 }),
+    );
     this.ball.name = 'anchor-ball';
     this.root.add(this.ball);
-    this.box = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxGeometry(2, 2, 2)), new THREE.LineBasicMaterial({ color: 0xffd24a }));
+    this.box = new THREE.LineSegments(
+      new THREE.EdgesGeometry(new THREE.BoxGeometry(2, 2, 2)),
+      new THREE.LineBasicMaterial({ color: 0xffd24a }),
+    );
     this.root.add(this.box);
     this.handles = [];
     const handleMaterial = new THREE.MeshBasicMaterial({ color: 0xffd24a });
     const hot = new THREE.MeshBasicMaterial({ color: 0xff6a3a });
     this.handleMaterials = [handleMaterial, hot];
     for (let i = 0; i < 12; i++) {
-      const h = new THREE.Mesh(i < 8 ? new THREE.SphereGeometry(0.12, 10, 8) : new THREE.BoxGeometry(0.2, 0.2, 0.2), handleMaterial);
+      const h = new THREE.Mesh(
+        i < 8 ? new THREE.SphereGeometry(0.12, 10, 8) : new THREE.BoxGeometry(0.2, 0.2, 0.2),
+        handleMaterial,
+      );
       this.handles.push(h);
       this.root.add(h);
     }
@@ -93,7 +105,10 @@ export class Overlay {
       b.handles.forEach((p, i) => {
         const h = this.handles[i];
         h.position.set(p.position[0], p.position[1], p.position[2]);
-        h.material = hotHandle && hotHandle[0] === p.kind && hotHandle[1] === p.index ? this.handleMaterials[1] : this.handleMaterials[0];
+        h.material =
+          hotHandle && hotHandle[0] === p.kind && hotHandle[1] === p.index
+            ? this.handleMaterials[1]
+            : this.handleMaterials[0];
       });
     }
     this.#targets(snap.task, eye, k);
@@ -110,7 +125,10 @@ export class Overlay {
         const g = new THREE.Group();
         g.position.set(at[0], at[1], at[2]);
         g.scale.setScalar(k);
-        const ring = new THREE.Mesh(new THREE.RingGeometry(0.38, 0.5, 32), new THREE.MeshBasicMaterial({ color: 0xff9f3a, side: THREE.DoubleSide }));
+        const ring = new THREE.Mesh(
+          new THREE.RingGeometry(0.38, 0.5, 32),
+          new THREE.MeshBasicMaterial({ color: 0xff9f3a, side: THREE.DoubleSide }),
+        );
         ring.rotation.x = -Math.PI / 2;
         ring.position.y = 0.02;
         const post = new THREE.Mesh(new THREE.CylinderGeometry(0.03, 0.03, 1.2, 8), ring.material);
@@ -126,7 +144,8 @@ export class Overlay {
     targets.forEach((t, i) => {
       const v = this.targets[i];
       v.ring.material.color.setHex(t.satisfied ? GREEN : 0xff9f3a);
-      if (eye) v.label.mesh.lookAt(this.root.parent.localToWorld(this._v.set(eye.x, v.group.position.y + 1.45 * k, eye.z)));
+      if (eye)
+        v.label.mesh.lookAt(this.root.parent.localToWorld(this._v.set(eye.x, v.group.position.y + 1.45 * k, eye.z)));
     });
   }
 }

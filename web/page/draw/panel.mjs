@@ -53,12 +53,18 @@ export class Panel {
     this.group = new THREE.Group();
     this.group.name = name;
     this.group.visible = false;
-    const mesh = new THREE.Mesh(new THREE.PlaneGeometry(width, height), new THREE.MeshBasicMaterial({ map: this.texture, transparent: true }));
+    const mesh = new THREE.Mesh(
+      new THREE.PlaneGeometry(width, height),
+      new THREE.MeshBasicMaterial({ map: this.texture, transparent: true }),
+    );
     mesh.renderOrder = 20;
     this.group.add(mesh);
     parent.add(this.group);
     // The ray from the controller while the panel is open, up to the panel (or 3 m).
-    this.ray = new THREE.Line(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3(0, 0, -1)]), new THREE.LineBasicMaterial({ color: 0xf5d58a }));
+    this.ray = new THREE.Line(
+      new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(), new THREE.Vector3(0, 0, -1)]),
+      new THREE.LineBasicMaterial({ color: 0xf5d58a }),
+    );
     this.ray.frustumCulled = false;
     this.ray.visible = false;
     parent.add(this.ray);
@@ -139,7 +145,10 @@ export class Panel {
   }
 
   #draw() {
-    const key = JSON.stringify([this.boxes.map((b) => ({ ...b, image: b.image ? b.image.src ?? 'img' : undefined })), this.hover]);
+    const key = JSON.stringify([
+      this.boxes.map((b) => ({ ...b, image: b.image ? (b.image.src ?? 'img') : undefined })),
+      this.hover,
+    ]);
     if (key === this.key) return;
     this.key = key;
     const { ctx, canvas } = this;

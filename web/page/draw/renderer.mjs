@@ -12,7 +12,13 @@ import { Light } from './light.mjs';
  * `antialias: false` only for comparing with grove's renderer, which takes one sample a pixel.
  */
 export function createRenderer(canvas, { low = false, preserve = false, antialias = true } = {}) {
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias, alpha: true, powerPreference: 'high-performance', preserveDrawingBuffer: preserve });
+  const renderer = new THREE.WebGLRenderer({
+    canvas,
+    antialias,
+    alpha: true,
+    powerPreference: 'high-performance',
+    preserveDrawingBuffer: preserve,
+  });
   renderer.shadowMap.enabled = !low;
   renderer.shadowMap.type = THREE.PCFShadowMap;
   renderer.toneMapping = THREE.NoToneMapping;

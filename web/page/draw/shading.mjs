@@ -111,10 +111,17 @@ const lightsBegin = THREE.ShaderChunk.lights_fragment_begin.replace(
   '( directionalShadowMatrix[ i ] * vec4( vGroveWorld + inverseTransformDirection( normal, viewMatrix ) * directionalLightShadow.shadowNormalBias, 1.0 ) ) )',
 );
 
-const normalBegin = THREE.ShaderChunk.normal_fragment_begin.replace('float faceDirection = gl_FrontFacing ? 1.0 : - 1.0;', 'float faceDirection = 1.0;');
+const normalBegin = THREE.ShaderChunk.normal_fragment_begin.replace(
+  'float faceDirection = gl_FrontFacing ? 1.0 : - 1.0;',
+  'float faceDirection = 1.0;',
+);
 
-for (const [name, chunk] of [['lights_fragment_begin', lightsBegin], ['normal_fragment_begin', normalBegin]]) {
-  if (chunk === THREE.ShaderChunk[name]) throw new Error(`grove shading: three.js's ${name} is not the one this page patches`);
+for (const [name, chunk] of [
+  ['lights_fragment_begin', lightsBegin],
+  ['normal_fragment_begin', normalBegin],
+]) {
+  if (chunk === THREE.ShaderChunk[name])
+    throw new Error(`grove shading: three.js's ${name} is not the one this page patches`);
 }
 
 function patch(source, marker, replacement) {
@@ -141,10 +148,18 @@ export function groveShading(material, { translucency = 0, specular = 1, vertex 
     f = patch(f, '#include <lights_physical_fragment>', `#include <lights_physical_fragment>\n${SPEC}`);
     f = patch(f, '#include <alphatest_fragment>', ALPHA_TEST);
     f = patch(f, '#include <lights_fragment_begin>', lightsBegin);
-    f = patch(f, '#include <tonemapping_fragment>', `gl_FragColor.rgb = mix( gl_FragColor.rgb, vGroveHaze.rgb, vGroveHaze.a );\n${TONE}`);
+    f = patch(
+      f,
+      '#include <tonemapping_fragment>',
+      `gl_FragColor.rgb = mix( gl_FragColor.rgb, vGroveHaze.rgb, vGroveHaze.a );\n${TONE}`,
+    );
     shader.fragmentShader = `varying vec4 vGroveHaze;\n${SHADOW_PARS}\n${f}`;
     Object.assign(shader.uniforms, skyUniforms);
-    const v = patch(shader.vertexShader, '#include <fog_vertex>', '#include <fog_vertex>\n\tvGroveWorld = ( modelMatrix * vec4( transformed, 1.0 ) ).xyz;\n\tvGroveHaze = groveHazeAt( vGroveWorld );');
+    const v = patch(
+      shader.vertexShader,
+      '#include <fog_vertex>',
+      '#include <fog_vertex>\n\tvGroveWorld = ( modelMatrix * vec4( transformed, 1.0 ) ).xyz;\n\tvGroveHaze = groveHazeAt( vGroveWorld );',
+    );
     shader.vertexShader = `${SKY_GLSL}\nvarying vec4 vGroveHaze;\nvarying vec3 vGroveWorld;\n${v}`;
     vertex?.(shader);
   };

@@ -76,7 +76,9 @@ export function updateSky(light, cube, root) {
   const u = skyUniforms;
   u.groveSkyEnv.value = cube;
   u.groveHazeOn.value = cube ? 1 : 0;
-  u.groveSimFrame.value.setFromMatrix4(new THREE.Matrix4().makeRotationFromQuaternion(root.getWorldQuaternion(new THREE.Quaternion()).invert()));
+  u.groveSimFrame.value.setFromMatrix4(
+    new THREE.Matrix4().makeRotationFromQuaternion(root.getWorldQuaternion(new THREE.Quaternion()).invert()),
+  );
   if (!light) return;
   u.groveSky.value = light.sky;
   const a = light.ambient;
@@ -141,7 +143,10 @@ export class Sky {
  * `env/` (assets/env, copied there by web/page/build.mjs).
  */
 export async function loadEnvironment(base) {
-  const [cube, ground] = await Promise.all([loadSkyCube(base), new THREE.TextureLoader().loadAsync(new URL('ground.png', base).href)]);
+  const [cube, ground] = await Promise.all([
+    loadSkyCube(base),
+    new THREE.TextureLoader().loadAsync(new URL('ground.png', base).href),
+  ]);
   ground.colorSpace = THREE.SRGBColorSpace;
   ground.wrapS = ground.wrapT = THREE.RepeatWrapping;
   ground.anisotropy = 4;

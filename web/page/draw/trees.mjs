@@ -27,30 +27,34 @@ export class Models {
    */
   async load(names, urls = {}) {
     await Promise.all(
-      names.filter((n) => !this.models.has(n)).map(async (n) => {
-        const url = urls[n] ?? `${this.base}${n}.gltf`;
-        const gltf = await this.loader.loadAsync(url);
-        // grove shuffles a model's leaves by its file name and its primitives' order.
-        const seed = modelSeed(decodeURIComponent(new URL(url, location.href).pathname.split('/').pop()).replace(/\.(gltf|glb)$/i, ''));
-        const areas = [];
-        let primitive = 0;
-        gltf.scene.traverse((o) => {
-          if (!o.isMesh) return;
-          o.castShadow = true;
-          o.receiveShadow = true;
-          const m = o.material;
-          m.map = groveMips(m.map);
-          if (m.specularIntensityMap) m.specularIntensityMap = groveMips(m.specularIntensityMap);
-          if (m.alphaTest > 0) {
-            m.alphaToCoverage = this.antialias;
-            const area = orderLeaves(o.geometry, seed ^ BigInt(primitive));
-            if (area > 0) areas.push(area);
-          } else unsimplified(o.geometry);
-          primitive++;
-        });
-        gltf.scene.userData.leafArea = areas.length ? areas.reduce((a, b) => a + b) / areas.length : 0;
-        this.models.set(n, gltf.scene);
-      }),
+      names
+        .filter((n) => !this.models.has(n))
+        .map(async (n) => {
+          const url = urls[n] ?? `${this.base}${n}.gltf`;
+          const gltf = await this.loader.loadAsync(url);
+          // grove shuffles a model's leaves by its file name and its primitives' order.
+          const seed = modelSeed(
+            decodeURIComponent(new URL(url, location.href).pathname.split('/').pop()).replace(/\.(gltf|glb)$/i, ''),
+          );
+          const areas = [];
+          let primitive = 0;
+          gltf.scene.traverse((o) => {
+            if (!o.isMesh) return;
+            o.castShadow = true;
+            o.receiveShadow = true;
+            const m = o.material;
+            m.map = groveMips(m.map);
+            if (m.specularIntensityMap) m.specularIntensityMap = groveMips(m.specularIntensityMap);
+            if (m.alphaTest > 0) {
+              m.alphaToCoverage = this.antialias;
+              const area = orderLeaves(o.geometry, seed ^ BigInt(primitive));
+              if (area > 0) areas.push(area);
+            } else unsimplified(o.geometry);
+            primitive++;
+          });
+          gltf.scene.userData.leafArea = areas.length ? areas.reduce((a, b) => a + b) / areas.length : 0;
+          this.models.set(n, gltf.scene);
+        }),
     );
   }
 
@@ -74,7 +78,11 @@ export class Models {
     tree.traverse((o) => {
       if (!o.isMesh) return;
       const leaf = o.material.alphaTest > 0;
-      o.material = groveShading(o.material.clone(), { translucency: leaf ? LEAF_TRANSLUCENCY : 0, vertex: wind.vertex, key: wind.key });
+      o.material = groveShading(o.material.clone(), {
+        translucency: leaf ? LEAF_TRANSLUCENCY : 0,
+        vertex: wind.vertex,
+        key: wind.key,
+      });
       o.customDepthMaterial = wind.depthMaterial(o.material);
     });
     return tree;
@@ -82,7 +90,10 @@ export class Models {
 }
 
 function standIn() {
-  const stand = new THREE.Mesh(new THREE.ConeGeometry(0.8, 3, 8), groveShading(new THREE.MeshStandardMaterial({ color: 0x2f6b2f })));
+  const stand = new THREE.Mesh(
+    new THREE.ConeGeometry(0.8, 3, 8),
+    groveShading(new THREE.MeshStandardMaterial({ color: 0x2f6b2f })),
+  );
   stand.position.y = 1.5;
   const g = new THREE.Group();
   g.add(stand);

@@ -171,7 +171,10 @@ export function setWind(p) {
 
 function inject(shader, uniforms) {
   Object.assign(shader.uniforms, windUniforms, uniforms);
-  shader.vertexShader = `${WIND_GLSL}\n${TREE_GLSL}\n${shader.vertexShader}`.replace('#include <begin_vertex>', `#include <begin_vertex>\n${DISPLACE_GLSL}`);
+  shader.vertexShader = `${WIND_GLSL}\n${TREE_GLSL}\n${shader.vertexShader}`.replace(
+    '#include <begin_vertex>',
+    `#include <begin_vertex>\n${DISPLACE_GLSL}`,
+  );
 }
 
 /** One tree's wind: its uniforms, the vertex patch for its materials, and its shadow's material. */

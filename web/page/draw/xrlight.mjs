@@ -61,7 +61,10 @@ export class XrLight {
   state() {
     if (!this.source) return null;
     const d = this.estimated?.directionalLight;
-    const main = this.source === 'estimate' && d ? { direction: d.position.toArray(), intensity: d.intensity, color: d.color.toArray() } : null;
+    const main =
+      this.source === 'estimate' && d
+        ? { direction: d.position.toArray(), intensity: d.intensity, color: d.color.toArray() }
+        : null;
     return { source: this.source, main };
   }
 }

@@ -26,7 +26,11 @@ export function instructions(app) {
     page.task = resume.task;
   }
   screen.text(resume ? `Continue ${resume.file}` : `Task ${page.task}`, taskText(modeOfTask(app.grove, page.task)));
-  screen.who({ hidden: Boolean(resume || app.params.get('participant')), participant: page.participant, task: page.task });
+  screen.who({
+    hidden: Boolean(resume || app.params.get('participant')),
+    participant: page.participant,
+    task: page.task,
+  });
   screen.controls(controllerControls(modeOfTask(app.grove, page.task), false)); // until the device is known
   screen.enterButtons(resume ? 'Continue' : 'Start', app.modes);
 }
@@ -54,7 +58,14 @@ export async function enter(app, mode) {
   const phone = ar && session.interactionMode === 'screen-space';
   const bar = new TouchBar(screen.touch);
   bar.show(phone);
-  const ctx = { space: base, offset: () => page.offset, now: () => (app.run ? app.run.ms() : performance.now()), session, bar, snapshot: () => app.run?.snapshot ?? null };
+  const ctx = {
+    space: base,
+    offset: () => page.offset,
+    now: () => (app.run ? app.run.ms() : performance.now()),
+    session,
+    bar,
+    snapshot: () => app.run?.snapshot ?? null,
+  };
   app.input = new XrInput(ctx, {
     onSource: (source) => {
       page.noSqueeze = source.noSqueeze;
@@ -74,7 +85,11 @@ function ended(app) {
   app.screen.touch.hidden = true;
   app.input = null;
   if (app.study) return studyPaused(app);
-  if (app.flow.is(State.TASK, State.INSTRUCTIONS)) app.flow.go(State.INSTRUCTIONS, 'The immersive session ended; the recording stays open: start again to continue it.');
+  if (app.flow.is(State.TASK, State.INSTRUCTIONS))
+    app.flow.go(
+      State.INSTRUCTIONS,
+      'The immersive session ended; the recording stays open: start again to continue it.',
+    );
 }
 
 /** A frame before the task in a headset: the room's floor looked for, the trigger starting the task. */
@@ -83,7 +98,10 @@ export function instructionsFrame(app, { frame, input }) {
   if (!xr || !frame) return;
   xr.finder?.frame(frame);
   const unusable = app.input?.unusable?.();
-  if (unusable) app.screen.say(`This device's input (${unusable.join(', ')}) is not one grove takes: a controller, hands, gaze and pinch, or a phone's screen.`);
+  if (unusable)
+    app.screen.say(
+      `This device's input (${unusable.join(', ')}) is not one grove takes: a controller, hands, gaze and pinch, or a phone's screen.`,
+    );
   const down = Boolean(input?.buttons.trigger);
   if (down && !xr.pressed && !xr.started) {
     xr.started = true;

@@ -32,7 +32,11 @@ const { CONNECTING, INSTRUCTIONS, STARTING, TASK, DONE, STEP, PRACTICE, TYPING, 
  */
 export const TRANSITIONS = [
   [CONNECTING, [INSTRUCTIONS], 'the module, the models and the protocol (if any) are loaded'],
-  [INSTRUCTIONS, [INSTRUCTIONS], 'an immersive mode entered (waiting for the trigger), a participant joined, a message'],
+  [
+    INSTRUCTIONS,
+    [INSTRUCTIONS],
+    'an immersive mode entered (waiting for the trigger), a participant joined, a message',
+  ],
   [INSTRUCTIONS, [STARTING], 'the trigger in the headset, the preview entered, or a stored session continued'],
   [INSTRUCTIONS, [STEP, PRACTICE], "a protocol's participant entered a mode: their step"],
   [STARTING, [TASK], 'the session is open (or continued) and the run made'],

@@ -69,14 +69,31 @@ function hud(app, { frame, input }, live) {
   if (!frame) return { lines: null, at: null, eye: null };
   if (flow.is(INSTRUCTIONS)) {
     const floor = xr.finder?.found;
-    const lines = ['grove: ' + page.task, floor ? `floor: ${floor.source}` : 'VR: the study scene', '!Press the trigger to start', `server: ${recorder.state}`];
+    const lines = [
+      'grove: ' + page.task,
+      floor ? `floor: ${floor.source}` : 'VR: the study scene',
+      '!Press the trigger to start',
+      `server: ${recorder.state}`,
+    ];
     return { lines, at: input?.pose ?? null, eye: input?.head ? pointOf(input.head) : null };
   }
   if (!live) return { lines: null, at: null, eye: null };
-  const state = { noSqueeze: page.noSqueeze, mapping: page.device?.mapping, connection: recorder.state, pending: recorder.pending, state: flow.state, verification: page.verification };
+  const state = {
+    noSqueeze: page.noSqueeze,
+    mapping: page.device?.mapping,
+    connection: recorder.state,
+    pending: recorder.pending,
+    state: flow.state,
+    verification: page.verification,
+  };
   if (page.device?.mapping === 'screen') {
     // A phone's ray leaves its camera: the panel would stand in front of the lens; its first lines go in the header.
-    app.screen.progress(hudLines(live, state).slice(0, 2).map((l) => l.replace(/^!/, '')).join(' · '));
+    app.screen.progress(
+      hudLines(live, state)
+        .slice(0, 2)
+        .map((l) => l.replace(/^!/, ''))
+        .join(' · '),
+    );
     return null;
   }
   return { lines: hudLines(live, state), at: live.controller.pose, eye: pointOf(live.head) };

@@ -27,14 +27,26 @@ export async function studyIntro(app, api, protocol) {
   };
   if (page.participant) return join(page.participant);
   screen.text(`Study: ${protocol.name}`, 'Press Start when the researcher asks you to.');
-  screen.buttons(button('join', 'Start', () => join(null), (e) => flow.fail(e)));
+  screen.buttons(
+    button(
+      'join',
+      'Start',
+      () => join(null),
+      (e) => flow.fail(e),
+    ),
+  );
 }
 
 /** Where the participant is, and the buttons to enter a mode and go on. */
 function studyButtons(app, message = '') {
   const s = app.study.summary();
   app.screen.panel(true);
-  app.screen.text(`Participant ${s.participant}`, s.kind === 'done' ? 'The session is over. Thank you.' : `Step ${s.step} of ${s.steps}: ${s.block}. Put the headset on and enter to go on.`);
+  app.screen.text(
+    `Participant ${s.participant}`,
+    s.kind === 'done'
+      ? 'The session is over. Thank you.'
+      : `Step ${s.step} of ${s.steps}: ${s.block}. Put the headset on and enter to go on.`,
+  );
   app.screen.enterButtons('Continue', app.modes);
   app.flow.go(State.INSTRUCTIONS, message);
 }
@@ -49,9 +61,11 @@ export function showStep(app) {
   if (st?.kind === 'task') {
     page.task = st.task;
     const stored = app.stored;
-    if (stored && stored.participant === page.participant && stored.task === st.task) return startRun(app, null).catch((e) => flow.fail(e));
+    if (stored && stored.participant === page.participant && stored.task === st.task)
+      return startRun(app, null).catch((e) => flow.fail(e));
   }
-  if (st?.kind === 'instructions' && st.image) steps.image = loadImage(st.image, () => (app.view.features.panel.key = null));
+  if (st?.kind === 'instructions' && st.image)
+    steps.image = loadImage(st.image, () => (app.view.features.panel.key = null));
   flow.go(State.STEP);
 }
 
@@ -83,7 +97,11 @@ export function stepFrame(app, { frame, input, ray }) {
   const practice = flow.is(State.PRACTICE);
   const seconds = steps.until === null ? null : (steps.until - performance.now()) / 1000;
   const panel = view.features.panel;
-  const boxes = study.layout(panel.size, { image: steps.image, seconds, taskText: taskText(modeOfTask(app.grove, study.current?.task)) });
+  const boxes = study.layout(panel.size, {
+    image: steps.image,
+    seconds,
+    taskText: taskText(modeOfTask(app.grove, study.current?.task)),
+  });
   const pressed = panelFrame(panel, steps, { head, ray, down, boxes, practice });
   if (pressed && !steps.busy) press(app, pressed, frame);
   if (practice && seconds !== null && seconds <= 0 && !steps.busy) press(app, 'end-practice', frame);

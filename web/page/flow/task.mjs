@@ -25,7 +25,11 @@ export function showWorld(app, run) {
 function roomPlanes(app, frame) {
   const { xr, page } = app;
   const found = horizontalPlanes(frame, xr.base);
-  const sim = (p) => ({ ...p, points: p.points.map((q) => toSim(page.offset, q).position), y: p.y - page.offset.position.y });
+  const sim = (p) => ({
+    ...p,
+    points: p.points.map((q) => toSim(page.offset, q).position),
+    y: p.y - page.offset.position.y,
+  });
   const floor = floorOf(found);
   const all = found.map(sim);
   return { floor: floor ? sim(floor) : null, others: all.filter((p) => p.y > 0.3 && p.y < 2.2).slice(0, 16), all };
@@ -53,7 +57,13 @@ function roomLayout(app, { floor, others }) {
 function roomText(app, planes, layout) {
   const { xr, page } = app;
   const found = planes.map((p) => ({ label: p.label, points: p.points }));
-  return app.grove.roomScene({ source: xr.finder.found.source, floor_y: xr.finder.found.y, planes: found, task: page.task || null, ...(layout ? { layout } : {}) });
+  return app.grove.roomScene({
+    source: xr.finder.found.source,
+    floor_y: xr.finder.found.y,
+    planes: found,
+    task: page.task || null,
+    ...(layout ? { layout } : {}),
+  });
 }
 
 /** Starts the task (a new session) or continues the stored one; `frame` is the XR frame it starts in. */
@@ -114,9 +124,17 @@ export function runFrame(app, { time, input, ray }) {
   if (!input) return;
   const buttons = { ...input.buttons };
   // In practice the trigger presses the panel's button when the ray is on the panel.
-  if (flow.is(State.PRACTICE) && ray && view.features.panel.meets(ray[0], ray[1])) buttons.trigger = run.buttons.trigger;
+  if (flow.is(State.PRACTICE) && ray && view.features.panel.meets(ray[0], ray[1]))
+    buttons.trigger = run.buttons.trigger;
   const menuPick = () => (ray ? view.features.menu.itemAt(ray[0], ray[1]) : -1);
-  run.frame(time, { controller: input.pose, head: input.head, buttons, axes: input.axes, frame: app.page.frames, menuPick });
+  run.frame(time, {
+    controller: input.pose,
+    head: input.head,
+    buttons,
+    axes: input.axes,
+    frame: app.page.frames,
+    menuPick,
+  });
 }
 
 /** Ends the task's recording; resolves once the server has verified it (window.grove.verification). */

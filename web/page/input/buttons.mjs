@@ -86,7 +86,10 @@ const STEPS = 32;
  */
 export function touchpadAxes(gamepad) {
   const a = gamepad?.axes ?? [];
-  const pick = Math.hypot(a[2] ?? 0, a[3] ?? 0) >= Math.hypot(a[0] ?? 0, a[1] ?? 0) ? [a[2] ?? 0, a[3] ?? 0] : [a[0] ?? 0, a[1] ?? 0];
+  const pick =
+    Math.hypot(a[2] ?? 0, a[3] ?? 0) >= Math.hypot(a[0] ?? 0, a[1] ?? 0)
+      ? [a[2] ?? 0, a[3] ?? 0]
+      : [a[0] ?? 0, a[1] ?? 0];
   const q = (v) => {
     const c = Math.max(-1, Math.min(1, v));
     return Math.abs(c) < DEADZONE ? 0 : Math.round(c * STEPS) / STEPS;

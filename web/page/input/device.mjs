@@ -11,5 +11,9 @@ const plain = (s) =>
 
 /** The header's device for an XR input source (or a description of one) and grove's mapping. */
 export function deviceOf(source, mapping) {
-  return { profile: plain(source?.profiles?.[0]), target_ray_mode: plain(source?.targetRayMode), mapping: plain(mapping) };
+  return {
+    profile: plain(source?.profiles?.[0]),
+    target_ray_mode: plain(source?.targetRayMode),
+    mapping: plain(mapping),
+  };
 }

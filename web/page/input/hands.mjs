@@ -62,13 +62,25 @@ export class Hands {
     this.otherPinch = pinching(frame, other, space, this.otherPinch);
     // ButtonMapper's gamepad: button 0 the Trigger, button 2 the press that is Bumper or Menu.
     const pad = { buttons: [{ pressed: this.pinch }, { pressed: false }, { pressed: this.otherPinch }] };
-    return { pose: simPose(pose?.transform, this.ctx.offset()), buttons: this.mapper.read(pad, this.ctx.now()), axes: [0, 0] };
+    return {
+      pose: simPose(pose?.transform, this.ctx.offset()),
+      buttons: this.mapper.read(pad, this.ctx.now()),
+      axes: [0, 0],
+    };
   }
 
   controls(mode) {
     return [
-      ['Pinch (pointing hand)', mode === 'manual' ? 'grab and drag a tree or a handle; choose in the menu' : 'plant on the ground, select a tree; choose in the menu'],
-      ['Pinch, other hand', 'remove the tree under the ray (Bumper; palm away from you: palm up is the headset\'s own menu)'],
+      [
+        'Pinch (pointing hand)',
+        mode === 'manual'
+          ? 'grab and drag a tree or a handle; choose in the menu'
+          : 'plant on the ground, select a tree; choose in the menu',
+      ],
+      [
+        'Pinch, other hand',
+        "remove the tree under the ray (Bumper; palm away from you: palm up is the headset's own menu)",
+      ],
       [`Pinch held ${LONG_PRESS_MS / 1000} s, other hand`, 'open the model menu'],
       ['(no touchpad)', 'move a tree by dragging it; turn it with the edge handles of its box'],
     ];

@@ -31,11 +31,15 @@ export class MouseInput {
     });
     canvas.addEventListener('pointerup', (e) => down(e, false));
     canvas.addEventListener('contextmenu', (e) => e.preventDefault());
-    canvas.addEventListener('wheel', (e) => {
-      e.preventDefault();
-      this.axes = [0, e.deltaY < 0 ? 0.5 : -0.5];
-      this.wheelUntil = performance.now() + 150;
-    }, { passive: false });
+    canvas.addEventListener(
+      'wheel',
+      (e) => {
+        e.preventDefault();
+        this.axes = [0, e.deltaY < 0 ? 0.5 : -0.5];
+        this.wheelUntil = performance.now() + 150;
+      },
+      { passive: false },
+    );
     window.addEventListener('keydown', (e) => {
       if (e.key === 'm' || e.key === 'M') this.buttons.menu = true;
       if (e.key === 'q' || e.key === 'Q') this.axes = [-0.5, 0];
@@ -91,7 +95,12 @@ export class MouseInput {
   /** The rows [control, what it does] for a task's mode ('ray-casting' or 'manual'). */
   controls(mode) {
     return [
-      ['Left button', mode === 'manual' ? 'grab and drag a tree or a handle' : 'plant on the ground, select a tree; choose in the menu'],
+      [
+        'Left button',
+        mode === 'manual'
+          ? 'grab and drag a tree or a handle'
+          : 'plant on the ground, select a tree; choose in the menu',
+      ],
       ['Right button', 'remove the tree under the ray'],
       ['M or middle button', 'open the model menu'],
       ['Wheel, Q / E', 'move the selected tree along the ray, turn it'],

@@ -10,7 +10,10 @@ import { toSim } from '../room.mjs';
 
 /** A pose from a position {x, y, z} and an orientation {x, y, z, w} (an XRRigidTransform's, three.js's). */
 export function poseOf(position, orientation) {
-  return { position: [position.x, position.y, position.z], rotation: [orientation.x, orientation.y, orientation.z, orientation.w] };
+  return {
+    position: [position.x, position.y, position.z],
+    rotation: [orientation.x, orientation.y, orientation.z, orientation.w],
+  };
 }
 
 /**
@@ -76,7 +79,10 @@ export function carried(ray0, grip0, grip) {
   const q0 = new THREE.Quaternion(...grip0.rotation);
   const q = new THREE.Quaternion(...grip.rotation);
   const turn = q.clone().multiply(q0.clone().invert());
-  const p = new THREE.Vector3(...ray0.position).sub(new THREE.Vector3(...grip0.position)).applyQuaternion(turn).add(new THREE.Vector3(...grip.position));
+  const p = new THREE.Vector3(...ray0.position)
+    .sub(new THREE.Vector3(...grip0.position))
+    .applyQuaternion(turn)
+    .add(new THREE.Vector3(...grip.position));
   const r = turn.multiply(new THREE.Quaternion(...ray0.rotation)).normalize();
   return { position: [p.x, p.y, p.z], rotation: [r.x, r.y, r.z, r.w] };
 }

@@ -73,7 +73,7 @@ export class ScreenTouch {
 
   /** The finger's point on the floor for a touch, [x, y, z] in the simulation's frame, or null. */
   #anchor(frame, source, ray) {
-    const results = this.hits ? frame.getHitTestResultsForTransientInput?.(this.hits) ?? [] : [];
+    const results = this.hits ? (frame.getHitTestResultsForTransientInput?.(this.hits) ?? []) : [];
     const mine = results.find((r) => r.inputSource === source)?.results?.[0];
     const at = mine ? simPose(mine.getPose(this.ctx.space)?.transform, this.ctx.offset()) : null;
     return at ? at.position : floorPoint(ray);
@@ -103,19 +103,29 @@ export class ScreenTouch {
       if (ray) {
         const anchor = this.#anchor(frame, source, ray);
         if (!t.ray0) Object.assign(t, { ray0: ray, anchor0: anchor });
-        else if (!t.drag && anchor && t.anchor0 && Math.hypot(...sub(anchor, t.anchor0)) > DRAG_M) t.drag = { base: this.#grabbed() };
+        else if (!t.drag && anchor && t.anchor0 && Math.hypot(...sub(anchor, t.anchor0)) > DRAG_M)
+          t.drag = { base: this.#grabbed() };
         if (!t.drag) this.pose = t.ray0;
         else if (t.drag.base && anchor) this.pose = shifted(t.ray0, sub(anchor, t.drag.base));
         else this.pose = ray;
       }
     }
     const bar = this.bar?.read() ?? { bumper: false, menu: false, axes: [0, 0] };
-    return { pose: this.pose, buttons: { trigger: Boolean(entry?.[1].ray0), bumper: bar.bumper, touchpad: false, menu: bar.menu }, axes: bar.axes };
+    return {
+      pose: this.pose,
+      buttons: { trigger: Boolean(entry?.[1].ray0), bumper: bar.bumper, touchpad: false, menu: bar.menu },
+      axes: bar.axes,
+    };
   }
 
   controls(mode) {
     return [
-      ['Tap', mode === 'manual' ? 'select a tree; choose in the menu' : 'plant on the floor, select a tree; choose in the menu'],
+      [
+        'Tap',
+        mode === 'manual'
+          ? 'select a tree; choose in the menu'
+          : 'plant on the floor, select a tree; choose in the menu',
+      ],
       ['Drag a tree', 'its base follows your finger over the floor; let go to snap it (manual)'],
       ['Remove', 'remove the tree last tapped (Bumper)'],
       ['Menu', 'open the model menu'],

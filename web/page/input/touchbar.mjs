@@ -25,7 +25,10 @@ export class TouchBar {
     this.upAt = -Infinity;
     root.replaceChildren();
     root.addEventListener('beforexrselect', (e) => e.preventDefault());
-    for (const [id, label, button] of [['touch-remove', 'Remove', 'bumper'], ['touch-menu', 'Menu', 'menu']]) {
+    for (const [id, label, button] of [
+      ['touch-remove', 'Remove', 'bumper'],
+      ['touch-menu', 'Menu', 'menu'],
+    ]) {
       const b = root.ownerDocument.createElement('button');
       b.id = id;
       b.type = 'button';
@@ -42,7 +45,8 @@ export class TouchBar {
       if (!on) this.axes = [0, 0];
     });
     pad.addEventListener('pointermove', (e) => {
-      if (from) this.axes = touchpadAxes({ axes: [0, 0, (e.clientX - from[0]) / PAD_PX, (e.clientY - from[1]) / PAD_PX] });
+      if (from)
+        this.axes = touchpadAxes({ axes: [0, 0, (e.clientX - from[0]) / PAD_PX, (e.clientY - from[1]) / PAD_PX] });
     });
     root.append(pad);
   }

@@ -70,7 +70,12 @@ export class TransientPointer {
 
   controls(mode) {
     return [
-      ['Look, pinch (right hand)', mode === 'manual' ? 'grab the tree you look at; move the hand to drag it; choose in the menu' : 'plant where you look, select a tree; choose in the menu'],
+      [
+        'Look, pinch (right hand)',
+        mode === 'manual'
+          ? 'grab the tree you look at; move the hand to drag it; choose in the menu'
+          : 'plant where you look, select a tree; choose in the menu',
+      ],
       ['Look, pinch (left hand)', 'remove the tree you look at (Bumper)'],
       [`Pinch held ${LONG_PRESS_MS / 1000} s (left hand)`, 'open the model menu'],
       ['(no touchpad)', 'move a tree by dragging it; turn it with the edge handles of its box'],

@@ -18,9 +18,19 @@ import { simPose } from './pose.mjs';
 
 /** A controller's rows [control, what it does] for a task's mode ('ray-casting' or 'manual'). */
 export function controllerControls(mode, noSqueeze) {
-  const rows = [['Trigger', mode === 'manual' ? 'grab and drag a tree or a handle; choose in the menu' : 'plant on the ground, select a tree; choose in the menu']];
+  const rows = [
+    [
+      'Trigger',
+      mode === 'manual'
+        ? 'grab and drag a tree or a handle; choose in the menu'
+        : 'plant on the ground, select a tree; choose in the menu',
+    ],
+  ];
   if (noSqueeze) {
-    rows.push(['Touchpad click', 'remove the tree under the ray (this controller has no squeeze button: a click is Bumper)']);
+    rows.push([
+      'Touchpad click',
+      'remove the tree under the ray (this controller has no squeeze button: a click is Bumper)',
+    ]);
     rows.push([`Touchpad held ${LONG_PRESS_MS / 1000} s`, 'open the model menu']);
     rows.push(['Touchpad (touch)', 'move the selected tree along the ray and turn it']);
   } else {
@@ -51,7 +61,11 @@ export class XrController {
   poll(frame) {
     const { gamepad, targetRaySpace } = this.source;
     const pose = frame.getPose(targetRaySpace, this.ctx.space);
-    return { pose: simPose(pose?.transform, this.ctx.offset()), buttons: this.mapper.read(gamepad, this.ctx.now()), axes: touchpadAxes(gamepad) };
+    return {
+      pose: simPose(pose?.transform, this.ctx.offset()),
+      buttons: this.mapper.read(gamepad, this.ctx.now()),
+      axes: touchpadAxes(gamepad),
+    };
   }
 
   controls(mode) {

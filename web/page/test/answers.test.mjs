@@ -52,7 +52,9 @@ function headset(rows, k) {
 
 /** What the form page sends for its k-th participant: the values of its checked inputs (as strings) and its texts. */
 function formPage(rows, k) {
-  const picked = Object.fromEntries(rows.map((row) => [row.id, row.typed ? typedText(row, k) : pick(row, k).map((o) => String(o.value))]));
+  const picked = Object.fromEntries(
+    rows.map((row) => [row.id, row.typed ? typedText(row, k) : pick(row, k).map((o) => String(o.value))]),
+  );
   return [{ page: 'form', answers: formAnswers(rows, picked) }];
 }
 
@@ -62,7 +64,8 @@ function made() {
     const rows = instrument.items.map(rowOf);
     const ways = Math.max(...rows.map((r) => (r.multi ? 2 ** r.options.length : r.options.length)), 3);
     for (let k = 0; k < ways; k++) {
-      for (const body of [...headset(rows, k), ...formPage(rows, k)]) out.push({ instrument: id, participant: k, ...body });
+      for (const body of [...headset(rows, k), ...formPage(rows, k)])
+        out.push({ instrument: id, participant: k, ...body });
     }
   }
   return out;
@@ -73,11 +76,16 @@ test('the answers the headset and the form page send are the fixture the Rust ru
   const file = new URL('answers.json', dir);
   const text = JSON.stringify(answers, null, 1) + '\n';
   if (process.env.GROVE_WRITE_FIXTURES) writeFileSync(file, text);
-  assert.equal(readFileSync(file, 'utf8'), text, 'the pages send otherwise: write the fixture again (GROVE_WRITE_FIXTURES=1) and run the Rust test');
+  assert.equal(
+    readFileSync(file, 'utf8'),
+    text,
+    'the pages send otherwise: write the fixture again (GROVE_WRITE_FIXTURES=1) and run the Rust test',
+  );
   // Both pages answer every item they can, and send lists for multiple choices.
   const kinds = new Set(answers.map((a) => a.page));
   assert.deepEqual([...kinds].sort(), ['form', 'headset', 'headset-typed']);
   for (const a of answers.filter((x) => x.page !== 'headset-typed')) {
-    for (const item of forms[a.instrument].items.filter((i) => i.multi)) assert.ok(Array.isArray(a.answers[item.id]), `${a.page} ${a.instrument} ${item.id}`);
+    for (const item of forms[a.instrument].items.filter((i) => i.multi))
+      assert.ok(Array.isArray(a.answers[item.id]), `${a.page} ${a.instrument} ${item.id}`);
   }
 });

@@ -62,7 +62,13 @@ export async function openMenu(page, how) {
 export async function chooseIn(page, model, how) {
   const at = await page.evaluate((m) => window.grove.menuItemPoint(m), model);
   await (how === 'screen' ? tap(page, at) : pinch(page, at));
-  if (model !== 'finish') await until(page, (m) => !window.grove.snapshot.menu.open && window.grove.snapshot.menu.current_model === m, model, 30000);
+  if (model !== 'finish')
+    await until(
+      page,
+      (m) => !window.grove.snapshot.menu.open && window.grove.snapshot.menu.current_model === m,
+      model,
+      30000,
+    );
 }
 
 /** Enters `mode` and starts the task with a tap or a pinch (the device has no trigger). */
@@ -71,5 +77,10 @@ export async function enterAndTouch(page, mode, how) {
   await until(page, () => window.grove.state === 'instructions' && window.xrDevice.activeSession, null, 30000);
   await frames(page, 10);
   await (how === 'screen' ? tap(page, [0, 0, 4]) : pinch(page, [0, 1, 0]));
-  await until(page, () => ['task', 'error'].includes(window.grove.state) && (window.grove.snapshot?.task || window.grove.error), null, 30000);
+  await until(
+    page,
+    () => ['task', 'error'].includes(window.grove.state) && (window.grove.snapshot?.task || window.grove.error),
+    null,
+    30000,
+  );
 }

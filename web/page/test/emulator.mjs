@@ -105,7 +105,11 @@ XRFrame.prototype.getHitTestResultsForTransientInput = function () {
       const results = [];
       if (d.y < -1e-6) {
         const p = o.clone().addScaledVector(d, (floorY - o.y) / d.y);
-        results.push({ getPose: () => ({ transform: { position: { x: p.x, y: p.y, z: p.z }, orientation: { x: 0, y: 0, z: 0, w: 1 } } }) });
+        results.push({
+          getPose: () => ({
+            transform: { position: { x: p.x, y: p.y, z: p.z }, orientation: { x: 0, y: 0, z: 0, w: 1 } },
+          }),
+        });
       }
       return { inputSource: s, results };
     });
@@ -115,7 +119,12 @@ window.xrDouble = {
   /** A finger comes down on the screen where the camera sees `simPoint` ([x, y, z], the simulation's frame). */
   touch(simPoint) {
     const from = head();
-    const s = new XRInputSource('none', 'screen', ['generic-touchscreen'], spaceAt(from, towards(from, session(simPoint))));
+    const s = new XRInputSource(
+      'none',
+      'screen',
+      ['generic-touchscreen'],
+      spaceAt(from, towards(from, session(simPoint))),
+    );
     extra.push(s);
     return extra.length - 1;
   },
@@ -129,7 +138,14 @@ window.xrDouble = {
   pinch(simPoint, hand = 'right', grip = null) {
     const from = head();
     const g = grip ? session(grip) : from.clone().add(new THREE.Vector3(hand === 'left' ? -0.2 : 0.2, -0.4, -0.3));
-    const s = new XRInputSource(hand, 'transient-pointer', ['generic-button'], spaceAt(from, towards(from, session(simPoint))), undefined, spaceAt(g));
+    const s = new XRInputSource(
+      hand,
+      'transient-pointer',
+      ['generic-button'],
+      spaceAt(from, towards(from, session(simPoint))),
+      undefined,
+      spaceAt(g),
+    );
     extra.push(s);
   },
   /** The pinching hand (`hand`) moves its grip to `grip` ([x, y, z], the simulation's frame); the gaze ray stays. */
@@ -140,7 +156,9 @@ window.xrDouble = {
   /** Where the pinching hand's grip is, [x, y, z] in the session's space. */
   grip(hand = 'right') {
     const s = extra.find((x) => x.targetRayMode === 'transient-pointer' && x.handedness === hand);
-    const p = new THREE.Vector3().setFromMatrixPosition(new THREE.Matrix4().fromArray(s.gripSpace[P_SPACE].offsetMatrix));
+    const p = new THREE.Vector3().setFromMatrixPosition(
+      new THREE.Matrix4().fromArray(s.gripSpace[P_SPACE].offsetMatrix),
+    );
     return [p.x, p.y, p.z];
   },
   /** The finger lifts, or the pinch of `hand` ends. */

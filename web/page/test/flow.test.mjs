@@ -22,7 +22,17 @@ function flow() {
 const walk = (f, states) => states.forEach((s) => f.go(s));
 
 test('the states are named constants, the strings window.grove.state shows', () => {
-  assert.deepEqual(Object.values(State).sort(), ['connecting', 'done', 'error', 'instructions', 'practice', 'starting', 'step', 'task', 'typing']);
+  assert.deepEqual(Object.values(State).sort(), [
+    'connecting',
+    'done',
+    'error',
+    'instructions',
+    'practice',
+    'starting',
+    'step',
+    'task',
+    'typing',
+  ]);
   assert.ok(Object.isFrozen(State));
   assert.throws(() => {
     State.TASK = 'other';
@@ -58,7 +68,21 @@ test("a protocol's participant: instructions, practice, a task, questionnaires, 
   // The questionnaire's free text, typed on the page once the headset is off.
   walk(f, [TYPING, INSTRUCTIONS, STEP, TYPING, STEP]);
   // The session ends during a task and during the practice.
-  walk(f, [STARTING, TASK, TYPING, STEP, PRACTICE, INSTRUCTIONS, PRACTICE, TYPING, PRACTICE, STARTING, TASK, DONE, PRACTICE]);
+  walk(f, [
+    STARTING,
+    TASK,
+    TYPING,
+    STEP,
+    PRACTICE,
+    INSTRUCTIONS,
+    PRACTICE,
+    TYPING,
+    PRACTICE,
+    STARTING,
+    TASK,
+    DONE,
+    PRACTICE,
+  ]);
   assert.equal(f.state, PRACTICE);
 });
 
@@ -78,14 +102,28 @@ test('a transition nobody listed is refused, and the page stays where it was', (
     const { f, header } = flow();
     walk(f, path);
     const before = [f.state, header.length];
-    assert.throws(() => f.go(to), new RegExp(`cannot go from ${f.state} to ${to}`), `${[CONNECTING, ...path].join(' -> ')} -> ${to}`);
+    assert.throws(
+      () => f.go(to),
+      new RegExp(`cannot go from ${f.state} to ${to}`),
+      `${[CONNECTING, ...path].join(' -> ')} -> ${to}`,
+    );
     assert.deepEqual([f.state, header.length], before);
     assert.equal(f.can(to), false);
   }
 });
 
 test('a failure reaches the error state from every state, with its message, logged once', () => {
-  const ways = { [CONNECTING]: [], [INSTRUCTIONS]: [INSTRUCTIONS], [STARTING]: [INSTRUCTIONS, STARTING], [TASK]: [INSTRUCTIONS, STARTING, TASK], [DONE]: [INSTRUCTIONS, STARTING, TASK, DONE], [STEP]: [INSTRUCTIONS, STEP], [PRACTICE]: [INSTRUCTIONS, PRACTICE], [TYPING]: [INSTRUCTIONS, STEP, TYPING], [ERROR]: [INSTRUCTIONS] };
+  const ways = {
+    [CONNECTING]: [],
+    [INSTRUCTIONS]: [INSTRUCTIONS],
+    [STARTING]: [INSTRUCTIONS, STARTING],
+    [TASK]: [INSTRUCTIONS, STARTING, TASK],
+    [DONE]: [INSTRUCTIONS, STARTING, TASK, DONE],
+    [STEP]: [INSTRUCTIONS, STEP],
+    [PRACTICE]: [INSTRUCTIONS, PRACTICE],
+    [TYPING]: [INSTRUCTIONS, STEP, TYPING],
+    [ERROR]: [INSTRUCTIONS],
+  };
   for (const [state, path] of Object.entries(ways)) {
     const { f, header, logged } = flow();
     walk(f, path);
@@ -122,6 +160,10 @@ test('every state is reachable from connecting, and every state but error has a 
   }
   seen.add(ERROR); // Flow.fail, from any state
   assert.deepEqual([...seen].sort(), Object.values(State).sort());
-  for (const s of Object.values(State)) assert.ok((next.get(s) ?? []).some((t) => t !== s), `${s} has a way on`);
+  for (const s of Object.values(State))
+    assert.ok(
+      (next.get(s) ?? []).some((t) => t !== s),
+      `${s} has a way on`,
+    );
   for (const [, , why] of TRANSITIONS) assert.ok(why.length > 10, 'each transition says why');
 });

@@ -20,7 +20,10 @@ after(async () => {
 });
 
 test('hands: the ray-casting task planted by pinches verifies, natively too, and the study says hands', async (t) => {
-  const { page } = await h.open('participant=P67&task=ray-casting-7&seed=11&quality=low&render_every=4', { xr: true, room: false });
+  const { page } = await h.open('participant=P67&task=ray-casting-7&seed=11&quality=low&render_every=4', {
+    xr: true,
+    room: false,
+  });
   await page.evaluate(() => (window.xrDevice.primaryInputMode = 'hand'));
   await enterAndStart(page, 'vr');
   const device = await page.evaluate(() => window.grove.device);

@@ -33,7 +33,14 @@ export async function prepare() {
 /** The emulator bundled into one script for the tests' pages (once per process). */
 async function emulatorScript() {
   if (!emulator) {
-    const out = await build({ entryPoints: [join(WEB, 'page/test/emulator.mjs')], bundle: true, format: 'iife', write: false, logLevel: 'error', target: 'es2022' });
+    const out = await build({
+      entryPoints: [join(WEB, 'page/test/emulator.mjs')],
+      bundle: true,
+      format: 'iife',
+      write: false,
+      logLevel: 'error',
+      target: 'es2022',
+    });
     emulator = out.outputFiles[0].text;
   }
   return emulator;
@@ -50,7 +57,14 @@ export async function start(serve = []) {
   await prepare();
   const server = await startServer(serve);
   const b = await browse(server.url);
-  return { ...b, server, close: async () => { await b.close(); await server.stop(); } };
+  return {
+    ...b,
+    server,
+    close: async () => {
+      await b.close();
+      await server.stop();
+    },
+  };
 }
 
 /**
@@ -63,13 +77,32 @@ export async function browse(url, { chromiumArgs = [] } = {}) {
   const script = await emulatorScript();
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist', ...chromiumArgs],
+    args: [
+      '--no-sandbox',
+      '--use-angle=swiftshader',
+      '--enable-unsafe-swiftshader',
+      '--disable-background-networking',
+      '--ignore-gpu-blocklist',
+      ...chromiumArgs,
+    ],
   });
   const origin = new URL(url).origin;
   const token = new URL(url).searchParams.get('token');
   const requests = [];
   const errors = [];
-  async function open(query, { xr = false, room = true, device = 'quest', depth = true, light = null, context = null, width = 480, height = 360 } = {}) {
+  async function open(
+    query,
+    {
+      xr = false,
+      room = true,
+      device = 'quest',
+      depth = true,
+      light = null,
+      context = null,
+      width = 480,
+      height = 360,
+    } = {},
+  ) {
     const ctx = context ?? (await browser.newContext({ viewport: { width, height } }));
     const page = await ctx.newPage();
     page.on('request', (r) => requests.push(r.url()));
@@ -85,13 +118,17 @@ export async function browse(url, { chromiumArgs = [] } = {}) {
       await page.addInitScript(script);
     }
     await page.goto(`${origin}/?${token ? `token=${encodeURIComponent(token)}&` : ''}${query}`);
-    await page.waitForFunction(() => window.grove && ['instructions', 'error'].includes(window.grove.state), null, { timeout: 60000 });
+    await page.waitForFunction(() => window.grove && ['instructions', 'error'].includes(window.grove.state), null, {
+      timeout: 60000,
+    });
     const state = await page.evaluate(() => window.grove.state);
-    if (state === "error") throw new Error(`the page failed: ${await page.evaluate(() => window.grove.error)}; ${errors.join(" / ")}`);
+    if (state === 'error')
+      throw new Error(`the page failed: ${await page.evaluate(() => window.grove.error)}; ${errors.join(' / ')}`);
     return { page, context: ctx };
   }
   /** Requests that left the server's origin (must be none). */
-  const foreign = () => requests.filter((u) => !u.startsWith(origin + '/') && !u.startsWith('data:') && !u.startsWith('blob:'));
+  const foreign = () =>
+    requests.filter((u) => !u.startsWith(origin + '/') && !u.startsWith('data:') && !u.startsWith('blob:'));
   const close = () => browser.close();
   return { browser, open, requests, errors, foreign, origin, close };
 }
@@ -116,13 +153,18 @@ export function studyRows(replays) {
 
 /** trial_results.csv of a study's folder, its rows by column name. */
 export function trialRows(dir) {
-  const csv = readFileSync(join(dir, 'trial_results.csv'), 'utf8').trim().split('\n').map((l) => l.split(','));
+  const csv = readFileSync(join(dir, 'trial_results.csv'), 'utf8')
+    .trim()
+    .split('\n')
+    .map((l) => l.split(','));
   return csv.slice(1).map((r) => Object.fromEntries(csv[0].map((c, i) => [c, r[i]])));
 }
 
 /** The lines of a file (without newlines). */
 export function fileLines(path) {
-  return readFileSync(path, 'utf8').split('\n').filter((l) => l.length > 0);
+  return readFileSync(path, 'utf8')
+    .split('\n')
+    .filter((l) => l.length > 0);
 }
 
 export { existsSync };
@@ -138,5 +180,9 @@ export function until(page, fn, arg, timeout = 60000) {
  */
 export async function ticks(page, n) {
   const start = await page.evaluate(() => window.grove.snapshot?.tick ?? 0);
-  await until(page, (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error', 'step'].includes(window.grove.state), start + n);
+  await until(
+    page,
+    (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error', 'step'].includes(window.grove.state),
+    start + n,
+  );
 }

@@ -54,7 +54,8 @@ async function importGraph(root) {
   const graph = new Map(files.map((f) => [f, new Set()]));
   for (const [from, { imports }] of Object.entries(metafile.inputs)) {
     if (!graph.has(from)) continue;
-    for (const i of imports) if (i.kind === 'import-statement' && !i.external && graph.has(i.path)) graph.get(from).add(i.path);
+    for (const i of imports)
+      if (i.kind === 'import-statement' && !i.external && graph.has(i.path)) graph.get(from).add(i.path);
   }
   return graph;
 }
@@ -107,15 +108,27 @@ function tooLong(root, files, max = MAX_LINES) {
 /** What the check finds under `root`: { graph, cycles, folderCycles, long }. */
 export async function check(root) {
   const graph = await importGraph(root);
-  return { graph, cycles: cycles(graph), folderCycles: cycles(folderGraph(graph)), long: tooLong(root, [...graph.keys()]) };
+  return {
+    graph,
+    cycles: cycles(graph),
+    folderCycles: cycles(folderGraph(graph)),
+    long: tooLong(root, [...graph.keys()]),
+  };
 }
 
 test('web/page: no import cycle between its modules or its folders, no module over 400 lines', async () => {
   const found = await check(PAGE);
-  assert.ok(found.graph.get('main.mjs')?.size >= 5, `main.mjs's imports were read: ${[...(found.graph.get('main.mjs') ?? [])]}`);
+  assert.ok(
+    found.graph.get('main.mjs')?.size >= 5,
+    `main.mjs's imports were read: ${[...(found.graph.get('main.mjs') ?? [])]}`,
+  );
   assert.ok(found.graph.size >= 20, `the page's modules were found: ${[...found.graph.keys()]}`);
   const { cycles, folderCycles, long } = found;
-  assert.deepEqual({ cycles, folderCycles, long }, { cycles: [], folderCycles: [], long: [] }, `modules, then folders, that import each other in a circle; modules over ${MAX_LINES} lines`);
+  assert.deepEqual(
+    { cycles, folderCycles, long },
+    { cycles: [], folderCycles: [], long: [] },
+    `modules, then folders, that import each other in a circle; modules over ${MAX_LINES} lines`,
+  );
 });
 
 test('the check finds a cycle of modules, a cycle of folders and a long module, and nothing else', async () => {
@@ -128,7 +141,10 @@ test('the check finds a cycle of modules, a cycle of folders and a long module, 
     write('a.mjs', "import { b } from './b.mjs';\nexport const a = () => b;\n");
     write('b.mjs', "import { a } from './a.mjs';\nexport const b = () => a;\n");
     // Not imports: a comment, a string, a dynamic import; a package and a file outside the folder.
-    write('c.mjs', "// import { a } from './a.mjs';\nimport * as THREE from 'three';\nimport { x } from '../elsewhere.mjs';\nexport const c = \"import './a.mjs'\";\nexport const d = () => import('./a.mjs');\n");
+    write(
+      'c.mjs',
+      "// import { a } from './a.mjs';\nimport * as THREE from 'three';\nimport { x } from '../elsewhere.mjs';\nexport const c = \"import './a.mjs'\";\nexport const d = () => import('./a.mjs');\n",
+    );
     write('x/one.mjs', "import { two } from '../y/two.mjs';\nexport const one = two;\n");
     write('x/four.mjs', 'export const four = 4;\n');
     write('y/two.mjs', 'export const two = 2;\n');

@@ -41,7 +41,8 @@ test('the inline preview: the mouse chooses a model in the menu and plants it on
   const onScreen = [];
   for (const [i, t] of snap.task.targets.entries()) {
     const s = await page.evaluate((p) => window.grove.screenPoint(p), t.position);
-    if (t.position[1] === 0 && s.x > 20 && s.x < size.width - 20 && s.y > 20 && s.y < size.height - 20) onScreen.push(i);
+    if (t.position[1] === 0 && s.x > 20 && s.x < size.width - 20 && s.y > 20 && s.y < size.height - 20)
+      onScreen.push(i);
   }
   assert.ok(onScreen.length > 0, 'a target in view');
   const i = onScreen[0];
@@ -51,7 +52,11 @@ test('the inline preview: the mouse chooses a model in the menu and plants it on
   await until(page, () => window.grove.snapshot.menu.open);
   await page.keyboard.up('m');
   await clickAt(page, await page.evaluate((m) => window.grove.menuItemPoint(m), target.model));
-  await until(page, (m) => !window.grove.snapshot.menu.open && window.grove.snapshot.menu.current_model === m, target.model);
+  await until(
+    page,
+    (m) => !window.grove.snapshot.menu.open && window.grove.snapshot.menu.current_model === m,
+    target.model,
+  );
 
   await clickAt(page, target.position);
   await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 20000);
@@ -59,7 +64,10 @@ test('the inline preview: the mouse chooses a model in the menu and plants it on
   assert.equal(after.trees.length, own + 1);
   const planted = after.trees.at(-1);
   assert.equal(planted.model, target.model);
-  assert.ok(Math.hypot(planted.position[0] - target.position[0], planted.position[2] - target.position[2]) < 0.5, `${planted.position} near ${target.position}`);
+  assert.ok(
+    Math.hypot(planted.position[0] - target.position[0], planted.position[2] - target.position[2]) < 0.5,
+    `${planted.position} near ${target.position}`,
+  );
 
   // The events are on the server's disk: the menu, the choice, the press.
   await until(page, () => window.grove.pending === 0);
@@ -68,7 +76,8 @@ test('the inline preview: the mouse chooses a model in the menu and plants it on
     .map((l) => JSON.parse(l))
     .filter((l) => l.type === 'event')
     .map((l) => l.event.kind);
-  for (const k of ['start_task', 'controller_pose', 'button_down', 'choose_model', 'button_up']) assert.ok(kinds.includes(k), `${k} in ${kinds}`);
+  for (const k of ['start_task', 'controller_pose', 'button_down', 'choose_model', 'button_up'])
+    assert.ok(kinds.includes(k), `${k} in ${kinds}`);
   assert.deepEqual(h.foreign(), [], 'every request went to the server');
   assert.deepEqual(h.errors, []);
 });

@@ -13,7 +13,9 @@ import { XrController } from '../input/xr.mjs';
 
 const xyz = ([x, y, z]) => ({ x, y, z });
 const xyzw = ([x, y, z, w]) => ({ x, y, z, w });
-const at = (position, rotation = [0, 0, 0, 1]) => ({ transform: { position: xyz(position), orientation: xyzw(rotation) } });
+const at = (position, rotation = [0, 0, 0, 1]) => ({
+  transform: { position: xyz(position), orientation: xyzw(rotation) },
+});
 const looking = (from, to) => {
   const d = to.map((v, i) => v - from[i]);
   const n = Math.hypot(...d);
@@ -22,7 +24,13 @@ const looking = (from, to) => {
 
 /** A frame whose poses are looked up by space in `poses` (a Map), with the session's `sources`. */
 function frameOf(sources, poses, extra = {}) {
-  return { session: { inputSources: sources }, getPose: (space) => poses.get(space) ?? null, getViewerPose: () => at([0, 1.6, 6]), getJointPose: (joint) => poses.get(joint) ?? null, ...extra };
+  return {
+    session: { inputSources: sources },
+    getPose: (space) => poses.get(space) ?? null,
+    getViewerPose: () => at([0, 1.6, 6]),
+    getJointPose: (joint) => poses.get(joint) ?? null,
+    ...extra,
+  };
 }
 
 function clock() {
@@ -33,8 +41,17 @@ function clock() {
 
 /** A hand whose thumb's and index finger's tips are `gap` metres apart. */
 function hand(handedness, poses, gap) {
-  const joints = new Map([['thumb-tip', { j: `${handedness}-thumb` }], ['index-finger-tip', { j: `${handedness}-index` }]]);
-  const s = { targetRayMode: 'tracked-pointer', handedness, profiles: ['generic-hand'], hand: joints, targetRaySpace: `${handedness}-ray` };
+  const joints = new Map([
+    ['thumb-tip', { j: `${handedness}-thumb` }],
+    ['index-finger-tip', { j: `${handedness}-index` }],
+  ]);
+  const s = {
+    targetRayMode: 'tracked-pointer',
+    handedness,
+    profiles: ['generic-hand'],
+    hand: joints,
+    targetRaySpace: `${handedness}-ray`,
+  };
   const set = (g) => {
     poses.set(joints.get('thumb-tip'), at([0, 1, 5]));
     poses.set(joints.get('index-finger-tip'), at([g, 1, 5]));
@@ -88,7 +105,13 @@ test('gaze and pinch: the ray is the gaze where the pinch began, carried by the 
   const frame = frameOf([], poses);
   assert.equal(input.poll(frame).pose, null, 'no pinch yet: no pointer');
   const pinch = (handedness, grip) => {
-    const s = { targetRayMode: 'transient-pointer', handedness, profiles: ['generic-button'], targetRaySpace: `${handedness}-gaze`, gripSpace: `${handedness}-grip` };
+    const s = {
+      targetRayMode: 'transient-pointer',
+      handedness,
+      profiles: ['generic-button'],
+      targetRaySpace: `${handedness}-gaze`,
+      gripSpace: `${handedness}-grip`,
+    };
     poses.set(s.targetRaySpace, looking([0, 1.6, 6], [1, 0, 2]));
     poses.set(s.gripSpace, at(grip));
     frame.session.inputSources.push(s);
@@ -100,13 +123,23 @@ test('gaze and pinch: the ray is the gaze where the pinch began, carried by the 
   assert.deepEqual(first.pose.position, [0, 1.6, 6], 'the gaze ray leaves the eyes');
   const d0 = forward(first.pose.rotation);
   const want = [1, -1.6, -4].map((v) => v / Math.hypot(1, 1.6, 4));
-  assert.deepEqual(d0.map((v) => +v.toFixed(6)), want.map((v) => +v.toFixed(6)), 'towards where the eyes looked');
+  assert.deepEqual(
+    d0.map((v) => +v.toFixed(6)),
+    want.map((v) => +v.toFixed(6)),
+    'towards where the eyes looked',
+  );
   // The eyes look elsewhere (the browser's ray would follow): the ray stays; the hand moves 0.3 m: so does the ray.
   poses.set(right.targetRaySpace, looking([0, 1.6, 6], [-3, 0, 0]));
   poses.set(right.gripSpace, at([0.5, 1.2, 5.6]));
   const moved = input.poll(frame);
-  assert.deepEqual(moved.pose.position.map((v) => +v.toFixed(6)), [0.3, 1.6, 6]);
-  assert.deepEqual(forward(moved.pose.rotation).map((v) => +v.toFixed(6)), d0.map((v) => +v.toFixed(6)));
+  assert.deepEqual(
+    moved.pose.position.map((v) => +v.toFixed(6)),
+    [0.3, 1.6, 6],
+  );
+  assert.deepEqual(
+    forward(moved.pose.rotation).map((v) => +v.toFixed(6)),
+    d0.map((v) => +v.toFixed(6)),
+  );
   // The pinch ends: the source is gone, the trigger goes up where the ray was.
   frame.session.inputSources.length = 0;
   const after = input.poll(frame);
@@ -123,12 +156,28 @@ test('gaze and pinch: the ray is the gaze where the pinch began, carried by the 
   c.t = 700;
   assert.equal(input.poll(frame).buttons.menu, true);
   assert.ok(left);
-  assert.deepEqual(input.device(), { profile: 'generic-button', target_ray_mode: 'transient-pointer', mapping: 'transient-pointer' });
+  assert.deepEqual(input.device(), {
+    profile: 'generic-button',
+    target_ray_mode: 'transient-pointer',
+    mapping: 'transient-pointer',
+  });
 });
 
 /** A phone's touch bar as input/touchbar.mjs's TouchBar answers. */
 function bar() {
-  return { claimed: false, bumper: false, menu: false, axes: [0, 0], show() {}, claims() { return this.claimed; }, read() { return { bumper: this.bumper, menu: this.menu, axes: this.axes }; } };
+  return {
+    claimed: false,
+    bumper: false,
+    menu: false,
+    axes: [0, 0],
+    show() {},
+    claims() {
+      return this.claimed;
+    },
+    read() {
+      return { bumper: this.bumper, menu: this.menu, axes: this.axes };
+    },
+  };
 }
 
 test("a phone's screen: a tap waits a frame, is the trigger, and a touch the bar claims never is; a drag brings the grabbed tree's base under the finger", () => {
@@ -150,7 +199,7 @@ test("a phone's screen: a tap waits a frame, is the trigger, and a touch the bar
   touch([0, 0, 3]);
   for (let i = 0; i < 3; i++) {
     const r = input.poll(frame);
-    assert.equal(r.buttons.trigger, false, 'a tap on the bar is not the scene\'s');
+    assert.equal(r.buttons.trigger, false, "a tap on the bar is not the scene's");
     assert.equal(r.buttons.menu, true);
   }
   frame.session.inputSources.length = 0;
@@ -162,26 +211,45 @@ test("a phone's screen: a tap waits a frame, is the trigger, and a touch the bar
   assert.equal(input.poll(frame).buttons.trigger, false, 'the first frame waits for the bar');
   const down = input.poll(frame);
   assert.equal(down.buttons.trigger, true);
-  assert.deepEqual(floorPoint(down.pose).map((v) => +v.toFixed(6)), [1, 0, 3]);
+  assert.deepEqual(
+    floorPoint(down.pose).map((v) => +v.toFixed(6)),
+    [1, 0, 3],
+  );
   // The finger moves 2 cm over the floor: still a tap; 1 m: a drag of the tree it touched, whose base follows the finger.
-  snapshot = { controller: { hit: { kind: 'plane', entity: 1 } }, bounding_box: { tree: 9 }, trees: [{ id: 9, position: [1, 1, 3] }] };
+  snapshot = {
+    controller: { hit: { kind: 'plane', entity: 1 } },
+    bounding_box: { tree: 9 },
+    trees: [{ id: 9, position: [1, 1, 3] }],
+  };
   poses.set(s.targetRaySpace, looking([0, 1.5, 6], [1 + DRAG_M * 0.6, 0, 3]));
   assert.deepEqual(input.poll(frame).pose, down.pose);
   poses.set(s.targetRaySpace, looking([0, 1.5, 6], [2, 0, 3]));
   const drag = input.poll(frame);
   assert.deepEqual(drag.pose.rotation, down.pose.rotation, 'the ray keeps its direction');
-  assert.deepEqual(drag.pose.position.map((v) => +v.toFixed(6)), [1, 0.5, 6], 'moved by the finger\'s point (2, 0, 3) less the tree\'s base (1, 1, 3)');
+  assert.deepEqual(
+    drag.pose.position.map((v) => +v.toFixed(6)),
+    [1, 0.5, 6],
+    "moved by the finger's point (2, 0, 3) less the tree's base (1, 1, 3)",
+  );
   // A touch that grabbed something else (a handle) drags with the finger's own ray.
   frame.session.inputSources.length = 0;
   input.poll(frame);
-  snapshot = { controller: { hit: { kind: 'handle', entity: null } }, bounding_box: { tree: 9 }, trees: [{ id: 9, position: [1, 1, 3] }] };
+  snapshot = {
+    controller: { hit: { kind: 'handle', entity: null } },
+    bounding_box: { tree: 9 },
+    trees: [{ id: 9, position: [1, 1, 3] }],
+  };
   const h = touch([0, 0, 4]);
   input.poll(frame);
   input.poll(frame);
   poses.set(h.targetRaySpace, looking([0, 1.5, 6], [0.5, 0, 4]));
   const handle = input.poll(frame);
   assert.deepEqual(handle.pose, { position: [0, 1.5, 6], rotation: handle.pose.rotation });
-  assert.deepEqual(floorPoint(handle.pose).map((v) => +v.toFixed(6)), [0.5, 0, 4], 'the finger\'s own ray');
+  assert.deepEqual(
+    floorPoint(handle.pose).map((v) => +v.toFixed(6)),
+    [0.5, 0, 4],
+    "the finger's own ray",
+  );
   // The finger lifts: the trigger goes up where the ray was; Remove then acts there.
   frame.session.inputSources.length = 0;
   b.bumper = true;
@@ -191,15 +259,27 @@ test("a phone's screen: a tap waits a frame, is the trigger, and a touch the bar
   assert.deepEqual(input.device(), { profile: 'generic-touchscreen', target_ray_mode: 'screen', mapping: 'screen' });
 });
 
-test('the pointer and the registry: shared kinds are one object, a persistent pointer wins, a gaze source is nobody\'s', () => {
+test("the pointer and the registry: shared kinds are one object, a persistent pointer wins, a gaze source is nobody's", () => {
   const shared = new Map();
   const c = clock();
   const a = sourceFor({ targetRayMode: 'screen' }, c.ctx, undefined, shared);
   const b = sourceFor({ targetRayMode: 'screen' }, c.ctx, undefined, shared);
   assert.equal(a, b);
   assert.equal(sourceFor({ targetRayMode: 'gaze' }, c.ctx), null);
-  const ctl = sourceFor({ targetRayMode: 'tracked-pointer', handedness: 'right', gamepad: { buttons: [{}, {}] }, profiles: ['Meta Quest Touch Plus!'] }, c.ctx);
-  assert.deepEqual(ctl.device(), { profile: 'meta-quest-touch-plus-', target_ray_mode: 'tracked-pointer', mapping: 'controller' });
+  const ctl = sourceFor(
+    {
+      targetRayMode: 'tracked-pointer',
+      handedness: 'right',
+      gamepad: { buttons: [{}, {}] },
+      profiles: ['Meta Quest Touch Plus!'],
+    },
+    c.ctx,
+  );
+  assert.deepEqual(ctl.device(), {
+    profile: 'meta-quest-touch-plus-',
+    target_ray_mode: 'tracked-pointer',
+    mapping: 'controller',
+  });
   assert.equal(primaryOf([ctl, a]), a);
   const input = new XrInput(c.ctx);
   const frame = frameOf([{ targetRayMode: 'gaze', handedness: 'none' }], new Map());

@@ -13,7 +13,12 @@ import { openStill, writePng } from '../render.mjs';
 import { native } from './look.mjs';
 import { ROOT } from './harness.mjs';
 
-const MODELS = ['assets/trees/broadleaf-mesh.gltf', 'assets/trees/conifer-billboard.gltf', 'assets/banks/species/oak-lod1/oak-lod1.gltf', 'assets/banks/species/birch-lod1/birch-lod1.gltf'];
+const MODELS = [
+  'assets/trees/broadleaf-mesh.gltf',
+  'assets/trees/conifer-billboard.gltf',
+  'assets/banks/species/oak-lod1/oak-lod1.gltf',
+  'assets/banks/species/birch-lod1/birch-lod1.gltf',
+];
 const [W, H, PAD] = [480, 360, 8];
 
 const args = process.argv.slice(2);
@@ -23,7 +28,8 @@ const width = 2 * W + 3 * PAD;
 const height = MODELS.length * (H + PAD) + PAD;
 const data = Buffer.alloc(width * height * 4, 255);
 const paste = (img, x0, y0) => {
-  for (let y = 0; y < img.height; y++) img.data.copy(data, 4 * ((y0 + y) * width + x0), 4 * y * img.width, 4 * (y + 1) * img.width);
+  for (let y = 0; y < img.height; y++)
+    img.data.copy(data, 4 * ((y0 + y) * width + x0), 4 * y * img.width, 4 * (y + 1) * img.width);
 };
 const still = await openStill();
 try {

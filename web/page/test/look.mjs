@@ -13,8 +13,14 @@ import { GROVE, ROOT } from './harness.mjs';
 
 /** The study's 8 models (assets/trees, the catalogue) and the 6 species at level of detail 1 (assets/banks/species). */
 export function models() {
-  const trees = readdirSync(join(ROOT, 'assets/trees')).filter((f) => f.endsWith('.gltf')).sort().map((f) => join(ROOT, 'assets/trees', f));
-  const species = readdirSync(join(ROOT, 'assets/banks/species')).filter((d) => d.endsWith('-lod1')).sort().map((d) => join(ROOT, 'assets/banks/species', d, `${d}.gltf`));
+  const trees = readdirSync(join(ROOT, 'assets/trees'))
+    .filter((f) => f.endsWith('.gltf'))
+    .sort()
+    .map((f) => join(ROOT, 'assets/trees', f));
+  const species = readdirSync(join(ROOT, 'assets/banks/species'))
+    .filter((d) => d.endsWith('-lod1'))
+    .sort()
+    .map((d) => join(ROOT, 'assets/banks/species', d, `${d}.gltf`));
   return [...trees, ...species];
 }
 
@@ -35,7 +41,19 @@ export function native(file, { width, height, tick = null, background = 'transpa
   const dir = mkdtempSync(join(tmpdir(), 'grove-look-'));
   try {
     const out = join(dir, 'native.png');
-    const args = ['render', '--model', file, '--background', background, '--width', String(width), '--height', String(height), '--out', out];
+    const args = [
+      'render',
+      '--model',
+      file,
+      '--background',
+      background,
+      '--width',
+      String(width),
+      '--height',
+      String(height),
+      '--out',
+      out,
+    ];
     if (tick !== null) args.push('--tick', String(tick));
     args.push(...extra);
     const r = spawnSync(GROVE, args, { encoding: 'utf8', env: { ...process.env, XDG_RUNTIME_DIR: dir } });
@@ -88,8 +106,8 @@ export function tone(img) {
     const l = luma(img.data, 4 * i);
     sums.all[0] += l;
     sums.all[1]++;
-    if (y < top + third) (sums.top[0] += l), sums.top[1]++;
-    if (y >= bottom + 1 - third) (sums.bottom[0] += l), sums.bottom[1]++;
+    if (y < top + third) ((sums.top[0] += l), sums.top[1]++);
+    if (y >= bottom + 1 - third) ((sums.bottom[0] += l), sums.bottom[1]++);
   }
   const mean = ([s, n]) => (n ? s / n : 0);
   const t = { pixels: sums.all[1], luma: mean(sums.all), top: mean(sums.top), bottom: mean(sums.bottom) };
@@ -109,8 +127,12 @@ export function failures(f) {
   const out = [];
   if (!(f.iou >= BOUNDS.iou)) out.push(`IoU ${f.iou.toFixed(3)} < ${BOUNDS.iou}`);
   const dl = Math.abs(f.page.luma - f.native.luma) / f.native.luma;
-  if (!(dl <= BOUNDS.luma)) out.push(`luma ${f.page.luma.toFixed(1)} against ${f.native.luma.toFixed(1)} natively (${(dl * 100).toFixed(1)} % off)`);
-  if (!(f.page.ratio >= BOUNDS.ratio * f.native.ratio)) out.push(`top/bottom ${f.page.ratio.toFixed(2)} against ${f.native.ratio.toFixed(2)} natively`);
+  if (!(dl <= BOUNDS.luma))
+    out.push(
+      `luma ${f.page.luma.toFixed(1)} against ${f.native.luma.toFixed(1)} natively (${(dl * 100).toFixed(1)} % off)`,
+    );
+  if (!(f.page.ratio >= BOUNDS.ratio * f.native.ratio))
+    out.push(`top/bottom ${f.page.ratio.toFixed(2)} against ${f.native.ratio.toFixed(2)} natively`);
   return out;
 }
 

@@ -37,7 +37,11 @@ test('every study model and species is drawn by the page as grove draws it', { t
       rows.single.push(row(name, single));
       rows.multi.push(row(name, multi));
       broken.push(...failures(single).map((f) => `${name}, one sample a pixel: ${f}`));
-      broken.push(...failures(multi).filter((f) => !f.startsWith('IoU')).map((f) => `${name}, multisampled: ${f}`));
+      broken.push(
+        ...failures(multi)
+          .filter((f) => !f.startsWith('IoU'))
+          .map((f) => `${name}, multisampled: ${f}`),
+      );
       let edges = 0;
       for (let i = 3; i < page.data.length; i += 4) if (page.data[i] > 0 && page.data[i] < 255) edges++;
       if (!(edges > 0)) broken.push(`${name}, multisampled: no pixel is covered in part`);
@@ -45,7 +49,8 @@ test('every study model and species is drawn by the page as grove draws it', { t
   } finally {
     await still.close();
   }
-  const table = (r) => ['| model | IoU | luma native / page | top/bottom native / page |', '|---|---|---|---|', ...r].join('\n');
+  const table = (r) =>
+    ['| model | IoU | luma native / page | top/bottom native / page |', '|---|---|---|---|', ...r].join('\n');
   console.log(`One sample a pixel:\n${table(rows.single)}\n\nMultisampled (the headset):\n${table(rows.multi)}`);
   assert.deepEqual(broken, [], `models the page draws unlike grove (bounds: ${JSON.stringify(BOUNDS)})`);
 });

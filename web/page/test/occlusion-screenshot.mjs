@@ -25,10 +25,20 @@ try {
   const shots = [];
   for (const depth of [false, true]) {
     const file = join(scratch, `${depth}.png`);
-    await shrubBehindDesk(h, { depth, quality: 'high', every: 1, size: 480, shot: (page) => page.screenshot({ path: file }) });
+    await shrubBehindDesk(h, {
+      depth,
+      quality: 'high',
+      every: 1,
+      size: 480,
+      shot: (page) => page.screenshot({ path: file }),
+    });
     shots.push(file);
   }
-  const r = spawnSync('convert', [...shots, '-background', 'white', '-splice', '8x0', '+append', '-chop', '8x0', resolve(out)], { encoding: 'utf8' });
+  const r = spawnSync(
+    'convert',
+    [...shots, '-background', 'white', '-splice', '8x0', '+append', '-chop', '8x0', resolve(out)],
+    { encoding: 'utf8' },
+  );
   if (r.status !== 0) throw new Error(`convert: ${r.stderr}`);
   console.log(`${out}: without depth sensing (left) and with it (right)`);
   if (h.errors.length) console.error(h.errors.join('\n'));

@@ -41,7 +41,11 @@ function softened(on, off) {
 test('a shrub behind the office desk loses the pixels the desk hides, with a soft edge; the floor keeps what lies on it; without depth sensing nothing is hidden', async () => {
   const on = await shrubBehindDesk(h, { depth: true });
   const off = await shrubBehindDesk(h, { depth: false });
-  assert.deepEqual(on.occlusion, { usage: 'gpu-optimized', format: 'float32' }, "the session's depth sensing is in use");
+  assert.deepEqual(
+    on.occlusion,
+    { usage: 'gpu-optimized', format: 'float32' },
+    "the session's depth sensing is in use",
+  );
   assert.equal(off.occlusion, null, 'a headset without depth sensing hides nothing');
   const { w, h: rows } = on.desk;
   const row = deskRow(rows);
@@ -52,13 +56,25 @@ test('a shrub behind the office desk loses the pixels the desk hides, with a sof
   const report = JSON.stringify({ row, below, above });
   assert.ok(below[1].full > 3000, `without depth sensing the shrub is drawn below the desk's top: ${report}`);
   assert.ok(below[0].full < 0.5 * below[1].full, `with it the desk hides most of that: ${report}`);
-  assert.ok(above[1].full > 2000 && above[0].full > 0.85 * above[1].full, `and keeps the shrub above the desk: ${report}`);
+  assert.ok(
+    above[1].full > 2000 && above[0].full > 0.85 * above[1].full,
+    `and keeps the shrub above the desk: ${report}`,
+  );
   const soft = softened(on.desk, off.desk);
   const hidden = below[1].full - below[0].full;
-  assert.ok(soft >= 100 && soft < hidden, `the hidden part's outline is soft: ${soft} pixels partly kept, ${hidden} hidden (${report})`);
+  assert.ok(
+    soft >= 100 && soft < hidden,
+    `the hidden part's outline is soft: ${soft} pixels partly kept, ${hidden} hidden (${report})`,
+  );
   // The ray's marker on the open floor (in the middle of the lower half) stands on the sensed floor: kept whole.
-  const marker = [coverage(on.floor, rows / 2, rows * 0.7, w * 0.35, w * 0.65), coverage(off.floor, rows / 2, rows * 0.7, w * 0.35, w * 0.65)];
+  const marker = [
+    coverage(on.floor, rows / 2, rows * 0.7, w * 0.35, w * 0.65),
+    coverage(off.floor, rows / 2, rows * 0.7, w * 0.35, w * 0.65),
+  ];
   assert.ok(marker[1].full > 50, `the marker is drawn: ${JSON.stringify(marker)}`);
-  assert.ok(Math.abs(marker[0].full - marker[1].full) <= 0.05 * marker[1].full, `the sensed floor does not hide the marker on it: ${JSON.stringify(marker)}`);
+  assert.ok(
+    Math.abs(marker[0].full - marker[1].full) <= 0.05 * marker[1].full,
+    `the sensed floor does not hide the marker on it: ${JSON.stringify(marker)}`,
+  );
   assert.deepEqual(h.errors, []);
 });

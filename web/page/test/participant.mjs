@@ -79,7 +79,10 @@ export async function plantAll(page, { limit = Infinity } = {}) {
     const targets = await page.evaluate(() => window.grove.snapshot.task.targets);
     // The farthest first, so that no planted crown stands between the hand and a target.
     const far = (t) => Math.hypot(t.position[0], t.position[2] - 6);
-    const open = targets.map((t, i) => [t, i]).filter(([t]) => !t.satisfied).sort((a, b) => far(b[0]) - far(a[0]));
+    const open = targets
+      .map((t, i) => [t, i])
+      .filter(([t]) => !t.satisfied)
+      .sort((a, b) => far(b[0]) - far(a[0]));
     if (open.length === 0 || planted >= limit) return planted;
     const i = open[0][1];
     const t = targets[i];
@@ -88,7 +91,9 @@ export async function plantAll(page, { limit = Infinity } = {}) {
     await click(page, 'trigger');
     await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 20000).catch(async (e) => {
       const s = await page.evaluate(() => window.grove.snapshot);
-      throw new Error(`target ${i} (${t.model} at ${t.moved_to ?? t.position}) not satisfied: the ray hits ${JSON.stringify(s.controller.hit)}, trees ${JSON.stringify(s.trees.map((x) => [x.model, x.position]))}, current ${s.menu.current_model}: ${e.message}`);
+      throw new Error(
+        `target ${i} (${t.model} at ${t.moved_to ?? t.position}) not satisfied: the ray hits ${JSON.stringify(s.controller.hit)}, trees ${JSON.stringify(s.trees.map((x) => [x.model, x.position]))}, current ${s.menu.current_model}: ${e.message}`,
+      );
     });
     planted++;
   }
@@ -100,7 +105,12 @@ export async function plantAll(page, { limit = Infinity } = {}) {
  */
 export async function enterAndStart(page, mode) {
   await page.click(`#enter-${mode}`);
-  await until(page, () => ['instructions', 'task'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
+  await until(
+    page,
+    () => ['instructions', 'task'].includes(window.grove.state) && window.xrDevice.activeSession,
+    null,
+    30000,
+  );
   if ((await page.evaluate(() => window.grove.state)) !== 'task') {
     await page.waitForTimeout(300);
     await page.evaluate(() => window.xrParticipant.press('trigger', 1));
@@ -166,7 +176,12 @@ export async function release(page) {
 /** A protocol's participant enters immersive-vr (or `mode`); their step shows at once (a panel, the practice or a task). */
 export async function enterStudy(page, mode = 'vr') {
   await page.click(`#enter-${mode}`);
-  await until(page, () => ['step', 'practice', 'task', 'error'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
+  await until(
+    page,
+    () => ['step', 'practice', 'task', 'error'].includes(window.grove.state) && window.xrDevice.activeSession,
+    null,
+    30000,
+  );
   assert.equal(await page.evaluate(() => window.grove.error), null);
   await until(page, () => window.grove.state !== 'step' || window.grove.panel);
 }
@@ -178,7 +193,11 @@ export async function enterStudy(page, mode = 'vr') {
  */
 export async function toTheQuestions(url, p) {
   const api = async (method, path, body) => {
-    const r = await fetch(new URL(path, url), { method, headers: { 'content-type': 'application/json' }, body: body === undefined ? undefined : JSON.stringify(body) });
+    const r = await fetch(new URL(path, url), {
+      method,
+      headers: { 'content-type': 'application/json' },
+      body: body === undefined ? undefined : JSON.stringify(body),
+    });
     const v = await r.json();
     assert.ok(r.ok, `${method} ${path}: ${r.status} ${JSON.stringify(v)}`);
     return v;
@@ -195,7 +214,8 @@ export async function toTheQuestions(url, p) {
       await session.flush();
       await session.end();
     }
-    if (st.kind === 'questionnaire') await api('POST', `/api/protocol/participants/${p}/answers`, { step: s.step, answers: tlx });
+    if (st.kind === 'questionnaire')
+      await api('POST', `/api/protocol/participants/${p}/answers`, { step: s.step, answers: tlx });
     s = await api('POST', `/api/protocol/participants/${p}/next`, { from: s.step });
   }
 }
@@ -240,12 +260,28 @@ export async function dragAll(page, { limit = Infinity } = {}) {
  */
 export async function playTask(page, { trees = Infinity } = {}) {
   await until(page, () => window.grove.snapshot?.task || window.grove.state === 'error');
-  const { file, task, mode } = await page.evaluate(() => ({ file: window.grove.file, task: window.grove.snapshot.task?.id, mode: window.grove.snapshot.mode }));
+  const { file, task, mode } = await page.evaluate(() => ({
+    file: window.grove.file,
+    task: window.grove.snapshot.task?.id,
+    mode: window.grove.snapshot.mode,
+  }));
   const done = mode === 'manual' ? await dragAll(page, { limit: trees }) : await plantAll(page, { limit: trees });
   // Every target met ends the task by itself; else Finish task in the menu.
-  if (await page.evaluate(() => window.grove.state === 'task' && window.grove.snapshot.task.targets.some((t) => !t.satisfied))) await finishTask(page);
+  if (
+    await page.evaluate(
+      () => window.grove.state === 'task' && window.grove.snapshot.task.targets.some((t) => !t.satisfied),
+    )
+  )
+    await finishTask(page);
   // On its own the page stays at done with the verification; with a protocol it goes on once it has it.
-  await until(page, () => (window.grove.state === 'done' && window.grove.verification) || ['step', 'practice', 'instructions', 'typing', 'error'].includes(window.grove.state), null, 120000);
+  await until(
+    page,
+    () =>
+      (window.grove.state === 'done' && window.grove.verification) ||
+      ['step', 'practice', 'instructions', 'typing', 'error'].includes(window.grove.state),
+    null,
+    120000,
+  );
   const verification = await page.evaluate(() => window.grove.verification);
   return { file, task, trees: done, verification };
 }
@@ -267,7 +303,13 @@ function pick(buttons) {
  */
 export async function throughProtocol(page, { mode = 'vr', trees = Infinity } = {}) {
   const sessions = [];
-  const now = () => page.evaluate(() => ({ state: window.grove.state, study: window.grove.study, panel: window.grove.panel, error: window.grove.error }));
+  const now = () =>
+    page.evaluate(() => ({
+      state: window.grove.state,
+      study: window.grove.study,
+      panel: window.grove.panel,
+      error: window.grove.error,
+    }));
   for (let turn = 0; turn < 1000; turn++) {
     const { state, study, panel, error } = await now();
     if (state === 'error') throw new Error(`the page failed: ${error}`);

@@ -18,7 +18,13 @@ if (!out) {
 const trees = Number(process.argv[3] ?? 4);
 const h = await start();
 try {
-  const { page } = await h.open('participant=PHONE&task=ray-casting-7&seed=1', { xr: true, room: true, device: 'phone', width: 390, height: 760 });
+  const { page } = await h.open('participant=PHONE&task=ray-casting-7&seed=1', {
+    xr: true,
+    room: true,
+    device: 'phone',
+    width: 390,
+    height: 760,
+  });
   await enterAndTouch(page, 'ar', 'screen');
   // The phone held a step back from where the task started, looking down at the floor.
   await page.evaluate(() => {

@@ -36,7 +36,13 @@ async function finish(page) {
 }
 
 test("a phone: taps plant, the touch bar's taps never reach the scene, Remove takes the tree last tapped", async () => {
-  const { page } = await h.open('participant=P70&task=ray-casting-7&seed=14&quality=low&render_every=4', { xr: true, room: true, device: 'phone', width: 360, height: 640 });
+  const { page } = await h.open('participant=P70&task=ray-casting-7&seed=14&quality=low&render_every=4', {
+    xr: true,
+    room: true,
+    device: 'phone',
+    width: 360,
+    height: 640,
+  });
   await page.click('#enter-ar');
   await until(page, () => window.grove.state === 'instructions' && window.xrDevice.activeSession, null, 30000);
   assert.equal(await page.textContent('#message'), 'Tap the scene to start.');
@@ -47,7 +53,11 @@ test("a phone: taps plant, the touch bar's taps never reach the scene, Remove ta
   assert.equal(await page.evaluate(() => window.grove.error), null);
   assert.deepEqual(await page.evaluate(() => window.grove.device), DEVICE);
   const targets = await page.evaluate(() => window.grove.snapshot.task.targets);
-  assert.deepEqual(await page.evaluate(() => window.grove.snapshot.trees.length), 0, 'the tap that started the task planted nothing');
+  assert.deepEqual(
+    await page.evaluate(() => window.grove.snapshot.trees.length),
+    0,
+    'the tap that started the task planted nothing',
+  );
   for (const i of [3, 4]) {
     await openMenu(page, 'screen');
     await chooseIn(page, targets[i].model, 'screen');
@@ -85,7 +95,13 @@ test("a phone: taps plant, the touch bar's taps never reach the scene, Remove ta
 });
 
 test('a phone in the manual task: a tree dragged by the finger comes down onto its target and snaps', async () => {
-  const { page } = await h.open('participant=P71&task=manual-7&seed=15&quality=low&render_every=4', { xr: true, room: true, device: 'phone', width: 360, height: 640 });
+  const { page } = await h.open('participant=P71&task=manual-7&seed=15&quality=low&render_every=4', {
+    xr: true,
+    room: true,
+    device: 'phone',
+    width: 360,
+    height: 640,
+  });
   await enterAndTouch(page, 'ar', 'screen');
   const target = (await page.evaluate(() => window.grove.snapshot.task.targets))[2];
   await openMenu(page, 'screen');
@@ -101,15 +117,23 @@ test('a phone in the manual task: a tree dragged by the finger comes down onto i
   assert.equal(ball, 'white', 'the tree came down to the floor under the finger');
   await until(page, (t) => window.grove.snapshot.task.targets[t].satisfied, 2, 30000).catch(async (e) => {
     const s = await page.evaluate(() => window.grove.snapshot);
-    throw new Error(`${e.message}: tree ${JSON.stringify(s.trees)}, target ${target.position}, ball ${JSON.stringify(s.anchor_ball)}`);
+    throw new Error(
+      `${e.message}: tree ${JSON.stringify(s.trees)}, target ${target.position}, ball ${JSON.stringify(s.anchor_ball)}`,
+    );
   });
   const tree = await page.evaluate((id) => window.grove.snapshot.trees.find((x) => x.id === id), box.tree);
   assert.equal(tree.grounded, true);
-  assert.ok(Math.hypot(tree.position[0] - target.position[0], tree.position[2] - target.position[2]) < 0.01, `${tree.position} on ${target.position}`);
+  assert.ok(
+    Math.hypot(tree.position[0] - target.position[0], tree.position[2] - target.position[2]) < 0.01,
+    `${tree.position} on ${target.position}`,
+  );
   const report = await finish(page);
   assert.equal(report.task.trees.length, 1);
   const row = studyRows(h.server.dir).find((r) => r.file === report.name);
-  assert.deepEqual([row.device, row.target_ray_mode, row.input_profile, row.status], ['screen', 'screen', 'generic-touchscreen', 'verified']);
+  assert.deepEqual(
+    [row.device, row.target_ray_mode, row.input_profile, row.status],
+    ['screen', 'screen', 'generic-touchscreen', 'verified'],
+  );
   assert.match(row.layout, /^room:/);
   assert.deepEqual(h.errors, []);
 });

@@ -22,7 +22,9 @@ try {
   await enterStudy(page);
   await pressPanel(page, 'opt:8');
   // The hand lower and to the right, so that the ray crosses the view to the panel.
-  await aimAt(page, await page.evaluate(() => window.grove.panelPoint('opt:9')), { x: 0.25, y: -0.3, z: -0.55 }, (p) => frames(p, 10));
+  await aimAt(page, await page.evaluate(() => window.grove.panelPoint('opt:9')), { x: 0.25, y: -0.3, z: -0.55 }, (p) =>
+    frames(p, 10),
+  );
   await page.evaluate(() => (document.getElementById('overlay').style.display = 'none'));
   await frames(page, 5);
   await page.screenshot({ path: resolve(out) });

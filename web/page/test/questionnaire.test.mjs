@@ -51,12 +51,25 @@ test('P01 goes through the instructions, the practice and a task with the panel,
   await until(page, () => window.grove.study?.kind === 'questionnaire' && window.grove.state === 'step', null, 60000);
   s = await study(page);
   assert.deepEqual([s.step, s.block, s.item], [4, 'tasks', 'mental']);
-  assert.match((await page.evaluate(() => window.grove.panel.texts))[0], /NASA Task Load Index \(raw\) \(ray-casting\)/);
+  assert.match(
+    (await page.evaluate(() => window.grove.panel.texts))[0],
+    /NASA Task Load Index \(raw\) \(ray-casting\)/,
+  );
   const file = await page.evaluate(() => window.grove.file);
   assert.match(file, /^P01-ray-casting-7/);
   const header = JSON.parse(fileLines(join(h.server.dir, file))[0]);
   assert.deepEqual([header.participant, header.task], ['P01', 'ray-casting-7']);
-  assert.deepEqual(lines('P01').filter((l) => l.line === 'step').map((l) => [l.step, l.block]), [[1, 'instructions'], [2, 'practice'], [3, 'tasks'], [4, 'tasks']]);
+  assert.deepEqual(
+    lines('P01')
+      .filter((l) => l.line === 'step')
+      .map((l) => [l.step, l.block]),
+    [
+      [1, 'instructions'],
+      [2, 'practice'],
+      [3, 'tasks'],
+      [4, 'tasks'],
+    ],
+  );
   assert.deepEqual(h.foreign(), []);
   assert.deepEqual(h.errors, []);
   await page.close();
@@ -73,9 +86,15 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   const texts = await page.evaluate(() => window.grove.panel.texts);
   assert.equal(texts[0], 'About the application');
   assert.ok(texts.includes('Not at all') && texts.includes('Very well'), `the anchors at the ends: ${texts}`);
-  assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).map((b) => b.label), ['0', '1', '2', '3', '4', '5', '6', '7', '8', '9', '10', 'Next']);
+  assert.deepEqual(
+    (await page.evaluate(() => window.grove.panel.buttons)).map((b) => b.label),
+    ['0', '1', '2', '3', '4', '5', '6', '7', '8', '9', '10', 'Next'],
+  );
   await pressPanel(page, 'opt:8');
-  assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label), ['8']);
+  assert.deepEqual(
+    (await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label),
+    ['8'],
+  );
   await pressPanel(page, 'next');
   await pressPanel(page, 'opt:2'); // Bounding box
   await pressPanel(page, 'next');
@@ -85,12 +104,16 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
 
   // A reload in the middle: the same step, the same question, the choices kept.
   await page.close();
-  page = (await h.open('participant=P02&quality=low&render_every=4', { xr: true, room: false, context: first.context })).page;
+  page = (await h.open('participant=P02&quality=low&render_every=4', { xr: true, room: false, context: first.context }))
+    .page;
   await enter(page);
   s = await study(page);
   assert.deepEqual([s.step, s.kind, s.item], [7, 'questionnaire', 'realism_lowpoly']);
   await pressPanel(page, 'back');
-  assert.deepEqual((await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label), ['7']);
+  assert.deepEqual(
+    (await page.evaluate(() => window.grove.panel.buttons)).filter((b) => b.on).map((b) => b.label),
+    ['7'],
+  );
   await pressPanel(page, 'next');
 
   await pressPanel(page, 'opt:4');
@@ -101,7 +124,10 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   await pressPanel(page, 'opt:0'); // … and taken back
   await pressPanel(page, 'next');
   assert.equal((await study(page)).item, 'uses');
-  assert.match((await page.evaluate(() => window.grove.panel.texts)).join(' '), /type this answer on the page after you take the headset off/);
+  assert.match(
+    (await page.evaluate(() => window.grove.panel.texts)).join(' '),
+    /type this answer on the page after you take the headset off/,
+  );
   await pressPanel(page, 'opt:0'); // Type it on the page
   await pressPanel(page, 'next');
   assert.equal((await study(page)).item, 'would_use');
@@ -118,10 +144,28 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   await pressPanel(page, 'opt:0'); // Yes
   await pressPanel(page, 'send');
   await until(page, () => window.grove.study.typing !== null);
-  assert.match((await page.evaluate(() => window.grove.panel.texts)).join(' '), /take the headset off and type it on the page/);
-  assert.equal(await page.evaluate(() => window.grove.state), 'step', 'the immersive view stays until the participant leaves it');
-  const answers = Object.fromEntries(lines('P02').filter((l) => l.line === 'answer' && l.step === 7).map((l) => [l.item, l.answer]));
-  assert.deepEqual(answers, { guidance: 8, more_instructions: ['Bounding box'], realism_billboard: 7, realism_lowpoly: 4, more_realistic: ["Leaves' animation", 'Shadow'], would_use: true });
+  assert.match(
+    (await page.evaluate(() => window.grove.panel.texts)).join(' '),
+    /take the headset off and type it on the page/,
+  );
+  assert.equal(
+    await page.evaluate(() => window.grove.state),
+    'step',
+    'the immersive view stays until the participant leaves it',
+  );
+  const answers = Object.fromEntries(
+    lines('P02')
+      .filter((l) => l.line === 'answer' && l.step === 7)
+      .map((l) => [l.item, l.answer]),
+  );
+  assert.deepEqual(answers, {
+    guidance: 8,
+    more_instructions: ['Bounding box'],
+    realism_billboard: 7,
+    realism_lowpoly: 4,
+    more_realistic: ["Leaves' animation", 'Shadow'],
+    would_use: true,
+  });
 
   // The headset's view left: the page asks for the typed answer, then the next step.
   await pressPanel(page, 'leave');
@@ -131,9 +175,16 @@ test('P02 answers the seven questions in the headset with the ray and the trigge
   await until(page, () => window.grove.study.step === 8 && window.grove.state === 'instructions');
   assert.match(await page.textContent('#instructions'), /Step 8 of 8: usability/);
   const all = lines('P02');
-  assert.deepEqual(all.filter((l) => l.line === 'answer' && l.step === 7 && l.item === 'uses').map((l) => l.answer), ['teaching urban planning']);
+  assert.deepEqual(
+    all.filter((l) => l.line === 'answer' && l.step === 7 && l.item === 'uses').map((l) => l.answer),
+    ['teaching urban planning'],
+  );
   assert.deepEqual(all.at(-1).line === 'step' && all.at(-1).step, 8);
-  assert.deepEqual(readdirSync(h.server.dir).filter((f) => f.startsWith('P02-')).length, 2, 'the two tasks\' recordings, none from the page');
+  assert.deepEqual(
+    readdirSync(h.server.dir).filter((f) => f.startsWith('P02-')).length,
+    2,
+    "the two tasks' recordings, none from the page",
+  );
   await frames(page, 2);
   assert.deepEqual(h.foreign(), []);
   assert.deepEqual(h.errors, []);
@@ -162,7 +213,12 @@ test('the inline preview: the same panel, pressed with the mouse', async () => {
   await frames(page, 2);
   await page.mouse.up();
   await until(page, () => window.grove.study.kind === 'task' && window.grove.state === 'step');
-  assert.deepEqual(lines('P04').filter((l) => l.line === 'step').map((l) => l.block), ['instructions', 'practice', 'tasks']);
+  assert.deepEqual(
+    lines('P04')
+      .filter((l) => l.line === 'step')
+      .map((l) => l.block),
+    ['instructions', 'practice', 'tasks'],
+  );
   assert.deepEqual(h.errors, []);
   await page.close();
 });

@@ -23,8 +23,16 @@ const scratch = mkdtempSync(join(tmpdir(), 'grove-headset-shot-'));
 const h = await start();
 try {
   const shots = [];
-  for (const [mode, room] of [['ar', true], ['vr', false]]) {
-    const { page } = await h.open(`participant=SHOT${mode}&task=ray-casting-7&seed=1`, { xr: true, room, width: 640, height: 640 });
+  for (const [mode, room] of [
+    ['ar', true],
+    ['vr', false],
+  ]) {
+    const { page } = await h.open(`participant=SHOT${mode}&task=ray-casting-7&seed=1`, {
+      xr: true,
+      room,
+      width: 640,
+      height: 640,
+    });
     await enterAndStart(page, mode);
     await plantAll(page, { limit: trees });
     // Point at the next target with the arm stretched out, so that the ray and its marker show
@@ -37,7 +45,11 @@ try {
     shots.push(file);
     await page.close();
   }
-  const r = spawnSync('convert', [...shots, '-background', 'white', '-splice', '8x0', '+append', '-chop', '8x0', resolve(out)], { encoding: 'utf8' });
+  const r = spawnSync(
+    'convert',
+    [...shots, '-background', 'white', '-splice', '8x0', '+append', '-chop', '8x0', resolve(out)],
+    { encoding: 'utf8' },
+  );
   if (r.status !== 0) throw new Error(`convert: ${r.stderr}`);
   console.log(`${out}: AR (left) and VR (right), ${trees} trees each`);
   if (h.errors.length) console.error(h.errors.join('\n'));

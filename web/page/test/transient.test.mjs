@@ -37,7 +37,11 @@ async function finish(page) {
 }
 
 test('gaze and pinch: trees planted where the eyes look, the menu from the left hand, the file verified', async () => {
-  const { page } = await h.open('participant=P68&task=ray-casting-7&seed=12&quality=low&render_every=4', { xr: true, room: false, device: 'visionpro' });
+  const { page } = await h.open('participant=P68&task=ray-casting-7&seed=12&quality=low&render_every=4', {
+    xr: true,
+    room: false,
+    device: 'visionpro',
+  });
   await enterAndTouch(page, 'vr', 'pinch');
   assert.equal(await page.evaluate(() => window.grove.error), null);
   assert.deepEqual(await page.evaluate(() => window.grove.device), DEVICE);
@@ -49,7 +53,11 @@ test('gaze and pinch: trees planted where the eyes look, the menu from the left 
     await pinch(page, targets[i].position);
     await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 30000);
   }
-  assert.equal(await page.evaluate(() => window.grove.snapshot.trees.length), own + 2, 'two trees, none planted by the menu\'s pinches');
+  assert.equal(
+    await page.evaluate(() => window.grove.snapshot.trees.length),
+    own + 2,
+    "two trees, none planted by the menu's pinches",
+  );
   // A short left pinch is Bumper, at its gaze: it removes the tree looked at.
   await pinch(page, targets[0].position, 'left');
   await until(page, (n) => window.grove.snapshot.trees.length === n, own + 1, 30000);
@@ -62,7 +70,11 @@ test('gaze and pinch: trees planted where the eyes look, the menu from the left 
 });
 
 test('gaze and pinch in the manual task: a tree dragged by the pinching hand snaps onto its target', async () => {
-  const { page } = await h.open('participant=P69&task=manual-7&seed=13&quality=low&render_every=4', { xr: true, room: false, device: 'visionpro' });
+  const { page } = await h.open('participant=P69&task=manual-7&seed=13&quality=low&render_every=4', {
+    xr: true,
+    room: false,
+    device: 'visionpro',
+  });
   await enterAndTouch(page, 'vr', 'pinch');
   const target = (await page.evaluate(() => window.grove.snapshot.task.targets)).find((x) => x.position[1] === 0);
   const own = await page.evaluate(() => window.grove.snapshot.trees.map((x) => x.id));
@@ -78,18 +90,31 @@ test('gaze and pinch in the manual task: a tree dragged by the pinching hand sna
   const to = [target.position[0], 0.1, target.position[2]];
   const d = to.map((v, i) => v - spawned.position[i]);
   for (let k = 1; k <= 40; k++) {
-    await page.evaluate((g) => window.xrDouble.moveGrip(g), grip.map((v, i) => v + (d[i] * k) / 40));
+    await page.evaluate(
+      (g) => window.xrDouble.moveGrip(g),
+      grip.map((v, i) => v + (d[i] * k) / 40),
+    );
     await frames(page, 2);
   }
   await until(page, () => window.grove.snapshot.anchor_ball.state === 'white', null, 30000);
   const carried = await page.evaluate((id) => window.grove.snapshot.trees.find((x) => x.id === id), spawned.id);
-  assert.ok(Math.hypot(carried.position[0] - to[0], carried.position[2] - to[2]) < 0.02, `carried to ${carried.position}, not ${to}`);
+  assert.ok(
+    Math.hypot(carried.position[0] - to[0], carried.position[2] - to[2]) < 0.02,
+    `carried to ${carried.position}, not ${to}`,
+  );
   await page.evaluate(() => window.xrDouble.lift('right'));
   await until(page, (id) => window.grove.snapshot.trees.find((x) => x.id === id)?.grounded, spawned.id, 30000);
-  assert.equal(await page.evaluate(() => window.grove.snapshot.task.targets.filter((x) => x.satisfied).length), 1, 'its target is satisfied');
+  assert.equal(
+    await page.evaluate(() => window.grove.snapshot.task.targets.filter((x) => x.satisfied).length),
+    1,
+    'its target is satisfied',
+  );
   const report = await finish(page);
   assert.equal(report.task.trees.length, 1);
   const row = studyRows(h.server.dir).find((r) => r.file === report.name);
-  assert.deepEqual([row.device, row.target_ray_mode, row.status], ['transient-pointer', 'transient-pointer', 'verified']);
+  assert.deepEqual(
+    [row.device, row.target_ray_mode, row.status],
+    ['transient-pointer', 'transient-pointer', 'verified'],
+  );
   assert.deepEqual(h.errors, []);
 });

@@ -70,14 +70,25 @@ test('a dry run of a protocol: every step, its task verified, the answers writte
   const lines = r.stdout.trim().split('\n');
   assert.match(lines.at(-1), /^P01 through dry-run in vr on http:\/\/127\.0\.0\.1:\d+: verified/);
   const files = lines.slice(0, -1).map((l) => l.split(':')[0]);
-  assert.deepEqual(files.map((f) => f.replace(/-\d+\.jsonl$/, '')), ['P01-ray-casting-7']);
+  assert.deepEqual(
+    files.map((f) => f.replace(/-\d+\.jsonl$/, '')),
+    ['P01-ray-casting-7'],
+  );
   const report = replayed(server.dir, files[0]);
   assert.equal(report.verified, true, files[0]);
   assert.equal(report.task.trees.length, 1, `${files[0]}: one tree on its target`);
-  const answers = readFileSync(join(server.dir, 'P01.answers.jsonl'), 'utf8').trim().split('\n').map((l) => JSON.parse(l));
-  assert.deepEqual(answers.filter((l) => l.line === 'step').map((l) => l.step), [1, 2, 3, 4], 'every step begun');
+  const answers = readFileSync(join(server.dir, 'P01.answers.jsonl'), 'utf8')
+    .trim()
+    .split('\n')
+    .map((l) => JSON.parse(l));
+  assert.deepEqual(
+    answers.filter((l) => l.line === 'step').map((l) => l.step),
+    [1, 2, 3, 4],
+    'every step begun',
+  );
   const answered = new Map(answers.filter((l) => l.line === 'answer').map((l) => [`${l.step}.${l.item}`, l.answer]));
-  for (const item of ['4.guidance', '4.more_instructions', '4.would_use']) assert.ok(answered.has(item), `${item} answered on the panel: ${[...answered.keys()]}`);
+  for (const item of ['4.guidance', '4.more_instructions', '4.would_use'])
+    assert.ok(answered.has(item), `${item} answered on the panel: ${[...answered.keys()]}`);
   assert.equal(answered.get('4.uses'), 'dry run', 'the free text typed on the page');
   const p01 = await (await fetch(new URL('/api/protocol/participants/P01', server.url))).json();
   assert.equal(p01.done, true, JSON.stringify(p01));

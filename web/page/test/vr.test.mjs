@@ -19,16 +19,27 @@ after(async () => {
 });
 
 test('immersive-vr: the study scene is the ground, 7 trees planted, the file verified', async () => {
-  const { page } = await h.open('participant=P62&task=ray-casting-7&seed=7&quality=low&render_every=4', { xr: true, room: false });
+  const { page } = await h.open('participant=P62&task=ray-casting-7&seed=7&quality=low&render_every=4', {
+    xr: true,
+    room: false,
+  });
   await enterAndStart(page, 'vr');
   const snap = await page.evaluate(() => window.grove.snapshot);
   assert.equal(await page.evaluate(() => window.grove.floor), null, 'VR uses no floor of a room');
-  assert.deepEqual(snap.task.targets.filter((t) => t.moved_to), [], 'no target is moved in the study scene');
+  assert.deepEqual(
+    snap.task.targets.filter((t) => t.moved_to),
+    [],
+    'no target is moved in the study scene',
+  );
   const terrace = snap.task.targets.findIndex((t) => t.position[1] > 0.5);
   assert.ok(terrace >= 0, 'the study scene has its raised target');
   assert.equal(await plantAll(page), 7);
   await until(page, () => window.grove.state === 'done' && window.grove.verification, null, 60000);
-  const done = await page.evaluate(() => ({ v: window.grove.verification, file: window.grove.file, s: window.grove.snapshot }));
+  const done = await page.evaluate(() => ({
+    v: window.grove.verification,
+    file: window.grove.file,
+    s: window.grove.snapshot,
+  }));
   assert.equal(done.v.status, 'verified', JSON.stringify(done.v));
   const onTerrace = done.s.trees.filter((t) => Math.abs(t.position[1] - snap.task.targets[terrace].position[1]) < 0.01);
   assert.equal(onTerrace.length, 1, 'one tree stands on the raised plane');
@@ -45,7 +56,10 @@ test('immersive-vr: the study scene is the ground, 7 trees planted, the file ver
 });
 
 test('manual mode: a dragged tree turns the anchor ball white over the ground and snaps onto it on release', async () => {
-  const { page } = await h.open('participant=P64&task=manual-7&seed=8&quality=low&render_every=4', { xr: true, room: false });
+  const { page } = await h.open('participant=P64&task=manual-7&seed=8&quality=low&render_every=4', {
+    xr: true,
+    room: false,
+  });
   await enterAndStart(page, 'vr');
   const target = (await page.evaluate(() => window.grove.snapshot.task.targets)).find((t) => t.position[1] === 0);
   const own = await page.evaluate(() => window.grove.snapshot.trees.map((t) => t.id));
@@ -68,7 +82,10 @@ test('manual mode: a dragged tree turns the anchor ball white over the ground an
   // Its lowest point (a little below its origin) on the plane point the ball marked.
   const carried = low.trees.find((t) => t.id === spawned.id).position[1];
   assert.notEqual(tree.position[1], carried, 'the release moved it');
-  assert.ok(tree.position[1] > low.anchor_ball.position[1] && tree.position[1] - low.anchor_ball.position[1] < 0.1, `on the ground the ball marked: ${tree.position} / ${low.anchor_ball.position}`);
+  assert.ok(
+    tree.position[1] > low.anchor_ball.position[1] && tree.position[1] - low.anchor_ball.position[1] < 0.1,
+    `on the ground the ball marked: ${tree.position} / ${low.anchor_ball.position}`,
+  );
   assert.deepEqual([tree.position[0], tree.position[2]], [target.position[0], target.position[2]]);
   assert.equal(after.anchor_ball.state, 'hidden');
   assert.equal(after.task.targets.filter((t) => t.satisfied).length, 1, 'its target is satisfied');
@@ -91,7 +108,12 @@ test('a page closed in the middle of the task and opened again continues the sam
   assert.match(await again.page.textContent('#title'), new RegExp(`Continue ${before.file}`));
   await again.page.click('#enter-vr');
   await until(again.page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
-  const resumed = await again.page.evaluate(() => ({ file: window.grove.file, resumed: window.grove.resumed, s: window.grove.snapshot, error: window.grove.error }));
+  const resumed = await again.page.evaluate(() => ({
+    file: window.grove.file,
+    resumed: window.grove.resumed,
+    s: window.grove.snapshot,
+    error: window.grove.error,
+  }));
   assert.equal(resumed.error, null);
   assert.equal(resumed.resumed, true);
   assert.equal(resumed.file, before.file);

@@ -25,7 +25,10 @@ void main() { colour = vec4( 0.0 ); }`;
 
 function program(gl) {
   const p = gl.createProgram();
-  for (const [type, source] of [[gl.VERTEX_SHADER, VERTEX], [gl.FRAGMENT_SHADER, FRAGMENT]]) {
+  for (const [type, source] of [
+    [gl.VERTEX_SHADER, VERTEX],
+    [gl.FRAGMENT_SHADER, FRAGMENT],
+  ]) {
     const s = gl.createShader(type);
     gl.shaderSource(s, source);
     gl.compileShader(s);
@@ -92,7 +95,8 @@ function samples(models, count) {
     if (!pos || !wind) return;
     o.updateWorldMatrix(true, false);
     const step = Math.max(1, Math.floor(pos.count / count));
-    for (let i = 0; i < pos.count; i += step) points.push([pos.getX(i), pos.getY(i), pos.getZ(i), wind.getX(i), wind.getY(i), wind.getZ(i), wind.getW(i)]);
+    for (let i = 0; i < pos.count; i += step)
+      points.push([pos.getX(i), pos.getY(i), pos.getZ(i), wind.getX(i), wind.getY(i), wind.getZ(i), wind.getW(i)]);
   });
   return points;
 }

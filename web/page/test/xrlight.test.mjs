@@ -30,17 +30,31 @@ after(async () => {
 });
 
 test("AR is lit by the browser's light estimate where it gives one, else by a neutral environment", async () => {
-  const lit = await h.open('participant=LIGHT&task=ray-casting-7&seed=1&quality=low', { xr: true, room: true, light: ESTIMATE, width: 320, height: 320 });
+  const lit = await h.open('participant=LIGHT&task=ray-casting-7&seed=1&quality=low', {
+    xr: true,
+    room: true,
+    light: ESTIMATE,
+    width: 320,
+    height: 320,
+  });
   await enterAr(lit.page);
   await until(lit.page, () => window.grove.lighting.source === 'estimate', null, 20000);
   const estimate = await lit.page.evaluate(() => window.grove.lighting);
   // XREstimatedLight takes the brightest channel as the intensity and the rest as the colour.
   assert.deepEqual(estimate.main.direction, ESTIMATE.direction);
   assert.equal(estimate.main.intensity, 3);
-  assert.deepEqual(estimate.main.color.map((c) => Math.round(c * 1000) / 1000), [1, 0.667, 0.333]);
+  assert.deepEqual(
+    estimate.main.color.map((c) => Math.round(c * 1000) / 1000),
+    [1, 0.667, 0.333],
+  );
   await lit.page.close();
 
-  const plain = await h.open('participant=PLAIN&task=ray-casting-7&seed=1&quality=low', { xr: true, room: true, width: 320, height: 320 });
+  const plain = await h.open('participant=PLAIN&task=ray-casting-7&seed=1&quality=low', {
+    xr: true,
+    room: true,
+    width: 320,
+    height: 320,
+  });
   assert.equal(await plain.page.evaluate(() => window.grove.lighting), null, 'nothing before a session');
   await enterAr(plain.page);
   await until(plain.page, () => window.grove.frames > 10);

@@ -16,7 +16,17 @@ export class View {
    * sample a pixel, `preserve` keeps the drawing buffer, `background` false draws the trees alone
    * (no sky, no ground), `pixelsPerRadian` is the picture's (else a headset eye's).
    */
-  constructor(canvas, { low = false, models, antialias = true, preserve = false, background = true, pixelsPerRadian = EYE_PIXELS_PER_RADIAN }) {
+  constructor(
+    canvas,
+    {
+      low = false,
+      models,
+      antialias = true,
+      preserve = false,
+      background = true,
+      pixelsPerRadian = EYE_PIXELS_PER_RADIAN,
+    },
+  ) {
     const renderer = createRenderer(canvas, { low, antialias, preserve });
     renderer.setPixelRatio(low ? 1 : Math.min(window.devicePixelRatio, 2));
     renderer.setSize(window.innerWidth, window.innerHeight, false);

@@ -17,7 +17,11 @@ if (!out) {
   process.exit(2);
 }
 const dir = mkdtempSync(join(tmpdir(), 'grove-form-shot-'));
-const server = spawn(GROVE, ['serve', '--port', '0', '--out', dir, '--protocol', 'tests/fixtures/questionnaires/every-kind.ron'], { cwd: ROOT, stdio: ['ignore', 'pipe', 'pipe'] });
+const server = spawn(
+  GROVE,
+  ['serve', '--port', '0', '--out', dir, '--protocol', 'tests/fixtures/questionnaires/every-kind.ron'],
+  { cwd: ROOT, stdio: ['ignore', 'pipe', 'pipe'] },
+);
 let browser = null;
 try {
   const url = await new Promise((ok, fail) => {
@@ -33,7 +37,10 @@ try {
   });
   await fetch(new URL('/api/protocol/participants', url), { method: 'POST', body: '{}' });
   const { chromium } = await import('playwright-core');
-  browser = await chromium.launch({ executablePath: '/usr/bin/chromium', args: ['--no-sandbox', '--disable-background-networking'] });
+  browser = await chromium.launch({
+    executablePath: '/usr/bin/chromium',
+    args: ['--no-sandbox', '--disable-background-networking'],
+  });
   const page = await browser.newPage({ viewport: { width: 760, height: 1000 } });
   await page.goto(new URL('/protocol?participant=P01', url).href);
   await page.locator("form#questionnaire[data-instrument='every-kind']").waitFor();

@@ -10,7 +10,7 @@
 use std::cell::RefCell;
 
 use crate::error::Error;
-use crate::replay::{replay, ReplayArgs};
+use crate::replay::{ReplayArgs, replay};
 use crate::session::Session;
 
 #[derive(Default)]
@@ -186,8 +186,13 @@ pub extern "C" fn grove_sim_finish(handle: u32) -> i32 {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn grove_replay(args_ptr: *const u8, args_len: usize, rec_ptr: *const u8, rec_len: usize) -> i32 {
     let run = || -> Result<Vec<u8>, Error> {
-        let args: ReplayArgs = serde_json::from_str(unsafe { text("replay options", args_ptr, args_len) }?).map_err(|e| Error::input("replay options", e))?;
-        let recording: &[u8] = if rec_len == 0 || rec_ptr.is_null() { &[] } else { unsafe { std::slice::from_raw_parts(rec_ptr, rec_len) } };
+        let args: ReplayArgs = serde_json::from_str(unsafe { text("replay options", args_ptr, args_len) }?)
+            .map_err(|e| Error::input("replay options", e))?;
+        let recording: &[u8] = if rec_len == 0 || rec_ptr.is_null() {
+            &[]
+        } else {
+            unsafe { std::slice::from_raw_parts(rec_ptr, rec_len) }
+        };
         json(&replay(&args, recording)?)
     };
     answer(run().map(|j| (0, j)))
@@ -220,7 +225,8 @@ pub unsafe extern "C" fn grove_rechain(ptr: *const u8, len: usize) -> i32 {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn grove_room_scene(ptr: *const u8, len: usize) -> i32 {
     let run = || -> Result<Vec<u8>, Error> {
-        let input: grove_systems::room::RoomInput = serde_json::from_str(unsafe { text("room", ptr, len) }?).map_err(|e| Error::input("room", e))?;
+        let input: grove_systems::room::RoomInput =
+            serde_json::from_str(unsafe { text("room", ptr, len) }?).map_err(|e| Error::input("room", e))?;
         Ok(grove_systems::room::room_scene(&input)?.into_bytes())
     };
     answer(run().map(|t| (0, t)))
@@ -235,8 +241,12 @@ pub unsafe extern "C" fn grove_room_scene(ptr: *const u8, len: usize) -> i32 {
 pub unsafe extern "C" fn grove_task(ptr: *const u8, len: usize) -> i32 {
     let run = || -> Result<Vec<u8>, Error> {
         let id = unsafe { text("task", ptr, len) }?;
-        let def = grove_systems::task::TaskDef::builtin(id).ok_or_else(|| Error::input("task", format!("'{}' is not a built-in task", id.chars().take(64).collect::<String>())))?;
-        json(&serde_json::json!({ "id": def.id, "mode": def.mode.name(), "scene": def.scene, "tolerance": def.tolerance, "targets": def.targets }))
+        let def = grove_systems::task::TaskDef::builtin(id).ok_or_else(|| {
+            Error::input("task", format!("'{}' is not a built-in task", id.chars().take(64).collect::<String>()))
+        })?;
+        json(
+            &serde_json::json!({ "id": def.id, "mode": def.mode.name(), "scene": def.scene, "tolerance": def.tolerance, "targets": def.targets }),
+        )
     };
     answer(run().map(|j| (0, j)))
 }

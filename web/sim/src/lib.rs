@@ -18,9 +18,9 @@ pub mod error;
 pub mod options;
 pub mod replay;
 pub mod session;
-pub mod wind;
 #[cfg(test)]
 mod tests;
+pub mod wind;
 
 pub use error::Error;
 pub use session::Session;

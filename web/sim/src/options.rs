@@ -1,9 +1,9 @@
 //! What a new simulation is made from: the options JavaScript hands over as JSON ([`Options`]),
 //! turned into a recording header and its scene ([`Start`]).
 
-use grove_systems::replay::{decode_line, Header, Line, SessionFields, FORMAT_VERSION};
-use grove_systems::set_arg::{SetArg, SetArgs};
+use grove_systems::replay::{FORMAT_VERSION, Header, Line, SessionFields, decode_line};
 use grove_systems::scene::Scene;
+use grove_systems::set_arg::{SetArg, SetArgs};
 use serde::Deserialize;
 
 use crate::error::Error;
@@ -75,14 +75,22 @@ impl StageOptions {
     pub fn sim(&self) -> Result<grove_systems::Sim, Error> {
         let (min, max) = (glam::Vec3::from(self.min), glam::Vec3::from(self.max));
         let refuse = |m: String| Error::input("stage", m);
-        if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() || (max - min).max_element() > MAX_STAGE_SIZE || min.abs().max_element() > MAX_STAGE_SIZE {
-            return Err(refuse(format!("bounds {:?}..{:?} must be finite, ordered and within {MAX_STAGE_SIZE} m", self.min, self.max)));
+        if !(min.is_finite() && max.is_finite())
+            || min.cmpgt(max).any()
+            || (max - min).max_element() > MAX_STAGE_SIZE
+            || min.abs().max_element() > MAX_STAGE_SIZE
+        {
+            return Err(refuse(format!(
+                "bounds {:?}..{:?} must be finite, ordered and within {MAX_STAGE_SIZE} m",
+                self.min, self.max
+            )));
         }
         if !(self.aspect.is_finite() && (0.01..=100.0).contains(&self.aspect)) {
             return Err(refuse(format!("aspect {} must be between 0.01 and 100", self.aspect)));
         }
         let model = grove_systems::catalogue::ModelId(0);
-        let mut sim = grove_systems::stage::model_stage((min, max), self.aspect, false, model).map_err(|e| refuse(e.to_string()))?;
+        let mut sim = grove_systems::stage::model_stage((min, max), self.aspect, false, model)
+            .map_err(|e| refuse(e.to_string()))?;
         if self.wind {
             grove_systems::stage::in_study_wind(&mut sim).map_err(|e| refuse(e.to_string()))?;
         }
@@ -109,7 +117,8 @@ pub struct Start {
 pub fn scene(name: &str, text: Option<&str>) -> Result<Scene, Error> {
     let refuse = |message: String| Error::Scene { name: name.to_string(), message };
     let Some(text) = text else {
-        return Scene::builtin(name).ok_or_else(|| refuse("not a built-in scene (\"study\"); hand over its text as scene_text".into()));
+        return Scene::builtin(name)
+            .ok_or_else(|| refuse("not a built-in scene (\"study\"); hand over its text as scene_text".into()));
     };
     grove_systems::scene_text::self_contained(text).map_err(|e| refuse(e.to_string()))
 }
@@ -150,7 +159,10 @@ impl Options {
             Err(e) => return Err(Error::HeaderLine(e.to_string())),
         };
         if header.format_version != FORMAT_VERSION {
-            return Err(Error::HeaderLine(format!("format version {} (the recorder continues version {FORMAT_VERSION})", header.format_version)));
+            return Err(Error::HeaderLine(format!(
+                "format version {} (the recorder continues version {FORMAT_VERSION})",
+                header.format_version
+            )));
         }
         let scene = scene(&header.scene, self.scene_text.as_deref())?;
         Ok(Start { header, scene, given_header: true, technique: None })
@@ -169,7 +181,8 @@ impl Options {
             synthetic: self.synthetic,
             config: SetArgs::single_values(&set)?.into_iter().collect(),
         };
-        let header = fields.header(&name, self.seed.unwrap_or(scene.seed), scene.dt).map_err(|e| Error::input("options", e))?;
+        let header =
+            fields.header(&name, self.seed.unwrap_or(scene.seed), scene.dt).map_err(|e| Error::input("options", e))?;
         Ok(Start { header, scene, given_header: false, technique: self.technique })
     }
 }

@@ -2,7 +2,7 @@
 //! re-simulation as `grove replay`, and the same report (grove-systems' [`ReplayReport`], the
 //! fields of `grove replay --json`), less the wall-clock figures, which JavaScript measures.
 
-use grove_systems::replay::{decode_line, replay_reader, Line, ReplayOptions, ReplayReport};
+use grove_systems::replay::{Line, ReplayOptions, ReplayReport, decode_line, replay_reader};
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;

@@ -10,13 +10,13 @@ use std::collections::VecDeque;
 use std::io::Write;
 use std::rc::Rc;
 
+use grove_systems::Sim;
 use grove_systems::input::InputEvent;
 use grove_systems::limits::MAX_TICKS;
 use grove_systems::replay::codec::event_from_value;
 use grove_systems::replay::names::check_event;
-use grove_systems::replay::{sim_for_header_with_scene, Header, Recorder};
+use grove_systems::replay::{Header, Recorder, sim_for_header_with_scene};
 use grove_systems::snapshot::Snapshot;
-use grove_systems::Sim;
 use serde::Deserialize;
 
 use crate::error::Error;
@@ -111,13 +111,35 @@ impl Session {
     /// The model stage of `stage` ([`crate::options::StageOptions`]): no other option may be
     /// given, and nothing is recorded.
     fn stage(stage: &crate::options::StageOptions, rest: &Options) -> Result<(Session, Vec<String>), Error> {
-        let given = rest.scene.is_some() || rest.scene_text.is_some() || rest.seed.is_some() || !rest.set.is_empty() || rest.record || rest.header.is_some() || rest.task.is_some() || rest.participant.is_some() || rest.technique.is_some();
+        let given = rest.scene.is_some()
+            || rest.scene_text.is_some()
+            || rest.seed.is_some()
+            || !rest.set.is_empty()
+            || rest.record
+            || rest.header.is_some()
+            || rest.task.is_some()
+            || rest.participant.is_some()
+            || rest.technique.is_some();
         if given {
-            return Err(Error::input("options", "`stage` is given with another option: a stage is a scene of its own and records nothing"));
+            return Err(Error::input(
+                "options",
+                "`stage` is given with another option: a stage is a scene of its own and records nothing",
+            ));
         }
         let sim = stage.sim()?;
         let header = Header::new("model stage", 1, sim.dt());
-        Ok((Session { sim, header, tick: 0, pending: VecDeque::new(), sink: Sink::default(), recorder: None, finished: false }, Vec::new()))
+        Ok((
+            Session {
+                sim,
+                header,
+                tick: 0,
+                pending: VecDeque::new(),
+                sink: Sink::default(),
+                recorder: None,
+                finished: false,
+            },
+            Vec::new(),
+        ))
     }
 
     /// The recording's header (made here, or the one handed over).
@@ -145,7 +167,10 @@ impl Session {
         let (tick, ms, frame, event) = if is_line {
             let line: EventLineIn = serde_json::from_value(value).map_err(|e| Error::input("event line", e))?;
             if line.kind.as_deref().is_some_and(|k| k != "event") {
-                return Err(Error::input("event line", format!("type {:?} is not \"event\"", line.kind.unwrap_or_default())));
+                return Err(Error::input(
+                    "event line",
+                    format!("type {:?} is not \"event\"", line.kind.unwrap_or_default()),
+                ));
             }
             (line.tick, line.ms, line.frame, line.event)
         } else {
@@ -168,7 +193,10 @@ impl Session {
         if let Some(last) = self.pending.back()
             && tick < last.tick
         {
-            return Err(Error::OutOfOrder { tick, reason: format!("an event stamped tick {} was pushed before it", last.tick) });
+            return Err(Error::OutOfOrder {
+                tick,
+                reason: format!("an event stamped tick {} was pushed before it", last.tick),
+            });
         }
         if self.pending.len() >= MAX_PENDING {
             return Err(Error::Backlog(MAX_PENDING));
@@ -219,7 +247,10 @@ impl Session {
         self.sim.for_each_plane(|id, p| {
             let vertices: Vec<f32> = p.vertices.iter().flat_map(|v| v.to_array()).collect();
             let triangles: Vec<u32> = p.triangles.iter().flatten().copied().collect();
-            planes.push((id, serde_json::json!({ "id": id, "name": p.name, "vertices": vertices, "triangles": triangles })));
+            planes.push((
+                id,
+                serde_json::json!({ "id": id, "name": p.name, "vertices": vertices, "triangles": triangles }),
+            ));
         });
         planes.sort_by_key(|(id, _)| *id);
         planes.into_iter().map(|(_, v)| v).collect()
@@ -267,6 +298,11 @@ impl Session {
 
 impl std::fmt::Debug for Session {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Session").field("tick", &self.tick).field("pending", &self.pending.len()).field("recording", &self.recorder.is_some()).field("finished", &self.finished).finish()
+        f.debug_struct("Session")
+            .field("tick", &self.tick)
+            .field("pending", &self.pending.len())
+            .field("recording", &self.recorder.is_some())
+            .field("finished", &self.finished)
+            .finish()
     }
 }

@@ -2,7 +2,7 @@
 //! `web/sim/tests/`, against the native build).
 
 use grove_systems::hash::hex;
-use grove_systems::replay::{encode_line, replay_reader, Header, Line, ReplayOptions};
+use grove_systems::replay::{Header, Line, ReplayOptions, encode_line, replay_reader};
 use grove_systems::scene::Scene;
 
 use crate::error::Error;
@@ -33,7 +33,13 @@ fn script(session: &mut Session) -> Vec<String> {
         let t = 10 + 40 * k as u64;
         session.push(&format!(r#"{{"tick":{t},"event":{}}}"#, pose(x, z))).unwrap();
         session.push(&format!(r#"{{"tick":{},"event":{{"kind":"button_down","button":"trigger"}}}}"#, t + 5)).unwrap();
-        session.push(&format!(r#"{{"tick":{},"ms":{},"frame":9,"event":{{"kind":"button_up","button":"trigger"}}}}"#, t + 9, (t + 9) * 17)).unwrap();
+        session
+            .push(&format!(
+                r#"{{"tick":{},"ms":{},"frame":9,"event":{{"kind":"button_up","button":"trigger"}}}}"#,
+                t + 9,
+                (t + 9) * 17
+            ))
+            .unwrap();
     }
     while session.tick() < 130 {
         lines.extend(session.step().unwrap());
@@ -48,7 +54,9 @@ fn verify(lines: &[String]) -> grove_systems::replay::ReplayOutcome {
 
 #[test]
 fn a_recording_made_here_verifies_with_the_native_reader() {
-    let (mut session, mut lines) = Session::new(r#"{"scene":"study","seed":11,"record":true,"participant":"W01","set":["snap_threshold=0.2"]}"#).unwrap();
+    let (mut session, mut lines) =
+        Session::new(r#"{"scene":"study","seed":11,"record":true,"participant":"W01","set":["snap_threshold=0.2"]}"#)
+            .unwrap();
     assert_eq!(lines.len(), 1, "the header line");
     lines.extend(script(&mut session));
     let planted = session.snapshot().trees.len();
@@ -56,7 +64,11 @@ fn a_recording_made_here_verifies_with_the_native_reader() {
     assert!(lines.last().unwrap().starts_with(r#"{"type":"footer""#), "{:?}", lines.last());
     assert_eq!(lines.iter().filter(|l| l.contains(r#""type":"checkpoint""#)).count(), 2, "ticks 60 and 120");
     let outcome = verify(&lines);
-    assert!(outcome.complete && outcome.first_divergence.is_none() && outcome.checkpoints_checked == 3, "{:?}", outcome.first_divergence);
+    assert!(
+        outcome.complete && outcome.first_divergence.is_none() && outcome.checkpoints_checked == 3,
+        "{:?}",
+        outcome.first_divergence
+    );
     assert_eq!(hex(outcome.sim.hash().total), session.hash());
     assert_eq!(outcome.header.config.as_slice()[0].name, "snap_threshold");
     assert_eq!(outcome.sim.snapshot().trees.len(), planted);
@@ -157,7 +169,9 @@ fn scenes_are_built_in_or_handed_over_as_text() {
 #[test]
 fn the_c_abi_answers_errors_as_text_and_counts_handles() {
     use crate::abi::*;
-    let result = || unsafe { String::from_utf8_lossy(std::slice::from_raw_parts(grove_result_ptr(), grove_result_len())).into_owned() };
+    let result = || unsafe {
+        String::from_utf8_lossy(std::slice::from_raw_parts(grove_result_ptr(), grove_result_len())).into_owned()
+    };
     let bad = [0xffu8, 0xfe];
     assert_eq!(unsafe { grove_sim_new(bad.as_ptr(), bad.len()) }, -1);
     assert!(result().starts_with("options: invalid utf-8"), "{}", result());
@@ -190,7 +204,8 @@ fn the_ground_is_the_scene_planes_triangles_in_the_world() {
     // The terrace: 8 x 5 m in 0.5 m cells at 0.8 m, minus nothing: 16 x 10 cells, 2 triangles each.
     let terrace = &ground[1];
     assert_eq!(terrace["triangles"].as_array().unwrap().len(), 16 * 10 * 2 * 3);
-    let ys: Vec<f64> = terrace["vertices"].as_array().unwrap().iter().skip(1).step_by(3).map(|v| v.as_f64().unwrap()).collect();
+    let ys: Vec<f64> =
+        terrace["vertices"].as_array().unwrap().iter().skip(1).step_by(3).map(|v| v.as_f64().unwrap()).collect();
     assert!(ys.iter().all(|y| (y - 0.8).abs() <= 0.011), "{ys:?}");
     // The ground has its four holes: fewer triangles than 30 x 30 cells make.
     assert!(ground[0]["triangles"].as_array().unwrap().len() < 30 * 30 * 2 * 3);

@@ -4,7 +4,7 @@
 //! against it by a test.
 
 use glam::{Vec2, Vec3, Vec4};
-use grove_systems::wind_model::{displace, WindParams};
+use grove_systems::wind_model::{WindParams, displace};
 use serde::Deserialize;
 
 use crate::error::Error;

@@ -31,10 +31,22 @@ test('bad events and ticks are refused by name and change nothing', () => {
   const before = { hash: sim.hash(), tick: sim.tick, lines: lines.length, snapshot: sim.snapshot() };
   refused(() => sim.push({ kind: 'teleport' }), 'unknown variant `teleport`');
   refused(() => sim.push({ kind: 'touchpad_axes', axes: [0, 1.5] }), 'touchpad axes outside [-1, 1]');
-  refused(() => sim.push({ kind: 'controller_pose', pose: { position: [0, 1, 0], rotation: [0, 0, 0, 3] } }), 'not a unit quaternion');
-  refused(() => sim.push({ kind: 'controller_pose', pose: { position: [0, 1e9, 0], rotation: [0, 0, 0, 1] } }), 'more than 100 km');
-  refused(() => sim.push({ tick: 4, event: { kind: 'close_menu' } }), 'event stamped tick 4 is out of tick order: the simulation is at tick 10');
-  refused(() => sim.push({ tick: 100000000, event: { kind: 'close_menu' } }), 'tick 100000000 is beyond the limit of 100000000 ticks');
+  refused(
+    () => sim.push({ kind: 'controller_pose', pose: { position: [0, 1, 0], rotation: [0, 0, 0, 3] } }),
+    'not a unit quaternion',
+  );
+  refused(
+    () => sim.push({ kind: 'controller_pose', pose: { position: [0, 1e9, 0], rotation: [0, 0, 0, 1] } }),
+    'more than 100 km',
+  );
+  refused(
+    () => sim.push({ tick: 4, event: { kind: 'close_menu' } }),
+    'event stamped tick 4 is out of tick order: the simulation is at tick 10',
+  );
+  refused(
+    () => sim.push({ tick: 100000000, event: { kind: 'close_menu' } }),
+    'tick 100000000 is beyond the limit of 100000000 ticks',
+  );
   refused(() => sim.push({ kind: 'choose_model', model: 'palm' }), 'palm');
   refused(() => sim.push('{"kind": '), 'event:');
   sim.push({ tick: 30, event: { kind: 'close_menu' } });
@@ -86,7 +98,10 @@ test('every hostile recording is refused by the module replay, never a trap', ()
   refused(() => grove.replay(Buffer.from([0xff, 0xfe, 0x0a]), { file: 'binary.jsonl' }), 'binary.jsonl:1');
   // A tick beyond the limit, in a header-and-event file.
   const study = readFileSync(path.join(root, 'replays', 'study', 'P01-ray-casting-7.jsonl'), 'utf8').split('\n');
-  const far = grove.rechain([study[0], '{"type":"event","tick":100000001,"ms":0,"frame":0,"event":{"kind":"end_task"},"sum":"00000000"}']);
+  const far = grove.rechain([
+    study[0],
+    '{"type":"event","tick":100000001,"ms":0,"frame":0,"event":{"kind":"end_task"},"sum":"00000000"}',
+  ]);
   refused(() => grove.replay(far.join('\n') + '\n', { file: 'far.jsonl' }), 'far.jsonl:2');
   // The module replays a good file afterwards.
   const { report } = grove.replay(study.join('\n'), { file: 'P01' });

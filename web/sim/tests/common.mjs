@@ -42,7 +42,11 @@ export function native(args, options = {}) {
 
 /** Runs `node web/replay.mjs` with `args`. */
 export function nodeReplay(args) {
-  return spawnSync(process.execPath, [path.join(root, 'web', 'replay.mjs'), ...args], { cwd: root, encoding: 'utf8', env: { ...process.env, GROVE_WASM: wasm } });
+  return spawnSync(process.execPath, [path.join(root, 'web', 'replay.mjs'), ...args], {
+    cwd: root,
+    encoding: 'utf8',
+    env: { ...process.env, GROVE_WASM: wasm },
+  });
 }
 
 /** A temporary folder, removed when the process ends. */
@@ -103,7 +107,15 @@ export function lookRotation([dx, dy, dz]) {
  */
 export function scriptedTask(options = {}) {
   const lines = [];
-  const sim = grove.createSim({ scene: 'study', seed: 7, record: true, task: 'ray-casting-7', participant: 'W01', ...options, onLine: (l) => lines.push(l) });
+  const sim = grove.createSim({
+    scene: 'study',
+    seed: 7,
+    record: true,
+    task: 'ray-casting-7',
+    participant: 'W01',
+    ...options,
+    onLine: (l) => lines.push(l),
+  });
   const stepTo = (tick) => {
     while (sim.tick < tick) {
       sim.step();
@@ -117,7 +129,13 @@ export function scriptedTask(options = {}) {
     const [x, y, z] = target.position;
     const from = [x, y + 2.5, z + 2.0];
     sim.push({ tick: t, event: { kind: 'choose_model', model: target.model } });
-    sim.push({ tick: t + 1, event: { kind: 'controller_pose', pose: { position: from, rotation: lookRotation([x - from[0], y - from[1], z - from[2]]) } } });
+    sim.push({
+      tick: t + 1,
+      event: {
+        kind: 'controller_pose',
+        pose: { position: from, rotation: lookRotation([x - from[0], y - from[1], z - from[2]]) },
+      },
+    });
     sim.push({ tick: t + 20, event: { kind: 'button_down', button: 'trigger' } });
     sim.push({ tick: t + 26, event: { kind: 'button_up', button: 'trigger' } });
     t += 70;

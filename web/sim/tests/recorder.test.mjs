@@ -49,7 +49,11 @@ test('grove study evaluates a module recording exactly as the same events record
   const study = (replays) => {
     const out = native(['study', '--replays', replays, '--out', path.join(replays, 'out'), '--json']);
     assert.equal(out.status, 0, out.stderr);
-    return { json: JSON.parse(out.stdout), csv: readFileSync(path.join(replays, 'out', 'trial_results.csv'), 'utf8'), trees: readFileSync(path.join(replays, 'out', 'trees.csv'), 'utf8') };
+    return {
+      json: JSON.parse(out.stdout),
+      csv: readFileSync(path.join(replays, 'out', 'trial_results.csv'), 'utf8'),
+      trees: readFileSync(path.join(replays, 'out', 'trees.csv'), 'utf8'),
+    };
   };
   const [a, b] = [study(made), study(sealed)];
   assert.equal(a.csv, b.csv);
@@ -81,7 +85,10 @@ test('one event changed in a module recording, checksums redone, diverges native
   const report = JSON.parse(out.stdout);
   assert.equal(report.status, 'diverged');
   assert.equal(report.first_divergence.tick, 180);
-  assert.ok(report.first_divergence.differing.some((d) => d.component === 'Controller'), JSON.stringify(report.first_divergence));
+  assert.ok(
+    report.first_divergence.differing.some((d) => d.component === 'Controller'),
+    JSON.stringify(report.first_divergence),
+  );
   // Without the change the same file verifies: the divergence is the event's.
   write(file, grove.rechain(lines));
   assert.equal(native(['replay', file]).status, 0);

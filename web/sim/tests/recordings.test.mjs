@@ -23,7 +23,18 @@ function agreesWithNative(file) {
   const out = native(['replay', '--json', file]);
   assert.equal(out.status, 0, `${file}: ${out.stderr}`);
   const expected = JSON.parse(out.stdout);
-  for (const key of ['status', 'complete', 'checkpoints_checked', 'ticks', 'final_hash', 'events', 'participant', 'synthetic', 'task', 'first_divergence']) {
+  for (const key of [
+    'status',
+    'complete',
+    'checkpoints_checked',
+    'ticks',
+    'final_hash',
+    'events',
+    'participant',
+    'synthetic',
+    'task',
+    'first_divergence',
+  ]) {
     assert.deepEqual(report[key], expected[key], `${file}: ${key}`);
   }
   assert.equal(report.status, 'verified', file);
@@ -42,7 +53,10 @@ test('every recording in replays/study/ verifies in the module as natively', () 
 });
 
 test('the scenario and gaze-dwell recordings verify in the module as natively', () => {
-  for (const file of [...recordingsIn(path.join(root, 'replays', 'scenarios')), ...recordingsIn(path.join(root, 'techniques', 'gaze-dwell', 'replays'))]) {
+  for (const file of [
+    ...recordingsIn(path.join(root, 'replays', 'scenarios')),
+    ...recordingsIn(path.join(root, 'techniques', 'gaze-dwell', 'replays')),
+  ]) {
     agreesWithNative(file);
   }
 });
@@ -55,8 +69,13 @@ test('driven event by event through the Sim API, study recordings meet every che
       assert.equal(h.actual, h.expected, `${name} at tick ${h.tick}`);
     }
   }
-  const gaze = driveThrough(readFileSync(path.join(root, 'techniques', 'gaze-dwell', 'replays', 'P01-gaze-dwell.jsonl'), 'utf8'));
-  assert.deepEqual(gaze.map((h) => h.actual), gaze.map((h) => h.expected));
+  const gaze = driveThrough(
+    readFileSync(path.join(root, 'techniques', 'gaze-dwell', 'replays', 'P01-gaze-dwell.jsonl'), 'utf8'),
+  );
+  assert.deepEqual(
+    gaze.map((h) => h.actual),
+    gaze.map((h) => h.expected),
+  );
 });
 
 test('a synthetic study of ray-casting, manual and gaze-dwell made natively verifies in the module', (t) => {

@@ -24,7 +24,12 @@ test('a verified, a diverged and a bad recording: same lines and exit codes as g
   writeFileSync(diverged, grove.rechain(lines).join('\n') + '\n');
   const bad = path.join(dir, 'bad.jsonl');
   writeFileSync(bad, readFileSync(good, 'utf8').replace('"tick":3', '"tick":4'));
-  for (const [file, code] of [[good, 0], [diverged, 1], [bad, 2], [path.join(dir, 'missing.jsonl'), 2]]) {
+  for (const [file, code] of [
+    [good, 0],
+    [diverged, 1],
+    [bad, 2],
+    [path.join(dir, 'missing.jsonl'), 2],
+  ]) {
     for (const json of [false, true]) {
       const args = json ? [file, '--json'] : [file];
       const [a, b] = [native(['replay', ...args]), nodeReplay(args)];

@@ -34,8 +34,24 @@ function polygon(n, { x = 0, z = 0, y = 0.75, r = 0.6, cw = false } = {}) {
 const rooms = {
   'a floor alone': { source: 'plane detection (floor)', floor_y: -0.02, planes: [], task: 'ray-casting-7' },
   'no task, no planes field': { source: 'hit test', floor_y: 0 },
-  'a table and a shelf, either way round': { source: 'plane detection (floor)', floor_y: 0.01, task: 'manual-7', planes: [{ label: 'table', points: polygon(4, { x: 1, z: 2 }) }, { label: 'shelf', points: polygon(5, { x: -2, y: 1.4, cw: true }) }] },
-  'forty planes: the first sixteen in the band are kept': { source: 'plane detection', floor_y: 0, task: 'ray-casting-7', planes: Array.from({ length: 40 }, (_, i) => ({ label: i % 3 ? 'table' : null, points: polygon(3 + (i % 7), { x: i - 20, z: -i / 4, y: 0.1 + i * 0.06, cw: i % 2 === 0 }) })) },
+  'a table and a shelf, either way round': {
+    source: 'plane detection (floor)',
+    floor_y: 0.01,
+    task: 'manual-7',
+    planes: [
+      { label: 'table', points: polygon(4, { x: 1, z: 2 }) },
+      { label: 'shelf', points: polygon(5, { x: -2, y: 1.4, cw: true }) },
+    ],
+  },
+  'forty planes: the first sixteen in the band are kept': {
+    source: 'plane detection',
+    floor_y: 0,
+    task: 'ray-casting-7',
+    planes: Array.from({ length: 40 }, (_, i) => ({
+      label: i % 3 ? 'table' : null,
+      points: polygon(3 + (i % 7), { x: i - 20, z: -i / 4, y: 0.1 + i * 0.06, cw: i % 2 === 0 }),
+    })),
+  },
   'planes at the band and the outline limits': {
     source: 'plane detection',
     floor_y: 0,
@@ -48,16 +64,39 @@ const rooms = {
       { label: 'too_many_points', points: polygon(129, { y: 1 }) },
       { label: 'two_points', points: polygon(2, { y: 1 }) },
       { label: 'far', points: polygon(4, { x: 999990, z: -999990, y: 1 }) },
-      { label: 'degenerate', points: [{ x: 0, y: 1, z: 0 }, { x: 1, y: 1, z: 0 }, { x: 2, y: 1, z: 0 }] },
+      {
+        label: 'degenerate',
+        points: [
+          { x: 0, y: 1, z: 0 },
+          { x: 1, y: 1, z: 0 },
+          { x: 2, y: 1, z: 0 },
+        ],
+      },
     ],
   },
-  'sixteen of the largest outlines': { source: 'plane detection', floor_y: 0, task: 'manual-7', planes: Array.from({ length: 16 }, (_, i) => ({ label: 'Wall-Top "\n', points: polygon(128, { x: -123.4567 + i, y: 0.5 + i * 0.1, r: 33.3333 }) })) },
-  'a source with line breaks and quotes': { source: 'plane detection\nScene(name: "x"\u0007', floor_y: 1e-9, planes: [{ points: polygon(3) }] },
+  'sixteen of the largest outlines': {
+    source: 'plane detection',
+    floor_y: 0,
+    task: 'manual-7',
+    planes: Array.from({ length: 16 }, (_, i) => ({
+      label: 'Wall-Top "\n',
+      points: polygon(128, { x: -123.4567 + i, y: 0.5 + i * 0.1, r: 33.3333 }),
+    })),
+  },
+  'a source with line breaks and quotes': {
+    source: 'plane detection\nScene(name: "x"\u0007',
+    floor_y: 1e-9,
+    planes: [{ points: polygon(3) }],
+  },
 };
 
 /** What the page cannot make a room of: the module refuses these. */
 const unbuildable = {
-  'a plane beyond the coordinate limit': { source: 'x', floor_y: 0, planes: [{ points: polygon(4, { x: 2e6, y: 1 }) }] },
+  'a plane beyond the coordinate limit': {
+    source: 'x',
+    floor_y: 0,
+    planes: [{ points: polygon(4, { x: 2e6, y: 1 }) }],
+  },
   'an unknown task': { source: 'x', floor_y: 0, task: 'knitting-7' },
   'no floor height': { source: 'x' },
   'points without a height': { source: 'x', floor_y: 0, planes: [{ points: [{ x: 0, z: 0 }] }] },
@@ -78,8 +117,14 @@ const texts = {
     return t + `// ${'"'.repeat((1 << 20) - Buffer.byteLength(t) - 3)}\n`;
   })(),
   'a room naming model banks': floorRoom().replace('name: "room",', 'name: "room", banks: ["../bank"],'),
-  'a room with aerial photographs': floorRoom().replace('name: "room",', 'name: "room", aerial: Some((summer: "s.png", winter: "w.png", gsd_m: 0.5, origin: (0.0, 0.0))),'),
-  'a room with aerial crowns': floorRoom().replace('name: "room",', 'name: "room", aerial: Some((summer: "s.png", winter: "w.png", gsd_m: 0.5, origin: (0.0, 0.0), crowns: Some("c.csv"))),'),
+  'a room with aerial photographs': floorRoom().replace(
+    'name: "room",',
+    'name: "room", aerial: Some((summer: "s.png", winter: "w.png", gsd_m: 0.5, origin: (0.0, 0.0))),',
+  ),
+  'a room with aerial crowns': floorRoom().replace(
+    'name: "room",',
+    'name: "room", aerial: Some((summer: "s.png", winter: "w.png", gsd_m: 0.5, origin: (0.0, 0.0), crowns: Some("c.csv"))),',
+  ),
   'a control character': floorRoom().replace('name: "room"', 'name: "ro\u0001om"'),
   'not a scene': 'Scene(name: "x"',
   'no plane': floorRoom().replace(/planes: \[[\s\S]*?\n    \],/, 'planes: [],'),
@@ -100,7 +145,11 @@ function moduleTakes(text) {
 
 /** Whether grove serve takes a scene text with a session's open request (and its refusal's status). */
 async function serverTakes(text) {
-  const r = await fetch(new URL('/api/sessions', server.url), { method: 'POST', headers: { 'grove-writer': 'page' }, body: JSON.stringify({ participant: 'R01', task: 'ray-casting-7', scene_text: text }) });
+  const r = await fetch(new URL('/api/sessions', server.url), {
+    method: 'POST',
+    headers: { 'grove-writer': 'page' },
+    body: JSON.stringify({ participant: 'R01', task: 'ray-casting-7', scene_text: text }),
+  });
   const body = await r.json();
   assert.ok(r.status === 201 || r.status === 400 || r.status === 413, `${r.status} ${JSON.stringify(body)}`);
   return r.status === 201;
@@ -123,7 +172,11 @@ test('every room the module builds is taken by the module and by grove serve', a
 
 test('what no room can be made of is refused by the module with its reason', () => {
   for (const [name, room] of Object.entries(unbuildable)) {
-    assert.throws(() => grove.roomScene(room), (e) => e.name === 'GroveError' && /^room: /.test(e.message), name);
+    assert.throws(
+      () => grove.roomScene(room),
+      (e) => e.name === 'GroveError' && /^room: /.test(e.message),
+      name,
+    );
   }
 });
 

@@ -17,12 +17,17 @@ test('every scenario driven through the module reaches its pinned hash', (t) => 
   assert.ok(existsSync(bin), `${bin} is missing: cargo test (or cargo build -p grove-systems --examples) builds it`);
   const run = spawnSync(bin, [dir], { cwd: root, encoding: 'utf8' });
   assert.equal(run.status, 0, run.stderr);
-  const made = run.stdout.trim().split('\n').map((l) => JSON.parse(l));
+  const made = run.stdout
+    .trim()
+    .split('\n')
+    .map((l) => JSON.parse(l));
   const files = readdirSync(path.join(root, 'tests', 'scenarios')).filter((f) => f.endsWith('.ron'));
   assert.equal(made.length, files.length);
   assert.ok(made.length >= 5);
   for (const { scenario, recording } of made) {
-    const pinned = [...readFileSync(path.join(root, scenario), 'utf8').matchAll(/Hash\("([0-9a-f]{16})"\)/g)].map((m) => m[1]);
+    const pinned = [...readFileSync(path.join(root, scenario), 'utf8').matchAll(/Hash\("([0-9a-f]{16})"\)/g)].map(
+      (m) => m[1],
+    );
     assert.equal(pinned.length, 1, `${scenario} pins one hash at its end`);
     const lines = readFileSync(recording, 'utf8').trimEnd().split('\n');
     const footer = JSON.parse(lines.at(-1));

@@ -4,7 +4,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use super::{Atlas, CELL, GRID, MIP_LEVELS};
-use crate::render::gpu::{depth_test, uniform_entry, PipelineSpec, Shared};
+use crate::render::gpu::{PipelineSpec, Shared, depth_test, uniform_entry};
 use crate::render::trees::model::GpuModel;
 
 /// The albedo atlas's format (coverage in alpha).
@@ -16,7 +16,6 @@ pub const ALBEDO_VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Un
 
 /// The normal atlas's format (model-space normal encoded as `n / 2 + 1/2`, depth in alpha).
 pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-
 
 const BAKE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -54,7 +53,8 @@ impl Baker {
             label: Some("impostor bake params layout"),
             entries: &[uniform_entry(0)],
         });
-        let layout = shared.layout("impostor bake layout", &[Some(&params_layout), None, Some(&shared.material_layout)]);
+        let layout =
+            shared.layout("impostor bake layout", &[Some(&params_layout), None, Some(&shared.material_layout)]);
         const V: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x4, 14 => Unorm8x4];
         let buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<crate::models::Vertex>() as u64,
@@ -71,7 +71,10 @@ impl Baker {
             buffers: &buffers,
             topology: wgpu::PrimitiveTopology::TriangleList,
             cull: None,
-            depth: wgpu::DepthStencilState { format: BAKE_DEPTH_FORMAT, ..depth_test(true, wgpu::CompareFunction::Less) },
+            depth: wgpu::DepthStencilState {
+                format: BAKE_DEPTH_FORMAT,
+                ..depth_test(true, wgpu::CompareFunction::Less)
+            },
             targets: &[target(ALBEDO_FORMAT), target(NORMAL_FORMAT)],
             constants: &[],
         });
@@ -89,7 +92,10 @@ impl Baker {
     /// New, empty albedo and normal atlases for `model`, every mip level.
     fn textures(shared: &Shared, model: &GpuModel) -> (wgpu::Texture, wgpu::Texture) {
         let size = wgpu::Extent3d { width: GRID * CELL, height: GRID * CELL, depth_or_array_layers: 1 };
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST;
         let texture = |label: &str, format| {
             shared.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -102,12 +108,21 @@ impl Baker {
                 view_formats: if format == ALBEDO_FORMAT { &[ALBEDO_VIEW_FORMAT] } else { &[] },
             })
         };
-        (texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT), texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT))
+        (
+            texture(&format!("{} impostor albedo", model.name), ALBEDO_FORMAT),
+            texture(&format!("{} impostor normal", model.name), NORMAL_FORMAT),
+        )
     }
 
     /// The atlases of `model` from texels read from the cache ([`super::cache::decode`]):
     /// albedo levels, then normal levels.
-    pub fn from_levels(&self, shared: &Shared, model: &GpuModel, positions: &[Vec3], levels: &[Vec<u8>]) -> Option<Atlas> {
+    pub fn from_levels(
+        &self,
+        shared: &Shared,
+        model: &GpuModel,
+        positions: &[Vec3],
+        levels: &[Vec<u8>],
+    ) -> Option<Atlas> {
         let (centre, radius) = Self::sphere(model)?;
         let (albedo, normal) = Self::textures(shared, model);
         super::cache::upload(&shared.queue, [&albedo, &normal], levels);
@@ -142,10 +157,15 @@ impl Baker {
             layout: &self.params_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: buffer.as_entire_binding() }],
         });
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor bake encoder") });
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor bake encoder") });
         for level in 0..MIP_LEVELS {
             let views = [&albedo, &normal, &depth].map(|t| {
-                t.create_view(&wgpu::TextureViewDescriptor { base_mip_level: level, mip_level_count: Some(1), ..Default::default() })
+                t.create_view(&wgpu::TextureViewDescriptor {
+                    base_mip_level: level,
+                    mip_level_count: Some(1),
+                    ..Default::default()
+                })
             });
             let attach = |view, clear| {
                 Some(wgpu::RenderPassColorAttachment {

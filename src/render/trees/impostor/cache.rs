@@ -120,7 +120,11 @@ pub fn model_key(data: &ModelData, shader: &str) -> u64 {
 
 /// The cache file of the model `name` with `key` in the folder `dir`.
 pub fn file_path(dir: &Path, name: &str, key: u64) -> PathBuf {
-    let safe: String = name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).take(64).collect();
+    let safe: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .take(64)
+        .collect();
     dir.join("impostors").join(format!("{safe}-{key:016x}.atlas"))
 }
 
@@ -164,7 +168,10 @@ pub fn decode(bytes: &[u8], key: u64) -> Result<Vec<Vec<u8>>, AtlasError> {
     }
     let u32_at = |i: usize| u32::from_le_bytes(bytes[i..i + 4].try_into().unwrap_or_default());
     let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap_or_default());
-    if u32_at(8) != BAKE_VERSION || u64_at(12) != key || [u32_at(20), u32_at(24), u32_at(28)] != [GRID, CELL, MIP_LEVELS] {
+    if u32_at(8) != BAKE_VERSION
+        || u64_at(12) != key
+        || [u32_at(20), u32_at(24), u32_at(28)] != [GRID, CELL, MIP_LEVELS]
+    {
         return Err(AtlasError::OtherBake);
     }
     let end = HEADER + body;
@@ -184,8 +191,13 @@ pub fn decode(bytes: &[u8], key: u64) -> Result<Vec<Vec<u8>>, AtlasError> {
 }
 
 /// Reads every mip level of `textures` back from the GPU (waiting for it), in order.
-pub fn read_back(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::Texture; 2]) -> Result<Vec<Vec<u8>>, AtlasError> {
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor read-back") });
+pub fn read_back(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    textures: [&wgpu::Texture; 2],
+) -> Result<Vec<Vec<u8>>, AtlasError> {
+    let mut encoder =
+        device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("impostor read-back") });
     let mut buffers = Vec::new();
     for t in textures {
         for level in 0..MIP_LEVELS {
@@ -199,8 +211,20 @@ pub fn read_back(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::T
                 mapped_at_creation: false,
             });
             encoder.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo { texture: t, mip_level: level, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
-                wgpu::TexelCopyBufferInfo { buffer: &buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(side) } },
+                wgpu::TexelCopyTextureInfo {
+                    texture: t,
+                    mip_level: level,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(side),
+                    },
+                },
                 wgpu::Extent3d { width: side, height: side, depth_or_array_layers: 1 },
             );
             buffers.push((buffer, row, side));
@@ -227,7 +251,13 @@ pub fn read_back(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::T
 }
 
 /// Writes the levels of `textures` into the cache file `path` (through a temporary file).
-pub fn store(device: &wgpu::Device, queue: &wgpu::Queue, textures: [&wgpu::Texture; 2], path: &Path, key: u64) -> Result<(), AtlasError> {
+pub fn store(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    textures: [&wgpu::Texture; 2],
+    path: &Path,
+    key: u64,
+) -> Result<(), AtlasError> {
     let levels = read_back(device, queue, textures)?;
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(|error| AtlasError::CreateDir { dir: dir.to_path_buf(), error })?;
@@ -242,7 +272,12 @@ pub fn upload(queue: &wgpu::Queue, textures: [&wgpu::Texture; 2], levels: &[Vec<
             let side = level_side(level);
             let Some(texels) = levels.get(i * MIP_LEVELS as usize + level as usize) else { continue };
             queue.write_texture(
-                wgpu::TexelCopyTextureInfo { texture: t, mip_level: level, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+                wgpu::TexelCopyTextureInfo {
+                    texture: t,
+                    mip_level: level,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
                 texels,
                 wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(side * 4), rows_per_image: Some(side) },
                 wgpu::Extent3d { width: side, height: side, depth_or_array_layers: 1 },

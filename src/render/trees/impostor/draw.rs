@@ -3,9 +3,12 @@
 use crate::render::error::RenderError;
 use wgpu::util::DeviceExt;
 
-use super::bake::Baker;
 use super::Atlas;
-use crate::render::gpu::{color_target, depth_test, sampler_entry, texture_entry, uniform_entry, PipelineCache, PipelineKey, PipelineSpec, Shared, ViewKind, SHADOW_FORMAT};
+use super::bake::Baker;
+use crate::render::gpu::{
+    PipelineCache, PipelineKey, PipelineSpec, SHADOW_FORMAT, Shared, ViewKind, color_target, depth_test, sampler_entry,
+    texture_entry, uniform_entry,
+};
 use crate::render::trees::instances::Instance;
 
 /// The per-model uniforms of the impostor shader (matches `ImpostorParams` in impostor.wgsl).
@@ -22,7 +25,6 @@ struct ImpostorParams {
 
 // The uniform holds one rectangle per view.
 const _: () = assert!(super::GRID * super::GRID == 64);
-
 
 /// The impostor pipelines of one key: for the main view a depth pre-pass (alpha-tested) and
 /// the shading at equal depth; for the sun's, the pre-pass alone into the shadow map.
@@ -53,7 +55,12 @@ impl ImpostorGpu {
         let d2 = wgpu::TextureViewDimension::D2;
         let atlas_layout = shared.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("impostor atlas layout"),
-            entries: &[uniform_entry(0), texture_entry(1, d2, float_tex), texture_entry(2, d2, float_tex), sampler_entry(3, wgpu::SamplerBindingType::Filtering)],
+            entries: &[
+                uniform_entry(0),
+                texture_entry(1, d2, float_tex),
+                texture_entry(2, d2, float_tex),
+                sampler_entry(3, wgpu::SamplerBindingType::Filtering),
+            ],
         });
         let sampler = shared.device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("impostor sampler"),
@@ -67,8 +74,12 @@ impl ImpostorGpu {
         ImpostorGpu {
             baker: Baker::new(shared),
             module: shared.shader("impostor.wgsl", include_str!("impostor.wgsl")),
-            lit_layout: shared.layout("impostor lit layout", &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&atlas_layout)]),
-            shadow_layout: shared.layout("impostor shadow layout", &[Some(&shared.view_layout), None, Some(&atlas_layout)]),
+            lit_layout: shared.layout(
+                "impostor lit layout",
+                &[Some(&shared.view_layout), Some(&shared.lighting_layout), Some(&atlas_layout)],
+            ),
+            shadow_layout: shared
+                .layout("impostor shadow layout", &[Some(&shared.view_layout), None, Some(&atlas_layout)]),
             atlas_layout,
             sampler,
             pipelines: PipelineCache::new("impostors"),
@@ -89,7 +100,10 @@ impl ImpostorGpu {
         });
         // The albedo is read through a linear view of its sRGB texels and decoded in the
         // shader (impostor.wgsl `srgb_to_linear`): lavapipe filters those faster.
-        let albedo = atlas.albedo.create_view(&wgpu::TextureViewDescriptor { format: Some(super::bake::ALBEDO_VIEW_FORMAT), ..Default::default() });
+        let albedo = atlas.albedo.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(super::bake::ALBEDO_VIEW_FORMAT),
+            ..Default::default()
+        });
         let normal = atlas.normal.create_view(&Default::default());
         atlas.bind_group = Some(shared.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("impostor atlas bind group"),
@@ -115,10 +129,20 @@ fn instance_layout() -> [Option<wgpu::VertexBufferLayout<'static>>; 1] {
     const I: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
         5 => Float32x3, 6 => Float32, 7 => Float32, 8 => Float32x2, 9 => Float32, 10 => Float32, 11 => Float32, 13 => Float32
     ];
-    [Some(wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<Instance>() as u64, step_mode: wgpu::VertexStepMode::Instance, attributes: &I })]
+    [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Instance>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &I,
+    })]
 }
 
-fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayout, shadow: &wgpu::PipelineLayout, key: PipelineKey) -> ImpostorPipeline {
+fn build(
+    shared: &Shared,
+    module: &wgpu::ShaderModule,
+    lit: &wgpu::PipelineLayout,
+    shadow: &wgpu::PipelineLayout,
+    key: PipelineKey,
+) -> ImpostorPipeline {
     let buffers = instance_layout();
     let [shadows] = key.lit_constants();
     let sun = matches!(key.view, ViewKind::Sun);
@@ -148,8 +172,18 @@ fn build(shared: &Shared, module: &wgpu::ShaderModule, lit: &wgpu::PipelineLayou
         ImpostorPipeline { depth: spec(shadow, ("vs_impostor_depth", "fs_impostor_shadow"), depth, &[]), shade: None }
     } else {
         ImpostorPipeline {
-            depth: spec(lit, ("vs_impostor_depth", "fs_impostor_depth"), depth_test(true, wgpu::CompareFunction::Less), &color_target(key.format, wgpu::ColorWrites::empty())),
-            shade: Some(spec(lit, ("vs_impostor", "fs_impostor"), depth_test(false, wgpu::CompareFunction::Equal), &color_target(key.format, wgpu::ColorWrites::ALL))),
+            depth: spec(
+                lit,
+                ("vs_impostor_depth", "fs_impostor_depth"),
+                depth_test(true, wgpu::CompareFunction::Less),
+                &color_target(key.format, wgpu::ColorWrites::empty()),
+            ),
+            shade: Some(spec(
+                lit,
+                ("vs_impostor", "fs_impostor"),
+                depth_test(false, wgpu::CompareFunction::Equal),
+                &color_target(key.format, wgpu::ColorWrites::ALL),
+            )),
         }
     }
 }

@@ -56,7 +56,6 @@ pub const MIP_LEVELS: u32 = 5;
 /// threshold (pixels on screen) and fully an impostor below the threshold.
 pub const BAND: f32 = 1.25;
 
-
 /// A direction with `y >= 0` to the square `[-1, 1]²` (the CPU twin of `hemi_oct_encode`).
 pub fn hemi_oct_encode(d: Vec3) -> Vec2 {
     let a = d / (d.x.abs() + d.y.abs() + d.z.abs()).max(1e-6);
@@ -191,7 +190,8 @@ mod tests {
     fn view_rects_hold_the_model_and_little_else() {
         // A thin vertical pole 10 m tall: from the side its view is a narrow, tall strip; from
         // near the zenith a small square about the centre.
-        let pts: Vec<Vec3> = (0..=10).flat_map(|h| [Vec3::new(-0.1, h as f32, 0.0), Vec3::new(0.1, h as f32, 0.0)]).collect();
+        let pts: Vec<Vec3> =
+            (0..=10).flat_map(|h| [Vec3::new(-0.1, h as f32, 0.0), Vec3::new(0.1, h as f32, 0.0)]).collect();
         let centre = Vec3::new(0.0, 5.0, 0.0);
         let radius = (0.1f32 * 0.1 + 25.0).sqrt();
         let rects = view_rects(&pts, centre, radius);
