@@ -33,7 +33,7 @@ pub mod limits;
 pub mod lookup;
 mod message_error;
 pub mod mode;
-mod plane_geometry;
+pub mod plane_geometry;
 pub mod plane_grid;
 pub mod replay;
 pub mod resource_hash;

@@ -1,6 +1,6 @@
 //! The vertices and triangles of a scene's plane shapes (`scene::PlaneShape`): a mesh as written,
 //! a grid raised by Perlin noise with the triangles in its holes left out, or cut exactly at the
-//! holes' rims. Used by the simulation's ground and by the renderer's banks, through `scene`.
+//! holes' rims. Used by the simulation's ground (`sim.rs`) and by the renderer's banks.
 
 use glam::{Vec2, Vec3};
 use noise::{NoiseFn, Perlin};
@@ -8,7 +8,7 @@ use noise::{NoiseFn, Perlin};
 use crate::scene::PlaneShape;
 
 /// Builds the vertices and triangles of a plane shape, with its holes cut exactly where
-/// `exact_holes` ([`Scene::exact_holes`]).
+/// `exact_holes` ([`crate::scene::Scene::exact_holes`]).
 pub fn plane_geometry_cut(shape: &PlaneShape, exact_holes: bool) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let (mut vertices, mut triangles) = plane_geometry(shape);
     if let (true, PlaneShape::Grid { min, size, cell, elevation, unevenness, noise_seed, holes }) = (exact_holes, shape)

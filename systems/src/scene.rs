@@ -12,7 +12,6 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::limits::InvalidScene;
 use crate::limits::{self, MAX_COORD, RAISE};
-pub use crate::plane_geometry::{plane_geometry, plane_geometry_cut};
 
 /// Scenes that ship with grove, embedded at compile time: `(name, RON text)`. A replay header
 /// may name one of these instead of a path.

@@ -75,7 +75,7 @@ impl Sim {
         let mut res = Resources::new(scene.dt, seed, catalogue);
 
         for p in &scene.planes {
-            let (vertices, triangles) = crate::scene::plane_geometry_cut(&p.shape, scene.exact_holes);
+            let (vertices, triangles) = crate::plane_geometry::plane_geometry_cut(&p.shape, scene.exact_holes);
             let plane = Plane { name: p.name.clone(), vertices, triangles };
             let hash = plane_hash(&plane);
             res.plane_hashes.push((world.spawn((plane,)), hash));

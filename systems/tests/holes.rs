@@ -1,7 +1,8 @@
 //! The hole mask of `holes.rs` against its definition: every grid triangle tested against every
 //! hole.
 use glam::Vec2;
-use grove_systems::scene::{Hole, PlaneShape, plane_geometry};
+use grove_systems::plane_geometry::plane_geometry;
+use grove_systems::scene::{Hole, PlaneShape};
 
 /// Every triangle tested against every hole: the definition the mask must match. Returns
 /// the number of triangles kept.
@@ -95,7 +96,7 @@ fn rim_offsets(vertices: &[glam::Vec3], triangles: &[[u32; 3]], holes: &[Hole], 
 /// follows the grid's triangles, up to most of a cell off the circle at the diagonals' spikes.
 #[test]
 fn exact_holes_put_the_rim_on_the_circle() {
-    use grove_systems::scene::plane_geometry_cut;
+    use grove_systems::plane_geometry::plane_geometry_cut;
     let (min, size) = (Vec2::new(-20.0, -15.0), Vec2::new(40.0, 30.0));
     let holes =
         vec![Hole { center: Vec2::new(-4.0, 2.0), radius: 2.5 }, Hole { center: Vec2::new(9.3, -4.1), radius: 4.2 }];

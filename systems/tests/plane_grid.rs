@@ -11,8 +11,9 @@ use glam::{Vec2, Vec3};
 use grove_systems::Sim;
 use grove_systems::components::Plane;
 use grove_systems::holes::Hole;
+use grove_systems::plane_geometry::plane_geometry;
 use grove_systems::plane_grid::PlaneMesh;
-use grove_systems::scene::{PlaneShape, Scene, plane_geometry};
+use grove_systems::scene::{PlaneShape, Scene};
 use parry3d::query::{Ray, RayIntersection};
 
 /// A splitmix64 step, mapped to [0, 1).

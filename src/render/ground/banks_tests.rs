@@ -1,6 +1,7 @@
 use super::*;
 use crate::render::ground::landscape::KIND_FLOOR;
-use grove_systems::scene::{Hole, PlaneShape, plane_geometry};
+use grove_systems::plane_geometry::plane_geometry;
+use grove_systems::scene::{Hole, PlaneShape};
 
 /// A vertex's position.
 fn pos(v: &[f32; 8]) -> Vec3 {
