@@ -326,7 +326,7 @@ fn grow(canvas: &mut Canvas, p: &Preset, twigs: &[Twig], o: Vec2, s: f32, n: usi
 fn comb(canvas: &mut Canvas, p: &Preset, twigs: &[Twig], o: Vec2, s: f32, n: usize, len: f32, rng: &mut Rng) -> usize {
     let (lo, hi) = (o + Vec2::splat(MARGIN), o + Vec2::splat(s - MARGIN));
     let pairs = p.leaf_shape == LeafShape::NeedlePairs;
-    let width = (len * p.leaf_scale_x).max(2.5);
+    let width = (len * p.leaf_scale_x).max(MIN_NEEDLE_WIDTH);
     // A pair's two needles part by about a tenth of their length at the tips.
     let spread = if pairs { 2.0 * len * PAIR_HALF_ANGLE.sin() } else { 0.0 };
     let mut placed = 0;
@@ -371,7 +371,12 @@ fn comb(canvas: &mut Canvas, p: &Preset, twigs: &[Twig], o: Vec2, s: f32, n: usi
 }
 
 /// Half the angle between a pine's two needles.
-const PAIR_HALF_ANGLE: f32 = 0.03;
+const PAIR_HALF_ANGLE: f32 = 0.015;
+
+/// The narrowest needle, texels: four texels with one between neighbours keep a comb about
+/// three quarters opaque, so that its mips (whose alpha the renderer raises by 15 % a level)
+/// stay above the cutoff and a far conifer keeps its foliage.
+const MIN_NEEDLE_WIDTH: f32 = 4.0;
 
 /// The longest leaf, texels, tried for a sprig or spray of `n` broad leaves in a cell of side
 /// `s`: their blades would cover about a third of the cell.
