@@ -55,6 +55,19 @@ pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
     via_temp(path, |tmp| std::fs::write(tmp, bytes).map_err(|source| WriteError { path: path.to_path_buf(), source }))
 }
 
+/// Writes bytes to `path` through a temporary file and a rename, the file readable and writable
+/// by its owner only (a private key, the server's token).
+pub fn write_private(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
+    via_temp(path, |tmp| {
+        let mut o = std::fs::OpenOptions::new();
+        o.write(true).create_new(true);
+        #[cfg(unix)]
+        std::os::unix::fs::OpenOptionsExt::mode(&mut o, 0o600);
+        let written = o.open(tmp).and_then(|mut f| std::io::Write::write_all(&mut f, bytes));
+        written.map_err(|source| WriteError { path: path.to_path_buf(), source })
+    })
+}
+
 /// [`write_bytes`] for a caller that returns `anyhow::Result`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     Ok(write_bytes(path, bytes)?)

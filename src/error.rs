@@ -13,6 +13,7 @@ use crate::render::trees::impostor::cache::AtlasError;
 use crate::render::overlay::controller::ControllerError;
 use crate::models::GltfError;
 use crate::render::{ClipmapError, PipelineError, RenderError};
+use crate::serve::ServeError;
 use crate::species::SpeciesError;
 use crate::study::{ShardError, StudyError, SynthError};
 use crate::atomic_write::WriteError;
@@ -89,6 +90,9 @@ pub enum Error {
     /// [`BenchError`].
     #[error(transparent)]
     Bench(#[from] BenchError),
+    /// [`ServeError`].
+    #[error(transparent)]
+    Serve(#[from] ServeError),
 }
 
 #[cfg(test)]
@@ -119,5 +123,11 @@ mod tests {
             Ok(crate::study::shard::Partial::decode(bytes, "p.part")?)
         }
         assert!(matches!(part(b"x").unwrap_err(), Error::Shard(crate::study::ShardError::NotAPartial(_))));
+        fn endpoint(url: &str) -> Result<crate::serve::client::conn::Endpoint, Error> {
+            Ok(crate::serve::client::conn::Endpoint::parse(url, None).map_err(crate::serve::ServeError::from)?)
+        }
+        let e = endpoint("ftp://lab/").err().expect("refused");
+        assert!(matches!(e, Error::Serve(crate::serve::ServeError::Client(_))), "{e:?}");
+        assert_eq!(e.to_string(), "--to \"ftp://lab/\": the URL must start with http:// or https://");
     }
 }

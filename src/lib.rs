@@ -10,6 +10,7 @@ pub mod assetgen;
 pub mod atomic_write;
 pub mod bank;
 pub mod bench;
+pub mod csv_cells;
 pub mod cubemap;
 pub mod error;
 pub mod html;

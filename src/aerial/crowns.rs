@@ -168,7 +168,7 @@ pub fn check_finite(crowns: &[Crown]) -> Result<(), AerialError> {
 pub fn write_csv(path: &Path, crowns: &[Crown]) -> Result<(), AerialError> {
     check_finite(crowns).map_err(|e| e.named(path.display()))?;
     super::raster::write_atomic(path, |w| {
-        let mut csv = csv::Writer::from_writer(w);
+        let mut csv = crate::csv_cells::Writer::from_writer(w);
         for c in crowns {
             csv.serialize(c).map_err(|e| AerialError::Csv(e).named(path.display()))?;
         }

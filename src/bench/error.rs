@@ -36,6 +36,9 @@ pub enum BenchError {
         /// Why.
         source: std::io::Error,
     },
+    /// A server benchmark's server or client failed.
+    #[error("serve: {0}")]
+    Serve(String),
     /// A figure could not be written as JSON.
     #[error("cannot write JSON: {0}")]
     Json(#[from] serde_json::Error),

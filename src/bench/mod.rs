@@ -12,6 +12,7 @@ pub mod park;
 pub mod raycast;
 pub mod render;
 pub mod replay;
+pub mod serve_idle;
 pub mod suites;
 pub mod video;
 pub mod water;

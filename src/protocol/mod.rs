@@ -4,11 +4,13 @@
 //!
 //! - [`format`]: the file's types; [`check`]: its rules, each failure naming its place;
 //! - [`shipped`]: the System Usability Scale and raw NASA-TLX; [`score`]: their scoring;
-//! - [`answer`]: whether an answer fits its item;
+//! - [`answer`]: what an item takes and whether an answer fits it; [`form`]: an instrument as the
+//!   pages show it, what each item takes worked out;
 //! - [`Loaded`]: a checked protocol, and the steps a participant goes through ([`Loaded::steps`]).
 
 pub mod answer;
 pub mod check;
+pub mod form;
 pub mod format;
 pub mod latin;
 pub mod score;

@@ -6,8 +6,6 @@
 use std::fs::{File, OpenOptions};
 use std::path::{Path, PathBuf};
 
-use super::ServeError;
-
 /// The longest participant id, characters.
 pub const MAX_PARTICIPANT: usize = 32;
 
@@ -21,6 +19,22 @@ pub struct BadId {
     pub value: String,
     /// Why.
     pub why: &'static str,
+}
+
+/// Why a name could not be made: no random bytes, or no file for a session.
+#[derive(Debug, thiserror::Error)]
+pub enum IdError {
+    /// The operating system gave no random bytes.
+    #[error("cannot draw random bytes from the operating system: {0}")]
+    Random(String),
+    /// A session's file could not be made.
+    #[error("{path}: {message}")]
+    File {
+        /// The path (or the folder, when every name is taken).
+        path: String,
+        /// What went wrong, one line.
+        message: String,
+    },
 }
 
 /// Checks a participant id: 1 to [`MAX_PARTICIPANT`] ASCII letters, digits, `_` or `-`, starting
@@ -48,22 +62,22 @@ pub fn task_part(task: Option<&str>) -> Result<String, BadId> {
 /// Creates the session's file `DIR/<participant>-<task>-<n>.jsonl` with the first `n` (from 1)
 /// whose name is free, refusing to reuse a name (a file created meanwhile by another session
 /// is skipped). Returns the open file and its path.
-pub fn create_session_file(dir: &Path, participant: &str, task: &str) -> Result<(File, PathBuf), ServeError> {
+pub fn create_session_file(dir: &Path, participant: &str, task: &str) -> Result<(File, PathBuf), IdError> {
     for n in 1..=100_000u32 {
         let path = dir.join(format!("{participant}-{task}-{n}.jsonl"));
         match OpenOptions::new().append(true).create_new(true).open(&path) {
             Ok(f) => return Ok((f, path)),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(ServeError::Io { path: path.display().to_string(), message: e.to_string() }),
+            Err(e) => return Err(IdError::File { path: path.display().to_string(), message: e.to_string() }),
         }
     }
-    Err(ServeError::Io { path: dir.display().to_string(), message: format!("100000 files of {participant}-{task} already; use another folder") })
+    Err(IdError::File { path: dir.display().to_string(), message: format!("100000 files of {participant}-{task} already; use another folder") })
 }
 
 /// `n` random bytes from the operating system as lowercase hex.
-pub fn random_hex(n: usize) -> Result<String, ServeError> {
+pub fn random_hex(n: usize) -> Result<String, IdError> {
     let mut bytes = vec![0u8; n];
-    getrandom::fill(&mut bytes).map_err(|e| ServeError::Random(e.to_string()))?;
+    getrandom::fill(&mut bytes).map_err(|e| IdError::Random(e.to_string()))?;
     Ok(bytes.iter().map(|b| format!("{b:02x}")).collect())
 }
 
@@ -72,9 +86,15 @@ pub fn same_secret(a: &str, b: &str) -> bool {
     a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 
-/// Whether a session id is of the server's own form (32 hex digits), checked before any lookup.
+/// Whether a text is a secret of the server's own form (32 lowercase hex digits: 128 bits from
+/// [`random_hex`]), as session ids and tokens are.
+pub fn is_secret(text: &str) -> bool {
+    text.len() == 32 && text.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase())
+}
+
+/// Whether a session id is of the server's own form, checked before any lookup.
 pub fn is_session_id(id: &str) -> bool {
-    id.len() == 32 && id.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase())
+    is_secret(id)
 }
 
 #[cfg(test)]

@@ -27,10 +27,11 @@ fn of(x: Option<f64>) -> String {
     x.map(f).unwrap_or_default()
 }
 
-/// Runs `write` on a CSV writer of `path`; errors name the file.
-pub(crate) fn with_writer(path: &Path, write: impl FnOnce(&mut csv::Writer<std::fs::File>) -> csv::Result<()>) -> Result<(), StudyError> {
+/// Runs `write` on a CSV writer of `path` (every cell written by [`crate::csv_cells`]'s rule);
+/// errors name the file.
+pub(crate) fn with_writer(path: &Path, write: impl FnOnce(&mut crate::csv_cells::Writer<std::fs::File>) -> csv::Result<()>) -> Result<(), StudyError> {
     let csv = |source| StudyError::Csv { path: path.to_path_buf(), source };
-    let mut w = csv::Writer::from_path(path).map_err(csv)?;
+    let mut w = crate::csv_cells::Writer::from_path(path).map_err(csv)?;
     write(&mut w).and_then(|()| Ok(w.flush()?)).map_err(csv)
 }
 

@@ -168,6 +168,17 @@ impl FileError {
     }
 }
 
+impl FileError {
+    /// The reason without any path of this machine (not the file's, not its folder's), for a
+    /// client of a server that must not learn where its files lie.
+    pub fn public_reason(&self) -> String {
+        match self {
+            FileError::Outside { .. } => "lies outside its folder (through '..', an absolute path or a symbolic link); only files inside it are read".into(),
+            other => other.reason(),
+        }
+    }
+}
+
 fn io_error(path: &Path, e: &std::io::Error) -> FileError {
     let path = path.display().to_string();
     match e.kind() {

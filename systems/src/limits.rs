@@ -28,6 +28,11 @@ pub const MAX_LINE_BYTES: usize = 1 << 20;
 /// recording.
 pub const MAX_SCENE_BYTES: u64 = 8 << 20;
 
+/// The largest scene handed over as text (a headset's room sent with a session's open request,
+/// a scene given to the WebAssembly module), bytes (1 MiB): its JSON string, at most twice as
+/// long, fits the body of an open request (`src/serve/api.rs`).
+pub const MAX_SCENE_TEXT_BYTES: u64 = 1 << 20;
+
 /// The largest file of a model (a glTF file, a buffer or image it names, a file of a model
 /// bank), bytes (512 MiB).
 pub const MAX_MODEL_FILE_BYTES: u64 = 512 << 20;

@@ -135,6 +135,27 @@ pub struct BoxSnapshot {
     pub half_extents: [f32; 3],
     /// Its rotation about +Y, radians.
     pub yaw: f32,
+    /// Its 12 handles, where the ray grabs it: the 8 corners, then the midpoints of the 4
+    /// vertical edges (`crate::interact::handle_points`).
+    pub handles: Vec<HandleSnapshot>,
+}
+
+/// A handle of the bounding box.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct HandleSnapshot {
+    /// "corner" or "edge", as a hit on it names it.
+    pub kind: &'static str,
+    /// Its index among its kind's: a corner's bits are +X, +Y, +Z; an edge's +X, +Z.
+    pub index: u8,
+    /// Where it is, metres.
+    pub position: [f32; 3],
+}
+
+fn handle_name(h: Handle) -> (&'static str, u8) {
+    match h {
+        Handle::Corner(i) => ("corner", i),
+        Handle::Edge(i) => ("edge", i),
+    }
 }
 
 /// The model menu.
@@ -199,8 +220,7 @@ fn hit(m: &HitMarker) -> Option<HitSnapshot> {
         HitTarget::Plane(e) => ("plane", Some(e), None),
         HitTarget::Tree(e) => ("tree", Some(e), None),
         HitTarget::Water(e) => ("water", Some(e), None),
-        HitTarget::Handle(Handle::Corner(i)) => ("handle", None, Some(("corner", i))),
-        HitTarget::Handle(Handle::Edge(i)) => ("handle", None, Some(("edge", i))),
+        HitTarget::Handle(h) => ("handle", None, Some(handle_name(h))),
     };
     if !m.visible {
         return None;
@@ -291,7 +311,11 @@ impl Sim {
                 position: v3(ball.position),
                 distance: ball.distance,
             },
-            bounding_box: selection.tree.map(|tree| BoxSnapshot { tree, center: v3(selection.center), half_extents: v3(selection.half_extents), yaw: selection.yaw }),
+            bounding_box: selection.tree.map(|tree| {
+                let handles = crate::interact::handle_points(selection.center, selection.half_extents, selection.yaw);
+                let handles = handles.iter().map(|&(h, p)| HandleSnapshot { kind: handle_name(h).0, index: handle_name(h).1, position: v3(p) }).collect();
+                BoxSnapshot { tree, center: v3(selection.center), half_extents: v3(selection.half_extents), yaw: selection.yaw, handles }
+            }),
             menu: MenuSnapshot {
                 open: res.menu.open,
                 current_model: model_name(res.menu.current_model),
@@ -321,7 +345,7 @@ impl Sim {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::components::Pose;
+    use crate::components::{Pose, Selection};
     use crate::input::{Button, InputEvent};
     use crate::scene::Scene;
 
@@ -355,6 +379,27 @@ mod tests {
         assert_eq!(new.model, after.menu.current_model);
         assert_eq!(after.tick, 5);
         assert_ne!(after.hash, before.hash);
+    }
+
+    #[test]
+    fn the_selected_tree_s_box_has_its_handles_at_its_corners_and_edges() {
+        let mut sim = study();
+        let tree = 12345;
+        let (c, h, yaw) = ([1.0f32, 2.0, 3.0], [0.5f32, 1.0, 0.25], 0.5f32);
+        sim.set_up().selection(Selection { tree: Some(tree), center: Vec3::from(c), half_extents: Vec3::from(h), yaw });
+        let b = sim.snapshot().bounding_box.expect("a tree is selected");
+        assert_eq!(b.tree, tree);
+        assert_eq!(b.handles.len(), 12);
+        // Turned by the yaw about +Y (counter-clockwise seen from above) around the centre.
+        let (s, co) = (yaw.sin(), yaw.cos());
+        let at = |x: f32, y: f32, z: f32| [c[0] + co * x + s * z, c[1] + y, c[2] - s * x + co * z];
+        let near = |a: [f32; 3], b: [f32; 3]| a.iter().zip(b).all(|(p, q)| (p - q).abs() < 1e-5);
+        assert_eq!((b.handles[0].kind, b.handles[0].index), ("corner", 0));
+        assert!(near(b.handles[0].position, at(-h[0], -h[1], -h[2])), "{:?}", b.handles[0]);
+        assert_eq!((b.handles[7].kind, b.handles[7].index), ("corner", 7));
+        assert!(near(b.handles[7].position, at(h[0], h[1], h[2])), "{:?}", b.handles[7]);
+        assert_eq!((b.handles[9].kind, b.handles[9].index), ("edge", 1));
+        assert!(near(b.handles[9].position, at(h[0], 0.0, -h[2])), "the edges at the centre's height: {:?}", b.handles[9]);
     }
 
     #[test]

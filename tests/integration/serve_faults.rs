@@ -40,6 +40,27 @@ fn a_client_killed_mid_session_leaves_every_acknowledged_line_verified_to_its_la
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!((r["complete"].as_bool(), r["verified"].as_bool()), (Some(false), Some(true)), "{r}");
+    assert_eq!(r["status"], v["status"], "grove replay --json classifies the file as the server does: {r}");
+}
+
+#[test]
+fn the_abandon_clock_goes_on_across_a_restart() {
+    let dir = scratch("serve-abandon-clock");
+    let mut server = Server::start(&dir, 0, &["--abandon-after", "600"]);
+    let lines = study_lines("P03-ray-casting-7.jsonl");
+    let (id, file) = crate::serve_fixture::open(&server.addr, "w", &lines[0], None);
+    assert_eq!(crate::serve_fixture::append(&server.addr, "w", &id, 2, &lines[1..40]).json["acked"], 40);
+    server.signal(libc::SIGKILL);
+    // The session's last request was an hour ago: its file was last written then.
+    let touched = std::process::Command::new("touch").args(["-m", "-d", "1 hour ago"]).arg(dir.join(&file)).status().unwrap();
+    assert!(touched.success());
+    let server = Server::start(&dir, 0, &["--abandon-after", "600"]);
+    assert!(server.log().contains(&format!("continuing {file} (40 lines)")), "{}", server.log());
+    // Ten minutes without a request were up before the restart: it is abandoned at the first look
+    // (every 5 s), not ten minutes after the restart.
+    assert!(server.wait_log(&format!("abandoned {file}"), Duration::from_secs(30)), "{}", server.log());
+    let listed = sessions_json(&dir);
+    assert_eq!(listed["sessions"][0]["state"], "abandoned", "{listed}");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! What the `grove serve` tests share: a server process on a free port in a scratch folder (its
-//! log collected), a plain HTTP/1.1 request over a socket (so that a test controls every
-//! byte), a TCP proxy that can stop forwarding, and the study's recordings.
+//! log collected), a request through the server's own HTTP client, an answer read off a socket
+//! the test writes itself (so that it controls every byte), a TCP proxy that can stop
+//! forwarding, and the study's recordings.
 
 #![allow(dead_code)]
 
@@ -11,6 +12,9 @@ use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+use grove::serve::client::conn::Endpoint;
+use hyper::Method;
 
 use crate::common::root;
 
@@ -115,23 +119,31 @@ pub struct Answer {
     pub body: String,
 }
 
-/// One request on a new connection (`Connection: close`), read to the end.
+/// One request on a new connection, read to the end, through the server's own HTTP client
+/// (`grove::serve::client::conn`, as `grove serve push` and `bench` send theirs); status 0 when
+/// no answer came (the connection failed or broke).
 pub fn request(addr: &str, method: &str, path: &str, headers: &[(&str, &str)], body: &[u8]) -> Answer {
-    let mut s = TcpStream::connect(addr).expect("connect");
-    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
-    let mut head = format!("{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\nContent-Length: {}\r\n", body.len());
-    for (k, v) in headers {
-        head.push_str(&format!("{k}: {v}\r\n"));
+    let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+    let reply = runtime.block_on(async {
+        let endpoint = Endpoint::parse(&format!("http://{addr}/"), None).expect("the server's address");
+        let method = Method::from_bytes(method.as_bytes()).expect("a method");
+        let timeout = Duration::from_secs(30);
+        endpoint.connect(timeout).await?.send(method, path, headers, bytes::Bytes::copy_from_slice(body), timeout).await
+    });
+    match reply {
+        Ok(r) => {
+            let mut head = format!("HTTP/1.1 {}", r.status);
+            for (name, value) in &r.headers {
+                head.push_str(&format!("\r\n{name}: {}", String::from_utf8_lossy(value.as_bytes())));
+            }
+            Answer { status: r.status, json: r.json(), head, body: String::from_utf8_lossy(&r.body).into_owned() }
+        }
+        Err(_) => Answer { status: 0, json: serde_json::Value::Null, head: String::new(), body: String::new() },
     }
-    head.push_str("\r\n");
-    s.write_all(head.as_bytes()).unwrap();
-    // The server may answer (and close) before the whole body is sent, as for a line over the limit.
-    let _ = s.write_all(body);
-    let _ = s.shutdown(Shutdown::Write);
-    read_answer(&mut s)
 }
 
-/// Reads a whole answer from a connection the server closes.
+/// Reads a whole answer from a connection the server closes, for the tests that write a
+/// request's bytes themselves (a head or body one byte at a time).
 pub fn read_answer(s: &mut TcpStream) -> Answer {
     let mut raw = Vec::new();
     let _ = s.read_to_end(&mut raw);

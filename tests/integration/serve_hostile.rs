@@ -111,18 +111,22 @@ fn a_participant_id_that_is_a_path_is_refused_and_nothing_is_made() {
         h[field] = serde_json::json!(value);
         let body = h.as_object().unwrap().iter().filter(|(k, _)| *k != "sum").map(|(k, v)| format!("\"{k}\":{v}")).collect::<Vec<_>>().join(",");
         let line = grove_systems::replay::sign_body(&format!("{{{body}}}"), 0).0;
-        let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "header": line }).to_string().as_bytes());
+        let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "header": line }).to_string().as_bytes());
         assert_eq!(r.status, 400, "{}", r.body);
         assert!(r.json["error"].as_str().unwrap().contains(reason), "{field}: {}", r.body);
         // The same by fields.
-        let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "participant": if field == "participant" { value } else { "P03" }, field: value }).to_string().as_bytes());
+        let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "participant": if field == "participant" { value } else { "P03" }, field: value }).to_string().as_bytes());
         assert_eq!(r.status, 400, "{}", r.body);
     }
     let names: Vec<String> = std::fs::read_dir(dir.join("sessions")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert_eq!(names, ["sessions.json"]);
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "nothing beside the folder either");
+    // An open request without its client's name is refused before the header is read.
+    let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "header": study_lines("P03-manual-7.jsonl")[0] }).to_string().as_bytes());
+    assert_eq!(r.status, 400, "{}", r.body);
+    assert!(r.json["error"].as_str().unwrap().contains("an open request needs the Grove-Writer header"), "{}", r.body);
     header["sum"] = serde_json::json!("00000000");
-    let r = request(&server.addr, "POST", "/api/sessions", &[], serde_json::json!({ "header": header.to_string() }).to_string().as_bytes());
+    let r = request(&server.addr, "POST", "/api/sessions", &[("grove-writer", "w")], serde_json::json!({ "header": header.to_string() }).to_string().as_bytes());
     assert_eq!(r.status, 400, "{}", r.body);
     still_serving(&server);
 }
@@ -199,6 +203,28 @@ fn a_client_that_sends_one_byte_a_second_is_cut_off_and_holds_up_no_one() {
     assert!(start.elapsed() < Duration::from_secs(10), "{:?}", start.elapsed());
 }
 
+#[test]
+fn a_session_s_status_is_answered_while_another_request_holds_it() {
+    let dir = scratch("serve-status-busy");
+    let server = Server::start(&dir, 0, &["--read-timeout", "10"]);
+    let (id, _file, lines) = session_with(&server, "P06-manual-7.jsonl", 10);
+    // A lines request whose last line never arrives holds the session for the read time.
+    let body = format!("{}\n{}\n{}", lines[10], lines[11], &lines[12][..20]);
+    let mut slow = TcpStream::connect(&server.addr).unwrap();
+    let head = format!("POST /api/sessions/{id}/lines?from=11 HTTP/1.1\r\nHost: x\r\ngrove-writer: w\r\nContent-Length: {}\r\n\r\n", body.len() + 100);
+    slow.write_all(head.as_bytes()).unwrap();
+    slow.write_all(body.as_bytes()).unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let start = Instant::now();
+    let r = request(&server.addr, "GET", &format!("/api/sessions/{id}"), &[], b"");
+    assert!(start.elapsed() < Duration::from_secs(5), "answered without waiting for the read time: {:?}", start.elapsed());
+    assert_eq!((r.status, r.json["acked"].as_u64(), r.json["state"].as_str()), (200, Some(12), Some("open")), "the two whole lines are counted: {}", r.body);
+    // Writing it is refused while the request holds it, as before.
+    let w = append(&server.addr, "w", &id, 13, &lines[12..14]);
+    assert_eq!((w.status, w.json["code"].as_str()), (409, Some("busy")), "{}", w.body);
+    drop(slow);
+}
+
 /// Where the one-byte-a-second part of the body starts: after its first line.
 fn lines_len_plus_one(body: &str) -> usize {
     body.find('\n').unwrap() + 1
@@ -224,6 +250,7 @@ fn path_traversal_in_static_and_model_urls_is_refused() {
         assert_eq!(r.status, 404, "{url}: {}", r.body);
         assert!(!r.body.contains("[package]") && !r.body.contains("root:"), "{url}");
         assert!(r.json["error"].is_string(), "{url}: a reason: {}", r.body);
+        assert!(!r.body.contains(&*crate::common::root().to_string_lossy()), "{url}: no path of the machine: {}", r.body);
     }
     assert_eq!(request(&server.addr, "DELETE", "/scenes/study.ron", &[], b"").status, 405);
     still_serving(&server);

@@ -31,7 +31,7 @@ fn blocked(task: &TaskDef) -> Vec<String> {
         let on_ground = matches!(hit.target, HitTarget::Plane(_)) && ground_distance(hit.position, target.position) <= task.tolerance;
         if !on_ground {
             let aimed = Aimed { label: format!("Target({})", i + 1), point: target.position, intent: Intent::Ground { point: target.position, within: task.tolerance, plane: None } };
-            let why = aims::check(script.sim(), script.names(), &aimed, false).err().unwrap_or_default();
+            let why = aims::check(script.sim(), script.names(), &aimed, false).err().map(|e| e.to_string()).unwrap_or_default();
             found.push(format!("{} target {} ({}): {why}", task.id, i + 1, target.model));
         }
     }

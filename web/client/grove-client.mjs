@@ -42,6 +42,17 @@ function splitUrl(url) {
 
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
+/**
+ * Why a request got no answer, in words: the server named as unreachable, with what is known of
+ * why (Node names the socket's error, such as ECONNREFUSED; a browser says only that the fetch
+ * failed, as a TypeError, which is no reason to show).
+ */
+export function unreachable(base, e, timeoutMs) {
+  const late = e?.name === 'TimeoutError' || e?.name === 'AbortError';
+  const why = late ? `no answer within ${(timeoutMs / 1000).toFixed(0)} s` : e?.cause?.code ?? e?.cause?.message ?? (e?.name === 'TypeError' ? 'no connection' : e?.message ?? String(e));
+  return `the server ${base} is unreachable (${why})`;
+}
+
 /** An error the server answered with (a refusal), or a network failure (`status` 0). */
 export class SessionError extends Error {
   constructor(message, status, body) {
@@ -71,13 +82,13 @@ class Connection {
     try {
       response = await this.fetch(this.base + path, { method, headers, body, signal: AbortSignal.timeout(this.timeoutMs) });
     } catch (e) {
-      throw new SessionError(`no answer from ${this.base}: ${e?.cause?.code ?? e?.name ?? e}`, 0, null);
+      throw new SessionError(unreachable(this.base, e, this.timeoutMs), 0, null);
     }
     let json = null;
     try {
       json = await response.json();
     } catch {
-      // A body that is not JSON (a 401 from the token check) stays null.
+      // A body that is not JSON (a proxy's error page) stays null.
     }
     return { status: response.status, json };
   }

@@ -1,7 +1,8 @@
 // Builds the headset page into web/dist/, which `grove serve` ships at `/` (docs/headset.md):
 // the page's ES modules bundled with three.js and the input-profile library by esbuild (from the
 // pinned packages of web/package-lock.json), the simulation module and its loader, and the
-// controller profiles the page draws. Nothing it ships loads from the network.
+// controller profiles the page draws; and the modules of the protocol's form page and dashboard
+// (docs/protocol.md). Nothing it ships loads from the network.
 //
 //   node web/page/build.mjs [--out DIR]
 //
@@ -31,20 +32,19 @@ if (!existsSync(wasm)) {
 
 rmSync(out, { recursive: true, force: true });
 mkdirSync(out, { recursive: true });
+// ES modules for today's browsers, minified, their licences in a file beside each.
+const bundled = { bundle: true, format: 'esm', target: 'es2022', minify: true, sourcemap: false, legalComments: 'linked', logLevel: 'warning' };
 const result = await build({
+  ...bundled,
   entryPoints: [join(here, 'main.mjs')],
-  bundle: true,
-  format: 'esm',
-  target: 'es2022',
-  minify: true,
-  sourcemap: false,
-  legalComments: 'linked',
   outfile: join(out, 'page.js'),
   metafile: true,
   // The module's loader reads the file with node:fs under Node only; in a page it fetches it.
   external: ['node:*'],
-  logLevel: 'warning',
 });
+// The protocol's form page and the dashboard (web/protocol/, web/dashboard/): their markup is
+// built into grove serve, their modules are served from here as /protocol.js and /dashboard.js.
+await build({ ...bundled, entryPoints: { protocol: join(web, 'protocol', 'main.mjs'), dashboard: join(web, 'dashboard', 'main.mjs') }, outdir: out });
 copyFileSync(join(here, 'index.html'), join(out, 'index.html'));
 copyFileSync(join(here, 'page.css'), join(out, 'page.css'));
 copyFileSync(wasm, join(out, 'grove_sim.wasm'));
@@ -69,5 +69,7 @@ const summary = {
   wasm_bytes: size(join(out, 'grove_sim.wasm')),
   wasm_gzip_bytes: gzipSync(readFileSync(join(out, 'grove_sim.wasm')), { level: 9 }).length,
 };
+summary.protocol_js_bytes = size(join(out, 'protocol.js'));
+summary.dashboard_js_bytes = size(join(out, 'dashboard.js'));
 writeFileSync(join(out, 'build.json'), JSON.stringify({ ...summary, inputs: Object.keys(result.metafile.inputs).length }, null, 2));
 console.log(`${out}: page.js ${summary.page_js_bytes} bytes (${summary.page_js_gzip_bytes} gzipped), grove_sim.wasm ${summary.wasm_bytes} bytes (${summary.wasm_gzip_bytes} gzipped), profiles ${PROFILES.join(', ')}`);

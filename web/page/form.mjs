@@ -1,7 +1,10 @@
-// The questionnaire panel's logic, without the page or three.js (docs/protocol.md, "In the
-// headset"): an instrument's items as rows of buttons, the participant's choices, the answers
-// sent to the server, and what the panel says when an answer is missing. The panel
-// (draw/questionnaire.mjs) draws what this returns and hands back the button the ray chose.
+// The questionnaires' shared form code, without the page or three.js (docs/protocol.md): an
+// instrument's items as the server describes them (src/protocol/form.rs works out what each item
+// takes: its options and their labels, its anchors, several choices or typed text and its limit;
+// src/protocol/answer.rs alone decides whether an answer fits) become rows of options; the
+// participant's choices, the answers sent, and what is said when an answer is missing. The
+// headset's panel (draw/questionnaire.mjs) draws these rows and hands back the button the ray
+// chose; the form page (web/protocol/) lays them out as a form.
 //
 // Free text cannot be typed in a headset: a text item is answered on the page once the headset
 // is off. A required one always is; an optional one is when the participant chooses "Type it on
@@ -14,58 +17,18 @@ export const ROW_MAX = 11;
 export const LATER = 'later';
 export const SKIP = 'skip';
 
-/** An item's kind ('Rating', 'Scale', 'Likert', 'Single', 'Multiple', 'Text', 'YesNo') and its fields. */
-export function kindOf(item) {
-  const k = item.kind;
-  if (typeof k === 'string') return { kind: k, args: {} };
-  const kind = Object.keys(k ?? {})[0];
-  if (!kind) throw new Error(`item '${item.id}' has no kind`);
-  return { kind, args: k[kind] ?? {} };
-}
-
-function range(lo, hi, step) {
-  const out = [];
-  for (let v = lo; v <= hi; v += step) out.push({ value: v, label: String(v) });
-  return out;
-}
-
 /**
- * An item as the panel shows it: `{ id, text, required, kind, options: [{ value, label }],
- * multi, anchors: [low, high] | null, typed }`. Options are the buttons (in order); `typed` is
- * true for free text, whose buttons choose LATER or SKIP (a required one has none: it is always
- * typed later).
+ * An item as the panel and the form show it, from the server's description of it: `{ id, text,
+ * required, options: [{ value, label }], multi, anchors: [low, high] | null, typed, maxChars }`.
+ * Options are the buttons (in order); `typed` is true for free text, whose panel buttons choose
+ * LATER or SKIP (a required one has none: it is always typed later).
  */
 export function rowOf(item) {
-  const { kind, args } = kindOf(item);
+  if (!Array.isArray(item.options)) throw new Error(`item '${item.id}' comes without its options: the server describes every item with them`);
   const required = item.required !== false;
-  const ends = (a) => (a && a.length ? [a[0], a[a.length - 1]] : null);
-  const base = { id: item.id, text: item.text, required, kind, multi: false, anchors: null, typed: false };
-  switch (kind) {
-    case 'Rating':
-      return { ...base, options: range(0, 10, 1), anchors: ends(args.anchors) };
-    case 'Scale':
-      return { ...base, options: range(args.min, args.max, args.step ?? 1), anchors: ends(args.anchors) };
-    case 'Likert': {
-      const options = range(1, args.points, 1);
-      // One anchor per point: each button says its word; two anchors: the ends.
-      if (args.anchors?.length === args.points && args.points > 2) return { ...base, options: options.map((o, i) => ({ ...o, label: args.anchors[i] })) };
-      return { ...base, options, anchors: ends(args.anchors) };
-    }
-    case 'Single':
-      return { ...base, options: args.choices.map((c) => ({ value: c, label: c })) };
-    case 'Multiple':
-      return { ...base, options: args.choices.map((c) => ({ value: c, label: c })), multi: true };
-    case 'YesNo':
-      return { ...base, options: [{ value: true, label: 'Yes' }, { value: false, label: 'No' }] };
-    case 'Text':
-      return {
-        ...base,
-        typed: true,
-        options: required ? [] : [{ value: LATER, label: 'Type it on the page' }, { value: SKIP, label: 'Skip it' }],
-      };
-    default:
-      throw new Error(`item '${item.id}' has an unknown kind '${kind}'`);
-  }
+  const typed = Boolean(item.typed);
+  const later = required ? [] : [{ value: LATER, label: 'Type it on the page' }, { value: SKIP, label: 'Skip it' }];
+  return { id: item.id, text: item.text, required, options: typed ? later : item.options, multi: Boolean(item.multi), anchors: item.anchors ?? null, typed, maxChars: item.max_chars ?? null };
 }
 
 /** The rows of buttons an item's options are laid out in (at most ROW_MAX each, balanced). */
@@ -174,6 +137,27 @@ export function typedAnswers(typed, texts) {
     else if (row.required) absent.push(row);
   }
   return { answers, missing: absent };
+}
+
+/**
+ * The answers of the form page (web/protocol/): `picked` holds, by item, the values of its
+ * checked inputs as the page reads them (strings) or its text. Every item with something picked
+ * is answered with its options' values (a multiple-choice item with the list of them, none
+ * included); text as typed, left out when empty.
+ */
+export function formAnswers(rows, picked) {
+  const answers = {};
+  for (const row of rows) {
+    const p = picked[row.id];
+    if (row.typed) {
+      if (typeof p === 'string' && p !== '') answers[row.id] = p;
+      continue;
+    }
+    const chosen = row.options.filter((o) => (p ?? []).includes(String(o.value))).map((o) => o.value);
+    if (row.multi) answers[row.id] = chosen;
+    else if (chosen.length) answers[row.id] = chosen[0];
+  }
+  return answers;
 }
 
 /** The title line of a questionnaire step: the instrument's title and its condition, if any. */

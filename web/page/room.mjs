@@ -1,6 +1,7 @@
 // The room in AR and the study's frame: where the participant starts and the floor the session
 // found define the simulation's coordinates, and the floor (and any other horizontal plane the
-// headset found) becomes the scene the session is recorded on (docs/headset.md, "AR").
+// headset found) becomes the scene the session is recorded on (docs/headset.md, "AR"): the page
+// finds them here, the module builds the scene from them (grove.roomScene, systems/src/room.rs).
 //
 // The simulation's frame is the study scene's: the participant starts at (0, y, 6) looking
 // towards -Z, and the ground is y = 0. A reference space offset from the session's `local-floor`
@@ -43,67 +44,6 @@ export function toSession(offset, p) {
   const c = Math.cos(yaw);
   const s = Math.sin(yaw);
   return { x: offset.position.x + c * p.x + s * p.z, y: offset.position.y + p.y, z: offset.position.z - s * p.x + c * p.z };
-}
-
-const num = (v) => {
-  const t = Number(v.toFixed(4));
-  return Number.isInteger(t) ? t.toFixed(1) : String(t);
-};
-
-/**
- * A horizontal plane the headset found, as a scene's Mesh plane: its polygon (points in the
- * simulation's frame) triangulated as a fan, counter-clockwise seen from above. `null` for fewer
- * than three points.
- */
-export function meshOf(points) {
-  if (points.length < 3) return null;
-  let area = 0;
-  for (let i = 0; i < points.length; i++) {
-    const a = points[i];
-    const b = points[(i + 1) % points.length];
-    area += a.x * b.z - b.x * a.z;
-  }
-  // Seen from above (+Y down onto the XZ plane, +X right, -Z up the page) counter-clockwise
-  // is a negative signed area in (x, z).
-  const pts = area > 0 ? [...points].reverse() : points;
-  const triangles = [];
-  for (let i = 1; i + 1 < pts.length; i++) triangles.push([0, i, i + 1]);
-  return { vertices: pts, triangles };
-}
-
-/**
- * The scene a session in AR is recorded on: the floor found, as a flat ground wide enough for
- * the task (40 x 40 m around the start, at y = 0 of the simulation's frame), and the other
- * horizontal planes found (tables, shelves) as meshes; the study scene's sun, wind and camera.
- * Comments say how the floor was found and which of the task's targets it moved.
- */
-export function roomSceneText({ source, floorY, planes = [], moved = [] }) {
-  const lines = [
-    '// A room found by a headset in AR: its floor is the ground (docs/headset.md).',
-    `// The floor was found by ${source}, ${num(floorY)} m from the session's local-floor origin; the simulation's`,
-    "// frame puts the participant's start at (0, 6), looking towards -Z, and the floor at y = 0.",
-  ];
-  for (const m of moved) {
-    lines.push(`// Target ${m.target} (${m.model}) has no plane at ${num(m.from[1])} m in this room: it lies on the floor at (${m.to.map(num).join(', ')}).`);
-  }
-  lines.push('Scene(', '    name: "room",', '    dt: 0.016666668,', '    seed: 20190612,', '    planes: [');
-  lines.push('        (name: "floor", shape: Grid(min: (-20.0, -14.0), size: (40.0, 40.0), cell: 2.0, elevation: 0.0)),');
-  planes.forEach((p, i) => {
-    const m = meshOf(p.points);
-    if (!m) return;
-    const v = m.vertices.map((q) => `(${num(q.x)}, ${num(q.y)}, ${num(q.z)})`).join(', ');
-    const t = m.triangles.map((q) => `(${q.join(', ')})`).join(', ');
-    lines.push(`        (name: "${p.label ?? 'plane'}-${i + 1}", shape: Mesh(vertices: [${v}], triangles: [${t}])),`);
-  });
-  lines.push(
-    '    ],',
-    '    sun: (latitude_deg: 47.3769, longitude_deg: 8.5417, utc: "2026-06-21T09:30:00Z", time_rate: 0.0),',
-    '    wind: (direction: (1.0, 0.0, 0.4), strength: 0.5, density: 0.15, gust_average: 0.6, gust_strength: 0.4, gust_frequency: 0.2),',
-    '    camera: (position: (0.0, 1.7, 6.0), look_at: (0.0, 0.5, -4.0), fov_y_deg: 60.0),',
-    ')',
-    '',
-  );
-  return lines.join('\n');
 }
 
 /**

@@ -5,11 +5,17 @@
 // already has (a page closed in the middle of the task and opened again).
 
 import { FixedStep } from './clock.mjs';
-import { edges, f32Pose, poseKey, statesOf } from './input.mjs';
+import { edges, statesOf } from './input/buttons.mjs';
+import { f32Pose, poseKey } from './input/pose.mjs';
 
-/** The mode a task is done in: its id says it (`manual-7`, `ray-casting-7`). */
-export function modeOfTask(task) {
-  return task?.startsWith('manual') ? 'manual' : 'ray-casting';
+/** The mode a task is done in, as the module's definition of it says; 'ray-casting' without a known task. */
+export function modeOfTask(grove, task) {
+  if (!task) return 'ray-casting';
+  try {
+    return grove.task(task).mode;
+  } catch {
+    return 'ray-casting'; // not a built-in task: the server refuses the session
+  }
 }
 
 export class TaskRun {
@@ -41,7 +47,7 @@ export class TaskRun {
     const sim = grove.createSim({ header, scene_text: sceneText, onLine: (l) => recorder.append(l) });
     const run = new TaskRun(sim, recorder);
     if (task) {
-      if (modeOfTask(task) === 'manual') sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'switch_mode', mode: 'manual' } });
+      if (modeOfTask(grove, task) === 'manual') sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'switch_mode', mode: 'manual' } });
       sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'start_task', task } });
     }
     return run;
@@ -85,7 +91,7 @@ export class TaskRun {
 
   /**
    * One frame: runs the steps its time calls for. `input`: { controller, head } poses (position
-   * {x, y, z}, orientation {x, y, z, w}) or null, `buttons` (grove's four, by name), `axes`
+   * [x, y, z], rotation [x, y, z, w]: input/pose.mjs) or null, `buttons` (grove's four, by name), `axes`
    * ([x, y]), `frame` (the frame's number), and `menuPick(origin, dir)` (the menu item the ray
    * points at: a model's index, `models.length` for "finish the task", or -1). Returns the
    * number of steps run; `this.snapshot` is the world after them.
@@ -113,7 +119,7 @@ export class TaskRun {
   #events(input) {
     const out = [];
     if (input.controller) {
-      const pose = f32Pose(input.controller.position, input.controller.orientation);
+      const pose = f32Pose(input.controller);
       const key = poseKey(pose);
       if (key !== this.controllerKey) {
         this.controllerKey = key;
@@ -121,7 +127,7 @@ export class TaskRun {
       }
     }
     if (input.head) {
-      const pose = f32Pose(input.head.position, input.head.orientation);
+      const pose = f32Pose(input.head);
       const key = poseKey(pose);
       if (key !== this.headKey) {
         this.headKey = key;

@@ -1,6 +1,6 @@
-// The page's side of a protocol's steps (main.mjs, study.mjs): the panel's frame (placed once
-// in front of the head, the button under the ray highlighted, a trigger press returned), and
-// the small form on the page for the answers typed once the headset is off.
+// The page's side of a protocol's steps (flow/protocol.mjs, study.mjs): the panel's frame
+// (placed once in front of the head, the button under the ray highlighted, a trigger press
+// returned), and the small form on the page for the answers typed once the headset is off.
 
 /**
  * One frame of the panel: `state` { placed, down } carries over between frames. `head`
@@ -35,6 +35,7 @@ export function typedForm(container, rows, send, say) {
     const t = document.createElement('textarea');
     t.name = row.id;
     t.rows = 4;
+    if (row.maxChars) t.maxLength = row.maxChars;
     t.style.width = '100%';
     label.append(document.createElement('br'), t);
     form.append(label);
@@ -64,11 +65,6 @@ export function button(id, label, click, fail) {
   return b;
 }
 
-/** A pose ({ position {x, y, z}, orientation {x, y, z, w} }) as arrays: { position, rotation }. */
-export function poseArrays(t) {
-  return { position: [t.position.x, t.position.y, t.position.z], rotation: [t.orientation.x, t.orientation.y, t.orientation.z, t.orientation.w] };
-}
-
 /** Puts the participant's id in the page's URL, so that a reload comes back to them. */
 export function rememberParticipant(id) {
   const u = new URL(location.href);
@@ -83,18 +79,4 @@ export function loadImage(src, loaded) {
   image.onload = loaded;
   image.src = src + (token ? `?token=${encodeURIComponent(token)}` : '');
   return image;
-}
-
-/**
- * The page state's properties for a protocol (window.grove): `study`, where the participant is
- * ({ participant, step, kind, block, item, typing, message }); `panel`, its buttons ({ id,
- * label, on }), text and the button under the ray; `panelPoint(id)`, the middle of a button in
- * the simulation's frame.
- */
-export function studyView(study, panel) {
-  return {
-    study: { get: () => study()?.summary() ?? null },
-    panel: { get: () => (panel()?.isOpen ? { buttons: panel().buttons(), texts: panel().texts(), hover: panel().hover } : null) },
-    panelPoint: { value: (id) => panel()?.buttonPoint(id) ?? null },
-  };
 }

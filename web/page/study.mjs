@@ -3,10 +3,11 @@
 // for each (so that a reload resumes where the server says the participant is). The steps
 // without the simulation are shown on a panel (draw/panel.mjs) and answered with the ray:
 // instructions with a Continue button, a questionnaire one item at a time (form.mjs), the
-// task's start, the end. Practice and tasks are the page's runs (main.mjs).
+// task's start, the end. Practice and tasks are the page's runs (flow/protocol.mjs, flow/task.mjs).
 
 import { build, choicesFrom, choose, missingMessage, optionLines, rowOf, titleOf, typedAnswers } from './form.mjs';
 import { itemLayout, textLayout } from './draw/questionnaire.mjs';
+import { unreachable } from '../client/grove-client.mjs';
 
 /** The server's protocol routes, with the token the page's URL carries. */
 export class StudyApi {
@@ -19,7 +20,12 @@ export class StudyApi {
   async call(method, path, body) {
     const headers = { 'content-type': 'application/json' };
     if (this.token) headers.authorization = `Bearer ${this.token}`;
-    const r = await fetch(this.base + path, { method, headers, cache: 'no-store', body: body === undefined ? undefined : JSON.stringify(body) });
+    let r;
+    try {
+      r = await fetch(this.base + path, { method, headers, cache: 'no-store', body: body === undefined ? undefined : JSON.stringify(body) });
+    } catch (e) {
+      throw Object.assign(new Error(unreachable(this.base, e, 0)), { status: 0 });
+    }
     const v = await r.json().catch(() => ({}));
     if (!r.ok) throw Object.assign(new Error(v.error ?? `${r.status} ${r.statusText}`), { status: r.status, body: v });
     return v;

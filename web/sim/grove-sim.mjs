@@ -119,6 +119,21 @@ export class Grove {
   }
 
   /**
+   * The scene of a room a headset found in AR, as text (grove-systems' systems/src/room.rs):
+   * `room` is { source (how the floor was found), floor_y, planes: [{ label, points: [{ x, y, z
+   * }, …] }] (the horizontal planes found, in the simulation's frame), task }. The text is a
+   * scene `grove serve` takes as `scene_text`.
+   */
+  roomScene(room) {
+    return this.call('grove_room_scene', [], [JSON.stringify(room)])[1];
+  }
+
+  /** A built-in task: { id, mode ('ray-casting' or 'manual'), scene, tolerance, targets }. */
+  task(id) {
+    return JSON.parse(this.call('grove_task', [], [String(id)])[1]);
+  }
+
+  /**
    * Signs recording lines again as one checksum chain (version 2), as `grove replay --upgrade`
    * does: for tools that edit a recording's lines. `lines`: an array of lines.
    */

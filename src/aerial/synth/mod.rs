@@ -371,7 +371,7 @@ pub fn write_pair(park: &Park, dir: &Path, progress: &dyn Fn(u64)) -> Result<(),
 
 fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<(), AerialError> {
     write_atomic(path, |w| {
-        let mut csv = csv::Writer::from_writer(w);
+        let mut csv = crate::csv_cells::Writer::from_writer(w);
         for r in rows {
             csv.serialize(r).map_err(|e| AerialError::Csv(e).named(path.display()))?;
         }

@@ -42,6 +42,9 @@ pub enum Which {
     /// A 5-minute session written as a 1280x720, 30 fps H.264 video (9,000 frames), with the
     /// memory every 1,000 frames.
     Video,
+    /// Six study recordings pushed to two grove serve processes of its own, one holding 600
+    /// idle connections: the median push of each and their ratio (goal: at most 2).
+    ServeIdle,
 }
 
 /// Arguments of `grove bench`.

@@ -71,6 +71,10 @@ pub fn run(args: BenchArgs) -> anyhow::Result<ExitCode> {
             Which::RenderForest => ("render_forest", bench::impostor::bench_forest(render, scene)?),
             Which::Park => ("park", bench::park::bench_park(render, scene)?),
             Which::Video => ("video", bench::video::bench_video()?),
+            Which::ServeIdle => {
+                let grove = std::env::current_exe()?;
+                ("serve_idle", bench::serve_idle::bench_serve_idle(&grove)?)
+            }
         };
         report.insert(name.into(), value);
     }

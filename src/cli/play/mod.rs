@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::anyhow;
 use clap::Args;
-use grove_systems::replay::Header;
+use grove_systems::replay::{session_start_at, SessionFields};
 use grove_systems::scene::Scene;
 use grove_systems::task::TaskDef;
 use grove_systems::Sim;
@@ -101,20 +101,17 @@ pub fn run(args: PlayArgs) -> anyhow::Result<ExitCode> {
     }
     let recorder = match &args.record {
         Some(path) => {
-            let mut header = Header::new(&scene_name, seed, scene.dt);
-            header.task = args.task.clone();
-            header.participant = args.participant.clone();
-            header.synthetic = false;
-            header.models = listed.clone();
-            header.technique = technique
-                .filter(|t| !t.is_builtin())
-                .map(|t| grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
             // The wall-clock start of the recording, so that reports order a participant's sessions.
-            header.session_start = std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .ok()
-                .and_then(|d| chrono::DateTime::from_timestamp(d.as_secs() as i64, 0))
-                .map(|t| t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true));
+            let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs() as i64);
+            let fields = SessionFields {
+                participant: args.participant.clone(),
+                task: args.task.clone(),
+                session_start: Some(session_start_at(now)),
+                technique: technique.map(|t| t.name.to_string()),
+                ..Default::default()
+            };
+            let mut header = fields.header(&scene_name, seed, scene.dt).map_err(|e| anyhow!("--{e}"))?;
+            header.models = listed.clone();
             Some(create_recording(path, &header).map_err(|e| anyhow!(e))?)
         }
         None => None,

@@ -13,10 +13,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
-use grove_systems::hash::hex;
-use grove_systems::replay::{replay_file, Divergence, ReplayOptions, ReplayOutcome};
-use grove_systems::task::TaskReport;
-use serde::Serialize;
+use grove_systems::replay::{replay_file, ReplayOptions, ReplayReport};
 
 /// Arguments of `grove replay`.
 #[derive(Args)]
@@ -53,77 +50,6 @@ pub struct ReplayArgs {
     pub html: Option<PathBuf>,
 }
 
-/// What `grove replay --json` prints.
-#[derive(Serialize)]
-pub struct ReplayReport {
-    /// The file replayed.
-    pub file: String,
-    /// Its format version.
-    pub format_version: u32,
-    /// Ticks simulated.
-    pub ticks: u64,
-    /// Simulated seconds.
-    pub sim_seconds: f64,
-    /// Wall-clock seconds the replay took.
-    pub wall_seconds: f64,
-    /// Simulated seconds per wall second.
-    pub speedup: f64,
-    /// Every checkpoint compared matched (and at least one was compared).
-    pub verified: bool,
-    /// "verified", "unverified" (no checkpoint to compare) or "diverged".
-    pub status: &'static str,
-    /// The file has its footer.
-    pub complete: bool,
-    /// Checkpoints compared, the footer's final hash included.
-    pub checkpoints_checked: u64,
-    /// The first divergence, if any.
-    pub first_divergence: Option<Divergence>,
-    /// Input events by kind.
-    pub events: std::collections::BTreeMap<String, u64>,
-    /// The world hash at the end of the replay.
-    pub final_hash: String,
-    /// The participant id from the header.
-    pub participant: Option<String>,
-    /// Whether the header marks the session as synthetic.
-    pub synthetic: bool,
-    /// The task outcome, recomputed by the simulation, if the session ran a task.
-    pub task: Option<TaskReport>,
-}
-
-impl ReplayReport {
-    /// Builds the report from a replay's outcome.
-    pub fn new(file: String, outcome: &ReplayOutcome, wall_seconds: f64) -> ReplayReport {
-        let sim = &outcome.sim;
-        let ticks = sim.tick();
-        let sim_seconds = grove_systems::task::ticks_to_seconds(ticks, sim.dt());
-        let verified = outcome.verifying && outcome.first_divergence.is_none() && outcome.checkpoints_checked > 0;
-        ReplayReport {
-            file,
-            format_version: outcome.header.format_version,
-            ticks,
-            sim_seconds,
-            wall_seconds,
-            speedup: if wall_seconds > 0.0 { sim_seconds / wall_seconds } else { f64::INFINITY },
-            verified,
-            status: if outcome.first_divergence.is_some() {
-                "diverged"
-            } else if verified {
-                "verified"
-            } else {
-                "unverified"
-            },
-            complete: outcome.complete,
-            checkpoints_checked: outcome.checkpoints_checked,
-            first_divergence: outcome.first_divergence.clone(),
-            events: outcome.events.clone(),
-            final_hash: hex(sim.hash().total),
-            participant: outcome.header.participant.clone(),
-            synthetic: outcome.header.synthetic,
-            task: sim.task().map(|t| grove::study::technique_report(TaskReport::new(t, sim.dt(), ticks, sim.catalogue()), &sim)),
-        }
-    }
-}
-
 /// Runs `grove replay`.
 pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
     if args.seal {
@@ -151,7 +77,7 @@ pub fn run(args: ReplayArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let wall = start.elapsed().as_secs_f64();
-    let report = ReplayReport::new(args.file.display().to_string(), &outcome, wall);
+    let report = ReplayReport::new(args.file.display().to_string(), &outcome).timed(wall);
     if let Some(page) = &args.html {
         html::write(&args.file, &outcome, page)?;
     }

@@ -7,7 +7,8 @@ use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::{Args, Subcommand};
-use grove::serve::{self, bench::BenchOptions, push::PushOptions, push::Rate, ServeConfig, TlsChoice};
+use grove::serve::client::{bench::BenchOptions, push::PushOptions, push::Rate};
+use grove::serve::{self, ServeConfig, TlsChoice};
 
 /// `grove serve` and its subcommands.
 #[derive(Args)]
@@ -51,12 +52,18 @@ pub struct ServeArgs {
     /// The most sessions open at once.
     #[arg(long, default_value_t = 256)]
     max_sessions: usize,
-    /// The most connections served at once (more wait to be accepted).
+    /// The most connections served at once; a new one closes the one idle longest (while all are busy, it waits).
     #[arg(long, default_value_t = 512)]
     max_connections: usize,
+    /// The most connections from one address; a new one closes that address's one idle longest (while all are busy, it is closed).
+    #[arg(long, default_value_t = 256)]
+    max_connections_per_address: usize,
     /// Ask for the token on a loopback address too.
     #[arg(long)]
     require_token: bool,
+    /// Draw a new token instead of the one kept in DIR/token (clients with the old one are then refused).
+    #[arg(long)]
+    new_token: bool,
     /// Run a study protocol (docs/protocol.md, e.g. assets/protocols/tree-planting.ron): participant ids, condition orders, the page /protocol, answers in DIR/<id>.answers.jsonl, the live page /dashboard.
     #[arg(long, value_name = "FILE")]
     protocol: Option<PathBuf>,
@@ -129,8 +136,11 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                     _ => bail!("--tls takes 'auto' or 'CERT,KEY' (two PEM files)"),
                 },
             };
-            if args.max_sessions == 0 || args.max_connections == 0 {
-                bail!("--max-sessions and --max-connections must be at least 1");
+            if args.new_token && !args.require_token && args.host.is_loopback() {
+                bail!("--new-token is for a server that asks for a token: a network address (--host) or --require-token");
+            }
+            if args.max_sessions == 0 || args.max_connections == 0 || args.max_connections_per_address == 0 {
+                bail!("--max-sessions, --max-connections and --max-connections-per-address must be at least 1");
             }
             let protocol = match &args.protocol {
                 Some(p) => Some(grove::protocol::load(p)?),
@@ -150,7 +160,9 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 abandon_after: seconds("abandon-after", args.abandon_after)?,
                 max_sessions: args.max_sessions,
                 max_connections: args.max_connections,
+                max_per_address: args.max_connections_per_address,
                 require_token: args.require_token,
+                new_token: args.new_token,
                 protocol,
             };
             serve::run(config)?;
@@ -169,19 +181,21 @@ fn push(p: PushArgs) -> anyhow::Result<ExitCode> {
         },
     };
     let options = PushOptions { rate, timeout: seconds("timeout", p.timeout)?, give_up: seconds("give-up", p.give_up)?, max_batch_bytes: 256 * 1024 };
-    let endpoint = serve::client::Endpoint::parse(&p.to, p.ca.as_deref())?;
+    let endpoint = serve::client::conn::Endpoint::parse(&p.to, p.ca.as_deref())?;
     let say = |m: &str| eprintln!("{}: {m}", p.file.display());
-    let report = runtime()?.block_on(serve::push::push(&p.file, &endpoint, &options, &say))?;
-    let status = report.ended["verification"]["status"].as_str().unwrap_or("?").to_string();
+    let report = runtime()?.block_on(serve::client::push::push(&p.file, &endpoint, &options, &say))?;
+    let status = report.status();
+    let shown = status.map_or("?", |s| s.as_str());
     if p.json {
         crate::cli::print_json(&report)?;
     } else {
+        let continued = if report.continued_from > 1 { format!(", continued from line {}", report.continued_from + 1) } else { String::new() };
         println!(
-            "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects) to {}: {}",
-            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, status
+            "{}: {} lines pushed in {:.2} s ({} requests, {} reconnects{continued}) to {} (session {}): {}",
+            report.file, report.lines, report.seconds, report.requests, report.reconnects, report.server_file, report.session, shown
         );
     }
-    Ok(if status == "diverged" || status == "invalid" { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    Ok(if status.is_some_and(|s| s.failed()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
 fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
@@ -192,7 +206,7 @@ fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
     let grove = std::env::current_exe().context("cannot find the grove program to start the server")?;
     let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove };
     let say = |m: &str| eprintln!("serve bench: {m}");
-    let mut report = runtime()?.block_on(serve::bench::bench(&options, &say))?;
+    let mut report = runtime()?.block_on(serve::client::bench::bench(&options, &say))?;
     if let Some(o) = report.as_object_mut() {
         o.insert("build".into(), serde_json::json!(if cfg!(debug_assertions) { "debug" } else { "release" }));
         o.insert("threads".into(), serde_json::json!(std::thread::available_parallelism().map_or(1, |n| n.get())));

@@ -22,8 +22,11 @@ mod lines;
 pub mod names;
 pub mod player;
 pub mod reader;
+pub mod report;
 pub mod scene_ref;
+pub mod session_header;
 pub mod upgrade;
+pub mod verdict;
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -37,6 +40,8 @@ pub use names::NameError;
 pub use scene_ref::SceneRefError;
 pub use player::Player;
 pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
+pub use report::ReplayReport;
+pub use session_header::{session_start_at, SessionFields, SessionHeaderError};
 pub use upgrade::{upgrade, UpgradeSummary};
 
 use crate::bank::{Banks, HeaderModel};

@@ -28,6 +28,7 @@ use crate::sim::Sim;
 use crate::targets::{ground_distance, Aim, Names};
 
 use super::Btn;
+use super::failed::StepFailed;
 
 /// What the runner carries from step to step: the last aim, for the button steps after it.
 #[derive(Clone, Debug, Default)]
@@ -45,7 +46,7 @@ fn aimed_button(b: Btn) -> bool {
 
 /// Puts a button down and checks, in the tick it went down, what the ray met against the last
 /// aim.
-pub fn hold_checked(s: &mut Script, state: &RunState, b: Btn) -> Result<(), String> {
+pub fn hold_checked(s: &mut Script, state: &RunState, b: Btn) -> Result<(), StepFailed> {
     s.hold(b.into());
     match &state.aimed {
         Some(aimed) if aimed_button(b) => check(s.sim(), s.names(), aimed, state.press_on_nothing),
@@ -208,13 +209,12 @@ fn ray_origin(sim: &Sim) -> Vec3 {
 
 /// Checks what the ray met in the last tick against the aim. `nothing_ok`: the scenario means
 /// to press on nothing (`press_on_nothing: true`), so a ray that meets nothing passes.
-pub fn check(sim: &Sim, names: &Names, aimed: &Aimed, nothing_ok: bool) -> Result<(), String> {
+pub fn check(sim: &Sim, names: &Names, aimed: &Aimed, nothing_ok: bool) -> Result<(), StepFailed> {
     let m = sim.hit_marker();
     if !m.visible && nothing_ok {
         return Ok(());
     }
     let d = ray_origin(sim).distance(aimed.point);
-    let hint = if m.visible { "" } else { " (to press where the ray meets nothing, write PressOnNothing(…) or press_on_nothing: true)" };
     let before = m.visible && m.distance < d - BEFORE;
     let passes = match aimed.intent {
         Intent::Ground { point, within, plane } => {
@@ -234,14 +234,14 @@ pub fn check(sim: &Sim, names: &Names, aimed: &Aimed, nothing_ok: bool) -> Resul
         Intent::Tree(id) => format!("{} aimed at {}", tree_words(sim, names, id), aimed.label),
         _ => aimed.label.clone(),
     };
-    Err(format!("the ray meets {}, {} {aimed_at} at {d:.1} m{hint}", met(sim, names, &m), if before { "before" } else { "not" }))
+    Err(StepFailed::Missed { met: met(sim, names, &m), before, aimed: aimed_at, distance: d, met_nothing: !m.visible })
 }
 
 /// Checks that the ray met nothing in the last tick (a `PressOnNothing` step).
-pub fn check_nothing(sim: &Sim, names: &Names) -> Result<(), String> {
+pub fn check_nothing(sim: &Sim, names: &Names) -> Result<(), StepFailed> {
     let m = sim.hit_marker();
     if m.visible {
-        Err(format!("the ray meets {}, not nothing", met(sim, names, &m)))
+        Err(StepFailed::NotNothing(met(sim, names, &m)))
     } else {
         Ok(())
     }

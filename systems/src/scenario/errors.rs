@@ -5,17 +5,9 @@ use glam::Vec3;
 
 use crate::expect::InvalidExpect;
 use crate::input::InvalidEvent;
-use crate::limits::{MAX_COORD, MAX_SCENARIO_STEPS, MAX_SCENARIO_TICKS, RAISE};
 
-/// A technique name that is neither built in nor registered ([`super::technique`]).
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown technique \"{name}\"; known: {known}")]
-pub struct UnknownTechnique {
-    /// The name as written.
-    pub name: String,
-    /// The known names, comma-separated.
-    pub known: String,
-}
+use super::failed::UnknownTechnique;
+use crate::limits::{MAX_COORD, MAX_SCENARIO_STEPS, MAX_SCENARIO_TICKS, RAISE};
 
 /// Why one step is refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -24,6 +24,7 @@ use crate::targets::{ground_distance, tree_middle, Aim, TreeRef};
 
 use super::aims::{hold_checked, Aimed, RunState, GROUND_TOLERANCE};
 use super::Btn;
+use super::failed::StepFailed;
 
 /// The farthest a dragged tree is carried in one tick, metres (a brisk arm: 12 m/s at 60 Hz).
 pub const DRAG_STEP: f32 = 0.2;
@@ -48,11 +49,11 @@ fn aim_at(s: &mut Script, state: &mut RunState, aim: &Aim, point: Vec3) {
 
 /// `Plant(model: "…", at: AIM)`: choose, aim, press Trigger; fails unless a tree of that model
 /// was planted within the task's tolerance (0.5 m without a task) of the aim.
-pub fn plant(s: &mut Script, state: &mut RunState, model: &str, at: &Aim) -> Result<(), String> {
+pub fn plant(s: &mut Script, state: &mut RunState, model: &str, at: &Aim) -> Result<(), StepFailed> {
     if s.sim().res.mode != Mode::RayCasting {
-        return Err("Plant plants in ray-casting mode; in manual mode a tree comes from the menu: ChooseModel(\"…\"), then Drag(tree: Last, to: …)".into());
+        return Err(StepFailed::PlantInManual);
     }
-    let point = s.aim_point(at).map_err(|e| format!("cannot find the target: {e}"))?;
+    let point = s.aim_point(at)?;
     s.choose_model(model);
     aim_at(s, state, at, point);
     let from = s.sim().res.log.entries.len();
@@ -68,23 +69,23 @@ pub fn plant(s: &mut Script, state: &mut RunState, model: &str, at: &Aim) -> Res
         })
         .collect();
     if logged_since(s, from).iter().any(|h| matches!(h, Happening::PlantingRefused { .. })) {
-        return Err(format!("nothing was planted: the ray met water at {}, where nothing is planted", at.text()));
+        return Err(StepFailed::OnWater(at.text()));
     }
-    let Some(&(tree, position)) = planted.last() else { return Err("nothing was planted".into()) };
+    let Some(&(tree, position)) = planted.last() else { return Err(StepFailed::NothingPlanted) };
     let got = s.sim().tree(tree).and_then(|t| s.sim().res.catalogue.get(t.tree.model)).map(|m| m.name.clone()).unwrap_or_default();
     if got != model {
-        return Err(format!("a {got} tree was planted, not a {model} tree"));
+        return Err(StepFailed::WrongModel { got, model: model.to_string() });
     }
     let off = ground_distance(position, point);
     if off > within {
-        return Err(format!("the {model} tree stands {off:.2} m from {}, more than the tolerance of {within} m", at.text()));
+        return Err(StepFailed::TooFar { model: model.to_string(), off, at: at.text(), within });
     }
     Ok(())
 }
 
 /// `Remove(TREE)`: aim at the tree's middle, press Bumper; fails unless the tree is gone.
-pub fn remove(s: &mut Script, state: &mut RunState, tree: &TreeRef) -> Result<(), String> {
-    let id = s.tree_id(tree).map_err(|e| format!("cannot find the target: {e}"))?;
+pub fn remove(s: &mut Script, state: &mut RunState, tree: &TreeRef) -> Result<(), StepFailed> {
+    let id = s.tree_id(tree)?;
     let aim = Aim::Tree { tree: tree.clone(), offset: None };
     let point = tree_middle(s.sim(), id).unwrap_or_default();
     aim_at(s, state, &aim, point);
@@ -92,7 +93,7 @@ pub fn remove(s: &mut Script, state: &mut RunState, tree: &TreeRef) -> Result<()
     s.release(Button::Bumper);
     checked?;
     if s.sim().tree(id).is_some() {
-        return Err(format!("the tree {} still stands", tree.text()));
+        return Err(StepFailed::StillStands(tree.text()));
     }
     Ok(())
 }
@@ -105,9 +106,9 @@ pub fn carry_ticks(way: Vec3) -> u64 {
 /// `Drag(tree: TREE, to: AIM)`: grab the tree at its middle, carry the controller (without
 /// turning it) by the way from the tree's base to the aim, so the tree's base comes to the aim,
 /// release, and put the controller back; fails unless the tree snapped to the ground.
-pub fn drag(s: &mut Script, state: &mut RunState, tree: &TreeRef, to: &Aim) -> Result<(), String> {
-    let id = s.tree_id(tree).map_err(|e| format!("cannot find the target: {e}"))?;
-    let goal = s.aim_point(to).map_err(|e| format!("cannot find the target: {e}"))?;
+pub fn drag(s: &mut Script, state: &mut RunState, tree: &TreeRef, to: &Aim) -> Result<(), StepFailed> {
+    let id = s.tree_id(tree)?;
+    let goal = s.aim_point(to)?;
     let base = s.sim().tree(id).map_or(Vec3::ZERO, |t| t.transform.translation);
     let grab = tree_middle(s.sim(), id).unwrap_or(base);
     aim_at(s, state, &Aim::Tree { tree: tree.clone(), offset: None }, grab);
@@ -116,7 +117,7 @@ pub fn drag(s: &mut Script, state: &mut RunState, tree: &TreeRef, to: &Aim) -> R
     hold_checked(s, state, Btn::Trigger)?;
     if s.sim().res.interaction.drag.is_none_or(|d| d.tree != id) {
         s.release(Button::Trigger);
-        return Err(format!("the Trigger did not grab the tree {}", tree.text()));
+        return Err(StepFailed::NotGrabbed(tree.text()));
     }
     let way = goal - base;
     let n = carry_ticks(way);
@@ -136,5 +137,5 @@ pub fn drag(s: &mut Script, state: &mut RunState, tree: &TreeRef, to: &Aim) -> R
         Err(m) => format!("the anchor ball was {} at the release", m.actual),
         Ok(()) => "the anchor ball was white, yet it did not snap".into(),
     };
-    Err(format!("the tree {} did not snap to the ground at {}: {why}", tree.text(), to.text()))
+    Err(StepFailed::NotSnapped { tree: tree.text(), to: to.text(), why })
 }

@@ -10,12 +10,14 @@
 pub mod aims;
 pub mod draft;
 mod errors;
+mod failed;
 pub mod intents;
 pub mod observe;
 pub mod run;
 pub mod update;
 
-pub use errors::{CheckError, DraftError, HashCountError, RunError, StepError, UnknownTechnique};
+pub use errors::{CheckError, DraftError, HashCountError, RunError, StepError};
+pub use failed::{StepFailed, UnknownTechnique};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -12,6 +12,7 @@ use crate::sim::Sim;
 
 use super::aims::{self, hold_checked, Aimed, RunState};
 use super::observe::{self, Snapshot};
+use super::failed::StepFailed;
 use super::{intents, technique, Loaded, RunError, Step};
 
 
@@ -135,15 +136,15 @@ fn run_inner(loaded: &Loaded, options: &RunOptions, mut frame: Option<&mut dyn F
             }
             traces.push(StepTrace { number: i + 1, text: step.text(), did: observe::did(script.sim(), script.names(), from), before, after });
         }
-        if let Err(message) = result {
-            failure = Some(Failure { step: Some(i + 1), at: step.text(), message });
+        if let Err(failed) = result {
+            failure = Some(Failure { step: Some(i + 1), at: step.text(), message: failed.to_string() });
             break;
         }
     }
     if failure.is_none() {
         for e in &loaded.scenario.expect {
-            if let Err(message) = expect(&script, e, options.update, &mut hashes) {
-                failure = Some(Failure { step: None, at: e.text(), message });
+            if let Err(failed) = expect(&script, e, options.update, &mut hashes) {
+                failure = Some(Failure { step: None, at: e.text(), message: failed.to_string() });
                 break;
             }
         }
@@ -153,19 +154,18 @@ fn run_inner(loaded: &Loaded, options: &RunOptions, mut frame: Option<&mut dyn F
 }
 
 /// Checks one expectation; with `update`, a world hash is collected rather than compared.
-fn expect(script: &Script, e: &Expect, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
+fn expect(script: &Script, e: &Expect, update: bool, hashes: &mut Vec<String>) -> Result<(), StepFailed> {
     if let Expect::Hash(_) = e {
         hashes.push(crate::hash::hex(script.sim().hash().total));
         if update {
             return Ok(());
         }
     }
-    script.check(e).map_err(|m| m.to_string())
+    Ok(script.check(e)?)
 }
 
 /// Plays one step through the script.
-pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), String> {
-    let cannot = |e: crate::targets::TargetError| format!("cannot find the target: {e}");
+pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, hashes: &mut Vec<String>) -> Result<(), StepFailed> {
     match step {
         Step::Plant { model, at } => intents::plant(s, state, model, at)?,
         Step::Remove(tree) => intents::remove(s, state, tree)?,
@@ -174,12 +174,12 @@ pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, ha
             s.choose_model(m.as_str());
         }
         Step::PointAt(aim) => {
-            let p = s.aim_point(aim).map_err(cannot)?;
+            let p = s.aim_point(aim)?;
             s.point_at(p);
             state.aimed = Some(Aimed::new(s.sim(), s.names(), aim, p));
         }
         Step::Sweep { from, by, count } => {
-            let p = s.aim_point(from).map_err(cannot)?;
+            let p = s.aim_point(from)?;
             for k in 0..*count {
                 s.point_at(p + *by * k as f32);
             }
@@ -190,11 +190,11 @@ pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, ha
             }
         }
         Step::Controller { position, rotation } => {
-            s.try_push(InputEvent::ControllerPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
+            s.try_push(InputEvent::ControllerPose { pose: Pose { position: *position, rotation: *rotation } })?.wait(1);
             state.aimed = None;
         }
         Step::Head { position, rotation } => {
-            s.try_push(InputEvent::HeadPose { pose: Pose { position: *position, rotation: *rotation } }).map_err(|e| e.to_string())?.wait(1);
+            s.try_push(InputEvent::HeadPose { pose: Pose { position: *position, rotation: *rotation } })?.wait(1);
         }
         Step::Press(b) => {
             let checked = hold_checked(s, state, *b);
@@ -226,7 +226,7 @@ pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, ha
             s.wait(*n);
         }
         Step::WaitUntil { until, timeout } => {
-            s.wait_until(until, *timeout).map_err(|m| m.to_string())?;
+            s.wait_until(until, *timeout)?;
         }
         Step::StartTask(id) => {
             s.start_task(id);
@@ -237,16 +237,16 @@ pub fn apply(s: &mut Script, state: &mut RunState, step: &Step, update: bool, ha
         Step::SwitchTechnique(name) => {
             // A built-in technique as the mode switch it always was (the same events as the
             // committed recordings); a plug-in by name.
-            match technique(name).map_err(|e| e.to_string())? {
+            match technique(name)? {
                 Some(mode) => s.switch_mode(mode),
                 None => s.switch_technique(name),
             };
         }
         Step::Name { name, tree } => {
-            s.name_tree(name, tree).map_err(cannot)?;
+            s.name_tree(name, tree)?;
         }
         Step::Mark { name, at } => {
-            s.mark(name, at).map_err(cannot)?;
+            s.mark(name, at)?;
         }
         Step::Expect(e) => expect(s, e, update, hashes)?,
     }

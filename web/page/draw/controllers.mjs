@@ -2,11 +2,13 @@
 // source (@webxr-input-profiles/motion-controllers, from the profiles the page ships under
 // `profiles/`), its glTF model, and its buttons and thumbstick moved by the gamepad's state
 // through the profile's visual responses. An input source without a shipped profile gets a plain
-// stick. Drawn at the grip pose, in the simulation's frame.
+// stick. Drawn at the grip pose, in the session's reference space. A feature of the view
+// (view/features.mjs), drawn in an immersive session's frames.
 
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { Constants, MotionController, fetchProfile } from '@webxr-input-profiles/motion-controllers';
+import { XrController } from '../input/xr.mjs';
 
 const PROFILES = new URL('profiles', document.baseURI).href.replace(/\/?$/, '');
 
@@ -92,10 +94,15 @@ export class Controllers {
     this.drawn = new Map();
   }
 
-  update(frame, space) {
+  /** Draws every controller of the XR frame (`s.xr`: { frame, space }), if there is one. */
+  update(s) {
+    if (s.xr) this.#sync(s.xr.frame, s.xr.space);
+  }
+
+  #sync(frame, space) {
     const sources = new Set(frame.session.inputSources);
     for (const source of sources) {
-      if (!source.gamepad || source.targetRayMode !== 'tracked-pointer') continue;
+      if (!XrController.accepts(source)) continue;
       if (!this.drawn.has(source)) this.drawn.set(source, new Drawn(this.scene, source, this.loader));
       this.drawn.get(source).update(frame, space);
     }

@@ -1,6 +1,7 @@
 // The task panel that follows the controller: the task, its clock and targets, what to do next,
 // the controls of this controller (with Bumper's alternative where it has no squeeze), and the
-// connection's state.
+// connection's state; before the task, what to press to start it. Shown in an immersive session
+// only. A feature of the view (view/features.mjs).
 
 import * as THREE from 'three';
 import { Label } from './label.mjs';
@@ -9,7 +10,18 @@ export class Hud {
   constructor(scene) {
     this.label = new Label(0.36, 0.2, { px: 900 });
     this.label.mesh.name = 'hud';
+    this.label.mesh.visible = false;
     scene.add(this.label.mesh);
+  }
+
+  /**
+   * `s.hud`: { lines, at, eye } (flow/frame.mjs), or null to hide the panel; `lines` null keeps
+   * the text, `at` (a pose) null keeps the place.
+   */
+  update(s) {
+    this.label.mesh.visible = Boolean(s.hud);
+    if (s.hud?.at) this.place(s.hud.at, s.hud.eye);
+    if (s.hud?.lines) this.set(s.hud.lines);
   }
 
   /** Places the panel above the controller (pose arrays), facing the eye; both in its parent's frame. */

@@ -1,6 +1,7 @@
 // The model menu in the 3D scene: a panel of the catalogue's models that opens in front of the
 // head when the simulation's menu opens; the controller's ray picks an item and the trigger
-// chooses it (the page then sends `choose_model`, main.mjs).
+// chooses it (the run then sends `choose_model`, run.mjs; the pick is flow/task.mjs's). A feature
+// of the view (view/features.mjs).
 
 import * as THREE from 'three';
 import { Label } from './label.mjs';
@@ -85,8 +86,16 @@ export class Menu {
     return [p.x, p.y, p.z];
   }
 
+  /** Open while the run's snapshot (`s.live`) has its menu open: the item under `s.ray` highlighted. */
+  update(s) {
+    const snap = s.live;
+    if (snap?.menu.open && !this.isOpen) this.open([...snap.menu.models, 'Finish task'], snap.head);
+    if (!snap?.menu.open && this.isOpen) this.close();
+    if (this.isOpen) this.#items(s.ray ? this.itemAt(s.ray[0], s.ray[1]) : -1, snap.menu.current_model, 'Choose a model (trigger)');
+  }
+
   /** Redraws the items: the one under the ray highlighted, the current model marked. */
-  update(hover, current, hint) {
+  #items(hover, current, hint) {
     if (!this.label) return;
     this.hover = hover;
     this.label.set([hint, ...this.models.map((m, i) => `${i === hover ? '!' : ''}${m === current ? '• ' : '   '}${m}`)]);

@@ -1,25 +1,14 @@
 // What the simulation shows beyond the world: the controller's ray and its hit marker, the
 // anchor ball under a dragged tree (green while a release would not snap, white when it would),
 // the selected tree's bounding box and its 12 handles, and the task's targets (each on the
-// plane it lies on: `moved_to` where the room has no plane at its height), all from the snapshot.
+// plane it lies on: `moved_to` where the room has no plane at its height), all from the snapshot
+// of the run shown. A feature of the view (view/features.mjs).
 
 import * as THREE from 'three';
 import { Label } from './label.mjs';
 
 const GREEN = 0x3fd16b;
 const WHITE = 0xffffff;
-
-/** The 12 handle points of a box (systems/src/interact.rs, `handle_points`). */
-export function handlePoints(center, half, yaw) {
-  const c = Math.cos(yaw);
-  const s = Math.sin(yaw);
-  const rot = (x, y, z) => [center[0] + c * x + s * z, center[1] + y, center[2] - s * x + c * z];
-  const sign = (b) => (b ? 1 : -1);
-  const out = [];
-  for (let i = 0; i < 8; i++) out.push(rot(sign(i & 1) * half[0], sign(i & 2) * half[1], sign(i & 4) * half[2]));
-  for (let i = 0; i < 4; i++) out.push(rot(sign(i & 1) * half[0], 0, sign(i & 2) * half[2]));
-  return out;
-}
 
 export class Overlay {
   constructor(scene) {
@@ -62,7 +51,13 @@ export class Overlay {
     return this.ball.material.color.getHex() === WHITE ? 'white' : 'green';
   }
 
-  update(snap, eye) {
+  /** Shown with a run's snapshot (`s.live`), its labels turned to `s.eye`; hidden on a step's panel. */
+  update(s) {
+    this.root.visible = Boolean(s.live);
+    if (s.live) this.#draw(s.live, s.eye);
+  }
+
+  #draw(snap, eye) {
     const c = snap.controller;
     const o = c.ray_origin;
     const d = c.ray_direction;
@@ -91,11 +86,11 @@ export class Overlay {
       this.box.position.set(b.center[0], b.center[1], b.center[2]);
       this.box.rotation.set(0, b.yaw, 0);
       this.box.scale.set(b.half_extents[0], b.half_extents[1], b.half_extents[2]);
-      handlePoints(b.center, b.half_extents, b.yaw).forEach((p, i) => {
+      // The snapshot's handles: the 8 corners, then the 4 edges (systems/src/interact.rs).
+      b.handles.forEach((p, i) => {
         const h = this.handles[i];
-        h.position.set(p[0], p[1], p[2]);
-        const name = i < 8 ? ['corner', i] : ['edge', i - 8];
-        h.material = hotHandle && hotHandle[0] === name[0] && hotHandle[1] === name[1] ? this.handleMaterials[1] : this.handleMaterials[0];
+        h.position.set(p.position[0], p.position[1], p.position[2]);
+        h.material = hotHandle && hotHandle[0] === p.kind && hotHandle[1] === p.index ? this.handleMaterials[1] : this.handleMaterials[0];
       });
     }
     this.#targets(snap.task, eye);

@@ -1,7 +1,9 @@
 // A panel in the 3D scene for the protocol's steps (docs/protocol.md, "In the headset"): text,
 // an image and buttons drawn on a canvas texture, placed in front of the head, level and facing
 // it. The controller's ray (or the mouse's, in the inline preview) picks a button and the
-// trigger presses it, as in the model menu (draw/menu.mjs).
+// trigger presses it, as in the model menu (draw/menu.mjs). What it shows is the protocol's
+// (flow/protocol.mjs, steps.mjs's panelFrame); as a feature of the view (view/features.mjs) it
+// hides when the page leaves a step.
 //
 // A layout is a list of boxes in the canvas's pixels: `{ type: 'text', text, x, y, w, size,
 // bold, color, align }` (wrapped to `w`), `{ type: 'button', id, label, x, y, w, h, on }`,
@@ -89,6 +91,11 @@ export class Panel {
     this.group.scale.setScalar(scale);
     this.group.visible = true;
     this.group.updateMatrixWorld(true);
+  }
+
+  /** Hidden unless the page shows a step (`s.panel`). */
+  update(s) {
+    if (!s.panel && (this.group.visible || this.ray.visible)) this.hide();
   }
 
   hide() {

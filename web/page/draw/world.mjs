@@ -1,7 +1,6 @@
-// The world as three.js draws it from the simulation's snapshot: the ground planes, the trees
-// (the catalogue's mesh and billboard models, loaded once each through GLTFLoader and cloned),
-// the sun and its shadows. In AR the ground is drawn with a shadow-only material, so the trees'
-// shadows fall onto the real floor and nothing else of the ground is seen.
+// The world as three.js draws it from the simulation's snapshot: the trees (the catalogue's mesh
+// and billboard models, loaded once each through GLTFLoader and cloned), the sun and its
+// shadows, the sky (none in AR, where the room is seen). The ground is draw/ground.mjs's.
 //
 // Everything is in the simulation's frame (metres, +Y up); the page's XR reference space is
 // offset so that the headset's poses are in that frame too (room.mjs).
@@ -45,18 +44,20 @@ export class Models {
   }
 }
 
-/** The ground, trees and light of one scene. */
-export class WorldView {
-  /** `ar`: draw the ground as a shadow catcher over the real room. */
-  constructor(scene, models, { ar = false, shadows = true } = {}) {
+/** The trees, sun and sky of the world shown (a feature of the view: view/features.mjs). */
+export class World {
+  /** `scene`: the view's scene (its sky); `parent`: the simulation's frame. */
+  constructor(scene, parent, models, { shadows = true } = {}) {
     this.scene = scene;
     this.models = models;
-    this.ar = ar;
+    this.shown = null; // the world record drawn (flow/task.mjs's worldOf), or null
     this.trees = new Map(); // id -> { object, model }
+    this.sky = new THREE.Color(0x9cc3e6);
     this.root = new THREE.Group();
     this.root.name = 'world';
-    scene.add(this.root);
-    this.hemi = new THREE.HemisphereLight(0xdfeaff, 0x4a4030, ar ? 1.2 : 1.0);
+    this.root.visible = false;
+    parent.add(this.root);
+    this.hemi = new THREE.HemisphereLight(0xdfeaff, 0x4a4030, 1.0);
     this.root.add(this.hemi);
     this.sun = new THREE.DirectionalLight(0xfff4e0, 2.2);
     this.sun.castShadow = shadows;
@@ -71,30 +72,27 @@ export class WorldView {
     this.sun.shadow.bias = -0.0005;
     this.root.add(this.sun);
     this.root.add(this.sun.target);
-    this.ground = new THREE.Group();
-    this.root.add(this.ground);
   }
 
-  /** The ground planes, from the module's `ground()`. */
-  setGround(planes) {
-    this.ground.clear();
-    for (const p of planes) {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute('position', new THREE.Float32BufferAttribute(p.vertices, 3));
-      g.setIndex(p.triangles);
-      g.computeVertexNormals();
-      const material = this.ar
-        ? new THREE.ShadowMaterial({ opacity: 0.45 })
-        : new THREE.MeshStandardMaterial({ color: p.name === 'terrace' ? 0x8d7f62 : 0x6f8f4e, roughness: 0.95 });
-      const mesh = new THREE.Mesh(g, material);
-      mesh.name = `plane:${p.name}`;
-      mesh.receiveShadow = true;
-      this.ground.add(mesh);
-    }
+  /** A new world ({ ar, snapshot }) starts with its own trees; a run's snapshot moves them. */
+  update(s) {
+    if (s.world !== this.shown) this.#show(s.world);
+    if (this.shown && s.snap) this.#trees(s.snap);
+  }
+
+  #show(world) {
+    this.shown = world;
+    for (const entry of this.trees.values()) this.root.remove(entry.object);
+    this.trees.clear();
+    this.root.visible = Boolean(world);
+    this.scene.background = world && !world.ar ? this.sky : null;
+    if (!world) return;
+    this.hemi.intensity = world.ar ? 1.2 : 1.0;
+    if (world.snapshot) this.#trees(world.snapshot);
   }
 
   /** Brings trees and the sun to the snapshot. */
-  update(snap) {
+  #trees(snap) {
     const seen = new Set();
     for (const t of snap.trees) {
       seen.add(t.id);

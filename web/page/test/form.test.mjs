@@ -1,42 +1,37 @@
-// The questionnaire panel's logic (web/page/form.mjs), on the shipped tree-planting instrument
-// as the server describes it and on hand-made items: the buttons of each kind, choosing and
-// toggling, the answers sent, what a missing answer says, and the text typed on the page.
+// The questionnaire panel's logic (web/page/form.mjs), on the instruments as the server
+// describes them (tests/fixtures/questionnaires/forms.json, held to what the server sends by
+// tests/integration/questionnaire_rules.rs, where what each kind of item takes is tested): the
+// rows of buttons, choosing and toggling, the answers sent, what a missing answer says, and the
+// text typed on the page.
 
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { LATER, SKIP, build, buttonRows, choicesFrom, choose, isChosen, kindOf, missingMessage, optionLines, rowOf, titleOf, typedAnswers } from '../form.mjs';
+import { LATER, SKIP, build, buttonRows, choicesFrom, choose, isChosen, missingMessage, optionLines, rowOf, titleOf, typedAnswers } from '../form.mjs';
 
-// The items of assets/protocols/tree-planting.ron as GET /api/protocol/participants/ID lists them.
-const items = [
-  { id: 'guidance', text: 'How well did the application guide you through the tasks?', kind: { Rating: { anchors: ['Not at all', 'Very well'] } }, required: true },
-  { id: 'more_instructions', text: 'Which parts need more instructions?', kind: { Multiple: { choices: ['Ray-casting', 'Mode changing', 'Bounding box', 'Attaching to the ground'] } }, required: true },
-  { id: 'uses', text: 'What could this application be used for?', kind: { Text: { max_chars: 2000 } }, required: false },
-  { id: 'would_use', text: 'Would you use this application?', kind: 'YesNo', required: true },
-];
+// The instruments of assets/protocols/tree-planting.ron (and every kind of item) as GET /api/protocol/participants/ID lists them.
+const forms = JSON.parse(readFileSync(new URL('../../../tests/fixtures/questionnaires/forms.json', import.meta.url), 'utf8'));
+const items = forms['tree-planting'].items.filter((i) => ['guidance', 'more_instructions', 'uses', 'would_use'].includes(i.id));
 const rows = items.map(rowOf);
+const tlx = rowOf(forms['nasa-tlx'].items[0]);
 
-test('each kind of item becomes its buttons, with the anchors at the ends', () => {
-  assert.deepEqual(kindOf(items[3]), { kind: 'YesNo', args: {} });
+test('each item becomes its buttons as the server describes them, with the anchors at the ends', () => {
   assert.deepEqual(rows[0].options.map((o) => o.value), [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10]);
   assert.deepEqual(rows[0].anchors, ['Not at all', 'Very well']);
   assert.equal(rows[1].multi, true);
   assert.deepEqual(rows[1].options.map((o) => o.label), ['Ray-casting', 'Mode changing', 'Bounding box', 'Attaching to the ground']);
   assert.deepEqual(rows[3].options, [{ value: true, label: 'Yes' }, { value: false, label: 'No' }]);
   assert.equal(rows[2].typed, true);
+  assert.equal(rows[2].maxChars, 2000);
   assert.deepEqual(rows[2].options.map((o) => o.value), [LATER, SKIP], 'an optional text item offers typing it later or skipping it');
   assert.deepEqual(rowOf({ ...items[2], required: true }).options, [], 'a required text item is always typed later');
-  const tlx = rowOf({ id: 'mental', text: 'Mental demand', kind: { Scale: { min: 0, max: 100, step: 5, anchors: ['Very low', 'Very high'] } } });
   assert.equal(tlx.options.length, 21);
   assert.equal(tlx.options[20].value, 100);
   assert.deepEqual(buttonRows(tlx.options).map((r) => r.length), [11, 10], 'two balanced rows of at most 11');
-  const likert = rowOf({ id: 'l', text: 'L', kind: { Likert: { points: 5, anchors: ['Strongly disagree', 'Disagree', 'Neutral', 'Agree', 'Strongly agree'] } } });
-  assert.deepEqual(likert.options.map((o) => [o.value, o.label]), [[1, 'Strongly disagree'], [2, 'Disagree'], [3, 'Neutral'], [4, 'Agree'], [5, 'Strongly agree']]);
-  assert.equal(likert.anchors, null, 'a word on every point needs no anchors');
-  const sus = rowOf({ id: 's', text: 'S', kind: { Likert: { points: 5, anchors: ['Strongly disagree', 'Strongly agree'] } } });
-  assert.deepEqual(sus.anchors, ['Strongly disagree', 'Strongly agree']);
-  assert.deepEqual(rowOf({ id: 'c', text: 'C', kind: { Single: { choices: ['a', 'b'] } } }).options.map((o) => o.value), ['a', 'b']);
-  assert.throws(() => rowOf({ id: 'x', text: 'X', kind: { Slider: {} } }), /unknown kind 'Slider'/);
+  const words = rowOf(forms['every-kind'].items.find((i) => i.id === 'likert_words'));
+  assert.deepEqual(words.options.map((o) => [o.value, o.label]), [[1, 'Strongly disagree'], [2, 'Disagree'], [3, 'Neutral'], [4, 'Agree'], [5, 'Strongly agree']]);
+  assert.equal(words.anchors, null, 'a word on every point needs no anchors');
+  assert.throws(() => rowOf({ id: 'x', text: 'X', kind: { Slider: {} } }), /'x' comes without its options/);
 });
 
 test('choosing replaces a single answer and toggles a multiple one, in the item\'s order', () => {
@@ -90,13 +85,13 @@ test('the title names the instrument and the condition it follows', () => {
   assert.equal(titleOf({ block: 'questions', condition: null, instrument: { title: 'About the application' } }), 'About the application');
 });
 
-test('every item kind of the shipped protocols has its buttons', () => {
-  // The kinds the protocol's format knows (src/protocol/format.rs), each drawn by the panel.
-  const format = readFileSync(new URL('../../../src/protocol/format.rs', import.meta.url), 'utf8');
-  const kinds = [...format.slice(format.indexOf('pub enum ItemKind')).split('\n}')[0].matchAll(/^    ([A-Z][A-Za-z]+)[ ,{]/gm)].map((m) => m[1]);
-  assert.deepEqual(kinds, ['Rating', 'Scale', 'Likert', 'Single', 'Multiple', 'Text', 'YesNo']);
-  const args = { Rating: {}, Scale: { min: 1, max: 3 }, Likert: { points: 3 }, Single: { choices: ['a'] }, Multiple: { choices: ['a'] }, Text: {}, YesNo: null };
-  for (const k of kinds) assert.ok(rowOf({ id: k, text: k, kind: args[k] === null ? k : { [k]: args[k] } }), k);
+test('every item the server describes gives a row: options to choose, or typed text', () => {
+  for (const [id, instrument] of Object.entries(forms)) {
+    for (const item of instrument.items) {
+      const row = rowOf(item);
+      assert.ok(row.typed ? row.maxChars > 0 : row.options.length > 0, `${id} ${item.id}`);
+    }
+  }
 });
 
 test("the panel's lines: numbers side by side, more than two words one per line, the chosen ones on", () => {
@@ -108,7 +103,6 @@ test("the panel's lines: numbers side by side, more than two words one per line,
   assert.deepEqual(multi.map((l) => l.map((b) => [b.k, b.on])), [[[0, false]], [[1, false]], [[2, true]], [[3, false]]]);
   assert.deepEqual(optionLines(rows[3], {}).map((l) => l.map((b) => b.label)), [['Yes', 'No']]);
   assert.deepEqual(optionLines(rows[2], { uses: LATER }).map((l) => l.map((b) => [b.label, b.on])), [[['Type it on the page', true], ['Skip it', false]]]);
-  const tlx = rowOf({ id: 'mental', text: 'M', kind: { Scale: { min: 0, max: 100, step: 5 } } });
   assert.deepEqual(optionLines(tlx, { mental: 100 }).map((l) => l.length), [11, 10]);
   assert.deepEqual(optionLines(tlx, { mental: 100 })[1].at(-1), { k: 20, label: '100', on: true });
 });

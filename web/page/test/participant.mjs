@@ -2,7 +2,7 @@
 // Touch Plus) and presses its buttons, frame by frame, as a person in the headset would.
 
 import assert from 'node:assert/strict';
-import { lookRotation } from '../input.mjs';
+import { lookRotation } from '../input/pose.mjs';
 import { openSession } from '../../client/grove-client.mjs';
 import { studyLines } from '../../client/test/helpers.mjs';
 import { ticks, until } from './harness.mjs';

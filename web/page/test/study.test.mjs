@@ -11,8 +11,9 @@ const instrument = {
   id: 'tree-planting',
   title: 'About the application',
   items: [
-    { id: 'guidance', text: 'How well did the application guide you?', kind: { Rating: { anchors: ['Not at all', 'Very well'] } }, required: true },
-    { id: 'uses', text: 'What could it be used for?', kind: { Text: { max_chars: 2000 } }, required: false },
+    // As the server describes them: with what each takes (src/protocol/form.rs).
+    { id: 'guidance', text: 'How well did the application guide you?', kind: { Rating: { anchors: ['Not at all', 'Very well'] } }, required: true, options: Array.from({ length: 11 }, (_, v) => ({ value: v, label: String(v) })), anchors: ['Not at all', 'Very well'], multi: false, typed: false, max_chars: null },
+    { id: 'uses', text: 'What could it be used for?', kind: { Text: { max_chars: 2000 } }, required: false, options: [], anchors: null, multi: false, typed: true, max_chars: 2000 },
   ],
 };
 const state = (step, answers = {}) => ({

@@ -209,3 +209,34 @@ pub unsafe extern "C" fn grove_rechain(ptr: *const u8, len: usize) -> i32 {
     };
     answer(run().map(|l| (0, l)))
 }
+
+/// Builds the scene of a room a headset found in AR: `input` is JSON (grove-systems'
+/// `room::RoomInput`: `source`, `floor_y`, `planes` as `{ label, points: [{ x, y, z }, …] }` in the
+/// simulation's frame, `task`). 0 (the result: the scene file's text, which `grove serve` takes
+/// as `scene_text`) or -1.
+///
+/// # Safety
+/// `ptr` must point to `len` readable bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn grove_room_scene(ptr: *const u8, len: usize) -> i32 {
+    let run = || -> Result<Vec<u8>, Error> {
+        let input: grove_systems::room::RoomInput = serde_json::from_str(unsafe { text("room", ptr, len) }?).map_err(|e| Error::input("room", e))?;
+        Ok(grove_systems::room::room_scene(&input)?.into_bytes())
+    };
+    answer(run().map(|t| (0, t)))
+}
+
+/// A built-in task as JSON: `id`, `mode` ("ray-casting" or "manual", the mode it is done in),
+/// `scene`, `tolerance`, `targets` (`position`, `model`). 0 or -1 for an unknown task.
+///
+/// # Safety
+/// `ptr` must point to `len` readable bytes (the task's id).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn grove_task(ptr: *const u8, len: usize) -> i32 {
+    let run = || -> Result<Vec<u8>, Error> {
+        let id = unsafe { text("task", ptr, len) }?;
+        let def = grove_systems::task::TaskDef::builtin(id).ok_or_else(|| Error::input("task", format!("'{}' is not a built-in task", id.chars().take(64).collect::<String>())))?;
+        json(&serde_json::json!({ "id": def.id, "mode": def.mode.name(), "scene": def.scene, "tolerance": def.tolerance, "targets": def.targets }))
+    };
+    answer(run().map(|j| (0, j)))
+}

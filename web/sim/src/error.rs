@@ -57,6 +57,9 @@ pub enum Error {
     /// No simulation has this handle (it was freed, or never made).
     #[error("no simulation with handle {0}")]
     Handle(u32),
+    /// A room's scene could not be built.
+    #[error("room: {0}")]
+    Room(#[from] grove_systems::room::RoomError),
     /// The recording replayed is unreadable or invalid (its file name and line number first).
     #[error("{0}")]
     Replay(#[from] grove_systems::replay::ReplayError),

@@ -1,8 +1,7 @@
 //! What a new simulation is made from: the options JavaScript hands over as JSON ([`Options`]),
 //! turned into a recording header and its scene ([`Start`]).
 
-use grove_systems::limits::MAX_SCENE_BYTES;
-use grove_systems::replay::{decode_line, Header, HeaderTechnique, Line, FORMAT_VERSION};
+use grove_systems::replay::{decode_line, Header, Line, SessionFields, FORMAT_VERSION};
 use grove_systems::set_arg::{SetArg, SetArgs};
 use grove_systems::scene::Scene;
 use serde::Deserialize;
@@ -60,25 +59,15 @@ pub struct Start {
     pub technique: Option<String>,
 }
 
-/// The scene a name (and optional text) stands for: a built-in one, or the text parsed. The
-/// module has no file system, so a scene that names model banks or an aerial crowns file is
-/// refused.
+/// The scene a name (and optional text) stands for: a built-in one, or the text, which must be
+/// self-contained (grove-systems' `scene_text` rule, the one `grove serve` keeps too: the module
+/// has no file system).
 pub fn scene(name: &str, text: Option<&str>) -> Result<Scene, Error> {
     let refuse = |message: String| Error::Scene { name: name.to_string(), message };
     let Some(text) = text else {
         return Scene::builtin(name).ok_or_else(|| refuse("not a built-in scene (\"study\"); hand over its text as scene_text".into()));
     };
-    if text.len() as u64 > MAX_SCENE_BYTES {
-        return Err(refuse(format!("larger than the limit of {MAX_SCENE_BYTES} bytes per scene file")));
-    }
-    let scene = Scene::parse(text, name).map_err(|e| refuse(e.message))?;
-    if !scene.banks.is_empty() {
-        return Err(refuse("it names model banks, which the module cannot read (it has no file system)".into()));
-    }
-    if scene.aerial.as_ref().is_some_and(|a| a.crowns.is_some()) {
-        return Err(refuse("it names an aerial crowns file, which the module cannot read (it has no file system)".into()));
-    }
-    Ok(scene)
+    grove_systems::scene_text::self_contained(text).map_err(|e| refuse(e.to_string()))
 }
 
 impl Options {
@@ -126,21 +115,17 @@ impl Options {
     fn new_header(self) -> Result<Start, Error> {
         let name = self.scene.clone().unwrap_or_else(|| "study".into());
         let scene = scene(&name, self.scene_text.as_deref())?;
-        let mut header = Header::new(&name, self.seed.unwrap_or(scene.seed), scene.dt);
         let set = self.set.iter().map(|a| a.parse::<SetArg>()).collect::<Result<Vec<_>, _>>()?;
-        header.config = SetArgs::single_values(&set)?.into_iter().collect();
-        header.task = self.task;
-        header.participant = self.participant;
-        header.synthetic = self.synthetic;
-        header.session_start = self.session_start;
-        header.block = self.block;
-        if let Some(name) = &self.technique {
-            let techniques = grove_systems::technique::installed();
-            let t = techniques.get(name).ok_or_else(|| Error::input("options", format!("technique: {}", techniques.unknown(name))))?;
-            if !t.is_builtin() {
-                header.technique = Some(HeaderTechnique { name: t.name.to_string(), version: t.version });
-            }
-        }
+        let fields = SessionFields {
+            participant: self.participant,
+            task: self.task,
+            block: self.block,
+            session_start: self.session_start,
+            technique: self.technique.clone(),
+            synthetic: self.synthetic,
+            config: SetArgs::single_values(&set)?.into_iter().collect(),
+        };
+        let header = fields.header(&name, self.seed.unwrap_or(scene.seed), scene.dt).map_err(|e| Error::input("options", e))?;
         Ok(Start { header, scene, given_header: false, technique: self.technique })
     }
 }

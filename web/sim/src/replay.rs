@@ -1,11 +1,8 @@
 //! A verifying replay of a recording handed over as bytes: the same reader, checks and
-//! re-simulation as `grove replay`, and the same report ([`ReplayReport`], the fields of
-//! `grove replay --json`), less the wall-clock figures, which JavaScript measures.
+//! re-simulation as `grove replay`, and the same report (grove-systems' [`ReplayReport`], the
+//! fields of `grove replay --json`), less the wall-clock figures, which JavaScript measures.
 
-use std::collections::BTreeMap;
-
-use grove_systems::replay::{decode_line, replay_reader, Divergence, Line, ReplayOptions};
-use grove_systems::task::{ticks_to_seconds, TaskReport};
+use grove_systems::replay::{decode_line, replay_reader, Line, ReplayOptions, ReplayReport};
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
@@ -21,44 +18,6 @@ pub struct ReplayArgs {
     pub scene_text: Option<String>,
     /// Stop at this tick.
     pub until: Option<u64>,
-}
-
-/// What `grove replay --json` prints, field for field; `wall_seconds` and `speedup` are 0 here
-/// (the module reads no clock): the caller measures and fills them.
-#[derive(Debug, Serialize)]
-pub struct ReplayReport {
-    /// The file replayed.
-    pub file: String,
-    /// Its format version.
-    pub format_version: u32,
-    /// Ticks simulated.
-    pub ticks: u64,
-    /// Simulated seconds.
-    pub sim_seconds: f64,
-    /// Wall-clock seconds the replay took (filled by the caller).
-    pub wall_seconds: f64,
-    /// Simulated seconds per wall second (filled by the caller).
-    pub speedup: f64,
-    /// Every checkpoint compared matched (and at least one was compared).
-    pub verified: bool,
-    /// "verified", "unverified" (no checkpoint to compare) or "diverged".
-    pub status: &'static str,
-    /// The file has its footer.
-    pub complete: bool,
-    /// Checkpoints compared, the footer's final hash included.
-    pub checkpoints_checked: u64,
-    /// The first divergence, if any.
-    pub first_divergence: Option<Divergence>,
-    /// Input events by kind.
-    pub events: BTreeMap<String, u64>,
-    /// The world hash at the end of the replay.
-    pub final_hash: String,
-    /// The participant id from the header.
-    pub participant: Option<String>,
-    /// Whether the header marks the session as synthetic.
-    pub synthetic: bool,
-    /// The task outcome, recomputed by the simulation, if the session ran a task.
-    pub task: Option<TaskReport>,
 }
 
 /// The report and the task's one-line result, as `grove replay` prints it.
@@ -87,32 +46,6 @@ pub fn replay(args: &ReplayArgs, recording: &[u8]) -> Result<Replayed, Error> {
         }
     }
     let outcome = replay_reader(recording, &args.file, None, &options)?;
-    let snapshot = outcome.sim.snapshot();
-    let verified = outcome.verifying && outcome.first_divergence.is_none() && outcome.checkpoints_checked > 0;
-    let task = outcome.sim.task_report();
-    let report = ReplayReport {
-        file: args.file.clone(),
-        format_version: outcome.header.format_version,
-        ticks: snapshot.tick,
-        sim_seconds: ticks_to_seconds(snapshot.tick, snapshot.dt),
-        wall_seconds: 0.0,
-        speedup: 0.0,
-        verified,
-        status: if outcome.first_divergence.is_some() {
-            "diverged"
-        } else if verified {
-            "verified"
-        } else {
-            "unverified"
-        },
-        complete: outcome.complete,
-        checkpoints_checked: outcome.checkpoints_checked,
-        first_divergence: outcome.first_divergence.clone(),
-        events: outcome.events.clone(),
-        final_hash: snapshot.hash,
-        participant: outcome.header.participant.clone(),
-        synthetic: outcome.header.synthetic,
-        task: task.clone(),
-    };
-    Ok(Replayed { task_line: task.map(|t| t.result_line()), report })
+    let report = ReplayReport::new(args.file.clone(), &outcome);
+    Ok(Replayed { task_line: report.task.as_ref().map(|t| t.result_line()), report })
 }
