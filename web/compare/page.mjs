@@ -6,6 +6,7 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { Tree } from '@dgreenheck/ez-tree';
+import { coverageMips, opaqueMean } from './mips.mjs';
 
 const SKY = new THREE.Color(0x9fc3e6);
 const GROUND = new THREE.Color(0x7a8048);
@@ -64,14 +65,39 @@ async function groveTree(handle, url) {
   const gltf = await new GLTFLoader().loadAsync(url);
   const tree = new THREE.Group();
   tree.add(gltf.scene);
+  const done = new Set();
   tree.traverse((o) => {
     if (o.isMesh) {
       o.castShadow = true;
       o.receiveShadow = true;
+      if (o.material.alphaTest > 0 && o.material.map && !done.has(o.material.map)) {
+        done.add(o.material.map);
+        keepCoverage(o.material.map);
+      }
     }
   });
   keep(handle, tree);
   return measure(tree);
+}
+
+/**
+ * Gives an alpha-cut texture the mip chain grove's renderer builds (web/compare/mips.mjs) in place
+ * of the one three.js would generate: level 0 the image as loaded, the rest from its pixels.
+ */
+function keepCoverage(texture) {
+  const image = texture.image;
+  const { width, height } = image;
+  const c = document.createElement('canvas');
+  [c.width, c.height] = [width, height];
+  const g = c.getContext('2d', { willReadFrequently: true });
+  g.drawImage(image, 0, 0);
+  const rgba = g.getImageData(0, 0, width, height).data;
+  const srgb = texture.colorSpace === THREE.SRGBColorSpace;
+  const levels = coverageMips(width, height, rgba, { srgb, fill: opaqueMean(rgba) });
+  texture.mipmaps = [image, ...levels.map((l) => new ImageData(l.data, l.width, l.height))];
+  texture.generateMipmaps = false;
+  texture.minFilter = THREE.LinearMipmapLinearFilter;
+  texture.needsUpdate = true;
 }
 
 /** Generates one of ez-tree's presets (by its name in TreePreset); the handle names it for `render` and `stand`. */
