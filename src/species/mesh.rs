@@ -7,7 +7,7 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::atlas::{Atlas, Cell};
-use super::preset::Preset;
+use super::preset::{LeafShape, Preset};
 use super::stems::{Stem, Tree};
 use crate::assetgen::geometry::{tangent_frame, MeshData};
 
@@ -280,7 +280,8 @@ fn lin(c: Vec3) -> Vec3 {
 /// How much darker a clump's middle is than its outside, times the preset's `ao`.
 const CLUMP_AO: f32 = 0.6;
 
-/// The three levels of detail: every stem and leaf (each leaf card the atlas's first cell),
+/// The three levels of detail: every stem and leaf (each leaf card the atlas's first cell; a
+/// spruce's, `Needles`, level 1's sprays),
 /// then about 25 % and 5 % of its triangles: coarser tubes, fewer stem levels, and fewer leaf
 /// cards, each a spray of the atlas; on level 1 the sprays' leaves keep their size (it keeps
 /// `card_leaves / spray_leaves` of the cards), on level 2 they grow to keep the crown's area.
@@ -288,12 +289,23 @@ pub fn build(tree: &Tree, p: &Preset, atlas: &Atlas) -> [Lod; 3] {
     let crown = Crown::of(tree);
     let deepest = tree.stems.iter().map(|s| s.level).max().unwrap_or(0);
     let full_detail = Detail { coarse: 1, step: 1, max_level: deepest };
-    let (l, n) = leaves(tree, Cards::Full(&atlas.card));
+    let spray_keep = (atlas.card.leaves as f32 / atlas.sprays[0].leaves.max(1) as f32).min(1.0);
+    // A spruce's needles stand all round its twigs: one card per shoot, its needles at their true
+    // width (6 % of their length) in a single comb, leaves the space between the twigs empty and
+    // reads bare from 10 m, so level 0 draws level 1's sprays of shoots (the needles at the same
+    // length, combs at least 4 texels wide), with every stem.
+    let full_cards = if p.leaf_shape == LeafShape::Needles {
+        Cards::Sprays { sprays: &atlas.sprays, keep: spray_keep, grow: 1.0, card_len: atlas.card.size.x }
+    } else {
+        Cards::Full(&atlas.card)
+    };
+    let (l, n) = leaves(tree, full_cards);
     let mut full = Lod { wood: wood(tree, p, full_detail), leaves: l, leaf_count: n };
     let total = full.triangles() as f32;
-    let spray_keep = (atlas.card.leaves as f32 / atlas.sprays[0].leaves.max(1) as f32).min(1.0);
     let mut out = [Lod::default(), Lod::default()];
-    let sprays = (full.leaf_count as f32 * spray_keep).round();
+    // The coarser levels count the leaves of level 0 as cards, whatever level 0 draws.
+    let cards = tree.leaves.len();
+    let sprays = (cards as f32 * spray_keep).round();
     for (k, share) in LOD_SHARES.iter().enumerate() {
         // Level 1: the sprays and at most as many triangles of wood (so the wood is at most
         // 60 % of a budget of 2.5 / 3 of the sprays' triangles); level 2: its share of level
@@ -310,7 +322,7 @@ pub fn build(tree: &Tree, p: &Preset, atlas: &Atlas) -> [Lod; 3] {
             Cards::Sprays { sprays: &atlas.sprays, keep: spray_keep, grow: 1.0, card_len: atlas.card.size.x }
         } else {
             let room = ((target - w.triangles() as f32) / 2.0).max(0.0);
-            let keep = if full.leaf_count == 0 { 0.0 } else { (room / full.leaf_count as f32).clamp(1e-3, spray_keep) };
+            let keep = if cards == 0 { 0.0 } else { (room / cards as f32).clamp(1e-3, spray_keep) };
             Cards::Sprays { sprays: &atlas.sprays, keep, grow: (spray_keep / keep).sqrt().min(4.0), card_len: atlas.card.size.x }
         };
         let (l, n) = leaves(tree, cards);

@@ -72,7 +72,7 @@ pub fn run(cmd: TreesCommand) -> anyhow::Result<ExitCode> {
                 "{}: {} stems, {} leaf cards of {} leaves ({:.0} cm), sprays of {} ({:.0} cm) on the coarser levels, {} triangles (lod1 {}, lod2 {}), {:.1} m tall, crown radius {:.1} m, {:.2} s",
                 w.gltf.display(),
                 m.tree.stems.len(),
-                m.lods[0].leaf_count,
+                m.tree.leaves.len(),
                 card.leaves,
                 card.size.x * 100.0,
                 spray.leaves,
