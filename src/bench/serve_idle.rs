@@ -33,8 +33,8 @@ pub fn bench_serve_idle(grove: &Path) -> Result<Value, BenchError> {
     std::fs::create_dir_all(&scratch).map_err(|source| BenchError::Folder { path: scratch.clone(), source })?;
     // As `grove bench study` does: the recordings of the working directory's replays/study.
     let study = Path::new("replays/study");
-    let mut baseline = start_server(grove, &scratch.join("baseline")).map_err(failed)?;
-    let mut crowded = start_server(grove, &scratch.join("crowded")).map_err(failed)?;
+    let mut baseline = start_server(grove, &scratch.join("baseline"), true).map_err(failed)?;
+    let mut crowded = start_server(grove, &scratch.join("crowded"), true).map_err(failed)?;
     let runtime = tokio::runtime::Builder::new_multi_thread().enable_all().build().map_err(failed)?;
     let result = runtime.block_on(async {
         let addr: std::net::SocketAddr = crowded.url.trim_start_matches("http://").trim_end_matches('/').parse().map_err(failed)?;

@@ -23,6 +23,7 @@ pub mod play_ui;
 pub mod scaled;
 pub mod session;
 pub mod stats;
+mod surface;
 pub mod viewer;
 pub mod window;
 pub mod world_view;

@@ -110,7 +110,7 @@ impl PlayUi {
     /// The events that start a study task: its mode, then the task itself.
     pub fn start_task_events(id: &str) -> Vec<InputEvent> {
         let mode = TaskDef::builtin(id).map_or(Mode::RayCasting, |d| d.mode);
-        vec![InputEvent::SwitchMode { mode }, InputEvent::StartTask { task: id.to_string() }]
+        vec![InputEvent::SwitchMode { mode }, InputEvent::StartTask { task: id.to_string(), layout: None }]
     }
 
     /// The events that remove every tree: for each, the controller is put above its crown

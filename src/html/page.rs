@@ -98,6 +98,13 @@ fn overview(page: &StudyPage<'_>, views: &[TrialView]) -> Markup {
                 thead { tr { th { "condition" } th { "trials" } th { "completed" } th { "mean time (s)" } th { "sd (s)" } th { "mean errors" } } }
                 tbody { @for (m, st) in &s.modes { tr data-mode=(m) { td { (m) } td { (st.trials) } td { (st.completed) } td { (num(&format!("modes.{m}.mean_time_s"), st.mean_time_s, 2)) } td { (num(&format!("modes.{m}.sd_time_s"), st.sd_time_s, 2)) } td { (num(&format!("modes.{m}.mean_errors"), st.mean_errors, 2)) } } } }
             }
+            @if s.by_device.iter().any(|d| d.device != "controller") {
+                h3 { "Per device" }
+                table class="stats" id="per-device" {
+                    thead { tr { th { "device" } th { "condition" } th { "trials" } th { "completed" } th { "mean time (s)" } th { "sd (s)" } th { "mean errors" } } }
+                    tbody { @for d in &s.by_device { tr data-device=(d.device) data-mode=(d.mode) { td { (d.device) } td { (d.mode) } td { (d.stats.trials) } td { (d.stats.completed) } td { (num("by_device.mean_time_s", d.stats.mean_time_s, 2)) } td { (num("by_device.sd_time_s", d.stats.sd_time_s, 2)) } td { (num("by_device.mean_errors", d.stats.mean_errors, 2)) } } } }
+                }
+            }
             h3 { "Per participant" }
             table class="stats" id="per-participant" {
                 thead { tr { th { "participant" } th { "ray-casting (s)" } th { "manual (s)" } th { "manual − ray-casting (s)" } th { "missing" } } }

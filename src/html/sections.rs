@@ -106,7 +106,7 @@ pub fn trial_section(v: &TrialView) -> Markup {
     let t = &v.trial;
     let k = t.task.as_ref();
     html! {
-        section class="trial" id=(v.anchor()) data-file=(t.file) data-participant=(t.participant) data-condition=(v.condition()) data-status=(t.status.word()) {
+        section class="trial" id=(v.anchor()) data-file=(t.file) data-participant=(t.participant) data-condition=(v.condition()) data-status=(t.status.word()) data-device=(t.device.mapping) {
             h3 { (t.participant) " · " (k.map_or("no task", |k| k.id.as_str())) " · trial " (t.trial_num) " · " span class=(format!("status {}", t.status.word())) { (t.status.word()) } }
             p class="source" { "Source: re-simulated from the recording's input events" @if t.synthetic { " (a synthetic participant, grove synth)" } @else { " (recorded from a person)" } "; " (t.status.word()) "." }
             table class="numbers" {
@@ -116,6 +116,7 @@ pub fn trial_section(v: &TrialView) -> Markup {
                 tr { th { "aiming (s)" } td { (num("aiming_s", k.map(|k| k.aiming_s), 2)) } th { "menu (s)" } td { (num("menu_s", k.map(|k| k.menu_s), 2)) } }
                 tr { th { "manipulating (s)" } td { (num("manipulating_s", k.map(|k| k.manipulating_s), 2)) } th { "ray path (m)" } td { (num("ray_path_m", k.map(|k| k.ray_path_m as f64), 2)) } }
                 tr { th { "menu opens" } td { (num("menu_opens", k.map(|k| k.menu_opens as f64), 0)) } th { "ticks re-simulated" } td { (t.ticks) } }
+                tr { th { "device" } td class="device" { (t.device.mapping) " (" (t.device.target_ray_mode) ", " (t.device.profile) ")" } th { "layout" } td class="layout" { (k.map_or(String::new(), crate::study::csv_out::layout)) } }
             }
             p { "Recording: " code { (v.path.display()) } " — open it at the task's start: " code class="cmd" { (view_command(v, k.map_or(0, |k| k.start_tick))) } }
             @if let Some(e) = &t.error { p class="problem" { (e) } }

@@ -4,7 +4,8 @@
 //! in `src/render` that read simulation components; every later stage works on the copies.
 
 use glam::Vec3;
-use grove_systems::wind_model::{Gust, Wind, WindModel, WindParams, WindResponse};
+use grove_systems::wind_model::{Wind, WindParams};
+use grove_systems::light::NO_SUN;
 use grove_systems::Sim;
 
 use super::feature::Common;
@@ -23,23 +24,8 @@ pub(crate) fn common(sim: &Sim, options: &RenderOptions) -> Common {
     }
     let (sun_dir, sun_elevation_deg) = sim
         .sun()
-        .map_or((Vec3::new(0.3, 0.8, 0.2).normalize(), 45.0), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
+        .map_or((NO_SUN.0.normalize(), NO_SUN.1), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
     let time = sim.time();
-    let wind = sim.wind().unwrap_or_else(calm);
+    let wind = sim.wind().unwrap_or_else(Wind::calm);
     Common { camera, sun_dir, sun_elevation_deg, time, wind: WindParams::from_wind(&wind, time), wind_model: wind.model }
 }
-
-/// The wind of a world without a `Wind` entity: strength and gust 0, the default response, so
-/// only the trees' own `WindState::bend` moves them.
-fn calm() -> Wind {
-    Wind {
-        direction: Vec3::X,
-        strength: 0.0,
-        density: 0.0,
-        gust: Gust { average: 0.0, strength: 0.0, frequency: 0.0 },
-        current: 0.0,
-        model: WindModel::Hierarchical,
-        response: WindResponse::default(),
-    }
-}
-

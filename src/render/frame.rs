@@ -202,17 +202,21 @@ impl Renderer {
             if let Some(c) = &f.aerial.canopy {
                 c.draw(Phase::AlphaClipped, &mut pass, key, s)?;
             }
-            // The photograph before the ground, which it hides where it lies.
-            if let Some(a) = &f.aerial.ground {
-                a.draw(Phase::Opaque, &mut pass, key, s)?;
+            // Without a background (a model's coverage alone), the trees are all there is.
+            if options.background {
+                // The photograph before the ground, which it hides where it lies.
+                if let Some(a) = &f.aerial.ground {
+                    a.draw(Phase::Opaque, &mut pass, key, s)?;
+                }
+                // Water before the ground, for the same reason: the bed under it is then
+                // skipped. The ground still hides the parts of the outline that lie above the
+                // shore.
+                f.water.draw(Phase::Opaque, &mut pass, key, s)?;
+                f.ground.draw(Phase::Opaque, &mut pass, key, s)?;
+                f.grass.draw(Phase::Opaque, &mut pass, key, s)?;
+                // The sky where nothing was drawn.
+                f.sky.draw(Phase::Sky, &mut pass, key, s)?;
             }
-            // Water before the ground, for the same reason: the bed under it is then skipped.
-            // The ground still hides the parts of the outline that lie above the shore.
-            f.water.draw(Phase::Opaque, &mut pass, key, s)?;
-            f.ground.draw(Phase::Opaque, &mut pass, key, s)?;
-            f.grass.draw(Phase::Opaque, &mut pass, key, s)?;
-            // The sky where nothing was drawn.
-            f.sky.draw(Phase::Sky, &mut pass, key, s)?;
             // Blended: no feature yet (the aerial canopy is alpha-clipped, drawn after the trees).
             if options.overlay {
                 f.overlay.draw(Phase::Overlay, &mut pass, key, s)?;

@@ -1,18 +1,12 @@
-//! The aerial perspective's haze by distance, written once here for the CPU ([`haze_share`]) and
-//! for the shaders: `lighting.wgsl` imports the piece `haze` ([`SHADER_CONSTANTS`], composed by
-//! `shader.rs`), whose `haze_at` mixes the sky's colour over every lit surface with this share.
-//! A leaf of `src/render`: it names no other module. Units: metres.
+//! The aerial perspective's haze by distance, for the CPU ([`haze_share`]) and for the shaders:
+//! `lighting.wgsl` imports the piece `haze` ([`SHADER_CONSTANTS`], composed by `shader.rs`),
+//! whose `haze_at` mixes the sky's colour over every lit surface with this share. Its constants
+//! are `grove_systems::light`'s, which the headset page reads from the snapshot. A leaf of
+//! `src/render`: it names no other module. Units: metres.
 
 use std::sync::LazyLock;
 
-/// No haze within this distance of the camera.
-pub const HAZE_START: f32 = 40.0;
-/// Beyond [`HAZE_START`] the share is `1 - exp(-(d - HAZE_START) / HAZE_DEPTH)`...
-pub const HAZE_DEPTH: f32 = 400.0;
-/// ... and at least a smoothstep from 0 here...
-pub const HAZE_FULL_FROM: f32 = 350.0;
-/// ... to all of it here, just short of the far plane (600 m), where the terrain ends.
-pub const HAZE_FULL_AT: f32 = 590.0;
+pub use grove_systems::light::{HAZE_DEPTH, HAZE_FULL_AT, HAZE_FULL_FROM, HAZE_START};
 
 /// The WGSL piece `haze`: the constants above.
 pub static SHADER_CONSTANTS: LazyLock<String> = LazyLock::new(|| {

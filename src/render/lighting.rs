@@ -10,37 +10,7 @@ use glam::{Mat4, Vec3};
 use super::assets::textures::{self, Environment};
 use super::gpu::{Shared, SHADOW_FORMAT};
 
-/// The sun's light for an elevation: direct colour×intensity (linear RGB), the ambient
-/// strength and the sky brightness.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SunLight {
-    /// Direct light, linear RGB times intensity; zero when the sun is below the horizon.
-    pub direct: Vec3,
-    /// Ambient (sky) light multiplier, linear RGB.
-    pub ambient: Vec3,
-    /// Brightness of the sky background, 0..1.
-    pub sky: f32,
-}
-
-fn smoothstep(a: f32, b: f32, x: f32) -> f32 {
-    let t = ((x - a) / (b - a)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
-}
-
-/// Light from the sun at `elevation_deg` (true elevation, degrees): off below the horizon,
-/// ramping up over the first 8°, and shifting from a warm orange near the horizon to a slightly
-/// warm white above 30°. The sky and ambient light fade through civil twilight (−6°).
-pub fn sun_light(elevation_deg: f64) -> SunLight {
-    let e = elevation_deg as f32;
-    let on = if e <= 0.0 { 0.0 } else { smoothstep(0.0, 8.0, e) };
-    let warm = 1.0 - smoothstep(0.0, 30.0, e);
-    let white = Vec3::new(1.0, 0.96, 0.9);
-    let orange = Vec3::new(1.0, 0.5, 0.2);
-    let direct = white.lerp(orange, warm) * (2.6 * on);
-    let sky = 0.06 + 0.94 * smoothstep(-6.0, 12.0, e);
-    let ambient = Vec3::new(1.0, 1.0, 1.0).lerp(Vec3::new(1.0, 0.78, 0.6), warm) * (0.9 * sky);
-    SunLight { direct, ambient, sky }
-}
+pub use grove_systems::light::{sun_light, SunLight};
 
 /// The eight corners of the axis-aligned box `min..max`.
 pub fn box_corners(min: Vec3, max: Vec3) -> [Vec3; 8] {
@@ -170,23 +140,6 @@ fn bind_group(shared: &Shared, shadow: &wgpu::TextureView, shadow_sampler: &wgpu
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sun_is_off_below_the_horizon() {
-        assert_eq!(sun_light(-0.5).direct, Vec3::ZERO);
-        assert_eq!(sun_light(0.0).direct, Vec3::ZERO);
-        assert!(sun_light(2.0).direct.max_element() > 0.0);
-    }
-
-    #[test]
-    fn sun_is_dimmer_and_warmer_near_the_horizon() {
-        let low = sun_light(4.0).direct;
-        let high = sun_light(50.0).direct;
-        assert!(low.length() < high.length());
-        // Warmer: less blue relative to red.
-        assert!(low.z / low.x < high.z / high.x);
-        assert!(sun_light(-10.0).sky < sun_light(30.0).sky);
-    }
 
     #[test]
     fn light_matrix_contains_the_box() {

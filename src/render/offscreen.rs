@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use grove_systems::catalogue::ModelId;
-use grove_systems::stage::model_stage;
+use grove_systems::stage::{in_study_wind, model_stage};
 use grove_systems::Sim;
 use image::RgbaImage;
 
@@ -185,15 +185,20 @@ pub fn save_png(img: &RgbaImage, path: &Path) -> Result<(), RenderError> {
 /// ground plane (the simulation crate's staging scene, [`model_stage`]), always as the mesh
 /// (`options.impostor_pixels` is ignored).
 pub fn render_model_file(gpu: &Gpu, path: &Path, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
-    render_model_data(gpu, &load_model(path)?, width, height, options)
+    render_model_data(gpu, &load_model(path)?, width, height, options, None)
 }
 
-/// [`render_model_file`] of a model already loaded.
-pub fn render_model_data(gpu: &Gpu, data: &ModelData, width: u32, height: u32, options: RenderOptions) -> Result<RgbaImage, RenderError> {
+/// [`render_model_file`] of a model already loaded; with `tick`, the stage in the study's wind
+/// ([`in_study_wind`]) after that many ticks.
+pub fn render_model_data(gpu: &Gpu, data: &ModelData, width: u32, height: u32, options: RenderOptions, tick: Option<u64>) -> Result<RgbaImage, RenderError> {
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, FORMAT, width, height, &super::default_assets_dir())?;
     // The model alone on its stage is shown as itself: never as an impostor.
     renderer.options = RenderOptions { impostor_pixels: 0.0, far_pixels: 0.0, ..options };
     renderer.features.trees.set_model(ModelId(0), data);
-    let sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0)).map_err(RenderError::Stage)?;
+    let mut sim = model_stage(data.bounds, width as f32 / height as f32, false, ModelId(0)).map_err(RenderError::Stage)?;
+    if let Some(t) = tick {
+        in_study_wind(&mut sim).map_err(RenderError::Stage)?;
+        sim.run(t);
+    }
     render_image(gpu, &mut renderer, &sim)
 }

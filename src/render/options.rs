@@ -77,6 +77,11 @@ pub struct RenderOptions {
     /// Draw from this camera instead of the world's head camera (a video's shoulder or orbit
     /// camera); the head is then drawn as a figure like the ghosts.
     pub camera: Option<Camera>,
+    /// Draw the world's background: the sky, the ground, grass, water and the aerial
+    /// photograph. Off (`grove render --model FILE --background transparent`), a frame holds
+    /// the trees alone on [`RenderOptions::clear`] (transparent there), so a pixel's alpha is the
+    /// trees' coverage; the shadow map and the light are those of the frame with its background.
+    pub background: bool,
     /// Skip the trees a pass cannot show: those wholly outside its view, and in the shadow map
     /// those whose shadows cannot fall into a view (`trees::Trees::cull`). Culling changes no
     /// pixel; off, every pass draws every tree (for comparing the two).
@@ -85,7 +90,7 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, lod_cross_fade: true, blade_edge_fade: true, canopy: true, top_view: None, camera: None, cull_trees: true }
+        RenderOptions { shadows: true, shadow_size: 1024, clear: wgpu::Color::BLACK, leaf_pixels: 32.0, water: true, water_output: WaterOutput::Full, grass: true, grass_bend: true, overlay: true, impostor_pixels: DEFAULT_IMPOSTOR_PIXELS, far_pixels: DEFAULT_FAR_PIXELS, lod_cross_fade: true, blade_edge_fade: true, canopy: true, top_view: None, camera: None, background: true, cull_trees: true }
     }
 }
 

@@ -57,4 +57,7 @@ pub struct ServeConfig {
     pub new_token: bool,
     /// The study protocol run for the participants (`docs/protocol.md`), if any.
     pub protocol: Option<crate::protocol::Loaded>,
+    /// Whether every session is verified as it streams (else only at its end, its file
+    /// re-simulated whole: for comparisons).
+    pub live: bool,
 }

@@ -16,7 +16,6 @@ use crate::serve::http::static_files::StaticRoots;
 use crate::serve::http::token::{Kept, Token, TOKEN_FILE};
 use crate::serve::http::{banner, tls};
 use crate::serve::log::log;
-use crate::serve::protocol::live::LiveCache;
 use crate::serve::protocol::participants::Participants;
 use crate::serve::protocol::Protocol;
 use crate::serve::sessions::jobs::abandon_loop;
@@ -31,7 +30,7 @@ pub fn run(config: ServeConfig) -> Result<(), ServeError> {
 /// Runs the server until Ctrl-C or SIGTERM, then flushes every open file and writes
 /// `sessions.json`; open sessions stay open, to be continued when it starts again.
 pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
-    let (sessions, notes) = Sessions::load(&config.out, config.banks.clone(), config.max_sessions, config.read_timeout, config.writer_lease)?;
+    let (sessions, notes) = Sessions::load(&config.out, config.banks.clone(), config.max_sessions, config.read_timeout, config.writer_lease, config.live)?;
     for n in notes {
         log(&n);
     }
@@ -45,7 +44,7 @@ pub async fn serve(config: ServeConfig) -> Result<(), ServeError> {
             for n in notes {
                 log(&n);
             }
-            Some(Protocol { participants, live: LiveCache::default(), sessions: sessions.clone() })
+            Some(Protocol { participants, sessions: sessions.clone() })
         }
     };
     let shown_host = banner::shown_host(config.host);

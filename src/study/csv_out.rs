@@ -13,6 +13,7 @@ pub const TRIAL_COLUMNS: &[&str] = &[
     "experiment", "ppid", "session_num", "trial_num", "block_num", "trial_num_in_block", "start_time", "end_time", "session_start", "task", "mode", "completed",
     "time_s", "trees", "model_types", "errors", "removals", "off_target", "released_green", "menu_opens", "ray_path_m", "aiming_s", "menu_s", "manipulating_s",
     "status", "synthetic", "file", "what_if_kind", "parameter", "default_value", "new_value", "baseline_time_s", "difference_s", "layout",
+    "device", "target_ray_mode", "input_profile",
 ];
 
 /// The columns of `trees.csv`.
@@ -35,14 +36,15 @@ pub(crate) fn with_writer(path: &Path, write: impl FnOnce(&mut crate::csv_cells:
     write(&mut w).and_then(|()| Ok(w.flush()?)).map_err(csv)
 }
 
-/// The layout a trial's targets had: `task file`, or the targets the scene's ground moved (a room
-/// without the study scene's terrace), each as `TARGET:FROM_Y>TO_Y` (0-based target, heights in
-/// metres), separated by `;`.
-fn layout(k: &grove_systems::task::TaskReport) -> String {
-    if k.moved_targets.is_empty() {
-        return "task file".into();
-    }
-    k.moved_targets.iter().map(|m| format!("{}:{:.2}>{:.2}", m.target, m.from[1], m.to[1])).collect::<Vec<_>>().join(";")
+/// The layout a trial's targets had: `task file`, the room's (`room:SCALE:WIDTHxDEPTH`, the task
+/// file's spacing scaled into a floor of that size in metres), and any targets the scene's ground
+/// moved (a room without the study scene's terrace), each as `TARGET:FROM_Y>TO_Y` (0-based
+/// target, heights in metres); separated by `;`.
+pub fn layout(k: &grove_systems::task::TaskReport) -> String {
+    let room = k.layout.iter().map(|p| format!("room:{:.4}:{:.2}x{:.2}", p.scale, p.floor_size[0], p.floor_size[1]));
+    let moved = k.moved_targets.iter().map(|m| format!("{}:{:.2}>{:.2}", m.target, m.from[1], m.to[1]));
+    let all: Vec<String> = room.chain(moved).collect();
+    if all.is_empty() { "task file".into() } else { all.join(";") }
 }
 
 /// Writes `trial_results.csv`. With a what-if, its rows are the what-if trials and the last
@@ -90,6 +92,9 @@ pub fn write_trial_results(path: &Path, trials: &[Trial], what_if: Option<&WhatI
                 of(c.and_then(|c| c.baseline_time_s)),
                 of(c.and_then(|c| c.difference_s)),
                 s(&layout),
+                t.device.mapping.clone(),
+                t.device.target_ray_mode.clone(),
+                t.device.profile.clone(),
             ])?;
         }
         Ok(())

@@ -99,6 +99,9 @@ pub struct Trial {
     pub ticks: u64,
     /// The task outcome, if the recording ran a task.
     pub task: Option<TaskReport>,
+    /// The input device the header names (a controller of unknown profile without one).
+    #[serde(default = "grove_systems::replay::HeaderDevice::unknown")]
+    pub device: grove_systems::replay::HeaderDevice,
 }
 
 /// Every recording file (`*.jsonl`) in a folder, sorted by name; a folder without any is refused.
@@ -159,6 +162,7 @@ pub fn evaluate(path: &Path, overrides: &[Override]) -> Trial {
             complete: false,
             ticks: 0,
             task: None,
+            device: grove_systems::replay::HeaderDevice::unknown(),
         },
         Ok(o) => trial_from_outcome(file, stem, &o),
     }
@@ -195,6 +199,7 @@ pub fn trial_from_outcome(file: String, stem: String, o: &grove_systems::replay:
         complete: o.complete,
         ticks: sim.tick(),
         task: sim.task().map(|t| technique_report(TaskReport::new(t, sim.dt(), sim.tick(), sim.catalogue()), sim)),
+        device: o.header.device_or_unknown(),
     }
 }
 

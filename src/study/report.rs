@@ -28,6 +28,16 @@ pub struct ModeStats {
     pub mean_errors: Option<f64>,
 }
 
+impl ModeStats {
+    /// The statistics of a set of trials (one mode's, or one device's in one mode).
+    pub fn of(trials: &[&Trial]) -> ModeStats {
+        let times: Vec<f64> = trials.iter().filter_map(|t| usable_time(t)).collect();
+        let (mean, sd) = mean_sd(&times);
+        let errors: Vec<f64> = trials.iter().filter_map(|t| t.task.as_ref()).map(|k| k.errors as f64).collect();
+        ModeStats { trials: trials.len(), completed: times.len(), mean_time_s: mean, sd_time_s: sd, mean_errors: mean_sd(&errors).0 }
+    }
+}
+
 /// One participant's two task times.
 #[derive(Clone, Debug, Serialize)]
 pub struct ParticipantTimes {
@@ -81,6 +91,8 @@ pub struct Summary {
     pub overrides: BTreeMap<String, String>,
     /// Statistics by mode name.
     pub modes: BTreeMap<String, ModeStats>,
+    /// Statistics by input device (the header's mapping) and mode, in device then mode order.
+    pub by_device: Vec<DeviceStats>,
     /// Both task times per participant.
     pub per_participant: Vec<ParticipantTimes>,
     /// Participants with both tasks completed.
@@ -145,10 +157,7 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
     for mode in &names {
         let mode = mode.as_str();
         let of_mode: Vec<&Trial> = trials.iter().filter(|t| t.task.as_ref().is_some_and(|k| k.mode == mode)).collect();
-        let times: Vec<f64> = of_mode.iter().filter_map(|t| usable_time(t)).collect();
-        let (mean, sd) = mean_sd(&times);
-        let errors: Vec<f64> = of_mode.iter().filter_map(|t| t.task.as_ref()).map(|k| k.errors as f64).collect();
-        modes.insert(mode.to_string(), ModeStats { trials: of_mode.len(), completed: times.len(), mean_time_s: mean, sd_time_s: sd, mean_errors: mean_sd(&errors).0 });
+        modes.insert(mode.to_string(), ModeStats::of(&of_mode));
     }
     let incomplete: Vec<Incomplete> = trials
         .iter()
@@ -202,6 +211,7 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
         incomplete,
         participants: per_participant.len(),
         overrides: overrides.iter().map(|o| (o.name.to_string(), o.text.clone())).collect(),
+        by_device: by_device(trials, &names),
         modes,
         comparisons: differences.len(),
         ray_casting_faster_for_all: if missing_comparisons.is_empty() && !differences.is_empty() {
@@ -214,5 +224,67 @@ pub fn summarize(trials: &[Trial], overrides: &[Override], wall_seconds: f64) ->
         per_participant,
         wall_seconds,
         conditions: super::conditions::k_conditions(trials, usable_time),
+    }
+}
+
+// The study by input device: each recording's header names the device it was made with
+// (`docs/headset.md`, "Devices and their mappings"; a recording without one was made with a
+// controller of unknown profile), and the summary compares the task times of each device in
+// each mode (`by_device` in `summary.json`; the `device` column of `trial_results.csv`).
+
+/// One device's trials in one mode.
+#[derive(Clone, Debug, Serialize)]
+pub struct DeviceStats {
+    /// grove's mapping of the device (`controller`, `hands`, `transient-pointer`, `screen`, …).
+    pub device: String,
+    /// The mode (or plug-in technique).
+    pub mode: String,
+    /// The trials' statistics.
+    #[serde(flatten)]
+    pub stats: ModeStats,
+}
+
+/// The statistics of every device that made trials of a task, in each of `modes` it was used in.
+pub fn by_device(trials: &[Trial], modes: &[String]) -> Vec<DeviceStats> {
+    let mut devices: Vec<&str> = trials.iter().filter(|t| t.task.is_some()).map(|t| t.device.mapping.as_str()).collect();
+    devices.sort_unstable();
+    devices.dedup();
+    let mut out = Vec::new();
+    for device in devices {
+        for mode in modes {
+            let of: Vec<&Trial> = trials.iter().filter(|t| t.device.mapping == device && t.task.as_ref().is_some_and(|k| &k.mode == mode)).collect();
+            if !of.is_empty() {
+                out.push(DeviceStats { device: device.to_string(), mode: mode.clone(), stats: ModeStats::of(&of) });
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn trial(mapping: &str, mode: &str, time_s: f64) -> Trial {
+        let task = serde_json::json!({"id": format!("{mode}-7"), "mode": mode, "completed": true, "start_tick": 0, "end_tick": 60, "time_s": time_s,
+            "errors": 1, "error_kinds": {"removals": 1, "off_target": 0, "released_green": 0}, "trees": [], "model_types": 0, "menu_opens": 0,
+            "ray_path_m": 0.0, "aiming_s": 0.0, "menu_s": 0.0, "manipulating_s": 0.0});
+        let mut t: Trial = serde_json::from_value(serde_json::json!({"file": "x.jsonl", "participant": "P01", "synthetic": false, "session_start": null,
+            "header_block": null, "config": {}, "trial_num": 1, "block_num": 1, "trial_num_in_block": 1, "start_time_s": null, "end_time_s": null, "task_start_s": null,
+            "status": "verified", "error": null, "complete": true, "ticks": 60, "task": task}))
+        .unwrap();
+        assert_eq!(t.device, grove_systems::replay::HeaderDevice::unknown(), "a trial without a device reads as a controller");
+        t.device.mapping = mapping.into();
+        t
+    }
+
+    #[test]
+    fn each_device_is_compared_in_each_mode_it_was_used_in() {
+        let trials = [trial("controller", "ray-casting", 10.0), trial("controller", "ray-casting", 14.0), trial("screen", "ray-casting", 30.0), trial("screen", "manual", 90.0)];
+        let modes = ["ray-casting".to_string(), "manual".to_string()];
+        let s = by_device(&trials, &modes);
+        let rows: Vec<(&str, &str, usize, Option<f64>)> = s.iter().map(|d| (d.device.as_str(), d.mode.as_str(), d.stats.trials, d.stats.mean_time_s)).collect();
+        assert_eq!(rows, [("controller", "ray-casting", 2, Some(12.0)), ("screen", "ray-casting", 1, Some(30.0)), ("screen", "manual", 1, Some(90.0))]);
+        assert_eq!(s[0].stats.mean_errors, Some(1.0));
     }
 }

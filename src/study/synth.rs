@@ -365,7 +365,7 @@ pub fn synthesize_with(task: &TaskDef, technique: Option<&Technique>, participan
         p.script.push(InputEvent::SwitchTechnique { technique: t.name.to_string() }).wait(1);
         header.technique = Some(grove_systems::replay::HeaderTechnique { name: t.name.to_string(), version: t.version });
     }
-    p.script.push(InputEvent::StartTask { task: task.id.clone() }).wait(1);
+    p.script.push(InputEvent::StartTask { task: task.id.clone(), layout: None }).wait(1);
     let models = task.target_models(p.sim().catalogue());
     // Far targets first, so that trees already planted never stand in the way of the ray.
     let mut order: Vec<usize> = (0..task.targets.len()).collect();

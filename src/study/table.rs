@@ -69,6 +69,13 @@ pub fn summary_lines(s: &Summary) -> String {
             opt(m.mean_errors, 2)
         ));
     }
+    // By device, once a device other than a controller made trials (docs/headset.md).
+    if s.by_device.iter().any(|d| d.device != "controller") {
+        for d in &s.by_device {
+            let m = &d.stats;
+            out.push_str(&format!("device {:<17} {:<12} mean {} s (sd {}) over {} completed of {} trials\n", d.device, d.mode, opt(m.mean_time_s, 2), opt(m.sd_time_s, 2), m.completed, m.trials));
+        }
+    }
     for i in &s.incomplete {
         out.push_str(&format!("left out of comparisons: {} {} ({}): {}\n", i.participant, i.task, i.file, i.reason));
     }

@@ -77,6 +77,10 @@ pub enum InputEvent {
     StartTask {
         /// The task id, e.g. "ray-casting-7".
         task: String,
+        /// Where its targets lie, when not as the task file puts them (`layout: room`: within a
+        /// room's detected floor, `crate::room_layout`); absent for the task file's layout.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        layout: Option<crate::room_layout::TaskLayout>,
     },
     /// The user declared the task finished.
     EndTask,
@@ -127,7 +131,8 @@ impl InputEvent {
                     Ok(())
                 }
             }
-            InputEvent::StartTask { task } if task.is_empty() => Err(InvalidEvent::EmptyTask),
+            InputEvent::StartTask { task, .. } if task.is_empty() => Err(InvalidEvent::EmptyTask),
+            InputEvent::StartTask { layout: Some(l), .. } => l.validate().map_err(InvalidEvent::Layout),
             InputEvent::SwitchTechnique { technique } if technique.is_empty() || technique.len() > 64 => Err(InvalidEvent::TechniqueName),
             _ => Ok(()),
         }
@@ -158,6 +163,9 @@ pub enum InvalidEvent {
     /// A technique name that is empty or longer than 64 characters.
     #[error("technique name must have 1 to 64 characters")]
     TechniqueName,
+    /// A task layout whose floor is not an outline.
+    #[error("{0}")]
+    Layout(crate::room_layout::FloorError),
 }
 
 /// An input event stamped with the tick at which it applies.

@@ -42,6 +42,9 @@ pub struct RoomInput {
     /// The task the session runs, whose targets the room may move.
     #[serde(default)]
     pub task: Option<String>,
+    /// How the task's targets are laid out (`crate::room_layout`), when not as its file puts them.
+    #[serde(default)]
+    pub layout: Option<crate::room_layout::TaskLayout>,
 }
 
 /// A horizontal plane the headset found.
@@ -145,7 +148,7 @@ pub fn room_scene(input: &RoomInput) -> Result<String, RoomError> {
     let mut sim = Sim::from_scene(&scene, scene.seed).map_err(|e| RoomError::Scene(e.to_string()))?;
     if let Some(task) = &input.task {
         let def = TaskDef::builtin(task).ok_or_else(|| RoomError::UnknownTask(task.chars().take(64).collect()))?;
-        sim.step_with([InputEvent::StartTask { task: task.clone() }]).map_err(|e| RoomError::Scene(e.to_string()))?;
+        sim.step_with([InputEvent::StartTask { task: task.clone(), layout: input.layout.clone() }]).map_err(|e| RoomError::Scene(e.to_string()))?;
         for m in sim.moved_targets() {
             let model = def.targets.get(m.target).map_or("?", |t| t.model.as_str());
             let to: Vec<String> = m.to.iter().map(|v| num(*v as f64)).collect();
@@ -173,7 +176,7 @@ mod tests {
     }
 
     fn room(planes: Vec<FoundPlane>, task: Option<&str>) -> RoomInput {
-        RoomInput { source: "plane detection (floor)\nScene(".into(), floor_y: -0.0312, planes, task: task.map(str::to_string) }
+        RoomInput { source: "plane detection (floor)\nScene(".into(), floor_y: -0.0312, planes, task: task.map(str::to_string), layout: None }
     }
 
     #[test]

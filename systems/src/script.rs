@@ -173,7 +173,7 @@ impl Script {
 
     /// Starts a study task by id (e.g. "ray-casting-7"), then runs one tick.
     pub fn start_task(&mut self, id: &str) -> &mut Self {
-        self.push(InputEvent::StartTask { task: id.to_string() }).wait(1)
+        self.push(InputEvent::StartTask { task: id.to_string(), layout: None }).wait(1)
     }
 
     /// Declares the running task finished, then runs one tick.

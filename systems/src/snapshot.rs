@@ -2,13 +2,15 @@
 //! world at one tick (the WebAssembly module hands it to JavaScript as JSON, `web/sim`).
 //!
 //! Reads: trees (`Tree`, `Transform`, `Scale`, `Grounded`), `Controller`, `HitMarker`,
-//! `AnchorBall`, `Selection`, `Head`, `Sun`, and the resources' tick, step, mode, technique,
-//! menu, catalogue, task and config. Writes nothing.
+//! `AnchorBall`, `Selection`, `Head`, `Sun`, `Wind`, `WindState`, and the resources' tick, step,
+//! time, mode, technique, menu, catalogue, task and config. Writes nothing.
 
 use glam::{Quat, Vec3};
 use serde::Serialize;
 
-use crate::components::{AnchorBall, Controller, Grounded, Handle, HitMarker, HitTarget, Scale, Selection, Transform, Tree};
+use crate::components::{AnchorBall, Controller, Grounded, Handle, HitMarker, HitTarget, Scale, Selection, Transform, Tree, WindState};
+use crate::light::{sun_light, HAZE_DEPTH, HAZE_FULL_AT, HAZE_FULL_FROM, HAZE_START, NO_SUN};
+use crate::wind_model::{Wind, WindParams};
 use crate::hash::hex;
 use crate::sim::Sim;
 
@@ -45,6 +47,42 @@ pub struct Snapshot {
     pub task: Option<TaskSnapshot>,
     /// The unit vector towards the sun, if the world has one.
     pub sun_direction: Option<[f32; 3]>,
+    /// The light every drawing of this tick shares (the native renderer's and the page's).
+    pub light: LightSnapshot,
+    /// The per-vertex wind's parameters at this tick, as the native renderer's uniform holds
+    /// them (`src/render/trees/wind.wgsl`; a calm wind where the world has none).
+    pub wind: WindParams,
+}
+
+/// The sun's light as every drawing takes it: its direction (light from high in the south-east
+/// where the world has no sun, [`crate::light::NO_SUN`]) and [`crate::light::sun_light`] of its
+/// elevation.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LightSnapshot {
+    /// The unit vector towards the sun.
+    pub sun_direction: [f32; 3],
+    /// The sun's elevation, degrees.
+    pub elevation_deg: f64,
+    /// Direct sunlight, linear RGB times intensity (zero below the horizon).
+    pub direct: [f32; 3],
+    /// The sky's ambient light, linear RGB times strength.
+    pub ambient: [f32; 3],
+    /// The sky's brightness, 0..1.
+    pub sky: f32,
+    /// The aerial perspective's haze by distance, metres: start, depth, full from, full at
+    /// ([`crate::light::HAZE_START`] and the others).
+    pub haze: [f32; 4],
+}
+
+/// A tree's own state in the wind ([`crate::components::WindState`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TreeWindSnapshot {
+    /// The trunk's lean: horizontal displacement per metre of height, world X and Z.
+    pub bend: [f32; 2],
+    /// The wind's gain at the tree.
+    pub gain: f32,
+    /// Its wind phase, radians.
+    pub phase: f32,
 }
 
 /// One tree.
@@ -68,6 +106,8 @@ pub struct TreeSnapshot {
     pub grounded: bool,
     /// Whether it is the selected tree.
     pub selected: bool,
+    /// Its state in the wind; `None` for a tree that stands still.
+    pub wind: Option<TreeWindSnapshot>,
 }
 
 /// A position and a rotation.
@@ -178,6 +218,9 @@ pub struct TaskSnapshot {
     pub mode: &'static str,
     /// How far a tree may stand from its target, metres.
     pub tolerance: f32,
+    /// The scale of a room layout (`crate::room_layout`: the study as a scale model, new trees
+    /// and handles at it), 1 for the task file's layout: what a page draws targets and handles at.
+    pub layout_scale: f32,
     /// Its targets, in the task file's order.
     pub targets: Vec<TargetSnapshot>,
     /// How many targets are satisfied.
@@ -235,9 +278,9 @@ impl Sim {
         let model_name = |id: crate::catalogue::ModelId| res.catalogue.get(id).map_or_else(|| format!("#{}", id.0), |m| m.name.clone());
         let selection = world.query::<&Selection>().iter().next().copied().unwrap_or_default();
         let mut trees: Vec<TreeSnapshot> = world
-            .query::<(hecs::Entity, &Tree, &Transform, &Scale, &Grounded)>()
+            .query::<(hecs::Entity, &Tree, &Transform, &Scale, &Grounded, Option<&WindState>)>()
             .iter()
-            .map(|(e, tree, t, s, g)| {
+            .map(|(e, tree, t, s, g, w)| {
                 let id = e.to_bits().get();
                 TreeSnapshot {
                     id,
@@ -249,6 +292,7 @@ impl Sim {
                     scale: s.0,
                     grounded: g.0,
                     selected: selection.tree == Some(id),
+                    wind: w.map(|w| TreeWindSnapshot { bend: w.bend.to_array(), gain: w.gain, phase: w.phase }),
                 }
             })
             .collect();
@@ -265,6 +309,7 @@ impl Sim {
                 id: t.def.id.clone(),
                 mode: t.def.mode.name(),
                 tolerance: t.def.tolerance,
+                layout_scale: crate::task::layout_scale(Some(t)),
                 targets: t
                     .def
                     .targets
@@ -323,7 +368,16 @@ impl Sim {
             },
             task,
             sun_direction: self.sun().map(|s| v3(s.direction)),
+            light: self.light(),
+            wind: WindParams::from_wind(&self.wind().unwrap_or_else(Wind::calm), self.time()),
         }
+    }
+
+    fn light(&self) -> LightSnapshot {
+        let (dir, elevation_deg) = self.sun().map_or((NO_SUN.0.normalize(), NO_SUN.1), |s| (s.direction.normalize_or(Vec3::Y), s.elevation_deg));
+        let l = sun_light(elevation_deg);
+        let haze = [HAZE_START, HAZE_DEPTH, HAZE_FULL_FROM, HAZE_FULL_AT];
+        LightSnapshot { sun_direction: v3(dir), elevation_deg, direct: v3(l.direct), ambient: v3(l.ambient), sky: l.sky, haze }
     }
 }
 
@@ -405,7 +459,7 @@ mod tests {
     #[test]
     fn the_task_panel_counts_targets_and_runs_its_clock() {
         let mut sim = study();
-        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into() }]).unwrap();
+        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into(), layout: None }]).unwrap();
         sim.run(60);
         let s = sim.snapshot();
         let task = s.task.expect("a task");

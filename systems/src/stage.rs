@@ -104,6 +104,23 @@ pub fn model_stage(bounds: (Vec3, Vec3), aspect: f32, with_hole: bool, model: Mo
     Ok(sim)
 }
 
+/// Puts the study scene's wind on a stage: its strength, density and gusts, the gust factor
+/// at its average, so that a model's wind channels (its own, or those grove computes) show as
+/// motion as the stage's ticks run (`grove render --model FILE --tick T` and `--frames`, and the
+/// headset page's `render.mjs --tick`). A stage without a `Wind` entity is left as it is.
+pub fn in_study_wind(sim: &mut Sim) -> Result<(), crate::sim::SimError> {
+    let study = Scene::builtin("study").ok_or_else(|| crate::limits::InvalidScene("the built-in study scene is missing".into()))?;
+    if let Some(mut w) = sim.wind() {
+        let d = &study.wind;
+        w.strength = d.strength;
+        w.density = d.density;
+        w.gust = crate::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
+        w.current = d.gust_average;
+        sim.set_up().wind(w);
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -121,5 +138,15 @@ mod tests {
         let head = sim.head();
         let to_centre = (Vec3::new(0.0, 1.5, 0.0) - head.pose.position).normalize();
         assert!(head.pose.forward().dot(to_centre) > 0.9999);
+    }
+
+    #[test]
+    fn the_study_wind_on_a_stage_is_the_study_scene_s() {
+        let mut sim = model_stage((Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 3.0, 1.0)), 1.5, false, ModelId(0)).unwrap();
+        assert_eq!(sim.wind().unwrap().strength, 0.0, "the stage is calm");
+        in_study_wind(&mut sim).unwrap();
+        let (w, d) = (sim.wind().unwrap(), Scene::builtin("study").unwrap().wind);
+        assert!(d.strength > 0.0 && d.gust_strength > 0.0, "the study scene has gusts");
+        assert_eq!((w.strength, w.density, w.gust.strength, w.current), (d.strength, d.density, d.gust_strength, d.gust_average));
     }
 }

@@ -165,6 +165,10 @@ pub struct TaskState {
     pub last_hit: Option<Vec3>,
     /// How many log entries the task system has read.
     pub log_cursor: usize,
+    /// Where a room layout put the targets (`crate::room_layout`); absent for the task file's
+    /// layout, and then not hashed, so that every earlier world hash stays as it was.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layout: Option<crate::room_layout::RoomPlacement>,
 }
 
 impl TaskState {
@@ -185,7 +189,22 @@ impl TaskState {
             manipulating_ticks: 0,
             last_hit: None,
             log_cursor: usize::MAX,
+            layout: None,
         }
+    }
+
+    /// A fresh state whose targets are laid out as `layout` says (the task file's without one,
+    /// or when the room's floor has no point far enough from its edges); the tolerance is scaled
+    /// with the spacing.
+    pub fn laid_out(mut def: TaskDef, tick: u64, layout: Option<&crate::room_layout::TaskLayout>) -> TaskState {
+        let Some(crate::room_layout::TaskLayout::Room { floor, keep_out }) = layout else { return TaskState::new(def, tick) };
+        let file: Vec<Vec3> = def.targets.iter().map(|t| t.position).collect();
+        let Some((placed, placement)) = crate::room_layout::place(&file, floor, keep_out) else { return TaskState::new(def, tick) };
+        for (t, p) in def.targets.iter_mut().zip(placed) {
+            t.position = p;
+        }
+        def.tolerance *= placement.scale;
+        TaskState { layout: Some(placement), ..TaskState::new(def, tick) }
     }
 
     /// Whether every target is satisfied.
@@ -246,6 +265,14 @@ mod tests {
         assert_eq!(a.mode, Mode::RayCasting);
         assert_eq!(b.mode, Mode::Manual);
     }
+}
+
+/// The scale of the study during a task laid out in a room (`crate::room_layout`), else 1: new
+/// trees are planted or spawned at it and the box's handles are picked at the handle radius times
+/// it, so that the study stands in the room as a scale model (its spacing, its tolerance, its
+/// trees and their handles scaled alike).
+pub fn layout_scale(task: Option<&TaskState>) -> f32 {
+    task.and_then(|t| t.layout.as_ref()).map_or(1.0, |l| l.scale)
 }
 
 /// Converts a tick count to seconds exactly: `ticks / rate`, where `rate` is the whole number of
@@ -326,6 +353,10 @@ pub struct TaskReport {
     /// written: a study shard's partial result (postcard) is not self-describing.
     #[serde(default)]
     pub moved_targets: Vec<MovedTarget>,
+    /// Where a room layout put the targets (`layout: room`, `crate::room_layout`); null for the
+    /// task file's layout. Always written, as `moved_targets`.
+    #[serde(default)]
+    pub layout: Option<crate::room_layout::RoomPlacement>,
 }
 
 impl TaskReport {
@@ -380,6 +411,7 @@ impl TaskReport {
             menu_s: secs(task.menu_ticks),
             manipulating_s: secs(task.manipulating_ticks),
             moved_targets: Vec::new(),
+            layout: task.layout.clone(),
         }
     }
 }

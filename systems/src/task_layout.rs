@@ -56,7 +56,7 @@ mod tests {
 
     fn started(scene: &Scene) -> Sim {
         let mut sim = Sim::from_scene(scene, 1).unwrap();
-        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into() }]).unwrap();
+        sim.step_with([InputEvent::StartTask { task: "ray-casting-7".into(), layout: None }]).unwrap();
         sim
     }
 

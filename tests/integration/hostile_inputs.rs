@@ -59,7 +59,7 @@ fn base_recording() -> Vec<String> {
     let header = Header::new("study", 5, scene.dt);
     let mut events = Vec::new();
     let mut at = |tick: u64, event: InputEvent| events.push(StampedEvent { tick, event });
-    at(0, InputEvent::StartTask { task: "ray-casting-7".into() });
+    at(0, InputEvent::StartTask { task: "ray-casting-7".into(), layout: None });
     for i in 0..90u64 {
         let pose = Pose { position: Vec3::new(0.25, 1.35, 5.7), rotation: Quat::from_rotation_y(i as f32 * 0.002 - 0.1) * Quat::from_rotation_x(-0.4) };
         at(i + 1, InputEvent::ControllerPose { pose });

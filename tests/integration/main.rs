@@ -64,6 +64,7 @@ mod serve_crowd;
 mod serve_faults;
 mod serve_fixture;
 mod serve_hostile;
+mod serve_live;
 mod serve_restart;
 mod serve_room;
 mod serve_routes;

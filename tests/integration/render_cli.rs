@@ -334,3 +334,69 @@ fn gpu_benchmark_refuses_a_software_adapter() {
         );
     }
 }
+
+/// `--model FILE --background transparent`: the model alone, its alpha the coverage. grove's
+/// renderer neither blends nor multisamples trees, so every pixel is covered or not (alpha 0 or
+/// 255): 0 off the model (the corners), 255 on its trunk; and where the model is, the colour is
+/// the one the same model has on its stage (the same light and shadows).
+#[test]
+fn a_transparent_model_render_is_the_model_alone_with_its_coverage() {
+    let tmp = tempfile::tempdir().unwrap();
+    let model = root().join("assets/trees/broadleaf-mesh.gltf");
+    let render = |background: &str| {
+        let out = tmp.path().join(format!("{background}.png"));
+        let st = grove()
+            .args(["render", "--model", model.to_str().unwrap(), "--background", background, "--width", "160", "--height", "120", "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let (clear, stage) = (render("transparent"), render("sky"));
+    for (x, y) in [(0, 0), (159, 0), (0, 119), (159, 119)] {
+        assert_eq!(clear.get_pixel(x, y).0[3], 0, "corner ({x}, {y}) is off the model");
+    }
+    assert!(clear.pixels().all(|p| p.0[3] == 0 || p.0[3] == 255), "coverage is 0 or 255");
+    // The trunk at 0.5 m up, where the stage's camera sees it.
+    let data = grove::models::load_model(&model).unwrap();
+    let (eye, target) = grove_systems::stage::frame_bounds(data.bounds.0, data.bounds.1, 40f32.to_radians(), 160.0 / 120.0);
+    let rotation = grove_systems::components::Pose::looking_at(eye, target).rotation;
+    let m = grove::render::camera_matrix(&grove::render::Camera { position: eye, rotation, fov_y: 40f32.to_radians() }, 160.0 / 120.0);
+    let p = m.project_point3(glam::Vec3::new(0.0, 0.5, 0.0));
+    let (px, py) = (((p.x + 1.0) * 80.0) as u32, ((1.0 - p.y) * 60.0) as u32);
+    assert_eq!(clear.get_pixel(px, py).0[3], 255, "the trunk at ({px}, {py}) is covered");
+    let covered = clear.pixels().filter(|p| p.0[3] == 255).count();
+    assert!(covered > 160 * 120 / 50, "the model covers {covered} pixels (over 2 % of the frame)");
+    for (a, b) in clear.pixels().zip(stage.pixels()) {
+        if a.0[3] == 255 {
+            assert_eq!(a.0[..3], b.0[..3], "a covered pixel is as the stage draws it");
+        }
+    }
+    let out = tmp.path().join("x.png");
+    let m = model.to_str().unwrap();
+    fails_with(&["render", "--model", m, "--background", "blue", "--out", out.to_str().unwrap()], "blue");
+    fails_with(&["render", "--scene", "assets/scenes/study.ron", "--background", "transparent", "--out", out.to_str().unwrap()], "--model");
+}
+
+/// `--model FILE --tick T`: the model in the study's wind after T ticks, which moves it.
+#[test]
+fn a_model_at_a_tick_sways_in_the_study_s_wind() {
+    let tmp = tempfile::tempdir().unwrap();
+    let model = root().join("assets/trees/birch-mesh.gltf");
+    let render = |tick: Option<&str>, name: &str| {
+        let out = tmp.path().join(format!("{name}.png"));
+        let mut args = vec!["render", "--model", model.to_str().unwrap(), "--background", "transparent", "--width", "96", "--height", "72", "--out", out.to_str().unwrap()];
+        if let Some(t) = tick {
+            args.extend(["--tick", t]);
+        }
+        let st = grove().args(&args).output().unwrap();
+        assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let (calm, a, b) = (render(None, "calm"), render(Some("60"), "a"), render(Some("90"), "b"));
+    let differ = |x: &image::RgbaImage, y: &image::RgbaImage| x.pixels().zip(y.pixels()).filter(|(p, q)| p.0[3] != q.0[3]).count();
+    assert!(differ(&calm, &a) > 0 && differ(&a, &b) > 0, "the wind moves the model's silhouette");
+    let out = tmp.path().join("x.png");
+    fails_with(&["render", "--model", model.to_str().unwrap(), "--tick", "999999999", "--out", out.to_str().unwrap()], "--tick");
+    fails_with(&["render", "--scene", "assets/scenes/study.ron", "--tick", "3", "--out", out.to_str().unwrap()], "--tick");
+}

@@ -22,7 +22,7 @@ fn session() -> (Header, Vec<StampedEvent>) {
     header.synthetic = true;
     let mut events = Vec::new();
     let mut at = |tick: u64, event: InputEvent| events.push(StampedEvent { tick, event });
-    at(0, InputEvent::StartTask { task: "ray-casting-7".into() });
+    at(0, InputEvent::StartTask { task: "ray-casting-7".into(), layout: None });
     for i in 0..200u64 {
         let a = i as f32 * 0.01;
         let pose = Pose { position: Vec3::new(0.25, 1.35, 5.7), rotation: Quat::from_rotation_y(a - 1.0) * Quat::from_rotation_x(-0.4) };

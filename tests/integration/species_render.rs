@@ -170,7 +170,7 @@ fn species_sheet() {
         let (full, _) = generate(s, &dir.path().join(s));
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
         let g = shared_gpu::shared_gpu("the species sheet");
-        let img = offscreen::render_model_data(g, &full, w, h, RenderOptions::default()).unwrap();
+        let img = offscreen::render_model_data(g, &full, w, h, RenderOptions::default(), None).unwrap();
         image::imageops::replace(&mut sheet, &img, (i as u32 * w) as i64, 0);
     }
     grove::atomic_write::write_via_temp(&path, |tmp| Ok(sheet.save(tmp)?)).unwrap();

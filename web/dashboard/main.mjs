@@ -1,6 +1,7 @@
 // The researcher's live page of a protocol run by `grove serve --protocol` (`/dashboard`,
-// docs/protocol.md): every participant's step, every session with its live view while open and
-// its verification once ended, and the open sessions' task areas from above, from
+// docs/protocol.md): every participant's step, every session with its live view (the server's
+// replay of its lines as they came: figures, model, the verification so far) and its verification
+// once ended, and the open sessions' task areas from above, from
 // `/api/dashboard` every second. Bundled into web/dist/dashboard.js by web/page/build.mjs; the
 // page's markup is web/dashboard/index.html.
 
@@ -25,6 +26,14 @@ function svg(tag, a) {
   const e = document.createElementNS(NS, tag);
   for (const [k, v] of Object.entries(a)) e.setAttribute(k, v);
   return e;
+}
+
+/** The live verification of a session's lines so far: where it has verified to, or what it found wrong. */
+function checked(v) {
+  if (!v) return '';
+  if (v.status === 'diverged') return `diverged at tick ${v.first_divergence.tick}`;
+  if (v.status === 'invalid') return `invalid: ${v.error}`;
+  return `${v.status} to tick ${v.verified_to_tick ?? 0}`;
 }
 
 /** An open session's task area from above, north up: heat of where the ray hit, targets, trees. */
@@ -93,6 +102,8 @@ async function refresh() {
         td(l.trees_planted ?? '', 'planted'),
         td(l.targets_satisfied ?? '', 'targets'),
         td(l.errors ?? '', 'errors'),
+        td(l.model ?? '', 'model'),
+        td(checked(l.verification), `live ${l.verification ? l.verification.status : ''}`),
         td(v, `verification ${v}`),
         td(s.not_this_steps ? `not this step's: ${s.not_this_steps}` : '', 'step'),
       ]);

@@ -1,8 +1,9 @@
 // Builds the headset page into web/dist/, which `grove serve` ships at `/` (docs/headset.md):
 // the page's ES modules bundled with three.js and the input-profile library by esbuild (from the
 // pinned packages of web/package-lock.json), the simulation module and its loader, and the
-// controller profiles the page draws; and the modules of the protocol's form page and dashboard
-// (docs/protocol.md). Nothing it ships loads from the network.
+// controller profiles the page draws, and the sky and ground grove ships (assets/env); and the
+// modules of the protocol's form page and dashboard (docs/protocol.md). Nothing it ships loads
+// from the network.
 //
 //   node web/page/build.mjs [--out DIR]
 //
@@ -20,6 +21,9 @@ const web = resolve(here, '..');
 const root = resolve(web, '..');
 const args = process.argv.slice(2);
 const out = args.includes('--out') ? resolve(args[args.indexOf('--out') + 1]) : join(web, 'dist');
+
+/** The files of assets/env the page draws: the sky's six faces and the ground. */
+export const ENV_FILES = ['px.png', 'nx.png', 'py.png', 'ny.png', 'pz.png', 'nz.png', 'ground.png'];
 
 /** The controller profiles the page ships: the devices docs/headset.md names, and their fallbacks. */
 export const PROFILES = ['meta-quest-touch-plus', 'meta-quest-touch-plus-v2', 'oculus-touch-v3', 'magicleap-one'];
@@ -48,6 +52,9 @@ await build({ ...bundled, entryPoints: { protocol: join(web, 'protocol', 'main.m
 copyFileSync(join(here, 'index.html'), join(out, 'index.html'));
 copyFileSync(join(here, 'page.css'), join(out, 'page.css'));
 copyFileSync(wasm, join(out, 'grove_sim.wasm'));
+// The sky's cube faces and the ground's texture (draw/sky.mjs), as grove's renderer has them.
+mkdirSync(join(out, 'env'));
+for (const f of ENV_FILES) copyFileSync(join(root, 'assets/env', f), join(out, 'env', f));
 
 // The profiles: their folders as the registry's assets package has them, and a profile list
 // naming only these (the library reads it first and looks a device's profile ids up in it).

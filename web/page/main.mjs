@@ -12,6 +12,7 @@
 // This file boots them and runs the frame loop.
 
 import { loadGrove } from '../sim/grove-sim.mjs';
+import { loadEnvironment } from './draw/sky.mjs';
 import { Models } from './draw/world.mjs';
 import { instructions, enter } from './flow/entry.mjs';
 import { Flow, State } from './flow/flow.mjs';
@@ -55,6 +56,8 @@ const app = {
     file: null,
     verification: null,
     noSqueeze: false,
+    device: null,
+    floorOutline: null,
     offset: null,
     floor: null,
     frameMs: [],
@@ -78,8 +81,10 @@ async function boot() {
   const first = probe.snapshot();
   app.home = { head: first.head, fov_y: first.fov_y };
   const api = new StudyApi(location.href);
+  const env = loadEnvironment(new URL('env/', document.baseURI)).catch(() => null); // grove's sky and ground
   const [modes, , protocol] = await Promise.all([offeredModes(), models.load(first.menu.models).catch(() => {}), api.protocol()]);
   app.modes = modes;
+  app.view.setEnvironment(await env);
   app.world = worldOf(probe, probe.snapshot(), false);
   probe.free();
   const stored = app.stored;

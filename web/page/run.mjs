@@ -35,20 +35,22 @@ export class TaskRun {
     this.msAtStart = msAtStart;
     this.t0 = performance.now();
     this.lastTime = null;
+    this.held = null; // buttons already down when the run's first frame came (the press that started it)
     this.finished = false;
     this.timing = null;
   }
 
   /**
    * A new run: the session's header line (as the server wrote it), the scene's text when it is
-   * not built in, and the task to start at tick 0 (after switching to its mode).
+   * not built in, and the task to start at tick 0 (after switching to its mode), laid out as
+   * `layout` says (`{ room: { floor } }`, systems/src/room_layout.rs) or as its file.
    */
-  static start(grove, recorder, { header, sceneText, task }) {
+  static start(grove, recorder, { header, sceneText, task, layout }) {
     const sim = grove.createSim({ header, scene_text: sceneText, onLine: (l) => recorder.append(l) });
     const run = new TaskRun(sim, recorder);
     if (task) {
       if (modeOfTask(grove, task) === 'manual') sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'switch_mode', mode: 'manual' } });
-      sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'start_task', task } });
+      sim.push({ tick: 0, ms: 0, frame: 0, event: { kind: 'start_task', task, ...(layout ? { layout } : {}) } });
     }
     return run;
   }
@@ -139,7 +141,15 @@ export class TaskRun {
       this.axes = axes;
       out.push({ kind: 'touchpad_axes', axes });
     }
-    const now = { ...this.buttons, ...(input.buttons ?? {}) };
+    const pressed = { ...(input.buttons ?? {}) };
+    // A button already down in the run's first frame (the trigger or tap that started the task)
+    // counts only once it has been let go: it plants nothing where the ray happens to be.
+    this.held ??= new Set(Object.keys(pressed).filter((b) => pressed[b]));
+    for (const b of [...this.held]) {
+      if (pressed[b]) pressed[b] = false;
+      else this.held.delete(b);
+    }
+    const now = { ...this.buttons, ...pressed };
     for (const e of edges(this.buttons, now)) {
       if (e.button === 'trigger' && e.kind === 'button_down' && this.snapshot.menu.open) {
         // The trigger chooses in the open menu; its press and release do not reach the world.

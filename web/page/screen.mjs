@@ -29,6 +29,11 @@ export class Screen {
     return this.$('overlay');
   }
 
+  /** The phone's touch bar's element (input/touchbar.mjs), inside the overlay. */
+  get touch() {
+    return this.$('touch');
+  }
+
   /** The header's state and the panel's message line. */
   state(state, message = '') {
     this.$('state').textContent = state;
@@ -48,6 +53,12 @@ export class Screen {
 
   file(name) {
     this.$('file').textContent = name;
+  }
+
+  /** The header's line of the task's progress (a phone's, whose task panel is this line). */
+  progress(text) {
+    const p = this.$('progress');
+    if (p.textContent !== text) p.textContent = text;
   }
 
   /** Shows or hides the panel (it hides while the preview shows a run or a step in the scene). */

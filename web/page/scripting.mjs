@@ -8,7 +8,8 @@ import { toSession } from './room.mjs';
 
 /**
  * Makes `app.page` (the page's record: mode, participant, task, seed, file, verification,
- * noSqueeze, offset, floor, frameMs, perf, frames, resumed) the page's scripting interface, with
+ * noSqueeze, device, floorOutline, offset, floor, frameMs, perf, frames, resumed) the page's
+ * scripting interface, with
  * the members read from the rest of the page; returns it.
  */
 export function install(app) {
@@ -51,6 +52,10 @@ export function install(app) {
     study: { get: () => app.study?.summary() ?? null, enumerable: true },
     /** The protocol's panel while it shows: { buttons: [{ id, label, on }], texts, hover }, or null. */
     panel: { get: () => (panel()?.isOpen ? { buttons: panel().buttons(), texts: panel().texts(), hover: panel().hover } : null), enumerable: true },
+    /** What hides the trees in AR: the session's depth sensing ({ usage, format }) while it is used, else null. */
+    occlusion: { get: () => features()?.occlusion.active ?? null, enumerable: true },
+    /** AR's light: { source: 'estimate' (the browser's light estimation) or 'neutral', main: the estimate's main light }, or null outside AR. */
+    lighting: { get: () => features()?.xrlight.state() ?? null, enumerable: true },
     /** The middle of the panel's button `id`, or null. */
     panelPoint: { value: (id) => panel()?.buttonPoint(id) ?? null },
   };

@@ -14,8 +14,17 @@ export function nextTarget(snap) {
   return snap.task?.targets.find((t) => !t.satisfied) ?? null;
 }
 
+/** The task panel's reminder of Bumper and Menu, by the device's mapping (input/*.mjs's `device()`). */
+const REMINDERS = {
+  controller: 'remove: squeeze · menu: A/B',
+  'controller-no-squeeze': 'remove: touchpad click · menu: hold touchpad',
+  hands: 'remove: pinch other hand · menu: hold that pinch',
+  'transient-pointer': 'remove: pinch left hand · menu: hold that pinch',
+  screen: 'remove, menu: the buttons below',
+};
+
 /** The lines of the task panel that follows the controller. */
-export function hudLines(snap, { noSqueeze, connection, pending, state, verification }) {
+export function hudLines(snap, { noSqueeze, mapping, connection, pending, state, verification }) {
   const t = snap.task;
   const lines = [];
   if (t) {
@@ -27,7 +36,7 @@ export function hudLines(snap, { noSqueeze, connection, pending, state, verifica
     lines.push('free session');
     lines.push('');
   }
-  lines.push(noSqueeze ? `remove: touchpad click · menu: hold touchpad` : 'remove: squeeze · menu: A/B');
+  lines.push(REMINDERS[mapping] ?? REMINDERS[noSqueeze ? 'controller-no-squeeze' : 'controller']);
   lines.push(`server: ${connection}${pending > 0 ? ` (${pending} waiting)` : ''}`);
   return lines;
 }

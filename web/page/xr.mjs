@@ -1,6 +1,8 @@
 // The immersive session: AR where the browser offers it, else VR; the reference spaces (the
 // session's `local-floor` and the simulation's frame offset from it, room.mjs); the floor an AR
 // session finds, from plane detection, else a hit test straight down, else `local-floor` itself.
+// AR asks for depth sensing and light estimation too, both optional (draw/occlusion.mjs,
+// draw/xrlight.mjs).
 
 import { floorOf, horizontalPlanes, simOffset, yawOf } from './room.mjs';
 
@@ -13,16 +15,22 @@ export async function offeredModes() {
   return { ar, vr };
 }
 
+/** The depth the page asks an AR session for (WebXR Depth Sensing): a GPU texture of floats. */
+export const DEPTH_SENSING = { usagePreference: ['gpu-optimized'], dataFormatPreference: ['float32'] };
+
 /** Requests an immersive session (`ar` or `vr`); `overlay` is the DOM overlay's root (AR on phones). */
 export async function requestSession(mode, overlay) {
   if (mode === 'ar') {
+    // A phone's screen taps need no feature; hands need `hand-tracking` (input/hands.mjs).
     return navigator.xr.requestSession('immersive-ar', {
       requiredFeatures: ['local-floor'],
-      optionalFeatures: ['hit-test', 'plane-detection', 'dom-overlay'],
+      optionalFeatures: ['hit-test', 'plane-detection', 'dom-overlay', 'hand-tracking', 'depth-sensing', 'light-estimation'],
       domOverlay: overlay ? { root: overlay } : undefined,
+      // Real things hide the trees (draw/occlusion.mjs): the depth as a texture, as Quest 3 offers it.
+      depthSensing: DEPTH_SENSING,
     });
   }
-  return navigator.xr.requestSession('immersive-vr', { requiredFeatures: ['local-floor'] });
+  return navigator.xr.requestSession('immersive-vr', { requiredFeatures: ['local-floor'], optionalFeatures: ['hand-tracking'] });
 }
 
 /**

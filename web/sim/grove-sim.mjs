@@ -96,8 +96,8 @@ export class Grove {
   /**
    * A new simulation. `options`: { scene, scene_text, seed, set: ['NAME=VALUE', …], record,
    * header (a header line made elsewhere), task, participant, synthetic, session_start, block,
-   * technique } as web/sim/README.md describes, plus `onLine`, called with each recording line
-   * as it is made.
+   * technique }, or `stage: { min, max, aspect, wind }` (grove's model stage), as
+   * web/sim/README.md describes, plus `onLine`, called with each recording line as it is made.
    */
   createSim(options = {}) {
     const { onLine, ...rest } = options;
@@ -139,6 +139,15 @@ export class Grove {
    */
   rechain(lines) {
     return splitLines(this.call('grove_rechain', [], [lines.join('\n') + '\n'])[1]);
+  }
+
+  /**
+   * The native renderer's wind displacement of a tree's vertices, by its CPU reference:
+   * `{ wind (a snapshot's), tree (a snapshot's tree), points: [[x, y, z, height, trunk, branch,
+   * phase], …] (model space and _WIND channels) }` → each vertex's world position [x, y, z].
+   */
+  windDisplace(input) {
+    return JSON.parse(this.call('grove_wind_displace', [], [JSON.stringify(input)])[1]);
   }
 }
 

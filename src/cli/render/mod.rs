@@ -3,7 +3,7 @@
 //! - `grove render --scene FILE --out PNG [--width W --height H] [--no-shadows] [--no-water] [--no-grass]
 //!   [--overlay none|interaction]` (the overlay defaults to `interaction` for `--replay` only)
 //! - `grove render --scene FILE --frames N --fps F --out DIR [--time-rate R]`
-//! - `grove render --model FILE --out PNG`
+//! - `grove render --model FILE --out PNG [--background sky|transparent] [--tick T]`
 //! - `grove render --replay FILE --video OUT.mp4 [--camera head|shoulder|top|orbit] [--from T]
 //!   [--to T] [--fps F] [--speed S] [--ghosts DIR]` (`video.rs`, which `main.rs` calls
 //!   when `--video` is given, and `grove::video`)
@@ -33,8 +33,9 @@ pub struct RenderArgs {
     /// recording as a video (--video).
     #[arg(long, conflicts_with = "model")]
     pub replay: Option<PathBuf>,
-    /// The tick of --replay to render.
-    #[arg(long, requires = "replay", conflicts_with = "video")]
+    /// The tick of --replay to render; with --model, the model in the study's wind after this
+    /// many ticks (without it, the model stands in calm air at tick 0).
+    #[arg(long, conflicts_with_all = ["video", "frames"])]
     pub tick: Option<u64>,
     /// Write --replay as a video: H.264 in MP4, from --from to --to at --fps frames a second.
     #[arg(long, value_name = "OUT.mp4", requires = "replay", conflicts_with_all = ["out", "frames"])]
@@ -60,6 +61,10 @@ pub struct RenderArgs {
     /// A glTF 2.0 model (.gltf or .glb) to render alone, framed from its bounds.
     #[arg(long)]
     pub model: Option<PathBuf>,
+    /// Behind --model: its stage (`sky`, the default: the ground and the sky), or nothing (`transparent`: the
+    /// model alone, each pixel's alpha its coverage; the light and shadows are the stage's).
+    #[arg(long, value_enum)]
+    pub background: Option<Background>,
     /// The output PNG, or the output folder with --frames.
     #[arg(long, required_unless_present = "video")]
     pub out: Option<PathBuf>,
@@ -116,6 +121,18 @@ pub struct RenderArgs {
     pub banks: Vec<PathBuf>,
 }
 
+/// What `grove render --model` draws behind the model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Background {
+    /// The model's stage: a ground plane under it and the sky.
+    Sky,
+    /// Nothing: the model alone on a transparent image, its alpha the coverage.
+    Transparent,
+}
+
+/// The last tick `grove render --model FILE --tick T` simulates: an hour at 60 ticks a second.
+const MAX_MODEL_TICK: u64 = 216_000;
+
 /// Which interaction visuals `grove render` draws.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Overlay {
@@ -133,10 +150,11 @@ pub fn render_sim(gpu: &Gpu, renderer: &mut Renderer, sim: &Sim, out: &Path) -> 
 }
 
 /// The renderer's options from the arguments: `--no-shadows`, `--no-water`, `--no-grass`,
-/// `--no-blade-fade` and `--overlay` are applied here and nowhere else.
+/// `--no-blade-fade`, `--overlay` and `--background` are applied here and nowhere else.
 fn options(args: &RenderArgs) -> RenderOptions {
     let overlay = args.overlay.unwrap_or(if args.replay.is_some() { Overlay::Interaction } else { Overlay::None });
-    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, blade_edge_fade: !args.no_blade_fade, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, canopy: !args.no_canopy, ..Default::default() }
+    let sky = args.background.unwrap_or(Background::Sky) == Background::Sky;
+    RenderOptions { shadows: !args.no_shadows, water: !args.no_water, grass: !args.no_grass, blade_edge_fade: !args.no_blade_fade, overlay: overlay == Overlay::Interaction, impostor_pixels: args.impostor_pixels, canopy: !args.no_canopy, background: sky, clear: if sky { wgpu::Color::BLACK } else { wgpu::Color::TRANSPARENT }, ..Default::default() }
 }
 
 /// A renderer for the arguments' size and options, with the bank models `sim`'s catalogue holds
@@ -232,15 +250,7 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
     let data = load_model_checked(model)?;
     let id = grove_systems::catalogue::ModelId(0);
     let mut sim = grove_systems::stage::model_stage(data.bounds, args.width as f32 / args.height as f32, false, id).map_err(|e| anyhow!(e))?;
-    let study = grove_systems::scene::Scene::builtin("study").ok_or_else(|| anyhow!("the built-in study scene is missing"))?;
-    if let Some(mut w) = sim.wind() {
-        let d = &study.wind;
-        w.strength = d.strength;
-        w.density = d.density;
-        w.gust = grove_systems::components::Gust { average: d.gust_average, strength: d.gust_strength, frequency: d.gust_frequency };
-        w.current = d.gust_average;
-        sim.set_up().wind(w);
-    }
+    grove_systems::stage::in_study_wind(&mut sim).map_err(|e| anyhow!(e))?;
     let ticks_per_frame = frames_setup(args, out, n, sim.dt())?;
     let gpu = Gpu::new()?;
     let mut renderer = Renderer::empty(&gpu.device, &gpu.queue, offscreen::FORMAT, args.width, args.height, &grove::render::default_assets_dir())?;
@@ -263,6 +273,9 @@ fn model_frames(args: &RenderArgs, out: &Path, model: &Path, n: u32) -> anyhow::
 /// Runs `grove render`.
 pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     check_size(args.width, args.height)?;
+    if args.background.is_some() && args.model.is_none() {
+        bail!("--background goes with --model FILE only");
+    }
     let out = args.out.clone().ok_or_else(|| anyhow!("give --out FILE (or --video OUT.mp4 with --replay)"))?;
     let out = out.as_path();
     if let (Some(model), Some(n)) = (&args.model, args.frames) {
@@ -270,11 +283,15 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(model) = &args.model {
         check_out_file(out, args.force, &PNG_OUT)?;
+        if args.tick.is_some_and(|t| t > MAX_MODEL_TICK) {
+            bail!("--tick with --model must be at most {MAX_MODEL_TICK} (an hour at 60 ticks a second)");
+        }
         let data = load_model_checked(model)?;
         let gpu = Gpu::new()?;
-        let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args))?;
+        let img = offscreen::render_model_data(&gpu, &data, args.width, args.height, options(&args), args.tick)?;
         write_via_temp(out, |tmp| Ok(offscreen::save_png(&img, tmp)?))?;
-        println!("{}: rendered {} ({}x{}) on {}", out.display(), model.display(), args.width, args.height, gpu.adapter_name());
+        let at = args.tick.map_or(String::new(), |t| format!(" at tick {t} in the study's wind"));
+        println!("{}: rendered {}{at} ({}x{}) on {}", out.display(), model.display(), args.width, args.height, gpu.adapter_name());
         return Ok(ExitCode::SUCCESS);
     }
     if let Some(replay) = &args.replay {
@@ -294,6 +311,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let scene_path = args.scene.as_ref().ok_or_else(|| anyhow!("give --scene FILE, --replay FILE --tick N or --model FILE"))?;
+    if args.tick.is_some() {
+        bail!("--tick goes with --replay or --model, not with --scene (use --frames for a sequence)");
+    }
     let mut scene = crate::cli::load_scene(scene_path)?;
     if let Some(rate) = args.time_rate {
         if !rate.is_finite() {

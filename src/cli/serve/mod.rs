@@ -61,6 +61,9 @@ pub struct ServeArgs {
     /// Ask for the token on a loopback address too.
     #[arg(long)]
     require_token: bool,
+    /// Verify every session as it streams ('on'), or only at its end, re-simulating its file ('off': for comparisons).
+    #[arg(long, default_value = "on", value_parser = ["on", "off"])]
+    live: String,
     /// Draw a new token instead of the one kept in DIR/token (clients with the old one are then refused).
     #[arg(long)]
     new_token: bool,
@@ -73,7 +76,7 @@ pub struct ServeArgs {
 enum ServeCommand {
     /// Stream a recording to a server as a live client would (a lab's network test).
     Push(PushArgs),
-    /// Many sessions at once against a server on loopback: acknowledgement times, server CPU and memory (JSON).
+    /// Many sessions at once against a server of its own on loopback (or --to URL): acknowledgement times, how soon each checkpoint is verified live, server CPU and memory (JSON).
     Bench(BenchArgs),
 }
 
@@ -106,9 +109,18 @@ struct BenchArgs {
     /// Sessions streaming at once.
     #[arg(long, default_value_t = 50)]
     sessions: usize,
-    /// Seconds each session streams (the figures in docs/benchmarks.md: 600).
+    /// Seconds each session streams (the figures in docs/benchmarks.md: 60).
     #[arg(long, default_value_t = 60.0)]
     seconds: f64,
+    /// A server already running, on this machine or another (its URL as grove serve printed it, with its ?token=): streamed to in place of a server of the bench's own, whose CPU and memory are then not read.
+    #[arg(long)]
+    to: Option<String>,
+    /// The server's certificate to trust for an https --to URL (grove serve --tls auto writes DIR/tls/cert.pem).
+    #[arg(long, requires = "to")]
+    ca: Option<PathBuf>,
+    /// Its own server's live verification, 'on' or 'off' (a comparison: sessions then verified only at their end).
+    #[arg(long, default_value = "on", value_parser = ["on", "off"], conflicts_with = "to")]
+    live: String,
 }
 
 fn seconds(name: &str, s: f64) -> anyhow::Result<Duration> {
@@ -164,6 +176,7 @@ pub fn run(args: ServeArgs) -> anyhow::Result<ExitCode> {
                 require_token: args.require_token,
                 new_token: args.new_token,
                 protocol,
+                live: args.live == "on",
             };
             serve::run(config)?;
             Ok(ExitCode::SUCCESS)
@@ -204,7 +217,11 @@ fn bench(b: BenchArgs) -> anyhow::Result<ExitCode> {
     }
     seconds("seconds", b.seconds)?;
     let grove = std::env::current_exe().context("cannot find the grove program to start the server")?;
-    let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove };
+    let to = match &b.to {
+        Some(url) => Some(serve::client::conn::Endpoint::parse(url, b.ca.as_deref())?),
+        None => None,
+    };
+    let options = BenchOptions { sessions: b.sessions, seconds: b.seconds, grove, to, live: b.live == "on" };
     let say = |m: &str| eprintln!("serve bench: {m}");
     let mut report = runtime()?.block_on(serve::client::bench::bench(&options, &say))?;
     if let Some(o) = report.as_object_mut() {

@@ -1,12 +1,15 @@
-//! `grove serve bench`: many sessions streaming at once to a server on loopback, as headsets
-//! would: every session sends each tick's lines (a controller and a head pose at 60 Hz, a
-//! trigger press and release every two seconds, a checkpoint every second) in its own request
-//! as soon as the tick is made, so every button event is sent and acknowledged on its own
-//! tick. The server is this grove started as a separate process (`grove serve --port 0`), so
-//! its CPU time and memory are its own, sampled once a second from `/proc`.
+//! `grove serve bench`: many sessions streaming at once to a server, as headsets would: every
+//! session sends each tick's lines (a controller and a head pose at 60 Hz, a trigger press and
+//! release every two seconds, a checkpoint every second) in its own request as soon as the tick
+//! is made, so every button event is sent and acknowledged on its own tick. The server is this
+//! grove started as a separate process on loopback (`grove serve --port 0`), so that its CPU
+//! time and memory are its own, sampled once a second from `/proc`; or, with `--to URL`, a
+//! server already running, on this machine or another (its CPU and memory are then not read).
 //!
 //! Figures: the acknowledgement time of every request (p50, p99, max), the server's CPU share
-//! and resident memory per minute, and each session's verification at its end.
+//! and resident memory per minute, each session's verification at its end, and how long after a
+//! checkpoint's acknowledgement the server's live verification had verified it (read from
+//! `GET /api/sessions` four times a second, as a dashboard would).
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -18,15 +21,16 @@ use bytes::Bytes;
 use glam::{Quat, Vec3};
 use grove_systems::components::Pose;
 use grove_systems::input::{Button, InputEvent};
-use grove_systems::replay::{encode_line, Header, Line, Recorder};
+use grove_systems::replay::{encode_line, Header, Line, Recorder, CHECKPOINT_EVERY};
 use hyper::Method;
 use serde_json::json;
 
+use crate::serve::client::bench_live::{quantile, round, watch_live, Checkpoints};
 use crate::serve::client::conn::{ClientError, Endpoint};
 use crate::serve::sessions::states::VerifyStatus;
 
 /// Options of the benchmark.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct BenchOptions {
     /// Sessions at once.
     pub sessions: usize,
@@ -34,6 +38,10 @@ pub struct BenchOptions {
     pub seconds: f64,
     /// The grove program that runs the server.
     pub grove: PathBuf,
+    /// A server already running to stream to, in place of one of its own.
+    pub to: Option<Endpoint>,
+    /// Whether its own server verifies every session as it streams (`--live on`).
+    pub live: bool,
 }
 
 /// One session's recording made ahead: each tick's lines as one request body, and the lines of
@@ -88,11 +96,11 @@ pub struct Server {
     pub url: String,
 }
 
-/// Starts `grove serve` on loopback (any free port) on `dir`, as its own process; returns once it
-/// listens.
-pub fn start_server(grove: &Path, dir: &Path) -> Result<Server, ClientError> {
+/// Starts `grove serve` on loopback (any free port) on `dir`, as its own process, verifying
+/// sessions as they stream or not (`--live`); returns once it listens.
+pub fn start_server(grove: &Path, dir: &Path, live: bool) -> Result<Server, ClientError> {
     let mut child = Command::new(grove)
-        .args(["serve", "--port", "0", "--abandon-after", "3600", "--max-sessions", "10000", "--out"])
+        .args(["serve", "--port", "0", "--abandon-after", "3600", "--max-sessions", "10000", "--live", if live { "on" } else { "off" }, "--out"])
         .arg(dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
@@ -132,18 +140,6 @@ fn sample(pid: u32) -> Option<(f64, f64)> {
     Some((cpu, kb / 1024.0))
 }
 
-fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
-fn round(x: f64, digits: i32) -> f64 {
-    let m = 10f64.powi(digits);
-    (x * m).round() / m
-}
-
 /// Runs the benchmark and returns its figures as JSON.
 pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_json::Value, ClientError> {
     let ticks = (options.seconds * 60.0).round().max(2.0) as u64;
@@ -151,32 +147,41 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
     let (header, batches) = recording(ticks)?;
     let batches = Arc::new(batches);
     let dir = std::env::temp_dir().join(format!("grove-serve-bench-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let mut server = start_server(&options.grove, &dir)?;
-    let pid = server.child.id();
-    let endpoint = Endpoint::parse(&server.url, None)?;
-    say(&format!("{} sessions for {:.0} s against {}", options.sessions, options.seconds, server.url));
+    let (mut server, endpoint) = match &options.to {
+        Some(to) => (None, to.clone()),
+        None => {
+            let _ = std::fs::remove_dir_all(&dir);
+            let server = start_server(&options.grove, &dir, options.live)?;
+            let endpoint = Endpoint::parse(&server.url, None)?;
+            (Some(server), endpoint)
+        }
+    };
+    let pid = server.as_ref().map(|s| s.child.id());
+    say(&format!("{} sessions for {:.0} s against {}", options.sessions, options.seconds, endpoint.shown()));
     let start = Instant::now();
     let sampler = tokio::spawn(async move {
         let mut samples = Vec::new();
         let mut every = tokio::time::interval(Duration::from_secs(1));
-        loop {
+        while let Some(pid) = pid {
             every.tick().await;
             match sample(pid) {
                 Some((cpu, rss)) => samples.push((start.elapsed().as_secs_f64(), cpu, rss)),
-                None => return samples,
+                None => break,
             }
         }
+        samples
     });
+    let checkpoints = Checkpoints::default();
+    let watcher = tokio::spawn(watch_live(endpoint.clone(), checkpoints.clone()));
     let mut tasks = Vec::new();
     for i in 0..options.sessions {
-        let (endpoint, batches) = (endpoint.clone(), batches.clone());
+        let (endpoint, batches, checkpoints) = (endpoint.clone(), batches.clone(), checkpoints.clone());
         let mut h = header.clone();
         h.participant = Some(format!("B{:02}", i + 1));
         let header_line = encode_line(&Line::Header(h));
         // Sessions start spread over one tick, as independent headsets would.
         let offset = Duration::from_secs_f64(i as f64 / options.sessions as f64 / 60.0);
-        tasks.push(tokio::spawn(async move { session(endpoint, header_line, batches, start, offset).await }));
+        tasks.push(tokio::spawn(async move { session(endpoint, header_line, batches, start, offset, checkpoints).await }));
     }
     let mut acks: Vec<(f64, f64)> = Vec::new();
     let mut statuses: Vec<Option<VerifyStatus>> = Vec::new();
@@ -186,13 +191,17 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
         statuses.push(status);
     }
     let wall = start.elapsed().as_secs_f64();
-    // SAFETY: kill with a valid signal on the child we started.
-    unsafe {
-        libc::kill(pid as i32, libc::SIGTERM);
+    watcher.abort();
+    let live = checkpoints.figures();
+    if let Some(server) = server.as_mut() {
+        // SAFETY: kill with a valid signal on the child we started.
+        unsafe {
+            libc::kill(server.child.id() as i32, libc::SIGTERM);
+        }
+        let _ = server.child.wait();
+        let _ = std::fs::remove_dir_all(&dir);
     }
     let samples = sampler.await.unwrap_or_default();
-    let _ = server.child.wait();
-    let _ = std::fs::remove_dir_all(&dir);
 
     let mut all: Vec<f64> = acks.iter().map(|a| a.1).collect();
     all.sort_by(f64::total_cmp);
@@ -216,8 +225,20 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
         _ => f64::NAN,
     };
     let verified = statuses.iter().filter(|s| **s == Some(VerifyStatus::Verified)).count();
+    let (samples_max, cpu_total) = if samples.is_empty() { (None, None) } else { (Some(round(samples.iter().map(|s| s.2).fold(0.0, f64::max), 1)), Some(round(cpu_total, 1))) };
     Ok(json!({
         "serve": {
+            "server": if options.to.is_some() { endpoint.shown() } else { "its own, on loopback".to_string() },
+            "live_verification": match (&options.to, options.live) {
+                (Some(_), _) => "the server's",
+                (None, true) => "on",
+                (None, false) => "off",
+            },
+            "live_checkpoints_verified": live.verified,
+            "live_verify_ms_p50": live.p50,
+            "live_verify_ms_p99": live.p99,
+            "live_verify_ms_max": live.max,
+            "live_wrong": live.wrong,
             "sessions": options.sessions,
             "seconds": options.seconds,
             "requests": all.len(),
@@ -225,8 +246,8 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
             "ack_ms_p50": round(quantile(&all, 0.5), 2),
             "ack_ms_p99": round(quantile(&all, 0.99), 2),
             "ack_ms_max": round(all.last().copied().unwrap_or(f64::NAN), 2),
-            "server_cpu_percent": round(cpu_total, 1),
-            "server_rss_mib_max": round(samples.iter().map(|s| s.2).fold(0.0, f64::max), 1),
+            "server_cpu_percent": cpu_total,
+            "server_rss_mib_max": samples_max,
             "sessions_verified": verified,
         },
         "serve_over_time": over_time,
@@ -235,7 +256,7 @@ pub async fn bench(options: &BenchOptions, say: &dyn Fn(&str)) -> Result<serde_j
 
 /// One session: opened, each tick's lines sent on time, ended. Returns (seconds since the start,
 /// acknowledgement ms) per request and the verification's status.
-async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, start: Instant, offset: Duration) -> Result<(Vec<(f64, f64)>, Option<VerifyStatus>), ClientError> {
+async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, start: Instant, offset: Duration, checkpoints: Checkpoints) -> Result<(Vec<(f64, f64)>, Option<VerifyStatus>), ClientError> {
     let timeout = Duration::from_secs(10);
     let mut conn = endpoint.connect(timeout).await?;
     let (status, v) = conn.request(Method::POST, "/api/sessions", Bytes::from(json!({ "header": header }).to_string()), timeout).await?;
@@ -243,6 +264,7 @@ async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, s
         return Err(ClientError::Refused { what: "open".into(), status, reason: v.to_string() });
     }
     let id = v["session"].as_str().unwrap_or("").to_string();
+    let file = v["file"].as_str().unwrap_or("").to_string();
     let mut acks = Vec::with_capacity(batches.len());
     let mut from = 2u64;
     let begin = tokio::time::Instant::now() + offset;
@@ -256,6 +278,11 @@ async fn session(endpoint: Endpoint, header: String, batches: Arc<Vec<Bytes>>, s
         }
         from = v["acked"].as_u64().unwrap_or(0) + 1;
         acks.push((sent.duration_since(start).as_secs_f64(), ms));
+        // Tick t's request ends with the checkpoint of tick t + 1 every second.
+        let tick = t as u64 + 1;
+        if tick % CHECKPOINT_EVERY == 0 {
+            checkpoints.acked(&file, tick);
+        }
     }
     let (_, v) = conn.request(Method::POST, &format!("/api/sessions/{id}/end"), Bytes::new(), Duration::from_secs(60)).await?;
     Ok((acks, serde_json::from_value(v["verification"]["status"].clone()).ok()))

@@ -135,6 +135,11 @@ impl Endpoint {
         Ok(Endpoint { host, port, token, tls, writer })
     }
 
+    /// The server's host and port, as shown in a report (never the token).
+    pub fn shown(&self) -> String {
+        format!("{}://{}:{}", if self.tls.is_some() { "https" } else { "http" }, self.host, self.port)
+    }
+
     /// Opens a connection within `timeout`.
     pub async fn connect(&self, timeout: Duration) -> Result<Conn, ClientError> {
         let go = async {

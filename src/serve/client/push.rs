@@ -10,19 +10,16 @@
 //! so that a recording never makes a second file.
 
 use std::collections::VecDeque;
-use std::io::Read;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use bytes::Bytes;
-use grove_systems::files::{self, Kind};
-use grove_systems::limits::MAX_LINE_BYTES;
 use hyper::Method;
 use serde::Serialize;
 use serde_json::json;
 
 use crate::serve::client::conn::{Answer, ClientError, Conn, Endpoint, Reply};
-use crate::serve::line_split::LineSplitter;
+use crate::serve::client::source::{event_ms, Source};
 use crate::serve::sessions::states::{Code, SessionState, VerifyStatus};
 
 /// How fast lines are sent.
@@ -75,44 +72,6 @@ impl PushReport {
     /// The verification's status, as the server's answer says it.
     pub fn status(&self) -> Option<VerifyStatus> {
         field(&self.ended["verification"], "status")
-    }
-}
-
-/// The recording's lines, read as they are needed.
-struct Source {
-    file: std::fs::File,
-    splitter: LineSplitter,
-    ready: VecDeque<String>,
-    eof: bool,
-    name: String,
-}
-
-impl Source {
-    fn open(path: &Path) -> Result<Source, ClientError> {
-        let (file, _) = files::open(path, Kind::Recording).map_err(|e| ClientError::Local(e.to_string()))?;
-        Ok(Source { file, splitter: LineSplitter::new(MAX_LINE_BYTES), ready: VecDeque::new(), eof: false, name: path.display().to_string() })
-    }
-
-    fn next(&mut self) -> Result<Option<String>, ClientError> {
-        let mut chunk = vec![0u8; 64 * 1024];
-        while self.ready.is_empty() && !self.eof {
-            let n = self.file.read(&mut chunk).map_err(|e| ClientError::Local(format!("{}: {e}", self.name)))?;
-            if n == 0 {
-                self.eof = true;
-                if !self.splitter.rest().is_empty() {
-                    // A cut last line (a recorder killed mid-line) is not sent, as the replay ignores it.
-                    break;
-                }
-            }
-            let ready = &mut self.ready;
-            self.splitter
-                .push(&chunk[..n], &mut |l| {
-                    ready.push_back(l);
-                    true
-                })
-                .map_err(|e| ClientError::Local(format!("{}: {e}", self.name)))?;
-        }
-        Ok(self.ready.pop_front())
     }
 }
 
@@ -206,12 +165,6 @@ fn field<T: serde::de::DeserializeOwned>(v: &serde_json::Value, key: &str) -> Op
 /// The server's answer lacks the line count.
 fn no_acked() -> ClientError {
     ClientError::Answer("the server's answer has no 'acked' count".into())
-}
-
-/// The wall-clock milliseconds an event line was made at, if it says.
-fn event_ms(line: &str) -> Option<u64> {
-    let v: serde_json::Value = serde_json::from_str(line).ok()?;
-    v.get("ms")?.as_u64()
 }
 
 /// How many lines the server has of an open session, asked until it answers (a request of the

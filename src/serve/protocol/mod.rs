@@ -1,10 +1,10 @@
 //! A study protocol run by `grove serve --protocol` (`docs/protocol.md`): `participants.rs`
 //! each participant's id, condition order, step and answers (`DIR/<id>.answers.jsonl`);
 //! `folder.rs` the folder read back at start, its ids checked; `task_step.rs` which session
-//! finishes a task step; `routes.rs` its routes; `dashboard.rs` and `live.rs` the researcher's
-//! live view of every session (re-simulated as it grows); `pages.rs` the participant's form page
-//! and the researcher's dashboard (`protocol.html`, `dashboard.html`); `error.rs` why a protocol
-//! request was refused, one enum.
+//! finishes a task step; `routes.rs` its routes; `dashboard.rs` the researcher's live view of
+//! every session (the sessions' own live replays, `serve/sessions/live.rs`); `pages.rs` the
+//! participant's form page and the researcher's dashboard; `error.rs` why a protocol request was
+//! refused, one enum.
 //!
 //! It reads the sessions (a task step is finished when its own session has ended; their
 //! participant ids share one namespace with the participants') and never writes them; it knows HTTP only through `serve/http/`. It does not know the token, TLS, the served
@@ -12,7 +12,6 @@
 
 use std::sync::Arc;
 
-use crate::serve::protocol::live::LiveCache;
 use crate::serve::protocol::participants::{Participants, TaskSessions};
 use crate::serve::sessions::registry::Entry;
 use crate::serve::sessions::service::Sessions;
@@ -20,19 +19,16 @@ use crate::serve::sessions::service::Sessions;
 pub mod dashboard;
 pub mod error;
 pub mod folder;
-pub mod live;
 pub mod pages;
 pub mod participants;
 pub mod routes;
 pub mod task_step;
 
-/// A protocol as its routes see it: the participants, the dashboard's live views, and the
-/// sessions (whose ends finish the task steps).
+/// A protocol as its routes see it: the participants and the sessions (whose ends finish the
+/// task steps, and whose live views the dashboard shows).
 pub struct Protocol {
     /// The participants.
     pub participants: Participants,
-    /// The dashboard's live views of the sessions.
-    pub live: LiveCache,
     /// The sessions.
     pub sessions: Arc<Sessions>,
 }

@@ -1,7 +1,8 @@
 //! What happens to sessions besides their requests: a session ended (by its client or as
-//! abandoned) is re-simulated and its verification recorded; a loop ends the sessions that had no
-//! request for `--abandon-after`; at the start, sessions that ended without their verification
-//! are verified; at the stop, every open file is handed to the operating system.
+//! abandoned) gets its verification (the live one, [`crate::serve::sessions::live`]) recorded; a
+//! loop ends the sessions that had no request for `--abandon-after`; at the start, sessions that
+//! ended without their verification are verified; at the stop, every open file is handed to the
+//! operating system.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -17,18 +18,30 @@ use crate::serve::sessions::session::Session;
 use crate::serve::sessions::states::SessionState;
 use crate::serve::sessions::verify::{verify, Verification};
 
+/// The longest an end waits for the live verification to reach the session's last line.
+const END_PATIENCE: Duration = Duration::from_secs(60);
+
 impl Sessions {
-    /// Ends a session (held by its caller) as `how` (ended or abandoned), re-simulates its file
-    /// and records the result; returns the answer to its client.
+    /// Ends a session (held by its caller) as `how` (ended or abandoned), waits for its
+    /// verification (its live replay reaching the last line) and records it; returns the answer
+    /// to its client.
     pub async fn close_and_verify(&self, mut s: OwnedMutexGuard<Session>, how: SessionState) -> Result<Value, SessionError> {
         s.write_out()?;
         self.registry.close(&mut s, how)?;
-        let (id, file, path, acked, last_tick, last_checkpoint) = (s.id.clone(), s.file_name.clone(), s.path.clone(), s.acked(), s.last_tick(), s.last_checkpoint());
+        let (id, file, path, acked, last_tick, last_checkpoint, bytes) = (s.id.clone(), s.file_name.clone(), s.path.clone(), s.acked(), s.last_tick(), s.last_checkpoint(), s.bytes());
         drop(s);
-        let banks = self.registry.bank_dirs.clone();
-        let permit = self.verifying.acquire().await.map_err(|e| SessionError::Task(e.to_string()))?;
-        let v = tokio::task::spawn_blocking(move || verify(&path, &banks, last_tick, last_checkpoint)).await.map_err(|e| SessionError::Task(e.to_string()))?;
-        drop(permit);
+        // The live verification once it has replayed the last line; the whole file re-simulated
+        // only when the session was not watched or its worker did not finish in time.
+        let v = match self.live.finish(&id, bytes, END_PATIENCE).await {
+            Some(v) => v,
+            None => {
+                let banks = self.registry.bank_dirs.clone();
+                let permit = self.verifying.acquire().await.map_err(|e| SessionError::Task(e.to_string()))?;
+                let v = tokio::task::spawn_blocking(move || verify(&path, &banks, last_tick, last_checkpoint)).await.map_err(|e| SessionError::Task(e.to_string()))?;
+                drop(permit);
+                v
+            }
+        };
         log(&format!("{how} {file}: {acked} lines, {}", v.summary()));
         self.registry.verified(&id, v.clone())?;
         Ok(json!({ "acked": acked, "file": file, "state": how, "verification": v }))

@@ -2,7 +2,7 @@
 //!
 //! - `POST /api/sessions` opens a session, from a header line (`{"header": "…"}`) or from the
 //!   fields a client may set (`{"participant": …, "task": …, "scene": …, "seed": …,
-//!   "technique": …, "block": …}`); the answer has the session id and the header line written.
+//!   "technique": …, "block": …, "scene_text": …, "device": …}`); the answer has the session id and the header line written.
 //!   With `"continue": true` beside a header line, the session that the same line opened before
 //!   is answered instead (200, `"continued": true`): how `grove serve push` run again goes on.
 //! - `POST /api/sessions/ID/lines?from=N` appends lines (the body, each ending in `\n`) starting
@@ -82,7 +82,7 @@ pub async fn route(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Response
     };
     let id = ids.first().copied().unwrap_or_default();
     let answer = match to {
-        To::List => Ok(json(200, &json!({ "sessions": sessions.registry.entries().iter().map(public).collect::<Vec<_>>() }))),
+        To::List => Ok(json(200, &json!({ "sessions": sessions.registry.entries().iter().map(|e| public(sessions, e)).collect::<Vec<_>>() }))),
         To::Open => open(sessions, req).await,
         To::Status => status(sessions, id).await,
         To::Append => append(sessions, id, req).await,
@@ -93,9 +93,11 @@ pub async fn route(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Response
     answer.unwrap_or_else(|e| refused(&Refusal::from(e)))
 }
 
-/// An entry without its id (a secret), as listed to any client with the token.
-fn public(e: &Entry) -> Value {
-    json!({ "file": e.file, "participant": e.participant, "task": e.task, "opened": e.opened, "state": e.state, "lines": e.lines, "closed": e.closed, "verification": e.verification, "note": e.note })
+/// An entry without its id (a secret), as listed to any client with the token; an open
+/// session's with its verification so far (`live`).
+fn public(sessions: &Sessions, e: &Entry) -> Value {
+    let live = if e.state == SessionState::Open { sessions.live.verification(&e.id) } else { None };
+    json!({ "file": e.file, "participant": e.participant, "task": e.task, "opened": e.opened, "state": e.state, "lines": e.lines, "closed": e.closed, "verification": e.verification, "live": live, "note": e.note })
 }
 
 /// The client a request names (`Grove-Writer`: 1 to 64 letters, digits, `-` or `_`).
@@ -135,7 +137,11 @@ async fn open(sessions: &Arc<Sessions>, req: Request<Incoming>) -> Result<Respon
     let opened = tokio::task::spawn_blocking(move || all.registry.open(&text, with)).await.map_err(|e| SessionError::Task(e.to_string()))?;
     match opened.inspect_err(|e| log(&format!("refused a session: {e}")))? {
         Opened::New(entry, shared) => {
-            shared.lock().await.writer = Some(writer);
+            {
+                let mut s = shared.lock().await;
+                s.writer = Some(writer);
+                sessions.live.watch(&s.id, &s.path, s.bytes());
+            }
             log(&format!("opened {} (participant {}, task {})", entry.file, entry.participant, entry.task.as_deref().unwrap_or("none")));
             Ok(json(201, &json!({ "session": entry.id, "file": entry.file, "header": header_text, "acked": 1 })))
         }
@@ -258,6 +264,7 @@ async fn append(sessions: &Sessions, id: &str, req: Request<Incoming>) -> Result
     s.last_seen = Instant::now();
     let acked = s.acked();
     sessions.registry.note_lines(&s.id, acked);
+    sessions.live.grown(&s.id, s.bytes());
     match stop {
         Some(cause) => {
             log(&format!("refused a line of {}: {cause}", s.file_name));

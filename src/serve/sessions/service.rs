@@ -10,6 +10,7 @@ use tokio::sync::{MutexGuard, OwnedMutexGuard, Semaphore};
 
 use crate::serve::ids;
 use crate::serve::sessions::error::SessionError;
+use crate::serve::sessions::live::Live;
 use crate::serve::sessions::registry::{Registry, Shared};
 use crate::serve::sessions::session::Session;
 
@@ -24,15 +25,24 @@ pub struct Sessions {
     /// Re-simulations running at once: at most one per core less one (at least one), so that
     /// many sessions ending together do not take the cores from those still streaming.
     pub verifying: Semaphore,
+    /// Every session's lines replayed and verified as they are acknowledged.
+    pub live: Live,
 }
 
 impl Sessions {
-    /// Opens a folder (made if missing) and continues the sessions still open in it; returns a
-    /// line per session continued or not.
-    pub fn load(dir: &std::path::Path, banks: Vec<PathBuf>, max_open: usize, read_timeout: Duration, writer_lease: Duration) -> Result<(Sessions, Vec<String>), SessionError> {
+    /// Opens a folder (made if missing) and continues the sessions still open in it, each
+    /// verified as it streams unless `live` is false; returns a line per session continued or not.
+    pub fn load(dir: &std::path::Path, banks: Vec<PathBuf>, max_open: usize, read_timeout: Duration, writer_lease: Duration, live: bool) -> Result<(Sessions, Vec<String>), SessionError> {
         let (registry, notes) = Registry::load(dir, banks, max_open)?;
         let verifying = Semaphore::new(std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1)));
-        Ok((Sessions { registry, read_timeout, writer_lease, verifying }, notes))
+        let live = Live::start(&registry.bank_dirs, live);
+        for shared in registry.open_sessions() {
+            // Nothing else holds a session yet.
+            if let Ok(s) = shared.try_lock() {
+                live.watch(&s.id, &s.path, s.bytes());
+            }
+        }
+        Ok((Sessions { registry, read_timeout, writer_lease, verifying, live }, notes))
     }
 
     /// The open session `id`; for one that has ended, its entry as the refusal.

@@ -56,6 +56,10 @@ pub struct OpenFields {
     /// recordings and named by the header ([`crate::serve::sessions::room_scene`]).
     #[serde(default)]
     pub scene_text: Option<String>,
+    /// The input device the client uses, written into the header as it is (checked with the
+    /// header's other names).
+    #[serde(default)]
+    pub device: Option<grove_systems::replay::HeaderDevice>,
 }
 
 /// The header a server writes for a session opened by its fields: this build's format, the
@@ -80,7 +84,9 @@ pub fn header_from_fields(fields: &OpenFields, dir: &Path) -> Result<Header, Ses
         technique: fields.technique.clone(),
         ..Default::default()
     };
-    session.header(&scene_name, fields.seed, scene.dt).map_err(|e| SessionError::Technique(e.to_string()))
+    let mut header = session.header(&scene_name, fields.seed, scene.dt).map_err(|e| SessionError::Technique(e.to_string()))?;
+    header.device = fields.device.clone();
+    Ok(header)
 }
 
 /// A session's file with the rules its next line must keep.
@@ -260,6 +266,12 @@ impl Session {
     /// number a client may forget.
     pub fn acked(&self) -> u64 {
         self.lines
+    }
+
+    /// Bytes in the file and handed to the operating system: the acknowledged lines, each
+    /// ending in its newline.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
     }
 
     /// The number the next line will have.

@@ -1,4 +1,5 @@
-//! A session's file re-simulated once it has ended, natively, as `grove replay` does: verified,
+//! A session's verification: the file re-simulated natively, as `grove replay` does (or its
+//! lines replayed as they came, [`crate::serve::sessions::live`]): verified,
 //! unverified (no checkpoint to compare), incomplete (no footer: verified up to its last
 //! checkpoint), diverged (the first checkpoint that differs) or invalid (the replay refused the
 //! file, which the line checks should have made impossible).
@@ -6,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use grove_systems::replay::verdict::Verdict;
-use grove_systems::replay::{replay_file, ReplayOptions};
+use grove_systems::replay::{replay_file, Divergence, ReplayOptions};
 use serde::{Deserialize, Serialize};
 
 use crate::serve::sessions::states::VerifyStatus;
@@ -75,15 +76,21 @@ pub fn verify(path: &Path, banks: &[PathBuf], last_tick: u64, last_checkpoint: u
     let options = ReplayOptions { banks: banks.to_vec(), ..ReplayOptions::default() };
     match replay_file(path, &options) {
         Err(e) => Verification::invalid(e.to_string(), last_tick),
-        Ok(out) => {
-            let first_divergence = out.first_divergence.map(|d| FirstDivergence { tick: d.tick, expected_hash: d.expected_hash, actual_hash: d.actual_hash });
-            let status = VerifyStatus::of(Verdict::of(first_divergence.is_some(), out.complete, out.checkpoints_checked));
-            let verified_to_tick = match (&first_divergence, out.complete) {
-                (Some(_), _) => None,
-                (None, true) => Some(last_tick),
-                (None, false) => Some(last_checkpoint),
-            };
-            Verification { status, complete: out.complete, checkpoints_checked: out.checkpoints_checked, verified_to_tick, last_tick, first_divergence, error: None }
-        }
+        Ok(out) => Verification::found(out.complete, out.checkpoints_checked, out.first_divergence.as_ref(), last_tick, last_checkpoint),
+    }
+}
+
+impl Verification {
+    /// What a replay found, the file's last line and last checkpoint being at these ticks:
+    /// the status by the rule `grove replay --json` follows too ([`Verdict::of`]).
+    pub fn found(complete: bool, checkpoints_checked: u64, divergence: Option<&Divergence>, last_tick: u64, last_checkpoint: u64) -> Verification {
+        let first_divergence = divergence.map(|d| FirstDivergence { tick: d.tick, expected_hash: d.expected_hash.clone(), actual_hash: d.actual_hash.clone() });
+        let status = VerifyStatus::of(Verdict::of(first_divergence.is_some(), complete, checkpoints_checked));
+        let verified_to_tick = match (&first_divergence, complete) {
+            (Some(_), _) => None,
+            (None, true) => Some(last_tick),
+            (None, false) => Some(last_checkpoint),
+        };
+        Verification { status, complete, checkpoints_checked, verified_to_tick, last_tick, first_divergence, error: None }
     }
 }

@@ -78,14 +78,12 @@ pub(crate) struct Checked {
     pub body: String,
 }
 
-impl Checked {
-    /// The line as a checkpoint with all its maps, read again from the body (see
-    /// [`Lines::checkpoint_maps_when_needed`]); `None` for other lines.
-    pub fn checkpoint(&self) -> Option<super::CheckpointLine> {
-        match super::codec::parse_body(&self.body, Maps::Read) {
-            Ok(Line::Checkpoint(c)) => Some(c),
-            _ => None,
-        }
+/// A checkpoint line's body (its text without the `sum` field) read with all its maps; `None`
+/// for another line.
+pub(crate) fn checkpoint_of(body: &str) -> Option<super::CheckpointLine> {
+    match super::codec::parse_body(body, Maps::Read) {
+        Ok(Line::Checkpoint(c)) => Some(c),
+        _ => None,
     }
 }
 
@@ -117,7 +115,7 @@ impl<R: Read> Lines<R> {
 
     /// From now on, a checkpoint's `components` and `entities` maps are checked to be maps of
     /// strings but left empty: for a reader that needs them only at a divergence, and then reads
-    /// them from the line's body ([`Checked::checkpoint`]).
+    /// them from the line's body ([`checkpoint_of`]).
     pub fn checkpoint_maps_when_needed(&mut self) {
         self.rules.checkpoint_maps_when_needed();
     }

@@ -27,6 +27,7 @@ pub mod scene_ref;
 pub mod session_header;
 pub mod upgrade;
 pub mod verdict;
+pub mod verifier;
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -39,10 +40,11 @@ pub use line_rules::{header_line, LineRuleError, LineRules, RuledLine};
 pub use names::NameError;
 pub use scene_ref::SceneRefError;
 pub use player::Player;
-pub use reader::{read_events, replay_file, replay_reader, Differing, Divergence, ReplayError, ReplayOptions, ReplayOutcome};
+pub use reader::{read_events, replay_file, replay_reader, ReplayError, ReplayOptions, ReplayOutcome};
 pub use report::ReplayReport;
 pub use session_header::{session_start_at, SessionFields, SessionHeaderError};
 pub use upgrade::{upgrade, UpgradeSummary};
+pub use verifier::{Differing, Divergence, Verifier};
 
 use crate::bank::{Banks, HeaderModel};
 use crate::hash::{hex, WorldHash};
@@ -107,6 +109,43 @@ pub struct Header {
     /// when the session used only the built-in techniques, which its `switch_mode` events name.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub technique: Option<HeaderTechnique>,
+    /// Optional: the input device the session was made with ([`HeaderDevice`]). Absent in
+    /// recordings made before devices were recorded (read as [`HeaderDevice::unknown`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub device: Option<HeaderDevice>,
+}
+
+/// The input device of a recording: the WebXR input source that pointed (or the preview's
+/// mouse) and grove's mapping of it onto the controller (`docs/headset.md`, "Devices and their
+/// mappings"). Each field is 1 to 64 lowercase letters, digits and `-`.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HeaderDevice {
+    /// The input profile, the first of the XR input source's `profiles` (`meta-quest-touch-plus`,
+    /// `generic-hand`, `generic-touchscreen` …), `mouse` for the preview.
+    pub profile: String,
+    /// The XR input source's target-ray mode (`tracked-pointer`, `transient-pointer`, `screen`),
+    /// `none` for the preview's mouse.
+    pub target_ray_mode: String,
+    /// grove's mapping: `controller`, `controller-no-squeeze`, `hands`, `transient-pointer`,
+    /// `screen` or `mouse`.
+    pub mapping: String,
+}
+
+impl HeaderDevice {
+    /// What a recording without a device reads as: a controller (every session before devices
+    /// were recorded had one, or a desktop's mouse, keyboard or gamepad acting as one) of an
+    /// unknown profile and target-ray mode.
+    pub fn unknown() -> HeaderDevice {
+        HeaderDevice { profile: "unknown".into(), target_ray_mode: "unknown".into(), mapping: "controller".into() }
+    }
+}
+
+impl Header {
+    /// The recording's device, or [`HeaderDevice::unknown`] when the header names none.
+    pub fn device_or_unknown(&self) -> HeaderDevice {
+        self.device.clone().unwrap_or_else(HeaderDevice::unknown)
+    }
 }
 
 /// A recording's technique: its name and version ([`crate::technique::Technique`]).
@@ -137,6 +176,7 @@ impl Header {
             block: None,
             models: Vec::new(),
             technique: None,
+            device: None,
         }
     }
 }

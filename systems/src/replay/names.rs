@@ -42,6 +42,14 @@ pub enum NameError {
     /// A `choose_model` event names a model the catalogue does not have.
     #[error("choose_model names an {0}")]
     ChooseModel(UnknownModel),
+    /// A header device field that is not 1 to 64 lowercase letters, digits and `-`.
+    #[error("header device: {field} '{}' must be 1 to 64 lowercase letters, digits and '-'", .value.escape_debug())]
+    Device {
+        /// The field, e.g. "profile".
+        field: &'static str,
+        /// The value as written (at most 80 characters of it).
+        value: String,
+    },
     /// A `start_task` event names a task that is not built in.
     #[error("start_task names unknown task '{0}'")]
     StartTask(String),
@@ -79,6 +87,13 @@ pub fn check_header(header: &Header) -> Result<(), NameError> {
             Some(_) => {}
         }
     }
+    if let Some(d) = &header.device {
+        for (field, value) in [("profile", &d.profile), ("target_ray_mode", &d.target_ray_mode), ("mapping", &d.mapping)] {
+            if value.is_empty() || value.len() > 64 || !value.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-') {
+                return Err(NameError::Device { field, value: value.chars().take(80).collect() });
+            }
+        }
+    }
     for m in &header.models {
         if !crate::bank::valid_name(&m.name) || m.hash.len() != 16 || !m.hash.bytes().all(|b| b.is_ascii_hexdigit()) {
             return Err(NameError::HeaderModel(m.name.clone()));
@@ -92,7 +107,7 @@ pub fn check_header(header: &Header) -> Result<(), NameError> {
 pub fn check_event(event: &InputEvent, sim: &Sim) -> Result<(), NameError> {
     match event {
         InputEvent::ChooseModel { model } => sim.res.catalogue.resolve(model).map(|_| ()).map_err(NameError::ChooseModel),
-        InputEvent::StartTask { task } if crate::task::TaskDef::builtin(task).is_none() => Err(NameError::StartTask(task.clone())),
+        InputEvent::StartTask { task, .. } if crate::task::TaskDef::builtin(task).is_none() => Err(NameError::StartTask(task.clone())),
         InputEvent::SwitchTechnique { technique } if sim.res.techniques.get(technique).is_none() => Err(NameError::UnknownTechnique(sim.res.techniques.unknown(technique))),
         _ => Ok(()),
     }
@@ -119,5 +134,11 @@ mod tests {
         bad(&|x| x.task = Some("manual-8".into()), "unknown task 'manual-8'");
         bad(&|x| x.session_start = Some("3 June 2019".into()), "RFC 3339");
         bad(&|x| x.block = Some(0), "block");
+        let device = |mapping: &str| super::super::HeaderDevice { profile: "generic-hand".into(), target_ray_mode: "tracked-pointer".into(), mapping: mapping.into() };
+        let mut with_device = h.clone();
+        with_device.device = Some(device("hands"));
+        assert!(check_header(&with_device).is_ok());
+        bad(&|x| x.device = Some(device("Hands!")), "header device: mapping 'Hands!'");
+        bad(&|x| x.device = Some(device("")), "mapping ''");
     }
 }

@@ -1,17 +1,15 @@
-//! The verifying reader: re-simulates a recording from its header and compares every
-//! checkpoint. The lines themselves are checked by [`super::lines`] before any simulation.
+//! The verifying reader: re-simulates a recording file from its header and compares every
+//! checkpoint, by handing each line to [`super::verifier::Verifier`]. The lines themselves are
+//! checked by [`super::lines`] before any simulation.
 
 use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
 
-use serde::Serialize;
-
-use super::lines::{LineError, Lines};
-use super::{sim_for_header_in, CheckpointLine, Header, Line};
-use crate::hash::{hex, world_hash_keeping, WorldHash, HASHED};
-use crate::resource_hash::{differing_fields, ResourceBytes};
-use crate::input::{InputEvent, StampedEvent};
+use super::lines::{checkpoint_of, Checked, LineError, Lines};
+use super::verifier::{Divergence, Verifier};
+use super::{sim_for_header_in, Header, Line};
+use crate::input::StampedEvent;
 use crate::resources::Override;
 use crate::sim::Sim;
 
@@ -26,28 +24,6 @@ pub struct ReplayError {
     pub line: Option<u64>,
     /// What is wrong.
     pub message: String,
-}
-
-/// One (entity, component) pair that differs at a divergent checkpoint.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
-pub struct Differing {
-    /// The entity, as id bits in decimal, or "resources".
-    pub entity: String,
-    /// The component type, or for "resources" the field ([`crate::resource_hash::FIELDS`]).
-    pub component: String,
-}
-
-/// The first checkpoint at which the replay and the recording disagree.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Divergence {
-    /// The checkpoint's tick.
-    pub tick: u64,
-    /// The recorded hash.
-    pub expected_hash: String,
-    /// The re-simulated hash.
-    pub actual_hash: String,
-    /// Which entities and components differ.
-    pub differing: Vec<Differing>,
 }
 
 /// The outcome of a replay.
@@ -83,51 +59,6 @@ pub struct ReplayOptions {
     pub scene: Option<crate::scene::Scene>,
 }
 
-/// The (entity, component) pairs that differ between a recorded checkpoint and the world: the
-/// entities whose hash differs crossed with the component types whose hash differs, keeping
-/// only pairs where the entity (still) has that component; and for the resources, the fields
-/// that differ ([`crate::resource_hash::differing_fields`], from the resources at the last
-/// checkpoint that agreed, `agreed`, and now, `now`).
-fn differing(expected: &CheckpointLine, actual: &WorldHash, world: &hecs::World, agreed: &ResourceBytes, now: &ResourceBytes) -> Vec<Differing> {
-    let comps: Vec<&str> = HASHED
-        .iter()
-        .map(|h| h.name)
-        .filter(|c| expected.components.get(*c).map(String::as_str) != actual.component(c).map(hex).as_deref())
-        .collect();
-    let actual_entities: BTreeMap<String, String> = actual.entities.iter().map(|(e, h)| (e.to_string(), hex(*h))).collect();
-    let mut ents: Vec<String> = expected
-        .entities
-        .iter()
-        .filter(|(e, h)| actual_entities.get(*e) != Some(*h))
-        .map(|(e, _)| e.clone())
-        .chain(actual_entities.keys().filter(|e| !expected.entities.contains_key(*e)).cloned())
-        .collect();
-    ents.sort_by_key(|e| e.parse::<u64>().unwrap_or(u64::MAX));
-    ents.dedup();
-    let mut out = Vec::new();
-    for c in &comps {
-        if *c == "resources" {
-            let fields = match expected.components.get(*c).and_then(|h| u64::from_str_radix(h, 16).ok()) {
-                Some(h) => differing_fields(agreed, now, h),
-                None => vec!["resources"],
-            };
-            out.extend(fields.into_iter().map(|f| Differing { entity: "resources".into(), component: f.into() }));
-            continue;
-        }
-        let before = out.len();
-        for e in &ents {
-            let bits = e.parse::<u64>().unwrap_or(0);
-            if crate::hash::has_component(world, bits, c) || !actual_entities.contains_key(e) {
-                out.push(Differing { entity: e.clone(), component: (*c).to_string() });
-            }
-        }
-        if out.len() == before {
-            out.push(Differing { entity: "?".into(), component: (*c).to_string() });
-        }
-    }
-    out
-}
-
 /// Replays a recording from a reader. `file` names it in errors; `base_dir` is the recording's
 /// folder, where a scene file it names may lie. Checkpoints are verified unless
 /// `options.overrides` is non-empty (a what-if run).
@@ -145,77 +76,31 @@ pub fn replay_reader<R: Read>(reader: R, file: &str, base_dir: Option<&Path>, op
         Some(scene) => super::sim_for_header_with_scene(&header, scene.clone(), &options.overrides, &banks),
         None => sim_for_header_in(&header, base_dir, &options.overrides, &banks),
     };
-    let mut sim = built.map_err(|m| err((Some(1), m.to_string())))?;
+    let sim = built.map_err(|m| err((Some(1), m.to_string())))?;
+    let mut verifier = Verifier::new(sim, verifying);
     // Counted by the kind's static name, and named as `String`s once at the end.
     let mut counts: BTreeMap<&'static str, u64> = BTreeMap::new();
-    let mut checkpoints_checked = 0;
-    let mut first_divergence = None;
-    let mut complete = false;
     let mut stopped_early = false;
     let until = options.until.unwrap_or(u64::MAX);
-    // The hashed resources at the last checkpoint that agreed (at first, the start, which the
-    // header fixes) and at the one just hashed: what a divergence in the resources is told from.
-    let mut agreed = ResourceBytes::of(&sim.res);
-    let mut now = ResourceBytes::default();
 
     // Steps are bounded: `Lines` refuses a tick more than a checkpoint interval past the last
     // checkpoint, and any tick past the limit.
-    // The events read for the coming tick are applied with the step that reaches the next line's
-    // tick (each was validated when read).
-    let mut pending: Vec<InputEvent> = Vec::new();
-    let advance = |sim: &mut Sim, pending: &mut Vec<InputEvent>, to: u64| {
-        while sim.res.tick < to.min(until) {
-            let _ = sim.step_with(pending.drain(..));
-        }
-    };
-
-    while let Some(checked) = lines.next().map_err(err)? {
-        let (n, tick) = (checked.number, checked.tick);
+    while let Some(Checked { number: n, line, tick, body }) = lines.next().map_err(err)? {
         if tick > until {
             stopped_early = true;
             break;
         }
-        advance(&mut sim, &mut pending, tick);
-        match checked.line {
-            Line::Header(_) => {}
-            Line::Event(e) => {
-                *counts.entry(e.event.kind()).or_default() += 1;
-                // Its numbers were validated when the line was read (`codec::parse_body`).
-                super::names::check_event(&e.event, &sim).map_err(|m| err((Some(n), m.to_string())))?;
-                pending.push(e.event);
-            }
-            Line::Checkpoint(ref c) => {
-                if verifying && first_divergence.is_none() {
-                    let h = world_hash_keeping(&sim.world, &sim.res, Some(&mut now));
-                    checkpoints_checked += 1;
-                    if hex(h.total) != c.hash {
-                        let full = checked.checkpoint().unwrap_or_else(|| c.clone());
-                        first_divergence = Some(Divergence { tick, expected_hash: c.hash.clone(), actual_hash: hex(h.total), differing: differing(&full, &h, &sim.world, &agreed, &now) });
-                    } else {
-                        std::mem::swap(&mut agreed, &mut now);
-                    }
-                }
-            }
-            Line::Footer(f) => {
-                if verifying && first_divergence.is_none() {
-                    let h = sim.hash();
-                    checkpoints_checked += 1;
-                    if hex(h.total) != f.final_hash {
-                        first_divergence = Some(Divergence { tick, expected_hash: f.final_hash.clone(), actual_hash: hex(h.total), differing: Vec::new() });
-                    }
-                }
-                complete = true;
-            }
+        if let Line::Event(e) = &line {
+            *counts.entry(e.event.kind()).or_default() += 1;
         }
+        verifier.take(line, tick, || checkpoint_of(&body), |_| {}).map_err(|m| err((Some(n), m.to_string())))?;
     }
     if stopped_early {
         // `until` is below a tick that `Lines` accepted, so this is bounded too.
-        advance(&mut sim, &mut pending, until);
+        verifier.advance(until, |_| {});
     }
-    // Events of a tick the recording ends at wait in the input queue, as a live session leaves them.
-    for event in pending {
-        let _ = sim.push_input(event);
-    }
+    let complete = verifier.complete();
+    let (sim, checkpoints_checked, first_divergence) = verifier.finish();
     let events = counts.into_iter().map(|(k, n)| (k.to_string(), n)).collect();
     Ok(ReplayOutcome { header, sim, complete: complete && !stopped_early, checkpoints_checked, first_divergence, events, verifying })
 }

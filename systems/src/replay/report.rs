@@ -44,6 +44,9 @@ pub struct ReplayReport {
     pub participant: Option<String>,
     /// Whether the header marks the session as synthetic.
     pub synthetic: bool,
+    /// The input device the header names (`profile`, `target_ray_mode`, `mapping`); a
+    /// controller of unknown profile for a recording without one.
+    pub device: super::HeaderDevice,
     /// The task outcome, recomputed by the simulation, if the session ran a task.
     pub task: Option<TaskReport>,
 }
@@ -70,6 +73,7 @@ impl ReplayReport {
             final_hash: hex(sim.hash().total),
             participant: outcome.header.participant.clone(),
             synthetic: outcome.header.synthetic,
+            device: outcome.header.device_or_unknown(),
             task: sim.task_report(),
         }
     }
@@ -94,7 +98,7 @@ mod tests {
         let scene = crate::scene::Scene::builtin("study").unwrap();
         let mut header = Header::new("study", 3, scene.dt);
         header.participant = Some("R01".into());
-        let events = vec![crate::input::StampedEvent { tick: 0, event: InputEvent::StartTask { task: "ray-casting-7".into() } }];
+        let events = vec![crate::input::StampedEvent { tick: 0, event: InputEvent::StartTask { task: "ray-casting-7".into(), layout: None } }];
         let bytes = record_events(Vec::new(), &header, &events, 130, serde_json::json!({})).unwrap();
         let outcome = replay_reader(&bytes[..], "r.jsonl", None, &ReplayOptions::default()).unwrap();
         let report = ReplayReport::new("r.jsonl".into(), &outcome);

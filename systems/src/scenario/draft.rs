@@ -82,7 +82,7 @@ pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tic
             }
             InputEvent::SwitchMode { mode } => (Step::SwitchTechnique(mode.name().to_string()), 1),
             InputEvent::SwitchTechnique { technique } => (Step::SwitchTechnique(technique.clone()), 1),
-            InputEvent::StartTask { task } => (Step::StartTask(task.clone()), 1),
+            InputEvent::StartTask { task, .. } => (Step::StartTask(task.clone()), 1),
             InputEvent::EndTask => (Step::EndTask, 1),
         };
         steps.push(step);

@@ -3,7 +3,8 @@
 //! Reads: `Resources::input` (drained), `Resources::mode`, `Resources::menu`.
 //! Writes: `Controller` (pose, buttons, touchpad), `Head` (pose), `Resources::edges`,
 //! `Resources::mode`, `Resources::menu`, `Resources::interaction.pending_spawn`,
-//! `Resources::task` (start and end), `Resources::log` (mode_changed, menu_opened,
+//! `Resources::task` (start, its targets laid out in a room when the event says so, and end),
+//! `Resources::log` (mode_changed, menu_opened,
 //! model_chosen, task_started, task_ended).
 
 use hecs::World;
@@ -78,10 +79,10 @@ pub fn run(world: &mut World, res: &mut Resources) {
                     switch(res, tick, index);
                 }
             }
-            InputEvent::StartTask { task } => {
+            InputEvent::StartTask { task, layout } => {
                 match crate::task::TaskDef::builtin(task) {
                     Some(def) => {
-                        res.task = Some(crate::task::TaskState::new(def, tick));
+                        res.task = Some(crate::task::TaskState::laid_out(def, tick, layout.as_ref()));
                         res.log.push(tick, Happening::TaskStarted { task: task.clone() });
                     }
                     None => {

@@ -1,7 +1,8 @@
 //! Plant and remove system: Trigger on a plane plants (ray-casting mode); Bumper on a tree
 //! removes it. Trigger on water plants nothing and logs a refused planting.
 //!
-//! Reads: `Resources::edges` (Trigger and Bumper going down), `Resources::mode`,
+//! Reads: `Resources::edges` (Trigger and Bumper going down), `Resources::mode`, `Resources::task`
+//! (a room layout's scale),
 //! `Resources::menu.current_model`, `HitMarker`, `Tree`, `Wind`, `Selection`.
 //! Writes: new and despawned tree entities (through a command buffer), `Resources::rng` (the
 //! new tree's wind phase), `Selection` (cleared if its tree is removed),
@@ -10,7 +11,8 @@
 //! deselected).
 //!
 //! Planting happens only in ray-casting mode: the current model is placed upright (yaw 0,
-//! scale 1) with its base, the model origin, exactly at the hit point, and is grounded. In
+//! scale 1, or a room layout's scale: `task::layout_scale`) with its base, the model origin,
+//! exactly at the hit point, and is grounded. In
 //! manual mode a Trigger on a plane does nothing here (the select system treats it as a click on
 //! empty ground). Removal works in both modes, because manual mode has no other way to take a
 //! tree away; Bumper on a plane, on a handle or on nothing does nothing.
@@ -43,7 +45,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         if res.catalogue.get(model).is_some() {
             let wind = single::get::<Wind>(world, &res.singles);
             let e = world.reserve_entity();
-            cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, hit.position, 0.0, 1.0, true));
+            cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, hit.position, 0.0, crate::task::layout_scale(res.task.as_ref()), true));
             res.log.push(tick, Happening::Planted { tree: e.to_bits().get(), model, position: hit.position });
             changed = true;
         }

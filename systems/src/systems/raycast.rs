@@ -2,7 +2,8 @@
 //!
 //! Reads: `Controller` (ray), `Selection` (the selected tree), `Water`, `Tree`, `Transform`, `Scale`
 //! (of the selected tree, for its handles), `Resources::interaction` (the dragged tree),
-//! `Resources::config` (`max_ray_length`, `handle_radius`), `Resources::catalogue`.
+//! `Resources::config` (`max_ray_length`, `handle_radius`), `Resources::catalogue`,
+//! `Resources::task` (a room layout's scale, which scales the handle radius: `task::layout_scale`).
 //! Writes: `Resources::spatial` (rebuilt if marked dirty), `HitMarker`.
 //!
 //! The ray is tested against the planes' triangle meshes (so it passes through holes, which
@@ -45,7 +46,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
         generation: res.spatial.generation(),
         dragged: dragged.map(|e| e.to_bits().get()),
         selected: selected_box.map(|b| (b.entity.to_bits().get(), b.center, b.half_extents, b.yaw)),
-        limits: (max, res.config.handle_radius),
+        limits: (max, res.config.handle_radius * crate::task::layout_scale(res.task.as_ref())),
     };
     if res.spatial.last_ray == Some(key) {
         return;
@@ -70,7 +71,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     }
 
     if let Some(b) = selected_box {
-        let radius = res.config.handle_radius;
+        let radius = res.config.handle_radius * crate::task::layout_scale(res.task.as_ref());
         // The handles sit on the selected tree's own box, which lies inside its (sway-padded)
         // ray box: a hit on that tree never hides its handles.
         let own_tree = marker.target == HitTarget::Tree(b.entity.to_bits().get());

@@ -1,7 +1,7 @@
 //! Spawn system: in manual mode, a model chosen from the menu appears in front of the head.
 //!
 //! Reads: `Resources::interaction.pending_spawn` (taken), `Resources::mode`, `Resources::config`
-//! (`spawn_distance`, `spawn_drop`), `Head`, `Wind`.
+//! (`spawn_distance`, `spawn_drop`), `Resources::task` (a room layout's scale), `Head`, `Wind`.
 //! Writes: a new tree entity (through a command buffer), `Resources::rng` (its wind phase),
 //! `Selection` (the new tree is selected), `Resources::interaction.pending_spawn`,
 //! `Resources::spatial` (marked dirty), `Resources::log` (planted, selected).
@@ -9,7 +9,8 @@
 //! The input system sets `pending_spawn` only when a model is chosen from an open menu in manual
 //! mode and closes the menu, so each new tree needs the menu opened again. The tree appears
 //! `spawn_distance` metres in front of the head (horizontally), `spawn_drop` metres below head
-//! height, with yaw 0 and scale 1, not grounded: it has to be moved into place and snapped.
+//! height, with yaw 0 and scale 1 (a room layout's scale: `task::layout_scale`), not grounded:
+//! it has to be moved into place and snapped.
 //! While a drag or a handle drag is in progress the spawn waits until it ends.
 
 use hecs::{CommandBuffer, World};
@@ -39,7 +40,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
 
     let mut cmd = CommandBuffer::new();
     let e = world.reserve_entity();
-    cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, position, 0.0, 1.0, false));
+    cmd.insert(e, tree_components(&mut res.rng, wind.as_ref(), model, position, 0.0, crate::task::layout_scale(res.task.as_ref()), false));
     cmd.run_on(world);
     res.spatial.mark_trees_dirty();
 

@@ -258,6 +258,23 @@ pub struct Wind {
     pub response: WindResponse,
 }
 
+impl Wind {
+    /// The wind of a world without a `Wind` entity, as every drawing takes it: strength and
+    /// gust 0, the default model and response, so only the trees' own `WindState::bend` moves
+    /// them.
+    pub fn calm() -> Wind {
+        Wind {
+            direction: Vec3::X,
+            strength: 0.0,
+            density: 0.0,
+            gust: Gust { average: 0.0, strength: 0.0, frequency: 0.0 },
+            current: 0.0,
+            model: WindModel::Hierarchical,
+            response: WindResponse::default(),
+        }
+    }
+}
+
 /// A periodic gust function that approximates the inertia of a trunk:
 /// `average + strength × g(frequency × t)`, where `g` is a smooth periodic function in [−1, 1]
 /// (two low harmonics, no sudden changes: a trunk cannot follow turbulence faster than that).

@@ -59,6 +59,9 @@ export class Overlay {
 
   #draw(snap, eye) {
     const c = snap.controller;
+    // A task laid out in a room is a scale model: its markers, ball and handles at its scale.
+    const k = snap.task?.layout_scale ?? 1;
+    for (const m of [this.marker, this.ball, ...this.handles]) m.scale.setScalar(k);
     const o = c.ray_origin;
     const d = c.ray_direction;
     const length = c.hit ? c.hit.distance : 30;
@@ -75,7 +78,7 @@ export class Overlay {
     const ball = snap.anchor_ball;
     this.ball.visible = ball.state !== 'hidden';
     if (this.ball.visible) {
-      this.ball.position.set(ball.position[0], ball.position[1] + 0.12, ball.position[2]);
+      this.ball.position.set(ball.position[0], ball.position[1] + 0.12 * k, ball.position[2]);
       this.ball.material.color.setHex(ball.state === 'white' ? WHITE : GREEN);
     }
     const b = snap.bounding_box;
@@ -93,10 +96,10 @@ export class Overlay {
         h.material = hotHandle && hotHandle[0] === p.kind && hotHandle[1] === p.index ? this.handleMaterials[1] : this.handleMaterials[0];
       });
     }
-    this.#targets(snap.task, eye);
+    this.#targets(snap.task, eye, k);
   }
 
-  #targets(task, eye) {
+  #targets(task, eye, k) {
     const targets = task?.targets ?? [];
     const key = targets.map((t) => `${t.model}@${(t.moved_to ?? t.position).join(',')}`).join(';');
     if (key !== this.targetKey) {
@@ -106,6 +109,7 @@ export class Overlay {
         const at = t.moved_to ?? t.position;
         const g = new THREE.Group();
         g.position.set(at[0], at[1], at[2]);
+        g.scale.setScalar(k);
         const ring = new THREE.Mesh(new THREE.RingGeometry(0.38, 0.5, 32), new THREE.MeshBasicMaterial({ color: 0xff9f3a, side: THREE.DoubleSide }));
         ring.rotation.x = -Math.PI / 2;
         ring.position.y = 0.02;
@@ -122,7 +126,7 @@ export class Overlay {
     targets.forEach((t, i) => {
       const v = this.targets[i];
       v.ring.material.color.setHex(t.satisfied ? GREEN : 0xff9f3a);
-      if (eye) v.label.mesh.lookAt(this.root.parent.localToWorld(this._v.set(eye.x, v.group.position.y + 1.45, eye.z)));
+      if (eye) v.label.mesh.lookAt(this.root.parent.localToWorld(this._v.set(eye.x, v.group.position.y + 1.45 * k, eye.z)));
     });
   }
 }

@@ -9,6 +9,7 @@ import { showStep, studyPaused } from './protocol.mjs';
 import { startRun } from './task.mjs';
 import { MouseInput } from '../input/mouse.mjs';
 import { XrInput } from '../input/sources.mjs';
+import { TouchBar } from '../input/touchbar.mjs';
 import { controllerControls } from '../input/xr.mjs';
 import { modeOfTask } from '../run.mjs';
 import { checkParticipant } from '../screen.mjs';
@@ -49,7 +50,11 @@ export async function enter(app, mode) {
   const base = await view.present(session);
   const ar = mode === 'ar';
   app.xr = { session, base, ar, finder: ar ? new FloorFinder(session, base) : null, started: false, pressed: false };
-  const ctx = { space: base, offset: () => page.offset, now: () => (app.run ? app.run.ms() : performance.now()) };
+  // A phone (a handheld AR session, 'screen-space') gets the touch bar over the camera's view.
+  const phone = ar && session.interactionMode === 'screen-space';
+  const bar = new TouchBar(screen.touch);
+  bar.show(phone);
+  const ctx = { space: base, offset: () => page.offset, now: () => (app.run ? app.run.ms() : performance.now()), session, bar, snapshot: () => app.run?.snapshot ?? null };
   app.input = new XrInput(ctx, {
     onSource: (source) => {
       page.noSqueeze = source.noSqueeze;
@@ -59,13 +64,14 @@ export async function enter(app, mode) {
   if (ar) app.world = null; // the room is the world until the task starts
   session.addEventListener('end', () => ended(app));
   if (app.study) return showStep(app);
-  flow.go(State.INSTRUCTIONS, 'Press the trigger to start.');
+  flow.go(State.INSTRUCTIONS, phone ? 'Tap the scene to start.' : 'Press the trigger (or pinch) to start.');
   if (app.stored) await startRun(app, null);
 }
 
 /** The immersive session ended: the recording stays open. */
 function ended(app) {
   app.xr = null;
+  app.screen.touch.hidden = true;
   app.input = null;
   if (app.study) return studyPaused(app);
   if (app.flow.is(State.TASK, State.INSTRUCTIONS)) app.flow.go(State.INSTRUCTIONS, 'The immersive session ended; the recording stays open: start again to continue it.');
@@ -76,6 +82,8 @@ export function instructionsFrame(app, { frame, input }) {
   const xr = app.xr;
   if (!xr || !frame) return;
   xr.finder?.frame(frame);
+  const unusable = app.input?.unusable?.();
+  if (unusable) app.screen.say(`This device's input (${unusable.join(', ')}) is not one grove takes: a controller, hands, gaze and pinch, or a phone's screen.`);
   const down = Boolean(input?.buttons.trigger);
   if (down && !xr.pressed && !xr.started) {
     xr.started = true;

@@ -73,6 +73,11 @@ function hud(app, { frame, input }, live) {
     return { lines, at: input?.pose ?? null, eye: input?.head ? pointOf(input.head) : null };
   }
   if (!live) return { lines: null, at: null, eye: null };
-  const state = { noSqueeze: page.noSqueeze, connection: recorder.state, pending: recorder.pending, state: flow.state, verification: page.verification };
+  const state = { noSqueeze: page.noSqueeze, mapping: page.device?.mapping, connection: recorder.state, pending: recorder.pending, state: flow.state, verification: page.verification };
+  if (page.device?.mapping === 'screen') {
+    // A phone's ray leaves its camera: the panel would stand in front of the lens; its first lines go in the header.
+    app.screen.progress(hudLines(live, state).slice(0, 2).map((l) => l.replace(/^!/, '')).join(' · '));
+    return null;
+  }
   return { lines: hudLines(live, state), at: live.controller.pose, eye: pointOf(live.head) };
 }

@@ -2,7 +2,7 @@
 // state mapped to them (ButtonMapper: Bumper's alternative on a controller without a squeeze),
 // read at the simulation's tick and turned into edges (never from `select` events, which
 // emulators and browsers fire at different moments), and the touchpad's axes from a thumbstick
-// or a touchpad (docs/headset.md, "Controls").
+// or a touchpad (docs/headset.md, "Devices and their mappings").
 
 /** grove's buttons, in the order a snapshot's `controller.buttons` lists them. */
 export const BUTTONS = ['trigger', 'bumper', 'touchpad', 'menu'];

@@ -78,6 +78,16 @@ export class MouseInput {
     return { head: null, pose: this.pose(), buttons: { ...this.buttons }, axes: this.touchpad() };
   }
 
+  /** What the recording's header says of this device. */
+  device() {
+    return { profile: 'mouse', target_ray_mode: 'none', mapping: 'mouse' };
+  }
+
+  /** Why a task's mode cannot be done with the mouse, or null: it does both. */
+  refuses() {
+    return null;
+  }
+
   /** The rows [control, what it does] for a task's mode ('ray-casting' or 'manual'). */
   controls(mode) {
     return [

@@ -65,3 +65,23 @@ export function lookRotation(d) {
   // q = qYaw * qPitch
   return [cy * sp, sy * cp, -sy * sp, cy * cp];
 }
+
+/**
+ * A ray carried by a hand: `ray0` (a pose) as it was when the hand's grip was at `grip0`, moved
+ * and turned with the grip to `grip` (the rigid motion grip · grip0⁻¹ applied to the ray). Without
+ * a grip, the ray as it was.
+ */
+export function carried(ray0, grip0, grip) {
+  if (!grip0 || !grip) return ray0;
+  const q0 = new THREE.Quaternion(...grip0.rotation);
+  const q = new THREE.Quaternion(...grip.rotation);
+  const turn = q.clone().multiply(q0.clone().invert());
+  const p = new THREE.Vector3(...ray0.position).sub(new THREE.Vector3(...grip0.position)).applyQuaternion(turn).add(new THREE.Vector3(...grip.position));
+  const r = turn.multiply(new THREE.Quaternion(...ray0.rotation)).normalize();
+  return { position: [p.x, p.y, p.z], rotation: [r.x, r.y, r.z, r.w] };
+}
+
+/** A pose moved by `d` ([x, y, z]), its rotation kept. */
+export function shifted(pose, d) {
+  return { position: pose.position.map((v, i) => v + d[i]), rotation: pose.rotation };
+}

@@ -5,7 +5,8 @@
 // the server's origin, and the moves of a scripted participant.
 
 import { spawnSync } from 'node:child_process';
-import { existsSync, readFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { build } from 'esbuild';
@@ -26,6 +27,11 @@ export async function prepare() {
     if (r.status !== 0) throw new Error(`the page did not build: ${r.stderr}`);
     process.env.GROVE_PAGE_BUILT = '1';
   }
+  return emulatorScript();
+}
+
+/** The emulator bundled into one script for the tests' pages (once per process). */
+async function emulatorScript() {
   if (!emulator) {
     const out = await build({ entryPoints: [join(WEB, 'page/test/emulator.mjs')], bundle: true, format: 'iife', write: false, logLevel: 'error', target: 'es2022' });
     emulator = out.outputFiles[0].text;
@@ -34,21 +40,36 @@ export async function prepare() {
 }
 
 /**
- * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room }), requests,
+ * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room, device }), requests,
  * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
- * server's URL with `query`, the emulator installed when `xr` is set.
+ * server's URL with `query`, the emulator installed when `xr` is set (`device`: emulator.mjs's
+ * `quest`, `phone` or `visionpro`; `room`: @iwer/sem's office; `depth`: the headset offers depth
+ * sensing; `light`: a light estimate, emulator.mjs).
  */
 export async function start(serve = []) {
-  const script = await prepare();
+  await prepare();
   const server = await startServer(serve);
+  const b = await browse(server.url);
+  return { ...b, server, close: async () => { await b.close(); await server.stop(); } };
+}
+
+/**
+ * Headless Chromium with the emulator bundled, for the server at `url` (its `?token=`, if any, is
+ * added to the first page's query, as the printed URL carries it): resolves to { browser,
+ * open(query, { xr, room }), requests, errors, foreign, origin, close }. `chromiumArgs` are added
+ * to the browser's (an https server's certificate to accept).
+ */
+export async function browse(url, { chromiumArgs = [] } = {}) {
+  const script = await emulatorScript();
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist'],
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist', ...chromiumArgs],
   });
-  const origin = new URL(server.url).origin;
+  const origin = new URL(url).origin;
+  const token = new URL(url).searchParams.get('token');
   const requests = [];
   const errors = [];
-  async function open(query, { xr = false, room = true, context = null, width = 480, height = 360 } = {}) {
+  async function open(query, { xr = false, room = true, device = 'quest', depth = true, light = null, context = null, width = 480, height = 360 } = {}) {
     const ctx = context ?? (await browser.newContext({ viewport: { width, height } }));
     const page = await ctx.newPage();
     page.on('request', (r) => requests.push(r.url()));
@@ -60,10 +81,10 @@ export async function start(serve = []) {
       if (m.type() === 'error') errors.push(m.text());
     });
     if (xr) {
-      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room })};`);
+      await page.addInitScript(`window.__groveXR = ${JSON.stringify({ room, device, depth, light })};`);
       await page.addInitScript(script);
     }
-    await page.goto(`${origin}/?${query}`);
+    await page.goto(`${origin}/?${token ? `token=${encodeURIComponent(token)}&` : ''}${query}`);
     await page.waitForFunction(() => window.grove && ['instructions', 'error'].includes(window.grove.state), null, { timeout: 60000 });
     const state = await page.evaluate(() => window.grove.state);
     if (state === "error") throw new Error(`the page failed: ${await page.evaluate(() => window.grove.error)}; ${errors.join(" / ")}`);
@@ -71,17 +92,32 @@ export async function start(serve = []) {
   }
   /** Requests that left the server's origin (must be none). */
   const foreign = () => requests.filter((u) => !u.startsWith(origin + '/') && !u.startsWith('data:') && !u.startsWith('blob:'));
-  async function close() {
-    await browser.close();
-    await server.stop();
-  }
-  return { server, browser, open, requests, errors, foreign, origin, close };
+  const close = () => browser.close();
+  return { browser, open, requests, errors, foreign, origin, close };
 }
 
 /** Runs `grove ARGS…` in `cwd` (the repository root by default); returns { status, stdout, stderr }. */
 export function grove(args, cwd = ROOT) {
   const r = spawnSync(GROVE, args, { cwd, encoding: 'utf8' });
   return { status: r.status, stdout: r.stdout, stderr: r.stderr };
+}
+
+/** `grove study` over `replays` into a scratch folder: trial_results.csv's rows by column name. */
+export function studyRows(replays) {
+  const out = mkdtempSync(join(tmpdir(), 'grove-page-study-'));
+  try {
+    const r = grove(['study', '--replays', replays, '--out', out, '--force']);
+    if (r.status !== 0) throw new Error(`grove study: ${r.stderr}`);
+    return trialRows(out);
+  } finally {
+    rmSync(out, { recursive: true, force: true });
+  }
+}
+
+/** trial_results.csv of a study's folder, its rows by column name. */
+export function trialRows(dir) {
+  const csv = readFileSync(join(dir, 'trial_results.csv'), 'utf8').trim().split('\n').map((l) => l.split(','));
+  return csv.slice(1).map((r) => Object.fromEntries(csv[0].map((c, i) => [c, r[i]])));
 }
 
 /** The lines of a file (without newlines). */

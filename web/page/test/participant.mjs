@@ -1,5 +1,6 @@
 // A scripted participant for the browser tests: poses the emulated controller (IWER's right
-// Touch Plus) and presses its buttons, frame by frame, as a person in the headset would.
+// Touch Plus) or hand and presses its buttons or pinches (emulator.mjs's `xrParticipant`), frame
+// by frame, as a person in the headset would.
 
 import assert from 'node:assert/strict';
 import { lookRotation } from '../input/pose.mjs';
@@ -27,7 +28,7 @@ export async function aimAt(page, simPoint, hand = HAND, wait = (page) => ticks(
       const target = window.grove.toSession(p);
       const from = { x: d.position.x + hand.x, y: d.position.y + hand.y, z: d.position.z + hand.z };
       window.__aim = { from, target };
-      d.controllers.right.position.set(from.x, from.y, from.z);
+      window.xrParticipant.pointer().position.set(from.x, from.y, from.z);
     },
     { p: simPoint, hand },
   );
@@ -35,7 +36,7 @@ export async function aimAt(page, simPoint, hand = HAND, wait = (page) => ticks(
   const dir = [target.x - from.x, target.y - from.y, target.z - from.z];
   const n = Math.hypot(...dir);
   const q = lookRotation(dir.map((v) => v / n));
-  await page.evaluate((q) => window.xrDevice.controllers.right.quaternion.set(q[0], q[1], q[2], q[3]), q);
+  await page.evaluate((q) => window.xrParticipant.pointer().quaternion.set(q[0], q[1], q[2], q[3]), q);
   await wait(page);
 }
 
@@ -48,23 +49,23 @@ export async function pressPanel(page, id) {
   assert.ok(point, `the panel has a button ${id}: ${JSON.stringify(await page.evaluate(() => window.grove.panel))}`);
   await aimAt(page, point, HAND, (page) => frames(page, 3));
   await until(page, (id) => window.grove.panel?.hover === id, id, 10000);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 1));
   await frames(page, 3);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 0));
   await frames(page, 3);
 }
 
 /** Presses and releases an IWER button ('trigger', 'squeeze', 'b-button', …), a few ticks each. */
 export async function click(page, button, hold = 4) {
-  await page.evaluate((b) => window.xrDevice.controllers.right.updateButtonValue(b, 1), button);
+  await page.evaluate((b) => window.xrParticipant.press(b, 1), button);
   await ticks(page, hold);
-  await page.evaluate((b) => window.xrDevice.controllers.right.updateButtonValue(b, 0), button);
+  await page.evaluate((b) => window.xrParticipant.press(b, 0), button);
   await ticks(page, hold);
 }
 
-/** Opens the menu with B and chooses `model` with the trigger. */
+/** Opens the menu with B (with hands: the left hand's pinch held 0.5 s) and chooses `model` with the trigger. */
 export async function choose(page, model) {
-  await click(page, 'b-button');
+  await click(page, 'b-button', 40);
   await until(page, () => window.grove.snapshot.menu.open);
   await aimAt(page, await page.evaluate((m) => window.grove.menuItemPoint(m), model));
   await click(page, 'trigger');
@@ -102,9 +103,9 @@ export async function enterAndStart(page, mode) {
   await until(page, () => ['instructions', 'task'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
   if ((await page.evaluate(() => window.grove.state)) !== 'task') {
     await page.waitForTimeout(300);
-    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+    await page.evaluate(() => window.xrParticipant.press('trigger', 1));
     await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
-    await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+    await page.evaluate(() => window.xrParticipant.press('trigger', 0));
   }
   await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
   assert.equal(await page.evaluate(() => window.grove.error), null);
@@ -114,7 +115,7 @@ export async function enterAndStart(page, mode) {
 export async function moveHand(page, simPoint) {
   await page.evaluate((p) => {
     const s = window.grove.toSession(p);
-    window.xrDevice.controllers.right.position.set(s.x, s.y, s.z);
+    window.xrParticipant.pointer().position.set(s.x, s.y, s.z);
   }, simPoint);
   await ticks(page, 2);
 }
@@ -132,7 +133,7 @@ export async function grab(page, id) {
     if (hit?.entity === id) break;
   }
   assert.equal(hit?.entity, id, `the ray meets the tree: ${JSON.stringify(hit)}`);
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 1));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 1));
   await ticks(page, 3);
 }
 
@@ -157,14 +158,14 @@ export async function carry(page, id, to, { step = 0.15 } = {}) {
 
 /** Releases the trigger and waits a few ticks. */
 export async function release(page) {
-  await page.evaluate(() => window.xrDevice.controllers.right.updateButtonValue('trigger', 0));
+  await page.evaluate(() => window.xrParticipant.press('trigger', 0));
   await ticks(page, 3);
   return page.evaluate(() => window.grove.snapshot);
 }
 
-/** A protocol's participant enters immersive-vr; their step shows at once (a panel, the practice or a task). */
-export async function enterStudy(page) {
-  await page.click('#enter-vr');
+/** A protocol's participant enters immersive-vr (or `mode`); their step shows at once (a panel, the practice or a task). */
+export async function enterStudy(page, mode = 'vr') {
+  await page.click(`#enter-${mode}`);
   await until(page, () => ['step', 'practice', 'task', 'error'].includes(window.grove.state) && window.xrDevice.activeSession, null, 30000);
   assert.equal(await page.evaluate(() => window.grove.error), null);
   await until(page, () => window.grove.state !== 'step' || window.grove.panel);
@@ -197,4 +198,100 @@ export async function toTheQuestions(url, p) {
     if (st.kind === 'questionnaire') await api('POST', `/api/protocol/participants/${p}/answers`, { step: s.step, answers: tlx });
     s = await api('POST', `/api/protocol/participants/${p}/next`, { from: s.step });
   }
+}
+
+/** Opens the menu and chooses Finish task (docs/headset.md, "How a task ends"). */
+export async function finishTask(page) {
+  await click(page, 'b-button');
+  await until(page, () => window.grove.snapshot.menu.open);
+  await aimAt(page, await page.evaluate(() => window.grove.menuItemPoint('finish')));
+  await click(page, 'trigger');
+}
+
+/**
+ * Manual mode: brings a tree of each target's model from the menu onto the target not yet
+ * satisfied (grabbed, carried above it, lowered until the anchor ball is white, released).
+ */
+export async function dragAll(page, { limit = Infinity } = {}) {
+  let placed = 0;
+  for (;;) {
+    const targets = await page.evaluate(() => window.grove.snapshot.task.targets);
+    const open = targets.map((t, i) => [t, i]).filter(([t]) => !t.satisfied);
+    if (open.length === 0 || placed >= limit) return placed;
+    const [t, i] = open[0];
+    const own = await page.evaluate(() => window.grove.snapshot.trees.map((x) => x.id));
+    await choose(page, t.model);
+    await until(page, (n) => window.grove.snapshot.trees.length === n, own.length + 1);
+    const spawned = await page.evaluate((own) => window.grove.snapshot.trees.find((x) => !own.includes(x.id)), own);
+    await grab(page, spawned.id);
+    const [x, y, z] = t.moved_to ?? t.position;
+    await carry(page, spawned.id, [x, y + 1, z], { step: 0.5 });
+    await carry(page, spawned.id, [x, y + 0.05, z]);
+    await release(page);
+    await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 20000);
+    placed++;
+  }
+}
+
+/**
+ * Plays the task the page has started: `trees` targets planted (ray-casting) or dragged onto
+ * (manual), all by default, then Finish task if any is left; waits for the server's verification.
+ * Resolves to { file, task, trees, verification }.
+ */
+export async function playTask(page, { trees = Infinity } = {}) {
+  await until(page, () => window.grove.snapshot?.task || window.grove.state === 'error');
+  const { file, task, mode } = await page.evaluate(() => ({ file: window.grove.file, task: window.grove.snapshot.task?.id, mode: window.grove.snapshot.mode }));
+  const done = mode === 'manual' ? await dragAll(page, { limit: trees }) : await plantAll(page, { limit: trees });
+  // Every target met ends the task by itself; else Finish task in the menu.
+  if (await page.evaluate(() => window.grove.state === 'task' && window.grove.snapshot.task.targets.some((t) => !t.satisfied))) await finishTask(page);
+  // On its own the page stays at done with the verification; with a protocol it goes on once it has it.
+  await until(page, () => (window.grove.state === 'done' && window.grove.verification) || ['step', 'practice', 'instructions', 'typing', 'error'].includes(window.grove.state), null, 120000);
+  const verification = await page.evaluate(() => window.grove.verification);
+  return { file, task, trees: done, verification };
+}
+
+/** The item's answer a scripted participant gives: 'Skip it' for optional free text, else the middle option. */
+function pick(buttons) {
+  const options = buttons.filter((b) => b.id.startsWith('opt:'));
+  const skip = options.find((b) => b.label === 'Skip it');
+  if (skip) return skip.id;
+  return options.length ? options[Math.floor(options.length / 2)].id : null;
+}
+
+/**
+ * Takes a protocol's participant through every step the server gives them, in the headset
+ * (`mode`): instructions continued, the practice ended, each task played (`trees` as playTask),
+ * each questionnaire answered item by item on the panel (the middle option, optional free text
+ * skipped, required free text typed on the page as "dry run"), until the server says they are
+ * done. Resolves to the tasks' recordings as playTask gives them.
+ */
+export async function throughProtocol(page, { mode = 'vr', trees = Infinity } = {}) {
+  const sessions = [];
+  const now = () => page.evaluate(() => ({ state: window.grove.state, study: window.grove.study, panel: window.grove.panel, error: window.grove.error }));
+  for (let turn = 0; turn < 1000; turn++) {
+    const { state, study, panel, error } = await now();
+    if (state === 'error') throw new Error(`the page failed: ${error}`);
+    if (study?.kind === 'done') return sessions;
+    if (state === 'step' && study?.message) throw new Error(`step ${study.step}: ${study.message}`);
+    if (state === 'instructions') await enterStudy(page, mode);
+    else if (state === 'typing') {
+      for (const box of await page.$$('#typed textarea')) await box.fill('dry run');
+      await page.click('#typed-send');
+      await until(page, () => window.grove.state !== 'typing');
+    } else if (state === 'task') sessions.push(await playTask(page, { trees }));
+    else if (state === 'practice' && panel) await pressPanel(page, 'end-practice');
+    else if (state === 'step' && panel && study.typing) await pressPanel(page, 'leave');
+    else if (state === 'step' && panel && study.kind === 'instructions') await pressPanel(page, 'continue');
+    else if (state === 'step' && panel && study.kind === 'task') {
+      await pressPanel(page, 'start-task');
+      await until(page, () => ['task', 'error'].includes(window.grove.state), null, 30000);
+    } else if (state === 'step' && panel && study.kind === 'questionnaire') {
+      const ids = panel.buttons.map((b) => b.id);
+      const chosen = panel.buttons.some((b) => b.id.startsWith('opt:') && b.on);
+      const answer = chosen ? null : pick(panel.buttons);
+      if (answer) await pressPanel(page, answer);
+      else await pressPanel(page, ids.includes('send') ? 'send' : 'next');
+    } else await frames(page, 2);
+  }
+  throw new Error('the protocol did not end within 1000 moves');
 }

@@ -97,7 +97,9 @@ test('a page closed in the middle of the task and opened again continues the sam
   assert.equal(resumed.file, before.file);
   assert.equal(resumed.s.trees.length, own + 3, 'the trees planted before the page closed');
   assert.equal(resumed.s.task.targets.filter((t) => t.satisfied).length, 3);
-  assert.deepEqual(resumed.s.trees, before.trees, 'the same trees, bit for bit');
+  // The trees as planted; their sway in the wind (`wind`) goes on with the ticks the page ran since.
+  const planted = (trees) => trees.map(({ wind, ...t }) => t);
+  assert.deepEqual(planted(resumed.s.trees), planted(before.trees), 'the same trees, bit for bit');
   assert.equal(await plantAll(again.page), 4);
   await until(again.page, () => window.grove.state === 'done' && window.grove.verification, null, 60000);
   assert.equal(await again.page.evaluate(() => window.grove.verification.status), 'verified');

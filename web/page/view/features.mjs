@@ -16,16 +16,25 @@
 //
 // Everything the flow draws is in the simulation's frame (`view.simRoot`), placed in the
 // session's reference space by the offset (room.mjs); `view.scene` is the session's space.
-// A new feature (wind, environment light, depth occlusion …) is one module in draw/ and one line
-// here; a new field of `s` is one line in flow/frame.mjs.
+// A new feature (depth occlusion …) is one module in draw/ and one line here; a new field of `s`
+// is one line in flow/frame.mjs. A feature may also have `beforeSession(session)`, called as an
+// immersive session is presented (view/view.mjs). The world's features are drawn as grove's
+// renderer draws them (docs/headset.md, "How the page draws trees"); while a light estimate lights
+// AR, `scene.environment` is draw/xrlight.mjs's, given back after.
 
 import { Controllers } from '../draw/controllers.mjs';
 import { Ground } from '../draw/ground.mjs';
 import { Hud } from '../draw/hud.mjs';
+import { LeafDetail } from '../draw/leaves.mjs';
+import { Light } from '../draw/light.mjs';
 import { Menu } from '../draw/menu.mjs';
+import { Occlusion } from '../draw/occlusion.mjs';
 import { Overlay } from '../draw/overlay.mjs';
 import { Panel } from '../draw/panel.mjs';
+import { SkyFeature } from '../draw/sky.mjs';
+import { Wind } from '../draw/wind.mjs';
 import { World } from '../draw/world.mjs';
+import { XrLight } from '../draw/xrlight.mjs';
 
 /** name -> make(view): the view's features (`view.features.NAME`). */
 export const FEATURES = {
@@ -33,7 +42,13 @@ export const FEATURES = {
   menu: (v) => new Menu(v.simRoot),
   hud: (v) => new Hud(v.simRoot),
   panel: (v) => new Panel(v.simRoot),
-  world: (v) => new World(v.scene, v.simRoot, v.models, { shadows: v.shadows }),
-  ground: (v) => new Ground(v.simRoot),
+  wind: () => new Wind(),
+  world: (v) => new World(v),
+  ground: (v) => new Ground(v),
+  light: (v) => new Light(v),
+  sky: (v) => new SkyFeature(v),
+  leaves: (v) => new LeafDetail(v),
   controllers: (v) => new Controllers(v.scene),
+  occlusion: (v) => new Occlusion(v.renderer, v.scene),
+  xrlight: (v) => new XrLight(v),
 };

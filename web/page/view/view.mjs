@@ -1,19 +1,25 @@
 // The page's view: the three.js renderer (WebXR enabled), the scene in the session's reference
 // space, the simulation's frame placed in it by the offset (room.mjs), the inline preview's
 // camera, and the drawn features (view/features.mjs), each brought to the frame's state by
-// `update(s)`. It reads nothing but what the flow hands it (flow/frame.mjs).
+// `update(s)`. It reads nothing but what the flow hands it (flow/frame.mjs). web/page/still.mjs
+// draws its pictures through a view too.
 
 import * as THREE from 'three';
+import { EYE_PIXELS_PER_RADIAN } from '../draw/leaves.mjs';
+import { createRenderer, environmentFor } from '../draw/renderer.mjs';
 import { FEATURES } from './features.mjs';
 
 export class View {
-  /** Draws on `canvas`; `low`: no antialiasing or shadows; `models`: draw/world.mjs's Models. */
-  constructor(canvas, { low = false, models }) {
-    const renderer = new THREE.WebGLRenderer({ canvas, antialias: !low, alpha: true, powerPreference: 'high-performance' });
+  /**
+   * Draws on `canvas`; `low`: no shadows, one pixel per CSS pixel (draw/renderer.mjs); `models`:
+   * draw/trees.mjs's Models. For still pictures (web/page/still.mjs): `antialias` false draws one
+   * sample a pixel, `preserve` keeps the drawing buffer, `background` false draws the trees alone
+   * (no sky, no ground), `pixelsPerRadian` is the picture's (else a headset eye's).
+   */
+  constructor(canvas, { low = false, models, antialias = true, preserve = false, background = true, pixelsPerRadian = EYE_PIXELS_PER_RADIAN }) {
+    const renderer = createRenderer(canvas, { low, antialias, preserve });
     renderer.setPixelRatio(low ? 1 : Math.min(window.devicePixelRatio, 2));
     renderer.setSize(window.innerWidth, window.innerHeight, false);
-    renderer.shadowMap.enabled = !low;
-    renderer.shadowMap.type = THREE.PCFShadowMap;
     renderer.xr.enabled = true;
     this.renderer = renderer;
     this.scene = new THREE.Scene();
@@ -23,6 +29,9 @@ export class View {
     this.camera = new THREE.PerspectiveCamera(60, window.innerWidth / window.innerHeight, 0.05, 200);
     this.models = models;
     this.shadows = !low;
+    this.background = background;
+    this.pixelsPerRadian = pixelsPerRadian;
+    this.env = null; // the sky's cube and the ground's texture (draw/sky.mjs loadEnvironment), once loaded
     this.features = Object.fromEntries(Object.entries(FEATURES).map(([name, make]) => [name, make(this)]));
     window.addEventListener('resize', () => {
       if (renderer.xr.isPresenting) return;
@@ -32,9 +41,23 @@ export class View {
     });
   }
 
-  /** Presents an immersive session; resolves to its `local-floor` reference space. */
+  /** The sky and ground grove ships ({ cube, ground }: draw/sky.mjs loadEnvironment), or null. */
+  setEnvironment(env) {
+    this.env = env;
+  }
+
+  /** The environment light of a world (draw/light.mjs): the sky's, or a neutral one in AR. */
+  environment(ar) {
+    return environmentFor(this.renderer, { ar, cube: this.env?.cube ?? null });
+  }
+
+  /**
+   * Presents an immersive session; resolves to its `local-floor` reference space. A feature with
+   * `beforeSession(session)` sees the session first (draw/xrlight.mjs).
+   */
   async present(session) {
     this.renderer.xr.setReferenceSpaceType('local-floor');
+    for (const f of Object.values(this.features)) f.beforeSession?.(session);
     await this.renderer.xr.setSession(session);
     return this.renderer.xr.getReferenceSpace();
   }

@@ -240,3 +240,14 @@ pub unsafe extern "C" fn grove_task(ptr: *const u8, len: usize) -> i32 {
     };
     answer(run().map(|j| (0, j)))
 }
+
+/// The native renderer's wind displacement of a tree's vertices ([`crate::wind`]): `ptr` is
+/// JSON ([`crate::wind::WindIn`]); 0 (the result: JSON, each vertex's world position) or -1.
+///
+/// # Safety
+/// `ptr` must point to `len` readable bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn grove_wind_displace(ptr: *const u8, len: usize) -> i32 {
+    let run = || -> Result<Vec<u8>, Error> { json(&crate::wind::displace_points(unsafe { text("wind", ptr, len) }?)?) };
+    answer(run().map(|j| (0, j)))
+}

@@ -5,7 +5,8 @@
 //! is its JavaScript loader): make a simulation from a built-in scene or a scene's text, a seed
 //! and `--set` overrides, or from a recording's header line ([`options`]); push input events as
 //! a recording's event lines hold them, step one tick, read a typed snapshot, and record
-//! ([`session`]); replay and verify a whole recording as `grove replay` does ([`replay`]).
+//! ([`session`]); replay and verify a whole recording as `grove replay` does ([`replay`]); the
+//! native renderer's wind displacement of tree vertices by its CPU reference ([`wind`]).
 //! Every refusal is an [`Error`] value naming the problem; nothing traps, and a refused call
 //! leaves the simulation as it was. See `web/sim/README.md` and `docs/wasm.md`.
 //!
@@ -17,6 +18,7 @@ pub mod error;
 pub mod options;
 pub mod replay;
 pub mod session;
+pub mod wind;
 #[cfg(test)]
 mod tests;
 

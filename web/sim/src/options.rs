@@ -44,6 +44,50 @@ pub struct Options {
     /// A registered technique to switch to at the first tick (a plug-in's name goes into the
     /// header, as `grove play --technique` writes it).
     pub technique: Option<String>,
+    /// The staging scene that shows one model alone, as `grove render --model` frames it
+    /// (`grove_systems::stage`), instead of a scene: nothing else may be given with it, and it
+    /// records nothing.
+    pub stage: Option<StageOptions>,
+}
+
+/// The model stage's options: the model's bounds (model space, metres), the image's aspect
+/// ratio, and whether the study's wind blows (`grove render --model FILE --tick T`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StageOptions {
+    /// The model's lowest corner, metres.
+    pub min: [f32; 3],
+    /// The model's highest corner, metres.
+    pub max: [f32; 3],
+    /// Width over height of the image the stage is framed for.
+    pub aspect: f32,
+    /// Put the study scene's wind on the stage (`grove_systems::stage::in_study_wind`).
+    #[serde(default)]
+    pub wind: bool,
+}
+
+/// The largest model a stage shows, metres along any axis (a catalogue model is under 40 m).
+pub const MAX_STAGE_SIZE: f32 = 1000.0;
+
+impl StageOptions {
+    /// The stage's simulation; bounds that are not finite, not ordered or larger than
+    /// [`MAX_STAGE_SIZE`], or an aspect outside 0.01..100, are refused.
+    pub fn sim(&self) -> Result<grove_systems::Sim, Error> {
+        let (min, max) = (glam::Vec3::from(self.min), glam::Vec3::from(self.max));
+        let refuse = |m: String| Error::input("stage", m);
+        if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() || (max - min).max_element() > MAX_STAGE_SIZE || min.abs().max_element() > MAX_STAGE_SIZE {
+            return Err(refuse(format!("bounds {:?}..{:?} must be finite, ordered and within {MAX_STAGE_SIZE} m", self.min, self.max)));
+        }
+        if !(self.aspect.is_finite() && (0.01..=100.0).contains(&self.aspect)) {
+            return Err(refuse(format!("aspect {} must be between 0.01 and 100", self.aspect)));
+        }
+        let model = grove_systems::catalogue::ModelId(0);
+        let mut sim = grove_systems::stage::model_stage((min, max), self.aspect, false, model).map_err(|e| refuse(e.to_string()))?;
+        if self.wind {
+            grove_systems::stage::in_study_wind(&mut sim).map_err(|e| refuse(e.to_string()))?;
+        }
+        Ok(sim)
+    }
 }
 
 /// A simulation about to be built: its header, its scene, whether the header line is the

@@ -87,7 +87,10 @@ impl Session {
     /// a recording the session makes itself; none otherwise).
     pub fn new(options: &str) -> Result<(Session, Vec<String>), Error> {
         crate::install_techniques();
-        let options = Options::parse(options)?;
+        let mut options = Options::parse(options)?;
+        if let Some(stage) = options.stage.take() {
+            return Self::stage(&stage, &options);
+        }
         let record = options.record || options.header.is_some();
         let Start { header, scene, given_header, technique } = options.start()?;
         let sim = sim_for_header_with_scene(&header, scene, &[], &Default::default())?;
@@ -103,6 +106,18 @@ impl Session {
         }
         let lines = session.sink.take();
         Ok((session, lines))
+    }
+
+    /// The model stage of `stage` ([`crate::options::StageOptions`]): no other option may be
+    /// given, and nothing is recorded.
+    fn stage(stage: &crate::options::StageOptions, rest: &Options) -> Result<(Session, Vec<String>), Error> {
+        let given = rest.scene.is_some() || rest.scene_text.is_some() || rest.seed.is_some() || !rest.set.is_empty() || rest.record || rest.header.is_some() || rest.task.is_some() || rest.participant.is_some() || rest.technique.is_some();
+        if given {
+            return Err(Error::input("options", "`stage` is given with another option: a stage is a scene of its own and records nothing"));
+        }
+        let sim = stage.sim()?;
+        let header = Header::new("model stage", 1, sim.dt());
+        Ok((Session { sim, header, tick: 0, pending: VecDeque::new(), sink: Sink::default(), recorder: None, finished: false }, Vec::new()))
     }
 
     /// The recording's header (made here, or the one handed over).

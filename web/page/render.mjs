@@ -1,0 +1,179 @@
+// Draws a model as the headset page draws it, headless, to a PNG (docs/headset.md, "The page's
+// drawing, headless"):
+//
+//   node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T]
+//                            [--background sky|transparent] [--force]
+//
+// The picture is the one `grove render --model FILE` draws natively, at the same framing (the
+// WebAssembly module builds grove's own model stage: camera, sun, wind), through the page's
+// modules (web/page/still.mjs bundles them): its materials, light, environment, shadows and
+// wind. --tick T: the model in the study's wind after T ticks (without it, calm at tick 0), as
+// `grove render --model FILE --tick T`. --background transparent: the model alone, its alpha the
+// coverage. Every error is one line on stderr and exit status 2. Needs the module
+// (bash web/build.sh), `npm ci` in web/ and Chromium (/usr/bin/chromium, or CHROMIUM).
+//
+// `openStill()` is the same drawing for scripts and tests that draw many models in one browser.
+
+import { existsSync, readFileSync, renameSync, rmSync, statSync, writeFileSync } from 'node:fs';
+import { basename, dirname, extname, join, resolve, sep } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { build } from 'esbuild';
+import { chromium } from 'playwright-core';
+import { PNG } from 'pngjs';
+
+const HERE = dirname(fileURLToPath(import.meta.url));
+const WEB = resolve(HERE, '..');
+const ROOT = resolve(WEB, '..');
+const ORIGIN = 'http://still.invalid';
+const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+const WASM = join(resolve(ROOT, process.env.CARGO_TARGET_DIR ?? 'target'), 'wasm', 'grove_sim.wasm');
+const TYPES = { '.gltf': 'model/gltf+json', '.glb': 'model/gltf-binary', '.bin': 'application/octet-stream', '.png': 'image/png', '.jpg': 'image/jpeg', '.jpeg': 'image/jpeg', '.webp': 'image/webp', '.wasm': 'application/wasm' };
+
+/** The longest tick --tick takes: an hour at 60 ticks a second (as `grove render --model`). */
+export const MAX_TICK = 216000;
+
+/** A file served from inside `dir` only. */
+function inside(dir, name) {
+  const file = resolve(dir, '.' + sep + decodeURIComponent(name));
+  return file.startsWith(dir + sep) && existsSync(file) && statSync(file).isFile() ? file : null;
+}
+
+/**
+ * A headless browser with the still page open (or a test's `entry` that imports it): {
+ * render(model, { width, height, tick, background }) → { width, height, data (RGBA, straight
+ * alpha), ... }, call(name, model, options) (window[name](options with the model's URL) in the
+ * page), close }.
+ */
+export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
+  if (!existsSync(WASM)) throw new Error(`${WASM} is missing: run bash web/build.sh first`);
+  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM}: no Chromium there (install Debian's chromium or set CHROMIUM)`);
+  const out = await build({ entryPoints: [entry], bundle: true, format: 'esm', target: 'es2022', write: false, logLevel: 'error', external: ['node:*'], absWorkingDir: WEB });
+  const script = out.outputFiles[0].text;
+  const envDir = join(ROOT, 'assets/env');
+  let modelDir = null;
+  const browser = await chromium.launch({ executablePath: CHROMIUM, args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist'] });
+  const errors = [];
+  try {
+    const context = await browser.newContext({ viewport: { width: 64, height: 64 } });
+    await context.route('**/*', async (route) => {
+      const url = new URL(route.request().url());
+      if (url.origin !== ORIGIN) return route.abort();
+      const p = url.pathname;
+      const file = p === '/grove_sim.wasm' ? WASM : p.startsWith('/env/') ? inside(envDir, p.slice(5)) : p.startsWith('/model/') && modelDir ? inside(modelDir, p.slice(7)) : null;
+      if (p === '/') return route.fulfill({ contentType: 'text/html', body: '<!doctype html><meta charset="utf-8"><title>grove still</title><body style="margin:0"><script type="module" src="/still.js"></script></body>' });
+      if (p === '/still.js') return route.fulfill({ contentType: 'text/javascript', body: script });
+      if (file) return route.fulfill({ contentType: TYPES[extname(file).toLowerCase()] ?? 'application/octet-stream', body: readFileSync(file) });
+      return route.fulfill({ status: 404, body: 'not found' });
+    });
+    const page = await context.newPage();
+    page.on('pageerror', (e) => errors.push(String(e.message ?? e)));
+    page.on('console', (m) => {
+      if (m.type() === 'error') errors.push(m.text());
+    });
+    await page.goto(`${ORIGIN}/`);
+    await page.waitForFunction(() => window.still?.ready, null, { timeout: 60000 });
+    const render = async (model, { width = 640, height = 480, tick = null, background = 'sky', antialias = true } = {}) => {
+      const file = resolve(model);
+      modelDir = dirname(file);
+      errors.length = 0;
+      let r;
+      try {
+        r = await page.evaluate((o) => window.still.render(o), { model: `/model/${encodeURIComponent(basename(file))}`, width, height, tick, background, antialias });
+      } catch (e) {
+        throw new Error(`${model}: the page could not draw it (${e.message.split('\n')[0]}${errors.length ? `; ${errors[0]}` : ''})`);
+      }
+      return { ...r, data: Buffer.from(r.pixels, 'base64'), pixels: undefined };
+    };
+    const call = async (name, model, options = {}) => {
+      modelDir = dirname(resolve(model));
+      return page.evaluate(([n, o]) => window[n](o), [name, { ...options, model: `/model/${encodeURIComponent(basename(model))}` }]);
+    };
+    return { render, call, close: () => browser.close() };
+  } catch (e) {
+    await browser.close();
+    throw e;
+  }
+}
+
+/** Writes an image ({ width, height, data: RGBA }) as PNG through a temporary file and a rename. */
+export function writePng(path, { width, height, data }) {
+  const png = new PNG({ width, height });
+  data.copy(png.data);
+  const bytes = PNG.sync.write(png);
+  const tmp = join(dirname(path), `.${basename(path, '.png')}.tmp-${process.pid}.png`);
+  try {
+    writeFileSync(tmp, bytes);
+    renameSync(tmp, path);
+  } catch (e) {
+    rmSync(tmp, { force: true });
+    throw new Error(`${path}: cannot write (${e.message})`);
+  }
+  return bytes.length;
+}
+
+const USAGE = 'usage: node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T] [--background sky|transparent] [--force]';
+
+/** The command line's options, or an Error naming what is wrong. */
+export function parseArgs(args) {
+  const o = { model: null, out: null, width: 1280, height: 720, tick: null, background: 'sky', force: false };
+  for (let i = 0; i < args.length; i++) {
+    const flag = args[i];
+    if (flag === '--force') {
+      o.force = true;
+      continue;
+    }
+    const value = args[i + 1];
+    i++;
+    if (!['--model', '--out', '--width', '--height', '--tick', '--background'].includes(flag)) return new Error(`unknown argument ${flag}`);
+    if (value === undefined) return new Error(`${flag} needs a value`);
+    if (flag === '--model') o.model = resolve(value);
+    else if (flag === '--out') o.out = resolve(value);
+    else if (flag === '--background') {
+      if (!['sky', 'transparent'].includes(value)) return new Error(`--background ${value}: sky or transparent`);
+      o.background = value;
+    } else {
+      const n = Number(value);
+      const [lo, hi] = flag === '--tick' ? [0, MAX_TICK] : [1, 4096];
+      if (!/^\d+$/.test(value) || n < lo || n > hi) return new Error(`${flag} ${value}: a whole number from ${lo} to ${hi}`);
+      o[flag.slice(2)] = n;
+    }
+  }
+  if (!o.model) return new Error('give --model FILE');
+  if (!o.out) return new Error('give --out PNG');
+  if (!existsSync(o.model) || !statSync(o.model).isFile()) return new Error(`${o.model}: no such file`);
+  if (!['.gltf', '.glb'].includes(extname(o.model).toLowerCase())) return new Error(`${o.model}: --model must name a .gltf or .glb file`);
+  if (extname(o.out).toLowerCase() !== '.png') return new Error(`${o.out}: --out must name a .png file`);
+  if (existsSync(o.out) && statSync(o.out).isDirectory()) return new Error(`${o.out}: is a directory; --out needs a PNG file name`);
+  if (existsSync(o.out) && !o.force) return new Error(`${o.out}: already exists (use --force to overwrite)`);
+  if (!existsSync(dirname(o.out))) return new Error(`${dirname(o.out)}: folder does not exist`);
+  return o;
+}
+
+async function main() {
+  const args = process.argv.slice(2);
+  if (args.includes('--help') || args.includes('-h')) {
+    console.log(`Draws a model as the headset page draws it, framed as grove render --model frames it.\n\n${USAGE}`);
+    return 0;
+  }
+  const o = parseArgs(args);
+  if (o instanceof Error) {
+    console.error(`error: ${o.message}\n${USAGE}`.split('\n')[0]);
+    return 2;
+  }
+  let still;
+  try {
+    still = await openStill();
+    const img = await still.render(o.model, o);
+    const bytes = writePng(o.out, img);
+    const at = o.tick === null ? '' : ` at tick ${o.tick} in the study's wind`;
+    console.log(`${o.out}: drew ${o.model}${at} (${o.width}x${o.height}, ${o.background}) as the headset page draws it, ${bytes} bytes`);
+    return 0;
+  } catch (e) {
+    console.error(`error: ${String(e.message ?? e).split('\n')[0]}`);
+    return 2;
+  } finally {
+    await still?.close();
+  }
+}
+
+if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.url)) process.exitCode = await main();
