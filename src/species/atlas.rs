@@ -135,7 +135,8 @@ impl Stamp {
                 let (s, c) = PAIR_HALF_ANGLE.sin_cos();
                 let a = Vec2::new(self.dir.x * c - self.dir.y * s, self.dir.x * s + self.dir.y * c);
                 let b = Vec2::new(self.dir.x * c + self.dir.y * s, -self.dir.x * s + self.dir.y * c);
-                needle_at(q, self.base, a, self.len, self.width).or_else(|| needle_at(q, self.base, b, self.len, self.width))
+                needle_at(q, self.base, a, self.len, self.width)
+                    .or_else(|| needle_at(q, self.base, b, self.len, self.width))
             }
         }
     }
@@ -173,7 +174,12 @@ impl Canvas {
         for k in 0..=8 {
             let q = stamp.base + stamp.dir * (stamp.len * k as f32 / 8.0);
             let (x, y) = (q.x as i64, q.y as i64);
-            if x < 0 || y < 0 || x >= self.size as i64 || y >= self.size as i64 || self.blocked[(y * self.size as i64 + x) as usize] {
+            if x < 0
+                || y < 0
+                || x >= self.size as i64
+                || y >= self.size as i64
+                || self.blocked[(y * self.size as i64 + x) as usize]
+            {
                 return None;
             }
         }
@@ -205,7 +211,17 @@ impl Canvas {
             self.height[i] = h;
             self.tint[i] = tint;
             let (x, y) = ((i as i64) % size, (i as i64) / size);
-            for (nx, ny) in [(x - 1, y - 1), (x, y - 1), (x + 1, y - 1), (x - 1, y), (x, y), (x + 1, y), (x - 1, y + 1), (x, y + 1), (x + 1, y + 1)] {
+            for (nx, ny) in [
+                (x - 1, y - 1),
+                (x, y - 1),
+                (x + 1, y - 1),
+                (x - 1, y),
+                (x, y),
+                (x + 1, y),
+                (x - 1, y + 1),
+                (x, y + 1),
+                (x + 1, y + 1),
+            ] {
                 if nx >= 0 && ny >= 0 && nx < size && ny < size {
                     self.blocked[(ny * size + nx) as usize] = true;
                 }
@@ -309,7 +325,13 @@ fn grow(canvas: &mut Canvas, p: &Preset, twigs: &[Twig], o: Vec2, s: f32, n: usi
         let angle = if end { rng.range(-0.2, 0.2) } else { side * rng.range(35.0f32, 75.0).to_radians() };
         let dir = rotate(along, angle);
         let l = len * rng.range(0.88, 1.12);
-        let stamp = Stamp { base: twig.a.lerp(twig.b, t) + dir * 1.5, dir, len: l, width: l * p.leaf_scale_x, tint: rng.range(-1.0, 1.0) };
+        let stamp = Stamp {
+            base: twig.a.lerp(twig.b, t) + dir * 1.5,
+            dir,
+            len: l,
+            width: l * p.leaf_scale_x,
+            tint: rng.range(-1.0, 1.0),
+        };
         if let Some(texels) = canvas.fit(p.leaf_shape, &stamp, lo, hi) {
             canvas.put(&texels, stamp.tint);
             placed += 1;
@@ -346,7 +368,13 @@ fn comb(canvas: &mut Canvas, p: &Preset, twigs: &[Twig], o: Vec2, s: f32, n: usi
             let angle_deg = if pairs { 75.0 - 55.0 * rel } else { 58.0 } + rng.range(-4.0, 4.0);
             let angle = angle_deg.to_radians();
             let dir = rotate(along, side * angle);
-            let stamp = Stamp { base: twig.a + along * t + dir * 1.5, dir, len: len * rng.range(0.9, 1.1), width, tint: rng.range(-1.0, 1.0) };
+            let stamp = Stamp {
+                base: twig.a + along * t + dir * 1.5,
+                dir,
+                len: len * rng.range(0.9, 1.1),
+                width,
+                tint: rng.range(-1.0, 1.0),
+            };
             if let Some(texels) = canvas.fit(p.leaf_shape, &stamp, lo, hi) {
                 canvas.put(&texels, stamp.tint);
                 placed += 1;
@@ -360,7 +388,13 @@ fn comb(canvas: &mut Canvas, p: &Preset, twigs: &[Twig], o: Vec2, s: f32, n: usi
                 break;
             }
             let dir = rotate(along, (k as f32 - 1.0) * 0.35 + rng.range(-0.05, 0.05));
-            let stamp = Stamp { base: twig.b + dir * 1.5, dir, len: len * rng.range(0.9, 1.1), width, tint: rng.range(-1.0, 1.0) };
+            let stamp = Stamp {
+                base: twig.b + dir * 1.5,
+                dir,
+                len: len * rng.range(0.9, 1.1),
+                width,
+                tint: rng.range(-1.0, 1.0),
+            };
             if let Some(texels) = canvas.fit(p.leaf_shape, &stamp, lo, hi) {
                 canvas.put(&texels, stamp.tint);
                 placed += 1;
@@ -389,7 +423,16 @@ fn leaf_len(p: &Preset, n: usize, s: f32) -> f32 {
 /// length at which broad leaves would cover about a third of the cell, or needles half the
 /// cell's side, found by bisection), or of the `known` length. `seed` makes the twigs and the
 /// places.
-fn sprig(canvas: &mut Canvas, p: &Preset, (cx, cy): (u32, u32), s: u32, spray: bool, n: usize, seed: u64, known: Option<f32>) -> Cell {
+fn sprig(
+    canvas: &mut Canvas,
+    p: &Preset,
+    (cx, cy): (u32, u32),
+    s: u32,
+    spray: bool,
+    n: usize,
+    seed: u64,
+    known: Option<f32>,
+) -> Cell {
     let sf = s as f32;
     let o = Vec2::new((cx * s) as f32, (cy * s) as f32);
     let broad = matches!(p.leaf_shape, LeafShape::Oval | LeafShape::Lobed);
@@ -431,7 +474,9 @@ pub fn atlas(p: &Preset) -> Atlas {
     let mut canvas = Canvas::new(size);
     let seed = 0x5eed_1eaf ^ p.leaf_shape as u64;
     let sf = s as f32;
-    let cell = |cx: u32, cy: u32| [Vec2::new(cx as f32 * 0.5, cy as f32 * 0.5), Vec2::new(cx as f32 * 0.5 + 0.5, cy as f32 * 0.5 + 0.5)];
+    let cell = |cx: u32, cy: u32| {
+        [Vec2::new(cx as f32 * 0.5, cy as f32 * 0.5), Vec2::new(cx as f32 * 0.5 + 0.5, cy as f32 * 0.5 + 0.5)]
+    };
     let broad = matches!(p.leaf_shape, LeafShape::Oval | LeafShape::Lobed);
     // Cell 0: one leaf filling the cell, or a sprig or shoot.
     let card = if broad && p.card_leaves == 1 {
@@ -445,7 +490,16 @@ pub fn atlas(p: &Preset) -> Atlas {
     // Cells 1 and 3: the sprays.
     let first = sprig(&mut canvas, p, (1, 0), s, true, p.spray_leaves as usize, seed ^ 1, None);
     // The second spray's leaves as long as the first's.
-    let second = sprig(&mut canvas, p, (1, 1), s, true, p.spray_leaves as usize, seed ^ 2, Some(p.leaf_scale * sf / first.size.x));
+    let second = sprig(
+        &mut canvas,
+        p,
+        (1, 1),
+        s,
+        true,
+        p.spray_leaves as usize,
+        seed ^ 2,
+        Some(p.leaf_scale * sf / first.size.x),
+    );
     let sprays = [first, second];
     let mut rng = Rng::new(seed ^ 3);
     // Cell 2: fallen leaves, overlapping, within a disc.
@@ -453,13 +507,24 @@ pub fn atlas(p: &Preset) -> Atlas {
     let (lo, hi) = (o + Vec2::splat(MARGIN), o + Vec2::splat(sf - MARGIN));
     let litter_len = if broad { sf * 0.16 } else { sf * 0.08 };
     let mut litter = 0;
-    for _ in 0..if p.litter <= 0.0 { 0 } else if broad { 90 } else { 500 } {
+    for _ in 0..if p.litter <= 0.0 {
+        0
+    } else if broad {
+        90
+    } else {
+        500
+    } {
         let r = (0.5 * sf - MARGIN - litter_len) * rng.f().sqrt();
         let at = o + Vec2::splat(0.5 * sf) + rotate(Vec2::X, rng.range(0.0, std::f32::consts::TAU)) * r;
         let dir = rotate(Vec2::X, rng.range(0.0, std::f32::consts::TAU));
         let l = litter_len * rng.range(0.8, 1.2);
         let width = if broad { l * p.leaf_scale_x } else { 2.0 };
-        canvas.overdraw(p.leaf_shape, &Stamp { base: at - dir * 0.5 * l, dir, len: l, width, tint: rng.range(-1.0, 1.0) }, lo, hi);
+        canvas.overdraw(
+            p.leaf_shape,
+            &Stamp { base: at - dir * 0.5 * l, dir, len: l, width, tint: rng.range(-1.0, 1.0) },
+            lo,
+            hi,
+        );
         litter += 1;
     }
     let litter_first = canvas.stamps - litter as u32;
@@ -490,52 +555,5 @@ fn paint(p: &Preset, canvas: &Canvas, litter_first: u32) -> RgbaImage {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The opaque islands of the atlas's texels inside `cell` (4- and diagonal neighbours join).
-    fn islands(a: &Atlas, cell: &Cell) -> usize {
-        let s = a.size as usize;
-        let (x0, y0) = ((cell.uv[0].x * s as f32) as usize, (cell.uv[0].y * s as f32) as usize);
-        let (x1, y1) = ((cell.uv[1].x * s as f32) as usize, (cell.uv[1].y * s as f32) as usize);
-        let mut seen = vec![false; s * s];
-        let mut count = 0;
-        for y in y0..y1 {
-            for x in x0..x1 {
-                if seen[y * s + x] || a.image.get_pixel(x as u32, y as u32)[3] == 0 {
-                    continue;
-                }
-                count += 1;
-                let mut stack = vec![(x, y)];
-                seen[y * s + x] = true;
-                while let Some((cx, cy)) = stack.pop() {
-                    for (dx, dy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
-                        let (nx, ny) = (cx as i64 + dx, cy as i64 + dy);
-                        if nx < x0 as i64 || ny < y0 as i64 || nx >= x1 as i64 || ny >= y1 as i64 {
-                            continue;
-                        }
-                        let (nx, ny) = (nx as usize, ny as usize);
-                        if !seen[ny * s + nx] && a.image.get_pixel(nx as u32, ny as u32)[3] != 0 {
-                            seen[ny * s + nx] = true;
-                            stack.push((nx, ny));
-                        }
-                    }
-                }
-            }
-        }
-        count
-    }
-
-    #[test]
-    fn every_leaf_of_a_card_or_spray_is_its_own_island() {
-        for name in ["oak", "birch", "beech", "scots_pine", "norway_spruce", "shrub"] {
-            let (_, p) = crate::species::preset::load(name).unwrap();
-            let a = atlas(&p);
-            for (what, cell) in [("card", &a.card), ("spray 1", &a.sprays[0]), ("spray 2", &a.sprays[1])] {
-                assert_eq!(islands(&a, cell), cell.leaves, "{name}: {what}");
-            }
-            assert!(a.sprays[0].leaves as f32 >= 0.8 * p.spray_leaves as f32, "{name}: {} of {} leaves fitted", a.sprays[0].leaves, p.spray_leaves);
-            assert!(a.card.leaves as f32 >= 0.8 * p.card_leaves as f32, "{name}: {} of {} on the card", a.card.leaves, p.card_leaves);
-        }
-    }
-}
+#[path = "atlas_tests.rs"]
+mod tests;

@@ -35,7 +35,8 @@ pub fn bark(p: &Preset) -> (RgbImage, Vec<f32>) {
     };
     let (img, h) = textures::bark(pattern, BARK_SIZE);
     let n = (BARK_SIZE * BARK_SIZE) as f32;
-    let mean = img.pixels().fold(Vec3::ZERO, |m, px| m + Vec3::new(px[0] as f32, px[1] as f32, px[2] as f32) / 255.0) / n;
+    let mean =
+        img.pixels().fold(Vec3::ZERO, |m, px| m + Vec3::new(px[0] as f32, px[1] as f32, px[2] as f32) / 255.0) / n;
     let gain = bark_texture_colour(p) / mean.max(Vec3::splat(1e-3));
     let out = RgbImage::from_fn(BARK_SIZE, BARK_SIZE, |x, y| {
         let px = img.get_pixel(x, y);

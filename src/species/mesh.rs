@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::atlas::{Atlas, Cell};
 use super::preset::{LeafShape, Preset};
 use super::stems::{Stem, Tree};
-use crate::assetgen::geometry::{tangent_frame, MeshData};
+use crate::assetgen::geometry::{MeshData, tangent_frame};
 
 /// The wood and the leaves of one level of detail.
 #[derive(Clone, Debug, Default)]
@@ -79,7 +79,11 @@ fn sweep(mesh: &mut MeshData, stem: &Stem, d: Detail, p: &Preset) {
             let a = i as f32 / sides as f32 * std::f32::consts::TAU;
             let (sa, ca) = a.sin_cos();
             let nrm = bx * ca + bz * sa;
-            let lobe = if trunk && p.lobes > 0 { 1.0 + p.lobe_depth * (p.lobes as f32 * a).sin() * (1.0 - k as f32 / n as f32) } else { 1.0 };
+            let lobe = if trunk && p.lobes > 0 {
+                1.0 + p.lobe_depth * (p.lobes as f32 * a).sin() * (1.0 - k as f32 / n as f32)
+            } else {
+                1.0
+            };
             let pos = node.pos + nrm * node.radius * lobe;
             let tan = -bx * sa + bz * ca;
             // The bark texture repeats about every 4 trunk radii around and along.
@@ -152,8 +156,16 @@ fn leaves(tree: &Tree, cards: Cards) -> (MeshData, usize) {
         let n = (leaf.normal * 0.6 + out).normalize_or(leaf.normal);
         let t = tangent_frame(n, side, -leaf.dir);
         let h = side * (0.5 * width);
-        let corners = [(base - h, cell.at(0.0, 1.0)), (base + h, cell.at(1.0, 1.0)), (tip + h, cell.at(1.0, 0.0)), (tip - h, cell.at(0.0, 0.0))];
-        let ids: Vec<u32> = corners.iter().map(|&(q, uv)| mesh.push(q, n, t, uv, wind(q, false, Some(leaf.attach), leaf.phase))).collect();
+        let corners = [
+            (base - h, cell.at(0.0, 1.0)),
+            (base + h, cell.at(1.0, 1.0)),
+            (tip + h, cell.at(1.0, 0.0)),
+            (tip - h, cell.at(0.0, 0.0)),
+        ];
+        let ids: Vec<u32> = corners
+            .iter()
+            .map(|&(q, uv)| mesh.push(q, n, t, uv, wind(q, false, Some(leaf.attach), leaf.phase)))
+            .collect();
         mesh.indices.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]]);
         mesh.colors.extend(std::iter::repeat_n(Vec4::new(leaf.tint, leaf.depth, 0.0, 1.0), 4));
     }
@@ -179,7 +191,12 @@ fn litter(mesh: &mut MeshData, tree: &Tree, p: &Preset, cell: &Cell, crown_radiu
         let (dir, side) = (Vec3::new(turn.cos(), 0.0, turn.sin()), Vec3::new(-turn.sin(), 0.0, turn.cos()));
         let t = tangent_frame(Vec3::Y, side, -dir);
         let (d, h) = (dir * 0.5 * card, side * 0.5 * card);
-        let corners = [(centre - d - h, cell.at(0.0, 1.0)), (centre - d + h, cell.at(1.0, 1.0)), (centre + d + h, cell.at(1.0, 0.0)), (centre + d - h, cell.at(0.0, 0.0))];
+        let corners = [
+            (centre - d - h, cell.at(0.0, 1.0)),
+            (centre - d + h, cell.at(1.0, 1.0)),
+            (centre + d + h, cell.at(1.0, 0.0)),
+            (centre + d - h, cell.at(0.0, 0.0)),
+        ];
         let ids: Vec<u32> = corners.iter().map(|&(q, uv)| mesh.push(q, Vec3::Y, t, uv, Vec4::ZERO)).collect();
         mesh.indices.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]]);
         // Darker towards the stems: the litter lies in the crown's shade.
@@ -221,7 +238,9 @@ impl Crown {
             radii[b] = radii[b].max(Vec2::new(l.attach.x, l.attach.z).length());
         }
         // Smooth over neighbours so that an empty band does not read as the crown's edge.
-        let smooth: Vec<f32> = (0..BANDS).map(|b| radii[b.saturating_sub(1)..(b + 2).min(BANDS)].iter().copied().fold(0.0, f32::max).max(0.15)).collect();
+        let smooth: Vec<f32> = (0..BANDS)
+            .map(|b| radii[b.saturating_sub(1)..(b + 2).min(BANDS)].iter().copied().fold(0.0, f32::max).max(0.15))
+            .collect();
         Crown { lo, hi, radii: smooth }
     }
 
@@ -323,7 +342,12 @@ pub fn build(tree: &Tree, p: &Preset, atlas: &Atlas) -> [Lod; 3] {
         } else {
             let room = ((target - w.triangles() as f32) / 2.0).max(0.0);
             let keep = if cards == 0 { 0.0 } else { (room / cards as f32).clamp(1e-3, spray_keep) };
-            Cards::Sprays { sprays: &atlas.sprays, keep, grow: (spray_keep / keep).sqrt().min(4.0), card_len: atlas.card.size.x }
+            Cards::Sprays {
+                sprays: &atlas.sprays,
+                keep,
+                grow: (spray_keep / keep).sqrt().min(4.0),
+                card_len: atlas.card.size.x,
+            }
         };
         let (l, n) = leaves(tree, cards);
         out[k] = Lod { wood: w, leaves: l, leaf_count: n };

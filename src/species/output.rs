@@ -9,11 +9,11 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
+use super::atlas::{self, Atlas};
 use super::mesh::{self, Lod};
 use super::preset::{self, Preset};
 use super::stems::{self, Tree};
-use super::atlas::{self, Atlas};
-use super::{images, SpeciesError};
+use super::{SpeciesError, images};
 use crate::assetgen::gltf_out::{self, MaterialTextures};
 
 /// The leaf material's specular factor (`KHR_materials_specular`): with the leaf's specular
@@ -74,7 +74,10 @@ pub struct Written {
 
 /// The files a species' model consists of, in the order they are moved into place.
 pub fn file_names(name: &str) -> Vec<String> {
-    let mut v: Vec<String> = ["bark", "bark-normal", "bark-specular", "leaf", "leaf-normal", "leaf-specular"].iter().map(|t| format!("{name}-{t}.png")).collect();
+    let mut v: Vec<String> = ["bark", "bark-normal", "bark-specular", "leaf", "leaf-normal", "leaf-specular"]
+        .iter()
+        .map(|t| format!("{name}-{t}.png"))
+        .collect();
     for lod in lod_names(name) {
         v.push(format!("{lod}.bin"));
     }
@@ -90,11 +93,7 @@ fn lod_names(name: &str) -> [String; 3] {
 
 /// The file stem of level of detail `lod` (0, 1 or 2) of species `name`: `NAME`, `NAME-lod1`, `NAME-lod2`.
 pub fn lod_name(name: &str, lod: usize) -> String {
-    if lod == 0 {
-        name.to_string()
-    } else {
-        format!("{name}-lod{lod}")
-    }
+    if lod == 0 { name.to_string() } else { format!("{name}-lod{lod}") }
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SpeciesError + '_ {
@@ -102,7 +101,10 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> SpeciesError + '_ {
 }
 
 fn png(img: impl FnOnce(&Path) -> image::ImageResult<()>, path: &Path) -> Result<(), SpeciesError> {
-    img(path).map_err(|e| SpeciesError::Write { path: path.display().to_string(), source: std::io::Error::other(e.to_string()) })
+    img(path).map_err(|e| SpeciesError::Write {
+        path: path.display().to_string(),
+        source: std::io::Error::other(e.to_string()),
+    })
 }
 
 /// Loads the species `name_or_path` (a preset name or a `.ron` path), generates it with `seed`
@@ -143,7 +145,11 @@ fn stage_files(stage: &Path, model: &Model, p: &Preset) -> Result<(), SpeciesErr
     let bark_mat = MaterialTextures::with_maps(&format!("{n}-bark"), "", false);
     // Leaves are matt: a weak, broad highlight and no sky reflection, so that no leaf flares
     // brighter than the sunlit ground.
-    let leaf_mat = MaterialTextures { specular_factor: LEAF_SPECULAR, roughness: LEAF_ROUGHNESS, ..MaterialTextures::with_maps(&format!("{n}-leaf"), "", true) };
+    let leaf_mat = MaterialTextures {
+        specular_factor: LEAF_SPECULAR,
+        roughness: LEAF_ROUGHNESS,
+        ..MaterialTextures::with_maps(&format!("{n}-leaf"), "", true)
+    };
     for (lod, file) in model.lods.iter().zip(lod_names(n)) {
         let mut parts = vec![(&lod.wood, &bark_mat)];
         if !lod.leaves.positions.is_empty() {

@@ -254,10 +254,24 @@ impl Preset {
         range(r, "leaves", self.leaves, 0.0, 200.0, "per stem");
         range(r, "leaf_scale", self.leaf_scale, 0.01, 2.0, "metres");
         range(r, "leaf_length_cm[0]", self.leaf_length_cm[0], 0.1, 100.0, "centimetres");
-        range(r, "leaf_length_cm[1]", self.leaf_length_cm[1], self.leaf_length_cm[0], 100.0, "centimetres, at least the lowest");
+        range(
+            r,
+            "leaf_length_cm[1]",
+            self.leaf_length_cm[1],
+            self.leaf_length_cm[0],
+            100.0,
+            "centimetres, at least the lowest",
+        );
         range(r, "leaf_scale_x", self.leaf_scale_x, 0.02, 2.0, "fraction of the length");
         range(r, "card_leaves", self.card_leaves as f32, 1.0, 200.0, "leaves per card");
-        range(r, "spray_leaves", self.spray_leaves as f32, self.card_leaves as f32, 2000.0, "leaves per card, at least card_leaves");
+        range(
+            r,
+            "spray_leaves",
+            self.spray_leaves as f32,
+            self.card_leaves as f32,
+            2000.0,
+            "leaves per card, at least card_leaves",
+        );
         range(r, "leaf_down_angle_deg", self.leaf_down_angle_deg, 0.0, 180.0, "degrees");
         range(r, "leaf_down_angle_v_deg", self.leaf_down_angle_v_deg, 0.0, 90.0, "degrees");
         range(r, "leaf_rotate_deg", self.leaf_rotate_deg, 0.0, 360.0, "degrees");
@@ -310,7 +324,8 @@ impl Preset {
 
     /// Parses and checks a preset's text; `file` names it in the error.
     pub fn parse(text: &str, file: &str) -> Result<Preset, SpeciesError> {
-        let bad = |message: String| SpeciesError::Preset { file: file.to_string(), message: message.replace('\n', " ") };
+        let bad =
+            |message: String| SpeciesError::Preset { file: file.to_string(), message: message.replace('\n', " ") };
         let p: Preset = ron::from_str(text).map_err(|e| bad(e.to_string()))?;
         p.check().map_err(|e| bad(e.to_string()))?;
         Ok(p)

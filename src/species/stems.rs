@@ -136,7 +136,8 @@ pub fn generate(p: &Preset, seed: u64) -> Tree {
             Quat::IDENTITY
         } else {
             let az = turn0 + k as f32 * 2.0 * PI / stems as f32;
-            let tilt = (l0.split_angle_deg + pm(&mut g.rng, l0.split_angle_v_deg)).to_radians() * if k == 0 { 0.3 } else { 1.0 };
+            let tilt = (l0.split_angle_deg + pm(&mut g.rng, l0.split_angle_v_deg)).to_radians()
+                * if k == 0 { 0.3 } else { 1.0 };
             Quat::from_rotation_y(az) * Quat::from_rotation_x(tilt)
         };
         let len = if k == 0 { trunk_len } else { trunk_len * g.rng.range(0.7, 1.0) };
@@ -157,7 +158,12 @@ fn at(nodes: &[Node], s: f32) -> Node {
     let k = nodes.partition_point(|n| n.s <= s).clamp(1, nodes.len() - 1);
     let (a, b) = (&nodes[k - 1], &nodes[k]);
     let t = ((s - a.s) / (b.s - a.s).max(1e-6)).clamp(0.0, 1.0);
-    Node { pos: a.pos.lerp(b.pos, t), radius: a.radius + (b.radius - a.radius) * t, frame: a.frame.slerp(b.frame, t), s }
+    Node {
+        pos: a.pos.lerp(b.pos, t),
+        radius: a.radius + (b.radius - a.radius) * t,
+        frame: a.frame.slerp(b.frame, t),
+        s,
+    }
 }
 
 /// The frame of a stem growing level from a parent whose frame is `parent`: turned `side_deg`
@@ -241,12 +247,14 @@ impl Gen<'_> {
                     err += lv.seg_splits - n;
                     let n = n as usize;
                     if n > 0 {
-                        let angle = (lv.split_angle_deg + pm(&mut rng, lv.split_angle_v_deg)).max(0.0).to_radians() * 0.5;
+                        let angle =
+                            (lv.split_angle_deg + pm(&mut rng, lv.split_angle_v_deg)).max(0.0).to_radians() * 0.5;
                         let az0 = rng.range(0.0, 2.0 * PI);
                         for k in 1..=n {
                             let az = az0 + k as f32 * 2.0 * PI / (n + 1) as f32;
                             let f = (frame * Quat::from_rotation_y(az) * Quat::from_rotation_x(angle)).normalize();
-                            let start = Node { pos, radius: nodes.last().map_or(radius, |n| n.radius), frame: f, s: z * len };
+                            let start =
+                                Node { pos, radius: nodes.last().map_or(radius, |n| n.radius), frame: f, s: z * len };
                             work.push((i + 1, vec![start]));
                         }
                         frame = (frame * Quat::from_rotation_y(az0) * Quat::from_rotation_x(angle)).normalize();
@@ -260,7 +268,17 @@ impl Gen<'_> {
 
     /// Makes a stem and, depth first, its children and leaves.
     #[allow(clippy::too_many_arguments)]
-    fn stem(&mut self, level: usize, start: Vec3, frame: Quat, length: f32, radius: f32, phase: f32, offset: f32, seed: u64) {
+    fn stem(
+        &mut self,
+        level: usize,
+        start: Vec3,
+        frame: Quat,
+        length: f32,
+        radius: f32,
+        phase: f32,
+        offset: f32,
+        seed: u64,
+    ) {
         if self.tree.stems.len() >= MAX_STEMS {
             return;
         }
@@ -280,7 +298,8 @@ impl Gen<'_> {
         let last = level + 1 == self.p.levels.len();
         // A split stem's branches and leaves are shared among its clones by the length each covers.
         let base = if level == 0 && !last { self.base_len.min(len * 0.95) } else { 0.0 };
-        let covered: f32 = polys.iter().filter(|n| n.len() >= 2).map(|n| (n[n.len() - 1].s - n[0].s.max(base)).max(0.0)).sum();
+        let covered: f32 =
+            polys.iter().filter(|n| n.len() >= 2).map(|n| (n[n.len() - 1].s - n[0].s.max(base)).max(0.0)).sum();
         let share = ((len - base) / covered.max(1e-6)).min(1.0);
         for nodes in polys {
             if nodes.len() < 2 || self.tree.stems.len() >= MAX_STEMS {
@@ -298,7 +317,16 @@ impl Gen<'_> {
 
     /// The stems of level `level` on a parent polyline covering `s0..s1` of a stem of length `len`.
     #[allow(clippy::too_many_arguments)]
-    fn children(&mut self, level: usize, nodes: &[Node], len: f32, offset: f32, phase: f32, (s0, s1): (f32, f32), share: f32) {
+    fn children(
+        &mut self,
+        level: usize,
+        nodes: &[Node],
+        len: f32,
+        offset: f32,
+        phase: f32,
+        (s0, s1): (f32, f32),
+        share: f32,
+    ) {
         let lv = self.p.levels[level].clone();
         let base = if level == 1 { self.base_len.min(len * 0.95) } else { 0.0 };
         let (a, b) = (s0.max(base), s1);
@@ -324,7 +352,8 @@ impl Gen<'_> {
             if child_len < 0.02 {
                 continue;
             }
-            let child_r = (nodes[0].radius * (child_len / len).powf(self.p.ratio_power)).min(here.radius * 0.9).max(0.001);
+            let child_r =
+                (nodes[0].radius * (child_len / len).powf(self.p.ratio_power)).min(here.radius * 0.9).max(0.001);
             let down = if lv.down_angle_v_deg >= 0.0 {
                 lv.down_angle_deg + pm(&mut self.rng, lv.down_angle_v_deg)
             } else {
@@ -335,7 +364,8 @@ impl Gen<'_> {
             let frame = if lv.flat {
                 flat_frame(here.frame, rot, if i % 2 == 0 { down } else { -down })
             } else {
-                (here.frame * Quat::from_rotation_y(rot.to_radians()) * Quat::from_rotation_x(down.to_radians())).normalize()
+                (here.frame * Quat::from_rotation_y(rot.to_radians()) * Quat::from_rotation_x(down.to_radians()))
+                    .normalize()
             };
             let child_phase = if level == 1 { self.rng.range(0.02, 1.0) } else { phase };
             let seed = seed_of(&mut self.rng);
@@ -352,10 +382,15 @@ impl Gen<'_> {
         if s1 <= a || self.tree.leaves.len() >= MAX_LEAVES {
             return;
         }
-        let n = self.p.leaves * share * shape_ratio(Shape::TaperedCylindrical, offset, self.p) * (s1 - a) / (len * 0.9).max(1e-3);
+        let n = self.p.leaves * share * shape_ratio(Shape::TaperedCylindrical, offset, self.p) * (s1 - a)
+            / (len * 0.9).max(1e-3);
         let count = (n + self.rng.f()).floor() as usize;
         let count = count.min(MAX_LEAVES - self.tree.leaves.len());
-        let clumped = if self.p.leaf_clumps > 0.0 { ((count as f32 * self.p.leaf_clumps).round() as usize).min(count) } else { 0 };
+        let clumped = if self.p.leaf_clumps > 0.0 {
+            ((count as f32 * self.p.leaf_clumps).round() as usize).min(count)
+        } else {
+            0
+        };
         let spread = count - clumped;
         let mut rot = self.rng.range(0.0, 360.0);
         for i in 0..spread {
@@ -393,7 +428,8 @@ impl Gen<'_> {
             // Bases from the middle to 70 % of the radius (the cards reach out to the rest).
             let r = 0.7 * self.rng.f().sqrt();
             let attach = centre + u * (radius * r);
-            let mut normal = (u.any_orthonormal_vector() * pm(&mut self.rng, 1.0) + Vec3::Y * 0.5 + u * 0.3).normalize_or(Vec3::Y);
+            let mut normal =
+                (u.any_orthonormal_vector() * pm(&mut self.rng, 1.0) + Vec3::Y * 0.5 + u * 0.3).normalize_or(Vec3::Y);
             if normal.y < 0.0 {
                 normal = -normal;
             }

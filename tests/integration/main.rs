@@ -1,11 +1,11 @@
 //! grove's integration tests, one crate: one link of the app instead of one per file (each
 //! test file is a module; `cargo test --test integration NAME::` runs one of them).
 
+mod common;
+mod file_size;
+mod gltf_build;
 #[path = "../../systems/tests/graph/mod.rs"]
 mod graph;
-mod file_size;
-mod common;
-mod gltf_build;
 mod shared_gpu;
 mod sky_stage;
 mod striped_card;
@@ -35,9 +35,6 @@ mod import_graph;
 mod impostor;
 mod impostor_cache;
 mod interaction;
-mod protocol;
-mod protocol_steps;
-mod questionnaire_rules;
 mod library_errors;
 mod lod_fade;
 mod lsystem;
@@ -47,6 +44,9 @@ mod lsystem_memo;
 mod model_bank;
 mod one_way_to_read;
 mod park_image;
+mod protocol;
+mod protocol_steps;
+mod questionnaire_rules;
 mod read_view;
 mod render_cli;
 mod render_golden;

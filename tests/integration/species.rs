@@ -9,7 +9,7 @@ use std::sync::OnceLock;
 use glam::{Vec2, Vec3, Vec4};
 use grove::species::output::{self, Model};
 use grove::species::preset;
-use grove_systems::wind_model::{displace_hierarchical, WindParams, WindResponse};
+use grove_systems::wind_model::{WindParams, WindResponse, displace_hierarchical};
 
 use common::{assert_one_line_error, grove, root, validate_gltf_dir};
 
@@ -31,7 +31,11 @@ fn model(name: &str) -> &'static Model {
 }
 
 fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).unwrap())).collect();
+    let mut v: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).unwrap()))
+        .collect();
     v.sort();
     v
 }
@@ -46,7 +50,12 @@ fn the_same_species_and_seed_give_the_same_bytes_and_another_seed_others() {
         files(&out)
     };
     let (a, b, c) = (run("3", "a"), run("3", "b"), run("4", "c"));
-    assert_eq!(a.len(), 12, "three glTF files, three buffers, six textures: {:?}", a.iter().map(|f| &f.0).collect::<Vec<_>>());
+    assert_eq!(
+        a.len(),
+        12,
+        "three glTF files, three buffers, six textures: {:?}",
+        a.iter().map(|f| &f.0).collect::<Vec<_>>()
+    );
     assert!(a == b, "the same seed wrote different bytes");
     let bin = |v: &[(String, Vec<u8>)]| v.iter().find(|f| f.0 == "shrub.bin").unwrap().1.clone();
     assert_ne!(bin(&a), bin(&c), "another seed wrote the same geometry");
@@ -64,11 +73,17 @@ fn every_species_passes_the_gltf_validator() {
         let o = grove(&["trees", "generate", "--species", s, "--out", dir.path().to_str().unwrap()]);
         assert!(o.status.success(), "{s}: {}", String::from_utf8_lossy(&o.stderr));
         let (doc, _, _) = gltf::import(dir.path().join(format!("{s}.gltf"))).unwrap_or_else(|e| panic!("{s}: {e}"));
-        let leaf = doc.materials().find(|m| m.alpha_mode() == gltf::material::AlphaMode::Mask).expect("an alpha-clipped leaf material");
+        let leaf = doc
+            .materials()
+            .find(|m| m.alpha_mode() == gltf::material::AlphaMode::Mask)
+            .expect("an alpha-clipped leaf material");
         assert!(leaf.double_sided(), "{s}: leaves are two-sided");
         for prim in doc.meshes().flat_map(|m| m.primitives().collect::<Vec<_>>()) {
             assert!(prim.get(&gltf::Semantic::Colors(0)).is_some(), "{s}: vertex colours");
-            assert!(prim.attributes().any(|(k, _)| matches!(k, gltf::Semantic::Extras(n) if n == "WIND")), "{s}: _WIND");
+            assert!(
+                prim.attributes().any(|(k, _)| matches!(k, gltf::Semantic::Extras(n) if n == "WIND")),
+                "{s}: _WIND"
+            );
         }
     }
     let text = validate_gltf_dir(dir.path());
@@ -98,21 +113,34 @@ fn leaves_sway_more_than_the_trunk() {
         let m = model(s);
         let (wood, leaves) = (&m.lods[0].wood, &m.lods[0].leaves);
         // The trunk's vertices: no distance from the axis and none from a branch.
-        let all_trunk: Vec<(Vec3, Vec4)> = wood.positions.iter().zip(&wood.wind).filter(|(_, w)| w.y == 0.0).map(|(p, w)| (*p, *w)).collect();
+        let all_trunk: Vec<(Vec3, Vec4)> =
+            wood.positions.iter().zip(&wood.wind).filter(|(_, w)| w.y == 0.0).map(|(p, w)| (*p, *w)).collect();
         assert!(all_trunk.len() > 20, "{s}: trunk vertices");
         // The crown reaches the trunk's top (a spruce's leader may stand a little above it).
         let top_leaf = leaves.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
         let top_trunk = all_trunk.iter().map(|(p, _)| p.y).fold(f32::MIN, f32::max);
-        assert!(top_trunk < top_leaf + 0.05 * m.bounds().1.y, "{s}: the trunk reaches {top_trunk} m, the leaves {top_leaf} m");
-        assert!(all_trunk.iter().all(|(_, w)| w.z == 0.0 && w.w == 0.0), "{s}: the trunk has no leaf distance and phase 0");
+        assert!(
+            top_trunk < top_leaf + 0.05 * m.bounds().1.y,
+            "{s}: the trunk reaches {top_trunk} m, the leaves {top_leaf} m"
+        );
+        assert!(
+            all_trunk.iter().all(|(_, w)| w.z == 0.0 && w.w == 0.0),
+            "{s}: the trunk has no leaf distance and phase 0"
+        );
         // Compared where both are: the trunk inside the crown's heights.
         let lowest_leaf = leaves.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
         let trunk: Vec<(Vec3, Vec4)> = all_trunk.into_iter().filter(|(p, _)| p.y >= lowest_leaf).collect();
         assert!(!trunk.is_empty(), "{s}: trunk inside the crown");
         // The litter under a crown (flat on the ground, docs/species.md) does not sway.
         let litter = leaves.wind.iter().filter(|w| **w == Vec4::ZERO).count();
-        assert!(leaves.positions.iter().zip(&leaves.wind).all(|(p, w)| *w != Vec4::ZERO || p.y < 0.05), "{s}: only the litter has no wind");
-        assert!(leaves.wind.iter().filter(|w| **w != Vec4::ZERO).all(|w| w.y > 0.0 && w.z > 0.0), "{s}: every leaf vertex is off the axis and off its branch");
+        assert!(
+            leaves.positions.iter().zip(&leaves.wind).all(|(p, w)| *w != Vec4::ZERO || p.y < 0.05),
+            "{s}: only the litter has no wind"
+        );
+        assert!(
+            leaves.wind.iter().filter(|w| **w != Vec4::ZERO).all(|w| w.y > 0.0 && w.z > 0.0),
+            "{s}: every leaf vertex is off the axis and off its branch"
+        );
         // The sway of a vertex (RMS over a few instants, the trunk leaning by a bend), against
         // that of the trunk at the same height.
         let sway = |x: Vec3, w: Vec4| -> f32 {
@@ -136,7 +164,10 @@ fn leaves_sway_more_than_the_trunk() {
         }
         let n = leaves.positions.len() - litter;
         // A branch bobbing against the lean at these instants can sway less than the axis; most do not.
-        assert!(more as f32 > 0.6 * n as f32, "{s}: only {more} of {n} leaf vertices sway more than the trunk at their height");
+        assert!(
+            more as f32 > 0.6 * n as f32,
+            "{s}: only {more} of {n} leaf vertices sway more than the trunk at their height"
+        );
         let (b, a) = (leaf_sum / n as f32, trunk_sum / n as f32);
         assert!(b > a * 1.02, "{s}: leaves sway {b} m, the trunk at their heights {a} m");
     }
@@ -147,12 +178,21 @@ fn bad_presets_give_one_line_naming_the_field_and_its_range() {
     let dir = tempfile::tempdir().unwrap();
     let oak = std::fs::read_to_string(root().join("assets/species/oak.ron")).unwrap();
     let cases: Vec<(String, &str)> = vec![
-        (oak.replacen("down_angle_deg: 55", "down_angle_deg: 200", 1), "levels[1].down_angle_deg = 200 is out of range; allowed -180 to 180 (degrees)"),
+        (
+            oak.replacen("down_angle_deg: 55", "down_angle_deg: 200", 1),
+            "levels[1].down_angle_deg = 200 is out of range; allowed -180 to 180 (degrees)",
+        ),
         (oak.replace("height: 16.0", "height: 0.1"), "height = 0.1 is out of range; allowed 0.3 to 60 (metres)"),
-        (oak.replace("leaf_bend: 0.4", "leaf_bend: 0.4,\n    bark_colour_v: 0.1"), "Unexpected field named `bark_colour_v`"),
+        (
+            oak.replace("leaf_bend: 0.4", "leaf_bend: 0.4,\n    bark_colour_v: 0.1"),
+            "Unexpected field named `bark_colour_v`",
+        ),
         (oak.replace("shape: Hemispherical", "shape: Blob"), "Blob"),
         (oak.replace("ao: 0.6,", "ao: 0.6"), "oak-bad"),
-        (oak.replacen("leaf_colour: (0.22", "leaf_colour: (1.5", 1), "leaf_colour[0] = 1.5 is out of range; allowed 0 to 1"),
+        (
+            oak.replacen("leaf_colour: (0.22", "leaf_colour: (1.5", 1),
+            "leaf_colour[0] = 1.5 is out of range; allowed 0 to 1",
+        ),
     ];
     for (i, (text, needle)) in cases.iter().enumerate() {
         assert_ne!(text, &oak, "case {i} changed nothing");
@@ -179,7 +219,12 @@ fn bad_presets_give_one_line_naming_the_field_and_its_range() {
 fn band_radius(m: &Model, lo: f32, hi: f32) -> f32 {
     let ys: Vec<f32> = m.tree.leaves.iter().map(|l| l.attach.y).collect();
     let (a, b) = (ys.iter().copied().fold(f32::MAX, f32::min), ys.iter().copied().fold(f32::MIN, f32::max));
-    m.tree.leaves.iter().filter(|l| (a + lo * (b - a)..=a + hi * (b - a)).contains(&l.attach.y)).map(|l| Vec2::new(l.attach.x, l.attach.z).length()).fold(0.0, f32::max)
+    m.tree
+        .leaves
+        .iter()
+        .filter(|l| (a + lo * (b - a)..=a + hi * (b - a)).contains(&l.attach.y))
+        .map(|l| Vec2::new(l.attach.x, l.attach.z).length())
+        .fold(0.0, f32::max)
 }
 
 #[test]
@@ -198,18 +243,29 @@ fn the_species_have_their_own_shapes() {
         let height = hi.y - lo.y;
         assert!((10.0..=25.0).contains(&height), "{s}: {height} m tall");
         let crown_height = height * (1.0 - preset::load(s).unwrap().1.base_size);
-        assert!(2.0 * m.crown_radius() > 0.5 * crown_height, "{s}: crown {} m wide, {crown_height} m tall", 2.0 * m.crown_radius());
+        assert!(
+            2.0 * m.crown_radius() > 0.5 * crown_height,
+            "{s}: crown {} m wide, {crown_height} m tall",
+            2.0 * m.crown_radius()
+        );
         let n = m.lods[0].leaf_count;
         assert!((3_000..=100_000).contains(&n), "{s}: {n} leaf cards");
     }
     let oak = model("oak");
     let birch = model("birch");
-    assert!(oak.crown_radius() / oak.bounds().1.y > birch.crown_radius() / birch.bounds().1.y, "the oak is broader than the birch");
+    assert!(
+        oak.crown_radius() / oak.bounds().1.y > birch.crown_radius() / birch.bounds().1.y,
+        "the oak is broader than the birch"
+    );
     let shrub = model("shrub");
     assert!(shrub.bounds().1.y < 5.0, "the shrub is short: {}", shrub.bounds().1.y);
     let stems_at_root = shrub.tree.stems.iter().filter(|st| st.level == 0 && st.nodes[0].pos.length() < 1e-3).count();
     assert!(stems_at_root >= 4, "the shrub has several stems: {stems_at_root}");
-    assert_eq!(model("oak").tree.stems.iter().filter(|st| st.level == 0 && st.nodes[0].pos.length() < 1e-3).count(), 1, "one trunk");
+    assert_eq!(
+        model("oak").tree.stems.iter().filter(|st| st.level == 0 && st.nodes[0].pos.length() < 1e-3).count(),
+        1,
+        "one trunk"
+    );
     for s in SPECIES {
         let m = model(s);
         let t = m.lods[0].triangles();
@@ -233,7 +289,13 @@ fn the_crown_is_darker_inside_and_leaves_vary_in_colour() {
         let l = &m.lods[0].leaves;
         let r = m.crown_radius();
         let mean = |inner: bool| {
-            let v: Vec<f32> = l.positions.iter().zip(&l.colors).filter(|(p, _)| (Vec2::new(p.x, p.z).length() < 0.35 * r) == inner).map(|(_, c)| c.y).collect();
+            let v: Vec<f32> = l
+                .positions
+                .iter()
+                .zip(&l.colors)
+                .filter(|(p, _)| (Vec2::new(p.x, p.z).length() < 0.35 * r) == inner)
+                .map(|(_, c)| c.y)
+                .collect();
             assert!(v.len() > 50, "{s}: leaves {} the crown", if inner { "inside" } else { "outside" });
             v.iter().sum::<f32>() / v.len() as f32
         };
@@ -256,9 +318,14 @@ fn broadleaf_crowns_grow_in_clumps_darker_inside_and_coloured_by_clump() {
         let p = preset::load(s).unwrap().1;
         let leaves = &m.tree.leaves;
         let clumped = leaves.iter().filter(|l| l.depth < 1.0).count() as f32 / leaves.len() as f32;
-        assert!(p.leaf_clumps > 0.0 && (clumped - p.leaf_clumps).abs() < 0.1, "{s}: {clumped} of the leaves clumped, the preset asks {}", p.leaf_clumps);
+        assert!(
+            p.leaf_clumps > 0.0 && (clumped - p.leaf_clumps).abs() < 0.1,
+            "{s}: {clumped} of the leaves clumped, the preset asks {}",
+            p.leaf_clumps
+        );
         // Green of the vertex colour (the first vertex of each leaf card) by depth in the clump.
-        let green: Vec<(f32, f32)> = leaves.iter().zip(m.lods[0].leaves.colors.iter().step_by(4)).map(|(l, c)| (l.depth, c.y)).collect();
+        let green: Vec<(f32, f32)> =
+            leaves.iter().zip(m.lods[0].leaves.colors.iter().step_by(4)).map(|(l, c)| (l.depth, c.y)).collect();
         let mean = |lo: f32, hi: f32| {
             let v: Vec<f32> = green.iter().filter(|g| g.0 >= lo && g.0 < hi).map(|g| g.1).collect();
             assert!(v.len() > 100, "{s}: leaves at depth {lo}..{hi}");
@@ -268,8 +335,15 @@ fn broadleaf_crowns_grow_in_clumps_darker_inside_and_coloured_by_clump() {
         assert!(inner < 0.9 * outer, "{s}: clump inside {inner}, outside {outer}");
         // Neighbours in the list are mostly of one clump; leaves 997 apart of different ones.
         let tints: Vec<f32> = leaves.iter().filter(|l| l.depth < 1.0).map(|l| l.tint).collect();
-        let spread = |k: usize| tints.iter().zip(&tints[k..]).map(|(a, b)| (a - b).abs()).sum::<f32>() / (tints.len() - k) as f32;
-        assert!(spread(1) < 0.8 * spread(997), "{s}: colour within clumps {} against between {}", spread(1), spread(997));
+        let spread = |k: usize| {
+            tints.iter().zip(&tints[k..]).map(|(a, b)| (a - b).abs()).sum::<f32>() / (tints.len() - k) as f32
+        };
+        assert!(
+            spread(1) < 0.8 * spread(997),
+            "{s}: colour within clumps {} against between {}",
+            spread(1),
+            spread(997)
+        );
     }
     // Presets without clumps keep their leaves spread along the twigs.
     assert!(model("birch").tree.leaves.iter().all(|l| l.depth == 1.0));
@@ -325,9 +399,17 @@ fn pruning_keeps_branches_inside_the_envelope() {
     p.prune_power_high = 1.0;
     let pruned = output::model("oak", &p, 3).unwrap();
     let limit = 0.25 * pruned.tree.scale;
-    let nodes: Vec<Vec3> = pruned.tree.stems.iter().filter(|s| s.level >= 1).flat_map(|s| s.nodes.iter().map(|n| n.pos)).collect();
+    let nodes: Vec<Vec3> =
+        pruned.tree.stems.iter().filter(|s| s.level >= 1).flat_map(|s| s.nodes.iter().map(|n| n.pos)).collect();
     let outside = nodes.iter().filter(|q| Vec2::new(q.x, q.z).length() > limit * 1.001).count();
     assert!(outside * 100 < nodes.len(), "{outside} of {} branch points outside a {limit} m envelope", nodes.len());
-    let widest = |m: &Model| m.tree.stems.iter().flat_map(|s| s.nodes.iter()).map(|n| Vec2::new(n.pos.x, n.pos.z).length()).fold(0.0, f32::max);
+    let widest = |m: &Model| {
+        m.tree
+            .stems
+            .iter()
+            .flat_map(|s| s.nodes.iter())
+            .map(|n| Vec2::new(n.pos.x, n.pos.z).length())
+            .fold(0.0, f32::max)
+    };
     assert!(widest(&free) > limit * 1.2, "the unpruned oak reaches past the envelope ({} m)", widest(&free));
 }

@@ -30,7 +30,10 @@ struct Foliage {
 fn foliage(gltf_path: &Path) -> Foliage {
     let (doc, buffers, images) = gltf::import(gltf_path).unwrap_or_else(|e| panic!("{}: {e}", gltf_path.display()));
     let mesh = doc.meshes().next().expect("a mesh");
-    let prim = mesh.primitives().find(|p| p.material().alpha_mode() == gltf::material::AlphaMode::Mask).expect("an alpha-clipped leaf primitive");
+    let prim = mesh
+        .primitives()
+        .find(|p| p.material().alpha_mode() == gltf::material::AlphaMode::Mask)
+        .expect("an alpha-clipped leaf primitive");
     let reader = prim.reader(|b| Some(&buffers[b.index()]));
     let positions: Vec<Vec3> = reader.read_positions().expect("positions").map(Vec3::from).collect();
     let uvs: Vec<Vec2> = reader.read_tex_coords(0).expect("uvs").into_f32().map(Vec2::from).collect();
@@ -40,7 +43,13 @@ fn foliage(gltf_path: &Path) -> Foliage {
     let img = &images[tex.texture().source().index()];
     assert_eq!(img.format, gltf::image::Format::R8G8B8A8, "an RGBA leaf texture");
     let alpha: Vec<u8> = img.pixels.chunks_exact(4).map(|p| p[3]).collect();
-    Foliage { positions, uvs, indices, alpha: (img.width, img.height, alpha), cutoff: material.alpha_cutoff().unwrap_or(0.5) }
+    Foliage {
+        positions,
+        uvs,
+        indices,
+        alpha: (img.width, img.height, alpha),
+        cutoff: material.alpha_cutoff().unwrap_or(0.5),
+    }
 }
 
 /// The opaque islands of a texture: for each, the corners of its texels on its convex hull, in
@@ -184,7 +193,13 @@ fn the_median_leaf_of_every_species_is_in_its_botanical_range() {
         let text = std::fs::read_to_string(common::root().join(format!("assets/species/{s}.ron"))).unwrap();
         let doubled: String = text
             .lines()
-            .map(|l| if l.trim_start().starts_with("leaf_scale:") { format!("    leaf_scale: {},", 2.0 * p.leaf_scale) } else { l.to_string() })
+            .map(|l| {
+                if l.trim_start().starts_with("leaf_scale:") {
+                    format!("    leaf_scale: {},", 2.0 * p.leaf_scale)
+                } else {
+                    l.to_string()
+                }
+            })
             .collect::<Vec<_>>()
             .join("\n");
         assert_ne!(doubled, text, "{s}: leaf_scale not found");
@@ -192,7 +207,10 @@ fn the_median_leaf_of_every_species_is_in_its_botanical_range() {
         std::fs::write(&path, doubled).unwrap();
         let (m2, _) = measured(path.to_str().unwrap(), &dir.join(format!("{s}-doubled")));
         eprintln!("{s} with leaf_scale doubled: median leaf {m2:.2} cm");
-        assert!(!(lo..=hi).contains(&m2), "{s}: with leaf_scale doubled the median leaf is still {m2:.2} cm, inside {lo}-{hi} cm");
+        assert!(
+            !(lo..=hi).contains(&m2),
+            "{s}: with leaf_scale doubled the median leaf is still {m2:.2} cm, inside {lo}-{hi} cm"
+        );
     }
 }
 
@@ -201,7 +219,9 @@ fn the_median_leaf_of_every_species_is_in_its_botanical_range() {
 fn width_at(positions: &[Vec3], y: f32, h: f32) -> f32 {
     let band: Vec<&Vec3> = positions.iter().filter(|p| (p.y - y).abs() <= 0.025 * h).collect();
     assert!(band.len() > 10, "vertices at {y} m");
-    let ext = |f: fn(&Vec3) -> f32| band.iter().map(|p| f(p)).fold(f32::MIN, f32::max) - band.iter().map(|p| f(p)).fold(f32::MAX, f32::min);
+    let ext = |f: fn(&Vec3) -> f32| {
+        band.iter().map(|p| f(p)).fold(f32::MIN, f32::max) - band.iter().map(|p| f(p)).fold(f32::MAX, f32::min)
+    };
     0.5 * (ext(|p| p.x) + ext(|p| p.z))
 }
 
@@ -217,7 +237,8 @@ fn conifer_silhouettes() {
         let mut all = Vec::new();
         let mut leaves = Vec::new();
         for prim in doc.meshes().next().unwrap().primitives() {
-            let ps: Vec<Vec3> = prim.reader(|b| Some(&buffers[b.index()])).read_positions().unwrap().map(Vec3::from).collect();
+            let ps: Vec<Vec3> =
+                prim.reader(|b| Some(&buffers[b.index()])).read_positions().unwrap().map(Vec3::from).collect();
             if prim.material().alpha_mode() == gltf::material::AlphaMode::Mask {
                 leaves.extend(ps.iter().copied());
             }
@@ -242,7 +263,14 @@ fn conifer_silhouettes() {
 /// The triangles of each species' level of detail 1 at seed 1 (the species bank's mesh models)
 /// before its leaves came to their size: the budget the sprays keep to (docs/species.md,
 /// "Measured").
-const LOD1_BUDGET: [(&str, usize); 6] = [("oak", 33_100), ("birch", 12_576), ("beech", 35_504), ("scots_pine", 6_150), ("norway_spruce", 16_570), ("shrub", 9_502)];
+const LOD1_BUDGET: [(&str, usize); 6] = [
+    ("oak", 33_100),
+    ("birch", 12_576),
+    ("beech", 35_504),
+    ("scots_pine", 6_150),
+    ("norway_spruce", 16_570),
+    ("shrub", 9_502),
+];
 
 /// Level of detail 1 has at most the triangles it had before, species by species.
 #[test]

@@ -39,7 +39,11 @@ fn magenta_leaves(data: &ModelData) -> ModelData {
 /// Where a render of [`magenta_leaves`] shows a leaf: red and blue well above green, and not
 /// the stage's pixel.
 fn leaf_mask(foliage: &RgbaImage, stage: &RgbaImage) -> Vec<bool> {
-    foliage.pixels().zip(stage.pixels()).map(|(p, q)| p != q && p.0[0] > p.0[1].saturating_add(12) && p.0[2] > p.0[1].saturating_add(6)).collect()
+    foliage
+        .pixels()
+        .zip(stage.pixels())
+        .map(|(p, q)| p != q && p.0[0] > p.0[1].saturating_add(12) && p.0[2] > p.0[1].saturating_add(6))
+        .collect()
 }
 
 fn is_red(p: &Rgba<u8>) -> bool {
@@ -64,7 +68,8 @@ fn the_shrub_at_3_m_shows_its_stems_and_gaps_and_no_bright_leaf() {
     let leaves = leaf_mask(&foliage, &stage);
     let red: Vec<bool> = stems.pixels().map(is_red).collect();
     let shrub: Vec<bool> = leaves.iter().zip(&red).map(|(a, b)| *a || *b).collect();
-    let mut ground: Vec<f32> = stage.enumerate_pixels().filter(|(_, y, _)| *y >= h * 4 / 5).map(|(_, _, p)| luma(p)).collect();
+    let mut ground: Vec<f32> =
+        stage.enumerate_pixels().filter(|(_, y, _)| *y >= h * 4 / 5).map(|(_, _, p)| luma(p)).collect();
     ground.sort_by(f32::total_cmp);
     let sunlit = ground[ground.len() - 1];
     let leaf_px = leaves.iter().filter(|&&m| m).count();
@@ -102,7 +107,10 @@ fn the_shrub_at_3_m_shows_its_stems_and_gaps_and_no_bright_leaf() {
         img.save(root().join("docs/species-shrub-3m.png")).unwrap();
     }
     assert!(leaf_px > 5_000, "the shrub should be seen at 3 m ({leaf_px} leaf px)");
-    assert!((bright as f64) <= 0.005 * leaf_px as f64, "{bright} of the shrub's {leaf_px} leaf px are brighter than the sunlit ground ({sunlit:.0})");
+    assert!(
+        (bright as f64) <= 0.005 * leaf_px as f64,
+        "{bright} of the shrub's {leaf_px} leaf px are brighter than the sunlit ground ({sunlit:.0})"
+    );
     assert!(stems_share >= 0.03, "stems are {:.1} % of the lowest fifth of the shrub", stems_share * 100.0);
     assert!(gap_share >= 0.25, "gaps are {:.1} % of the shrub's outer fifth", gap_share * 100.0);
 }
@@ -115,11 +123,16 @@ const STUDY_DAY_ELEVATIONS: [f64; 5] = [8.0, 20.0, 35.0, 50.0, 66.0];
 /// leaves cover).
 fn top_and_bottom(img: &RgbaImage, leaves: &[bool]) -> (f32, f32) {
     let w = img.width() as usize;
-    let rows: Vec<usize> = (0..img.height() as usize).filter(|y| leaves[y * w..(y + 1) * w].iter().any(|&m| m)).collect();
+    let rows: Vec<usize> =
+        (0..img.height() as usize).filter(|y| leaves[y * w..(y + 1) * w].iter().any(|&m| m)).collect();
     let (top, bottom) = (rows[0], rows[rows.len() - 1]);
     let third = (bottom - top) / 3;
     let mean = |lo: usize, hi: usize| {
-        let v: Vec<f32> = (lo..=hi).flat_map(|y| (0..w).map(move |x| (x, y))).filter(|&(x, y)| leaves[y * w + x]).map(|(x, y)| luma(img.get_pixel(x as u32, y as u32))).collect();
+        let v: Vec<f32> = (lo..=hi)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| leaves[y * w + x])
+            .map(|(x, y)| luma(img.get_pixel(x as u32, y as u32)))
+            .collect();
         v.iter().sum::<f32>() / v.len().max(1) as f32
     };
     (mean(top, top + third), mean(bottom - third, bottom))
@@ -136,11 +149,16 @@ fn no_crown_is_darker_at_the_top_than_at_the_bottom_at_any_sun_elevation_of_the_
         let (_, lod1) = generate(species, &dir.path().join(species));
         let distance = 1.5 * lod1.bounds.1.y;
         let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
-        let leaves = leaf_mask(&view_lit(&magenta_leaves(&lod1), distance, true, (w, h), 0.0, 40.0), &view_lit(&lod1, distance, false, (w, h), 0.0, 40.0));
+        let leaves = leaf_mask(
+            &view_lit(&magenta_leaves(&lod1), distance, true, (w, h), 0.0, 40.0),
+            &view_lit(&lod1, distance, false, (w, h), 0.0, 40.0),
+        );
         for elevation in STUDY_DAY_ELEVATIONS {
             let img = view_lit(&lod1, distance, true, (w, h), 0.0, elevation);
             let (top, bottom) = top_and_bottom(&img, &leaves);
-            eprintln!("{species} with the sun {elevation}° up: leaves' mean luma {top:.1} in the top third, {bottom:.1} in the bottom third");
+            eprintln!(
+                "{species} with the sun {elevation}° up: leaves' mean luma {top:.1} in the top third, {bottom:.1} in the bottom third"
+            );
             if top < bottom {
                 failures.push(format!("{species} at {elevation}°: top {top:.1} < bottom {bottom:.1}"));
             }
@@ -159,7 +177,8 @@ fn species_from_3_10_and_30_m() {
     let distances = [3.0f32, 10.0, 30.0];
     let path = root().join("docs/species-distances.png");
     if !update() {
-        let sheet = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; write it with UPDATE_SNAPSHOTS=1", path.display()));
+        let sheet =
+            image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; write it with UPDATE_SNAPSHOTS=1", path.display()));
         assert_eq!((sheet.width(), sheet.height()), (w * distances.len() as u32, h * species.len() as u32));
         return;
     }

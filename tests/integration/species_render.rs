@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use grove::models::{load_model, ModelData};
+use grove::models::{ModelData, load_model};
 use grove::render::offscreen;
 use grove::render::{RenderOptions, Renderer};
 use grove_systems::catalogue::ModelId;
@@ -39,7 +39,11 @@ fn compare(name: &str, img: &RgbaImage) {
         img.save(&path).unwrap();
         return;
     }
-    let want = image::open(&path).unwrap_or_else(|e| panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display())).to_rgba8();
+    let want = image::open(&path)
+        .unwrap_or_else(|e| {
+            panic!("{}: cannot read the snapshot ({e}); create it with UPDATE_SNAPSHOTS=1", path.display())
+        })
+        .to_rgba8();
     assert_eq!(want.dimensions(), img.dimensions(), "{name}: size differs from the snapshot");
     let (mut sum, mut over) = (0u64, 0u64);
     for (a, b) in want.pixels().zip(img.pixels()) {
@@ -53,7 +57,10 @@ fn compare(name: &str, img: &RgbaImage) {
         let dir = root().join("target/snapshot-failures");
         let _ = std::fs::create_dir_all(&dir);
         let _ = img.save(dir.join(format!("{name}.png")));
-        panic!("{name}: differs from {} (mean abs diff {mean:.2} > 3 or {percent:.2}% pixels over {PIXEL_THRESHOLD} > 2%)", path.display());
+        panic!(
+            "{name}: differs from {} (mean abs diff {mean:.2} > 3 or {percent:.2}% pixels over {PIXEL_THRESHOLD} > 2%)",
+            path.display()
+        );
     }
 }
 
@@ -78,7 +85,14 @@ pub(crate) fn view_sized(data: &ModelData, distance: f32, tree: bool, w: u32, h:
 
 /// [`view_sized`] with the sun `sun_elevation_deg` above the horizon (from behind the camera's
 /// left shoulder).
-pub(crate) fn view_lit(data: &ModelData, distance: f32, tree: bool, (w, h): (u32, u32), leaf_pixels: f32, sun_elevation_deg: f64) -> RgbaImage {
+pub(crate) fn view_lit(
+    data: &ModelData,
+    distance: f32,
+    tree: bool,
+    (w, h): (u32, u32),
+    leaf_pixels: f32,
+    sun_elevation_deg: f64,
+) -> RgbaImage {
     let g = shared_gpu::shared_gpu("species renders");
     let mut sim = grove_systems::stage::model_stage(data.bounds, w as f32 / h as f32, false, ModelId(0)).unwrap();
     if !tree {
@@ -90,7 +104,10 @@ pub(crate) fn view_lit(data: &ModelData, distance: f32, tree: bool, (w, h): (u32
     }
     let height = data.bounds.1.y;
     let fov: f32 = 50.0;
-    sim.set_up().camera(Head { pose: Pose::looking_at(Vec3::new(0.0, 1.7, distance), Vec3::new(0.0, height * 0.45, 0.0)), fov_y: fov.to_radians() });
+    sim.set_up().camera(Head {
+        pose: Pose::looking_at(Vec3::new(0.0, 1.7, distance), Vec3::new(0.0, height * 0.45, 0.0)),
+        fov_y: fov.to_radians(),
+    });
     sim.set_up().sun_angles(sun_elevation_deg, 150.0);
     let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, w, h, &root().join("assets")).unwrap();
     r.options.impostor_pixels = 0.0;
@@ -101,7 +118,10 @@ pub(crate) fn view_lit(data: &ModelData, distance: f32, tree: bool, (w, h): (u32
 
 /// Pixels where the image with the tree differs from the stage without it.
 fn tree_pixels(img: &RgbaImage, stage: &RgbaImage) -> usize {
-    img.pixels().zip(stage.pixels()).filter(|(p, q)| (0..3).map(|c| p.0[c].abs_diff(q.0[c])).max().unwrap() > 30).count()
+    img.pixels()
+        .zip(stage.pixels())
+        .filter(|(p, q)| (0..3).map(|c| p.0[c].abs_diff(q.0[c])).max().unwrap() > 30)
+        .count()
 }
 
 fn species_test(species: &str) {
@@ -160,7 +180,8 @@ fn species_sheet() {
     let (w, h) = (200u32, 260u32);
     let path = root().join("docs/species.png");
     if !update() {
-        let sheet = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; write it with UPDATE_SNAPSHOTS=1", path.display()));
+        let sheet =
+            image::open(&path).unwrap_or_else(|e| panic!("{}: {e}; write it with UPDATE_SNAPSHOTS=1", path.display()));
         assert_eq!((sheet.width(), sheet.height()), (w * SPECIES.len() as u32, h));
         return;
     }

@@ -46,7 +46,9 @@ export function groveBin() {
 export function generate(species, dir, bin = groveBin()) {
   const out = join(dir, species);
   if (existsSync(join(out, `${species}.gltf`))) return out;
-  const r = spawnSync(bin, ['trees', 'generate', '--species', species, '--seed', '1', '--out', out], { encoding: 'utf8' });
+  const r = spawnSync(bin, ['trees', 'generate', '--species', species, '--seed', '1', '--out', out], {
+    encoding: 'utf8',
+  });
   if (r.status !== 0) throw new Error(`grove trees generate --species ${species} failed: ${r.stderr.trim()}`);
   return out;
 }
@@ -76,7 +78,13 @@ export async function open({ width = 480, height = 400 } = {}) {
   const trees = mkdtempSync(join(tmpdir(), 'grove-compare-'));
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking', '--ignore-gpu-blocklist'],
+    args: [
+      '--no-sandbox',
+      '--use-angle=swiftshader',
+      '--enable-unsafe-swiftshader',
+      '--disable-background-networking',
+      '--ignore-gpu-blocklist',
+    ],
   });
   const errors = [];
   const foreign = [];
@@ -89,12 +97,18 @@ export async function open({ width = 480, height = 400 } = {}) {
         return route.abort();
       }
       if (url.pathname === '/') {
-        return route.fulfill({ contentType: 'text/html', body: '<!doctype html><meta charset="utf-8"><title>grove beside ez-tree</title><body style="margin:0"><script type="module" src="/page.js"></script></body>' });
+        return route.fulfill({
+          contentType: 'text/html',
+          body: '<!doctype html><meta charset="utf-8"><title>grove beside ez-tree</title><body style="margin:0"><script type="module" src="/page.js"></script></body>',
+        });
       }
       if (url.pathname === '/page.js') return route.fulfill({ contentType: 'text/javascript', body: script });
       const file = resolve(trees, '.' + decodeURIComponent(url.pathname.replace(/^\/trees/, '')));
       if (url.pathname.startsWith('/trees/') && file.startsWith(trees + sep) && existsSync(file)) {
-        return route.fulfill({ contentType: TYPES[extname(file)] ?? 'application/octet-stream', body: readFileSync(file) });
+        return route.fulfill({
+          contentType: TYPES[extname(file)] ?? 'application/octet-stream',
+          body: readFileSync(file),
+        });
       }
       return route.fulfill({ status: 404, body: 'not found' });
     });

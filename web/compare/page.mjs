@@ -6,7 +6,7 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { Tree } from '@dgreenheck/ez-tree';
-import { coverageMips, opaqueMean } from './mips.mjs';
+import { groveMips } from '../page/draw/mips.mjs';
 
 const SKY = new THREE.Color(0x9fc3e6);
 const GROUND = new THREE.Color(0x7a8048);
@@ -65,39 +65,17 @@ async function groveTree(handle, url) {
   const gltf = await new GLTFLoader().loadAsync(url);
   const tree = new THREE.Group();
   tree.add(gltf.scene);
-  const done = new Set();
   tree.traverse((o) => {
     if (o.isMesh) {
       o.castShadow = true;
       o.receiveShadow = true;
-      if (o.material.alphaTest > 0 && o.material.map && !done.has(o.material.map)) {
-        done.add(o.material.map);
-        keepCoverage(o.material.map);
-      }
+      // An alpha-cut leaf texture gets grove's mip chain (alpha raised 15 % a level, as
+      // src/render/assets/textures.rs), so that far leaf cards keep their coverage as in grove.
+      if (o.material.alphaTest > 0 && o.material.map) o.material.map = groveMips(o.material.map);
     }
   });
   keep(handle, tree);
   return measure(tree);
-}
-
-/**
- * Gives an alpha-cut texture the mip chain grove's renderer builds (web/compare/mips.mjs) in place
- * of the one three.js would generate: level 0 the image as loaded, the rest from its pixels.
- */
-function keepCoverage(texture) {
-  const image = texture.image;
-  const { width, height } = image;
-  const c = document.createElement('canvas');
-  [c.width, c.height] = [width, height];
-  const g = c.getContext('2d', { willReadFrequently: true });
-  g.drawImage(image, 0, 0);
-  const rgba = g.getImageData(0, 0, width, height).data;
-  const srgb = texture.colorSpace === THREE.SRGBColorSpace;
-  const levels = coverageMips(width, height, rgba, { srgb, fill: opaqueMean(rgba) });
-  texture.mipmaps = [image, ...levels.map((l) => new ImageData(l.data, l.width, l.height))];
-  texture.generateMipmaps = false;
-  texture.minFilter = THREE.LinearMipmapLinearFilter;
-  texture.needsUpdate = true;
 }
 
 /** Generates one of ez-tree's presets (by its name in TreePreset); the handle names it for `render` and `stand`. */
@@ -151,9 +129,11 @@ function camera(view, aspect) {
 function fitDistance(boxes, { fov, eye, target, aspect, margin = 0.95, from = 1 }) {
   const corners = [];
   for (const { min, max } of boxes) {
-    for (const x of [min[0], max[0]]) for (const y of [min[1], max[1]]) for (const z of [min[2], max[2]]) {
-      corners.push(new THREE.Vector3(x, y, z));
-    }
+    for (const x of [min[0], max[0]])
+      for (const y of [min[1], max[1]])
+        for (const z of [min[2], max[2]]) {
+          corners.push(new THREE.Vector3(x, y, z));
+        }
   }
   for (let d = from; d < 1000; d *= 1.01) {
     const cam = camera({ fov, eye, target, distance: d }, aspect);
@@ -191,7 +171,10 @@ function scene(tree, { ground = true } = {}) {
   sun.shadow.normalBias = 0.02;
   s.add(sun, sun.target);
   if (ground) {
-    const plane = new THREE.Mesh(new THREE.PlaneGeometry(2000, 2000), new THREE.MeshStandardMaterial({ color: GROUND, roughness: 1 }));
+    const plane = new THREE.Mesh(
+      new THREE.PlaneGeometry(2000, 2000),
+      new THREE.MeshStandardMaterial({ color: GROUND, roughness: 1 }),
+    );
     plane.rotation.x = -Math.PI / 2;
     plane.receiveShadow = true;
     s.add(plane);
@@ -208,15 +191,24 @@ function masked(tree) {
     const m = o.material;
     saved.push([o, m]);
     // The texture only for its alpha (the cut-out of a leaf card): every drawn pixel is white.
-    o.material = new THREE.MeshBasicMaterial({ color: 0xffffff, map: m.map ?? null, alphaTest: m.alphaTest || 0, side: m.side });
+    o.material = new THREE.MeshBasicMaterial({
+      color: 0xffffff,
+      map: m.map ?? null,
+      alphaTest: m.alphaTest || 0,
+      side: m.side,
+    });
     o.material.onBeforeCompile = (shader) => {
-      shader.fragmentShader = shader.fragmentShader.replace('#include <map_fragment>', '#include <map_fragment>\n\tdiffuseColor.rgb = vec3(1.0);');
+      shader.fragmentShader = shader.fragmentShader.replace(
+        '#include <map_fragment>',
+        '#include <map_fragment>\n\tdiffuseColor.rgb = vec3(1.0);',
+      );
     };
   });
-  return () => saved.forEach(([o, m]) => {
-    o.material.dispose();
-    o.material = m;
-  });
+  return () =>
+    saved.forEach(([o, m]) => {
+      o.material.dispose();
+      o.material = m;
+    });
 }
 
 /**
@@ -238,7 +230,11 @@ function render(handle, view, width, height, mode = 'beauty') {
     restore();
     s.remove(tree);
     const px = pixels(r, width, height);
-    let top = -1, bottom = -1, left = width, right = -1, count = 0;
+    let top = -1,
+      bottom = -1,
+      left = width,
+      right = -1,
+      count = 0;
     for (let y = 0; y < height; y++) {
       const row = height - 1 - y; // readPixels starts at the bottom row
       for (let x = 0; x < width; x++) {
@@ -278,7 +274,8 @@ function colours(handle, view, width, height) {
   const mask = pixels(renderer, width, height);
   render(handle, view, width, height);
   const px = pixels(renderer, width, height);
-  let n = 0, dark = 0;
+  let n = 0,
+    dark = 0;
   const sum = [0, 0, 0];
   for (let i = 0; i < mask.length; i += 4) {
     if (mask[i] <= 127) continue;
@@ -295,7 +292,9 @@ function colours(handle, view, width, height) {
  * per column and a label per row. Returns the grid as a PNG data URL.
  */
 async function grid(cells, columns, rows, w, h, title) {
-  const pad = 8, head = 56, side = 170;
+  const pad = 8,
+    head = 56,
+    side = 170;
   const c = document.createElement('canvas');
   c.width = side + columns.length * (w + pad) + pad;
   c.height = head + cells.length * (h + pad) + pad;

@@ -18,12 +18,14 @@ function usage(message) {
 
 const args = process.argv.slice(2);
 if (args.includes('--help') || args.includes('-h')) {
-  console.log('Renders grove\'s oak, beech and shrub beside ez-tree\'s Oak Medium, Ash Medium and Bush 1 presets at the\n' +
-    'same framing into a labelled grid (docs/species.md).\n\n' +
-    'usage: node web/compare/run.mjs [--out FILE] [--width W] [--height H]\n' +
-    '  --out FILE    the PNG to write (default docs/species-vs-ez-tree.png)\n' +
-    '  --width W     one cell\'s width in pixels (default 480)\n' +
-    '  --height H    one cell\'s height in pixels (default 400)');
+  console.log(
+    "Renders grove's oak, beech and shrub beside ez-tree's Oak Medium, Ash Medium and Bush 1 presets at the\n" +
+      'same framing into a labelled grid (docs/species.md).\n\n' +
+      'usage: node web/compare/run.mjs [--out FILE] [--width W] [--height H]\n' +
+      '  --out FILE    the PNG to write (default docs/species-vs-ez-tree.png)\n' +
+      "  --width W     one cell's width in pixels (default 480)\n" +
+      "  --height H    one cell's height in pixels (default 400)",
+  );
   process.exit(0);
 }
 const opts = { out: join(ROOT, 'docs/species-vs-ez-tree.png'), width: 480, height: 400 };
@@ -57,13 +59,24 @@ try {
     const left = await session.call('render', 'grove', view, w, h);
     const right = await session.call('render', 'ez', view, w, h);
     cells.push([left, right]);
-    rows.push([pair.label[0], `beside ${pair.ez}`, `${height.toFixed(1)} m tall`, `camera ${view.distance.toFixed(1)} m away`, `grove ${Math.round(grove.triangles / 1000)}k triangles`, `ez-tree ${Math.round(ez.triangles / 1000)}k`]);
+    rows.push([
+      pair.label[0],
+      `beside ${pair.ez}`,
+      `${height.toFixed(1)} m tall`,
+      `camera ${view.distance.toFixed(1)} m away`,
+      `grove ${Math.round(grove.triangles / 1000)}k triangles`,
+      `ez-tree ${Math.round(ez.triangles / 1000)}k`,
+    ]);
     const tone = [];
     for (const handle of ['grove', 'ez']) {
       const c = await session.call('colours', handle, view, w, h);
-      tone.push(`${handle} ${c.pixels} px, mean sRGB (${c.mean.map((v) => v.toFixed(0)).join(', ')}), luma ${c.luma.toFixed(1)}, ${(c.dark * 100).toFixed(1)} % near black`);
+      tone.push(
+        `${handle} ${c.pixels} px, mean sRGB (${c.mean.map((v) => v.toFixed(0)).join(', ')}), luma ${c.luma.toFixed(1)}, ${(c.dark * 100).toFixed(1)} % near black`,
+      );
     }
-    console.log(`${pair.grove} / ${pair.ez}: ${height.toFixed(2)} m, camera at ${view.distance.toFixed(2)} m, ${grove.triangles} and ${ez.triangles} triangles, ${((Date.now() - t0) / 1000).toFixed(1)} s; the trees' pixels: ${tone.join('; ')}`);
+    console.log(
+      `${pair.grove} / ${pair.ez}: ${height.toFixed(2)} m, camera at ${view.distance.toFixed(2)} m, ${grove.triangles} and ${ez.triangles} triangles, ${((Date.now() - t0) / 1000).toFixed(1)} s; the trees' pixels: ${tone.join('; ')}`,
+    );
   }
   const title = `grove (left) and ez-tree 1.1.0 (right), each pair at the grove tree's height; camera at ${EYE} m, ${FOV}° field of view, looking at ${TARGET * 100} % of the height`;
   const url = await session.call('grid', cells, ['grove', 'ez-tree'], rows, w, h, title);

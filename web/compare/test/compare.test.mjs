@@ -35,28 +35,54 @@ after(async () => {
 test('each pair away from the shrub close up: the two silhouettes are equally tall, stand on the same row and fit the frame', (t) => {
   for (const { pair, view, grove, ez } of silhouettes.filter((s) => s.pair.distance !== 3)) {
     const name = `${pair.grove} / ${pair.ez} from ${view.distance.toFixed(1)} m`;
-    for (const [who, s] of [['grove', grove], ['ez-tree', ez]]) {
+    for (const [who, s] of [
+      ['grove', grove],
+      ['ez-tree', ez],
+    ]) {
       assert.ok(s.count > 0, `${name}: ${who}'s tree is not drawn`);
-      assert.ok(s.top > 0 && s.bottom < H - 1 && s.left > 0 && s.right < W - 1, `${name}: ${who}'s tree leaves the frame (${JSON.stringify(s)})`);
-      assert.ok(s.share > 0.01 && s.share < 0.6, `${name}: ${who}'s tree covers ${(s.share * 100).toFixed(1)} % of the frame`);
+      assert.ok(
+        s.top > 0 && s.bottom < H - 1 && s.left > 0 && s.right < W - 1,
+        `${name}: ${who}'s tree leaves the frame (${JSON.stringify(s)})`,
+      );
+      assert.ok(
+        s.share > 0.01 && s.share < 0.6,
+        `${name}: ${who}'s tree covers ${(s.share * 100).toFixed(1)} % of the frame`,
+      );
       const middle = (s.left + s.right) / 2;
-      assert.ok(Math.abs(middle - W / 2) < W * 0.1, `${name}: ${who}'s tree stands ${middle} px across, not in the middle`);
+      assert.ok(
+        Math.abs(middle - W / 2) < W * 0.1,
+        `${name}: ${who}'s tree stands ${middle} px across, not in the middle`,
+      );
     }
     // Equally tall trees; their tops may stand a little nearer or farther, hence a few percent.
     const [hg, he] = [grove.bottom - grove.top + 1, ez.bottom - ez.top + 1];
     assert.ok(Math.abs(hg - he) <= 0.05 * Math.max(hg, he), `${name}: silhouettes ${hg} px and ${he} px tall`);
-    assert.ok(Math.abs(grove.bottom - ez.bottom) <= 2, `${name}: the trees stand on rows ${grove.bottom} and ${ez.bottom}`);
+    assert.ok(
+      Math.abs(grove.bottom - ez.bottom) <= 2,
+      `${name}: the trees stand on rows ${grove.bottom} and ${ez.bottom}`,
+    );
     if (pair.distance === undefined) assert.ok(hg > 0.5 * H, `${name}: the trees fill only ${hg} of ${H} rows`);
-    t.diagnostic(`${name}: ${hg} and ${he} px tall, feet on rows ${grove.bottom} and ${ez.bottom}, ${(grove.share * 100).toFixed(1)} % and ${(ez.share * 100).toFixed(1)} % of the frame`);
+    t.diagnostic(
+      `${name}: ${hg} and ${he} px tall, feet on rows ${grove.bottom} and ${ez.bottom}, ${(grove.share * 100).toFixed(1)} % and ${(ez.share * 100).toFixed(1)} % of the frame`,
+    );
   }
 });
 
 test('the shrub pair is seen from 3 m and 10 m, and from 3 m fills much of the frame', () => {
-  assert.deepEqual(silhouettes.filter((s) => s.pair.distance).map((s) => s.view.distance), [3, 10]);
+  assert.deepEqual(
+    silhouettes.filter((s) => s.pair.distance).map((s) => s.view.distance),
+    [3, 10],
+  );
   const close = silhouettes.find((s) => s.pair.distance === 3);
-  for (const [who, s] of [['grove', close.grove], ['ez-tree', close.ez]]) {
+  for (const [who, s] of [
+    ['grove', close.grove],
+    ['ez-tree', close.ez],
+  ]) {
     assert.ok(s.share > 0.25, `the ${who} shrub from 3 m covers only ${(s.share * 100).toFixed(1)} % of the frame`);
-    assert.ok(s.bottom >= H - 1 || s.bottom > 0.8 * H, `the ${who} shrub from 3 m does not reach the ground near the frame's foot (${s.bottom})`);
+    assert.ok(
+      s.bottom >= H - 1 || s.bottom > 0.8 * H,
+      `the ${who} shrub from 3 m does not reach the ground near the frame's foot (${s.bottom})`,
+    );
   }
 });
 
@@ -66,17 +92,42 @@ test('the page asked for nothing outside its own origin and raised no error', ()
 });
 
 test("ez-tree is not in the headset page's bundle", async () => {
-  const out = await build({ entryPoints: [join(WEB, 'page/main.mjs')], bundle: true, format: 'esm', write: false, metafile: true, external: ['node:*'], logLevel: 'silent', absWorkingDir: WEB });
+  const out = await build({
+    entryPoints: [join(WEB, 'page/main.mjs')],
+    bundle: true,
+    format: 'esm',
+    write: false,
+    metafile: true,
+    external: ['node:*'],
+    logLevel: 'silent',
+    absWorkingDir: WEB,
+  });
   const inputs = Object.keys(out.metafile.inputs);
-  assert.ok(inputs.some((p) => p.includes('node_modules/three/')), 'the headset page should bundle three.js (is the entry right?)');
-  assert.deepEqual(inputs.filter((p) => p.includes('ez-tree')), []);
+  assert.ok(
+    inputs.some((p) => p.includes('node_modules/three/')),
+    'the headset page should bundle three.js (is the entry right?)',
+  );
+  assert.deepEqual(
+    inputs.filter((p) => p.includes('ez-tree')),
+    [],
+  );
 });
 
 test('run.mjs refuses bad arguments with one line and exit 2, and writes nothing', () => {
   const dir = mkdtempSync(join(tmpdir(), 'grove-compare-run-'));
   try {
-    for (const args of [['--width', 'wide'], ['--height', '10'], ['--out', join(dir, 'grid.jpg')], ['--colour', 'red'], ['--out']]) {
-      const r = spawnSync(process.execPath, [join(HERE, 'run.mjs'), ...args, ...(args[0] === '--out' ? [] : ['--out', join(dir, 'grid.png')])], { encoding: 'utf8' });
+    for (const args of [
+      ['--width', 'wide'],
+      ['--height', '10'],
+      ['--out', join(dir, 'grid.jpg')],
+      ['--colour', 'red'],
+      ['--out'],
+    ]) {
+      const r = spawnSync(
+        process.execPath,
+        [join(HERE, 'run.mjs'), ...args, ...(args[0] === '--out' ? [] : ['--out', join(dir, 'grid.png')])],
+        { encoding: 'utf8' },
+      );
       assert.equal(r.status, 2, `${args.join(' ')}: exit ${r.status}, ${r.stderr}`);
       assert.match(r.stderr, /^error: /, `${args.join(' ')}: ${r.stderr}`);
     }
@@ -90,7 +141,9 @@ test('run.mjs writes the labelled grid: two columns of four rows', () => {
   const dir = mkdtempSync(join(tmpdir(), 'grove-compare-run-'));
   try {
     const out = join(dir, 'grid.png');
-    const r = spawnSync(process.execPath, [join(HERE, 'run.mjs'), '--out', out, '--width', '160', '--height', '120'], { encoding: 'utf8' });
+    const r = spawnSync(process.execPath, [join(HERE, 'run.mjs'), '--out', out, '--width', '160', '--height', '120'], {
+      encoding: 'utf8',
+    });
     assert.equal(r.status, 0, r.stderr);
     const png = readFileSync(out);
     assert.equal(png.subarray(1, 4).toString(), 'PNG');
