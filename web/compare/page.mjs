@@ -1,12 +1,17 @@
 // The comparison page (bundled by web/compare/compare.mjs, never part of the headset page): one
 // three.js set-up (camera, sun and sky light, a ground plane, ACES tone mapping, the sun's shadow)
 // in which grove's trees (glTF written by `grove trees generate`) and ez-tree's presets are drawn
-// alike. The page only exposes functions on `window.compare`; node drives it (docs/species.md).
+// alike. grove's trees are loaded as the headset page loads them (web/page/draw/trees.mjs's
+// Models: grove's mips, leaves shuffled as grove shuffles them) and drawn with its leaf level of
+// detail (web/page/draw/leaves.mjs's LeafDetail, through wind.mjs's vertex patch): from the
+// camera's distance, the share of the leaves grove keeps, grown so the crown keeps its area. The
+// page only exposes functions on `window.compare`; node drives it (docs/species.md).
 
 import * as THREE from 'three';
-import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { Tree } from '@dgreenheck/ez-tree';
-import { groveMips } from '../page/draw/mips.mjs';
+import { LeafDetail } from '../page/draw/leaves.mjs';
+import { Models } from '../page/draw/trees.mjs';
+import { TreeWind } from '../page/draw/wind.mjs';
 
 const SKY = new THREE.Color(0x9fc3e6);
 const GROUND = new THREE.Color(0x7a8048);
@@ -60,22 +65,41 @@ function keep(handle, tree) {
   trees.set(handle, tree);
 }
 
-/** Loads one of grove's glTF trees from `url`; the handle names it for `render` and `stand`. */
+/**
+ * Loads one of grove's glTF trees from `url` as the headset page does (its materials kept; no
+ * alpha-to-coverage, whose part-covered pixels the silhouette's cut at half coverage would drop);
+ * the handle names it for `render` and `stand`. `render` sets its leaves' level of detail.
+ */
 async function groveTree(handle, url) {
-  const gltf = await new GLTFLoader().loadAsync(url);
+  const models = new Models('', { antialias: false });
+  await models.load([handle], { [handle]: url });
+  const model = models.models.get(handle);
+  const wind = new TreeWind();
   const tree = new THREE.Group();
-  tree.add(gltf.scene);
+  tree.add(model);
+  tree.userData.wind = wind;
+  tree.userData.leafArea = model.userData.leafArea;
   tree.traverse((o) => {
-    if (o.isMesh) {
-      o.castShadow = true;
-      o.receiveShadow = true;
-      // An alpha-cut leaf texture gets grove's mip chain (alpha raised 15 % a level, as
-      // src/render/assets/textures.rs), so that far leaf cards keep their coverage as in grove.
-      if (o.material.alphaTest > 0 && o.material.map) o.material.map = groveMips(o.material.map);
-    }
+    if (!o.isMesh) return;
+    o.material.onBeforeCompile = wind.vertex;
+    o.customDepthMaterial = wind.depthMaterial();
   });
   keep(handle, tree);
   return measure(tree);
+}
+
+/**
+ * The share of grove's leaves `tree` draws seen from `cam` in a frame `height` pixels tall, and
+ * in a shadow map of `texelsPerMetre` (LeafDetail, as the headset page sets it each frame).
+ */
+function leafDetail(tree, cam, height, texelsPerMetre = 0) {
+  if (!tree.userData.wind) return;
+  const pixelsPerRadian = height / 2 / Math.tan(THREE.MathUtils.degToRad(cam.fov) / 2);
+  const view = {
+    pixelsPerRadian,
+    features: { world: { trees: new Map([[0, { object: tree }]]) }, light: { texelsPerMetre } },
+  };
+  new LeafDetail(view).update({ world: {}, snap: { head: { position: cam.position.toArray() } } });
 }
 
 /** Generates one of ez-tree's presets (by its name in TreePreset); the handle names it for `render` and `stand`. */
@@ -160,6 +184,7 @@ function scene(tree, { ground = true } = {}) {
   sun.target.position.set(0, size.y / 2, 0);
   sun.castShadow = true;
   sun.shadow.mapSize.set(2048, 2048);
+  s.userData.texelsPerMetre = 2048 / (2 * reach);
   const cam = sun.shadow.camera;
   cam.left = -reach;
   cam.right = reach;
@@ -198,11 +223,14 @@ function masked(tree) {
       side: m.side,
     });
     o.material.onBeforeCompile = (shader) => {
+      tree.userData.wind?.vertex(shader);
       shader.fragmentShader = shader.fragmentShader.replace(
         '#include <map_fragment>',
         '#include <map_fragment>\n\tdiffuseColor.rgb = vec3(1.0);',
       );
     };
+    // grove's tree gets the leaf level of detail's vertex patch, ez-tree's none: programs apart.
+    o.material.customProgramCacheKey = () => (tree.userData.wind ? 'mask-leaf-detail' : 'mask');
   });
   return () =>
     saved.forEach(([o, m]) => {
@@ -221,6 +249,7 @@ function render(handle, view, width, height, mode = 'beauty') {
   const r = stage(width, height);
   const cam = camera(view, width / height);
   if (mode === 'mask') {
+    leafDetail(tree, cam, height);
     const restore = masked(tree);
     const s = new THREE.Scene();
     s.background = new THREE.Color(0x000000);
@@ -253,6 +282,7 @@ function render(handle, view, width, height, mode = 'beauty') {
   r.toneMappingExposure = 1.0;
   r.outputColorSpace = THREE.SRGBColorSpace;
   const s = scene(tree);
+  leafDetail(tree, cam, height, s.userData.texelsPerMetre);
   r.render(s, cam);
   s.remove(tree);
   return r.domElement.toDataURL('image/png');
