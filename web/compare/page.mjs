@@ -147,6 +147,22 @@ function camera(view, aspect) {
 }
 
 /**
+ * The orthographic camera of `view` for the framing check: level, at the same scale as `view`'s
+ * camera at the trees' distance (metres per pixel: 2 d tan(fov / 2) / height) and with the ground
+ * under the trunk (the origin) on the same row as in `view`'s picture, so a point's row depends on
+ * its height alone, not on how near the camera it stands.
+ */
+function profileCamera(view, aspect) {
+  const foot = new THREE.Vector3(0, 0, 0).project(camera(view, aspect)).y;
+  const half = view.distance * Math.tan(THREE.MathUtils.degToRad(view.fov) / 2);
+  const cam = new THREE.OrthographicCamera(-half * aspect, half * aspect, half, -half, 0.05, 500);
+  cam.position.set(0, -foot * half, view.distance);
+  cam.lookAt(0, -foot * half, 0);
+  cam.updateMatrixWorld(true);
+  return cam;
+}
+
+/**
  * The least distance (in steps of 1 %) from which a camera at eye height, looking at `target`
  * metres up the trunk, sees every corner of every box inside `margin` of the frame's edges.
  */
@@ -208,8 +224,11 @@ function scene(tree, { ground = true } = {}) {
   return s;
 }
 
-/** Every mesh drawn flat white (keeping its texture's alpha cut-out) on black, for silhouettes. */
-function masked(tree) {
+/**
+ * Every mesh drawn flat white on black, for silhouettes: keeping its texture's alpha cut-out, or
+ * with `cut` false every triangle whole (the geometry its box is measured from).
+ */
+function masked(tree, cut = true) {
   const saved = [];
   tree.traverse((o) => {
     if (!o.isMesh) return;
@@ -218,8 +237,8 @@ function masked(tree) {
     // The texture only for its alpha (the cut-out of a leaf card): every drawn pixel is white.
     o.material = new THREE.MeshBasicMaterial({
       color: 0xffffff,
-      map: m.map ?? null,
-      alphaTest: m.alphaTest || 0,
+      map: cut ? (m.map ?? null) : null,
+      alphaTest: cut ? m.alphaTest || 0 : 0,
       side: m.side,
     });
     o.material.onBeforeCompile = (shader) => {
@@ -242,20 +261,21 @@ function masked(tree) {
 /**
  * Draws tree `handle` from `view` ({ fov, eye, target, distance }) into a width × height frame.
  * Mode 'beauty' returns the frame as a PNG data URL; 'mask' draws its silhouette and returns the
- * rows and columns it spans and its share of the frame.
+ * rows and columns it spans and its share of the frame; 'profile' does so with every triangle
+ * whole, through `profileCamera(view)` (the leaves' level of detail still set from `view`'s camera).
  */
 function render(handle, view, width, height, mode = 'beauty') {
   const tree = trees.get(handle);
   const r = stage(width, height);
   const cam = camera(view, width / height);
-  if (mode === 'mask') {
+  if (mode === 'mask' || mode === 'profile') {
     leafDetail(tree, cam, height);
-    const restore = masked(tree);
+    const restore = masked(tree, mode === 'mask');
     const s = new THREE.Scene();
     s.background = new THREE.Color(0x000000);
     s.add(tree);
     r.toneMapping = THREE.NoToneMapping;
-    r.render(s, cam);
+    r.render(s, mode === 'profile' ? profileCamera(view, width / height) : cam);
     restore();
     s.remove(tree);
     const px = pixels(r, width, height);
