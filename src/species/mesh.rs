@@ -6,7 +6,8 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::preset::Preset;
+use super::atlas::{Atlas, Cell};
+use super::preset::{LeafShape, Preset};
 use super::stems::{Stem, Tree};
 use crate::assetgen::geometry::{MeshData, tangent_frame};
 
@@ -108,34 +109,58 @@ fn wood(tree: &Tree, p: &Preset, d: Detail) -> MeshData {
     mesh
 }
 
-/// The leaf cards: every leaf when `keep` is 1, else an even selection of that share of them,
-/// each grown so that together they cover about the same area.
-fn leaves(tree: &Tree, keep: f32) -> (MeshData, usize) {
+/// Which cells the leaf cards of a level of detail draw, and how large.
+#[derive(Clone, Copy)]
+enum Cards<'a> {
+    /// Level 0: every leaf its own card of the atlas's first cell.
+    Full(&'a Cell),
+    /// Coarser levels: the share `keep` of the leaves, each a spray (the two alternately)
+    /// centred where the middle of its card of level 0 (`card_len` long) was, grown by `grow`
+    /// (1: the leaves keep their size).
+    Sprays { sprays: &'a [Cell; 2], keep: f32, grow: f32, card_len: f32 },
+}
+
+/// The leaf cards of one level of detail (see [`Cards`]), with the count of cards.
+fn leaves(tree: &Tree, cards: Cards) -> (MeshData, usize) {
     let mut mesh = MeshData::default();
-    let grow = (1.0 / keep.max(1e-3)).sqrt().min(4.0);
-    let (len, width) = (tree.leaf_len * grow, tree.leaf_width * grow);
     let centre = crown_centre(tree);
+    let keep = match cards {
+        Cards::Full(_) => 1.0,
+        Cards::Sprays { keep, .. } => keep,
+    };
     let mut acc = 0.0f32;
     let mut count = 0;
-    for leaf in &tree.leaves {
+    for (i, leaf) in tree.leaves.iter().enumerate() {
         acc += keep;
         if acc < 1.0 {
             continue;
         }
         acc -= 1.0;
         count += 1;
+        let (cell, size, shift) = match cards {
+            Cards::Full(cell) => (cell, cell.size, 0.05 * cell.size.x),
+            Cards::Sprays { sprays, grow, card_len, .. } => {
+                // Alternate the two sprays by a hash of the leaf, not its order (a clump's
+                // leaves are consecutive).
+                let cell = &sprays[(crate::render::mix::mix(i as u64) & 1) as usize];
+                let size = cell.size * grow;
+                // The spray's middle where its leaf's middle was.
+                (cell, size, 0.5 * (card_len - size.x))
+            }
+        };
+        let (len, width) = (size.x, size.y);
         let side = leaf.dir.cross(leaf.normal).normalize_or(leaf.dir.any_orthonormal_vector());
-        let base = leaf.attach + leaf.dir * (0.05 * len);
+        let base = leaf.attach + leaf.dir * shift;
         let tip = base + leaf.dir * len;
         let out = (base - centre).normalize_or(leaf.normal);
         let n = (leaf.normal * 0.6 + out).normalize_or(leaf.normal);
         let t = tangent_frame(n, side, -leaf.dir);
         let h = side * (0.5 * width);
         let corners = [
-            (base - h, Vec2::new(0.0, 1.0)),
-            (base + h, Vec2::new(1.0, 1.0)),
-            (tip + h, Vec2::new(1.0, 0.0)),
-            (tip - h, Vec2::new(0.0, 0.0)),
+            (base - h, cell.at(0.0, 1.0)),
+            (base + h, cell.at(1.0, 1.0)),
+            (tip + h, cell.at(1.0, 0.0)),
+            (tip - h, cell.at(0.0, 0.0)),
         ];
         let ids: Vec<u32> = corners
             .iter()
@@ -145,6 +170,40 @@ fn leaves(tree: &Tree, keep: f32) -> (MeshData, usize) {
         mesh.colors.extend(std::iter::repeat_n(Vec4::new(leaf.tint, leaf.depth, 0.0, 1.0), 4));
     }
     (mesh, count)
+}
+
+/// Fallen leaves under the crown (`litter`): flat cards of the atlas's litter cell just above
+/// the ground, out to `litter` of the crown's radius, covering the disc about two and a half
+/// times (cards `grow` times the litter cell's size, so fewer); no wind. Returns the cards.
+fn litter(mesh: &mut MeshData, tree: &Tree, p: &Preset, cell: &Cell, crown_radius: f32, grow: f32) -> usize {
+    if p.litter <= 0.0 {
+        return 0;
+    }
+    let radius = p.litter * crown_radius;
+    let card = (cell.size.x * grow).min(radius);
+    let n = ((2.5 * radius * radius / (0.25 * card * card)).ceil() as usize).clamp(4, 400);
+    let mut rng = crate::assetgen::geometry::Rng::new(0x11_77e2 ^ tree.leaves.len() as u64);
+    for k in 0..n {
+        let r = (radius - 0.35 * card).max(0.0) * rng.f().sqrt();
+        let a = rng.range(0.0, std::f32::consts::TAU);
+        let centre = Vec3::new(r * a.cos(), 0.01 + 0.004 * (k % 4) as f32, r * a.sin());
+        let turn = rng.range(0.0, std::f32::consts::TAU);
+        let (dir, side) = (Vec3::new(turn.cos(), 0.0, turn.sin()), Vec3::new(-turn.sin(), 0.0, turn.cos()));
+        let t = tangent_frame(Vec3::Y, side, -dir);
+        let (d, h) = (dir * 0.5 * card, side * 0.5 * card);
+        let corners = [
+            (centre - d - h, cell.at(0.0, 1.0)),
+            (centre - d + h, cell.at(1.0, 1.0)),
+            (centre + d + h, cell.at(1.0, 0.0)),
+            (centre + d - h, cell.at(0.0, 0.0)),
+        ];
+        let ids: Vec<u32> = corners.iter().map(|&(q, uv)| mesh.push(q, Vec3::Y, t, uv, Vec4::ZERO)).collect();
+        mesh.indices.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]]);
+        // Darker towards the stems: the litter lies in the crown's shade.
+        let shade = 0.35 + 0.3 * (r / radius.max(1e-3));
+        mesh.colors.extend(std::iter::repeat_n(Vec4::new(shade, shade, shade, 1.0), 4));
+    }
+    n
 }
 
 fn crown_centre(tree: &Tree) -> Vec3 {
@@ -199,8 +258,9 @@ impl Crown {
 }
 
 /// Fills in the vertex colours: each leaf's tint (stored in red by `leaves`), the AO, and the
-/// darkening of a clump's inside (its depth in the clump stored in green).
-fn shade(lod: &mut Lod, crown: &Crown, p: &Preset) {
+/// darkening of a clump's inside (its depth in the clump stored in green); on the wood the AO
+/// times the bark's colour at its height over the texture's (`upper_bark_colour`).
+fn shade(lod: &mut Lod, crown: &Crown, p: &Preset, height: f32) {
     let v = p.leaf_colour_v;
     for (q, c) in lod.leaves.positions.iter().zip(lod.leaves.colors.iter_mut()) {
         let t = c.x * 2.0 - 1.0;
@@ -209,24 +269,67 @@ fn shade(lod: &mut Lod, crown: &Crown, p: &Preset) {
         let tint = Vec3::new(1.0 + v * t * 1.2, 1.0 + v * t * 0.6, 1.0 - v * t * 0.4);
         *c = (tint * ao).min(Vec3::ONE).max(Vec3::ZERO).extend(1.0);
     }
-    lod.wood.colors = lod.wood.positions.iter().map(|q| Vec3::splat(crown.ao(*q, p.ao * 0.7)).extend(1.0)).collect();
+    let texture = super::images::bark_texture_colour(p);
+    lod.wood.colors = lod
+        .wood
+        .positions
+        .iter()
+        .map(|q| {
+            let colour = match p.upper_bark_colour {
+                Some(up) => {
+                    let f = q.y / height.max(1e-3);
+                    let t = ((f - (p.upper_bark_from - 0.2)) / 0.2).clamp(0.0, 1.0);
+                    Vec3::from(p.bark_colour).lerp(Vec3::from(up), t * t * (3.0 - 2.0 * t))
+                }
+                None => Vec3::from(p.bark_colour),
+            };
+            // The ratio in linear light, as the renderer multiplies.
+            let ratio = lin(colour) / lin(texture).max(Vec3::splat(1e-3));
+            (ratio.min(Vec3::ONE) * crown.ao(*q, p.ao * 0.7)).extend(1.0)
+        })
+        .collect();
+}
+
+/// sRGB to linear, per channel.
+fn lin(c: Vec3) -> Vec3 {
+    let f = |x: f32| if x <= 0.04045 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) };
+    Vec3::new(f(c.x), f(c.y), f(c.z))
 }
 
 /// How much darker a clump's middle is than its outside, times the preset's `ao`.
 const CLUMP_AO: f32 = 0.6;
 
-/// The three levels of detail: every stem and leaf, then about 25 % and 5 % of its triangles
-/// (coarser tubes, fewer stem levels, fewer and larger leaf cards).
-pub fn build(tree: &Tree, p: &Preset) -> [Lod; 3] {
+/// The three levels of detail: every stem and leaf (each leaf card the atlas's first cell; a
+/// spruce's, `Needles`, level 1's sprays),
+/// then about 25 % and 5 % of its triangles: coarser tubes, fewer stem levels, and fewer leaf
+/// cards, each a spray of the atlas; on level 1 the sprays' leaves keep their size (it keeps
+/// `card_leaves / spray_leaves` of the cards), on level 2 they grow to keep the crown's area.
+pub fn build(tree: &Tree, p: &Preset, atlas: &Atlas) -> [Lod; 3] {
     let crown = Crown::of(tree);
     let deepest = tree.stems.iter().map(|s| s.level).max().unwrap_or(0);
     let full_detail = Detail { coarse: 1, step: 1, max_level: deepest };
-    let (l, n) = leaves(tree, 1.0);
+    let spray_keep = (atlas.card.leaves as f32 / atlas.sprays[0].leaves.max(1) as f32).min(1.0);
+    // A spruce's needles stand all round its twigs: one card per shoot, its needles at their true
+    // width (6 % of their length) in a single comb, leaves the space between the twigs empty and
+    // reads bare from 10 m, so level 0 draws level 1's sprays of shoots (the needles at the same
+    // length, combs at least 4 texels wide), with every stem.
+    let full_cards = if p.leaf_shape == LeafShape::Needles {
+        Cards::Sprays { sprays: &atlas.sprays, keep: spray_keep, grow: 1.0, card_len: atlas.card.size.x }
+    } else {
+        Cards::Full(&atlas.card)
+    };
+    let (l, n) = leaves(tree, full_cards);
     let mut full = Lod { wood: wood(tree, p, full_detail), leaves: l, leaf_count: n };
     let total = full.triangles() as f32;
     let mut out = [Lod::default(), Lod::default()];
+    // The coarser levels count the leaves of level 0 as cards, whatever level 0 draws.
+    let cards = tree.leaves.len();
+    let sprays = (cards as f32 * spray_keep).round();
     for (k, share) in LOD_SHARES.iter().enumerate() {
-        let target = total * share;
+        // Level 1: the sprays and at most as many triangles of wood (so the wood is at most
+        // 60 % of a budget of 2.5 / 3 of the sprays' triangles); level 2: its share of level
+        // 0's triangles, the wood at most 60 % of them.
+        let target = if k == 0 { 2.0 * sprays / 0.6 } else { total * share };
         let mut d = Detail { coarse: 2 + 2 * k as u32, step: 2 + 2 * k, max_level: deepest };
         let mut w = wood(tree, p, d);
         // Leave out the finest stems until the wood takes at most 60 % of the budget.
@@ -234,14 +337,30 @@ pub fn build(tree: &Tree, p: &Preset) -> [Lod; 3] {
             d.max_level -= 1;
             w = wood(tree, p, d);
         }
-        let room = ((target - w.triangles() as f32) / 2.0).max(0.0);
-        let keep = if full.leaf_count == 0 { 0.0 } else { (room / full.leaf_count as f32).min(1.0) };
-        let (l, n) = leaves(tree, keep);
+        let cards = if k == 0 {
+            Cards::Sprays { sprays: &atlas.sprays, keep: spray_keep, grow: 1.0, card_len: atlas.card.size.x }
+        } else {
+            let room = ((target - w.triangles() as f32) / 2.0).max(0.0);
+            let keep = if cards == 0 { 0.0 } else { (room / cards as f32).clamp(1e-3, spray_keep) };
+            Cards::Sprays {
+                sprays: &atlas.sprays,
+                keep,
+                grow: (spray_keep / keep).sqrt().min(4.0),
+                card_len: atlas.card.size.x,
+            }
+        };
+        let (l, n) = leaves(tree, cards);
         out[k] = Lod { wood: w, leaves: l, leaf_count: n };
     }
-    shade(&mut full, &crown, p);
+    let height = tree.scale;
+    let radius = crown.radii.iter().copied().fold(0.0, f32::max);
+    shade(&mut full, &crown, p, height);
     let [mut a, mut b] = out;
-    shade(&mut a, &crown, p);
-    shade(&mut b, &crown, p);
+    shade(&mut a, &crown, p, height);
+    shade(&mut b, &crown, p, height);
+    // The coarsest level's litter in a quarter of the cards, twice as large.
+    for (lod, grow) in [(&mut full, 1.0), (&mut a, 1.0), (&mut b, 2.0)] {
+        litter(&mut lod.leaves, tree, p, &atlas.litter, radius, grow);
+    }
     [full, a, b]
 }

@@ -1,10 +1,12 @@
 //! Parametric trees after Weber and Penn (1995), "Creation and rendering of realistic trees":
 //! species presets as data (`preset`, `assets/species/*.ron`, `docs/species.md`), the recursive
 //! stems with their curves, splits, pruning and leaves (`stems`), their meshes at three levels of
-//! detail with wind channels and vertex colours (`mesh`), the bark and leaf textures (`images`),
+//! detail with wind channels and vertex colours (`mesh`), the bark texture (`images`), the leaf
+//! atlas of single leaves, sprays and litter (`atlas`),
 //! and the glTF files written through `assetgen`'s writer (`output`). `grove trees generate`
 //! calls [`output::write`].
 
+pub mod atlas;
 pub mod images;
 pub mod mesh;
 pub mod output;

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
+use super::atlas::{self, Atlas};
 use super::mesh::{self, Lod};
 use super::preset::{self, Preset};
 use super::stems::{self, Tree};
@@ -30,6 +31,8 @@ pub struct Model {
     pub tree: Tree,
     /// Full, about 25 % and about 5 % of the triangles.
     pub lods: [Lod; 3],
+    /// The leaf texture and its cells.
+    pub atlas: Atlas,
 }
 
 impl Model {
@@ -53,11 +56,12 @@ impl Model {
 /// Generates the model of preset `p` named `name` with `seed`.
 pub fn model(name: &str, p: &Preset, seed: u64) -> Result<Model, SpeciesError> {
     let tree = stems::generate(p, seed);
-    let lods = mesh::build(&tree, p);
+    let atlas = atlas::atlas(p);
+    let lods = mesh::build(&tree, p, &atlas);
     if lods[0].wood.positions.is_empty() {
         return Err(SpeciesError::Empty(name.to_string()));
     }
-    Ok(Model { name: name.to_string(), tree, lods })
+    Ok(Model { name: name.to_string(), tree, lods, atlas })
 }
 
 /// What [`write`] wrote.
@@ -129,8 +133,8 @@ fn stage_files(stage: &Path, model: &Model, p: &Preset) -> Result<(), SpeciesErr
     let n = &model.name;
     let (bark, bh) = images::bark(p);
     let (bn, bs) = images::maps(&bh, images::BARK_SIZE, 4.0, 0.25);
-    let (leaf, lh) = images::leaf(p);
-    let (ln, ls) = images::maps(&lh, images::LEAF_SIZE, 3.0, 0.5);
+    let (leaf, lh, size) = (&model.atlas.image, &model.atlas.height, model.atlas.size);
+    let (ln, ls) = images::maps(lh, size, 3.0, 0.5);
     let f = |t: &str| stage.join(format!("{n}-{t}.png"));
     png(|q| bark.save(q), &f("bark"))?;
     png(|q| bn.save(q), &f("bark-normal"))?;

@@ -39,8 +39,10 @@ pub enum LeafShape {
     Oval,
     /// Rounded lobes along the edge (oak).
     Lobed,
-    /// A spray of needles on a twig (pine, spruce); each card is a shoot.
+    /// Single needles all round a twig (spruce); a card is a shoot.
     Needles,
+    /// Needles in pairs from one sheath, in tufts at the shoots' ends (pine); a card is a tuft.
+    NeedlePairs,
 }
 
 /// The pattern of the bark texture.
@@ -91,6 +93,11 @@ pub struct Level {
     pub rotate_v_deg: f32,
     /// Stems of this level on each parent stem (unused on level 0).
     pub branches: f32,
+    /// Whether the stems of this level grow level, to either side of their parent in the
+    /// horizontal plane (a pine's shoots forming flat plates); `down_angle_deg` is then the angle
+    /// from the parent's heading in that plane.
+    #[serde(default)]
+    pub flat: bool,
 }
 
 /// A species preset.
@@ -133,8 +140,18 @@ pub struct Preset {
     pub leaves: f32,
     /// Leaf outline.
     pub leaf_shape: LeafShape,
-    /// Leaf (card) length, metres.
+    /// One leaf's (or needle's) length, stalk included, metres.
     pub leaf_scale: f32,
+    /// The botanical range of the leaf's (or needle's) length, centimetres, lowest first: the
+    /// median leaf drawn in the model of level of detail 1 falls in it.
+    pub leaf_length_cm: [f32; 2],
+    /// Where that range is from.
+    pub leaf_source: String,
+    /// Leaves (or needles, or pairs) on one card of level of detail 0: 1, each leaf its own card.
+    pub card_leaves: u32,
+    /// Leaves (or needles, or pairs) on one card of levels 1 and 2 (a spray, at the same leaf
+    /// size): level 1 keeps `card_leaves / spray_leaves` of the cards of level 0.
+    pub spray_leaves: u32,
     /// Leaf width as a fraction of its length.
     pub leaf_scale_x: f32,
     /// Angle between a leaf and its stem, degrees.
@@ -163,6 +180,18 @@ pub struct Preset {
     pub bark_style: BarkStyle,
     /// Mean bark colour of the texture, sRGB 0..1.
     pub bark_colour: [f32; 3],
+    /// The bark's colour high on the tree (a Scots pine's orange-red upper trunk), sRGB 0..1,
+    /// reached at `upper_bark_from` of the height and above (none: `bark_colour` throughout).
+    #[serde(default)]
+    pub upper_bark_colour: Option<[f32; 3]>,
+    /// Where the upper bark's colour is reached, fraction of the height (it blends in over the
+    /// fifth of the height below).
+    #[serde(default)]
+    pub upper_bark_from: f32,
+    /// Fallen leaves on the ground under the crown, out to this share of the crown's radius
+    /// (0: none).
+    #[serde(default)]
+    pub litter: f32,
     /// Darkening of the crown's inside by ambient occlusion (0 none, 1 black at the centre).
     pub ao: f32,
     /// The stem levels, trunk first (1 to 4).
@@ -224,7 +253,25 @@ impl Preset {
         range(r, "prune_power_high", self.prune_power_high, 0.0, 5.0, "");
         range(r, "leaves", self.leaves, 0.0, 200.0, "per stem");
         range(r, "leaf_scale", self.leaf_scale, 0.01, 2.0, "metres");
-        range(r, "leaf_scale_x", self.leaf_scale_x, 0.05, 2.0, "fraction of the length");
+        range(r, "leaf_length_cm[0]", self.leaf_length_cm[0], 0.1, 100.0, "centimetres");
+        range(
+            r,
+            "leaf_length_cm[1]",
+            self.leaf_length_cm[1],
+            self.leaf_length_cm[0],
+            100.0,
+            "centimetres, at least the lowest",
+        );
+        range(r, "leaf_scale_x", self.leaf_scale_x, 0.02, 2.0, "fraction of the length");
+        range(r, "card_leaves", self.card_leaves as f32, 1.0, 200.0, "leaves per card");
+        range(
+            r,
+            "spray_leaves",
+            self.spray_leaves as f32,
+            self.card_leaves as f32,
+            2000.0,
+            "leaves per card, at least card_leaves",
+        );
         range(r, "leaf_down_angle_deg", self.leaf_down_angle_deg, 0.0, 180.0, "degrees");
         range(r, "leaf_down_angle_v_deg", self.leaf_down_angle_v_deg, 0.0, 90.0, "degrees");
         range(r, "leaf_rotate_deg", self.leaf_rotate_deg, 0.0, 360.0, "degrees");
@@ -239,6 +286,13 @@ impl Preset {
         for (i, c) in self.bark_colour.iter().enumerate() {
             range(r, &format!("bark_colour[{i}]"), *c, 0.0, 1.0, "sRGB");
         }
+        if let Some(c) = self.upper_bark_colour {
+            for (i, c) in c.iter().enumerate() {
+                range(r, &format!("upper_bark_colour[{i}]"), *c, 0.0, 1.0, "sRGB");
+            }
+        }
+        range(r, "upper_bark_from", self.upper_bark_from, 0.0, 1.0, "fraction of the height");
+        range(r, "litter", self.litter, 0.0, 2.0, "share of the crown's radius");
         range(r, "ao", self.ao, 0.0, 1.0, "");
         if e.is_none() && !(1..=4).contains(&self.levels.len()) {
             e = Some(InvalidPreset::Levels(self.levels.len()));

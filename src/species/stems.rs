@@ -65,12 +65,8 @@ pub struct Leaf {
 pub struct Tree {
     /// The stems, trunk first.
     pub stems: Vec<Stem>,
-    /// The leaves.
+    /// The leaves (cards of level of detail 0: a leaf, or a sprig or shoot of `card_leaves`).
     pub leaves: Vec<Leaf>,
-    /// Leaf length, metres.
-    pub leaf_len: f32,
-    /// Leaf width, metres.
-    pub leaf_width: f32,
     /// The tree's scale, metres (its height before variation and branches).
     pub scale: f32,
 }
@@ -132,8 +128,6 @@ pub fn generate(p: &Preset, seed: u64) -> Tree {
     let l0 = &p.levels[0];
     let trunk_len = scale * (l0.length + pm(&mut rng, l0.length_v)).max(0.05);
     let mut g = Gen { p, rng, tree: Tree { scale, ..Tree::default() }, base_len: scale * p.base_size };
-    g.tree.leaf_len = p.leaf_scale;
-    g.tree.leaf_width = p.leaf_scale * p.leaf_scale_x;
     let radius = trunk_len * p.ratio;
     let stems = 1 + p.base_splits as usize;
     let turn0 = g.rng.range(0.0, 2.0 * PI);
@@ -170,6 +164,21 @@ fn at(nodes: &[Node], s: f32) -> Node {
         frame: a.frame.slerp(b.frame, t),
         s,
     }
+}
+
+/// The frame of a stem growing level from a parent whose frame is `parent`: turned `side_deg`
+/// from the parent's heading in the horizontal plane, or, from an upright parent, towards the
+/// azimuth `rot_deg`.
+fn flat_frame(parent: Quat, rot_deg: f32, side_deg: f32) -> Quat {
+    let d = parent * Vec3::Y;
+    let heading = Vec3::new(d.x, 0.0, d.z);
+    let dir = if heading.length() < 0.3 {
+        let a = rot_deg.to_radians();
+        Vec3::new(a.cos(), 0.0, a.sin())
+    } else {
+        Quat::from_rotation_y(side_deg.to_radians()) * heading.normalize()
+    };
+    Quat::from_rotation_arc(Vec3::Y, dir).normalize()
 }
 
 impl Gen<'_> {
@@ -352,9 +361,12 @@ impl Gen<'_> {
             };
             let step = if lv.rotate_deg >= 0.0 { lv.rotate_deg } else { 180.0 };
             rot += step + pm(&mut self.rng, lv.rotate_v_deg);
-            let frame =
+            let frame = if lv.flat {
+                flat_frame(here.frame, rot, if i % 2 == 0 { down } else { -down })
+            } else {
                 (here.frame * Quat::from_rotation_y(rot.to_radians()) * Quat::from_rotation_x(down.to_radians()))
-                    .normalize();
+                    .normalize()
+            };
             let child_phase = if level == 1 { self.rng.range(0.02, 1.0) } else { phase };
             let seed = seed_of(&mut self.rng);
             self.stem(level, here.pos, frame, child_len, child_r, child_phase, s / len.max(1e-3), seed);

@@ -71,6 +71,8 @@ mod serve_routes;
 mod sim_cli;
 mod species;
 mod species_bank;
+mod species_leaves;
+mod species_look;
 mod species_render;
 mod study;
 mod task_targets;

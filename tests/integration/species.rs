@@ -116,7 +116,13 @@ fn leaves_sway_more_than_the_trunk() {
         let all_trunk: Vec<(Vec3, Vec4)> =
             wood.positions.iter().zip(&wood.wind).filter(|(_, w)| w.y == 0.0).map(|(p, w)| (*p, *w)).collect();
         assert!(all_trunk.len() > 20, "{s}: trunk vertices");
-        assert!(all_trunk.iter().all(|(p, _)| p.y < m.bounds().1.y), "{s}");
+        // The crown reaches the trunk's top (a spruce's leader may stand a little above it).
+        let top_leaf = leaves.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+        let top_trunk = all_trunk.iter().map(|(p, _)| p.y).fold(f32::MIN, f32::max);
+        assert!(
+            top_trunk < top_leaf + 0.05 * m.bounds().1.y,
+            "{s}: the trunk reaches {top_trunk} m, the leaves {top_leaf} m"
+        );
         assert!(
             all_trunk.iter().all(|(_, w)| w.z == 0.0 && w.w == 0.0),
             "{s}: the trunk has no leaf distance and phase 0"
@@ -125,8 +131,14 @@ fn leaves_sway_more_than_the_trunk() {
         let lowest_leaf = leaves.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
         let trunk: Vec<(Vec3, Vec4)> = all_trunk.into_iter().filter(|(p, _)| p.y >= lowest_leaf).collect();
         assert!(!trunk.is_empty(), "{s}: trunk inside the crown");
+        // The litter under a crown (flat on the ground, docs/species.md) does not sway.
+        let litter = leaves.wind.iter().filter(|w| **w == Vec4::ZERO).count();
         assert!(
-            leaves.wind.iter().all(|w| w.y > 0.0 && w.z > 0.0),
+            leaves.positions.iter().zip(&leaves.wind).all(|(p, w)| *w != Vec4::ZERO || p.y < 0.05),
+            "{s}: only the litter has no wind"
+        );
+        assert!(
+            leaves.wind.iter().filter(|w| **w != Vec4::ZERO).all(|w| w.y > 0.0 && w.z > 0.0),
             "{s}: every leaf vertex is off the axis and off its branch"
         );
         // The sway of a vertex (RMS over a few instants, the trunk leaning by a bend), against
@@ -144,13 +156,13 @@ fn leaves_sway_more_than_the_trunk() {
             assert!((sway(*x, *w) - on_axis).abs() < 1e-4, "{s}: the trunk sways as the axis does");
         }
         let (mut more, mut leaf_sum, mut trunk_sum) = (0, 0.0, 0.0);
-        for (x, w) in leaves.positions.iter().zip(&leaves.wind) {
+        for (x, w) in leaves.positions.iter().zip(&leaves.wind).filter(|(_, w)| **w != Vec4::ZERO) {
             let (a, b) = (sway(*x, *w), sway(Vec3::new(0.0, x.y, 0.0), Vec4::new(w.x, 0.0, 0.0, 0.0)));
             more += usize::from(a > b);
             leaf_sum += a;
             trunk_sum += b;
         }
-        let n = leaves.positions.len();
+        let n = leaves.positions.len() - litter;
         // A branch bobbing against the lean at these instants can sway less than the axis; most do not.
         assert!(
             more as f32 > 0.6 * n as f32,
@@ -217,11 +229,11 @@ fn band_radius(m: &Model, lo: f32, hi: f32) -> f32 {
 
 #[test]
 fn the_species_have_their_own_shapes() {
-    for s in ["scots_pine", "norway_spruce"] {
-        let m = model(s);
-        let (top, bottom) = (band_radius(m, 0.8, 1.0), band_radius(m, 0.0, 0.4));
-        assert!(top < 0.7 * bottom, "{s}: crown top {top} m, bottom {bottom} m");
-    }
+    // The spruce is a cone (its silhouette: species_leaves::conifer_silhouettes; the pine's
+    // crown is high and irregular).
+    let m = model("norway_spruce");
+    let (top, bottom) = (band_radius(m, 0.8, 1.0), band_radius(m, 0.0, 0.4));
+    assert!(top < 0.7 * bottom, "norway_spruce: crown top {top} m, bottom {bottom} m");
     let spruce = model("norway_spruce");
     let (lo, hi) = spruce.bounds();
     assert!(spruce.crown_radius() * 2.0 < 0.6 * (hi.y - lo.y), "spruce is slender");
@@ -237,7 +249,7 @@ fn the_species_have_their_own_shapes() {
             2.0 * m.crown_radius()
         );
         let n = m.lods[0].leaf_count;
-        assert!((3_000..=60_000).contains(&n), "{s}: {n} leaves");
+        assert!((3_000..=100_000).contains(&n), "{s}: {n} leaf cards");
     }
     let oak = model("oak");
     let birch = model("birch");
@@ -258,9 +270,13 @@ fn the_species_have_their_own_shapes() {
         let m = model(s);
         let t = m.lods[0].triangles();
         assert!((5_000..=400_000).contains(&t), "{s}: {t} triangles");
-        for (k, want) in [(1, 0.25), (2, 0.05)] {
-            let share = m.lods[k].triangles() as f32 / t as f32;
-            assert!((share - want).abs() < want * 0.3, "{s}: lod{k} has {share} of the triangles, not about {want}");
+        // Level 1 draws sprays of leaves at their size (its budget: species_leaves::), level 2
+        // about 5 % of the triangles.
+        let share = m.lods[1].triangles() as f32 / t as f32;
+        assert!((0.05..0.35).contains(&share), "{s}: lod1 has {share} of the triangles");
+        let share = m.lods[2].triangles() as f32 / t as f32;
+        assert!((share - 0.05).abs() < 0.05 * 0.3, "{s}: lod2 has {share} of the triangles, not about 0.05");
+        for k in [1, 2] {
             assert!(m.lods[k].leaf_count > 0 || m.lods[0].leaf_count == 0, "{s}: lod{k} keeps leaves");
         }
     }

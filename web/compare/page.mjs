@@ -1,11 +1,17 @@
 // The comparison page (bundled by web/compare/compare.mjs, never part of the headset page): one
 // three.js set-up (camera, sun and sky light, a ground plane, ACES tone mapping, the sun's shadow)
 // in which grove's trees (glTF written by `grove trees generate`) and ez-tree's presets are drawn
-// alike. The page only exposes functions on `window.compare`; node drives it (docs/species.md).
+// alike. grove's trees are loaded as the headset page loads them (web/page/draw/trees.mjs's
+// Models: grove's mips, leaves shuffled as grove shuffles them) and drawn with its leaf level of
+// detail (web/page/draw/leaves.mjs's LeafDetail, through wind.mjs's vertex patch): from the
+// camera's distance, the share of the leaves grove keeps, grown so the crown keeps its area. The
+// page only exposes functions on `window.compare`; node drives it (docs/species.md).
 
 import * as THREE from 'three';
-import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { Tree } from '@dgreenheck/ez-tree';
+import { LeafDetail } from '../page/draw/leaves.mjs';
+import { Models } from '../page/draw/trees.mjs';
+import { TreeWind } from '../page/draw/wind.mjs';
 
 const SKY = new THREE.Color(0x9fc3e6);
 const GROUND = new THREE.Color(0x7a8048);
@@ -59,19 +65,41 @@ function keep(handle, tree) {
   trees.set(handle, tree);
 }
 
-/** Loads one of grove's glTF trees from `url`; the handle names it for `render` and `stand`. */
+/**
+ * Loads one of grove's glTF trees from `url` as the headset page does (its materials kept; no
+ * alpha-to-coverage, whose part-covered pixels the silhouette's cut at half coverage would drop);
+ * the handle names it for `render` and `stand`. `render` sets its leaves' level of detail.
+ */
 async function groveTree(handle, url) {
-  const gltf = await new GLTFLoader().loadAsync(url);
+  const models = new Models('', { antialias: false });
+  await models.load([handle], { [handle]: url });
+  const model = models.models.get(handle);
+  const wind = new TreeWind();
   const tree = new THREE.Group();
-  tree.add(gltf.scene);
+  tree.add(model);
+  tree.userData.wind = wind;
+  tree.userData.leafArea = model.userData.leafArea;
   tree.traverse((o) => {
-    if (o.isMesh) {
-      o.castShadow = true;
-      o.receiveShadow = true;
-    }
+    if (!o.isMesh) return;
+    o.material.onBeforeCompile = wind.vertex;
+    o.customDepthMaterial = wind.depthMaterial();
   });
   keep(handle, tree);
   return measure(tree);
+}
+
+/**
+ * The share of grove's leaves `tree` draws seen from `cam` in a frame `height` pixels tall, and
+ * in a shadow map of `texelsPerMetre` (LeafDetail, as the headset page sets it each frame).
+ */
+function leafDetail(tree, cam, height, texelsPerMetre = 0) {
+  if (!tree.userData.wind) return;
+  const pixelsPerRadian = height / 2 / Math.tan(THREE.MathUtils.degToRad(cam.fov) / 2);
+  const view = {
+    pixelsPerRadian,
+    features: { world: { trees: new Map([[0, { object: tree }]]) }, light: { texelsPerMetre } },
+  };
+  new LeafDetail(view).update({ world: {}, snap: { head: { position: cam.position.toArray() } } });
 }
 
 /** Generates one of ez-tree's presets (by its name in TreePreset); the handle names it for `render` and `stand`. */
@@ -119,6 +147,22 @@ function camera(view, aspect) {
 }
 
 /**
+ * The orthographic camera of `view` for the framing check: level, at the same scale as `view`'s
+ * camera at the trees' distance (metres per pixel: 2 d tan(fov / 2) / height) and with the ground
+ * under the trunk (the origin) on the same row as in `view`'s picture, so a point's row depends on
+ * its height alone, not on how near the camera it stands.
+ */
+function profileCamera(view, aspect) {
+  const foot = new THREE.Vector3(0, 0, 0).project(camera(view, aspect)).y;
+  const half = view.distance * Math.tan(THREE.MathUtils.degToRad(view.fov) / 2);
+  const cam = new THREE.OrthographicCamera(-half * aspect, half * aspect, half, -half, 0.05, 500);
+  cam.position.set(0, -foot * half, view.distance);
+  cam.lookAt(0, -foot * half, 0);
+  cam.updateMatrixWorld(true);
+  return cam;
+}
+
+/**
  * The least distance (in steps of 1 %) from which a camera at eye height, looking at `target`
  * metres up the trunk, sees every corner of every box inside `margin` of the frame's edges.
  */
@@ -156,6 +200,7 @@ function scene(tree, { ground = true } = {}) {
   sun.target.position.set(0, size.y / 2, 0);
   sun.castShadow = true;
   sun.shadow.mapSize.set(2048, 2048);
+  s.userData.texelsPerMetre = 2048 / (2 * reach);
   const cam = sun.shadow.camera;
   cam.left = -reach;
   cam.right = reach;
@@ -179,8 +224,11 @@ function scene(tree, { ground = true } = {}) {
   return s;
 }
 
-/** Every mesh drawn flat white (keeping its texture's alpha cut-out) on black, for silhouettes. */
-function masked(tree) {
+/**
+ * Every mesh drawn flat white on black, for silhouettes: keeping its texture's alpha cut-out, or
+ * with `cut` false every triangle whole (the geometry its box is measured from).
+ */
+function masked(tree, cut = true) {
   const saved = [];
   tree.traverse((o) => {
     if (!o.isMesh) return;
@@ -189,16 +237,19 @@ function masked(tree) {
     // The texture only for its alpha (the cut-out of a leaf card): every drawn pixel is white.
     o.material = new THREE.MeshBasicMaterial({
       color: 0xffffff,
-      map: m.map ?? null,
-      alphaTest: m.alphaTest || 0,
+      map: cut ? (m.map ?? null) : null,
+      alphaTest: cut ? m.alphaTest || 0 : 0,
       side: m.side,
     });
     o.material.onBeforeCompile = (shader) => {
+      tree.userData.wind?.vertex(shader);
       shader.fragmentShader = shader.fragmentShader.replace(
         '#include <map_fragment>',
         '#include <map_fragment>\n\tdiffuseColor.rgb = vec3(1.0);',
       );
     };
+    // grove's tree gets the leaf level of detail's vertex patch, ez-tree's none: programs apart.
+    o.material.customProgramCacheKey = () => (tree.userData.wind ? 'mask-leaf-detail' : 'mask');
   });
   return () =>
     saved.forEach(([o, m]) => {
@@ -210,19 +261,21 @@ function masked(tree) {
 /**
  * Draws tree `handle` from `view` ({ fov, eye, target, distance }) into a width × height frame.
  * Mode 'beauty' returns the frame as a PNG data URL; 'mask' draws its silhouette and returns the
- * rows and columns it spans and its share of the frame.
+ * rows and columns it spans and its share of the frame; 'profile' does so with every triangle
+ * whole, through `profileCamera(view)` (the leaves' level of detail still set from `view`'s camera).
  */
 function render(handle, view, width, height, mode = 'beauty') {
   const tree = trees.get(handle);
   const r = stage(width, height);
   const cam = camera(view, width / height);
-  if (mode === 'mask') {
-    const restore = masked(tree);
+  if (mode === 'mask' || mode === 'profile') {
+    leafDetail(tree, cam, height);
+    const restore = masked(tree, mode === 'mask');
     const s = new THREE.Scene();
     s.background = new THREE.Color(0x000000);
     s.add(tree);
     r.toneMapping = THREE.NoToneMapping;
-    r.render(s, cam);
+    r.render(s, mode === 'profile' ? profileCamera(view, width / height) : cam);
     restore();
     s.remove(tree);
     const px = pixels(r, width, height);
@@ -249,6 +302,7 @@ function render(handle, view, width, height, mode = 'beauty') {
   r.toneMappingExposure = 1.0;
   r.outputColorSpace = THREE.SRGBColorSpace;
   const s = scene(tree);
+  leafDetail(tree, cam, height, s.userData.texelsPerMetre);
   r.render(s, cam);
   s.remove(tree);
   return r.domElement.toDataURL('image/png');

@@ -67,11 +67,16 @@ pub fn run(cmd: TreesCommand) -> anyhow::Result<ExitCode> {
             let w = grove::species::output::write(&a.species, a.seed, &a.out)?;
             let m = &w.model;
             let (lo, hi) = m.bounds();
+            let (card, spray) = (&m.atlas.card, &m.atlas.sprays[0]);
             println!(
-                "{}: {} stems, {} leaves, {} triangles (lod1 {}, lod2 {}), {:.1} m tall, crown radius {:.1} m, {:.2} s",
+                "{}: {} stems, {} leaf cards of {} leaves ({:.0} cm), sprays of {} ({:.0} cm) on the coarser levels, {} triangles (lod1 {}, lod2 {}), {:.1} m tall, crown radius {:.1} m, {:.2} s",
                 w.gltf.display(),
                 m.tree.stems.len(),
-                m.lods[0].leaf_count,
+                m.tree.leaves.len(),
+                card.leaves,
+                card.size.x * 100.0,
+                spray.leaves,
+                spray.size.x * 100.0,
                 m.lods[0].triangles(),
                 m.lods[1].triangles(),
                 m.lods[2].triangles(),
