@@ -67,13 +67,16 @@ async function look(page, at, pitch, hand, aim) {
  * the open floor in front of it with the ray's marker on the floor: { desk, floor, occlusion }.
  */
 export async function shrubBehindDesk(h, { depth, quality = 'low', every = 4, size = 320, shot = null }) {
-  const { page } = await h.open(`participant=OCC&task=ray-casting-7&seed=1&quality=${quality}&render_every=${every}`, {
-    xr: true,
-    room: true,
-    depth,
-    width: size,
-    height: size,
-  });
+  const { page } = await h.open(
+    `participant=OCC&task=ray-casting-7&layout=file&seed=1&quality=${quality}&render_every=${every}`,
+    {
+      xr: true,
+      room: true,
+      depth,
+      width: size,
+      height: size,
+    },
+  );
   await page.evaluate((p) => window.xrDevice.position.set(p.x, p.y, p.z), START);
   await enterAndStart(page, 'ar');
   await until(page, () => window.grove.snapshot?.task);
