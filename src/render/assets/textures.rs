@@ -13,41 +13,52 @@ use crate::render::error::RenderError;
 
 /// Builds a box-filtered mip chain of an RGBA8 image; with `srgb`, averaging happens in linear
 /// space. Returns the concatenated levels and the level count.
+///
+/// Written for unoptimised builds too (the tests' renderer builds every model's chains): a byte's
+/// linear value comes from a table of the same function, and each source texel's alpha weight is
+/// worked out once; the sums are taken in the same order, so the bytes are those of the plain
+/// per-channel loop (`tests::the_chain_is_the_plain_loop_s_bytes`).
 pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> (Vec<u8>, u32) {
-    let to_lin = |c: u8| if srgb { srgb_to_linear(c as f32 / 255.0) } else { c as f32 / 255.0 };
+    let mut to_lin = [0f32; 256];
+    for (i, v) in to_lin.iter_mut().enumerate() {
+        let c = i as f32 / 255.0;
+        *v = if srgb { srgb_to_linear(c) } else { c };
+    }
     let to_u8 = |v: f32| ((if srgb { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
     let mut out = rgba.to_vec();
     let mut levels = 1;
-    let (mut w, mut h) = (width, height);
+    let (mut w, mut h) = (width as usize, height as usize);
     let mut cur: Vec<u8> = rgba.to_vec();
     while w > 1 || h > 1 {
         let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-        let mut next = vec![0u8; (nw * nh * 4) as usize];
+        let mut next = vec![0u8; nw * nh * 4];
         for y in 0..nh {
+            let (y0, y1) = (y * 2, if y * 2 + 1 < h { y * 2 + 1 } else { h - 1 });
             for x in 0..nw {
-                for c in 0..4 {
+                let (x0, x1) = (x * 2, if x * 2 + 1 < w { x * 2 + 1 } else { w - 1 });
+                // The four source texels in the order (0, 0), (1, 0), (0, 1), (1, 1).
+                let src = [(y0 * w + x0) * 4, (y0 * w + x1) * 4, (y1 * w + x0) * 4, (y1 * w + x1) * 4];
+                // Colours weighted by alpha so transparent texels do not darken edges.
+                let mut weight = [0f32; 4];
+                for k in 0..4 {
+                    weight[k] = cur[src[k] + 3] as f32 / 255.0 + 1e-3;
+                }
+                let o = (y * nw + x) * 4;
+                for c in 0..3 {
                     let mut sum = 0.0;
                     let mut wsum = 0.0;
-                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                        let sx = (x * 2 + dx).min(w - 1);
-                        let sy = (y * 2 + dy).min(h - 1);
-                        let v = cur[((sy * w + sx) * 4 + c) as usize];
-                        if c == 3 {
-                            sum += v as f32 / 255.0;
-                        } else {
-                            // Weight colours by alpha so transparent texels do not darken edges.
-                            let a = cur[((sy * w + sx) * 4 + 3) as usize] as f32 / 255.0 + 1e-3;
-                            sum += to_lin(v) * a;
-                            wsum += a;
-                        }
+                    for k in 0..4 {
+                        sum += to_lin[cur[src[k] + c] as usize] * weight[k];
+                        wsum += weight[k];
                     }
-                    next[((y * nw + x) * 4 + c) as usize] = if c == 3 {
-                        // Keep alpha-tested coverage from fading away in small mips.
-                        ((sum / 4.0 * 1.15).min(1.0) * 255.0 + 0.5) as u8
-                    } else {
-                        to_u8(sum / wsum)
-                    };
+                    next[o + c] = to_u8(sum / wsum);
                 }
+                let mut alpha = 0.0;
+                for i in src {
+                    alpha += cur[i + 3] as f32 / 255.0;
+                }
+                // Keep alpha-tested coverage from fading away in small mips.
+                next[o + 3] = ((alpha / 4.0 * 1.15f32).min(1.0) * 255.0 + 0.5) as u8;
             }
         }
         out.extend_from_slice(&next);
@@ -340,6 +351,53 @@ pub fn upload_environment(device: &wgpu::Device, queue: &wgpu::Queue, size: u32,
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The chain as a plain per-channel loop over the four source texels: what [`mip_chain`]
+    /// computes, written the obvious way.
+    fn plain_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> Vec<u8> {
+        let to_lin = |c: u8| if srgb { srgb_to_linear(c as f32 / 255.0) } else { c as f32 / 255.0 };
+        let to_u8 = |v: f32| ((if srgb { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let (mut out, mut cur, mut w, mut h) = (rgba.to_vec(), rgba.to_vec(), width, height);
+        while w > 1 || h > 1 {
+            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+            let mut next = vec![0u8; (nw * nh * 4) as usize];
+            for y in 0..nh {
+                for x in 0..nw {
+                    for c in 0..4 {
+                        let (mut sum, mut wsum) = (0.0, 0.0);
+                        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                            let i = (((y * 2 + dy).min(h - 1) * w + (x * 2 + dx).min(w - 1)) * 4) as usize;
+                            if c == 3 {
+                                sum += cur[i + 3] as f32 / 255.0;
+                            } else {
+                                let a = cur[i + 3] as f32 / 255.0 + 1e-3;
+                                sum += to_lin(cur[i + c as usize]) * a;
+                                wsum += a;
+                            }
+                        }
+                        next[((y * nw + x) * 4 + c) as usize] =
+                            if c == 3 { ((sum / 4.0 * 1.15).min(1.0) * 255.0 + 0.5) as u8 } else { to_u8(sum / wsum) };
+                    }
+                }
+            }
+            out.extend_from_slice(&next);
+            (cur, w, h) = (next, nw, nh);
+        }
+        out
+    }
+
+    #[test]
+    fn the_chain_is_the_plain_loop_s_bytes() {
+        // Odd and even sizes, a strip, every byte value, alpha from 0 to 255.
+        for (w, h) in [(37, 23), (64, 64), (1, 9), (16, 3)] {
+            let rgba: Vec<u8> = (0..w * h * 4).map(|i| ((i * 97 + i / 7 * 31) % 256) as u8).collect();
+            for srgb in [false, true] {
+                let (chain, levels) = mip_chain(w, h, &rgba, srgb);
+                assert_eq!(chain, plain_chain(w, h, &rgba, srgb), "{w} x {h}, srgb {srgb}");
+                assert_eq!(levels, 32 - w.max(h).leading_zeros(), "{w} x {h}");
+            }
+        }
+    }
 
     /// The coefficients of the cubic in srgb.wgsl's `srgb_decode`, read from the shader's text
     /// so that the test checks what the GPU runs.
