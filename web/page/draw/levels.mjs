@@ -57,9 +57,12 @@ export function levels(s) {
 // The cross-fade in a tree's shaders (an InstancedMesh's: its `treeLevel.w`, wind.mjs's
 // TREE_GLSL), in the camera's pass and the shadow map's alike.
 const VARYING = 'flat varying float vGroveShare;';
+/** The dither of a pixel (octa.wgsl's impostor_dither; levels.test.mjs holds its constants to it). */
+export const DITHER_GLSL =
+  'fract( 52.9829189 * fract( dot( floor( gl_FragCoord.xy ), vec2( 0.06711056, 0.00583715 ) ) ) )';
 const DITHER = /* glsl */ `
 	{
-		float d = fract( 52.9829189 * fract( dot( floor( gl_FragCoord.xy ), vec2( 0.06711056, 0.00583715 ) ) ) );
+		float d = ${DITHER_GLSL};
 		if ( ( vGroveShare > 0.0 && d >= vGroveShare ) || ( vGroveShare < 0.0 && d < - vGroveShare ) ) discard;
 	}
 	#include <alphahash_fragment>`;
