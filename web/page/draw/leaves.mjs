@@ -125,7 +125,6 @@ export function keepFraction(leafArea, distance, pixelsPerRadian, leafPixels) {
 /** Each vertex of a leaf moved towards its centre by leaf_scale (trees.wgsl's twin of lod.rs's). */
 export const LEAF_GLSL = /* glsl */ `
 attribute vec4 leaf;
-uniform float treeKeep;
 float leaf_scale( float rank, float keep ) {
 	if ( rank < 0.0 || keep >= 1.0 ) return 1.0;
 	float weight = clamp( ( 2.0 * keep - rank ) / keep, 0.0, 1.0 );
@@ -140,6 +139,16 @@ export const LEAF_SCALE_GLSL = 'transformed = leaf.xyz + ( transformed - leaf.xy
 
 /** Pixels per radian of a headset's eye (Quest 3: 1832 pixels over about 96° of height). */
 export const EYE_PIXELS_PER_RADIAN = 825;
+
+/**
+ * The shares of a tree's leaves drawn, [camera's, shadow map's]: leaves of `area` m² (scaled
+ * with the tree) at `distance` m from the eye (null: none, every leaf) and `pixelsPerRadian`,
+ * and no more than the shadow map of `texelsPerMetre` can show.
+ */
+export function keeps(area, distance, pixelsPerRadian, texelsPerMetre) {
+  const keep = distance === null ? 1 : keepFraction(area, distance, pixelsPerRadian, LEAF_PIXELS);
+  return [keep, Math.min(keep, keepFraction(area, 1, texelsPerMetre, SHADOW_LEAF_TEXELS))];
+}
 
 /**
  * The leaves' level of detail (a feature of the view, view/features.mjs, after the trees and the
@@ -158,11 +167,8 @@ export class LeafDetail {
     const eye = snap.head ? new THREE.Vector3().fromArray(snap.head.position) : null;
     for (const { object } of features.world.trees.values()) {
       const area = (object.userData.leafArea ?? 0) * object.scale.x * object.scale.x;
-      const keep = eye ? keepFraction(area, eye.distanceTo(object.position), pixelsPerRadian, LEAF_PIXELS) : 1;
-      object.userData.wind?.setKeep(
-        keep,
-        Math.min(keep, keepFraction(area, 1, features.light.texelsPerMetre, SHADOW_LEAF_TEXELS)),
-      );
+      const distance = eye ? eye.distanceTo(object.position) : null;
+      object.userData.wind?.setKeep(...keeps(area, distance, pixelsPerRadian, features.light.texelsPerMetre));
     }
   }
 }

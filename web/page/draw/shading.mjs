@@ -124,6 +124,14 @@ for (const [name, chunk] of [
     throw new Error(`grove shading: three.js's ${name} is not the one this page patches`);
 }
 
+// The vertex's world position (an InstancedMesh's instance placed by its matrix).
+const GROVE_WORLD = /* glsl */ `
+#ifdef USE_INSTANCING
+	vGroveWorld = ( modelMatrix * instanceMatrix * vec4( transformed, 1.0 ) ).xyz;
+#else
+	vGroveWorld = ( modelMatrix * vec4( transformed, 1.0 ) ).xyz;
+#endif`;
+
 function patch(source, marker, replacement) {
   if (!source.includes(marker)) throw new Error(`grove shading: three.js's shader has no ${marker}`);
   return source.replace(marker, replacement);
@@ -158,7 +166,7 @@ export function groveShading(material, { translucency = 0, specular = 1, vertex 
     const v = patch(
       shader.vertexShader,
       '#include <fog_vertex>',
-      '#include <fog_vertex>\n\tvGroveWorld = ( modelMatrix * vec4( transformed, 1.0 ) ).xyz;\n\tvGroveHaze = groveHazeAt( vGroveWorld );',
+      `#include <fog_vertex>\n${GROVE_WORLD}\n\tvGroveHaze = groveHazeAt( vGroveWorld );`,
     );
     shader.vertexShader = `${SKY_GLSL}\nvarying vec4 vGroveHaze;\nvarying vec3 vGroveWorld;\n${v}`;
     vertex?.(shader);

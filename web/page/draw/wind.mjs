@@ -110,19 +110,43 @@ vec3 wind_rotate_y( vec3 v, float yaw ) {
 }
 `;
 
-// A tree's own uniforms, and the displacement of `transformed` (model space) by the wind in the
+// A tree's own values, and the displacement of `transformed` (model space) by the wind in the
 // simulation's frame: the leaf grown or shrunk by its level of detail (leaves.mjs), the rest
 // position placed as the tree stands (trees.wgsl's world_position), displaced, and the
-// difference turned back into the model's frame.
+// difference turned back into the model's frame. A lone tree (a Mesh) has them as uniforms; the
+// trees of an InstancedMesh (forest.mjs) as instanced attributes, packed in three vec4s as
+// TREE_ATTRIBUTES lists them, read under the same names by the same code; the sun's shadow map
+// (GROVE_SHADOW) reads its own share of the leaves.
 export const TREE_GLSL = /* glsl */ `
+#ifdef USE_INSTANCING
+attribute vec4 treePlace;
+attribute vec4 treeSway;
+attribute vec4 treeLevel;
+#define treeOrigin treePlace.xyz
+#define treeYaw treePlace.w
+#define treeBend treeSway.xy
+#define treeGain treeSway.z
+#define treePhase treeSway.w
+#define treeScale treeLevel.x
+#ifdef GROVE_SHADOW
+#define treeKeep treeLevel.z
+#else
+#define treeKeep treeLevel.y
+#endif
+#else
 uniform vec3 treeOrigin;
 uniform float treeYaw;
 uniform float treeScale;
 uniform vec2 treeBend;
 uniform float treeGain;
 uniform float treePhase;
+uniform float treeKeep;
+#endif
 attribute vec4 _wind;
 ${LEAF_GLSL}`;
+
+/** The instanced attributes of a tree (TREE_GLSL), four floats each: TreeWind's `pack` writes them. */
+export const TREE_ATTRIBUTES = ['treePlace', 'treeSway', 'treeLevel'];
 
 export const DISPLACE_GLSL = /* glsl */ `
 ${LEAF_SCALE_GLSL}
@@ -169,12 +193,33 @@ export function setWind(p) {
   u.windModel.value = p.model;
 }
 
-function inject(shader, uniforms) {
+function inject(shader, uniforms, shadow = false) {
   Object.assign(shader.uniforms, windUniforms, uniforms);
-  shader.vertexShader = `${WIND_GLSL}\n${TREE_GLSL}\n${shader.vertexShader}`.replace(
-    '#include <begin_vertex>',
-    `#include <begin_vertex>\n${DISPLACE_GLSL}`,
-  );
+  shader.vertexShader =
+    `${shadow ? '#define GROVE_SHADOW\n' : ''}${WIND_GLSL}\n${TREE_GLSL}\n${shader.vertexShader}`.replace(
+      '#include <begin_vertex>',
+      `#include <begin_vertex>\n${DISPLACE_GLSL}`,
+    );
+}
+
+/** The wind's vertex patch of a material shared by the trees of an InstancedMesh (forest.mjs). */
+export const instancedVertex = (shader) => inject(shader, {});
+
+/**
+ * The depth material of the sun's shadow map: the tree's displacement (`uniforms`, a lone
+ * tree's; none for an InstancedMesh's trees, whose values are attributes), and the depth bias of
+ * grove's shadow pass (a slope of 1.5, src/render/trees/pipelines.rs; its constant of 2 is in
+ * steps of grove's 16-bit shadow map, 512 of three's 24-bit one). `fragment(shader)`, if given,
+ * patches the fragment shader too (forest.mjs's cross-fade).
+ */
+export function windDepthMaterial(uniforms = {}, fragment = null) {
+  const m = new THREE.MeshDepthMaterial({ polygonOffset: true, polygonOffsetFactor: 1.5, polygonOffsetUnits: 512 });
+  m.onBeforeCompile = (shader) => {
+    inject(shader, uniforms, true);
+    fragment?.(shader);
+  };
+  m.customProgramCacheKey = () => (fragment ? 'grove-wind-depth-faded' : 'grove-wind-depth');
+  return m;
 }
 
 /** One tree's wind: its uniforms, the vertex patch for its materials, and its shadow's material. */
@@ -213,15 +258,31 @@ export class TreeWind {
   }
 
   /**
-   * The depth material of the sun's shadow map: the same displacement, and the depth bias of
-   * grove's shadow pass (a slope of 1.5, src/render/trees/pipelines.rs; its constant of 2 is in
-   * steps of grove's 16-bit shadow map, 512 of three's 24-bit one).
+   * The tree's instanced attributes (TREE_ATTRIBUTES, in order) into `out` from `at` (12 floats):
+   * `share`, levels.mjs's share of the tree's pixels kept by the level drawn, last; `keep`, the
+   * shares of the leaves [camera's, shadow map's] where not this tree's own (its far model's).
    */
+  pack(out, at, share = 0, keep = null) {
+    const u = this.uniforms;
+    const o = u.treeOrigin.value;
+    const b = u.treeBend.value;
+    out[at] = o.x;
+    out[at + 1] = o.y;
+    out[at + 2] = o.z;
+    out[at + 3] = u.treeYaw.value;
+    out[at + 4] = b.x;
+    out[at + 5] = b.y;
+    out[at + 6] = u.treeGain.value;
+    out[at + 7] = u.treePhase.value;
+    out[at + 8] = u.treeScale.value;
+    out[at + 9] = keep ? keep[0] : u.treeKeep.value;
+    out[at + 10] = keep ? keep[1] : this.shadowUniforms.treeKeep.value;
+    out[at + 11] = share;
+  }
+
+  /** The depth material of the sun's shadow map (windDepthMaterial) with this tree's values. */
   depthMaterial() {
-    const m = new THREE.MeshDepthMaterial({ polygonOffset: true, polygonOffsetFactor: 1.5, polygonOffsetUnits: 512 });
-    m.onBeforeCompile = (shader) => inject(shader, this.shadowUniforms);
-    m.customProgramCacheKey = () => 'grove-wind-depth';
-    return m;
+    return windDepthMaterial(this.shadowUniforms);
   }
 }
 

@@ -1,6 +1,8 @@
-// The trees of the world shown, as three.js draws them from the simulation's snapshot: the
-// catalogue's models (trees.mjs: loaded once each, cloned per tree, shaded as grove shades them
-// and swaying in the wind with their shadows). A feature of the view (view/features.mjs); the
+// The trees of the world shown, from the simulation's snapshot: a light proxy per tree (an
+// Object3D named `tree:ID`, no mesh: its place, its TreeWind's values and its leaves' area),
+// which forest.mjs draws as the catalogue's models (trees.mjs: loaded once each, one
+// InstancedMesh per model and primitive, shaded as grove shades them and swaying in the wind with
+// their shadows). A feature of the view (view/features.mjs); the
 // ground is ground.mjs's, the sun and the environment light.mjs's, the sky sky.mjs's, the wind's
 // state wind.mjs's and the leaves' level of detail leaves.mjs's.
 //
@@ -8,6 +10,8 @@
 // offset so that the headset's poses are in that frame too (room.mjs).
 
 import * as THREE from 'three';
+import { STAND_IN_BOX } from './trees.mjs';
+import { TreeWind } from './wind.mjs';
 
 export { Models } from './trees.mjs';
 
@@ -17,7 +21,7 @@ export class World {
   constructor(view) {
     this.view = view;
     this.shown = null; // the world record drawn (flow/task.mjs's worldOf), or null
-    this.trees = new Map(); // id -> { object, model }
+    this.trees = new Map(); // id -> { object: the tree's proxy, model }
     this.root = new THREE.Group();
     this.root.name = 'world';
     this.root.visible = false;
@@ -44,18 +48,21 @@ export class World {
     for (const t of snap.trees) {
       seen.add(t.id);
       let entry = this.trees.get(t.id);
-      if (!entry || entry.model !== t.model) {
-        if (entry) this.root.remove(entry.object);
-        entry = { object: this.view.models.instance(t.model), model: t.model };
+      if (!entry) {
+        entry = { object: new THREE.Object3D(), model: t.model };
         entry.object.name = `tree:${t.id}`;
+        entry.object.userData.wind = new TreeWind();
         this.root.add(entry.object);
         this.trees.set(t.id, entry);
       }
+      entry.model = t.model;
       const o = entry.object;
       o.position.set(t.position[0], t.position[1], t.position[2]);
       o.quaternion.set(t.rotation[0], t.rotation[1], t.rotation[2], t.rotation[3]);
       o.scale.setScalar(t.scale);
-      o.userData.wind?.set(t);
+      o.updateMatrix();
+      o.userData.leafArea = this.view.models?.models.get(t.model)?.userData.leafArea ?? 0;
+      o.userData.wind.set(t);
     }
     for (const [id, entry] of this.trees) {
       if (!seen.has(id)) {
@@ -69,8 +76,9 @@ export class World {
   box() {
     const box = new THREE.Box3();
     if (!this.root.visible) return box;
-    for (const { object } of this.trees.values()) box.union(new THREE.Box3().setFromObject(object));
-    this.view.simRoot.updateWorldMatrix(true, false);
-    return box.applyMatrix4(this.view.simRoot.matrixWorld.clone().invert());
+    // The root stands at the simulation's origin: a proxy's matrix is in the simulation's frame.
+    for (const { object, model } of this.trees.values())
+      box.union((this.view.models?.bounds(model) ?? STAND_IN_BOX.clone()).applyMatrix4(object.matrix));
+    return box;
   }
 }

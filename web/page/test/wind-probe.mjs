@@ -1,12 +1,22 @@
 // The browser side of wind.test.mjs, bundled around the still page (web/page/still.mjs) by
 // render.mjs's openStill: the page's wind GLSL (draw/wind.mjs) run on a model's own vertices by
 // WebGL2 transform feedback, beside grove's CPU reference of the native renderer's displacement
-// (the module's windDisplace), at the stage's wind of a tick.
+// (the module's windDisplace), at the stage's wind of a tick: a lone tree's (its values as
+// uniforms) and an InstancedMesh's (as the instanced attributes TreeWind packs).
 
 import { setUp, stage } from '../still.mjs';
-import { DISPLACE_GLSL, TREE_GLSL, WIND_GLSL, windUniforms, setWind } from '../draw/wind.mjs';
+import {
+  DISPLACE_GLSL,
+  TREE_ATTRIBUTES,
+  TREE_GLSL,
+  TreeWind,
+  WIND_GLSL,
+  windUniforms,
+  setWind,
+} from '../draw/wind.mjs';
 
-const VERTEX = `#version 300 es
+const VERTEX = (instanced) => `#version 300 es
+${instanced ? '#define USE_INSTANCING' : ''}
 #define attribute in
 ${WIND_GLSL}
 ${TREE_GLSL}
@@ -23,10 +33,10 @@ precision highp float;
 out vec4 colour;
 void main() { colour = vec4( 0.0 ); }`;
 
-function program(gl) {
+function program(gl, instanced) {
   const p = gl.createProgram();
   for (const [type, source] of [
-    [gl.VERTEX_SHADER, VERTEX],
+    [gl.VERTEX_SHADER, VERTEX(instanced)],
     [gl.FRAGMENT_SHADER, FRAGMENT],
   ]) {
     const s = gl.createShader(type);
@@ -49,11 +59,23 @@ function uniform(gl, p, name, value) {
   else gl.uniform3f(at, value.x, value.y, value.z);
 }
 
-/** The GLSL's world positions of `points` ([x, y, z, h, r, b, phase] each) for the tree and the wind set. */
-function glsl(points, tree) {
+/**
+ * The GLSL's world positions of `points` ([x, y, z, h, r, b, phase] each) for the tree and the
+ * wind set, its values as uniforms or (`instanced`) as attributes.
+ */
+function glsl(points, tree, instanced) {
   const gl = document.createElement('canvas').getContext('webgl2');
-  const p = program(gl);
+  const p = program(gl, instanced);
   gl.useProgram(p);
+  // An InstancedMesh's tree: its packed attributes, the same for every vertex.
+  const wind = new TreeWind();
+  wind.set(tree);
+  const packed = new Float32Array(12);
+  wind.pack(packed, 0);
+  TREE_ATTRIBUTES.forEach((name, k) => {
+    const at = gl.getAttribLocation(p, name);
+    if (at >= 0) gl.vertexAttrib4fv(at, packed.subarray(4 * k, 4 * k + 4));
+  });
   for (const [name, u] of Object.entries(windUniforms)) uniform(gl, p, name, u.value);
   uniform(gl, p, 'treeOrigin', { x: tree.position[0], y: tree.position[1], z: tree.position[2] });
   uniform(gl, p, 'treeYaw', tree.yaw);
@@ -116,15 +138,16 @@ window.windProbe = async ({ model, ticks, count = 400 }) => {
     setWind(snap.wind);
     const tree = snap.trees[0];
     const points = samples(models, count);
-    const page = glsl(points, tree);
     const cpu = grove.windDisplace({ wind: snap.wind, tree, points });
+    const [page, instanced] = [false, true].map((i) => glsl(points, tree, i));
     const rest = grove.windDisplace({ wind: { ...snap.wind, strength: 0 }, tree: { ...tree, wind: null }, points });
     const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     out.push({
       tick,
       points: points.length,
       gust: snap.wind.gust,
-      error: Math.max(...page.map((q, i) => dist(q, cpu[i]))),
+      error: Math.max(...[...page, ...instanced].map((q, i) => dist(q, cpu[i % points.length]))),
+      instanced: Math.max(...instanced.map((q, i) => dist(q, cpu[i]))),
       sway: Math.max(...cpu.map((q, i) => dist(q, rest[i]))),
     });
   }

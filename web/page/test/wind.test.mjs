@@ -1,6 +1,6 @@
 // The headset page's trees sway as grove's renderer sways them (docs/headset.md, "Wind"): the
-// page's wind GLSL against grove's CPU reference on models' own vertices at three ticks (within a
-// millimetre); with the study's gusts, silhouettes at three ticks half a second apart overlapping
+// page's wind GLSL (a lone tree's uniforms and an InstancedMesh's attributes) against grove's CPU
+// reference on models' own vertices at three ticks (within a millimetre); with the study's gusts, silhouettes at three ticks half a second apart overlapping
 // the native ones (IoU ≥ 0.85) and differing from one another; shadows moving with the trees.
 
 import { test } from 'node:test';
@@ -28,7 +28,7 @@ test(
         const rows = await still.call('windProbe', model, { ticks: TICKS });
         for (const r of rows) {
           console.log(
-            `${model.split('/').pop()} tick ${r.tick}: ${r.points} vertices, gust ${r.gust.toFixed(3)}, largest sway ${(r.sway * 1000).toFixed(1)} mm, largest difference ${(r.error * 1000).toFixed(4)} mm`,
+            `${model.split('/').pop()} tick ${r.tick}: ${r.points} vertices, gust ${r.gust.toFixed(3)}, largest sway ${(r.sway * 1000).toFixed(1)} mm, largest difference ${(r.error * 1000).toFixed(4)} mm (instanced ${(r.instanced * 1000).toFixed(4)} mm)`,
           );
           assert.ok(r.points > 100, `${model}: ${r.points} vertices sampled`);
           assert.ok(r.sway > 0.01, `${model} at tick ${r.tick}: the wind moves vertices (${r.sway} m)`);

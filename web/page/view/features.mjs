@@ -24,6 +24,7 @@
 
 import { Controllers } from '../draw/controllers.mjs';
 import { Ground } from '../draw/ground.mjs';
+import { Forest } from '../draw/forest.mjs';
 import { Hud } from '../draw/hud.mjs';
 import { LeafDetail } from '../draw/leaves.mjs';
 import { Light } from '../draw/light.mjs';
@@ -48,6 +49,7 @@ export const FEATURES = {
   light: (v) => new Light(v),
   sky: (v) => new SkyFeature(v),
   leaves: (v) => new LeafDetail(v),
+  forest: (v) => new Forest(v),
   controllers: (v) => new Controllers(v.scene),
   occlusion: (v) => new Occlusion(v.renderer, v.scene),
   xrlight: (v) => new XrLight(v),
