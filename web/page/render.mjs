@@ -2,14 +2,16 @@
 // drawing, headless"):
 //
 //   node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T]
-//                            [--background sky|transparent] [--force]
+//                            [--background sky|transparent] [--from D] [--force]
 //
 // The picture is the one `grove render --model FILE` draws natively, at the same framing (the
 // WebAssembly module builds grove's own model stage: camera, sun, wind), through the page's
 // modules (web/page/still.mjs bundles them): its materials, light, environment, shadows and
 // wind. --tick T: the model in the study's wind after T ticks (without it, calm at tick 0), as
 // `grove render --model FILE --tick T`. --background transparent: the model alone, its alpha the
-// coverage. Every error is one line on stderr and exit status 2. Needs the module
+// coverage. --from D: a walker's view from D metres in place of that framing (the eye 1.7 m up,
+// looking at 45 % of the model's height, the sun 40° up behind the left shoulder:
+// grove_systems::stage::walker_view, the view of docs/species.md's sheets). Every error is one line on stderr and exit status 2. Needs the module
 // (bash web/build.sh), `npm ci` in web/ and Chromium (/usr/bin/chromium, or CHROMIUM).
 //
 // `openStill()` is the same drawing for scripts and tests that draw many models in one browser.
@@ -40,6 +42,9 @@ const TYPES = {
 
 /** The longest tick --tick takes: an hour at 60 ticks a second (as `grove render --model`). */
 export const MAX_TICK = 216000;
+
+/** The distances --from takes, metres (the module refuses others: web/sim/src/options.rs). */
+export const [MIN_FROM, MAX_FROM] = [0.1, 1000];
 
 /** A file served from inside `dir` only. */
 function inside(dir, name) {
@@ -117,7 +122,7 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
     await page.waitForFunction(() => window.still?.ready, null, { timeout: 60000 });
     const render = async (
       model,
-      { width = 640, height = 480, tick = null, background = 'sky', antialias = true } = {},
+      { width = 640, height = 480, tick = null, background = 'sky', antialias = true, from = null } = {},
     ) => {
       const file = resolve(model);
       modelDir = dirname(file);
@@ -131,6 +136,7 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
           tick,
           background,
           antialias,
+          from,
         });
       } catch (e) {
         throw new Error(
@@ -170,11 +176,20 @@ export function writePng(path, { width, height, data }) {
 }
 
 const USAGE =
-  'usage: node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T] [--background sky|transparent] [--force]';
+  'usage: node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T] [--background sky|transparent] [--from D] [--force]';
 
 /** The command line's options, or an Error naming what is wrong. */
 export function parseArgs(args) {
-  const o = { model: null, out: null, width: 1280, height: 720, tick: null, background: 'sky', force: false };
+  const o = {
+    model: null,
+    out: null,
+    width: 1280,
+    height: 720,
+    tick: null,
+    background: 'sky',
+    from: null,
+    force: false,
+  };
   for (let i = 0; i < args.length; i++) {
     const flag = args[i];
     if (flag === '--force') {
@@ -183,7 +198,7 @@ export function parseArgs(args) {
     }
     const value = args[i + 1];
     i++;
-    if (!['--model', '--out', '--width', '--height', '--tick', '--background'].includes(flag))
+    if (!['--model', '--out', '--width', '--height', '--tick', '--background', '--from'].includes(flag))
       return new Error(`unknown argument ${flag}`);
     if (value === undefined) return new Error(`${flag} needs a value`);
     if (flag === '--model') o.model = resolve(value);
@@ -191,6 +206,11 @@ export function parseArgs(args) {
     else if (flag === '--background') {
       if (!['sky', 'transparent'].includes(value)) return new Error(`--background ${value}: sky or transparent`);
       o.background = value;
+    } else if (flag === '--from') {
+      const d = Number(value);
+      if (!/^\d+(\.\d+)?$/.test(value) || d < MIN_FROM || d > MAX_FROM)
+        return new Error(`--from ${value}: metres, from ${MIN_FROM} to ${MAX_FROM}`);
+      o.from = d;
     } else {
       const n = Number(value);
       const [lo, hi] = flag === '--tick' ? [0, MAX_TICK] : [1, 4096];
@@ -215,7 +235,9 @@ export function parseArgs(args) {
 async function main() {
   const args = process.argv.slice(2);
   if (args.includes('--help') || args.includes('-h')) {
-    console.log(`Draws a model as the headset page draws it, framed as grove render --model frames it.\n\n${USAGE}`);
+    console.log(
+      `Draws a model as the headset page draws it, framed as grove render --model frames it (with --from D, as a walker sees it from D metres).\n\n${USAGE}`,
+    );
     return 0;
   }
   const o = parseArgs(args);
@@ -228,7 +250,9 @@ async function main() {
     still = await openStill();
     const img = await still.render(o.model, o);
     const bytes = writePng(o.out, img);
-    const at = o.tick === null ? '' : ` at tick ${o.tick} in the study's wind`;
+    const at =
+      (o.from === null ? '' : ` from ${o.from} m at eye height`) +
+      (o.tick === null ? '' : ` at tick ${o.tick} in the study's wind`);
     console.log(
       `${o.out}: drew ${o.model}${at} (${o.width}x${o.height}, ${o.background}) as the headset page draws it, ${bytes} bytes`,
     );

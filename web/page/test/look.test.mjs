@@ -65,6 +65,8 @@ test('render.mjs refuses bad arguments with one line and exit status 2', () => {
       [['--model', model, '--out', join(dir, 'a.png'), '--background', 'blue'], /--background blue/],
       [['--model', model, '--out', join(dir, 'a.png'), '--width', '0'], /--width 0/],
       [['--model', model, '--out', join(dir, 'a.png'), '--tick', '-3'], /--tick -3/],
+      [['--model', model, '--out', join(dir, 'a.png'), '--from', '0'], /--from 0: metres/],
+      [['--model', model, '--out', join(dir, 'a.png'), '--from', 'far'], /--from far: metres/],
       [['--model', join(dir, 'missing.gltf'), '--out', join(dir, 'a.png')], /no such file/],
       [['--model', model, '--out', join(dir, 'a.jpg')], /must name a .png/],
       [['--model', model, '--out', exists], /already exists/],
