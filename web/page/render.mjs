@@ -3,6 +3,7 @@
 //
 //   node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T]
 //                            [--background sky|transparent] [--from D] [--force]
+//   node web/page/render.mjs --scene FILE --out PNG [--width W] [--height H] [--tick T] [--force]
 //
 // The picture is the one `grove render --model FILE` draws natively, at the same framing (the
 // WebAssembly module builds grove's own model stage: camera, sun, wind), through the page's
@@ -14,6 +15,11 @@
 // grove_systems::stage::walker_view, the view of docs/species.md's sheets). Every error is one line on stderr and exit status 2. Needs the module
 // (bash web/build.sh), `npm ci` in web/ and Chromium (/usr/bin/chromium, or CHROMIUM).
 //
+// --scene FILE: a scene's trees on its ground at its camera (as `grove render --scene FILE`
+// draws it), after T ticks; the scene is built by the module, so it must be self-contained (no
+// model banks, no aerial photographs: the study and pond scenes), and its models are the
+// catalogue's (assets/trees).
+//
 // `openStill()` is the same drawing for scripts and tests that draw many models in one browser.
 
 import { existsSync, readFileSync, renameSync, rmSync, statSync, writeFileSync } from 'node:fs';
@@ -22,6 +28,7 @@ import { fileURLToPath } from 'node:url';
 import { build } from 'esbuild';
 import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
+import { loadGrove } from '../sim/grove-sim.mjs';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const WEB = resolve(HERE, '..');
@@ -74,6 +81,7 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
   });
   const script = out.outputFiles[0].text;
   const envDir = join(ROOT, 'assets/env');
+  const modelsDir = join(ROOT, 'assets/trees');
   let modelDir = null;
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
@@ -97,9 +105,11 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
           ? WASM
           : p.startsWith('/env/')
             ? inside(envDir, p.slice(5))
-            : p.startsWith('/model/') && modelDir
-              ? inside(modelDir, p.slice(7))
-              : null;
+            : p.startsWith('/models/')
+              ? inside(modelsDir, p.slice(8))
+              : p.startsWith('/model/') && modelDir
+                ? inside(modelDir, p.slice(7))
+                : null;
       if (p === '/')
         return route.fulfill({
           contentType: 'text/html',
@@ -152,7 +162,24 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
         [name, { ...options, model: `/model/${encodeURIComponent(basename(model))}` }],
       );
     };
-    return { render, call, close: () => browser.close() };
+    const renderScene = async (file, { width = 640, height = 480, tick = 0 } = {}) => {
+      errors.length = 0;
+      try {
+        const r = await page.evaluate((o) => window.still.renderScene(o), {
+          name: basename(file),
+          text: readFileSync(file, 'utf8'),
+          width,
+          height,
+          tick: tick ?? 0,
+        });
+        return { ...r, data: Buffer.from(r.pixels, 'base64'), pixels: undefined };
+      } catch (e) {
+        throw new Error(
+          `${file}: the page could not draw it (${e.message.split('\n')[0]}${errors.length ? `; ${errors[0]}` : ''})`,
+        );
+      }
+    };
+    return { render, renderScene, call, close: () => browser.close() };
   } catch (e) {
     await browser.close();
     throw e;
@@ -176,12 +203,13 @@ export function writePng(path, { width, height, data }) {
 }
 
 const USAGE =
-  'usage: node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T] [--background sky|transparent] [--from D] [--force]';
+  'usage: node web/page/render.mjs (--model FILE [--background sky|transparent] [--from D] | --scene FILE) --out PNG [--width W] [--height H] [--tick T] [--force]';
 
 /** The command line's options, or an Error naming what is wrong. */
 export function parseArgs(args) {
   const o = {
     model: null,
+    scene: null,
     out: null,
     width: 1280,
     height: 720,
@@ -198,10 +226,11 @@ export function parseArgs(args) {
     }
     const value = args[i + 1];
     i++;
-    if (!['--model', '--out', '--width', '--height', '--tick', '--background', '--from'].includes(flag))
+    if (!['--model', '--scene', '--out', '--width', '--height', '--tick', '--background', '--from'].includes(flag))
       return new Error(`unknown argument ${flag}`);
     if (value === undefined) return new Error(`${flag} needs a value`);
     if (flag === '--model') o.model = resolve(value);
+    else if (flag === '--scene') o.scene = resolve(value);
     else if (flag === '--out') o.out = resolve(value);
     else if (flag === '--background') {
       if (!['sky', 'transparent'].includes(value)) return new Error(`--background ${value}: sky or transparent`);
@@ -219,10 +248,13 @@ export function parseArgs(args) {
       o[flag.slice(2)] = n;
     }
   }
-  if (!o.model) return new Error('give --model FILE');
+  if (!o.model === !o.scene) return new Error('give --model FILE or --scene FILE');
+  if (o.scene && (o.from !== null || args.includes('--background')))
+    return new Error('--from and --background go with --model, not with --scene');
   if (!o.out) return new Error('give --out PNG');
-  if (!existsSync(o.model) || !statSync(o.model).isFile()) return new Error(`${o.model}: no such file`);
-  if (!['.gltf', '.glb'].includes(extname(o.model).toLowerCase()))
+  const input = o.model ?? o.scene;
+  if (!existsSync(input) || !statSync(input).isFile()) return new Error(`${input}: no such file`);
+  if (o.model && !['.gltf', '.glb'].includes(extname(o.model).toLowerCase()))
     return new Error(`${o.model}: --model must name a .gltf or .glb file`);
   if (extname(o.out).toLowerCase() !== '.png') return new Error(`${o.out}: --out must name a .png file`);
   if (existsSync(o.out) && statSync(o.out).isDirectory())
@@ -236,7 +268,7 @@ async function main() {
   const args = process.argv.slice(2);
   if (args.includes('--help') || args.includes('-h')) {
     console.log(
-      `Draws a model as the headset page draws it, framed as grove render --model frames it (with --from D, as a walker sees it from D metres).\n\n${USAGE}`,
+      `Draws a model as the headset page draws it, framed as grove render --model frames it (with --from D, as a walker sees it from D metres), or a self-contained scene at its camera.\n\n${USAGE}`,
     );
     return 0;
   }
@@ -247,6 +279,21 @@ async function main() {
   }
   let still;
   try {
+    if (o.scene) {
+      // The scene checked by the module here, before a browser starts: a bad one is one line.
+      const sim = (await loadGrove(WASM)).createSim({
+        scene: basename(o.scene),
+        scene_text: readFileSync(o.scene, 'utf8'),
+      });
+      sim.free();
+      still = await openStill();
+      const img = await still.renderScene(o.scene, o);
+      const bytes = writePng(o.out, img);
+      console.log(
+        `${o.out}: drew ${o.scene} at tick ${img.tick}, ${img.trees} trees (${o.width}x${o.height}) as the headset page draws it, ${bytes} bytes`,
+      );
+      return 0;
+    }
     still = await openStill();
     const img = await still.render(o.model, o);
     const bytes = writePng(o.out, img);

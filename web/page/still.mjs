@@ -176,4 +176,26 @@ async function render({ model, width, height, tick = null, background = 'sky', a
   }
 }
 
-window.still = { render, ready: true };
+/**
+ * Draws a scene (its file's `name` and `text`) as the module builds it, after `tick` ticks, at
+ * its own camera (the head, as `grove render --scene` draws it), with its trees' models from
+ * `/models/NAME.gltf`.
+ */
+async function renderScene({ name, text, width, height, tick = 0 }) {
+  await setUp();
+  const sim = grove.createSim({ scene: name, scene_text: text });
+  try {
+    for (let i = 0; i < tick; i++) sim.step();
+    const snap = sim.snapshot();
+    const models = new Models('/models/');
+    await models.load([...new Set(snap.trees.map((t) => t.model))]);
+    const { camera, scene } = show({ models, snap, ground: sim.ground(), width, height });
+    renderer.setClearColor(0x000000, 1);
+    renderer.render(scene, camera);
+    return { pixels: base64(readPixels(width, height)), width, height, tick: snap.tick, trees: snap.trees.length };
+  } finally {
+    sim.free();
+  }
+}
+
+window.still = { render, renderScene, ready: true };
