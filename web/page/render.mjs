@@ -12,8 +12,9 @@
 // `grove render --model FILE --tick T`. --background transparent: the model alone, its alpha the
 // coverage. --from D: a walker's view from D metres in place of that framing (the eye 1.7 m up,
 // looking at 45 % of the model's height, the sun 40° up behind the left shoulder:
-// grove_systems::stage::walker_view, the view of docs/species.md's sheets). Every error is one line on stderr and exit status 2. Needs the module
-// (bash web/build.sh), `npm ci` in web/ and Chromium (/usr/bin/chromium, or CHROMIUM).
+// grove_systems::stage::walker_view, the view of docs/species.md's sheets). Every error is one
+// line on stderr and exit status 2. Needs the module (bash web/build.sh), `npm ci` in web/ and
+// Chromium (/usr/bin/chromium, or CHROMIUM).
 //
 // --scene FILE: a scene's trees on its ground at its camera (as `grove render --scene FILE`
 // draws it), after T ticks; the scene is built by the module, so it must be self-contained (no
@@ -49,6 +50,9 @@ const TYPES = {
 
 /** The longest tick --tick takes: an hour at 60 ticks a second (as `grove render --model`). */
 export const MAX_TICK = 216000;
+
+/** The largest scene file --scene reads, bytes (the module's rule: systems/src/scene_text.rs). */
+const MAX_SCENE_BYTES = 1 << 20;
 
 /** The distances --from takes, metres (the module refuses others: web/sim/src/options.rs). */
 export const [MIN_FROM, MAX_FROM] = [0.1, 1000];
@@ -254,6 +258,8 @@ export function parseArgs(args) {
   if (!o.out) return new Error('give --out PNG');
   const input = o.model ?? o.scene;
   if (!existsSync(input) || !statSync(input).isFile()) return new Error(`${input}: no such file`);
+  if (o.scene && statSync(o.scene).size > MAX_SCENE_BYTES)
+    return new Error(`${o.scene}: a scene file is at most ${MAX_SCENE_BYTES} bytes`);
   if (o.model && !['.gltf', '.glb'].includes(extname(o.model).toLowerCase()))
     return new Error(`${o.model}: --model must name a .gltf or .glb file`);
   if (extname(o.out).toLowerCase() !== '.png') return new Error(`${o.out}: --out must name a .png file`);

@@ -64,6 +64,8 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
     writeFileSync(exists, 'x');
     const bad = join(dir, 'bad.ron');
     writeFileSync(bad, 'not ( a scene');
+    const huge = join(dir, 'huge.ron');
+    writeFileSync(huge, Buffer.alloc((1 << 20) + 1, 32));
     const cases = [
       [['--model', model, '--out', join(dir, 'a.png'), '--background', 'blue'], /--background blue/],
       [['--model', model, '--out', join(dir, 'a.png'), '--width', '0'], /--width 0/],
@@ -71,6 +73,7 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
       [['--model', model, '--out', join(dir, 'a.png'), '--from', '0'], /--from 0: metres/],
       [['--model', model, '--out', join(dir, 'a.png'), '--from', 'far'], /--from far: metres/],
       [['--scene', bad, '--out', join(dir, 'a.png')], /^error: scene "bad.ron": line 1, column 1/],
+      [['--scene', huge, '--out', join(dir, 'a.png')], /at most 1048576 bytes/],
       [
         ['--scene', join(ROOT, 'assets/scenes/study.ron'), '--out', join(dir, 'a.png'), '--from', '3'],
         /go with --model/,
@@ -94,7 +97,7 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
     }
     assert.deepEqual(
       spawnSync('ls', ['-A', dir], { encoding: 'utf8' }).stdout.trim().split('\n').sort(),
-      ['bad.ron', 'there.png'],
+      ['bad.ron', 'huge.ron', 'there.png'],
       'no partial output',
     );
   } finally {
