@@ -94,6 +94,34 @@ pub fn model_stage(
     Ok(sim)
 }
 
+/// A walker's eye height on a stage, metres: the view of [`walker_view`].
+pub const WALKER_EYE_HEIGHT: f32 = 1.7;
+/// Where a walker looks on the model: this share of its height above the ground.
+pub const WALKER_AIM: f32 = 0.45;
+/// A walker's vertical field of view, degrees.
+pub const WALKER_FOV_DEG: f32 = 50.0;
+/// The sun of a walker's view: its elevation and azimuth, degrees (from behind the camera's left
+/// shoulder).
+pub const WALKER_SUN_DEG: (f64, f64) = (40.0, 150.0);
+
+/// Turns a stage's camera into a walker's view of its model (docs/species.md, "From 3, 10 and
+/// 30 m"): the eye [`WALKER_EYE_HEIGHT`] above the ground, `distance` metres south of the
+/// model's axis, looking at [`WALKER_AIM`] of `height` (the model's top, metres) with a
+/// [`WALKER_FOV_DEG`] field of view, the sun at [`WALKER_SUN_DEG`]. The species' pictures of
+/// grove's renderer and of the headset page (`render.mjs --from`) both take their view from here.
+pub fn walker_view(sim: &mut Sim, height: f32, distance: f32) {
+    let (elevation, azimuth) = WALKER_SUN_DEG;
+    sim.set_up()
+        .camera(Head {
+            pose: Pose::looking_at(
+                Vec3::new(0.0, WALKER_EYE_HEIGHT, distance),
+                Vec3::new(0.0, height * WALKER_AIM, 0.0),
+            ),
+            fov_y: WALKER_FOV_DEG.to_radians(),
+        })
+        .sun_angles(elevation, azimuth);
+}
+
 /// Puts the study scene's wind on a stage: its strength, density and gusts, the gust factor
 /// at its average, so that a model's wind channels (its own, or those grove computes) show as
 /// motion as the stage's ticks run (`grove render --model FILE --tick T` and `--frames`, and the
@@ -130,6 +158,20 @@ mod tests {
         let head = sim.head();
         let to_centre = (Vec3::new(0.0, 1.5, 0.0) - head.pose.position).normalize();
         assert!(head.pose.forward().dot(to_centre) > 0.9999);
+    }
+
+    #[test]
+    fn a_walker_looks_from_eye_height_at_the_model_s_aim() {
+        let mut sim =
+            model_stage((Vec3::new(-2.0, 0.0, -2.0), Vec3::new(2.0, 20.0, 2.0)), 4.0 / 3.0, false, ModelId(0)).unwrap();
+        walker_view(&mut sim, 20.0, 10.0);
+        let head = sim.head();
+        assert_eq!(head.pose.position, Vec3::new(0.0, 1.7, 10.0));
+        let to_aim = (Vec3::new(0.0, 9.0, 0.0) - head.pose.position).normalize();
+        assert!(head.pose.forward().dot(to_aim) > 0.9999);
+        assert!((head.fov_y - 50f32.to_radians()).abs() < 1e-6);
+        let sun = sim.sun().unwrap();
+        assert_eq!((sun.elevation_deg, sun.azimuth_deg), (40.0, 150.0));
     }
 
     #[test]

@@ -8,12 +8,10 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::Vec3;
 use grove::models::{ModelData, load_model};
 use grove::render::offscreen;
 use grove::render::{RenderOptions, Renderer};
 use grove_systems::catalogue::ModelId;
-use grove_systems::components::{Head, Pose};
 use image::RgbaImage;
 
 use crate::shared_gpu;
@@ -73,7 +71,7 @@ pub(crate) fn generate(species: &str, dir: &Path) -> (ModelData, ModelData) {
 }
 
 /// The model alone on its stage (or, without `tree`, the stage alone), seen from `distance`
-/// metres at eye height, looking at the middle of its height.
+/// metres as a walker sees it (`grove_systems::stage::walker_view`).
 fn view(data: &ModelData, distance: f32, tree: bool) -> RgbaImage {
     view_sized(data, distance, tree, W, H, RenderOptions::default().leaf_pixels)
 }
@@ -102,13 +100,8 @@ pub(crate) fn view_lit(
             sim.set_up().despawn(e).unwrap();
         }
     }
-    let height = data.bounds.1.y;
-    let fov: f32 = 50.0;
-    sim.set_up().camera(Head {
-        pose: Pose::looking_at(Vec3::new(0.0, 1.7, distance), Vec3::new(0.0, height * 0.45, 0.0)),
-        fov_y: fov.to_radians(),
-    });
-    sim.set_up().sun_angles(sun_elevation_deg, 150.0);
+    grove_systems::stage::walker_view(&mut sim, data.bounds.1.y, distance);
+    sim.set_up().sun_angles(sun_elevation_deg, grove_systems::stage::WALKER_SUN_DEG.1);
     let mut r = Renderer::empty(&g.device, &g.queue, offscreen::FORMAT, w, h, &root().join("assets")).unwrap();
     r.options.impostor_pixels = 0.0;
     r.options.leaf_pixels = leaf_pixels;

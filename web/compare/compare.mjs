@@ -27,7 +27,11 @@ export const PAIRS = [
   { grove: 'shrub', ez: 'Bush 1', distance: 10, label: ['shrub, 10 m', 'ez-tree Bush 1'] },
 ];
 
-/** The camera: 50° vertical field of view at eye height (1.7 m), looking at 45 % of the tree's height. */
+/**
+ * The camera: 50° vertical field of view at eye height (1.7 m), looking at 45 % of the tree's
+ * height: grove_systems::stage::walker_view's, which draws the pictures (page.mjs checks that the
+ * module's walker is this one); here to fit the distance and for the framing check.
+ */
 export const FOV = 50;
 export const EYE = 1.7;
 export const TARGET = 0.45;
@@ -61,12 +65,22 @@ async function bundle() {
     target: 'es2022',
     write: false,
     logLevel: 'error',
+    external: ['node:*'],
     absWorkingDir: WEB,
   });
   return out.outputFiles[0].text;
 }
 
-const TYPES = { '.gltf': 'model/gltf+json', '.bin': 'application/octet-stream', '.png': 'image/png' };
+const TYPES = {
+  '.gltf': 'model/gltf+json',
+  '.bin': 'application/octet-stream',
+  '.png': 'image/png',
+  '.hdr': 'application/octet-stream',
+  '.wasm': 'application/wasm',
+};
+/** The simulation module and grove's sky, which the headset page's drawing loads. */
+const WASM = join(resolve(ROOT, process.env.CARGO_TARGET_DIR ?? 'target'), 'wasm', 'grove_sim.wasm');
+const ENV = join(ROOT, 'assets/env');
 
 /**
  * A browser with the page open: { call(name, ...args), trees, close }. `call` runs
@@ -74,6 +88,7 @@ const TYPES = { '.gltf': 'model/gltf+json', '.bin': 'application/octet-stream', 
  * folder, removed by close) at ORIGIN/trees/.
  */
 export async function open({ width = 480, height = 400 } = {}) {
+  if (!existsSync(WASM)) throw new Error(`${WASM} is missing: run bash web/build.sh first`);
   const script = await bundle();
   const trees = mkdtempSync(join(tmpdir(), 'grove-compare-'));
   const browser = await chromium.launch({
@@ -103,8 +118,13 @@ export async function open({ width = 480, height = 400 } = {}) {
         });
       }
       if (url.pathname === '/page.js') return route.fulfill({ contentType: 'text/javascript', body: script });
-      const file = resolve(trees, '.' + decodeURIComponent(url.pathname.replace(/^\/trees/, '')));
-      if (url.pathname.startsWith('/trees/') && file.startsWith(trees + sep) && existsSync(file)) {
+      const [dir, rest] = url.pathname.startsWith('/env/')
+        ? [ENV, url.pathname.slice(4)]
+        : [trees, url.pathname.slice(6)];
+      const file = url.pathname === '/grove_sim.wasm' ? WASM : resolve(dir, '.' + decodeURIComponent(rest));
+      const served =
+        url.pathname === '/grove_sim.wasm' || url.pathname.startsWith('/env/') || url.pathname.startsWith('/trees/');
+      if (served && (file === WASM || file.startsWith(dir + sep)) && existsSync(file)) {
         return route.fulfill({
           contentType: TYPES[extname(file)] ?? 'application/octet-stream',
           body: readFileSync(file),
@@ -150,7 +170,12 @@ export async function loadPair(session, pair, { aspect, bin } = {}) {
   const grove = await session.call('stand', 'grove', height);
   await session.call('ezTree', 'ez', pair.ez);
   const ez = await session.call('stand', 'ez', height);
-  const view = { fov: FOV, eye: EYE, target: TARGET * height };
+  const view = {
+    fov: FOV,
+    eye: EYE,
+    target: TARGET * height,
+    box: { min: grove.min.map((v, i) => Math.min(v, ez.min[i])), max: grove.max.map((v, i) => Math.max(v, ez.max[i])) },
+  };
   view.distance = pair.distance ?? (await session.call('fitDistance', [grove, ez], { ...view, aspect }));
   if (!view.distance) throw new Error(`no distance fits ${pair.grove} and ${pair.ez}`);
   return { height, grove, ez, view };

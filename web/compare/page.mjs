@@ -1,23 +1,21 @@
-// The comparison page (bundled by web/compare/compare.mjs, never part of the headset page): one
-// three.js set-up (camera, sun and sky light, a ground plane, ACES tone mapping, the sun's shadow)
-// in which grove's trees (glTF written by `grove trees generate`) and ez-tree's presets are drawn
-// alike. grove's trees are loaded as the headset page loads them (web/page/draw/trees.mjs's
-// Models: grove's mips, leaves shuffled as grove shuffles them) and drawn with its leaf level of
-// detail (web/page/draw/leaves.mjs's LeafDetail, through wind.mjs's vertex patch): from the
-// camera's distance, the share of the leaves grove keeps, grown so the crown keeps its area. The
-// page only exposes functions on `window.compare`; node drives it (docs/species.md).
+// The comparison page (bundled by web/compare/compare.mjs, never part of the headset page): grove's
+// trees (glTF written by `grove trees generate`) and ez-tree's presets drawn alike by the headset
+// page's own drawing (web/page/still.mjs, as web/page/render.mjs draws: the page's View with its
+// shading, light, environment, sky, ground, shadows and leaf level of detail) on grove's model
+// stage seen by a walker (grove_systems::stage::walker_view through the module: eye height,
+// looking at 45 % of the height, the sun 40° up). grove's trees are loaded as the headset page
+// loads them (web/page/draw/trees.mjs's Models: grove's mips, leaves shuffled as grove shuffles
+// them); ez-tree's keep their textures and colours, their Phong materials turned into the
+// standard ones the page's shading patches (its leaves translucent as grove's). The framing check
+// draws silhouettes with a camera of its own ('mask', 'profile'). The page only exposes functions
+// on `window.compare`; node drives it (docs/species.md).
 
 import * as THREE from 'three';
 import { Tree } from '@dgreenheck/ez-tree';
 import { LeafDetail } from '../page/draw/leaves.mjs';
 import { Models } from '../page/draw/trees.mjs';
 import { TreeWind } from '../page/draw/wind.mjs';
-
-const SKY = new THREE.Color(0x9fc3e6);
-const GROUND = new THREE.Color(0x7a8048);
-/** The sun: 40° above the horizon, behind the camera and 30° to its left (the camera looks along -z). */
-const SUN_ELEVATION = 40;
-const SUN_AZIMUTH = -30;
+import { setUp, show } from '../page/still.mjs';
 
 let renderer = null;
 
@@ -186,44 +184,6 @@ function fitDistance(boxes, { fov, eye, target, aspect, margin = 0.95, from = 1 
   return null;
 }
 
-function scene(tree, { ground = true } = {}) {
-  const s = new THREE.Scene();
-  s.background = SKY.clone();
-  s.add(new THREE.HemisphereLight(0xcfe3ff, 0x5a5038, 1.5));
-  const sun = new THREE.DirectionalLight(0xfff2dc, 3.0);
-  const el = THREE.MathUtils.degToRad(SUN_ELEVATION);
-  const az = THREE.MathUtils.degToRad(SUN_AZIMUTH);
-  const b = box(tree);
-  const size = b.getSize(new THREE.Vector3());
-  const reach = Math.max(size.x, size.y, size.z) * 1.2 + 2;
-  sun.position.set(Math.cos(el) * Math.sin(az) * reach, Math.sin(el) * reach, Math.cos(el) * Math.cos(az) * reach);
-  sun.target.position.set(0, size.y / 2, 0);
-  sun.castShadow = true;
-  sun.shadow.mapSize.set(2048, 2048);
-  s.userData.texelsPerMetre = 2048 / (2 * reach);
-  const cam = sun.shadow.camera;
-  cam.left = -reach;
-  cam.right = reach;
-  cam.top = reach;
-  cam.bottom = -reach;
-  cam.near = 0.1;
-  cam.far = reach * 3;
-  sun.shadow.bias = -0.0005;
-  sun.shadow.normalBias = 0.02;
-  s.add(sun, sun.target);
-  if (ground) {
-    const plane = new THREE.Mesh(
-      new THREE.PlaneGeometry(2000, 2000),
-      new THREE.MeshStandardMaterial({ color: GROUND, roughness: 1 }),
-    );
-    plane.rotation.x = -Math.PI / 2;
-    plane.receiveShadow = true;
-    s.add(plane);
-  }
-  s.add(tree);
-  return s;
-}
-
 /**
  * Every mesh drawn flat white on black, for silhouettes: keeping its texture's alpha cut-out, or
  * with `cut` false every triangle whole (the geometry its box is measured from).
@@ -259,12 +219,72 @@ function masked(tree, cut = true) {
 }
 
 /**
- * Draws tree `handle` from `view` ({ fov, eye, target, distance }) into a width × height frame.
- * Mode 'beauty' returns the frame as a PNG data URL; 'mask' draws its silhouette and returns the
- * rows and columns it spans and its share of the frame; 'profile' does so with every triangle
- * whole, through `profileCamera(view)` (the leaves' level of detail still set from `view`'s camera).
+ * Tree `handle` as a model of the page's view (trees.mjs's Models, which shades each tree it
+ * places as grove does): the tree as it stands, its meshes multisampled with alpha-to-coverage as
+ * in the headset, ez-tree's Phong materials made standard ones of the same maps and colours.
  */
-function render(handle, view, width, height, mode = 'beauty') {
+function pageModels(handle) {
+  const tree = trees.get(handle);
+  tree.updateMatrixWorld(true);
+  const source = new THREE.Group();
+  source.userData.leafArea = tree.userData.leafArea ?? 0;
+  tree.traverse((o) => {
+    if (!o.isMesh) return;
+    const m = o.material;
+    const material = m.isMeshPhongMaterial
+      ? new THREE.MeshStandardMaterial({
+          name: m.name,
+          color: m.color,
+          map: m.map,
+          normalMap: m.normalMap,
+          aoMap: m.aoMap,
+          side: m.side,
+          alphaTest: m.alphaTest,
+          flatShading: m.flatShading,
+          roughness: 1,
+          metalness: 0,
+        })
+      : m.clone();
+    material.alphaToCoverage = material.alphaTest > 0;
+    const mesh = new THREE.Mesh(o.geometry, material);
+    mesh.applyMatrix4(o.matrixWorld);
+    mesh.castShadow = mesh.receiveShadow = true;
+    source.add(mesh);
+  });
+  const models = new Models('', { antialias: true });
+  models.models.set('model', source);
+  return models;
+}
+
+/**
+ * Draws tree `handle` through the headset page's drawing: on grove's model stage for the box
+ * `view.box` (both trees of a pair: the same ground), seen by a walker from `view.distance`.
+ * Returns the stage's camera; the frame stays in the view's renderer.
+ */
+async function drawPage(handle, view, width, height) {
+  const { grove, renderer } = await setUp({ antialias: true });
+  const sim = grove.createSim({
+    stage: { min: view.box.min, max: view.box.max, aspect: width / height, from: view.distance },
+  });
+  try {
+    const snap = sim.snapshot();
+    const { scene, camera } = show({ models: pageModels(handle), snap, ground: sim.ground(), width, height });
+    renderer.setClearColor(0x000000, 1);
+    renderer.render(scene, camera);
+    return { renderer, eye: snap.head.position, fov: THREE.MathUtils.radToDeg(snap.fov_y) };
+  } finally {
+    sim.free();
+  }
+}
+
+/**
+ * Draws tree `handle` from `view` ({ fov, eye, target, distance, box }) into a width × height
+ * frame. Mode 'beauty' draws it through the headset page's drawing (drawPage) and returns the
+ * frame as a PNG data URL; 'mask' draws its silhouette and returns the rows and columns it spans
+ * and its share of the frame; 'profile' does so with every triangle whole, through
+ * `profileCamera(view)` (the leaves' level of detail still set from `view`'s camera).
+ */
+async function render(handle, view, width, height, mode = 'beauty') {
   const tree = trees.get(handle);
   const r = stage(width, height);
   const cam = camera(view, width / height);
@@ -298,14 +318,14 @@ function render(handle, view, width, height, mode = 'beauty') {
     }
     return { top, bottom, left, right, count, share: count / (width * height) };
   }
-  r.toneMapping = THREE.ACESFilmicToneMapping;
-  r.toneMappingExposure = 1.0;
-  r.outputColorSpace = THREE.SRGBColorSpace;
-  const s = scene(tree);
-  leafDetail(tree, cam, height, s.userData.texelsPerMetre);
-  r.render(s, cam);
-  s.remove(tree);
-  return r.domElement.toDataURL('image/png');
+  const page = await drawPage(handle, view, width, height);
+  // The walker's camera is the module's (grove_systems::stage::walker_view): it must be the one
+  // the framing was fitted for.
+  if (Math.abs(page.eye[1] - view.eye) > 1e-4 || Math.abs(page.fov - view.fov) > 1e-3)
+    throw new Error(
+      `the stage's walker (eye ${page.eye}, ${page.fov}°) is not the framing's (${view.eye} m, ${view.fov}°)`,
+    );
+  return page.renderer.domElement.toDataURL('image/png');
 }
 
 function pixels(r, width, height) {
@@ -319,11 +339,10 @@ function pixels(r, width, height) {
  * The tree's pixels in the drawn frame (its silhouette found with `render`'s mask): their mean
  * sRGB colour and luma (0–255), and the share of them darker than luma 25 (near black).
  */
-function colours(handle, view, width, height) {
-  render(handle, view, width, height, 'mask');
+async function colours(handle, view, width, height) {
+  await render(handle, view, width, height, 'mask');
   const mask = pixels(renderer, width, height);
-  render(handle, view, width, height);
-  const px = pixels(renderer, width, height);
+  const px = pixels((await drawPage(handle, view, width, height)).renderer, width, height);
   let n = 0,
     dark = 0;
   const sum = [0, 0, 0];

@@ -1,5 +1,6 @@
 // Renders grove's oak, beech and shrub beside ez-tree's Oak Medium, Ash Medium and Bush 1 presets
-// at the same framing and writes the labelled grid (docs/species.md, "Beside ez-tree"):
+// at the same framing, both through the headset page's drawing (page.mjs), and writes the
+// labelled grid (docs/species.md, "Beside ez-tree"):
 //
 //   node web/compare/run.mjs [--out FILE] [--width W] [--height H]
 //
@@ -78,7 +79,7 @@ try {
       `${pair.grove} / ${pair.ez}: ${height.toFixed(2)} m, camera at ${view.distance.toFixed(2)} m, ${grove.triangles} and ${ez.triangles} triangles, ${((Date.now() - t0) / 1000).toFixed(1)} s; the trees' pixels: ${tone.join('; ')}`,
     );
   }
-  const title = `grove (left) and ez-tree 1.1.0 (right), each pair at the grove tree's height; camera at ${EYE} m, ${FOV}° field of view, looking at ${TARGET * 100} % of the height`;
+  const title = `grove (left) and ez-tree 1.1.0 (right) through the headset page's drawing, at the grove tree's height; eye ${EYE} m, ${FOV}° field of view, aim ${TARGET * 100} % up`;
   const url = await session.call('grid', cells, ['grove', 'ez-tree'], rows, w, h, title);
   png = Buffer.from(url.slice(url.indexOf(',') + 1), 'base64');
   if (session.foreign.length) throw new Error(`the page asked for ${session.foreign.join(', ')}`);

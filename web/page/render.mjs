@@ -2,15 +2,24 @@
 // drawing, headless"):
 //
 //   node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T]
-//                            [--background sky|transparent] [--force]
+//                            [--background sky|transparent] [--from D] [--force]
+//   node web/page/render.mjs --scene FILE --out PNG [--width W] [--height H] [--tick T] [--force]
 //
 // The picture is the one `grove render --model FILE` draws natively, at the same framing (the
 // WebAssembly module builds grove's own model stage: camera, sun, wind), through the page's
 // modules (web/page/still.mjs bundles them): its materials, light, environment, shadows and
 // wind. --tick T: the model in the study's wind after T ticks (without it, calm at tick 0), as
 // `grove render --model FILE --tick T`. --background transparent: the model alone, its alpha the
-// coverage. Every error is one line on stderr and exit status 2. Needs the module
-// (bash web/build.sh), `npm ci` in web/ and Chromium (/usr/bin/chromium, or CHROMIUM).
+// coverage. --from D: a walker's view from D metres in place of that framing (the eye 1.7 m up,
+// looking at 45 % of the model's height, the sun 40° up behind the left shoulder:
+// grove_systems::stage::walker_view, the view of docs/species.md's sheets). Every error is one
+// line on stderr and exit status 2. Needs the module (bash web/build.sh), `npm ci` in web/ and
+// Chromium (/usr/bin/chromium, or CHROMIUM).
+//
+// --scene FILE: a scene's trees on its ground at its camera (as `grove render --scene FILE`
+// draws it), after T ticks; the scene is built by the module, so it must be self-contained (no
+// model banks, no aerial photographs: the study and pond scenes), and its models are the
+// catalogue's (assets/trees).
 //
 // `openStill()` is the same drawing for scripts and tests that draw many models in one browser.
 
@@ -20,6 +29,7 @@ import { fileURLToPath } from 'node:url';
 import { build } from 'esbuild';
 import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
+import { loadGrove } from '../sim/grove-sim.mjs';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const WEB = resolve(HERE, '..');
@@ -40,6 +50,12 @@ const TYPES = {
 
 /** The longest tick --tick takes: an hour at 60 ticks a second (as `grove render --model`). */
 export const MAX_TICK = 216000;
+
+/** The largest scene file --scene reads, bytes (the module's rule: systems/src/scene_text.rs). */
+const MAX_SCENE_BYTES = 1 << 20;
+
+/** The distances --from takes, metres (the module refuses others: web/sim/src/options.rs). */
+export const [MIN_FROM, MAX_FROM] = [0.1, 1000];
 
 /** A file served from inside `dir` only. */
 function inside(dir, name) {
@@ -69,6 +85,7 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
   });
   const script = out.outputFiles[0].text;
   const envDir = join(ROOT, 'assets/env');
+  const modelsDir = join(ROOT, 'assets/trees');
   let modelDir = null;
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
@@ -92,9 +109,11 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
           ? WASM
           : p.startsWith('/env/')
             ? inside(envDir, p.slice(5))
-            : p.startsWith('/model/') && modelDir
-              ? inside(modelDir, p.slice(7))
-              : null;
+            : p.startsWith('/models/')
+              ? inside(modelsDir, p.slice(8))
+              : p.startsWith('/model/') && modelDir
+                ? inside(modelDir, p.slice(7))
+                : null;
       if (p === '/')
         return route.fulfill({
           contentType: 'text/html',
@@ -117,7 +136,7 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
     await page.waitForFunction(() => window.still?.ready, null, { timeout: 60000 });
     const render = async (
       model,
-      { width = 640, height = 480, tick = null, background = 'sky', antialias = true } = {},
+      { width = 640, height = 480, tick = null, background = 'sky', antialias = true, from = null } = {},
     ) => {
       const file = resolve(model);
       modelDir = dirname(file);
@@ -131,6 +150,7 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
           tick,
           background,
           antialias,
+          from,
         });
       } catch (e) {
         throw new Error(
@@ -146,7 +166,24 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
         [name, { ...options, model: `/model/${encodeURIComponent(basename(model))}` }],
       );
     };
-    return { render, call, close: () => browser.close() };
+    const renderScene = async (file, { width = 640, height = 480, tick = 0 } = {}) => {
+      errors.length = 0;
+      try {
+        const r = await page.evaluate((o) => window.still.renderScene(o), {
+          name: basename(file),
+          text: readFileSync(file, 'utf8'),
+          width,
+          height,
+          tick: tick ?? 0,
+        });
+        return { ...r, data: Buffer.from(r.pixels, 'base64'), pixels: undefined };
+      } catch (e) {
+        throw new Error(
+          `${file}: the page could not draw it (${e.message.split('\n')[0]}${errors.length ? `; ${errors[0]}` : ''})`,
+        );
+      }
+    };
+    return { render, renderScene, call, close: () => browser.close() };
   } catch (e) {
     await browser.close();
     throw e;
@@ -170,11 +207,21 @@ export function writePng(path, { width, height, data }) {
 }
 
 const USAGE =
-  'usage: node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T] [--background sky|transparent] [--force]';
+  'usage: node web/page/render.mjs (--model FILE [--background sky|transparent] [--from D] | --scene FILE) --out PNG [--width W] [--height H] [--tick T] [--force]';
 
 /** The command line's options, or an Error naming what is wrong. */
 export function parseArgs(args) {
-  const o = { model: null, out: null, width: 1280, height: 720, tick: null, background: 'sky', force: false };
+  const o = {
+    model: null,
+    scene: null,
+    out: null,
+    width: 1280,
+    height: 720,
+    tick: null,
+    background: 'sky',
+    from: null,
+    force: false,
+  };
   for (let i = 0; i < args.length; i++) {
     const flag = args[i];
     if (flag === '--force') {
@@ -183,14 +230,20 @@ export function parseArgs(args) {
     }
     const value = args[i + 1];
     i++;
-    if (!['--model', '--out', '--width', '--height', '--tick', '--background'].includes(flag))
+    if (!['--model', '--scene', '--out', '--width', '--height', '--tick', '--background', '--from'].includes(flag))
       return new Error(`unknown argument ${flag}`);
     if (value === undefined) return new Error(`${flag} needs a value`);
     if (flag === '--model') o.model = resolve(value);
+    else if (flag === '--scene') o.scene = resolve(value);
     else if (flag === '--out') o.out = resolve(value);
     else if (flag === '--background') {
       if (!['sky', 'transparent'].includes(value)) return new Error(`--background ${value}: sky or transparent`);
       o.background = value;
+    } else if (flag === '--from') {
+      const d = Number(value);
+      if (!/^\d+(\.\d+)?$/.test(value) || d < MIN_FROM || d > MAX_FROM)
+        return new Error(`--from ${value}: metres, from ${MIN_FROM} to ${MAX_FROM}`);
+      o.from = d;
     } else {
       const n = Number(value);
       const [lo, hi] = flag === '--tick' ? [0, MAX_TICK] : [1, 4096];
@@ -199,10 +252,15 @@ export function parseArgs(args) {
       o[flag.slice(2)] = n;
     }
   }
-  if (!o.model) return new Error('give --model FILE');
+  if (!o.model === !o.scene) return new Error('give --model FILE or --scene FILE');
+  if (o.scene && (o.from !== null || args.includes('--background')))
+    return new Error('--from and --background go with --model, not with --scene');
   if (!o.out) return new Error('give --out PNG');
-  if (!existsSync(o.model) || !statSync(o.model).isFile()) return new Error(`${o.model}: no such file`);
-  if (!['.gltf', '.glb'].includes(extname(o.model).toLowerCase()))
+  const input = o.model ?? o.scene;
+  if (!existsSync(input) || !statSync(input).isFile()) return new Error(`${input}: no such file`);
+  if (o.scene && statSync(o.scene).size > MAX_SCENE_BYTES)
+    return new Error(`${o.scene}: a scene file is at most ${MAX_SCENE_BYTES} bytes`);
+  if (o.model && !['.gltf', '.glb'].includes(extname(o.model).toLowerCase()))
     return new Error(`${o.model}: --model must name a .gltf or .glb file`);
   if (extname(o.out).toLowerCase() !== '.png') return new Error(`${o.out}: --out must name a .png file`);
   if (existsSync(o.out) && statSync(o.out).isDirectory())
@@ -215,7 +273,9 @@ export function parseArgs(args) {
 async function main() {
   const args = process.argv.slice(2);
   if (args.includes('--help') || args.includes('-h')) {
-    console.log(`Draws a model as the headset page draws it, framed as grove render --model frames it.\n\n${USAGE}`);
+    console.log(
+      `Draws a model as the headset page draws it, framed as grove render --model frames it (with --from D, as a walker sees it from D metres), or a self-contained scene at its camera.\n\n${USAGE}`,
+    );
     return 0;
   }
   const o = parseArgs(args);
@@ -225,10 +285,27 @@ async function main() {
   }
   let still;
   try {
+    if (o.scene) {
+      // The scene checked by the module here, before a browser starts: a bad one is one line.
+      const sim = (await loadGrove(WASM)).createSim({
+        scene: basename(o.scene),
+        scene_text: readFileSync(o.scene, 'utf8'),
+      });
+      sim.free();
+      still = await openStill();
+      const img = await still.renderScene(o.scene, o);
+      const bytes = writePng(o.out, img);
+      console.log(
+        `${o.out}: drew ${o.scene} at tick ${img.tick}, ${img.trees} trees (${o.width}x${o.height}) as the headset page draws it, ${bytes} bytes`,
+      );
+      return 0;
+    }
     still = await openStill();
     const img = await still.render(o.model, o);
     const bytes = writePng(o.out, img);
-    const at = o.tick === null ? '' : ` at tick ${o.tick} in the study's wind`;
+    const at =
+      (o.from === null ? '' : ` from ${o.from} m at eye height`) +
+      (o.tick === null ? '' : ` at tick ${o.tick} in the study's wind`);
     console.log(
       `${o.out}: drew ${o.model}${at} (${o.width}x${o.height}, ${o.background}) as the headset page draws it, ${bytes} bytes`,
     );

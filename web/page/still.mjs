@@ -5,7 +5,10 @@
 // (grove_systems::stage::model_stage, with the study's wind for a tick), so the camera, the sun
 // and the wind are the native renderer's numbers, not copies of them.
 //
-// window.still.render({ model, width, height, tick, background }) resolves to { pixels (RGBA,
+// With `from` (metres) the camera is a walker's instead (grove_systems::stage::walker_view: eye
+// height, looking at 45 % of the model's top, the view of docs/species.md's sheets).
+//
+// window.still.render({ model, width, height, tick, background, from }) resolves to { pixels (RGBA,
 // straight alpha, top row first, base64), width, height, camera, light, wind, trees }; tests
 // bundle their own entries around `setUp`, `stage` and `show` (web/page/test/wind-probe.mjs,
 // capacity-probe.mjs).
@@ -45,16 +48,22 @@ export async function setUp({ antialias = true } = {}) {
 
 /**
  * `model` (a URL) loaded as the stage's model ('model'), and its stage in the module, framed
- * for `aspect`, stepped `tick` ticks in the study's wind (null: calm, tick 0): { models, sim }.
- * Free the sim.
+ * for `aspect` (or, with `from`, seen by a walker `from` metres away), stepped `tick` ticks in
+ * the study's wind (null: calm, tick 0): { models, sim }. Free the sim.
  */
-export async function stage(model, { aspect, tick = null, antialias = true }) {
+export async function stage(model, { aspect, tick = null, antialias = true, from = null }) {
   await setUp({ antialias });
   const models = new Models('/model/', { antialias });
   await models.load(['model'], { model });
   const box = models.bounds('model');
   const sim = grove.createSim({
-    stage: { min: box.min.toArray(), max: box.max.toArray(), aspect, wind: tick !== null },
+    stage: {
+      min: box.min.toArray(),
+      max: box.max.toArray(),
+      aspect,
+      wind: tick !== null,
+      ...(from === null ? {} : { from }),
+    },
   });
   for (let i = 0; i < (tick ?? 0); i++) sim.step();
   return { models, sim };
@@ -135,10 +144,10 @@ export function show({ models, snap, ground, width, height, background = 'sky' }
 /**
  * Draws `model` (a URL of a glTF file) on its stage at `width` × `height`, after `tick` ticks of
  * the study's wind (null: calm, tick 0), over the stage's sky and ground or (background
- * 'transparent') alone.
+ * 'transparent') alone; with `from`, as a walker sees it from that many metres.
  */
-async function render({ model, width, height, tick = null, background = 'sky', antialias = true }) {
-  const { models, sim } = await stage(model, { aspect: width / height, tick, antialias });
+async function render({ model, width, height, tick = null, background = 'sky', antialias = true, from = null }) {
+  const { models, sim } = await stage(model, { aspect: width / height, tick, antialias, from });
   try {
     const snap = sim.snapshot();
     const { camera, scene } = show({ models, snap, ground: sim.ground(), width, height, background });
@@ -167,4 +176,26 @@ async function render({ model, width, height, tick = null, background = 'sky', a
   }
 }
 
-window.still = { render, ready: true };
+/**
+ * Draws a scene (its file's `name` and `text`) as the module builds it, after `tick` ticks, at
+ * its own camera (the head, as `grove render --scene` draws it), with its trees' models from
+ * `/models/NAME.gltf`.
+ */
+async function renderScene({ name, text, width, height, tick = 0 }) {
+  await setUp();
+  const sim = grove.createSim({ scene: name, scene_text: text });
+  try {
+    for (let i = 0; i < tick; i++) sim.step();
+    const snap = sim.snapshot();
+    const models = new Models('/models/');
+    await models.load([...new Set(snap.trees.map((t) => t.model))]);
+    const { camera, scene } = show({ models, snap, ground: sim.ground(), width, height });
+    renderer.setClearColor(0x000000, 1);
+    renderer.render(scene, camera);
+    return { pixels: base64(readPixels(width, height)), width, height, tick: snap.tick, trees: snap.trees.length };
+  } finally {
+    sim.free();
+  }
+}
+
+window.still = { render, renderScene, ready: true };

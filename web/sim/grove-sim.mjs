@@ -96,7 +96,7 @@ export class Grove {
   /**
    * A new simulation. `options`: { scene, scene_text, seed, set: ['NAME=VALUE', …], record,
    * header (a header line made elsewhere), task, participant, synthetic, session_start, block,
-   * technique }, or `stage: { min, max, aspect, wind }` (grove's model stage), as
+   * technique }, or `stage: { min, max, aspect, wind, from }` (grove's model stage), as
    * web/sim/README.md describes, plus `onLine`, called with each recording line as it is made.
    */
   createSim(options = {}) {

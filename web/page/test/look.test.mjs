@@ -9,7 +9,8 @@
 // - Multisampled, as the headset draws (alpha-to-coverage on the leaves): as bright, the crown's
 //   top as bright against its bottom, and the leaves' edges covered in part.
 //
-// Also: render.mjs's errors are one line and exit status 2.
+// Also: render.mjs's errors are one line and exit status 2 (a bad --scene file among them, refused
+// by the module before a browser starts), and leave no file behind.
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
@@ -55,16 +56,32 @@ test('every study model and species is drawn by the page as grove draws it', { t
   assert.deepEqual(broken, [], `models the page draws unlike grove (bounds: ${JSON.stringify(BOUNDS)})`);
 });
 
-test('render.mjs refuses bad arguments with one line and exit status 2', () => {
+test('render.mjs refuses bad arguments and a bad scene file with one line and exit status 2', () => {
   const dir = mkdtempSync(join(tmpdir(), 'grove-still-args-'));
   try {
     const model = join(ROOT, 'assets/trees/shrub-mesh.gltf');
     const exists = join(dir, 'there.png');
     writeFileSync(exists, 'x');
+    const bad = join(dir, 'bad.ron');
+    writeFileSync(bad, 'not ( a scene');
+    const huge = join(dir, 'huge.ron');
+    writeFileSync(huge, Buffer.alloc((1 << 20) + 1, 32));
     const cases = [
       [['--model', model, '--out', join(dir, 'a.png'), '--background', 'blue'], /--background blue/],
       [['--model', model, '--out', join(dir, 'a.png'), '--width', '0'], /--width 0/],
       [['--model', model, '--out', join(dir, 'a.png'), '--tick', '-3'], /--tick -3/],
+      [['--model', model, '--out', join(dir, 'a.png'), '--from', '0'], /--from 0: metres/],
+      [['--model', model, '--out', join(dir, 'a.png'), '--from', 'far'], /--from far: metres/],
+      [['--scene', bad, '--out', join(dir, 'a.png')], /^error: scene "bad.ron": line 1, column 1/],
+      [['--scene', huge, '--out', join(dir, 'a.png')], /at most 1048576 bytes/],
+      [
+        ['--scene', join(ROOT, 'assets/scenes/study.ron'), '--out', join(dir, 'a.png'), '--from', '3'],
+        /go with --model/,
+      ],
+      [
+        ['--scene', join(ROOT, 'assets/scenes/study.ron'), '--model', model, '--out', join(dir, 'a.png')],
+        /--model FILE or --scene FILE/,
+      ],
       [['--model', join(dir, 'missing.gltf'), '--out', join(dir, 'a.png')], /no such file/],
       [['--model', model, '--out', join(dir, 'a.jpg')], /must name a .png/],
       [['--model', model, '--out', exists], /already exists/],
@@ -78,6 +95,11 @@ test('render.mjs refuses bad arguments with one line and exit status 2', () => {
       assert.equal(lines.length, 1, `one line for ${args.join(' ')}: ${r.stderr}`);
       assert.match(lines[0], message);
     }
+    assert.deepEqual(
+      spawnSync('ls', ['-A', dir], { encoding: 'utf8' }).stdout.trim().split('\n').sort(),
+      ['bad.ron', 'huge.ron', 'there.png'],
+      'no partial output',
+    );
   } finally {
     rmSync(dir, { recursive: true, force: true });
   }

@@ -51,7 +51,8 @@ pub struct Options {
 }
 
 /// The model stage's options: the model's bounds (model space, metres), the image's aspect
-/// ratio, and whether the study's wind blows (`grove render --model FILE --tick T`).
+/// ratio, whether the study's wind blows (`grove render --model FILE --tick T`), and a walker's
+/// view from a distance in place of the framing of the bounds.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StageOptions {
@@ -64,6 +65,11 @@ pub struct StageOptions {
     /// Put the study scene's wind on the stage (`grove_systems::stage::in_study_wind`).
     #[serde(default)]
     pub wind: bool,
+    /// A walker's view from this many metres (`grove_systems::stage::walker_view`: eye height,
+    /// looking at 45 % of the model's top, the sheet of docs/species.md), not the framing of the
+    /// bounds.
+    #[serde(default)]
+    pub from: Option<f32>,
 }
 
 /// The largest model a stage shows, metres along any axis (a catalogue model is under 40 m).
@@ -88,11 +94,19 @@ impl StageOptions {
         if !(self.aspect.is_finite() && (0.01..=100.0).contains(&self.aspect)) {
             return Err(refuse(format!("aspect {} must be between 0.01 and 100", self.aspect)));
         }
+        if let Some(d) = self.from
+            && !(d.is_finite() && (0.1..=MAX_STAGE_SIZE).contains(&d))
+        {
+            return Err(refuse(format!("from {d} must be between 0.1 and {MAX_STAGE_SIZE} m")));
+        }
         let model = grove_systems::catalogue::ModelId(0);
         let mut sim = grove_systems::stage::model_stage((min, max), self.aspect, false, model)
             .map_err(|e| refuse(e.to_string()))?;
         if self.wind {
             grove_systems::stage::in_study_wind(&mut sim).map_err(|e| refuse(e.to_string()))?;
+        }
+        if let Some(d) = self.from {
+            grove_systems::stage::walker_view(&mut sim, max.y, d);
         }
         Ok(sim)
     }
