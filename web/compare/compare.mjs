@@ -10,13 +10,11 @@ import { existsSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, extname, join, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { build } from 'esbuild';
-import { chromium } from 'playwright-core';
 
 export const HERE = dirname(fileURLToPath(import.meta.url));
 export const WEB = resolve(HERE, '..');
 export const ROOT = resolve(WEB, '..');
-export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+import { bundleModule, launchChromium } from '../page/headless.mjs';
 const ORIGIN = 'http://compare.invalid';
 
 /** The pairs: grove's species, ez-tree's preset, and the views they are drawn from. */
@@ -57,20 +55,6 @@ export function generate(species, dir, bin = groveBin()) {
   return out;
 }
 
-async function bundle() {
-  const out = await build({
-    entryPoints: [join(HERE, 'page.mjs')],
-    bundle: true,
-    format: 'esm',
-    target: 'es2022',
-    write: false,
-    logLevel: 'error',
-    external: ['node:*'],
-    absWorkingDir: WEB,
-  });
-  return out.outputFiles[0].text;
-}
-
 const TYPES = {
   '.gltf': 'model/gltf+json',
   '.bin': 'application/octet-stream',
@@ -89,18 +73,9 @@ const ENV = join(ROOT, 'assets/env');
  */
 export async function open({ width = 480, height = 400 } = {}) {
   if (!existsSync(WASM)) throw new Error(`${WASM} is missing: run bash web/build.sh first`);
-  const script = await bundle();
+  const script = await bundleModule(join(HERE, 'page.mjs'), WEB);
   const trees = mkdtempSync(join(tmpdir(), 'grove-compare-'));
-  const browser = await chromium.launch({
-    executablePath: CHROMIUM,
-    args: [
-      '--no-sandbox',
-      '--use-angle=swiftshader',
-      '--enable-unsafe-swiftshader',
-      '--disable-background-networking',
-      '--ignore-gpu-blocklist',
-    ],
-  });
+  const browser = await launchChromium();
   const errors = [];
   const foreign = [];
   try {

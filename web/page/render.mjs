@@ -26,16 +26,14 @@
 import { existsSync, readFileSync, renameSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { basename, dirname, extname, join, resolve, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { build } from 'esbuild';
-import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
 import { loadGrove } from '../sim/grove-sim.mjs';
+import { CHROMIUM, bundleModule, launchChromium } from './headless.mjs';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const WEB = resolve(HERE, '..');
 const ROOT = resolve(WEB, '..');
 const ORIGIN = 'http://still.invalid';
-const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 const WASM = join(resolve(ROOT, process.env.CARGO_TARGET_DIR ?? 'target'), 'wasm', 'grove_sim.wasm');
 const TYPES = {
   '.gltf': 'model/gltf+json',
@@ -73,30 +71,11 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
   if (!existsSync(WASM)) throw new Error(`${WASM} is missing: run bash web/build.sh first`);
   if (!existsSync(CHROMIUM))
     throw new Error(`${CHROMIUM}: no Chromium there (install Debian's chromium or set CHROMIUM)`);
-  const out = await build({
-    entryPoints: [entry],
-    bundle: true,
-    format: 'esm',
-    target: 'es2022',
-    write: false,
-    logLevel: 'error',
-    external: ['node:*'],
-    absWorkingDir: WEB,
-  });
-  const script = out.outputFiles[0].text;
+  const script = await bundleModule(entry, WEB);
   const envDir = join(ROOT, 'assets/env');
   const modelsDir = join(ROOT, 'assets/trees');
   let modelDir = null;
-  const browser = await chromium.launch({
-    executablePath: CHROMIUM,
-    args: [
-      '--no-sandbox',
-      '--use-angle=swiftshader',
-      '--enable-unsafe-swiftshader',
-      '--disable-background-networking',
-      '--ignore-gpu-blocklist',
-    ],
-  });
+  const browser = await launchChromium();
   const errors = [];
   try {
     const context = await browser.newContext({ viewport: { width: 64, height: 64 } });

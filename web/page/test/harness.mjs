@@ -10,13 +10,12 @@ import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { build } from 'esbuild';
-import { chromium } from 'playwright-core';
 import { startServer } from '../../client/test/helpers.mjs';
 
 export const WEB = resolve(dirname(fileURLToPath(import.meta.url)), '../..');
 export const ROOT = resolve(WEB, '..');
 export const GROVE = process.env.GROVE_BIN ?? join(ROOT, 'target/debug/grove');
-export const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
+import { launchChromium } from '../headless.mjs';
 
 let emulator = null;
 
@@ -75,17 +74,7 @@ export async function start(serve = []) {
  */
 export async function browse(url, { chromiumArgs = [] } = {}) {
   const script = await emulatorScript();
-  const browser = await chromium.launch({
-    executablePath: CHROMIUM,
-    args: [
-      '--no-sandbox',
-      '--use-angle=swiftshader',
-      '--enable-unsafe-swiftshader',
-      '--disable-background-networking',
-      '--ignore-gpu-blocklist',
-      ...chromiumArgs,
-    ],
-  });
+  const browser = await launchChromium(chromiumArgs);
   const origin = new URL(url).origin;
   const token = new URL(url).searchParams.get('token');
   const requests = [];
