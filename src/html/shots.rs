@@ -68,16 +68,7 @@ impl Shots {
         let head = self.frame(sim)?;
         let r = self.film.as_mut().ok_or(HtmlError::NoRenderer)?;
         let film = r.options.clone();
-        r.options = RenderOptions {
-            overlay: false,
-            grass: false,
-            water: false,
-            leaf_pixels: 0.0,
-            impostor_pixels: 0.0,
-            far_pixels: 0.0,
-            top_view: Some(view),
-            ..film.clone()
-        };
+        r.options = top_options(view, film.clone());
         let img = offscreen::render_image(&self.gpu, r, sim);
         r.options = film;
         Ok((head, jpeg_uri(&img?, 70)?))
@@ -93,18 +84,24 @@ impl Shots {
             self.top = Some((r, size));
         }
         let (r, _) = self.top.as_mut().ok_or(HtmlError::NoRenderer)?;
-        // Every leaf and no impostor: seen from far above, level of detail would thin the crowns.
-        r.options = RenderOptions {
-            overlay: false,
-            grass: false,
-            water: false,
-            leaf_pixels: 0.0,
-            impostor_pixels: 0.0,
-            far_pixels: 0.0,
-            top_view: Some(view),
-            ..Default::default()
-        };
+        r.options = top_options(view, RenderOptions::default());
         let img = offscreen::render_image(&self.gpu, r, sim)?;
         jpeg_uri(&img, 80)
+    }
+}
+
+/// `base` seen from straight above over `view`'s rectangle: no interaction visuals, grass or
+/// water, and every leaf with no impostor or far model (seen from far above, level of detail
+/// would thin the crowns).
+fn top_options(view: TopView, base: RenderOptions) -> RenderOptions {
+    RenderOptions {
+        overlay: false,
+        grass: false,
+        water: false,
+        leaf_pixels: 0.0,
+        impostor_pixels: 0.0,
+        far_pixels: 0.0,
+        top_view: Some(view),
+        ..base
     }
 }
