@@ -67,8 +67,8 @@ impl Shots {
     pub fn frame_pair(&mut self, sim: &Sim, view: TopView) -> Result<(String, String), HtmlError> {
         let head = self.frame(sim)?;
         let r = self.film.as_mut().ok_or(HtmlError::NoRenderer)?;
-        let film = r.options.clone();
-        r.options = top_options(view, film.clone());
+        let top = top_options(view, r.options.clone());
+        let film = std::mem::replace(&mut r.options, top);
         let img = offscreen::render_image(&self.gpu, r, sim);
         r.options = film;
         Ok((head, jpeg_uri(&img?, 70)?))
