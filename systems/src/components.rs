@@ -217,6 +217,16 @@ impl Controller {
     }
 }
 
+/// The Scale pad of the controller's entity ([`crate::input::InputEvent::ScaleAxis`]), added by
+/// the first such event: a world that never had one hashes as before it existed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ScalePad {
+    /// The pad's value in [−1, 1]; 0 at rest.
+    pub value: f32,
+    /// The gesture in progress: the tree being scaled (its id bits) and its scale when it began.
+    pub gesture: Option<(u64, f32)>,
+}
+
 /// The user's head, which is also the camera.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Head {

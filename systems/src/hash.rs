@@ -30,7 +30,7 @@ macro_rules! hash_table {
             Plane: required, Sun: required, Wind: required, Controller: required, Head: required,
             HitMarker: required, AnchorBall: required, Selection: required, Water: optional;
             resources;
-            Grass: optional, AerialCrown: optional
+            Grass: optional, AerialCrown: optional, ScalePad: optional
         )
     };
 }
@@ -227,7 +227,8 @@ serde_hashed!(
     Selection,
     Water,
     Grass,
-    AerialCrown
+    AerialCrown,
+    ScalePad
 );
 
 /// Plane meshes are large, so they are hashed from their raw little-endian bytes rather than

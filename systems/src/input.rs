@@ -54,6 +54,12 @@ pub enum InputEvent {
         /// Each axis in [−1, 1]; +Y is front, +X is right.
         axes: Vec2,
     },
+    /// The Scale pad moved (a phone's touch bar, `docs/headset.md`): the selected tree grows while
+    /// the value is above 0 and shrinks while it is below, faster the further; 0 when released.
+    ScaleAxis {
+        /// In [−1, 1]; +1 doubles the tree's scale each second.
+        value: f32,
+    },
     /// The user opened the model menu.
     OpenMenu,
     /// The user closed the model menu without choosing.
@@ -95,6 +101,7 @@ impl InputEvent {
             InputEvent::ButtonDown { .. } => "button_down",
             InputEvent::ButtonUp { .. } => "button_up",
             InputEvent::TouchpadAxes { .. } => "touchpad_axes",
+            InputEvent::ScaleAxis { .. } => "scale_axis",
             InputEvent::OpenMenu => "open_menu",
             InputEvent::CloseMenu => "close_menu",
             InputEvent::ChooseModel { .. } => "choose_model",
@@ -131,6 +138,8 @@ impl InputEvent {
                     Ok(())
                 }
             }
+            InputEvent::ScaleAxis { value } if !value.is_finite() => Err(InvalidEvent::AxesNotFinite),
+            InputEvent::ScaleAxis { value } if value.abs() > 1.0 => Err(InvalidEvent::AxesOutOfRange),
             InputEvent::StartTask { task, .. } if task.is_empty() => Err(InvalidEvent::EmptyTask),
             InputEvent::StartTask { layout: Some(l), .. } => l.validate().map_err(InvalidEvent::Layout),
             InputEvent::SwitchTechnique { technique } if technique.is_empty() || technique.len() > 64 => {

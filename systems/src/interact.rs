@@ -195,6 +195,12 @@ pub fn corner_scale(start_scale: f32, start_radius: f32, radius: f32, min: f32, 
     (start_scale * radius / start_radius).clamp(min, max)
 }
 
+/// The scale after one tick of the Scale pad at `value` (after the dead zone): `scale` times
+/// 2^(value × `octaves_per_s` × `dt`), clamped to `[min, max]`.
+pub fn pad_scale(scale: f32, value: f32, octaves_per_s: f32, dt: f32, min: f32, max: f32) -> f32 {
+    (scale * libm::exp2f(value * octaves_per_s * dt)).clamp(min, max)
+}
+
 /// The yaw during an edge-handle drag: the yaw at the grab plus the change of the grab point's
 /// angle around the tree axis (the shorter way round), wrapped into (−π, π].
 pub fn edge_yaw(start_yaw: f32, start_angle: f32, angle: f32) -> f32 {

@@ -12,12 +12,13 @@
 //!    ground deselects.
 //! 8. `handles`: a grabbed corner handle scales, an edge handle rotates the selected tree.
 //! 9. `touchpad`: moves and turns the selected tree.
-//! 10. `drag`: a grabbed tree follows the ray; the anchor ball; snap on release.
-//! 11. `selection_box`: keep the selection box on the selected tree.
-//! 12. `task`: check targets and measure the running task.
+//! 10. `scale_pad`: the Scale pad grows or shrinks the selected tree.
+//! 11. `drag`: a grabbed tree follows the ray; the anchor ball; snap on release.
+//! 12. `selection_box`: keep the selection box on the selected tree.
+//! 13. `task`: check targets and measure the running task.
 //!
 //! The systems are grouped into named stages ([`Stage`]): `input` (1), `environment` (2–3), `ray`
-//! (4), `interaction` (5–9), `constraints` (10–11) and `task` (12). The active technique's own
+//! (4), `interaction` (5–10), `constraints` (11–12) and `task` (13). The active technique's own
 //! systems ([`crate::technique::Technique::systems`]) run after the built-in systems of their
 //! stage; the two built-in techniques have none, so their order is exactly the list above.
 //!
@@ -42,6 +43,7 @@ pub const BUILTIN: &[(Stage, &str, System)] = &[
     (Stage::Interaction, "select", systems::select::run),
     (Stage::Interaction, "handles", systems::handles::run),
     (Stage::Interaction, "touchpad", systems::touchpad::run),
+    (Stage::Interaction, "scale_pad", systems::scale_pad::run),
     (Stage::Constraints, "drag", systems::drag::run),
     (Stage::Constraints, "selection_box", systems::selection_box::run),
     (Stage::Task, "task", systems::task::run),
@@ -122,6 +124,7 @@ mod tests {
                 "select",
                 "handles",
                 "touchpad",
+                "scale_pad",
                 "drag",
                 "selection_box",
                 "task"

@@ -147,6 +147,13 @@ impl Script {
         self.push(InputEvent::TouchpadAxes { axes: Vec2::ZERO }).wait(1)
     }
 
+    /// Holds the Scale pad at `value` for `ticks` ticks, then lets it go (back to 0) and runs one
+    /// more tick, in which the gesture ends. The tree grows or shrinks in exactly `ticks` ticks.
+    pub fn scale_pad(&mut self, value: f32, ticks: u64) -> &mut Self {
+        self.push(InputEvent::ScaleAxis { value }).wait(ticks);
+        self.push(InputEvent::ScaleAxis { value: 0.0 }).wait(1)
+    }
+
     /// Chooses a model. In manual mode the menu is opened first (one tick), as a participant
     /// has to for every new tree; the tree then appears in front of the head in the tick of the
     /// choice. In ray-casting mode it only sets the model that Trigger plants.

@@ -123,7 +123,21 @@ fn in_the_manual_task_a_small_tree_is_grabbed_by_itself_not_its_handles_and_snap
     s.release(Button::Trigger).wait(2);
     let after = s.sim().snapshot();
     assert!(after.trees.iter().find(|t| t.id == b.tree).unwrap().grounded);
-    assert!(after.task.unwrap().targets[2].satisfied);
+    let task = after.task.unwrap();
+    assert!(task.targets[2].satisfied);
+    // The Scale pad (a phone's) grows and shrinks it within the bounds times the layout's scale,
+    // never jumping to the full-size `min_scale`.
+    assert_eq!(after.bounding_box.map(|b| b.tree), Some(b.tree), "still selected");
+    let scale_of = |s: &Script| s.sim().snapshot().trees.iter().find(|t| t.id == b.tree).unwrap().scale;
+    let cfg = s.sim().config().clone();
+    s.scale_pad(0.5, 60);
+    let want = tree.scale * 0.5f32.exp2();
+    assert!((scale_of(&s) - want).abs() < 1e-5, "{} against {want}", scale_of(&s));
+    s.scale_pad(1.0, 600);
+    assert_eq!(scale_of(&s), cfg.max_scale * task.layout_scale);
+    s.scale_pad(-1.0, 900);
+    assert_eq!(scale_of(&s), cfg.min_scale * task.layout_scale);
+    assert!(s.sim().snapshot().trees.iter().find(|t| t.id == b.tree).unwrap().grounded, "on the floor throughout");
 }
 
 #[test]

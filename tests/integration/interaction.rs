@@ -233,6 +233,49 @@ fn touchpad_moves_along_the_ray_and_turns() {
 }
 
 #[test]
+fn scale_pad_grows_and_shrinks_the_selected_tree_about_its_lowest_point() {
+    use grove_systems::input::InputEvent;
+    let mut s = study();
+    let id = plant(&mut s, SHRUB, 0.0, 0.0);
+    s.point_at(ground(&s, 0.0, 0.0) + Vec3::Y * 0.8).press(Button::Trigger);
+    assert_eq!(s.sim().selection().tree, Some(id));
+    let (cfg, dt) = (s.sim().config().clone(), s.sim().dt());
+    // Until the first Scale pad event the world hashes without a `ScalePad` component.
+    assert!(s.sim().hash().component("ScalePad").is_none());
+    let (base, log_start) = (lowest_point(&s, id), s.sim().log().entries.len());
+
+    // Full deflection for one second doubles the scale; the lowest point stays where it was.
+    s.scale_pad(1.0, 60);
+    let scale = s.sim().tree(id).unwrap().scale.0;
+    let want = (dt * 60.0).exp2();
+    assert!((scale - want).abs() < 1e-4 && (want - 2.0).abs() < 1e-3, "scale {scale}, expected {want}");
+    assert!((lowest_point(&s, id) - base).length() < 1e-4, "scaled about its lowest point");
+    assert_eq!(kinds_since(&s, log_start), ["scaled"], "one Scaled when the gesture ends");
+    assert_eq!(s.sim().log().entries.last().unwrap().what, Happening::Scaled { tree: id, scale });
+    assert!(s.sim().hash().component("ScalePad").is_some());
+
+    // Half deflection down for two seconds halves it; held longer, it stops at `min_scale`.
+    s.scale_pad(-0.5, 120);
+    assert!((s.sim().tree(id).unwrap().scale.0 - scale / 2.0).abs() < 1e-4);
+    s.scale_pad(-1.0, 600);
+    assert_eq!(s.sim().tree(id).unwrap().scale.0, cfg.min_scale);
+
+    // Inside the dead zone, or with nothing selected, nothing changes and nothing is logged.
+    let (before, log_start) = (s.sim().tree(id).unwrap().scale.0, s.sim().log().entries.len());
+    s.scale_pad(cfg.touchpad_dead_zone * 0.9, 30);
+    assert_eq!(s.sim().tree(id).unwrap().scale.0, before);
+    let bare = ground(&s, 5.0, -1.0);
+    s.switch_mode(Mode::Manual).point_at(bare).press(Button::Trigger);
+    assert_eq!(s.sim().selection().tree, None);
+    s.scale_pad(1.0, 30);
+    assert_eq!(s.sim().tree(id).unwrap().scale.0, before);
+    assert!(!kinds_since(&s, log_start).contains(&"scaled"));
+    // Values outside [−1, 1] are refused as the touchpad's are.
+    assert!(InputEvent::ScaleAxis { value: 1.5 }.validate().is_err());
+    assert!(InputEvent::ScaleAxis { value: f32::NAN }.validate().is_err());
+}
+
+#[test]
 fn drag_and_release_while_white_snaps_the_lowest_point_onto_the_plane() {
     let mut s = study();
     let id = plant(&mut s, SHRUB, 1.0, -1.0);

@@ -29,6 +29,7 @@ export class TaskRun {
     const c = this.snapshot.controller;
     this.buttons = statesOf(c.buttons);
     this.axes = c.touchpad.map(Math.fround);
+    this.scale = 0; // the Scale pad's value as last sent
     this.controllerKey = poseKey(c.pose);
     this.headKey = poseKey(this.snapshot.head);
     this.triggerToMenu = false;
@@ -96,7 +97,7 @@ export class TaskRun {
   /**
    * One frame: runs the steps its time calls for. `input`: { controller, head } poses (position
    * [x, y, z], rotation [x, y, z, w]: input/pose.mjs) or null, `buttons` (grove's four, by name), `axes`
-   * ([x, y]), `frame` (the frame's number), and `menuPick(origin, dir)` (the menu item the ray
+   * ([x, y]), `scale` (the Scale pad's value, a phone's; 0 or absent elsewhere), `frame` (the frame's number), and `menuPick(origin, dir)` (the menu item the ray
    * points at: a model's index, `models.length` for "finish the task", or -1). Returns the
    * number of steps run; `this.snapshot` is the world after them.
    */
@@ -142,6 +143,11 @@ export class TaskRun {
     if (axes[0] !== this.axes[0] || axes[1] !== this.axes[1]) {
       this.axes = axes;
       out.push({ kind: 'touchpad_axes', axes });
+    }
+    const scale = Math.fround(input.scale ?? 0);
+    if (scale !== this.scale) {
+      this.scale = scale;
+      out.push({ kind: 'scale_axis', value: scale });
     }
     const pressed = { ...(input.buttons ?? {}) };
     // A button already down in the run's first frame (the trigger or tap that started the task)

@@ -41,12 +41,14 @@ pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tic
     let mut tick = 0u64;
     let mut held = 0usize;
     let mut touch_until: Option<u64> = None;
+    let mut scale_until: Option<u64> = None;
     for (i, e) in events.iter().enumerate() {
         let next = events.get(i + 1).map(|n| &n.event);
         let skip = match (&e.event, next) {
             (InputEvent::ControllerPose { .. }, Some(InputEvent::ControllerPose { .. })) => held == 0,
             (InputEvent::HeadPose { .. }, Some(InputEvent::HeadPose { .. })) => true,
             (InputEvent::TouchpadAxes { axes }, _) => *axes == Vec2::ZERO,
+            (InputEvent::ScaleAxis { value }, _) => *value == 0.0,
             _ => false,
         };
         match &e.event {
@@ -54,7 +56,8 @@ pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tic
             InputEvent::ButtonUp { .. } => held = held.saturating_sub(1),
             _ => {}
         }
-        let touching = matches!(e.event, InputEvent::TouchpadAxes { .. }) && touch_until.is_some_and(|t| e.tick < t);
+        let touching = matches!(e.event, InputEvent::TouchpadAxes { .. }) && touch_until.is_some_and(|t| e.tick < t)
+            || matches!(e.event, InputEvent::ScaleAxis { .. }) && scale_until.is_some_and(|t| e.tick < t);
         if skip || touching {
             continue;
         }
@@ -78,6 +81,16 @@ pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tic
                 let ticks = until.saturating_sub(e.tick).max(1);
                 touch_until = Some(e.tick + ticks);
                 (Step::Touchpad { x: axes.x, y: axes.y, ticks }, ticks + 1)
+            }
+            InputEvent::ScaleAxis { value } => {
+                // Held until the next Scale pad event (or one tick), as the touchpad is.
+                let until = events[i + 1..]
+                    .iter()
+                    .find(|n| matches!(n.event, InputEvent::ScaleAxis { .. }))
+                    .map_or(e.tick + 1, |n| n.tick);
+                let ticks = until.saturating_sub(e.tick).max(1);
+                scale_until = Some(e.tick + ticks);
+                (Step::ScalePad { value: *value, ticks }, ticks + 1)
             }
             InputEvent::OpenMenu => (Step::OpenMenu, 1),
             InputEvent::CloseMenu => (Step::CloseMenu, 1),

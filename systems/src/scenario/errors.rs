@@ -35,6 +35,9 @@ pub enum StepError {
     /// Touchpad axes outside [−1, 1].
     #[error("touchpad x and y must lie in [-1, 1]")]
     Touchpad,
+    /// A Scale pad value outside [−1, 1].
+    #[error("the Scale pad's value must lie in [-1, 1]")]
+    ScalePad,
     /// A `WaitUntil` a world hash.
     #[error("a world hash cannot be waited for; check it with an Expect step")]
     WaitForHash,

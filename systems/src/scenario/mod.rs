@@ -140,6 +140,13 @@ pub enum Step {
         /// How long, ticks.
         ticks: u64,
     },
+    /// Hold the Scale pad at `value` for `ticks` ticks, then let it go.
+    ScalePad {
+        /// Grow is +1, shrink −1.
+        value: f32,
+        /// How long, ticks.
+        ticks: u64,
+    },
     /// Open the model menu.
     OpenMenu,
     /// Close the model menu without choosing.
@@ -192,7 +199,7 @@ impl Step {
             Step::Remove(_) => 3,
             Step::Drag { .. } => 4 + intents::MAX_CARRY_TICKS,
             Step::Sweep { count, .. } => *count,
-            Step::Touchpad { ticks, .. } => ticks.saturating_add(1),
+            Step::Touchpad { ticks, .. } | Step::ScalePad { ticks, .. } => ticks.saturating_add(1),
             Step::Wait(n) => *n,
             Step::WaitUntil { timeout, .. } => *timeout,
             Step::Name { .. } | Step::Mark { .. } | Step::Expect(_) => 0,
@@ -439,6 +446,7 @@ fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), StepError> {
         Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => {
             Err(StepError::Touchpad)
         }
+        Step::ScalePad { value, .. } if !(value.is_finite() && value.abs() <= 1.0) => Err(StepError::ScalePad),
         Step::WaitUntil { until: Expect::Hash(_), .. } => Err(StepError::WaitForHash),
         Step::WaitUntil { until, .. } | Step::Expect(until) => Ok(until.validate(catalogue)?),
         Step::StartTask(id) if crate::task::TaskDef::builtin(id).is_none() => Err(StepError::UnknownTask(id.clone())),

@@ -245,6 +245,9 @@ pub fn apply(
         Step::Touchpad { x, y, ticks } => {
             s.touchpad(*x, *y, *ticks);
         }
+        Step::ScalePad { value, ticks } => {
+            s.scale_pad(*value, *ticks);
+        }
         Step::OpenMenu => {
             s.push(InputEvent::OpenMenu).wait(1);
         }

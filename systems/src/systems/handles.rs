@@ -2,16 +2,17 @@
 //! selected tree, continuously while the Trigger is held.
 //!
 //! Reads: `Resources::interaction.handle_drag`, `Resources::edges` (Trigger going up),
-//! `Resources::config` (`min_scale`, `max_scale`), `Resources::catalogue`, `Controller` (ray),
-//! `Selection`, `Tree`.
+//! `Resources::config` (`min_scale`, `max_scale`), `Resources::task` (a room layout's scale),
+//! `Resources::catalogue`, `Controller` (ray), `Selection`, `Tree`.
 //! Writes: `Transform` (yaw; origin height while scaling), `Scale`, `Resources::interaction`
 //! (the handle drag ends on release), `Resources::spatial` (marked dirty on release),
 //! `Resources::log` (scaled, rotated, on release).
 //!
 //! Every tick the grab point is the point on the current ray at the grab distance.
 //! - A corner scales uniformly by the ratio of the grab point's horizontal distance to the
-//!   tree's vertical axis now and at the grab, clamped to `[min_scale, max_scale]`. The tree
-//!   scales about its lowest point, so a grounded tree stays on the ground.
+//!   tree's vertical axis now and at the grab, clamped to `[min_scale, max_scale]` times a room
+//!   layout's scale. The tree scales about its lowest point, so a grounded tree stays on the
+//!   ground.
 //! - An edge turns the tree about +Y by the change in the grab point's angle around the axis.
 //!
 //! The spatial index is marked dirty once, at the release, not every tick.
@@ -44,7 +45,10 @@ pub fn run(world: &mut World, res: &mut Resources) {
     match hd.handle {
         Handle::Corner(_) => {
             let radius = interact::horizontal_radius(grab, t.translation);
-            let new = interact::corner_scale(hd.start_scale, hd.start_radius, radius, cfg.min_scale, cfg.max_scale);
+            // A room layout's trees stand at its scale, and so do the bounds.
+            let layout = crate::task::layout_scale(res.task.as_ref());
+            let (min, max) = (cfg.min_scale * layout, cfg.max_scale * layout);
+            let new = interact::corner_scale(hd.start_scale, hd.start_radius, radius, min, max);
             t.translation.y = interact::rescaled_origin_y(t.translation.y, lowest, s.0, new);
             s.0 = new;
         }

@@ -1,7 +1,8 @@
 //! Input system: applies the tick's input events to the controller, the head and the UI state.
 //!
 //! Reads: `Resources::input` (drained), `Resources::mode`, `Resources::menu`.
-//! Writes: `Controller` (pose, buttons, touchpad), `Head` (pose), `Resources::edges`,
+//! Writes: `Controller` (pose, buttons, touchpad), `ScalePad` (added to the controller's entity by
+//! the first `scale_axis` event), `Head` (pose), `Resources::edges`,
 //! `Resources::mode`, `Resources::menu`, `Resources::interaction.pending_spawn`,
 //! `Resources::task` (start, its targets laid out in a room when the event says so, and end),
 //! `Resources::log` (mode_changed, menu_opened,
@@ -9,7 +10,7 @@
 
 use hecs::World;
 
-use crate::components::{Buttons, Controller, Head};
+use crate::components::{Buttons, Controller, Head, ScalePad};
 use crate::events::Happening;
 use crate::input::{Button, InputEvent};
 use crate::known_techniques::KnownTechniques as Techniques;
@@ -57,6 +58,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
             InputEvent::TouchpadAxes { axes } => {
                 single::for_each_mut::<Controller>(world, &res.singles, |c| c.touchpad = *axes);
             }
+            InputEvent::ScaleAxis { value } => scale_pad(world, res, *value),
             InputEvent::OpenMenu => open_menu(res, tick),
             InputEvent::CloseMenu => res.menu.open = false,
             InputEvent::ChooseModel { model } => {
@@ -123,6 +125,17 @@ fn switch(res: &mut Resources, tick: u64, index: usize) {
         res.technique = index;
         if plug_in {
             res.log.push(tick, Happening::TechniqueChanged { technique: res.techniques.at(index).name.to_string() });
+        }
+    }
+}
+
+/// Sets the Scale pad's value on the controller's entity, adding the pad on its first event.
+fn scale_pad(world: &mut World, res: &Resources, value: f32) {
+    let Some(e) = res.singles.entity::<Controller>() else { return };
+    match world.query_one_mut::<&mut ScalePad>(e) {
+        Ok(pad) => pad.value = value,
+        Err(_) => {
+            let _ = world.insert_one(e, ScalePad { value, gesture: None });
         }
     }
 }

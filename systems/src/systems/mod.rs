@@ -6,6 +6,7 @@ pub mod handles;
 pub mod input;
 pub mod plant_remove;
 pub mod raycast;
+pub mod scale_pad;
 pub mod select;
 pub mod selection_box;
 pub mod spawn;

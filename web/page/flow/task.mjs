@@ -132,6 +132,7 @@ export function runFrame(app, { time, input, ray }) {
     head: input.head,
     buttons,
     axes: input.axes,
+    scale: input.scale,
     frame: app.page.frames,
     menuPick,
   });

@@ -110,11 +110,12 @@ export class ScreenTouch {
         else this.pose = ray;
       }
     }
-    const bar = this.bar?.read() ?? { bumper: false, menu: false, axes: [0, 0] };
+    const bar = this.bar?.read() ?? { bumper: false, menu: false, axes: [0, 0], scale: 0 };
     return {
       pose: this.pose,
       buttons: { trigger: Boolean(entry?.[1].ray0), bumper: bar.bumper, touchpad: false, menu: bar.menu },
       axes: bar.axes,
+      scale: bar.scale,
     };
   }
 
@@ -130,6 +131,7 @@ export class ScreenTouch {
       ['Remove', 'remove the tree last tapped (Bumper)'],
       ['Menu', 'open the model menu'],
       ['Move pad', 'drag up or down: move the selected tree along the ray; left or right: turn it'],
+      ['Scale pad', 'drag up: grow the selected tree; down: shrink it'],
     ];
   }
 

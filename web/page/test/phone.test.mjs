@@ -3,7 +3,7 @@
 // in, read by the page's own input layer) over IWER's small office: a tap starts the task, taps
 // choose in the menu and plant, the touch bar's Menu and Remove work and a tap on them plants
 // nothing, and in the manual task a tree dragged by the finger comes down onto its target and
-// snaps; both files verify and `grove study` says they were made on a phone's screen.
+// snaps, and the Scale pad grows it; both files verify and `grove study` says they were made on a phone's screen.
 
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
@@ -127,8 +127,28 @@ test('a phone in the manual task: a tree dragged by the finger comes down onto i
     Math.hypot(tree.position[0] - target.position[0], tree.position[2] - target.position[2]) < 0.01,
     `${tree.position} on ${target.position}`,
   );
+  // The Scale pad: a thumb dragged up grows the selected tree, which stays on the floor; the
+  // pad's touch plants and selects nothing.
+  const pad = await page.locator('#touch-scale').boundingBox();
+  const [px, py] = [pad.x + pad.width / 2, pad.y + pad.height / 2];
+  await page.mouse.move(px, py);
+  await page.mouse.down();
+  await page.mouse.move(px, py - 100, { steps: 4 });
+  await frames(page, 30);
+  await page.mouse.up();
+  await frames(page, 5);
+  const grown = await page.evaluate(() => window.grove.snapshot.trees);
+  assert.equal(grown.length, 1, 'the pad planted nothing');
+  assert.ok(grown[0].scale > tree.scale * 1.1, `scale ${tree.scale} -> ${grown[0].scale}`);
+  assert.equal(grown[0].grounded, true);
+  assert.equal(grown[0].selected, true);
   const report = await finish(page);
   assert.equal(report.task.trees.length, 1);
+  const values = fileLines(join(h.server.dir, report.name))
+    .map((l) => JSON.parse(l).event)
+    .filter((e) => e?.kind === 'scale_axis')
+    .map((e) => e.value);
+  assert.ok(values.length >= 2 && values.at(-1) === 0 && values.some((v) => v > 0.5), `${values}`);
   const row = studyRows(h.server.dir).find((r) => r.file === report.name);
   assert.deepEqual(
     [row.device, row.target_ray_mode, row.input_profile, row.status],
