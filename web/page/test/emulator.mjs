@@ -3,7 +3,7 @@
 // navigator.xr, and for AR a room from @iwer/sem (a small office, with its planes and hit test).
 // Bundled by harness.mjs into one script that Playwright adds before the page's own scripts;
 // `window.__groveXR` ({ room, device }) chooses the room and the device: `quest` (the default),
-// `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
+// `quest2` (IWER's Quest 2: Touch controllers, profile oculus-touch-v3, no depth sensing), `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
 // (immersive-vr only, no controllers); `depth: false` a headset without depth sensing, `light` a
 // light estimate (below).
 //
@@ -15,7 +15,18 @@
 // overlay shown above the XR canvas, as a phone's browser shows it.
 
 import * as THREE from 'three';
-import { GlobalSpace, P_DEVICE, P_SPACE, XRDevice, XRFrame, XRInputSource, XRSession, XRSpace, metaQuest3 } from 'iwer';
+import {
+  GlobalSpace,
+  P_DEVICE,
+  P_SPACE,
+  XRDevice,
+  XRFrame,
+  XRInputSource,
+  XRSession,
+  XRSpace,
+  metaQuest2,
+  metaQuest3,
+} from 'iwer';
 import { SyntheticEnvironmentModule } from '@iwer/sem';
 import office from '@iwer/sem/captures/office_small.json';
 
@@ -23,6 +34,7 @@ const config = window.__groveXR ?? { room: true };
 const kind = config.device ?? 'quest';
 const DEVICES = {
   quest: metaQuest3,
+  quest2: metaQuest2,
   phone: {
     ...metaQuest3,
     name: 'Android phone (emulated)',
