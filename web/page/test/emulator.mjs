@@ -3,7 +3,8 @@
 // navigator.xr, and for AR a room from @iwer/sem (a small office, with its planes and hit test).
 // Bundled by harness.mjs into one script that Playwright adds before the page's own scripts;
 // `window.__groveXR` ({ room, device }) chooses the room and the device: `quest` (the default),
-// `quest2` (IWER's Quest 2: Touch controllers, profile oculus-touch-v3, no depth sensing), `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
+// `quest2` (IWER's Quest 2: Touch controllers, profile oculus-touch-v3, no depth sensing),
+// `magicleap` (a double of Magic Leap 2's controller in Wolvic: magicleap-one, no squeeze), `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
 // (immersive-vr only, no controllers); `depth: false` a headset without depth sensing, `light` a
 // light estimate (below).
 //
@@ -32,6 +33,22 @@ import office from '@iwer/sem/captures/office_small.json';
 
 const config = window.__groveXR ?? { room: true };
 const kind = config.device ?? 'quest';
+// Magic Leap 2's controller as Wolvic reports it: the magicleap-one profile, a trigger and a
+// touchpad, no squeeze (the menu button is the browser's own).
+const ML_GAMEPAD = {
+  mapping: 'xr-standard',
+  buttons: [{ id: 'trigger', type: 'analog', eventTrigger: 'select' }, null, { id: 'touchpad', type: 'binary' }],
+  axes: [
+    { id: 'touchpad', type: 'x-axis' },
+    { id: 'touchpad', type: 'y-axis' },
+  ],
+};
+const ML_HAND = { gamepad: ML_GAMEPAD, gripOffsetMatrix: new THREE.Matrix4().elements, numHapticActuators: 1 };
+const magicLeapOne = {
+  profileId: 'magicleap-one',
+  fallbackProfileIds: ['generic-trigger-touchpad'],
+  layout: { left: ML_HAND, right: ML_HAND },
+};
 const DEVICES = {
   quest: metaQuest3,
   quest2: metaQuest2,
@@ -42,6 +59,12 @@ const DEVICES = {
     supportedSessionModes: ['inline', 'immersive-ar'],
     supportedFeatures: ['viewer', 'local', 'local-floor', 'anchors', 'plane-detection', 'hit-test', 'dom-overlay'],
     interactionMode: 'screen-space',
+  },
+  magicleap: {
+    ...metaQuest3,
+    name: 'Magic Leap 2 in Wolvic (emulated)',
+    controllerConfig: magicLeapOne,
+    supportedFeatures: metaQuest3.supportedFeatures.filter((f) => !['depth-sensing', 'hand-tracking'].includes(f)),
   },
   visionpro: {
     ...metaQuest3,

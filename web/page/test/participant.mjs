@@ -63,9 +63,12 @@ export async function click(page, button, hold = 4) {
   await ticks(page, hold);
 }
 
-/** Opens the menu with B (with hands: the left hand's pinch held 0.5 s) and chooses `model` with the trigger. */
-export async function choose(page, model) {
-  await click(page, 'b-button', 40);
+/**
+ * Opens the menu with `menu` held 40 ticks (B; with hands the left hand's pinch held 0.5 s; on a
+ * controller without a squeeze, 'touchpad') and chooses `model` with the trigger.
+ */
+export async function choose(page, model, menu = 'b-button') {
+  await click(page, menu, 40);
   await until(page, () => window.grove.snapshot.menu.open);
   await aimAt(page, await page.evaluate((m) => window.grove.menuItemPoint(m), model));
   await click(page, 'trigger');
@@ -73,7 +76,7 @@ export async function choose(page, model) {
 }
 
 /** Plants the model of every target not yet satisfied at it (ray-casting): menu, aim, trigger. */
-export async function plantAll(page, { limit = Infinity } = {}) {
+export async function plantAll(page, { limit = Infinity, menu = 'b-button' } = {}) {
   let planted = 0;
   for (;;) {
     const targets = await page.evaluate(() => window.grove.snapshot.task.targets);
@@ -86,7 +89,7 @@ export async function plantAll(page, { limit = Infinity } = {}) {
     if (open.length === 0 || planted >= limit) return planted;
     const i = open[0][1];
     const t = targets[i];
-    await choose(page, t.model);
+    await choose(page, t.model, menu);
     await aimAt(page, t.moved_to ?? t.position);
     await click(page, 'trigger');
     await until(page, (i) => window.grove.snapshot.task.targets[i].satisfied, i, 20000).catch(async (e) => {
