@@ -26,7 +26,13 @@ const out = args.includes('--out') ? resolve(args[args.indexOf('--out') + 1]) : 
 export const ENV_FILES = ['px.png', 'nx.png', 'py.png', 'ny.png', 'pz.png', 'nz.png', 'ground.png'];
 
 /** The controller profiles the page ships: the devices docs/headset.md names, and their fallbacks. */
-export const PROFILES = ['meta-quest-touch-plus', 'meta-quest-touch-plus-v2', 'oculus-touch-v3', 'magicleap-one'];
+export const PROFILES = [
+  'meta-quest-touch-plus',
+  'meta-quest-touch-plus-v2',
+  'oculus-touch-v3',
+  'magicleap-one',
+  'pico-4',
+];
 
 const wasm = join(resolve(root, process.env.CARGO_TARGET_DIR ?? 'target'), 'wasm', 'grove_sim.wasm');
 if (!existsSync(wasm)) {

@@ -4,7 +4,8 @@
 // Bundled by harness.mjs into one script that Playwright adds before the page's own scripts;
 // `window.__groveXR` ({ room, device }) chooses the room and the device: `quest` (the default),
 // `quest2` (IWER's Quest 2: Touch controllers, profile oculus-touch-v3, no depth sensing),
-// `magicleap` (a double of Magic Leap 2's controller in Wolvic: magicleap-one, no squeeze), `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
+// `pico4` (a double: its controllers as the pico-4 profile over the Touch layout, no hit test or
+// depth), `magicleap` (a double of Magic Leap 2's controller in Wolvic: magicleap-one, no squeeze), `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
 // (immersive-vr only, no controllers); `depth: false` a headset without depth sensing, `light` a
 // light estimate (below).
 //
@@ -27,6 +28,7 @@ import {
   XRSpace,
   metaQuest2,
   metaQuest3,
+  oculusTouchV3,
 } from 'iwer';
 import { SyntheticEnvironmentModule } from '@iwer/sem';
 import office from '@iwer/sem/captures/office_small.json';
@@ -49,6 +51,9 @@ const magicLeapOne = {
   fallbackProfileIds: ['generic-trigger-touchpad'],
   layout: { left: ML_HAND, right: ML_HAND },
 };
+// Pico 4's controllers: the Touch layout (trigger, squeeze, thumbstick, A/B and X/Y) under the
+// pico-4 profile.
+const pico4 = { ...oculusTouchV3, profileId: 'pico-4', fallbackProfileIds: ['generic-trigger-squeeze-thumbstick'] };
 const DEVICES = {
   quest: metaQuest3,
   quest2: metaQuest2,
@@ -59,6 +64,12 @@ const DEVICES = {
     supportedSessionModes: ['inline', 'immersive-ar'],
     supportedFeatures: ['viewer', 'local', 'local-floor', 'anchors', 'plane-detection', 'hit-test', 'dom-overlay'],
     interactionMode: 'screen-space',
+  },
+  pico4: {
+    ...metaQuest3,
+    name: 'Pico 4 (emulated)',
+    controllerConfig: pico4,
+    supportedFeatures: metaQuest3.supportedFeatures.filter((f) => !['depth-sensing', 'hit-test'].includes(f)),
   },
   magicleap: {
     ...metaQuest3,

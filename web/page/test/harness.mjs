@@ -49,7 +49,7 @@ async function emulatorScript() {
  * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room, device }), requests,
  * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
  * server's URL with `query`, the emulator installed when `xr` is set (`device`: emulator.mjs's
- * `quest`, `quest2`, `magicleap`, `phone` or `visionpro`; `room`: @iwer/sem's office; `depth`: the headset offers depth
+ * `quest`, `quest2`, `pico4`, `magicleap`, `phone` or `visionpro`; `room`: @iwer/sem's office; `depth`: the headset offers depth
  * sensing; `light`: a light estimate, emulator.mjs).
  */
 export async function start(serve = []) {
