@@ -35,6 +35,14 @@ pub struct Draft {
     pub same_as_recording: bool,
 }
 
+/// How long event `i` (a touchpad's or the Scale pad's) is held: until the next event of its kind
+/// (`same`), or one tick; at least one.
+fn held_ticks(events: &[StampedEvent], i: usize, same: impl Fn(&InputEvent) -> bool) -> u64 {
+    let tick = events[i].tick;
+    let until = events[i + 1..].iter().find(|n| same(&n.event)).map_or(tick + 1, |n| n.tick);
+    until.saturating_sub(tick).max(1)
+}
+
 /// The steps that re-enact a recording's events, up to `end_tick`.
 pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tick: u64) -> Vec<Step> {
     let mut steps = Vec::new();
@@ -73,22 +81,12 @@ pub fn steps_from_events(events: &[StampedEvent], catalogue: &Catalogue, end_tic
             InputEvent::ButtonDown { button } => (Step::Hold(Btn::from(*button)), 1),
             InputEvent::ButtonUp { button } => (Step::Release(Btn::from(*button)), 1),
             InputEvent::TouchpadAxes { axes } => {
-                // Held until the next touchpad event (or one tick).
-                let until = events[i + 1..]
-                    .iter()
-                    .find(|n| matches!(n.event, InputEvent::TouchpadAxes { .. }))
-                    .map_or(e.tick + 1, |n| n.tick);
-                let ticks = until.saturating_sub(e.tick).max(1);
+                let ticks = held_ticks(events, i, |n| matches!(n, InputEvent::TouchpadAxes { .. }));
                 touch_until = Some(e.tick + ticks);
                 (Step::Touchpad { x: axes.x, y: axes.y, ticks }, ticks + 1)
             }
             InputEvent::ScaleAxis { value } => {
-                // Held until the next Scale pad event (or one tick), as the touchpad is.
-                let until = events[i + 1..]
-                    .iter()
-                    .find(|n| matches!(n.event, InputEvent::ScaleAxis { .. }))
-                    .map_or(e.tick + 1, |n| n.tick);
-                let ticks = until.saturating_sub(e.tick).max(1);
+                let ticks = held_ticks(events, i, |n| matches!(n, InputEvent::ScaleAxis { .. }));
                 scale_until = Some(e.tick + ticks);
                 (Step::ScalePad { value: *value, ticks }, ticks + 1)
             }
@@ -235,6 +233,13 @@ mod tests {
 
     fn at(tick: u64, event: InputEvent) -> StampedEvent {
         StampedEvent { tick, event }
+    }
+
+    #[test]
+    fn a_scale_pad_held_becomes_one_step_and_its_release_is_part_of_it() {
+        let events = vec![at(5, InputEvent::ScaleAxis { value: 1.0 }), at(35, InputEvent::ScaleAxis { value: 0.0 })];
+        let steps = steps_from_events(&events, &Catalogue::builtin(), 60);
+        assert_eq!(steps, vec![Step::Wait(5), Step::ScalePad { value: 1.0, ticks: 30 }, Step::Wait(24)]);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 // SwiftShader), the WebXR emulator bundled for the tests only, every request checked to stay on
 // the server's origin, and the moves of a scripted participant.
 
+import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -174,4 +175,20 @@ export async function ticks(page, n) {
     (t) => (window.grove.snapshot?.tick ?? 0) >= t || ['done', 'error', 'step'].includes(window.grove.state),
     start + n,
   );
+}
+
+/**
+ * Waits for the page's task to end and the server's verification of its file, and holds that it
+ * verified, that its header names `device`, and that `grove replay` takes it; returns the replay's
+ * report with the file's `name` and `path`.
+ */
+export async function verified(page, dir, device) {
+  await until(page, () => window.grove.state === 'done' && window.grove.verification, null, 60000);
+  const done = await page.evaluate(() => ({ v: window.grove.verification, file: window.grove.file }));
+  assert.equal(done.v.status, 'verified', JSON.stringify(done.v));
+  const path = join(dir, done.file);
+  assert.deepEqual(JSON.parse(fileLines(path)[0]).device, device);
+  const replay = grove(['replay', path, '--json']);
+  assert.equal(replay.status, 0, replay.stderr);
+  return { ...JSON.parse(replay.stdout), name: done.file, path };
 }

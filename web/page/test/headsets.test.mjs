@@ -1,17 +1,20 @@
-// Headsets beside the Quest 3, in AR in IWER's small office. IWER's Meta Quest 2 (Touch
-// controllers, profile oculus-touch-v3; no depth sensing): the task is laid out on the office's
-// floor, planted by the controller's trigger, one tree removed by its squeeze; the file verifies
-// with `grove replay`, and `grove study` names the Quest 2's controller. A Pico 4 (a double: its
-// controllers as the pico-4 profile, no hit test, no depth): the page draws the controller from
-// the profile it ships, plants, removes, finishes from the menu, and the file verifies.
+// Headsets beside the Quest 3, each through the page's own input layer, each file verified with
+// `grove replay` and its header naming the device:
+// - IWER's Meta Quest 2 (Touch controllers, profile oculus-touch-v3; no depth sensing) in AR in the
+//   small office: the task laid out on its floor, planted by the trigger, one tree removed by the
+//   squeeze; `grove study` names the controller.
+// - A Pico 4 (a double: its controllers as the pico-4 profile, no hit test, no depth) in AR: the
+//   page draws the controller from the profile it ships, plants, removes, finishes from the menu.
+// - A controller without a squeeze, as Magic Leap 2's is in Wolvic (a double: magicleap-one, a
+//   trigger and a touchpad), in VR on the study scene: the touchpad held 0.5 s opens the menu, a
+//   short click is Bumper and removes the tree under the ray.
 
 import assert from 'node:assert/strict';
-import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileLines, grove, start, studyRows, until } from './harness.mjs';
+import { start, studyRows, until, verified } from './harness.mjs';
 import { aimAt, click, enterAndStart, finishTask, plantAll } from './participant.mjs';
 
-const DEVICE = { profile: 'oculus-touch-v3', target_ray_mode: 'tracked-pointer', mapping: 'controller' };
+const controller = (profile, mapping = 'controller') => ({ profile, target_ray_mode: 'tracked-pointer', mapping });
 
 let h;
 before(async () => {
@@ -21,42 +24,44 @@ after(async () => {
   await h?.close();
 });
 
-test("a Quest 2 in AR: the task laid out in the room, planted by its Touch controller's trigger, a tree removed by its squeeze, verified", async () => {
-  const { page } = await h.open('participant=P72&task=ray-casting-7&seed=16&quality=low&render_every=4', {
+/** Opens the task on `device` in `mode` and holds that the page names `want` as the device. */
+async function begin(query, device, mode, want) {
+  const { page } = await h.open(`${query}&task=ray-casting-7&quality=low&render_every=4`, {
     xr: true,
-    room: true,
-    device: 'quest2',
+    room: mode === 'ar',
+    device,
   });
-  await enterAndStart(page, 'ar');
+  await enterAndStart(page, mode);
   await until(page, () => window.grove.snapshot?.task);
-  const begun = await page.evaluate(() => ({
-    device: window.grove.device,
-    floor: window.grove.floor,
-    depth: window.grove.occlusion ?? null,
-    agent: navigator.userAgent,
-  }));
-  assert.match(begun.agent, /Quest 2/, 'the emulated headset is the Quest 2');
-  assert.deepEqual(begun.device, DEVICE);
-  assert.match(begun.floor.source, /^plane detection/, 'the office has a floor plane');
-  // Three trees, then the last one removed with the squeeze (Bumper), then the rest.
-  assert.equal(await plantAll(page, { limit: 3 }), 3);
+  assert.deepEqual(await page.evaluate(() => window.grove.device), want);
+  if (mode === 'ar') assert.match(await page.evaluate(() => window.grove.floor.source), /^plane detection/);
+  return page;
+}
+
+/** Plants `n` trees (the menu opened with `menu`), then removes the last with `remove` (`hold` ticks). */
+async function plantAndRemove(page, n, { menu = 'b-button', remove = 'squeeze', hold = 4 } = {}) {
+  const before = await page.evaluate(() => window.grove.snapshot.trees.length);
+  assert.equal(await plantAll(page, { limit: n, menu }), n);
   const last = await page.evaluate(() => window.grove.snapshot.trees.at(-1));
+  // Just above its base: the room layout's trees are a few centimetres tall.
   await aimAt(page, [last.position[0], last.position[1] + 0.05, last.position[2]]);
-  await click(page, 'squeeze');
-  await until(page, () => window.grove.snapshot.trees.length === 2, null, 30000);
+  await until(page, (id) => window.grove.snapshot.controller.hit?.entity === id, last.id, 10000);
+  await click(page, remove, hold);
+  await until(page, (k) => window.grove.snapshot.trees.length === k, before + n - 1, 30000);
+  assert.equal(await page.evaluate(() => window.grove.snapshot.menu.open), false, 'the removal opened no menu');
+}
+
+test("a Quest 2 in AR: the task laid out in the room, planted by its Touch controller's trigger, a tree removed by its squeeze, verified", async () => {
+  const device = controller('oculus-touch-v3');
+  const page = await begin('participant=P72&seed=16', 'quest2', 'ar', device);
+  assert.match(await page.evaluate(() => navigator.userAgent), /Quest 2/, 'the emulated headset is the Quest 2');
+  await plantAndRemove(page, 3);
   // A target once met stays met (systems/src/systems/task.rs): four are left.
   assert.equal(await plantAll(page), 4);
-  await until(page, () => window.grove.state === 'done' && window.grove.verification, null, 60000);
-  const done = await page.evaluate(() => ({ v: window.grove.verification, file: window.grove.file }));
-  assert.equal(done.v.status, 'verified', JSON.stringify(done.v));
-  const path = join(h.server.dir, done.file);
-  assert.deepEqual(JSON.parse(fileLines(path)[0]).device, DEVICE);
-  const replay = grove(['replay', path, '--json']);
-  assert.equal(replay.status, 0, replay.stderr);
-  const report = JSON.parse(replay.stdout);
+  const report = await verified(page, h.server.dir, device);
   assert.equal(report.task.completed, true);
   assert.equal(report.task.error_kinds.removals, 1);
-  const row = studyRows(h.server.dir).find((r) => r.file === done.file);
+  const row = studyRows(h.server.dir).find((r) => r.file === report.name);
   assert.deepEqual(
     [row.device, row.target_ray_mode, row.input_profile, row.status],
     ['controller', 'tracked-pointer', 'oculus-touch-v3', 'verified'],
@@ -67,33 +72,30 @@ test("a Quest 2 in AR: the task laid out in the room, planted by its Touch contr
 });
 
 test('a Pico 4 in AR: its controller drawn from the shipped pico-4 profile, trees planted and one removed, finished from the menu, verified', async () => {
-  const device = { profile: 'pico-4', target_ray_mode: 'tracked-pointer', mapping: 'controller' };
-  const { page } = await h.open('participant=P74&task=ray-casting-7&seed=18&quality=low&render_every=4', {
-    xr: true,
-    room: true,
-    device: 'pico4',
-  });
-  await enterAndStart(page, 'ar');
-  await until(page, () => window.grove.snapshot?.task);
-  assert.deepEqual(await page.evaluate(() => window.grove.device), device);
-  assert.match(await page.evaluate(() => window.grove.floor.source), /^plane detection/);
+  const device = controller('pico-4');
+  const page = await begin('participant=P74&seed=18', 'pico4', 'ar', device);
   await until(page, () => window.grove.profiles().includes('pico-4'), null, 30000);
-  assert.equal(await plantAll(page, { limit: 2 }), 2);
-  const last = await page.evaluate(() => window.grove.snapshot.trees.at(-1));
-  await aimAt(page, [last.position[0], last.position[1] + 0.05, last.position[2]]);
-  await until(page, (id) => window.grove.snapshot.controller.hit?.entity === id, last.id, 10000);
-  await click(page, 'squeeze');
-  await until(page, () => window.grove.snapshot.trees.length === 1, null, 30000);
+  await plantAndRemove(page, 2);
   await finishTask(page);
-  await until(page, () => window.grove.state === 'done' && window.grove.verification, null, 60000);
-  const done = await page.evaluate(() => ({ v: window.grove.verification, file: window.grove.file }));
-  assert.equal(done.v.status, 'verified', JSON.stringify(done.v));
-  const path = join(h.server.dir, done.file);
-  assert.deepEqual(JSON.parse(fileLines(path)[0]).device, device);
-  const report = JSON.parse(grove(['replay', path, '--json']).stdout);
+  const report = await verified(page, h.server.dir, device);
   assert.equal(report.task.completed, false, 'finished with five targets open');
   assert.equal(report.task.error_kinds.removals, 1);
   assert.deepEqual(h.foreign(), [], 'the profile came from the server');
+  assert.deepEqual(h.errors, []);
+  await page.close();
+});
+
+test('a controller without a squeeze: the touchpad held opens the menu, a short click removes, the task verifies', async () => {
+  const device = controller('magicleap-one', 'controller-no-squeeze');
+  const page = await begin('participant=P73&seed=17', 'magicleap', 'vr', device);
+  // The click is timed by the page's clock: two ticks stay well under 0.5 s on a loaded machine too.
+  await plantAndRemove(page, 2, { menu: 'touchpad', remove: 'touchpad', hold: 2 });
+  assert.equal(await plantAll(page, { menu: 'touchpad' }), 5);
+  const report = await verified(page, h.server.dir, device);
+  assert.equal(report.task.completed, true);
+  assert.equal(report.task.error_kinds.removals, 1);
+  const row = studyRows(h.server.dir).find((r) => r.file === report.name);
+  assert.deepEqual([row.device, row.input_profile, row.status], ['controller-no-squeeze', 'magicleap-one', 'verified']);
   assert.deepEqual(h.errors, []);
   await page.close();
 });

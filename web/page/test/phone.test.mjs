@@ -6,9 +6,8 @@
 // snaps, and the Scale pad grows it; both files verify and `grove study` says they were made on a phone's screen.
 
 import assert from 'node:assert/strict';
-import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileLines, grove, start, studyRows, until } from './harness.mjs';
+import { fileLines, start, studyRows, until, verified } from './harness.mjs';
 import { frames } from './participant.mjs';
 import { chooseIn, drag, enterAndTouch, openMenu, press, tap } from './doubles.mjs';
 
@@ -25,14 +24,7 @@ after(async () => {
 async function finish(page) {
   await openMenu(page, 'screen');
   await chooseIn(page, 'finish', 'screen');
-  await until(page, () => window.grove.state === 'done' && window.grove.verification, null, 60000);
-  const done = await page.evaluate(() => ({ v: window.grove.verification, file: window.grove.file }));
-  assert.equal(done.v.status, 'verified', JSON.stringify(done.v));
-  const path = join(h.server.dir, done.file);
-  assert.deepEqual(JSON.parse(fileLines(path)[0]).device, DEVICE);
-  const replay = grove(['replay', path, '--json']);
-  assert.equal(replay.status, 0, replay.stderr);
-  return { ...JSON.parse(replay.stdout), name: done.file };
+  return verified(page, h.server.dir, DEVICE);
 }
 
 test("a phone: taps plant, the touch bar's taps never reach the scene, Remove takes the tree last tapped", async () => {
@@ -144,7 +136,7 @@ test('a phone in the manual task: a tree dragged by the finger comes down onto i
   assert.equal(grown[0].selected, true);
   const report = await finish(page);
   assert.equal(report.task.trees.length, 1);
-  const values = fileLines(join(h.server.dir, report.name))
+  const values = fileLines(report.path)
     .map((l) => JSON.parse(l).event)
     .filter((e) => e?.kind === 'scale_axis')
     .map((e) => e.value);
