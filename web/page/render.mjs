@@ -4,6 +4,7 @@
 //   node web/page/render.mjs --model FILE --out PNG [--width W] [--height H] [--tick T]
 //                            [--background sky|transparent] [--from D] [--force]
 //   node web/page/render.mjs --scene FILE --out PNG [--width W] [--height H] [--tick T] [--force]
+//   node web/page/render.mjs --replay FILE [--scene FILE] --out PNG [--width W] [--height H] [--tick T] [--force]
 //
 // The picture is the one `grove render --model FILE` draws natively, at the same framing (the
 // WebAssembly module builds grove's own model stage: camera, sun, wind), through the page's
@@ -20,6 +21,11 @@
 // draws it), after T ticks; the scene is built by the module, so it must be self-contained (no
 // model banks, no aerial photographs: the study and pond scenes), and its models are the
 // catalogue's (assets/trees).
+//
+// --replay FILE: the world a recording made by tick T (its end without --tick), at the
+// participant's head, as `grove render --replay FILE --tick T` draws it: the module follows the
+// recording's header (format version 2; `grove replay --upgrade` brings older ones) and applies
+// its events tick by tick. A scene that is not built in (a headset's room) is given by --scene.
 //
 // `openStill()` is the same drawing for scripts and tests that draw many models in one browser.
 
@@ -51,6 +57,9 @@ export const MAX_TICK = 216000;
 
 /** The largest scene file --scene reads, bytes (the module's rule: systems/src/scene_text.rs). */
 const MAX_SCENE_BYTES = 1 << 20;
+
+/** The largest recording --replay reads, bytes. */
+const MAX_REPLAY_BYTES = 256 << 20;
 
 /** The distances --from takes, metres (the module refuses others: web/sim/src/options.rs). */
 export const [MIN_FROM, MAX_FROM] = [0.1, 1000];
@@ -145,20 +154,22 @@ export async function openStill({ entry = join(HERE, 'still.mjs') } = {}) {
         [name, { ...options, model: `/model/${encodeURIComponent(basename(model))}` }],
       );
     };
-    const renderScene = async (file, { width = 640, height = 480, tick = 0 } = {}) => {
+    const renderScene = async (file, { width = 640, height = 480, tick = 0, header = null, events = [] } = {}) => {
       errors.length = 0;
       try {
         const r = await page.evaluate((o) => window.still.renderScene(o), {
-          name: basename(file),
-          text: readFileSync(file, 'utf8'),
+          name: file ? basename(file) : null,
+          text: file ? readFileSync(file, 'utf8') : null,
           width,
           height,
           tick: tick ?? 0,
+          header,
+          events,
         });
         return { ...r, data: Buffer.from(r.pixels, 'base64'), pixels: undefined };
       } catch (e) {
         throw new Error(
-          `${file}: the page could not draw it (${e.message.split('\n')[0]}${errors.length ? `; ${errors[0]}` : ''})`,
+          `${file ?? 'the recording'}: the page could not draw it (${e.message.split('\n')[0]}${errors.length ? `; ${errors[0]}` : ''})`,
         );
       }
     };
@@ -186,13 +197,52 @@ export function writePng(path, { width, height, data }) {
 }
 
 const USAGE =
-  'usage: node web/page/render.mjs (--model FILE [--background sky|transparent] [--from D] | --scene FILE) --out PNG [--width W] [--height H] [--tick T] [--force]';
+  'usage: node web/page/render.mjs (--model FILE [--background sky|transparent] [--from D] | --scene FILE | --replay FILE [--scene FILE]) --out PNG [--width W] [--height H] [--tick T] [--force]';
+
+/**
+ * A recording's header line and event lines (parsed) up to `tick` (all without it), and its last
+ * tick; an Error naming what is wrong.
+ */
+export function readRecording(file, tick = null) {
+  const lines = readFileSync(file, 'utf8')
+    .split('\n')
+    .filter((l) => l.trim());
+  const parse = (l, i) => {
+    try {
+      return JSON.parse(l);
+    } catch {
+      throw new Error(`${file}: line ${i + 1} is not JSON`);
+    }
+  };
+  let header;
+  try {
+    header = lines.length ? parse(lines[0], 0) : null;
+    if (header?.type !== 'header' || header.format !== 'grove-replay')
+      return new Error(`${file}: not a grove recording (its first line is no grove-replay header)`);
+    if (header.format_version !== 2)
+      return new Error(
+        `${file}: format version ${header.format_version}; --replay reads version 2 (grove replay --upgrade FILE)`,
+      );
+    const events = [];
+    let last = 0;
+    for (let i = 1; i < lines.length; i++) {
+      const l = parse(lines[i], i);
+      if (Number.isSafeInteger(l.tick)) last = Math.max(last, l.tick);
+      if (l.type === 'event' && (tick === null || l.tick < tick)) events.push(l);
+    }
+    if (tick !== null && tick > last) return new Error(`--tick ${tick}: the recording ends at tick ${last}`);
+    return { header: lines[0], events, last };
+  } catch (e) {
+    return e;
+  }
+}
 
 /** The command line's options, or an Error naming what is wrong. */
 export function parseArgs(args) {
   const o = {
     model: null,
     scene: null,
+    replay: null,
     out: null,
     width: 1280,
     height: 720,
@@ -209,11 +259,16 @@ export function parseArgs(args) {
     }
     const value = args[i + 1];
     i++;
-    if (!['--model', '--scene', '--out', '--width', '--height', '--tick', '--background', '--from'].includes(flag))
+    if (
+      !['--model', '--scene', '--replay', '--out', '--width', '--height', '--tick', '--background', '--from'].includes(
+        flag,
+      )
+    )
       return new Error(`unknown argument ${flag}`);
     if (value === undefined) return new Error(`${flag} needs a value`);
     if (flag === '--model') o.model = resolve(value);
     else if (flag === '--scene') o.scene = resolve(value);
+    else if (flag === '--replay') o.replay = resolve(value);
     else if (flag === '--out') o.out = resolve(value);
     else if (flag === '--background') {
       if (!['sky', 'transparent'].includes(value)) return new Error(`--background ${value}: sky or transparent`);
@@ -231,12 +286,15 @@ export function parseArgs(args) {
       o[flag.slice(2)] = n;
     }
   }
-  if (!o.model === !o.scene) return new Error('give --model FILE or --scene FILE');
-  if (o.scene && (o.from !== null || args.includes('--background')))
-    return new Error('--from and --background go with --model, not with --scene');
+  if (o.model && (o.scene || o.replay)) return new Error('give --model FILE, --scene FILE or --replay FILE');
+  if (!o.model && !o.scene && !o.replay) return new Error('give --model FILE, --scene FILE or --replay FILE');
+  if (!o.model && (o.from !== null || args.includes('--background')))
+    return new Error('--from and --background go with --model, not with --scene or --replay');
   if (!o.out) return new Error('give --out PNG');
-  const input = o.model ?? o.scene;
-  if (!existsSync(input) || !statSync(input).isFile()) return new Error(`${input}: no such file`);
+  for (const input of [o.model, o.scene, o.replay].filter(Boolean))
+    if (!existsSync(input) || !statSync(input).isFile()) return new Error(`${input}: no such file`);
+  if (o.replay && statSync(o.replay).size > MAX_REPLAY_BYTES)
+    return new Error(`${o.replay}: a recording is at most ${MAX_REPLAY_BYTES} bytes here`);
   if (o.scene && statSync(o.scene).size > MAX_SCENE_BYTES)
     return new Error(`${o.scene}: a scene file is at most ${MAX_SCENE_BYTES} bytes`);
   if (o.model && !['.gltf', '.glb'].includes(extname(o.model).toLowerCase()))
@@ -264,6 +322,23 @@ async function main() {
   }
   let still;
   try {
+    if (o.replay) {
+      const rec = readRecording(o.replay, o.tick);
+      if (rec instanceof Error) throw rec;
+      const tick = o.tick ?? rec.last;
+      // The header and scene checked by the module here, before a browser starts.
+      const text = o.scene ? readFileSync(o.scene, 'utf8') : null;
+      (await loadGrove(WASM))
+        .createSim(text ? { header: rec.header, scene_text: text } : { header: rec.header })
+        .free();
+      still = await openStill();
+      const img = await still.renderScene(o.scene, { ...o, tick, header: rec.header, events: rec.events });
+      const bytes = writePng(o.out, img);
+      console.log(
+        `${o.out}: drew ${o.replay} at tick ${img.tick}, ${img.trees} trees (${o.width}x${o.height}) at the participant's head as the headset page draws it, ${bytes} bytes`,
+      );
+      return 0;
+    }
     if (o.scene) {
       // The scene checked by the module here, before a browser starts: a bad one is one line.
       const sim = (await loadGrove(WASM)).createSim({

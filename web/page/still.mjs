@@ -179,20 +179,30 @@ async function render({ model, width, height, tick = null, background = 'sky', a
 /**
  * Draws a scene (its file's `name` and `text`) as the module builds it, after `tick` ticks, at
  * its own camera (the head, as `grove render --scene` draws it), with its trees' models from
- * `/models/NAME.gltf`.
+ * `/models/NAME.gltf`. With a recording's `header` line and its event lines (`events`), the world
+ * that recording made by `tick`, at the participant's head (as `grove render --replay FILE
+ * --tick T`); `text` is then needed only for a scene that is not built in.
  */
-async function renderScene({ name, text, width, height, tick = 0 }) {
+async function renderScene({ name, text, width, height, tick = 0, header = null, events = [] }) {
   await setUp();
-  const sim = grove.createSim({ scene: name, scene_text: text });
+  const sim = header
+    ? grove.createSim(text ? { header, scene_text: text } : { header })
+    : grove.createSim({ scene: name, scene_text: text });
   try {
-    for (let i = 0; i < tick; i++) sim.step();
+    // A recording's events, each queued as its tick comes (they apply at the start of it).
+    let k = 0;
+    for (let i = 0; i < tick; i++) {
+      while (k < events.length && events[k].tick <= sim.tick) sim.push(events[k++]);
+      sim.step();
+    }
     const snap = sim.snapshot();
     const models = new Models('/models/');
     await models.load([...new Set(snap.trees.map((t) => t.model))]);
     const { camera, scene } = show({ models, snap, ground: sim.ground(), width, height });
     renderer.setClearColor(0x000000, 1);
     renderer.render(scene, camera);
-    return { pixels: base64(readPixels(width, height)), width, height, tick: snap.tick, trees: snap.trees.length };
+    const pixels = base64(readPixels(width, height));
+    return { pixels, width, height, tick: snap.tick, trees: snap.trees.length, hash: sim.hash() };
   } finally {
     sim.free();
   }

@@ -9,16 +9,19 @@
 // - Multisampled, as the headset draws (alpha-to-coverage on the leaves): as bright, the crown's
 //   top as bright against its bottom, and the leaves' edges covered in part.
 //
-// Also: render.mjs's errors are one line and exit status 2 (a bad --scene file among them, refused
-// by the module before a browser starts), and leave no file behind.
+// render.mjs --replay draws the world a recording made by a tick: the module's world hash there is
+// the one grove's recorder wrote into the file at that tick.
+//
+// Also: render.mjs's errors are one line and exit status 2 (a bad --scene file and bad recordings
+// among them, refused before a browser starts), and leave no file behind.
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { openStill } from '../render.mjs';
+import { openStill, readRecording } from '../render.mjs';
 import { BOUNDS, compare, failures, models, nameOf, native, row } from './look.mjs';
 import { ROOT, WEB } from './harness.mjs';
 
@@ -56,6 +59,28 @@ test('every study model and species is drawn by the page as grove draws it', { t
   assert.deepEqual(broken, [], `models the page draws unlike grove (bounds: ${JSON.stringify(BOUNDS)})`);
 });
 
+test("render.mjs --replay draws the world a recording made by a tick, at the participant's head", async () => {
+  const file = join(ROOT, 'replays/study/P01-ray-casting-7.jsonl');
+  const checkpoints = readFileSync(file, 'utf8')
+    .split('\n')
+    .filter((l) => l.includes('"type":"checkpoint"'))
+    .map((l) => JSON.parse(l));
+  const still = await openStill();
+  try {
+    for (const tick of [600, 1800]) {
+      const rec = readRecording(file, tick);
+      const r = await still.renderScene(null, { ...SIZE, tick, header: rec.header, events: rec.events });
+      const want = checkpoints.find((c) => c.tick === tick);
+      assert.ok(want, `the recording has a checkpoint at tick ${tick}`);
+      assert.equal(r.tick, tick);
+      assert.equal(r.hash, want.hash, `the world drawn at tick ${tick} is the recorded one`);
+      assert.ok(r.trees > 0);
+    }
+  } finally {
+    await still.close();
+  }
+});
+
 test('render.mjs refuses bad arguments and a bad scene file with one line and exit status 2', () => {
   const dir = mkdtempSync(join(tmpdir(), 'grove-still-args-'));
   try {
@@ -64,6 +89,11 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
     writeFileSync(exists, 'x');
     const bad = join(dir, 'bad.ron');
     writeFileSync(bad, 'not ( a scene');
+    const notJson = join(dir, 'not.jsonl');
+    writeFileSync(notJson, '{"type":"header"\n');
+    const old = join(dir, 'old.jsonl');
+    writeFileSync(old, '{"type":"header","format":"grove-replay","format_version":1,"scene":"study"}\n');
+    const study = join(ROOT, 'replays/study/P01-ray-casting-7.jsonl');
     const huge = join(dir, 'huge.ron');
     writeFileSync(huge, Buffer.alloc((1 << 20) + 1, 32));
     const cases = [
@@ -80,8 +110,13 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
       ],
       [
         ['--scene', join(ROOT, 'assets/scenes/study.ron'), '--model', model, '--out', join(dir, 'a.png')],
-        /--model FILE or --scene FILE/,
+        /--model FILE, --scene FILE or --replay FILE/,
       ],
+      [['--replay', notJson, '--out', join(dir, 'a.png')], /line 1 is not JSON/],
+      [['--replay', old, '--out', join(dir, 'a.png')], /format version 1; --replay reads version 2/],
+      [['--replay', study, '--out', join(dir, 'a.png'), '--tick', '200000'], /the recording ends at tick \d+/],
+      [['--replay', study, '--model', model, '--out', join(dir, 'a.png')], /--model FILE, --scene FILE or --replay/],
+      [['--replay', study, '--out', join(dir, 'a.png'), '--from', '3'], /go with --model/],
       [['--model', join(dir, 'missing.gltf'), '--out', join(dir, 'a.png')], /no such file/],
       [['--model', model, '--out', join(dir, 'a.jpg')], /must name a .png/],
       [['--model', model, '--out', exists], /already exists/],
@@ -97,7 +132,7 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
     }
     assert.deepEqual(
       spawnSync('ls', ['-A', dir], { encoding: 'utf8' }).stdout.trim().split('\n').sort(),
-      ['bad.ron', 'huge.ron', 'there.png'],
+      ['bad.ron', 'huge.ron', 'not.jsonl', 'old.jsonl', 'there.png'],
       'no partial output',
     );
   } finally {
