@@ -77,12 +77,10 @@ test('an unreachable server is named as such', async () => {
 
 test('a page in Chromium goes on streaming after the server is killed and started again', async () => {
   const dir = mkdtempSync(join(tmpdir(), 'grove-client-restart-'));
-  const { chromium } = await import('playwright-core');
+  // Headless Chromium as every browser test starts it (web/page/headless.mjs, from web/'s npm packages).
+  const { launchChromium } = await import('../../page/headless.mjs');
   let server = await serve(dir, 0, ['--require-token']);
-  const browser = await chromium.launch({
-    executablePath: '/usr/bin/chromium',
-    args: ['--no-sandbox', '--disable-background-networking'],
-  });
+  const browser = await launchChromium();
   try {
     const url = new URL(server.url);
     const token = url.searchParams.get('token');

@@ -145,12 +145,10 @@ async function answer(p, key) {
   return ok('POST', `/api/protocol/participants/${p}/next`, { from: s.step });
 }
 
+/** Headless Chromium as every browser test here starts it (web/page/headless.mjs). */
 async function chromium() {
-  const { chromium } = await import('playwright-core');
-  return chromium.launch({
-    executablePath: '/usr/bin/chromium',
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-background-networking'],
-  });
+  const { launchChromium } = await import('../../page/headless.mjs');
+  return launchChromium();
 }
 
 test('two participants through tree-planting.ron, one resuming after the server was killed in their second task', async (t) => {
