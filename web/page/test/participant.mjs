@@ -223,9 +223,12 @@ export async function toTheQuestions(url, p) {
   }
 }
 
-/** Opens the menu and chooses Finish task (docs/headset.md, "How a task ends"). */
-export async function finishTask(page) {
-  await click(page, 'b-button');
+/**
+ * Opens the menu (with `menu` held `hold` ticks: B, or a touchpad held 40 on a controller without
+ * a squeeze) and chooses Finish task (docs/headset.md, "How a task ends").
+ */
+export async function finishTask(page, menu = 'b-button', hold = 4) {
+  await click(page, menu, hold);
   await until(page, () => window.grove.snapshot.menu.open);
   await aimAt(page, await page.evaluate(() => window.grove.menuItemPoint('finish')));
   await click(page, 'trigger');
