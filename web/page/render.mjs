@@ -24,8 +24,8 @@
 //
 // --replay FILE: the world a recording made by tick T (its end without --tick), at the
 // participant's head, as `grove render --replay FILE --tick T` draws it: the module follows the
-// recording's header (format version 2; `grove replay --upgrade` brings older ones) and applies
-// its events tick by tick. A scene that is not built in (a headset's room) is given by --scene.
+// recording's header (and refuses what it cannot follow: an older format version is brought up by
+// `grove replay --upgrade`) and applies its events tick by tick. A scene that is not built in (a headset's room) is given by --scene.
 //
 // `openStill()` is the same drawing for scripts and tests that draw many models in one browser.
 
@@ -200,41 +200,28 @@ const USAGE =
   'usage: node web/page/render.mjs (--model FILE [--background sky|transparent] [--from D] | --scene FILE | --replay FILE [--scene FILE]) --out PNG [--width W] [--height H] [--tick T] [--force]';
 
 /**
- * A recording's header line and event lines (parsed) up to `tick` (all without it), and its last
- * tick; an Error naming what is wrong.
+ * A recording's header line (its text: the module judges it, format version and all) and its
+ * event lines (parsed) up to `tick` (all without it), and its last tick; throws an Error naming
+ * what is wrong.
  */
 export function readRecording(file, tick = null) {
   const lines = readFileSync(file, 'utf8')
     .split('\n')
     .filter((l) => l.trim());
-  const parse = (l, i) => {
+  const events = [];
+  let last = 0;
+  lines.forEach((text, i) => {
+    let l;
     try {
-      return JSON.parse(l);
+      l = JSON.parse(text);
     } catch {
       throw new Error(`${file}: line ${i + 1} is not JSON`);
     }
-  };
-  let header;
-  try {
-    header = lines.length ? parse(lines[0], 0) : null;
-    if (header?.type !== 'header' || header.format !== 'grove-replay')
-      return new Error(`${file}: not a grove recording (its first line is no grove-replay header)`);
-    if (header.format_version !== 2)
-      return new Error(
-        `${file}: format version ${header.format_version}; --replay reads version 2 (grove replay --upgrade FILE)`,
-      );
-    const events = [];
-    let last = 0;
-    for (let i = 1; i < lines.length; i++) {
-      const l = parse(lines[i], i);
-      if (Number.isSafeInteger(l.tick)) last = Math.max(last, l.tick);
-      if (l.type === 'event' && (tick === null || l.tick < tick)) events.push(l);
-    }
-    if (tick !== null && tick > last) return new Error(`--tick ${tick}: the recording ends at tick ${last}`);
-    return { header: lines[0], events, last };
-  } catch (e) {
-    return e;
-  }
+    if (i > 0 && Number.isSafeInteger(l.tick)) last = Math.max(last, l.tick);
+    if (i > 0 && l.type === 'event' && (tick === null || l.tick < tick)) events.push(l);
+  });
+  if (tick !== null && tick > last) throw new Error(`--tick ${tick}: the recording ends at tick ${last}`);
+  return { header: lines[0] ?? '', events, last };
 }
 
 /** The command line's options, or an Error naming what is wrong. */
@@ -324,13 +311,10 @@ async function main() {
   try {
     if (o.replay) {
       const rec = readRecording(o.replay, o.tick);
-      if (rec instanceof Error) throw rec;
       const tick = o.tick ?? rec.last;
       // The header and scene checked by the module here, before a browser starts.
       const text = o.scene ? readFileSync(o.scene, 'utf8') : null;
-      (await loadGrove(WASM))
-        .createSim(text ? { header: rec.header, scene_text: text } : { header: rec.header })
-        .free();
+      (await loadGrove(WASM)).createSim({ header: rec.header, scene_text: text }).free();
       still = await openStill();
       const img = await still.renderScene(o.scene, { ...o, tick, header: rec.header, events: rec.events });
       const bytes = writePng(o.out, img);

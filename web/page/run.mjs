@@ -96,9 +96,10 @@ export class TaskRun {
 
   /**
    * One frame: runs the steps its time calls for. `input`: { controller, head } poses (position
-   * [x, y, z], rotation [x, y, z, w]: input/pose.mjs) or null, `buttons` (grove's four, by name), `axes`
-   * ([x, y]), `scale` (the Scale pad's value, a phone's; 0 or absent elsewhere), `frame` (the frame's number), and `menuPick(origin, dir)` (the menu item the ray
-   * points at: a model's index, `models.length` for "finish the task", or -1). Returns the
+   * [x, y, z], rotation [x, y, z, w]: input/pose.mjs) or null, `buttons` (grove's four, by name),
+   * `axes` ([x, y]), `scale` (the Scale pad's value, a phone's; 0 or absent elsewhere), `frame`
+   * (the frame's number), and `menuPick(origin, dir)` (the menu item the ray points at: a model's
+   * index, `models.length` for "finish the task", or -1). Returns the
    * number of steps run; `this.snapshot` is the world after them.
    */
   frame(time, input) {

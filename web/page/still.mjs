@@ -185,9 +185,7 @@ async function render({ model, width, height, tick = null, background = 'sky', a
  */
 async function renderScene({ name, text, width, height, tick = 0, header = null, events = [] }) {
   await setUp();
-  const sim = header
-    ? grove.createSim(text ? { header, scene_text: text } : { header })
-    : grove.createSim({ scene: name, scene_text: text });
+  const sim = grove.createSim(header ? { header, scene_text: text } : { scene: name, scene_text: text });
   try {
     // A recording's events, each queued as its tick comes (they apply at the start of it).
     let k = 0;

@@ -5,8 +5,9 @@
 // `window.__groveXR` ({ room, device }) chooses the room and the device: `quest` (the default),
 // `quest2` (IWER's Quest 2: Touch controllers, profile oculus-touch-v3, no depth sensing),
 // `pico4` (a double: its controllers as the pico-4 profile over the Touch layout, no hit test or
-// depth), `magicleap` (a double of Magic Leap 2's controller in Wolvic: magicleap-one, no squeeze), `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or `visionpro`
-// (immersive-vr only, no controllers); `depth: false` a headset without depth sensing, `light` a
+// depth), `magicleap` (a double of Magic Leap 2's controller in Wolvic: magicleap-one, no
+// squeeze), `phone` (an Android phone: immersive-ar only, 'screen-space', no controllers) or
+// `visionpro` (immersive-vr only, no controllers); `depth: false` a headset without depth sensing, `light` a
 // light estimate (below).
 //
 // IWER emulates neither `screen` nor `transient-pointer` input, so for those devices this file

@@ -12,11 +12,11 @@ import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { build } from 'esbuild';
 import { startServer } from '../../client/test/helpers.mjs';
+import { launchChromium } from '../headless.mjs';
 
 export const WEB = resolve(dirname(fileURLToPath(import.meta.url)), '../..');
 export const ROOT = resolve(WEB, '..');
 export const GROVE = process.env.GROVE_BIN ?? join(ROOT, 'target/debug/grove');
-import { launchChromium } from '../headless.mjs';
 
 let emulator = null;
 
@@ -50,8 +50,8 @@ async function emulatorScript() {
  * A server (`grove serve` with the arguments `serve` added) and a browser: resolves to { server, browser, open(query, { xr, room, device }), requests,
  * close }. `open` makes a page (a new browser context, or `context` to keep its storage) at the
  * server's URL with `query`, the emulator installed when `xr` is set (`device`: emulator.mjs's
- * `quest`, `quest2`, `pico4`, `magicleap`, `phone` or `visionpro`; `room`: @iwer/sem's office; `depth`: the headset offers depth
- * sensing; `light`: a light estimate, emulator.mjs).
+ * `quest`, `quest2`, `pico4`, `magicleap`, `phone` or `visionpro`; `room`: @iwer/sem's office;
+ * `depth`: the headset offers depth sensing; `light`: a light estimate, emulator.mjs).
  */
 export async function start(serve = []) {
   await prepare();

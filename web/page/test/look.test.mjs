@@ -91,8 +91,7 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
     writeFileSync(bad, 'not ( a scene');
     const notJson = join(dir, 'not.jsonl');
     writeFileSync(notJson, '{"type":"header"\n');
-    const old = join(dir, 'old.jsonl');
-    writeFileSync(old, '{"type":"header","format":"grove-replay","format_version":1,"scene":"study"}\n');
+    const old = join(ROOT, 'tests/fixtures/replay-v1.jsonl');
     const study = join(ROOT, 'replays/study/P01-ray-casting-7.jsonl');
     const huge = join(dir, 'huge.ron');
     writeFileSync(huge, Buffer.alloc((1 << 20) + 1, 32));
@@ -113,7 +112,10 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
         /--model FILE, --scene FILE or --replay FILE/,
       ],
       [['--replay', notJson, '--out', join(dir, 'a.png')], /line 1 is not JSON/],
-      [['--replay', old, '--out', join(dir, 'a.png')], /format version 1; --replay reads version 2/],
+      [
+        ['--replay', old, '--out', join(dir, 'a.png')],
+        /header line: format version 1 \(the recorder continues version 2\)/,
+      ],
       [['--replay', study, '--out', join(dir, 'a.png'), '--tick', '200000'], /the recording ends at tick \d+/],
       [['--replay', study, '--model', model, '--out', join(dir, 'a.png')], /--model FILE, --scene FILE or --replay/],
       [['--replay', study, '--out', join(dir, 'a.png'), '--from', '3'], /go with --model/],
@@ -132,7 +134,7 @@ test('render.mjs refuses bad arguments and a bad scene file with one line and ex
     }
     assert.deepEqual(
       spawnSync('ls', ['-A', dir], { encoding: 'utf8' }).stdout.trim().split('\n').sort(),
-      ['bad.ron', 'huge.ron', 'not.jsonl', 'old.jsonl', 'there.png'],
+      ['bad.ron', 'huge.ron', 'not.jsonl', 'there.png'],
       'no partial output',
     );
   } finally {

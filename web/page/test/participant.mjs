@@ -224,11 +224,11 @@ export async function toTheQuestions(url, p) {
 }
 
 /**
- * Opens the menu (with `menu` held `hold` ticks: B, or a touchpad held 40 on a controller without
- * a squeeze) and chooses Finish task (docs/headset.md, "How a task ends").
+ * Opens the menu with `menu` held 40 ticks, as `choose` does (B, or the touchpad of a controller
+ * without a squeeze), and chooses Finish task (docs/headset.md, "How a task ends").
  */
-export async function finishTask(page, menu = 'b-button', hold = 4) {
-  await click(page, menu, hold);
+export async function finishTask(page, menu = 'b-button') {
+  await click(page, menu, 40);
   await until(page, () => window.grove.snapshot.menu.open);
   await aimAt(page, await page.evaluate(() => window.grove.menuItemPoint('finish')));
   await click(page, 'trigger');
