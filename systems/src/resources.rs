@@ -256,6 +256,13 @@ impl Config {
         }
         Ok(())
     }
+
+    /// The scales a tree can be given, `[min_scale, max_scale]` times `layout` (a room layout's
+    /// scale, `crate::task::layout_scale`): its trees stand at that scale, and so do their bounds
+    /// (a corner handle's, the Scale pad's).
+    pub fn scale_bounds(&self, layout: f32) -> (f32, f32) {
+        (self.min_scale * layout, self.max_scale * layout)
+    }
 }
 
 /// The state of the model menu.

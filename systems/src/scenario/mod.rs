@@ -446,7 +446,10 @@ fn check_step(step: &Step, catalogue: &Catalogue) -> Result<(), StepError> {
         Step::Touchpad { x, y, .. } if !(x.is_finite() && y.is_finite() && x.abs() <= 1.0 && y.abs() <= 1.0) => {
             Err(StepError::Touchpad)
         }
-        Step::ScalePad { value, .. } if !(value.is_finite() && value.abs() <= 1.0) => Err(StepError::ScalePad),
+        // The event's own rule (finite, within [−1, 1]).
+        Step::ScalePad { value, .. } => {
+            crate::input::InputEvent::ScaleAxis { value: *value }.validate().map_err(|_| StepError::ScalePad)
+        }
         Step::WaitUntil { until: Expect::Hash(_), .. } => Err(StepError::WaitForHash),
         Step::WaitUntil { until, .. } | Step::Expect(until) => Ok(until.validate(catalogue)?),
         Step::StartTask(id) if crate::task::TaskDef::builtin(id).is_none() => Err(StepError::UnknownTask(id.clone())),

@@ -45,9 +45,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
     match hd.handle {
         Handle::Corner(_) => {
             let radius = interact::horizontal_radius(grab, t.translation);
-            // A room layout's trees stand at its scale, and so do the bounds.
-            let layout = crate::task::layout_scale(res.task.as_ref());
-            let (min, max) = (cfg.min_scale * layout, cfg.max_scale * layout);
+            let (min, max) = cfg.scale_bounds(crate::task::layout_scale(res.task.as_ref()));
             let new = interact::corner_scale(hd.start_scale, hd.start_radius, radius, min, max);
             t.translation.y = interact::rescaled_origin_y(t.translation.y, lowest, s.0, new);
             s.0 = new;

@@ -5,8 +5,8 @@
 //! `Resources::config` (`touchpad_dead_zone`, `min_scale`, `max_scale`), `Resources::task` (a room
 //! layout's scale), `Resources::catalogue`, `Resources::interaction` (handle drag).
 //! Writes: `ScalePad` (the gesture), `Transform` (origin height), `Scale`,
-//! `Resources::spatial` (marked dirty when a gesture ends), `Resources::log` (scaled, when a
-//! gesture ends).
+//! `Resources::spatial` (marked dirty when a gesture that changed the scale ends),
+//! `Resources::log` (scaled, when such a gesture ends).
 //!
 //! The value counts only when strictly beyond `touchpad_dead_zone`; at full deflection the scale
 //! doubles or halves each second ([`OCTAVES_PER_S`]), clamped to `[min_scale, max_scale]` times
@@ -49,8 +49,7 @@ pub fn run(world: &mut World, res: &mut Resources) {
             world.get::<&Tree>(e).ok().and_then(|t| res.catalogue.get(t.model)).map(|m| m.lowest_point())
         && let Ok((t, s)) = world.query_one_mut::<(&mut Transform, &mut Scale)>(e)
     {
-        let layout = crate::task::layout_scale(res.task.as_ref());
-        let (min, max) = (res.config.min_scale * layout, res.config.max_scale * layout);
+        let (min, max) = res.config.scale_bounds(crate::task::layout_scale(res.task.as_ref()));
         gesture.get_or_insert((e.to_bits().get(), s.0));
         let new = interact::pad_scale(s.0, value, OCTAVES_PER_S, res.dt, min, max);
         t.translation.y = interact::rescaled_origin_y(t.translation.y, lowest, s.0, new);
@@ -61,13 +60,14 @@ pub fn run(world: &mut World, res: &mut Resources) {
     }
 }
 
-/// Ends a gesture: logs the new scale, if it changed, and marks the spatial index dirty.
+/// Ends a gesture: where the scale changed, logs it and marks the spatial index dirty (as the
+/// touchpad does only for a gesture that moved or turned its tree).
 fn finish(world: &World, res: &mut Resources, tree: u64, start: f32) {
     let Some(scale) = interact::entity(tree).and_then(|e| world.get::<&Scale>(e).ok().map(|s| s.0)) else { return };
     if scale != start {
         res.log.push(res.tick, Happening::Scaled { tree, scale });
+        res.spatial.mark_trees_dirty();
     }
-    res.spatial.mark_trees_dirty();
 }
 
 #[cfg(test)]
